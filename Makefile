@@ -1,0 +1,28 @@
+# One venv in .venv, made on first use; every target below goes through it.
+VENV ?= .venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.installed-stamp
+
+.PHONY: test run bench assets screenshots clean
+
+$(STAMP): pyproject.toml
+	python3 -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -e '.[test]'
+	touch $(STAMP)
+
+test: $(STAMP)
+	$(PY) -m pytest -q
+
+run: $(STAMP)
+	$(PY) -m app
+
+bench: $(STAMP)
+	$(PY) -m app bench
+
+# Regenerates the project's own models and texture (deterministic; the results are committed).
+assets: $(STAMP)
+	$(PY) -m app.assetgen
+
+clean:
+	rm -rf $(VENV) .pytest_cache

@@ -1,0 +1,27 @@
+"""The errors a person sees: each names the file and, for a parse error, the line."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+class ViewerError(Exception):
+    """Anything the person must be told about in one line; never a programming error."""
+
+
+class LoadError(ViewerError):
+    """A file could not be read: missing, unreadable, malformed, or describing impossible data."""
+
+    def __init__(self, path: str | Path, message: str, line: int | None = None) -> None:
+        self.path = str(path)
+        self.line = line
+        self.message = message
+        super().__init__(str(self))
+
+    def __str__(self) -> str:
+        where = self.path if self.line is None else f"{self.path}:{self.line}"
+        return f"{where}: {self.message}"
+
+
+class KeyMapError(ViewerError):
+    """The key table or a key sequence given on the command line is wrong."""

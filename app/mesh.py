@@ -1,0 +1,82 @@
+"""A loaded model: the seed's vertex and face tables as numpy arrays, no GL.
+
+Faces are polygons of any size stored as one flat list of *corners* (CSR layout): polygon ``f`` owns
+corners ``face_start[f]:face_start[f + 1]``. A corner carries the index of its position and its own
+texture coordinate and vertex normal, because OBJ lets one position have different ``vt``/``vn`` on
+different faces. Triangles are a fan from each polygon's first corner, the way the seed draws them,
+so the first corner of every triangle is its polygon's first vertex: with the provoking vertex set to
+the first one, a ``flat`` varying gives exactly SPEC's "face normal at the polygon's first vertex".
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True, eq=False)
+class Mesh:
+    name: str
+    positions: np.ndarray  # (V, 3) float64: the file's `v` table, in file order
+    corner_vertex: np.ndarray  # (C,) int64: index into positions for each polygon corner
+    corner_uv: np.ndarray  # (C, 2) float32: texture coordinate per corner (from vt, or the bounding box)
+    corner_normal: np.ndarray  # (C, 3) float32: unit vertex normal per corner (vn, or averaged faces)
+    face_start: np.ndarray  # (F + 1,) int64: CSR offsets of each polygon's corners
+    face_normals: np.ndarray  # (F, 3) float32: unit normal per polygon (Newell's method)
+    base_colour: tuple[float, float, float] | None = None  # the seed's `# colour r g b`, in 0..1
+    # Ka/Kd/Ks/Ns read from the file's MTL when it exists: keys "ka", "kd", "ks" (3-tuples), "ns".
+    file_material: dict[str, object] | None = None
+    warnings: tuple[str, ...] = field(default=())  # non-fatal oddities worth telling the person
+
+    @property
+    def vertex_count(self) -> int:
+        return int(self.positions.shape[0])
+
+    @property
+    def face_count(self) -> int:
+        return int(self.face_start.shape[0] - 1)
+
+    @property
+    def face_sizes(self) -> np.ndarray:
+        return np.diff(self.face_start)
+
+    @property
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """The seed's `min` and `max` points of the vertex table."""
+        return self.positions.min(axis=0), self.positions.max(axis=0)
+
+    @property
+    def size(self) -> float:
+        """Length of the bounding box diagonal: the scale for normals, markers and ortho sizing."""
+        low, high = self.bounds
+        return float(np.linalg.norm(high - low))
+
+    def triangle_corners(self) -> np.ndarray:
+        """(T, 3) corner indices of the fan triangulation, polygon by polygon, in file order."""
+        sizes = self.face_sizes
+        tri_per_face = sizes - 2
+        total = int(tri_per_face.sum())
+        face_of_tri = np.repeat(np.arange(self.face_count), tri_per_face)
+        first_tri_of_face = np.cumsum(tri_per_face) - tri_per_face
+        k = np.arange(total) - np.repeat(first_tri_of_face, tri_per_face)  # 0.. within each fan
+        base = self.face_start[:-1][face_of_tri]
+        return np.stack([base, base + k + 1, base + k + 2], axis=1)
+
+    def triangle_face(self) -> np.ndarray:
+        """(T,) the polygon each fan triangle belongs to."""
+        return np.repeat(np.arange(self.face_count), self.face_sizes - 2)
+
+    def triangles_before_face(self) -> np.ndarray:
+        """(F + 1,) how many fan triangles come before each polygon (and in all, last)."""
+        return np.concatenate([[0], np.cumsum(self.face_sizes - 2)])
+
+    def edge_corners(self) -> np.ndarray:
+        """(E, 2) corner pairs of every polygon's boundary, polygon by polygon (its first corner first)."""
+        starts = self.face_start[:-1]
+        sizes = self.face_sizes
+        corners = np.arange(int(self.face_start[-1]))
+        face_of_corner = np.repeat(np.arange(self.face_count), sizes)
+        local = corners - starts[face_of_corner]
+        nxt = starts[face_of_corner] + (local + 1) % sizes[face_of_corner]
+        return np.stack([corners, nxt], axis=1)
