@@ -146,7 +146,8 @@ class Light:
     owner: Owner = Owner.NONE
     # Spotlights: rotation of the axis relative to the owner's frame; identity = the owner's -z.
     axis_in_owner: np.ndarray = field(default_factory=lambda: np.eye(3))
-    # Undo history of the light's own state (position, direction, axis); top is current.
+    # Undo stack of the light's earlier states (position, direction, axis_in_owner): each move pushes
+    # a copy of the state before it, `u` pops one back. Empty = the initial state.
     history: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = field(default_factory=list)
 
 
@@ -184,6 +185,7 @@ class Modes:
     frame: Frame = Frame.LOCAL
     camera_mode: CameraMode = CameraMode.FLIGHT
     view_from_object: bool = False  # `C`
+    show_help: bool = False  # `h` / F1: the help overlay listing every key
     # Parallel projection's half height in world units, fixed when `p` switches to parallel.
     parallel_half_height: float = 150.0
 

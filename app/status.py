@@ -1,0 +1,71 @@
+"""The status line and the help overlay's text (SPEC 8): plain strings from the scene, no GL."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from app.keymap import Command
+from app.scene import Projection, Scene, Target
+
+SEPARATOR = " | "
+LIGHT_OFF_MARK = "\u00b7"  # a middle dot: "lights 0·2·" reads as sun and object spot on
+
+
+def lights_summary(scene: Scene) -> str:
+    return "lights " + "".join(light.key if light.on else LIGHT_OFF_MARK for light in scene.lights)
+
+
+def moving_mode(scene: Scene) -> str:
+    """What x/y/z do now: the transform kind and, for the target, its frame or camera mode."""
+    modes = scene.modes
+    if modes.target is Target.OBJECTS:
+        return f"{modes.transform.value} {modes.frame.value}"
+    if modes.target is Target.CAMERAS:
+        return f"{modes.transform.value} {modes.camera_mode.value}"
+    return modes.transform.value
+
+
+def selection_summary(scene: Scene) -> list[str]:
+    obj = scene.object
+    parts = ["no object" if obj is None else
+             f"object {obj.name} face {obj.selected_face + 1}/{obj.mesh.face_count}"]
+    parts.append(f"camera {scene.camera.name}")
+    parts.append(f"light {scene.light.name}")
+    return parts
+
+
+def display_summary(scene: Scene) -> list[str]:
+    modes = scene.modes
+    projection = modes.projection.value
+    if modes.projection is Projection.PARALLEL:
+        projection += f" {modes.parallel_half_height:.0f}"
+    return [
+        modes.shading.value,
+        projection,
+        "culling on" if modes.culling else "culling off",
+        modes.fill.value,
+        "texture on" if modes.texture else "texture off",
+        lights_summary(scene),
+    ]
+
+
+def status_line(scene: Scene) -> str:
+    """One line: target, moving mode, display switches, lights, selection."""
+    parts = [f"target {scene.modes.target.value}", moving_mode(scene)]
+    parts += display_summary(scene)
+    if scene.modes.view_from_object:
+        parts.append("viewing from the object")
+    parts += selection_summary(scene)
+    return SEPARATOR.join(parts)
+
+
+def help_lines(scene: Scene, keymap: Mapping[str, Command]) -> list[str]:
+    """Every key with what it does and, for switches, where it stands now."""
+    width = max(len(token) for token in keymap)
+    lines = []
+    for token, command in keymap.items():
+        line = f"{token:<{width}}  {command.description}"
+        state = command.state(scene) if command.state is not None else ""
+        lines.append(f"{line}  [{state}]" if state else line)
+    lines.append(f"{'f=PATH':<{width}}  (in --keys) load PATH")
+    return lines

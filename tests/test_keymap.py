@@ -1,0 +1,149 @@
+"""The key table, key sequences and dispatch: no GL."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from app import keymap
+from app.commands import NullHost
+from app.errors import KeyMapError
+from app.keymap import (
+    AXIS_KEYS,
+    KEYMAP,
+    Command,
+    KeyPress,
+    build_commands,
+    check_keymap,
+    dispatch,
+    parse_key_sequence,
+    press_from_text,
+)
+from app.mesh import Mesh
+from app.scene import Material, Scene, SceneObject, Target
+
+SPEC_KEYS = set("f l o d r t g x y z X Y Z u c C n b p F + - 0 1 2 3".split()) | {"TAB", "ENTER", "ESC"}
+PROJECT_KEYS = {"T", "h", "F1", "F12", "DELETE"}
+
+
+def triangle_scene() -> Scene:
+    """One triangle object and one triangle camera: the least a scene needs."""
+    mesh = Mesh(
+        name="tri",
+        positions=np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
+        corner_vertex=np.arange(3, dtype=np.int64),
+        corner_uv=np.zeros((3, 2), np.float32),
+        corner_normal=np.tile(np.float32([0, 0, 1]), (3, 1)),
+        face_start=np.array([0, 3], dtype=np.int64),
+        face_normals=np.float32([[0, 0, 1]]),
+    )
+    material = Material((0.1, 0.1, 0.1), (0.5, 0.5, 0.5), (0.2, 0.2, 0.2), 20.0)
+    return Scene(objects=[SceneObject.placed("tri", mesh, material, (0, 0, 0))],
+                 cameras=[SceneObject.placed("cam", mesh, material, (0, 0, 150))])
+
+
+# --- the table -------------------------------------------------------------------------------------
+def test_every_key_of_the_spec_and_the_project_is_bound() -> None:
+    assert SPEC_KEYS | PROJECT_KEYS == set(KEYMAP)
+
+
+def test_the_six_moving_keys_come_from_one_table() -> None:
+    assert AXIS_KEYS == {"x": (0, 1), "y": (1, 1), "z": (2, 1), "X": (0, -1), "Y": (1, -1), "Z": (2, -1)}
+
+
+def test_every_command_has_a_description() -> None:
+    assert all(command.description for command in KEYMAP.values())
+
+
+def test_check_catches_a_duplicate_token() -> None:
+    table = build_commands() + [Command("x", "again", lambda scene, host: None)]
+    with pytest.raises(KeyMapError, match="'x' is bound twice"):
+        check_keymap(table)
+
+
+@pytest.mark.parametrize("token", ["", "ab", " ", "\t", "SPACEBAR", "f1"])
+def test_check_catches_an_impossible_token(token: str) -> None:
+    with pytest.raises(KeyMapError, match="not a key token"):
+        check_keymap([Command(token, "bad", lambda scene, host: None)])
+
+
+# --- key sequences ---------------------------------------------------------------------------------
+@pytest.mark.parametrize(("text", "tokens"), [
+    ("", []),
+    ("x", ["x"]),
+    ("  0 1\tF \n", ["0", "1", "F"]),
+    ("x*3 Y", ["x", "x", "x", "Y"]),
+    ("TAB ENTER ESC DELETE F1 F12", ["TAB", "ENTER", "ESC", "DELETE", "F1", "F12"]),
+    ("tab Enter escape Return del f12", ["TAB", "ENTER", "ESC", "ENTER", "DELETE", "F12"]),
+    ("+ - +*2", ["+", "-", "+", "+"]),
+    ("f F", ["f", "F"]),
+])
+def test_parse_key_sequence(text: str, tokens: list[str]) -> None:
+    assert [press.token for press in parse_key_sequence(text)] == tokens
+
+
+def test_parse_load_presses() -> None:
+    presses = parse_key_sequence('c f=models/a.obj f="with space/b.obj" f=\'q.obj\'')
+    assert presses == [KeyPress("c"), KeyPress("f", "models/a.obj"), KeyPress("f", "with space/b.obj"),
+                       KeyPress("f", "q.obj")]
+    assert str(presses[1]) == "f=models/a.obj"
+
+
+@pytest.mark.parametrize(("text", "named"), [
+    ("0 q 1", "'q'"),
+    ("xx", "'xx'"),
+    ("x*0", "x\\*0"),
+    (f"x*{keymap.MAX_REPEAT + 1}", "repeat count"),
+    ("x*-1", "'x\\*-1'"),
+    ("f=", "f=PATH"),
+    ('f="unclosed', "closing quotation"),
+    ("SPACE", "'SPACE'"),
+])
+def test_parse_errors_name_the_bad_token(text: str, named: str) -> None:
+    with pytest.raises(KeyMapError, match=named):
+        parse_key_sequence(text)
+
+
+def test_parse_bounds_the_whole_sequence() -> None:
+    with pytest.raises(KeyMapError, match="presses"):
+        parse_key_sequence(" ".join(["x*100000"] * 11))
+
+
+# --- dispatch --------------------------------------------------------------------------------------
+@pytest.mark.parametrize("target", list(Target))
+@pytest.mark.parametrize("token", sorted(KEYMAP))
+def test_no_valid_key_raises_under_any_target(token: str, target: Target) -> None:
+    scene = triangle_scene()
+    scene.modes.target = target
+    dispatch(scene, KeyPress(token), NullHost())
+    dispatch(scene, KeyPress(token), NullHost())
+
+
+def test_every_key_twice_in_a_row_under_every_mode_never_raises() -> None:
+    scene = triangle_scene()
+    host = NullHost()
+    for _ in range(3):
+        for token in KEYMAP:
+            for _ in range(2):
+                dispatch(scene, KeyPress(token), host)
+    assert len(scene.cameras) == 1
+
+
+def test_an_unbound_key_leaves_a_message() -> None:
+    scene = triangle_scene()
+    dispatch(scene, KeyPress("q"), NullHost())
+    assert "'q'" in scene.message
+
+
+def test_a_press_clears_the_previous_message() -> None:
+    scene = triangle_scene()
+    scene.message = "old news"
+    dispatch(scene, KeyPress("l"), NullHost())
+    assert scene.message == ""
+
+
+@pytest.mark.parametrize(("text", "token"), [("x", "x"), ("F", "F"), ("\t", "TAB"), ("\r", "ENTER"),
+                                             ("\x1b", "ESC"), ("+", "+"), ("q", None), (" ", None)])
+def test_press_from_text(text: str, token: str | None) -> None:
+    press = press_from_text(text)
+    assert (press.token if press else None) == token
