@@ -1,0 +1,179 @@
+"""SPEC 4's lighting formula in numpy, written from the SPEC and not from the shader, so tests can
+hold the GPU to it; the lighting probe shows its per-light terms.
+
+Per colour channel, in the seed's 0..255 units:
+
+    I = Ka * Ia + sum over lights that are on: I_l * (Kd * max(N.L, 0) + Ks * max(N.H, 0)^ns)
+
+clamped to 255 and displayed as I / 255 (times the texture colour when texturing is on).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Iterable, Mapping
+
+import numpy as np
+
+from app.scene import Light, LightKind, Material, Scene
+
+MAX_INTENSITY = 255.0
+
+
+@dataclass(frozen=True)
+class WorldLight:
+    """A light placed in the world: spotlights' owners already resolved to a position and an axis."""
+
+    name: str
+    kind: LightKind
+    intensity: np.ndarray  # (3,) 0..255
+    position: np.ndarray  # (3,) world; the sun's is only for drawing it
+    direction: np.ndarray  # (3,) unit; directional: toward the light; spot: the cone's axis
+    aperture_deg: float = 180.0
+
+
+@dataclass(frozen=True)
+class LightTerm:
+    """One light's share of I at a point: zero when the point is outside a spotlight's cone."""
+
+    name: str
+    reaches: bool
+    diffuse: np.ndarray  # (3,) I_l * Kd * max(N.L, 0)
+    specular: np.ndarray  # (3,) I_l * Ks * max(N.H, 0)^ns
+
+
+@dataclass(frozen=True)
+class ShadingTerms:
+    ambient: np.ndarray  # (3,) Ka * Ia
+    lights: tuple[LightTerm, ...]
+
+    @property
+    def total(self) -> np.ndarray:
+        """I before clamping."""
+        return self.ambient + sum((t.diffuse + t.specular for t in self.lights), np.zeros(3))
+
+    @property
+    def clamped(self) -> np.ndarray:
+        return np.minimum(self.total, MAX_INTENSITY)
+
+
+def world_lights(scene: Scene, only_on: bool = True) -> list[WorldLight]:
+    """The scene's lights in the world, as the renderer and the probe use them."""
+    return [_placed(scene, light) for light in scene.lights if light.on or not only_on]
+
+
+def _placed(scene: Scene, light: Light) -> WorldLight:
+    if light.kind is LightKind.DIRECTIONAL:
+        direction = _unit(light.direction)
+    elif light.kind is LightKind.SPOT:
+        direction = scene.spot_axis(light)
+    else:
+        direction = np.zeros(3)
+    return WorldLight(light.name, light.kind, np.asarray(light.intensity, float),
+                      np.asarray(scene.light_position(light), float), direction, light.aperture_deg)
+
+
+LightLike = WorldLight | Light | Mapping[str, Any]
+
+
+def as_world_light(light: LightLike) -> WorldLight | None:
+    """Accept a WorldLight, a dict with WorldLight's field names (plus optional `on`), or a scene
+    Light without an owner (its own position and axis); None for a light that is off."""
+    if isinstance(light, WorldLight):
+        return light
+    if isinstance(light, Light):
+        if not light.on:
+            return None
+        axis = light.axis_in_owner @ np.array([0.0, 0.0, -1.0])
+        direction = light.direction if light.kind is LightKind.DIRECTIONAL else axis
+        return WorldLight(light.name, light.kind, np.asarray(light.intensity, float),
+                          np.asarray(light.position, float), _unit(direction), light.aperture_deg)
+    if not light.get("on", True):
+        return None
+    kind = light["kind"] if isinstance(light["kind"], LightKind) else LightKind(light["kind"])
+    return WorldLight(
+        name=str(light.get("name", kind.value)),
+        kind=kind,
+        intensity=np.asarray(light["intensity"], float),
+        position=np.asarray(light.get("position", (0.0, 0.0, 0.0)), float),
+        direction=_unit(light.get("direction", (0.0, 0.0, 1.0))),
+        aperture_deg=float(light.get("aperture_deg", 180.0)),
+    )
+
+
+def shade_terms(point: Iterable[float], normal: Iterable[float], eye_or_view: Iterable[float],
+                material: Material, lights: Iterable[LightLike], ambient: Iterable[float],
+                parallel: bool) -> ShadingTerms:
+    """Every term of I at `point` with unit-izable `normal`.
+
+    `eye_or_view` is the eye position in perspective (V = P -> eye) and V itself in parallel
+    projection (the viewer's backward axis), as SPEC 4 says.
+    """
+    p = np.asarray(point, float)
+    n = _unit(normal)
+    v = _unit(eye_or_view) if parallel else _unit(np.asarray(eye_or_view, float) - p)
+    ambient_term = np.asarray(material.ka, float) * np.asarray(ambient, float)
+    terms = []
+    for light in lights:
+        placed = as_world_light(light)
+        if placed is not None:
+            terms.append(_light_term(placed, p, n, v, material))
+    return ShadingTerms(ambient_term, tuple(terms))
+
+
+def _light_term(light: WorldLight, p: np.ndarray, n: np.ndarray, v: np.ndarray,
+                material: Material) -> LightTerm:
+    zero = np.zeros(3)
+    if light.kind is LightKind.SPOT and not _inside_cone(light, p):
+        return LightTerm(light.name, False, zero, zero)
+    # L points from the surface toward the light: a fixed direction for the sun, else per point.
+    to_light = light.direction if light.kind is LightKind.DIRECTIONAL else _unit(light.position - p)
+    halfway = _unit(to_light + v)
+    n_dot_l = max(float(n @ to_light), 0.0)
+    n_dot_h = max(float(n @ halfway), 0.0)
+    # 0 ** ns is 0 for ns > 0; written out so that ns = 0 does not turn 0 ** 0 into a highlight.
+    highlight = n_dot_h ** material.ns if n_dot_h > 0.0 else 0.0
+    diffuse = light.intensity * np.asarray(material.kd, float) * n_dot_l
+    specular = light.intensity * np.asarray(material.ks, float) * highlight
+    return LightTerm(light.name, True, diffuse, specular)
+
+
+def _inside_cone(light: WorldLight, p: np.ndarray) -> bool:
+    """The angle between the spot's axis and the ray light -> P is below the aperture."""
+    ray = p - light.position
+    length = float(np.linalg.norm(ray))
+    if length == 0.0:
+        return False
+    cosine = float(np.clip(light.direction @ ray / length, -1.0, 1.0))
+    return float(np.degrees(np.arccos(cosine))) < light.aperture_deg
+
+
+def shade(point: Iterable[float], normal: Iterable[float], eye_or_view: Iterable[float],
+          material: Material, lights: Iterable[LightLike], ambient: Iterable[float],
+          parallel: bool) -> np.ndarray:
+    """I at the point, clamped: (3,) float in 0..255."""
+    return shade_terms(point, normal, eye_or_view, material, lights, ambient, parallel).clamped
+
+
+def lit_colour_bytes(point: Iterable[float], normal: Iterable[float], eye_or_view: Iterable[float],
+                     material: Material, lights: Iterable[LightLike], ambient: Iterable[float],
+                     parallel: bool, texture_rgb: Iterable[int] | None = None) -> np.ndarray:
+    """The 8-bit pixel a framebuffer should hold: round(I/255 * texture * 255), texture in bytes."""
+    intensity = shade(point, normal, eye_or_view, material, lights, ambient, parallel)
+    return to_bytes(intensity, texture_rgb)
+
+
+def to_bytes(intensity: np.ndarray, texture_rgb: Iterable[int] | None = None) -> np.ndarray:
+    """Clamped 0..255 intensity (times an 8-bit texture colour) as the uint8 pixel GL would store."""
+    colour = np.minimum(np.asarray(intensity, float), MAX_INTENSITY) / MAX_INTENSITY
+    if texture_rgb is not None:
+        colour = colour * np.asarray(texture_rgb, float) / 255.0
+    # GL converts to unsigned normalized by round-to-nearest; floor(x + 0.5) avoids numpy's
+    # round-half-to-even, which GL does not do.
+    return np.floor(colour * 255.0 + 0.5).astype(np.uint8)
+
+
+def _unit(vector: Iterable[float]) -> np.ndarray:
+    v = np.asarray(vector, float)
+    length = float(np.linalg.norm(v))
+    return v / length if length > 0.0 else v

@@ -1,0 +1,275 @@
+"""Draws a Scene into any framebuffer: the window's, or an offscreen one for screenshots and tests.
+
+GPU resources of each object are built once, keyed by the object's uid, and dropped when the object
+leaves the scene. Per frame only uniforms change. The lighting itself lives in shaders/surface.glsl;
+app/lighting.py is the same formula in numpy, kept separate so each can check the other.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Iterable
+
+import moderngl
+import numpy as np
+
+from app.gpu import ObjectGpu, VertexRange, load_program
+from app.lighting import world_lights
+from app.scene import Fill, LightKind, Projection, Scene, SceneObject, Shading, Target
+
+CLEAR_COLOUR = (0.0, 0.0, 0.7)  # SPEC 3: the seed's blue
+SELECTED_LINE_COLOUR = (0.0, 1.0, 0.0)
+LINE_COLOUR = (1.0, 1.0, 1.0)
+NORMAL_COLOUR = (1.0, 1.0, 0.0)
+NORMAL_LENGTH_FRACTION = 0.05  # of the object's bounding-box diagonal
+MARKER_SIZE_PX = 9.0
+LIGHT_COUNT = 4
+LIGHT_KIND_CODES = {LightKind.DIRECTIONAL: 0, LightKind.POINT: 1, LightKind.SPOT: 2}  # surface.glsl
+
+
+class Uniforms:
+    """A program's uniforms, looked up once. Uniforms the GLSL compiler removed as unused are
+    skipped silently: e.g. u_colour does not exist where the colour is not needed."""
+
+    def __init__(self, program: moderngl.Program) -> None:
+        self._handles: dict[str, Any] = {
+            name: program[name] for name in program if isinstance(program[name], moderngl.Uniform)}
+
+    def set(self, name: str, value: Any) -> None:
+        handle = self._handles.get(name)
+        if handle is not None:
+            handle.value = value
+
+    def set_matrix(self, name: str, matrix: np.ndarray) -> None:
+        """numpy is row-major and GL reads column-major, so M.T's bytes are M for GL."""
+        handle = self._handles.get(name)
+        if handle is not None:
+            handle.write(np.ascontiguousarray(matrix.T, dtype="f4").tobytes())
+
+    def set_array(self, name: str, values: np.ndarray) -> None:
+        handle = self._handles.get(name)
+        if handle is not None:
+            handle.write(np.ascontiguousarray(values).tobytes())
+
+
+@dataclass(frozen=True)
+class DrawItem:
+    """One object to draw and which of its faces: [start, stop)."""
+
+    obj: SceneObject
+    start: int
+    stop: int
+
+
+class Renderer:
+    def __init__(self, ctx: moderngl.Context) -> None:
+        self.ctx = ctx
+        self.surface_program = load_program(ctx, "surface")
+        self.edge_program = load_program(ctx, "edges")
+        self.normal_program = load_program(ctx, "normals")
+        self.marker_program = load_program(ctx, "marker")
+        self.surface = Uniforms(self.surface_program)
+        self.edges = Uniforms(self.edge_program)
+        self.normals = Uniforms(self.normal_program)
+        self.marker = Uniforms(self.marker_program)
+        self.marker_vao = ctx.vertex_array(self.marker_program, [])  # the position is a uniform
+        self.texture: moderngl.Texture | None = None
+        self.set_texture(np.full((1, 1, 3), 255, dtype=np.uint8))  # white until a picture comes
+        self._objects: dict[int, ObjectGpu] = {}
+
+    # --- resources ---------------------------------------------------------------------------
+    def set_texture(self, image: np.ndarray) -> None:
+        """(H, W, 3) uint8, top row first. GL's first row is v = 0, and SPEC 5 wants v = 0 at the
+        image's bottom row, so the rows go up reversed."""
+        pixels = np.ascontiguousarray(np.flipud(np.asarray(image, dtype=np.uint8)[..., :3]))
+        height, width = pixels.shape[:2]
+        if self.texture is not None:
+            self.texture.release()
+        self.texture = self.ctx.texture((width, height), 3, pixels.tobytes(), alignment=1)
+        self.texture.build_mipmaps()
+        self.texture.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+
+    def release_object(self, obj: SceneObject) -> None:
+        gpu = self._objects.pop(obj.uid, None)
+        if gpu is not None:
+            gpu.release()
+
+    def release(self) -> None:
+        for gpu in self._objects.values():
+            gpu.release()
+        self._objects.clear()
+        for resource in (self.marker_vao, self.texture, self.surface_program, self.edge_program,
+                         self.normal_program, self.marker_program):
+            if resource is not None:
+                resource.release()
+        self.texture = None
+
+    def _gpu_for(self, obj: SceneObject) -> ObjectGpu:
+        gpu = self._objects.get(obj.uid)
+        if gpu is not None and gpu.mesh is obj.mesh:
+            return gpu
+        if gpu is not None:  # the object got a new mesh: its old buffers are stale
+            gpu.release()
+        gpu = ObjectGpu.build(self.ctx, obj.mesh, self.surface_program, self.edge_program,
+                              self.normal_program)
+        self._objects[obj.uid] = gpu
+        return gpu
+
+    def _drop_departed(self, scene: Scene) -> None:
+        live = {obj.uid for obj in scene.objects} | {cam.uid for cam in scene.cameras}
+        for uid in [uid for uid in self._objects if uid not in live]:
+            self._objects.pop(uid).release()
+
+    # --- a frame -----------------------------------------------------------------------------
+    def render(self, scene: Scene, fbo: moderngl.Framebuffer, size: tuple[int, int]) -> None:
+        """Clear `fbo` to the seed's blue and draw `scene` into its (0, 0, width, height) viewport."""
+        self._drop_departed(scene)
+        width, height = max(int(size[0]), 1), max(int(size[1]), 1)
+        fbo.use()
+        fbo.viewport = (0, 0, width, height)
+        fbo.clear(*CLEAR_COLOUR, 1.0, depth=1.0)
+
+        view_projection = scene.projection_matrix(width / height) @ scene.view_matrix()
+        filled = scene.modes.fill is Fill.FILLED
+        self._set_gl_state(depth_test=filled)
+        self._set_frame_uniforms(scene, view_projection)
+
+        items = [(item, self._gpu_for(item.obj)) for item in self._draw_list(scene)]
+        if filled:
+            for item, gpu in items:
+                self._draw_surface(item, gpu)
+        else:
+            self._draw_all_edges(scene, items)
+        if scene.modes.normals:
+            for item, gpu in items:
+                self._draw_normals(item, gpu, scene.modes.shading)
+        if scene.modes.target is Target.LIGHTS:
+            self._draw_light_marker(scene)
+        self.ctx.disable(moderngl.DEPTH_TEST)
+
+    def _set_gl_state(self, depth_test: bool) -> None:
+        # Flat needs the first vertex's values: the fan's first corner is the polygon's first vertex.
+        self.ctx.provoking_vertex = moderngl.FIRST_VERTEX_CONVENTION
+        # SPEC defines back faces by N.V, not by winding (parallel projection has one V), so GL's
+        # own culling stays off and the shaders decide.
+        self.ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
+        if depth_test:
+            self.ctx.enable(moderngl.DEPTH_TEST)
+        else:
+            self.ctx.disable(moderngl.DEPTH_TEST)
+
+    def _draw_list(self, scene: Scene) -> list[DrawItem]:
+        """SPEC 5's `o` and `d`: whole objects or faces of the selected one. The viewer is never drawn:
+        we are inside it."""
+        modes = scene.modes
+        selected = scene.object
+        if modes.triangle_only or not modes.draw_all:
+            if selected is None or selected is scene.viewer or selected.mesh.face_count == 0:
+                return []
+            if not modes.triangle_only:
+                return [DrawItem(selected, 0, selected.mesh.face_count)]
+            face = selected.selected_face % selected.mesh.face_count
+            return [DrawItem(selected, 0 if modes.draw_all else face, face + 1)]
+        everything = scene.objects + scene.cameras
+        return [DrawItem(obj, 0, obj.mesh.face_count) for obj in everything
+                if obj is not scene.viewer and obj.mesh.face_count > 0]
+
+    # --- uniforms ----------------------------------------------------------------------------
+    def _set_frame_uniforms(self, scene: Scene, view_projection: np.ndarray) -> None:
+        modes = scene.modes
+        parallel = modes.projection is Projection.PARALLEL
+        eye = tuple(float(c) for c in scene.eye_position())
+        backward = tuple(float(c) for c in scene.eye_backward())
+        for uniforms in (self.surface, self.edges, self.normals, self.marker):
+            uniforms.set_matrix("u_view_projection", view_projection)
+        for uniforms in (self.surface, self.edges):
+            uniforms.set("u_parallel", parallel)
+            uniforms.set("u_eye_position", eye)
+            uniforms.set("u_eye_backward", backward)
+        self.surface.set("u_culling", modes.culling)
+        self.surface.set("u_gouraud", modes.shading is Shading.GOURAUD)
+        self.surface.set("u_textured", modes.texture)
+        self.surface.set("u_texture", 0)
+        self.surface.set("u_ambient", tuple(float(c) for c in scene.ambient))
+        self._set_light_uniforms(scene)
+        self.normals.set("u_colour", NORMAL_COLOUR)
+
+    def _set_light_uniforms(self, scene: Scene) -> None:
+        on = np.zeros(LIGHT_COUNT, "i4")
+        kind = np.zeros(LIGHT_COUNT, "i4")
+        intensity = np.zeros((LIGHT_COUNT, 3), "f4")
+        position = np.zeros((LIGHT_COUNT, 3), "f4")
+        direction = np.zeros((LIGHT_COUNT, 3), "f4")
+        cos_aperture = np.ones(LIGHT_COUNT, "f4")
+        for i, light in enumerate(world_lights(scene)[:LIGHT_COUNT]):
+            on[i] = 1
+            kind[i] = LIGHT_KIND_CODES[light.kind]
+            intensity[i] = light.intensity
+            position[i] = light.position
+            direction[i] = light.direction
+            cos_aperture[i] = np.cos(np.radians(light.aperture_deg))
+        self.surface.set_array("u_light_on", on)
+        self.surface.set_array("u_light_kind", kind)
+        self.surface.set_array("u_light_intensity", intensity)
+        self.surface.set_array("u_light_position", position)
+        self.surface.set_array("u_light_direction", direction)
+        self.surface.set_array("u_light_cos_aperture", cos_aperture)
+
+    @staticmethod
+    def _set_model(uniforms: Iterable[Uniforms], model: np.ndarray) -> None:
+        # Normals need the inverse transpose: it keeps them perpendicular to a scaled surface.
+        normal_matrix = np.linalg.inv(model[:3, :3]).T
+        for u in uniforms:
+            u.set_matrix("u_model", model)
+            u.set_matrix("u_normal_matrix", normal_matrix)
+
+    # --- drawing -----------------------------------------------------------------------------
+    def _draw_surface(self, item: DrawItem, gpu: ObjectGpu) -> None:
+        material = item.obj.material
+        self._set_model([self.surface], item.obj.model)
+        self.surface.set("u_ka", tuple(material.ka))
+        self.surface.set("u_kd", tuple(material.kd))
+        self.surface.set("u_ks", tuple(material.ks))
+        self.surface.set("u_ns", float(material.ns))
+        assert self.texture is not None
+        self.texture.use(location=0)
+        _draw(gpu.surface, moderngl.TRIANGLES, gpu.surface_range(item.start, item.stop))
+
+    def _draw_all_edges(self, scene: Scene, items: list[tuple[DrawItem, ObjectGpu]]) -> None:
+        """Back faces' edges of every object first (red; skipped with culling on), then the front
+        faces' edges over them, so an edge between a front and a back face shows the front's colour."""
+        passes = [True] if scene.modes.culling else [False, True]
+        for front_pass in passes:
+            self.edges.set("u_front_pass", front_pass)
+            for item, gpu in items:
+                self._draw_edges(item, gpu, selected=item.obj is scene.object)
+
+    def _draw_edges(self, item: DrawItem, gpu: ObjectGpu, selected: bool) -> None:
+        self._set_model([self.edges], item.obj.model)
+        self.edges.set("u_colour", SELECTED_LINE_COLOUR if selected else LINE_COLOUR)
+        _draw(gpu.edges, moderngl.LINES, gpu.edge_range(item.start, item.stop))
+
+    def _draw_normals(self, item: DrawItem, gpu: ObjectGpu, shading: Shading) -> None:
+        self._set_model([self.normals], item.obj.model)
+        self.normals.set("u_length", NORMAL_LENGTH_FRACTION * item.obj.mesh.size)
+        if shading is Shading.FLAT:
+            _draw(gpu.face_normals, moderngl.LINES, gpu.face_normal_range(item.start, item.stop))
+        else:
+            _draw(gpu.vertex_normals, moderngl.LINES, gpu.vertex_normal_range(item.start, item.stop))
+
+    def _draw_light_marker(self, scene: Scene) -> None:
+        """The selected light as a dot in its own colour (dimmed while it is off), over everything."""
+        light = scene.light
+        colour = np.asarray(light.intensity, float) / 255.0 * (1.0 if light.on else 0.4)
+        self.marker.set("u_position", tuple(float(c) for c in scene.light_position(light)))
+        self.marker.set("u_colour", tuple(float(c) for c in colour))
+        self.marker.set("u_point_size", MARKER_SIZE_PX)
+        self.ctx.disable(moderngl.DEPTH_TEST)
+        self.ctx.enable(moderngl.PROGRAM_POINT_SIZE)
+        self.marker_vao.render(moderngl.POINTS, vertices=1)
+        self.ctx.disable(moderngl.PROGRAM_POINT_SIZE)
+
+
+def _draw(vao: moderngl.VertexArray, mode: int, span: VertexRange) -> None:
+    if span.vertices > 0:
+        vao.render(mode, vertices=span.vertices, first=span.first)

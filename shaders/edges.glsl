@@ -1,0 +1,47 @@
+#version 330 core
+// Lines mode (SPEC 5): every polygon's boundary edges in one colour (the selected object green,
+// the others white), no lighting, no texture; edges of back faces red, or not drawn with culling on.
+// Drawn in two passes, back faces' edges first: a silhouette edge belongs to a front and a back
+// face, and the second pass paints it in the object's colour.
+
+#if defined VERTEX_SHADER
+
+in vec3 in_position;
+in vec3 in_face_normal;
+in vec3 in_face_point;  // the polygon's first vertex: where SPEC 4 makes the back-face test
+
+uniform mat4 u_model;
+uniform mat3 u_normal_matrix;
+uniform mat4 u_view_projection;
+uniform bool u_parallel;
+uniform vec3 u_eye_position;
+uniform vec3 u_eye_backward;
+
+flat out float v_facing;
+
+void main() {
+    vec3 face_point = (u_model * vec4(in_face_point, 1.0)).xyz;
+    vec3 face_normal = normalize(u_normal_matrix * in_face_normal);
+    vec3 view = u_parallel ? u_eye_backward : normalize(u_eye_position - face_point);
+    v_facing = dot(face_normal, view);  // the same at both ends: both carry the polygon's point
+    gl_Position = u_view_projection * u_model * vec4(in_position, 1.0);
+}
+
+#elif defined FRAGMENT_SHADER
+
+uniform vec3 u_colour;
+uniform bool u_front_pass;  // false: back faces' edges, in red; true: front faces' edges, u_colour
+
+flat in float v_facing;
+
+out vec4 out_colour;
+
+void main() {
+    bool front = v_facing > 0.0;
+    if (front != u_front_pass) {
+        discard;
+    }
+    out_colour = front ? vec4(u_colour, 1.0) : vec4(1.0, 0.0, 0.0, 1.0);
+}
+
+#endif

@@ -1,0 +1,128 @@
+#version 330 core
+// Filled polygons (SPEC 4 and 5): the seed's ambient + diffuse + specular lighting, evaluated per
+// vertex in world space, in the seed's 0..255 units; Flat or Gouraud; back faces red or discarded;
+// the lit colour multiplied by the texture.
+
+#if defined VERTEX_SHADER
+
+in vec3 in_position;     // model space
+in vec3 in_normal;       // this corner's vertex normal (Gouraud)
+in vec3 in_face_normal;  // its polygon's normal (Flat, and the back-face test in both modes)
+in vec2 in_uv;
+
+uniform mat4 u_model;
+uniform mat3 u_normal_matrix;  // inverse transpose of the model's 3x3: keeps normals perpendicular
+uniform mat4 u_view_projection;
+
+// V: perspective looks from a point, so V changes over the surface; parallel projection has one V.
+uniform bool u_parallel;
+uniform vec3 u_eye_position;
+uniform vec3 u_eye_backward;
+
+uniform bool u_gouraud;
+
+// The material, and the lights already placed in the world by the renderer.
+uniform vec3 u_ka;
+uniform vec3 u_kd;
+uniform vec3 u_ks;
+uniform float u_ns;
+uniform vec3 u_ambient;  // Ia
+
+const int DIRECTIONAL = 0;
+const int POINT = 1;
+const int SPOT = 2;
+const int LIGHT_COUNT = 4;
+uniform int u_light_on[LIGHT_COUNT];
+uniform int u_light_kind[LIGHT_COUNT];
+uniform vec3 u_light_intensity[LIGHT_COUNT];
+uniform vec3 u_light_position[LIGHT_COUNT];
+uniform vec3 u_light_direction[LIGHT_COUNT];  // directional: toward the light; spot: the cone's axis
+uniform float u_light_cos_aperture[LIGHT_COUNT];
+
+// With the provoking vertex set to the first one, `flat` varyings take the value computed at the
+// first corner of each fan triangle, which is its polygon's first vertex (SPEC 4's Flat).
+flat out vec3 v_flat_colour;
+smooth out vec3 v_smooth_colour;
+flat out float v_facing;  // N.V with the face normal at the polygon's first vertex
+out vec2 v_uv;
+
+// Unit vector from the surface point toward the light.
+vec3 toward_light(int i, vec3 point) {
+    if (u_light_kind[i] == DIRECTIONAL) {
+        return u_light_direction[i];
+    }
+    return normalize(u_light_position[i] - point);
+}
+
+// A spotlight lights the point only inside its cone: the angle between the axis and the ray from
+// the light to the point is below the aperture, i.e. the cosine is above cos(aperture).
+bool reaches(int i, vec3 point) {
+    if (u_light_kind[i] != SPOT) {
+        return true;
+    }
+    vec3 ray = normalize(point - u_light_position[i]);
+    return dot(ray, u_light_direction[i]) > u_light_cos_aperture[i];
+}
+
+// I = Ka*Ia + sum I_l * (Kd*max(N.L, 0) + Ks*max(N.H, 0)^ns), clamped to 255, returned as I/255.
+vec3 lit_colour(vec3 point, vec3 normal, vec3 view) {
+    vec3 intensity = u_ka * u_ambient;
+    for (int i = 0; i < LIGHT_COUNT; ++i) {
+        if (u_light_on[i] == 0 || !reaches(i, point)) {
+            continue;
+        }
+        vec3 light = toward_light(i, point);
+        vec3 halfway = normalize(light + view);  // Blinn's H: the normal that would mirror L into V
+        float diffuse = max(dot(normal, light), 0.0);
+        float n_dot_h = max(dot(normal, halfway), 0.0);
+        // pow(0, ns) is undefined in GLSL; the formula's value there is 0 for any ns > 0.
+        float specular = n_dot_h > 0.0 ? pow(n_dot_h, u_ns) : 0.0;
+        intensity += u_light_intensity[i] * (u_kd * diffuse + u_ks * specular);
+    }
+    return min(intensity, vec3(255.0)) / 255.0;
+}
+
+void main() {
+    vec3 world_position = (u_model * vec4(in_position, 1.0)).xyz;
+    vec3 face_normal = normalize(u_normal_matrix * in_face_normal);
+    vec3 view = u_parallel ? u_eye_backward : normalize(u_eye_position - world_position);
+
+    v_facing = dot(face_normal, view);
+    vec3 normal = u_gouraud ? normalize(u_normal_matrix * in_normal) : face_normal;
+    vec3 colour = lit_colour(world_position, normal, view);
+    v_flat_colour = colour;
+    v_smooth_colour = colour;
+    v_uv = in_uv;
+    gl_Position = u_view_projection * vec4(world_position, 1.0);
+}
+
+#elif defined FRAGMENT_SHADER
+
+uniform bool u_gouraud;
+uniform bool u_culling;
+uniform bool u_textured;
+uniform sampler2D u_texture;
+
+flat in vec3 v_flat_colour;
+smooth in vec3 v_smooth_colour;
+flat in float v_facing;
+in vec2 v_uv;
+
+out vec4 out_colour;
+
+void main() {
+    if (v_facing <= 0.0) {  // a back face: hidden with culling on, shown red otherwise (SPEC 5)
+        if (u_culling) {
+            discard;
+        }
+        out_colour = vec4(1.0, 0.0, 0.0, 1.0);
+        return;
+    }
+    vec3 colour = u_gouraud ? v_smooth_colour : v_flat_colour;
+    if (u_textured) {
+        colour *= texture(u_texture, v_uv).rgb;
+    }
+    out_colour = vec4(colour, 1.0);
+}
+
+#endif
