@@ -98,8 +98,11 @@ class SceneObject:
     uid: int = field(default_factory=lambda: next(_uids))  # stable key for GPU resources
 
     @classmethod
-    def placed(cls, name: str, mesh: Mesh, material: Material, position: Vec3) -> SceneObject:
+    def placed(cls, name: str, mesh: Mesh, material: Material, position: Vec3,
+               rotation_deg: Vec3 = (0.0, 0.0, 0.0)) -> SceneObject:
+        """Initial placement: turned about the world x, then y, then z axis, then moved."""
         model = np.eye(4)
+        model[:3, :3] = euler_xyz(rotation_deg)
         model[:3, 3] = position
         return cls(name=name, mesh=mesh, material=material, history=[model])
 
@@ -277,6 +280,13 @@ class Scene:
         rotation = owner.model[:3, :3] if owner is not None else np.eye(3)
         axis = rotation @ (light.axis_in_owner @ np.array([0.0, 0.0, -1.0]))
         return axis / np.linalg.norm(axis)
+
+
+def euler_xyz(degrees: Vec3) -> np.ndarray:
+    """Rz @ Ry @ Rx: turn about world x first. pyrr's matrix33 rotations are right for column vectors."""
+    ax, ay, az = np.radians(degrees)
+    return (pyrr.matrix33.create_from_z_rotation(az) @ pyrr.matrix33.create_from_y_rotation(ay)
+            @ pyrr.matrix33.create_from_x_rotation(ax))
 
 
 def perspective(fovy_deg: float, aspect: float, near: float, far: float) -> np.ndarray:
