@@ -1,0 +1,78 @@
+"""`python -m app screenshot`: the scene rendered offscreen through EGL, keys replayed first.
+
+Same key map, same renderer as the window; only the framebuffer differs. No display is needed.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import moderngl
+import moderngl_window.screenshot
+
+from app.errors import LoadError, ViewerError
+from app.keymap import parse_key_sequence
+from app.overlay import Overlay
+from app.renderer import Renderer
+from app.viewer import StartOptions, Viewer, starting_scene
+
+
+class OffscreenFrontend:
+    """ESC ends the replay; the window-only actions become messages."""
+
+    def __init__(self) -> None:
+        self.quitting = False
+
+    def quit(self) -> None:
+        self.quitting = True
+
+    def open_file_prompt(self) -> None:
+        raise ViewerError("`f` opens a prompt in the window; in --keys use f=PATH")
+
+    def save_screenshot(self) -> None:
+        pass  # the -o file is the screenshot
+
+
+def create_context() -> moderngl.Context:
+    try:
+        return moderngl.create_standalone_context(backend="egl")
+    except Exception as error:  # glcontext raises plain Exception subclasses of its own
+        raise ViewerError(f"cannot create an offscreen OpenGL context through EGL: {error}") from error
+
+
+def take_screenshot(options: StartOptions, out: Path, size: tuple[int, int], keys: str = "",
+                    overlay: bool = False) -> Path:
+    """Renders the starting scene after `keys` into the PNG `out`; raises ViewerError on bad input."""
+    scene = starting_scene(options)
+    ctx = create_context()
+    try:
+        return _render(ctx, scene, options, out, size, keys, overlay)
+    finally:
+        ctx.release()
+
+
+def _render(ctx: moderngl.Context, scene, options: StartOptions, out: Path, size: tuple[int, int],
+            keys: str, overlay: bool) -> Path:
+    frontend = OffscreenFrontend()
+    viewer = Viewer(scene, Renderer(ctx), frontend, strict=True)
+    texture = options.texture if options.texture is not None else scene.texture_path
+    message = viewer.use_texture(Path(texture) if texture else None)
+    if message and options.texture is not None:
+        raise LoadError(options.texture, message)  # asked for by name: a wrong one is an error
+    if message:
+        print(message, file=sys.stderr)
+    for model in options.models:
+        viewer.load_model(model)
+    for key in parse_key_sequence(keys):
+        if frontend.quitting:
+            break
+        viewer.press(key)
+    fbo = ctx.simple_framebuffer(size, components=4)
+    fbo.use()
+    viewer.renderer.render(scene, fbo, size)
+    if overlay:
+        Overlay(ctx).draw(*viewer.overlay_lines(), size)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    moderngl_window.screenshot.create(fbo, name=str(out.resolve()))
+    return out

@@ -1,0 +1,124 @@
+"""What the window and the screenshot command share: the scene, the key map and the renderer.
+
+A `Viewer` is the key map's `Host`: commands that reach outside the scene (load a file, quit,
+screenshot, free GPU buffers) land here, and the front end (window or offscreen) supplies the parts
+that differ through `Frontend`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Protocol
+
+from app import commands, keymap, status
+from app.errors import LoadError
+from app.loaders.image import load_texture_or_fallback
+from app.loaders.obj import load_obj
+from app.renderer import Renderer
+from app.scene import Scene, SceneObject
+from app.scenefile import empty_scene, load_builtin_scene, load_scene, material_for_loaded
+
+
+class Frontend(Protocol):
+    """The parts of a host that only a window, or only the offscreen runner, can do."""
+
+    def quit(self) -> None: ...
+    def open_file_prompt(self) -> None: ...
+    def save_screenshot(self) -> None: ...
+
+
+@dataclass
+class StartOptions:
+    """Where the starting scene comes from: SPEC 3's built-in one, a TOML file, or the camera alone."""
+
+    scene_file: Path | None = None
+    empty: bool = False
+    texture: Path | None = None
+    models: tuple[Path, ...] = ()
+
+
+def starting_scene(options: StartOptions) -> Scene:
+    """Raises LoadError when the scene file is bad: there is no earlier scene to fall back on."""
+    if options.empty:
+        return empty_scene()
+    if options.scene_file is not None:
+        return load_scene(options.scene_file)
+    return load_builtin_scene()
+
+
+def load_model_object(path: str | Path) -> SceneObject:
+    """An OBJ file as a new scene element, placed at the origin like the seed's fresh objects."""
+    mesh = load_obj(path)
+    return SceneObject.placed(mesh.name, mesh, material_for_loaded(mesh), (0.0, 0.0, 0.0))
+
+
+class Viewer:
+    def __init__(self, scene: Scene, renderer: Renderer, frontend: Frontend,
+                 strict: bool = False) -> None:
+        self.scene = scene
+        self.renderer = renderer
+        self.frontend = frontend
+        self.keys = keymap.KEYMAP
+        # Strict (the screenshot command): a failed load is an error that ends the run, since a
+        # picture without the asked-for model would be a lie. The window shows the message instead.
+        self.strict = strict
+
+    # --- start-up ------------------------------------------------------------------------------
+    def use_texture(self, path: Path | None) -> str | None:
+        """Loads the texture, or the built-in fallback; returns the message to show, if any."""
+        image, message = load_texture_or_fallback(path)
+        self.renderer.set_texture(image)
+        if message:
+            self.scene.message = message
+        return message
+
+    # --- keys ----------------------------------------------------------------------------------
+    def press(self, key: keymap.KeyPress) -> None:
+        keymap.dispatch(self.scene, key, self)
+
+    def press_sequence(self, text: str) -> None:
+        for key in keymap.parse_key_sequence(text):
+            self.press(key)
+
+    # --- what the overlay shows ----------------------------------------------------------------
+    def overlay_lines(self, prompt: str | None = None) -> tuple[list[str], list[str]]:
+        """(top lines, bottom lines): status and help at the top, message and `f` prompt below."""
+        top = [status.status_line(self.scene)]
+        if self.scene.modes.show_help:
+            top += status.help_lines(self.scene, self.keys)
+        bottom = [self.scene.message] if self.scene.message else []
+        if prompt is not None:
+            bottom.append(f"OBJ file to load (Enter loads, ESC cancels): {prompt}_")
+        return top, bottom
+
+    # --- Host ----------------------------------------------------------------------------------
+    def load_model(self, path: str | Path) -> bool:
+        """SPEC 6 `f`: on success the new element is selected; on failure the scene is untouched."""
+        as_camera = commands.loads_as_camera(self.scene)
+        try:
+            obj = load_model_object(path)
+        except LoadError as error:
+            self.scene.message = str(error)
+            if self.strict:
+                raise
+            return False
+        commands.add_loaded(self.scene, obj, as_camera=as_camera)
+        kind = "camera" if as_camera else "object"
+        self.scene.message = f"loaded {Path(path).name} as a new {kind}: " \
+                             f"{obj.mesh.vertex_count} vertices, {obj.mesh.face_count} faces"
+        if obj.mesh.warnings:
+            self.scene.message += " (" + "; ".join(obj.mesh.warnings) + ")"
+        return True
+
+    def released(self, obj: SceneObject) -> None:
+        self.renderer.release_object(obj)
+
+    def quit(self) -> None:
+        self.frontend.quit()
+
+    def open_file_prompt(self) -> None:
+        self.frontend.open_file_prompt()
+
+    def save_screenshot(self) -> None:
+        self.frontend.save_screenshot()

@@ -1,0 +1,99 @@
+"""The command line as a person uses it: exit codes, one-line errors, no tracebacks, real PNGs."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+ROOT = Path(__file__).resolve().parents[1]
+BACKGROUND = (0, 0, 178)
+
+
+def run_app(*args: str, cwd: Path = ROOT, env: dict | None = None) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "app", *args], cwd=cwd, capture_output=True,
+                          text=True, timeout=120, env=env)
+
+
+def assert_one_line_error(result: subprocess.CompletedProcess, *fragments: str) -> None:
+    assert result.returncode != 0
+    assert "Traceback" not in result.stderr
+    lines = [line for line in result.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1, result.stderr
+    for fragment in fragments:
+        assert fragment in lines[0]
+
+
+def test_screenshot_writes_the_built_in_scene(tmp_path: Path) -> None:
+    out = tmp_path / "shot.png"
+    result = run_app("screenshot", "-o", str(out), "--size", "320x240")
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip().endswith("shot.png")
+    pixels = np.asarray(Image.open(out).convert("RGB"))
+    assert pixels.shape == (240, 320, 3)
+    assert tuple(pixels[0, 0]) == BACKGROUND
+    assert (np.abs(pixels.astype(int) - BACKGROUND).sum(axis=2) > 30).mean() > 0.01, "nothing drawn"
+
+
+def test_screenshot_replays_keys_and_loads_models_from_the_command_line(tmp_path: Path) -> None:
+    model = tmp_path / "tri.obj"
+    model.write_text("v -50 -50 0\nv 50 -50 0\nv 0 50 0\nf 1 2 3\n")
+    out = tmp_path / "shot.png"
+    result = run_app("screenshot", "-o", str(out), "--size", "64x64", "--empty", "--keys", "T l",
+                     str(model))
+    assert result.returncode == 0, result.stderr
+    pixels = np.asarray(Image.open(out).convert("RGB"))
+    # Lines mode: the new object is selected, so its edges are green and nothing is filled.
+    green = (pixels[..., 1] > 200) & (pixels[..., 0] < 50)
+    assert green.any()
+    assert tuple(pixels[32, 32]) == BACKGROUND
+
+
+@pytest.mark.parametrize("content, fragment", [
+    ("v 0 0 0\nv 1 0 0\nf 1 2 7\n", ":3:"),
+    ("v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", ":1:"),
+])
+def test_screenshot_bad_model_is_one_line_naming_file_and_line(tmp_path: Path, content: str,
+                                                               fragment: str) -> None:
+    model = tmp_path / "bad.obj"
+    model.write_text(content)
+    result = run_app("screenshot", "-o", str(tmp_path / "x.png"), "--size", "32x32", str(model))
+    assert_one_line_error(result, "bad.obj", fragment)
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_screenshot_missing_model(tmp_path: Path) -> None:
+    result = run_app("screenshot", "-o", str(tmp_path / "x.png"), str(tmp_path / "nope.obj"))
+    assert_one_line_error(result, "nope.obj")
+
+
+def test_screenshot_bad_key(tmp_path: Path) -> None:
+    result = run_app("screenshot", "-o", str(tmp_path / "x.png"), "--keys", "0 NOSUCHKEY")
+    assert_one_line_error(result, "NOSUCHKEY")
+
+
+def test_screenshot_bad_scene_file(tmp_path: Path) -> None:
+    scene = tmp_path / "scene.toml"
+    scene.write_text("[[objects]]\nmodel = 3\n")
+    result = run_app("screenshot", "-o", str(tmp_path / "x.png"), "--scene", str(scene))
+    assert_one_line_error(result, "scene.toml")
+
+
+def test_screenshot_bad_named_texture(tmp_path: Path) -> None:
+    texture = tmp_path / "broken.ppm"
+    texture.write_bytes(b"P6\n4 4\n255\n\x00\x01")
+    result = run_app("screenshot", "-o", str(tmp_path / "x.png"), "--texture", str(texture))
+    assert_one_line_error(result, "broken.ppm")
+
+
+def test_run_without_display_writes_a_screenshot(tmp_path: Path) -> None:
+    env = {k: v for k, v in __import__("os").environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    env["PYTHONPATH"] = str(ROOT)
+    result = run_app("--size", "64x64", cwd=tmp_path, env=env)
+    assert result.returncode == 0, result.stderr
+    assert "no display" in result.stdout
+    assert (tmp_path / "out" / "marraztu.png").exists()
