@@ -6,6 +6,8 @@ an "active" context; a bare EGL context is registered with `activate_context` fo
 
 from __future__ import annotations
 
+import textwrap
+
 import moderngl
 import moderngl_window
 import numpy as np
@@ -17,6 +19,7 @@ LINE_HEIGHT_PX = 16.0
 MARGIN_PX = 6.0
 TEXT_SIZE_PX = LINE_HEIGHT_PX * 0.9
 BACKDROP_RGBA = (0.0, 0.0, 0.0, 0.6)
+NO_BREAK = "\u00a0"
 
 
 class Overlay:
@@ -67,16 +70,13 @@ class Overlay:
 
 
 def wrap(line: str, columns: int) -> list[str]:
-    """Breaks at " | " (the status line's separator) or spaces, hard-cutting words that are too long."""
-    pieces: list[str] = []
-    while len(line) > columns:
-        cut = line.rfind(" | ", 0, columns)
-        skip = 3
-        if cut <= 0:
-            cut, skip = line.rfind(" ", 0, columns), 1
-        if cut <= 0:
-            cut, skip = columns, 0
-        pieces.append(line[:cut])
-        line = "  " + line[cut + skip:]
-    pieces.append(line)
-    return pieces
+    """Fits a line to the width, breaking the status line only at its " | " separators.
+
+    Spaces inside a status field become no-break spaces for textwrap (which breaks only at ASCII
+    whitespace), so a field is never split unless it alone is wider than the window.
+    """
+    if " | " in line:
+        line = " | ".join(field.replace(" ", NO_BREAK) for field in line.split(" | "))
+    pieces = textwrap.wrap(line, columns, subsequent_indent="  ", break_on_hyphens=False,
+                           drop_whitespace=True) or [""]
+    return [piece.replace(NO_BREAK, " ") for piece in pieces]

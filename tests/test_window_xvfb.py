@@ -1,0 +1,110 @@
+"""The real window under Xvfb: xdotool types keys (letters, shift letters, TAB, Enter, the `f`
+prompt with a path), F12 saves the program's own screenshot, and that picture must match what the
+screenshot command renders for the same keys at the same size.
+
+Tolerance, stated: both pictures come from the same renderer on the same Mesa, without overlays (F12
+saves the scene without the status line), so at most 0.1 % of the pixels may differ by more than
+2/255 in any channel.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+ROOT = Path(__file__).resolve().parents[1]
+SIZE = (320, 320)
+
+pytestmark = pytest.mark.skipif(
+    not (shutil.which("Xvfb") and shutil.which("xdotool")),
+    reason="needs Xvfb and xdotool (apt-get install xvfb xdotool; .ci/run installs them)")
+
+
+@pytest.fixture
+def display() -> str:
+    """A private X server; -displayfd picks a free display number and tells us which."""
+    read_end, write_end = os.pipe()
+    server = subprocess.Popen(["Xvfb", "-displayfd", str(write_end), "-screen", "0", "800x600x24",
+                               "-nolisten", "tcp"], pass_fds=[write_end],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(write_end)
+    with os.fdopen(read_end) as pipe:
+        number = pipe.readline().strip()
+    yield f":{number}"
+    server.terminate()
+    server.wait(timeout=10)
+
+
+def xdotool(display: str, *args: str) -> str:
+    env = {**os.environ, "DISPLAY": display}
+    return subprocess.run(["xdotool", *args], env=env, capture_output=True, text=True,
+                          timeout=30).stdout
+
+
+def wait_for(condition, seconds: float, what: str, display: str | None = None):
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        value = condition()
+        if value:
+            return value
+        time.sleep(0.2)
+    if display and shutil.which("import"):  # ImageMagick: what the screen showed, for the report
+        subprocess.run(["import", "-window", "root", "/tmp/marraztu-window-failure.png"],
+                       env={**os.environ, "DISPLAY": display}, timeout=30)
+    pytest.fail(f"timed out waiting for {what}")
+
+
+def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None:
+    model = tmp_path / "big triangle.obj"
+    model.write_text("v -60 -60 20\nv 60 -60 20\nv 0 60 20\nvt 0 0\nvt 1 0\nvt 0.5 1\nf 1/1 2/2 3/3\n")
+    env = {**os.environ, "DISPLAY": display, "PYTHONPATH": str(ROOT)}
+    window = subprocess.Popen([sys.executable, "-m", "app", "--size", f"{SIZE[0]}x{SIZE[1]}"],
+                              cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              text=True)
+    try:
+        window_id = wait_for(lambda: xdotool(display, "search", "--name", "marraztu").split(),
+                             60, "the window")[0]
+        time.sleep(1.0)  # the first frames
+        xdotool(display, "windowfocus", "--sync", window_id)
+        xdotool(display, "type", "--delay", "60", "01F")  # F is shift+f: Gouraud
+        xdotool(display, "key", "--delay", "60", "Tab", "Return", "Return")
+        xdotool(display, "type", "--delay", "60", "ct")  # target cameras, translate
+        xdotool(display, "type", "--delay", "60", "zzzXX")
+        xdotool(display, "type", "--delay", "60", "cc")  # lights, then objects: f loads an object
+        xdotool(display, "type", "--delay", "60", "f")
+        xdotool(display, "type", "--delay", "30", str(model))
+        xdotool(display, "key", "Return")
+        time.sleep(0.5)
+        xdotool(display, "key", "F12")
+        shots = tmp_path / "screenshots"
+        saved = wait_for(lambda: sorted(shots.glob("*.png")) if shots.is_dir() else [], 30,
+                         "the F12 screenshot", display)[0]
+        time.sleep(0.3)
+        xdotool(display, "key", "Escape")
+        assert window.wait(timeout=30) == 0, "ESC must quit cleanly"
+    finally:
+        if window.poll() is None:
+            window.kill()
+        _, errors = window.communicate(timeout=10)
+    assert "Traceback" not in errors, errors
+
+    keys = f'0 1 F TAB ENTER ENTER c t z*3 X*2 c c "f={model.as_posix()}"'
+    expected_path = tmp_path / "expected.png"
+    result = subprocess.run([sys.executable, "-m", "app", "screenshot", "-o", str(expected_path),
+                             "--size", f"{SIZE[0]}x{SIZE[1]}", "--keys", keys],
+                            cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    from_window = np.asarray(Image.open(saved).convert("RGB")).astype(int)
+    expected = np.asarray(Image.open(expected_path).convert("RGB")).astype(int)
+    assert from_window.shape == expected.shape
+    differing = (np.abs(from_window - expected).max(axis=2) > 2).mean()
+    assert differing <= 0.001, f"{differing:.2%} of the pixels differ"
+    assert (np.abs(expected - [0, 0, 178]).sum(axis=2) > 30).mean() > 0.05, "almost blank"
