@@ -7,7 +7,9 @@ that differ through `Frontend`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import threading
+from concurrent.futures import Future, ThreadPoolExecutor
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Protocol
 
@@ -53,9 +55,58 @@ def load_model_object(path: str | Path) -> SceneObject:
     return SceneObject.placed(mesh.name, mesh, material_for_loaded(mesh), (0.0, 0.0, 0.0))
 
 
+@dataclass(eq=False)
+class LoadJob:
+    """One file being loaded on the worker thread; where it goes is decided when it is asked for."""
+
+    path: Path
+    as_camera: bool
+    future: Future = field(default_factory=Future)
+    progress: float = 0.0  # 0..1, written by the worker, read by the window's status line
+
+    @property
+    def label(self) -> str:
+        return f"loading {self.path.name} {self.progress:.0%}"
+
+
+class BackgroundLoader:
+    """Loads OBJ files off the render thread so the window keeps drawing and answering keys while a
+    multi-million-triangle file is read. numpy releases the GIL for its heavy work, which is most of
+    a load, so the render thread keeps its frames. One worker: loads finish in the order asked."""
+
+    def __init__(self) -> None:
+        self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="obj-loader")
+        self._jobs: list[LoadJob] = []
+        self._lock = threading.Lock()
+
+    def start(self, path: Path, as_camera: bool) -> LoadJob:
+        job = LoadJob(path, as_camera)
+        with self._lock:
+            self._jobs.append(job)
+        job.future = self._pool.submit(self._load, job)
+        return job
+
+    @staticmethod
+    def _load(job: LoadJob) -> SceneObject:
+        return load_model_object(job.path)
+
+    def pending(self) -> list[LoadJob]:
+        with self._lock:
+            return [job for job in self._jobs if not job.future.done()]
+
+    def take_finished(self) -> list[LoadJob]:
+        with self._lock:
+            done = [job for job in self._jobs if job.future.done()]
+            self._jobs = [job for job in self._jobs if not job.future.done()]
+        return done
+
+    def shutdown(self) -> None:
+        self._pool.shutdown(wait=False, cancel_futures=True)
+
+
 class Viewer:
     def __init__(self, scene: Scene, renderer: Renderer, frontend: Frontend,
-                 strict: bool = False) -> None:
+                 strict: bool = False, background: BackgroundLoader | None = None) -> None:
         self.scene = scene
         self.renderer = renderer
         self.frontend = frontend
@@ -63,6 +114,9 @@ class Viewer:
         # Strict (the screenshot command): a failed load is an error that ends the run, since a
         # picture without the asked-for model would be a lie. The window shows the message instead.
         self.strict = strict
+        # With a background loader (the window), `f` and dropped files load on a worker thread and
+        # join the scene in `collect_loads`, called once a frame; without one, loads are immediate.
+        self.background = background
 
     # --- start-up ------------------------------------------------------------------------------
     def use_texture(self, path: Path | None) -> str | None:
@@ -88,6 +142,7 @@ class Viewer:
         if self.scene.modes.show_help:
             top += status.help_lines(self.scene, self.keys)
         bottom = [self.scene.message] if self.scene.message else []
+        bottom += self.loading_lines()
         if prompt is not None:
             bottom.append(f"OBJ file to load (Enter loads, ESC cancels): {prompt}_")
         return top, bottom
@@ -96,20 +151,46 @@ class Viewer:
     def load_model(self, path: str | Path) -> bool:
         """SPEC 6 `f`: on success the new element is selected; on failure the scene is untouched."""
         as_camera = commands.loads_as_camera(self.scene)
+        if self.background is not None:
+            job = self.background.start(Path(path), as_camera)
+            self.scene.message = job.label
+            return True
         try:
             obj = load_model_object(path)
         except LoadError as error:
-            self.scene.message = str(error)
-            if self.strict:
-                raise
-            return False
+            return self._failed(error)
+        self._add(obj, Path(path), as_camera)
+        return True
+
+    def collect_loads(self) -> None:
+        """Adds what the worker finished, in the order asked; a failure leaves only its message."""
+        if self.background is None:
+            return
+        for job in self.background.take_finished():
+            error = job.future.exception()
+            if error is None:
+                self._add(job.future.result(), job.path, job.as_camera)
+            elif isinstance(error, LoadError):
+                self._failed(error)
+            else:  # a bug, not a bad file: say so instead of dying in the render loop
+                self._failed(LoadError(job.path, f"could not be loaded ({type(error).__name__}: {error})"))
+
+    def loading_lines(self) -> list[str]:
+        return [job.label for job in self.background.pending()] if self.background else []
+
+    def _failed(self, error: LoadError) -> bool:
+        self.scene.message = str(error)
+        if self.strict:
+            raise error
+        return False
+
+    def _add(self, obj: SceneObject, path: Path, as_camera: bool) -> None:
         commands.add_loaded(self.scene, obj, as_camera=as_camera)
         kind = "camera" if as_camera else "object"
         self.scene.message = f"loaded {Path(path).name} as a new {kind}: " \
                              f"{obj.mesh.vertex_count} vertices, {obj.mesh.face_count} faces"
         if obj.mesh.warnings:
             self.scene.message += " (" + "; ".join(obj.mesh.warnings) + ")"
-        return True
 
     def released(self, obj: SceneObject) -> None:
         self.renderer.release_object(obj)

@@ -18,7 +18,7 @@ from app.cli import add_scene_arguments, start_options
 from app.keymap import KeyPress
 from app.overlay import Overlay
 from app.renderer import Renderer
-from app.viewer import Viewer, starting_scene
+from app.viewer import BackgroundLoader, Viewer, starting_scene
 
 SCREENSHOT_DIR = Path("screenshots")
 
@@ -41,7 +41,8 @@ class ViewerWindow(mglw.WindowConfig):
         super().__init__(**kwargs)
         self.wnd.exit_key = None  # ESC belongs to the key map: it also cancels the file prompt
         options = start_options(self.argv)
-        self.viewer = Viewer(starting_scene(options), Renderer(self.ctx), self)
+        self.viewer = Viewer(starting_scene(options), Renderer(self.ctx), self,
+                             background=BackgroundLoader())
         self.viewer.use_texture(options.texture or _as_path(self.viewer.scene.texture_path))
         for model in options.models:
             self.viewer.load_model(model)
@@ -67,6 +68,7 @@ class ViewerWindow(mglw.WindowConfig):
 
     # --- drawing -------------------------------------------------------------------------------
     def on_render(self, time: float, frame_time: float) -> None:
+        self.viewer.collect_loads()
         size = self.wnd.buffer_size
         self.wnd.fbo.use()
         self.viewer.renderer.render(self.scene, self.wnd.fbo, size)
@@ -117,6 +119,8 @@ class ViewerWindow(mglw.WindowConfig):
 
     # --- Frontend ------------------------------------------------------------------------------
     def quit(self) -> None:
+        if self.viewer.background is not None:
+            self.viewer.background.shutdown()
         self.wnd.close()
 
     def open_file_prompt(self) -> None:

@@ -1,0 +1,56 @@
+"""The window's loads run on a worker thread and join the scene between frames, in order."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from app.viewer import BackgroundLoader, Viewer
+from app.scenefile import empty_scene
+
+
+class NoFrontend:
+    def quit(self) -> None: ...
+    def open_file_prompt(self) -> None: ...
+    def save_screenshot(self) -> None: ...
+
+
+def wait_until_idle(viewer: Viewer, seconds: float = 30.0) -> None:
+    deadline = time.monotonic() + seconds
+    while viewer.background.pending() and time.monotonic() < deadline:
+        time.sleep(0.01)
+    viewer.collect_loads()
+
+
+def test_loads_join_the_scene_between_frames(tmp_path: Path) -> None:
+    good = tmp_path / "good.obj"
+    good.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    bad = tmp_path / "bad.obj"
+    bad.write_text("v 0 0 0\nv 1 0 0\nf 1 2 9\n")
+    viewer = Viewer(empty_scene(), renderer=None, frontend=NoFrontend(), background=BackgroundLoader())
+    viewer.load_model(good)
+    assert viewer.scene.objects == [], "nothing joins until the frame collects it"
+    wait_until_idle(viewer)
+    assert [obj.name for obj in viewer.scene.objects] == ["good"]
+    assert "loaded good.obj" in viewer.scene.message
+
+    before = [obj.model.copy() for obj in viewer.scene.objects]
+    viewer.load_model(bad)
+    wait_until_idle(viewer)
+    assert [obj.name for obj in viewer.scene.objects] == ["good"]
+    assert all((a == b.model).all() for a, b in zip(before, viewer.scene.objects))
+    assert "bad.obj:3" in viewer.scene.message
+    viewer.background.shutdown()
+
+
+def test_a_camera_load_stays_a_camera_even_if_the_target_changes_meanwhile(tmp_path: Path) -> None:
+    good = tmp_path / "cam.obj"
+    good.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    viewer = Viewer(empty_scene(), renderer=None, frontend=NoFrontend(), background=BackgroundLoader())
+    viewer.press_sequence("c")  # target cameras
+    viewer.load_model(good)
+    viewer.press_sequence("c")  # target lights before the load lands
+    wait_until_idle(viewer)
+    assert [cam.name for cam in viewer.scene.cameras][-1] == "cam"
+    assert viewer.scene.cameras[viewer.scene.selected_camera].name == "cam"
+    viewer.background.shutdown()
