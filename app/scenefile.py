@@ -36,6 +36,7 @@ from typing import NoReturn
 
 from app import ASSET_DIR
 from app.errors import LoadError, ViewerError
+from app.loaders.files import read_file
 from app.loaders.obj import load_obj
 from app.mesh import Mesh
 from app.scene import Material, Scene, SceneObject, Vec3
@@ -46,6 +47,7 @@ ENTRY_KEYS = frozenset({"name", "model", "position", "rotation", "material"})
 REQUIRED_ENTRY_KEYS = ("model", "position")
 MATERIAL_KEYS = frozenset({"ka", "kd", "ks", "ns", "rgb"})
 REQUIRED_MATERIAL_KEYS = ("ka", "kd", "ks", "ns")
+SCENE_FILE_LIMIT = 16 << 20  # a hand-written scene is a few kB; this refuses a model given by mistake
 WHITE: Vec3 = (1.0, 1.0, 1.0)
 
 # What a model loaded at run time is made of when its file says nothing: a light grey, mostly
@@ -139,10 +141,7 @@ class _SceneReader:
         raise LoadError(self.path, message, line)
 
     def _read_text(self) -> str:
-        try:
-            data = self.path.read_bytes()
-        except OSError as err:
-            self.fail(f"cannot read the scene file: {err.strerror or err}")
+        data = read_file(self.path, limit=SCENE_FILE_LIMIT)
         try:
             return data.decode("utf-8")
         except UnicodeDecodeError:
@@ -156,6 +155,8 @@ class _SceneReader:
             found = _TOML_POSITION.search(message)
             line = int(found.group(1)) if found else None
             self.fail(f"TOML syntax: {_TOML_POSITION.sub('', message)}", line)
+        except RecursionError:  # tomllib recurses once per nesting level of arrays and inline tables
+            self.fail("TOML nested too deeply to be a scene file")
 
     def describe(self) -> SceneDescription:
         self.check_keys(self.document, TOP_LEVEL_KEYS, "the scene", None)

@@ -11,8 +11,9 @@ from pathlib import Path
 import moderngl
 import moderngl_window.screenshot
 
-from app.errors import LoadError, ViewerError
+from app.errors import ViewerError
 from app.keymap import parse_key_sequence
+from app.loaders.image import load_image
 from app.overlay import Overlay
 from app.renderer import Renderer
 from app.viewer import StartOptions, Viewer, starting_scene
@@ -56,12 +57,13 @@ def _render(ctx: moderngl.Context, scene, options: StartOptions, out: Path, size
             keys: str, overlay: bool) -> Path:
     frontend = OffscreenFrontend()
     viewer = Viewer(scene, Renderer(ctx), frontend, strict=True)
-    texture = options.texture if options.texture is not None else scene.texture_path
-    message = viewer.use_texture(Path(texture) if texture else None)
-    if message and options.texture is not None:
-        raise LoadError(options.texture, message)  # asked for by name: a wrong one is an error
-    if message:
-        print(message, file=sys.stderr)
+    if options.texture is not None:
+        # Asked for by name: a bad one ends the command with its LoadError, no fallback.
+        viewer.renderer.set_texture(load_image(options.texture))
+    else:
+        message = viewer.use_texture(Path(scene.texture_path) if scene.texture_path else None)
+        if message:
+            print(message, file=sys.stderr)
     for model in options.models:
         viewer.load_model(model)
     for key in parse_key_sequence(keys):

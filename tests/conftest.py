@@ -29,8 +29,10 @@ def gl_ctx() -> Iterator[moderngl.Context]:
 def renderer(gl_ctx: moderngl.Context):
     from app.renderer import Renderer
 
+    gl_ctx.__enter__()  # see `render` below
     shared = Renderer(gl_ctx)
     yield shared
+    gl_ctx.__enter__()
     shared.release()
 
 
@@ -43,6 +45,9 @@ def offscreen(gl_ctx: moderngl.Context, renderer) -> Iterator[OffscreenRender]:
     framebuffers: dict[tuple[int, int], moderngl.Framebuffer] = {}
 
     def render(scene: Scene, size: tuple[int, int] = (63, 63)) -> np.ndarray:
+        # moderngl draws into whatever context is current and never switches back by itself; the
+        # in-process screenshot tests make and release contexts of their own, so claim ours each time.
+        gl_ctx.__enter__()
         fbo = framebuffers.get(size)
         if fbo is None:
             fbo = gl_ctx.simple_framebuffer(size, components=4)

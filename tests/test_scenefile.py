@@ -202,10 +202,11 @@ def test_binary_scene_file(tmp_path: Path) -> None:
     assert caught.value.path == str(path)
 
 
-@pytest.mark.parametrize("name", ["does_not_exist.toml", "."])
-def test_unreadable_scene_file(tmp_path: Path, name: str) -> None:
+@pytest.mark.parametrize("name, reason", [("does_not_exist.toml", "no such file"),
+                                          (".", "is a directory")])
+def test_unreadable_scene_file(tmp_path: Path, name: str, reason: str) -> None:
     path = tmp_path / name
-    with pytest.raises(LoadError, match="cannot read") as caught:
+    with pytest.raises(LoadError, match=reason) as caught:
         load_scene(path)
     assert caught.value.path == str(path)
 

@@ -1,0 +1,219 @@
+"""Texture images: our PPM reader (P6, P3), Pillow for the rest, and the built-in fallback."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from app.errors import LoadError
+from app.loaders.image import MAX_PIXELS, fallback_texture, load_image, load_texture_or_fallback, parse_ppm
+
+# 2 x 2: red, green / blue, white. Rows top first, as in the file.
+PIXELS = np.array([[[255, 0, 0], [0, 255, 0]], [[0, 0, 255], [255, 255, 255]]], dtype=np.uint8)
+
+
+def write(tmp_path: Path, name: str, data: bytes) -> Path:
+    path = tmp_path / name
+    path.write_bytes(data)
+    return path
+
+
+def p3_text(pixels: np.ndarray, maxval: int = 255) -> bytes:
+    height, width, _ = pixels.shape
+    body = " ".join(str(value) for value in pixels.ravel())
+    return f"P3\n{width} {height}\n{maxval}\n{body}\n".encode()
+
+
+# --- PPM ------------------------------------------------------------------------------------------------
+
+
+def test_p6_rows_top_first(tmp_path: Path) -> None:
+    image = load_image(write(tmp_path, "a.ppm", b"P6\n2 2\n255\n" + PIXELS.tobytes()))
+    assert image.dtype == np.uint8 and image.shape == (2, 2, 3)
+    np.testing.assert_array_equal(image, PIXELS)
+
+
+def test_p3(tmp_path: Path) -> None:
+    np.testing.assert_array_equal(load_image(write(tmp_path, "a.ppm", p3_text(PIXELS))), PIXELS)
+
+
+def test_p3_with_small_maxval_is_scaled() -> None:
+    image = parse_ppm(b"P3 1 1 15\n15 0 7\n", "a.ppm")
+    np.testing.assert_array_equal(image, [[[255, 0, 119]]])  # 7 * 255 / 15 = 119
+
+
+def test_p6_16_bit_big_endian_is_scaled() -> None:
+    samples = np.array([65535, 0, 32768], dtype=">u2").tobytes()
+    np.testing.assert_array_equal(parse_ppm(b"P6 1 1 65535\n" + samples, "a.ppm"), [[[255, 0, 128]]])
+
+
+def test_p6_with_maxval_1000() -> None:
+    samples = np.array([1000, 500, 0], dtype=">u2").tobytes()
+    np.testing.assert_array_equal(parse_ppm(b"P6 1 1 1000\n" + samples, "a.ppm"), [[[255, 128, 0]]])
+
+
+def test_header_comments_and_any_whitespace() -> None:
+    header = b"P6# right after the magic\n\t2 # width\r\n#a whole line\n 2\n255# after maxval\n"
+    np.testing.assert_array_equal(parse_ppm(header + PIXELS.tobytes(), "a.ppm"), PIXELS)
+
+
+def test_p3_comments_in_the_pixel_data() -> None:
+    text = b"P3\n1 1\n255\n# red\n255 0 # no green\n0\n"
+    np.testing.assert_array_equal(parse_ppm(text, "a.ppm"), [[[255, 0, 0]]])
+
+
+def test_extra_data_after_the_raster_is_ignored() -> None:
+    np.testing.assert_array_equal(parse_ppm(b"P6 2 2 255\n" + PIXELS.tobytes() + b"junk", "a.ppm"), PIXELS)
+
+
+def test_binary_raster_may_start_with_whitespace_bytes() -> None:
+    pixel = bytes([10, 32, 35])  # '\n', ' ', '#' are pixel values here, not header
+    np.testing.assert_array_equal(parse_ppm(b"P6 1 1 255\n" + pixel, "a.ppm"), [[[10, 32, 35]]])
+
+
+PPM_ERRORS = [
+    ("wrong magic", b"P7\n1 1\n255\n\0\0\0", "expected P6 or P3"),
+    ("no width", b"P6\n", "no width"),
+    ("no maxval", b"P6 1 1", "no maxval"),
+    ("letters in header", b"P6 a 1 255\n\0\0\0", "not a whole number"),
+    ("negative size", b"P6 -1 1 255\n\0\0\0", "not a whole number"),
+    ("zero width", b"P6 0 1 255\n", "at least 1"),
+    ("zero height", b"P3 1 0 255\n", "at least 1"),
+    ("absurd size", b"P6 100000 100000 255\n\0\0\0", "too large"),
+    ("absurd digits", b"P6 99999999999999999999 1 255\n", "too large"),
+    ("maxval zero", b"P6 1 1 0\n\0\0\0", "maxval 0"),
+    ("maxval too big", b"P6 1 1 70000\n\0\0\0", "maxval 70000"),
+    ("no raster", b"P6 1 1 255", "no pixel data"),
+    ("truncated p6", b"P6 2 2 255\n" + bytes(11), "12 bytes of pixel data expected, found 11"),
+    ("truncated 16 bit", b"P6 1 1 65535\n" + bytes(5), "6 bytes"),
+    ("truncated p3", b"P3 1 1 255\n1 2\n", "3 samples expected"),
+    ("p3 above maxval", b"P3 1 1 15\n1 2 16\n", "exceeds maxval 15"),
+    ("p6 above maxval", b"P6 1 1 100\n\x01\x65\x02", "exceeds maxval 100"),
+    ("p3 not a number", b"P3 1 1 255\n1 x 2\n", "not part of a number"),
+    ("p3 negative", b"P3 1 1 255\n1 -2 3\n", "not part of a number"),
+    ("p3 huge value", b"P3 1 1 255\n1 99999999999999999999999 3\n", "exceeds maxval"),
+]
+
+
+@pytest.mark.parametrize(("data", "message"), [case[1:] for case in PPM_ERRORS], ids=[c[0] for c in PPM_ERRORS])
+def test_bad_ppm_raises_load_error_naming_the_file(tmp_path: Path, data: bytes, message: str) -> None:
+    path = write(tmp_path, "bad.ppm", data)
+    with pytest.raises(LoadError) as caught:
+        load_image(path)
+    assert caught.value.path == str(path)
+    assert message in caught.value.message
+
+
+def test_a_huge_header_with_no_data_fails_fast_without_allocating() -> None:
+    for data in (b"P6 8000 8000 255\n\0\0\0", b"P3 8000 8000 255\n1 2 3\n", b"P6 8000 8000 65535\n\0\0\0"):
+        started = time.perf_counter()
+        with pytest.raises(LoadError, match="truncated"):
+            parse_ppm(data, "huge.ppm")
+        assert time.perf_counter() - started < 0.5
+    with pytest.raises(LoadError, match="too large"):
+        parse_ppm(b"P6 100000 100000 255\n\0\0\0", "huge.ppm")
+
+
+def test_size_cap_is_the_documented_one() -> None:
+    assert MAX_PIXELS == 64 * 1024 * 1024
+
+
+# --- Pillow formats -------------------------------------------------------------------------------------
+
+
+def test_png_round_trip(tmp_path: Path) -> None:
+    path = tmp_path / "a.png"
+    Image.fromarray(PIXELS).save(path)
+    np.testing.assert_array_equal(load_image(path), PIXELS)
+
+
+def test_jpeg_round_trip(tmp_path: Path) -> None:
+    pixels = np.zeros((16, 16, 3), dtype=np.uint8)
+    pixels[:8] = (200, 40, 40)  # top half red: the top row stays first
+    path = tmp_path / "a.jpg"
+    Image.fromarray(pixels).save(path, quality=95)
+    image = load_image(path)
+    assert image.shape == (16, 16, 3) and image.dtype == np.uint8
+    # JPEG is lossy (and blurs colour at the edge): compare the halves.
+    np.testing.assert_allclose(image[:6].reshape(-1, 3).mean(axis=0), (200, 40, 40), atol=8)
+    np.testing.assert_allclose(image[10:].reshape(-1, 3).mean(axis=0), (0, 0, 0), atol=8)
+
+
+def test_rgba_grey_and_palette_become_rgb(tmp_path: Path) -> None:
+    rgba = np.dstack([PIXELS, np.full((2, 2), 7, dtype=np.uint8)])
+    Image.fromarray(rgba).save(tmp_path / "rgba.png")
+    np.testing.assert_array_equal(load_image(tmp_path / "rgba.png"), PIXELS)
+    Image.fromarray(np.array([[0, 128]], dtype=np.uint8)).save(tmp_path / "grey.png")
+    np.testing.assert_array_equal(load_image(tmp_path / "grey.png"), [[[0, 0, 0], [128, 128, 128]]])
+    Image.fromarray(PIXELS).convert("P").save(tmp_path / "palette.png")
+    np.testing.assert_array_equal(load_image(tmp_path / "palette.png"), PIXELS)
+
+
+def test_16_bit_grey_png_is_scaled_not_clipped(tmp_path: Path) -> None:
+    Image.fromarray(np.array([[0, 32896, 65535]], dtype=np.uint16)).save(tmp_path / "deep.png")
+    np.testing.assert_array_equal(load_image(tmp_path / "deep.png")[0, :, 0], [0, 128, 255])
+
+
+def test_pgm_goes_through_pillow(tmp_path: Path) -> None:
+    image = load_image(write(tmp_path, "grey.pgm", b"P5 2 1 255\n\x00\xff"))
+    np.testing.assert_array_equal(image, [[[0, 0, 0], [255, 255, 255]]])
+
+
+@pytest.mark.parametrize(("name", "data"), [
+    ("garbage.png", b"\x89PNG\r\n\x1a\nnot really"),
+    ("empty.jpg", b""),
+    ("text.png", b"hello"),
+])
+def test_broken_images_raise_load_error(tmp_path: Path, name: str, data: bytes) -> None:
+    path = write(tmp_path, name, data)
+    with pytest.raises(LoadError) as caught:
+        load_image(path)
+    assert caught.value.path == str(path)
+
+
+def test_truncated_png(tmp_path: Path) -> None:
+    path = tmp_path / "cut.png"
+    Image.fromarray(np.random.default_rng(1).integers(0, 255, (64, 64, 3), dtype=np.uint8)).save(path)
+    path.write_bytes(path.read_bytes()[:200])
+    with pytest.raises(LoadError):
+        load_image(path)
+
+
+def test_missing_file_directory_and_device(tmp_path: Path) -> None:
+    with pytest.raises(LoadError, match="no such file"):
+        load_image(tmp_path / "selfi.ppm")
+    with pytest.raises(LoadError, match="directory"):
+        load_image(tmp_path)
+    if Path("/dev/zero").exists():
+        with pytest.raises(LoadError, match="not a regular file"):
+            load_image("/dev/zero")
+
+
+# --- the fallback ---------------------------------------------------------------------------------------
+
+
+def test_fallback_texture_is_a_checker_with_a_marked_top_left_corner() -> None:
+    texture = fallback_texture()
+    assert texture.dtype == np.uint8 and texture.ndim == 3 and texture.shape[2] == 3
+    height, width, _ = texture.shape
+    corners = [tuple(texture[0, 0]), tuple(texture[0, -1]), tuple(texture[-1, 0]), tuple(texture[-1, -1])]
+    assert len(set(corners)) >= 3  # flips and mirrors show
+    assert corners[0] not in corners[1:]
+    assert len({tuple(pixel) for pixel in texture[height // 2]}) >= 2  # a checker, not a flat colour
+
+
+def test_load_texture_or_fallback(tmp_path: Path) -> None:
+    good = write(tmp_path, "good.ppm", b"P6 2 2 255\n" + PIXELS.tobytes())
+    image, message = load_texture_or_fallback(good)
+    np.testing.assert_array_equal(image, PIXELS)
+    assert message is None
+    image, message = load_texture_or_fallback(tmp_path / "selfi.ppm")
+    np.testing.assert_array_equal(image, fallback_texture())
+    assert message is not None and "selfi.ppm" in message and "\n" not in message
+    image, message = load_texture_or_fallback(None)
+    np.testing.assert_array_equal(image, fallback_texture())
+    assert message is None

@@ -1,0 +1,554 @@
+"""The OBJ loader: every good and bad case of SPEC 7, the derived normals and uv, the seed models."""
+
+from __future__ import annotations
+
+import os
+import threading
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from app.errors import LoadError
+from app.loaders import obj as obj_module
+from app.loaders.files import read_file
+from app.loaders.obj import build_mesh, load_obj, parse_obj
+from app.mesh import Mesh
+
+SEED_ASSETS = Path(__file__).resolve().parents[2] / "shared" / "seed-assets"
+
+QUAD = b"v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nf 1 2 3 4\n"
+
+
+def parse(text: bytes | str, source: str = "model.obj") -> Mesh:
+    return parse_obj(text.encode() if isinstance(text, str) else text, source)
+
+
+def assert_finite(mesh: Mesh) -> None:
+    for array in (mesh.positions, mesh.corner_uv, mesh.corner_normal, mesh.face_normals):
+        assert np.isfinite(array).all()
+
+
+def assert_mesh_dtypes(mesh: Mesh) -> None:
+    assert mesh.positions.dtype == np.float64
+    assert mesh.corner_vertex.dtype == np.int64
+    assert mesh.corner_uv.dtype == np.float32
+    assert mesh.corner_normal.dtype == np.float32
+    assert mesh.face_start.dtype == np.int64
+    assert mesh.face_normals.dtype == np.float32
+
+
+# --- good input ------------------------------------------------------------------------------------
+
+
+def test_quad_keeps_one_polygon_with_normals_and_bounding_box_uv() -> None:
+    mesh = parse(QUAD)
+    assert (mesh.vertex_count, mesh.face_count) == (4, 1)
+    assert mesh.face_start.tolist() == [0, 4]
+    assert mesh.corner_vertex.tolist() == [0, 1, 2, 3]
+    np.testing.assert_allclose(mesh.face_normals, [[0, 0, 1]])
+    np.testing.assert_allclose(mesh.corner_normal, [[0, 0, 1]] * 4)
+    # The two largest extents are x (2) and y (1), each mapped to 0..1.
+    np.testing.assert_allclose(mesh.corner_uv, [[0, 0], [1, 0], [1, 1], [0, 1]])
+    assert mesh.name == "model"
+    assert mesh.warnings == ()
+    assert_mesh_dtypes(mesh)
+
+
+def test_clockwise_quad_faces_the_other_way() -> None:
+    mesh = parse(QUAD.replace(b"f 1 2 3 4", b"f 4 3 2 1"))
+    np.testing.assert_allclose(mesh.face_normals, [[0, 0, -1]])
+
+
+def test_bounding_box_uv_uses_the_two_largest_extents_in_axis_order() -> None:
+    mesh = parse("v 0 0 0\nv 0 5 0\nv 0 5 2\nf 1 2 3\n")  # flat in x: y and z carry the picture
+    np.testing.assert_allclose(mesh.corner_uv, [[0, 0], [1, 0], [1, 1]])
+
+
+def test_pentagon_is_kept_whole_and_fans_from_its_first_corner() -> None:
+    mesh = parse("v 0 0 0\nv 1 0 0\nv 2 1 0\nv 1 2 0\nv 0 1 0\nf 1 2 3 4 5\nf 1 2 3\n")
+    assert mesh.face_start.tolist() == [0, 5, 8]
+    assert mesh.triangle_corners().tolist() == [[0, 1, 2], [0, 2, 3], [0, 3, 4], [5, 6, 7]]
+    np.testing.assert_allclose(mesh.face_normals, [[0, 0, 1], [0, 0, 1]], atol=1e-7)
+
+
+@pytest.mark.parametrize("corners", ["1 2 3", "1/1 2/2 3/3", "1//1 2//2 3//3", "1/1/1 2/2/2 3/3/3"])
+def test_every_corner_format(corners: str) -> None:
+    text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.5\nvt 0.75 0.5\nvt 0.5 1\nvn 0 0 2\nvn 0 0 1\nvn 0 0 1\n"
+    mesh = parse(text + f"f {corners}\n")
+    assert mesh.corner_vertex.tolist() == [0, 1, 2]
+    if "/" in corners and not corners.startswith("1//"):
+        np.testing.assert_allclose(mesh.corner_uv, [[0.25, 0.5], [0.75, 0.5], [0.5, 1]])
+    else:
+        np.testing.assert_allclose(mesh.corner_uv, [[0, 0], [1, 0], [0, 1]])
+    np.testing.assert_allclose(mesh.corner_normal, [[0, 0, 1]] * 3)  # vn 0 0 2 is normalized
+
+
+def test_file_normals_win_over_derived_ones_and_zero_length_ones_do_not() -> None:
+    text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 1 0 0\nvn 0 0 0\nf 1//1 2//2 3//1\n"
+    mesh = parse(text)
+    np.testing.assert_allclose(mesh.corner_normal, [[1, 0, 0], [0, 0, 1], [1, 0, 0]])
+
+
+def test_vertex_normals_average_the_faces_around_a_position() -> None:
+    # Two triangles folded along the y axis at a right angle: the shared edge gets the average.
+    text = "v 0 0 0\nv 0 1 0\nv 1 0 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\n"
+    mesh = parse(text)
+    np.testing.assert_allclose(mesh.face_normals, [[0, 0, 1], [1, 0, 0]], atol=1e-7)
+    shared = np.array([1, 0, 1]) / np.sqrt(2)  # vertices 1 and 2 lie on the fold
+    np.testing.assert_allclose(mesh.corner_normal[[0, 2, 3, 4]], [shared] * 4, atol=1e-6)
+    np.testing.assert_allclose(mesh.corner_normal[1], [0, 0, 1], atol=1e-7)
+    np.testing.assert_allclose(mesh.corner_normal[5], [1, 0, 0], atol=1e-7)
+
+
+def test_negative_indices_count_back_from_the_last_definition() -> None:
+    text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 5 5 5\nv 6 5 5\nv 5 6 5\nf -3 -2 -1\nf 1 -2 -1\n"
+    mesh = parse(text)
+    assert mesh.corner_vertex.tolist() == [0, 1, 2, 3, 4, 5, 0, 4, 5]
+
+
+def test_negative_texture_and_normal_indices() -> None:
+    text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nf -3/-3/-1 -2/-2/-1 -1/-1/-1\n"
+    mesh = parse(text)
+    np.testing.assert_allclose(mesh.corner_uv, [[0, 0], [1, 0], [0, 1]])
+
+
+def test_groups_smoothing_materials_comments_and_unknown_statements_are_one_object() -> None:
+    text = (
+        "# a comment\nmtllib missing.mtl\no first\ng part\ns 1\nusemtl red\n\n"
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\no second\ns off\n"
+        "t 0 0 0  1 1 1\nc 100 0 255\nvp 0.5\ncstype bezier\nf 2 4 3\n"
+    )
+    mesh = parse(text)
+    assert mesh.face_count == 2
+    assert mesh.warnings == ()  # parse_obj without base_dir does not look for the MTL
+
+
+def test_crlf_tabs_and_indentation_are_whitespace() -> None:
+    text = b"v\t0 0 0\r\n  v 1\t0 0\r\n\tv 0 1 0 \r\n\r\n   \r\nf 1\t2 3\r\n"
+    mesh = parse(text)
+    assert (mesh.vertex_count, mesh.face_count) == (3, 1)
+    np.testing.assert_allclose(mesh.positions[1], [1, 0, 0])
+
+
+def test_last_line_without_newline() -> None:
+    assert parse(QUAD.rstrip(b"\n")).face_count == 1
+
+
+def test_vertex_extras_w_and_colours_are_ignored_and_vt_may_have_w() -> None:
+    text = "v 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0 1 0.2 0.3 0.4\nvt 0.5 0.5 0\nf 1/1 2/1 3/1\n"
+    mesh = parse(text)
+    np.testing.assert_allclose(mesh.positions, [[0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    np.testing.assert_allclose(mesh.corner_uv, [[0.5, 0.5]] * 3)
+
+
+def test_number_syntaxes() -> None:
+    text = "v -1.5e2 +2 .5\nv 1. -0 3E-1\nv 0.000001 1234567890.12345 -7\nf 1 2 3\n"
+    mesh = parse(text)
+    np.testing.assert_array_equal(mesh.positions, [[-150, 2, 0.5], [1, 0, 0.3], [1e-6, 1234567890.12345, -7]])
+
+
+def test_trailing_comments_line_continuations_and_forward_references() -> None:
+    text = "f 1 2 \\\n 3 # a face before its vertices\nv 0 0 0 # origin\nv 1 0 0\nv 0 1 0\n"
+    mesh = parse(text)
+    assert mesh.corner_vertex.tolist() == [0, 1, 2]
+
+
+def test_faces_may_mix_formats_across_faces() -> None:
+    text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0.5 0.5\nf 1 2 3\nf 2/1 4/1 3/1\n"
+    mesh = parse(text)
+    np.testing.assert_allclose(mesh.corner_uv[:3], [[0, 0], [1, 0], [0, 1]])
+    np.testing.assert_allclose(mesh.corner_uv[3:], [[0.5, 0.5]] * 3)
+
+
+def test_unreferenced_vertices_are_fine() -> None:
+    mesh = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 9 9 9\nf 1 2 3\n")
+    assert mesh.vertex_count == 4
+    assert_finite(mesh)
+
+
+def test_zero_area_faces_get_a_fallback_normal_and_a_warning() -> None:
+    text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 3 3 3\n"
+    mesh = parse(text)
+    assert mesh.warnings == ("2 zero-area faces (given a fallback normal)",)
+    assert_finite(mesh)
+    np.testing.assert_allclose(np.linalg.norm(mesh.face_normals, axis=1), 1, atol=1e-6)
+    np.testing.assert_allclose(np.linalg.norm(mesh.corner_normal, axis=1), 1, atol=1e-6)
+    np.testing.assert_allclose(mesh.face_normals[1], [0, 0, 1], atol=1e-6)  # its vertices' normals
+
+
+def test_a_mesh_of_only_degenerate_faces_has_no_nan() -> None:
+    mesh = parse("v 1 1 1\nv 1 1 1\nv 1 1 1\nf 1 2 3\n")
+    assert_finite(mesh)
+    np.testing.assert_allclose(mesh.face_normals, [[0, 0, 1]])
+
+
+def test_huge_coordinates_give_no_nan() -> None:
+    mesh = parse("v -3e38 0 0\nv 3e38 0 0\nv 0 3e38 0\nvt 3e38 -3e38\nf 1/1 2/1 3/1\n")
+    assert_finite(mesh)
+    assert mesh.warnings == ()
+
+
+def test_colour_comment_sets_the_base_colour() -> None:
+    mesh = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n# colour 255 0 51\n")
+    assert mesh.base_colour == pytest.approx((1.0, 0.0, 0.2))
+
+
+def test_malformed_colour_comment_is_a_warning() -> None:
+    mesh = parse("# colour red green blue\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    assert mesh.base_colour is None
+    assert mesh.warnings == ("ignored a malformed '# colour' comment on line 1",)
+
+
+def test_mtl_next_to_the_file_seeds_the_material(tmp_path: Path) -> None:
+    (tmp_path / "paint.mtl").write_text("# c\nnewmtl gold\nKa 0.1 0.2 0.3\nKd 0.5\nNs 80\nnewmtl other\nKs 1 1 1\n")
+    path = tmp_path / "ship.obj"
+    path.write_bytes(b"mtllib paint.mtl\n" + QUAD)
+    mesh = load_obj(path)
+    assert mesh.file_material == {"ka": (0.1, 0.2, 0.3), "kd": (0.5, 0.5, 0.5), "ns": 80.0}
+    assert mesh.warnings == ()
+    assert mesh.name == "ship"
+
+
+def test_mtl_name_with_a_space(tmp_path: Path) -> None:
+    (tmp_path / "Rammer 225.mtl").write_text("newmtl a\nKs 0.9 0.8 0.5\n")
+    path = tmp_path / "rammer.obj"
+    path.write_bytes(b"mtllib Rammer 225.mtl\n" + QUAD)
+    assert load_obj(path).file_material == {"ks": (0.9, 0.8, 0.5)}
+
+
+def test_missing_or_broken_mtl_is_a_warning(tmp_path: Path) -> None:
+    path = tmp_path / "a.obj"
+    path.write_bytes(b"mtllib nowhere.mtl\n" + QUAD)
+    mesh = load_obj(path)
+    assert mesh.file_material is None
+    assert len(mesh.warnings) == 1 and "nowhere.mtl" in mesh.warnings[0]
+    (tmp_path / "broken.mtl").write_bytes(b"\xff\xfe garbage\nKd x y z\n")
+    path.write_bytes(b"mtllib broken.mtl\n" + QUAD)
+    mesh = load_obj(path)
+    assert mesh.file_material is None and "broken.mtl" in mesh.warnings[0]
+    (tmp_path / "bad.mtl").write_text("newmtl a\nKd 1 nan 2\nNs 5\n")
+    path.write_bytes(b"mtllib bad.mtl\n" + QUAD)
+    mesh = load_obj(path)
+    assert mesh.file_material == {"ns": 5.0}
+    assert "Kd" in mesh.warnings[0]
+
+
+# --- bad input: a LoadError naming the file and the line ---------------------------------------------
+
+V3 = "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+
+BAD_CASES = [
+    ("empty file", "", None, "no faces"),
+    ("whitespace only", " \n\n# nothing\n", None, "no faces"),
+    ("no faces", V3, None, "no faces"),
+    ("nul byte", V3 + "f 1 2\x00 3\n", 4, "binary"),
+    ("two numbers", "v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n", 2, "needs 3 to 7 numbers, found 2"),
+    ("bare v", "v\n" + V3 + "f 1 2 3\n", 1, "found 0"),
+    ("eight numbers", "v 1 2 3 4 5 6 7 8\n" + V3 + "f 1 2 3\n", 1, "found 8"),
+    ("not a number", V3 + "v 1 x 3\nf 1 2 3\n", 4, "'x' is not a number"),
+    ("two dots", V3 + "v 1 2.3.4 3\nf 1 2 3\n", 4, "'2.3.4' is not a number"),
+    ("minus inside", V3 + "v 1 2-3 3\nf 1 2 3\n", 4, "'2-3' is not a number"),
+    ("truncated exponent", V3 + "v 1 2 3e\nf 1 2 3\n", 4, "'3e' is not a number"),
+    ("comma decimal", V3 + "v 1 2,5 3\nf 1 2 3\n", 4, "'2,5' is not a number"),
+    ("nan", V3 + "v 1 nan 3\nf 1 2 3\n", 4, "'nan' is not a finite number"),
+    ("inf", V3 + "vn inf 0 0\nf 1 2 3\n", 4, "not a finite number"),
+    ("overflow", V3 + "v 1 1e999 3\nf 1 2 3\n", 4, "'1e999' is not a finite number"),
+    ("beyond float32", V3 + "v 1 3.5e38 3\nf 1 2 3\n", 4, "'3.5e38' is too large"),
+    ("beyond float32 vt", V3 + "vt 1e300 0\nf 1 2 3\n", 4, "'1e300' is too large"),
+    ("vt one number", V3 + "vt 0.5\nf 1 2 3\n", 4, "texture coordinate (vt) needs 2 to 3 numbers"),
+    ("vn two numbers", V3 + "vn 0 1\nf 1 2 3\n", 4, "normal (vn) needs 3 numbers, found 2"),
+    ("truncated face", V3 + "f 1 2 3\nf 1 2", 5, "at least 3 vertices, found 2"),
+    ("face of one", V3 + "f 1\nf 1 2 3\n", 4, "found 1"),
+    ("index zero", V3 + "f 0 1 2\n", 4, "index 0"),
+    ("index zero vt", V3 + "vt 0 0\nf 1/0 2/1 3/1\n", 5, "index 0"),
+    ("out of range", V3 + "f 1 2 3\nf 1 2 4\n", 5, "vertex index 4 out of range: the file has 3"),
+    ("negative past start", V3 + "f -1 -2 -4\n", 4, "reaches before the first one"),
+    ("negative before later vertices", "v 0 0 0\nf -1 -2 -3\n" + V3, 2, "reaches before"),
+    ("vt missing", V3 + "f 1/1 2/1 3/1\n", 4, "texture coordinate (vt) index 1 out of range: the file has 0"),
+    ("vn missing", V3 + "vn 0 0 1\nf 1//1 2//2 3//1\n", 5, "normal (vn) index 2 out of range"),
+    ("mixed formats", V3 + "vt 0 0\nf 1/1 2 3/1\n", 5, "mixed corner formats"),
+    ("trailing slash", V3 + "f 1/ 2/ 3/\n", 4, "bad face corner '1/'"),
+    ("four parts", V3 + "f 1/1/1/1 2 3\n", 4, "bad face corner"),
+    ("empty vertex", V3 + "vt 0 0\nf /1 /1 /1\n", 5, "bad face corner"),
+    ("letters in a corner", V3 + "f 1 2 3x\n", 4, "'3x' is not an index"),
+    ("double minus", V3 + "f --1 2 3\n", 4, "is not an index"),
+    ("plus sign", V3 + "f +1 2 3\n", 4, "is not an index"),
+    ("float index", V3 + "f 1.0 2 3\n", 4, "is not an index"),
+    ("absurd index", V3 + "f 1 2 99999999999999999999\n", 4, "vertex index '99999999999999999999' out of range"),
+    ("absurd negative", V3 + "f 1 2 -99999999999999999999\n", 4, "out of range"),
+    ("5000 digits", V3 + "f 1 2 " + "9" * 5000 + "\n", 4, "out of range"),
+    ("absurd vt", "vt 0 0\n" + V3 + "f 1/1 2/1 3/99999999999999999999\n", 5, "texture coordinate (vt) index"),
+]
+
+
+@pytest.mark.parametrize(("text", "line", "message"), [case[1:] for case in BAD_CASES],
+                         ids=[case[0] for case in BAD_CASES])
+def test_bad_input_names_the_file_and_line(text: str, line: int | None, message: str) -> None:
+    with pytest.raises(LoadError) as caught:
+        parse(text, source="dir/broken.obj")
+    error = caught.value
+    assert error.path == "dir/broken.obj"
+    assert error.line == line
+    assert message in error.message
+    assert str(error).startswith("dir/broken.obj:" if line is None else f"dir/broken.obj:{line}:")
+
+
+def test_line_numbers_count_physical_lines_across_crlf_comments_and_continuations() -> None:
+    text = b"# one\r\nv 0 0 0\r\nv 1 0 \\\r\n 0\r\n\r\nv 0 1 0\r\n\tf 1 2 9\r\n"
+    with pytest.raises(LoadError) as caught:
+        parse(text)
+    assert caught.value.line == 7
+
+
+def test_non_utf8_names_the_line() -> None:
+    with pytest.raises(LoadError) as caught:
+        parse(b"v 0 0 0\nv 1 0 0\n\xff\xfe\nf 1 2 3\n")
+    assert caught.value.line == 3
+    assert "not UTF-8" in caught.value.message
+
+
+def test_utf8_comments_and_names_are_fine() -> None:
+    assert parse("# Ã±andÃº modelo\no ontzia_Ã±\n".encode() + QUAD).face_count == 1
+
+
+def test_missing_file_and_directory(tmp_path: Path) -> None:
+    with pytest.raises(LoadError, match="no such file") as caught:
+        load_obj(tmp_path / "nothing.obj")
+    assert caught.value.line is None
+    with pytest.raises(LoadError, match="directory"):
+        load_obj(tmp_path)
+
+
+def test_devices_pipes_and_huge_files_are_refused_without_reading(tmp_path: Path) -> None:
+    if Path("/dev/zero").exists():
+        with pytest.raises(LoadError, match="not a regular file"):
+            load_obj("/dev/zero")  # would never end
+    if hasattr(os, "mkfifo"):
+        pipe = tmp_path / "pipe.obj"
+        os.mkfifo(pipe)
+        outcome: list[object] = []
+        reader = threading.Thread(target=lambda: outcome.append(_error_of(load_obj, pipe)), daemon=True)
+        reader.start()
+        reader.join(timeout=5)  # opening a pipe would block until someone writes
+        assert outcome and "not a regular file" in str(outcome[0])
+    path = tmp_path / "big.obj"
+    path.write_bytes(QUAD)
+    with pytest.raises(LoadError, match="too large"):
+        read_file(path, limit=10)
+
+
+def _error_of(loader: Callable[[Path], object], path: Path) -> object:
+    try:
+        return loader(path)
+    except LoadError as error:
+        return error
+
+
+@pytest.mark.skipif(os.name != "posix" or os.geteuid() == 0, reason="root reads every file")
+def test_unreadable_file(tmp_path: Path) -> None:
+    path = tmp_path / "secret.obj"
+    path.write_bytes(QUAD)
+    path.chmod(0)
+    with pytest.raises(LoadError, match="permission"):
+        load_obj(path)
+
+
+# --- the two readers agree -------------------------------------------------------------------------
+
+
+def read_both(text: bytes) -> tuple[object, object]:
+    """(fast result or 'unusual', slow result or the LoadError)."""
+    normalized = obj_module._normalized_text(text, "x.obj")
+    try:
+        fast: object = obj_module._read_fast(normalized)
+    except obj_module._Unusual:
+        fast = "unusual"
+    try:
+        slow: object = obj_module._read_by_lines(normalized, "x.obj")
+    except LoadError as error:
+        slow = error
+    return fast, slow
+
+
+def assert_same_tables(fast: object, slow: object) -> None:
+    for name in ("positions", "texcoords", "normals", "corner_vertex", "corner_texcoord", "corner_normal",
+                 "face_start"):
+        a, b = getattr(fast, name), getattr(slow, name)
+        assert (a is None) == (b is None), name
+        if a is not None:
+            assert a.shape == b.shape and np.array_equal(a, b), name
+    for name in ("mtllib", "colour", "notes"):
+        assert getattr(fast, name) == getattr(slow, name), name
+
+
+NUMBER = st.one_of(
+    st.integers(-10**6, 10**6).map(str),
+    st.floats(-1e6, 1e6, allow_nan=False).map(lambda x: f"{x:.6f}"),
+    st.floats(-1e6, 1e6, allow_nan=False).map(repr),
+    st.sampled_from(["-0", ".5", "5.", "-.5", "1e3", "+2", "1E-2", "0.1234567890123456789", "007"]),
+)
+SPACE = st.sampled_from([" ", " ", " ", "  ", "\t", " \t"])
+END = st.sampled_from(["\n", "\n", "\n", "\r\n", " \n", "\n\n", "\n# note\n"])
+EXTRAS = ["o thing", "s 1", "g a b", "# colour 10 20 30", "#colour 1 2", "usemtl x", "vp 1", "# c",
+          "mtllib a b.mtl", "  # indented comment", "cstype bezier"]
+BROKEN_LINES = ["v 1 2", "v 1 nan 3", "v 1 2 3x", "v 1.2.3 0 0", "vt 1", "vn 0 1", "f 1 2", "f 0 1 2",
+                "f 1 2 99", "f -99 1 2", "f 1/1 2 3", "f 1// 2// 3//", "f 1/2/3/4 1 2", "f a b c", "v 1 - 2",
+                "v 1 2 3 # trailing", "f 1 2 \\\n 3"]
+
+
+def table_lines(draw: st.DrawFn, keyword: str, count: int, widths: list[int]) -> list[str]:
+    return [keyword + "".join(draw(SPACE) + draw(NUMBER) for _ in range(draw(st.sampled_from(widths))))
+            for _ in range(count)]
+
+
+@st.composite
+def obj_texts(draw: st.DrawFn) -> bytes:
+    """Valid OBJ text in many spellings, a third of it with one broken or unusual line."""
+    counts = {"v": draw(st.integers(3, 8)), "vt": draw(st.integers(0, 4)), "vn": draw(st.integers(0, 4))}
+    lines = table_lines(draw, "v", counts["v"], [3, 3, 3, 4, 6, 7])
+    lines += table_lines(draw, "vt", counts["vt"], [2, 2, 3]) + table_lines(draw, "vn", counts["vn"], [3])
+    shapes = ["{v}"] + ["{v}/{t}"] * bool(counts["vt"]) + ["{v}//{n}"] * bool(counts["vn"])
+    shapes += ["{v}/{t}/{n}"] * bool(counts["vt"] and counts["vn"])
+    file_shape = draw(st.sampled_from(shapes))
+
+    def index(table: str) -> int:
+        size = max(counts[table], 1)
+        return draw(st.one_of(st.integers(1, size), st.integers(-size, -1)))
+
+    for _ in range(draw(st.integers(1, 4))):
+        shape = draw(st.sampled_from([file_shape] * 6 + shapes))  # now and then formats differ by face
+        corners = [shape.format(v=index("v"), t=index("vt"), n=index("vn"))
+                   for _ in range(draw(st.sampled_from([3, 3, 4, 5, 6])))]
+        lines.append(draw(st.sampled_from(["f", "f", "\tf"])) + "".join(draw(SPACE) + c for c in corners))
+    for extra in draw(st.lists(st.sampled_from(EXTRAS), max_size=3)):
+        lines.insert(draw(st.integers(0, len(lines))), extra)
+    if draw(st.integers(0, 2)) == 0:
+        lines.insert(draw(st.integers(0, len(lines))), draw(st.sampled_from(BROKEN_LINES)))
+    return "".join(line + draw(END) for line in lines).encode()
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(obj_texts())
+def test_the_fast_reader_agrees_with_the_line_reader(text: bytes) -> None:
+    fast, slow = read_both(text)
+    if fast != "unusual":
+        assert not isinstance(slow, LoadError), f"fast reader accepted what the line reader rejects: {slow}"
+        assert_same_tables(fast, slow)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(obj_texts())
+def test_parse_obj_returns_a_finite_mesh_or_raises_load_error(text: bytes) -> None:
+    try:
+        mesh = parse(text)
+    except LoadError as error:
+        assert error.path == "model.obj"
+        return
+    assert_finite(mesh)
+    assert_mesh_dtypes(mesh)
+    assert mesh.corner_vertex.max() < mesh.vertex_count
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.binary(max_size=200))
+def test_random_bytes_never_raise_anything_but_load_error(data: bytes) -> None:
+    try:
+        parse(data)
+    except LoadError:
+        pass
+
+
+def test_big_generated_file_takes_the_fast_path_and_matches_the_line_reader() -> None:
+    rng = np.random.default_rng(7)
+    side = 40
+    points = rng.normal(size=(side * side, 3))
+    lines = [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in points]
+    lines += [f"vt {u:.4f} {v:.4f}" for u, v in rng.random((side * side, 2))]
+    lines += [f"vn {x:.5f} {y:.5f} {z:.5f}" for x, y, z in points]
+    for row in range(side - 1):
+        for col in range(side - 1):
+            a = row * side + col + 1
+            lines.append(f"f {a}/{a}/{a} {a + 1}/{a + 1}/{a + 1} {a + side + 1}/{a + side + 1}/{a + side + 1}")
+            relative = [index - side * side - 1 for index in (a, a + side + 1, a + side)]  # -1 is the last
+            lines.append("f " + " ".join(f"{r}/{r}/{r}" for r in relative))
+    text = ("\n".join(lines) + "\n").encode()
+    fast, slow = read_both(text)
+    assert fast != "unusual"
+    assert_same_tables(fast, slow)
+
+
+# --- build_mesh -------------------------------------------------------------------------------------
+
+
+def test_build_mesh_derives_like_the_loader() -> None:
+    built = build_mesh("quad", [[0, 0, 0], [2, 0, 0], [2, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
+    loaded = parse(QUAD)
+    for name in ("positions", "corner_vertex", "corner_uv", "corner_normal", "face_start", "face_normals"):
+        np.testing.assert_array_equal(getattr(built, name), getattr(loaded, name))
+    assert built.name == "quad"
+
+
+def test_build_mesh_takes_per_corner_uv_and_normals_with_nan_meaning_derive() -> None:
+    mesh = build_mesh("t", np.eye(3), np.array([[0, 1, 2]]),
+                      uvs=[[0.1, 0.2], [np.nan, np.nan], [0.3, 0.4]],
+                      normals=[[0, 0, 5], [np.nan, 0, 0], [1, 0, 0]],
+                      base_colour=(1.0, 0.5, 0.0), warnings=["made in code"])
+    np.testing.assert_allclose(mesh.corner_uv[[0, 2]], [[0.1, 0.2], [0.3, 0.4]])
+    assert np.isfinite(mesh.corner_uv).all()
+    np.testing.assert_allclose(mesh.corner_normal[0], [0, 0, 1])
+    np.testing.assert_allclose(mesh.corner_normal[1], np.ones(3) / np.sqrt(3), rtol=1e-6)
+    assert mesh.base_colour == (1.0, 0.5, 0.0) and mesh.warnings == ("made in code",)
+
+
+@pytest.mark.parametrize("faces", [[[0, 1]], [], [[0, 1, 7]], [[0, -1, 2]]])
+def test_build_mesh_rejects_impossible_faces(faces: list[list[int]]) -> None:
+    with pytest.raises(ValueError):
+        build_mesh("bad", np.eye(3), faces)
+
+
+# --- the seed's models ------------------------------------------------------------------------------
+
+
+def seed_model(name: str) -> Path:
+    path = SEED_ASSETS / name
+    if not path.is_file():
+        pytest.skip(f"seed assets not available at {SEED_ASSETS}")
+    return path
+
+
+@pytest.mark.parametrize(("name", "vertices", "faces"), [
+    ("x_wing.obj", 3104, 6084),
+    ("r_falke.obj", 1885, 3608),
+    ("rammer_225.obj", 5518, 5509),
+    ("cam.obj", 5, 4),
+    ("kupula.obj", 40, 60),
+])
+def test_seed_models_load_with_their_counts(name: str, vertices: int, faces: int) -> None:
+    mesh = load_obj(seed_model(name))
+    assert (mesh.vertex_count, mesh.face_count) == (vertices, faces)
+    assert_finite(mesh)
+    assert_mesh_dtypes(mesh)
+    np.testing.assert_allclose(np.linalg.norm(mesh.corner_normal, axis=1), 1, atol=1e-5)
+
+
+def test_seed_models_take_the_fast_path() -> None:
+    for name in ("x_wing.obj", "r_falke.obj", "rammer_225.obj", "cam.obj", "kupula.obj"):
+        fast, slow = read_both(seed_model(name).read_bytes())
+        assert fast != "unusual", name
+        assert_same_tables(fast, slow)
+
+
+def test_rammer_has_quads_texture_coordinates_and_normals() -> None:
+    mesh = load_obj(seed_model("rammer_225.obj"))
+    assert set(np.unique(mesh.face_sizes).tolist()) == {3, 4}
+    assert "Rammer 225.mtl" in mesh.warnings[0]  # the seed ships no MTL
+    assert mesh.corner_uv.min() >= 0 and mesh.corner_uv.max() <= 1
+
+
+def test_cam_has_its_colour_comment() -> None:
+    mesh = load_obj(seed_model("cam.obj"))
+    assert mesh.base_colour == pytest.approx((100 / 255, 0.0, 1.0))
