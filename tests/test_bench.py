@@ -1,0 +1,105 @@
+"""`python -m app bench` at miniature sizes: every table is there, whole, and holds positive figures.
+
+No timing is asserted: the figures depend on the machine and on whatever else runs on it.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from app import bench
+
+TINY_ARGS = ["--load-sizes", "200,400", "--sizes", "300", "--resolutions", "48x32", "--frames", "2",
+             "--warmup", "1", "--repeats", "1", "--start-runs", "1", "--cpu-frames", "2"]
+
+
+def markdown_tables(text: str) -> dict[tuple[str, ...], list[list[str]]]:
+    """Each table's rows, keyed by its header cells."""
+    tables: dict[tuple[str, ...], list[list[str]]] = {}
+    header: tuple[str, ...] | None = None
+    for line in text.splitlines():
+        if not line.startswith("|"):
+            header = None
+            continue
+        cells = [cell.strip() for cell in line.strip().strip("|").split("|")]
+        if header is None:
+            header = tuple(cells)
+            tables[header] = []
+        elif not all(set(cell) <= {"-"} for cell in cells):
+            tables[header].append(cells)
+    return tables
+
+
+def numbers_in(rows: list[list[str]], headers: tuple[str, ...], column: str) -> list[float]:
+    at = headers.index(column)
+    return [float(row[at]) for row in rows if row[at] != bench.MISSING]
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory: pytest.TempPathFactory) -> str:
+    from contextlib import redirect_stdout
+    from io import StringIO
+
+    try:
+        import moderngl
+
+        moderngl.create_standalone_context(backend="egl").release()
+    except Exception as error:
+        pytest.skip(f"no headless EGL OpenGL context: {error}")
+    out = StringIO()
+    with redirect_stdout(out):
+        assert bench.main([*TINY_ARGS, "--workdir", str(tmp_path_factory.mktemp("bench"))]) == 0
+    return out.getvalue()
+
+
+def test_every_section_prints_one_whole_table(report: str) -> None:
+    assert bench.MACHINE_HEADING in report and "GL_RENDERER: " in report
+    tables = markdown_tables(report)
+    expected = {bench.LOAD_HEADERS: 4 * len(bench.available_loaders(bench.LOADERS)[0]),
+                bench.FRAME_HEADERS: 2 * len(bench.MODES),  # the built-in scene and the 300-triangle grid
+                bench.CPU_HEADERS: len(bench.MODES),
+                bench.START_HEADERS: len(bench.START_COMMANDS),
+                bench.MEMORY_HEADERS: 4}
+    assert set(tables) == set(expected)
+    for headers, row_count in expected.items():
+        rows = tables[headers]
+        assert len(rows) == row_count, headers
+        assert all(len(row) == len(headers) for row in rows), headers
+
+
+def test_figures_are_positive_numbers(report: str) -> None:
+    tables = markdown_tables(report)
+    measured = {
+        bench.LOAD_HEADERS: ["triangles", "MB", "seconds", "MB/s", "time ÷ ours"],
+        bench.FRAME_HEADERS: ["triangles", "program ms", "bare ms", "program ÷ bare", "frames"],
+        bench.CPU_HEADERS: ["program process ms", "program without draw calls ms", "bare process ms"],
+        bench.START_HEADERS: ["to exit s", "exit ÷ bare EGL", "runs"],
+        bench.MEMORY_HEADERS: ["triangles", "Mesh B/tri", "GPU-ready arrays B/tri", "GPU B/tri"],
+    }
+    for headers, columns in measured.items():
+        for column in columns:
+            values = numbers_in(tables[headers], headers, column)
+            assert values and all(np.isfinite(v) and v > 0 for v in values), (column, values)
+    # A tiny file may fit in memory the process already had: its extra peak may be zero, never less.
+    rss = numbers_in(tables[bench.LOAD_HEADERS], bench.LOAD_HEADERS, "peak RSS MB")
+    assert rss and min(rss) >= 0
+    screenshot_png = numbers_in(tables[bench.START_HEADERS], bench.START_HEADERS, "to PNG written s")
+    assert len(screenshot_png) == 1 and screenshot_png[0] > 0
+
+
+def test_the_generated_files_are_the_sizes_asked_for(tmp_path: Path) -> None:
+    inputs = bench.generate_load_inputs(tmp_path, 200, 400)
+    assert [item.triangles for item in inputs] == [200, 392, 800, 392]  # 10x10 cells, 14x14, 20x20 quads
+    first = inputs[0].path.read_text().splitlines()
+    assert any(line.startswith("f ") and line.count("/") == 6 for line in first)
+    assert not any(line.count("/") for line in inputs[3].path.read_text().splitlines() if line.startswith("f "))
+
+
+def test_sizes_and_shortcuts_parse() -> None:
+    assert bench.parse_counts("100k,1m,5M,2500") == (100_000, 1_000_000, 5_000_000, 2500)
+    config = bench.config_from_args(["--skip-5m"])
+    assert config.frame_sizes == (100_000, 1_000_000)
+    assert bench.config_from_args(["--quick", "--frames", "7"]).frames == 7
