@@ -60,8 +60,8 @@ FRAME_HEADERS = ("scene", "triangles", "size", "mode", "program ms", "bare ms", 
 CPU_HEADERS = ("mode", "program process ms", "program thread ms", "program without draw calls ms",
                "bare process ms", "bare thread ms")
 START_HEADERS = ("process", "to PNG written s", "to exit s", "exit ÷ bare EGL", "runs")
-MEMORY_HEADERS = ("file", "triangles", "Mesh B/tri", "GPU-ready arrays B/tri", "GPU B/tri",
-                  "surface B/tri", "edges B/tri", "normals B/tri")
+MEMORY_HEADERS = ("file", "triangles", "Mesh B/tri", "GPU-ready arrays B/tri", "GPU when filled B/tri",
+                  "GPU with lines and normals B/tri", "edges B/tri", "normals B/tri")
 
 
 # --------------------------------------------------------------------------------------------------
@@ -328,11 +328,13 @@ def _ours() -> LoadFunction:
 
 
 def gpu_ready_arrays(mesh: Mesh) -> dict[str, np.ndarray]:
-    """What ObjectGpu.build uploads, in the same order: the renderer's whole host-side work."""
-    from app.gpu import edge_vertices, face_normal_segments, surface_vertices, vertex_normal_segments
+    """What a new object costs before its first frame: the surface array `ObjectGpu` uploads.
 
-    return {"surface": surface_vertices(mesh), "edges": edge_vertices(mesh),
-            "face normals": face_normal_segments(mesh), "vertex normals": vertex_normal_segments(mesh)}
+    Edges and normal segments are built only when lines or normals are first drawn (app/gpu.py).
+    """
+    from app.gpu import surface_vertices
+
+    return {"surface": surface_vertices(mesh)}
 
 
 def _trimesh() -> LoadFunction:
@@ -449,8 +451,9 @@ def loading_section(config: BenchConfig, inputs: Sequence[LoadInput]) -> list[st
         "## 1. Loading: OBJ file to GPU-ready arrays",
         "",
         f"Median of {config.repeats} load(s) in one fresh process per loader and file; peak RSS is that "
-        "process's peak minus its peak after imports. *ours* = `load_obj` + the four vertex arrays "
-        "`ObjectGpu.build` uploads (de-indexing, app/gpu.py); trimesh = `trimesh.load(process=False)`; "
+        "process's peak minus its peak after imports. *ours* = `load_obj` + the surface vertex array "
+        "`ObjectGpu` uploads for the first frame (de-indexing, app/gpu.py; edges and normal segments "
+        "are built later, when lines or normals are first drawn); trimesh = `trimesh.load(process=False)`; "
         "tinyobjloader = parse (triangulated) + numpy copies of its tables. Ratios > 1: ours is faster "
         "or smaller.",
         "",
@@ -827,10 +830,13 @@ def memory_row(bench: FrameBench, item: LoadInput) -> list[str]:
     gpu = ObjectGpu.build(bench.ctx, mesh, renderer.surface_program, renderer.edge_program,
                           renderer.normal_program)  # exactly what the renderer allocates per object
     try:
-        surface, edges, face_normals, vertex_normals = (buffer.size for buffer in gpu.buffers)
+        surface = gpu.buffers["surface"].size
+        _ = gpu.edges, gpu.face_normals, gpu.vertex_normals  # built on first use: force them here
+        sizes = {name: buffer.size for name, buffer in gpu.buffers.items()}
         host = mesh_bytes(mesh) + gpu.triangles_before.nbytes
         per_triangle = [value / triangles for value in (
-            host, ready, sum(b.size for b in gpu.buffers), surface, edges, face_normals + vertex_normals)]
+            host, ready, surface, sum(sizes.values()), sizes["edges"],
+            sizes["face normals"] + sizes["vertex normals"])]
     finally:
         gpu.release()
     return [item.label, str(triangles), *(_number(value) for value in per_triangle)]
@@ -845,9 +851,10 @@ def memory_section(bench: FrameBench, inputs: Sequence[LoadInput]) -> list[str]:
         "## 4. Memory per triangle of a loaded mesh",
         "",
         "*Mesh*: the Mesh's arrays plus the renderer's kept `triangles_before` (host, for the object's "
-        "life). *GPU-ready arrays*: the four de-indexed arrays `ObjectGpu.build` makes (host, while "
-        "building). *GPU*: the sizes of the buffers `ObjectGpu.build` allocates (surface, edges, face "
-        "and vertex normal segments); on llvmpipe these live in host memory too.",
+        "life). *GPU-ready arrays*: the de-indexed surface array made before the first frame (host, "
+        "while uploading). *GPU when filled*: the surface buffer, all an object holds until lines or "
+        "normals are drawn; *with lines and normals*: every buffer it can hold (surface, edges, face "
+        "and vertex normal segments). On llvmpipe GPU buffers live in host memory too.",
         "",
         *markdown_table(MEMORY_HEADERS, rows),
     ]

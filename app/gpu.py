@@ -8,8 +8,11 @@ and kept until the object leaves the scene; drawing a subset of faces is a `firs
 
 from __future__ import annotations
 
+import threading
+import weakref
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Callable
 
 import moderngl
 import numpy as np
@@ -45,8 +48,10 @@ def _with_define(source: str, define: str) -> str:
 
 
 # --- numpy: the de-indexed vertex arrays -------------------------------------------------------
-def _face_of_corner(mesh: Mesh) -> np.ndarray:
-    return np.repeat(np.arange(mesh.face_count), mesh.face_sizes)
+# Each array is allocated once at its final size and filled column block by column block: an
+# hstack of float64 pieces then astype would make the whole array three times over.
+def _gathered(table: np.ndarray, rows: np.ndarray | None) -> np.ndarray:
+    return table if rows is None else table[rows]
 
 
 def surface_vertices(mesh: Mesh) -> np.ndarray:
@@ -55,14 +60,15 @@ def surface_vertices(mesh: Mesh) -> np.ndarray:
     The first corner of each fan triangle is its polygon's first vertex, so with the provoking vertex
     set to the first one a `flat` varying carries the value computed at the polygon's first vertex.
     """
-    corners = mesh.triangle_corners().reshape(-1)
-    faces = np.repeat(mesh.triangle_face(), 3)
-    return np.hstack([
-        mesh.positions[mesh.corner_vertex[corners]],
-        mesh.corner_normal[corners],
-        mesh.face_normals[faces],
-        mesh.corner_uv[corners],
-    ]).astype("f4")
+    corners = None if mesh.all_triangles else mesh.triangle_corners().reshape(-1)
+    vertex_of_corner = _gathered(mesh.corner_vertex, corners)
+    out = np.empty((vertex_of_corner.shape[0], 11), np.float32)
+    # Converting the V positions before gathering them gives the same floats as converting the 3T.
+    out[:, 0:3] = mesh.positions.astype(np.float32)[vertex_of_corner]
+    out[:, 3:6] = _gathered(mesh.corner_normal, corners)
+    out[:, 6:9] = np.repeat(mesh.face_normals, 3 * (mesh.face_sizes - 2), axis=0)
+    out[:, 9:11] = _gathered(mesh.corner_uv, corners)
+    return out
 
 
 def edge_vertices(mesh: Mesh) -> np.ndarray:
@@ -72,13 +78,13 @@ def edge_vertices(mesh: Mesh) -> np.ndarray:
     vertex, SPEC 4) gets the point as an attribute instead of relying on the provoking vertex.
     """
     corners = mesh.edge_corners().reshape(-1)
-    faces = _face_of_corner(mesh)[corners]
-    first_corner = mesh.face_start[:-1][faces]
-    return np.hstack([
-        mesh.positions[mesh.corner_vertex[corners]],
-        mesh.face_normals[faces],
-        mesh.positions[mesh.corner_vertex[first_corner]],
-    ]).astype("f4")
+    positions = mesh.positions.astype(np.float32)
+    ends_per_face = 2 * mesh.face_sizes
+    out = np.empty((corners.shape[0], 9), np.float32)
+    out[:, 0:3] = positions[mesh.corner_vertex[corners]]
+    out[:, 3:6] = np.repeat(mesh.face_normals, ends_per_face, axis=0)
+    out[:, 6:9] = np.repeat(positions[mesh.corner_vertex[mesh.face_start[:-1]]], ends_per_face, axis=0)
+    return out
 
 
 def face_normal_segments(mesh: Mesh) -> np.ndarray:
@@ -100,10 +106,30 @@ def _segments(feet: np.ndarray, directions: np.ndarray) -> np.ndarray:
     The shader puts the tip at foot + normalize(world normal) * length, so a segment keeps its
     length in world units whatever the model matrix does to normals.
     """
-    count = feet.shape[0]
-    per_end = np.hstack([np.repeat(feet, 2, axis=0), np.repeat(directions, 2, axis=0)])
-    along = np.tile([0.0, 1.0], count)[:, None]
-    return np.hstack([per_end, along]).astype("f4")
+    out = np.empty((2 * feet.shape[0], 7), np.float32)
+    out[:, 0:3] = np.repeat(feet, 2, axis=0)
+    out[:, 3:6] = np.repeat(directions, 2, axis=0)
+    out[0::2, 6] = 0.0
+    out[1::2, 6] = 1.0
+    return out
+
+
+# Surface arrays made ahead of time, off the render thread (the window's loader thread), waiting for
+# their object's first frame. Weak keys: a mesh dropped before it is drawn takes its array with it.
+_prepared_surfaces: weakref.WeakKeyDictionary[Mesh, np.ndarray] = weakref.WeakKeyDictionary()
+_prepared_lock = threading.Lock()
+
+
+def prepare_surface(mesh: Mesh) -> None:
+    """Builds the mesh's surface array now, so that its first frame only uploads it."""
+    data = surface_vertices(mesh)
+    with _prepared_lock:
+        _prepared_surfaces[mesh] = data
+
+
+def _take_prepared_surface(mesh: Mesh) -> np.ndarray | None:
+    with _prepared_lock:
+        return _prepared_surfaces.pop(mesh, None)
 
 
 # --- GL buffers for one object -----------------------------------------------------------------
@@ -113,40 +139,82 @@ class VertexRange:
     vertices: int
 
 
-@dataclass
-class ObjectGpu:
-    """The buffers and vertex arrays of one scene object, built once from its mesh."""
+@dataclass(frozen=True)
+class Programs:
+    """The programs an object's vertex arrays are bound to."""
 
-    mesh: Mesh  # the mesh these buffers were built from: a replaced mesh means rebuilding
-    surface: moderngl.VertexArray
-    edges: moderngl.VertexArray
-    face_normals: moderngl.VertexArray
-    vertex_normals: moderngl.VertexArray
-    buffers: tuple[moderngl.Buffer, ...]
-    triangles_before: np.ndarray  # mesh.triangles_before_face(), kept so drawing allocates nothing
+    surface: moderngl.Program
+    edges: moderngl.Program
+    normals: moderngl.Program
+
+
+class ObjectGpu:
+    """The buffers and vertex arrays of one scene object.
+
+    The surface is built when the object first appears; edges and normal segments only when lines
+    or normals are first drawn (most models are never seen that way, and those arrays are bigger
+    than the surface's), then kept until the object leaves the scene.
+    """
+
+    # surface, edges, face normals, vertex normals: one buffer and one vertex array each
+    MAX_GL_OBJECTS = 8
+
+    def __init__(self, ctx: moderngl.Context, mesh: Mesh, programs: Programs,
+                 surface_data: np.ndarray | None = None) -> None:
+        self.ctx = ctx
+        self.mesh = mesh  # the mesh these buffers were built from: a replaced mesh means rebuilding
+        self.programs = programs
+        self._built: dict[str, tuple[moderngl.Buffer, moderngl.VertexArray]] = {}
+        self.triangles_before = mesh.triangles_before_face()  # kept so drawing allocates nothing
+        if surface_data is None:
+            surface_data = _take_prepared_surface(mesh)
+        data = surface_vertices(mesh) if surface_data is None else surface_data
+        self.surface = self._vertex_array("surface", data, programs.surface, SURFACE_LAYOUT)
 
     @classmethod
     def build(cls, ctx: moderngl.Context, mesh: Mesh, surface_program: moderngl.Program,
-              edge_program: moderngl.Program, normal_program: moderngl.Program) -> ObjectGpu:
-        buffers = [ctx.buffer(data.tobytes()) for data in (
-            surface_vertices(mesh), edge_vertices(mesh),
-            face_normal_segments(mesh), vertex_normal_segments(mesh))]
-        surface, edges, face_normals, vertex_normals = buffers
-        return cls(
-            mesh=mesh,
-            surface=ctx.vertex_array(surface_program, [(surface, *SURFACE_LAYOUT)]),
-            edges=ctx.vertex_array(edge_program, [(edges, *EDGE_LAYOUT)]),
-            face_normals=ctx.vertex_array(normal_program, [(face_normals, *NORMAL_LAYOUT)]),
-            vertex_normals=ctx.vertex_array(normal_program, [(vertex_normals, *NORMAL_LAYOUT)]),
-            buffers=tuple(buffers),
-            triangles_before=mesh.triangles_before_face(),
-        )
+              edge_program: moderngl.Program, normal_program: moderngl.Program,
+              surface_data: np.ndarray | None = None) -> ObjectGpu:
+        return cls(ctx, mesh, Programs(surface_program, edge_program, normal_program), surface_data)
+
+    @property
+    def edges(self) -> moderngl.VertexArray:
+        return self._lazy("edges", edge_vertices, self.programs.edges, EDGE_LAYOUT)
+
+    @property
+    def face_normals(self) -> moderngl.VertexArray:
+        return self._lazy("face normals", face_normal_segments, self.programs.normals, NORMAL_LAYOUT)
+
+    @property
+    def vertex_normals(self) -> moderngl.VertexArray:
+        return self._lazy("vertex normals", vertex_normal_segments, self.programs.normals, NORMAL_LAYOUT)
+
+    @property
+    def buffers(self) -> dict[str, moderngl.Buffer]:
+        """The buffers built so far, by name."""
+        return {name: buffer for name, (buffer, _) in self._built.items()}
+
+    def _lazy(self, name: str, make: Callable[[Mesh], np.ndarray], program: moderngl.Program,
+              layout: tuple[str, ...]) -> moderngl.VertexArray:
+        built = self._built.get(name)
+        return built[1] if built is not None else self._vertex_array(name, make(self.mesh), program, layout)
+
+    def _vertex_array(self, name: str, data: np.ndarray, program: moderngl.Program,
+                      layout: tuple[str, ...]) -> moderngl.VertexArray:
+        buffer = self.ctx.buffer(data)
+        try:
+            vao = self.ctx.vertex_array(program, [(buffer, *layout)])
+        except Exception:
+            buffer.release()
+            raise
+        self._built[name] = (buffer, vao)
+        return vao
 
     def release(self) -> None:
-        for vao in (self.surface, self.edges, self.face_normals, self.vertex_normals):
+        for buffer, vao in self._built.values():
             vao.release()
-        for buffer in self.buffers:
             buffer.release()
+        self._built.clear()
 
     # Vertex ranges of the faces [start, stop): every array above is laid out polygon by polygon.
     def surface_range(self, start: int, stop: int) -> VertexRange:

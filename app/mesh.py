@@ -11,6 +11,7 @@ the first one, a ``flat`` varying gives exactly SPEC's "face normal at the polyg
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -41,12 +42,20 @@ class Mesh:
     def face_sizes(self) -> np.ndarray:
         return np.diff(self.face_start)
 
-    @property
+    # Cached: the renderer asks every frame (far plane, normal length) and a mesh never changes.
+    # cached_property writes the instance __dict__ directly, so it works on a frozen dataclass.
+    @cached_property
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """The seed's `min` and `max` points of the vertex table."""
-        return self.positions.min(axis=0), self.positions.max(axis=0)
+        low, high = self.positions.min(axis=0), self.positions.max(axis=0)
+        low.flags.writeable = high.flags.writeable = False  # shared by every caller from now on
+        return low, high
 
-    @property
+    @cached_property
+    def all_triangles(self) -> bool:
+        return bool(self.face_count * 3 == self.face_start[-1])
+
+    @cached_property
     def size(self) -> float:
         """Length of the bounding box diagonal: the scale for normals, markers and ortho sizing."""
         low, high = self.bounds
@@ -54,6 +63,8 @@ class Mesh:
 
     def triangle_corners(self) -> np.ndarray:
         """(T, 3) corner indices of the fan triangulation, polygon by polygon, in file order."""
+        if self.all_triangles:  # the common case: the corners are the triangles already
+            return np.arange(int(self.face_start[-1]), dtype=np.int64).reshape(-1, 3)
         sizes = self.face_sizes
         tri_per_face = sizes - 2
         total = int(tri_per_face.sum())

@@ -8,6 +8,7 @@ that differ through `Frontend`.
 from __future__ import annotations
 
 import threading
+import time
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -16,7 +17,10 @@ from typing import Protocol
 from app import commands, keymap, status
 from app.errors import LoadError
 from app.loaders.image import load_texture_or_fallback
-from app.loaders.obj import load_obj
+from app.gpu import prepare_surface
+from app.loaders.files import read_file
+from app.loaders.obj import load_obj, parse_obj
+from app.mesh import Mesh
 from app.renderer import Renderer
 from app.scene import Scene, SceneObject
 from app.scenefile import empty_scene, load_builtin_scene, load_scene, material_for_loaded
@@ -51,7 +55,10 @@ def starting_scene(options: StartOptions) -> Scene:
 
 def load_model_object(path: str | Path) -> SceneObject:
     """An OBJ file as a new scene element, placed at the origin like the seed's fresh objects."""
-    mesh = load_obj(path)
+    return _placed(load_obj(path))
+
+
+def _placed(mesh: Mesh) -> SceneObject:
     return SceneObject.placed(mesh.name, mesh, material_for_loaded(mesh), (0.0, 0.0, 0.0))
 
 
@@ -62,11 +69,15 @@ class LoadJob:
     path: Path
     as_camera: bool
     future: Future = field(default_factory=Future)
-    progress: float = 0.0  # 0..1, written by the worker, read by the window's status line
+    # Written by the worker, read by the window's status line. The stages, not a percentage: the
+    # parser works on whole arrays, so a percentage would be three numbers pretending to be smooth.
+    stage: str = "waiting"
+    started: float = field(default_factory=time.monotonic)
 
     @property
     def label(self) -> str:
-        return f"loading {self.path.name} {self.progress:.0%}"
+        seconds = time.monotonic() - self.started
+        return f"loading {self.path.name}: {self.stage} ({seconds:.0f} s)"
 
 
 class BackgroundLoader:
@@ -88,7 +99,14 @@ class BackgroundLoader:
 
     @staticmethod
     def _load(job: LoadJob) -> SceneObject:
-        return load_model_object(job.path)
+        job.stage = "reading"
+        data = read_file(job.path)
+        job.stage = "parsing"
+        mesh = parse_obj(data, str(job.path), base_dir=job.path.parent)
+        del data
+        job.stage = "preparing vertex arrays"
+        prepare_surface(mesh)  # so the frame that adds it only uploads
+        return _placed(mesh)
 
     def pending(self) -> list[LoadJob]:
         with self._lock:
@@ -153,7 +171,7 @@ class Viewer:
         as_camera = commands.loads_as_camera(self.scene)
         if self.background is not None:
             job = self.background.start(Path(path), as_camera)
-            self.scene.message = job.label
+            self.scene.message = f"loading {job.path.name}; the window stays usable meanwhile"
             return True
         try:
             obj = load_model_object(path)

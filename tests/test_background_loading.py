@@ -5,6 +5,8 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+import numpy as np
+
 from app.viewer import BackgroundLoader, Viewer
 from app.scenefile import empty_scene
 
@@ -53,4 +55,27 @@ def test_a_camera_load_stays_a_camera_even_if_the_target_changes_meanwhile(tmp_p
     wait_until_idle(viewer)
     assert [cam.name for cam in viewer.scene.cameras][-1] == "cam"
     assert viewer.scene.cameras[viewer.scene.selected_camera].name == "cam"
+    viewer.background.shutdown()
+
+
+def test_the_worker_prepares_the_surface_and_the_first_frame_only_uploads_it(tmp_path: Path, gl_ctx,
+                                                                                renderer, offscreen) -> None:
+    from app import gpu
+
+    good = tmp_path / "quad.obj"
+    good.write_text("v -40 -40 0\nv 40 -40 0\nv 40 40 0\nv -40 40 0\nf 1 2 3 4\n")
+    viewer = Viewer(empty_scene(), renderer=renderer, frontend=NoFrontend(), background=BackgroundLoader())
+    viewer.load_model(good)
+    assert any("quad.obj" in line for line in viewer.loading_lines())
+    wait_until_idle(viewer)
+    mesh = viewer.scene.objects[0].mesh
+    prepared = gpu._prepared_surfaces.get(mesh)
+    assert prepared is not None and np.array_equal(prepared, gpu.surface_vertices(mesh))
+
+    viewer.press_sequence("T")  # texture off: the pure lit colour, ambient only (SPEC 3's start)
+    pixels = offscreen(viewer.scene)
+    assert mesh not in gpu._prepared_surfaces, "the first frame takes the prepared array"
+    centre = pixels[pixels.shape[0] // 2, pixels.shape[1] // 2].astype(float)
+    ambient_only = np.asarray(viewer.scene.objects[0].material.ka) * viewer.scene.ambient  # SPEC 4, 0..255
+    assert np.abs(centre - ambient_only).max() <= 1.0, (centre, ambient_only)
     viewer.background.shutdown()

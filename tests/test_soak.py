@@ -18,6 +18,7 @@ import pytest
 
 import corpus
 from app import ASSET_DIR
+from app.gpu import ObjectGpu
 from app.keymap import KEYMAP, KeyPress
 from app.renderer import Renderer
 from app.scene import SPOT_APERTURE_RANGE_DEG, LightKind, Scene, Target
@@ -184,9 +185,14 @@ def test_soak_random_keys_keep_the_scene_sound(own_ctx, soak_renderer: Renderer,
     viewer.use_texture(None)
     corpus.render_float(own_ctx, soak_renderer, empty_scene(), SIZE)  # make the framebuffer first
     gl_without_objects = gl_total(own_ctx)
-    corpus.render_float(own_ctx, soak_renderer, scene, SIZE)
+    # Lines and both kinds of normals once, so every object holds all it ever will (the surface is
+    # built at once, edges and normal segments on first use), then back to the start's modes.
+    for keys in ("", "l n", "F", "F n l"):
+        viewer.press_sequence(keys)
+        corpus.render_float(own_ctx, soak_renderer, scene, SIZE)
     per_object = (gl_total(own_ctx) - gl_without_objects) // len(scene.objects)
-    assert per_object > 0 and gl_total(own_ctx) == gl_without_objects + per_object * len(scene.objects)
+    assert per_object == ObjectGpu.MAX_GL_OBJECTS
+    assert gl_total(own_ctx) == gl_without_objects + per_object * len(scene.objects)
 
     maker = PressMaker(random.Random(corpus.SEED), good, bad)
     invariants = Invariants()
