@@ -905,7 +905,7 @@ def _derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fa
 def _corner_uv(uv: _CornerSource | None, positions: np.ndarray, corner_vertex: np.ndarray) -> np.ndarray:
     """The file's vt per corner, and the bounding-box projection where a corner has none."""
     if uv is None:
-        return _bounding_box_uv(positions, corner_vertex).astype(np.float32)
+        return _bounding_box_uv(positions, corner_vertex)
     table, index = uv
     corner_uv = np.clip(table, -_FLOAT32_MAX, _FLOAT32_MAX).astype(np.float32)[index]  # (build_mesh)
     without = np.flatnonzero(index < 0)
@@ -986,6 +986,11 @@ def _fill_vertex_normals(corner_normal: np.ndarray, missing: np.ndarray, vertex_
     sums = np.stack([np.bincount(corner_vertex, weights=around[:, axis], minlength=vertex_count)
                      for axis in range(3)], axis=1)
     vertex_normals, vertex_ok = _normalized(sums)
+    vertex_normals = vertex_normals.astype(corner_normal.dtype)  # a fancy assignment that also
+    # converts is several times slower than one gather of the right type
+    if missing.all():  # no `vn` in the file, the usual case: one gather straight into place
+        np.take(vertex_normals, corner_vertex, axis=0, out=corner_normal)
+        return ~vertex_ok[corner_vertex]
     corners = np.flatnonzero(missing)
     corner_normal[corners] = vertex_normals[corner_vertex[corners]]
     still = np.zeros_like(missing)
@@ -1029,7 +1034,8 @@ def _bounding_box_uv(positions: np.ndarray, corner_vertex: np.ndarray) -> np.nda
         extent = high - low
         extent = np.where(np.isfinite(extent), extent, 0.0)
         axes = np.sort(np.argsort(-extent, kind="stable")[:2])
-        points = positions[corner_vertex][:, axes]
-        uv = (points - low[axes]) / np.where(extent[axes] > 0, extent[axes], 1.0)
+        # Per position, then gathered: a position has one box coordinate, and corners are ~6x more.
+        uv = (positions[:, axes] - low[axes]) / np.where(extent[axes] > 0, extent[axes], 1.0)
     uv[:, extent[axes] <= 0] = 0.0
-    return np.where(np.isfinite(uv), uv, 0.0)
+    uv = np.where(np.isfinite(uv), uv, 0.0).astype(np.float32)
+    return uv[corner_vertex]
