@@ -29,6 +29,7 @@ from app.scene import (
     SceneObject,
     Shading,
     Target,
+    TermView,
     TransformKind,
 )
 
@@ -127,6 +128,44 @@ def toggle_texture(scene: Scene, host: Host) -> None:
 
 def toggle_help(scene: Scene, host: Host) -> None:
     scene.modes.show_help = not scene.modes.show_help
+
+
+# --- seeing the equation ---------------------------------------------------------------------------
+TERM_VIEW_CYCLE = tuple(TermView)  # everything, ambient, diffuse, specular, then each light alone
+
+
+def cycle_term_view(scene: Scene, host: Host) -> None:
+    """`v`: the next term view, wrapping back to everything."""
+    position = TERM_VIEW_CYCLE.index(scene.modes.term_view)
+    scene.modes.term_view = TERM_VIEW_CYCLE[(position + 1) % len(TERM_VIEW_CYCLE)]
+
+
+def term_view_name(scene: Scene) -> str:
+    """What the lit colour shows, with the light's own name for the "one light alone" views."""
+    view = scene.modes.term_view
+    index = view.light_index
+    if index is None:
+        return view.value
+    if index >= len(scene.lights):
+        return f"light {index} alone (no such light)"
+    light = scene.lights[index]
+    return f"{light.name} alone" + ("" if light.on else f" (off: {light.key} turns it on)")
+
+
+def toggle_probe(scene: Scene, host: Host) -> None:
+    """`i`: the lighting probe of the selected face (Enter steps to the next face)."""
+    if not scene.modes.probe and scene.object is None:
+        scene.message = "no object to probe"
+        return
+    scene.modes.probe = not scene.modes.probe
+
+
+def toggle_matrices(scene: Scene, host: Host) -> None:
+    scene.modes.matrices = not scene.modes.matrices
+
+
+def toggle_side_by_side(scene: Scene, host: Host) -> None:
+    scene.modes.side_by_side = not scene.modes.side_by_side
 
 
 def toggle_view_from_object(scene: Scene, host: Host) -> None:

@@ -10,12 +10,12 @@ clamped to 255 and displayed as I / 255 (times the texture colour when texturing
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Iterable, Mapping
 
 import numpy as np
 
-from app.scene import Light, LightKind, Material, Scene
+from app.scene import Light, LightKind, Material, Scene, TermView
 
 MAX_INTENSITY = 255.0
 
@@ -34,12 +34,21 @@ class WorldLight:
 
 @dataclass(frozen=True)
 class LightTerm:
-    """One light's share of I at a point: zero when the point is outside a spotlight's cone."""
+    """One light's share of I at a point: zero when the point is outside a spotlight's cone.
+    The vectors and factors are kept so the lighting probe can show how the share came about."""
 
     name: str
     reaches: bool
     diffuse: np.ndarray  # (3,) I_l * Kd * max(N.L, 0)
     specular: np.ndarray  # (3,) I_l * Ks * max(N.H, 0)^ns
+    to_light: np.ndarray = field(default_factory=lambda: np.zeros(3))  # L (zero outside a cone)
+    halfway: np.ndarray = field(default_factory=lambda: np.zeros(3))  # H = normalize(L + V)
+    n_dot_l: float = 0.0  # max(N.L, 0)
+    highlight: float = 0.0  # max(N.H, 0)^ns
+
+    @property
+    def contribution(self) -> np.ndarray:
+        return self.diffuse + self.specular
 
 
 @dataclass(frozen=True)
@@ -55,6 +64,51 @@ class ShadingTerms:
     @property
     def clamped(self) -> np.ndarray:
         return np.minimum(self.total, MAX_INTENSITY)
+
+    def in_view(self, weights: TermWeights, light_names: Iterable[str] | None = None) -> np.ndarray:
+        """I before clamping as a term view shows it: the weighted terms of the named lights only
+        (all of them for None)."""
+        shown = None if light_names is None else set(light_names)
+        total = weights.ambient * self.ambient
+        for term in self.lights:
+            if shown is None or term.name in shown:
+                total = total + weights.diffuse * term.diffuse + weights.specular * term.specular
+        return total
+
+
+@dataclass(frozen=True)
+class TermWeights:
+    """Which terms of SPEC 4's sum a term view (key `v`) keeps: 1 keeps a term, 0 drops it."""
+
+    ambient: float = 1.0
+    diffuse: float = 1.0
+    specular: float = 1.0
+
+    def as_tuple(self) -> tuple[float, float, float]:
+        return (self.ambient, self.diffuse, self.specular)
+
+
+_WEIGHTS = {
+    TermView.EVERYTHING: TermWeights(),
+    TermView.AMBIENT: TermWeights(1.0, 0.0, 0.0),
+    TermView.DIFFUSE: TermWeights(0.0, 1.0, 0.0),
+    TermView.SPECULAR: TermWeights(0.0, 0.0, 1.0),
+}
+_ONE_LIGHT = TermWeights(0.0, 1.0, 1.0)  # a light alone: its diffuse and specular, no ambient
+
+
+def term_weights(view: TermView) -> TermWeights:
+    return _WEIGHTS.get(view, _ONE_LIGHT)
+
+
+def lights_in_view(scene: Scene) -> list[WorldLight]:
+    """The lights that are on and that the current term view shows: one of them for "light k alone"."""
+    index = scene.modes.term_view.light_index
+    if index is None:
+        return world_lights(scene)
+    if index >= len(scene.lights) or not scene.lights[index].on:
+        return []
+    return [_placed(scene, scene.lights[index])]
 
 
 def world_lights(scene: Scene, only_on: bool = True) -> list[WorldLight]:
@@ -135,7 +189,7 @@ def _light_term(light: WorldLight, p: np.ndarray, n: np.ndarray, v: np.ndarray,
     highlight = n_dot_h ** material.ns if n_dot_h > 0.0 else 0.0
     diffuse = light.intensity * np.asarray(material.kd, float) * n_dot_l
     specular = light.intensity * np.asarray(material.ks, float) * highlight
-    return LightTerm(light.name, True, diffuse, specular)
+    return LightTerm(light.name, True, diffuse, specular, to_light, halfway, n_dot_l, highlight)
 
 
 def _inside_cone(light: WorldLight, p: np.ndarray) -> bool:

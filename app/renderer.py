@@ -8,13 +8,15 @@ app/lighting.py is the same formula in numpy, kept separate so each can check th
 from __future__ import annotations
 
 from dataclasses import dataclass
+from enum import Enum
 from typing import Any, Iterable
 
 import moderngl
 import numpy as np
 
 from app.gpu import ObjectGpu, VertexRange, load_program
-from app.lighting import world_lights
+from app.lighting import lights_in_view, term_weights
+from app.probe import probed_corners
 from app.scene import Fill, LightKind, Projection, Scene, SceneObject, Shading, Target
 
 CLEAR_COLOUR = (0.0, 0.0, 0.7)  # SPEC 3: the seed's blue
@@ -25,6 +27,52 @@ NORMAL_LENGTH_FRACTION = 0.05  # of the object's bounding-box diagonal
 MARKER_SIZE_PX = 9.0
 LIGHT_COUNT = 4
 LIGHT_KIND_CODES = {LightKind.DIRECTIONAL: 0, LightKind.POINT: 1, LightKind.SPOT: 2}  # surface.glsl
+PROBE_COLOUR = (0.0, 1.0, 1.0)  # cyan: no other drawing uses it
+PROBE_MARKER_PX = 7.0
+SEPARATOR_COLOUR = (0.0, 0.0, 0.0)
+SEPARATOR_PX = 2
+
+
+class Interpolation(Enum):
+    """How surface.glsl spreads the lighting over a polygon; the values are its u_interpolation codes.
+    Phong is the third model of the side-by-side view (key `s`); `F` switches Flat and Gouraud only."""
+
+    FLAT = 0
+    GOURAUD = 1
+    PHONG = 2
+
+
+@dataclass(frozen=True)
+class View:
+    """One picture of the scene: a viewport of the framebuffer and how it interpolates lighting."""
+
+    viewport: tuple[int, int, int, int]  # x, y, width, height in pixels, origin bottom-left
+    interpolation: Interpolation
+    title: str = ""
+
+    @property
+    def aspect(self) -> float:
+        return self.viewport[2] / self.viewport[3]
+
+
+SIDE_BY_SIDE = ((Interpolation.FLAT, "Flat"), (Interpolation.GOURAUD, "Gouraud"),
+                (Interpolation.PHONG, "Phong (per pixel)"))
+
+
+def views(scene: Scene, size: tuple[int, int]) -> list[View]:
+    """The whole framebuffer in the scene's shading, or (side by side) three thirds of it, each with
+    its own aspect ratio so that nothing is squeezed: one camera, three lighting models."""
+    width, height = max(int(size[0]), 1), max(int(size[1]), 1)
+    if not scene.modes.side_by_side:
+        shading = Interpolation.GOURAUD if scene.modes.shading is Shading.GOURAUD else Interpolation.FLAT
+        return [View((0, 0, width, height), shading)]
+    edges = [round(k * width / len(SIDE_BY_SIDE)) for k in range(len(SIDE_BY_SIDE) + 1)]
+    return [View((edges[k], 0, max(edges[k + 1] - edges[k], 1), height), interpolation, title)
+            for k, (interpolation, title) in enumerate(SIDE_BY_SIDE)]
+
+
+def view_projection(scene: Scene, view: View) -> np.ndarray:
+    return scene.projection_matrix(view.aspect) @ scene.view_matrix()
 
 
 class Uniforms:
@@ -122,19 +170,29 @@ class Renderer:
 
     # --- a frame -----------------------------------------------------------------------------
     def render(self, scene: Scene, fbo: moderngl.Framebuffer, size: tuple[int, int]) -> None:
-        """Clear `fbo` to the seed's blue and draw `scene` into its (0, 0, width, height) viewport."""
+        """Clear `fbo` to the seed's blue and draw `scene` into its (0, 0, width, height) viewport,
+        once, or three times side by side."""
         self._drop_departed(scene)
         width, height = max(int(size[0]), 1), max(int(size[1]), 1)
         fbo.use()
         fbo.viewport = (0, 0, width, height)
         fbo.clear(*CLEAR_COLOUR, 1.0, depth=1.0)
+        items = [(item, self._gpu_for(item.obj)) for item in self._draw_list(scene)]
+        all_views = views(scene, (width, height))
+        for view in all_views:
+            fbo.viewport = view.viewport
+            self._render_view(scene, view, items)
+        for view in all_views[1:]:  # a thin line between the thirds, so each reads as its own picture
+            fbo.clear(*SEPARATOR_COLOUR, 1.0, viewport=(view.viewport[0] - SEPARATOR_PX // 2, 0,
+                                                        SEPARATOR_PX, height))
+        fbo.viewport = (0, 0, width, height)  # the overlay draws over the whole framebuffer
+        self.ctx.disable(moderngl.DEPTH_TEST)
 
-        view_projection = scene.projection_matrix(width / height) @ scene.view_matrix()
+    def _render_view(self, scene: Scene, view: View,
+                     items: list[tuple[DrawItem, ObjectGpu]]) -> None:
         filled = scene.modes.fill is Fill.FILLED
         self._set_gl_state(depth_test=filled)
-        self._set_frame_uniforms(scene, view_projection)
-
-        items = [(item, self._gpu_for(item.obj)) for item in self._draw_list(scene)]
+        self._set_frame_uniforms(scene, view_projection(scene, view), view.interpolation)
         if filled:
             for item, gpu in items:
                 self._draw_surface(item, gpu)
@@ -142,10 +200,11 @@ class Renderer:
             self._draw_all_edges(scene, items)
         if scene.modes.normals:
             for item, gpu in items:
-                self._draw_normals(item, gpu, scene.modes.shading)
+                self._draw_normals(item, gpu, face_normals=view.interpolation is Interpolation.FLAT)
+        if scene.modes.probe:
+            self._draw_probe_outline(scene)
         if scene.modes.target is Target.LIGHTS:
             self._draw_light_marker(scene)
-        self.ctx.disable(moderngl.DEPTH_TEST)
 
     def _set_gl_state(self, depth_test: bool) -> None:
         # Flat needs the first vertex's values: the fan's first corner is the polygon's first vertex.
@@ -175,7 +234,8 @@ class Renderer:
                 if obj is not scene.viewer and obj.mesh.face_count > 0]
 
     # --- uniforms ----------------------------------------------------------------------------
-    def _set_frame_uniforms(self, scene: Scene, view_projection: np.ndarray) -> None:
+    def _set_frame_uniforms(self, scene: Scene, view_projection: np.ndarray,
+                            interpolation: Interpolation) -> None:
         modes = scene.modes
         parallel = modes.projection is Projection.PARALLEL
         eye = tuple(float(c) for c in scene.eye_position())
@@ -187,7 +247,8 @@ class Renderer:
             uniforms.set("u_eye_position", eye)
             uniforms.set("u_eye_backward", backward)
         self.surface.set("u_culling", modes.culling)
-        self.surface.set("u_gouraud", modes.shading is Shading.GOURAUD)
+        self.surface.set("u_interpolation", interpolation.value)
+        self.surface.set("u_term_weights", term_weights(modes.term_view).as_tuple())
         self.surface.set("u_textured", modes.texture)
         self.surface.set("u_texture", 0)
         self.surface.set("u_ambient", tuple(float(c) for c in scene.ambient))
@@ -201,7 +262,8 @@ class Renderer:
         position = np.zeros((LIGHT_COUNT, 3), "f4")
         direction = np.zeros((LIGHT_COUNT, 3), "f4")
         cos_aperture = np.ones(LIGHT_COUNT, "f4")
-        for i, light in enumerate(world_lights(scene)[:LIGHT_COUNT]):
+        # Only the lights the term view shows: "one light alone" switches the others off here.
+        for i, light in enumerate(lights_in_view(scene)[:LIGHT_COUNT]):
             on[i] = 1
             kind[i] = LIGHT_KIND_CODES[light.kind]
             intensity[i] = light.intensity
@@ -246,13 +308,33 @@ class Renderer:
 
     def _draw_edges(self, item: DrawItem, gpu: ObjectGpu, selected: bool) -> None:
         self._set_model([self.edges], item.obj.model)
+        self.edges.set("u_outline", False)
         self.edges.set("u_colour", SELECTED_LINE_COLOUR if selected else LINE_COLOUR)
         _draw(gpu.edges, moderngl.LINES, gpu.edge_range(item.start, item.stop))
 
-    def _draw_normals(self, item: DrawItem, gpu: ObjectGpu, shading: Shading) -> None:
+    def _draw_probe_outline(self, scene: Scene) -> None:
+        """The probed face's edges and a dot on each vertex the probe lights, over everything, so the
+        face can be found in the picture whichever way it looks and whatever covers it."""
+        obj = scene.object
+        if obj is None or obj is scene.viewer or obj.mesh.face_count == 0:
+            return
+        face = obj.selected_face % obj.mesh.face_count
+        gpu = self._gpu_for(obj)
+        self.ctx.disable(moderngl.DEPTH_TEST)
+        self._set_model([self.edges], obj.model)
+        self.edges.set("u_outline", True)
+        self.edges.set("u_colour", PROBE_COLOUR)
+        _draw(gpu.edges, moderngl.LINES, gpu.edge_range(face, face + 1))
+        self.edges.set("u_outline", False)
+        for corner in probed_corners(scene):
+            point = obj.model @ np.append(obj.mesh.positions[obj.mesh.corner_vertex[corner]], 1.0)
+            self._draw_marker(point[:3], np.array(PROBE_COLOUR), PROBE_MARKER_PX)
+
+    def _draw_normals(self, item: DrawItem, gpu: ObjectGpu, face_normals: bool) -> None:
+        """Face normals where lighting uses them (Flat), vertex normals otherwise (Gouraud, Phong)."""
         self._set_model([self.normals], item.obj.model)
         self.normals.set("u_length", NORMAL_LENGTH_FRACTION * item.obj.mesh.size)
-        if shading is Shading.FLAT:
+        if face_normals:
             _draw(gpu.face_normals, moderngl.LINES, gpu.face_normal_range(item.start, item.stop))
         else:
             _draw(gpu.vertex_normals, moderngl.LINES, gpu.vertex_normal_range(item.start, item.stop))
@@ -261,9 +343,12 @@ class Renderer:
         """The selected light as a dot in its own colour (dimmed while it is off), over everything."""
         light = scene.light
         colour = np.asarray(light.intensity, float) / 255.0 * (1.0 if light.on else 0.4)
-        self.marker.set("u_position", tuple(float(c) for c in scene.light_position(light)))
+        self._draw_marker(scene.light_position(light), colour, MARKER_SIZE_PX)
+
+    def _draw_marker(self, position: np.ndarray, colour: np.ndarray, size_px: float) -> None:
+        self.marker.set("u_position", tuple(float(c) for c in position))
         self.marker.set("u_colour", tuple(float(c) for c in colour))
-        self.marker.set("u_point_size", MARKER_SIZE_PX)
+        self.marker.set("u_point_size", size_px)
         self.ctx.disable(moderngl.DEPTH_TEST)
         self.ctx.enable(moderngl.PROGRAM_POINT_SIZE)
         self.marker_vao.render(moderngl.POINTS, vertices=1)

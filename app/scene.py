@@ -60,6 +60,27 @@ class CameraMode(Enum):
     ANALYSIS = "analysis"
 
 
+class TermView(Enum):
+    """What the lit colour shows (key `v`): SPEC 4's sum, one of its terms, or one light's share.
+    Each view is clamped on its own, so the views add up to the whole wherever nothing saturates."""
+
+    EVERYTHING = "everything"
+    AMBIENT = "ambient only"
+    DIFFUSE = "diffuse only"
+    SPECULAR = "specular only"
+    LIGHT_0 = "light 0 alone"
+    LIGHT_1 = "light 1 alone"
+    LIGHT_2 = "light 2 alone"
+    LIGHT_3 = "light 3 alone"
+
+    @property
+    def light_index(self) -> int | None:
+        """Which of the scene's four lights a "one light alone" view shows; None for the others."""
+        if self.name.startswith("LIGHT_"):
+            return int(self.name.removeprefix("LIGHT_"))
+        return None
+
+
 class LightKind(Enum):
     DIRECTIONAL = "directional"
     POINT = "point"
@@ -189,6 +210,10 @@ class Modes:
     camera_mode: CameraMode = CameraMode.FLIGHT
     view_from_object: bool = False  # `C`
     show_help: bool = False  # `h` / F1: the help overlay listing every key
+    term_view: TermView = TermView.EVERYTHING  # `v`
+    probe: bool = False  # `i`: the lighting probe of the selected face
+    matrices: bool = False  # `m`: the matrices panel
+    side_by_side: bool = False  # `s`: Flat | Gouraud | Phong in three viewports
     # Parallel projection's half height in world units, fixed when `p` switches to parallel.
     parallel_half_height: float = 150.0
 

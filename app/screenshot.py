@@ -74,9 +74,10 @@ def _render(ctx: moderngl.Context, scene, options: StartOptions, out: Path, size
     fbo.use()
     viewer.renderer.render(scene, fbo, size)
     if overlay:
+        from app import panels
         from app.overlay import Overlay  # moderngl-window's text: 0.1 s of imports, only when asked
 
-        Overlay(ctx).draw(*viewer.overlay_lines(), size)
+        Overlay(ctx).draw(*viewer.overlay_lines(), size, panels.extras(scene, size))
     out.parent.mkdir(parents=True, exist_ok=True)
     write_png(fbo, size, out)
     return out

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+from app.commands import term_view_name
 from app.keymap import Command
 from app.scene import Projection, Scene, Target
 
@@ -39,8 +40,10 @@ def display_summary(scene: Scene) -> list[str]:
     projection = modes.projection.value
     if modes.projection is Projection.PARALLEL:
         projection += f" {modes.parallel_half_height:.0f}"
+    shading = "flat/gouraud/phong side by side" if modes.side_by_side else modes.shading.value
     return [
-        modes.shading.value,
+        shading,
+        f"lit: {term_view_name(scene)}",
         projection,
         "culling on" if modes.culling else "culling off",
         modes.fill.value,

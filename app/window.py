@@ -13,7 +13,7 @@ import moderngl
 import moderngl_window as mglw
 import moderngl_window.screenshot
 
-from app import commands
+from app import commands, panels
 from app.cli import add_scene_arguments, start_options
 from app.keymap import KeyPress
 from app.overlay import Overlay
@@ -72,7 +72,7 @@ class ViewerWindow(mglw.WindowConfig):
         size = self.wnd.buffer_size
         self.wnd.fbo.use()
         self.viewer.renderer.render(self.scene, self.wnd.fbo, size)
-        self.overlay.draw(*self.viewer.overlay_lines(self.prompt), size)
+        self.overlay.draw(*self.viewer.overlay_lines(self.prompt), size, panels.extras(self.scene, size))
 
     # --- keys ----------------------------------------------------------------------------------
     def on_unicode_char_entered(self, char: str) -> None:

@@ -2,7 +2,8 @@
 // Lines mode (SPEC 5): every polygon's boundary edges in one colour (the selected object green,
 // the others white), no lighting, no texture; edges of back faces red, or not drawn with culling on.
 // Drawn in two passes, back faces' edges first: a silhouette edge belongs to a front and a back
-// face, and the second pass paints it in the object's colour.
+// face, and the second pass paints it in the object's colour. The lighting probe's outline (key
+// `i`) uses the same edges in one colour whichever way the face looks.
 
 #if defined VERTEX_SHADER
 
@@ -31,12 +32,17 @@ void main() {
 
 uniform vec3 u_colour;
 uniform bool u_front_pass;  // false: back faces' edges, in red; true: front faces' edges, u_colour
+uniform bool u_outline;  // the probe's outline: u_colour, front or back
 
 flat in float v_facing;
 
 out vec4 out_colour;
 
 void main() {
+    if (u_outline) {
+        out_colour = vec4(u_colour, 1.0);
+        return;
+    }
     bool front = v_facing > 0.0;
     if (front != u_front_pass) {
         discard;

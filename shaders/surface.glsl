@@ -1,25 +1,21 @@
 #version 330 core
-// Filled polygons (SPEC 4 and 5): the seed's ambient + diffuse + specular lighting, evaluated per
-// vertex in world space, in the seed's 0..255 units; Flat or Gouraud; back faces red or discarded;
-// the lit colour multiplied by the texture.
+// Filled polygons (SPEC 4 and 5): the seed's ambient + diffuse + specular lighting in world space,
+// in the seed's 0..255 units; back faces red or discarded; the lit colour multiplied by the texture.
+// Three ways to spread it over a polygon (u_interpolation):
+//   Flat: evaluated once, at the polygon's first vertex with the face normal;
+//   Gouraud: evaluated at every vertex with its vertex normal, the colours interpolated;
+//   Phong: the position and vertex normal interpolated, evaluated at every pixel (side by side only).
+// The lighting function is written once, above the stage blocks, so both stages compile the same one.
 
-#if defined VERTEX_SHADER
-
-in vec3 in_position;     // model space
-in vec3 in_normal;       // this corner's vertex normal (Gouraud)
-in vec3 in_face_normal;  // its polygon's normal (Flat, and the back-face test in both modes)
-in vec2 in_uv;
-
-uniform mat4 u_model;
-uniform mat3 u_normal_matrix;  // inverse transpose of the model's 3x3: keeps normals perpendicular
-uniform mat4 u_view_projection;
+const int FLAT = 0;
+const int GOURAUD = 1;
+const int PHONG = 2;
+uniform int u_interpolation;
 
 // V: perspective looks from a point, so V changes over the surface; parallel projection has one V.
 uniform bool u_parallel;
 uniform vec3 u_eye_position;
 uniform vec3 u_eye_backward;
-
-uniform bool u_gouraud;
 
 // The material, and the lights already placed in the world by the renderer.
 uniform vec3 u_ka;
@@ -27,6 +23,9 @@ uniform vec3 u_kd;
 uniform vec3 u_ks;
 uniform float u_ns;
 uniform vec3 u_ambient;  // Ia
+// The term view (key `v`): 1 keeps the ambient, diffuse, specular term, 0 drops it. Lights that
+// the view leaves out are switched off by the renderer.
+uniform vec3 u_term_weights;
 
 const int DIRECTIONAL = 0;
 const int POINT = 1;
@@ -39,12 +38,9 @@ uniform vec3 u_light_position[LIGHT_COUNT];
 uniform vec3 u_light_direction[LIGHT_COUNT];  // directional: toward the light; spot: the cone's axis
 uniform float u_light_cos_aperture[LIGHT_COUNT];
 
-// With the provoking vertex set to the first one, `flat` varyings take the value computed at the
-// first corner of each fan triangle, which is its polygon's first vertex (SPEC 4's Flat).
-flat out vec3 v_flat_colour;
-smooth out vec3 v_smooth_colour;
-flat out float v_facing;  // N.V with the face normal at the polygon's first vertex
-out vec2 v_uv;
+vec3 toward_eye(vec3 point) {
+    return u_parallel ? u_eye_backward : normalize(u_eye_position - point);
+}
 
 // Unit vector from the surface point toward the light.
 vec3 toward_light(int i, vec3 point) {
@@ -66,7 +62,7 @@ bool reaches(int i, vec3 point) {
 
 // I = Ka*Ia + sum I_l * (Kd*max(N.L, 0) + Ks*max(N.H, 0)^ns), clamped to 255, returned as I/255.
 vec3 lit_colour(vec3 point, vec3 normal, vec3 view) {
-    vec3 intensity = u_ka * u_ambient;
+    vec3 intensity = u_term_weights.x * u_ka * u_ambient;
     for (int i = 0; i < LIGHT_COUNT; ++i) {
         if (u_light_on[i] == 0 || !reaches(i, point)) {
             continue;
@@ -77,28 +73,54 @@ vec3 lit_colour(vec3 point, vec3 normal, vec3 view) {
         float n_dot_h = max(dot(normal, halfway), 0.0);
         // pow(0, ns) is undefined in GLSL; the formula's value there is 0 for any ns > 0.
         float specular = n_dot_h > 0.0 ? pow(n_dot_h, u_ns) : 0.0;
-        intensity += u_light_intensity[i] * (u_kd * diffuse + u_ks * specular);
+        intensity += u_light_intensity[i] * (u_term_weights.y * u_kd * diffuse
+                                             + u_term_weights.z * u_ks * specular);
     }
     return min(intensity, vec3(255.0)) / 255.0;
 }
 
+#if defined VERTEX_SHADER
+
+in vec3 in_position;     // model space
+in vec3 in_normal;       // this corner's vertex normal (Gouraud, Phong)
+in vec3 in_face_normal;  // its polygon's normal (Flat, and the back-face test in every mode)
+in vec2 in_uv;
+
+uniform mat4 u_model;
+uniform mat3 u_normal_matrix;  // inverse transpose of the model's 3x3: keeps normals perpendicular
+uniform mat4 u_view_projection;
+
+// With the provoking vertex set to the first one, `flat` varyings take the value computed at the
+// first corner of each fan triangle, which is its polygon's first vertex (SPEC 4's Flat).
+flat out vec3 v_flat_colour;
+smooth out vec3 v_smooth_colour;
+flat out float v_facing;  // N.V with the face normal at the polygon's first vertex
+out vec2 v_uv;
+out vec3 v_world_position;  // Phong: interpolated, lit per pixel
+out vec3 v_world_normal;
+
 void main() {
     vec3 world_position = (u_model * vec4(in_position, 1.0)).xyz;
     vec3 face_normal = normalize(u_normal_matrix * in_face_normal);
-    vec3 view = u_parallel ? u_eye_backward : normalize(u_eye_position - world_position);
+    vec3 vertex_normal = normalize(u_normal_matrix * in_normal);
+    vec3 view = toward_eye(world_position);
 
     v_facing = dot(face_normal, view);
-    vec3 normal = u_gouraud ? normalize(u_normal_matrix * in_normal) : face_normal;
-    vec3 colour = lit_colour(world_position, normal, view);
+    vec3 colour = vec3(0.0);
+    if (u_interpolation != PHONG) {  // Phong lights per pixel; its vertices need no colour
+        colour = lit_colour(world_position, u_interpolation == GOURAUD ? vertex_normal : face_normal,
+                            view);
+    }
     v_flat_colour = colour;
     v_smooth_colour = colour;
+    v_world_position = world_position;
+    v_world_normal = vertex_normal;
     v_uv = in_uv;
     gl_Position = u_view_projection * vec4(world_position, 1.0);
 }
 
 #elif defined FRAGMENT_SHADER
 
-uniform bool u_gouraud;
 uniform bool u_culling;
 uniform bool u_textured;
 uniform sampler2D u_texture;
@@ -107,8 +129,21 @@ flat in vec3 v_flat_colour;
 smooth in vec3 v_smooth_colour;
 flat in float v_facing;
 in vec2 v_uv;
+in vec3 v_world_position;
+in vec3 v_world_normal;
 
 out vec4 out_colour;
+
+vec3 surface_colour() {
+    if (u_interpolation == FLAT) {
+        return v_flat_colour;
+    }
+    if (u_interpolation == GOURAUD) {
+        return v_smooth_colour;
+    }
+    // Interpolated unit normals are shorter than 1 between the corners: normalize again.
+    return lit_colour(v_world_position, normalize(v_world_normal), toward_eye(v_world_position));
+}
 
 void main() {
     if (v_facing <= 0.0) {  // a back face: hidden with culling on, shown red otherwise (SPEC 5)
@@ -118,7 +153,7 @@ void main() {
         out_colour = vec4(1.0, 0.0, 0.0, 1.0);
         return;
     }
-    vec3 colour = u_gouraud ? v_smooth_colour : v_flat_colour;
+    vec3 colour = surface_colour();
     if (u_textured) {
         colour *= texture(u_texture, v_uv).rgb;
     }

@@ -23,7 +23,7 @@ from app.mesh import Mesh
 from app.scene import Material, Scene, SceneObject, Target
 
 SPEC_KEYS = set("f l o d r t g x y z X Y Z u c C n b p F + - 0 1 2 3".split()) | {"TAB", "ENTER", "ESC"}
-PROJECT_KEYS = {"T", "h", "F1", "F12", "DELETE"}
+PROJECT_KEYS = {"T", "h", "F1", "F12", "DELETE", "v", "i", "m", "s"}
 
 
 def triangle_scene() -> Scene:

@@ -1,0 +1,169 @@
+"""The lighting probe (key `i`): SPEC 4's formula worked through for the selected face, in numpy.
+
+For every vertex the renderer lights (all of the polygon's corners in Gouraud, the first one in
+Flat) it keeps the positions and normals in world and camera space, N.V, every light's L, H, N.L,
+(N.H)^ns and cone test, the per-light contributions, their sum, the clamp and the final 0..255
+colour: the numbers a learner needs to see why a pixel has its colour. Built on app/lighting.py,
+which is written from SPEC and not from the shader, so the probe also checks the renderer (tests
+compare its colours with the pixels). No GL here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from app.lighting import (
+    ShadingTerms,
+    TermWeights,
+    WorldLight,
+    lights_in_view,
+    shade_terms,
+    term_weights,
+    to_bytes,
+    world_lights,
+)
+from app.scene import Projection, Scene, SceneObject, Shading, TermView
+
+BACK_FACE_RGB = np.array([255, 0, 0], np.uint8)  # SPEC 5: back faces are drawn red without culling
+
+
+@dataclass(frozen=True)
+class VertexProbe:
+    """One lit vertex: where it is, which normal lights it, and every term of I there."""
+
+    corner: int  # index into the mesh's corner table
+    vertex: int  # index into the file's `v` table (0-based)
+    world_position: np.ndarray  # (3,)
+    camera_position: np.ndarray  # (3,) in the viewer's frame: the camera looks along its -z
+    world_normal: np.ndarray  # (3,) unit: the vertex normal (Gouraud) or the face normal (Flat)
+    camera_normal: np.ndarray  # (3,) unit
+    n_dot_v: float  # with the normal above and V at this vertex
+    terms: ShadingTerms  # every light that is on, whatever the term view
+    lights: tuple[WorldLight, ...]  # the lights of terms.lights, in the same order
+    shown: np.ndarray  # (3,) I before clamping, in the current term view
+
+    @property
+    def clamped(self) -> np.ndarray:
+        return np.minimum(self.shown, 255.0)
+
+    @property
+    def lit_bytes(self) -> np.ndarray:
+        """The 0..255 colour the lit formula gives here (texture off), back face or not."""
+        return to_bytes(self.clamped)
+
+
+@dataclass(frozen=True)
+class Probe:
+    obj: SceneObject
+    face: int
+    face_count: int
+    shading: Shading
+    facing: float  # face normal . V at the polygon's first vertex: SPEC 5's back-face test
+    culling: bool
+    textured: bool
+    view: TermView
+    weights: TermWeights
+    vertices: tuple[VertexProbe, ...]
+
+    @property
+    def back_face(self) -> bool:
+        return self.facing <= 0.0
+
+    def displayed(self, vertex: VertexProbe) -> np.ndarray | None:
+        """The pixel at that vertex as the renderer draws it (texture off): the lit colour, red for
+        a back face, or None where culling hides the face."""
+        if not self.back_face:
+            return vertex.lit_bytes
+        return None if self.culling else BACK_FACE_RGB.copy()
+
+
+def probe(scene: Scene) -> Probe | None:
+    """The probe of the selected object's selected face; None when there is no face to probe."""
+    obj = scene.object
+    if obj is None or obj.mesh.face_count == 0:
+        return None
+    mesh = obj.mesh
+    face = obj.selected_face % mesh.face_count
+    start, stop = int(mesh.face_start[face]), int(mesh.face_start[face + 1])
+    gouraud = scene.modes.shading is Shading.GOURAUD
+    corners = range(start, stop) if gouraud else range(start, start + 1)
+    face_normal = _world_normal(obj.model, mesh.face_normals[face])
+    facing = float(face_normal @ _toward_eye(scene, _world_point(obj.model, mesh.positions[
+        mesh.corner_vertex[start]])))
+    lit = [_probe_vertex(scene, obj, corner, None if gouraud else face_normal) for corner in corners]
+    return Probe(obj=obj, face=face, face_count=mesh.face_count, shading=scene.modes.shading,
+                 facing=facing, culling=scene.modes.culling, textured=scene.modes.texture,
+                 view=scene.modes.term_view, weights=term_weights(scene.modes.term_view),
+                 vertices=tuple(lit))
+
+
+def probed_corners(scene: Scene) -> list[int]:
+    """Corners of the selected face that the probe lights: what the picture marks."""
+    found = probe(scene)
+    return [] if found is None else [v.corner for v in found.vertices]
+
+
+def _probe_vertex(scene: Scene, obj: SceneObject, corner: int,
+                  face_normal: np.ndarray | None) -> VertexProbe:
+    mesh = obj.mesh
+    vertex = int(mesh.corner_vertex[corner])
+    position = _world_point(obj.model, mesh.positions[vertex])
+    normal = face_normal if face_normal is not None else _world_normal(obj.model,
+                                                                        mesh.corner_normal[corner])
+    view = scene.view_matrix()
+    parallel = scene.modes.projection is Projection.PARALLEL
+    eye_or_view = scene.eye_backward() if parallel else scene.eye_position()
+    lights = tuple(world_lights(scene))
+    terms = shade_terms(position, normal, eye_or_view, obj.material, lights, scene.ambient, parallel)
+    shown_names = {light.name for light in lights_in_view(scene)}
+    return VertexProbe(
+        corner=corner, vertex=vertex, world_position=position,
+        camera_position=_world_point(view, position), world_normal=normal,
+        camera_normal=_world_normal(view, normal),
+        n_dot_v=float(normal @ _toward_eye(scene, position)),
+        terms=terms, lights=lights,
+        shown=terms.in_view(term_weights(scene.modes.term_view), shown_names))
+
+
+def cone_angle_deg(light: WorldLight, point: np.ndarray) -> float:
+    """Angle between a spotlight's axis and the ray from the light to the point."""
+    ray = np.asarray(point, float) - light.position
+    length = float(np.linalg.norm(ray))
+    if length == 0.0:
+        return 180.0
+    return float(np.degrees(np.arccos(np.clip(light.direction @ ray / length, -1.0, 1.0))))
+
+
+def project(view_projection: np.ndarray, point: np.ndarray,
+            viewport: tuple[int, int, int, int]) -> tuple[float, float] | None:
+    """Window position of a world point in pixels, origin at the framebuffer's bottom-left, as GL
+    maps it (pixel centres at .5); None behind the eye."""
+    clip = view_projection @ np.append(np.asarray(point, float), 1.0)
+    if clip[3] <= 1e-9:
+        return None
+    x0, y0, width, height = viewport
+    ndc = clip[:3] / clip[3]
+    return x0 + (ndc[0] + 1.0) / 2.0 * width, y0 + (ndc[1] + 1.0) / 2.0 * height
+
+
+def _toward_eye(scene: Scene, point: np.ndarray) -> np.ndarray:
+    """SPEC 4's V: toward the eye in perspective, the viewer's backward axis in parallel."""
+    if scene.modes.projection is Projection.PARALLEL:
+        return _unit(scene.eye_backward())
+    return _unit(scene.eye_position() - point)
+
+
+def _world_point(matrix: np.ndarray, point: np.ndarray) -> np.ndarray:
+    return (matrix @ np.append(np.asarray(point, float), 1.0))[:3]
+
+
+def _world_normal(matrix: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """Normals go through the inverse transpose, as in the shader, so scaling keeps them perpendicular."""
+    return _unit(np.linalg.inv(matrix[:3, :3]).T @ np.asarray(normal, float))
+
+
+def _unit(vector: np.ndarray) -> np.ndarray:
+    length = float(np.linalg.norm(vector))
+    return vector / length if length > 0.0 else vector
