@@ -44,8 +44,9 @@ class Overlay:
 
     def draw(self, top_lines: list[str], bottom_lines: list[str], size: tuple[int, int],
              extras: Extras | None = None) -> None:
-        """Lines from the top-left corner down, and from the bottom-left corner up; then, below the
-        top lines, the side-by-side titles and the right-hand panel; labels where they point."""
+        """Labels where they point; lines from the top-left corner down, and from the bottom-left
+        corner up; then, below the top lines, the side-by-side titles and the right-hand panel, and
+        above the bottom lines the bottom panel."""
         width, height = size
         columns = max(10, int((width - 2 * MARGIN_PX) / self.char_width_px))
         top_lines = [piece for line in top_lines for piece in wrap(line, columns)]
@@ -54,6 +55,8 @@ class Overlay:
         self.ctx.enable(moderngl.BLEND)
         self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
         self.backdrop["u_viewport"].value = (width, height)
+        for label in extras.labels if extras is not None else []:  # part of the picture: text covers it
+            self._label(label)
         if top_lines:
             self._backdrop(top_lines, height - 2 * MARGIN_PX - LINE_HEIGHT_PX * len(top_lines), height)
         if bottom_lines:
@@ -81,8 +84,6 @@ class Overlay:
         if extras.bottom:
             self._block(extras.bottom, 0.0,
                         above_bottom + 2 * MARGIN_PX + PANEL_LINE_HEIGHT_PX * len(extras.bottom))
-        for label in extras.labels:
-            self._label(label)
 
     def _block(self, lines: list[str], left: float, top: float,
                line_height: float = PANEL_LINE_HEIGHT_PX) -> None:
@@ -97,10 +98,10 @@ class Overlay:
                        line_height)
 
     def _label(self, label: Label) -> None:
-        """Up and to the right of its point on a tight backdrop, so the point itself stays visible."""
-        left, bottom = label.x + 4.0, label.y + 4.0
-        top = bottom + PANEL_LINE_HEIGHT_PX
-        self._rectangle(left, bottom, left + self._text_width(label.text) + 4.0, top)
+        """Centred on its point, on a tight backdrop."""
+        width = self._text_width(label.text) + 4.0
+        left, bottom = label.x - width / 2.0, label.y - PANEL_LINE_HEIGHT_PX / 2.0
+        self._rectangle(left, bottom, left + width, bottom + PANEL_LINE_HEIGHT_PX)
         half_character = self._text_width(" ") / 2.0
         self._line(label.text, left + 2.0 + half_character, bottom + PANEL_LINE_HEIGHT_PX / 2.0,
                    PANEL_LINE_HEIGHT_PX)

@@ -27,9 +27,12 @@ COLUMNS = (("light", 18), ("L", 20), ("H", 20), ("N.L", 7), ("(N.H)^ns", 9), ("c
            ("adds (r g b)", 0))
 
 
+LABEL_DISTANCE_PX = 14.0  # from the vertex to the middle of its label
+
+
 @dataclass(frozen=True)
 class Label:
-    """A short text at a pixel position (origin bottom-left, like GL's window coordinates)."""
+    """A short text centred on a pixel position (origin bottom-left, like GL's window coordinates)."""
 
     text: str
     x: float
@@ -208,7 +211,8 @@ def _matrix_rows(matrix: np.ndarray) -> list[str]:
 # --- labels in the picture ---------------------------------------------------------------------
 def vertex_labels(scene: Scene, size: tuple[int, int]) -> list[Label]:
     """"v1", "v2", ... beside the probed vertices, in every viewport, so the panel's rows can be
-    matched to the picture."""
+    matched to the picture. Each label sits outside the face, away from its centre, so that the
+    labels of nearby vertices do not cover each other or the face."""
     if not scene.modes.probe:
         return []
     found = probe(scene)
@@ -217,10 +221,19 @@ def vertex_labels(scene: Scene, size: tuple[int, int]) -> list[Label]:
     labels = []
     for view in views(scene, size):
         matrix = view_projection(scene, view)
-        for number, vertex in enumerate(found.vertices[:MAX_PROBED_VERTICES], start=1):
-            at = project(matrix, vertex.world_position, view.viewport)
-            if at is not None and _inside(at, view.viewport):
-                labels.append(Label(f"v{number}", at[0], at[1]))
+        shown = found.vertices[:MAX_PROBED_VERTICES]
+        at = [project(matrix, vertex.world_position, view.viewport) for vertex in shown]
+        if any(point is None for point in at):
+            continue
+        points = np.array(at)
+        middle = points.mean(axis=0)
+        for number, point in enumerate(points, start=1):
+            away = point - middle
+            length = float(np.linalg.norm(away))
+            away = away / length if length > 1e-6 else np.array([1.0, 1.0]) / np.sqrt(2.0)
+            centre = point + LABEL_DISTANCE_PX * away
+            if _inside(tuple(point), view.viewport):
+                labels.append(Label(f"v{number}", float(centre[0]), float(centre[1])))
     return labels
 
 
