@@ -23,7 +23,7 @@ TEXT_SIZE_PX = LINE_HEIGHT_PX * 0.9
 # The probe and matrices panels: a little smaller, so that a probe of three vertices and four
 # lights still leaves room for the picture in an 800 pixel window.
 PANEL_LINE_HEIGHT_PX = 15.0
-PANEL_BACKDROP_RGBA = (0.0, 0.0, 0.0, 0.82)  # darker: the panels are read for long, over anything
+PANEL_BACKDROP_RGBA = (0.0, 0.0, 0.0, 0.88)  # darker: the panels are read for long, over anything
 BACKDROP_RGBA = (0.0, 0.0, 0.0, 0.6)
 NO_BREAK = "\u00a0"
 
