@@ -78,12 +78,16 @@ class Overlay:
                 left = (index + 0.5) * part - self._text_width(title, LINE_HEIGHT_PX) / 2.0 - MARGIN_PX
                 self._block([title], left, below_top, LINE_HEIGHT_PX)
             below_top -= 2 * MARGIN_PX + LINE_HEIGHT_PX
+        room_for_bottom = below_top - above_bottom
         if extras.right:
             panel_width = self._text_width(max(extras.right, key=len)) + 2 * MARGIN_PX
             self._block(extras.right, max(width - panel_width, 0.0), below_top)
+            # The bottom panel spans the width: it stops below the right-hand one, never over it.
+            room_for_bottom -= 2 * MARGIN_PX + PANEL_LINE_HEIGHT_PX * len(extras.right)
         if extras.bottom:
-            self._block(extras.bottom, 0.0,
-                        above_bottom + 2 * MARGIN_PX + PANEL_LINE_HEIGHT_PX * len(extras.bottom))
+            lines = fit_lines(extras.bottom, room_for_bottom - 2 * MARGIN_PX, PANEL_LINE_HEIGHT_PX,
+                              extras.bottom_overflow_hint)
+            self._block(lines, 0.0, above_bottom + 2 * MARGIN_PX + PANEL_LINE_HEIGHT_PX * len(lines))
 
     def _block(self, lines: list[str], left: float, top: float,
                line_height: float = PANEL_LINE_HEIGHT_PX) -> None:
@@ -125,6 +129,17 @@ class Overlay:
         self.writer.text = text
         size = TEXT_SIZE_PX * line_height / LINE_HEIGHT_PX
         self.writer.draw((x, y), size=size)
+
+
+def fit_lines(lines: list[str], room_px: float, line_height: float, hint: str = "") -> list[str]:
+    """The first lines that fit in `room_px`, the last of them replaced by a note of how many more
+    there are (and how to make room) when they do not all fit."""
+    fitting = max(int(room_px // line_height), 1)
+    if len(lines) <= fitting:
+        return lines
+    shown = max(fitting - 1, 0)
+    note = f"... {len(lines) - shown} more lines{': ' + hint if hint else ''}"
+    return lines[:shown] + [note]
 
 
 def wrap(line: str, columns: int) -> list[str]:

@@ -47,6 +47,7 @@ class Extras:
     right: list[str] = field(default_factory=list)  # a panel at the top right (the matrices)
     titles: list[str] = field(default_factory=list)  # one title per side-by-side viewport
     labels: list[Label] = field(default_factory=list)
+    bottom_overflow_hint: str = ""  # said after the bottom panel's last line when it is cut short
 
 
 def extras(scene: Scene, size: tuple[int, int]) -> Extras:
@@ -55,8 +56,9 @@ def extras(scene: Scene, size: tuple[int, int]) -> Extras:
         return Extras()
     right = matrix_lines(scene, size) if scene.modes.matrices else []
     titles = [view.title for view in views(scene, size)] if scene.modes.side_by_side else []
+    hint = "m hides the matrices panel" if right else "a taller window shows them"
     return Extras(bottom=probe_lines(scene), right=right, titles=titles,
-                  labels=vertex_labels(scene, size))
+                  labels=vertex_labels(scene, size), bottom_overflow_hint=hint)
 
 
 # --- the probe ---------------------------------------------------------------------------------
