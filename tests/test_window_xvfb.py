@@ -83,6 +83,8 @@ def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None
         xdotool(display, "type", "--delay", "30", str(model))
         xdotool(display, "key", "Return")
         time.sleep(0.5)
+        xdotool(display, "type", "--delay", "60", "svi")  # side by side, diffuse only, probe outline
+        time.sleep(0.3)
         xdotool(display, "key", "F12")
         shots = tmp_path / "screenshots"
         saved = wait_for(lambda: sorted(shots.glob("*.png")) if shots.is_dir() else [], 30,
@@ -96,7 +98,7 @@ def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None
         _, errors = window.communicate(timeout=10)
     assert "Traceback" not in errors, errors
 
-    keys = f'0 1 F TAB ENTER ENTER c t z*3 X*2 c c "f={model.as_posix()}"'
+    keys = f'0 1 F TAB ENTER ENTER c t z*3 X*2 c c "f={model.as_posix()}" s v i'
     expected_path = tmp_path / "expected.png"
     result = subprocess.run([sys.executable, "-m", "app", "screenshot", "-o", str(expected_path),
                              "--size", f"{SIZE[0]}x{SIZE[1]}", "--keys", keys],
