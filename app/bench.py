@@ -4,7 +4,7 @@ Every figure is measured in the same run as the figure it is compared with, on i
 here (seeded, written to a temporary folder), and printed as Markdown tables that can be pasted into
 the README. Sections:
 
-1. Loading: OBJ file -> GPU-ready vertex arrays (load_obj + app/gpu.py's de-indexing), beside
+1. Loading: OBJ file -> GPU-ready vertex arrays (load_obj + app/gpu.py's surface arrays), beside
    trimesh and tinyobjloader. Each (loader, file) runs in a fresh process, so its peak RSS is its own.
 2. Frames: GPU-complete frame time of the renderer beside a pass-through program drawing the same
    vertex data; and the Python CPU time the renderer spends per frame on the built-in scene.
@@ -53,7 +53,7 @@ MISSING = "—"
 
 # Column headers, shared with tests/test_bench.py so it can find each table.
 MACHINE_HEADING = "## Machine"
-LOAD_HEADERS = ("file", "triangles", "MB", "loader", "seconds", "of which de-index s", "MB/s",
+LOAD_HEADERS = ("file", "triangles", "MB", "loader", "seconds", "of which surface arrays s", "MB/s",
                 "peak RSS MB", "time ÷ ours", "RSS ÷ ours")
 FRAME_HEADERS = ("scene", "triangles", "size", "mode", "program ms", "bare ms", "program ÷ bare",
                  "frames")
@@ -332,9 +332,10 @@ def gpu_ready_arrays(mesh: Mesh) -> dict[str, np.ndarray]:
 
     Edges and normal segments are built only when lines or normals are first drawn (app/gpu.py).
     """
-    from app.gpu import surface_vertices
+    from app.gpu import surface_arrays
 
-    return {"surface": surface_vertices(mesh)}
+    surface = surface_arrays(mesh)
+    return {"surface": surface.vertices, "surface indices": surface.indices}
 
 
 def _trimesh() -> LoadFunction:
@@ -451,8 +452,8 @@ def loading_section(config: BenchConfig, inputs: Sequence[LoadInput]) -> list[st
         "## 1. Loading: OBJ file to GPU-ready arrays",
         "",
         f"Median of {config.repeats} load(s) in one fresh process per loader and file; peak RSS is that "
-        "process's peak minus its peak after imports. *ours* = `load_obj` + the surface vertex array "
-        "`ObjectGpu` uploads for the first frame (de-indexing, app/gpu.py; edges and normal segments "
+        "process's peak minus its peak after imports. *ours* = `load_obj` + the surface vertex and index "
+        "arrays `ObjectGpu` uploads for the first frame (app/gpu.py; edges and normal segments "
         "are built later, when lines or normals are first drawn); trimesh = `trimesh.load(process=False)`; "
         "tinyobjloader = parse (triangulated) + numpy copies of its tables. Ratios > 1: ours is faster "
         "or smaller.",
@@ -516,7 +517,7 @@ class BareDraw:
     def __init__(self, ctx: moderngl.Context, scene: Scene) -> None:
         import moderngl
 
-        from app.gpu import edge_vertices, surface_vertices
+        from app.gpu import edge_vertices, surface_arrays
         from app.renderer import CLEAR_COLOUR
 
         self.gl = moderngl  # imported here, not per frame, so the bare CPU figures stay bare
@@ -527,11 +528,13 @@ class BareDraw:
         self.buffers: list[moderngl.Buffer] = []
         self.objects: list[tuple[SceneObject, moderngl.VertexArray, moderngl.VertexArray]] = []
         for obj in drawn_objects(scene):
-            surface = ctx.buffer(surface_vertices(obj.mesh).tobytes())
+            arrays = surface_arrays(obj.mesh)
+            surface, indices = ctx.buffer(arrays.vertices), ctx.buffer(arrays.indices)
             edges = ctx.buffer(edge_vertices(obj.mesh).tobytes())
-            self.buffers += [surface, edges]
+            self.buffers += [surface, indices, edges]
             self.objects.append((obj,
-                                 ctx.vertex_array(self.program, [(surface, BARE_SURFACE_FORMAT, "in_position")]),
+                                 ctx.vertex_array(self.program, [(surface, BARE_SURFACE_FORMAT, "in_position")],
+                                                  index_buffer=indices, index_element_size=4),
                                  ctx.vertex_array(self.program, [(edges, BARE_EDGE_FORMAT, "in_position")])))
 
     def render(self, fbo: moderngl.Framebuffer, size: tuple[int, int], mode: str) -> None:
@@ -830,7 +833,7 @@ def memory_row(bench: FrameBench, item: LoadInput) -> list[str]:
     gpu = ObjectGpu.build(bench.ctx, mesh, renderer.surface_program, renderer.edge_program,
                           renderer.normal_program)  # exactly what the renderer allocates per object
     try:
-        surface = gpu.buffers["surface"].size
+        surface = gpu.buffers["surface"].size + gpu.buffers["surface indices"].size
         _ = gpu.edges, gpu.face_normals, gpu.vertex_normals  # built on first use: force them here
         sizes = {name: buffer.size for name, buffer in gpu.buffers.items()}
         host = mesh_bytes(mesh) + gpu.triangles_before.nbytes
@@ -851,8 +854,8 @@ def memory_section(bench: FrameBench, inputs: Sequence[LoadInput]) -> list[str]:
         "## 4. Memory per triangle of a loaded mesh",
         "",
         "*Mesh*: the Mesh's arrays plus the renderer's kept `triangles_before` (host, for the object's "
-        "life). *GPU-ready arrays*: the de-indexed surface array made before the first frame (host, "
-        "while uploading). *GPU when filled*: the surface buffer, all an object holds until lines or "
+        "life). *GPU-ready arrays*: the surface's vertex and index arrays made before the first "
+        "frame (host, while uploading). *GPU when filled*: the surface's buffers, all an object holds until lines or "
         "normals are drawn; *with lines and normals*: every buffer it can hold (surface, edges, face "
         "and vertex normal segments). On llvmpipe GPU buffers live in host memory too.",
         "",

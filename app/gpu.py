@@ -54,21 +54,62 @@ def _gathered(table: np.ndarray, rows: np.ndarray | None) -> np.ndarray:
     return table if rows is None else table[rows]
 
 
-def surface_vertices(mesh: Mesh) -> np.ndarray:
-    """(3T, 11) float32: position, vertex normal, face normal, uv for every fan-triangle corner.
+@dataclass(frozen=True)
+class SurfaceArrays:
+    """The surface as indexed triangles: `vertices` rows of SURFACE_LAYOUT, `indices` three per fan
+    triangle, polygon by polygon (so a range of faces is a range of indices, as before).
 
-    The first corner of each fan triangle is its polygon's first vertex, so with the provoking vertex
-    set to the first one a `flat` varying carries the value computed at the polygon's first vertex.
+    Rows, in order: one per position, taking the vertex normal and uv of one of its corners; one per
+    corner whose normal or uv differs from that (seams); one per polygon for its first corner, the
+    only row with the polygon's face normal. Every triangle starts at its polygon's own row, so with
+    the provoking vertex set to the first one, `flat` varyings still come from the polygon's first
+    vertex lit with its face normal (SPEC 4's Flat); the other corners are shared between polygons,
+    so each is lit once for all the triangles around it instead of once per triangle.
     """
-    corners = None if mesh.all_triangles else mesh.triangle_corners().reshape(-1)
-    vertex_of_corner = _gathered(mesh.corner_vertex, corners)
-    out = np.empty((vertex_of_corner.shape[0], 11), np.float32)
-    # Converting the V positions before gathering them gives the same floats as converting the 3T.
-    out[:, 0:3] = mesh.positions.astype(np.float32)[vertex_of_corner]
-    out[:, 3:6] = _gathered(mesh.corner_normal, corners)
-    out[:, 6:9] = np.repeat(mesh.face_normals, 3 * (mesh.face_sizes - 2), axis=0)
-    out[:, 9:11] = _gathered(mesh.corner_uv, corners)
-    return out
+
+    vertices: np.ndarray  # (N, 11) float32
+    indices: np.ndarray  # (3T,) uint32
+
+
+def surface_arrays(mesh: Mesh) -> SurfaceArrays:
+    corner_vertex = mesh.corner_vertex
+    positions = mesh.vertex_count
+    representative = np.zeros(positions, np.int64)
+    representative[corner_vertex] = np.arange(corner_vertex.shape[0])  # any corner of each position
+    # A corner shares its position's row when its normal and uv are the same bits; comparing whole
+    # 20-byte rows at once is faster than five float columns.
+    attributes = np.empty((corner_vertex.shape[0], 5), np.float32)
+    attributes[:, 0:3] = mesh.corner_normal
+    attributes[:, 3:5] = mesh.corner_uv
+    rows = attributes.view(np.dtype((np.void, attributes.itemsize * 5))).ravel()
+    seams = np.flatnonzero(rows != rows[representative[corner_vertex]])
+    first_corners = mesh.face_start[:-1]
+    row_corner = np.concatenate([representative, seams, first_corners])
+    shared_rows = positions + seams.shape[0]
+
+    vertices = np.empty((row_corner.shape[0], 11), np.float32)
+    vertices[:, 0:3] = mesh.positions.astype(np.float32)[corner_vertex[row_corner]]
+    corner_attributes = attributes[row_corner]
+    vertices[:, 3:6] = corner_attributes[:, 0:3]
+    vertices[:shared_rows, 6:9] = corner_attributes[:shared_rows, 0:3]  # read only at a polygon's own row
+    vertices[shared_rows:, 6:9] = mesh.face_normals
+    vertices[:, 9:11] = corner_attributes[:, 3:5]
+
+    row_of_corner = corner_vertex.astype(np.uint32)
+    row_of_corner[seams] = np.arange(positions, shared_rows, dtype=np.uint32)
+    triangles = mesh.triangle_corners()
+    indices = np.empty(triangles.shape, np.uint32)
+    indices[:, 0] = shared_rows + np.repeat(np.arange(mesh.face_count, dtype=np.uint32), mesh.face_sizes - 2)
+    indices[:, 1] = row_of_corner[triangles[:, 1]]
+    indices[:, 2] = row_of_corner[triangles[:, 2]]
+    return SurfaceArrays(vertices, indices.reshape(-1))
+
+
+def surface_vertices(mesh: Mesh) -> np.ndarray:
+    """(3T, 11) float32: the surface de-indexed, one row per fan-triangle corner; what
+    `surface_arrays` draws, written out (the tests compare the two)."""
+    arrays = surface_arrays(mesh)
+    return arrays.vertices[arrays.indices]
 
 
 def edge_vertices(mesh: Mesh) -> np.ndarray:
@@ -116,18 +157,18 @@ def _segments(feet: np.ndarray, directions: np.ndarray) -> np.ndarray:
 
 # Surface arrays made ahead of time, off the render thread (the window's loader thread), waiting for
 # their object's first frame. Weak keys: a mesh dropped before it is drawn takes its array with it.
-_prepared_surfaces: weakref.WeakKeyDictionary[Mesh, np.ndarray] = weakref.WeakKeyDictionary()
+_prepared_surfaces: weakref.WeakKeyDictionary[Mesh, SurfaceArrays] = weakref.WeakKeyDictionary()
 _prepared_lock = threading.Lock()
 
 
 def prepare_surface(mesh: Mesh) -> None:
-    """Builds the mesh's surface array now, so that its first frame only uploads it."""
-    data = surface_vertices(mesh)
+    """Builds the mesh's surface arrays now, so that its first frame only uploads them."""
+    data = surface_arrays(mesh)
     with _prepared_lock:
         _prepared_surfaces[mesh] = data
 
 
-def _take_prepared_surface(mesh: Mesh) -> np.ndarray | None:
+def _take_prepared_surface(mesh: Mesh) -> SurfaceArrays | None:
     with _prepared_lock:
         return _prepared_surfaces.pop(mesh, None)
 
@@ -156,25 +197,27 @@ class ObjectGpu:
     than the surface's), then kept until the object leaves the scene.
     """
 
-    # surface, edges, face normals, vertex normals: one buffer and one vertex array each
-    MAX_GL_OBJECTS = 8
+    # surface: a vertex and an index buffer and a vertex array; edges, face normals, vertex
+    # normals: one buffer and one vertex array each
+    MAX_GL_OBJECTS = 9
 
     def __init__(self, ctx: moderngl.Context, mesh: Mesh, programs: Programs,
-                 surface_data: np.ndarray | None = None) -> None:
+                 surface_data: SurfaceArrays | None = None) -> None:
         self.ctx = ctx
         self.mesh = mesh  # the mesh these buffers were built from: a replaced mesh means rebuilding
         self.programs = programs
-        self._built: dict[str, tuple[moderngl.Buffer, moderngl.VertexArray]] = {}
+        self._built: dict[str, tuple[dict[str, moderngl.Buffer], moderngl.VertexArray]] = {}
         self.triangles_before = mesh.triangles_before_face()  # kept so drawing allocates nothing
         if surface_data is None:
             surface_data = _take_prepared_surface(mesh)
-        data = surface_vertices(mesh) if surface_data is None else surface_data
-        self.surface = self._vertex_array("surface", data, programs.surface, SURFACE_LAYOUT)
+        arrays = surface_arrays(mesh) if surface_data is None else surface_data
+        self.surface = self._vertex_array("surface", arrays.vertices, programs.surface, SURFACE_LAYOUT,
+                                          indices=arrays.indices)
 
     @classmethod
     def build(cls, ctx: moderngl.Context, mesh: Mesh, surface_program: moderngl.Program,
               edge_program: moderngl.Program, normal_program: moderngl.Program,
-              surface_data: np.ndarray | None = None) -> ObjectGpu:
+              surface_data: SurfaceArrays | None = None) -> ObjectGpu:
         return cls(ctx, mesh, Programs(surface_program, edge_program, normal_program), surface_data)
 
     @property
@@ -191,8 +234,8 @@ class ObjectGpu:
 
     @property
     def buffers(self) -> dict[str, moderngl.Buffer]:
-        """The buffers built so far, by name."""
-        return {name: buffer for name, (buffer, _) in self._built.items()}
+        """The buffers built so far, by name ("surface" and "surface indices", "edges", ...)."""
+        return {name: buffer for buffers, _ in self._built.values() for name, buffer in buffers.items()}
 
     def _lazy(self, name: str, make: Callable[[Mesh], np.ndarray], program: moderngl.Program,
               layout: tuple[str, ...]) -> moderngl.VertexArray:
@@ -200,23 +243,31 @@ class ObjectGpu:
         return built[1] if built is not None else self._vertex_array(name, make(self.mesh), program, layout)
 
     def _vertex_array(self, name: str, data: np.ndarray, program: moderngl.Program,
-                      layout: tuple[str, ...]) -> moderngl.VertexArray:
-        buffer = self.ctx.buffer(data)
+                      layout: tuple[str, ...], indices: np.ndarray | None = None) -> moderngl.VertexArray:
+        buffers = {name: self.ctx.buffer(data)}
         try:
-            vao = self.ctx.vertex_array(program, [(buffer, *layout)])
+            if indices is not None:
+                buffers[f"{name} indices"] = index_buffer = self.ctx.buffer(indices)
+                vao = self.ctx.vertex_array(program, [(buffers[name], *layout)], index_buffer=index_buffer,
+                                            index_element_size=4)
+            else:
+                vao = self.ctx.vertex_array(program, [(buffers[name], *layout)])
         except Exception:
-            buffer.release()
+            for buffer in buffers.values():
+                buffer.release()
             raise
-        self._built[name] = (buffer, vao)
+        self._built[name] = (buffers, vao)
         return vao
 
     def release(self) -> None:
-        for buffer, vao in self._built.values():
+        for buffers, vao in self._built.values():
             vao.release()
-            buffer.release()
+            for buffer in buffers.values():
+                buffer.release()
         self._built.clear()
 
-    # Vertex ranges of the faces [start, stop): every array above is laid out polygon by polygon.
+    # Vertex ranges of the faces [start, stop): every array above is laid out polygon by polygon
+    # (the surface's are ranges of its indices).
     def surface_range(self, start: int, stop: int) -> VertexRange:
         before = self.triangles_before
         return VertexRange(3 * int(before[start]), 3 * int(before[stop] - before[start]))

@@ -70,7 +70,9 @@ def test_the_worker_prepares_the_surface_and_the_first_frame_only_uploads_it(tmp
     wait_until_idle(viewer)
     mesh = viewer.scene.objects[0].mesh
     prepared = gpu._prepared_surfaces.get(mesh)
-    assert prepared is not None and np.array_equal(prepared, gpu.surface_vertices(mesh))
+    expected = gpu.surface_arrays(mesh)
+    assert prepared is not None and np.array_equal(prepared.vertices, expected.vertices)
+    assert np.array_equal(prepared.indices, expected.indices)
 
     viewer.press_sequence("T")  # texture off: the pure lit colour, ambient only (SPEC 3's start)
     pixels = offscreen(viewer.scene)

@@ -1,0 +1,70 @@
+"""The indexed surface (app/gpu.py surface_arrays) draws exactly the de-indexed corners: every fan
+triangle corner gets its own position, vertex normal and uv, and each triangle's first index is its
+polygon's own row, the one carrying the face normal (what Flat and the back-face test read)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from app.gpu import surface_arrays
+from app.loaders.obj import parse_obj
+from app.mesh import Mesh
+
+
+def corner_table(mesh: Mesh) -> np.ndarray:
+    """(3T, 8) float32 position, vertex normal, uv per fan-triangle corner, straight from the mesh."""
+    corners = mesh.triangle_corners().reshape(-1)
+    return np.hstack([mesh.positions[mesh.corner_vertex[corners]], mesh.corner_normal[corners],
+                      mesh.corner_uv[corners]]).astype(np.float32)
+
+
+# A quad and a pentagon sharing an edge, with a uv seam (vertex 2 has two vt) and vn on some corners.
+SEAMED = b"""v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 2 0 0.5
+v 2 1 0.5
+v 1.5 1.5 0.2
+vt 0 0
+vt 1 0
+vt 1 1
+vt 0 1
+vt 0.5 0.5
+f 1/1 2/2 3/3 4/4
+f 2/2 5/1 6/4 7/5 3/5
+"""
+
+
+def check_same_corners(mesh: Mesh) -> np.ndarray:
+    arrays = surface_arrays(mesh)
+    assert arrays.indices.dtype == np.uint32 and arrays.indices.max() < arrays.vertices.shape[0]
+    drawn = arrays.vertices[arrays.indices]
+    expected = corner_table(mesh)
+    assert np.array_equal(drawn[:, [0, 1, 2, 3, 4, 5, 9, 10]], expected)
+    faces = mesh.triangle_face()
+    assert np.array_equal(drawn[0::3, 6:9], mesh.face_normals[faces])  # first corner: the face normal
+    return arrays.vertices
+
+
+def test_polygons_with_a_uv_seam_draw_their_own_corners() -> None:
+    mesh = parse_obj(SEAMED, "seamed.obj")
+    vertices = check_same_corners(mesh)
+    # 7 positions + 1 seam corner (vertex 3 with vt 5 in the pentagon) + 2 polygons' own rows
+    assert vertices.shape[0] == 7 + 1 + 2
+
+
+def test_a_smooth_grid_shares_its_vertices() -> None:
+    rng = np.random.default_rng(5)
+    cells = 20
+    xs, ys = np.meshgrid(np.arange(cells + 1.0), np.arange(cells + 1.0))
+    zs = rng.normal(scale=0.2, size=xs.shape)
+    lines = [f"v {x} {y} {z}" for x, y, z in zip(xs.ravel(), ys.ravel(), zs.ravel())]
+    row = cells + 1
+    for j in range(cells):
+        for i in range(cells):
+            a = j * row + i + 1
+            lines += [f"f {a} {a + 1} {a + row + 1}", f"f {a} {a + row + 1} {a + row}"]
+    mesh = parse_obj(("\n".join(lines) + "\n").encode(), "grid.obj")
+    vertices = check_same_corners(mesh)
+    assert vertices.shape[0] == mesh.vertex_count + mesh.face_count  # no seams: uv and normals per vertex
