@@ -298,13 +298,16 @@ class Renderer:
         _draw(gpu.surface, moderngl.TRIANGLES, gpu.surface_range(item.start, item.stop))
 
     def _draw_all_edges(self, scene: Scene, items: list[tuple[DrawItem, ObjectGpu]]) -> None:
-        """Back faces' edges of every object first (red; skipped with culling on), then the front
-        faces' edges over them, so an edge between a front and a back face shows the front's colour."""
-        passes = [True] if scene.modes.culling else [False, True]
-        for front_pass in passes:
-            self.edges.set("u_front_pass", front_pass)
-            for item, gpu in items:
-                self._draw_edges(item, gpu, selected=item.obj is scene.object)
+        """Every object's edges in one pass: front faces' edges over back faces' (red; skipped with
+        culling on) through the depth test on the depth edges.glsl writes, so an edge between a front
+        and a back face shows the front's colour. Lines mode has no depth test otherwise."""
+        self.edges.set("u_culling", scene.modes.culling)
+        self.ctx.enable(moderngl.DEPTH_TEST)
+        self.ctx.depth_func = "<="
+        for item, gpu in items:
+            self._draw_edges(item, gpu, selected=item.obj is scene.object)
+        self.ctx.depth_func = "<"
+        self.ctx.disable(moderngl.DEPTH_TEST)
 
     def _draw_edges(self, item: DrawItem, gpu: ObjectGpu, selected: bool) -> None:
         self._set_model([self.edges], item.obj.model)

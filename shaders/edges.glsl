@@ -1,9 +1,12 @@
 #version 330 core
 // Lines mode (SPEC 5): every polygon's boundary edges in one colour (the selected object green,
 // the others white), no lighting, no texture; edges of back faces red, or not drawn with culling on.
-// Drawn in two passes, back faces' edges first: a silhouette edge belongs to a front and a back
-// face, and the second pass paints it in the object's colour. The lighting probe's outline (key
-// `i`) uses the same edges in one colour whichever way the face looks.
+// A silhouette edge belongs to a front and a back face and must show the front's colour. One pass
+// does it with the depth test (GL_LEQUAL) on a depth that says only which kind an edge is: front
+// edges nearer than back ones, so a front edge covers a back one whichever is drawn first, and among
+// edges of one kind the last drawn wins (as back-then-front passes did, at half the vertex work).
+// The lighting probe's outline (key `i`) uses the same edges in one colour whichever way the face
+// looks, with the depth test off.
 
 #if defined VERTEX_SHADER
 
@@ -31,12 +34,15 @@ void main() {
 #elif defined FRAGMENT_SHADER
 
 uniform vec3 u_colour;
-uniform bool u_front_pass;  // false: back faces' edges, in red; true: front faces' edges, u_colour
+uniform bool u_culling;  // back faces' edges: not drawn with culling on, red otherwise
 uniform bool u_outline;  // the probe's outline: u_colour, front or back
 
 flat in float v_facing;
 
 out vec4 out_colour;
+
+const float FRONT_EDGE_DEPTH = 0.25;
+const float BACK_EDGE_DEPTH = 0.75;
 
 void main() {
     if (u_outline) {
@@ -44,9 +50,10 @@ void main() {
         return;
     }
     bool front = v_facing > 0.0;
-    if (front != u_front_pass) {
+    if (!front && u_culling) {
         discard;
     }
+    gl_FragDepth = front ? FRONT_EDGE_DEPTH : BACK_EDGE_DEPTH;
     out_colour = front ? vec4(u_colour, 1.0) : vec4(1.0, 0.0, 0.0, 1.0);
 }
 
