@@ -830,8 +830,7 @@ def memory_row(bench: FrameBench, item: LoadInput) -> list[str]:
     triangles = int(mesh.triangles_before_face()[-1])
     ready = sum(array.nbytes for array in gpu_ready_arrays(mesh).values())
     renderer = bench.renderer
-    gpu = ObjectGpu.build(bench.ctx, mesh, renderer.surface_program, renderer.edge_program,
-                          renderer.normal_program)  # exactly what the renderer allocates per object
+    gpu = ObjectGpu(bench.ctx, mesh, renderer.programs)  # exactly what the renderer allocates per object
     try:
         surface = gpu.buffers["surface"].size + gpu.buffers["surface indices"].size
         _ = gpu.edges, gpu.face_normals, gpu.vertex_normals  # built on first use: force them here

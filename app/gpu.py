@@ -12,7 +12,7 @@ import threading
 import weakref
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Mapping
 
 import moderngl
 import numpy as np
@@ -26,25 +26,28 @@ EDGE_LAYOUT = ("3f 3f 3f", "in_position", "in_face_normal", "in_face_point")
 NORMAL_LAYOUT = ("3f 3f 1f", "in_position", "in_direction", "in_along")
 
 
-def load_program(ctx: moderngl.Context, name: str, shader_dir: Path = SHADER_DIR) -> moderngl.Program:
-    """Compile `shaders/<name>.glsl`, a single file split by `#if defined VERTEX_SHADER` blocks.
+def load_program(ctx: moderngl.Context, name: str, shader_dir: Path = SHADER_DIR,
+                 defines: Mapping[str, str] | None = None) -> moderngl.Program:
+    """Compile `shaders/<name>.glsl`, a single file split by `#if defined VERTEX_SHADER` blocks,
+    with `defines` (e.g. surface.glsl's INTERPOLATION) for both stages.
 
     Same convention as moderngl-window's single-file programs, but moderngl-window's loader wants its
     own window context registered; the screenshot command and the tests run on a bare standalone EGL
     context, so we insert the defines ourselves: after the `#version` line, which must stay first.
     """
     source = (shader_dir / f"{name}.glsl").read_text(encoding="utf-8")
+    extra = "".join(f"#define {key} {value}\n" for key, value in (defines or {}).items())
     return ctx.program(
-        vertex_shader=_with_define(source, "VERTEX_SHADER"),
-        fragment_shader=_with_define(source, "FRAGMENT_SHADER"),
+        vertex_shader=_with_define(source, "VERTEX_SHADER", extra),
+        fragment_shader=_with_define(source, "FRAGMENT_SHADER", extra),
     )
 
 
-def _with_define(source: str, define: str) -> str:
+def _with_define(source: str, define: str, extra: str = "") -> str:
     version, newline, rest = source.partition("\n")
     if not version.lstrip().startswith("#version"):
         raise ValueError("a shader file must start with its #version line")
-    return f"{version}{newline}#define {define}\n{rest}"
+    return f"{version}{newline}#define {define}\n{extra}{rest}"
 
 
 # --- numpy: the de-indexed vertex arrays -------------------------------------------------------
@@ -173,6 +176,19 @@ def _take_prepared_surface(mesh: Mesh) -> SurfaceArrays | None:
         return _prepared_surfaces.pop(mesh, None)
 
 
+def _layout_for(program: moderngl.Program, layout: tuple[str, ...]) -> tuple[str, ...]:
+    """`layout` with the attributes `program` does not read (its compiler dropped them) skipped."""
+    formats, names = layout[0].split(), layout[1:]
+    kept_formats, kept_names = [], []
+    for fmt, name in zip(formats, names):
+        if name in program:
+            kept_formats.append(fmt)
+            kept_names.append(name)
+        else:
+            kept_formats.append(f"{4 * int(fmt[:-1])}x")  # float32 components: 4 bytes each
+    return (" ".join(kept_formats), *kept_names)
+
+
 # --- GL buffers for one object -----------------------------------------------------------------
 @dataclass(frozen=True)
 class VertexRange:
@@ -182,9 +198,10 @@ class VertexRange:
 
 @dataclass(frozen=True)
 class Programs:
-    """The programs an object's vertex arrays are bound to."""
+    """The programs an object's vertex arrays are bound to: one surface program per way of spreading
+    the lighting (by name: "FLAT", "GOURAUD", "PHONG"; see surface.glsl), edges, normals."""
 
-    surface: moderngl.Program
+    surfaces: Mapping[str, moderngl.Program]
     edges: moderngl.Program
     normals: moderngl.Program
 
@@ -197,28 +214,41 @@ class ObjectGpu:
     than the surface's), then kept until the object leaves the scene.
     """
 
-    # surface: a vertex and an index buffer and a vertex array; edges, face normals, vertex
-    # normals: one buffer and one vertex array each
-    MAX_GL_OBJECTS = 9
+    # surface: a vertex and an index buffer, and a vertex array per surface program (3); edges,
+    # face normals, vertex normals: one buffer and one vertex array each
+    MAX_GL_OBJECTS = 11
 
     def __init__(self, ctx: moderngl.Context, mesh: Mesh, programs: Programs,
                  surface_data: SurfaceArrays | None = None) -> None:
         self.ctx = ctx
         self.mesh = mesh  # the mesh these buffers were built from: a replaced mesh means rebuilding
         self.programs = programs
-        self._built: dict[str, tuple[dict[str, moderngl.Buffer], moderngl.VertexArray]] = {}
+        self._built: dict[str, tuple[moderngl.Buffer, moderngl.VertexArray]] = {}
         self.triangles_before = mesh.triangles_before_face()  # kept so drawing allocates nothing
         if surface_data is None:
             surface_data = _take_prepared_surface(mesh)
         arrays = surface_arrays(mesh) if surface_data is None else surface_data
-        self.surface = self._vertex_array("surface", arrays.vertices, programs.surface, SURFACE_LAYOUT,
-                                          indices=arrays.indices)
+        vertices = ctx.buffer(arrays.vertices)
+        try:
+            indices = ctx.buffer(arrays.indices)
+        except Exception:
+            vertices.release()
+            raise
+        self._surface_buffers = {"surface": vertices, "surface indices": indices}
+        self._surface_arrays: dict[str, moderngl.VertexArray] = {}
 
-    @classmethod
-    def build(cls, ctx: moderngl.Context, mesh: Mesh, surface_program: moderngl.Program,
-              edge_program: moderngl.Program, normal_program: moderngl.Program,
-              surface_data: SurfaceArrays | None = None) -> ObjectGpu:
-        return cls(ctx, mesh, Programs(surface_program, edge_program, normal_program), surface_data)
+    def surface(self, interpolation: str) -> moderngl.VertexArray:
+        """The surface bound to the program of `interpolation` ("FLAT", "GOURAUD", "PHONG"); each is
+        made the first time that way of lighting is drawn, sharing the two buffers."""
+        vao = self._surface_arrays.get(interpolation)
+        if vao is None:
+            program = self.programs.surfaces[interpolation]
+            layout = _layout_for(program, SURFACE_LAYOUT)
+            vao = self.ctx.vertex_array(program, [(self._surface_buffers["surface"], *layout)],
+                                        index_buffer=self._surface_buffers["surface indices"],
+                                        index_element_size=4)
+            self._surface_arrays[interpolation] = vao
+        return vao
 
     @property
     def edges(self) -> moderngl.VertexArray:
@@ -235,7 +265,7 @@ class ObjectGpu:
     @property
     def buffers(self) -> dict[str, moderngl.Buffer]:
         """The buffers built so far, by name ("surface" and "surface indices", "edges", ...)."""
-        return {name: buffer for buffers, _ in self._built.values() for name, buffer in buffers.items()}
+        return {**self._surface_buffers, **{name: buffer for name, (buffer, _) in self._built.items()}}
 
     def _lazy(self, name: str, make: Callable[[Mesh], np.ndarray], program: moderngl.Program,
               layout: tuple[str, ...]) -> moderngl.VertexArray:
@@ -243,27 +273,26 @@ class ObjectGpu:
         return built[1] if built is not None else self._vertex_array(name, make(self.mesh), program, layout)
 
     def _vertex_array(self, name: str, data: np.ndarray, program: moderngl.Program,
-                      layout: tuple[str, ...], indices: np.ndarray | None = None) -> moderngl.VertexArray:
-        buffers = {name: self.ctx.buffer(data)}
+                      layout: tuple[str, ...]) -> moderngl.VertexArray:
+        buffer = self.ctx.buffer(data)
         try:
-            if indices is not None:
-                buffers[f"{name} indices"] = index_buffer = self.ctx.buffer(indices)
-                vao = self.ctx.vertex_array(program, [(buffers[name], *layout)], index_buffer=index_buffer,
-                                            index_element_size=4)
-            else:
-                vao = self.ctx.vertex_array(program, [(buffers[name], *layout)])
+            vao = self.ctx.vertex_array(program, [(buffer, *layout)])
         except Exception:
-            for buffer in buffers.values():
-                buffer.release()
+            buffer.release()
             raise
-        self._built[name] = (buffers, vao)
+        self._built[name] = (buffer, vao)
         return vao
 
     def release(self) -> None:
-        for buffers, vao in self._built.values():
+        for vao in self._surface_arrays.values():
             vao.release()
-            for buffer in buffers.values():
-                buffer.release()
+        for buffer in self._surface_buffers.values():
+            buffer.release()
+        for buffer, vao in self._built.values():
+            vao.release()
+            buffer.release()
+        self._surface_arrays.clear()
+        self._surface_buffers.clear()
         self._built.clear()
 
     # Vertex ranges of the faces [start, stop): every array above is laid out polygon by polygon

@@ -14,7 +14,7 @@ from typing import Any, Iterable
 import moderngl
 import numpy as np
 
-from app.gpu import ObjectGpu, VertexRange, load_program
+from app.gpu import ObjectGpu, Programs, VertexRange, load_program
 from app.lighting import lights_in_view, term_weights
 from app.probe import probed_corners
 from app.scene import Fill, LightKind, Projection, Scene, SceneObject, Shading, Target
@@ -34,7 +34,8 @@ SEPARATOR_PX = 2
 
 
 class Interpolation(Enum):
-    """How surface.glsl spreads the lighting over a polygon; the values are its u_interpolation codes.
+    """How surface.glsl spreads the lighting over a polygon: one program each, built with the
+    member's name as its INTERPOLATION.
     Phong is the third model of the side-by-side view (key `s`); `F` switches Flat and Gouraud only."""
 
     FLAT = 0
@@ -112,11 +113,17 @@ class DrawItem:
 class Renderer:
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
-        self.surface_program = load_program(ctx, "surface")
+        # One surface program per interpolation; `self.surface` is the one the current view uses.
+        self.surface_programs = {way: load_program(ctx, "surface", defines={"INTERPOLATION": way.name})
+                                 for way in Interpolation}
+        self.surface_uniforms = {way: Uniforms(program) for way, program in self.surface_programs.items()}
+        self.interpolation = Interpolation.FLAT
         self.edge_program = load_program(ctx, "edges")
         self.normal_program = load_program(ctx, "normals")
+        self.programs = Programs({way.name: program for way, program in self.surface_programs.items()},
+                                 self.edge_program, self.normal_program)
         self.marker_program = load_program(ctx, "marker")
-        self.surface = Uniforms(self.surface_program)
+        self.surface = self.surface_uniforms[self.interpolation]
         self.edges = Uniforms(self.edge_program)
         self.normals = Uniforms(self.normal_program)
         self.marker = Uniforms(self.marker_program)
@@ -146,7 +153,7 @@ class Renderer:
         for gpu in self._objects.values():
             gpu.release()
         self._objects.clear()
-        for resource in (self.marker_vao, self.texture, self.surface_program, self.edge_program,
+        for resource in (self.marker_vao, self.texture, *self.surface_programs.values(), self.edge_program,
                          self.normal_program, self.marker_program):
             if resource is not None:
                 resource.release()
@@ -158,8 +165,7 @@ class Renderer:
             return gpu
         if gpu is not None:  # the object got a new mesh: its old buffers are stale
             gpu.release()
-        gpu = ObjectGpu.build(self.ctx, obj.mesh, self.surface_program, self.edge_program,
-                              self.normal_program)
+        gpu = ObjectGpu(self.ctx, obj.mesh, self.programs)
         self._objects[obj.uid] = gpu
         return gpu
 
@@ -192,7 +198,9 @@ class Renderer:
                      items: list[tuple[DrawItem, ObjectGpu]]) -> None:
         filled = scene.modes.fill is Fill.FILLED
         self._set_gl_state(depth_test=filled)
-        self._set_frame_uniforms(scene, view_projection(scene, view), view.interpolation)
+        self.interpolation = view.interpolation
+        self.surface = self.surface_uniforms[view.interpolation]
+        self._set_frame_uniforms(scene, view_projection(scene, view))
         if filled:
             for item, gpu in items:
                 self._draw_surface(item, gpu)
@@ -234,8 +242,7 @@ class Renderer:
                 if obj is not scene.viewer and obj.mesh.face_count > 0]
 
     # --- uniforms ----------------------------------------------------------------------------
-    def _set_frame_uniforms(self, scene: Scene, view_projection: np.ndarray,
-                            interpolation: Interpolation) -> None:
+    def _set_frame_uniforms(self, scene: Scene, view_projection: np.ndarray) -> None:
         modes = scene.modes
         parallel = modes.projection is Projection.PARALLEL
         eye = tuple(float(c) for c in scene.eye_position())
@@ -247,7 +254,6 @@ class Renderer:
             uniforms.set("u_eye_position", eye)
             uniforms.set("u_eye_backward", backward)
         self.surface.set("u_culling", modes.culling)
-        self.surface.set("u_interpolation", interpolation.value)
         self.surface.set("u_term_weights", term_weights(modes.term_view).as_tuple())
         self.surface.set("u_textured", modes.texture)
         self.surface.set("u_texture", 0)
@@ -295,7 +301,8 @@ class Renderer:
         self.surface.set("u_ns", float(material.ns))
         assert self.texture is not None
         self.texture.use(location=0)
-        _draw(gpu.surface, moderngl.TRIANGLES, gpu.surface_range(item.start, item.stop))
+        _draw(gpu.surface(self.interpolation.name), moderngl.TRIANGLES,
+              gpu.surface_range(item.start, item.stop))
 
     def _draw_all_edges(self, scene: Scene, items: list[tuple[DrawItem, ObjectGpu]]) -> None:
         """Every object's edges in one pass: front faces' edges over back faces' (red; skipped with

@@ -1,7 +1,9 @@
 #version 330 core
 // Filled polygons (SPEC 4 and 5): the seed's ambient + diffuse + specular lighting in world space,
 // in the seed's 0..255 units; back faces red or discarded; the lit colour multiplied by the texture.
-// Three ways to spread it over a polygon (u_interpolation):
+// Three ways to spread it over a polygon, one program each (INTERPOLATION, defined by the renderer:
+// a program built for one way drops the others' code and varyings, a fifth shorter Flat frame on
+// llvmpipe than one program choosing with a uniform):
 //   Flat: evaluated once, at the polygon's first vertex with the face normal;
 //   Gouraud: evaluated at every vertex with its vertex normal, the colours interpolated;
 //   Phong: the position and vertex normal interpolated, evaluated at every pixel (side by side only).
@@ -10,7 +12,9 @@
 const int FLAT = 0;
 const int GOURAUD = 1;
 const int PHONG = 2;
-uniform int u_interpolation;
+#ifndef INTERPOLATION
+#error "INTERPOLATION must be defined as FLAT, GOURAUD or PHONG (app/renderer.py does it)"
+#endif
 
 // V: perspective looks from a point, so V changes over the surface; parallel projection has one V.
 uniform bool u_parallel;
@@ -107,8 +111,8 @@ void main() {
 
     v_facing = dot(face_normal, view);
     vec3 colour = vec3(0.0);
-    if (u_interpolation != PHONG) {  // Phong lights per pixel; its vertices need no colour
-        colour = lit_colour(world_position, u_interpolation == GOURAUD ? vertex_normal : face_normal,
+    if (INTERPOLATION != PHONG) {  // Phong lights per pixel; its vertices need no colour
+        colour = lit_colour(world_position, INTERPOLATION == GOURAUD ? vertex_normal : face_normal,
                             view);
     }
     v_flat_colour = colour;
@@ -135,10 +139,10 @@ in vec3 v_world_normal;
 out vec4 out_colour;
 
 vec3 surface_colour() {
-    if (u_interpolation == FLAT) {
+    if (INTERPOLATION == FLAT) {
         return v_flat_colour;
     }
-    if (u_interpolation == GOURAUD) {
+    if (INTERPOLATION == GOURAUD) {
         return v_smooth_colour;
     }
     // Interpolated unit normals are shorter than 1 between the corners: normalize again.

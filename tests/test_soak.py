@@ -185,9 +185,10 @@ def test_soak_random_keys_keep_the_scene_sound(own_ctx, soak_renderer: Renderer,
     viewer.use_texture(None)
     corpus.render_float(own_ctx, soak_renderer, empty_scene(), SIZE)  # make the framebuffer first
     gl_without_objects = gl_total(own_ctx)
-    # Lines and both kinds of normals once, so every object holds all it ever will (the surface is
-    # built at once, edges and normal segments on first use), then back to the start's modes.
-    for keys in ("", "l n", "F", "F n l"):
+    # Lines, both kinds of normals and side by side once, so every object holds all it ever will
+    # (the surface buffers at once; edges, normal segments and a vertex array per surface program on
+    # first use), then back to the start's modes.
+    for keys in ("", "l n", "F", "F n l", "s", "s"):
         viewer.press_sequence(keys)
         corpus.render_float(own_ctx, soak_renderer, scene, SIZE)
     per_object = (gl_total(own_ctx) - gl_without_objects) // len(scene.objects)
