@@ -1,9 +1,11 @@
 """GPU side of a mesh: the shader loader and the per-object vertex buffers the renderer draws from.
 
-The vertex arrays are built here with numpy, de-indexed to one vertex per triangle corner (or per
-line end), because each corner needs attributes that belong to its polygon (the face normal, the
-polygon's first vertex) and GL has no per-primitive attributes. Everything is built once per object
-and kept until the object leaves the scene; drawing a subset of faces is a `first`/`vertices` range.
+The vertex arrays are built here with numpy. GL has no per-primitive attributes, so what belongs to
+a polygon (its face normal, its first vertex) rides on vertices: the surface is indexed, with one
+extra vertex per polygon for its first corner (see SurfaceArrays); edges and normal segments are
+de-indexed, one vertex per line end. Everything is built once per object (edges and normals on first
+use) and kept until the object leaves the scene; drawing a subset of faces is a `first`/`vertices`
+range, of indices for the surface.
 """
 
 from __future__ import annotations
@@ -50,7 +52,7 @@ def _with_define(source: str, define: str, extra: str = "") -> str:
     return f"{version}{newline}#define {define}\n{extra}{rest}"
 
 
-# --- numpy: the de-indexed vertex arrays -------------------------------------------------------
+# --- numpy: the vertex arrays ----------------------------------------------------------------
 # Each array is allocated once at its final size and filled column block by column block: an
 # hstack of float64 pieces then astype would make the whole array three times over.
 def _gathered(table: np.ndarray, rows: np.ndarray | None) -> np.ndarray:
