@@ -55,10 +55,6 @@ def _with_define(source: str, define: str, extra: str = "") -> str:
 # --- numpy: the vertex arrays ----------------------------------------------------------------
 # Each array is allocated once at its final size and filled column block by column block: an
 # hstack of float64 pieces then astype would make the whole array three times over.
-def _gathered(table: np.ndarray, rows: np.ndarray | None) -> np.ndarray:
-    return table if rows is None else table[rows]
-
-
 @dataclass(frozen=True)
 class SurfaceArrays:
     """The surface as indexed triangles: `vertices` rows of SURFACE_LAYOUT, `indices` three per fan
@@ -108,13 +104,6 @@ def surface_arrays(mesh: Mesh) -> SurfaceArrays:
     indices[:, 1] = row_of_corner[triangles[:, 1]]
     indices[:, 2] = row_of_corner[triangles[:, 2]]
     return SurfaceArrays(vertices, indices.reshape(-1))
-
-
-def surface_vertices(mesh: Mesh) -> np.ndarray:
-    """(3T, 11) float32: the surface de-indexed, one row per fan-triangle corner; what
-    `surface_arrays` draws, written out (the tests compare the two)."""
-    arrays = surface_arrays(mesh)
-    return arrays.vertices[arrays.indices]
 
 
 def edge_vertices(mesh: Mesh) -> np.ndarray:

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from app.lighting import LightTerm, WorldLight
-from app.probe import Probe, VertexProbe, cone_angle_deg, probe, project
+from app.probe import Probe, VertexProbe, cone_angle_deg, probe, probed_points, project
 from app.renderer import view_projection, views
 from app.scene import CameraMode, Frame, LightKind, Projection, Scene, Shading, Target, TermView
 
@@ -134,9 +134,9 @@ def _result(found: Probe, vertex: VertexProbe) -> str:
     displayed = found.displayed(vertex)
     final = f"colour {_bytes(vertex.lit_bytes)}"
     if displayed is None:
-        final += ", but culled"
+        final += ", culled"
     elif found.back_face:
-        final += f", but a back face: red {_bytes(displayed)}"
+        final += ", drawn red"  # short: the line must fit 800 pixels, and the header says why
     return f"{view} {_channels(vertex.shown)} -> clamped {_channels(vertex.clamped)} -> {final}"
 
 
@@ -215,21 +215,19 @@ def vertex_labels(scene: Scene, size: tuple[int, int]) -> list[Label]:
     """"v1", "v2", ... beside the probed vertices, in every viewport, so the panel's rows can be
     matched to the picture. Each label sits outside the face, away from its centre, so that the
     labels of nearby vertices do not cover each other or the face."""
-    if not scene.modes.probe:
+    obj = scene.object
+    if not scene.modes.probe or obj is None or obj is scene.viewer:
         return []
-    found = probe(scene)
-    if found is None or found.obj is scene.viewer:
-        return []
+    points = probed_points(scene)[:MAX_PROBED_VERTICES]  # no lighting needed: the panel does that
     labels = []
     for view in views(scene, size):
         matrix = view_projection(scene, view)
-        shown = found.vertices[:MAX_PROBED_VERTICES]
-        at = [project(matrix, vertex.world_position, view.viewport) for vertex in shown]
+        at = [project(matrix, point, view.viewport) for point in points]
         if any(point is None for point in at):
             continue
-        points = np.array(at)
-        middle = points.mean(axis=0)
-        for number, point in enumerate(points, start=1):
+        screen = np.array(at)
+        middle = screen.mean(axis=0)
+        for number, point in enumerate(screen, start=1):
             away = point - middle
             length = float(np.linalg.norm(away))
             away = away / length if length > 1e-6 else np.array([1.0, 1.0]) / np.sqrt(2.0)

@@ -86,9 +86,9 @@ def probe(scene: Scene) -> Probe | None:
         return None
     mesh = obj.mesh
     face = obj.selected_face % mesh.face_count
-    start, stop = int(mesh.face_start[face]), int(mesh.face_start[face + 1])
+    start = int(mesh.face_start[face])
     gouraud = scene.modes.shading is Shading.GOURAUD
-    corners = range(start, stop) if gouraud else range(start, start + 1)
+    corners = probed_corners(scene)
     face_normal = _world_normal(obj.model, mesh.face_normals[face])
     facing = float(face_normal @ _toward_eye(scene, _world_point(obj.model, mesh.positions[
         mesh.corner_vertex[start]])))
@@ -100,9 +100,21 @@ def probe(scene: Scene) -> Probe | None:
 
 
 def probed_corners(scene: Scene) -> list[int]:
-    """Corners of the selected face that the probe lights: what the picture marks."""
-    found = probe(scene)
-    return [] if found is None else [v.corner for v in found.vertices]
+    """Corners of the selected face that the probe lights, what the picture marks: all of them in
+    Gouraud, the first in Flat. Without the lighting, so drawing the marks costs nothing."""
+    obj = scene.object
+    if obj is None or obj.mesh.face_count == 0:
+        return []
+    face = obj.selected_face % obj.mesh.face_count
+    start, stop = int(obj.mesh.face_start[face]), int(obj.mesh.face_start[face + 1])
+    return list(range(start, stop if scene.modes.shading is Shading.GOURAUD else start + 1))
+
+
+def probed_points(scene: Scene) -> list[np.ndarray]:
+    """World positions of the probed corners, in probed_corners' order."""
+    obj = scene.object
+    return [_world_point(obj.model, obj.mesh.positions[obj.mesh.corner_vertex[corner]])
+            for corner in probed_corners(scene)]
 
 
 def _probe_vertex(scene: Scene, obj: SceneObject, corner: int,

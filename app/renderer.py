@@ -16,7 +16,7 @@ import numpy as np
 
 from app.gpu import ObjectGpu, Programs, VertexRange, load_program
 from app.lighting import lights_in_view, term_weights
-from app.probe import probed_corners
+from app.probe import probed_points
 from app.scene import Fill, LightKind, Projection, Scene, SceneObject, Shading, Target
 
 CLEAR_COLOUR = (0.0, 0.0, 0.7)  # SPEC 3: the seed's blue
@@ -113,19 +113,17 @@ class DrawItem:
 class Renderer:
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
-        # One surface program per interpolation; `self.surface` is the one the current view uses.
-        self.surface_programs = {way: load_program(ctx, "surface", defines={"INTERPOLATION": way.name})
-                                 for way in Interpolation}
-        self.surface_uniforms = {way: Uniforms(program) for way, program in self.surface_programs.items()}
+        # One surface program per interpolation (ObjectGpu finds them by name); the current view's
+        # is `self.surface`.
+        self.programs = Programs(
+            surfaces={way.name: load_program(ctx, "surface", defines={"INTERPOLATION": way.name})
+                      for way in Interpolation},
+            edges=load_program(ctx, "edges"), normals=load_program(ctx, "normals"))
+        self.surface_uniforms = {way: Uniforms(self.programs.surfaces[way.name]) for way in Interpolation}
         self.interpolation = Interpolation.FLAT
-        self.edge_program = load_program(ctx, "edges")
-        self.normal_program = load_program(ctx, "normals")
-        self.programs = Programs({way.name: program for way, program in self.surface_programs.items()},
-                                 self.edge_program, self.normal_program)
         self.marker_program = load_program(ctx, "marker")
-        self.surface = self.surface_uniforms[self.interpolation]
-        self.edges = Uniforms(self.edge_program)
-        self.normals = Uniforms(self.normal_program)
+        self.edges = Uniforms(self.programs.edges)
+        self.normals = Uniforms(self.programs.normals)
         self.marker = Uniforms(self.marker_program)
         self.marker_vao = ctx.vertex_array(self.marker_program, [])  # the position is a uniform
         self.texture: moderngl.Texture | None = None
@@ -153,11 +151,16 @@ class Renderer:
         for gpu in self._objects.values():
             gpu.release()
         self._objects.clear()
-        for resource in (self.marker_vao, self.texture, *self.surface_programs.values(), self.edge_program,
-                         self.normal_program, self.marker_program):
+        for resource in (self.marker_vao, self.texture, *self.programs.surfaces.values(),
+                         self.programs.edges, self.programs.normals, self.marker_program):
             if resource is not None:
                 resource.release()
         self.texture = None
+
+    @property
+    def surface(self) -> Uniforms:
+        """The uniforms of the surface program the current view draws with."""
+        return self.surface_uniforms[self.interpolation]
 
     def _gpu_for(self, obj: SceneObject) -> ObjectGpu:
         gpu = self._objects.get(obj.uid)
@@ -199,7 +202,6 @@ class Renderer:
         filled = scene.modes.fill is Fill.FILLED
         self._set_gl_state(depth_test=filled)
         self.interpolation = view.interpolation
-        self.surface = self.surface_uniforms[view.interpolation]
         self._set_frame_uniforms(scene, view_projection(scene, view))
         if filled:
             for item, gpu in items:
@@ -309,6 +311,7 @@ class Renderer:
         culling on) through the depth test on the depth edges.glsl writes, so an edge between a front
         and a back face shows the front's colour. Lines mode has no depth test otherwise."""
         self.edges.set("u_culling", scene.modes.culling)
+        self.edges.set("u_outline", False)
         self.ctx.enable(moderngl.DEPTH_TEST)
         self.ctx.depth_func = "<="
         for item, gpu in items:
@@ -318,7 +321,6 @@ class Renderer:
 
     def _draw_edges(self, item: DrawItem, gpu: ObjectGpu, selected: bool) -> None:
         self._set_model([self.edges], item.obj.model)
-        self.edges.set("u_outline", False)
         self.edges.set("u_colour", SELECTED_LINE_COLOUR if selected else LINE_COLOUR)
         _draw(gpu.edges, moderngl.LINES, gpu.edge_range(item.start, item.stop))
 
@@ -336,9 +338,8 @@ class Renderer:
         self.edges.set("u_colour", PROBE_COLOUR)
         _draw(gpu.edges, moderngl.LINES, gpu.edge_range(face, face + 1))
         self.edges.set("u_outline", False)
-        for corner in probed_corners(scene):
-            point = obj.model @ np.append(obj.mesh.positions[obj.mesh.corner_vertex[corner]], 1.0)
-            self._draw_marker(point[:3], np.array(PROBE_COLOUR), PROBE_MARKER_PX)
+        for point in probed_points(scene):
+            self._draw_marker(point, np.array(PROBE_COLOUR), PROBE_MARKER_PX)
 
     def _draw_normals(self, item: DrawItem, gpu: ObjectGpu, face_normals: bool) -> None:
         """Face normals where lighting uses them (Flat), vertex normals otherwise (Gouraud, Phong)."""

@@ -84,7 +84,8 @@ def _render(ctx: moderngl.Context, scene, options: StartOptions, out: Path, size
 
 
 def write_png(fbo: moderngl.Framebuffer, size: tuple[int, int], out: Path) -> None:
-    """The framebuffer as an RGB PNG, top row first.
+    """The framebuffer as an RGB PNG, top row first: the screenshot command's file and the window's
+    F12 file, written the same way.
 
     moderngl_window.screenshot.create does the same, but importing moderngl-window (for this one
     call) costs the command about 0.1 s of its 0.4 s start; Pillow is already loaded for textures.

@@ -18,8 +18,7 @@ from app import commands, keymap, status
 from app.errors import LoadError
 from app.loaders.image import load_texture_or_fallback
 from app.gpu import prepare_surface
-from app.loaders.files import read_file
-from app.loaders.obj import load_obj, parse_obj
+from app.loaders.obj import load_obj
 from app.mesh import Mesh
 from app.renderer import Renderer
 from app.scene import Scene, SceneObject
@@ -74,6 +73,9 @@ class LoadJob:
     stage: str = "waiting"
     started: float = field(default_factory=time.monotonic)
 
+    def set_stage(self, stage: str) -> None:
+        self.stage = stage
+
     @property
     def label(self) -> str:
         seconds = time.monotonic() - self.started
@@ -99,12 +101,8 @@ class BackgroundLoader:
 
     @staticmethod
     def _load(job: LoadJob) -> SceneObject:
-        job.stage = "reading"
-        data = read_file(job.path)
-        job.stage = "parsing"
-        mesh = parse_obj(data, str(job.path), base_dir=job.path.parent)
-        del data
-        job.stage = "preparing vertex arrays"
+        mesh = load_obj(job.path, stage=job.set_stage)
+        job.set_stage("preparing vertex arrays")
         prepare_surface(mesh)  # so the frame that adds it only uploads
         return _placed(mesh)
 

@@ -11,13 +11,13 @@ from typing import Any
 
 import moderngl
 import moderngl_window as mglw
-import moderngl_window.screenshot
 
 from app import commands, panels
 from app.cli import add_scene_arguments, start_options
 from app.keymap import KeyPress
 from app.overlay import Overlay
 from app.renderer import Renderer
+from app.screenshot import write_png
 from app.viewer import BackgroundLoader, Viewer, starting_scene
 
 SCREENSHOT_DIR = Path("screenshots")
@@ -135,7 +135,7 @@ class ViewerWindow(mglw.WindowConfig):
             self.viewer.renderer.render(self.scene, fbo, size)
             SCREENSHOT_DIR.mkdir(exist_ok=True)
             path = (SCREENSHOT_DIR / f"marraztu-{datetime.now():%Y%m%d-%H%M%S-%f}.png").resolve()
-            moderngl_window.screenshot.create(fbo, name=str(path))
+            write_png(fbo, size, path)
             self.scene.message = f"screenshot saved to {path}"
         finally:
             fbo.release()

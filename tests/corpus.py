@@ -521,6 +521,17 @@ def own_gl_context() -> Iterator:
             ctx.release()
 
 
+def own_renderer(ctx) -> Iterator:
+    """A Renderer of a module's own on `ctx` (for a fixture), released on the context that made it."""
+    from app.renderer import Renderer
+
+    make_current(ctx)
+    renderer = Renderer(ctx)
+    yield renderer
+    make_current(ctx)  # the release must reach the context that made these objects
+    renderer.release()
+
+
 def make_current(ctx) -> None:
     """Makes `ctx` this thread's current GL context, and leaves it so.
 

@@ -94,11 +94,7 @@ class QuietFrontend:
 @pytest.fixture(scope="module")
 def own_renderer(own_ctx) -> Iterator[Renderer]:
     """A renderer of this module's own, so the shared one keeps none of these odd meshes."""
-    corpus.make_current(own_ctx)
-    own = Renderer(own_ctx)
-    yield own
-    corpus.make_current(own_ctx)  # the release must reach the context that made these objects
-    own.release()
+    yield from corpus.own_renderer(own_ctx)
 
 
 def viewer_with(mesh: Mesh, renderer: Renderer, with_builtin_scene: bool = False) -> Viewer:

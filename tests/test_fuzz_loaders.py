@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 import corpus
 from app.errors import LoadError
-from app.gpu import edge_vertices, face_normal_segments, surface_vertices, vertex_normal_segments
+from app.gpu import edge_vertices, face_normal_segments, surface_arrays, vertex_normal_segments
 from app.loaders.image import MAX_PIXELS, parse_ppm
 from app.loaders.obj import parse_obj
 from app.mesh import Mesh
@@ -158,7 +158,7 @@ def check_mesh(mesh: Mesh) -> None:
     assert _unit(mesh.corner_normal), "vertex normals are finite unit vectors"
     assert mesh.corner_uv.shape == (mesh.corner_vertex.size, 2) and np.isfinite(mesh.corner_uv).all()
     assert mesh.triangle_corners().shape[0] == int((mesh.face_sizes - 2).sum())
-    for table in (surface_vertices(mesh), edge_vertices(mesh), face_normal_segments(mesh),
+    for table in (surface_arrays(mesh).vertices, edge_vertices(mesh), face_normal_segments(mesh),
                   vertex_normal_segments(mesh)):
         assert np.isfinite(table).all(), "everything sent to the GPU is finite"
 

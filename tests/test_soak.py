@@ -76,11 +76,7 @@ def soak_files(tmp_path_factory) -> tuple[list[str], list[str]]:
 
 @pytest.fixture
 def soak_renderer(own_ctx) -> Iterator[Renderer]:
-    corpus.make_current(own_ctx)
-    own = Renderer(own_ctx)
-    yield own
-    corpus.make_current(own_ctx)  # the release must reach the context that made these objects
-    own.release()
+    yield from corpus.own_renderer(own_ctx)
 
 
 # --------------------------------------------------------------------------------------------------

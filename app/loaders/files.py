@@ -8,50 +8,60 @@ from __future__ import annotations
 
 import os
 import stat
+from contextlib import contextmanager
 from pathlib import Path
-from typing import BinaryIO
+from typing import BinaryIO, Iterator
 
 from app.errors import LoadError
 
 MAX_FILE_BYTES = 1 << 30
 
 
-def regular_file_size(path: str | Path) -> int:
-    """The size of a regular file, or a LoadError naming it (without a line).
-
-    Directories, devices (/dev/zero never ends) and named pipes (opening one blocks until someone
-    writes) are refused from their metadata, before anything is opened.
-    """
+@contextmanager
+def errors_as_load_errors(path: str | Path) -> Iterator[None]:
+    """Turns what the operating system says about `path` into a LoadError naming it."""
     try:
-        info = os.stat(path)
+        yield
     except FileNotFoundError:
         raise LoadError(path, "no such file") from None
     except PermissionError:
         raise LoadError(path, "permission denied") from None
-    except (OSError, ValueError) as error:
+    except MemoryError:
+        raise LoadError(path, "file too large to load") from None
+    except (OSError, ValueError) as error:  # ValueError: a path with a NUL byte in it
         raise LoadError(path, f"cannot read the file ({getattr(error, 'strerror', None) or error})") from None
+
+
+def regular_file_size(path: str | Path, limit: int = MAX_FILE_BYTES) -> int:
+    """The size of a regular file of at most `limit` bytes, or a LoadError naming it (no line).
+
+    Directories, devices (/dev/zero never ends) and named pipes (opening one blocks until someone
+    writes) are refused from their metadata, before anything is opened.
+    """
+    with errors_as_load_errors(path):
+        info = os.stat(path)
     if stat.S_ISDIR(info.st_mode):
         raise LoadError(path, "is a directory, not a file")
     if not stat.S_ISREG(info.st_mode):
         raise LoadError(path, "not a regular file (a device or a named pipe?)")
+    if info.st_size > limit:
+        raise LoadError(path, f"file too large (more than {limit >> 20} MiB)")
     return info.st_size
+
+
+def read_head(path: str | Path, count: int) -> bytes:
+    """The first `count` bytes of a regular file (fewer if it is shorter): enough to tell its kind."""
+    regular_file_size(path)
+    with errors_as_load_errors(path), open(path, "rb") as stream:
+        return stream.read(count)
 
 
 def read_file(path: str | Path, limit: int = MAX_FILE_BYTES) -> bytes:
     """All bytes of a regular file of at most `limit` bytes, or a LoadError naming it."""
-    size = regular_file_size(path)
-    if size > limit:
-        raise LoadError(path, f"file too large (more than {limit >> 20} MiB)")
-    try:
-        with open(path, "rb") as stream:
-            data = _read_up_to(stream, size, limit)
-    except PermissionError:
-        raise LoadError(path, "permission denied") from None
-    except MemoryError:
-        raise LoadError(path, "file too large to load") from None
-    except OSError as error:
-        raise LoadError(path, f"cannot read the file ({error.strerror or error})") from None
-    if len(data) > limit:
+    size = regular_file_size(path, limit)
+    with errors_as_load_errors(path), open(path, "rb") as stream:
+        data = _read_up_to(stream, size, limit)
+    if len(data) > limit:  # it grew after stat
         raise LoadError(path, f"file too large (more than {limit >> 20} MiB)")
     return data
 

@@ -19,7 +19,7 @@ import numpy as np
 from PIL import Image
 
 from app.errors import LoadError
-from app.loaders.files import MAX_FILE_BYTES, read_file, regular_file_size
+from app.loaders.files import read_file, read_head
 
 # No texture a student uses comes near this; a header claiming more is broken or hostile.
 MAX_PIXELS = 64 * 1024 * 1024
@@ -30,9 +30,7 @@ _HEADER_TOKEN = re.compile(rb"(?:\s|#[^\n\r]*[\n\r])*([^\s#]+)")  # skips whites
 def load_image(path: str | Path) -> np.ndarray:
     """(H, W, 3) uint8, top row first. Raises LoadError naming the file for any problem."""
     file = Path(path)
-    if regular_file_size(file) > MAX_FILE_BYTES:  # also refuses directories, devices and pipes
-        raise LoadError(file, f"file too large (more than {MAX_FILE_BYTES >> 20} MiB)")
-    magic = _read_magic(file)
+    magic = read_head(file, 2)  # refuses directories, devices, pipes and huge files first
     try:
         if magic in _PPM_MAGICS:
             return parse_ppm(read_file(file), str(path))
@@ -156,18 +154,6 @@ def _to_8_bit(samples: np.ndarray, maxval: int) -> np.ndarray:
 # --------------------------------------------------------------------------------------------------
 # Files and Pillow
 # --------------------------------------------------------------------------------------------------
-
-
-def _read_magic(file: Path) -> bytes:
-    try:
-        with file.open("rb") as stream:
-            return stream.read(2)
-    except FileNotFoundError:
-        raise LoadError(file, "no such file") from None
-    except PermissionError:
-        raise LoadError(file, "permission denied") from None
-    except OSError as error:
-        raise LoadError(file, f"cannot read the file ({error.strerror or error})") from None
 
 
 def _load_with_pillow(file: Path) -> np.ndarray:

@@ -40,9 +40,15 @@ from app.mesh import Mesh
 # --------------------------------------------------------------------------------------------------
 
 
-def load_obj(path: str | Path) -> Mesh:
-    """Read an OBJ file into a Mesh; every problem becomes a LoadError naming the file."""
+def load_obj(path: str | Path, stage: Callable[[str], None] | None = None) -> Mesh:
+    """Read an OBJ file into a Mesh; every problem becomes a LoadError naming the file.
+
+    `stage` hears "reading" and then "parsing" (the window's loader thread shows them)."""
+    if stage is not None:
+        stage("reading")
     data = read_file(path)
+    if stage is not None:
+        stage("parsing")
     return parse_obj(data, str(path), base_dir=Path(path).parent)
 
 
