@@ -104,11 +104,18 @@ class BackgroundLoader:
         mesh = load_obj(job.path, stage=job.set_stage)
         job.set_stage("preparing vertex arrays")
         prepare_surface(mesh)  # so the frame that adds it only uploads
+        job.set_stage("joining the scene at the next frame")
         return _placed(mesh)
 
     def pending(self) -> list[LoadJob]:
         with self._lock:
             return [job for job in self._jobs if not job.future.done()]
+
+    def uncollected(self) -> list[LoadJob]:
+        """Every job not yet taken by a frame, finished or not: to the person it is still loading
+        until it is in the scene."""
+        with self._lock:
+            return list(self._jobs)
 
     def take_finished(self) -> list[LoadJob]:
         with self._lock:
@@ -192,7 +199,7 @@ class Viewer:
                 self._failed(LoadError(job.path, f"could not be loaded ({type(error).__name__}: {error})"))
 
     def loading_lines(self) -> list[str]:
-        return [job.label for job in self.background.pending()] if self.background else []
+        return [job.label for job in self.background.uncollected()] if self.background else []
 
     def _failed(self, error: LoadError) -> bool:
         self.scene.message = str(error)
