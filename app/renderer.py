@@ -16,6 +16,7 @@ import numpy as np
 
 from app.gpu import ObjectGpu, Programs, VertexRange, load_program
 from app.lighting import lights_in_view, term_weights
+from app.mipmaps import MipmappedTexture, create_mipmapped
 from app.probe import probed_points
 from app.scene import Fill, LightKind, Projection, Scene, SceneObject, Shading, Target
 
@@ -126,7 +127,7 @@ class Renderer:
         self.normals = Uniforms(self.programs.normals)
         self.marker = Uniforms(self.marker_program)
         self.marker_vao = ctx.vertex_array(self.marker_program, [])  # the position is a uniform
-        self.texture: moderngl.Texture | None = None
+        self.texture: MipmappedTexture | None = None
         self.set_texture(np.full((1, 1, 3), 255, dtype=np.uint8))  # white until a picture comes
         self._objects: dict[int, ObjectGpu] = {}
 
@@ -135,12 +136,9 @@ class Renderer:
         """(H, W, 3) uint8, top row first. GL's first row is v = 0, and SPEC 5 wants v = 0 at the
         image's bottom row, so the rows go up reversed."""
         pixels = np.ascontiguousarray(np.flipud(np.asarray(image, dtype=np.uint8)[..., :3]))
-        height, width = pixels.shape[:2]
         if self.texture is not None:
             self.texture.release()
-        self.texture = self.ctx.texture((width, height), 3, pixels.tobytes(), alignment=1)
-        self.texture.build_mipmaps()
-        self.texture.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+        self.texture = create_mipmapped(self.ctx, pixels)
 
     def release_object(self, obj: SceneObject) -> None:
         gpu = self._objects.pop(obj.uid, None)

@@ -1,0 +1,112 @@
+"""Textures get their mip levels from numpy instead of glGenerateMipmap (app/mipmaps.py): the levels
+must be the ones llvmpipe would have made, so that pictures do not change, and the GL texture must
+go when it is released."""
+
+from __future__ import annotations
+
+import ctypes
+
+import moderngl
+import numpy as np
+import pytest
+
+from app.mipmaps import create_mipmapped, mip_levels
+
+SIZES = [(256, 256), (64, 16), (16, 64), (1, 8), (8, 1), (1, 1)]
+
+
+def is_llvmpipe(ctx: moderngl.Context) -> bool:
+    return "llvmpipe" in ctx.info["GL_RENDERER"]
+
+
+def generated_levels(ctx: moderngl.Context, image: np.ndarray) -> list[np.ndarray]:
+    height, width = image.shape[:2]
+    texture = ctx.texture((width, height), 3, image.tobytes(), alignment=1)
+    texture.build_mipmaps()
+    levels = []
+    for level in range(max(width, height).bit_length()):
+        w, h = max(1, width >> level), max(1, height >> level)
+        levels.append(np.frombuffer(texture.read(level=level, alignment=1), np.uint8).reshape(h, w, 3))
+    texture.release()
+    return levels
+
+
+@pytest.mark.parametrize("width,height", SIZES)
+def test_the_levels_are_llvmpipes_bit_for_bit(gl_ctx: moderngl.Context, width: int, height: int) -> None:
+    if not is_llvmpipe(gl_ctx):
+        pytest.skip("mip levels are the driver's choice; these are llvmpipe's")
+    gl_ctx.__enter__()
+    image = np.random.default_rng(width * 1000 + height).integers(0, 256, (height, width, 3), np.uint8)
+    ours = mip_levels(image)
+    theirs = generated_levels(gl_ctx, image)
+    assert [level.shape for level in ours] == [level.shape for level in theirs]
+    for index, (mine, generated) in enumerate(zip(ours, theirs)):
+        assert np.array_equal(mine, generated), f"level {index} of {width}x{height}"
+
+
+def test_a_level_rounds_halves_up_horizontal_pairs_first() -> None:
+    # (1 + 2 + 1) >> 1 = 2 across, then (2 + 3 + 1) >> 1 = 3 down: not (1 + 2 + 3 + 4) / 4 = 2.5 -> 2.
+    image = np.array([[[1] * 3, [2] * 3], [[3] * 3, [4] * 3]], np.uint8)
+    assert mip_levels(image)[1].tolist() == [[[3, 3, 3]]]
+
+
+def draw_minified(ctx: moderngl.Context, *textures) -> list[np.ndarray]:
+    """Each 256-texel texture on a 37x37 quad: sampling reads levels 2 and 3."""
+    program = ctx.program(
+        vertex_shader="#version 330\nin vec2 in_position; out vec2 v_uv;"
+                      "void main() { v_uv = in_position * 0.5 + 0.5; gl_Position = vec4(in_position, 0, 1); }",
+        fragment_shader="#version 330\nuniform sampler2D u_texture; in vec2 v_uv; out vec4 f_colour;"
+                        "void main() { f_colour = texture(u_texture, v_uv); }")
+    quad = ctx.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], np.float32).tobytes())
+    vao = ctx.vertex_array(program, [(quad, "2f", "in_position")])
+    fbo = ctx.simple_framebuffer((37, 37), components=4)
+    fbo.use()
+    pictures = []
+    for texture in textures:
+        fbo.clear()
+        texture.use(location=0)
+        vao.render(moderngl.TRIANGLE_STRIP)
+        pictures.append(np.frombuffer(fbo.read(components=3), np.uint8).reshape(37, 37, 3).copy())
+    for resource in (vao, quad, program, fbo):
+        resource.release()
+    return pictures
+
+
+def test_a_minified_texture_samples_as_with_generated_mipmaps(gl_ctx: moderngl.Context) -> None:
+    if not is_llvmpipe(gl_ctx):
+        pytest.skip("mip levels are the driver's choice; these are llvmpipe's")
+    gl_ctx.__enter__()
+    image = np.random.default_rng(7).integers(0, 256, (256, 256, 3), np.uint8)
+    ours = create_mipmapped(gl_ctx, image)
+    assert ours._external_name is not None, "a power-of-two image takes the numpy path"
+    generated = gl_ctx.texture((256, 256), 3, image.tobytes(), alignment=1)
+    generated.build_mipmaps()
+    generated.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+    drawn, reference = draw_minified(gl_ctx, ours, generated)
+    assert drawn.std() > 1.0, "not a blank picture"
+    assert np.array_equal(drawn, reference)
+    assert gl_ctx.error == "GL_NO_ERROR"
+    ours.release()
+    generated.release()
+
+
+def test_other_sizes_take_build_mipmaps(gl_ctx: moderngl.Context) -> None:
+    gl_ctx.__enter__()
+    image = np.random.default_rng(3).integers(0, 256, (37, 100, 3), np.uint8)
+    texture = create_mipmapped(gl_ctx, image)
+    assert texture._external_name is None
+    assert texture.texture.filter == (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+    texture.release()
+
+
+def test_release_deletes_the_gl_texture(gl_ctx: moderngl.Context) -> None:
+    gl_ctx.__enter__()
+    texture = create_mipmapped(gl_ctx, np.zeros((4, 4, 3), np.uint8))
+    name = texture._external_name
+    if name is None:
+        pytest.skip("no glvnd libOpenGL here: build_mipmaps made this texture")
+    gl = ctypes.CDLL("libOpenGL.so.0")
+    assert gl.glIsTexture(name)
+    texture.release()
+    assert not gl.glIsTexture(name)
+    assert gl_ctx.error == "GL_NO_ERROR"
