@@ -928,20 +928,23 @@ def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: 
 
     Newell's sum of p_i x p_(i+1) is unchanged by moving the origin to the first vertex, where it
     becomes the sum of the fan triangles' cross products: cheaper, and exact far from the origin.
+    The work is done on one contiguous array per axis: gathers from and arithmetic on (N,) arrays
+    run at memory speed, where the columns of an (N, 3) array are strided (twice as slow in all).
     """
     if np.all(sizes == 3):
-        fans = corner_vertex.reshape(-1, 3)
-        sums = _cross_from_first(positions[fans[:, 0]], positions[fans[:, 1]], positions[fans[:, 2]])
+        fans = corner_vertex.reshape(-1, 3).T
+        sums = _cross_from_first(positions, fans)
     else:
-        fans = corner_vertex[_fan_triangles(face_start, sizes)]
-        per_triangle = _cross_from_first(positions[fans[:, 0]], positions[fans[:, 1]], positions[fans[:, 2]])
-        sums = np.add.reduceat(per_triangle, np.concatenate(([0], np.cumsum(sizes - 2)[:-1])), axis=0)
+        fans = corner_vertex[_fan_triangles(face_start, sizes)].T
+        firsts = np.concatenate(([0], np.cumsum(sizes - 2)[:-1]))
+        sums = np.add.reduceat(_cross_from_first(positions, fans), firsts, axis=1)
     with np.errstate(all="ignore"):
-        length = np.sqrt(np.einsum("ij,ij->i", sums, sums))
+        x, y, z = sums
+        length = np.sqrt(x * x + y * y + z * z)
         degenerate = ~np.isfinite(length) | (length <= _DEGENERATE_AREA * _size_squared(positions))
-        normals = sums / np.where(degenerate, 1.0, length)[:, None]
-    normals[degenerate] = 0.0
-    return normals, degenerate
+        sums /= np.where(degenerate, 1.0, length)
+    sums[:, degenerate] = 0.0
+    return sums.T, degenerate
 
 
 def _fan_triangles(face_start: np.ndarray, sizes: np.ndarray) -> np.ndarray:
@@ -952,13 +955,18 @@ def _fan_triangles(face_start: np.ndarray, sizes: np.ndarray) -> np.ndarray:
     return np.stack([base, base + step + 1, base + step + 2], axis=1)
 
 
-def _cross_from_first(p0: np.ndarray, p1: np.ndarray, p2: np.ndarray) -> np.ndarray:
+def _cross_from_first(positions: np.ndarray, fans: np.ndarray) -> np.ndarray:
+    """(3, T): (p1 - p0) x (p2 - p0) for the triangles `fans`, (3, T) position indices."""
+    x, y, z = np.ascontiguousarray(positions.T)
+    first, second, third = (np.ascontiguousarray(row) for row in fans)
+    out = np.empty((3, first.shape[0]), positions.dtype)
     with np.errstate(all="ignore"):
-        a, b = p1 - p0, p2 - p0
-        out = np.empty_like(a)
-        out[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
-        out[:, 1] = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
-        out[:, 2] = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+        x0, y0, z0 = x[first], y[first], z[first]
+        ax, ay, az = x[second] - x0, y[second] - y0, z[second] - z0
+        bx, by, bz = x[third] - x0, y[third] - y0, z[third] - z0
+        np.subtract(ay * bz, az * by, out=out[0])
+        np.subtract(az * bx, ax * bz, out=out[1])
+        np.subtract(ax * by, ay * bx, out=out[2])
     return out
 
 
