@@ -336,7 +336,8 @@ def gpu_ready_arrays(mesh: Mesh) -> dict[str, np.ndarray]:
     from app.gpu import surface_arrays
 
     surface = surface_arrays(mesh)
-    return {"surface": surface.vertices, "surface indices": surface.indices}
+    return {"surface": surface.vertices, "surface indices": surface.indices,
+            "shared surface indices": surface.shared_indices}
 
 
 def _trimesh() -> LoadFunction:
@@ -511,8 +512,8 @@ def scene_triangles(scene: Scene) -> int:
 class BareDraw:
     """A pass-through program drawing the renderer's vertex arrays: the floor under a frame's cost.
 
-    Same framebuffer, clear, depth test, primitives and vertex count as the renderer; no lighting,
-    no texture, one pass of edges (the renderer's lines mode draws back then front edges).
+    Same framebuffer, clear, depth test, primitives, index buffers (Flat's, or the shared one of
+    Gouraud) and vertex count as the renderer; no lighting, no texture, one pass of edges.
     """
 
     def __init__(self, ctx: moderngl.Context, scene: Scene) -> None:
@@ -527,16 +528,18 @@ class BareDraw:
         self.scene = scene
         self.program = ctx.program(vertex_shader=BARE_VERTEX_SHADER, fragment_shader=BARE_FRAGMENT_SHADER)
         self.buffers: list[moderngl.Buffer] = []
-        self.objects: list[tuple[SceneObject, moderngl.VertexArray, moderngl.VertexArray]] = []
+        self.objects: list[tuple[SceneObject, dict[str, moderngl.VertexArray]]] = []
         for obj in drawn_objects(scene):
             arrays = surface_arrays(obj.mesh)
-            surface, indices = ctx.buffer(arrays.vertices), ctx.buffer(arrays.indices)
+            surface = ctx.buffer(arrays.vertices)
+            indices, shared = ctx.buffer(arrays.indices), ctx.buffer(arrays.shared_indices)
             edges = ctx.buffer(edge_vertices(obj.mesh).tobytes())
-            self.buffers += [surface, indices, edges]
-            self.objects.append((obj,
-                                 ctx.vertex_array(self.program, [(surface, BARE_SURFACE_FORMAT, "in_position")],
-                                                  index_buffer=indices, index_element_size=4),
-                                 ctx.vertex_array(self.program, [(edges, BARE_EDGE_FORMAT, "in_position")])))
+            self.buffers += [surface, indices, shared, edges]
+            position = [(surface, BARE_SURFACE_FORMAT, "in_position")]
+            self.objects.append((obj, {
+                "flat": ctx.vertex_array(self.program, position, index_buffer=indices, index_element_size=4),
+                "gouraud": ctx.vertex_array(self.program, position, index_buffer=shared, index_element_size=4),
+                "lines": ctx.vertex_array(self.program, [(edges, BARE_EDGE_FORMAT, "in_position")])}))
 
     def render(self, fbo: moderngl.Framebuffer, size: tuple[int, int], mode: str) -> None:
         gl = self.gl
@@ -550,19 +553,16 @@ class BareDraw:
         else:
             self.ctx.disable(gl.DEPTH_TEST)
         view_projection = self.scene.projection_matrix(width / height) @ self.scene.view_matrix()
-        for obj, surface, edges in self.objects:
+        for obj, arrays in self.objects:
             mvp = view_projection @ obj.model
             self.program["u_mvp"].write(np.ascontiguousarray(mvp.T, dtype="f4").tobytes())
-            if filled:
-                surface.render(gl.TRIANGLES)
-            else:
-                edges.render(gl.LINES)
+            arrays[mode].render(gl.TRIANGLES if filled else gl.LINES)
         self.ctx.disable(gl.DEPTH_TEST)
 
     def release(self) -> None:
-        for _, surface, edges in self.objects:
-            surface.release()
-            edges.release()
+        for _, arrays in self.objects:
+            for vao in arrays.values():
+                vao.release()
         for buffer in self.buffers:
             buffer.release()
         self.program.release()

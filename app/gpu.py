@@ -57,19 +57,23 @@ def _with_define(source: str, define: str, extra: str = "") -> str:
 # hstack of float64 pieces then astype would make the whole array three times over.
 @dataclass(frozen=True)
 class SurfaceArrays:
-    """The surface as indexed triangles: `vertices` rows of SURFACE_LAYOUT, `indices` three per fan
-    triangle, polygon by polygon (so a range of faces is a range of indices, as before).
+    """The surface as indexed triangles: `vertices` rows of SURFACE_LAYOUT, and two index arrays of
+    three per fan triangle, polygon by polygon (so a range of faces is a range of indices).
 
     Rows, in order: one per position, taking the vertex normal and uv of one of its corners; one per
     corner whose normal or uv differs from that (seams); one per polygon for its first corner, the
-    only row with the polygon's face normal. Every triangle starts at its polygon's own row, so with
-    the provoking vertex set to the first one, `flat` varyings still come from the polygon's first
-    vertex lit with its face normal (SPEC 4's Flat); the other corners are shared between polygons,
-    so each is lit once for all the triangles around it instead of once per triangle.
+    only row with the polygon's face normal.
+
+    `indices` (Flat) start every triangle at its polygon's own row, so with the provoking vertex set
+    to the first one, `flat` varyings come from the polygon's first vertex lit with its face normal
+    (SPEC 4's Flat); the other corners are shared between polygons, so each is lit once for all the
+    triangles around it. `shared_indices` (Gouraud, Phong) use the shared rows only: those modes need
+    nothing of a polygon's own, so each corner is lit once, not once more as its polygon's first.
     """
 
     vertices: np.ndarray  # (N, 11) float32
     indices: np.ndarray  # (3T,) uint32
+    shared_indices: np.ndarray  # (3T,) uint32
 
 
 def surface_arrays(mesh: Mesh) -> SurfaceArrays:
@@ -99,7 +103,9 @@ def surface_arrays(mesh: Mesh) -> SurfaceArrays:
     indices[:, 0] = shared_rows + np.repeat(np.arange(mesh.face_count, dtype=np.uint32), mesh.face_sizes - 2)
     indices[:, 1] = row_of_corner[triangles[:, 1]]
     indices[:, 2] = row_of_corner[triangles[:, 2]]
-    return SurfaceArrays(vertices, indices.reshape(-1))
+    shared_indices = indices.copy()
+    shared_indices[:, 0] = row_of_corner[triangles[:, 0]]
+    return SurfaceArrays(vertices, indices.reshape(-1), shared_indices.reshape(-1))
 
 
 def _seams(mesh: Mesh, representative_corner: np.ndarray) -> np.ndarray:
@@ -213,9 +219,11 @@ class ObjectGpu:
     than the surface's), then kept until the object leaves the scene.
     """
 
-    # surface: a vertex and an index buffer, and a vertex array per surface program (3); edges,
+    # surface: a vertex and two index buffers, and a vertex array per surface program (3); edges,
     # face normals, vertex normals: one buffer and one vertex array each
-    MAX_GL_OBJECTS = 11
+    MAX_GL_OBJECTS = 12
+    # Which index buffer each surface program draws with (see SurfaceArrays).
+    INDICES = {"FLAT": "surface indices", "GOURAUD": "shared surface indices", "PHONG": "shared surface indices"}
 
     def __init__(self, ctx: moderngl.Context, mesh: Mesh, programs: Programs,
                  surface_data: SurfaceArrays | None = None) -> None:
@@ -227,24 +235,26 @@ class ObjectGpu:
         if surface_data is None:
             surface_data = _take_prepared_surface(mesh)
         arrays = surface_arrays(mesh) if surface_data is None else surface_data
-        vertices = ctx.buffer(arrays.vertices)
+        self._surface_buffers: dict[str, moderngl.Buffer] = {}
         try:
-            indices = ctx.buffer(arrays.indices)
+            for name, data in (("surface", arrays.vertices), ("surface indices", arrays.indices),
+                               ("shared surface indices", arrays.shared_indices)):
+                self._surface_buffers[name] = ctx.buffer(data)
         except Exception:
-            vertices.release()
+            for buffer in self._surface_buffers.values():
+                buffer.release()
             raise
-        self._surface_buffers = {"surface": vertices, "surface indices": indices}
         self._surface_arrays: dict[str, moderngl.VertexArray] = {}
 
     def surface(self, interpolation: str) -> moderngl.VertexArray:
         """The surface bound to the program of `interpolation` ("FLAT", "GOURAUD", "PHONG"); each is
-        made the first time that way of lighting is drawn, sharing the two buffers."""
+        made the first time that way of lighting is drawn, sharing the buffers."""
         vao = self._surface_arrays.get(interpolation)
         if vao is None:
             program = self.programs.surfaces[interpolation]
             layout = _layout_for(program, SURFACE_LAYOUT)
             vao = self.ctx.vertex_array(program, [(self._surface_buffers["surface"], *layout)],
-                                        index_buffer=self._surface_buffers["surface indices"],
+                                        index_buffer=self._surface_buffers[self.INDICES[interpolation]],
                                         index_element_size=4)
             self._surface_arrays[interpolation] = vao
         return vao

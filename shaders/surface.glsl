@@ -98,7 +98,7 @@ uniform mat4 u_view_projection;
 // first corner of each fan triangle, which is its polygon's first vertex (SPEC 4's Flat).
 flat out vec3 v_flat_colour;
 smooth out vec3 v_smooth_colour;
-flat out float v_facing;  // N.V with the face normal at the polygon's first vertex
+flat out float v_facing;  // Flat: N.V with the face normal at the polygon's first vertex
 out vec2 v_uv;
 out vec3 v_world_position;  // Phong: interpolated, lit per pixel
 out vec3 v_world_normal;
@@ -149,8 +149,19 @@ vec3 surface_colour() {
     return lit_colour(v_world_position, normalize(v_world_normal), toward_eye(v_world_position));
 }
 
+// SPEC 4's back face: N.V <= 0 with the face normal at the polygon's first vertex. Flat draws from
+// the polygon's own row, which carries that value. Gouraud and Phong draw from the shared rows only
+// (SurfaceArrays.shared_indices: a third of the vertex lighting on a typical mesh), where no row is
+// the polygon's, so they ask the rasteriser, whose winding test gives the same verdict: the face
+// normal is Newell's, from the same corner order as the winding, and N.(E - P) keeps one sign over
+// the polygon's plane. (A polygon that is not flat may differ along a fold; the model matrices are
+// rotations and translations, never mirrors, so counter-clockwise stays front.)
+bool is_front_face() {
+    return INTERPOLATION == FLAT ? v_facing > 0.0 : gl_FrontFacing;
+}
+
 void main() {
-    if (v_facing <= 0.0) {  // a back face: hidden with culling on, shown red otherwise (SPEC 5)
+    if (!is_front_face()) {  // a back face: hidden with culling on, shown red otherwise (SPEC 5)
         if (u_culling) {
             discard;
         }

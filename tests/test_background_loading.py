@@ -73,6 +73,7 @@ def test_the_worker_prepares_the_surface_and_the_first_frame_only_uploads_it(tmp
     expected = gpu.surface_arrays(mesh)
     assert prepared is not None and np.array_equal(prepared.vertices, expected.vertices)
     assert np.array_equal(prepared.indices, expected.indices)
+    assert np.array_equal(prepared.shared_indices, expected.shared_indices)
 
     viewer.press_sequence("T")  # texture off: the pure lit colour, ambient only (SPEC 3's start)
     pixels = offscreen(viewer.scene)

@@ -262,6 +262,34 @@ def test_parallel_projection_tests_back_faces_with_one_view_vector(offscreen, ma
     assert (parallel == RED).all(axis=2).sum() > 20
 
 
+@pytest.mark.parametrize("projection", list(Projection), ids=lambda p: p.value)
+def test_gouraud_finds_the_back_faces_flat_finds(offscreen, build_mesh, make_scene,
+                                                 projection: Projection) -> None:
+    """Flat tests N.V at the polygon's own row; Gouraud draws from shared rows and asks the
+    rasteriser's winding (surface.glsl). An open box turned at seeded random poses shows inside
+    and outside faces, quads and triangles: the red pixels must be the same ones."""
+    h = 30.0
+    positions = [(-h, -h, -h), (h, -h, -h), (h, h, -h), (-h, h, -h),
+                 (-h, -h, h), (h, -h, h), (h, h, h), (-h, h, h)]
+    faces = [[1, 0, 3, 2], [5, 1, 2, 6], [0, 4, 7, 3], [7, 6, 2], [7, 2, 3], [0, 1, 5, 4]]  # no +z lid
+    rng = np.random.default_rng(11)
+    reds = 0
+    for _ in range(12):
+        angles = rng.uniform(0.0, 360.0, 2)
+        model = rotation_y(angles[0]) @ rotation_z(angles[1]) @ rotation_y(angles[0] * 0.5)
+        box = SceneObject(name="open box", mesh=build_mesh("open box", positions, faces),
+                          material=MATERIAL, history=[model])
+        scene = make_scene([box])
+        scene.modes.projection, scene.modes.parallel_half_height = projection, 60.0
+        scene.modes.shading = Shading.FLAT
+        flat = (offscreen(scene, (95, 95)) == RED).all(axis=2)
+        scene.modes.shading = Shading.GOURAUD
+        gouraud = (offscreen(scene, (95, 95)) == RED).all(axis=2)
+        assert np.array_equal(flat, gouraud), angles
+        reds += int(flat.sum())
+    assert reds > 1000, "the poses must show inside faces"
+
+
 def test_texture_is_neither_flipped_nor_mirrored(offscreen, renderer, make_quad, make_scene) -> None:
     """uv (0, 0) at the square's bottom-left; the picture's top-left quadrant must land top-left."""
     picture = np.zeros((16, 16, 3), np.uint8)

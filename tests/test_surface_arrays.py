@@ -44,6 +44,11 @@ def check_same_corners(mesh: Mesh) -> np.ndarray:
     assert np.array_equal(drawn[:, [0, 1, 2, 3, 4, 5, 9, 10]], expected)
     faces = mesh.triangle_face()
     assert np.array_equal(drawn[0::3, 6:9], mesh.face_normals[faces])  # first corner: the face normal
+    # Gouraud and Phong's indices: the same corners, from the shared rows only.
+    assert arrays.shared_indices.dtype == np.uint32
+    shared = arrays.vertices[arrays.shared_indices]
+    assert np.array_equal(shared[:, [0, 1, 2, 3, 4, 5, 9, 10]], expected)
+    assert arrays.shared_indices.max() < arrays.vertices.shape[0] - mesh.face_count, "no polygon row"
     return arrays.vertices
 
 
