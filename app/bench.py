@@ -840,7 +840,7 @@ def memory_row(bench: FrameBench, item: LoadInput) -> list[str]:
     renderer = bench.renderer
     gpu = ObjectGpu(bench.ctx, mesh, renderer.programs)  # exactly what the renderer allocates per object
     try:
-        surface = gpu.buffers["surface"].size + gpu.buffers["surface indices"].size
+        surface = sum(gpu.buffers[name].size for name in ("surface", "surface indices", "shared surface indices"))
         _ = gpu.edges, gpu.face_normals, gpu.vertex_normals  # built on first use: force them here
         sizes = {name: buffer.size for name, buffer in gpu.buffers.items()}
         host = mesh_bytes(mesh) + gpu.triangles_before.nbytes
