@@ -131,15 +131,16 @@ def edge_vertices(mesh: Mesh) -> np.ndarray:
     positions = mesh.positions.astype(np.float32)
     ends_per_face = 2 * mesh.face_sizes
     out = np.empty((corners.shape[0], 9), np.float32)
-    out[:, 0:3] = positions[mesh.corner_vertex[corners]]
+    out[:, 0:3] = np.take(positions, mesh.corner_vertex[corners], axis=0)
     out[:, 3:6] = np.repeat(mesh.face_normals, ends_per_face, axis=0)
-    out[:, 6:9] = np.repeat(positions[mesh.corner_vertex[mesh.face_start[:-1]]], ends_per_face, axis=0)
+    out[:, 6:9] = np.repeat(np.take(positions, mesh.corner_vertex[mesh.face_start[:-1]], axis=0), ends_per_face,
+                            axis=0)
     return out
 
 
 def face_normal_segments(mesh: Mesh) -> np.ndarray:
     """(2F, 7) float32: each face's normal as a segment from the polygon's centroid."""
-    corner_positions = mesh.positions[mesh.corner_vertex]
+    corner_positions = np.take(mesh.positions, mesh.corner_vertex, axis=0)
     centroids = np.add.reduceat(corner_positions, mesh.face_start[:-1], axis=0)
     centroids /= mesh.face_sizes[:, None]
     return _segments(centroids, mesh.face_normals)
@@ -147,7 +148,7 @@ def face_normal_segments(mesh: Mesh) -> np.ndarray:
 
 def vertex_normal_segments(mesh: Mesh) -> np.ndarray:
     """(2C, 7) float32: every corner's vertex normal as a segment from its vertex (Gouraud's normals)."""
-    return _segments(mesh.positions[mesh.corner_vertex], mesh.corner_normal)
+    return _segments(np.take(mesh.positions, mesh.corner_vertex, axis=0), mesh.corner_normal)
 
 
 def _segments(feet: np.ndarray, directions: np.ndarray) -> np.ndarray:
