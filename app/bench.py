@@ -309,7 +309,7 @@ def generated_mesh(triangles: int, seed: int = SEED) -> Mesh:
 class LoadTiming:
     triangles: int
     seconds: float
-    deindex_seconds: float | None = None
+    surface_seconds: float | None = None
 
 
 LoadFunction = Callable[[Path], LoadTiming]
@@ -333,11 +333,12 @@ def gpu_ready_arrays(mesh: Mesh) -> dict[str, np.ndarray]:
 
     Edges and normal segments are built only when lines or normals are first drawn (app/gpu.py).
     """
+    from dataclasses import fields
+
     from app.gpu import surface_arrays
 
     surface = surface_arrays(mesh)
-    return {"surface": surface.vertices, "surface indices": surface.indices,
-            "shared surface indices": surface.shared_indices}
+    return {array.name: getattr(surface, array.name) for array in fields(surface)}
 
 
 def _trimesh() -> LoadFunction:
@@ -402,7 +403,7 @@ def load_worker(argv: Sequence[str]) -> int:
     timings = [load(path) for _ in range(repeats)]
     print(json.dumps({"triangles": timings[0].triangles,
                       "seconds": [t.seconds for t in timings],
-                      "deindex_seconds": [t.deindex_seconds for t in timings],
+                      "surface_seconds": [t.surface_seconds for t in timings],
                       "peak_rss_bytes": _peak_rss_bytes() - baseline}))
     return 0
 
@@ -414,7 +415,7 @@ _WORKER_CODE = "import sys; from app.bench import load_worker; sys.exit(load_wor
 class LoadResult:
     triangles: int
     seconds: float  # median of the repeats
-    deindex_seconds: float | None
+    surface_seconds: float | None
     peak_rss_bytes: int
 
 
@@ -424,9 +425,9 @@ def measure_loader(loader: str, path: Path, repeats: int) -> LoadResult:
     if done.returncode != 0:
         raise RuntimeError(f"{loader} on {path.name} failed:\n{done.stderr.strip()}")
     report = json.loads(done.stdout.strip().splitlines()[-1])
-    deindex = [s for s in report["deindex_seconds"] if s is not None]
+    surface = [s for s in report["surface_seconds"] if s is not None]
     return LoadResult(report["triangles"], statistics.median(report["seconds"]),
-                      statistics.median(deindex) if deindex else None, report["peak_rss_bytes"])
+                      statistics.median(surface) if surface else None, report["peak_rss_bytes"])
 
 
 def available_loaders(wanted: Sequence[str]) -> tuple[list[str], list[str]]:
@@ -469,7 +470,7 @@ def _load_row(item: LoadInput, loader: str, result: LoadResult, ours: LoadResult
     mb = item.megabytes
     rss_mb = result.peak_rss_bytes / MEGABYTE
     return [item.label, str(result.triangles), _number(mb), loader, _number(result.seconds),
-            _number(result.deindex_seconds), _number(mb / result.seconds), _number(rss_mb),
+            _number(result.surface_seconds), _number(mb / result.seconds), _number(rss_mb),
             _ratio(result.seconds, ours.seconds if ours else None),
             _ratio(result.peak_rss_bytes, ours.peak_rss_bytes if ours else None)]
 
@@ -639,26 +640,40 @@ def bench_scene(mesh: Mesh | None) -> Scene:
     return scene
 
 
-def frame_cases(bench: FrameBench, scene: Scene, label: str, config: BenchConfig) -> list[list[str]]:
+@contextmanager
+def scene_and_bare(bench: FrameBench, scene: Scene) -> Iterator[BareDraw]:
+    """`scene` ready to draw with its texture, and the bare program on the same vertex data; both
+    programs' buffers released afterwards."""
     bench.use_scene_texture(scene)
     bare = BareDraw(bench.ctx, scene)
-    rows = []
     try:
+        yield bare
+    finally:
+        bare.release()
+        for obj in drawn_objects(scene):
+            bench.renderer.release_object(obj)
+
+
+@contextmanager
+def framebuffer(bench: FrameBench, size: tuple[int, int]) -> Iterator[moderngl.Framebuffer]:
+    fbo = bench.ctx.simple_framebuffer(size, components=4)
+    try:
+        yield fbo
+    finally:
+        fbo.release()
+
+
+def frame_cases(bench: FrameBench, scene: Scene, label: str, config: BenchConfig) -> list[list[str]]:
+    rows = []
+    with scene_and_bare(bench, scene) as bare:
         for size in config.resolutions:
-            fbo = bench.ctx.simple_framebuffer(size, components=4)
-            try:
+            with framebuffer(bench, size) as fbo:
                 for mode in MODES:
                     _progress(f"frames: {label} {size[0]}x{size[1]} {mode}")
                     set_mode(scene, mode)
                     times = paired_frame_times(bench.ctx, lambda: bench.renderer.render(scene, fbo, size),
                                                lambda: bare.render(fbo, size, mode), config)
                     rows.append(_frame_row(label, scene_triangles(scene), size, mode, times))
-            finally:
-                fbo.release()
-    finally:
-        bare.release()
-        for obj in drawn_objects(scene):
-            bench.renderer.release_object(obj)
     return rows
 
 
@@ -695,12 +710,9 @@ def cpu_section(bench: FrameBench, config: BenchConfig) -> list[str]:
     """Python CPU per frame on the built-in scene: render() without finish, GPU work waited out
     between frames so none of it lands in the next measurement."""
     scene = bench_scene(None)
-    bench.use_scene_texture(scene)
-    bare = BareDraw(bench.ctx, scene)
     size = config.resolutions[0]
-    fbo = bench.ctx.simple_framebuffer(size, components=4)
     rows = []
-    try:
+    with scene_and_bare(bench, scene) as bare, framebuffer(bench, size) as fbo:
         for mode in MODES:
             _progress(f"CPU per frame: built-in {mode}")
             set_mode(scene, mode)
@@ -709,11 +721,6 @@ def cpu_section(bench: FrameBench, config: BenchConfig) -> list[str]:
                 python_only = _cpu_per_frame(bench.ctx, lambda: bench.renderer.render(scene, fbo, size), config)
             bare_cpu = _cpu_per_frame(bench.ctx, lambda: bare.render(fbo, size, mode), config)
             rows.append([mode, *(_number(ms) for ms in (*program, python_only[1], *bare_cpu))])
-    finally:
-        fbo.release()
-        bare.release()
-        for obj in drawn_objects(scene):
-            bench.renderer.release_object(obj)
     return [
         "### Python CPU per frame, built-in scene",
         "",
@@ -840,7 +847,7 @@ def memory_row(bench: FrameBench, item: LoadInput) -> list[str]:
     renderer = bench.renderer
     gpu = ObjectGpu(bench.ctx, mesh, renderer.programs)  # exactly what the renderer allocates per object
     try:
-        surface = sum(gpu.buffers[name].size for name in ("surface", "surface indices", "shared surface indices"))
+        surface = sum(buffer.size for buffer in gpu.buffers.values())  # all there is before lines or normals
         _ = gpu.edges, gpu.face_normals, gpu.vertex_normals  # built on first use: force them here
         sizes = {name: buffer.size for name, buffer in gpu.buffers.items()}
         host = mesh_bytes(mesh) + gpu.triangles_before.nbytes

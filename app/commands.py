@@ -348,11 +348,10 @@ def axis_press(axis_index: int, sign: int) -> CommandFunction:
 
 
 def undo(scene: Scene, host: Host) -> None:
-    target = scene.modes.target
-    if target is Target.LIGHTS:
+    if scene.modes.target is Target.LIGHTS:
         undone = undo_light(scene.light)
     else:
-        element = scene.object if target is Target.OBJECTS else scene.camera
+        element = scene.targeted_element
         undone = element is not None and element.undo()
     if not undone:
         scene.message = "nothing to undo"

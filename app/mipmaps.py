@@ -62,7 +62,7 @@ class MipmappedTexture:
     object to `use()`; `release()` frees the GL texture whichever way it was made."""
 
     texture: moderngl.Texture
-    _external_name: int | None = None
+    external_name: int | None = None  # the GL name when the levels came from numpy, ours to delete
 
     def use(self, location: int = 0) -> None:
         self.texture.use(location=location)
@@ -71,9 +71,9 @@ class MipmappedTexture:
         self.texture.release()
         # moderngl does not delete what external_texture wrapped: the name is ours to delete.
         gl = _gl()
-        if self._external_name is not None and gl is not None:
-            gl.glDeleteTextures(1, ctypes.byref(ctypes.c_uint(self._external_name)))
-            self._external_name = None
+        if self.external_name is not None and gl is not None:
+            gl.glDeleteTextures(1, ctypes.byref(ctypes.c_uint(self.external_name)))
+            self.external_name = None
 
 
 def create_mipmapped(ctx: moderngl.Context, pixels: np.ndarray) -> MipmappedTexture:

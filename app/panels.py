@@ -159,13 +159,12 @@ def matrix_lines(scene: Scene, size: tuple[int, int]) -> list[str]:
 
 
 def _model_lines(scene: Scene) -> list[str]:
-    target = scene.modes.target
-    if target is Target.LIGHTS:
+    if scene.modes.target is Target.LIGHTS:
         return _light_model_lines(scene)
-    element = scene.object if target is Target.OBJECTS else scene.camera
+    element = scene.targeted_element
     if element is None:
         return ["model: no object selected"]
-    kind = "object" if target is Target.OBJECTS else "camera"
+    kind = "object" if scene.modes.target is Target.OBJECTS else "camera"
     return [f"model of {kind} {element.name}"] + _matrix_rows(element.model)
 
 
@@ -190,18 +189,18 @@ def _frame_lines(scene: Scene) -> list[str]:
 
 
 def _target_name(scene: Scene) -> str:
-    target = scene.modes.target
-    if target is Target.LIGHTS:
+    if scene.modes.target is Target.LIGHTS:
         return scene.light.name
-    element = scene.object if target is Target.OBJECTS else scene.camera
+    element = scene.targeted_element
     return "object" if element is None else element.name
 
 
 def _undo_depth(scene: Scene) -> int:
-    target = scene.modes.target
-    if target is Target.LIGHTS:
+    """Moves `u` can take back: a light's history holds only earlier states, an element's also its
+    current model."""
+    if scene.modes.target is Target.LIGHTS:
         return len(scene.light.history)
-    element = scene.object if target is Target.OBJECTS else scene.camera
+    element = scene.targeted_element
     return 0 if element is None else len(element.history) - 1
 
 

@@ -92,11 +92,11 @@ def probe(scene: Scene) -> Probe | None:
     face_normal = _world_normal(obj.model, mesh.face_normals[face])
     facing = float(face_normal @ _toward_eye(scene, _world_point(obj.model, mesh.positions[
         mesh.corner_vertex[start]])))
-    lit = [_probe_vertex(scene, obj, corner, None if gouraud else face_normal) for corner in corners]
+    lit = _VertexLighting(scene)
+    vertices = tuple(lit.probe(obj, corner, None if gouraud else face_normal) for corner in corners)
     return Probe(obj=obj, face=face, face_count=mesh.face_count, shading=scene.modes.shading,
                  facing=facing, culling=scene.modes.culling, textured=scene.modes.texture,
-                 view=scene.modes.term_view, weights=term_weights(scene.modes.term_view),
-                 vertices=tuple(lit))
+                 view=scene.modes.term_view, weights=lit.weights, vertices=vertices)
 
 
 def probed_corners(scene: Scene) -> list[int]:
@@ -117,26 +117,32 @@ def probed_points(scene: Scene) -> list[np.ndarray]:
             for corner in probed_corners(scene)]
 
 
-def _probe_vertex(scene: Scene, obj: SceneObject, corner: int,
-                  face_normal: np.ndarray | None) -> VertexProbe:
-    mesh = obj.mesh
-    vertex = int(mesh.corner_vertex[corner])
-    position = _world_point(obj.model, mesh.positions[vertex])
-    normal = face_normal if face_normal is not None else _world_normal(obj.model,
-                                                                        mesh.corner_normal[corner])
-    view = scene.view_matrix()
-    parallel = scene.modes.projection is Projection.PARALLEL
-    eye_or_view = scene.eye_backward() if parallel else scene.eye_position()
-    lights = tuple(world_lights(scene))
-    terms = shade_terms(position, normal, eye_or_view, obj.material, lights, scene.ambient, parallel)
-    shown_names = {light.name for light in lights_in_view(scene)}
-    return VertexProbe(
-        corner=corner, vertex=vertex, world_position=position,
-        camera_position=_world_point(view, position), world_normal=normal,
-        camera_normal=_world_normal(view, normal),
-        n_dot_v=float(normal @ _toward_eye(scene, position)),
-        terms=terms, lights=lights,
-        shown=terms.in_view(term_weights(scene.modes.term_view), shown_names))
+class _VertexLighting:
+    """What every probed vertex of one frame shares: the lights, the term view, the viewer."""
+
+    def __init__(self, scene: Scene) -> None:
+        self.scene = scene
+        self.view = scene.view_matrix()
+        self.parallel = scene.modes.projection is Projection.PARALLEL
+        self.eye_or_view = scene.eye_backward() if self.parallel else scene.eye_position()
+        self.lights = tuple(world_lights(scene))
+        self.shown_names = {light.name for light in lights_in_view(scene)}
+        self.weights = term_weights(scene.modes.term_view)
+
+    def probe(self, obj: SceneObject, corner: int, face_normal: np.ndarray | None) -> VertexProbe:
+        mesh = obj.mesh
+        vertex = int(mesh.corner_vertex[corner])
+        position = _world_point(obj.model, mesh.positions[vertex])
+        normal = (face_normal if face_normal is not None
+                  else _world_normal(obj.model, mesh.corner_normal[corner]))
+        terms = shade_terms(position, normal, self.eye_or_view, obj.material, self.lights,
+                            self.scene.ambient, self.parallel)
+        return VertexProbe(
+            corner=corner, vertex=vertex, world_position=position,
+            camera_position=_world_point(self.view, position), world_normal=normal,
+            camera_normal=_world_normal(self.view, normal),
+            n_dot_v=float(normal @ _toward_eye(self.scene, position)),
+            terms=terms, lights=self.lights, shown=terms.in_view(self.weights, self.shown_names))
 
 
 def cone_angle_deg(light: WorldLight, point: np.ndarray) -> float:

@@ -248,6 +248,14 @@ class Scene:
     def light(self) -> Light:
         return self.lights[self.selected_light]
 
+    @property
+    def targeted_element(self) -> SceneObject | None:
+        """The selected object or camera, whichever x/y/z and u act on now; None when they act on a
+        light (or on objects, with none loaded)."""
+        if self.modes.target is Target.OBJECTS:
+            return self.object
+        return self.camera if self.modes.target is Target.CAMERAS else None
+
     # --- viewing -------------------------------------------------------------------------------
     @property
     def viewer(self) -> SceneObject:

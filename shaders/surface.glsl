@@ -87,7 +87,7 @@ vec3 lit_colour(vec3 point, vec3 normal, vec3 view) {
 
 in vec3 in_position;     // model space
 in vec3 in_normal;       // this corner's vertex normal (Gouraud, Phong)
-in vec3 in_face_normal;  // its polygon's normal (Flat, and the back-face test in every mode)
+in vec3 in_face_normal;  // its polygon's normal, at the polygon's own row (Flat: colour and back face)
 in vec2 in_uv;
 
 uniform mat4 u_model;

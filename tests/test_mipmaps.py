@@ -60,14 +60,17 @@ def draw_minified(ctx: moderngl.Context, *textures) -> list[np.ndarray]:
     quad = ctx.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], np.float32).tobytes())
     vao = ctx.vertex_array(program, [(quad, "2f", "in_position")])
     fbo = ctx.simple_framebuffer((37, 37), components=4)
-    fbo.use()
+    # A scope puts the earlier framebuffer binding back on exit: releasing a still-bound framebuffer
+    # leaves moderngl binding a deleted name next time, an error the next test would find.
+    scope = ctx.scope(framebuffer=fbo)
     pictures = []
-    for texture in textures:
-        fbo.clear()
-        texture.use(location=0)
-        vao.render(moderngl.TRIANGLE_STRIP)
-        pictures.append(np.frombuffer(fbo.read(components=3), np.uint8).reshape(37, 37, 3).copy())
-    for resource in (vao, quad, program, fbo):
+    with scope:
+        for texture in textures:
+            fbo.clear()
+            texture.use(location=0)
+            vao.render(moderngl.TRIANGLE_STRIP)
+            pictures.append(np.frombuffer(fbo.read(components=3), np.uint8).reshape(37, 37, 3).copy())
+    for resource in (scope, vao, quad, program, fbo):
         resource.release()
     return pictures
 
@@ -78,7 +81,7 @@ def test_a_minified_texture_samples_as_with_generated_mipmaps(gl_ctx: moderngl.C
     gl_ctx.__enter__()
     image = np.random.default_rng(7).integers(0, 256, (256, 256, 3), np.uint8)
     ours = create_mipmapped(gl_ctx, image)
-    assert ours._external_name is not None, "a power-of-two image takes the numpy path"
+    assert ours.external_name is not None, "a power-of-two image takes the numpy path"
     generated = gl_ctx.texture((256, 256), 3, image.tobytes(), alignment=1)
     generated.build_mipmaps()
     generated.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
@@ -94,7 +97,7 @@ def test_other_sizes_take_build_mipmaps(gl_ctx: moderngl.Context) -> None:
     gl_ctx.__enter__()
     image = np.random.default_rng(3).integers(0, 256, (37, 100, 3), np.uint8)
     texture = create_mipmapped(gl_ctx, image)
-    assert texture._external_name is None
+    assert texture.external_name is None
     assert texture.texture.filter == (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
     texture.release()
 
@@ -102,7 +105,7 @@ def test_other_sizes_take_build_mipmaps(gl_ctx: moderngl.Context) -> None:
 def test_release_deletes_the_gl_texture(gl_ctx: moderngl.Context) -> None:
     gl_ctx.__enter__()
     texture = create_mipmapped(gl_ctx, np.zeros((4, 4, 3), np.uint8))
-    name = texture._external_name
+    name = texture.external_name
     if name is None:
         pytest.skip("no glvnd libOpenGL here: build_mipmaps made this texture")
     gl = ctypes.CDLL("libOpenGL.so.0")

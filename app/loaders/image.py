@@ -35,7 +35,7 @@ def load_image(path: str | Path) -> np.ndarray:
         if magic in _PPM_MAGICS:
             return parse_ppm(read_file(file), str(path))
         if file.suffix.lower() in (".ppm", ".pnm"):
-            raise LoadError(file, f"not a PPM image: starts with {magic!r}, expected P6 or P3")
+            raise _not_ppm(file, magic)
         return _load_with_pillow(file)
     except LoadError:
         raise
@@ -72,7 +72,7 @@ def parse_ppm(data: bytes, source: str) -> np.ndarray:
     """A P6 or P3 image from bytes; ``source`` names the file in messages."""
     magic = data[:2]
     if magic not in _PPM_MAGICS:
-        raise LoadError(source, f"not a PPM image: starts with {magic!r}, expected P6 or P3")
+        raise _not_ppm(source, magic)
     width, height, maxval, raster_at = _ppm_header(data, source)
     if magic == b"P6":
         samples = _binary_samples(data[raster_at:], width * height * 3, maxval, source)
@@ -81,6 +81,10 @@ def parse_ppm(data: bytes, source: str) -> np.ndarray:
     if samples.size and int(samples.max()) > maxval:
         raise LoadError(source, f"a sample value ({int(samples.max())}) exceeds maxval {maxval}")
     return _to_8_bit(samples, maxval).reshape(height, width, 3)
+
+
+def _not_ppm(source: str | Path, magic: bytes) -> LoadError:
+    return LoadError(source, f"not a PPM image: starts with {magic!r}, expected P6 or P3")
 
 
 def _ppm_header(data: bytes, source: str) -> tuple[int, int, int, int]:
