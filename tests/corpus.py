@@ -199,11 +199,6 @@ def good_obj_cases() -> list[Case]:
     ]
 
 
-def huge_index_obj() -> bytes:
-    """A small file whose index asks for a vertex table no one has."""
-    return _face_line(b"f 1 2 " + ABSURD_INDEX)
-
-
 # --------------------------------------------------------------------------------------------------
 # Images
 # --------------------------------------------------------------------------------------------------
@@ -237,11 +232,6 @@ def png_bytes(width: int, height: int, claimed: tuple[int, int] | None = None) -
     return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b"")
 
 
-def absurd_ppm() -> bytes:
-    """The header claims 10^10 pixels; three bytes of data follow."""
-    return b"P6\n100000 100000\n255\n\xff\x00\x00"
-
-
 def _image(case_id: str, content: bytes, filename: str = "") -> Case:
     return Case(case_id, "image", filename or f"{case_id}.ppm", content)
 
@@ -258,7 +248,7 @@ def bad_image_cases() -> list[Case]:
         _image("zero_width", b"P6\n0 2\n255\n"),
         _image("zero_size", b"P6\n0 0\n255\n"),
         _image("zero_height_p3", b"P3\n2 0\n255\n"),
-        _image("absurd_size", absurd_ppm()),
+        _image("absurd_size", b"P6\n100000 100000\n255\n\xff\x00\x00"),  # 10^10 pixels claimed
         _image("absurd_size_p3", b"P3\n100000 100000\n255\n255 0 0\n"),
         _image("absurd_size_20_digits", b"P6\n99999999999999999999 1\n255\n\0\0\0"),
         _image("largest_allowed_claim_p6", b"P6\n8192 8192\n255\n\xff\x00\x00"),

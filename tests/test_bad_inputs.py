@@ -2,7 +2,7 @@
 `--texture`. A bad file never crashes, never changes the scene, never leaves GL objects behind, and is
 told in one line naming the file (and the line); a size a file merely claims is never allocated.
 
-The inputs come from tests/corpus.py. Known bugs in the loaders are strict xfails, listed in BUGS.
+The inputs come from tests/corpus.py.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ import corpus
 from app.cli import main as cli_main
 from app.errors import LoadError
 from app.keymap import KeyPress
-from app.loaders.image import load_image
+from app.loaders.image import fallback_texture, load_image, load_texture_or_fallback
 from app.loaders.obj import load_obj
 from app.renderer import Renderer
 from app.scene import Scene, Target
@@ -39,18 +39,11 @@ ROOT = Path(__file__).resolve().parents[1]
 SMALL_GROWTH_BYTES = 50 * corpus.MEGABYTE
 LARGE_INPUT_SECONDS = 15.0  # a megabyte-long line or a million corners: an answer within this
 
-# Cases whose expected behaviour a loader does not deliver yet: "kind:id" -> the bug, for xfail.
-BUGS: dict[str, str] = {}
-
-
-def params(cases: list[Case], known_bugs: dict[str, str] = BUGS) -> list:
-    """pytest params with readable ids; a known bug becomes a strict xfail, root skips chmod 000."""
+def params(cases: list[Case]) -> list:
+    """pytest params with readable ids; root skips chmod 000 (it reads every file)."""
     out = []
     for case in cases:
         marks = []
-        reason = known_bugs.get(f"{case.kind}:{case.id}")
-        if reason:
-            marks.append(pytest.mark.xfail(strict=True, reason=reason))
         if case.setup == "unreadable" and corpus.running_as_root():
             marks.append(pytest.mark.skip(reason="running as root: chmod 000 does not stop reading"))
         out.append(pytest.param(case, id=case.id, marks=marks))
@@ -304,6 +297,8 @@ def test_bad_texture_gives_the_fallback_and_a_message(case: Case, case_path, vie
     before = SceneState.of(viewer.scene)
     message = viewer.use_texture(path)
     assert message is not None and str(path) in message
+    image, _ = load_texture_or_fallback(path)  # what use_texture handed the renderer
+    np.testing.assert_array_equal(image, fallback_texture())
     SceneState.of(viewer.scene).assert_same(before)
     corpus.assert_sane_pixels(corpus.render_float(own_ctx, viewer.renderer, viewer.scene))
     assert corpus.live_gl_objects(own_ctx) == census, "the old texture was not released"
@@ -384,19 +379,19 @@ def assert_one_line_error(run: Run, case: Case, path: Path) -> None:
     assert not run.output_written
 
 
-def door_params(cases: list[Case], all_doors: bool = True) -> list:
-    """Each case through its kind's doors. Without `all_doors`, only the first door except for the
-    sample in OBJ_SAMPLE: `f=PATH` reaches the same loader as a positional file, and each run
-    starts a GL context and compiles the shaders, so a sample shows the quoting works."""
+def door_params(cases: list[Case]) -> list:
+    """Each case through its kind's first door, and the sample in OBJ_SAMPLE through every door:
+    `f=PATH` reaches the same loader as a positional file, and each run starts a GL context and
+    compiles the shaders, so a sample shows the quoting works."""
     def doors(case: Case) -> tuple[str, ...]:
         every = DOORS_OF_KIND[case.kind]
-        return every if all_doors or case.id in OBJ_SAMPLE else every[:1]
+        return every if case.id in OBJ_SAMPLE else every[:1]
 
     return [pytest.param(door, case, id=f"{door}-{case.id}", marks=param.marks)
             for param in params(cases) for case in param.values for door in doors(case)]
 
 
-@pytest.mark.parametrize("door, case", door_params(BAD_OBJ + BAD_IMAGES + BAD_SCENES, all_doors=False))
+@pytest.mark.parametrize("door, case", door_params(BAD_OBJ + BAD_IMAGES + BAD_SCENES))
 def test_screenshot_refuses_bad_file_in_one_line(door: str, case: Case, case_path, tmp_path: Path,
                                                 capsys, own_ctx) -> None:
     out = tmp_path / "x.png"
@@ -483,7 +478,7 @@ def test_screenshot_process_accepts_odd_but_valid_file(door: str, case: Case, su
     assert run.output_written
 
 
-@pytest.mark.parametrize("door, case", door_params(GOOD_OBJ + [case for case, _ in GOOD_IMAGES], all_doors=False))
+@pytest.mark.parametrize("door, case", door_params(GOOD_OBJ + [case for case, _ in GOOD_IMAGES]))
 def test_screenshot_accepts_odd_but_valid_file(door: str, case: Case, case_path, tmp_path: Path,
                                                capsys, own_ctx) -> None:
     out = tmp_path / "x.png"
@@ -508,29 +503,18 @@ def test_scene_with_broken_texture_warns_in_one_line_and_still_renders(case_path
 # --------------------------------------------------------------------------------------------------
 # Nothing is allocated in proportion to what a file merely claims
 # --------------------------------------------------------------------------------------------------
-CLAIMS = {
-    "ppm_100000x100000": ("image", corpus.absurd_ppm()),
-    "ppm_p3_100000x100000": ("image", b"P3\n100000 100000\n255\n255 0 0\n"),
-    "ppm_8192x8192_at_the_cap": ("image", b"P6\n8192 8192\n255\n\xff\x00\x00"),
-    "png_100000x100000": ("image", corpus.png_bytes(1, 1, claimed=(100000, 100000))),
-    "obj_index_99999999999999999999": ("obj", corpus.huge_index_obj()),
-    "obj_index_2147483648": ("obj", corpus.TRIANGLE + b"f 1 2 2147483648\n"),
-}
-
-
-def claim_file(folder: Path, name: str) -> Path:
-    kind, content = CLAIMS[name]
-    suffix = {"image": ".png" if name.startswith("png") else ".ppm", "obj": ".obj"}[kind]
-    path = folder / f"{name}{suffix}"
-    path.write_bytes(content)
-    return path
+# Corpus cases whose header or index claims far more than the file holds.
+CLAIMS = {f"{case.kind}:{case.id}": case for case in BAD_OBJ + BAD_IMAGES if case.id in (
+    "absurd_size", "absurd_size_p3", "largest_allowed_claim_p6", "png_absurd_size", "index_absurd",
+    "index_far_past_end")}
+LOADERS = {"image": load_image, "obj": load_obj}
 
 
 @pytest.mark.parametrize("name", list(CLAIMS))
-def test_claimed_size_is_not_allocated_traced(name: str, tmp_path: Path) -> None:
+def test_claimed_size_is_not_allocated_traced(name: str, case_path) -> None:
     """tracemalloc sees Python's and numpy's allocations: the peak while loading stays small."""
-    path = claim_file(tmp_path, name)
-    loader = load_image if CLAIMS[name][0] == "image" else load_obj
+    path = case_path(CLAIMS[name])
+    loader = LOADERS[CLAIMS[name].kind]
     tracemalloc.start()
     try:
         with pytest.raises(LoadError):
@@ -581,11 +565,11 @@ def warm_up_files(tmp_path_factory) -> dict[str, Path]:
     return {"image": folder / "ok.ppm", "obj": folder / "ok.obj"}
 
 
-@pytest.mark.parametrize("name", ["ppm_100000x100000", "png_100000x100000", "obj_index_99999999999999999999"])
-def test_claimed_size_is_not_allocated_peak_rss(name: str, tmp_path: Path, warm_up_files) -> None:
+@pytest.mark.parametrize("name", ["image:absurd_size", "image:png_absurd_size", "obj:index_absurd"])
+def test_claimed_size_is_not_allocated_peak_rss(name: str, case_path, warm_up_files) -> None:
     """The process's peak resident memory (getrusage) while loading, in a fresh interpreter."""
-    kind = CLAIMS[name][0]
-    outcome, growth, _ = measure_peak_rss(kind, claim_file(tmp_path, name), warm_up_files[kind])
+    kind = CLAIMS[name].kind
+    outcome, growth, _ = measure_peak_rss(kind, case_path(CLAIMS[name]), warm_up_files[kind])
     assert outcome == "LoadError"
     assert growth < SMALL_GROWTH_BYTES, f"peak RSS grew {growth / corpus.MEGABYTE:.1f} MB loading {name}"
 

@@ -197,7 +197,7 @@ def test_the_seeds_themselves_load() -> None:
     for seed in OBJ_SEEDS:
         check_mesh(parse_obj(seed, "seed.obj"))
     for seed in PPM_SEEDS:
-        assert parse_ppm(seed, "seed.ppm").ndim == 3
+        check_image(parse_ppm(seed, "seed.ppm"), seed)
 
 
 # --------------------------------------------------------------------------------------------------

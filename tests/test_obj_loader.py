@@ -466,15 +466,20 @@ def test_big_generated_file_takes_the_fast_path_and_matches_the_line_reader() ->
     rng = np.random.default_rng(7)
     side = 40
     points = rng.normal(size=(side * side, 3))
-    lines = [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in points]
-    lines += [f"vt {u:.4f} {v:.4f}" for u, v in rng.random((side * side, 2))]
-    lines += [f"vn {x:.5f} {y:.5f} {z:.5f}" for x, y, z in points]
-    for row in range(side - 1):
+    def row(keyword: str, values, digits: int) -> str:
+        return keyword + "".join(f" {value:.{digits}f}" for value in values)
+
+    def face(indices) -> str:
+        return "f " + " ".join(f"{i}/{i}/{i}" for i in indices)
+
+    lines = [row("v", point, 6) for point in points]
+    lines += [row("vt", uv, 4) for uv in rng.random((side * side, 2))]
+    lines += [row("vn", point, 5) for point in points]
+    for grid_row in range(side - 1):
         for col in range(side - 1):
-            a = row * side + col + 1
-            lines.append(f"f {a}/{a}/{a} {a + 1}/{a + 1}/{a + 1} {a + side + 1}/{a + side + 1}/{a + side + 1}")
-            relative = [index - side * side - 1 for index in (a, a + side + 1, a + side)]  # -1 is the last
-            lines.append("f " + " ".join(f"{r}/{r}/{r}" for r in relative))
+            a = grid_row * side + col + 1
+            lines.append(face((a, a + 1, a + side + 1)))
+            lines.append(face(index - side * side - 1 for index in (a, a + side + 1, a + side)))  # -1: the last
     text = ("\n".join(lines) + "\n").encode()
     fast, slow = read_both(text)
     assert fast != "unusual"
@@ -520,13 +525,16 @@ def seed_model(name: str) -> Path:
     return path
 
 
-@pytest.mark.parametrize(("name", "vertices", "faces"), [
+SEED_MODELS = [  # name, vertices, faces
     ("x_wing.obj", 3104, 6084),
     ("r_falke.obj", 1885, 3608),
     ("rammer_225.obj", 5518, 5509),
     ("cam.obj", 5, 4),
     ("kupula.obj", 40, 60),
-])
+]
+
+
+@pytest.mark.parametrize(("name", "vertices", "faces"), SEED_MODELS)
 def test_seed_models_load_with_their_counts(name: str, vertices: int, faces: int) -> None:
     mesh = load_obj(seed_model(name))
     assert (mesh.vertex_count, mesh.face_count) == (vertices, faces)
@@ -535,11 +543,11 @@ def test_seed_models_load_with_their_counts(name: str, vertices: int, faces: int
     np.testing.assert_allclose(np.linalg.norm(mesh.corner_normal, axis=1), 1, atol=1e-5)
 
 
-def test_seed_models_take_the_fast_path() -> None:
-    for name in ("x_wing.obj", "r_falke.obj", "rammer_225.obj", "cam.obj", "kupula.obj"):
-        fast, slow = read_both(seed_model(name).read_bytes())
-        assert fast != "unusual", name
-        assert_same_tables(fast, slow)
+@pytest.mark.parametrize("name", [name for name, _, _ in SEED_MODELS])
+def test_seed_models_take_the_fast_path(name: str) -> None:
+    fast, slow = read_both(seed_model(name).read_bytes())
+    assert fast != "unusual", name
+    assert_same_tables(fast, slow)
 
 
 def test_rammer_has_quads_texture_coordinates_and_normals() -> None:
@@ -547,6 +555,8 @@ def test_rammer_has_quads_texture_coordinates_and_normals() -> None:
     assert set(np.unique(mesh.face_sizes).tolist()) == {3, 4}
     assert "Rammer 225.mtl" in mesh.warnings[0]  # the seed ships no MTL
     assert mesh.corner_uv.min() >= 0 and mesh.corner_uv.max() <= 1
+    _, raw = read_both(seed_model("rammer_225.obj").read_bytes())  # the file's own vt and vn, not derived
+    assert (raw.corner_texcoord >= 0).all() and (raw.corner_normal >= 0).all()
 
 
 def test_cam_has_its_colour_comment() -> None:
