@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Callable, Iterator, Sequence
 
+import corpus
 import moderngl
 import numpy as np
 import pytest
@@ -29,10 +30,10 @@ def gl_ctx() -> Iterator[moderngl.Context]:
 def renderer(gl_ctx: moderngl.Context):
     from app.renderer import Renderer
 
-    gl_ctx.__enter__()  # see `render` below
+    corpus.make_current(gl_ctx)  # see `render` below
     shared = Renderer(gl_ctx)
     yield shared
-    gl_ctx.__enter__()
+    corpus.make_current(gl_ctx)
     shared.release()
 
 
@@ -47,7 +48,7 @@ def offscreen(gl_ctx: moderngl.Context, renderer) -> Iterator[OffscreenRender]:
     def render(scene: Scene, size: tuple[int, int] = (63, 63)) -> np.ndarray:
         # moderngl draws into whatever context is current and never switches back by itself; the
         # in-process screenshot tests make and release contexts of their own, so claim ours each time.
-        gl_ctx.__enter__()
+        corpus.make_current(gl_ctx)
         fbo = framebuffers.get(size)
         if fbo is None:
             fbo = gl_ctx.simple_framebuffer(size, components=4)

@@ -58,8 +58,8 @@ def test_a_camera_load_stays_a_camera_even_if_the_target_changes_meanwhile(tmp_p
     viewer.background.shutdown()
 
 
-def test_the_worker_prepares_the_surface_and_the_first_frame_only_uploads_it(tmp_path: Path, gl_ctx,
-                                                                                renderer, offscreen) -> None:
+def test_the_worker_prepares_the_surface_and_the_first_frame_only_uploads_it(tmp_path: Path, renderer,
+                                                                                offscreen) -> None:
     from app import gpu
 
     good = tmp_path / "quad.obj"

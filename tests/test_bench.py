@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import corpus
 import numpy as np
 import pytest
 
@@ -39,18 +40,13 @@ def numbers_in(rows: list[list[str]], headers: tuple[str, ...], column: str) -> 
 
 
 @pytest.fixture(scope="module")
-def report(tmp_path_factory: pytest.TempPathFactory) -> str:
+def report(tmp_path_factory: pytest.TempPathFactory, gl_ctx) -> str:
+    """(gl_ctx: skips where there is no EGL.) The bench makes and releases contexts of its own."""
     from contextlib import redirect_stdout
     from io import StringIO
 
-    try:
-        import moderngl
-
-        moderngl.create_standalone_context(backend="egl").release()
-    except Exception as error:
-        pytest.skip(f"no headless EGL OpenGL context: {error}")
     out = StringIO()
-    with redirect_stdout(out):
+    with redirect_stdout(out), corpus.kept_gl_context():
         assert bench.main([*TINY_ARGS, "--workdir", str(tmp_path_factory.mktemp("bench"))]) == 0
     return out.getvalue()
 

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
+import corpus
 import numpy as np
 import pytest
 from PIL import Image
@@ -718,7 +719,8 @@ CYAN = np.array([0, 255, 255])
 
 def test_screenshot_keys_draw_every_panel_and_the_outline(tmp_path: Path) -> None:
     def shoot(keys: str, overlay: bool) -> np.ndarray:
-        out = take_screenshot(StartOptions(), tmp_path / "shot.png", (300, 200), keys=keys, overlay=overlay)
+        with corpus.kept_gl_context():  # the command makes and releases a context of its own
+            out = take_screenshot(StartOptions(), tmp_path / "shot.png", (300, 200), keys=keys, overlay=overlay)
         return np.asarray(Image.open(out).convert("RGB")).astype(int)
 
     plain = shoot("T 0 TAB TAB", overlay=False)

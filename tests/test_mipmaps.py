@@ -4,25 +4,48 @@ go when it is released."""
 
 from __future__ import annotations
 
-import ctypes
-
+import corpus
 import moderngl
 import numpy as np
 import pytest
 
+from app import mipmaps
 from app.mipmaps import create_mipmapped, mip_levels
 
 SIZES = [(256, 256), (64, 16), (16, 64), (1, 8), (8, 1), (1, 1)]
 
 
-def is_llvmpipe(ctx: moderngl.Context) -> bool:
-    return "llvmpipe" in ctx.info["GL_RENDERER"]
+@pytest.fixture
+def ctx(gl_ctx: moderngl.Context) -> moderngl.Context:
+    corpus.make_current(gl_ctx)
+    return gl_ctx
+
+
+@pytest.fixture
+def llvmpipe_ctx(ctx: moderngl.Context) -> moderngl.Context:
+    if "llvmpipe" not in ctx.info["GL_RENDERER"]:
+        pytest.skip("mip levels are the driver's choice; these are llvmpipe's")
+    return ctx
+
+
+@pytest.fixture
+def glvnd() -> None:
+    if mipmaps._gl() is None:
+        pytest.skip("no glvnd libOpenGL here: textures take build_mipmaps")
+
+
+def generated_texture(ctx: moderngl.Context, image: np.ndarray) -> moderngl.Texture:
+    """What moderngl alone makes: the image, its levels from glGenerateMipmap, sampled trilinearly."""
+    height, width = image.shape[:2]
+    texture = ctx.texture((width, height), 3, image.tobytes(), alignment=1)
+    texture.build_mipmaps()
+    texture.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+    return texture
 
 
 def generated_levels(ctx: moderngl.Context, image: np.ndarray) -> list[np.ndarray]:
     height, width = image.shape[:2]
-    texture = ctx.texture((width, height), 3, image.tobytes(), alignment=1)
-    texture.build_mipmaps()
+    texture = generated_texture(ctx, image)
     levels = []
     for level in range(max(width, height).bit_length()):
         w, h = max(1, width >> level), max(1, height >> level)
@@ -32,13 +55,10 @@ def generated_levels(ctx: moderngl.Context, image: np.ndarray) -> list[np.ndarra
 
 
 @pytest.mark.parametrize("width,height", SIZES)
-def test_the_levels_are_llvmpipes_bit_for_bit(gl_ctx: moderngl.Context, width: int, height: int) -> None:
-    if not is_llvmpipe(gl_ctx):
-        pytest.skip("mip levels are the driver's choice; these are llvmpipe's")
-    gl_ctx.__enter__()
+def test_the_levels_are_llvmpipes_bit_for_bit(llvmpipe_ctx: moderngl.Context, width: int, height: int) -> None:
     image = np.random.default_rng(width * 1000 + height).integers(0, 256, (height, width, 3), np.uint8)
     ours = mip_levels(image)
-    theirs = generated_levels(gl_ctx, image)
+    theirs = generated_levels(llvmpipe_ctx, image)
     assert [level.shape for level in ours] == [level.shape for level in theirs]
     for index, (mine, generated) in enumerate(zip(ours, theirs)):
         assert np.array_equal(mine, generated), f"level {index} of {width}x{height}"
@@ -75,41 +95,35 @@ def draw_minified(ctx: moderngl.Context, *textures) -> list[np.ndarray]:
     return pictures
 
 
-def test_a_minified_texture_samples_as_with_generated_mipmaps(gl_ctx: moderngl.Context) -> None:
-    if not is_llvmpipe(gl_ctx):
-        pytest.skip("mip levels are the driver's choice; these are llvmpipe's")
-    gl_ctx.__enter__()
+def test_a_minified_texture_samples_as_with_generated_mipmaps(llvmpipe_ctx: moderngl.Context, glvnd) -> None:
     image = np.random.default_rng(7).integers(0, 256, (256, 256, 3), np.uint8)
-    ours = create_mipmapped(gl_ctx, image)
-    assert ours.external_name is not None, "a power-of-two image takes the numpy path"
-    generated = gl_ctx.texture((256, 256), 3, image.tobytes(), alignment=1)
-    generated.build_mipmaps()
-    generated.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-    drawn, reference = draw_minified(gl_ctx, ours, generated)
-    assert drawn.std() > 1.0, "not a blank picture"
-    assert np.array_equal(drawn, reference)
-    assert gl_ctx.error == "GL_NO_ERROR"
-    ours.release()
-    generated.release()
+    ours = create_mipmapped(llvmpipe_ctx, image)
+    generated = generated_texture(llvmpipe_ctx, image)
+    try:
+        assert ours.external_name is not None, "a power-of-two image takes the numpy path"
+        drawn, reference = draw_minified(llvmpipe_ctx, ours, generated)
+        assert drawn.std() > 1.0, "not a blank picture"
+        assert np.array_equal(drawn, reference)
+        assert llvmpipe_ctx.error == "GL_NO_ERROR"
+    finally:
+        ours.release()
+        generated.release()
 
 
-def test_other_sizes_take_build_mipmaps(gl_ctx: moderngl.Context) -> None:
-    gl_ctx.__enter__()
+def test_other_sizes_take_build_mipmaps(ctx: moderngl.Context) -> None:
     image = np.random.default_rng(3).integers(0, 256, (37, 100, 3), np.uint8)
-    texture = create_mipmapped(gl_ctx, image)
+    texture = create_mipmapped(ctx, image)
     assert texture.external_name is None
     assert texture.texture.filter == (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
     texture.release()
 
 
-def test_release_deletes_the_gl_texture(gl_ctx: moderngl.Context) -> None:
-    gl_ctx.__enter__()
-    texture = create_mipmapped(gl_ctx, np.zeros((4, 4, 3), np.uint8))
+def test_release_deletes_the_gl_texture(ctx: moderngl.Context, glvnd) -> None:
+    texture = create_mipmapped(ctx, np.zeros((4, 4, 3), np.uint8))
     name = texture.external_name
-    if name is None:
-        pytest.skip("no glvnd libOpenGL here: build_mipmaps made this texture")
-    gl = ctypes.CDLL("libOpenGL.so.0")
+    assert name is not None, "with glvnd, a power-of-two image takes the numpy path"
+    gl = mipmaps._gl()
     assert gl.glIsTexture(name)
     texture.release()
     assert not gl.glIsTexture(name)
-    assert gl_ctx.error == "GL_NO_ERROR"
+    assert ctx.error == "GL_NO_ERROR"

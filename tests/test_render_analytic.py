@@ -263,24 +263,24 @@ def test_parallel_projection_tests_back_faces_with_one_view_vector(offscreen, ma
 
 
 @pytest.mark.parametrize("projection", list(Projection), ids=lambda p: p.value)
-def test_gouraud_finds_the_back_faces_flat_finds(offscreen, build_mesh, make_scene,
+def test_gouraud_finds_the_back_faces_flat_finds(offscreen, make_box, build_mesh, make_scene,
                                                  projection: Projection) -> None:
     """Flat tests N.V at the polygon's own row; Gouraud draws from shared rows and asks the
     rasteriser's winding (surface.glsl). An open box turned at seeded random poses shows inside
     and outside faces, quads and triangles: the red pixels must be the same ones."""
-    h = 30.0
-    positions = [(-h, -h, -h), (h, -h, -h), (h, h, -h), (-h, h, -h),
-                 (-h, -h, h), (h, -h, h), (h, h, h), (-h, h, h)]
-    faces = [[1, 0, 3, 2], [5, 1, 2, 6], [0, 4, 7, 3], [7, 6, 2], [7, 2, 3], [0, 1, 5, 4]]  # no +z lid
+    cube = make_box(30.0)
+    polygons = [cube.corner_vertex[a:b].tolist() for a, b in zip(cube.face_start[:-1], cube.face_start[1:])]
+    lid, top = polygons[0], polygons[4]  # +z, toward the camera; +y, split into two triangles
+    faces = [face for face in polygons if face not in (lid, top)] + [top[:3], [top[0], *top[2:]]]
+    box = SceneObject(name="open box", mesh=build_mesh("open box", cube.positions, faces), material=MATERIAL,
+                      history=[np.eye(4)])
+    scene = make_scene([box])
+    scene.modes.projection, scene.modes.parallel_half_height = projection, 60.0
     rng = np.random.default_rng(11)
     reds = 0
     for _ in range(12):
-        angles = rng.uniform(0.0, 360.0, 2)
-        model = rotation_y(angles[0]) @ rotation_z(angles[1]) @ rotation_y(angles[0] * 0.5)
-        box = SceneObject(name="open box", mesh=build_mesh("open box", positions, faces),
-                          material=MATERIAL, history=[model])
-        scene = make_scene([box])
-        scene.modes.projection, scene.modes.parallel_half_height = projection, 60.0
+        angles = rng.uniform(0.0, 360.0, 3)
+        box.history = [rotation_y(angles[0]) @ rotation_z(angles[1]) @ rotation_y(angles[2])]
         scene.modes.shading = Shading.FLAT
         flat = (offscreen(scene, (95, 95)) == RED).all(axis=2)
         scene.modes.shading = Shading.GOURAUD

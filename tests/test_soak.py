@@ -91,8 +91,8 @@ class Invariants:
     def after_press(self, scene: Scene) -> None:
         self._selection(scene)
         for obj in scene.objects + scene.cameras:
-            first = self.initial.setdefault(obj.uid, obj.history[0].copy())
             assert obj.history, f"{obj.name}: empty history"
+            first = self.initial.setdefault(obj.uid, obj.history[0].copy())
             assert np.array_equal(obj.history[0], first), f"{obj.name}: initial matrix changed"
             assert np.isfinite(obj.model).all(), f"{obj.name}: non-finite matrix"
             assert 0 <= obj.selected_face < max(obj.mesh.face_count, 1)
@@ -130,7 +130,8 @@ class PressMaker:
     rng: random.Random
     good: list[str]
     bad: list[str]
-    pending: list[KeyPress] = field(default_factory=list)
+    pending: list[KeyPress] = field(init=False)
+    keys: list[str] = field(init=False)
     loads: int = 0
     bad_loads: int = 0
 
