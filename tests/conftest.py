@@ -26,6 +26,13 @@ def gl_ctx() -> Iterator[moderngl.Context]:
     ctx.release()
 
 
+@pytest.fixture(scope="module")
+def own_ctx():
+    """A module's own EGL context, for tests that count its GL objects or must not share state;
+    see corpus.own_gl_context for why not the session's."""
+    yield from corpus.own_gl_context()
+
+
 @pytest.fixture(scope="session")
 def renderer(gl_ctx: moderngl.Context):
     from app.renderer import Renderer

@@ -564,3 +564,11 @@ def assert_sane_pixels(pixels) -> None:
     finite = np.isfinite(pixels)
     assert finite.all(), f"{int((~finite).sum())} NaN/inf channel values"
     assert pixels.min() >= -1e-4 and pixels.max() <= 1 + 1e-4, (float(pixels.min()), float(pixels.max()))
+
+
+class NoFrontend:
+    """A viewer frontend that does nothing: for tests that drive a Viewer without a window."""
+
+    def quit(self) -> None: ...
+    def open_file_prompt(self) -> None: ...
+    def save_screenshot(self) -> None: ...

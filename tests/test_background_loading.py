@@ -7,14 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
-from app.viewer import BackgroundLoader, Viewer
 from app.scenefile import empty_scene
-
-
-class NoFrontend:
-    def quit(self) -> None: ...
-    def open_file_prompt(self) -> None: ...
-    def save_screenshot(self) -> None: ...
+from app.viewer import BackgroundLoader, Viewer
+from corpus import NoFrontend
 
 
 def wait_until_idle(viewer: Viewer, seconds: float = 30.0) -> None:

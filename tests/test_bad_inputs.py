@@ -58,12 +58,6 @@ BAD_SCENES = corpus.bad_scene_cases()
 
 
 @pytest.fixture(scope="module")
-def own_ctx():
-    """This module's EGL context; see corpus.own_gl_context for why not the session's."""
-    yield from corpus.own_gl_context()
-
-
-@pytest.fixture(scope="module")
 def corpus_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return tmp_path_factory.mktemp("corpus")
 

@@ -23,12 +23,13 @@ import pytest
 from PIL import Image
 
 from app import transforms
+from app.bench import grid_quads
 from app.commands import NullHost
 from app.keymap import KeyPress, dispatch
 from app.lighting import lit_colour_bytes, shade_terms, world_lights
 from app.mesh import Mesh
 from app.panels import Extras, extras, matrix_lines, probe_lines
-from app.probe import Probe, probe, project
+from app.probe import Probe, cone_angle_deg, probe, project
 from app.renderer import Interpolation, View, view_projection, views
 from app.scene import Material, Owner, Projection, Scene, SceneObject, Shading, Target, TermView
 from app.scenefile import load_builtin_scene, load_scene
@@ -127,25 +128,6 @@ def nearest_hit(origin: np.ndarray, direction: np.ndarray,
     return index, np.array([1.0 - u[index] - v[index], u[index], v[index]])
 
 
-def hit_triangle(origin: np.ndarray, direction: np.ndarray,
-                 corners: np.ndarray) -> tuple[float, np.ndarray] | None:
-    """Möller-Trumbore: distance along the ray and barycentric weights of the hit, or None."""
-    a, b, c = corners
-    ab, ac = b - a, c - a
-    p = np.cross(direction, ac)
-    determinant = float(ab @ p)
-    if abs(determinant) < 1e-12:
-        return None
-    s = origin - a
-    u = float(s @ p) / determinant
-    q = np.cross(s, ab)
-    v = float(direction @ q) / determinant
-    t = float(ac @ q) / determinant
-    if u < 0.0 or v < 0.0 or u + v > 1.0 or t <= 0.0:
-        return None
-    return t, np.array([1.0 - u - v, u, v])
-
-
 def world_points(obj: SceneObject, corners: np.ndarray) -> np.ndarray:
     positions = obj.mesh.positions[obj.mesh.corner_vertex[corners]]
     return (obj.model @ np.hstack([positions, np.ones((len(positions), 1))]).T).T[:, :3]
@@ -170,13 +152,8 @@ def face_only(scene: Scene, obj_index: int, face: int) -> SceneObject:
     return obj
 
 
-def face_radius(obj: SceneObject, face: int) -> float:
-    points = world_points(obj, face_corners(obj, face))
-    return float(np.linalg.norm(points - points.mean(axis=0), axis=1).max())
-
-
 def face_radii(obj: SceneObject) -> np.ndarray:
-    """face_radius of every face at once."""
+    """Every face's radius: the farthest corner from its corners' mean, in world units."""
     mesh = obj.mesh
     points = world_points(obj, np.arange(mesh.corner_vertex.size))
     sizes = mesh.face_sizes
@@ -185,12 +162,13 @@ def face_radii(obj: SceneObject) -> np.ndarray:
     return np.maximum.reduceat(reach, mesh.face_start[:-1])
 
 
-def face_compactness(obj: SceneObject, face: int) -> float:
-    """Area over that of the circle around it: slivers (near 0) would be a line on screen."""
+def face_compactness(obj: SceneObject, face: int, radius: float) -> float:
+    """Area over that of the circle around it (`radius`, from face_radii): slivers (near 0) would be
+    a line on screen."""
     points = world_points(obj, face_corners(obj, face))
     area = sum(np.linalg.norm(np.cross(points[b] - points[a], points[c] - points[a])) / 2.0
                for a, b, c in fan_triangles(points))
-    return float(area / (np.pi * face_radius(obj, face) ** 2))
+    return float(area / (np.pi * radius ** 2))
 
 
 def random_unit(rng: np.random.Generator) -> np.ndarray:
@@ -205,7 +183,7 @@ def random_pose(scene: Scene, rng: np.random.Generator, from_behind: bool) -> tu
     obj = scene.objects[obj_index]
     radii = face_radii(obj)
     large = rng.permutation(np.flatnonzero(radii >= MIN_FACE_RADIUS))
-    face = int(next(f for f in large if face_compactness(obj, int(f)) > 0.25))
+    face = int(next(f for f in large if face_compactness(obj, int(f), float(radii[f])) > 0.25))
     face_only(scene, obj_index, face)
 
     points = world_points(obj, face_corners(obj, face))
@@ -251,13 +229,9 @@ class Check:
 def flat_checks(scene: Scene, found: Probe, pixels: np.ndarray) -> list[Check]:
     """Every pixel centre well inside the polygon shows the probe's one colour."""
     height, width = pixels.shape[:2]
-    view = views(scene, (width, height))[0]
-    matrix = view_projection(scene, view)
-    screen = [project(matrix, p, view.viewport) for p in world_points(found.obj, face_corners(
-        found.obj, found.face))]
-    if any(s is None for s in screen):
+    screen_points = screen_polygon(scene, found.obj, found.face, (width, height))
+    if screen_points is None:
         return []
-    screen_points = np.array(screen)
     expected = found.displayed(found.vertices[0])
     rows, columns = np.mgrid[0:height, 0:width]
     centres = np.stack([columns + 0.5, height - rows - 0.5], axis=-1)
@@ -294,8 +268,10 @@ def gouraud_checks(offscreen, scene: Scene) -> list[Check]:
     return checks
 
 
-def screen_polygon(scene: Scene, obj: SceneObject, face: int) -> np.ndarray | None:
-    view = views(scene, PROBE_SIZE)[0]
+def screen_polygon(scene: Scene, obj: SceneObject, face: int,
+                   size: tuple[int, int] = PROBE_SIZE) -> np.ndarray | None:
+    """The face's corners in window pixels (origin bottom-left), or None if one is behind the eye."""
+    view = views(scene, size)[0]
     matrix = view_projection(scene, view)
     screen = [project(matrix, p, view.viewport) for p in world_points(obj, face_corners(obj, face))]
     return None if any(s is None for s in screen) else np.array(screen)
@@ -344,7 +320,7 @@ def interpolation_drift(scene: Scene, found: Probe, index: int, window_xy: np.nd
     for triangle in fan_triangles(points):
         if index not in triangle:
             continue
-        hit = hit_triangle(origin, direction, points[list(triangle)])
+        hit = nearest_hit(origin, direction, points[list(triangle)][None])
         if hit is not None:
             interpolated = hit[1] @ colours[list(triangle)]
             worst = max(worst, float(np.abs(interpolated - colours[index]).max()))
@@ -509,11 +485,7 @@ def dome_mesh(radius: float = 60.0, cells: int = 6, spread_deg: float = 50.0) ->
             direction = np.array([np.sin(phi) * np.cos(theta), np.sin(theta), np.cos(phi) * np.cos(theta)])
             positions.append(radius * direction - np.array([0.0, 0.0, radius]))
             normals.append(direction)
-    polygons = []
-    for i in range(cells):
-        for j in range(cells):
-            a = i * (cells + 1) + j
-            polygons.append([a, a + 1, a + cells + 2, a + cells + 1])
+    polygons = grid_quads(cells).tolist()  # rows of cells + 1 points, counter-clockwise from +z
     corner_vertex = np.array([v for p in polygons for v in p], np.int64)
     positions_array, normals_array = np.array(positions), np.array(normals)
     face_normals = []
@@ -550,13 +522,14 @@ def build_dome_scene(make_scene: Callable[..., Scene]) -> Scene:
     return scene
 
 
-def phong_expected(scene: Scene, view: View, window_xy: np.ndarray) -> np.ndarray | None:
+def phong_expected(scene: Scene, view: View, window_xy: np.ndarray,
+                   table: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray | None:
     """SPEC 4 at the surface point seen through the pixel centre, normal interpolated from the
     corners' and normalised; None near an edge or a cone boundary, where float32 may decide either
-    way, and on back faces."""
+    way, and on back faces. `table`: fan_triangle_table of the object."""
     obj = scene.objects[0]
     origin, direction = ray_through(scene, view, window_xy)
-    triangles, corners, faces = fan_triangle_table(obj)
+    triangles, corners, faces = table
     hit = nearest_hit(origin, direction, triangles)
     if hit is None:
         return None
@@ -575,11 +548,8 @@ def phong_expected(scene: Scene, view: View, window_xy: np.ndarray) -> np.ndarra
         return None
     lights = world_lights(scene)
     for light in lights:
-        if light.aperture_deg < 180.0:
-            ray = point - light.position
-            angle = np.degrees(np.arccos(np.clip(light.direction @ ray / np.linalg.norm(ray), -1, 1)))
-            if abs(angle - light.aperture_deg) < 0.3:
-                return None
+        if light.aperture_deg < 180.0 and abs(cone_angle_deg(light, point) - light.aperture_deg) < 0.3:
+            return None
     return lit_colour_bytes(point, normal, eye_or_view, obj.material, lights, scene.ambient, parallel)
 
 
@@ -592,10 +562,11 @@ def test_phong_third_is_the_formula_per_pixel(offscreen, dome_scene: Scene,
     pixels = offscreen(dome_scene, size)
     phong = views(dome_scene, size)[2]
     assert phong.interpolation is Interpolation.PHONG and phong.viewport == (162, 0, 81, 81)
+    table = fan_triangle_table(dome_scene.objects[0])  # the object stays put: once for every pixel
     compared = 0
     for row in range(1, 81, 2):
         for column in range(phong.viewport[0] + 1, size[0], 2):
-            expected = phong_expected(dome_scene, phong, pixel_centre(row, column, size[1]))
+            expected = phong_expected(dome_scene, phong, pixel_centre(row, column, size[1]), table)
             if expected is None:
                 continue
             compared += 1

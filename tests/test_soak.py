@@ -38,12 +38,6 @@ UNDO_STORM_LENGTH = (30, 400)
 SPECIAL_TOKENS = {"DELETE", "ESC"}  # DELETE has its own rate; ESC only asks the frontend to quit
 
 
-@pytest.fixture(scope="module")
-def own_ctx():
-    """This module's EGL context; see corpus.own_gl_context for why not the session's."""
-    yield from corpus.own_gl_context()
-
-
 class CountingFrontend:
     """The window's side of the host: counts what the keys asked of it."""
 
