@@ -6,8 +6,10 @@ the README. Sections:
 
 1. Loading: OBJ file -> GPU-ready vertex arrays (load_obj + app/gpu.py's surface arrays), beside
    trimesh and tinyobjloader. Each (loader, file) runs in a fresh process, so its peak RSS is its own.
-2. Frames: GPU-complete frame time of the renderer beside a pass-through program drawing the same
-   vertex data; and the Python CPU time the renderer spends per frame on the built-in scene.
+2. Frames: GPU-complete frame time of the renderer, still (nothing changed since the frame before,
+   so no lighting pass runs) and moving (the camera turns every frame, so every vertex is lit
+   again), beside a pass-through program drawing the same vertex data; and the Python CPU time the
+   renderer spends per frame on the built-in scene.
 3. Start: process start to the screenshot PNG, beside a process that only opens an EGL context.
 4. Memory: host and GPU bytes per triangle of a loaded mesh.
 
@@ -56,8 +58,8 @@ MISSING = "—"
 MACHINE_HEADING = "## Machine"
 LOAD_HEADERS = ("file", "triangles", "MB", "loader", "seconds", "of which surface arrays s", "MB/s",
                 "peak RSS MB", "time ÷ ours", "RSS ÷ ours")
-FRAME_HEADERS = ("scene", "triangles", "size", "mode", "program ms", "bare ms", "program ÷ bare",
-                 "frames")
+FRAME_HEADERS = ("scene", "triangles", "size", "mode", "still ms", "moving ms", "bare ms", "still ÷ bare",
+                 "moving ÷ bare", "frames")
 CPU_HEADERS = ("mode", "program process ms", "program thread ms", "program without draw calls ms",
                "bare process ms", "bare thread ms")
 START_HEADERS = ("process", "to PNG written s", "PNG ÷ bare EGL", "to exit s", "exit ÷ bare EGL", "runs")
@@ -571,13 +573,29 @@ class BareDraw:
 
 @dataclass
 class FrameTimes:
-    program: list[float] = field(default_factory=list)
+    moving: list[float] = field(default_factory=list)
+    still: list[float] = field(default_factory=list)
     bare: list[float] = field(default_factory=list)
 
 
-def paired_frame_times(ctx: moderngl.Context, program_frame: Callable[[], None],
+# The camera turns this far, to and fro, before each moving frame: every lit colour changes (V and
+# the camera's spotlight move), the picture hardly.
+NUDGE_RADIANS = 1e-3
+
+
+def nudge_camera(scene: Scene, step: int) -> None:
+    """Turns the viewing camera about its own y axis, one way on even steps and back on odd ones."""
+    angle = NUDGE_RADIANS if step % 2 == 0 else -NUDGE_RADIANS
+    turn = np.eye(4)
+    turn[0, 0] = turn[2, 2] = np.cos(angle)
+    turn[0, 2], turn[2, 0] = np.sin(angle), -np.sin(angle)
+    scene.camera.history[-1] = scene.camera.model @ turn  # in place: no undo step per frame
+
+
+def paired_frame_times(ctx: moderngl.Context, scene: Scene, program_frame: Callable[[], None],
                        bare_frame: Callable[[], None], config: BenchConfig) -> FrameTimes:
-    """Program and bare frames alternate, so both see the same load from other processes.
+    """A moving frame (the camera nudged first), a still one (nothing changed since), a bare one, in
+    turn, so all three see the same load from other processes.
 
     The first warm-up frame also builds the renderer's buffers for the object and compiles shader
     variants, which is why it is never measured.
@@ -588,10 +606,12 @@ def paired_frame_times(ctx: moderngl.Context, program_frame: Callable[[], None],
             ctx.finish()
     times = FrameTimes()
     started = time.perf_counter()
-    while len(times.program) < config.frames:
-        if len(times.program) >= MIN_FRAMES and time.perf_counter() - started > config.frame_budget_s:
+    while len(times.still) < config.frames:
+        if len(times.still) >= MIN_FRAMES and time.perf_counter() - started > config.frame_budget_s:
             break
-        for frame, record in ((program_frame, times.program), (bare_frame, times.bare)):
+        nudge_camera(scene, len(times.moving))
+        for frame, record in ((program_frame, times.moving), (program_frame, times.still),
+                              (bare_frame, times.bare)):
             start = time.perf_counter()
             frame()
             ctx.finish()
@@ -671,17 +691,16 @@ def frame_cases(bench: FrameBench, scene: Scene, label: str, config: BenchConfig
                 for mode in MODES:
                     _progress(f"frames: {label} {size[0]}x{size[1]} {mode}")
                     set_mode(scene, mode)
-                    times = paired_frame_times(bench.ctx, lambda: bench.renderer.render(scene, fbo, size),
+                    times = paired_frame_times(bench.ctx, scene, lambda: bench.renderer.render(scene, fbo, size),
                                                lambda: bare.render(fbo, size, mode), config)
                     rows.append(_frame_row(label, scene_triangles(scene), size, mode, times))
     return rows
 
 
 def _frame_row(label: str, triangles: int, size: tuple[int, int], mode: str, times: FrameTimes) -> list[str]:
-    program_ms = statistics.median(times.program) * 1000
-    bare_ms = statistics.median(times.bare) * 1000
-    return [label, str(triangles), f"{size[0]}x{size[1]}", mode, _number(program_ms), _number(bare_ms),
-            _ratio(program_ms, bare_ms), str(len(times.program))]
+    still, moving, bare = (statistics.median(frames) * 1000 for frames in (times.still, times.moving, times.bare))
+    return [label, str(triangles), f"{size[0]}x{size[1]}", mode, _number(still), _number(moving), _number(bare),
+            _ratio(still, bare), _ratio(moving, bare), str(len(times.still))]
 
 
 def frames_section(bench: FrameBench, config: BenchConfig) -> list[str]:
@@ -698,9 +717,11 @@ def frames_section(bench: FrameBench, config: BenchConfig) -> list[str]:
         f"Meshes: the built-in scene and generated grids of {sizes} triangles; sizes {resolutions}; "
         "all four lights on, texture on. Each frame is `render` + `ctx.finish()`; median of up to "
         f"{config.frames} frames after {config.warmup} warm-up frame(s) (a case stops at {MIN_FRAMES} frames after "
-        f"{config.frame_budget_s:g} s). *bare* = a pass-through program drawing the same vertex buffers "
-        "(same layout, depth test and primitive count; lines drawn once) in the same process, frames "
-        "alternating with the program's; the ratio is what the program adds.",
+        f"{config.frame_budget_s:g} s). *moving*: the camera turns {NUDGE_RADIANS:g} rad before the frame, so "
+        "every vertex is lit again; *still*: the next frame, nothing changed, so the lighting pass is "
+        "skipped. *bare* = a pass-through program drawing the same vertex buffers (same layout, depth "
+        "test and primitive count; lines drawn once) in the same process, frames alternating with the "
+        "program's; the ratios are what the program adds.",
         "",
         *markdown_table(FRAME_HEADERS, rows),
     ]

@@ -5,7 +5,8 @@ a polygon (its face normal, its first vertex) rides on vertices: the surface is 
 extra vertex per polygon for its first corner (see SurfaceArrays); edges and normal segments are
 de-indexed, one vertex per line end. Everything is built once per object (edges and normals on first
 use) and kept until the object leaves the scene; drawing a subset of faces is a `first`/`vertices`
-range, of indices for the surface.
+range, of indices for the surface. Beside the surface, each object has a lit buffer: a colour per
+vertex row, written by the lighting pass and kept until what lighting reads changes (ObjectGpu.light).
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ import threading
 import weakref
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Mapping
+from typing import Callable, Hashable, Mapping, Sequence
 
 import moderngl
 import numpy as np
@@ -24,14 +25,17 @@ from app.mesh import Mesh
 
 # Attribute layouts, one per program; the names are the shaders' `in_` attributes.
 SURFACE_LAYOUT = ("3f 3f 3f 2f", "in_position", "in_normal", "in_face_normal", "in_uv")
+LIT_LAYOUT = ("4f", "in_lit")  # the lighting pass's output: colour and N.V, one row per surface row
+LIT_ROW_BYTES = 16
 EDGE_LAYOUT = ("3f 3f 3f", "in_position", "in_face_normal", "in_face_point")
 NORMAL_LAYOUT = ("3f 3f 1f", "in_position", "in_direction", "in_along")
 
 
 def load_program(ctx: moderngl.Context, name: str, shader_dir: Path = SHADER_DIR,
-                 defines: Mapping[str, str] | None = None) -> moderngl.Program:
+                 defines: Mapping[str, str] | None = None, varyings: Sequence[str] = ()) -> moderngl.Program:
     """Compile `shaders/<name>.glsl`, a single file split by `#if defined VERTEX_SHADER` blocks,
-    with `defines` (e.g. surface.glsl's INTERPOLATION) for both stages.
+    with `defines` (e.g. surface.glsl's INTERPOLATION) for both stages. With `varyings`, a
+    transform-feedback program instead: the vertex stage alone, capturing those outputs.
 
     Same convention as moderngl-window's single-file programs, but moderngl-window's loader wants its
     own window context registered; the screenshot command and the tests run on a bare standalone EGL
@@ -39,10 +43,10 @@ def load_program(ctx: moderngl.Context, name: str, shader_dir: Path = SHADER_DIR
     """
     source = (shader_dir / f"{name}.glsl").read_text(encoding="utf-8")
     extra = "".join(f"#define {key} {value}\n" for key, value in (defines or {}).items())
-    return ctx.program(
-        vertex_shader=_with_define(source, "VERTEX_SHADER", extra),
-        fragment_shader=_with_define(source, "FRAGMENT_SHADER", extra),
-    )
+    vertex_shader = _with_define(source, "VERTEX_SHADER", extra)
+    if varyings:
+        return ctx.program(vertex_shader=vertex_shader, varyings=list(varyings))
+    return ctx.program(vertex_shader=vertex_shader, fragment_shader=_with_define(source, "FRAGMENT_SHADER", extra))
 
 
 def _with_define(source: str, define: str, extra: str = "") -> str:
@@ -206,11 +210,25 @@ class VertexRange:
 @dataclass(frozen=True)
 class Programs:
     """The programs an object's vertex arrays are bound to: one surface program per way of spreading
-    the lighting (by name: "FLAT", "GOURAUD", "PHONG"; see surface.glsl), edges, normals."""
+    the lighting (by name: "FLAT", "GOURAUD", "PHONG"; see surface.glsl), the lighting pass of those
+    that light vertices ("FLAT", "GOURAUD"), edges, normals."""
 
     surfaces: Mapping[str, moderngl.Program]
+    lightings: Mapping[str, moderngl.Program]
     edges: moderngl.Program
     normals: moderngl.Program
+
+
+@dataclass(frozen=True)
+class LitRows:
+    """Rows of the lit buffer written by one lighting pass, and the uniform values it ran with."""
+
+    inputs: Hashable
+    first: int
+    stop: int
+
+    def cover(self, inputs: Hashable, first: int, stop: int) -> bool:
+        return self.first <= first and stop <= self.stop and self.inputs == inputs
 
 
 class ObjectGpu:
@@ -221,9 +239,9 @@ class ObjectGpu:
     than the surface's), then kept until the object leaves the scene.
     """
 
-    # surface: a vertex and two index buffers, and a vertex array per surface program (3); edges,
-    # face normals, vertex normals: one buffer and one vertex array each
-    MAX_GL_OBJECTS = 12
+    # surface: a vertex, a lit and two index buffers, a vertex array per surface program (3) and per
+    # lighting pass (2); edges, face normals, vertex normals: one buffer and one vertex array each
+    MAX_GL_OBJECTS = 15
     # Which index buffer each surface program draws with (see SurfaceArrays).
     INDICES = {"FLAT": "surface indices", "GOURAUD": "shared surface indices", "PHONG": "shared surface indices"}
 
@@ -237,16 +255,23 @@ class ObjectGpu:
         if surface_data is None:
             surface_data = _take_prepared_surface(mesh)
         arrays = surface_arrays(mesh) if surface_data is None else surface_data
+        rows = arrays.vertices.shape[0]
+        self.shared_rows = rows - mesh.face_count  # the polygons' own rows come last (SurfaceArrays)
         self._surface_buffers: dict[str, moderngl.Buffer] = {}
         try:
             for name, data in (("surface", arrays.vertices), ("surface indices", arrays.indices),
                                ("shared surface indices", arrays.shared_indices)):
                 self._surface_buffers[name] = ctx.buffer(data)
+            # Zeros, not undefined memory: rows no pass has lit yet are read (never shown) by draws.
+            self._surface_buffers["lit"] = lit = ctx.buffer(reserve=rows * LIT_ROW_BYTES)
+            lit.clear()
         except Exception:
             for buffer in self._surface_buffers.values():
                 buffer.release()
             raise
         self._surface_arrays: dict[str, moderngl.VertexArray] = {}
+        self._lighting_arrays: dict[str, moderngl.VertexArray] = {}
+        self._lit: dict[str, LitRows] = {}
 
     def surface(self, interpolation: str) -> moderngl.VertexArray:
         """The surface bound to the program of `interpolation` ("FLAT", "GOURAUD", "PHONG"); each is
@@ -254,11 +279,44 @@ class ObjectGpu:
         vao = self._surface_arrays.get(interpolation)
         if vao is None:
             program = self.programs.surfaces[interpolation]
-            layout = _layout_for(program, SURFACE_LAYOUT)
-            vao = self.ctx.vertex_array(program, [(self._surface_buffers["surface"], *layout)],
+            content = [(self._surface_buffers["surface"], *_layout_for(program, SURFACE_LAYOUT))]
+            if LIT_LAYOUT[1] in program:  # Phong lights per pixel and reads no lit colour
+                content.append((self._surface_buffers["lit"], *LIT_LAYOUT))
+            vao = self.ctx.vertex_array(program, content,
                                         index_buffer=self._surface_buffers[self.INDICES[interpolation]],
                                         index_element_size=4)
             self._surface_arrays[interpolation] = vao
+        return vao
+
+    def light(self, interpolation: str, inputs: Hashable, start: int, stop: int) -> bool:
+        """Lights the rows the faces [start, stop) take their colour from, with the lighting pass of
+        `interpolation` ("FLAT" or "GOURAUD") whose uniforms are already set; `inputs` are those
+        uniforms' values. Rows already lit with the same inputs are not lit again: a still frame
+        runs no pass. Returns whether the pass ran.
+
+        Flat reads the polygons' own rows, one contiguous run per range of faces; Gouraud reads
+        shared rows from anywhere in the mesh, so it lights all of them.
+        """
+        if interpolation == "FLAT":
+            first, stop_row = self.shared_rows + start, self.shared_rows + stop
+        else:
+            first, stop_row = 0, self.shared_rows
+        done = self._lit.get(interpolation)
+        if stop_row <= first or (done is not None and done.cover(inputs, first, stop_row)):
+            return False
+        self._lighting_array(interpolation).transform(
+            self._surface_buffers["lit"], moderngl.POINTS, vertices=stop_row - first, first=first,
+            buffer_offset=first * LIT_ROW_BYTES)
+        self._lit[interpolation] = LitRows(inputs, first, stop_row)
+        return True
+
+    def _lighting_array(self, interpolation: str) -> moderngl.VertexArray:
+        vao = self._lighting_arrays.get(interpolation)
+        if vao is None:
+            program = self.programs.lightings[interpolation]
+            vao = self.ctx.vertex_array(
+                program, [(self._surface_buffers["surface"], *_layout_for(program, SURFACE_LAYOUT))])
+            self._lighting_arrays[interpolation] = vao
         return vao
 
     @property
@@ -295,7 +353,7 @@ class ObjectGpu:
         return vao
 
     def release(self) -> None:
-        for vao in self._surface_arrays.values():
+        for vao in (*self._surface_arrays.values(), *self._lighting_arrays.values()):
             vao.release()
         for buffer in self._surface_buffers.values():
             buffer.release()
@@ -303,6 +361,8 @@ class ObjectGpu:
             vao.release()
             buffer.release()
         self._surface_arrays.clear()
+        self._lighting_arrays.clear()
+        self._lit.clear()
         self._surface_buffers.clear()
         self._built.clear()
 

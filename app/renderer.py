@@ -1,8 +1,10 @@
 """Draws a Scene into any framebuffer: the window's, or an offscreen one for screenshots and tests.
 
 GPU resources of each object are built once, keyed by the object's uid, and dropped when the object
-leaves the scene. Per frame only uniforms change. The lighting itself lives in shaders/surface.glsl;
-app/lighting.py is the same formula in numpy, kept separate so each can check the other.
+leaves the scene. Per frame only uniforms change, and only those whose values changed are written.
+The lighting itself lives in shaders/surface.glsl; app/lighting.py is the same formula in numpy, kept
+separate so each can check the other. Flat and Gouraud light the vertices in a pass of their own
+that is skipped while every uniform it reads keeps its value (ObjectGpu.light).
 """
 
 from __future__ import annotations
@@ -79,27 +81,43 @@ def view_projection(scene: Scene, view: View) -> np.ndarray:
 
 class Uniforms:
     """A program's uniforms, looked up once. Uniforms the GLSL compiler removed as unused are
-    skipped silently: e.g. u_colour does not exist where the colour is not needed."""
+    skipped silently: e.g. u_colour does not exist where the colour is not needed.
+
+    Each uniform is written only when its value differs from the one it holds, compared exactly (as
+    bytes: -0.0 is not 0.0), and `values()` tells what they all hold: the lighting pass is skipped
+    while that stays the same."""
 
     def __init__(self, program: moderngl.Program) -> None:
         self._handles: dict[str, Any] = {
             name: program[name] for name in program if isinstance(program[name], moderngl.Uniform)}
+        self._held: dict[str, bytes] = {}  # by name, the exact value last written
 
     def set(self, name: str, value: Any) -> None:
         handle = self._handles.get(name)
-        if handle is not None:
+        if handle is not None and self._changed(name, np.asarray(value).tobytes()):
             handle.value = value
 
     def set_matrix(self, name: str, matrix: np.ndarray) -> None:
         """numpy is row-major and GL reads column-major, so M.T's bytes are M for GL."""
-        handle = self._handles.get(name)
-        if handle is not None:
-            handle.write(np.ascontiguousarray(matrix.T, dtype="f4").tobytes())
+        self._write(name, np.ascontiguousarray(matrix.T, dtype="f4").tobytes())
 
     def set_array(self, name: str, values: np.ndarray) -> None:
+        self._write(name, np.ascontiguousarray(values).tobytes())
+
+    def values(self) -> tuple[tuple[str, bytes], ...]:
+        """Every uniform written so far with its value: equal tuples, equal program state."""
+        return tuple(self._held.items())
+
+    def _write(self, name: str, data: bytes) -> None:
         handle = self._handles.get(name)
-        if handle is not None:
-            handle.write(np.ascontiguousarray(values).tobytes())
+        if handle is not None and self._changed(name, data):
+            handle.write(data)
+
+    def _changed(self, name: str, exact: bytes) -> bool:
+        if self._held.get(name) == exact:
+            return False
+        self._held[name] = exact
+        return True
 
 
 @dataclass(frozen=True)
@@ -111,17 +129,27 @@ class DrawItem:
     stop: int
 
 
+# The ways that light vertices, in a lighting pass of their own; Phong lights pixels as it draws.
+VERTEX_LIT = (Interpolation.FLAT, Interpolation.GOURAUD)
+
+
 class Renderer:
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
-        # One surface program per interpolation (ObjectGpu finds them by name); the current view's
-        # is `self.surface`.
+        # One surface program per interpolation, and a lighting pass for those that light vertices
+        # (ObjectGpu finds them by name); the current view's are `self.surface` and `self.lighting`.
         self.programs = Programs(
             surfaces={way.name: load_program(ctx, "surface", defines={"INTERPOLATION": way.name})
                       for way in Interpolation},
+            lightings={way.name: load_program(ctx, "surface", varyings=("v_lit",),
+                                              defines={"INTERPOLATION": way.name, "LIGHTING_PASS": "1"})
+                       for way in VERTEX_LIT},
             edges=load_program(ctx, "edges"), normals=load_program(ctx, "normals"))
         self.surface_uniforms = {way: Uniforms(self.programs.surfaces[way.name]) for way in Interpolation}
+        self.lighting_uniforms = {way: Uniforms(self.programs.lightings[way.name]) if way in VERTEX_LIT
+                                  else self.surface_uniforms[way] for way in Interpolation}
         self.interpolation = Interpolation.FLAT
+        self.lighting_passes = 0  # run so far: a frame where nothing lighting reads changed adds none
         self.marker_program = load_program(ctx, "marker")
         self.edges = Uniforms(self.programs.edges)
         self.normals = Uniforms(self.programs.normals)
@@ -150,7 +178,8 @@ class Renderer:
             gpu.release()
         self._objects.clear()
         for resource in (self.marker_vao, self.texture, *self.programs.surfaces.values(),
-                         self.programs.edges, self.programs.normals, self.marker_program):
+                         *self.programs.lightings.values(), self.programs.edges, self.programs.normals,
+                         self.marker_program):
             if resource is not None:
                 resource.release()
         self.texture = None
@@ -159,6 +188,12 @@ class Renderer:
     def surface(self) -> Uniforms:
         """The uniforms of the surface program the current view draws with."""
         return self.surface_uniforms[self.interpolation]
+
+    @property
+    def lighting(self) -> Uniforms:
+        """The uniforms of the program that lights the current view: its lighting pass (Flat,
+        Gouraud), or the surface program itself (Phong, per pixel)."""
+        return self.lighting_uniforms[self.interpolation]
 
     def _gpu_for(self, obj: SceneObject) -> ObjectGpu:
         gpu = self._objects.get(obj.uid)
@@ -249,15 +284,15 @@ class Renderer:
         backward = tuple(float(c) for c in scene.eye_backward())
         for uniforms in (self.surface, self.edges, self.normals, self.marker):
             uniforms.set_matrix("u_view_projection", view_projection)
-        for uniforms in (self.surface, self.edges):
+        for uniforms in (self.lighting, self.edges):
             uniforms.set("u_parallel", parallel)
             uniforms.set("u_eye_position", eye)
             uniforms.set("u_eye_backward", backward)
         self.surface.set("u_culling", modes.culling)
-        self.surface.set("u_term_weights", term_weights(modes.term_view).as_tuple())
         self.surface.set("u_textured", modes.texture)
         self.surface.set("u_texture", 0)
-        self.surface.set("u_ambient", tuple(float(c) for c in scene.ambient))
+        self.lighting.set("u_term_weights", term_weights(modes.term_view).as_tuple())
+        self.lighting.set("u_ambient", tuple(float(c) for c in scene.ambient))
         self._set_light_uniforms(scene)
         self.normals.set("u_colour", NORMAL_COLOUR)
 
@@ -276,12 +311,12 @@ class Renderer:
             position[i] = light.position
             direction[i] = light.direction
             cos_aperture[i] = np.cos(np.radians(light.aperture_deg))
-        self.surface.set_array("u_light_on", on)
-        self.surface.set_array("u_light_kind", kind)
-        self.surface.set_array("u_light_intensity", intensity)
-        self.surface.set_array("u_light_position", position)
-        self.surface.set_array("u_light_direction", direction)
-        self.surface.set_array("u_light_cos_aperture", cos_aperture)
+        self.lighting.set_array("u_light_on", on)
+        self.lighting.set_array("u_light_kind", kind)
+        self.lighting.set_array("u_light_intensity", intensity)
+        self.lighting.set_array("u_light_position", position)
+        self.lighting.set_array("u_light_direction", direction)
+        self.lighting.set_array("u_light_cos_aperture", cos_aperture)
 
     @staticmethod
     def _set_model(uniforms: Iterable[Uniforms], model: np.ndarray) -> None:
@@ -294,11 +329,14 @@ class Renderer:
     # --- drawing -----------------------------------------------------------------------------
     def _draw_surface(self, item: DrawItem, gpu: ObjectGpu) -> None:
         material = item.obj.material
-        self._set_model([self.surface], item.obj.model)
-        self.surface.set("u_ka", tuple(material.ka))
-        self.surface.set("u_kd", tuple(material.kd))
-        self.surface.set("u_ks", tuple(material.ks))
-        self.surface.set("u_ns", float(material.ns))
+        lighting = self.lighting
+        self._set_model({self.surface, lighting}, item.obj.model)
+        lighting.set("u_ka", tuple(material.ka))
+        lighting.set("u_kd", tuple(material.kd))
+        lighting.set("u_ks", tuple(material.ks))
+        lighting.set("u_ns", float(material.ns))
+        if self.interpolation in VERTEX_LIT:
+            self.lighting_passes += gpu.light(self.interpolation.name, lighting.values(), item.start, item.stop)
         assert self.texture is not None
         self.texture.use(location=0)
         _draw(gpu.surface(self.interpolation.name), moderngl.TRIANGLES,

@@ -2,12 +2,16 @@
 // Filled polygons (SPEC 4 and 5): the seed's ambient + diffuse + specular lighting in world space,
 // in the seed's 0..255 units; back faces red or discarded; the lit colour multiplied by the texture.
 // Three ways to spread it over a polygon, one program each (INTERPOLATION, defined by the renderer:
-// a program built for one way drops the others' code and varyings, a fifth shorter Flat frame on
-// llvmpipe than one program choosing with a uniform):
+// a program built for one way drops the others' code and varyings):
 //   Flat: evaluated once, at the polygon's first vertex with the face normal;
 //   Gouraud: evaluated at every vertex with its vertex normal, the colours interpolated;
 //   Phong: the position and vertex normal interpolated, evaluated at every pixel (side by side only).
-// The lighting function is written once, above the stage blocks, so both stages compile the same one.
+// Flat and Gouraud light their vertices in a pass of their own (LIGHTING_PASS: transform feedback,
+// nothing rasterised) that writes a colour per vertex row into the object's lit buffer, and the
+// drawing pass reads it back as an attribute. The renderer runs that pass only when a uniform it
+// reads has changed (app/gpu.py, ObjectGpu.light), so a still frame lights nothing, and Flat lights
+// only the polygons' own rows (one per polygon), not every corner a triangle touches.
+// The lighting function is written once, above the stage blocks, so every pass compiles the same one.
 
 const int FLAT = 0;
 const int GOURAUD = 1;
@@ -83,42 +87,50 @@ vec3 lit_colour(vec3 point, vec3 normal, vec3 view) {
     return min(intensity, vec3(255.0)) / 255.0;
 }
 
-#if defined VERTEX_SHADER
+#if defined VERTEX_SHADER && defined LIGHTING_PASS
 
 in vec3 in_position;     // model space
-in vec3 in_normal;       // this corner's vertex normal (Gouraud, Phong)
-in vec3 in_face_normal;  // its polygon's normal, at the polygon's own row (Flat: colour and back face)
-in vec2 in_uv;
+in vec3 in_normal;       // this row's vertex normal (Gouraud)
+in vec3 in_face_normal;  // its polygon's normal, at the polygon's own row (Flat)
 
 uniform mat4 u_model;
 uniform mat3 u_normal_matrix;  // inverse transpose of the model's 3x3: keeps normals perpendicular
+
+// Captured by transform feedback into the lit buffer, at this row.
+out vec4 v_lit;  // rgb: the lit colour (0..1); a: N.V (Flat's back-face test at the first vertex)
+
+void main() {
+    vec3 world_position = (u_model * vec4(in_position, 1.0)).xyz;
+    vec3 normal = normalize(u_normal_matrix * (INTERPOLATION == FLAT ? in_face_normal : in_normal));
+    vec3 view = toward_eye(world_position);
+    v_lit = vec4(lit_colour(world_position, normal, view), dot(normal, view));
+}
+
+#elif defined VERTEX_SHADER
+
+in vec3 in_position;  // model space
+in vec3 in_normal;    // this corner's vertex normal (Phong)
+in vec4 in_lit;       // Flat, Gouraud: the lighting pass's colour and N.V for this row
+in vec2 in_uv;
+
+uniform mat4 u_model;
+uniform mat3 u_normal_matrix;
 uniform mat4 u_view_projection;
 
-// With the provoking vertex set to the first one, `flat` varyings take the value computed at the
-// first corner of each fan triangle, which is its polygon's first vertex (SPEC 4's Flat).
-flat out vec3 v_flat_colour;
+// With the provoking vertex set to the first one, `flat` varyings take the value of the first
+// corner of each fan triangle, which Flat's indices make its polygon's own row (SPEC 4's Flat).
+flat out vec4 v_flat_lit;
 smooth out vec3 v_smooth_colour;
-flat out float v_facing;  // Flat: N.V with the face normal at the polygon's first vertex
 out vec2 v_uv;
 out vec3 v_world_position;  // Phong: interpolated, lit per pixel
 out vec3 v_world_normal;
 
 void main() {
     vec3 world_position = (u_model * vec4(in_position, 1.0)).xyz;
-    vec3 face_normal = normalize(u_normal_matrix * in_face_normal);
-    vec3 vertex_normal = normalize(u_normal_matrix * in_normal);
-    vec3 view = toward_eye(world_position);
-
-    v_facing = dot(face_normal, view);
-    vec3 colour = vec3(0.0);
-    if (INTERPOLATION != PHONG) {  // Phong lights per pixel; its vertices need no colour
-        colour = lit_colour(world_position, INTERPOLATION == GOURAUD ? vertex_normal : face_normal,
-                            view);
-    }
-    v_flat_colour = colour;
-    v_smooth_colour = colour;
+    v_flat_lit = in_lit;
+    v_smooth_colour = in_lit.rgb;
     v_world_position = world_position;
-    v_world_normal = vertex_normal;
+    v_world_normal = normalize(u_normal_matrix * in_normal);
     v_uv = in_uv;
     gl_Position = u_view_projection * vec4(world_position, 1.0);
 }
@@ -129,9 +141,8 @@ uniform bool u_culling;
 uniform bool u_textured;
 uniform sampler2D u_texture;
 
-flat in vec3 v_flat_colour;
+flat in vec4 v_flat_lit;
 smooth in vec3 v_smooth_colour;
-flat in float v_facing;
 in vec2 v_uv;
 in vec3 v_world_position;
 in vec3 v_world_normal;
@@ -140,7 +151,7 @@ out vec4 out_colour;
 
 vec3 surface_colour() {
     if (INTERPOLATION == FLAT) {
-        return v_flat_colour;
+        return v_flat_lit.rgb;
     }
     if (INTERPOLATION == GOURAUD) {
         return v_smooth_colour;
@@ -157,7 +168,7 @@ vec3 surface_colour() {
 // the polygon's plane. (A polygon that is not flat may differ along a fold; the model matrices are
 // rotations and translations, never mirrors, so counter-clockwise stays front.)
 bool is_front_face() {
-    return INTERPOLATION == FLAT ? v_facing > 0.0 : gl_FrontFacing;
+    return INTERPOLATION == FLAT ? v_flat_lit.a > 0.0 : gl_FrontFacing;
 }
 
 void main() {
