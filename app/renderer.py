@@ -297,21 +297,21 @@ class Renderer:
         self.normals.set("u_colour", NORMAL_COLOUR)
 
     def _set_light_uniforms(self, scene: Scene) -> None:
-        on = np.zeros(LIGHT_COUNT, "i4")
         kind = np.zeros(LIGHT_COUNT, "i4")
         intensity = np.zeros((LIGHT_COUNT, 3), "f4")
         position = np.zeros((LIGHT_COUNT, 3), "f4")
         direction = np.zeros((LIGHT_COUNT, 3), "f4")
         cos_aperture = np.ones(LIGHT_COUNT, "f4")
-        # Only the lights the term view shows: "one light alone" switches the others off here.
-        for i, light in enumerate(lights_in_view(scene)[:LIGHT_COUNT]):
-            on[i] = 1
+        # Only the lights the term view shows: "one light alone" switches the others off here. The
+        # shader lights with the first u_lights_on of them.
+        shown = lights_in_view(scene)[:LIGHT_COUNT]
+        for i, light in enumerate(shown):
             kind[i] = LIGHT_KIND_CODES[light.kind]
             intensity[i] = light.intensity
             position[i] = light.position
             direction[i] = light.direction
             cos_aperture[i] = np.cos(np.radians(light.aperture_deg))
-        self.lighting.set_array("u_light_on", on)
+        self.lighting.set("u_lights_on", len(shown))
         self.lighting.set_array("u_light_kind", kind)
         self.lighting.set_array("u_light_intensity", intensity)
         self.lighting.set_array("u_light_position", position)
