@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import os
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -462,7 +463,29 @@ def test_random_bytes_never_raise_anything_but_load_error(data: bytes) -> None:
         pass
 
 
-def test_big_generated_file_takes_the_fast_path_and_matches_the_line_reader() -> None:
+@contextmanager
+def small_chunks(chunk_bytes: int = 64, threads: int = 3) -> Iterator[None]:
+    """The fast reader's chunks made tiny and its threads several, so that small texts cross many
+    chunk edges and are parsed out of order, as megabyte files are."""
+    saved = obj_module._CHUNK_BYTES, obj_module._PARSE_THREADS
+    obj_module._CHUNK_BYTES, obj_module._PARSE_THREADS = chunk_bytes, threads
+    try:
+        yield
+    finally:
+        obj_module._CHUNK_BYTES, obj_module._PARSE_THREADS = saved
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(obj_texts(), st.sampled_from([8, 24, 64]))
+def test_the_fast_reader_agrees_with_the_line_reader_across_chunks_and_threads(text: bytes, chunk: int) -> None:
+    with small_chunks(chunk):
+        fast, slow = read_both(text)
+    if fast != "unusual":
+        assert not isinstance(slow, LoadError), f"fast reader accepted what the line reader rejects: {slow}"
+        assert_same_tables(fast, slow)
+
+
+def big_generated_text() -> bytes:
     rng = np.random.default_rng(7)
     side = 40
     points = rng.normal(size=(side * side, 3))
@@ -480,10 +503,30 @@ def test_big_generated_file_takes_the_fast_path_and_matches_the_line_reader() ->
             a = grid_row * side + col + 1
             lines.append(face((a, a + 1, a + side + 1)))
             lines.append(face(index - side * side - 1 for index in (a, a + side + 1, a + side)))  # -1: the last
-    text = ("\n".join(lines) + "\n").encode()
+    return ("\n".join(lines) + "\n").encode()
+
+
+def test_big_generated_file_takes_the_fast_path_and_matches_the_line_reader() -> None:
+    text = big_generated_text()
     fast, slow = read_both(text)
     assert fast != "unusual"
     assert_same_tables(fast, slow)
+    with small_chunks(1000):
+        chunked, _ = read_both(text)
+    assert chunked != "unusual"
+    assert_same_tables(chunked, slow)
+
+
+@pytest.mark.parametrize("where", [0.02, 0.5, 0.98])
+def test_a_bad_line_in_any_chunk_is_found_with_its_line(where: float) -> None:
+    """Each thread checks its own chunks: a fault in a late one must still reach the line reader."""
+    lines = big_generated_text().split(b"\n")
+    faces = [number for number, line in enumerate(lines) if line.startswith(b"f ")]
+    bad = faces[int(where * (len(faces) - 1))]
+    lines[bad] = lines[bad].replace(b"/", b"/x", 1)
+    with small_chunks(1000), pytest.raises(LoadError) as error:
+        parse(b"\n".join(lines))
+    assert error.value.line == bad + 1
 
 
 # --- build_mesh -------------------------------------------------------------------------------------
