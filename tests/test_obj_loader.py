@@ -467,12 +467,12 @@ def test_random_bytes_never_raise_anything_but_load_error(data: bytes) -> None:
 def small_chunks(chunk_bytes: int = 64, threads: int = 3) -> Iterator[None]:
     """The fast reader's chunks made tiny and its threads several, so that small texts cross many
     chunk edges and are parsed out of order, as megabyte files are."""
-    saved = obj_module._CHUNK_BYTES, obj_module._PARSE_THREADS
-    obj_module._CHUNK_BYTES, obj_module._PARSE_THREADS = chunk_bytes, threads
+    saved = obj_module._CHUNK_BYTES, obj_module._CHUNK_LINES, obj_module._PARSE_THREADS
+    obj_module._CHUNK_BYTES, obj_module._CHUNK_LINES, obj_module._PARSE_THREADS = chunk_bytes, 3, threads
     try:
         yield
     finally:
-        obj_module._CHUNK_BYTES, obj_module._PARSE_THREADS = saved
+        obj_module._CHUNK_BYTES, obj_module._CHUNK_LINES, obj_module._PARSE_THREADS = saved
 
 
 @settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])

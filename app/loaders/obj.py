@@ -214,7 +214,8 @@ _POW10_FLOAT = np.array([float(10**k) for k in range(_MAX_FAST_DIGITS + 1)])
 _PAD = 16
 _SPACES = np.full(_PAD, ord(" "), dtype=np.uint8)
 _CHUNK_BYTES = 1 << 20
-_Chunk = tuple[int, int, int, int]  # first byte, end byte, first line, end line (see _Blob.chunks)
+_CHUNK_LINES = 1 << 16  # lines classified per piece: about as many bytes of kinds and masks
+_Chunk = TypeVar("_Chunk")  # a piece of work: e.g. first byte, end byte, first line, end line
 _ChunkResult = TypeVar("_ChunkResult")
 # The chunks are independent and numpy releases the GIL inside each operation, so every core parses
 # some. (Processes would scale better still, but each would import numpy and copy the text.)
@@ -259,8 +260,7 @@ def _read_fast(text: bytes) -> _RawObj:
     buf = np.frombuffer(text, dtype=np.uint8)
     line_end = _newlines(buf)
     line_start = np.concatenate(([0], line_end[:-1] + 1))
-    kinds = _classify_lines(buf, line_start)
-    comments = np.flatnonzero(buf[line_start] == ord("#")).tolist()
+    kinds, comments = _classify_lines(buf, line_start)
     indented, mtllib = _settle_irregular_lines(text, line_start, line_end, kinds, comments)
     colour = _ColourComment()
     for line in sorted(comments):
@@ -285,10 +285,10 @@ def _read_fast(text: bytes) -> _RawObj:
 
 
 def _newlines(buf: np.ndarray) -> np.ndarray:
-    """Offsets of every newline, found chunk by chunk: a mask of the whole file would be a temporary
-    as large as the file, in fresh memory that costs more to touch than the scan itself."""
-    pieces = [np.flatnonzero(buf[low:low + _CHUNK_BYTES] == ord("\n")) + low
-              for low in range(0, buf.size, _CHUNK_BYTES)]
+    """Offsets of every newline, found chunk by chunk on every core: a mask of the whole file would be
+    a temporary as large as the file, in fresh memory that costs more to touch than the scan itself."""
+    pieces = _chunk_map(lambda low: np.flatnonzero(buf[low:low + _CHUNK_BYTES] == ord("\n")) + low,
+                        range(0, buf.size, _CHUNK_BYTES))
     return np.concatenate(pieces) if pieces else np.zeros(0, np.int64)
 
 
@@ -304,8 +304,17 @@ class _Lazy:
         return self.value
 
 
-def _classify_lines(buf: np.ndarray, line_start: np.ndarray) -> np.ndarray:
-    """Kind of each line from its first three bytes; the rare others stay _UNCLASSIFIED."""
+def _classify_lines(buf: np.ndarray, line_start: np.ndarray) -> tuple[np.ndarray, list[int]]:
+    """Kind of each line from its first three bytes (the rare others stay _UNCLASSIFIED), and the lines
+    that start with '#'; in pieces of _CHUNK_LINES lines on every core."""
+    pieces = _chunk_map(lambda low: _classify_piece(buf, line_start[low:low + _CHUNK_LINES], low),
+                        range(0, line_start.size, _CHUNK_LINES))
+    if not pieces:
+        return np.zeros(0, np.uint8), []
+    return np.concatenate([kinds for kinds, _ in pieces]), np.concatenate([hashes for _, hashes in pieces]).tolist()
+
+
+def _classify_piece(buf: np.ndarray, line_start: np.ndarray, first_line: int) -> tuple[np.ndarray, np.ndarray]:
     first = buf[line_start]
     second = buf[np.minimum(line_start + 1, buf.size - 1)]  # an empty last line has no second byte
     kinds = np.full(line_start.size, _UNCLASSIFIED, dtype=np.uint8)
@@ -316,7 +325,7 @@ def _classify_lines(buf: np.ndarray, line_start: np.ndarray) -> np.ndarray:
     two_letter = np.flatnonzero((first == ord("v")) & ((second == ord("t")) | (second == ord("n"))))
     two_letter = two_letter[_IS_SPACE[buf[line_start[two_letter] + 2]]]
     kinds[two_letter] = np.where(second[two_letter] == ord("t"), _VT, _VN)
-    return kinds
+    return kinds, np.flatnonzero(first == ord("#")) + first_line
 
 
 def _settle_irregular_lines(text: bytes, line_start: np.ndarray, line_end: np.ndarray, kinds: np.ndarray,
@@ -374,7 +383,7 @@ class _Blob:
         """The data as aligned little-endian uint64 words (see _words_before)."""
         return self.data.view("<u8")
 
-    def chunks(self) -> Iterator[_Chunk]:
+    def chunks(self) -> Iterator[tuple[int, int, int, int]]:
         """(first byte, end byte, first line, end line) of whole-line pieces of about _CHUNK_BYTES."""
         targets = np.arange(_PAD + _CHUNK_BYTES, int(self.newlines[-1]), _CHUNK_BYTES)
         cuts = np.concatenate(([0], np.searchsorted(self.newlines, targets) + 1, [self.line_count]))
