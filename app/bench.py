@@ -78,7 +78,8 @@ class BenchConfig:
     frames: int  # measured frames per case, at most
     warmup: int
     frame_budget_s: float  # a case stops early (after MIN_FRAMES) once it has taken this long
-    repeats: int  # loads per (loader, file) process; the median is reported
+    repeats: int  # loads per (loader, file) process
+    rounds: int  # processes per (loader, file), the loaders taking turns; the median of all loads is reported
     start_runs: int
     cpu_frames: int
     sections: tuple[str, ...]
@@ -88,11 +89,11 @@ class BenchConfig:
 
 DEFAULT_CONFIG = BenchConfig(
     load_sizes=(100_000, 1_000_000), frame_sizes=(100_000, 1_000_000, 5_000_000),
-    resolutions=((1280, 720), (1920, 1080)), frames=10, warmup=1, frame_budget_s=5.0, repeats=3,
+    resolutions=((1280, 720), (1920, 1080)), frames=10, warmup=1, frame_budget_s=5.0, repeats=3, rounds=3,
     start_runs=3, cpu_frames=100, sections=SECTIONS, loaders=LOADERS)
 QUICK_CONFIG = replace(
     DEFAULT_CONFIG, load_sizes=(10_000, 50_000), frame_sizes=(20_000,), resolutions=((1280, 720),),
-    frames=5, warmup=1, frame_budget_s=1.0, repeats=1, start_runs=1, cpu_frames=30)
+    frames=5, warmup=1, frame_budget_s=1.0, repeats=1, rounds=1, start_runs=1, cpu_frames=30)
 
 
 def parse_count(text: str) -> int:
@@ -145,7 +146,9 @@ def bench_parser() -> argparse.ArgumentParser:
     parser.add_argument("--warmup", type=int, metavar="N", help="frames drawn before measuring (default 1)")
     parser.add_argument("--frame-budget", type=float, metavar="S", dest="frame_budget_s",
                         help="seconds after which a case stops at 3 frames (default 5)")
-    parser.add_argument("--repeats", type=int, metavar="N", help="loads per loader and file (default 3)")
+    parser.add_argument("--repeats", type=int, metavar="N", help="loads per process (default 3)")
+    parser.add_argument("--rounds", type=int, metavar="N",
+                        help="processes per loader and file, the loaders taking turns (default 3)")
     parser.add_argument("--start-runs", type=int, metavar="N", help="runs of each start command (default 3)")
     parser.add_argument("--cpu-frames", type=int, metavar="N", help="frames timed for CPU per frame (default 100)")
     parser.add_argument("--sections", type=parse_choices(SECTIONS), metavar="LIST",
@@ -169,8 +172,9 @@ def config_from_args(argv: Sequence[str]) -> BenchConfig:
                                 for name, value in overrides.items()})
     if args.skip_5m:
         config = replace(config, frame_sizes=tuple(n for n in config.frame_sizes if n < 5_000_000))
-    if min(config.frames, config.repeats, config.start_runs, config.cpu_frames) < 1 or config.warmup < 1:
-        parser.error("--frames, --warmup, --repeats, --start-runs and --cpu-frames must be at least 1")
+    if min(config.frames, config.repeats, config.rounds, config.start_runs, config.cpu_frames) < 1 \
+            or config.warmup < 1:
+        parser.error("--frames, --warmup, --repeats, --rounds, --start-runs and --cpu-frames must be at least 1")
     return config
 
 
@@ -413,23 +417,37 @@ def load_worker(argv: Sequence[str]) -> int:
 _WORKER_CODE = "import sys; from app.bench import load_worker; sys.exit(load_worker(sys.argv[1:]))"
 
 
-@dataclass(frozen=True)
+@dataclass
 class LoadResult:
-    triangles: int
-    seconds: float  # median of the repeats
-    surface_seconds: float | None
-    peak_rss_bytes: int
+    """Every load of one loader and file, over all its processes."""
 
+    triangles: int = 0
+    seconds: list[float] = field(default_factory=list)
+    surface_seconds: list[float] = field(default_factory=list)
+    peak_rss_bytes: list[int] = field(default_factory=list)  # one per process
 
-def measure_loader(loader: str, path: Path, repeats: int) -> LoadResult:
-    done = subprocess.run([sys.executable, "-c", _WORKER_CODE, loader, str(path), str(repeats)],
-                          cwd=PROJECT_ROOT, capture_output=True, text=True)
-    if done.returncode != 0:
-        raise RuntimeError(f"{loader} on {path.name} failed:\n{done.stderr.strip()}")
-    report = json.loads(done.stdout.strip().splitlines()[-1])
-    surface = [s for s in report["surface_seconds"] if s is not None]
-    return LoadResult(report["triangles"], statistics.median(report["seconds"]),
-                      statistics.median(surface) if surface else None, report["peak_rss_bytes"])
+    def add_process(self, loader: str, path: Path, repeats: int) -> None:
+        done = subprocess.run([sys.executable, "-c", _WORKER_CODE, loader, str(path), str(repeats)],
+                              cwd=PROJECT_ROOT, capture_output=True, text=True)
+        if done.returncode != 0:
+            raise RuntimeError(f"{loader} on {path.name} failed:\n{done.stderr.strip()}")
+        report = json.loads(done.stdout.strip().splitlines()[-1])
+        self.triangles = report["triangles"]
+        self.seconds += report["seconds"]
+        self.surface_seconds += [s for s in report["surface_seconds"] if s is not None]
+        self.peak_rss_bytes.append(report["peak_rss_bytes"])
+
+    @property
+    def median_seconds(self) -> float:
+        return statistics.median(self.seconds)
+
+    @property
+    def median_surface_seconds(self) -> float | None:
+        return statistics.median(self.surface_seconds) if self.surface_seconds else None
+
+    @property
+    def median_peak_rss_bytes(self) -> float:
+        return statistics.median(self.peak_rss_bytes)
 
 
 def available_loaders(wanted: Sequence[str]) -> tuple[list[str], list[str]]:
@@ -448,16 +466,19 @@ def loading_section(config: BenchConfig, inputs: Sequence[LoadInput]) -> list[st
     loaders, notes = available_loaders(config.loaders)
     rows = []
     for item in inputs:
-        results: dict[str, LoadResult] = {}
-        for loader in loaders:
-            _progress(f"loading {item.path.name} with {loader}")
-            results[loader] = measure_loader(loader, item.path, config.repeats)
+        results = {loader: LoadResult() for loader in loaders}
+        for round_number in range(config.rounds):  # in turn, so that all see the machine alike
+            for loader in loaders:
+                _progress(f"loading {item.path.name} with {loader} ({round_number + 1}/{config.rounds})")
+                results[loader].add_process(loader, item.path, config.repeats)
         rows += [_load_row(item, loader, result, results.get("ours")) for loader, result in results.items()]
     lines = [
         "## 1. Loading: OBJ file to GPU-ready arrays",
         "",
-        f"Median of {config.repeats} load(s) in one fresh process per loader and file; peak RSS is that "
-        "process's peak minus its peak after imports. *ours* = `load_obj` + the surface vertex and index "
+        f"Median of {config.rounds * config.repeats} load(s): {config.rounds} fresh process(es) per loader and "
+        f"file, the loaders taking turns, {config.repeats} load(s) in each; peak RSS is the median over those "
+        "processes of the process's peak minus its peak after imports. *ours* = `load_obj` + the surface "
+        "vertex and index "
         "arrays `ObjectGpu` uploads for the first frame (app/gpu.py; edges and normal segments "
         "are built later, when lines or normals are first drawn); trimesh = `trimesh.load(process=False)`; "
         "tinyobjloader = parse (triangulated) + numpy copies of its tables. Ratios > 1: ours is faster "
@@ -470,11 +491,12 @@ def loading_section(config: BenchConfig, inputs: Sequence[LoadInput]) -> list[st
 
 def _load_row(item: LoadInput, loader: str, result: LoadResult, ours: LoadResult | None) -> list[str]:
     mb = item.megabytes
-    rss_mb = result.peak_rss_bytes / MEGABYTE
-    return [item.label, str(result.triangles), _number(mb), loader, _number(result.seconds),
-            _number(result.surface_seconds), _number(mb / result.seconds), _number(rss_mb),
-            _ratio(result.seconds, ours.seconds if ours else None),
-            _ratio(result.peak_rss_bytes, ours.peak_rss_bytes if ours else None)]
+    seconds = result.median_seconds
+    return [item.label, str(result.triangles), _number(mb), loader, _number(seconds),
+            _number(result.median_surface_seconds), _number(mb / seconds),
+            _number(result.median_peak_rss_bytes / MEGABYTE),
+            _ratio(seconds, ours.median_seconds if ours else None),
+            _ratio(result.median_peak_rss_bytes, ours.median_peak_rss_bytes if ours else None)]
 
 
 # --------------------------------------------------------------------------------------------------

@@ -14,7 +14,7 @@ import pytest
 from app import bench
 
 TINY_ARGS = ["--load-sizes", "200,400", "--sizes", "300", "--resolutions", "48x32", "--frames", "2",
-             "--warmup", "1", "--repeats", "1", "--start-runs", "1", "--cpu-frames", "2"]
+             "--warmup", "1", "--repeats", "1", "--rounds", "1", "--start-runs", "1", "--cpu-frames", "2"]
 
 
 def markdown_tables(text: str) -> dict[tuple[str, ...], list[list[str]]]:
