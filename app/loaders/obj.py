@@ -269,14 +269,14 @@ def _read_fast(text: bytes) -> _RawObj:
     if lines[_F].size == 0:
         raise _Unusual  # "no faces" is reported by the line reader, after any earlier error
 
-    def blob(kind: int) -> _Blob:
-        return _Blob.gather(buf, line_start, line_end, lines[kind], _KEYWORD_LENGTH[kind], indented)
+    def of_kind(kind: int) -> _Lines:
+        return _Lines(buf, line_start, line_end, lines[kind], _KEYWORD_LENGTH[kind], indented)
 
-    positions = _float_table(blob(_V), fewest=3, most=7)
-    texcoords = _float_table(blob(_VT), fewest=2, most=3)
-    normals = _float_table(blob(_VN), fewest=3, most=3)
+    positions = _float_table(of_kind(_V), fewest=3, most=7)
+    texcoords = _float_table(of_kind(_VT), fewest=2, most=3)
+    normals = _float_table(of_kind(_VN), fewest=3, most=3)
     totals = {_V: len(positions), _VT: len(texcoords), _VN: len(normals)}
-    fields, face_start = _face_table(blob(_F))
+    fields, face_start = _face_table(of_kind(_F))
     corner_lines = _Lazy(lambda: np.repeat(lines[_F], np.diff(face_start)))
     resolved = [None if raw is None else _resolve_indices(raw, kind, totals[kind], kinds, corner_lines)
                 for raw, kind in zip(fields, (_V, _VT, _VN))]
@@ -351,8 +351,43 @@ def _settle_irregular_lines(text: bytes, line_start: np.ndarray, line_end: np.nd
 
 
 @dataclass
+class _Lines:
+    """The lines of one kind, where they are in the file's bytes, and how to cut them into pieces.
+
+    Each piece of about _CHUNK_BYTES is copied into a blob of its own by the thread that parses it,
+    right before parsing: the copy is still in the CPU cache when it is read, the threads share the
+    copying, and no copy of the whole file's lines is ever made."""
+
+    buf: np.ndarray
+    line_start: np.ndarray
+    line_end: np.ndarray
+    lines: np.ndarray  # the line numbers, ascending
+    keyword_length: int
+    indented: dict[int, int]
+
+    @property
+    def count(self) -> int:
+        return int(self.lines.size)
+
+    def pieces(self) -> list[tuple[int, int]]:
+        """[first, stop) ranges of `lines`, whole lines of about _CHUNK_BYTES each, in order."""
+        if self.count == 0:
+            return []
+        ends = np.cumsum(self.line_end[self.lines] - self.line_start[self.lines] + 1)
+        targets = np.arange(_CHUNK_BYTES, int(ends[-1]), _CHUNK_BYTES)
+        cuts = np.concatenate(([0], np.searchsorted(ends, targets) + 1, [self.count]))
+        # Already sorted, so drop repeats by hand: np.unique imports numpy.ma (10-50 ms at start-up).
+        cuts = cuts[np.concatenate(([True], cuts[1:] != cuts[:-1]))]
+        return list(zip(cuts[:-1].tolist(), cuts[1:].tolist()))
+
+    def blob(self, first: int, stop: int) -> _Blob:
+        return _Blob.gather(self.buf, self.line_start, self.line_end, self.lines[first:stop], self.keyword_length,
+                            self.indented)
+
+
+@dataclass
 class _Blob:
-    """All lines of one kind, copied together after _PAD separators, their keywords blanked."""
+    """Lines of one kind, copied together after _PAD separators, their keywords blanked."""
 
     data: np.ndarray  # uint8
     newlines: np.ndarray  # offset of each line's newline in data
@@ -383,15 +418,9 @@ class _Blob:
         """The data as aligned little-endian uint64 words (see _words_before)."""
         return self.data.view("<u8")
 
-    def chunks(self) -> Iterator[tuple[int, int, int, int]]:
-        """(first byte, end byte, first line, end line) of whole-line pieces of about _CHUNK_BYTES."""
-        targets = np.arange(_PAD + _CHUNK_BYTES, int(self.newlines[-1]), _CHUNK_BYTES)
-        cuts = np.concatenate(([0], np.searchsorted(self.newlines, targets) + 1, [self.line_count]))
-        # Already sorted, so drop repeats by hand: np.unique imports numpy.ma (10-50 ms at start-up).
-        cuts = cuts[np.concatenate(([True], cuts[1:] != cuts[:-1]))]
-        for first, stop in zip(cuts[:-1].tolist(), cuts[1:].tolist()):
-            low = _PAD if first == 0 else int(self.newlines[first - 1]) + 1
-            yield low, int(self.newlines[stop - 1]) + 1, first, stop
+    def whole(self) -> tuple[int, int, int, int]:
+        """(first byte, end byte, first line, end line) of all its lines, as the parsers take them."""
+        return _PAD, int(self.newlines[-1]) + 1, 0, self.line_count
 
 
 def _line_runs(buf: np.ndarray, line_start: np.ndarray, line_end: np.ndarray, lines: np.ndarray) -> list[np.ndarray]:
@@ -444,18 +473,22 @@ def _per_line(token_starts: np.ndarray, newlines: np.ndarray, chunk_start: int) 
 # --- number tables (v, vt, vn) --------------------------------------------------------------------
 
 
-def _float_table(blob: _Blob, fewest: int, most: int) -> np.ndarray:
+def _float_table(source: _Lines, fewest: int, most: int) -> np.ndarray:
     """(lines, fewest) float64 from lines of fewest..most numbers each; extra numbers dropped."""
-    if blob.line_count == 0:
+    if source.count == 0:
         return np.zeros((0, fewest))
-    words = blob.words()
-    pieces = _chunk_map(lambda chunk: _float_chunk(blob, words, *chunk), blob.chunks())
+
+    def parse(piece: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+        blob = source.blob(*piece)
+        return _float_chunk(blob, blob.words(), *blob.whole())
+
+    pieces = _chunk_map(parse, source.pieces())
     values = np.concatenate([values for values, _ in pieces])
     per_line = np.concatenate([counts for _, counts in pieces])
     if per_line.min() < fewest or per_line.max() > most or not np.all(np.abs(values) <= _FLOAT32_MAX):
         raise _Unusual  # NaN fails the comparison too
     if per_line.min() == per_line.max():
-        table = values.reshape(blob.line_count, -1)
+        table = values.reshape(source.count, -1)
         return table if table.shape[1] == fewest else table[:, :fewest].copy()
     first = np.cumsum(per_line) - per_line
     return values[first[:, None] + np.arange(fewest)]
@@ -584,12 +617,17 @@ _CORNER_GAPS = {(True,): (), (True, True): (1,), (True, False, True): (2,), (Tru
 _CORNER_FIELDS = {(True,): (0,), (True, True): (0, 1), (True, False, True): (0, 2), (True, True, True): (0, 1, 2)}
 
 
-def _face_table(blob: _Blob) -> tuple[list[np.ndarray | None], np.ndarray]:
+def _face_table(source: _Lines) -> tuple[list[np.ndarray | None], np.ndarray]:
     """Per corner, the file's index minus one for v, vt, vn (None when absent; see _resolve_indices),
     and face_start."""
-    words = blob.words()
-    shape = _corner_shape(blob)
-    pieces = _chunk_map(lambda chunk: _face_chunk(blob, words, _CORNER_GAPS[shape], *chunk), blob.chunks())
+    shape = _corner_shape(source.blob(0, 1))
+    gaps = _CORNER_GAPS[shape]
+
+    def parse(piece: tuple[int, int]) -> tuple[list[np.ndarray], np.ndarray]:
+        blob = source.blob(*piece)
+        return _face_chunk(blob, blob.words(), gaps, *blob.whole())
+
+    pieces = _chunk_map(parse, source.pieces())
     per_line = np.concatenate([counts for _, counts in pieces])
     if per_line.min() < 3:
         raise _Unusual
