@@ -85,7 +85,10 @@ def surface_arrays(mesh: Mesh) -> SurfaceArrays:
     positions = mesh.vertex_count
     representative = np.zeros(positions, np.int64)
     representative[corner_vertex] = np.arange(corner_vertex.shape[0])  # any corner of each position
-    seams = _seams(mesh, representative[corner_vertex])
+    # A mesh whose normals and uvs are per position has no seams: no need to compare (a tenth of a
+    # v/f-only file's load).
+    seams = (np.zeros(0, np.int64) if mesh.attributes_per_position
+             else _seams(mesh, representative[corner_vertex]))
     first_corners = mesh.face_start[:-1]
     shared_rows = positions + seams.shape[0]
     row_corner = np.concatenate([representative, seams, first_corners])
@@ -105,7 +108,8 @@ def surface_arrays(mesh: Mesh) -> SurfaceArrays:
     row_of_corner[seams] = np.arange(positions, shared_rows, dtype=np.uint32)
     triangles = mesh.triangle_corners()
     indices = np.empty(triangles.shape, np.uint32)
-    indices[:, 0] = shared_rows + np.repeat(np.arange(mesh.face_count, dtype=np.uint32), mesh.face_sizes - 2)
+    polygon_rows = np.arange(shared_rows, shared_rows + mesh.face_count, dtype=np.uint32)
+    indices[:, 0] = polygon_rows if mesh.all_triangles else np.repeat(polygon_rows, mesh.face_sizes - 2)
     indices[:, 1] = row_of_corner[triangles[:, 1]]
     indices[:, 2] = row_of_corner[triangles[:, 2]]
     shared_indices = indices.copy()

@@ -40,6 +40,9 @@ class Mesh:
     # Ka/Kd/Ks/Ns read from the file's MTL when it exists: keys "ka", "kd", "ks" (3-tuples), "ns".
     file_material: dict[str, object] | None = None
     warnings: tuple[str, ...] = field(default=())  # non-fatal oddities worth telling the person
+    # True when every corner of a position has the same normal and uv (both derived per position, as
+    # for a file with neither vt nor vn): then no position needs a second vertex row (no seams).
+    attributes_per_position: bool = False
 
     @property
     def vertex_count(self) -> int:

@@ -5,9 +5,11 @@ polygon's own row, the one carrying the face normal (what Flat and the back-face
 from __future__ import annotations
 
 import numpy as np
+import pytest
+from test_obj_loader import SEED_ASSETS, SEED_MODELS
 
-from app.gpu import surface_arrays
-from app.loaders.obj import parse_obj
+from app.gpu import _seams, surface_arrays
+from app.loaders.obj import load_obj, parse_obj
 from app.mesh import Mesh
 
 
@@ -71,5 +73,35 @@ def test_a_smooth_grid_shares_its_vertices() -> None:
             a = j * row + i + 1
             lines += [f"f {a} {a + 1} {a + row + 1}", f"f {a} {a + row + 1} {a + row}"]
     mesh = parse_obj(("\n".join(lines) + "\n").encode(), "grid.obj")
+    assert mesh.attributes_per_position
     vertices = check_same_corners(mesh)
     assert vertices.shape[0] == mesh.vertex_count + mesh.face_count  # no seams: uv and normals per vertex
+
+
+def assert_no_seams(mesh: Mesh) -> None:
+    """What lets surface_arrays skip the seam search when the mesh says it has per-position attributes."""
+    representative = np.zeros(mesh.vertex_count, np.int64)
+    representative[mesh.corner_vertex] = np.arange(mesh.corner_vertex.size)
+    assert _seams(mesh, representative[mesh.corner_vertex]).size == 0
+
+
+@pytest.mark.parametrize("name", [name for name, _, _ in SEED_MODELS])
+def test_per_position_attributes_are_claimed_only_where_there_are_no_seams(name: str) -> None:
+    path = SEED_ASSETS / name
+    if not path.exists():
+        pytest.skip(f"{path} is not here (the seed's models live in ../shared)")
+    mesh = load_obj(path)
+    has_vt_or_vn = any(line.startswith((b"vt ", b"vn ")) for line in path.read_bytes().splitlines())
+    if has_vt_or_vn:
+        assert not mesh.attributes_per_position
+    if mesh.attributes_per_position:  # cam and kupula; r_falke and x_wing have positions that only
+        # zero-area faces touch, whose corners take their own faces' normals (see the test below)
+        assert_no_seams(mesh)
+    check_same_corners(mesh)
+
+
+def test_a_position_with_no_face_of_any_area_is_not_per_position() -> None:
+    """Its corners take their own faces' normals (the loader's last resort), which may differ."""
+    mesh = parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\nf 1 2 3\nf 4 4 4\nf 1 4 4\n", "lonely.obj")
+    assert not mesh.attributes_per_position
+    check_same_corners(mesh)

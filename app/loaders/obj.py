@@ -1001,6 +1001,7 @@ def _derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fa
     if degenerate.any():
         _fill_degenerate(face_normals, degenerate, corner_normal, face_start, sizes)
         notes += (f"{int(degenerate.sum())} zero-area faces (given a fallback normal)",)
+    per_position = uv is None and normals is None and not missing.any()
     if missing.any():
         corners = np.flatnonzero(missing)  # no usable face touches their position: take their face's
         corner_normal[corners] = face_normals[np.searchsorted(face_start, corners, side="right") - 1]
@@ -1015,6 +1016,7 @@ def _derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fa
         base_colour=base_colour,
         file_material=file_material,
         warnings=notes,
+        attributes_per_position=per_position,
     )
 
 
