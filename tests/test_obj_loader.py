@@ -76,6 +76,14 @@ def test_pentagon_is_kept_whole_and_fans_from_its_first_corner() -> None:
     np.testing.assert_allclose(mesh.face_normals, [[0, 0, 1], [0, 0, 1]], atol=1e-7)
 
 
+def test_polygons_all_of_one_size_fan_the_same_way() -> None:
+    """Quads-only and pentagons-only meshes take the loader's and Mesh's one-size shortcuts."""
+    pentagon = "v 0 0 0\nv 1 0 0\nv 2 1 0\nv 1 2 0\nv 0 1 0\n"
+    mesh = parse(pentagon + "f 1 2 3 4 5\nf 5 4 3 2 1\n")
+    assert mesh.triangle_corners().tolist() == [[0, 1, 2], [0, 2, 3], [0, 3, 4], [5, 6, 7], [5, 7, 8], [5, 8, 9]]
+    np.testing.assert_allclose(mesh.face_normals, [[0, 0, 1], [0, 0, -1]], atol=1e-7)
+
+
 @pytest.mark.parametrize("corners", ["1 2 3", "1/1 2/2 3/3", "1//1 2//2 3//3", "1/1/1 2/2/2 3/3/3"])
 def test_every_corner_format(corners: str) -> None:
     text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.5\nvt 0.75 0.5\nvt 0.5 1\nvn 0 0 2\nvn 0 0 1\nvn 0 0 1\n"
