@@ -7,6 +7,7 @@ from __future__ import annotations
 import logging
 from datetime import datetime
 from pathlib import Path
+from time import perf_counter, sleep
 from typing import Any
 
 import moderngl
@@ -21,6 +22,10 @@ from app.screenshot import write_png
 from app.viewer import BackgroundLoader, Viewer, starting_scene
 
 SCREENSHOT_DIR = Path("screenshots")
+# While a model loads on the worker thread, frames are paced to at most this rate: keys are still
+# answered within a frame, and the cores that llvmpipe would spend redrawing an unchanged picture as
+# fast as it can (no display paces it under Xvfb, nor where vsync is off) go to the loader instead.
+LOADING_FRAMES_PER_SECOND = 30
 
 
 class ViewerWindow(mglw.WindowConfig):
@@ -49,6 +54,7 @@ class ViewerWindow(mglw.WindowConfig):
         self.overlay = Overlay(self.ctx)
         self.prompt: str | None = None  # the `f` prompt's text while it is open
         self.named_keys = self._named_keys()
+        self.last_frame_start = perf_counter()
 
     def _named_keys(self) -> dict[Any, str]:
         keys = self.wnd.keys
@@ -68,11 +74,19 @@ class ViewerWindow(mglw.WindowConfig):
 
     # --- drawing -------------------------------------------------------------------------------
     def on_render(self, time: float, frame_time: float) -> None:
+        self._pace_while_loading()
         self.viewer.collect_loads()
         size = self.wnd.buffer_size
         self.wnd.fbo.use()
         self.viewer.renderer.render(self.scene, self.wnd.fbo, size)
         self.overlay.draw(*self.viewer.overlay_lines(self.prompt), size, panels.extras(self.scene, size))
+
+    def _pace_while_loading(self) -> None:
+        if self.viewer.background is not None and self.viewer.background.pending():
+            wait = self.last_frame_start + 1.0 / LOADING_FRAMES_PER_SECOND - perf_counter()
+            if wait > 0:
+                sleep(wait)
+        self.last_frame_start = perf_counter()
 
     # --- keys ----------------------------------------------------------------------------------
     def on_unicode_char_entered(self, char: str) -> None:
