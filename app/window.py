@@ -10,7 +10,6 @@ from pathlib import Path
 from time import perf_counter, sleep
 from typing import Any
 
-import moderngl
 import moderngl_window as mglw
 
 from app import commands, panels

@@ -247,7 +247,7 @@ def gouraud_checks(offscreen, scene: Scene) -> list[Check]:
     """For every vertex: the camera slides sideways until the vertex lies a hair inside the face
     from a pixel centre; that pixel is the one the vertex paints. (The probe is taken again after
     each slide: V and the camera's spotlight move with the camera.)"""
-    height, width = PROBE_SIZE[1], PROBE_SIZE[0]
+    height = PROBE_SIZE[1]
     start = scene.camera.model.copy()
     checks = []
     for index in range(len(probe(scene).vertices)):

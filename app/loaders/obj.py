@@ -23,13 +23,12 @@ from __future__ import annotations
 import itertools
 import os
 import re
-import stat
 import threading
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import BinaryIO, TypeVar
+from typing import TypeVar
 
 import numpy as np
 
@@ -208,17 +207,17 @@ _POW10_U64 = np.array([10**k for k in range(_MAX_FAST_DIGITS + 1)], dtype=np.uin
 _POW10_FLOAT = np.array([float(10**k) for k in range(_MAX_FAST_DIGITS + 1)])
 
 # Every blob starts with _PAD separators, so the 8-byte words ending at any number (two for 16
-# digits) lie inside it. Chunks keep numpy's temporaries in the CPU cache: several times faster.
-# A megabyte, not less: each numpy call then runs long enough that two threads rarely wait on the
-# GIL (256 KB chunks gained nothing from a second thread; a megabyte keeps them in L2 and L3).
+# digits) lie inside it. Pieces of a megabyte keep numpy's temporaries in the CPU cache (several
+# times faster than whole-file arrays) while each numpy call runs long enough for two threads to
+# share the work without waiting on each other for the GIL.
 _PAD = 16
 _SPACES = np.full(_PAD, ord(" "), dtype=np.uint8)
 _CHUNK_BYTES = 1 << 20
 _CHUNK_LINES = 1 << 16  # lines classified per piece: about as many bytes of kinds and masks
-_Chunk = TypeVar("_Chunk")  # a piece of work: e.g. first byte, end byte, first line, end line
+_Chunk = TypeVar("_Chunk")  # a piece of work: a byte offset, a range of lines
 _ChunkResult = TypeVar("_ChunkResult")
 # The chunks are independent and numpy releases the GIL inside each operation, so every core parses
-# some. (Processes would scale better still, but each would import numpy and copy the text.)
+# some. (Processes would not share the GIL at all, but each would import numpy and need the text.)
 _PARSE_THREADS = max(1, min(4, os.cpu_count() or 1))
 
 
@@ -418,10 +417,6 @@ class _Blob:
         """The data as aligned little-endian uint64 words (see _words_before)."""
         return self.data.view("<u8")
 
-    def whole(self) -> tuple[int, int, int, int]:
-        """(first byte, end byte, first line, end line) of all its lines, as the parsers take them."""
-        return _PAD, int(self.newlines[-1]) + 1, 0, self.line_count
-
 
 def _line_runs(buf: np.ndarray, line_start: np.ndarray, line_end: np.ndarray, lines: np.ndarray) -> list[np.ndarray]:
     """The bytes of the given lines as few pieces: consecutive lines are one slice."""
@@ -478,11 +473,7 @@ def _float_table(source: _Lines, fewest: int, most: int) -> np.ndarray:
     if source.count == 0:
         return np.zeros((0, fewest))
 
-    def parse(piece: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
-        blob = source.blob(*piece)
-        return _float_chunk(blob, blob.words(), *blob.whole())
-
-    pieces = _chunk_map(parse, source.pieces())
+    pieces = _chunk_map(lambda piece: _float_chunk(source.blob(*piece)), source.pieces())
     values = np.concatenate([values for values, _ in pieces])
     per_line = np.concatenate([counts for _, counts in pieces])
     if per_line.min() < fewest or per_line.max() > most or not np.all(np.abs(values) <= _FLOAT32_MAX):
@@ -494,8 +485,9 @@ def _float_table(source: _Lines, fewest: int, most: int) -> np.ndarray:
     return values[first[:, None] + np.arange(fewest)]
 
 
-def _float_chunk(blob: _Blob, words: np.ndarray, low: int, high: int, first: int, stop: int
-                 ) -> tuple[np.ndarray, np.ndarray]:
+def _float_chunk(blob: _Blob) -> tuple[np.ndarray, np.ndarray]:
+    """The numbers of the blob's lines in order, and how many each line has."""
+    low, high = _PAD, int(blob.newlines[-1]) + 1
     chunk = blob.data[low:high]
     in_token = ~_is_space(chunk)
     dot = chunk == np.uint8(ord("."))
@@ -506,12 +498,12 @@ def _float_chunk(blob: _Blob, words: np.ndarray, low: int, high: int, first: int
     if plain + has_exotic != _count(in_token):
         raise _Unusual  # some other character
     starts, ends = _runs(in_token, low)
-    per_line = _per_line(starts, blob.newlines[first:stop], low)
+    per_line = _per_line(starts, blob.newlines, low)
     if starts.size == 0:
         return np.zeros(0), per_line
     if has_exotic:
         return _strtod(chunk, starts.size), per_line
-    values = _plain_decimals(blob.data, words, starts, ends, np.flatnonzero(dot) + low, minus_count)
+    values = _plain_decimals(blob.data, blob.words(), starts, ends, np.flatnonzero(dot) + low, minus_count)
     return (_strtod(chunk, starts.size) if values is None else values), per_line
 
 
@@ -623,11 +615,7 @@ def _face_table(source: _Lines) -> tuple[list[np.ndarray | None], np.ndarray]:
     shape = _corner_shape(source.blob(0, 1))
     gaps = _CORNER_GAPS[shape]
 
-    def parse(piece: tuple[int, int]) -> tuple[list[np.ndarray], np.ndarray]:
-        blob = source.blob(*piece)
-        return _face_chunk(blob, blob.words(), gaps, *blob.whole())
-
-    pieces = _chunk_map(parse, source.pieces())
+    pieces = _chunk_map(lambda piece: _face_chunk(source.blob(*piece), gaps), source.pieces())
     per_line = np.concatenate([counts for _, counts in pieces])
     if per_line.min() < 3:
         raise _Unusual
@@ -650,10 +638,10 @@ def _corner_shape(blob: _Blob) -> tuple[bool, ...]:
     return shape
 
 
-def _face_chunk(blob: _Blob, words: np.ndarray, gaps: tuple[int, ...], low: int, high: int, first: int,
-                stop: int) -> tuple[list[np.ndarray], np.ndarray]:
+def _face_chunk(blob: _Blob, gaps: tuple[int, ...]) -> tuple[list[np.ndarray], np.ndarray]:
     """Each field's index minus one, as a contiguous column per field (made here, while the chunk is in
     the cache, not over the whole table later), and how many corners each line has."""
+    low, high = _PAD, int(blob.newlines[-1]) + 1
     chunk = blob.data[low:high]
     minus = chunk == np.uint8(ord("-"))
     in_number = _is_digit(chunk) | minus
@@ -665,7 +653,7 @@ def _face_chunk(blob: _Blob, words: np.ndarray, gaps: tuple[int, ...], low: int,
     if starts.size % width or slashes != sum(gaps) * (starts.size // width):
         raise _Unusual
     corner_starts, corner_ends = starts.reshape(-1, width), ends.reshape(-1, width)
-    per_line = _per_line(corner_starts[:, 0], blob.newlines[first:stop], low)
+    per_line = _per_line(corner_starts[:, 0], blob.newlines, low)
     if starts.size == 0:
         return [np.zeros(0, dtype=np.int64)] * width, per_line
     _check_corner_layout(blob.data, corner_starts, corner_ends, gaps)
@@ -674,7 +662,7 @@ def _face_chunk(blob: _Blob, words: np.ndarray, gaps: tuple[int, ...], low: int,
     lengths = ends - starts - negative
     if lengths.min() < 1 or lengths.max() > _MAX_FAST_DIGITS:
         raise _Unusual
-    magnitude = _digits_value(words, ends, lengths, check=signed).view(np.int64)
+    magnitude = _digits_value(blob.words(), ends, lengths, check=signed).view(np.int64)
     raw = (np.where(negative, -magnitude, magnitude) if signed else magnitude).reshape(-1, width)
     return [np.subtract(raw[:, column], 1) for column in range(width)], per_line
 
