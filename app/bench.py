@@ -607,11 +607,10 @@ NUDGE_RADIANS = 1e-3
 
 def nudge_camera(scene: Scene, step: int) -> None:
     """Turns the viewing camera about its own y axis, one way on even steps and back on odd ones."""
-    angle = NUDGE_RADIANS if step % 2 == 0 else -NUDGE_RADIANS
-    turn = np.eye(4)
-    turn[0, 0] = turn[2, 2] = np.cos(angle)
-    turn[0, 2], turn[2, 0] = np.sin(angle), -np.sin(angle)
-    scene.camera.history[-1] = scene.camera.model @ turn  # in place: no undo step per frame
+    from app.transforms import apply_local, rotation_about_axis
+
+    turn = rotation_about_axis(1, NUDGE_RADIANS if step % 2 == 0 else -NUDGE_RADIANS)
+    scene.camera.history[-1] = apply_local(scene.camera.model, turn)  # in place: no undo step per frame
 
 
 def paired_frame_times(ctx: moderngl.Context, scene: Scene, program_frame: Callable[[], None],

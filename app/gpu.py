@@ -283,24 +283,14 @@ class ObjectGpu:
             for buffer in self._surface_buffers.values():
                 buffer.release()
             raise
-        self._surface_arrays: dict[str, moderngl.VertexArray] = {}
-        self._lighting_arrays: dict[str, moderngl.VertexArray] = {}
+        # By (program, interpolation): "surface" draws, "lighting" runs the lighting pass.
+        self._surface_arrays: dict[tuple[str, str], moderngl.VertexArray] = {}
         self._lit: dict[str, LitRows] = {}
 
     def surface(self, interpolation: str) -> moderngl.VertexArray:
         """The surface bound to the program of `interpolation` ("FLAT", "GOURAUD", "PHONG"); each is
         made the first time that way of lighting is drawn, sharing the buffers."""
-        vao = self._surface_arrays.get(interpolation)
-        if vao is None:
-            program = self.programs.surfaces[interpolation]
-            content = [(self._surface_buffers["surface"], *_layout_for(program, SURFACE_LAYOUT))]
-            if LIT_LAYOUT[1] in program:  # Phong lights per pixel and reads no lit colour
-                content.append((self._surface_buffers["lit"], *LIT_LAYOUT))
-            vao = self.ctx.vertex_array(program, content,
-                                        index_buffer=self._surface_buffers[self.INDICES[interpolation]],
-                                        index_element_size=4)
-            self._surface_arrays[interpolation] = vao
-        return vao
+        return self._surface_array("surface", interpolation)
 
     def light(self, interpolation: str, inputs: Hashable, start: int, stop: int) -> bool:
         """Lights the rows the faces [start, stop) take their colour from, with the lighting pass of
@@ -318,19 +308,25 @@ class ObjectGpu:
         done = self._lit.get(interpolation)
         if stop_row <= first or (done is not None and done.cover(inputs, first, stop_row)):
             return False
-        self._lighting_array(interpolation).transform(
+        self._surface_array("lighting", interpolation).transform(
             self._surface_buffers["lit"], moderngl.POINTS, vertices=stop_row - first, first=first,
             buffer_offset=first * LIT_ROW_BYTES)
         self._lit[interpolation] = LitRows(inputs, first, stop_row)
         return True
 
-    def _lighting_array(self, interpolation: str) -> moderngl.VertexArray:
-        vao = self._lighting_arrays.get(interpolation)
+    def _surface_array(self, kind: str, interpolation: str) -> moderngl.VertexArray:
+        """The surface's vertex buffer bound to a surface program ("surface", indexed, reading the lit
+        buffer unless it is Phong's) or a lighting pass ("lighting": every row once, no indices)."""
+        vao = self._surface_arrays.get((kind, interpolation))
         if vao is None:
-            program = self.programs.lightings[interpolation]
-            vao = self.ctx.vertex_array(
-                program, [(self._surface_buffers["surface"], *_layout_for(program, SURFACE_LAYOUT))])
-            self._lighting_arrays[interpolation] = vao
+            drawing = kind == "surface"
+            program = (self.programs.surfaces if drawing else self.programs.lightings)[interpolation]
+            content = [(self._surface_buffers["surface"], *_layout_for(program, SURFACE_LAYOUT))]
+            if LIT_LAYOUT[1] in program:  # Phong lights per pixel and reads no lit colour
+                content.append((self._surface_buffers["lit"], *LIT_LAYOUT))
+            indices = self._surface_buffers[self.INDICES[interpolation]] if drawing else None
+            vao = self.ctx.vertex_array(program, content, index_buffer=indices, index_element_size=4)
+            self._surface_arrays[(kind, interpolation)] = vao
         return vao
 
     @property
@@ -367,7 +363,7 @@ class ObjectGpu:
         return vao
 
     def release(self) -> None:
-        for vao in (*self._surface_arrays.values(), *self._lighting_arrays.values()):
+        for vao in self._surface_arrays.values():
             vao.release()
         for buffer in self._surface_buffers.values():
             buffer.release()
@@ -375,7 +371,6 @@ class ObjectGpu:
             vao.release()
             buffer.release()
         self._surface_arrays.clear()
-        self._lighting_arrays.clear()
         self._lit.clear()
         self._surface_buffers.clear()
         self._built.clear()

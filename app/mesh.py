@@ -27,6 +27,26 @@ def column_bounds(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return low, high
 
 
+def fan_triangles(face_start: np.ndarray) -> np.ndarray:
+    """(T, 3) corner indices of every polygon's fan from its first corner, polygon by polygon: the
+    seed's triangulation, so each triangle's first corner is its polygon's first vertex."""
+    sizes = np.diff(face_start)
+    if sizes.size and sizes.min() == sizes.max():  # polygons of one size: the same fan in each
+        if sizes[0] == 3:  # the common case: the corners are the triangles already
+            return np.arange(int(face_start[-1]), dtype=np.int64).reshape(-1, 3)
+        fan = np.array([[0, second, second + 1] for second in range(1, int(sizes[0]) - 1)])
+        return (face_start[:-1, None, None] + fan).reshape(-1, 3)
+    per_face = sizes - 2
+    first_of_face = np.cumsum(per_face) - per_face
+    step = np.arange(int(per_face.sum())) - np.repeat(first_of_face, per_face)  # 0.. within each fan
+    base = np.repeat(face_start[:-1], per_face)
+    triangles = np.empty((step.size, 3), np.int64)
+    triangles[:, 0] = base
+    triangles[:, 1] = base + step + 1
+    triangles[:, 2] = base + step + 2
+    return triangles
+
+
 @dataclass(frozen=True, eq=False)
 class Mesh:
     name: str
@@ -77,19 +97,7 @@ class Mesh:
 
     def triangle_corners(self) -> np.ndarray:
         """(T, 3) corner indices of the fan triangulation, polygon by polygon, in file order."""
-        if self.all_triangles:  # the common case: the corners are the triangles already
-            return np.arange(int(self.face_start[-1]), dtype=np.int64).reshape(-1, 3)
-        sizes = self.face_sizes
-        if sizes.min() == sizes.max():  # polygons of one size (quads): the same fan in each, by broadcasting
-            fan = np.array([[0, second, second + 1] for second in range(1, int(sizes[0]) - 1)])
-            return (self.face_start[:-1, None, None] + fan).reshape(-1, 3)
-        tri_per_face = sizes - 2
-        total = int(tri_per_face.sum())
-        face_of_tri = np.repeat(np.arange(self.face_count), tri_per_face)
-        first_tri_of_face = np.cumsum(tri_per_face) - tri_per_face
-        k = np.arange(total) - np.repeat(first_tri_of_face, tri_per_face)  # 0.. within each fan
-        base = self.face_start[:-1][face_of_tri]
-        return np.stack([base, base + k + 1, base + k + 2], axis=1)
+        return fan_triangles(self.face_start)
 
     def triangle_face(self) -> np.ndarray:
         """(T,) the polygon each fan triangle belongs to."""
