@@ -22,7 +22,7 @@ bench: $(STAMP)
 
 # Regenerates the project's own models and texture (deterministic; the results are committed).
 assets: $(STAMP)
-	$(PY) -m app.assetgen
+	$(PY) -m marraztu.devtools.assetgen
 
 clean:
 	rm -rf $(VENV) .pytest_cache

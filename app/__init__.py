@@ -1,7 +1,8 @@
 """marraztu: a 3D viewer for people who learn and teach computer graphics."""
 
-from pathlib import Path
+from importlib.metadata import PackageNotFoundError, version
 
-PROJECT_ROOT = Path(__file__).resolve().parent.parent
-SHADER_DIR = PROJECT_ROOT / "shaders"
-ASSET_DIR = PROJECT_ROOT / "assets"
+try:
+    __version__ = version("marraztu")
+except PackageNotFoundError:  # run from a checkout that was never installed
+    __version__ = "0+unknown"

@@ -1,7 +1,8 @@
-"""Command line: `python -m app [OBJ ...]` opens the window; `screenshot` renders offscreen.
+"""The command line: `marraztu [MODEL ...]` opens the window; `screenshot` and `bench` are subcommands.
 
-Every error a person can cause (bad files, bad keys, no EGL) ends as one line on stderr naming the
-file (and line), and a non-zero exit: never a traceback.
+Every error a person can cause (bad files, bad keys, no OpenGL, an output that cannot be written)
+ends as one line on stderr naming the file (and line), and a non-zero exit: never a traceback.
+Notices go to stderr once what they announce has happened.
 """
 
 from __future__ import annotations
@@ -9,64 +10,76 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from app.errors import ViewerError
+from marraztu import __version__
+from marraztu.errors import ViewerError
 
-DEFAULT_SIZE = (800, 800)
+WINDOW_SIZE = (800, 800)
 NO_DISPLAY_SHOT = Path("out") / "marraztu.png"
+DESCRIPTION = ("A 3D viewer for learning computer graphics: textured models lit by ambient, diffuse "
+               "and specular light from four lights, moved from the keyboard.")
 
 
 def parse_size(text: str) -> tuple[int, int]:
+    from marraztu.render.layout import parse_size as framebuffer_size
+
     try:
-        width, height = (int(part) for part in text.lower().split("x"))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"size must look like 800x600, not {text!r}") from None
-    if not (1 <= width <= 16384 and 1 <= height <= 16384):
-        raise argparse.ArgumentTypeError(f"size {width}x{height} is out of range 1..16384")
-    return width, height
+        return framebuffer_size(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def add_scene_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("models", nargs="*", type=Path, metavar="OBJ",
-                        help="OBJ files added to the scene as the `f` key would add them")
-    source = parser.add_mutually_exclusive_group()
+    group = parser.add_argument_group("the scene")
+    group.add_argument("models", nargs="*", type=Path, metavar="MODEL",
+                       help="model files added to the scene as the `f` key adds them")
+    source = group.add_mutually_exclusive_group()
     source.add_argument("--scene", type=Path, metavar="FILE",
                         help="a TOML scene file instead of the built-in scene")
     source.add_argument("--empty", action="store_true", help="start with the camera alone")
-    parser.add_argument("--texture", type=Path, metavar="PATH",
-                        help="the texture image (PPM P6/P3, PNG, JPEG); default: the scene's selfi.ppm")
+    group.add_argument("--texture", type=Path, metavar="PATH",
+                       help="the texture image (PPM P6/P3, PNG, JPEG); default: the scene's own")
+
+
+def add_size_argument(parser: argparse.ArgumentParser, what: str) -> None:
+    parser.add_argument("--size", type=parse_size, default=WINDOW_SIZE, metavar="WxH",
+                        help=f"{what} in pixels (default {WINDOW_SIZE[0]}x{WINDOW_SIZE[1]})")
 
 
 def start_options(args: argparse.Namespace):
-    from app.viewer import StartOptions
+    from marraztu.control.viewer import StartOptions
 
     return StartOptions(scene_file=args.scene, empty=args.empty, texture=args.texture,
                         models=tuple(args.models))
 
 
-def screenshot_parser() -> argparse.ArgumentParser:
+# --- the commands ----------------------------------------------------------------------------------
+def window_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="marraztu screenshot",
-        description="Render the scene offscreen (EGL, no display needed) after replaying keys.")
-    parser.add_argument("-o", "--output", type=Path, required=True, help="the PNG to write")
-    parser.add_argument("--size", type=parse_size, default=DEFAULT_SIZE, metavar="WxH",
-                        help="image size (default 800x800)")
-    parser.add_argument("--keys", default="", metavar="KEYS",
-                        help='keys as typed, space separated: "0 1 F x*5 TAB ENTER f=model.obj"')
-    parser.add_argument("--overlay", action="store_true",
-                        help="draw the status line and the last message as the window does")
+        prog="marraztu", description=DESCRIPTION,
+        usage="marraztu [--size WxH] [--scene FILE | --empty] [--texture PATH] [MODEL ...]\n"
+              "       marraztu COMMAND [options]   (marraztu COMMAND --help for its options)",
+        epilog="commands:\n" + "\n".join(f"  {name:<12}{command.summary}" for name, command in COMMANDS.items())
+               + "\n\nWith no display, the window's command writes a screenshot to "
+               f"{NO_DISPLAY_SHOT} instead.",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--version", action="version", version=f"marraztu {__version__}")
+    add_size_argument(parser, "window size")
     add_scene_arguments(parser)
     return parser
 
 
-def run_screenshot(argv: list[str]) -> int:
-    args = screenshot_parser().parse_args(argv)
-    from app.screenshot import take_screenshot
+def run_window(argv: Sequence[str]) -> int:
+    args = window_parser().parse_args(list(argv))
+    if not has_display():
+        out = take_screenshot(start_options(args), NO_DISPLAY_SHOT, args.size)
+        print(f"no display: wrote a screenshot of the scene to {out} instead", file=sys.stderr)
+        return 0
+    from marraztu.frontends.window import run_window as open_window
 
-    out = take_screenshot(start_options(args), args.output, args.size, args.keys, args.overlay)
-    print(out)
-    return 0
+    return open_window(start_options(args), args.size)
 
 
 def has_display() -> bool:
@@ -75,30 +88,57 @@ def has_display() -> bool:
     return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
 
 
-def run_window(argv: list[str]) -> int:
-    if not has_display():
-        print(f"no display: wrote a screenshot of the scene instead: {NO_DISPLAY_SHOT}")
-        return run_screenshot(["-o", str(NO_DISPLAY_SHOT), *argv])
-    from app.window import run
+def screenshot_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="marraztu screenshot", description=COMMANDS["screenshot"].summary)
+    parser.add_argument("-o", "--output", type=Path, required=True, metavar="PICTURE",
+                        help="the picture to write: .png, .jpg or .jpeg")
+    add_size_argument(parser, "picture size")
+    parser.add_argument("--keys", default="", metavar="KEYS",
+                        help='keys as typed, space separated: "0 1 F x*5 TAB ENTER f=model.obj"')
+    parser.add_argument("--overlay", action="store_true",
+                        help="draw the status line, the panels and the last message as the window does")
+    add_scene_arguments(parser)
+    return parser
 
-    return run(argv)
+
+def run_screenshot(argv: Sequence[str]) -> int:
+    args = screenshot_parser().parse_args(list(argv))
+    out = take_screenshot(start_options(args), args.output, args.size, args.keys, args.overlay)
+    print(out)
+    return 0
 
 
-def run_bench(argv: list[str]) -> int:
-    from app.bench import main as bench_main
+def take_screenshot(options, out: Path, size: tuple[int, int], keys: str = "", overlay: bool = False) -> Path:
+    from marraztu.frontends.screenshot import take_screenshot as shoot
+
+    return shoot(options, out, size, keys, overlay)
+
+
+def run_bench(argv: Sequence[str]) -> int:
+    from marraztu.devtools.bench import main as bench_main
 
     return bench_main(argv)
 
 
-SUBCOMMANDS = {"screenshot": run_screenshot, "bench": run_bench}
+class Command:
+    def __init__(self, summary: str, run: Callable[[Sequence[str]], int]) -> None:
+        self.summary = summary
+        self.run = run
 
 
-def main(argv: list[str] | None = None) -> int:
-    argv = sys.argv[1:] if argv is None else argv
-    command = SUBCOMMANDS.get(argv[0]) if argv else None
+COMMANDS = {
+    "screenshot": Command("render the scene offscreen after replaying keys; no display needed",
+                          run_screenshot),
+    "bench": Command("measure loading, frames, start-up and memory beside their peers", run_bench),
+}
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    command = COMMANDS.get(argv[0]) if argv else None
     try:
         if command is not None:
-            return command(argv[1:])
+            return command.run(argv[1:])
         return run_window(argv)
     except ViewerError as error:
         print(f"error: {error}", file=sys.stderr)

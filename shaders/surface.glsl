@@ -1,23 +1,27 @@
 #version 330 core
 // Filled polygons (SPEC 4 and 5): the seed's ambient + diffuse + specular lighting in world space,
 // in the seed's 0..255 units; back faces red or discarded; the lit colour multiplied by the texture.
-// Three ways to spread it over a polygon, one program each (INTERPOLATION, defined by the renderer:
-// a program built for one way drops the others' code and varyings):
+// Three ways to spread it over a polygon, one program each (SHADING, defined by the renderer: a
+// program built for one way drops the others' code and varyings):
 //   Flat: evaluated once, at the polygon's first vertex with the face normal;
 //   Gouraud: evaluated at every vertex with its vertex normal, the colours interpolated;
 //   Phong: the position and vertex normal interpolated, evaluated at every pixel (side by side only).
 // Flat and Gouraud light their vertices in a pass of their own (LIGHTING_PASS: transform feedback,
 // nothing rasterised) that writes a colour per vertex row into the object's lit buffer, and the
 // drawing pass reads it back as an attribute. The renderer runs that pass only when a uniform it
-// reads has changed (app/gpu.py, ObjectGpu.light), so a still frame lights nothing, and Flat lights
+// reads has changed (render/gpu.py, ObjectGpu.light), so a still frame lights nothing, and Flat lights
 // only the polygons' own rows (one per polygon), not every corner a triangle touches.
 // The lighting function is written once, above the stage blocks, so every pass compiles the same one.
 
 const int FLAT = 0;
 const int GOURAUD = 1;
 const int PHONG = 2;
-#ifndef INTERPOLATION
-#error "INTERPOLATION must be defined as FLAT, GOURAUD or PHONG (app/renderer.py does it)"
+#ifndef SHADING
+#error "SHADING must be defined as FLAT, GOURAUD or PHONG (the renderer does it)"
+#endif
+// The kinds of light and how many lights there are come from marraztu.model.lights.
+#if !defined LIGHT_DIRECTIONAL || !defined LIGHT_POINT || !defined LIGHT_SPOT || !defined MAX_LIGHTS
+#error "the light kinds' codes and MAX_LIGHTS must be defined (the renderer does it)"
 #endif
 
 // V: perspective looks from a point, so V changes over the surface; parallel projection has one V.
@@ -35,16 +39,12 @@ uniform vec3 u_ambient;  // Ia
 // the view leaves out are switched off by the renderer.
 uniform vec3 u_term_weights;
 
-const int DIRECTIONAL = 0;
-const int POINT = 1;
-const int SPOT = 2;
-const int LIGHT_COUNT = 4;
 uniform int u_lights_on;  // how many: the renderer packs the lights that are on first
-uniform int u_light_kind[LIGHT_COUNT];
-uniform vec3 u_light_intensity[LIGHT_COUNT];
-uniform vec3 u_light_position[LIGHT_COUNT];
-uniform vec3 u_light_direction[LIGHT_COUNT];  // directional: toward the light; spot: the cone's axis
-uniform float u_light_cos_aperture[LIGHT_COUNT];
+uniform int u_light_kind[MAX_LIGHTS];
+uniform vec3 u_light_intensity[MAX_LIGHTS];
+uniform vec3 u_light_position[MAX_LIGHTS];
+uniform vec3 u_light_direction[MAX_LIGHTS];  // directional: toward the light; spot: the cone's axis
+uniform float u_light_cos_aperture[MAX_LIGHTS];
 
 vec3 toward_eye(vec3 point) {
     return u_parallel ? u_eye_backward : normalize(u_eye_position - point);
@@ -52,7 +52,7 @@ vec3 toward_eye(vec3 point) {
 
 // Unit vector from the surface point toward the light.
 vec3 toward_light(int i, vec3 point) {
-    if (u_light_kind[i] == DIRECTIONAL) {
+    if (u_light_kind[i] == LIGHT_DIRECTIONAL) {
         return u_light_direction[i];
     }
     return normalize(u_light_position[i] - point);
@@ -62,7 +62,7 @@ vec3 toward_light(int i, vec3 point) {
 // the light to the point (-L, exactly: normalize(-v) is -normalize(v)) is below the aperture, i.e.
 // the cosine is above cos(aperture). Written so that NaN is outside.
 bool outside_cone(int i, vec3 light) {
-    return u_light_kind[i] == SPOT && !(dot(-light, u_light_direction[i]) > u_light_cos_aperture[i]);
+    return u_light_kind[i] == LIGHT_SPOT && !(dot(-light, u_light_direction[i]) > u_light_cos_aperture[i]);
 }
 
 // I = Ka*Ia + sum I_l * (Kd*max(N.L, 0) + Ks*max(N.H, 0)^ns), clamped to 255, returned as I/255.
@@ -70,7 +70,7 @@ bool outside_cone(int i, vec3 light) {
 // reuses L: together they halve llvmpipe's lighting pass with four lights on, the same pixels.
 vec3 lit_colour(vec3 point, vec3 normal, vec3 view) {
     vec3 intensity = u_term_weights.x * u_ka * u_ambient;
-    for (int i = 0; i < LIGHT_COUNT; ++i) {
+    for (int i = 0; i < MAX_LIGHTS; ++i) {
         if (i >= u_lights_on) {
             break;
         }
@@ -103,7 +103,7 @@ out vec4 v_lit;  // rgb: the lit colour (0..1); a: N.V (Flat's back-face test at
 
 void main() {
     vec3 world_position = (u_model * vec4(in_position, 1.0)).xyz;
-    vec3 normal = normalize(u_normal_matrix * (INTERPOLATION == FLAT ? in_face_normal : in_normal));
+    vec3 normal = normalize(u_normal_matrix * (SHADING == FLAT ? in_face_normal : in_normal));
     vec3 view = toward_eye(world_position);
     v_lit = vec4(lit_colour(world_position, normal, view), dot(normal, view));
 }
@@ -152,10 +152,10 @@ in vec3 v_world_normal;
 out vec4 out_colour;
 
 vec3 surface_colour() {
-    if (INTERPOLATION == FLAT) {
+    if (SHADING == FLAT) {
         return v_flat_lit.rgb;
     }
-    if (INTERPOLATION == GOURAUD) {
+    if (SHADING == GOURAUD) {
         return v_smooth_colour;
     }
     // Interpolated unit normals are shorter than 1 between the corners: normalize again.
@@ -170,7 +170,7 @@ vec3 surface_colour() {
 // the polygon's plane. (A polygon that is not flat may differ along a fold; the model matrices are
 // rotations and translations, never mirrors, so counter-clockwise stays front.)
 bool is_front_face() {
-    return INTERPOLATION == FLAT ? v_flat_lit.a > 0.0 : gl_FrontFacing;
+    return SHADING == FLAT ? v_flat_lit.a > 0.0 : gl_FrontFacing;
 }
 
 void main() {

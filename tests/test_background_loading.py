@@ -7,9 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
-from app.scenefile import empty_scene
-from app.viewer import BackgroundLoader, Viewer
-from corpus import NoFrontend
+from marraztu.control.viewer import BackgroundLoader, Viewer
+from marraztu.loaders.scenefile import empty_scene
+from support.scenes import NoFrontend
 
 
 def wait_until_idle(viewer: Viewer, seconds: float = 30.0) -> None:
@@ -24,7 +24,7 @@ def test_loads_join_the_scene_between_frames(tmp_path: Path) -> None:
     good.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
     bad = tmp_path / "bad.obj"
     bad.write_text("v 0 0 0\nv 1 0 0\nf 1 2 9\n")
-    viewer = Viewer(empty_scene(), renderer=None, frontend=NoFrontend(), background=BackgroundLoader())
+    viewer = Viewer(empty_scene(), NoFrontend(), background=BackgroundLoader())
     viewer.load_model(good)
     assert viewer.scene.objects == [], "nothing joins until the frame collects it"
     wait_until_idle(viewer)
@@ -43,7 +43,7 @@ def test_loads_join_the_scene_between_frames(tmp_path: Path) -> None:
 def test_a_camera_load_stays_a_camera_even_if_the_target_changes_meanwhile(tmp_path: Path) -> None:
     good = tmp_path / "cam.obj"
     good.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
-    viewer = Viewer(empty_scene(), renderer=None, frontend=NoFrontend(), background=BackgroundLoader())
+    viewer = Viewer(empty_scene(), NoFrontend(), background=BackgroundLoader())
     viewer.press_sequence("c")  # target cameras
     viewer.load_model(good)
     viewer.press_sequence("c")  # target lights before the load lands
@@ -55,11 +55,11 @@ def test_a_camera_load_stays_a_camera_even_if_the_target_changes_meanwhile(tmp_p
 
 def test_the_worker_prepares_the_surface_and_the_first_frame_only_uploads_it(tmp_path: Path, renderer,
                                                                                 offscreen) -> None:
-    from app import gpu
+    from marraztu.render import gpu
 
     good = tmp_path / "quad.obj"
     good.write_text("v -40 -40 0\nv 40 -40 0\nv 40 40 0\nv -40 40 0\nf 1 2 3 4\n")
-    viewer = Viewer(empty_scene(), renderer=renderer, frontend=NoFrontend(), background=BackgroundLoader())
+    viewer = Viewer(empty_scene(), NoFrontend(), background=BackgroundLoader(gpu.prepare_surface))
     viewer.load_model(good)
     assert any("quad.obj" in line for line in viewer.loading_lines())
     wait_until_idle(viewer)

@@ -23,17 +23,18 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import corpus
-from app.cli import main as cli_main
-from app.errors import LoadError
-from app.keymap import KeyPress
-from app.loaders.image import fallback_texture, load_image, load_texture_or_fallback
-from app.loaders.obj import load_obj
-from app.renderer import Renderer
-from app.scene import Scene, Target
-from app.scenefile import load_builtin_scene, load_scene
-from app.viewer import BackgroundLoader, Viewer
-from corpus import Case
+from marraztu.cli import main as cli_main
+from marraztu.control.keymap import KeyPress
+from marraztu.control.viewer import BackgroundLoader, Viewer
+from marraztu.errors import LoadError
+from marraztu.loaders.images import fallback_texture, load_image, load_texture_or_fallback
+from marraztu.loaders.obj import load_obj
+from marraztu.loaders.scenefile import load_builtin_scene, load_scene
+from marraztu.model.scene import Scene, Target
+from marraztu.render.renderer import Renderer
+from support import corpus
+from support.corpus import Case
+from support.scenes import RenderingViewer
 
 ROOT = Path(__file__).resolve().parents[1]
 SMALL_GROWTH_BYTES = 50 * corpus.MEGABYTE
@@ -150,7 +151,7 @@ def viewer(own_ctx) -> Iterator[Viewer]:
     with corpus.DroppedGlObjects(own_ctx) as dropped:
         renderer = Renderer(own_ctx)
         scene = load_builtin_scene()
-        view = Viewer(scene, renderer, RecordingFrontend())
+        view = RenderingViewer(scene, renderer, RecordingFrontend())
         view.use_texture(None)
         view.press_sequence("TAB x x t y g Z ENTER ENTER c x r y c c")  # ends targeting objects
         assert scene.modes.target is Target.OBJECTS
@@ -192,7 +193,7 @@ def test_bad_obj_through_the_f_key_leaves_the_scene_as_it_was(case: Case, case_p
 def window_viewer(viewer: Viewer) -> Iterator[Viewer]:
     """The module's scene and renderer behind the window's kind of viewer: loads on a worker thread."""
     loader = BackgroundLoader()
-    yield Viewer(viewer.scene, viewer.renderer, RecordingFrontend(), background=loader)
+    yield RenderingViewer(viewer.scene, viewer.renderer, RecordingFrontend(), background=loader)
     loader.shutdown()
 
 
@@ -348,7 +349,7 @@ class Run:
 
 
 def run_in_process(argv: list[str], capsys: pytest.CaptureFixture[str], out: Path) -> Run:
-    """`python -m app ARGS` minus the interpreter start: app.cli.main is all `__main__` runs. An
+    """`python -m marraztu ARGS` minus the interpreter start: marraztu.cli.main is all `__main__` runs. An
     exception other than the one-line error escapes here and fails the test with its traceback.
 
     The command makes and releases a GL context of its own; the one current before is again after."""
@@ -359,7 +360,7 @@ def run_in_process(argv: list[str], capsys: pytest.CaptureFixture[str], out: Pat
 
 def run_subprocess(argv: list[str], out: Path) -> Run:
     env = {**os.environ, "PYTHONIOENCODING": "utf-8"}
-    done = subprocess.run([sys.executable, "-m", "app", *argv], cwd=ROOT, capture_output=True,
+    done = subprocess.run([sys.executable, "-m", "marraztu", *argv], cwd=ROOT, capture_output=True,
                           timeout=120, env=env)
     return Run(done.returncode, done.stderr.decode("utf-8", "replace"), out.exists())
 
@@ -402,7 +403,7 @@ def test_texture_error_names_the_file_once_and_promises_no_fallback(case_path, t
     assert run.stderr.count(str(path)) == 1 and "built-in" not in run.stderr, run.stderr
 
 
-# A few of each kind through a real `python -m app` process: interpreter start, stderr encoding of
+# A few of each kind through a real `python -m marraztu` process: interpreter start, stderr encoding of
 # non-ASCII names, exit status. (kind, id) -> doors. Run side by side: each costs an interpreter start.
 SUBPROCESS_BAD_SAMPLE = {
     ("obj", "empty"): ("positional",),
@@ -486,7 +487,7 @@ def test_scene_with_broken_texture_warns_in_one_line_and_still_renders(case_path
     case = corpus.scene_with_bad_texture()
     scene_path = case_path(case)
     out = tmp_path / "shot.png"
-    done = subprocess.run([sys.executable, "-m", "app", "screenshot", "-o", str(out), "--size", "16x16",
+    done = subprocess.run([sys.executable, "-m", "marraztu", "screenshot", "-o", str(out), "--size", "16x16",
                            "--scene", str(scene_path)], cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     lines = [line for line in done.stderr.splitlines() if line.strip()]
@@ -521,9 +522,9 @@ def test_claimed_size_is_not_allocated_traced(name: str, case_path) -> None:
 
 PEAK_RSS_SCRIPT = textwrap.dedent("""
     import resource, sys, time
-    from app.errors import LoadError
-    from app.loaders.image import load_image
-    from app.loaders.obj import load_obj
+    from marraztu.errors import LoadError
+    from marraztu.loaders.images import load_image
+    from marraztu.loaders.obj import load_obj
     loader = load_image if sys.argv[1] == "image" else load_obj
     try:  # warm the code paths on a tiny valid file first, so imports do not count
         loader(sys.argv[3])
@@ -584,10 +585,10 @@ LOADER_KINDS = [pytest.param("obj", id="obj"), pytest.param("image", id="image")
                 pytest.param("scene", id="scene")]
 LOADER_SCRIPT = textwrap.dedent("""
     import resource, sys, time
-    from app.errors import LoadError
-    from app.loaders.image import load_image
-    from app.loaders.obj import load_obj
-    from app.scenefile import load_scene
+    from marraztu.errors import LoadError
+    from marraztu.loaders.images import load_image
+    from marraztu.loaders.obj import load_obj
+    from marraztu.loaders.scenefile import load_scene
     loader = {"obj": load_obj, "image": load_image, "scene": load_scene}[sys.argv[1]]
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     started = time.perf_counter()

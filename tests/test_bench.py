@@ -1,4 +1,4 @@
-"""`python -m app bench` at miniature sizes: every table is there, whole, and holds positive figures.
+"""`python -m marraztu bench` at miniature sizes: every table is there, whole, and holds positive figures.
 
 No timing is asserted: the figures depend on the machine and on whatever else runs on it.
 """
@@ -7,11 +7,18 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import corpus
 import numpy as np
 import pytest
 
-from app import bench
+from marraztu.devtools import bench
+from marraztu.devtools.bench.config import LOADERS, config_from_args, parse_counts
+from marraztu.devtools.bench.frames import CPU_HEADERS, FRAME_HEADERS, MODES
+from marraztu.devtools.bench.inputs import generate_load_inputs
+from marraztu.devtools.bench.loading import LOAD_HEADERS, available_loaders
+from marraztu.devtools.bench.memory import MEMORY_HEADERS
+from marraztu.devtools.bench.report import MACHINE_HEADING, MISSING
+from marraztu.devtools.bench.start import START_COMMANDS, START_HEADERS
+from support import corpus
 
 TINY_ARGS = ["--load-sizes", "200,400", "--sizes", "300", "--resolutions", "48x32", "--frames", "2",
              "--warmup", "1", "--repeats", "1", "--rounds", "1", "--start-runs", "1", "--cpu-frames", "2"]
@@ -36,7 +43,7 @@ def markdown_tables(text: str) -> dict[tuple[str, ...], list[list[str]]]:
 
 def numbers_in(rows: list[list[str]], headers: tuple[str, ...], column: str) -> list[float]:
     at = headers.index(column)
-    return [float(row[at]) for row in rows if row[at] != bench.MISSING]
+    return [float(row[at]) for row in rows if row[at] != MISSING]
 
 
 @pytest.fixture(scope="module")
@@ -52,13 +59,13 @@ def report(tmp_path_factory: pytest.TempPathFactory, gl_ctx) -> str:
 
 
 def test_every_section_prints_one_whole_table(report: str) -> None:
-    assert bench.MACHINE_HEADING in report and "GL_RENDERER: " in report
+    assert MACHINE_HEADING in report and "GL_RENDERER: " in report
     tables = markdown_tables(report)
-    expected = {bench.LOAD_HEADERS: 4 * len(bench.available_loaders(bench.LOADERS)[0]),
-                bench.FRAME_HEADERS: 2 * len(bench.MODES),  # the built-in scene and the 300-triangle grid
-                bench.CPU_HEADERS: len(bench.MODES),
-                bench.START_HEADERS: len(bench.START_COMMANDS),
-                bench.MEMORY_HEADERS: 4}
+    expected = {LOAD_HEADERS: 4 * len(available_loaders(LOADERS)[0]),
+                FRAME_HEADERS: 2 * len(MODES),  # the built-in scene and the 300-triangle grid
+                CPU_HEADERS: len(MODES),
+                START_HEADERS: len(START_COMMANDS),
+                MEMORY_HEADERS: 4}
     assert set(tables) == set(expected)
     for headers, row_count in expected.items():
         rows = tables[headers]
@@ -69,12 +76,12 @@ def test_every_section_prints_one_whole_table(report: str) -> None:
 def test_figures_are_positive_numbers(report: str) -> None:
     tables = markdown_tables(report)
     measured = {
-        bench.LOAD_HEADERS: ["triangles", "MB", "seconds", "MB/s", "time ÷ ours"],
-        bench.FRAME_HEADERS: ["triangles", "still ms", "moving ms", "bare ms", "still ÷ bare", "moving ÷ bare",
+        LOAD_HEADERS: ["triangles", "MB", "seconds", "MB/s", "time ÷ ours"],
+        FRAME_HEADERS: ["triangles", "still ms", "moving ms", "bare ms", "still ÷ bare", "moving ÷ bare",
                               "frames"],
-        bench.CPU_HEADERS: ["program process ms", "program without draw calls ms", "bare process ms"],
-        bench.START_HEADERS: ["to exit s", "exit ÷ bare EGL", "runs"],
-        bench.MEMORY_HEADERS: ["triangles", "Mesh B/tri", "GPU-ready arrays B/tri", "GPU when filled B/tri",
+        CPU_HEADERS: ["program process ms", "program without draw calls ms", "bare process ms"],
+        START_HEADERS: ["to exit s", "exit ÷ bare EGL", "runs"],
+        MEMORY_HEADERS: ["triangles", "Mesh B/tri", "GPU-ready arrays B/tri", "GPU when filled B/tri",
                                "GPU with lines and normals B/tri"],
     }
     for headers, columns in measured.items():
@@ -82,14 +89,14 @@ def test_figures_are_positive_numbers(report: str) -> None:
             values = numbers_in(tables[headers], headers, column)
             assert values and all(np.isfinite(v) and v > 0 for v in values), (column, values)
     # A tiny file may fit in memory the process already had: its extra peak may be zero, never less.
-    rss = numbers_in(tables[bench.LOAD_HEADERS], bench.LOAD_HEADERS, "peak RSS MB")
+    rss = numbers_in(tables[LOAD_HEADERS], LOAD_HEADERS, "peak RSS MB")
     assert rss and min(rss) >= 0
-    screenshot_png = numbers_in(tables[bench.START_HEADERS], bench.START_HEADERS, "to PNG written s")
+    screenshot_png = numbers_in(tables[START_HEADERS], START_HEADERS, "to PNG written s")
     assert len(screenshot_png) == 1 and screenshot_png[0] > 0
 
 
 def test_the_generated_files_are_the_sizes_asked_for(tmp_path: Path) -> None:
-    inputs = bench.generate_load_inputs(tmp_path, 200, 400)
+    inputs = generate_load_inputs(tmp_path, 200, 400)
     assert [item.triangles for item in inputs] == [200, 392, 800, 392]  # 10x10 cells, 14x14, 20x20 quads
     first = inputs[0].path.read_text().splitlines()
     assert any(line.startswith("f ") and line.count("/") == 6 for line in first)
@@ -97,7 +104,7 @@ def test_the_generated_files_are_the_sizes_asked_for(tmp_path: Path) -> None:
 
 
 def test_sizes_and_shortcuts_parse() -> None:
-    assert bench.parse_counts("100k,1m,5M,2500") == (100_000, 1_000_000, 5_000_000, 2500)
-    config = bench.config_from_args(["--skip-5m"])
+    assert parse_counts("100k,1m,5M,2500") == (100_000, 1_000_000, 5_000_000, 2500)
+    config = config_from_args(["--skip-5m"])
     assert config.frame_sizes == (100_000, 1_000_000)
-    assert bench.config_from_args(["--quick", "--frames", "7"]).frames == 7
+    assert config_from_args(["--quick", "--frames", "7"]).frames == 7

@@ -1,6 +1,6 @@
 """Degenerate geometry renders without NaN pixels or GL errors, in every drawing mode.
 
-Models come from inline OBJ text through the real reader (app.loaders.obj.parse_obj) and are drawn by
+Models come from inline OBJ text through the real reader (marraztu.loaders.obj.parse_obj) and are drawn by
 the real renderer through the viewer's camera. Pixels are read from a float32 colour buffer, where a
 NaN from the shaders stays a NaN instead of being clamped to a byte.
 """
@@ -12,18 +12,18 @@ from collections.abc import Iterator
 import numpy as np
 import pytest
 
-import corpus
-from corpus import NoFrontend
-from app.keymap import KeyPress
-from app.loaders.obj import parse_obj
-from app.mesh import Mesh
-from app.renderer import Renderer
-from app.scene import Scene, SceneObject
-from app.scenefile import DEFAULT_MATERIAL, load_builtin_scene
-from app.viewer import Viewer
+from marraztu.control.keymap import KeyPress
+from marraztu.control.viewer import Viewer
+from marraztu.loaders.obj import parse_obj
+from marraztu.loaders.scenefile import DEFAULT_MATERIAL, load_builtin_scene
+from marraztu.model.mesh import Mesh
+from marraztu.model.scene import Scene, SceneObject
+from marraztu.render.renderer import Renderer
+from support import corpus
+from support.scenes import BACKGROUND_FLOAT, NoFrontend, RenderingViewer
 
 SIZE = (48, 48)
-BACKGROUND = np.array([0.0, 0.0, 0.7])
+BACKGROUND = np.array(BACKGROUND_FLOAT)
 
 
 def triangle_scaled(scale: float, offset: float = 0.0) -> bytes:
@@ -94,7 +94,7 @@ def viewer_with(mesh: Mesh, renderer: Renderer, with_builtin_scene: bool = False
         scene.objects.clear()
     scene.objects.append(SceneObject.placed(mesh.name, mesh, DEFAULT_MATERIAL, (0.0, 0.0, 0.0)))
     scene.selected_object = len(scene.objects) - 1
-    return Viewer(scene, renderer, NoFrontend())
+    return RenderingViewer(scene, renderer, NoFrontend())
 
 
 def drawn_fraction(pixels: np.ndarray) -> float:
@@ -162,7 +162,7 @@ def test_coordinates_at_or_beyond_float32_are_refused_or_harmless(scale: float, 
     """GL draws in float32. Past ~1e154 even float64 squares overflow: the bounding box diagonal, the
     far plane and the projection become inf/NaN and the WHOLE scene vanishes. Such a model must be
     refused (naming the line) or leave the other objects drawn as before."""
-    from app.errors import LoadError
+    from marraztu.errors import LoadError
 
     if refused:
         with pytest.raises(LoadError) as caught:
@@ -184,7 +184,7 @@ def test_scene_of_degenerate_models_together(own_renderer: Renderer, own_ctx) ->
     for model, text in DEGENERATE_MODELS.items():
         mesh = parse_obj(text, f"{model}.obj")
         scene.objects.append(SceneObject.placed(model, mesh, DEFAULT_MATERIAL, (0.0, 0.0, 0.0)))
-    viewer = Viewer(scene, own_renderer, NoFrontend())
+    viewer = RenderingViewer(scene, own_renderer, NoFrontend())
     for keys in MODES.values():
         for _ in range(len(scene.objects)):
             viewer.press_sequence(f"{keys} TAB ENTER")

@@ -17,28 +17,30 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-import corpus
 import numpy as np
 import pytest
 from PIL import Image
 
-from app import transforms
-from app.bench import grid_quads
-from app.commands import NullHost
-from app.keymap import KeyPress, dispatch
-from app.lighting import lit_colour_bytes, shade_terms, world_lights
-from app.mesh import Mesh
-from app.panels import Extras, extras, matrix_lines, probe_lines
-from app.probe import Probe, cone_angle_deg, probe, project
-from app.renderer import Interpolation, View, view_projection, views
-from app.scene import Material, Owner, Projection, Scene, SceneObject, Shading, Target, TermView
-from app.scenefile import load_builtin_scene, load_scene
-from app.screenshot import take_screenshot
-from app.status import status_line
-from app.viewer import StartOptions
-from test_seed_colours import EXPECTED, SEED_ASSETS, SEED_SCENE
+from marraztu.control.keymap import KeyPress, dispatch
+from marraztu.control.viewer import StartOptions
+from marraztu.devtools.bench.inputs import grid_quads
+from marraztu.frontends.screenshot import take_screenshot
+from marraztu.loaders.scenefile import load_builtin_scene, load_scene
+from marraztu.model import transforms
+from marraztu.model.lighting import lit_colour_bytes, shade_terms
+from marraztu.model.lights import TERM_VIEWS, Owner, TermView, cone_angle_deg
+from marraztu.model.mesh import Mesh
+from marraztu.model.probe import Probe, probe
+from marraztu.model.scene import SWITCHED_SHADINGS, Material, Projection, Scene, SceneObject, Shading, Target
+from marraztu.render.layout import View, project, view_projection, views
+from marraztu.text.panels import Extras, extras, matrix_lines, probe_lines
+from marraztu.text.status import status_line
+from support import corpus
+from support.scenes import BACKGROUND as BACKGROUND_BYTES
+from support.scenes import RecordingHost
+from support.seed import EXPECTED, SEED_ASSETS, SEED_SCENE
 
-BACKGROUND = np.array([0, 0, 178])
+BACKGROUND = np.array(BACKGROUND_BYTES)
 PROBE_SIZE = (301, 301)
 # Gouraud: the camera slides until the vertex sits INSIDE_BY_PX inside the face from a pixel centre
 # (a centre exactly on a vertex is a rasterisation tie). The test first checks that interpolation
@@ -415,7 +417,7 @@ def term_view_pixels(offscreen, scene: Scene, view: TermView, size: tuple[int, i
 
 
 @pytest.mark.parametrize("side_by_side", [False, True], ids=["one view", "side by side"])
-@pytest.mark.parametrize("shading", list(Shading), ids=lambda s: s.value)
+@pytest.mark.parametrize("shading", SWITCHED_SHADINGS, ids=lambda s: s.value)
 def test_term_views_add_up_to_the_full_view(offscreen, shading: Shading, side_by_side: bool) -> None:
     """Ambient + diffuse + specular = everything, and ambient + each light alone = everything, pixel
     by pixel where no view saturates. Each view rounds to bytes on its own, so n views may be off
@@ -429,15 +431,15 @@ def test_term_views_add_up_to_the_full_view(offscreen, shading: Shading, side_by
         dim_until_no_vertex_saturates(scene)
     size = (240, 120) if side_by_side else (160, 160)
     full = term_view_pixels(offscreen, scene, TermView.EVERYTHING, size)
-    terms = {view: term_view_pixels(offscreen, scene, view, size) for view in TermView
-             if view is not TermView.EVERYTHING}
+    terms = {view: term_view_pixels(offscreen, scene, view, size) for view in TERM_VIEWS
+             if view != TermView.EVERYTHING}
     drawn = (full != BACKGROUND).any(axis=2)
     unsaturated = drawn & np.all([(image < 255).all(axis=2) for image in [full, *terms.values()]],
                                  axis=0)
     assert unsaturated.sum() > 400, "too little to compare"
 
     by_term = terms[TermView.AMBIENT] + terms[TermView.DIFFUSE] + terms[TermView.SPECULAR]
-    by_light = terms[TermView.AMBIENT] + sum(terms[TermView[f"LIGHT_{k}"]] for k in range(4))
+    by_light = terms[TermView.AMBIENT] + sum(terms[TermView.alone(k)] for k in range(len(scene.lights)))
     assert np.abs(by_term - full)[unsaturated].max() <= 2
     assert np.abs(by_light - full)[unsaturated].max() <= 3
     for view, image in terms.items():  # each term really shows something of its own
@@ -448,7 +450,7 @@ def dim_until_no_vertex_saturates(scene: Scene) -> None:
     """Gouraud interpolates colours clamped at the vertices, so a pixel under 255 may still come
     from a saturated vertex; the pixels cannot tell. Scaling every intensity down until no vertex
     of any object reaches 255 (by SPEC 4's formula) makes "no channel saturates" hold there too."""
-    lights = world_lights(scene)
+    lights = scene.world_lights()
     brightest = 0.0
     for obj in scene.objects + scene.cameras:
         corners = np.arange(obj.mesh.corner_vertex.size)
@@ -467,7 +469,7 @@ def test_a_light_alone_that_is_off_shows_black(offscreen) -> None:
     scene = load_builtin_scene()
     scene.modes.texture = False
     scene.lights[0].on = False
-    pixels = term_view_pixels(offscreen, scene, TermView.LIGHT_0, (96, 96))
+    pixels = term_view_pixels(offscreen, scene, TermView.alone(0), (96, 96))
     drawn = (pixels != BACKGROUND).any(axis=2)
     assert drawn.mean() > 0.02
     lit = pixels[drawn]
@@ -546,7 +548,7 @@ def phong_expected(scene: Scene, view: View, window_xy: np.ndarray,
     toward_eye = eye_or_view if parallel else eye_or_view - first
     if face_normal @ toward_eye <= 0.0:
         return None
-    lights = world_lights(scene)
+    lights = scene.world_lights()
     for light in lights:
         if light.aperture_deg < 180.0 and abs(cone_angle_deg(light, point) - light.aperture_deg) < 0.3:
             return None
@@ -561,7 +563,7 @@ def test_phong_third_is_the_formula_per_pixel(offscreen, dome_scene: Scene,
     size = (3 * 81, 81)
     pixels = offscreen(dome_scene, size)
     phong = views(dome_scene, size)[2]
-    assert phong.interpolation is Interpolation.PHONG and phong.viewport == (162, 0, 81, 81)
+    assert phong.shading is Shading.PHONG and phong.viewport == (162, 0, 81, 81)
     table = fan_triangle_table(dome_scene.objects[0])  # the object stays put: once for every pixel
     compared = 0
     for row in range(1, 81, 2):
@@ -605,12 +607,12 @@ def quad_scene_with_sun(make_quad, make_scene) -> Scene:
 def test_v_steps_through_every_term_view_and_the_status_line_names_it(make_quad, make_scene) -> None:
     scene = quad_scene_with_sun(make_quad, make_scene)
     seen = []
-    for _ in range(len(TermView) + 1):
+    for _ in range(len(TERM_VIEWS) + 1):
         seen.append(scene.modes.term_view)
-        dispatch(scene, KeyPress("v"), NullHost())
-    assert seen == [*TermView, TermView.EVERYTHING]
+        dispatch(scene, KeyPress("v"), RecordingHost())
+    assert seen == [*TERM_VIEWS, TermView.EVERYTHING]
     names = []
-    for view in TermView:
+    for view in TERM_VIEWS:
         scene.modes.term_view = view
         names.append(status_line(scene).split(" | ")[3])
     assert names == ["lit: everything", "lit: ambient only", "lit: diffuse only", "lit: specular only",
@@ -658,7 +660,7 @@ def test_the_probe_sees_term_views_and_back_faces(make_quad, make_scene) -> None
 def test_the_matrices_panel(make_quad, make_scene) -> None:
     scene = quad_scene_with_sun(make_quad, make_scene)
     for token in "t x x g".split():
-        dispatch(scene, KeyPress(token), NullHost())
+        dispatch(scene, KeyPress(token), RecordingHost())
     lines = matrix_lines(scene, (800, 800))
     text = "\n".join(lines)
     assert "model of object quad" in text and "undo depth of the quad: 2" in text
@@ -667,7 +669,7 @@ def test_the_matrices_panel(make_quad, make_scene) -> None:
     np.testing.assert_allclose([[float(x) for x in row.split()] for row in model_rows],
                                scene.objects[0].model, atol=1e-3)
     assert "     -1.000" in lines[lines.index("projection: perspective 90 deg, aspect 1.00") + 4]
-    dispatch(scene, KeyPress("u"), NullHost())
+    dispatch(scene, KeyPress("u"), RecordingHost())
     assert "undo depth of the quad: 1" in "\n".join(matrix_lines(scene, (800, 800)))
     scene.modes.target = Target.LIGHTS
     assert "sun: a direction, no matrix" in "\n".join(matrix_lines(scene, (800, 800)))
@@ -675,7 +677,7 @@ def test_the_matrices_panel(make_quad, make_scene) -> None:
 
 def test_help_makes_way_and_nothing_breaks_without_an_object(make_scene) -> None:
     scene = make_scene([])
-    dispatch(scene, KeyPress("i"), NullHost())
+    dispatch(scene, KeyPress("i"), RecordingHost())
     assert not scene.modes.probe and "no object" in scene.message
     scene.modes.probe = scene.modes.matrices = scene.modes.side_by_side = True
     assert probe(scene) is None and probe_lines(scene)[0].startswith("PROBE: no face")

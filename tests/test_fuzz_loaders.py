@@ -10,12 +10,12 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-import corpus
-from app.errors import LoadError
-from app.gpu import edge_vertices, face_normal_segments, surface_arrays, vertex_normal_segments
-from app.loaders.image import MAX_PIXELS, parse_ppm
-from app.loaders.obj import parse_obj
-from app.mesh import Mesh
+from marraztu.errors import LoadError
+from marraztu.loaders.images import MAX_PIXELS, parse_ppm
+from marraztu.loaders.obj import parse_obj
+from marraztu.model.mesh import Mesh
+from marraztu.render.gpu import edge_vertices, face_normal_segments, surface_arrays, vertex_normal_segments
+from support import corpus
 
 FUZZ = settings(derandomize=True, database=None, deadline=None, max_examples=600,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])

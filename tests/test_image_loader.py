@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.errors import LoadError
-from app.loaders.image import MAX_PIXELS, fallback_texture, load_image, load_texture_or_fallback, parse_ppm
+from marraztu.errors import LoadError
+from marraztu.loaders.images import MAX_PIXELS, fallback_texture, load_image, load_texture_or_fallback, parse_ppm
 
 # 2 x 2: red, green / blue, white. Rows top first, as in the file.
 PIXELS = np.array([[[255, 0, 0], [0, 255, 0]], [[0, 0, 255], [255, 255, 255]]], dtype=np.uint8)

@@ -5,10 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app import keymap
-from app.commands import NullHost
-from app.errors import KeyMapError
-from app.keymap import (
+from marraztu.control import keymap
+from marraztu.control.keymap import (
     AXIS_KEYS,
     KEYMAP,
     Command,
@@ -17,10 +15,11 @@ from app.keymap import (
     check_keymap,
     dispatch,
     parse_key_sequence,
-    press_from_text,
 )
-from app.mesh import Mesh
-from app.scene import Material, Scene, SceneObject, Target
+from marraztu.errors import KeyMapError
+from marraztu.model.mesh import Mesh
+from marraztu.model.scene import Material, Scene, SceneObject, Target
+from support.scenes import RecordingHost
 
 SPEC_KEYS = set("f l o d r t g x y z X Y Z u c C n b p F + - 0 1 2 3".split()) | {"TAB", "ENTER", "ESC"}
 PROJECT_KEYS = {"T", "h", "F1", "F12", "DELETE", "v", "i", "m", "s"}
@@ -115,13 +114,13 @@ def test_parse_bounds_the_whole_sequence() -> None:
 def test_no_valid_key_raises_under_any_target(token: str, target: Target) -> None:
     scene = triangle_scene()
     scene.modes.target = target
-    dispatch(scene, KeyPress(token), NullHost())
-    dispatch(scene, KeyPress(token), NullHost())
+    dispatch(scene, KeyPress(token), RecordingHost())
+    dispatch(scene, KeyPress(token), RecordingHost())
 
 
 def test_every_key_twice_in_a_row_under_every_mode_never_raises() -> None:
     scene = triangle_scene()
-    host = NullHost()
+    host = RecordingHost()
     for _ in range(3):
         for token in KEYMAP:
             for _ in range(2):
@@ -131,19 +130,12 @@ def test_every_key_twice_in_a_row_under_every_mode_never_raises() -> None:
 
 def test_an_unbound_key_leaves_a_message() -> None:
     scene = triangle_scene()
-    dispatch(scene, KeyPress("q"), NullHost())
+    dispatch(scene, KeyPress("q"), RecordingHost())
     assert "'q'" in scene.message
 
 
 def test_a_press_clears_the_previous_message() -> None:
     scene = triangle_scene()
     scene.message = "old news"
-    dispatch(scene, KeyPress("l"), NullHost())
+    dispatch(scene, KeyPress("l"), RecordingHost())
     assert scene.message == ""
-
-
-@pytest.mark.parametrize(("text", "token"), [("x", "x"), ("F", "F"), ("\t", "TAB"), ("\r", "ENTER"),
-                                             ("\x1b", "ESC"), ("+", "+"), ("q", None), (" ", None)])
-def test_press_from_text(text: str, token: str | None) -> None:
-    press = press_from_text(text)
-    assert (press.token if press else None) == token

@@ -12,14 +12,15 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-import corpus
-from app.renderer import Renderer
-from app.scene import Scene
-from app.scenefile import load_builtin_scene
-from app.viewer import Viewer
+from marraztu.loaders.scenefile import load_builtin_scene
+from marraztu.model.scene import Scene
+from marraztu.render.renderer import Renderer
+from support import corpus
+from support.scenes import BACKGROUND as BACKGROUND_BYTES
+from support.scenes import NoFrontend, RenderingViewer
 
 SIZE = (96, 72)
-BACKGROUND = np.array([0, 0, 178])
+BACKGROUND = np.array(BACKGROUND_BYTES)
 CLOSE = "c t Z*14 c c r"  # the camera 70 units nearer, objects targeted again, rotating
 
 # (keys, does the next frame need a lighting pass). Each step starts from the frame of the one before.
@@ -67,7 +68,7 @@ def lit_viewer(own_ctx):
     counts and kept rows must be this test's alone)."""
     for renderer in corpus.own_renderer(own_ctx):
         scene = load_builtin_scene()
-        viewer = Viewer(scene, renderer, corpus.NoFrontend(), strict=True)
+        viewer = RenderingViewer(scene, renderer, NoFrontend(), strict=True)
         viewer.use_texture(scene.texture_path)
         viewer.press_sequence(f"{CLOSE} 0 1 2 3")
         yield viewer

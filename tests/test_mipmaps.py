@@ -4,13 +4,13 @@ go when it is released."""
 
 from __future__ import annotations
 
-import corpus
 import moderngl
 import numpy as np
 import pytest
 
-from app import mipmaps
-from app.mipmaps import create_mipmapped, mip_levels
+from marraztu.render import mipmaps
+from marraztu.render.mipmaps import create_mipmapped, mip_levels
+from support import corpus
 
 SIZES = [(256, 256), (64, 16), (16, 64), (1, 8), (8, 1), (1, 1)]
 

@@ -13,13 +13,15 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from app.errors import LoadError
-from app.loaders import obj as obj_module
-from app.loaders.files import read_file
-from app.loaders.obj import build_mesh, load_obj, parse_obj
-from app.mesh import Mesh
-
-SEED_ASSETS = Path(__file__).resolve().parents[2] / "shared" / "seed-assets"
+from marraztu.errors import LoadError
+from marraztu.loaders import obj as obj_module
+from marraztu.loaders.files import read_file
+from marraztu.loaders.obj import fast as fast_reader
+from marraztu.loaders.obj import load_obj, parse_obj
+from marraztu.loaders.obj.lines import read_by_lines
+from marraztu.model.build import build_mesh
+from marraztu.model.mesh import Mesh
+from support.seed import SEED_MODELS, seed_model
 
 QUAD = b"v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nf 1 2 3 4\n"
 
@@ -373,11 +375,11 @@ def read_both(text: bytes) -> tuple[object, object]:
     """(fast result or 'unusual', slow result or the LoadError)."""
     normalized = obj_module._normalized_text(text, "x.obj")
     try:
-        fast: object = obj_module._read_fast(normalized)
-    except obj_module._Unusual:
+        fast: object = fast_reader.read_fast(normalized)
+    except fast_reader.Unusual:
         fast = "unusual"
     try:
-        slow: object = obj_module._read_by_lines(normalized, "x.obj")
+        slow: object = read_by_lines(normalized, "x.obj")
     except LoadError as error:
         slow = error
     return fast, slow
@@ -475,12 +477,12 @@ def test_random_bytes_never_raise_anything_but_load_error(data: bytes) -> None:
 def small_chunks(chunk_bytes: int = 64, threads: int = 3) -> Iterator[None]:
     """The fast reader's chunks made tiny and its threads several, so that small texts cross many
     chunk edges and are parsed out of order, as megabyte files are."""
-    saved = obj_module._CHUNK_BYTES, obj_module._CHUNK_LINES, obj_module._PARSE_THREADS
-    obj_module._CHUNK_BYTES, obj_module._CHUNK_LINES, obj_module._PARSE_THREADS = chunk_bytes, 3, threads
+    saved = fast_reader._CHUNK_BYTES, fast_reader._CHUNK_LINES, fast_reader._PARSE_THREADS
+    fast_reader._CHUNK_BYTES, fast_reader._CHUNK_LINES, fast_reader._PARSE_THREADS = chunk_bytes, 3, threads
     try:
         yield
     finally:
-        obj_module._CHUNK_BYTES, obj_module._CHUNK_LINES, obj_module._PARSE_THREADS = saved
+        fast_reader._CHUNK_BYTES, fast_reader._CHUNK_LINES, fast_reader._PARSE_THREADS = saved
 
 
 @settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -567,22 +569,6 @@ def test_build_mesh_rejects_impossible_faces(faces: list[list[int]]) -> None:
 
 
 # --- the seed's models ------------------------------------------------------------------------------
-
-
-def seed_model(name: str) -> Path:
-    path = SEED_ASSETS / name
-    if not path.is_file():
-        pytest.skip(f"seed assets not available at {SEED_ASSETS}")
-    return path
-
-
-SEED_MODELS = [  # name, vertices, faces
-    ("x_wing.obj", 3104, 6084),
-    ("r_falke.obj", 1885, 3608),
-    ("rammer_225.obj", 5518, 5509),
-    ("cam.obj", 5, 4),
-    ("kupula.obj", 40, 60),
-]
 
 
 @pytest.mark.parametrize(("name", "vertices", "faces"), SEED_MODELS)

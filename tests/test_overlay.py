@@ -5,7 +5,7 @@ from __future__ import annotations
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from app.overlay import fit_lines, wrap
+from marraztu.render.overlay import fit_lines, wrap
 
 
 def test_status_line_breaks_only_between_fields() -> None:

@@ -16,15 +16,16 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.screenshot import take_screenshot
-from app.viewer import StartOptions
+from marraztu.control.viewer import StartOptions
+from marraztu.frontends.screenshot import take_screenshot
+from support.scenes import BACKGROUND as BACKGROUND_BYTES
 
 REFERENCE_DIR = Path(__file__).parent / "reference"
 SIZE = (320, 320)
 CHANNEL_TOLERANCE = 8
 MAX_DIFFERING_FRACTION = 0.005
 MAX_MEAN_DIFFERENCE = 1.0
-BACKGROUND = np.array([0, 0, 178])
+BACKGROUND = np.array(BACKGROUND_BYTES)
 
 # name -> keys replayed from the start state (SPEC 3)
 MODES = {

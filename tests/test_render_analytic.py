@@ -15,12 +15,14 @@ from typing import Any, Callable
 import numpy as np
 import pytest
 
-from app.lighting import WorldLight, lit_colour_bytes, shade, shade_terms, to_bytes
-from app.scene import Fill, LightKind, Material, Owner, Projection, Scene, SceneObject, Shading
+from marraztu.model.lighting import lit_colour_bytes, shade, shade_terms, to_bytes
+from marraztu.model.lights import DIRECTIONAL, Owner, WorldLight
+from marraztu.model.scene import SWITCHED_SHADINGS, Fill, Material, Projection, Scene, SceneObject, Shading
+from support.scenes import BACKGROUND as BACKGROUND_BYTES
 
 SIZE = (63, 63)
 CENTRE = (31, 31)  # row, column: the pixel whose centre is the view axis
-BACKGROUND = np.array([0, 0, 178])
+BACKGROUND = np.array(BACKGROUND_BYTES)
 RED = np.array([255, 0, 0])
 CAMERA = np.array([0.0, 0.0, 150.0])
 MATERIAL = Material(ka=(0.2, 0.3, 0.4), kd=(0.6, 0.5, 0.4), ks=(0.5, 0.4, 0.3), ns=20.0)
@@ -140,7 +142,7 @@ def assert_close(actual: np.ndarray, expected: np.ndarray) -> None:
 
 
 @pytest.mark.parametrize("projection", list(Projection), ids=lambda p: p.value)
-@pytest.mark.parametrize("shading", list(Shading), ids=lambda s: s.value)
+@pytest.mark.parametrize("shading", SWITCHED_SHADINGS, ids=lambda s: s.value)
 @pytest.mark.parametrize("add_light", LIGHTS, ids=lambda f: f.__name__.removeprefix("light_"))
 def test_each_light_alone_matches_the_formula(offscreen, quad_scene: Scene, add_light,
                                               shading: Shading, projection: Projection) -> None:
@@ -182,7 +184,7 @@ def test_ambient_only(offscreen, quad_scene: Scene) -> None:
     assert_close(pixels[0, 0], BACKGROUND)
 
 
-@pytest.mark.parametrize("shading", list(Shading), ids=lambda s: s.value)
+@pytest.mark.parametrize("shading", SWITCHED_SHADINGS, ids=lambda s: s.value)
 def test_clamped_to_255(offscreen, quad_scene: Scene, shading: Shading) -> None:
     bright = Material(ka=(2.0, 1.0, 0.2), kd=(0.9, 0.9, 0.1), ks=(0.5, 0.5, 0.0), ns=10.0)
     quad_scene.objects[0].material = bright
@@ -194,7 +196,7 @@ def test_clamped_to_255(offscreen, quad_scene: Scene, shading: Shading) -> None:
     assert_close(pixels[CENTRE], expected)
 
 
-@pytest.mark.parametrize("shading", list(Shading), ids=lambda s: s.value)
+@pytest.mark.parametrize("shading", SWITCHED_SHADINGS, ids=lambda s: s.value)
 def test_clamped_before_the_texture_multiplies(offscreen, renderer, quad_scene: Scene,
                                                shading: Shading) -> None:
     """The framebuffer clamps too, so clamping only shows where something follows it: I = 400 on a
@@ -204,11 +206,8 @@ def test_clamped_before_the_texture_multiplies(offscreen, renderer, quad_scene: 
     quad_scene.objects[0].material = bright
     quad_scene.ambient = np.array([200.0, 200.0, 200.0])
     quad_scene.modes.shading, quad_scene.modes.texture = shading, True
-    renderer.set_texture(np.array([[texel]], np.uint8))
-    try:
-        pixels = offscreen(quad_scene, SIZE)
-    finally:
-        renderer.set_texture(np.full((1, 1, 3), 255, np.uint8))
+    quad_scene.texture = np.array([[texel]], np.uint8)
+    pixels = offscreen(quad_scene, SIZE)
     expected = lit_colour_bytes(world((0, 0, 0)), (0, 0, 1), CAMERA, bright, [],
                                 (200, 200, 200), False, texture_rgb=texel)
     assert tuple(expected) == (128, 128, 128)
@@ -223,7 +222,7 @@ def back_scene(make_quad, make_scene) -> Scene:
 
 
 @pytest.mark.parametrize("projection", list(Projection), ids=lambda p: p.value)
-@pytest.mark.parametrize("shading", list(Shading), ids=lambda s: s.value)
+@pytest.mark.parametrize("shading", SWITCHED_SHADINGS, ids=lambda s: s.value)
 def test_back_face_is_red(offscreen, back_scene: Scene, shading: Shading,
                           projection: Projection) -> None:
     back_scene.modes.shading, back_scene.modes.projection = shading, projection
@@ -301,11 +300,8 @@ def test_texture_is_neither_flipped_nor_mirrored(offscreen, renderer, make_quad,
     scene = make_scene([SceneObject.placed("picture", make_quad(QUAD_HALF), white, (0, 0, 0))],
                        texture=True)
     scene.ambient = np.array([255.0, 255.0, 255.0])
-    renderer.set_texture(picture)
-    try:
-        pixels = offscreen(scene, SIZE)
-    finally:
-        renderer.set_texture(np.full((1, 1, 3), 255, np.uint8))
+    scene.texture = picture
+    pixels = offscreen(scene, SIZE)
     # The square spans the middle third: rows and columns 21..41; sample inside each quadrant.
     assert (pixels[26, 26] == (255, 0, 0)).all()
     assert (pixels[26, 36] == (0, 255, 0)).all()
@@ -316,11 +312,8 @@ def test_texture_is_neither_flipped_nor_mirrored(offscreen, renderer, make_quad,
 def test_texture_multiplies_the_lit_colour(offscreen, renderer, quad_scene: Scene) -> None:
     texel = (200, 100, 50)
     quad_scene.modes.texture = True
-    renderer.set_texture(np.array([[texel]], np.uint8))
-    try:
-        pixels = offscreen(quad_scene, SIZE)
-    finally:
-        renderer.set_texture(np.full((1, 1, 3), 255, np.uint8))
+    quad_scene.texture = np.array([[texel]], np.uint8)
+    pixels = offscreen(quad_scene, SIZE)
     expected = lit_colour_bytes(world((0, 0, 0)), (0, 0, 1), CAMERA, MATERIAL, [],
                                 quad_scene.ambient, False, texture_rgb=texel)
     assert_close(pixels[CENTRE], expected)
@@ -336,7 +329,7 @@ def test_not_blank(offscreen, quad_scene: Scene) -> None:
 
 # --- lighting.py on its own (no GL) ----------------------------------------------------------------
 def test_formula_terms_add_up() -> None:
-    sun = WorldLight("sun", LightKind.DIRECTIONAL, np.array([200.0, 200, 200]), np.zeros(3),
+    sun = WorldLight("sun", DIRECTIONAL, np.array([200.0, 200, 200]), np.zeros(3),
                      np.array([0.0, 0.0, 1.0]))
     terms = shade_terms((0, 0, 0), (0, 0, 1), (0, 0, 1), MATERIAL, [sun], (200, 75, 255), True)
     # N = L = V = H: diffuse I*Kd, specular I*Ks, whatever ns is.

@@ -8,11 +8,12 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.screenshot import take_screenshot
-from app.viewer import StartOptions
+from marraztu.control.viewer import StartOptions
+from marraztu.frontends.screenshot import take_screenshot
+from support.scenes import BACKGROUND as BACKGROUND_BYTES
 
 SIZE = (160, 160)
-BACKGROUND = np.array([0, 0, 178])
+BACKGROUND = np.array(BACKGROUND_BYTES)
 
 
 @pytest.fixture

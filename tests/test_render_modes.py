@@ -6,9 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.scene import Fill, Material, Projection, Scene, SceneObject, Shading, Target
+from marraztu.model.scene import Fill, Material, Projection, Scene, SceneObject, Shading, Target
+from support.scenes import BACKGROUND as BACKGROUND_BYTES
 
-BACKGROUND = np.array([0, 0, 178])
+BACKGROUND = np.array(BACKGROUND_BYTES)
 WHITE = np.array([255, 255, 255])
 GREEN = np.array([0, 255, 0])
 RED = np.array([255, 0, 0])

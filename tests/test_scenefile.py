@@ -7,11 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app import ASSET_DIR
-from app.errors import LoadError
-from app.mesh import Mesh
-from app.scene import Material, euler_xyz
-from app.scenefile import (
+from marraztu.errors import LoadError
+from marraztu.loaders.scenefile import (
     DEFAULT_MATERIAL,
     builtin_scene_path,
     empty_scene,
@@ -19,6 +16,10 @@ from app.scenefile import (
     load_scene,
     material_for_loaded,
 )
+from marraztu.model.mesh import Mesh
+from marraztu.model.scene import Material
+from marraztu.model.transforms import euler_xyz
+from marraztu.resources import ASSET_DIR
 
 SPEC_MATERIALS = {
     "shiny_plastic": Material((0.0, 0.3, 1.0), (0.5922, 0.0166, 0.0), (0.5974, 0.2084, 0.2084), 100.2237),

@@ -16,14 +16,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import corpus
-from app import ASSET_DIR
-from app.gpu import ObjectGpu
-from app.keymap import KEYMAP, KeyPress
-from app.renderer import Renderer
-from app.scene import SPOT_APERTURE_RANGE_DEG, LightKind, Scene, Target
-from app.scenefile import empty_scene, load_builtin_scene
-from app.viewer import Viewer
+from marraztu.control.keymap import KEYMAP, KeyPress
+from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
+from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG
+from marraztu.model.scene import Scene, Target
+from marraztu.render.gpu import ObjectGpu
+from marraztu.render.renderer import Renderer
+from marraztu.resources import ASSET_DIR
+from support import corpus
+from support.scenes import RenderingViewer
 
 PRESSES = 40_000
 RENDER_EVERY = 50
@@ -42,13 +43,10 @@ class CountingFrontend:
     """The window's side of the host: counts what the keys asked of it."""
 
     def __init__(self) -> None:
-        self.quits = self.prompts = self.screenshots = 0
+        self.quits = self.screenshots = 0
 
     def quit(self) -> None:
         self.quits += 1
-
-    def open_file_prompt(self) -> None:
-        self.prompts += 1
 
     def save_screenshot(self) -> None:
         self.screenshots += 1
@@ -93,7 +91,7 @@ class Invariants:
         for light in scene.lights:
             assert np.isfinite(light.position).all() and np.isfinite(light.direction).all()
             assert np.isfinite(light.axis_in_owner).all()
-            if light.kind is LightKind.SPOT:
+            if light.kind.has_cone:
                 low, high = SPOT_APERTURE_RANGE_DEG
                 assert low <= light.aperture_deg <= high
 
@@ -128,12 +126,16 @@ class PressMaker:
     keys: list[str] = field(init=False)
     loads: int = 0
     bad_loads: int = 0
+    prompts: int = 0  # presses made while the `f` prompt was open
 
     def __post_init__(self) -> None:
         self.keys = [token for token in KEYMAP if token not in SPECIAL_TOKENS]
         self.pending = [KeyPress(token) for token in reversed(list(KEYMAP))]
 
-    def next(self, scene: Scene) -> KeyPress:
+    def next(self, scene: Scene, prompt_open: bool) -> KeyPress:
+        if prompt_open:  # type a little into the prompt, then load what was typed or cancel
+            self.prompts += 1
+            return KeyPress(self.rng.choice(["a", ".", "BACKSPACE", "SPACE", "ENTER", "ESC"]))
         if self.pending:
             return self.pending.pop()
         if len(scene.objects) + len(scene.cameras) > MAX_ELEMENTS and scene.modes.target is not Target.LIGHTS:
@@ -172,7 +174,7 @@ def test_soak_random_keys_keep_the_scene_sound(own_ctx, soak_renderer: Renderer,
     good, bad = soak_files
     scene = load_builtin_scene()
     frontend = CountingFrontend()
-    viewer = Viewer(scene, soak_renderer, frontend)
+    viewer = RenderingViewer(scene, soak_renderer, frontend)
     viewer.use_texture(None)
     corpus.render_float(own_ctx, soak_renderer, empty_scene(), SIZE)  # make the framebuffer first
     gl_without_objects = gl_total(own_ctx)
@@ -192,7 +194,7 @@ def test_soak_random_keys_keep_the_scene_sound(own_ctx, soak_renderer: Renderer,
     started = time.perf_counter()
     with corpus.DroppedGlObjects(own_ctx) as dropped:
         for press_number in range(1, PRESSES + 1):
-            press = maker.next(scene)
+            press = maker.next(scene, viewer.prompt is not None)
             viewer.press(press)
             if press.path is not None and press.path in bad:
                 assert Path(press.path).name in scene.message or scene.modes.target is Target.LIGHTS
@@ -212,7 +214,7 @@ def test_soak_random_keys_keep_the_scene_sound(own_ctx, soak_renderer: Renderer,
     rss_growth = checkpoints[-1].rss - checkpoints[third].rss
     assert rss_growth < RSS_GROWTH_LIMIT, [point.rss for point in checkpoints]
     assert maker.loads > 100 and maker.bad_loads > 50
-    assert frontend.quits and frontend.prompts and frontend.screenshots  # ESC, f and F12 were pressed
+    assert frontend.quits and maker.prompts and frontend.screenshots  # ESC, f and F12 were pressed
     print(f"\nsoak: {PRESSES} presses in {seconds:.1f} s; {maker.loads} good and {maker.bad_loads} bad loads; "
           f"GL objects without models {gl_without_objects}, per model {per_object}; "
           f"checkpoints (press, elements, GL objects, RSS MB): "
@@ -225,7 +227,7 @@ def test_load_delete_loop_levels_off(own_ctx, soak_renderer: Renderer, soak_file
     back; over hundreds of rounds neither GL objects nor resident memory creep up."""
     good, bad = soak_files
     scene = empty_scene()
-    viewer = Viewer(scene, soak_renderer, CountingFrontend())
+    viewer = RenderingViewer(scene, soak_renderer, CountingFrontend())
     corpus.render_float(own_ctx, soak_renderer, scene, SIZE)
     baseline = gl_total(own_ctx)
     rounds, census_rounds = 300, {0, 1, 2, 3, 100, 200, 299}
@@ -262,7 +264,7 @@ def test_every_key_of_the_map_is_pressed_by_the_soak(soak_files) -> None:
     """The soak's first presses are the whole key map, so no key can be left out by chance."""
     maker = PressMaker(random.Random(corpus.SEED), *soak_files)
     scene = empty_scene()
-    first = [maker.next(scene).token for _ in range(len(KEYMAP))]
+    first = [maker.next(scene, prompt_open=False).token for _ in range(len(KEYMAP))]
     assert sorted(first) == sorted(KEYMAP)
 
 

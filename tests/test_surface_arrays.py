@@ -6,11 +6,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_obj_loader import SEED_ASSETS, SEED_MODELS
 
-from app.gpu import _seams, surface_arrays
-from app.loaders.obj import load_obj, parse_obj
-from app.mesh import Mesh
+from marraztu.loaders.obj import load_obj, parse_obj
+from marraztu.model.mesh import Mesh
+from marraztu.render.gpu import _seams, surface_arrays
+from support.seed import SEED_ASSETS, SEED_MODELS
 
 
 def corner_table(mesh: Mesh) -> np.ndarray:
@@ -44,7 +44,7 @@ def check_same_corners(mesh: Mesh) -> np.ndarray:
     drawn = arrays.vertices[arrays.indices]
     expected = corner_table(mesh)
     assert np.array_equal(drawn[:, [0, 1, 2, 3, 4, 5, 9, 10]], expected)
-    faces = mesh.triangle_face()
+    faces = np.repeat(np.arange(mesh.face_count), mesh.face_sizes - 2)  # each fan triangle's polygon
     assert np.array_equal(drawn[0::3, 6:9], mesh.face_normals[faces])  # first corner: the face normal
     # Gouraud and Phong's indices: the same corners, from the shared rows only.
     assert arrays.shared_indices.dtype == np.uint32

@@ -65,8 +65,8 @@ def wait_for(condition, seconds: float, what: str, display: str | None = None):
 def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None:
     model = tmp_path / "big triangle.obj"
     model.write_text("v -60 -60 20\nv 60 -60 20\nv 0 60 20\nvt 0 0\nvt 1 0\nvt 0.5 1\nf 1/1 2/2 3/3\n")
-    env = {**os.environ, "DISPLAY": display, "PYTHONPATH": str(ROOT)}
-    window = subprocess.Popen([sys.executable, "-m", "app", "--size", f"{SIZE[0]}x{SIZE[1]}"],
+    env = {**os.environ, "DISPLAY": display}
+    window = subprocess.Popen([sys.executable, "-m", "marraztu", "--size", f"{SIZE[0]}x{SIZE[1]}"],
                               cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                               text=True)
     try:
@@ -100,7 +100,7 @@ def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None
 
     keys = f'0 1 F TAB ENTER ENTER c t z*3 X*2 c c "f={model.as_posix()}" s v i'
     expected_path = tmp_path / "expected.png"
-    result = subprocess.run([sys.executable, "-m", "app", "screenshot", "-o", str(expected_path),
+    result = subprocess.run([sys.executable, "-m", "marraztu", "screenshot", "-o", str(expected_path),
                              "--size", f"{SIZE[0]}x{SIZE[1]}", "--keys", keys],
                             cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr

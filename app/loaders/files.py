@@ -12,7 +12,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import BinaryIO, Iterator
 
-from app.errors import LoadError
+from marraztu.errors import LoadError
 
 MAX_FILE_BYTES = 1 << 30
 

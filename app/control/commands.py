@@ -1,0 +1,408 @@
+"""What every key of SPEC 6 does to the scene, as plain functions `(scene, host) -> None`.
+
+Only scene state changes here. Whatever needs the world outside the scene (quit, a file prompt,
+loading a file, a screenshot) goes through the `Host`: the viewer. A refused action never raises:
+it leaves the scene as it was and says why in `scene.message`.
+
+Every move pushes a new matrix (or, for lights, a snapshot of the old state) and never edits one in
+place, so `u` gives back the earlier state bit for bit.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Protocol
+
+import numpy as np
+
+from marraztu.model import transforms
+from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, Light
+from marraztu.model.scene import SWITCHED_SHADINGS, CameraMode, Fill, Frame, Projection, Scene, SceneObject, Target
+from marraztu.model.transforms import TransformKind, step_matrix
+
+ROTATION_STEP_RAD = 0.1  # the seed author's step
+TRANSLATION_STEP = 5.0  # world units; the models are about +-45 units, the scene about +-150
+APERTURE_STEP_DEG = 2.5
+# Analysis mode never lets the camera come closer to the orbited centre than this (no passing through).
+ANALYSIS_MIN_DISTANCE = 10.0
+# Mouse drag: 10 pixels turn as far as one key press.
+DRAG_RADIANS_PER_PIXEL = ROTATION_STEP_RAD / 10.0
+
+TARGET_CYCLE = (Target.OBJECTS, Target.CAMERAS, Target.LIGHTS)
+
+
+class Host(Protocol):
+    """The world outside the scene, as the window or the screenshot command provides it."""
+
+    def quit(self) -> None: ...
+
+    def open_file_prompt(self) -> None: ...
+
+    def load_model(self, path: str) -> bool | None:
+        """Loads a model file; on success calls `add_loaded`, on failure sets scene.message."""
+        ...
+
+    def save_screenshot(self) -> None: ...
+
+
+CommandFunction = Callable[[Scene, Host], None]
+
+
+# --- display switches ------------------------------------------------------------------------------
+def toggle_fill(scene: Scene, host: Host) -> None:
+    scene.modes.fill = Fill.LINES if scene.modes.fill is Fill.FILLED else Fill.FILLED
+
+
+def toggle_triangle_only(scene: Scene, host: Host) -> None:
+    scene.modes.triangle_only = not scene.modes.triangle_only
+
+
+def toggle_draw_all(scene: Scene, host: Host) -> None:
+    scene.modes.draw_all = not scene.modes.draw_all
+
+
+def toggle_normals(scene: Scene, host: Host) -> None:
+    scene.modes.normals = not scene.modes.normals
+
+
+def toggle_culling(scene: Scene, host: Host) -> None:
+    scene.modes.culling = not scene.modes.culling
+
+
+def toggle_projection(scene: Scene, host: Host) -> None:
+    if scene.modes.projection is Projection.PERSPECTIVE:
+        # Sized now, from the current view, so the scene stays about where it was (SPEC 5).
+        scene.modes.parallel_half_height = scene.matching_parallel_half_height()
+        scene.modes.projection = Projection.PARALLEL
+    else:
+        scene.modes.projection = Projection.PERSPECTIVE
+
+
+def toggle_shading(scene: Scene, host: Host) -> None:
+    position = SWITCHED_SHADINGS.index(scene.modes.shading) if scene.modes.shading in SWITCHED_SHADINGS else -1
+    scene.modes.shading = SWITCHED_SHADINGS[(position + 1) % len(SWITCHED_SHADINGS)]
+
+
+def toggle_texture(scene: Scene, host: Host) -> None:
+    scene.modes.texture = not scene.modes.texture
+
+
+def toggle_help(scene: Scene, host: Host) -> None:
+    scene.modes.show_help = not scene.modes.show_help
+
+
+# --- seeing the equation ---------------------------------------------------------------------------
+def cycle_term_view(scene: Scene, host: Host) -> None:
+    """`v`: the next term view (everything, ambient, diffuse, specular, each light alone), wrapping."""
+    position = TERM_VIEWS.index(scene.modes.term_view)
+    scene.modes.term_view = TERM_VIEWS[(position + 1) % len(TERM_VIEWS)]
+
+
+def term_view_name(scene: Scene) -> str:
+    """What the lit colour shows, with the light's own name for the "one light alone" views."""
+    view = scene.modes.term_view
+    index = view.light_index
+    if index is None:
+        return view.name
+    if index >= len(scene.lights):
+        return f"light {index} alone (no such light)"
+    light = scene.lights[index]
+    return f"{light.name} alone" + ("" if light.on else f" (off: {light.key} turns it on)")
+
+
+def toggle_probe(scene: Scene, host: Host) -> None:
+    """`i`: the lighting probe of the selected face (Enter steps to the next face)."""
+    if not scene.modes.probe and scene.object is None:
+        scene.message = "no object to probe"
+        return
+    scene.modes.probe = not scene.modes.probe
+
+
+def toggle_matrices(scene: Scene, host: Host) -> None:
+    scene.modes.matrices = not scene.modes.matrices
+
+
+def toggle_side_by_side(scene: Scene, host: Host) -> None:
+    scene.modes.side_by_side = not scene.modes.side_by_side
+
+
+def toggle_view_from_object(scene: Scene, host: Host) -> None:
+    if not scene.modes.view_from_object and scene.object is None:
+        scene.message = "no object to look through"
+        return
+    scene.modes.view_from_object = not scene.modes.view_from_object
+
+
+def light_by_key(scene: Scene, key: str) -> Light | None:
+    return next((light for light in scene.lights if light.key == key), None)
+
+
+def light_switch(key: str) -> CommandFunction:
+    """The command of key `0`..`3`: that light on/off."""
+
+    def switch(scene: Scene, host: Host) -> None:
+        light = light_by_key(scene, key)
+        if light is None:
+            scene.message = f"no light on key {key}"
+            return
+        light.on = not light.on
+
+    return switch
+
+
+# --- modes of moving ---------------------------------------------------------------------------------
+def use_rotation(scene: Scene, host: Host) -> None:
+    scene.modes.transform = TransformKind.ROTATE
+
+
+def use_translation(scene: Scene, host: Host) -> None:
+    scene.modes.transform = TransformKind.TRANSLATE
+
+
+def toggle_frame_or_camera_mode(scene: Scene, host: Host) -> None:
+    """`g`: local/global for objects, flight/analysis for cameras."""
+    target = scene.modes.target
+    if target is Target.OBJECTS:
+        scene.modes.frame = Frame.GLOBAL if scene.modes.frame is Frame.LOCAL else Frame.LOCAL
+    elif target is Target.CAMERAS:
+        if scene.modes.camera_mode is CameraMode.FLIGHT:
+            scene.modes.camera_mode = CameraMode.ANALYSIS
+            aim_camera_at_object(scene)
+        else:
+            scene.modes.camera_mode = CameraMode.FLIGHT
+    else:
+        scene.message = "g switches local/global for objects and flight/analysis for cameras"
+
+
+def aim_camera_at_object(scene: Scene) -> None:
+    """Entering analysis mode: the camera keeps its place and turns to the selected object's centre.
+    Pushed like any move, so `u` turns it back."""
+    obj = scene.object
+    if obj is None:
+        scene.message = "analysis mode: no object to look at"
+        return
+    camera = scene.camera
+    # Keep the camera's own up as far as possible, so entering analysis does not roll the view.
+    aimed = transforms.look_at_model(camera.origin, obj.centre, camera.model[:3, 1])
+    if aimed is None:
+        scene.message = f"analysis mode: the camera sits at the centre of {obj.name}"
+        return
+    camera.push(aimed)
+
+
+# --- moving ----------------------------------------------------------------------------------------
+def key_amount(kind: TransformKind, sign: int) -> float:
+    """How far one press of x/y/z (sign +1) or X/Y/Z (sign -1) goes."""
+    return sign * (ROTATION_STEP_RAD if kind is TransformKind.ROTATE else TRANSLATION_STEP)
+
+
+def move_object(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> None:
+    obj = scene.object
+    if obj is None:
+        scene.message = "no object to move"
+        return
+    step = step_matrix(kind, axis_index, amount)
+    if scene.modes.frame is Frame.LOCAL:
+        obj.push(transforms.apply_local(obj.model, step))
+    else:
+        obj.push(transforms.apply_global(obj.model, step))
+
+
+def move_camera(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> None:
+    camera = scene.camera
+    if scene.modes.camera_mode is CameraMode.FLIGHT:
+        camera.push(transforms.apply_local(camera.model, step_matrix(kind, axis_index, amount)))
+    elif kind is TransformKind.ROTATE:
+        orbit_camera(scene, axis_index, amount)
+    else:
+        approach_object(scene, axis_index, amount)
+
+
+def orbit_camera(scene: Scene, axis_index: int, angle: float) -> None:
+    """Analysis mode: turn about the camera's own axis, through the selected object's centre."""
+    obj = scene.object
+    if obj is None:
+        scene.message = "analysis mode: no object to orbit"
+        return
+    camera = scene.camera
+    camera.push(transforms.orbit(camera.model, obj.centre, axis_index, angle))
+
+
+def approach_object(scene: Scene, axis_index: int, distance: float) -> None:
+    """Analysis mode: t moves along the view axis only (z: back away, Z: come closer); moving sideways
+    would lose the object from the view axis, so x and y are refused."""
+    if axis_index != 2:
+        scene.message = "analysis mode: t moves along z only (z backs away, Z comes closer)"
+        return
+    obj = scene.object
+    if obj is None:
+        scene.message = "analysis mode: no object to approach"
+        return
+    camera = scene.camera
+    depth = -transforms.point_in_frame(camera.model, obj.centre)[2]
+    if depth + distance < ANALYSIS_MIN_DISTANCE:
+        distance = min(0.0, ANALYSIS_MIN_DISTANCE - depth)  # stop at the minimum, never push back
+        if distance == 0.0:
+            scene.message = f"analysis mode: as close to {obj.name} as allowed"
+            return
+    camera.push(transforms.apply_local(camera.model, transforms.translation(2, distance)))
+
+
+def move_light(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> None:
+    """As the selected light's kind allows (marraztu.model.lights); anything else is refused with a
+    message."""
+    refusal = scene.light.move(kind, axis_index, amount)
+    if refusal:
+        scene.message = refusal
+
+
+_MOVERS = {Target.OBJECTS: move_object, Target.CAMERAS: move_camera, Target.LIGHTS: move_light}
+
+
+def move_target(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> None:
+    """One move of the current target: `amount` is radians for rotations, world units otherwise."""
+    _MOVERS[scene.modes.target](scene, kind, axis_index, amount)
+
+
+def axis_press(axis_index: int, sign: int) -> CommandFunction:
+    """The command of one of x y z X Y Z."""
+
+    def press(scene: Scene, host: Host) -> None:
+        kind = scene.modes.transform
+        move_target(scene, kind, axis_index, key_amount(kind, sign))
+
+    return press
+
+
+def undo(scene: Scene, host: Host) -> None:
+    if scene.modes.target is Target.LIGHTS:
+        undone = scene.light.undo()
+    else:
+        element = scene.targeted_element
+        undone = element is not None and element.undo()
+    if not undone:
+        scene.message = "nothing to undo"
+
+
+def change_aperture(delta_deg: float) -> CommandFunction:
+    """`+` / `-`: widen / narrow the selected spotlight's cone."""
+
+    def change(scene: Scene, host: Host) -> None:
+        light = scene.light
+        if scene.modes.target is not Target.LIGHTS or not light.kind.has_cone:
+            scene.message = "+ and - change a spotlight's aperture: target lights (c), pick a spot (TAB)"
+            return
+        low, high = SPOT_APERTURE_RANGE_DEG
+        light.aperture_deg = float(np.clip(light.aperture_deg + delta_deg, low, high))
+
+    return change
+
+
+# --- mouse -----------------------------------------------------------------------------------------
+def drag(scene: Scene, dx_pixels: float, dy_pixels: float) -> None:
+    """Mouse drag turns the current target as y (sideways drag) and x (vertical drag) do, whatever
+    r/t says. Window y grows downward: dragging right or down swings the near side right or down."""
+    if dx_pixels:
+        move_target(scene, TransformKind.ROTATE, 1, dx_pixels * DRAG_RADIANS_PER_PIXEL)
+    if dy_pixels:
+        move_target(scene, TransformKind.ROTATE, 0, dy_pixels * DRAG_RADIANS_PER_PIXEL)
+
+
+def wheel(scene: Scene, steps: float) -> None:
+    """Mouse wheel: `steps` presses of t-with-z (negative: Z), without touching the r/t mode."""
+    if steps:
+        move_target(scene, TransformKind.TRANSLATE, 2, steps * TRANSLATION_STEP)
+
+
+# --- selection -------------------------------------------------------------------------------------
+def cycle_target(scene: Scene, host: Host) -> None:
+    position = TARGET_CYCLE.index(scene.modes.target)
+    scene.modes.target = TARGET_CYCLE[(position + 1) % len(TARGET_CYCLE)]
+
+
+def select_next(scene: Scene, host: Host) -> None:
+    """TAB: the next element of the current target, wrapping; a new object starts at face 0."""
+    target = scene.modes.target
+    if target is Target.LIGHTS:
+        scene.selected_light = (scene.selected_light + 1) % len(scene.lights)
+    elif target is Target.CAMERAS:
+        scene.selected_camera = (scene.selected_camera + 1) % len(scene.cameras)
+        scene.camera.selected_face = 0
+    elif scene.objects:
+        scene.selected_object = (scene.selected_object + 1) % len(scene.objects)
+        scene.objects[scene.selected_object].selected_face = 0
+    else:
+        scene.message = "no objects to select"
+
+
+def next_face(scene: Scene, host: Host) -> None:
+    """ENTER: the next polygon of the selected object, wrapping."""
+    obj = scene.object
+    if obj is None or obj.mesh.face_count == 0:
+        scene.message = "no object to step through"
+        return
+    obj.selected_face = (obj.selected_face + 1) % obj.mesh.face_count
+
+
+# --- files, deletion and the world outside ---------------------------------------------------------
+LIGHTS_LOAD_REFUSAL = "cannot load a file while lights are targeted"
+
+
+def request_file(scene: Scene, host: Host) -> None:
+    """`f`: the host asks for a file name (in the window) and loads it."""
+    if scene.modes.target is Target.LIGHTS:
+        scene.message = LIGHTS_LOAD_REFUSAL
+        return
+    host.open_file_prompt()
+
+
+def load_file(scene: Scene, host: Host, path: str) -> None:
+    """An `f=PATH` press: as `f` with the name already given."""
+    if scene.modes.target is Target.LIGHTS:
+        scene.message = LIGHTS_LOAD_REFUSAL
+        return
+    host.load_model(path)
+
+
+def loads_as_camera(scene: Scene) -> bool:
+    """A file loaded now becomes a camera when cameras are targeted (SPEC 6 `f`)."""
+    return scene.modes.target is Target.CAMERAS
+
+
+def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool) -> None:
+    """The host's half of `f`: the loaded element joins its list, selected, at face 0."""
+    obj.selected_face = 0
+    if as_camera:
+        scene.cameras.append(obj)
+        scene.selected_camera = len(scene.cameras) - 1
+    else:
+        scene.objects.append(obj)
+        scene.selected_object = len(scene.objects) - 1
+
+
+def delete_selected(scene: Scene, host: Host) -> None:
+    """DELETE: the selected object (or camera) leaves the scene; the last camera always stays."""
+    target = scene.modes.target
+    if target is Target.LIGHTS:
+        scene.message = "lights cannot be deleted (switch them off with their keys)"
+    elif target is Target.CAMERAS:
+        if len(scene.cameras) == 1:
+            scene.message = "the last camera cannot be deleted"
+            return
+        scene.cameras.pop(scene.selected_camera)
+        scene.selected_camera = min(scene.selected_camera, len(scene.cameras) - 1)
+    elif scene.objects:
+        scene.objects.pop(scene.selected_object)
+        scene.selected_object = max(0, min(scene.selected_object, len(scene.objects) - 1))
+        if not scene.objects:
+            scene.modes.view_from_object = False
+    else:
+        scene.message = "no object to delete"
+
+
+def quit_viewer(scene: Scene, host: Host) -> None:
+    host.quit()
+
+
+def save_screenshot(scene: Scene, host: Host) -> None:
+    host.save_screenshot()

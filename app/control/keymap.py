@@ -1,0 +1,244 @@
+"""The key map: one checked table from key token to command, shared by the window and `screenshot`.
+
+A token is a character as typed (`f` and `F` differ, SPEC 6) or a named key: TAB, ENTER, ESC,
+DELETE, F1, F12. A key sequence on the command line is whitespace-separated tokens; `TOKEN*N`
+repeats a press N times and `f=PATH` loads PATH (quote it as `f="a b.obj"` when it holds spaces).
+After `f`, until ENTER or ESC, tokens are typed into the file prompt as in the window: any single
+character, SPACE and BACKSPACE.
+"""
+
+from __future__ import annotations
+
+import re
+import shlex
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+
+from marraztu.control import commands
+from marraztu.control.commands import CommandFunction, Host
+from marraztu.errors import KeyMapError
+from marraztu.model.lights import LIGHT_KEYS
+from marraztu.model.scene import Scene
+
+NAMED_KEYS = ("TAB", "ENTER", "ESC", "DELETE", "F1", "F12")
+_NAMED_ALIASES = {"ESCAPE": "ESC", "RETURN": "ENTER", "DEL": "DELETE"}
+# Keys that only the file prompt reads, and what SPACE types there.
+PROMPT_KEYS = ("BACKSPACE", "SPACE")
+PROMPT_TEXT = {"SPACE": " "}
+PROMPT_OPENER, PROMPT_CLOSERS = "f", ("ENTER", "ESC")
+MAX_REPEAT = 100_000
+MAX_SEQUENCE_PRESSES = 1_000_000
+LOAD_PREFIX = "f="
+
+
+@dataclass(frozen=True)
+class KeyPress:
+    """One press: a key token, or a load-this-file press (`token` "f" with `path` set)."""
+
+    token: str
+    path: str | None = None
+
+    def __str__(self) -> str:
+        return self.token if self.path is None else f"{LOAD_PREFIX}{self.path}"
+
+
+@dataclass(frozen=True)
+class Command:
+    token: str
+    description: str  # one short line for the help overlay
+    run: CommandFunction
+    state: Callable[[Scene], str] | None = None  # the switch's current value, for the help overlay
+
+
+# --- the table -------------------------------------------------------------------------------------
+# ONE table for the six moving keys: token -> (axis index, sign).
+AXIS_KEYS = {"x": (0, +1), "y": (1, +1), "z": (2, +1), "X": (0, -1), "Y": (1, -1), "Z": (2, -1)}
+
+
+def _on_off(flag: bool) -> str:
+    return "on" if flag else "off"
+
+
+def _light_on(key: str) -> Callable[[Scene], str]:
+    def state(scene: Scene) -> str:
+        light = commands.light_by_key(scene, key)
+        return "none" if light is None else f"{light.name} {_on_off(light.on)}"
+
+    return state
+
+
+def _frame_state(scene: Scene) -> str:
+    return f"objects {scene.modes.frame.value}, cameras {scene.modes.camera_mode.value}"
+
+
+def _aperture_state(scene: Scene) -> str:
+    light = scene.light
+    return f"{light.name} {light.aperture_deg:g} deg" if light.aperture_deg < 180.0 else ""
+
+
+def _axis_description(axis_index: int, sign: int) -> str:
+    name = "xyz"[axis_index]
+    way = "+" if sign > 0 else "-"
+    return f"rotate about / move along {way}{name}"
+
+
+def _axis_commands() -> list[Command]:
+    return [Command(token, _axis_description(axis, sign), commands.axis_press(axis, sign))
+            for token, (axis, sign) in AXIS_KEYS.items()]
+
+
+def _light_commands() -> list[Command]:
+    return [Command(key, f"light {key} on/off", commands.light_switch(key), _light_on(key))
+            for key in LIGHT_KEYS]
+
+
+def build_commands() -> list[Command]:
+    """Every key of SPEC 6 and 8, in the order the help overlay lists them."""
+    return [
+        Command("f", "load an OBJ file (f=PATH in --keys)", commands.request_file),
+        Command("TAB", "select the next object / camera / light", commands.select_next),
+        Command("ENTER", "select the next face of the object", commands.next_face,
+                lambda s: "" if s.object is None else f"face {s.object.selected_face + 1}"),
+        Command("c", "target objects / cameras / lights", commands.cycle_target,
+                lambda s: s.modes.target.value),
+        Command("r", "rotate from now on", commands.use_rotation, lambda s: s.modes.transform.value),
+        Command("t", "translate from now on", commands.use_translation, lambda s: s.modes.transform.value),
+        Command("g", "local / global; cameras: flight / analysis", commands.toggle_frame_or_camera_mode,
+                _frame_state),
+        *_axis_commands(),
+        Command("u", "undo the target's last move", commands.undo),
+        Command("C", "look through the object / the camera", commands.toggle_view_from_object,
+                lambda s: "object" if s.modes.view_from_object else "camera"),
+        Command("l", "lines / filled", commands.toggle_fill, lambda s: s.modes.fill.value),
+        Command("o", "whole objects / selected face only", commands.toggle_triangle_only,
+                lambda s: "face only" if s.modes.triangle_only else "whole"),
+        Command("d", "all objects / selected only", commands.toggle_draw_all,
+                lambda s: "all" if s.modes.draw_all else "selected"),
+        Command("n", "normals on / off", commands.toggle_normals, lambda s: _on_off(s.modes.normals)),
+        Command("b", "back-face culling on / off", commands.toggle_culling,
+                lambda s: _on_off(s.modes.culling)),
+        Command("p", "perspective / parallel", commands.toggle_projection,
+                lambda s: s.modes.projection.value),
+        Command("F", "flat / Gouraud shading", commands.toggle_shading, lambda s: s.modes.shading.value),
+        Command("T", "texture on / off", commands.toggle_texture, lambda s: _on_off(s.modes.texture)),
+        Command("v", "lit colour: all / ambient / diffuse / specular / each light",
+                commands.cycle_term_view, commands.term_view_name),
+        Command("i", "lighting probe of the selected face", commands.toggle_probe,
+                lambda s: _on_off(s.modes.probe)),
+        Command("m", "matrices panel", commands.toggle_matrices, lambda s: _on_off(s.modes.matrices)),
+        Command("s", "side by side: Flat | Gouraud | Phong", commands.toggle_side_by_side,
+                lambda s: _on_off(s.modes.side_by_side)),
+        *_light_commands(),
+        Command("+", "widen the spotlight", commands.change_aperture(+commands.APERTURE_STEP_DEG),
+                _aperture_state),
+        Command("-", "narrow the spotlight", commands.change_aperture(-commands.APERTURE_STEP_DEG),
+                _aperture_state),
+        Command("DELETE", "delete the selected object / camera", commands.delete_selected),
+        Command("F12", "save a screenshot", commands.save_screenshot),
+        Command("h", "help on / off", commands.toggle_help, lambda s: _on_off(s.modes.show_help)),
+        Command("F1", "help on / off", commands.toggle_help, lambda s: _on_off(s.modes.show_help)),
+        Command("ESC", "quit", commands.quit_viewer),
+    ]
+
+
+def is_valid_token(token: str) -> bool:
+    """A printable character as typed, or one of the named keys."""
+    if token in NAMED_KEYS:
+        return True
+    return len(token) == 1 and token.isprintable() and not token.isspace()
+
+
+def check_keymap(table: Iterable[Command]) -> dict[str, Command]:
+    """The table as token -> command, refusing duplicate or impossible tokens."""
+    by_token: dict[str, Command] = {}
+    for command in table:
+        if not is_valid_token(command.token):
+            raise KeyMapError(f"key table: {command.token!r} is not a key token")
+        if command.token in by_token:
+            raise KeyMapError(f"key table: {command.token!r} is bound twice")
+        by_token[command.token] = command
+    return by_token
+
+
+KEYMAP: dict[str, Command] = check_keymap(build_commands())
+
+
+# --- presses ---------------------------------------------------------------------------------------
+def normalise_token(token: str) -> str:
+    """Named keys in any case and a few usual aliases ("Escape", "return"); characters as they are."""
+    if len(token) <= 1:
+        return token
+    upper = token.upper()
+    return _NAMED_ALIASES.get(upper, upper)
+
+
+def key_press(token: str, keymap: dict[str, Command] = KEYMAP) -> KeyPress:
+    """The press of a token; KeyMapError names the token when no key has it."""
+    name = normalise_token(token)
+    if name not in keymap:
+        raise KeyMapError(f"unknown key {token!r}; keys are: {' '.join(keymap)} and f=PATH")
+    return KeyPress(name)
+
+
+_REPEAT = re.compile(r"^(?P<token>.+)\*(?P<count>\d+)$")
+
+
+def _parse_word(word: str, keymap: dict[str, Command], in_prompt: bool) -> tuple[KeyPress, int]:
+    """One word of a sequence: its press and how many times it repeats."""
+    count = 1
+    match = _REPEAT.match(word)
+    if match and not word.startswith(LOAD_PREFIX):  # a file name may hold "*2"; loads never repeat
+        word, digits = match["token"], match["count"]
+        count = int(digits) if len(digits) <= len(str(MAX_REPEAT)) else MAX_REPEAT + 1
+        if not 1 <= count <= MAX_REPEAT:
+            raise KeyMapError(f"{match.string[:40]!r}: a repeat count must be 1 to {MAX_REPEAT}")
+    if word.startswith(LOAD_PREFIX):
+        path = word[len(LOAD_PREFIX):]
+        if not path:
+            raise KeyMapError("f= needs a file name: f=PATH")
+        return KeyPress("f", path), count
+    if in_prompt:
+        return _typed(word, keymap), count
+    return key_press(word, keymap), count
+
+
+def _typed(word: str, keymap: dict[str, Command]) -> KeyPress:
+    """A press while the file prompt is open: any character, or a named key."""
+    if len(word) == 1 and word.isprintable():
+        return KeyPress(word)
+    name = normalise_token(word)
+    if name in PROMPT_KEYS or name in keymap:
+        return KeyPress(name)
+    raise KeyMapError(f"{word!r} in the file prompt: type one character at a time (SPACE for a "
+                      "space, BACKSPACE), then ENTER")
+
+
+def parse_key_sequence(text: str, keymap: dict[str, Command] = KEYMAP) -> list[KeyPress]:
+    """'0 1 F x*10 f=model.obj' -> the presses, in order. KeyMapError on anything unknown."""
+    try:
+        words = shlex.split(text)
+    except ValueError as error:  # an unclosed quote
+        raise KeyMapError(f"key sequence {text[:40]!r}: {error}") from error
+    presses: list[KeyPress] = []
+    in_prompt = False
+    for word in words:
+        press, count = _parse_word(word, keymap, in_prompt)
+        if len(presses) + count > MAX_SEQUENCE_PRESSES:
+            raise KeyMapError(f"key sequence: more than {MAX_SEQUENCE_PRESSES} presses")
+        presses.extend([press] * count)
+        if press.path is None:
+            in_prompt = press.token not in PROMPT_CLOSERS if in_prompt else press.token == PROMPT_OPENER
+    return presses
+
+
+def dispatch(scene: Scene, key: KeyPress, host: Host, keymap: dict[str, Command] = KEYMAP) -> None:
+    """Runs one press. Never raises: a refused action or an unbound key leaves a message instead."""
+    scene.message = ""  # the message answers the latest press; an older one would mislead
+    if key.path is not None:
+        commands.load_file(scene, host, key.path)
+        return
+    command = keymap.get(key.token)
+    if command is None:
+        scene.message = f"key {key.token!r} does nothing (h: help)"
+        return
+    command.run(scene, host)

@@ -1,0 +1,243 @@
+"""What the window, the screenshot command and the API share: the scene, the key map, the `f` prompt
+and the loading of files.
+
+A `Viewer` is the key map's `Host`: commands that reach outside the scene (load a file, quit, save a
+screenshot) land here, and the front end supplies what only it can do through `Frontend`. Drawing
+is not here: every front end hands the viewer's scene to the one renderer.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable
+from concurrent.futures import Future, ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Protocol
+
+from marraztu.control import commands, keymap
+from marraztu.errors import LoadError
+from marraztu.loaders.images import load_texture_or_fallback
+from marraztu.loaders.registry import load_model
+from marraztu.loaders.scenefile import empty_scene, load_builtin_scene, load_scene, material_for_loaded
+from marraztu.model.mesh import Mesh
+from marraztu.model.scene import Scene, SceneObject
+
+
+class Frontend(Protocol):
+    """What only a window, or only the offscreen runner, can do."""
+
+    def quit(self) -> None: ...
+    def save_screenshot(self) -> None: ...
+
+
+@dataclass
+class StartOptions:
+    """Where the starting scene comes from: SPEC 3's built-in one, a TOML file, or the camera alone."""
+
+    scene_file: Path | None = None
+    empty: bool = False
+    texture: Path | None = None
+    models: tuple[Path, ...] = ()
+
+
+def starting_scene(options: StartOptions) -> Scene:
+    """Raises LoadError when the scene file is bad: there is no earlier scene to fall back on."""
+    if options.empty:
+        return empty_scene()
+    if options.scene_file is not None:
+        return load_scene(options.scene_file)
+    return load_builtin_scene()
+
+
+def load_model_object(path: str | Path) -> SceneObject:
+    """A model file as a new scene element, placed at the origin like the seed's fresh objects."""
+    return _placed(load_model(path))
+
+
+def _placed(mesh: Mesh) -> SceneObject:
+    return SceneObject.placed(mesh.name, mesh, material_for_loaded(mesh), (0.0, 0.0, 0.0))
+
+
+@dataclass(eq=False)
+class LoadJob:
+    """One file being loaded on the worker thread; where it goes is decided when it is asked for."""
+
+    path: Path
+    as_camera: bool
+    future: Future = field(default_factory=Future)
+    # Written by the worker, read by the window's status line. Stages, not a percentage: the parser
+    # works on whole arrays, so a percentage would be three numbers pretending to be smooth.
+    stage: str = "waiting"
+    started: float = field(default_factory=time.monotonic)
+
+    def set_stage(self, stage: str) -> None:
+        self.stage = stage
+
+    @property
+    def label(self) -> str:
+        seconds = time.monotonic() - self.started
+        return f"loading {self.path.name}: {self.stage} ({seconds:.0f} s)"
+
+
+class BackgroundLoader:
+    """Loads model files off the render thread, so the window keeps drawing and answering keys while
+    a multi-million-triangle file is read (numpy releases the GIL for most of a load). One worker:
+    loads finish in the order asked. `prepare` (the renderer's) readies a mesh for its first frame."""
+
+    def __init__(self, prepare: Callable[[Mesh], None] | None = None) -> None:
+        self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="model-loader")
+        self._jobs: list[LoadJob] = []
+        self._lock = threading.Lock()
+        self._prepare = prepare
+
+    def start(self, path: Path, as_camera: bool) -> LoadJob:
+        job = LoadJob(path, as_camera)
+        with self._lock:
+            self._jobs.append(job)
+        job.future = self._pool.submit(self._load, job)
+        return job
+
+    def _load(self, job: LoadJob) -> SceneObject:
+        mesh = load_model(job.path, stage=job.set_stage)
+        if self._prepare is not None:
+            job.set_stage("preparing vertex arrays")
+            self._prepare(mesh)
+        job.set_stage("joining the scene at the next frame")
+        return _placed(mesh)
+
+    def pending(self) -> list[LoadJob]:
+        with self._lock:
+            return [job for job in self._jobs if not job.future.done()]
+
+    def uncollected(self) -> list[LoadJob]:
+        """Every job not yet taken by a frame, finished or not: to the person it is still loading
+        until it is in the scene."""
+        with self._lock:
+            return list(self._jobs)
+
+    def take_finished(self) -> list[LoadJob]:
+        with self._lock:
+            done = [job for job in self._jobs if job.future.done()]
+            self._jobs = [job for job in self._jobs if not job.future.done()]
+        return done
+
+    def shutdown(self) -> None:
+        self._pool.shutdown(wait=False, cancel_futures=True)
+
+
+class Viewer:
+    def __init__(self, scene: Scene, frontend: Frontend, strict: bool = False,
+                 background: BackgroundLoader | None = None) -> None:
+        self.scene = scene
+        self.frontend = frontend
+        self.keys = keymap.KEYMAP
+        # Strict (the screenshot command): a failed load is an error that ends the run, since a
+        # picture without the asked-for model would be a lie. The window shows the message instead.
+        self.strict = strict
+        # With a background loader (the window), `f` and dropped files load on a worker thread and
+        # join the scene in `collect_loads`, called once a frame; without one, loads are immediate.
+        self.background = background
+        self.prompt: str | None = None  # the `f` prompt's text while it is open
+
+    # --- start-up ------------------------------------------------------------------------------
+    def use_texture(self, path: Path | None) -> str | None:
+        """Loads the texture, or the built-in fallback; returns the message to show, if any."""
+        image, message = load_texture_or_fallback(path)
+        self.scene.texture = image
+        if message:
+            self.scene.message = message
+        return message
+
+    # --- keys ----------------------------------------------------------------------------------
+    def press(self, key: keymap.KeyPress) -> None:
+        """One key: typed into the `f` prompt while it is open, otherwise the key map's command."""
+        if self.prompt is not None and key.path is None:
+            self._prompt_key(key.token)
+        else:
+            keymap.dispatch(self.scene, key, self)
+
+    def press_sequence(self, text: str) -> None:
+        for key in keymap.parse_key_sequence(text):
+            self.press(key)
+
+    def type_text(self, char: str) -> None:
+        """A character from the window's text input: typed into the prompt, or pressed as a key."""
+        if self.prompt is not None:
+            self.prompt += char
+        elif not char.isspace():
+            self.press(keymap.KeyPress(char))
+
+    def _prompt_key(self, token: str) -> None:
+        if token == "ESC":
+            self.prompt = None
+            self.scene.message = "loading cancelled"
+        elif token == "ENTER":
+            typed, self.prompt = self.prompt.strip(), None
+            if typed:
+                self.load_model(typed)
+        elif token == "BACKSPACE":
+            self.prompt = self.prompt[:-1]
+        elif token in keymap.PROMPT_TEXT:
+            self.prompt += keymap.PROMPT_TEXT[token]
+        elif len(token) == 1:
+            self.prompt += token
+
+    # --- Host ----------------------------------------------------------------------------------
+    def load_model(self, path: str | Path) -> bool:
+        """SPEC 6 `f`: on success the new element is selected; on failure the scene is untouched."""
+        as_camera = commands.loads_as_camera(self.scene)
+        try:
+            path = Path(path).expanduser()
+        except RuntimeError:  # "~nosuchuser/..."
+            return self._failed(LoadError(path, "no such user's home folder"))
+        if self.background is not None:
+            job = self.background.start(path, as_camera)
+            self.scene.message = f"loading {job.path.name}; the window stays usable meanwhile"
+            return True
+        try:
+            obj = load_model_object(path)
+        except LoadError as error:
+            return self._failed(error)
+        self._add(obj, path, as_camera)
+        return True
+
+    def collect_loads(self) -> None:
+        """Adds what the worker finished, in the order asked; a failure leaves only its message."""
+        if self.background is None:
+            return
+        for job in self.background.take_finished():
+            error = job.future.exception()
+            if error is None:
+                self._add(job.future.result(), job.path, job.as_camera)
+            elif isinstance(error, LoadError):
+                self._failed(error)
+            else:  # a bug, not a bad file: say so instead of dying in the render loop
+                self._failed(LoadError(job.path, f"could not be loaded ({type(error).__name__}: {error})"))
+
+    def loading_lines(self) -> list[str]:
+        return [job.label for job in self.background.uncollected()] if self.background else []
+
+    def _failed(self, error: LoadError) -> bool:
+        self.scene.message = str(error)
+        if self.strict:
+            raise error
+        return False
+
+    def _add(self, obj: SceneObject, path: Path, as_camera: bool) -> None:
+        commands.add_loaded(self.scene, obj, as_camera=as_camera)
+        kind = "camera" if as_camera else "object"
+        self.scene.message = f"loaded {Path(path).name} as a new {kind}: " \
+                             f"{obj.mesh.vertex_count} vertices, {obj.mesh.face_count} faces"
+        if obj.mesh.warnings:
+            self.scene.message += " (" + "; ".join(obj.mesh.warnings) + ")"
+
+    def quit(self) -> None:
+        self.frontend.quit()
+
+    def open_file_prompt(self) -> None:
+        self.prompt = ""
+
+    def save_screenshot(self) -> None:
+        self.frontend.save_screenshot()

@@ -1,0 +1,328 @@
+"""2. Frames: the renderer beside a pass-through program on the same vertex data; Python CPU per frame."""
+
+from __future__ import annotations
+
+import statistics
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from marraztu.devtools.bench.config import BenchConfig
+from marraztu.devtools.bench.inputs import generated_mesh
+from marraztu.devtools.bench.report import count_label, markdown_table, number, progress, ratio
+
+if TYPE_CHECKING:
+    import moderngl
+
+    from marraztu.model.mesh import Mesh
+    from marraztu.model.scene import Scene, SceneObject
+    from marraztu.render.renderer import Renderer
+
+FRAME_HEADERS = ("scene", "triangles", "size", "mode", "still ms", "moving ms", "bare ms", "still ÷ bare",
+                 "moving ÷ bare", "frames")
+CPU_HEADERS = ("mode", "program process ms", "program thread ms", "program without draw calls ms",
+               "bare process ms", "bare thread ms")
+
+
+BARE_VERTEX_SHADER = """#version 330
+uniform mat4 u_mvp;
+in vec3 in_position;
+void main() { gl_Position = u_mvp * vec4(in_position, 1.0); }
+"""
+BARE_FRAGMENT_SHADER = """#version 330
+out vec4 f_colour;
+void main() { f_colour = vec4(1.0); }
+"""
+# The renderer's interleaved layouts (app/gpu.py) read for the position only: same buffer, same stride.
+BARE_SURFACE_FORMAT = "3f 32x"  # skips vertex normal, face normal, uv
+BARE_EDGE_FORMAT = "3f 24x"  # skips face normal, polygon's first vertex
+MODES = ("flat", "gouraud", "lines")
+MIN_FRAMES = 3  # a median of fewer says little
+
+
+def set_mode(scene: Scene, mode: str) -> None:
+    from marraztu.model.scene import Fill, Shading
+
+    scene.modes.fill = Fill.LINES if mode == "lines" else Fill.FILLED
+    scene.modes.shading = Shading.GOURAUD if mode == "gouraud" else Shading.FLAT
+
+
+def drawn_objects(scene: Scene) -> list[SceneObject]:
+    """What the renderer draws with the start modes: every object and camera but the viewer."""
+    return [obj for obj in scene.objects + scene.cameras if obj is not scene.viewer and obj.mesh.face_count]
+
+
+def scene_triangles(scene: Scene) -> int:
+    return sum(int(obj.mesh.triangles_before_face()[-1]) for obj in drawn_objects(scene))
+
+
+class BareDraw:
+    """A pass-through program drawing the renderer's vertex arrays: the floor under a frame's cost.
+
+    Same framebuffer, clear, depth test, primitives, index buffers (Flat's, or the shared one of
+    Gouraud) and vertex count as the renderer; no lighting, no texture, one pass of edges.
+    """
+
+    def __init__(self, ctx: moderngl.Context, scene: Scene) -> None:
+        import moderngl
+
+        from marraztu.render.gpu import edge_vertices, surface_arrays
+        from marraztu.render.renderer import CLEAR_COLOUR
+
+        self.gl = moderngl  # imported here, not per frame, so the bare CPU figures stay bare
+        self.clear_colour = CLEAR_COLOUR
+        self.ctx = ctx
+        self.scene = scene
+        self.program = ctx.program(vertex_shader=BARE_VERTEX_SHADER, fragment_shader=BARE_FRAGMENT_SHADER)
+        self.buffers: list[moderngl.Buffer] = []
+        self.objects: list[tuple[SceneObject, dict[str, moderngl.VertexArray]]] = []
+        for obj in drawn_objects(scene):
+            arrays = surface_arrays(obj.mesh)
+            surface = ctx.buffer(arrays.vertices)
+            indices, shared = ctx.buffer(arrays.indices), ctx.buffer(arrays.shared_indices)
+            edges = ctx.buffer(edge_vertices(obj.mesh).tobytes())
+            self.buffers += [surface, indices, shared, edges]
+            position = [(surface, BARE_SURFACE_FORMAT, "in_position")]
+            self.objects.append((obj, {
+                "flat": ctx.vertex_array(self.program, position, index_buffer=indices, index_element_size=4),
+                "gouraud": ctx.vertex_array(self.program, position, index_buffer=shared, index_element_size=4),
+                "lines": ctx.vertex_array(self.program, [(edges, BARE_EDGE_FORMAT, "in_position")])}))
+
+    def render(self, fbo: moderngl.Framebuffer, size: tuple[int, int], mode: str) -> None:
+        gl = self.gl
+        width, height = size
+        fbo.use()
+        fbo.viewport = (0, 0, width, height)
+        fbo.clear(*self.clear_colour, 1.0, depth=1.0)
+        filled = mode != "lines"
+        if filled:
+            self.ctx.enable(gl.DEPTH_TEST)
+        else:
+            self.ctx.disable(gl.DEPTH_TEST)
+        view_projection = self.scene.projection_matrix(width / height) @ self.scene.view_matrix()
+        for obj, arrays in self.objects:
+            mvp = view_projection @ obj.model
+            self.program["u_mvp"].write(np.ascontiguousarray(mvp.T, dtype="f4").tobytes())
+            arrays[mode].render(gl.TRIANGLES if filled else gl.LINES)
+        self.ctx.disable(gl.DEPTH_TEST)
+
+    def release(self) -> None:
+        for _, arrays in self.objects:
+            for vao in arrays.values():
+                vao.release()
+        for buffer in self.buffers:
+            buffer.release()
+        self.program.release()
+
+
+@dataclass
+class FrameTimes:
+    moving: list[float] = field(default_factory=list)
+    still: list[float] = field(default_factory=list)
+    bare: list[float] = field(default_factory=list)
+
+
+# The camera turns this far, to and fro, before each moving frame: every lit colour changes (V and
+# the camera's spotlight move), the picture hardly.
+NUDGE_RADIANS = 1e-3
+
+
+def nudge_camera(scene: Scene, step: int) -> None:
+    """Turns the viewing camera about its own y axis, one way on even steps and back on odd ones."""
+    from marraztu.model.transforms import apply_local, rotation_about_axis
+
+    turn = rotation_about_axis(1, NUDGE_RADIANS if step % 2 == 0 else -NUDGE_RADIANS)
+    scene.camera.history[-1] = apply_local(scene.camera.model, turn)  # in place: no undo step per frame
+
+
+def paired_frame_times(ctx: moderngl.Context, scene: Scene, program_frame: Callable[[], None],
+                       bare_frame: Callable[[], None], config: BenchConfig) -> FrameTimes:
+    """A moving frame (the camera nudged first), a still one (nothing changed since), a bare one, in
+    turn, so all three see the same load from other processes.
+
+    The first warm-up frame also builds the renderer's buffers for the object and compiles shader
+    variants, which is why it is never measured.
+    """
+    for _ in range(config.warmup):
+        for frame in (program_frame, bare_frame):
+            frame()
+            ctx.finish()
+    times = FrameTimes()
+    started = time.perf_counter()
+    while len(times.still) < config.frames:
+        if len(times.still) >= MIN_FRAMES and time.perf_counter() - started > config.frame_budget_s:
+            break
+        nudge_camera(scene, len(times.moving))
+        for frame, record in ((program_frame, times.moving), (program_frame, times.still),
+                              (bare_frame, times.bare)):
+            start = time.perf_counter()
+            frame()
+            ctx.finish()
+            record.append(time.perf_counter() - start)
+    return times
+
+
+@dataclass
+class FrameBench:
+    """The GL pieces shared by sections 2 and 4: one context, one renderer, the scene's texture."""
+
+    ctx: moderngl.Context
+    renderer: Renderer
+
+    @classmethod
+    def open(cls) -> FrameBench:
+        from marraztu.render.context import create_offscreen_context
+        from marraztu.render.renderer import Renderer
+
+        ctx = create_offscreen_context()
+        return cls(ctx, Renderer(ctx))
+
+    def use_scene_texture(self, scene: Scene) -> None:
+        from marraztu.loaders.images import load_texture_or_fallback
+
+        scene.texture, _ = load_texture_or_fallback(scene.texture_path)
+
+    def release(self) -> None:
+        self.renderer.release()
+        self.ctx.release()
+
+
+def bench_scene(mesh: Mesh | None) -> Scene:
+    """The built-in scene (its camera, lights, texture), its objects replaced by `mesh` if given;
+    all four lights on."""
+    from marraztu.loaders.scenefile import DEFAULT_MATERIAL, load_builtin_scene
+    from marraztu.model.scene import SceneObject
+
+    scene = load_builtin_scene()
+    if mesh is not None:
+        scene.objects = [SceneObject.placed(mesh.name, mesh, DEFAULT_MATERIAL, (0.0, 0.0, 0.0))]
+        scene.selected_object = 0
+    for light in scene.lights:
+        light.on = True
+    return scene
+
+
+@contextmanager
+def scene_and_bare(bench: FrameBench, scene: Scene) -> Iterator[BareDraw]:
+    """`scene` ready to draw with its texture, and the bare program on the same vertex data; both
+    programs' buffers released afterwards."""
+    bench.use_scene_texture(scene)
+    bare = BareDraw(bench.ctx, scene)
+    try:
+        yield bare
+    finally:
+        bare.release()
+        for obj in drawn_objects(scene):
+            bench.renderer.release_object(obj)
+
+
+@contextmanager
+def framebuffer(bench: FrameBench, size: tuple[int, int]) -> Iterator[moderngl.Framebuffer]:
+    fbo = bench.ctx.simple_framebuffer(size, components=4)
+    try:
+        yield fbo
+    finally:
+        fbo.release()
+
+
+def frame_cases(bench: FrameBench, scene: Scene, label: str, config: BenchConfig) -> list[list[str]]:
+    rows = []
+    with scene_and_bare(bench, scene) as bare:
+        for size in config.resolutions:
+            with framebuffer(bench, size) as fbo:
+                for mode in MODES:
+                    progress(f"frames: {label} {size[0]}x{size[1]} {mode}")
+                    set_mode(scene, mode)
+                    times = paired_frame_times(bench.ctx, scene, lambda: bench.renderer.render(scene, fbo, size),
+                                               lambda: bare.render(fbo, size, mode), config)
+                    rows.append(_frame_row(label, scene_triangles(scene), size, mode, times))
+    return rows
+
+
+def _frame_row(label: str, triangles: int, size: tuple[int, int], mode: str, times: FrameTimes) -> list[str]:
+    still, moving, bare = (statistics.median(frames) * 1000 for frames in (times.still, times.moving, times.bare))
+    return [label, str(triangles), f"{size[0]}x{size[1]}", mode, number(still), number(moving), number(bare),
+            ratio(still, bare), ratio(moving, bare), str(len(times.still))]
+
+
+def frames_section(bench: FrameBench, config: BenchConfig) -> list[str]:
+    rows = frame_cases(bench, bench_scene(None), "built-in", config)
+    for triangles in config.frame_sizes:
+        progress(f"building the {count_label(triangles)}-triangle mesh")
+        rows += frame_cases(bench, bench_scene(generated_mesh(triangles)), f"grid {count_label(triangles)}",
+                            config)
+    sizes = ", ".join(count_label(n) for n in config.frame_sizes) or "none"
+    resolutions = ", ".join(f"{w}x{h}" for w, h in config.resolutions)
+    return [
+        "## 2. Frames: GPU-complete frame time",
+        "",
+        f"Meshes: the built-in scene and generated grids of {sizes} triangles; sizes {resolutions}; "
+        "all four lights on, texture on. Each frame is `render` + `ctx.finish()`; median of up to "
+        f"{config.frames} frames after {config.warmup} warm-up frame(s) (a case stops at {MIN_FRAMES} frames after "
+        f"{config.frame_budget_s:g} s). *moving*: the camera turns {NUDGE_RADIANS:g} rad before the frame, so "
+        "every vertex is lit again; *still*: the next frame, nothing changed, so the lighting pass is "
+        "skipped. *bare* = a pass-through program drawing the same vertex buffers (same layout, depth "
+        "test and primitive count; lines drawn once) in the same process, frames alternating with the "
+        "program's; the ratios are what the program adds.",
+        "",
+        *markdown_table(FRAME_HEADERS, rows),
+    ]
+
+
+def cpu_section(bench: FrameBench, config: BenchConfig) -> list[str]:
+    """Python CPU per frame on the built-in scene: render() without finish, GPU work waited out
+    between frames so none of it lands in the next measurement."""
+    scene = bench_scene(None)
+    size = config.resolutions[0]
+    rows = []
+    with scene_and_bare(bench, scene) as bare, framebuffer(bench, size) as fbo:
+        for mode in MODES:
+            progress(f"CPU per frame: built-in {mode}")
+            set_mode(scene, mode)
+            program = _cpu_per_frame(bench.ctx, lambda: bench.renderer.render(scene, fbo, size), config)
+            with _draw_calls_skipped():
+                python_only = _cpu_per_frame(bench.ctx, lambda: bench.renderer.render(scene, fbo, size), config)
+            bare_cpu = _cpu_per_frame(bench.ctx, lambda: bare.render(fbo, size, mode), config)
+            rows.append([mode, *(number(ms) for ms in (*program, python_only[1], *bare_cpu))])
+    return [
+        "### Python CPU per frame, built-in scene",
+        "",
+        f"Median over {config.cpu_frames} frames at {size[0]}x{size[1]} of `time.process_time()` (all "
+        "threads) and `time.thread_time()` (the calling thread) around `render` alone, without "
+        "`finish`. llvmpipe runs vertex shading in the calling thread, so both include some driver "
+        "work; the bare columns are that floor. *without draw calls*: thread time with "
+        "`VertexArray.render` made a no-op, i.e. the renderer's own Python work.",
+        "",
+        *markdown_table(CPU_HEADERS, rows),
+    ]
+
+
+@contextmanager
+def _draw_calls_skipped() -> Iterator[None]:
+    """Every VertexArray.render does nothing: what is left of a frame is Python and uniform uploads."""
+    import moderngl
+
+    original = moderngl.VertexArray.render
+    moderngl.VertexArray.render = lambda self, *args, **kwargs: None  # type: ignore[method-assign]
+    try:
+        yield
+    finally:
+        moderngl.VertexArray.render = original  # type: ignore[method-assign]
+
+
+def _cpu_per_frame(ctx: moderngl.Context, frame: Callable[[], None], config: BenchConfig) -> tuple[float, float]:
+    for _ in range(config.warmup):
+        frame()
+        ctx.finish()
+    process, thread = [], []
+    for _ in range(config.cpu_frames):
+        process_start, thread_start = time.process_time(), time.thread_time()
+        frame()
+        thread.append(time.thread_time() - thread_start)
+        process.append(time.process_time() - process_start)
+        ctx.finish()
+    return statistics.median(process) * 1000, statistics.median(thread) * 1000

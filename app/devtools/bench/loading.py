@@ -1,0 +1,215 @@
+"""1. Loading: OBJ file to GPU-ready arrays, each (loader, file) in fresh processes, beside peers."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import resource
+import statistics
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from marraztu.devtools.bench.config import BenchConfig
+from marraztu.devtools.bench.inputs import LoadInput
+from marraztu.devtools.bench.report import MEGABYTE, markdown_table, number, progress, ratio
+
+if TYPE_CHECKING:
+    from marraztu.model.mesh import Mesh
+
+LOAD_HEADERS = ("file", "triangles", "MB", "loader", "seconds", "of which surface arrays s", "MB/s",
+                "peak RSS MB", "time ÷ ours", "RSS ÷ ours")
+
+
+@dataclass(frozen=True)
+class LoadTiming:
+    triangles: int
+    seconds: float
+    surface_seconds: float | None = None
+
+
+LoadFunction = Callable[[Path], LoadTiming]
+
+
+def _ours() -> LoadFunction:
+    from marraztu.loaders.obj import load_obj
+
+    def load(path: Path) -> LoadTiming:
+        start = time.perf_counter()
+        mesh = load_obj(path)
+        parsed = time.perf_counter()
+        gpu_ready_arrays(mesh)
+        done = time.perf_counter()
+        return LoadTiming(int(mesh.triangles_before_face()[-1]), done - start, done - parsed)
+    return load
+
+
+def gpu_ready_arrays(mesh: Mesh) -> dict[str, np.ndarray]:
+    """What a new object costs before its first frame: the surface array `ObjectGpu` uploads.
+
+    Edges and normal segments are built only when lines or normals are first drawn (app/gpu.py).
+    """
+    from dataclasses import fields
+
+    from marraztu.render.gpu import surface_arrays
+
+    surface = surface_arrays(mesh)
+    return {array.name: getattr(surface, array.name) for array in fields(surface)}
+
+
+def _trimesh() -> LoadFunction:
+    import trimesh
+
+    def load(path: Path) -> LoadTiming:
+        start = time.perf_counter()
+        loaded = trimesh.load(str(path), process=False)
+        done = time.perf_counter()
+        geometries = loaded.geometry.values() if hasattr(loaded, "geometry") else [loaded]
+        return LoadTiming(sum(len(g.faces) for g in geometries), done - start)
+    return load
+
+
+def _tinyobjloader() -> LoadFunction:
+    import tinyobjloader
+
+    def load(path: Path) -> LoadTiming:
+        start = time.perf_counter()
+        reader = tinyobjloader.ObjReader()
+        if not reader.ParseFromFile(str(path), tinyobjloader.ObjReaderConfig()):
+            raise RuntimeError(f"tinyobjloader could not read {path}: {reader.Error()}")
+        attrib = reader.GetAttrib()
+        # numpy copies of the tables and indices: what a viewer would go on to use.
+        attrib.numpy_vertices(), attrib.numpy_normals(), attrib.numpy_texcoords()
+        shapes = reader.GetShapes()
+        triangles = 0
+        for shape in shapes:
+            shape.mesh.numpy_indices()
+            triangles += len(shape.mesh.numpy_num_face_vertices())
+        done = time.perf_counter()
+        return LoadTiming(triangles, done - start)
+    return load
+
+
+_LOADER_FACTORIES: dict[str, Callable[[], LoadFunction]] = {
+    "ours": _ours, "trimesh": _trimesh, "tinyobjloader": _tinyobjloader}
+
+
+def _peak_rss_bytes() -> int:
+    """This process's peak resident memory.
+
+    On Linux ru_maxrss is not usable here: execve keeps the larger of the old and new peaks, and the
+    old one is the bench process's (fork copies its memory map), which hides a small loader's peak.
+    VmHWM is the peak of the current memory map only, which starts at exec.
+    """
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return peak if sys.platform == "darwin" else peak * 1024  # Linux reports KiB, macOS bytes
+
+
+def load_worker(argv: Sequence[str]) -> int:
+    """The child: import the loader, note the peak RSS, load `repeats` times, print JSON."""
+    loader, path, repeats = argv[0], Path(argv[1]), int(argv[2])
+    load = _LOADER_FACTORIES[loader]()
+    baseline = _peak_rss_bytes()
+    timings = [load(path) for _ in range(repeats)]
+    print(json.dumps({"triangles": timings[0].triangles,
+                      "seconds": [t.seconds for t in timings],
+                      "surface_seconds": [t.surface_seconds for t in timings],
+                      "peak_rss_bytes": _peak_rss_bytes() - baseline}))
+    return 0
+
+
+_WORKER_CODE = "import sys; from marraztu.devtools.bench.loading import load_worker; sys.exit(load_worker(sys.argv[1:]))"
+
+
+@dataclass
+class LoadResult:
+    """Every load of one loader and file, over all its processes."""
+
+    triangles: int = 0
+    seconds: list[float] = field(default_factory=list)
+    surface_seconds: list[float] = field(default_factory=list)
+    peak_rss_bytes: list[int] = field(default_factory=list)  # one per process
+
+    def add_process(self, loader: str, path: Path, repeats: int) -> None:
+        done = subprocess.run([sys.executable, "-c", _WORKER_CODE, loader, str(path), str(repeats)],
+                              capture_output=True, text=True)
+        if done.returncode != 0:
+            raise RuntimeError(f"{loader} on {path.name} failed:\n{done.stderr.strip()}")
+        report = json.loads(done.stdout.strip().splitlines()[-1])
+        self.triangles = report["triangles"]
+        self.seconds += report["seconds"]
+        self.surface_seconds += [s for s in report["surface_seconds"] if s is not None]
+        self.peak_rss_bytes.append(report["peak_rss_bytes"])
+
+    @property
+    def median_seconds(self) -> float:
+        return statistics.median(self.seconds)
+
+    @property
+    def median_surface_seconds(self) -> float | None:
+        return statistics.median(self.surface_seconds) if self.surface_seconds else None
+
+    @property
+    def median_peak_rss_bytes(self) -> float:
+        return statistics.median(self.peak_rss_bytes)
+
+
+def available_loaders(wanted: Sequence[str]) -> tuple[list[str], list[str]]:
+    """The wanted loaders that can be imported, and notes for those that cannot."""
+    present, notes = [], []
+    for name in wanted:
+        if name == "ours" or importlib.util.find_spec(name) is not None:
+            present.append(name)
+        else:
+            notes.append(f"{name} is not installed, so its rows are left out "
+                         f"(`pip install '.[bench]'` adds tinyobjloader).")
+    return present, notes
+
+
+def loading_section(config: BenchConfig, inputs: Sequence[LoadInput]) -> list[str]:
+    loaders, notes = available_loaders(config.loaders)
+    rows = []
+    for item in inputs:
+        results = {loader: LoadResult() for loader in loaders}
+        for round_number in range(config.rounds):  # in turn, so that all see the machine alike
+            for loader in loaders:
+                progress(f"loading {item.path.name} with {loader} ({round_number + 1}/{config.rounds})")
+                results[loader].add_process(loader, item.path, config.repeats)
+        rows += [_load_row(item, loader, result, results.get("ours")) for loader, result in results.items()]
+    lines = [
+        "## 1. Loading: OBJ file to GPU-ready arrays",
+        "",
+        f"Median of {config.rounds * config.repeats} load(s): {config.rounds} fresh process(es) per loader and "
+        f"file, the loaders taking turns, {config.repeats} load(s) in each; peak RSS is the median over those "
+        "processes of the process's peak minus its peak after imports. *ours* = `load_obj` + the surface "
+        "vertex and index "
+        "arrays `ObjectGpu` uploads for the first frame (app/gpu.py; edges and normal segments "
+        "are built later, when lines or normals are first drawn); trimesh = `trimesh.load(process=False)`; "
+        "tinyobjloader = parse (triangulated) + numpy copies of its tables. Ratios > 1: ours is faster "
+        "or smaller.",
+        "",
+        *markdown_table(LOAD_HEADERS, rows),
+    ]
+    return lines + [""] + [f"Note: {note}" for note in notes]
+
+
+def _load_row(item: LoadInput, loader: str, result: LoadResult, ours: LoadResult | None) -> list[str]:
+    mb = item.megabytes
+    seconds = result.median_seconds
+    return [item.label, str(result.triangles), number(mb), loader, number(seconds),
+            number(result.median_surface_seconds), number(mb / seconds),
+            number(result.median_peak_rss_bytes / MEGABYTE),
+            ratio(seconds, ours.median_seconds if ours else None),
+            ratio(result.median_peak_rss_bytes, ours.median_peak_rss_bytes if ours else None)]

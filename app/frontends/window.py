@@ -1,0 +1,159 @@
+"""The window: a moderngl-window pyglet window whose events become the viewer's key presses. It holds
+no drawing logic: the renderer draws the scene, the overlay draws the text."""
+
+from __future__ import annotations
+
+import logging
+from datetime import datetime
+from pathlib import Path
+from time import perf_counter, sleep
+from typing import Any
+
+import moderngl_window as mglw
+from moderngl_window.timers.clock import Timer
+
+from marraztu.control import commands
+from marraztu.control.keymap import KeyPress
+from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer, starting_scene
+from marraztu.errors import ViewerError
+from marraztu.frontends.screenshot import read_pixels, release_framebuffer, write_picture
+from marraztu.render.gpu import prepare_surface
+from marraztu.render.overlay import Overlay
+from marraztu.render.renderer import Renderer
+from marraztu.text import panels, status
+
+TITLE = "marraztu"
+SCREENSHOT_DIR = Path("screenshots")
+# While a model loads on the worker thread, frames are paced to at most this rate: keys are still
+# answered within a frame, and the cores llvmpipe would spend redrawing an unchanged picture as fast
+# as it can (nothing paces it under Xvfb, nor where vsync is off) go to the loader instead.
+LOADING_FRAMES_PER_SECOND = 30
+
+
+class ViewerWindow:
+    """One window on one viewer: pyglet's events in, the renderer's frames out."""
+
+    def __init__(self, options: StartOptions, size: tuple[int, int]) -> None:
+        logging.getLogger("moderngl_window").setLevel(logging.WARNING)
+        window_class = mglw.get_local_window_cls("pyglet")
+        # samples=0: the same pixels as the offscreen screenshot command; no aspect ratio: the
+        # projection follows the window's shape instead of letterboxing it.
+        self.wnd = window_class(title=TITLE, size=size, resizable=True, gl_version=(3, 3), aspect_ratio=None,
+                                vsync=True, samples=0)
+        mglw.activate_context(window=self.wnd)
+        self.wnd.swap_buffers()  # some platforms report the true buffer size only after one swap
+        self.wnd.set_default_viewport()
+        self.ctx = self.wnd.ctx
+        self.wnd.exit_key = None  # ESC belongs to the key map: it also cancels the file prompt
+        self.viewer = Viewer(starting_scene(options), self, background=BackgroundLoader(prepare_surface))
+        self.viewer.use_texture(options.texture or _as_path(self.viewer.scene.texture_path))
+        for model in options.models:
+            self.viewer.load_model(model)
+        self.renderer = Renderer(self.ctx)
+        self.overlay = Overlay(self.ctx)
+        self.named_keys = self._named_keys()
+        self.last_frame_start = perf_counter()
+        self._connect_events()
+
+    def _connect_events(self) -> None:
+        wnd = self.wnd
+        wnd.render_func = self.on_render
+        wnd.key_event_func = self.on_key_event
+        wnd.unicode_char_entered_func = self.on_unicode_char_entered
+        wnd.mouse_drag_event_func = self.on_mouse_drag_event
+        wnd.mouse_scroll_event_func = self.on_mouse_scroll_event
+        wnd.files_dropped_event_func = self.on_files_dropped_event
+
+    def _named_keys(self) -> dict[Any, str]:
+        keys = self.wnd.keys
+        names = {keys.TAB: "TAB", keys.ENTER: "ENTER", keys.ESCAPE: "ESC", keys.DELETE: "DELETE",
+                 keys.F1: "F1", keys.F12: "F12", keys.BACKSPACE: "BACKSPACE"}
+        from pyglet.window import key as pyglet_key
+
+        names[pyglet_key.RETURN] = "ENTER"  # moderngl-window's ENTER is the keypad's; this is the main one
+        return names
+
+    @property
+    def scene(self):
+        return self.viewer.scene
+
+    def run(self) -> None:
+        timer = Timer()
+        timer.start()
+        while not self.wnd.is_closing:
+            now, delta = timer.next_frame()
+            self.wnd.use()
+            self.wnd.render(now, delta)
+            if not self.wnd.is_closing:
+                self.wnd.swap_buffers()
+        if self.viewer.background is not None:
+            self.viewer.background.shutdown()
+        self.wnd.destroy()
+
+    # --- drawing -------------------------------------------------------------------------------
+    def on_render(self, time: float, frame_time: float) -> None:
+        self._pace_while_loading()
+        self.viewer.collect_loads()
+        size = self.wnd.buffer_size
+        self.wnd.fbo.use()
+        self.renderer.render(self.scene, self.wnd.fbo, size)
+        self.overlay.draw(*status.overlay_lines(self.viewer), size, panels.extras(self.scene, size))
+
+    def _pace_while_loading(self) -> None:
+        if self.viewer.background is not None and self.viewer.background.pending():
+            wait = self.last_frame_start + 1.0 / LOADING_FRAMES_PER_SECOND - perf_counter()
+            if wait > 0:
+                sleep(wait)
+        self.last_frame_start = perf_counter()
+
+    # --- keys ----------------------------------------------------------------------------------
+    def on_unicode_char_entered(self, char: str) -> None:
+        """Letters come from text input so that `F` is shift+f on any keyboard layout (SPEC 6)."""
+        if char.isprintable():
+            self.viewer.type_text(char)
+
+    def on_key_event(self, key: Any, action: Any, modifiers: Any) -> None:
+        if action != self.wnd.keys.ACTION_PRESS:
+            return
+        name = self.named_keys.get(key)
+        if name is not None and (name != "BACKSPACE" or self.viewer.prompt is not None):
+            self.viewer.press(KeyPress(name))
+
+    # --- mouse and files ----------------------------------------------------------------------
+    def on_mouse_drag_event(self, x: int, y: int, dx: int, dy: int) -> None:
+        commands.drag(self.scene, dx, dy)
+
+    def on_mouse_scroll_event(self, x_offset: float, y_offset: float) -> None:
+        commands.wheel(self.scene, y_offset)
+
+    def on_files_dropped_event(self, x: int, y: int, paths: list[str | Path]) -> None:
+        for path in paths:
+            self.viewer.load_model(path)
+
+    # --- Frontend ------------------------------------------------------------------------------
+    def quit(self) -> None:
+        self.wnd.close()
+
+    def save_screenshot(self) -> None:
+        """F12: the scene as the screenshot command draws it (no overlay), at the window's size."""
+        size = self.wnd.buffer_size
+        fbo = self.ctx.simple_framebuffer(size, components=4)
+        try:
+            self.renderer.render(self.scene, fbo, size)
+            path = (SCREENSHOT_DIR / f"marraztu-{datetime.now():%Y%m%d-%H%M%S-%f}.png").absolute()
+            write_picture(read_pixels(fbo, size), path)
+            self.scene.message = f"screenshot saved to {path}"
+        except ViewerError as error:
+            self.scene.message = f"screenshot not saved: {error}"
+        finally:
+            release_framebuffer(fbo)
+            self.wnd.fbo.use()
+
+
+def _as_path(value: str | None) -> Path | None:
+    return Path(value) if value else None
+
+
+def run_window(options: StartOptions, size: tuple[int, int]) -> int:
+    ViewerWindow(options, size).run()
+    return 0

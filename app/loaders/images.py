@@ -1,0 +1,187 @@
+"""Texture images: PPM (P6, P3) by our own code, everything else through Pillow.
+
+Why our own PPM reader when Pillow reads PPM: the seed's texture format deserves strict errors that
+say what is wrong (a truncated raster, a value above maxval, a bad header token), and a header must
+not make us allocate what it merely claims: the raster's length is checked against the header
+before any array is made, and sizes are capped.
+
+Images come back as (H, W, 3) uint8 with the top row first, as stored in the file; the renderer flips
+them for OpenGL so that v = 0 is the bottom row.
+"""
+
+from __future__ import annotations
+
+import re
+import warnings
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+from marraztu.errors import LoadError
+from marraztu.loaders.files import read_file, read_head
+
+# No texture a student uses comes near this; a header claiming more is broken or hostile.
+MAX_PIXELS = 64 * 1024 * 1024
+_PPM_MAGICS = (b"P6", b"P3")
+_HEADER_TOKEN = re.compile(rb"(?:\s|#[^\n\r]*[\n\r])*([^\s#]+)")  # skips whitespace and comments
+
+
+def load_image(path: str | Path) -> np.ndarray:
+    """(H, W, 3) uint8, top row first. Raises LoadError naming the file for any problem."""
+    file = Path(path)
+    magic = read_head(file, 2)  # refuses directories, devices, pipes and huge files first
+    try:
+        if magic in _PPM_MAGICS:
+            return parse_ppm(read_file(file), str(path))
+        if file.suffix.lower() in (".ppm", ".pnm"):
+            raise _not_ppm(file, magic)
+        return _load_with_pillow(file)
+    except LoadError:
+        raise
+    except MemoryError:
+        raise LoadError(file, "not enough memory to load this image") from None
+
+
+def fallback_texture() -> np.ndarray:
+    """A 64x64 light checker whose top-left cell is red, so a flipped or mirrored mapping shows."""
+    cells = (np.indices((8, 8)).sum(axis=0) % 2).astype(bool)
+    image = np.where(cells[..., None], np.uint8(255), np.uint8(170)).repeat(3, axis=2)
+    image = image.repeat(8, axis=0).repeat(8, axis=1)
+    image[:8, :8] = (220, 30, 30)  # the orientation mark: top-left in the file
+    image[:8, -8:] = (30, 160, 30)  # top-right: tells a left-right mirror from an upside-down flip
+    return np.ascontiguousarray(image)
+
+
+def load_texture_or_fallback(path: str | Path | None) -> tuple[np.ndarray, str | None]:
+    """The image, or the built-in checker and a one-line message naming the file."""
+    if path is None:
+        return fallback_texture(), None
+    try:
+        return load_image(path), None
+    except LoadError as error:
+        return fallback_texture(), f"{error} (using the built-in checker texture)"
+
+
+# --------------------------------------------------------------------------------------------------
+# PPM
+# --------------------------------------------------------------------------------------------------
+
+
+def parse_ppm(data: bytes, source: str) -> np.ndarray:
+    """A P6 or P3 image from bytes; ``source`` names the file in messages."""
+    magic = data[:2]
+    if magic not in _PPM_MAGICS:
+        raise _not_ppm(source, magic)
+    width, height, maxval, raster_at = _ppm_header(data, source)
+    if magic == b"P6":
+        samples = _binary_samples(data[raster_at:], width * height * 3, maxval, source)
+    else:
+        samples = _ascii_samples(data[raster_at:], width * height * 3, source)
+    if samples.size and int(samples.max()) > maxval:
+        raise LoadError(source, f"a sample value ({int(samples.max())}) exceeds maxval {maxval}")
+    return _to_8_bit(samples, maxval).reshape(height, width, 3)
+
+
+def _not_ppm(source: str | Path, magic: bytes) -> LoadError:
+    return LoadError(source, f"not a PPM image: starts with {magic!r}, expected P6 or P3")
+
+
+def _ppm_header(data: bytes, source: str) -> tuple[int, int, int, int]:
+    """(width, height, maxval, offset of the raster): three numbers after the magic, then one whitespace."""
+    numbers, at = [], 2
+    for name in ("width", "height", "maxval"):
+        match = _HEADER_TOKEN.match(data, at)
+        if match is None:
+            raise LoadError(source, f"truncated PPM header: no {name}")
+        token = match.group(1)
+        if not token.isdigit():
+            raise LoadError(source, f"bad PPM header: {name} {token[:20]!r} is not a whole number")
+        numbers.append(int(token[:12]) if len(token) <= 12 else 10**12)  # beyond any cap anyway
+        at = match.end()
+    width, height, maxval = numbers
+    _check_header(width, height, maxval, source)
+    # One whitespace byte ends the header; a comment may sit right after maxval, before it.
+    at = _skip_comment(data, at)
+    if at >= len(data) or data[at:at + 1] not in (b" ", b"\t", b"\n", b"\r", b"\x0b", b"\x0c"):
+        raise LoadError(source, "truncated PPM: no pixel data after the header")
+    return width, height, maxval, at + 1
+
+
+def _skip_comment(data: bytes, at: int) -> int:
+    if data[at:at + 1] != b"#":
+        return at
+    newline = min((pos for pos in (data.find(b"\n", at), data.find(b"\r", at)) if pos >= 0), default=len(data))
+    return newline
+
+
+def _check_header(width: int, height: int, maxval: int, source: str) -> None:
+    if width < 1 or height < 1:
+        raise LoadError(source, f"bad PPM size {width}x{height}: both must be at least 1")
+    if width * height > MAX_PIXELS:
+        raise LoadError(source, f"PPM size {width}x{height} is too large (at most {MAX_PIXELS} pixels)")
+    if not 1 <= maxval <= 65535:
+        raise LoadError(source, f"bad PPM maxval {maxval}: must be 1 to 65535")
+
+
+def _binary_samples(raster: bytes, count: int, maxval: int, source: str) -> np.ndarray:
+    width = 1 if maxval < 256 else 2  # 16-bit samples are big-endian
+    needed = count * width
+    if len(raster) < needed:
+        raise LoadError(source, f"truncated PPM: {needed} bytes of pixel data expected, found {len(raster)}")
+    return np.frombuffer(raster, dtype=np.uint8 if width == 1 else ">u2", count=count)
+
+
+def _ascii_samples(raster: bytes, count: int, source: str) -> np.ndarray:
+    if b"#" in raster:
+        raster = re.sub(rb"#[^\n\r]*", b" ", raster)
+    stray = raster.translate(None, b"0123456789 \t\n\r\x0b\x0c")
+    if stray:
+        raise LoadError(source, f"bad P3 pixel data: {stray[:1]!r} is not part of a number")
+    # Every sample takes at least two bytes (a digit and a separator): a short raster fails here,
+    # before the parser builds anything the size of what the header claims.
+    if len(raster) < 2 * count - 1 or not raster.strip():  # (numpy reads blank text as [-1])
+        raise LoadError(source, f"truncated PPM: {count} samples expected, the data is too short")
+    samples = np.fromstring(raster, dtype=np.int64, sep=" ")  # only digits and whitespace remain
+    if samples.size < count:
+        raise LoadError(source, f"truncated PPM: {count} samples expected, found {samples.size}")
+    return samples[:count]  # numbers too long for int64 saturate, so the maxval check still fails them
+
+
+def _to_8_bit(samples: np.ndarray, maxval: int) -> np.ndarray:
+    if maxval == 255:
+        return samples.astype(np.uint8)
+    wide = samples.astype(np.uint32)
+    return ((wide * 255 + maxval // 2) // maxval).astype(np.uint8)  # rounded, so maxval maps to 255
+
+
+# --------------------------------------------------------------------------------------------------
+# Files and Pillow
+# --------------------------------------------------------------------------------------------------
+
+
+def _load_with_pillow(file: Path) -> np.ndarray:
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", Image.DecompressionBombWarning)
+            with Image.open(file) as image:
+                width, height = image.size
+                if width * height > MAX_PIXELS:
+                    raise LoadError(file, f"image size {width}x{height} is too large (at most {MAX_PIXELS} pixels)")
+                image.load()
+                return _rgb_array(image)
+    except LoadError:
+        raise
+    except (Image.DecompressionBombError, Image.DecompressionBombWarning):
+        raise LoadError(file, "image is too large (Pillow's decompression-bomb guard)") from None
+    except Exception as error:  # Pillow raises OSError, ValueError, SyntaxError, EOFError, ... for bad files
+        raise LoadError(file, f"not a readable image ({type(error).__name__}: {error})") from None
+
+
+def _rgb_array(image: Image.Image) -> np.ndarray:
+    """RGB uint8; wide grey modes are scaled, not clipped as Pillow's convert('RGB') would."""
+    if image.mode.startswith("I") or image.mode == "F":
+        grey = np.asarray(image, dtype=np.float64)
+        grey = np.clip(np.nan_to_num(grey) * (255.0 / 65535.0), 0.0, 255.0).round().astype(np.uint8)
+        return np.ascontiguousarray(np.repeat(grey[..., None], 3, axis=2))
+    return np.ascontiguousarray(np.asarray(image.convert("RGB"), dtype=np.uint8))

@@ -1,0 +1,106 @@
+"""Wavefront OBJ reader: one file becomes one Mesh, quickly and strictly.
+
+Why our own reader and not trimesh's: trimesh silently reads tab-separated lines as nothing, accepts
+index 0, drops a truncated last face and accepts NaN. A viewer for students must instead say what is
+wrong and on which line.
+
+Two readers produce the same raw tables (raw.py): the fast one (fast.py) reads the whole buffer
+with numpy; the line-by-line one (lines.py) is the authority on meaning and runs whenever the fast
+one meets anything it does not handle, valid or not, so it alone words the errors. The MTL beside
+the file gives the material (mtl.py). Normals and texture coordinates the file lacks are derived by
+marraztu.model.build, as for every other format.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+from pathlib import Path
+
+from marraztu.errors import LoadError
+from marraztu.loaders.files import read_file
+from marraztu.loaders.obj.fast import Unusual, read_fast
+from marraztu.loaders.obj.lines import read_by_lines
+from marraztu.loaders.obj.mtl import first_material
+from marraztu.loaders.obj.raw import RawObj
+from marraztu.model.build import derive_mesh
+from marraztu.model.mesh import Mesh
+
+
+def load_obj(path: str | Path, stage: Callable[[str], None] | None = None) -> Mesh:
+    """Read an OBJ file into a Mesh; every problem becomes a LoadError naming the file.
+
+    `stage` hears "reading" and then "parsing" (the window's loader thread shows them)."""
+    if stage is not None:
+        stage("reading")
+    data = read_file(path)
+    if stage is not None:
+        stage("parsing")
+    return parse_obj(data, str(path), base_dir=Path(path).parent)
+
+
+def parse_obj(data: bytes, source: str, base_dir: str | Path | None = None) -> Mesh:
+    """Parse OBJ bytes; ``source`` names the file in messages and gives the mesh its name (the stem).
+
+    ``base_dir`` is where ``mtllib`` files are looked for; without it the MTL is not read.
+    """
+    try:
+        return _parse(data, source, None if base_dir is None else Path(base_dir))
+    except LoadError:
+        raise
+    except MemoryError:
+        raise LoadError(source, "not enough memory to load this file") from None
+    except Exception as error:  # the contract: bad input never escapes as anything but LoadError
+        raise LoadError(source, f"could not read the model ({type(error).__name__}: {error})") from None
+
+
+def _parse(data: bytes, source: str, base_dir: Path | None) -> Mesh:
+    text = _normalized_text(data, source)
+    raw = _read_tables(text, source)
+    notes = list(raw.notes)
+    material = None
+    if raw.mtllib is not None and base_dir is not None:
+        material = first_material(base_dir, raw.mtllib, notes)
+    uv = None if raw.corner_texcoord is None else (raw.texcoords, raw.corner_texcoord)
+    normals = None if raw.corner_normal is None else (raw.normals, raw.corner_normal)
+    return derive_mesh(Path(source).stem, raw.positions, raw.corner_vertex, raw.face_start,
+                       uv, normals, raw.colour, material, tuple(notes))
+
+
+def _read_tables(text: bytes, source: str) -> RawObj:
+    if not _needs_line_reader(text):
+        try:
+            return read_fast(text)
+        except Unusual:
+            pass
+        except MemoryError:
+            raise
+        except Exception:  # a fast-reader bug must not cost the person their model: read it slowly
+            pass
+    return read_by_lines(text, source)
+
+
+def _needs_line_reader(text: bytes) -> bool:
+    """Line continuations (a backslash ending a line) change line numbering: the slow reader's job."""
+    return b"\\" in text and re.search(rb"\\[^\S\n]*\n", text) is not None
+
+
+def _normalized_text(data: bytes, source: str) -> bytes:
+    """Reject binary data and make sure the last line ends with a newline.
+
+    Tabs, CR (of CRLF) and the other ASCII whitespace stay: both readers treat them as spaces.
+    """
+    nul = data.find(b"\0")
+    if nul >= 0:
+        raise LoadError(source, "binary data (a NUL byte), not an OBJ text file", line=_line_of(data, nul))
+    if not data.isascii():
+        try:
+            data.decode("utf-8")
+        except UnicodeDecodeError as error:
+            raise LoadError(source, "binary data (not UTF-8 text), not an OBJ text file",
+                            line=_line_of(data, error.start)) from None
+    return data if data.endswith(b"\n") else data + b"\n"
+
+
+def _line_of(data: bytes, offset: int) -> int:
+    return data.count(b"\n", 0, offset) + 1

@@ -1,0 +1,74 @@
+"""What the OBJ reader's two halves share: the tables they produce and the pieces of a line both read."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+# Corner formats by which of v/vt/vn they hold: the slashes between consecutive numbers.
+CORNER_GAPS = {(True,): (), (True, True): (1,), (True, False, True): (2,), (True, True, True): (1, 1)}
+# No file holds 10**15 of anything, and up to 15 digits an index or mantissa is an exact double.
+MAX_DIGITS = 15
+
+
+@dataclass
+class RawObj:
+    """The file's tables as read, before anything is derived. Corner indices are 0-based."""
+
+    positions: np.ndarray  # (V, 3) float64
+    texcoords: np.ndarray  # (T, 2) float64
+    normals: np.ndarray  # (N, 3) float64
+    corner_vertex: np.ndarray  # (C,) int64
+    corner_texcoord: np.ndarray | None  # (C,) int64, -1 where a corner has no vt; None: no corner has
+    corner_normal: np.ndarray | None  # (C,) int64, likewise for vn
+    face_start: np.ndarray  # (F + 1,) int64
+    mtllib: str | None
+    colour: tuple[float, float, float] | None  # the seed reader's "# colour r g b", in 0..1
+    notes: list[str]
+
+
+COLOUR_COMMENT = re.compile(rb"\s*#\s*colou?r\s+(\S+)\s+(\S+)\s+(\S+)\s*\Z")
+
+
+class ColourComment:
+    """The seed reader's ``# colour r g b`` (0..255) as a 0..1 colour: the first well-formed one counts."""
+
+    def __init__(self) -> None:
+        self.colour: tuple[float, float, float] | None = None
+        self.notes: list[str] = []
+
+    def offer(self, line_number: int, comment: bytes) -> None:
+        if self.colour is not None or b"colo" not in comment:
+            return
+        match = COLOUR_COMMENT.match(comment)
+        if match is None:
+            return
+        values = finite_floats(match.groups())
+        if values is None:
+            self.notes.append(f"ignored a malformed '# colour' comment on line {line_number}")
+        else:
+            red, green, blue = (min(max(value / 255.0, 0.0), 1.0) for value in values)
+            self.colour = (red, green, blue)
+
+
+def finite_floats(tokens: Sequence[bytes | str]) -> list[float] | None:
+    try:
+        values = [float(token) for token in tokens]
+    except ValueError:
+        return None
+    return values if all(np.isfinite(values)) else None
+
+
+
+def statement(content: bytes) -> tuple[bytes, bytes]:
+    """(keyword, rest of the line without comment, stripped); keyword b'' for blank and comment lines.
+
+    Only ASCII whitespace separates (bytes.split), as in the fast reader.
+    """
+    parts = content.split(b"#", 1)[0].split(None, 1)
+    if not parts:
+        return b"", b""
+    return parts[0], parts[1].strip() if len(parts) > 1 else b""

@@ -1,0 +1,27 @@
+"""Which reader opens a model file: one table from file suffix to reader."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+from marraztu.errors import LoadError
+from marraztu.loaders.obj import load_obj
+from marraztu.model.mesh import Mesh
+
+Stage = Callable[[str], None]  # hears what a long load is doing now, for the window's status
+ModelReader = Callable[[Path, Stage | None], Mesh]
+
+MODEL_READERS: dict[str, ModelReader] = {
+    ".obj": load_obj,
+}
+
+
+def load_model(path: str | Path, stage: Stage | None = None) -> Mesh:
+    """The model in `path`, read by the reader of its suffix; LoadError naming the file otherwise."""
+    path = Path(path)
+    reader = MODEL_READERS.get(path.suffix.lower())
+    if reader is None:
+        known = ", ".join(MODEL_READERS)
+        raise LoadError(path, f"not a model file marraztu reads (by its suffix: {known})")
+    return reader(path, stage)

@@ -1,0 +1,336 @@
+"""Scene files: which models to load, where to put them and what they are made of, in TOML.
+
+    texture = "selfi.ppm"                 # optional, relative to the scene file
+
+    [materials.golden]                    # named materials, used by name below
+    ka = [0.8, 0.72, 0.0]                 # ka, kd, ks: three numbers in 0..1
+    kd = [0.8, 0.6, 0.4]
+    ks = [0.9, 0.8, 0.5]
+    ns = 80                               # > 0
+    rgb = [1, 1, 1]                       # optional base colour, default white
+
+    [[cameras]]                           # at least one
+    model = "camera.obj"                  # relative to the scene file
+    position = [0, 0, 150]
+    material = "golden"                   # a name above, or an inline table of the same keys
+
+    [[objects]]                           # any number
+    name = "Rammer_255"                   # optional: default is the model file's stem
+    model = "rammer.obj"
+    position = [0, 0, 0]
+    material = { ka = [0.8, 0.72, 0], kd = [0.8, 0.6, 0.4], ks = [0.9, 0.8, 0.5], ns = 80 }
+
+An entry without ``material`` gets what a model loaded at run time gets (`material_for_loaded`).
+Every problem, unknown keys included (a typo must not pass silently), is a LoadError naming the
+scene file and, where it can be found, the line.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import NoReturn
+
+from marraztu.errors import LoadError, ViewerError
+from marraztu.loaders.files import read_file
+from marraztu.loaders.registry import load_model
+from marraztu.model.mesh import Mesh
+from marraztu.model.scene import Material, Scene, SceneObject, Vec3
+from marraztu.resources import ASSET_DIR
+
+BUILTIN_SCENE_FILE = "scene.toml"
+TOP_LEVEL_KEYS = frozenset({"texture", "materials", "objects", "cameras"})
+ENTRY_KEYS = frozenset({"name", "model", "position", "rotation", "material"})
+REQUIRED_ENTRY_KEYS = ("model", "position")
+MATERIAL_KEYS = frozenset({"ka", "kd", "ks", "ns", "rgb"})
+REQUIRED_MATERIAL_KEYS = ("ka", "kd", "ks", "ns")
+SCENE_FILE_LIMIT = 16 << 20  # a hand-written scene is a few kB; this refuses a model given by mistake
+WHITE: Vec3 = (1.0, 1.0, 1.0)
+
+# What a model loaded at run time is made of when its file says nothing: a light grey, mostly
+# diffuse plastic. Grey shows the lights' and the texture's colours as they are; the ambient share is
+# low because SPEC's ambient light (200, 75, 255) is strong and violet and would wash out the shading;
+# a modest, broad highlight (ns 20) makes Flat and Gouraud differ visibly without looking wet.
+DEFAULT_MATERIAL = Material(ka=(0.3, 0.3, 0.3), kd=(0.7, 0.7, 0.7), ks=(0.3, 0.3, 0.3), ns=20.0)
+MIN_FILE_NS = 1.0  # MTL files often say "Ns 0", which would light every face with full specular
+
+_TOML_POSITION = re.compile(r"\s*\(at line (\d+), column \d+\)$")
+
+
+@dataclass(frozen=True)
+class SceneEntry:
+    """One [[objects]] or [[cameras]] table, checked; the model is not loaded yet."""
+
+    name: str
+    model: str  # as written in the file, for messages
+    model_path: Path
+    position: Vec3
+    rotation: Vec3  # degrees about the world x, then y, then z axis
+    material: Material | None  # None: the loaded model's own, see material_for_loaded
+    line: int | None
+
+
+@dataclass(frozen=True)
+class SceneDescription:
+    path: Path
+    objects: tuple[SceneEntry, ...]
+    cameras: tuple[SceneEntry, ...]
+    texture_path: Path | None
+
+
+# --------------------------------------------------------------------------------------------------
+# Public API
+# --------------------------------------------------------------------------------------------------
+def builtin_scene_path() -> Path:
+    return ASSET_DIR / BUILTIN_SCENE_FILE
+
+
+def load_scene(path: str | Path) -> Scene:
+    """The scene a TOML file describes, every model loaded; LoadError naming the file otherwise."""
+    description = read_scene_description(path)
+    loader = _ModelLoader(description.path)
+    return Scene(objects=[loader.place(entry) for entry in description.objects],
+                 cameras=[loader.place(entry) for entry in description.cameras],
+                 texture_path=_optional_str(description.texture_path))
+
+
+def load_builtin_scene() -> Scene:
+    """SPEC 3's scene: the camera, x_wing, r_falke and Rammer_255 with their materials."""
+    return load_scene(builtin_scene_path())
+
+
+def empty_scene() -> Scene:
+    """The built-in camera alone (``--empty``): somewhere to look from before loading anything."""
+    description = read_scene_description(builtin_scene_path())
+    loader = _ModelLoader(description.path)
+    return Scene(objects=[], cameras=[loader.place(entry) for entry in description.cameras],
+                 texture_path=_optional_str(description.texture_path))
+
+
+def material_for_loaded(mesh: Mesh) -> Material:
+    """A run-time model's material: its MTL's numbers where given, the neutral default elsewhere."""
+    values = mesh.file_material or {}
+    rgb = _clamped_colour(mesh.base_colour, WHITE)
+    return Material(ka=_clamped_colour(values.get("ka"), DEFAULT_MATERIAL.ka),
+                    kd=_clamped_colour(values.get("kd"), DEFAULT_MATERIAL.kd),
+                    ks=_clamped_colour(values.get("ks"), DEFAULT_MATERIAL.ks),
+                    ns=_file_shininess(values.get("ns")), rgb=rgb)
+
+
+def read_scene_description(path: str | Path) -> SceneDescription:
+    """Parse and check a scene file without loading its models."""
+    reader = _SceneReader(Path(path))
+    return reader.describe()
+
+
+# --------------------------------------------------------------------------------------------------
+# Reading and checking the TOML
+# --------------------------------------------------------------------------------------------------
+class _SceneReader:
+    """Checks one scene file; every failure is a LoadError naming the file and, when known, the line."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.text = self._read_text()
+        self.document = self._parse()
+
+    def fail(self, message: str, line: int | None = None) -> NoReturn:
+        raise LoadError(self.path, message, line)
+
+    def _read_text(self) -> str:
+        data = read_file(self.path, limit=SCENE_FILE_LIMIT)
+        try:
+            return data.decode("utf-8")
+        except UnicodeDecodeError:
+            self.fail("not a TOML scene file (not UTF-8 text)")
+
+    def _parse(self) -> dict:
+        try:
+            return tomllib.loads(self.text)
+        except tomllib.TOMLDecodeError as err:
+            message = str(err)
+            found = _TOML_POSITION.search(message)
+            line = int(found.group(1)) if found else None
+            self.fail(f"TOML syntax: {_TOML_POSITION.sub('', message)}", line)
+        except RecursionError:  # tomllib recurses once per nesting level of arrays and inline tables
+            self.fail("TOML nested too deeply to be a scene file")
+
+    def describe(self) -> SceneDescription:
+        self.check_keys(self.document, TOP_LEVEL_KEYS, "the scene", None)
+        materials = self.named_materials()
+        objects = self.entries("objects", materials)
+        cameras = self.entries("cameras", materials)
+        if not cameras:
+            self.fail("the scene has no camera: add a [[cameras]] table with a model and a position")
+        return SceneDescription(self.path, objects, cameras, self.texture())
+
+    # --- top level -----------------------------------------------------------------------------
+    def texture(self) -> Path | None:
+        if "texture" not in self.document:
+            return None
+        value = self.document["texture"]
+        line = self.key_line("texture")
+        if not isinstance(value, str) or not value.strip():
+            self.fail("texture must be a file name in quotes", line)
+        return (self.path.parent / value).absolute()
+
+    def named_materials(self) -> dict[str, Material]:
+        tables = self.document.get("materials", {})
+        if not isinstance(tables, dict):
+            self.fail("materials must be tables: [materials.NAME]", self.key_line("materials"))
+        return {name: self.material(table, f"material {name!r}", self.header_line(f"materials.{name}"))
+                for name, table in tables.items()}
+
+    def entries(self, kind: str, materials: dict[str, Material]) -> tuple[SceneEntry, ...]:
+        tables = self.document.get(kind, [])
+        if not isinstance(tables, list):
+            self.fail(f"{kind} must be an array of tables: [[{kind}]]", self.key_line(kind))
+        return tuple(self.entry(table, f"{kind}[{index + 1}]", self.array_header_line(kind, index),
+                                materials)
+                     for index, table in enumerate(tables))
+
+    # --- one object or camera ------------------------------------------------------------------
+    def entry(self, table: object, what: str, line: int | None, materials: dict[str, Material]
+              ) -> SceneEntry:
+        if not isinstance(table, dict):
+            self.fail(f"{what} must be a table", line)
+        self.check_keys(table, ENTRY_KEYS, what, line, required=REQUIRED_ENTRY_KEYS)
+        model = self.text_value(table["model"], f"{what}: model", line)
+        name = self.text_value(table.get("name", Path(model).stem), f"{what}: name", line)
+        position = self.triple(table["position"], f"{what}: position", line)
+        rotation = self.triple(table.get("rotation", [0, 0, 0]), f"{what}: rotation", line)
+        material = self.entry_material(table.get("material"), what, line, materials)
+        return SceneEntry(name, model, self.path.parent / model, position, rotation, material, line)
+
+    def entry_material(self, value: object, what: str, line: int | None,
+                       materials: dict[str, Material]) -> Material | None:
+        if value is None:
+            return None
+        if isinstance(value, str):
+            if value not in materials:
+                known = ", ".join(sorted(materials)) or "none"
+                self.fail(f"{what}: unknown material {value!r} (known: {known})", line)
+            return materials[value]
+        return self.material(value, f"{what}: material", line)
+
+    # --- materials -----------------------------------------------------------------------------
+    def material(self, table: object, what: str, line: int | None) -> Material:
+        if not isinstance(table, dict):
+            self.fail(f"{what} must be a material name or a table of ka, kd, ks, ns", line)
+        self.check_keys(table, MATERIAL_KEYS, what, line, required=REQUIRED_MATERIAL_KEYS)
+        colours = {key: self.triple(table[key], f"{what}: {key}", line, unit_range=True)
+                   for key in ("ka", "kd", "ks")}
+        ns = self.number(table["ns"], f"{what}: ns", line)
+        if ns <= 0:
+            self.fail(f"{what}: ns must be greater than 0, not {ns:g}", line)
+        rgb = self.triple(table["rgb"], f"{what}: rgb", line, unit_range=True) if "rgb" in table else WHITE
+        return Material(ka=colours["ka"], kd=colours["kd"], ks=colours["ks"], ns=ns, rgb=rgb)
+
+    # --- values --------------------------------------------------------------------------------
+    def check_keys(self, table: dict, allowed: frozenset[str], what: str, line: int | None,
+                   required: tuple[str, ...] = ()) -> None:
+        unknown = sorted(set(table) - allowed)
+        if unknown:
+            self.fail(f"{what}: unknown key {unknown[0]!r} (allowed: {', '.join(sorted(allowed))})", line)
+        missing = [key for key in required if key not in table]
+        if missing:
+            self.fail(f"{what}: missing key {missing[0]!r}", line)
+
+    def text_value(self, value: object, what: str, line: int | None) -> str:
+        if not isinstance(value, str) or not value.strip():
+            self.fail(f"{what} must be a non-empty string in quotes", line)
+        return value
+
+    def number(self, value: object, what: str, line: int | None) -> float:
+        # bool is an int in Python, but `true` is never a sensible coordinate
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            self.fail(f"{what} must be a number, not {_toml_type(value)}", line)
+        if not math.isfinite(value):
+            self.fail(f"{what} must be a finite number, not {value}", line)
+        return float(value)
+
+    def triple(self, value: object, what: str, line: int | None, unit_range: bool = False) -> Vec3:
+        if not isinstance(value, list) or len(value) != 3:
+            self.fail(f"{what} must be three numbers, like [0, 0, 0]", line)
+        x, y, z = (self.number(item, what, line) for item in value)
+        if unit_range and not all(0.0 <= c <= 1.0 for c in (x, y, z)):
+            self.fail(f"{what} must be three numbers between 0 and 1", line)
+        return (x, y, z)
+
+    # --- lines, for messages (tomllib reports lines only for syntax errors) ----------------------
+    def header_line(self, dotted: str) -> int | None:
+        parts = [re.escape(part) for part in dotted.split(".")]
+        pattern = re.compile(r"^\s*\[\s*" + r"\s*\.\s*".join(parts) + r"\s*\]")
+        return self._first_line(pattern)
+
+    def array_header_line(self, kind: str, index: int) -> int | None:
+        """Line of the index-th [[kind]] header; None when entries are written another way."""
+        pattern = re.compile(r"^\s*\[\[\s*" + re.escape(kind) + r"\s*\]\]")
+        lines = [number for number, text in enumerate(self.text.splitlines(), 1) if pattern.match(text)]
+        return lines[index] if index < len(lines) else None
+
+    def key_line(self, key: str) -> int | None:
+        return self._first_line(re.compile(r"^\s*" + re.escape(key) + r"\s*="))
+
+    def _first_line(self, pattern: re.Pattern[str]) -> int | None:
+        for number, text in enumerate(self.text.splitlines(), 1):
+            if pattern.match(text):
+                return number
+        return None
+
+
+def _toml_type(value: object) -> str:
+    names = {bool: "true/false", str: "a string", list: "an array", dict: "a table"}
+    return names.get(type(value), type(value).__name__)
+
+
+# --------------------------------------------------------------------------------------------------
+# Loading the models
+# --------------------------------------------------------------------------------------------------
+class _ModelLoader:
+    """Loads each model file once per scene, wrapping its errors so they name the scene file too."""
+
+    def __init__(self, scene_path: Path) -> None:
+        self.scene_path = scene_path
+        self.meshes: dict[Path, Mesh] = {}
+
+    def place(self, entry: SceneEntry) -> SceneObject:
+        mesh = self.mesh(entry)
+        material = entry.material if entry.material is not None else material_for_loaded(mesh)
+        return SceneObject.placed(entry.name, mesh, material, entry.position, entry.rotation)
+
+    def mesh(self, entry: SceneEntry) -> Mesh:
+        key = entry.model_path.absolute()
+        if key not in self.meshes:
+            try:
+                self.meshes[key] = load_model(key)
+            except (ViewerError, OSError) as err:
+                raise LoadError(self.scene_path, f"model {entry.model}: {err}", entry.line) from err
+        return self.meshes[key]
+
+
+def _optional_str(path: Path | None) -> str | None:
+    return None if path is None else str(path)
+
+
+def _clamped_colour(value: object, default: Vec3) -> Vec3:
+    """A 3-tuple in 0..1 from a file's numbers; the default when the file gave none or nonsense."""
+    try:
+        numbers = tuple(float(c) for c in value)  # type: ignore[union-attr]
+    except (TypeError, ValueError):
+        return default
+    if len(numbers) != 3 or not all(math.isfinite(c) for c in numbers):
+        return default
+    r, g, b = (min(max(c, 0.0), 1.0) for c in numbers)
+    return (r, g, b)
+
+
+def _file_shininess(value: object) -> float:
+    try:
+        ns = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        return DEFAULT_MATERIAL.ns
+    return max(ns, MIN_FILE_NS) if math.isfinite(ns) else DEFAULT_MATERIAL.ns

@@ -1,0 +1,106 @@
+"""A loaded model: the seed's vertex and face tables as numpy arrays, no GL.
+
+Faces are polygons of any size stored as one flat list of *corners* (CSR layout): polygon ``f`` owns
+corners ``face_start[f]:face_start[f + 1]``. A corner carries the index of its position and its own
+texture coordinate and vertex normal, because OBJ lets one position have different ``vt``/``vn`` on
+different faces. Triangles are a fan from each polygon's first corner, the way the seed draws them,
+so the first corner of every triangle is its polygon's first vertex: with the provoking vertex set to
+the first one, a ``flat`` varying gives exactly SPEC's "face normal at the polygon's first vertex".
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from marraztu.model.geometry import column_bounds
+
+
+def fan_triangles(face_start: np.ndarray) -> np.ndarray:
+    """(T, 3) corner indices of every polygon's fan from its first corner, polygon by polygon: the
+    seed's triangulation, so each triangle's first corner is its polygon's first vertex."""
+    sizes = np.diff(face_start)
+    if sizes.size and sizes.min() == sizes.max():  # polygons of one size: the same fan in each
+        if sizes[0] == 3:  # the common case: the corners are the triangles already
+            return np.arange(int(face_start[-1]), dtype=np.int64).reshape(-1, 3)
+        second = np.arange(1, int(sizes[0]) - 1)
+        fan = np.stack([np.zeros_like(second), second, second + 1], axis=1)
+        return (face_start[:-1, None, None] + fan).reshape(-1, 3)
+    per_face = sizes - 2
+    first_of_face = np.cumsum(per_face) - per_face
+    step = np.arange(int(per_face.sum())) - np.repeat(first_of_face, per_face)  # 0.. within each fan
+    base = np.repeat(face_start[:-1], per_face)
+    triangles = np.empty((step.size, 3), np.int64)
+    triangles[:, 0] = base
+    triangles[:, 1] = base + step + 1
+    triangles[:, 2] = base + step + 2
+    return triangles
+
+
+@dataclass(frozen=True, eq=False)
+class Mesh:
+    name: str
+    positions: np.ndarray  # (V, 3) float64: the file's `v` table, in file order
+    corner_vertex: np.ndarray  # (C,) int64: index into positions for each polygon corner
+    corner_uv: np.ndarray  # (C, 2) float32: texture coordinate per corner (from vt, or the bounding box)
+    corner_normal: np.ndarray  # (C, 3) float32: unit vertex normal per corner (vn, or averaged faces)
+    face_start: np.ndarray  # (F + 1,) int64: CSR offsets of each polygon's corners
+    face_normals: np.ndarray  # (F, 3) float32: unit normal per polygon (Newell's method)
+    base_colour: tuple[float, float, float] | None = None  # the seed's `# colour r g b`, in 0..1
+    # Ka/Kd/Ks/Ns read from the file's MTL when it exists: keys "ka", "kd", "ks" (3-tuples), "ns".
+    file_material: dict[str, object] | None = None
+    warnings: tuple[str, ...] = field(default=())  # non-fatal oddities worth telling the person
+    # True when every corner of a position has the same normal and uv (both derived per position, as
+    # for a file with neither vt nor vn): then no position needs a second vertex row (no seams).
+    attributes_per_position: bool = False
+
+    @property
+    def vertex_count(self) -> int:
+        return int(self.positions.shape[0])
+
+    @property
+    def face_count(self) -> int:
+        return int(self.face_start.shape[0] - 1)
+
+    @property
+    def face_sizes(self) -> np.ndarray:
+        return np.diff(self.face_start)
+
+    # Cached: the renderer asks every frame (far plane, normal length) and a mesh never changes.
+    # cached_property writes the instance __dict__ directly, so it works on a frozen dataclass.
+    @cached_property
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """The seed's `min` and `max` points of the vertex table."""
+        low, high = column_bounds(self.positions)
+        low.flags.writeable = high.flags.writeable = False  # shared by every caller from now on
+        return low, high
+
+    @cached_property
+    def all_triangles(self) -> bool:
+        return bool(self.face_count * 3 == self.face_start[-1])
+
+    @cached_property
+    def size(self) -> float:
+        """Length of the bounding box diagonal: the scale for normals, markers and ortho sizing."""
+        low, high = self.bounds
+        return float(np.linalg.norm(high - low))
+
+    def triangle_corners(self) -> np.ndarray:
+        """(T, 3) corner indices of the fan triangulation, polygon by polygon, in file order."""
+        return fan_triangles(self.face_start)
+
+    def triangles_before_face(self) -> np.ndarray:
+        """(F + 1,) how many fan triangles come before each polygon (and in all, last)."""
+        return np.concatenate([[0], np.cumsum(self.face_sizes - 2)])
+
+    def edge_corners(self) -> np.ndarray:
+        """(E, 2) corner pairs of every polygon's boundary, polygon by polygon (its first corner first)."""
+        starts = self.face_start[:-1]
+        sizes = self.face_sizes
+        corners = np.arange(int(self.face_start[-1]))
+        face_of_corner = np.repeat(np.arange(self.face_count), sizes)
+        local = corners - starts[face_of_corner]
+        nxt = starts[face_of_corner] + (local + 1) % sizes[face_of_corner]
+        return np.stack([corners, nxt], axis=1)

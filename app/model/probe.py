@@ -1,0 +1,133 @@
+"""The lighting probe (key `i`): SPEC 4's formula worked through for the selected face, in numpy.
+
+For every vertex the renderer lights (all of the polygon's corners in Gouraud, the first one in
+Flat) it keeps the positions and normals in world and camera space, N.V, every light's L, H, N.L,
+(N.H)^ns and cone test, the per-light contributions, their sum, the clamp and the final 0..255
+colour: the numbers a learner needs to see why a pixel has its colour. Built on app/lighting.py,
+which is written from SPEC and not from the shader, so the probe also checks the renderer (tests
+compare its colours with the pixels). No GL here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from marraztu.model.geometry import unit
+from marraztu.model.lighting import ShadingTerms, shade_terms, to_bytes
+from marraztu.model.lights import TermView, TermWeights, WorldLight
+from marraztu.model.scene import Projection, Scene, SceneObject, Shading
+from marraztu.model.transforms import normal_matrix, transform_point
+
+BACK_FACE_RGB = np.array([255, 0, 0], np.uint8)  # SPEC 5: back faces are drawn red without culling
+
+
+@dataclass(frozen=True)
+class VertexProbe:
+    """One lit vertex: where it is, which normal lights it, and every term of I there."""
+
+    corner: int  # index into the mesh's corner table
+    vertex: int  # index into the file's `v` table (0-based)
+    world_position: np.ndarray  # (3,)
+    camera_position: np.ndarray  # (3,) in the viewer's frame: the camera looks along its -z
+    world_normal: np.ndarray  # (3,) unit: the vertex normal (Gouraud) or the face normal (Flat)
+    camera_normal: np.ndarray  # (3,) unit
+    n_dot_v: float  # with the normal above and V at this vertex
+    terms: ShadingTerms  # every light that is on, whatever the term view
+    lights: tuple[WorldLight, ...]  # the lights of terms.lights, in the same order
+    shown: np.ndarray  # (3,) I before clamping, in the current term view
+
+    @property
+    def clamped(self) -> np.ndarray:
+        return np.minimum(self.shown, 255.0)
+
+    @property
+    def lit_bytes(self) -> np.ndarray:
+        """The 0..255 colour the lit formula gives here (texture off), back face or not."""
+        return to_bytes(self.clamped)
+
+
+@dataclass(frozen=True)
+class Probe:
+    obj: SceneObject
+    face: int
+    face_count: int
+    shading: Shading
+    facing: float  # face normal . V at the polygon's first vertex: SPEC 5's back-face test
+    culling: bool
+    textured: bool
+    view: TermView
+    weights: TermWeights
+    vertices: tuple[VertexProbe, ...]
+
+    @property
+    def back_face(self) -> bool:
+        return self.facing <= 0.0
+
+    def displayed(self, vertex: VertexProbe) -> np.ndarray | None:
+        """The pixel at that vertex as the renderer draws it (texture off): the lit colour, red for
+        a back face, or None where culling hides the face."""
+        if not self.back_face:
+            return vertex.lit_bytes
+        return None if self.culling else BACK_FACE_RGB.copy()
+
+
+def probe(scene: Scene) -> Probe | None:
+    """The probe of the selected object's selected face; None when there is no face to probe."""
+    obj = scene.object
+    if obj is None or obj.mesh.face_count == 0:
+        return None
+    mesh = obj.mesh
+    face = obj.selected_face % mesh.face_count
+    start = int(mesh.face_start[face])
+    gouraud = scene.modes.shading is Shading.GOURAUD
+    corners = scene.probed_corners()
+    face_normal = _world_normal(obj.model, mesh.face_normals[face])
+    facing = float(face_normal @ _toward_eye(scene, transform_point(obj.model, mesh.positions[
+        mesh.corner_vertex[start]])))
+    lit = _VertexLighting(scene)
+    vertices = tuple(lit.probe(obj, corner, None if gouraud else face_normal) for corner in corners)
+    return Probe(obj=obj, face=face, face_count=mesh.face_count, shading=scene.modes.shading,
+                 facing=facing, culling=scene.modes.culling, textured=scene.modes.texture,
+                 view=scene.modes.term_view, weights=lit.weights, vertices=vertices)
+
+
+class _VertexLighting:
+    """What every probed vertex of one frame shares: the lights, the term view, the viewer."""
+
+    def __init__(self, scene: Scene) -> None:
+        self.scene = scene
+        self.view = scene.view_matrix()
+        self.parallel = scene.modes.projection is Projection.PARALLEL
+        self.eye_or_view = scene.eye_backward() if self.parallel else scene.eye_position()
+        self.lights = tuple(scene.world_lights())
+        self.shown_names = {light.name for light in scene.lights_in_view()}
+        self.weights = scene.modes.term_view.weights
+
+    def probe(self, obj: SceneObject, corner: int, face_normal: np.ndarray | None) -> VertexProbe:
+        mesh = obj.mesh
+        vertex = int(mesh.corner_vertex[corner])
+        position = transform_point(obj.model, mesh.positions[vertex])
+        normal = (face_normal if face_normal is not None
+                  else _world_normal(obj.model, mesh.corner_normal[corner]))
+        terms = shade_terms(position, normal, self.eye_or_view, obj.material, self.lights,
+                            self.scene.ambient, self.parallel)
+        return VertexProbe(
+            corner=corner, vertex=vertex, world_position=position,
+            camera_position=transform_point(self.view, position), world_normal=normal,
+            camera_normal=_world_normal(self.view, normal),
+            n_dot_v=float(normal @ _toward_eye(self.scene, position)),
+            terms=terms, lights=self.lights, shown=terms.in_view(self.weights, self.shown_names))
+
+
+def _toward_eye(scene: Scene, point: np.ndarray) -> np.ndarray:
+    """SPEC 4's V: toward the eye in perspective, the viewer's backward axis in parallel."""
+    if scene.modes.projection is Projection.PARALLEL:
+        return unit(scene.eye_backward())
+    return unit(scene.eye_position() - point)
+
+
+def _world_normal(matrix: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """Normals go through the inverse transpose, as in the shader, so scaling keeps them perpendicular."""
+    return unit(normal_matrix(matrix) @ np.asarray(normal, float))

@@ -1,0 +1,272 @@
+"""The scene: objects, cameras, lights, selection, modes and transform histories. Plain numpy, no GL.
+
+Matrices follow the column-vector convention of the seed and of SPEC (p' = M @ p, local transform
+M = M @ T, global transform M = T @ M), stored as numpy (4, 4) float64 arrays. OpenGL wants them
+column-major, which is ``M.T`` in numpy's row-major memory; the renderer does that conversion.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+from enum import Enum
+
+import numpy as np
+
+from marraztu.model.lights import AMBIENT_INTENSITY, Light, Owner, TermView, WorldLight, default_lights
+from marraztu.model.mesh import Mesh
+from marraztu.model.transforms import TransformKind, Vec3, orthographic, perspective, placement, transform_point
+
+# SPEC 5: perspective is the seed's frustum l=-5 r=5 b=-5 t=5 n=5, i.e. a 90 degree vertical field.
+PERSPECTIVE_FOVY_DEG = 90.0
+NEAR_PLANE = 5.0
+
+
+class Target(Enum):
+    OBJECTS = "objects"
+    CAMERAS = "cameras"
+    LIGHTS = "lights"
+
+
+class Fill(Enum):
+    FILLED = "filled"
+    LINES = "lines"
+
+
+class Shading(Enum):
+    """How lighting spreads over a polygon, from the key to the shader (surface.glsl builds one
+    program per member, by its name). `F` switches Flat and Gouraud; Phong is the third model of the
+    side-by-side view."""
+
+    FLAT = "flat"
+    GOURAUD = "gouraud"
+    PHONG = "phong"
+
+    @property
+    def lights_vertices(self) -> bool:
+        """Lit at vertices, in a lighting pass of its own (Phong lights pixels as it draws)."""
+        return self is not Shading.PHONG
+
+
+SWITCHED_SHADINGS = (Shading.FLAT, Shading.GOURAUD)  # what `F` switches between (SPEC 6)
+
+
+class Projection(Enum):
+    PERSPECTIVE = "perspective"
+    PARALLEL = "parallel"
+
+
+class Frame(Enum):
+    LOCAL = "local"  # objects: M = M @ T, the object's own frame
+    GLOBAL = "global"  # objects: M = T @ M, the world frame
+
+
+class CameraMode(Enum):
+    FLIGHT = "flight"
+    ANALYSIS = "analysis"
+
+
+@dataclass(frozen=True)
+class Material:
+    ka: Vec3
+    kd: Vec3
+    ks: Vec3
+    ns: float
+    rgb: Vec3 = (1.0, 1.0, 1.0)  # the seed's base colour; shown in lines mode of nothing else
+
+
+_uids = itertools.count(1)
+
+
+@dataclass(eq=False)
+class SceneObject:
+    """An object or a camera: a mesh, a material and a history of model matrices (top = current)."""
+
+    name: str
+    mesh: Mesh
+    material: Material
+    history: list[np.ndarray]
+    selected_face: int = 0
+    uid: int = field(default_factory=lambda: next(_uids))  # stable key for GPU resources
+
+    @classmethod
+    def placed(cls, name: str, mesh: Mesh, material: Material, position: Vec3,
+               rotation_deg: Vec3 = (0.0, 0.0, 0.0)) -> SceneObject:
+        """Initial placement: turned about the world x, then y, then z axis, then moved."""
+        return cls(name=name, mesh=mesh, material=material, history=[placement(position, rotation_deg)])
+
+    @property
+    def model(self) -> np.ndarray:
+        return self.history[-1]
+
+    @property
+    def origin(self) -> np.ndarray:
+        return self.model[:3, 3].copy()
+
+    @property
+    def forward(self) -> np.ndarray:
+        """World direction of the object's -z axis: where a camera (or `C`) looks."""
+        axis = -self.model[:3, 2]
+        return axis / np.linalg.norm(axis)
+
+    @property
+    def centre(self) -> np.ndarray:
+        """World position of the mesh's bounding-box centre: what analysis mode orbits."""
+        low, high = self.mesh.bounds
+        return transform_point(self.model, (low + high) / 2.0)
+
+    def push(self, model: np.ndarray) -> None:
+        self.history.append(np.asarray(model, dtype=np.float64))
+
+    def undo(self) -> bool:
+        if len(self.history) <= 1:
+            return False
+        self.history.pop()
+        return True
+
+
+@dataclass
+class Modes:
+    """Every switch of SPEC 3's start state and SPEC 6's keys."""
+
+    target: Target = Target.OBJECTS
+    fill: Fill = Fill.FILLED
+    triangle_only: bool = False  # `o`
+    draw_all: bool = True  # `d`
+    shading: Shading = Shading.FLAT
+    projection: Projection = Projection.PERSPECTIVE
+    normals: bool = False
+    culling: bool = False
+    texture: bool = True
+    transform: TransformKind = TransformKind.ROTATE
+    frame: Frame = Frame.LOCAL
+    camera_mode: CameraMode = CameraMode.FLIGHT
+    view_from_object: bool = False  # `C`
+    show_help: bool = False  # `h` / F1: the help overlay listing every key
+    term_view: TermView = TermView.EVERYTHING  # `v`
+    probe: bool = False  # `i`: the lighting probe of the selected face
+    matrices: bool = False  # `m`: the matrices panel
+    side_by_side: bool = False  # `s`: Flat | Gouraud | Phong in three viewports
+    # Parallel projection's half height in world units, fixed when `p` switches to parallel.
+    parallel_half_height: float = 150.0
+
+
+@dataclass(eq=False)
+class Scene:
+    objects: list[SceneObject]
+    cameras: list[SceneObject]
+    lights: list[Light] = field(default_factory=default_lights)
+    ambient: np.ndarray = field(default_factory=lambda: AMBIENT_INTENSITY.copy())
+    modes: Modes = field(default_factory=Modes)
+    selected_object: int = 0
+    selected_camera: int = 0
+    selected_light: int = 0
+    texture_path: str | None = None
+    texture: np.ndarray | None = None  # (H, W, 3) uint8, top row first, what filled faces show; None: white
+    message: str = ""  # the last thing the person should read (errors, where a file was saved)
+
+    def __post_init__(self) -> None:
+        if not self.cameras:
+            raise ValueError("a scene needs at least one camera")
+
+    # --- selection -----------------------------------------------------------------------------
+    @property
+    def object(self) -> SceneObject | None:
+        return self.objects[self.selected_object] if self.objects else None
+
+    @property
+    def camera(self) -> SceneObject:
+        return self.cameras[self.selected_camera]
+
+    @property
+    def light(self) -> Light:
+        return self.lights[self.selected_light]
+
+    @property
+    def targeted_element(self) -> SceneObject | None:
+        """The selected object or camera, whichever x/y/z and u act on now; None when they act on a
+        light (or on objects, with none loaded)."""
+        if self.modes.target is Target.OBJECTS:
+            return self.object
+        return self.camera if self.modes.target is Target.CAMERAS else None
+
+    # --- viewing -------------------------------------------------------------------------------
+    @property
+    def viewer(self) -> SceneObject:
+        """What we look through: the selected camera, or the selected object after `C`."""
+        if self.modes.view_from_object and self.object is not None:
+            return self.object
+        return self.camera
+
+    def view_matrix(self) -> np.ndarray:
+        return np.linalg.inv(self.viewer.model)
+
+    def eye_position(self) -> np.ndarray:
+        return self.viewer.origin
+
+    def eye_backward(self) -> np.ndarray:
+        """SPEC 4: V for parallel projection, the viewer's backward (+z) axis in the world."""
+        return -self.viewer.forward
+
+    def far_plane(self) -> float:
+        """Beyond the whole scene, from wherever the eye is."""
+        eye = self.eye_position()
+        reach = [np.linalg.norm(o.centre - eye) + o.mesh.size for o in self.objects + self.cameras]
+        reach += [np.linalg.norm(light.position - eye) for light in self.lights]
+        return max(1000.0, 2.0 * max(reach, default=0.0))
+
+    def projection_matrix(self, aspect: float) -> np.ndarray:
+        far = self.far_plane()
+        if self.modes.projection is Projection.PERSPECTIVE:
+            return perspective(PERSPECTIVE_FOVY_DEG, aspect, NEAR_PLANE, far)
+        half_h = self.modes.parallel_half_height
+        return orthographic(half_h * aspect, half_h, -far, far)
+
+    def matching_parallel_half_height(self) -> float:
+        """Half height that keeps the selected object (or the origin) as large as in perspective."""
+        target = self.object.centre if self.object is not None else np.zeros(3)
+        depth = float(np.dot(target - self.eye_position(), self.viewer.forward))
+        half_fov = np.radians(PERSPECTIVE_FOVY_DEG) / 2.0
+        return max(depth, NEAR_PLANE) * float(np.tan(half_fov))
+
+    # --- the probe's face ------------------------------------------------------------------------
+    def probed_corners(self) -> list[int]:
+        """Corners of the selected face that the lighting probe lights, and the picture marks: all of
+        them in Gouraud, the first in Flat."""
+        obj = self.object
+        if obj is None or obj.mesh.face_count == 0:
+            return []
+        face = obj.selected_face % obj.mesh.face_count
+        start, stop = int(obj.mesh.face_start[face]), int(obj.mesh.face_start[face + 1])
+        return list(range(start, stop if self.modes.shading is Shading.GOURAUD else start + 1))
+
+    def probed_points(self) -> list[np.ndarray]:
+        """World positions of the probed corners, in probed_corners' order."""
+        obj = self.object
+        return [transform_point(obj.model, obj.mesh.positions[obj.mesh.corner_vertex[corner]])
+                for corner in self.probed_corners()]
+
+    # --- lights in the world -------------------------------------------------------------------
+    def light_owner(self, light: Light) -> SceneObject | None:
+        if light.owner is Owner.SELECTED_OBJECT:
+            return self.object
+        if light.owner is Owner.SELECTED_CAMERA:
+            return self.camera
+        return None
+
+    def placed_light(self, light: Light) -> WorldLight:
+        owner = self.light_owner(light)
+        return light.placed(None if owner is None else owner.model)
+
+    def world_lights(self, only_on: bool = True) -> list[WorldLight]:
+        """The scene's lights in the world, as the renderer and the probe use them."""
+        return [self.placed_light(light) for light in self.lights if light.on or not only_on]
+
+    def lights_in_view(self) -> list[WorldLight]:
+        """The lights that are on and that the term view shows: one of them for "light k alone"."""
+        index = self.modes.term_view.light_index
+        if index is None:
+            return self.world_lights()
+        if index >= len(self.lights) or not self.lights[index].on:
+            return []
+        return [self.placed_light(self.lights[index])]

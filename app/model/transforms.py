@@ -1,0 +1,140 @@
+"""Every 4x4 and 3x3 matrix the viewer builds, in the column-vector convention (p' = M @ p).
+
+pyrr is confined to this module. Its `matrix33.create_from_{x,y,z}_rotation` are right-handed
+rotations for column vectors (tests/test_commands.py pins that); its projections and translations
+are laid out for row vectors, so those are transposed or written here.
+"""
+
+from __future__ import annotations
+
+from enum import Enum
+
+import numpy as np
+import pyrr
+
+from marraztu.model.geometry import unit_or_none
+
+Vec3 = tuple[float, float, float]
+
+_ROTATION_BUILDERS = (
+    pyrr.matrix33.create_from_x_rotation,
+    pyrr.matrix33.create_from_y_rotation,
+    pyrr.matrix33.create_from_z_rotation,
+)
+
+
+class TransformKind(Enum):
+    """What x/y/z do (keys r and t)."""
+
+    ROTATE = "rotate"
+    TRANSLATE = "translate"
+
+
+def rotation3(axis_index: int, angle: float) -> np.ndarray:
+    """3x3 right-handed rotation by `angle` radians about the x, y or z axis (0, 1, 2)."""
+    return np.asarray(_ROTATION_BUILDERS[axis_index](float(angle)), dtype=np.float64)
+
+
+def rotation_about_axis(axis_index: int, angle: float) -> np.ndarray:
+    """4x4 right-handed rotation about a coordinate axis: positive angles turn y toward z, z toward x,
+    x toward y."""
+    matrix = np.eye(4)
+    matrix[:3, :3] = rotation3(axis_index, angle)
+    return matrix
+
+
+def euler_xyz(degrees: Vec3) -> np.ndarray:
+    """3x3 Rz @ Ry @ Rx: turned about the world x axis first, then y, then z."""
+    ax, ay, az = np.radians(degrees)
+    return rotation3(2, az) @ rotation3(1, ay) @ rotation3(0, ax)
+
+
+def translation_by(offset: np.ndarray) -> np.ndarray:
+    matrix = np.eye(4)
+    matrix[:3, 3] = offset
+    return matrix
+
+
+def translation(axis_index: int, distance: float) -> np.ndarray:
+    """4x4 translation by `distance` along the x, y or z axis (0, 1, 2)."""
+    offset = np.zeros(3)
+    offset[axis_index] = distance
+    return translation_by(offset)
+
+
+def step_matrix(kind: TransformKind, axis_index: int, amount: float) -> np.ndarray:
+    """One press of x/y/z: `amount` radians about the axis, or world units along it."""
+    if kind is TransformKind.ROTATE:
+        return rotation_about_axis(axis_index, amount)
+    return translation(axis_index, amount)
+
+
+def placement(position: Vec3, rotation_deg: Vec3 = (0.0, 0.0, 0.0)) -> np.ndarray:
+    """A model matrix: turned about the world x, then y, then z axis, then moved to `position`."""
+    model = np.eye(4)
+    model[:3, :3] = euler_xyz(rotation_deg)
+    model[:3, 3] = position
+    return model
+
+
+def apply_local(model: np.ndarray, step: np.ndarray) -> np.ndarray:
+    """The step in the element's own frame (SPEC: M = M.T). Always a new array: histories stay exact."""
+    return model @ step
+
+
+def apply_global(model: np.ndarray, step: np.ndarray) -> np.ndarray:
+    """The step in the world frame (SPEC: M = T.M)."""
+    return step @ model
+
+
+def perspective(fovy_deg: float, aspect: float, near: float, far: float) -> np.ndarray:
+    """glFrustum for a symmetric field of view."""
+    return pyrr.matrix44.create_perspective_projection(fovy_deg, aspect, near, far, dtype=np.float64).T
+
+
+def orthographic(half_w: float, half_h: float, near: float, far: float) -> np.ndarray:
+    """glOrtho, centred on the view axis."""
+    return pyrr.matrix44.create_orthogonal_projection(
+        -half_w, half_w, -half_h, half_h, near, far, dtype=np.float64).T
+
+
+def normal_matrix(model: np.ndarray) -> np.ndarray:
+    """The inverse transpose of the model's 3x3: it keeps normals perpendicular to a scaled surface."""
+    return np.linalg.inv(model[:3, :3]).T
+
+
+def transform_point(matrix: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """A point through a 4x4 affine matrix."""
+    return (matrix @ np.append(np.asarray(point, float), 1.0))[:3]
+
+
+def point_in_frame(model: np.ndarray, world_point: np.ndarray) -> np.ndarray:
+    """Coordinates of a world point in the frame of `model` (the inverse transform)."""
+    return transform_point(np.linalg.inv(model), world_point)
+
+
+def look_at_model(eye: np.ndarray, target: np.ndarray, up: np.ndarray) -> np.ndarray | None:
+    """A rigid model matrix at `eye` whose -z axis points at `target`, its y axis as close to `up` as
+    possible. The inverse of gluLookAt's view matrix. None when eye and target coincide."""
+    backward = unit_or_none(np.asarray(eye, dtype=np.float64) - np.asarray(target, dtype=np.float64))
+    if backward is None:
+        return None
+    right = unit_or_none(np.cross(up, backward))
+    if right is None:  # up is along the view axis: any perpendicular up will do
+        fallback_up = np.array([1.0, 0.0, 0.0]) if abs(backward[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+        right = unit_or_none(np.cross(fallback_up, backward))
+    model = np.eye(4)
+    model[:3, 0] = right
+    model[:3, 1] = np.cross(backward, right)
+    model[:3, 2] = backward
+    model[:3, 3] = eye
+    return model
+
+
+def orbit(model: np.ndarray, pivot_world: np.ndarray, axis_index: int, angle: float) -> np.ndarray:
+    """Turns the frame about its own axis `axis_index`, but through `pivot_world` instead of its
+    origin: the pivot keeps its coordinates in the frame, so a camera looking at it still does."""
+    pivot_local = point_in_frame(model, pivot_world)
+    about_pivot = translation_by(pivot_local) @ rotation_about_axis(axis_index, angle) \
+        @ translation_by(-pivot_local)
+    return model @ about_pivot

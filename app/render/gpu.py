@@ -1,0 +1,393 @@
+"""GPU side of a mesh: the shader loader and the per-object vertex buffers the renderer draws from.
+
+The vertex arrays are built here with numpy. GL has no per-primitive attributes, so what belongs to
+a polygon (its face normal, its first vertex) rides on vertices: the surface is indexed, with one
+extra vertex per polygon for its first corner (see SurfaceArrays); edges and normal segments are
+de-indexed, one vertex per line end. Everything is built once per object (edges and normals on first
+use) and kept until the object leaves the scene; drawing a subset of faces is a `first`/`vertices`
+range, of indices for the surface. Beside the surface, each object has a lit buffer: a colour per
+vertex row, written by the lighting pass and kept until what lighting reads changes (ObjectGpu.light).
+"""
+
+from __future__ import annotations
+
+import threading
+import weakref
+from dataclasses import dataclass
+from typing import Callable, Hashable, Mapping, Sequence
+
+import moderngl
+import numpy as np
+
+from marraztu.model.mesh import Mesh
+from marraztu.model.scene import Shading
+from marraztu.resources import shader_source
+
+# Attribute layouts, one per program; the names are the shaders' `in_` attributes.
+SURFACE_LAYOUT = ("3f 3f 3f 2f", "in_position", "in_normal", "in_face_normal", "in_uv")
+LIT_LAYOUT = ("4f", "in_lit")  # the lighting pass's output: colour and N.V, one row per surface row
+LIT_ROW_BYTES = 16
+EDGE_LAYOUT = ("3f 3f 3f", "in_position", "in_face_normal", "in_face_point")
+NORMAL_LAYOUT = ("3f 3f 1f", "in_position", "in_direction", "in_along")
+
+
+def load_program(ctx: moderngl.Context, name: str, defines: Mapping[str, str] | None = None,
+                 varyings: Sequence[str] = ()) -> moderngl.Program:
+    """Compile `shaders/<name>.glsl`, a single file split by `#if defined VERTEX_SHADER` blocks,
+    with `defines` (e.g. surface.glsl's SHADING) for both stages. With `varyings`, a
+    transform-feedback program instead: the vertex stage alone, capturing those outputs.
+    """
+    # moderngl-window reads single-file programs the same way, but its loader wants a window context
+    # registered; the screenshot command runs on a bare offscreen one, so the defines go in here.
+    source = shader_source(name)
+    extra = "".join(f"#define {key} {value}\n" for key, value in (defines or {}).items())
+    vertex_shader = _with_define(source, "VERTEX_SHADER", extra)
+    if varyings:
+        return ctx.program(vertex_shader=vertex_shader, varyings=list(varyings))
+    return ctx.program(vertex_shader=vertex_shader, fragment_shader=_with_define(source, "FRAGMENT_SHADER", extra))
+
+
+def _with_define(source: str, define: str, extra: str = "") -> str:
+    version, newline, rest = source.partition("\n")
+    if not version.lstrip().startswith("#version"):
+        raise ValueError("a shader file must start with its #version line")
+    return f"{version}{newline}#define {define}\n{extra}{rest}"
+
+
+# --- numpy: the vertex arrays ----------------------------------------------------------------
+# Each array is allocated once at its final size and filled column block by column block: an
+# hstack of float64 pieces then astype would make the whole array three times over.
+@dataclass(frozen=True)
+class SurfaceArrays:
+    """The surface as indexed triangles: `vertices` rows of SURFACE_LAYOUT, and two index arrays of
+    three per fan triangle, polygon by polygon (so a range of faces is a range of indices).
+
+    Rows, in order: one per position, taking the vertex normal and uv of one of its corners; one per
+    corner whose normal or uv differs from that (seams); one per polygon for its first corner, the
+    only row with the polygon's face normal.
+
+    `indices` (Flat) start every triangle at its polygon's own row, so with the provoking vertex set
+    to the first one, `flat` varyings come from the polygon's first vertex lit with its face normal
+    (SPEC 4's Flat); the other corners are shared between polygons, so each is lit once for all the
+    triangles around it. `shared_indices` (Gouraud, Phong) use the shared rows only: those modes need
+    nothing of a polygon's own, so each corner is lit once, not once more as its polygon's first.
+    """
+
+    vertices: np.ndarray  # (N, 11) float32
+    indices: np.ndarray  # (3T,) uint32
+    shared_indices: np.ndarray  # (3T,) uint32
+
+
+def surface_arrays(mesh: Mesh) -> SurfaceArrays:
+    corner_vertex = mesh.corner_vertex
+    positions = mesh.vertex_count
+    representative = np.zeros(positions, np.int64)
+    representative[corner_vertex] = np.arange(corner_vertex.shape[0])  # any corner of each position
+    # A mesh whose normals and uvs are per position has no seams: no need to compare (a tenth of a
+    # v/f-only file's load).
+    seams = (np.zeros(0, np.int64) if mesh.attributes_per_position
+             else _seams(mesh, representative[corner_vertex]))
+    first_corners = mesh.face_start[:-1]
+    shared_rows = positions + seams.shape[0]
+    row_corner = np.concatenate([representative, seams, first_corners])
+
+    vertices = np.empty((row_corner.shape[0], 11), np.float32)
+    positions32 = mesh.positions.astype(np.float32)
+    # A position's own row is the position: no gather (rows of unused positions are never indexed).
+    vertices[:positions, 0:3] = positions32
+    # np.take gathers rows three times faster than fancy indexing does.
+    vertices[positions:, 0:3] = np.take(positions32, corner_vertex[row_corner[positions:]], axis=0)
+    vertices[:, 3:6] = np.take(mesh.corner_normal, row_corner, axis=0)
+    vertices[:shared_rows, 6:9] = vertices[:shared_rows, 3:6]  # read only at a polygon's own row
+    vertices[shared_rows:, 6:9] = mesh.face_normals
+    vertices[:, 9:11] = np.take(mesh.corner_uv, row_corner, axis=0)
+
+    row_of_corner = corner_vertex.astype(np.uint32)
+    row_of_corner[seams] = np.arange(positions, shared_rows, dtype=np.uint32)
+    triangles = mesh.triangle_corners()
+    indices = np.empty(triangles.shape, np.uint32)
+    polygon_rows = np.arange(shared_rows, shared_rows + mesh.face_count, dtype=np.uint32)
+    indices[:, 0] = polygon_rows if mesh.all_triangles else np.repeat(polygon_rows, mesh.face_sizes - 2)
+    indices[:, 1] = row_of_corner[triangles[:, 1]]
+    indices[:, 2] = row_of_corner[triangles[:, 2]]
+    shared_indices = indices.copy()
+    shared_indices[:, 0] = row_of_corner[triangles[:, 0]]
+    return SurfaceArrays(vertices, indices.reshape(-1), shared_indices.reshape(-1))
+
+
+_SEAM_CHUNK = 1 << 15  # corners compared per piece: their gathered rows stay in the CPU cache
+
+
+def _seams(mesh: Mesh, representative_corner: np.ndarray) -> np.ndarray:
+    """Corners whose normal or uv differs from their position's representative corner, in bits
+    (so -0.0 and 0.0, or two NaNs, are told apart as the GPU would see them). On uint32 views, the
+    representative rows gathered whole with np.take, piece by piece: a quarter faster than gathering
+    column by column over the whole mesh, and about 30% faster than comparing 20-byte numpy voids."""
+    tables = [np.ascontiguousarray(table, dtype=np.float32).view(np.uint32)
+              for table in (mesh.corner_normal, mesh.corner_uv)]
+    pieces = []
+    for low in range(0, representative_corner.shape[0], _SEAM_CHUNK):
+        rows = representative_corner[low:low + _SEAM_CHUNK]
+        differs = np.zeros(rows.shape[0], bool)
+        for bits in tables:
+            unequal = bits[low:low + _SEAM_CHUNK] != np.take(bits, rows, axis=0)
+            for column in range(bits.shape[1]):
+                differs |= unequal[:, column]
+        pieces.append(np.flatnonzero(differs) + low)
+    return np.concatenate(pieces) if pieces else np.zeros(0, np.int64)
+
+
+def edge_vertices(mesh: Mesh) -> np.ndarray:
+    """(2E, 9) float32: position, face normal, and the polygon's first vertex for every edge end.
+
+    An edge's first end is not its polygon's first vertex, so the back-face test (made at that
+    vertex, SPEC 4) gets the point as an attribute instead of relying on the provoking vertex.
+    """
+    corners = mesh.edge_corners().reshape(-1)
+    positions = mesh.positions.astype(np.float32)
+    ends_per_face = 2 * mesh.face_sizes
+    out = np.empty((corners.shape[0], 9), np.float32)
+    out[:, 0:3] = np.take(positions, mesh.corner_vertex[corners], axis=0)
+    out[:, 3:6] = np.repeat(mesh.face_normals, ends_per_face, axis=0)
+    out[:, 6:9] = np.repeat(np.take(positions, mesh.corner_vertex[mesh.face_start[:-1]], axis=0), ends_per_face,
+                            axis=0)
+    return out
+
+
+def face_normal_segments(mesh: Mesh) -> np.ndarray:
+    """(2F, 7) float32: each face's normal as a segment from the polygon's centroid."""
+    corner_positions = np.take(mesh.positions, mesh.corner_vertex, axis=0)
+    centroids = np.add.reduceat(corner_positions, mesh.face_start[:-1], axis=0)
+    centroids /= mesh.face_sizes[:, None]
+    return _segments(centroids, mesh.face_normals)
+
+
+def vertex_normal_segments(mesh: Mesh) -> np.ndarray:
+    """(2C, 7) float32: every corner's vertex normal as a segment from its vertex (Gouraud's normals)."""
+    return _segments(np.take(mesh.positions, mesh.corner_vertex, axis=0), mesh.corner_normal)
+
+
+def _segments(feet: np.ndarray, directions: np.ndarray) -> np.ndarray:
+    """Two vertices per segment, both with the foot and direction; `in_along` 0 at the foot, 1 at the tip.
+
+    The shader puts the tip at foot + normalize(world normal) * length, so a segment keeps its
+    length in world units whatever the model matrix does to normals.
+    """
+    out = np.empty((2 * feet.shape[0], 7), np.float32)
+    out[:, 0:3] = np.repeat(feet, 2, axis=0)
+    out[:, 3:6] = np.repeat(directions, 2, axis=0)
+    out[0::2, 6] = 0.0
+    out[1::2, 6] = 1.0
+    return out
+
+
+# Surface arrays made ahead of time, off the render thread (the window's loader thread), waiting for
+# their object's first frame. Weak keys: a mesh dropped before it is drawn takes its array with it.
+_prepared_surfaces: weakref.WeakKeyDictionary[Mesh, SurfaceArrays] = weakref.WeakKeyDictionary()
+_prepared_lock = threading.Lock()
+
+
+def prepare_surface(mesh: Mesh) -> None:
+    """Builds the mesh's surface arrays now, so that its first frame only uploads them."""
+    data = surface_arrays(mesh)
+    with _prepared_lock:
+        _prepared_surfaces[mesh] = data
+
+
+def _take_prepared_surface(mesh: Mesh) -> SurfaceArrays | None:
+    with _prepared_lock:
+        return _prepared_surfaces.pop(mesh, None)
+
+
+def _layout_for(program: moderngl.Program, layout: tuple[str, ...]) -> tuple[str, ...]:
+    """`layout` with the attributes `program` does not read (its compiler dropped them) skipped."""
+    formats, names = layout[0].split(), layout[1:]
+    kept_formats, kept_names = [], []
+    for fmt, name in zip(formats, names):
+        if name in program:
+            kept_formats.append(fmt)
+            kept_names.append(name)
+        else:
+            kept_formats.append(f"{4 * int(fmt[:-1])}x")  # float32 components: 4 bytes each
+    return (" ".join(kept_formats), *kept_names)
+
+
+# --- GL buffers for one object -----------------------------------------------------------------
+@dataclass(frozen=True)
+class VertexRange:
+    first: int
+    vertices: int
+
+
+@dataclass(frozen=True)
+class Programs:
+    """The programs an object's vertex arrays are bound to: one surface program per shading, the
+    lighting pass of those that light vertices, edges, normals."""
+
+    surfaces: Mapping[Shading, moderngl.Program]
+    lightings: Mapping[Shading, moderngl.Program]
+    edges: moderngl.Program
+    normals: moderngl.Program
+
+
+@dataclass(frozen=True)
+class LitRows:
+    """Rows of the lit buffer written by one lighting pass, and the uniform values it ran with."""
+
+    inputs: Hashable
+    first: int
+    stop: int
+
+    def cover(self, inputs: Hashable, first: int, stop: int) -> bool:
+        return self.first <= first and stop <= self.stop and self.inputs == inputs
+
+
+class ObjectGpu:
+    """The buffers and vertex arrays of one scene object.
+
+    The surface is built when the object first appears; edges and normal segments only when lines
+    or normals are first drawn (most models are never seen that way, and those arrays are bigger
+    than the surface's), then kept until the object leaves the scene.
+    """
+
+    # surface: a vertex, a lit and two index buffers, a vertex array per surface program (3) and per
+    # lighting pass (2); edges, face normals, vertex normals: one buffer and one vertex array each
+    MAX_GL_OBJECTS = 15
+    # Which index buffer each surface program draws with (see SurfaceArrays).
+    INDICES = {Shading.FLAT: "surface indices", Shading.GOURAUD: "shared surface indices",
+               Shading.PHONG: "shared surface indices"}
+
+    def __init__(self, ctx: moderngl.Context, mesh: Mesh, programs: Programs,
+                 surface_data: SurfaceArrays | None = None) -> None:
+        self.ctx = ctx
+        self.mesh = mesh  # the mesh these buffers were built from: a replaced mesh means rebuilding
+        self.programs = programs
+        self._built: dict[str, tuple[moderngl.Buffer, moderngl.VertexArray]] = {}
+        self.triangles_before = mesh.triangles_before_face()  # kept so drawing allocates nothing
+        if surface_data is None:
+            surface_data = _take_prepared_surface(mesh)
+        arrays = surface_arrays(mesh) if surface_data is None else surface_data
+        rows = arrays.vertices.shape[0]
+        self.shared_rows = rows - mesh.face_count  # the polygons' own rows come last (SurfaceArrays)
+        self._surface_buffers: dict[str, moderngl.Buffer] = {}
+        try:
+            for name, data in (("surface", arrays.vertices), ("surface indices", arrays.indices),
+                               ("shared surface indices", arrays.shared_indices)):
+                self._surface_buffers[name] = ctx.buffer(data)
+            # Zeros, not undefined memory: rows no pass has lit yet are read (never shown) by draws.
+            self._surface_buffers["lit"] = lit = ctx.buffer(reserve=rows * LIT_ROW_BYTES)
+            lit.clear()
+        except Exception:
+            for buffer in self._surface_buffers.values():
+                buffer.release()
+            raise
+        # By (program, shading): "surface" draws, "lighting" runs the lighting pass.
+        self._surface_arrays: dict[tuple[str, Shading], moderngl.VertexArray] = {}
+        self._lit: dict[Shading, LitRows] = {}
+
+    def surface(self, shading: Shading) -> moderngl.VertexArray:
+        """The surface bound to the program of `shading`; each is made the first time that shading is
+        drawn, sharing the buffers."""
+        return self._surface_array("surface", shading)
+
+    def light(self, shading: Shading, inputs: Hashable, start: int, stop: int) -> bool:
+        """Lights the rows the faces [start, stop) take their colour from, with the lighting pass of
+        `shading` (Flat or Gouraud) whose uniforms are already set; `inputs` are those
+        uniforms' values. Rows already lit with the same inputs are not lit again: a still frame
+        runs no pass. Returns whether the pass ran.
+
+        Flat reads the polygons' own rows, one contiguous run per range of faces; Gouraud reads
+        shared rows from anywhere in the mesh, so it lights all of them.
+        """
+        if shading is Shading.FLAT:
+            first, stop_row = self.shared_rows + start, self.shared_rows + stop
+        else:
+            first, stop_row = 0, self.shared_rows
+        done = self._lit.get(shading)
+        if stop_row <= first or (done is not None and done.cover(inputs, first, stop_row)):
+            return False
+        self._surface_array("lighting", shading).transform(
+            self._surface_buffers["lit"], moderngl.POINTS, vertices=stop_row - first, first=first,
+            buffer_offset=first * LIT_ROW_BYTES)
+        self._lit[shading] = LitRows(inputs, first, stop_row)
+        return True
+
+    def _surface_array(self, kind: str, shading: Shading) -> moderngl.VertexArray:
+        """The surface's vertex buffer bound to a surface program ("surface", indexed, reading the lit
+        buffer unless it is Phong's) or a lighting pass ("lighting": every row once, no indices)."""
+        vao = self._surface_arrays.get((kind, shading))
+        if vao is None:
+            drawing = kind == "surface"
+            program = (self.programs.surfaces if drawing else self.programs.lightings)[shading]
+            content = [(self._surface_buffers["surface"], *_layout_for(program, SURFACE_LAYOUT))]
+            if LIT_LAYOUT[1] in program:  # Phong lights per pixel and reads no lit colour
+                content.append((self._surface_buffers["lit"], *LIT_LAYOUT))
+            indices = self._surface_buffers[self.INDICES[shading]] if drawing else None
+            vao = self.ctx.vertex_array(program, content, index_buffer=indices, index_element_size=4)
+            self._surface_arrays[(kind, shading)] = vao
+        return vao
+
+    @property
+    def edges(self) -> moderngl.VertexArray:
+        return self._lazy("edges", edge_vertices, self.programs.edges, EDGE_LAYOUT)
+
+    @property
+    def face_normals(self) -> moderngl.VertexArray:
+        return self._lazy("face normals", face_normal_segments, self.programs.normals, NORMAL_LAYOUT)
+
+    @property
+    def vertex_normals(self) -> moderngl.VertexArray:
+        return self._lazy("vertex normals", vertex_normal_segments, self.programs.normals, NORMAL_LAYOUT)
+
+    @property
+    def buffers(self) -> dict[str, moderngl.Buffer]:
+        """The buffers built so far, by name ("surface" and "surface indices", "edges", ...)."""
+        return {**self._surface_buffers, **{name: buffer for name, (buffer, _) in self._built.items()}}
+
+    def _lazy(self, name: str, make: Callable[[Mesh], np.ndarray], program: moderngl.Program,
+              layout: tuple[str, ...]) -> moderngl.VertexArray:
+        built = self._built.get(name)
+        return built[1] if built is not None else self._vertex_array(name, make(self.mesh), program, layout)
+
+    def _vertex_array(self, name: str, data: np.ndarray, program: moderngl.Program,
+                      layout: tuple[str, ...]) -> moderngl.VertexArray:
+        buffer = self.ctx.buffer(data)
+        try:
+            vao = self.ctx.vertex_array(program, [(buffer, *layout)])
+        except Exception:
+            buffer.release()
+            raise
+        self._built[name] = (buffer, vao)
+        return vao
+
+    def release(self) -> None:
+        for vao in self._surface_arrays.values():
+            vao.release()
+        for buffer in self._surface_buffers.values():
+            buffer.release()
+        for buffer, vao in self._built.values():
+            vao.release()
+            buffer.release()
+        self._surface_arrays.clear()
+        self._lit.clear()
+        self._surface_buffers.clear()
+        self._built.clear()
+
+    # Vertex ranges of the faces [start, stop): every array above is laid out polygon by polygon
+    # (the surface's are ranges of its indices).
+    def surface_range(self, start: int, stop: int) -> VertexRange:
+        before = self.triangles_before
+        return VertexRange(3 * int(before[start]), 3 * int(before[stop] - before[start]))
+
+    def edge_range(self, start: int, stop: int) -> VertexRange:
+        return self._corner_range(start, stop)
+
+    def face_normal_range(self, start: int, stop: int) -> VertexRange:
+        return VertexRange(2 * start, 2 * (stop - start))
+
+    def vertex_normal_range(self, start: int, stop: int) -> VertexRange:
+        return self._corner_range(start, stop)
+
+    def _corner_range(self, start: int, stop: int) -> VertexRange:
+        offsets = self.mesh.face_start
+        return VertexRange(2 * int(offsets[start]), 2 * int(offsets[stop] - offsets[start]))

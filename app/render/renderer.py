@@ -1,0 +1,369 @@
+"""Draws a Scene into any framebuffer: the window's, or an offscreen one for screenshots and tests.
+
+GPU resources of each object are built once, keyed by the object's uid, and dropped when the object
+leaves the scene. Per frame only uniforms change, and only those whose values changed are written.
+The lighting itself lives in shaders/surface.glsl; marraztu.model.lighting is the same formula in
+numpy, kept apart so that each checks the other. Flat and Gouraud light the vertices in a pass of their own
+that is skipped while every uniform it reads keeps its value (ObjectGpu.light).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Iterable
+
+import moderngl
+import numpy as np
+
+from marraztu.model.lights import MAX_LIGHTS, shader_defines
+from marraztu.model.scene import Fill, Projection, Scene, SceneObject, Shading, Target
+from marraztu.model.transforms import normal_matrix
+from marraztu.render.gpu import ObjectGpu, Programs, VertexRange, load_program
+from marraztu.render.layout import View, view_projection, views
+from marraztu.render.mipmaps import MipmappedTexture, create_mipmapped
+
+CLEAR_COLOUR = (0.0, 0.0, 0.7)  # SPEC 3: the seed's blue
+SELECTED_LINE_COLOUR = (0.0, 1.0, 0.0)
+LINE_COLOUR = (1.0, 1.0, 1.0)
+NORMAL_COLOUR = (1.0, 1.0, 0.0)
+NORMAL_LENGTH_FRACTION = 0.05  # of the object's bounding-box diagonal
+MARKER_SIZE_PX = 9.0
+PROBE_COLOUR = (0.0, 1.0, 1.0)  # cyan: no other drawing uses it
+PROBE_MARKER_PX = 7.0
+SEPARATOR_COLOUR = (0.0, 0.0, 0.0)
+SEPARATOR_PX = 2
+WHITE = np.full((1, 1, 3), 255, dtype=np.uint8)  # the texture of a scene without a picture
+
+
+class Uniforms:
+    """A program's uniforms, looked up once. Uniforms the GLSL compiler removed as unused are
+    skipped silently: e.g. u_colour does not exist where the colour is not needed.
+
+    Each uniform is written only when its value differs from the one it holds, compared exactly (as
+    bytes: -0.0 is not 0.0), and `values()` tells what they all hold: the lighting pass is skipped
+    while that stays the same."""
+
+    def __init__(self, program: moderngl.Program) -> None:
+        self._handles: dict[str, Any] = {
+            name: program[name] for name in program if isinstance(program[name], moderngl.Uniform)}
+        self._held: dict[str, bytes] = {}  # by name, the exact value last written
+
+    def set(self, name: str, value: Any) -> None:
+        handle = self._handles.get(name)
+        if handle is not None and self._changed(name, np.asarray(value).tobytes()):
+            handle.value = value
+
+    def set_matrix(self, name: str, matrix: np.ndarray) -> None:
+        """numpy is row-major and GL reads column-major, so M.T's bytes are M for GL."""
+        self._write(name, np.ascontiguousarray(matrix.T, dtype="f4").tobytes())
+
+    def set_array(self, name: str, values: np.ndarray) -> None:
+        self._write(name, np.ascontiguousarray(values).tobytes())
+
+    def values(self) -> tuple[tuple[str, bytes], ...]:
+        """Every uniform written so far with its value: equal tuples, equal program state."""
+        return tuple(self._held.items())
+
+    def _write(self, name: str, data: bytes) -> None:
+        handle = self._handles.get(name)
+        if handle is not None and self._changed(name, data):
+            handle.write(data)
+
+    def _changed(self, name: str, exact: bytes) -> bool:
+        if self._held.get(name) == exact:
+            return False
+        self._held[name] = exact
+        return True
+
+
+@dataclass(frozen=True)
+class DrawItem:
+    """One object to draw and which of its faces: [start, stop)."""
+
+    obj: SceneObject
+    start: int
+    stop: int
+
+
+
+
+class Renderer:
+    def __init__(self, ctx: moderngl.Context) -> None:
+        self.ctx = ctx
+        # One surface program per shading, and a lighting pass for those that light vertices; the
+        # current view's are `self.surface` and `self.lighting`.
+        lights = shader_defines()
+        self.programs = Programs(
+            surfaces={way: load_program(ctx, "surface", defines={"SHADING": way.name, **lights})
+                      for way in Shading},
+            lightings={way: load_program(ctx, "surface", varyings=("v_lit",),
+                                         defines={"SHADING": way.name, "LIGHTING_PASS": "1", **lights})
+                       for way in Shading if way.lights_vertices},
+            edges=load_program(ctx, "edges"), normals=load_program(ctx, "normals"))
+        self.surface_uniforms = {way: Uniforms(self.programs.surfaces[way]) for way in Shading}
+        self.lighting_uniforms = {way: Uniforms(self.programs.lightings[way]) if way.lights_vertices
+                                  else self.surface_uniforms[way] for way in Shading}
+        self.shading = Shading.FLAT
+        self.lighting_passes = 0  # run so far: a frame where nothing lighting reads changed adds none
+        self.marker_program = load_program(ctx, "marker")
+        self.edges = Uniforms(self.programs.edges)
+        self.normals = Uniforms(self.programs.normals)
+        self.marker = Uniforms(self.marker_program)
+        self.marker_vao = ctx.vertex_array(self.marker_program, [])  # the position is a uniform
+        self.texture: MipmappedTexture | None = None
+        self._texture_image: np.ndarray | None = None  # the scene's picture the texture was made from
+        self._set_texture(WHITE)
+        self._objects: dict[int, ObjectGpu] = {}
+
+    # --- resources ---------------------------------------------------------------------------
+    def _use_scene_texture(self, scene: Scene) -> None:
+        image = WHITE if scene.texture is None else scene.texture
+        if image is not self._texture_image:
+            self._set_texture(image)
+
+    def _set_texture(self, image: np.ndarray) -> None:
+        """(H, W, 3) uint8, top row first. GL's first row is v = 0, and SPEC 5 wants v = 0 at the
+        image's bottom row, so the rows go up reversed."""
+        pixels = np.ascontiguousarray(np.flipud(np.asarray(image, dtype=np.uint8)[..., :3]))
+        if self.texture is not None:
+            self.texture.release()
+        self.texture = create_mipmapped(self.ctx, pixels)
+        self._texture_image = image
+
+    def release_object(self, obj: SceneObject) -> None:
+        gpu = self._objects.pop(obj.uid, None)
+        if gpu is not None:
+            gpu.release()
+
+    def release(self) -> None:
+        for gpu in self._objects.values():
+            gpu.release()
+        self._objects.clear()
+        for resource in (self.marker_vao, self.texture, *self.programs.surfaces.values(),
+                         *self.programs.lightings.values(), self.programs.edges, self.programs.normals,
+                         self.marker_program):
+            if resource is not None:
+                resource.release()
+        self.texture = None
+
+    @property
+    def surface(self) -> Uniforms:
+        """The uniforms of the surface program the current view draws with."""
+        return self.surface_uniforms[self.shading]
+
+    @property
+    def lighting(self) -> Uniforms:
+        """The uniforms of the program that lights the current view: its lighting pass (Flat,
+        Gouraud), or the surface program itself (Phong, per pixel)."""
+        return self.lighting_uniforms[self.shading]
+
+    def _gpu_for(self, obj: SceneObject) -> ObjectGpu:
+        gpu = self._objects.get(obj.uid)
+        if gpu is not None and gpu.mesh is obj.mesh:
+            return gpu
+        if gpu is not None:  # the object got a new mesh: its old buffers are stale
+            gpu.release()
+        gpu = ObjectGpu(self.ctx, obj.mesh, self.programs)
+        self._objects[obj.uid] = gpu
+        return gpu
+
+    def _drop_departed(self, scene: Scene) -> None:
+        live = {obj.uid for obj in scene.objects} | {cam.uid for cam in scene.cameras}
+        for uid in [uid for uid in self._objects if uid not in live]:
+            self._objects.pop(uid).release()
+
+    # --- a frame -----------------------------------------------------------------------------
+    def render(self, scene: Scene, fbo: moderngl.Framebuffer, size: tuple[int, int]) -> None:
+        """Clear `fbo` to the seed's blue and draw `scene` into its (0, 0, width, height) viewport,
+        once, or three times side by side."""
+        self._drop_departed(scene)
+        self._use_scene_texture(scene)
+        width, height = max(int(size[0]), 1), max(int(size[1]), 1)
+        fbo.use()
+        fbo.viewport = (0, 0, width, height)
+        fbo.clear(*CLEAR_COLOUR, 1.0, depth=1.0)
+        items = [(item, self._gpu_for(item.obj)) for item in self._draw_list(scene)]
+        all_views = views(scene, (width, height))
+        for view in all_views:
+            fbo.viewport = view.viewport
+            self._render_view(scene, view, items)
+        for view in all_views[1:]:  # a thin line between the thirds, so each reads as its own picture
+            fbo.clear(*SEPARATOR_COLOUR, 1.0, viewport=(view.viewport[0] - SEPARATOR_PX // 2, 0,
+                                                        SEPARATOR_PX, height))
+        fbo.viewport = (0, 0, width, height)  # the overlay draws over the whole framebuffer
+        self.ctx.disable(moderngl.DEPTH_TEST)
+
+    def _render_view(self, scene: Scene, view: View,
+                     items: list[tuple[DrawItem, ObjectGpu]]) -> None:
+        filled = scene.modes.fill is Fill.FILLED
+        self._set_gl_state(depth_test=filled)
+        self.shading = view.shading
+        self._set_frame_uniforms(scene, view_projection(scene, view))
+        if filled:
+            for item, gpu in items:
+                self._draw_surface(item, gpu)
+        else:
+            self._draw_all_edges(scene, items)
+        if scene.modes.normals:
+            for item, gpu in items:
+                self._draw_normals(item, gpu, face_normals=view.shading is Shading.FLAT)
+        if scene.modes.probe:
+            self._draw_probe_outline(scene)
+        if scene.modes.target is Target.LIGHTS:
+            self._draw_light_marker(scene)
+
+    def _set_gl_state(self, depth_test: bool) -> None:
+        # Flat needs the first vertex's values: the fan's first corner is the polygon's first vertex.
+        self.ctx.provoking_vertex = moderngl.FIRST_VERTEX_CONVENTION
+        # SPEC defines back faces by N.V, not by winding (parallel projection has one V), so GL's
+        # own culling stays off and the shaders decide.
+        self.ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
+        if depth_test:
+            self.ctx.enable(moderngl.DEPTH_TEST)
+        else:
+            self.ctx.disable(moderngl.DEPTH_TEST)
+
+    def _draw_list(self, scene: Scene) -> list[DrawItem]:
+        """SPEC 5's `o` and `d`: whole objects or faces of the selected one. The viewer is never drawn:
+        we are inside it."""
+        modes = scene.modes
+        selected = scene.object
+        if modes.triangle_only or not modes.draw_all:
+            if selected is None or selected is scene.viewer or selected.mesh.face_count == 0:
+                return []
+            if not modes.triangle_only:
+                return [DrawItem(selected, 0, selected.mesh.face_count)]
+            face = selected.selected_face % selected.mesh.face_count
+            return [DrawItem(selected, 0 if modes.draw_all else face, face + 1)]
+        everything = scene.objects + scene.cameras
+        return [DrawItem(obj, 0, obj.mesh.face_count) for obj in everything
+                if obj is not scene.viewer and obj.mesh.face_count > 0]
+
+    # --- uniforms ----------------------------------------------------------------------------
+    def _set_frame_uniforms(self, scene: Scene, view_projection: np.ndarray) -> None:
+        modes = scene.modes
+        parallel = modes.projection is Projection.PARALLEL
+        eye = tuple(float(c) for c in scene.eye_position())
+        backward = tuple(float(c) for c in scene.eye_backward())
+        for uniforms in (self.surface, self.edges, self.normals, self.marker):
+            uniforms.set_matrix("u_view_projection", view_projection)
+        for uniforms in (self.lighting, self.edges):
+            uniforms.set("u_parallel", parallel)
+            uniforms.set("u_eye_position", eye)
+            uniforms.set("u_eye_backward", backward)
+        self.surface.set("u_culling", modes.culling)
+        self.surface.set("u_textured", modes.texture)
+        self.surface.set("u_texture", 0)
+        self.lighting.set("u_term_weights", modes.term_view.weights.as_tuple())
+        self.lighting.set("u_ambient", tuple(float(c) for c in scene.ambient))
+        self._set_light_uniforms(scene)
+        self.normals.set("u_colour", NORMAL_COLOUR)
+
+    def _set_light_uniforms(self, scene: Scene) -> None:
+        kind = np.zeros(MAX_LIGHTS, "i4")
+        intensity = np.zeros((MAX_LIGHTS, 3), "f4")
+        position = np.zeros((MAX_LIGHTS, 3), "f4")
+        direction = np.zeros((MAX_LIGHTS, 3), "f4")
+        cos_aperture = np.ones(MAX_LIGHTS, "f4")
+        # Only the lights the term view shows: "one light alone" switches the others off here. The
+        # shader lights with the first u_lights_on of them.
+        shown = scene.lights_in_view()[:MAX_LIGHTS]
+        for i, light in enumerate(shown):
+            kind[i] = light.kind.shader_code
+            intensity[i] = light.intensity
+            position[i] = light.position
+            direction[i] = light.direction
+            cos_aperture[i] = np.cos(np.radians(light.aperture_deg))
+        self.lighting.set("u_lights_on", len(shown))
+        self.lighting.set_array("u_light_kind", kind)
+        self.lighting.set_array("u_light_intensity", intensity)
+        self.lighting.set_array("u_light_position", position)
+        self.lighting.set_array("u_light_direction", direction)
+        self.lighting.set_array("u_light_cos_aperture", cos_aperture)
+
+    @staticmethod
+    def _set_model(uniforms: Iterable[Uniforms], model: np.ndarray) -> None:
+        normals = normal_matrix(model)
+        for u in uniforms:
+            u.set_matrix("u_model", model)
+            u.set_matrix("u_normal_matrix", normals)
+
+    # --- drawing -----------------------------------------------------------------------------
+    def _draw_surface(self, item: DrawItem, gpu: ObjectGpu) -> None:
+        material = item.obj.material
+        lighting = self.lighting
+        self._set_model({self.surface, lighting}, item.obj.model)
+        lighting.set("u_ka", tuple(material.ka))
+        lighting.set("u_kd", tuple(material.kd))
+        lighting.set("u_ks", tuple(material.ks))
+        lighting.set("u_ns", float(material.ns))
+        if self.shading.lights_vertices:
+            self.lighting_passes += gpu.light(self.shading, lighting.values(), item.start, item.stop)
+        assert self.texture is not None
+        self.texture.use(location=0)
+        _draw(gpu.surface(self.shading), moderngl.TRIANGLES,
+              gpu.surface_range(item.start, item.stop))
+
+    def _draw_all_edges(self, scene: Scene, items: list[tuple[DrawItem, ObjectGpu]]) -> None:
+        """Every object's edges in one pass: front faces' edges over back faces' (red; skipped with
+        culling on) through the depth test on the depth edges.glsl writes, so an edge between a front
+        and a back face shows the front's colour. Lines mode has no depth test otherwise."""
+        self.edges.set("u_culling", scene.modes.culling)
+        self.edges.set("u_outline", False)
+        self.ctx.enable(moderngl.DEPTH_TEST)
+        self.ctx.depth_func = "<="
+        for item, gpu in items:
+            self._draw_edges(item, gpu, selected=item.obj is scene.object)
+        self.ctx.depth_func = "<"
+        self.ctx.disable(moderngl.DEPTH_TEST)
+
+    def _draw_edges(self, item: DrawItem, gpu: ObjectGpu, selected: bool) -> None:
+        self._set_model([self.edges], item.obj.model)
+        self.edges.set("u_colour", SELECTED_LINE_COLOUR if selected else LINE_COLOUR)
+        _draw(gpu.edges, moderngl.LINES, gpu.edge_range(item.start, item.stop))
+
+    def _draw_probe_outline(self, scene: Scene) -> None:
+        """The probed face's edges and a dot on each vertex the probe lights, over everything, so the
+        face can be found in the picture whichever way it looks and whatever covers it."""
+        obj = scene.object
+        if obj is None or obj is scene.viewer or obj.mesh.face_count == 0:
+            return
+        face = obj.selected_face % obj.mesh.face_count
+        gpu = self._gpu_for(obj)
+        self.ctx.disable(moderngl.DEPTH_TEST)
+        self._set_model([self.edges], obj.model)
+        self.edges.set("u_outline", True)
+        self.edges.set("u_colour", PROBE_COLOUR)
+        _draw(gpu.edges, moderngl.LINES, gpu.edge_range(face, face + 1))
+        self.edges.set("u_outline", False)
+        for point in scene.probed_points():
+            self._draw_marker(point, np.array(PROBE_COLOUR), PROBE_MARKER_PX)
+
+    def _draw_normals(self, item: DrawItem, gpu: ObjectGpu, face_normals: bool) -> None:
+        """Face normals where lighting uses them (Flat), vertex normals otherwise (Gouraud, Phong)."""
+        self._set_model([self.normals], item.obj.model)
+        self.normals.set("u_length", NORMAL_LENGTH_FRACTION * item.obj.mesh.size)
+        if face_normals:
+            _draw(gpu.face_normals, moderngl.LINES, gpu.face_normal_range(item.start, item.stop))
+        else:
+            _draw(gpu.vertex_normals, moderngl.LINES, gpu.vertex_normal_range(item.start, item.stop))
+
+    def _draw_light_marker(self, scene: Scene) -> None:
+        """The selected light as a dot in its own colour (dimmed while it is off), over everything."""
+        light = scene.light
+        colour = np.asarray(light.intensity, float) / 255.0 * (1.0 if light.on else 0.4)
+        self._draw_marker(scene.placed_light(light).position, colour, MARKER_SIZE_PX)
+
+    def _draw_marker(self, position: np.ndarray, colour: np.ndarray, size_px: float) -> None:
+        self.marker.set("u_position", tuple(float(c) for c in position))
+        self.marker.set("u_colour", tuple(float(c) for c in colour))
+        self.marker.set("u_point_size", size_px)
+        self.ctx.disable(moderngl.DEPTH_TEST)
+        self.ctx.enable(moderngl.PROGRAM_POINT_SIZE)
+        self.marker_vao.render(moderngl.POINTS, vertices=1)
+        self.ctx.disable(moderngl.PROGRAM_POINT_SIZE)
+
+
+def _draw(vao: moderngl.VertexArray, mode: int, span: VertexRange) -> None:
+    if span.vertices > 0:
+        vao.render(mode, vertices=span.vertices, first=span.first)

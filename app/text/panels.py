@@ -1,0 +1,240 @@
+"""Text of the "see the equation" panels: the lighting probe (key `i`), the matrices (key `m`), and
+the short labels the overlay puts in the picture (the probed vertices, the side-by-side titles).
+Plain strings from the scene, no GL; the overlay draws them.
+
+The lines are laid out for a fixed-width font and kept under ~100 columns, which fits an 800 pixel
+wide window without wrapping.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+
+import numpy as np
+
+from marraztu.model.lighting import LightTerm
+from marraztu.model.lights import DIRECTIONAL, TermView, WorldLight, cone_angle_deg
+from marraztu.model.probe import Probe, VertexProbe, probe
+from marraztu.model.scene import CameraMode, Frame, Projection, Scene, Shading, Target
+from marraztu.render.layout import Extras, Label, project, view_projection, views
+
+MAX_PROBED_VERTICES = 4  # more would not fit an 800 pixel window; the panel says how many are left
+MATRIX_DECIMALS = 3
+MATRIX_COLUMN = 10
+# The probe's table: indent, then light name, L, H, N.L, (N.H)^ns, cone, what the light adds.
+INDENT = 8
+COLUMNS = (("light", 18), ("L", 20), ("H", 20), ("N.L", 7), ("(N.H)^ns", 9), ("cone", 13),
+           ("adds (r g b)", 0))
+
+
+LABEL_DISTANCE_PX = 14.0  # from the vertex to the middle of its label
+
+
+def extras(scene: Scene, size: tuple[int, int]) -> Extras:
+    """The panels that are on; with the help overlay up they make way for it."""
+    if scene.modes.show_help:
+        return Extras()
+    right = matrix_lines(scene, size) if scene.modes.matrices else []
+    titles = [view.title for view in views(scene, size)] if scene.modes.side_by_side else []
+    hint = "m hides the matrices panel" if right else "a taller window shows them"
+    return Extras(bottom=probe_lines(scene), right=right, titles=titles,
+                  labels=vertex_labels(scene, size), bottom_overflow_hint=hint)
+
+
+# --- the probe ---------------------------------------------------------------------------------
+def probe_lines(scene: Scene) -> list[str]:
+    """The probe panel: empty unless the probe is on."""
+    if not scene.modes.probe:
+        return []
+    found = probe(scene)
+    if found is None:
+        return ["PROBE: no face to probe (select an object with TAB)"]
+    lines = _probe_header(found)
+    for number, vertex in enumerate(found.vertices[:MAX_PROBED_VERTICES], start=1):
+        lines += _vertex_lines(found, number, vertex)
+    hidden = len(found.vertices) - MAX_PROBED_VERTICES
+    if hidden > 0:
+        lines.append(f"(and {hidden} more vertices of this polygon, lit the same way)")
+    return lines
+
+
+def _probe_header(found: Probe) -> list[str]:
+    obj, material = found.obj, found.obj.material
+    if found.shading is Shading.FLAT:
+        how = "flat: lit once, at v1 with the face normal; the whole face takes v1's colour"
+    else:
+        how = f"gouraud: lit at each of its {len(found.vertices)} vertices, colours interpolated"
+    face = "a back face, drawn red" if found.back_face else "a front face"
+    if found.back_face and found.culling:
+        face = "a back face, culled (b)"
+    notes = "" if found.view == TermView.EVERYTHING else f"; showing {found.view.name} (v)"
+    notes += "; texture on: pixel = colour x texel (T)" if found.textured else ""
+    return [
+        f"PROBE {obj.name} face {found.face + 1}/{found.face_count} (Enter: next)   {how}",
+        f"face normal . V at v1 {_signed(found.facing, 3)}: {face}{notes}",
+        f"Ka {_triple(material.ka, 2)}  Kd {_triple(material.kd, 2)}  Ks {_triple(material.ks, 2)}"
+        f"  ns {material.ns:g}",
+        " " * INDENT + _row(*(name for name, _ in COLUMNS)),
+    ]
+
+
+def _row(*cells: str) -> str:
+    return "".join(f"{cell:<{width}}" if width else cell for cell, (_, width) in zip(cells, COLUMNS))
+
+
+def _vertex_lines(found: Probe, number: int, vertex: VertexProbe) -> list[str]:
+    normal = "face normal" if found.shading is Shading.FLAT else "vertex normal"
+    head = f"v{number} #{vertex.vertex + 1}"
+    pad = " " * INDENT
+    lines = [
+        f"{head:<{INDENT}}world  P {_triple(vertex.world_position, 1)}  N {_triple(vertex.world_normal, 2)}"
+        f" ({normal})  N.V {_signed(vertex.n_dot_v, 2)}",
+        f"{pad}camera P {_triple(vertex.camera_position, 1)}  N {_triple(vertex.camera_normal, 2)}",
+        pad + _row("ambient Ka*Ia", "", "", "", "", "", _channels(vertex.terms.ambient)),
+    ]
+    for light, term in zip(vertex.lights, vertex.terms.lights):
+        lines.append(pad + _light_row(light, term, vertex))
+    lines.append(pad + _result(found, vertex))
+    return lines
+
+
+def _light_row(light: WorldLight, term: LightTerm, vertex: VertexProbe) -> str:
+    cone = ""
+    if light.kind.has_cone:
+        angle = cone_angle_deg(light, vertex.world_position)
+        cone = f"{angle:.1f}{'<' if term.reaches else '>='}{light.aperture_deg:g}"
+    if not term.reaches:
+        return _row(light.name, "outside the cone", "", "", "", cone, _channels(term.contribution))
+    return _row(light.name, _triple(term.to_light, 2), _triple(term.halfway, 2), f"{term.n_dot_l:.3f}",
+                f"{term.highlight:.4f}", cone, _channels(term.contribution))
+
+
+def _result(found: Probe, vertex: VertexProbe) -> str:
+    view = "sum" if found.view == TermView.EVERYTHING else f"sum of {found.view.name}"
+    displayed = found.displayed(vertex)
+    final = f"colour {_bytes(vertex.lit_bytes)}"
+    if displayed is None:
+        final += ", culled"
+    elif found.back_face:
+        final += ", drawn red"  # short: the line must fit 800 pixels, and the header says why
+    return f"{view} {_channels(vertex.shown)} -> clamped {_channels(vertex.clamped)} -> {final}"
+
+
+# --- the matrices ------------------------------------------------------------------------------
+def matrix_lines(scene: Scene, size: tuple[int, int]) -> list[str]:
+    """Model of the selected element, view, projection (column vectors: p' = M p), the frame and
+    the undo depth of what x/y/z move now."""
+    view = views(scene, size)[0]
+    projection_name = scene.modes.projection.value
+    if scene.modes.projection is Projection.PERSPECTIVE:
+        projection_name += " 90 deg"
+    lines = ["MATRICES (column vectors: p' = M p)"]
+    lines += _model_lines(scene)
+    lines.append(f"view: inverse of {scene.viewer.name}'s model")
+    lines += _matrix_rows(scene.view_matrix())
+    lines.append(f"projection: {projection_name}, aspect {view.aspect:.2f}")
+    lines += _matrix_rows(scene.projection_matrix(view.aspect))
+    lines += _frame_lines(scene)
+    return lines
+
+
+def _model_lines(scene: Scene) -> list[str]:
+    if scene.modes.target is Target.LIGHTS:
+        return _light_model_lines(scene)
+    element = scene.targeted_element
+    if element is None:
+        return ["model: no object selected"]
+    kind = "object" if scene.modes.target is Target.OBJECTS else "camera"
+    return [f"model of {kind} {element.name}"] + _matrix_rows(element.model)
+
+
+def _light_model_lines(scene: Scene) -> list[str]:
+    light = scene.light
+    owner = scene.light_owner(light)
+    if owner is not None:
+        return ([f"{light.name}: rides on {owner.name}; its model", *_matrix_rows(owner.model),
+                 f"axis {_triple(scene.placed_light(light).direction, 3)}"])
+    if light.kind is DIRECTIONAL:
+        return [f"{light.name}: a direction, no matrix", f"toward it {_triple(light.direction, 3)}"]
+    return [f"{light.name}: a point, no matrix", f"at {_triple(light.position, 1)}"]
+
+
+def _frame_lines(scene: Scene) -> list[str]:
+    modes = scene.modes
+    local = "local: M = M T" if modes.frame is Frame.LOCAL else "global: M = T M"
+    camera = ("flight: moves in its own frame" if modes.camera_mode is CameraMode.FLIGHT
+              else "analysis: orbits the object")
+    return [f"objects {local}", f"cameras {camera}", f"undo depth of the {_target_name(scene)}: "
+            f"{_undo_depth(scene)} (u)"]
+
+
+def _target_name(scene: Scene) -> str:
+    if scene.modes.target is Target.LIGHTS:
+        return scene.light.name
+    element = scene.targeted_element
+    return "object" if element is None else element.name
+
+
+def _undo_depth(scene: Scene) -> int:
+    """Moves `u` can take back: a light's history holds only earlier states, an element's also its
+    current model."""
+    if scene.modes.target is Target.LIGHTS:
+        return len(scene.light.history)
+    element = scene.targeted_element
+    return 0 if element is None else len(element.history) - 1
+
+
+def _matrix_rows(matrix: np.ndarray) -> list[str]:
+    return ["  " + " ".join(f"{_signed(value, MATRIX_DECIMALS):>{MATRIX_COLUMN}}" for value in row)
+            for row in matrix]
+
+
+# --- labels in the picture ---------------------------------------------------------------------
+def vertex_labels(scene: Scene, size: tuple[int, int]) -> list[Label]:
+    """"v1", "v2", ... beside the probed vertices, in every viewport, so the panel's rows can be
+    matched to the picture. Each label sits outside the face, away from its centre, so that the
+    labels of nearby vertices do not cover each other or the face."""
+    obj = scene.object
+    if not scene.modes.probe or obj is None or obj is scene.viewer:
+        return []
+    points = scene.probed_points()[:MAX_PROBED_VERTICES]  # no lighting needed: the panel does that
+    labels = []
+    for view in views(scene, size):
+        matrix = view_projection(scene, view)
+        at = [project(matrix, point, view.viewport) for point in points]
+        if any(point is None for point in at):
+            continue
+        screen = np.array(at)
+        middle = screen.mean(axis=0)
+        for number, point in enumerate(screen, start=1):
+            away = point - middle
+            length = float(np.linalg.norm(away))
+            away = away / length if length > 1e-6 else np.array([1.0, 1.0]) / np.sqrt(2.0)
+            centre = point + LABEL_DISTANCE_PX * away
+            if _inside(tuple(point), view.viewport):
+                labels.append(Label(f"v{number}", float(centre[0]), float(centre[1])))
+    return labels
+
+
+def _inside(point: tuple[float, float], viewport: tuple[int, int, int, int]) -> bool:
+    x0, y0, width, height = viewport
+    return x0 <= point[0] < x0 + width and y0 <= point[1] < y0 + height
+
+
+# --- numbers -----------------------------------------------------------------------------------
+def _triple(values: Iterable[float], decimals: int) -> str:
+    """Positive numbers get a space, not a "+": at overlay sizes the font's + and - look alike."""
+    return "(" + " ".join(_signed(v, decimals) for v in values) + ")"
+
+
+def _signed(value: float, decimals: int) -> str:
+    rounded = round(float(value), decimals) + 0.0  # + 0.0 turns -0.0 into 0.0: no "-0.00"
+    return f"{rounded: .{decimals}f}"
+
+
+def _channels(values: Sequence[float]) -> str:
+    return "(" + " ".join(f"{float(v):6.1f}" for v in values) + ")"
+
+
+def _bytes(values: Sequence[int]) -> str:
+    return "(" + ", ".join(str(int(v)) for v in values) + ")"

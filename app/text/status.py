@@ -1,0 +1,90 @@
+"""The status line, the help overlay's text (SPEC 8), and the lines the overlay shows: plain strings
+from the viewer, no GL."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from marraztu.control.commands import term_view_name
+from marraztu.control.keymap import Command
+from marraztu.control.viewer import Viewer
+from marraztu.model.scene import Projection, Scene, Target
+
+SEPARATOR = " | "
+LIGHT_OFF_MARK = "\u00b7"  # a middle dot: "lights 0·2·" reads as sun and object spot on
+
+
+def lights_summary(scene: Scene) -> str:
+    return "lights " + "".join(light.key if light.on else LIGHT_OFF_MARK for light in scene.lights)
+
+
+def moving_mode(scene: Scene) -> str:
+    """What x/y/z do now: the transform kind and, for the target, its frame or camera mode."""
+    modes = scene.modes
+    if modes.target is Target.OBJECTS:
+        return f"{modes.transform.value} {modes.frame.value}"
+    if modes.target is Target.CAMERAS:
+        return f"{modes.transform.value} {modes.camera_mode.value}"
+    return modes.transform.value
+
+
+def selection_summary(scene: Scene) -> list[str]:
+    obj = scene.object
+    parts = ["no object" if obj is None else
+             f"object {obj.name} face {obj.selected_face + 1}/{obj.mesh.face_count}"]
+    parts.append(f"camera {scene.camera.name}")
+    parts.append(f"light {scene.light.name}")
+    return parts
+
+
+def display_summary(scene: Scene) -> list[str]:
+    modes = scene.modes
+    projection = modes.projection.value
+    if modes.projection is Projection.PARALLEL:
+        projection += f" {modes.parallel_half_height:.0f}"
+    shading = "flat/gouraud/phong side by side" if modes.side_by_side else modes.shading.value
+    return [
+        shading,
+        f"lit: {term_view_name(scene)}",
+        projection,
+        "culling on" if modes.culling else "culling off",
+        modes.fill.value,
+        "texture on" if modes.texture else "texture off",
+        lights_summary(scene),
+    ]
+
+
+def status_line(scene: Scene) -> str:
+    """One line: target, moving mode, display switches, lights, selection."""
+    parts = [f"target {scene.modes.target.value}", moving_mode(scene)]
+    parts += display_summary(scene)
+    if scene.modes.view_from_object:
+        parts.append("viewing from the object")
+    parts += selection_summary(scene)
+    return SEPARATOR.join(parts)
+
+
+def help_lines(scene: Scene, keymap: Mapping[str, Command]) -> list[str]:
+    """Every key with what it does and, for switches, where it stands now."""
+    width = max(len(token) for token in keymap)
+    lines = []
+    for token, command in keymap.items():
+        line = f"{token:<{width}}  {command.description}"
+        state = command.state(scene) if command.state is not None else ""
+        lines.append(f"{line}  [{state}]" if state else line)
+    lines.append(f"{'f=PATH':<{width}}  (in --keys) load PATH")
+    return lines
+
+
+def overlay_lines(viewer: Viewer) -> tuple[list[str], list[str]]:
+    """(top lines, bottom lines): status and help at the top; the message, the loads under way and
+    the `f` prompt at the bottom."""
+    scene = viewer.scene
+    top = [status_line(scene)]
+    if scene.modes.show_help:
+        top += help_lines(scene, viewer.keys)
+    bottom = [scene.message] if scene.message else []
+    bottom += viewer.loading_lines()
+    if viewer.prompt is not None:
+        bottom.append(f"OBJ file to load (Enter loads, ESC cancels): {viewer.prompt}_")
+    return top, bottom

@@ -1,0 +1,1 @@
+"""The GLSL programs, one file per program (read through marraztu.resources)."""
