@@ -4,7 +4,7 @@
 // A silhouette edge belongs to a front and a back face and must show the front's colour. One pass
 // does it with the depth test (GL_LEQUAL) on a depth that says only which kind an edge is: front
 // edges nearer than back ones, so a front edge covers a back one whichever is drawn first, and among
-// edges of one kind the last drawn wins (as back-then-front passes did, at half the vertex work).
+// edges of one kind the last drawn wins: the picture of back edges drawn before front ones, in one pass.
 // The lighting probe's outline (key `i`) uses the same edges in one colour whichever way the face
 // looks, with the depth test off.
 

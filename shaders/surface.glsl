@@ -9,8 +9,8 @@
 // Flat and Gouraud light their vertices in a pass of their own (LIGHTING_PASS: transform feedback,
 // nothing rasterised) that writes a colour per vertex row into the object's lit buffer, and the
 // drawing pass reads it back as an attribute. The renderer runs that pass only when a uniform it
-// reads has changed (render/gpu.py, ObjectGpu.light), so a still frame lights nothing, and Flat lights
-// only the polygons' own rows (one per polygon), not every corner a triangle touches.
+// reads has changed (marraztu.render.gpu's ObjectGpu.light), so a still frame lights nothing, and
+// Flat lights only the polygons' own rows (one per polygon), not every corner a triangle touches.
 // The lighting function is written once, above the stage blocks, so every pass compiles the same one.
 
 const int FLAT = 0;
@@ -67,7 +67,7 @@ bool outside_cone(int i, vec3 light) {
 
 // I = Ka*Ia + sum I_l * (Kd*max(N.L, 0) + Ks*max(N.H, 0)^ns), clamped to 255, returned as I/255.
 // The loop stops at the lights that are on instead of testing a flag per light, and the cone test
-// reuses L: together they halve llvmpipe's lighting pass with four lights on, the same pixels.
+// reuses L: both spare llvmpipe work in the lighting pass and give the same pixels.
 vec3 lit_colour(vec3 point, vec3 normal, vec3 view) {
     vec3 intensity = u_term_weights.x * u_ka * u_ambient;
     for (int i = 0; i < MAX_LIGHTS; ++i) {
@@ -164,11 +164,11 @@ vec3 surface_colour() {
 
 // SPEC 4's back face: N.V <= 0 with the face normal at the polygon's first vertex. Flat draws from
 // the polygon's own row, which carries that value. Gouraud and Phong draw from the shared rows only
-// (SurfaceArrays.shared_indices: a third of the vertex lighting on a typical mesh), where no row is
-// the polygon's, so they ask the rasteriser, whose winding test gives the same verdict: the face
-// normal is Newell's, from the same corner order as the winding, and N.(E - P) keeps one sign over
-// the polygon's plane. (A polygon that is not flat may differ along a fold; the model matrices are
-// rotations and translations, never mirrors, so counter-clockwise stays front.)
+// (SurfaceArrays.shared_indices: each corner lit once), where no row is the polygon's, so they ask
+// the rasteriser, whose winding test gives the same verdict: the face normal is Newell's, from the
+// same corner order as the winding, and N.(E - P) keeps one sign over the polygon's plane. (A
+// polygon that is not flat may differ along a fold; the model matrices are rotations and
+// translations, never mirrors, so counter-clockwise stays front.)
 bool is_front_face() {
     return SHADING == FLAT ? v_flat_lit.a > 0.0 : gl_FrontFacing;
 }

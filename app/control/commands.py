@@ -71,7 +71,7 @@ def toggle_culling(scene: Scene, host: Host) -> None:
 
 def toggle_projection(scene: Scene, host: Host) -> None:
     if scene.modes.projection is Projection.PERSPECTIVE:
-        # Sized now, from the current view, so the scene stays about where it was (SPEC 5).
+        # Sized at the switch, from the current view, so the scene stays about where it was (SPEC 5).
         scene.modes.parallel_half_height = scene.matching_parallel_half_height()
         scene.modes.projection = Projection.PARALLEL
     else:
@@ -365,7 +365,7 @@ def load_file(scene: Scene, host: Host, path: str) -> None:
 
 
 def loads_as_camera(scene: Scene) -> bool:
-    """A file loaded now becomes a camera when cameras are targeted (SPEC 6 `f`)."""
+    """A file loaded while cameras are targeted becomes a camera (SPEC 6 `f`)."""
     return scene.modes.target is Target.CAMERAS
 
 

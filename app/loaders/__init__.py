@@ -1,1 +1,1 @@
-"""Readers for the files a person gives the viewer: models (registry.py), images, scene files."""
+"""Readers for the files a person gives the viewer: models (marraztu.loaders.registry), images, scene files."""

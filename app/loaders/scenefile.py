@@ -47,7 +47,7 @@ ENTRY_KEYS = frozenset({"name", "model", "position", "rotation", "material"})
 REQUIRED_ENTRY_KEYS = ("model", "position")
 MATERIAL_KEYS = frozenset({"ka", "kd", "ks", "ns", "rgb"})
 REQUIRED_MATERIAL_KEYS = ("ka", "kd", "ks", "ns")
-SCENE_FILE_LIMIT = 16 << 20  # a hand-written scene is a few kB; this refuses a model given by mistake
+SCENE_FILE_LIMIT = 16 << 20  # far beyond any hand-written scene; refuses a model given by mistake
 WHITE: Vec3 = (1.0, 1.0, 1.0)
 
 # What a model loaded at run time is made of when its file says nothing: a light grey, mostly

@@ -54,7 +54,6 @@ def _per_corner_table(values: np.ndarray | Sequence[Sequence[float]], corners: i
     return table, np.where(np.isnan(table).any(axis=1), -1, np.arange(corners))
 
 
-
 def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if isinstance(faces, np.ndarray) and faces.ndim == 2:
         sizes = np.full(faces.shape[0], faces.shape[1], dtype=np.int64)
@@ -108,7 +107,7 @@ def _corner_uv(uv: CornerSource | None, positions: np.ndarray, corner_vertex: np
     if uv is None:
         return _bounding_box_uv(positions, corner_vertex, bounds)
     table, index = uv
-    # np.take on rows: three times faster than fancy indexing for gathers of small rows (build_mesh)
+    # np.take gathers small rows faster than fancy indexing
     corner_uv = np.take(np.clip(table, -FLOAT32_MAX, FLOAT32_MAX).astype(np.float32), index, axis=0)
     without = np.flatnonzero(index < 0)
     if without.size:
@@ -123,7 +122,7 @@ def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: 
     Newell's sum of p_i x p_(i+1) is unchanged by moving the origin to the first vertex, where it
     becomes the sum of the fan triangles' cross products: cheaper, and exact far from the origin.
     The work is done on one contiguous array per axis: gathers from and arithmetic on (N,) arrays
-    run at memory speed, where the columns of an (N, 3) array are strided (twice as slow in all).
+    run at memory speed, where the columns of an (N, 3) array are strided.
     """
     if _one_small_size(sizes):  # triangles, quads...: the fans column by column
         corners = corner_vertex.reshape(-1, int(sizes[0])).T
@@ -159,7 +158,7 @@ def _cross_from_first(positions: np.ndarray, fans: np.ndarray) -> np.ndarray:
     """(3, T): (p1 - p0) x (p2 - p0) for the triangles `fans`, (3, T) position indices.
 
     In pieces, so that the gathered coordinates and products are cache-sized temporaries instead of a
-    dozen arrays as long as the mesh in fresh memory (a million triangles: 150 MB)."""
+    dozen arrays as long as the mesh in fresh memory."""
     x, y, z = np.ascontiguousarray(positions.T)
     out = np.empty((3, fans.shape[1]), positions.dtype)
     with np.errstate(all="ignore"):
@@ -185,7 +184,7 @@ def _size_squared(bounds: tuple[np.ndarray, np.ndarray]) -> float:
 def _usable_normals(normals: CornerSource | None, corners: int) -> tuple[np.ndarray, np.ndarray]:
     """(C, 3) float32 unit normals from the file's vn, and which corners lack a usable one.
 
-    Normalized once per vn row, not per corner; a zero-length vn is not usable.
+    Normalised once per vn row, not per corner; a zero-length vn is not usable.
     """
     if normals is None:
         return np.zeros((corners, 3), dtype=np.float32), np.ones(corners, dtype=bool)
@@ -201,13 +200,13 @@ def _usable_normals(normals: CornerSource | None, corners: int) -> tuple[np.ndar
 
 def _fill_vertex_normals(corner_normal: np.ndarray, missing: np.ndarray, vertex_count: int,
                          corner_vertex: np.ndarray, sizes: np.ndarray, face_normals: np.ndarray) -> np.ndarray:
-    """Vertex normals for the missing corners: the normalized sum of the unit normals of the faces
+    """Vertex normals for the missing corners: the normalised sum of the unit normals of the faces
     around the position (zero-area faces, still zero here, do not count). Returns the corners
     still missing one: their position touches no face with an area."""
     sums = _normal_sums(face_normals, corner_vertex, sizes, vertex_count)
     vertex_normals, vertex_ok = unit_rows(sums)
-    vertex_normals = vertex_normals.astype(corner_normal.dtype)  # a fancy assignment that also
-    # converts is several times slower than one gather of the right type
+    # Converted first: a fancy assignment that also converts is slower than a gather of the right type.
+    vertex_normals = vertex_normals.astype(corner_normal.dtype)
     if missing.all():  # no `vn` in the file, the usual case: one gather straight into place
         np.take(vertex_normals, corner_vertex, axis=0, out=corner_normal)
         return ~vertex_ok[corner_vertex]
@@ -222,8 +221,8 @@ def _normal_sums(face_normals: np.ndarray, corner_vertex: np.ndarray, sizes: np.
                  ) -> np.ndarray:
     """(V, 3): per position, the sum of the normals of the faces that use it.
 
-    One axis at a time on contiguous arrays; for polygons of one size, one bincount per corner column
-    instead of repeating every face normal per corner (36 instead of 59 ms for a million triangles).
+    One axis at a time on contiguous arrays; for polygons of one size, one bincount per corner column,
+    which is cheaper than repeating every face normal per corner.
     """
     axes = [np.ascontiguousarray(face_normals[:, axis]) for axis in range(3)]
     if _one_small_size(sizes):
@@ -261,7 +260,7 @@ def _bounding_box_uv(positions: np.ndarray, corner_vertex: np.ndarray,
         extent = high - low
         extent = np.where(np.isfinite(extent), extent, 0.0)
         axes = np.sort(np.argsort(-extent, kind="stable")[:2])
-        # Per position, then gathered: a position has one box coordinate, and corners are ~6x more.
+        # Per position, then gathered: a position has one box coordinate, and corners outnumber positions.
         uv = (positions[:, axes] - low[axes]) / np.where(extent[axes] > 0, extent[axes], 1.0)
     uv[:, extent[axes] <= 0] = 0.0
     uv = np.where(np.isfinite(uv), uv, 0.0).astype(np.float32)

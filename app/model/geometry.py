@@ -35,7 +35,7 @@ def unit_rows(vectors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def newell_normal(points: np.ndarray) -> np.ndarray:
-    """A polygon's normal, not normalized, by Newell's method: right even for a slightly bent polygon."""
+    """A polygon's normal, not normalised, by Newell's method: right even for a slightly bent polygon."""
     following = np.roll(points, -1, axis=0)
     return np.cross(points, following).sum(axis=0)
 

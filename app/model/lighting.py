@@ -32,7 +32,7 @@ class LightTerm:
     diffuse: np.ndarray  # (3,) I_l * Kd * max(N.L, 0)
     specular: np.ndarray  # (3,) I_l * Ks * max(N.H, 0)^ns
     to_light: np.ndarray = field(default_factory=lambda: np.zeros(3))  # L (zero outside a cone)
-    halfway: np.ndarray = field(default_factory=lambda: np.zeros(3))  # H = normalize(L + V)
+    halfway: np.ndarray = field(default_factory=lambda: np.zeros(3))  # H = normalise(L + V)
     n_dot_l: float = 0.0  # max(N.L, 0)
     highlight: float = 0.0  # max(N.H, 0)^ns
 
@@ -92,7 +92,7 @@ def as_world_light(light: LightLike) -> WorldLight | None:
 def shade_terms(point: Iterable[float], normal: Iterable[float], eye_or_view: Iterable[float],
                 material: Material, lights: Iterable[LightLike], ambient: Iterable[float],
                 parallel: bool) -> ShadingTerms:
-    """Every term of I at `point` with unit-izable `normal`.
+    """Every term of I at `point`; `normal` need not be unit length, only non-zero.
 
     `eye_or_view` is the eye position in perspective (V = P -> eye) and V itself in parallel
     projection (the viewer's backward axis), as SPEC 4 says.

@@ -74,7 +74,7 @@ class Mesh:
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """The seed's `min` and `max` points of the vertex table."""
         low, high = column_bounds(self.positions)
-        low.flags.writeable = high.flags.writeable = False  # shared by every caller from now on
+        low.flags.writeable = high.flags.writeable = False  # cached, so shared by every caller
         return low, high
 
     @cached_property

@@ -3,9 +3,9 @@
 For every vertex the renderer lights (all of the polygon's corners in Gouraud, the first one in
 Flat) it keeps the positions and normals in world and camera space, N.V, every light's L, H, N.L,
 (N.H)^ns and cone test, the per-light contributions, their sum, the clamp and the final 0..255
-colour: the numbers a learner needs to see why a pixel has its colour. Built on app/lighting.py,
-which is written from SPEC and not from the shader, so the probe also checks the renderer (tests
-compare its colours with the pixels). No GL here.
+colour: the numbers a learner needs to see why a pixel has its colour. Built on
+marraztu.model.lighting, which is written from SPEC and not from the shader, so the probe also
+checks the renderer (tests compare its colours with the pixels). No GL here.
 """
 
 from __future__ import annotations

@@ -72,7 +72,7 @@ class Material:
     kd: Vec3
     ks: Vec3
     ns: float
-    rgb: Vec3 = (1.0, 1.0, 1.0)  # the seed's base colour; shown in lines mode of nothing else
+    rgb: Vec3 = (1.0, 1.0, 1.0)  # the seed's base colour (`# colour r g b`); kept, not drawn
 
 
 _uids = itertools.count(1)
@@ -184,7 +184,7 @@ class Scene:
 
     @property
     def targeted_element(self) -> SceneObject | None:
-        """The selected object or camera, whichever x/y/z and u act on now; None when they act on a
+        """The selected object or camera, whichever x/y/z and u act on; None when they act on a
         light (or on objects, with none loaded)."""
         if self.modes.target is Target.OBJECTS:
             return self.object

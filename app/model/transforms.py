@@ -78,12 +78,12 @@ def placement(position: Vec3, rotation_deg: Vec3 = (0.0, 0.0, 0.0)) -> np.ndarra
 
 
 def apply_local(model: np.ndarray, step: np.ndarray) -> np.ndarray:
-    """The step in the element's own frame (SPEC: M = M.T). Always a new array: histories stay exact."""
+    """The step in the element's own frame (SPEC's M = M.T, i.e. M @ T). Always a new array: histories stay exact."""
     return model @ step
 
 
 def apply_global(model: np.ndarray, step: np.ndarray) -> np.ndarray:
-    """The step in the world frame (SPEC: M = T.M)."""
+    """The step in the world frame (SPEC's M = T.M, i.e. T @ M)."""
     return step @ model
 
 

@@ -1,13 +1,13 @@
 """Mipmapped textures without paying for glGenerateMipmap's first call.
 
-Mesa's llvmpipe compiles a blit shader the first time a process generates mipmaps: 90-120 ms on the
-development machine, a quarter of the screenshot command's start and of the window's. moderngl can
-only allocate mip levels through `build_mipmaps` (`Texture.write(level=n)` refuses a level it did not
-allocate), so for a power-of-two image the levels are made here with numpy and uploaded with
-`glTexImage2D` through ctypes, then wrapped with `ctx.external_texture`. The GL entry points come
-from glvnd's `libOpenGL.so.0`, which dispatches to whichever context is current on the thread, EGL
-or GLX. The levels are llvmpipe's own, bit for bit (tests/test_mipmaps.py compares every level with
-`build_mipmaps`): each level averages horizontal pairs, then vertical pairs, rounding halves up.
+Mesa's llvmpipe compiles a blit shader the first time a process generates mipmaps, a noticeable part
+of the screenshot command's start and of the window's. moderngl can only allocate mip levels through
+`build_mipmaps` (`Texture.write(level=n)` refuses a level it did not allocate), so for a power-of-two
+image the levels are made here with numpy and uploaded with `glTexImage2D` through ctypes, then
+wrapped with `ctx.external_texture`. The GL entry points come from glvnd's `libOpenGL.so.0`, which
+dispatches to whichever context is current on the thread, EGL or GLX. The levels are llvmpipe's own,
+bit for bit (tests/test_mipmaps.py compares every level with `build_mipmaps`): each level averages
+horizontal pairs, then vertical pairs, rounding halves up.
 
 Anything else (a side that is not a power of two, no glvnd, a GL error) takes `build_mipmaps`.
 """

@@ -1,4 +1,4 @@
-"""On-screen text (status line, messages, help, the file prompt, the panels of app/panels.py) with
+"""On-screen text (status line, messages, help, the file prompt, the panels of marraztu.text.panels) with
 moderngl-window's TextWriter2D.
 
 The text writer finds its font and program through moderngl-window's resource system, which needs

@@ -37,7 +37,7 @@ BARE_FRAGMENT_SHADER = """#version 330
 out vec4 f_colour;
 void main() { f_colour = vec4(1.0); }
 """
-# The renderer's interleaved layouts (app/gpu.py) read for the position only: same buffer, same stride.
+# The renderer's interleaved layouts (marraztu.render.gpu) read for the position only: same buffer, same stride.
 BARE_SURFACE_FORMAT = "3f 32x"  # skips vertex normal, face normal, uv
 BARE_EDGE_FORMAT = "3f 24x"  # skips face normal, polygon's first vertex
 MODES = ("flat", "gouraud", "lines")

@@ -36,7 +36,8 @@ START_COMMANDS = (
 
 
 def time_start(command: StartCommand, png: Path) -> tuple[float | None, float]:
-    """Seconds from spawning to the PNG's last write (its mtime, ~4 ms granular) and to the exit."""
+    """Seconds from spawning to the PNG's last write (its mtime, as coarse as the file system's clock)
+    and to the exit."""
     png.unlink(missing_ok=True)
     argv = [sys.executable, *(part.replace("{png}", str(png)) for part in command.argv)]
     wall_start_ns = time.time_ns()
@@ -53,8 +54,8 @@ def start_section(config: BenchConfig, directory: Path) -> list[str]:
     png = directory / "start.png"
     # The bare process imports numpy and moderngl from the byte code pip compiled when it installed
     # them; ours is an editable install, which compiles nothing, and where PYTHONDONTWRITEBYTECODE is
-    # set (this machine) no run ever writes it. Compiling first, as a regular install would, keeps
-    # the comparison about starting rather than about compiling our modules.
+    # set no run ever writes it. Compiling first, as a regular install would, keeps the comparison
+    # about starting rather than about compiling our modules.
     compileall.compile_dir(str(Path(marraztu.__file__).parent), quiet=1)
     runs: dict[str, list[tuple[float | None, float]]] = {c.label: [] for c in START_COMMANDS}
     for run in range(config.start_runs):  # rounds, so every command sees the same background load
@@ -73,7 +74,7 @@ def start_section(config: BenchConfig, directory: Path) -> list[str]:
         "## 3. Start: process start to the first PNG",
         "",
         f"Median of {config.start_runs} run(s), interleaved. *to PNG written* is the PNG's mtime minus "
-        "the spawn time, the issue's measure, compared with the bare process's exit (it has no PNG); "
+        "the spawn time, compared with the bare process's exit (it has no PNG); "
         "*to exit* adds the interpreter's tear-down.",
         "",
         *markdown_table(START_HEADERS, rows),

@@ -1,4 +1,4 @@
-"""The fast OBJ reader: the whole byte buffer at once with numpy, on every core.
+"""The fast OBJ reader: the whole byte buffer at once with numpy, on several threads.
 
 Lines are classified by their first bytes, the lines of each kind (v, vt, vn, f) are copied together
 and parsed in cache-sized chunks, every check is an array operation, and digits are read eight at a
@@ -42,17 +42,17 @@ _POW10_U64 = np.array([10**k for k in range(MAX_DIGITS + 1)], dtype=np.uint64)
 _POW10_FLOAT = np.array([float(10**k) for k in range(MAX_DIGITS + 1)])
 
 # Every blob starts with _PAD separators, so the 8-byte words ending at any number (two for 16
-# digits) lie inside it. Pieces of a megabyte keep numpy's temporaries in the CPU cache (several
-# times faster than whole-file arrays) while each numpy call runs long enough for two threads to
-# share the work without waiting on each other for the GIL.
+# digits) lie inside it. Pieces of _CHUNK_BYTES keep numpy's temporaries in the CPU cache, unlike
+# whole-file arrays, while each numpy call runs long enough for two threads to share the work
+# without waiting on each other for the GIL.
 _PAD = 16
 _SPACES = np.full(_PAD, ord(" "), dtype=np.uint8)
 _CHUNK_BYTES = 1 << 20
 _CHUNK_LINES = 1 << 16  # lines classified per piece: about as many bytes of kinds and masks
 _Chunk = TypeVar("_Chunk")  # a piece of work: a byte offset, a range of lines
 _ChunkResult = TypeVar("_ChunkResult")
-# The chunks are independent and numpy releases the GIL inside each operation, so every core parses
-# some. (Processes would not share the GIL at all, but each would import numpy and need the text.)
+# The chunks are independent and numpy releases the GIL inside each operation, so several threads
+# parse at once. (Processes would not share the GIL at all, but each would import numpy and need the text.)
 _PARSE_THREADS = max(1, min(4, os.cpu_count() or 1))
 
 
@@ -119,7 +119,7 @@ def read_fast(text: bytes) -> RawObj:
 
 
 def _newlines(buf: np.ndarray) -> np.ndarray:
-    """Offsets of every newline, found chunk by chunk on every core: a mask of the whole file would be
+    """Offsets of every newline, found chunk by chunk on several threads: a mask of the whole file would be
     a temporary as large as the file, in fresh memory that costs more to touch than the scan itself."""
     pieces = _chunk_map(lambda low: np.flatnonzero(buf[low:low + _CHUNK_BYTES] == ord("\n")) + low,
                         range(0, buf.size, _CHUNK_BYTES))
@@ -140,7 +140,7 @@ class _Lazy:
 
 def _classify_lines(buf: np.ndarray, line_start: np.ndarray) -> tuple[np.ndarray, list[int]]:
     """Kind of each line from its first three bytes (the rare others stay _UNCLASSIFIED), and the lines
-    that start with '#'; in pieces of _CHUNK_LINES lines on every core."""
+    that start with '#'; in pieces of _CHUNK_LINES lines on several threads."""
     pieces = _chunk_map(lambda low: _classify_piece(buf, line_start[low:low + _CHUNK_LINES], low),
                         range(0, line_start.size, _CHUNK_LINES))
     if not pieces:
@@ -210,7 +210,7 @@ class _Lines:
         ends = np.cumsum(self.line_end[self.lines] - self.line_start[self.lines] + 1)
         targets = np.arange(_CHUNK_BYTES, int(ends[-1]), _CHUNK_BYTES)
         cuts = np.concatenate(([0], np.searchsorted(ends, targets) + 1, [self.count]))
-        # Already sorted, so drop repeats by hand: np.unique imports numpy.ma (10-50 ms at start-up).
+        # Already sorted, so drop repeats by hand: np.unique imports numpy.ma, which slows start-up.
         cuts = cuts[np.concatenate(([True], cuts[1:] != cuts[:-1]))]
         return list(zip(cuts[:-1].tolist(), cuts[1:].tolist()))
 
@@ -263,7 +263,7 @@ def _line_runs(buf: np.ndarray, line_start: np.ndarray, line_end: np.ndarray, li
     return [buf[offsets + np.arange(int(lengths.sum()))]]
 
 
-# Byte tests by arithmetic on whole chunks: a lookup table or bincount costs numpy ten times more.
+# Byte tests by arithmetic on whole chunks: a lookup table or bincount costs numpy far more.
 def _is_digit(chunk: np.ndarray) -> np.ndarray:
     return (chunk - np.uint8(ord("0"))) < np.uint8(10)  # uint8 wraps below '0'
 

@@ -62,7 +62,6 @@ def finite_floats(tokens: Sequence[bytes | str]) -> list[float] | None:
     return values if all(np.isfinite(values)) else None
 
 
-
 def statement(content: bytes) -> tuple[bytes, bytes]:
     """(keyword, rest of the line without comment, stripped); keyword b'' for blank and comment lines.
 
