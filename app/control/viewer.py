@@ -68,7 +68,7 @@ class LoadJob:
     as_camera: bool
     future: Future = field(default_factory=Future)
     # Written by the worker, read by the window's status line. Stages, not a percentage: the parser
-    # works on whole arrays, so a percentage would be three numbers pretending to be smooth.
+    # works on whole arrays, so a percentage would jump in a few steps rather than move smoothly.
     stage: str = "waiting"
     started: float = field(default_factory=time.monotonic)
 
@@ -83,8 +83,8 @@ class LoadJob:
 
 class BackgroundLoader:
     """Loads model files off the render thread, so the window keeps drawing and answering keys while
-    a multi-million-triangle file is read (numpy releases the GIL for most of a load). One worker:
-    loads finish in the order asked. `prepare` (the renderer's) readies a mesh for its first frame."""
+    a large file is read (numpy releases the GIL for most of a load). One worker: loads finish in the
+    order asked. `prepare` (the renderer's) readies a mesh for its first frame."""
 
     def __init__(self, prepare: Callable[[Mesh], None] | None = None) -> None:
         self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="model-loader")
@@ -119,8 +119,10 @@ class BackgroundLoader:
 
     def take_finished(self) -> list[LoadJob]:
         with self._lock:
-            done = [job for job in self._jobs if job.future.done()]
-            self._jobs = [job for job in self._jobs if not job.future.done()]
+            # Each job asked once: a job finishing between two asks would be in neither list, and lost.
+            finished = {id(job): job.future.done() for job in self._jobs}
+            done = [job for job in self._jobs if finished[id(job)]]
+            self._jobs = [job for job in self._jobs if not finished[id(job)]]
         return done
 
     def shutdown(self) -> None:
