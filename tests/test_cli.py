@@ -97,3 +97,44 @@ def test_run_without_display_writes_a_screenshot(tmp_path: Path) -> None:
     assert result.returncode == 0, result.stderr
     assert result.stdout == "" and result.stderr.startswith("no display: wrote a screenshot")
     assert (tmp_path / "out" / "marraztu.png").exists()
+
+
+def test_help_lists_the_commands_and_the_scene_options_but_no_window_toolkit_internals(tmp_path: Path) -> None:
+    env = {k: v for k, v in __import__("os").environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    result = run_app("--help", cwd=tmp_path, env=env)
+    assert result.returncode == 0 and result.stderr == ""
+    assert result.stdout.startswith("usage: marraztu ")
+    for word in ("screenshot", "bench", "--scene", "--empty", "--texture", "--size", "--version", "MODEL"):
+        assert word in result.stdout, word
+    for internal in ("-wnd", "-vs", "-hd", "__main__"):
+        assert internal not in result.stdout, internal
+    assert not (tmp_path / "out").exists(), "--help must not render anything"
+
+
+def test_version(tmp_path: Path) -> None:
+    result = run_app("--version", cwd=tmp_path)
+    assert result.returncode == 0 and result.stdout.startswith("marraztu ") and result.stdout.count("\n") == 1
+
+
+@pytest.mark.parametrize("output, fragment", [
+    ("{tmp}", "picture"), ("{tmp}/x.bmp", ".png, .jpg"), ("{tmp}/no/such/../../x", ".png, .jpg"),
+    ("/proc/marraztu-test.png", "cannot write"), ("", "picture"),
+])
+def test_screenshot_output_that_cannot_be_written_is_one_line(tmp_path: Path, output: str, fragment: str) -> None:
+    result = run_app("screenshot", "-o", output.format(tmp=tmp_path), "--size", "16x16")
+    assert_one_line_error(result, fragment)
+
+
+def test_screenshot_writes_jpeg_for_a_jpeg_suffix(tmp_path: Path) -> None:
+    out = tmp_path / "shot.jpg"
+    result = run_app("screenshot", "-o", str(out), "--size", "32x24")
+    assert result.returncode == 0, result.stderr
+    with Image.open(out) as picture:
+        assert picture.format == "JPEG" and picture.size == (32, 24)
+
+
+def test_an_unreachable_display_is_one_line(tmp_path: Path) -> None:
+    env = {**__import__("os").environ, "DISPLAY": ":97531"}
+    env.pop("WAYLAND_DISPLAY", None)
+    result = run_app("--size", "64x64", cwd=tmp_path, env=env)
+    assert_one_line_error(result, "display")

@@ -70,7 +70,7 @@ def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None
                               cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                               text=True)
     try:
-        window_id = wait_for(lambda: xdotool(display, "search", "--name", "marraztu").split(),
+        window_id = wait_for(lambda: xdotool(display, "search", "--name", "^marraztu$").split(),
                              60, "the window")[0]
         time.sleep(1.0)  # the first frames
         xdotool(display, "windowfocus", "--sync", window_id)
@@ -110,3 +110,23 @@ def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None
     differing = (np.abs(from_window - expected).max(axis=2) > 2).mean()
     assert differing <= 0.001, f"{differing:.2%} of the pixels differ"
     assert (np.abs(expected - [0, 0, 178]).sum(axis=2) > 30).mean() > 0.05, "almost blank"
+
+
+def test_a_window_destroyed_without_a_window_manager_ends_the_process(display: str, tmp_path: Path) -> None:
+    """Xvfb runs no window manager, so `xdotool windowclose` destroys the X window outright and no close
+    event comes: the program must notice and exit, not go on drawing into nothing."""
+    env = {**os.environ, "DISPLAY": display}
+    window = subprocess.Popen([sys.executable, "-m", "marraztu", "--size", "96x96"], cwd=tmp_path, env=env,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        # Only our window has exactly this title (pyglet's hidden one is named after the program).
+        window_id = wait_for(lambda: xdotool(display, "search", "--name", "^marraztu$").split(), 60,
+                             "the window")[0]
+        time.sleep(0.5)
+        xdotool(display, "windowclose", window_id)
+        assert window.wait(timeout=30) == 0
+    finally:
+        if window.poll() is None:
+            window.kill()
+        _, errors = window.communicate(timeout=10)
+    assert "Traceback" not in errors, errors

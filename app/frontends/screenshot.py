@@ -8,6 +8,7 @@ from __future__ import annotations
 import os
 import sys
 import tempfile
+from collections.abc import Iterable
 from pathlib import Path
 
 import moderngl
@@ -18,7 +19,7 @@ from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import StartOptions, Viewer, starting_scene
 from marraztu.errors import ViewerError
 from marraztu.loaders.images import load_image
-from marraztu.render.context import create_offscreen_context
+from marraztu.render.context import create_offscreen_context, offscreen_framebuffer, read_pixels
 from marraztu.render.renderer import Renderer
 
 # Pillow's format for each suffix a picture may be written as.
@@ -42,68 +43,59 @@ def take_screenshot(options: StartOptions, out: Path, size: tuple[int, int], key
                     overlay: bool = False) -> Path:
     """Renders the starting scene after `keys` into the picture `out`; ViewerError on bad input."""
     presses = parse_key_sequence(keys)
-    check_output(out)
+    check_output(out, [*options.models, options.texture, options.scene_file, *(press.path for press in presses)])
     scene = starting_scene(options)
+    check_output(out, [scene.texture_path])
     ctx = create_offscreen_context()
     try:
         viewer = Viewer(scene, OffscreenFrontend(), strict=True)
-        if options.texture is not None:
-            # Asked for by name: a bad one ends the command with its LoadError, no fallback.
-            scene.texture = load_image(options.texture)
-        else:
-            message = viewer.use_texture(Path(scene.texture_path) if scene.texture_path else None)
-            if message:
-                print(message, file=sys.stderr)
+        _use_texture(viewer, options.texture)
         for model in options.models:
             viewer.load_model(model)
         for press in presses:
             if viewer.frontend.quitting:
                 break
             viewer.press(press)
-        fbo = ctx.simple_framebuffer(size, components=4)
-        try:
+        with offscreen_framebuffer(ctx, size) as fbo:
             render(ctx, viewer, fbo, size, overlay)
             write_picture(read_pixels(fbo, size), out)
-        finally:
-            release_framebuffer(fbo)
     finally:
         ctx.release()
     return out
+
+
+def _use_texture(viewer: Viewer, named: Path | None) -> None:
+    if named is not None:  # asked for by name: a bad one ends the command, no fallback
+        viewer.scene.texture = load_image(named)
+        return
+    texture_path = viewer.scene.texture_path
+    message = viewer.use_texture(Path(texture_path) if texture_path else None)
+    if message:
+        print(message, file=sys.stderr)
 
 
 def render(ctx: moderngl.Context, viewer: Viewer, fbo: moderngl.Framebuffer, size: tuple[int, int],
            overlay: bool) -> None:
     Renderer(ctx).render(viewer.scene, fbo, size)
     if overlay:
-        # The overlay's text imports moderngl-window: a tenth of a second, only when asked for.
+        # The overlay's text imports moderngl-window, which is slow to import: only when asked for.
         from marraztu.render.overlay import Overlay
         from marraztu.text import panels, status
 
         Overlay(ctx).draw(*status.overlay_lines(viewer), size, panels.extras(viewer.scene, size))
 
 
-def read_pixels(fbo: moderngl.Framebuffer, size: tuple[int, int]) -> np.ndarray:
-    """(H, W, 3) uint8, top row first."""
-    width, height = size
-    pixels = np.frombuffer(fbo.read(components=3, alignment=1), np.uint8).reshape(height, width, 3)
-    return np.flipud(pixels)
-
-
-def release_framebuffer(fbo: moderngl.Framebuffer) -> None:
-    """moderngl's Framebuffer.release leaves its attachments alive: release them too."""
-    attachments = [*fbo.color_attachments, fbo.depth_attachment]
-    fbo.release()
-    for attachment in attachments:
-        if attachment is not None:
-            attachment.release()
-
-
-def check_output(out: Path) -> None:
-    """Refuses, in one line, a picture that cannot be written where asked."""
+def check_output(out: Path, inputs: Iterable[str | Path | None] = ()) -> None:
+    """Refuses, in one line, a picture that cannot be written where asked, or would replace an input."""
     if IMAGE_FORMATS.get(out.suffix.lower()) is None:
         raise ViewerError(f"{out}: write a picture as {', '.join(IMAGE_FORMATS)}")
     if out.is_dir():
         raise ViewerError(f"{out}: is a folder, not a picture file")
+    if out.exists() and not out.is_symlink() and not out.is_file():
+        raise ViewerError(f"{out}: is not a regular file (a pipe or a device?)")
+    for given in inputs:
+        if given is not None and out.exists() and Path(given).exists() and os.path.samefile(out, given):
+            raise ViewerError(f"{out}: is an input of this picture ({given}); write the picture elsewhere")
 
 
 def write_picture(pixels: np.ndarray, out: Path) -> None:

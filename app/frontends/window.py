@@ -4,6 +4,7 @@ no drawing logic: the renderer draws the scene, the overlay draws the text."""
 from __future__ import annotations
 
 import logging
+import os
 from datetime import datetime
 from pathlib import Path
 from time import perf_counter, sleep
@@ -16,7 +17,8 @@ from marraztu.control import commands
 from marraztu.control.keymap import KeyPress
 from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer, starting_scene
 from marraztu.errors import ViewerError
-from marraztu.frontends.screenshot import read_pixels, release_framebuffer, write_picture
+from marraztu.frontends.screenshot import write_picture
+from marraztu.render.context import offscreen_framebuffer, read_pixels
 from marraztu.render.gpu import prepare_surface
 from marraztu.render.overlay import Overlay
 from marraztu.render.renderer import Renderer
@@ -54,6 +56,7 @@ class ViewerWindow:
         self.named_keys = self._named_keys()
         self.last_frame_start = perf_counter()
         self._connect_events()
+        self._close_when_destroyed()
 
     def _connect_events(self) -> None:
         wnd = self.wnd
@@ -63,6 +66,17 @@ class ViewerWindow:
         wnd.mouse_drag_event_func = self.on_mouse_drag_event
         wnd.mouse_scroll_event_func = self.on_mouse_scroll_event
         wnd.files_dropped_event_func = self.on_files_dropped_event
+
+    def _close_when_destroyed(self) -> None:
+        """Without a window manager, `xdotool windowclose` destroys the X window outright and no close
+        event comes: pyglet would go on drawing into nothing. Its DestroyNotify ends the loop instead."""
+        handlers = getattr(getattr(self.wnd, "_window", None), "_event_handlers", None)
+        try:
+            from pyglet.libs.x11 import xlib
+        except ImportError:  # not X11: the window system sends a close event
+            return
+        if isinstance(handlers, dict):
+            handlers[xlib.DestroyNotify] = lambda event: self.wnd.close()
 
     def _named_keys(self) -> dict[Any, str]:
         keys = self.wnd.keys
@@ -137,16 +151,15 @@ class ViewerWindow:
     def save_screenshot(self) -> None:
         """F12: the scene as the screenshot command draws it (no overlay), at the window's size."""
         size = self.wnd.buffer_size
-        fbo = self.ctx.simple_framebuffer(size, components=4)
+        path = (SCREENSHOT_DIR / f"marraztu-{datetime.now():%Y%m%d-%H%M%S-%f}.png").absolute()
         try:
-            self.renderer.render(self.scene, fbo, size)
-            path = (SCREENSHOT_DIR / f"marraztu-{datetime.now():%Y%m%d-%H%M%S-%f}.png").absolute()
-            write_picture(read_pixels(fbo, size), path)
+            with offscreen_framebuffer(self.ctx, size) as fbo:
+                self.renderer.render(self.scene, fbo, size)
+                write_picture(read_pixels(fbo, size), path)
             self.scene.message = f"screenshot saved to {path}"
         except ViewerError as error:
             self.scene.message = f"screenshot not saved: {error}"
         finally:
-            release_framebuffer(fbo)
             self.wnd.fbo.use()
 
 
@@ -155,5 +168,18 @@ def _as_path(value: str | None) -> Path | None:
 
 
 def run_window(options: StartOptions, size: tuple[int, int]) -> int:
-    ViewerWindow(options, size).run()
+    open_window(options, size).run()
     return 0
+
+
+def open_window(options: StartOptions, size: tuple[int, int]) -> ViewerWindow:
+    """The window, or a ViewerError in one line when the display or its OpenGL cannot give one."""
+    try:
+        return ViewerWindow(options, size)
+    except ViewerError:
+        raise
+    except Exception as error:  # pyglet and the GL driver raise their own kinds, at import time too
+        display = os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or "the default display"
+        detail = (str(error).strip().splitlines() or [type(error).__name__])[0]
+        raise ViewerError(f"cannot open a window on {display} ({detail}); `marraztu screenshot` needs no "
+                          "display") from None

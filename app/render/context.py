@@ -3,7 +3,11 @@ own standalone context (CGL on macOS, WGL on Windows, GLX with a display on Linu
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
+
 import moderngl
+import numpy as np
 
 from marraztu.errors import ViewerError
 
@@ -24,3 +28,50 @@ def create_offscreen_context() -> moderngl.Context:
 
 def _first_line(error: Exception) -> str:
     return (str(error).strip().splitlines() or [type(error).__name__])[0]
+
+
+def check_gl(ctx: moderngl.Context, what: str) -> None:
+    """A ViewerError when GL reports an error after `what` (an upload, a framebuffer)."""
+    error = ctx.error
+    if error != "GL_NO_ERROR":
+        raise ViewerError(f"the GPU refused {what} ({error})")
+
+
+def max_framebuffer_side(ctx: moderngl.Context) -> int:
+    info = ctx.info
+    viewport = info.get("GL_MAX_VIEWPORT_DIMS", (0, 0))
+    return int(min(info.get("GL_MAX_RENDERBUFFER_SIZE", 0), *viewport))
+
+
+@contextmanager
+def offscreen_framebuffer(ctx: moderngl.Context, size: tuple[int, int]) -> Iterator[moderngl.Framebuffer]:
+    """A colour and depth framebuffer of `size`, refused in one line when this GL cannot hold it, and
+    released with its attachments afterwards (moderngl's Framebuffer.release leaves them alive)."""
+    largest = max_framebuffer_side(ctx)
+    if max(size) > largest:
+        raise ViewerError(f"a picture of {size[0]}x{size[1]} is larger than this OpenGL can draw "
+                          f"({largest}x{largest} at most)")
+    ctx.error  # noqa: B018 - reading it clears an older error, so the check below is about this one
+    try:
+        fbo = ctx.simple_framebuffer(size, components=4)
+    except (moderngl.Error, MemoryError) as error:
+        raise ViewerError(f"cannot make a {size[0]}x{size[1]} picture ({error})") from None
+    try:
+        check_gl(ctx, f"a {size[0]}x{size[1]} picture")
+        yield fbo
+    finally:
+        attachments = [*fbo.color_attachments, fbo.depth_attachment]
+        fbo.release()
+        for attachment in attachments:
+            if attachment is not None:
+                attachment.release()
+
+
+def read_pixels(fbo: moderngl.Framebuffer, size: tuple[int, int]) -> np.ndarray:
+    """(H, W, 3) uint8, top row first."""
+    width, height = size
+    try:
+        pixels = np.frombuffer(fbo.read(components=3, alignment=1), np.uint8).reshape(height, width, 3)
+        return np.flipud(pixels)
+    except MemoryError:
+        raise ViewerError(f"not enough memory to read a {width}x{height} picture") from None

@@ -21,6 +21,7 @@ import numpy as np
 
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Shading
+from marraztu.render.context import check_gl
 from marraztu.resources import shader_source
 
 # Attribute layouts, one per program; the names are the shaders' `in_` attributes.
@@ -56,7 +57,7 @@ def _with_define(source: str, define: str, extra: str = "") -> str:
 
 # --- numpy: the vertex arrays ----------------------------------------------------------------
 # Each array is allocated once at its final size and filled column block by column block: an
-# hstack of float64 pieces then astype would make the whole array three times over.
+# hstack of float64 pieces then astype would make several whole-size copies.
 @dataclass(frozen=True)
 class SurfaceArrays:
     """The surface as indexed triangles: `vertices` rows of SURFACE_LAYOUT, and two index arrays of
@@ -83,8 +84,7 @@ def surface_arrays(mesh: Mesh) -> SurfaceArrays:
     positions = mesh.vertex_count
     representative = np.zeros(positions, np.int64)
     representative[corner_vertex] = np.arange(corner_vertex.shape[0])  # any corner of each position
-    # A mesh whose normals and uvs are per position has no seams: no need to compare (a tenth of a
-    # v/f-only file's load).
+    # A mesh whose normals and uvs are per position has no seams: no need to compare.
     seams = (np.zeros(0, np.int64) if mesh.attributes_per_position
              else _seams(mesh, representative[corner_vertex]))
     first_corners = mesh.face_start[:-1]
@@ -95,7 +95,7 @@ def surface_arrays(mesh: Mesh) -> SurfaceArrays:
     positions32 = mesh.positions.astype(np.float32)
     # A position's own row is the position: no gather (rows of unused positions are never indexed).
     vertices[:positions, 0:3] = positions32
-    # np.take gathers rows three times faster than fancy indexing does.
+    # np.take gathers rows faster than fancy indexing does.
     vertices[positions:, 0:3] = np.take(positions32, corner_vertex[row_corner[positions:]], axis=0)
     vertices[:, 3:6] = np.take(mesh.corner_normal, row_corner, axis=0)
     vertices[:shared_rows, 6:9] = vertices[:shared_rows, 3:6]  # read only at a polygon's own row
@@ -121,8 +121,8 @@ _SEAM_CHUNK = 1 << 15  # corners compared per piece: their gathered rows stay in
 def _seams(mesh: Mesh, representative_corner: np.ndarray) -> np.ndarray:
     """Corners whose normal or uv differs from their position's representative corner, in bits
     (so -0.0 and 0.0, or two NaNs, are told apart as the GPU would see them). On uint32 views, the
-    representative rows gathered whole with np.take, piece by piece: a quarter faster than gathering
-    column by column over the whole mesh, and about 30% faster than comparing 20-byte numpy voids."""
+    representative rows gathered whole with np.take, piece by piece: faster than gathering column by
+    column over the whole mesh, or than comparing 20-byte numpy voids."""
     tables = [np.ascontiguousarray(table, dtype=np.float32).view(np.uint32)
               for table in (mesh.corner_normal, mesh.corner_uv)]
     pieces = []
@@ -270,6 +270,7 @@ class ObjectGpu:
         rows = arrays.vertices.shape[0]
         self.shared_rows = rows - mesh.face_count  # the polygons' own rows come last (SurfaceArrays)
         self._surface_buffers: dict[str, moderngl.Buffer] = {}
+        ctx.error  # noqa: B018 - reading it clears an older error, so the check below is about these uploads
         try:
             for name, data in (("surface", arrays.vertices), ("surface indices", arrays.indices),
                                ("shared surface indices", arrays.shared_indices)):
@@ -277,6 +278,7 @@ class ObjectGpu:
             # Zeros, not undefined memory: rows no pass has lit yet are read (never shown) by draws.
             self._surface_buffers["lit"] = lit = ctx.buffer(reserve=rows * LIT_ROW_BYTES)
             lit.clear()
+            check_gl(ctx, f"the vertex buffers of {mesh.name}")
         except Exception:
             for buffer in self._surface_buffers.values():
                 buffer.release()
@@ -351,8 +353,10 @@ class ObjectGpu:
 
     def _vertex_array(self, name: str, data: np.ndarray, program: moderngl.Program,
                       layout: tuple[str, ...]) -> moderngl.VertexArray:
+        self.ctx.error  # noqa: B018 - as in __init__: the check below is about this upload only
         buffer = self.ctx.buffer(data)
         try:
+            check_gl(self.ctx, f"the {name} of {self.mesh.name}")
             vao = self.ctx.vertex_array(program, [(buffer, *layout)])
         except Exception:
             buffer.release()

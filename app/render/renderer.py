@@ -15,9 +15,11 @@ from typing import Any, Iterable
 import moderngl
 import numpy as np
 
+from marraztu.errors import ViewerError
 from marraztu.model.lights import MAX_LIGHTS, shader_defines
 from marraztu.model.scene import Fill, Projection, Scene, SceneObject, Shading, Target
 from marraztu.model.transforms import normal_matrix
+from marraztu.render.context import check_gl
 from marraztu.render.gpu import ObjectGpu, Programs, VertexRange, load_program
 from marraztu.render.layout import View, view_projection, views
 from marraztu.render.mipmaps import MipmappedTexture, create_mipmapped
@@ -85,8 +87,6 @@ class DrawItem:
     stop: int
 
 
-
-
 class Renderer:
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
@@ -121,13 +121,25 @@ class Renderer:
         if image is not self._texture_image:
             self._set_texture(image)
 
+    @property
+    def max_texture_side(self) -> int:
+        """The longest texture side this GL takes (the viewer fits larger pictures to it)."""
+        return int(self.ctx.info["GL_MAX_TEXTURE_SIZE"])
+
     def _set_texture(self, image: np.ndarray) -> None:
         """(H, W, 3) uint8, top row first. GL's first row is v = 0, and SPEC 5 wants v = 0 at the
         image's bottom row, so the rows go up reversed."""
+        height, width = image.shape[:2]
+        if max(height, width) > self.max_texture_side:
+            raise ViewerError(f"a texture of {width}x{height} is larger than this OpenGL takes "
+                              f"({self.max_texture_side} pixels a side)")
         pixels = np.ascontiguousarray(np.flipud(np.asarray(image, dtype=np.uint8)[..., :3]))
         if self.texture is not None:
             self.texture.release()
+            self.texture = None
+        self.ctx.error  # noqa: B018 - reading it clears an older error, so the check is about this upload
         self.texture = create_mipmapped(self.ctx, pixels)
+        check_gl(self.ctx, f"a texture of {width}x{height}")
         self._texture_image = image
 
     def release_object(self, obj: SceneObject) -> None:
