@@ -3,7 +3,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed-stamp
 
-.PHONY: test run bench assets screenshots clean
+.PHONY: test run bench assets clean
 
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
@@ -15,10 +15,10 @@ test: $(STAMP)
 	$(PY) -m pytest -q
 
 run: $(STAMP)
-	$(PY) -m app
+	$(PY) -m marraztu
 
 bench: $(STAMP)
-	$(PY) -m app bench
+	$(PY) -m marraztu bench
 
 # Regenerates the project's own models and texture (deterministic; the results are committed).
 assets: $(STAMP)
