@@ -162,9 +162,53 @@ def test_16_bit_grey_png_is_scaled_not_clipped(tmp_path: Path) -> None:
     np.testing.assert_array_equal(load_image(tmp_path / "deep.png")[0, :, 0], [0, 128, 255])
 
 
-def test_pgm_goes_through_pillow(tmp_path: Path) -> None:
-    image = load_image(write(tmp_path, "grey.pgm", b"P5 2 1 255\n\x00\xff"))
-    np.testing.assert_array_equal(image, [[[0, 0, 0], [255, 255, 255]]])
+def test_grey_pnm_is_refused_as_not_a_ppm(tmp_path: Path) -> None:
+    with pytest.raises(LoadError, match="P6 or P3"):
+        load_image(write(tmp_path, "grey.pgm", b"P5 2 1 255\n\x00\xff"))
+
+
+# --- only PPM, PNG and JPEG, chosen by content ------------------------------------------------------
+EPS_LOOP = b"%!PS-Adobe-3.0 EPSF-3.0\n%%BoundingBox: 0 0 10 10\n{ } loop\nshowpage\n"
+EPS_WRITES = b"%!PS-Adobe-3.0 EPSF-3.0\n%%BoundingBox: 0 0 10 10\n(/tmp/pwned) (w) file closefile\nshowpage\n"
+
+
+def other_format(kind: str) -> bytes:
+    """A valid picture in a format marraztu does not read."""
+    from io import BytesIO
+
+    out = BytesIO()
+    Image.fromarray(PIXELS).save(out, format=kind)
+    return out.getvalue()
+
+
+@pytest.mark.parametrize("content", [EPS_LOOP, EPS_WRITES], ids=["loops forever", "writes a file"])
+@pytest.mark.parametrize("name", ["loop.png", "loop.jpg", "loop.ppm", "loop"])
+def test_postscript_is_refused_by_its_content_and_never_runs_anything(tmp_path: Path, monkeypatch,
+                                                                     content: bytes, name: str) -> None:
+    import subprocess
+
+    def no_child(*args, **kwargs):
+        raise AssertionError("a texture must never start another program")
+
+    monkeypatch.setattr(subprocess, "Popen", no_child)
+    with pytest.raises(LoadError, match="PNG, JPEG or PPM|expected P6 or P3"):
+        load_image(write(tmp_path, name, content))
+
+
+@pytest.mark.parametrize("kind", ["GIF", "BMP", "TIFF", "WEBP", "ICO", "TGA"])
+def test_other_pillow_formats_are_refused_whatever_their_name(tmp_path: Path, kind: str) -> None:
+    for name in ("disguised.png", "disguised.jpg", f"honest.{kind.lower()}"):
+        with pytest.raises(LoadError, match="PNG, JPEG or PPM") as caught:
+            load_image(write(tmp_path, name, other_format(kind)))
+        assert caught.value.path.endswith(name) and "\n" not in str(caught.value)
+
+
+def test_png_and_jpeg_are_read_by_content_whatever_their_name(tmp_path: Path) -> None:
+    Image.fromarray(PIXELS).save(tmp_path / "real.png")
+    np.testing.assert_array_equal(load_image(write(tmp_path, "named.jpg", (tmp_path / "real.png").read_bytes())),
+                                  PIXELS)
+    ppm = b"P6\n2 2\n255\n" + PIXELS.tobytes()
+    np.testing.assert_array_equal(load_image(write(tmp_path, "named.png", ppm)), PIXELS)
 
 
 @pytest.mark.parametrize(("name", "data"), [

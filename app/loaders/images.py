@@ -1,4 +1,8 @@
-"""Texture images: PPM (P6, P3) by our own code, everything else through Pillow.
+"""Texture images: PPM (P6, P3) by our own code, PNG and JPEG through Pillow; nothing else.
+
+The format comes from the file's first bytes, never its name, and Pillow is asked for that one format
+only: it recognises many others by content, some of which it hands to other programs (EPS to
+Ghostscript), and a texture must never run anything.
 
 Why our own PPM reader when Pillow reads PPM: the seed's texture format deserves strict errors that
 say what is wrong (a truncated raster, a value above maxval, a bad header token), and a header must
@@ -24,23 +28,52 @@ from marraztu.loaders.files import read_file, read_head
 # No texture a student uses comes near this; a header claiming more is broken or hostile.
 MAX_PIXELS = 64 * 1024 * 1024
 _PPM_MAGICS = (b"P6", b"P3")
+# The formats read, by their first bytes.
+FORMATS_BY_MAGIC = {b"P6": "PPM", b"P3": "PPM", b"\x89PNG\r\n\x1a\n": "PNG", b"\xff\xd8\xff": "JPEG"}
+_MAGIC_LENGTH = max(len(magic) for magic in FORMATS_BY_MAGIC)
 _HEADER_TOKEN = re.compile(rb"(?:\s|#[^\n\r]*[\n\r])*([^\s#]+)")  # skips whitespace and comments
 
 
 def load_image(path: str | Path) -> np.ndarray:
     """(H, W, 3) uint8, top row first. Raises LoadError naming the file for any problem."""
     file = Path(path)
-    magic = read_head(file, 2)  # refuses directories, devices, pipes and huge files first
+    head = read_head(file, _MAGIC_LENGTH)  # refuses directories, devices, pipes and huge files first
+    kind = image_format(head)
     try:
-        if magic in _PPM_MAGICS:
+        if kind == "PPM":
             return parse_ppm(read_file(file), str(path))
-        if file.suffix.lower() in (".ppm", ".pnm"):
-            raise _not_ppm(file, magic)
-        return _load_with_pillow(file)
+        if kind is None and (file.suffix.lower() in (".ppm", ".pnm") or _looks_like_pnm(head)):
+            raise _not_ppm(file, head[:2])
+        if kind is None:
+            raise LoadError(file, f"not a PNG, JPEG or PPM picture (it starts with {head[:8]!r})")
+        return _load_with_pillow(file, kind)
     except LoadError:
         raise
     except MemoryError:
         raise LoadError(file, "not enough memory to load this image") from None
+
+
+def _looks_like_pnm(head: bytes) -> bool:
+    """P1 to P7: the netpbm family, of which only P6 and P3 (colour) are read."""
+    return head[:1] == b"P" and head[1:2].isdigit()
+
+
+def image_format(head: bytes) -> str | None:
+    """"PPM", "PNG" or "JPEG" from a file's first bytes; None for anything else."""
+    return next((kind for magic, kind in FORMATS_BY_MAGIC.items() if head.startswith(magic)), None)
+
+
+def fit_texture(image: np.ndarray, longest_side: int) -> tuple[np.ndarray, str | None]:
+    """The image scaled down, keeping its shape, when a side is longer than the GPU takes; and a note
+    saying so."""
+    height, width = image.shape[:2]
+    if max(height, width) <= longest_side:
+        return image, None
+    scale = longest_side / max(height, width)
+    size = (max(1, round(width * scale)), max(1, round(height * scale)))
+    smaller = np.asarray(Image.fromarray(image).resize(size, Image.Resampling.LANCZOS), dtype=np.uint8)
+    return smaller, (f"texture {width}x{height} scaled to {size[0]}x{size[1]}: this GPU takes "
+                     f"{longest_side} pixels a side at most")
 
 
 def fallback_texture() -> np.ndarray:
@@ -160,11 +193,11 @@ def _to_8_bit(samples: np.ndarray, maxval: int) -> np.ndarray:
 # --------------------------------------------------------------------------------------------------
 
 
-def _load_with_pillow(file: Path) -> np.ndarray:
+def _load_with_pillow(file: Path, kind: str) -> np.ndarray:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("error", Image.DecompressionBombWarning)
-            with Image.open(file) as image:
+            with Image.open(file, formats=[kind]) as image:
                 width, height = image.size
                 if width * height > MAX_PIXELS:
                     raise LoadError(file, f"image size {width}x{height} is too large (at most {MAX_PIXELS} pixels)")
