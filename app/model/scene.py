@@ -20,6 +20,8 @@ from marraztu.model.transforms import TransformKind, Vec3, orthographic, perspec
 # SPEC 5: perspective is the seed's frustum l=-5 r=5 b=-5 t=5 n=5, i.e. a 90 degree vertical field.
 PERSPECTIVE_FOVY_DEG = 90.0
 NEAR_PLANE = 5.0
+# How far the selected object's depth may pull parallel projection's size from the rest of the scene's.
+PARALLEL_DEPTH_RANGE = 1.5
 
 
 class Target(Enum):
@@ -223,11 +225,26 @@ class Scene:
         return orthographic(half_h * aspect, half_h, -far, far)
 
     def matching_parallel_half_height(self) -> float:
-        """Half height that keeps the selected object (or the origin) as large as in perspective."""
-        target = self.object.centre if self.object is not None else np.zeros(3)
-        depth = float(np.dot(target - self.eye_position(), self.viewer.forward))
+        """Half height that keeps the scene about where perspective showed it (SPEC 5): the selected
+        object's depth, kept within PARALLEL_DEPTH_RANGE of the others' in front of the camera, or
+        theirs when it is not in front itself; never less than the near plane."""
+        selected = self.object
+        depths = {id(obj): self.depth_of(obj.centre) for obj in self.objects if obj is not self.viewer}
+        others = [depth for key, depth in depths.items()
+                  if depth > NEAR_PLANE and (selected is None or key != id(selected))]
+        scene_depth = float(np.median(others)) if others else None
+        own = depths.get(id(selected)) if selected is not None else None
+        if own is not None and own > NEAR_PLANE:
+            depth = own if scene_depth is None else float(np.clip(own, scene_depth / PARALLEL_DEPTH_RANGE,
+                                                                  scene_depth * PARALLEL_DEPTH_RANGE))
+        else:
+            depth = scene_depth if scene_depth is not None else NEAR_PLANE
         half_fov = np.radians(PERSPECTIVE_FOVY_DEG) / 2.0
         return max(depth, NEAR_PLANE) * float(np.tan(half_fov))
+
+    def depth_of(self, point: np.ndarray) -> float:
+        """How far in front of the eye a world point is, along the view axis (negative: behind)."""
+        return float(np.dot(point - self.eye_position(), self.viewer.forward))
 
     # --- the probe's face ------------------------------------------------------------------------
     def probed_corners(self) -> list[int]:

@@ -1,0 +1,67 @@
+"""`p` keeps the scene about where perspective showed it (SPEC 5), wherever the selected object is:
+behind the camera, at the near plane, or far away, the other objects stay within half and twice
+their perspective size, and the picture is never one object's colour from edge to edge."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PIL import Image
+from support.scenes import BACKGROUND, RecordingHost
+
+from marraztu.control.keymap import dispatch, parse_key_sequence
+from marraztu.control.viewer import StartOptions
+from marraztu.frontends.screenshot import take_screenshot
+from marraztu.loaders.scenefile import load_builtin_scene
+from marraztu.model.scene import Projection, Scene, SceneObject
+from marraztu.render.layout import View, project, view_projection
+
+VIEW = View((0, 0, 400, 400), shading=None)  # type: ignore[arg-type]  # only the viewport matters here
+
+
+def press(scene: Scene, keys: str) -> None:
+    host = RecordingHost()
+    for key in parse_key_sequence(keys):
+        dispatch(scene, key, host)
+
+
+def screen_height(scene: Scene, obj: SceneObject) -> float:
+    """How tall the object's bounding box looks, in pixels."""
+    low, high = obj.mesh.bounds
+    corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+    matrix = view_projection(scene, VIEW)
+    points = [project(matrix, (obj.model @ np.append(corner, 1.0))[:3], VIEW.viewport) for corner in corners]
+    ys = [point[1] for point in points if point is not None]
+    return max(ys) - min(ys)
+
+
+# The golden ship (selected after TAB TAB) moved along world z: behind the camera, at the near plane, far.
+@pytest.mark.parametrize("moves", ["g t z*40", "g t z*29", "g t Z*400", "g t Z*2000", ""],
+                         ids=["behind the camera", "at the near plane", "far behind the others",
+                              "very far", "where it starts"])
+def test_the_others_keep_about_their_size(moves: str) -> None:
+    scene = load_builtin_scene()
+    press(scene, f"TAB TAB {moves}")
+    selected = scene.object
+    others = [obj for obj in scene.objects if obj is not selected]
+    before = [screen_height(scene, obj) for obj in others]
+    press(scene, "p")
+    assert scene.modes.projection is Projection.PARALLEL
+    after = [screen_height(scene, obj) for obj in others]
+    for height_before, height_after in zip(before, after):
+        assert 0.5 <= height_after / height_before <= 2.0, (moves, before, after)
+
+
+def test_where_it_starts_the_selected_object_keeps_its_size_exactly() -> None:
+    scene = load_builtin_scene()
+    press(scene, "TAB TAB")
+    before = screen_height(scene, scene.object)
+    press(scene, "p")
+    assert screen_height(scene, scene.object) == pytest.approx(before, rel=0.1)  # a box's depth
+
+
+def test_an_object_moved_behind_the_camera_does_not_fill_the_picture(tmp_path) -> None:
+    out = take_screenshot(StartOptions(), tmp_path / "behind.png", (120, 120), keys="T TAB TAB g t z*40 p")
+    pixels = np.asarray(Image.open(out)).astype(int)
+    background = (np.abs(pixels - BACKGROUND).sum(axis=2) == 0).mean()
+    assert background > 0.5, f"only {background:.0%} of the picture is background"
