@@ -14,7 +14,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from marraztu import __version__
-from marraztu.errors import ViewerError
+from marraztu.errors import ViewerError, escaped
 
 WINDOW_SIZE = (800, 800)
 NO_DISPLAY_SHOT = Path("out") / "marraztu.png"
@@ -75,7 +75,7 @@ def run_window(argv: Sequence[str]) -> int:
     args = window_parser().parse_args(list(argv))
     if not has_display():
         out = take_screenshot(start_options(args), NO_DISPLAY_SHOT, args.size)
-        print(f"no display: wrote a screenshot of the scene to {out} instead", file=sys.stderr)
+        print(escaped(f"no display: wrote a screenshot of the scene to {out} instead"), file=sys.stderr)
         return 0
     from marraztu.frontends.window import run_window as open_window
 
@@ -104,7 +104,7 @@ def screenshot_parser() -> argparse.ArgumentParser:
 def run_screenshot(argv: Sequence[str]) -> int:
     args = screenshot_parser().parse_args(list(argv))
     out = take_screenshot(start_options(args), args.output, args.size, args.keys, args.overlay)
-    print(out)
+    print(escaped(str(out)))
     return 0
 
 
@@ -141,7 +141,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             return command.run(argv[1:])
         return run_window(argv)
     except ViewerError as error:
-        print(f"error: {error}", file=sys.stderr)
+        print(f"error: {escaped(str(error))}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         return 130

@@ -5,6 +5,14 @@ from __future__ import annotations
 from pathlib import Path
 
 
+def escaped(text: str) -> str:
+    """The text with control characters written as escapes (\\n, \\x1b, \\u202e): a file name must not
+    move the cursor, set a terminal's title or start a line of its own."""
+    if text.isprintable():
+        return text
+    return "".join(char if char.isprintable() or char == " " else repr(char)[1:-1] for char in text)
+
+
 class ViewerError(Exception):
     """Anything the person must be told about in one line; never a programming error."""
 
@@ -20,7 +28,7 @@ class LoadError(ViewerError):
 
     def __str__(self) -> str:
         where = self.path if self.line is None else f"{self.path}:{self.line}"
-        return f"{where}: {self.message}"
+        return escaped(f"{where}: {self.message}")
 
 
 class KeyMapError(ViewerError):

@@ -12,7 +12,7 @@ from marraztu.loaders.scenefile import empty_scene
 from support.scenes import NoFrontend
 
 
-def wait_until_idle(viewer: Viewer, seconds: float = 30.0) -> None:
+def wait_until_idle(viewer: Viewer, seconds: float = 600.0) -> None:  # only against a hang
     deadline = time.monotonic() + seconds
     while viewer.background.pending() and time.monotonic() < deadline:
         time.sleep(0.01)

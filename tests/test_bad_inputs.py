@@ -12,7 +12,6 @@ import shlex
 import subprocess
 import sys
 import textwrap
-import time
 import tracemalloc
 from collections import Counter
 from collections.abc import Callable, Iterator
@@ -25,9 +24,9 @@ import pytest
 
 from marraztu.cli import main as cli_main
 from marraztu.control.keymap import KeyPress
-from marraztu.control.viewer import BackgroundLoader, Viewer
+from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer
 from marraztu.errors import LoadError
-from marraztu.loaders.images import fallback_texture, load_image, load_texture_or_fallback
+from marraztu.loaders.images import fallback_texture, load_image
 from marraztu.loaders.obj import load_obj
 from marraztu.loaders.scenefile import load_builtin_scene, load_scene
 from marraztu.model.scene import Scene, Target
@@ -38,7 +37,8 @@ from support.scenes import RenderingViewer
 
 ROOT = Path(__file__).resolve().parents[1]
 SMALL_GROWTH_BYTES = 50 * corpus.MEGABYTE
-LARGE_INPUT_SECONDS = 15.0  # a megabyte-long line or a million corners: an answer within this
+# Only against a hang: how fast a load is belongs to the bench, whose shapes section has these inputs.
+HANG_TIMEOUT = 600.0
 
 def params(cases: list[Case]) -> list:
     """pytest params with readable ids; root skips chmod 000 (it reads every file)."""
@@ -135,11 +135,11 @@ class RecordingFrontend:
     def quit(self) -> None:
         self.calls.append("quit")
 
-    def open_file_prompt(self) -> None:
-        self.calls.append("open_file_prompt")
-
     def save_screenshot(self) -> None:
         self.calls.append("save_screenshot")
+
+    def notice(self, text: str) -> None:
+        self.calls.append(("notice", text))
 
 
 @pytest.fixture(scope="module")
@@ -152,7 +152,7 @@ def viewer(own_ctx) -> Iterator[Viewer]:
         renderer = Renderer(own_ctx)
         scene = load_builtin_scene()
         view = RenderingViewer(scene, renderer, RecordingFrontend())
-        view.use_texture(None)
+        scene.texture = fallback_texture()
         view.press_sequence("TAB x x t y g Z ENTER ENTER c x r y c c")  # ends targeting objects
         assert scene.modes.target is Target.OBJECTS
         corpus.render_float(own_ctx, renderer, scene)
@@ -197,12 +197,10 @@ def window_viewer(viewer: Viewer) -> Iterator[Viewer]:
     loader.shutdown()
 
 
-def finish_background_loads(window_viewer: Viewer, timeout: float = LARGE_INPUT_SECONDS) -> None:
+def finish_background_loads(window_viewer: Viewer) -> None:
     """What the window's frames do: wait for the worker, then let finished loads join the scene."""
-    deadline = time.monotonic() + timeout
-    while window_viewer.background.pending():
-        assert time.monotonic() < deadline, "a background load never finished"
-        time.sleep(0.005)
+    for job in window_viewer.background.uncollected():
+        job.future.exception(timeout=HANG_TIMEOUT)  # waits for the job, failed or not
     window_viewer.collect_loads()
 
 
@@ -272,10 +270,8 @@ def test_odd_but_valid_obj_loads_adds_one_selected_object(case: Case, case_path,
 @pytest.mark.parametrize("case", params(BAD_OBJ))
 def test_bad_obj_raises_load_error_naming_file_and_line(case: Case, case_path) -> None:
     path = case_path(case)
-    started = time.perf_counter()
     with pytest.raises(LoadError) as caught:
         load_obj(path)
-    assert time.perf_counter() - started < LARGE_INPUT_SECONDS
     assert_names(str(caught.value), case, path)
     assert caught.value.path == str(path)
     if case.line is not None:
@@ -290,10 +286,10 @@ def test_bad_texture_gives_the_fallback_and_a_message(case: Case, case_path, vie
         load_image(path)
     assert_names(str(caught.value), case, path)
     before = SceneState.of(viewer.scene)
-    message = viewer.use_texture(path)
-    assert message is not None and str(path) in message
-    image, _ = load_texture_or_fallback(path)  # what use_texture handed the renderer
-    np.testing.assert_array_equal(image, fallback_texture())
+    viewer.start(StartOptions(texture=path), longest_texture_side=4096)
+    message = viewer.scene.message
+    assert str(path) in message and viewer.frontend.calls[-1] == ("notice", message)
+    np.testing.assert_array_equal(viewer.scene.texture, fallback_texture())
     SceneState.of(viewer.scene).assert_same(before)
     corpus.assert_sane_pixels(corpus.render_float(own_ctx, viewer.renderer, viewer.scene))
     assert corpus.live_gl_objects(own_ctx) == census, "the old texture was not released"
@@ -521,7 +517,7 @@ def test_claimed_size_is_not_allocated_traced(name: str, case_path) -> None:
 
 
 PEAK_RSS_SCRIPT = textwrap.dedent("""
-    import resource, sys, time
+    import resource, sys
     from marraztu.errors import LoadError
     from marraztu.loaders.images import load_image
     from marraztu.loaders.obj import load_obj
@@ -531,25 +527,23 @@ PEAK_RSS_SCRIPT = textwrap.dedent("""
     except LoadError:
         pass
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    started = time.perf_counter()
     try:
         loader(sys.argv[2])
         outcome = "loaded"
     except LoadError:
         outcome = "LoadError"
-    seconds = time.perf_counter() - started
     after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    print(outcome, (after - before) * 1024, seconds)  # ru_maxrss is in KiB on Linux
+    print(outcome, (after - before) * 1024)  # ru_maxrss is in KiB on Linux
 """)
 
 
-def measure_peak_rss(kind: str, path: Path, warm_up: Path) -> tuple[str, int, float]:
-    """(outcome, peak RSS growth in bytes, seconds) of loading `path` in a fresh interpreter."""
+def measure_peak_rss(kind: str, path: Path, warm_up: Path) -> tuple[str, int]:
+    """(outcome, peak RSS growth in bytes) of loading `path` in a fresh interpreter."""
     done = subprocess.run([sys.executable, "-c", PEAK_RSS_SCRIPT, kind, str(path), str(warm_up)], cwd=ROOT,
                           capture_output=True, text=True, timeout=60)
     assert done.returncode == 0, done.stderr
-    outcome, growth, seconds = done.stdout.split()
-    return outcome, int(growth), float(seconds)
+    outcome, growth = done.stdout.split()
+    return outcome, int(growth)
 
 
 @pytest.fixture(scope="module")
@@ -564,7 +558,7 @@ def warm_up_files(tmp_path_factory) -> dict[str, Path]:
 def test_claimed_size_is_not_allocated_peak_rss(name: str, case_path, warm_up_files) -> None:
     """The process's peak resident memory (getrusage) while loading, in a fresh interpreter."""
     kind = CLAIMS[name].kind
-    outcome, growth, _ = measure_peak_rss(kind, case_path(CLAIMS[name]), warm_up_files[kind])
+    outcome, growth = measure_peak_rss(kind, case_path(CLAIMS[name]), warm_up_files[kind])
     assert outcome == "LoadError"
     assert growth < SMALL_GROWTH_BYTES, f"peak RSS grew {growth / corpus.MEGABYTE:.1f} MB loading {name}"
 
@@ -584,20 +578,18 @@ def _cap_address_space() -> None:
 LOADER_KINDS = [pytest.param("obj", id="obj"), pytest.param("image", id="image"),
                 pytest.param("scene", id="scene")]
 LOADER_SCRIPT = textwrap.dedent("""
-    import resource, sys, time
+    import resource, sys
     from marraztu.errors import LoadError
     from marraztu.loaders.images import load_image
     from marraztu.loaders.obj import load_obj
     from marraztu.loaders.scenefile import load_scene
     loader = {"obj": load_obj, "image": load_image, "scene": load_scene}[sys.argv[1]]
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    started = time.perf_counter()
     try:
         loader(sys.argv[2])
         print("loaded")
     except LoadError as error:
-        print("LoadError", (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) * 1024,
-              time.perf_counter() - started, error)
+        print("LoadError", (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) * 1024, error)
 """)
 
 
@@ -609,8 +601,8 @@ def test_endless_device_is_refused_without_reading_it(kind: str) -> None:
     done = subprocess.run([sys.executable, "-c", LOADER_SCRIPT, kind, "/dev/zero"], cwd=ROOT, capture_output=True,
                           text=True, timeout=60, preexec_fn=_cap_address_space)
     assert done.returncode == 0 and done.stdout.startswith("LoadError"), done.stdout + done.stderr[-500:]
-    _, growth, seconds, message = done.stdout.split(maxsplit=3)
-    assert int(growth) < SMALL_GROWTH_BYTES and float(seconds) < 2.0, (growth, seconds)
+    _, growth, message = done.stdout.split(maxsplit=2)
+    assert int(growth) < SMALL_GROWTH_BYTES, growth
     assert "/dev/zero" in message
 
 

@@ -504,3 +504,18 @@ def test_help_lists_every_key_with_its_state(scene: Scene) -> None:
     assert culling.endswith("[off]")
     press(scene, "b")
     assert next(line for line in help_lines(scene, KEYMAP) if line.startswith("b ")).endswith("[on]")
+
+
+def test_plus_and_minus_say_the_aperture_and_when_it_stops(scene: Scene) -> None:
+    press(scene, "c c TAB TAB TAB +")
+    assert scene.message == "camera spotlight: aperture 32.5 deg"
+    press(scene, "+*30")
+    assert scene.message == "camera spotlight: aperture 89 deg (its widest: 1 to 89 deg)"
+    press(scene, "-*60")
+    assert scene.message == "camera spotlight: aperture 1 deg (its narrowest: 1 to 89 deg)"
+
+
+def test_delete_says_what_it_removed_and_what_is_selected(scene: Scene) -> None:
+    names = [obj.name for obj in scene.objects]
+    press(scene, "DELETE")
+    assert scene.message == f"deleted {names[0]}; {names[1]} selected"

@@ -12,6 +12,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from marraztu.control.viewer import StartOptions
 from marraztu.loaders.scenefile import load_builtin_scene
 from marraztu.model.scene import Scene
 from marraztu.render.renderer import Renderer
@@ -69,7 +70,7 @@ def lit_viewer(own_ctx):
     for renderer in corpus.own_renderer(own_ctx):
         scene = load_builtin_scene()
         viewer = RenderingViewer(scene, renderer, NoFrontend(), strict=True)
-        viewer.use_texture(scene.texture_path)
+        viewer.start(StartOptions(), longest_texture_side=renderer.max_texture_side)
         viewer.press_sequence(f"{CLOSE} 0 1 2 3")
         yield viewer
 

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from marraztu.control.keymap import KEYMAP, KeyPress
+from marraztu.loaders.images import fallback_texture
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
 from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG
 from marraztu.model.scene import Scene, Target
@@ -50,6 +51,8 @@ class CountingFrontend:
 
     def save_screenshot(self) -> None:
         self.screenshots += 1
+
+    def notice(self, text: str) -> None: ...
 
 
 @pytest.fixture(scope="module")
@@ -175,7 +178,7 @@ def test_soak_random_keys_keep_the_scene_sound(own_ctx, soak_renderer: Renderer,
     scene = load_builtin_scene()
     frontend = CountingFrontend()
     viewer = RenderingViewer(scene, soak_renderer, frontend)
-    viewer.use_texture(None)
+    scene.texture = fallback_texture()
     corpus.render_float(own_ctx, soak_renderer, empty_scene(), SIZE)  # make the framebuffer first
     gl_without_objects = gl_total(own_ctx)
     # Lines, both kinds of normals and side by side once, so every object holds all it ever will

@@ -293,7 +293,11 @@ def change_aperture(delta_deg: float) -> CommandFunction:
             scene.message = "+ and - change a spotlight's aperture: target lights (c), pick a spot (TAB)"
             return
         low, high = SPOT_APERTURE_RANGE_DEG
-        light.aperture_deg = float(np.clip(light.aperture_deg + delta_deg, low, high))
+        wanted = light.aperture_deg + delta_deg
+        light.aperture_deg = float(np.clip(wanted, low, high))
+        scene.message = f"{light.name}: aperture {light.aperture_deg:g} deg"
+        if wanted != light.aperture_deg:
+            scene.message += f" (its {'widest' if wanted > high else 'narrowest'}: {low:g} to {high:g} deg)"
 
     return change
 
@@ -389,13 +393,16 @@ def delete_selected(scene: Scene, host: Host) -> None:
         if len(scene.cameras) == 1:
             scene.message = "the last camera cannot be deleted"
             return
-        scene.cameras.pop(scene.selected_camera)
+        removed = scene.cameras.pop(scene.selected_camera)
         scene.selected_camera = min(scene.selected_camera, len(scene.cameras) - 1)
+        scene.message = f"deleted the camera {removed.name}; looking through {scene.camera.name}"
     elif scene.objects:
-        scene.objects.pop(scene.selected_object)
+        removed = scene.objects.pop(scene.selected_object)
         scene.selected_object = max(0, min(scene.selected_object, len(scene.objects) - 1))
         if not scene.objects:
             scene.modes.view_from_object = False
+        left = f"{scene.object.name} selected" if scene.object is not None else "no objects left"
+        scene.message = f"deleted {removed.name}; {left}"
     else:
         scene.message = "no object to delete"
 

@@ -16,9 +16,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Protocol
 
+import numpy as np
+
 from marraztu.control import commands, keymap
-from marraztu.errors import LoadError
-from marraztu.loaders.images import load_texture_or_fallback
+from marraztu.errors import LoadError, ViewerError
+from marraztu.loaders.images import fit_texture, load_image, load_texture_or_fallback
 from marraztu.loaders.registry import load_model
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene, load_scene, material_for_loaded
 from marraztu.model.mesh import Mesh
@@ -30,6 +32,10 @@ class Frontend(Protocol):
 
     def quit(self) -> None: ...
     def save_screenshot(self) -> None: ...
+
+    def notice(self, text: str) -> None:
+        """Tells what happened at start-up where the person started the program (stderr)."""
+        ...
 
 
 @dataclass
@@ -66,6 +72,7 @@ class LoadJob:
 
     path: Path
     as_camera: bool
+    at_start: bool = False  # asked for on the command line: its outcome is told, not overwritten
     future: Future = field(default_factory=Future)
     # Written by the worker, read by the window's status line. Stages, not a percentage: the parser
     # works on whole arrays, so a percentage would jump in a few steps rather than move smoothly.
@@ -92,8 +99,8 @@ class BackgroundLoader:
         self._lock = threading.Lock()
         self._prepare = prepare
 
-    def start(self, path: Path, as_camera: bool) -> LoadJob:
-        job = LoadJob(path, as_camera)
+    def start(self, path: Path, as_camera: bool, at_start: bool = False) -> LoadJob:
+        job = LoadJob(path, as_camera, at_start)
         with self._lock:
             self._jobs.append(job)
         job.future = self._pool.submit(self._load, job)
@@ -142,23 +149,53 @@ class Viewer:
         # join the scene in `collect_loads`, called once a frame; without one, loads are immediate.
         self.background = background
         self.prompt: str | None = None  # the `f` prompt's text while it is open
+        self._starting = False
 
     # --- start-up ------------------------------------------------------------------------------
-    def use_texture(self, path: Path | None) -> str | None:
-        """Loads the texture, or the built-in fallback; returns the message to show, if any."""
-        image, message = load_texture_or_fallback(path)
-        self.scene.texture = image
-        if message:
-            self.scene.message = message
-        return message
+    def start(self, options: StartOptions, longest_texture_side: int) -> None:
+        """The texture (the one named, or the scene's) and the models of the command line. Every
+        failure is told, on screen and to the front end, and none hides another."""
+        self._starting = True
+        self.scene.message = ""
+        try:
+            named = options.texture
+            if named is not None and self.strict:  # asked for by name: a bad one ends the command
+                self._set_texture(load_image(named), longest_texture_side)
+            else:
+                texture_path = named or (Path(self.scene.texture_path) if self.scene.texture_path else None)
+                image, message = load_texture_or_fallback(texture_path)
+                if message:
+                    self.tell(message)
+                self._set_texture(image, longest_texture_side)
+            for model in options.models:
+                self.load_model(model)
+        finally:
+            self._starting = False
+
+    def _set_texture(self, image: np.ndarray, longest_side: int) -> None:
+        self.scene.texture, note = fit_texture(image, longest_side)
+        if note:
+            self.tell(note)
+
+    def tell(self, text: str, at_start: bool | None = None, worth_a_notice: bool = True) -> None:
+        """The message the person reads. At start-up messages add up instead of replacing each other,
+        and the front end hears those worth a notice (failures, notes) too."""
+        if not (self._starting if at_start is None else at_start):
+            self.scene.message = text
+            return
+        self.scene.message = f"{self.scene.message}\n{text}" if self.scene.message else text
+        if worth_a_notice:
+            self.frontend.notice(text)
 
     # --- keys ----------------------------------------------------------------------------------
     def press(self, key: keymap.KeyPress) -> None:
         """One key: typed into the `f` prompt while it is open, otherwise the key map's command."""
         if self.prompt is not None and key.path is None:
             self._prompt_key(key.token)
-        else:
-            keymap.dispatch(self.scene, key, self)
+            return
+        keymap.dispatch(self.scene, key, self)
+        if self.strict and key.path is not None and self.scene.message == commands.LIGHTS_LOAD_REFUSAL:
+            raise ViewerError(f"f={key.path}: {commands.LIGHTS_LOAD_REFUSAL} (press c to target objects)")
 
     def press_sequence(self, text: str) -> None:
         for key in keymap.parse_key_sequence(text):
@@ -195,8 +232,9 @@ class Viewer:
         except RuntimeError:  # "~nosuchuser/..."
             return self._failed(LoadError(path, "no such user's home folder"))
         if self.background is not None:
-            job = self.background.start(path, as_camera)
-            self.scene.message = f"loading {job.path.name}; the window stays usable meanwhile"
+            job = self.background.start(path, as_camera, at_start=self._starting)
+            if not self._starting:
+                self.tell(f"loading {job.path.name}; the window stays usable meanwhile")
             return True
         try:
             obj = load_model_object(path)
@@ -212,28 +250,31 @@ class Viewer:
         for job in self.background.take_finished():
             error = job.future.exception()
             if error is None:
-                self._add(job.future.result(), job.path, job.as_camera)
+                self._add(job.future.result(), job.path, job.as_camera, job.at_start)
             elif isinstance(error, LoadError):
-                self._failed(error)
+                self._failed(error, job.at_start)
             else:  # a bug, not a bad file: say so instead of dying in the render loop
-                self._failed(LoadError(job.path, f"could not be loaded ({type(error).__name__}: {error})"))
+                self._failed(LoadError(job.path, f"could not be loaded ({type(error).__name__}: {error})"),
+                             job.at_start)
 
     def loading_lines(self) -> list[str]:
         return [job.label for job in self.background.uncollected()] if self.background else []
 
-    def _failed(self, error: LoadError) -> bool:
-        self.scene.message = str(error)
+    def _failed(self, error: LoadError, at_start: bool | None = None) -> bool:
         if self.strict:
+            self.scene.message = str(error)
             raise error
+        self.tell(str(error), at_start)
         return False
 
-    def _add(self, obj: SceneObject, path: Path, as_camera: bool) -> None:
+    def _add(self, obj: SceneObject, path: Path, as_camera: bool, at_start: bool | None = None) -> None:
         commands.add_loaded(self.scene, obj, as_camera=as_camera)
         kind = "camera" if as_camera else "object"
-        self.scene.message = f"loaded {Path(path).name} as a new {kind}: " \
-                             f"{obj.mesh.vertex_count} vertices, {obj.mesh.face_count} faces"
+        message = (f"loaded {Path(path).name} as a new {kind}: "
+                   f"{obj.mesh.vertex_count} vertices, {obj.mesh.face_count} faces")
         if obj.mesh.warnings:
-            self.scene.message += " (" + "; ".join(obj.mesh.warnings) + ")"
+            message += " (" + "; ".join(obj.mesh.warnings) + ")"
+        self.tell(message, at_start, worth_a_notice=bool(obj.mesh.warnings))
 
     def quit(self) -> None:
         self.frontend.quit()

@@ -17,8 +17,7 @@ from PIL import Image
 
 from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import StartOptions, Viewer, starting_scene
-from marraztu.errors import ViewerError
-from marraztu.loaders.images import load_image
+from marraztu.errors import ViewerError, escaped
 from marraztu.render.context import create_offscreen_context, offscreen_framebuffer, read_pixels
 from marraztu.render.renderer import Renderer
 
@@ -38,6 +37,9 @@ class OffscreenFrontend:
     def save_screenshot(self) -> None:
         pass
 
+    def notice(self, text: str) -> None:
+        print(escaped(text), file=sys.stderr)
+
 
 def take_screenshot(options: StartOptions, out: Path, size: tuple[int, int], keys: str = "",
                     overlay: bool = False) -> Path:
@@ -48,35 +50,24 @@ def take_screenshot(options: StartOptions, out: Path, size: tuple[int, int], key
     check_output(out, [scene.texture_path])
     ctx = create_offscreen_context()
     try:
+        renderer = Renderer(ctx)
         viewer = Viewer(scene, OffscreenFrontend(), strict=True)
-        _use_texture(viewer, options.texture)
-        for model in options.models:
-            viewer.load_model(model)
+        viewer.start(options, renderer.max_texture_side)
         for press in presses:
             if viewer.frontend.quitting:
                 break
             viewer.press(press)
         with offscreen_framebuffer(ctx, size) as fbo:
-            render(ctx, viewer, fbo, size, overlay)
+            render(ctx, renderer, viewer, fbo, size, overlay)
             write_picture(read_pixels(fbo, size), out)
     finally:
         ctx.release()
     return out
 
 
-def _use_texture(viewer: Viewer, named: Path | None) -> None:
-    if named is not None:  # asked for by name: a bad one ends the command, no fallback
-        viewer.scene.texture = load_image(named)
-        return
-    texture_path = viewer.scene.texture_path
-    message = viewer.use_texture(Path(texture_path) if texture_path else None)
-    if message:
-        print(message, file=sys.stderr)
-
-
-def render(ctx: moderngl.Context, viewer: Viewer, fbo: moderngl.Framebuffer, size: tuple[int, int],
-           overlay: bool) -> None:
-    Renderer(ctx).render(viewer.scene, fbo, size)
+def render(ctx: moderngl.Context, renderer: Renderer, viewer: Viewer, fbo: moderngl.Framebuffer,
+           size: tuple[int, int], overlay: bool) -> None:
+    renderer.render(viewer.scene, fbo, size)
     if overlay:
         # The overlay's text imports moderngl-window, which is slow to import: only when asked for.
         from marraztu.render.overlay import Overlay

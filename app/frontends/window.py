@@ -3,8 +3,11 @@ no drawing logic: the renderer draws the scene, the overlay draws the text."""
 
 from __future__ import annotations
 
+import functools
 import logging
 import os
+import sys
+from collections.abc import Callable
 from datetime import datetime
 from pathlib import Path
 from time import perf_counter, sleep
@@ -16,7 +19,7 @@ from moderngl_window.timers.clock import Timer
 from marraztu.control import commands
 from marraztu.control.keymap import KeyPress
 from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer, starting_scene
-from marraztu.errors import ViewerError
+from marraztu.errors import ViewerError, escaped
 from marraztu.frontends.screenshot import write_picture
 from marraztu.render.context import offscreen_framebuffer, read_pixels
 from marraztu.render.gpu import prepare_surface
@@ -30,6 +33,22 @@ SCREENSHOT_DIR = Path("screenshots")
 # answered within a frame, and the cores llvmpipe would spend redrawing an unchanged picture as fast
 # as it can (nothing paces it under Xvfb, nor where vsync is off) go to the loader instead.
 LOADING_FRAMES_PER_SECOND = 30
+
+
+def guarded(handler: Callable[..., None]) -> Callable[..., None]:
+    """A window event must never end the session: a failure becomes one line on screen and on stderr,
+    and the window goes on."""
+
+    @functools.wraps(handler)
+    def run(window: ViewerWindow, *args: Any) -> None:
+        try:
+            handler(window, *args)
+        except Exception as error:  # what no check foresaw: said, not fatal
+            line = escaped(f"{handler.__name__.removeprefix('on_')} failed: {type(error).__name__}: {error}")
+            window.scene.message = line
+            print(line, file=sys.stderr)
+
+    return run
 
 
 class ViewerWindow:
@@ -47,11 +66,9 @@ class ViewerWindow:
         self.wnd.set_default_viewport()
         self.ctx = self.wnd.ctx
         self.wnd.exit_key = None  # ESC belongs to the key map: it also cancels the file prompt
-        self.viewer = Viewer(starting_scene(options), self, background=BackgroundLoader(prepare_surface))
-        self.viewer.use_texture(options.texture or _as_path(self.viewer.scene.texture_path))
-        for model in options.models:
-            self.viewer.load_model(model)
         self.renderer = Renderer(self.ctx)
+        self.viewer = Viewer(starting_scene(options), self, background=BackgroundLoader(prepare_surface))
+        self.viewer.start(options, self.renderer.max_texture_side)
         self.overlay = Overlay(self.ctx)
         self.named_keys = self._named_keys()
         self.last_frame_start = perf_counter()
@@ -105,6 +122,7 @@ class ViewerWindow:
         self.wnd.destroy()
 
     # --- drawing -------------------------------------------------------------------------------
+    @guarded
     def on_render(self, time: float, frame_time: float) -> None:
         self._pace_while_loading()
         self.viewer.collect_loads()
@@ -121,11 +139,13 @@ class ViewerWindow:
         self.last_frame_start = perf_counter()
 
     # --- keys ----------------------------------------------------------------------------------
+    @guarded
     def on_unicode_char_entered(self, char: str) -> None:
         """Letters come from text input so that `F` is shift+f on any keyboard layout (SPEC 6)."""
         if char.isprintable():
             self.viewer.type_text(char)
 
+    @guarded
     def on_key_event(self, key: Any, action: Any, modifiers: Any) -> None:
         if action != self.wnd.keys.ACTION_PRESS:
             return
@@ -134,12 +154,15 @@ class ViewerWindow:
             self.viewer.press(KeyPress(name))
 
     # --- mouse and files ----------------------------------------------------------------------
+    @guarded
     def on_mouse_drag_event(self, x: int, y: int, dx: int, dy: int) -> None:
         commands.drag(self.scene, dx, dy)
 
+    @guarded
     def on_mouse_scroll_event(self, x_offset: float, y_offset: float) -> None:
         commands.wheel(self.scene, y_offset)
 
+    @guarded
     def on_files_dropped_event(self, x: int, y: int, paths: list[str | Path]) -> None:
         for path in paths:
             self.viewer.load_model(path)
@@ -147,6 +170,9 @@ class ViewerWindow:
     # --- Frontend ------------------------------------------------------------------------------
     def quit(self) -> None:
         self.wnd.close()
+
+    def notice(self, text: str) -> None:
+        print(escaped(text), file=sys.stderr)
 
     def save_screenshot(self) -> None:
         """F12: the scene as the screenshot command draws it (no overlay), at the window's size."""
@@ -161,10 +187,6 @@ class ViewerWindow:
             self.scene.message = f"screenshot not saved: {error}"
         finally:
             self.wnd.fbo.use()
-
-
-def _as_path(value: str | None) -> Path | None:
-    return Path(value) if value else None
 
 
 def run_window(options: StartOptions, size: tuple[int, int]) -> int:

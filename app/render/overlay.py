@@ -49,8 +49,15 @@ class Overlay:
         above the bottom lines the bottom panel."""
         width, height = size
         columns = max(10, int((width - 2 * MARGIN_PX) / self.char_width_px))
-        top_lines = [piece for line in top_lines for piece in wrap(line, columns)]
-        bottom_lines = [piece for line in bottom_lines for piece in wrap(line, columns)]
+        # Messages at the bottom keep up to half the height; status and help get what is left, and
+        # whatever does not fit says how much is left out rather than running off the window.
+        wrapped_bottom = [piece for line in bottom_lines for piece in wrap(line, columns)]
+        # The last lines are kept: the file prompt and the latest message.
+        bottom_lines = fit_lines(wrapped_bottom[::-1], height / 2 - 2 * MARGIN_PX, LINE_HEIGHT_PX,
+                                 "a taller window shows them")[::-1]
+        bottom_height = 2 * MARGIN_PX + LINE_HEIGHT_PX * len(bottom_lines) if bottom_lines else 0.0
+        top_lines = fit_lines([piece for line in top_lines for piece in wrap(line, columns)],
+                              height - bottom_height - 2 * MARGIN_PX, LINE_HEIGHT_PX, "a taller window shows them")
         self.ctx.disable(moderngl.DEPTH_TEST)
         self.ctx.enable(moderngl.BLEND)
         self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA

@@ -8,6 +8,7 @@ from collections.abc import Mapping
 from marraztu.control.commands import term_view_name
 from marraztu.control.keymap import Command
 from marraztu.control.viewer import Viewer
+from marraztu.errors import escaped
 from marraztu.model.scene import Projection, Scene, Target
 
 SEPARATOR = " | "
@@ -83,8 +84,8 @@ def overlay_lines(viewer: Viewer) -> tuple[list[str], list[str]]:
     top = [status_line(scene)]
     if scene.modes.show_help:
         top += help_lines(scene, viewer.keys)
-    bottom = [scene.message] if scene.message else []
+    bottom = scene.message.splitlines()
     bottom += viewer.loading_lines()
     if viewer.prompt is not None:
         bottom.append(f"OBJ file to load (Enter loads, ESC cancels): {viewer.prompt}_")
-    return top, bottom
+    return [escaped(line) for line in top], [escaped(line) for line in bottom]

@@ -1,0 +1,92 @@
+"""What the GPU cannot hold is said in one line, never drawn wrong in silence: a texture wider than
+GL_MAX_TEXTURE_SIZE is scaled down with a note, a framebuffer beyond the context's limits is refused,
+and a GL error after an upload is an error, not a black picture."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import moderngl
+import numpy as np
+import pytest
+from PIL import Image
+from support import corpus
+
+from marraztu.errors import ViewerError
+from marraztu.render import context as gl_context
+from marraztu.render.renderer import Renderer
+
+COLOUR = (200, 120, 60)
+
+
+def run_app(*args: str, cwd: Path) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "marraztu", *args], cwd=cwd, capture_output=True, text=True,
+                          timeout=180)
+
+
+def test_a_texture_past_the_gpu_limit_is_scaled_down_with_a_note(tmp_path: Path, gl_ctx) -> None:
+    limit = int(gl_ctx.info["GL_MAX_TEXTURE_SIZE"])
+    Image.new("RGB", (limit + 1, 1), COLOUR).save(tmp_path / "wide.png")
+    Image.new("RGB", (4, 1), COLOUR).save(tmp_path / "small.png")
+    wide = run_app("screenshot", "-o", "wide_shot.png", "--size", "96x96", "--texture", "wide.png", cwd=tmp_path)
+    assert wide.returncode == 0, wide.stderr
+    assert f"scaled to {limit}x1" in wide.stderr and len(wide.stderr.strip().splitlines()) == 1
+    small = run_app("screenshot", "-o", "small_shot.png", "--size", "96x96", "--texture", "small.png", cwd=tmp_path)
+    assert small.returncode == 0, small.stderr
+    # A uniform picture stays uniform when scaled: the objects look exactly as with a small texture.
+    shot = np.asarray(Image.open(tmp_path / "wide_shot.png"))
+    assert np.array_equal(shot, np.asarray(Image.open(tmp_path / "small_shot.png")))
+    assert (np.abs(shot.astype(int) - [0, 0, 178]).sum(axis=2) > 30).mean() > 0.02, "nothing drawn"
+
+
+def test_the_renderer_refuses_a_texture_it_cannot_hold(own_ctx) -> None:
+    from support.scenes import PLAIN, quad_mesh, scene_with
+
+    from marraztu.model.scene import SceneObject
+
+    limit = int(own_ctx.info["GL_MAX_TEXTURE_SIZE"])
+    scene = scene_with([SceneObject.placed("quad", quad_mesh(), PLAIN, (0, 0, 0))], texture=True)
+    scene.texture = np.zeros((1, limit + 1, 3), np.uint8)
+    corpus.make_current(own_ctx)
+    renderer = Renderer(own_ctx)
+    try:
+        with gl_context.offscreen_framebuffer(own_ctx, (8, 8)) as fbo:
+            with pytest.raises(ViewerError, match=f"larger than this OpenGL takes \\({limit}"):
+                renderer.render(scene, fbo, (8, 8))
+    finally:
+        renderer.release()
+
+
+def test_a_framebuffer_past_the_context_limit_is_refused_in_one_line(tmp_path: Path, own_ctx, monkeypatch) -> None:
+    monkeypatch.setattr(gl_context, "max_framebuffer_side", lambda ctx: 64)
+    corpus.make_current(own_ctx)
+    with pytest.raises(ViewerError, match="65x10 is larger than this OpenGL can draw \\(64x64"):
+        with gl_context.offscreen_framebuffer(own_ctx, (65, 10)):
+            pass
+
+
+def test_reading_a_picture_without_the_memory_for_it_is_one_line(own_ctx, monkeypatch) -> None:
+    corpus.make_current(own_ctx)
+    with gl_context.offscreen_framebuffer(own_ctx, (8, 8)) as fbo:
+        def no_memory(*args, **kwargs):
+            raise MemoryError
+
+        monkeypatch.setattr(moderngl.Framebuffer, "read", no_memory)
+        with pytest.raises(ViewerError, match="not enough memory to read a 8x8 picture"):
+            gl_context.read_pixels(fbo, (8, 8))
+
+
+def test_a_gl_error_is_reported_and_cleared(own_ctx) -> None:
+    from marraztu.render.mipmaps import _gl
+
+    gl = _gl()
+    if gl is None:
+        pytest.skip("no glvnd libOpenGL to make a GL error with")
+    corpus.make_current(own_ctx)
+    gl_context.check_gl(own_ctx, "nothing")  # no error: passes
+    gl.glEnable(0xFFFF)  # not a capability: GL_INVALID_ENUM
+    with pytest.raises(ViewerError, match="the GPU refused a test upload \\(GL_INVALID_ENUM\\)"):
+        gl_context.check_gl(own_ctx, "a test upload")
+    gl_context.check_gl(own_ctx, "nothing")  # reading the error cleared it

@@ -1,0 +1,99 @@
+"""The viewer, without GL: the `f` prompt driven by keys, start-up messages that add up instead of
+hiding each other, and the strict screenshot's refusals."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from support import corpus
+
+from marraztu.control.keymap import KeyPress, parse_key_sequence
+from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer
+from marraztu.errors import ViewerError
+from marraztu.loaders.images import fallback_texture
+from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
+
+GOOD = corpus.TRIANGLE + b"f 1 2 3\n"
+
+
+class Notices:
+    def __init__(self) -> None:
+        self.told: list[str] = []
+
+    def quit(self) -> None: ...
+    def save_screenshot(self) -> None: ...
+
+    def notice(self, text: str) -> None:
+        self.told.append(text)
+
+
+def press(viewer: Viewer, keys: str) -> None:
+    for key in parse_key_sequence(keys):
+        viewer.press(key)
+
+
+def test_keys_type_into_the_file_prompt_and_enter_loads(tmp_path: Path, monkeypatch) -> None:
+    (tmp_path / "a b.obj").write_bytes(GOOD)
+    monkeypatch.chdir(tmp_path)
+    viewer = Viewer(empty_scene(), Notices())
+    press(viewer, "f a SPACE b . o b j x BACKSPACE")
+    assert viewer.prompt == "a b.obj"
+    press(viewer, "ENTER")
+    assert viewer.prompt is None and [obj.name for obj in viewer.scene.objects] == ["a b"]
+    press(viewer, "f q ESC")
+    assert viewer.prompt is None and viewer.scene.message == "loading cancelled"
+
+
+def test_a_home_folder_of_no_one_is_a_message_not_a_crash() -> None:
+    viewer = Viewer(empty_scene(), Notices())
+    press(viewer, "f ~ n o s u c h u s e r / m . o b j ENTER")
+    assert "no such user" in viewer.scene.message and viewer.scene.objects == []
+
+
+def test_every_start_up_failure_is_told_and_none_hides_another(tmp_path: Path) -> None:
+    (tmp_path / "broken.obj").write_bytes(corpus.TRIANGLE + b"f 1 2 9\n")
+    (tmp_path / "good.obj").write_bytes(GOOD)
+    (tmp_path / "bad.ppm").write_bytes(b"P6\n4 4\n255\n\x00")
+    front = Notices()
+    viewer = Viewer(load_builtin_scene(), front)
+    viewer.start(StartOptions(texture=tmp_path / "bad.ppm",
+                              models=(tmp_path / "broken.obj", tmp_path / "good.obj")), longest_texture_side=4096)
+    lines = viewer.scene.message.splitlines()
+    assert len(lines) == 3 and front.told == lines[:2], "a plain success is shown, not noticed"
+    assert "bad.ppm" in lines[0] and "checker" in lines[0]
+    assert "broken.obj:4" in lines[1] and "loaded good.obj" in lines[2]
+    assert (viewer.scene.texture == fallback_texture()).all()
+    press(viewer, "l")
+    assert viewer.scene.message == "", "the first key press starts afresh"
+
+
+def test_start_up_loads_on_the_worker_are_told_when_they_land(tmp_path: Path) -> None:
+    (tmp_path / "broken.obj").write_bytes(corpus.TRIANGLE + b"f 1 2 9\n")
+    (tmp_path / "good.obj").write_bytes(GOOD)
+    front = Notices()
+    loader = BackgroundLoader()
+    viewer = Viewer(empty_scene(), front, background=loader)
+    try:
+        viewer.start(StartOptions(models=(tmp_path / "broken.obj", tmp_path / "good.obj")), longest_texture_side=4096)
+        assert front.told == [], "nothing is told before the loads land"
+        for job in loader.uncollected():
+            job.future.exception(timeout=60)  # waits for it, failed or not
+        viewer.collect_loads()
+    finally:
+        loader.shutdown()
+    assert len(front.told) == 1 and "broken.obj:4" in front.told[0]
+    assert viewer.scene.message.splitlines()[0] == front.told[0]
+    assert "loaded good.obj" in viewer.scene.message.splitlines()[1]
+
+
+def test_the_strict_viewer_refuses_a_load_while_lights_are_targeted(tmp_path: Path) -> None:
+    (tmp_path / "good.obj").write_bytes(GOOD)
+    viewer = Viewer(empty_scene(), Notices(), strict=True)
+    press(viewer, "c c")
+    with pytest.raises(ViewerError, match="lights are targeted"):
+        viewer.press(KeyPress("f", str(tmp_path / "good.obj")))
+    forgiving = Viewer(empty_scene(), Notices())
+    press(forgiving, "c c")
+    forgiving.press(KeyPress("f", str(tmp_path / "good.obj")))
+    assert "lights are targeted" in forgiving.scene.message
