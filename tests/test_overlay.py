@@ -1,9 +1,14 @@
-"""Overlay text layout: every line fits the window, nothing is lost, and wrapping always ends."""
+"""Overlay text: every line fits the window, nothing is lost, wrapping always ends, and the font is
+legible at 100 %: thin strokes kept, look-alike glyphs told apart."""
 
 from __future__ import annotations
 
+import moderngl
+import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from support import corpus
 
 from marraztu.render.overlay import fit_lines, wrap
 
@@ -31,3 +36,54 @@ def test_fit_lines_keeps_what_fits_and_says_how_many_more() -> None:
     assert len(cut) == 6 and cut[:5] == lines[:5]
     assert cut[-1] == "... 5 more lines: m hides the matrices panel"
     assert fit_lines(lines, room_px=0.0, line_height=15.0) == ["... 10 more lines"]
+
+
+# --- legible at 100 % ----------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def overlay(own_ctx):
+    from marraztu.render.overlay import Overlay
+
+    corpus.make_current(own_ctx)
+    made = Overlay(own_ctx)
+    yield made
+    corpus.make_current(own_ctx)
+    made.release()
+
+
+def drawn_text(ctx, overlay, text: str) -> np.ndarray:
+    """`text` drawn by the overlay, white on black, as the coverage of each pixel (0..1), rows top first."""
+    from marraztu.render.context import offscreen_framebuffer, read_pixels
+    from marraztu.render.overlay import CELL_PX
+
+    corpus.make_current(ctx)
+    size = (CELL_PX[0] * (len(text) + 2), 2 * CELL_PX[1])
+    with offscreen_framebuffer(ctx, size) as fbo:
+        fbo.use()
+        fbo.clear(0.0, 0.0, 0.0, 1.0)
+        ctx.enable(moderngl.BLEND)
+        ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
+        overlay.text["u_viewport"].value = size
+        overlay._line(text, CELL_PX[0] * 1.5, size[1] / 2)
+        ctx.disable(moderngl.BLEND)
+        return read_pixels(fbo, size)[..., 0] / 255.0
+
+
+@pytest.mark.parametrize("glyph", list("m n i T 1 + | l . , : ; ' \" - _ ( ) [ ] / \\ ! ?".split()) + ["i"])
+def test_thin_glyphs_keep_a_solid_stroke(own_ctx, overlay, glyph: str) -> None:
+    """Each glyph has pixels at least 60 % covered: a stroke, not a grey smudge that vanishes."""
+    cover = drawn_text(own_ctx, overlay, glyph)
+    assert cover.max() >= 0.6, f"{glyph!r}: strongest pixel {cover.max():.2f}"
+
+
+def test_look_alike_glyphs_differ(own_ctx, overlay) -> None:
+    pairs = [("m", "n"), ("i", "l"), ("l", "1"), ("1", "7"), ("O", "0"), ("+", "t"), ("|", "l"), (".", ",")]
+    for first, second in pairs:
+        a, b = drawn_text(own_ctx, overlay, first), drawn_text(own_ctx, overlay, second)
+        assert np.abs(a - b).max() > 0.5, f"{first!r} and {second!r} look alike"
+
+
+def test_the_dot_of_an_i_is_drawn_apart_from_its_stem(own_ctx, overlay) -> None:
+    cover = drawn_text(own_ctx, overlay, "i")
+    rows = cover.max(axis=1) > 0.3  # which rows hold ink, top first
+    inked = np.flatnonzero(rows)
+    assert inked.size and (~rows[inked[0]:inked[-1] + 1]).any(), "no gap between the dot and the stem"

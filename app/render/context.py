@@ -52,6 +52,7 @@ def offscreen_framebuffer(ctx: moderngl.Context, size: tuple[int, int]) -> Itera
         raise ViewerError(f"a picture of {size[0]}x{size[1]} is larger than this OpenGL can draw "
                           f"({largest}x{largest} at most)")
     ctx.error  # noqa: B018 - reading it clears an older error, so the check below is about this one
+    bound = ctx.fbo  # bound again before the release: moderngl would later bind the deleted name
     try:
         fbo = ctx.simple_framebuffer(size, components=4)
     except (moderngl.Error, MemoryError) as error:
@@ -60,6 +61,7 @@ def offscreen_framebuffer(ctx: moderngl.Context, size: tuple[int, int]) -> Itera
         check_gl(ctx, f"a {size[0]}x{size[1]} picture")
         yield fbo
     finally:
+        (bound if bound is not None else ctx.detect_framebuffer(0)).use()
         attachments = [*fbo.color_attachments, fbo.depth_attachment]
         fbo.release()
         for attachment in attachments:

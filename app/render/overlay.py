@@ -1,25 +1,35 @@
-"""On-screen text (status line, messages, help, the file prompt, the panels of marraztu.text.panels) with
-moderngl-window's TextWriter2D.
+"""On-screen text: the status line, messages, help, the file prompt and the panels of
+marraztu.text.panels, on translucent backdrops.
 
-The text writer finds its font and program through moderngl-window's resource system, which needs
-an "active" context; a bare EGL context is registered with `activate_context` for that.
+The font is moderngl-window's Vera Mono atlas, scaled once to the pixel size it is drawn at and drawn
+pixel for pixel: scaled while drawing, as moderngl-window's text writer does, its thin strokes
+(the dot of an i, the stems of m, T and 1) fade into the background.
 """
 
 from __future__ import annotations
 
+import json
 import textwrap
+from functools import cache
+from importlib.resources import files
 
 import moderngl
-import moderngl_window
 import numpy as np
-from moderngl_window.text.bitmapped import TextWriter2D
+from PIL import Image
 
+from marraztu.render.context import check_gl
 from marraztu.render.gpu import load_program
 from marraztu.render.layout import Extras, Label
 
 LINE_HEIGHT_PX = 16.0
 MARGIN_PX = 6.0
-TEXT_SIZE_PX = LINE_HEIGHT_PX * 0.9
+# A character's cell, width and height in pixels: Vera Mono's proportions at 14 pixels, and at 13 for
+# the panels, whose lines of about 110 characters must fit an 800 pixel window.
+CELL_PX = (7, 14)
+PANEL_CELL_PX = (6, 13)
+ATLAS_COLUMNS = 16
+FONT_FOLDER = "text/bitmapped/bitmapped"  # inside the moderngl_window package
+TEXT_RGBA = (1.0, 1.0, 1.0, 1.0)
 # The probe and matrices panels: a little smaller, so that a probe of three vertices and four
 # lights still leaves room for the picture in an 800 pixel window.
 PANEL_LINE_HEIGHT_PX = 15.0
@@ -28,19 +38,61 @@ BACKDROP_RGBA = (0.0, 0.0, 0.0, 0.6)
 NO_BREAK = "\u00a0"
 
 
+@cache
+def glyph_atlas(cell: tuple[int, int]) -> tuple[np.ndarray, dict[int, int]]:
+    """The font's characters at `cell` pixels, ATLAS_COLUMNS to a row of cells, as coverage (rows top
+    first), and each character's cell by code point."""
+    folder = files("moderngl_window").joinpath(FONT_FOLDER)
+    meta = json.loads(folder.joinpath("text/meta.json").read_text())
+    width, height = cell
+    with Image.open(folder.joinpath("textures/VeraMono.png")) as image:  # characters stacked top down
+        coverage = image.getchannel("A").resize((width, height * meta["characters"]), Image.Resampling.LANCZOS)
+    cells = np.asarray(coverage).reshape(meta["characters"], height, width)
+    rows = -(-len(cells) // ATLAS_COLUMNS)
+    grid = np.zeros((rows * ATLAS_COLUMNS, height, width), np.uint8)
+    grid[:len(cells)] = cells
+    atlas = grid.reshape(rows, ATLAS_COLUMNS, height, width).transpose(0, 2, 1, 3)
+    code_points = [code for span in meta["character_ranges"] for code in range(span["min"], span["max"] + 1)]
+    return atlas.reshape(rows * height, ATLAS_COLUMNS * width), {code: index for index, code
+                                                                 in enumerate(code_points)}
+
+
+class Font:
+    """One size of the font: its atlas on the GPU and where each character is in it."""
+
+    def __init__(self, ctx: moderngl.Context, cell: tuple[int, int]) -> None:
+        atlas, self.cell_of = glyph_atlas(cell)
+        self.cell = cell
+        self.unknown = self.cell_of[ord("?")]
+        self.atlas_cells = (ATLAS_COLUMNS, atlas.shape[0] // cell[1])
+        self.texture = ctx.texture((atlas.shape[1], atlas.shape[0]), 1, np.ascontiguousarray(np.flipud(atlas)),
+                                   alignment=1)
+        self.texture.filter = (moderngl.NEAREST, moderngl.NEAREST)  # one texel to one pixel
+
+    def cells(self, text: str) -> list[int]:
+        return [self.cell_of.get(ord(char), self.unknown) for char in text]
+
+
 class Overlay:
     def __init__(self, ctx: moderngl.Context) -> None:
-        try:
-            moderngl_window.ctx()
-        except ValueError:
-            moderngl_window.activate_context(ctx=ctx)
         self.ctx = ctx
-        self.writer = TextWriter2D()
-        self.char_width_px = self.writer._meta.char_aspect_wh * TEXT_SIZE_PX  # no public getter
+        self.fonts = {LINE_HEIGHT_PX: Font(ctx, CELL_PX), PANEL_LINE_HEIGHT_PX: Font(ctx, PANEL_CELL_PX)}
+        self.char_width_px = float(CELL_PX[0])
+        self.text = load_program(ctx, "text")
+        self.text["u_atlas"].value = 1
+        self.text["u_colour"].value = TEXT_RGBA
+        self.glyphs = ctx.buffer(reserve=1024 * 12)
+        self.glyph_vao = ctx.vertex_array(self.text, [(self.glyphs, "2f 1f/i", "in_origin", "in_glyph")])
+        check_gl(ctx, "the overlay's font")
         self.backdrop = load_program(ctx, "backdrop")
         self.backdrop["u_colour"].value = BACKDROP_RGBA
         self.backdrop_corners = ctx.buffer(reserve=2 * 4 * 4)
         self.backdrop_vao = ctx.vertex_array(self.backdrop, [(self.backdrop_corners, "2f", "in_position")])
+
+    def release(self) -> None:
+        for resource in (self.glyph_vao, self.glyphs, self.text, self.backdrop_vao, self.backdrop_corners,
+                         self.backdrop, *(font.texture for font in self.fonts.values())):
+            resource.release()
 
     def draw(self, top_lines: list[str], bottom_lines: list[str], size: tuple[int, int],
              extras: Extras | None = None) -> None:
@@ -62,6 +114,7 @@ class Overlay:
         self.ctx.enable(moderngl.BLEND)
         self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
         self.backdrop["u_viewport"].value = (width, height)
+        self.text["u_viewport"].value = (width, height)
         for label in extras.labels if extras is not None else []:  # part of the picture: text covers it
             self._label(label)
         if top_lines:
@@ -118,7 +171,7 @@ class Overlay:
                    PANEL_LINE_HEIGHT_PX)
 
     def _text_width(self, text: str, line_height: float = PANEL_LINE_HEIGHT_PX) -> float:
-        return self.char_width_px * line_height / LINE_HEIGHT_PX * len(text)
+        return self.fonts[line_height].cell[0] * len(text)
 
     def _backdrop(self, lines: list[str], bottom: float, top: float) -> None:
         right = 2 * MARGIN_PX + self.char_width_px * max(len(line) for line in lines)
@@ -130,12 +183,24 @@ class Overlay:
         self.backdrop_vao.render(moderngl.TRIANGLE_STRIP)
 
     def _line(self, text: str, x: float, y: float, line_height: float = LINE_HEIGHT_PX) -> None:
-        """(x, y) is the centre of the first character: that is how the writer places text."""
+        """(x, y) is the centre of the first character; characters land on whole pixels."""
         if not text:
             return
-        self.writer.text = text
-        size = TEXT_SIZE_PX * line_height / LINE_HEIGHT_PX
-        self.writer.draw((x, y), size=size)
+        font = self.fonts[line_height]
+        width, height = font.cell
+        left, bottom = round(x - width / 2.0), round(y - height / 2.0)
+        glyphs = np.empty((len(text), 3), "f4")
+        glyphs[:, 0] = left + width * np.arange(len(text))
+        glyphs[:, 1] = bottom
+        glyphs[:, 2] = font.cells(text)
+        data = glyphs.tobytes()
+        if len(data) > self.glyphs.size:
+            self.glyphs.orphan(len(data))
+        self.glyphs.write(data)
+        self.text["u_cell"].value = font.cell
+        self.text["u_atlas_cells"].value = font.atlas_cells
+        font.texture.use(location=1)
+        self.glyph_vao.render(moderngl.TRIANGLE_STRIP, vertices=4, instances=len(text))
 
 
 def fit_lines(lines: list[str], room_px: float, line_height: float, hint: str = "") -> list[str]:
