@@ -16,6 +16,9 @@ def escaped(text: str) -> str:
 class ViewerError(Exception):
     """Anything the person must be told about in one line; never a programming error."""
 
+    def __str__(self) -> str:
+        return escaped(super().__str__())
+
 
 class LoadError(ViewerError):
     """A file could not be read: missing, unreadable, malformed, or describing impossible data."""

@@ -12,11 +12,11 @@ import moderngl
 import numpy as np
 import pytest
 from PIL import Image
-from support import corpus
 
 from marraztu.errors import ViewerError
 from marraztu.render import context as gl_context
 from marraztu.render.renderer import Renderer
+from support import corpus
 
 COLOUR = (200, 120, 60)
 
@@ -42,9 +42,8 @@ def test_a_texture_past_the_gpu_limit_is_scaled_down_with_a_note(tmp_path: Path,
 
 
 def test_the_renderer_refuses_a_texture_it_cannot_hold(own_ctx) -> None:
-    from support.scenes import PLAIN, quad_mesh, scene_with
-
     from marraztu.model.scene import SceneObject
+    from support.scenes import PLAIN, quad_mesh, scene_with
 
     limit = int(own_ctx.info["GL_MAX_TEXTURE_SIZE"])
     scene = scene_with([SceneObject.placed("quad", quad_mesh(), PLAIN, (0, 0, 0))], texture=True)

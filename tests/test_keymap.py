@@ -139,3 +139,10 @@ def test_a_press_clears_the_previous_message() -> None:
     scene.message = "old news"
     dispatch(scene, KeyPress("l"), RecordingHost())
     assert scene.message == ""
+
+
+@pytest.mark.parametrize("count", ["9" * 5000, "0" * 5000 + "1", "1" + "0" * 30])
+def test_a_repeat_count_of_any_length_is_one_error(count: str) -> None:
+    with pytest.raises(KeyMapError, match="repeat count") as caught:
+        parse_key_sequence(f"x*{count}")
+    assert len(str(caught.value)) < 200

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 from PIL import Image
+
 from support import corpus
 
 MODEL = corpus.TRIANGLE + b"f 1 2 3\n"
@@ -31,8 +32,7 @@ def assert_refused(result: subprocess.CompletedProcess, *fragments: str) -> None
 
 
 def png_bytes() -> bytes:
-    path_bytes = corpus.png_bytes(4, 4)
-    return path_bytes
+    return corpus.png_bytes(4, 4)
 
 
 @pytest.fixture

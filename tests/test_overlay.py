@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from support import corpus
 
 from marraztu.render.overlay import fit_lines, wrap
+from support import corpus
 
 
 def test_status_line_breaks_only_between_fields() -> None:

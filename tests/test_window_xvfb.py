@@ -130,3 +130,30 @@ def test_a_window_destroyed_without_a_window_manager_ends_the_process(display: s
             window.kill()
         _, errors = window.communicate(timeout=10)
     assert "Traceback" not in errors, errors
+
+
+def test_the_windows_own_actions_never_end_it(display: str, tmp_path: Path) -> None:
+    """F12 where `screenshots` is a file, and the `f` prompt with a home folder of no one: each a
+    message on screen; the window answers ESC afterwards and quits cleanly."""
+    (tmp_path / "screenshots").write_text("a file where the folder would go")
+    env = {**os.environ, "DISPLAY": display}
+    window = subprocess.Popen([sys.executable, "-m", "marraztu", "--size", "160x160"], cwd=tmp_path, env=env,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        window_id = wait_for(lambda: xdotool(display, "search", "--name", "^marraztu$").split(), 60,
+                             "the window")[0]
+        time.sleep(1.0)
+        xdotool(display, "windowfocus", "--sync", window_id)
+        xdotool(display, "key", "F12")
+        xdotool(display, "type", "--delay", "40", "f~nosuchuser/model.obj")
+        xdotool(display, "key", "Return")
+        time.sleep(0.5)
+        assert window.poll() is None, "the window died"
+        xdotool(display, "key", "Escape")
+        assert window.wait(timeout=30) == 0
+    finally:
+        if window.poll() is None:
+            window.kill()
+        _, errors = window.communicate(timeout=10)
+    assert "Traceback" not in errors and "failed:" not in errors, errors
+    assert (tmp_path / "screenshots").is_file()

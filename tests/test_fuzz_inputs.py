@@ -1,0 +1,123 @@
+"""Property tests for what crosses into the program beside models: pictures of every format Pillow
+writes, mutated and renamed (only PPM, PNG and JPEG load, by content, and nothing escapes but a
+LoadError); screenshot output paths of every shape (written whole, or refused with one ViewerError);
+and polygons of every size (the same normal whichever path computes it).
+
+Derandomized: the same examples every run.
+"""
+
+from __future__ import annotations
+
+import io
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from PIL import Image
+
+from marraztu.errors import LoadError, ViewerError
+from marraztu.frontends.screenshot import write_picture
+from marraztu.loaders.images import image_format, load_image
+from marraztu.model.build import build_mesh
+
+FUZZ = settings(derandomize=True, database=None, deadline=None, max_examples=150,
+                suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+PILLOW_FORMATS = ["PNG", "JPEG", "PPM", "GIF", "BMP", "TIFF", "WEBP", "ICO", "TGA", "PCX", "EPS", "SGI"]
+READ = {"PNG", "JPEG", "PPM"}
+NAMES = ["t.png", "t.jpg", "t.jpeg", "t.ppm", "t.pnm", "t.gif", "t", "t.PNG", "t.eps"]
+
+
+def picture_bytes(kind: str, size: tuple[int, int]) -> bytes:
+    out = io.BytesIO()
+    image = Image.new("RGB", size, (120, 30, 200))
+    try:
+        image.save(out, format=kind)
+    except (OSError, KeyError, ValueError):  # this Pillow cannot write that format
+        return b""
+    return out.getvalue()
+
+
+@FUZZ
+@given(kind=st.sampled_from(PILLOW_FORMATS), name=st.sampled_from(NAMES),
+       size=st.tuples(st.integers(1, 9), st.integers(1, 9)), cut=st.one_of(st.none(), st.integers(0, 64)),
+       flips=st.lists(st.tuples(st.integers(0, 200), st.integers(0, 255)), max_size=3))
+def test_pictures_of_every_format_load_only_as_ppm_png_or_jpeg(tmp_path: Path, monkeypatch, kind: str, name: str,
+                                                              size: tuple[int, int], cut: int | None,
+                                                              flips: list[tuple[int, int]]) -> None:
+    def no_child(*args, **kwargs):
+        raise AssertionError("a texture must never start another program")
+
+    monkeypatch.setattr(subprocess, "Popen", no_child)
+    data = bytearray(picture_bytes(kind, size))
+    if cut is not None:
+        del data[cut:]
+    for at, value in flips:
+        if at < len(data):
+            data[at] = value
+    path = tmp_path / name
+    path.write_bytes(bytes(data))
+    try:
+        image = load_image(path)
+    except LoadError as error:
+        assert error.path == str(path) and "\n" not in str(error)
+        return
+    assert image_format(bytes(data[:8])) in READ, f"{kind} loaded"
+    assert image.dtype == np.uint8 and image.ndim == 3 and image.shape[2] == 3
+
+
+OUTPUT_NAMES = st.text(alphabet=st.sampled_from(list("ab.-_ /\\\n\x1b~") + ["é", "\u202e"]), min_size=0, max_size=12)
+SUFFIXES = st.sampled_from(["", ".png", ".PNG", ".jpg", ".jpeg", ".gif", ".png.obj", ".obj", "/"])
+
+
+@FUZZ
+@given(stem=OUTPUT_NAMES, suffix=SUFFIXES, existing=st.sampled_from(["nothing", "file", "folder", "link"]))
+def test_output_paths_are_written_whole_or_refused_in_one_line(tmp_path: Path, stem: str, suffix: str,
+                                                               existing: str) -> None:
+    folder = tmp_path / "out"
+    folder.mkdir(exist_ok=True)
+    out = folder / (stem + suffix)
+    if out.parent != folder and not out.parent.is_relative_to(folder):
+        return  # a name that climbs out of the folder: not this test's business
+    try:
+        if existing == "file" and out.parent.is_dir() and not out.exists():
+            out.write_bytes(b"old")
+        elif existing == "folder" and not out.exists():
+            out.mkdir(parents=True, exist_ok=True)
+        elif existing == "link" and not out.exists() and out.parent.is_dir():
+            out.symlink_to(folder / "elsewhere")
+    except OSError:
+        return  # the name cannot even be made here
+    pixels = np.full((3, 4, 3), 77, np.uint8)
+    try:
+        write_picture(pixels, out)
+    except ViewerError as error:
+        assert "\n" not in str(error).replace("\\n", "")
+        return
+    with Image.open(out) as written:
+        assert written.size == (4, 3) and written.format in ("PNG", "JPEG")
+    assert not [path for path in out.parent.iterdir() if path.name.endswith(".part")]
+
+
+@settings(derandomize=True, database=None, deadline=None, max_examples=60)
+@given(corners=st.integers(3, 400), copies=st.integers(1, 5), tilt=st.floats(-1.0, 1.0))
+def test_polygons_of_every_size_get_the_same_normal(corners: int, copies: int, tilt: float) -> None:
+    """One size for all (the column-by-column path up to its limit, the general one beyond) or mixed
+    with a triangle (the general path): the normal of a flat polygon is its plane's."""
+    angles = np.linspace(0.0, 2.0 * np.pi, corners, endpoint=False)
+    ring = np.stack([np.cos(angles), np.sin(angles), tilt * np.cos(angles)], axis=1) * 5.0
+    positions = np.concatenate([ring + [0.0, 0.0, 20.0 * copy] for copy in range(copies)])
+    faces = [list(range(copy * corners, (copy + 1) * corners)) for copy in range(copies)]
+    plane = np.array([-tilt, 0.0, 1.0]) / np.hypot(tilt, 1.0)
+    alone = build_mesh("alone", positions, faces)
+    mixed = build_mesh("mixed", np.concatenate([positions, [[0, 0, 0], [1, 0, 0], [0, 1, 0]]]),
+                       faces + [[len(positions), len(positions) + 1, len(positions) + 2]])
+    np.testing.assert_allclose(alone.face_normals, np.tile(plane, (copies, 1)), atol=1e-5)
+    np.testing.assert_allclose(mixed.face_normals[:copies], alone.face_normals, atol=1e-6)
+
+
+@pytest.mark.parametrize("kind", sorted(READ))
+def test_the_formats_read_are_known_by_their_first_bytes(kind: str) -> None:
+    assert image_format(picture_bytes(kind, (2, 2))[:8]) == kind

@@ -1,0 +1,53 @@
+"""Cost in proportion to the input, for inputs shaped to break it: counted as work done (rows gathered,
+bins allocated), never as seconds, so the counts hold on any machine however busy."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from marraztu.model import build
+from marraztu.model.build import build_mesh
+
+
+def polygon(corners: int) -> tuple[np.ndarray, list[list[int]]]:
+    """One flat polygon of `corners` corners on a circle."""
+    angles = np.linspace(0.0, 2.0 * np.pi, corners, endpoint=False)
+    positions = np.stack([np.cos(angles), np.sin(angles), np.zeros(corners)], axis=1) * 10.0
+    return positions, [list(range(corners))]
+
+
+@pytest.fixture
+def work(monkeypatch) -> dict[str, int]:
+    """Counts the rows the face normals gather and the bins the vertex-normal sums allocate."""
+    counted = {"rows": 0, "bins": 0}
+    cross = build._cross_from_first
+    bincount = np.bincount
+
+    def counting_cross(positions: np.ndarray, fans: np.ndarray) -> np.ndarray:
+        counted["rows"] += positions.shape[0] + fans.shape[1]  # the positions are copied per call
+        return cross(positions, fans)
+
+    def counting_bincount(values, weights=None, minlength=0):
+        counted["bins"] += max(minlength, len(values))
+        return bincount(values, weights=weights, minlength=minlength)
+
+    monkeypatch.setattr(build, "_cross_from_first", counting_cross)
+    monkeypatch.setattr(build.np, "bincount", counting_bincount)
+    return counted
+
+
+@pytest.mark.parametrize("corners", [100, 3_000])
+def test_one_huge_polygon_costs_in_proportion_to_its_corners(work: dict[str, int], corners: int) -> None:
+    positions, faces = polygon(corners)
+    mesh = build_mesh("polygon", positions, faces)
+    np.testing.assert_allclose(mesh.face_normals[0], [0.0, 0.0, 1.0], atol=1e-6)
+    assert work["rows"] <= 4 * 2 * corners, work  # positions once and the fan's triangles once
+    assert work["bins"] <= 4 * corners, work  # one pass per axis, not one per corner column
+
+
+def test_small_polygons_of_one_size_keep_their_column_by_column_path(work: dict[str, int]) -> None:
+    grid = np.array([[x, y, 0.0] for x in range(11) for y in range(11)])
+    quads = [[x * 11 + y, (x + 1) * 11 + y, (x + 1) * 11 + y + 1, x * 11 + y + 1] for x in range(10) for y in range(10)]
+    build_mesh("quads", grid, quads)
+    assert work["rows"] <= 2 * (len(grid) + 2 * len(quads)) + 2 * len(grid), work
