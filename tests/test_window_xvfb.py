@@ -14,6 +14,8 @@ import shutil
 import subprocess
 import sys
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -62,17 +64,30 @@ def wait_for(condition, seconds: float, what: str, display: str | None = None):
     pytest.fail(f"timed out waiting for {what}")
 
 
+@contextmanager
+def window_in(display: str, folder: Path, size: tuple[int, int]) -> Iterator[tuple[subprocess.Popen, str]]:
+    """The program's window, run in `folder`, and its X window id; killed if the test leaves it running.
+    Afterwards the process's stderr is in `process.errors`, and must hold no traceback."""
+    env = {**os.environ, "DISPLAY": display}
+    process = subprocess.Popen([sys.executable, "-m", "marraztu", "--size", f"{size[0]}x{size[1]}"], cwd=folder,
+                               env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        # Only our window has exactly this title (pyglet's hidden one is named after the program).
+        window_id = wait_for(lambda: xdotool(display, "search", "--name", "^marraztu$").split(), 60,
+                             "the window")[0]
+        time.sleep(1.0)  # the first frames
+        yield process, window_id
+    finally:
+        if process.poll() is None:
+            process.kill()
+        _, process.errors = process.communicate(timeout=10)
+    assert "Traceback" not in process.errors, process.errors
+
+
 def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None:
     model = tmp_path / "big triangle.obj"
     model.write_text("v -60 -60 20\nv 60 -60 20\nv 0 60 20\nvt 0 0\nvt 1 0\nvt 0.5 1\nf 1/1 2/2 3/3\n")
-    env = {**os.environ, "DISPLAY": display}
-    window = subprocess.Popen([sys.executable, "-m", "marraztu", "--size", f"{SIZE[0]}x{SIZE[1]}"],
-                              cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                              text=True)
-    try:
-        window_id = wait_for(lambda: xdotool(display, "search", "--name", "^marraztu$").split(),
-                             60, "the window")[0]
-        time.sleep(1.0)  # the first frames
+    with window_in(display, tmp_path, SIZE) as (window, window_id):
         xdotool(display, "windowfocus", "--sync", window_id)
         xdotool(display, "type", "--delay", "60", "01F")  # F is shift+f: Gouraud
         xdotool(display, "key", "--delay", "60", "Tab", "Return", "Return")
@@ -92,11 +107,6 @@ def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None
         time.sleep(0.3)
         xdotool(display, "key", "Escape")
         assert window.wait(timeout=30) == 0, "ESC must quit cleanly"
-    finally:
-        if window.poll() is None:
-            window.kill()
-        _, errors = window.communicate(timeout=10)
-    assert "Traceback" not in errors, errors
 
     keys = f'0 1 F TAB ENTER ENTER c t z*3 X*2 c c "f={model.as_posix()}" s v i'
     expected_path = tmp_path / "expected.png"
@@ -115,34 +125,16 @@ def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None
 def test_a_window_destroyed_without_a_window_manager_ends_the_process(display: str, tmp_path: Path) -> None:
     """Xvfb runs no window manager, so `xdotool windowclose` destroys the X window outright and no close
     event comes: the program must notice and exit, not go on drawing into nothing."""
-    env = {**os.environ, "DISPLAY": display}
-    window = subprocess.Popen([sys.executable, "-m", "marraztu", "--size", "96x96"], cwd=tmp_path, env=env,
-                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        # Only our window has exactly this title (pyglet's hidden one is named after the program).
-        window_id = wait_for(lambda: xdotool(display, "search", "--name", "^marraztu$").split(), 60,
-                             "the window")[0]
-        time.sleep(0.5)
+    with window_in(display, tmp_path, (96, 96)) as (window, window_id):
         xdotool(display, "windowclose", window_id)
         assert window.wait(timeout=30) == 0
-    finally:
-        if window.poll() is None:
-            window.kill()
-        _, errors = window.communicate(timeout=10)
-    assert "Traceback" not in errors, errors
 
 
 def test_the_windows_own_actions_never_end_it(display: str, tmp_path: Path) -> None:
     """F12 where `screenshots` is a file, and the `f` prompt with a home folder of no one: each a
     message on screen; the window answers ESC afterwards and quits cleanly."""
     (tmp_path / "screenshots").write_text("a file where the folder would go")
-    env = {**os.environ, "DISPLAY": display}
-    window = subprocess.Popen([sys.executable, "-m", "marraztu", "--size", "160x160"], cwd=tmp_path, env=env,
-                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        window_id = wait_for(lambda: xdotool(display, "search", "--name", "^marraztu$").split(), 60,
-                             "the window")[0]
-        time.sleep(1.0)
+    with window_in(display, tmp_path, (160, 160)) as (window, window_id):
         xdotool(display, "windowfocus", "--sync", window_id)
         xdotool(display, "key", "F12")
         xdotool(display, "type", "--delay", "40", "f~nosuchuser/model.obj")
@@ -151,9 +143,5 @@ def test_the_windows_own_actions_never_end_it(display: str, tmp_path: Path) -> N
         assert window.poll() is None, "the window died"
         xdotool(display, "key", "Escape")
         assert window.wait(timeout=30) == 0
-    finally:
-        if window.poll() is None:
-            window.kill()
-        _, errors = window.communicate(timeout=10)
-    assert "Traceback" not in errors and "failed:" not in errors, errors
+    assert "failed:" not in window.errors, window.errors
     assert (tmp_path / "screenshots").is_file()
