@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -15,6 +19,7 @@ from marraztu.loaders.scenefile import (
     load_builtin_scene,
     load_scene,
     material_for_loaded,
+    read_scene_description,
 )
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Material
@@ -185,6 +190,61 @@ def test_entry_error_gives_its_tables_line(tmp_path: Path) -> None:
     assert "objects[2]" in caught.value.message
 
 
+
+def test_error_in_the_last_of_many_entries_names_its_own_header(tmp_path: Path) -> None:
+    text = many_entries("objects", 60) + '\n[[objects]]\nmodel = "m.obj"\nposition = [0, 0]\n'
+    path = write_scene(tmp_path, text)
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert caught.value.line == text.count("\n") - 2 and "objects[61]" in caught.value.message
+
+
+LINE_ENDS = {
+    "windows line ends": ("\r\n", ""),
+    # str.splitlines() would end lines at these too; TOML (and tomllib's own line numbers) do not
+    "unicode separators in a comment": ("\n", "# one\u2028two\x85three\u2029four\n"),
+}
+
+
+@pytest.mark.parametrize("end, comment", LINE_ENDS.values(), ids=LINE_ENDS.keys())
+def test_lines_are_counted_as_toml_counts_them(tmp_path: Path, end: str, comment: str) -> None:
+    text = comment + CAMERA + '\n[[objects]]\nmodel = "m.obj"\nposition = [0, "x", 0]\n'
+    path = write_scene(tmp_path, text.replace("\n", end))
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert caught.value.line == (6 if comment else 5)
+
+
+BAD_NS = "ka = [0, 0, 0]\nkd = [0, 0, 0]\nks = [0, 0, 0]\nns = 0\n"
+# Names written in each way TOML allows, after the camera (lines 1 to 4); the line the error must name.
+QUOTED_AND_DOTTED = {
+    "quoted material name": ('[materials."two words"]\n' + BAD_NS, 5),
+    "escaped material name": ('[materials."a\\u0020b"]\n' + BAD_NS, 5),
+    "spaces around the dot": ("[ materials . m ]\n" + BAD_NS, 5),
+    "inline in a [materials] table": ("[materials]\nok = { ka = [0, 0, 0], kd = [0, 0, 0], ks = [0, 0, 0], ns = 1 }\n"
+                                      + "bad = { ka = [0, 0, 0], kd = [0, 0, 0], ks = [0, 0, 0], ns = 0 }\n", 7),
+    "dotted keys in a [materials] table": ("[materials]\n" + BAD_NS.replace("k", "m.k").replace("ns", "m.ns"), 6),
+    "quoted array header": ('[["cameras"]]\nmodel = "m.obj"\nposition = [0, 0, 1]\n'
+                            + '\n[[ cameras ]]\nmodel = "m.obj"\nposition = [0, 0]\n', 9),
+}
+
+
+@pytest.mark.parametrize("text, line", QUOTED_AND_DOTTED.values(), ids=QUOTED_AND_DOTTED.keys())
+def test_quoted_and_dotted_names_still_find_their_line(tmp_path: Path, text: str, line: int) -> None:
+    path = write_scene(tmp_path, CAMERA + "\n" + text)
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert caught.value.line == line
+
+
+def test_header_inside_a_multi_line_string_gives_no_line_rather_than_a_wrong_one(tmp_path: Path) -> None:
+    path = write_scene(tmp_path, CAMERA + '\n[[objects]]\nname = """\n[[objects]]\n"""\nmodel = "m.obj"\n'
+                                          'position = [0, 0, 0]\n\n[[objects]]\nmodel = "m.obj"\n')
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert caught.value.line is None and "objects[2]: missing key 'position'" in caught.value.message
+
+
 def test_broken_model_names_the_model_and_its_line(tmp_path: Path) -> None:
     (tmp_path / "broken.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
     path = write_scene(tmp_path, '[[cameras]]\nmodel = "broken.obj"\nposition = [0, 0, 0]\n')
@@ -252,3 +312,107 @@ def test_rotation_is_optional_and_checked(tmp_path: Path) -> None:
     bad.write_text('[[cameras]]\nmodel = "tri.obj"\nposition = [0, 0, 0]\nrotation = [0, "x", 0]\n')
     with pytest.raises(LoadError, match="bad.toml"):
         load_scene(bad)
+
+
+# --- cost grows with the file, not with its square -------------------------------------------------
+def calls_made(action: Callable[[], object]) -> int:
+    """How many Python and C functions `action` calls: work counted, not timed, so a busy machine cannot fail it."""
+    count = 0
+
+    def profile(frame: object, event: str, arg: object) -> None:
+        nonlocal count
+        if event in ("call", "c_call"):
+            count += 1
+
+    previous = sys.getprofile()
+    sys.setprofile(profile)
+    try:
+        action()
+    finally:
+        sys.setprofile(previous)
+    return count
+
+
+def many_entries(kind: str, count: int) -> str:
+    """A scene of `count` objects, cameras or named materials, each table on lines of its own."""
+    if kind == "materials":
+        tables = "".join(MATERIAL.replace("[materials.m]", f"[materials.m{i}]") + "\n" for i in range(count))
+        return tables + CAMERA + 'material = "m0"\n'
+    entries = "".join(f'\n[[{kind}]]\nname = "e{i}"\nmodel = "m.obj"\nposition = [{i}, 0, 0]\n'
+                      "rotation = [0, 90, 0]\nmaterial = { ka = [0, 0, 0], kd = [1, 1, 1], ks = [1, 1, 1], ns = 2 }\n"
+                      for i in range(count))
+    return (CAMERA if kind == "objects" else "") + entries
+
+
+@pytest.mark.parametrize("kind", ["objects", "cameras", "materials"])
+def test_reading_four_times_the_entries_costs_about_four_times_the_work(tmp_path: Path, kind: str) -> None:
+    def work(count: int) -> int:
+        path = write_scene(tmp_path, many_entries(kind, count))
+        return calls_made(lambda: read_scene_description(path))
+
+    small, large = work(100), work(400)
+    assert large <= 4.4 * small, f"{kind}: {small} calls for 100 entries, {large} for 400"
+
+
+# --- numbers past what the GPU's float32 can hold ----------------------------------------------------
+TOO_LARGE = "is too large: the GPU's 32-bit numbers end at 3.4e38"
+# Where a number goes, with {n} for it, and the line an error there must name.
+NUMBER_PLACES = {
+    "object position": (CAMERA + '\n[[objects]]\nmodel = "m.obj"\nposition = [{n}, 0, 0]\n', 5),
+    "camera position": ('[[cameras]]\nmodel = "m.obj"\nposition = [0, 0, {n}]\n', 1),
+    "camera rotation": ('[[cameras]]\nmodel = "m.obj"\nposition = [0, 0, 0]\nrotation = [0, {n}, 0]\n', 1),
+    "named material ns": (CAMERA + "\n" + MATERIAL.replace("ns = 10", "ns = {n}"), 5),
+    "named material colour": (MATERIAL.replace("[0.1, 0.2, 0.3]", "[0, {n}, 0]") + CAMERA, 1),
+    "inline material ns": (CAMERA + "material = { ka = [0, 0, 0], kd = [0, 0, 0], ks = [0, 0, 0], ns = {n} }\n", 1),
+}
+TOO_LARGE_NUMBERS = {"400-digit integer": "9" * 400, "40-digit integer": "1" + "0" * 39,
+                     "1e39": "1e39", "-1e308": "-1e308", "just past float32": "3.5e38"}
+
+
+@pytest.mark.parametrize("template, line", NUMBER_PLACES.values(), ids=NUMBER_PLACES.keys())
+@pytest.mark.parametrize("number", TOO_LARGE_NUMBERS.values(), ids=TOO_LARGE_NUMBERS.keys())
+def test_number_past_float32_is_refused_naming_file_and_line(tmp_path: Path, template: str, line: int,
+                                                             number: str) -> None:
+    path = write_scene(tmp_path, template.replace("{n}", number))
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert (caught.value.path, caught.value.line) == (str(path), line)
+    assert caught.value.message.endswith(TOO_LARGE), caught.value.message
+    assert len(str(caught.value)) < 200 and "\n" not in str(caught.value)  # never all 400 digits
+
+
+UNBOUNDED_PLACES = {place: template for place, (template, _) in NUMBER_PLACES.items() if "colour" not in place}
+
+
+@pytest.mark.parametrize("template", UNBOUNDED_PLACES.values(), ids=UNBOUNDED_PLACES.keys())
+@pytest.mark.parametrize("number", ["1e38", "3.4e38", "340282346638528859811704183484516925440"])
+def test_number_within_float32_is_accepted(tmp_path: Path, template: str, number: str) -> None:
+    scene = load_scene(write_scene(tmp_path, template.replace("{n}", number)))
+    assert scene.camera is not None
+
+
+def test_integer_too_long_for_python_to_read_names_its_line(tmp_path: Path) -> None:
+    """Python refuses to turn thousands of decimal digits into an integer: still a LoadError, not a ValueError."""
+    path = write_scene(tmp_path, CAMERA + '\n[[objects]]\nmodel = "m.obj"\nposition = [1, ' + "9" * 5000 + ", 0]\n")
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert (caught.value.path, caught.value.line) == (str(path), 7)
+    assert caught.value.message.endswith(TOO_LARGE) and len(str(caught.value)) < 200
+
+
+def test_huge_numbers_in_a_models_own_material_fall_back_to_the_default() -> None:
+    material = material_for_loaded(tiny_mesh({"kd": (10**400, 0, 0), "ns": -(10**400)}))
+    assert material.kd == DEFAULT_MATERIAL.kd and material.ns == DEFAULT_MATERIAL.ns
+
+
+def test_screenshot_refuses_a_huge_number_in_one_line(tmp_path: Path) -> None:
+    """Through a real `python -m marraztu`: exit 1, one line on stderr naming file and line, no traceback."""
+    path = write_scene(tmp_path, NUMBER_PLACES["object position"][0].replace("{n}", "9" * 400))
+    out = tmp_path / "out.png"
+    argv = [sys.executable, "-m", "marraztu", "screenshot", "-o", str(out), "--scene", str(path)]
+    done = subprocess.run(argv, check=False, capture_output=True, text=True, timeout=120,
+                          env={**os.environ, "PYTHONIOENCODING": "utf-8"})
+    lines = done.stderr.splitlines()
+    assert done.returncode == 1 and len(lines) == 1, done.stderr
+    assert f"{path}:5: " in lines[0] and lines[0].endswith(TOO_LARGE)
+    assert not out.exists()

@@ -27,8 +27,10 @@ scene file and, where it can be found, the line.
 
 from __future__ import annotations
 
+import functools
 import math
 import re
+import sys
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
@@ -37,6 +39,7 @@ from typing import NoReturn
 from marraztu.errors import LoadError, ViewerError
 from marraztu.loaders.files import read_file
 from marraztu.loaders.registry import load_model
+from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Material, Scene, SceneObject, Vec3
 from marraztu.resources import ASSET_DIR
@@ -58,6 +61,15 @@ DEFAULT_MATERIAL = Material(ka=(0.3, 0.3, 0.3), kd=(0.7, 0.7, 0.7), ks=(0.3, 0.3
 MIN_FILE_NS = 1.0  # MTL files often say "Ns 0", which would light every face with full specular
 
 _TOML_POSITION = re.compile(r"\s*\(at line (\d+), column \d+\)$")
+TOO_LARGE = "is too large: the GPU's 32-bit numbers end at 3.4e38"
+
+# A TOML key as written: bare, "basic" (with escapes) or 'literal'; dotted keys join them with dots.
+_KEY_PART = r"""(?:[A-Za-z0-9_-]+|"(?:[^"\\\n]|\\.)*"|'[^'\n]*')"""
+_DOTTED_KEY = rf"{_KEY_PART}(?:[ \t]*\.[ \t]*{_KEY_PART})*"
+_LINE_START = re.compile("|".join((rf"[ \t]*\[\[[ \t]*(?P<array>{_DOTTED_KEY})[ \t]*\]\]",
+                                    rf"[ \t]*\[[ \t]*(?P<table>{_DOTTED_KEY})[ \t]*\]",
+                                    rf"[ \t]*(?P<key>{_DOTTED_KEY})[ \t]*=")))
+_KEY_PARTS = re.compile(_KEY_PART)
 
 
 @dataclass(frozen=True)
@@ -136,6 +148,7 @@ class _SceneReader:
         self.path = path
         self.text = self._read_text()
         self.document = self._parse()
+        self.lines = _LineIndex.of(self.text)
 
     def fail(self, message: str, line: int | None = None) -> NoReturn:
         raise LoadError(self.path, message, line)
@@ -157,6 +170,9 @@ class _SceneReader:
             self.fail(f"TOML syntax: {_TOML_POSITION.sub('', message)}", line)
         except RecursionError:  # tomllib recurses once per nesting level of arrays and inline tables
             self.fail("TOML nested too deeply to be a scene file")
+        except ValueError as err:  # Python refuses to read decimal integers longer than its digit limit
+            line = _overlong_integer_line(self.text)
+            self.fail(f"an integer of thousands of digits {TOO_LARGE}" if line else f"TOML: {err}", line)
 
     def describe(self) -> SceneDescription:
         self.check_keys(self.document, TOP_LEVEL_KEYS, "the scene", None)
@@ -172,7 +188,7 @@ class _SceneReader:
         if "texture" not in self.document:
             return None
         value = self.document["texture"]
-        line = self.key_line("texture")
+        line = self.lines.first(("texture",))
         if not isinstance(value, str) or not value.strip():
             self.fail("texture must be a file name in quotes", line)
         return (self.path.parent / value).absolute()
@@ -180,17 +196,17 @@ class _SceneReader:
     def named_materials(self) -> dict[str, Material]:
         tables = self.document.get("materials", {})
         if not isinstance(tables, dict):
-            self.fail("materials must be tables: [materials.NAME]", self.key_line("materials"))
-        return {name: self.material(table, f"material {name!r}", self.header_line(f"materials.{name}"))
+            self.fail("materials must be tables: [materials.NAME]", self.lines.first(("materials",)))
+        return {name: self.material(table, f"material {name!r}", self.lines.first(("materials", name)))
                 for name, table in tables.items()}
 
     def entries(self, kind: str, materials: dict[str, Material]) -> tuple[SceneEntry, ...]:
         tables = self.document.get(kind, [])
         if not isinstance(tables, list):
-            self.fail(f"{kind} must be an array of tables: [[{kind}]]", self.key_line(kind))
-        return tuple(self.entry(table, f"{kind}[{index + 1}]", self.array_header_line(kind, index),
-                                materials)
-                     for index, table in enumerate(tables))
+            self.fail(f"{kind} must be an array of tables: [[{kind}]]", self.lines.first((kind,)))
+        headers = self.lines.array_headers(kind, len(tables))
+        return tuple(self.entry(table, f"{kind}[{index + 1}]", line, materials)
+                     for index, (table, line) in enumerate(zip(tables, headers)))
 
     # --- one object or camera ------------------------------------------------------------------
     def entry(self, table: object, what: str, line: int | None, materials: dict[str, Material]
@@ -248,8 +264,10 @@ class _SceneReader:
         # bool is an int in Python, but `true` is never a sensible coordinate
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             self.fail(f"{what} must be a number, not {_toml_type(value)}", line)
-        if not math.isfinite(value):
+        if isinstance(value, float) and not math.isfinite(value):
             self.fail(f"{what} must be a finite number, not {value}", line)
+        if abs(value) > FLOAT32_MAX:  # exact for integers of any size, which float() could overflow on
+            self.fail(f"{what} {_named_number(value)} {TOO_LARGE}", line)
         return float(value)
 
     def triple(self, value: object, what: str, line: int | None, unit_range: bool = False) -> Vec3:
@@ -260,31 +278,98 @@ class _SceneReader:
             self.fail(f"{what} must be three numbers between 0 and 1", line)
         return (x, y, z)
 
-    # --- lines, for messages (tomllib reports lines only for syntax errors) ----------------------
-    def header_line(self, dotted: str) -> int | None:
-        parts = [re.escape(part) for part in dotted.split(".")]
-        pattern = re.compile(r"^\s*\[\s*" + r"\s*\.\s*".join(parts) + r"\s*\]")
-        return self._first_line(pattern)
-
-    def array_header_line(self, kind: str, index: int) -> int | None:
-        """Line of the index-th [[kind]] header; None when entries are written another way."""
-        pattern = re.compile(r"^\s*\[\[\s*" + re.escape(kind) + r"\s*\]\]")
-        lines = [number for number, text in enumerate(self.text.splitlines(), 1) if pattern.match(text)]
-        return lines[index] if index < len(lines) else None
-
-    def key_line(self, key: str) -> int | None:
-        return self._first_line(re.compile(r"^\s*" + re.escape(key) + r"\s*="))
-
-    def _first_line(self, pattern: re.Pattern[str]) -> int | None:
-        for number, text in enumerate(self.text.splitlines(), 1):
-            if pattern.match(text):
-                return number
-        return None
-
 
 def _toml_type(value: object) -> str:
     names = {bool: "true/false", str: "a string", list: "an array", dict: "a table"}
     return names.get(type(value), type(value).__name__)
+
+
+def _named_number(value: float) -> str:
+    """A number as a message shows it: never all the hundreds of digits of a huge integer."""
+    return f"{value:g}" if isinstance(value, float) else f"(a {_decimal_digits(value)}-digit integer)"
+
+
+def _decimal_digits(value: int) -> int:
+    """Digits of a non-zero integer of any size; str() refuses integers past Python's digit limit."""
+    size = abs(value)
+    digits = int(math.log10(size)) + 1
+    if size < 10 ** (digits - 1):  # log10 rounds near powers of ten
+        return digits - 1
+    return digits + 1 if size >= 10**digits else digits
+
+
+def _overlong_integer_line(text: str) -> int | None:
+    """The line of the first decimal integer longer than Python will read, or None when there is none."""
+    limit = sys.get_int_max_str_digits()
+    # whole runs of digits only (not inside words, hex numbers or fractions): each run is tried once
+    pattern = rf"(?<![0-9A-Za-z_.])[0-9](?:_?[0-9]){{{limit},}}(?![0-9A-Za-z_.])"
+    found = re.search(pattern, text) if limit else None
+    return None if found is None else text.count("\n", 0, found.start()) + 1
+
+
+# --------------------------------------------------------------------------------------------------
+# Lines, for messages (tomllib reports lines only for syntax errors)
+# --------------------------------------------------------------------------------------------------
+KeyPath = tuple[str, ...]  # a dotted TOML key, part by part
+
+
+@dataclass(frozen=True)
+class _LineIndex:
+    """Where each table, array-of-tables entry and key of a TOML text starts, found in one pass."""
+
+    first_lines: dict[KeyPath, int]  # a table or key (and each of its parents): the line that first names it
+    array_lines: dict[KeyPath, list[int]]  # [[NAME]] headers in order: one per entry of the array
+
+    @classmethod
+    def of(cls, text: str) -> _LineIndex:
+        first_lines: dict[KeyPath, int] = {}
+        array_lines: dict[KeyPath, list[int]] = {}
+        section: KeyPath = ()
+        for number, line in enumerate(text.split("\n"), 1):  # tomllib counts "\n" alone as a line end
+            found = _LINE_START.match(line)
+            if found is None:
+                continue
+            if found["key"] is not None:
+                _remember(first_lines, section, _key_parts(found["key"]), number)
+                continue
+            section = _key_parts(found["array"] or found["table"])
+            _remember(first_lines, (), section, number)
+            if found["array"] is not None:
+                array_lines.setdefault(section, []).append(number)
+        return cls(first_lines, array_lines)
+
+    def first(self, key: KeyPath) -> int | None:
+        return self.first_lines.get(key)
+
+    def array_headers(self, name: str, count: int) -> list[int | None]:
+        """The header line of each of the `count` entries; None for all when the headers do not match
+        them one to one (entries written inline, or a header-like line inside a multi-line string)."""
+        lines = self.array_lines.get((name,), [])
+        return list(lines) if len(lines) == count else [None] * count
+
+
+def _remember(first_lines: dict[KeyPath, int], section: KeyPath, key: KeyPath, number: int) -> None:
+    """The first line of `key` and of each dotted part of it, within `section` (remembered at its header)."""
+    for end in range(1, len(key) + 1):
+        first_lines.setdefault(section + key[:end], number)
+
+
+@functools.lru_cache(maxsize=1024)  # the same few keys come back on line after line
+def _key_parts(dotted: str) -> KeyPath:
+    return tuple(_unquoted(part) for part in _KEY_PARTS.findall(dotted))
+
+
+def _unquoted(part: str) -> str:
+    if part[0] == "'":
+        return part[1:-1]
+    if part[0] != '"':
+        return part
+    if "\\" not in part:
+        return part[1:-1]
+    try:
+        return tomllib.loads(f"k = {part}")["k"]
+    except tomllib.TOMLDecodeError:  # a key-like line inside a multi-line literal string may hold any escape
+        return part[1:-1]
 
 
 # --------------------------------------------------------------------------------------------------
@@ -320,7 +405,7 @@ def _clamped_colour(value: object, default: Vec3) -> Vec3:
     """A 3-tuple in 0..1 from a file's numbers; the default when the file gave none or nonsense."""
     try:
         numbers = tuple(float(c) for c in value)  # type: ignore[union-attr]
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         return default
     if len(numbers) != 3 or not all(math.isfinite(c) for c in numbers):
         return default
@@ -331,6 +416,6 @@ def _clamped_colour(value: object, default: Vec3) -> Vec3:
 def _file_shininess(value: object) -> float:
     try:
         ns = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         return DEFAULT_MATERIAL.ns
     return max(ns, MIN_FILE_NS) if math.isfinite(ns) else DEFAULT_MATERIAL.ns

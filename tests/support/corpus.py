@@ -340,6 +340,12 @@ def bad_scene_cases() -> list[Case]:
         _scene("position_nan", _object_table('model = "tri.obj"\nposition = [nan, 0, 0]\n'), 4),
         _scene("position_inf", _object_table('model = "tri.obj"\nposition = [0, -inf, 0]\n'), 4),
         _scene("position_booleans", _object_table('model = "tri.obj"\nposition = [true, 0, 0]\n'), 4),
+        _scene("position_400_digit_integer", _object_table(f'model = "tri.obj"\nposition = [{"9" * 400}, 0, 0]\n'), 4),
+        _scene("position_past_float32", _object_table('model = "tri.obj"\nposition = [0, 1e39, 0]\n'), 4),
+        _scene("position_past_int_digit_limit",  # Python itself refuses to read this integer
+               _object_table(f'model = "tri.obj"\nposition = [{"9" * 5000}, 0, 0]\n'), 6),
+        _scene("rotation_far_past_float32", CAMERA_TABLE + "rotation = [0, -1e308, 0]\n", 1),
+        _scene("material_ns_past_float32", MATERIAL_TABLE.replace("ns = 10", "ns = 1e39") + CAMERA_TABLE, 1),
         _scene("model_is_number", _object_table("model = 5\nposition = [0, 0, 0]\n"), 4),
         _scene("model_is_empty", _object_table('model = ""\nposition = [0, 0, 0]\n'), 4),
         _scene("objects_not_tables", 'objects = "x_wing"\n' + CAMERA_TABLE, 1),
