@@ -17,11 +17,13 @@ from marraztu.devtools.bench.inputs import generate_load_inputs
 from marraztu.devtools.bench.loading import LOAD_HEADERS, available_loaders
 from marraztu.devtools.bench.memory import MEMORY_HEADERS
 from marraztu.devtools.bench.report import MACHINE_HEADING, MISSING
+from marraztu.devtools.bench.shapes import SHAPE_HEADERS, SHAPES
 from marraztu.devtools.bench.start import START_COMMANDS, START_HEADERS
 from support import corpus
 
 TINY_ARGS = ["--load-sizes", "200,400", "--sizes", "300", "--resolutions", "48x32", "--frames", "2",
-             "--warmup", "1", "--repeats", "1", "--rounds", "1", "--start-runs", "1", "--cpu-frames", "2"]
+             "--warmup", "1", "--repeats", "1", "--rounds", "1", "--start-runs", "1", "--cpu-frames", "2",
+             "--shape-megabytes", "1"]
 
 
 def markdown_tables(text: str) -> dict[tuple[str, ...], list[list[str]]]:
@@ -65,7 +67,8 @@ def test_every_section_prints_one_whole_table(report: str) -> None:
                 FRAME_HEADERS: 2 * len(MODES),  # the built-in scene and the 300-triangle grid
                 CPU_HEADERS: len(MODES),
                 START_HEADERS: len(START_COMMANDS),
-                MEMORY_HEADERS: 4}
+                MEMORY_HEADERS: 4,
+                SHAPE_HEADERS: len(SHAPES)}
     assert set(tables) == set(expected)
     for headers, row_count in expected.items():
         rows = tables[headers]
@@ -83,6 +86,7 @@ def test_figures_are_positive_numbers(report: str) -> None:
         START_HEADERS: ["to exit s", "exit ÷ bare EGL", "runs"],
         MEMORY_HEADERS: ["triangles", "Mesh B/tri", "GPU-ready arrays B/tri", "GPU when filled B/tri",
                                "GPU with lines and normals B/tri"],
+        SHAPE_HEADERS: ["MB", "seconds", "s per MB", "time ÷ plain"],
     }
     for headers, columns in measured.items():
         for column in columns:

@@ -2,7 +2,7 @@
 
 Every figure is measured in the same run as the figure it is compared with, on inputs generated
 here (seeded, written to a temporary folder), and printed as Markdown tables. One module per
-section: loading.py, frames.py (with the CPU per frame), start.py, memory.py. Progress goes to
+section: loading.py, frames.py (with the CPU per frame), start.py, memory.py, shapes.py. Progress goes to
 stderr, the tables to stdout. Nothing heavy is imported at module level: the loading workers import
 these modules, and their memory baseline should hold only what their loader needs.
 """
@@ -22,6 +22,7 @@ from marraztu.devtools.bench.inputs import generate_load_inputs
 from marraztu.devtools.bench.loading import loading_section
 from marraztu.devtools.bench.memory import memory_section
 from marraztu.devtools.bench.report import emit, load_average, machine_lines
+from marraztu.devtools.bench.shapes import shapes_section
 from marraztu.devtools.bench.start import start_section
 
 
@@ -68,6 +69,8 @@ def main(argv: Sequence[str]) -> int:
                 emit(start_section(config, directory))
             if bench is not None and "memory" in config.sections:
                 emit(memory_section(bench, inputs))
+            if "shapes" in config.sections:
+                emit(shapes_section(config, directory))
     finally:
         if bench is not None:
             bench.release()

@@ -53,7 +53,7 @@ def _ours() -> LoadFunction:
 def gpu_ready_arrays(mesh: Mesh) -> dict[str, np.ndarray]:
     """What a new object costs before its first frame: the surface array `ObjectGpu` uploads.
 
-    Edges and normal segments are built only when lines or normals are first drawn (app/gpu.py).
+    Edges and normal segments are built only when lines or normals are first drawn (marraztu.render.gpu).
     """
     from dataclasses import fields
 
@@ -100,7 +100,7 @@ _LOADER_FACTORIES: dict[str, Callable[[], LoadFunction]] = {
     "ours": _ours, "trimesh": _trimesh, "tinyobjloader": _tinyobjloader}
 
 
-def _peak_rss_bytes() -> int:
+def peak_rss_bytes() -> int:
     """This process's peak resident memory.
 
     On Linux ru_maxrss is not usable here: execve keeps the larger of the old and new peaks, and the
@@ -121,16 +121,17 @@ def load_worker(argv: Sequence[str]) -> int:
     """The child: import the loader, note the peak RSS, load `repeats` times, print JSON."""
     loader, path, repeats = argv[0], Path(argv[1]), int(argv[2])
     load = _LOADER_FACTORIES[loader]()
-    baseline = _peak_rss_bytes()
+    baseline = peak_rss_bytes()
     timings = [load(path) for _ in range(repeats)]
     print(json.dumps({"triangles": timings[0].triangles,
                       "seconds": [t.seconds for t in timings],
                       "surface_seconds": [t.surface_seconds for t in timings],
-                      "peak_rss_bytes": _peak_rss_bytes() - baseline}))
+                      "peak_rss_bytes": peak_rss_bytes() - baseline}))
     return 0
 
 
-_WORKER_CODE = "import sys; from marraztu.devtools.bench.loading import load_worker; sys.exit(load_worker(sys.argv[1:]))"
+_WORKER_CODE = ("import sys; from marraztu.devtools.bench.loading import load_worker; "
+                "sys.exit(load_worker(sys.argv[1:]))")
 
 
 @dataclass
@@ -195,7 +196,7 @@ def loading_section(config: BenchConfig, inputs: Sequence[LoadInput]) -> list[st
         f"file, the loaders taking turns, {config.repeats} load(s) in each; peak RSS is the median over those "
         "processes of the process's peak minus its peak after imports. *ours* = `load_obj` + the surface "
         "vertex and index "
-        "arrays `ObjectGpu` uploads for the first frame (app/gpu.py; edges and normal segments "
+        "arrays `ObjectGpu` uploads for the first frame (marraztu.render.gpu; edges and normal segments "
         "are built later, when lines or normals are first drawn); trimesh = `trimesh.load(process=False)`; "
         "tinyobjloader = parse (triangulated) + numpy copies of its tables. Ratios > 1: ours is faster "
         "or smaller.",

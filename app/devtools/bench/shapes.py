@@ -1,0 +1,141 @@
+"""5. Inputs shaped to break linear cost: each read in a fresh process, its seconds and peak memory per
+megabyte beside a plain model of the same size. A bad file's error must come about as fast as a good
+file's model."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from marraztu.devtools.bench.config import BenchConfig
+from marraztu.devtools.bench.loading import peak_rss_bytes
+from marraztu.devtools.bench.report import MEGABYTE, markdown_table, number, progress, ratio
+
+SHAPE_HEADERS = ("input", "MB", "outcome", "seconds", "s per MB", "peak RSS MB per MB", "time ÷ plain",
+                 "RSS ÷ plain")
+_TRIANGLE = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1\n"
+
+
+@dataclass(frozen=True)
+class Shape:
+    label: str
+    file_name: str
+    write: Callable[[Path, int], None]  # (path, bytes wanted)
+
+
+def _plain(path: Path, size: int) -> None:
+    """Triangles of v/vt/vn corners, the way exporters write them."""
+    block = "".join(f"v {i}.125 {i}.25 -{i}.5\nvt 0.{i} 0.5\nvn 0 0 1\nf -3/-3/-3 -2/-2/-2 -1/-1/-1\n"
+                    for i in range(1, 4))
+    path.write_text(_TRIANGLE + block * (size // len(block)))
+
+
+def _cut_at_the_end(path: Path, size: int) -> None:
+    _plain(path, size)
+    with path.open("a") as out:
+        out.write("f 1/1/1 2/1")  # a corner cut off in the last line
+
+
+def _one_polygon(path: Path, size: int) -> None:
+    corners = size // 24
+    with path.open("w") as out:
+        out.writelines(f"v {i % 997}.5 {i % 991}.25 0\n" for i in range(corners))
+        out.write("f " + " ".join(str(i + 1) for i in range(corners)) + "\n")
+
+
+def _blank_lines(path: Path, size: int) -> None:
+    path.write_text("\n" * size)
+
+
+def _one_long_line(path: Path, size: int) -> None:
+    path.write_text(_TRIANGLE + "v" + " 1.5" * (size // 4) + "\n")
+
+
+def _scene_of_many_objects(path: Path, size: int) -> None:
+    (path.parent / "tri.obj").write_text(_TRIANGLE)
+    entry = '[[objects]]\nmodel = "tri.obj"\nposition = [1, 2, 3]\n\n'
+    path.write_text('[[cameras]]\nmodel = "tri.obj"\nposition = [0, 0, 150]\n\n' + entry * (size // len(entry)))
+
+
+def _scene_of_many_materials(path: Path, size: int) -> None:
+    (path.parent / "tri.obj").write_text(_TRIANGLE)
+    count = size // 90
+    materials = "".join(f"[materials.m{k}]\nka = [0.1, 0.2, 0.3]\nkd = [0.4, 0.5, 0.6]\nks = [0.7, 0.8, 0.9]\n"
+                        f"ns = 10\n\n" for k in range(count))
+    path.write_text(materials + '[[cameras]]\nmodel = "tri.obj"\nposition = [0, 0, 150]\nmaterial = "m0"\n')
+
+
+SHAPES = (
+    Shape("plain model (the baseline)", "plain.obj", _plain),
+    Shape("the same, its last line cut", "cut.obj", _cut_at_the_end),
+    Shape("one polygon of every corner", "polygon.obj", _one_polygon),
+    Shape("blank lines only", "blank.obj", _blank_lines),
+    Shape("one long v line", "long_line.obj", _one_long_line),
+    Shape("scene file: many objects", "objects.toml", _scene_of_many_objects),
+    Shape("scene file: many materials", "materials.toml", _scene_of_many_materials),
+)
+
+
+def shape_worker(argv: Sequence[str]) -> int:
+    """The child: read one file as the viewer would, print seconds, peak memory and the outcome."""
+    path = Path(argv[0])
+    from marraztu.errors import ViewerError
+    from marraztu.loaders.registry import load_model
+    from marraztu.loaders.scenefile import load_scene
+
+    read = load_scene if path.suffix == ".toml" else load_model
+    baseline = peak_rss_bytes()
+    start = time.perf_counter()
+    try:
+        read(path)
+        outcome = "read"
+    except ViewerError as error:
+        outcome = "refused" + (f" at line {error.line}" if getattr(error, "line", None) else "")
+    seconds = time.perf_counter() - start
+    print(json.dumps({"seconds": seconds, "peak_rss_bytes": peak_rss_bytes() - baseline, "outcome": outcome}))
+    return 0
+
+
+_WORKER_CODE = ("import sys; from marraztu.devtools.bench.shapes import shape_worker; "
+                "sys.exit(shape_worker(sys.argv[1:]))")
+
+
+def _measure(path: Path) -> dict:
+    done = subprocess.run([sys.executable, "-c", _WORKER_CODE, str(path)], capture_output=True, text=True)
+    if done.returncode != 0:
+        return {"seconds": None, "peak_rss_bytes": None, "outcome": "crashed: " + done.stderr.strip()[-80:]}
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def shapes_section(config: BenchConfig, directory: Path) -> list[str]:
+    rows = []
+    plain: dict | None = None
+    for shape in SHAPES:
+        folder = directory / f"shape_{shape.file_name.split('.')[0]}"
+        folder.mkdir(parents=True, exist_ok=True)
+        path = folder / shape.file_name
+        progress(f"shapes: writing and reading {shape.label}")
+        shape.write(path, config.shape_megabytes * MEGABYTE)
+        result = _measure(path)
+        plain = plain or result
+        megabytes = path.stat().st_size / MEGABYTE
+        seconds, rss = result["seconds"], result["peak_rss_bytes"]
+        rows.append([shape.label, number(megabytes), result["outcome"], number(seconds),
+                     number(seconds / megabytes if seconds is not None else None),
+                     number(rss / MEGABYTE / megabytes if rss is not None else None),
+                     ratio(seconds, plain["seconds"]), ratio(rss, plain["peak_rss_bytes"])])
+    return [
+        "## 5. Inputs shaped to break linear cost",
+        "",
+        f"Each file about {config.shape_megabytes} MB, read once in a fresh process as the viewer reads it "
+        "(a model through the reader registry, a scene file with its models); peak RSS is the process's "
+        "peak minus its peak after imports. An error should cost about what a good file of the same "
+        "size costs, and nothing should cost more than in proportion to its size.",
+        "",
+        *markdown_table(SHAPE_HEADERS, rows),
+    ]
