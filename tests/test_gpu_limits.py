@@ -89,3 +89,17 @@ def test_a_gl_error_is_reported_and_cleared(own_ctx) -> None:
     with pytest.raises(ViewerError, match="the GPU refused a test upload \\(GL_INVALID_ENUM\\)"):
         gl_context.check_gl(own_ctx, "a test upload")
     gl_context.check_gl(own_ctx, "nothing")  # reading the error cleared it
+
+
+def test_offscreen_framebuffers_leave_nothing_behind(own_ctx) -> None:
+    """moderngl's Framebuffer.release keeps the colour and depth buffers alive: F12 and the screenshot
+    command lost both at every picture until they were released too."""
+    corpus.make_current(own_ctx)
+    with gl_context.offscreen_framebuffer(own_ctx, (32, 32)):  # binds the default framebuffer once
+        pass
+    before = corpus.live_gl_objects(own_ctx)
+    with corpus.DroppedGlObjects(own_ctx) as dropped:
+        for _ in range(5):
+            with gl_context.offscreen_framebuffer(own_ctx, (32, 32)):
+                pass
+    assert dropped.leaked == 0 and corpus.live_gl_objects(own_ctx) == before
