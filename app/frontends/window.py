@@ -61,7 +61,6 @@ class ViewerWindow:
         # projection follows the window's shape instead of letterboxing it.
         self.wnd = window_class(title=TITLE, size=size, resizable=True, gl_version=(3, 3), aspect_ratio=None,
                                 vsync=True, samples=0)
-        mglw.activate_context(window=self.wnd)
         self.wnd.swap_buffers()  # some platforms report the true buffer size only after one swap
         self.wnd.set_default_viewport()
         self.ctx = self.wnd.ctx
