@@ -168,7 +168,8 @@ def parse_obj_or_load_error(data: bytes) -> Mesh | None:
         return parse_obj(data, "fuzz.obj")
     except LoadError as error:
         assert error.path == "fuzz.obj" and str(error).startswith("fuzz.obj")
-        assert error.line is None or 1 <= error.line <= data.count(b"\n") + 1
+        line_ends = data.count(b"\n") + data.count(b"\r")  # a lone CR ends a line too
+        assert error.line is None or 1 <= error.line <= line_ends + 1
         return None
 
 
@@ -187,6 +188,63 @@ def test_mutated_obj_loads_sanely_or_raises_load_error(data: bytes) -> None:
 @FUZZ
 @given(assembled_obj())
 def test_assembled_obj_loads_sanely_or_raises_load_error(data: bytes) -> None:
+    mesh = parse_obj_or_load_error(data)
+    if mesh is not None:
+        check_mesh(mesh)
+
+
+# --------------------------------------------------------------------------------------------------
+# Line endings and encodings: the same model as other editors and systems write it
+# --------------------------------------------------------------------------------------------------
+_NO_BREAK_SPACE = "\u00a0".encode()
+_ENDINGS = [b"\n", b"\r\n", b"\r"]
+_BACKSLASH_COMMENTS = [b"# exported from C:\\models\\", b"#\\", b"  # path: D:\\ships\\ \\", b"# \\ \t"]
+
+
+@st.composite
+def respelled(draw, seeds: list[bytes]) -> tuple[bytes, bytes]:
+    """(seed, the seed written another way with the same meaning): CR, CRLF or mixed line ends, a byte
+    order mark, no-break spaces between words, comments ending in a backslash, continued statements."""
+    seed = draw(st.sampled_from(seeds))
+    lines: list[bytes] = []
+    for line in seed.rstrip(b"\n").split(b"\n"):
+        if draw(st.integers(0, 5)) == 0:
+            lines.append(draw(st.sampled_from(_BACKSLASH_COMMENTS)))
+        words = line.split(b" ")
+        if not line.startswith(b"#") and len(words) > 2 and draw(st.integers(0, 4)) == 0:
+            cut = draw(st.integers(1, len(words) - 1))  # continued: the rest on the next physical line
+            lines += [b" ".join(words[:cut]) + b" \\", b" " + b" ".join(words[cut:])]
+            continue
+        gaps = [draw(st.sampled_from([b" ", b" ", _NO_BREAK_SPACE, b" " + _NO_BREAK_SPACE])) for _ in words[1:]]
+        lines.append(words[0] + b"".join(gap + word for gap, word in zip(gaps, words[1:])))
+    spelled = b"".join(line + draw(st.sampled_from(_ENDINGS)) for line in lines)
+    return seed, (b"\xef\xbb\xbf" if draw(st.booleans()) else b"") + spelled
+
+
+def assert_same_mesh(a: Mesh, b: Mesh) -> None:
+    for name in ("positions", "corner_vertex", "face_start", "corner_uv", "corner_normal"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+
+
+@FUZZ
+@given(respelled(OBJ_SEEDS))
+def test_line_ends_and_encodings_do_not_change_the_model(pair: tuple[bytes, bytes]) -> None:
+    seed, spelled = pair
+    assert_same_mesh(parse_obj(spelled, "fuzz.obj"), parse_obj(seed, "fuzz.obj"))
+
+
+@st.composite
+def mutated_respelling(draw) -> bytes:
+    _, spelled = draw(respelled(OBJ_SEEDS))
+    data = bytearray(spelled)
+    for _ in range(draw(st.integers(1, 3))):
+        draw(st.sampled_from(MUTATIONS))(draw, data, OBJ_TOKENS + [_NO_BREAK_SPACE, b"\\\r", b"\\\n", b"#\\\n"])
+    return bytes(data)
+
+
+@FUZZ
+@given(mutated_respelling())
+def test_mutated_respelled_obj_loads_sanely_or_raises_load_error(data: bytes) -> None:
     mesh = parse_obj_or_load_error(data)
     if mesh is not None:
         check_mesh(mesh)

@@ -7,6 +7,7 @@ import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import pytest
@@ -19,9 +20,11 @@ from marraztu.loaders.files import read_file
 from marraztu.loaders.obj import fast as fast_reader
 from marraztu.loaders.obj import load_obj, parse_obj
 from marraztu.loaders.obj.lines import read_by_lines
+from marraztu.loaders.obj.raw import RawObj
 from marraztu.model.build import build_mesh
 from marraztu.model.mesh import Mesh
 from support.seed import SEED_MODELS, seed_model
+from support.work import lines_read_by_the_line_reader
 
 QUAD = b"v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nf 1 2 3 4\n"
 
@@ -279,6 +282,7 @@ BAD_CASES = [
     ("out of range", V3 + "f 1 2 3\nf 1 2 4\n", 5, "vertex index 4 out of range: the file has 3"),
     ("negative past start", V3 + "f -1 -2 -4\n", 4, "reaches before the first one"),
     ("negative before later vertices", "v 0 0 0\nf -1 -2 -3\n" + V3, 2, "reaches before"),
+    ("relative errors in corner order", V3 + "vt 0 0\nf 1/-2 -9/1 2/1\n", 5, "(vt) index -2 in '1/-2'"),
     ("vt missing", V3 + "f 1/1 2/1 3/1\n", 4, "texture coordinate (vt) index 1 out of range: the file has 0"),
     ("vn missing", V3 + "vn 0 0 1\nf 1//1 2//2 3//1\n", 5, "normal (vn) index 2 out of range"),
     ("mixed formats", V3 + "vt 0 0\nf 1/1 2 3/1\n", 5, "mixed corner formats"),
@@ -371,18 +375,40 @@ def test_unreadable_file(tmp_path: Path) -> None:
 # --- the two readers agree -------------------------------------------------------------------------
 
 
-def read_both(text: bytes) -> tuple[object, object]:
-    """(fast result or 'unusual', slow result or the LoadError)."""
+class Both(NamedTuple):
+    fast: RawObj | LoadError | None  # None: the file continues lines, which only the line reader reads
+    slow: RawObj | LoadError
+    fast_lines: int  # lines the fast reader handed to the line reader
+
+
+def read_both(text: bytes) -> Both:
+    """What the fast reader gives (its tables or its error), what the line reader alone gives, and how
+    many lines the fast reader had the line reader read."""
     normalized = obj_module._normalized_text(text, "x.obj")
+    fast: RawObj | LoadError | None = None
+    with lines_read_by_the_line_reader() as counted:
+        if not obj_module._has_continuations(normalized):
+            fast = outcome(lambda: fast_reader.read_fast(normalized, "x.obj"))
+    return Both(fast, outcome(lambda: read_by_lines(normalized, "x.obj")), counted.lines)
+
+
+def outcome(read: Callable[[], RawObj]) -> RawObj | LoadError:
     try:
-        fast: object = fast_reader.read_fast(normalized)
-    except fast_reader.Unusual:
-        fast = "unusual"
-    try:
-        slow: object = read_by_lines(normalized, "x.obj")
+        return read()
     except LoadError as error:
-        slow = error
-    return fast, slow
+        return error
+
+
+def assert_agree(both: Both) -> None:
+    """The fast reader gives the line reader's tables, or its very error: message and line."""
+    if both.fast is None:
+        return
+    if isinstance(both.slow, LoadError):
+        assert isinstance(both.fast, LoadError), f"fast reader accepted what the line reader rejects: {both.slow}"
+        assert (both.fast.message, both.fast.line) == (both.slow.message, both.slow.line)
+    else:
+        assert not isinstance(both.fast, LoadError), f"fast reader rejected what the line reader accepts: {both.fast}"
+        assert_same_tables(both.fast, both.slow)
 
 
 def assert_same_tables(fast: object, slow: object) -> None:
@@ -403,9 +429,9 @@ NUMBER = st.one_of(
     st.sampled_from(["-0", ".5", "5.", "-.5", "1e3", "+2", "1E-2", "0.1234567890123456789", "007"]),
 )
 SPACE = st.sampled_from([" ", " ", " ", "  ", "\t", " \t"])
-END = st.sampled_from(["\n", "\n", "\n", "\r\n", " \n", "\n\n", "\n# note\n"])
+END = st.sampled_from(["\n", "\n", "\n", "\r\n", " \n", "\n\n", "\n# note\n", " # trailing\n", "\r", "#\\\n"])
 EXTRAS = ["o thing", "s 1", "g a b", "# colour 10 20 30", "#colour 1 2", "usemtl x", "vp 1", "# c",
-          "mtllib a b.mtl", "  # indented comment", "cstype bezier"]
+          "mtllib a b.mtl", "  # indented comment", "cstype bezier", "# exported from C:\\models\\", "\r", " "]
 BROKEN_LINES = ["v 1 2", "v 1 nan 3", "v 1 2 3x", "v 1.2.3 0 0", "vt 1", "vn 0 1", "f 1 2", "f 0 1 2",
                 "f 1 2 99", "f -99 1 2", "f 1/1 2 3", "f 1// 2// 3//", "f 1/2/3/4 1 2", "f a b c", "v 1 - 2",
                 "v 1 2 3 # trailing", "f 1 2 \\\n 3"]
@@ -445,10 +471,7 @@ def obj_texts(draw: st.DrawFn) -> bytes:
 @settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(obj_texts())
 def test_the_fast_reader_agrees_with_the_line_reader(text: bytes) -> None:
-    fast, slow = read_both(text)
-    if fast != "unusual":
-        assert not isinstance(slow, LoadError), f"fast reader accepted what the line reader rejects: {slow}"
-        assert_same_tables(fast, slow)
+    assert_agree(read_both(text))
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -489,10 +512,7 @@ def small_chunks(chunk_bytes: int = 64, threads: int = 3) -> Iterator[None]:
 @given(obj_texts(), st.sampled_from([8, 24, 64]))
 def test_the_fast_reader_agrees_with_the_line_reader_across_chunks_and_threads(text: bytes, chunk: int) -> None:
     with small_chunks(chunk):
-        fast, slow = read_both(text)
-    if fast != "unusual":
-        assert not isinstance(slow, LoadError), f"fast reader accepted what the line reader rejects: {slow}"
-        assert_same_tables(fast, slow)
+        assert_agree(read_both(text))
 
 
 def big_generated_text() -> bytes:
@@ -518,13 +538,13 @@ def big_generated_text() -> bytes:
 
 def test_big_generated_file_takes_the_fast_path_and_matches_the_line_reader() -> None:
     text = big_generated_text()
-    fast, slow = read_both(text)
-    assert fast != "unusual"
-    assert_same_tables(fast, slow)
+    both = read_both(text)
+    assert both.fast_lines == 0
+    assert_agree(both)
     with small_chunks(1000):
-        chunked, _ = read_both(text)
-    assert chunked != "unusual"
-    assert_same_tables(chunked, slow)
+        chunked = read_both(text)
+    assert chunked.fast_lines == 0
+    assert_agree(chunked)
 
 
 @pytest.mark.parametrize("where", [0.02, 0.5, 0.98])
@@ -582,9 +602,9 @@ def test_seed_models_load_with_their_counts(name: str, vertices: int, faces: int
 
 @pytest.mark.parametrize("name", [name for name, _, _ in SEED_MODELS])
 def test_seed_models_take_the_fast_path(name: str) -> None:
-    fast, slow = read_both(seed_model(name).read_bytes())
-    assert fast != "unusual", name
-    assert_same_tables(fast, slow)
+    both = read_both(seed_model(name).read_bytes())
+    assert both.fast_lines == 0, name
+    assert_agree(both)
 
 
 def test_rammer_has_quads_texture_coordinates_and_normals() -> None:
@@ -592,7 +612,8 @@ def test_rammer_has_quads_texture_coordinates_and_normals() -> None:
     assert set(np.unique(mesh.face_sizes).tolist()) == {3, 4}
     assert "Rammer 225.mtl" in mesh.warnings[0]  # the seed ships no MTL
     assert mesh.corner_uv.min() >= 0 and mesh.corner_uv.max() <= 1
-    _, raw = read_both(seed_model("rammer_225.obj").read_bytes())  # the file's own vt and vn, not derived
+    raw = read_both(seed_model("rammer_225.obj").read_bytes()).fast  # the file's own vt and vn, not derived
+    assert isinstance(raw, RawObj)
     assert (raw.corner_texcoord >= 0).all() and (raw.corner_normal >= 0).all()
 
 

@@ -7,7 +7,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from PIL import Image
-from support.scenes import BACKGROUND, RecordingHost
 
 from marraztu.control.keymap import dispatch, parse_key_sequence
 from marraztu.control.viewer import StartOptions
@@ -15,6 +14,7 @@ from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.scenefile import load_builtin_scene
 from marraztu.model.scene import Projection, Scene, SceneObject
 from marraztu.render.layout import View, project, view_projection
+from support.scenes import BACKGROUND, RecordingHost
 
 VIEW = View((0, 0, 400, 400), shading=None)  # type: ignore[arg-type]  # only the viewport matters here
 

@@ -6,13 +6,13 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from support import corpus
 
 from marraztu.control.keymap import KeyPress, parse_key_sequence
 from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer
 from marraztu.errors import ViewerError
 from marraztu.loaders.images import fallback_texture
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
+from support import corpus
 
 GOOD = corpus.TRIANGLE + b"f 1 2 3\n"
 

@@ -5,8 +5,9 @@ index 0, drops a truncated last face and accepts NaN. A viewer for students must
 wrong and on which line.
 
 Two readers produce the same raw tables (raw.py): the fast one (fast.py) reads the whole buffer
-with numpy; the line-by-line one (lines.py) is the authority on meaning and runs whenever the fast
-one meets anything it does not handle, valid or not, so it alone words the errors. The MTL beside
+with numpy; the line-by-line one (lines.py) is the authority on meaning and reads again just the
+pieces the fast one does not handle, valid or not, so it alone words the errors. It reads the whole
+file only when lines are continued with a backslash. The MTL beside
 the file gives the material (mtl.py). Normals and texture coordinates the file lacks are derived by
 marraztu.model.build, as for every other format.
 """
@@ -19,7 +20,7 @@ from pathlib import Path
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import read_file
-from marraztu.loaders.obj.fast import Unusual, read_fast
+from marraztu.loaders.obj.fast import read_fast
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.mtl import first_material
 from marraztu.loaders.obj.raw import RawObj
@@ -68,28 +69,42 @@ def _parse(data: bytes, source: str, base_dir: Path | None) -> Mesh:
 
 
 def _read_tables(text: bytes, source: str) -> RawObj:
-    if not _needs_line_reader(text):
-        try:
-            return read_fast(text)
-        except Unusual:
-            pass
-        except MemoryError:
-            raise
-        except Exception:  # a fast-reader bug must not cost the person their model: read it slowly
-            pass
-    return read_by_lines(text, source)
+    if _has_continuations(text):
+        return read_by_lines(text, source)  # a continuation joins lines: only the line reader follows them
+    try:
+        return read_fast(text, source)
+    except (LoadError, MemoryError):
+        raise
+    except Exception:  # a fast-reader bug must not cost the person their model: read it slowly
+        return read_by_lines(text, source)
 
 
-def _needs_line_reader(text: bytes) -> bool:
-    """Line continuations (a backslash ending a line) change line numbering: the slow reader's job."""
-    return b"\\" in text and re.search(rb"\\[^\S\n]*\n", text) is not None
+_BACKSLASH_AT_LINE_END = re.compile(rb"\\[^\S\n]*\n")
+_BOM = b"\xef\xbb\xbf"
+_NO_BREAK_SPACE = "\u00a0".encode()
+
+
+def _has_continuations(text: bytes) -> bool:
+    """A backslash ending a line continues it, unless the line holds a comment (C:\\models\\ in one)."""
+    if b"\\" not in text:
+        return False
+    for match in _BACKSLASH_AT_LINE_END.finditer(text):
+        line_start = text.rfind(b"\n", 0, match.start()) + 1
+        if text.find(b"#", line_start, match.start()) < 0:
+            return True
+    return False
 
 
 def _normalized_text(data: bytes, source: str) -> bytes:
-    """Reject binary data and make sure the last line ends with a newline.
+    """Reject binary data; make every line end with a newline; read what editors write as ASCII.
 
-    Tabs, CR (of CRLF) and the other ASCII whitespace stay: both readers treat them as spaces.
+    A UTF-8 byte order mark goes, a lone CR (old Mac files) ends a line, and a no-break space
+    becomes two spaces. Tabs, the CR of CRLF and the other ASCII whitespace
+    stay: both readers treat them as spaces.
     """
+    data = data.removeprefix(_BOM)
+    if b"\r" in data and data.count(b"\r") != data.count(b"\r\n"):
+        data = data.replace(b"\r\n", b"\n").replace(b"\r", b"\n")  # no regex: it would hold a piece per line
     nul = data.find(b"\0")
     if nul >= 0:
         raise LoadError(source, "binary data (a NUL byte), not an OBJ text file", line=_line_of(data, nul))
@@ -99,6 +114,7 @@ def _normalized_text(data: bytes, source: str) -> bytes:
         except UnicodeDecodeError as error:
             raise LoadError(source, "binary data (not UTF-8 text), not an OBJ text file",
                             line=_line_of(data, error.start)) from None
+        data = data.replace(_NO_BREAK_SPACE, b"  ")
     return data if data.endswith(b"\n") else data + b"\n"
 
 

@@ -1,13 +1,16 @@
 """The line-by-line OBJ reader: the authority on meaning and on error messages.
 
-It runs when the fast reader meets anything it does not handle, and returns the same tables or
-raises the LoadError that names the first offending line.
+It reads a whole file only when the file continues lines with a backslash; otherwise the fast reader
+hands it just the lines of a piece it does not handle, one line at a time (LineReader.read_line),
+and words the errors that need the whole file (no faces, indices past the end) with the functions
+below. Either way a LoadError names the first offending line.
 """
 
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
+from array import array
+from collections.abc import Callable, Iterator, Sequence
 
 import numpy as np
 
@@ -17,10 +20,13 @@ from marraztu.model.geometry import FLOAT32_MAX
 
 _FLOAT = re.compile(rb"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
 _INTEGER = re.compile(rb"-?[0-9]+\Z")
-_TABLES = {b"v": ("vertex position (v)", 3, 7), b"vt": ("texture coordinate (vt)", 2, 3),
-           b"vn": ("normal (vn)", 3, 3)}
+_TOKEN = re.compile(rb"\S+")
+_TABLES = {b"v": (0, "vertex position (v)", 3, 7), b"vt": (1, "texture coordinate (vt)", 2, 3),
+           b"vn": (2, "normal (vn)", 3, 3)}
 _FIELDS = (b"v", b"vt", b"vn")
 _FIELD_NAMES = ("vertex", "texture coordinate (vt)", "normal (vn)")
+_TABLE_WIDTHS = (3, 2, 3)
+_QUOTED_CHARACTERS = 40
 
 
 def _float_or_none(token: bytes) -> float | None:
@@ -32,15 +38,19 @@ def _is_non_finite(token: bytes) -> bool:
     return token.lstrip(b"+-").lower() in (b"nan", b"inf", b"infinity")
 
 
-class _LineReader:
-    """Reads statement by statement, remembering enough to name the line of any later problem."""
+class LineReader:
+    """Reads statement by statement, remembering enough to name the line of any later problem.
+
+    `defined` counts the v, vt and vn lines before the line being read: relative indices count back
+    from there. Reading a whole file keeps it up to date; the fast reader sets it before each line."""
 
     def __init__(self, source: str) -> None:
         self.source = source
-        self.tables: dict[bytes, list[list[float]]] = {field: [] for field in _FIELDS}
-        self.corners: list[list[int]] = [[], [], []]  # 0-based v, vt, vn per corner; -1: none
-        self.face_sizes: list[int] = []
-        self.face_lines: list[int] = []
+        self.tables = [array("d") for _ in _FIELDS]  # flat rows, _TABLE_WIDTHS numbers each
+        self.defined = [0, 0, 0]
+        self.corners = [array("q") for _ in _FIELDS]  # 0-based v, vt, vn per corner; -1: none
+        self.face_sizes = array("q")
+        self.face_lines = array("q")
         self.mtllib: str | None = None
         self.colour = ColourComment()
         self.statements = 0
@@ -50,33 +60,42 @@ class _LineReader:
 
     def read(self, text: bytes) -> RawObj:
         for number, content in _logical_lines(text):
-            keyword, rest = statement(content)
-            if not keyword and content.lstrip().startswith(b"#"):
-                self.colour.offer(number, content)
-            if keyword:
-                self.statements += 1
-                self.statement(number, keyword, rest)
+            self.read_line(number, content)
         if not self.face_sizes:
-            what = "empty file: no faces" if self.statements == 0 else "no faces (no 'f' statements)"
-            raise LoadError(self.source, what)
-        corners = [np.array(field, dtype=np.int64) for field in self.corners]
-        self.check_forward_indices(corners)
-        return self.result(corners)
+            raise no_faces_error(self.source, self.statements > 0)
+        corners = [np.frombuffer(field, dtype=np.int64) for field in self.corners]
+        face_lines = np.frombuffer(self.face_lines, dtype=np.int64)
+        face_start = np.concatenate(([0], np.cumsum(np.frombuffer(self.face_sizes, dtype=np.int64))))
+        check_forward_indices(self.source, corners, self.defined,
+                              lambda corner: int(face_lines[np.searchsorted(face_start, corner, "right") - 1]))
+        return self.result(corners, face_start)
+
+    def read_line(self, number: int, content: bytes) -> None:
+        """One physical (or continued) line: the statement it holds, or the comment it is."""
+        keyword, rest = statement(content)
+        if keyword:
+            self.statements += 1
+            self.statement(number, keyword, rest)
+        elif content.lstrip().startswith(b"#"):
+            self.colour.offer(number, content)
 
     def statement(self, number: int, keyword: bytes, rest: bytes) -> None:
         if keyword in _TABLES:
-            name, fewest, most = _TABLES[keyword]
-            values = self.numbers(number, rest.split(), name, fewest, most)
-            self.tables[keyword].append(values[:fewest])
+            field, name, fewest, most = _TABLES[keyword]
+            values = self.numbers(number, rest, name, fewest, most)
+            self.tables[field].extend(values[:_TABLE_WIDTHS[field]])
+            self.defined[field] += 1
         elif keyword == b"f":
-            self.face(number, rest.split())
+            self.face(number, rest)
         elif keyword == b"mtllib" and self.mtllib is None:
             self.mtllib = rest.decode("utf-8", errors="replace")
 
-    def numbers(self, number: int, tokens: list[bytes], name: str, fewest: int, most: int) -> list[float]:
+    def numbers(self, number: int, rest: bytes, name: str, fewest: int, most: int) -> list[float]:
+        tokens = rest.split(None, most + 1)  # bounded: a line of millions of numbers is not split into them
         if not fewest <= len(tokens) <= most:
             expected = str(fewest) if fewest == most else f"{fewest} to {most}"
-            raise self.fail(number, f"a {name} needs {expected} numbers, found {len(tokens)}")
+            found = f"more than {most + 1}" if len(tokens) > most + 1 else str(len(tokens))
+            raise self.fail(number, f"a {name} needs {expected} numbers, found {found}")
         values = []
         for token in tokens:
             value = _float_or_none(token)
@@ -88,18 +107,41 @@ class _LineReader:
             values.append(value)
         return values
 
-    def face(self, number: int, tokens: list[bytes]) -> None:
-        if len(tokens) < 3:
-            raise self.fail(number, f"a face needs at least 3 vertices, found {len(tokens)}")
-        corners = [self.corner(number, token) for token in tokens]
-        if len({tuple(index is None for index in corner) for corner in corners}) > 1:
-            raise self.fail(number, f"mixed corner formats in one face: {_quoted(b' '.join(tokens))}")
-        for corner, token in zip(corners, tokens):
-            self.add_corner(number, corner, token)
-        self.face_sizes.append(len(tokens))
+    def face(self, number: int, rest: bytes) -> None:
+        """Corner by corner, never a list of them: one face may hold millions."""
+        count = len(rest.split(None, 3))
+        if count < 3:
+            raise self.fail(number, f"a face needs at least 3 vertices, found {count}")
+        first = len(self.corners[0])
+        shapes = set()
+        for match in _TOKEN.finditer(rest):
+            corner = self.corner(number, match.group())
+            shapes.add(tuple(index == 0 for index in corner))
+            for field, index in enumerate(corner):
+                self.corners[field].append(index)  # the file's index for now (0: none); resolved below
+        if len(shapes) > 1:
+            raise self.fail(number, f"mixed corner formats in one face: {_quoted(_first_tokens(rest))}")
+        self.resolve(number, rest, first)
+        self.face_sizes.append(len(self.corners[0]) - first)
         self.face_lines.append(number)
 
-    def corner(self, number: int, token: bytes) -> list[int | None]:
+    def resolve(self, number: int, rest: bytes, first: int) -> None:
+        """The face's corners from `first` on, from the file's indices to 0-based ones (-1: none), corner
+        by corner; positive ones may point forward. A relative one reaching before the first is an error."""
+        for at in range(first, len(self.corners[0])):
+            for field, column in enumerate(self.corners):
+                raw = column[at]
+                if raw < 0 and self.defined[field] + raw < 0:
+                    raise self.relative_error(number, field, raw, rest, at - first)
+                column[at] = raw - 1 if raw >= 0 else self.defined[field] + raw
+
+    def relative_error(self, number: int, field: int, raw: int, rest: bytes, corner: int) -> LoadError:
+        token = next(match.group() for position, match in enumerate(_TOKEN.finditer(rest)) if position == corner)
+        return self.fail(number, f"relative {_FIELD_NAMES[field]} index {raw} in {_quoted(token)} "
+                                 f"reaches before the first one ({self.defined[field]} defined so far)")
+
+    def corner(self, number: int, token: bytes) -> list[int]:
+        """The file's v, vt and vn indices of one corner, 0 where it has none."""
         parts = token.split(b"/")
         if tuple(bool(part) for part in parts) not in CORNER_GAPS:
             raise self.fail(number, f"bad face corner {_quoted(token)} (expected v, v/vt, v//vn or v/vt/vn)")
@@ -111,54 +153,47 @@ class _LineReader:
         indices = [int(part) if part else None for part in (parts + [b"", b""])[:3]]
         if 0 in indices:
             raise self.fail(number, f"index 0 in face corner {_quoted(token)}: OBJ indices start at 1")
-        return indices
+        return [index or 0 for index in indices]
 
-    def add_corner(self, number: int, corner: list[int | None], token: bytes) -> None:
-        for field, raw in enumerate(corner):
-            if raw is None:
-                self.corners[field].append(-1)
-            elif raw > 0:
-                self.corners[field].append(raw - 1)  # may point forward: checked at the end
-            else:
-                defined = len(self.tables[_FIELDS[field]])
-                if defined + raw < 0:
-                    raise self.fail(number, f"relative {_FIELD_NAMES[field]} index {raw} in {_quoted(token)} "
-                                            f"reaches before the first one ({defined} defined so far)")
-                self.corners[field].append(defined + raw)
-
-    def check_forward_indices(self, corners: list[np.ndarray]) -> None:
-        """Positive indices may point forward, so they are checked once the whole file is read."""
-        face_of_corner = np.repeat(np.arange(len(self.face_sizes)), self.face_sizes)
-        for field, resolved in enumerate(corners):
-            total = len(self.tables[_FIELDS[field]])
-            bad = np.flatnonzero(resolved >= total)
-            if bad.size:
-                line = self.face_lines[face_of_corner[bad[0]]]
-                raise self.fail(line, f"{_FIELD_NAMES[field]} index {resolved[bad[0]] + 1} out of range: "
-                                      f"the file has {total}")
-
-    def result(self, corners: list[np.ndarray]) -> RawObj:
-        def table(field: bytes, width: int) -> np.ndarray:
-            return np.array(self.tables[field], dtype=np.float64).reshape(-1, width)
-
-        def optional(field: int) -> np.ndarray | None:
-            return corners[field] if np.any(corners[field] >= 0) else None
-
-        face_start = np.concatenate(([0], np.cumsum(self.face_sizes))).astype(np.int64)
-        return RawObj(table(b"v", 3), table(b"vt", 2), table(b"vn", 3), corners[0], optional(1), optional(2),
-                       face_start, self.mtllib, self.colour.colour, self.colour.notes)
+    def result(self, corners: list[np.ndarray], face_start: np.ndarray) -> RawObj:
+        tables = [np.frombuffer(table, dtype=np.float64).reshape(-1, width)
+                  for table, width in zip(self.tables, _TABLE_WIDTHS)]
+        optional = [column if np.any(column >= 0) else None for column in corners]
+        return RawObj(tables[0], tables[1], tables[2], corners[0], optional[1], optional[2],
+                      face_start, self.mtllib, self.colour.colour, self.colour.notes)
 
 
 def read_by_lines(text: bytes, source: str) -> RawObj:
-    return _LineReader(source).read(text)
+    return LineReader(source).read(text)
+
+
+def no_faces_error(source: str, has_statements: bool) -> LoadError:
+    return LoadError(source, "no faces (no 'f' statements)" if has_statements else "empty file: no faces")
+
+
+def check_forward_indices(source: str, corners: Sequence[np.ndarray | None], totals: Sequence[int],
+                          line_of_corner: Callable[[int], int]) -> None:
+    """Positive indices may point forward, so they are checked once the whole file is read."""
+    for field, resolved in enumerate(corners):
+        if resolved is None or resolved.size == 0 or resolved.max() < totals[field]:
+            continue
+        first_bad = int(np.argmax(resolved >= totals[field]))
+        raise LoadError(source, f"{_FIELD_NAMES[field]} index {resolved[first_bad] + 1} out of range: "
+                                f"the file has {totals[field]}", line=line_of_corner(first_bad))
 
 
 def _logical_lines(text: bytes) -> Iterator[tuple[int, bytes]]:
-    """(first line number, content) with backslash-continued lines joined."""
+    """(first line number, content) with backslash-continued lines joined.
+
+    A backslash continues only a statement: not a line with a comment, and a comment line is never
+    joined to the statement before it."""
     pending, first = b"", 0
-    for number, line in enumerate(text.split(b"\n"), start=1):
+    for number, line in enumerate(_physical_lines(text), start=1):
+        if pending and line.lstrip().startswith(b"#"):
+            yield first, pending
+            pending = b""
         stripped = line.rstrip()
-        if stripped.endswith(b"\\"):
+        if stripped.endswith(b"\\") and b"#" not in line:
             first = first if pending else number
             pending += stripped[:-1] + b" "
             continue
@@ -171,6 +206,21 @@ def _logical_lines(text: bytes) -> Iterator[tuple[int, bytes]]:
         yield first, pending
 
 
+def _physical_lines(text: bytes) -> Iterator[bytes]:
+    """The lines one at a time: a list of them all would cost many times the file."""
+    start = 0
+    while start <= len(text):
+        end = text.find(b"\n", start)
+        end = len(text) if end < 0 else end
+        yield text[start:end]
+        start = end + 1
+
+
+def _first_tokens(rest: bytes) -> bytes:
+    """The face's corners joined by single spaces, only as far as _quoted shows them."""
+    return b" ".join(rest.split(None, _QUOTED_CHARACTERS + 1)[:_QUOTED_CHARACTERS + 1])
+
+
 def _quoted(token: bytes) -> str:
     text = token.decode("utf-8", errors="replace")
-    return repr(text if len(text) <= 40 else text[:37] + "...")
+    return repr(text if len(text) <= _QUOTED_CHARACTERS else text[:_QUOTED_CHARACTERS - 3] + "...")

@@ -34,11 +34,14 @@ COLOUR_COMMENT = re.compile(rb"\s*#\s*colou?r\s+(\S+)\s+(\S+)\s+(\S+)\s*\Z")
 
 
 class ColourComment:
-    """The seed reader's ``# colour r g b`` (0..255) as a 0..1 colour: the first well-formed one counts."""
+    """The seed reader's ``# colour r g b`` (0..255) as a 0..1 colour: the first well-formed one counts.
+
+    Malformed ones before it become one note, however many there are: the overlay shows every note."""
 
     def __init__(self) -> None:
         self.colour: tuple[float, float, float] | None = None
-        self.notes: list[str] = []
+        self.malformed = 0
+        self.first_malformed_line = 0
 
     def offer(self, line_number: int, comment: bytes) -> None:
         if self.colour is not None or b"colo" not in comment:
@@ -48,10 +51,20 @@ class ColourComment:
             return
         values = finite_floats(match.groups())
         if values is None:
-            self.notes.append(f"ignored a malformed '# colour' comment on line {line_number}")
+            self.malformed += 1
+            self.first_malformed_line = self.first_malformed_line or line_number
         else:
             red, green, blue = (min(max(value / 255.0, 0.0), 1.0) for value in values)
             self.colour = (red, green, blue)
+
+    @property
+    def notes(self) -> list[str]:
+        if self.malformed == 0:
+            return []
+        if self.malformed == 1:
+            return [f"ignored a malformed '# colour' comment on line {self.first_malformed_line}"]
+        first = self.first_malformed_line
+        return [f"ignored {self.malformed} malformed '# colour' comments (the first on line {first})"]
 
 
 def finite_floats(tokens: Sequence[bytes | str]) -> list[float] | None:

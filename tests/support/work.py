@@ -1,0 +1,58 @@
+"""Measuring work instead of time: how many lines the OBJ line reader read, and peak traced memory.
+
+A busy machine makes seconds meaningless; a count of Python lines or traced bytes is the same on any.
+"""
+
+from __future__ import annotations
+
+import gc
+import tracemalloc
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import TypeVar
+
+from marraztu.errors import LoadError
+from marraztu.loaders.obj import lines as line_reader
+
+Result = TypeVar("Result")
+
+
+@dataclass
+class LineCount:
+    lines: int = 0
+
+
+@contextmanager
+def lines_read_by_the_line_reader() -> Iterator[LineCount]:
+    """Counts the lines the Python line reader reads inside the block: each goes through its `statement`."""
+    count = LineCount()
+    original = line_reader.statement
+
+    def counted(content: bytes) -> tuple[bytes, bytes]:
+        count.lines += 1  # threads may race here; the GIL makes the loss at most a line or two
+        return original(content)
+
+    line_reader.statement = counted  # type: ignore[assignment]
+    try:
+        yield count
+    finally:
+        line_reader.statement = original  # type: ignore[assignment]
+
+
+def peak_traced_bytes(work: Callable[[], Result]) -> tuple[Result | LoadError, int]:
+    """(work's result or the LoadError it raised, the peak of memory traced while it ran, beyond the start).
+
+    numpy reports its arrays to tracemalloc, so this counts the readers' arrays as well as Python objects."""
+    gc.collect()
+    tracemalloc.start()
+    try:
+        baseline = tracemalloc.get_traced_memory()[0]
+        try:
+            outcome: Result | LoadError = work()
+        except LoadError as error:  # the caller decides whether an error was the outcome wanted
+            outcome = error
+        peak = tracemalloc.get_traced_memory()[1] - baseline
+    finally:
+        tracemalloc.stop()
+    return outcome, peak

@@ -1,0 +1,263 @@
+"""The OBJ reader against inputs shaped to cost it: a bad file's error costs about what a good file of
+its size costs, and every input costs in proportion to its size. Also what people's editors write:
+byte order marks, old Mac line ends, Windows paths in comments, no-break spaces, odd material files.
+
+Work is measured, never seconds: lines the Python line reader reads, and peak memory traced.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from marraztu.errors import LoadError
+from marraztu.loaders.obj import fast as fast_reader
+from marraztu.loaders.obj import load_obj, parse_obj
+from marraztu.model.mesh import Mesh
+from support.work import lines_read_by_the_line_reader, peak_traced_bytes
+
+CHUNK_BYTES = 1 << 16
+SHORTEST_FACE_LINE = len(b"f 1/1/1 2/2/2 3/3/3\n")
+QUAD = b"v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nf 1 2 3 4\n"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def small_chunks() -> Iterator[None]:
+    """Small pieces: a file of a few megabytes then has dozens, as a large file has, and numpy's
+    per-piece temporaries stay small beside the file."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(fast_reader, "_CHUNK_BYTES", CHUNK_BYTES)
+        yield
+
+
+def exporter_text(side: int = 120) -> bytes:
+    """A grid of v/vt/vn triangles written as exporters write them: a few megabytes."""
+    rng = np.random.default_rng(3)
+    count = side * side
+    lines = [f"v {a:.6f} {b:.6f} {c:.6f}" for a, b, c in rng.normal(size=(count, 3))]
+    lines += [f"vt {a:.6f} {b:.6f}" for a, b in rng.random((count, 2))]
+    lines += [f"vn {a:.4f} {b:.4f} {c:.4f}" for a, b, c in rng.normal(size=(count, 3))]
+    for row in range(side - 1):
+        for column in range(side - 1):
+            a = row * side + column + 1
+            for triangle in ((a, a + 1, a + side + 1), (a, a + side + 1, a + side)):
+                lines.append("f " + " ".join(f"{i}/{i}/{i}" for i in triangle))
+    return ("\n".join(lines) + "\n").encode()
+
+
+TEXT = exporter_text()
+TEXT_LINES = TEXT.count(b"\n")
+ONE_CHUNK_OF_LINES = CHUNK_BYTES // SHORTEST_FACE_LINE + 1
+
+
+def load_counting(data: bytes) -> tuple[Mesh | LoadError, int, int]:
+    """(the mesh or the error, lines the line reader read, peak bytes traced)."""
+    with lines_read_by_the_line_reader() as counted:
+        outcome, peak = peak_traced_bytes(lambda: parse_obj(data, "hostile.obj"))
+    return outcome, counted.lines, peak
+
+
+def error_of(outcome: Mesh | LoadError) -> LoadError:
+    assert isinstance(outcome, LoadError), outcome
+    return outcome
+
+
+@pytest.fixture(scope="module")
+def plain_peak(small_chunks: None) -> int:
+    """Peak memory of loading TEXT, the good file every bad one is weighed against."""
+    outcome, lines, peak = load_counting(TEXT)
+    assert isinstance(outcome, Mesh) and lines == 0
+    return peak
+
+
+# --- errors cost what a good file costs ------------------------------------------------------------
+
+
+def test_a_good_exporter_file_takes_the_fast_path_end_to_end() -> None:
+    outcome, lines, _ = load_counting(TEXT)
+    assert isinstance(outcome, Mesh) and outcome.face_count == 2 * 119 * 119
+    assert lines == 0
+    assert TEXT_LINES > 20 * ONE_CHUNK_OF_LINES  # the bounds below are far below the file's lines
+
+
+def test_a_cut_last_line_costs_one_piece_not_the_file(plain_peak: int) -> None:
+    outcome, lines, peak = load_counting(TEXT + b"f 1/1/1 2/1")
+    error = error_of(outcome)
+    assert (error.line, error.message) == (TEXT_LINES + 1, "a face needs at least 3 vertices, found 2")
+    assert lines <= ONE_CHUNK_OF_LINES
+    assert peak <= 2 * plain_peak
+
+
+def test_blank_lines_say_no_faces_without_reading_a_line(plain_peak: int) -> None:
+    outcome, lines, peak = load_counting(b"\n" * len(TEXT))
+    assert error_of(outcome).message == "empty file: no faces"
+    assert lines == 0
+    assert peak <= 2 * plain_peak
+
+
+def test_vertices_only_say_no_faces_without_reading_a_line() -> None:
+    vertices = TEXT[:TEXT.index(b"\nf ") + 1]
+    outcome, lines, _ = load_counting(vertices)
+    assert error_of(outcome).message == "no faces (no 'f' statements)"
+    assert lines == 0
+
+
+def test_one_huge_vertex_line_is_counted_not_split() -> None:
+    data = QUAD + b"v" + b" 1.5" * (len(TEXT) // 4) + b"\n"
+    outcome, lines, peak = load_counting(data)
+    error = error_of(outcome)
+    assert error.line == 6
+    assert error.message == "a vertex position (v) needs 3 to 7 numbers, found more than 8"
+    assert lines <= 6
+    assert peak <= 5 * len(data)  # a few copies of the line, not millions of tokens
+
+
+def test_a_bad_line_in_the_middle_costs_one_piece(plain_peak: int) -> None:
+    lines_of_text = TEXT.split(b"\n")
+    middle = len(lines_of_text) // 2
+    lines_of_text[middle] = b"v 1 2"
+    outcome, lines, peak = load_counting(b"\n".join(lines_of_text))
+    error = error_of(outcome)
+    assert (error.line, error.message) == (middle + 1, "a vertex position (v) needs 3 to 7 numbers, found 2")
+    assert lines <= ONE_CHUNK_OF_LINES
+    assert peak <= 2 * plain_peak
+
+
+def test_odd_but_valid_lines_cost_their_piece_and_give_the_same_model() -> None:
+    """A trailing comment, an exponent and a face of another corner format, late in the file."""
+    lines_of_text = TEXT.split(b"\n")
+    at = len(lines_of_text) - 10
+    lines_of_text[at] = lines_of_text[at] + b"  # the last faces"
+    lines_of_text.insert(at, b"f 1 2 3")
+    lines_of_text.insert(5, b"v 1e0 2E+0 -3.5e-1")
+    outcome, lines, _ = load_counting(b"\n".join(lines_of_text))
+    assert isinstance(outcome, Mesh)
+    assert lines <= 2 * ONE_CHUNK_OF_LINES
+    reference = parse_obj(TEXT, "hostile.obj")
+    assert outcome.face_count == reference.face_count + 1
+    np.testing.assert_array_equal(outcome.positions[5], [1, 2, -0.35])
+
+
+def test_the_first_error_in_the_file_wins_whatever_kind_is_read_first() -> None:
+    """Vertices are parsed before faces, but a bad face before a bad vertex is the one reported."""
+    faces_at = TEXT.index(b"\nf ") + 1
+    first_face_line = TEXT.count(b"\n", 0, faces_at) + 1
+    bad_face = TEXT[:faces_at] + b"f 1 2\n" + TEXT[faces_at:] + b"v 1 2\n"
+    error = error_of(load_counting(bad_face)[0])
+    assert (error.line, error.message) == (first_face_line, "a face needs at least 3 vertices, found 2")
+    bad_vertex_first = b"v 1 x 3\n" + TEXT + b"f 1 2\n"
+    assert error_of(load_counting(bad_vertex_first)[0]).line == 1
+
+
+def test_an_index_past_the_end_is_reported_after_errors_of_single_lines() -> None:
+    """As the line reader does: a positive index may point forward, so it is checked at the end."""
+    data = QUAD + b"f 1 2 99999999\n" + TEXT + b"v 1 2\n"
+    error = error_of(load_counting(data)[0])
+    assert (error.line, error.message) == (7 + TEXT_LINES, "a vertex position (v) needs 3 to 7 numbers, found 2")
+    error = error_of(load_counting(QUAD + b"f 1 2 99999999\n" + TEXT)[0])
+    assert error.line == 6 and error.message.startswith("vertex index 99999999 out of range")
+
+
+def test_a_relative_index_reaching_before_the_first_names_its_line() -> None:
+    data = TEXT + b"f -1 -2 -99999999\n"
+    outcome, lines, _ = load_counting(data)
+    error = error_of(outcome)
+    assert error.line == TEXT_LINES + 1 and "reaches before the first one" in error.message
+    assert lines <= ONE_CHUNK_OF_LINES
+
+
+def test_many_malformed_colour_comments_are_one_note() -> None:
+    data = b"# colour red green blue\n" * 1000 + QUAD
+    mesh = parse_obj(data, "colours.obj")
+    assert mesh.warnings == ("ignored 1000 malformed '# colour' comments (the first on line 1)",)
+
+
+# --- what people's editors write ------------------------------------------------------------------
+
+
+def test_a_byte_order_mark_is_not_part_of_the_first_statement() -> None:
+    mesh = parse_obj(b"\xef\xbb\xbf" + QUAD, "bom.obj")
+    assert mesh.vertex_count == 4
+    with pytest.raises(LoadError) as caught:
+        parse_obj(b"\xef\xbb\xbfv 0 0 0\nv 1 0 0\nv 0 1\nf 1 2 3\n", "bom.obj")
+    assert caught.value.line == 3
+
+
+def test_cr_only_line_ends_are_line_ends() -> None:
+    mesh = parse_obj(QUAD.replace(b"\n", b"\r"), "mac.obj")
+    assert (mesh.vertex_count, mesh.face_count) == (4, 1)
+    with pytest.raises(LoadError) as caught:
+        parse_obj(b"v 0 0 0\rv 1 0 0\r\rv 0 1\r\nf 1 2 3\r", "mac.obj")
+    assert caught.value.line == 4
+
+
+def test_a_comment_ending_in_a_backslash_does_not_swallow_the_next_line() -> None:
+    data = b"# exported from C:\\models\\\n" + QUAD
+    with lines_read_by_the_line_reader() as counted:
+        mesh = parse_obj(data, "windows.obj")
+    assert mesh.vertex_count == 4
+    assert counted.lines == 0  # the comment alone does not send the file to the line reader
+    assert parse_obj(b"v 0 0 0 # C:\\\n" + QUAD, "windows.obj").vertex_count == 5
+
+
+def test_a_continued_statement_does_not_swallow_a_comment_line() -> None:
+    mesh = parse_obj(b"v 0 0 0 \\\n# colour 255 0 0\n" + QUAD, "continued.obj")
+    assert mesh.base_colour == (1.0, 0.0, 0.0)
+    assert mesh.vertex_count == 5
+    mesh = parse_obj(b"v 0 0 \\\n 0 # origin\n" + QUAD, "continued.obj")
+    assert mesh.vertex_count == 5
+
+
+def test_a_no_break_space_separates_like_a_space() -> None:
+    nbsp = "\u00a0".encode()
+    mesh = parse_obj(QUAD.replace(b" ", nbsp), "nbsp.obj")
+    assert (mesh.vertex_count, mesh.face_count) == (4, 1)
+    np.testing.assert_array_equal(mesh.positions[1], [2, 0, 0])
+
+
+def test_a_material_library_name_too_long_for_the_file_system_is_a_note(tmp_path: Path) -> None:
+    path = tmp_path / "long.obj"
+    path.write_bytes(b"mtllib " + b"m" * 300 + b".mtl\n" + QUAD)
+    mesh = load_obj(path)
+    assert mesh.face_count == 1
+    assert len(mesh.warnings) == 1 and "not found" in mesh.warnings[0]
+    assert len(mesh.warnings[0]) < 200
+
+
+def test_a_huge_material_library_is_a_note_and_is_not_read(tmp_path: Path) -> None:
+    huge = tmp_path / "huge.mtl"
+    with huge.open("wb") as stream:
+        stream.truncate(2 << 30)  # sparse: costs no disk
+    path = tmp_path / "model.obj"
+    path.write_bytes(b"mtllib huge.mtl\n" + QUAD)
+    mesh, peak = peak_traced_bytes(lambda: load_obj(path))
+    assert isinstance(mesh, Mesh) and mesh.file_material is None
+    assert len(mesh.warnings) == 1 and "too large" in mesh.warnings[0]
+    assert peak < 1 << 24  # refused from its size, never read
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no named pipes here")
+def test_a_material_library_that_is_a_pipe_is_a_note(tmp_path: Path) -> None:
+    os.mkfifo(tmp_path / "pipe.mtl")
+    path = tmp_path / "model.obj"
+    path.write_bytes(b"mtllib pipe.mtl\n" + QUAD)
+    outcome: list[Mesh] = []
+    reader = threading.Thread(target=lambda: outcome.append(load_obj(path)), daemon=True)
+    reader.start()
+    reader.join(timeout=30)  # opening a pipe would block until someone writes
+    assert outcome, "reading the material library blocked on a pipe"
+    assert len(outcome[0].warnings) == 1 and "not a regular file" in outcome[0].warnings[0]
+
+
+def test_many_malformed_material_lines_are_one_note(tmp_path: Path) -> None:
+    (tmp_path / "bad.mtl").write_text("newmtl a\n" + "Kd x y z\n" * 1000 + "Ks 1 nan 1\nNs 5\n")
+    path = tmp_path / "model.obj"
+    path.write_bytes(b"mtllib bad.mtl\n" + QUAD)
+    mesh = load_obj(path)
+    assert mesh.file_material == {"ns": 5.0}
+    assert mesh.warnings == ("material library 'bad.mtl': ignored 1001 malformed lines (the first a Kd line)",)
