@@ -1,7 +1,8 @@
 """Property tests for what crosses into the program beside models: pictures of every format Pillow
 writes, mutated and renamed (only PPM, PNG and JPEG load, by content, and nothing escapes but a
 LoadError); screenshot output paths of every shape (written whole, or refused with one ViewerError);
-and polygons of every size (the same normal whichever path computes it).
+polygons of every size (the same normal whichever path computes it); and scene-file numbers of every
+size (a finite placement, or one LoadError).
 
 Derandomized: the same examples every run.
 """
@@ -121,3 +122,35 @@ def test_polygons_of_every_size_get_the_same_normal(corners: int, copies: int, t
 @pytest.mark.parametrize("kind", sorted(READ))
 def test_the_formats_read_are_known_by_their_first_bytes(kind: str) -> None:
     assert image_format(picture_bytes(kind, (2, 2))[:8]) == kind
+
+
+TOML_NUMBERS = st.one_of(
+    st.integers(-(10**60), 10**60).map(str),
+    st.integers(300, 5000).map(lambda digits: "9" * digits),
+    st.floats(allow_nan=True, allow_infinity=True).map(repr),
+    st.sampled_from(["1e39", "-1e308", "3.4028235e38", "3.4028236e38", "nan", "+inf", "-inf", "0x7fffffff",
+                     "1_000", "1e400", "-0.0", "5e-324"]),
+)
+
+
+@FUZZ
+@given(position=st.lists(TOML_NUMBERS, min_size=3, max_size=3), rotation=st.lists(TOML_NUMBERS, min_size=3, max_size=3),
+       ns=TOML_NUMBERS)
+def test_scene_numbers_load_or_are_one_load_error(tmp_path: Path, position: list[str], rotation: list[str],
+                                                  ns: str) -> None:
+    from marraztu.loaders.scenefile import load_scene
+
+    (tmp_path / "tri.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    text = (f'[materials.m]\nka = [0.1, 0.2, 0.3]\nkd = [0.4, 0.5, 0.6]\nks = [0.7, 0.8, 0.9]\nns = {ns}\n\n'
+            f'[[cameras]]\nmodel = "tri.obj"\nposition = [0, 0, 150]\n\n'
+            f'[[objects]]\nmodel = "tri.obj"\nposition = [{", ".join(position)}]\n'
+            f'rotation = [{", ".join(rotation)}]\nmaterial = "m"\n')
+    scene_file = tmp_path / "scene.toml"
+    scene_file.write_text(text)
+    try:
+        scene = load_scene(scene_file)
+    except LoadError as error:
+        assert error.path == str(scene_file) and "\n" not in str(error)
+        return
+    model = scene.objects[0].model
+    assert np.isfinite(model).all() and np.abs(model[:3, 3]).max() <= np.finfo(np.float32).max
