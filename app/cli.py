@@ -52,14 +52,14 @@ def start_options(args: argparse.Namespace):
     from marraztu.control.viewer import StartOptions
 
     return StartOptions(scene_file=args.scene, empty=args.empty, texture=args.texture,
-                        models=tuple(args.models))
+                        models=tuple(args.models), watch=getattr(args, "watch", False))
 
 
 # --- the commands ----------------------------------------------------------------------------------
 def window_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="marraztu", description=DESCRIPTION,
-        usage="marraztu [--size WxH] [--scene FILE | --empty] [--texture PATH] [MODEL ...]\n"
+        usage="marraztu [--size WxH] [--watch] [--scene FILE | --empty] [--texture PATH] [MODEL ...]\n"
               "       marraztu COMMAND [options]   (marraztu COMMAND --help for its options)",
         epilog="commands:\n" + "\n".join(f"  {name:<12}{command.summary}" for name, command in COMMANDS.items())
                + "\n\nWith no display, the window's command writes a screenshot to "
@@ -67,6 +67,8 @@ def window_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="version", version=f"marraztu {__version__}")
     add_size_argument(parser, "window size")
+    parser.add_argument("--watch", action="store_true",
+                        help="read a model again when its file changes on disk")
     add_scene_arguments(parser)
     return parser
 

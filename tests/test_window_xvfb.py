@@ -87,6 +87,7 @@ def window_in(display: str, folder: Path, size: tuple[int, int]) -> Iterator[tup
 def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None:
     model = tmp_path / "big triangle.obj"
     model.write_text("v -60 -60 20\nv 60 -60 20\nv 0 60 20\nvt 0 0\nvt 1 0\nvt 0.5 1\nf 1/1 2/2 3/3\n")
+    (tmp_path / "next.obj").write_text("v -30 -50 20\nv 50 -50 20\nv 50 30 20\nv -30 30 20\nf 1 2 3 4\n")
     with window_in(display, tmp_path, SIZE) as (window, window_id):
         xdotool(display, "windowfocus", "--sync", window_id)
         xdotool(display, "type", "--delay", "60", "01F")  # F is shift+f: Gouraud
@@ -98,6 +99,8 @@ def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None
         xdotool(display, "type", "--delay", "30", str(model))
         xdotool(display, "key", "Return")
         time.sleep(0.5)
+        xdotool(display, "key", "Next")  # PageDown: the folder's next model, next.obj, in its place
+        time.sleep(0.5)
         xdotool(display, "type", "--delay", "60", "svi")  # side by side, diffuse only, probe outline
         time.sleep(0.3)
         xdotool(display, "key", "F12")
@@ -108,7 +111,7 @@ def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None
         xdotool(display, "key", "Escape")
         assert window.wait(timeout=30) == 0, "ESC must quit cleanly"
 
-    keys = f'0 1 F TAB ENTER ENTER c t z*3 X*2 c c "f={model.as_posix()}" s v i'
+    keys = f'0 1 F TAB ENTER ENTER c t z*3 X*2 c c "f={model.as_posix()}" PAGEDOWN s v i'
     expected_path = tmp_path / "expected.png"
     result = subprocess.run([sys.executable, "-m", "marraztu", "screenshot", "-o", str(expected_path),
                              "--size", f"{SIZE[0]}x{SIZE[1]}", "--keys", keys],

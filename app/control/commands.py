@@ -11,10 +11,12 @@ place, so `u` gives back the earlier state bit for bit.
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 from typing import Protocol
 
 import numpy as np
 
+from marraztu.control.browse import sibling_model
 from marraztu.model import transforms
 from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, Light
 from marraztu.model.scene import SWITCHED_SHADINGS, CameraMode, Fill, Frame, Projection, Scene, SceneObject, Target
@@ -40,6 +42,10 @@ class Host(Protocol):
 
     def load_model(self, path: str) -> bool | None:
         """Loads a model file; on success calls `add_loaded`, on failure sets scene.message."""
+        ...
+
+    def replace_model(self, element: SceneObject, path: Path) -> bool | None:
+        """Reads `path` into `element`'s place (`replace_loaded`); on failure the scene is kept."""
         ...
 
     def save_screenshot(self) -> None: ...
@@ -382,6 +388,34 @@ def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool) -> None:
     else:
         scene.objects.append(obj)
         scene.selected_object = len(scene.objects) - 1
+
+
+def replace_loaded(element: SceneObject, loaded: SceneObject) -> None:
+    """The host's half of PageDown / --watch: the element keeps its place, history and uid (so its
+    undo and GPU slot stay), and takes the new file's mesh, name and material."""
+    element.mesh, element.name, element.material = loaded.mesh, loaded.name, loaded.material
+    element.source, element.selected_face = loaded.source, 0
+
+
+def step_file(step: int) -> CommandFunction:
+    """PageDown / PageUp: the next or previous model file in the targeted element's folder, in its place."""
+
+    def step_through_folder(scene: Scene, host: Host) -> None:
+        element = scene.targeted_element
+        if element is None:
+            scene.message = ("no object or camera to replace (c: target objects or cameras)"
+                             if scene.modes.target is Target.LIGHTS else "no object to replace")
+            return
+        if element.source is None:
+            scene.message = f"{element.name} was not read from a file"
+            return
+        sibling = sibling_model(element.source, step)
+        if sibling is None:
+            scene.message = f"no other model file beside {element.source.name}"
+            return
+        host.replace_model(element, sibling)
+
+    return step_through_folder
 
 
 def delete_selected(scene: Scene, host: Host) -> None:

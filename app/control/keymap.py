@@ -20,8 +20,8 @@ from marraztu.errors import KeyMapError
 from marraztu.model.lights import LIGHT_KEYS
 from marraztu.model.scene import Scene
 
-NAMED_KEYS = ("TAB", "ENTER", "ESC", "DELETE", "F1", "F12")
-_NAMED_ALIASES = {"ESCAPE": "ESC", "RETURN": "ENTER", "DEL": "DELETE"}
+NAMED_KEYS = ("TAB", "ENTER", "ESC", "DELETE", "F1", "F12", "PAGEDOWN", "PAGEUP")
+_NAMED_ALIASES = {"ESCAPE": "ESC", "RETURN": "ENTER", "DEL": "DELETE", "PGDN": "PAGEDOWN", "PGUP": "PAGEUP"}
 # Keys that only the file prompt reads, and what SPACE types there.
 PROMPT_KEYS = ("BACKSPACE", "SPACE")
 PROMPT_TEXT = {"SPACE": " "}
@@ -95,7 +95,7 @@ def _light_commands() -> list[Command]:
 def build_commands() -> list[Command]:
     """Every key of SPEC 6 and 8, in the order the help overlay lists them."""
     return [
-        Command("f", "load an OBJ file (f=PATH in --keys)", commands.request_file),
+        Command("f", "load a model file (f=PATH in --keys)", commands.request_file),
         Command("TAB", "select the next object / camera / light", commands.select_next),
         Command("ENTER", "select the next face of the object", commands.next_face,
                 lambda s: "" if s.object is None else f"face {s.object.selected_face + 1}"),
@@ -134,6 +134,8 @@ def build_commands() -> list[Command]:
         Command("-", "narrow the spotlight", commands.change_aperture(-commands.APERTURE_STEP_DEG),
                 _aperture_state),
         Command("DELETE", "delete the selected object / camera", commands.delete_selected),
+        Command("PAGEDOWN", "next model file in the selected one's folder, in its place", commands.step_file(+1)),
+        Command("PAGEUP", "previous model file in that folder, in its place", commands.step_file(-1)),
         Command("F12", "save a screenshot", commands.save_screenshot),
         Command("h", "help on / off", commands.toggle_help, lambda s: _on_off(s.modes.show_help)),
         Command("F1", "help on / off", commands.toggle_help, lambda s: _on_off(s.modes.show_help)),

@@ -19,6 +19,7 @@ from typing import Protocol
 import numpy as np
 
 from marraztu.control import commands, keymap
+from marraztu.control.browse import ModelWatcher
 from marraztu.errors import LoadError, ViewerError
 from marraztu.loaders.images import fit_texture, load_image, load_texture_or_fallback
 from marraztu.loaders.registry import load_model
@@ -46,6 +47,7 @@ class StartOptions:
     empty: bool = False
     texture: Path | None = None
     models: tuple[Path, ...] = ()
+    watch: bool = False  # reload a model when its file changes on disk (the window's --watch)
 
 
 def starting_scene(options: StartOptions) -> Scene:
@@ -59,11 +61,11 @@ def starting_scene(options: StartOptions) -> Scene:
 
 def load_model_object(path: str | Path) -> SceneObject:
     """A model file as a new scene element, placed at the origin like the seed's fresh objects."""
-    return _placed(load_model(path))
+    return _placed(load_model(path), Path(path))
 
 
-def _placed(mesh: Mesh) -> SceneObject:
-    return SceneObject.placed(mesh.name, mesh, material_for_loaded(mesh), (0.0, 0.0, 0.0))
+def _placed(mesh: Mesh, source: Path) -> SceneObject:
+    return SceneObject.placed(mesh.name, mesh, material_for_loaded(mesh), (0.0, 0.0, 0.0), source=source)
 
 
 @dataclass(eq=False)
@@ -73,6 +75,7 @@ class LoadJob:
     path: Path
     as_camera: bool
     at_start: bool = False  # asked for on the command line: its outcome is told, not overwritten
+    replaces: SceneObject | None = None  # PageDown / --watch: the element it takes the place of
     future: Future = field(default_factory=Future)
     # Written by the worker, read by the window's status line. Stages, not a percentage: the parser
     # works on whole arrays, so a percentage would jump in a few steps rather than move smoothly.
@@ -99,8 +102,9 @@ class BackgroundLoader:
         self._lock = threading.Lock()
         self._prepare = prepare
 
-    def start(self, path: Path, as_camera: bool, at_start: bool = False) -> LoadJob:
-        job = LoadJob(path, as_camera, at_start)
+    def start(self, path: Path, as_camera: bool, at_start: bool = False,
+              replaces: SceneObject | None = None) -> LoadJob:
+        job = LoadJob(path, as_camera, at_start, replaces)
         with self._lock:
             self._jobs.append(job)
         job.future = self._pool.submit(self._load, job)
@@ -112,7 +116,7 @@ class BackgroundLoader:
             job.set_stage("preparing vertex arrays")
             self._prepare(mesh)
         job.set_stage("joining the scene at the next frame")
-        return _placed(mesh)
+        return _placed(mesh, job.path)
 
     def pending(self) -> list[LoadJob]:
         with self._lock:
@@ -149,6 +153,7 @@ class Viewer:
         # join the scene in `collect_loads`, called once a frame; without one, loads are immediate.
         self.background = background
         self.prompt: str | None = None  # the `f` prompt's text while it is open
+        self.watcher: ModelWatcher | None = None  # set by --watch
         self._starting = False
 
     # --- start-up ------------------------------------------------------------------------------
@@ -169,6 +174,9 @@ class Viewer:
                 self._set_texture(image, longest_texture_side)
             for model in options.models:
                 self.load_model(model)
+            if options.watch:
+                self.watcher = ModelWatcher()
+                self.watcher.changed(self.scene)  # what the files are now: later changes are the news
         finally:
             self._starting = False
 
@@ -249,13 +257,47 @@ class Viewer:
             return
         for job in self.background.take_finished():
             error = job.future.exception()
-            if error is None:
+            if error is None and job.replaces is not None:
+                self._replace(job.replaces, job.future.result())
+            elif error is None:
                 self._add(job.future.result(), job.path, job.as_camera, job.at_start)
             elif isinstance(error, LoadError):
                 self._failed(error, job.at_start)
             else:  # a bug, not a bad file: say so instead of dying in the render loop
                 self._failed(LoadError(job.path, f"could not be loaded ({type(error).__name__}: {error})"),
                              job.at_start)
+
+    def replace_model(self, element: SceneObject, path: Path) -> bool:
+        """PageDown / PageUp and --watch: `path` in `element`'s place; a bad file leaves it as it was."""
+        if self.background is not None:
+            self.background.start(path, element in self.scene.cameras, replaces=element)
+            self.tell(f"loading {path.name} in place of {element.name}")
+            return True
+        try:
+            loaded = load_model_object(path)
+        except LoadError as error:
+            return self._failed(error)
+        self._replace(element, loaded)
+        return True
+
+    def check_watched(self) -> None:
+        """--watch: every element whose file changed on disk is read again, in its place."""
+        if self.watcher is None:
+            return
+        for element in self.watcher.changed(self.scene):
+            self.replace_model(element, element.source)
+
+    def _replace(self, element: SceneObject, loaded: SceneObject) -> None:
+        if element not in self.scene.objects and element not in self.scene.cameras:  # identity: eq=False
+            self.tell(f"{loaded.source.name} was read, but {element.name} has left the scene meanwhile")
+            return
+        old_name = element.name
+        commands.replace_loaded(element, loaded)
+        message = (f"{loaded.source.name} in place of {old_name}: "
+                   f"{loaded.mesh.vertex_count} vertices, {loaded.mesh.face_count} faces")
+        if loaded.mesh.warnings:
+            message += " (" + "; ".join(loaded.mesh.warnings) + ")"
+        self.tell(message)
 
     def loading_lines(self) -> list[str]:
         return [job.label for job in self.background.uncollected()] if self.background else []

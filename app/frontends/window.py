@@ -33,6 +33,7 @@ SCREENSHOT_DIR = Path("screenshots")
 # answered within a frame, and the cores llvmpipe would spend redrawing an unchanged picture as fast
 # as it can (nothing paces it under Xvfb, nor where vsync is off) go to the loader instead.
 LOADING_FRAMES_PER_SECOND = 30
+WATCH_INTERVAL_S = 0.5  # --watch looks at the models' files this often: soon enough after a save
 
 
 def guarded(handler: Callable[..., None]) -> Callable[..., None]:
@@ -70,7 +71,7 @@ class ViewerWindow:
         self.viewer.start(options, self.renderer.max_texture_side)
         self.overlay = Overlay(self.ctx)
         self.named_keys = self._named_keys()
-        self.last_frame_start = perf_counter()
+        self.last_frame_start = self.last_watch_check = perf_counter()
         self._connect_events()
         self._close_when_destroyed()
 
@@ -97,7 +98,8 @@ class ViewerWindow:
     def _named_keys(self) -> dict[Any, str]:
         keys = self.wnd.keys
         names = {keys.TAB: "TAB", keys.ENTER: "ENTER", keys.ESCAPE: "ESC", keys.DELETE: "DELETE",
-                 keys.F1: "F1", keys.F12: "F12", keys.BACKSPACE: "BACKSPACE"}
+                 keys.F1: "F1", keys.F12: "F12", keys.BACKSPACE: "BACKSPACE",
+                 keys.PAGE_DOWN: "PAGEDOWN", keys.PAGE_UP: "PAGEUP"}
         from pyglet.window import key as pyglet_key
 
         names[pyglet_key.RETURN] = "ENTER"  # moderngl-window's ENTER is the keypad's; this is the main one
@@ -124,11 +126,17 @@ class ViewerWindow:
     @guarded
     def on_render(self, time: float, frame_time: float) -> None:
         self._pace_while_loading()
+        self._check_watched_files()
         self.viewer.collect_loads()
         size = self.wnd.buffer_size
         self.wnd.fbo.use()
         self.renderer.render(self.scene, self.wnd.fbo, size)
         self.overlay.draw(*status.overlay_lines(self.viewer), size, panels.extras(self.scene, size))
+
+    def _check_watched_files(self) -> None:
+        if perf_counter() - self.last_watch_check >= WATCH_INTERVAL_S:  # a stat per file, not per frame
+            self.last_watch_check = perf_counter()
+            self.viewer.check_watched()
 
     def _pace_while_loading(self) -> None:
         if self.viewer.background is not None and self.viewer.background.pending():

@@ -385,7 +385,8 @@ class _ModelLoader:
     def place(self, entry: SceneEntry) -> SceneObject:
         mesh = self.mesh(entry)
         material = entry.material if entry.material is not None else material_for_loaded(mesh)
-        return SceneObject.placed(entry.name, mesh, material, entry.position, entry.rotation)
+        return SceneObject.placed(entry.name, mesh, material, entry.position, entry.rotation,
+                                  source=entry.model_path)
 
     def mesh(self, entry: SceneEntry) -> Mesh:
         key = entry.model_path.absolute()

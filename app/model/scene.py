@@ -10,6 +10,7 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass, field
 from enum import Enum
+from pathlib import Path
 
 import numpy as np
 
@@ -90,12 +91,14 @@ class SceneObject:
     history: list[np.ndarray]
     selected_face: int = 0
     uid: int = field(default_factory=lambda: next(_uids))  # stable key for GPU resources
+    source: Path | None = None  # the model file it was read from: PageDown's folder, --watch's file
 
     @classmethod
     def placed(cls, name: str, mesh: Mesh, material: Material, position: Vec3,
-               rotation_deg: Vec3 = (0.0, 0.0, 0.0)) -> SceneObject:
+               rotation_deg: Vec3 = (0.0, 0.0, 0.0), source: Path | None = None) -> SceneObject:
         """Initial placement: turned about the world x, then y, then z axis, then moved."""
-        return cls(name=name, mesh=mesh, material=material, history=[placement(position, rotation_deg)])
+        return cls(name=name, mesh=mesh, material=material, history=[placement(position, rotation_deg)],
+                   source=source)
 
     @property
     def model(self) -> np.ndarray:

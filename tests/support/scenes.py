@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 
@@ -69,6 +70,10 @@ class RecordingHost:
 
     def load_model(self, path: str) -> bool | None:
         self.calls.append(("load_model", path))
+        return None
+
+    def replace_model(self, element: SceneObject, path: Path) -> bool | None:
+        self.calls.append(("replace_model", element.name, path))
         return None
 
     def save_screenshot(self) -> None:

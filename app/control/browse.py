@@ -1,0 +1,81 @@
+"""The model files around a loaded one: its neighbours in its folder (PageDown / PageUp) and whether it
+changed on disk (--watch)."""
+
+from __future__ import annotations
+
+import bisect
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from marraztu.loaders.registry import MODEL_READERS
+from marraztu.model.scene import Scene, SceneObject
+
+
+def _sort_key(path: Path) -> tuple[str, str]:
+    return path.name.lower(), path.name  # as a file browser lists them: case apart, then exact
+
+
+def model_files(folder: Path) -> list[Path]:
+    """The files of `folder` that some reader opens (by suffix), in name order."""
+    try:
+        entries = list(os.scandir(folder))
+    except OSError:
+        return []
+    files = []
+    for entry in entries:
+        try:
+            if Path(entry.name).suffix.lower() in MODEL_READERS and entry.is_file():
+                files.append(Path(entry.path))
+        except OSError:  # vanished or unreadable while listing: not a neighbour
+            continue
+    return sorted(files, key=_sort_key)
+
+
+def sibling_model(path: Path, step: int) -> Path | None:
+    """The model file `step` places after `path` in its folder, wrapping round; None when it is alone.
+
+    `path` itself may be gone (renamed, deleted): the neighbours are then found by its name."""
+    files = [file for file in model_files(path.parent) if file.name != path.name]
+    if not files:
+        return None
+    position = bisect.bisect_left([_sort_key(file) for file in files], _sort_key(path))
+    index = position + step - 1 if step > 0 else position + step  # `path` sits between index-1 and index
+    return files[index % len(files)]
+
+
+@dataclass(frozen=True)
+class _Stamp:
+    modified_ns: int
+    size: int
+
+
+def _stamp(path: Path) -> _Stamp | None:
+    try:
+        status = path.stat()
+    except OSError:  # gone for now (an editor replacing it): not a change until it is back
+        return None
+    return _Stamp(status.st_mtime_ns, status.st_size)
+
+
+@dataclass
+class ModelWatcher:
+    """Which elements' files changed on disk since they were last seen (--watch)."""
+
+    _seen: dict[int, tuple[Path, _Stamp]] = field(default_factory=dict)
+
+    def changed(self, scene: Scene) -> list[SceneObject]:
+        """Elements whose file differs from when it was first or last seen; each change told once."""
+        changed = []
+        elements = [element for element in scene.objects + scene.cameras if element.source is not None]
+        for element in elements:
+            stamp = _stamp(element.source)
+            if stamp is None:
+                continue
+            seen = self._seen.get(element.uid)
+            if seen is not None and seen[0] == element.source and seen[1] != stamp:
+                changed.append(element)
+            self._seen[element.uid] = (element.source, stamp)
+        live = {element.uid for element in elements}
+        self._seen = {uid: seen for uid, seen in self._seen.items() if uid in live}
+        return changed

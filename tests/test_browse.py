@@ -1,0 +1,176 @@
+"""PageDown / PageUp step through the model files of the selected element's folder, each in its place,
+and --watch reads a model again when its file changes. A bad file keeps the scene as it was."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from marraztu.control.browse import ModelWatcher, model_files, sibling_model
+from marraztu.control.keymap import parse_key_sequence
+from marraztu.control.viewer import StartOptions, Viewer
+from marraztu.errors import LoadError
+from marraztu.frontends.screenshot import take_screenshot
+from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
+from support import corpus
+from support.scenes import BACKGROUND, NoFrontend
+
+TRIANGLE = corpus.TRIANGLE + b"f 1 2 3\n"
+# A square, 4 vertices and 1 face, to tell it from the triangle by its counts.
+SQUARE = b"v -20 -20 0\nv 20 -20 0\nv 20 20 0\nv -20 20 0\nf 1 2 3 4\n"
+SIZE = (96, 96)
+
+
+def press(viewer: Viewer, keys: str) -> None:
+    for key in parse_key_sequence(keys):
+        viewer.press(key)
+
+
+def folder_of(tmp_path: Path, **files: bytes) -> Path:
+    for name, content in files.items():
+        (tmp_path / name.replace("_", ".")).write_bytes(content)
+    return tmp_path
+
+
+def viewer_on(path: Path, watch: bool = False) -> Viewer:
+    viewer = Viewer(empty_scene(), NoFrontend())
+    viewer.start(StartOptions(empty=True, models=(path,), watch=watch), longest_texture_side=64)
+    return viewer
+
+
+# --- the folder ----------------------------------------------------------------------------------
+def test_model_files_are_the_readable_suffixes_in_name_order(tmp_path: Path) -> None:
+    folder_of(tmp_path, b_obj=TRIANGLE, A_OBJ=TRIANGLE, c_txt=b"", d_png=b"")
+    (tmp_path / "e.obj").mkdir()  # a folder with a model's name is no model
+    assert [path.name for path in model_files(tmp_path)] == ["A.OBJ", "b.obj"]
+
+
+def test_sibling_wraps_both_ways_and_is_none_for_a_lone_file(tmp_path: Path) -> None:
+    folder_of(tmp_path, a_obj=TRIANGLE, b_obj=TRIANGLE, c_obj=TRIANGLE)
+    a, b, c = (tmp_path / name for name in ("a.obj", "b.obj", "c.obj"))
+    assert [sibling_model(a, +1), sibling_model(c, +1), sibling_model(a, -1), sibling_model(b, -1)] == [b, a, c, a]
+    lone = tmp_path / "lone"
+    lone.mkdir()
+    (lone / "only.obj").write_bytes(TRIANGLE)
+    assert sibling_model(lone / "only.obj", +1) is None
+
+
+def test_a_file_gone_from_its_folder_still_has_neighbours_by_its_name(tmp_path: Path) -> None:
+    folder_of(tmp_path, a_obj=TRIANGLE, c_obj=TRIANGLE)
+    assert sibling_model(tmp_path / "b.obj", +1) == tmp_path / "c.obj"
+    assert sibling_model(tmp_path / "b.obj", -1) == tmp_path / "a.obj"
+
+
+# --- PageDown / PageUp ---------------------------------------------------------------------------
+def test_pagedown_replaces_the_selected_object_in_place_keeping_its_moves(tmp_path: Path) -> None:
+    folder_of(tmp_path, a_obj=TRIANGLE, b_obj=SQUARE)
+    viewer = viewer_on(tmp_path / "a.obj")
+    press(viewer, "t x x")
+    moved = viewer.scene.object.model.copy()
+    press(viewer, "PAGEDOWN")
+    obj = viewer.scene.object
+    assert (obj.name, obj.mesh.vertex_count, obj.source) == ("b", 4, tmp_path / "b.obj")
+    assert len(viewer.scene.objects) == 1 and np.array_equal(obj.model, moved)
+    assert viewer.scene.message.startswith("b.obj in place of a: 4 vertices, 1 faces")
+    press(viewer, "PGUP u")  # the alias, then the moves are still there to undo
+    assert obj.name == "a" and len(obj.history) == 2
+
+
+def test_a_bad_next_file_keeps_the_scene_and_says_which_line(tmp_path: Path) -> None:
+    folder_of(tmp_path, a_obj=TRIANGLE, b_obj=corpus.TRIANGLE + b"f 1 2 9\n")
+    viewer = viewer_on(tmp_path / "a.obj")
+    before = viewer.scene.object.mesh
+    press(viewer, "PAGEDOWN")
+    assert viewer.scene.object.mesh is before and viewer.scene.object.name == "a"
+    assert "b.obj" in viewer.scene.message and "b.obj:4:" in viewer.scene.message
+
+
+def test_the_strict_screenshot_refuses_a_bad_next_file(tmp_path: Path) -> None:
+    folder_of(tmp_path, a_obj=TRIANGLE, b_obj=b"v 1 2\n")
+    viewer = Viewer(empty_scene(), NoFrontend(), strict=True)
+    viewer.start(StartOptions(empty=True, models=(tmp_path / "a.obj",)), longest_texture_side=64)
+    with pytest.raises(LoadError, match="b.obj"):
+        press(viewer, "PAGEDOWN")
+
+
+@pytest.mark.parametrize(("keys", "said"), [
+    ("PAGEDOWN", "no other model file beside a.obj"),
+    ("c c PAGEDOWN", "no object or camera to replace (c: target objects or cameras)"),
+])
+def test_pagedown_with_nowhere_to_go_says_why(tmp_path: Path, keys: str, said: str) -> None:
+    folder_of(tmp_path, a_obj=TRIANGLE)
+    viewer = viewer_on(tmp_path / "a.obj")
+    press(viewer, keys)
+    assert viewer.scene.message == said and viewer.scene.object.name == "a"
+
+
+def test_the_built_in_scene_steps_through_its_own_folder() -> None:
+    viewer = Viewer(load_builtin_scene(), NoFrontend())
+    first = viewer.scene.object
+    was = first.source
+    press(viewer, "PAGEDOWN")
+    assert was is not None and viewer.scene.object is first
+    assert first.source == sibling_model(was, +1) and first.source.parent == was.parent
+
+
+def test_pagedown_draws_the_next_file_as_if_it_had_been_opened(tmp_path: Path) -> None:
+    folder_of(tmp_path, a_obj=TRIANGLE, b_obj=SQUARE)
+    stepped = take_screenshot(StartOptions(empty=True, models=(tmp_path / "a.obj",)), tmp_path / "stepped.png",
+                              SIZE, keys="PAGEDOWN")
+    opened = take_screenshot(StartOptions(empty=True, models=(tmp_path / "b.obj",)), tmp_path / "opened.png", SIZE)
+    pixels = np.asarray(Image.open(stepped).convert("RGB"))
+    assert np.array_equal(pixels, np.asarray(Image.open(opened).convert("RGB")))
+    assert tuple(pixels[0, 0]) == BACKGROUND and (pixels != BACKGROUND).any(axis=2).sum() > 100  # not blank
+
+
+# --- --watch -------------------------------------------------------------------------------------
+def rewrite(path: Path, content: bytes) -> None:
+    """New content with a new modification time, even on a file system with coarse timestamps."""
+    before = path.stat().st_mtime_ns
+    path.write_bytes(content)
+    os.utime(path, ns=(before + 2_000_000_000, before + 2_000_000_000))
+
+
+def test_watch_reads_a_changed_file_again_and_keeps_the_scene_while_it_is_bad(tmp_path: Path) -> None:
+    model = tmp_path / "a.obj"
+    model.write_bytes(TRIANGLE)
+    viewer = viewer_on(model, watch=True)
+    obj = viewer.scene.object
+    viewer.check_watched()
+    assert obj.mesh.vertex_count == 3  # nothing changed: nothing read
+
+    rewrite(model, b"v 1 2\n")  # half written
+    viewer.check_watched()
+    assert obj.mesh.vertex_count == 3 and "a.obj" in viewer.scene.message and "a.obj:1:" in viewer.scene.message
+
+    rewrite(model, SQUARE)
+    viewer.check_watched()
+    assert viewer.scene.object is obj and obj.mesh.vertex_count == 4
+    viewer.check_watched()
+    assert "in place of" in viewer.scene.message  # one change, one reload
+
+
+def test_without_watch_nothing_is_read_again(tmp_path: Path) -> None:
+    model = tmp_path / "a.obj"
+    model.write_bytes(TRIANGLE)
+    viewer = viewer_on(model)
+    rewrite(model, SQUARE)
+    viewer.check_watched()
+    assert viewer.scene.object.mesh.vertex_count == 3
+
+
+def test_the_watcher_forgets_elements_that_left_and_tells_each_change_once(tmp_path: Path) -> None:
+    model = tmp_path / "a.obj"
+    model.write_bytes(TRIANGLE)
+    viewer = viewer_on(model)
+    watcher = ModelWatcher()
+    assert watcher.changed(viewer.scene) == []
+    rewrite(model, SQUARE)
+    assert watcher.changed(viewer.scene) == [viewer.scene.object]
+    assert watcher.changed(viewer.scene) == []
+    viewer.scene.objects.clear()
+    assert watcher.changed(viewer.scene) == [] and set(watcher._seen) == {viewer.scene.camera.uid}
