@@ -128,6 +128,10 @@ def toggle_matrices(scene: Scene, host: Host) -> None:
     scene.modes.matrices = not scene.modes.matrices
 
 
+def toggle_guides(scene: Scene, host: Host) -> None:
+    scene.modes.guides = not scene.modes.guides
+
+
 def toggle_side_by_side(scene: Scene, host: Host) -> None:
     scene.modes.side_by_side = not scene.modes.side_by_side
 

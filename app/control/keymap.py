@@ -128,6 +128,8 @@ def build_commands() -> list[Command]:
         Command("m", "matrices panel", commands.toggle_matrices, lambda s: _on_off(s.modes.matrices)),
         Command("s", "side by side: Flat | Gouraud | Phong", commands.toggle_side_by_side,
                 lambda s: _on_off(s.modes.side_by_side)),
+        Command("a", "grid and axes: the world's, and in local mode the object's own", commands.toggle_guides,
+                lambda s: _on_off(s.modes.guides)),
         *_light_commands(),
         Command("+", "widen the spotlight", commands.change_aperture(+commands.APERTURE_STEP_DEG),
                 _aperture_state),

@@ -152,6 +152,7 @@ class Modes:
     probe: bool = False  # `i`: the lighting probe of the selected face
     matrices: bool = False  # `m`: the matrices panel
     side_by_side: bool = False  # `s`: Flat | Gouraud | Phong in three viewports
+    guides: bool = False  # `a`: the grid and the axes
     # Parallel projection's half height in world units, fixed when `p` switches to parallel.
     parallel_half_height: float = 150.0
 

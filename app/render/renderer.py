@@ -16,11 +16,13 @@ import moderngl
 import numpy as np
 
 from marraztu.errors import ViewerError
+from marraztu.model.guides import scene_guides
 from marraztu.model.lights import MAX_LIGHTS, shader_defines
 from marraztu.model.scene import Fill, Projection, Scene, SceneObject, Shading, Target
 from marraztu.model.transforms import normal_matrix
 from marraztu.render.context import check_gl
 from marraztu.render.gpu import ObjectGpu, Programs, VertexRange, load_program
+from marraztu.render.guides import GuidesDrawer
 from marraztu.render.layout import View, view_projection, views
 from marraztu.render.mipmaps import MipmappedTexture, create_mipmapped
 
@@ -110,6 +112,7 @@ class Renderer:
         self.normals = Uniforms(self.programs.normals)
         self.marker = Uniforms(self.marker_program)
         self.marker_vao = ctx.vertex_array(self.marker_program, [])  # the position is a uniform
+        self.guides = GuidesDrawer(ctx)
         self.texture: MipmappedTexture | None = None
         self._texture_image: np.ndarray | None = None  # the scene's picture the texture was made from
         self._set_texture(WHITE)
@@ -151,6 +154,7 @@ class Renderer:
         for gpu in self._objects.values():
             gpu.release()
         self._objects.clear()
+        self.guides.release_program()
         for resource in (self.marker_vao, self.texture, *self.programs.surfaces.values(),
                          *self.programs.lightings.values(), self.programs.edges, self.programs.normals,
                          self.marker_program):
@@ -210,7 +214,8 @@ class Renderer:
         filled = scene.modes.fill is Fill.FILLED
         self._set_gl_state(depth_test=filled)
         self.shading = view.shading
-        self._set_frame_uniforms(scene, view_projection(scene, view))
+        frame_view_projection = view_projection(scene, view)
+        self._set_frame_uniforms(scene, frame_view_projection)
         if filled:
             for item, gpu in items:
                 self._draw_surface(item, gpu)
@@ -219,6 +224,8 @@ class Renderer:
         if scene.modes.normals:
             for item, gpu in items:
                 self._draw_normals(item, gpu, face_normals=view.shading is Shading.FLAT)
+        if scene.modes.guides:
+            self.guides.draw(scene_guides(scene), frame_view_projection, self.ctx.fbo)
         if scene.modes.probe:
             self._draw_probe_outline(scene)
         if scene.modes.target is Target.LIGHTS:

@@ -1,0 +1,89 @@
+"""The grid and axes (key `a`): the world's axes at the origin, a ground grid under the scene, and in
+local mode the selected object's own axes, as coloured line segments in world space.
+
+They show what `g` changes: in local mode an object moves along its own (light) axes, in global
+mode along the world's (strong) ones. As in f3d, the grid lies in the ground plane (y up, the start
+camera's up) at the bottom of the scene, so that the start camera sees it from above.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from marraztu.model.scene import Frame, Scene, SceneObject, Target
+
+AXIS_COLOURS = np.eye(3, dtype=np.float32)  # x red, y green, z blue, as in every graphics tool
+OWN_AXIS_LIGHTNESS = 0.55  # an object's own axes: the same hues, paler, told from the world's
+GRID_COLOUR = (0.55, 0.55, 0.6)
+GRID_CELLS = 20  # about this many cells across the scene: fine enough to read distances
+MIN_EXTENT = 100.0  # an empty scene gets a grid of the start camera's scale (it stands 150 away)
+
+
+def nice_step(span: float, cells: int = GRID_CELLS) -> float:
+    """A round grid step (1, 2 or 5 times a power of ten) giving about `cells` cells over `span`."""
+    raw = max(span, 1e-30) / cells
+    power = 10.0 ** math.floor(math.log10(raw))
+    return next(power * m for m in (1.0, 2.0, 5.0, 10.0) if power * m >= raw)
+
+
+def scene_box(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
+    """The world bounding box of every object's mesh corners (the origin alone when there are none)."""
+    corners = [_world_corners(obj) for obj in scene.objects]
+    if not corners:
+        return np.zeros(3), np.zeros(3)
+    points = np.concatenate(corners)
+    return points.min(axis=0), points.max(axis=0)
+
+
+def _world_corners(obj: SceneObject) -> np.ndarray:
+    low, high = obj.mesh.bounds
+    box = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+    return box @ obj.model[:3, :3].T + obj.model[:3, 3]
+
+
+@dataclass(frozen=True)
+class Guides:
+    """(N, 6) float32 rows: x y z r g b, two rows a segment, in world space."""
+
+    axes: np.ndarray  # the world's, then the selected object's own in local mode
+    grid: np.ndarray
+
+
+def scene_guides(scene: Scene) -> Guides:
+    low, high = scene_box(scene)
+    extent = max(float(np.max(high - low)), float(np.max(np.abs(np.concatenate([low, high])))), MIN_EXTENT)
+    axes = [_axes(np.eye(4), extent / 2.0, 1.0)]
+    obj = scene.object
+    if obj is not None and scene.modes.frame is Frame.LOCAL and scene.modes.target is Target.OBJECTS:
+        axes.append(_axes(obj.model, max(obj.mesh.size / 2.0, extent / 20.0), OWN_AXIS_LIGHTNESS))
+    return Guides(np.concatenate(axes).astype(np.float32), _grid(low, high, extent).astype(np.float32))
+
+
+def _grid(low: np.ndarray, high: np.ndarray, extent: float) -> np.ndarray:
+    """Lines along x and z at the bottom of the scene, on round numbers, covering it with a margin."""
+    step = nice_step(extent)
+    floor_y = min(float(low[1]), 0.0)
+    centre = (low + high) / 2.0
+    half = math.ceil(extent * 0.75 / step) * step
+    x_from, z_from = (round(centre[axis] / step) * step - half for axis in (0, 2))
+    ticks = np.arange(int(round(2 * half / step)) + 1) * step
+    rows = []
+    for tick in ticks:
+        rows += [[x_from + tick, floor_y, z_from], [x_from + tick, floor_y, z_from + 2 * half],
+                 [x_from, floor_y, z_from + tick], [x_from + 2 * half, floor_y, z_from + tick]]
+    positions = np.array(rows)
+    return np.hstack([positions, np.tile(GRID_COLOUR, (len(positions), 1))])
+
+
+def _axes(model: np.ndarray, length: float, lightness: float) -> np.ndarray:
+    """Three segments from `model`'s origin along its own x, y and z axes, `length` long in the world."""
+    origin = model[:3, 3]
+    rows = []
+    for axis in range(3):
+        direction = model[:3, axis] / np.linalg.norm(model[:3, axis])
+        colour = AXIS_COLOURS[axis] * lightness + (1.0 - lightness)  # paler toward white
+        rows += [[*origin, *colour], [*(origin + direction * length), *colour]]
+    return np.array(rows)

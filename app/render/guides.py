@@ -1,0 +1,54 @@
+"""Draws the grid and axes that marraztu.model.guides lays out: a few hundred segments, written to
+one buffer again whenever they change."""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from marraztu.model.guides import Guides
+from marraztu.render.gpu import load_program
+
+ROW_BYTES = 6 * 4  # x y z r g b, float32
+
+
+class GuidesDrawer:
+    def __init__(self, ctx: moderngl.Context) -> None:
+        self.ctx = ctx
+        self.program = load_program(ctx, "guides")
+        self.buffer: moderngl.Buffer | None = None
+        self.vao: moderngl.VertexArray | None = None
+        self._rows = 0
+        self._held: bytes = b""  # what the buffer holds: unchanged guides upload nothing
+
+    def draw(self, guides: Guides, view_projection: np.ndarray, fbo: moderngl.Framebuffer) -> None:
+        """The grid first, hidden by models but hiding nothing (no depth writes), so that the axes on
+        it show even where it is seen edge on; then the axes, through the depth test."""
+        data = np.ascontiguousarray(np.concatenate([guides.grid, guides.axes]), dtype="f4").tobytes()
+        if data != self._held:
+            self._upload(data)
+        self.program["u_view_projection"].write(np.ascontiguousarray(view_projection.T, dtype="f4").tobytes())
+        grid_rows = len(guides.grid)
+        fbo.depth_mask = False
+        self.vao.render(moderngl.LINES, vertices=grid_rows)
+        fbo.depth_mask = True
+        self.vao.render(moderngl.LINES, vertices=self._rows - grid_rows, first=grid_rows)
+
+    def _upload(self, data: bytes) -> None:
+        if self.buffer is None or self.buffer.size < len(data):
+            self.release()
+            self.buffer = self.ctx.buffer(reserve=max(len(data), ROW_BYTES))
+            self.vao = self.ctx.vertex_array(self.program, [(self.buffer, "3f 3f", "in_position", "in_colour")])
+        self.buffer.write(data)
+        self._rows, self._held = len(data) // ROW_BYTES, data
+
+    def release(self) -> None:
+        for resource in (self.vao, self.buffer):
+            if resource is not None:
+                resource.release()
+        self.vao = self.buffer = None
+        self._held = b""
+
+    def release_program(self) -> None:
+        self.release()
+        self.program.release()
