@@ -148,3 +148,40 @@ def test_the_windows_own_actions_never_end_it(display: str, tmp_path: Path) -> N
         assert window.wait(timeout=30) == 0
     assert "failed:" not in window.errors, window.errors
     assert (tmp_path / "screenshots").is_file()
+
+
+# Runs the real window in its own process, counts the frames it draws while left alone, then while
+# keys come, and prints both counts.
+_FRAME_COUNTER = """
+import sys, threading, time
+from marraztu.control.viewer import StartOptions
+from marraztu.frontends.window import open_window
+
+window = open_window(StartOptions(), (120, 120))
+frames = []
+draw = window.wnd.render_func
+window.wnd.render_func = lambda *args: (frames.append(time.monotonic()), draw(*args))
+
+def script():
+    time.sleep(2.0)
+    idle = len(frames)
+    for token in ("x", "y", "x"):
+        window.wnd._window.dispatch_event("on_text", token)  # as pyglet delivers typed text
+        time.sleep(0.3)
+    print(idle, len(frames) - idle, flush=True)
+    window.wnd.is_closing = True
+
+threading.Thread(target=script, daemon=True).start()
+window.run()
+"""
+
+
+def test_the_window_draws_only_when_something_changed(display: str) -> None:
+    """Left alone for two seconds the window draws its first frame and nothing more (it used to redraw
+    the same picture as fast as it could); each key then brings one frame."""
+    result = subprocess.run([sys.executable, "-c", _FRAME_COUNTER], env={**os.environ, "DISPLAY": display},
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    idle_frames, key_frames = map(int, result.stdout.split())
+    assert 1 <= idle_frames <= 3  # the first frame, and the window system's first expose and resize
+    assert key_frames == 3

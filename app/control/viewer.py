@@ -128,6 +128,11 @@ class BackgroundLoader:
         with self._lock:
             return list(self._jobs)
 
+    def finished(self) -> list[LoadJob]:
+        """The jobs done and waiting for a frame to take them."""
+        with self._lock:
+            return [job for job in self._jobs if job.future.done()]
+
     def take_finished(self) -> list[LoadJob]:
         with self._lock:
             # Each job asked once: a job finishing between two asks would be in neither list, and lost.

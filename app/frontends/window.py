@@ -10,7 +10,7 @@ import sys
 from collections.abc import Callable
 from datetime import datetime
 from pathlib import Path
-from time import perf_counter, sleep
+from time import perf_counter
 from typing import Any
 
 import moderngl_window as mglw
@@ -29,19 +29,19 @@ from marraztu.text import panels, status
 
 TITLE = "marraztu"
 SCREENSHOT_DIR = Path("screenshots")
-# While a model loads on the worker thread, frames are paced to at most this rate: keys are still
-# answered within a frame, and the cores llvmpipe would spend redrawing an unchanged picture as fast
-# as it can (nothing paces it under Xvfb, nor where vsync is off) go to the loader instead.
-LOADING_FRAMES_PER_SECOND = 30
 WATCH_INTERVAL_S = 0.5  # --watch looks at the models' files this often: soon enough after a save
+# A frame is drawn only when something changed; between frames the loop sleeps in the window
+# system's event wait, waking at least this often for what no event announces (a load finishing).
+IDLE_WAKE_S = 0.1
 
 
 def guarded(handler: Callable[..., None]) -> Callable[..., None]:
     """A window event must never end the session: a failure becomes one line on screen and on stderr,
-    and the window goes on."""
+    and the window goes on. Every event may change the picture, so each asks for a frame."""
 
     @functools.wraps(handler)
     def run(window: ViewerWindow, *args: Any) -> None:
+        window.needs_frame = True
         try:
             handler(window, *args)
         except Exception as error:  # what no check foresaw: said, not fatal
@@ -71,7 +71,9 @@ class ViewerWindow:
         self.viewer.start(options, self.renderer.max_texture_side)
         self.overlay = Overlay(self.ctx)
         self.named_keys = self._named_keys()
-        self.last_frame_start = self.last_watch_check = perf_counter()
+        self.last_watch_check = perf_counter()
+        self.needs_frame = True
+        self.drawn_loading_lines: list[str] = []  # the loading lines of the last frame
         self._connect_events()
         self._close_when_destroyed()
 
@@ -83,6 +85,10 @@ class ViewerWindow:
         wnd.mouse_drag_event_func = self.on_mouse_drag_event
         wnd.mouse_scroll_event_func = self.on_mouse_scroll_event
         wnd.files_dropped_event_func = self.on_files_dropped_event
+        wnd.resize_func = self.on_resize
+        pyglet_window = getattr(wnd, "_window", None)
+        if pyglet_window is not None:  # uncovered after being hidden: the window system lost the picture
+            pyglet_window.push_handlers(on_expose=self.on_expose)
 
     def _close_when_destroyed(self) -> None:
         """Without a window manager, `xdotool windowclose` destroys the X window outright and no close
@@ -113,11 +119,15 @@ class ViewerWindow:
         timer = Timer()
         timer.start()
         while not self.wnd.is_closing:
+            self._check_watched_files()
+            if not (self.needs_frame or self._loading_changed()):
+                self._wait_for_events(IDLE_WAKE_S)
+                continue
             now, delta = timer.next_frame()
             self.wnd.use()
             self.wnd.render(now, delta)
             if not self.wnd.is_closing:
-                self.wnd.swap_buffers()
+                self.wnd.swap_buffers()  # also dispatches the events that came meanwhile
         if self.viewer.background is not None:
             self.viewer.background.shutdown()
         self.wnd.destroy()
@@ -125,25 +135,44 @@ class ViewerWindow:
     # --- drawing -------------------------------------------------------------------------------
     @guarded
     def on_render(self, time: float, frame_time: float) -> None:
-        self._pace_while_loading()
-        self._check_watched_files()
+        self.needs_frame = False
         self.viewer.collect_loads()
+        self.drawn_loading_lines = self.viewer.loading_lines()
         size = self.wnd.buffer_size
         self.wnd.fbo.use()
         self.renderer.render(self.scene, self.wnd.fbo, size)
         self.overlay.draw(*status.overlay_lines(self.viewer), size, panels.extras(self.scene, size))
+
+    def _loading_changed(self) -> bool:
+        """A load finished, or its status line moved on (it counts seconds): worth a frame."""
+        background = self.viewer.background
+        if background is None or not (background.uncollected() or self.drawn_loading_lines):
+            return False
+        return bool(background.finished()) or self.viewer.loading_lines() != self.drawn_loading_lines
+
+    def _wait_for_events(self, timeout: float) -> None:
+        """Sleeps in the window system's own wait until an event comes or `timeout` passes, then
+        dispatches what came: no frames, and no CPU, while nothing happens."""
+        import pyglet.app
+
+        pyglet.app.platform_event_loop.step(timeout)
+        window = self.wnd._window
+        window.dispatch_pending_events()  # what the wait queued: it may be ESC, closing the window
+        if not self.wnd.is_closing:
+            window.dispatch_events()
 
     def _check_watched_files(self) -> None:
         if perf_counter() - self.last_watch_check >= WATCH_INTERVAL_S:  # a stat per file, not per frame
             self.last_watch_check = perf_counter()
             self.viewer.check_watched()
 
-    def _pace_while_loading(self) -> None:
-        if self.viewer.background is not None and self.viewer.background.pending():
-            wait = self.last_frame_start + 1.0 / LOADING_FRAMES_PER_SECOND - perf_counter()
-            if wait > 0:
-                sleep(wait)
-        self.last_frame_start = perf_counter()
+    @guarded
+    def on_resize(self, width: int, height: int) -> None:
+        """A new size needs a new frame; guarded asks for it."""
+
+    @guarded
+    def on_expose(self) -> None:
+        """The window system lost the picture; guarded asks for a new one."""
 
     # --- keys ----------------------------------------------------------------------------------
     @guarded
