@@ -2,7 +2,7 @@
 
 Every figure is measured in the same run as the figure it is compared with, on inputs generated
 here (seeded, written to a temporary folder), and printed as Markdown tables. One module per
-section: loading.py, frames.py (with the CPU per frame), start.py, memory.py, shapes.py. Progress goes to
+section: loading.py, frames.py (with the CPU per frame), start.py, memory.py, shapes.py, window.py. Progress goes to
 stderr, the tables to stdout. Nothing heavy is imported at module level: the loading workers import
 these modules, and their memory baseline should hold only what their loader needs.
 """
@@ -24,6 +24,7 @@ from marraztu.devtools.bench.memory import memory_section
 from marraztu.devtools.bench.report import emit, load_average, machine_lines
 from marraztu.devtools.bench.shapes import shapes_section
 from marraztu.devtools.bench.start import start_section
+from marraztu.devtools.bench.window import window_section
 
 
 def _open_gl(required: bool) -> FrameBench | None:
@@ -57,7 +58,7 @@ def main(argv: Sequence[str]) -> int:
         emit(["# marraztu bench", "", *machine_lines(bench.ctx if bench else None, config)])
         with _work_directory(config.workdir) as directory:
             inputs = []
-            if "load" in config.sections or "memory" in config.sections:
+            if any(section in config.sections for section in ("load", "memory", "window")):
                 inputs = generate_load_inputs(directory, *config.load_sizes)
             if "load" in config.sections:
                 emit(loading_section(config, inputs))
@@ -71,6 +72,8 @@ def main(argv: Sequence[str]) -> int:
                 emit(memory_section(bench, inputs))
             if "shapes" in config.sections:
                 emit(shapes_section(config, directory))
+            if "window" in config.sections:
+                emit(window_section(config, inputs))
     finally:
         if bench is not None:
             bench.release()

@@ -7,7 +7,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-SECTIONS = ("load", "frames", "cpu", "start", "memory", "shapes")
+SECTIONS = ("load", "frames", "cpu", "start", "memory", "shapes", "window")
 LOADERS = ("ours", "trimesh", "tinyobjloader")
 
 
@@ -24,6 +24,7 @@ class BenchConfig:
     start_runs: int
     cpu_frames: int
     shape_megabytes: int  # the size of each input shaped to break linear cost
+    idle_seconds: float  # how long the window is left alone while its CPU is measured
     sections: tuple[str, ...]
     loaders: tuple[str, ...]
     workdir: Path | None = None
@@ -32,10 +33,11 @@ class BenchConfig:
 DEFAULT_CONFIG = BenchConfig(
     load_sizes=(100_000, 1_000_000), frame_sizes=(100_000, 1_000_000, 5_000_000),
     resolutions=((1280, 720), (1920, 1080)), frames=10, warmup=1, frame_budget_s=5.0, repeats=3, rounds=3,
-    start_runs=3, cpu_frames=100, shape_megabytes=50, sections=SECTIONS, loaders=LOADERS)
+    start_runs=3, cpu_frames=100, shape_megabytes=50, idle_seconds=10.0, sections=SECTIONS, loaders=LOADERS)
 QUICK_CONFIG = replace(
     DEFAULT_CONFIG, load_sizes=(10_000, 50_000), frame_sizes=(20_000,), resolutions=((1280, 720),),
-    frames=5, warmup=1, frame_budget_s=1.0, repeats=1, rounds=1, start_runs=1, cpu_frames=30, shape_megabytes=5)
+    frames=5, warmup=1, frame_budget_s=1.0, repeats=1, rounds=1, start_runs=1, cpu_frames=30, shape_megabytes=5,
+    idle_seconds=2.0)
 
 
 def parse_count(text: str) -> int:
@@ -98,6 +100,8 @@ def bench_parser() -> argparse.ArgumentParser:
     parser.add_argument("--cpu-frames", type=int, metavar="N", help="frames timed for CPU per frame (default 100)")
     parser.add_argument("--shape-megabytes", type=int, metavar="N",
                         help="size of each input shaped to break linear cost (default 50)")
+    parser.add_argument("--idle-seconds", type=float, metavar="S",
+                        help="how long the window is left alone while its CPU is measured (default 10)")
     parser.add_argument("--sections", type=parse_choices(SECTIONS), metavar="LIST",
                         help=f"which sections to run (default all: {','.join(SECTIONS)})")
     parser.add_argument("--loaders", type=parse_choices(LOADERS), metavar="LIST",
@@ -120,7 +124,7 @@ def config_from_args(argv: Sequence[str]) -> BenchConfig:
     if args.skip_5m:
         config = replace(config, frame_sizes=tuple(n for n in config.frame_sizes if n < 5_000_000))
     if min(config.frames, config.repeats, config.rounds, config.start_runs, config.cpu_frames,
-           config.shape_megabytes) < 1 or config.warmup < 1:
+           config.shape_megabytes) < 1 or config.warmup < 1 or not config.idle_seconds > 0:
         parser.error("--frames, --warmup, --repeats, --rounds, --start-runs, --cpu-frames and --shape-megabytes "
-                     "must be at least 1")
+                     "must be at least 1, and --idle-seconds more than 0")
     return config
