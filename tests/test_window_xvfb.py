@@ -185,3 +185,54 @@ def test_the_window_draws_only_when_something_changed(display: str) -> None:
     idle_frames, key_frames = map(int, result.stdout.split())
     assert 1 <= idle_frames <= 3  # the first frame, and the window system's first expose and resize
     assert key_frames == 3
+
+
+# A load made slow on purpose (2.5 s) while the built-in scene is shown: counts the frames the window
+# draws meanwhile, and how many of them drew the scene rather than copying its held picture.
+_HELD_PICTURE_COUNTER = """
+import sys, threading, time
+import pyglet.app
+from marraztu.control import viewer as viewer_module
+from marraztu.control.viewer import StartOptions
+from marraztu.frontends.window import open_window
+
+read = viewer_module.load_model
+def slow_load(path, stage=None):
+    stage("reading")
+    time.sleep(2.5)
+    return read(path, stage)
+viewer_module.load_model = slow_load
+
+window = open_window(StartOptions(), (120, 120))
+frames, scene_draws = [], []
+draw, render = window.wnd.render_func, window.renderer.render
+window.wnd.render_func = lambda *args: (frames.append(1), draw(*args))
+window.renderer.render = lambda *args: (scene_draws.append(1), render(*args))
+
+def script():
+    time.sleep(1.0)
+    objects, before_frames, before_draws = len(window.scene.objects), len(frames), len(scene_draws)
+    window.wnd._window.dispatch_event("on_file_drop", 0, 0, [sys.argv[1]])
+    pyglet.app.platform_event_loop.notify()
+    while len(window.scene.objects) == objects:
+        time.sleep(0.01)
+    time.sleep(0.3)
+    print(len(frames) - before_frames, len(scene_draws) - before_draws, flush=True)
+    window.wnd.is_closing = True
+
+threading.Thread(target=script, daemon=True).start()
+window.run()
+"""
+
+
+def test_frames_that_only_move_the_loading_line_on_do_not_draw_the_scene_again(display: str, tmp_path: Path) -> None:
+    """While a model loads, the status line counts seconds: those frames copy the scene's held picture,
+    so the loader keeps the cores. The scene is drawn for the drop and once the model has joined."""
+    model = tmp_path / "model.obj"
+    model.write_text("v 0 0 0\nv 10 0 0\nv 0 10 0\nf 1 2 3\n")
+    result = subprocess.run([sys.executable, "-c", _HELD_PICTURE_COUNTER, str(model)],
+                            env={**os.environ, "DISPLAY": display}, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    frames, scene_draws = map(int, result.stdout.split())
+    assert frames >= 4  # the drop, the seconds counted (two at least), the model joining
+    assert scene_draws == 2

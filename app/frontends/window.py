@@ -8,6 +8,7 @@ import logging
 import os
 import sys
 from collections.abc import Callable
+from contextlib import ExitStack
 from datetime import datetime
 from pathlib import Path
 from time import perf_counter
@@ -52,6 +53,32 @@ def guarded(handler: Callable[..., None]) -> Callable[..., None]:
     return run
 
 
+class HeldPicture:
+    """The scene's last picture, kept offscreen while models load: a frame that only moves the loading
+    line on copies it instead of drawing a large scene again, which would take the loader's cores."""
+
+    def __init__(self, ctx: Any) -> None:
+        self.ctx = ctx
+        self.size: tuple[int, int] | None = None
+        self.holds_picture = False
+        self._framebuffer: ExitStack | None = None
+        self._fbo: Any = None
+
+    def framebuffer(self, size: tuple[int, int]) -> Any:
+        if self._fbo is None or self.size != tuple(size):
+            self.release()
+            self._framebuffer = ExitStack()
+            self._fbo = self._framebuffer.enter_context(offscreen_framebuffer(self.ctx, tuple(size)))
+            self.size = tuple(size)
+        return self._fbo
+
+    def release(self) -> None:
+        if self._framebuffer is not None:
+            self._framebuffer.close()
+        self._framebuffer = self._fbo = self.size = None
+        self.holds_picture = False
+
+
 class ViewerWindow:
     """One window on one viewer: pyglet's events in, the renderer's frames out."""
 
@@ -73,7 +100,9 @@ class ViewerWindow:
         self.named_keys = self._named_keys()
         self.last_watch_check = perf_counter()
         self.needs_frame = True
+        self.scene_unchanged = False  # set for a frame that only moves the loading line on
         self.drawn_loading_lines: list[str] = []  # the loading lines of the last frame
+        self.held_scene = HeldPicture(self.ctx)
         self._connect_events()
         self._close_when_destroyed()
 
@@ -123,11 +152,14 @@ class ViewerWindow:
             if not (self.needs_frame or self._loading_changed()):
                 self._wait_for_events(IDLE_WAKE_S)
                 continue
+            # No event and no finished load: only the loading line moved on, the scene is as it was.
+            self.scene_unchanged = not self.needs_frame and not self.viewer.background.finished()
             now, delta = timer.next_frame()
             self.wnd.use()
             self.wnd.render(now, delta)
             if not self.wnd.is_closing:
                 self.wnd.swap_buffers()  # also dispatches the events that came meanwhile
+        self.held_scene.release()
         if self.viewer.background is not None:
             self.viewer.background.shutdown()
         self.wnd.destroy()
@@ -135,12 +167,21 @@ class ViewerWindow:
     # --- drawing -------------------------------------------------------------------------------
     @guarded
     def on_render(self, time: float, frame_time: float) -> None:
-        self.needs_frame = False
+        scene_unchanged, self.scene_unchanged, self.needs_frame = self.scene_unchanged, False, False
         self.viewer.collect_loads()
         self.drawn_loading_lines = self.viewer.loading_lines()
         size = self.wnd.buffer_size
+        if self.drawn_loading_lines:  # loads go on: the scene's picture is kept, for frames that move the line on
+            held = self.held_scene.framebuffer(size)
+            if not (scene_unchanged and self.held_scene.holds_picture):
+                self.renderer.render(self.scene, held, size)
+                self.held_scene.holds_picture = True
+            self.ctx.copy_framebuffer(self.wnd.fbo, held)
+        else:
+            self.held_scene.release()
+            self.wnd.fbo.use()
+            self.renderer.render(self.scene, self.wnd.fbo, size)
         self.wnd.fbo.use()
-        self.renderer.render(self.scene, self.wnd.fbo, size)
         self.overlay.draw(*status.overlay_lines(self.viewer), size, panels.extras(self.scene, size))
 
     def _loading_changed(self) -> bool:
