@@ -7,6 +7,7 @@ Derandomized (the same examples every run) and bounded, so the file takes second
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -329,3 +330,52 @@ def test_assembled_ppm_loads_sanely_or_raises_load_error(data: bytes) -> None:
     image = parse_ppm_or_load_error(data)
     if image is not None:
         check_image(image, data)
+
+
+# --------------------------------------------------------------------------------------------------
+# The formats read through trimesh: mutations of files its own exporters wrote
+# --------------------------------------------------------------------------------------------------
+def _exported_seeds() -> dict[str, list[bytes]]:
+    import trimesh
+
+    mesh = trimesh.Trimesh(vertices=[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0.5]], faces=[[0, 1, 2], [0, 2, 3]],
+                           process=False)
+    return {".stl": [trimesh.exchange.stl.export_stl(mesh), trimesh.exchange.stl.export_stl_ascii(mesh).encode()],
+            ".ply": [trimesh.exchange.ply.export_ply(mesh, encoding="binary"),
+                     trimesh.exchange.ply.export_ply(mesh, encoding="ascii")],
+            ".off": [trimesh.exchange.off.export_off(mesh).encode()],
+            ".glb": [mesh.export(file_type="glb")]}
+
+
+EXPORTED = _exported_seeds()
+FORMAT_TOKENS = [b"nan", b"inf", b"-1", b"99", b"99999999999", b"0", b"3", b"\x00", b"\xff" * 4, b"solid", b"facet",
+                 b"endfacet", b"vertex", b"element face 9", b"end_header", b"OFF", b"glTF", b"{", b"\n", b" "]
+FORMAT_FUZZ = settings(FUZZ, max_examples=120)
+
+
+def load_file_or_load_error(data: bytes, suffix: str) -> Mesh | None:
+    import tempfile
+    from pathlib import Path
+
+    from marraztu.loaders.registry import load_model
+
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / f"fuzz{suffix}"
+        path.write_bytes(data)
+        try:
+            return load_model(path)
+        except LoadError as error:
+            assert error.path == str(path) and "\n" not in str(error)
+            return None
+
+
+@pytest.mark.parametrize("suffix", sorted(EXPORTED))
+def test_mutated_exchange_files_load_sanely_or_raise_load_error(suffix: str) -> None:
+    @FORMAT_FUZZ
+    @given(mutated(EXPORTED[suffix], FORMAT_TOKENS))
+    def property_holds(data: bytes) -> None:
+        mesh = load_file_or_load_error(data, suffix)
+        if mesh is not None:
+            check_mesh(mesh)
+
+    property_holds()

@@ -6,14 +6,21 @@ from collections.abc import Callable
 from pathlib import Path
 
 from marraztu.errors import LoadError
+from marraztu.loaders.exchange import load_gltf, load_off, load_ply, load_stl
 from marraztu.loaders.obj import load_obj
 from marraztu.model.mesh import Mesh
 
 Stage = Callable[[str], None]  # hears what a long load is doing now, for the window's status
 ModelReader = Callable[[Path, Stage | None], Mesh]
 
+# STL and PLY come in ASCII and binary: their readers tell the two apart by content.
 MODEL_READERS: dict[str, ModelReader] = {
     ".obj": load_obj,
+    ".stl": load_stl,
+    ".ply": load_ply,
+    ".off": load_off,
+    ".gltf": load_gltf,
+    ".glb": load_gltf,
 }
 
 

@@ -1,0 +1,236 @@
+"""STL, PLY, OFF and glTF/GLB through trimesh, checked the way the OBJ reader checks its own.
+
+trimesh reads these formats well but forgives too much for a viewer that must say what is wrong: it
+reads a truncated ASCII STL or garbage as an empty mesh, an ASCII PLY cut short as fewer faces, and
+takes NaN coordinates and face indices past the vertex table. So the header's counts, the tables'
+values and the indices are checked here, and every trimesh exception becomes one LoadError naming
+the file (and the line, for text formats, where it can be known). trimesh is imported only when such
+a file is opened.
+"""
+
+from __future__ import annotations
+
+import io
+import re
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from marraztu.errors import LoadError
+from marraztu.loaders.files import read_file
+from marraztu.model.build import build_mesh
+from marraztu.model.geometry import FLOAT32_MAX
+from marraztu.model.mesh import Mesh
+
+Stage = Callable[[str], None]
+_STL_HEADER, _STL_TRIANGLE = 84, 50  # binary STL: an 80-byte header and a count, then 50 bytes a triangle
+_NOT_FINITE = re.compile(rb"(?i)(?<![a-z])(?:[-+]?nan|[-+]?inf(?:inity)?)(?![a-z])")
+
+
+# --- the readers of the registry -----------------------------------------------------------------
+def load_stl(path: Path, stage: Stage | None = None) -> Mesh:
+    data = _read(path, stage)
+    if _is_binary_stl(data):
+        return _finish(path, _trimesh_load(path, data, "stl"), data=None, merge=True)
+    if not data.lstrip()[:5].lower() == b"solid":
+        raise LoadError(path, "neither a binary STL (its size does not match its triangle count) nor an "
+                              "ASCII one (it does not start with 'solid')", line=1)
+    _check_ascii_stl(path, data)
+    return _finish(path, _trimesh_load(path, data, "stl"), data=data, merge=True)
+
+
+def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
+    data = _read(path, stage)
+    counts, header_lines, ascii_body = _ply_header(path, data)
+    if ascii_body:
+        _check_text_rows(path, data, header_lines, counts["vertex"] + counts["face"], "PLY")
+    mesh = _trimesh_load(path, data, "ply")
+    if len(mesh.vertices) != counts["vertex"]:
+        raise LoadError(path, f"the header promises {counts['vertex']} vertices, the file holds {len(mesh.vertices)}")
+    return _finish(path, mesh, data=data if ascii_body else None)
+
+
+def load_off(path: Path, stage: Stage | None = None) -> Mesh:
+    data = _read(path, stage)
+    vertices, faces, counts_line = _off_counts(path, data)
+    _check_text_rows(path, data, counts_line, vertices + faces, "OFF")
+    return _finish(path, _trimesh_load(path, data, "off"), data=data)
+
+
+def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
+    """glTF (JSON beside its buffers) or GLB: every mesh with its node's transform, as one model."""
+    data = _read(path, stage)
+    scene = _trimesh_load(path, data, path.suffix.lower().lstrip("."), as_scene=True)
+    return _finish(path, scene, data=None)
+
+
+# --- reading and checking ------------------------------------------------------------------------
+def _read(path: Path, stage: Stage | None) -> bytes:
+    if stage is not None:
+        stage("reading")
+    data = read_file(path)
+    if stage is not None:
+        stage("parsing")
+    if not data.strip():
+        raise LoadError(path, "empty file: no faces")
+    return data
+
+
+def _trimesh_load(path: Path, data: bytes, file_type: str, as_scene: bool = False) -> Any:
+    import trimesh  # here, not at the top: only these formats need it, and it costs start-up time
+
+    resolver = trimesh.resolvers.FilePathResolver(str(path.parent)) if file_type == "gltf" else None
+    try:
+        return trimesh.load(io.BytesIO(data), file_type=file_type, process=False,
+                            force="scene" if as_scene else "mesh", resolver=resolver)
+    except MemoryError:
+        raise LoadError(path, "not enough memory to load this file") from None
+    except Exception as error:  # trimesh raises ValueError, KeyError, IndexError, struct.error, ... for bad files
+        words = str(error).strip().splitlines()
+        detail = f"{type(error).__name__}: {words[0][:160]}" if words else type(error).__name__
+        raise LoadError(path, f"not a readable {file_type.upper()} file ({detail})") from None
+
+
+def _is_binary_stl(data: bytes) -> bool:
+    """By size, not by the first word: binary STL headers often begin with 'solid' too."""
+    if len(data) < _STL_HEADER:
+        return False
+    count = int.from_bytes(data[80:84], "little")
+    return len(data) == _STL_HEADER + _STL_TRIANGLE * count
+
+
+def _check_ascii_stl(path: Path, data: bytes) -> None:
+    opened, closed = len(re.findall(rb"(?im)^\s*facet\b", data)), len(re.findall(rb"(?im)^\s*endfacet\b", data))
+    if opened == 0:
+        raise LoadError(path, "an ASCII STL without a single facet: no faces")
+    if opened != closed or not re.search(rb"(?im)^\s*endsolid\b", data):
+        raise LoadError(path, f"the file ends inside a facet ({opened} begun, {closed} ended)",
+                        line=data.count(b"\n") + 1)
+
+
+def _ply_header(path: Path, data: bytes) -> tuple[dict[str, int], int, bool]:
+    """The vertex and face counts, how many lines the header takes, and whether the body is ASCII."""
+    end = data.find(b"end_header")
+    if not data.startswith(b"ply") or end < 0:
+        raise LoadError(path, "not a PLY file (no 'ply' ... 'end_header' header)", line=1)
+    header = data[:end].decode("ascii", errors="replace").splitlines()
+    counts = {"vertex": 0, "face": 0}
+    for number, line in enumerate(header, start=1):
+        words = line.split()
+        if words[:1] == ["element"] and len(words) == 3 and words[1] in counts:
+            if not words[2].isdigit():
+                raise LoadError(path, f"element {words[1]}: {words[2]!r} is not a count", line=number)
+            counts[words[1]] = int(words[2])
+    if counts["face"] == 0:
+        raise LoadError(path, "the header declares no faces (a point cloud?): nothing to draw")
+    return counts, len(header) + 1, any(line.split()[:2] == ["format", "ascii"] for line in header)
+
+
+def _off_counts(path: Path, data: bytes) -> tuple[int, int, int]:
+    """Vertex and face counts of an OFF header, and the line they stand on."""
+    lines = data.decode("ascii", errors="replace").splitlines()
+    rows = [(n, line.split("#", 1)[0].split()) for n, line in enumerate(lines, start=1)]
+    rows = [(n, words) for n, words in rows if words]
+    if not rows or not rows[0][1][0].upper().endswith("OFF"):
+        raise LoadError(path, "not an OFF file (it does not start with 'OFF')", line=1)
+    number, words = rows[0]
+    words = words[1:] or (rows[1][1] if len(rows) > 1 else [])
+    number = number if len(rows[0][1]) > 1 else (rows[1][0] if len(rows) > 1 else number)
+    if len(words) < 2 or not (words[0].isdigit() and words[1].isdigit()):
+        raise LoadError(path, "expected the vertex, face and edge counts", line=number)
+    if int(words[1]) == 0:
+        raise LoadError(path, "the header declares no faces: nothing to draw", line=number)
+    return int(words[0]), int(words[1]), number
+
+
+def _check_text_rows(path: Path, data: bytes, after_line: int, expected: int, kind: str) -> None:
+    """A text body must hold the rows its header counted: one cut short is an error, not a smaller model."""
+    body = data.split(b"\n")[after_line:]
+    rows = sum(1 for line in body if line.split(b"#", 1)[0].strip())
+    if rows < expected:
+        raise LoadError(path, f"the {kind} header counts {expected} rows of vertices and faces, the file "
+                              f"ends after {rows}", line=after_line + len(body))
+
+
+def _line_of_first_non_finite(data: bytes) -> int | None:
+    found = _NOT_FINITE.search(data)
+    return None if found is None else data.count(b"\n", 0, found.start()) + 1
+
+
+def _finish(path: Path, loaded: Any, data: bytes | None, merge: bool = False) -> Mesh:
+    """The checked tables as a Mesh; `data`, for a text format, lets a bad number be found by line."""
+    notes: list[str] = []
+    if hasattr(loaded, "geometry"):  # a glTF scene: every mesh placed by its node's transform
+        loaded, notes = _flattened(path, loaded)
+    positions = np.asarray(loaded.vertices, dtype=np.float64).reshape(-1, 3)
+    faces = np.asarray(loaded.faces, dtype=np.int64).reshape(-1, 3)
+    _check_tables(path, positions, faces, data)
+    uvs = _corner_uvs(loaded, faces)
+    if merge:  # STL stores each triangle's own corners: shared corners let Gouraud smooth across edges
+        positions, inverse = np.unique(positions, axis=0, return_inverse=True)
+        faces = inverse.reshape(-1)[faces]
+    notes += _visual_notes(loaded)
+    return build_mesh(name=path.stem, positions=positions, faces=faces, uvs=uvs,
+                      file_material=_material_of(loaded), warnings=notes)
+
+
+def _check_tables(path: Path, positions: np.ndarray, faces: np.ndarray, data: bytes | None) -> None:
+    if len(faces) == 0:
+        raise LoadError(path, "no faces")
+    with np.errstate(all="ignore"):
+        bad = ~np.isfinite(positions) | (np.abs(positions) > FLOAT32_MAX)
+    if bad.any():
+        line = _line_of_first_non_finite(data) if data is not None else None
+        raise LoadError(path, "a vertex coordinate is not a finite number the GPU can hold", line=line)
+    if faces.min() < 0 or faces.max() >= len(positions):
+        raise LoadError(path, f"a face refers to vertex {int(faces.max())}, but the file has {len(positions)}")
+
+
+def _flattened(path: Path, scene: Any) -> tuple[Any, list[str]]:
+    meshes = [geometry for geometry in scene.geometry.values() if hasattr(geometry, "faces")]
+    if not meshes:
+        raise LoadError(path, "the scene holds no triangle mesh: nothing to draw")
+    try:
+        flat = scene.to_geometry()  # the graph's transforms applied, every mesh in one
+    except Exception as error:  # a broken node graph: trimesh's own words
+        raise LoadError(path, f"cannot place the scene's meshes ({type(error).__name__}: {error})") from None
+    notes = ["its meshes have several materials; the first one's colour is used"] if len(meshes) > 1 else []
+    flat.metadata["first_visual"] = meshes[0].visual
+    return flat, notes
+
+
+def _corner_uvs(mesh: Any, faces: np.ndarray) -> np.ndarray | None:
+    uv = getattr(getattr(mesh, "visual", None), "uv", None)
+    if uv is None or len(uv) != len(mesh.vertices):
+        return None
+    table = np.asarray(uv, dtype=np.float64)
+    corners = table[faces.reshape(-1)]
+    corners[~np.isfinite(corners).all(axis=1)] = np.nan  # derived instead, as for an OBJ without vt
+    return corners
+
+
+def _visual(mesh: Any) -> Any:
+    return mesh.metadata.get("first_visual", getattr(mesh, "visual", None))
+
+
+def _material_of(mesh: Any) -> dict[str, object] | None:
+    """The base colour of a glTF material as Kd: the quantity the lighting equation reads."""
+    material = getattr(_visual(mesh), "material", None)
+    colour = getattr(material, "baseColorFactor", None)
+    if colour is None:
+        return None
+    rgb = np.asarray(colour, dtype=np.float64).reshape(-1)[:3]
+    rgb = rgb / 255.0 if rgb.max() > 1.0 else rgb  # trimesh keeps glTF colours as bytes
+    return {"kd": tuple(float(c) for c in rgb)} if np.isfinite(rgb).all() else None
+
+
+def _visual_notes(mesh: Any) -> list[str]:
+    """What the file holds that marraztu does not draw yet, said once."""
+    visual = _visual(mesh)
+    if getattr(visual, "kind", None) == "vertex":
+        return ["its vertex colours are not drawn; the scene's material is used"]
+    if getattr(getattr(visual, "material", None), "baseColorTexture", None) is not None:
+        return ["its base colour texture is not drawn; the scene's texture is used"]
+    return []

@@ -1,0 +1,159 @@
+"""STL, PLY, OFF and glTF/GLB: written here with trimesh's own exporters, read through the registry,
+drawn like the same triangles written as OBJ, and refused in one line naming the file when broken."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+from PIL import Image
+
+from marraztu.control.viewer import StartOptions
+from marraztu.errors import LoadError
+from marraztu.frontends.screenshot import take_screenshot
+from marraztu.loaders.registry import MODEL_READERS, load_model
+from support.scenes import BACKGROUND
+
+SIZE = (120, 120)
+# A square of two triangles facing the start camera, and a tilted one behind it: a model whose
+# picture shows shading, depth and the two faces' order.
+POSITIONS = np.array([[-60, -60, 0], [60, -60, 0], [60, 60, 0], [-60, 60, 0],
+                      [-30, -30, -40], [40, -30, -10], [0, 50, -25]], dtype=np.float64)
+FACES = np.array([[0, 1, 2], [0, 2, 3], [4, 5, 6]])
+FORMATS = {  # file name -> how trimesh writes it
+    "model.stl": lambda mesh: trimesh.exchange.stl.export_stl(mesh),
+    "ascii.stl": lambda mesh: trimesh.exchange.stl.export_stl_ascii(mesh).encode(),
+    "model.ply": lambda mesh: trimesh.exchange.ply.export_ply(mesh, encoding="binary"),
+    "ascii.ply": lambda mesh: trimesh.exchange.ply.export_ply(mesh, encoding="ascii"),
+    "model.off": lambda mesh: trimesh.exchange.off.export_off(mesh).encode(),
+    "model.glb": lambda mesh: mesh.export(file_type="glb"),
+}
+
+
+def square_mesh() -> trimesh.Trimesh:
+    return trimesh.Trimesh(vertices=POSITIONS, faces=FACES, process=False)
+
+
+def write_obj(path: Path) -> Path:
+    lines = [f"v {x:g} {y:g} {z:g}" for x, y, z in POSITIONS] + [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in FACES]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.fixture
+def written(tmp_path: Path) -> dict[str, Path]:
+    files = {}
+    for name, export in FORMATS.items():
+        files[name] = tmp_path / name
+        files[name].write_bytes(export(square_mesh()))
+    return files
+
+
+def picture(path: Path, out: Path, keys: str = "T 0 1") -> np.ndarray:
+    shot = take_screenshot(StartOptions(empty=True, models=(path,)), out, SIZE, keys=keys)
+    return np.asarray(Image.open(shot).convert("RGB")).astype(int)
+
+
+def test_every_new_suffix_has_a_reader() -> None:
+    assert {".stl", ".ply", ".off", ".gltf", ".glb"} <= set(MODEL_READERS)
+
+
+@pytest.mark.parametrize("name", FORMATS)
+def test_each_format_holds_the_same_model(written: dict[str, Path], name: str) -> None:
+    mesh = load_model(written[name])
+    assert (mesh.vertex_count, mesh.face_count) == (7, 3), "STL's repeated corners are shared again"
+    assert np.allclose(np.sort(mesh.positions, axis=0), np.sort(POSITIONS, axis=0), atol=1e-5)
+
+
+@pytest.mark.parametrize("name", FORMATS)
+def test_each_format_is_drawn_as_the_same_triangles_written_as_obj(written: dict[str, Path], name: str,
+                                                                   tmp_path: Path) -> None:
+    expected = picture(write_obj(tmp_path / "same.obj"), tmp_path / "obj.png")
+    drawn = picture(written[name], tmp_path / "drawn.png")
+    centre, corner = drawn[SIZE[1] // 2, SIZE[0] // 2], drawn[2, 2]
+    assert tuple(corner) == BACKGROUND and tuple(centre) != BACKGROUND  # the square covers the centre
+    # Named pixels: the square's centre, a point of the tilted triangle above it, the background.
+    for row, column in [(60, 60), (30, 60), (100, 20), (5, 5)]:
+        assert np.abs(drawn[row, column] - expected[row, column]).max() <= 1, (name, row, column)
+    assert (np.abs(drawn - expected).max(axis=2) > 1).mean() < 0.002
+
+
+def test_gltf_nodes_are_placed_by_their_transforms(tmp_path: Path) -> None:
+    scene = trimesh.Scene()
+    moved = trimesh.transformations.translation_matrix([30, 0, 0])
+    scene.add_geometry(square_mesh(), node_name="moved", transform=moved)
+    (tmp_path / "moved.glb").write_bytes(scene.export(file_type="glb"))
+    mesh = load_model(tmp_path / "moved.glb")
+    assert np.allclose(mesh.bounds[0], POSITIONS.min(axis=0) + [30, 0, 0], atol=1e-5)
+
+
+def test_gltf_json_beside_its_buffer_and_its_base_colour(tmp_path: Path) -> None:
+    mesh = square_mesh()
+    mesh.visual = trimesh.visual.TextureVisuals(
+        material=trimesh.visual.material.PBRMaterial(baseColorFactor=[255, 128, 0, 255]))
+    for name, data in trimesh.Scene(mesh).export(file_type="gltf").items():
+        (tmp_path / name).write_bytes(data)
+    loaded = load_model(tmp_path / "model.gltf")
+    assert loaded.face_count == 3
+    assert np.allclose(loaded.file_material["kd"], (1.0, 128 / 255, 0.0), atol=1e-3)
+
+
+def test_ply_vertex_colours_are_said_not_drawn(tmp_path: Path) -> None:
+    mesh = square_mesh()
+    mesh.visual.vertex_colors = np.tile([200, 10, 10, 255], (len(POSITIONS), 1))
+    (tmp_path / "coloured.ply").write_bytes(trimesh.exchange.ply.export_ply(mesh))
+    assert any("vertex colours" in note for note in load_model(tmp_path / "coloured.ply").warnings)
+
+
+def _cut(data: bytes) -> bytes:
+    return data[: len(data) * 2 // 3]
+
+
+def _nan(data: bytes) -> bytes:
+    """The first coordinate of the first vertex (after STL's 'vertex', PLY's header, OFF's counts)."""
+    text = data.decode()
+    start = max(text.find("vertex "), text.find("end_header"), 0) if "facet" in text or "ply" in text[:3] else \
+        text.index("\n", text.index("\n") + 1)
+    found = re.compile(r"-?\d+\.\d+(e[-+]\d+)?").search(text, start)
+    return (text[:found.start()] + "nan" + text[found.end():]).encode()
+
+
+def _far_index(data: bytes) -> bytes:
+    lines = data.decode().splitlines()
+    lines[-1] = " ".join(lines[-1].split()[:-1] + ["99"])
+    return ("\n".join(lines) + "\n").encode()
+
+
+@pytest.mark.parametrize(("name", "damage", "line"), [
+    ("ascii.stl", _cut, True), ("ascii.stl", _nan, True), ("model.stl", _cut, True),
+    ("ascii.ply", _cut, True), ("ascii.ply", _nan, True), ("ascii.ply", _far_index, False),
+    ("model.ply", _cut, False), ("model.off", _cut, True), ("model.off", _nan, True),
+    ("model.off", _far_index, False), ("model.glb", _cut, False),
+    ("model.glb", lambda data: b"glTF" + bytes(40), False), ("model.off", lambda data: b"", False),
+    ("model.stl", lambda data: b"\x89PNG\r\n\x1a\n" + bytes(100), True),
+])
+def test_a_broken_file_is_one_load_error_naming_it(written: dict[str, Path], name: str, damage, line: bool) -> None:
+    path = written[name]
+    path.write_bytes(damage(path.read_bytes()))
+    with pytest.raises(LoadError) as raised:
+        load_model(path)
+    assert raised.value.path == str(path) and "\n" not in str(raised.value)
+    assert (raised.value.line is not None) == line, str(raised.value)
+
+
+def test_trimesh_is_imported_only_when_such_a_file_is_opened(tmp_path: Path) -> None:
+    """Start-up and OBJ loads stay as light as they were; an STL brings trimesh in."""
+    model = write_obj(tmp_path / "m.obj")
+    (tmp_path / "m.stl").write_bytes(FORMATS["model.stl"](square_mesh()))
+    code = ("import sys; from marraztu.cli import main; from marraztu.loaders.registry import load_model; "
+            f"main(['screenshot', '-o', {str(tmp_path / 'x.png')!r}, '--size', '32x32', {str(model)!r}]); "
+            "print('trimesh' in sys.modules); "
+            f"load_model({str(tmp_path / 'm.stl')!r}); print('trimesh' in sys.modules)")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.split()[-2:] == ["False", "True"]
