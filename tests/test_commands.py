@@ -474,16 +474,6 @@ def test_drag_turns_like_the_y_and_x_keys(scene: Scene) -> None:
     assert scene.modes.transform is TransformKind.TRANSLATE
 
 
-def test_wheel_moves_along_z_without_changing_the_mode(scene: Scene) -> None:
-    keyed = make_scene()
-    press(keyed, "t z z")
-    commands.wheel(scene, 2)
-    np.testing.assert_allclose(scene.object.model, keyed.object.model, atol=1e-9)
-    assert scene.modes.transform is TransformKind.ROTATE
-    commands.wheel(scene, -2)
-    np.testing.assert_allclose(scene.object.model, scene.object.history[0], atol=1e-9)
-
-
 # --- status and help -------------------------------------------------------------------------------
 def test_status_line_reports_modes_lights_and_selection(scene: Scene) -> None:
     press(scene, "0 2 F g t ENTER*2")

@@ -108,7 +108,7 @@ def test_a_model_in_front_hides_the_axis_behind_it(tmp_path: Path) -> None:
     wall = tmp_path / "wall.obj"
     wall.write_text("v -100 -100 40\nv 100 -100 40\nv 100 100 40\nv -100 100 40\nf 1 2 3 4\n")
     everything = picture(tmp_path, "a T", (wall,))
-    pixels = everything[30:170, 30:170]  # inside the wall's outline (it spans about 10..190)
+    pixels = everything[70:130, 70:130]  # inside the wall's outline (framed, it spans about 60..140)
     red = np.round(AXIS_COLOURS[0] * 255).astype(int)
     grid = np.round(np.float32(GRID_COLOUR) * 255).astype(int)
     assert not (np.abs(pixels - red).max(axis=2) <= 1).any()  # the x axis, at z = 0, is behind the wall

@@ -236,3 +236,49 @@ def test_frames_that_only_move_the_loading_line_on_do_not_draw_the_scene_again(d
     frames, scene_draws = map(int, result.stdout.split())
     assert frames >= 4  # the drop, the seconds counted (two at least), the model joining
     assert scene_draws == 2
+
+
+def test_the_mouse_orbits_and_dollies_and_u_takes_each_gesture_back(display: str, tmp_path: Path) -> None:
+    """A left drag (many motion events) and three wheel notches, each one undo step: after `u` the
+    window shows the start again, as the screenshot command draws it."""
+    shots = tmp_path / "screenshots"
+
+    def saved_after(count: int) -> Path:
+        return wait_for(lambda: sorted(shots.glob("*.png"))[count - 1:] if shots.is_dir() else [], 30,
+                        f"screenshot {count}", display)[0]
+
+    with window_in(display, tmp_path, SIZE) as (window, window_id):
+        xdotool(display, "windowfocus", "--sync", window_id)
+        xdotool(display, "mousemove", "--window", window_id, "160", "160")
+        xdotool(display, "mousedown", "1")
+        for x in range(170, 260, 10):
+            xdotool(display, "mousemove", "--window", window_id, str(x), "170")
+        xdotool(display, "mouseup", "1")
+        time.sleep(0.3)
+        xdotool(display, "key", "F12")
+        orbited = saved_after(1)
+        xdotool(display, "key", "u", "F12")
+        orbit_undone = saved_after(2)
+        xdotool(display, "click", "--repeat", "3", "4")  # the wheel, toward the object
+        time.sleep(0.3)
+        xdotool(display, "key", "F12")
+        dollied = saved_after(3)
+        xdotool(display, "key", "u", "F12")
+        dolly_undone = saved_after(4)
+        time.sleep(0.3)
+        xdotool(display, "key", "Escape")
+        assert window.wait(timeout=30) == 0
+
+    start_path = tmp_path / "start.png"
+    result = subprocess.run([sys.executable, "-m", "marraztu", "screenshot", "-o", str(start_path),
+                             "--size", f"{SIZE[0]}x{SIZE[1]}"], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+
+    def pixels(path: Path) -> np.ndarray:
+        return np.asarray(Image.open(path).convert("RGB")).astype(int)
+
+    def differing(a: Path, b: Path) -> float:
+        return float((np.abs(pixels(a) - pixels(b)).max(axis=2) > 2).mean())
+
+    assert differing(orbited, start_path) > 0.02 and differing(dollied, start_path) > 0.02
+    assert differing(orbit_undone, start_path) <= 0.001 and differing(dolly_undone, start_path) <= 0.001

@@ -17,9 +17,19 @@ from typing import Protocol
 import numpy as np
 
 from marraztu.control.browse import sibling_model
-from marraztu.model import transforms
+from marraztu.model import framing, transforms
 from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, Light
-from marraztu.model.scene import SWITCHED_SHADINGS, CameraMode, Fill, Frame, Projection, Scene, SceneObject, Target
+from marraztu.model.scene import (
+    PERSPECTIVE_FOVY_DEG,
+    SWITCHED_SHADINGS,
+    CameraMode,
+    Fill,
+    Frame,
+    Projection,
+    Scene,
+    SceneObject,
+    Target,
+)
 from marraztu.model.transforms import TransformKind, step_matrix
 
 ROTATION_STEP_RAD = 0.1  # the seed author's step
@@ -29,6 +39,7 @@ APERTURE_STEP_DEG = 2.5
 ANALYSIS_MIN_DISTANCE = 10.0
 # Mouse drag: 10 pixels turn as far as one key press.
 DRAG_RADIANS_PER_PIXEL = ROTATION_STEP_RAD / 10.0
+DOLLY_PER_NOTCH = 0.9  # each wheel notch toward the object leaves this share of the distance
 
 TARGET_CYCLE = (Target.OBJECTS, Target.CAMERAS, Target.LIGHTS)
 
@@ -271,7 +282,79 @@ _MOVERS = {Target.OBJECTS: move_object, Target.CAMERAS: move_camera, Target.LIGH
 
 def move_target(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> None:
     """One move of the current target: `amount` is radians for rotations, world units otherwise."""
+    scene.view_moves.clear()  # from now on `u` undoes this move, the target's own
     _MOVERS[scene.modes.target](scene, kind, axis_index, amount)
+
+
+# --- the view: framing, reset, and the mouse's orbit, pan and dolly ----------------------------------
+def move_view(scene: Scene, matrix: np.ndarray, gesture: str | None = None) -> None:
+    """The selected camera moved to `matrix`, undoable with `u` whatever is targeted. The events of one
+    mouse gesture (`gesture` names it) amend one history entry instead of pushing one each."""
+    camera = scene.camera
+    if gesture is not None and scene.view_gesture == gesture and scene.view_moves[-1:] == [camera]:
+        camera.history[-1] = np.asarray(matrix, dtype=np.float64)
+        return
+    camera.push(matrix)
+    scene.view_moves.append(camera)
+    scene.view_gesture = gesture
+
+
+def end_view_gesture(scene: Scene) -> None:
+    """A button pressed or released, or a key: the next mouse move is a new undo step."""
+    scene.view_gesture = None
+
+
+def frame_selected(scene: Scene, host: Host) -> None:
+    """`.`: the camera steps back along its view until the selected object fills two thirds of it."""
+    obj = scene.object
+    if obj is None:
+        scene.message = "no object to frame"
+        return
+    move_view(scene, framing.frame_objects(scene, scene.camera, [obj]))
+    scene.message = f"framed {obj.name}"
+
+
+def reset_view(scene: Scene, host: Host) -> None:
+    """HOME: the selected camera back where the scene started it (u takes it back again)."""
+    move_view(scene, scene.camera.history[0].copy())
+    scene.message = "view reset to the start"
+
+
+def _view_centre(scene: Scene) -> np.ndarray:
+    """What the mouse turns the view about: the selected object, or the whole scene."""
+    return scene.object.centre if scene.object is not None else framing.bounding_sphere(scene.objects)[0]
+
+
+def orbit_view(scene: Scene, dx_pixels: float, dy_pixels: float) -> None:
+    """Left drag: the camera turns round the selected object, as analysis mode's r x/y keys do."""
+    model, centre = scene.camera.model, _view_centre(scene)
+    model = transforms.orbit(model, centre, 1, -dx_pixels * DRAG_RADIANS_PER_PIXEL)
+    model = transforms.orbit(model, centre, 0, -dy_pixels * DRAG_RADIANS_PER_PIXEL)
+    move_view(scene, model, "orbit")
+
+
+def pan_view(scene: Scene, dx_pixels: float, dy_pixels: float, view_height_px: int) -> None:
+    """Right or shift drag: the camera slides in its own plane so that the point under the cursor at
+    the selected object's depth follows the cursor."""
+    if scene.modes.projection is Projection.PARALLEL:
+        half_height = scene.modes.parallel_half_height
+    else:
+        depth = max(scene.depth_of(_view_centre(scene)), scene.near_plane())
+        half_height = depth * float(np.tan(np.radians(PERSPECTIVE_FOVY_DEG) / 2.0))
+    units_per_pixel = 2.0 * half_height / max(view_height_px, 1)
+    step = transforms.translation_by(np.array([-dx_pixels * units_per_pixel, dy_pixels * units_per_pixel, 0.0]))
+    move_view(scene, transforms.apply_local(scene.camera.model, step), "pan")
+
+
+def dolly_view(scene: Scene, steps: float) -> None:
+    """The wheel: toward the selected object (steps > 0) or away, a fraction of the way each notch, so
+    the camera never passes through it; in parallel projection the view's size follows."""
+    factor = DOLLY_PER_NOTCH ** steps
+    centre, model = _view_centre(scene), scene.camera.model.copy()
+    model[:3, 3] = centre + (model[:3, 3] - centre) * factor
+    if scene.modes.projection is Projection.PARALLEL:
+        scene.modes.parallel_half_height *= factor
+    move_view(scene, model, "dolly")
 
 
 def axis_press(axis_index: int, sign: int) -> CommandFunction:
@@ -285,6 +368,12 @@ def axis_press(axis_index: int, sign: int) -> CommandFunction:
 
 
 def undo(scene: Scene, host: Host) -> None:
+    """`u`: a view move just made first (framing, reset, the mouse), else the target's last move."""
+    scene.view_gesture = None
+    while scene.view_moves:
+        moved = scene.view_moves.pop()
+        if moved in scene.cameras and moved.undo():
+            return
     if scene.modes.target is Target.LIGHTS:
         undone = scene.light.undo()
     else:
@@ -314,18 +403,12 @@ def change_aperture(delta_deg: float) -> CommandFunction:
 
 # --- mouse -----------------------------------------------------------------------------------------
 def drag(scene: Scene, dx_pixels: float, dy_pixels: float) -> None:
-    """Mouse drag turns the current target as y (sideways drag) and x (vertical drag) do, whatever
+    """Ctrl-drag turns the current target as y (sideways drag) and x (vertical drag) do, whatever
     r/t says. Window y grows downward: dragging right or down swings the near side right or down."""
     if dx_pixels:
         move_target(scene, TransformKind.ROTATE, 1, dx_pixels * DRAG_RADIANS_PER_PIXEL)
     if dy_pixels:
         move_target(scene, TransformKind.ROTATE, 0, dy_pixels * DRAG_RADIANS_PER_PIXEL)
-
-
-def wheel(scene: Scene, steps: float) -> None:
-    """Mouse wheel: `steps` presses of t-with-z (negative: Z), without touching the r/t mode."""
-    if steps:
-        move_target(scene, TransformKind.TRANSLATE, 2, steps * TRANSLATION_STEP)
 
 
 # --- selection -------------------------------------------------------------------------------------
@@ -384,14 +467,31 @@ def loads_as_camera(scene: Scene) -> bool:
 
 
 def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool) -> None:
-    """The host's half of `f`: the loaded element joins its list, selected, at face 0."""
+    """The host's half of `f`: the loaded element joins its list, selected, at face 0. A new camera
+    stands where it sees the scene, looking the way the current one does; a lone model is framed."""
     obj.selected_face = 0
     if as_camera:
+        if scene.objects:
+            obj.history = [framing.frame_objects(scene, scene.camera, scene.objects)]
         scene.cameras.append(obj)
         scene.selected_camera = len(scene.cameras) - 1
+        return
+    lone = not scene.objects
+    scene.objects.append(obj)
+    scene.selected_object = len(scene.objects) - 1
+    if lone:
+        frame_lone_model(scene, obj)
+
+
+def frame_lone_model(scene: Scene, obj: SceneObject) -> None:
+    """A model alone in the scene fills two thirds of the view, whatever its units. A camera not yet
+    moved takes that as its start (HOME comes back to it); otherwise it is a move `u` takes back."""
+    camera = scene.camera
+    matrix = framing.frame_objects(scene, camera, [obj])
+    if len(camera.history) == 1:
+        camera.history[0] = matrix
     else:
-        scene.objects.append(obj)
-        scene.selected_object = len(scene.objects) - 1
+        move_view(scene, matrix)
 
 
 def replace_loaded(element: SceneObject, loaded: SceneObject) -> None:

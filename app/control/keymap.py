@@ -20,7 +20,7 @@ from marraztu.errors import KeyMapError
 from marraztu.model.lights import LIGHT_KEYS
 from marraztu.model.scene import Scene
 
-NAMED_KEYS = ("TAB", "ENTER", "ESC", "DELETE", "F1", "F12", "PAGEDOWN", "PAGEUP")
+NAMED_KEYS = ("TAB", "ENTER", "ESC", "DELETE", "F1", "F12", "PAGEDOWN", "PAGEUP", "HOME")
 _NAMED_ALIASES = {"ESCAPE": "ESC", "RETURN": "ENTER", "DEL": "DELETE", "PGDN": "PAGEDOWN", "PGUP": "PAGEUP"}
 # Keys that only the file prompt reads, and what SPACE types there.
 PROMPT_KEYS = ("BACKSPACE", "SPACE")
@@ -106,7 +106,9 @@ def build_commands() -> list[Command]:
         Command("g", "local / global; cameras: flight / analysis", commands.toggle_frame_or_camera_mode,
                 _frame_state),
         *_axis_commands(),
-        Command("u", "undo the target's last move", commands.undo),
+        Command("u", "undo the last view move, else the target's last move", commands.undo),
+        Command(".", "frame the selected object (the camera steps back along its view)", commands.frame_selected),
+        Command("HOME", "the view back to the start", commands.reset_view),
         Command("C", "look through the object / the camera", commands.toggle_view_from_object,
                 lambda s: "object" if s.modes.view_from_object else "camera"),
         Command("l", "lines / filled", commands.toggle_fill, lambda s: s.modes.fill.value),
@@ -238,6 +240,7 @@ def parse_key_sequence(text: str, keymap: dict[str, Command] = KEYMAP) -> list[K
 def dispatch(scene: Scene, key: KeyPress, host: Host, keymap: dict[str, Command] = KEYMAP) -> None:
     """Runs one press. Never raises: a refused action or an unbound key leaves a message instead."""
     scene.message = ""  # the message answers the latest press; an older one would mislead
+    commands.end_view_gesture(scene)
     if key.path is not None:
         commands.load_file(scene, host, key.path)
         return

@@ -113,6 +113,8 @@ class ViewerWindow:
         wnd.unicode_char_entered_func = self.on_unicode_char_entered
         wnd.mouse_drag_event_func = self.on_mouse_drag_event
         wnd.mouse_scroll_event_func = self.on_mouse_scroll_event
+        wnd.mouse_press_event_func = self.on_mouse_button_event
+        wnd.mouse_release_event_func = self.on_mouse_button_event
         wnd.files_dropped_event_func = self.on_files_dropped_event
         wnd.resize_func = self.on_resize
         pyglet_window = getattr(wnd, "_window", None)
@@ -134,7 +136,7 @@ class ViewerWindow:
         keys = self.wnd.keys
         names = {keys.TAB: "TAB", keys.ENTER: "ENTER", keys.ESCAPE: "ESC", keys.DELETE: "DELETE",
                  keys.F1: "F1", keys.F12: "F12", keys.BACKSPACE: "BACKSPACE",
-                 keys.PAGE_DOWN: "PAGEDOWN", keys.PAGE_UP: "PAGEUP"}
+                 keys.PAGE_DOWN: "PAGEDOWN", keys.PAGE_UP: "PAGEUP", keys.HOME: "HOME"}
         from pyglet.window import key as pyglet_key
 
         names[pyglet_key.RETURN] = "ENTER"  # moderngl-window's ENTER is the keypad's; this is the main one
@@ -233,11 +235,23 @@ class ViewerWindow:
     # --- mouse and files ----------------------------------------------------------------------
     @guarded
     def on_mouse_drag_event(self, x: int, y: int, dx: int, dy: int) -> None:
-        commands.drag(self.scene, dx, dy)
+        """As f3d and MeshLab: left orbits, right (or shift-left) pans; ctrl-drag turns the target."""
+        buttons, held = self.wnd.mouse_states, self.wnd.modifiers
+        if held.ctrl:
+            commands.drag(self.scene, dx, dy)
+        elif buttons.right or buttons.middle or held.shift:
+            commands.pan_view(self.scene, dx, dy, self.wnd.size[1])
+        else:
+            commands.orbit_view(self.scene, dx, dy)
 
     @guarded
     def on_mouse_scroll_event(self, x_offset: float, y_offset: float) -> None:
-        commands.wheel(self.scene, y_offset)
+        commands.dolly_view(self.scene, y_offset)
+
+    @guarded
+    def on_mouse_button_event(self, x: int, y: int, button: int) -> None:
+        """A press or a release ends a gesture: the next drag is an undo step of its own."""
+        commands.end_view_gesture(self.scene)
 
     @guarded
     def on_files_dropped_event(self, x: int, y: int, paths: list[str | Path]) -> None:

@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from marraztu.model.scene import Frame, Scene, SceneObject, Target
+from marraztu.model.framing import world_box
+from marraztu.model.scene import Frame, Scene, Target
 
 AXIS_COLOURS = np.eye(3, dtype=np.float32)  # x red, y green, z blue, as in every graphics tool
 OWN_AXIS_LIGHTNESS = 0.55  # an object's own axes: the same hues, paler, told from the world's
@@ -29,21 +30,6 @@ def nice_step(span: float, cells: int = GRID_CELLS) -> float:
     return next(power * m for m in (1.0, 2.0, 5.0, 10.0) if power * m >= raw)
 
 
-def scene_box(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
-    """The world bounding box of every object's mesh corners (the origin alone when there are none)."""
-    corners = [_world_corners(obj) for obj in scene.objects]
-    if not corners:
-        return np.zeros(3), np.zeros(3)
-    points = np.concatenate(corners)
-    return points.min(axis=0), points.max(axis=0)
-
-
-def _world_corners(obj: SceneObject) -> np.ndarray:
-    low, high = obj.mesh.bounds
-    box = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
-    return box @ obj.model[:3, :3].T + obj.model[:3, 3]
-
-
 @dataclass(frozen=True)
 class Guides:
     """(N, 6) float32 rows: x y z r g b, two rows a segment, in world space."""
@@ -53,7 +39,7 @@ class Guides:
 
 
 def scene_guides(scene: Scene) -> Guides:
-    low, high = scene_box(scene)
+    low, high = world_box(scene.objects)
     extent = max(float(np.max(high - low)), float(np.max(np.abs(np.concatenate([low, high])))), MIN_EXTENT)
     axes = [_axes(np.eye(4), extent / 2.0, 1.0)]
     obj = scene.object

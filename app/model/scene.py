@@ -21,6 +21,9 @@ from marraztu.model.transforms import TransformKind, Vec3, orthographic, perspec
 # SPEC 5: perspective is the seed's frustum l=-5 r=5 b=-5 t=5 n=5, i.e. a 90 degree vertical field.
 PERSPECTIVE_FOVY_DEG = 90.0
 NEAR_PLANE = 5.0
+# Objects smaller than NEAR_PLANE * NEAR_FRACTION units bring the near plane in to a NEAR_FRACTION-th
+# of their size, so that a model in millimetres can be framed and approached like one in metres.
+NEAR_FRACTION = 10.0
 # How far the selected object's depth may pull parallel projection's size from the rest of the scene's.
 PARALLEL_DEPTH_RANGE = 1.5
 
@@ -170,6 +173,11 @@ class Scene:
     texture_path: str | None = None
     texture: np.ndarray | None = None  # (H, W, 3) uint8, top row first, what filled faces show; None: white
     message: str = ""  # the last thing the person should read (errors, where a file was saved)
+    # The cameras the view moves (framing, reset, the mouse) moved since the target last moved, latest
+    # last: `u` undoes those first, whatever is targeted. And the mouse gesture still going on, whose
+    # events make one undo step in all.
+    view_moves: list[SceneObject] = field(default_factory=list)
+    view_gesture: str | None = None
 
     def __post_init__(self) -> None:
         if not self.cameras:
@@ -221,10 +229,15 @@ class Scene:
         reach += [np.linalg.norm(light.position - eye) for light in self.lights]
         return max(1000.0, 2.0 * max(reach, default=0.0))
 
+    def near_plane(self) -> float:
+        """SPEC 5's 5 units, or less for a scene of small objects (see NEAR_FRACTION)."""
+        largest = max((obj.mesh.size for obj in self.objects), default=None)
+        return NEAR_PLANE if not largest else min(NEAR_PLANE, largest / NEAR_FRACTION)
+
     def projection_matrix(self, aspect: float) -> np.ndarray:
         far = self.far_plane()
         if self.modes.projection is Projection.PERSPECTIVE:
-            return perspective(PERSPECTIVE_FOVY_DEG, aspect, NEAR_PLANE, far)
+            return perspective(PERSPECTIVE_FOVY_DEG, aspect, self.near_plane(), far)
         half_h = self.modes.parallel_half_height
         return orthographic(half_h * aspect, half_h, -far, far)
 
@@ -233,18 +246,19 @@ class Scene:
         object's depth, kept within PARALLEL_DEPTH_RANGE of the others' in front of the camera, or
         theirs when it is not in front itself; never less than the near plane."""
         selected = self.object
+        near = self.near_plane()
         depths = {id(obj): self.depth_of(obj.centre) for obj in self.objects if obj is not self.viewer}
         others = [depth for key, depth in depths.items()
-                  if depth > NEAR_PLANE and (selected is None or key != id(selected))]
+                  if depth > near and (selected is None or key != id(selected))]
         scene_depth = float(np.median(others)) if others else None
         own = depths.get(id(selected)) if selected is not None else None
-        if own is not None and own > NEAR_PLANE:
+        if own is not None and own > near:
             depth = own if scene_depth is None else float(np.clip(own, scene_depth / PARALLEL_DEPTH_RANGE,
                                                                   scene_depth * PARALLEL_DEPTH_RANGE))
         else:
-            depth = scene_depth if scene_depth is not None else NEAR_PLANE
+            depth = scene_depth if scene_depth is not None else near
         half_fov = np.radians(PERSPECTIVE_FOVY_DEG) / 2.0
-        return max(depth, NEAR_PLANE) * float(np.tan(half_fov))
+        return max(depth, near) * float(np.tan(half_fov))
 
     def depth_of(self, point: np.ndarray) -> float:
         """How far in front of the eye a world point is, along the view axis (negative: behind)."""

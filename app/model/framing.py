@@ -1,0 +1,69 @@
+"""Framing: where a camera stands to see some objects whole, whatever their units.
+
+The camera keeps the direction it looks in and moves along it until the objects' bounding sphere
+fills FILL of the view's height: in perspective the sphere's angular size, in parallel projection
+its share of the half height.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+
+import numpy as np
+
+from marraztu.model.scene import PERSPECTIVE_FOVY_DEG, Projection, Scene, SceneObject
+
+FILL = 2.0 / 3.0  # of the view's height: the model whole, with a margin round it
+
+
+def world_box(objects: Iterable[SceneObject]) -> tuple[np.ndarray, np.ndarray]:
+    """The world bounding box of the objects' mesh boxes (the origin alone when there are none)."""
+    corners = [_world_corners(obj) for obj in objects]
+    if not corners:
+        return np.zeros(3), np.zeros(3)
+    points = np.concatenate(corners)
+    return points.min(axis=0), points.max(axis=0)
+
+
+def _world_corners(obj: SceneObject) -> np.ndarray:
+    low, high = obj.mesh.bounds
+    box = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+    return box @ obj.model[:3, :3].T + obj.model[:3, 3]  # the eight corners, placed in the world
+
+
+def bounding_sphere(objects: Iterable[SceneObject]) -> tuple[np.ndarray, float]:
+    """A sphere round every vertex: centred on the objects' world box, as wide as its farthest vertex
+    (for a round model much tighter than the box's own sphere)."""
+    objects = list(objects)
+    low, high = world_box(objects)
+    centre = (low + high) / 2.0
+    radius = 0.0
+    for obj in objects:
+        # In the object's own frame: one subtraction per vertex, no placed copy of the table.
+        local_centre = np.linalg.solve(obj.model, np.append(centre, 1.0))[:3]
+        offsets = obj.mesh.positions - local_centre
+        radius = max(radius, float(np.sqrt(np.einsum("ij,ij->i", offsets, offsets).max(initial=0.0))))
+    return centre, radius
+
+
+def framing_distance(radius: float) -> float:
+    """How far from the sphere's centre its angular size is FILL of the vertical field of view."""
+    half_fov = math.radians(PERSPECTIVE_FOVY_DEG) / 2.0
+    return radius / math.sin(math.atan(FILL * math.tan(half_fov)))  # the sphere's tangents span FILL
+
+
+def framed(camera_model: np.ndarray, centre: np.ndarray, radius: float) -> np.ndarray:
+    """The camera's matrix moved, not turned, so that it looks at `centre` from far enough back."""
+    backward = camera_model[:3, 2] / np.linalg.norm(camera_model[:3, 2])  # the camera looks along -z
+    moved = np.array(camera_model, dtype=np.float64)
+    moved[:3, 3] = centre + backward * framing_distance(max(radius, 1e-9))
+    return moved
+
+
+def frame_objects(scene: Scene, camera: SceneObject, objects: list[SceneObject]) -> np.ndarray:
+    """The camera's matrix framing `objects`; in parallel projection the view's size follows too."""
+    centre, radius = bounding_sphere(objects)
+    if scene.modes.projection is Projection.PARALLEL:
+        scene.modes.parallel_half_height = max(radius, 1e-9) / FILL
+    return framed(camera.model, centre, radius)

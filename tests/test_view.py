@@ -1,0 +1,167 @@
+"""The view as people expect to handle it: a lone model framed whatever its units, `.` to frame the
+selected object, HOME back to the start, a camera loaded with `f` standing outside the scene, and the
+mouse's orbit, pan and dolly, each gesture one step for `u`."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from marraztu.control import commands
+from marraztu.control.keymap import dispatch, parse_key_sequence
+from marraztu.control.viewer import StartOptions, Viewer
+from marraztu.frontends.screenshot import take_screenshot
+from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
+from marraztu.model.framing import FILL, bounding_sphere
+from support.scenes import BACKGROUND, NoFrontend, RecordingHost
+
+SIZE = (160, 160)
+
+
+def octahedron(path: Path, size: float) -> Path:
+    """A round-ish model of radius `size`, its six tips on the axes."""
+    tips = [(size, 0, 0), (-size, 0, 0), (0, size, 0), (0, -size, 0), (0, 0, size), (0, 0, -size)]
+    faces = [(1, 3, 5), (3, 2, 5), (2, 4, 5), (4, 1, 5), (3, 1, 6), (2, 3, 6), (4, 2, 6), (1, 4, 6)]
+    path.write_text("".join(f"v {x:.9g} {y:.9g} {z:.9g}\n" for x, y, z in tips)
+                    + "".join(f"f {a} {b} {c}\n" for a, b, c in faces))
+    return path
+
+
+def picture(tmp_path: Path, keys: str = "", models: tuple[Path, ...] = (), empty: bool = True,
+            name: str = "shot.png") -> np.ndarray:
+    out = take_screenshot(StartOptions(empty=empty, models=models), tmp_path / name, SIZE, keys=keys)
+    return np.asarray(Image.open(out).convert("RGB")).astype(int)
+
+
+def covered_rows(pixels: np.ndarray) -> int:
+    rows = np.flatnonzero((pixels != BACKGROUND).any(axis=2).any(axis=1))
+    return int(rows[-1] - rows[0] + 1) if rows.size else 0
+
+
+def viewer_with(keys: str, models: tuple[Path, ...] = (), empty: bool = False) -> Viewer:
+    viewer = Viewer(empty_scene() if empty else load_builtin_scene(), NoFrontend())
+    viewer.start(StartOptions(empty=empty, models=models), longest_texture_side=64)
+    for key in parse_key_sequence(keys):
+        viewer.press(key)
+    return viewer
+
+
+# --- framing -------------------------------------------------------------------------------------
+# In perspective the bounding sphere's outline fills FILL of the view's height; the octahedron's tips,
+# on the sphere but level with its centre, span sin(atan(FILL)) of it (90 degree field: tan 45 = 1).
+# `p` keeps that size (SPEC 5's matching depth); `.` in parallel projection makes the sphere FILL.
+@pytest.mark.parametrize("size", [1e-3, 1.0, 1e4])
+@pytest.mark.parametrize(("keys", "share"), [("", math.sin(math.atan(FILL))), ("p", math.sin(math.atan(FILL))),
+                                             ("p .", FILL)])
+def test_a_lone_model_is_framed_whatever_its_units(tmp_path: Path, size: float, keys: str, share: float) -> None:
+    pixels = picture(tmp_path, keys, (octahedron(tmp_path / "m.obj", size),))
+    assert covered_rows(pixels) == pytest.approx(share * SIZE[1], abs=3)
+    assert tuple(pixels[SIZE[1] // 2, SIZE[0] // 2]) != BACKGROUND  # centred
+
+
+def test_the_framed_start_is_the_same_at_every_scale(tmp_path: Path) -> None:
+    small = picture(tmp_path, "", (octahedron(tmp_path / "a.obj", 1e-3),), name="a.png")
+    large = picture(tmp_path, "", (octahedron(tmp_path / "b.obj", 1e4),), name="b.png")
+    assert (np.abs(small - large).max(axis=2) > 2).mean() < 0.01
+
+
+def test_the_built_in_scene_is_not_reframed_by_a_model_added_to_it(tmp_path: Path) -> None:
+    viewer = viewer_with("", (octahedron(tmp_path / "m.obj", 1e4),))
+    assert np.array_equal(viewer.scene.camera.model, load_builtin_scene().camera.model)
+
+
+def test_dot_frames_the_selected_object_and_u_takes_it_back(tmp_path: Path) -> None:
+    model = (octahedron(tmp_path / "m.obj", 20.0),)
+    start = picture(tmp_path, "", model, name="start.png")
+    away = picture(tmp_path, "c t z*30 x*2 c c", model, name="away.png")
+    framed = picture(tmp_path, "c t z*30 c c .", model, name="framed.png")
+    undone = picture(tmp_path, "c t z*30 x*2 c c . u", model, name="undone.png")
+    assert np.array_equal(framed, start)  # back along the same view axis: the start's very picture
+    assert np.array_equal(undone, away) and not np.array_equal(away, start)
+
+
+def test_home_returns_to_the_start_and_u_takes_it_back(tmp_path: Path) -> None:
+    start = picture(tmp_path, "", empty=False, name="start.png")
+    moved = picture(tmp_path, "c t x*5 Z*3 r y c c", empty=False, name="moved.png")
+    assert np.array_equal(picture(tmp_path, "c t x*5 Z*3 r y c c HOME", empty=False, name="home.png"), start)
+    assert np.array_equal(picture(tmp_path, "c t x*5 Z*3 r y c c HOME u", empty=False, name="u.png"), moved)
+
+
+def test_a_camera_loaded_with_f_stands_outside_the_scene_looking_at_it(tmp_path: Path) -> None:
+    viewer = viewer_with(f"c f={octahedron(tmp_path / 'cam.obj', 5.0)}")
+    camera = viewer.scene.camera
+    centre, radius = bounding_sphere(viewer.scene.objects)
+    to_centre = centre - camera.origin
+    assert camera.name == "cam" and np.linalg.norm(to_centre) > radius
+    assert np.dot(camera.forward, to_centre / np.linalg.norm(to_centre)) == pytest.approx(1.0)
+
+
+def test_the_near_plane_is_the_specifications_for_its_scene_and_small_for_small_models(tmp_path: Path) -> None:
+    assert viewer_with("").scene.near_plane() == 5.0
+    small = viewer_with("", (octahedron(tmp_path / "m.obj", 1e-3),), empty=True)
+    assert small.scene.near_plane() == pytest.approx(2e-3 * np.sqrt(3) / 10)  # its box's diagonal / 10
+
+
+# --- the mouse -----------------------------------------------------------------------------------
+def scene_with_model(tmp_path: Path):
+    return viewer_with("", (octahedron(tmp_path / "m.obj", 20.0),), empty=True).scene
+
+
+def test_orbit_keeps_the_distance_to_the_object_and_turns_the_view_toward_it(tmp_path: Path) -> None:
+    scene = scene_with_model(tmp_path)
+    centre = scene.object.centre
+    before = np.linalg.norm(scene.camera.origin - centre)
+    commands.orbit_view(scene, 120, -45)
+    assert np.linalg.norm(scene.camera.origin - centre) == pytest.approx(before)
+    to_centre = (centre - scene.camera.origin) / before
+    assert np.dot(scene.camera.forward, to_centre) == pytest.approx(1.0)
+    assert scene.camera.origin[0] < 0  # dragged right: the camera swings left, the model turns right
+
+
+def test_pan_slides_the_camera_in_its_own_plane_following_the_cursor(tmp_path: Path) -> None:
+    scene = scene_with_model(tmp_path)
+    before = scene.camera.model.copy()
+    commands.pan_view(scene, 80, 0, SIZE[1])  # half the view's height in pixels, sideways
+    moved = scene.camera.model
+    assert np.array_equal(moved[:3, :3], before[:3, :3])
+    depth = np.linalg.norm(before[:3, 3] - scene.object.centre)
+    assert moved[0, 3] - before[0, 3] == pytest.approx(-depth * np.tan(np.radians(45)))  # half the view
+
+
+def test_the_wheel_dollies_toward_the_object_and_never_through_it(tmp_path: Path) -> None:
+    scene = scene_with_model(tmp_path)
+    centre = scene.object.centre
+    before = np.linalg.norm(scene.camera.origin - centre)
+    for _ in range(200):
+        commands.dolly_view(scene, 1)
+    after = np.linalg.norm(scene.camera.origin - centre)
+    assert 0 < after == pytest.approx(before * commands.DOLLY_PER_NOTCH ** 200)
+
+
+def test_a_gesture_is_one_undo_step_and_u_takes_it_back_whatever_is_targeted(tmp_path: Path) -> None:
+    scene = scene_with_model(tmp_path)
+    start, history = scene.camera.model.copy(), len(scene.camera.history)
+    for _ in range(50):
+        commands.orbit_view(scene, 3, 1)
+    commands.end_view_gesture(scene)  # the button released
+    for _ in range(20):
+        commands.dolly_view(scene, 1)
+    assert len(scene.camera.history) == history + 2
+    commands.undo(scene, RecordingHost())  # objects are targeted, and still the view goes back
+    commands.undo(scene, RecordingHost())
+    assert np.array_equal(scene.camera.model, start)
+    commands.undo(scene, RecordingHost())
+    assert scene.message == "nothing to undo"  # the object never moved
+
+
+def test_a_move_of_the_target_makes_u_undo_that_move_not_the_view(tmp_path: Path) -> None:
+    scene = scene_with_model(tmp_path)
+    commands.orbit_view(scene, 30, 0)
+    host = RecordingHost()
+    for key in parse_key_sequence("x u"):
+        dispatch(scene, key, host)
+    assert len(scene.object.history) == 1 and len(scene.camera.history) == 2
