@@ -24,11 +24,13 @@ def meshes() -> dict[str, Mesh]:
 
 def test_generator_reproduces_the_committed_files(tmp_path: Path) -> None:
     written = assetgen.generate_assets(tmp_path)
-    assert sorted(p.name for p in written) == sorted([*assetgen.MODEL_FILES, assetgen.TEXTURE_FILE])
+    examples = [f"{assetgen.EXAMPLE_DIR}/{stem}.{suffix}" for stem in assetgen.EXAMPLES for suffix in ("obj", "mtl")]
+    expected = [*assetgen.MODEL_FILES, assetgen.TEXTURE_FILE, *examples, f"{assetgen.EXAMPLE_DIR}/crate.ppm"]
+    assert sorted(p.relative_to(tmp_path).as_posix() for p in written) == sorted(expected)
     for path in written:
-        committed = ASSET_DIR / path.name
+        committed = ASSET_DIR / path.relative_to(tmp_path)
         assert path.read_bytes() == committed.read_bytes(), (
-            f"assets/{path.name} differs from what app/devtools/assetgen.py makes: run make assets")
+            f"assets/{path.relative_to(tmp_path)} differs from what app/devtools/assetgen.py makes: run make assets")
 
 
 @pytest.mark.parametrize("file_name", assetgen.MODEL_FILES)

@@ -498,6 +498,7 @@ def replace_loaded(element: SceneObject, loaded: SceneObject) -> None:
     """The host's half of PageDown / --watch: the element keeps its place, history and uid (so its
     undo and GPU slot stay), and takes the new file's mesh, name and material."""
     element.mesh, element.name, element.material = loaded.mesh, loaded.name, loaded.material
+    element.part_materials = loaded.part_materials
     element.source, element.selected_face = loaded.source, 0
 
 

@@ -23,7 +23,13 @@ from marraztu.control.browse import ModelWatcher
 from marraztu.errors import LoadError, ViewerError
 from marraztu.loaders.images import fit_texture, load_image, load_texture_or_fallback
 from marraztu.loaders.registry import load_model
-from marraztu.loaders.scenefile import empty_scene, load_builtin_scene, load_scene, material_for_loaded
+from marraztu.loaders.scenefile import (
+    empty_scene,
+    load_builtin_scene,
+    load_scene,
+    material_for_loaded,
+    materials_of_parts,
+)
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Scene, SceneObject
 
@@ -65,7 +71,10 @@ def load_model_object(path: str | Path) -> SceneObject:
 
 
 def _placed(mesh: Mesh, source: Path) -> SceneObject:
-    return SceneObject.placed(mesh.name, mesh, material_for_loaded(mesh), (0.0, 0.0, 0.0), source=source)
+    material = material_for_loaded(mesh)
+    obj = SceneObject.placed(mesh.name, mesh, material, (0.0, 0.0, 0.0), source=source)
+    obj.part_materials = materials_of_parts(mesh, material, from_scene=False)
+    return obj
 
 
 @dataclass(eq=False)

@@ -550,12 +550,74 @@ def texture_image() -> Image.Image:
 
 
 # --------------------------------------------------------------------------------------------------
+# Examples with materials: a model with its own texture, a model of two materials
+# --------------------------------------------------------------------------------------------------
+EXAMPLE_DIR = "examples"
+CRATE_TEXTURE_SIZE = 64
+CRATE_QUADRANTS = ((230, 60, 40), (40, 180, 60), (40, 80, 220), (240, 220, 60))  # top-left, top-right, ...
+EXAMPLE_MATERIALS = {  # material name -> (Ka, Kd, Ks, Ns, texture file or None)
+    "wood": ((0.3, 0.3, 0.3), (0.9, 0.9, 0.9), (0.1, 0.1, 0.1), 10.0, "crate.ppm"),
+    "red": ((0.2, 0.05, 0.05), (0.8, 0.1, 0.1), (0.5, 0.5, 0.5), 40.0, None),
+    "blue": ((0.05, 0.05, 0.2), (0.1, 0.2, 0.8), (0.5, 0.5, 0.5), 40.0, None),
+}
+EXAMPLES = {  # file stem -> [(part, material)]
+    "crate": [(box("crate", (40.0, 40.0, 40.0)), "wood")],
+    "two_tone": [(box("left", (30.0, 40.0, 20.0), (-16.0, 0.0, 0.0)), "red"),
+                 (box("right", (30.0, 40.0, 20.0), (16.0, 0.0, 0.0)), "blue")],
+}
+
+
+def example_obj_text(stem: str) -> str:
+    """The example as OBJ text naming its MTL, each part's faces after its usemtl."""
+    placed = EXAMPLES[stem]
+    lines = obj_text(stem, [part for part, _ in placed]).splitlines()
+    lines.insert(2, f"mtllib {stem}.mtl")
+    for part, material in placed:
+        lines.insert(lines.index(f"g {part.name}") + 1, f"usemtl {material}")
+    return "\n".join(lines) + "\n"
+
+
+def example_mtl_text(stem: str) -> str:
+    lines = [f"# {stem}.mtl: made by app/devtools/assetgen.py (make assets); do not edit."]
+    for material in dict.fromkeys(name for _, name in EXAMPLES[stem]):
+        ka, kd, ks, ns, texture = EXAMPLE_MATERIALS[material]
+        lines += [f"newmtl {material}", *(f"{key} {r:g} {g:g} {b:g}" for key, (r, g, b) in
+                                          (("Ka", ka), ("Kd", kd), ("Ks", ks))), f"Ns {ns:g}"]
+        lines += [f"map_Kd {texture}"] if texture else []
+    return "\n".join(lines) + "\n"
+
+
+def crate_texture() -> Image.Image:
+    """Four coloured quadrants with dark seams: which corner of the texture lands where is plain."""
+    half = CRATE_TEXTURE_SIZE // 2
+    pixels = np.zeros((CRATE_TEXTURE_SIZE, CRATE_TEXTURE_SIZE, 3), np.uint8)
+    for index, colour in enumerate(CRATE_QUADRANTS):
+        row, column = divmod(index, 2)
+        pixels[row * half:(row + 1) * half, column * half:(column + 1) * half] = colour
+    pixels[half - 1:half + 1, :] = pixels[:, half - 1:half + 1] = 30
+    return Image.fromarray(pixels)
+
+
+def generate_examples(out_dir: Path) -> list[Path]:
+    folder = out_dir / EXAMPLE_DIR
+    folder.mkdir(parents=True, exist_ok=True)
+    written = []
+    for stem in EXAMPLES:
+        for path, text in ((folder / f"{stem}.obj", example_obj_text(stem)), (folder / f"{stem}.mtl",
+                                                                                 example_mtl_text(stem))):
+            path.write_bytes(text.encode("ascii"))
+            written.append(path)
+    crate_texture().save(folder / "crate.ppm", format="PPM")
+    return [*written, folder / "crate.ppm"]
+
+
+# --------------------------------------------------------------------------------------------------
 # Entry point
 # --------------------------------------------------------------------------------------------------
 def generate_assets(out_dir: Path) -> list[Path]:
-    """Write the four models and the texture into out_dir; returns the files written."""
+    """Write the four models, the texture and the examples into out_dir; returns the files written."""
     out_dir.mkdir(parents=True, exist_ok=True)
-    written = []
+    written = generate_examples(out_dir)
     for file_name in MODEL_FILES:
         model_name, parts = build_model(file_name)
         path = out_dir / file_name

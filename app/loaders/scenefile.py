@@ -124,12 +124,22 @@ def empty_scene() -> Scene:
 
 def material_for_loaded(mesh: Mesh) -> Material:
     """A run-time model's material: its MTL's numbers where given, the neutral default elsewhere."""
-    values = mesh.file_material or {}
-    rgb = _clamped_colour(mesh.base_colour, WHITE)
-    return Material(ka=_clamped_colour(values.get("ka"), DEFAULT_MATERIAL.ka),
-                    kd=_clamped_colour(values.get("kd"), DEFAULT_MATERIAL.kd),
-                    ks=_clamped_colour(values.get("ks"), DEFAULT_MATERIAL.ks),
-                    ns=_file_shininess(values.get("ns")), rgb=rgb)
+    return _material_from(mesh.file_material or {}, DEFAULT_MATERIAL, _clamped_colour(mesh.base_colour, WHITE))
+
+
+def materials_of_parts(mesh: Mesh, own: Material, from_scene: bool) -> tuple[Material, ...]:
+    """One material per material of the file, as Mesh.materials lists them: its MTL numbers, each
+    missing one taken from the object's own; all the object's own when the scene file gave it one."""
+    if from_scene:
+        return tuple(own for _ in mesh.materials)
+    return tuple(_material_from(material.values, own, own.rgb) for material in mesh.materials)
+
+
+def _material_from(values: dict[str, object], fallback: Material, rgb: Vec3) -> Material:
+    return Material(ka=_clamped_colour(values.get("ka"), fallback.ka),
+                    kd=_clamped_colour(values.get("kd"), fallback.kd),
+                    ks=_clamped_colour(values.get("ks"), fallback.ks),
+                    ns=_file_shininess(values.get("ns"), fallback.ns), rgb=rgb)
 
 
 def read_scene_description(path: str | Path) -> SceneDescription:
@@ -385,8 +395,9 @@ class _ModelLoader:
     def place(self, entry: SceneEntry) -> SceneObject:
         mesh = self.mesh(entry)
         material = entry.material if entry.material is not None else material_for_loaded(mesh)
-        return SceneObject.placed(entry.name, mesh, material, entry.position, entry.rotation,
-                                  source=entry.model_path)
+        obj = SceneObject.placed(entry.name, mesh, material, entry.position, entry.rotation, source=entry.model_path)
+        obj.part_materials = materials_of_parts(mesh, material, from_scene=entry.material is not None)
+        return obj
 
     def mesh(self, entry: SceneEntry) -> Mesh:
         key = entry.model_path.absolute()
@@ -414,9 +425,9 @@ def _clamped_colour(value: object, default: Vec3) -> Vec3:
     return (r, g, b)
 
 
-def _file_shininess(value: object) -> float:
+def _file_shininess(value: object, default: float = DEFAULT_MATERIAL.ns) -> float:
     try:
         ns = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError, OverflowError):
-        return DEFAULT_MATERIAL.ns
-    return max(ns, MIN_FILE_NS) if math.isfinite(ns) else DEFAULT_MATERIAL.ns
+        return default
+    return max(ns, MIN_FILE_NS) if math.isfinite(ns) else default

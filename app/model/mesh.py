@@ -40,6 +40,27 @@ def fan_triangles(face_start: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False)
+class MeshMaterial:
+    """One material a model file defines (an MTL's newmtl): the numbers it gives, by key "ka", "kd",
+    "ks" (3-tuples) and "ns", and its diffuse texture when it names one that could be read."""
+
+    name: str
+    values: dict[str, object] = field(default_factory=dict)
+    texture: np.ndarray | None = None  # (H, W, 3) uint8, top row first
+    texture_name: str | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class MeshPart:
+    """The faces of one material: `material` indexes Mesh.materials (-1: the object's own), `faces`
+    are their indices in the whole mesh, ascending."""
+
+    material: int
+    mesh: Mesh
+    faces: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
 class Mesh:
     name: str
     positions: np.ndarray  # (V, 3) float64: the file's `v` table, in file order
@@ -55,6 +76,10 @@ class Mesh:
     # True when every corner of a position has the same normal and uv (both derived per position, as
     # for a file with neither vt nor vn): then no position needs a second vertex row (no seams).
     attributes_per_position: bool = False
+    # The file's materials and, per polygon, which one it uses (-1: none, the object's own material).
+    # Without `usemtl` both are empty and the whole mesh takes the object's material.
+    materials: tuple[MeshMaterial, ...] = ()
+    face_material: np.ndarray | None = None  # (F,) int32
 
     @property
     def vertex_count(self) -> int:
@@ -86,6 +111,28 @@ class Mesh:
         """Length of the bounding box diagonal: the scale for normals, markers and ortho sizing."""
         low, high = self.bounds
         return float(np.linalg.norm(high - low))
+
+    @cached_property
+    def parts(self) -> tuple[MeshPart, ...]:
+        """The mesh cut by material, each part a Mesh of its faces in file order (positions shared),
+        so that each draws with its own material and texture; () for a mesh of one material."""
+        if self.face_material is None:
+            return ()
+        order = np.argsort(self.face_material, kind="stable")
+        bounds = np.flatnonzero(np.diff(self.face_material[order])) + 1
+        return tuple(self._part(faces) for faces in np.split(order, bounds))
+
+    def _part(self, faces: np.ndarray) -> MeshPart:
+        sizes = self.face_sizes[faces]
+        face_start = np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)
+        # Each corner of the chosen faces, in order: its face's first corner plus its place in the face.
+        corners = np.repeat(self.face_start[faces] - face_start[:-1], sizes) + np.arange(int(face_start[-1]))
+        material = int(self.face_material[faces[0]])
+        part = Mesh(name=self.name, positions=self.positions, corner_vertex=self.corner_vertex[corners],
+                    corner_uv=self.corner_uv[corners], corner_normal=self.corner_normal[corners],
+                    face_start=face_start, face_normals=self.face_normals[faces], base_colour=self.base_colour,
+                    attributes_per_position=self.attributes_per_position)
+        return MeshPart(material, part, faces)
 
     def triangle_corners(self) -> np.ndarray:
         """(T, 3) corner indices of the fan triangulation, polygon by polygon, in file order."""

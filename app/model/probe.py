@@ -111,7 +111,8 @@ class _VertexLighting:
         position = transform_point(obj.model, mesh.positions[vertex])
         normal = (face_normal if face_normal is not None
                   else _world_normal(obj.model, mesh.corner_normal[corner]))
-        terms = shade_terms(position, normal, self.eye_or_view, obj.material, self.lights,
+        face = int(np.searchsorted(mesh.face_start, corner, side="right") - 1)
+        terms = shade_terms(position, normal, self.eye_or_view, obj.face_material(face), self.lights,
                             self.scene.ambient, self.parallel)
         return VertexProbe(
             corner=corner, vertex=vertex, world_position=position,

@@ -95,6 +95,7 @@ class SceneObject:
     selected_face: int = 0
     uid: int = field(default_factory=lambda: next(_uids))  # stable key for GPU resources
     source: Path | None = None  # the model file it was read from: PageDown's folder, --watch's file
+    part_materials: tuple[Material, ...] = ()  # one per Mesh.materials: what each part is drawn with
 
     @classmethod
     def placed(cls, name: str, mesh: Mesh, material: Material, position: Vec3,
@@ -106,6 +107,18 @@ class SceneObject:
     @property
     def model(self) -> np.ndarray:
         return self.history[-1]
+
+    def material_of(self, index: int) -> Material:
+        """The material of the file's material `index` (Mesh.materials); -1: the object's own."""
+        return self.part_materials[index] if 0 <= index < len(self.part_materials) else self.material
+
+    def material_name_of_face(self, face: int) -> str | None:
+        """The file's name for the material of polygon `face`, where the file names one."""
+        index = -1 if self.mesh.face_material is None else int(self.mesh.face_material[face])
+        return self.mesh.materials[index].name if index >= 0 else None
+
+    def face_material(self, face: int) -> Material:
+        return self.material_of(-1 if self.mesh.face_material is None else int(self.mesh.face_material[face]))
 
     @property
     def origin(self) -> np.ndarray:

@@ -16,8 +16,10 @@ import moderngl
 import numpy as np
 
 from marraztu.errors import ViewerError
+from marraztu.loaders.images import fit_texture
 from marraztu.model.guides import scene_guides
 from marraztu.model.lights import MAX_LIGHTS, shader_defines
+from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Fill, Projection, Scene, SceneObject, Shading, Target
 from marraztu.model.transforms import normal_matrix
 from marraztu.render.context import check_gl
@@ -27,6 +29,7 @@ from marraztu.render.layout import View, view_projection, views
 from marraztu.render.mipmaps import MipmappedTexture, create_mipmapped
 
 CLEAR_COLOUR = (0.0, 0.0, 0.7)  # SPEC 3: the seed's blue
+WHOLE = -1  # a DrawItem of the whole mesh, not of one material's part
 SELECTED_LINE_COLOUR = (0.0, 1.0, 0.0)
 LINE_COLOUR = (1.0, 1.0, 1.0)
 NORMAL_COLOUR = (1.0, 1.0, 0.0)
@@ -82,11 +85,45 @@ class Uniforms:
 
 @dataclass(frozen=True)
 class DrawItem:
-    """One object to draw and which of its faces: [start, stop)."""
+    """One object to draw and which of its faces: [start, stop). With `part` (an index into the mesh's
+    parts, one per material) the faces are the part's own."""
 
     obj: SceneObject
     start: int
     stop: int
+    part: int = WHOLE
+
+    @property
+    def mesh(self) -> Mesh:
+        return self.obj.mesh if self.part == WHOLE else self.obj.mesh.parts[self.part].mesh
+
+    @property
+    def file_material(self) -> int:
+        """Which of the file's materials the faces use (Mesh.materials; -1: the object's own)."""
+        return -1 if self.part == WHOLE else self.obj.mesh.parts[self.part].material
+
+
+def split_by_material(item: DrawItem) -> list[DrawItem]:
+    """The item as one item per material part its faces reach: each part keeps the file's order, so a
+    range of the whole mesh's faces is a range of each part's."""
+    parts = item.obj.mesh.parts
+    if not parts:
+        return [item]
+    split = []
+    for index, part in enumerate(parts):
+        start, stop = np.searchsorted(part.faces, [item.start, item.stop]).tolist()
+        if stop > start:
+            split.append(DrawItem(item.obj, start, stop, index))
+    return split
+
+
+def part_of_face(obj: SceneObject, face: int) -> tuple[int, int]:
+    """(part, the face's index in it) of polygon `face` of the whole mesh; (WHOLE, face) without parts."""
+    for index, part in enumerate(obj.mesh.parts):
+        local = int(np.searchsorted(part.faces, face))
+        if local < part.faces.size and part.faces[local] == face:
+            return index, local
+    return WHOLE, face
 
 
 class Renderer:
@@ -116,7 +153,8 @@ class Renderer:
         self.texture: MipmappedTexture | None = None
         self._texture_image: np.ndarray | None = None  # the scene's picture the texture was made from
         self._set_texture(WHITE)
-        self._objects: dict[int, ObjectGpu] = {}
+        self._objects: dict[tuple[int, int], ObjectGpu] = {}  # by (uid, part)
+        self._file_textures: dict[int, tuple[np.ndarray, MipmappedTexture]] = {}  # by id of the image
 
     # --- resources ---------------------------------------------------------------------------
     def _use_scene_texture(self, scene: Scene) -> None:
@@ -146,14 +184,16 @@ class Renderer:
         self._texture_image = image
 
     def release_object(self, obj: SceneObject) -> None:
-        gpu = self._objects.pop(obj.uid, None)
-        if gpu is not None:
-            gpu.release()
+        for key in [key for key in self._objects if key[0] == obj.uid]:
+            self._objects.pop(key).release()
 
     def release(self) -> None:
         for gpu in self._objects.values():
             gpu.release()
         self._objects.clear()
+        for _, texture in self._file_textures.values():
+            texture.release()
+        self._file_textures.clear()
         self.guides.release_program()
         for resource in (self.marker_vao, self.texture, *self.programs.surfaces.values(),
                          *self.programs.lightings.values(), self.programs.edges, self.programs.normals,
@@ -173,20 +213,38 @@ class Renderer:
         Gouraud), or the surface program itself (Phong, per pixel)."""
         return self.lighting_uniforms[self.shading]
 
-    def _gpu_for(self, obj: SceneObject) -> ObjectGpu:
-        gpu = self._objects.get(obj.uid)
-        if gpu is not None and gpu.mesh is obj.mesh:
+    def _gpu_for(self, obj: SceneObject, part: int = WHOLE) -> ObjectGpu:
+        mesh = obj.mesh if part == WHOLE else obj.mesh.parts[part].mesh
+        gpu = self._objects.get((obj.uid, part))
+        if gpu is not None and gpu.mesh is mesh:
             return gpu
         if gpu is not None:  # the object got a new mesh: its old buffers are stale
             gpu.release()
-        gpu = ObjectGpu(self.ctx, obj.mesh, self.programs)
-        self._objects[obj.uid] = gpu
+        gpu = ObjectGpu(self.ctx, mesh, self.programs)
+        self._objects[(obj.uid, part)] = gpu
         return gpu
 
     def _drop_departed(self, scene: Scene) -> None:
-        live = {obj.uid for obj in scene.objects} | {cam.uid for cam in scene.cameras}
-        for uid in [uid for uid in self._objects if uid not in live]:
-            self._objects.pop(uid).release()
+        elements = scene.objects + scene.cameras
+        live = {(obj.uid, part) for obj in elements for part in range(WHOLE, len(obj.mesh.parts))}
+        for key in [key for key in self._objects if key not in live]:
+            self._objects.pop(key).release()
+        pictures = {id(material.texture) for obj in elements for material in obj.mesh.materials}
+        for key in [key for key in self._file_textures if key not in pictures]:
+            self._file_textures.pop(key)[1].release()
+
+    def _file_texture(self, image: np.ndarray) -> MipmappedTexture:
+        """A material's own picture on the GPU, made once; one larger than the GPU takes is scaled down
+        (the scene's texture is, by the viewer, with a note; a file's can only be done here)."""
+        held = self._file_textures.get(id(image))
+        if held is None:
+            fitted, _ = fit_texture(image, self.max_texture_side)
+            pixels = np.ascontiguousarray(np.flipud(np.asarray(fitted, dtype=np.uint8)[..., :3]))
+            self.ctx.error  # noqa: B018 - reading it clears an older error, so the check is about this upload
+            held = (image, create_mipmapped(self.ctx, pixels))
+            check_gl(self.ctx, f"a texture of {pixels.shape[1]}x{pixels.shape[0]}")
+            self._file_textures[id(image)] = held
+        return held[1]
 
     # --- a frame -----------------------------------------------------------------------------
     def render(self, scene: Scene, fbo: moderngl.Framebuffer, size: tuple[int, int]) -> None:
@@ -198,7 +256,8 @@ class Renderer:
         fbo.use()
         fbo.viewport = (0, 0, width, height)
         fbo.clear(*CLEAR_COLOUR, 1.0, depth=1.0)
-        items = [(item, self._gpu_for(item.obj)) for item in self._draw_list(scene)]
+        items = [(part, self._gpu_for(part.obj, part.part))
+                 for item in self._draw_list(scene) for part in split_by_material(item)]
         all_views = views(scene, (width, height))
         for view in all_views:
             fbo.viewport = view.viewport
@@ -309,7 +368,7 @@ class Renderer:
 
     # --- drawing -----------------------------------------------------------------------------
     def _draw_surface(self, item: DrawItem, gpu: ObjectGpu) -> None:
-        material = item.obj.material
+        material = item.obj.material_of(item.file_material)
         lighting = self.lighting
         self._set_model({self.surface, lighting}, item.obj.model)
         lighting.set("u_ka", tuple(material.ka))
@@ -319,7 +378,8 @@ class Renderer:
         if self.shading.lights_vertices:
             self.lighting_passes += gpu.light(self.shading, lighting.values(), item.start, item.stop)
         assert self.texture is not None
-        self.texture.use(location=0)
+        picture = item.obj.mesh.materials[item.file_material].texture if item.file_material >= 0 else None
+        (self.texture if picture is None else self._file_texture(picture)).use(location=0)
         _draw(gpu.surface(self.shading), moderngl.TRIANGLES,
               gpu.surface_range(item.start, item.stop))
 
@@ -347,8 +407,8 @@ class Renderer:
         obj = scene.object
         if obj is None or obj is scene.viewer or obj.mesh.face_count == 0:
             return
-        face = obj.selected_face % obj.mesh.face_count
-        gpu = self._gpu_for(obj)
+        part, face = part_of_face(obj, obj.selected_face % obj.mesh.face_count)
+        gpu = self._gpu_for(obj, part)
         self.ctx.disable(moderngl.DEPTH_TEST)
         self._set_model([self.edges], obj.model)
         self.edges.set("u_outline", True)
@@ -361,7 +421,7 @@ class Renderer:
     def _draw_normals(self, item: DrawItem, gpu: ObjectGpu, face_normals: bool) -> None:
         """Face normals where lighting uses them (Flat), vertex normals otherwise (Gouraud, Phong)."""
         self._set_model([self.normals], item.obj.model)
-        self.normals.set("u_length", NORMAL_LENGTH_FRACTION * item.obj.mesh.size)
+        self.normals.set("u_length", NORMAL_LENGTH_FRACTION * item.obj.mesh.size)  # the whole object's scale
         if face_normals:
             _draw(gpu.face_normals, moderngl.LINES, gpu.face_normal_range(item.start, item.stop))
         else:

@@ -59,7 +59,8 @@ def probe_lines(scene: Scene) -> list[str]:
 
 
 def _probe_header(found: Probe) -> list[str]:
-    obj, material = found.obj, found.obj.material
+    obj = found.obj
+    material, named = obj.face_material(found.face), obj.material_name_of_face(found.face)
     if found.shading is Shading.FLAT:
         how = "flat: lit once, at v1 with the face normal; the whole face takes v1's colour"
     else:
@@ -73,7 +74,7 @@ def _probe_header(found: Probe) -> list[str]:
         f"PROBE {obj.name} face {found.face + 1}/{found.face_count} (Enter: next)   {how}",
         f"face normal . V at v1 {_signed(found.facing, 3)}: {face}{notes}",
         f"Ka {_triple(material.ka, 2)}  Kd {_triple(material.kd, 2)}  Ks {_triple(material.ks, 2)}"
-        f"  ns {material.ns:g}",
+        f"  ns {material.ns:g}" + (f"  (material {named})" if named else ""),
         " " * INDENT + _row(*(name for name, _ in COLUMNS)),
     ]
 

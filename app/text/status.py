@@ -9,7 +9,7 @@ from marraztu.control.commands import term_view_name
 from marraztu.control.keymap import Command
 from marraztu.control.viewer import Viewer
 from marraztu.errors import escaped
-from marraztu.model.scene import Projection, Scene, Target
+from marraztu.model.scene import Projection, Scene, SceneObject, Target
 
 SEPARATOR = " | "
 LIGHT_OFF_MARK = "\u00b7"  # a middle dot: "lights 0·2·" reads as sun and object spot on
@@ -32,7 +32,7 @@ def moving_mode(scene: Scene) -> str:
 def selection_summary(scene: Scene) -> list[str]:
     obj = scene.object
     parts = ["no object" if obj is None else
-             f"object {obj.name} face {obj.selected_face + 1}/{obj.mesh.face_count}"]
+             f"object {obj.name} face {obj.selected_face + 1}/{obj.mesh.face_count}" + _material_of_face(obj)]
     parts.append(f"camera {scene.camera.name}")
     parts.append(f"light {scene.light.name}")
     return parts
@@ -89,3 +89,11 @@ def overlay_lines(viewer: Viewer) -> tuple[list[str], list[str]]:
     if viewer.prompt is not None:
         bottom.append(f"OBJ file to load (Enter loads, ESC cancels): {viewer.prompt}_")
     return [escaped(line) for line in top], [escaped(line) for line in bottom]
+
+
+def _material_of_face(obj: SceneObject) -> str:
+    """' (material NAME)' where the file names the selected face's material."""
+    if obj.mesh.face_count == 0:
+        return ""
+    named = obj.material_name_of_face(obj.selected_face % obj.mesh.face_count)
+    return f" (material {named})" if named else ""

@@ -16,16 +16,19 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
+
+import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import read_file
 from marraztu.loaders.obj.fast import read_fast
 from marraztu.loaders.obj.lines import read_by_lines
-from marraztu.loaders.obj.mtl import first_material
+from marraztu.loaders.obj.mtl import read_library
 from marraztu.loaders.obj.raw import RawObj
 from marraztu.model.build import derive_mesh
-from marraztu.model.mesh import Mesh
+from marraztu.model.mesh import Mesh, MeshMaterial
 
 
 def load_obj(path: str | Path, stage: Callable[[str], None] | None = None) -> Mesh:
@@ -59,13 +62,42 @@ def _parse(data: bytes, source: str, base_dir: Path | None) -> Mesh:
     text = _normalized_text(data, source)
     raw = _read_tables(text, source)
     notes = list(raw.notes)
-    material = None
-    if raw.mtllib is not None and base_dir is not None:
-        material = first_material(base_dir, raw.mtllib, notes)
+    library = read_library(base_dir, raw.mtllib, notes) if raw.mtllib is not None and base_dir is not None else []
     uv = None if raw.corner_texcoord is None else (raw.texcoords, raw.corner_texcoord)
     normals = None if raw.corner_normal is None else (raw.normals, raw.corner_normal)
-    return derive_mesh(Path(source).stem, raw.positions, raw.corner_vertex, raw.face_start,
-                       uv, normals, raw.colour, material, tuple(notes))
+    first = (library[0].values or None) if library else None  # the whole model's, where no usemtl says
+    mesh = derive_mesh(Path(source).stem, raw.positions, raw.corner_vertex, raw.face_start,
+                       uv, normals, raw.colour, first, tuple(notes))
+    if not raw.material_runs or not library:  # no library read: its absence is noted once already
+        return mesh
+    used, face_material, unknown = _face_materials(raw.material_runs, library, mesh.face_count)
+    if unknown:
+        shown = ", ".join(f"'{name[:40]}'" for name in unknown[:3]) + (" ..." if len(unknown) > 3 else "")
+        mesh_notes = mesh.warnings + (f"usemtl names materials the library lacks ({shown}); their faces take "
+                                      "the model's first material",)
+        mesh = replace(mesh, warnings=mesh_notes)
+    return replace(mesh, materials=used, face_material=face_material)
+
+
+def _face_materials(runs: list[tuple[int, str]], library: list[MeshMaterial], faces: int
+                    ) -> tuple[tuple[MeshMaterial, ...], np.ndarray, list[str]]:
+    """The materials the faces use, each once, and per face its index among them (-1: before any
+    usemtl, or a name the library lacks); the names it lacks."""
+    by_name = {material.name: material for material in reversed(library)}  # the first of a name wins
+    used: dict[str, int] = {}
+    unknown: list[str] = []
+    run_index = np.empty(len(runs), np.int32)
+    for at, (_, name) in enumerate(runs):
+        if name not in by_name:
+            unknown += [] if name in unknown else [name]
+            run_index[at] = -1
+            continue
+        run_index[at] = used.setdefault(name, len(used))
+    starts = np.array([face for face, _ in runs], dtype=np.int64)
+    lengths = np.diff(np.append(starts, faces))
+    face_material = np.full(faces, -1, np.int32)
+    face_material[int(starts[0]):] = np.repeat(run_index, lengths)
+    return tuple(by_name[name] for name in used), face_material, unknown
 
 
 def _read_tables(text: bytes, source: str) -> RawObj:

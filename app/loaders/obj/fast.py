@@ -23,7 +23,7 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.obj.lines import LineReader, check_forward_indices, no_faces_error
-from marraztu.loaders.obj.raw import CORNER_GAPS, MAX_DIGITS, ColourComment, RawObj, statement
+from marraztu.loaders.obj.raw import CORNER_GAPS, MAX_DIGITS, ColourComment, RawObj, material_name, statement
 from marraztu.model.geometry import FLOAT32_MAX
 
 
@@ -171,8 +171,11 @@ def read_fast(text: bytes, source: str) -> RawObj:
     check_forward_indices(source, columns, [len(positions), len(texcoords), len(normals)],
                           lambda corner: int(face_lines[np.searchsorted(face_start, corner, "right") - 1]))
     assert columns[0] is not None  # every corner has a vertex
+    # A usemtl covers the faces from the first face line after it: as many face lines as come before.
+    first_faces = np.searchsorted(of_kind[_F], [line for line, _ in irregular.usemtl]).tolist()
+    runs = [(face, name) for face, (_, name) in zip(first_faces, irregular.usemtl)]
     return RawObj(positions, texcoords, normals, columns[0], columns[1], columns[2], face_start,
-                  irregular.mtllib, colour.colour, colour.notes)
+                  irregular.mtllib, colour.colour, colour.notes, runs)
 
 
 def _line_table(buf: np.ndarray) -> _LineTable:
@@ -257,12 +260,13 @@ class _Irregular:
     mtllib: str | None  # the first one
     any_statement: bool
     comments: list[int]  # indented comment lines
+    usemtl: list[tuple[int, str]]  # (line index, material name) of every usemtl line
 
 
 def _settle_irregular_lines(text: bytes, lines: _LineTable, kinds: np.ndarray) -> _Irregular:
     """Per-line Python work for the rare lines: indented ones, and o/g/s/usemtl/mtllib/unknown.
     Their kinds are set in `kinds`."""
-    irregular = _Irregular({}, None, False, [])
+    irregular = _Irregular({}, None, False, [], [])
     for line in np.flatnonzero(kinds == _UNCLASSIFIED).tolist():
         content = text[int(lines.start[line]):int(lines.end[line])]
         keyword, rest = statement(content)
@@ -272,6 +276,8 @@ def _settle_irregular_lines(text: bytes, lines: _LineTable, kinds: np.ndarray) -
             irregular.indented[line] = content.index(keyword)
         elif keyword == b"mtllib" and irregular.mtllib is None:
             irregular.mtllib = rest.decode("utf-8", errors="replace")
+        elif keyword == b"usemtl":
+            irregular.usemtl.append((line, material_name(rest)))
         elif not keyword and content.lstrip().startswith(b"#"):
             irregular.comments.append(line)
     return irregular

@@ -15,7 +15,7 @@ from collections.abc import Callable, Iterator, Sequence
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.obj.raw import CORNER_GAPS, MAX_DIGITS, ColourComment, RawObj, statement
+from marraztu.loaders.obj.raw import CORNER_GAPS, MAX_DIGITS, ColourComment, RawObj, material_name, statement
 from marraztu.model.geometry import FLOAT32_MAX
 
 _FLOAT = re.compile(rb"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
@@ -52,6 +52,7 @@ class LineReader:
         self.face_sizes = array("q")
         self.face_lines = array("q")
         self.mtllib: str | None = None
+        self.material_runs: list[tuple[int, str]] = []
         self.colour = ColourComment()
         self.statements = 0
 
@@ -89,6 +90,8 @@ class LineReader:
             self.face(number, rest)
         elif keyword == b"mtllib" and self.mtllib is None:
             self.mtllib = rest.decode("utf-8", errors="replace")
+        elif keyword == b"usemtl":
+            self.material_runs.append((len(self.face_sizes), material_name(rest)))
 
     def numbers(self, number: int, rest: bytes, name: str, fewest: int, most: int) -> list[float]:
         tokens = rest.split(None, most + 1)  # bounded: a line of millions of numbers is not split into them
@@ -160,7 +163,7 @@ class LineReader:
                   for table, width in zip(self.tables, _TABLE_WIDTHS)]
         optional = [column if np.any(column >= 0) else None for column in corners]
         return RawObj(tables[0], tables[1], tables[2], corners[0], optional[1], optional[2],
-                      face_start, self.mtllib, self.colour.colour, self.colour.notes)
+                      face_start, self.mtllib, self.colour.colour, self.colour.notes, self.material_runs)
 
 
 def read_by_lines(text: bytes, source: str) -> RawObj:

@@ -1,12 +1,17 @@
-"""The MTL file beside an OBJ: the numbers of its first material. Every problem is a note, not an error."""
+"""The MTL file beside an OBJ: every material's numbers and diffuse texture. Every problem is a note, not an
+error: the model still loads, with the colours that could be read."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from marraztu.errors import LoadError
 from marraztu.loaders.files import read_file
-from marraztu.loaders.obj.raw import finite_floats
+from marraztu.loaders.images import load_image
+from marraztu.loaders.obj.raw import MAX_MATERIAL_NAME, finite_floats
+from marraztu.model.mesh import MeshMaterial
 
 # A material library is a few lines per material: one this large is not one.
 MAX_MTL_BYTES = 16 << 20
@@ -15,20 +20,20 @@ _MOST_NAMES = 16
 _SHOWN_NAME_CHARACTERS = 80
 
 
-def first_material(base_dir: Path, name: str, notes: list[str]) -> dict[str, object] | None:
-    """Ka/Kd/Ks/Ns of the first material in the MTL file next to the OBJ; problems become notes."""
+def read_library(base_dir: Path, name: str, notes: list[str]) -> list[MeshMaterial]:
+    """Every material of the MTL file next to the OBJ, in file order, with its diffuse texture read
+    relative to the MTL; problems become notes."""
     shown = _shown(name)
     mtl = _library_path(base_dir, name)
     if mtl is None:
         notes.append(f"material library '{shown}' not found next to the model; using the scene's material")
-        return None
+        return []
     try:
         text = read_file(mtl, limit=MAX_MTL_BYTES).decode("utf-8", errors="replace")
     except LoadError as error:
         notes.append(f"material library '{shown}' could not be read ({error.message}); using the scene's material")
-        return None
-    material = _parse_first_material(text, shown, notes)
-    return material or None
+        return []
+    return _parse_library(text, shown, mtl.parent, notes)
 
 
 def _library_path(base_dir: Path, name: str) -> Path | None:
@@ -47,29 +52,91 @@ def _shown(name: str) -> str:
     return name if len(name) <= _SHOWN_NAME_CHARACTERS else name[:_SHOWN_NAME_CHARACTERS - 3] + "..."
 
 
-def _parse_first_material(text: str, name: str, notes: list[str]) -> dict[str, object]:
-    material: dict[str, object] = {}
+def _parse_library(text: str, name: str, folder: Path, notes: list[str]) -> list[MeshMaterial]:
+    blocks: list[tuple[str, dict[str, object], str | None]] = []  # name, numbers, texture file
     malformed: list[str] = []  # keys of the lines ignored, for one note however many there are
-    inside = False
+    ignored: set[str] = set()
     for line in text.splitlines():
         tokens = line.split("#", 1)[0].split()
         if not tokens:
             continue
         key = tokens[0].lower()
         if key == "newmtl":
-            if inside:
-                break
-            inside = True
-        elif inside and key in ("ka", "kd", "ks", "ns") and not _material_value(material, key, tokens[1:]):
+            blocks.append((" ".join(tokens[1:])[:MAX_MATERIAL_NAME], {}, None))
+        elif not blocks:
+            continue
+        elif key in ("ka", "kd", "ks", "ns") and not _material_value(blocks[-1][1], key, tokens[1:]):
             malformed.append(key.capitalize())
-    if not inside:
+        elif key == "map_kd":
+            texture, options = _texture_file(tokens[1:])
+            blocks[-1] = (blocks[-1][0], blocks[-1][1], texture)
+            ignored.update(options)
+        elif key in ("d", "tr"):
+            ignored.add("transparency (d, Tr)")
+    if not blocks:
         notes.append(f"material library '{name}' defines no material; using the scene's material")
     if len(malformed) == 1:
         notes.append(f"material library '{name}': ignored a malformed {malformed[0]} line")
     elif malformed:
         notes.append(f"material library '{name}': ignored {len(malformed)} malformed lines (the first a "
                      f"{malformed[0]} line)")
-    return material
+    if ignored:
+        notes.append(f"material library '{name}': {', '.join(sorted(ignored))} ignored")
+    textures = _TextureCache(folder, notes)
+    return [MeshMaterial(block_name, values, *textures.read(texture)) for block_name, values, texture in blocks]
+
+
+# map_Kd's options and how many values each takes (-o, -s and -t take one to three numbers).
+_TEXTURE_OPTIONS = {"-blendu": 1, "-blendv": 1, "-bm": 1, "-boost": 1, "-cc": 1, "-clamp": 1, "-imfchan": 1,
+                    "-mm": 2, "-texres": 1, "-type": 1, "-o": 3, "-s": 3, "-t": 3}
+
+
+def _texture_file(tokens: list[str]) -> tuple[str | None, set[str]]:
+    """The file a map_Kd line names (the rest of the line after its options: names may hold spaces),
+    and the options it gives, which marraztu does not apply."""
+    options: set[str] = set()
+    at = 0
+    while at < len(tokens) and tokens[at].lower() in _TEXTURE_OPTIONS:
+        option, most = tokens[at].lower(), _TEXTURE_OPTIONS[tokens[at].lower()]
+        at += 1
+        taken = 0
+        while taken < most and at < len(tokens) - 1 and (most < 3 or _is_number(tokens[at])):
+            at, taken = at + 1, taken + 1
+        options.add(f"texture option {option}")
+    name = " ".join(tokens[at:])
+    return (name or None), options
+
+
+def _is_number(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
+class _TextureCache:
+    """Each texture file read once, however many materials name it; a missing one is one note."""
+
+    def __init__(self, folder: Path, notes: list[str]) -> None:
+        self.folder, self.notes = folder, notes
+        self.read_already: dict[str, tuple[np.ndarray | None, str | None]] = {}
+
+    def read(self, name: str | None) -> tuple[np.ndarray | None, str | None]:
+        if name is None:
+            return None, None
+        if name not in self.read_already:
+            self.read_already[name] = self._read(name)
+        return self.read_already[name]
+
+    def _read(self, name: str) -> tuple[np.ndarray | None, str | None]:
+        path = self.folder / name.replace("\\", "/")  # exporters on Windows write backslashes
+        try:
+            return load_image(path), name
+        except LoadError as error:
+            self.notes.append(f"texture '{_shown(name)}' could not be read ({error.message}); its material's "
+                              "colours are used")
+            return None, None
 
 
 def _material_value(material: dict[str, object], key: str, tokens: list[str]) -> bool:

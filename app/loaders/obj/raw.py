@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -28,6 +28,8 @@ class RawObj:
     mtllib: str | None
     colour: tuple[float, float, float] | None  # the seed reader's "# colour r g b", in 0..1
     notes: list[str]
+    # (first face, material name) of every `usemtl`, in file order: the faces up to the next one use it.
+    material_runs: list[tuple[int, str]] = field(default_factory=list)
 
 
 COLOUR_COMMENT = re.compile(rb"\s*#\s*colou?r\s+(\S+)\s+(\S+)\s+(\S+)\s*\Z")
@@ -84,3 +86,11 @@ def statement(content: bytes) -> tuple[bytes, bytes]:
     if not parts:
         return b"", b""
     return parts[0], parts[1].strip() if len(parts) > 1 else b""
+
+
+MAX_MATERIAL_NAME = 200  # characters of a usemtl name kept: enough for any real one, bounded for a hostile one
+
+
+def material_name(rest: bytes) -> str:
+    """The name a usemtl line gives (the whole rest of the line: names may hold spaces)."""
+    return rest.decode("utf-8", errors="replace")[:MAX_MATERIAL_NAME]

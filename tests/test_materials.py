@@ -1,0 +1,151 @@
+"""MTL materials whole: each `usemtl` group lit with its own Ka, Kd, Ks and Ns, a `map_Kd` texture read
+beside its MTL and drawn on its faces only, notes for what is missing, the scene file's material
+over the file's, and the probe and status line naming the selected face's material."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from marraztu.control.viewer import StartOptions, Viewer
+from marraztu.devtools import assetgen
+from marraztu.frontends.screenshot import take_screenshot
+from marraztu.loaders.obj import parse_obj
+from marraztu.loaders.obj.fast import read_fast
+from marraztu.loaders.obj.lines import read_by_lines
+from marraztu.loaders.registry import load_model
+from marraztu.loaders.scenefile import empty_scene
+from marraztu.model.lights import AMBIENT_INTENSITY
+from marraztu.resources import ASSET_DIR
+from marraztu.text.panels import probe_lines
+from marraztu.text.status import status_line
+from support.scenes import NoFrontend
+
+EXAMPLES = ASSET_DIR / assetgen.EXAMPLE_DIR
+SIZE = (160, 160)
+TRIANGLES = "v 0 0 0\nv 1 0 0\nv 0 1 0\n" + "f 1 2 3\n"
+
+
+def ambient_bytes(material: str) -> np.ndarray:
+    """What a face of `material` shows at the start (ambient light only, texture off): Ka * Ia."""
+    return np.round(np.array(assetgen.EXAMPLE_MATERIALS[material][0]) * AMBIENT_INTENSITY).astype(int)
+
+
+def picture(tmp_path: Path, model: Path, keys: str = "", name: str = "shot.png", **options) -> np.ndarray:
+    out = take_screenshot(StartOptions(empty=True, models=(model,), **options), tmp_path / name, SIZE, keys=keys)
+    return np.asarray(Image.open(out).convert("RGB")).astype(int)
+
+
+# --- reading ---------------------------------------------------------------------------------------
+@pytest.mark.parametrize("text", [
+    "usemtl a\n" + TRIANGLES + "usemtl b\nf 1 2 3\nf 1 2 3\n  usemtl c d\nf 1 2 3\nusemtl a\n",
+    TRIANGLES + "usemtl b\n" + "f 1 2 3\nusemtl a\n" * 500,
+    "g x\r\nusemtl a # a comment\r\n" + TRIANGLES.replace("\n", "\r\n"),
+])
+def test_both_readers_find_the_same_material_runs(text: str) -> None:
+    data = text.encode()
+    assert read_fast(data, "m.obj").material_runs == read_by_lines(data, "m.obj").material_runs
+
+
+def test_each_usemtl_group_gets_its_own_material(tmp_path: Path) -> None:
+    (tmp_path / "m.mtl").write_text("newmtl a\nKd 1 0 0\nnewmtl b\nKd 0 0 1\nNs 50\n")
+    data = ("mtllib m.mtl\n" + TRIANGLES + "usemtl b\nf 1 2 3\nusemtl a\nf 1 2 3\nf 1 2 3\n").encode()
+    mesh = parse_obj(data, str(tmp_path / "m.obj"), base_dir=tmp_path)
+    assert [material.name for material in mesh.materials] == ["b", "a"]
+    assert mesh.face_material.tolist() == [-1, 0, 1, 1]  # the first face comes before any usemtl
+    assert mesh.materials[0].values == {"kd": (0.0, 0.0, 1.0), "ns": 50.0}
+
+
+def test_a_file_switching_material_every_face_stays_two_parts(tmp_path: Path) -> None:
+    (tmp_path / "m.mtl").write_text("newmtl a\nKd 1 0 0\nnewmtl b\nKd 0 0 1\n")
+    data = ("mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n" + "usemtl a\nf 1 2 3\nusemtl b\nf 1 2 3\n" * 5000).encode()
+    mesh = parse_obj(data, str(tmp_path / "m.obj"), base_dir=tmp_path)
+    assert mesh.face_count == 10_000 and [part.faces.size for part in mesh.parts] == [5000, 5000]
+    assert mesh.parts[1].faces[:3].tolist() == [1, 3, 5]
+
+
+def test_the_texture_is_read_beside_the_mtl_and_its_options_noted(tmp_path: Path) -> None:
+    (tmp_path / "lib").mkdir()
+    shutil.copy(EXAMPLES / "crate.ppm", tmp_path / "lib" / "my wood.ppm")
+    (tmp_path / "lib" / "m.mtl").write_text("newmtl w\nmap_Kd -s 2 2 1 -clamp on -o 0.5 my wood.ppm\nd 0.5\n")
+    mesh = parse_obj(("mtllib lib/m.mtl\n" + TRIANGLES + "usemtl w\nf 1 2 3\n").encode(),
+                     str(tmp_path / "m.obj"), base_dir=tmp_path)
+    material = mesh.materials[0]
+    assert material.texture_name == "my wood.ppm" and material.texture.shape == (64, 64, 3)
+    assert any("texture option -clamp, texture option -o, texture option -s, transparency (d, Tr) ignored"
+               in note for note in mesh.warnings), mesh.warnings
+
+
+@pytest.mark.parametrize(("mtl", "usemtl", "said"), [
+    ("newmtl w\nKd 1 0 0\nmap_Kd gone.png\n", "w", "texture 'gone.png' could not be read (no such file)"),
+    ("newmtl w\nKd 1 0 0\n", "nobody", "usemtl names materials the library lacks ('nobody')"),
+])
+def test_what_is_missing_is_a_note_and_the_colours_are_used(tmp_path: Path, mtl: str, usemtl: str,
+                                                             said: str) -> None:
+    (tmp_path / "m.mtl").write_text(mtl)
+    (tmp_path / "m.obj").write_text(f"mtllib m.mtl\n{TRIANGLES}usemtl {usemtl}\nf 1 2 3\n")
+    mesh = load_model(tmp_path / "m.obj")
+    assert any(said in note for note in mesh.warnings), mesh.warnings
+    assert mesh.face_count == 2
+
+
+# --- drawing ---------------------------------------------------------------------------------------
+def centre_of(pixels: np.ndarray, left: bool) -> np.ndarray:
+    """The front face of the left or right box of two_tone, at the start's framed view."""
+    return pixels[SIZE[1] // 2, SIZE[0] // 2 + (-20 if left else 20)]
+
+
+def test_each_material_lights_its_own_faces(tmp_path: Path) -> None:
+    pixels = picture(tmp_path, EXAMPLES / "two_tone.obj", "T")
+    assert np.abs(centre_of(pixels, left=True) - ambient_bytes("red")).max() <= 1
+    assert np.abs(centre_of(pixels, left=False) - ambient_bytes("blue")).max() <= 1
+
+
+def test_a_scene_files_material_overrides_the_files(tmp_path: Path) -> None:
+    for name in ("two_tone.obj", "two_tone.mtl"):
+        shutil.copy(EXAMPLES / name, tmp_path / name)
+    (tmp_path / "scene.toml").write_text(
+        '[[cameras]]\nmodel = "two_tone.obj"\nposition = [0, 0, 120]\n'
+        '[[objects]]\nmodel = "two_tone.obj"\nposition = [0, 0, 0]\n'
+        'material = { ka = [1, 1, 1], kd = [0, 0, 0], ks = [0, 0, 0], ns = 1 }\n')
+    out = take_screenshot(StartOptions(scene_file=tmp_path / "scene.toml"), tmp_path / "s.png", SIZE, keys="T")
+    pixels = np.asarray(Image.open(out).convert("RGB")).astype(int)
+    for left in (True, False):
+        assert np.abs(centre_of(pixels, left) - np.round(AMBIENT_INTENSITY)).max() <= 1
+
+
+def test_a_texture_of_the_mtl_is_drawn_as_the_same_picture_given_as_the_scenes(tmp_path: Path) -> None:
+    """The crate's own map_Kd, beside the same picture given with --texture and an MTL without map_Kd."""
+    own = picture(tmp_path, EXAMPLES / "crate.obj", name="own.png")
+    plain = tmp_path / "plain"
+    plain.mkdir()
+    shutil.copy(EXAMPLES / "crate.obj", plain / "crate.obj")
+    (plain / "crate.mtl").write_text((EXAMPLES / "crate.mtl").read_text().replace("map_Kd crate.ppm\n", ""))
+    given = picture(tmp_path, plain / "crate.obj", name="given.png", texture=EXAMPLES / "crate.ppm")
+    assert np.array_equal(own, given)
+    colours = {tuple(pixel) for pixel in own.reshape(-1, 3)}
+    assert len(colours) > 4  # the four quadrants and the seams, not one flat colour
+
+
+def test_t_switches_the_materials_texture_off_and_on(tmp_path: Path) -> None:
+    textured = picture(tmp_path, EXAMPLES / "crate.obj", name="on.png")
+    plain = picture(tmp_path, EXAMPLES / "crate.obj", "T", name="off.png")
+    centre = plain[SIZE[1] // 2 + 10, SIZE[0] // 2 + 10]
+    assert np.abs(centre - ambient_bytes("wood")).max() <= 1
+    assert not np.array_equal(textured, plain)
+    assert np.array_equal(picture(tmp_path, EXAMPLES / "crate.obj", "T T", name="again.png"), textured)
+
+
+# --- naming ----------------------------------------------------------------------------------------
+def test_the_status_line_and_the_probe_name_the_selected_faces_material() -> None:
+    viewer = Viewer(empty_scene(), NoFrontend())
+    viewer.start(StartOptions(empty=True, models=(EXAMPLES / "two_tone.obj",)), longest_texture_side=64)
+    assert "(material red)" in status_line(viewer.scene)
+    viewer.press_sequence("ENTER*6 i")  # the right box's first face
+    assert "(material blue)" in status_line(viewer.scene)
+    panel = "\n".join(probe_lines(viewer.scene))
+    assert "(material blue)" in panel and "Kd (" in panel and "0.20" in panel.split("Kd (")[1][:20]
