@@ -157,3 +157,21 @@ def test_trimesh_is_imported_only_when_such_a_file_is_opened(tmp_path: Path) -> 
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     assert result.stdout.split()[-2:] == ["False", "True"]
+
+
+def test_a_glb_base_colour_texture_is_drawn_with_its_uvs(tmp_path: Path) -> None:
+    """Its picture is the model's own material texture, as an OBJ's map_Kd: the square's left half
+    red and its right half blue in the picture, texture on; one colour with T."""
+    picture_rgb = np.zeros((8, 8, 3), np.uint8)
+    picture_rgb[:, :4] = (250, 0, 0)
+    picture_rgb[:, 4:] = (0, 0, 250)
+    mesh = trimesh.Trimesh(vertices=POSITIONS[:4], faces=FACES[:2], process=False)
+    mesh.visual = trimesh.visual.TextureVisuals(uv=[[0, 0], [1, 0], [1, 1], [0, 1]], image=Image.fromarray(picture_rgb))
+    (tmp_path / "tex.glb").write_bytes(mesh.export(file_type="glb"))
+    loaded = load_model(tmp_path / "tex.glb")
+    assert loaded.materials[0].texture.shape == (8, 8, 3)
+    drawn = picture(tmp_path / "tex.glb", tmp_path / "on.png", keys="0")
+    left, right = drawn[60, 42], drawn[60, 78]  # the framed square spans about 36..84
+    assert left[0] > left[2] + 30 and right[2] > right[0] + 30
+    plain = picture(tmp_path / "tex.glb", tmp_path / "off.png", keys="0 T")
+    assert np.abs(plain[60, 42] - plain[60, 78]).max() <= 2

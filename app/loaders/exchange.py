@@ -13,6 +13,7 @@ from __future__ import annotations
 import io
 import re
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -22,7 +23,7 @@ from marraztu.errors import LoadError
 from marraztu.loaders.files import read_file
 from marraztu.model.build import build_mesh
 from marraztu.model.geometry import FLOAT32_MAX
-from marraztu.model.mesh import Mesh
+from marraztu.model.mesh import Mesh, MeshMaterial
 
 Stage = Callable[[str], None]
 _STL_HEADER, _STL_TRIANGLE = 84, 50  # binary STL: an 80-byte header and a count, then 50 bytes a triangle
@@ -172,8 +173,24 @@ def _finish(path: Path, loaded: Any, data: bytes | None, merge: bool = False) ->
         positions, inverse = np.unique(positions, axis=0, return_inverse=True)
         faces = inverse.reshape(-1)[faces]
     notes += _visual_notes(loaded)
-    return build_mesh(name=path.stem, positions=positions, faces=faces, uvs=uvs,
+    mesh = build_mesh(name=path.stem, positions=positions, faces=faces, uvs=uvs,
                       file_material=_material_of(loaded), warnings=notes)
+    texture = _base_colour_texture(loaded) if uvs is not None else None
+    if texture is None:
+        return mesh
+    # One material, the file's, carrying the picture: drawn as an OBJ's map_Kd is.
+    material = MeshMaterial(path.stem, mesh.file_material or {}, texture, "base colour texture")
+    return replace(mesh, materials=(material,), face_material=np.zeros(mesh.face_count, np.int32))
+
+
+def _base_colour_texture(mesh: Any) -> np.ndarray | None:
+    picture = getattr(getattr(_visual(mesh), "material", None), "baseColorTexture", None)
+    if picture is None:
+        return None
+    try:
+        return np.asarray(picture.convert("RGB"), dtype=np.uint8)
+    except Exception:  # a picture Pillow cannot convert: the colours alone, as for a missing map_Kd
+        return None
 
 
 def _check_tables(path: Path, positions: np.ndarray, faces: np.ndarray, data: bytes | None) -> None:
@@ -231,6 +248,4 @@ def _visual_notes(mesh: Any) -> list[str]:
     visual = _visual(mesh)
     if getattr(visual, "kind", None) == "vertex":
         return ["its vertex colours are not drawn; the scene's material is used"]
-    if getattr(getattr(visual, "material", None), "baseColorTexture", None) is not None:
-        return ["its base colour texture is not drawn; the scene's texture is used"]
     return []
