@@ -25,6 +25,7 @@ from marraztu.model.scene import (
     CameraMode,
     Fill,
     Frame,
+    Modes,
     Projection,
     Scene,
     SceneObject,
@@ -70,20 +71,15 @@ def toggle_fill(scene: Scene, host: Host) -> None:
     scene.modes.fill = Fill.LINES if scene.modes.fill is Fill.FILLED else Fill.FILLED
 
 
-def toggle_triangle_only(scene: Scene, host: Host) -> None:
-    scene.modes.triangle_only = not scene.modes.triangle_only
+def toggle(switch: str) -> CommandFunction:
+    """The command of a key that flips one on/off switch of the modes (`n`, `b`, `T`, `h`...)."""
+    if not isinstance(getattr(Modes(), switch, None), bool):
+        raise ValueError(f"{switch!r} is not an on/off mode")
 
+    def flip(scene: Scene, host: Host) -> None:
+        setattr(scene.modes, switch, not getattr(scene.modes, switch))
 
-def toggle_draw_all(scene: Scene, host: Host) -> None:
-    scene.modes.draw_all = not scene.modes.draw_all
-
-
-def toggle_normals(scene: Scene, host: Host) -> None:
-    scene.modes.normals = not scene.modes.normals
-
-
-def toggle_culling(scene: Scene, host: Host) -> None:
-    scene.modes.culling = not scene.modes.culling
+    return flip
 
 
 def toggle_projection(scene: Scene, host: Host) -> None:
@@ -98,14 +94,6 @@ def toggle_projection(scene: Scene, host: Host) -> None:
 def toggle_shading(scene: Scene, host: Host) -> None:
     position = SWITCHED_SHADINGS.index(scene.modes.shading) if scene.modes.shading in SWITCHED_SHADINGS else -1
     scene.modes.shading = SWITCHED_SHADINGS[(position + 1) % len(SWITCHED_SHADINGS)]
-
-
-def toggle_texture(scene: Scene, host: Host) -> None:
-    scene.modes.texture = not scene.modes.texture
-
-
-def toggle_help(scene: Scene, host: Host) -> None:
-    scene.modes.show_help = not scene.modes.show_help
 
 
 # --- seeing the equation ---------------------------------------------------------------------------
@@ -133,18 +121,6 @@ def toggle_probe(scene: Scene, host: Host) -> None:
         scene.message = "no object to probe"
         return
     scene.modes.probe = not scene.modes.probe
-
-
-def toggle_matrices(scene: Scene, host: Host) -> None:
-    scene.modes.matrices = not scene.modes.matrices
-
-
-def toggle_guides(scene: Scene, host: Host) -> None:
-    scene.modes.guides = not scene.modes.guides
-
-
-def toggle_side_by_side(scene: Scene, host: Host) -> None:
-    scene.modes.side_by_side = not scene.modes.side_by_side
 
 
 def toggle_view_from_object(scene: Scene, host: Host) -> None:
