@@ -149,3 +149,18 @@ def test_the_status_line_and_the_probe_name_the_selected_faces_material() -> Non
     assert "(material blue)" in status_line(viewer.scene)
     panel = "\n".join(probe_lines(viewer.scene))
     assert "(material blue)" in panel and "Kd (" in panel and "0.20" in panel.split("Kd (")[1][:20]
+
+
+def test_a_file_of_a_thousand_materials_costs_in_proportion_to_its_faces(tmp_path: Path) -> None:
+    """Each part holds only the positions it uses, and past MAX_MATERIALS the faces take the model's
+    first material, with a note: neither the GPU rows nor the draws a frame grow as materials x size."""
+    from marraztu.loaders.obj import MAX_MATERIALS
+
+    count = 1000
+    (tmp_path / "m.mtl").write_text("".join(f"newmtl m{k}\nKd {k / count:g} 0 0\n" for k in range(count)))
+    faces = "".join(f"v {k} 0 0\nv {k + 1} 0 0\nv {k} 1 0\nusemtl m{k}\nf -3 -2 -1\n" for k in range(count))
+    (tmp_path / "m.obj").write_text("mtllib m.mtl\n" + faces)
+    mesh = load_model(tmp_path / "m.obj")
+    assert len(mesh.parts) == MAX_MATERIALS + 1  # the first 256, and the rest together
+    assert sum(part.mesh.vertex_count for part in mesh.parts) == 3 * count
+    assert any(f"{count} materials used" in note for note in mesh.warnings), mesh.warnings

@@ -128,7 +128,10 @@ class Mesh:
         # Each corner of the chosen faces, in order: its face's first corner plus its place in the face.
         corners = np.repeat(self.face_start[faces] - face_start[:-1], sizes) + np.arange(int(face_start[-1]))
         material = int(self.face_material[faces[0]])
-        part = Mesh(name=self.name, positions=self.positions, corner_vertex=self.corner_vertex[corners],
+        # Only the positions the part uses: the GPU arrays hold a row per position, so parts sharing
+        # the whole table would cost the table once per material.
+        used, corner_vertex = np.unique(self.corner_vertex[corners], return_inverse=True)
+        part = Mesh(name=self.name, positions=self.positions[used], corner_vertex=corner_vertex.astype(np.int64),
                     corner_uv=self.corner_uv[corners], corner_normal=self.corner_normal[corners],
                     face_start=face_start, face_normals=self.face_normals[faces], base_colour=self.base_colour,
                     attributes_per_position=self.attributes_per_position)

@@ -70,26 +70,36 @@ def _parse(data: bytes, source: str, base_dir: Path | None) -> Mesh:
                        uv, normals, raw.colour, first, tuple(notes))
     if not raw.material_runs or not library:  # no library read: its absence is noted once already
         return mesh
-    used, face_material, unknown = _face_materials(raw.material_runs, library, mesh.face_count)
+    used, face_material, unknown, beyond = _face_materials(raw.material_runs, library, mesh.face_count)
+    notes = list(mesh.warnings)
     if unknown:
         shown = ", ".join(f"'{name[:40]}'" for name in unknown[:3]) + (" ..." if len(unknown) > 3 else "")
-        mesh_notes = mesh.warnings + (f"usemtl names materials the library lacks ({shown}); their faces take "
-                                      "the model's first material",)
-        mesh = replace(mesh, warnings=mesh_notes)
-    return replace(mesh, materials=used, face_material=face_material)
+        notes.append(f"usemtl names materials the library lacks ({shown}); their faces take the model's first "
+                     "material")
+    if beyond:
+        notes.append(f"{MAX_MATERIALS + beyond} materials used; the faces of all but the first {MAX_MATERIALS} "
+                     "take the model's first material")
+    return replace(mesh, materials=used, face_material=face_material, warnings=tuple(notes))
+
+
+# Each material is drawn as a part of its own (a draw and a lighting pass): a file of thousands of
+# materials would cost thousands of draws a frame. Real models use tens.
+MAX_MATERIALS = 256
 
 
 def _face_materials(runs: list[tuple[int, str]], library: list[MeshMaterial], faces: int
-                    ) -> tuple[tuple[MeshMaterial, ...], np.ndarray, list[str]]:
+                    ) -> tuple[tuple[MeshMaterial, ...], np.ndarray, list[str], int]:
     """The materials the faces use, each once, and per face its index among them (-1: before any
-    usemtl, or a name the library lacks); the names it lacks."""
+    usemtl, a name the library lacks, or a material past MAX_MATERIALS); the names it lacks; how many
+    materials past MAX_MATERIALS."""
     by_name = {material.name: material for material in reversed(library)}  # the first of a name wins
     used: dict[str, int] = {}
-    unknown: list[str] = []
+    unknown: set[str] = set()
+    beyond: set[str] = set()
     run_index = np.empty(len(runs), np.int32)
     for at, (_, name) in enumerate(runs):
-        if name not in by_name:
-            unknown += [] if name in unknown else [name]
+        if name not in by_name or (name not in used and len(used) >= MAX_MATERIALS):
+            (unknown if name not in by_name else beyond).add(name)
             run_index[at] = -1
             continue
         run_index[at] = used.setdefault(name, len(used))
@@ -97,7 +107,8 @@ def _face_materials(runs: list[tuple[int, str]], library: list[MeshMaterial], fa
     lengths = np.diff(np.append(starts, faces))
     face_material = np.full(faces, -1, np.int32)
     face_material[int(starts[0]):] = np.repeat(run_index, lengths)
-    return tuple(by_name[name] for name in used), face_material, unknown
+    lacking = list(dict.fromkeys(name for _, name in runs if name in unknown))  # in file order
+    return tuple(by_name[name] for name in used), face_material, lacking, len(beyond)
 
 
 def _read_tables(text: bytes, source: str) -> RawObj:
