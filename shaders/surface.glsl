@@ -1,6 +1,7 @@
 #version 330 core
 // Filled polygons (SPEC 4 and 5): the seed's ambient + diffuse + specular lighting in world space,
-// in the seed's 0..255 units; back faces red or discarded; the lit colour multiplied by the texture.
+// in the seed's 0..255 units; back faces red or discarded; the lit colour multiplied by the texture
+// and by the model's own vertex colours when it has them.
 // Three ways to spread it over a polygon, one program each (SHADING, defined by the renderer: a
 // program built for one way drops the others' code and varyings):
 //   Flat: evaluated once, at the polygon's first vertex with the face normal;
@@ -114,6 +115,7 @@ in vec3 in_position;  // model space
 in vec3 in_normal;    // this corner's vertex normal (Phong)
 in vec4 in_lit;       // Flat, Gouraud: the lighting pass's colour and N.V for this row
 in vec2 in_uv;
+in vec4 in_colour;    // the model's vertex colour (no buffer, and unread, for a model without)
 
 uniform mat4 u_model;
 uniform mat3 u_normal_matrix;
@@ -123,6 +125,10 @@ uniform mat4 u_view_projection;
 // corner of each fan triangle, which Flat's indices make its polygon's own row (SPEC 4's Flat).
 flat out vec4 v_flat_lit;
 smooth out vec3 v_smooth_colour;
+// A vertex colour is the surface's, like the lit colour: once per polygon in Flat (its first
+// vertex's), blended over it otherwise.
+flat out vec3 v_flat_vertex_colour;
+smooth out vec3 v_smooth_vertex_colour;
 out vec2 v_uv;
 out vec3 v_world_position;  // Phong: interpolated, lit per pixel
 out vec3 v_world_normal;
@@ -131,6 +137,8 @@ void main() {
     vec3 world_position = (u_model * vec4(in_position, 1.0)).xyz;
     v_flat_lit = in_lit;
     v_smooth_colour = in_lit.rgb;
+    v_flat_vertex_colour = in_colour.rgb;
+    v_smooth_vertex_colour = in_colour.rgb;
     v_world_position = world_position;
     v_world_normal = normalize(u_normal_matrix * in_normal);
     v_uv = in_uv;
@@ -142,9 +150,12 @@ void main() {
 uniform bool u_culling;
 uniform bool u_textured;
 uniform sampler2D u_texture;
+uniform bool u_vertex_coloured;
 
 flat in vec4 v_flat_lit;
 smooth in vec3 v_smooth_colour;
+flat in vec3 v_flat_vertex_colour;
+smooth in vec3 v_smooth_vertex_colour;
 in vec2 v_uv;
 in vec3 v_world_position;
 in vec3 v_world_normal;
@@ -184,6 +195,9 @@ void main() {
     vec3 colour = surface_colour();
     if (u_textured) {
         colour *= texture(u_texture, v_uv).rgb;
+    }
+    if (u_vertex_coloured) {
+        colour *= SHADING == FLAT ? v_flat_vertex_colour : v_smooth_vertex_colour;
     }
     out_colour = vec4(colour, 1.0);
 }

@@ -103,11 +103,51 @@ def test_gltf_json_beside_its_buffer_and_its_base_colour(tmp_path: Path) -> None
     assert np.allclose(loaded.file_material["kd"], (1.0, 128 / 255, 0.0), atol=1e-3)
 
 
-def test_ply_vertex_colours_are_said_not_drawn(tmp_path: Path) -> None:
+def coloured_mesh(colours: np.ndarray) -> trimesh.Trimesh:
     mesh = square_mesh()
-    mesh.visual.vertex_colors = np.tile([200, 10, 10, 255], (len(POSITIONS), 1))
-    (tmp_path / "coloured.ply").write_bytes(trimesh.exchange.ply.export_ply(mesh))
-    assert any("vertex colours" in note for note in load_model(tmp_path / "coloured.ply").warnings)
+    mesh.visual.vertex_colors = colours
+    return mesh
+
+
+TINT = np.array([200, 90, 30, 255])  # one colour for every vertex
+
+
+@pytest.mark.parametrize("encoding", ["binary", "ascii"])
+def test_ply_vertex_colours_tint_the_lit_colour(tmp_path: Path, encoding: str) -> None:
+    path = tmp_path / "coloured.ply"
+    path.write_bytes(trimesh.exchange.ply.export_ply(coloured_mesh(np.tile(TINT, (7, 1))), encoding=encoding))
+    assert np.array_equal(load_model(path).vertex_colours, np.tile(TINT[:3], (7, 1)))
+    plain = picture(write_obj(tmp_path / "same.obj"), tmp_path / "obj.png")
+    tinted = picture(path, tmp_path / "tinted.png")
+    model = np.any(plain != BACKGROUND, axis=2)
+    # Analytic, to 1/255: each pixel of the model is the lit colour times the vertex colour.
+    expected = np.rint(plain * (TINT[:3] / 255.0))
+    assert model.mean() > 0.15
+    assert np.abs(tinted[model] - expected[model]).max() <= 1
+    assert np.array_equal(tinted[~model], plain[~model])
+
+
+def test_vertex_colours_are_flat_in_flat_and_blended_in_gouraud(tmp_path: Path) -> None:
+    colours = np.tile([0, 255, 0, 255], (7, 1))
+    colours[0] = [255, 0, 0, 255]  # the square's two polygons both start at vertex 0
+    path = tmp_path / "corner.ply"
+    path.write_bytes(trimesh.exchange.ply.export_ply(coloured_mesh(colours)))
+    flat = picture(path, tmp_path / "flat.png")
+    gouraud = picture(path, tmp_path / "gouraud.png", keys="T 0 1 F")
+    plain_gouraud = picture(write_obj(tmp_path / "same.obj"), tmp_path / "plain.png", keys="T 0 1 F")
+    # Flat: the whole square takes its first vertex's colour, red; the green channel is gone.
+    square = flat[45:75, 45:75]
+    assert square[..., 0].min() > 0 and square[..., 1].max() == 0
+    # Gouraud: red at vertex 0's corner (bottom left) fading to green at the far corner (top right).
+    near, far = gouraud[84, 35], gouraud[35, 84]  # the square's corners, framed
+    assert near[0] > 10 * near[1] and far[1] > 10 * far[0]
+    assert np.array_equal(gouraud[2, 2], plain_gouraud[2, 2])  # the background is untouched
+
+
+def test_glb_vertex_colours_are_read(tmp_path: Path) -> None:
+    path = tmp_path / "coloured.glb"
+    path.write_bytes(coloured_mesh(np.tile(TINT, (7, 1))).export(file_type="glb"))
+    assert np.array_equal(load_model(path).vertex_colours, np.tile(TINT[:3], (7, 1)))
 
 
 def _cut(data: bytes) -> bytes:

@@ -169,12 +169,13 @@ def _finish(path: Path, loaded: Any, data: bytes | None, merge: bool = False) ->
     faces = np.asarray(loaded.faces, dtype=np.int64).reshape(-1, 3)
     _check_tables(path, positions, faces, data)
     uvs = _corner_uvs(loaded, faces)
+    colours = _vertex_colours(loaded)
     if merge:  # STL stores each triangle's own corners: shared corners let Gouraud smooth across edges
-        positions, inverse = np.unique(positions, axis=0, return_inverse=True)
+        positions, first, inverse = np.unique(positions, axis=0, return_index=True, return_inverse=True)
         faces = inverse.reshape(-1)[faces]
-    notes += _visual_notes(loaded)
+        colours = None if colours is None else colours[first]
     mesh = build_mesh(name=path.stem, positions=positions, faces=faces, uvs=uvs,
-                      file_material=_material_of(loaded), warnings=notes)
+                      file_material=_material_of(loaded), warnings=notes, vertex_colours=colours)
     texture = _base_colour_texture(loaded) if uvs is not None else None
     if texture is None:
         return mesh
@@ -243,9 +244,12 @@ def _material_of(mesh: Any) -> dict[str, object] | None:
     return {"kd": tuple(float(c) for c in rgb)} if np.isfinite(rgb).all() else None
 
 
-def _visual_notes(mesh: Any) -> list[str]:
-    """What the file holds that marraztu does not draw yet, said once."""
+def _vertex_colours(mesh: Any) -> np.ndarray | None:
+    """The file's colour per vertex (PLY's red/green/blue, glTF's COLOR_0) as RGBA bytes, if any."""
     visual = _visual(mesh)
-    if getattr(visual, "kind", None) == "vertex":
-        return ["its vertex colours are not drawn; the scene's material is used"]
-    return []
+    if getattr(visual, "kind", None) != "vertex":
+        return None
+    colours = np.asarray(visual.vertex_colors)
+    if colours.ndim != 2 or colours.shape[0] != len(mesh.vertices) or colours.dtype != np.uint8:
+        return None  # trimesh always gives one RGBA byte row per vertex; anything else is not trusted
+    return colours

@@ -7,6 +7,7 @@ gets the same normals and coordinates whichever way it came in.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 
@@ -29,12 +30,14 @@ def build_mesh(
     base_colour: tuple[float, float, float] | None = None,
     file_material: dict[str, object] | None = None,
     warnings: Sequence[str] = (),
+    vertex_colours: np.ndarray | Sequence[Sequence[float]] | None = None,
 ) -> Mesh:
     """A Mesh from plain tables, with normals and texture coordinates derived as the loader does.
 
     ``faces`` holds 0-based vertex indices, one sequence per polygon (3 or more). ``uvs`` and
     ``normals`` are per corner, in the order the faces list their corners; a NaN row means "derive
-    this one". Raises ValueError for impossible input (this is a programming interface).
+    this one". ``vertex_colours`` are per position: RGB or RGBA, bytes (0..255) or floats (0..1).
+    Raises ValueError for impossible input (this is a programming interface).
     """
     points = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
     corner_vertex, face_start = _faces_to_csr(faces)
@@ -43,8 +46,27 @@ def build_mesh(
     corners = corner_vertex.size
     given_uv = None if uvs is None else _per_corner_table(uvs, corners, 2)
     given_normals = None if normals is None else _per_corner_table(normals, corners, 3)
-    return derive_mesh(name, points, corner_vertex, face_start, given_uv, given_normals,
-                        base_colour, file_material, tuple(warnings))
+    mesh = derive_mesh(name, points, corner_vertex, face_start, given_uv, given_normals,
+                       base_colour, file_material, tuple(warnings))
+    if vertex_colours is None:
+        return mesh
+    return replace(mesh, vertex_colours=colour_bytes(vertex_colours, len(points)))
+
+
+def colour_bytes(colours: np.ndarray | Sequence[Sequence[float]], rows: int) -> np.ndarray:
+    """(rows, 3) uint8 from RGB or RGBA rows of bytes (0..255) or of floats (0..1); alpha is dropped."""
+    table = np.asarray(colours)
+    if table.ndim != 2 or table.shape[0] != rows or table.shape[1] not in (3, 4):
+        raise ValueError(f"vertex colours must be {rows} rows of RGB or RGBA, not shape {table.shape}")
+    rgb = table[:, :3]
+    if np.issubdtype(rgb.dtype, np.integer):
+        if rgb.size and (rgb.min() < 0 or rgb.max() > 255):
+            raise ValueError("integer vertex colours must lie in 0..255")
+        return rgb.astype(np.uint8)
+    floats = rgb.astype(np.float64)
+    if not np.isfinite(floats).all() or (floats.size and (floats.min() < 0.0 or floats.max() > 1.0)):
+        raise ValueError("float vertex colours must be finite and lie in 0..1")
+    return np.rint(floats * 255.0).astype(np.uint8)
 
 
 def _per_corner_table(values: np.ndarray | Sequence[Sequence[float]], corners: int, width: int

@@ -80,6 +80,8 @@ class Mesh:
     # Without `usemtl` both are empty and the whole mesh takes the object's material.
     materials: tuple[MeshMaterial, ...] = ()
     face_material: np.ndarray | None = None  # (F,) int32
+    # A colour per position (PLY, glTF COLOR_0), drawn as a tint of the lit colour, like a texture.
+    vertex_colours: np.ndarray | None = None  # (V, 3) uint8
 
     @property
     def vertex_count(self) -> int:
@@ -134,7 +136,8 @@ class Mesh:
         part = Mesh(name=self.name, positions=self.positions[used], corner_vertex=corner_vertex.astype(np.int64),
                     corner_uv=self.corner_uv[corners], corner_normal=self.corner_normal[corners],
                     face_start=face_start, face_normals=self.face_normals[faces], base_colour=self.base_colour,
-                    attributes_per_position=self.attributes_per_position)
+                    attributes_per_position=self.attributes_per_position,
+                    vertex_colours=None if self.vertex_colours is None else self.vertex_colours[used])
         return MeshPart(material, part, faces)
 
     def triangle_corners(self) -> np.ndarray:

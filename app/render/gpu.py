@@ -26,6 +26,7 @@ from marraztu.resources import shader_source
 
 # Attribute layouts, one per program; the names are the shaders' `in_` attributes.
 SURFACE_LAYOUT = ("3f 3f 3f 2f", "in_position", "in_normal", "in_face_normal", "in_uv")
+COLOUR_LAYOUT = ("4f1", "in_colour")  # a model's own vertex colours, bytes read as 0..1, one per surface row
 LIT_LAYOUT = ("4f", "in_lit")  # the lighting pass's output: colour and N.V, one row per surface row
 LIT_ROW_BYTES = 16
 EDGE_LAYOUT = ("3f 3f 3f", "in_position", "in_face_normal", "in_face_point")
@@ -77,6 +78,7 @@ class SurfaceArrays:
     vertices: np.ndarray  # (N, 11) float32
     indices: np.ndarray  # (3T,) uint32
     shared_indices: np.ndarray  # (3T,) uint32
+    colours: np.ndarray | None = None  # (N, 4) uint8: each row's position's colour, when the mesh has them
 
 
 def surface_arrays(mesh: Mesh) -> SurfaceArrays:
@@ -112,7 +114,12 @@ def surface_arrays(mesh: Mesh) -> SurfaceArrays:
     indices[:, 2] = row_of_corner[triangles[:, 2]]
     shared_indices = indices.copy()
     shared_indices[:, 0] = row_of_corner[triangles[:, 0]]
-    return SurfaceArrays(vertices, indices.reshape(-1), shared_indices.reshape(-1))
+    colours = None
+    if mesh.vertex_colours is not None:  # 4 bytes a row keeps every row aligned for the GPU
+        colours = np.full((row_corner.shape[0], 4), 255, np.uint8)
+        colours[:positions, :3] = mesh.vertex_colours
+        colours[positions:, :3] = np.take(mesh.vertex_colours, corner_vertex[row_corner[positions:]], axis=0)
+    return SurfaceArrays(vertices, indices.reshape(-1), shared_indices.reshape(-1), colours)
 
 
 _SEAM_CHUNK = 1 << 15  # corners compared per piece: their gathered rows stay in the CPU cache
@@ -251,8 +258,9 @@ class ObjectGpu:
     """
 
     # surface: a vertex, a lit and two index buffers, a vertex array per surface program (3) and per
-    # lighting pass (2); edges, face normals, vertex normals: one buffer and one vertex array each
-    MAX_GL_OBJECTS = 15
+    # lighting pass (2); edges, face normals, vertex normals: one buffer and one vertex array each.
+    # A model with vertex colours holds one more buffer, its colours.
+    GL_OBJECTS = 15
     # Which index buffer each surface program draws with (see SurfaceArrays).
     INDICES = {Shading.FLAT: "surface indices", Shading.GOURAUD: "shared surface indices",
                Shading.PHONG: "shared surface indices"}
@@ -273,8 +281,9 @@ class ObjectGpu:
         ctx.error  # noqa: B018 - reading it clears an older error, so the check below is about these uploads
         try:
             for name, data in (("surface", arrays.vertices), ("surface indices", arrays.indices),
-                               ("shared surface indices", arrays.shared_indices)):
-                self._surface_buffers[name] = ctx.buffer(data)
+                               ("shared surface indices", arrays.shared_indices), ("colours", arrays.colours)):
+                if data is not None:
+                    self._surface_buffers[name] = ctx.buffer(data)
             # Zeros, not undefined memory: rows no pass has lit yet are read (never shown) by draws.
             self._surface_buffers["lit"] = lit = ctx.buffer(reserve=rows * LIT_ROW_BYTES)
             lit.clear()
@@ -286,6 +295,10 @@ class ObjectGpu:
         # By (program, shading): "surface" draws, "lighting" runs the lighting pass.
         self._surface_arrays: dict[tuple[str, Shading], moderngl.VertexArray] = {}
         self._lit: dict[Shading, LitRows] = {}
+
+    @property
+    def vertex_coloured(self) -> bool:
+        return "colours" in self._surface_buffers
 
     def surface(self, shading: Shading) -> moderngl.VertexArray:
         """The surface bound to the program of `shading`; each is made the first time that shading is
@@ -324,6 +337,8 @@ class ObjectGpu:
             content = [(self._surface_buffers["surface"], *_layout_for(program, SURFACE_LAYOUT))]
             if LIT_LAYOUT[1] in program:  # Phong lights per pixel and reads no lit colour
                 content.append((self._surface_buffers["lit"], *LIT_LAYOUT))
+            if "colours" in self._surface_buffers and COLOUR_LAYOUT[1] in program:
+                content.append((self._surface_buffers["colours"], *COLOUR_LAYOUT))
             indices = self._surface_buffers[self.INDICES[shading]] if drawing else None
             vao = self.ctx.vertex_array(program, content, index_buffer=indices, index_element_size=4)
             self._surface_arrays[(kind, shading)] = vao

@@ -380,6 +380,7 @@ class Renderer:
         assert self.texture is not None
         picture = item.obj.mesh.materials[item.file_material].texture if item.file_material >= 0 else None
         (self.texture if picture is None else self._file_texture(picture)).use(location=0)
+        self.surface.set("u_vertex_coloured", gpu.vertex_coloured)
         _draw(gpu.surface(self.shading), moderngl.TRIANGLES,
               gpu.surface_range(item.start, item.stop))
 

@@ -70,6 +70,7 @@ def _probe_header(found: Probe) -> list[str]:
         face = "a back face, culled (b)"
     notes = "" if found.view == TermView.EVERYTHING else f"; showing {found.view.name} (v)"
     notes += "; texture on: pixel = colour x texel (T)" if found.textured else ""
+    notes += "; pixel = colour x vertex colour (the file's)" if obj.mesh.vertex_colours is not None else ""
     return [
         f"PROBE {obj.name} face {found.face + 1}/{found.face_count} (Enter: next)   {how}",
         f"face normal . V at v1 {_signed(found.facing, 3)}: {face}{notes}",

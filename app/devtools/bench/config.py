@@ -8,7 +8,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 SECTIONS = ("load", "frames", "cpu", "start", "memory", "shapes", "window")
-LOADERS = ("ours", "trimesh", "tinyobjloader")
+LOADERS = ("ours", "trimesh", "tinyobjloader", "rapidobj")
 
 
 @dataclass(frozen=True)

@@ -4,13 +4,16 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import os
 import resource
+import shutil
 import statistics
 import subprocess
 import sys
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -60,7 +63,8 @@ def gpu_ready_arrays(mesh: Mesh) -> dict[str, np.ndarray]:
     from marraztu.render.gpu import surface_arrays
 
     surface = surface_arrays(mesh)
-    return {array.name: getattr(surface, array.name) for array in fields(surface)}
+    arrays = {array.name: getattr(surface, array.name) for array in fields(surface)}
+    return {name: array for name, array in arrays.items() if array is not None}
 
 
 def _trimesh() -> LoadFunction:
@@ -133,6 +137,56 @@ def load_worker(argv: Sequence[str]) -> int:
 _WORKER_CODE = ("import sys; from marraztu.devtools.bench.loading import load_worker; "
                 "sys.exit(load_worker(sys.argv[1:]))")
 
+# rapidobj's bindings exist for Python 3.12 and later only, so it runs in another interpreter, which
+# need not have marraztu: its worker stands alone, measuring as load_worker does.
+RAPIDOBJ_PYTHON_VARIABLE = "MARRAZTU_BENCH_RAPIDOBJ_PYTHON"
+_RAPIDOBJ_CODE = """
+import json, sys, time
+from pathlib import Path
+import rapidobj
+def peak():
+    for line in Path("/proc/self/status").read_text().splitlines():
+        if line.startswith("VmHWM:"):
+            return int(line.split()[1]) * 1024
+    return 0
+path, repeats = sys.argv[1], int(sys.argv[2])
+baseline, seconds, triangles = peak(), [], 0
+for _ in range(repeats):
+    start = time.perf_counter()
+    result = rapidobj.parse_obj(path)  # triangulated; numpy tables of positions, uvs and indices
+    if not result.ok:
+        raise SystemExit(f"rapidobj could not read {path}: {result.error_message}")
+    triangles = len(result.faces)
+    result.vertices, result.texcoords, result.wedge_texcoord_indices
+    seconds.append(time.perf_counter() - start)
+print(json.dumps({"triangles": triangles, "seconds": seconds, "surface_seconds": [None] * repeats,
+                  "peak_rss_bytes": peak() - baseline}))
+"""
+
+
+@cache
+def rapidobj_python() -> str | None:
+    """An interpreter that can import rapidobj: $MARRAZTU_BENCH_RAPIDOBJ_PYTHON, this one, or a
+    python3.13/3.12 on PATH; None when there is none."""
+    candidates = [os.environ.get(RAPIDOBJ_PYTHON_VARIABLE), sys.executable,
+                  shutil.which("python3.13"), shutil.which("python3.12")]
+    for python in filter(None, candidates):
+        try:
+            found = subprocess.run([python, "-c", "import rapidobj"], capture_output=True, timeout=60)
+        except (OSError, subprocess.TimeoutExpired):
+            continue
+        if found.returncode == 0:
+            return python
+    return None
+
+
+def _worker_command(loader: str, path: Path, repeats: int) -> list[str]:
+    if loader == "rapidobj":
+        python = rapidobj_python()
+        assert python is not None, "available_loaders keeps rapidobj only where an interpreter has it"
+        return [python, "-c", _RAPIDOBJ_CODE, str(path), str(repeats)]
+    return [sys.executable, "-c", _WORKER_CODE, loader, str(path), str(repeats)]
+
 
 @dataclass
 class LoadResult:
@@ -144,8 +198,7 @@ class LoadResult:
     peak_rss_bytes: list[int] = field(default_factory=list)  # one per process
 
     def add_process(self, loader: str, path: Path, repeats: int) -> None:
-        done = subprocess.run([sys.executable, "-c", _WORKER_CODE, loader, str(path), str(repeats)],
-                              capture_output=True, text=True)
+        done = subprocess.run(_worker_command(loader, path, repeats), capture_output=True, text=True)
         if done.returncode != 0:
             raise RuntimeError(f"{loader} on {path.name} failed:\n{done.stderr.strip()}")
         report = json.loads(done.stdout.strip().splitlines()[-1])
@@ -171,7 +224,13 @@ def available_loaders(wanted: Sequence[str]) -> tuple[list[str], list[str]]:
     """The wanted loaders that can be imported, and notes for those that cannot."""
     present, notes = [], []
     for name in wanted:
-        if name == "ours" or importlib.util.find_spec(name) is not None:
+        if name == "rapidobj":
+            if rapidobj_python() is not None:
+                present.append(name)
+            else:
+                notes.append(f"rapidobj is left out: its bindings need Python 3.12 or later, and no interpreter "
+                             f"here imports it (set {RAPIDOBJ_PYTHON_VARIABLE} to one that does).")
+        elif name == "ours" or importlib.util.find_spec(name) is not None:
             present.append(name)
         else:
             notes.append(f"{name} is not installed, so its rows are left out "
@@ -198,8 +257,9 @@ def loading_section(config: BenchConfig, inputs: Sequence[LoadInput]) -> list[st
         "vertex and index "
         "arrays `ObjectGpu` uploads for the first frame (marraztu.render.gpu; edges and normal segments "
         "are built later, when lines or normals are first drawn); trimesh = `trimesh.load(process=False)`; "
-        "tinyobjloader = parse (triangulated) + numpy copies of its tables. Ratios > 1: ours is faster "
-        "or smaller.",
+        "tinyobjloader = parse (triangulated) + numpy copies of its tables; rapidobj = `parse_obj` "
+        "(multi-threaded C++, triangulated; numpy tables of positions, uvs and indices, no normals), in a "
+        "Python 3.12+ interpreter of its own. Ratios > 1: ours is faster or smaller.",
         "",
         *markdown_table(LOAD_HEADERS, rows),
     ]
