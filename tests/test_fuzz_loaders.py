@@ -15,7 +15,7 @@ from marraztu.errors import LoadError
 from marraztu.loaders.images import MAX_PIXELS, parse_ppm
 from marraztu.loaders.obj import parse_obj
 from marraztu.model.mesh import Mesh
-from marraztu.render.gpu import edge_vertices, face_normal_segments, surface_arrays, vertex_normal_segments
+from marraztu.render.gpu import edge_indices, face_normal_feet, rows_of_corners, surface_arrays
 from support import corpus
 
 FUZZ = settings(derandomize=True, database=None, deadline=None, max_examples=600,
@@ -159,9 +159,13 @@ def check_mesh(mesh: Mesh) -> None:
     assert _unit(mesh.corner_normal), "vertex normals are finite unit vectors"
     assert mesh.corner_uv.shape == (mesh.corner_vertex.size, 2) and np.isfinite(mesh.corner_uv).all()
     assert mesh.triangle_corners().shape[0] == int((mesh.face_sizes - 2).sum())
-    for table in (surface_arrays(mesh).vertices, edge_vertices(mesh), face_normal_segments(mesh),
-                  vertex_normal_segments(mesh)):
+    surface = surface_arrays(mesh)
+    for table in (surface.vertices, face_normal_feet(mesh)):
         assert np.isfinite(table).all(), "everything sent to the GPU is finite"
+    rows = surface.vertices.shape[0]
+    edges = edge_indices(mesh, rows_of_corners(mesh, surface.shared_indices), rows - mesh.face_count)
+    for indices in (surface.indices, surface.shared_indices, edges):
+        assert indices.max() < rows, "every index names a vertex row"
 
 
 def parse_obj_or_load_error(data: bytes) -> Mesh | None:

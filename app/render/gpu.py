@@ -2,10 +2,11 @@
 
 The vertex arrays are built here with numpy. GL has no per-primitive attributes, so what belongs to
 a polygon (its face normal, its first vertex) rides on vertices: the surface is indexed, with one
-extra vertex per polygon for its first corner (see SurfaceArrays); edges and normal segments are
-de-indexed, one vertex per line end. Everything is built once per object (edges and normals on first
-use) and kept until the object leaves the scene; drawing a subset of faces is a `first`/`vertices`
-range, of indices for the surface. Beside the surface, each object has a lit buffer: a colour per
+extra vertex per polygon for its first corner (see SurfaceArrays). Edges and vertex normals read the
+surface's rows through indices of their own, and face normals are one point per polygon: geometry
+stages draw their lines, so lines mode costs no copy of the mesh. Everything is built once per
+object (edges and normals on first use) and kept until the object leaves the scene; drawing a
+subset of faces is a `first`/`vertices` range. Beside the surface, each object has a lit buffer: a colour per
 vertex row, written by the lighting pass and kept until what lighting reads changes (ObjectGpu.light).
 """
 
@@ -14,7 +15,7 @@ from __future__ import annotations
 import threading
 import weakref
 from dataclasses import dataclass
-from typing import Callable, Hashable, Mapping, Sequence
+from typing import Hashable, Mapping, Sequence
 
 import moderngl
 import numpy as np
@@ -29,15 +30,17 @@ SURFACE_LAYOUT = ("3f 3f 3f 2f", "in_position", "in_normal", "in_face_normal", "
 COLOUR_LAYOUT = ("4f1", "in_colour")  # a model's own vertex colours, bytes read as 0..1, one per surface row
 LIT_LAYOUT = ("4f", "in_lit")  # the lighting pass's output: colour and N.V, one row per surface row
 LIT_ROW_BYTES = 16
-EDGE_LAYOUT = ("3f 3f 3f", "in_position", "in_face_normal", "in_face_point")
-NORMAL_LAYOUT = ("3f 3f 1f", "in_position", "in_direction", "in_along")
+# The normals program reads a vertex row's position and vertex normal as a foot and a direction.
+VERTEX_NORMAL_LAYOUT = ("3f 3f 3f 2f", "in_position", "in_direction", "in_face_normal", "in_uv")
+FACE_NORMAL_LAYOUT = ("3f 3f", "in_position", "in_direction")
 
 
 def load_program(ctx: moderngl.Context, name: str, defines: Mapping[str, str] | None = None,
                  varyings: Sequence[str] = ()) -> moderngl.Program:
-    """Compile `shaders/<name>.glsl`, a single file split by `#if defined VERTEX_SHADER` blocks,
-    with `defines` (e.g. surface.glsl's SHADING) for both stages. With `varyings`, a
-    transform-feedback program instead: the vertex stage alone, capturing those outputs.
+    """Compile `shaders/<name>.glsl`, a single file split by `#if defined VERTEX_SHADER` blocks
+    (and GEOMETRY_SHADER where it has one), with `defines` (e.g. surface.glsl's SHADING) for every
+    stage. With `varyings`, a transform-feedback program instead: the vertex stage alone, capturing
+    those outputs.
     """
     # moderngl-window reads single-file programs the same way, but its loader wants a window context
     # registered; the screenshot command runs on a bare offscreen one, so the defines go in here.
@@ -46,7 +49,9 @@ def load_program(ctx: moderngl.Context, name: str, defines: Mapping[str, str] | 
     vertex_shader = _with_define(source, "VERTEX_SHADER", extra)
     if varyings:
         return ctx.program(vertex_shader=vertex_shader, varyings=list(varyings))
-    return ctx.program(vertex_shader=vertex_shader, fragment_shader=_with_define(source, "FRAGMENT_SHADER", extra))
+    geometry_shader = _with_define(source, "GEOMETRY_SHADER", extra) if "defined GEOMETRY_SHADER" in source else None
+    return ctx.program(vertex_shader=vertex_shader, geometry_shader=geometry_shader,
+                       fragment_shader=_with_define(source, "FRAGMENT_SHADER", extra))
 
 
 def _with_define(source: str, define: str, extra: str = "") -> str:
@@ -144,47 +149,34 @@ def _seams(mesh: Mesh, representative_corner: np.ndarray) -> np.ndarray:
     return np.concatenate(pieces) if pieces else np.zeros(0, np.int64)
 
 
-def edge_vertices(mesh: Mesh) -> np.ndarray:
-    """(2E, 9) float32: position, face normal, and the polygon's first vertex for every edge end.
-
-    An edge's first end is not its polygon's first vertex, so the back-face test (made at that
-    vertex, SPEC 4) gets the point as an attribute instead of relying on the provoking vertex.
-    """
-    corners = mesh.edge_corners().reshape(-1)
-    positions = mesh.positions.astype(np.float32)
-    ends_per_face = 2 * mesh.face_sizes
-    out = np.empty((corners.shape[0], 9), np.float32)
-    out[:, 0:3] = np.take(positions, mesh.corner_vertex[corners], axis=0)
-    out[:, 3:6] = np.repeat(mesh.face_normals, ends_per_face, axis=0)
-    out[:, 6:9] = np.repeat(np.take(positions, mesh.corner_vertex[mesh.face_start[:-1]], axis=0), ends_per_face,
-                            axis=0)
-    return out
+def rows_of_corners(mesh: Mesh, shared_indices: np.ndarray) -> np.ndarray:
+    """(C,) uint32: each corner's shared surface row, read from the shared indices (SurfaceArrays),
+    in which every corner is some triangle's corner."""
+    if mesh.all_triangles:  # the triangles are the corners in order
+        return shared_indices
+    rows = np.empty(mesh.corner_vertex.shape[0], np.uint32)
+    rows[mesh.triangle_corners().reshape(-1)] = shared_indices
+    return rows
 
 
-def face_normal_segments(mesh: Mesh) -> np.ndarray:
-    """(2F, 7) float32: each face's normal as a segment from the polygon's centroid."""
+def edge_indices(mesh: Mesh, corner_rows: np.ndarray, shared_rows: int) -> np.ndarray:
+    """(3E,) uint32: for each edge, polygon by polygon, its polygon's own surface row and its two
+    ends' rows; edges.glsl draws the line between the ends with the back-face test of the first."""
+    pairs = mesh.edge_corners()
+    out = np.empty((pairs.shape[0], 3), np.uint32)
+    out[:, 0] = np.repeat(np.arange(shared_rows, shared_rows + mesh.face_count, dtype=np.uint32), mesh.face_sizes)
+    out[:, 1:] = corner_rows[pairs]
+    return out.reshape(-1)
+
+
+def face_normal_feet(mesh: Mesh) -> np.ndarray:
+    """(F, 6) float32: each polygon's centroid and face normal, one point per face normal."""
     corner_positions = np.take(mesh.positions, mesh.corner_vertex, axis=0)
     centroids = np.add.reduceat(corner_positions, mesh.face_start[:-1], axis=0)
     centroids /= mesh.face_sizes[:, None]
-    return _segments(centroids, mesh.face_normals)
-
-
-def vertex_normal_segments(mesh: Mesh) -> np.ndarray:
-    """(2C, 7) float32: every corner's vertex normal as a segment from its vertex (Gouraud's normals)."""
-    return _segments(np.take(mesh.positions, mesh.corner_vertex, axis=0), mesh.corner_normal)
-
-
-def _segments(feet: np.ndarray, directions: np.ndarray) -> np.ndarray:
-    """Two vertices per segment, both with the foot and direction; `in_along` 0 at the foot, 1 at the tip.
-
-    The shader puts the tip at foot + normalize(world normal) * length, so a segment keeps its
-    length in world units whatever the model matrix does to normals.
-    """
-    out = np.empty((2 * feet.shape[0], 7), np.float32)
-    out[:, 0:3] = np.repeat(feet, 2, axis=0)
-    out[:, 3:6] = np.repeat(directions, 2, axis=0)
-    out[0::2, 6] = 0.0
-    out[1::2, 6] = 1.0
+    out = np.empty((mesh.face_count, 6), np.float32)
+    out[:, 0:3] = centroids
+    out[:, 3:6] = mesh.face_normals
     return out
 
 
@@ -258,9 +250,9 @@ class ObjectGpu:
     """
 
     # surface: a vertex, a lit and two index buffers, a vertex array per surface program (3) and per
-    # lighting pass (2); edges, face normals, vertex normals: one buffer and one vertex array each.
-    # A model with vertex colours holds one more buffer, its colours.
-    GL_OBJECTS = 15
+    # lighting pass (2); edges and face normals: one buffer and one vertex array each; vertex normals:
+    # a vertex array. A model with vertex colours holds one more buffer, its colours.
+    GL_OBJECTS = 14
     # Which index buffer each surface program draws with (see SurfaceArrays).
     INDICES = {Shading.FLAT: "surface indices", Shading.GOURAUD: "shared surface indices",
                Shading.PHONG: "shared surface indices"}
@@ -270,7 +262,7 @@ class ObjectGpu:
         self.ctx = ctx
         self.mesh = mesh  # the mesh these buffers were built from: a replaced mesh means rebuilding
         self.programs = programs
-        self._built: dict[str, tuple[moderngl.Buffer, moderngl.VertexArray]] = {}
+        self._built: dict[str, tuple[moderngl.Buffer | None, moderngl.VertexArray]] = {}
         self.triangles_before = mesh.triangles_before_face()  # kept so drawing allocates nothing
         if surface_data is None:
             surface_data = _take_prepared_surface(mesh)
@@ -334,7 +326,7 @@ class ObjectGpu:
         if vao is None:
             drawing = kind == "surface"
             program = (self.programs.surfaces if drawing else self.programs.lightings)[shading]
-            content = [(self._surface_buffers["surface"], *_layout_for(program, SURFACE_LAYOUT))]
+            content = self._surface_content(program)
             if LIT_LAYOUT[1] in program:  # Phong lights per pixel and reads no lit colour
                 content.append((self._surface_buffers["lit"], *LIT_LAYOUT))
             if "colours" in self._surface_buffers and COLOUR_LAYOUT[1] in program:
@@ -346,38 +338,61 @@ class ObjectGpu:
 
     @property
     def edges(self) -> moderngl.VertexArray:
-        return self._lazy("edges", edge_vertices, self.programs.edges, EDGE_LAYOUT)
+        """Drawn as TRIANGLES of rows (edge_indices), which edges.glsl's geometry stage turns into lines."""
+        built = self._built.get("edges")
+        if built is None:
+            shared = np.frombuffer(self._surface_buffers["shared surface indices"].read(), np.uint32)
+            indices = edge_indices(self.mesh, rows_of_corners(self.mesh, shared), self.shared_rows)
+            built = self._build("edges", indices, self.programs.edges, self._surface_content(self.programs.edges),
+                                indexed=True)
+        return built[1]
 
     @property
     def face_normals(self) -> moderngl.VertexArray:
-        return self._lazy("face normals", face_normal_segments, self.programs.normals, NORMAL_LAYOUT)
+        """Drawn as POINTS, one per polygon."""
+        built = self._built.get("face normals")
+        if built is None:
+            built = self._build("face normals", face_normal_feet(self.mesh), self.programs.normals, FACE_NORMAL_LAYOUT)
+        return built[1]
 
     @property
     def vertex_normals(self) -> moderngl.VertexArray:
-        return self._lazy("vertex normals", vertex_normal_segments, self.programs.normals, NORMAL_LAYOUT)
+        """Drawn as POINTS through the shared surface indices: each triangle corner's row, no new buffer."""
+        built = self._built.get("vertex normals")
+        if built is None:
+            program = self.programs.normals
+            content = [(self._surface_buffers["surface"], *_layout_for(program, VERTEX_NORMAL_LAYOUT))]
+            vao = self.ctx.vertex_array(program, content, index_buffer=self._surface_buffers["shared surface indices"],
+                                        index_element_size=4)
+            built = self._built["vertex normals"] = (None, vao)
+        return built[1]
 
     @property
     def buffers(self) -> dict[str, moderngl.Buffer]:
         """The buffers built so far, by name ("surface" and "surface indices", "edges", ...)."""
-        return {**self._surface_buffers, **{name: buffer for name, (buffer, _) in self._built.items()}}
+        return {**self._surface_buffers,
+                **{name: buffer for name, (buffer, _) in self._built.items() if buffer is not None}}
 
-    def _lazy(self, name: str, make: Callable[[Mesh], np.ndarray], program: moderngl.Program,
-              layout: tuple[str, ...]) -> moderngl.VertexArray:
-        built = self._built.get(name)
-        return built[1] if built is not None else self._vertex_array(name, make(self.mesh), program, layout)
+    def _surface_content(self, program: moderngl.Program) -> list[tuple]:
+        return [(self._surface_buffers["surface"], *_layout_for(program, SURFACE_LAYOUT))]
 
-    def _vertex_array(self, name: str, data: np.ndarray, program: moderngl.Program,
-                      layout: tuple[str, ...]) -> moderngl.VertexArray:
+    def _build(self, name: str, data: np.ndarray, program: moderngl.Program, layout: tuple[str, ...] | list[tuple],
+               indexed: bool = False) -> tuple[moderngl.Buffer | None, moderngl.VertexArray]:
+        """Uploads `data`, as the vertex array's own vertices (`layout`) or, `indexed`, as indices into
+        the vertex buffers `layout` lists."""
         self.ctx.error  # noqa: B018 - as in __init__: the check below is about this upload only
         buffer = self.ctx.buffer(data)
         try:
             check_gl(self.ctx, f"the {name} of {self.mesh.name}")
-            vao = self.ctx.vertex_array(program, [(buffer, *layout)])
+            if indexed:
+                vao = self.ctx.vertex_array(program, layout, index_buffer=buffer, index_element_size=4)
+            else:
+                vao = self.ctx.vertex_array(program, [(buffer, *layout)])
         except Exception:
             buffer.release()
             raise
         self._built[name] = (buffer, vao)
-        return vao
+        return buffer, vao
 
     def release(self) -> None:
         for vao in self._surface_arrays.values():
@@ -386,7 +401,8 @@ class ObjectGpu:
             buffer.release()
         for buffer, vao in self._built.values():
             vao.release()
-            buffer.release()
+            if buffer is not None:
+                buffer.release()
         self._surface_arrays.clear()
         self._lit.clear()
         self._surface_buffers.clear()
@@ -399,14 +415,11 @@ class ObjectGpu:
         return VertexRange(3 * int(before[start]), 3 * int(before[stop] - before[start]))
 
     def edge_range(self, start: int, stop: int) -> VertexRange:
-        return self._corner_range(start, stop)
+        offsets = self.mesh.face_start  # an edge per corner, three indices each
+        return VertexRange(3 * int(offsets[start]), 3 * int(offsets[stop] - offsets[start]))
 
     def face_normal_range(self, start: int, stop: int) -> VertexRange:
-        return VertexRange(2 * start, 2 * (stop - start))
+        return VertexRange(start, stop - start)
 
     def vertex_normal_range(self, start: int, stop: int) -> VertexRange:
-        return self._corner_range(start, stop)
-
-    def _corner_range(self, start: int, stop: int) -> VertexRange:
-        offsets = self.mesh.face_start
-        return VertexRange(2 * int(offsets[start]), 2 * int(offsets[stop] - offsets[start]))
+        return self.surface_range(start, stop)

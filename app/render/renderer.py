@@ -400,7 +400,7 @@ class Renderer:
     def _draw_edges(self, item: DrawItem, gpu: ObjectGpu, selected: bool) -> None:
         self._set_model([self.edges], item.obj.model)
         self.edges.set("u_colour", SELECTED_LINE_COLOUR if selected else LINE_COLOUR)
-        _draw(gpu.edges, moderngl.LINES, gpu.edge_range(item.start, item.stop))
+        _draw(gpu.edges, moderngl.TRIANGLES, gpu.edge_range(item.start, item.stop))  # lines, in edges.glsl
 
     def _draw_probe_outline(self, scene: Scene) -> None:
         """The probed face's edges and a dot on each vertex the probe lights, over everything, so the
@@ -414,7 +414,7 @@ class Renderer:
         self._set_model([self.edges], obj.model)
         self.edges.set("u_outline", True)
         self.edges.set("u_colour", PROBE_COLOUR)
-        _draw(gpu.edges, moderngl.LINES, gpu.edge_range(face, face + 1))
+        _draw(gpu.edges, moderngl.TRIANGLES, gpu.edge_range(face, face + 1))
         self.edges.set("u_outline", False)
         for point in scene.probed_points():
             self._draw_marker(point, np.array(PROBE_COLOUR), PROBE_MARKER_PX)
@@ -423,10 +423,10 @@ class Renderer:
         """Face normals where lighting uses them (Flat), vertex normals otherwise (Gouraud, Phong)."""
         self._set_model([self.normals], item.obj.model)
         self.normals.set("u_length", NORMAL_LENGTH_FRACTION * item.obj.mesh.size)  # the whole object's scale
-        if face_normals:
-            _draw(gpu.face_normals, moderngl.LINES, gpu.face_normal_range(item.start, item.stop))
+        if face_normals:  # one point per normal: normals.glsl draws its segment
+            _draw(gpu.face_normals, moderngl.POINTS, gpu.face_normal_range(item.start, item.stop))
         else:
-            _draw(gpu.vertex_normals, moderngl.LINES, gpu.vertex_normal_range(item.start, item.stop))
+            _draw(gpu.vertex_normals, moderngl.POINTS, gpu.vertex_normal_range(item.start, item.stop))
 
     def _draw_light_marker(self, scene: Scene) -> None:
         """The selected light as a dot in its own colour (dimmed while it is off), over everything."""

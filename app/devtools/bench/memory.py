@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
 from collections.abc import Sequence
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from marraztu.devtools.bench.frames import FrameBench
@@ -14,7 +18,8 @@ if TYPE_CHECKING:
     from marraztu.model.mesh import Mesh
 
 MEMORY_HEADERS = ("file", "triangles", "Mesh B/tri", "GPU-ready arrays B/tri", "GPU when filled B/tri",
-                  "GPU with lines and normals B/tri", "edges B/tri", "normals B/tri")
+                  "GPU with lines and normals B/tri", "edges B/tri", "normals B/tri",
+                  "RSS growth, all drawn B/tri")
 
 
 MESH_ARRAYS = ("positions", "corner_vertex", "corner_uv", "corner_normal", "face_start", "face_normals")
@@ -40,10 +45,54 @@ def memory_row(bench: FrameBench, item: LoadInput) -> list[str]:
         host = mesh_bytes(mesh) + gpu.triangles_before.nbytes
         per_triangle = [value / triangles for value in (
             host, ready, surface, sum(sizes.values()), sizes["edges"],
-            sizes["face normals"] + sizes["vertex normals"])]
+            sizes["face normals"] + sizes.get("vertex normals", 0))]  # vertex normals read the surface's rows
     finally:
         gpu.release()
-    return [item.label, str(triangles), *(number(value) for value in per_triangle)]
+    return [item.label, str(triangles), *(number(value) for value in per_triangle),
+            number(rss_growth_per_triangle(item.path))]
+
+
+def resident_bytes() -> int:
+    for line in Path("/proc/self/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) * 1024
+    return 0
+
+
+def rss_worker(argv: Sequence[str]) -> int:
+    """The child: RSS after the model is loaded and drawn filled (Flat, Gouraud), in lines and with
+    both kinds of normals, less RSS before loading, with the context and renderer already made."""
+    from marraztu.devtools.bench.frames import FrameBench, bench_scene, set_mode
+    from marraztu.loaders.obj import load_obj
+
+    bench = FrameBench.open()
+    size = (640, 480)
+    fbo = bench.ctx.simple_framebuffer(size, components=4)
+    bench.renderer.render(bench_scene(None), fbo, size)  # programs compiled, driver warmed
+    before = resident_bytes()
+    mesh = load_obj(Path(argv[0]))
+    scene = bench_scene(mesh)
+    for mode in ("flat", "gouraud", "lines"):
+        set_mode(scene, mode)
+        for normals in (False, True):
+            scene.modes.normals = normals
+            bench.renderer.render(scene, fbo, size)
+            bench.ctx.finish()
+    print(json.dumps({"triangles": int(mesh.triangles_before_face()[-1]), "growth": resident_bytes() - before}))
+    return 0
+
+
+_RSS_WORKER = ("import sys; from marraztu.devtools.bench.memory import rss_worker; "
+               "sys.exit(rss_worker(sys.argv[1:]))")
+
+
+def rss_growth_per_triangle(path: Path) -> float:
+    """In a fresh process, so that nothing this one holds (or freed) blurs the figure."""
+    done = subprocess.run([sys.executable, "-c", _RSS_WORKER, str(path)], capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"the memory worker failed on {path.name}:\n{done.stderr.strip()}")
+    report = json.loads(done.stdout.strip().splitlines()[-1])
+    return report["growth"] / report["triangles"]
 
 
 def memory_section(bench: FrameBench, inputs: Sequence[LoadInput]) -> list[str]:
@@ -58,7 +107,10 @@ def memory_section(bench: FrameBench, inputs: Sequence[LoadInput]) -> list[str]:
         "life). *GPU-ready arrays*: the surface's vertex and index arrays made before the first "
         "frame (host, while uploading). *GPU when filled*: the surface's buffers, all an object holds until lines or "
         "normals are drawn; *with lines and normals*: every buffer it can hold (surface, edges, face "
-        "and vertex normal segments). On llvmpipe GPU buffers live in host memory too.",
+        "and vertex normal segments). On llvmpipe GPU buffers live in host memory too. *RSS growth, all "
+        "drawn*: a fresh process's resident memory after loading the file and drawing it in Flat, "
+        "Gouraud and lines, each with normals, less before loading (context and programs made): "
+        "everything the object costs the machine, host and (on llvmpipe) GPU.",
         "",
         *markdown_table(MEMORY_HEADERS, rows),
     ]
