@@ -1,4 +1,5 @@
-"""The command line: `marraztu [MODEL ...]` opens the window; `screenshot` and `bench` are subcommands.
+"""The command line: `marraztu [MODEL ...]` opens the window; `screenshot`, `record` and `bench` are
+subcommands.
 
 Every error a person can cause (bad files, bad keys, no OpenGL, an output that cannot be written)
 ends as one line on stderr naming the file (and line), and a non-zero exit: never a traceback.
@@ -116,6 +117,30 @@ def take_screenshot(options, out: Path, size: tuple[int, int], keys: str = "", o
     return shoot(options, out, size, keys, overlay)
 
 
+def record_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="marraztu record", description=COMMANDS["record"].summary)
+    parser.add_argument("-o", "--output", type=Path, required=True, metavar="ANIMATION",
+                        help="the animation to write: .gif (256 colours a frame), .png (animated PNG, "
+                             "lossless) or .mp4 (with imageio-ffmpeg installed)")
+    add_size_argument(parser, "frame size")
+    parser.add_argument("--keys", required=True, metavar="KEYS",
+                        help='keys as for screenshot; one frame is drawn after each press: "y*63"')
+    parser.add_argument("--fps", type=float, default=20.0, metavar="N", help="frames a second (default 20)")
+    parser.add_argument("--overlay", action="store_true",
+                        help="draw the status line, the panels and the last message in every frame")
+    add_scene_arguments(parser)
+    return parser
+
+
+def run_record(argv: Sequence[str]) -> int:
+    from marraztu.frontends.record import record
+
+    args = record_parser().parse_args(list(argv))
+    frames = record(start_options(args), args.output, args.size, args.keys, args.fps, args.overlay)
+    print(escaped(f"{args.output}: {frames} frames"))
+    return 0
+
+
 def run_bench(argv: Sequence[str]) -> int:
     from marraztu.devtools.bench import main as bench_main
 
@@ -131,6 +156,8 @@ class Command:
 COMMANDS = {
     "screenshot": Command("render the scene offscreen after replaying keys; no display needed",
                           run_screenshot),
+    "record": Command("replay keys offscreen, one frame per press, into a GIF, PNG or MP4 animation",
+                      run_record),
     "bench": Command("measure loading, frames, start-up and memory beside their peers", run_bench),
 }
 

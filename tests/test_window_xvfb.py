@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from PIL import Image
+from PIL import Image, ImageSequence
 
 ROOT = Path(__file__).resolve().parents[1]
 SIZE = (320, 320)
@@ -148,6 +148,37 @@ def test_the_windows_own_actions_never_end_it(display: str, tmp_path: Path) -> N
         assert window.wait(timeout=30) == 0
     assert "failed:" not in window.errors, window.errors
     assert (tmp_path / "screenshots").is_file()
+
+
+def test_f9_records_the_pictures_the_keys_draw(display: str, tmp_path: Path) -> None:
+    """F9 starts, three keys each draw a picture, F9 saves: a GIF of the picture at F9 and the three
+    after it, the last one the screenshot command's picture of the same keys (to GIF's 256 colours)."""
+    with window_in(display, tmp_path, SIZE) as (window, window_id):
+        xdotool(display, "windowfocus", "--sync", window_id)
+        xdotool(display, "type", "--delay", "60", "01")
+        time.sleep(0.3)
+        xdotool(display, "key", "F9")
+        time.sleep(0.3)
+        xdotool(display, "type", "--delay", "200", "yyy")
+        time.sleep(0.3)
+        xdotool(display, "key", "F9")
+        folder = tmp_path / "recordings"
+        saved = wait_for(lambda: sorted(folder.glob("*.gif")) if folder.is_dir() else [], 30, "the recording",
+                         display)[0]
+        xdotool(display, "key", "Escape")
+        assert window.wait(timeout=30) == 0
+    with Image.open(saved) as animation:
+        frames = [np.asarray(frame.convert("RGB")).astype(int) for frame in ImageSequence.Iterator(animation)]
+    assert len(frames) >= 4  # other events (an expose) may draw the same picture once more
+    expected_path = tmp_path / "expected.png"
+    result = subprocess.run([sys.executable, "-m", "marraztu", "screenshot", "-o", str(expected_path),
+                             "--size", f"{SIZE[0]}x{SIZE[1]}", "--keys", "0 1 y*3"],
+                            cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    expected = np.asarray(Image.open(expected_path).convert("RGB")).astype(int)
+    assert frames[-1].shape == expected.shape
+    assert np.abs(frames[-1] - expected).mean() < 2.0, "the last frame is the picture of the same keys"
+    assert np.abs(frames[0] - expected).mean() > np.abs(frames[-1] - expected).mean(), "the keys moved it"
 
 
 # Runs the real window in its own process, counts the frames it draws while left alone, then while

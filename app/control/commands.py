@@ -62,6 +62,10 @@ class Host(Protocol):
 
     def save_screenshot(self) -> None: ...
 
+    def toggle_recording(self) -> None:
+        """F9: starts recording the pictures, or stops and saves them (the window only)."""
+        ...
+
 
 CommandFunction = Callable[[Scene, Host], None]
 
@@ -528,3 +532,7 @@ def quit_viewer(scene: Scene, host: Host) -> None:
 
 def save_screenshot(scene: Scene, host: Host) -> None:
     host.save_screenshot()
+
+
+def toggle_recording(scene: Scene, host: Host) -> None:
+    host.toggle_recording()

@@ -20,7 +20,7 @@ from marraztu.errors import KeyMapError
 from marraztu.model.lights import LIGHT_KEYS
 from marraztu.model.scene import Scene
 
-NAMED_KEYS = ("TAB", "ENTER", "ESC", "DELETE", "F1", "F12", "PAGEDOWN", "PAGEUP", "HOME")
+NAMED_KEYS = ("TAB", "ENTER", "ESC", "DELETE", "F1", "F9", "F12", "PAGEDOWN", "PAGEUP", "HOME")
 _NAMED_ALIASES = {"ESCAPE": "ESC", "RETURN": "ENTER", "DEL": "DELETE", "PGDN": "PAGEDOWN", "PGUP": "PAGEUP"}
 # Keys that only the file prompt reads, and what SPACE types there.
 PROMPT_KEYS = ("BACKSPACE", "SPACE")
@@ -141,6 +141,7 @@ def build_commands() -> list[Command]:
         Command("PAGEDOWN", "next model file in the selected one's folder, in its place", commands.step_file(+1)),
         Command("PAGEUP", "previous model file in that folder, in its place", commands.step_file(-1)),
         Command("F12", "save a screenshot", commands.save_screenshot),
+        Command("F9", "record every new picture; F9 again saves them as a GIF", commands.toggle_recording),
         Command("h", "help on / off", commands.toggle("show_help"), lambda s: _on_off(s.modes.show_help)),
         Command("F1", "help on / off", commands.toggle("show_help"), lambda s: _on_off(s.modes.show_help)),
         Command("ESC", "quit", commands.quit_viewer),

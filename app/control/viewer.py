@@ -340,3 +340,10 @@ class Viewer:
 
     def save_screenshot(self) -> None:
         self.frontend.save_screenshot()
+
+    def toggle_recording(self) -> None:
+        record = getattr(self.frontend, "toggle_recording", None)  # only a window records as it goes
+        if record is None:
+            self.scene.message = "F9 records in the window; offscreen, `marraztu record` draws a frame per press"
+        else:
+            record()

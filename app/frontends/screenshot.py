@@ -8,7 +8,7 @@ from __future__ import annotations
 import os
 import sys
 import tempfile
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 
 import moderngl
@@ -26,10 +26,12 @@ IMAGE_FORMATS = {".png": "PNG", ".jpg": "JPEG", ".jpeg": "JPEG"}
 
 
 class OffscreenFrontend:
-    """ESC ends the replay; the -o file is the screenshot."""
+    """ESC ends the replay; the -o file is the screenshot. `quiet` (the API): notices stay in the
+    scene's message instead of going to stderr."""
 
-    def __init__(self) -> None:
+    def __init__(self, quiet: bool = False) -> None:
         self.quitting = False
+        self.quiet = quiet
 
     def quit(self) -> None:
         self.quitting = True
@@ -38,7 +40,8 @@ class OffscreenFrontend:
         pass
 
     def notice(self, text: str) -> None:
-        print(escaped(text), file=sys.stderr)
+        if not self.quiet:
+            print(escaped(text), file=sys.stderr)
 
 
 def take_screenshot(options: StartOptions, out: Path, size: tuple[int, int], keys: str = "",
@@ -57,12 +60,18 @@ def take_screenshot(options: StartOptions, out: Path, size: tuple[int, int], key
             if viewer.frontend.quitting:
                 break
             viewer.press(press)
-        with offscreen_framebuffer(ctx, size) as fbo:
-            render(ctx, renderer, viewer, fbo, size, overlay)
-            write_picture(read_pixels(fbo, size), out)
+        write_picture(render_pixels(ctx, renderer, viewer, size, overlay), out)
     finally:
         ctx.release()
     return out
+
+
+def render_pixels(ctx: moderngl.Context, renderer: Renderer, viewer: Viewer, size: tuple[int, int],
+                  overlay: bool) -> np.ndarray:
+    """The viewer's scene drawn into a fresh framebuffer of `size`: (height, width, 3) uint8, top row first."""
+    with offscreen_framebuffer(ctx, size) as fbo:
+        render(ctx, renderer, viewer, fbo, size, overlay)
+        return read_pixels(fbo, size)
 
 
 def render(ctx: moderngl.Context, renderer: Renderer, viewer: Viewer, fbo: moderngl.Framebuffer,
@@ -73,41 +82,55 @@ def render(ctx: moderngl.Context, renderer: Renderer, viewer: Viewer, fbo: moder
         from marraztu.render.overlay import Overlay
         from marraztu.text import panels, status
 
-        Overlay(ctx).draw(*status.overlay_lines(viewer), size, panels.extras(viewer.scene, size))
+        drawer = Overlay(ctx)
+        try:
+            drawer.draw(*status.overlay_lines(viewer), size, panels.extras(viewer.scene, size))
+        finally:
+            drawer.release()  # made per picture: an API loop must not leak its GL objects
 
 
-def check_output(out: Path, inputs: Iterable[str | Path | None] = ()) -> None:
-    """Refuses, in one line, a picture that cannot be written where asked, or would replace an input."""
-    if IMAGE_FORMATS.get(out.suffix.lower()) is None:
-        raise ViewerError(f"{out}: write a picture as {', '.join(IMAGE_FORMATS)}")
+def check_output(out: Path, inputs: Iterable[str | Path | None] = (),
+                 formats: Mapping[str, str] = IMAGE_FORMATS, what: str = "a picture") -> None:
+    """Refuses, in one line, a file that cannot be written where asked, or would replace an input."""
+    if formats.get(out.suffix.lower()) is None:
+        raise ViewerError(f"{out}: write {what} as {', '.join(formats)}")
     if out.is_dir():
-        raise ViewerError(f"{out}: is a folder, not a picture file")
+        raise ViewerError(f"{out}: is a folder, not a file")
     if out.exists() and not out.is_symlink() and not out.is_file():
         raise ViewerError(f"{out}: is not a regular file (a pipe or a device?)")
     for given in inputs:
         if given is not None and out.exists() and Path(given).exists() and os.path.samefile(out, given):
-            raise ViewerError(f"{out}: is an input of this picture ({given}); write the picture elsewhere")
+            raise ViewerError(f"{out}: is an input of this {what.split()[-1]} ({given}); write it elsewhere")
 
 
 def write_picture(pixels: np.ndarray, out: Path) -> None:
-    """The picture, in the format of its suffix, written whole or not at all: into a temporary file
-    beside it, then renamed into place."""
+    """The picture, in the format of its suffix (zlib level 1 for PNG: written once, and soon)."""
     check_output(out)
+    image_format = IMAGE_FORMATS[out.suffix.lower()]
+    options = {"compress_level": 1} if image_format == "PNG" else {"quality": 95}
+    write_atomically(out, lambda temporary: Image.fromarray(pixels).save(temporary, format=image_format, **options))
+
+
+def write_atomically(out: Path, write: Callable[[Path], None]) -> None:
+    """`write` fills a temporary file beside `out`, which is then renamed into place: the file is
+    written whole or not at all, and an older one survives a failure."""
     folder = out.parent
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".part", dir=folder)
+        handle, name = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".part", dir=folder)
+        os.close(handle)
     except OSError as error:
         raise ViewerError(f"{out}: cannot write here ({error.strerror or error})") from None
+    temporary = Path(name)
     try:
-        with os.fdopen(handle, "wb") as stream:
-            # zlib level 1: a screenshot is written once, and soon.
-            options = {"compress_level": 1} if IMAGE_FORMATS[out.suffix.lower()] == "PNG" else {"quality": 95}
-            Image.fromarray(pixels).save(stream, format=IMAGE_FORMATS[out.suffix.lower()], **options)
+        write(temporary)
         mask = os.umask(0)
         os.umask(mask)
         os.chmod(temporary, 0o666 & ~mask)  # mkstemp makes it private; a picture is not
         os.replace(temporary, out)
     except OSError as error:
-        Path(temporary).unlink(missing_ok=True)
-        raise ViewerError(f"{out}: cannot write the picture ({error.strerror or error})") from None
+        temporary.unlink(missing_ok=True)
+        raise ViewerError(f"{out}: cannot write it ({error.strerror or error})") from None
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise

@@ -15,12 +15,14 @@ from time import perf_counter
 from typing import Any
 
 import moderngl_window as mglw
+import numpy as np
 from moderngl_window.timers.clock import Timer
 
 from marraztu.control import commands
 from marraztu.control.keymap import KeyPress
 from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer, starting_scene
 from marraztu.errors import ViewerError, escaped
+from marraztu.frontends.record import MAX_RECORDING_BYTES, write_animation
 from marraztu.frontends.screenshot import write_picture
 from marraztu.render.context import offscreen_framebuffer, read_pixels
 from marraztu.render.gpu import prepare_surface
@@ -30,6 +32,8 @@ from marraztu.text import panels, status
 
 TITLE = "marraztu"
 SCREENSHOT_DIR = Path("screenshots")
+RECORDING_DIR = Path("recordings")
+RECORDING_FPS = 10  # a frame per change, not per tick: a slow, readable pace for slides
 WATCH_INTERVAL_S = 0.5  # --watch looks at the models' files this often: soon enough after a save
 # A frame is drawn only when something changed; between frames the loop sleeps in the window
 # system's event wait, waking at least this often for what no event announces (a load finishing).
@@ -103,6 +107,7 @@ class ViewerWindow:
         self.scene_unchanged = False  # set for a frame that only moves the loading line on
         self.drawn_loading_lines: list[str] = []  # the loading lines of the last frame
         self.held_scene = HeldPicture(self.ctx)
+        self.recording: list[np.ndarray] | None = None  # F9: the pictures drawn since it was pressed
         self._connect_events()
         self._close_when_destroyed()
 
@@ -135,7 +140,7 @@ class ViewerWindow:
     def _named_keys(self) -> dict[Any, str]:
         keys = self.wnd.keys
         names = {keys.TAB: "TAB", keys.ENTER: "ENTER", keys.ESCAPE: "ESC", keys.DELETE: "DELETE",
-                 keys.F1: "F1", keys.F12: "F12", keys.BACKSPACE: "BACKSPACE",
+                 keys.F1: "F1", keys.F9: "F9", keys.F12: "F12", keys.BACKSPACE: "BACKSPACE",
                  keys.PAGE_DOWN: "PAGEDOWN", keys.PAGE_UP: "PAGEUP", keys.HOME: "HOME"}
         from pyglet.window import key as pyglet_key
 
@@ -184,7 +189,17 @@ class ViewerWindow:
             self.wnd.fbo.use()
             self.renderer.render(self.scene, self.wnd.fbo, size)
         self.wnd.fbo.use()
+        if self.recording is not None and not scene_unchanged:
+            self._record_frame(size)
         self.overlay.draw(*status.overlay_lines(self.viewer), size, panels.extras(self.scene, size))
+
+    def _record_frame(self, size: tuple[int, int]) -> None:
+        """The scene's picture, before the overlay: the frames `marraztu record` would draw."""
+        assert self.recording is not None
+        self.recording.append(read_pixels(self.wnd.fbo, size))
+        if sum(frame.nbytes for frame in self.recording) > MAX_RECORDING_BYTES:
+            self.toggle_recording()
+            self.scene.message += " (stopped: the frames filled the memory a recording may take)"
 
     def _loading_changed(self) -> bool:
         """A load finished, or its status line moved on (it counts seconds): worth a frame."""
@@ -264,6 +279,23 @@ class ViewerWindow:
 
     def notice(self, text: str) -> None:
         print(escaped(text), file=sys.stderr)
+
+    def toggle_recording(self) -> None:
+        """F9: from now on every new picture is a frame; F9 again writes them as a GIF."""
+        if self.recording is None:
+            self.recording = []
+            self.scene.message = "recording: every new picture is a frame; F9 again saves them"
+            return
+        frames, self.recording = self.recording, None
+        if not frames:
+            self.scene.message = "recording stopped: no picture changed, nothing saved"
+            return
+        path = (RECORDING_DIR / f"marraztu-{datetime.now():%Y%m%d-%H%M%S-%f}.gif").absolute()
+        try:
+            write_animation(frames, path, RECORDING_FPS)
+            self.scene.message = f"recording of {len(frames)} frames saved to {path}"
+        except ViewerError as error:
+            self.scene.message = f"recording not saved: {error}"
 
     def save_screenshot(self) -> None:
         """F12: the scene as the screenshot command draws it (no overlay), at the window's size."""

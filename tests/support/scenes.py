@@ -79,6 +79,9 @@ class RecordingHost:
     def save_screenshot(self) -> None:
         self.calls.append(("save_screenshot",))
 
+    def toggle_recording(self) -> None:
+        self.calls.append(("toggle_recording",))
+
 
 class NoFrontend:
     """A viewer's front end that does nothing: for tests that drive a Viewer without a window."""

@@ -1,0 +1,224 @@
+"""The Python interface, for notebooks and scripts: the window's viewer, key map and renderer,
+drawing offscreen (EGL, or the platform's default context) into pictures.
+
+    import marraztu
+    with marraztu.Viewer(size=(800, 600)) as v:
+        v.load("model.obj")
+        v.press("0 1 F x*5")
+        v.render().save("picture.png")
+"""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass
+from io import BytesIO
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+from PIL import Image
+
+from marraztu.control import commands
+from marraztu.control.viewer import StartOptions, starting_scene
+from marraztu.control.viewer import Viewer as KeyViewer
+from marraztu.errors import LoadError, ViewerError
+from marraztu.frontends.screenshot import OffscreenFrontend, render_pixels
+from marraztu.loaders.scenefile import material_for_loaded, materials_of_parts
+from marraztu.model.build import build_mesh
+from marraztu.model.geometry import FLOAT32_MAX
+from marraztu.model.probe import probe as probe_scene
+from marraztu.model.scene import Scene, SceneObject
+from marraztu.render.context import create_offscreen_context
+from marraztu.render.layout import MAX_SIDE
+from marraztu.render.renderer import Renderer
+
+Size = tuple[int, int]
+
+
+@dataclass(frozen=True)
+class LightShare:
+    """One light's part of I at a vertex, in the seed's 0..255 units."""
+
+    light: str
+    reaches: bool  # False outside a spotlight's cone
+    n_dot_l: float
+    highlight: float  # max(N.H, 0)^ns
+    diffuse: tuple[float, float, float]
+    specular: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class ProbedVertex:
+    """One vertex the renderer lights for the probed face, with every term of SPEC 4's I."""
+
+    vertex: int  # 0-based row of the file's vertex table
+    world_position: tuple[float, float, float]
+    normal: tuple[float, float, float]  # world space: the face normal in Flat, the vertex normal in Gouraud
+    n_dot_v: float
+    ambient: tuple[float, float, float]  # Ka * Ia
+    lights: tuple[LightShare, ...]
+    total: tuple[float, float, float]  # I before the clamp, in the current term view
+    colour: tuple[int, int, int]  # the 0..255 colour drawn there (texture off)
+
+
+@dataclass(frozen=True)
+class ProbeReport:
+    """The probe (key `i`) of the selected object's selected face, as numbers."""
+
+    object: str
+    face: int  # 0-based
+    face_count: int
+    material: str | None
+    shading: str
+    back_face: bool
+    culled: bool
+    vertices: tuple[ProbedVertex, ...]
+
+
+def _triple(values: Any) -> tuple[float, float, float]:
+    return tuple(float(v) for v in np.asarray(values, float).reshape(3))  # type: ignore[return-value]
+
+
+def _checked_size(size: Sequence[int]) -> Size:
+    try:
+        width, height = (int(side) for side in size)
+    except (TypeError, ValueError):
+        raise ValueError(f"size must be (width, height), not {size!r}") from None
+    if not (1 <= width <= MAX_SIDE and 1 <= height <= MAX_SIDE):
+        raise ValueError(f"size {width}x{height} is out of range 1..{MAX_SIDE}")
+    return width, height
+
+
+def _release(ctx: Any, renderer: Renderer) -> None:
+    renderer.release()
+    ctx.release()
+
+
+class Viewer:
+    """A scene and its renderer, offscreen. `scene` names a TOML scene file; `empty` starts with the
+    camera alone. Bad files raise LoadError, bad keys KeyMapError, bad arguments ValueError."""
+
+    def __init__(self, size: Sequence[int] = (800, 600), scene: str | Path | None = None, empty: bool = False,
+                 texture: str | Path | None = None) -> None:
+        self.size = _checked_size(size)
+        options = StartOptions(scene_file=None if scene is None else Path(scene), empty=empty,
+                               texture=None if texture is None else Path(texture))
+        self._viewer = KeyViewer(starting_scene(options), OffscreenFrontend(quiet=True), strict=True)
+        self._ctx = create_offscreen_context()
+        self._renderer = Renderer(self._ctx)
+        # Garbage collection closes the context too: a notebook rarely says `close`.
+        self._closer = weakref.finalize(self, _release, self._ctx, self._renderer)
+        self._viewer.start(options, self._renderer.max_texture_side)
+
+    # --- the scene -----------------------------------------------------------------------------
+    @property
+    def scene(self) -> Scene:
+        """The scene itself (objects, cameras, lights, modes), for reading or changing by hand."""
+        return self._viewer.scene
+
+    @property
+    def message(self) -> str:
+        """What the status line says after the last press or load."""
+        return self.scene.message
+
+    def load(self, path: str | Path) -> Viewer:
+        """Any model file the program reads, added as `f` adds it; LoadError on bad input."""
+        self._viewer.load_model(path)
+        return self
+
+    def press(self, keys: str) -> Viewer:
+        """Keys in the language of --keys: "0 1 F x*5 f=model.obj"."""
+        self._viewer.press_sequence(keys)
+        return self
+
+    def add_mesh(self, positions: Any, faces: Any = None, uvs: Any = None, normals: Any = None,
+                 name: str = "mesh", colours: Any = None) -> Viewer:
+        """A model from arrays, or from a trimesh.Trimesh given alone: positions (V, 3), faces (F, k)
+        of 0-based indices (or a list of polygons), per-corner uvs and normals, per-vertex colours."""
+        if faces is None and hasattr(positions, "vertices") and hasattr(positions, "faces"):
+            positions, faces, colours = _from_trimesh(positions, colours)
+        if faces is None:
+            raise ValueError("add_mesh needs faces, or a trimesh.Trimesh alone")
+        mesh = build_mesh(name=str(name), positions=_finite_positions(positions), faces=faces, uvs=uvs,
+                          normals=normals, vertex_colours=colours)
+        material = material_for_loaded(mesh)
+        obj = SceneObject.placed(mesh.name, mesh, material, (0.0, 0.0, 0.0))
+        obj.part_materials = materials_of_parts(mesh, material, from_scene=False)
+        commands.add_loaded(self.scene, obj, as_camera=False)
+        self.scene.message = f"added {mesh.name}: {mesh.vertex_count} vertices, {mesh.face_count} faces"
+        return self
+
+    # --- pictures ------------------------------------------------------------------------------
+    def render(self, overlay: bool = False, size: Sequence[int] | None = None) -> Image.Image:
+        """The picture the window would show (with `overlay`, its text and panels too)."""
+        self._check_open()
+        shape = self.size if size is None else _checked_size(size)
+        pixels = render_pixels(self._ctx, self._renderer, self._viewer, shape, overlay)
+        return Image.fromarray(pixels)
+
+    def _repr_png_(self) -> bytes:
+        stream = BytesIO()
+        self.render().save(stream, format="PNG")
+        return stream.getvalue()
+
+    def probe(self) -> ProbeReport | None:
+        """The selected face's probe as numbers; None when there is no face to probe."""
+        found = probe_scene(self.scene)
+        if found is None:
+            return None
+        vertices = tuple(_probed_vertex(found, vertex) for vertex in found.vertices)
+        return ProbeReport(object=found.obj.name, face=found.face, face_count=found.face_count,
+                           material=found.obj.material_name_of_face(found.face), shading=found.shading.value,
+                           back_face=found.back_face, culled=found.back_face and found.culling, vertices=vertices)
+
+    # --- the context ---------------------------------------------------------------------------
+    def close(self) -> None:
+        """Releases the GL context; the viewer cannot draw afterwards."""
+        self._closer()
+
+    def _check_open(self) -> None:
+        if not self._closer.alive:
+            raise ViewerError("this Viewer is closed")
+
+    def __enter__(self) -> Viewer:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def _probed_vertex(found: Any, vertex: Any) -> ProbedVertex:
+    shares = tuple(LightShare(light=term.name, reaches=term.reaches, n_dot_l=float(term.n_dot_l),
+                              highlight=float(term.highlight), diffuse=_triple(term.diffuse),
+                              specular=_triple(term.specular)) for term in vertex.terms.lights)
+    shown = found.displayed(vertex)
+    colour = tuple(int(c) for c in (shown if shown is not None else vertex.lit_bytes))
+    return ProbedVertex(vertex=vertex.vertex, world_position=_triple(vertex.world_position),
+                        normal=_triple(vertex.world_normal), n_dot_v=vertex.n_dot_v,
+                        ambient=_triple(vertex.terms.ambient), lights=shares, total=_triple(vertex.shown),
+                        colour=colour)  # type: ignore[arg-type]
+
+
+def _from_trimesh(mesh: Any, colours: Any) -> tuple[np.ndarray, np.ndarray, Any]:
+    visual = getattr(mesh, "visual", None)
+    if colours is None and getattr(visual, "kind", None) == "vertex":
+        colours = np.asarray(visual.vertex_colors)
+    return np.asarray(mesh.vertices), np.asarray(mesh.faces), colours
+
+
+def _finite_positions(positions: Any) -> np.ndarray:
+    """Checked here, where the data enters: the GPU holds float32, and NaN has no place on screen."""
+    try:
+        table = np.asarray(positions, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError("positions must be numbers, (V, 3)") from None
+    if table.ndim != 2 or table.shape[1] != 3 or table.shape[0] == 0:
+        raise ValueError(f"positions must have shape (V, 3), not {table.shape}")
+    with np.errstate(invalid="ignore"):
+        if not (np.isfinite(table).all() and np.abs(table).max() <= FLOAT32_MAX):
+            raise ValueError("positions must be finite numbers a float32 can hold")
+    return table
+
+
+__all__ = ["LightShare", "LoadError", "ProbeReport", "ProbedVertex", "Viewer"]

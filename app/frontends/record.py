@@ -1,0 +1,123 @@
+"""`marraztu record` and the window's F9: one picture per key press, written as an animation.
+
+GIF and animated PNG come from Pillow (the PNG is lossless, the GIF has 256 colours a frame); MP4
+needs imageio-ffmpeg, imported only for such a file.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Iterator
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+from marraztu.control.keymap import parse_key_sequence
+from marraztu.control.viewer import StartOptions, Viewer, starting_scene
+from marraztu.errors import ViewerError
+from marraztu.frontends.screenshot import OffscreenFrontend, check_output, render_pixels, write_atomically
+from marraztu.render.context import create_offscreen_context
+from marraztu.render.renderer import Renderer
+
+RECORDING_FORMATS = {".gif": "GIF", ".png": "PNG", ".apng": "PNG", ".mp4": "MP4"}
+DEFAULT_FPS = 20
+MAX_FPS = 100  # GIF counts frame times in hundredths of a second
+# Pillow reads an animation's frames twice (APNG) or gathers them (GIF), so they are all held at once.
+MAX_RECORDING_BYTES = 2 << 30
+
+
+def check_fps(fps: float) -> float:
+    if not (0 < fps <= MAX_FPS):
+        raise ViewerError(f"--fps must be above 0 and at most {MAX_FPS}, not {fps:g}")
+    return fps
+
+
+def check_recording_size(frames: int, size: tuple[int, int]) -> None:
+    needed = frames * size[0] * size[1] * 3
+    if needed > MAX_RECORDING_BYTES:
+        raise ViewerError(f"{frames} frames of {size[0]}x{size[1]} would hold {needed / 2**30:.1f} GiB at once "
+                          f"(at most {MAX_RECORDING_BYTES / 2**30:.0f}); record fewer presses or a smaller size")
+
+
+def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, fps: float = DEFAULT_FPS,
+           overlay: bool = False) -> int:
+    """Replays `keys` on the starting scene, drawing a frame after each press into the animation
+    `out`; returns how many frames were written. ViewerError on bad input, as the screenshot command."""
+    check_fps(fps)
+    presses = parse_key_sequence(keys)
+    if not presses:
+        raise ViewerError("record needs --keys: one frame is drawn after each press")
+    check_recording_size(len(presses), size)
+    inputs = [*options.models, options.texture, options.scene_file, *(press.path for press in presses)]
+    check_output(out, inputs, RECORDING_FORMATS, "an animation")
+    scene = starting_scene(options)
+    check_output(out, [scene.texture_path], RECORDING_FORMATS, "an animation")
+    ctx = create_offscreen_context()
+    try:
+        renderer = Renderer(ctx)
+        viewer = Viewer(scene, OffscreenFrontend(), strict=True)
+        viewer.start(options, renderer.max_texture_side)
+
+        def frames() -> Iterator[np.ndarray]:
+            for press in presses:
+                if viewer.frontend.quitting:
+                    return
+                viewer.press(press)
+                yield render_pixels(ctx, renderer, viewer, size, overlay)
+
+        return write_animation(frames(), out, fps)
+    finally:
+        ctx.release()
+
+
+def write_animation(frames: Iterable[np.ndarray], out: Path, fps: float) -> int:
+    """The frames, (H, W, 3) uint8 each, as the animation of `out`'s suffix; returns their number."""
+    kind = RECORDING_FORMATS[out.suffix.lower()]
+    counted = _Counted(frames)
+    if kind == "MP4":
+        write_atomically(out, lambda temporary: _write_mp4(counted, temporary, fps))
+    else:
+        write_atomically(out, lambda temporary: _write_with_pillow(counted, temporary, kind, fps))
+    return counted.count
+
+
+class _Counted:
+    def __init__(self, frames: Iterable[np.ndarray]) -> None:
+        self.frames = iter(frames)
+        self.count = 0
+
+    def __iter__(self) -> Iterator[np.ndarray]:
+        for frame in self.frames:
+            self.count += 1
+            yield frame
+
+
+def _write_with_pillow(frames: _Counted, temporary: Path, kind: str, fps: float) -> None:
+    pictures = [Image.fromarray(frame) for frame in frames]
+    if not pictures:
+        raise ViewerError("no frame to write: the keys quit before the first one was drawn")
+    duration = round(1000.0 / fps)
+    # disposal 1 and no optimisation: every frame is whole and shown as drawn (GIF and APNG alike).
+    pictures[0].save(temporary, format=kind, save_all=True, append_images=pictures[1:], duration=duration,
+                     loop=0, disposal=1, optimize=False)
+
+
+def _write_mp4(frames: _Counted, temporary: Path, fps: float) -> None:
+    try:
+        import imageio_ffmpeg
+    except ImportError:
+        raise ViewerError("writing MP4 needs imageio-ffmpeg (pip install imageio-ffmpeg); "
+                          ".gif and .png need nothing more") from None
+    writer = None
+    for frame in frames:
+        if writer is None:
+            height, width = frame.shape[:2]
+            # Even sides: the usual H.264 pixel format halves the colour planes.
+            writer = imageio_ffmpeg.write_frames(str(temporary), (width - width % 2, height - height % 2),
+                                                 fps=fps, output_params=["-f", "mp4"])
+            writer.send(None)
+        writer.send(np.ascontiguousarray(frame[: frame.shape[0] - frame.shape[0] % 2,
+                                               : frame.shape[1] - frame.shape[1] % 2]))
+    if writer is None:
+        raise ViewerError("no frame to write: the keys quit before the first one was drawn")
+    writer.close()

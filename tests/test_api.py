@@ -1,0 +1,136 @@
+"""The Python interface: the same viewer, key map and renderer as the screenshot command, so the same
+pixels for the same keys; models from files, arrays and trimesh; the probe as numbers; the context
+closed by `with`, `close` or garbage collection; bad input refused where it enters."""
+
+from __future__ import annotations
+
+import dataclasses
+import gc
+from io import BytesIO
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+from PIL import Image
+
+import marraztu
+from marraztu.control.viewer import StartOptions
+from marraztu.errors import KeyMapError, LoadError, ViewerError
+from marraztu.frontends.screenshot import take_screenshot
+from marraztu.model.probe import probe as scene_probe
+
+SIZE = (160, 120)
+TRIANGLE = np.array([[-60.0, -60.0, 20.0], [60.0, -60.0, 20.0], [0.0, 60.0, 20.0]])
+
+
+def screenshot(tmp_path: Path, keys: str, overlay: bool = False, **options: object) -> np.ndarray:
+    out = take_screenshot(StartOptions(**options), tmp_path / "shot.png", SIZE, keys=keys, overlay=overlay)
+    return np.asarray(Image.open(out).convert("RGB"))
+
+
+@pytest.fixture
+def viewer():
+    with marraztu.Viewer(size=SIZE) as v:
+        yield v
+
+
+@pytest.mark.parametrize("keys", ["", "0 1 F x*5", "c t Z*8 c c l b", "TAB TAB ENTER*3 i v v s"])
+def test_the_api_draws_the_screenshot_commands_pixels(viewer, tmp_path: Path, keys: str) -> None:
+    picture = np.asarray(viewer.press(keys).render())
+    assert np.array_equal(picture, screenshot(tmp_path, keys))
+    assert (np.abs(picture.astype(int) - [0, 0, 178]).sum(axis=2) > 30).mean() > 0.01, "not blank"
+
+
+def test_the_overlay_is_the_screenshot_commands_overlay(viewer, tmp_path: Path) -> None:
+    picture = np.asarray(viewer.press("0 1 i").render(overlay=True))
+    assert np.array_equal(picture, screenshot(tmp_path, "0 1 i", overlay=True))
+    assert not np.array_equal(picture, np.asarray(viewer.render()))
+
+
+def test_a_notebook_shows_the_picture(viewer) -> None:
+    shown = np.asarray(Image.open(BytesIO(viewer._repr_png_())).convert("RGB"))
+    assert np.array_equal(shown, np.asarray(viewer.render()))
+
+
+def test_render_at_another_size(viewer) -> None:
+    assert viewer.render(size=(64, 48)).size == (64, 48)
+
+
+def test_load_draws_a_file_like_the_command_line(tmp_path: Path) -> None:
+    model = tmp_path / "tri.obj"
+    model.write_text("".join(f"v {x:g} {y:g} {z:g}\n" for x, y, z in TRIANGLE) + "f 1 2 3\n")
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        assert "loaded tri.obj" in v.load(model).message
+        picture = np.asarray(v.press("0 1").render())
+    assert np.array_equal(picture, screenshot(tmp_path, "0 1", empty=True, models=(model,)))
+
+
+def test_arrays_draw_like_the_same_triangle_from_a_file(tmp_path: Path) -> None:
+    model = tmp_path / "tri.obj"
+    model.write_text("".join(f"v {x:g} {y:g} {z:g}\n" for x, y, z in TRIANGLE) + "f 1 2 3\n")
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        from_arrays = np.asarray(v.add_mesh(TRIANGLE, [[0, 1, 2]], name="tri").press("0 1").render())
+    assert np.array_equal(from_arrays, screenshot(tmp_path, "0 1", empty=True, models=(model,)))
+
+
+def test_a_trimesh_with_its_vertex_colours() -> None:
+    mesh = trimesh.Trimesh(TRIANGLE, [[0, 1, 2]], process=False)
+    mesh.visual.vertex_colors = np.tile([255, 0, 0, 255], (3, 1))
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(mesh).press("T 0 1")
+        assert np.array_equal(v.scene.object.mesh.vertex_colours, np.tile([255, 0, 0], (3, 1)))
+        centre = np.asarray(v.render())[SIZE[1] // 2, SIZE[0] // 2]
+    assert centre[0] > 0 and centre[1] == 0 and centre[2] == 0  # lit, times pure red
+
+
+@pytest.mark.parametrize(("positions", "faces", "words"), [
+    (np.full((3, 3), np.nan), [[0, 1, 2]], "finite"),
+    (TRIANGLE * 1e39, [[0, 1, 2]], "float32"),
+    (TRIANGLE[:, :2], [[0, 1, 2]], "shape"),
+    (TRIANGLE, [[0, 1, 3]], "does not exist"),
+    (TRIANGLE, [[0, 1]], "at least 3"),
+])
+def test_bad_arrays_are_refused_where_they_enter(viewer, positions, faces, words: str) -> None:
+    with pytest.raises(ValueError, match=words):
+        viewer.add_mesh(positions, faces)
+
+
+def test_bad_files_and_keys_raise_the_programs_errors(viewer, tmp_path: Path) -> None:
+    bad = tmp_path / "bad.obj"
+    bad.write_text("v 0 0 0\nf 1 2 3\n")
+    with pytest.raises(LoadError, match="bad.obj"):
+        viewer.load(bad)
+    with pytest.raises(KeyMapError):
+        viewer.press("nosuchkey")
+    with pytest.raises(ValueError, match="out of range"):
+        marraztu.Viewer(size=(0, 10))
+
+
+def test_the_probe_as_plain_numbers(viewer) -> None:
+    viewer.press("0 1 F i")
+    report = viewer.probe()
+    found = scene_probe(viewer.scene)
+    assert report is not None and found is not None
+    assert dataclasses.asdict(report)["object"] == found.obj.name  # plain data all the way down
+    assert (report.face, report.shading, len(report.vertices)) == (found.face, "gouraud", len(found.vertices))
+    for mine, theirs in zip(report.vertices, found.vertices):
+        assert mine.total == pytest.approx(tuple(theirs.shown))
+        assert mine.colour == tuple(int(c) for c in (found.displayed(theirs)
+                                                     if found.displayed(theirs) is not None else theirs.lit_bytes))
+        assert len(mine.lights) == len(theirs.terms.lights)
+
+
+def test_no_face_no_probe() -> None:
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        assert v.probe() is None
+
+
+def test_close_releases_and_garbage_collection_too() -> None:
+    v = marraztu.Viewer(size=SIZE)
+    v.close()
+    with pytest.raises(ViewerError, match="closed"):
+        v.render()
+    closer = marraztu.Viewer(size=SIZE)._closer
+    gc.collect()
+    assert not closer.alive, "a viewer no one holds has closed its context"

@@ -1,0 +1,83 @@
+"""`marraztu record`: one frame per press, the first and last equal to the screenshots of the same key
+prefixes (exactly in animated PNG, to GIF's 256 colours in GIF), and bad input refused in one line as
+the screenshot command refuses it."""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image, ImageSequence
+
+from marraztu.cli import main
+from marraztu.control.viewer import StartOptions
+from marraztu.frontends.screenshot import take_screenshot
+
+SIZE = "160x120"
+KEYS = "0 1 y*5"
+
+
+def frames_of(path: Path) -> tuple[list[np.ndarray], dict]:
+    with Image.open(path) as animation:
+        info = dict(animation.info)
+        return [np.asarray(frame.convert("RGB")).astype(int) for frame in ImageSequence.Iterator(animation)], info
+
+
+def screenshot(tmp_path: Path, keys: str) -> np.ndarray:
+    out = take_screenshot(StartOptions(), tmp_path / f"shot{len(keys)}.png", (160, 120), keys=keys)
+    return np.asarray(Image.open(out).convert("RGB")).astype(int)
+
+
+def test_animated_png_holds_one_exact_frame_per_press(tmp_path: Path, capsys) -> None:
+    out = tmp_path / "turn.png"
+    assert main(["record", "-o", str(out), "--size", SIZE, "--keys", KEYS, "--fps", "20"]) == 0
+    assert "7 frames" in capsys.readouterr().out
+    frames, info = frames_of(out)
+    assert len(frames) == 7
+    assert info["duration"] == 50
+    assert np.array_equal(frames[0], screenshot(tmp_path, "0"))
+    assert np.array_equal(frames[-1], screenshot(tmp_path, KEYS))
+    assert not np.array_equal(frames[2], frames[3]), "each press turns the object"
+
+
+def test_gif_frames_match_to_its_colours(tmp_path: Path) -> None:
+    out = tmp_path / "turn.gif"
+    assert main(["record", "-o", str(out), "--size", SIZE, "--keys", KEYS, "--fps", "10"]) == 0
+    frames, info = frames_of(out)
+    assert len(frames) == 7 and info["duration"] == 100
+    for frame, keys in ((frames[0], "0"), (frames[-1], KEYS)):
+        difference = np.abs(frame - screenshot(tmp_path, keys))
+        assert difference.mean() < 1.0 and (difference.max(axis=2) > 16).mean() < 0.01
+
+
+@pytest.mark.parametrize(("arguments", "words"), [
+    (["-o", "{tmp}/turn.txt", "--keys", "y"], "write an animation as .gif"),
+    (["-o", "{tmp}/turn.gif", "--keys", "y", "--fps", "0"], "--fps"),
+    (["-o", "{tmp}/turn.gif", "--keys", ""], "one frame is drawn after each press"),
+    (["-o", "{tmp}", "--keys", "y"], "write an animation"),
+    (["-o", "{tmp}/turn.gif", "--keys", "y*2000", "--size", "1000x1000"], "GiB"),
+    (["-o", "{tmp}/model.png", "--keys", "y", "--texture", "{tmp}/model.png"], "is an input"),
+    (["-o", "/dev/full/x.gif", "--keys", "y"], "cannot"),
+])
+def test_bad_input_is_one_line(tmp_path: Path, capsys, arguments: list[str], words: str) -> None:
+    Image.new("RGB", (4, 4)).save(tmp_path / "model.png")
+    assert main(["record", *(a.format(tmp=tmp_path) for a in arguments)]) == 1
+    error = capsys.readouterr().err.strip()
+    assert error.startswith("error:") and "\n" not in error and words in error, error
+    assert not list(tmp_path.glob("*.gif")), "nothing half-written is left behind"
+
+
+@pytest.mark.skipif(importlib.util.find_spec("imageio_ffmpeg") is not None, reason="imageio-ffmpeg is installed")
+def test_mp4_without_imageio_ffmpeg_says_what_to_install(tmp_path: Path, capsys) -> None:
+    assert main(["record", "-o", str(tmp_path / "turn.mp4"), "--size", SIZE, "--keys", "y"]) == 1
+    assert "imageio-ffmpeg" in capsys.readouterr().err
+    assert not list(tmp_path.iterdir())
+
+
+def test_f9_offscreen_says_where_recording_happens() -> None:
+    import marraztu
+
+    with marraztu.Viewer(size=(32, 32)) as viewer:
+        assert "marraztu record" in viewer.press("F9").message
