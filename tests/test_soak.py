@@ -87,8 +87,9 @@ class Invariants:
         self._selection(scene)
         for obj in scene.objects + scene.cameras:
             assert obj.history, f"{obj.name}: empty history"
-            first = self.initial.setdefault(obj.uid, obj.history[0].copy())
-            assert np.array_equal(obj.history[0], first), f"{obj.name}: initial matrix changed"
+            if len(obj.history) == 1:  # a camera not yet moved takes a lone model's framing as its start
+                self.initial[obj.uid] = obj.history[0].copy()
+            assert np.array_equal(obj.history[0], self.initial[obj.uid]), f"{obj.name}: initial matrix changed"
             assert np.isfinite(obj.model).all(), f"{obj.name}: non-finite matrix"
             assert 0 <= obj.selected_face < max(obj.mesh.face_count, 1)
         for light in scene.lights:

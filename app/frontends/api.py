@@ -101,7 +101,7 @@ class Viewer:
 
     def __init__(self, size: Sequence[int] = (800, 600), scene: str | Path | None = None, empty: bool = False,
                  texture: str | Path | None = None) -> None:
-        self.size = _checked_size(size)
+        self._size = _checked_size(size)
         options = StartOptions(scene_file=None if scene is None else Path(scene), empty=empty,
                                texture=None if texture is None else Path(texture))
         self._viewer = KeyViewer(starting_scene(options), OffscreenFrontend(quiet=True), strict=True)
@@ -110,6 +110,15 @@ class Viewer:
         # Garbage collection closes the context too: a notebook rarely says `close`.
         self._closer = weakref.finalize(self, _release, self._ctx, self._renderer)
         self._viewer.start(options, self._renderer.max_texture_side)
+
+    @property
+    def size(self) -> Size:
+        """The size `render` draws at when given none; checked when set."""
+        return self._size
+
+    @size.setter
+    def size(self, size: Sequence[int]) -> None:
+        self._size = _checked_size(size)
 
     # --- the scene -----------------------------------------------------------------------------
     @property
