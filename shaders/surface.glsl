@@ -24,6 +24,10 @@ const int PHONG = 2;
 #if !defined LIGHT_DIRECTIONAL || !defined LIGHT_POINT || !defined LIGHT_SPOT || !defined MAX_LIGHTS
 #error "the light kinds' codes and MAX_LIGHTS must be defined (the renderer does it)"
 #endif
+// What the term view paints (marraztu.model.lights.Show): the lit colour, the depth or the normal.
+#if !defined SHOW_LIT || !defined SHOW_DEPTH || !defined SHOW_NORMALS
+#error "the term views' codes must be defined (the renderer does it)"
+#endif
 
 // V: perspective looks from a point, so V changes over the surface; parallel projection has one V.
 uniform bool u_parallel;
@@ -112,7 +116,8 @@ void main() {
 #elif defined VERTEX_SHADER
 
 in vec3 in_position;  // model space
-in vec3 in_normal;    // this corner's vertex normal (Phong)
+in vec3 in_normal;    // this corner's vertex normal (Phong, the normals view)
+in vec3 in_face_normal;  // its polygon's normal, at the polygon's own row (the normals view in Flat)
 in vec4 in_lit;       // Flat, Gouraud: the lighting pass's colour and N.V for this row
 in vec2 in_uv;
 in vec4 in_colour;    // the model's vertex colour (no buffer, and unread, for a model without)
@@ -129,6 +134,7 @@ smooth out vec3 v_smooth_colour;
 // vertex's), blended over it otherwise.
 flat out vec3 v_flat_vertex_colour;
 smooth out vec3 v_smooth_vertex_colour;
+flat out vec3 v_flat_normal;  // the face normal, from the polygon's own row: the normals view in Flat
 out vec2 v_uv;
 out vec3 v_world_position;  // Phong: interpolated, lit per pixel
 out vec3 v_world_normal;
@@ -141,6 +147,7 @@ void main() {
     v_smooth_vertex_colour = in_colour.rgb;
     v_world_position = world_position;
     v_world_normal = normalize(u_normal_matrix * in_normal);
+    v_flat_normal = normalize(u_normal_matrix * in_face_normal);
     v_uv = in_uv;
     gl_Position = u_view_projection * vec4(world_position, 1.0);
 }
@@ -151,11 +158,13 @@ uniform bool u_culling;
 uniform bool u_textured;
 uniform sampler2D u_texture;
 uniform bool u_vertex_coloured;
+uniform int u_show;
 
 flat in vec4 v_flat_lit;
 smooth in vec3 v_smooth_colour;
 flat in vec3 v_flat_vertex_colour;
 smooth in vec3 v_smooth_vertex_colour;
+flat in vec3 v_flat_normal;
 in vec2 v_uv;
 in vec3 v_world_position;
 in vec3 v_world_normal;
@@ -190,6 +199,15 @@ void main() {
             discard;
         }
         out_colour = vec4(1.0, 0.0, 0.0, 1.0);
+        return;
+    }
+    if (u_show == SHOW_DEPTH) {
+        out_colour = vec4(vec3(gl_FragCoord.z), 1.0);
+        return;
+    }
+    if (u_show == SHOW_NORMALS) {  // the normal the lighting uses here: Flat's face normal, else interpolated
+        vec3 normal = SHADING == FLAT ? v_flat_normal : normalize(v_world_normal);
+        out_colour = vec4(normal * 0.5 + 0.5, 1.0);
         return;
     }
     vec3 colour = surface_colour();

@@ -102,7 +102,8 @@ def toggle_shading(scene: Scene, host: Host) -> None:
 
 # --- seeing the equation ---------------------------------------------------------------------------
 def cycle_term_view(scene: Scene, host: Host) -> None:
-    """`v`: the next term view (everything, ambient, diffuse, specular, each light alone), wrapping."""
+    """`v`: the next term view (everything, ambient, diffuse, specular, each light alone, depth,
+    normals), wrapping."""
     position = TERM_VIEWS.index(scene.modes.term_view)
     scene.modes.term_view = TERM_VIEWS[(position + 1) % len(TERM_VIEWS)]
 

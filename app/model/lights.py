@@ -210,9 +210,11 @@ MAX_LIGHTS = len(LIGHT_KEYS)  # what the shader has room for
 
 
 def shader_defines() -> dict[str, str]:
-    """What surface.glsl knows of the lights: each kind's code, and how many lights there may be."""
+    """What surface.glsl knows of the lights and the term views: each light kind's code, how many
+    lights there may be, and the code of each thing a term view can paint."""
     defines = {f"LIGHT_{kind.name.upper()}": str(kind.shader_code) for kind in LIGHT_KINDS}
-    return {**defines, "MAX_LIGHTS": str(MAX_LIGHTS)}
+    shows = {f"SHOW_{show.name}": str(show.value) for show in Show}
+    return {**defines, **shows, "MAX_LIGHTS": str(MAX_LIGHTS)}
 
 
 # --- term views (key `v`) ----------------------------------------------------------------------
@@ -228,19 +230,32 @@ class TermWeights:
         return (self.ambient, self.diffuse, self.specular)
 
 
+class Show(Enum):
+    """What a term view paints: the lit colour, or one of the quantities the pipeline works with.
+    The values are the shader's codes (SHOW_LIT, ...)."""
+
+    LIT = 0
+    DEPTH = 1  # the depth buffer's value as grey: black at the near plane, white at the far one
+    NORMALS = 2  # N in world space as a colour, N * 0.5 + 0.5
+
+
 @dataclass(frozen=True)
 class TermView:
     """What the lit colour shows: SPEC 4's sum, one of its terms, or one light's share. Each view is
-    clamped on its own, so the views add up to the whole wherever nothing saturates."""
+    clamped on its own, so the views add up to the whole wherever nothing saturates. The last views
+    paint the depth or the normal instead of a colour."""
 
     name: str
     weights: TermWeights
     light_index: int | None = None  # "one light alone": which of the scene's lights
+    shows: Show = Show.LIT
 
     EVERYTHING: ClassVar[TermView]
     AMBIENT: ClassVar[TermView]
     DIFFUSE: ClassVar[TermView]
     SPECULAR: ClassVar[TermView]
+    DEPTH: ClassVar[TermView]
+    NORMALS: ClassVar[TermView]
 
     @classmethod
     def alone(cls, light_index: int) -> TermView:
@@ -252,6 +267,8 @@ TermView.EVERYTHING = TermView("everything", TermWeights())
 TermView.AMBIENT = TermView("ambient only", TermWeights(1.0, 0.0, 0.0))
 TermView.DIFFUSE = TermView("diffuse only", TermWeights(0.0, 1.0, 0.0))
 TermView.SPECULAR = TermView("specular only", TermWeights(0.0, 0.0, 1.0))
-# `v` cycles through these: the sum, each term, then each light alone.
+TermView.DEPTH = TermView("depth", TermWeights(), shows=Show.DEPTH)
+TermView.NORMALS = TermView("normals (world)", TermWeights(), shows=Show.NORMALS)
+# `v` cycles through these: the sum, each term, each light alone, then depth and normals.
 TERM_VIEWS = (TermView.EVERYTHING, TermView.AMBIENT, TermView.DIFFUSE, TermView.SPECULAR,
-              *(TermView.alone(index) for index in range(MAX_LIGHTS)))
+              *(TermView.alone(index) for index in range(MAX_LIGHTS)), TermView.DEPTH, TermView.NORMALS)

@@ -331,6 +331,7 @@ class Renderer:
             uniforms.set("u_eye_backward", backward)
         self.surface.set("u_culling", modes.culling)
         self.surface.set("u_textured", modes.texture)
+        self.surface.set("u_show", modes.term_view.shows.value)
         self.surface.set("u_texture", 0)
         self.lighting.set("u_term_weights", modes.term_view.weights.as_tuple())
         self.lighting.set("u_ambient", tuple(float(c) for c in scene.ambient))

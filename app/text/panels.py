@@ -13,7 +13,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from marraztu.model.lighting import LightTerm
-from marraztu.model.lights import DIRECTIONAL, TermView, WorldLight, cone_angle_deg
+from marraztu.model.lights import DIRECTIONAL, Show, TermView, WorldLight, cone_angle_deg
 from marraztu.model.probe import Probe, VertexProbe, probe
 from marraztu.model.scene import CameraMode, Frame, Projection, Scene, Shading, Target
 from marraztu.render.layout import Extras, Label, project, view_projection, views
@@ -69,6 +69,8 @@ def _probe_header(found: Probe) -> list[str]:
     if found.back_face and found.culling:
         face = "a back face, culled (b)"
     notes = "" if found.view == TermView.EVERYTHING else f"; showing {found.view.name} (v)"
+    if found.view.shows is not Show.LIT:
+        notes += ", not the colour below"
     notes += "; texture on: pixel = colour x texel (T)" if found.textured else ""
     notes += "; pixel = colour x vertex colour (the file's)" if obj.mesh.vertex_colours is not None else ""
     return [
@@ -112,7 +114,8 @@ def _light_row(light: WorldLight, term: LightTerm, vertex: VertexProbe) -> str:
 
 
 def _result(found: Probe, vertex: VertexProbe) -> str:
-    view = "sum" if found.view == TermView.EVERYTHING else f"sum of {found.view.name}"
+    lit_view = found.view == TermView.EVERYTHING or found.view.shows is not Show.LIT
+    view = "sum" if lit_view else f"sum of {found.view.name}"
     displayed = found.displayed(vertex)
     final = f"colour {_bytes(vertex.lit_bytes)}"
     if displayed is None:
