@@ -618,7 +618,7 @@ def test_v_steps_through_every_term_view_and_the_status_line_names_it(make_quad,
     assert names == ["lit: everything", "lit: ambient only", "lit: diffuse only", "lit: specular only",
                      "lit: sun alone", "lit: bulb alone (off: 1 turns it on)",
                      "lit: object spotlight alone (off: 2 turns it on)",
-                     "lit: camera spotlight alone (off: 3 turns it on)"]
+                     "lit: camera spotlight alone (off: 3 turns it on)", "shows: depth", "shows: normals (world)"]
 
 
 def test_the_probe_panel_works_the_sum_through(make_quad, make_scene) -> None:

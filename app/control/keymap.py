@@ -128,6 +128,8 @@ def build_commands() -> list[Command]:
         Command("i", "lighting probe of the selected face", commands.toggle_probe,
                 lambda s: _on_off(s.modes.probe)),
         Command("m", "matrices panel", commands.toggle("matrices"), lambda s: _on_off(s.modes.matrices)),
+        Command("P", "pipeline: the selected face from model space to the window, clipping, culling",
+                commands.toggle("pipeline"), lambda s: _on_off(s.modes.pipeline)),
         Command("s", "side by side: Flat | Gouraud | Phong", commands.toggle("side_by_side"),
                 lambda s: _on_off(s.modes.side_by_side)),
         Command("a", "grid and axes: the world's, and in local mode the object's own", commands.toggle("guides"),

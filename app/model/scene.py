@@ -167,6 +167,7 @@ class Modes:
     term_view: TermView = TermView.EVERYTHING  # `v`
     probe: bool = False  # `i`: the lighting probe of the selected face
     matrices: bool = False  # `m`: the matrices panel
+    pipeline: bool = False  # `P`: the selected face through every space, model to window
     side_by_side: bool = False  # `s`: Flat | Gouraud | Phong in three viewports
     guides: bool = False  # `a`: the grid and the axes
     # Parallel projection's half height in world units, fixed when `p` switches to parallel.

@@ -285,7 +285,7 @@ class Renderer:
                 self._draw_normals(item, gpu, face_normals=view.shading is Shading.FLAT)
         if scene.modes.guides:
             self.guides.draw(scene_guides(scene), frame_view_projection, self.ctx.fbo)
-        if scene.modes.probe:
+        if scene.modes.probe or scene.modes.pipeline:  # the face the panel follows
             self._draw_probe_outline(scene)
         if scene.modes.target is Target.LIGHTS:
             self._draw_light_marker(scene)

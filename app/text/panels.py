@@ -1,4 +1,5 @@
-"""Text of the "see the equation" panels: the lighting probe (key `i`), the matrices (key `m`), and
+"""Text of the "see the equation" panels: the lighting probe (key `i`), the matrices (key `m`), the
+pipeline (key `P`, marraztu.text.pipeline), and
 the short labels the overlay puts in the picture (the probed vertices, the side-by-side titles).
 Plain strings from the scene, no GL; the overlay draws them.
 
@@ -17,6 +18,7 @@ from marraztu.model.lights import DIRECTIONAL, Show, TermView, WorldLight, cone_
 from marraztu.model.probe import Probe, VertexProbe, probe
 from marraztu.model.scene import CameraMode, Frame, Projection, Scene, Shading, Target
 from marraztu.render.layout import Extras, Label, project, view_projection, views
+from marraztu.text.pipeline import pipeline_lines
 
 MAX_PROBED_VERTICES = 4  # more would not fit an 800 pixel window; the panel says how many are left
 MATRIX_DECIMALS = 3
@@ -37,7 +39,8 @@ def extras(scene: Scene, size: tuple[int, int]) -> Extras:
     right = matrix_lines(scene, size) if scene.modes.matrices else []
     titles = [view.title for view in views(scene, size)] if scene.modes.side_by_side else []
     hint = "m hides the matrices panel" if right else "a taller window shows them"
-    return Extras(bottom=probe_lines(scene), right=right, titles=titles,
+    bottom = pipeline_lines(scene, views(scene, size)[0].viewport) or probe_lines(scene)
+    return Extras(bottom=bottom, right=right, titles=titles,
                   labels=vertex_labels(scene, size), bottom_overflow_hint=hint)
 
 

@@ -9,6 +9,7 @@ from marraztu.control.commands import term_view_name
 from marraztu.control.keymap import Command
 from marraztu.control.viewer import Viewer
 from marraztu.errors import escaped
+from marraztu.model.lights import Show
 from marraztu.model.scene import Projection, Scene, SceneObject, Target
 
 SEPARATOR = " | "
@@ -46,7 +47,7 @@ def display_summary(scene: Scene) -> list[str]:
     shading = "flat/gouraud/phong side by side" if modes.side_by_side else modes.shading.value
     return [
         shading,
-        f"lit: {term_view_name(scene)}",
+        f"{'lit' if modes.term_view.shows is Show.LIT else 'shows'}: {term_view_name(scene)}",
         projection,
         "culling on" if modes.culling else "culling off",
         modes.fill.value,

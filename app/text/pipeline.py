@@ -1,0 +1,88 @@
+"""Text of the pipeline panel (key `P`): the selected face's corners from model space to the window,
+the matrices that carry them, the perspective divide written out, and what clipping and culling
+decide. Plain strings; the overlay draws them in the bottom panel."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from marraztu.model.pipeline import CornerStages, FacePipeline, face_pipeline
+from marraztu.model.scene import Projection, Scene
+
+MAX_CORNERS = 4  # more would not fit an 800 pixel window; the panel says how many are left
+INDENT = "       "
+
+
+def pipeline_lines(scene: Scene, viewport: tuple[int, int, int, int]) -> list[str]:
+    """The panel: empty unless the pipeline view is on."""
+    if not scene.modes.pipeline:
+        return []
+    found = face_pipeline(scene, viewport)
+    if found is None:
+        return ["PIPELINE: no face to follow (select an object with TAB)"]
+    lines = _header(found, probe_hidden=scene.modes.probe)
+    for number, corner in enumerate(found.corners[:MAX_CORNERS], start=1):
+        lines += _corner_lines(found, number, corner)
+    hidden = len(found.corners) - MAX_CORNERS
+    if hidden > 0:
+        lines.append(f"(and {hidden} more corners of this polygon, carried the same way)")
+    lines.append(_culling_line(found))
+    return lines
+
+
+def _header(found: FacePipeline, probe_hidden: bool) -> list[str]:
+    width, height = found.viewport[2], found.viewport[3]
+    projection = "perspective 90 deg" if found.projection is Projection.PERSPECTIVE else "parallel"
+    note = "   (the probe, i, waits behind this panel)" if probe_hidden else ""
+    lines = [f"PIPELINE {found.obj.name} face {found.face + 1}/{found.face_count} (Enter: next)   "
+             f"{width}x{height}, {projection}, near plane {found.near:g}{note}",
+             "world = M model   eye = V world   clip = P eye   ndc = clip.xyz / w   window = viewport(ndc)",
+             _columns(f"M: model of {found.obj.name}", "V: view", f"P: projection, aspect {width / height:.2f}")]
+    for row in range(4):
+        lines.append(_columns(_matrix_row(found.model_matrix[row], 2), _matrix_row(found.view_matrix[row], 2),
+                              _matrix_row(found.projection_matrix[row], 3)))
+    return lines
+
+
+def _corner_lines(found: FacePipeline, number: int, corner: CornerStages) -> list[str]:
+    lines = [f"v{number} #{corner.vertex + 1:<4} model {_vector(corner.model)} -> world {_vector(corner.world)}"
+             f" -> eye {_vector(corner.eye)}",
+             f"{INDENT}clip {_vector(corner.clip[:3])} w {corner.clip[3]:.2f}"]
+    if corner.ndc is None or corner.window is None:
+        lines[-1] += "  w <= 0: behind the eye, no divide"
+    else:
+        lines[-1] += (f"  / w -> ndc {_vector(corner.ndc, 3)} -> window x {corner.window[0]:.1f} "
+                      f"y {corner.window[1]:.1f} depth {corner.window[2]:.4f}")
+    lines += [INDENT + line for line in _clip_verdict(found, corner)]
+    return lines
+
+
+def _clip_verdict(found: FacePipeline, corner: CornerStages) -> list[str]:
+    if not corner.outside:
+        return ["inside the clip volume (-w <= x, y, z <= w): kept whole"]
+    lines = ["outside the clip volume, beyond the planes: " + ", ".join(corner.outside) + " (the polygon is cut there)"]
+    if "near" in corner.outside:
+        behind = "; w <= 0: behind the eye too" if corner.behind_eye else ""
+        lines.append(f"near plane: eye z {corner.eye[2]:.2f} > -{found.near:g}, nearer than it, so clip z < -w{behind}")
+    return lines
+
+
+def _culling_line(found: FacePipeline) -> str:
+    verdict = "a front face, drawn"
+    if found.back_face:
+        verdict = "a back face, culled (b)" if found.culled else "a back face, drawn red (b culls it)"
+    return f"culling: face normal . V at v1 {found.facing:.3f} {'<= 0' if found.back_face else '> 0'}: {verdict}"
+
+
+def _columns(*texts: str) -> str:
+    return "".join(f"{text:<32}" for text in texts).rstrip()
+
+
+def _matrix_row(values: np.ndarray, decimals: int) -> str:
+    return " ".join(f"{round(value, decimals) + 0.0:7.{decimals}f}" for value in values)  # + 0.0: no "-0.00"
+
+
+def _vector(values: Sequence[float] | np.ndarray, decimals: int = 1) -> str:
+    return "(" + " ".join(f"{round(value, decimals) + 0.0:.{decimals}f}" for value in values) + ")"

@@ -1,0 +1,102 @@
+"""The pipeline view (`P`): its numbers equal an independent numpy computation (glFrustum written
+out here, the camera's inverse, the divide and the viewport by hand); a corner nearer than the near
+plane is said to be clipped; a back face is said to be culled with `b` on; the panel is drawn."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+
+import marraztu
+from marraztu.model.pipeline import face_pipeline
+from marraztu.text.pipeline import pipeline_lines
+
+SIZE = (800, 800)
+NUMBER = r"-?\d+\.\d+"
+
+
+def gl_frustum(fovy_deg: float, aspect: float, near: float, far: float) -> np.ndarray:
+    """The perspective matrix of the OpenGL red book, from its definition, not from the program."""
+    f = 1.0 / np.tan(np.radians(fovy_deg) / 2.0)
+    return np.array([[f / aspect, 0, 0, 0], [0, f, 0, 0],
+                     [0, 0, (far + near) / (near - far), 2 * far * near / (near - far)], [0, 0, -1, 0]])
+
+
+def numbers_after(word: str, line: str) -> list[float]:
+    found = re.search(rf"{word} \(([^)]*)\)", line)
+    assert found, (word, line)
+    return [float(value) for value in found.group(1).split()]
+
+
+def test_every_stage_equals_numpy() -> None:
+    with marraztu.Viewer(size=SIZE) as v:
+        v.press("x*3 ENTER*40 P")
+        scene = v.scene
+        viewport = (0, 0, *SIZE)
+        found = face_pipeline(scene, viewport)
+        lines = pipeline_lines(scene, viewport)
+    obj, mesh = found.obj, found.obj.mesh
+    projection = gl_frustum(90.0, 1.0, scene.near_plane(), scene.far_plane())
+    assert np.allclose(found.projection_matrix, projection)
+    view = np.linalg.inv(scene.camera.model)
+    first = int(mesh.face_start[found.face])
+    for k, corner in enumerate(found.corners):
+        p = np.append(mesh.positions[mesh.corner_vertex[first + k]], 1.0)
+        clip = projection @ view @ obj.model @ p
+        ndc = clip[:3] / clip[3]
+        window = [(ndc[0] + 1) * SIZE[0] / 2, (ndc[1] + 1) * SIZE[1] / 2, (ndc[2] + 1) / 2]
+        assert np.allclose(corner.clip, clip) and np.allclose(corner.ndc, ndc) and np.allclose(corner.window, window)
+        # What the panel prints is what numpy gives, to its decimals.
+        row = next(i for i, line in enumerate(lines) if line.startswith(f"v{k + 1} "))
+        assert np.allclose(numbers_after("world", lines[row]), (obj.model @ p)[:3], atol=0.051)
+        assert np.allclose(numbers_after("eye", lines[row]), (view @ obj.model @ p)[:3], atol=0.051)
+        assert np.allclose(numbers_after("clip", lines[row + 1]), clip[:3], atol=0.051)
+        assert float(re.search(rf"w ({NUMBER})", lines[row + 1]).group(1)) == pytest.approx(clip[3], abs=0.006)
+        assert np.allclose(numbers_after("ndc", lines[row + 1]), ndc, atol=0.0006)
+        window_printed = re.search(rf"window x ({NUMBER}) y ({NUMBER}) depth ({NUMBER})", lines[row + 1])
+        assert np.allclose([float(g) for g in window_printed.groups()], window, atol=[0.051, 0.051, 0.00006])
+
+
+def test_a_corner_nearer_than_the_near_plane_is_clipped_and_says_why() -> None:
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        # The square moved toward the camera and tilted: one edge between the near plane and the eye.
+        v.add_mesh([[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]], [[0, 1, 2, 3]]).press("t z*2 r x*3 P")
+        found = face_pipeline(v.scene, (0, 0, *SIZE))
+        lines = "\n".join(pipeline_lines(v.scene, (0, 0, *SIZE)))
+        near = v.scene.near_plane()
+    clipped = [corner for corner in found.corners if -near < corner.eye[2] < 0.0]
+    kept = [corner for corner in found.corners if corner.eye[2] < -near]
+    assert len(clipped) == 2 and len(kept) == 2, [corner.eye for corner in found.corners]
+    for corner in clipped:
+        assert "near" in corner.outside and corner.clip[2] < -corner.clip[3] and corner.clip[3] > 0
+    assert all("near" not in corner.outside for corner in kept)
+    assert "near plane: eye z" in lines and "so clip z < -w" in lines
+
+
+def test_behind_the_eye_there_is_no_divide() -> None:
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh([[-5, -5, 0], [5, -5, 0], [0, 5, 0]], [[0, 1, 2]]).press("t z*3 P")  # past the eye
+        found = face_pipeline(v.scene, (0, 0, *SIZE))
+        assert all(corner.behind_eye and corner.ndc is None for corner in found.corners)
+        assert "w <= 0: behind the eye, no divide" in "\n".join(pipeline_lines(v.scene, (0, 0, *SIZE)))
+
+
+def test_the_culling_verdict_follows_b() -> None:
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh([[-5, -5, 0], [0, 5, 0], [5, -5, 0]], [[0, 1, 2]]).press("P")  # clockwise: a back face
+        assert "a back face, drawn red (b culls it)" in pipeline_lines(v.scene, (0, 0, *SIZE))[-1]
+        assert "a back face, culled (b)" in pipeline_lines(v.press("b").scene, (0, 0, *SIZE))[-1]
+        assert face_pipeline(v.scene, (0, 0, *SIZE)).culled
+
+
+def test_the_panel_is_drawn_and_replaces_the_probes() -> None:
+    with marraztu.Viewer(size=SIZE) as v:
+        plain = np.asarray(v.press("i").render(overlay=True)).astype(int)
+        with_pipeline = np.asarray(v.press("P").render(overlay=True)).astype(int)
+        assert "waits behind this panel" in pipeline_lines(v.scene, (0, 0, *SIZE))[0]
+    bottom = slice(SIZE[1] // 2, SIZE[1])
+    changed = (np.abs(with_pipeline[bottom] - plain[bottom]).max(axis=2) > 0).mean()
+    assert changed > 0.05, "the bottom panel shows other text"
+    assert len(np.unique(with_pipeline[bottom].reshape(-1, 3), axis=0)) > 20, "not blank"
