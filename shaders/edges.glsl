@@ -7,14 +7,12 @@
 // edges of one kind the last drawn wins: the picture of back edges drawn before front ones, in one pass.
 // The lighting probe's outline (key `i`) uses the same edges in one colour whichever way the face
 // looks, with the depth test off.
-// The edges read the surface's vertex rows (no copy of the mesh): each is drawn as a triangle of
-// rows, its polygon's own row (the first vertex, with the face normal: where SPEC 4 makes the
-// back-face test) then its two ends, and the geometry stage turns that into the line between the ends.
 
 #if defined VERTEX_SHADER
 
 in vec3 in_position;
-in vec3 in_face_normal;  // meaningful at a polygon's own row, the only one the test is taken from
+in vec3 in_face_normal;
+in vec3 in_face_point;  // the polygon's first vertex: where SPEC 4 makes the back-face test
 
 uniform mat4 u_model;
 uniform mat3 u_normal_matrix;
@@ -23,31 +21,14 @@ uniform bool u_parallel;
 uniform vec3 u_eye_position;
 uniform vec3 u_eye_backward;
 
-out float v_row_facing;  // N.V as if this row were its polygon's own
-
-void main() {
-    vec3 face_point = (u_model * vec4(in_position, 1.0)).xyz;
-    vec3 face_normal = normalize(u_normal_matrix * in_face_normal);
-    vec3 view = u_parallel ? u_eye_backward : normalize(u_eye_position - face_point);
-    v_row_facing = dot(face_normal, view);
-    gl_Position = u_view_projection * u_model * vec4(in_position, 1.0);
-}
-
-#elif defined GEOMETRY_SHADER
-
-layout(triangles) in;
-layout(line_strip, max_vertices = 2) out;
-
-in float v_row_facing[];
 flat out float v_facing;
 
 void main() {
-    for (int end = 1; end <= 2; ++end) {
-        v_facing = v_row_facing[0];  // the polygon's own row, first: the same at both ends
-        gl_Position = gl_in[end].gl_Position;
-        EmitVertex();
-    }
-    EndPrimitive();
+    vec3 face_point = (u_model * vec4(in_face_point, 1.0)).xyz;
+    vec3 face_normal = normalize(u_normal_matrix * in_face_normal);
+    vec3 view = u_parallel ? u_eye_backward : normalize(u_eye_position - face_point);
+    v_facing = dot(face_normal, view);  // the same at both ends: both carry the polygon's point
+    gl_Position = u_view_projection * u_model * vec4(in_position, 1.0);
 }
 
 #elif defined FRAGMENT_SHADER

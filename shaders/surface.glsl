@@ -99,42 +99,52 @@ vec3 lit_colour(vec3 point, vec3 normal, vec3 view) {
 in vec3 in_position;     // model space
 in vec3 in_normal;       // this row's vertex normal (Gouraud)
 in vec3 in_face_normal;  // its polygon's normal, at the polygon's own row (Flat)
+in vec4 in_colour;       // the model's vertex colour (no buffer, and unread, for a model without)
 
 uniform mat4 u_model;
 uniform mat3 u_normal_matrix;  // inverse transpose of the model's 3x3: keeps normals perpendicular
+uniform bool u_vertex_coloured;
+uniform int u_show;
 
 // Captured by transform feedback into the lit buffer, at this row.
-out vec4 v_lit;  // rgb: the lit colour (0..1); a: N.V (Flat's back-face test at the first vertex)
+out vec4 v_lit;  // rgb: what the row shows (0..1); a: N.V (Flat's back-face test at the first vertex)
 
+// What a row shows is made here, once per row and only when it changes, so the drawing pass of
+// Flat and Gouraud is the same whatever the view: the lit colour times the vertex colour, or the
+// normal the lighting would use as a colour (the normals view).
 void main() {
     vec3 world_position = (u_model * vec4(in_position, 1.0)).xyz;
     vec3 normal = normalize(u_normal_matrix * (SHADING == FLAT ? in_face_normal : in_normal));
     vec3 view = toward_eye(world_position);
-    v_lit = vec4(lit_colour(world_position, normal, view), dot(normal, view));
+    vec3 shown;
+    if (u_show == SHOW_NORMALS) {
+        shown = normal * 0.5 + 0.5;
+    } else {
+        shown = lit_colour(world_position, normal, view);
+        if (u_vertex_coloured) {
+            shown *= in_colour.rgb;
+        }
+    }
+    v_lit = vec4(shown, dot(normal, view));
 }
 
 #elif defined VERTEX_SHADER
 
 in vec3 in_position;  // model space
-in vec3 in_normal;    // this corner's vertex normal (Phong, the normals view)
-in vec3 in_face_normal;  // its polygon's normal, at the polygon's own row (the normals view in Flat)
+in vec3 in_normal;    // this corner's vertex normal (Phong)
 in vec4 in_lit;       // Flat, Gouraud: the lighting pass's colour and N.V for this row
 in vec2 in_uv;
-in vec4 in_colour;    // the model's vertex colour (no buffer, and unread, for a model without)
+in vec4 in_colour;    // Phong: the model's vertex colour (no buffer, and unread, for a model without)
 
 uniform mat4 u_model;
 uniform mat3 u_normal_matrix;
 uniform mat4 u_view_projection;
+uniform bool u_vertex_coloured;
 
 // With the provoking vertex set to the first one, `flat` varyings take the value of the first
 // corner of each fan triangle, which Flat's indices make its polygon's own row (SPEC 4's Flat).
 flat out vec4 v_flat_lit;
-smooth out vec3 v_smooth_colour;
-// A vertex colour is the surface's, like the lit colour: once per polygon in Flat (its first
-// vertex's), blended over it otherwise.
-flat out vec3 v_flat_vertex_colour;
-smooth out vec3 v_smooth_vertex_colour;
-flat out vec3 v_flat_normal;  // the face normal, from the polygon's own row: the normals view in Flat
+smooth out vec3 v_smooth_colour;  // Gouraud: the lit colour; Phong: the vertex colour, or white
 out vec2 v_uv;
 out vec3 v_world_position;  // Phong: interpolated, lit per pixel
 out vec3 v_world_normal;
@@ -142,12 +152,13 @@ out vec3 v_world_normal;
 void main() {
     vec3 world_position = (u_model * vec4(in_position, 1.0)).xyz;
     v_flat_lit = in_lit;
-    v_smooth_colour = in_lit.rgb;
-    v_flat_vertex_colour = in_colour.rgb;
-    v_smooth_vertex_colour = in_colour.rgb;
+    if (SHADING == PHONG) {
+        v_smooth_colour = u_vertex_coloured ? in_colour.rgb : vec3(1.0);
+    } else {
+        v_smooth_colour = in_lit.rgb;
+    }
     v_world_position = world_position;
     v_world_normal = normalize(u_normal_matrix * in_normal);
-    v_flat_normal = normalize(u_normal_matrix * in_face_normal);
     v_uv = in_uv;
     gl_Position = u_view_projection * vec4(world_position, 1.0);
 }
@@ -157,14 +168,10 @@ void main() {
 uniform bool u_culling;
 uniform bool u_textured;
 uniform sampler2D u_texture;
-uniform bool u_vertex_coloured;
 uniform int u_show;
 
 flat in vec4 v_flat_lit;
 smooth in vec3 v_smooth_colour;
-flat in vec3 v_flat_vertex_colour;
-smooth in vec3 v_smooth_vertex_colour;
-flat in vec3 v_flat_normal;
 in vec2 v_uv;
 in vec3 v_world_position;
 in vec3 v_world_normal;
@@ -179,7 +186,11 @@ vec3 surface_colour() {
         return v_smooth_colour;
     }
     // Interpolated unit normals are shorter than 1 between the corners: normalize again.
-    return lit_colour(v_world_position, normalize(v_world_normal), toward_eye(v_world_position));
+    vec3 normal = normalize(v_world_normal);
+    if (u_show == SHOW_NORMALS) {
+        return normal * 0.5 + 0.5;
+    }
+    return lit_colour(v_world_position, normal, toward_eye(v_world_position)) * v_smooth_colour;
 }
 
 // SPEC 4's back face: N.V <= 0 with the face normal at the polygon's first vertex. Flat draws from
@@ -205,17 +216,9 @@ void main() {
         out_colour = vec4(vec3(gl_FragCoord.z), 1.0);
         return;
     }
-    if (u_show == SHOW_NORMALS) {  // the normal the lighting uses here: Flat's face normal, else interpolated
-        vec3 normal = SHADING == FLAT ? v_flat_normal : normalize(v_world_normal);
-        out_colour = vec4(normal * 0.5 + 0.5, 1.0);
-        return;
-    }
     vec3 colour = surface_colour();
-    if (u_textured) {
+    if (u_textured && u_show == SHOW_LIT) {
         colour *= texture(u_texture, v_uv).rgb;
-    }
-    if (u_vertex_coloured) {
-        colour *= SHADING == FLAT ? v_flat_vertex_colour : v_smooth_vertex_colour;
     }
     out_colour = vec4(colour, 1.0);
 }

@@ -15,7 +15,7 @@ from marraztu.errors import LoadError
 from marraztu.loaders.images import MAX_PIXELS, parse_ppm
 from marraztu.loaders.obj import parse_obj
 from marraztu.model.mesh import Mesh
-from marraztu.render.gpu import edge_indices, face_normal_feet, rows_of_corners, surface_arrays
+from marraztu.render.gpu import edge_pairs, edge_rows, face_normal_feet, surface_arrays
 from support import corpus
 
 FUZZ = settings(derandomize=True, database=None, deadline=None, max_examples=600,
@@ -160,11 +160,11 @@ def check_mesh(mesh: Mesh) -> None:
     assert mesh.corner_uv.shape == (mesh.corner_vertex.size, 2) and np.isfinite(mesh.corner_uv).all()
     assert mesh.triangle_corners().shape[0] == int((mesh.face_sizes - 2).sum())
     surface = surface_arrays(mesh)
-    for table in (surface.vertices, face_normal_feet(mesh)):
+    for table in (surface.vertices, face_normal_feet(mesh), edge_rows(mesh)):
         assert np.isfinite(table).all(), "everything sent to the GPU is finite"
     rows = surface.vertices.shape[0]
-    edges = edge_indices(mesh, rows_of_corners(mesh, surface.shared_indices), rows - mesh.face_count)
-    for indices in (surface.indices, surface.shared_indices, edges):
+    for indices, rows in ((surface.indices, rows), (surface.shared_indices, rows),
+                          (edge_pairs(mesh), mesh.corner_vertex.shape[0])):
         assert indices.max() < rows, "every index names a vertex row"
 
 

@@ -3,8 +3,10 @@
 The vertex arrays are built here with numpy. GL has no per-primitive attributes, so what belongs to
 a polygon (its face normal, its first vertex) rides on vertices: the surface is indexed, with one
 extra vertex per polygon for its first corner (see SurfaceArrays). Edges and vertex normals read the
-surface's rows through indices of their own, and face normals are one point per polygon: geometry
-stages draw their lines, so lines mode costs no copy of the mesh. Everything is built once per
+surface's rows through indices of their own, and face normals are one point per polygon (a geometry
+stage draws both as segments); edges are one row per polygon corner with its polygon's face
+normal and first vertex, drawn as indexed lines (a geometry stage would spare those rows, but it
+makes llvmpipe's lines frames a third slower). Everything is built once per
 object (edges and normals on first use) and kept until the object leaves the scene; drawing a
 subset of faces is a `first`/`vertices` range. Beside the surface, each object has a lit buffer: a colour per
 vertex row, written by the lighting pass and kept until what lighting reads changes (ObjectGpu.light).
@@ -30,6 +32,7 @@ SURFACE_LAYOUT = ("3f 3f 3f 2f", "in_position", "in_normal", "in_face_normal", "
 COLOUR_LAYOUT = ("4f1", "in_colour")  # a model's own vertex colours, bytes read as 0..1, one per surface row
 LIT_LAYOUT = ("4f", "in_lit")  # the lighting pass's output: colour and N.V, one row per surface row
 LIT_ROW_BYTES = 16
+EDGE_LAYOUT = ("3f 3f 3f", "in_position", "in_face_normal", "in_face_point")
 # The normals program reads a vertex row's position and vertex normal as a foot and a direction.
 VERTEX_NORMAL_LAYOUT = ("3f 3f 3f 2f", "in_position", "in_direction", "in_face_normal", "in_uv")
 FACE_NORMAL_LAYOUT = ("3f 3f", "in_position", "in_direction")
@@ -149,24 +152,25 @@ def _seams(mesh: Mesh, representative_corner: np.ndarray) -> np.ndarray:
     return np.concatenate(pieces) if pieces else np.zeros(0, np.int64)
 
 
-def rows_of_corners(mesh: Mesh, shared_indices: np.ndarray) -> np.ndarray:
-    """(C,) uint32: each corner's shared surface row, read from the shared indices (SurfaceArrays),
-    in which every corner is some triangle's corner."""
-    if mesh.all_triangles:  # the triangles are the corners in order
-        return shared_indices
-    rows = np.empty(mesh.corner_vertex.shape[0], np.uint32)
-    rows[mesh.triangle_corners().reshape(-1)] = shared_indices
-    return rows
+def edge_rows(mesh: Mesh) -> np.ndarray:
+    """(C, 9) float32: every polygon corner with its polygon's face normal and first vertex.
+
+    An edge's first end is not its polygon's first vertex, so the back-face test (made at that
+    vertex, SPEC 4) gets the point as an attribute instead of relying on the provoking vertex. One
+    row per corner, not per edge end: edge_pairs index them, two per edge.
+    """
+    positions = mesh.positions.astype(np.float32)
+    sizes = mesh.face_sizes
+    out = np.empty((mesh.corner_vertex.shape[0], 9), np.float32)
+    out[:, 0:3] = np.take(positions, mesh.corner_vertex, axis=0)
+    out[:, 3:6] = np.repeat(mesh.face_normals, sizes, axis=0)
+    out[:, 6:9] = np.repeat(np.take(positions, mesh.corner_vertex[mesh.face_start[:-1]], axis=0), sizes, axis=0)
+    return out
 
 
-def edge_indices(mesh: Mesh, corner_rows: np.ndarray, shared_rows: int) -> np.ndarray:
-    """(3E,) uint32: for each edge, polygon by polygon, its polygon's own surface row and its two
-    ends' rows; edges.glsl draws the line between the ends with the back-face test of the first."""
-    pairs = mesh.edge_corners()
-    out = np.empty((pairs.shape[0], 3), np.uint32)
-    out[:, 0] = np.repeat(np.arange(shared_rows, shared_rows + mesh.face_count, dtype=np.uint32), mesh.face_sizes)
-    out[:, 1:] = corner_rows[pairs]
-    return out.reshape(-1)
+def edge_pairs(mesh: Mesh) -> np.ndarray:
+    """(2E,) uint32: each polygon's boundary as pairs of edge_rows, polygon by polygon."""
+    return mesh.edge_corners().astype(np.uint32).reshape(-1)
 
 
 def face_normal_feet(mesh: Mesh) -> np.ndarray:
@@ -250,9 +254,9 @@ class ObjectGpu:
     """
 
     # surface: a vertex, a lit and two index buffers, a vertex array per surface program (3) and per
-    # lighting pass (2); edges and face normals: one buffer and one vertex array each; vertex normals:
-    # a vertex array. A model with vertex colours holds one more buffer, its colours.
-    GL_OBJECTS = 14
+    # lighting pass (2); edges: a row and an index buffer and a vertex array; face normals: a buffer
+    # and a vertex array; vertex normals: a vertex array. Vertex colours add one buffer.
+    GL_OBJECTS = 15
     # Which index buffer each surface program draws with (see SurfaceArrays).
     INDICES = {Shading.FLAT: "surface indices", Shading.GOURAUD: "shared surface indices",
                Shading.PHONG: "shared surface indices"}
@@ -262,7 +266,9 @@ class ObjectGpu:
         self.ctx = ctx
         self.mesh = mesh  # the mesh these buffers were built from: a replaced mesh means rebuilding
         self.programs = programs
-        self._built: dict[str, tuple[moderngl.Buffer | None, moderngl.VertexArray]] = {}
+        # By name: a buffer and the vertex array drawing it (either may be None: vertex normals own no
+        # buffer, the edges' rows are drawn through the edges' index buffer's vertex array).
+        self._built: dict[str, tuple[moderngl.Buffer | None, moderngl.VertexArray | None]] = {}
         self.triangles_before = mesh.triangles_before_face()  # kept so drawing allocates nothing
         if surface_data is None:
             surface_data = _take_prepared_surface(mesh)
@@ -338,13 +344,17 @@ class ObjectGpu:
 
     @property
     def edges(self) -> moderngl.VertexArray:
-        """Drawn as TRIANGLES of rows (edge_indices), which edges.glsl's geometry stage turns into lines."""
+        """Drawn as indexed LINES: edge_pairs into edge_rows."""
         built = self._built.get("edges")
         if built is None:
-            shared = np.frombuffer(self._surface_buffers["shared surface indices"].read(), np.uint32)
-            indices = edge_indices(self.mesh, rows_of_corners(self.mesh, shared), self.shared_rows)
-            built = self._build("edges", indices, self.programs.edges, self._surface_content(self.programs.edges),
-                                indexed=True)
+            rows = self.ctx.buffer(edge_rows(self.mesh))
+            try:
+                content = [(rows, *EDGE_LAYOUT)]
+                built = self._build("edges", edge_pairs(self.mesh), self.programs.edges, content, indexed=True)
+            except Exception:
+                rows.release()
+                raise
+            self._built["edge rows"] = (rows, None)
         return built[1]
 
     @property
@@ -400,9 +410,9 @@ class ObjectGpu:
         for buffer in self._surface_buffers.values():
             buffer.release()
         for buffer, vao in self._built.values():
-            vao.release()
-            if buffer is not None:
-                buffer.release()
+            for resource in (vao, buffer):
+                if resource is not None:
+                    resource.release()
         self._surface_arrays.clear()
         self._lit.clear()
         self._surface_buffers.clear()
@@ -415,8 +425,8 @@ class ObjectGpu:
         return VertexRange(3 * int(before[start]), 3 * int(before[stop] - before[start]))
 
     def edge_range(self, start: int, stop: int) -> VertexRange:
-        offsets = self.mesh.face_start  # an edge per corner, three indices each
-        return VertexRange(3 * int(offsets[start]), 3 * int(offsets[stop] - offsets[start]))
+        offsets = self.mesh.face_start  # an edge per corner, two indices each
+        return VertexRange(2 * int(offsets[start]), 2 * int(offsets[stop] - offsets[start]))
 
     def face_normal_range(self, start: int, stop: int) -> VertexRange:
         return VertexRange(start, stop - start)

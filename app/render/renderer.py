@@ -331,7 +331,8 @@ class Renderer:
             uniforms.set("u_eye_backward", backward)
         self.surface.set("u_culling", modes.culling)
         self.surface.set("u_textured", modes.texture)
-        self.surface.set("u_show", modes.term_view.shows.value)
+        for uniforms in (self.surface, self.lighting):
+            uniforms.set("u_show", modes.term_view.shows.value)
         self.surface.set("u_texture", 0)
         self.lighting.set("u_term_weights", modes.term_view.weights.as_tuple())
         self.lighting.set("u_ambient", tuple(float(c) for c in scene.ambient))
@@ -376,12 +377,13 @@ class Renderer:
         lighting.set("u_kd", tuple(material.kd))
         lighting.set("u_ks", tuple(material.ks))
         lighting.set("u_ns", float(material.ns))
+        for uniforms in (self.surface, lighting):  # the lighting pass tints its rows; Phong, its pixels
+            uniforms.set("u_vertex_coloured", gpu.vertex_coloured)
         if self.shading.lights_vertices:
             self.lighting_passes += gpu.light(self.shading, lighting.values(), item.start, item.stop)
         assert self.texture is not None
         picture = item.obj.mesh.materials[item.file_material].texture if item.file_material >= 0 else None
         (self.texture if picture is None else self._file_texture(picture)).use(location=0)
-        self.surface.set("u_vertex_coloured", gpu.vertex_coloured)
         _draw(gpu.surface(self.shading), moderngl.TRIANGLES,
               gpu.surface_range(item.start, item.stop))
 
@@ -401,7 +403,7 @@ class Renderer:
     def _draw_edges(self, item: DrawItem, gpu: ObjectGpu, selected: bool) -> None:
         self._set_model([self.edges], item.obj.model)
         self.edges.set("u_colour", SELECTED_LINE_COLOUR if selected else LINE_COLOUR)
-        _draw(gpu.edges, moderngl.TRIANGLES, gpu.edge_range(item.start, item.stop))  # lines, in edges.glsl
+        _draw(gpu.edges, moderngl.LINES, gpu.edge_range(item.start, item.stop))
 
     def _draw_probe_outline(self, scene: Scene) -> None:
         """The probed face's edges and a dot on each vertex the probe lights, over everything, so the
@@ -415,7 +417,7 @@ class Renderer:
         self._set_model([self.edges], obj.model)
         self.edges.set("u_outline", True)
         self.edges.set("u_colour", PROBE_COLOUR)
-        _draw(gpu.edges, moderngl.TRIANGLES, gpu.edge_range(face, face + 1))
+        _draw(gpu.edges, moderngl.LINES, gpu.edge_range(face, face + 1))
         self.edges.set("u_outline", False)
         for point in scene.probed_points():
             self._draw_marker(point, np.array(PROBE_COLOUR), PROBE_MARKER_PX)

@@ -39,6 +39,7 @@ void main() { f_colour = vec4(1.0); }
 """
 # The renderer's interleaved layouts (marraztu.render.gpu) read for the position only: same buffer, same stride.
 BARE_SURFACE_FORMAT = "3f 32x"  # skips vertex normal, face normal, uv
+BARE_EDGE_FORMAT = "3f 24x"  # skips face normal, polygon's first vertex
 MODES = ("flat", "gouraud", "lines")
 MIN_FRAMES = 3  # a median of fewer says little
 
@@ -69,7 +70,7 @@ class BareDraw:
     def __init__(self, ctx: moderngl.Context, scene: Scene) -> None:
         import moderngl
 
-        from marraztu.render.gpu import edge_indices, rows_of_corners, surface_arrays
+        from marraztu.render.gpu import edge_pairs, edge_rows, surface_arrays
         from marraztu.render.renderer import CLEAR_COLOUR
 
         self.gl = moderngl  # imported here, not per frame, so the bare CPU figures stay bare
@@ -83,15 +84,14 @@ class BareDraw:
             arrays = surface_arrays(obj.mesh)
             surface = ctx.buffer(arrays.vertices)
             indices, shared = ctx.buffer(arrays.indices), ctx.buffer(arrays.shared_indices)
-            shared_rows = arrays.vertices.shape[0] - obj.mesh.face_count
-            rows = rows_of_corners(obj.mesh, arrays.shared_indices)
-            edges = ctx.buffer(edge_indices(obj.mesh, rows, shared_rows).reshape(-1, 3)[:, 1:].copy())
-            self.buffers += [surface, indices, shared, edges]
+            edges, pairs = ctx.buffer(edge_rows(obj.mesh)), ctx.buffer(edge_pairs(obj.mesh))
+            self.buffers += [surface, indices, shared, edges, pairs]
             position = [(surface, BARE_SURFACE_FORMAT, "in_position")]
             self.objects.append((obj, {
                 "flat": ctx.vertex_array(self.program, position, index_buffer=indices, index_element_size=4),
                 "gouraud": ctx.vertex_array(self.program, position, index_buffer=shared, index_element_size=4),
-                "lines": ctx.vertex_array(self.program, position, index_buffer=edges, index_element_size=4)}))
+                "lines": ctx.vertex_array(self.program, [(edges, BARE_EDGE_FORMAT, "in_position")],
+                                          index_buffer=pairs, index_element_size=4)}))
 
     def render(self, fbo: moderngl.Framebuffer, size: tuple[int, int], mode: str) -> None:
         gl = self.gl

@@ -44,7 +44,7 @@ def memory_row(bench: FrameBench, item: LoadInput) -> list[str]:
         sizes = {name: buffer.size for name, buffer in gpu.buffers.items()}
         host = mesh_bytes(mesh) + gpu.triangles_before.nbytes
         per_triangle = [value / triangles for value in (
-            host, ready, surface, sum(sizes.values()), sizes["edges"],
+            host, ready, surface, sum(sizes.values()), sizes["edges"] + sizes["edge rows"],
             sizes["face normals"] + sizes.get("vertex normals", 0))]  # vertex normals read the surface's rows
     finally:
         gpu.release()
