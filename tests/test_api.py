@@ -90,10 +90,24 @@ def test_a_trimesh_with_its_vertex_colours() -> None:
     (TRIANGLE[:, :2], [[0, 1, 2]], "shape"),
     (TRIANGLE, [[0, 1, 3]], "does not exist"),
     (TRIANGLE, [[0, 1]], "at least 3"),
+    (TRIANGLE, np.array([[0, 1, 1.5]]), "whole numbers"),
+    (TRIANGLE, [[0, 1, "2"]], "whole numbers"),
 ])
 def test_bad_arrays_are_refused_where_they_enter(viewer, positions, faces, words: str) -> None:
     with pytest.raises(ValueError, match=words):
         viewer.add_mesh(positions, faces)
+
+
+def test_per_corner_values_of_the_wrong_shape_say_what_is_expected(viewer) -> None:
+    with pytest.raises(ValueError, match=r"shape \(3, 2\)"):
+        viewer.add_mesh(TRIANGLE, [[0, 1, 2]], uvs=np.zeros((3, 3)))
+    with pytest.raises(ValueError, match="rows of RGB"):
+        viewer.add_mesh(TRIANGLE, [[0, 1, 2]], colours=np.zeros((2, 3)))
+
+
+def test_a_name_cannot_move_the_cursor(viewer) -> None:
+    viewer.add_mesh(TRIANGLE, [[0, 1, 2]], name="evil\x1b[2Jname\n")
+    assert "\x1b" not in viewer.scene.object.name and "\n" not in viewer.scene.object.name
 
 
 def test_bad_files_and_keys_raise_the_programs_errors(viewer, tmp_path: Path) -> None:

@@ -22,7 +22,7 @@ from PIL import Image
 from marraztu.control import commands
 from marraztu.control.viewer import StartOptions, starting_scene
 from marraztu.control.viewer import Viewer as KeyViewer
-from marraztu.errors import LoadError, ViewerError
+from marraztu.errors import LoadError, ViewerError, escaped
 from marraztu.frontends.screenshot import OffscreenFrontend, render_pixels
 from marraztu.loaders.scenefile import material_for_loaded, materials_of_parts
 from marraztu.model.build import build_mesh
@@ -149,7 +149,7 @@ class Viewer:
             positions, faces, colours = _from_trimesh(positions, colours)
         if faces is None:
             raise ValueError("add_mesh needs faces, or a trimesh.Trimesh alone")
-        mesh = build_mesh(name=str(name), positions=_finite_positions(positions), faces=faces, uvs=uvs,
+        mesh = build_mesh(name=escaped(str(name))[:200], positions=_finite_positions(positions), faces=faces, uvs=uvs,
                           normals=normals, vertex_colours=colours)
         material = material_for_loaded(mesh)
         obj = SceneObject.placed(mesh.name, mesh, material, (0.0, 0.0, 0.0))

@@ -72,21 +72,33 @@ def colour_bytes(colours: np.ndarray | Sequence[Sequence[float]], rows: int) -> 
 def _per_corner_table(values: np.ndarray | Sequence[Sequence[float]], corners: int, width: int
                       ) -> tuple[np.ndarray, np.ndarray]:
     """Per-corner values as a (table, index) pair; rows with NaN get index -1 (derived instead)."""
-    table = np.asarray(values, dtype=np.float64).reshape(corners, width)
+    table = np.asarray(values, dtype=np.float64)
+    if table.shape != (corners, width):
+        raise ValueError(f"per-corner values must have shape ({corners}, {width}): one row per corner, in the "
+                         f"order the faces list them; not {table.shape}")
     return table, np.where(np.isnan(table).any(axis=1), -1, np.arange(corners))
 
 
 def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if isinstance(faces, np.ndarray) and faces.ndim == 2:
         sizes = np.full(faces.shape[0], faces.shape[1], dtype=np.int64)
-        corners = faces.astype(np.int64).ravel()
+        corners = _whole_numbers(faces.ravel())
     else:
         lists = [list(face) for face in faces]
         sizes = np.array([len(face) for face in lists], dtype=np.int64)
-        corners = np.array([index for face in lists for index in face], dtype=np.int64)
+        corners = _whole_numbers(np.array([index for face in lists for index in face]))
     if sizes.size == 0 or sizes.min() < 3:
         raise ValueError("a mesh needs faces of at least 3 vertices")
     return corners, np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)
+
+
+def _whole_numbers(indices: np.ndarray) -> np.ndarray:
+    """Vertex indices as int64; 1.5 or "a" is refused, not rounded or read as something else."""
+    if indices.dtype.kind in "iu":
+        return indices.astype(np.int64)
+    if indices.dtype.kind == "f" and np.isfinite(indices).all() and (indices == np.round(indices)).all():
+        return indices.astype(np.int64)
+    raise ValueError("face indices must be whole numbers (0-based vertex rows)")
 
 
 def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, face_start: np.ndarray,
