@@ -2,14 +2,16 @@
 
 The vertex arrays are built here with numpy. GL has no per-primitive attributes, so what belongs to
 a polygon (its face normal, its first vertex) rides on vertices: the surface is indexed, with one
-extra vertex per polygon for its first corner (see SurfaceArrays). Edges and vertex normals read the
-surface's rows through indices of their own, and face normals are one point per polygon (a geometry
-stage draws both as segments); edges are one row per polygon corner with its polygon's face
-normal and first vertex, drawn as indexed lines (a geometry stage would spare those rows, but it
-makes llvmpipe's lines frames a third slower). Everything is built once per
-object (edges and normals on first use) and kept until the object leaves the scene; drawing a
-subset of faces is a `first`/`vertices` range. Beside the surface, each object has a lit buffer: a colour per
-vertex row, written by the lighting pass and kept until what lighting reads changes (ObjectGpu.light).
+extra vertex per polygon for its first corner (see SurfaceArrays). Vertex normals are the surface's
+own rows drawn as points through its indices, face normals one point per polygon, and a geometry
+stage draws each as a segment. Edges are one row per polygon corner, with its polygon's face normal
+and first vertex, drawn as indexed lines (a geometry stage over the surface's rows would spare
+those rows, but makes llvmpipe's lines frames a third slower).
+
+Everything is built once per object (edges and normals on first use) and kept until the object
+leaves the scene; drawing a subset of faces is a `first`/`vertices` range. Beside the surface, each
+object has a lit buffer: a colour per vertex row, written by the lighting pass and kept until what
+lighting reads changes (ObjectGpu.light).
 """
 
 from __future__ import annotations
