@@ -15,23 +15,25 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import marraztu.loaders.obj as obj_module
 from marraztu.errors import LoadError
 from marraztu.loaders.obj import fast as fast_reader
 from marraztu.loaders.obj import load_obj, parse_obj
 from marraztu.model.mesh import Mesh
 from support.work import lines_read_by_the_line_reader, peak_traced_bytes
 
-CHUNK_BYTES = 1 << 16
-SHORTEST_FACE_LINE = len(b"f 1/1/1 2/2/2 3/3/3\n")
+PIECE_BYTES = 1 << 16
 QUAD = b"v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nf 1 2 3 4\n"
 
 
 @pytest.fixture(scope="module", autouse=True)
 def small_chunks() -> Iterator[None]:
-    """Small pieces: a file of a few megabytes then has dozens, as a large file has, and numpy's
-    per-piece temporaries stay small beside the file."""
+    """Small pieces and many threads: a file of a few megabytes is then cut as a large file is. Small
+    files here take the compiled reader too."""
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(fast_reader, "_CHUNK_BYTES", CHUNK_BYTES)
+        patch.setattr(obj_module, "COMPILED_READER_BYTES", 0)
+        patch.setattr(fast_reader, "MIN_PIECE_BYTES", PIECE_BYTES)
+        patch.setattr(fast_reader, "PARSE_THREADS", 8)
         yield
 
 
@@ -52,7 +54,6 @@ def exporter_text(side: int = 120) -> bytes:
 
 TEXT = exporter_text()
 TEXT_LINES = TEXT.count(b"\n")
-ONE_CHUNK_OF_LINES = CHUNK_BYTES // SHORTEST_FACE_LINE + 1
 
 
 def load_counting(data: bytes) -> tuple[Mesh | LoadError, int, int]:
@@ -82,14 +83,14 @@ def test_a_good_exporter_file_takes_the_fast_path_end_to_end() -> None:
     outcome, lines, _ = load_counting(TEXT)
     assert isinstance(outcome, Mesh) and outcome.face_count == 2 * 119 * 119
     assert lines == 0
-    assert TEXT_LINES > 20 * ONE_CHUNK_OF_LINES  # the bounds below are far below the file's lines
+    assert len(TEXT) > 8 * PIECE_BYTES  # cut into as many pieces as there are threads
 
 
-def test_a_cut_last_line_costs_one_piece_not_the_file(plain_peak: int) -> None:
+def test_a_cut_last_line_costs_one_line_not_the_file(plain_peak: int) -> None:
     outcome, lines, peak = load_counting(TEXT + b"f 1/1/1 2/1")
     error = error_of(outcome)
     assert (error.line, error.message) == (TEXT_LINES + 1, "a face needs at least 3 vertices, found 2")
-    assert lines <= ONE_CHUNK_OF_LINES
+    assert lines == 1
     assert peak <= 2 * plain_peak
 
 
@@ -117,30 +118,32 @@ def test_one_huge_vertex_line_is_counted_not_split() -> None:
     assert peak <= 5 * len(data)  # a few copies of the line, not millions of tokens
 
 
-def test_a_bad_line_in_the_middle_costs_one_piece(plain_peak: int) -> None:
+def test_a_bad_line_in_the_middle_costs_one_line(plain_peak: int) -> None:
     lines_of_text = TEXT.split(b"\n")
     middle = len(lines_of_text) // 2
     lines_of_text[middle] = b"v 1 2"
     outcome, lines, peak = load_counting(b"\n".join(lines_of_text))
     error = error_of(outcome)
     assert (error.line, error.message) == (middle + 1, "a vertex position (v) needs 3 to 7 numbers, found 2")
-    assert lines <= ONE_CHUNK_OF_LINES
+    assert lines == 1
     assert peak <= 2 * plain_peak
 
 
-def test_odd_but_valid_lines_cost_their_piece_and_give_the_same_model() -> None:
-    """A trailing comment, an exponent and a face of another corner format, late in the file."""
+def test_odd_but_valid_lines_cost_nothing_and_give_the_same_model() -> None:
+    """A trailing comment, an exponent and a face of another corner format, late in the file; a number
+    of 17 digits costs its line."""
     lines_of_text = TEXT.split(b"\n")
     at = len(lines_of_text) - 10
     lines_of_text[at] = lines_of_text[at] + b"  # the last faces"
     lines_of_text.insert(at, b"f 1 2 3")
     lines_of_text.insert(5, b"v 1e0 2E+0 -3.5e-1")
+    lines_of_text.insert(6, b"v 0.12345678901234567 1 1")
     outcome, lines, _ = load_counting(b"\n".join(lines_of_text))
     assert isinstance(outcome, Mesh)
-    assert lines <= 2 * ONE_CHUNK_OF_LINES
+    assert lines == 1
     reference = parse_obj(TEXT, "hostile.obj")
     assert outcome.face_count == reference.face_count + 1
-    np.testing.assert_array_equal(outcome.positions[5], [1, 2, -0.35])
+    np.testing.assert_array_equal(outcome.positions[5:7], [[1, 2, -0.35], [0.12345678901234567, 1, 1]])
 
 
 def test_the_first_error_in_the_file_wins_whatever_kind_is_read_first() -> None:
@@ -168,7 +171,7 @@ def test_a_relative_index_reaching_before_the_first_names_its_line() -> None:
     outcome, lines, _ = load_counting(data)
     error = error_of(outcome)
     assert error.line == TEXT_LINES + 1 and "reaches before the first one" in error.message
-    assert lines <= ONE_CHUNK_OF_LINES
+    assert lines == 1
 
 
 def test_many_malformed_colour_comments_are_one_note() -> None:

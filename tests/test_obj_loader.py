@@ -497,15 +497,15 @@ def test_random_bytes_never_raise_anything_but_load_error(data: bytes) -> None:
 
 
 @contextmanager
-def small_chunks(chunk_bytes: int = 64, threads: int = 3) -> Iterator[None]:
-    """The fast reader's chunks made tiny and its threads several, so that small texts cross many
-    chunk edges and are parsed out of order, as megabyte files are."""
-    saved = fast_reader._CHUNK_BYTES, fast_reader._CHUNK_LINES, fast_reader._PARSE_THREADS
-    fast_reader._CHUNK_BYTES, fast_reader._CHUNK_LINES, fast_reader._PARSE_THREADS = chunk_bytes, 3, threads
+def small_chunks(chunk_bytes: int = 64, threads: int = 8) -> Iterator[None]:
+    """The fast reader's pieces made tiny and its threads several, so that small texts are cut into
+    several pieces parsed at once, as megabyte files are."""
+    saved = fast_reader.MIN_PIECE_BYTES, fast_reader.PARSE_THREADS
+    fast_reader.MIN_PIECE_BYTES, fast_reader.PARSE_THREADS = chunk_bytes, threads
     try:
         yield
     finally:
-        fast_reader._CHUNK_BYTES, fast_reader._CHUNK_LINES, fast_reader._PARSE_THREADS = saved
+        fast_reader.MIN_PIECE_BYTES, fast_reader.PARSE_THREADS = saved
 
 
 @settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -4,10 +4,10 @@ Why our own reader and not trimesh's: trimesh silently reads tab-separated lines
 index 0, drops a truncated last face and accepts NaN. A viewer for students must instead say what is
 wrong and on which line.
 
-Two readers produce the same raw tables (raw.py): the fast one (fast.py) reads the whole buffer
-with numpy; the line-by-line one (lines.py) is the authority on meaning and reads again just the
-pieces the fast one does not handle, valid or not, so it alone words the errors. It reads the whole
-file only when lines are continued with a backslash. The MTL beside
+Two readers produce the same raw tables (raw.py): the fast one (fast.py, compiled by numba) reads
+files of a megabyte or more; the line-by-line one (lines.py) is the authority on meaning. It reads
+small files, files that continue lines with a backslash, and every line the fast one does not read
+itself, valid or not, so it alone words the errors. The MTL beside
 the file gives the material (mtl.py). Normals and texture coordinates the file lacks are derived by
 marraztu.model.build, as for every other format.
 """
@@ -23,7 +23,6 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import read_file
-from marraztu.loaders.obj.fast import read_fast
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.mtl import read_library
 from marraztu.loaders.obj.raw import RawObj
@@ -35,12 +34,17 @@ def load_obj(path: str | Path, stage: Callable[[str], None] | None = None) -> Me
     """Read an OBJ file into a Mesh; every problem becomes a LoadError naming the file.
 
     `stage` hears "reading" and then "parsing" (the window's loader thread shows them)."""
-    if stage is not None:
-        stage("reading")
-    data = read_file(path)
-    if stage is not None:
-        stage("parsing")
-    return parse_obj(data, str(path), base_dir=Path(path).parent)
+    def file_bytes() -> bytes:
+        if stage is not None:
+            stage("reading")
+        data = read_file(path)
+        if stage is not None:
+            stage("parsing")
+        return data
+
+    # The bytes are passed on, never kept here: they are freed once the tables are read, before
+    # the normals and coordinates are derived.
+    return _guarded(str(path), lambda: _mesh(_tables(file_bytes(), str(path)), str(path), Path(path).parent))
 
 
 def parse_obj(data: bytes, source: str, base_dir: str | Path | None = None) -> Mesh:
@@ -48,8 +52,12 @@ def parse_obj(data: bytes, source: str, base_dir: str | Path | None = None) -> M
 
     ``base_dir`` is where ``mtllib`` files are looked for; without it the MTL is not read.
     """
+    return _guarded(source, lambda: _mesh(_tables(data, source), source, None if base_dir is None else Path(base_dir)))
+
+
+def _guarded(source: str, read: Callable[[], Mesh]) -> Mesh:
     try:
-        return _parse(data, source, None if base_dir is None else Path(base_dir))
+        return read()
     except LoadError:
         raise
     except MemoryError:
@@ -58,9 +66,11 @@ def parse_obj(data: bytes, source: str, base_dir: str | Path | None = None) -> M
         raise LoadError(source, f"could not read the model ({type(error).__name__}: {error})") from None
 
 
-def _parse(data: bytes, source: str, base_dir: Path | None) -> Mesh:
-    text = _normalized_text(data, source)
-    raw = _read_tables(text, source)
+def _tables(data: bytes, source: str) -> RawObj:
+    return _read_tables(_normalized_text(data, source), source)
+
+
+def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
     notes = list(raw.notes)
     library = read_library(base_dir, raw.mtllib, notes) if raw.mtllib is not None and base_dir is not None else []
     uv = None if raw.corner_texcoord is None else (raw.texcoords, raw.corner_texcoord)
@@ -111,14 +121,20 @@ def _face_materials(runs: list[tuple[int, str]], library: list[MeshMaterial], fa
     return tuple(by_name[name] for name in used), face_material, lacking, len(beyond)
 
 
+# Below this size the line reader is done before the compiled reader's code has even been loaded
+# (importing numba and its cached machine code).
+COMPILED_READER_BYTES = 1 << 20
+
+
 def _read_tables(text: bytes, source: str) -> RawObj:
-    if _has_continuations(text):
+    if _has_continuations(text) or len(text) < COMPILED_READER_BYTES:
         return read_by_lines(text, source)  # a continuation joins lines: only the line reader follows them
     try:
+        from marraztu.loaders.obj.fast import read_fast  # numba, imported for the files that repay it
         return read_fast(text, source)
     except (LoadError, MemoryError):
         raise
-    except Exception:  # a fast-reader bug must not cost the person their model: read it slowly
+    except Exception:  # no numba here, or a fast-reader bug: the person still gets their model, slowly
         return read_by_lines(text, source)
 
 

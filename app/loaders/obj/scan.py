@@ -1,0 +1,322 @@
+"""The compiled half of the fast OBJ reader: two passes over the bytes, machine code by numba.
+
+Pass one counts the rows of each table, the faces and their corners in a piece of the text; pass two
+writes them straight into the whole file's tables at the offsets the counts give. A line is read
+byte by byte, once, up to its newline (every line ends with one: the caller makes sure), with
+nothing allocated per line. A line this code does not read itself, valid or not (an exponent past
+1e22, a number of more than 15 digits, any error, o/g/usemtl and the like), is listed as a *record*,
+in file order, for the Python side (fast.py) and the line reader.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from marraztu.model.geometry import FLOAT32_MAX
+
+# Kinds of line, and the columns of a pass-one count.
+V, VT, VN, F = 0, 1, 2, 3
+LINES, CORNERS = 4, 5
+COUNT_COLUMNS = 6
+_NO_KEYWORD, _OTHER_KEYWORD = -1, -2
+# What a record is: a table or face line for the line reader, another statement, or a comment that
+# may be the seed's "# colour".
+DEFERRED, STATEMENT, COMMENT = 0, 1, 2
+# Columns of a record: its kind, the line's bytes and number, the rows of v, vt and vn before it,
+# the faces and corners before it, and its keyword's kind.
+R_KIND, R_START, R_END, R_LINE, R_V, R_VT, R_VN, R_FACE, R_CORNER, R_KEYWORD = range(10)
+RECORD_COLUMNS = 10
+
+_NEWLINE, _HASH, _SLASH, _MINUS, _PLUS, _DOT, _ZERO, _NINE = (ord(c) for c in "\n#/-+.09")
+_LETTER_V, _LETTER_T, _LETTER_N, _LETTER_F, _LOWER_CASE = ord("v"), ord("t"), ord("n"), ord("f"), 0x20
+_LETTER_E, _COLOUR = ord("e"), np.frombuffer(b"colo", np.uint8)
+MAX_DIGITS = 15  # significant digits: below 2**53, so exact in a double
+# Up to 1e22 powers of ten are exact doubles: mantissa and power then round once, as float() does
+# (Clinger's fast path).
+_POWERS_OF_TEN = np.array([10.0**k for k in range(23)])
+_JIT = {"cache": True, "nogil": True, "error_model": "numpy"}  # cached machine code; threads run at once
+
+
+@njit(**_JIT)
+def _is_blank(byte: int) -> bool:
+    return byte == 32 or byte == 9 or 11 <= byte <= 13  # what bytes.split() splits on, but the newline
+
+
+@njit(**_JIT)
+def _ends_token(byte: int) -> bool:
+    return _is_blank(byte) or byte == _NEWLINE or byte == _HASH
+
+
+@njit(**_JIT)
+def _is_digit(byte: int) -> bool:
+    return _ZERO <= byte <= _NINE
+
+
+@njit(**_JIT)
+def _skip_blanks(buf: np.ndarray, at: int) -> int:
+    while _is_blank(buf[at]):
+        at += 1
+    return at
+
+
+@njit(**_JIT)
+def _token_end(buf: np.ndarray, at: int) -> int:
+    while not _ends_token(buf[at]):
+        at += 1
+    return at
+
+
+@njit(**_JIT)
+def _line_end(buf: np.ndarray, at: int) -> int:
+    while buf[at] != _NEWLINE:
+        at += 1
+    return at
+
+
+@njit(**_JIT)
+def _keyword(buf: np.ndarray, start: int) -> tuple[int, int]:
+    """The line's kind (V, VT, VN, F, or _NO_KEYWORD, _OTHER_KEYWORD) and where its keyword ends."""
+    at = _skip_blanks(buf, start)
+    stop = _token_end(buf, at)
+    length = stop - at
+    if length == 0:
+        return _NO_KEYWORD, stop
+    if length == 1 and buf[at] == _LETTER_V:
+        return V, stop
+    if length == 1 and buf[at] == _LETTER_F:
+        return F, stop
+    if length == 2 and buf[at] == _LETTER_V and buf[at + 1] == _LETTER_T:
+        return VT, stop
+    if length == 2 and buf[at] == _LETTER_V and buf[at + 1] == _LETTER_N:
+        return VN, stop
+    return _OTHER_KEYWORD, stop
+
+
+@njit(**_JIT)
+def _tokens(buf: np.ndarray, at: int) -> int:
+    """Whitespace-separated tokens before any '#': a face line's corners."""
+    count = 0
+    while True:
+        at = _skip_blanks(buf, at)
+        if buf[at] == _NEWLINE or buf[at] == _HASH:
+            return count
+        count += 1
+        at = _token_end(buf, at)
+
+
+@njit(**_JIT)
+def count_piece(buf: np.ndarray, low: int, high: int) -> np.ndarray:
+    """Rows of v, vt and vn, faces, lines and corners in buf[low:high], whole lines."""
+    counts = np.zeros(COUNT_COLUMNS, np.int64)
+    start = low
+    while start < high:
+        kind, after = _keyword(buf, start)
+        if kind >= 0:
+            counts[kind] += 1
+        if kind == F:
+            counts[CORNERS] += _tokens(buf, after)
+        counts[LINES] += 1
+        start = _line_end(buf, after) + 1
+    return counts
+
+
+@njit(**_JIT)
+def _number(buf: np.ndarray, at: int) -> tuple[float, int, bool]:
+    """The decimal number at `at` (float()'s syntax), where it ends, and whether it was read: False for
+    anything else, and for what needs more than a double's exact range (the line reader reads it)."""
+    negative = buf[at] == _MINUS
+    if negative or buf[at] == _PLUS:
+        at += 1
+    mantissa, digits, exponent, seen = 0, 0, 0, False
+    while _is_digit(buf[at]):
+        mantissa, seen = mantissa * 10 + (buf[at] - _ZERO), True
+        digits += mantissa > 0  # leading zeros are not significant
+        at += 1
+    if buf[at] == _DOT:
+        at += 1
+        while _is_digit(buf[at]):
+            mantissa, seen = mantissa * 10 + (buf[at] - _ZERO), True
+            digits += mantissa > 0
+            exponent -= 1
+            at += 1
+    if not seen or digits > MAX_DIGITS:
+        return 0.0, at, False
+    if buf[at] | _LOWER_CASE == _LETTER_E:
+        at += 1
+        sign = -1 if buf[at] == _MINUS else 1
+        if buf[at] == _MINUS or buf[at] == _PLUS:
+            at += 1
+        if not _is_digit(buf[at]):
+            return 0.0, at, False
+        power = 0
+        while _is_digit(buf[at]):
+            power = min(power * 10 + (buf[at] - _ZERO), 10_000)  # bounded: 1e99999999999 must not wrap
+            at += 1
+        exponent += sign * power
+    if not _ends_token(buf[at]):
+        return 0.0, at, False
+    if mantissa == 0:
+        value = 0.0
+    elif 0 <= exponent <= 22:
+        value = mantissa * _POWERS_OF_TEN[exponent]
+    elif -22 <= exponent < 0:
+        value = mantissa / _POWERS_OF_TEN[-exponent]
+    else:
+        return 0.0, at, False
+    if value > FLOAT32_MAX:
+        return 0.0, at, False
+    return (-value if negative else value), at, True
+
+
+@njit(**_JIT)
+def _numbers(buf: np.ndarray, at: int, row: np.ndarray, fewest: int, most: int) -> tuple[bool, int]:
+    """A v, vt or vn line's numbers, the first len(row) of them into row: whether they were read (else
+    the line reader reads the line), and where reading stopped."""
+    count = 0
+    while True:
+        at = _skip_blanks(buf, at)
+        if buf[at] == _NEWLINE or buf[at] == _HASH:
+            return fewest <= count, at
+        if count == most:
+            return False, at
+        value, at, ok = _number(buf, at)
+        if not ok:
+            return False, at
+        if count < row.shape[0]:
+            row[count] = value
+        count += 1
+
+
+@njit(**_JIT)
+def _index(buf: np.ndarray, at: int, defined: int) -> tuple[int, int]:
+    """A face index made 0-based (a relative one counted back from `defined`) and where it ends;
+    -1 when it is not one this code reads (0, too long, reaching before the first, no digits)."""
+    negative = buf[at] == _MINUS
+    if negative:
+        at += 1
+    value, digits = 0, 0
+    while _is_digit(buf[at]):
+        value = value * 10 + (buf[at] - _ZERO)
+        digits += 1
+        at += 1
+    if digits == 0 or digits > MAX_DIGITS or value == 0:
+        return -1, at
+    if negative:
+        return (defined - value if defined >= value else -1), at
+    return value - 1, at
+
+
+@njit(**_JIT)
+def _face(buf: np.ndarray, at: int, defined: np.ndarray, vertex: np.ndarray, texcoord: np.ndarray,
+          normal: np.ndarray, first: int) -> tuple[int, int]:
+    """A face line's 0-based v, vt, vn per corner from `first` on (-1: no vt or vn): how many corners,
+    or -1 when the line is the line reader's, and where reading stopped. Every corner must have the
+    first one's format; positive indices may point forward (checked once the file is read)."""
+    count, shape = 0, -1
+    while True:
+        at = _skip_blanks(buf, at)
+        if buf[at] == _NEWLINE or buf[at] == _HASH:
+            return (count if count >= 3 else -1), at
+        corner = first + count
+        texcoord[corner] = normal[corner] = -1
+        vertex[corner], at = _index(buf, at, defined[V])
+        corner_shape = 0
+        if buf[at] == _SLASH:
+            at += 1
+            if buf[at] != _SLASH:
+                texcoord[corner], at = _index(buf, at, defined[VT])
+                corner_shape |= 1
+            if buf[at] == _SLASH:
+                normal[corner], at = _index(buf, at + 1, defined[VN])
+                corner_shape |= 2
+        if (vertex[corner] < 0 or (corner_shape & 1 and texcoord[corner] < 0)
+                or (corner_shape & 2 and normal[corner] < 0) or not _ends_token(buf[at])
+                or shape >= 0 and corner_shape != shape):
+            return -1, at
+        shape = corner_shape
+        count += 1
+
+
+@njit(**_JIT)
+def _grown(records: np.ndarray, used: int) -> np.ndarray:
+    if used < records.shape[0]:
+        return records
+    bigger = np.empty((records.shape[0] * 2, RECORD_COLUMNS), np.int64)
+    bigger[:used] = records[:used]
+    return bigger
+
+
+@njit(**_JIT)
+def _mentions_colour(buf: np.ndarray, at: int, end: int) -> bool:
+    """Whether a comment holds "colo": the only comments that mean anything (the seed's "# colour")."""
+    for start in range(at, end - 3):
+        if (buf[start] == _COLOUR[0] and buf[start + 1] == _COLOUR[1] and buf[start + 2] == _COLOUR[2]
+                and buf[start + 3] == _COLOUR[3]):
+            return True
+    return False
+
+
+@njit(**_JIT)
+def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, first_line: int,
+               positions: np.ndarray, texcoords: np.ndarray, normals: np.ndarray, vertex: np.ndarray,
+               texcoord: np.ndarray, normal: np.ndarray, face_start: np.ndarray) -> np.ndarray:
+    """Pass two over buf[low:high]: its rows, corners and face ends into the whole file's tables, from
+    the offsets `start_counts` (the counts of every piece before it). Returns its records."""
+    defined = start_counts[:3].copy()
+    face, corner, line = start_counts[F], start_counts[CORNERS], first_line
+    records = np.empty((16, RECORD_COLUMNS), np.int64)
+    used = 0
+    start = low
+    while start < high:
+        kind, at = _keyword(buf, start)
+        record, corners, read = -1, 0, True
+        if kind == V:
+            read, at = _numbers(buf, at, positions[defined[V]], 3, 7)
+        elif kind == VT:
+            read, at = _numbers(buf, at, texcoords[defined[VT]], 2, 3)
+        elif kind == VN:
+            read, at = _numbers(buf, at, normals[defined[VN]], 3, 3)
+        elif kind == F:
+            corners, stop = _face(buf, at, defined, vertex, texcoord, normal, corner)
+            if corners < 0:
+                read, corners = False, _tokens(buf, at)  # its slots, as pass one counted them
+            at = stop
+        elif kind == _OTHER_KEYWORD:
+            record = STATEMENT
+        end = _line_end(buf, at)
+        if not read:
+            record = DEFERRED
+        elif kind == _NO_KEYWORD and buf[at] == _HASH and _mentions_colour(buf, at, end):
+            record = COMMENT
+        if record >= 0:
+            records = _grown(records, used)
+            row = records[used]
+            row[R_KIND], row[R_START], row[R_END], row[R_LINE], row[R_KEYWORD] = record, start, end, line, kind
+            row[R_V:R_VN + 1] = defined
+            row[R_FACE], row[R_CORNER] = face, corner
+            used += 1
+        if kind == F:
+            corner += corners
+            face += 1
+            face_start[face] = corner
+        elif kind >= 0:
+            defined[kind] += 1
+        line += 1
+        start = end + 1
+    return records[:used].copy()
+
+
+@njit(**_JIT)
+def line_of_face(buf: np.ndarray, face: int) -> int:
+    """The line number of the file's face line number `face` (0-based): only for an error's message."""
+    start, line, seen = 0, 1, 0
+    while start < buf.shape[0]:
+        kind, after = _keyword(buf, start)
+        if kind == F:
+            if seen == face:
+                return line
+            seen += 1
+        line += 1
+        start = _line_end(buf, after) + 1
+    return line
