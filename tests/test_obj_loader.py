@@ -620,3 +620,45 @@ def test_rammer_has_quads_texture_coordinates_and_normals() -> None:
 def test_cam_has_its_colour_comment() -> None:
     mesh = load_obj(seed_model("cam.obj"))
     assert mesh.base_colour == pytest.approx((100 / 255, 0.0, 1.0))
+
+
+# --- the compiled reader's own reading of numbers and indices -----------------------------------------
+
+# (token, whether the compiled reader reads it itself): what it leaves goes to the line reader.
+NUMBER_TOKENS = [
+    ("1e22", True), ("1e23", False), ("1.5e-21", True), ("1.5e-22", False), ("1e-23", False), ("123456789012345", True),
+    ("1234567890123456", False), ("0.000000000000001", True), ("0000000000000000001.5", True),
+    ("1.e5", True), ("-0", True), ("+.5", True), ("5.", True), (".5", True), ("-.5e+2", True),
+    ("1e-400", False), ("3.4028234663852886e38", False), ("3.4e38", False), ("3.5e38", False), ("-2.5e21", True),
+    ("1e99999999999", False), ("0.1234567890123456789", False), ("0.30000000000000004", False),
+    ("1e", False), ("e5", False), ("1e+", False), ("--1", False), ("+-1", False), ("1.2.3", False),
+    ("0x10", False), ("nan", False), ("-inf", False), ("1_0", False), (".", False), ("-", False),
+    ("1,5", False), ("1#5", False), ("1/2", False),
+]
+
+
+@pytest.mark.parametrize("token, compiled", NUMBER_TOKENS)
+def test_a_number_reads_as_float_reads_it_or_goes_to_the_line_reader(token: str, compiled: bool) -> None:
+    text = f"v {token} 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n".encode()
+    both = read_both(text)
+    assert_agree(both)
+    assert both.fast_lines == (0 if compiled else 1), token
+    if isinstance(both.fast, RawObj):  # -0 stays -0: the GPU would see the sign
+        assert np.signbit(both.fast.positions[0, 0]) == np.signbit(both.slow.positions[0, 0])
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.floats(-3e38, 3e38, allow_nan=False),
+       st.sampled_from(["{!r}", "{:.17g}", "{:.6f}", "{:.9g}", "{:.6e}", "{:.15e}", "{:.3E}", "{:.0f}"]))
+def test_numbers_in_every_spelling_read_as_float_reads_them(value: float, spelling: str) -> None:
+    token = spelling.format(value)
+    raw = fast_reader.read_fast(f"v {token} {token} 0\nf 1 1 1\n".encode(), "x.obj")
+    expected = float(token)
+    assert raw.positions[0, 0] == expected and np.signbit(raw.positions[0, 0]) == np.signbit(expected), token
+
+
+@pytest.mark.parametrize("corner", ["-1", "01", "1//", "1/2/", "+1", "1/-1/1", "999999999999999", "1234567890123456",
+                                    "1/", "/1", "1//1/", "-4", "0", "1/0", "-0", "1 1/1"])
+def test_a_face_corner_reads_as_the_line_reader_reads_it(corner: str) -> None:
+    text = f"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf {corner} 2 3\nf 1/1/1 2/1/1 3/1/1\n".encode()
+    assert_agree(read_both(text))
