@@ -111,6 +111,10 @@ def count_piece(buf: np.ndarray, low: int, high: int) -> np.ndarray:
     counts = np.zeros(COUNT_COLUMNS, np.int64)
     start = low
     while start < high:
+        if buf[start] == _NEWLINE:  # an empty line, in a loop of its own: a file of them must be cheap
+            counts[LINES] += 1
+            start += 1
+            continue
         kind, after = _keyword(buf, start)
         if kind >= 0:
             counts[kind] += 1
@@ -269,6 +273,10 @@ def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, f
     used = 0
     start = low
     while start < high:
+        if buf[start] == _NEWLINE:
+            line += 1
+            start += 1
+            continue
         kind, at = _keyword(buf, start)
         record, corners, read = -1, 0, True
         if kind == V:
