@@ -24,6 +24,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from marraztu.devtools.bench.inputs import SEED, grid_triangles, wavy_surface, write_obj
+
 ROOT = Path(__file__).resolve().parents[1]
 KEYS = "0 1 F TAB ENTER*3 x*2"
 SIZE = "160x120"
@@ -117,21 +119,10 @@ def test_the_installed_program_draws_what_the_checkout_draws(installed: Path, tm
     assert (np.abs(from_wheel.astype(int) - [0, 0, 178]).sum(axis=2) > 30).mean() > 0.05, "almost blank"
 
 
-def wavy_grid_obj(path: Path, side: int = 260) -> Path:
-    """A grid of triangles with a bump, big enough (over a megabyte) for the compiled OBJ reader."""
-    u, v = np.meshgrid(np.linspace(-1, 1, side), np.linspace(-1, 1, side))
-    heights = 0.3 * np.exp(-4 * (u * u + v * v))
-    lines = [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in zip(u.ravel(), v.ravel(), heights.ravel())]
-    corner = (np.arange(side - 1)[:, None] * side + np.arange(side - 1)[None, :]).ravel() + 1
-    for a, b, c, d in zip(corner, corner + 1, corner + side + 1, corner + side):
-        lines += [f"f {a} {b} {c}", f"f {a} {c} {d}"]
-    path.write_text("\n".join(lines) + "\n")
-    return path
-
-
 def test_the_installed_program_reads_a_large_model_as_the_checkout_does(installed: Path, tmp_path: Path) -> None:
     """A file of megabytes goes through numba's compiled reader, compiled in the fresh environment."""
-    model = wavy_grid_obj(tmp_path / "grid.obj")
+    model = tmp_path / "grid.obj"
+    write_obj(model, wavy_surface(cells=260, seed=SEED), grid_triangles(260), uv_and_normals=False)
     assert model.stat().st_size > 1 << 20
     args = ["--empty", "--size", SIZE, "--keys", "0 1", str(model)]
     installed_run = run_installed(installed, "screenshot", "-o", str(tmp_path / "wheel.png"), *args, cwd=tmp_path)

@@ -36,7 +36,7 @@ def test_animated_png_holds_one_exact_frame_per_press(tmp_path: Path, capsys) ->
     assert "7 frames" in capsys.readouterr().out
     frames, info = frames_of(out)
     assert len(frames) == 7
-    assert info["duration"] == 50
+    assert info["duration"] == 50  # written into the file (1000 / --fps ms a frame), not timed
     assert np.array_equal(frames[0], screenshot(tmp_path, "0"))
     assert np.array_equal(frames[-1], screenshot(tmp_path, KEYS))
     assert not np.array_equal(frames[2], frames[3]), "each press turns the object"
@@ -46,7 +46,7 @@ def test_gif_frames_match_to_its_colours(tmp_path: Path) -> None:
     out = tmp_path / "turn.gif"
     assert main(["record", "-o", str(out), "--size", SIZE, "--keys", KEYS, "--fps", "10"]) == 0
     frames, info = frames_of(out)
-    assert len(frames) == 7 and info["duration"] == 100
+    assert len(frames) == 7 and info["duration"] == 100  # the file's own frame time, from --fps
     for frame, keys in ((frames[0], "0"), (frames[-1], KEYS)):
         difference = np.abs(frame - screenshot(tmp_path, keys))
         assert difference.mean() < 1.0 and (difference.max(axis=2) > 16).mean() < 0.01

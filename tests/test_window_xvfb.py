@@ -218,8 +218,9 @@ def test_the_window_draws_only_when_something_changed(display: str) -> None:
     assert key_frames == 3
 
 
-# A load made slow on purpose (2.5 s) while the built-in scene is shown: counts the frames the window
-# draws meanwhile, and how many of them drew the scene rather than copying its held picture.
+# A load held on purpose while the built-in scene is shown, until the window has drawn the drop and
+# two frames of counted seconds (however slowly a busy machine gets there): counts the frames drawn
+# meanwhile, and how many of them drew the scene rather than copying its held picture.
 _HELD_PICTURE_COUNTER = """
 import sys, threading, time
 import pyglet.app
@@ -228,11 +229,12 @@ from marraztu.control.viewer import StartOptions
 from marraztu.frontends.window import open_window
 
 read = viewer_module.load_model
-def slow_load(path, stage=None):
+release = threading.Event()
+def held_load(path, stage=None):
     stage("reading")
-    time.sleep(2.5)
+    release.wait(60)
     return read(path, stage)
-viewer_module.load_model = slow_load
+viewer_module.load_model = held_load
 
 window = open_window(StartOptions(), (120, 120))
 frames, scene_draws = [], []
@@ -245,6 +247,10 @@ def script():
     objects, before_frames, before_draws = len(window.scene.objects), len(frames), len(scene_draws)
     window.wnd._window.dispatch_event("on_file_drop", 0, 0, [sys.argv[1]])
     pyglet.app.platform_event_loop.notify()
+    deadline = time.monotonic() + 60
+    while len(frames) - before_frames < 3 and time.monotonic() < deadline:
+        time.sleep(0.01)
+    release.set()
     while len(window.scene.objects) == objects:
         time.sleep(0.01)
     time.sleep(0.3)

@@ -127,8 +127,9 @@ COMPILED_READER_BYTES = 1 << 20
 
 
 def _read_tables(text: bytes, source: str) -> RawObj:
+    # A continuation joins lines: only the line reader follows them.
     if _has_continuations(text) or len(text) < COMPILED_READER_BYTES:
-        return read_by_lines(text, source)  # a continuation joins lines: only the line reader follows them
+        return read_by_lines(text, source)
     try:
         from marraztu.loaders.obj.fast import read_fast  # numba, imported for the files that repay it
         return read_fast(text, source)

@@ -10,8 +10,8 @@ every message is the line reader's; other statements and colour comments are rea
 from __future__ import annotations
 
 import os
-import threading
 from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from typing import TypeVar
 
 import numpy as np
@@ -24,6 +24,7 @@ from marraztu.loaders.obj.raw import ColourComment, RawObj, material_name, state
 MIN_PIECE_BYTES = 1 << 20
 # numba's code runs without the GIL, so threads parse pieces at once.
 PARSE_THREADS = max(1, min(4, os.cpu_count() or 1))
+_Item = TypeVar("_Item")
 _Result = TypeVar("_Result")
 _WIDTHS = (3, 2, 3)
 
@@ -42,7 +43,7 @@ def read_fast(text: bytes, source: str) -> RawObj:
     face_start = np.zeros(int(total[scan.F]) + 1, np.int64)
     first_lines = (before[:, scan.LINES] + 1).tolist()
     records = _each(lambda at: scan.read_piece(buf, *pieces[at], before[at], first_lines[at], *tables, *columns,
-                                               face_start), range(len(pieces)))
+                                               face_start), list(range(len(pieces))))
     outcome = _Records(text, source, tables, columns, face_start)
     for piece in records:
         outcome.settle(piece)
@@ -69,31 +70,12 @@ def _pieces(text: bytes, count: int) -> list[tuple[int, int]]:
     return list(zip(cuts[:-1], cuts[1:]))
 
 
-def _each(work: Callable[[object], _Result], items: Sequence[object] | range) -> list[_Result]:
-    """[work(item) for item in items], each on a thread of its own but the first, which runs here.
-
-    The first exception is raised once every thread has stopped."""
-    items = list(items)
-    results: list[_Result | None] = [None] * len(items)
-    failures: list[BaseException] = []
-
-    def run(index: int) -> None:
-        try:
-            results[index] = work(items[index])
-        except BaseException as error:  # re-raised by the caller's thread below
-            failures.append(error)
-
-    helpers = [threading.Thread(target=run, args=(index,), name="obj-parse", daemon=True)
-               for index in range(1, len(items))]
-    for helper in helpers:
-        helper.start()
-    if items:
-        run(0)
-    for helper in helpers:
-        helper.join()
-    if failures:
-        raise failures[0]
-    return results  # type: ignore[return-value]  # every slot was filled: no failure
+def _each(work: Callable[[_Item], _Result], items: Sequence[_Item]) -> list[_Result]:
+    """[work(item) for item in items], on up to PARSE_THREADS threads; the first exception is raised."""
+    if len(items) < 2:
+        return [work(item) for item in items]
+    with ThreadPoolExecutor(max_workers=min(PARSE_THREADS, len(items)), thread_name_prefix="obj-parse") as pool:
+        return list(pool.map(work, items))
 
 
 class _Records:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from marraztu.loaders.obj.raw import MAX_DIGITS
 from marraztu.model.geometry import FLOAT32_MAX
 
 # Kinds of line, and the columns of a pass-one count.
@@ -31,7 +32,6 @@ RECORD_COLUMNS = 10
 _NEWLINE, _HASH, _SLASH, _MINUS, _PLUS, _DOT, _ZERO, _NINE = (ord(c) for c in "\n#/-+.09")
 _LETTER_V, _LETTER_T, _LETTER_N, _LETTER_F, _LOWER_CASE = ord("v"), ord("t"), ord("n"), ord("f"), 0x20
 _LETTER_E, _COLOUR = ord("e"), np.frombuffer(b"colo", np.uint8)
-MAX_DIGITS = 15  # significant digits: below 2**53, so exact in a double
 # Up to 1e22 powers of ten are exact doubles: mantissa and power then round once, as float() does
 # (Clinger's fast path).
 _POWERS_OF_TEN = np.array([10.0**k for k in range(23)])
@@ -144,7 +144,7 @@ def _number(buf: np.ndarray, at: int) -> tuple[float, int, bool]:
             digits += mantissa > 0
             exponent -= 1
             at += 1
-    if not seen or digits > MAX_DIGITS:
+    if not seen or digits > MAX_DIGITS:  # more significant digits than a double holds exactly
         return 0.0, at, False
     if buf[at] | _LOWER_CASE == _LETTER_E:
         at += 1
