@@ -4,18 +4,14 @@
 (marraztu.frontends.api).
 """
 
-from importlib.metadata import PackageNotFoundError, version
 from typing import Any
-
-try:
-    __version__ = version("marraztu")
-except PackageNotFoundError:  # run from a checkout that was never installed
-    __version__ = "0+unknown"
 
 _API_NAMES = ("Viewer", "ProbeReport", "ProbedVertex", "LightShare", "LoadError")
 
 
 def __getattr__(name: str) -> Any:
+    if name == "__version__":  # importing importlib.metadata costs more start-up than the rest of this package
+        return _installed_version()
     # Imported on first use: the command line and `--help` need none of GL's start-up.
     if name in _API_NAMES:
         from marraztu.frontends import api
@@ -25,3 +21,12 @@ def __getattr__(name: str) -> Any:
 
 
 __all__ = ["__version__", *_API_NAMES]
+
+
+def _installed_version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("marraztu")
+    except PackageNotFoundError:  # run from a checkout that was never installed
+        return "0+unknown"

@@ -13,8 +13,9 @@ import os
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
 
-from marraztu import __version__
+import marraztu
 from marraztu.errors import ViewerError, escaped
 
 WINDOW_SIZE = (800, 800)
@@ -57,6 +58,17 @@ def start_options(args: argparse.Namespace):
 
 
 # --- the commands ----------------------------------------------------------------------------------
+class VersionAction(argparse.Action):
+    """--version, reading the installed version only when asked: importlib.metadata is slow to import."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str, **kwargs: Any) -> None:
+        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS,
+                         help="show the program's version and exit")
+
+    def __call__(self, parser: argparse.ArgumentParser, *_: Any) -> None:
+        parser.exit(message=f"marraztu {marraztu.__version__}\n")
+
+
 def window_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="marraztu", description=DESCRIPTION,
@@ -66,7 +78,7 @@ def window_parser() -> argparse.ArgumentParser:
                + "\n\nWith no display, the window's command writes a screenshot to "
                f"{NO_DISPLAY_SHOT} instead.",
         formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--version", action="version", version=f"marraztu {__version__}")
+    parser.add_argument("--version", action=VersionAction)
     add_size_argument(parser, "window size")
     parser.add_argument("--watch", action="store_true",
                         help="read a model again when its file changes on disk")

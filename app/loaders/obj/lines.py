@@ -8,6 +8,7 @@ below. Either way a LoadError names the first offending line.
 
 from __future__ import annotations
 
+import math
 import re
 from array import array
 from collections.abc import Callable, Iterator, Sequence
@@ -27,6 +28,14 @@ _FIELDS = (b"v", b"vt", b"vn")
 _FIELD_NAMES = ("vertex", "texture coordinate (vt)", "normal (vn)")
 _TABLE_WIDTHS = (3, 2, 3)
 _QUOTED_CHARACTERS = 40
+# Short faces of positive indices in one of the four corner formats, read in one match: most faces.
+# Anything else (relative or zero indices, leading zeros, long faces) takes the corner-by-corner path.
+_PLAIN_FACE_BYTES = 256
+_INDEX = rb"[1-9][0-9]{0,%d}" % (MAX_DIGITS - 1)
+_PLAIN_FACES = [(re.compile(rb"%s(?:\s+%s){2,}" % (corner, corner)), fields) for corner, fields in (
+    (_INDEX, (0,)), (rb"%s/%s" % (_INDEX, _INDEX), (0, 1)), (rb"%s//%s" % (_INDEX, _INDEX), (0, 2)),
+    (rb"%s/%s/%s" % (_INDEX, _INDEX, _INDEX), (0, 1, 2)))]
+_DIGITS = re.compile(rb"[0-9]+")
 
 
 def _float_or_none(token: bytes) -> float | None:
@@ -102,7 +111,7 @@ class LineReader:
         values = []
         for token in tokens:
             value = _float_or_none(token)
-            if value is None or not np.isfinite(value):
+            if value is None or not math.isfinite(value):
                 kind = "finite number" if value is not None or _is_non_finite(token) else "number"
                 raise self.fail(number, f"{_quoted(token)} is not a {kind}")
             if abs(value) > FLOAT32_MAX:
@@ -112,6 +121,8 @@ class LineReader:
 
     def face(self, number: int, rest: bytes) -> None:
         """Corner by corner, never a list of them: one face may hold millions."""
+        if len(rest) <= _PLAIN_FACE_BYTES and self.plain_face(number, rest):
+            return
         count = len(rest.split(None, 3))
         if count < 3:
             raise self.fail(number, f"a face needs at least 3 vertices, found {count}")
@@ -127,6 +138,23 @@ class LineReader:
         self.resolve(number, rest, first)
         self.face_sizes.append(len(self.corners[0]) - first)
         self.face_lines.append(number)
+
+    def plain_face(self, number: int, rest: bytes) -> bool:
+        """A short face of positive indices in one format, read whole; False (nothing read) otherwise."""
+        for pattern, fields in _PLAIN_FACES:
+            if pattern.fullmatch(rest):
+                indices = [int(digits) - 1 for digits in _DIGITS.findall(rest)]
+                width = len(fields)
+                for column, field in enumerate(fields):
+                    self.corners[field].extend(indices[column::width])
+                size = len(indices) // width
+                for field in range(len(_FIELDS)):
+                    if field not in fields:
+                        self.corners[field].extend([-1] * size)
+                self.face_sizes.append(size)
+                self.face_lines.append(number)
+                return True
+        return False
 
     def resolve(self, number: int, rest: bytes, first: int) -> None:
         """The face's corners from `first` on, from the file's indices to 0-based ones (-1: none), corner
