@@ -182,10 +182,11 @@ def test_soak_random_keys_keep_the_scene_sound(own_ctx, soak_renderer: Renderer,
     scene.texture = fallback_texture()
     corpus.render_float(own_ctx, soak_renderer, empty_scene(), SIZE)  # make the framebuffer first
     gl_without_objects = gl_total(own_ctx)
-    # Lines, both kinds of normals and side by side once, so every object holds all it ever will
-    # (the surface buffers at once; edges, normal segments and a vertex array per surface program and
-    # lighting pass on first use), then back to the start's modes.
-    for keys in ("", "l n", "F", "F n l", "s", "s"):
+    # Lines, both kinds of normals (of whole objects and of one face) and side by side once, so every
+    # object holds all it ever will (the surface buffers at once; edges, normal segments and a vertex
+    # array per surface program and lighting pass on first use), then back to the start's modes.
+    one_face_each = ["TAB"] * len(scene.objects)  # one face of the selected object only: each in turn
+    for keys in ("", "l n", "F", "o d", *one_face_each, "o d", "F n l", "s", "s"):
         viewer.press_sequence(keys)
         corpus.render_float(own_ctx, soak_renderer, scene, SIZE)
     per_object = (gl_total(own_ctx) - gl_without_objects) // len(scene.objects)

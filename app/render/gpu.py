@@ -3,10 +3,11 @@
 The vertex arrays are built here with numpy. GL has no per-primitive attributes, so what belongs to
 a polygon (its face normal, its first vertex) rides on vertices: the surface is indexed, with one
 extra vertex per polygon for its first corner (see SurfaceArrays). Vertex normals are the surface's
-own rows drawn as points through its indices, face normals one point per polygon, and a geometry
-stage draws each as a segment. Edges are one row per polygon corner, with its polygon's face normal
-and first vertex, drawn as indexed lines (a geometry stage over the surface's rows would spare
-those rows, but makes llvmpipe's lines frames a third slower).
+own rows drawn as points (each used row once, or a range of faces' corners through its indices),
+face normals one point per polygon, and a geometry stage draws each as a segment. Edges are one row
+per polygon corner, with its polygon's face normal and first vertex, drawn as indexed lines (a
+geometry stage over the surface's rows would spare those rows, but makes llvmpipe's lines frames a
+third slower).
 
 Everything is built once per object (edges and normals on first use) and kept until the object
 leaves the scene; drawing a subset of faces is a `first`/`vertices` range. Beside the surface, each
@@ -257,8 +258,9 @@ class ObjectGpu:
 
     # surface: a vertex, a lit and two index buffers, a vertex array per surface program (3) and per
     # lighting pass (2); edges: a row and an index buffer and a vertex array; face normals: a buffer
-    # and a vertex array; vertex normals: a vertex array. Vertex colours add one buffer.
-    GL_OBJECTS = 15
+    # and a vertex array; vertex normals: a buffer of used rows and its vertex array, and a vertex array
+    # over the surface indices for a range of faces. Vertex colours add one buffer.
+    GL_OBJECTS = 17
     # Which index buffer each surface program draws with (see SurfaceArrays).
     INDICES = {Shading.FLAT: "surface indices", Shading.GOURAUD: "shared surface indices",
                Shading.PHONG: "shared surface indices"}
@@ -367,17 +369,30 @@ class ObjectGpu:
             built = self._build("face normals", face_normal_feet(self.mesh), self.programs.normals, FACE_NORMAL_LAYOUT)
         return built[1]
 
-    @property
-    def vertex_normals(self) -> moderngl.VertexArray:
-        """Drawn as POINTS through the shared surface indices: each triangle corner's row, no new buffer."""
+    def vertex_normals(self, start: int, stop: int) -> tuple[moderngl.VertexArray, VertexRange]:
+        """Drawn as POINTS, reading the surface's rows (no new vertex buffer): the whole mesh draws each
+        row it uses once; a range of faces (one face, or up to the probed one) each of its triangles'
+        corners, through the shared surface indices."""
+        if start == 0 and stop == self.mesh.face_count:  # a row is shared by ~6 triangles: 6x fewer segments
+            rows, vao = self._built.get("vertex normal rows") or self._build(
+                "vertex normal rows", self._used_shared_rows(), self.programs.normals,
+                self._surface_content(self.programs.normals, VERTEX_NORMAL_LAYOUT), indexed=True)
+            return vao, VertexRange(0, rows.size // 4 if rows is not None else 0)  # uint32 indices
         built = self._built.get("vertex normals")
         if built is None:
-            program = self.programs.normals
-            content = [(self._surface_buffers["surface"], *_layout_for(program, VERTEX_NORMAL_LAYOUT))]
-            vao = self.ctx.vertex_array(program, content, index_buffer=self._surface_buffers["shared surface indices"],
+            content = self._surface_content(self.programs.normals, VERTEX_NORMAL_LAYOUT)
+            vao = self.ctx.vertex_array(self.programs.normals, content,
+                                        index_buffer=self._surface_buffers["shared surface indices"],
                                         index_element_size=4)
             built = self._built["vertex normals"] = (None, vao)
-        return built[1]
+        return built[1], self.surface_range(start, stop)
+
+    def _used_shared_rows(self) -> np.ndarray:
+        """(R,) uint32: the shared rows some corner reads: the rows of used positions, then every seam row."""
+        used = np.zeros(self.mesh.vertex_count, bool)
+        used[self.mesh.corner_vertex] = True
+        seam_rows = np.arange(self.mesh.vertex_count, self.shared_rows)
+        return np.concatenate([np.flatnonzero(used), seam_rows]).astype(np.uint32)
 
     @property
     def buffers(self) -> dict[str, moderngl.Buffer]:
@@ -385,8 +400,8 @@ class ObjectGpu:
         return {**self._surface_buffers,
                 **{name: buffer for name, (buffer, _) in self._built.items() if buffer is not None}}
 
-    def _surface_content(self, program: moderngl.Program) -> list[tuple]:
-        return [(self._surface_buffers["surface"], *_layout_for(program, SURFACE_LAYOUT))]
+    def _surface_content(self, program: moderngl.Program, layout: tuple[str, ...] = SURFACE_LAYOUT) -> list[tuple]:
+        return [(self._surface_buffers["surface"], *_layout_for(program, layout))]
 
     def _build(self, name: str, data: np.ndarray, program: moderngl.Program, layout: tuple[str, ...] | list[tuple],
                indexed: bool = False) -> tuple[moderngl.Buffer | None, moderngl.VertexArray]:
@@ -433,5 +448,3 @@ class ObjectGpu:
     def face_normal_range(self, start: int, stop: int) -> VertexRange:
         return VertexRange(start, stop - start)
 
-    def vertex_normal_range(self, start: int, stop: int) -> VertexRange:
-        return self.surface_range(start, stop)

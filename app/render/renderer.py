@@ -429,7 +429,8 @@ class Renderer:
         if face_normals:  # one point per normal: normals.glsl draws its segment
             _draw(gpu.face_normals, moderngl.POINTS, gpu.face_normal_range(item.start, item.stop))
         else:
-            _draw(gpu.vertex_normals, moderngl.POINTS, gpu.vertex_normal_range(item.start, item.stop))
+            vao, span = gpu.vertex_normals(item.start, item.stop)
+            _draw(vao, moderngl.POINTS, span)
 
     def _draw_light_marker(self, scene: Scene) -> None:
         """The selected light as a dot in its own colour (dimmed while it is off), over everything."""

@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -18,8 +19,8 @@ if TYPE_CHECKING:
     from marraztu.model.mesh import Mesh
 
 MEMORY_HEADERS = ("file", "triangles", "Mesh B/tri", "GPU-ready arrays B/tri", "GPU when filled B/tri",
-                  "GPU with lines and normals B/tri", "edges B/tri", "normals B/tri",
-                  "RSS growth, all drawn B/tri", "compiled reader MB, once")
+                  "GPU with lines and normals B/tri", "edges B/tri", "normals B/tri", "RSS growth, all drawn B/tri",
+                  "of which llvmpipe's scene queue B/tri", "compiled reader MB, once")
 
 
 MESH_ARRAYS = ("positions", "corner_vertex", "corner_uv", "corner_normal", "face_start", "face_normals")
@@ -40,17 +41,18 @@ def memory_row(bench: FrameBench, item: LoadInput) -> list[str]:
     gpu = ObjectGpu(bench.ctx, mesh, renderer.programs)  # exactly what the renderer allocates per object
     try:
         surface = sum(buffer.size for buffer in gpu.buffers.values())  # all there is before lines or normals
-        _ = gpu.edges, gpu.face_normals, gpu.vertex_normals  # built on first use: force them here
+        _ = gpu.edges, gpu.face_normals, gpu.vertex_normals(0, mesh.face_count)  # built on first use: force them
         sizes = {name: buffer.size for name, buffer in gpu.buffers.items()}
         host = mesh_bytes(mesh) + gpu.triangles_before.nbytes
         per_triangle = [value / triangles for value in (
             host, ready, surface, sum(sizes.values()), sizes["edges"] + sizes["edge rows"],
-            sizes["face normals"] + sizes.get("vertex normals", 0))]  # vertex normals read the surface's rows
+            sizes["face normals"] + sizes["vertex normal rows"])]  # vertex normals read the surface's rows
     finally:
         gpu.release()
     growth, compiled_reader = rss_growth(item.path)
+    unqueued, _ = rss_growth(item.path, {"LP_NUM_THREADS": "0"})  # llvmpipe rasterizes each scene at once
     return [item.label, str(triangles), *(number(value) for value in per_triangle), number(growth),
-            number(compiled_reader / MEGABYTE)]
+            number(growth - unqueued), number(compiled_reader / MEGABYTE)]
 
 
 def resident_bytes() -> int:
@@ -97,10 +99,11 @@ def warm_compiled_reader() -> None:
     read_fast(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "warm-up.obj")
 
 
-def rss_growth(path: Path) -> tuple[float, int]:
+def rss_growth(path: Path, environment: Mapping[str, str] | None = None) -> tuple[float, int]:
     """Bytes per triangle, and the compiled reader's bytes (once per process), in a fresh process, so
-    that nothing this one holds (or freed) blurs the figures."""
-    done = subprocess.run([sys.executable, "-c", _RSS_WORKER, str(path)], capture_output=True, text=True)
+    that nothing this one holds (or freed) blurs the figures; `environment` adds to this one's."""
+    done = subprocess.run([sys.executable, "-c", _RSS_WORKER, str(path)], capture_output=True, text=True,
+                          env={**os.environ, **(environment or {})})
     if done.returncode != 0:
         raise RuntimeError(f"the memory worker failed on {path.name}:\n{done.stderr.strip()}")
     report = json.loads(done.stdout.strip().splitlines()[-1])
@@ -122,10 +125,13 @@ def memory_section(bench: FrameBench, inputs: Sequence[LoadInput]) -> list[str]:
         "and vertex normal segments). On llvmpipe GPU buffers live in host memory too. *RSS growth, all "
         "drawn*: a fresh process's resident memory after loading the file and drawing it in Flat, "
         "Gouraud and lines, each with normals, less before loading (context and programs made): "
-        "everything the object costs the machine, host and (on llvmpipe) GPU. *Compiled reader*: what "
-        "importing numba and loading the OBJ reader's machine code adds to the same process before "
-        "that, once per process whatever the model (files under a megabyte never pay it: the line "
-        "reader reads them).",
+        "everything the object costs the machine, host and (on llvmpipe) GPU. *Of which llvmpipe's "
+        "scene queue*: that growth less the same with `LP_NUM_THREADS=0`, where llvmpipe rasterizes each "
+        "scene as soon as it is binned instead of queueing binned scenes for its threads and keeping "
+        "their memory for reuse (none of ours; about zero on a GPU, which ignores the variable). "
+        "*Compiled reader*: what importing numba and loading the OBJ reader's machine code adds to the "
+        "same process before that, once per process whatever the model (files under a megabyte never "
+        "pay it: the line reader reads them).",
         "",
         *markdown_table(MEMORY_HEADERS, rows),
     ]
