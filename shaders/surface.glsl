@@ -97,8 +97,7 @@ vec3 lit_colour(vec3 point, vec3 normal, vec3 view) {
 #if defined VERTEX_SHADER && defined LIGHTING_PASS
 
 in vec3 in_position;     // model space
-in vec3 in_normal;       // this row's vertex normal (Gouraud)
-in vec3 in_face_normal;  // its polygon's normal, at the polygon's own row (Flat)
+in vec3 in_normal;       // a shared row's vertex normal (Gouraud); a polygon's own row's face normal (Flat)
 in vec4 in_colour;       // the model's vertex colour (no buffer, and unread, for a model without)
 
 uniform mat4 u_model;
@@ -114,7 +113,7 @@ out vec4 v_lit;  // rgb: what the row shows (0..1); a: N.V (Flat's back-face tes
 // normal the lighting would use as a colour (the normals view).
 void main() {
     vec3 world_position = (u_model * vec4(in_position, 1.0)).xyz;
-    vec3 normal = normalize(u_normal_matrix * (SHADING == FLAT ? in_face_normal : in_normal));
+    vec3 normal = normalize(u_normal_matrix * in_normal);
     vec3 view = toward_eye(world_position);
     vec3 shown;
     if (u_show == SHOW_NORMALS) {
@@ -131,7 +130,7 @@ void main() {
 #elif defined VERTEX_SHADER
 
 in vec3 in_position;  // model space
-in vec3 in_normal;    // this corner's vertex normal (Phong)
+in vec3 in_normal;    // this corner's vertex normal (Phong: shared rows only)
 in vec4 in_lit;       // Flat, Gouraud: the lighting pass's colour and N.V for this row
 in vec2 in_uv;
 in vec4 in_colour;    // Phong: the model's vertex colour (no buffer, and unread, for a model without)

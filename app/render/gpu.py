@@ -31,13 +31,13 @@ from marraztu.render.context import check_gl
 from marraztu.resources import shader_source
 
 # Attribute layouts, one per program; the names are the shaders' `in_` attributes.
-SURFACE_LAYOUT = ("3f 3f 3f 2f", "in_position", "in_normal", "in_face_normal", "in_uv")
+SURFACE_LAYOUT = ("3f 3f 2f", "in_position", "in_normal", "in_uv")
 COLOUR_LAYOUT = ("4f1", "in_colour")  # a model's own vertex colours, bytes read as 0..1, one per surface row
 LIT_LAYOUT = ("4f", "in_lit")  # the lighting pass's output: colour and N.V, one row per surface row
 LIT_ROW_BYTES = 16
 EDGE_LAYOUT = ("3f 3f 3f", "in_position", "in_face_normal", "in_face_point")
 # The normals program reads a vertex row's position and vertex normal as a foot and a direction.
-VERTEX_NORMAL_LAYOUT = ("3f 3f 3f 2f", "in_position", "in_direction", "in_face_normal", "in_uv")
+VERTEX_NORMAL_LAYOUT = ("3f 3f 2f", "in_position", "in_direction", "in_uv")
 FACE_NORMAL_LAYOUT = ("3f 3f", "in_position", "in_direction")
 
 
@@ -76,8 +76,8 @@ class SurfaceArrays:
     three per fan triangle, polygon by polygon (so a range of faces is a range of indices).
 
     Rows, in order: one per position, taking the vertex normal and uv of one of its corners; one per
-    corner whose normal or uv differs from that (seams); one per polygon for its first corner, the
-    only row with the polygon's face normal.
+    corner whose normal or uv differs from that (seams); one per polygon for its first corner, whose
+    normal is the polygon's face normal: the normal each row is lit with.
 
     `indices` (Flat) start every triangle at its polygon's own row, so with the provoking vertex set
     to the first one, `flat` varyings come from the polygon's first vertex lit with its face normal
@@ -86,7 +86,7 @@ class SurfaceArrays:
     nothing of a polygon's own, so each corner is lit once, not once more as its polygon's first.
     """
 
-    vertices: np.ndarray  # (N, 11) float32
+    vertices: np.ndarray  # (N, 8) float32
     indices: np.ndarray  # (3T,) uint32
     shared_indices: np.ndarray  # (3T,) uint32
     colours: np.ndarray | None = None  # (N, 4) uint8: each row's position's colour, when the mesh has them
@@ -104,16 +104,15 @@ def surface_arrays(mesh: Mesh) -> SurfaceArrays:
     shared_rows = positions + seams.shape[0]
     row_corner = np.concatenate([representative, seams, first_corners])
 
-    vertices = np.empty((row_corner.shape[0], 11), np.float32)
+    vertices = np.empty((row_corner.shape[0], 8), np.float32)
     positions32 = mesh.positions.astype(np.float32)
     # A position's own row is the position: no gather (rows of unused positions are never indexed).
     vertices[:positions, 0:3] = positions32
     # np.take gathers rows faster than fancy indexing does.
     vertices[positions:, 0:3] = np.take(positions32, corner_vertex[row_corner[positions:]], axis=0)
-    vertices[:, 3:6] = np.take(mesh.corner_normal, row_corner, axis=0)
-    vertices[:shared_rows, 6:9] = vertices[:shared_rows, 3:6]  # read only at a polygon's own row
-    vertices[shared_rows:, 6:9] = mesh.face_normals
-    vertices[:, 9:11] = np.take(mesh.corner_uv, row_corner, axis=0)
+    vertices[:shared_rows, 3:6] = np.take(mesh.corner_normal, row_corner[:shared_rows], axis=0)
+    vertices[shared_rows:, 3:6] = mesh.face_normals  # Flat lights a polygon at its own row only
+    vertices[:, 6:8] = np.take(mesh.corner_uv, row_corner, axis=0)
 
     row_of_corner = corner_vertex.astype(np.uint32)
     row_of_corner[seams] = np.arange(positions, shared_rows, dtype=np.uint32)
