@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import os
+import subprocess
+import sys
 import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -662,3 +664,24 @@ def test_numbers_in_every_spelling_read_as_float_reads_them(value: float, spelli
 def test_a_face_corner_reads_as_the_line_reader_reads_it(corner: str) -> None:
     text = f"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf {corner} 2 3\nf 1/1/1 2/1/1 3/1/1\n".encode()
     assert_agree(read_both(text))
+
+
+def test_a_process_reading_only_small_files_never_imports_numba() -> None:
+    """The built-in scene's models are read by the line reader: the screenshot and the window's start
+    never pay numba's start-up."""
+    code = ("import sys; from marraztu.loaders.scenefile import load_builtin_scene; load_builtin_scene(); "
+            "print('numba' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "False"
+
+
+def test_once_the_compiled_reader_is_loaded_it_reads_small_files_too(monkeypatch: pytest.MonkeyPatch) -> None:
+    read: list[str] = []
+
+    def spy(text: bytes, source: str) -> RawObj:
+        read.append(source)
+        return read_by_lines(text, source)
+
+    monkeypatch.setattr(fast_reader, "read_fast", spy)
+    parse(QUAD, "small.obj")
+    assert read == ["small.obj"]  # imported above, as after a large file

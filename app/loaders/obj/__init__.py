@@ -5,16 +5,17 @@ index 0, drops a truncated last face and accepts NaN. A viewer for students must
 wrong and on which line.
 
 Two readers produce the same raw tables (raw.py): the fast one (fast.py, compiled by numba) reads
-files of a megabyte or more; the line-by-line one (lines.py) is the authority on meaning. It reads
-small files, files that continue lines with a backslash, and every line the fast one does not read
-itself, valid or not, so it alone words the errors. The MTL beside
-the file gives the material (mtl.py). Normals and texture coordinates the file lacks are derived by
-marraztu.model.build, as for every other format.
+files of a few megabytes or more, and any file once it is loaded; the line-by-line one (lines.py) is
+the authority on meaning. It reads a process's first small files, files that continue lines with a
+backslash, and every line the fast one does not read itself, valid or not, so it alone words the
+errors. The MTL beside the file gives the material (mtl.py). Normals and texture coordinates the
+file lacks are derived by marraztu.model.build, as for every other format.
 """
 
 from __future__ import annotations
 
 import re
+import sys
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
@@ -121,14 +122,16 @@ def _face_materials(runs: list[tuple[int, str]], library: list[MeshMaterial], fa
     return tuple(by_name[name] for name in used), face_material, lacking, len(beyond)
 
 
-# Below this size the line reader is done before the compiled reader's code has even been loaded
-# (importing numba and its cached machine code).
-COMPILED_READER_BYTES = 1 << 20
+# The compiled reader's first use in a process imports numba and loads its machine code, about a
+# quarter of a second: the line reader, at about 10 MB/s, is done sooner below this size. Once
+# loaded, the compiled reader is the quicker one whatever the size.
+COMPILED_READER_BYTES = 5 << 19
+_COMPILED_READER = "marraztu.loaders.obj.fast"
 
 
 def _read_tables(text: bytes, source: str) -> RawObj:
     # A continuation joins lines: only the line reader follows them.
-    if _has_continuations(text) or len(text) < COMPILED_READER_BYTES:
+    if _has_continuations(text) or (len(text) < COMPILED_READER_BYTES and _COMPILED_READER not in sys.modules):
         return read_by_lines(text, source)
     try:
         from marraztu.loaders.obj.fast import read_fast  # numba, imported for the files that repay it
