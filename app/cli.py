@@ -66,7 +66,8 @@ class VersionAction(argparse.Action):
                          help="show the program's version and exit")
 
     def __call__(self, parser: argparse.ArgumentParser, *_: Any) -> None:
-        parser.exit(message=f"marraztu {marraztu.__version__}\n")
+        print(f"marraztu {marraztu.__version__}")
+        parser.exit()
 
 
 def window_parser() -> argparse.ArgumentParser:

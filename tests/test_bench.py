@@ -115,3 +115,28 @@ def test_sizes_and_shortcuts_parse() -> None:
     config = config_from_args(["--skip-5m"])
     assert config.frame_sizes == (100_000, 1_000_000)
     assert config_from_args(["--quick", "--frames", "7"]).frames == 7
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_the_bare_draw_covers_the_pixels_the_renderer_does(gl_ctx, mode: str) -> None:
+    """The floor under a frame's cost draws the same geometry: same vertices, read through the
+    renderer's own layouts, so exactly the same pixels differ from the background."""
+    from marraztu.devtools.bench.frames import BareDraw, bench_scene, set_mode
+    from marraztu.render.renderer import Renderer
+
+    size = (160, 120)
+    scene = bench_scene(None)
+    set_mode(scene, mode)
+    bare = BareDraw(gl_ctx, scene)
+    covered = []
+    try:
+        for draw in (lambda fbo: Renderer(gl_ctx).render(scene, fbo, size), lambda fbo: bare.render(fbo, size, mode)):
+            fbo = gl_ctx.simple_framebuffer(size, components=4)
+            draw(fbo)
+            pixels = np.frombuffer(fbo.read(components=3), np.uint8).reshape(size[1], size[0], 3)
+            covered.append(np.any(pixels != pixels[0, 0], axis=2))  # the corner is background
+            fbo.release()
+    finally:
+        bare.release()
+    assert covered[0].sum() > 100, "not blank"
+    assert np.array_equal(covered[0], covered[1])

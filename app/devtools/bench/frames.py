@@ -37,9 +37,13 @@ BARE_FRAGMENT_SHADER = """#version 330
 out vec4 f_colour;
 void main() { f_colour = vec4(1.0); }
 """
-# The renderer's interleaved layouts (marraztu.render.gpu) read for the position only: same buffer, same stride.
-BARE_SURFACE_FORMAT = "3f 32x"  # skips vertex normal, face normal, uv
-BARE_EDGE_FORMAT = "3f 24x"  # skips face normal, polygon's first vertex
+
+
+def position_only(layout: tuple[str, ...]) -> str:
+    """One of the renderer's interleaved layouts (marraztu.render.gpu), its first attribute (the
+    position) read and the rest skipped: same buffer, same stride."""
+    position, *rest = layout[0].split()
+    return f"{position} {sum(4 * int(fmt[:-1]) for fmt in rest)}x"  # float32 components: 4 bytes each
 MODES = ("flat", "gouraud", "lines")
 MIN_FRAMES = 3  # a median of fewer says little
 
@@ -70,7 +74,7 @@ class BareDraw:
     def __init__(self, ctx: moderngl.Context, scene: Scene) -> None:
         import moderngl
 
-        from marraztu.render.gpu import edge_pairs, edge_rows, surface_arrays
+        from marraztu.render.gpu import EDGE_LAYOUT, SURFACE_LAYOUT, edge_pairs, edge_rows, surface_arrays
         from marraztu.render.renderer import CLEAR_COLOUR
 
         self.gl = moderngl  # imported here, not per frame, so the bare CPU figures stay bare
@@ -86,11 +90,11 @@ class BareDraw:
             indices, shared = ctx.buffer(arrays.indices), ctx.buffer(arrays.shared_indices)
             edges, pairs = ctx.buffer(edge_rows(obj.mesh)), ctx.buffer(edge_pairs(obj.mesh))
             self.buffers += [surface, indices, shared, edges, pairs]
-            position = [(surface, BARE_SURFACE_FORMAT, "in_position")]
+            position = [(surface, position_only(SURFACE_LAYOUT), "in_position")]
             self.objects.append((obj, {
                 "flat": ctx.vertex_array(self.program, position, index_buffer=indices, index_element_size=4),
                 "gouraud": ctx.vertex_array(self.program, position, index_buffer=shared, index_element_size=4),
-                "lines": ctx.vertex_array(self.program, [(edges, BARE_EDGE_FORMAT, "in_position")],
+                "lines": ctx.vertex_array(self.program, [(edges, position_only(EDGE_LAYOUT), "in_position")],
                                           index_buffer=pairs, index_element_size=4)}))
 
     def render(self, fbo: moderngl.Framebuffer, size: tuple[int, int], mode: str) -> None:

@@ -126,12 +126,11 @@ def _face_materials(runs: list[tuple[int, str]], library: list[MeshMaterial], fa
 # quarter of a second: the line reader, at about 10 MB/s, is done sooner below this size. Once
 # loaded, the compiled reader is the quicker one whatever the size.
 COMPILED_READER_BYTES = 5 << 19
-_COMPILED_READER = "marraztu.loaders.obj.fast"
 
 
 def _read_tables(text: bytes, source: str) -> RawObj:
     # A continuation joins lines: only the line reader follows them.
-    if _has_continuations(text) or (len(text) < COMPILED_READER_BYTES and _COMPILED_READER not in sys.modules):
+    if _has_continuations(text) or (len(text) < COMPILED_READER_BYTES and not _compiled_reader_loaded()):
         return read_by_lines(text, source)
     try:
         from marraztu.loaders.obj.fast import read_fast  # numba, imported for the files that repay it
@@ -140,6 +139,11 @@ def _read_tables(text: bytes, source: str) -> RawObj:
         raise
     except Exception:  # no numba here, or a fast-reader bug: the person still gets their model, slowly
         return read_by_lines(text, source)
+
+
+def _compiled_reader_loaded() -> bool:
+    fast = sys.modules.get("marraztu.loaders.obj.fast")  # never imported here: that would import numba
+    return fast is not None and fast.machine_code_loaded()
 
 
 _BACKSLASH_AT_LINE_END = re.compile(rb"\\[^\S\n]*\n")

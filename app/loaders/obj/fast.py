@@ -29,6 +29,11 @@ _Result = TypeVar("_Result")
 _WIDTHS = (3, 2, 3)
 
 
+def machine_code_loaded() -> bool:
+    """Whether this process has its compiled code yet (numba loads it, from its cache, on first use)."""
+    return all(function.signatures for function in (scan.count_piece, scan.read_piece))
+
+
 def read_fast(text: bytes, source: str) -> RawObj:
     """The file's tables, or the LoadError the line reader gives for its first bad line.
 
