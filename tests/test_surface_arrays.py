@@ -10,7 +10,7 @@ import pytest
 
 from marraztu.loaders.obj import load_obj, parse_obj
 from marraztu.model.mesh import Mesh
-from marraztu.render.gpu import _seams, surface_arrays
+from marraztu.render.gpu import _seams, surface_arrays, used_shared_rows
 from support.seed import SEED_ASSETS, SEED_MODELS
 
 
@@ -56,7 +56,16 @@ def check_same_corners(mesh: Mesh) -> np.ndarray:
     shared = arrays.vertices[arrays.shared_indices]
     assert np.array_equal(shared, expected)
     assert arrays.shared_indices.max() < arrays.vertices.shape[0] - mesh.face_count, "no polygon row"
+    # Whole-mesh vertex normals: each row the shared indices read, once.
+    rows = used_shared_rows(mesh, arrays.vertices.shape[0] - mesh.face_count)
+    assert np.array_equal(rows, np.unique(arrays.shared_indices))
     return arrays.vertices
+
+
+def test_a_position_no_face_uses_gets_no_normal() -> None:
+    mesh = parse_obj(b"v 0 0 0\nv 1 0 0\nv 9 9 9\nv 0 1 0\nf 1 2 4\n", "unused.obj")
+    check_same_corners(mesh)
+    assert used_shared_rows(mesh, mesh.vertex_count).tolist() == [0, 1, 3]
 
 
 def test_polygons_with_a_uv_seam_draw_their_own_corners() -> None:

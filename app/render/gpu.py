@@ -175,6 +175,15 @@ def edge_pairs(mesh: Mesh) -> np.ndarray:
     return mesh.edge_corners().astype(np.uint32).reshape(-1)
 
 
+def used_shared_rows(mesh: Mesh, shared_rows: int) -> np.ndarray:
+    """(R,) uint32: the surface's shared rows that some corner reads (SurfaceArrays): the rows of the
+    positions faces use, then every seam row. Each vertex normal is drawn once from these."""
+    used = np.zeros(mesh.vertex_count, bool)
+    used[mesh.corner_vertex] = True
+    seam_rows = np.arange(mesh.vertex_count, shared_rows)
+    return np.concatenate([np.flatnonzero(used), seam_rows]).astype(np.uint32)
+
+
 def face_normal_feet(mesh: Mesh) -> np.ndarray:
     """(F, 6) float32: each polygon's centroid and face normal, one point per face normal."""
     corner_positions = np.take(mesh.positions, mesh.corner_vertex, axis=0)
@@ -374,7 +383,7 @@ class ObjectGpu:
         corners, through the shared surface indices."""
         if start == 0 and stop == self.mesh.face_count:  # a row is shared by ~6 triangles: 6x fewer segments
             rows, vao = self._built.get("vertex normal rows") or self._build(
-                "vertex normal rows", self._used_shared_rows(), self.programs.normals,
+                "vertex normal rows", used_shared_rows(self.mesh, self.shared_rows), self.programs.normals,
                 self._surface_content(self.programs.normals, VERTEX_NORMAL_LAYOUT), indexed=True)
             return vao, VertexRange(0, rows.size // 4 if rows is not None else 0)  # uint32 indices
         built = self._built.get("vertex normals")
@@ -385,13 +394,6 @@ class ObjectGpu:
                                         index_element_size=4)
             built = self._built["vertex normals"] = (None, vao)
         return built[1], self.surface_range(start, stop)
-
-    def _used_shared_rows(self) -> np.ndarray:
-        """(R,) uint32: the shared rows some corner reads: the rows of used positions, then every seam row."""
-        used = np.zeros(self.mesh.vertex_count, bool)
-        used[self.mesh.corner_vertex] = True
-        seam_rows = np.arange(self.mesh.vertex_count, self.shared_rows)
-        return np.concatenate([np.flatnonzero(used), seam_rows]).astype(np.uint32)
 
     @property
     def buffers(self) -> dict[str, moderngl.Buffer]:
