@@ -116,20 +116,17 @@ def surface_arrays(mesh: Mesh) -> SurfaceArrays:
 
     row_of_corner = corner_vertex.astype(np.uint32)
     row_of_corner[seams] = np.arange(positions, shared_rows, dtype=np.uint32)
-    triangles = mesh.triangle_corners()
-    indices = np.empty(triangles.shape, np.uint32)
+    # All triangles: the corners are the triangles already, in order, so no fan to gather.
+    shared_indices = row_of_corner if mesh.all_triangles else row_of_corner[mesh.triangle_corners()].reshape(-1)
+    indices = shared_indices.copy()
     polygon_rows = np.arange(shared_rows, shared_rows + mesh.face_count, dtype=np.uint32)
-    indices[:, 0] = polygon_rows if mesh.all_triangles else np.repeat(polygon_rows, mesh.face_sizes - 2)
-    indices[:, 1] = row_of_corner[triangles[:, 1]]
-    indices[:, 2] = row_of_corner[triangles[:, 2]]
-    shared_indices = indices.copy()
-    shared_indices[:, 0] = row_of_corner[triangles[:, 0]]
+    indices[0::3] = polygon_rows if mesh.all_triangles else np.repeat(polygon_rows, mesh.face_sizes - 2)
     colours = None
     if mesh.vertex_colours is not None:  # 4 bytes a row keeps every row aligned for the GPU
         colours = np.full((row_corner.shape[0], 4), 255, np.uint8)
         colours[:positions, :3] = mesh.vertex_colours
         colours[positions:, :3] = np.take(mesh.vertex_colours, corner_vertex[row_corner[positions:]], axis=0)
-    return SurfaceArrays(vertices, indices.reshape(-1), shared_indices.reshape(-1), colours)
+    return SurfaceArrays(vertices, indices, shared_indices, colours)
 
 
 _SEAM_CHUNK = 1 << 15  # corners compared per piece: their gathered rows stay in the CPU cache
