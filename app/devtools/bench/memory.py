@@ -7,6 +7,7 @@ import os
 import statistics
 import subprocess
 import sys
+import time
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -21,7 +22,7 @@ if TYPE_CHECKING:
 
 MEMORY_HEADERS = ("file", "triangles", "Mesh B/tri", "GPU-ready arrays B/tri", "GPU when filled B/tri",
                   "GPU with lines and normals B/tri", "edges B/tri", "normals B/tri", "RSS growth, all drawn B/tri",
-                  "of which llvmpipe's scene queue B/tri", "compiled reader MB, once")
+                  "of which llvmpipe's scene queue B/tri", "compiled reader MB, once", "compiled reader s, once")
 
 
 MESH_ARRAYS = ("positions", "corner_vertex", "corner_uv", "corner_normal", "face_start", "face_normals")
@@ -50,10 +51,10 @@ def memory_row(bench: FrameBench, item: LoadInput) -> list[str]:
             sizes["face normals"] + sizes["vertex normal rows"])]  # vertex normals read the surface's rows
     finally:
         gpu.release()
-    growth, compiled_reader = median_rss_growth(item.path)
-    unqueued, _ = median_rss_growth(item.path, {"LP_NUM_THREADS": "0"})  # llvmpipe rasterizes each scene at once
+    growth, reader_bytes, reader_seconds = median_rss_growth(item.path)
+    unqueued, _, _ = median_rss_growth(item.path, {"LP_NUM_THREADS": "0"})  # llvmpipe rasterizes each scene at once
     return [item.label, str(triangles), *(number(value) for value in per_triangle), number(growth),
-            number(growth - unqueued), number(compiled_reader / MEGABYTE)]
+            number(growth - unqueued), number(reader_bytes / MEGABYTE), number(reader_seconds)]
 
 
 def resident_bytes() -> int:
@@ -73,9 +74,9 @@ def rss_worker(argv: Sequence[str]) -> int:
     size = (640, 480)
     fbo = bench.ctx.simple_framebuffer(size, components=4)
     bench.renderer.render(bench_scene(None), fbo, size)  # programs compiled, driver warmed
-    start = resident_bytes()
+    start, started = resident_bytes(), time.perf_counter()
     warm_compiled_reader()  # once per process, whatever the model: reported apart from the growth
-    before = resident_bytes()
+    before, warmed = resident_bytes(), time.perf_counter()
     mesh = load_obj(Path(argv[0]))
     scene = bench_scene(mesh)
     for mode in ("flat", "gouraud", "lines"):
@@ -85,7 +86,7 @@ def rss_worker(argv: Sequence[str]) -> int:
             bench.renderer.render(scene, fbo, size)
             bench.ctx.finish()
     print(json.dumps({"triangles": int(mesh.triangles_before_face()[-1]), "growth": resident_bytes() - before,
-                      "compiled_reader": before - start}))
+                      "compiled_reader": before - start, "compiled_reader_seconds": warmed - started}))
     return 0
 
 
@@ -103,20 +104,21 @@ def warm_compiled_reader() -> None:
 RSS_RUNS = 3  # llvmpipe's queue of binned scenes grows with how far its threads fall behind: it varies
 
 
-def median_rss_growth(path: Path, environment: Mapping[str, str] | None = None) -> tuple[float, int]:
-    runs = [rss_growth(path, environment) for _ in range(RSS_RUNS)]
-    return statistics.median(growth for growth, _ in runs), int(statistics.median(reader for _, reader in runs))
+def median_rss_growth(path: Path, environment: Mapping[str, str] | None = None) -> tuple[float, int, float]:
+    growth, reader_bytes, reader_seconds = zip(*(rss_growth(path, environment) for _ in range(RSS_RUNS)))
+    return statistics.median(growth), int(statistics.median(reader_bytes)), statistics.median(reader_seconds)
 
 
-def rss_growth(path: Path, environment: Mapping[str, str] | None = None) -> tuple[float, int]:
-    """Bytes per triangle, and the compiled reader's bytes (once per process), in a fresh process, so
-    that nothing this one holds (or freed) blurs the figures; `environment` adds to this one's."""
+def rss_growth(path: Path, environment: Mapping[str, str] | None = None) -> tuple[float, int, float]:
+    """Bytes per triangle, and the compiled reader's bytes and seconds (once per process), in a fresh
+    process, so that nothing this one holds (or freed) blurs the figures; `environment` adds to this
+    one's."""
     done = subprocess.run([sys.executable, "-c", _RSS_WORKER, str(path)], capture_output=True, text=True,
                           env={**os.environ, **(environment or {})})
     if done.returncode != 0:
         raise RuntimeError(f"the memory worker failed on {path.name}:\n{done.stderr.strip()}")
     report = json.loads(done.stdout.strip().splitlines()[-1])
-    return report["growth"] / report["triangles"], report["compiled_reader"]
+    return report["growth"] / report["triangles"], report["compiled_reader"], report["compiled_reader_seconds"]
 
 
 def memory_section(bench: FrameBench, inputs: Sequence[LoadInput]) -> list[str]:
@@ -139,9 +141,10 @@ def memory_section(bench: FrameBench, inputs: Sequence[LoadInput]) -> list[str]:
         "scene queue*: that growth less the same with `LP_NUM_THREADS=0`, where llvmpipe rasterizes each "
         "scene as soon as it is binned instead of queueing binned scenes for its threads and keeping "
         "their memory for reuse (none of ours; about zero on a GPU, which ignores the variable). "
-        "*Compiled reader*: what importing numba and loading the OBJ reader's machine code adds to the "
-        "same process before that, once per process whatever the model (a process whose files are all "
-        "under 2.5 MB never pays it: the line reader reads them).",
+        "*Compiled reader*: what importing numba and loading the OBJ reader's machine code from numba's "
+        "cache adds to the same process before that, and how long that takes, once per process whatever "
+        "the model (a process whose files are all under 2.5 MB never pays it: the line reader reads "
+        "them).",
         "",
         *markdown_table(MEMORY_HEADERS, rows),
     ]
