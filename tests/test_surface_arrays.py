@@ -92,6 +92,18 @@ def test_a_smooth_grid_shares_its_vertices() -> None:
     assert vertices.shape[0] == mesh.vertex_count + mesh.face_count  # no seams: uv and normals per vertex
 
 
+@pytest.mark.parametrize("size", [4, 5, 7])
+def test_polygons_all_of_one_size_fan_from_their_first_corner(size: int) -> None:
+    """Their fans are gathered within each polygon's row of corners (no table of triangle corners)."""
+    angles = np.linspace(0.0, 2.0 * np.pi, size, endpoint=False)
+    ring = [f"v {np.cos(a)} {np.sin(a)} {0.1 * k}" for k, a in enumerate(angles)]
+    lifted = [f"v {np.cos(a)} {np.sin(a)} {1.0 + 0.1 * k}" for k, a in enumerate(angles)]
+    faces = [" ".join(str(k + 1) for k in range(size)), " ".join(str(size + k + 1) for k in reversed(range(size)))]
+    mesh = parse_obj(("\n".join(ring + lifted + [f"f {face}" for face in faces]) + "\n").encode(), "rings.obj")
+    assert not mesh.all_triangles and set(mesh.face_sizes.tolist()) == {size}
+    check_same_corners(mesh)
+
+
 def assert_no_seams(mesh: Mesh) -> None:
     """What lets surface_arrays skip the seam search when the mesh says it has per-position attributes."""
     representative = np.zeros(mesh.vertex_count, np.int64)

@@ -160,7 +160,7 @@ def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: 
     """
     if _one_small_size(sizes):  # triangles, quads...: the fans column by column
         corners = corner_vertex.reshape(-1, int(sizes[0])).T
-        sums = _cross_from_first(positions, corners[[0, 1, 2]])
+        sums = _cross_from_first(positions, corners[0:3])  # a view: no copy of the corner table
         for second in range(2, int(sizes[0]) - 1):  # in fan order, as reduceat below adds them
             sums += _cross_from_first(positions, corners[[0, second, second + 1]])
     else:

@@ -18,6 +18,12 @@ import numpy as np
 from marraztu.model.geometry import column_bounds
 
 
+def polygon_fan(size: int) -> np.ndarray:
+    """(size - 2, 3) the fan of one polygon of `size` corners, as corner numbers within it."""
+    second = np.arange(1, size - 1)
+    return np.stack([np.zeros_like(second), second, second + 1], axis=1)
+
+
 def fan_triangles(face_start: np.ndarray) -> np.ndarray:
     """(T, 3) corner indices of every polygon's fan from its first corner, polygon by polygon: the
     seed's triangulation, so each triangle's first corner is its polygon's first vertex."""
@@ -25,9 +31,7 @@ def fan_triangles(face_start: np.ndarray) -> np.ndarray:
     if sizes.size and sizes.min() == sizes.max():  # polygons of one size: the same fan in each
         if sizes[0] == 3:  # the common case: the corners are the triangles already
             return np.arange(int(face_start[-1]), dtype=np.int64).reshape(-1, 3)
-        second = np.arange(1, int(sizes[0]) - 1)
-        fan = np.stack([np.zeros_like(second), second, second + 1], axis=1)
-        return (face_start[:-1, None, None] + fan).reshape(-1, 3)
+        return (face_start[:-1, None, None] + polygon_fan(int(sizes[0]))).reshape(-1, 3)
     per_face = sizes - 2
     first_of_face = np.cumsum(per_face) - per_face
     step = np.arange(int(per_face.sum())) - np.repeat(first_of_face, per_face)  # 0.. within each fan
