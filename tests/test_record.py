@@ -25,6 +25,11 @@ def frames_of(path: Path) -> tuple[list[np.ndarray], dict]:
         return [np.asarray(frame.convert("RGB")).astype(int) for frame in ImageSequence.Iterator(animation)], info
 
 
+def frame_ms(fps: int) -> int:
+    """The frame time an animation file states for --fps: a number written into it, nothing timed."""
+    return 1000 // fps
+
+
 def screenshot(tmp_path: Path, keys: str) -> np.ndarray:
     out = take_screenshot(StartOptions(), tmp_path / f"shot{len(keys)}.png", (160, 120), keys=keys)
     return np.asarray(Image.open(out).convert("RGB")).astype(int)
@@ -36,7 +41,7 @@ def test_animated_png_holds_one_exact_frame_per_press(tmp_path: Path, capsys) ->
     assert "7 frames" in capsys.readouterr().out
     frames, info = frames_of(out)
     assert len(frames) == 7
-    assert info["duration"] == 50  # written into the file (1000 / --fps ms a frame), not timed
+    assert info["duration"] == frame_ms(20)
     assert np.array_equal(frames[0], screenshot(tmp_path, "0"))
     assert np.array_equal(frames[-1], screenshot(tmp_path, KEYS))
     assert not np.array_equal(frames[2], frames[3]), "each press turns the object"
@@ -46,7 +51,7 @@ def test_gif_frames_match_to_its_colours(tmp_path: Path) -> None:
     out = tmp_path / "turn.gif"
     assert main(["record", "-o", str(out), "--size", SIZE, "--keys", KEYS, "--fps", "10"]) == 0
     frames, info = frames_of(out)
-    assert len(frames) == 7 and info["duration"] == 100  # the file's own frame time, from --fps
+    assert len(frames) == 7 and info["duration"] == frame_ms(10)
     for frame, keys in ((frames[0], "0"), (frames[-1], KEYS)):
         difference = np.abs(frame - screenshot(tmp_path, keys))
         assert difference.mean() < 1.0 and (difference.max(axis=2) > 16).mean() < 0.01

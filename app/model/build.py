@@ -12,7 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from marraztu.model.geometry import FLOAT32_MAX, column_bounds, unit_rows
-from marraztu.model.mesh import Mesh, fan_triangles
+from marraztu.model.mesh import Mesh, fan_gather
 
 # Zero-area faces get a fallback normal; "zero" is relative to the model's size.
 DEGENERATE_AREA = 1e-12
@@ -164,7 +164,7 @@ def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: 
         for second in range(2, int(sizes[0]) - 1):  # in fan order, as reduceat below adds them
             sums += _cross_from_first(positions, corners[[0, second, second + 1]])
     else:
-        fans = corner_vertex[fan_triangles(face_start)].T
+        fans = fan_gather(corner_vertex, face_start).reshape(-1, 3).T
         firsts = np.concatenate(([0], np.cumsum(sizes - 2)[:-1]))
         sums = np.add.reduceat(_cross_from_first(positions, fans), firsts, axis=1)
     with np.errstate(all="ignore"):

@@ -18,29 +18,33 @@ import numpy as np
 from marraztu.model.geometry import column_bounds
 
 
-def polygon_fan(size: int) -> np.ndarray:
-    """(size - 2, 3) the fan of one polygon of `size` corners, as corner numbers within it."""
-    second = np.arange(1, size - 1)
-    return np.stack([np.zeros_like(second), second, second + 1], axis=1)
+def fan_gather(values: np.ndarray, face_start: np.ndarray) -> np.ndarray:
+    """(3T,) `values`, one per corner, in the order of the fan triangles' corners, polygon by polygon:
+    the seed's triangulation from each polygon's first corner. Where the polygons are all of one size
+    the fan is gathered inside each polygon's row of values, with no table of corner indices."""
+    sizes = np.diff(face_start)
+    if sizes.size and sizes.min() == sizes.max():  # polygons of one size: the same fan in each
+        size = int(sizes[0])
+        if size == 3:  # the common case: the corners are the triangles already
+            return values
+        second = np.arange(1, size - 1)
+        fan = np.stack([np.zeros_like(second), second, second + 1], axis=1)  # corners within a polygon
+        return values.reshape(-1, size)[:, fan].reshape(-1)
+    per_face = sizes - 2
+    first_of_face = np.cumsum(per_face) - per_face
+    step = np.arange(int(per_face.sum())) - np.repeat(first_of_face, per_face)  # 0.. within each fan
+    base = np.repeat(face_start[:-1], per_face)
+    corners = np.empty((step.size, 3), np.int64)
+    corners[:, 0] = base
+    corners[:, 1] = base + step + 1
+    corners[:, 2] = base + step + 2
+    return values[corners.reshape(-1)]
 
 
 def fan_triangles(face_start: np.ndarray) -> np.ndarray:
     """(T, 3) corner indices of every polygon's fan from its first corner, polygon by polygon: the
     seed's triangulation, so each triangle's first corner is its polygon's first vertex."""
-    sizes = np.diff(face_start)
-    if sizes.size and sizes.min() == sizes.max():  # polygons of one size: the same fan in each
-        if sizes[0] == 3:  # the common case: the corners are the triangles already
-            return np.arange(int(face_start[-1]), dtype=np.int64).reshape(-1, 3)
-        return (face_start[:-1, None, None] + polygon_fan(int(sizes[0]))).reshape(-1, 3)
-    per_face = sizes - 2
-    first_of_face = np.cumsum(per_face) - per_face
-    step = np.arange(int(per_face.sum())) - np.repeat(first_of_face, per_face)  # 0.. within each fan
-    base = np.repeat(face_start[:-1], per_face)
-    triangles = np.empty((step.size, 3), np.int64)
-    triangles[:, 0] = base
-    triangles[:, 1] = base + step + 1
-    triangles[:, 2] = base + step + 2
-    return triangles
+    return fan_gather(np.arange(int(face_start[-1]), dtype=np.int64), face_start).reshape(-1, 3)
 
 
 @dataclass(frozen=True, eq=False)

@@ -25,7 +25,7 @@ from typing import Hashable, Mapping, Sequence
 import moderngl
 import numpy as np
 
-from marraztu.model.mesh import Mesh, polygon_fan
+from marraztu.model.mesh import Mesh, fan_gather
 from marraztu.model.scene import Shading
 from marraztu.render.context import check_gl
 from marraztu.resources import shader_source
@@ -116,7 +116,7 @@ def surface_arrays(mesh: Mesh) -> SurfaceArrays:
 
     row_of_corner = corner_vertex.astype(np.uint32)
     row_of_corner[seams] = np.arange(positions, shared_rows, dtype=np.uint32)
-    shared_indices = _fan_rows(mesh, row_of_corner)
+    shared_indices = fan_gather(row_of_corner, mesh.face_start)
     indices = shared_indices.copy()
     polygon_rows = np.arange(shared_rows, shared_rows + mesh.face_count, dtype=np.uint32)
     indices[0::3] = polygon_rows if mesh.all_triangles else np.repeat(polygon_rows, mesh.face_sizes - 2)
@@ -126,17 +126,6 @@ def surface_arrays(mesh: Mesh) -> SurfaceArrays:
         colours[:positions, :3] = mesh.vertex_colours
         colours[positions:, :3] = np.take(mesh.vertex_colours, corner_vertex[row_corner[positions:]], axis=0)
     return SurfaceArrays(vertices, indices, shared_indices, colours)
-
-
-def _fan_rows(mesh: Mesh, row_of_corner: np.ndarray) -> np.ndarray:
-    """(3T,) each fan triangle's corners' rows, polygon by polygon, made without a (T, 3) table of
-    corner indices where the polygons are all of one size."""
-    sizes = mesh.face_sizes
-    if mesh.all_triangles:  # the corners are the triangles already, in order
-        return row_of_corner
-    if sizes.min() == sizes.max():  # the same fan in each polygon, gathered within its row of corners
-        return row_of_corner.reshape(-1, int(sizes[0]))[:, polygon_fan(int(sizes[0]))].reshape(-1)
-    return row_of_corner[mesh.triangle_corners()].reshape(-1)
 
 
 _SEAM_CHUNK = 1 << 15  # corners compared per piece: their gathered rows stay in the CPU cache
