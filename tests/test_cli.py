@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -65,6 +66,18 @@ def test_screenshot_bad_model_is_one_line_naming_file_and_line(tmp_path: Path, c
     result = run_app("screenshot", "-o", str(tmp_path / "x.png"), "--size", "32x32", str(model))
     assert_one_line_error(result, "bad.obj", fragment)
     assert not (tmp_path / "x.png").exists()
+
+
+def test_no_dependency_speaks_where_no_bytecode_is_cached(tmp_path: Path) -> None:
+    """Where Python finds no cached bytecode (a read-only install, --no-compile) it compiles every
+    module it imports, and a module's SyntaxWarning would land on stderr before our one line."""
+    env = {**os.environ, "PYTHONPYCACHEPREFIX": str(tmp_path / "pycache")}  # a cache nothing is in yet
+    shot = tmp_path / "x.png"
+    result = run_app("screenshot", "-o", str(shot), "--size", "32x32", "--keys", "T l g", env=env)
+    assert result.returncode == 0 and result.stderr == "", result.stderr
+    model = tmp_path / "bad.obj"
+    model.write_text("v 0 0 0\nv 1 0 0\nf 1 2 7\n")
+    assert_one_line_error(run_app("screenshot", "-o", str(shot), str(model), env=env), "bad.obj", ":3:")
 
 
 def test_screenshot_missing_model(tmp_path: Path) -> None:

@@ -1,8 +1,7 @@
 """Every 4x4 and 3x3 matrix the viewer builds, in the column-vector convention (p' = M @ p).
 
-pyrr is confined to this module. Its `matrix33.create_from_{x,y,z}_rotation` are right-handed
-rotations for column vectors (tests/test_commands.py pins that); its projections and translations
-are laid out for row vectors, so those are transposed or written here.
+Written here rather than taken from pyrr: pyrr is unmaintained, lays its projections out for row
+vectors, and its source warns on every import where Python 3.12 cannot cache bytecode.
 """
 
 from __future__ import annotations
@@ -10,18 +9,10 @@ from __future__ import annotations
 from enum import Enum
 
 import numpy as np
-import pyrr
 
 from marraztu.model.geometry import unit_or_none
 
 Vec3 = tuple[float, float, float]
-
-_ROTATION_BUILDERS = (
-    pyrr.matrix33.create_from_x_rotation,
-    pyrr.matrix33.create_from_y_rotation,
-    pyrr.matrix33.create_from_z_rotation,
-)
-
 
 class TransformKind(Enum):
     """What x/y/z do (keys r and t)."""
@@ -32,7 +23,13 @@ class TransformKind(Enum):
 
 def rotation3(axis_index: int, angle: float) -> np.ndarray:
     """3x3 right-handed rotation by `angle` radians about the x, y or z axis (0, 1, 2)."""
-    return np.asarray(_ROTATION_BUILDERS[axis_index](float(angle)), dtype=np.float64)
+    cos, sin = np.cos(float(angle)), np.sin(float(angle))
+    # The next axis turns toward the one after it (y to z, z to x, x to y); the axis itself stays.
+    turned, toward = (axis_index + 1) % 3, (axis_index + 2) % 3
+    matrix = np.eye(3)
+    matrix[turned, turned], matrix[turned, toward] = cos, -sin
+    matrix[toward, turned], matrix[toward, toward] = sin, cos
+    return matrix
 
 
 def rotation_about_axis(axis_index: int, angle: float) -> np.ndarray:
@@ -88,14 +85,27 @@ def apply_global(model: np.ndarray, step: np.ndarray) -> np.ndarray:
 
 
 def perspective(fovy_deg: float, aspect: float, near: float, far: float) -> np.ndarray:
-    """glFrustum for a symmetric field of view."""
-    return pyrr.matrix44.create_perspective_projection(fovy_deg, aspect, near, far, dtype=np.float64).T
+    """gluPerspective: glFrustum whose near plane spans +-top vertically and +-top * aspect across."""
+    top = near * np.tan(fovy_deg * np.pi / 360.0)  # tan(fovy / 2), fovy in degrees
+    right = top * aspect
+    depth = far - near
+    return np.array([
+        [near / right, 0.0, 0.0, 0.0],
+        [0.0, near / top, 0.0, 0.0],
+        [0.0, 0.0, -(far + near) / depth, -2.0 * far * near / depth],  # near -> -1, far -> +1 after the divide
+        [0.0, 0.0, -1.0, 0.0],  # w = -z: the divide by the distance in front of the eye
+    ])
 
 
 def orthographic(half_w: float, half_h: float, near: float, far: float) -> np.ndarray:
     """glOrtho, centred on the view axis."""
-    return pyrr.matrix44.create_orthogonal_projection(
-        -half_w, half_w, -half_h, half_h, near, far, dtype=np.float64).T
+    depth = far - near
+    return np.array([
+        [1.0 / half_w, 0.0, 0.0, 0.0],
+        [0.0, 1.0 / half_h, 0.0, 0.0],
+        [0.0, 0.0, -2.0 / depth, -(far + near) / depth],
+        [0.0, 0.0, 0.0, 1.0],
+    ])
 
 
 def normal_matrix(model: np.ndarray) -> np.ndarray:
