@@ -83,8 +83,8 @@ def test_figures_are_positive_numbers(report: str) -> None:
     tables = markdown_tables(report)
     measured = {
         LOAD_HEADERS: ["triangles", "MB", "seconds", "MB/s", "time ÷ ours"],
-        FRAME_HEADERS: ["triangles", "still ms", "moving ms", "bare ms", "still ÷ bare", "moving ÷ bare",
-                              "frames"],
+        FRAME_HEADERS: ["triangles", "still ms", "moving ms", "bare ms", "bare moving ms", "still ÷ bare",
+                        "moving ÷ bare", "moving ÷ bare moving", "frames"],
         CPU_HEADERS: ["program process ms", "program without draw calls ms", "bare process ms"],
         START_HEADERS: ["to exit s", "exit ÷ bare EGL", "runs"],
         MEMORY_HEADERS: ["triangles", "Mesh B/tri", "GPU-ready arrays B/tri", "GPU when filled B/tri",
@@ -140,3 +140,29 @@ def test_the_bare_draw_covers_the_pixels_the_renderer_does(gl_ctx, mode: str) ->
         bare.release()
     assert covered[0].sum() > 100, "not blank"
     assert np.array_equal(covered[0], covered[1])
+
+
+@pytest.mark.parametrize("mode", ["flat", "gouraud"])
+def test_the_bare_moving_frame_captures_the_rows_the_lighting_pass_lights(gl_ctx, mode: str) -> None:
+    """The floor under a moving frame does the lighting pass's traffic: it reads the rows that pass
+    reads (Flat: the polygons' own; Gouraud: the shared ones) and writes 16 bytes for each, at the
+    same place."""
+    from marraztu.devtools.bench.frames import BareDraw, bench_scene, set_mode
+    from marraztu.render.gpu import surface_arrays
+
+    scene = bench_scene(None)
+    set_mode(scene, mode)
+    bare = BareDraw(gl_ctx, scene)
+    try:
+        fbo = gl_ctx.simple_framebuffer((32, 32), components=4)
+        bare.render(fbo, (32, 32), mode, moving=True)
+        fbo.release()
+        for (obj, _), lighting in zip(bare.objects, bare.lighting, strict=True):
+            vertices = surface_arrays(obj.mesh).vertices
+            lit = np.frombuffer(lighting.lit.read(), np.float32).reshape(-1, 4)
+            first, stop = lighting.rows[mode]
+            assert stop - first == (obj.mesh.face_count if mode == "flat" else len(vertices) - obj.mesh.face_count)
+            assert np.array_equal(lit[first:stop, :3], vertices[first:stop, :3])
+            assert np.all(lit[first:stop, 3] == 1.0)
+    finally:
+        bare.release()

@@ -22,8 +22,8 @@ if TYPE_CHECKING:
     from marraztu.model.scene import Scene, SceneObject
     from marraztu.render.renderer import Renderer
 
-FRAME_HEADERS = ("scene", "triangles", "size", "mode", "still ms", "moving ms", "bare ms", "still ÷ bare",
-                 "moving ÷ bare", "frames")
+FRAME_HEADERS = ("scene", "triangles", "size", "mode", "still ms", "moving ms", "bare ms", "bare moving ms",
+                 "still ÷ bare", "moving ÷ bare", "moving ÷ bare moving", "frames")
 CPU_HEADERS = ("mode", "program process ms", "program thread ms", "program without draw calls ms",
                "bare process ms", "bare thread ms")
 
@@ -36,6 +36,12 @@ void main() { gl_Position = u_mvp * vec4(in_position, 1.0); }
 BARE_FRAGMENT_SHADER = """#version 330
 out vec4 f_colour;
 void main() { f_colour = vec4(1.0); }
+"""
+# The lighting pass's floor: the same rows read and the same 16-byte rows captured, no lighting.
+BARE_LIGHTING_SHADER = """#version 330
+in vec3 in_position;
+out vec4 v_lit;
+void main() { v_lit = vec4(in_position, 1.0); }
 """
 
 
@@ -68,13 +74,22 @@ class BareDraw:
     """A pass-through program drawing the renderer's vertex arrays: the floor under a frame's cost.
 
     Same framebuffer, clear, depth test, primitives, index buffers (Flat's, or the shared one of
-    Gouraud) and vertex count as the renderer; no lighting, no texture, one pass of edges.
+    Gouraud) and vertex count as the renderer; no lighting, no texture, one pass of edges. A moving
+    frame first runs a pass-through transform feedback over the rows the renderer's lighting pass
+    reads (Flat: the polygons' own rows; Gouraud: the shared rows), capturing as many bytes.
     """
 
     def __init__(self, ctx: moderngl.Context, scene: Scene) -> None:
         import moderngl
 
-        from marraztu.render.gpu import EDGE_LAYOUT, SURFACE_LAYOUT, edge_pairs, edge_rows, surface_arrays
+        from marraztu.render.gpu import (
+            EDGE_LAYOUT,
+            LIT_ROW_BYTES,
+            SURFACE_LAYOUT,
+            edge_pairs,
+            edge_rows,
+            surface_arrays,
+        )
         from marraztu.render.renderer import CLEAR_COLOUR
 
         self.gl = moderngl  # imported here, not per frame, so the bare CPU figures stay bare
@@ -82,23 +97,37 @@ class BareDraw:
         self.ctx = ctx
         self.scene = scene
         self.program = ctx.program(vertex_shader=BARE_VERTEX_SHADER, fragment_shader=BARE_FRAGMENT_SHADER)
+        self.lighting_program = ctx.program(vertex_shader=BARE_LIGHTING_SHADER, varyings=["v_lit"])
+        self.lit_row_bytes = LIT_ROW_BYTES
         self.buffers: list[moderngl.Buffer] = []
         self.objects: list[tuple[SceneObject, dict[str, moderngl.VertexArray]]] = []
+        self.lighting: list[BareLighting] = []
         for obj in drawn_objects(scene):
             arrays = surface_arrays(obj.mesh)
             surface = ctx.buffer(arrays.vertices)
             indices, shared = ctx.buffer(arrays.indices), ctx.buffer(arrays.shared_indices)
             edges, pairs = ctx.buffer(edge_rows(obj.mesh)), ctx.buffer(edge_pairs(obj.mesh))
-            self.buffers += [surface, indices, shared, edges, pairs]
+            rows = arrays.vertices.shape[0]
+            lit = ctx.buffer(reserve=rows * LIT_ROW_BYTES)
+            self.buffers += [surface, indices, shared, edges, pairs, lit]
             position = [(surface, position_only(SURFACE_LAYOUT), "in_position")]
+            shared_rows = rows - obj.mesh.face_count  # the polygons' own rows come last
+            self.lighting.append(BareLighting(ctx.vertex_array(self.lighting_program, position), lit,
+                                              {"flat": (shared_rows, rows), "gouraud": (0, shared_rows)}))
             self.objects.append((obj, {
                 "flat": ctx.vertex_array(self.program, position, index_buffer=indices, index_element_size=4),
                 "gouraud": ctx.vertex_array(self.program, position, index_buffer=shared, index_element_size=4),
                 "lines": ctx.vertex_array(self.program, [(edges, position_only(EDGE_LAYOUT), "in_position")],
                                           index_buffer=pairs, index_element_size=4)}))
 
-    def render(self, fbo: moderngl.Framebuffer, size: tuple[int, int], mode: str) -> None:
+    def render(self, fbo: moderngl.Framebuffer, size: tuple[int, int], mode: str, moving: bool = False) -> None:
         gl = self.gl
+        if moving:
+            for pass_ in self.lighting:
+                if mode in pass_.rows:  # lines light nothing
+                    first, stop = pass_.rows[mode]
+                    pass_.vertex_array.transform(pass_.lit, gl.POINTS, vertices=stop - first, first=first,
+                                                 buffer_offset=first * self.lit_row_bytes)
         width, height = size
         fbo.use()
         fbo.viewport = (0, 0, width, height)
@@ -119,9 +148,22 @@ class BareDraw:
         for _, arrays in self.objects:
             for vao in arrays.values():
                 vao.release()
+        for pass_ in self.lighting:
+            pass_.vertex_array.release()
         for buffer in self.buffers:
             buffer.release()
         self.program.release()
+        self.lighting_program.release()
+
+
+@dataclass
+class BareLighting:
+    """One object's pass-through lighting pass: its rows, the buffer it captures into, and the row
+    range each filled mode lights."""
+
+    vertex_array: moderngl.VertexArray
+    lit: moderngl.Buffer
+    rows: dict[str, tuple[int, int]]
 
 
 @dataclass
@@ -129,6 +171,7 @@ class FrameTimes:
     moving: list[float] = field(default_factory=list)
     still: list[float] = field(default_factory=list)
     bare: list[float] = field(default_factory=list)
+    bare_moving: list[float] = field(default_factory=list)
 
 
 # The camera turns this far, to and fro, before each moving frame: every lit colour changes (V and
@@ -145,15 +188,15 @@ def nudge_camera(scene: Scene, step: int) -> None:
 
 
 def paired_frame_times(ctx: moderngl.Context, scene: Scene, program_frame: Callable[[], None],
-                       bare_frame: Callable[[], None], config: BenchConfig) -> FrameTimes:
-    """A moving frame (the camera nudged first), a still one (nothing changed since), a bare one, in
-    turn, so all three see the same load from other processes.
+                       bare_frame: Callable[[bool], None], config: BenchConfig) -> FrameTimes:
+    """A moving frame (the camera nudged first), a still one (nothing changed since), a bare one and a
+    bare moving one, in turn, so all four see the same load from other processes.
 
     The first warm-up frame also builds the renderer's buffers for the object and compiles shader
     variants, which is why it is never measured.
     """
     for _ in range(config.warmup):
-        for frame in (program_frame, bare_frame):
+        for frame in (program_frame, lambda: bare_frame(True)):
             frame()
             ctx.finish()
     times = FrameTimes()
@@ -163,7 +206,7 @@ def paired_frame_times(ctx: moderngl.Context, scene: Scene, program_frame: Calla
             break
         nudge_camera(scene, len(times.moving))
         for frame, record in ((program_frame, times.moving), (program_frame, times.still),
-                              (bare_frame, times.bare)):
+                              (lambda: bare_frame(False), times.bare), (lambda: bare_frame(True), times.bare_moving)):
             start = time.perf_counter()
             frame()
             ctx.finish()
@@ -243,15 +286,17 @@ def frame_cases(bench: FrameBench, scene: Scene, label: str, config: BenchConfig
                     progress(f"frames: {label} {size[0]}x{size[1]} {mode}")
                     set_mode(scene, mode)
                     times = paired_frame_times(bench.ctx, scene, lambda: bench.renderer.render(scene, fbo, size),
-                                               lambda: bare.render(fbo, size, mode), config)
+                                               lambda moving: bare.render(fbo, size, mode, moving), config)
                     rows.append(_frame_row(label, scene_triangles(scene), size, mode, times))
     return rows
 
 
 def _frame_row(label: str, triangles: int, size: tuple[int, int], mode: str, times: FrameTimes) -> list[str]:
-    still, moving, bare = (statistics.median(frames) * 1000 for frames in (times.still, times.moving, times.bare))
+    still, moving, bare, bare_moving = (statistics.median(frames) * 1000 for frames in
+                                        (times.still, times.moving, times.bare, times.bare_moving))
     return [label, str(triangles), f"{size[0]}x{size[1]}", mode, number(still), number(moving), number(bare),
-            ratio(still, bare), ratio(moving, bare), str(len(times.still))]
+            number(bare_moving), ratio(still, bare), ratio(moving, bare), ratio(moving, bare_moving),
+            str(len(times.still))]
 
 
 def frames_section(bench: FrameBench, config: BenchConfig) -> list[str]:
@@ -272,7 +317,10 @@ def frames_section(bench: FrameBench, config: BenchConfig) -> list[str]:
         "every vertex is lit again; *still*: the next frame, nothing changed, so the lighting pass is "
         "skipped. *bare* = a pass-through program drawing the same vertex buffers (same layout, depth "
         "test and primitive count; lines drawn once) in the same process, frames alternating with the "
-        "program's; the ratios are what the program adds.",
+        "program's; the ratios are what the program adds. *bare moving* = the bare draw after a "
+        "pass-through transform feedback over the rows the lighting pass reads, capturing as many bytes "
+        "per row (Flat: one row per polygon; Gouraud: the shared rows; lines: none): the floor under a "
+        "moving frame, which must light every row again.",
         "",
         *markdown_table(FRAME_HEADERS, rows),
     ]
