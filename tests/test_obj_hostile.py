@@ -94,6 +94,18 @@ def test_a_cut_last_line_costs_one_line_not_the_file(plain_peak: int) -> None:
     assert peak <= 2 * plain_peak
 
 
+def test_a_file_without_its_last_newline_is_not_held_twice(tmp_path: Path) -> None:
+    """The readers want a newline after the last line; adding one copies the file, and the bytes read
+    from disk must go once the copy is made, not stay alongside it while the tables are read."""
+    ended, unended = tmp_path / "ended.obj", tmp_path / "unended.obj"
+    ended.write_bytes(TEXT)
+    unended.write_bytes(TEXT[:-1])
+    load_obj(ended)  # the compiled reader's code loaded before anything is weighed
+    (mesh, ended_peak), (same, unended_peak) = (peak_traced_bytes(lambda: load_obj(path)) for path in (ended, unended))
+    assert isinstance(same, Mesh) and isinstance(mesh, Mesh) and same.face_count == mesh.face_count
+    assert unended_peak < ended_peak + len(TEXT) // 4, (ended_peak, unended_peak, len(TEXT))
+
+
 def test_blank_lines_say_no_faces_without_reading_a_line(plain_peak: int) -> None:
     outcome, lines, peak = load_counting(b"\n" * len(TEXT))
     assert error_of(outcome).message == "empty file: no faces"

@@ -68,7 +68,9 @@ def _guarded(source: str, read: Callable[[], Mesh]) -> Mesh:
 
 
 def _tables(data: bytes, source: str) -> RawObj:
-    return _read_tables(_normalized_text(data, source), source)
+    text = _normalized_text(data, source)
+    del data  # where normalizing made a copy (a last newline added), the original goes before the reading
+    return _read_tables(text, source)
 
 
 def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
