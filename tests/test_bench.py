@@ -144,25 +144,37 @@ def test_the_bare_draw_covers_the_pixels_the_renderer_does(gl_ctx, mode: str) ->
 
 @pytest.mark.parametrize("mode", ["flat", "gouraud"])
 def test_the_bare_moving_frame_captures_the_rows_the_lighting_pass_lights(gl_ctx, mode: str) -> None:
-    """The floor under a moving frame does the lighting pass's traffic: it reads the rows that pass
-    reads (Flat: the polygons' own; Gouraud: the shared ones) and writes 16 bytes for each, at the
-    same place."""
-    from marraztu.devtools.bench.frames import BareDraw, bench_scene, set_mode
+    """The floor under a moving frame does the lighting pass's traffic: it reads the rows the
+    renderer's pass lights (Flat: the polygons' own; Gouraud: the shared ones) and writes 16 bytes
+    for each, at the same place, and no others."""
+    from marraztu.devtools.bench.frames import BareDraw, bench_scene, drawn_objects, set_mode
+    from marraztu.model.scene import Shading
     from marraztu.render.gpu import surface_arrays
+    from marraztu.render.renderer import Renderer
 
+    size = (32, 32)
     scene = bench_scene(None)
     set_mode(scene, mode)
-    bare = BareDraw(gl_ctx, scene)
+    renderer, bare = Renderer(gl_ctx), BareDraw(gl_ctx, scene)
+    fbo = gl_ctx.simple_framebuffer(size, components=4)
     try:
-        fbo = gl_ctx.simple_framebuffer((32, 32), components=4)
-        bare.render(fbo, (32, 32), mode, moving=True)
-        fbo.release()
-        for (obj, _), lighting in zip(bare.objects, bare.lighting, strict=True):
+        renderer.render(scene, fbo, size)
+        lit_by_renderer = [renderer._gpu_for(obj)._lit[Shading(mode)] for obj in drawn_objects(scene)]
+        for lighting in bare.lighting:
+            lighting.lit.write(np.full(lighting.lit.size // 4, -7.0, np.float32))  # not a value the pass writes
+        gl_ctx.detect_framebuffer(0).use()  # none bound, as in a fresh context: the floor binds its own
+        gl_ctx.error  # noqa: B018 - reading it clears an older error
+        bare.render(fbo, size, mode, moving=True)
+        assert gl_ctx.error == "GL_NO_ERROR"
+        for (obj, _), lighting, lit_rows in zip(bare.objects, bare.lighting, lit_by_renderer, strict=True):
+            first, stop = lighting.rows[mode]
+            assert (first, stop) == (lit_rows.first, lit_rows.stop)
             vertices = surface_arrays(obj.mesh).vertices
             lit = np.frombuffer(lighting.lit.read(), np.float32).reshape(-1, 4)
-            first, stop = lighting.rows[mode]
-            assert stop - first == (obj.mesh.face_count if mode == "flat" else len(vertices) - obj.mesh.face_count)
             assert np.array_equal(lit[first:stop, :3], vertices[first:stop, :3])
             assert np.all(lit[first:stop, 3] == 1.0)
+            assert np.all(lit[:first] == -7.0) and np.all(lit[stop:] == -7.0)
     finally:
+        fbo.release()
         bare.release()
+        renderer.release()

@@ -252,6 +252,18 @@ class LitRows:
         return self.first <= first and stop <= self.stop and self.inputs == inputs
 
 
+def lit_row_range(shading: Shading, shared_rows: int, start: int, stop: int) -> tuple[int, int]:
+    """The rows [first, stop) the lighting pass of `shading` lights for the faces [start, stop) of a
+    mesh whose polygons' own rows follow its `shared_rows` (SurfaceArrays).
+
+    Flat reads the polygons' own rows, one contiguous run per range of faces; Gouraud reads shared
+    rows from anywhere in the mesh, so it lights all of them.
+    """
+    if shading is Shading.FLAT:
+        return shared_rows + start, shared_rows + stop
+    return 0, shared_rows
+
+
 class ObjectGpu:
     """The buffers and vertex arrays of one scene object.
 
@@ -317,13 +329,9 @@ class ObjectGpu:
         uniforms' values. Rows already lit with the same inputs are not lit again: a still frame
         runs no pass. Returns whether the pass ran.
 
-        Flat reads the polygons' own rows, one contiguous run per range of faces; Gouraud reads
-        shared rows from anywhere in the mesh, so it lights all of them.
+        Which rows those are: lit_row_range.
         """
-        if shading is Shading.FLAT:
-            first, stop_row = self.shared_rows + start, self.shared_rows + stop
-        else:
-            first, stop_row = 0, self.shared_rows
+        first, stop_row = lit_row_range(shading, self.shared_rows, start, stop)
         done = self._lit.get(shading)
         if stop_row <= first or (done is not None and done.cover(inputs, first, stop_row)):
             return False

@@ -70,66 +70,97 @@ def scene_triangles(scene: Scene) -> int:
     return sum(int(obj.mesh.triangles_before_face()[-1]) for obj in drawn_objects(scene))
 
 
+@dataclass(frozen=True)
+class BareLighting:
+    """One object's pass-through lighting pass: the rows it reads, the buffer it captures into, and
+    the rows each filled mode lights."""
+
+    vertex_array: moderngl.VertexArray
+    lit: moderngl.Buffer
+    rows: dict[str, tuple[int, int]]
+
+
 class BareDraw:
     """A pass-through program drawing the renderer's vertex arrays: the floor under a frame's cost.
 
     Same framebuffer, clear, depth test, primitives, index buffers (Flat's, or the shared one of
     Gouraud) and vertex count as the renderer; no lighting, no texture, one pass of edges. A moving
     frame first runs a pass-through transform feedback over the rows the renderer's lighting pass
-    reads (Flat: the polygons' own rows; Gouraud: the shared rows), capturing as many bytes.
+    lights (gpu.lit_row_range), capturing as many bytes. Each object's mesh is taken whole, as one
+    part: the renderer draws and lights a mesh of several materials part by part, and the bench's
+    meshes have one.
     """
 
     def __init__(self, ctx: moderngl.Context, scene: Scene) -> None:
         import moderngl
 
-        from marraztu.render.gpu import (
-            EDGE_LAYOUT,
-            LIT_ROW_BYTES,
-            SURFACE_LAYOUT,
-            edge_pairs,
-            edge_rows,
-            surface_arrays,
-        )
+        from marraztu.render.gpu import LIT_ROW_BYTES
         from marraztu.render.renderer import CLEAR_COLOUR
 
         self.gl = moderngl  # imported here, not per frame, so the bare CPU figures stay bare
         self.clear_colour = CLEAR_COLOUR
         self.ctx = ctx
         self.scene = scene
-        self.program = ctx.program(vertex_shader=BARE_VERTEX_SHADER, fragment_shader=BARE_FRAGMENT_SHADER)
-        self.lighting_program = ctx.program(vertex_shader=BARE_LIGHTING_SHADER, varyings=["v_lit"])
-        self.lit_row_bytes = LIT_ROW_BYTES
+        self.lit_row_bytes = LIT_ROW_BYTES  # kept, so a frame imports nothing
         self.buffers: list[moderngl.Buffer] = []
         self.objects: list[tuple[SceneObject, dict[str, moderngl.VertexArray]]] = []
         self.lighting: list[BareLighting] = []
-        for obj in drawn_objects(scene):
-            arrays = surface_arrays(obj.mesh)
-            surface = ctx.buffer(arrays.vertices)
-            indices, shared = ctx.buffer(arrays.indices), ctx.buffer(arrays.shared_indices)
-            edges, pairs = ctx.buffer(edge_rows(obj.mesh)), ctx.buffer(edge_pairs(obj.mesh))
-            rows = arrays.vertices.shape[0]
-            lit = ctx.buffer(reserve=rows * LIT_ROW_BYTES)
-            self.buffers += [surface, indices, shared, edges, pairs, lit]
-            position = [(surface, position_only(SURFACE_LAYOUT), "in_position")]
-            shared_rows = rows - obj.mesh.face_count  # the polygons' own rows come last
-            self.lighting.append(BareLighting(ctx.vertex_array(self.lighting_program, position), lit,
-                                              {"flat": (shared_rows, rows), "gouraud": (0, shared_rows)}))
-            self.objects.append((obj, {
-                "flat": ctx.vertex_array(self.program, position, index_buffer=indices, index_element_size=4),
-                "gouraud": ctx.vertex_array(self.program, position, index_buffer=shared, index_element_size=4),
-                "lines": ctx.vertex_array(self.program, [(edges, position_only(EDGE_LAYOUT), "in_position")],
-                                          index_buffer=pairs, index_element_size=4)}))
+        self.programs: list[moderngl.Program] = []
+        try:
+            self.program = self._program(vertex_shader=BARE_VERTEX_SHADER, fragment_shader=BARE_FRAGMENT_SHADER)
+            self.lighting_program = self._program(vertex_shader=BARE_LIGHTING_SHADER, varyings=["v_lit"])
+            for obj in drawn_objects(scene):
+                self._add(obj)
+        except Exception:
+            self.release()
+            raise
+
+    def _program(self, **shaders: object) -> moderngl.Program:
+        program = self.ctx.program(**shaders)
+        self.programs.append(program)
+        return program
+
+    def _buffer(self, data: np.ndarray | None = None, reserve: int = 0) -> moderngl.Buffer:
+        buffer = self.ctx.buffer(data, reserve=reserve)
+        self.buffers.append(buffer)
+        return buffer
+
+    def _add(self, obj: SceneObject) -> None:
+        """The object's surface, edges and lit rows, and the vertex arrays that read them."""
+        from marraztu.model.scene import Shading
+        from marraztu.render.gpu import (
+            EDGE_LAYOUT,
+            SURFACE_LAYOUT,
+            edge_pairs,
+            edge_rows,
+            lit_row_range,
+            surface_arrays,
+        )
+
+        ctx, mesh = self.ctx, obj.mesh
+        arrays = surface_arrays(mesh)
+        rows = arrays.vertices.shape[0]
+        surface, indices, shared = (self._buffer(data) for data in
+                                    (arrays.vertices, arrays.indices, arrays.shared_indices))
+        edges, pairs = self._buffer(edge_rows(mesh)), self._buffer(edge_pairs(mesh))
+        lit = self._buffer(reserve=rows * self.lit_row_bytes)
+        position = [(surface, position_only(SURFACE_LAYOUT), "in_position")]
+        shared_rows = rows - mesh.face_count  # the polygons' own rows come last (SurfaceArrays)
+        lit_rows = {shading.value: lit_row_range(shading, shared_rows, 0, mesh.face_count)
+                    for shading in (Shading.FLAT, Shading.GOURAUD)}
+        self.lighting.append(BareLighting(ctx.vertex_array(self.lighting_program, position), lit, lit_rows))
+        self.objects.append((obj, {
+            "flat": ctx.vertex_array(self.program, position, index_buffer=indices, index_element_size=4),
+            "gouraud": ctx.vertex_array(self.program, position, index_buffer=shared, index_element_size=4),
+            "lines": ctx.vertex_array(self.program, [(edges, position_only(EDGE_LAYOUT), "in_position")],
+                                      index_buffer=pairs, index_element_size=4)}))
 
     def render(self, fbo: moderngl.Framebuffer, size: tuple[int, int], mode: str, moving: bool = False) -> None:
         gl = self.gl
-        if moving:
-            for pass_ in self.lighting:
-                if mode in pass_.rows:  # lines light nothing
-                    first, stop = pass_.rows[mode]
-                    pass_.vertex_array.transform(pass_.lit, gl.POINTS, vertices=stop - first, first=first,
-                                                 buffer_offset=first * self.lit_row_bytes)
         width, height = size
-        fbo.use()
+        fbo.use()  # before the lighting pass too: with no framebuffer bound, a draw captures nothing
+        if moving:
+            self._light(mode)
         fbo.viewport = (0, 0, width, height)
         fbo.clear(*self.clear_colour, 1.0, depth=1.0)
         filled = mode != "lines"
@@ -144,26 +175,21 @@ class BareDraw:
             arrays[mode].render(gl.TRIANGLES if filled else gl.LINES)
         self.ctx.disable(gl.DEPTH_TEST)
 
+    def _light(self, mode: str) -> None:
+        for lighting in self.lighting:
+            if mode in lighting.rows:  # lines light nothing
+                first, stop = lighting.rows[mode]
+                lighting.vertex_array.transform(lighting.lit, self.gl.POINTS, vertices=stop - first, first=first,
+                                                buffer_offset=first * self.lit_row_bytes)
+
     def release(self) -> None:
         for _, arrays in self.objects:
             for vao in arrays.values():
                 vao.release()
-        for pass_ in self.lighting:
-            pass_.vertex_array.release()
-        for buffer in self.buffers:
-            buffer.release()
-        self.program.release()
-        self.lighting_program.release()
-
-
-@dataclass
-class BareLighting:
-    """One object's pass-through lighting pass: its rows, the buffer it captures into, and the row
-    range each filled mode lights."""
-
-    vertex_array: moderngl.VertexArray
-    lit: moderngl.Buffer
-    rows: dict[str, tuple[int, int]]
+        for lighting in self.lighting:
+            lighting.vertex_array.release()
+        for resource in (*self.buffers, *self.programs):
+            resource.release()
 
 
 @dataclass
@@ -188,7 +214,8 @@ def nudge_camera(scene: Scene, step: int) -> None:
 
 
 def paired_frame_times(ctx: moderngl.Context, scene: Scene, program_frame: Callable[[], None],
-                       bare_frame: Callable[[bool], None], config: BenchConfig) -> FrameTimes:
+                       bare_frame: Callable[[], None], bare_moving_frame: Callable[[], None],
+                       config: BenchConfig) -> FrameTimes:
     """A moving frame (the camera nudged first), a still one (nothing changed since), a bare one and a
     bare moving one, in turn, so all four see the same load from other processes.
 
@@ -196,7 +223,7 @@ def paired_frame_times(ctx: moderngl.Context, scene: Scene, program_frame: Calla
     variants, which is why it is never measured.
     """
     for _ in range(config.warmup):
-        for frame in (program_frame, lambda: bare_frame(True)):
+        for frame in (program_frame, bare_moving_frame):
             frame()
             ctx.finish()
     times = FrameTimes()
@@ -206,7 +233,7 @@ def paired_frame_times(ctx: moderngl.Context, scene: Scene, program_frame: Calla
             break
         nudge_camera(scene, len(times.moving))
         for frame, record in ((program_frame, times.moving), (program_frame, times.still),
-                              (lambda: bare_frame(False), times.bare), (lambda: bare_frame(True), times.bare_moving)):
+                              (bare_frame, times.bare), (bare_moving_frame, times.bare_moving)):
             start = time.perf_counter()
             frame()
             ctx.finish()
@@ -286,7 +313,8 @@ def frame_cases(bench: FrameBench, scene: Scene, label: str, config: BenchConfig
                     progress(f"frames: {label} {size[0]}x{size[1]} {mode}")
                     set_mode(scene, mode)
                     times = paired_frame_times(bench.ctx, scene, lambda: bench.renderer.render(scene, fbo, size),
-                                               lambda moving: bare.render(fbo, size, mode, moving), config)
+                                               lambda: bare.render(fbo, size, mode),
+                                               lambda: bare.render(fbo, size, mode, moving=True), config)
                     rows.append(_frame_row(label, scene_triangles(scene), size, mode, times))
     return rows
 
