@@ -81,6 +81,37 @@ def test_rotations_are_right_handed_for_column_vectors() -> None:
     np.testing.assert_allclose(transforms.rotation_about_axis(2, quarter) @ x, y, atol=1e-12)
 
 
+def test_a_rotation_about_no_axis_is_refused() -> None:
+    with pytest.raises(ValueError, match="axis index 3"):
+        transforms.rotation3(3, 0.1)
+
+
+def test_perspective_is_glfrustum_of_a_symmetric_view() -> None:
+    """The reference pages' glFrustum(l, r, b, t, n, f) with t = n tan(fovy / 2), r = t aspect."""
+    fovy, aspect, near, far = 70.0, 1.6, 0.5, 300.0
+    t = near * np.tan(np.radians(fovy) / 2)
+    r, b, l = t * aspect, -t, -t * aspect  # noqa: E741 - the reference's own names
+    frustum = np.array([[2 * near / (r - l), 0, (r + l) / (r - l), 0],
+                        [0, 2 * near / (t - b), (t + b) / (t - b), 0],
+                        [0, 0, -(far + near) / (far - near), -2 * far * near / (far - near)],
+                        [0, 0, -1, 0]])
+    np.testing.assert_allclose(transforms.perspective(fovy, aspect, near, far), frustum, rtol=1e-12, atol=1e-15)
+
+
+def test_orthographic_is_glortho_centred_on_the_axis() -> None:
+    """The reference pages' glOrtho(l, r, b, t, n, f) with l = -r and b = -t: near maps to -1, far to +1."""
+    r, t, near, far = 40.0, 25.0, 5.0, 900.0
+    l, b = -r, -t  # noqa: E741 - the reference's own names
+    ortho = np.array([[2 / (r - l), 0, 0, -(r + l) / (r - l)],
+                      [0, 2 / (t - b), 0, -(t + b) / (t - b)],
+                      [0, 0, -2 / (far - near), -(far + near) / (far - near)],
+                      [0, 0, 0, 1]])
+    matrix = transforms.orthographic(r, t, near, far)
+    np.testing.assert_allclose(matrix, ortho, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose((matrix @ [r, -t, -near, 1.0])[:3], [1.0, -1.0, -1.0], atol=1e-12)
+    np.testing.assert_allclose((matrix @ [0.0, 0.0, -far, 1.0])[2], 1.0, atol=1e-12)
+
+
 def test_translation_moves_points_along_one_axis() -> None:
     point = np.array([1.0, 2.0, 3.0, 1.0])
     np.testing.assert_array_equal(transforms.translation(1, 5.0) @ point, [1.0, 7.0, 3.0, 1.0])

@@ -1,7 +1,6 @@
 """Every 4x4 and 3x3 matrix the viewer builds, in the column-vector convention (p' = M @ p).
 
-Written here rather than taken from pyrr: pyrr is unmaintained, lays its projections out for row
-vectors, and its source warns on every import where Python 3.12 cannot cache bytecode.
+Ours rather than a library's: the README's Decisions say why.
 """
 
 from __future__ import annotations
@@ -14,6 +13,7 @@ from marraztu.model.geometry import unit_or_none
 
 Vec3 = tuple[float, float, float]
 
+
 class TransformKind(Enum):
     """What x/y/z do (keys r and t)."""
 
@@ -23,6 +23,8 @@ class TransformKind(Enum):
 
 def rotation3(axis_index: int, angle: float) -> np.ndarray:
     """3x3 right-handed rotation by `angle` radians about the x, y or z axis (0, 1, 2)."""
+    if axis_index not in (0, 1, 2):
+        raise ValueError(f"axis index {axis_index}: 0 (x), 1 (y) or 2 (z)")
     cos, sin = np.cos(float(angle)), np.sin(float(angle))
     # The next axis turns toward the one after it (y to z, z to x, x to y); the axis itself stays.
     turned, toward = (axis_index + 1) % 3, (axis_index + 2) % 3
@@ -103,7 +105,7 @@ def orthographic(half_w: float, half_h: float, near: float, far: float) -> np.nd
     return np.array([
         [1.0 / half_w, 0.0, 0.0, 0.0],
         [0.0, 1.0 / half_h, 0.0, 0.0],
-        [0.0, 0.0, -2.0 / depth, -(far + near) / depth],
+        [0.0, 0.0, -2.0 / depth, -(far + near) / depth],  # the eye looks down -z: near -> -1, far -> +1
         [0.0, 0.0, 0.0, 1.0],
     ])
 
