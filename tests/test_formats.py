@@ -215,3 +215,15 @@ def test_a_glb_base_colour_texture_is_drawn_with_its_uvs(tmp_path: Path) -> None
     assert left[0] > left[2] + 30 and right[2] > right[0] + 30
     plain = picture(tmp_path / "tex.glb", tmp_path / "off.png", keys="0 T")
     assert np.abs(plain[60, 42] - plain[60, 78]).max() <= 2
+
+
+def test_ascii_stl_keywords_are_found_within_their_own_line() -> None:
+    """The indent before `facet` stays within its line: an indent that ran on over blank lines would
+    make each blank line scan all those after it, quadratic in a file of blank lines."""
+    from marraztu.loaders import exchange
+
+    data = b"solid x\n\n \n\t\n   facet normal 0 0 1\n  endfacet\nendsolid x\n"
+    for pattern, word in ((exchange._FACET, b"   facet"), (exchange._END_FACET, b"  endfacet"),
+                          (exchange._END_SOLID, b"endsolid")):
+        match = pattern.search(data)
+        assert match is not None and match.start() == data.index(word), word

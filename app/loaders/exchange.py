@@ -102,11 +102,17 @@ def _is_binary_stl(data: bytes) -> bool:
     return len(data) == _STL_HEADER + _STL_TRIANGLE * count
 
 
+# Keywords at a line's start. The indent is [^\S\n]*, never \s*: that would run on across blank lines,
+# and each blank line would scan all those after it (quadratic in a file of them).
+_FACET, _END_FACET, _END_SOLID = (re.compile(rb"(?im)^[^\S\n]*" + word + rb"\b")
+                                  for word in (rb"facet", rb"endfacet", rb"endsolid"))
+
+
 def _check_ascii_stl(path: Path, data: bytes) -> None:
-    opened, closed = len(re.findall(rb"(?im)^\s*facet\b", data)), len(re.findall(rb"(?im)^\s*endfacet\b", data))
+    opened, closed = len(_FACET.findall(data)), len(_END_FACET.findall(data))
     if opened == 0:
         raise LoadError(path, "an ASCII STL without a single facet: no faces")
-    if opened != closed or not re.search(rb"(?im)^\s*endsolid\b", data):
+    if opened != closed or not _END_SOLID.search(data):
         raise LoadError(path, f"the file ends inside a facet ({opened} begun, {closed} ended)",
                         line=data.count(b"\n") + 1)
 
