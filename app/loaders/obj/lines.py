@@ -218,23 +218,24 @@ def _logical_lines(text: bytes) -> Iterator[tuple[int, bytes]]:
 
     A backslash continues only a statement: not a line with a comment, and a comment line is never
     joined to the statement before it."""
-    pending, first = b"", 0
+    pending: list[bytes] = []  # joined once the statement ends: += would copy it at every line
+    first = 0
     for number, line in enumerate(_physical_lines(text), start=1):
         if pending and line.lstrip().startswith(b"#"):
-            yield first, pending
-            pending = b""
+            yield first, b"".join(pending)
+            pending = []
         stripped = line.rstrip()
         if stripped.endswith(b"\\") and b"#" not in line:
             first = first if pending else number
-            pending += stripped[:-1] + b" "
+            pending += (stripped[:-1], b" ")
             continue
         if pending:
-            yield first, pending + line
-            pending = b""
+            yield first, b"".join((*pending, line))
+            pending = []
         else:
             yield number, line
     if pending:
-        yield first, pending
+        yield first, b"".join(pending)
 
 
 def _physical_lines(text: bytes) -> Iterator[bytes]:
