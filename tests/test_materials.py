@@ -68,6 +68,29 @@ def test_a_file_switching_material_every_face_stays_two_parts(tmp_path: Path) ->
     assert mesh.parts[1].faces[:3].tolist() == [1, 3, 5]
 
 
+def test_one_texture_spelled_three_ways_is_read_once(tmp_path: Path, monkeypatch) -> None:
+    """t.ppm, ./t.ppm and d/../t.ppm are one picture: three materials naming it read it once."""
+    from marraztu.loaders.obj import mtl
+
+    read: list[Path] = []
+
+    def counting_load(path: Path) -> np.ndarray:
+        read.append(path)
+        return load_image_as_is(path)
+
+    load_image_as_is = mtl.load_image
+    monkeypatch.setattr(mtl, "load_image", counting_load)
+    (tmp_path / "d").mkdir()
+    shutil.copy(EXAMPLES / "crate.ppm", tmp_path / "t.ppm")
+    (tmp_path / "m.mtl").write_text("".join(f"newmtl {material}\nmap_Kd {name}\n" for material, name in
+                                            (("a", "t.ppm"), ("b", "./t.ppm"), ("c", "d/../t.ppm"))))
+    faces = "".join(f"usemtl {material}\nf 1 2 3\n" for material in "abc")
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + faces).encode(), str(tmp_path / "m.obj"), base_dir=tmp_path)
+    assert len(read) == 1
+    textures = [material.texture for material in mesh.materials]
+    assert len(textures) == 3 and all(texture is textures[0] for texture in textures)
+
+
 def test_the_texture_is_read_beside_the_mtl_and_its_options_noted(tmp_path: Path) -> None:
     (tmp_path / "lib").mkdir()
     shutil.copy(EXAMPLES / "crate.ppm", tmp_path / "lib" / "my wood.ppm")

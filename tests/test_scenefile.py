@@ -118,6 +118,26 @@ position = [5, 0, 0]
     assert scene.texture_path is None
 
 
+def test_one_model_spelled_three_ways_is_loaded_once(tmp_path: Path, monkeypatch) -> None:
+    """m.obj, ./m.obj and d/../m.obj are one file: a scene naming it thrice reads it once."""
+    import marraztu.loaders.scenefile as scenefile
+
+    loaded: list[Path] = []
+
+    def counting_load(path: Path) -> Mesh:
+        loaded.append(path)
+        return load_model_as_is(path)
+
+    load_model_as_is = scenefile.load_model
+    monkeypatch.setattr(scenefile, "load_model", counting_load)
+    (tmp_path / "d").mkdir()
+    entries = "".join(f'[[objects]]\nmodel = "{name}"\nposition = [0, 0, 0]\n'
+                      for name in ("m.obj", "./m.obj", "d/../m.obj"))
+    scene = load_scene(write_scene(tmp_path, CAMERA + entries))
+    assert len(loaded) == 1
+    assert len({id(obj.mesh) for obj in scene.objects}) == 1
+
+
 def test_absolute_model_path(tmp_path: Path) -> None:
     model = tmp_path / "elsewhere.obj"
     model.write_text(TETRAHEDRON)

@@ -32,6 +32,14 @@ def errors_as_load_errors(path: str | Path) -> Iterator[None]:
         raise LoadError(path, f"cannot read the file ({getattr(error, 'strerror', None) or error})") from None
 
 
+def same_file_key(path: Path) -> Path:
+    """One key for every spelling of a file (./x, a/../x, a link to it), so a cache reads it once."""
+    try:
+        return path.resolve()
+    except (OSError, RuntimeError, ValueError):  # a link loop, a NUL: the reading says what is wrong
+        return path.absolute()
+
+
 def regular_file_size(path: str | Path, limit: int = MAX_FILE_BYTES) -> int:
     """The size of a regular file of at most `limit` bytes, or a LoadError naming it (no line).
 

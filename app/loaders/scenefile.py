@@ -37,7 +37,7 @@ from pathlib import Path
 from typing import NoReturn
 
 from marraztu.errors import LoadError, ViewerError
-from marraztu.loaders.files import read_file
+from marraztu.loaders.files import read_file, same_file_key
 from marraztu.loaders.registry import load_model
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh
@@ -400,10 +400,10 @@ class _ModelLoader:
         return obj
 
     def mesh(self, entry: SceneEntry) -> Mesh:
-        key = entry.model_path.absolute()
+        key = same_file_key(entry.model_path)  # x.obj and ./x.obj are one model, loaded once
         if key not in self.meshes:
             try:
-                self.meshes[key] = load_model(key)
+                self.meshes[key] = load_model(entry.model_path.absolute())
             except (ViewerError, OSError) as err:
                 raise LoadError(self.scene_path, f"model {entry.model}: {err}", entry.line) from err
         return self.meshes[key]

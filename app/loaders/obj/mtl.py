@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import read_file
+from marraztu.loaders.files import read_file, same_file_key
 from marraztu.loaders.images import load_image
 from marraztu.loaders.obj.raw import MAX_MATERIAL_NAME, finite_floats
 from marraztu.model.mesh import MeshMaterial
@@ -120,17 +120,18 @@ class _TextureCache:
 
     def __init__(self, folder: Path, notes: list[str]) -> None:
         self.folder, self.notes = folder, notes
-        self.read_already: dict[str, tuple[np.ndarray | None, str | None]] = {}
+        self.read_already: dict[Path, tuple[np.ndarray | None, str | None]] = {}
 
     def read(self, name: str | None) -> tuple[np.ndarray | None, str | None]:
         if name is None:
             return None, None
-        if name not in self.read_already:
-            self.read_already[name] = self._read(name)
-        return self.read_already[name]
-
-    def _read(self, name: str) -> tuple[np.ndarray | None, str | None]:
         path = self.folder / name.replace("\\", "/")  # exporters on Windows write backslashes
+        key = same_file_key(path)  # t.png and ./t.png are one file, read once
+        if key not in self.read_already:
+            self.read_already[key] = self._read(path, name)
+        return self.read_already[key]
+
+    def _read(self, path: Path, name: str) -> tuple[np.ndarray | None, str | None]:
         try:
             return load_image(path), name
         except LoadError as error:
