@@ -14,6 +14,7 @@ file lacks are derived by marraztu.model.build, as for every other format.
 
 from __future__ import annotations
 
+import codecs
 import re
 import sys
 from collections.abc import Callable
@@ -171,20 +172,35 @@ def _normalized_text(data: bytes, source: str) -> bytes:
     becomes two spaces. Tabs, the CR of CRLF and the other ASCII whitespace
     stay: both readers treat them as spaces.
     """
-    data = data.removeprefix(_BOM)
     if b"\r" in data and data.count(b"\r") != data.count(b"\r\n"):
         data = data.replace(b"\r\n", b"\n").replace(b"\r", b"\n")  # no regex: it would hold a piece per line
     nul = data.find(b"\0")
     if nul >= 0:
         raise LoadError(source, "binary data (a NUL byte), not an OBJ text file", line=_line_of(data, nul))
     if not data.isascii():
+        _check_utf8(data, source)
+        data = data.replace(_NO_BREAK_SPACE, b"  ")
+    start = len(_BOM) if data.startswith(_BOM) else 0
+    if start or not data.endswith(b"\n"):  # both edits in one copy
+        data = b"".join((memoryview(data)[start:], b"" if data.endswith(b"\n") else b"\n"))
+    return data
+
+
+def _check_utf8(data: bytes, source: str) -> None:
+    """UTF-8 or a LoadError at the line of the first bad byte; decoded a piece at a time, since the
+    whole text decoded at once takes up to four bytes a character."""
+    decoder = codecs.getincrementaldecoder("utf-8")()
+    view = memoryview(data)
+    for at in range(0, len(data), _UTF8_PIECE):
+        held = len(decoder.getstate()[0])  # bytes of a character begun in the piece before: decoded with this one
         try:
-            data.decode("utf-8")
+            decoder.decode(view[at:at + _UTF8_PIECE], final=at + _UTF8_PIECE >= len(data))
         except UnicodeDecodeError as error:
             raise LoadError(source, "binary data (not UTF-8 text), not an OBJ text file",
-                            line=_line_of(data, error.start)) from None
-        data = data.replace(_NO_BREAK_SPACE, b"  ")
-    return data if data.endswith(b"\n") else data + b"\n"
+                            line=_line_of(data, at - held + error.start)) from None
+
+
+_UTF8_PIECE = 1 << 16  # what one decoded piece holds at most: 64K characters
 
 
 def _line_of(data: bytes, offset: int) -> int:
