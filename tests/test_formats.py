@@ -227,3 +227,17 @@ def test_ascii_stl_keywords_are_found_within_their_own_line() -> None:
                           (exchange._END_SOLID, b"endsolid")):
         match = pattern.search(data)
         assert match is not None and match.start() == data.index(word), word
+
+
+def test_an_off_files_header_and_rows_are_read_without_holding_its_lines() -> None:
+    """The counts come from the header's rows alone and the body's rows are counted, not kept: no
+    list of the file's lines (a few times the file) on the way to trimesh."""
+    from marraztu.loaders import exchange
+    from support.work import peak_traced_bytes
+
+    faces = 200_000
+    data = b"OFF\n# a comment\n3 %d 0\n0 0 0\n1 0 0\n0 1 0\n" % faces + b"3 0 1 2\n" * faces
+    counts, peak = peak_traced_bytes(lambda: exchange._off_counts(Path("x.off"), data))
+    assert counts == (3, faces, 3) and peak < 1 << 16
+    _, peak = peak_traced_bytes(lambda: exchange._check_text_rows(Path("x.off"), data, 3, 3 + faces, "OFF"))
+    assert peak < 1 << 16

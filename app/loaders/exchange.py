@@ -11,8 +11,9 @@ a file is opened.
 from __future__ import annotations
 
 import io
+import itertools
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -137,9 +138,7 @@ def _ply_header(path: Path, data: bytes) -> tuple[dict[str, int], int, bool]:
 
 def _off_counts(path: Path, data: bytes) -> tuple[int, int, int]:
     """Vertex and face counts of an OFF header, and the line they stand on."""
-    lines = data.decode("ascii", errors="replace").splitlines()
-    rows = [(n, line.split("#", 1)[0].split()) for n, line in enumerate(lines, start=1)]
-    rows = [(n, words) for n, words in rows if words]
+    rows = list(itertools.islice(_rows_with_words(data), 2))  # the header's two rows at most, not the file's
     if not rows or not rows[0][1][0].upper().endswith("OFF"):
         raise LoadError(path, "not an OFF file (it does not start with 'OFF')", line=1)
     number, words = rows[0]
@@ -152,13 +151,44 @@ def _off_counts(path: Path, data: bytes) -> tuple[int, int, int]:
     return int(words[0]), int(words[1]), number
 
 
+def _rows_with_words(data: bytes) -> Iterator[tuple[int, list[str]]]:
+    """(line number, words before any #) of each line that has some, one line at a time, numbered as
+    str.splitlines numbers them."""
+    number, start = 0, 0
+    while start < len(data):
+        end = data.find(b"\n", start)
+        end = len(data) if end < 0 else end
+        text = data[start:end].decode("ascii", errors="replace")
+        lines = text.splitlines() or [""]
+        if end < len(data) and text[-1:] in _BREAKS_BUT_CR:  # that break and the \n are two line ends
+            lines.append("")
+        for line in lines:
+            number += 1
+            words = line.split("#", 1)[0].split()
+            if words:
+                yield number, words
+        start = end + 1
+
+
+_BREAKS_BUT_CR = ("\x0b", "\x0c", "\x1c", "\x1d", "\x1e")  # str.splitlines' other ASCII line ends
+
+
+# A line holding something before any comment: its first character that is neither blank nor #.
+_ROW_WITH_CONTENT = re.compile(rb"(?m)^[^\S\n]*[^\s#]")
+
+
 def _check_text_rows(path: Path, data: bytes, after_line: int, expected: int, kind: str) -> None:
     """A text body must hold the rows its header counted: one cut short is an error, not a smaller model."""
-    body = data.split(b"\n")[after_line:]
-    rows = sum(1 for line in body if line.split(b"#", 1)[0].strip())
+    body_at = 0
+    for _ in range(after_line):
+        body_at = data.find(b"\n", body_at) + 1
+        if body_at == 0:
+            body_at = len(data)
+            break
+    rows = sum(1 for _ in _ROW_WITH_CONTENT.finditer(data, body_at))  # counted, never held
     if rows < expected:
         raise LoadError(path, f"the {kind} header counts {expected} rows of vertices and faces, the file "
-                              f"ends after {rows}", line=after_line + len(body))
+                              f"ends after {rows}", line=max(after_line, data.count(b"\n") + 1))
 
 
 def _line_of_first_non_finite(data: bytes) -> int | None:
