@@ -436,3 +436,13 @@ def test_screenshot_refuses_a_huge_number_in_one_line(tmp_path: Path) -> None:
     assert done.returncode == 1 and len(lines) == 1, done.stderr
     assert f"{path}:5: " in lines[0] and lines[0].endswith(TOO_LARGE)
     assert not out.exists()
+
+
+def test_the_line_index_of_a_long_scene_holds_no_list_of_its_lines() -> None:
+    from marraztu.loaders import scenefile
+    from support.work import peak_traced_bytes
+
+    text = '[[objects]]\nmodel = "m.obj"\nnote = """\n' + "ab\n" * 300_000 + '"""\n'
+    index, peak = peak_traced_bytes(lambda: scenefile._LineIndex.of(text))
+    assert index.array_lines[("objects",)] == [1]
+    assert peak < len(text) // 8, peak

@@ -32,6 +32,7 @@ import math
 import re
 import sys
 import tomllib
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import NoReturn
@@ -323,6 +324,16 @@ def _overlong_integer_line(text: str) -> int | None:
 KeyPath = tuple[str, ...]  # a dotted TOML key, part by part
 
 
+def _lines(text: str) -> Iterator[str]:
+    """The text's lines, one at a time (a list of them all would hold the text again, in pieces);
+    tomllib counts "\n" alone as a line end."""
+    start = 0
+    while (end := text.find("\n", start)) >= 0:
+        yield text[start:end]
+        start = end + 1
+    yield text[start:]
+
+
 @dataclass(frozen=True)
 class _LineIndex:
     """Where each table, array-of-tables entry and key of a TOML text starts, found in one pass."""
@@ -335,7 +346,7 @@ class _LineIndex:
         first_lines: dict[KeyPath, int] = {}
         array_lines: dict[KeyPath, list[int]] = {}
         section: KeyPath = ()
-        for number, line in enumerate(text.split("\n"), 1):  # tomllib counts "\n" alone as a line end
+        for number, line in enumerate(_lines(text), 1):
             found = _LINE_START.match(line)
             if found is None:
                 continue
