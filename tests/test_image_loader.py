@@ -265,3 +265,15 @@ def test_load_texture_or_fallback(tmp_path: Path) -> None:
     image, message = load_texture_or_fallback(None)
     np.testing.assert_array_equal(image, fallback_texture())
     assert message is None
+
+
+def test_a_p6_raster_is_read_where_it_lies() -> None:
+    """The pixels are read from the file's bytes where they lie: the image is the one copy made."""
+    from support.work import peak_traced_bytes
+
+    side = 512
+    raster = np.random.default_rng(4).integers(0, 256, side * side * 3, dtype=np.uint8).tobytes()
+    data = b"P6\n%d %d\n255\n" % (side, side) + raster
+    image, peak = peak_traced_bytes(lambda: parse_ppm(data, "a.ppm"))
+    assert image.tobytes() == raster
+    assert peak < len(raster) * 3 // 2, peak

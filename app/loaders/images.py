@@ -108,7 +108,7 @@ def parse_ppm(data: bytes, source: str) -> np.ndarray:
         raise _not_ppm(source, magic)
     width, height, maxval, raster_at = _ppm_header(data, source)
     if magic == b"P6":
-        samples = _binary_samples(data[raster_at:], width * height * 3, maxval, source)
+        samples = _binary_samples(memoryview(data)[raster_at:], width * height * 3, maxval, source)  # no copy
     else:
         samples = _ascii_samples(data[raster_at:], width * height * 3, source)
     if samples.size and int(samples.max()) > maxval:
@@ -157,7 +157,7 @@ def _check_header(width: int, height: int, maxval: int, source: str) -> None:
         raise LoadError(source, f"bad PPM maxval {maxval}: must be 1 to 65535")
 
 
-def _binary_samples(raster: bytes, count: int, maxval: int, source: str) -> np.ndarray:
+def _binary_samples(raster: bytes | memoryview, count: int, maxval: int, source: str) -> np.ndarray:
     width = 1 if maxval < 256 else 2  # 16-bit samples are big-endian
     needed = count * width
     if len(raster) < needed:
