@@ -91,6 +91,36 @@ def test_one_texture_spelled_three_ways_is_read_once(tmp_path: Path, monkeypatch
     assert len(textures) == 3 and all(texture is textures[0] for texture in textures)
 
 
+def test_only_the_materials_the_model_can_use_are_kept_and_their_textures_read(tmp_path: Path, monkeypatch) -> None:
+    """The first material (the model's where no usemtl says) and the first of each usemtl name: a
+    library of thousands costs what those few cost, and an unused material's texture is never read."""
+    from marraztu.loaders.obj import mtl
+    from support.work import peak_traced_bytes
+
+    read: list[Path] = []
+    load_image_as_is = mtl.load_image
+    monkeypatch.setattr(mtl, "load_image", lambda path: read.append(path) or load_image_as_is(path))
+    shutil.copy(EXAMPLES / "crate.ppm", tmp_path / "t.ppm")
+    unused = "".join(f"newmtl unused{i}\nKd 1 0 0\nmap_Kd t{i}.ppm\n" for i in range(20_000))
+    (tmp_path / "m.mtl").write_text("newmtl first\nKd 0 1 0\n" + unused + "newmtl b\nKd 0 0 1\nmap_Kd t.ppm\n"
+                                    "newmtl b\nKd 1 1 1\n")
+    text = ("mtllib m.mtl\n" + TRIANGLES + "usemtl b\nf 1 2 3\nusemtl gone\nf 1 2 3\n").encode()
+    mesh, peak = peak_traced_bytes(lambda: parse_obj(text, str(tmp_path / "m.obj"), base_dir=tmp_path))
+    assert [material.name for material in mesh.materials] == ["b"]
+    assert mesh.materials[0].values["kd"] == (0.0, 0.0, 1.0)  # the first of a name wins
+    assert read == [tmp_path / "t.ppm"]
+    assert peak < 2 * (tmp_path / "m.mtl").stat().st_size + 64 * 64 * 3 * 8, peak
+
+
+def test_textures_that_cannot_be_read_are_one_note(tmp_path: Path) -> None:
+    (tmp_path / "m.mtl").write_text("".join(f"newmtl m{i}\nmap_Kd gone{i}.png\n" for i in range(500)))
+    uses = "".join(f"usemtl m{i}\nf 1 2 3\n" for i in range(500))
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + uses).encode(), str(tmp_path / "m.obj"), base_dir=tmp_path)
+    texture_notes = [note for note in mesh.warnings if "could not be read" in note]
+    assert texture_notes == ["500 textures could not be read (the first, 'gone0.png': no such file); their "
+                             "materials' colours are used"]
+
+
 def test_the_texture_is_read_beside_the_mtl_and_its_options_noted(tmp_path: Path) -> None:
     (tmp_path / "lib").mkdir()
     shutil.copy(EXAMPLES / "crate.ppm", tmp_path / "lib" / "my wood.ppm")

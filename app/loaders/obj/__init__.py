@@ -76,7 +76,9 @@ def _tables(data: bytes, source: str) -> RawObj:
 
 def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
     notes = list(raw.notes)
-    library = read_library(base_dir, raw.mtllib, notes) if raw.mtllib is not None and base_dir is not None else []
+    library: list[MeshMaterial] = []
+    if raw.mtllib is not None and base_dir is not None:
+        library = read_library(base_dir, raw.mtllib, notes, wanted={name for _, name in raw.material_runs})
     uv = None if raw.corner_texcoord is None else (raw.texcoords, raw.corner_texcoord)
     normals = None if raw.corner_normal is None else (raw.normals, raw.corner_normal)
     first = (library[0].values or None) if library else None  # the whole model's, where no usemtl says

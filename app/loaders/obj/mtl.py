@@ -3,6 +3,7 @@ error: the model still loads, with the colours that could be read."""
 
 from __future__ import annotations
 
+from collections.abc import Collection, Iterator
 from pathlib import Path
 
 import numpy as np
@@ -20,9 +21,10 @@ _MOST_NAMES = 16
 _SHOWN_NAME_CHARACTERS = 80
 
 
-def read_library(base_dir: Path, name: str, notes: list[str]) -> list[MeshMaterial]:
-    """Every material of the MTL file next to the OBJ, in file order, with its diffuse texture read
-    relative to the MTL; problems become notes."""
+def read_library(base_dir: Path, name: str, notes: list[str], wanted: Collection[str]) -> list[MeshMaterial]:
+    """The materials of the MTL file next to the OBJ that the model can use, in file order: the first
+    (the whole model's where no usemtl says) and the first of each name in `wanted` (the usemtl
+    names), each with its diffuse texture read relative to the MTL; problems become notes."""
     shown = _shown(name)
     mtl = _library_path(base_dir, name)
     if mtl is None:
@@ -33,7 +35,7 @@ def read_library(base_dir: Path, name: str, notes: list[str]) -> list[MeshMateri
     except LoadError as error:
         notes.append(f"material library '{shown}' could not be read ({error.message}); using the scene's material")
         return []
-    return _parse_library(text, shown, mtl.parent, notes)
+    return _parse_library(text, shown, mtl.parent, notes, wanted)
 
 
 def _library_path(base_dir: Path, name: str) -> Path | None:
@@ -52,38 +54,59 @@ def _shown(name: str) -> str:
     return name if len(name) <= _SHOWN_NAME_CHARACTERS else name[:_SHOWN_NAME_CHARACTERS - 3] + "..."
 
 
-def _parse_library(text: str, name: str, folder: Path, notes: list[str]) -> list[MeshMaterial]:
-    blocks: list[tuple[str, dict[str, object], str | None]] = []  # name, numbers, texture file
-    malformed: list[str] = []  # keys of the lines ignored, for one note however many there are
+def _parse_library(text: str, name: str, folder: Path, notes: list[str], wanted: Collection[str]
+                   ) -> list[MeshMaterial]:
+    kept: list[list] = []  # [name, numbers, texture file] of the materials the model can use
+    kept_names: set[str] = set()
+    block: list | None = None  # the material being read; not kept, it is dropped at the next newmtl
+    malformed, first_malformed = 0, ""  # one note however many lines are ignored
     ignored: set[str] = set()
-    for line in text.splitlines():
+    for line in _lines(text):
         tokens = line.split("#", 1)[0].split()
         if not tokens:
             continue
         key = tokens[0].lower()
         if key == "newmtl":
-            blocks.append((" ".join(tokens[1:])[:MAX_MATERIAL_NAME], {}, None))
-        elif not blocks:
+            block = [" ".join(tokens[1:])[:MAX_MATERIAL_NAME], {}, None]
+            if not kept or (block[0] in wanted and block[0] not in kept_names):  # the first of a name wins
+                kept.append(block)
+                kept_names.add(block[0])
+        elif block is None:
             continue
-        elif key in ("ka", "kd", "ks", "ns") and not _material_value(blocks[-1][1], key, tokens[1:]):
-            malformed.append(key.capitalize())
+        elif key in ("ka", "kd", "ks", "ns") and not _material_value(block[1], key, tokens[1:]):
+            malformed, first_malformed = malformed + 1, first_malformed or key.capitalize()
         elif key == "map_kd":
-            texture, options = _texture_file(tokens[1:])
-            blocks[-1] = (blocks[-1][0], blocks[-1][1], texture)
+            block[2], options = _texture_file(tokens[1:])
             ignored.update(options)
         elif key in ("d", "tr"):
             ignored.add("transparency (d, Tr)")
-    if not blocks:
+    if block is None:
         notes.append(f"material library '{name}' defines no material; using the scene's material")
-    if len(malformed) == 1:
-        notes.append(f"material library '{name}': ignored a malformed {malformed[0]} line")
+    if malformed == 1:
+        notes.append(f"material library '{name}': ignored a malformed {first_malformed} line")
     elif malformed:
-        notes.append(f"material library '{name}': ignored {len(malformed)} malformed lines (the first a "
-                     f"{malformed[0]} line)")
+        notes.append(f"material library '{name}': ignored {malformed} malformed lines (the first a "
+                     f"{first_malformed} line)")
     if ignored:
         notes.append(f"material library '{name}': {', '.join(sorted(ignored))} ignored")
-    textures = _TextureCache(folder, notes)
-    return [MeshMaterial(block_name, values, *textures.read(texture)) for block_name, values, texture in blocks]
+    textures = _TextureCache(folder)
+    materials = [MeshMaterial(block_name, values, *textures.read(texture)) for block_name, values, texture in kept]
+    notes.extend(textures.notes())
+    return materials
+
+
+_LINES_PIECE = 1 << 16
+
+
+def _lines(text: str) -> Iterator[str]:
+    """text.splitlines(), a piece at a time: a list of every line would hold the text again, in pieces.
+    Each piece ends just after a newline, so its lines are the text's."""
+    start = 0
+    while start < len(text):
+        cut = text.find("\n", start + _LINES_PIECE)
+        stop = len(text) if cut < 0 else cut + 1
+        yield from text[start:stop].splitlines()
+        start = stop
 
 
 # map_Kd's options and how many values each takes (-o, -s and -t take one to three numbers).
@@ -116,11 +139,13 @@ def _is_number(token: str) -> bool:
 
 
 class _TextureCache:
-    """Each texture file read once, however many materials name it; a missing one is one note."""
+    """Each texture file read once, however many materials name it; the ones that cannot be read
+    make one note."""
 
-    def __init__(self, folder: Path, notes: list[str]) -> None:
-        self.folder, self.notes = folder, notes
+    def __init__(self, folder: Path) -> None:
+        self.folder = folder
         self.read_already: dict[Path, tuple[np.ndarray | None, str | None]] = {}
+        self.failures: list[tuple[str, str]] = []  # (name, why)
 
     def read(self, name: str | None) -> tuple[np.ndarray | None, str | None]:
         if name is None:
@@ -135,9 +160,17 @@ class _TextureCache:
         try:
             return load_image(path), name
         except LoadError as error:
-            self.notes.append(f"texture '{_shown(name)}' could not be read ({error.message}); its material's "
-                              "colours are used")
+            self.failures.append((name, error.message))
             return None, None
+
+    def notes(self) -> list[str]:
+        if not self.failures:
+            return []
+        (name, why), more = self.failures[0], len(self.failures) - 1
+        if not more:
+            return [f"texture '{_shown(name)}' could not be read ({why}); its material's colours are used"]
+        return [f"{more + 1} textures could not be read (the first, '{_shown(name)}': {why}); their materials' "
+                "colours are used"]
 
 
 def _material_value(material: dict[str, object], key: str, tokens: list[str]) -> bool:
