@@ -45,6 +45,7 @@ def picture(tmp_path: Path, model: Path, keys: str = "", name: str = "shot.png",
     "usemtl a\n" + TRIANGLES + "usemtl b\nf 1 2 3\nf 1 2 3\n  usemtl c d\nf 1 2 3\nusemtl a\n",
     TRIANGLES + "usemtl b\n" + "f 1 2 3\nusemtl a\n" * 500,
     "g x\r\nusemtl a # a comment\r\n" + TRIANGLES.replace("\n", "\r\n"),
+    "usemtl a\nusemtl b\n" + TRIANGLES + "usemtl c\ng y\nusemtl d\nf 1 2 3\nusemtl e\n",  # runs that take no face
 ])
 def test_both_readers_find_the_same_material_runs(text: str) -> None:
     data = text.encode()

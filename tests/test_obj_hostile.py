@@ -142,6 +142,16 @@ def test_bad_utf8_is_found_at_its_line_whatever_the_pieces(monkeypatch, piece: i
         assert caught.value.line == expected
 
 
+@pytest.mark.parametrize("statement", [b"g\n", b"o part\n", b"s 1\n", b"usemtl a\n", b"usemtl a\nusemtl b\n"])
+def test_statements_that_take_no_face_cost_no_memory(plain_peak: int, statement: bytes) -> None:
+    """g, o and s are only counted, and a usemtl no face follows is replaced by the next: a file of
+    them holds nothing per line (each was an 80-byte record, and a run per usemtl)."""
+    outcome, lines, peak = load_counting(TEXT + statement * (len(TEXT) // len(statement)))
+    assert isinstance(outcome, Mesh) and outcome.face_count == 2 * 119 * 119
+    assert lines == 0
+    assert peak < plain_peak + len(TEXT) // 8, (plain_peak, peak)
+
+
 def test_blank_lines_say_no_faces_without_reading_a_line(plain_peak: int) -> None:
     outcome, lines, peak = load_counting(b"\n" * len(TEXT))
     assert error_of(outcome).message == "empty file: no faces"

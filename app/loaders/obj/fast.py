@@ -18,7 +18,7 @@ import numpy as np
 
 from marraztu.loaders.obj import scan
 from marraztu.loaders.obj.lines import LineReader, check_forward_indices, no_faces_error
-from marraztu.loaders.obj.raw import ColourComment, RawObj, material_name, statement
+from marraztu.loaders.obj.raw import ColourComment, RawObj, add_material_run, material_name, statement
 
 # Pieces of at least this many bytes: below it a thread costs more than it saves.
 MIN_PIECE_BYTES = 1 << 20
@@ -83,6 +83,9 @@ def _each(work: Callable[[_Item], _Result], items: Sequence[_Item]) -> list[_Res
         return list(pool.map(work, items))
 
 
+_SETTLED_AT_ONCE = 4096
+
+
 class _Records:
     """Settles the records of pass two in file order: the first bad line raises its LoadError."""
 
@@ -95,7 +98,11 @@ class _Records:
         self.statements = 0
 
     def settle(self, records: np.ndarray) -> None:
-        for record in records.tolist():
+        for first in range(0, records.shape[0], _SETTLED_AT_ONCE):  # as Python ints a few at a time: ten each
+            self._settle(records[first:first + _SETTLED_AT_ONCE].tolist())
+
+    def _settle(self, records: list[list[int]]) -> None:
+        for record in records:
             content = self.text[record[scan.R_START]:record[scan.R_END]]
             if record[scan.R_KIND] == scan.DEFERRED:
                 self.read_line(record, content)
@@ -114,7 +121,7 @@ class _Records:
         if keyword == b"mtllib" and self.mtllib is None:
             self.mtllib = rest.decode("utf-8", errors="replace")
         elif keyword == b"usemtl":
-            self.material_runs.append((faces_before, material_name(rest)))
+            add_material_run(self.material_runs, faces_before, material_name(rest))
 
     def read_line(self, record: list[int], content: bytes) -> None:
         """A v, vt, vn or f line the compiled code left to the line reader: its row or corners, or its error."""

@@ -16,7 +16,15 @@ from collections.abc import Callable, Iterator, Sequence
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.obj.raw import CORNER_GAPS, MAX_DIGITS, ColourComment, RawObj, material_name, statement
+from marraztu.loaders.obj.raw import (
+    CORNER_GAPS,
+    MAX_DIGITS,
+    ColourComment,
+    RawObj,
+    add_material_run,
+    material_name,
+    statement,
+)
 from marraztu.model.geometry import FLOAT32_MAX
 
 _FLOAT = re.compile(rb"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
@@ -100,7 +108,7 @@ class LineReader:
         elif keyword == b"mtllib" and self.mtllib is None:
             self.mtllib = rest.decode("utf-8", errors="replace")
         elif keyword == b"usemtl":
-            self.material_runs.append((len(self.face_sizes), material_name(rest)))
+            add_material_run(self.material_runs, len(self.face_sizes), material_name(rest))
 
     def numbers(self, number: int, rest: bytes, name: str, fewest: int, most: int) -> list[float]:
         tokens = rest.split(None, most + 1)  # bounded: a line of millions of numbers is not split into them

@@ -88,6 +88,15 @@ def statement(content: bytes) -> tuple[bytes, bytes]:
     return parts[0], parts[1].strip() if len(parts) > 1 else b""
 
 
+def add_material_run(runs: list[tuple[int, str]], faces_before: int, name: str) -> None:
+    """A usemtl: its faces start at `faces_before`. One that another follows before any face takes no
+    face, so the later replaces it: a file of usemtl lines holds one run, not one per line."""
+    if runs and runs[-1][0] == faces_before:
+        runs[-1] = (faces_before, name)
+    else:
+        runs.append((faces_before, name))
+
+
 MAX_MATERIAL_NAME = 200  # characters of a usemtl name kept: enough for any real one, bounded for a hostile one
 
 

@@ -20,7 +20,7 @@ from marraztu.model.geometry import FLOAT32_MAX
 V, VT, VN, F = 0, 1, 2, 3
 LINES, CORNERS = 4, 5
 COUNT_COLUMNS = 6
-_NO_KEYWORD, _OTHER_KEYWORD = -1, -2
+_NO_KEYWORD, _OTHER_KEYWORD, _USEMTL_KEYWORD, _MTLLIB_KEYWORD = -1, -2, -3, -4
 # What a record is: a table or face line for the line reader, another statement, or a comment that
 # may be the seed's "# colour".
 DEFERRED, STATEMENT, COMMENT = 0, 1, 2
@@ -32,6 +32,7 @@ RECORD_COLUMNS = 10
 _NEWLINE, _HASH, _SLASH, _MINUS, _PLUS, _DOT, _ZERO, _NINE = (ord(c) for c in "\n#/-+.09")
 _LETTER_V, _LETTER_T, _LETTER_N, _LETTER_F, _LOWER_CASE = ord("v"), ord("t"), ord("n"), ord("f"), 0x20
 _LETTER_E, _COLOUR = ord("e"), np.frombuffer(b"colo", np.uint8)
+_USEMTL, _MTLLIB = np.frombuffer(b"usemtl", np.uint8), np.frombuffer(b"mtllib", np.uint8)
 # Up to 1e22 powers of ten are exact doubles: mantissa and power then round once, as float() does
 # (Clinger's fast path).
 _POWERS_OF_TEN = np.array([10.0**k for k in range(23)])
@@ -255,10 +256,29 @@ def _grown(records: np.ndarray, used: int) -> np.ndarray:
 def _mentions_colour(buf: np.ndarray, at: int, end: int) -> bool:
     """Whether a comment holds "colo": the only comments that mean anything (the seed's "# colour")."""
     for start in range(at, end - 3):
-        if (buf[start] == _COLOUR[0] and buf[start + 1] == _COLOUR[1] and buf[start + 2] == _COLOUR[2]
-                and buf[start + 3] == _COLOUR[3]):
+        if _word_at(buf, start, _COLOUR):
             return True
     return False
+
+
+@njit(**_JIT)
+def _word_at(buf: np.ndarray, at: int, word: np.ndarray) -> bool:
+    for offset in range(word.shape[0]):  # buf ends with a newline, which no word holds: never past the end
+        if buf[at + offset] != word[offset]:
+            return False
+    return True
+
+
+@njit(**_JIT)
+def _statement_kind(buf: np.ndarray, start: int) -> int:
+    """_USEMTL_KEYWORD, _MTLLIB_KEYWORD (the only statements the loader reads), or _OTHER_KEYWORD."""
+    at = _skip_blanks(buf, start)
+    if _token_end(buf, at) - at == 6:
+        if _word_at(buf, at, _USEMTL):
+            return _USEMTL_KEYWORD
+        if _word_at(buf, at, _MTLLIB):
+            return _MTLLIB_KEYWORD
+    return _OTHER_KEYWORD
 
 
 @njit(**_JIT)
@@ -271,6 +291,7 @@ def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, f
     face, corner, line = start_counts[F], start_counts[CORNERS], first_line
     records = np.empty((16, RECORD_COLUMNS), np.int64)
     used = 0
+    statements = 0
     start = low
     while start < high:
         if buf[start] == _NEWLINE:
@@ -291,12 +312,18 @@ def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, f
                 read, corners = False, _tokens(buf, at)  # its slots, as pass one counted them
             at = stop
         elif kind == _OTHER_KEYWORD:
-            record = STATEMENT
+            kind = _statement_kind(buf, start)
+            # usemtl and mtllib are read; of the rest (g, o, s...) one says the file has statements
+            record = STATEMENT if statements == 0 or kind != _OTHER_KEYWORD else -1
+            statements += 1
         end = _line_end(buf, at)
         if not read:
             record = DEFERRED
         elif kind == _NO_KEYWORD and buf[at] == _HASH and _mentions_colour(buf, at, end):
             record = COMMENT
+        if (kind == _USEMTL_KEYWORD and used > 0 and records[used - 1, R_KEYWORD] == _USEMTL_KEYWORD
+                and records[used - 1, R_FACE] == face):
+            used -= 1  # a usemtl no face followed: this one takes its place (as raw.add_material_run does)
         if record >= 0:
             records = _grown(records, used)
             row = records[used]
