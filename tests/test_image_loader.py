@@ -277,3 +277,31 @@ def test_a_p6_raster_is_read_where_it_lies() -> None:
     image, peak = peak_traced_bytes(lambda: parse_ppm(data, "a.ppm"))
     assert image.tobytes() == raster
     assert peak < len(raster) * 3 // 2, peak
+
+
+@pytest.mark.parametrize("maxval", [254, 1000, 65535])
+def test_samples_are_scaled_by_table_within_a_bounded_memory(maxval: int) -> None:
+    """A maxval other than 255 scales every sample, rounded, as (v * 255 + maxval // 2) // maxval
+    does, through a table and a piece at a time: no wide copies of the raster."""
+    from support.work import peak_traced_bytes
+
+    side = 512
+    wide = maxval > 255
+    rng = np.random.default_rng(5)
+    values = rng.integers(0, maxval + 1, side * side * 3).astype(">u2" if wide else np.uint8)
+    data = b"P6 %d %d %d\n" % (side, side, maxval) + values.tobytes()
+    image, peak = peak_traced_bytes(lambda: parse_ppm(data, "a.ppm"))
+    expected = (values.astype(np.uint32) * 255 + maxval // 2) // maxval
+    assert np.array_equal(image.reshape(-1), expected)
+    assert peak < 3 * side * side * 3, peak  # the image, and the table's pieces
+
+
+def test_16_bit_grey_is_scaled_by_table_as_the_formula_rounds(tmp_path: Path) -> None:
+    from support.work import peak_traced_bytes
+
+    values = np.arange(1 << 16, dtype=np.uint16).reshape(256, 256)
+    Image.fromarray(values).save(tmp_path / "deep.png")
+    image, peak = peak_traced_bytes(lambda: load_image(tmp_path / "deep.png"))
+    expected = np.clip(values * (255.0 / 65535.0), 0, 255).round().astype(np.uint8)
+    assert np.array_equal(image[..., 0], expected) and np.array_equal(image[..., 2], expected)
+    assert peak < 16 * values.size, peak  # the picture, its indices and the RGB image: not floats (24 B a pixel)

@@ -184,8 +184,24 @@ def _ascii_samples(raster: bytes, count: int, source: str) -> np.ndarray:
 def _to_8_bit(samples: np.ndarray, maxval: int) -> np.ndarray:
     if maxval == 255:
         return samples.astype(np.uint8)
-    wide = samples.astype(np.uint32)
-    return ((wide * 255 + maxval // 2) // maxval).astype(np.uint8)  # rounded, so maxval maps to 255
+    return _through_table(samples, _scale_table(maxval + 1, maxval))
+
+
+def _scale_table(size: int, top: int) -> np.ndarray:
+    """Every sample value 0..size-1 scaled to 0..255, rounded (so `top` maps to 255)."""
+    return ((np.arange(size, dtype=np.uint32) * 255 + top // 2) // top).astype(np.uint8)
+
+
+_TABLE_PIECE = 1 << 20
+
+
+def _through_table(samples: np.ndarray, table: np.ndarray) -> np.ndarray:
+    """table[samples] as uint8, a piece at a time: indexing converts the indices to 8-byte integers."""
+    out = np.empty(samples.shape, np.uint8)
+    flat_in, flat_out = samples.reshape(-1), out.reshape(-1)
+    for at in range(0, flat_in.size, _TABLE_PIECE):
+        flat_out[at:at + _TABLE_PIECE] = table[flat_in[at:at + _TABLE_PIECE]]
+    return out
 
 
 # --------------------------------------------------------------------------------------------------
@@ -214,7 +230,11 @@ def _load_with_pillow(file: Path, kind: str) -> np.ndarray:
 def _rgb_array(image: Image.Image) -> np.ndarray:
     """RGB uint8; wide grey modes are scaled, not clipped as Pillow's convert('RGB') would."""
     if image.mode.startswith("I") or image.mode == "F":
-        grey = np.asarray(image, dtype=np.float64)
-        grey = np.clip(np.nan_to_num(grey) * (255.0 / 65535.0), 0.0, 255.0).round().astype(np.uint8)
+        values = np.asarray(image)
+        if values.dtype.kind == "u" and values.dtype.itemsize == 2:  # 16-bit grey: by table, 1 byte a pixel
+            grey = _through_table(values, _scale_table(1 << 16, 65535))  # no value lies halfway: same rounding
+        else:
+            scaled = np.nan_to_num(values.astype(np.float64)) * (255.0 / 65535.0)
+            grey = np.clip(scaled, 0.0, 255.0).round().astype(np.uint8)
         return np.ascontiguousarray(np.repeat(grey[..., None], 3, axis=2))
     return np.ascontiguousarray(np.asarray(image.convert("RGB"), dtype=np.uint8))
