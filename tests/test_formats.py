@@ -241,3 +241,15 @@ def test_an_off_files_header_and_rows_are_read_without_holding_its_lines() -> No
     assert counts == (3, faces, 3) and peak < 1 << 16
     _, peak = peak_traced_bytes(lambda: exchange._check_text_rows(Path("x.off"), data, 3, 3 + faces, "OFF"))
     assert peak < 1 << 16
+
+
+def test_a_files_first_word_is_found_without_copying_the_file(tmp_path: Path) -> None:
+    """Whether an STL is empty or starts with 'solid' is searched for, not found by strip() and
+    lstrip(), which copied the whole file to look at its first word."""
+    from support.work import peak_traced_bytes
+
+    path = tmp_path / "blank.stl"
+    path.write_bytes(b"not solid\n" + b"x\n" * (1 << 20))  # strip() copied all but the last newline
+    error, peak = peak_traced_bytes(lambda: load_model(path))
+    assert isinstance(error, LoadError) and "does not start with 'solid'" in error.message
+    assert peak < 3 * path.stat().st_size // 2, peak  # the bytes read, once

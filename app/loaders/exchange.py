@@ -31,12 +31,16 @@ _STL_HEADER, _STL_TRIANGLE = 84, 50  # binary STL: an 80-byte header and a count
 _NOT_FINITE = re.compile(rb"(?i)(?<![a-z])(?:[-+]?nan|[-+]?inf(?:inity)?)(?![a-z])")
 
 
+# Searched, not stripped: strip() and lstrip() copy the whole file to look at its first word.
+_ANYTHING, _ASCII_STL_START = re.compile(rb"\S"), re.compile(rb"\s*solid", re.IGNORECASE)
+
+
 # --- the readers of the registry -----------------------------------------------------------------
 def load_stl(path: Path, stage: Stage | None = None) -> Mesh:
     data = _read(path, stage)
     if _is_binary_stl(data):
         return _finish(path, _trimesh_load(path, data, "stl"), data=None, merge=True)
-    if not data.lstrip()[:5].lower() == b"solid":
+    if not _ASCII_STL_START.match(data):
         raise LoadError(path, "neither a binary STL (its size does not match its triangle count) nor an "
                               "ASCII one (it does not start with 'solid')", line=1)
     _check_ascii_stl(path, data)
@@ -75,7 +79,7 @@ def _read(path: Path, stage: Stage | None) -> bytes:
     data = read_file(path)
     if stage is not None:
         stage("parsing")
-    if not data.strip():
+    if not _ANYTHING.search(data):
         raise LoadError(path, "empty file: no faces")
     return data
 
