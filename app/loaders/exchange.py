@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import read_file
+from marraztu.loaders.files import read_file, text_lines
 from marraztu.model.build import build_mesh
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh, MeshMaterial
@@ -156,25 +156,11 @@ def _off_counts(path: Path, data: bytes) -> tuple[int, int, int]:
 
 
 def _rows_with_words(data: bytes) -> Iterator[tuple[int, list[str]]]:
-    """(line number, words before any #) of each line that has some, one line at a time, numbered as
-    str.splitlines numbers them."""
-    number, start = 0, 0
-    while start < len(data):
-        end = data.find(b"\n", start)
-        end = len(data) if end < 0 else end
-        text = data[start:end].decode("ascii", errors="replace")
-        lines = text.splitlines() or [""]
-        if end < len(data) and text[-1:] in _BREAKS_BUT_CR:  # that break and the \n are two line ends
-            lines.append("")
-        for line in lines:
-            number += 1
-            words = line.split("#", 1)[0].split()
-            if words:
-                yield number, words
-        start = end + 1
-
-
-_BREAKS_BUT_CR = ("\x0b", "\x0c", "\x1c", "\x1d", "\x1e")  # str.splitlines' other ASCII line ends
+    """(line number, words before any #) of each line that has some, read a piece at a time."""
+    for number, line in enumerate(text_lines(data), start=1):
+        words = line.split("#", 1)[0].split()
+        if words:
+            yield number, words
 
 
 # A line holding something before any comment: its first character that is neither blank nor #.

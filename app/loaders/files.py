@@ -1,7 +1,8 @@
 """Reading a file a person named: regular files only, of a bounded size, every failure a LoadError.
 
 Shared by the OBJ, image and scene readers so that none of them can be handed /dev/zero or a named
-pipe (which Path.read_bytes() would read forever or block on).
+pipe (which Path.read_bytes() would read forever or block on); and their text's lines, a piece at
+a time.
 """
 
 from __future__ import annotations
@@ -38,6 +39,23 @@ def same_file_key(path: Path) -> Path:
         return path.resolve()
     except (OSError, RuntimeError, ValueError):  # a link loop, a NUL: the reading says what is wrong
         return path.absolute()
+
+
+_LINES_PIECE = 1 << 12  # a piece and the list of its lines stay a few kilobytes
+
+
+def text_lines(text: str | bytes) -> Iterator[str]:
+    """str.splitlines() of `text` (bytes read as ASCII, others replaced), a piece at a time: a list of
+    every line would hold the text again, in pieces. Each piece ends just after a newline, so its lines
+    are the text's."""
+    newline = "\n" if isinstance(text, str) else b"\n"
+    start = 0
+    while start < len(text):
+        cut = text.find(newline, start + _LINES_PIECE)  # type: ignore[arg-type]
+        stop = len(text) if cut < 0 else cut + 1
+        piece = text[start:stop]
+        yield from (piece if isinstance(piece, str) else piece.decode("ascii", errors="replace")).splitlines()
+        start = stop
 
 
 def regular_file_size(path: str | Path, limit: int = MAX_FILE_BYTES) -> int:

@@ -89,7 +89,15 @@ class SurfaceArrays:
     vertices: np.ndarray  # (N, 8) float32
     indices: np.ndarray  # (3T,) uint32
     shared_indices: np.ndarray  # (3T,) uint32
+    shared_rows: int  # the rows before the polygons' own
     colours: np.ndarray | None = None  # (N, 4) uint8: each row's position's colour, when the mesh has them
+
+    @property
+    def arrays(self) -> dict[str, np.ndarray]:
+        """What is uploaded, by name: the vertices, both index arrays, and the colours where there are some."""
+        arrays = {"vertices": self.vertices, "indices": self.indices, "shared_indices": self.shared_indices,
+                  "colours": self.colours}
+        return {name: array for name, array in arrays.items() if array is not None}
 
 
 def surface_arrays(mesh: Mesh) -> SurfaceArrays:
@@ -125,7 +133,7 @@ def surface_arrays(mesh: Mesh) -> SurfaceArrays:
         colours = np.full((row_corner.shape[0], 4), 255, np.uint8)
         colours[:positions, :3] = mesh.vertex_colours
         colours[positions:, :3] = np.take(mesh.vertex_colours, corner_vertex[row_corner[positions:]], axis=0)
-    return SurfaceArrays(vertices, indices, shared_indices, colours)
+    return SurfaceArrays(vertices, indices, shared_indices, shared_rows, colours)
 
 
 _SEAM_CHUNK = 1 << 15  # corners compared per piece: their gathered rows stay in the CPU cache
@@ -277,6 +285,9 @@ class ObjectGpu:
     # and a vertex array; vertex normals: a buffer of used rows and its vertex array, and a vertex array
     # over the surface indices for a range of faces. Vertex colours add one buffer.
     GL_OBJECTS = 17
+    # The buffer each of SurfaceArrays' arrays is uploaded to.
+    BUFFER_OF_ARRAY = {"vertices": "surface", "indices": "surface indices",
+                       "shared_indices": "shared surface indices", "colours": "colours"}
     # Which index buffer each surface program draws with (see SurfaceArrays).
     INDICES = {Shading.FLAT: "surface indices", Shading.GOURAUD: "shared surface indices",
                Shading.PHONG: "shared surface indices"}
@@ -294,14 +305,12 @@ class ObjectGpu:
             surface_data = _take_prepared_surface(mesh)
         arrays = surface_arrays(mesh) if surface_data is None else surface_data
         rows = arrays.vertices.shape[0]
-        self.shared_rows = rows - mesh.face_count  # the polygons' own rows come last (SurfaceArrays)
+        self.shared_rows = arrays.shared_rows
         self._surface_buffers: dict[str, moderngl.Buffer] = {}
         ctx.error  # noqa: B018 - reading it clears an older error, so the check below is about these uploads
         try:
-            for name, data in (("surface", arrays.vertices), ("surface indices", arrays.indices),
-                               ("shared surface indices", arrays.shared_indices), ("colours", arrays.colours)):
-                if data is not None:
-                    self._surface_buffers[name] = ctx.buffer(data)
+            for name, data in arrays.arrays.items():
+                self._surface_buffers[self.BUFFER_OF_ARRAY[name]] = ctx.buffer(data)
             # Zeros, not undefined memory: rows no pass has lit yet are read (never shown) by draws.
             self._surface_buffers["lit"] = lit = ctx.buffer(reserve=rows * LIT_ROW_BYTES)
             lit.clear()

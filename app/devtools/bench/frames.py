@@ -108,6 +108,7 @@ class BareDraw:
         self.programs: list[moderngl.Program] = []
         try:
             self.program = self._program(vertex_shader=BARE_VERTEX_SHADER, fragment_shader=BARE_FRAGMENT_SHADER)
+            self.mvp = self.program["u_mvp"]
             self.lighting_program = self._program(vertex_shader=BARE_LIGHTING_SHADER, varyings=["v_lit"])
             for obj in drawn_objects(scene):
                 self._add(obj)
@@ -145,8 +146,7 @@ class BareDraw:
         edges, pairs = self._buffer(edge_rows(mesh)), self._buffer(edge_pairs(mesh))
         lit = self._buffer(reserve=rows * self.lit_row_bytes)
         position = [(surface, position_only(SURFACE_LAYOUT), "in_position")]
-        shared_rows = rows - mesh.face_count  # the polygons' own rows come last (SurfaceArrays)
-        lit_rows = {shading.value: lit_row_range(shading, shared_rows, 0, mesh.face_count)
+        lit_rows = {shading.value: lit_row_range(shading, arrays.shared_rows, 0, mesh.face_count)
                     for shading in (Shading.FLAT, Shading.GOURAUD)}
         self.lighting.append(BareLighting(ctx.vertex_array(self.lighting_program, position), lit, lit_rows))
         self.objects.append((obj, {
@@ -171,7 +171,7 @@ class BareDraw:
         view_projection = self.scene.projection_matrix(width / height) @ self.scene.view_matrix()
         for obj, arrays in self.objects:
             mvp = view_projection @ obj.model
-            self.program["u_mvp"].write(np.ascontiguousarray(mvp.T, dtype="f4").tobytes())
+            self.mvp.write(np.ascontiguousarray(mvp.T, dtype="f4").tobytes())
             arrays[mode].render(gl.TRIANGLES if filled else gl.LINES)
         self.ctx.disable(gl.DEPTH_TEST)
 

@@ -59,13 +59,9 @@ def gpu_ready_arrays(mesh: Mesh) -> dict[str, np.ndarray]:
 
     Edges and normal segments are built only when lines or normals are first drawn (marraztu.render.gpu).
     """
-    from dataclasses import fields
-
     from marraztu.render.gpu import surface_arrays
 
-    surface = surface_arrays(mesh)
-    arrays = {array.name: getattr(surface, array.name) for array in fields(surface)}
-    return {name: array for name, array in arrays.items() if array is not None}
+    return surface_arrays(mesh).arrays
 
 
 def _trimesh() -> LoadFunction:

@@ -144,7 +144,10 @@ class LineReader:
         if len(shapes) > 1:
             raise self.fail(number, f"mixed corner formats in one face: {_quoted(_first_tokens(rest))}")
         self.resolve(number, rest, first)
-        self.face_sizes.append(len(self.corners[0]) - first)
+        self.end_face(number, len(self.corners[0]) - first)
+
+    def end_face(self, number: int, size: int) -> None:
+        self.face_sizes.append(size)
         self.face_lines.append(number)
 
     def plain_face(self, number: int, rest: bytes) -> bool:
@@ -159,8 +162,7 @@ class LineReader:
                 for field in range(len(_FIELDS)):
                     if field not in fields:
                         self.corners[field].extend([-1] * size)
-                self.face_sizes.append(size)
-                self.face_lines.append(number)
+                self.end_face(number, size)
                 return True
         return False
 

@@ -3,13 +3,13 @@ error: the model still loads, with the colours that could be read."""
 
 from __future__ import annotations
 
-from collections.abc import Collection, Iterator
+from collections.abc import Collection
 from pathlib import Path
 
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import read_file, same_file_key
+from marraztu.loaders.files import read_file, same_file_key, text_lines
 from marraztu.loaders.images import load_image
 from marraztu.loaders.obj.raw import MAX_MATERIAL_NAME, finite_floats
 from marraztu.model.mesh import MeshMaterial
@@ -61,7 +61,7 @@ def _parse_library(text: str, name: str, folder: Path, notes: list[str], wanted:
     block: list | None = None  # the material being read; not kept, it is dropped at the next newmtl
     malformed, first_malformed = 0, ""  # one note however many lines are ignored
     ignored: set[str] = set()
-    for line in _lines(text):
+    for line in text_lines(text):
         tokens = line.split("#", 1)[0].split()
         if not tokens:
             continue
@@ -93,20 +93,6 @@ def _parse_library(text: str, name: str, folder: Path, notes: list[str], wanted:
     materials = [MeshMaterial(block_name, values, *textures.read(texture)) for block_name, values, texture in kept]
     notes.extend(textures.notes())
     return materials
-
-
-_LINES_PIECE = 1 << 16
-
-
-def _lines(text: str) -> Iterator[str]:
-    """text.splitlines(), a piece at a time: a list of every line would hold the text again, in pieces.
-    Each piece ends just after a newline, so its lines are the text's."""
-    start = 0
-    while start < len(text):
-        cut = text.find("\n", start + _LINES_PIECE)
-        stop = len(text) if cut < 0 else cut + 1
-        yield from text[start:stop].splitlines()
-        start = stop
 
 
 # map_Kd's options and how many values each takes (-o, -s and -t take one to three numbers).

@@ -291,7 +291,7 @@ def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, f
     face, corner, line = start_counts[F], start_counts[CORNERS], first_line
     records = np.empty((16, RECORD_COLUMNS), np.int64)
     used = 0
-    statements = 0
+    stated = False  # whether this piece has recorded a statement yet
     start = low
     while start < high:
         if buf[start] == _NEWLINE:
@@ -314,8 +314,8 @@ def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, f
         elif kind == _OTHER_KEYWORD:
             kind = _statement_kind(buf, start)
             # usemtl and mtllib are read; of the rest (g, o, s...) one says the file has statements
-            record = STATEMENT if statements == 0 or kind != _OTHER_KEYWORD else -1
-            statements += 1
+            record = STATEMENT if not stated or kind != _OTHER_KEYWORD else -1
+            stated = True
         end = _line_end(buf, at)
         if not read:
             record = DEFERRED
