@@ -42,10 +42,10 @@ def assert_finite(mesh: Mesh) -> None:
 
 def assert_mesh_dtypes(mesh: Mesh) -> None:
     assert mesh.positions.dtype == np.float64
-    assert mesh.corner_vertex.dtype == np.int64
+    assert mesh.corner_vertex.dtype == np.int32
     assert mesh.corner_uv.dtype == np.float32
     assert mesh.corner_normal.dtype == np.float32
-    assert mesh.face_start.dtype == np.int64
+    assert mesh.face_start.dtype == np.int32
     assert mesh.face_normals.dtype == np.float32
 
 
@@ -296,6 +296,10 @@ BAD_CASES = [
     ("plus sign", V3 + "f +1 2 3\n", 4, "is not an index"),
     ("float index", V3 + "f 1.0 2 3\n", 4, "is not an index"),
     ("absurd index", V3 + "f 1 2 99999999999999999999\n", 4, "vertex index '99999999999999999999' out of range"),
+    # Past a 32-bit index: 2**32 + 1 must not wrap round to vertex 1.
+    ("index past 32 bits", V3 + "f 1 2 4294967297\n", 4, "vertex index '4294967297' out of range"),
+    ("vt past 32 bits", V3 + "vt 0 0\nf 1/1 2/1 3/2147483648\n", 5,
+     "texture coordinate (vt) index '2147483648' out of range"),
     ("absurd negative", V3 + "f 1 2 -99999999999999999999\n", 4, "out of range"),
     ("5000 digits", V3 + "f 1 2 " + "9" * 5000 + "\n", 4, "out of range"),
     ("absurd vt", "vt 0 0\n" + V3 + "f 1/1 2/1 3/99999999999999999999\n", 5, "texture coordinate (vt) index"),
@@ -590,6 +594,16 @@ def test_build_mesh_rejects_impossible_faces(faces: list[list[int]]) -> None:
         build_mesh("bad", np.eye(3), faces)
 
 
+def test_build_mesh_refuses_more_than_32_bit_indices_hold(monkeypatch: pytest.MonkeyPatch) -> None:
+    from marraztu.model import build
+
+    built = build_mesh("quad", np.eye(4, 3), [[0, 1, 2, 3]])
+    assert built.corner_vertex.dtype == built.face_start.dtype == np.int32
+    monkeypatch.setattr(build, "INDEX_LIMIT", 4)  # 2**31 - 1 corners would not fit in this test
+    with pytest.raises(ValueError, match="fewer than 4 positions and corners"):
+        build_mesh("quad", np.eye(4, 3), [[0, 1, 2, 3]])
+
+
 # --- the seed's models ------------------------------------------------------------------------------
 
 
@@ -660,7 +674,8 @@ def test_numbers_in_every_spelling_read_as_float_reads_them(value: float, spelli
 
 
 @pytest.mark.parametrize("corner", ["-1", "01", "1//", "1/2/", "+1", "1/-1/1", "999999999999999", "1234567890123456",
-                                    "1/", "/1", "1//1/", "-4", "0", "1/0", "-0", "1 1/1"])
+                                    "1/", "/1", "1//1/", "-4", "0", "1/0", "-0", "1 1/1", "2147483647", "2147483648",
+                                    "4294967297", "1/4294967297/1", "-2147483648"])
 def test_a_face_corner_reads_as_the_line_reader_reads_it(corner: str) -> None:
     text = f"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf {corner} 2 3\nf 1/1/1 2/1/1 3/1/1\n".encode()
     assert_agree(read_both(text))

@@ -12,7 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from marraztu.model.geometry import FLOAT32_MAX, column_bounds, unit_rows
-from marraztu.model.mesh import Mesh, fan_gather
+from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, fan_gather
 
 # Zero-area faces get a fallback normal; "zero" is relative to the model's size.
 DEGENERATE_AREA = 1e-12
@@ -106,6 +106,8 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
                  base_colour: tuple[float, float, float] | None, file_material: dict[str, object] | None,
                  notes: tuple[str, ...]) -> Mesh:
     """The Mesh, with every normal and texture coordinate the file lacks derived. Never NaN."""
+    if max(positions.shape[0], corner_vertex.size) >= INDEX_LIMIT:
+        raise ValueError(f"a mesh holds fewer than {INDEX_LIMIT} positions and corners")
     sizes = np.diff(face_start)
     bounds = column_bounds(positions)
     face_normals, degenerate = _face_normals(positions, corner_vertex, face_start, sizes, bounds)
@@ -123,10 +125,10 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
     return Mesh(
         name=name,
         positions=np.ascontiguousarray(positions, dtype=np.float64),
-        corner_vertex=np.ascontiguousarray(corner_vertex, dtype=np.int64),
+        corner_vertex=np.ascontiguousarray(corner_vertex, dtype=INDEX),
         corner_uv=_corner_uv(uv, positions, corner_vertex, bounds),
         corner_normal=corner_normal,
-        face_start=np.ascontiguousarray(face_start, dtype=np.int64),
+        face_start=np.ascontiguousarray(face_start, dtype=INDEX),
         face_normals=face_normals.astype(np.float32),
         base_colour=base_colour,
         file_material=file_material,

@@ -17,6 +17,11 @@ import numpy as np
 
 from marraztu.model.geometry import column_bounds
 
+# Corner and face indices are 32-bit: half of numpy's default, and no file the viewer reads (1 GiB at
+# most, two bytes a corner at least) holds 2**31 of anything. build.derive_mesh refuses more.
+INDEX = np.int32
+INDEX_LIMIT = int(np.iinfo(INDEX).max)  # counts of positions and corners stay below it
+
 
 def fan_gather(values: np.ndarray, face_start: np.ndarray) -> np.ndarray:
     """(3T,) `values`, one per corner, in the order of the fan triangles' corners, polygon by polygon:
@@ -72,10 +77,10 @@ class MeshPart:
 class Mesh:
     name: str
     positions: np.ndarray  # (V, 3) float64: the file's `v` table, in file order
-    corner_vertex: np.ndarray  # (C,) int64: index into positions for each polygon corner
+    corner_vertex: np.ndarray  # (C,) INDEX: index into positions for each polygon corner
     corner_uv: np.ndarray  # (C, 2) float32: texture coordinate per corner (from vt, or the bounding box)
     corner_normal: np.ndarray  # (C, 3) float32: unit vertex normal per corner (vn, or averaged faces)
-    face_start: np.ndarray  # (F + 1,) int64: CSR offsets of each polygon's corners
+    face_start: np.ndarray  # (F + 1,) INDEX: CSR offsets of each polygon's corners
     face_normals: np.ndarray  # (F, 3) float32: unit normal per polygon (Newell's method)
     base_colour: tuple[float, float, float] | None = None  # the seed's `# colour r g b`, in 0..1
     # Ka/Kd/Ks/Ns read from the file's MTL when it exists: keys "ka", "kd", "ks" (3-tuples), "ns".
@@ -134,14 +139,14 @@ class Mesh:
 
     def _part(self, faces: np.ndarray) -> MeshPart:
         sizes = self.face_sizes[faces]
-        face_start = np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)
+        face_start = np.concatenate(([0], np.cumsum(sizes))).astype(INDEX)
         # Each corner of the chosen faces, in order: its face's first corner plus its place in the face.
         corners = np.repeat(self.face_start[faces] - face_start[:-1], sizes) + np.arange(int(face_start[-1]))
         material = int(self.face_material[faces[0]])
         # Only the positions the part uses: the GPU arrays hold a row per position, so parts sharing
         # the whole table would cost the table once per material.
         used, corner_vertex = np.unique(self.corner_vertex[corners], return_inverse=True)
-        part = Mesh(name=self.name, positions=self.positions[used], corner_vertex=corner_vertex.astype(np.int64),
+        part = Mesh(name=self.name, positions=self.positions[used], corner_vertex=corner_vertex.astype(INDEX),
                     corner_uv=self.corner_uv[corners], corner_normal=self.corner_normal[corners],
                     face_start=face_start, face_normals=self.face_normals[faces], base_colour=self.base_colour,
                     attributes_per_position=self.attributes_per_position,
@@ -154,7 +159,7 @@ class Mesh:
 
     def triangles_before_face(self) -> np.ndarray:
         """(F + 1,) how many fan triangles come before each polygon (and in all, last)."""
-        return np.concatenate([[0], np.cumsum(self.face_sizes - 2)])
+        return np.concatenate([[0], np.cumsum(self.face_sizes - 2)]).astype(INDEX)
 
     def edge_corners(self) -> np.ndarray:
         """(E, 2) corner pairs of every polygon's boundary, polygon by polygon (its first corner first)."""

@@ -19,6 +19,7 @@ import numpy as np
 from marraztu.loaders.obj import scan
 from marraztu.loaders.obj.lines import LineReader, check_forward_indices, no_faces_error
 from marraztu.loaders.obj.raw import ColourComment, RawObj, add_material_run, material_name, statement
+from marraztu.model.mesh import INDEX
 
 # Pieces of at least this many bytes: below it a thread costs more than it saves.
 MIN_PIECE_BYTES = 1 << 20
@@ -44,8 +45,8 @@ def read_fast(text: bytes, source: str) -> RawObj:
     before = np.cumsum(counts, axis=0) - counts  # each piece's offsets into the tables
     total = counts.sum(axis=0)
     tables = [np.empty((int(total[kind]), width)) for kind, width in zip((scan.V, scan.VT, scan.VN), _WIDTHS)]
-    columns = [np.empty(int(total[scan.CORNERS]), np.int64) for _ in range(3)]
-    face_start = np.zeros(int(total[scan.F]) + 1, np.int64)
+    columns = [np.empty(int(total[scan.CORNERS]), INDEX) for _ in range(3)]
+    face_start = np.zeros(int(total[scan.F]) + 1, INDEX)
     first_lines = (before[:, scan.LINES] + 1).tolist()
     records = _each(lambda at: scan.read_piece(buf, *pieces[at], before[at], first_lines[at], *tables, *columns,
                                                face_start), list(range(len(pieces))))

@@ -26,6 +26,7 @@ from marraztu.loaders.obj.raw import (
     statement,
 )
 from marraztu.model.geometry import FLOAT32_MAX
+from marraztu.model.mesh import INDEX, INDEX_LIMIT
 
 _FLOAT = re.compile(rb"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
 _INTEGER = re.compile(rb"-?[0-9]+\Z")
@@ -44,6 +45,13 @@ _PLAIN_FACES = [(re.compile(rb"%s(?:\s+%s){2,}" % (corner, corner)), fields) for
     (_INDEX, (0,)), (rb"%s/%s" % (_INDEX, _INDEX), (0, 1)), (rb"%s//%s" % (_INDEX, _INDEX), (0, 2)),
     (rb"%s/%s/%s" % (_INDEX, _INDEX, _INDEX), (0, 1, 2)))]
 _DIGITS = re.compile(rb"[0-9]+")
+
+
+def _beyond_index(part: bytes) -> bool:
+    """An index no file the viewer reads can hold (model.mesh.INDEX); its digits are counted first, so
+    that a million of them are never made into a number."""
+    digits = part.lstrip(b"-")
+    return len(digits) > MAX_DIGITS or (bool(digits) and int(digits) > INDEX_LIMIT)
 
 
 def _float_or_none(token: bytes) -> float | None:
@@ -81,9 +89,9 @@ class LineReader:
             self.read_line(number, content)
         if not self.face_sizes:
             raise no_faces_error(self.source, self.statements > 0)
-        corners = [np.frombuffer(field, dtype=np.int64) for field in self.corners]
+        corners = [np.frombuffer(field, dtype=np.int64).astype(INDEX) for field in self.corners]
         face_lines = np.frombuffer(self.face_lines, dtype=np.int64)
-        face_start = np.concatenate(([0], np.cumsum(np.frombuffer(self.face_sizes, dtype=np.int64))))
+        face_start = np.concatenate(([0], np.cumsum(np.frombuffer(self.face_sizes, dtype=np.int64)))).astype(INDEX)
         check_forward_indices(self.source, corners, self.defined,
                               lambda corner: int(face_lines[np.searchsorted(face_start, corner, "right") - 1]))
         return self.result(corners, face_start)
@@ -155,6 +163,8 @@ class LineReader:
         for pattern, fields in _PLAIN_FACES:
             if pattern.fullmatch(rest):
                 indices = [int(digits) - 1 for digits in _DIGITS.findall(rest)]
+                if max(indices) >= INDEX_LIMIT:  # the corner-by-corner path words the error
+                    return False
                 width = len(fields)
                 for column, field in enumerate(fields):
                     self.corners[field].extend(indices[column::width])
@@ -189,7 +199,7 @@ class LineReader:
         for field, part in enumerate(parts):
             if part and not _INTEGER.match(part):
                 raise self.fail(number, f"bad face corner {_quoted(token)}: {_quoted(part)} is not an index")
-            if len(part.lstrip(b"-")) > MAX_DIGITS:  # no file holds 10**15 of anything
+            if _beyond_index(part):
                 raise self.fail(number, f"{_FIELD_NAMES[field]} index {_quoted(part)} out of range")
         indices = [int(part) if part else None for part in (parts + [b"", b""])[:3]]
         if 0 in indices:

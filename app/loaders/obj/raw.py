@@ -21,10 +21,10 @@ class RawObj:
     positions: np.ndarray  # (V, 3) float64
     texcoords: np.ndarray  # (T, 2) float64
     normals: np.ndarray  # (N, 3) float64
-    corner_vertex: np.ndarray  # (C,) int64
-    corner_texcoord: np.ndarray | None  # (C,) int64, -1 where a corner has no vt; None: no corner has
-    corner_normal: np.ndarray | None  # (C,) int64, likewise for vn
-    face_start: np.ndarray  # (F + 1,) int64
+    corner_vertex: np.ndarray  # (C,) model.mesh.INDEX
+    corner_texcoord: np.ndarray | None  # (C,) INDEX, -1 where a corner has no vt; None: no corner has
+    corner_normal: np.ndarray | None  # (C,) INDEX, likewise for vn
+    face_start: np.ndarray  # (F + 1,) INDEX
     mtllib: str | None
     colour: tuple[float, float, float] | None  # the seed reader's "# colour r g b", in 0..1
     notes: list[str]

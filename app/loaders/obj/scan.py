@@ -15,6 +15,7 @@ from numba import njit
 
 from marraztu.loaders.obj.raw import MAX_DIGITS
 from marraztu.model.geometry import FLOAT32_MAX
+from marraztu.model.mesh import INDEX_LIMIT
 
 # Kinds of line, and the columns of a pass-one count.
 V, VT, VN, F = 0, 1, 2, 3
@@ -196,7 +197,7 @@ def _numbers(buf: np.ndarray, at: int, row: np.ndarray, fewest: int, most: int) 
 @njit(**_JIT)
 def _index(buf: np.ndarray, at: int, defined: int) -> tuple[int, int]:
     """A face index made 0-based (a relative one counted back from `defined`) and where it ends;
-    -1 when it is not one this code reads (0, too long, reaching before the first, no digits)."""
+    -1 when it is not one this code reads (0, past a 32-bit index, reaching before the first, no digits)."""
     negative = buf[at] == _MINUS
     if negative:
         at += 1
@@ -205,7 +206,7 @@ def _index(buf: np.ndarray, at: int, defined: int) -> tuple[int, int]:
         value = value * 10 + (buf[at] - _ZERO)
         digits += 1
         at += 1
-    if digits == 0 or digits > MAX_DIGITS or value == 0:
+    if digits == 0 or digits > MAX_DIGITS or value == 0 or value > INDEX_LIMIT:
         return -1, at
     if negative:
         return (defined - value if defined >= value else -1), at
