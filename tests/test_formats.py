@@ -92,6 +92,34 @@ def test_gltf_nodes_are_placed_by_their_transforms(tmp_path: Path) -> None:
     assert np.allclose(mesh.bounds[0], POSITIONS.min(axis=0) + [30, 0, 0], atol=1e-5)
 
 
+def instanced_glb(placements: int) -> bytes:
+    """One mesh of three triangles placed `placements` times by the node graph, stored once."""
+    scene = trimesh.Scene()
+    scene.add_geometry(square_mesh(), geom_name="square", node_name="n0")
+    for node in range(1, placements):
+        scene.graph.update(frame_to=f"n{node}", geometry="square",
+                           matrix=trimesh.transformations.translation_matrix([200 * node, 0, 0]))
+    return scene.export(file_type="glb")
+
+
+def test_a_mesh_placed_many_times_is_refused_before_it_is_copied(tmp_path: Path,
+                                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+    from marraztu.loaders import exchange
+
+    (tmp_path / "many.glb").write_bytes(instanced_glb(40))
+    assert load_model(tmp_path / "many.glb").face_count == 40 * len(FACES)  # placed, as drawn
+    # The real limit is the largest binary STL's triangles; a smaller one keeps the test small.
+    assert exchange.MAX_PLACED_TRIANGLES == ((1 << 30) - 84) // 50
+    monkeypatch.setattr(exchange, "MAX_PLACED_TRIANGLES", 40 * len(FACES) - 1)
+    copies = []
+    monkeypatch.setattr(trimesh.Scene, "to_geometry", lambda scene: copies.append(scene))
+    with pytest.raises(LoadError) as caught:
+        load_model(tmp_path / "many.glb")
+    assert str(caught.value).startswith(str(tmp_path / "many.glb"))
+    assert "places its meshes 40 times, 120 triangles in all: more than the 119" in caught.value.message
+    assert copies == []
+
+
 def test_gltf_json_beside_its_buffer_and_its_base_colour(tmp_path: Path) -> None:
     mesh = square_mesh()
     mesh.visual = trimesh.visual.TextureVisuals(

@@ -21,13 +21,16 @@ from typing import Any
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import read_file, text_lines
+from marraztu.loaders.files import MAX_FILE_BYTES, read_file, text_lines
 from marraztu.model.build import build_mesh
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh, MeshMaterial
 
 Stage = Callable[[str], None]
 _STL_HEADER, _STL_TRIANGLE = 84, 50  # binary STL: an 80-byte header and a count, then 50 bytes a triangle
+# A glTF node places a mesh, so a small file can place one mesh a million times. No scene may place
+# more triangles than the largest binary STL the viewer reads lists one by one.
+MAX_PLACED_TRIANGLES = (MAX_FILE_BYTES - _STL_HEADER) // _STL_TRIANGLE
 _NOT_FINITE = re.compile(rb"(?i)(?<![a-z])(?:[-+]?nan|[-+]?inf(?:inity)?)(?![a-z])")
 
 
@@ -236,6 +239,7 @@ def _flattened(path: Path, scene: Any) -> tuple[Any, list[str]]:
     meshes = [geometry for geometry in scene.geometry.values() if hasattr(geometry, "faces")]
     if not meshes:
         raise LoadError(path, "the scene holds no triangle mesh: nothing to draw")
+    _check_placed_triangles(path, scene)
     try:
         flat = scene.to_geometry()  # the graph's transforms applied, every mesh in one
     except Exception as error:  # a broken node graph: trimesh's own words
@@ -243,6 +247,16 @@ def _flattened(path: Path, scene: Any) -> tuple[Any, list[str]]:
     notes = ["its meshes have several materials; the first one's colour is used"] if len(meshes) > 1 else []
     flat.metadata["first_visual"] = meshes[0].visual
     return flat, notes
+
+
+def _check_placed_triangles(path: Path, scene: Any) -> None:
+    """Counted from the node graph before any mesh is copied into place."""
+    faces = {name: len(geometry.faces) for name, geometry in scene.geometry.items() if hasattr(geometry, "faces")}
+    placements = [scene.graph[node][1] for node in scene.graph.nodes_geometry]
+    placed = sum(faces.get(name, 0) for name in placements)
+    if placed > MAX_PLACED_TRIANGLES:
+        raise LoadError(path, f"the scene places its meshes {len(placements)} times, {placed} triangles in all: "
+                              f"more than the {MAX_PLACED_TRIANGLES} the viewer draws from one file")
 
 
 def _corner_uvs(mesh: Any, faces: np.ndarray) -> np.ndarray | None:
