@@ -27,7 +27,8 @@ if TYPE_CHECKING:
     from marraztu.model.mesh import Mesh
 
 LOAD_HEADERS = ("file", "triangles", "MB", "loader", "seconds", "of which surface arrays s", "MB/s",
-                "peak RSS MB", "time ÷ ours", "RSS ÷ ours")
+                "peak RSS MB", "warm peak RSS MB", "warm peak ÷ file", "time ÷ ours", "RSS ÷ ours")
+TINY_OBJ = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
 
 
 @dataclass(frozen=True)
@@ -62,6 +63,13 @@ def gpu_ready_arrays(mesh: Mesh) -> dict[str, np.ndarray]:
     from marraztu.render.gpu import surface_arrays
 
     return surface_arrays(mesh).arrays
+
+
+def warm_compiled_reader() -> None:
+    """Import numba and load the OBJ reader's compiled code, as the first large file does."""
+    from marraztu.loaders.obj.fast import read_fast
+
+    read_fast(TINY_OBJ, "warm-up.obj")
 
 
 def _trimesh() -> LoadFunction:
@@ -118,10 +126,26 @@ def peak_rss_bytes() -> int:
     return peak if sys.platform == "darwin" else peak * 1024  # Linux reports KiB, macOS bytes
 
 
+def reset_peak_rss() -> bool:
+    """Sets this process's peak RSS to its present RSS (Linux's clear_refs); False where it cannot."""
+    try:
+        Path("/proc/self/clear_refs").write_text("5")
+    except OSError:
+        return False
+    return True
+
+
 def load_worker(argv: Sequence[str]) -> int:
-    """The child: import the loader, note the peak RSS, load `repeats` times, print JSON."""
+    """The child: import the loader, note the peak RSS, load `repeats` times, print JSON. With a
+    fourth argument, `warm`: first read a one-triangle model (ours through the compiled reader, as
+    any large file before would have), then measure from there."""
     loader, path, repeats = argv[0], Path(argv[1]), int(argv[2])
     load = _LOADER_FACTORIES[loader]()
+    if argv[3:] == ["warm"]:
+        _warm_up(loader, load, path.parent)
+        if not reset_peak_rss():
+            print(json.dumps({"peak_rss_bytes": None}))
+            return 0
     baseline = peak_rss_bytes()
     timings = [load(path) for _ in range(repeats)]
     print(json.dumps({"triangles": timings[0].triangles,
@@ -129,6 +153,15 @@ def load_worker(argv: Sequence[str]) -> int:
                       "surface_seconds": [t.surface_seconds for t in timings],
                       "peak_rss_bytes": peak_rss_bytes() - baseline}))
     return 0
+
+
+def _warm_up(loader: str, load: LoadFunction, folder: Path) -> None:
+    if loader == "ours":
+        warm_compiled_reader()
+        return
+    tiny = folder / "warm-up.obj"
+    tiny.write_bytes(TINY_OBJ)
+    load(tiny)
 
 
 _WORKER_CODE = ("import sys; from marraztu.devtools.bench.loading import load_worker; "
@@ -147,6 +180,15 @@ def peak():
             return int(line.split()[1]) * 1024
     return 0
 path, repeats = sys.argv[1], int(sys.argv[2])
+if sys.argv[3:] == ["warm"]:  # as load_worker's warm-up
+    tiny = Path(path).parent / "warm-up.obj"
+    tiny.write_bytes(b"v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nf 1 2 3\\n")
+    rapidobj.parse_obj(str(tiny))
+    try:
+        Path("/proc/self/clear_refs").write_text("5")
+    except OSError:
+        print(json.dumps({"peak_rss_bytes": None}))
+        raise SystemExit(0)
 baseline, seconds, triangles = peak(), [], 0
 for _ in range(repeats):
     start = time.perf_counter()
@@ -177,12 +219,20 @@ def rapidobj_python() -> str | None:
     return None
 
 
-def _worker_command(loader: str, path: Path, repeats: int) -> list[str]:
+def _worker_command(loader: str, path: Path, repeats: int, warm: bool = False) -> list[str]:
+    arguments = [str(path), str(repeats), *(["warm"] if warm else [])]
     if loader == "rapidobj":
         python = rapidobj_python()
         assert python is not None, "available_loaders keeps rapidobj only where an interpreter has it"
-        return [python, "-c", _RAPIDOBJ_CODE, str(path), str(repeats)]
-    return [sys.executable, "-c", _WORKER_CODE, loader, str(path), str(repeats)]
+        return [python, "-c", _RAPIDOBJ_CODE, *arguments]
+    return [sys.executable, "-c", _WORKER_CODE, loader, *arguments]
+
+
+def _run_worker(loader: str, path: Path, repeats: int, warm: bool = False) -> dict:
+    done = subprocess.run(_worker_command(loader, path, repeats, warm), capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"{loader} on {path.name} failed:\n{done.stderr.strip()}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
 
 
 @dataclass
@@ -194,17 +244,25 @@ class LoadResult:
     surface_seconds: list[float] = field(default_factory=list)
     peak_rss_bytes: list[int] = field(default_factory=list)  # one per process
     first_seconds: list[float] = field(default_factory=list)  # each process's first load
+    warm_peak_rss_bytes: list[int] = field(default_factory=list)  # one per warm process
 
     def add_process(self, loader: str, path: Path, repeats: int) -> None:
-        done = subprocess.run(_worker_command(loader, path, repeats), capture_output=True, text=True)
-        if done.returncode != 0:
-            raise RuntimeError(f"{loader} on {path.name} failed:\n{done.stderr.strip()}")
-        report = json.loads(done.stdout.strip().splitlines()[-1])
+        report = _run_worker(loader, path, repeats)
         self.triangles = report["triangles"]
         self.seconds += report["seconds"]
         self.first_seconds.append(report["seconds"][0])
         self.surface_seconds += [s for s in report["surface_seconds"] if s is not None]
         self.peak_rss_bytes.append(report["peak_rss_bytes"])
+
+    def add_warm_process(self, loader: str, path: Path) -> None:
+        """One load in a process that has read a one-triangle model first: the peak a file itself costs."""
+        peak = _run_worker(loader, path, 1, warm=True)["peak_rss_bytes"]
+        if peak is not None:
+            self.warm_peak_rss_bytes.append(peak)
+
+    @property
+    def median_warm_peak_rss_bytes(self) -> float | None:
+        return statistics.median(self.warm_peak_rss_bytes) if self.warm_peak_rss_bytes else None
 
     @property
     def median_seconds(self) -> float:
@@ -247,6 +305,7 @@ def loading_section(config: BenchConfig, inputs: Sequence[LoadInput]) -> list[st
             for loader in loaders:
                 progress(f"loading {item.path.name} with {loader} ({round_number + 1}/{config.rounds})")
                 results[loader].add_process(loader, item.path, config.repeats)
+                results[loader].add_warm_process(loader, item.path)
         rows += [_load_row(item, loader, result, results.get("ours")) for loader, result in results.items()]
         if "ours" in results:
             firsts.append(f"{item.label}: {number(statistics.median(results['ours'].first_seconds))} s")
@@ -255,7 +314,10 @@ def loading_section(config: BenchConfig, inputs: Sequence[LoadInput]) -> list[st
         "",
         f"Median of {config.rounds * config.repeats} load(s): {config.rounds} fresh process(es) per loader and "
         f"file, the loaders taking turns, {config.repeats} load(s) in each; peak RSS is the median over those "
-        "processes of the process's peak minus its peak after imports. *ours* = `load_obj` + the surface "
+        "processes of the process's peak minus its peak after imports. *Warm peak*: the same in one more "
+        "process per round, which first reads a one-triangle model (ours through its compiled reader, as "
+        "any earlier large file would have; the reader's own memory is in section 4), so that only what "
+        "the file itself costs is left; *÷ file*: that over the file's size. *ours* = `load_obj` + the surface "
         "vertex and index "
         "arrays `ObjectGpu` uploads for the first frame (marraztu.render.gpu; edges and normal segments "
         "are built later, when lines or normals are first drawn); trimesh = `trimesh.load(process=False)`; "
@@ -277,6 +339,12 @@ def _load_row(item: LoadInput, loader: str, result: LoadResult, ours: LoadResult
     seconds = result.median_seconds
     return [item.label, str(result.triangles), number(mb), loader, number(seconds),
             number(result.median_surface_seconds), number(mb / seconds),
-            number(result.median_peak_rss_bytes / MEGABYTE),
+            number(result.median_peak_rss_bytes / MEGABYTE), number(_megabytes(result.median_warm_peak_rss_bytes)),
+            number(None if result.median_warm_peak_rss_bytes is None
+                   else result.median_warm_peak_rss_bytes / MEGABYTE / mb),
             ratio(seconds, ours.median_seconds if ours else None),
             ratio(result.median_peak_rss_bytes, ours.median_peak_rss_bytes if ours else None)]
+
+
+def _megabytes(size: float | None) -> float | None:
+    return None if size is None else size / MEGABYTE

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 from marraztu.devtools.bench.frames import FrameBench
 from marraztu.devtools.bench.inputs import LoadInput
-from marraztu.devtools.bench.loading import gpu_ready_arrays
+from marraztu.devtools.bench.loading import gpu_ready_arrays, warm_compiled_reader
 from marraztu.devtools.bench.report import MEGABYTE, markdown_table, number, progress
 
 if TYPE_CHECKING:
@@ -92,13 +92,6 @@ def rss_worker(argv: Sequence[str]) -> int:
 
 _RSS_WORKER = ("import sys; from marraztu.devtools.bench.memory import rss_worker; "
                "sys.exit(rss_worker(sys.argv[1:]))")
-
-
-def warm_compiled_reader() -> None:
-    """Import numba and load the OBJ reader's compiled code, as the first large file does."""
-    from marraztu.loaders.obj.fast import read_fast
-
-    read_fast(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "warm-up.obj")
 
 
 RSS_RUNS = 3  # llvmpipe's queue of binned scenes grows with how far its threads fall behind: it varies
