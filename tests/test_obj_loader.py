@@ -681,6 +681,33 @@ def test_a_face_corner_reads_as_the_line_reader_reads_it(corner: str) -> None:
     assert_agree(read_both(text))
 
 
+COLOUR_COMMENTS = ["# colour 255 0 51", "#colour 1 2 3", " \t# \tcolor 1 2 3 ", "# colour 1 2", "# colour 1 2 3 4",
+                   "# colour red 0 0", "# colour 1 2 3#", "# colour 1 2 #3", "# colour 1_0 2 3", "# colour 1e400 0 0",
+                   "# colour inf 0 0", "# colour nan 1 2", "# colour .5 5. -0", "# colour 1e3 +2 1E-2",
+                   "# colour 0.1234567890123456789 1 1", "# Colour 1 2 3", "# colourful 1 2 3", "# colouur 1 2 3",
+                   "# colo r 1 2 3", "# colour\t1\x0b2\x0c3", "# the colour 1 2 3", "# colour", "#", "# c"]
+
+
+@pytest.mark.parametrize("first", COLOUR_COMMENTS)
+@pytest.mark.parametrize("second", ["# colour 10 20 30", "# colour x y z"])
+def test_a_colour_comment_reads_as_the_line_reader_reads_it(first: str, second: str) -> None:
+    """The compiled code records only comments of the colour's shape, and none after one that sets the
+    colour; the colour and the notes about malformed ones must come out as the line reader's."""
+    text = f"{first}\nv 0 0 0\nv 1 0 0\n{second}\n{first}\nv 0 1 0\nf 1 2 3\n".encode()
+    both = read_both(text)
+    assert_agree(both)
+    assert both.fast_lines == 0
+
+
+def test_random_colour_comments_read_as_the_line_reader_reads_them() -> None:
+    rng = np.random.default_rng(11)
+    words = ["#", "# ", "colour", "color", "colou", " ", "\t", "1", "2.5", "-3", "x", "1e9", "e", ".", "#", "255", "u"]
+    for _ in range(3000):
+        comments = ["".join(rng.choice(words, size=int(rng.integers(1, 9)))) for _ in range(3)]
+        text = ("\n".join(f"#{comment}" for comment in comments) + "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").encode()
+        assert_agree(read_both(text))
+
+
 def test_a_process_reading_only_small_files_never_imports_numba() -> None:
     """The built-in scene's models are read by the line reader: the screenshot and the window's start
     never pay numba's start-up."""

@@ -32,7 +32,10 @@ RECORD_COLUMNS = 10
 
 _NEWLINE, _HASH, _SLASH, _MINUS, _PLUS, _DOT, _ZERO, _NINE = (ord(c) for c in "\n#/-+.09")
 _LETTER_V, _LETTER_T, _LETTER_N, _LETTER_F, _LOWER_CASE = ord("v"), ord("t"), ord("n"), ord("f"), 0x20
-_LETTER_E, _COLOUR = ord("e"), np.frombuffer(b"colo", np.uint8)
+_LETTER_E, _LETTER_U, _LETTER_R, _COLO = ord("e"), ord("u"), ord("r"), np.frombuffer(b"colo", np.uint8)
+# What a comment is to the colour reader (raw.ColourComment): not the seed's "# colour r g b"; one
+# whose three numbers this code reads, so it sets the colour; one only the Python side can judge.
+_NOT_COLOUR, _COLOUR_READ, _COLOUR_UNREAD = 0, 1, 2
 _USEMTL, _MTLLIB = np.frombuffer(b"usemtl", np.uint8), np.frombuffer(b"mtllib", np.uint8)
 # Up to 1e22 powers of ten are exact doubles: mantissa and power then round once, as float() does
 # (Clinger's fast path).
@@ -254,12 +257,30 @@ def _grown(records: np.ndarray, used: int) -> np.ndarray:
 
 
 @njit(**_JIT)
-def _mentions_colour(buf: np.ndarray, at: int, end: int) -> bool:
-    """Whether a comment holds "colo": the only comments that mean anything (the seed's "# colour")."""
-    for start in range(at, end - 3):
-        if _word_at(buf, start, _COLOUR):
-            return True
-    return False
+def _colour_comment(buf: np.ndarray, at: int) -> int:
+    """What the comment whose '#' is at `at` is to the colour reader: raw.COLOUR_COMMENT's shape ("colour"
+    or "color", then exactly three words) is checked here; its words are _COLOUR_READ when each is a
+    number _number reads whole, which Python's float() reads too."""
+    at = _skip_blanks(buf, at + 1)
+    if not _word_at(buf, at, _COLO):
+        return _NOT_COLOUR
+    at += 4 + (buf[at + 4] == _LETTER_U)
+    if buf[at] != _LETTER_R or not _is_blank(buf[at + 1]):
+        return _NOT_COLOUR
+    at, read = at + 1, True
+    for _ in range(3):
+        at = _skip_blanks(buf, at)
+        if buf[at] == _NEWLINE:
+            return _NOT_COLOUR
+        end = at
+        while not _is_blank(buf[end]) and buf[end] != _NEWLINE:  # a word: '#' and all, as \S+ reads it
+            end += 1
+        _, stop, ok = _number(buf, at)
+        read = read and ok and stop == end
+        at = end
+    if buf[_skip_blanks(buf, at)] != _NEWLINE:
+        return _NOT_COLOUR
+    return _COLOUR_READ if read else _COLOUR_UNREAD
 
 
 @njit(**_JIT)
@@ -293,6 +314,7 @@ def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, f
     records = np.empty((16, RECORD_COLUMNS), np.int64)
     used = 0
     stated = False  # whether this piece has recorded a statement yet
+    coloured = False  # whether it has recorded a colour comment that sets the colour: later ones cannot
     start = low
     while start < high:
         if buf[start] == _NEWLINE:
@@ -320,8 +342,10 @@ def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, f
         end = _line_end(buf, at)
         if not read:
             record = DEFERRED
-        elif kind == _NO_KEYWORD and buf[at] == _HASH and _mentions_colour(buf, at, end):
-            record = COMMENT
+        elif kind == _NO_KEYWORD and buf[at] == _HASH and not coloured:
+            shape = _colour_comment(buf, at)
+            if shape != _NOT_COLOUR:
+                record, coloured = COMMENT, shape == _COLOUR_READ
         if (kind == _USEMTL_KEYWORD and used > 0 and records[used - 1, R_KEYWORD] == _USEMTL_KEYWORD
                 and records[used - 1, R_FACE] == face):
             used -= 1  # a usemtl no face followed: this one takes its place (as raw.add_material_run does)
