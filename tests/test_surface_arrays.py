@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 from marraztu.loaders.obj import load_obj, parse_obj
+from marraztu.model.build import build_mesh
 from marraztu.model.mesh import Mesh
-from marraztu.render.gpu import _seams, surface_arrays, used_shared_rows
+from marraztu.render.gpu import _seams, edge_pairs, surface_arrays, used_shared_rows
 from support.seed import SEED_ASSETS, SEED_MODELS
 
 
@@ -131,3 +132,15 @@ def test_a_position_with_no_face_of_any_area_is_not_per_position() -> None:
     mesh = parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\nf 1 2 3\nf 4 4 4\nf 1 4 4\n", "lonely.obj")
     assert not mesh.attributes_per_position
     check_same_corners(mesh)
+
+
+def test_edge_pairs_are_each_polygons_boundary_in_order() -> None:
+    """Every corner and the next one of its polygon, the last closing on the first, polygon by polygon:
+    written out corner by corner here, against the array version, on polygons of random sizes."""
+    rng = np.random.default_rng(5)
+    sizes = rng.integers(3, 9, size=200)
+    faces = [list(range(start, start + size)) for start, size in zip(np.cumsum(sizes) - sizes, sizes)]
+    mesh = build_mesh("polygons", rng.random((int(sizes.sum()), 3)), faces)
+    expected = [(face[at], face[(at + 1) % len(face)]) for face in faces for at in range(len(face))]
+    assert edge_pairs(mesh).reshape(-1, 2).tolist() == [list(pair) for pair in expected]
+    assert edge_pairs(mesh).dtype == np.uint32

@@ -162,11 +162,10 @@ class Mesh:
         return np.concatenate([[0], np.cumsum(self.face_sizes - 2)]).astype(INDEX)
 
     def edge_corners(self) -> np.ndarray:
-        """(E, 2) corner pairs of every polygon's boundary, polygon by polygon (its first corner first)."""
-        starts = self.face_start[:-1]
-        sizes = self.face_sizes
-        corners = np.arange(int(self.face_start[-1]))
-        face_of_corner = np.repeat(np.arange(self.face_count), sizes)
-        local = corners - starts[face_of_corner]
-        nxt = starts[face_of_corner] + (local + 1) % sizes[face_of_corner]
-        return np.stack([corners, nxt], axis=1)
+        """(E, 2) INDEX corner pairs of every polygon's boundary, polygon by polygon (its first corner
+        first): each corner and the next, the last closing on the first."""
+        pairs = np.empty((int(self.face_start[-1]), 2), INDEX)
+        pairs[:, 0] = np.arange(pairs.shape[0], dtype=INDEX)
+        pairs[:, 1] = pairs[:, 0] + 1
+        pairs[self.face_start[1:] - 1, 1] = self.face_start[:-1]
+        return pairs

@@ -176,7 +176,7 @@ def edge_rows(mesh: Mesh) -> np.ndarray:
 
 def edge_pairs(mesh: Mesh) -> np.ndarray:
     """(2E,) uint32: each polygon's boundary as pairs of edge_rows, polygon by polygon."""
-    return mesh.edge_corners().astype(np.uint32).reshape(-1)
+    return mesh.edge_corners().reshape(-1).view(np.uint32)  # corner numbers: never negative
 
 
 def used_shared_rows(mesh: Mesh, shared_rows: int) -> np.ndarray:
