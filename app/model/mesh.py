@@ -159,7 +159,9 @@ class Mesh:
 
     def triangles_before_face(self) -> np.ndarray:
         """(F + 1,) how many fan triangles come before each polygon (and in all, last)."""
-        return np.concatenate([[0], np.cumsum(self.face_sizes - 2)]).astype(INDEX)
+        before = np.zeros(self.face_count + 1, INDEX)
+        np.cumsum(self.face_sizes - 2, out=before[1:])
+        return before
 
     def edge_corners(self) -> np.ndarray:
         """(E, 2) INDEX corner pairs of every polygon's boundary, polygon by polygon (its first corner

@@ -137,12 +137,15 @@ def reset_peak_rss() -> bool:
 
 def load_worker(argv: Sequence[str]) -> int:
     """The child: import the loader, note the peak RSS, load `repeats` times, print JSON. With a
-    fourth argument, `warm`: first read a one-triangle model (ours through the compiled reader, as
-    any large file before would have), then measure from there."""
+    fourth argument, a one-triangle model: read it first (ours through the compiled reader, as any
+    large file before would have), then measure from there."""
     loader, path, repeats = argv[0], Path(argv[1]), int(argv[2])
     load = _LOADER_FACTORIES[loader]()
-    if argv[3:] == ["warm"]:
-        _warm_up(loader, load, path.parent)
+    if argv[3:]:
+        if loader == "ours":
+            warm_compiled_reader()  # a file this small would go to the line reader
+        else:
+            load(Path(argv[3]))
         if not reset_peak_rss():
             print(json.dumps({"peak_rss_bytes": None}))
             return 0
@@ -153,15 +156,6 @@ def load_worker(argv: Sequence[str]) -> int:
                       "surface_seconds": [t.surface_seconds for t in timings],
                       "peak_rss_bytes": peak_rss_bytes() - baseline}))
     return 0
-
-
-def _warm_up(loader: str, load: LoadFunction, folder: Path) -> None:
-    if loader == "ours":
-        warm_compiled_reader()
-        return
-    tiny = folder / "warm-up.obj"
-    tiny.write_bytes(TINY_OBJ)
-    load(tiny)
 
 
 _WORKER_CODE = ("import sys; from marraztu.devtools.bench.loading import load_worker; "
@@ -180,10 +174,8 @@ def peak():
             return int(line.split()[1]) * 1024
     return 0
 path, repeats = sys.argv[1], int(sys.argv[2])
-if sys.argv[3:] == ["warm"]:  # as load_worker's warm-up
-    tiny = Path(path).parent / "warm-up.obj"
-    tiny.write_bytes(b"v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nf 1 2 3\\n")
-    rapidobj.parse_obj(str(tiny))
+if sys.argv[3:]:  # a one-triangle model to read first, as load_worker's warm-up
+    rapidobj.parse_obj(sys.argv[3])
     try:
         Path("/proc/self/clear_refs").write_text("5")
     except OSError:
@@ -219,8 +211,8 @@ def rapidobj_python() -> str | None:
     return None
 
 
-def _worker_command(loader: str, path: Path, repeats: int, warm: bool = False) -> list[str]:
-    arguments = [str(path), str(repeats), *(["warm"] if warm else [])]
+def _worker_command(loader: str, path: Path, repeats: int, warm_up: Path | None = None) -> list[str]:
+    arguments = [str(path), str(repeats), *([str(warm_up)] if warm_up else [])]
     if loader == "rapidobj":
         python = rapidobj_python()
         assert python is not None, "available_loaders keeps rapidobj only where an interpreter has it"
@@ -228,8 +220,8 @@ def _worker_command(loader: str, path: Path, repeats: int, warm: bool = False) -
     return [sys.executable, "-c", _WORKER_CODE, loader, *arguments]
 
 
-def _run_worker(loader: str, path: Path, repeats: int, warm: bool = False) -> dict:
-    done = subprocess.run(_worker_command(loader, path, repeats, warm), capture_output=True, text=True)
+def _run_worker(loader: str, path: Path, repeats: int, warm_up: Path | None = None) -> dict:
+    done = subprocess.run(_worker_command(loader, path, repeats, warm_up), capture_output=True, text=True)
     if done.returncode != 0:
         raise RuntimeError(f"{loader} on {path.name} failed:\n{done.stderr.strip()}")
     return json.loads(done.stdout.strip().splitlines()[-1])
@@ -256,7 +248,10 @@ class LoadResult:
 
     def add_warm_process(self, loader: str, path: Path) -> None:
         """One load in a process that has read a one-triangle model first: the peak a file itself costs."""
-        peak = _run_worker(loader, path, 1, warm=True)["peak_rss_bytes"]
+        tiny = path.with_name("warm-up.obj")
+        if not tiny.exists():
+            tiny.write_bytes(TINY_OBJ)
+        peak = _run_worker(loader, path, 1, warm_up=tiny)["peak_rss_bytes"]
         if peak is not None:
             self.warm_peak_rss_bytes.append(peak)
 
@@ -337,14 +332,9 @@ def loading_section(config: BenchConfig, inputs: Sequence[LoadInput]) -> list[st
 def _load_row(item: LoadInput, loader: str, result: LoadResult, ours: LoadResult | None) -> list[str]:
     mb = item.megabytes
     seconds = result.median_seconds
+    warm = None if result.median_warm_peak_rss_bytes is None else result.median_warm_peak_rss_bytes / MEGABYTE
     return [item.label, str(result.triangles), number(mb), loader, number(seconds),
             number(result.median_surface_seconds), number(mb / seconds),
-            number(result.median_peak_rss_bytes / MEGABYTE), number(_megabytes(result.median_warm_peak_rss_bytes)),
-            number(None if result.median_warm_peak_rss_bytes is None
-                   else result.median_warm_peak_rss_bytes / MEGABYTE / mb),
+            number(result.median_peak_rss_bytes / MEGABYTE), number(warm), number(None if warm is None else warm / mb),
             ratio(seconds, ours.median_seconds if ours else None),
             ratio(result.median_peak_rss_bytes, ours.median_peak_rss_bytes if ours else None)]
-
-
-def _megabytes(size: float | None) -> float | None:
-    return None if size is None else size / MEGABYTE
