@@ -14,9 +14,11 @@
 // Flat lights only the polygons' own rows (one per polygon), not every corner a triangle touches.
 // The lighting function is written once, above the stage blocks, so every pass compiles the same one.
 
-const int FLAT = 0;
-const int GOURAUD = 1;
-const int PHONG = 2;
+// Macros, not constants, so that each program declares only the varyings its way reads: a GPU
+// driver may keep a varying one stage writes and the other never reads.
+#define FLAT 0
+#define GOURAUD 1
+#define PHONG 2
 #ifndef SHADING
 #error "SHADING must be defined as FLAT, GOURAUD or PHONG (the renderer does it)"
 #endif
@@ -140,24 +142,30 @@ uniform mat3 u_normal_matrix;
 uniform mat4 u_view_projection;
 uniform bool u_vertex_coloured;
 
+#if SHADING == FLAT
 // With the provoking vertex set to the first one, `flat` varyings take the value of the first
 // corner of each fan triangle, which Flat's indices make its polygon's own row (SPEC 4's Flat).
 flat out vec4 v_flat_lit;
+#else
 smooth out vec3 v_smooth_colour;  // Gouraud: the lit colour; Phong: the vertex colour, or white
-out vec2 v_uv;
-out vec3 v_world_position;  // Phong: interpolated, lit per pixel
+#endif
+#if SHADING == PHONG
+out vec3 v_world_position;  // interpolated, lit per pixel
 out vec3 v_world_normal;
+#endif
+out vec2 v_uv;
 
 void main() {
     vec3 world_position = (u_model * vec4(in_position, 1.0)).xyz;
+#if SHADING == FLAT
     v_flat_lit = in_lit;
-    if (SHADING == PHONG) {
-        v_smooth_colour = u_vertex_coloured ? in_colour.rgb : vec3(1.0);
-    } else {
-        v_smooth_colour = in_lit.rgb;
-    }
+#elif SHADING == GOURAUD
+    v_smooth_colour = in_lit.rgb;
+#else
+    v_smooth_colour = u_vertex_coloured ? in_colour.rgb : vec3(1.0);
     v_world_position = world_position;
     v_world_normal = normalize(u_normal_matrix * in_normal);
+#endif
     v_uv = in_uv;
     gl_Position = u_view_projection * vec4(world_position, 1.0);
 }
@@ -169,27 +177,32 @@ uniform bool u_textured;
 uniform sampler2D u_texture;
 uniform int u_show;
 
+#if SHADING == FLAT
 flat in vec4 v_flat_lit;
+#else
 smooth in vec3 v_smooth_colour;
-in vec2 v_uv;
+#endif
+#if SHADING == PHONG
 in vec3 v_world_position;
 in vec3 v_world_normal;
+#endif
+in vec2 v_uv;
 
 out vec4 out_colour;
 
 vec3 surface_colour() {
-    if (SHADING == FLAT) {
-        return v_flat_lit.rgb;
-    }
-    if (SHADING == GOURAUD) {
-        return v_smooth_colour;
-    }
+#if SHADING == FLAT
+    return v_flat_lit.rgb;
+#elif SHADING == GOURAUD
+    return v_smooth_colour;
+#else
     // Interpolated unit normals are shorter than 1 between the corners: normalize again.
     vec3 normal = normalize(v_world_normal);
     if (u_show == SHOW_NORMALS) {
         return normal * 0.5 + 0.5;
     }
     return lit_colour(v_world_position, normal, toward_eye(v_world_position)) * v_smooth_colour;
+#endif
 }
 
 // SPEC 4's back face: N.V <= 0 with the face normal at the polygon's first vertex. Flat draws from
@@ -200,7 +213,11 @@ vec3 surface_colour() {
 // polygon that is not flat may differ along a fold; the model matrices are rotations and
 // translations, never mirrors, so counter-clockwise stays front.)
 bool is_front_face() {
-    return SHADING == FLAT ? v_flat_lit.a > 0.0 : gl_FrontFacing;
+#if SHADING == FLAT
+    return v_flat_lit.a > 0.0;
+#else
+    return gl_FrontFacing;
+#endif
 }
 
 void main() {
