@@ -94,9 +94,10 @@ class SurfaceArrays:
 
     @property
     def arrays(self) -> dict[str, np.ndarray]:
-        """What is uploaded, by name: the vertices, both index arrays, and the colours where there are some."""
-        arrays = {"vertices": self.vertices, "indices": self.indices, "shared_indices": self.shared_indices,
-                  "colours": self.colours}
+        """What is uploaded, by the name of the ObjectGpu buffer it goes to: the vertices, both index
+        arrays, and the colours where there are some."""
+        arrays = {"surface": self.vertices, "surface indices": self.indices,
+                  "shared surface indices": self.shared_indices, "colours": self.colours}
         return {name: array for name, array in arrays.items() if array is not None}
 
 
@@ -285,9 +286,6 @@ class ObjectGpu:
     # and a vertex array; vertex normals: a buffer of used rows and its vertex array, and a vertex array
     # over the surface indices for a range of faces. Vertex colours add one buffer.
     GL_OBJECTS = 17
-    # The buffer each of SurfaceArrays' arrays is uploaded to.
-    BUFFER_OF_ARRAY = {"vertices": "surface", "indices": "surface indices",
-                       "shared_indices": "shared surface indices", "colours": "colours"}
     # Which index buffer each surface program draws with (see SurfaceArrays).
     INDICES = {Shading.FLAT: "surface indices", Shading.GOURAUD: "shared surface indices",
                Shading.PHONG: "shared surface indices"}
@@ -310,7 +308,7 @@ class ObjectGpu:
         ctx.error  # noqa: B018 - reading it clears an older error, so the check below is about these uploads
         try:
             for name, data in arrays.arrays.items():
-                self._surface_buffers[self.BUFFER_OF_ARRAY[name]] = ctx.buffer(data)
+                self._surface_buffers[name] = ctx.buffer(data)
             # Zeros, not undefined memory: rows no pass has lit yet are read (never shown) by draws.
             self._surface_buffers["lit"] = lit = ctx.buffer(reserve=rows * LIT_ROW_BYTES)
             lit.clear()

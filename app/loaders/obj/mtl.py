@@ -4,6 +4,7 @@ error: the model still loads, with the colours that could be read."""
 from __future__ import annotations
 
 from collections.abc import Collection
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -54,11 +55,19 @@ def _shown(name: str) -> str:
     return name if len(name) <= _SHOWN_NAME_CHARACTERS else name[:_SHOWN_NAME_CHARACTERS - 3] + "..."
 
 
+@dataclass
+class _Block:
+    """One newmtl as read so far: its name, numbers and texture file."""
+
+    name: str
+    values: dict[str, object] = field(default_factory=dict)
+    texture: str | None = None
+
+
 def _parse_library(text: str, name: str, folder: Path, notes: list[str], wanted: Collection[str]
                    ) -> list[MeshMaterial]:
-    kept: list[list] = []  # [name, numbers, texture file] of the materials the model can use
-    kept_names: set[str] = set()
-    block: list | None = None  # the material being read; not kept, it is dropped at the next newmtl
+    kept: dict[str, _Block] = {}  # the materials the model can use, by name, in file order
+    block: _Block | None = None  # the material being read; dropped at the next newmtl unless kept
     malformed, first_malformed = 0, ""  # one note however many lines are ignored
     ignored: set[str] = set()
     for line in text_lines(text):
@@ -67,16 +76,15 @@ def _parse_library(text: str, name: str, folder: Path, notes: list[str], wanted:
             continue
         key = tokens[0].lower()
         if key == "newmtl":
-            block = [" ".join(tokens[1:])[:MAX_MATERIAL_NAME], {}, None]
-            if not kept or (block[0] in wanted and block[0] not in kept_names):  # the first of a name wins
-                kept.append(block)
-                kept_names.add(block[0])
+            block = _Block(" ".join(tokens[1:])[:MAX_MATERIAL_NAME])
+            if not kept or (block.name in wanted and block.name not in kept):  # the first of a name wins
+                kept[block.name] = block
         elif block is None:
             continue
-        elif key in ("ka", "kd", "ks", "ns") and not _material_value(block[1], key, tokens[1:]):
+        elif key in ("ka", "kd", "ks", "ns") and not _material_value(block.values, key, tokens[1:]):
             malformed, first_malformed = malformed + 1, first_malformed or key.capitalize()
         elif key == "map_kd":
-            block[2], options = _texture_file(tokens[1:])
+            block.texture, options = _texture_file(tokens[1:])
             ignored.update(options)
         elif key in ("d", "tr"):
             ignored.add("transparency (d, Tr)")
@@ -90,7 +98,7 @@ def _parse_library(text: str, name: str, folder: Path, notes: list[str], wanted:
     if ignored:
         notes.append(f"material library '{name}': {', '.join(sorted(ignored))} ignored")
     textures = _TextureCache(folder)
-    materials = [MeshMaterial(block_name, values, *textures.read(texture)) for block_name, values, texture in kept]
+    materials = [MeshMaterial(block.name, block.values, *textures.read(block.texture)) for block in kept.values()]
     notes.extend(textures.notes())
     return materials
 
