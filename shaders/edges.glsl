@@ -11,9 +11,10 @@
 #if defined VERTEX_SHADER
 
 in vec3 in_position;
-in vec3 in_face_normal;
-in vec3 in_face_point;  // the polygon's first vertex: where SPEC 4 makes the back-face test
+in uvec2 in_face_texel;  // its polygon's texel in the two tables below
 
+uniform sampler2D u_face_points;  // each polygon's first vertex: where SPEC 4 makes the back-face test
+uniform sampler2D u_face_normals;
 uniform mat4 u_model;
 uniform mat3 u_normal_matrix;
 uniform mat4 u_view_projection;
@@ -24,10 +25,11 @@ uniform vec3 u_eye_backward;
 flat out float v_facing;
 
 void main() {
-    vec3 face_point = (u_model * vec4(in_face_point, 1.0)).xyz;
-    vec3 face_normal = normalize(u_normal_matrix * in_face_normal);
+    ivec2 texel = ivec2(in_face_texel);
+    vec3 face_point = (u_model * vec4(texelFetch(u_face_points, texel, 0).xyz, 1.0)).xyz;
+    vec3 face_normal = normalize(u_normal_matrix * texelFetch(u_face_normals, texel, 0).xyz);
     vec3 view = u_parallel ? u_eye_backward : normalize(u_eye_position - face_point);
-    v_facing = dot(face_normal, view);  // the same at both ends: both carry the polygon's point
+    v_facing = dot(face_normal, view);  // the same at both ends: both look up the same polygon
     gl_Position = u_view_projection * u_model * vec4(in_position, 1.0);
 }
 

@@ -15,7 +15,15 @@ from marraztu.errors import LoadError
 from marraztu.loaders.images import MAX_PIXELS, parse_ppm
 from marraztu.loaders.obj import parse_obj
 from marraztu.model.mesh import Mesh
-from marraztu.render.gpu import edge_pairs, edge_rows, face_normal_feet, surface_arrays
+from marraztu.render.gpu import (
+    EDGE_FACE_TEXTURE_SIDE,
+    edge_face_width,
+    edge_faces,
+    edge_pairs,
+    edge_rows,
+    face_normal_feet,
+    surface_arrays,
+)
 from support import corpus
 
 FUZZ = settings(derandomize=True, database=None, deadline=None, max_examples=600,
@@ -160,8 +168,12 @@ def check_mesh(mesh: Mesh) -> None:
     assert mesh.corner_uv.shape == (mesh.corner_vertex.size, 2) and np.isfinite(mesh.corner_uv).all()
     assert mesh.triangle_corners().shape[0] == int((mesh.face_sizes - 2).sum())
     surface = surface_arrays(mesh)
-    for table in (surface.vertices, face_normal_feet(mesh), edge_rows(mesh)):
+    width = edge_face_width(mesh.face_count, EDGE_FACE_TEXTURE_SIDE)
+    edges = edge_rows(mesh, width)
+    for table in (surface.vertices, face_normal_feet(mesh), edges["position"], *edge_faces(mesh, width)):
         assert np.isfinite(table).all(), "everything sent to the GPU is finite"
+    faces = edges["face_texel"].astype(np.int64) @ [1, width]
+    assert (faces == np.repeat(np.arange(mesh.face_count), mesh.face_sizes)).all(), "each corner names its polygon"
     rows = surface.vertices.shape[0]
     for indices, rows in ((surface.indices, rows), (surface.shared_indices, rows),
                           (edge_pairs(mesh), mesh.corner_vertex.shape[0])):

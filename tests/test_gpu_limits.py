@@ -103,3 +103,25 @@ def test_offscreen_framebuffers_leave_nothing_behind(own_ctx) -> None:
             with gl_context.offscreen_framebuffer(own_ctx, (32, 32)):
                 pass
     assert dropped.leaked == 0 and corpus.live_gl_objects(own_ctx) == before
+
+
+def test_edges_of_more_polygons_than_their_tables_hold_are_refused_in_one_line(own_ctx, monkeypatch) -> None:
+    from marraztu.model.scene import Fill, SceneObject
+    from marraztu.render import gpu
+    from support.scenes import PLAIN, mesh_from_polygons, scene_with
+
+    limit = int(own_ctx.info["GL_MAX_TEXTURE_SIZE"])
+    monkeypatch.setattr(gpu, "EDGE_FACE_TEXTURE_SIDE", 1)  # one polygon a row: limit + 1 rows is one too many
+    strip = [(float(i // 2), float(i % 2), 0.0) for i in range(limit + 3)]
+    mesh = mesh_from_polygons("strip", strip, [(i, i + 1, i + 2) for i in range(limit + 1)])
+    scene = scene_with([SceneObject.placed("strip", mesh, PLAIN, (0, 0, 0))])
+    scene.modes.fill = Fill.LINES
+    corpus.make_current(own_ctx)
+    renderer = Renderer(own_ctx)
+    try:
+        with gl_context.offscreen_framebuffer(own_ctx, (8, 8)) as fbo:
+            refusal = f"more polygons \\({limit + 1}\\) than this OpenGL can draw the edges of"
+            with pytest.raises(ViewerError, match=refusal):
+                renderer.render(scene, fbo, (8, 8))
+    finally:
+        renderer.release()

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from marraztu.model.scene import Fill, Material, Projection, Scene, SceneObject, Shading, Target
+from marraztu.render import gpu
 from support.scenes import BACKGROUND as BACKGROUND_BYTES
 
 BACKGROUND = np.array(BACKGROUND_BYTES)
@@ -197,6 +198,22 @@ def test_closed_box_lines_back_edges_red_or_culled(offscreen, box_scene: Scene,
     culled = offscreen(box_scene, (127, 127))
     assert count(shown, RED) > 20 and count(shown, GREEN) > 100
     assert count(culled, RED) == 0 and count(culled, GREEN) == count(shown, GREEN)
+
+
+def test_edges_find_their_polygons_in_tables_of_several_rows(offscreen, make_box, make_scene, monkeypatch) -> None:
+    # Each corner names its polygon's texel in the tables of face points and normals; a table one
+    # texel wide puts every polygon on a row of its own, and the picture must not change.
+    def lines_of_a_box() -> np.ndarray:
+        box = SceneObject(name="box", mesh=make_box(30.0), material=MATERIAL,
+                          history=[rotation_x(30.0) @ rotation_y(40.0)])  # a new object: its edges built anew
+        scene = make_scene([box])
+        scene.modes.fill = Fill.LINES
+        return offscreen(scene, (127, 127))
+
+    one_row = lines_of_a_box()
+    monkeypatch.setattr(gpu, "EDGE_FACE_TEXTURE_SIDE", 1)
+    assert (lines_of_a_box() == one_row).all()
+    assert count(one_row, RED) > 20 and count(one_row, GREEN) > 100
 
 
 def test_inside_a_closed_box_every_face_is_a_back_face(offscreen, box_scene: Scene) -> None:

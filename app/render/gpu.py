@@ -5,9 +5,11 @@ a polygon (its face normal, its first vertex) rides on vertices: the surface is 
 extra vertex per polygon for its first corner (see SurfaceArrays). Vertex normals are the surface's
 own rows drawn as points (each used row once, or a range of faces' corners through its indices),
 face normals one point per polygon, and a geometry stage draws each as a segment. Edges are one row
-per polygon corner, with its polygon's face normal and first vertex, drawn as indexed lines (a
-geometry stage over the surface's rows would spare those rows, but makes llvmpipe's lines frames a
-third slower).
+per polygon corner: its position and its polygon's texel in two float textures holding each
+polygon's first vertex and face normal, drawn as indexed lines (a geometry stage over the surface's
+rows would spare those rows, but makes llvmpipe's lines frames a third slower; the polygon's point
+and normal copied into every row made three attributes a vertex, whose fetch doubled NVIDIA's frames
+of millions of edges).
 
 Everything is built once per object (edges and normals on first use) and kept until the object
 leaves the scene; drawing a subset of faces is a `first`/`vertices` range. Beside the surface, each
@@ -17,6 +19,7 @@ lighting reads changes (ObjectGpu.light).
 
 from __future__ import annotations
 
+import re
 import threading
 import weakref
 from dataclasses import dataclass
@@ -25,7 +28,8 @@ from typing import Hashable, Mapping, Sequence
 import moderngl
 import numpy as np
 
-from marraztu.model.mesh import Mesh, fan_gather
+from marraztu.errors import ViewerError
+from marraztu.model.mesh import INDEX, Mesh, fan_gather
 from marraztu.model.scene import Shading
 from marraztu.render.context import check_gl
 from marraztu.resources import shader_source
@@ -35,7 +39,12 @@ SURFACE_LAYOUT = ("3f 3f 2f", "in_position", "in_normal", "in_uv")
 COLOUR_LAYOUT = ("4f1", "in_colour")  # a model's own vertex colours, bytes read as 0..1, one per surface row
 LIT_LAYOUT = ("4f", "in_lit")  # the lighting pass's output: colour and N.V, one row per surface row
 LIT_ROW_BYTES = 16
-EDGE_LAYOUT = ("3f 3f 3f", "in_position", "in_face_normal", "in_face_point")
+EDGE_LAYOUT = ("3f 2u2", "in_position", "in_face_texel")
+EDGE_ROW = np.dtype([("position", np.float32, 3), ("face_texel", np.uint16, 2)])
+# The edges program's polygon tables (edge_faces) by sampler and texture unit: 0 and 1 are the
+# model's picture and the text atlas.
+EDGE_FACE_UNITS = {"u_face_points": 2, "u_face_normals": 3}
+EDGE_FACE_TEXTURE_SIDE = 1 << 15  # the polygon tables' widest: an edge row's texel coordinates are 16-bit
 # The normals program reads a vertex row's position and vertex normal as a foot and a direction.
 VERTEX_NORMAL_LAYOUT = ("3f 3f 2f", "in_position", "in_direction", "in_uv")
 FACE_NORMAL_LAYOUT = ("3f 3f", "in_position", "in_direction")
@@ -159,20 +168,37 @@ def _seams(mesh: Mesh, representative_corner: np.ndarray) -> np.ndarray:
     return np.concatenate(pieces) if pieces else np.zeros(0, np.int64)
 
 
-def edge_rows(mesh: Mesh) -> np.ndarray:
-    """(C, 9) float32: every polygon corner with its polygon's face normal and first vertex.
+def edge_rows(mesh: Mesh, width: int) -> np.ndarray:
+    """(C,) EDGE_ROW: every polygon corner's position and the texel of its polygon in edge_faces's
+    textures of `width` texels a row.
 
-    An edge's first end is not its polygon's first vertex, so the back-face test (made at that
-    vertex, SPEC 4) gets the point as an attribute instead of relying on the provoking vertex. One
-    row per corner, not per edge end: edge_pairs index them, two per edge.
+    The back-face test (made at the polygon's first vertex, SPEC 4) needs the polygon at both ends
+    of each edge, and an edge's first end is not its polygon's first vertex, so the polygon is looked
+    up rather than taken from the provoking vertex. One row per corner, not per edge end:
+    edge_pairs index them, two per edge.
     """
-    positions = mesh.positions.astype(np.float32)
-    sizes = mesh.face_sizes
-    out = np.empty((mesh.corner_vertex.shape[0], 9), np.float32)
-    out[:, 0:3] = np.take(positions, mesh.corner_vertex, axis=0)
-    out[:, 3:6] = np.repeat(mesh.face_normals, sizes, axis=0)
-    out[:, 6:9] = np.repeat(np.take(positions, mesh.corner_vertex[mesh.face_start[:-1]], axis=0), sizes, axis=0)
+    faces = np.arange(mesh.face_count, dtype=INDEX)
+    texels = np.empty((mesh.face_count, 2), np.uint16)
+    texels[:, 0], texels[:, 1] = faces % width, faces // width
+    out = np.empty(mesh.corner_vertex.shape[0], EDGE_ROW)
+    out["position"] = np.take(mesh.positions.astype(np.float32), mesh.corner_vertex, axis=0)
+    out["face_texel"] = np.repeat(texels, mesh.face_sizes, axis=0)
     return out
+
+
+def edge_faces(mesh: Mesh, width: int) -> tuple[np.ndarray, np.ndarray]:
+    """(H, width, 3) float32 twice: each polygon's first vertex and its face normal, polygon f at
+    texel (f % width, f // width), the rest of the last row zeros."""
+    height = max(1, -(-mesh.face_count // width))
+    points, normals = (np.zeros((height * width, 3), np.float32) for _ in range(2))
+    points[:mesh.face_count] = np.take(mesh.positions, mesh.corner_vertex[mesh.face_start[:-1]], axis=0)
+    normals[:mesh.face_count] = mesh.face_normals
+    return points.reshape(height, width, 3), normals.reshape(height, width, 3)
+
+
+def edge_face_width(faces: int, max_side: int) -> int:
+    """The width of edge_faces's textures: one row where the polygons fit in one, else as wide as GL takes."""
+    return max(1, min(faces, max_side, EDGE_FACE_TEXTURE_SIDE))
 
 
 def edge_pairs(mesh: Mesh) -> np.ndarray:
@@ -218,6 +244,20 @@ def _take_prepared_surface(mesh: Mesh) -> SurfaceArrays | None:
         return _prepared_surfaces.pop(mesh, None)
 
 
+_ATTRIBUTE_FORMAT = re.compile(r"(\d*)([fiux])(\d?)")
+_DEFAULT_COMPONENT_BYTES = {"f": 4, "i": 4, "u": 4, "x": 1}
+
+
+def attribute_bytes(fmt: str) -> int:
+    """The bytes of one attribute of a moderngl buffer format ("3f", "2u2", "4f1", "12x"): moderngl
+    parses these only in its C code."""
+    match = _ATTRIBUTE_FORMAT.fullmatch(fmt)
+    if match is None:
+        raise ValueError(f"not an attribute format: {fmt!r}")
+    count, kind, size = match.groups()
+    return int(count or 1) * (int(size) if size else _DEFAULT_COMPONENT_BYTES[kind])
+
+
 def _layout_for(program: moderngl.Program, layout: tuple[str, ...]) -> tuple[str, ...]:
     """`layout` with the attributes `program` does not read (its compiler dropped them) skipped."""
     formats, names = layout[0].split(), layout[1:]
@@ -227,7 +267,7 @@ def _layout_for(program: moderngl.Program, layout: tuple[str, ...]) -> tuple[str
             kept_formats.append(fmt)
             kept_names.append(name)
         else:
-            kept_formats.append(f"{4 * int(fmt[:-1])}x")  # float32 components: 4 bytes each
+            kept_formats.append(f"{attribute_bytes(fmt)}x")
     return (" ".join(kept_formats), *kept_names)
 
 
@@ -282,10 +322,11 @@ class ObjectGpu:
     """
 
     # surface: a vertex, a lit and two index buffers, a vertex array per surface program (3) and per
-    # lighting pass (2); edges: a row and an index buffer and a vertex array; face normals: a buffer
-    # and a vertex array; vertex normals: a buffer of used rows and its vertex array, and a vertex array
-    # over the surface indices for a range of faces. Vertex colours add one buffer.
-    GL_OBJECTS = 17
+    # lighting pass (2); edges: a row and an index buffer, a vertex array and two textures of polygons;
+    # face normals: a buffer and a vertex array; vertex normals: a buffer of used rows and its vertex
+    # array, and a vertex array over the surface indices for a range of faces. Vertex colours add one
+    # buffer.
+    GL_OBJECTS = 19
     # Which index buffer each surface program draws with (see SurfaceArrays).
     INDICES = {Shading.FLAT: "surface indices", Shading.GOURAUD: "shared surface indices",
                Shading.PHONG: "shared surface indices"}
@@ -298,6 +339,7 @@ class ObjectGpu:
         # By name: a buffer and the vertex array drawing it (either may be None: vertex normals own no
         # buffer, the edges' rows are drawn through the edges' index buffer's vertex array).
         self._built: dict[str, tuple[moderngl.Buffer | None, moderngl.VertexArray | None]] = {}
+        self._edge_faces: dict[str, moderngl.Texture] = {}  # by EDGE_FACE_UNITS's sampler names, with the edges
         self.triangles_before = mesh.triangles_before_face()  # kept so drawing allocates nothing
         if surface_data is None:
             surface_data = _take_prepared_surface(mesh)
@@ -367,18 +409,49 @@ class ObjectGpu:
 
     @property
     def edges(self) -> moderngl.VertexArray:
-        """Drawn as indexed LINES: edge_pairs into edge_rows."""
+        """Drawn as indexed LINES: edge_pairs into edge_rows, with the polygon textures bound
+        (use_edge_faces)."""
         built = self._built.get("edges")
         if built is None:
-            rows = self.ctx.buffer(edge_rows(self.mesh))
+            width = edge_face_width(self.mesh.face_count, int(self.ctx.info["GL_MAX_TEXTURE_SIZE"]))
+            textures = self._face_textures(width)
+            rows = None
             try:
+                rows = self.ctx.buffer(edge_rows(self.mesh, width))
                 content = [(rows, *EDGE_LAYOUT)]
                 built = self._build("edges", edge_pairs(self.mesh), self.programs.edges, content, indexed=True)
             except Exception:
-                rows.release()
+                for resource in (rows, *textures.values()):
+                    if resource is not None:
+                        resource.release()
                 raise
             self._built["edge rows"] = (rows, None)
+            self._edge_faces = textures
         return built[1]
+
+    def use_edge_faces(self) -> None:
+        """Binds the polygon textures the edges program reads (after `edges` has built them)."""
+        for sampler, texture in self._edge_faces.items():
+            texture.use(location=EDGE_FACE_UNITS[sampler])
+
+    def _face_textures(self, width: int) -> dict[str, moderngl.Texture]:
+        tables = edge_faces(self.mesh, width)
+        height = tables[0].shape[0]
+        if height > int(self.ctx.info["GL_MAX_TEXTURE_SIZE"]):
+            raise ViewerError(f"{self.mesh.name} has more polygons ({self.mesh.face_count}) than this OpenGL "
+                              "can draw the edges of")
+        textures: dict[str, moderngl.Texture] = {}
+        self.ctx.error  # noqa: B018 - as in __init__: the check below is about these uploads only
+        try:
+            for sampler, table in zip(EDGE_FACE_UNITS, tables):
+                textures[sampler] = texture = self.ctx.texture((width, height), 3, table, dtype="f4")
+                texture.filter = (moderngl.NEAREST, moderngl.NEAREST)  # no mipmaps: else GL holds it incomplete
+            check_gl(self.ctx, f"the polygons of {self.mesh.name}")
+        except Exception:
+            for texture in textures.values():
+                texture.release()
+            raise
+        return textures
 
     @property
     def face_normals(self) -> moderngl.VertexArray:
@@ -412,6 +485,15 @@ class ObjectGpu:
         return {**self._surface_buffers,
                 **{name: buffer for name, (buffer, _) in self._built.items() if buffer is not None}}
 
+    @property
+    def byte_sizes(self) -> dict[str, int]:
+        """The bytes of each buffer and texture built so far, by name (the buffers', and "edge faces")."""
+        sizes = {name: buffer.size for name, buffer in self.buffers.items()}
+        if self._edge_faces:
+            sizes["edge faces"] = sum(texture.width * texture.height * texture.components * 4
+                                      for texture in self._edge_faces.values())  # float32 texels
+        return sizes
+
     def _surface_content(self, program: moderngl.Program, layout: tuple[str, ...] = SURFACE_LAYOUT) -> list[tuple]:
         return [(self._surface_buffers["surface"], *_layout_for(program, layout))]
 
@@ -442,6 +524,9 @@ class ObjectGpu:
             for resource in (vao, buffer):
                 if resource is not None:
                     resource.release()
+        for texture in self._edge_faces.values():
+            texture.release()
+        self._edge_faces.clear()
         self._surface_arrays.clear()
         self._lit.clear()
         self._surface_buffers.clear()

@@ -23,7 +23,7 @@ from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Fill, Projection, Scene, SceneObject, Shading, Target
 from marraztu.model.transforms import normal_matrix
 from marraztu.render.context import check_gl
-from marraztu.render.gpu import ObjectGpu, Programs, VertexRange, load_program
+from marraztu.render.gpu import EDGE_FACE_UNITS, ObjectGpu, Programs, VertexRange, load_program
 from marraztu.render.guides import GuidesDrawer
 from marraztu.render.layout import View, view_projection, views
 from marraztu.render.mipmaps import MipmappedTexture, create_mipmapped
@@ -146,6 +146,8 @@ class Renderer:
         self.lighting_passes = 0  # run so far: a frame where nothing lighting reads changed adds none
         self.marker_program = load_program(ctx, "marker")
         self.edges = Uniforms(self.programs.edges)
+        for sampler, unit in EDGE_FACE_UNITS.items():
+            self.edges.set(sampler, unit)
         self.normals = Uniforms(self.programs.normals)
         self.marker = Uniforms(self.marker_program)
         self.marker_vao = ctx.vertex_array(self.marker_program, [])  # the position is a uniform
@@ -403,7 +405,7 @@ class Renderer:
     def _draw_edges(self, item: DrawItem, gpu: ObjectGpu, selected: bool) -> None:
         self._set_model([self.edges], item.obj.model)
         self.edges.set("u_colour", SELECTED_LINE_COLOUR if selected else LINE_COLOUR)
-        _draw(gpu.edges, moderngl.LINES, gpu.edge_range(item.start, item.stop))
+        _draw_edges(gpu, gpu.edge_range(item.start, item.stop))
 
     def _draw_probe_outline(self, scene: Scene) -> None:
         """The probed face's edges and a dot on each vertex the probe lights, over everything, so the
@@ -417,7 +419,7 @@ class Renderer:
         self._set_model([self.edges], obj.model)
         self.edges.set("u_outline", True)
         self.edges.set("u_colour", PROBE_COLOUR)
-        _draw(gpu.edges, moderngl.LINES, gpu.edge_range(face, face + 1))
+        _draw_edges(gpu, gpu.edge_range(face, face + 1))
         self.edges.set("u_outline", False)
         for point in scene.probed_points():
             self._draw_marker(point, np.array(PROBE_COLOUR), PROBE_MARKER_PX)
@@ -451,3 +453,9 @@ class Renderer:
 def _draw(vao: moderngl.VertexArray, mode: int, span: VertexRange) -> None:
     if span.vertices > 0:
         vao.render(mode, vertices=span.vertices, first=span.first)
+
+
+def _draw_edges(gpu: ObjectGpu, span: VertexRange) -> None:
+    edges = gpu.edges
+    gpu.use_edge_faces()
+    _draw(edges, moderngl.LINES, span)

@@ -48,8 +48,10 @@ void main() { v_lit = vec4(in_position, 1.0); }
 def position_only(layout: tuple[str, ...]) -> str:
     """One of the renderer's interleaved layouts (marraztu.render.gpu), its first attribute (the
     position) read and the rest skipped: same buffer, same stride."""
+    from marraztu.render.gpu import attribute_bytes
+
     position, *rest = layout[0].split()
-    return f"{position} {sum(4 * int(fmt[:-1]) for fmt in rest)}x"  # float32 components: 4 bytes each
+    return f"{position} {sum(attribute_bytes(fmt) for fmt in rest)}x"
 MODES = ("flat", "gouraud", "lines")
 MIN_FRAMES = 3  # a median of fewer says little
 
@@ -132,6 +134,7 @@ class BareDraw:
         from marraztu.render.gpu import (
             EDGE_LAYOUT,
             SURFACE_LAYOUT,
+            edge_face_width,
             edge_pairs,
             edge_rows,
             lit_row_range,
@@ -143,7 +146,8 @@ class BareDraw:
         rows = arrays.vertices.shape[0]
         surface, indices, shared = (self._buffer(data) for data in
                                     (arrays.vertices, arrays.indices, arrays.shared_indices))
-        edges, pairs = self._buffer(edge_rows(mesh)), self._buffer(edge_pairs(mesh))
+        width = edge_face_width(mesh.face_count, int(ctx.info["GL_MAX_TEXTURE_SIZE"]))
+        edges, pairs = self._buffer(edge_rows(mesh, width)), self._buffer(edge_pairs(mesh))
         lit = self._buffer(reserve=rows * self.lit_row_bytes)
         position = [(surface, position_only(SURFACE_LAYOUT), "in_position")]
         lit_rows = {shading.value: lit_row_range(shading, arrays.shared_rows, 0, mesh.face_count)

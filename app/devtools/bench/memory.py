@@ -42,12 +42,12 @@ def memory_row(bench: FrameBench, item: LoadInput) -> list[str]:
     renderer = bench.renderer
     gpu = ObjectGpu(bench.ctx, mesh, renderer.programs)  # exactly what the renderer allocates per object
     try:
-        surface = sum(buffer.size for buffer in gpu.buffers.values())  # all there is before lines or normals
+        surface = sum(gpu.byte_sizes.values())  # all there is before lines or normals
         _ = gpu.edges, gpu.face_normals, gpu.vertex_normals(0, mesh.face_count)  # built on first use: force them
-        sizes = {name: buffer.size for name, buffer in gpu.buffers.items()}
+        sizes = gpu.byte_sizes
         host = mesh_bytes(mesh) + gpu.triangles_before.nbytes
         per_triangle = [value / triangles for value in (
-            host, ready, surface, sum(sizes.values()), sizes["edges"] + sizes["edge rows"],
+            host, ready, surface, sum(sizes.values()), sizes["edges"] + sizes["edge rows"] + sizes["edge faces"],
             sizes["face normals"] + sizes["vertex normal rows"])]  # vertex normals read the surface's rows
     finally:
         gpu.release()
@@ -124,9 +124,10 @@ def memory_section(bench: FrameBench, inputs: Sequence[LoadInput]) -> list[str]:
         "",
         "*Mesh*: the Mesh's arrays plus the renderer's kept `triangles_before` (host, for the object's "
         "life). *GPU-ready arrays*: the surface's vertex and index arrays made before the first "
-        "frame (host, while uploading). *GPU when filled*: the surface's buffers, all an object holds until lines or "
-        "normals are drawn; *with lines and normals*: every buffer it can hold (surface, edges, face "
-        "and vertex normal segments). On llvmpipe GPU buffers live in host memory too. *RSS growth, all "
+        "frame (host, while uploading). *GPU when filled*: the surface's buffers, all an object holds until "
+        "lines or normals are drawn; *with lines and normals*: every buffer and texture it can hold (surface, "
+        "edges and their polygon textures, face and vertex normal segments). On llvmpipe GPU buffers live in "
+        "host memory too. *RSS growth, all "
         "drawn*: a fresh process's resident memory after loading the file and drawing it in Flat, "
         "Gouraud and lines, each with normals, less before loading (context and programs made), median of "
         f"{RSS_RUNS} processes: "
