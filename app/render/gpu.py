@@ -480,15 +480,11 @@ class ObjectGpu:
         return built[1], self.surface_range(start, stop)
 
     @property
-    def buffers(self) -> dict[str, moderngl.Buffer]:
-        """The buffers built so far, by name ("surface" and "surface indices", "edges", ...)."""
-        return {**self._surface_buffers,
-                **{name: buffer for name, (buffer, _) in self._built.items() if buffer is not None}}
-
-    @property
     def byte_sizes(self) -> dict[str, int]:
-        """The bytes of each buffer and texture built so far, by name (the buffers', and "edge faces")."""
-        sizes = {name: buffer.size for name, buffer in self.buffers.items()}
+        """The bytes of each buffer built so far by name ("surface" and "surface indices", "edges", ...),
+        and of the edges' polygon textures ("edge faces")."""
+        built = {name: buffer for name, (buffer, _) in self._built.items() if buffer is not None}
+        sizes = {name: buffer.size for name, buffer in {**self._surface_buffers, **built}.items()}
         if self._edge_faces:
             sizes["edge faces"] = sum(texture.width * texture.height * texture.components * 4
                                       for texture in self._edge_faces.values())  # float32 texels
