@@ -17,7 +17,7 @@ from marraztu.loaders.obj import parse_obj
 from marraztu.model.mesh import Mesh
 from marraztu.render.gpu import (
     EDGE_FACE_TEXTURE_SIDE,
-    edge_face_width,
+    edge_face_shape,
     edge_faces,
     edge_pairs,
     edge_rows,
@@ -168,9 +168,10 @@ def check_mesh(mesh: Mesh) -> None:
     assert mesh.corner_uv.shape == (mesh.corner_vertex.size, 2) and np.isfinite(mesh.corner_uv).all()
     assert mesh.triangle_corners().shape[0] == int((mesh.face_sizes - 2).sum())
     surface = surface_arrays(mesh)
-    width = edge_face_width(mesh.face_count, EDGE_FACE_TEXTURE_SIDE)
+    shape = edge_face_shape(mesh.face_count, EDGE_FACE_TEXTURE_SIDE)
+    width = shape[0]
     edges = edge_rows(mesh, width)
-    for table in (surface.vertices, face_normal_feet(mesh), edges["position"], *edge_faces(mesh, width)):
+    for table in (surface.vertices, face_normal_feet(mesh), edges["position"], *edge_faces(mesh, shape)):
         assert np.isfinite(table).all(), "everything sent to the GPU is finite"
     faces = edges["face_texel"].astype(np.int64) @ [1, width]
     assert (faces == np.repeat(np.arange(mesh.face_count), mesh.face_sizes)).all(), "each corner names its polygon"

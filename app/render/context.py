@@ -37,6 +37,11 @@ def check_gl(ctx: moderngl.Context, what: str) -> None:
         raise ViewerError(f"the GPU refused {what} ({error})")
 
 
+def max_texture_side(ctx: moderngl.Context) -> int:
+    """The longest texture side this GL takes."""
+    return int(ctx.info["GL_MAX_TEXTURE_SIZE"])
+
+
 def max_framebuffer_side(ctx: moderngl.Context) -> int:
     info = ctx.info
     viewport = info.get("GL_MAX_VIEWPORT_DIMS", (0, 0))

@@ -31,7 +31,7 @@ import numpy as np
 from marraztu.errors import ViewerError
 from marraztu.model.mesh import INDEX, Mesh, fan_gather
 from marraztu.model.scene import Shading
-from marraztu.render.context import check_gl
+from marraztu.render.context import check_gl, max_texture_side
 from marraztu.resources import shader_source
 
 # Attribute layouts, one per program; the names are the shaders' `in_` attributes.
@@ -186,19 +186,21 @@ def edge_rows(mesh: Mesh, width: int) -> np.ndarray:
     return out
 
 
-def edge_faces(mesh: Mesh, width: int) -> tuple[np.ndarray, np.ndarray]:
-    """(H, width, 3) float32 twice: each polygon's first vertex and its face normal, polygon f at
-    texel (f % width, f // width), the rest of the last row zeros."""
-    height = max(1, -(-mesh.face_count // width))
+def edge_faces(mesh: Mesh, shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """(height, width, 3) float32 twice, of edge_face_shape's `shape`: each polygon's first vertex
+    and its face normal, polygon f at texel (f % width, f // width), the rest of the last row zeros."""
+    width, height = shape
     points, normals = (np.zeros((height * width, 3), np.float32) for _ in range(2))
     points[:mesh.face_count] = np.take(mesh.positions, mesh.corner_vertex[mesh.face_start[:-1]], axis=0)
     normals[:mesh.face_count] = mesh.face_normals
     return points.reshape(height, width, 3), normals.reshape(height, width, 3)
 
 
-def edge_face_width(faces: int, max_side: int) -> int:
-    """The width of edge_faces's textures: one row where the polygons fit in one, else as wide as GL takes."""
-    return max(1, min(faces, max_side, EDGE_FACE_TEXTURE_SIDE))
+def edge_face_shape(faces: int, max_side: int) -> tuple[int, int]:
+    """(width, height) of edge_faces's textures: one row where the polygons fit in one, else rows as
+    wide as GL takes."""
+    width = max(1, min(faces, max_side, EDGE_FACE_TEXTURE_SIDE))
+    return width, max(1, -(-faces // width))
 
 
 def edge_pairs(mesh: Mesh) -> np.ndarray:
@@ -413,11 +415,15 @@ class ObjectGpu:
         (use_edge_faces)."""
         built = self._built.get("edges")
         if built is None:
-            width = edge_face_width(self.mesh.face_count, int(self.ctx.info["GL_MAX_TEXTURE_SIZE"]))
-            textures = self._face_textures(width)
+            max_side = max_texture_side(self.ctx)
+            shape = edge_face_shape(self.mesh.face_count, max_side)
+            if shape[1] > max_side:  # refused before any table is made
+                raise ViewerError(f"{self.mesh.name} has more polygons ({self.mesh.face_count}) than this "
+                                  "OpenGL can draw the edges of")
+            textures = self._face_textures(shape)
             rows = None
             try:
-                rows = self.ctx.buffer(edge_rows(self.mesh, width))
+                rows = self.ctx.buffer(edge_rows(self.mesh, shape[0]))
                 content = [(rows, *EDGE_LAYOUT)]
                 built = self._build("edges", edge_pairs(self.mesh), self.programs.edges, content, indexed=True)
             except Exception:
@@ -434,17 +440,12 @@ class ObjectGpu:
         for sampler, texture in self._edge_faces.items():
             texture.use(location=EDGE_FACE_UNITS[sampler])
 
-    def _face_textures(self, width: int) -> dict[str, moderngl.Texture]:
-        tables = edge_faces(self.mesh, width)
-        height = tables[0].shape[0]
-        if height > int(self.ctx.info["GL_MAX_TEXTURE_SIZE"]):
-            raise ViewerError(f"{self.mesh.name} has more polygons ({self.mesh.face_count}) than this OpenGL "
-                              "can draw the edges of")
+    def _face_textures(self, shape: tuple[int, int]) -> dict[str, moderngl.Texture]:
         textures: dict[str, moderngl.Texture] = {}
         self.ctx.error  # noqa: B018 - as in __init__: the check below is about these uploads only
         try:
-            for sampler, table in zip(EDGE_FACE_UNITS, tables):
-                textures[sampler] = texture = self.ctx.texture((width, height), 3, table, dtype="f4")
+            for sampler, table in zip(EDGE_FACE_UNITS, edge_faces(self.mesh, shape)):
+                textures[sampler] = texture = self.ctx.texture(shape, 3, table, dtype="f4")
                 texture.filter = (moderngl.NEAREST, moderngl.NEAREST)  # no mipmaps: else GL holds it incomplete
             check_gl(self.ctx, f"the polygons of {self.mesh.name}")
         except Exception:

@@ -22,7 +22,7 @@ from marraztu.model.lights import MAX_LIGHTS, shader_defines
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Fill, Projection, Scene, SceneObject, Shading, Target
 from marraztu.model.transforms import normal_matrix
-from marraztu.render.context import check_gl
+from marraztu.render.context import check_gl, max_texture_side
 from marraztu.render.gpu import EDGE_FACE_UNITS, ObjectGpu, Programs, VertexRange, load_program
 from marraztu.render.guides import GuidesDrawer
 from marraztu.render.layout import View, view_projection, views
@@ -167,7 +167,7 @@ class Renderer:
     @property
     def max_texture_side(self) -> int:
         """The longest texture side this GL takes (the viewer fits larger pictures to it)."""
-        return int(self.ctx.info["GL_MAX_TEXTURE_SIZE"])
+        return max_texture_side(self.ctx)
 
     def _set_texture(self, image: np.ndarray) -> None:
         """(H, W, 3) uint8, top row first. GL's first row is v = 0, and SPEC 5 wants v = 0 at the
@@ -405,7 +405,7 @@ class Renderer:
     def _draw_edges(self, item: DrawItem, gpu: ObjectGpu, selected: bool) -> None:
         self._set_model([self.edges], item.obj.model)
         self.edges.set("u_colour", SELECTED_LINE_COLOUR if selected else LINE_COLOUR)
-        _draw_edges(gpu, gpu.edge_range(item.start, item.stop))
+        _draw_edge_lines(gpu, gpu.edge_range(item.start, item.stop))
 
     def _draw_probe_outline(self, scene: Scene) -> None:
         """The probed face's edges and a dot on each vertex the probe lights, over everything, so the
@@ -419,7 +419,7 @@ class Renderer:
         self._set_model([self.edges], obj.model)
         self.edges.set("u_outline", True)
         self.edges.set("u_colour", PROBE_COLOUR)
-        _draw_edges(gpu, gpu.edge_range(face, face + 1))
+        _draw_edge_lines(gpu, gpu.edge_range(face, face + 1))
         self.edges.set("u_outline", False)
         for point in scene.probed_points():
             self._draw_marker(point, np.array(PROBE_COLOUR), PROBE_MARKER_PX)
@@ -455,7 +455,7 @@ def _draw(vao: moderngl.VertexArray, mode: int, span: VertexRange) -> None:
         vao.render(mode, vertices=span.vertices, first=span.first)
 
 
-def _draw_edges(gpu: ObjectGpu, span: VertexRange) -> None:
+def _draw_edge_lines(gpu: ObjectGpu, span: VertexRange) -> None:
     edges = gpu.edges
     gpu.use_edge_faces()
     _draw(edges, moderngl.LINES, span)

@@ -131,10 +131,11 @@ class BareDraw:
     def _add(self, obj: SceneObject) -> None:
         """The object's surface, edges and lit rows, and the vertex arrays that read them."""
         from marraztu.model.scene import Shading
+        from marraztu.render.context import max_texture_side
         from marraztu.render.gpu import (
             EDGE_LAYOUT,
             SURFACE_LAYOUT,
-            edge_face_width,
+            edge_face_shape,
             edge_pairs,
             edge_rows,
             lit_row_range,
@@ -146,7 +147,7 @@ class BareDraw:
         rows = arrays.vertices.shape[0]
         surface, indices, shared = (self._buffer(data) for data in
                                     (arrays.vertices, arrays.indices, arrays.shared_indices))
-        width = edge_face_width(mesh.face_count, int(ctx.info["GL_MAX_TEXTURE_SIZE"]))
+        width, _ = edge_face_shape(mesh.face_count, max_texture_side(ctx))
         edges, pairs = self._buffer(edge_rows(mesh, width)), self._buffer(edge_pairs(mesh))
         lit = self._buffer(reserve=rows * self.lit_row_bytes)
         position = [(surface, position_only(SURFACE_LAYOUT), "in_position")]
