@@ -37,6 +37,60 @@ def check_gl(ctx: moderngl.Context, what: str) -> None:
         raise ViewerError(f"the GPU refused {what} ({error})")
 
 
+# What the staging buffer of an upload holds: the data passes through it a piece at a time.
+STAGING_BYTES = 8 << 20
+
+
+def device_buffer(ctx: moderngl.Context, data: np.ndarray) -> moderngl.Buffer:
+    """A buffer holding `data`, filled on the GPU by copies from a small staging buffer.
+
+    NVIDIA's driver keeps a host copy of a buffer the CPU writes, as much resident memory again; of
+    one a GPU copy fills it keeps none, and the upload is quicker there (slower on llvmpipe)."""
+    raw = np.ascontiguousarray(data).reshape(-1).view(np.uint8)
+    if raw.size == 0:
+        return ctx.buffer(raw)  # moderngl's own refusal of an empty buffer
+    return _filled_on_gpu(ctx, raw.size, raw)
+
+
+def zeroed_device_buffer(ctx: moderngl.Context, size: int) -> moderngl.Buffer:
+    """A buffer of `size` zero bytes, filled as device_buffer fills one (moderngl's clear writes from
+    the CPU)."""
+    return _filled_on_gpu(ctx, size, None)
+
+
+def device_texture(ctx: moderngl.Context, shape: tuple[int, int], components: int, data: np.ndarray,
+                   dtype: str) -> moderngl.Texture:
+    """A texture of `data`, unpacked on the GPU from a buffer device_buffer filled (on NVIDIA's driver
+    a texture the CPU writes gets a host copy too)."""
+    pixels = device_buffer(ctx, data)
+    try:
+        texture = ctx.texture(shape, components, dtype=dtype)
+        texture.write(pixels)
+    finally:
+        pixels.release()
+    return texture
+
+
+def _filled_on_gpu(ctx: moderngl.Context, size: int, source: np.ndarray | None) -> moderngl.Buffer:
+    """A buffer of `size` bytes, `source` (uint8) or zeros, copied into place a staging buffer at a time."""
+    buffer = ctx.buffer(reserve=size)
+    staging = ctx.buffer(reserve=min(size, STAGING_BYTES))
+    try:
+        if source is None:
+            staging.clear()
+        for at in range(0, size, STAGING_BYTES):
+            piece = min(STAGING_BYTES, size - at)
+            if source is not None:
+                staging.write(source[at:at + piece])
+            ctx.copy_buffer(buffer, staging, size=piece, write_offset=at)
+    except Exception:
+        buffer.release()
+        raise
+    finally:
+        staging.release()
+    return buffer
+
+
 def max_texture_side(ctx: moderngl.Context) -> int:
     """The longest texture side this GL takes."""
     return int(ctx.info["GL_MAX_TEXTURE_SIZE"])

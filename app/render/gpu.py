@@ -31,7 +31,7 @@ import numpy as np
 from marraztu.errors import ViewerError
 from marraztu.model.mesh import INDEX, Mesh, fan_gather
 from marraztu.model.scene import Shading
-from marraztu.render.context import check_gl, max_texture_side
+from marraztu.render.context import check_gl, device_buffer, device_texture, max_texture_side, zeroed_device_buffer
 from marraztu.resources import shader_source
 
 # Attribute layouts, one per program; the names are the shaders' `in_` attributes.
@@ -352,10 +352,9 @@ class ObjectGpu:
         ctx.error  # noqa: B018 - reading it clears an older error, so the check below is about these uploads
         try:
             for name, data in arrays.arrays.items():
-                self._surface_buffers[name] = ctx.buffer(data)
+                self._surface_buffers[name] = device_buffer(ctx, data)
             # Zeros, not undefined memory: rows no pass has lit yet are read (never shown) by draws.
-            self._surface_buffers["lit"] = lit = ctx.buffer(reserve=rows * LIT_ROW_BYTES)
-            lit.clear()
+            self._surface_buffers["lit"] = zeroed_device_buffer(ctx, rows * LIT_ROW_BYTES)
             check_gl(ctx, f"the vertex buffers of {mesh.name}")
         except Exception:
             for buffer in self._surface_buffers.values():
@@ -423,7 +422,7 @@ class ObjectGpu:
             textures = self._face_textures(shape)
             rows = None
             try:
-                rows = self.ctx.buffer(edge_rows(self.mesh, shape[0]))
+                rows = device_buffer(self.ctx, edge_rows(self.mesh, shape[0]))
                 content = [(rows, *EDGE_LAYOUT)]
                 built = self._build("edges", edge_pairs(self.mesh), self.programs.edges, content, indexed=True)
             except Exception:
@@ -445,7 +444,7 @@ class ObjectGpu:
         self.ctx.error  # noqa: B018 - as in __init__: the check below is about these uploads only
         try:
             for sampler, table in zip(EDGE_FACE_UNITS, edge_faces(self.mesh, shape)):
-                textures[sampler] = texture = self.ctx.texture(shape, 3, table, dtype="f4")
+                textures[sampler] = texture = device_texture(self.ctx, shape, 3, table, "f4")
                 texture.filter = (moderngl.NEAREST, moderngl.NEAREST)  # no mipmaps: else GL holds it incomplete
             check_gl(self.ctx, f"the polygons of {self.mesh.name}")
         except Exception:
@@ -499,7 +498,7 @@ class ObjectGpu:
         """Uploads `data`, as the vertex array's own vertices (`layout`) or, `indexed`, as indices into
         the vertex buffers `layout` lists."""
         self.ctx.error  # noqa: B018 - as in __init__: the check below is about this upload only
-        buffer = self.ctx.buffer(data)
+        buffer = device_buffer(self.ctx, data)
         try:
             check_gl(self.ctx, f"the {name} of {self.mesh.name}")
             if indexed:
