@@ -38,7 +38,7 @@ def check_gl(ctx: moderngl.Context, what: str) -> None:
 
 
 # What the staging buffer of an upload holds: the data passes through it a piece at a time.
-STAGING_BYTES = 8 << 20
+STAGING_BYTES = 1 << 20
 
 
 def device_buffer(ctx: moderngl.Context, data: np.ndarray) -> moderngl.Buffer:
