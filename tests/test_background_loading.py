@@ -40,6 +40,28 @@ def test_loads_join_the_scene_between_frames(tmp_path: Path) -> None:
     viewer.background.shutdown()
 
 
+def test_every_ended_load_wakes_the_window_after_it_can_be_collected(tmp_path: Path) -> None:
+    """The window sleeps in the window system's wait between events: a load that ends must end that
+    wait, or the model joins only at the next timeout."""
+    good = tmp_path / "good.obj"
+    good.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    bad = tmp_path / "bad.obj"
+    bad.write_text("v 0 0 0\nf 1 2 3\n")
+    woken: list[int] = []
+    loader = BackgroundLoader(wake=lambda: woken.append(len(loader.finished())))
+    viewer = Viewer(empty_scene(), NoFrontend(), background=loader)
+    viewer.load_model(good)
+    viewer.load_model(bad)
+    wait_until_idle(viewer)
+    deadline = time.monotonic() + 60  # a future's callbacks run just after it reads as done
+    while len(woken) < 2 and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert len(woken) == 2, "one wake per load, good or bad"
+    assert woken[0] >= 1, "the first wake came when its load could be collected (the second was still loading)"
+    assert [obj.name for obj in viewer.scene.objects] == ["good"] and "bad.obj" in viewer.scene.message
+    viewer.background.shutdown()
+
+
 def test_a_camera_load_stays_a_camera_even_if_the_target_changes_meanwhile(tmp_path: Path) -> None:
     good = tmp_path / "cam.obj"
     good.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")

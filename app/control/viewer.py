@@ -105,11 +105,12 @@ class BackgroundLoader:
     a large file is read (numpy releases the GIL for most of a load). One worker: loads finish in the
     order asked. `prepare` (the renderer's) readies a mesh for its first frame."""
 
-    def __init__(self, prepare: Callable[[Mesh], None] | None = None) -> None:
+    def __init__(self, prepare: Callable[[Mesh], None] | None = None, wake: Callable[[], None] | None = None) -> None:
         self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="model-loader")
         self._jobs: list[LoadJob] = []
         self._lock = threading.Lock()
         self._prepare = prepare
+        self._wake = wake  # called from the worker when a load ends: the window's loop answers it at once
 
     def start(self, path: Path, as_camera: bool, at_start: bool = False,
               replaces: SceneObject | None = None) -> LoadJob:
@@ -117,6 +118,9 @@ class BackgroundLoader:
         with self._lock:
             self._jobs.append(job)
         job.future = self._pool.submit(self._load, job)
+        if self._wake is not None:
+            wake = self._wake
+            job.future.add_done_callback(lambda _: wake())
         return job
 
     def _load(self, job: LoadJob) -> SceneObject:

@@ -98,7 +98,8 @@ class ViewerWindow:
         self.ctx = self.wnd.ctx
         self.wnd.exit_key = None  # ESC belongs to the key map: it also cancels the file prompt
         self.renderer = Renderer(self.ctx)
-        self.viewer = Viewer(starting_scene(options), self, background=BackgroundLoader(prepare_surface))
+        loader = BackgroundLoader(prepare_surface, wake=_wake_event_loop)
+        self.viewer = Viewer(starting_scene(options), self, background=loader)
         self.viewer.start(options, self.renderer.max_texture_side)
         self.overlay = Overlay(self.ctx)
         self.named_keys = self._named_keys()
@@ -310,6 +311,13 @@ class ViewerWindow:
             self.scene.message = f"screenshot not saved: {error}"
         finally:
             self.wnd.fbo.use()
+
+
+def _wake_event_loop() -> None:
+    """Ends the loop's wait for events now (safe from any thread): a finished load is drawn at once."""
+    import pyglet.app
+
+    pyglet.app.platform_event_loop.notify()
 
 
 def run_window(options: StartOptions, size: tuple[int, int]) -> int:
