@@ -80,3 +80,4 @@ def test_an_empty_buffer_is_refused_as_moderngl_refuses_it(own_ctx) -> None:
     corpus.make_current(own_ctx)
     with pytest.raises(moderngl.Error, match="empty"):
         gl_context.device_buffer(own_ctx, np.zeros(0, np.float32))
+

@@ -22,6 +22,7 @@ from marraztu.control import commands
 from marraztu.control.keymap import KeyPress
 from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer, starting_scene
 from marraztu.errors import ViewerError, escaped
+from marraztu.frontends.heap import return_freed_memory
 from marraztu.frontends.record import MAX_RECORDING_BYTES, write_animation
 from marraztu.frontends.screenshot import write_picture
 from marraztu.render.context import offscreen_framebuffer, read_pixels
@@ -105,6 +106,7 @@ class ViewerWindow:
         self.named_keys = self._named_keys()
         self.last_watch_check = perf_counter()
         self.needs_frame = True
+        self.drawn_since_still = False
         self.scene_unchanged = False  # set for a frame that only moves the loading line on
         self.drawn_loading_lines: list[str] = []  # the loading lines of the last frame
         self.held_scene = HeldPicture(self.ctx)
@@ -158,8 +160,12 @@ class ViewerWindow:
         while not self.wnd.is_closing:
             self._check_watched_files()
             if not (self.needs_frame or self._loading_changed()):
+                if self.drawn_since_still:  # still now: what those frames freed goes back to the system
+                    return_freed_memory()
+                    self.drawn_since_still = False
                 self._wait_for_events(IDLE_WAKE_S)
                 continue
+            self.drawn_since_still = True
             # No event and no finished load: only the loading line moved on, the scene is as it was.
             self.scene_unchanged = not self.needs_frame and not self.viewer.background.finished()
             now, delta = timer.next_frame()
