@@ -81,3 +81,20 @@ def test_an_empty_buffer_is_refused_as_moderngl_refuses_it(own_ctx) -> None:
     with pytest.raises(moderngl.Error, match="empty"):
         gl_context.device_buffer(own_ctx, np.zeros(0, np.float32))
 
+
+
+
+def test_a_texture_that_cannot_be_made_or_written_leaves_nothing_behind(own_ctx, monkeypatch) -> None:
+    corpus.make_current(own_ctx)
+    data = np.zeros(8 * 8 * 3, np.float32)
+    before = corpus.live_gl_objects(own_ctx)
+    with corpus.DroppedGlObjects(own_ctx) as dropped:
+        with pytest.raises(moderngl.Error):
+            gl_context.device_texture(own_ctx, (8, 8), 5, data, "f4")  # no texture of 5 components
+
+        def refused(self, *args, **kwargs):
+            raise moderngl.Error("refused")
+        monkeypatch.setattr(moderngl.Texture, "write", refused)
+        with pytest.raises(moderngl.Error, match="refused"):
+            gl_context.device_texture(own_ctx, (8, 8), 3, data, "f4")
+    assert dropped.leaked == 0 and corpus.live_gl_objects(own_ctx) == before

@@ -106,7 +106,7 @@ class ViewerWindow:
         self.named_keys = self._named_keys()
         self.last_watch_check = perf_counter()
         self.needs_frame = True
-        self.drawn_since_still = False
+        self.drawn_since_still = False  # frames since the window was last still: it then returns what they freed
         self.scene_unchanged = False  # set for a frame that only moves the loading line on
         self.drawn_loading_lines: list[str] = []  # the loading lines of the last frame
         self.held_scene = HeldPicture(self.ctx)

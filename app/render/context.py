@@ -63,9 +63,14 @@ def device_texture(ctx: moderngl.Context, shape: tuple[int, int], components: in
     """A texture of `data`, unpacked on the GPU from a buffer device_buffer filled (on NVIDIA's driver
     a texture the CPU writes gets a host copy too)."""
     pixels = device_buffer(ctx, data)
+    texture = None
     try:
         texture = ctx.texture(shape, components, dtype=dtype)
         texture.write(pixels)
+    except Exception:
+        if texture is not None:
+            texture.release()
+        raise
     finally:
         pixels.release()
     return texture
