@@ -53,6 +53,17 @@ def test_a_notebook_shows_the_picture(viewer) -> None:
     assert np.array_equal(shown, np.asarray(viewer.render()))
 
 
+def test_each_picture_hands_back_the_memory_its_drawing_freed(viewer, monkeypatch) -> None:
+    """A notebook keeps the process between pictures, as the window does between keys."""
+    from marraztu.frontends import api
+
+    handed_back: list[bool] = []
+    monkeypatch.setattr(api, "return_freed_memory", lambda: handed_back.append(True))
+    viewer.render()
+    viewer.press("l").render(overlay=True)
+    assert len(handed_back) == 2
+
+
 def test_render_at_another_size(viewer) -> None:
     assert viewer.render(size=(64, 48)).size == (64, 48)
 

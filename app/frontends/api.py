@@ -23,6 +23,7 @@ from marraztu.control import commands
 from marraztu.control.viewer import StartOptions, starting_scene
 from marraztu.control.viewer import Viewer as KeyViewer
 from marraztu.errors import LoadError, ViewerError, escaped
+from marraztu.frontends.heap import return_freed_memory
 from marraztu.frontends.screenshot import OffscreenFrontend, render_pixels
 from marraztu.loaders.scenefile import material_for_loaded, materials_of_parts
 from marraztu.model.build import build_mesh
@@ -164,6 +165,7 @@ class Viewer:
         self._check_open()
         shape = self.size if size is None else _checked_size(size)
         pixels = render_pixels(self._ctx, self._renderer, self._viewer, shape, overlay)
+        return_freed_memory()  # as the window does when still: a notebook keeps the process between pictures
         return Image.fromarray(pixels)
 
     def _repr_png_(self) -> bytes:
