@@ -18,6 +18,7 @@ STAGING = 64  # bytes: every test below passes through several pieces, the last 
 @pytest.fixture
 def small_staging(monkeypatch) -> None:
     monkeypatch.setattr(gl_context, "STAGING_BYTES", STAGING)
+    monkeypatch.setattr(gl_context, "DIRECT_UPLOAD_BYTES", 0)  # every upload below is staged
 
 
 @pytest.mark.parametrize("size", [1, STAGING - 1, STAGING, STAGING + 1, 10 * STAGING + 13])
@@ -76,7 +77,7 @@ def test_uploads_leave_no_staging_buffer_behind(own_ctx, small_staging) -> None:
     assert dropped.leaked == 0 and corpus.live_gl_objects(own_ctx) == before
 
 
-def test_an_empty_buffer_is_refused_as_moderngl_refuses_it(own_ctx) -> None:
+def test_an_empty_buffer_is_refused_as_moderngl_refuses_it(own_ctx, small_staging) -> None:
     corpus.make_current(own_ctx)
     with pytest.raises(moderngl.Error, match="empty"):
         gl_context.device_buffer(own_ctx, np.zeros(0, np.float32))
@@ -84,7 +85,7 @@ def test_an_empty_buffer_is_refused_as_moderngl_refuses_it(own_ctx) -> None:
 
 
 
-def test_a_texture_that_cannot_be_made_or_written_leaves_nothing_behind(own_ctx, monkeypatch) -> None:
+def test_a_texture_that_cannot_be_made_or_written_leaves_nothing_behind(own_ctx, small_staging, monkeypatch) -> None:
     corpus.make_current(own_ctx)
     data = np.zeros(8 * 8 * 3, np.float32)
     before = corpus.live_gl_objects(own_ctx)
@@ -98,3 +99,17 @@ def test_a_texture_that_cannot_be_made_or_written_leaves_nothing_behind(own_ctx,
         with pytest.raises(moderngl.Error, match="refused"):
             gl_context.device_texture(own_ctx, (8, 8), 3, data, "f4")
     assert dropped.leaked == 0 and corpus.live_gl_objects(own_ctx) == before
+
+
+@pytest.mark.parametrize("shape", [(1, 1), (256, 256)])  # one byte, and DIRECT_UPLOAD_BYTES
+def test_small_uploads_are_written_directly_and_hold_the_same(own_ctx, shape: tuple[int, int]) -> None:
+    corpus.make_current(own_ctx)
+    size = shape[0] * shape[1]
+    data = np.random.default_rng(size).integers(0, 256, size, dtype=np.uint8)
+    made = [gl_context.device_buffer(own_ctx, data), gl_context.zeroed_device_buffer(own_ctx, size),
+            gl_context.device_texture(own_ctx, shape, 1, data, "f1")]
+    try:
+        assert [resource.read() for resource in made] == [data.tobytes(), bytes(size), data.tobytes()]
+    finally:
+        for resource in made:
+            resource.release()
