@@ -225,10 +225,12 @@ def test_the_window_draws_only_when_something_changed(display: str) -> None:
 
 # A load held on purpose while the built-in scene is shown, until the window has drawn the drop and
 # two frames of counted seconds (however slowly a busy machine gets there): counts the frames drawn
-# meanwhile, and how many of them drew the scene rather than copying its held picture.
+# meanwhile, and how many of them drew the scene rather than copying its held picture. Then the `f`
+# prompt: opening it, typing a path and closing it with ESC, then one key of the key map.
 _HELD_PICTURE_COUNTER = """
 import sys, threading, time
 import pyglet.app
+import pyglet.window
 from marraztu.control import viewer as viewer_module
 from marraztu.control.viewer import StartOptions
 from marraztu.frontends.window import open_window
@@ -256,10 +258,32 @@ def script():
     while len(frames) - before_frames < 3:  # the drop and two counted seconds, however long they take
         time.sleep(0.01)
     release.set()
-    while len(window.scene.objects) == objects or len(scene_draws) - before_draws < 2:  # joined and drawn
+    while len(window.scene.objects) == objects or len(scene_draws) - before_draws < 1:  # joined and drawn
         time.sleep(0.01)
     time.sleep(0.3)  # room for any further scene draw to show up in the count (there should be none)
     print(len(frames) - before_frames, len(scene_draws) - before_draws, flush=True)
+
+    def typed(*texts):  # each text as pyglet delivers typed text, a frame each
+        for text in texts:
+            count = len(frames)
+            window.wnd._window.dispatch_event("on_text", text)
+            pyglet.app.platform_event_loop.notify()
+            while len(frames) == count:
+                time.sleep(0.01)
+
+    before_draws = len(scene_draws)
+    typed("f")  # the key map's `f`: opens the prompt (drawn again: no key tells what it leaves alone)
+    opened = len(scene_draws)
+    typed(*"model.obj")
+    count = len(frames)
+    window.wnd._window.dispatch_event("on_key_press", pyglet.window.key.ESCAPE, 0)
+    pyglet.app.platform_event_loop.notify()
+    while len(frames) == count:
+        time.sleep(0.01)
+    closed = len(scene_draws)
+    typed("y")  # turns the model: drawn again
+    time.sleep(0.3)
+    print(opened - before_draws, closed - opened, len(scene_draws) - closed, window.viewer.prompt is None, flush=True)
     window.wnd.is_closing = True
 
 threading.Thread(target=script, daemon=True).start()
@@ -267,19 +291,23 @@ window.run()
 """
 
 
-def test_frames_that_only_move_the_loading_line_on_do_not_draw_the_scene_again(display: str, tmp_path: Path) -> None:
+def test_frames_that_change_only_the_text_over_the_scene_do_not_draw_it_again(display: str, tmp_path: Path) -> None:
     """While a model loads, the status line counts seconds: those frames copy the scene's held picture,
-    so the loader keeps the cores. The scene is drawn for the drop and once the model has joined."""
+    so the loader keeps the cores, and so does the frame of the drop itself. The scene is drawn again
+    once the model has joined. Typing a path into the `f` prompt and closing it copy it too."""
     model = tmp_path / "model.obj"
     model.write_text("v 0 0 0\nv 10 0 0\nv 0 10 0\nf 1 2 3\n")
     result = subprocess.run([sys.executable, "-c", _HELD_PICTURE_COUNTER, str(model)],
                             env={**os.environ, "DISPLAY": display}, capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
-    frames, scene_draws = map(int, result.stdout.split())
+    loading, prompt = result.stdout.splitlines()
+    frames, scene_draws = map(int, loading.split())
     # Frames counted, not timed: the script above waits, with no deadline, for the drop's frame and two
     # seconds' frames before it lets the load finish, and then for the joining model's frame.
     assert frames >= 4
-    assert scene_draws == 2
+    assert scene_draws == 1
+    opening, typing_and_closing, key, closed = prompt.split()
+    assert (int(opening), int(typing_and_closing), int(key), closed) == (1, 0, 1, "True")
 
 
 def test_the_mouse_orbits_and_dollies_and_u_takes_each_gesture_back(display: str, tmp_path: Path) -> None:

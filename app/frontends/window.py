@@ -41,26 +41,35 @@ WATCH_INTERVAL_S = 0.5  # --watch looks at the models' files this often: soon en
 IDLE_WAKE_S = 0.1
 
 
-def guarded(handler: Callable[..., None]) -> Callable[..., None]:
+# What a handler returns when its event changed only the text over the scene (the `f` prompt, a
+# message): that frame copies the scene's held picture instead of drawing the scene again.
+KEEPS_SCENE = object()
+
+
+def guarded(handler: Callable[..., object]) -> Callable[..., None]:
     """A window event must never end the session: a failure becomes one line on screen and on stderr,
-    and the window goes on. Every event may change the picture, so each asks for a frame."""
+    and the window goes on. Every event may change the picture, so each asks for a frame, and for
+    the scene to be drawn again unless the handler returns KEEPS_SCENE."""
 
     @functools.wraps(handler)
     def run(window: ViewerWindow, *args: Any) -> None:
         window.needs_frame = True
+        kept = False
         try:
-            handler(window, *args)
+            kept = handler(window, *args) is KEEPS_SCENE
         except Exception as error:  # what no check foresaw: said, not fatal
             line = escaped(f"{handler.__name__.removeprefix('on_')} failed: {type(error).__name__}: {error}")
             window.scene.message = line
             print(line, file=sys.stderr)
+        window.scene_changed = window.scene_changed or not kept
 
     return run
 
 
 class HeldPicture:
-    """The scene's last picture, kept offscreen while models load: a frame that only moves the loading
-    line on copies it instead of drawing a large scene again, which would take the loader's cores."""
+    """The scene's last picture, kept offscreen: a frame that changes only the text over it (the
+    loading line moving on, a dropped file's message, the `f` prompt's typing) copies it instead of
+    drawing a large scene again, which would take the loader's cores or keep a key waiting."""
 
     def __init__(self, ctx: Any) -> None:
         self.ctx = ctx
@@ -107,7 +116,8 @@ class ViewerWindow:
         self.last_watch_check = perf_counter()
         self.needs_frame = True
         self.drawn_since_still = False  # frames since the window was last still: it then returns what they freed
-        self.scene_unchanged = False  # set for a frame that only moves the loading line on
+        self.scene_changed = True  # by an event since the last frame (guarded)
+        self.scene_unchanged = False  # for the next frame: it only changes the text over the scene
         self.drawn_loading_lines: list[str] = []  # the loading lines of the last frame
         self.held_scene = HeldPicture(self.ctx)
         self.recording: list[np.ndarray] | None = None  # F9: the pictures drawn since it was pressed
@@ -166,8 +176,9 @@ class ViewerWindow:
                 self._wait_for_events(IDLE_WAKE_S)
                 continue
             self.drawn_since_still = True
-            # No event and no finished load: only the loading line moved on, the scene is as it was.
-            self.scene_unchanged = not self.needs_frame and not self.viewer.background.finished()
+            # No event that changed the scene and no finished load: only the text over it changed.
+            self.scene_unchanged = not self.scene_changed and not self.viewer.background.finished()
+            self.scene_changed = False
             now, delta = timer.next_frame()
             self.wnd.use()
             self.wnd.render(now, delta)
@@ -180,25 +191,21 @@ class ViewerWindow:
 
     # --- drawing -------------------------------------------------------------------------------
     @guarded
-    def on_render(self, time: float, frame_time: float) -> None:
+    def on_render(self, time: float, frame_time: float) -> object:
         scene_unchanged, self.scene_unchanged, self.needs_frame = self.scene_unchanged, False, False
         self.viewer.collect_loads()
         self.drawn_loading_lines = self.viewer.loading_lines()
         size = self.wnd.buffer_size
-        if self.drawn_loading_lines:  # loads go on: the scene's picture is kept, for frames that move the line on
-            held = self.held_scene.framebuffer(size)
-            if not (scene_unchanged and self.held_scene.holds_picture):
-                self.renderer.render(self.scene, held, size)
-                self.held_scene.holds_picture = True
-            self.ctx.copy_framebuffer(self.wnd.fbo, held)
-        else:
-            self.held_scene.release()
-            self.wnd.fbo.use()
-            self.renderer.render(self.scene, self.wnd.fbo, size)
+        held = self.held_scene.framebuffer(size)  # a new size starts with no picture
+        if not (scene_unchanged and self.held_scene.holds_picture):
+            self.renderer.render(self.scene, held, size)
+            self.held_scene.holds_picture = True
+        self.ctx.copy_framebuffer(self.wnd.fbo, held)
         self.wnd.fbo.use()
         if self.recording is not None and not scene_unchanged:
             self._record_frame(size)
         self.overlay.draw(*status.overlay_lines(self.viewer), size, panels.extras(self.scene, size))
+        return KEEPS_SCENE  # drawing changes nothing in the scene
 
     def _record_frame(self, size: tuple[int, int]) -> None:
         """The scene's picture, before the overlay: the frames `marraztu record` would draw."""
@@ -241,18 +248,23 @@ class ViewerWindow:
 
     # --- keys ----------------------------------------------------------------------------------
     @guarded
-    def on_unicode_char_entered(self, char: str) -> None:
+    def on_unicode_char_entered(self, char: str) -> object:
         """Letters come from text input so that `F` is shift+f on any keyboard layout (SPEC 6)."""
+        typed_into_prompt = self.viewer.prompt is not None
         if char.isprintable():
             self.viewer.type_text(char)
+        return KEEPS_SCENE if typed_into_prompt else None
 
     @guarded
-    def on_key_event(self, key: Any, action: Any, modifiers: Any) -> None:
+    def on_key_event(self, key: Any, action: Any, modifiers: Any) -> object:
         if action != self.wnd.keys.ACTION_PRESS:
-            return
+            return KEEPS_SCENE  # a release: nothing happens
+        # The prompt takes every key while open, and what Enter asks for loads in the background.
+        in_prompt = self.viewer.prompt is not None
         name = self.named_keys.get(key)
-        if name is not None and (name != "BACKSPACE" or self.viewer.prompt is not None):
+        if name is not None and (name != "BACKSPACE" or in_prompt):
             self.viewer.press(KeyPress(name))
+        return KEEPS_SCENE if in_prompt else None
 
     # --- mouse and files ----------------------------------------------------------------------
     @guarded
@@ -276,9 +288,10 @@ class ViewerWindow:
         commands.end_view_gesture(self.scene)
 
     @guarded
-    def on_files_dropped_event(self, x: int, y: int, paths: list[str | Path]) -> None:
+    def on_files_dropped_event(self, x: int, y: int, paths: list[str | Path]) -> object:
         for path in paths:
             self.viewer.load_model(path)
+        return KEEPS_SCENE  # the models load in the background and join the scene at a later frame
 
     # --- Frontend ------------------------------------------------------------------------------
     def quit(self) -> None:
