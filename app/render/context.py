@@ -39,8 +39,8 @@ def check_gl(ctx: moderngl.Context, what: str) -> None:
 
 # What the staging buffer of an upload holds: the data passes through it a piece at a time.
 STAGING_BYTES = 1 << 20
-# Up to this size an upload is written directly: its host copy costs less than a staging buffer's
-# calls, which made a scene of 5000 triangles in lines 20% slower to first show.
+# Up to this size an upload is written directly: for thousands of tiny objects the staging's calls
+# cost more than the small host copies they spare.
 DIRECT_UPLOAD_BYTES = 1 << 16
 
 
