@@ -2,9 +2,9 @@
 are freed.
 
 glibc keeps freed blocks of up to a few tens of megabytes for reuse instead of returning them, so
-after a large model is loaded and drawn the process stays tens of bytes per triangle larger than
-what it holds. `malloc_trim` returns them in about a millisecond. Where the C library is not glibc,
-nothing is done.
+after a large model is loaded and drawn the process stays larger than what it holds.
+`malloc_trim` returns them, quickly enough to run each time the window goes still. Where the C
+library is not glibc, nothing is done.
 """
 
 from __future__ import annotations
