@@ -185,6 +185,8 @@ def test_f9_records_the_pictures_the_keys_draw(display: str, tmp_path: Path) -> 
 # keys come, and prints both counts.
 _FRAME_COUNTER = """
 import sys, threading, time
+import pyglet.app
+import pyglet.window
 from marraztu.control.viewer import StartOptions
 from marraztu.frontends import window as window_module
 from marraztu.frontends.window import open_window
@@ -201,7 +203,12 @@ def script():
     for token in ("x", "y", "x"):
         window.wnd._window.dispatch_event("on_text", token)  # as pyglet delivers typed text
         time.sleep(0.3)
-    print(idle, len(frames) - idle, idle_trims, len(trims) - idle_trims, flush=True)
+    keyed = len(frames)
+    window.wnd._window.dispatch_event("on_key_release", pyglet.window.key.X, 0)  # x let go: nothing to draw
+    window.wnd._window.dispatch_event("on_key_press", pyglet.window.key.LSHIFT, 0)  # a modifier alone
+    pyglet.app.platform_event_loop.notify()
+    time.sleep(0.5)
+    print(idle, len(frames) - idle, idle_trims, len(trims) - idle_trims, len(frames) - keyed, flush=True)
     window.wnd.is_closing = True
 
 threading.Thread(target=script, daemon=True).start()
@@ -211,16 +218,17 @@ window.run()
 
 def test_the_window_draws_only_when_something_changed(display: str) -> None:
     """Left alone for two seconds the window draws its first frame and nothing more (it used to redraw
-    the same picture as fast as it could); each key then brings one frame. Each time the window is
-    still again after frames, it hands the memory they freed back, once."""
+    the same picture as fast as it could); each key then brings one frame, and its release none. Each
+    time the window is still again after frames, it hands the memory they freed back, once."""
     result = subprocess.run([sys.executable, "-c", _FRAME_COUNTER], env={**os.environ, "DISPLAY": display},
                             capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
-    idle_frames, key_frames, idle_trims, key_trims = map(int, result.stdout.split())
+    idle_frames, key_frames, idle_trims, key_trims, release_frames = map(int, result.stdout.split())
     assert 1 <= idle_frames <= 3  # the first frame, and the window system's first expose and resize
     assert key_frames == 3
     assert 1 <= idle_trims <= idle_frames
     assert key_trims == 3
+    assert release_frames == 0  # a key let go, or a modifier pressed alone, changes nothing
 
 
 # A load held on purpose while the built-in scene is shown, until the window has drawn the drop and

@@ -10,6 +10,7 @@ import sys
 from collections.abc import Callable
 from contextlib import ExitStack
 from datetime import datetime
+from enum import Enum
 from pathlib import Path
 from time import perf_counter
 from typing import Any
@@ -41,27 +42,31 @@ WATCH_INTERVAL_S = 0.5  # --watch looks at the models' files this often: soon en
 IDLE_WAKE_S = 0.1
 
 
-# What a handler returns when its event changed only the text over the scene (the `f` prompt, a
-# message): that frame copies the scene's held picture instead of drawing the scene again.
-KEEPS_SCENE = object()
+class Unchanged(Enum):
+    """What a handler returns when its event left the scene as it was; None: it may have changed it."""
+
+    NOTHING = "nothing"  # no new picture at all (a key released)
+    SCENE = "scene"  # only the text over the scene changed: the frame copies the held picture
 
 
-def guarded(handler: Callable[..., object]) -> Callable[..., None]:
+def guarded(handler: Callable[..., Unchanged | None]) -> Callable[..., None]:
     """A window event must never end the session: a failure becomes one line on screen and on stderr,
-    and the window goes on. Every event may change the picture, so each asks for a frame, and for
-    the scene to be drawn again unless the handler returns KEEPS_SCENE."""
+    and the window goes on. An event asks for a frame, which draws the scene again, unless the handler
+    says what it left unchanged."""
 
     @functools.wraps(handler)
     def run(window: ViewerWindow, *args: Any) -> None:
-        window.needs_frame = True
-        kept = False
+        unchanged = None
         try:
-            kept = handler(window, *args) is KEEPS_SCENE
+            unchanged = handler(window, *args)
         except Exception as error:  # what no check foresaw: said, not fatal
             line = escaped(f"{handler.__name__.removeprefix('on_')} failed: {type(error).__name__}: {error}")
             window.scene.message = line
             print(line, file=sys.stderr)
-        window.scene_changed = window.scene_changed or not kept
+        if unchanged is not Unchanged.NOTHING:
+            window.needs_frame = True
+        if unchanged is None:
+            window.scene_changed = True
 
     return run
 
@@ -117,7 +122,6 @@ class ViewerWindow:
         self.needs_frame = True
         self.drawn_since_still = False  # frames since the window was last still: it then returns what they freed
         self.scene_changed = True  # by an event since the last frame (guarded)
-        self.scene_unchanged = False  # for the next frame: it only changes the text over the scene
         self.drawn_loading_lines: list[str] = []  # the loading lines of the last frame
         self.held_scene = HeldPicture(self.ctx)
         self.recording: list[np.ndarray] | None = None  # F9: the pictures drawn since it was pressed
@@ -176,9 +180,6 @@ class ViewerWindow:
                 self._wait_for_events(IDLE_WAKE_S)
                 continue
             self.drawn_since_still = True
-            # No event that changed the scene and no finished load: only the text over it changed.
-            self.scene_unchanged = not self.scene_changed and not self.viewer.background.finished()
-            self.scene_changed = False
             now, delta = timer.next_frame()
             self.wnd.use()
             self.wnd.render(now, delta)
@@ -191,8 +192,10 @@ class ViewerWindow:
 
     # --- drawing -------------------------------------------------------------------------------
     @guarded
-    def on_render(self, time: float, frame_time: float) -> object:
-        scene_unchanged, self.scene_unchanged, self.needs_frame = self.scene_unchanged, False, False
+    def on_render(self, time: float, frame_time: float) -> Unchanged:
+        # No event that changed the scene and no finished load: only the text over it changed.
+        scene_unchanged = not self.scene_changed and not self.viewer.background.finished()
+        self.scene_changed = self.needs_frame = False
         self.viewer.collect_loads()
         self.drawn_loading_lines = self.viewer.loading_lines()
         size = self.wnd.buffer_size
@@ -205,7 +208,7 @@ class ViewerWindow:
         if self.recording is not None and not scene_unchanged:
             self._record_frame(size)
         self.overlay.draw(*status.overlay_lines(self.viewer), size, panels.extras(self.scene, size))
-        return KEEPS_SCENE  # drawing changes nothing in the scene
+        return Unchanged.NOTHING  # drawing asks for no other picture
 
     def _record_frame(self, size: tuple[int, int]) -> None:
         """The scene's picture, before the overlay: the frames `marraztu record` would draw."""
@@ -243,28 +246,30 @@ class ViewerWindow:
         """A new size needs a new frame; guarded asks for it."""
 
     @guarded
-    def on_expose(self) -> None:
-        """The window system lost the picture; guarded asks for a new one."""
+    def on_expose(self) -> Unchanged:
+        """The window system lost the window's picture; the scene's held one is still good."""
+        return Unchanged.SCENE
 
     # --- keys ----------------------------------------------------------------------------------
     @guarded
-    def on_unicode_char_entered(self, char: str) -> object:
+    def on_unicode_char_entered(self, char: str) -> Unchanged | None:
         """Letters come from text input so that `F` is shift+f on any keyboard layout (SPEC 6)."""
         typed_into_prompt = self.viewer.prompt is not None
         if char.isprintable():
             self.viewer.type_text(char)
-        return KEEPS_SCENE if typed_into_prompt else None
+        return Unchanged.SCENE if typed_into_prompt else None
 
     @guarded
-    def on_key_event(self, key: Any, action: Any, modifiers: Any) -> object:
-        if action != self.wnd.keys.ACTION_PRESS:
-            return KEEPS_SCENE  # a release: nothing happens
-        # The prompt takes every key while open, and what Enter asks for loads in the background.
+    def on_key_event(self, key: Any, action: Any, modifiers: Any) -> Unchanged | None:
+        """Named keys (letters come as text); a release, a modifier or BACKSPACE outside the prompt
+        does nothing."""
         in_prompt = self.viewer.prompt is not None
         name = self.named_keys.get(key)
-        if name is not None and (name != "BACKSPACE" or in_prompt):
-            self.viewer.press(KeyPress(name))
-        return KEEPS_SCENE if in_prompt else None
+        if action != self.wnd.keys.ACTION_PRESS or name is None or (name == "BACKSPACE" and not in_prompt):
+            return Unchanged.NOTHING
+        self.viewer.press(KeyPress(name))
+        # The prompt takes every key while open, and what Enter asks for loads in the background.
+        return Unchanged.SCENE if in_prompt else None
 
     # --- mouse and files ----------------------------------------------------------------------
     @guarded
@@ -283,15 +288,17 @@ class ViewerWindow:
         commands.dolly_view(self.scene, y_offset)
 
     @guarded
-    def on_mouse_button_event(self, x: int, y: int, button: int) -> None:
-        """A press or a release ends a gesture: the next drag is an undo step of its own."""
+    def on_mouse_button_event(self, x: int, y: int, button: int) -> Unchanged:
+        """A press or a release ends a gesture: the next drag is an undo step of its own (the status
+        counts them)."""
         commands.end_view_gesture(self.scene)
+        return Unchanged.SCENE
 
     @guarded
-    def on_files_dropped_event(self, x: int, y: int, paths: list[str | Path]) -> object:
+    def on_files_dropped_event(self, x: int, y: int, paths: list[str | Path]) -> Unchanged:
         for path in paths:
             self.viewer.load_model(path)
-        return KEEPS_SCENE  # the models load in the background and join the scene at a later frame
+        return Unchanged.SCENE  # the models load in the background and join the scene at a later frame
 
     # --- Frontend ------------------------------------------------------------------------------
     def quit(self) -> None:
