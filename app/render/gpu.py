@@ -486,8 +486,8 @@ class ObjectGpu:
         built = {name: buffer for name, (buffer, _) in self._built.items() if buffer is not None}
         sizes = {name: buffer.size for name, buffer in {**self._surface_buffers, **built}.items()}
         if self._edge_faces:
-            sizes["edge faces"] = sum(texture.width * texture.height * texture.components * 4
-                                      for texture in self._edge_faces.values())  # float32 texels
+            sizes["edge faces"] = sum(texture.width * texture.height * texture.components
+                                      * np.dtype(texture.dtype).itemsize for texture in self._edge_faces.values())
         return sizes
 
     def _surface_content(self, program: moderngl.Program, layout: tuple[str, ...] = SURFACE_LAYOUT) -> list[tuple]:
