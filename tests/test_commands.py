@@ -38,8 +38,8 @@ def cube_mesh(name: str, half: float = 10.0) -> Mesh:
         name=name,
         positions=signs * half,
         corner_vertex=corners,
-        corner_uv=np.zeros((corners.size, 2), np.float32),
-        corner_normal=np.repeat(normals, 4, axis=0),
+        uvs=np.zeros((corners.size, 2), np.float32),
+        normals=np.repeat(normals, 4, axis=0),
         face_start=np.arange(0, corners.size + 1, 4, dtype=np.int64),
         face_normals=normals,
     )

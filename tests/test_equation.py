@@ -495,8 +495,8 @@ def dome_mesh(radius: float = 60.0, cells: int = 6, spread_deg: float = 50.0) ->
         n = np.cross(positions_array[p[1]] - positions_array[p[0]], positions_array[p[2]] - positions_array[p[0]])
         face_normals.append(n / np.linalg.norm(n))
     return Mesh(name="dome", positions=positions_array, corner_vertex=corner_vertex,
-                corner_uv=np.zeros((len(corner_vertex), 2), np.float32),
-                corner_normal=normals_array[corner_vertex].astype(np.float32),
+                uvs=np.zeros((len(corner_vertex), 2), np.float32),
+                normals=normals_array[corner_vertex].astype(np.float32),
                 face_start=np.arange(0, 4 * len(polygons) + 1, 4, dtype=np.int64),
                 face_normals=np.array(face_normals, np.float32))
 

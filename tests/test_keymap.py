@@ -31,8 +31,8 @@ def triangle_scene() -> Scene:
         name="tri",
         positions=np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
         corner_vertex=np.arange(3, dtype=np.int64),
-        corner_uv=np.zeros((3, 2), np.float32),
-        corner_normal=np.tile(np.float32([0, 0, 1]), (3, 1)),
+        uvs=np.zeros((3, 2), np.float32),
+        normals=np.tile(np.float32([0, 0, 1]), (3, 1)),
         face_start=np.array([0, 3], dtype=np.int64),
         face_normals=np.float32([[0, 0, 1]]),
     )

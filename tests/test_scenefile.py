@@ -296,7 +296,7 @@ def test_unreadable_scene_file(tmp_path: Path, name: str, reason: str) -> None:
 def tiny_mesh(file_material: dict[str, object] | None = None,
               base_colour: tuple[float, float, float] | None = None) -> Mesh:
     return Mesh(name="t", positions=np.eye(3), corner_vertex=np.arange(3),
-                corner_uv=np.zeros((3, 2), np.float32), corner_normal=np.tile([0, 0, 1], (3, 1)).astype(np.float32),
+                uvs=np.zeros((3, 2), np.float32), normals=np.tile([0, 0, 1], (3, 1)).astype(np.float32),
                 face_start=np.array([0, 3]), face_normals=np.array([[0, 0, 1]], np.float32),
                 base_colour=base_colour, file_material=file_material)
 

@@ -5,6 +5,9 @@ read)."""
 
 from __future__ import annotations
 
+import re
+from collections.abc import Callable
+
 import numpy as np
 import pytest
 
@@ -118,12 +121,87 @@ def test_per_position_attributes_are_claimed_only_where_there_are_no_seams(name:
     if not path.exists():
         pytest.skip(f"{path} is not here (the seed's models live in ../shared)")
     mesh = load_obj(path)
-    has_vt_or_vn = any(line.startswith((b"vt ", b"vn ")) for line in path.read_bytes().splitlines())
-    if has_vt_or_vn:
-        assert not mesh.attributes_per_position
     if mesh.attributes_per_position:  # cam and kupula; r_falke and x_wing have positions that only
         # zero-area faces touch, whose corners take their own faces' normals (see the test below)
         assert_no_seams(mesh)
+    check_same_corners(mesh)
+
+
+Row = Callable[[int], int] | None  # a corner's 1-based vt or vn row from its position's 1-based row
+
+
+def grid_obj(cells: int, vt: Row, vn: Row, seed: int = 5) -> bytes:
+    """A bumpy grid of triangles, each corner's vt and vn rows given by `vt` and `vn` (None: none)."""
+    rng = np.random.default_rng(seed)
+    side = cells + 1
+    xs, ys = np.meshgrid(np.arange(side, dtype=float), np.arange(side, dtype=float))
+    zs = rng.normal(scale=0.2, size=xs.shape)
+    lines = [f"v {x} {y} {z}" for x, y, z in zip(xs.ravel(), ys.ravel(), zs.ravel())]
+    lines += [f"vt {u:.4f} {v:.4f}" for u, v in rng.random((side * side + 3, 2))] if vt else []
+    lines += [f"vn {x:.4f} {y:.4f} {z:.4f}" for x, y, z in rng.normal(size=(side * side + 3, 3))] if vn else []
+
+    def corner(p: int) -> str:
+        return "/".join([str(p), str(vt(p)) if vt else "", str(vn(p)) if vn else ""]).rstrip("/")
+
+    for j in range(cells):
+        for i in range(cells):
+            a = j * side + i + 1
+            for triangle in ((a, a + 1, a + side + 1), (a, a + side + 1, a + side)):
+                lines.append("f " + " ".join(corner(p) for p in triangle))
+    return ("\n".join(lines) + "\n").encode()
+
+
+def same_row(p: int) -> int:
+    return p
+
+
+def shifted_row(p: int) -> int:
+    return p + 2
+
+
+@pytest.mark.parametrize("vt, vn", [(same_row, same_row), (same_row, None), (None, same_row),
+                                    (shifted_row, same_row), (same_row, shifted_row)])
+def test_a_file_whose_corners_name_their_positions_rows_stores_them_per_position(vt: Row, vn: Row) -> None:
+    """`f 1/1/1 2/2/2 3/3/3`, or any vt and vn that follow the position: a row per position, a sixth
+    of the corners', and the same corners as the file gives them."""
+    mesh = parse_obj(grid_obj(12, vt, vn), "grid.obj")
+    assert mesh.attributes_per_position
+    assert mesh.uvs.shape == (mesh.vertex_count, 2) and mesh.normals.shape == (mesh.vertex_count, 3)
+    check_same_corners(mesh)
+    assert_no_seams(mesh)
+
+
+def test_per_position_and_per_corner_storage_give_the_same_corners() -> None:
+    """One extra face whose first corner names another vt makes the file per corner: every corner the
+    two files share has the same uv and normal either way."""
+    text = grid_obj(10, same_row, same_row)
+    per_position = parse_obj(text, "grid.obj")
+    per_corner = parse_obj(text + b"f 1/2/1 2/2/2 13/13/13\n", "seam.obj")
+    assert per_position.attributes_per_position and not per_corner.attributes_per_position
+    assert per_corner.normals.shape == (per_corner.corner_vertex.size, 3)
+    shared = per_position.corner_vertex.size
+    assert np.array_equal(per_corner.corner_uv[:shared], per_position.corner_uv)
+    assert np.array_equal(per_corner.corner_normal[:shared], per_position.corner_normal)
+    check_same_corners(per_corner)
+
+
+def test_a_zero_length_vn_is_derived_per_position_too() -> None:
+    """Position 1's corners all name a zero-length vn: it gets the normal derived from its faces."""
+    text = re.sub(rb"^vn .*$", b"vn 0 0 0", grid_obj(6, None, same_row), count=1, flags=re.MULTILINE)
+    mesh = parse_obj(text, "zero.obj")
+    assert mesh.attributes_per_position
+    check_same_corners(mesh)
+    assert np.allclose(np.linalg.norm(mesh.normals, axis=1), 1.0, atol=1e-6)
+    derived = parse_obj(grid_obj(6, None, None), "derived.obj")
+    assert np.array_equal(mesh.normals[0], derived.normals[0])
+    assert not np.allclose(mesh.normals[1], derived.normals[1])  # the file's own
+
+
+def test_unused_positions_of_a_per_position_mesh_get_unit_normals() -> None:
+    mesh = parse_obj(b"v 0 0 0\nv 1 0 0\nv 9 9 9\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n"
+                     b"f 1/1/1 2/2/1 4/3/1\n", "unused.obj")
+    assert mesh.attributes_per_position
+    assert np.allclose(np.linalg.norm(mesh.normals, axis=1), 1.0) and np.isfinite(mesh.uvs).all()
     check_same_corners(mesh)
 
 

@@ -7,7 +7,7 @@ gets the same normals and coordinates whichever way it came in.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -111,44 +111,103 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
     sizes = np.diff(face_start)
     bounds = column_bounds(positions)
     face_normals, degenerate = _face_normals(positions, corner_vertex, face_start, sizes, bounds)
-    corner_normal, missing = _usable_normals(normals, corner_vertex.size)
-    if missing.any():
-        missing = _fill_vertex_normals(corner_normal, missing, positions.shape[0], corner_vertex, sizes,
-                                       face_normals)
     if degenerate.any():
-        _fill_degenerate(face_normals, degenerate, corner_normal, face_start, sizes)
         notes += (f"{int(degenerate.sum())} zero-area faces (given a fallback normal)",)
-    per_position = uv is None and normals is None and not missing.any()
-    if missing.any():
-        corners = np.flatnonzero(missing)  # no usable face touches their position: take their face's
-        corner_normal[corners] = face_normals[np.searchsorted(face_start, corners, side="right") - 1]
+    shape = _Shape(positions, corner_vertex, face_start, sizes, bounds, face_normals, degenerate)
+    by_position = _per_position_sources(corner_vertex, positions.shape[0], uv, normals)
+    # Per position where each position has one uv and one normal: derived once each, not once per corner.
+    attributes = None if by_position is None else _attributes(shape, *by_position, per_position=True)
+    if attributes is None:
+        attributes = _attributes(shape, uv, normals, per_position=False)
     return Mesh(
         name=name,
         positions=np.ascontiguousarray(positions, dtype=np.float64),
         corner_vertex=np.ascontiguousarray(corner_vertex, dtype=INDEX),
-        corner_uv=_corner_uv(uv, positions, corner_vertex, bounds),
-        corner_normal=corner_normal,
+        uvs=attributes[0],
+        normals=attributes[1],
         face_start=np.ascontiguousarray(face_start, dtype=INDEX),
         face_normals=face_normals.astype(np.float32),
         base_colour=base_colour,
         file_material=file_material,
         warnings=notes,
-        attributes_per_position=per_position,
+        attributes_per_position=attributes[2],
     )
 
 
-def _corner_uv(uv: CornerSource | None, positions: np.ndarray, corner_vertex: np.ndarray,
-               bounds: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
-    """The file's vt per corner, and the bounding-box projection where a corner has none."""
+@dataclass(frozen=True)
+class _Shape:
+    """What the normals and texture coordinates are derived from."""
+
+    positions: np.ndarray
+    corner_vertex: np.ndarray
+    face_start: np.ndarray
+    sizes: np.ndarray
+    bounds: tuple[np.ndarray, np.ndarray]
+    face_normals: np.ndarray  # (F, 3), zero for the degenerate faces until _fill_degenerate
+    degenerate: np.ndarray
+
+
+def _per_position_sources(corner_vertex: np.ndarray, vertex_count: int, uv: CornerSource | None,
+                          normals: CornerSource | None) -> tuple[CornerSource | None, CornerSource | None] | None:
+    """The file's vt and vn rows per position, where every corner of a position names the same ones
+    (as `f 1/1/1 2/2/2 3/3/3` does); None where some position's corners differ."""
+    representative = None  # a corner of each position (0 for unused ones), made when first needed
+    sources: list[CornerSource | None] = []
+    for source in (uv, normals):
+        if source is None:
+            sources.append(None)
+            continue
+        table, index = source
+        if table.shape[0] >= vertex_count and np.array_equal(index, corner_vertex):  # each the position's own row
+            sources.append((table, np.arange(vertex_count)))
+            continue
+        if representative is None:
+            representative = np.zeros(vertex_count, np.int64)
+            representative[corner_vertex] = np.arange(corner_vertex.size)
+        position_index = index[representative]
+        if not np.array_equal(position_index[corner_vertex], index):
+            return None
+        sources.append((table, position_index))
+    return sources[0], sources[1]
+
+
+def _attributes(shape: _Shape, uv: CornerSource | None, normals: CornerSource | None, per_position: bool
+                ) -> tuple[np.ndarray, np.ndarray, bool] | None:
+    """The uvs and unit normals, a row per position (`uv` and `normals` give their rows per position)
+    or per corner, and `per_position`. None per position where some used position touches no face
+    with an area: its corners take their own faces' normals, which may differ."""
+    row_vertex = None if per_position else shape.corner_vertex  # None: the rows are the positions
+    rows = shape.positions.shape[0] if per_position else shape.corner_vertex.size
+    vertex_normals, missing = _usable_normals(normals, rows)
+    if missing.any():
+        missing = _fill_vertex_normals(vertex_normals, missing, shape, row_vertex)
+    if per_position and missing.any():
+        used = np.zeros(rows, bool)
+        used[shape.corner_vertex] = True
+        if (missing & used).any():
+            return None
+        vertex_normals[missing] = FALLBACK_NORMAL  # positions no face uses: never drawn
+        missing[:] = False
+    if shape.degenerate.any():
+        _fill_degenerate(shape, vertex_normals, per_position)
+    if missing.any():
+        corners = np.flatnonzero(missing)  # no usable face touches their position: take their face's
+        vertex_normals[corners] = shape.face_normals[np.searchsorted(shape.face_start, corners, side="right") - 1]
+    return _uvs(uv, shape.positions, row_vertex, shape.bounds), vertex_normals, per_position
+
+
+def _uvs(uv: CornerSource | None, positions: np.ndarray, row_vertex: np.ndarray | None,
+         bounds: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """The file's vt per row, and the bounding-box projection where a row has none."""
     if uv is None:
-        return _bounding_box_uv(positions, corner_vertex, bounds)
+        return _bounding_box_uv(positions, row_vertex, bounds)
     table, index = uv
     # np.take gathers small rows faster than fancy indexing
-    corner_uv = np.take(np.clip(table, -FLOAT32_MAX, FLOAT32_MAX).astype(np.float32), index, axis=0)
+    uvs = np.take(np.clip(table, -FLOAT32_MAX, FLOAT32_MAX).astype(np.float32), index, axis=0)
     without = np.flatnonzero(index < 0)
     if without.size:
-        corner_uv[without] = _bounding_box_uv(positions, corner_vertex[without], bounds)
-    return corner_uv
+        uvs[without] = _bounding_box_uv(positions, without if row_vertex is None else row_vertex[without], bounds)
+    return uvs
 
 
 def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: np.ndarray,
@@ -217,39 +276,43 @@ def _size_squared(bounds: tuple[np.ndarray, np.ndarray]) -> float:
     return size if np.isfinite(size) else 0.0
 
 
-def _usable_normals(normals: CornerSource | None, corners: int) -> tuple[np.ndarray, np.ndarray]:
-    """(C, 3) float32 unit normals from the file's vn, and which corners lack a usable one.
+def _usable_normals(normals: CornerSource | None, rows: int) -> tuple[np.ndarray, np.ndarray]:
+    """(rows, 3) float32 unit normals from the file's vn, and which rows lack a usable one.
 
     Normalised once per vn row, not per corner; a zero-length vn is not usable.
     """
     if normals is None:
-        return np.zeros((corners, 3), dtype=np.float32), np.ones(corners, dtype=bool)
+        return np.zeros((rows, 3), dtype=np.float32), np.ones(rows, dtype=bool)
     table, index = normals
     unit, ok = unit_rows(table)
-    corner_normal = np.take(unit.astype(np.float32), index, axis=0)
+    vertex_normals = np.take(unit.astype(np.float32), index, axis=0)
     if ok.all() and index.min() >= 0:  # the usual case: nothing to derive
-        return corner_normal, np.zeros(corners, dtype=bool)
+        return vertex_normals, np.zeros(rows, dtype=bool)
     missing = (index < 0) | ~ok[index]
-    corner_normal[missing] = 0.0
-    return corner_normal, missing
+    vertex_normals[missing] = 0.0
+    return vertex_normals, missing
 
 
-def _fill_vertex_normals(corner_normal: np.ndarray, missing: np.ndarray, vertex_count: int,
-                         corner_vertex: np.ndarray, sizes: np.ndarray, face_normals: np.ndarray) -> np.ndarray:
-    """Vertex normals for the missing corners: the normalised sum of the unit normals of the faces
-    around the position (zero-area faces, still zero here, do not count). Returns the corners
-    still missing one: their position touches no face with an area."""
-    sums = _normal_sums(face_normals, corner_vertex, sizes, vertex_count)
-    vertex_normals, vertex_ok = unit_rows(sums)
+def _fill_vertex_normals(vertex_normals: np.ndarray, missing: np.ndarray, shape: _Shape,
+                         row_vertex: np.ndarray | None) -> np.ndarray:
+    """Normals for the missing rows: the normalised sum of the unit normals of the faces around the
+    row's position (zero-area faces, still zero here, do not count). Returns the rows still missing
+    one: their position touches no face with an area."""
+    sums = _normal_sums(shape.face_normals, shape.corner_vertex, shape.sizes, shape.positions.shape[0])
+    position_normals, position_ok = unit_rows(sums)
     # Converted first: a fancy assignment that also converts is slower than a gather of the right type.
-    vertex_normals = vertex_normals.astype(corner_normal.dtype)
-    if missing.all():  # no `vn` in the file, the usual case: one gather straight into place
-        np.take(vertex_normals, corner_vertex, axis=0, out=corner_normal)
-        return ~vertex_ok[corner_vertex]
-    corners = np.flatnonzero(missing)
-    corner_normal[corners] = vertex_normals[corner_vertex[corners]]
+    position_normals = position_normals.astype(vertex_normals.dtype)
+    if missing.all():  # no `vn` in the file, the usual case: straight into place
+        if row_vertex is None:
+            vertex_normals[:] = position_normals
+            return ~position_ok
+        np.take(position_normals, row_vertex, axis=0, out=vertex_normals)
+        return ~position_ok[row_vertex]
+    rows = np.flatnonzero(missing)
+    vertices = rows if row_vertex is None else row_vertex[rows]
+    vertex_normals[rows] = position_normals[vertices]
     still = np.zeros_like(missing)
-    still[corners] = ~vertex_ok[corner_vertex[corners]]
+    still[rows] = ~position_ok[vertices]
     return still
 
 
@@ -269,15 +332,16 @@ def _normal_sums(face_normals: np.ndarray, corner_vertex: np.ndarray, sizes: np.
                      for axis in axes], axis=1)
 
 
-def _fill_degenerate(face_normals: np.ndarray, degenerate: np.ndarray, corner_normal: np.ndarray,
-                     face_start: np.ndarray, sizes: np.ndarray) -> None:
+def _fill_degenerate(shape: _Shape, vertex_normals: np.ndarray, per_position: bool) -> None:
     """A zero-area face takes the average of its corners' normals, or +z when that is zero too."""
-    faces = np.flatnonzero(degenerate)
-    corners = np.repeat(face_start[faces], sizes[faces]) + _ranks(sizes[faces])
-    sums = np.add.reduceat(corner_normal[corners], np.concatenate(([0], np.cumsum(sizes[faces])[:-1])), axis=0)
+    faces = np.flatnonzero(shape.degenerate)
+    sizes = shape.sizes[faces]
+    corners = np.repeat(shape.face_start[faces], sizes) + _ranks(sizes)
+    rows = shape.corner_vertex[corners] if per_position else corners
+    sums = np.add.reduceat(vertex_normals[rows], np.concatenate(([0], np.cumsum(sizes)[:-1])), axis=0)
     averaged, ok = unit_rows(sums)
     averaged[~ok] = FALLBACK_NORMAL
-    face_normals[faces] = averaged
+    shape.face_normals[faces] = averaged
 
 
 def _ranks(sizes: np.ndarray) -> np.ndarray:
@@ -285,9 +349,10 @@ def _ranks(sizes: np.ndarray) -> np.ndarray:
     return np.arange(int(sizes.sum())) - np.repeat(np.cumsum(sizes) - sizes, sizes)
 
 
-def _bounding_box_uv(positions: np.ndarray, corner_vertex: np.ndarray,
+def _bounding_box_uv(positions: np.ndarray, vertices: np.ndarray | None,
                      bounds: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
-    """Planar projection onto the bounding box's two largest extents, each mapped to 0..1.
+    """Planar projection onto the bounding box's two largest extents, each mapped to 0..1, for these
+    positions (None: every position, in order).
 
     The two axes keep x-y-z order, so a model lying in the xy plane gets u along x and v along y.
     """
@@ -300,4 +365,4 @@ def _bounding_box_uv(positions: np.ndarray, corner_vertex: np.ndarray,
         uv = (positions[:, axes] - low[axes]) / np.where(extent[axes] > 0, extent[axes], 1.0)
     uv[:, extent[axes] <= 0] = 0.0
     uv = np.where(np.isfinite(uv), uv, 0.0).astype(np.float32)
-    return np.take(uv, corner_vertex, axis=0)
+    return uv if vertices is None else np.take(uv, vertices, axis=0)

@@ -3,9 +3,10 @@
 Faces are polygons of any size stored as one flat list of *corners* (CSR layout): polygon ``f`` owns
 corners ``face_start[f]:face_start[f + 1]``. A corner carries the index of its position and its own
 texture coordinate and vertex normal, because OBJ lets one position have different ``vt``/``vn`` on
-different faces. Triangles are a fan from each polygon's first corner, the way the seed draws them,
-so the first corner of every triangle is its polygon's first vertex: with the provoking vertex set to
-the first one, a ``flat`` varying gives exactly SPEC's "face normal at the polygon's first vertex".
+different faces; where no position does, they are stored once per position instead. Triangles are a
+fan from each polygon's first corner, the way the seed draws them, so the first corner of every
+triangle is its polygon's first vertex: with the provoking vertex set to the first one, a ``flat``
+varying gives exactly SPEC's "face normal at the polygon's first vertex".
 """
 
 from __future__ import annotations
@@ -78,16 +79,17 @@ class Mesh:
     name: str
     positions: np.ndarray  # (V, 3) float64: the file's `v` table, in file order
     corner_vertex: np.ndarray  # (C,) INDEX: index into positions for each polygon corner
-    corner_uv: np.ndarray  # (C, 2) float32: texture coordinate per corner (from vt, or the bounding box)
-    corner_normal: np.ndarray  # (C, 3) float32: unit vertex normal per corner (vn, or averaged faces)
+    # A row per corner, or per position where attributes_per_position: see attribute_rows.
+    uvs: np.ndarray  # (C or V, 2) float32: texture coordinates (from vt, or the bounding box)
+    normals: np.ndarray  # (C or V, 3) float32: unit vertex normals (vn, or averaged faces)
     face_start: np.ndarray  # (F + 1,) INDEX: CSR offsets of each polygon's corners
     face_normals: np.ndarray  # (F, 3) float32: unit normal per polygon (Newell's method)
     base_colour: tuple[float, float, float] | None = None  # the seed's `# colour r g b`, in 0..1
     # Ka/Kd/Ks/Ns read from the file's MTL when it exists: keys "ka", "kd", "ks" (3-tuples), "ns".
     file_material: dict[str, object] | None = None
     warnings: tuple[str, ...] = field(default=())  # non-fatal oddities worth telling the person
-    # True when every corner of a position has the same normal and uv (both derived per position, as
-    # for a file with neither vt nor vn): then no position needs a second vertex row (no seams).
+    # True when every corner of a position has the same normal and uv, stored once per position: then
+    # no position needs a second vertex row (no seams), and the tables are a sixth of the corners'.
     attributes_per_position: bool = False
     # The file's materials and, per polygon, which one it uses (-1: none, the object's own material).
     # Without `usemtl` both are empty and the whole mesh takes the object's material.
@@ -107,6 +109,20 @@ class Mesh:
     @property
     def face_sizes(self) -> np.ndarray:
         return np.diff(self.face_start)
+
+    def attribute_rows(self, corners: np.ndarray | int) -> np.ndarray | int:
+        """The rows of `uvs` and `normals` that hold these corners' values."""
+        return self.corner_vertex[corners] if self.attributes_per_position else corners
+
+    @property
+    def corner_uv(self) -> np.ndarray:
+        """(C, 2) float32: each corner's texture coordinate (gathered anew where stored per position)."""
+        return self.uvs[self.corner_vertex] if self.attributes_per_position else self.uvs
+
+    @property
+    def corner_normal(self) -> np.ndarray:
+        """(C, 3) float32: each corner's unit vertex normal (gathered anew where stored per position)."""
+        return self.normals[self.corner_vertex] if self.attributes_per_position else self.normals
 
     # Cached: the renderer asks every frame (far plane, normal length) and a mesh never changes.
     # cached_property writes the instance __dict__ directly, so it works on a frozen dataclass.
@@ -146,8 +162,9 @@ class Mesh:
         # Only the positions the part uses: the GPU arrays hold a row per position, so parts sharing
         # the whole table would cost the table once per material.
         used, corner_vertex = np.unique(self.corner_vertex[corners], return_inverse=True)
+        rows = used if self.attributes_per_position else corners
         part = Mesh(name=self.name, positions=self.positions[used], corner_vertex=corner_vertex.astype(INDEX),
-                    corner_uv=self.corner_uv[corners], corner_normal=self.corner_normal[corners],
+                    uvs=self.uvs[rows], normals=self.normals[rows],
                     face_start=face_start, face_normals=self.face_normals[faces], base_colour=self.base_colour,
                     attributes_per_position=self.attributes_per_position,
                     vertex_colours=None if self.vertex_colours is None else self.vertex_colours[used])

@@ -110,7 +110,7 @@ class _VertexLighting:
         vertex = int(mesh.corner_vertex[corner])
         position = transform_point(obj.model, mesh.positions[vertex])
         normal = (face_normal if face_normal is not None
-                  else _world_normal(obj.model, mesh.corner_normal[corner]))
+                  else _world_normal(obj.model, mesh.normals[mesh.attribute_rows(corner)]))
         face = int(np.searchsorted(mesh.face_start, corner, side="right") - 1)
         terms = shade_terms(position, normal, self.eye_or_view, obj.face_material(face), self.lights,
                             self.scene.ambient, self.parallel)

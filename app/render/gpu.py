@@ -113,24 +113,26 @@ class SurfaceArrays:
 def surface_arrays(mesh: Mesh) -> SurfaceArrays:
     corner_vertex = mesh.corner_vertex
     positions = mesh.vertex_count
-    representative = np.zeros(positions, np.int64)
-    representative[corner_vertex] = np.arange(corner_vertex.shape[0])  # any corner of each position
-    # A mesh whose normals and uvs are per position has no seams: no need to compare.
-    seams = (np.zeros(0, np.int64) if mesh.attributes_per_position
-             else _seams(mesh, representative[corner_vertex]))
-    first_corners = mesh.face_start[:-1]
+    if mesh.attributes_per_position:  # a position's uv and normal are its own: no seams, no need to compare
+        position_attributes = np.arange(positions)
+        seams = np.zeros(0, np.int64)
+    else:
+        position_attributes = np.zeros(positions, np.int64)
+        position_attributes[corner_vertex] = np.arange(corner_vertex.shape[0])  # any corner of each position
+        seams = _seams(mesh, position_attributes[corner_vertex])
     shared_rows = positions + seams.shape[0]
-    row_corner = np.concatenate([representative, seams, first_corners])
+    later_corners = np.concatenate([seams, mesh.face_start[:-1]])  # the corners of the rows past the positions'
+    attribute_row = np.concatenate([position_attributes, mesh.attribute_rows(later_corners)])
 
-    vertices = np.empty((row_corner.shape[0], 8), np.float32)
+    vertices = np.empty((attribute_row.shape[0], 8), np.float32)
     positions32 = mesh.positions.astype(np.float32)
     # A position's own row is the position: no gather (rows of unused positions are never indexed).
     vertices[:positions, 0:3] = positions32
     # np.take gathers rows faster than fancy indexing does.
-    vertices[positions:, 0:3] = np.take(positions32, corner_vertex[row_corner[positions:]], axis=0)
-    vertices[:shared_rows, 3:6] = np.take(mesh.corner_normal, row_corner[:shared_rows], axis=0)
+    vertices[positions:, 0:3] = np.take(positions32, corner_vertex[later_corners], axis=0)
+    vertices[:shared_rows, 3:6] = np.take(mesh.normals, attribute_row[:shared_rows], axis=0)
     vertices[shared_rows:, 3:6] = mesh.face_normals  # Flat lights a polygon at its own row only
-    vertices[:, 6:8] = np.take(mesh.corner_uv, row_corner, axis=0)
+    vertices[:, 6:8] = np.take(mesh.uvs, attribute_row, axis=0)
 
     row_of_corner = corner_vertex.astype(np.uint32)
     row_of_corner[seams] = np.arange(positions, shared_rows, dtype=np.uint32)
@@ -140,9 +142,9 @@ def surface_arrays(mesh: Mesh) -> SurfaceArrays:
     indices[0::3] = polygon_rows if mesh.all_triangles else np.repeat(polygon_rows, mesh.face_sizes - 2)
     colours = None
     if mesh.vertex_colours is not None:  # 4 bytes a row keeps every row aligned for the GPU
-        colours = np.full((row_corner.shape[0], 4), 255, np.uint8)
+        colours = np.full((attribute_row.shape[0], 4), 255, np.uint8)
         colours[:positions, :3] = mesh.vertex_colours
-        colours[positions:, :3] = np.take(mesh.vertex_colours, corner_vertex[row_corner[positions:]], axis=0)
+        colours[positions:, :3] = np.take(mesh.vertex_colours, corner_vertex[later_corners], axis=0)
     return SurfaceArrays(vertices, indices, shared_indices, shared_rows, colours)
 
 

@@ -25,7 +25,7 @@ MEMORY_HEADERS = ("file", "triangles", "Mesh B/tri", "GPU-ready arrays B/tri", "
                   "of which llvmpipe's scene queue B/tri", "compiled reader MB, once", "compiled reader s, once")
 
 
-MESH_ARRAYS = ("positions", "corner_vertex", "corner_uv", "corner_normal", "face_start", "face_normals")
+MESH_ARRAYS = ("positions", "corner_vertex", "uvs", "normals", "face_start", "face_normals")
 
 
 def mesh_bytes(mesh: Mesh) -> int:
