@@ -3,8 +3,11 @@ own standalone context (CGL on macOS, WGL on Windows, GLX with a display on Linu
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+import ctypes
+import ctypes.util
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from functools import cache
 
 import moderngl
 import numpy as np
@@ -103,6 +106,35 @@ def _filled_on_gpu(ctx: moderngl.Context, size: int, source: np.ndarray | None) 
     finally:
         staging.release()
     return buffer
+
+
+@cache
+def gl_flush() -> Callable[[], None]:
+    """glFlush, which moderngl does not wrap: every platform's GL library exports it (GL 1.1), and on
+    Linux's libglvnd it goes to whichever context is current, EGL's or the window's. A no-op where
+    no such library is found: it only lets the GPU start sooner."""
+    for name in ("OpenGL", "GL", "opengl32"):
+        path = ctypes.util.find_library(name)
+        if path is None:
+            continue
+        try:
+            flush = ctypes.CDLL(path).glFlush
+        except (OSError, AttributeError):
+            continue
+        flush.restype, flush.argtypes = None, []
+        return flush
+    return lambda: None
+
+
+# llvmpipe bins every primitive of a flush before its threads rasterize any, and keeps the bins'
+# memory: drawn in pieces with a glFlush after each, binning overlaps rasterizing, in less memory.
+SOFTWARE_PIECE_PRIMITIVES = 1 << 14
+
+
+def draw_piece_primitives(ctx: moderngl.Context) -> int | None:
+    """How many primitives a draw call sends before a glFlush: pieces on llvmpipe; None (whole draws)
+    on a GPU, where each flush costs a submission."""
+    return SOFTWARE_PIECE_PRIMITIVES if "llvmpipe" in ctx.info.get("GL_RENDERER", "") else None
 
 
 def max_texture_side(ctx: moderngl.Context) -> int:

@@ -22,7 +22,7 @@ from marraztu.model.lights import MAX_LIGHTS, shader_defines
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Fill, Projection, Scene, SceneObject, Shading, Target
 from marraztu.model.transforms import normal_matrix
-from marraztu.render.context import check_gl, max_texture_side
+from marraztu.render.context import check_gl, draw_piece_primitives, gl_flush, max_texture_side
 from marraztu.render.gpu import EDGE_FACE_UNITS, ObjectGpu, Programs, VertexRange, load_program
 from marraztu.render.guides import GuidesDrawer
 from marraztu.render.layout import View, view_projection, views
@@ -129,6 +129,7 @@ def part_of_face(obj: SceneObject, face: int) -> tuple[int, int]:
 class Renderer:
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
+        self.draw = Draw(draw_piece_primitives(ctx))
         # One surface program per shading, and a lighting pass for those that light vertices; the
         # current view's are `self.surface` and `self.lighting`.
         lights = shader_defines()
@@ -386,8 +387,7 @@ class Renderer:
         assert self.texture is not None
         picture = item.obj.mesh.materials[item.file_material].texture if item.file_material >= 0 else None
         (self.texture if picture is None else self._file_texture(picture)).use(location=0)
-        _draw(gpu.surface(self.shading), moderngl.TRIANGLES,
-              gpu.surface_range(item.start, item.stop))
+        self.draw(gpu.surface(self.shading), moderngl.TRIANGLES, gpu.surface_range(item.start, item.stop))
 
     def _draw_all_edges(self, scene: Scene, items: list[tuple[DrawItem, ObjectGpu]]) -> None:
         """Every object's edges in one pass: front faces' edges over back faces' (red; skipped with
@@ -405,7 +405,7 @@ class Renderer:
     def _draw_edges(self, item: DrawItem, gpu: ObjectGpu, selected: bool) -> None:
         self._set_model([self.edges], item.obj.model)
         self.edges.set("u_colour", SELECTED_LINE_COLOUR if selected else LINE_COLOUR)
-        _draw_edge_lines(gpu, gpu.edge_range(item.start, item.stop))
+        self._draw_edge_lines(gpu, gpu.edge_range(item.start, item.stop))
 
     def _draw_probe_outline(self, scene: Scene) -> None:
         """The probed face's edges and a dot on each vertex the probe lights, over everything, so the
@@ -419,7 +419,7 @@ class Renderer:
         self._set_model([self.edges], obj.model)
         self.edges.set("u_outline", True)
         self.edges.set("u_colour", PROBE_COLOUR)
-        _draw_edge_lines(gpu, gpu.edge_range(face, face + 1))
+        self._draw_edge_lines(gpu, gpu.edge_range(face, face + 1))
         self.edges.set("u_outline", False)
         for point in scene.probed_points():
             self._draw_marker(point, np.array(PROBE_COLOUR), PROBE_MARKER_PX)
@@ -429,10 +429,15 @@ class Renderer:
         self._set_model([self.normals], item.obj.model)
         self.normals.set("u_length", NORMAL_LENGTH_FRACTION * item.obj.mesh.size)  # the whole object's scale
         if face_normals:  # one point per normal: normals.glsl draws its segment
-            _draw(gpu.face_normals, moderngl.POINTS, gpu.face_normal_range(item.start, item.stop))
+            self.draw(gpu.face_normals, moderngl.POINTS, gpu.face_normal_range(item.start, item.stop))
         else:
             vao, span = gpu.vertex_normals(item.start, item.stop)
-            _draw(vao, moderngl.POINTS, span)
+            self.draw(vao, moderngl.POINTS, span)
+
+    def _draw_edge_lines(self, gpu: ObjectGpu, span: VertexRange) -> None:
+        edges = gpu.edges
+        gpu.use_edge_faces()
+        self.draw(edges, moderngl.LINES, span)
 
     def _draw_light_marker(self, scene: Scene) -> None:
         """The selected light as a dot in its own colour (dimmed while it is off), over everything."""
@@ -450,12 +455,20 @@ class Renderer:
         self.ctx.disable(moderngl.PROGRAM_POINT_SIZE)
 
 
-def _draw(vao: moderngl.VertexArray, mode: int, span: VertexRange) -> None:
-    if span.vertices > 0:
-        vao.render(mode, vertices=span.vertices, first=span.first)
+@dataclass(frozen=True)
+class Draw:
+    """Draw calls, whole, or in pieces of `piece_primitives` with a glFlush after each but the last
+    (marraztu.render.context.draw_piece_primitives): the same pixels either way, GL keeping the order."""
+
+    piece_primitives: int | None
+
+    def __call__(self, vao: moderngl.VertexArray, mode: int, span: VertexRange) -> None:
+        stop = span.first + span.vertices
+        piece = span.vertices if self.piece_primitives is None else self.piece_primitives * _VERTICES_PER[mode]
+        for first in range(span.first, stop, max(piece, 1)):
+            if first > span.first:
+                gl_flush()()
+            vao.render(mode, vertices=min(piece, stop - first), first=first)
 
 
-def _draw_edge_lines(gpu: ObjectGpu, span: VertexRange) -> None:
-    edges = gpu.edges
-    gpu.use_edge_faces()
-    _draw(edges, moderngl.LINES, span)
+_VERTICES_PER = {moderngl.TRIANGLES: 3, moderngl.LINES: 2, moderngl.POINTS: 1}  # vertices per primitive
