@@ -245,6 +245,20 @@ def test_a_glb_base_colour_texture_is_drawn_with_its_uvs(tmp_path: Path) -> None
     assert np.abs(plain[60, 42] - plain[60, 78]).max() <= 2
 
 
+def test_per_vertex_uvs_are_kept_per_position(tmp_path: Path) -> None:
+    """A glTF's texture coordinates are one per vertex, as are its derived normals: the mesh stores
+    them once per position, and every corner reads its vertex's own."""
+    uv = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float64)
+    mesh = trimesh.Trimesh(vertices=POSITIONS[:4], faces=FACES[:2], process=False)
+    mesh.visual = trimesh.visual.TextureVisuals(uv=uv, image=Image.fromarray(np.zeros((4, 4, 3), np.uint8)))
+    (tmp_path / "uv.glb").write_bytes(mesh.export(file_type="glb"))
+    loaded = load_model(tmp_path / "uv.glb")
+    assert loaded.attributes_per_position and loaded.uvs.shape == (loaded.vertex_count, 2)
+    by_position = {tuple(np.round(p, 4)): tuple(t) for p, t in zip(POSITIONS[:4], uv)}
+    for corner, vertex in enumerate(loaded.corner_vertex):  # glTF stores v upside down: trimesh flips it back
+        assert tuple(loaded.corner_uv[corner]) == by_position[tuple(np.round(loaded.positions[vertex], 4))]
+
+
 def test_ascii_stl_keywords_are_found_within_their_own_line() -> None:
     """The indent before `facet` stays within its line: an indent that ran on over blank lines would
     make each blank line scan all those after it, quadratic in a file of blank lines."""
