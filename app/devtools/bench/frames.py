@@ -96,16 +96,18 @@ class BareDraw:
     def __init__(self, ctx: moderngl.Context, scene: Scene) -> None:
         import moderngl
 
-        from marraztu.render.gpu import LIT_ROW_BYTES
-        from marraztu.render.renderer import CLEAR_COLOUR
+        from marraztu.render.context import draw_piece_primitives
+        from marraztu.render.gpu import LIT_ROW_BYTES, VertexRange
+        from marraztu.render.renderer import CLEAR_COLOUR, Draw
 
         self.gl = moderngl  # imported here, not per frame, so the bare CPU figures stay bare
+        self.draw, self.vertex_range = Draw(draw_piece_primitives(ctx)), VertexRange  # in the renderer's pieces
         self.clear_colour = CLEAR_COLOUR
         self.ctx = ctx
         self.scene = scene
         self.lit_row_bytes = LIT_ROW_BYTES  # kept, so a frame imports nothing
         self.buffers: list[moderngl.Buffer] = []
-        self.objects: list[tuple[SceneObject, dict[str, moderngl.VertexArray]]] = []
+        self.objects: list[tuple[SceneObject, dict[str, tuple[moderngl.VertexArray, int]]]] = []
         self.lighting: list[BareLighting] = []
         self.programs: list[moderngl.Program] = []
         try:
@@ -154,11 +156,13 @@ class BareDraw:
         lit_rows = {shading.value: lit_row_range(shading, arrays.shared_rows, 0, mesh.face_count)
                     for shading in (Shading.FLAT, Shading.GOURAUD)}
         self.lighting.append(BareLighting(ctx.vertex_array(self.lighting_program, position), lit, lit_rows))
-        self.objects.append((obj, {
-            "flat": ctx.vertex_array(self.program, position, index_buffer=indices, index_element_size=4),
-            "gouraud": ctx.vertex_array(self.program, position, index_buffer=shared, index_element_size=4),
-            "lines": ctx.vertex_array(self.program, [(edges, position_only(EDGE_LAYOUT), "in_position")],
-                                      index_buffer=pairs, index_element_size=4)}))
+        self.objects.append((obj, {  # each mode's vertex array and how many vertices it draws
+            "flat": (ctx.vertex_array(self.program, position, index_buffer=indices, index_element_size=4),
+                     arrays.indices.size),
+            "gouraud": (ctx.vertex_array(self.program, position, index_buffer=shared, index_element_size=4),
+                        arrays.shared_indices.size),
+            "lines": (ctx.vertex_array(self.program, [(edges, position_only(EDGE_LAYOUT), "in_position")],
+                                       index_buffer=pairs, index_element_size=4), pairs.size // 4)}))
 
     def render(self, fbo: moderngl.Framebuffer, size: tuple[int, int], mode: str, moving: bool = False) -> None:
         gl = self.gl
@@ -177,7 +181,8 @@ class BareDraw:
         for obj, arrays in self.objects:
             mvp = view_projection @ obj.model
             self.mvp.write(np.ascontiguousarray(mvp.T, dtype="f4").tobytes())
-            arrays[mode].render(gl.TRIANGLES if filled else gl.LINES)
+            vertex_array, vertices = arrays[mode]
+            self.draw(vertex_array, gl.TRIANGLES if filled else gl.LINES, self.vertex_range(0, vertices))
         self.ctx.disable(gl.DEPTH_TEST)
 
     def _light(self, mode: str) -> None:
@@ -189,7 +194,7 @@ class BareDraw:
 
     def release(self) -> None:
         for _, arrays in self.objects:
-            for vao in arrays.values():
+            for vao, _ in arrays.values():
                 vao.release()
         for lighting in self.lighting:
             lighting.vertex_array.release()
@@ -349,7 +354,8 @@ def frames_section(bench: FrameBench, config: BenchConfig) -> list[str]:
         f"{config.frame_budget_s:g} s). *moving*: the camera turns {NUDGE_RADIANS:g} rad before the frame, so "
         "every vertex is lit again; *still*: the next frame, nothing changed, so the lighting pass is "
         "skipped. *bare* = a pass-through program drawing the same vertex buffers (same layout, depth "
-        "test and primitive count; lines drawn once) in the same process, frames alternating with the "
+        "test, primitive count and draw calls, in the renderer's pieces on llvmpipe; lines drawn once) in "
+        "the same process, frames alternating with the "
         "program's; the ratios are what the program adds. *bare moving* = the bare draw after a "
         "pass-through transform feedback over the rows the lighting pass reads, capturing as many bytes "
         "per row (Flat: one row per polygon; Gouraud: the shared rows; lines: none): the floor under a "
