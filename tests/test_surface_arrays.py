@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -183,6 +184,17 @@ def test_per_position_and_per_corner_storage_give_the_same_corners() -> None:
     assert np.array_equal(per_corner.corner_uv[:shared], per_position.corner_uv)
     assert np.array_equal(per_corner.corner_normal[:shared], per_position.corner_normal)
     check_same_corners(per_corner)
+
+
+def test_the_material_parts_of_a_per_position_mesh_keep_their_corners() -> None:
+    mesh = parse_obj(grid_obj(6, same_row, same_row), "grid.obj")
+    split = replace(mesh, face_material=(np.arange(mesh.face_count) % 3 == 0).astype(np.int32))
+    for part in split.parts:
+        assert part.mesh.attributes_per_position and part.mesh.normals.shape == (part.mesh.vertex_count, 3)
+        corners = (split.face_start[part.faces][:, None] + np.arange(3)).reshape(-1)
+        assert np.array_equal(part.mesh.corner_uv, mesh.corner_uv[corners])
+        assert np.array_equal(part.mesh.corner_normal, mesh.corner_normal[corners])
+        check_same_corners(part.mesh)
 
 
 def test_a_zero_length_vn_is_derived_per_position_too() -> None:

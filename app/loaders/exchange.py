@@ -22,7 +22,7 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import MAX_FILE_BYTES, read_file, text_lines
-from marraztu.model.build import CornerSource, colour_bytes, derive_mesh
+from marraztu.model.build import CornerSource, derive_mesh, with_vertex_colours
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh, MeshMaterial
 
@@ -204,10 +204,9 @@ def _finish(path: Path, loaded: Any, data: bytes | None, merge: bool = False) ->
         faces = inverse.reshape(-1)[faces]
         colours = None if colours is None else colours[first]
     corner_vertex = faces.reshape(-1)
-    mesh = derive_mesh(path.stem, positions, corner_vertex, np.arange(0, corner_vertex.size + 1, 3), uv, None,
-                       None, _material_of(loaded), tuple(notes))
-    if colours is not None:
-        mesh = replace(mesh, vertex_colours=colour_bytes(colours, len(positions)))
+    mesh = with_vertex_colours(derive_mesh(
+        path.stem, positions, corner_vertex, face_start=np.arange(0, corner_vertex.size + 1, 3), uv=uv,
+        normals=None, base_colour=None, file_material=_material_of(loaded), notes=tuple(notes)), colours)
     texture = _base_colour_texture(loaded) if uv is not None else None
     if texture is None:
         return mesh

@@ -48,9 +48,12 @@ def build_mesh(
     given_normals = None if normals is None else _per_corner_table(normals, corners, 3)
     mesh = derive_mesh(name, points, corner_vertex, face_start, given_uv, given_normals,
                        base_colour, file_material, tuple(warnings))
-    if vertex_colours is None:
-        return mesh
-    return replace(mesh, vertex_colours=colour_bytes(vertex_colours, len(points)))
+    return with_vertex_colours(mesh, vertex_colours)
+
+
+def with_vertex_colours(mesh: Mesh, colours: np.ndarray | Sequence[Sequence[float]] | None) -> Mesh:
+    """The mesh with a colour per position (see colour_bytes), or as it is without colours."""
+    return mesh if colours is None else replace(mesh, vertex_colours=colour_bytes(colours, mesh.vertex_count))
 
 
 def colour_bytes(colours: np.ndarray | Sequence[Sequence[float]], rows: int) -> np.ndarray:
@@ -117,6 +120,7 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
     by_position = _per_position_sources(corner_vertex, positions.shape[0], uv, normals)
     # Per position where each position has one uv and one normal: derived once each, not once per corner.
     attributes = None if by_position is None else _attributes(shape, *by_position, per_position=True)
+    per_position = attributes is not None
     if attributes is None:
         attributes = _attributes(shape, uv, normals, per_position=False)
     return Mesh(
@@ -130,7 +134,7 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
         base_colour=base_colour,
         file_material=file_material,
         warnings=notes,
-        attributes_per_position=attributes[2],
+        attributes_per_position=per_position,
     )
 
 
@@ -172,10 +176,10 @@ def _per_position_sources(corner_vertex: np.ndarray, vertex_count: int, uv: Corn
 
 
 def _attributes(shape: _Shape, uv: CornerSource | None, normals: CornerSource | None, per_position: bool
-                ) -> tuple[np.ndarray, np.ndarray, bool] | None:
+                ) -> tuple[np.ndarray, np.ndarray] | None:
     """The uvs and unit normals, a row per position (`uv` and `normals` give their rows per position)
-    or per corner, and `per_position`. None per position where some used position touches no face
-    with an area: its corners take their own faces' normals, which may differ."""
+    or per corner. None per position where some used position touches no face with an area: its
+    corners take their own faces' normals, which may differ."""
     row_vertex = None if per_position else shape.corner_vertex  # None: the rows are the positions
     rows = shape.positions.shape[0] if per_position else shape.corner_vertex.size
     vertex_normals, missing = _usable_normals(normals, rows)
@@ -185,7 +189,7 @@ def _attributes(shape: _Shape, uv: CornerSource | None, normals: CornerSource | 
         used = np.zeros(rows, bool)
         used[shape.corner_vertex] = True
         if (missing & used).any():
-            return None
+            return None  # before _fill_degenerate changes the face normals the per-corner try starts from
         vertex_normals[missing] = FALLBACK_NORMAL  # positions no face uses: never drawn
         missing[:] = False
     if shape.degenerate.any():
@@ -193,7 +197,7 @@ def _attributes(shape: _Shape, uv: CornerSource | None, normals: CornerSource | 
     if missing.any():
         corners = np.flatnonzero(missing)  # no usable face touches their position: take their face's
         vertex_normals[corners] = shape.face_normals[np.searchsorted(shape.face_start, corners, side="right") - 1]
-    return _uvs(uv, shape.positions, row_vertex, shape.bounds), vertex_normals, per_position
+    return _uvs(uv, shape.positions, row_vertex, shape.bounds), vertex_normals
 
 
 def _uvs(uv: CornerSource | None, positions: np.ndarray, row_vertex: np.ndarray | None,

@@ -89,7 +89,7 @@ class Mesh:
     file_material: dict[str, object] | None = None
     warnings: tuple[str, ...] = field(default=())  # non-fatal oddities worth telling the person
     # True when every corner of a position has the same normal and uv, stored once per position: then
-    # no position needs a second vertex row (no seams), and the tables are a sixth of the corners'.
+    # no position needs a second vertex row (no seams), and the tables hold fewer rows than corners.
     attributes_per_position: bool = False
     # The file's materials and, per polygon, which one it uses (-1: none, the object's own material).
     # Without `usemtl` both are empty and the whole mesh takes the object's material.
@@ -110,8 +110,8 @@ class Mesh:
     def face_sizes(self) -> np.ndarray:
         return np.diff(self.face_start)
 
-    def attribute_rows(self, corners: np.ndarray | int) -> np.ndarray | int:
-        """The rows of `uvs` and `normals` that hold these corners' values."""
+    def attribute_rows(self, corners: np.ndarray | int) -> np.ndarray | np.integer | int:
+        """The rows of `uvs` and `normals` that hold these corners' values (one corner: one row)."""
         return self.corner_vertex[corners] if self.attributes_per_position else corners
 
     @property

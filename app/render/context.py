@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import ctypes
 import ctypes.util
+import os
+import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from functools import cache
@@ -110,31 +112,42 @@ def _filled_on_gpu(ctx: moderngl.Context, size: int, source: np.ndarray | None) 
 
 @cache
 def gl_flush() -> Callable[[], None]:
-    """glFlush, which moderngl does not wrap: every platform's GL library exports it (GL 1.1), and on
-    Linux's libglvnd it goes to whichever context is current, EGL's or the window's. A no-op where
-    no such library is found: it only lets the GPU start sooner."""
-    for name in ("OpenGL", "GL", "opengl32"):
-        path = ctypes.util.find_library(name)
-        if path is None:
-            continue
-        try:
-            flush = ctypes.CDLL(path).glFlush
-        except (OSError, AttributeError):
-            continue
-        flush.restype, flush.argtypes = None, []
-        return flush
-    return lambda: None
+    """glFlush, which moderngl does not wrap, from the GL library glcontext loads (so that it reaches
+    the context glcontext made; libglvnd's libraries all reach the current one). A no-op where that
+    library cannot be found: it only lets the GPU start sooner."""
+    try:
+        library = _gl_library()
+        flush = library.glFlush if library is not None else None
+    except (OSError, AttributeError):
+        flush = None
+    if flush is None:
+        return lambda: None
+    flush.restype, flush.argtypes = None, []
+    return flush
 
 
-# llvmpipe bins every primitive of a flush before its threads rasterize any, and keeps the bins'
-# memory: drawn in pieces with a glFlush after each, binning overlaps rasterizing, in less memory.
+def _gl_library() -> ctypes.CDLL | None:
+    if sys.platform == "win32":
+        return ctypes.WinDLL(os.environ.get("GLCONTEXT_WIN_LIBGL", "opengl32"))  # by name: the loaded one
+    if sys.platform == "darwin":
+        path = ctypes.util.find_library("OpenGL")
+    else:
+        path = os.environ.get("GLCONTEXT_LINUX_LIBGL") or ctypes.util.find_library("GL")
+    return None if path is None else ctypes.CDLL(path)
+
+
+# llvmpipe sorts every primitive of a flush into tiles before its threads draw any: drawn in pieces
+# with a glFlush after each, the next piece is sorted while the threads draw the last.
 SOFTWARE_PIECE_PRIMITIVES = 1 << 14
+# llvmpipe keeps the memory of every scene it has queued, for reuse; the normals' segments, made by a
+# geometry stage, queue far deeper than triangles do, so their draws wait for it every few pieces.
+SOFTWARE_SEGMENT_PIECES_IN_FLIGHT = 4
 
 
 def draw_piece_primitives(ctx: moderngl.Context) -> int | None:
     """How many primitives a draw call sends before a glFlush: pieces on llvmpipe; None (whole draws)
     on a GPU, where each flush costs a submission."""
-    return SOFTWARE_PIECE_PRIMITIVES if "llvmpipe" in ctx.info.get("GL_RENDERER", "") else None
+    return SOFTWARE_PIECE_PRIMITIVES if ctx.info.get("GL_RENDERER", "").startswith("llvmpipe") else None
 
 
 def max_texture_side(ctx: moderngl.Context) -> int:

@@ -10,7 +10,7 @@ that is skipped while every uniform it reads keeps its value (ObjectGpu.light).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Iterable
+from typing import Any, Callable, Iterable
 
 import moderngl
 import numpy as np
@@ -22,7 +22,13 @@ from marraztu.model.lights import MAX_LIGHTS, shader_defines
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Fill, Projection, Scene, SceneObject, Shading, Target
 from marraztu.model.transforms import normal_matrix
-from marraztu.render.context import check_gl, draw_piece_primitives, gl_flush, max_texture_side
+from marraztu.render.context import (
+    SOFTWARE_SEGMENT_PIECES_IN_FLIGHT,
+    check_gl,
+    draw_piece_primitives,
+    gl_flush,
+    max_texture_side,
+)
 from marraztu.render.gpu import EDGE_FACE_UNITS, ObjectGpu, Programs, VertexRange, load_program
 from marraztu.render.guides import GuidesDrawer
 from marraztu.render.layout import View, view_projection, views
@@ -129,7 +135,7 @@ def part_of_face(obj: SceneObject, face: int) -> tuple[int, int]:
 class Renderer:
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
-        self.draw = Draw(draw_piece_primitives(ctx))
+        self.draw, self.draw_segments = pieced_draws(ctx)
         # One surface program per shading, and a lighting pass for those that light vertices; the
         # current view's are `self.surface` and `self.lighting`.
         lights = shader_defines()
@@ -429,10 +435,10 @@ class Renderer:
         self._set_model([self.normals], item.obj.model)
         self.normals.set("u_length", NORMAL_LENGTH_FRACTION * item.obj.mesh.size)  # the whole object's scale
         if face_normals:  # one point per normal: normals.glsl draws its segment
-            self.draw(gpu.face_normals, moderngl.POINTS, gpu.face_normal_range(item.start, item.stop))
+            self.draw_segments(gpu.face_normals, moderngl.POINTS, gpu.face_normal_range(item.start, item.stop))
         else:
             vao, span = gpu.vertex_normals(item.start, item.stop)
-            self.draw(vao, moderngl.POINTS, span)
+            self.draw_segments(vao, moderngl.POINTS, span)
 
     def _draw_edge_lines(self, gpu: ObjectGpu, span: VertexRange) -> None:
         edges = gpu.edges
@@ -457,18 +463,32 @@ class Renderer:
 
 @dataclass(frozen=True)
 class Draw:
-    """Draw calls, whole, or in pieces of `piece_primitives` with a glFlush after each but the last
-    (marraztu.render.context.draw_piece_primitives): the same pixels either way, GL keeping the order."""
+    """Draw calls, whole, or in pieces of `piece_primitives` with a `flush` after each but the last
+    (marraztu.render.context.draw_piece_primitives), and with a wait for the GPU instead every
+    `pieces_in_flight` pieces where that is set: the same pixels any way, GL keeping the order."""
 
-    piece_primitives: int | None
+    piece_primitives: int | None = None
+    flush: Callable[[], None] = lambda: None
+    pieces_in_flight: int | None = None
 
     def __call__(self, vao: moderngl.VertexArray, mode: int, span: VertexRange) -> None:
         stop = span.first + span.vertices
         piece = span.vertices if self.piece_primitives is None else self.piece_primitives * _VERTICES_PER[mode]
-        for first in range(span.first, stop, max(piece, 1)):
-            if first > span.first:
-                gl_flush()()
+        for count, first in enumerate(range(span.first, stop, max(piece, 1))):
+            if count and self.pieces_in_flight and count % self.pieces_in_flight == 0:
+                vao.ctx.finish()
+            elif count:
+                self.flush()
             vao.render(mode, vertices=min(piece, stop - first), first=first)
 
 
-_VERTICES_PER = {moderngl.TRIANGLES: 3, moderngl.LINES: 2, moderngl.POINTS: 1}  # vertices per primitive
+def pieced_draws(ctx: moderngl.Context) -> tuple[Draw, Draw]:
+    """The draws for surfaces and edges, and for the normals' segments: in pieces on llvmpipe."""
+    piece = draw_piece_primitives(ctx)
+    if piece is None:
+        return Draw(), Draw()
+    flush = gl_flush()
+    return Draw(piece, flush), Draw(piece, flush, SOFTWARE_SEGMENT_PIECES_IN_FLIGHT)
+
+
+_VERTICES_PER = {moderngl.TRIANGLES: 3, moderngl.LINES: 2, moderngl.POINTS: 1}  # the modes the renderer draws

@@ -96,12 +96,12 @@ class BareDraw:
     def __init__(self, ctx: moderngl.Context, scene: Scene) -> None:
         import moderngl
 
-        from marraztu.render.context import draw_piece_primitives
         from marraztu.render.gpu import LIT_ROW_BYTES, VertexRange
-        from marraztu.render.renderer import CLEAR_COLOUR, Draw
+        from marraztu.render.renderer import CLEAR_COLOUR, pieced_draws
 
         self.gl = moderngl  # imported here, not per frame, so the bare CPU figures stay bare
-        self.draw, self.vertex_range = Draw(draw_piece_primitives(ctx)), VertexRange  # in the renderer's pieces
+        self.draw = pieced_draws(ctx)[0]  # in the renderer's pieces
+        self.vertex_range = VertexRange
         self.clear_colour = CLEAR_COLOUR
         self.ctx = ctx
         self.scene = scene
@@ -150,7 +150,8 @@ class BareDraw:
         surface, indices, shared = (self._buffer(data) for data in
                                     (arrays.vertices, arrays.indices, arrays.shared_indices))
         width, _ = edge_face_shape(mesh.face_count, max_texture_side(ctx))
-        edges, pairs = self._buffer(edge_rows(mesh, width)), self._buffer(edge_pairs(mesh))
+        pair_indices = edge_pairs(mesh)
+        edges, pairs = self._buffer(edge_rows(mesh, width)), self._buffer(pair_indices)
         lit = self._buffer(reserve=rows * self.lit_row_bytes)
         position = [(surface, position_only(SURFACE_LAYOUT), "in_position")]
         lit_rows = {shading.value: lit_row_range(shading, arrays.shared_rows, 0, mesh.face_count)
@@ -162,7 +163,7 @@ class BareDraw:
             "gouraud": (ctx.vertex_array(self.program, position, index_buffer=shared, index_element_size=4),
                         arrays.shared_indices.size),
             "lines": (ctx.vertex_array(self.program, [(edges, position_only(EDGE_LAYOUT), "in_position")],
-                                       index_buffer=pairs, index_element_size=4), pairs.size // 4)}))
+                                       index_buffer=pairs, index_element_size=4), pair_indices.size)}))
 
     def render(self, fbo: moderngl.Framebuffer, size: tuple[int, int], mode: str, moving: bool = False) -> None:
         gl = self.gl
