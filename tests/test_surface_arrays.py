@@ -197,6 +197,24 @@ def test_the_material_parts_of_a_per_position_mesh_keep_their_corners() -> None:
         check_same_corners(part.mesh)
 
 
+def test_build_mesh_takes_per_vertex_tables_as_the_same_corners() -> None:
+    """attributes_per_vertex: a row per position, stored per position; a NaN row is derived, as a
+    NaN corner row is."""
+    rng = np.random.default_rng(7)
+    positions = rng.normal(size=(6, 3))
+    faces = np.array([[0, 1, 2], [0, 2, 3], [3, 4, 5], [1, 5, 4]])
+    uvs, normals = rng.random((6, 2)), rng.normal(size=(6, 3))
+    uvs[4] = np.nan
+    corners = faces.reshape(-1)
+    per_corner = build_mesh("a", positions, faces, uvs=uvs[corners], normals=normals[corners])
+    per_vertex = build_mesh("a", positions, faces, uvs=uvs, normals=normals, attributes_per_vertex=True)
+    assert per_vertex.attributes_per_position and per_vertex.uvs.shape == (6, 2)
+    assert np.array_equal(per_vertex.corner_uv, per_corner.corner_uv)
+    assert np.array_equal(per_vertex.corner_normal, per_corner.corner_normal)
+    with pytest.raises(ValueError, match="per-vertex values must have shape"):
+        build_mesh("a", positions, faces, uvs=uvs[:5], attributes_per_vertex=True)
+
+
 def test_a_zero_length_vn_is_derived_per_position_too() -> None:
     """Position 1's corners all name a zero-length vn: it gets the normal derived from its faces."""
     text = re.sub(rb"^vn .*$", b"vn 0 0 0", grid_obj(6, None, same_row), count=1, flags=re.MULTILINE)

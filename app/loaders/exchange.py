@@ -22,7 +22,7 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import MAX_FILE_BYTES, read_file, text_lines
-from marraztu.model.build import CornerSource, derive_mesh, with_vertex_colours
+from marraztu.model.build import build_mesh
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh, MeshMaterial
 
@@ -197,17 +197,16 @@ def _finish(path: Path, loaded: Any, data: bytes | None, merge: bool = False) ->
     positions = np.asarray(loaded.vertices, dtype=np.float64).reshape(-1, 3)
     faces = np.asarray(loaded.faces, dtype=np.int64).reshape(-1, 3)
     _check_tables(path, positions, faces, data)
-    uv = _uv_source(loaded, faces)
+    uvs = _vertex_uvs(loaded)
     colours = _vertex_colours(loaded)
     if merge:  # STL stores each triangle's own corners: shared corners let Gouraud smooth across edges
         positions, first, inverse = np.unique(positions, axis=0, return_index=True, return_inverse=True)
         faces = inverse.reshape(-1)[faces]
         colours = None if colours is None else colours[first]
-    corner_vertex = faces.reshape(-1)
-    mesh = with_vertex_colours(derive_mesh(
-        path.stem, positions, corner_vertex, face_start=np.arange(0, corner_vertex.size + 1, 3), uv=uv,
-        normals=None, base_colour=None, file_material=_material_of(loaded), notes=tuple(notes)), colours)
-    texture = _base_colour_texture(loaded) if uv is not None else None
+        uvs = None  # an STL has no texture coordinates
+    mesh = build_mesh(name=path.stem, positions=positions, faces=faces, uvs=uvs, file_material=_material_of(loaded),
+                      warnings=notes, vertex_colours=colours, attributes_per_vertex=True)
+    texture = _base_colour_texture(loaded) if uvs is not None else None
     if texture is None:
         return mesh
     # One material, the file's, carrying the picture: drawn as an OBJ's map_Kd is.
@@ -261,18 +260,17 @@ def _check_placed_triangles(path: Path, scene: Any) -> None:
                               f"more than the {MAX_PLACED_TRIANGLES} the viewer draws from one file")
 
 
-def _uv_source(mesh: Any, faces: np.ndarray) -> CornerSource | None:
-    """The texture coordinates, one row per vertex, and each corner's row: -1 where the row is not
-    finite (derived instead, as for an OBJ corner without vt)."""
+def _vertex_uvs(mesh: Any) -> np.ndarray | None:
+    """The texture coordinates, one row per vertex; NaN where a row is not finite (derived instead, as
+    for an OBJ corner without vt)."""
     uv = getattr(getattr(mesh, "visual", None), "uv", None)
     if uv is None or len(uv) != len(mesh.vertices):
         return None
-    table = np.asarray(uv, dtype=np.float64)
+    table = np.array(uv, dtype=np.float64)
     if table.ndim != 2 or table.shape[1] != 2:
         return None
-    corners = faces.reshape(-1)
-    finite = np.isfinite(table).all(axis=1)
-    return table, corners if finite.all() else np.where(finite[corners], corners, -1)
+    table[~np.isfinite(table).all(axis=1)] = np.nan
+    return table
 
 
 def _visual(mesh: Any) -> Any:

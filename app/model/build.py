@@ -31,29 +31,28 @@ def build_mesh(
     file_material: dict[str, object] | None = None,
     warnings: Sequence[str] = (),
     vertex_colours: np.ndarray | Sequence[Sequence[float]] | None = None,
+    attributes_per_vertex: bool = False,
 ) -> Mesh:
     """A Mesh from plain tables, with normals and texture coordinates derived as the loader does.
 
     ``faces`` holds 0-based vertex indices, one sequence per polygon (3 or more). ``uvs`` and
-    ``normals`` are per corner, in the order the faces list their corners; a NaN row means "derive
-    this one". ``vertex_colours`` are per position: RGB or RGBA, bytes (0..255) or floats (0..1).
+    ``normals`` are per corner, in the order the faces list their corners, or with
+    ``attributes_per_vertex`` one row per position; a NaN row means "derive this one".
+    ``vertex_colours`` are per position: RGB or RGBA, bytes (0..255) or floats (0..1).
     Raises ValueError for impossible input (this is a programming interface).
     """
     points = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
     corner_vertex, face_start = _faces_to_csr(faces)
     if corner_vertex.size and (corner_vertex.min() < 0 or corner_vertex.max() >= len(points)):
         raise ValueError("a face refers to a vertex that does not exist")
-    corners = corner_vertex.size
-    given_uv = None if uvs is None else _per_corner_table(uvs, corners, 2)
-    given_normals = None if normals is None else _per_corner_table(normals, corners, 3)
+    row_vertex = corner_vertex if attributes_per_vertex else None
+    given_uv = None if uvs is None else _given_table(uvs, 2, corner_vertex.size, row_vertex, len(points))
+    given_normals = None if normals is None else _given_table(normals, 3, corner_vertex.size, row_vertex, len(points))
     mesh = derive_mesh(name, points, corner_vertex, face_start, given_uv, given_normals,
                        base_colour, file_material, tuple(warnings))
-    return with_vertex_colours(mesh, vertex_colours)
-
-
-def with_vertex_colours(mesh: Mesh, colours: np.ndarray | Sequence[Sequence[float]] | None) -> Mesh:
-    """The mesh with a colour per position (see colour_bytes), or as it is without colours."""
-    return mesh if colours is None else replace(mesh, vertex_colours=colour_bytes(colours, mesh.vertex_count))
+    if vertex_colours is None:
+        return mesh
+    return replace(mesh, vertex_colours=colour_bytes(vertex_colours, len(points)))
 
 
 def colour_bytes(colours: np.ndarray | Sequence[Sequence[float]], rows: int) -> np.ndarray:
@@ -72,14 +71,19 @@ def colour_bytes(colours: np.ndarray | Sequence[Sequence[float]], rows: int) -> 
     return np.rint(floats * 255.0).astype(np.uint8)
 
 
-def _per_corner_table(values: np.ndarray | Sequence[Sequence[float]], corners: int, width: int
-                      ) -> tuple[np.ndarray, np.ndarray]:
-    """Per-corner values as a (table, index) pair; rows with NaN get index -1 (derived instead)."""
+def _given_table(values: np.ndarray | Sequence[Sequence[float]], width: int, corners: int,
+                 corner_vertex: np.ndarray | None, vertex_count: int) -> CornerSource:
+    """Per-corner values (`corner_vertex` None) or per-vertex ones as a (table, per-corner row) pair;
+    a corner whose row has a NaN gets -1 (derived instead)."""
     table = np.asarray(values, dtype=np.float64)
-    if table.shape != (corners, width):
+    if corner_vertex is None and table.shape != (corners, width):
         raise ValueError(f"per-corner values must have shape ({corners}, {width}): one row per corner, in the "
                          f"order the faces list them; not {table.shape}")
-    return table, np.where(np.isnan(table).any(axis=1), -1, np.arange(corners))
+    if corner_vertex is not None and table.shape != (vertex_count, width):
+        raise ValueError(f"per-vertex values must have shape ({vertex_count}, {width}): one row per position; "
+                         f"not {table.shape}")
+    rows = np.arange(corners) if corner_vertex is None else corner_vertex
+    return table, np.where(np.isnan(table).any(axis=1)[rows], -1, rows)
 
 
 def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -193,11 +197,16 @@ def _attributes(shape: _Shape, uv: CornerSource | None, normals: CornerSource | 
         vertex_normals[missing] = FALLBACK_NORMAL  # positions no face uses: never drawn
         missing[:] = False
     if shape.degenerate.any():
-        _fill_degenerate(shape, vertex_normals, per_position)
+        _fill_degenerate(shape, vertex_normals, row_vertex)
     if missing.any():
         corners = np.flatnonzero(missing)  # no usable face touches their position: take their face's
         vertex_normals[corners] = shape.face_normals[np.searchsorted(shape.face_start, corners, side="right") - 1]
     return _uvs(uv, shape.positions, row_vertex, shape.bounds), vertex_normals
+
+
+def _positions_of(rows: np.ndarray, row_vertex: np.ndarray | None) -> np.ndarray:
+    """The position each of these rows of uvs and normals belongs to (row_vertex None: rows are positions)."""
+    return rows if row_vertex is None else row_vertex[rows]
 
 
 def _uvs(uv: CornerSource | None, positions: np.ndarray, row_vertex: np.ndarray | None,
@@ -210,7 +219,7 @@ def _uvs(uv: CornerSource | None, positions: np.ndarray, row_vertex: np.ndarray 
     uvs = np.take(np.clip(table, -FLOAT32_MAX, FLOAT32_MAX).astype(np.float32), index, axis=0)
     without = np.flatnonzero(index < 0)
     if without.size:
-        uvs[without] = _bounding_box_uv(positions, without if row_vertex is None else row_vertex[without], bounds)
+        uvs[without] = _bounding_box_uv(positions, _positions_of(without, row_vertex), bounds)
     return uvs
 
 
@@ -313,7 +322,7 @@ def _fill_vertex_normals(vertex_normals: np.ndarray, missing: np.ndarray, shape:
         np.take(position_normals, row_vertex, axis=0, out=vertex_normals)
         return ~position_ok[row_vertex]
     rows = np.flatnonzero(missing)
-    vertices = rows if row_vertex is None else row_vertex[rows]
+    vertices = _positions_of(rows, row_vertex)
     vertex_normals[rows] = position_normals[vertices]
     still = np.zeros_like(missing)
     still[rows] = ~position_ok[vertices]
@@ -336,12 +345,12 @@ def _normal_sums(face_normals: np.ndarray, corner_vertex: np.ndarray, sizes: np.
                      for axis in axes], axis=1)
 
 
-def _fill_degenerate(shape: _Shape, vertex_normals: np.ndarray, per_position: bool) -> None:
+def _fill_degenerate(shape: _Shape, vertex_normals: np.ndarray, row_vertex: np.ndarray | None) -> None:
     """A zero-area face takes the average of its corners' normals, or +z when that is zero too."""
     faces = np.flatnonzero(shape.degenerate)
     sizes = shape.sizes[faces]
     corners = np.repeat(shape.face_start[faces], sizes) + _ranks(sizes)
-    rows = shape.corner_vertex[corners] if per_position else corners
+    rows = shape.corner_vertex[corners] if row_vertex is None else corners  # per position: the corner's position
     sums = np.add.reduceat(vertex_normals[rows], np.concatenate(([0], np.cumsum(sizes)[:-1])), axis=0)
     averaged, ok = unit_rows(sums)
     averaged[~ok] = FALLBACK_NORMAL

@@ -20,6 +20,7 @@ if TYPE_CHECKING:
 
     from marraztu.model.mesh import Mesh
     from marraztu.model.scene import Scene, SceneObject
+    from marraztu.render.gpu import VertexRange
     from marraztu.render.renderer import Renderer
 
 FRAME_HEADERS = ("scene", "triangles", "size", "mode", "still ms", "moving ms", "bare ms", "bare moving ms",
@@ -96,18 +97,17 @@ class BareDraw:
     def __init__(self, ctx: moderngl.Context, scene: Scene) -> None:
         import moderngl
 
-        from marraztu.render.gpu import LIT_ROW_BYTES, VertexRange
+        from marraztu.render.gpu import LIT_ROW_BYTES
         from marraztu.render.renderer import CLEAR_COLOUR, pieced_draws
 
         self.gl = moderngl  # imported here, not per frame, so the bare CPU figures stay bare
         self.draw = pieced_draws(ctx)[0]  # in the renderer's pieces
-        self.vertex_range = VertexRange
         self.clear_colour = CLEAR_COLOUR
         self.ctx = ctx
         self.scene = scene
         self.lit_row_bytes = LIT_ROW_BYTES  # kept, so a frame imports nothing
         self.buffers: list[moderngl.Buffer] = []
-        self.objects: list[tuple[SceneObject, dict[str, tuple[moderngl.VertexArray, int]]]] = []
+        self.objects: list[tuple[SceneObject, dict[str, tuple[moderngl.VertexArray, VertexRange]]]] = []
         self.lighting: list[BareLighting] = []
         self.programs: list[moderngl.Program] = []
         try:
@@ -137,6 +137,7 @@ class BareDraw:
         from marraztu.render.gpu import (
             EDGE_LAYOUT,
             SURFACE_LAYOUT,
+            VertexRange,
             edge_face_shape,
             edge_pairs,
             edge_rows,
@@ -157,13 +158,13 @@ class BareDraw:
         lit_rows = {shading.value: lit_row_range(shading, arrays.shared_rows, 0, mesh.face_count)
                     for shading in (Shading.FLAT, Shading.GOURAUD)}
         self.lighting.append(BareLighting(ctx.vertex_array(self.lighting_program, position), lit, lit_rows))
-        self.objects.append((obj, {  # each mode's vertex array and how many vertices it draws
+        self.objects.append((obj, {  # each mode's vertex array and the vertices it draws
             "flat": (ctx.vertex_array(self.program, position, index_buffer=indices, index_element_size=4),
-                     arrays.indices.size),
+                     VertexRange(0, arrays.indices.size)),
             "gouraud": (ctx.vertex_array(self.program, position, index_buffer=shared, index_element_size=4),
-                        arrays.shared_indices.size),
+                        VertexRange(0, arrays.shared_indices.size)),
             "lines": (ctx.vertex_array(self.program, [(edges, position_only(EDGE_LAYOUT), "in_position")],
-                                       index_buffer=pairs, index_element_size=4), pair_indices.size)}))
+                                       index_buffer=pairs, index_element_size=4), VertexRange(0, pair_indices.size))}))
 
     def render(self, fbo: moderngl.Framebuffer, size: tuple[int, int], mode: str, moving: bool = False) -> None:
         gl = self.gl
@@ -182,8 +183,8 @@ class BareDraw:
         for obj, arrays in self.objects:
             mvp = view_projection @ obj.model
             self.mvp.write(np.ascontiguousarray(mvp.T, dtype="f4").tobytes())
-            vertex_array, vertices = arrays[mode]
-            self.draw(vertex_array, gl.TRIANGLES if filled else gl.LINES, self.vertex_range(0, vertices))
+            vertex_array, span = arrays[mode]
+            self.draw(vertex_array, gl.TRIANGLES if filled else gl.LINES, span)
         self.ctx.disable(gl.DEPTH_TEST)
 
     def _light(self, mode: str) -> None:

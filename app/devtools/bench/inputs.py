@@ -135,11 +135,9 @@ def generate_load_inputs(directory: Path, small: int, large: int) -> list[LoadIn
 def generated_mesh(triangles: int, seed: int = SEED) -> Mesh:
     """A drawn mesh straight from arrays: the same Mesh the loader makes of `f 1/1/1 2/2/2 3/3/3`
     lines, without writing a file."""
-    from marraztu.model.build import derive_mesh
+    from marraztu.model.build import build_mesh
 
     cells = cells_for_triangles(triangles)
     surface = wavy_surface(cells, seed)
-    corner_vertex = grid_triangles(cells).reshape(-1)
-    return derive_mesh(f"grid {count_label(triangles)}", surface.positions, corner_vertex,
-                       face_start=np.arange(0, corner_vertex.size + 1, 3), uv=(surface.uvs, corner_vertex),
-                       normals=(surface.normals, corner_vertex), base_colour=None, file_material=None, notes=())
+    return build_mesh(f"grid {count_label(triangles)}", surface.positions, grid_triangles(cells),
+                      uvs=surface.uvs, normals=surface.normals, attributes_per_vertex=True)
