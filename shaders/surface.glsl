@@ -8,10 +8,11 @@
 //   Gouraud: evaluated at every vertex with its vertex normal, the colours interpolated;
 //   Phong: the position and vertex normal interpolated, evaluated at every pixel (side by side only).
 // Flat and Gouraud light their vertices in a pass of their own (LIGHTING_PASS: transform feedback,
-// nothing rasterised) that writes a colour per vertex row into the object's lit buffer, and the
-// drawing pass reads it back as an attribute. The renderer runs that pass only when a uniform it
-// reads has changed (marraztu.render.gpu's ObjectGpu.light), so a still frame lights nothing, and
-// Flat lights only the polygons' own rows (one per polygon), not every corner a triangle touches.
+// nothing rasterised, or a compute program) that writes a colour per vertex row into the object's
+// lit buffer, and the drawing pass reads it back as an attribute. The renderer runs that pass only
+// when a uniform it reads has changed (marraztu.render.gpu's ObjectGpu.light), so a still frame
+// lights nothing, and Flat lights only the polygons' own rows (one per polygon), not every corner a
+// triangle touches.
 // The lighting function is written once, above the stage blocks, so every pass compiles the same one.
 
 // Macros, not constants, so that each program declares only the varyings its way reads: a GPU
@@ -96,26 +97,20 @@ vec3 lit_colour(vec3 point, vec3 normal, vec3 view) {
     return min(intensity, vec3(255.0)) / 255.0;
 }
 
-#if defined VERTEX_SHADER && defined LIGHTING_PASS
-
-in vec3 in_position;     // model space
-in vec3 in_normal;       // a shared row's vertex normal (Gouraud); a polygon's own row's face normal (Flat)
-in vec4 in_colour;       // the model's vertex colour (no buffer, and unread, for a model without)
+#if defined LIGHTING_PASS
 
 uniform mat4 u_model;
 uniform mat3 u_normal_matrix;  // inverse transpose of the model's 3x3: keeps normals perpendicular
 uniform bool u_vertex_coloured;
 uniform int u_show;
 
-// Captured by transform feedback into the lit buffer, at this row.
-out vec4 v_lit;  // rgb: what the row shows (0..1); a: N.V (Flat's back-face test at the first vertex)
-
 // What a row shows is made here, once per row and only when it changes, so the drawing pass of
 // Flat and Gouraud is the same whatever the view: the lit colour times the vertex colour, or the
-// normal the lighting would use as a colour (the normals view).
-void main() {
-    vec3 world_position = (u_model * vec4(in_position, 1.0)).xyz;
-    vec3 normal = normalize(u_normal_matrix * in_normal);
+// normal the lighting would use as a colour (the normals view). rgb: what the row shows (0..1);
+// a: N.V (Flat's back-face test at the first vertex).
+vec4 lit_row(vec3 position, vec3 model_normal, vec4 colour) {
+    vec3 world_position = (u_model * vec4(position, 1.0)).xyz;
+    vec3 normal = normalize(u_normal_matrix * model_normal);
     vec3 view = toward_eye(world_position);
     vec3 shown;
     if (u_show == SHOW_NORMALS) {
@@ -123,10 +118,54 @@ void main() {
     } else {
         shown = lit_colour(world_position, normal, view);
         if (u_vertex_coloured) {
-            shown *= in_colour.rgb;
+            shown *= colour.rgb;
         }
     }
-    v_lit = vec4(shown, dot(normal, view));
+    return vec4(shown, dot(normal, view));
+}
+
+#endif
+
+#if defined VERTEX_SHADER && defined LIGHTING_PASS
+
+in vec3 in_position;     // model space
+in vec3 in_normal;       // a shared row's vertex normal (Gouraud); a polygon's own row's face normal (Flat)
+in vec4 in_colour;       // the model's vertex colour (no buffer, and unread, for a model without)
+
+out vec4 v_lit;  // captured by transform feedback into the lit buffer, at this row
+
+void main() {
+    v_lit = lit_row(in_position, in_normal, in_colour);
+}
+
+#elif defined COMPUTE_SHADER && defined LIGHTING_PASS
+
+// The same pass as a compute program, where the renderer prefers one (llvmpipe runs a vertex stage
+// on one thread and a compute program on all of them). The renderer binds a window of rows of each
+// buffer, from a row that keeps every window's offset aligned, and names the rows to light in it.
+layout(local_size_x = LIGHTING_GROUP_ROWS) in;
+
+layout(std430, binding = 0) readonly buffer SurfaceRows { float surface_rows[]; };  // SURFACE_LAYOUT's rows
+layout(std430, binding = 1) readonly buffer ColourRows { uint colour_rows[]; };  // COLOUR_LAYOUT's 4 bytes
+layout(std430, binding = 2) writeonly buffer LitRows { vec4 lit_rows[]; };
+
+uniform uint u_first_row;  // in the window
+uniform uint u_stop_row;
+
+void main() {
+    uint row = gl_GlobalInvocationID.x;
+    if (row < u_first_row || row >= u_stop_row) {
+        return;
+    }
+    uint at = row * uint(SURFACE_ROW_FLOATS);  // position, then normal, as SURFACE_LAYOUT has them
+    vec3 position = vec3(surface_rows[at], surface_rows[at + 1u], surface_rows[at + 2u]);
+    vec3 normal = vec3(surface_rows[at + 3u], surface_rows[at + 4u], surface_rows[at + 5u]);
+    vec4 colour = vec4(1.0);
+    if (u_vertex_coloured) {
+        // Bytes times 1/255, as llvmpipe's vertex fetch reads them (unpackUnorm4x8 divides: a bit apart).
+        colour = vec4((uvec4(colour_rows[row]) >> uvec4(0u, 8u, 16u, 24u)) & 255u) * (1.0 / 255.0);
+    }
+    lit_rows[row] = lit_row(position, normal, colour);
 }
 
 #elif defined VERTEX_SHADER

@@ -39,6 +39,7 @@ SURFACE_LAYOUT = ("3f 3f 2f", "in_position", "in_normal", "in_uv")
 COLOUR_LAYOUT = ("4f1", "in_colour")  # a model's own vertex colours, bytes read as 0..1, one per surface row
 LIT_LAYOUT = ("4f", "in_lit")  # the lighting pass's output: colour and N.V, one row per surface row
 LIT_ROW_BYTES = 16
+COLOUR_ROW_BYTES = 4
 EDGE_LAYOUT = ("3f 2u2", "in_position", "in_face_texel")
 EDGE_ROW = np.dtype([("position", np.float32, 3), ("face_texel", np.uint16, 2)])
 # The edges program's polygon tables (edge_faces) by sampler and texture unit: 0 and 1 are the
@@ -60,7 +61,7 @@ def load_program(ctx: moderngl.Context, name: str, defines: Mapping[str, str] | 
     # moderngl-window reads single-file programs the same way, but its loader wants a window context
     # registered; the screenshot command runs on a bare offscreen one, so the defines go in here.
     source = shader_source(name)
-    extra = "".join(f"#define {key} {value}\n" for key, value in (defines or {}).items())
+    extra = _defines(defines)
     vertex_shader = _with_define(source, "VERTEX_SHADER", extra)
     if varyings:
         return ctx.program(vertex_shader=vertex_shader, varyings=list(varyings))
@@ -69,11 +70,23 @@ def load_program(ctx: moderngl.Context, name: str, defines: Mapping[str, str] | 
                        fragment_shader=_with_define(source, "FRAGMENT_SHADER", extra))
 
 
-def _with_define(source: str, define: str, extra: str = "") -> str:
-    version, newline, rest = source.partition("\n")
-    if not version.lstrip().startswith("#version"):
+def load_compute_program(ctx: moderngl.Context, name: str, defines: Mapping[str, str] | None = None
+                         ) -> moderngl.ComputeShader:
+    """Compile the `#if defined COMPUTE_SHADER` block of `shaders/<name>.glsl`, with `defines`, as GLSL
+    4.30 (the first with compute programs; the file's other blocks keep its own version)."""
+    return ctx.compute_shader(_with_define(shader_source(name), "COMPUTE_SHADER", _defines(defines),
+                                           version="#version 430 core"))
+
+
+def _defines(defines: Mapping[str, str] | None) -> str:
+    return "".join(f"#define {key} {value}\n" for key, value in (defines or {}).items())
+
+
+def _with_define(source: str, define: str, extra: str = "", version: str | None = None) -> str:
+    own_version, newline, rest = source.partition("\n")
+    if not own_version.lstrip().startswith("#version"):
         raise ValueError("a shader file must start with its #version line")
-    return f"{version}{newline}#define {define}\n{extra}{rest}"
+    return f"{version or own_version}{newline}#define {define}\n{extra}{rest}"
 
 
 # --- numpy: the vertex arrays ----------------------------------------------------------------
@@ -262,6 +275,44 @@ def attribute_bytes(fmt: str) -> int:
     return int(count or 1) * (int(size) if size else _DEFAULT_COMPONENT_BYTES[kind])
 
 
+def row_bytes(layout: tuple[str, ...]) -> int:
+    """The bytes of one row of a layout (its attributes interleaved)."""
+    return sum(attribute_bytes(fmt) for fmt in layout[0].split())
+
+
+# The compute lighting pass (surface.glsl's COMPUTE_SHADER block): rows per work group, and what it is
+# told about the surface's rows. A window's offset into a buffer is a multiple of 256 bytes, the most
+# GL 4.3 lets SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT be, in each buffer it binds.
+LIGHTING_GROUP_ROWS = 64
+LIGHTING_DEFINES = {"LIGHTING_GROUP_ROWS": str(LIGHTING_GROUP_ROWS),
+                    "SURFACE_ROW_FLOATS": str(row_bytes(SURFACE_LAYOUT) // 4)}
+_WINDOW_ALIGN_ROWS = 256 // COLOUR_ROW_BYTES
+
+
+def lighting_window_rows(ctx: moderngl.Context) -> int:
+    """The most rows one dispatch of the compute lighting pass binds: within the largest storage
+    block GL takes and the most work groups of one dispatch, a whole number of aligned runs."""
+    info = ctx.info
+    rows = min(int(info["GL_MAX_SHADER_STORAGE_BLOCK_SIZE"]) // row_bytes(SURFACE_LAYOUT),
+               int(info["GL_MAX_COMPUTE_WORK_GROUP_COUNT"][0]) * LIGHTING_GROUP_ROWS)
+    return max(rows - rows % _WINDOW_ALIGN_ROWS, _WINDOW_ALIGN_ROWS)
+
+
+def run_lighting_windows(ctx: moderngl.Context, program: moderngl.ComputeShader, surface: moderngl.Buffer,
+                         colours: moderngl.Buffer, lit: moderngl.Buffer, first: int, stop: int, window: int) -> None:
+    """Runs a compute lighting pass (surface.glsl's bindings 0, 1, 2) over the rows [first, stop), a
+    window of `window` rows of each buffer bound at a time."""
+    bound = ((surface, row_bytes(SURFACE_LAYOUT)), (colours, COLOUR_ROW_BYTES), (lit, LIT_ROW_BYTES))
+    for base in range(first - first % _WINDOW_ALIGN_ROWS, stop, window):
+        rows = min(window, stop - base)
+        for binding, (buffer, size) in enumerate(bound):
+            buffer.bind_to_storage_buffer(binding, offset=base * size, size=rows * size)
+        program["u_first_row"].value = max(first - base, 0)
+        program["u_stop_row"].value = rows
+        program.run(-(-rows // LIGHTING_GROUP_ROWS))
+    ctx.memory_barrier(moderngl.VERTEX_ATTRIB_ARRAY_BARRIER_BIT)  # the draws read the lit rows
+
+
 def _layout_for(program: moderngl.Program, layout: tuple[str, ...]) -> tuple[str, ...]:
     """`layout` with the attributes `program` does not read (its compiler dropped them) skipped."""
     formats, names = layout[0].split(), layout[1:]
@@ -285,12 +336,13 @@ class VertexRange:
 @dataclass(frozen=True)
 class Programs:
     """The programs an object's vertex arrays are bound to: one surface program per shading, the
-    lighting pass of those that light vertices, edges, normals."""
+    lighting pass of those that light vertices (transform feedback or compute), edges, normals."""
 
     surfaces: Mapping[Shading, moderngl.Program]
-    lightings: Mapping[Shading, moderngl.Program]
+    lightings: Mapping[Shading, moderngl.Program | moderngl.ComputeShader]
     edges: moderngl.Program
     normals: moderngl.Program
+    lighting_window_rows: int = 0  # with compute lighting passes: lighting_window_rows(ctx)
 
 
 @dataclass(frozen=True)
@@ -326,11 +378,12 @@ class ObjectGpu:
     """
 
     # surface: a vertex, a lit and two index buffers, a vertex array per surface program (3) and per
-    # lighting pass (2); edges: a row and an index buffer, a vertex array and two textures of polygons;
-    # face normals: a buffer and a vertex array; vertex normals: a buffer of used rows and its vertex
-    # array, and a vertex array over the surface indices for a range of faces. Vertex colours add one
-    # buffer.
+    # transform-feedback lighting pass (2; a compute pass has none); edges: a row and an index buffer,
+    # a vertex array and two textures of polygons; face normals: a buffer and a vertex array; vertex
+    # normals: a buffer of used rows and its vertex array, and a vertex array over the surface indices
+    # for a range of faces. Vertex colours add one buffer.
     GL_OBJECTS = 19
+    GL_OBJECTS_WITH_COMPUTE_LIGHTING = 17
     # Which index buffer each surface program draws with (see SurfaceArrays).
     INDICES = {Shading.FLAT: "surface indices", Shading.GOURAUD: "shared surface indices",
                Shading.PHONG: "shared surface indices"}
@@ -387,11 +440,21 @@ class ObjectGpu:
         done = self._lit.get(shading)
         if stop_row <= first or (done is not None and done.cover(inputs, first, stop_row)):
             return False
-        self._surface_array("lighting", shading).transform(
-            self._surface_buffers["lit"], moderngl.POINTS, vertices=stop_row - first, first=first,
-            buffer_offset=first * LIT_ROW_BYTES)
+        program = self.programs.lightings[shading]
+        if isinstance(program, moderngl.ComputeShader):
+            self._light_by_compute(program, first, stop_row)
+        else:
+            self._surface_array("lighting", shading).transform(
+                self._surface_buffers["lit"], moderngl.POINTS, vertices=stop_row - first, first=first,
+                buffer_offset=first * LIT_ROW_BYTES)
         self._lit[shading] = LitRows(inputs, first, stop_row)
         return True
+
+    def _light_by_compute(self, program: moderngl.ComputeShader, first: int, stop: int) -> None:
+        surface = self._surface_buffers["surface"]
+        colours = self._surface_buffers.get("colours", surface)  # unread without colours
+        run_lighting_windows(self.ctx, program, surface, colours, self._surface_buffers["lit"], first, stop,
+                             self.programs.lighting_window_rows)
 
     def _surface_array(self, kind: str, shading: Shading) -> moderngl.VertexArray:
         """The surface's vertex buffer bound to a surface program ("surface", indexed, reading the lit

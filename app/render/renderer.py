@@ -27,9 +27,19 @@ from marraztu.render.context import (
     check_gl,
     draw_piece_primitives,
     gl_flush,
+    lights_by_compute,
     max_texture_side,
 )
-from marraztu.render.gpu import EDGE_FACE_UNITS, ObjectGpu, Programs, VertexRange, load_program
+from marraztu.render.gpu import (
+    EDGE_FACE_UNITS,
+    LIGHTING_DEFINES,
+    ObjectGpu,
+    Programs,
+    VertexRange,
+    lighting_window_rows,
+    load_compute_program,
+    load_program,
+)
 from marraztu.render.guides import GuidesDrawer
 from marraztu.render.layout import View, view_projection, views
 from marraztu.render.mipmaps import MipmappedTexture, create_mipmapped
@@ -133,19 +143,21 @@ def part_of_face(obj: SceneObject, face: int) -> tuple[int, int]:
 
 
 class Renderer:
-    def __init__(self, ctx: moderngl.Context) -> None:
+    def __init__(self, ctx: moderngl.Context, compute_lighting: bool | None = None) -> None:
+        """`compute_lighting`: whether the lighting pass is a compute program (None: where it is
+        quicker, lights_by_compute)."""
         self.ctx = ctx
         self.draw, self.draw_segments = pieced_draws(ctx)
         # One surface program per shading, and a lighting pass for those that light vertices; the
         # current view's are `self.surface` and `self.lighting`.
         lights = shader_defines()
+        self.compute_lighting = lights_by_compute(ctx) if compute_lighting is None else compute_lighting
         self.programs = Programs(
             surfaces={way: load_program(ctx, "surface", defines={"SHADING": way.name, **lights})
                       for way in Shading},
-            lightings={way: load_program(ctx, "surface", varyings=("v_lit",),
-                                         defines={"SHADING": way.name, "LIGHTING_PASS": "1", **lights})
-                       for way in Shading if way.lights_vertices},
-            edges=load_program(ctx, "edges"), normals=load_program(ctx, "normals"))
+            lightings={way: self._lighting_pass(way, lights) for way in Shading if way.lights_vertices},
+            edges=load_program(ctx, "edges"), normals=load_program(ctx, "normals"),
+            lighting_window_rows=lighting_window_rows(ctx) if self.compute_lighting else 0)
         self.surface_uniforms = {way: Uniforms(self.programs.surfaces[way]) for way in Shading}
         self.lighting_uniforms = {way: Uniforms(self.programs.lightings[way]) if way.lights_vertices
                                   else self.surface_uniforms[way] for way in Shading}
@@ -164,6 +176,12 @@ class Renderer:
         self._set_texture(WHITE)
         self._objects: dict[tuple[int, int], ObjectGpu] = {}  # by (uid, part)
         self._file_textures: dict[int, tuple[np.ndarray, MipmappedTexture]] = {}  # by id of the image
+
+    def _lighting_pass(self, shading: Shading, lights: dict[str, str]) -> moderngl.Program | moderngl.ComputeShader:
+        defines = {"SHADING": shading.name, "LIGHTING_PASS": "1", **lights}
+        if self.compute_lighting:
+            return load_compute_program(self.ctx, "surface", {**defines, **LIGHTING_DEFINES})
+        return load_program(self.ctx, "surface", varyings=("v_lit",), defines=defines)
 
     # --- resources ---------------------------------------------------------------------------
     def _use_scene_texture(self, scene: Scene) -> None:
