@@ -127,10 +127,11 @@ def test_the_bare_draw_covers_the_pixels_the_renderer_does(gl_ctx, mode: str) ->
     size = (160, 120)
     scene = bench_scene(None)
     set_mode(scene, mode)
-    bare = BareDraw(gl_ctx, scene)
+    renderer = Renderer(gl_ctx)
+    bare = BareDraw(gl_ctx, scene, renderer.compute_lighting)
     covered = []
     try:
-        for draw in (lambda fbo: Renderer(gl_ctx).render(scene, fbo, size), lambda fbo: bare.render(fbo, size, mode)):
+        for draw in (lambda fbo: renderer.render(scene, fbo, size), lambda fbo: bare.render(fbo, size, mode)):
             fbo = gl_ctx.simple_framebuffer(size, components=4)
             draw(fbo)
             pixels = np.frombuffer(fbo.read(components=3), np.uint8).reshape(size[1], size[0], 3)
@@ -142,11 +143,12 @@ def test_the_bare_draw_covers_the_pixels_the_renderer_does(gl_ctx, mode: str) ->
     assert np.array_equal(covered[0], covered[1])
 
 
+@pytest.mark.parametrize("compute", [False, True])
 @pytest.mark.parametrize("mode", ["flat", "gouraud"])
-def test_the_bare_moving_frame_captures_the_rows_the_lighting_pass_lights(gl_ctx, mode: str) -> None:
+def test_the_bare_moving_frame_captures_the_rows_the_lighting_pass_lights(gl_ctx, mode: str, compute: bool) -> None:
     """The floor under a moving frame does the lighting pass's traffic: it reads the rows the
     renderer's pass lights (Flat: the polygons' own; Gouraud: the shared ones) and writes 16 bytes
-    for each, at the same place, and no others."""
+    for each, at the same place, and no others; by transform feedback or compute, as the renderer."""
     from marraztu.devtools.bench.frames import BareDraw, bench_scene, drawn_objects, set_mode
     from marraztu.model.scene import Shading
     from marraztu.render.gpu import surface_arrays
@@ -155,7 +157,10 @@ def test_the_bare_moving_frame_captures_the_rows_the_lighting_pass_lights(gl_ctx
     size = (32, 32)
     scene = bench_scene(None)
     set_mode(scene, mode)
-    renderer, bare = Renderer(gl_ctx), BareDraw(gl_ctx, scene)
+    if compute and gl_ctx.version_code < 430:
+        pytest.skip("no compute programs before OpenGL 4.3")
+    renderer = Renderer(gl_ctx, compute_lighting=compute)
+    bare = BareDraw(gl_ctx, scene, compute)
     fbo = gl_ctx.simple_framebuffer(size, components=4)
     try:
         renderer.render(scene, fbo, size)

@@ -44,6 +44,22 @@ in vec3 in_position;
 out vec4 v_lit;
 void main() { v_lit = vec4(in_position, 1.0); }
 """
+# The same as a compute program, for a renderer whose lighting pass is one (surface.glsl's bindings).
+BARE_COMPUTE_LIGHTING_SHADER = """#version 430
+layout(local_size_x = %(LIGHTING_GROUP_ROWS)s) in;
+layout(std430, binding = 0) readonly buffer SurfaceRows { float surface_rows[]; };
+layout(std430, binding = 2) writeonly buffer LitRows { vec4 lit_rows[]; };
+uniform uint u_first_row;
+uniform uint u_stop_row;
+void main() {
+    uint row = gl_GlobalInvocationID.x;
+    if (row < u_first_row || row >= u_stop_row) {
+        return;
+    }
+    uint at = row * %(SURFACE_ROW_FLOATS)su;
+    lit_rows[row] = vec4(surface_rows[at], surface_rows[at + 1u], surface_rows[at + 2u], 1.0);
+}
+"""
 
 
 def position_only(layout: tuple[str, ...]) -> str:
@@ -79,6 +95,7 @@ class BareLighting:
     the rows each filled mode lights."""
 
     vertex_array: moderngl.VertexArray
+    surface: moderngl.Buffer
     lit: moderngl.Buffer
     rows: dict[str, tuple[int, int]]
 
@@ -88,32 +105,38 @@ class BareDraw:
 
     Same framebuffer, clear, depth test, primitives, index buffers (Flat's, or the shared one of
     Gouraud) and vertex count as the renderer; no lighting, no texture, one pass of edges. A moving
-    frame first runs a pass-through transform feedback over the rows the renderer's lighting pass
-    lights (gpu.lit_row_range), capturing as many bytes. Each object's mesh is taken whole, as one
-    part: the renderer draws and lights a mesh of several materials part by part, and the bench's
-    meshes have one.
+    frame first runs a pass-through lighting pass over the rows the renderer's lighting pass lights
+    (gpu.lit_row_range), writing as many bytes, by transform feedback or by a compute program as the
+    renderer does. Each object's mesh is taken whole, as one part: the renderer draws and lights a
+    mesh of several materials part by part, and the bench's meshes have one.
     """
 
-    def __init__(self, ctx: moderngl.Context, scene: Scene) -> None:
+    def __init__(self, ctx: moderngl.Context, scene: Scene, compute_lighting: bool) -> None:
         import moderngl
 
-        from marraztu.render.gpu import LIT_ROW_BYTES
+        from marraztu.render.gpu import LIGHTING_DEFINES, LIT_ROW_BYTES, lighting_window_rows, run_lighting_windows
         from marraztu.render.renderer import CLEAR_COLOUR, pieced_draws
 
         self.gl = moderngl  # imported here, not per frame, so the bare CPU figures stay bare
         self.draw = pieced_draws(ctx)[0]  # in the renderer's pieces
+        self.run_lighting_windows = run_lighting_windows  # kept, so a frame imports nothing
+        self.lighting_window = lighting_window_rows(ctx) if compute_lighting else 0
         self.clear_colour = CLEAR_COLOUR
         self.ctx = ctx
         self.scene = scene
-        self.lit_row_bytes = LIT_ROW_BYTES  # kept, so a frame imports nothing
+        self.lit_row_bytes = LIT_ROW_BYTES
         self.buffers: list[moderngl.Buffer] = []
         self.objects: list[tuple[SceneObject, dict[str, tuple[moderngl.VertexArray, VertexRange]]]] = []
         self.lighting: list[BareLighting] = []
-        self.programs: list[moderngl.Program] = []
+        self.programs: list[moderngl.Program | moderngl.ComputeShader] = []
+        self.compute_lighting: moderngl.ComputeShader | None = None
         try:
             self.program = self._program(vertex_shader=BARE_VERTEX_SHADER, fragment_shader=BARE_FRAGMENT_SHADER)
             self.mvp = self.program["u_mvp"]
             self.lighting_program = self._program(vertex_shader=BARE_LIGHTING_SHADER, varyings=["v_lit"])
+            if compute_lighting:
+                self.compute_lighting = ctx.compute_shader(BARE_COMPUTE_LIGHTING_SHADER % LIGHTING_DEFINES)
+                self.programs.append(self.compute_lighting)
             for obj in drawn_objects(scene):
                 self._add(obj)
         except Exception:
@@ -157,7 +180,7 @@ class BareDraw:
         position = [(surface, position_only(SURFACE_LAYOUT), "in_position")]
         lit_rows = {shading.value: lit_row_range(shading, arrays.shared_rows, 0, mesh.face_count)
                     for shading in (Shading.FLAT, Shading.GOURAUD)}
-        self.lighting.append(BareLighting(ctx.vertex_array(self.lighting_program, position), lit, lit_rows))
+        self.lighting.append(BareLighting(ctx.vertex_array(self.lighting_program, position), surface, lit, lit_rows))
         self.objects.append((obj, {  # each mode's vertex array and the vertices it draws
             "flat": (ctx.vertex_array(self.program, position, index_buffer=indices, index_element_size=4),
                      VertexRange(0, arrays.indices.size)),
@@ -189,8 +212,13 @@ class BareDraw:
 
     def _light(self, mode: str) -> None:
         for lighting in self.lighting:
-            if mode in lighting.rows:  # lines light nothing
-                first, stop = lighting.rows[mode]
+            if mode not in lighting.rows:  # lines light nothing
+                continue
+            first, stop = lighting.rows[mode]
+            if self.compute_lighting is not None:
+                self.run_lighting_windows(self.ctx, self.compute_lighting, lighting.surface, lighting.surface,
+                                          lighting.lit, first, stop, self.lighting_window)
+            else:
                 lighting.vertex_array.transform(lighting.lit, self.gl.POINTS, vertices=stop - first, first=first,
                                                 buffer_offset=first * self.lit_row_bytes)
 
@@ -298,7 +326,7 @@ def scene_and_bare(bench: FrameBench, scene: Scene) -> Iterator[BareDraw]:
     """`scene` ready to draw with its texture, and the bare program on the same vertex data; both
     programs' buffers released afterwards."""
     bench.use_scene_texture(scene)
-    bare = BareDraw(bench.ctx, scene)
+    bare = BareDraw(bench.ctx, scene, bench.renderer.compute_lighting)
     try:
         yield bare
     finally:
