@@ -1,6 +1,6 @@
 """The lighting pass as a compute program (llvmpipe: every thread lights rows, where a vertex stage
 uses one) writes the very bytes the transform-feedback pass writes, window by window, and so draws
-the same pixels; GPUs and GL before 4.3 keep transform feedback."""
+the same pixels. It lights large passes only; GPUs and GL before 4.3 keep transform feedback."""
 
 from __future__ import annotations
 
@@ -17,9 +17,10 @@ from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.scenefile import DEFAULT_MATERIAL, load_builtin_scene
 from marraztu.model.build import build_mesh
 from marraztu.model.scene import Scene, SceneObject, Shading
+from marraztu.render import gpu as gpu_module
 from marraztu.render import renderer as renderer_module
 from marraztu.render.context import lights_by_compute
-from marraztu.render.gpu import lighting_window_rows
+from marraztu.render.gpu import COMPUTE_LIGHTING_MIN_ROWS, ObjectGpu, lighting_window_rows
 from marraztu.render.renderer import Renderer
 from support import corpus
 from support.scenes import BACKGROUND
@@ -63,10 +64,10 @@ def both_renderers(own_ctx):
         renderer.release()
 
 
-def coloured_scene() -> Scene:
-    """The built-in scene's lights and camera around a bumpy grid of quads with seeded vertex colours."""
+def coloured_scene(side: int = 40) -> Scene:
+    """The built-in scene's lights and camera around a bumpy grid of side x side vertices, with seeded
+    vertex colours."""
     rng = np.random.default_rng(7)
-    side = 40
     x, y = np.meshgrid(np.linspace(-150, 150, side), np.linspace(-150, 150, side))
     positions = np.column_stack([x.ravel(), y.ravel(), rng.uniform(-8, 8, side * side)])
     corner = (np.arange(side - 1)[:, None] * side + np.arange(side - 1)[None, :]).ravel()
@@ -87,6 +88,7 @@ def test_compute_pass_writes_the_bytes_of_transform_feedback(own_ctx, both_rende
                                                              window) -> None:
     """Every lit row, vertex colours included (read as the unpacked bytes the vertex fetch reads)."""
     compute, feedback = both_renderers
+    monkeypatch.setattr(gpu_module, "COMPUTE_LIGHTING_MIN_ROWS", 0)
     if window is not None:
         monkeypatch.setattr(compute, "programs", replace(compute.programs, lighting_window_rows=window))
     scene = coloured_scene()
@@ -111,6 +113,7 @@ def test_compute_and_transform_feedback_draw_the_same_pictures(tmp_path: Path, m
     if gl_ctx.version_code < 430:
         pytest.skip("no compute programs before OpenGL 4.3")
     monkeypatch.setattr(renderer_module, "lighting_window_rows", lambda ctx: SMALL_WINDOW)
+    monkeypatch.setattr(gpu_module, "COMPUTE_LIGHTING_MIN_ROWS", 0)
     pictures = []
     for compute in (True, False):
         monkeypatch.setattr(renderer_module, "lights_by_compute", lambda ctx, compute=compute: compute)
@@ -119,3 +122,23 @@ def test_compute_and_transform_feedback_draw_the_same_pictures(tmp_path: Path, m
     by_compute, by_feedback = pictures
     assert (by_compute != np.array(BACKGROUND, np.uint8)).any(axis=2).sum() > 20, "not blank: one face at least"
     assert np.array_equal(by_compute, by_feedback)
+
+
+def test_only_large_passes_are_lit_by_compute(own_ctx, both_renderers, monkeypatch) -> None:
+    """Below COMPUTE_LIGHTING_MIN_ROWS rows waking llvmpipe's threads costs more than it saves."""
+    compute, _ = both_renderers
+    by_compute: list[tuple[int, int]] = []
+    light_by_compute = ObjectGpu._light_by_compute
+
+    def noted(gpu: ObjectGpu, program, first: int, stop: int) -> None:
+        by_compute.append((first, stop))
+        light_by_compute(gpu, program, first, stop)
+
+    monkeypatch.setattr(ObjectGpu, "_light_by_compute", noted)
+    for side, expected in ((40, []), (100, [(10000, 19801)])):  # Flat: the 9801 polygons' own rows
+        scene = coloured_scene(side)
+        by_compute.clear()
+        corpus.render_float(own_ctx, compute, scene, (32, 32))
+        compute.release_object(scene.objects[0])
+        assert 39 * 39 < COMPUTE_LIGHTING_MIN_ROWS <= 99 * 99
+        assert by_compute == expected

@@ -190,8 +190,7 @@ def test_soak_random_keys_keep_the_scene_sound(own_ctx, soak_renderer: Renderer,
         viewer.press_sequence(keys)
         corpus.render_float(own_ctx, soak_renderer, scene, SIZE)
     per_object = (gl_total(own_ctx) - gl_without_objects) // len(scene.objects)
-    assert per_object == (ObjectGpu.GL_OBJECTS_WITH_COMPUTE_LIGHTING if soak_renderer.compute_lighting
-                          else ObjectGpu.GL_OBJECTS)
+    assert per_object == ObjectGpu.GL_OBJECTS
     assert gl_total(own_ctx) == gl_without_objects + per_object * len(scene.objects)
 
     maker = PressMaker(random.Random(corpus.SEED), good, bad)

@@ -22,7 +22,7 @@ from __future__ import annotations
 import re
 import threading
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Hashable, Mapping, Sequence
 
 import moderngl
@@ -284,6 +284,9 @@ def row_bytes(layout: tuple[str, ...]) -> int:
 # told about the surface's rows. A window's offset into a buffer is a multiple of 256 bytes, the most
 # GL 4.3 lets SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT be, in each buffer it binds.
 LIGHTING_GROUP_ROWS = 64
+# Below this many rows transform feedback lights quicker: llvmpipe wakes its threads for each dispatch
+# (about 0.1 ms), in which it lights some 4,000 rows by transform feedback.
+COMPUTE_LIGHTING_MIN_ROWS = 1 << 13
 LIGHTING_DEFINES = {"LIGHTING_GROUP_ROWS": str(LIGHTING_GROUP_ROWS),
                     "SURFACE_ROW_FLOATS": str(row_bytes(SURFACE_LAYOUT) // 4)}
 _WINDOW_ALIGN_ROWS = 256 // COLOUR_ROW_BYTES
@@ -336,12 +339,14 @@ class VertexRange:
 @dataclass(frozen=True)
 class Programs:
     """The programs an object's vertex arrays are bound to: one surface program per shading, the
-    lighting pass of those that light vertices (transform feedback or compute), edges, normals."""
+    lighting pass of those that light vertices, edges, normals; and where compute programs light
+    large passes quicker (lights_by_compute), the lighting passes as compute programs too."""
 
     surfaces: Mapping[Shading, moderngl.Program]
-    lightings: Mapping[Shading, moderngl.Program | moderngl.ComputeShader]
+    lightings: Mapping[Shading, moderngl.Program]
     edges: moderngl.Program
     normals: moderngl.Program
+    compute_lightings: Mapping[Shading, moderngl.ComputeShader] = field(default_factory=dict)
     lighting_window_rows: int = 0  # with compute lighting passes: lighting_window_rows(ctx)
 
 
@@ -383,7 +388,6 @@ class ObjectGpu:
     # normals: a buffer of used rows and its vertex array, and a vertex array over the surface indices
     # for a range of faces. Vertex colours add one buffer.
     GL_OBJECTS = 19
-    GL_OBJECTS_WITH_COMPUTE_LIGHTING = 17
     # Which index buffer each surface program draws with (see SurfaceArrays).
     INDICES = {Shading.FLAT: "surface indices", Shading.GOURAUD: "shared surface indices",
                Shading.PHONG: "shared surface indices"}
@@ -440,9 +444,9 @@ class ObjectGpu:
         done = self._lit.get(shading)
         if stop_row <= first or (done is not None and done.cover(inputs, first, stop_row)):
             return False
-        program = self.programs.lightings[shading]
-        if isinstance(program, moderngl.ComputeShader):
-            self._light_by_compute(program, first, stop_row)
+        compute = self.programs.compute_lightings.get(shading)
+        if compute is not None and stop_row - first >= COMPUTE_LIGHTING_MIN_ROWS:
+            self._light_by_compute(compute, first, stop_row)
         else:
             self._surface_array("lighting", shading).transform(
                 self._surface_buffers["lit"], moderngl.POINTS, vertices=stop_row - first, first=first,

@@ -59,22 +59,27 @@ WHITE = np.full((1, 1, 3), 255, dtype=np.uint8)  # the texture of a scene withou
 
 
 class Uniforms:
-    """A program's uniforms, looked up once. Uniforms the GLSL compiler removed as unused are
-    skipped silently: e.g. u_colour does not exist where the colour is not needed.
+    """The uniforms of a program, or of programs that always hold the same values, looked up once.
+    Uniforms the GLSL compiler removed as unused are skipped silently: e.g. u_colour does not exist
+    where the colour is not needed.
 
     Each uniform is written only when its value differs from the one it holds, compared exactly (as
     bytes: -0.0 is not 0.0), and `values()` tells what they all hold: the lighting pass is skipped
     while that stays the same."""
 
-    def __init__(self, program: moderngl.Program) -> None:
-        self._handles: dict[str, Any] = {
-            name: program[name] for name in program if isinstance(program[name], moderngl.Uniform)}
+    def __init__(self, *programs: moderngl.Program | moderngl.ComputeShader) -> None:
+        self._handles: dict[str, list[Any]] = {}  # by name, the uniform in each program that has it
+        for program in programs:
+            for name in program:
+                if isinstance(program[name], moderngl.Uniform):
+                    self._handles.setdefault(name, []).append(program[name])
         self._held: dict[str, bytes] = {}  # by name, the exact value last written
 
     def set(self, name: str, value: Any) -> None:
-        handle = self._handles.get(name)
-        if handle is not None and self._changed(name, np.asarray(value).tobytes()):
-            handle.value = value
+        handles = self._handles.get(name)
+        if handles is not None and self._changed(name, np.asarray(value).tobytes()):
+            for handle in handles:
+                handle.value = value
 
     def set_matrix(self, name: str, matrix: np.ndarray) -> None:
         """numpy is row-major and GL reads column-major, so M.T's bytes are M for GL."""
@@ -88,9 +93,10 @@ class Uniforms:
         return tuple(self._held.items())
 
     def _write(self, name: str, data: bytes) -> None:
-        handle = self._handles.get(name)
-        if handle is not None and self._changed(name, data):
-            handle.write(data)
+        handles = self._handles.get(name)
+        if handles is not None and self._changed(name, data):
+            for handle in handles:
+                handle.write(data)
 
     def _changed(self, name: str, exact: bytes) -> bool:
         if self._held.get(name) == exact:
@@ -144,23 +150,29 @@ def part_of_face(obj: SceneObject, face: int) -> tuple[int, int]:
 
 class Renderer:
     def __init__(self, ctx: moderngl.Context, compute_lighting: bool | None = None) -> None:
-        """`compute_lighting`: whether the lighting pass is a compute program (None: where it is
-        quicker, lights_by_compute)."""
+        """`compute_lighting`: whether large lighting passes run as compute programs (None: where that
+        is quicker, lights_by_compute)."""
         self.ctx = ctx
         self.draw, self.draw_segments = pieced_draws(ctx)
-        # One surface program per shading, and a lighting pass for those that light vertices; the
-        # current view's are `self.surface` and `self.lighting`.
+        # One surface program per shading, and a lighting pass (and on llvmpipe a compute one too) for
+        # those that light vertices; the current view's are `self.surface` and `self.lighting`.
         lights = shader_defines()
         self.compute_lighting = lights_by_compute(ctx) if compute_lighting is None else compute_lighting
+        passes = {way: {"SHADING": way.name, "LIGHTING_PASS": "1", **lights} for way in Shading if way.lights_vertices}
         self.programs = Programs(
             surfaces={way: load_program(ctx, "surface", defines={"SHADING": way.name, **lights})
                       for way in Shading},
-            lightings={way: self._lighting_pass(way, lights) for way in Shading if way.lights_vertices},
+            lightings={way: load_program(ctx, "surface", varyings=("v_lit",), defines=defines)
+                       for way, defines in passes.items()},
             edges=load_program(ctx, "edges"), normals=load_program(ctx, "normals"),
+            compute_lightings={way: load_compute_program(ctx, "surface", {**defines, **LIGHTING_DEFINES})
+                               for way, defines in passes.items()} if self.compute_lighting else {},
             lighting_window_rows=lighting_window_rows(ctx) if self.compute_lighting else 0)
         self.surface_uniforms = {way: Uniforms(self.programs.surfaces[way]) for way in Shading}
-        self.lighting_uniforms = {way: Uniforms(self.programs.lightings[way]) if way.lights_vertices
-                                  else self.surface_uniforms[way] for way in Shading}
+        # A shading's two lighting passes, where it has both, read the same uniforms: set once for both.
+        passes_of = (self.programs.lightings, self.programs.compute_lightings)
+        self.lighting_uniforms = {way: Uniforms(*(programs[way] for programs in passes_of if way in programs))
+                                  if way.lights_vertices else self.surface_uniforms[way] for way in Shading}
         self.shading = Shading.FLAT
         self.lighting_passes = 0  # run so far: a frame where nothing lighting reads changed adds none
         self.marker_program = load_program(ctx, "marker")
@@ -176,12 +188,6 @@ class Renderer:
         self._set_texture(WHITE)
         self._objects: dict[tuple[int, int], ObjectGpu] = {}  # by (uid, part)
         self._file_textures: dict[int, tuple[np.ndarray, MipmappedTexture]] = {}  # by id of the image
-
-    def _lighting_pass(self, shading: Shading, lights: dict[str, str]) -> moderngl.Program | moderngl.ComputeShader:
-        defines = {"SHADING": shading.name, "LIGHTING_PASS": "1", **lights}
-        if self.compute_lighting:
-            return load_compute_program(self.ctx, "surface", {**defines, **LIGHTING_DEFINES})
-        return load_program(self.ctx, "surface", varyings=("v_lit",), defines=defines)
 
     # --- resources ---------------------------------------------------------------------------
     def _use_scene_texture(self, scene: Scene) -> None:
@@ -223,7 +229,8 @@ class Renderer:
         self._file_textures.clear()
         self.guides.release_program()
         for resource in (self.marker_vao, self.texture, *self.programs.surfaces.values(),
-                         *self.programs.lightings.values(), self.programs.edges, self.programs.normals,
+                         *self.programs.lightings.values(), *self.programs.compute_lightings.values(),
+                         self.programs.edges, self.programs.normals,
                          self.marker_program):
             if resource is not None:
                 resource.release()

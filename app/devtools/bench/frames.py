@@ -107,20 +107,27 @@ class BareDraw:
     Gouraud) and vertex count as the renderer; no lighting, no texture, one pass of edges. A moving
     frame first runs a pass-through lighting pass over the rows the renderer's lighting pass lights
     (gpu.lit_row_range), writing as many bytes, by transform feedback or by a compute program as the
-    renderer does. Each object's mesh is taken whole, as one part: the renderer draws and lights a
+    renderer would. Each object's mesh is taken whole, as one part: the renderer draws and lights a
     mesh of several materials part by part, and the bench's meshes have one.
     """
 
     def __init__(self, ctx: moderngl.Context, scene: Scene, compute_lighting: bool) -> None:
         import moderngl
 
-        from marraztu.render.gpu import LIGHTING_DEFINES, LIT_ROW_BYTES, lighting_window_rows, run_lighting_windows
+        from marraztu.render.gpu import (
+            COMPUTE_LIGHTING_MIN_ROWS,
+            LIGHTING_DEFINES,
+            LIT_ROW_BYTES,
+            lighting_window_rows,
+            run_lighting_windows,
+        )
         from marraztu.render.renderer import CLEAR_COLOUR, pieced_draws
 
         self.gl = moderngl  # imported here, not per frame, so the bare CPU figures stay bare
         self.draw = pieced_draws(ctx)[0]  # in the renderer's pieces
         self.run_lighting_windows = run_lighting_windows  # kept, so a frame imports nothing
         self.lighting_window = lighting_window_rows(ctx) if compute_lighting else 0
+        self.compute_min_rows = COMPUTE_LIGHTING_MIN_ROWS
         self.clear_colour = CLEAR_COLOUR
         self.ctx = ctx
         self.scene = scene
@@ -215,7 +222,7 @@ class BareDraw:
             if mode not in lighting.rows:  # lines light nothing
                 continue
             first, stop = lighting.rows[mode]
-            if self.compute_lighting is not None:
+            if self.compute_lighting is not None and stop - first >= self.compute_min_rows:
                 self.run_lighting_windows(self.ctx, self.compute_lighting, lighting.surface, lighting.surface,
                                           lighting.lit, first, stop, self.lighting_window)
             else:
