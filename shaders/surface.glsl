@@ -145,9 +145,9 @@ void main() {
 // buffer, from a row that keeps every window's offset aligned, and names the rows to light in it.
 layout(local_size_x = LIGHTING_GROUP_ROWS) in;
 
-layout(std430, binding = 0) readonly buffer SurfaceRows { float surface_rows[]; };  // SURFACE_LAYOUT's rows
-layout(std430, binding = 1) readonly buffer ColourRows { uint colour_rows[]; };  // COLOUR_LAYOUT's 4 bytes
-layout(std430, binding = 2) writeonly buffer LitRows { vec4 lit_rows[]; };
+layout(std430, binding = SURFACE_BINDING) readonly buffer SurfaceBuffer { float surface_rows[]; };
+layout(std430, binding = COLOURS_BINDING) readonly buffer ColourBuffer { uint colour_rows[]; };  // 4 bytes each
+layout(std430, binding = LIT_BINDING) writeonly buffer LitBuffer { vec4 lit_rows[]; };
 
 uniform uint u_first_row;  // in the window
 uniform uint u_stop_row;
@@ -157,9 +157,10 @@ void main() {
     if (row < u_first_row || row >= u_stop_row) {
         return;
     }
-    uint at = row * uint(SURFACE_ROW_FLOATS);  // position, then normal, as SURFACE_LAYOUT has them
-    vec3 position = vec3(surface_rows[at], surface_rows[at + 1u], surface_rows[at + 2u]);
-    vec3 normal = vec3(surface_rows[at + 3u], surface_rows[at + 4u], surface_rows[at + 5u]);
+    uint at = row * uint(SURFACE_ROW_FLOATS);  // where SURFACE_LAYOUT's row starts, in floats
+    uint position_at = at + uint(POSITION_AT), normal_at = at + uint(NORMAL_AT);
+    vec3 position = vec3(surface_rows[position_at], surface_rows[position_at + 1u], surface_rows[position_at + 2u]);
+    vec3 normal = vec3(surface_rows[normal_at], surface_rows[normal_at + 1u], surface_rows[normal_at + 2u]);
     vec4 colour = vec4(1.0);
     if (u_vertex_coloured) {
         // Bytes times 1/255, as llvmpipe's vertex fetch reads them (unpackUnorm4x8 divides: a bit apart).

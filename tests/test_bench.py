@@ -20,6 +20,7 @@ from marraztu.devtools.bench.report import MACHINE_HEADING, MISSING
 from marraztu.devtools.bench.shapes import SHAPE_HEADERS, SHAPES
 from marraztu.devtools.bench.start import START_COMMANDS, START_HEADERS
 from marraztu.devtools.bench.window import WINDOW_HEADERS
+from marraztu.render.context import COMPUTE_GL_VERSION
 from support import corpus
 
 TINY_ARGS = ["--load-sizes", "200,400", "--sizes", "300", "--resolutions", "48x32", "--frames", "2",
@@ -139,6 +140,7 @@ def test_the_bare_draw_covers_the_pixels_the_renderer_does(gl_ctx, mode: str) ->
             fbo.release()
     finally:
         bare.release()
+        renderer.release()
     assert covered[0].sum() > 100, "not blank"
     assert np.array_equal(covered[0], covered[1])
 
@@ -157,7 +159,7 @@ def test_the_bare_moving_frame_captures_the_rows_the_lighting_pass_lights(gl_ctx
     size = (32, 32)
     scene = bench_scene(None)
     set_mode(scene, mode)
-    if compute and gl_ctx.version_code < 430:
+    if compute and gl_ctx.version_code < COMPUTE_GL_VERSION:
         pytest.skip("no compute programs before OpenGL 4.3")
     renderer = Renderer(gl_ctx, compute_lighting=compute)
     bare = BareDraw(gl_ctx, scene, compute)

@@ -19,8 +19,16 @@ from marraztu.model.build import build_mesh
 from marraztu.model.scene import Scene, SceneObject, Shading
 from marraztu.render import gpu as gpu_module
 from marraztu.render import renderer as renderer_module
-from marraztu.render.context import lights_by_compute
-from marraztu.render.gpu import COMPUTE_LIGHTING_MIN_ROWS, ObjectGpu, lighting_window_rows
+from marraztu.render.context import COMPUTE_GL_VERSION, lights_by_compute
+from marraztu.render.gpu import (
+    COLOUR_ROW_BYTES,
+    COMPUTE_LIGHTING_MIN_ROWS,
+    LIGHTING_GROUP_ROWS,
+    LIT_ROW_BYTES,
+    SURFACE_ROW_BYTES,
+    ObjectGpu,
+    lighting_window_rows,
+)
 from marraztu.render.renderer import Renderer
 from support import corpus
 from support.scenes import BACKGROUND
@@ -44,18 +52,23 @@ def test_compute_lighting_on_llvmpipe_with_gl_4_3_only(gl_ctx: moderngl.Context)
 
 
 def test_a_window_is_aligned_and_fits_the_limits(gl_ctx: moderngl.Context) -> None:
-    if gl_ctx.version_code < 430:
+    if gl_ctx.version_code < COMPUTE_GL_VERSION:
         pytest.skip("no compute programs before OpenGL 4.3")
     rows = lighting_window_rows(gl_ctx)
-    assert rows % 64 == 0 and rows * 4 % 256 == 0
-    assert rows * 32 <= gl_ctx.info["GL_MAX_SHADER_STORAGE_BLOCK_SIZE"]
-    assert rows // 64 <= gl_ctx.info["GL_MAX_COMPUTE_WORK_GROUP_COUNT"][0]
+    assert all(rows * size % 256 == 0 for size in (SURFACE_ROW_BYTES, COLOUR_ROW_BYTES, LIT_ROW_BYTES))
+    assert rows * SURFACE_ROW_BYTES <= gl_ctx.info["GL_MAX_SHADER_STORAGE_BLOCK_SIZE"]
+    assert -(-rows // LIGHTING_GROUP_ROWS) <= gl_ctx.info["GL_MAX_COMPUTE_WORK_GROUP_COUNT"][0]
+
+
+def skip_unless_llvmpipe_computes(ctx: moderngl.Context) -> None:
+    """Only llvmpipe lights by compute; its compute and vertex stages read colour bytes alike."""
+    if not lights_by_compute(ctx):
+        pytest.skip("the compute lighting pass is llvmpipe's (with OpenGL 4.3)")
 
 
 @pytest.fixture(scope="module")
 def both_renderers(own_ctx):
-    if own_ctx.version_code < 430:
-        pytest.skip("no compute programs before OpenGL 4.3")
+    skip_unless_llvmpipe_computes(own_ctx)
     corpus.make_current(own_ctx)
     renderers = (Renderer(own_ctx, compute_lighting=True), Renderer(own_ctx, compute_lighting=False))
     yield renderers
@@ -90,7 +103,8 @@ def test_compute_pass_writes_the_bytes_of_transform_feedback(own_ctx, both_rende
     compute, feedback = both_renderers
     monkeypatch.setattr(gpu_module, "COMPUTE_LIGHTING_MIN_ROWS", 0)
     if window is not None:
-        monkeypatch.setattr(compute, "programs", replace(compute.programs, lighting_window_rows=window))
+        small = replace(compute.programs.compute_lighting, window_rows=window)
+        monkeypatch.setattr(compute, "programs", replace(compute.programs, compute_lighting=small))
     scene = coloured_scene()
     scene.modes.shading = shading
     pictures, lit = [], []
@@ -110,8 +124,7 @@ def test_compute_pass_writes_the_bytes_of_transform_feedback(own_ctx, both_rende
 def test_compute_and_transform_feedback_draw_the_same_pictures(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
                                                                keys: str, gl_ctx: moderngl.Context) -> None:
     """The built-in scene through the screenshot command, the compute pass in windows of 64 rows."""
-    if gl_ctx.version_code < 430:
-        pytest.skip("no compute programs before OpenGL 4.3")
+    skip_unless_llvmpipe_computes(gl_ctx)
     monkeypatch.setattr(renderer_module, "lighting_window_rows", lambda ctx: SMALL_WINDOW)
     monkeypatch.setattr(gpu_module, "COMPUTE_LIGHTING_MIN_ROWS", 0)
     pictures = []
@@ -130,9 +143,9 @@ def test_only_large_passes_are_lit_by_compute(own_ctx, both_renderers, monkeypat
     by_compute: list[tuple[int, int]] = []
     light_by_compute = ObjectGpu._light_by_compute
 
-    def noted(gpu: ObjectGpu, program, first: int, stop: int) -> None:
+    def noted(gpu: ObjectGpu, compute, shading: Shading, first: int, stop: int) -> None:
         by_compute.append((first, stop))
-        light_by_compute(gpu, program, first, stop)
+        light_by_compute(gpu, compute, shading, first, stop)
 
     monkeypatch.setattr(ObjectGpu, "_light_by_compute", noted)
     for side, expected in ((40, []), (100, [(10000, 19801)])):  # Flat: the 9801 polygons' own rows

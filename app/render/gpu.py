@@ -19,10 +19,11 @@ lighting reads changes (ObjectGpu.light).
 
 from __future__ import annotations
 
+import math
 import re
 import threading
 import weakref
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Hashable, Mapping, Sequence
 
 import moderngl
@@ -31,15 +32,20 @@ import numpy as np
 from marraztu.errors import ViewerError
 from marraztu.model.mesh import INDEX, Mesh, fan_gather
 from marraztu.model.scene import Shading
-from marraztu.render.context import check_gl, device_buffer, device_texture, max_texture_side, zeroed_device_buffer
+from marraztu.render.context import (
+    COMPUTE_GL_VERSION,
+    check_gl,
+    device_buffer,
+    device_texture,
+    max_texture_side,
+    zeroed_device_buffer,
+)
 from marraztu.resources import shader_source
 
 # Attribute layouts, one per program; the names are the shaders' `in_` attributes.
 SURFACE_LAYOUT = ("3f 3f 2f", "in_position", "in_normal", "in_uv")
 COLOUR_LAYOUT = ("4f1", "in_colour")  # a model's own vertex colours, bytes read as 0..1, one per surface row
 LIT_LAYOUT = ("4f", "in_lit")  # the lighting pass's output: colour and N.V, one row per surface row
-LIT_ROW_BYTES = 16
-COLOUR_ROW_BYTES = 4
 EDGE_LAYOUT = ("3f 2u2", "in_position", "in_face_texel")
 EDGE_ROW = np.dtype([("position", np.float32, 3), ("face_texel", np.uint16, 2)])
 # The edges program's polygon tables (edge_faces) by sampler and texture unit: 0 and 1 are the
@@ -72,21 +78,27 @@ def load_program(ctx: moderngl.Context, name: str, defines: Mapping[str, str] | 
 
 def load_compute_program(ctx: moderngl.Context, name: str, defines: Mapping[str, str] | None = None
                          ) -> moderngl.ComputeShader:
-    """Compile the `#if defined COMPUTE_SHADER` block of `shaders/<name>.glsl`, with `defines`, as GLSL
-    4.30 (the first with compute programs; the file's other blocks keep its own version)."""
-    return ctx.compute_shader(_with_define(shader_source(name), "COMPUTE_SHADER", _defines(defines),
-                                           version="#version 430 core"))
+    """Compile the `#if defined COMPUTE_SHADER` block of `shaders/<name>.glsl`, with `defines`."""
+    return compute_program(ctx, shader_source(name), {"COMPUTE_SHADER": "1", **(defines or {})})
+
+
+def compute_program(ctx: moderngl.Context, source: str, defines: Mapping[str, str]) -> moderngl.ComputeShader:
+    """Compile `source` as a compute program after `defines`, in GLSL 4.30, the first version with
+    them (replacing a #version line of its own, which the file's other programs keep)."""
+    first_line, _, rest = source.partition("\n")
+    body = rest if first_line.lstrip().startswith("#version") else source
+    return ctx.compute_shader(f"#version {COMPUTE_GL_VERSION} core\n{_defines(defines)}{body}")
 
 
 def _defines(defines: Mapping[str, str] | None) -> str:
     return "".join(f"#define {key} {value}\n" for key, value in (defines or {}).items())
 
 
-def _with_define(source: str, define: str, extra: str = "", version: str | None = None) -> str:
-    own_version, newline, rest = source.partition("\n")
-    if not own_version.lstrip().startswith("#version"):
+def _with_define(source: str, define: str, extra: str = "") -> str:
+    version, newline, rest = source.partition("\n")
+    if not version.lstrip().startswith("#version"):
         raise ValueError("a shader file must start with its #version line")
-    return f"{version or own_version}{newline}#define {define}\n{extra}{rest}"
+    return f"{version}{newline}#define {define}\n{extra}{rest}"
 
 
 # --- numpy: the vertex arrays ----------------------------------------------------------------
@@ -280,32 +292,64 @@ def row_bytes(layout: tuple[str, ...]) -> int:
     return sum(attribute_bytes(fmt) for fmt in layout[0].split())
 
 
-# The compute lighting pass (surface.glsl's COMPUTE_SHADER block): rows per work group, and what it is
-# told about the surface's rows. A window's offset into a buffer is a multiple of 256 bytes, the most
-# GL 4.3 lets SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT be, in each buffer it binds.
+def attribute_offset(layout: tuple[str, ...], name: str) -> int:
+    """Where attribute `name` starts in a row of `layout`, in bytes."""
+    formats, names = layout[0].split(), layout[1:]
+    return sum(attribute_bytes(fmt) for fmt in formats[:names.index(name)])
+
+
+COLOUR_ROW_BYTES = row_bytes(COLOUR_LAYOUT)
+LIT_ROW_BYTES = row_bytes(LIT_LAYOUT)
+SURFACE_ROW_BYTES = row_bytes(SURFACE_LAYOUT)
+# The compute lighting pass (surface.glsl's COMPUTE_SHADER block): rows per work group, and where the
+# rows it reads and writes are.
 LIGHTING_GROUP_ROWS = 64
+LIGHTING_BINDINGS = ("surface", "colours", "lit")  # storage buffer binding points 0, 1, 2
+LIGHTING_DEFINES = {
+    "LIGHTING_GROUP_ROWS": str(LIGHTING_GROUP_ROWS),
+    **{f"{name.upper()}_BINDING": str(binding) for binding, name in enumerate(LIGHTING_BINDINGS)},
+    "SURFACE_ROW_FLOATS": str(SURFACE_ROW_BYTES // 4),
+    "POSITION_AT": str(attribute_offset(SURFACE_LAYOUT, "in_position") // 4),
+    "NORMAL_AT": str(attribute_offset(SURFACE_LAYOUT, "in_normal") // 4),
+}
 # Below this many rows transform feedback lights quicker: llvmpipe wakes its threads for each dispatch
 # (about 0.1 ms), in which it lights some 4,000 rows by transform feedback.
 COMPUTE_LIGHTING_MIN_ROWS = 1 << 13
-LIGHTING_DEFINES = {"LIGHTING_GROUP_ROWS": str(LIGHTING_GROUP_ROWS),
-                    "SURFACE_ROW_FLOATS": str(row_bytes(SURFACE_LAYOUT) // 4)}
-_WINDOW_ALIGN_ROWS = 256 // COLOUR_ROW_BYTES
+# A window starts at a multiple of this many rows: then its offset into each buffer is a multiple of
+# 256 bytes, the most GL 4.3 lets SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT be.
+_WINDOW_ALIGN_ROWS = math.lcm(*(256 // math.gcd(256, size) for size in
+                                (SURFACE_ROW_BYTES, COLOUR_ROW_BYTES, LIT_ROW_BYTES)))
 
 
 def lighting_window_rows(ctx: moderngl.Context) -> int:
     """The most rows one dispatch of the compute lighting pass binds: within the largest storage
     block GL takes and the most work groups of one dispatch, a whole number of aligned runs."""
     info = ctx.info
-    rows = min(int(info["GL_MAX_SHADER_STORAGE_BLOCK_SIZE"]) // row_bytes(SURFACE_LAYOUT),
+    rows = min(int(info["GL_MAX_SHADER_STORAGE_BLOCK_SIZE"]) // SURFACE_ROW_BYTES,
                int(info["GL_MAX_COMPUTE_WORK_GROUP_COUNT"][0]) * LIGHTING_GROUP_ROWS)
     return max(rows - rows % _WINDOW_ALIGN_ROWS, _WINDOW_ALIGN_ROWS)
 
 
-def run_lighting_windows(ctx: moderngl.Context, program: moderngl.ComputeShader, surface: moderngl.Buffer,
-                         colours: moderngl.Buffer, lit: moderngl.Buffer, first: int, stop: int, window: int) -> None:
-    """Runs a compute lighting pass (surface.glsl's bindings 0, 1, 2) over the rows [first, stop), a
-    window of `window` rows of each buffer bound at a time."""
-    bound = ((surface, row_bytes(SURFACE_LAYOUT)), (colours, COLOUR_ROW_BYTES), (lit, LIT_ROW_BYTES))
+@dataclass(frozen=True)
+class ComputeLighting:
+    """The lighting passes as compute programs, which llvmpipe runs on all its threads, and the most
+    rows one of their dispatches binds (lighting_window_rows)."""
+
+    programs: Mapping[Shading, moderngl.ComputeShader]
+    window_rows: int
+
+
+# After a compute pass: draws read the lit rows as vertices, transform feedback and compute passes
+# write them again, and tests read them back.
+_AFTER_COMPUTE_LIGHTING = (moderngl.VERTEX_ATTRIB_ARRAY_BARRIER_BIT | moderngl.TRANSFORM_FEEDBACK_BARRIER_BIT
+                           | moderngl.SHADER_STORAGE_BARRIER_BIT | moderngl.BUFFER_UPDATE_BARRIER_BIT)
+
+
+def run_lighting_windows(ctx: moderngl.Context, program: moderngl.ComputeShader, buffers: Sequence[moderngl.Buffer],
+                         first: int, stop: int, window: int) -> None:
+    """Runs a compute lighting pass over the rows [first, stop): `buffers` are the surface, colour and
+    lit buffers (LIGHTING_BINDINGS), of which a window of `window` rows is bound at a time."""
+    bound = list(zip(buffers, (SURFACE_ROW_BYTES, COLOUR_ROW_BYTES, LIT_ROW_BYTES), strict=True))
     for base in range(first - first % _WINDOW_ALIGN_ROWS, stop, window):
         rows = min(window, stop - base)
         for binding, (buffer, size) in enumerate(bound):
@@ -313,7 +357,7 @@ def run_lighting_windows(ctx: moderngl.Context, program: moderngl.ComputeShader,
         program["u_first_row"].value = max(first - base, 0)
         program["u_stop_row"].value = rows
         program.run(-(-rows // LIGHTING_GROUP_ROWS))
-    ctx.memory_barrier(moderngl.VERTEX_ATTRIB_ARRAY_BARRIER_BIT)  # the draws read the lit rows
+    ctx.memory_barrier(_AFTER_COMPUTE_LIGHTING)
 
 
 def _layout_for(program: moderngl.Program, layout: tuple[str, ...]) -> tuple[str, ...]:
@@ -346,8 +390,12 @@ class Programs:
     lightings: Mapping[Shading, moderngl.Program]
     edges: moderngl.Program
     normals: moderngl.Program
-    compute_lightings: Mapping[Shading, moderngl.ComputeShader] = field(default_factory=dict)
-    lighting_window_rows: int = 0  # with compute lighting passes: lighting_window_rows(ctx)
+    compute_lighting: ComputeLighting | None = None  # llvmpipe's, for passes of COMPUTE_LIGHTING_MIN_ROWS or more
+
+    def lighting_passes(self, shading: Shading) -> list[moderngl.Program | moderngl.ComputeShader]:
+        """The lighting passes of `shading`: by transform feedback, and by compute where there is one."""
+        compute = [] if self.compute_lighting is None else [self.compute_lighting.programs[shading]]
+        return [self.lightings[shading], *compute]
 
 
 @dataclass(frozen=True)
@@ -444,9 +492,9 @@ class ObjectGpu:
         done = self._lit.get(shading)
         if stop_row <= first or (done is not None and done.cover(inputs, first, stop_row)):
             return False
-        compute = self.programs.compute_lightings.get(shading)
+        compute = self.programs.compute_lighting
         if compute is not None and stop_row - first >= COMPUTE_LIGHTING_MIN_ROWS:
-            self._light_by_compute(compute, first, stop_row)
+            self._light_by_compute(compute, shading, first, stop_row)
         else:
             self._surface_array("lighting", shading).transform(
                 self._surface_buffers["lit"], moderngl.POINTS, vertices=stop_row - first, first=first,
@@ -454,11 +502,11 @@ class ObjectGpu:
         self._lit[shading] = LitRows(inputs, first, stop_row)
         return True
 
-    def _light_by_compute(self, program: moderngl.ComputeShader, first: int, stop: int) -> None:
+    def _light_by_compute(self, compute: ComputeLighting, shading: Shading, first: int, stop: int) -> None:
         surface = self._surface_buffers["surface"]
         colours = self._surface_buffers.get("colours", surface)  # unread without colours
-        run_lighting_windows(self.ctx, program, surface, colours, self._surface_buffers["lit"], first, stop,
-                             self.programs.lighting_window_rows)
+        run_lighting_windows(self.ctx, compute.programs[shading], (surface, colours, self._surface_buffers["lit"]),
+                             first, stop, compute.window_rows)
 
     def _surface_array(self, kind: str, shading: Shading) -> moderngl.VertexArray:
         """The surface's vertex buffer bound to a surface program ("surface", indexed, reading the lit

@@ -33,6 +33,7 @@ from marraztu.render.context import (
 from marraztu.render.gpu import (
     EDGE_FACE_UNITS,
     LIGHTING_DEFINES,
+    ComputeLighting,
     ObjectGpu,
     Programs,
     VertexRange,
@@ -165,14 +166,13 @@ class Renderer:
             lightings={way: load_program(ctx, "surface", varyings=("v_lit",), defines=defines)
                        for way, defines in passes.items()},
             edges=load_program(ctx, "edges"), normals=load_program(ctx, "normals"),
-            compute_lightings={way: load_compute_program(ctx, "surface", {**defines, **LIGHTING_DEFINES})
-                               for way, defines in passes.items()} if self.compute_lighting else {},
-            lighting_window_rows=lighting_window_rows(ctx) if self.compute_lighting else 0)
+            compute_lighting=ComputeLighting(
+                {way: load_compute_program(ctx, "surface", {**defines, **LIGHTING_DEFINES})
+                 for way, defines in passes.items()}, lighting_window_rows(ctx)) if self.compute_lighting else None)
         self.surface_uniforms = {way: Uniforms(self.programs.surfaces[way]) for way in Shading}
         # A shading's two lighting passes, where it has both, read the same uniforms: set once for both.
-        passes_of = (self.programs.lightings, self.programs.compute_lightings)
-        self.lighting_uniforms = {way: Uniforms(*(programs[way] for programs in passes_of if way in programs))
-                                  if way.lights_vertices else self.surface_uniforms[way] for way in Shading}
+        self.lighting_uniforms = {way: Uniforms(*self.programs.lighting_passes(way)) if way.lights_vertices
+                                  else self.surface_uniforms[way] for way in Shading}
         self.shading = Shading.FLAT
         self.lighting_passes = 0  # run so far: a frame where nothing lighting reads changed adds none
         self.marker_program = load_program(ctx, "marker")
@@ -228,10 +228,9 @@ class Renderer:
             texture.release()
         self._file_textures.clear()
         self.guides.release_program()
-        for resource in (self.marker_vao, self.texture, *self.programs.surfaces.values(),
-                         *self.programs.lightings.values(), *self.programs.compute_lightings.values(),
-                         self.programs.edges, self.programs.normals,
-                         self.marker_program):
+        lighting_passes = [program for way in self.programs.lightings for program in self.programs.lighting_passes(way)]
+        for resource in (self.marker_vao, self.texture, *self.programs.surfaces.values(), *lighting_passes,
+                         self.programs.edges, self.programs.normals, self.marker_program):
             if resource is not None:
                 resource.release()
         self.texture = None

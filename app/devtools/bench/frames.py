@@ -44,11 +44,12 @@ in vec3 in_position;
 out vec4 v_lit;
 void main() { v_lit = vec4(in_position, 1.0); }
 """
-# The same as a compute program, for a renderer whose lighting pass is one (surface.glsl's bindings).
-BARE_COMPUTE_LIGHTING_SHADER = """#version 430
-layout(local_size_x = %(LIGHTING_GROUP_ROWS)s) in;
-layout(std430, binding = 0) readonly buffer SurfaceRows { float surface_rows[]; };
-layout(std430, binding = 2) writeonly buffer LitRows { vec4 lit_rows[]; };
+# The same as a compute program, where the renderer's pass is one (surface.glsl's storage buffers;
+# compiled after LIGHTING_DEFINES).
+BARE_COMPUTE_LIGHTING_SHADER = """
+layout(local_size_x = LIGHTING_GROUP_ROWS) in;
+layout(std430, binding = SURFACE_BINDING) readonly buffer SurfaceBuffer { float surface_rows[]; };
+layout(std430, binding = LIT_BINDING) writeonly buffer LitBuffer { vec4 lit_rows[]; };
 uniform uint u_first_row;
 uniform uint u_stop_row;
 void main() {
@@ -56,7 +57,7 @@ void main() {
     if (row < u_first_row || row >= u_stop_row) {
         return;
     }
-    uint at = row * %(SURFACE_ROW_FLOATS)su;
+    uint at = row * uint(SURFACE_ROW_FLOATS) + uint(POSITION_AT);
     lit_rows[row] = vec4(surface_rows[at], surface_rows[at + 1u], surface_rows[at + 2u], 1.0);
 }
 """
@@ -118,6 +119,7 @@ class BareDraw:
             COMPUTE_LIGHTING_MIN_ROWS,
             LIGHTING_DEFINES,
             LIT_ROW_BYTES,
+            compute_program,
             lighting_window_rows,
             run_lighting_windows,
         )
@@ -142,7 +144,7 @@ class BareDraw:
             self.mvp = self.program["u_mvp"]
             self.lighting_program = self._program(vertex_shader=BARE_LIGHTING_SHADER, varyings=["v_lit"])
             if compute_lighting:
-                self.compute_lighting = ctx.compute_shader(BARE_COMPUTE_LIGHTING_SHADER % LIGHTING_DEFINES)
+                self.compute_lighting = compute_program(ctx, BARE_COMPUTE_LIGHTING_SHADER, LIGHTING_DEFINES)
                 self.programs.append(self.compute_lighting)
             for obj in drawn_objects(scene):
                 self._add(obj)
@@ -223,8 +225,8 @@ class BareDraw:
                 continue
             first, stop = lighting.rows[mode]
             if self.compute_lighting is not None and stop - first >= self.compute_min_rows:
-                self.run_lighting_windows(self.ctx, self.compute_lighting, lighting.surface, lighting.surface,
-                                          lighting.lit, first, stop, self.lighting_window)
+                self.run_lighting_windows(self.ctx, self.compute_lighting, (lighting.surface, lighting.surface,
+                                          lighting.lit), first, stop, self.lighting_window)
             else:
                 lighting.vertex_array.transform(lighting.lit, self.gl.POINTS, vertices=stop - first, first=first,
                                                 buffer_offset=first * self.lit_row_bytes)
