@@ -152,15 +152,18 @@ layout(std430, binding = LIT_BINDING) writeonly buffer LitBuffer { vec4 lit_rows
 uniform uint u_first_row;  // in the window
 uniform uint u_stop_row;
 
+vec3 surface_vec3(uint at) {
+    return vec3(surface_rows[at], surface_rows[at + 1u], surface_rows[at + 2u]);
+}
+
 void main() {
     uint row = gl_GlobalInvocationID.x;
     if (row < u_first_row || row >= u_stop_row) {
         return;
     }
     uint at = row * uint(SURFACE_ROW_FLOATS);  // where SURFACE_LAYOUT's row starts, in floats
-    uint position_at = at + uint(POSITION_AT), normal_at = at + uint(NORMAL_AT);
-    vec3 position = vec3(surface_rows[position_at], surface_rows[position_at + 1u], surface_rows[position_at + 2u]);
-    vec3 normal = vec3(surface_rows[normal_at], surface_rows[normal_at + 1u], surface_rows[normal_at + 2u]);
+    vec3 position = surface_vec3(at + uint(POSITION_AT));
+    vec3 normal = surface_vec3(at + uint(NORMAL_AT));
     vec4 colour = vec4(1.0);
     if (u_vertex_coloured) {
         // Bytes times 1/255, as llvmpipe's vertex fetch reads them (unpackUnorm4x8 divides: a bit apart).

@@ -10,10 +10,7 @@ from pathlib import Path
 import moderngl
 import numpy as np
 import pytest
-from PIL import Image
 
-from marraztu.control.viewer import StartOptions
-from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.scenefile import DEFAULT_MATERIAL, load_builtin_scene
 from marraztu.model.build import build_mesh
 from marraztu.model.scene import Scene, SceneObject, Shading
@@ -31,7 +28,7 @@ from marraztu.render.gpu import (
 )
 from marraztu.render.renderer import Renderer
 from support import corpus
-from support.scenes import BACKGROUND
+from support.scenes import BACKGROUND, builtin_pictures_with
 
 SMALL_WINDOW = 64  # rows a dispatch: the built-in scene's objects take many windows, from unaligned rows
 
@@ -127,12 +124,8 @@ def test_compute_and_transform_feedback_draw_the_same_pictures(tmp_path: Path, m
     skip_unless_llvmpipe_computes(gl_ctx)
     monkeypatch.setattr(renderer_module, "lighting_window_rows", lambda ctx: SMALL_WINDOW)
     monkeypatch.setattr(gpu_module, "COMPUTE_LIGHTING_MIN_ROWS", 0)
-    pictures = []
-    for compute in (True, False):
-        monkeypatch.setattr(renderer_module, "lights_by_compute", lambda ctx, compute=compute: compute)
-        out = take_screenshot(StartOptions(), tmp_path / f"{compute}.png", (160, 160), keys=keys)
-        pictures.append(np.asarray(Image.open(out).convert("RGB")))
-    by_compute, by_feedback = pictures
+    by_compute, by_feedback = builtin_pictures_with(monkeypatch, renderer_module, "lights_by_compute", (True, False),
+                                                    tmp_path, keys)
     assert (by_compute != np.array(BACKGROUND, np.uint8)).any(axis=2).sum() > 20, "not blank: one face at least"
     assert np.array_equal(by_compute, by_feedback)
 

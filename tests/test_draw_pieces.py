@@ -8,15 +8,12 @@ from pathlib import Path
 import moderngl
 import numpy as np
 import pytest
-from PIL import Image
 
-from marraztu.control.viewer import StartOptions
-from marraztu.frontends.screenshot import take_screenshot
 from marraztu.render import renderer as renderer_module
 from marraztu.render.context import SOFTWARE_PIECE_PRIMITIVES, draw_piece_primitives, gl_flush
 from marraztu.render.gpu import VertexRange
 from marraztu.render.renderer import Draw, pieced_draws
-from support.scenes import BACKGROUND
+from support.scenes import BACKGROUND, builtin_pictures_with
 
 
 class RecordingArray:
@@ -81,11 +78,7 @@ def test_pieces_on_llvmpipe_only(gl_ctx: moderngl.Context) -> None:
 def test_draws_in_pieces_give_the_pixels_of_whole_draws(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
                                                         keys: str) -> None:
     """The built-in scene's thousands of triangles, edges and normals in pieces of 7 primitives."""
-    pictures = []
-    for piece in (None, 7):
-        monkeypatch.setattr(renderer_module, "draw_piece_primitives", lambda ctx, piece=piece: piece)
-        out = take_screenshot(StartOptions(), tmp_path / f"{piece}.png", (160, 160), keys=keys)
-        pictures.append(np.asarray(Image.open(out).convert("RGB")))
-    whole, pieced = pictures
+    whole, pieced = builtin_pictures_with(monkeypatch, renderer_module, "draw_piece_primitives", (None, 7),
+                                          tmp_path, keys)
     assert (whole != np.array(BACKGROUND, np.uint8)).any(axis=2).mean() > 0.02, "not blank"
     assert np.array_equal(whole, pieced)

@@ -330,6 +330,12 @@ def lighting_window_rows(ctx: moderngl.Context) -> int:
     return max(rows - rows % _WINDOW_ALIGN_ROWS, _WINDOW_ALIGN_ROWS)
 
 
+# After a compute pass: draws read the lit rows as vertices, transform feedback and compute passes
+# write them again, and tests read them back.
+_AFTER_COMPUTE_LIGHTING = (moderngl.VERTEX_ATTRIB_ARRAY_BARRIER_BIT | moderngl.TRANSFORM_FEEDBACK_BARRIER_BIT
+                           | moderngl.SHADER_STORAGE_BARRIER_BIT | moderngl.BUFFER_UPDATE_BARRIER_BIT)
+
+
 @dataclass(frozen=True)
 class ComputeLighting:
     """The lighting passes as compute programs, which llvmpipe runs on all its threads, and the most
@@ -338,26 +344,25 @@ class ComputeLighting:
     programs: Mapping[Shading, moderngl.ComputeShader]
     window_rows: int
 
+    @staticmethod
+    def takes(first: int, stop: int) -> bool:
+        """Whether the rows [first, stop) are worth a compute pass (COMPUTE_LIGHTING_MIN_ROWS)."""
+        return stop - first >= COMPUTE_LIGHTING_MIN_ROWS
 
-# After a compute pass: draws read the lit rows as vertices, transform feedback and compute passes
-# write them again, and tests read them back.
-_AFTER_COMPUTE_LIGHTING = (moderngl.VERTEX_ATTRIB_ARRAY_BARRIER_BIT | moderngl.TRANSFORM_FEEDBACK_BARRIER_BIT
-                           | moderngl.SHADER_STORAGE_BARRIER_BIT | moderngl.BUFFER_UPDATE_BARRIER_BIT)
-
-
-def run_lighting_windows(ctx: moderngl.Context, program: moderngl.ComputeShader, buffers: Sequence[moderngl.Buffer],
-                         first: int, stop: int, window: int) -> None:
-    """Runs a compute lighting pass over the rows [first, stop): `buffers` are the surface, colour and
-    lit buffers (LIGHTING_BINDINGS), of which a window of `window` rows is bound at a time."""
-    bound = list(zip(buffers, (SURFACE_ROW_BYTES, COLOUR_ROW_BYTES, LIT_ROW_BYTES), strict=True))
-    for base in range(first - first % _WINDOW_ALIGN_ROWS, stop, window):
-        rows = min(window, stop - base)
-        for binding, (buffer, size) in enumerate(bound):
-            buffer.bind_to_storage_buffer(binding, offset=base * size, size=rows * size)
-        program["u_first_row"].value = max(first - base, 0)
-        program["u_stop_row"].value = rows
-        program.run(-(-rows // LIGHTING_GROUP_ROWS))
-    ctx.memory_barrier(_AFTER_COMPUTE_LIGHTING)
+    def run(self, ctx: moderngl.Context, shading: Shading, buffers: Sequence[moderngl.Buffer], first: int,
+            stop: int) -> None:
+        """Lights the rows [first, stop): `buffers` are the surface, colour and lit buffers
+        (LIGHTING_BINDINGS), of which a window of rows is bound at a time."""
+        program = self.programs[shading]
+        bound = list(zip(buffers, (SURFACE_ROW_BYTES, COLOUR_ROW_BYTES, LIT_ROW_BYTES), strict=True))
+        for base in range(first - first % _WINDOW_ALIGN_ROWS, stop, self.window_rows):
+            rows = min(self.window_rows, stop - base)
+            for binding, (buffer, size) in enumerate(bound):
+                buffer.bind_to_storage_buffer(binding, offset=base * size, size=rows * size)
+            program["u_first_row"].value = max(first - base, 0)
+            program["u_stop_row"].value = rows
+            program.run(-(-rows // LIGHTING_GROUP_ROWS))
+        ctx.memory_barrier(_AFTER_COMPUTE_LIGHTING)
 
 
 def _layout_for(program: moderngl.Program, layout: tuple[str, ...]) -> tuple[str, ...]:
@@ -493,7 +498,7 @@ class ObjectGpu:
         if stop_row <= first or (done is not None and done.cover(inputs, first, stop_row)):
             return False
         compute = self.programs.compute_lighting
-        if compute is not None and stop_row - first >= COMPUTE_LIGHTING_MIN_ROWS:
+        if compute is not None and compute.takes(first, stop_row):
             self._light_by_compute(compute, shading, first, stop_row)
         else:
             self._surface_array("lighting", shading).transform(
@@ -505,8 +510,7 @@ class ObjectGpu:
     def _light_by_compute(self, compute: ComputeLighting, shading: Shading, first: int, stop: int) -> None:
         surface = self._surface_buffers["surface"]
         colours = self._surface_buffers.get("colours", surface)  # unread without colours
-        run_lighting_windows(self.ctx, compute.programs[shading], (surface, colours, self._surface_buffers["lit"]),
-                             first, stop, compute.window_rows)
+        compute.run(self.ctx, shading, (surface, colours, self._surface_buffers["lit"]), first, stop)
 
     def _surface_array(self, kind: str, shading: Shading) -> moderngl.VertexArray:
         """The surface's vertex buffer bound to a surface program ("surface", indexed, reading the lit

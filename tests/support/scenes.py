@@ -4,10 +4,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+import pytest
+from PIL import Image
 
-from marraztu.control.viewer import Viewer
+from marraztu.control.viewer import StartOptions, Viewer
+from marraztu.frontends.screenshot import take_screenshot
 from marraztu.model.build import build_mesh
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Material, Scene, SceneObject
@@ -97,3 +101,15 @@ class RenderingViewer(Viewer):
     def __init__(self, scene: Scene, renderer: Renderer, frontend, **options) -> None:
         super().__init__(scene, frontend, **options)
         self.renderer = renderer
+
+
+def builtin_pictures_with(monkeypatch: pytest.MonkeyPatch, target: Any, name: str, values: Sequence[Any],
+                          folder: Path, keys: str) -> list[np.ndarray]:
+    """The built-in scene at 160x160 after `keys`, through the screenshot command, once with the function
+    `target.name` answering each of `values` (whatever it is asked)."""
+    pictures = []
+    for value in values:
+        monkeypatch.setattr(target, name, lambda *args, value=value: value)
+        out = take_screenshot(StartOptions(), folder / f"{name}-{value}.png", (160, 160), keys=keys)
+        pictures.append(np.asarray(Image.open(out).convert("RGB")))
+    return pictures

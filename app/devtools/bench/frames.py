@@ -115,21 +115,19 @@ class BareDraw:
     def __init__(self, ctx: moderngl.Context, scene: Scene, compute_lighting: bool) -> None:
         import moderngl
 
+        from marraztu.model.scene import Shading
         from marraztu.render.gpu import (
-            COMPUTE_LIGHTING_MIN_ROWS,
             LIGHTING_DEFINES,
             LIT_ROW_BYTES,
+            ComputeLighting,
             compute_program,
             lighting_window_rows,
-            run_lighting_windows,
         )
         from marraztu.render.renderer import CLEAR_COLOUR, pieced_draws
 
         self.gl = moderngl  # imported here, not per frame, so the bare CPU figures stay bare
         self.draw = pieced_draws(ctx)[0]  # in the renderer's pieces
-        self.run_lighting_windows = run_lighting_windows  # kept, so a frame imports nothing
-        self.lighting_window = lighting_window_rows(ctx) if compute_lighting else 0
-        self.compute_min_rows = COMPUTE_LIGHTING_MIN_ROWS
+        self.shadings = {way.value: way for way in (Shading.FLAT, Shading.GOURAUD)}  # the modes that light
         self.clear_colour = CLEAR_COLOUR
         self.ctx = ctx
         self.scene = scene
@@ -138,14 +136,16 @@ class BareDraw:
         self.objects: list[tuple[SceneObject, dict[str, tuple[moderngl.VertexArray, VertexRange]]]] = []
         self.lighting: list[BareLighting] = []
         self.programs: list[moderngl.Program | moderngl.ComputeShader] = []
-        self.compute_lighting: moderngl.ComputeShader | None = None
+        self.compute_lighting: ComputeLighting | None = None  # the same pass-through for both shadings
         try:
             self.program = self._program(vertex_shader=BARE_VERTEX_SHADER, fragment_shader=BARE_FRAGMENT_SHADER)
             self.mvp = self.program["u_mvp"]
             self.lighting_program = self._program(vertex_shader=BARE_LIGHTING_SHADER, varyings=["v_lit"])
             if compute_lighting:
-                self.compute_lighting = compute_program(ctx, BARE_COMPUTE_LIGHTING_SHADER, LIGHTING_DEFINES)
-                self.programs.append(self.compute_lighting)
+                program = compute_program(ctx, BARE_COMPUTE_LIGHTING_SHADER, LIGHTING_DEFINES)
+                self.programs.append(program)
+                self.compute_lighting = ComputeLighting(dict.fromkeys(self.shadings.values(), program),
+                                                        lighting_window_rows(ctx))
             for obj in drawn_objects(scene):
                 self._add(obj)
         except Exception:
@@ -224,9 +224,10 @@ class BareDraw:
             if mode not in lighting.rows:  # lines light nothing
                 continue
             first, stop = lighting.rows[mode]
-            if self.compute_lighting is not None and stop - first >= self.compute_min_rows:
-                self.run_lighting_windows(self.ctx, self.compute_lighting, (lighting.surface, lighting.surface,
-                                          lighting.lit), first, stop, self.lighting_window)
+            compute = self.compute_lighting
+            if compute is not None and compute.takes(first, stop):
+                compute.run(self.ctx, self.shadings[mode], (lighting.surface, lighting.surface, lighting.lit),
+                            first, stop)
             else:
                 lighting.vertex_array.transform(lighting.lit, self.gl.POINTS, vertices=stop - first, first=first,
                                                 buffer_offset=first * self.lit_row_bytes)
