@@ -95,6 +95,58 @@ def test_a_trimesh_with_its_vertex_colours() -> None:
     assert centre[0] > 0 and centre[1] == 0 and centre[2] == 0  # lit, times pure red
 
 
+def test_a_trimesh_with_its_texture_draws_like_the_same_model_from_a_file(tmp_path: Path) -> None:
+    """Its uvs and its material's picture, as an OBJ with vt and map_Kd gives them."""
+    picture = Image.new("RGB", (2, 2))
+    picture.putdata([(255, 0, 0), (0, 255, 0), (0, 0, 255), (255, 255, 0)])
+    picture.save(tmp_path / "four.ppm")
+    square = [[-60.0, -60.0, 20.0], [60.0, -60.0, 20.0], [60.0, 60.0, 20.0], [-60.0, 60.0, 20.0]]
+    uvs = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+    (tmp_path / "square.mtl").write_text("newmtl square\nmap_Kd four.ppm\n")
+    (tmp_path / "square.obj").write_text("mtllib square.mtl\nusemtl square\n"
+                                         + "".join(f"v {x:g} {y:g} {z:g}\n" for x, y, z in square)
+                                         + "".join(f"vt {u:g} {v:g}\n" for u, v in uvs)
+                                         + "f 1/1 2/2 3/3\nf 1/1 3/3 4/4\n")
+    mesh = trimesh.Trimesh(square, [[0, 1, 2], [0, 2, 3]], process=False,
+                           visual=trimesh.visual.TextureVisuals(uv=uvs, image=picture))
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        from_trimesh = np.asarray(v.add_mesh(mesh, name="square").press("0 1").render())
+        assert v.scene.object.mesh.attributes_per_position
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        from_file = np.asarray(v.load(tmp_path / "square.obj").press("0 1").render())
+    assert np.array_equal(from_trimesh, from_file)
+    centre = SIZE[1] // 2
+    left, right = from_file[centre - 20, SIZE[0] // 2 - 20], from_file[centre + 20, SIZE[0] // 2 + 20]
+    assert left[0] > 2 * max(left[1:]) and right[0] > 2 * right[2] and right[1] > 2 * right[2]  # red; yellow
+
+
+def test_per_vertex_normals_and_uvs_draw_like_the_same_per_corner_ones() -> None:
+    sphere = trimesh.creation.icosphere(subdivisions=2, radius=60.0)
+    corners = sphere.faces.reshape(-1)
+    rng = np.random.default_rng(3)
+    normals, uvs = rng.normal(size=(len(sphere.vertices), 3)), rng.random((len(sphere.vertices), 2))
+    pictures, stored_per_position = [], []
+    for given in ((normals, uvs), (normals[corners], uvs[corners])):
+        with marraztu.Viewer(size=SIZE, empty=True) as v:
+            v.add_mesh(sphere.vertices, sphere.faces, normals=given[0], uvs=given[1]).press("0 1")
+            pictures.append(np.asarray(v.render()))
+            stored_per_position.append(v.scene.object.mesh.attributes_per_position)
+    assert stored_per_position == [True, False]  # rows per vertex stay so: a sixth of the rows per corner
+    assert np.array_equal(*pictures)
+    assert (np.abs(pictures[0].astype(int) - [0, 0, 178]).sum(axis=2) > 30).mean() > 0.1, "not blank"
+
+
+def test_rows_that_fit_vertices_and_corners_alike_must_say_which(viewer) -> None:
+    soup = np.concatenate([TRIANGLE, TRIANGLE + 1.0])
+    faces, normals = [[0, 1, 2], [5, 4, 3]], np.tile([0.0, 0.0, 1.0], (6, 1))
+    with pytest.raises(ValueError, match="attributes_per_vertex"):
+        viewer.add_mesh(soup, faces, normals=normals)
+    viewer.add_mesh(soup, faces, normals=normals, attributes_per_vertex=False)
+    viewer.add_mesh(soup, [[0, 1, 2], [3, 4, 5]], normals=normals)  # every vertex once, in order: the same
+    with pytest.raises(ValueError, match="own uvs"):
+        viewer.add_mesh(trimesh.Trimesh(TRIANGLE, [[0, 1, 2]], process=False), normals=normals[:3])
+
+
 @pytest.mark.parametrize(("positions", "faces", "words"), [
     (np.full((3, 3), np.nan), [[0, 1, 2]], "finite"),
     (TRIANGLE * 1e39, [[0, 1, 2]], "float32"),

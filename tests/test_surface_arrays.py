@@ -208,11 +208,15 @@ def test_build_mesh_takes_per_vertex_tables_as_the_same_corners() -> None:
     corners = faces.reshape(-1)
     per_corner = build_mesh("a", positions, faces, uvs=uvs[corners], normals=normals[corners])
     per_vertex = build_mesh("a", positions, faces, uvs=uvs, normals=normals, attributes_per_vertex=True)
-    assert per_vertex.attributes_per_position and per_vertex.uvs.shape == (6, 2)
-    assert np.array_equal(per_vertex.corner_uv, per_corner.corner_uv)
-    assert np.array_equal(per_vertex.corner_normal, per_corner.corner_normal)
-    with pytest.raises(ValueError, match="per-vertex values must have shape"):
-        build_mesh("a", positions, faces, uvs=uvs[:5], attributes_per_vertex=True)
+    by_rows = build_mesh("a", positions, faces, uvs=uvs, normals=normals)  # 6 rows, 12 corners: per vertex
+    for mesh in (per_vertex, by_rows):
+        assert mesh.attributes_per_position and mesh.uvs.shape == (6, 2)
+        assert np.array_equal(mesh.corner_uv, per_corner.corner_uv)
+        assert np.array_equal(mesh.corner_normal, per_corner.corner_normal)
+    with pytest.raises(ValueError, match=r"one row per vertex, shape \(6, 2\)"):
+        build_mesh("a", positions, faces, uvs=uvs[:5])
+    with pytest.raises(ValueError, match=r"per vertex need shape \(6, 2\)"):
+        build_mesh("a", positions, faces, uvs=uvs[corners], attributes_per_vertex=True)
 
 
 def test_a_zero_length_vn_is_derived_per_position_too() -> None:

@@ -25,6 +25,7 @@ from marraztu.control.viewer import Viewer as KeyViewer
 from marraztu.errors import LoadError, ViewerError, escaped
 from marraztu.frontends.heap import return_freed_memory
 from marraztu.frontends.screenshot import OffscreenFrontend, render_pixels
+from marraztu.loaders.exchange import mesh_of_trimesh
 from marraztu.loaders.scenefile import material_for_loaded, materials_of_parts
 from marraztu.model.build import build_mesh
 from marraztu.model.geometry import FLOAT32_MAX
@@ -143,15 +144,22 @@ class Viewer:
         return self
 
     def add_mesh(self, positions: Any, faces: Any = None, uvs: Any = None, normals: Any = None,
-                 name: str = "mesh", colours: Any = None) -> Viewer:
-        """A model from arrays, or from a trimesh.Trimesh given alone: positions (V, 3), faces (F, k)
-        of 0-based indices (or a list of polygons), per-corner uvs and normals, per-vertex colours."""
+                 name: str = "mesh", colours: Any = None, attributes_per_vertex: bool | None = None) -> Viewer:
+        """A model from arrays, or from a trimesh.Trimesh given alone (with its uvs, texture and vertex
+        colours): positions (V, 3), faces (F, k) of 0-based indices (or a list of polygons), uvs and
+        normals per vertex or per corner, colours per vertex."""
+        shown_name = escaped(str(name))[:200]
         if faces is None and hasattr(positions, "vertices") and hasattr(positions, "faces"):
-            positions, faces, colours = _from_trimesh(positions, colours)
-        if faces is None:
+            if not (uvs is None and normals is None and colours is None and attributes_per_vertex is None):
+                raise ValueError("a trimesh.Trimesh brings its own uvs and colours: give it alone, or give its "
+                                 "arrays (mesh.vertices, mesh.faces, normals=mesh.vertex_normals, ...)")
+            _finite_positions(positions.vertices)
+            mesh = mesh_of_trimesh(shown_name, positions)
+        elif faces is None:
             raise ValueError("add_mesh needs faces, or a trimesh.Trimesh alone")
-        mesh = build_mesh(name=escaped(str(name))[:200], positions=_finite_positions(positions), faces=faces, uvs=uvs,
-                          normals=normals, vertex_colours=colours)
+        else:
+            mesh = build_mesh(name=shown_name, positions=_finite_positions(positions), faces=faces, uvs=uvs,
+                              normals=normals, vertex_colours=colours, attributes_per_vertex=attributes_per_vertex)
         material = material_for_loaded(mesh)
         obj = SceneObject.placed(mesh.name, mesh, material, (0.0, 0.0, 0.0))
         obj.part_materials = materials_of_parts(mesh, material, from_scene=False)
@@ -209,13 +217,6 @@ def _probed_vertex(found: Any, vertex: Any) -> ProbedVertex:
                         normal=_triple(vertex.world_normal), n_dot_v=vertex.n_dot_v,
                         ambient=_triple(vertex.terms.ambient), lights=shares, total=_triple(vertex.shown),
                         colour=colour)  # type: ignore[arg-type]
-
-
-def _from_trimesh(mesh: Any, colours: Any) -> tuple[np.ndarray, np.ndarray, Any]:
-    visual = getattr(mesh, "visual", None)
-    if colours is None and getattr(visual, "kind", None) == "vertex":
-        colours = np.asarray(visual.vertex_colors)
-    return np.asarray(mesh.vertices), np.asarray(mesh.faces), colours
 
 
 def _finite_positions(positions: Any) -> np.ndarray:

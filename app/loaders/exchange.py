@@ -13,7 +13,7 @@ from __future__ import annotations
 import io
 import itertools
 import re
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -194,9 +194,14 @@ def _finish(path: Path, loaded: Any, data: bytes | None, merge: bool = False) ->
     notes: list[str] = []
     if hasattr(loaded, "geometry"):  # a glTF scene: every mesh placed by its node's transform
         loaded, notes = _flattened(path, loaded)
-    positions = np.asarray(loaded.vertices, dtype=np.float64).reshape(-1, 3)
-    faces = np.asarray(loaded.faces, dtype=np.int64).reshape(-1, 3)
-    _check_tables(path, positions, faces, data)
+    _check_tables(path, _positions(loaded), _faces(loaded), data)
+    return mesh_of_trimesh(path.stem, loaded, notes, merge)
+
+
+def mesh_of_trimesh(name: str, loaded: Any, notes: Sequence[str] = (), merge: bool = False) -> Mesh:
+    """A trimesh.Trimesh as a Mesh, with its per-vertex uvs and colours, its material's base colour and
+    its texture; ValueError (build_mesh's) for tables it cannot hold. `merge` joins equal positions."""
+    positions, faces = _positions(loaded), _faces(loaded)
     uvs = _vertex_uvs(loaded)
     colours = _vertex_colours(loaded)
     if merge:  # STL stores each triangle's own corners: shared corners let Gouraud smooth across edges
@@ -204,18 +209,28 @@ def _finish(path: Path, loaded: Any, data: bytes | None, merge: bool = False) ->
         faces = inverse.reshape(-1)[faces]
         colours = None if colours is None else colours[first]
         uvs = None  # an STL has no texture coordinates
-    mesh = build_mesh(name=path.stem, positions=positions, faces=faces, uvs=uvs, file_material=_material_of(loaded),
+    mesh = build_mesh(name=name, positions=positions, faces=faces, uvs=uvs, file_material=_material_of(loaded),
                       warnings=notes, vertex_colours=colours, attributes_per_vertex=True)
     texture = _base_colour_texture(loaded) if uvs is not None else None
     if texture is None:
         return mesh
     # One material, the file's, carrying the picture: drawn as an OBJ's map_Kd is.
-    material = MeshMaterial(path.stem, mesh.file_material or {}, texture, "base colour texture")
+    material = MeshMaterial(name, mesh.file_material or {}, texture, "base colour texture")
     return replace(mesh, materials=(material,), face_material=np.zeros(mesh.face_count, np.int32))
 
 
+def _positions(mesh: Any) -> np.ndarray:
+    return np.asarray(mesh.vertices, dtype=np.float64).reshape(-1, 3)
+
+
+def _faces(mesh: Any) -> np.ndarray:
+    return np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
+
+
 def _base_colour_texture(mesh: Any) -> np.ndarray | None:
-    picture = getattr(getattr(_visual(mesh), "material", None), "baseColorTexture", None)
+    material = getattr(_visual(mesh), "material", None)
+    # glTF's PBR material holds baseColorTexture; trimesh's own (an OBJ it read, say) holds image.
+    picture = getattr(material, "baseColorTexture", None) or getattr(material, "image", None)
     if picture is None:
         return None
     try:

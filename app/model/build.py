@@ -31,23 +31,23 @@ def build_mesh(
     file_material: dict[str, object] | None = None,
     warnings: Sequence[str] = (),
     vertex_colours: np.ndarray | Sequence[Sequence[float]] | None = None,
-    attributes_per_vertex: bool = False,
+    attributes_per_vertex: bool | None = None,
 ) -> Mesh:
     """A Mesh from plain tables, with normals and texture coordinates derived as the loader does.
 
     ``faces`` holds 0-based vertex indices, one sequence per polygon (3 or more). ``uvs`` and
-    ``normals`` are per corner, in the order the faces list their corners, or with
-    ``attributes_per_vertex`` one row per position; a NaN row means "derive this one".
-    ``vertex_colours`` are per position: RGB or RGBA, bytes (0..255) or floats (0..1).
-    Raises ValueError for impossible input (this is a programming interface).
+    ``normals`` have one row per position, or one per corner in the order the faces list their
+    corners; their row count says which, and ``attributes_per_vertex`` where both counts are equal.
+    A NaN row means "derive this one". ``vertex_colours`` are per position: RGB or RGBA, bytes
+    (0..255) or floats (0..1). Raises ValueError for impossible input (this is a programming interface).
     """
     points = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
     corner_vertex, face_start = _faces_to_csr(faces)
     if corner_vertex.size and (corner_vertex.min() < 0 or corner_vertex.max() >= len(points)):
         raise ValueError("a face refers to a vertex that does not exist")
-    row_vertex = corner_vertex if attributes_per_vertex else None
-    given_uv = None if uvs is None else _given_table(uvs, 2, corner_vertex.size, row_vertex, len(points))
-    given_normals = None if normals is None else _given_table(normals, 3, corner_vertex.size, row_vertex, len(points))
+    given_uv, given_normals = (
+        None if values is None else _given_table(values, width, corner_vertex, len(points), attributes_per_vertex)
+        for values, width in ((uvs, 2), (normals, 3)))
     mesh = derive_mesh(name, points, corner_vertex, face_start, given_uv, given_normals,
                        base_colour, file_material, tuple(warnings))
     if vertex_colours is None:
@@ -71,18 +71,25 @@ def colour_bytes(colours: np.ndarray | Sequence[Sequence[float]], rows: int) -> 
     return np.rint(floats * 255.0).astype(np.uint8)
 
 
-def _given_table(values: np.ndarray | Sequence[Sequence[float]], width: int, corners: int,
-                 corner_vertex: np.ndarray | None, vertex_count: int) -> CornerSource:
-    """Per-corner values (`corner_vertex` None) or per-vertex ones as a (table, per-corner row) pair;
-    a corner whose row has a NaN gets -1 (derived instead)."""
+def _given_table(values: np.ndarray | Sequence[Sequence[float]], width: int, corner_vertex: np.ndarray,
+                 vertex_count: int, per_vertex: bool | None) -> CornerSource:
+    """Per-vertex or per-corner values as a (table, per-corner row) pair; a corner whose row has a NaN
+    gets -1 (derived instead)."""
     table = np.asarray(values, dtype=np.float64)
-    if corner_vertex is None and table.shape != (corners, width):
-        raise ValueError(f"per-corner values must have shape ({corners}, {width}): one row per corner, in the "
-                         f"order the faces list them; not {table.shape}")
-    if corner_vertex is not None and table.shape != (vertex_count, width):
-        raise ValueError(f"per-vertex values must have shape ({vertex_count}, {width}): one row per position; "
-                         f"not {table.shape}")
-    rows = np.arange(corners) if corner_vertex is None else corner_vertex
+    corners = corner_vertex.size
+    if table.ndim != 2 or table.shape[1] != width or table.shape[0] not in (vertex_count, corners):
+        raise ValueError(f"uvs and normals need one row per vertex, shape ({vertex_count}, {width}), or one per "
+                         f"corner in the order the faces list them, shape ({corners}, {width}); not {table.shape}")
+    if per_vertex is None:
+        per_vertex = table.shape[0] == vertex_count
+        # A table that fits both is ambiguous unless the faces list every vertex once, in order.
+        if vertex_count == corners and not np.array_equal(corner_vertex, np.arange(corners)):
+            raise ValueError(f"uvs and normals have {corners} rows, as many as the vertices and as the corners: "
+                             "say which with attributes_per_vertex=True or False")
+    if table.shape[0] != (vertex_count if per_vertex else corners):
+        raise ValueError(f"uvs and normals given per {'vertex' if per_vertex else 'corner'} need shape "
+                         f"({vertex_count if per_vertex else corners}, {width}), not {table.shape}")
+    rows = corner_vertex if per_vertex else np.arange(corners)
     return table, np.where(np.isnan(table).any(axis=1)[rows], -1, rows)
 
 
