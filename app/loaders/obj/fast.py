@@ -25,6 +25,9 @@ from marraztu.model.mesh import INDEX
 MIN_PIECE_BYTES = 1 << 20
 # numba's code runs without the GIL, so threads parse pieces at once.
 PARSE_THREADS = max(1, min(4, os.cpu_count() or 1))
+# More pieces than threads: a thread whose pieces went quickly takes the next, so a piece of costly
+# lines (faces, long numbers) does not keep the others waiting.
+PIECES_PER_THREAD = 4
 _Item = TypeVar("_Item")
 _Result = TypeVar("_Result")
 _WIDTHS = (3, 2, 3)
@@ -40,7 +43,7 @@ def read_fast(text: bytes, source: str) -> RawObj:
 
     `text` ends with a newline (marraztu.loaders.obj normalizes it)."""
     buf = np.frombuffer(text, dtype=np.uint8)
-    pieces = _pieces(text, PARSE_THREADS)
+    pieces = _pieces(text, PARSE_THREADS * PIECES_PER_THREAD)
     counts = np.array(_each(lambda piece: scan.count_piece(buf, *piece), pieces)).reshape(-1, scan.COUNT_COLUMNS)
     before = np.cumsum(counts, axis=0) - counts  # each piece's offsets into the tables
     total = counts.sum(axis=0)
