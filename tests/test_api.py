@@ -8,6 +8,7 @@ import dataclasses
 import gc
 from io import BytesIO
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -118,6 +119,48 @@ def test_a_trimesh_with_its_texture_draws_like_the_same_model_from_a_file(tmp_pa
     centre = SIZE[1] // 2
     left, right = from_file[centre - 20, SIZE[0] // 2 - 20], from_file[centre + 20, SIZE[0] // 2 + 20]
     assert left[0] > 2 * max(left[1:]) and right[0] > 2 * right[2] and right[1] > 2 * right[2]  # red; yellow
+
+
+def test_a_trimeshs_picture_is_its_texture_whatever_its_kind() -> None:
+    """A Pillow picture or an array, in a PBR or a plain material; 16-bit grey scaled as a PNG's is;
+    trimesh's 2x2 stand-in for uvs without a picture is no texture."""
+    square = [[-60.0, -60.0, 20.0], [60.0, -60.0, 20.0], [60.0, 60.0, 20.0], [-60.0, 60.0, 20.0]]
+    uvs = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+    red = np.tile(np.array([255, 0, 0], np.uint8), (4, 4, 1))
+    grey16 = Image.fromarray(np.full((4, 4), 30000, np.uint16))
+    visuals = {
+        "array in a PBR material": trimesh.visual.TextureVisuals(
+            uv=uvs, material=trimesh.visual.material.PBRMaterial(baseColorTexture=red)),
+        "array as the image": trimesh.visual.TextureVisuals(uv=uvs, image=red),
+        "16-bit grey": trimesh.visual.TextureVisuals(uv=uvs, image=grey16),
+        "no picture": trimesh.visual.TextureVisuals(uv=uvs),
+    }
+    textures = {}
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        for name, visual in visuals.items():
+            v.add_mesh(trimesh.Trimesh(square, [[0, 1, 2], [0, 2, 3]], process=False, visual=visual))
+            materials = v.scene.object.mesh.materials
+            textures[name] = materials[0].texture[0, 0].tolist() if materials else None
+    assert textures == {"array in a PBR material": [255, 0, 0], "array as the image": [255, 0, 0],
+                        "16-bit grey": [117, 117, 117], "no picture": None}
+
+
+def test_any_object_with_vertices_and_faces_is_taken_as_a_trimesh_is(viewer) -> None:
+    viewer.add_mesh(SimpleNamespace(vertices=TRIANGLE, faces=np.array([[0, 1, 2]])), name="plain")
+    assert viewer.scene.object.mesh.face_count == 1
+
+
+def test_uvs_and_normals_rows_that_are_not_finite_are_derived_as_nan_rows_are(viewer) -> None:
+    faces = [[0, 1, 2]]
+    meshes = []
+    for bad in (np.nan, np.inf):
+        uvs, normals = np.full((3, 2), 0.25), np.tile([0.0, 0.0, 1.0], (3, 1))
+        uvs[1, 0] = normals[2, 1] = bad
+        meshes.append(viewer.add_mesh(TRIANGLE, faces, uvs=uvs, normals=normals).scene.object.mesh)
+    assert np.array_equal(meshes[0].uvs, meshes[1].uvs) and np.array_equal(meshes[0].normals, meshes[1].normals)
+    assert np.isfinite(meshes[1].uvs).all()
+    with pytest.raises(ValueError, match="rows of 2 numbers"):
+        viewer.add_mesh(TRIANGLE, faces, uvs=[[0, 0], [1], [0, 1]])
 
 
 def test_per_vertex_normals_and_uvs_draw_like_the_same_per_corner_ones() -> None:

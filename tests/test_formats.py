@@ -295,3 +295,15 @@ def test_a_files_first_word_is_found_without_copying_the_file(tmp_path: Path) ->
     error, peak = peak_traced_bytes(lambda: load_model(path))
     assert isinstance(error, LoadError) and "does not start with 'solid'" in error.message
     assert peak < 3 * path.stat().st_size // 2, peak  # the bytes read, once
+
+
+@pytest.mark.parametrize("encoding", ["binary", "ascii"])
+def test_a_ply_with_uvs_and_no_picture_has_no_texture(tmp_path: Path, encoding: str) -> None:
+    """trimesh gives such uvs a 2x2 grey stand-in picture: it is no texture, so the scene's shows."""
+    uvs = POSITIONS[:, :2] / 120.0 + 0.5
+    mesh = trimesh.Trimesh(POSITIONS, FACES, process=False, visual=trimesh.visual.TextureVisuals(uv=uvs))
+    path = tmp_path / "uv.ply"
+    path.write_bytes(trimesh.exchange.ply.export_ply(mesh, encoding=encoding))
+    loaded = load_model(path)
+    assert loaded.materials == () and loaded.attributes_per_position
+    assert np.allclose(loaded.uvs, uvs)

@@ -19,9 +19,11 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from PIL import Image
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import MAX_FILE_BYTES, read_file, text_lines
+from marraztu.loaders.images import rgb_array
 from marraztu.model.build import build_mesh
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh, MeshMaterial
@@ -229,14 +231,24 @@ def _faces(mesh: Any) -> np.ndarray:
 
 def _base_colour_texture(mesh: Any) -> np.ndarray | None:
     material = getattr(_visual(mesh), "material", None)
-    # glTF's PBR material holds baseColorTexture; trimesh's own (an OBJ it read, say) holds image.
-    picture = getattr(material, "baseColorTexture", None) or getattr(material, "image", None)
+    picture = getattr(material, "baseColorTexture", None)  # glTF's PBR material
+    if picture is None and not _stand_in_material(material):
+        picture = getattr(material, "image", None)  # trimesh's own: an OBJ or a texture it was given
     if picture is None:
         return None
     try:
-        return np.asarray(picture.convert("RGB"), dtype=np.uint8)
+        return rgb_array(picture if isinstance(picture, Image.Image) else Image.fromarray(np.asarray(picture)))
     except Exception:  # a picture Pillow cannot convert: the colours alone, as for a missing map_Kd
         return None
+
+
+def _stand_in_material(material: Any) -> bool:
+    """trimesh gives uvs without a picture a material whose image is 2x2 pixels of one colour
+    (trimesh.visual.material.empty_material): no texture, not a grey one."""
+    image = getattr(material, "image", None)
+    if not isinstance(image, Image.Image) or image.size != (2, 2):
+        return False
+    return len(set(image.getdata())) == 1
 
 
 def _check_tables(path: Path, positions: np.ndarray, faces: np.ndarray, data: bytes | None) -> None:
@@ -289,7 +301,7 @@ def _vertex_uvs(mesh: Any) -> np.ndarray | None:
 
 
 def _visual(mesh: Any) -> Any:
-    return mesh.metadata.get("first_visual", getattr(mesh, "visual", None))
+    return getattr(mesh, "metadata", {}).get("first_visual", getattr(mesh, "visual", None))
 
 
 def _material_of(mesh: Any) -> dict[str, object] | None:

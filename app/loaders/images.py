@@ -218,7 +218,7 @@ def _load_with_pillow(file: Path, kind: str) -> np.ndarray:
                 if width * height > MAX_PIXELS:
                     raise LoadError(file, f"image size {width}x{height} is too large (at most {MAX_PIXELS} pixels)")
                 image.load()
-                return _rgb_array(image)
+                return rgb_array(image)
     except LoadError:
         raise
     except (Image.DecompressionBombError, Image.DecompressionBombWarning):
@@ -227,7 +227,7 @@ def _load_with_pillow(file: Path, kind: str) -> np.ndarray:
         raise LoadError(file, f"not a readable image ({type(error).__name__}: {error})") from None
 
 
-def _rgb_array(image: Image.Image) -> np.ndarray:
+def rgb_array(image: Image.Image) -> np.ndarray:
     """RGB uint8; wide grey modes are scaled, not clipped as Pillow's convert('RGB') would."""
     if image.mode.startswith("I") or image.mode == "F":
         values = np.asarray(image)

@@ -38,8 +38,9 @@ def build_mesh(
     ``faces`` holds 0-based vertex indices, one sequence per polygon (3 or more). ``uvs`` and
     ``normals`` have one row per position, or one per corner in the order the faces list their
     corners; their row count says which, and ``attributes_per_vertex`` where both counts are equal.
-    A NaN row means "derive this one". ``vertex_colours`` are per position: RGB or RGBA, bytes
-    (0..255) or floats (0..1). Raises ValueError for impossible input (this is a programming interface).
+    A row with a NaN or an infinity means "derive this one". ``vertex_colours`` are per position: RGB
+    or RGBA, bytes (0..255) or floats (0..1). Raises ValueError for impossible input (this is a
+    programming interface).
     """
     points = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
     corner_vertex, face_start = _faces_to_csr(faces)
@@ -73,9 +74,12 @@ def colour_bytes(colours: np.ndarray | Sequence[Sequence[float]], rows: int) -> 
 
 def _given_table(values: np.ndarray | Sequence[Sequence[float]], width: int, corner_vertex: np.ndarray,
                  vertex_count: int, per_vertex: bool | None) -> CornerSource:
-    """Per-vertex or per-corner values as a (table, per-corner row) pair; a corner whose row has a NaN
-    gets -1 (derived instead)."""
-    table = np.asarray(values, dtype=np.float64)
+    """Per-vertex or per-corner values as a (table, per-corner row) pair; a corner whose row is not
+    finite gets -1 (derived instead, as where a file's uv is not)."""
+    try:
+        table = np.asarray(values, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"uvs and normals must be rows of {width} numbers") from None
     corners = corner_vertex.size
     if table.ndim != 2 or table.shape[1] != width or table.shape[0] not in (vertex_count, corners):
         raise ValueError(f"uvs and normals need one row per vertex, shape ({vertex_count}, {width}), or one per "
@@ -90,7 +94,7 @@ def _given_table(values: np.ndarray | Sequence[Sequence[float]], width: int, cor
         raise ValueError(f"uvs and normals given per {'vertex' if per_vertex else 'corner'} need shape "
                          f"({vertex_count if per_vertex else corners}, {width}), not {table.shape}")
     rows = corner_vertex if per_vertex else np.arange(corners)
-    return table, np.where(np.isnan(table).any(axis=1)[rows], -1, rows)
+    return table, np.where(~np.isfinite(table).all(axis=1)[rows], -1, rows)
 
 
 def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
