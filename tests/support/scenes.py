@@ -27,7 +27,7 @@ def mesh_from_polygons(name: str, positions: Sequence[Sequence[float]],
     """A Mesh as the loader would make it, with per-vertex texture coordinates (zeros without)."""
     corner_vertex = [index for polygon in polygons for index in polygon]
     per_vertex = np.zeros((len(positions), 2)) if uvs is None else np.asarray(uvs, float)
-    return build_mesh(name, positions, polygons, uvs=per_vertex[corner_vertex])
+    return build_mesh(name, positions, polygons, uvs=per_vertex[corner_vertex], attributes_per_vertex=False)
 
 
 def quad_mesh(half: float = 50.0, facing_camera: bool = True) -> Mesh:
