@@ -23,6 +23,7 @@ from marraztu.errors import LoadError, ViewerError
 from marraztu.frontends.screenshot import write_picture
 from marraztu.loaders.images import image_format, load_image
 from marraztu.model.build import build_mesh
+from marraztu.model.geometry import FLOAT32_MAX
 
 FUZZ = settings(derandomize=True, database=None, deadline=None, max_examples=150,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
@@ -117,6 +118,40 @@ def test_polygons_of_every_size_get_the_same_normal(corners: int, copies: int, t
                        faces + [[len(positions), len(positions) + 1, len(positions) + 2]])
     np.testing.assert_allclose(alone.face_normals, np.tile(plane, (copies, 1)), atol=1e-5)
     np.testing.assert_allclose(mixed.face_normals[:copies], alone.face_normals, atol=1e-6)
+
+
+CELLS = st.sampled_from([0.0, 0.5, -2.0, 1e30, 1e300, float("nan"), float("inf"), -float("inf")])
+
+
+@FUZZ
+@given(data=st.data(), triangles=st.integers(1, 4), per_vertex=st.sampled_from([None, True, False]))
+def test_uvs_and_normals_of_every_shape_make_a_finite_mesh_or_one_value_error(data: st.DataObject, triangles: int,
+                                                                               per_vertex: bool | None) -> None:
+    """Tables of any row count, width and values, per vertex, per corner or either: a Mesh whose uvs are
+    finite and whose normals are unit vectors, each given finite row kept, or a ValueError."""
+    vertices = data.draw(st.integers(3, 3 * triangles))
+    faces = np.array(data.draw(st.lists(st.lists(st.integers(0, vertices - 1), min_size=3, max_size=3),
+                                        min_size=triangles, max_size=triangles)))
+    positions = np.random.default_rng(triangles).normal(size=(vertices, 3))
+    tables = {}
+    for name, width in (("uvs", 2), ("normals", 3)):
+        rows = data.draw(st.sampled_from([vertices, faces.size, 0, vertices + 1]))
+        shape = (rows, data.draw(st.sampled_from([width, width, 1, 4])))
+        cells = data.draw(st.lists(CELLS, min_size=shape[0] * shape[1], max_size=shape[0] * shape[1]))
+        tables[name] = data.draw(st.sampled_from([None, np.array(cells).reshape(shape)]))
+    try:
+        mesh = build_mesh("fuzz", positions, faces, attributes_per_vertex=per_vertex, **tables)
+    except ValueError:
+        return
+    assert np.isfinite(mesh.corner_uv).all() and np.isfinite(mesh.corner_normal).all()
+    np.testing.assert_allclose(np.linalg.norm(mesh.corner_normal, axis=1), 1.0, rtol=1e-5)
+    uvs = tables["uvs"]
+    if uvs is not None:
+        by_vertex = per_vertex if per_vertex is not None else len(uvs) == vertices
+        given = uvs[faces.reshape(-1)] if by_vertex else uvs
+        kept = np.isfinite(given).all(axis=1)
+        expected = np.clip(given[kept], -FLOAT32_MAX, FLOAT32_MAX).astype(np.float32)
+        np.testing.assert_array_equal(mesh.corner_uv[kept], expected)
 
 
 @pytest.mark.parametrize("kind", sorted(READ))
