@@ -121,6 +121,28 @@ def test_a_trimesh_with_its_texture_draws_like_the_same_model_from_a_file(tmp_pa
     assert left[0] > 2 * max(left[1:]) and right[0] > 2 * right[2] and right[1] > 2 * right[2]  # red; yellow
 
 
+def test_a_trimesh_scene_draws_like_its_glb_file(tmp_path: Path) -> None:
+    """Its meshes placed by their nodes, each with its own picture, as the file reader places them."""
+    corners = np.array([[-25.0, -25.0, 20.0], [25.0, -25.0, 20.0], [25.0, 25.0, 20.0], [-25.0, 25.0, 20.0]])
+    scene = trimesh.Scene()
+    for colour, x in (((250, 0, 0), -30.0), ((0, 0, 250), 30.0)):
+        picture = Image.new("RGB", (4, 4), colour)
+        visual = trimesh.visual.TextureVisuals(uv=[[0, 0], [1, 0], [1, 1], [0, 1]], image=picture)
+        scene.add_geometry(trimesh.Trimesh(corners, [[0, 1, 2], [0, 2, 3]], process=False, visual=visual),
+                           transform=trimesh.transformations.translation_matrix([x, 0, 0]))
+    (tmp_path / "scene.glb").write_bytes(scene.export(file_type="glb"))
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        from_scene = np.asarray(v.add_mesh(trimesh.load(tmp_path / "scene.glb"), name="scene").press("0 1").render())
+        assert len(v.scene.object.mesh.materials) == 2
+        with pytest.raises(ValueError, match="no triangle mesh"):
+            v.add_mesh(trimesh.Scene())
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        from_file = np.asarray(v.load(tmp_path / "scene.glb").press("0 1").render())
+    assert np.array_equal(from_scene, from_file)
+    left, right = from_file[SIZE[1] // 2, SIZE[0] // 2 - 30], from_file[SIZE[1] // 2, SIZE[0] // 2 + 30]
+    assert left[0] > 2 * left[2] and right[2] > 2 * right[0], (left, right)
+
+
 def test_a_trimeshs_picture_is_its_texture_whatever_its_kind() -> None:
     """A Pillow picture or an array, in a PBR or a plain material; 16-bit grey scaled as a PNG's is;
     trimesh's 2x2 stand-in for uvs without a picture is no texture."""

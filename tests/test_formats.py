@@ -112,7 +112,7 @@ def test_a_mesh_placed_many_times_is_refused_before_it_is_copied(tmp_path: Path,
     assert exchange.MAX_PLACED_TRIANGLES == ((1 << 30) - 84) // 50
     monkeypatch.setattr(exchange, "MAX_PLACED_TRIANGLES", 40 * len(FACES) - 1)
     copies = []
-    monkeypatch.setattr(trimesh.Scene, "to_geometry", lambda scene: copies.append(scene))
+    monkeypatch.setattr(exchange, "_placed_positions", lambda *placed: copies.append(placed))
     with pytest.raises(LoadError) as caught:
         load_model(tmp_path / "many.glb")
     assert str(caught.value).startswith(str(tmp_path / "many.glb"))
@@ -243,6 +243,40 @@ def test_a_glb_base_colour_texture_is_drawn_with_its_uvs(tmp_path: Path) -> None
     assert left[0] > left[2] + 30 and right[2] > right[0] + 30
     plain = picture(tmp_path / "tex.glb", tmp_path / "off.png", keys="0 T")
     assert np.abs(plain[60, 42] - plain[60, 78]).max() <= 2
+
+
+def textured_square(colour: tuple[int, int, int], x: float) -> trimesh.Trimesh:
+    square = trimesh.Trimesh(vertices=POSITIONS[:4] * 0.4 + [x, 0, 0], faces=FACES[:2], process=False)
+    square.visual = trimesh.visual.TextureVisuals(uv=[[0, 0], [1, 0], [1, 1], [0, 1]],
+                                                  image=Image.new("RGB", (4, 4), colour))
+    return square
+
+
+def test_each_mesh_of_a_glb_keeps_its_own_texture(tmp_path: Path) -> None:
+    """Two meshes, a red picture and a green one: two materials, as an OBJ's two groups, each square
+    drawn with its own (not the first mesh's picture over every mesh, nor one packed by trimesh)."""
+    scene = trimesh.Scene([textured_square((250, 0, 0), -30.0), textured_square((0, 250, 0), 30.0)])
+    (tmp_path / "two.glb").write_bytes(scene.export(file_type="glb"))
+    loaded = load_model(tmp_path / "two.glb")
+    assert sorted(material.texture[0, 0].tolist() for material in loaded.materials) == [[0, 250, 0], [250, 0, 0]]
+    assert sorted(loaded.face_material.tolist()) == [0, 0, 1, 1] and loaded.warnings == ()
+    assert loaded.face_material[0] == loaded.face_material[1] != loaded.face_material[2] == loaded.face_material[3]
+    drawn = picture(tmp_path / "two.glb", tmp_path / "two.png", keys="0")
+    left, right = drawn[60, 38], drawn[60, 82]
+    assert left[0] > 40 and left[1] == left[2] == 0, left
+    assert right[1] > 40 and right[0] == right[2] == 0, right
+
+
+def test_a_mirroring_node_keeps_its_mesh_facing_out(tmp_path: Path) -> None:
+    """glTF turns the winding round under a transform of negative determinant: the mirrored square
+    still faces the camera, so culling back faces leaves it drawn."""
+    scene = trimesh.Scene()
+    scene.add_geometry(square_mesh(), node_name="mirrored", transform=np.diag([-1.0, 1.0, 1.0, 1.0]))
+    (tmp_path / "mirrored.glb").write_bytes(scene.export(file_type="glb"))
+    loaded = load_model(tmp_path / "mirrored.glb")
+    assert loaded.face_normals[0] @ [0.0, 0.0, 1.0] > 0.99
+    culled = picture(tmp_path / "mirrored.glb", tmp_path / "culled.png", keys="T 0 1 b")
+    assert (culled[45:75, 45:75] != BACKGROUND).any(axis=2).all()
 
 
 def test_per_vertex_uvs_are_kept_per_position(tmp_path: Path) -> None:

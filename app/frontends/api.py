@@ -145,18 +145,18 @@ class Viewer:
 
     def add_mesh(self, positions: Any, faces: Any = None, uvs: Any = None, normals: Any = None,
                  name: str = "mesh", colours: Any = None, attributes_per_vertex: bool | None = None) -> Viewer:
-        """A model from arrays, or from a trimesh.Trimesh given alone (with its uvs, texture and vertex
-        colours): positions (V, 3), faces (F, k) of 0-based indices (or a list of polygons), uvs and
-        normals per vertex or per corner, colours per vertex."""
+        """A model from arrays, or from a trimesh.Trimesh or trimesh.Scene given alone (with its uvs,
+        texture and vertex colours): positions (V, 3), faces (F, k) of 0-based indices (or a list of
+        polygons), uvs and normals per vertex or per corner, colours per vertex."""
         shown_name = escaped(str(name))[:200]
-        if faces is None and hasattr(positions, "vertices") and hasattr(positions, "faces"):
+        if faces is None and (hasattr(positions, "geometry") or hasattr(positions, "vertices")
+                              and hasattr(positions, "faces")):
             if not (uvs is None and normals is None and colours is None and attributes_per_vertex is None):
                 raise ValueError("a trimesh.Trimesh brings its own uvs and colours: give it alone, or give its "
                                  "arrays (mesh.vertices, mesh.faces, normals=mesh.vertex_normals, ...)")
-            _finite_positions(positions.vertices)
             mesh = mesh_of_trimesh(shown_name, positions)
         elif faces is None:
-            raise ValueError("add_mesh needs faces, or a trimesh.Trimesh alone")
+            raise ValueError("add_mesh needs faces, or a trimesh.Trimesh or trimesh.Scene alone")
         else:
             mesh = build_mesh(name=shown_name, positions=_finite_positions(positions), faces=faces, uvs=uvs,
                               normals=normals, vertex_colours=colours, attributes_per_vertex=attributes_per_vertex)

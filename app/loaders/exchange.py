@@ -13,7 +13,7 @@ from __future__ import annotations
 import io
 import itertools
 import re
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -26,7 +26,7 @@ from marraztu.loaders.files import MAX_FILE_BYTES, read_file, text_lines
 from marraztu.loaders.images import rgb_array
 from marraztu.model.build import build_mesh
 from marraztu.model.geometry import FLOAT32_MAX
-from marraztu.model.mesh import Mesh, MeshMaterial
+from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial
 
 Stage = Callable[[str], None]
 _STL_HEADER, _STL_TRIANGLE = 84, 50  # binary STL: an 80-byte header and a count, then 50 bytes a triangle
@@ -192,45 +192,129 @@ def _line_of_first_non_finite(data: bytes) -> int | None:
 
 
 def _finish(path: Path, loaded: Any, data: bytes | None, merge: bool = False) -> Mesh:
-    """The checked tables as a Mesh; `data`, for a text format, lets a bad number be found by line."""
-    notes: list[str] = []
-    if hasattr(loaded, "geometry"):  # a glTF scene: every mesh placed by its node's transform
-        loaded, notes = _flattened(path, loaded)
-    _check_tables(path, _positions(loaded), _faces(loaded), data)
-    return mesh_of_trimesh(path.stem, loaded, notes, merge)
+    """The checked tables as a Mesh; `data`, for a text format, lets a bad number be found by line;
+    `merge` joins equal positions."""
+    return _mesh_of(path, path.stem, loaded, data, merge)
 
 
-def mesh_of_trimesh(name: str, loaded: Any, notes: Sequence[str] = (), merge: bool = False) -> Mesh:
-    """A trimesh.Trimesh as a Mesh, with its per-vertex uvs and colours, its material's base colour and
-    its texture; ValueError (build_mesh's) for tables it cannot hold. `merge` joins equal positions."""
-    positions, faces = _positions(loaded), _faces(loaded)
-    uvs = _vertex_uvs(loaded)
-    colours = _vertex_colours(loaded)
+def mesh_of_trimesh(name: str, loaded: Any) -> Mesh:
+    """A trimesh.Trimesh, or a trimesh.Scene's meshes each placed by its node, as a Mesh: for the
+    programming interface, so what is wrong is a ValueError."""
+    try:
+        return _mesh_of(name, name, loaded, data=None)
+    except LoadError as error:
+        raise ValueError(error.message) from None
+
+
+# A trimesh.Trimesh and the transform that places it (None: where it is).
+Part = tuple[Any, np.ndarray | None]
+
+
+def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, merge: bool = False) -> Mesh:
+    """One Mesh of every placed mesh, each keeping its uvs, vertex colours and material (base colour
+    and texture), as an OBJ's groups keep theirs."""
+    parts = _placed_parts(source, loaded)
+    sizes = [len(mesh.vertices) for mesh, _ in parts]
+    positions = np.concatenate([_placed_positions(mesh, transform) for mesh, transform in parts])
+    faces = np.concatenate([_placed_faces(mesh, transform) + offset
+                            for (mesh, transform), offset in zip(parts, np.cumsum([0, *sizes[:-1]]))])
+    _check_tables(source, positions, faces, data)
+    uvs = _joined([_vertex_uvs(mesh) for mesh, _ in parts], sizes, np.nan)  # NaN: derived
+    colours = _joined([_vertex_colours(mesh) for mesh, _ in parts], sizes, 255)  # white: untinted
     if merge:  # STL stores each triangle's own corners: shared corners let Gouraud smooth across edges
         positions, first, inverse = np.unique(positions, axis=0, return_index=True, return_inverse=True)
         faces = inverse.reshape(-1)[faces]
         colours = None if colours is None else colours[first]
         uvs = None  # an STL has no texture coordinates
-    mesh = build_mesh(name=name, positions=positions, faces=faces, uvs=uvs, file_material=_material_of(loaded),
+    materials, part_material, notes = _part_materials(name, parts, textured=uvs is not None)
+    mesh = build_mesh(name=name, positions=positions, faces=faces, uvs=uvs, file_material=_material_of(parts[0][0]),
                       warnings=notes, vertex_colours=colours, attributes_per_vertex=True)
-    texture = _base_colour_texture(loaded) if uvs is not None else None
-    if texture is None:
+    if not materials:
         return mesh
-    # One material, the file's, carrying the picture: drawn as an OBJ's map_Kd is.
-    material = MeshMaterial(name, mesh.file_material or {}, texture, "base colour texture")
-    return replace(mesh, materials=(material,), face_material=np.zeros(mesh.face_count, np.int32))
+    face_material = np.repeat(np.array(part_material, np.int32), [len(mesh.faces) for mesh, _ in parts])
+    return replace(mesh, materials=materials, face_material=face_material)
 
 
-def _positions(mesh: Any) -> np.ndarray:
-    return np.asarray(mesh.vertices, dtype=np.float64).reshape(-1, 3)
+def _placed_parts(source: str | Path, loaded: Any) -> list[Part]:
+    """A scene's meshes with the transforms of the nodes that place them (a mesh placed twice is two
+    parts); a mesh alone, where it is."""
+    if not hasattr(loaded, "geometry"):
+        return [(loaded, None)]
+    meshes = {name: geometry for name, geometry in loaded.geometry.items() if hasattr(geometry, "faces")}
+    if not meshes:
+        raise LoadError(source, "the scene holds no triangle mesh: nothing to draw")
+    _check_placed_triangles(source, loaded)
+    try:
+        placements = [loaded.graph[node] for node in loaded.graph.nodes_geometry]
+    except Exception as error:  # a broken node graph: trimesh's own words
+        raise LoadError(source, f"cannot place the scene's meshes ({type(error).__name__}: {error})") from None
+    parts = [(meshes[name], np.asarray(transform, dtype=np.float64)) for transform, name in placements
+             if name in meshes]
+    if not parts:
+        raise LoadError(source, "no node of the scene places a triangle mesh: nothing to draw")
+    return parts
 
 
-def _faces(mesh: Any) -> np.ndarray:
-    return np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
+def _placed_positions(mesh: Any, transform: np.ndarray | None) -> np.ndarray:
+    positions = np.asarray(mesh.vertices, dtype=np.float64).reshape(-1, 3)
+    if transform is None:
+        return positions
+    with np.errstate(all="ignore"):  # a transform of NaN or huge numbers: refused by _check_tables
+        return positions @ transform[:3, :3].T + transform[:3, 3]
+
+
+def _placed_faces(mesh: Any, transform: np.ndarray | None) -> np.ndarray:
+    faces = np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
+    # A mirroring transform turns the winding round: glTF asks for it to be turned back.
+    if transform is not None and np.linalg.det(transform[:3, :3]) < 0:
+        return faces[:, ::-1]
+    return faces
+
+
+def _joined(tables: list[np.ndarray | None], sizes: list[int], fill: float) -> np.ndarray | None:
+    """The parts' per-vertex tables as one, `fill` for a part without; None when no part has one."""
+    given = [table for table in tables if table is not None]
+    if not given:
+        return None
+    width, dtype = given[0].shape[1], given[0].dtype
+    return np.concatenate([np.full((size, width), fill, dtype) if table is None else table
+                           for table, size in zip(tables, sizes)])
+
+
+def _part_materials(name: str, parts: list[Part], textured: bool
+                    ) -> tuple[tuple[MeshMaterial, ...], list[int], list[str]]:
+    """The materials of the parts, each once (by trimesh's material), and per part its index among
+    them (-1: no base colour or texture of its own, or past MAX_MATERIALS). None at all for one
+    untextured part: its base colour is the model's."""
+    found: dict[int, int] = {}
+    materials: list[MeshMaterial] = []
+    part_material: list[int] = []
+    beyond = 0
+    for mesh, _ in parts:
+        material = getattr(getattr(mesh, "visual", None), "material", None)
+        key = id(material)
+        if key not in found:
+            texture = _base_colour_texture(mesh) if textured and _vertex_uvs(mesh) is not None else None
+            values = _material_of(mesh)
+            if texture is None and values is None:
+                found[key] = -1
+            elif len(materials) >= MAX_MATERIALS:
+                found[key], beyond = -1, beyond + 1
+            else:
+                found[key] = len(materials)
+                label = str(getattr(material, "name", None) or f"{name} {len(materials) + 1}")
+                materials.append(MeshMaterial(label, values or {}, texture,
+                                              None if texture is None else "base colour texture"))
+        part_material.append(found[key])
+    if len(parts) == 1 and materials and materials[0].texture is None:
+        return (), part_material, []
+    notes = [f"{MAX_MATERIALS + beyond} materials used; the meshes of all but the first {MAX_MATERIALS} take the "
+             "model's first material"] if beyond else []
+    return tuple(materials), part_material, notes
 
 
 def _base_colour_texture(mesh: Any) -> np.ndarray | None:
-    material = getattr(_visual(mesh), "material", None)
+    material = getattr(getattr(mesh, "visual", None), "material", None)
     picture = getattr(material, "baseColorTexture", None)  # glTF's PBR material
     if picture is None and not _stand_in_material(material):
         picture = getattr(material, "image", None)  # trimesh's own: an OBJ or a texture it was given
@@ -251,7 +335,7 @@ def _stand_in_material(material: Any) -> bool:
     return len(set(image.getdata())) == 1
 
 
-def _check_tables(path: Path, positions: np.ndarray, faces: np.ndarray, data: bytes | None) -> None:
+def _check_tables(path: str | Path, positions: np.ndarray, faces: np.ndarray, data: bytes | None) -> None:
     if len(faces) == 0:
         raise LoadError(path, "no faces")
     with np.errstate(all="ignore"):
@@ -263,21 +347,7 @@ def _check_tables(path: Path, positions: np.ndarray, faces: np.ndarray, data: by
         raise LoadError(path, f"a face refers to vertex {int(faces.max())}, but the file has {len(positions)}")
 
 
-def _flattened(path: Path, scene: Any) -> tuple[Any, list[str]]:
-    meshes = [geometry for geometry in scene.geometry.values() if hasattr(geometry, "faces")]
-    if not meshes:
-        raise LoadError(path, "the scene holds no triangle mesh: nothing to draw")
-    _check_placed_triangles(path, scene)
-    try:
-        flat = scene.to_geometry()  # the graph's transforms applied, every mesh in one
-    except Exception as error:  # a broken node graph: trimesh's own words
-        raise LoadError(path, f"cannot place the scene's meshes ({type(error).__name__}: {error})") from None
-    notes = ["its meshes have several materials; the first one's colour is used"] if len(meshes) > 1 else []
-    flat.metadata["first_visual"] = meshes[0].visual
-    return flat, notes
-
-
-def _check_placed_triangles(path: Path, scene: Any) -> None:
+def _check_placed_triangles(path: str | Path, scene: Any) -> None:
     """Counted from the node graph before any mesh is copied into place."""
     faces = {name: len(geometry.faces) for name, geometry in scene.geometry.items() if hasattr(geometry, "faces")}
     placements = [scene.graph[node][1] for node in scene.graph.nodes_geometry]
@@ -300,13 +370,9 @@ def _vertex_uvs(mesh: Any) -> np.ndarray | None:
     return table
 
 
-def _visual(mesh: Any) -> Any:
-    return getattr(mesh, "metadata", {}).get("first_visual", getattr(mesh, "visual", None))
-
-
 def _material_of(mesh: Any) -> dict[str, object] | None:
     """The base colour of a glTF material as Kd: the quantity the lighting equation reads."""
-    material = getattr(_visual(mesh), "material", None)
+    material = getattr(getattr(mesh, "visual", None), "material", None)
     colour = getattr(material, "baseColorFactor", None)
     if colour is None:
         return None
@@ -317,7 +383,7 @@ def _material_of(mesh: Any) -> dict[str, object] | None:
 
 def _vertex_colours(mesh: Any) -> np.ndarray | None:
     """The file's colour per vertex (PLY's red/green/blue, glTF's COLOR_0) as RGBA bytes, if any."""
-    visual = _visual(mesh)
+    visual = getattr(mesh, "visual", None)
     if getattr(visual, "kind", None) != "vertex":
         return None
     colours = np.asarray(visual.vertex_colors)

@@ -22,6 +22,9 @@ from marraztu.model.geometry import column_bounds
 # most, two bytes a corner at least) holds 2**31 of anything. build.derive_mesh refuses more.
 INDEX = np.int32
 INDEX_LIMIT = int(np.iinfo(INDEX).max)  # counts of positions and corners stay below it
+# Each material is drawn as a part of its own (a draw and a lighting pass): a file of thousands of
+# materials would cost thousands of draws a frame. Real models use tens.
+MAX_MATERIALS = 256
 
 
 def fan_gather(values: np.ndarray, face_start: np.ndarray) -> np.ndarray:

@@ -29,7 +29,7 @@ from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.mtl import read_library
 from marraztu.loaders.obj.raw import RawObj
 from marraztu.model.build import derive_mesh
-from marraztu.model.mesh import Mesh, MeshMaterial
+from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial
 
 
 def load_obj(path: str | Path, stage: Callable[[str], None] | None = None) -> Mesh:
@@ -97,10 +97,6 @@ def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
                      "take the model's first material")
     return replace(mesh, materials=used, face_material=face_material, warnings=tuple(notes))
 
-
-# Each material is drawn as a part of its own (a draw and a lighting pass): a file of thousands of
-# materials would cost thousands of draws a frame. Real models use tens.
-MAX_MATERIALS = 256
 
 
 def _face_materials(runs: list[tuple[int, str]], library: list[MeshMaterial], faces: int
