@@ -167,6 +167,20 @@ def test_a_trimeshs_picture_is_its_texture_whatever_its_kind() -> None:
                         "16-bit grey": [117, 117, 117], "no picture": None}
 
 
+def test_a_trimesh_face_past_its_own_vertices_is_refused_not_joined_to_the_next_mesh(viewer) -> None:
+    scene = trimesh.Scene([trimesh.Trimesh(TRIANGLE, [[0, 1, 5]], process=False, validate=False),
+                           trimesh.Trimesh(TRIANGLE + 100.0, [[0, 1, 2]], process=False)])
+    with pytest.raises(ValueError, match="refers to vertex 5, but its mesh has 3"):
+        viewer.add_mesh(scene)
+
+
+def test_a_textured_trimesh_material_takes_the_models_name(viewer) -> None:
+    """trimesh names its materials material_0, material_1...: the name given is shown instead."""
+    visual = trimesh.visual.TextureVisuals(uv=[[0, 0], [1, 0], [0, 1]], image=Image.new("RGB", (4, 4), (9, 9, 9)))
+    viewer.add_mesh(trimesh.Trimesh(TRIANGLE, [[0, 1, 2]], process=False, visual=visual), name="mine")
+    assert [material.name for material in viewer.scene.object.mesh.materials] == ["mine"]
+
+
 def test_any_object_with_vertices_and_faces_is_taken_as_a_trimesh_is(viewer) -> None:
     viewer.add_mesh(SimpleNamespace(vertices=TRIANGLE, faces=np.array([[0, 1, 2]])), name="plain")
     assert viewer.scene.object.mesh.face_count == 1

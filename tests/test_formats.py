@@ -6,6 +6,7 @@ from __future__ import annotations
 import re
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -265,6 +266,65 @@ def test_each_mesh_of_a_glb_keeps_its_own_texture(tmp_path: Path) -> None:
     left, right = drawn[60, 38], drawn[60, 82]
     assert left[0] > 40 and left[1] == left[2] == 0, left
     assert right[1] > 40 and right[0] == right[2] == 0, right
+
+
+def glb_of(tmp_path: Path, name: str, *meshes: trimesh.Trimesh) -> Path:
+    """Each mesh placed by a node of its own, in this order."""
+    scene = trimesh.Scene()
+    for number, mesh in enumerate(meshes):
+        scene.add_geometry(mesh, node_name=f"n{number}", geom_name=f"g{number}",
+                           transform=trimesh.transformations.translation_matrix([60.0 * number, 0, 0]))
+    (tmp_path / name).write_bytes(scene.export(file_type="glb"))
+    return tmp_path / name
+
+
+def square_with(material: trimesh.visual.material.Material | None = None, uv: bool = False) -> trimesh.Trimesh:
+    visual = trimesh.visual.TextureVisuals(uv=[[0, 0], [1, 0], [1, 1], [0, 1]] if uv else None, material=material)
+    return trimesh.Trimesh(POSITIONS[:4] * 0.4, FACES[:2], process=False, visual=visual)
+
+
+def test_a_mesh_without_a_colour_of_its_own_takes_the_viewers_not_the_first_meshs(tmp_path: Path) -> None:
+    red = trimesh.visual.material.PBRMaterial(name="red", baseColorFactor=[255, 0, 0, 255])
+    plain = trimesh.Trimesh(POSITIONS[:4] * 0.4, FACES[:2])
+    loaded = load_model(glb_of(tmp_path, "mixed.glb", square_with(red), plain))
+    assert loaded.file_material is None and [material.name for material in loaded.materials] == ["red"]
+    assert sorted(loaded.face_material.tolist()) == [-1, -1, 0, 0]  # trimesh lists the nodes in its own order
+
+
+def test_a_shared_material_keeps_its_texture_for_the_meshes_with_uvs(tmp_path: Path) -> None:
+    """The first mesh using it has no uvs (no texture drawn there); the second has them."""
+    shared = trimesh.visual.material.PBRMaterial(name="shared", baseColorFactor=[255, 255, 255, 255],
+                                                 baseColorTexture=Image.new("RGB", (4, 4), (250, 0, 0)))
+    loaded = load_model(glb_of(tmp_path, "shared.glb", square_with(shared), square_with(shared, uv=True)))
+    textures = [material.texture for material in loaded.materials]
+    assert len(textures) == 2 and sum(texture is None for texture in textures) == 1
+    assert [texture[0, 0].tolist() for texture in textures if texture is not None] == [[250, 0, 0]]
+
+
+def test_equal_materials_are_one_material_even_as_copies(tmp_path: Path) -> None:
+    picture = Image.new("RGB", (4, 4), (0, 250, 0))
+    meshes = [square_with(trimesh.visual.material.PBRMaterial(name="green", baseColorTexture=picture), uv=True)
+              for _ in range(3)]
+    loaded = load_model(glb_of(tmp_path, "copies.glb", *meshes))
+    assert [material.name for material in loaded.materials] == ["green"] and set(loaded.face_material) == {0}
+
+
+def test_gltf_vertex_colours_beside_a_material_tint(tmp_path: Path) -> None:
+    """trimesh keeps a COLOR_0 that comes with a material as a vertex attribute, not as the visual."""
+    mesh = square_with(trimesh.visual.material.PBRMaterial(name="white", baseColorFactor=[255, 255, 255, 255]), uv=True)
+    mesh.visual.vertex_attributes["color"] = np.tile(np.array([0, 255, 0, 255], np.uint8), (4, 1))
+    loaded = load_model(glb_of(tmp_path, "tinted.glb", mesh))
+    assert np.array_equal(loaded.vertex_colours, np.tile([0, 255, 0], (4, 1)))
+
+
+def test_a_transform_of_nan_is_one_load_error(tmp_path: Path) -> None:
+    scene = trimesh.Scene()
+    scene.add_geometry(square_mesh(), node_name="bad", transform=np.full((4, 4), np.nan))
+    (tmp_path / "nan.glb").write_bytes(scene.export(file_type="glb"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(LoadError, match="not a finite number"):
+            load_model(tmp_path / "nan.glb")
 
 
 def test_a_mirroring_node_keeps_its_mesh_facing_out(tmp_path: Path) -> None:

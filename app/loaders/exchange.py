@@ -24,7 +24,7 @@ from PIL import Image
 from marraztu.errors import LoadError
 from marraztu.loaders.files import MAX_FILE_BYTES, read_file, text_lines
 from marraztu.loaders.images import rgb_array
-from marraztu.model.build import build_mesh
+from marraztu.model.build import build_mesh, colour_bytes
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial
 
@@ -216,7 +216,7 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, mer
     parts = _placed_parts(source, loaded)
     sizes = [len(mesh.vertices) for mesh, _ in parts]
     positions = np.concatenate([_placed_positions(mesh, transform) for mesh, transform in parts])
-    faces = np.concatenate([_placed_faces(mesh, transform) + offset
+    faces = np.concatenate([_placed_faces(source, mesh, transform) + offset
                             for (mesh, transform), offset in zip(parts, np.cumsum([0, *sizes[:-1]]))])
     _check_tables(source, positions, faces, data)
     uvs = _joined([_vertex_uvs(mesh) for mesh, _ in parts], sizes, np.nan)  # NaN: derived
@@ -227,8 +227,10 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, mer
         colours = None if colours is None else colours[first]
         uvs = None  # an STL has no texture coordinates
     materials, part_material, notes = _part_materials(name, parts, textured=uvs is not None)
-    mesh = build_mesh(name=name, positions=positions, faces=faces, uvs=uvs, file_material=_material_of(parts[0][0]),
-                      warnings=notes, vertex_colours=colours, attributes_per_vertex=True)
+    # One mesh's base colour is the model's; of several, each has its own, and one without takes the viewer's.
+    own = _material_of(parts[0][0]) if len(parts) == 1 else None
+    mesh = build_mesh(name=name, positions=positions, faces=faces, uvs=uvs, file_material=own, warnings=notes,
+                      vertex_colours=colours, attributes_per_vertex=True)
     if not materials:
         return mesh
     face_material = np.repeat(np.array(part_material, np.int32), [len(mesh.faces) for mesh, _ in parts])
@@ -263,12 +265,14 @@ def _placed_positions(mesh: Any, transform: np.ndarray | None) -> np.ndarray:
         return positions @ transform[:3, :3].T + transform[:3, 3]
 
 
-def _placed_faces(mesh: Any, transform: np.ndarray | None) -> np.ndarray:
+def _placed_faces(source: str | Path, mesh: Any, transform: np.ndarray | None) -> np.ndarray:
     faces = np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
+    if faces.size and (faces.min() < 0 or faces.max() >= len(mesh.vertices)):  # before meshes are joined
+        raise LoadError(source, f"a face refers to vertex {int(faces.max())}, but its mesh has {len(mesh.vertices)}")
+    with np.errstate(all="ignore"):  # NaN in the transform: refused with its positions
+        mirrors = transform is not None and np.linalg.det(transform[:3, :3]) < 0
     # A mirroring transform turns the winding round: glTF asks for it to be turned back.
-    if transform is not None and np.linalg.det(transform[:3, :3]) < 0:
-        return faces[:, ::-1]
-    return faces
+    return faces[:, ::-1] if mirrors else faces
 
 
 def _joined(tables: list[np.ndarray | None], sizes: list[int], fill: float) -> np.ndarray | None:
@@ -283,18 +287,19 @@ def _joined(tables: list[np.ndarray | None], sizes: list[int], fill: float) -> n
 
 def _part_materials(name: str, parts: list[Part], textured: bool
                     ) -> tuple[tuple[MeshMaterial, ...], list[int], list[str]]:
-    """The materials of the parts, each once (by trimesh's material), and per part its index among
-    them (-1: no base colour or texture of its own, or past MAX_MATERIALS). None at all for one
-    untextured part: its base colour is the model's."""
-    found: dict[int, int] = {}
+    """The materials of the parts, each once, and per part its index among them (-1: no base colour
+    or texture of its own, or past MAX_MATERIALS). None at all for one untextured part: its base
+    colour is the model's."""
+    found: dict[tuple[int, bool], int] = {}
     materials: list[MeshMaterial] = []
     part_material: list[int] = []
     beyond = 0
     for mesh, _ in parts:
         material = getattr(getattr(mesh, "visual", None), "material", None)
-        key = id(material)
+        with_uvs = textured and _vertex_uvs(mesh) is not None  # the texture is drawn only where uvs address it
+        key = (_content_key(material), with_uvs)
         if key not in found:
-            texture = _base_colour_texture(mesh) if textured and _vertex_uvs(mesh) is not None else None
+            texture = _base_colour_texture(mesh) if with_uvs else None
             values = _material_of(mesh)
             if texture is None and values is None:
                 found[key] = -1
@@ -302,15 +307,33 @@ def _part_materials(name: str, parts: list[Part], textured: bool
                 found[key], beyond = -1, beyond + 1
             else:
                 found[key] = len(materials)
-                label = str(getattr(material, "name", None) or f"{name} {len(materials) + 1}")
-                materials.append(MeshMaterial(label, values or {}, texture,
+                materials.append(MeshMaterial(_material_name(material), values or {}, texture,
                                               None if texture is None else "base colour texture"))
         part_material.append(found[key])
     if len(parts) == 1 and materials and materials[0].texture is None:
         return (), part_material, []
+    materials = [replace(material, name=material.name or (name if len(materials) == 1 else f"{name} {number}"))
+                 for number, material in enumerate(materials, start=1)]
     notes = [f"{MAX_MATERIALS + beyond} materials used; the meshes of all but the first {MAX_MATERIALS} take the "
-             "model's first material"] if beyond else []
+             "viewer's material"] if beyond else []
     return tuple(materials), part_material, notes
+
+
+def _content_key(material: Any) -> int:
+    """Equal materials are one: a copied scene gives each mesh its own copy (trimesh's hash is of the content)."""
+    try:
+        return hash(material)
+    except TypeError:
+        return id(material)
+
+
+_AUTOMATIC_NAME = re.compile(r"(?:material_?\d*)?")
+
+
+def _material_name(material: Any) -> str:
+    """The file's name for a material; empty for none, and for the ones trimesh makes up (material_0)."""
+    name = str(getattr(material, "name", None) or "")
+    return "" if _AUTOMATIC_NAME.fullmatch(name) else name
 
 
 def _base_colour_texture(mesh: Any) -> np.ndarray | None:
@@ -382,11 +405,18 @@ def _material_of(mesh: Any) -> dict[str, object] | None:
 
 
 def _vertex_colours(mesh: Any) -> np.ndarray | None:
-    """The file's colour per vertex (PLY's red/green/blue, glTF's COLOR_0) as RGBA bytes, if any."""
+    """The file's colour per vertex (PLY's red/green/blue, glTF's COLOR_0) as RGB bytes, if any."""
     visual = getattr(mesh, "visual", None)
-    if getattr(visual, "kind", None) != "vertex":
+    if getattr(visual, "kind", None) == "vertex":
+        colours = np.asarray(visual.vertex_colors)
+    else:  # glTF's COLOR_0 beside a material: trimesh keeps it as the file gives it, a vertex attribute
+        attributes = getattr(visual, "vertex_attributes", None)
+        if attributes is None or "color" not in attributes:
+            return None
+        colours = np.asarray(attributes["color"])
+        if colours.dtype == np.uint16:  # glTF's normalized shorts
+            colours = (colours >> 8).astype(np.uint8)
+    try:
+        return colour_bytes(colours, len(mesh.vertices))
+    except ValueError:  # not one RGB or RGBA row per vertex of bytes or 0..1: not trusted, not drawn
         return None
-    colours = np.asarray(visual.vertex_colors)
-    if colours.ndim != 2 or colours.shape[0] != len(mesh.vertices) or colours.dtype != np.uint8:
-        return None  # trimesh always gives one RGBA byte row per vertex; anything else is not trusted
-    return colours
