@@ -117,8 +117,25 @@ def test_a_mesh_placed_many_times_is_refused_before_it_is_copied(tmp_path: Path,
     with pytest.raises(LoadError) as caught:
         load_model(tmp_path / "many.glb")
     assert str(caught.value).startswith(str(tmp_path / "many.glb"))
-    assert "places its meshes 40 times, 120 triangles in all: more than the 119" in caught.value.message
+    words = "places its meshes 40 times, 120 triangles and 280 vertices in all: more than the 119"
+    assert words in caught.value.message
     assert copies == []
+
+
+def test_a_mesh_of_many_vertices_placed_many_times_is_refused_too(tmp_path: Path,
+                                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    """Few triangles, many vertices: the vertices are what the memory holds."""
+    from marraztu.loaders import exchange
+
+    sparse = trimesh.Trimesh(np.random.default_rng(5).normal(size=(100, 3)), [[0, 1, 2]], process=False)
+    scene = trimesh.Scene()
+    for node in range(5):
+        scene.add_geometry(sparse, geom_name="sparse", node_name=f"n{node}",
+                           transform=trimesh.transformations.translation_matrix([10 * node, 0, 0]))
+    (tmp_path / "sparse.glb").write_bytes(scene.export(file_type="glb"))
+    monkeypatch.setattr(exchange, "MAX_PLACED_TRIANGLES", 100)  # 5 triangles pass; 500 vertices are past 300
+    with pytest.raises(LoadError, match="5 triangles and 500 vertices"):
+        load_model(tmp_path / "sparse.glb")
 
 
 def test_gltf_json_beside_its_buffer_and_its_base_colour(tmp_path: Path) -> None:

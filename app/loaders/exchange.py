@@ -243,7 +243,7 @@ def _placed_parts(source: str | Path, loaded: Any) -> list[Part]:
     if not hasattr(loaded, "geometry"):
         return [(loaded, None)]
     meshes = {name: geometry for name, geometry in loaded.geometry.items() if hasattr(geometry, "faces")}
-    if not meshes:
+    if not any(len(mesh.faces) for mesh in meshes.values()):
         raise LoadError(source, "the scene holds no triangle mesh: nothing to draw")
     _check_placed_triangles(source, loaded)
     try:
@@ -251,7 +251,7 @@ def _placed_parts(source: str | Path, loaded: Any) -> list[Part]:
     except Exception as error:  # a broken node graph: trimesh's own words
         raise LoadError(source, f"cannot place the scene's meshes ({type(error).__name__}: {error})") from None
     parts = [(meshes[name], np.asarray(transform, dtype=np.float64)) for transform, name in placements
-             if name in meshes]
+             if name in meshes and len(meshes[name].faces)]  # a mesh of no faces draws nothing
     if not parts:
         raise LoadError(source, "no node of the scene places a triangle mesh: nothing to draw")
     return parts
@@ -371,13 +371,17 @@ def _check_tables(path: str | Path, positions: np.ndarray, faces: np.ndarray, da
 
 
 def _check_placed_triangles(path: str | Path, scene: Any) -> None:
-    """Counted from the node graph before any mesh is copied into place."""
-    faces = {name: len(geometry.faces) for name, geometry in scene.geometry.items() if hasattr(geometry, "faces")}
+    """Counted from the node graph before any mesh is copied into place: triangles, and vertices too
+    (a mesh of many vertices and one face, placed many times, would otherwise pass)."""
+    sizes = {name: (len(geometry.faces), len(geometry.vertices)) for name, geometry in scene.geometry.items()
+             if hasattr(geometry, "faces")}
     placements = [scene.graph[node][1] for node in scene.graph.nodes_geometry]
-    placed = sum(faces.get(name, 0) for name in placements)
-    if placed > MAX_PLACED_TRIANGLES:
-        raise LoadError(path, f"the scene places its meshes {len(placements)} times, {placed} triangles in all: "
-                              f"more than the {MAX_PLACED_TRIANGLES} the viewer draws from one file")
+    triangles = sum(sizes.get(name, (0, 0))[0] for name in placements)
+    vertices = sum(sizes.get(name, (0, 0))[1] for name in placements)
+    if triangles > MAX_PLACED_TRIANGLES or vertices > 3 * MAX_PLACED_TRIANGLES:
+        raise LoadError(path, f"the scene places its meshes {len(placements)} times, {triangles} triangles and "
+                              f"{vertices} vertices in all: more than the {MAX_PLACED_TRIANGLES} triangles (and three "
+                              "vertices each) the viewer draws from one file")
 
 
 def _vertex_uvs(mesh: Any) -> np.ndarray | None:
