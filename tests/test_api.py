@@ -195,8 +195,9 @@ def test_uvs_and_normals_rows_that_are_not_finite_are_derived_as_nan_rows_are(vi
         meshes.append(viewer.add_mesh(TRIANGLE, faces, uvs=uvs, normals=normals).scene.object.mesh)
     assert np.array_equal(meshes[0].uvs, meshes[1].uvs) and np.array_equal(meshes[0].normals, meshes[1].normals)
     assert np.isfinite(meshes[1].uvs).all()
-    with pytest.raises(ValueError, match="rows of 2 numbers"):
-        viewer.add_mesh(TRIANGLE, faces, uvs=[[0, 0], [1], [0, 1]])
+    for ragged_or_complex in ([[0, 0], [1], [0, 1]], np.zeros((3, 2), complex)):
+        with pytest.raises(ValueError, match="rows of 2 real numbers"):
+            viewer.add_mesh(TRIANGLE, faces, uvs=ragged_or_complex)
 
 
 def test_per_vertex_normals_and_uvs_draw_like_the_same_per_corner_ones() -> None:
@@ -234,6 +235,8 @@ def test_rows_that_fit_vertices_and_corners_alike_must_say_which(viewer) -> None
     (TRIANGLE, [[0, 1]], "at least 3"),
     (TRIANGLE, np.array([[0, 1, 1.5]]), "whole numbers"),
     (TRIANGLE, [[0, 1, "2"]], "whole numbers"),
+    (TRIANGLE + 1j, [[0, 1, 2]], "real numbers"),  # numpy would drop the imaginary part
+    (TRIANGLE.astype(str), [[0, 1, 2]], "real numbers"),  # and read "60.0" as a number
 ])
 def test_bad_arrays_are_refused_where_they_enter(viewer, positions, faces, words: str) -> None:
     with pytest.raises(ValueError, match=words):

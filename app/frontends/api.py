@@ -27,7 +27,7 @@ from marraztu.frontends.heap import return_freed_memory
 from marraztu.frontends.screenshot import OffscreenFrontend, render_pixels
 from marraztu.loaders.exchange import mesh_of_trimesh
 from marraztu.loaders.scenefile import material_for_loaded, materials_of_parts
-from marraztu.model.build import build_mesh
+from marraztu.model.build import build_mesh, real_numbers
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.probe import probe as probe_scene
 from marraztu.model.scene import Scene, SceneObject
@@ -221,10 +221,7 @@ def _probed_vertex(found: Any, vertex: Any) -> ProbedVertex:
 
 def _finite_positions(positions: Any) -> np.ndarray:
     """Checked here, where the data enters: the GPU holds float32, and NaN has no place on screen."""
-    try:
-        table = np.asarray(positions, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError("positions must be numbers, (V, 3)") from None
+    table = real_numbers(positions, "positions must be real numbers, (V, 3)")
     if table.ndim != 2 or table.shape[1] != 3 or table.shape[0] == 0:
         raise ValueError(f"positions must have shape (V, 3), not {table.shape}")
     with np.errstate(invalid="ignore"):

@@ -59,6 +59,8 @@ def build_mesh(
 def colour_bytes(colours: np.ndarray | Sequence[Sequence[float]], rows: int) -> np.ndarray:
     """(rows, 3) uint8 from RGB or RGBA rows of bytes (0..255) or of floats (0..1); alpha is dropped."""
     table = np.asarray(colours)
+    if table.dtype.kind not in "biuf" and table.size:
+        table = real_numbers(table, "vertex colours must be numbers")
     if table.ndim != 2 or table.shape[0] != rows or table.shape[1] not in (3, 4):
         raise ValueError(f"vertex colours must be {rows} rows of RGB or RGBA, not shape {table.shape}")
     rgb = table[:, :3]
@@ -76,10 +78,7 @@ def _given_table(values: np.ndarray | Sequence[Sequence[float]], width: int, cor
                  vertex_count: int, per_vertex: bool | None) -> CornerSource:
     """Per-vertex or per-corner values as a (table, per-corner row) pair; a corner whose row is not
     finite gets -1 (derived instead, as where a file's uv is not)."""
-    try:
-        table = np.asarray(values, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"uvs and normals must be rows of {width} numbers") from None
+    table = real_numbers(values, f"uvs and normals must be rows of {width} real numbers")
     corners = corner_vertex.size
     if table.ndim != 2 or table.shape[1] != width or table.shape[0] not in (vertex_count, corners):
         raise ValueError(f"uvs and normals need one row per vertex, shape ({vertex_count}, {width}), or one per "
@@ -95,6 +94,18 @@ def _given_table(values: np.ndarray | Sequence[Sequence[float]], width: int, cor
                          f"({vertex_count if per_vertex else corners}, {width}), not {table.shape}")
     rows = corner_vertex if per_vertex else np.arange(corners)
     return table, np.where(~np.isfinite(table).all(axis=1)[rows], -1, rows)
+
+
+def real_numbers(values: object, refusal: str) -> np.ndarray:
+    """float64 from numbers; ValueError(refusal) for text, complex numbers (numpy would drop the
+    imaginary part, or read "1.5" as a number) and ragged rows."""
+    try:
+        table = np.asarray(values)
+        if table.dtype.kind in "cSUVM":
+            raise ValueError(refusal)
+        return table.astype(np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(refusal) from None
 
 
 def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
