@@ -172,6 +172,8 @@ def test_a_trimesh_face_past_its_own_vertices_is_refused_not_joined_to_the_next_
                            trimesh.Trimesh(TRIANGLE + 100.0, [[0, 1, 2]], process=False)])
     with pytest.raises(ValueError, match="refers to vertex 5, but its mesh has 3"):
         viewer.add_mesh(scene)
+    with pytest.raises(ValueError, match="refers to vertex -1, but its mesh has 3"):
+        viewer.add_mesh(trimesh.Trimesh(TRIANGLE, [[0, 1, -1]], process=False, validate=False))
 
 
 def test_a_textured_trimesh_material_takes_the_models_name(viewer) -> None:
@@ -237,6 +239,7 @@ def test_rows_that_fit_vertices_and_corners_alike_must_say_which(viewer) -> None
     (TRIANGLE, [[0, 1, "2"]], "whole numbers"),
     (TRIANGLE + 1j, [[0, 1, 2]], "real numbers"),  # numpy would drop the imaginary part
     (TRIANGLE.astype(str), [[0, 1, 2]], "real numbers"),  # and read "60.0" as a number
+    (np.array([["60.0", 0, 0], [0, 60, 0], [0, 0, 60]], dtype=object), [[0, 1, 2]], "real numbers"),
 ])
 def test_bad_arrays_are_refused_where_they_enter(viewer, positions, faces, words: str) -> None:
     with pytest.raises(ValueError, match=words):
@@ -248,6 +251,12 @@ def test_per_corner_values_of_the_wrong_shape_say_what_is_expected(viewer) -> No
         viewer.add_mesh(TRIANGLE, [[0, 1, 2]], uvs=np.zeros((3, 3)))
     with pytest.raises(ValueError, match="rows of RGB"):
         viewer.add_mesh(TRIANGLE, [[0, 1, 2]], colours=np.zeros((2, 3)))
+
+
+def test_numbers_held_as_objects_are_numbers(viewer) -> None:
+    """As pandas gives them: floats in an object array."""
+    viewer.add_mesh(TRIANGLE.astype(object), [[0, 1, 2]], uvs=np.zeros((3, 2)).astype(object))
+    assert np.array_equal(viewer.scene.object.mesh.positions, TRIANGLE)
 
 
 def test_a_name_cannot_move_the_cursor(viewer) -> None:

@@ -3,6 +3,7 @@ drawn like the same triangles written as OBJ, and refused in one line naming the
 
 from __future__ import annotations
 
+import json
 import re
 import subprocess
 import sys
@@ -136,6 +137,38 @@ def test_a_mesh_of_many_vertices_placed_many_times_is_refused_too(tmp_path: Path
     monkeypatch.setattr(exchange, "MAX_PLACED_TRIANGLES", 100)  # 5 triangles pass; 500 vertices are past 300
     with pytest.raises(LoadError, match="5 triangles and 500 vertices"):
         load_model(tmp_path / "sparse.glb")
+
+
+def test_a_textured_mesh_placed_many_times_is_read_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """trimesh hashes a material's picture bytes: hashing it per placement would cost placements x pixels."""
+    from marraztu.loaders import exchange
+
+    scene = trimesh.Scene()
+    scene.add_geometry(textured_square((250, 0, 0), 0.0), geom_name="square", node_name="n0")
+    for node in range(1, 50):
+        scene.graph.update(frame_to=f"n{node}", geometry="square",
+                           matrix=trimesh.transformations.translation_matrix([100 * node, 0, 0]))
+    (tmp_path / "tiles.glb").write_bytes(scene.export(file_type="glb"))
+    calls: list[str] = []
+    for helper in ("_content_key", "_base_colour_texture", "_vertex_uvs"):
+        real = getattr(exchange, helper)
+        monkeypatch.setattr(exchange, helper, lambda *given, real=real, helper=helper: (calls.append(helper),
+                                                                                        real(*given))[1])
+    loaded = load_model(tmp_path / "tiles.glb")
+    assert loaded.face_count == 100 and len(loaded.materials) == 1
+    assert sorted(calls) == ["_base_colour_texture", "_content_key", "_vertex_uvs"]
+
+
+def test_a_node_graph_with_a_cycle_is_one_load_error(tmp_path: Path) -> None:
+    files = trimesh.Scene([square_mesh()]).export(file_type="gltf")
+    document = json.loads(files["model.gltf"])
+    first = len(document["nodes"])
+    document["nodes"] += [{"name": "c", "children": [first + 1]}, {"name": "d", "children": [first], "mesh": 0}]
+    document["scenes"][0]["nodes"].append(first)
+    for name, content in files.items():
+        (tmp_path / name).write_bytes(json.dumps(document).encode() if name == "model.gltf" else content)
+    with pytest.raises(LoadError, match="cannot place the scene's meshes"):
+        load_model(tmp_path / "model.gltf")
 
 
 def test_gltf_json_beside_its_buffer_and_its_base_colour(tmp_path: Path) -> None:

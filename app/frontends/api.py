@@ -147,10 +147,11 @@ class Viewer:
                  name: str = "mesh", colours: Any = None, attributes_per_vertex: bool | None = None) -> Viewer:
         """A model from arrays, or from a trimesh.Trimesh or trimesh.Scene given alone (with its uvs,
         texture and vertex colours): positions (V, 3), faces (F, k) of 0-based indices (or a list of
-        polygons), uvs and normals per vertex or per corner, colours per vertex."""
+        polygons), uvs and normals per vertex or per corner (`attributes_per_vertex` says which where
+        both fit), colours per vertex."""
         shown_name = escaped(str(name))[:200]
-        if faces is None and (hasattr(positions, "geometry") or hasattr(positions, "vertices")
-                              and hasattr(positions, "faces")):
+        if faces is None and (hasattr(positions, "geometry")
+                              or (hasattr(positions, "vertices") and hasattr(positions, "faces"))):
             if not (uvs is None and normals is None and colours is None and attributes_per_vertex is None):
                 raise ValueError("a trimesh.Trimesh brings its own uvs and colours: give it alone, or give its "
                                  "arrays (mesh.vertices, mesh.faces, normals=mesh.vertex_normals, ...)")

@@ -14,7 +14,7 @@ import io
 import itertools
 import re
 from collections.abc import Callable, Iterator
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -192,8 +192,8 @@ def _line_of_first_non_finite(data: bytes) -> int | None:
 
 
 def _finish(path: Path, loaded: Any, data: bytes | None, merge: bool = False) -> Mesh:
-    """The checked tables as a Mesh; `data`, for a text format, lets a bad number be found by line;
-    `merge` joins equal positions."""
+    """A file's Mesh; `data`, for a text format, lets a bad number be found by line; `merge` joins equal
+    positions."""
     return _mesh_of(path, path.stem, loaded, data, merge)
 
 
@@ -206,69 +206,87 @@ def mesh_of_trimesh(name: str, loaded: Any) -> Mesh:
         raise ValueError(error.message) from None
 
 
-# A trimesh.Trimesh and the transform that places it (None: where it is).
-Part = tuple[Any, np.ndarray | None]
+@dataclass(frozen=True, eq=False)
+class _Geometry:
+    """One trimesh mesh's checked tables, read once however many nodes place it."""
+
+    mesh: Any
+    positions: np.ndarray
+    faces: np.ndarray
+    uvs: np.ndarray | None  # per vertex, NaN rows to derive
+    colours: np.ndarray | None  # per vertex, RGB bytes
+
+
+# A mesh and the transform of a node that places it (None: where it is).
+Part = tuple[_Geometry, np.ndarray | None]
 
 
 def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, merge: bool = False) -> Mesh:
     """One Mesh of every placed mesh, each keeping its uvs, vertex colours and material (base colour
     and texture), as an OBJ's groups keep theirs."""
     parts = _placed_parts(source, loaded)
-    sizes = [len(mesh.vertices) for mesh, _ in parts]
-    positions = np.concatenate([_placed_positions(mesh, transform) for mesh, transform in parts])
-    faces = np.concatenate([_placed_faces(source, mesh, transform) + offset
-                            for (mesh, transform), offset in zip(parts, np.cumsum([0, *sizes[:-1]]))])
+    sizes = [len(geometry.positions) for geometry, _ in parts]
+    positions = np.concatenate([_placed_positions(geometry.positions, transform) for geometry, transform in parts])
+    faces = np.concatenate([_placed_faces(geometry.faces, transform) + offset
+                            for (geometry, transform), offset in zip(parts, np.cumsum([0, *sizes[:-1]]))])
     _check_tables(source, positions, faces, data)
-    uvs = _joined([_vertex_uvs(mesh) for mesh, _ in parts], sizes, np.nan)  # NaN: derived
-    colours = _joined([_vertex_colours(mesh) for mesh, _ in parts], sizes, 255)  # white: untinted
+    uvs = _joined([geometry.uvs for geometry, _ in parts], sizes, np.nan)  # NaN: derived
+    colours = _joined([geometry.colours for geometry, _ in parts], sizes, 255)  # white: untinted
     if merge:  # STL stores each triangle's own corners: shared corners let Gouraud smooth across edges
         positions, first, inverse = np.unique(positions, axis=0, return_index=True, return_inverse=True)
         faces = inverse.reshape(-1)[faces]
         colours = None if colours is None else colours[first]
         uvs = None  # an STL has no texture coordinates
     materials, part_material, notes = _part_materials(name, parts, textured=uvs is not None)
-    # One mesh's base colour is the model's; of several, each has its own, and one without takes the viewer's.
-    own = _material_of(parts[0][0]) if len(parts) == 1 else None
+    # One mesh's base colour is the model's (as before scenes had parts); of several, each has its
+    # own, and one without takes the viewer's.
+    own = _material_of(parts[0][0].mesh) if len(parts) == 1 else None
     mesh = build_mesh(name=name, positions=positions, faces=faces, uvs=uvs, file_material=own, warnings=notes,
                       vertex_colours=colours, attributes_per_vertex=True)
     if not materials:
         return mesh
-    face_material = np.repeat(np.array(part_material, np.int32), [len(mesh.faces) for mesh, _ in parts])
-    return replace(mesh, materials=materials, face_material=face_material)
+    part_faces = [len(geometry.faces) for geometry, _ in parts]
+    return replace(mesh, materials=materials, face_material=np.repeat(np.array(part_material, np.int32), part_faces))
 
 
 def _placed_parts(source: str | Path, loaded: Any) -> list[Part]:
     """A scene's meshes with the transforms of the nodes that place them (a mesh placed twice is two
-    parts); a mesh alone, where it is."""
+    parts), counted before any is read; a mesh alone, where it is."""
     if not hasattr(loaded, "geometry"):
-        return [(loaded, None)]
-    meshes = {name: geometry for name, geometry in loaded.geometry.items() if hasattr(geometry, "faces")}
-    if not any(len(mesh.faces) for mesh in meshes.values()):
+        return [(_geometry(source, loaded), None)]
+    meshes = {name: geometry for name, geometry in loaded.geometry.items()
+              if hasattr(geometry, "faces") and len(geometry.faces)}  # a mesh of no faces draws nothing
+    if not meshes:
         raise LoadError(source, "the scene holds no triangle mesh: nothing to draw")
-    _check_placed_triangles(source, loaded)
     try:
         placements = [loaded.graph[node] for node in loaded.graph.nodes_geometry]
-    except Exception as error:  # a broken node graph: trimesh's own words
+    except Exception as error:  # a broken node graph (a cycle, say): trimesh's own words
         raise LoadError(source, f"cannot place the scene's meshes ({type(error).__name__}: {error})") from None
-    parts = [(meshes[name], np.asarray(transform, dtype=np.float64)) for transform, name in placements
-             if name in meshes and len(meshes[name].faces)]  # a mesh of no faces draws nothing
-    if not parts:
+    placements = [(transform, name) for transform, name in placements if name in meshes]
+    if not placements:
         raise LoadError(source, "no node of the scene places a triangle mesh: nothing to draw")
-    return parts
+    _check_placed_size(source, [meshes[name] for _, name in placements])
+    read = {name: _geometry(source, meshes[name]) for name in dict.fromkeys(name for _, name in placements)}
+    return [(read[name], np.asarray(transform, dtype=np.float64)) for transform, name in placements]
 
 
-def _placed_positions(mesh: Any, transform: np.ndarray | None) -> np.ndarray:
+def _geometry(source: str | Path, mesh: Any) -> _Geometry:
     positions = np.asarray(mesh.vertices, dtype=np.float64).reshape(-1, 3)
+    faces = np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
+    if faces.size and (faces.min() < 0 or faces.max() >= len(positions)):  # checked before meshes are joined
+        bad = int(faces.min()) if faces.min() < 0 else int(faces.max())
+        raise LoadError(source, f"a face refers to vertex {bad}, but its mesh has {len(positions)}")
+    return _Geometry(mesh, positions, faces, _vertex_uvs(mesh), _vertex_colours(mesh))
+
+
+def _placed_positions(positions: np.ndarray, transform: np.ndarray | None) -> np.ndarray:
     if transform is None:
         return positions
     with np.errstate(all="ignore"):  # a transform of NaN or huge numbers: refused by _check_tables
         return positions @ transform[:3, :3].T + transform[:3, 3]
 
 
-def _placed_faces(source: str | Path, mesh: Any, transform: np.ndarray | None) -> np.ndarray:
-    faces = np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
-    if faces.size and (faces.min() < 0 or faces.max() >= len(mesh.vertices)):  # before meshes are joined
-        raise LoadError(source, f"a face refers to vertex {int(faces.max())}, but its mesh has {len(mesh.vertices)}")
+def _placed_faces(faces: np.ndarray, transform: np.ndarray | None) -> np.ndarray:
     with np.errstate(all="ignore"):  # NaN in the transform: refused with its positions
         mirrors = transform is not None and np.linalg.det(transform[:3, :3]) < 0
     # A mirroring transform turns the winding round: glTF asks for it to be turned back.
@@ -290,26 +308,29 @@ def _part_materials(name: str, parts: list[Part], textured: bool
     """The materials of the parts, each once, and per part its index among them (-1: no base colour
     or texture of its own, or past MAX_MATERIALS). None at all for one untextured part: its base
     colour is the model's."""
-    found: dict[tuple[int, bool], int] = {}
+    by_geometry: dict[int, int] = {}  # each mesh's material is found once, however often it is placed
+    by_content: dict[tuple[object, ...], int] = {}
     materials: list[MeshMaterial] = []
-    part_material: list[int] = []
     beyond = 0
-    for mesh, _ in parts:
-        material = getattr(getattr(mesh, "visual", None), "material", None)
-        with_uvs = textured and _vertex_uvs(mesh) is not None  # the texture is drawn only where uvs address it
-        key = (_content_key(material), with_uvs)
-        if key not in found:
-            texture = _base_colour_texture(mesh) if with_uvs else None
-            values = _material_of(mesh)
+    for geometry, _ in parts:
+        if id(geometry) in by_geometry:
+            continue
+        material = getattr(getattr(geometry.mesh, "visual", None), "material", None)
+        with_uvs = textured and geometry.uvs is not None  # a texture is drawn only where uvs address it
+        key = (*_content_key(material), with_uvs)
+        if key not in by_content:
+            texture = _base_colour_texture(geometry.mesh) if with_uvs else None
+            values = _material_of(geometry.mesh)
             if texture is None and values is None:
-                found[key] = -1
+                by_content[key] = -1
             elif len(materials) >= MAX_MATERIALS:
-                found[key], beyond = -1, beyond + 1
+                by_content[key], beyond = -1, beyond + 1
             else:
-                found[key] = len(materials)
+                by_content[key] = len(materials)
                 materials.append(MeshMaterial(_material_name(material), values or {}, texture,
                                               None if texture is None else "base colour texture"))
-        part_material.append(found[key])
+        by_geometry[id(geometry)] = by_content[key]
+    part_material = [by_geometry[id(geometry)] for geometry, _ in parts]
     if len(parts) == 1 and materials and materials[0].texture is None:
         return (), part_material, []
     materials = [replace(material, name=material.name or (name if len(materials) == 1 else f"{name} {number}"))
@@ -319,12 +340,13 @@ def _part_materials(name: str, parts: list[Part], textured: bool
     return tuple(materials), part_material, notes
 
 
-def _content_key(material: Any) -> int:
-    """Equal materials are one: a copied scene gives each mesh its own copy (trimesh's hash is of the content)."""
+def _content_key(material: Any) -> tuple[object, ...]:
+    """Equal materials are one: a copied scene gives each mesh its own copy. trimesh hashes a material's
+    content (its picture's bytes too); its kind and name keep two unlike ones apart."""
     try:
-        return hash(material)
+        return type(material).__name__, getattr(material, "name", None), hash(material)
     except TypeError:
-        return id(material)
+        return type(material).__name__, id(material)
 
 
 _AUTOMATIC_NAME = re.compile(r"(?:material_?\d*)?")
@@ -359,6 +381,7 @@ def _stand_in_material(material: Any) -> bool:
 
 
 def _check_tables(path: str | Path, positions: np.ndarray, faces: np.ndarray, data: bytes | None) -> None:
+    """Faces, and positions the GPU can hold (each mesh's indices are checked as it is read)."""
     if len(faces) == 0:
         raise LoadError(path, "no faces")
     with np.errstate(all="ignore"):
@@ -366,22 +389,17 @@ def _check_tables(path: str | Path, positions: np.ndarray, faces: np.ndarray, da
     if bad.any():
         line = _line_of_first_non_finite(data) if data is not None else None
         raise LoadError(path, "a vertex coordinate is not a finite number the GPU can hold", line=line)
-    if faces.min() < 0 or faces.max() >= len(positions):
-        raise LoadError(path, f"a face refers to vertex {int(faces.max())}, but the file has {len(positions)}")
 
 
-def _check_placed_triangles(path: str | Path, scene: Any) -> None:
+def _check_placed_size(path: str | Path, placed: list[Any]) -> None:
     """Counted from the node graph before any mesh is copied into place: triangles, and vertices too
     (a mesh of many vertices and one face, placed many times, would otherwise pass)."""
-    sizes = {name: (len(geometry.faces), len(geometry.vertices)) for name, geometry in scene.geometry.items()
-             if hasattr(geometry, "faces")}
-    placements = [scene.graph[node][1] for node in scene.graph.nodes_geometry]
-    triangles = sum(sizes.get(name, (0, 0))[0] for name in placements)
-    vertices = sum(sizes.get(name, (0, 0))[1] for name in placements)
+    triangles = sum(len(mesh.faces) for mesh in placed)
+    vertices = sum(len(mesh.vertices) for mesh in placed)
     if triangles > MAX_PLACED_TRIANGLES or vertices > 3 * MAX_PLACED_TRIANGLES:
-        raise LoadError(path, f"the scene places its meshes {len(placements)} times, {triangles} triangles and "
+        raise LoadError(path, f"the scene places its meshes {len(placed)} times, {triangles} triangles and "
                               f"{vertices} vertices in all: more than the {MAX_PLACED_TRIANGLES} triangles (and three "
-                              "vertices each) the viewer draws from one file")
+                              "vertices each) the viewer draws from one model")
 
 
 def _vertex_uvs(mesh: Any) -> np.ndarray | None:

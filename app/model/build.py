@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from numbers import Real
 
 import numpy as np
 
@@ -42,13 +43,13 @@ def build_mesh(
     or RGBA, bytes (0..255) or floats (0..1). Raises ValueError for impossible input (this is a
     programming interface).
     """
-    points = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
+    points = real_numbers(positions, "positions must be real numbers, (V, 3)").reshape(-1, 3)
     corner_vertex, face_start = _faces_to_csr(faces)
     if corner_vertex.size and (corner_vertex.min() < 0 or corner_vertex.max() >= len(points)):
         raise ValueError("a face refers to a vertex that does not exist")
     given_uv, given_normals = (
-        None if values is None else _given_table(values, width, corner_vertex, len(points), attributes_per_vertex)
-        for values, width in ((uvs, 2), (normals, 3)))
+        None if values is None else _given_table(what, values, width, corner_vertex, len(points), attributes_per_vertex)
+        for what, values, width in (("uvs", uvs, 2), ("normals", normals, 3)))
     mesh = derive_mesh(name, points, corner_vertex, face_start, given_uv, given_normals,
                        base_colour, file_material, tuple(warnings))
     if vertex_colours is None:
@@ -59,8 +60,8 @@ def build_mesh(
 def colour_bytes(colours: np.ndarray | Sequence[Sequence[float]], rows: int) -> np.ndarray:
     """(rows, 3) uint8 from RGB or RGBA rows of bytes (0..255) or of floats (0..1); alpha is dropped."""
     table = np.asarray(colours)
-    if table.dtype.kind not in "biuf" and table.size:
-        table = real_numbers(table, "vertex colours must be numbers")
+    if table.dtype.kind not in "biuf":  # text or objects: not read as numbers
+        raise ValueError("vertex colours must be numbers")
     if table.ndim != 2 or table.shape[0] != rows or table.shape[1] not in (3, 4):
         raise ValueError(f"vertex colours must be {rows} rows of RGB or RGBA, not shape {table.shape}")
     rgb = table[:, :3]
@@ -74,38 +75,40 @@ def colour_bytes(colours: np.ndarray | Sequence[Sequence[float]], rows: int) -> 
     return np.rint(floats * 255.0).astype(np.uint8)
 
 
-def _given_table(values: np.ndarray | Sequence[Sequence[float]], width: int, corner_vertex: np.ndarray,
+def _given_table(what: str, values: np.ndarray | Sequence[Sequence[float]], width: int, corner_vertex: np.ndarray,
                  vertex_count: int, per_vertex: bool | None) -> CornerSource:
     """Per-vertex or per-corner values as a (table, per-corner row) pair; a corner whose row is not
-    finite gets -1 (derived instead, as where a file's uv is not)."""
-    table = real_numbers(values, f"uvs and normals must be rows of {width} real numbers")
+    finite gets -1 (derived instead, as where a file's uv is not). `what` names them in errors."""
+    table = real_numbers(values, f"{what} must be rows of {width} real numbers")
     corners = corner_vertex.size
     if table.ndim != 2 or table.shape[1] != width or table.shape[0] not in (vertex_count, corners):
-        raise ValueError(f"uvs and normals need one row per vertex, shape ({vertex_count}, {width}), or one per "
-                         f"corner in the order the faces list them, shape ({corners}, {width}); not {table.shape}")
+        raise ValueError(f"{what} need one row per vertex, shape ({vertex_count}, {width}), or one per corner in "
+                         f"the order the faces list them, shape ({corners}, {width}); not {table.shape}")
     if per_vertex is None:
         per_vertex = table.shape[0] == vertex_count
         # A table that fits both is ambiguous unless the faces list every vertex once, in order.
         if vertex_count == corners and not np.array_equal(corner_vertex, np.arange(corners)):
-            raise ValueError(f"uvs and normals have {corners} rows, as many as the vertices and as the corners: "
-                             "say which with attributes_per_vertex=True or False")
+            raise ValueError(f"{what} have {corners} rows, as many as the vertices and as the corners: say which "
+                             "with attributes_per_vertex=True or False")
     if table.shape[0] != (vertex_count if per_vertex else corners):
-        raise ValueError(f"uvs and normals given per {'vertex' if per_vertex else 'corner'} need shape "
+        raise ValueError(f"{what} given per {'vertex' if per_vertex else 'corner'} need shape "
                          f"({vertex_count if per_vertex else corners}, {width}), not {table.shape}")
     rows = corner_vertex if per_vertex else np.arange(corners)
     return table, np.where(~np.isfinite(table).all(axis=1)[rows], -1, rows)
 
 
 def real_numbers(values: object, refusal: str) -> np.ndarray:
-    """float64 from numbers; ValueError(refusal) for text, complex numbers (numpy would drop the
-    imaginary part, or read "1.5" as a number) and ragged rows."""
+    """float64 from numbers; ValueError(refusal) for anything else: numpy would drop the imaginary part
+    of a complex number, read the text "1.5" as a number, and give ragged rows as objects."""
     try:
         table = np.asarray(values)
-        if table.dtype.kind in "cSUVM":
-            raise ValueError(refusal)
-        return table.astype(np.float64)
     except (TypeError, ValueError):
         raise ValueError(refusal) from None
+    numbers_only = table.dtype.kind in "biuf" or (
+        table.dtype.kind == "O" and all(isinstance(value, Real) for value in table.flat))  # pandas gives these
+    if not numbers_only:  # text, complex numbers, times, or objects that are not all real numbers
+        raise ValueError(refusal)
+    return table.astype(np.float64)
 
 
 def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
