@@ -140,7 +140,8 @@ def test_a_mesh_of_many_vertices_placed_many_times_is_refused_too(tmp_path: Path
 
 
 def test_a_textured_mesh_placed_many_times_is_read_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """trimesh hashes a material's picture bytes: hashing it per placement would cost placements x pixels."""
+    """A material's picture is hashed to find equal materials: once per picture, not per placement,
+    which would cost placements x pixels."""
     from marraztu.loaders import exchange
 
     scene = trimesh.Scene()
@@ -150,13 +151,13 @@ def test_a_textured_mesh_placed_many_times_is_read_once(tmp_path: Path, monkeypa
                            matrix=trimesh.transformations.translation_matrix([100 * node, 0, 0]))
     (tmp_path / "tiles.glb").write_bytes(scene.export(file_type="glb"))
     calls: list[str] = []
-    for helper in ("_content_key", "_base_colour_texture", "_vertex_uvs"):
+    for helper in ("_bytes_key", "_texture", "_vertex_uvs"):
         real = getattr(exchange, helper)
         monkeypatch.setattr(exchange, helper, lambda *given, real=real, helper=helper: (calls.append(helper),
                                                                                         real(*given))[1])
     loaded = load_model(tmp_path / "tiles.glb")
     assert loaded.face_count == 100 and len(loaded.materials) == 1
-    assert sorted(calls) == ["_base_colour_texture", "_content_key", "_vertex_uvs"]
+    assert sorted(calls) == ["_bytes_key", "_texture", "_vertex_uvs"]
 
 
 def test_a_node_graph_with_a_cycle_is_one_load_error(tmp_path: Path) -> None:
@@ -357,6 +358,20 @@ def test_equal_materials_are_one_material_even_as_copies(tmp_path: Path) -> None
               for _ in range(3)]
     loaded = load_model(glb_of(tmp_path, "copies.glb", *meshes))
     assert [material.name for material in loaded.materials] == ["green"] and set(loaded.face_material) == {0}
+
+
+def test_many_materials_sharing_a_picture_hash_it_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    from marraztu.loaders import exchange
+
+    picture = Image.new("RGB", (64, 64), (0, 250, 0))
+    scene = trimesh.Scene([square_with(trimesh.visual.material.PBRMaterial(name=f"m{number}", baseColorTexture=picture),
+                                       uv=True) for number in range(20)])
+    hashed: list[object] = []
+    real = exchange._bytes_key
+    monkeypatch.setattr(exchange, "_bytes_key", lambda given: (hashed.append(given), real(given))[1])
+    materials = exchange.mesh_of_trimesh("tiles", scene).materials
+    assert len(materials) == 20 and len(hashed) == 1  # named apart: twenty materials, one picture
+    assert len({id(material.texture) for material in materials}) == 1  # one array: uploaded once
 
 
 def test_gltf_vertex_colours_beside_a_material_tint(tmp_path: Path) -> None:

@@ -309,6 +309,8 @@ def _part_materials(name: str, parts: list[Part], textured: bool
     or texture of its own, or past MAX_MATERIALS). None at all for one untextured part: its base
     colour is the model's."""
     by_geometry: dict[int, int] = {}  # each mesh's material is found once, however often it is placed
+    picture_keys: dict[int, tuple[object, ...]] = {}  # each picture hashed and read once, however many
+    textures: dict[int, np.ndarray | None] = {}  # materials share it (one array: the renderer uploads it once)
     by_content: dict[tuple[object, ...], int] = {}
     materials: list[MeshMaterial] = []
     beyond = 0
@@ -316,18 +318,21 @@ def _part_materials(name: str, parts: list[Part], textured: bool
         if id(geometry) in by_geometry:
             continue
         material = getattr(getattr(geometry.mesh, "visual", None), "material", None)
-        with_uvs = textured and geometry.uvs is not None  # a texture is drawn only where uvs address it
-        key = (*_content_key(material), with_uvs)
+        values = _material_of(geometry.mesh)
+        # A picture counts only where uvs address it; equal materials are one, copies included.
+        picture = _picture(material) if textured and geometry.uvs is not None else None
+        if picture is not None and id(picture) not in picture_keys:
+            picture_keys[id(picture)], textures[id(picture)] = _bytes_key(picture), _texture(picture)
+        key = (_material_name(material), values and tuple(values.items()), picture_keys.get(id(picture)))
         if key not in by_content:
-            texture = _base_colour_texture(geometry.mesh) if with_uvs else None
-            values = _material_of(geometry.mesh)
+            texture = textures.get(id(picture))
             if texture is None and values is None:
                 by_content[key] = -1
             elif len(materials) >= MAX_MATERIALS:
                 by_content[key], beyond = -1, beyond + 1
             else:
                 by_content[key] = len(materials)
-                materials.append(MeshMaterial(_material_name(material), values or {}, texture,
+                materials.append(MeshMaterial(key[0], values or {}, texture,
                                               None if texture is None else "base colour texture"))
         by_geometry[id(geometry)] = by_content[key]
     part_material = [by_geometry[id(geometry)] for geometry, _ in parts]
@@ -340,13 +345,15 @@ def _part_materials(name: str, parts: list[Part], textured: bool
     return tuple(materials), part_material, notes
 
 
-def _content_key(material: Any) -> tuple[object, ...]:
-    """Equal materials are one: a copied scene gives each mesh its own copy. trimesh hashes a material's
-    content (its picture's bytes too); its kind and name keep two unlike ones apart."""
+def _bytes_key(picture: Any) -> tuple[object, ...]:
+    """Equal pictures, equal keys: their shape and a hash of their bytes."""
     try:
-        return type(material).__name__, getattr(material, "name", None), hash(material)
-    except TypeError:
-        return type(material).__name__, id(material)
+        if isinstance(picture, Image.Image):
+            return picture.mode, picture.size, hash(picture.tobytes())
+        array = np.asarray(picture)
+        return str(array.dtype), array.shape, hash(array.tobytes())
+    except Exception:  # a picture that cannot give its bytes: itself only
+        return ("object", id(picture))
 
 
 _AUTOMATIC_NAME = re.compile(r"(?:material_?\d*)?")
@@ -358,13 +365,16 @@ def _material_name(material: Any) -> str:
     return "" if _AUTOMATIC_NAME.fullmatch(name) else name
 
 
-def _base_colour_texture(mesh: Any) -> np.ndarray | None:
-    material = getattr(getattr(mesh, "visual", None), "material", None)
-    picture = getattr(material, "baseColorTexture", None)  # glTF's PBR material
+def _picture(material: Any) -> Any:
+    """The material's picture as trimesh holds it: glTF's base colour texture, or trimesh's own image
+    (an OBJ's map_Kd, a texture given to it), but not its stand-in for none."""
+    picture = getattr(material, "baseColorTexture", None)
     if picture is None and not _stand_in_material(material):
-        picture = getattr(material, "image", None)  # trimesh's own: an OBJ or a texture it was given
-    if picture is None:
-        return None
+        picture = getattr(material, "image", None)
+    return picture
+
+
+def _texture(picture: Any) -> np.ndarray | None:
     try:
         return rgb_array(picture if isinstance(picture, Image.Image) else Image.fromarray(np.asarray(picture)))
     except Exception:  # a picture Pillow cannot convert: the colours alone, as for a missing map_Kd
