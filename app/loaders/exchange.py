@@ -238,8 +238,8 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, mer
         colours = None if colours is None else colours[first]
         uvs = None  # an STL has no texture coordinates
     materials, part_material, notes = _part_materials(name, parts, textured=uvs is not None)
-    # One mesh's base colour is the model's (as before scenes had parts); of several, each has its
-    # own, and one without takes the viewer's.
+    # One mesh's base colour is the model's; of several, each keeps its own, and one without takes the
+    # viewer's rather than another mesh's.
     own = _material_of(parts[0][0].mesh) if len(parts) == 1 else None
     mesh = build_mesh(name=name, positions=positions, faces=faces, uvs=uvs, file_material=own, warnings=notes,
                       vertex_colours=colours, attributes_per_vertex=True)
