@@ -223,7 +223,8 @@ Part = tuple[_Geometry, np.ndarray | None]
 
 def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, merge: bool = False) -> Mesh:
     """One Mesh of every placed mesh, each keeping its uvs, vertex colours and material (base colour
-    and texture), as an OBJ's groups keep theirs."""
+    and texture), as an OBJ's groups keep theirs. Placed here, not by trimesh's to_geometry(), which
+    packs every mesh's picture into one (recoloured) atlas and keeps one material."""
     parts = _placed_parts(source, loaded)
     sizes = [len(geometry.positions) for geometry, _ in parts]
     positions = np.concatenate([_placed_positions(geometry.positions, transform) for geometry, transform in parts])
