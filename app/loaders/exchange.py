@@ -388,7 +388,8 @@ def _stand_in_material(material: Any) -> bool:
     image = getattr(material, "image", None)
     if not isinstance(image, Image.Image) or image.size != (2, 2):
         return False
-    return len(set(image.getdata())) == 1
+    pixels = np.asarray(image).reshape(4, -1)
+    return bool((pixels == pixels[0]).all())
 
 
 def _check_tables(path: str | Path, positions: np.ndarray, faces: np.ndarray, data: bytes | None) -> None:
