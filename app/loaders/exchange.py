@@ -227,9 +227,13 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, mer
     packs every mesh's picture into one (recoloured) atlas and keeps one material."""
     parts = _placed_parts(source, loaded)
     sizes = [len(geometry.positions) for geometry, _ in parts]
-    positions = np.concatenate([_placed_positions(geometry.positions, transform) for geometry, transform in parts])
-    faces = np.concatenate([_placed_faces(geometry.faces, transform) + offset
-                            for (geometry, transform), offset in zip(parts, np.cumsum([0, *sizes[:-1]]))])
+    with np.errstate(all="ignore"):  # a transform of NaN or huge numbers: refused by _check_tables
+        positions = np.concatenate([_placed_positions(geometry.positions, transform)
+                                    for geometry, transform in parts])
+        mirrored = _mirrored([transform for _, transform in parts])
+    # A mirroring transform turns the winding round: glTF asks for it to be turned back.
+    faces = np.concatenate([(geometry.faces[:, ::-1] if mirrors else geometry.faces) + offset
+                            for (geometry, _), mirrors, offset in zip(parts, mirrored, np.cumsum([0, *sizes[:-1]]))])
     _check_tables(source, positions, faces, data)
     uvs = _joined([geometry.uvs for geometry, _ in parts], sizes, np.nan)  # NaN: derived
     colours = _joined([geometry.colours for geometry, _ in parts], sizes, 255)  # white: untinted
@@ -281,17 +285,17 @@ def _geometry(source: str | Path, mesh: Any) -> _Geometry:
 
 
 def _placed_positions(positions: np.ndarray, transform: np.ndarray | None) -> np.ndarray:
-    if transform is None:
-        return positions
-    with np.errstate(all="ignore"):  # a transform of NaN or huge numbers: refused by _check_tables
-        return positions @ transform[:3, :3].T + transform[:3, 3]
+    return positions if transform is None else positions @ transform[:3, :3].T + transform[:3, 3]
 
 
-def _placed_faces(faces: np.ndarray, transform: np.ndarray | None) -> np.ndarray:
-    with np.errstate(all="ignore"):  # NaN in the transform: refused with its positions
-        mirrors = transform is not None and np.linalg.det(transform[:3, :3]) < 0
-    # A mirroring transform turns the winding round: glTF asks for it to be turned back.
-    return faces[:, ::-1] if mirrors else faces
+def _mirrored(transforms: list[np.ndarray | None]) -> list[bool]:
+    """Which transforms mirror (a negative determinant), all in one call: a scene may have thousands."""
+    placed = [index for index, transform in enumerate(transforms) if transform is not None]
+    mirrored = [False] * len(transforms)
+    if placed:
+        for index, determinant in zip(placed, np.linalg.det(np.stack([transforms[i][:3, :3] for i in placed]))):
+            mirrored[index] = bool(determinant < 0)
+    return mirrored
 
 
 def _joined(tables: list[np.ndarray | None], sizes: list[int], fill: float) -> np.ndarray | None:

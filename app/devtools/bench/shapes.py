@@ -4,6 +4,8 @@ file's model."""
 
 from __future__ import annotations
 
+import base64
+import io
 import json
 import subprocess
 import sys
@@ -11,6 +13,9 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+
+import numpy as np
+from PIL import Image
 
 from marraztu.devtools.bench.config import BenchConfig
 from marraztu.devtools.bench.loading import peak_rss_bytes
@@ -74,6 +79,38 @@ def _scene_of_many_materials(path: Path, size: int) -> None:
     path.write_text(materials + '[[cameras]]\nmodel = "tri.obj"\nposition = [0, 0, 150]\nmaterial = "m0"\n')
 
 
+def _scene_of_many_nodes(path: Path, size: int) -> None:
+    """A glTF whose nodes place one textured triangle again and again: every node is a placement."""
+    size = min(size, SCENE_FILE_MEGABYTES * MEGABYTE)
+    positions = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32)
+    uvs = np.array([[0, 0], [1, 0], [0, 1]], np.float32)
+    blob = positions.tobytes() + uvs.tobytes() + np.array([0, 1, 2, 0], np.uint16).tobytes()
+    picture = io.BytesIO()
+    Image.new("RGB", (256, 256), (200, 60, 20)).save(picture, "PNG")
+    node = '{"mesh":0,"translation":[%d,%d,0]}'
+    count = size // (len(node % (1000, 1000)) + len("123456,"))  # a node and its entry in the scene's list
+    views = [(0, 36), (36, 24), (60, 6)]
+    document = {
+        "asset": {"version": "2.0"}, "scene": 0,
+        "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64,"
+                     + base64.b64encode(blob).decode()}],
+        "bufferViews": [{"buffer": 0, "byteOffset": offset, "byteLength": length} for offset, length in views],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0],
+                       "max": [1, 1, 0]},
+                      {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"},
+                      {"bufferView": 2, "componentType": 5123, "count": 3, "type": "SCALAR"}],
+        "images": [{"uri": "data:image/png;base64," + base64.b64encode(picture.getvalue()).decode()}],
+        "textures": [{"source": 0}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
+        "nodes": "NODES", "scenes": [{"nodes": "ROOTS"}],
+    }
+    text = json.dumps(document, separators=(",", ":"))
+    nodes = ",".join(node % (2 * (k % 1000), 2 * (k // 1000)) for k in range(count))
+    text = text.replace('"NODES"', f"[{nodes}]").replace('"ROOTS"', f"[{','.join(map(str, range(count)))}]")
+    path.write_text(text)
+
+
 SHAPES = (
     Shape("plain model (the baseline)", "plain.obj", _plain),
     Shape("the same, its last line cut", "cut.obj", _cut_at_the_end),
@@ -82,6 +119,7 @@ SHAPES = (
     Shape("one long v line", "long_line.obj", _one_long_line),
     Shape("scene file: many objects", "objects.toml", _scene_of_many_objects),
     Shape("scene file: many materials", "materials.toml", _scene_of_many_materials),
+    Shape("glTF: one textured triangle placed by many nodes", "nodes.gltf", _scene_of_many_nodes),
 )
 
 
@@ -136,7 +174,8 @@ def shapes_section(config: BenchConfig, directory: Path) -> list[str]:
     return [
         "## 5. Inputs shaped to break linear cost",
         "",
-        f"Each file about {config.shape_megabytes} MB (scene files at most {SCENE_FILE_MEGABYTES}), read once "
+        f"Each file about {config.shape_megabytes} MB (scene files and the glTF at most {SCENE_FILE_MEGABYTES}), "
+        "read once "
         "in a fresh process as the viewer reads it "
         "(a model through the reader registry, a scene file with its models); peak RSS is the process's "
         "peak minus its peak after imports. An error should cost about what a good file of the same "
