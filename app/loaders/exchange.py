@@ -230,7 +230,9 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, mer
     with np.errstate(all="ignore"):  # a transform of NaN or huge numbers: refused by _check_tables
         positions = np.concatenate([_placed_positions(geometry.positions, transform)
                                     for geometry, transform in parts])
-        mirrored = _mirrored([transform for _, transform in parts])
+        # The transforms' determinants in one call: a scene may have thousands. A lone mesh has none.
+        mirrored = [False] if parts[0][1] is None else np.linalg.det(
+            np.stack([transform[:3, :3] for _, transform in parts])) < 0
     # A mirroring transform turns the winding round: glTF asks for it to be turned back.
     faces = np.concatenate([(geometry.faces[:, ::-1] if mirrors else geometry.faces) + offset
                             for (geometry, _), mirrors, offset in zip(parts, mirrored, np.cumsum([0, *sizes[:-1]]))])
@@ -288,16 +290,6 @@ def _placed_positions(positions: np.ndarray, transform: np.ndarray | None) -> np
     return positions if transform is None else positions @ transform[:3, :3].T + transform[:3, 3]
 
 
-def _mirrored(transforms: list[np.ndarray | None]) -> list[bool]:
-    """Which transforms mirror (a negative determinant), all in one call: a scene may have thousands."""
-    placed = [index for index, transform in enumerate(transforms) if transform is not None]
-    mirrored = [False] * len(transforms)
-    if placed:
-        for index, determinant in zip(placed, np.linalg.det(np.stack([transforms[i][:3, :3] for i in placed]))):
-            mirrored[index] = bool(determinant < 0)
-    return mirrored
-
-
 def _joined(tables: list[np.ndarray | None], sizes: list[int], fill: float) -> np.ndarray | None:
     """The parts' per-vertex tables as one, `fill` for a part without; None when no part has one."""
     given = [table for table in tables if table is not None]
@@ -314,8 +306,9 @@ def _part_materials(name: str, parts: list[Part], textured: bool
     or texture of its own, or past MAX_MATERIALS). None at all for one untextured part: its base
     colour is the model's."""
     by_geometry: dict[int, int] = {}  # each mesh's material is found once, however often it is placed
-    picture_keys: dict[int, tuple[object, ...]] = {}  # each picture hashed and read once, however many
-    textures: dict[int, np.ndarray | None] = {}  # materials share it (one array: the renderer uploads it once)
+    # Each picture read and hashed once, however many materials share it, as one array (the renderer
+    # uploads it once), with its key: the shape and a hash of the RGB bytes drawn.
+    textures: dict[int, tuple[np.ndarray | None, tuple[object, ...] | None]] = {}
     by_content: dict[tuple[object, ...], int] = {}
     materials: list[MeshMaterial] = []
     beyond = 0
@@ -326,11 +319,12 @@ def _part_materials(name: str, parts: list[Part], textured: bool
         values = _material_of(geometry.mesh)
         # A picture counts only where uvs address it; equal materials are one, copies included.
         picture = _picture(material) if textured and geometry.uvs is not None else None
-        if picture is not None and id(picture) not in picture_keys:
-            picture_keys[id(picture)], textures[id(picture)] = _bytes_key(picture), _texture(picture)
-        key = (_material_name(material), values and tuple(values.items()), picture_keys.get(id(picture)))
+        if id(picture) not in textures:
+            texture = None if picture is None else _texture(picture)
+            textures[id(picture)] = texture, None if texture is None else (texture.shape, hash(texture.tobytes()))
+        texture, texture_key = textures[id(picture)]
+        key = (_material_name(material), values and tuple(values.items()), texture_key)
         if key not in by_content:
-            texture = textures.get(id(picture))
             if texture is None and values is None:
                 by_content[key] = -1
             elif len(materials) >= MAX_MATERIALS:
@@ -348,17 +342,6 @@ def _part_materials(name: str, parts: list[Part], textured: bool
     notes = [f"{MAX_MATERIALS + beyond} materials used; the meshes of all but the first {MAX_MATERIALS} take the "
              "viewer's material"] if beyond else []
     return tuple(materials), part_material, notes
-
-
-def _bytes_key(picture: Any) -> tuple[object, ...]:
-    """Equal pictures, equal keys: their shape and a hash of their bytes."""
-    try:
-        if isinstance(picture, Image.Image):
-            return picture.mode, picture.size, hash(picture.tobytes())
-        array = np.asarray(picture)
-        return str(array.dtype), array.shape, hash(array.tobytes())
-    except Exception:  # a picture that cannot give its bytes: itself only
-        return ("object", id(picture))
 
 
 _AUTOMATIC_NAME = re.compile(r"(?:material_?\d*)?")
@@ -419,16 +402,13 @@ def _check_placed_size(path: str | Path, placed: list[Any]) -> None:
 
 
 def _vertex_uvs(mesh: Any) -> np.ndarray | None:
-    """The texture coordinates, one row per vertex; NaN where a row is not finite (derived instead, as
-    for an OBJ corner without vt)."""
+    """The texture coordinates, one row per vertex (build_mesh derives the rows that are not finite,
+    as for an OBJ corner without vt)."""
     uv = getattr(getattr(mesh, "visual", None), "uv", None)
     if uv is None or len(uv) != len(mesh.vertices):
         return None
-    table = np.array(uv, dtype=np.float64)
-    if table.ndim != 2 or table.shape[1] != 2:
-        return None
-    table[~np.isfinite(table).all(axis=1)] = np.nan
-    return table
+    table = np.asarray(uv, dtype=np.float64)
+    return table if table.ndim == 2 and table.shape[1] == 2 else None
 
 
 def _material_of(mesh: Any) -> dict[str, object] | None:

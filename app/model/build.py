@@ -108,7 +108,7 @@ def real_numbers(values: object, refusal: str) -> np.ndarray:
         table.dtype.kind == "O" and all(isinstance(value, Real) for value in table.flat))  # pandas gives these
     if not numbers_only:  # text, complex numbers, times, or objects that are not all real numbers
         raise ValueError(refusal)
-    return table.astype(np.float64)
+    return table.astype(np.float64, copy=False)  # float64 already: the caller's array, not a copy
 
 
 def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:

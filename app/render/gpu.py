@@ -349,11 +349,12 @@ class ComputeLighting:
         """Whether the rows [first, stop) are worth a compute pass (COMPUTE_LIGHTING_MIN_ROWS)."""
         return stop - first >= COMPUTE_LIGHTING_MIN_ROWS
 
-    def run(self, ctx: moderngl.Context, shading: Shading, buffers: Sequence[moderngl.Buffer], first: int,
-            stop: int) -> None:
-        """Lights the rows [first, stop): `buffers` are the surface, colour and lit buffers
-        (LIGHTING_BINDINGS), of which a window of rows is bound at a time."""
+    def run(self, ctx: moderngl.Context, shading: Shading, surface: moderngl.Buffer,
+            colours: moderngl.Buffer | None, lit: moderngl.Buffer, first: int, stop: int) -> None:
+        """Lights the rows [first, stop) of the surface, colour and lit buffers (LIGHTING_BINDINGS), of
+        which a window of rows is bound at a time."""
         program = self.programs[shading]
+        buffers = (surface, surface if colours is None else colours, lit)  # without colours, a binding left unread
         bound = list(zip(buffers, (SURFACE_ROW_BYTES, COLOUR_ROW_BYTES, LIT_ROW_BYTES), strict=True))
         for base in range(first - first % _WINDOW_ALIGN_ROWS, stop, self.window_rows):
             rows = min(self.window_rows, stop - base)
@@ -508,9 +509,8 @@ class ObjectGpu:
         return True
 
     def _light_by_compute(self, compute: ComputeLighting, shading: Shading, first: int, stop: int) -> None:
-        surface = self._surface_buffers["surface"]
-        colours = self._surface_buffers.get("colours", surface)  # unread without colours
-        compute.run(self.ctx, shading, (surface, colours, self._surface_buffers["lit"]), first, stop)
+        buffers = self._surface_buffers
+        compute.run(self.ctx, shading, buffers["surface"], buffers.get("colours"), buffers["lit"], first, stop)
 
     def _surface_array(self, kind: str, shading: Shading) -> moderngl.VertexArray:
         """The surface's vertex buffer bound to a surface program ("surface", indexed, reading the lit

@@ -226,8 +226,7 @@ class BareDraw:
             first, stop = lighting.rows[mode]
             compute = self.compute_lighting
             if compute is not None and compute.takes(first, stop):
-                compute.run(self.ctx, self.shadings[mode], (lighting.surface, lighting.surface, lighting.lit),
-                            first, stop)
+                compute.run(self.ctx, self.shadings[mode], lighting.surface, None, lighting.lit, first, stop)
             else:
                 lighting.vertex_array.transform(lighting.lit, self.gl.POINTS, vertices=stop - first, first=first,
                                                 buffer_offset=first * self.lit_row_bytes)
