@@ -2,7 +2,8 @@
 writes, mutated and renamed (only PPM, PNG and JPEG load, by content, and nothing escapes but a
 LoadError); screenshot output paths of every shape (written whole, or refused with one ViewerError);
 polygons of every size (the same normal whichever path computes it); and scene-file numbers of every
-size (a finite placement, or one LoadError).
+size (a finite placement, or one LoadError); tables of repeated rows (equal positions merged as
+np.unique merges them).
 
 Derandomized: the same examples every run.
 """
@@ -22,8 +23,9 @@ from PIL import Image
 from marraztu.errors import LoadError, ViewerError
 from marraztu.frontends.screenshot import write_picture
 from marraztu.loaders.images import image_format, load_image
+from marraztu.model import geometry
 from marraztu.model.build import build_mesh
-from marraztu.model.geometry import FLOAT32_MAX
+from marraztu.model.geometry import FLOAT32_MAX, merged_rows
 
 FUZZ = settings(derandomize=True, database=None, deadline=None, max_examples=150,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
@@ -118,6 +120,28 @@ def test_polygons_of_every_size_get_the_same_normal(corners: int, copies: int, t
                        faces + [[len(positions), len(positions) + 1, len(positions) + 2]])
     np.testing.assert_allclose(alone.face_normals, np.tile(plane, (copies, 1)), atol=1e-5)
     np.testing.assert_allclose(mixed.face_normals[:copies], alone.face_normals, atol=1e-6)
+
+
+ROW_VALUES = st.sampled_from([0.0, -0.0, 1.0, -1.0, 0.1, 1e-300, 5e-324, 3.0e38, -1e308, 2.0**52 + 1])
+
+
+@FUZZ
+@given(rows=st.lists(st.tuples(ROW_VALUES, ROW_VALUES, ROW_VALUES), min_size=0, max_size=60),
+       colliding=st.booleans())
+def test_equal_rows_merge_as_np_unique_merges_them(rows: list[tuple[float, float, float]], colliding: bool) -> None:
+    """The same rows in the order first seen, whether each key is its row's or every row shares one
+    (the exact fallback): -0.0 and 0.0 are one number, as np.unique has them."""
+    table = np.array(rows, dtype=np.float64).reshape(-1, 3)
+    with pytest.MonkeyPatch.context() as patch:
+        if colliding:
+            patch.setattr(geometry, "_row_keys", lambda bits: np.zeros(len(bits), np.uint64))
+        merged, first, inverse = merged_rows(table)
+    expected = np.unique(table, axis=0) if len(table) else table
+    assert len(merged) == len(expected) and len(inverse) == len(table)
+    np.testing.assert_array_equal(merged[inverse], table)  # each row is its merged row (-0.0 == 0.0)
+    np.testing.assert_array_equal(merged, table[first])
+    if not colliding:  # the fallback keeps np.unique's own order
+        assert (np.diff(first) > 0).all() and (first[inverse] <= np.arange(len(table))).all()
 
 
 CELLS = st.sampled_from([0.0, 0.5, -2.0, 1e30, 1e300, float("nan"), float("inf"), -float("inf")])

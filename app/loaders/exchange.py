@@ -25,7 +25,7 @@ from marraztu.errors import LoadError
 from marraztu.loaders.files import MAX_FILE_BYTES, read_file, text_lines
 from marraztu.loaders.images import rgb_array
 from marraztu.model.build import build_mesh, colour_bytes
-from marraztu.model.geometry import FLOAT32_MAX
+from marraztu.model.geometry import FLOAT32_MAX, merged_rows
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial
 
 Stage = Callable[[str], None]
@@ -57,10 +57,11 @@ def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
     counts, header_lines, ascii_body = _ply_header(path, data)
     if ascii_body:
         _check_text_rows(path, data, header_lines, counts["vertex"] + counts["face"], "PLY")
-    mesh = _trimesh_load(path, data, "ply")
-    if len(mesh.vertices) != counts["vertex"]:
-        raise LoadError(path, f"the header promises {counts['vertex']} vertices, the file holds {len(mesh.vertices)}")
-    return _finish(path, mesh, data=data if ascii_body else None)
+    scene = _trimesh_load(path, data, "ply")
+    held = sum(len(geometry.vertices) for geometry in scene.geometry.values())
+    if held != counts["vertex"]:
+        raise LoadError(path, f"the header promises {counts['vertex']} vertices, the file holds {held}")
+    return _finish(path, scene, data=data if ascii_body else None)
 
 
 def load_off(path: Path, stage: Stage | None = None) -> Mesh:
@@ -73,8 +74,7 @@ def load_off(path: Path, stage: Stage | None = None) -> Mesh:
 def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     """glTF (JSON beside its buffers) or GLB: every mesh with its node's transform, as one model."""
     data = _read(path, stage)
-    scene = _trimesh_load(path, data, path.suffix.lower().lstrip("."), as_scene=True)
-    return _finish(path, scene, data=None)
+    return _finish(path, _trimesh_load(path, data, path.suffix.lower().lstrip(".")), data=None)
 
 
 # --- reading and checking ------------------------------------------------------------------------
@@ -89,13 +89,15 @@ def _read(path: Path, stage: Stage | None) -> bytes:
     return data
 
 
-def _trimesh_load(path: Path, data: bytes, file_type: str, as_scene: bool = False) -> Any:
+def _trimesh_load(path: Path, data: bytes, file_type: str) -> Any:
+    """The file as a trimesh.Scene, each mesh as trimesh read it: trimesh reads every file as a scene,
+    and joining one into a single mesh (force="mesh") copies and hashes every table."""
     import trimesh  # here, not at the top: only these formats need it, and it costs start-up time
 
     resolver = trimesh.resolvers.FilePathResolver(str(path.parent)) if file_type == "gltf" else None
     try:
         return trimesh.load(io.BytesIO(data), file_type=file_type, process=False,
-                            force="scene" if as_scene else "mesh", resolver=resolver)
+                            force="scene", resolver=resolver)
     except MemoryError:
         raise LoadError(path, "not enough memory to load this file") from None
     except Exception as error:  # trimesh raises ValueError, KeyError, IndexError, struct.error, ... for bad files
@@ -228,11 +230,9 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, mer
     parts = _placed_parts(source, loaded)
     sizes = [len(geometry.positions) for geometry, _ in parts]
     with np.errstate(all="ignore"):  # a transform of NaN or huge numbers: refused by _check_tables
-        positions = np.concatenate([_placed_positions(geometry.positions, transform)
-                                    for geometry, transform in parts])
-        # The transforms' determinants in one call: a scene may have thousands. A lone mesh has none.
-        mirrored = [False] if parts[0][1] is None else np.linalg.det(
-            np.stack([transform[:3, :3] for _, transform in parts])) < 0
+        placed = [_placed_positions(geometry.positions, transform) for geometry, transform in parts]
+        positions = placed[0] if len(placed) == 1 else np.concatenate(placed)
+        mirrored = _mirroring([transform for _, transform in parts])
     # A mirroring transform turns the winding round: glTF asks for it to be turned back.
     faces = np.concatenate([(geometry.faces[:, ::-1] if mirrors else geometry.faces) + offset
                             for (geometry, _), mirrors, offset in zip(parts, mirrored, np.cumsum([0, *sizes[:-1]]))])
@@ -240,8 +240,8 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, mer
     uvs = _joined([geometry.uvs for geometry, _ in parts], sizes, np.nan)  # NaN: derived
     colours = _joined([geometry.colours for geometry, _ in parts], sizes, 255)  # white: untinted
     if merge:  # STL stores each triangle's own corners: shared corners let Gouraud smooth across edges
-        positions, first, inverse = np.unique(positions, axis=0, return_index=True, return_inverse=True)
-        faces = inverse.reshape(-1)[faces]
+        positions, first, inverse = merged_rows(positions)
+        faces = inverse[faces]
         colours = None if colours is None else colours[first]
         uvs = None  # an STL has no texture coordinates
     materials, part_material, notes = _part_materials(name, parts, textured=uvs is not None)
@@ -274,7 +274,25 @@ def _placed_parts(source: str | Path, loaded: Any) -> list[Part]:
         raise LoadError(source, "no node of the scene places a triangle mesh: nothing to draw")
     _check_placed_size(source, [meshes[name] for _, name in placements])
     read = {name: _geometry(source, meshes[name]) for name in dict.fromkeys(name for _, name in placements)}
-    return [(read[name], np.asarray(transform, dtype=np.float64)) for transform, name in placements]
+    return [(read[name], _moving(transform)) for transform, name in placements]
+
+
+def _moving(transform: Any) -> np.ndarray | None:
+    """A node's transform; None where it leaves its mesh where it is (a file of one mesh, usually)."""
+    transform = np.asarray(transform, dtype=np.float64)
+    return None if np.array_equal(transform, _IDENTITY) else transform
+
+
+_IDENTITY = np.eye(4)
+
+
+def _mirroring(transforms: list[np.ndarray | None]) -> np.ndarray:
+    """Which transforms mirror: their determinants in one call, as a scene may have thousands."""
+    mirrors = np.zeros(len(transforms), bool)
+    moving = [at for at, transform in enumerate(transforms) if transform is not None]
+    if moving:
+        mirrors[moving] = np.linalg.det(np.stack([transforms[at][:3, :3] for at in moving])) < 0
+    return mirrors
 
 
 def _geometry(source: str | Path, mesh: Any) -> _Geometry:
@@ -383,9 +401,8 @@ def _check_tables(path: str | Path, positions: np.ndarray, faces: np.ndarray, da
     """Faces, and positions the GPU can hold (each mesh's indices are checked as it is read)."""
     if len(faces) == 0:
         raise LoadError(path, "no faces")
-    with np.errstate(all="ignore"):
-        bad = ~np.isfinite(positions) | (np.abs(positions) > FLOAT32_MAX)
-    if bad.any():
+    # NaN fails both comparisons; two reductions, where a mask would take a table as large as the positions
+    if not (positions.max(initial=0.0) <= FLOAT32_MAX and positions.min(initial=0.0) >= -FLOAT32_MAX):
         line = _line_of_first_non_finite(data) if data is not None else None
         raise LoadError(path, "a vertex coordinate is not a finite number the GPU can hold", line=line)
 
