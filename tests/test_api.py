@@ -253,6 +253,20 @@ def test_per_corner_values_of_the_wrong_shape_say_what_is_expected(viewer) -> No
         viewer.add_mesh(TRIANGLE, [[0, 1, 2]], colours=np.zeros((2, 3)))
 
 
+@pytest.mark.parametrize("given", ["arrays", "trimesh"])
+def test_the_scene_keeps_its_own_copy_of_the_positions(viewer, given: str) -> None:
+    """Changing the caller's table afterwards does not move the model behind the renderer's back."""
+    if given == "arrays":
+        positions = TRIANGLE.copy()
+        viewer.add_mesh(positions, [[0, 1, 2]])
+    else:
+        model = trimesh.Trimesh(TRIANGLE.copy(), [[0, 1, 2]], process=False)
+        viewer.add_mesh(model)
+        positions = model.vertices
+    positions[:] = 0.0
+    assert np.array_equal(viewer.scene.object.mesh.positions, TRIANGLE)
+
+
 def test_numbers_held_as_objects_are_numbers(viewer) -> None:
     """As pandas gives them: floats in an object array."""
     viewer.add_mesh(TRIANGLE.astype(object), [[0, 1, 2]], uvs=np.zeros((3, 2)).astype(object))

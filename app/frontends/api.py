@@ -228,7 +228,7 @@ def _finite_positions(positions: Any) -> np.ndarray:
     with np.errstate(invalid="ignore"):
         if not (np.isfinite(table).all() and np.abs(table).max() <= FLOAT32_MAX):
             raise ValueError("positions must be finite numbers a float32 can hold")
-    return table
+    return table.copy()  # the scene's own: a later change to the caller's array must not move it
 
 
 __all__ = ["LightShare", "LoadError", "ProbeReport", "ProbedVertex", "Viewer"]

@@ -203,7 +203,7 @@ def mesh_of_trimesh(name: str, loaded: Any) -> Mesh:
     """A trimesh.Trimesh, or a trimesh.Scene's meshes each placed by its node, as a Mesh: for the
     programming interface, so what is wrong is a ValueError."""
     try:
-        return _mesh_of(name, name, loaded, data=None)
+        return _mesh_of(name, name, loaded, data=None, own_copy=True)
     except LoadError as error:
         raise ValueError(error.message) from None
 
@@ -223,15 +223,17 @@ class _Geometry:
 Part = tuple[_Geometry, np.ndarray | None]
 
 
-def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, merge: bool = False) -> Mesh:
+def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, merge: bool = False,
+             own_copy: bool = False) -> Mesh:
     """One Mesh of every placed mesh, each keeping its uvs, vertex colours and material (base colour
     and texture), as an OBJ's groups keep theirs. Placed here, not by trimesh's to_geometry(), which
-    packs every mesh's picture into one (recoloured) atlas and keeps one material."""
+    packs every mesh's picture into one (recoloured) atlas and keeps one material. `own_copy`: the
+    caller keeps `loaded` (the programming interface), so a mesh left where it is is copied too."""
     parts = _placed_parts(source, loaded)
     sizes = [len(geometry.positions) for geometry, _ in parts]
     with np.errstate(all="ignore"):  # a transform of NaN or huge numbers: refused by _check_tables
         placed = [_placed_positions(geometry.positions, transform) for geometry, transform in parts]
-        positions = placed[0] if len(placed) == 1 else np.concatenate(placed)
+        positions = placed[0] if len(placed) == 1 and not own_copy else np.concatenate(placed)
         mirrored = _mirroring([transform for _, transform in parts])
     # A mirroring transform turns the winding round: glTF asks for it to be turned back.
     faces = np.concatenate([(geometry.faces[:, ::-1] if mirrors else geometry.faces) + offset
