@@ -13,13 +13,14 @@ import pytest
 from marraztu.devtools import bench
 from marraztu.devtools.bench.config import LOADERS, config_from_args, parse_counts
 from marraztu.devtools.bench.frames import CPU_HEADERS, FRAME_HEADERS, MODES
-from marraztu.devtools.bench.inputs import generate_load_inputs
-from marraztu.devtools.bench.loading import LOAD_HEADERS, available_loaders
+from marraztu.devtools.bench.inputs import FORMATS, generate_format_inputs, generate_load_inputs
+from marraztu.devtools.bench.loading import LOAD_HEADERS, OBJ_ONLY_LOADERS, available_loaders
 from marraztu.devtools.bench.memory import MEMORY_HEADERS
 from marraztu.devtools.bench.report import MACHINE_HEADING, MISSING
 from marraztu.devtools.bench.shapes import SHAPE_HEADERS, SHAPES
 from marraztu.devtools.bench.start import START_COMMANDS, START_HEADERS
 from marraztu.devtools.bench.window import WINDOW_HEADERS
+from marraztu.loaders.registry import load_model
 from marraztu.render.context import COMPUTE_GL_VERSION
 from support import corpus
 
@@ -65,7 +66,9 @@ def report(tmp_path_factory: pytest.TempPathFactory, gl_ctx) -> str:
 def test_every_section_prints_one_whole_table(report: str) -> None:
     assert MACHINE_HEADING in report and "GL_RENDERER: " in report
     tables = markdown_tables(report)
-    expected = {LOAD_HEADERS: 4 * len(available_loaders(LOADERS)[0]),
+    loaders = available_loaders(LOADERS)[0]
+    other_format_loaders = [loader for loader in loaders if loader not in OBJ_ONLY_LOADERS]
+    expected = {LOAD_HEADERS: 4 * len(loaders) + len(FORMATS) * len(other_format_loaders),
                 FRAME_HEADERS: 2 * len(MODES),  # the built-in scene and the 300-triangle grid
                 CPU_HEADERS: len(MODES),
                 START_HEADERS: len(START_COMMANDS),
@@ -109,6 +112,18 @@ def test_the_generated_files_are_the_sizes_asked_for(tmp_path: Path) -> None:
     first = inputs[0].path.read_text().splitlines()
     assert any(line.startswith("f ") and line.count("/") == 6 for line in first)
     assert not any(line.count("/") for line in inputs[3].path.read_text().splitlines() if line.startswith("f "))
+
+
+def test_the_other_formats_hold_the_large_grid_and_are_read_by_ours_and_trimesh(report: str,
+                                                                              tmp_path: Path) -> None:
+    inputs = generate_format_inputs(tmp_path, 400)
+    assert [item.path.suffix for item in inputs] == [".stl", ".ply", ".glb"]
+    assert all(load_model(item.path).face_count == item.triangles == 392 for item in inputs)
+    assert all(load_model(item.warm_up).face_count == 1 for item in inputs)
+    rows = markdown_tables(report)[LOAD_HEADERS]
+    for item in inputs:
+        loaders = [row[LOAD_HEADERS.index("loader")] for row in rows if row[0] == item.label]
+        assert loaders == [loader for loader in available_loaders(LOADERS)[0] if loader not in OBJ_ONLY_LOADERS]
 
 
 def test_sizes_and_shortcuts_parse() -> None:

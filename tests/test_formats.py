@@ -3,6 +3,7 @@ drawn like the same triangles written as OBJ, and refused in one line naming the
 
 from __future__ import annotations
 
+import gc
 import json
 import re
 import subprocess
@@ -70,6 +71,23 @@ def test_each_format_holds_the_same_model(written: dict[str, Path], name: str) -
     mesh = load_model(written[name])
     assert (mesh.vertex_count, mesh.face_count) == (7, 3), "STL's repeated corners are shared again"
     assert np.allclose(np.sort(mesh.positions, axis=0), np.sort(POSITIONS, axis=0), atol=1e-5)
+
+
+@pytest.mark.parametrize("name", ["model.stl", "model.ply", "model.glb"])
+def test_a_large_models_trimesh_objects_are_freed_when_it_is_read(tmp_path: Path, name: str) -> None:
+    """They refer to one another, so without a collection they, their tables and the file's bytes would
+    wait for Python's cycle collector (switched off here, so that only the reader's own run counts)."""
+    sphere = trimesh.creation.icosphere(subdivisions=5)  # 20,480 faces: past COLLECT_AFTER_FACES
+    path = tmp_path / name
+    path.write_bytes(FORMATS[name](sphere))
+    gc.collect()
+    gc.disable()
+    try:
+        assert load_model(path).face_count == len(sphere.faces)
+        assert not [item for item in gc.get_objects() if isinstance(item, (trimesh.Trimesh, trimesh.Scene))
+                    and item is not sphere]
+    finally:
+        gc.enable()
 
 
 @pytest.mark.parametrize("name", FORMATS)

@@ -10,6 +10,8 @@ a file is opened.
 
 from __future__ import annotations
 
+import functools
+import gc
 import io
 import itertools
 import re
@@ -41,10 +43,30 @@ _ANYTHING, _ASCII_STL_START = re.compile(rb"\S"), re.compile(rb"\s*solid", re.IG
 
 
 # --- the readers of the registry -----------------------------------------------------------------
+# trimesh's objects refer to one another (a mesh, its visuals, their caches), so its tables, and the
+# file's bytes it keeps, wait for Python's cycle collector, which may not run for minutes. From this
+# many faces on (a binary STL of 1 MB), each reader runs it once the Mesh is made: a full collection
+# takes some ms, which a scene file of thousands of small models would pay thousands of times.
+COLLECT_AFTER_FACES = 20_000
+
+
+def _frees_what_trimesh_held(reader: Callable[[Path, Stage | None], Mesh]) -> Callable[[Path, Stage | None], Mesh]:
+    @functools.wraps(reader)
+    def read(path: Path, stage: Stage | None = None) -> Mesh:
+        mesh = reader(path, stage)  # its frame, and with it the last plain reference to trimesh's scene, is gone
+        if mesh.face_count >= COLLECT_AFTER_FACES:
+            gc.collect()
+        return mesh
+    return read
+
+
+@_frees_what_trimesh_held
 def load_stl(path: Path, stage: Stage | None = None) -> Mesh:
     data = _read(path, stage)
     if _is_binary_stl(data):
-        return _finish(path, _trimesh_load(path, data, "stl"), data=None, merge=True)
+        scene = _trimesh_load(path, data, "stl")
+        del data  # no line to name in a binary file: its bytes go before the mesh is built
+        return _finish(path, scene, data=None, merge=True)
     if not _ASCII_STL_START.match(data):
         raise LoadError(path, "neither a binary STL (its size does not match its triangle count) nor an "
                               "ASCII one (it does not start with 'solid')", line=1)
@@ -52,18 +74,22 @@ def load_stl(path: Path, stage: Stage | None = None) -> Mesh:
     return _finish(path, _trimesh_load(path, data, "stl"), data=data, merge=True)
 
 
+@_frees_what_trimesh_held
 def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
     data = _read(path, stage)
     counts, header_lines, ascii_body = _ply_header(path, data)
     if ascii_body:
         _check_text_rows(path, data, header_lines, counts["vertex"] + counts["face"], "PLY")
     scene = _trimesh_load(path, data, "ply")
+    text = data if ascii_body else None
+    del data  # kept for a text body only, to name the line of a bad number
     held = sum(len(geometry.vertices) for geometry in scene.geometry.values())
     if held != counts["vertex"]:
         raise LoadError(path, f"the header promises {counts['vertex']} vertices, the file holds {held}")
-    return _finish(path, scene, data=data if ascii_body else None)
+    return _finish(path, scene, data=text)
 
 
+@_frees_what_trimesh_held
 def load_off(path: Path, stage: Stage | None = None) -> Mesh:
     data = _read(path, stage)
     vertices, faces, counts_line = _off_counts(path, data)
@@ -71,10 +97,11 @@ def load_off(path: Path, stage: Stage | None = None) -> Mesh:
     return _finish(path, _trimesh_load(path, data, "off"), data=data)
 
 
+@_frees_what_trimesh_held
 def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     """glTF (JSON beside its buffers) or GLB: every mesh with its node's transform, as one model."""
-    data = _read(path, stage)
-    return _finish(path, _trimesh_load(path, data, path.suffix.lower().lstrip(".")), data=None)
+    scene = _trimesh_load(path, _read(path, stage), path.suffix.lower().lstrip("."))
+    return _finish(path, scene, data=None)
 
 
 # --- reading and checking ------------------------------------------------------------------------
@@ -235,9 +262,7 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, mer
         placed = [_placed_positions(geometry.positions, transform) for geometry, transform in parts]
         positions = placed[0] if len(placed) == 1 and not own_copy else np.concatenate(placed)
         mirrored = _mirroring([transform for _, transform in parts])
-    # A mirroring transform turns the winding round: glTF asks for it to be turned back.
-    faces = np.concatenate([(geometry.faces[:, ::-1] if mirrors else geometry.faces) + offset
-                            for (geometry, _), mirrors, offset in zip(parts, mirrored, np.cumsum([0, *sizes[:-1]]))])
+    faces = _placed_faces([geometry.faces for geometry, _ in parts], mirrored, sizes)
     _check_tables(source, positions, faces, data)
     uvs = _joined([geometry.uvs for geometry, _ in parts], sizes, np.nan)  # NaN: derived
     colours = _joined([geometry.colours for geometry, _ in parts], sizes, 255)  # white: untinted
@@ -304,6 +329,15 @@ def _geometry(source: str | Path, mesh: Any) -> _Geometry:
         bad = int(faces.min()) if faces.min() < 0 else int(faces.max())
         raise LoadError(source, f"a face refers to vertex {bad}, but its mesh has {len(positions)}")
     return _Geometry(mesh, positions, faces, _vertex_uvs(mesh), _vertex_colours(mesh))
+
+
+def _placed_faces(faces: list[np.ndarray], mirrored: np.ndarray, sizes: list[int]) -> np.ndarray:
+    """The parts' faces as one table of indices into the joined positions. A mirroring transform turns
+    the winding round: glTF asks for it to be turned back. One part left as it is: its own table."""
+    if len(faces) == 1 and not mirrored[0]:
+        return faces[0]
+    return np.concatenate([(table[:, ::-1] if mirrors else table) + offset
+                           for table, mirrors, offset in zip(faces, mirrored, np.cumsum([0, *sizes[:-1]]))])
 
 
 def _placed_positions(positions: np.ndarray, transform: np.ndarray | None) -> np.ndarray:

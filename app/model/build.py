@@ -127,7 +127,7 @@ def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray) -> tuple[np.ndarr
 def _whole_numbers(indices: np.ndarray) -> np.ndarray:
     """Vertex indices as int64; 1.5 or "a" is refused, not rounded or read as something else."""
     if indices.dtype.kind in "iu":
-        return indices.astype(np.int64)
+        return indices.astype(np.int64, copy=False)
     if indices.dtype.kind == "f" and np.isfinite(indices).all() and (indices == np.round(indices)).all():
         return indices.astype(np.int64)
     raise ValueError("face indices must be whole numbers (0-based vertex rows)")

@@ -1,4 +1,4 @@
-"""Generated inputs: a wavy height field, seeded, as arrays and as OBJ files."""
+"""Generated inputs: a wavy height field, seeded, as arrays, as OBJ files and in the other formats."""
 
 from __future__ import annotations
 
@@ -112,6 +112,14 @@ class LoadInput:
     def megabytes(self) -> float:
         return self.path.stat().st_size / MEGABYTE
 
+    @property
+    def warm_up(self) -> Path:
+        """A one-triangle file of the same format beside it (written with it): a warm process reads it first."""
+        return self.path.with_name(f"warm-up{self.path.suffix}")
+
+
+TINY_OBJ = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+
 
 def generate_load_inputs(directory: Path, small: int, large: int) -> list[LoadInput]:
     """The four files of section 1: small and large v/vt/vn triangles, large quads, large v/f only."""
@@ -129,6 +137,29 @@ def generate_load_inputs(directory: Path, small: int, large: int) -> list[LoadIn
         progress(f"writing {path.name}")
         write_obj(path, wavy_surface(cells, SEED + number), faces, uv_and_normals)
         inputs.append(LoadInput(label, path, len(faces) * (faces.shape[1] - 2)))
+    (directory / "warm-up.obj").write_bytes(TINY_OBJ)
+    return inputs
+
+
+# The other formats, as trimesh's own exporters write them: (label, file suffix, exporter's file type).
+FORMATS = (("binary STL", ".stl", "stl"), ("binary PLY", ".ply", "ply"), ("GLB", ".glb", "glb"))
+
+
+def generate_format_inputs(directory: Path, triangles: int) -> list[LoadInput]:
+    """The large v f only grid again in each of FORMATS (positions and triangles: what STL can hold)."""
+    import trimesh
+
+    cells = cells_for_triangles(triangles)
+    faces = grid_triangles(cells)
+    grid = trimesh.Trimesh(wavy_surface(cells, SEED + 3).positions, faces, process=False)
+    tiny = trimesh.Trimesh([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], [[0, 1, 2]], process=False)
+    inputs = []
+    for label, suffix, file_type in FORMATS:
+        item = LoadInput(f"{count_label(triangles)} tri {label}", directory / f"bench_grid{suffix}", len(faces))
+        progress(f"writing {item.path.name}")
+        grid.export(item.path, file_type=file_type)
+        tiny.export(item.warm_up, file_type=file_type)
+        inputs.append(item)
     return inputs
 
 

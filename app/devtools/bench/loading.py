@@ -1,4 +1,4 @@
-"""1. Loading: OBJ file to GPU-ready arrays, each (loader, file) in fresh processes, beside peers."""
+"""1. Loading: a model file to GPU-ready arrays, each (loader, file) in fresh processes, beside peers."""
 
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from marraztu.devtools.bench.config import BenchConfig
-from marraztu.devtools.bench.inputs import LoadInput
+from marraztu.devtools.bench.inputs import TINY_OBJ, LoadInput
 from marraztu.devtools.bench.report import MEGABYTE, markdown_table, number, progress, ratio
 
 if TYPE_CHECKING:
@@ -28,7 +28,8 @@ if TYPE_CHECKING:
 
 LOAD_HEADERS = ("file", "triangles", "MB", "loader", "seconds", "of which surface arrays s", "MB/s",
                 "peak RSS MB", "warm peak RSS MB", "warm peak ÷ file", "time ÷ ours", "RSS ÷ ours")
-TINY_OBJ = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+# Peers that read OBJ only; trimesh reads every format.
+OBJ_ONLY_LOADERS = ("tinyobjloader", "rapidobj")
 
 
 @dataclass(frozen=True)
@@ -43,11 +44,11 @@ LoadFunction = Callable[[Path], LoadTiming]
 
 def _ours() -> LoadFunction:
     import marraztu.loaders.obj.fast  # noqa: F401  # numba: an import, as the other loaders' are
-    from marraztu.loaders.obj import load_obj
+    from marraztu.loaders.registry import load_model
 
     def load(path: Path) -> LoadTiming:
         start = time.perf_counter()
-        mesh = load_obj(path)
+        mesh = load_model(path)
         parsed = time.perf_counter()
         gpu_ready_arrays(mesh)
         done = time.perf_counter()
@@ -142,7 +143,7 @@ def load_worker(argv: Sequence[str]) -> int:
     loader, path, repeats = argv[0], Path(argv[1]), int(argv[2])
     load = _LOADER_FACTORIES[loader]()
     if argv[3:]:
-        if loader == "ours":
+        if loader == "ours" and argv[3].endswith(".obj"):
             warm_compiled_reader()  # a file this small would go to the line reader
         else:
             load(Path(argv[3]))
@@ -246,12 +247,10 @@ class LoadResult:
         self.surface_seconds += [s for s in report["surface_seconds"] if s is not None]
         self.peak_rss_bytes.append(report["peak_rss_bytes"])
 
-    def add_warm_process(self, loader: str, path: Path) -> None:
-        """One load in a process that has read a one-triangle model first: the peak a file itself costs."""
-        tiny = path.with_name("warm-up.obj")
-        if not tiny.exists():
-            tiny.write_bytes(TINY_OBJ)
-        peak = _run_worker(loader, path, 1, warm_up=tiny)["peak_rss_bytes"]
+    def add_warm_process(self, loader: str, item: LoadInput) -> None:
+        """One load in a process that has read a one-triangle model of the same format first: the peak a
+        file itself costs."""
+        peak = _run_worker(loader, item.path, 1, warm_up=item.warm_up)["peak_rss_bytes"]
         if peak is not None:
             self.warm_peak_rss_bytes.append(peak)
 
@@ -295,25 +294,27 @@ def loading_section(config: BenchConfig, inputs: Sequence[LoadInput]) -> list[st
     rows: list[list[str]] = []
     firsts: list[str] = []
     for item in inputs:
-        results = {loader: LoadResult() for loader in loaders}
+        obj = item.path.suffix == ".obj"
+        results = {loader: LoadResult() for loader in loaders if obj or loader not in OBJ_ONLY_LOADERS}
         for round_number in range(config.rounds):  # in turn, so that all see the machine alike
-            for loader in loaders:
+            for loader, result in results.items():
                 progress(f"loading {item.path.name} with {loader} ({round_number + 1}/{config.rounds})")
-                results[loader].add_process(loader, item.path, config.repeats)
-                results[loader].add_warm_process(loader, item.path)
+                result.add_process(loader, item.path, config.repeats)
+                result.add_warm_process(loader, item)
         rows += [_load_row(item, loader, result, results.get("ours")) for loader, result in results.items()]
-        if "ours" in results:
+        if "ours" in results and obj:
             firsts.append(f"{item.label}: {number(statistics.median(results['ours'].first_seconds))} s")
     lines = [
-        "## 1. Loading: OBJ file to GPU-ready arrays",
+        "## 1. Loading: a model file to GPU-ready arrays",
         "",
         f"Median of {config.rounds * config.repeats} load(s): {config.rounds} fresh process(es) per loader and "
         f"file, the loaders taking turns, {config.repeats} load(s) in each; peak RSS is the median over those "
         "processes of the process's peak minus its peak after imports. *Warm peak*: the same in one more "
         "process per round, which first reads a one-triangle model (ours through its compiled reader, as "
         "any earlier large file would have; the reader's own memory is in section 4), so that only what "
-        "the file itself costs is left; *÷ file*: that over the file's size. *ours* = `load_obj` + the surface "
-        "vertex and index "
+        "the file itself costs is left; *÷ file*: that over the file's size. *ours* = `load_model` (the OBJ "
+        "reader, or trimesh and our checks for the other formats, whose files trimesh's exporters wrote from "
+        "the v f only grid) + the surface vertex and index "
         "arrays `ObjectGpu` uploads for the first frame (marraztu.render.gpu; edges and normal segments "
         "are built later, when lines or normals are first drawn); trimesh = `trimesh.load(process=False)`; "
         "tinyobjloader = parse (triangulated) + numpy copies of its tables; rapidobj = `parse_obj` "
