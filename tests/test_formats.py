@@ -442,10 +442,19 @@ def test_ascii_stl_keywords_are_found_within_their_own_line() -> None:
     from marraztu.loaders import exchange
 
     data = b"solid x\n\n \n\t\n   facet normal 0 0 1\n  endfacet\nendsolid x\n"
-    for pattern, word in ((exchange._FACET, b"   facet"), (exchange._END_FACET, b"  endfacet"),
-                          (exchange._END_SOLID, b"endsolid")):
-        match = pattern.search(data)
+    facet, end_facet = exchange._FACET_OR_END.finditer(data)
+    end_solid = exchange._END_SOLID.search(data)
+    for match, word in ((facet, b"   facet"), (end_facet, b"  endfacet"), (end_solid, b"endsolid")):
         assert match is not None and match.start() == data.index(word), word
+
+
+def test_ascii_stl_keywords_count_in_any_case() -> None:
+    from marraztu.loaders import exchange
+
+    data = b"SOLID x\n FACET NORMAL 0 0 1\n OUTER LOOP\n VERTEX 0 0 0\n ENDLOOP\n EndFacet\nENDSOLID x\n"
+    exchange._check_ascii_stl(Path("x.stl"), data)
+    with pytest.raises(LoadError, match=r"ends inside a facet \(1 begun, 0 ended\)"):
+        exchange._check_ascii_stl(Path("x.stl"), data[:data.index(b" EndFacet")])
 
 
 def test_an_off_files_header_and_rows_are_read_without_holding_its_lines() -> None:

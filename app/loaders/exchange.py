@@ -142,16 +142,20 @@ def _is_binary_stl(data: bytes) -> bool:
 
 
 # Keywords at a line's start. The indent is [^\S\n]*, never \s*: that would run on across blank lines,
-# and each blank line would scan all those after it (quadratic in a file of them).
-_FACET, _END_FACET, _END_SOLID = (re.compile(rb"(?im)^[^\S\n]*" + word + rb"\b")
-                                  for word in (rb"facet", rb"endfacet", rb"endsolid"))
+# and each blank line would scan all those after it (quadratic in a file of blank lines).
+_FACET_OR_END, _END_SOLID = (re.compile(rb"(?im)^[^\S\n]*" + word + rb"\b") for word in (rb"(end)?facet", rb"endsolid"))
+_TAIL_BYTES = 4096  # where a whole file's endsolid is: looked at before the rest
 
 
 def _check_ascii_stl(path: Path, data: bytes) -> None:
-    opened, closed = len(_FACET.findall(data)), len(_END_FACET.findall(data))
+    # One pass for both keywords: each pass over a large file is most of a second.
+    ends = _FACET_OR_END.findall(data)  # b"" for a facet, "end" in any case for an endfacet
+    opened = ends.count(b"")
+    closed = len(ends) - opened
     if opened == 0:
         raise LoadError(path, "an ASCII STL without a single facet: no faces")
-    if opened != closed or not _END_SOLID.search(data):
+    ended = _END_SOLID.search(data, max(0, len(data) - _TAIL_BYTES)) or _END_SOLID.search(data)
+    if opened != closed or not ended:
         raise LoadError(path, f"the file ends inside a facet ({opened} begun, {closed} ended)",
                         line=data.count(b"\n") + 1)
 
