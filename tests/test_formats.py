@@ -285,13 +285,15 @@ def test_a_broken_file_is_one_load_error_naming_it(written: dict[str, Path], nam
 
 
 def test_trimesh_is_imported_only_when_such_a_file_is_opened(tmp_path: Path) -> None:
-    """Start-up and OBJ loads stay as light as they were; an STL brings trimesh in."""
+    """Start-up, OBJ and binary STL loads stay as light as they were (the binary STL reader is ours); a
+    PLY brings trimesh in."""
     model = write_obj(tmp_path / "m.obj")
     (tmp_path / "m.stl").write_bytes(FORMATS["model.stl"](square_mesh()))
+    (tmp_path / "m.ply").write_bytes(FORMATS["model.ply"](square_mesh()))
     code = ("import sys; from marraztu.cli import main; from marraztu.loaders.registry import load_model; "
             f"main(['screenshot', '-o', {str(tmp_path / 'x.png')!r}, '--size', '32x32', {str(model)!r}]); "
-            "print('trimesh' in sys.modules); "
-            f"load_model({str(tmp_path / 'm.stl')!r}); print('trimesh' in sys.modules)")
+            f"load_model({str(tmp_path / 'm.stl')!r}); print('trimesh' in sys.modules); "
+            f"load_model({str(tmp_path / 'm.ply')!r}); print('trimesh' in sys.modules)")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     assert result.stdout.split()[-2:] == ["False", "True"]
@@ -446,6 +448,15 @@ def test_ascii_stl_keywords_are_found_within_their_own_line() -> None:
     end_solid = exchange._END_SOLID.search(data)
     for match, word in ((facet, b"   facet"), (end_facet, b"  endfacet"), (end_solid, b"endsolid")):
         assert match is not None and match.start() == data.index(word), word
+
+
+def test_an_ascii_stl_of_several_solids_is_one_model_of_them_all(tmp_path: Path) -> None:
+    solids = [trimesh.exchange.stl.export_stl_ascii(trimesh.Trimesh(POSITIONS + [0, 0, shift], FACES, process=False))
+              for shift in (0, 100)]
+    path = tmp_path / "two.stl"
+    path.write_text("\n".join(solids))
+    mesh = load_model(path)
+    assert (mesh.vertex_count, mesh.face_count) == (14, 6)
 
 
 def test_ascii_stl_keywords_count_in_any_case() -> None:

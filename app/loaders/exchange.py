@@ -18,6 +18,7 @@ import re
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -62,16 +63,30 @@ def _frees_what_trimesh_held(reader: Callable[[Path, Stage | None], Mesh]) -> Ca
 
 @_frees_what_trimesh_held
 def load_stl(path: Path, stage: Stage | None = None) -> Mesh:
+    """Each triangle lists its own corners: equal ones are joined, so that Gouraud smooths across edges.
+    Joined here, before the mesh is built, so that the corners' table is freed first."""
     data = _read(path, stage)
+    corners, text = _stl_corners(path, data)
+    del data  # kept as `text` for an ASCII file only, to name the line of a bad number
+    if len(corners) == 0:
+        raise LoadError(path, "no faces")
+    _check_positions(path, corners, text)
+    positions, _, inverse = merged_rows(corners)
+    del corners
+    return _finish(path, SimpleNamespace(vertices=positions, faces=inverse.reshape(-1, 3)), data=text)
+
+
+def _stl_corners(path: Path, data: bytes) -> tuple[np.ndarray, bytes | None]:
+    """(3T, 3) float64 corners, three a triangle; and the text of an ASCII file (None for a binary one)."""
     if _is_binary_stl(data):
-        scene = _trimesh_load(path, data, "stl")
-        del data  # no line to name in a binary file: its bytes go before the mesh is built
-        return _finish(path, scene, data=None, merge=True)
+        return _binary_stl_corners(data), None
     if not _ASCII_STL_START.match(data):
         raise LoadError(path, "neither a binary STL (its size does not match its triangle count) nor an "
                               "ASCII one (it does not start with 'solid')", line=1)
     _check_ascii_stl(path, data)
-    return _finish(path, _trimesh_load(path, data, "stl"), data=data, merge=True)
+    parts = _placed_parts(path, _trimesh_load(path, data, "stl"))  # a mesh per solid
+    return np.concatenate([_placed_positions(mesh.positions, transform)[mesh.faces].reshape(-1, 3)
+                           for mesh, transform in parts]), data
 
 
 @_frees_what_trimesh_held
@@ -131,6 +146,17 @@ def _trimesh_load(path: Path, data: bytes, file_type: str) -> Any:
         words = str(error).strip().splitlines()
         detail = f"{type(error).__name__}: {words[0][:160]}" if words else type(error).__name__
         raise LoadError(path, f"not a readable {file_type.upper()} file ({detail})") from None
+
+
+# A binary STL triangle: its normal, its three corners, and two bytes of attributes (no standard meaning).
+_STL_TRIANGLE_LAYOUT = np.dtype([("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attributes", "<u2")])
+
+
+def _binary_stl_corners(data: bytes) -> np.ndarray:
+    """(3T, 3) float64 corners, read here: trimesh's reader copies the file and keeps the copy alive
+    through the normals it reads from it, three times the file in all."""
+    triangles = np.frombuffer(data, _STL_TRIANGLE_LAYOUT, offset=_STL_HEADER)
+    return triangles["corners"].reshape(-1, 3).astype(np.float64)
 
 
 def _is_binary_stl(data: bytes) -> bool:
@@ -224,10 +250,9 @@ def _line_of_first_non_finite(data: bytes) -> int | None:
     return None if found is None else data.count(b"\n", 0, found.start()) + 1
 
 
-def _finish(path: Path, loaded: Any, data: bytes | None, merge: bool = False) -> Mesh:
-    """A file's Mesh; `data`, for a text format, lets a bad number be found by line; `merge` joins equal
-    positions."""
-    return _mesh_of(path, path.stem, loaded, data, merge)
+def _finish(path: Path, loaded: Any, data: bytes | None) -> Mesh:
+    """A file's Mesh; `data`, for a text format, lets a bad number be found by line."""
+    return _mesh_of(path, path.stem, loaded, data)
 
 
 def mesh_of_trimesh(name: str, loaded: Any) -> Mesh:
@@ -254,8 +279,7 @@ class _Geometry:
 Part = tuple[_Geometry, np.ndarray | None]
 
 
-def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, merge: bool = False,
-             own_copy: bool = False) -> Mesh:
+def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own_copy: bool = False) -> Mesh:
     """One Mesh of every placed mesh, each keeping its uvs, vertex colours and material (base colour
     and texture), as an OBJ's groups keep theirs. Placed here, not by trimesh's to_geometry(), which
     packs every mesh's picture into one (recoloured) atlas and keeps one material. `own_copy`: the
@@ -270,11 +294,6 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, mer
     _check_tables(source, positions, faces, data)
     uvs = _joined([geometry.uvs for geometry, _ in parts], sizes, np.nan)  # NaN: derived
     colours = _joined([geometry.colours for geometry, _ in parts], sizes, 255)  # white: untinted
-    if merge:  # STL stores each triangle's own corners: shared corners let Gouraud smooth across edges
-        positions, first, inverse = merged_rows(positions)
-        faces = inverse[faces]
-        colours = None if colours is None else colours[first]
-        uvs = None  # an STL has no texture coordinates
     materials, part_material, notes = _part_materials(name, parts, textured=uvs is not None)
     # One mesh's base colour is the model's; of several, each keeps its own, and one without takes the
     # viewer's rather than another mesh's.
@@ -441,6 +460,10 @@ def _check_tables(path: str | Path, positions: np.ndarray, faces: np.ndarray, da
     """Faces, and positions the GPU can hold (each mesh's indices are checked as it is read)."""
     if len(faces) == 0:
         raise LoadError(path, "no faces")
+    _check_positions(path, positions, data)
+
+
+def _check_positions(path: str | Path, positions: np.ndarray, data: bytes | None) -> None:
     # NaN fails both comparisons; two reductions, where a mask would take a table as large as the positions
     if not (positions.max(initial=0.0) <= FLOAT32_MAX and positions.min(initial=0.0) >= -FLOAT32_MAX):
         line = _line_of_first_non_finite(data) if data is not None else None

@@ -61,10 +61,7 @@ def merged_rows(table: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     shared by different rows is caught and np.unique does the work instead."""
     if len(table) == 0:
         return table, np.zeros(0, np.int64), np.zeros(0, np.int64)
-    key = _row_keys(table)
-    order = np.argsort(key)
-    sorted_key = key[order]
-    starts = np.flatnonzero(np.concatenate(([True], sorted_key[1:] != sorted_key[:-1])))
+    order, starts = _sorted_by_key(table)
     first = np.minimum.reduceat(order, starts)  # each key's first row in the table
     seen = np.argsort(first)  # the keys in the order the table first shows them
     number = np.empty(len(seen), np.int64)
@@ -77,6 +74,15 @@ def merged_rows(table: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         rows, first, inverse = np.unique(table, axis=0, return_index=True, return_inverse=True)  # keys collided
         return rows, first, inverse.reshape(-1)
     return rows, first, inverse
+
+
+def _sorted_by_key(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The rows in the order of their keys, and where each key's run starts in that order. (A function
+    of its own, so that the keys are freed before the rest is made.)"""
+    key = _row_keys(table)
+    order = np.argsort(key)
+    sorted_key = key[order]
+    return order, np.flatnonzero(np.concatenate(([True], sorted_key[1:] != sorted_key[:-1])))
 
 
 def _row_keys(table: np.ndarray) -> np.ndarray:
