@@ -1,4 +1,5 @@
-"""STL, PLY, OFF and glTF/GLB through trimesh, checked the way the OBJ reader checks its own.
+"""STL, PLY, OFF and glTF/GLB through trimesh (a binary STL is three numpy lines of our own), checked
+the way the OBJ reader checks its own.
 
 trimesh reads these formats well but forgives too much for a viewer that must say what is wrong: it
 reads a truncated ASCII STL or garbage as an empty mesh, an ASCII PLY cut short as fewer faces, and
