@@ -157,7 +157,7 @@ def _binary_stl_corners(data: bytes) -> np.ndarray:
     """(3T, 3) float64 corners, read here: trimesh's reader copies the file and keeps the copy alive
     through the normals it reads from it, three times the file in all."""
     triangles = np.frombuffer(data, _STL_TRIANGLE_LAYOUT, offset=_STL_HEADER)
-    return triangles["corners"].reshape(-1, 3).astype(np.float64)
+    return triangles["corners"].astype(np.float64).reshape(-1, 3)  # cast first: reshaping the strided view copies
 
 
 def _is_binary_stl(data: bytes) -> bool:

@@ -400,7 +400,10 @@ def _bounding_box_uv(positions: np.ndarray, vertices: np.ndarray | None,
         extent = np.where(np.isfinite(extent), extent, 0.0)
         axes = np.sort(np.argsort(-extent, kind="stable")[:2])
         # Per position, then gathered: a position has one box coordinate, and corners outnumber positions.
-        uv = (positions[:, axes] - low[axes]) / np.where(extent[axes] > 0, extent[axes], 1.0)
+        # In place after the first step: one temporary as large as the table.
+        uv = positions[:, axes] - low[axes]
+        uv /= np.where(extent[axes] > 0, extent[axes], 1.0)
     uv[:, extent[axes] <= 0] = 0.0
-    uv = np.where(np.isfinite(uv), uv, 0.0).astype(np.float32)
+    uv[~np.isfinite(uv)] = 0.0
+    uv = uv.astype(np.float32)
     return uv if vertices is None else np.take(uv, vertices, axis=0)
