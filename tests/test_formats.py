@@ -19,6 +19,7 @@ from PIL import Image
 from marraztu.control.viewer import StartOptions
 from marraztu.errors import LoadError
 from marraztu.frontends.screenshot import take_screenshot
+from marraztu.loaders import exchange
 from marraztu.loaders.registry import MODEL_READERS, load_model
 from support.scenes import BACKGROUND
 
@@ -73,21 +74,42 @@ def test_each_format_holds_the_same_model(written: dict[str, Path], name: str) -
     assert np.allclose(np.sort(mesh.positions, axis=0), np.sort(POSITIONS, axis=0), atol=1e-5)
 
 
-@pytest.mark.parametrize("name", ["model.stl", "model.ply", "model.glb"])
-def test_a_large_models_trimesh_objects_are_freed_when_it_is_read(tmp_path: Path, name: str) -> None:
+@pytest.mark.parametrize(("name", "subdivisions"), [("ascii.stl", 5), ("model.ply", 6), ("model.glb", 6)])
+@pytest.mark.parametrize("broken", [False, True])
+def test_a_large_models_trimesh_objects_are_freed_when_it_is_read(tmp_path: Path, name: str, subdivisions: int,
+                                                                  broken: bool) -> None:
     """They refer to one another, so without a collection they, their tables and the file's bytes would
-    wait for Python's cycle collector (switched off here, so that only the reader's own run counts)."""
-    sphere = trimesh.creation.icosphere(subdivisions=5)  # 20,480 faces: past COLLECT_AFTER_FACES
+    wait for Python's cycle collector (switched off here, so that only the reader's own run counts),
+    after a good file or a refused one (a NaN coordinate) alike."""
+    sphere = trimesh.creation.icosphere(subdivisions=subdivisions)  # a file of 1 MB or more
+    if broken:
+        sphere.vertices[5, 0] = np.nan
     path = tmp_path / name
     path.write_bytes(FORMATS[name](sphere))
+    assert path.stat().st_size >= exchange.COLLECT_AFTER_BYTES
     gc.collect()
     gc.disable()
     try:
-        assert load_model(path).face_count == len(sphere.faces)
+        if broken:
+            with pytest.raises(LoadError, match="not a finite number"):
+                load_model(path)
+        else:
+            assert load_model(path).face_count == len(sphere.faces)
         assert not [item for item in gc.get_objects() if isinstance(item, (trimesh.Trimesh, trimesh.Scene))
                     and item is not sphere]
     finally:
         gc.enable()
+
+
+def test_running_out_of_memory_is_one_load_error(tmp_path: Path, monkeypatch) -> None:
+    def out_of_memory(data: bytes) -> np.ndarray:
+        raise MemoryError
+
+    monkeypatch.setattr(exchange, "_binary_stl_corners", out_of_memory)
+    path = tmp_path / "model.stl"
+    path.write_bytes(FORMATS["model.stl"](square_mesh()))
+    with pytest.raises(LoadError, match="not enough memory to load this file"):
+        load_model(path)
 
 
 @pytest.mark.parametrize("name", FORMATS)
@@ -457,6 +479,15 @@ def test_an_ascii_stl_of_several_solids_is_one_model_of_them_all(tmp_path: Path)
     path.write_text("\n".join(solids))
     mesh = load_model(path)
     assert (mesh.vertex_count, mesh.face_count) == (14, 6)
+
+
+def test_an_ascii_stls_last_solid_without_its_endsolid_is_refused_not_dropped(tmp_path: Path) -> None:
+    """trimesh reads the solids that end and drops the last one."""
+    solid = trimesh.exchange.stl.export_stl_ascii(square_mesh())
+    path = tmp_path / "cut.stl"
+    path.write_text(solid + "\n" + solid[:solid.rindex("endsolid")])
+    with pytest.raises(LoadError, match="6 facets begun, 3 triangles read"):
+        load_model(path)
 
 
 def test_ascii_stl_keywords_count_in_any_case() -> None:

@@ -228,7 +228,10 @@ def _finite_positions(positions: Any) -> np.ndarray:
     with np.errstate(invalid="ignore"):
         if not (np.isfinite(table).all() and np.abs(table).max() <= FLOAT32_MAX):
             raise ValueError("positions must be finite numbers a float32 can hold")
-    return table.copy()  # the scene's own: a later change to the caller's array must not move it
+    # The scene's own: a later change to the caller's array (or DataFrame...) must not move it. A list
+    # was read into a new table already.
+    made_here = isinstance(positions, (list, tuple)) or not np.may_share_memory(table, positions)
+    return table if made_here else table.copy()
 
 
 __all__ = ["LightShare", "LoadError", "ProbeReport", "ProbedVertex", "Viewer"]

@@ -20,7 +20,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
 from types import SimpleNamespace
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 from PIL import Image
@@ -47,22 +47,38 @@ _ANYTHING, _ASCII_STL_START = re.compile(rb"\S"), re.compile(rb"\s*solid", re.IG
 # --- the readers of the registry -----------------------------------------------------------------
 # trimesh's objects refer to one another (a mesh, its visuals, their caches), so its tables, and the
 # file's bytes it keeps, wait for Python's cycle collector, which may not run for minutes. From this
-# many faces on (a binary STL of 1 MB), each reader runs it once the Mesh is made: a full collection
-# takes some ms, which a scene file of thousands of small models would pay thousands of times.
-COLLECT_AFTER_FACES = 20_000
+# size of file on, what reads through trimesh runs it once done: a full collection takes some ms,
+# which a scene file of thousands of small models would pay thousands of times.
+COLLECT_AFTER_BYTES = 1 << 20
+_Read = TypeVar("_Read")
 
 
-def _frees_what_trimesh_held(reader: Callable[[Path, Stage | None], Mesh]) -> Callable[[Path, Stage | None], Mesh]:
-    @functools.wraps(reader)
-    def read(path: Path, stage: Stage | None = None) -> Mesh:
-        mesh = reader(path, stage)  # its frame, and with it the last plain reference to trimesh's scene, is gone
-        if mesh.face_count >= COLLECT_AFTER_FACES:
+def _frees_what_trimesh_held(read: Callable[..., _Read]) -> Callable[..., _Read]:
+    """`read(path, ...)`, which reads through trimesh, and then the collection that frees trimesh's
+    objects, whether it succeeded or failed."""
+    @functools.wraps(read)
+    def reading(path: Path, *args: Any) -> _Read:
+        failure = None
+        try:
+            result = read(path, *args)  # its frame, and with it the last plain reference to trimesh's scene, is gone
+        except LoadError as error:  # whose traceback holds those frames: dropped, it is one line anyway
+            failure = error.with_traceback(None)
+            failure.__context__ = None
+        if _file_bytes(path) >= COLLECT_AFTER_BYTES:
             gc.collect()
-        return mesh
-    return read
+        if failure is not None:
+            raise failure
+        return result
+    return reading
 
 
-@_frees_what_trimesh_held
+def _file_bytes(path: Path) -> int:
+    try:
+        return path.stat().st_size
+    except OSError:
+        return 0
+
+
 def load_stl(path: Path, stage: Stage | None = None) -> Mesh:
     """Each triangle lists its own corners: equal ones are joined, so that Gouraud smooths across edges.
     Joined here, before the mesh is built, so that the corners' table is freed first."""
@@ -84,10 +100,19 @@ def _stl_corners(path: Path, data: bytes) -> tuple[np.ndarray, bytes | None]:
     if not _ASCII_STL_START.match(data):
         raise LoadError(path, "neither a binary STL (its size does not match its triangle count) nor an "
                               "ASCII one (it does not start with 'solid')", line=1)
-    _check_ascii_stl(path, data)
+    facets = _check_ascii_stl(path, data)
+    corners = _ascii_stl_corners(path, data)
+    if len(corners) != 3 * facets:  # trimesh drops a last solid without its endsolid, and odd facets
+        raise LoadError(path, f"{facets} facets begun, {len(corners) // 3} triangles read: a solid not closed by "
+                              "endsolid, or a facet that is not a triangle?")
+    return corners, data
+
+
+@_frees_what_trimesh_held
+def _ascii_stl_corners(path: Path, data: bytes) -> np.ndarray:
     parts = _placed_parts(path, _trimesh_load(path, data, "stl"))  # a mesh per solid
     return np.concatenate([_placed_positions(mesh.positions, transform)[mesh.faces].reshape(-1, 3)
-                           for mesh, transform in parts]), data
+                           for mesh, transform in parts])
 
 
 @_frees_what_trimesh_held
@@ -174,7 +199,8 @@ _FACET_OR_END, _END_SOLID = (re.compile(rb"(?im)^[^\S\n]*" + word + rb"\b") for 
 _TAIL_BYTES = 4096  # where a whole file's endsolid is: looked at before the rest
 
 
-def _check_ascii_stl(path: Path, data: bytes) -> None:
+def _check_ascii_stl(path: Path, data: bytes) -> int:
+    """The facets begun, each ended, in solids that end: a file cut short is refused."""
     # One pass for both keywords: each pass over a large file is most of a second.
     ends = _FACET_OR_END.findall(data)  # b"" for a facet, "end" in any case for an endfacet
     opened = ends.count(b"")
@@ -185,6 +211,7 @@ def _check_ascii_stl(path: Path, data: bytes) -> None:
     if opened != closed or not ended:
         raise LoadError(path, f"the file ends inside a facet ({opened} begun, {closed} ended)",
                         line=data.count(b"\n") + 1)
+    return opened
 
 
 def _ply_header(path: Path, data: bytes) -> tuple[dict[str, int], int, bool]:
@@ -289,7 +316,9 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own
     sizes = [len(geometry.positions) for geometry, _ in parts]
     with np.errstate(all="ignore"):  # a transform of NaN or huge numbers: refused by _check_tables
         placed = [_placed_positions(geometry.positions, transform) for geometry, transform in parts]
-        positions = placed[0] if len(placed) == 1 and not own_copy else np.concatenate(placed)
+        positions = placed[0] if len(placed) == 1 else np.concatenate(placed)
+        if own_copy and positions is parts[0][0].positions:  # the caller's own table, unmoved
+            positions = positions.copy()
         mirrored = _mirroring([transform for _, transform in parts])
     faces = _placed_faces([geometry.faces for geometry, _ in parts], mirrored, sizes)
     _check_tables(source, positions, faces, data)

@@ -31,4 +31,7 @@ def load_model(path: str | Path, stage: Stage | None = None) -> Mesh:
     if reader is None:
         known = ", ".join(MODEL_READERS)
         raise LoadError(path, f"not a model file marraztu reads (by its suffix: {known})")
-    return reader(path, stage)
+    try:
+        return reader(path, stage)
+    except MemoryError:  # every reader's tables grow with the file
+        raise LoadError(path, "not enough memory to load this file") from None

@@ -58,22 +58,28 @@ def merged_rows(table: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
     Not np.unique(axis=0), which sorts 24-byte records several times more slowly, and not trimesh's
     unique_rows, which rounds: rows are hashed to one 64-bit key and sorted once, and the rare key
-    shared by different rows is caught and np.unique does the work instead."""
+    shared by different rows is caught and np.unique does the grouping instead."""
+    if table.ndim != 2 or table.shape[1] != 3:
+        raise ValueError(f"merged_rows takes rows of three numbers, not shape {table.shape}")
     if len(table) == 0:
         return table, np.zeros(0, np.int64), np.zeros(0, np.int64)
-    order, starts = _sorted_by_key(table)
-    first = np.minimum.reduceat(order, starts)  # each key's first row in the table
-    seen = np.argsort(first)  # the keys in the order the table first shows them
+    first, group = _groups_by_key(table)
+    if not all(np.array_equal(np.take(table[first, column], group), table[:, column]) for column in range(3)):
+        _, first, group = np.unique(table, axis=0, return_index=True, return_inverse=True)  # keys collided
+        group = group.reshape(-1)
+    seen = np.argsort(first)  # the groups in the order the table first shows them
     number = np.empty(len(seen), np.int64)
     number[seen] = np.arange(len(seen))
-    inverse = np.empty(len(order), np.int64)
-    inverse[order] = np.repeat(number, np.diff(np.append(starts, len(order))))
     first = first[seen]
-    rows = table[first]
-    if not all(np.array_equal(np.take(rows[:, column], inverse), table[:, column]) for column in range(3)):
-        rows, first, inverse = np.unique(table, axis=0, return_index=True, return_inverse=True)  # keys collided
-        return rows, first, inverse.reshape(-1)
-    return rows, first, inverse
+    return table[first], first, number[group]
+
+
+def _groups_by_key(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rows grouped by key: each group's first row, and each row's group."""
+    order, starts = _sorted_by_key(table)
+    group = np.empty(len(order), np.int64)
+    group[order] = np.repeat(np.arange(len(starts)), np.diff(np.append(starts, len(order))))
+    return np.minimum.reduceat(order, starts), group
 
 
 def _sorted_by_key(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -178,6 +178,7 @@ def _surface_rows(mesh: Mesh) -> tuple[np.ndarray, np.ndarray | None, np.ndarray
 
 
 def _own_rows(table: np.ndarray, own: np.ndarray | None) -> np.ndarray:
+    """Each position's row of a per-row table (uvs, normals): the table itself where rows are positions."""
     return table if own is None else np.take(table, own, axis=0)
 
 
