@@ -101,6 +101,23 @@ def test_a_large_models_trimesh_objects_are_freed_when_it_is_read(tmp_path: Path
         gc.enable()
 
 
+def test_a_gltf_whose_buffers_lie_beside_it_is_freed_by_its_faces(tmp_path: Path) -> None:
+    """Its JSON is small, the buffer beside it large: the faces read say a collection is worth it."""
+    sphere = trimesh.creation.icosphere(subdivisions=5)
+    for name, data in sphere.export(file_type="gltf").items():
+        (tmp_path / name).write_bytes(data)
+    path = tmp_path / "model.gltf"
+    assert path.stat().st_size < exchange.COLLECT_AFTER_BYTES
+    gc.collect()
+    gc.disable()
+    try:
+        assert load_model(path).face_count == len(sphere.faces) >= exchange.COLLECT_AFTER_FACES
+        assert not [item for item in gc.get_objects() if isinstance(item, (trimesh.Trimesh, trimesh.Scene))
+                    and item is not sphere]
+    finally:
+        gc.enable()
+
+
 def test_running_out_of_memory_is_one_load_error(tmp_path: Path, monkeypatch) -> None:
     def out_of_memory(data: bytes) -> np.ndarray:
         raise MemoryError

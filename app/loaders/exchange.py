@@ -47,9 +47,10 @@ _ANYTHING, _ASCII_STL_START = re.compile(rb"\S"), re.compile(rb"\s*solid", re.IG
 # --- the readers of the registry -----------------------------------------------------------------
 # trimesh's objects refer to one another (a mesh, its visuals, their caches), so its tables, and the
 # file's bytes it keeps, wait for Python's cycle collector, which may not run for minutes. From this
-# size of file on, what reads through trimesh runs it once done: a full collection takes some ms,
-# which a scene file of thousands of small models would pay thousands of times.
-COLLECT_AFTER_BYTES = 1 << 20
+# size of file on (or this many faces read: a .gltf's buffers lie beside it), what reads through
+# trimesh runs it once done: a full collection takes some ms, which a scene file of thousands of
+# small models would pay thousands of times.
+COLLECT_AFTER_BYTES, COLLECT_AFTER_FACES = 1 << 20, 20_000
 _Read = TypeVar("_Read")
 
 
@@ -58,13 +59,14 @@ def _frees_what_trimesh_held(read: Callable[..., _Read]) -> Callable[..., _Read]
     objects, whether it succeeded or failed."""
     @functools.wraps(read)
     def reading(path: Path, *args: Any) -> _Read:
-        failure = None
+        failure, faces = None, 0
         try:
             result = read(path, *args)  # its frame, and with it the last plain reference to trimesh's scene, is gone
+            faces = getattr(result, "face_count", 0)  # a Mesh's
         except LoadError as error:  # whose traceback holds those frames: dropped, it is one line anyway
             failure = error.with_traceback(None)
             failure.__context__ = None
-        if _file_bytes(path) >= COLLECT_AFTER_BYTES:
+        if faces >= COLLECT_AFTER_FACES or _file_bytes(path) >= COLLECT_AFTER_BYTES:
             gc.collect()
         if failure is not None:
             raise failure
