@@ -118,6 +118,34 @@ def test_a_gltf_whose_buffers_lie_beside_it_is_freed_by_its_faces(tmp_path: Path
         gc.enable()
 
 
+@pytest.mark.parametrize("suffix", [".stl", ".ply", ".off", ".gltf", ".glb", ".obj"])
+def test_a_name_the_system_cannot_take_is_one_load_error(suffix: str) -> None:
+    with pytest.raises(LoadError, match="cannot read the file"):
+        load_model(f"m\0{suffix}")
+
+
+def test_a_refused_files_bytes_and_tables_are_freed_with_its_error(tmp_path: Path) -> None:
+    """The error's traceback would hold the readers' frames, and in them the file's bytes and trimesh's
+    tables, for as long as the error is kept (the window keeps it in its load job, in a cycle)."""
+    import tracemalloc
+
+    sphere = trimesh.creation.icosphere(subdivisions=5)
+    solid = trimesh.exchange.stl.export_stl_ascii(sphere)
+    path = tmp_path / "cut.stl"
+    path.write_text(solid + "\n" + solid[:solid.rindex("endsolid")])  # refused: its last solid is not closed
+    gc.collect()
+    gc.disable()
+    tracemalloc.start()
+    try:
+        with pytest.raises(LoadError, match="facets begun") as refused:
+            load_model(path)
+        kept = tracemalloc.get_traced_memory()[0]
+        assert refused.value.__traceback__ is not None and kept < path.stat().st_size / 4
+    finally:
+        tracemalloc.stop()
+        gc.enable()
+
+
 def test_running_out_of_memory_is_one_load_error(tmp_path: Path, monkeypatch) -> None:
     def out_of_memory(data: bytes) -> np.ndarray:
         raise MemoryError

@@ -228,10 +228,14 @@ def _finite_positions(positions: Any) -> np.ndarray:
     with np.errstate(invalid="ignore"):
         if not (np.isfinite(table).all() and np.abs(table).max() <= FLOAT32_MAX):
             raise ValueError("positions must be finite numbers a float32 can hold")
-    # The scene's own: a later change to the caller's array (or DataFrame...) must not move it. A list
-    # was read into a new table already.
-    made_here = isinstance(positions, (list, tuple)) or not np.may_share_memory(table, positions)
-    return table if made_here else table.copy()
+    # The scene's own: a later change to the caller's array must not move it. A plain list or tuple was
+    # read into a new table; an array is copied where the table shares its memory; anything else numpy
+    # read (a DataFrame...) is copied, rather than asked for its numbers a second time.
+    if type(positions) in (list, tuple):
+        return table
+    if isinstance(positions, (np.ndarray, memoryview)) and not np.may_share_memory(table, positions):
+        return table
+    return table.copy()
 
 
 __all__ = ["LightShare", "LoadError", "ProbeReport", "ProbedVertex", "Viewer"]

@@ -26,7 +26,7 @@ import numpy as np
 from PIL import Image
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import MAX_FILE_BYTES, read_file, text_lines
+from marraztu.loaders.files import MAX_FILE_BYTES, read_file, size_or_zero, text_lines
 from marraztu.loaders.images import rgb_array
 from marraztu.model.build import build_mesh, colour_bytes
 from marraztu.model.geometry import FLOAT32_MAX, merged_rows
@@ -49,36 +49,20 @@ _ANYTHING, _ASCII_STL_START = re.compile(rb"\S"), re.compile(rb"\s*solid", re.IG
 # file's bytes it keeps, wait for Python's cycle collector, which may not run for minutes. From this
 # size of file on (or this many faces read: a .gltf's buffers lie beside it), what reads through
 # trimesh runs it once done: a full collection takes some ms, which a scene file of thousands of
-# small models would pay thousands of times.
+# small models would pay thousands of times. (After a refused file, the registry runs it.)
 COLLECT_AFTER_BYTES, COLLECT_AFTER_FACES = 1 << 20, 20_000
 _Read = TypeVar("_Read")
 
 
 def _frees_what_trimesh_held(read: Callable[..., _Read]) -> Callable[..., _Read]:
-    """`read(path, ...)`, which reads through trimesh, and then the collection that frees trimesh's
-    objects, whether it succeeded or failed."""
+    """`read(path, ...)`, which reads through trimesh, then the collection that frees trimesh's objects."""
     @functools.wraps(read)
-    def reading(path: Path, *args: Any) -> _Read:
-        failure, faces = None, 0
-        try:
-            result = read(path, *args)  # its frame, and with it the last plain reference to trimesh's scene, is gone
-            faces = getattr(result, "face_count", 0)  # a Mesh's
-        except LoadError as error:  # whose traceback holds those frames: dropped, it is one line anyway
-            failure = error.with_traceback(None)
-            failure.__context__ = None
-        if faces >= COLLECT_AFTER_FACES or _file_bytes(path) >= COLLECT_AFTER_BYTES:
+    def reading(path: Path, *args: Any, **options: Any) -> _Read:
+        result = read(path, *args, **options)  # its frame, the last plain reference to trimesh's scene, is gone
+        if getattr(result, "face_count", 0) >= COLLECT_AFTER_FACES or size_or_zero(path) >= COLLECT_AFTER_BYTES:
             gc.collect()
-        if failure is not None:
-            raise failure
         return result
     return reading
-
-
-def _file_bytes(path: Path) -> int:
-    try:
-        return path.stat().st_size
-    except OSError:
-        return 0
 
 
 def load_stl(path: Path, stage: Stage | None = None) -> Mesh:

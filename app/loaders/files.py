@@ -75,6 +75,14 @@ def regular_file_size(path: str | Path, limit: int = MAX_FILE_BYTES) -> int:
     return info.st_size
 
 
+def size_or_zero(path: str | Path) -> int:
+    """The file's size in bytes; 0 where it cannot be known (gone, a NUL in its name)."""
+    try:
+        return os.stat(path).st_size
+    except (OSError, ValueError):
+        return 0
+
+
 def read_head(path: str | Path, count: int) -> bytes:
     """The first `count` bytes of a regular file (fewer if it is shorter): enough to tell its kind."""
     regular_file_size(path)

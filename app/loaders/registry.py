@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import gc
 from collections.abc import Callable
 from pathlib import Path
 
 from marraztu.errors import LoadError
-from marraztu.loaders.exchange import load_gltf, load_off, load_ply, load_stl
+from marraztu.loaders.exchange import COLLECT_AFTER_BYTES, load_gltf, load_off, load_ply, load_stl
+from marraztu.loaders.files import size_or_zero
 from marraztu.loaders.obj import load_obj
 from marraztu.model.mesh import Mesh
 
@@ -34,4 +36,19 @@ def load_model(path: str | Path, stage: Stage | None = None) -> Mesh:
     try:
         return reader(path, stage)
     except MemoryError:  # every reader's tables grow with the file
-        raise LoadError(path, "not enough memory to load this file") from None
+        failure = LoadError(path, "not enough memory to load this file")
+    except LoadError as error:
+        failure = error
+    try:
+        raise _freed(failure, path)
+    finally:
+        del failure  # else this frame, in the error's traceback, would hold the error: a cycle
+
+
+def _freed(failure: LoadError, path: Path) -> LoadError:
+    """The error without the traceback and context that hold the reader's frames, and in them the file's
+    bytes and tables (trimesh's in cycles: collected here for a large file). It is told in one line."""
+    failure.__traceback__ = failure.__context__ = None
+    if size_or_zero(path) >= COLLECT_AFTER_BYTES:
+        gc.collect()
+    return failure
