@@ -28,7 +28,7 @@ from marraztu.frontends.screenshot import OffscreenFrontend, render_pixels
 from marraztu.loaders.exchange import mesh_of_trimesh
 from marraztu.loaders.scenefile import material_for_loaded, materials_of_parts
 from marraztu.model.build import build_mesh, real_numbers
-from marraztu.model.geometry import FLOAT32_MAX
+from marraztu.model.geometry import holds_in_float32
 from marraztu.model.probe import probe as probe_scene
 from marraztu.model.scene import Scene, SceneObject
 from marraztu.render.context import create_offscreen_context
@@ -225,9 +225,8 @@ def _finite_positions(positions: Any) -> np.ndarray:
     table = real_numbers(positions, "positions must be real numbers, (V, 3)")
     if table.ndim != 2 or table.shape[1] != 3 or table.shape[0] == 0:
         raise ValueError(f"positions must have shape (V, 3), not {table.shape}")
-    with np.errstate(invalid="ignore"):
-        if not (np.isfinite(table).all() and np.abs(table).max() <= FLOAT32_MAX):
-            raise ValueError("positions must be finite numbers a float32 can hold")
+    if not holds_in_float32(table):
+        raise ValueError("positions must be finite numbers a float32 can hold")
     # The scene's own: a later change to the caller's array must not move it. A plain list or tuple was
     # read into a new table; an array is copied where the table shares its memory; anything else numpy
     # read (a DataFrame...) is copied, rather than asked for its numbers a second time.

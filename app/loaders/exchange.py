@@ -29,7 +29,7 @@ from marraztu.errors import LoadError
 from marraztu.loaders.files import MAX_FILE_BYTES, read_file, size_or_zero, text_lines
 from marraztu.loaders.images import rgb_array
 from marraztu.model.build import build_mesh, colour_bytes
-from marraztu.model.geometry import FLOAT32_MAX, merged_rows
+from marraztu.model.geometry import holds_in_float32, merged_rows
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial
 
 Stage = Callable[[str], None]
@@ -71,9 +71,7 @@ def load_stl(path: Path, stage: Stage | None = None) -> Mesh:
     data = _read(path, stage)
     corners, text = _stl_corners(path, data)
     del data  # kept as `text` for an ASCII file only, to name the line of a bad number
-    if len(corners) == 0:
-        raise LoadError(path, "no faces")
-    _check_positions(path, corners, text)
+    _check_positions(path, corners, text)  # before merging, which takes finite numbers (no faces: _finish says so)
     positions, _, inverse = merged_rows(corners)
     del corners
     return _finish(path, SimpleNamespace(vertices=positions, faces=inverse.reshape(-1, 3)), data=text)
@@ -310,7 +308,7 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own
     _check_tables(source, positions, faces, data)
     uvs = _joined([geometry.uvs for geometry, _ in parts], sizes, np.nan)  # NaN: derived
     colours = _joined([geometry.colours for geometry, _ in parts], sizes, 255)  # white: untinted
-    materials, part_material, notes = _part_materials(name, parts, textured=uvs is not None)
+    materials, part_material, notes = _part_materials(name, parts)
     # One mesh's base colour is the model's; of several, each keeps its own, and one without takes the
     # viewer's rather than another mesh's.
     own = _material_of(parts[0][0].mesh) if len(parts) == 1 else None
@@ -393,8 +391,7 @@ def _joined(tables: list[np.ndarray | None], sizes: list[int], fill: float) -> n
                            for table, size in zip(tables, sizes)])
 
 
-def _part_materials(name: str, parts: list[Part], textured: bool
-                    ) -> tuple[tuple[MeshMaterial, ...], list[int], list[str]]:
+def _part_materials(name: str, parts: list[Part]) -> tuple[tuple[MeshMaterial, ...], list[int], list[str]]:
     """The materials of the parts, each once, and per part its index among them (-1: no base colour
     or texture of its own, or past MAX_MATERIALS). None at all for one untextured part: its base
     colour is the model's."""
@@ -411,7 +408,7 @@ def _part_materials(name: str, parts: list[Part], textured: bool
         material = getattr(getattr(geometry.mesh, "visual", None), "material", None)
         values = _material_of(geometry.mesh)
         # A picture counts only where uvs address it; equal materials are one, copies included.
-        picture = _picture(material) if textured and geometry.uvs is not None else None
+        picture = _picture(material) if geometry.uvs is not None else None
         if id(picture) not in textures:
             texture = None if picture is None else _texture(picture)
             textures[id(picture)] = texture, None if texture is None else (texture.shape, hash(texture.tobytes()))
@@ -480,8 +477,7 @@ def _check_tables(path: str | Path, positions: np.ndarray, faces: np.ndarray, da
 
 
 def _check_positions(path: str | Path, positions: np.ndarray, data: bytes | None) -> None:
-    # NaN fails both comparisons; two reductions, where a mask would take a table as large as the positions
-    if not (positions.max(initial=0.0) <= FLOAT32_MAX and positions.min(initial=0.0) >= -FLOAT32_MAX):
+    if not holds_in_float32(positions):
         line = _line_of_first_non_finite(data) if data is not None else None
         raise LoadError(path, "a vertex coordinate is not a finite number the GPU can hold", line=line)
 

@@ -10,6 +10,12 @@ import numpy as np
 FLOAT32_MAX = float(np.finfo(np.float32).max)
 
 
+def holds_in_float32(table: np.ndarray) -> bool:
+    """Whether every number is finite and within float32's range, as the GPU holds it. Two reductions,
+    no mask as large as the table; NaN fails both comparisons."""
+    return bool(table.max(initial=0.0) <= FLOAT32_MAX and table.min(initial=0.0) >= -FLOAT32_MAX)
+
+
 def unit(vector: Iterable[float]) -> np.ndarray:
     """The vector scaled to length 1; a zero vector stays zero."""
     v = np.asarray(vector, float)
