@@ -1,12 +1,11 @@
-"""STL, PLY, OFF and glTF/GLB through trimesh (a binary STL is three numpy lines of our own), checked
-the way the OBJ reader checks its own.
+"""PLY, OFF and glTF/GLB through trimesh, and STL's corners (read in stl.py) made a mesh, checked the
+way the OBJ reader checks its own.
 
 trimesh reads these formats well but forgives too much for a viewer that must say what is wrong: it
-reads a truncated ASCII STL or garbage as an empty mesh, an ASCII PLY cut short as fewer faces, and
-takes NaN coordinates and face indices past the vertex table. So the header's counts, the tables'
-values and the indices are checked here, and every trimesh exception becomes one LoadError naming
-the file (and the line, for text formats, where it can be known). trimesh is imported only when such
-a file is opened.
+reads an ASCII PLY cut short as fewer faces, and takes NaN coordinates and face indices past the
+vertex table. So the header's counts, the tables' values and the indices are checked here, and every
+trimesh exception becomes one LoadError naming the file (and the line, for text formats, where it
+can be known). trimesh is imported only when such a file is opened.
 """
 
 from __future__ import annotations
@@ -28,20 +27,19 @@ from PIL import Image
 from marraztu.errors import LoadError
 from marraztu.loaders.files import MAX_FILE_BYTES, read_file, size_or_zero, text_lines
 from marraztu.loaders.images import rgb_array
+from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES, stl_corners
 from marraztu.model.build import build_mesh, colour_bytes
 from marraztu.model.geometry import holds_in_float32, merged_rows
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial
 
 Stage = Callable[[str], None]
-_STL_HEADER, _STL_TRIANGLE = 84, 50  # binary STL: an 80-byte header and a count, then 50 bytes a triangle
 # A glTF node places a mesh, so a small file can place one mesh a million times. No scene may place
 # more triangles than the largest binary STL the viewer reads lists one by one.
-MAX_PLACED_TRIANGLES = (MAX_FILE_BYTES - _STL_HEADER) // _STL_TRIANGLE
+MAX_PLACED_TRIANGLES = (MAX_FILE_BYTES - HEADER_BYTES) // TRIANGLE_BYTES
 _NOT_FINITE = re.compile(rb"(?i)(?<![a-z])(?:[-+]?nan|[-+]?inf(?:inity)?)(?![a-z])")
 
 
-# Searched, not stripped: strip() and lstrip() copy the whole file to look at its first word.
-_ANYTHING, _ASCII_STL_START = re.compile(rb"\S"), re.compile(rb"\s*solid", re.IGNORECASE)
+_ANYTHING = re.compile(rb"\S")  # searched, not stripped: strip() copies the whole file to look at its first word
 
 
 # --- the readers of the registry -----------------------------------------------------------------
@@ -68,35 +66,11 @@ def _frees_what_trimesh_held(read: Callable[..., _Read]) -> Callable[..., _Read]
 def load_stl(path: Path, stage: Stage | None = None) -> Mesh:
     """Each triangle lists its own corners: equal ones are joined, so that Gouraud smooths across edges.
     Joined here, before the mesh is built, so that the corners' table is freed first."""
-    data = _read(path, stage)
-    corners, text = _stl_corners(path, data)
-    del data  # kept as `text` for an ASCII file only, to name the line of a bad number
-    _check_positions(path, corners, text)  # before merging, which takes finite numbers (no faces: _finish says so)
+    corners = stl_corners(path, _read(path, stage))  # the file's bytes are freed on return
+    _check_positions(path, corners, None)  # before merging, which takes finite numbers (no faces: _finish says so)
     positions, _, inverse = merged_rows(corners)
     del corners
-    return _finish(path, SimpleNamespace(vertices=positions, faces=inverse.reshape(-1, 3)), data=text)
-
-
-def _stl_corners(path: Path, data: bytes) -> tuple[np.ndarray, bytes | None]:
-    """(3T, 3) float64 corners, three a triangle; and the text of an ASCII file (None for a binary one)."""
-    if _is_binary_stl(data):
-        return _binary_stl_corners(data), None
-    if not _ASCII_STL_START.match(data):
-        raise LoadError(path, "neither a binary STL (its size does not match its triangle count) nor an "
-                              "ASCII one (it does not start with 'solid')", line=1)
-    facets = _check_ascii_stl(path, data)
-    corners = _ascii_stl_corners(path, data)
-    if len(corners) != 3 * facets:  # trimesh drops a last solid without its endsolid, and odd facets
-        raise LoadError(path, f"{facets} facets begun, {len(corners) // 3} triangles read: a solid not closed by "
-                              "endsolid, or a facet that is not a triangle?")
-    return corners, data
-
-
-@_frees_what_trimesh_held
-def _ascii_stl_corners(path: Path, data: bytes) -> np.ndarray:
-    parts = _placed_parts(path, _trimesh_load(path, data, "stl"))  # a mesh per solid
-    return np.concatenate([_placed_positions(mesh.positions, transform)[mesh.faces].reshape(-1, 3)
-                           for mesh, transform in parts])
+    return _finish(path, SimpleNamespace(vertices=positions, faces=inverse.reshape(-1, 3)), data=None)
 
 
 @_frees_what_trimesh_held
@@ -156,46 +130,6 @@ def _trimesh_load(path: Path, data: bytes, file_type: str) -> Any:
         words = str(error).strip().splitlines()
         detail = f"{type(error).__name__}: {words[0][:160]}" if words else type(error).__name__
         raise LoadError(path, f"not a readable {file_type.upper()} file ({detail})") from None
-
-
-# A binary STL triangle: its normal, its three corners, and two bytes of attributes (no standard meaning).
-_STL_TRIANGLE_LAYOUT = np.dtype([("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attributes", "<u2")])
-
-
-def _binary_stl_corners(data: bytes) -> np.ndarray:
-    """(3T, 3) float64 corners, read here: trimesh's reader copies the file and keeps the copy alive
-    through the normals it reads from it, three times the file in all."""
-    triangles = np.frombuffer(data, _STL_TRIANGLE_LAYOUT, offset=_STL_HEADER)
-    return triangles["corners"].astype(np.float64).reshape(-1, 3)  # cast first: reshaping the strided view copies
-
-
-def _is_binary_stl(data: bytes) -> bool:
-    """By size, not by the first word: binary STL headers often begin with 'solid' too."""
-    if len(data) < _STL_HEADER:
-        return False
-    count = int.from_bytes(data[80:84], "little")
-    return len(data) == _STL_HEADER + _STL_TRIANGLE * count
-
-
-# Keywords at a line's start. The indent is [^\S\n]*, never \s*: that would run on across blank lines,
-# and each blank line would scan all those after it (quadratic in a file of blank lines).
-_FACET_OR_END, _END_SOLID = (re.compile(rb"(?im)^[^\S\n]*" + word + rb"\b") for word in (rb"(end)?facet", rb"endsolid"))
-_TAIL_BYTES = 4096  # where a whole file's endsolid is: looked at before the rest
-
-
-def _check_ascii_stl(path: Path, data: bytes) -> int:
-    """The facets begun, each ended, in solids that end: a file cut short is refused."""
-    # One pass for both keywords: each pass over a large file is most of a second.
-    ends = _FACET_OR_END.findall(data)  # b"" for a facet, "end" in any case for an endfacet
-    opened = ends.count(b"")
-    closed = len(ends) - opened
-    if opened == 0:
-        raise LoadError(path, "an ASCII STL without a single facet: no faces")
-    ended = _END_SOLID.search(data, max(0, len(data) - _TAIL_BYTES)) or _END_SOLID.search(data)
-    if opened != closed or not ended:
-        raise LoadError(path, f"the file ends inside a facet ({opened} begun, {closed} ended)",
-                        line=data.count(b"\n") + 1)
-    return opened
 
 
 def _ply_header(path: Path, data: bytes) -> tuple[dict[str, int], int, bool]:

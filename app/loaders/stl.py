@@ -1,0 +1,139 @@
+"""STL's two encodings, read here: the triangles' corners, three rows a triangle.
+
+Why not trimesh's readers: its binary one copies the file and keeps the copy alive through the
+normals it reads, three times the file in all; its ASCII one splits the whole text on the word
+'vertex' (a solid named 'vertex_paint' breaks it), stops without a word at a bad number, and takes
+seconds a million triangles. The ASCII reader below reads a line at a time, in blocks, and says
+which line is wrong.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+from marraztu.errors import LoadError
+from marraztu.loaders.files import text_lines
+from marraztu.model.geometry import FLOAT32_MAX, holds_in_float32
+
+HEADER_BYTES, TRIANGLE_BYTES = 84, 50  # binary: an 80-byte header and a count, then 50 bytes a triangle
+# A binary triangle: its normal, its three corners, and two bytes of attributes (no standard meaning).
+_TRIANGLE_LAYOUT = np.dtype([("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attributes", "<u2")])
+# Searched, not stripped: strip() and lstrip() copy the whole file to look at its first word.
+_ASCII_START = re.compile(rb"\s*solid(?![^\s])", re.IGNORECASE)
+
+
+def stl_corners(path: Path, data: bytes) -> np.ndarray:
+    """(3T, 3) float64 corners, three a triangle. An ASCII file's numbers are checked as they are read;
+    a binary file's are the caller's to check."""
+    if _is_binary(data):
+        return _binary_corners(data)
+    if not _ASCII_START.match(data):
+        raise LoadError(path, "neither a binary STL (its size does not match its triangle count) nor an "
+                              "ASCII one (it does not start with 'solid')", line=1)
+    if b"\0" in data:
+        raise LoadError(path, "binary data after 'solid': a binary STL whose size does not match its "
+                              f"triangle count ({len(data)} bytes)?", line=_line_of(data, data.find(b"\0")))
+    return _ascii_corners(path, data)
+
+
+def _binary_corners(data: bytes) -> np.ndarray:
+    triangles = np.frombuffer(data, _TRIANGLE_LAYOUT, offset=HEADER_BYTES)
+    return triangles["corners"].astype(np.float64).reshape(-1, 3)  # cast first: reshaping the strided view copies
+
+
+def _is_binary(data: bytes) -> bool:
+    """By size, not by the first word: binary STL headers often begin with 'solid' too."""
+    if len(data) < HEADER_BYTES:
+        return False
+    return len(data) == HEADER_BYTES + TRIANGLE_BYTES * int.from_bytes(data[80:84], "little")
+
+
+def _line_of(data: bytes, offset: int) -> int:
+    return data.count(b"\n", 0, offset) + 1
+
+
+# What each state of a solid takes next: the keyword and the state it leads to. A facet is
+# `facet normal n n n`, `outer loop`, three `vertex x y z`, `endloop`, `endfacet`; what follows
+# `facet` and `outer` is not read (the normals are derived from the corners).
+_OUTSIDE, _IN_SOLID, _FACET, _LOOP, _SECOND, _THIRD, _LOOP_END, _FACET_END = range(8)
+_NEXT: list[dict[str, int]] = [
+    {"solid": _IN_SOLID},  # _OUTSIDE
+    {"facet": _FACET, "endsolid": _OUTSIDE},  # _IN_SOLID
+    {"outer": _LOOP},  # _FACET
+    {"vertex": _SECOND},  # _LOOP
+    {"vertex": _THIRD},  # _SECOND
+    {"vertex": _LOOP_END},  # _THIRD
+    {"endloop": _FACET_END},  # _LOOP_END
+    {"endfacet": _IN_SOLID},  # _FACET_END
+]
+_EXPECTED = {
+    _OUTSIDE: "'solid' or the end of the file", _IN_SOLID: "'facet' or 'endsolid'", _FACET: "'outer loop'",
+    _LOOP: "'vertex'", _SECOND: "'vertex'", _THIRD: "'vertex'", _LOOP_END: "'endloop'", _FACET_END: "'endfacet'",
+}
+_CORNERS_AT_ONCE = 1 << 15  # numbers are made floats this many corners at a time, not one by one
+
+
+def _ascii_corners(path: Path, data: bytes) -> np.ndarray:
+    """One pass over the lines, a state per line: every corner's three numbers, or the first bad line."""
+    state, step, number, solid_line = _OUTSIDE, _NEXT, 0, 0
+    blocks: list[np.ndarray] = []
+    words_read: list[str] = []  # the numbers of the corners not yet made floats, and their lines
+    corner_lines: list[int] = []
+    for number, line in enumerate(text_lines(data), start=1):
+        words = line.split()
+        if not words:
+            continue
+        keyword = words[0]
+        next_state = step[state].get(keyword)
+        if next_state is None:  # in capitals, or not what comes next
+            keyword = keyword.lower()
+            next_state = step[state].get(keyword)
+            if next_state is None:
+                raise _unexpected(path, state, keyword, number)
+        if keyword == "vertex":
+            if len(words) != 4:
+                raise LoadError(path, f"a vertex line holds 3 numbers, this one {len(words) - 1}", line=number)
+            words_read += words[1:]
+            corner_lines.append(number)
+            if len(corner_lines) == _CORNERS_AT_ONCE:
+                blocks.append(_floats(path, words_read, corner_lines))
+                words_read, corner_lines = [], []
+        elif keyword == "solid":
+            solid_line = number
+        state = next_state
+    if state == _IN_SOLID:
+        raise LoadError(path, f"the solid begun on line {solid_line} is not closed by 'endsolid'", line=number)
+    if state != _OUTSIDE:
+        raise LoadError(path, "the file ends inside a facet", line=number)
+    blocks.append(_floats(path, words_read, corner_lines))
+    return np.concatenate(blocks).reshape(-1, 3)
+
+
+def _floats(path: Path, words: list[str], lines: list[int]) -> np.ndarray:
+    """Corners' numbers, three a line, as floats; or the LoadError of the first bad one."""
+    try:
+        values = np.array(words, dtype=np.float64)
+    except ValueError:
+        values = None
+    if values is None or "_" in "".join(words):  # float() reads 1_000 too
+        at = next((at for at, word in enumerate(words) if not _DECIMAL.fullmatch(word)), 0)
+        raise LoadError(path, f"'{words[at][:40]}' is not a number", line=lines[at // 3])
+    if not holds_in_float32(values):
+        held = np.abs(values) <= FLOAT32_MAX  # NaN too is not
+        raise LoadError(path, "a vertex coordinate is not a finite number the GPU can hold",
+                        line=lines[int(np.argmin(held)) // 3])
+    return values
+
+
+def _unexpected(path: Path, state: int, keyword: str, line: int) -> LoadError:
+    if keyword == "vertex" and state == _LOOP_END:
+        return LoadError(path, "a facet of more than 3 vertices: STL facets are triangles", line=line)
+    if keyword == "endloop" and state in (_LOOP, _SECOND, _THIRD):
+        return LoadError(path, f"a facet of {state - _LOOP} vertices: STL facets are triangles", line=line)
+    return LoadError(path, f"expected {_EXPECTED[state]}, found '{keyword[:40]}'", line=line)
+
+
+_DECIMAL = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
