@@ -1,8 +1,9 @@
 """The key map: one checked table from key token to command, shared by the window and `screenshot`.
 
 A token is a character as typed (`f` and `F` differ, SPEC 6) or a named key: TAB, ENTER, ESC,
-DELETE, F1, F12. A key sequence on the command line is whitespace-separated tokens; `TOKEN*N`
-repeats a press N times and `f=PATH` loads PATH (quote it as `f="a b.obj"` when it holds spaces).
+DELETE, F1, F9, F12, PAGEDOWN, PAGEUP, HOME. A key sequence on the command line is
+whitespace-separated tokens; `TOKEN*N` repeats a press N times and `f=PATH` loads PATH (quote it as
+`f="a b.obj"` when it holds spaces).
 After `f`, until ENTER or ESC, tokens are typed into the file prompt as in the window: any single
 character, SPACE and BACKSPACE.
 """

@@ -422,7 +422,7 @@ class Renderer:
     def _draw_all_edges(self, scene: Scene, items: list[tuple[DrawItem, ObjectGpu]]) -> None:
         """Every object's edges in one pass: front faces' edges over back faces' (red; skipped with
         culling on) through the depth test on the depth edges.glsl writes, so an edge between a front
-        and a back face shows the front's colour. Lines mode has no depth test otherwise."""
+        and a back face shows the front's colour. The model's own depth is never tested: hidden edges show."""
         self.edges.set("u_culling", scene.modes.culling)
         self.edges.set("u_outline", False)
         self.ctx.enable(moderngl.DEPTH_TEST)
