@@ -118,8 +118,8 @@ def test_textures_that_cannot_be_read_are_one_note(tmp_path: Path) -> None:
     uses = "".join(f"usemtl m{i}\nf 1 2 3\n" for i in range(500))
     mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + uses).encode(), str(tmp_path / "m.obj"), base_dir=tmp_path)
     texture_notes = [note for note in mesh.warnings if "could not be read" in note]
-    assert texture_notes == ["500 textures could not be read (the first, 'gone0.png': no such file); their "
-                             "materials' colours are used"]
+    assert texture_notes == ["500 textures could not be read (the first, 'gone0.png': no such file); the scene's "
+                             "texture is shown in their place"]
 
 
 def test_the_texture_is_read_beside_the_mtl_and_its_options_noted(tmp_path: Path) -> None:
@@ -132,6 +132,60 @@ def test_the_texture_is_read_beside_the_mtl_and_its_options_noted(tmp_path: Path
     assert material.texture_name == "my wood.ppm" and material.texture.shape == (64, 64, 3)
     assert any("texture option -clamp, texture option -o, texture option -s, transparency (d, Tr) ignored"
                in note for note in mesh.warnings), mesh.warnings
+
+
+@pytest.mark.parametrize("statements", ["mtllib a.mtl b.mtl\n", "mtllib a.mtl\nmtllib b.mtl\n",
+                                        "mtllib a.mtl gone.mtl b.mtl\n"])
+def test_every_library_named_is_read_and_the_first_of_a_name_wins(tmp_path: Path, statements: str) -> None:
+    (tmp_path / "a.mtl").write_text("newmtl red\nKd 1 0 0\nnewmtl shared\nKd 0 0 0\n")
+    (tmp_path / "b.mtl").write_text("newmtl blue\nKd 0 0 1\nnewmtl shared\nKd 1 1 1\n")
+    uses = "usemtl blue\nf 1 2 3\nusemtl shared\nf 1 2 3\n"
+    mesh = parse_obj((statements + TRIANGLES + uses).encode(), str(tmp_path / "m.obj"), base_dir=tmp_path)
+    assert {material.name: material.values["kd"] for material in mesh.materials} == {
+        "blue": (0.0, 0.0, 1.0), "shared": (0.0, 0.0, 0.0)}
+    assert mesh.file_material == {"kd": (1.0, 0.0, 0.0)}  # the first library's first material: the model's
+    missing = [note for note in mesh.warnings if "not found" in note]
+    assert missing == (["material library 'gone.mtl' not found next to the model; using the scene's material"]
+                       if "gone" in statements else [])
+
+
+@pytest.mark.parametrize("written", ["C:\\Users\\artist\\maps\\wood.ppm", "maps\\wood.ppm", '"wood.ppm"', "WOOD.PPM",
+                                     "/nowhere/maps/wood.ppm"])
+def test_a_texture_named_as_other_machines_write_it_is_found_beside_the_mtl(tmp_path: Path, written: str) -> None:
+    """A Windows path from the machine the model was made on, a quoted name, another case: by its last
+    part beside the MTL (or in the folder it names), in any case."""
+    (tmp_path / "maps").mkdir()
+    shutil.copy(EXAMPLES / "crate.ppm", tmp_path / ("maps" if written.startswith("maps") else ".") / "wood.ppm")
+    (tmp_path / "m.mtl").write_text(f"newmtl w\nmap_Kd {written}\n")
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + "usemtl w\nf 1 2 3\n").encode(), str(tmp_path / "m.obj"),
+                     base_dir=tmp_path)
+    assert mesh.materials[0].texture is not None and not mesh.warnings, mesh.warnings
+
+
+@pytest.mark.parametrize(("lines", "noted"), [("d 1\nTr 0.0\n", False), ("d 0.5\n", True), ("Tr 0.25\n", True),
+                                              ("d -halo 0.5\n", True), ("d\n", True)])
+def test_only_transparency_asked_for_is_said_to_be_ignored(tmp_path: Path, lines: str, noted: bool) -> None:
+    (tmp_path / "m.mtl").write_text("newmtl w\nKd 1 0 0\n" + lines)
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + "usemtl w\nf 1 2 3\n").encode(), str(tmp_path / "m.obj"),
+                     base_dir=tmp_path)
+    assert any("transparency (d, Tr) ignored" in note for note in mesh.warnings) == noted, mesh.warnings
+
+
+def test_names_looked_for_in_any_case_list_each_folder_once(tmp_path: Path, monkeypatch) -> None:
+    """A library of many missing textures in a folder of many files costs one listing, not one each."""
+    import os
+
+    from marraztu.loaders.obj import mtl as mtl_module
+
+    for at in range(300):
+        (tmp_path / f"other{at}.png").write_bytes(b"")
+    listed: list[object] = []
+    real_scandir = os.scandir
+    monkeypatch.setattr(mtl_module.os, "scandir", lambda folder: listed.append(folder) or real_scandir(folder))
+    (tmp_path / "m.mtl").write_text("".join(f"newmtl m{at}\nmap_Kd gone{at}.png\n" for at in range(300)))
+    uses = "".join(f"usemtl m{at}\nf 1 2 3\n" for at in range(300))
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + uses).encode(), str(tmp_path / "m.obj"), base_dir=tmp_path)
+    assert len(listed) == 1 and any("300 textures could not be read" in note for note in mesh.warnings)
 
 
 @pytest.mark.parametrize(("mtl", "usemtl", "said"), [

@@ -109,8 +109,8 @@ def test_a_file_without_its_last_newline_is_not_held_twice(tmp_path: Path) -> No
 @pytest.mark.parametrize("edit", ["a byte order mark", "a no-break space", "an emoji"])
 def test_a_text_edit_costs_one_copy_not_several(tmp_path: Path, edit: str) -> None:
     """The file as read and one edited copy, as for a file that lacks only its last newline: a BOM
-    is stripped in the copy that adds the newline, and UTF-8 is checked a piece at a time (a whole
-    text decoded at once takes up to four bytes a byte)."""
+    is stripped in the copy that adds the newline, and text that is not ASCII is never decoded whole
+    (which takes up to four bytes a byte)."""
     edited_text = {"a byte order mark": b"\xef\xbb\xbf" + TEXT[:-1],
                    "a no-break space": TEXT.replace(b"v ", "v\u00a0".encode(), 1),  # the replacing is the copy
                    "an emoji": "# \U0001F600\n".encode() + TEXT[:-1]}[edit]
@@ -121,25 +121,6 @@ def test_a_text_edit_costs_one_copy_not_several(tmp_path: Path, edit: str) -> No
     (mesh, plain_peak), (same, edited_peak) = (peak_traced_bytes(lambda: load_obj(path)) for path in (plain, edited))
     assert isinstance(same, Mesh) and isinstance(mesh, Mesh) and same.face_count == mesh.face_count
     assert edited_peak < plain_peak + len(TEXT) // 4, (plain_peak, edited_peak, len(TEXT))
-
-
-@pytest.mark.parametrize("piece", [1, 2, 3, 5, 64])
-def test_bad_utf8_is_found_at_its_line_whatever_the_pieces(monkeypatch, piece: int) -> None:
-    """UTF-8 is checked a piece at a time; a character cut by a piece's end is still whole."""
-    monkeypatch.setattr(obj_module, "_UTF8_PIECE", piece)
-    rng = np.random.default_rng(7)
-    text = "v 1 2 3\n# caf\u00e9 \u20ac \U0001F600\nv \u00a0 4 5 6\n".encode() * 4
-    for _ in range(200):
-        data = bytearray(text)
-        data[int(rng.integers(len(data)))] = int(rng.integers(128, 256))  # a stray byte that is not ASCII
-        try:
-            bytes(data).decode("utf-8")
-            continue
-        except UnicodeDecodeError as error:
-            expected = data.count(b"\n", 0, error.start) + 1
-        with pytest.raises(LoadError) as caught:
-            obj_module._check_utf8(bytes(data), "bad.obj")
-        assert caught.value.line == expected
 
 
 @pytest.mark.parametrize("statement", [b"g\n", b"o part\n", b"s 1\n", b"usemtl a\n", b"usemtl a\nusemtl b\n"])

@@ -325,11 +325,20 @@ def test_line_numbers_count_physical_lines_across_crlf_comments_and_continuation
     assert caught.value.line == 7
 
 
-def test_non_utf8_names_the_line() -> None:
+def test_windows_1252_comments_and_names_are_read(tmp_path: Path) -> None:
+    """Windows exporters write their comments and names in Windows-1252: a usemtl name matches its newmtl."""
+    (tmp_path / "w.mtl").write_bytes(b"# Erstellt am 01.M\xe4rz\nnewmtl Gr\xfcn\nKd 0 1 0\nnewmtl other\nKd 1 0 0\n")
+    path = tmp_path / "w.obj"
+    path.write_bytes(b"# File Created: 01.M\xe4rz.2020\nmtllib w.mtl\ng W\xfcrfel\nusemtl Gr\xfcn\n" + QUAD)
+    mesh = load_obj(path)
+    assert mesh.face_count == 1 and [material.name for material in mesh.materials] == ["Gr\u00fcn"]
+    assert mesh.materials[0].values["kd"] == (0.0, 1.0, 0.0) and not mesh.warnings
+
+
+def test_a_stray_byte_in_a_number_is_that_lines_error() -> None:
     with pytest.raises(LoadError) as caught:
-        parse(b"v 0 0 0\nv 1 0 0\n\xff\xfe\nf 1 2 3\n")
+        parse(b"v 0 0 0\nv 1 0 0\nv 0 1\xff 0\nf 1 2 3\n")
     assert caught.value.line == 3
-    assert "not UTF-8" in caught.value.message
 
 
 def test_utf8_comments_and_names_are_fine() -> None:

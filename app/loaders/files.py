@@ -11,7 +11,7 @@ import os
 import stat
 from contextlib import contextmanager
 from pathlib import Path
-from typing import BinaryIO, Iterator
+from typing import BinaryIO, Callable, Iterator
 
 from marraztu.errors import LoadError
 
@@ -39,6 +39,14 @@ def same_file_key(path: Path) -> Path:
         return path.resolve()
     except (OSError, RuntimeError, ValueError):  # a link loop, a NUL: the reading says what is wrong
         return path.absolute()
+
+
+def decoded(text: bytes) -> str:
+    """A name or a text file's words: UTF-8, or else Windows-1252, which Windows exporters write."""
+    try:
+        return text.decode("utf-8")
+    except UnicodeDecodeError:
+        return text.decode("cp1252", errors="replace")  # five of its bytes are no character
 
 
 _LINES_PIECE = 1 << 12  # a piece and the list of its lines stay a few kilobytes
@@ -97,6 +105,16 @@ def read_file(path: str | Path, limit: int = MAX_FILE_BYTES) -> bytes:
         data = _read_up_to(stream, size, limit)
     if len(data) > limit:  # it grew after stat
         raise LoadError(path, f"file too large (more than {limit >> 20} MiB)")
+    return data
+
+
+def read_model_bytes(path: str | Path, stage: Callable[[str], None] | None) -> bytes:
+    """A model file's bytes; `stage` hears "reading" and then "parsing" (the window shows them)."""
+    if stage is not None:
+        stage("reading")
+    data = read_file(path)
+    if stage is not None:
+        stage("parsing")
     return data
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
+from pathlib import Path
 
 import numpy as np
 
@@ -100,6 +101,9 @@ class Mesh:
     face_material: np.ndarray | None = None  # (F,) int32
     # A colour per position (PLY, glTF COLOR_0), drawn as a tint of the lit colour, like a texture.
     vertex_colours: np.ndarray | None = None  # (V, 3) uint8
+    # The files looked for beside the model's own (an OBJ's MTL and its textures, a glTF's buffers and
+    # pictures), read or not: the screenshot command must write over none of them.
+    read_beside: tuple[Path, ...] = ()
 
     @property
     def vertex_count(self) -> int:

@@ -14,7 +14,6 @@ file lacks are derived by marraztu.model.build, as for every other format.
 
 from __future__ import annotations
 
-import codecs
 import re
 import sys
 from collections.abc import Callable
@@ -24,9 +23,9 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import read_file
+from marraztu.loaders.files import read_model_bytes
 from marraztu.loaders.obj.lines import read_by_lines
-from marraztu.loaders.obj.mtl import read_library
+from marraztu.loaders.obj.mtl import read_libraries
 from marraztu.loaders.obj.raw import RawObj
 from marraztu.model.build import derive_mesh
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial
@@ -36,17 +35,10 @@ def load_obj(path: str | Path, stage: Callable[[str], None] | None = None) -> Me
     """Read an OBJ file into a Mesh; every problem becomes a LoadError naming the file.
 
     `stage` hears "reading" and then "parsing" (the window's loader thread shows them)."""
-    def file_bytes() -> bytes:
-        if stage is not None:
-            stage("reading")
-        data = read_file(path)
-        if stage is not None:
-            stage("parsing")
-        return data
-
     # The bytes are passed on, never kept here: they are freed once the tables are read, before
     # the normals and coordinates are derived.
-    return _guarded(str(path), lambda: _mesh(_tables(file_bytes(), str(path)), str(path), Path(path).parent))
+    source = str(path)
+    return _guarded(source, lambda: _mesh(_tables(read_model_bytes(path, stage), source), source, Path(path).parent))
 
 
 def parse_obj(data: bytes, source: str, base_dir: str | Path | None = None) -> Mesh:
@@ -77,13 +69,15 @@ def _tables(data: bytes, source: str) -> RawObj:
 def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
     notes = list(raw.notes)
     library: list[MeshMaterial] = []
-    if raw.mtllib is not None and base_dir is not None:
-        library = read_library(base_dir, raw.mtllib, notes, wanted={name for _, name in raw.material_runs})
+    tried: list[Path] = []
+    if raw.mtllib and base_dir is not None:
+        library = read_libraries(base_dir, raw.mtllib, notes, {name for _, name in raw.material_runs}, tried)
     uv = None if raw.corner_texcoord is None else (raw.texcoords, raw.corner_texcoord)
     normals = None if raw.corner_normal is None else (raw.normals, raw.corner_normal)
     first = (library[0].values or None) if library else None  # the whole model's, where no usemtl says
     mesh = derive_mesh(Path(source).stem, raw.positions, raw.corner_vertex, raw.face_start,
                        uv, normals, raw.colour, first, tuple(notes))
+    mesh = replace(mesh, read_beside=tuple(tried)) if tried else mesh
     if not raw.material_runs or not library:  # no library read: its absence is noted once already
         return mesh
     used, face_material, unknown, beyond = _face_materials(raw.material_runs, library, mesh.face_count)
@@ -175,30 +169,12 @@ def _normalized_text(data: bytes, source: str) -> bytes:
     nul = data.find(b"\0")
     if nul >= 0:
         raise LoadError(source, "binary data (a NUL byte), not an OBJ text file", line=_line_of(data, nul))
-    if not data.isascii():
-        _check_utf8(data, source)
+    if not data.isascii():  # comments and names may be UTF-8 or Windows-1252: both are read
         data = data.replace(_NO_BREAK_SPACE, b"  ")
     start = len(_BOM) if data.startswith(_BOM) else 0
     if start or not data.endswith(b"\n"):  # both edits in one copy
         data = b"".join((memoryview(data)[start:], b"" if data.endswith(b"\n") else b"\n"))
     return data
-
-
-def _check_utf8(data: bytes, source: str) -> None:
-    """UTF-8 or a LoadError at the line of the first bad byte; decoded a piece at a time, since the
-    whole text decoded at once takes up to four bytes a character."""
-    decoder = codecs.getincrementaldecoder("utf-8")()
-    view = memoryview(data)
-    for at in range(0, len(data), _UTF8_PIECE):
-        held = len(decoder.getstate()[0])  # bytes of a character begun in the piece before: decoded with this one
-        try:
-            decoder.decode(view[at:at + _UTF8_PIECE], final=at + _UTF8_PIECE >= len(data))
-        except UnicodeDecodeError as error:
-            raise LoadError(source, "binary data (not UTF-8 text), not an OBJ text file",
-                            line=_line_of(data, at - held + error.start)) from None
-
-
-_UTF8_PIECE = 1 << 16  # what one decoded piece holds at most: 64K characters
 
 
 def _line_of(data: bytes, offset: int) -> int:

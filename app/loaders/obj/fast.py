@@ -16,9 +16,17 @@ from typing import TypeVar
 
 import numpy as np
 
+from marraztu.loaders.files import decoded
 from marraztu.loaders.obj import scan
 from marraztu.loaders.obj.lines import LineReader, check_forward_indices, no_faces_error
-from marraztu.loaders.obj.raw import ColourComment, RawObj, add_material_run, material_name, statement
+from marraztu.loaders.obj.raw import (
+    MAX_LIBRARY_LINES,
+    ColourComment,
+    RawObj,
+    add_material_run,
+    material_name,
+    statement,
+)
 from marraztu.model.mesh import INDEX
 
 # Pieces of at least this many bytes: below it a thread costs more than it saves.
@@ -96,7 +104,7 @@ class _Records:
     def __init__(self, text: bytes, source: str, tables: list[np.ndarray], columns: list[np.ndarray],
                  face_start: np.ndarray) -> None:
         self.text, self.source, self.tables, self.columns, self.face_start = text, source, tables, columns, face_start
-        self.mtllib: str | None = None
+        self.mtllib: tuple[str, ...] = ()
         self.material_runs: list[tuple[int, str]] = []
         self.colour = ColourComment()
         self.statements = 0
@@ -122,8 +130,8 @@ class _Records:
     def statement(self, faces_before: int, content: bytes) -> None:
         keyword, rest = statement(content)
         self.statements += 1
-        if keyword == b"mtllib" and self.mtllib is None:
-            self.mtllib = rest.decode("utf-8", errors="replace")
+        if keyword == b"mtllib" and len(self.mtllib) < MAX_LIBRARY_LINES:
+            self.mtllib += (decoded(rest),)
         elif keyword == b"usemtl":
             add_material_run(self.material_runs, faces_before, material_name(rest))
 

@@ -16,9 +16,11 @@ from collections.abc import Callable, Iterator, Sequence
 import numpy as np
 
 from marraztu.errors import LoadError
+from marraztu.loaders.files import decoded
 from marraztu.loaders.obj.raw import (
     CORNER_GAPS,
     MAX_DIGITS,
+    MAX_LIBRARY_LINES,
     ColourComment,
     RawObj,
     add_material_run,
@@ -76,7 +78,7 @@ class LineReader:
         self.corners = [array("q") for _ in _FIELDS]  # 0-based v, vt, vn per corner; -1: none
         self.face_sizes = array("q")
         self.face_lines = array("q")
-        self.mtllib: str | None = None
+        self.mtllib: tuple[str, ...] = ()
         self.material_runs: list[tuple[int, str]] = []
         self.colour = ColourComment()
         self.statements = 0
@@ -113,8 +115,8 @@ class LineReader:
             self.defined[field] += 1
         elif keyword == b"f":
             self.face(number, rest)
-        elif keyword == b"mtllib" and self.mtllib is None:
-            self.mtllib = rest.decode("utf-8", errors="replace")
+        elif keyword == b"mtllib" and len(self.mtllib) < MAX_LIBRARY_LINES:
+            self.mtllib += (decoded(rest),)
         elif keyword == b"usemtl":
             add_material_run(self.material_runs, len(self.face_sizes), material_name(rest))
 
@@ -274,5 +276,5 @@ def _first_tokens(rest: bytes) -> bytes:
 
 
 def _quoted(token: bytes) -> str:
-    text = token.decode("utf-8", errors="replace")
+    text = decoded(token)
     return repr(text if len(text) <= _QUOTED_CHARACTERS else text[:_QUOTED_CHARACTERS - 3] + "...")

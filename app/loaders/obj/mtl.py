@@ -3,14 +3,15 @@ error: the model still loads, with the colours that could be read."""
 
 from __future__ import annotations
 
-from collections.abc import Collection
+import os
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import read_file, same_file_key, text_lines
+from marraztu.loaders.files import decoded, read_file, same_file_key, text_lines
 from marraztu.loaders.images import load_image
 from marraztu.loaders.obj.raw import MAX_MATERIAL_NAME, finite_floats
 from marraztu.model.mesh import MeshMaterial
@@ -22,33 +23,47 @@ _MOST_NAMES = 16
 _SHOWN_NAME_CHARACTERS = 80
 
 
-def read_library(base_dir: Path, name: str, notes: list[str], wanted: Collection[str]) -> list[MeshMaterial]:
-    """The materials of the MTL file next to the OBJ that the model can use, in file order: the first
+def read_libraries(base_dir: Path, lines: Sequence[str], notes: list[str], wanted: Collection[str],
+                   tried: list[Path]) -> list[MeshMaterial]:
+    """The materials of the MTL files next to the OBJ that the model can use, in file order: the first
     (the whole model's where no usemtl says) and the first of each name in `wanted` (the usemtl
-    names), each with its diffuse texture read relative to the MTL; problems become notes."""
-    shown = _shown(name)
-    mtl = _library_path(base_dir, name)
-    if mtl is None:
-        notes.append(f"material library '{shown}' not found next to the model; using the scene's material")
-        return []
+    names), each with its diffuse texture read relative to its MTL; problems become notes. `lines`
+    are the mtllib lines' names, each one file or several; `tried` hears every file opened or looked
+    for: the MTLs and their textures."""
+    materials: list[MeshMaterial] = []
+    read: set[Path] = set()
+    for line in lines:
+        for mtl in _library_paths(base_dir, line, notes):
+            if same_file_key(mtl) not in read:
+                read.add(same_file_key(mtl))
+                materials += _read_library(mtl, notes, wanted, tried, keep_first=not materials)
+    names: set[str] = set()
+    return [material for material in materials if not (material.name in names or names.add(material.name))]
+
+
+def _read_library(mtl: Path, notes: list[str], wanted: Collection[str], tried: list[Path], keep_first: bool
+                  ) -> list[MeshMaterial]:
+    tried.append(mtl)
+    shown = _shown(mtl.name)
     try:
-        text = read_file(mtl, limit=MAX_MTL_BYTES).decode("utf-8", errors="replace")
+        text = decoded(read_file(mtl, limit=MAX_MTL_BYTES))
     except LoadError as error:
         notes.append(f"material library '{shown}' could not be read ({error.message}); using the scene's material")
         return []
-    return _parse_library(text, shown, mtl.parent, notes, wanted)
+    return _parse_library(text, shown, mtl.parent, notes, wanted, tried, keep_first)
 
 
-def _library_path(base_dir: Path, name: str) -> Path | None:
-    """The first of the names that exists and is no folder: 'mtllib a b.mtl' is one file with a space, or two."""
-    for candidate in [name] + name.split(None, _MOST_NAMES)[:_MOST_NAMES]:
-        path = base_dir / candidate
-        try:
-            if path.exists() and not path.is_dir():
-                return path
-        except (OSError, ValueError):  # a name too long for the file system, or with a NUL: not there
-            continue
-    return None
+def _library_paths(base_dir: Path, name: str, notes: list[str]) -> list[Path]:
+    """The files an mtllib line names: the whole line where it is one file's name ('a b.mtl' with its
+    space), else each of its names that is a file ('mtllib a.mtl b.mtl'); one note for those missing."""
+    if _is_there(base_dir / name):
+        return [base_dir / name]
+    words = name.split(None, _MOST_NAMES)[:_MOST_NAMES]
+    found = [base_dir / word for word in words if _is_there(base_dir / word)]
+    missing = [word for word in words if not _is_there(base_dir / word)] if found else [name]
+    for word in missing[:1]:
+        notes.append(f"material library '{_shown(word)}' not found next to the model; using the scene's material")
+    return found
 
 
 def _shown(name: str) -> str:
@@ -64,8 +79,8 @@ class _Block:
     texture: str | None = None
 
 
-def _parse_library(text: str, name: str, folder: Path, notes: list[str], wanted: Collection[str]
-                   ) -> list[MeshMaterial]:
+def _parse_library(text: str, name: str, folder: Path, notes: list[str], wanted: Collection[str],
+                   tried: list[Path], keep_first: bool = True) -> list[MeshMaterial]:
     kept: dict[str, _Block] = {}  # the materials the model can use, by name, in file order
     block: _Block | None = None  # the material being read; dropped at the next newmtl unless kept
     malformed, first_malformed = 0, ""  # one note however many lines are ignored
@@ -77,7 +92,7 @@ def _parse_library(text: str, name: str, folder: Path, notes: list[str], wanted:
         key = tokens[0].lower()
         if key == "newmtl":
             block = _Block(" ".join(tokens[1:])[:MAX_MATERIAL_NAME])
-            if not kept or (block.name in wanted and block.name not in kept):  # the first of a name wins
+            if (keep_first and not kept) or (block.name in wanted and block.name not in kept):  # the first wins
                 kept[block.name] = block
         elif block is None:
             continue
@@ -86,7 +101,7 @@ def _parse_library(text: str, name: str, folder: Path, notes: list[str], wanted:
         elif key == "map_kd":
             block.texture, options = _texture_file(tokens[1:])
             ignored.update(options)
-        elif key in ("d", "tr"):
+        elif key in ("d", "tr") and _see_through(key, tokens[1:]):
             ignored.add("transparency (d, Tr)")
     if block is None:
         notes.append(f"material library '{name}' defines no material; using the scene's material")
@@ -100,6 +115,7 @@ def _parse_library(text: str, name: str, folder: Path, notes: list[str], wanted:
     textures = _TextureCache(folder)
     materials = [MeshMaterial(block.name, block.values, *textures.read(block.texture)) for block in kept.values()]
     notes.extend(textures.notes())
+    tried.extend(textures.read_already)
     return materials
 
 
@@ -140,15 +156,32 @@ class _TextureCache:
         self.folder = folder
         self.read_already: dict[Path, tuple[np.ndarray | None, str | None]] = {}
         self.failures: list[tuple[str, str]] = []  # (name, why)
+        self.listings: dict[Path, dict[str, Path]] = {}
 
     def read(self, name: str | None) -> tuple[np.ndarray | None, str | None]:
         if name is None:
             return None, None
-        path = self.folder / name.replace("\\", "/")  # exporters on Windows write backslashes
+        path = self._path(name)
         key = same_file_key(path)  # t.png and ./t.png are one file, read once
         if key not in self.read_already:
             self.read_already[key] = self._read(path, name)
         return self.read_already[key]
+
+    def _path(self, name: str) -> Path:
+        """The file a map_Kd name means. Exporters write Windows paths (back slashes, a drive:
+        C:\\Users\\...\\t.png, from the machine the model was made on), quote names, and differ in
+        case from the file: what is not found as written is looked for by its last part beside the
+        MTL, and then in any case."""
+        written = self.folder / name.strip('"').replace("\\", "/")
+        candidates = [written, self.folder / written.name]
+        found = next((path for path in candidates if _is_file(path)), None)
+        found = found or next((path for path in map(self._in_any_case, candidates) if path is not None), None)
+        return found or written  # not there: reading it says so
+
+    def _in_any_case(self, path: Path) -> Path | None:
+        if path.parent not in self.listings:  # each folder listed once, however many names are looked for
+            self.listings[path.parent] = _files_by_lower_name(path.parent)
+        return self.listings[path.parent].get(path.name.lower())
 
     def _read(self, path: Path, name: str) -> tuple[np.ndarray | None, str | None]:
         try:
@@ -162,9 +195,44 @@ class _TextureCache:
             return []
         (name, why), more = self.failures[0], len(self.failures) - 1
         if not more:
-            return [f"texture '{_shown(name)}' could not be read ({why}); its material's colours are used"]
-        return [f"{more + 1} textures could not be read (the first, '{_shown(name)}': {why}); their materials' "
-                "colours are used"]
+            return [f"texture '{_shown(name)}' could not be read ({why}); the scene's texture is shown in its place"]
+        return [f"{more + 1} textures could not be read (the first, '{_shown(name)}': {why}); the scene's texture "
+                "is shown in their place"]
+
+
+def _see_through(key: str, tokens: list[str]) -> bool:
+    """Whether a d or Tr line asks for transparency (d below 1, Tr above 0): an opaque one changes nothing."""
+    values = finite_floats(tokens[-1:])  # "d -halo 0.5" puts its option first
+    if not values:
+        return True  # unreadable: said to be ignored
+    return values[0] < 1.0 if key == "d" else values[0] > 0.0
+
+
+def _is_there(path: Path) -> bool:
+    """Something other than a folder: reading a device or a pipe then says what it is."""
+    try:
+        return path.exists() and not path.is_dir()
+    except (OSError, ValueError):  # a name too long for the file system, or with a NUL: not there
+        return False
+
+
+def _is_file(path: Path) -> bool:
+    try:
+        return path.is_file()
+    except (OSError, ValueError):  # a name too long for the file system, or with a NUL
+        return False
+
+
+def _files_by_lower_name(folder: Path) -> dict[str, Path]:
+    files: dict[str, Path] = {}
+    try:
+        with os.scandir(folder) as entries:
+            for entry in entries:
+                if entry.is_file():
+                    files.setdefault(entry.name.lower(), Path(entry.path))
+    except (OSError, ValueError):  # no such folder, or not one to list: nothing in it
+        pass
+    return files
 
 
 def _material_value(material: dict[str, object], key: str, tokens: list[str]) -> bool:

@@ -8,6 +8,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from marraztu.loaders.files import decoded
+
 # Corner formats by which of v/vt/vn they hold: the slashes between consecutive numbers.
 CORNER_GAPS = {(True,): (), (True, True): (1,), (True, False, True): (2,), (True, True, True): (1, 1)}
 # No file holds 10**15 of anything, and up to 15 digits an index or mantissa is an exact double.
@@ -25,7 +27,7 @@ class RawObj:
     corner_texcoord: np.ndarray | None  # (C,) INDEX, -1 where a corner has no vt; None: no corner has
     corner_normal: np.ndarray | None  # (C,) INDEX, likewise for vn
     face_start: np.ndarray  # (F + 1,) INDEX
-    mtllib: str | None
+    mtllib: tuple[str, ...]  # each mtllib line's names, at most MAX_LIBRARY_LINES of them
     colour: tuple[float, float, float] | None  # the seed reader's "# colour r g b", in 0..1
     notes: list[str]
     # (first face, material name) of every `usemtl`, in file order: the faces up to the next one use it.
@@ -97,9 +99,10 @@ def add_material_run(runs: list[tuple[int, str]], faces_before: int, name: str) 
         runs.append((faces_before, name))
 
 
+MAX_LIBRARY_LINES = 16  # mtllib lines read: a file of a million must not cost a million lookups
 MAX_MATERIAL_NAME = 200  # characters of a usemtl name kept: enough for any real one, bounded for a hostile one
 
 
 def material_name(rest: bytes) -> str:
     """The name a usemtl line gives (the whole rest of the line: names may hold spaces)."""
-    return rest.decode("utf-8", errors="replace")[:MAX_MATERIAL_NAME]
+    return decoded(rest)[:MAX_MATERIAL_NAME]
