@@ -15,7 +15,13 @@ from PIL import Image
 from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import StartOptions, Viewer, starting_scene
 from marraztu.errors import ViewerError
-from marraztu.frontends.screenshot import OffscreenFrontend, check_output, render_pixels, write_atomically
+from marraztu.frontends.screenshot import (
+    OffscreenFrontend,
+    check_files_read,
+    check_output,
+    render_pixels,
+    write_atomically,
+)
 from marraztu.render.context import create_offscreen_context
 from marraztu.render.renderer import Renderer
 
@@ -57,12 +63,16 @@ def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, f
         renderer = Renderer(ctx)
         viewer = Viewer(scene, OffscreenFrontend(), strict=True)
         viewer.start(options, renderer.max_texture_side)
+        checked: set[Path] = set()
+        check_files_read(out, viewer.scene, checked, RECORDING_FORMATS, "an animation")
 
         def frames() -> Iterator[np.ndarray]:
             for press in presses:
                 if viewer.frontend.quitting:
                     return
                 viewer.press(press)
+                # A model loaded by a key brings its MTL and textures: refused before `out` is replaced.
+                check_files_read(out, viewer.scene, checked, RECORDING_FORMATS, "an animation")
                 yield render_pixels(ctx, renderer, viewer, size, overlay)
 
         return write_animation(frames(), out, fps)

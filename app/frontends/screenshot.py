@@ -18,6 +18,7 @@ from PIL import Image
 from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import StartOptions, Viewer, starting_scene
 from marraztu.errors import ViewerError, escaped
+from marraztu.model.scene import Scene
 from marraztu.render.context import create_offscreen_context, offscreen_framebuffer, read_pixels
 from marraztu.render.renderer import Renderer
 
@@ -56,10 +57,13 @@ def take_screenshot(options: StartOptions, out: Path, size: tuple[int, int], key
         renderer = Renderer(ctx)
         viewer = Viewer(scene, OffscreenFrontend(), strict=True)
         viewer.start(options, renderer.max_texture_side)
+        checked: set[Path] = set()
+        check_files_read(out, viewer.scene, checked)
         for press in presses:
             if viewer.frontend.quitting:
                 break
             viewer.press(press)
+            check_files_read(out, viewer.scene, checked)  # a model loaded by a key brings its MTL and textures
         write_picture(render_pixels(ctx, renderer, viewer, size, overlay), out)
     finally:
         ctx.release()
@@ -101,6 +105,22 @@ def check_output(out: Path, inputs: Iterable[str | Path | None] = (),
     for given in inputs:
         if given is not None and out.exists() and Path(given).exists() and os.path.samefile(out, given):
             raise ViewerError(f"{out}: is an input of this {what.split()[-1]} ({given}); write it elsewhere")
+
+
+def files_read(scene: Scene) -> dict[Path, None]:
+    """Every file the scene's elements were read from, in order: each model and the files read beside it
+    (an OBJ's MTL and its textures, a glTF's buffers and pictures)."""
+    return {path: None for element in (*scene.objects, *scene.cameras)
+            for path in (element.source, *element.mesh.read_beside) if path is not None}
+
+
+def check_files_read(out: Path, scene: Scene, checked: set[Path], formats: Mapping[str, str] = IMAGE_FORMATS,
+                     what: str = "a picture") -> None:
+    """Refuses `out` when it is a file the scene was read from; `checked` holds the files found to be
+    others already, so a long replay looks at each once."""
+    new = [path for path in files_read(scene) if path not in checked]
+    check_output(out, new, formats, what)
+    checked.update(new)
 
 
 def write_picture(pixels: np.ndarray, out: Path) -> None:

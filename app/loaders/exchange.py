@@ -1,11 +1,15 @@
-"""PLY, OFF and glTF/GLB through trimesh, and STL's corners (read in stl.py) made a mesh, checked the
-way the OBJ reader checks its own.
+"""PLY and glTF/GLB through trimesh, and STL's corners (read in stl.py) made a mesh, checked the way
+the OBJ reader checks its own.
 
 trimesh reads these formats well but forgives too much for a viewer that must say what is wrong: it
 reads an ASCII PLY cut short as fewer faces, and takes NaN coordinates and face indices past the
 vertex table. So the header's counts, the tables' values and the indices are checked here, and every
 trimesh exception becomes one LoadError naming the file (and the line, for text formats, where it
 can be known). trimesh is imported only when such a file is opened.
+
+What a file names beside it (a glTF's buffers and pictures, a PLY's TextureFile) is read by marraztu
+for trimesh, in the file's folder only; a picture that cannot be read is a note, as an MTL's is, and
+trimesh's log, which would print its tracebacks on the person's terminal, is kept quiet.
 """
 
 from __future__ import annotations
@@ -13,20 +17,22 @@ from __future__ import annotations
 import functools
 import gc
 import io
-import itertools
+import json
+import logging
 import re
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Collection, Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
 from types import SimpleNamespace
 from typing import Any, TypeVar
+from urllib.parse import unquote
 
 import numpy as np
 from PIL import Image
 
-from marraztu.errors import LoadError
-from marraztu.loaders.files import MAX_FILE_BYTES, read_file, size_or_zero, text_lines
-from marraztu.loaders.images import rgb_array
+from marraztu.errors import LoadError, escaped
+from marraztu.loaders.files import MAX_FILE_BYTES, read_file, read_model_bytes, same_file_key, size_or_zero
+from marraztu.loaders.images import image_format, rgb_array
 from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES, stl_corners
 from marraztu.model.build import build_mesh, colour_bytes
 from marraztu.model.geometry import holds_in_float32, merged_rows
@@ -79,57 +85,168 @@ def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
     counts, header_lines, ascii_body = _ply_header(path, data)
     if ascii_body:
         _check_text_rows(path, data, header_lines, counts["vertex"] + counts["face"], "PLY")
-    scene = _trimesh_load(path, data, "ply")
+    beside = _FilesBeside(path.parent, is_picture=lambda name: True)  # a PLY names its TextureFile only
+    scene = _trimesh_load(path, data, "ply", beside)
     text = data if ascii_body else None
     del data  # kept for a text body only, to name the line of a bad number
-    held = sum(len(geometry.vertices) for geometry in scene.geometry.values())
+    held = sum(_ply_vertices_read(geometry) for geometry in scene.geometry.values())
     if held != counts["vertex"]:
         raise LoadError(path, f"the header promises {counts['vertex']} vertices, the file holds {held}")
-    return _finish(path, scene, data=text)
-
-
-@_frees_what_trimesh_held
-def load_off(path: Path, stage: Stage | None = None) -> Mesh:
-    data = _read(path, stage)
-    vertices, faces, counts_line = _off_counts(path, data)
-    _check_text_rows(path, data, counts_line, vertices + faces, "OFF")
-    return _finish(path, _trimesh_load(path, data, "off"), data=data)
+    return _finish(path, scene, data=text, beside=beside)
 
 
 @_frees_what_trimesh_held
 def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     """glTF (JSON beside its buffers) or GLB: every mesh with its node's transform, as one model."""
-    scene = _trimesh_load(path, _read(path, stage), path.suffix.lower().lstrip("."))
-    return _finish(path, scene, data=None)
+    data, file_type = _read(path, stage), path.suffix.lower().lstrip(".")
+    pictures = _gltf_pictures(path, data) if file_type == "gltf" else frozenset()  # a GLB's JSON is trimesh's to read
+    beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True)
+    return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside)
 
 
 # --- reading and checking ------------------------------------------------------------------------
 def _read(path: Path, stage: Stage | None) -> bytes:
-    if stage is not None:
-        stage("reading")
-    data = read_file(path)
-    if stage is not None:
-        stage("parsing")
+    data = read_model_bytes(path, stage)
     if not _ANYTHING.search(data):
         raise LoadError(path, "empty file: no faces")
     return data
 
 
-def _trimesh_load(path: Path, data: bytes, file_type: str) -> Any:
+def _trimesh_load(path: Path, data: bytes, file_type: str, beside: _FilesBeside | None = None) -> Any:
     """The file as a trimesh.Scene, each mesh as trimesh read it: trimesh reads every file as a scene,
-    and joining one into a single mesh (force="mesh") copies and hashes every table."""
-    import trimesh  # here, not at the top: only these formats need it, and it costs start-up time
-
-    resolver = trimesh.resolvers.FilePathResolver(str(path.parent)) if file_type == "gltf" else None
+    and joining one into a single mesh (force="mesh") copies and hashes every table. `beside` reads
+    the files it names."""
+    trimesh = _quiet_trimesh()
     try:
         return trimesh.load(io.BytesIO(data), file_type=file_type, process=False,
-                            force="scene", resolver=resolver)
+                            force="scene", resolver=beside)
     except MemoryError:
         raise LoadError(path, "not enough memory to load this file") from None
+    except LoadError as error:  # from `beside`: a file it names that trimesh cannot do without (a buffer)
+        raise LoadError(path, f"'{error.path}', which it names, could not be read ({error.message})") from None
     except Exception as error:  # trimesh raises ValueError, KeyError, IndexError, struct.error, ... for bad files
         words = str(error).strip().splitlines()
         detail = f"{type(error).__name__}: {words[0][:160]}" if words else type(error).__name__
         raise LoadError(path, f"not a readable {file_type.upper()} file ({detail})") from None
+
+
+@functools.cache
+def _quiet_trimesh() -> Any:
+    """trimesh, imported here, not at the top (only these formats need it, and it costs start-up time),
+    its log kept off the terminal: with no handler configured, Python's last resort prints trimesh's
+    warnings, tracebacks included, for what it drops (a picture it cannot read), which notes tell."""
+    import trimesh
+
+    log = logging.getLogger("trimesh")
+    log.addHandler(logging.NullHandler())
+    log.propagate = False
+    return trimesh
+
+
+class _FilesBeside:
+    """The files a model names beside it (a glTF's buffers and pictures, a PLY's TextureFile), read for
+    trimesh as its own resolver reads them: the name, then its last part, in the model's folder and
+    never outside it. A glTF names them by URI, percent-encoded ('my%20buf.bin' is 'my buf.bin'). Read
+    by read_file (no device, pipe or huge file); a picture only when its first bytes are PNG, JPEG or
+    PPM, as every texture. trimesh drops a picture it cannot have; `failures` keeps why, for a note."""
+
+    def __init__(self, folder: Path, is_picture: Callable[[str], bool], uri: bool = False) -> None:
+        self.folder = folder
+        self.is_picture = is_picture
+        self.uri = uri
+        self.tried: list[Path] = []  # every path looked at, read or not: no output may replace one
+        self.failures: dict[str, str] = {}  # the name shown -> why it was not read
+
+    def get(self, name: str) -> bytes:
+        shown = _shown((unquote(name) if self.uri else name).strip())
+        try:
+            data = read_file(self._path(name, shown))
+            if self.is_picture(name) and image_format(data[:8]) is None:
+                raise LoadError(shown, f"not a PNG, JPEG or PPM picture (it starts with {data[:8]!r})")
+        except LoadError as error:
+            self.failures.setdefault(shown, error.message)
+            raise LoadError(shown, error.message) from None  # named as the file names it
+        return data
+
+    __getitem__ = get  # trimesh's glTF reader asks resolver[name]
+
+    def _path(self, name: str, shown: str) -> Path:
+        # The name decoded; then as written, for a writer that left a '%' of the file's name unencoded.
+        written = dict.fromkeys([unquote(name), name] if self.uri else [name])
+        candidates = [self.folder / candidate for text in written for candidate in _looked_for(text)]
+        self.tried.extend(candidates)
+        folder = same_file_key(self.folder)
+        inside = [path for path in candidates if same_file_key(path).is_relative_to(folder)]  # links followed
+        found = next((path for path in inside if _exists(path)), None)
+        if found is None and candidates[0] not in inside:
+            raise LoadError(shown, "it lies outside the model's folder")
+        return found or candidates[0]  # not there: reading it says so
+
+    def notes(self) -> list[str]:
+        """One note of the pictures not read, as for an MTL's textures."""
+        if not self.failures:
+            return []
+        (name, why), more = next(iter(self.failures.items())), len(self.failures) - 1
+        if not more:
+            return [escaped(f"texture '{name}' could not be read ({why}); the scene's texture is shown in its place")]
+        return [escaped(f"{more + 1} textures could not be read (the first, '{name}': {why}); the scene's texture "
+                        "is shown in their place")]
+
+
+_SHOWN_NAME_CHARACTERS = 80  # as an MTL's names: a long URI is cut in a note
+
+
+def _shown(name: str) -> str:
+    return name if len(name) <= _SHOWN_NAME_CHARACTERS else name[:_SHOWN_NAME_CHARACTERS - 3] + "..."
+
+
+def _looked_for(name: str) -> list[str]:
+    """Where trimesh's resolver looks for a name: as written (back slashes, from Windows exporters, as
+    slashes; from the folder, a leading slash too), then its last part."""
+    written = name.strip().replace("\\", "/")
+    return [written.lstrip("/"), written.rsplit("/", 1)[-1]]
+
+
+def _exists(path: Path) -> bool:
+    try:
+        return path.exists()
+    except (OSError, ValueError):  # a name too long for the file system, or with a NUL
+        return False
+
+
+def _gltf_pictures(path: Path, data: bytes) -> frozenset[str]:
+    """The URIs of a .gltf's pictures (not its buffers', which may be named anything), its JSON checked
+    first: trimesh, given text that is not JSON, looks for a file named model.gltf and says that is missing."""
+    try:
+        document = json.loads(data)  # from bytes: UTF-8, -16 or -32, as the glTF's JSON may be
+    except json.JSONDecodeError as error:
+        raise LoadError(path, f"not valid JSON: {error.msg} (column {error.colno})", line=error.lineno) from None
+    except UnicodeDecodeError:
+        raise LoadError(path, "not a glTF file: its JSON is not UTF-8 text") from None
+    except RecursionError:
+        raise LoadError(path, "not a glTF file: its JSON nests too deeply to read") from None
+    if not isinstance(document, dict):
+        raise LoadError(path, "not a glTF file: its JSON is not an object of glTF's keys", line=1)
+    return frozenset(_uris(document.get("images"))) - frozenset(_uris(document.get("buffers")))
+
+
+def _uris(items: object) -> Iterator[str]:
+    """The file URIs a glTF list of images or buffers gives (a data: URI holds its bytes itself)."""
+    for item in items if isinstance(items, list) else ():
+        uri = item.get("uri") if isinstance(item, dict) else None
+        if isinstance(uri, str) and not uri.startswith("data:"):
+            yield uri
+
+
+def _ply_vertices_read(mesh: Any) -> int:
+    """The vertices trimesh read from a PLY's vertex table: before it splits those whose faces give them
+    several texture coordinates (MeshLab's texcoord lists), which would count as more."""
+    table = getattr(mesh, "metadata", {}).get("_ply_raw", {}).get("vertex", {}).get("data")
+    if isinstance(table, np.ndarray):
+        return len(table)
+    if isinstance(table, dict) and table:
+        return len(next(iter(table.values())))
+    return len(mesh.vertices)
 
 
 def _ply_header(path: Path, data: bytes) -> tuple[dict[str, int], int, bool]:
@@ -148,29 +265,6 @@ def _ply_header(path: Path, data: bytes) -> tuple[dict[str, int], int, bool]:
     if counts["face"] == 0:
         raise LoadError(path, "the header declares no faces (a point cloud?): nothing to draw")
     return counts, len(header) + 1, any(line.split()[:2] == ["format", "ascii"] for line in header)
-
-
-def _off_counts(path: Path, data: bytes) -> tuple[int, int, int]:
-    """Vertex and face counts of an OFF header, and the line they stand on."""
-    rows = list(itertools.islice(_rows_with_words(data), 2))  # the header's two rows at most, not the file's
-    if not rows or not rows[0][1][0].upper().endswith("OFF"):
-        raise LoadError(path, "not an OFF file (it does not start with 'OFF')", line=1)
-    number, words = rows[0]
-    words = words[1:] or (rows[1][1] if len(rows) > 1 else [])
-    number = number if len(rows[0][1]) > 1 else (rows[1][0] if len(rows) > 1 else number)
-    if len(words) < 2 or not (words[0].isdigit() and words[1].isdigit()):
-        raise LoadError(path, "expected the vertex, face and edge counts", line=number)
-    if int(words[1]) == 0:
-        raise LoadError(path, "the header declares no faces: nothing to draw", line=number)
-    return int(words[0]), int(words[1]), number
-
-
-def _rows_with_words(data: bytes) -> Iterator[tuple[int, list[str]]]:
-    """(line number, words before any #) of each line that has some, read a piece at a time."""
-    for number, line in enumerate(text_lines(data), start=1):
-        words = line.split("#", 1)[0].split()
-        if words:
-            yield number, words
 
 
 # A line holding something before any comment: its first character that is neither blank nor #.
@@ -196,9 +290,18 @@ def _line_of_first_non_finite(data: bytes) -> int | None:
     return None if found is None else data.count(b"\n", 0, found.start()) + 1
 
 
-def _finish(path: Path, loaded: Any, data: bytes | None) -> Mesh:
-    """A file's Mesh; `data`, for a text format, lets a bad number be found by line."""
-    return _mesh_of(path, path.stem, loaded, data)
+def _finish(path: Path, loaded: Any, data: bytes | None, beside: _FilesBeside | None = None) -> Mesh:
+    """A file's Mesh; `data`, for a text format, lets a bad number be found by line; `beside` read what
+    the file names beside it, and says what it could not read."""
+    mesh = _mesh_of(path, path.stem, loaded, data, picture_formats=_PICTURE_FORMATS)
+    if beside is None or not (beside.tried or beside.failures):
+        return mesh
+    return replace(mesh, warnings=(*beside.notes(), *mesh.warnings), read_beside=tuple(dict.fromkeys(beside.tried)))
+
+
+# The pictures a file's material may show: those every texture may be (a glTF may embed any picture
+# Pillow reads, and Pillow hands some, PostScript, to other programs). MPO: a camera's JPEG, as Pillow names it.
+_PICTURE_FORMATS = frozenset({"PNG", "JPEG", "MPO", "PPM"})
 
 
 def mesh_of_trimesh(name: str, loaded: Any) -> Mesh:
@@ -225,11 +328,13 @@ class _Geometry:
 Part = tuple[_Geometry, np.ndarray | None]
 
 
-def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own_copy: bool = False) -> Mesh:
+def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own_copy: bool = False,
+             picture_formats: Collection[str] | None = None) -> Mesh:
     """One Mesh of every placed mesh, each keeping its uvs, vertex colours and material (base colour
     and texture), as an OBJ's groups keep theirs. Placed here, not by trimesh's to_geometry(), which
     packs every mesh's picture into one (recoloured) atlas and keeps one material. `own_copy`: the
-    caller keeps `loaded` (the programming interface), so a mesh left where it is is copied too."""
+    caller keeps `loaded` (the programming interface), so a mesh left where it is is copied too.
+    `picture_formats`: the formats of picture Pillow opened that a material may show (None: any)."""
     parts = _placed_parts(source, loaded)
     sizes = [len(geometry.positions) for geometry, _ in parts]
     with np.errstate(all="ignore"):  # a transform of NaN or huge numbers: refused by _check_tables
@@ -242,7 +347,7 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own
     _check_tables(source, positions, faces, data)
     uvs = _joined([geometry.uvs for geometry, _ in parts], sizes, np.nan)  # NaN: derived
     colours = _joined([geometry.colours for geometry, _ in parts], sizes, 255)  # white: untinted
-    materials, part_material, notes = _part_materials(name, parts)
+    materials, part_material, notes = _part_materials(name, parts, picture_formats)
     # One mesh's base colour is the model's; of several, each keeps its own, and one without takes the
     # viewer's rather than another mesh's.
     own = _material_of(parts[0][0].mesh) if len(parts) == 1 else None
@@ -325,10 +430,11 @@ def _joined(tables: list[np.ndarray | None], sizes: list[int], fill: float) -> n
                            for table, size in zip(tables, sizes)])
 
 
-def _part_materials(name: str, parts: list[Part]) -> tuple[tuple[MeshMaterial, ...], list[int], list[str]]:
+def _part_materials(name: str, parts: list[Part], picture_formats: Collection[str] | None = None
+                    ) -> tuple[tuple[MeshMaterial, ...], list[int], list[str]]:
     """The materials of the parts, each once, and per part its index among them (-1: no base colour
-    or texture of its own, or past MAX_MATERIALS). None at all for one untextured part: its base
-    colour is the model's."""
+    or texture of its own, or past MAX_MATERIALS), and the notes. None at all for one untextured part:
+    its base colour is the model's."""
     by_geometry: dict[int, int] = {}  # each mesh's material is found once, however often it is placed
     # Each picture read and hashed once, however many materials share it, as one array (the renderer
     # uploads it once), with its key: the shape and a hash of the RGB bytes drawn.
@@ -336,6 +442,7 @@ def _part_materials(name: str, parts: list[Part]) -> tuple[tuple[MeshMaterial, .
     by_content: dict[tuple[object, ...], int] = {}
     materials: list[MeshMaterial] = []
     beyond = 0
+    undrawn: list[str] = []  # why each picture that cannot be drawn is not
     for geometry, _ in parts:
         if id(geometry) in by_geometry:
             continue
@@ -344,7 +451,7 @@ def _part_materials(name: str, parts: list[Part]) -> tuple[tuple[MeshMaterial, .
         # A picture counts only where uvs address it; equal materials are one, copies included.
         picture = _picture(material) if geometry.uvs is not None else None
         if id(picture) not in textures:
-            texture = None if picture is None else _texture(picture)
+            texture = None if picture is None else _drawn_picture(picture, picture_formats, undrawn)
             textures[id(picture)] = texture, None if texture is None else (texture.shape, hash(texture.tobytes()))
         texture, texture_key = textures[id(picture)]
         key = (_material_name(material), values and tuple(values.items()), texture_key)
@@ -359,13 +466,37 @@ def _part_materials(name: str, parts: list[Part]) -> tuple[tuple[MeshMaterial, .
                                               None if texture is None else "base colour texture"))
         by_geometry[id(geometry)] = by_content[key]
     part_material = [by_geometry[id(geometry)] for geometry, _ in parts]
+    notes = _undrawn_notes(undrawn)
     if len(parts) == 1 and materials and materials[0].texture is None:
-        return (), part_material, []
+        return (), part_material, notes
     materials = [replace(material, name=material.name or (name if len(materials) == 1 else f"{name} {number}"))
                  for number, material in enumerate(materials, start=1)]
-    notes = [f"{MAX_MATERIALS + beyond} materials used; the meshes of all but the first {MAX_MATERIALS} take the "
-             "viewer's material"] if beyond else []
+    if beyond:
+        notes.append(f"{MAX_MATERIALS + beyond} materials used; the meshes of all but the first {MAX_MATERIALS} "
+                     "take the viewer's material")
     return tuple(materials), part_material, notes
+
+
+def _drawn_picture(picture: Any, formats: Collection[str] | None, undrawn: list[str]) -> np.ndarray | None:
+    """The picture's RGB bytes; None, and why in `undrawn`, for one of a format textures may not be or
+    one Pillow cannot decode (a cut PNG: Pillow opens it, reading its first bytes only)."""
+    found = getattr(picture, "format", None)  # Pillow's name for what it opened; None for a picture made in code
+    if formats is not None and found is not None and found not in formats:
+        undrawn.append(f"a {found} picture, not a PNG, JPEG or PPM one")
+        return None
+    texture = _texture(picture)
+    if texture is None:
+        undrawn.append("Pillow cannot decode it")
+    return texture
+
+
+def _undrawn_notes(undrawn: list[str]) -> list[str]:
+    if not undrawn:
+        return []
+    if len(undrawn) == 1:
+        return [f"a material's picture is not drawn ({undrawn[0]}); the scene's texture is shown in its place"]
+    return [f"{len(undrawn)} materials' pictures are not drawn (the first: {undrawn[0]}); the scene's texture is "
+            "shown in their place"]
 
 
 _AUTOMATIC_NAME = re.compile(r"(?:material_?\d*)?")

@@ -16,7 +16,7 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import text_lines
-from marraztu.model.geometry import FLOAT32_MAX, holds_in_float32
+from marraztu.loaders.words import checked_coordinates
 
 HEADER_BYTES, TRIANGLE_BYTES = 84, 50  # binary: an 80-byte header and a count, then 50 bytes a triangle
 # A binary triangle: its normal, its three corners, and two bytes of attributes (no standard meaning).
@@ -99,7 +99,7 @@ def _ascii_corners(path: Path, data: bytes) -> np.ndarray:
             words_read += words[1:]
             corner_lines.append(number)
             if len(corner_lines) == _CORNERS_AT_ONCE:
-                blocks.append(_floats(path, words_read, corner_lines))
+                blocks.append(checked_coordinates(path, words_read, lambda at: corner_lines[at // 3]))
                 words_read, corner_lines = [], []
         elif keyword == "solid":
             solid_line = number
@@ -108,24 +108,8 @@ def _ascii_corners(path: Path, data: bytes) -> np.ndarray:
         raise LoadError(path, f"the solid begun on line {solid_line} is not closed by 'endsolid'", line=number)
     if state != _OUTSIDE:
         raise LoadError(path, "the file ends inside a facet", line=number)
-    blocks.append(_floats(path, words_read, corner_lines))
+    blocks.append(checked_coordinates(path, words_read, lambda at: corner_lines[at // 3]))
     return np.concatenate(blocks).reshape(-1, 3)
-
-
-def _floats(path: Path, words: list[str], lines: list[int]) -> np.ndarray:
-    """Corners' numbers, three a line, as floats; or the LoadError of the first bad one."""
-    try:
-        values = np.array(words, dtype=np.float64)
-    except ValueError:
-        values = None
-    if values is None or "_" in "".join(words):  # float() reads 1_000 too
-        at = next((at for at, word in enumerate(words) if not _DECIMAL.fullmatch(word)), 0)
-        raise LoadError(path, f"'{words[at][:40]}' is not a number", line=lines[at // 3])
-    if not holds_in_float32(values):
-        held = np.abs(values) <= FLOAT32_MAX  # NaN too is not
-        raise LoadError(path, "a vertex coordinate is not a finite number the GPU can hold",
-                        line=lines[int(np.argmin(held)) // 3])
-    return values
 
 
 def _unexpected(path: Path, state: int, keyword: str, line: int) -> LoadError:
@@ -134,6 +118,3 @@ def _unexpected(path: Path, state: int, keyword: str, line: int) -> LoadError:
     if keyword == "endloop" and state in (_LOOP, _SECOND, _THIRD):
         return LoadError(path, f"a facet of {state - _LOOP} vertices: STL facets are triangles", line=line)
     return LoadError(path, f"expected {_EXPECTED[state]}, found '{keyword[:40]}'", line=line)
-
-
-_DECIMAL = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")

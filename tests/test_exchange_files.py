@@ -1,0 +1,255 @@
+"""The files a glTF or PLY names beside it, read for trimesh by marraztu: a glTF's percent-encoded URIs,
+a MeshLab PLY's TextureFile, a picture that cannot be read (a note, as an MTL's), a .gltf that is not
+JSON (one line with its line number), and trimesh's log kept off the terminal."""
+
+from __future__ import annotations
+
+import base64
+import io
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+from PIL import Image
+
+from marraztu.control.viewer import StartOptions
+from marraztu.errors import LoadError
+from marraztu.frontends.screenshot import take_screenshot
+from marraztu.loaders.registry import load_model
+
+SIZE = (120, 120)
+SQUARE = np.array([[-60, -60, 0], [60, -60, 0], [60, 60, 0], [-60, 60, 0]], dtype=np.float64)
+FACES = np.array([[0, 1, 2], [0, 2, 3]])
+UVS = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=np.float64)
+RED, BLUE = (250, 0, 0), (0, 0, 250)
+
+
+def top_red_bottom_blue() -> Image.Image:
+    """8x8, the top half red, the bottom half blue: a picture drawn upside down shows it."""
+    pixels = np.zeros((8, 8, 3), np.uint8)
+    pixels[:4], pixels[4:] = RED, BLUE
+    return Image.fromarray(pixels)
+
+
+def png_bytes(image: Image.Image, format: str = "PNG") -> bytes:
+    out = io.BytesIO()
+    image.save(out, format=format)
+    return out.getvalue()
+
+
+def picture(path: Path, out: Path) -> np.ndarray:
+    shot = take_screenshot(StartOptions(empty=True, models=(path,)), out, SIZE, keys="0")
+    return np.asarray(Image.open(shot).convert("RGB")).astype(int)
+
+
+# --- glTF --------------------------------------------------------------------------------------------
+def write_gltf(folder: Path, buffer_file: str = "square.bin", buffer_uri: str | None = None,
+               image_uri: str | None = "square.png", image_file: str | None = "square.png",
+               text: str | None = None) -> Path:
+    """square.gltf, as trimesh exports a textured square, its buffers joined into `buffer_file` (named
+    `buffer_uri` in the JSON) and its picture moved out to `image_file` (named `image_uri`)."""
+    mesh = trimesh.Trimesh(vertices=SQUARE, faces=FACES, process=False)
+    mesh.visual = trimesh.visual.TextureVisuals(uv=UVS, image=top_red_bottom_blue())
+    files = trimesh.Scene(mesh).export(file_type="gltf")
+    document = json.loads(files["model.gltf"])
+    joined, starts = b"", []
+    for buffer in document["buffers"]:  # one buffer, as Blender writes it
+        starts.append(len(joined))
+        joined += files[buffer["uri"]] + b"\0" * (-len(files[buffer["uri"]]) % 4)
+    for view in document["bufferViews"]:
+        view["byteOffset"] = starts[view["buffer"]] + view.get("byteOffset", 0)
+        view["buffer"] = 0
+    document["buffers"] = [{"uri": buffer_uri or buffer_file, "byteLength": len(joined)}]
+    (folder / buffer_file).write_bytes(joined)
+    if image_uri is not None:
+        document["images"] = [{"uri": image_uri}]
+    if image_file is not None:
+        (folder / image_file).write_bytes(png_bytes(top_red_bottom_blue()))
+    (folder / "square.gltf").write_text(json.dumps(document) if text is None else text)
+    return folder / "square.gltf"
+
+
+def test_a_gltf_draws_its_picture_named_by_a_plain_uri(tmp_path: Path) -> None:
+    loaded = load_model(write_gltf(tmp_path))
+    assert loaded.warnings == () and loaded.materials[0].texture.shape == (8, 8, 3)
+    assert {tmp_path / "square.bin", tmp_path / "square.png"} <= set(loaded.read_beside)
+
+
+@pytest.mark.parametrize(("buffer_uri", "image_uri"), [
+    ("my%20buf.bin", "my%20tex.png"),  # as the glTF specification and Blender write a space
+    ("my buf.bin", "my tex.png"),  # as some writers do, though a URI may hold no space
+    ("my%20buf.bin", "./my%20tex.png"),
+])
+def test_a_gltfs_percent_encoded_uris_name_its_files(tmp_path: Path, buffer_uri: str, image_uri: str) -> None:
+    path = write_gltf(tmp_path, buffer_file="my buf.bin", buffer_uri=buffer_uri, image_uri=image_uri,
+                      image_file="my tex.png")
+    loaded = load_model(path)
+    assert loaded.face_count == 2 and loaded.warnings == ()
+    texture = loaded.materials[0].texture
+    assert texture[0, 0].tolist() == list(RED) and texture[-1, 0].tolist() == list(BLUE)
+    assert tmp_path / "my buf.bin" in loaded.read_beside and tmp_path / "my tex.png" in loaded.read_beside
+
+
+def test_a_uri_whose_percent_is_the_files_own_is_read_as_written(tmp_path: Path) -> None:
+    """A writer that did not encode a '%' in the name: not found decoded, the name as written is."""
+    loaded = load_model(write_gltf(tmp_path, image_uri="tex%20100.png", image_file="tex%20100.png"))
+    assert loaded.warnings == () and loaded.materials[0].texture is not None
+
+
+def test_a_missing_buffer_is_one_load_error_naming_it_decoded(tmp_path: Path) -> None:
+    path = write_gltf(tmp_path, buffer_file="elsewhere.bin", buffer_uri="my%20buf.bin")
+    with pytest.raises(LoadError) as caught:
+        load_model(path)
+    assert str(caught.value) == f"{path}: 'my buf.bin', which it names, could not be read (no such file)"
+
+
+@pytest.mark.parametrize(("image_uri", "why"), [
+    ("missing.png", "no such file"),
+    ("my%20missing.png", "no such file"),
+    ("../outside.png", "it lies outside the model's folder"),
+    ("sub", "is a directory, not a file"),
+    ("notes.png", "not a PNG, JPEG or PPM picture"),
+])
+def test_a_picture_that_cannot_be_read_is_a_note(tmp_path: Path, image_uri: str, why: str) -> None:
+    """As an MTL's missing texture: the model loads, the note names the picture and says why."""
+    folder = tmp_path / "model"
+    folder.mkdir()
+    (folder / "sub").mkdir()
+    (folder / "notes.png").write_text("not a picture")
+    (tmp_path / "outside.png").write_bytes(png_bytes(top_red_bottom_blue()))
+    loaded = load_model(write_gltf(folder, image_uri=image_uri, image_file=None))
+    assert loaded.face_count == 2 and loaded.materials == ()
+    shown = image_uri.replace("%20", " ")
+    assert len(loaded.warnings) == 1 and loaded.warnings[0].startswith(f"texture '{shown}' could not be read ({why}")
+    assert loaded.warnings[0].endswith("the scene's texture is shown in its place")
+
+
+def test_a_picture_linked_from_outside_the_folder_is_not_read(tmp_path: Path) -> None:
+    (tmp_path / "secret.png").write_bytes(png_bytes(top_red_bottom_blue()))
+    (tmp_path / "model").mkdir()
+    (tmp_path / "model" / "link.png").symlink_to(tmp_path / "secret.png")
+    loaded = load_model(write_gltf(tmp_path / "model", image_uri="link.png", image_file=None))
+    assert loaded.materials == () and "it lies outside the model's folder" in loaded.warnings[0]
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are POSIX's")
+def test_a_picture_that_is_a_named_pipe_is_a_note_not_a_wait(tmp_path: Path) -> None:
+    os.mkfifo(tmp_path / "pipe.png")
+    loaded = load_model(write_gltf(tmp_path, image_uri="pipe.png", image_file=None))
+    assert "not a regular file" in loaded.warnings[0]
+
+
+def test_an_embedded_picture_of_another_format_is_a_note_not_drawn(tmp_path: Path) -> None:
+    """Textures are PNG, JPEG and PPM, by content, however the file brings them (Pillow would open
+    any, and hands some to other programs)."""
+    gif = png_bytes(top_red_bottom_blue(), format="GIF")
+    loaded = load_model(write_gltf(tmp_path, image_uri="data:image/gif;base64," + base64.b64encode(gif).decode(),
+                                   image_file=None))
+    assert loaded.materials == () and loaded.warnings == (
+        "a material's picture is not drawn (a GIF picture, not a PNG, JPEG or PPM one); the scene's texture is "
+        "shown in its place",)
+
+
+@pytest.mark.parametrize(("text", "line", "words"), [
+    ("{ not json", 1, "not valid JSON: Expecting property name enclosed in double quotes (column 3)"),
+    ('{\n  "asset": {"version": "2.0"},\n  "buffers": [,]\n}', 3, "not valid JSON: Expecting value (column 15)"),
+    ("", None, "empty file: no faces"),
+    ("[1, 2]", 1, "not a glTF file: its JSON is not an object of glTF's keys"),
+    ("[" * 100_000, None, "not a glTF file: its JSON nests too deeply to read"),
+])
+def test_a_gltf_that_is_not_json_says_so_at_its_line(tmp_path: Path, text: str, line: int | None, words: str) -> None:
+    path = write_gltf(tmp_path, text=text)
+    with pytest.raises(LoadError) as caught:
+        load_model(path)
+    assert (caught.value.line, caught.value.message) == (line, words)
+    assert "\n" not in str(caught.value)
+
+
+def test_a_gltf_that_is_not_utf8_is_one_load_error(tmp_path: Path) -> None:
+    (tmp_path / "latin.gltf").write_bytes(b'{"asset": {"version": "2.0", "generator": "\xe9"}}')
+    with pytest.raises(LoadError, match="not a glTF file: its JSON is not UTF-8 text"):
+        load_model(tmp_path / "latin.gltf")
+
+
+# --- PLY ---------------------------------------------------------------------------------------------
+def write_meshlab_ply(path: Path, texture: str = "q.png", per_face: bool = False) -> Path:
+    """An ASCII PLY as MeshLab writes a textured one: `comment TextureFile`, and texture coordinates
+    per vertex (s t) or per face corner (a texcoord list)."""
+    header = ["ply", "format ascii 1.0", "comment VCGLIB generated", f"comment TextureFile {texture}",
+              "element vertex 4", "property float x", "property float y", "property float z"]
+    header += [] if per_face else ["property float s", "property float t"]
+    header += ["element face 2", "property list uchar int vertex_indices"]
+    header += ["property list uchar float texcoord"] if per_face else []
+    rows = [" ".join(f"{value:g}" for value in (*position, *([] if per_face else uv)))
+            for position, uv in zip(SQUARE, UVS)]
+    for face in FACES:
+        corners = " ".join(f"{value:g}" for corner in face for value in UVS[corner])
+        rows.append(f"3 {' '.join(map(str, face))}" + (f" 6 {corners}" if per_face else ""))
+    path.write_text("\n".join([*header, "end_header", *rows]) + "\n")
+    return path
+
+
+def write_textured_obj(folder: Path) -> Path:
+    """The same square and picture as an OBJ and its MTL: how a texture is drawn."""
+    lines = ["mtllib square.mtl", *(f"v {x:g} {y:g} {z:g}" for x, y, z in SQUARE),
+             *(f"vt {u:g} {v:g}" for u, v in UVS), "usemtl pic",
+             *(f"f {a + 1}/{a + 1} {b + 1}/{b + 1} {c + 1}/{c + 1}" for a, b, c in FACES)]
+    (folder / "square.obj").write_text("\n".join(lines) + "\n")
+    (folder / "square.mtl").write_text("newmtl pic\nmap_Kd q.png\n")  # no Kd: the viewer's, as the PLY's
+    return folder / "square.obj"
+
+
+@pytest.mark.parametrize("per_face", [False, True], ids=["s t per vertex", "texcoord per face"])
+def test_a_meshlab_plys_texture_is_drawn_as_an_objs(tmp_path: Path, per_face: bool) -> None:
+    top_red_bottom_blue().save(tmp_path / "q.png")
+    path = write_meshlab_ply(tmp_path / "square.ply", per_face=per_face)
+    loaded = load_model(path)
+    assert loaded.face_count == 2 and loaded.warnings == () and tmp_path / "q.png" in loaded.read_beside
+    assert loaded.materials[0].texture.shape == (8, 8, 3)
+    drawn = picture(path, tmp_path / "ply.png")
+    assert drawn[40, 60, 0] > drawn[40, 60, 2] + 30 and drawn[80, 60, 2] > drawn[80, 60, 0] + 30  # red above blue
+    assert np.abs(drawn - picture(write_textured_obj(tmp_path), tmp_path / "obj.png")).max() <= 2
+
+
+@pytest.mark.parametrize(("texture", "why"), [("nothere.png", "no such file"),
+                                              ("../q.png", "it lies outside the model's folder")])
+def test_a_plys_texture_that_cannot_be_read_is_a_note(tmp_path: Path, texture: str, why: str) -> None:
+    top_red_bottom_blue().save(tmp_path / "q.png")
+    (tmp_path / "model").mkdir()
+    loaded = load_model(write_meshlab_ply(tmp_path / "model" / "square.ply", texture=texture))
+    assert loaded.face_count == 2 and loaded.materials == ()
+    assert loaded.warnings == (f"texture '{texture}' could not be read ({why}); the scene's texture is shown in "
+                               "its place",)
+
+
+def test_a_plys_windows_texture_path_is_looked_for_beside_it(tmp_path: Path) -> None:
+    top_red_bottom_blue().save(tmp_path / "q.png")
+    loaded = load_model(write_meshlab_ply(tmp_path / "square.ply", texture="C:\\Users\\me\\Desktop\\q.png"))
+    assert loaded.warnings == () and loaded.materials[0].texture.shape == (8, 8, 3)
+
+
+def test_trimesh_prints_nothing_on_the_terminal(tmp_path: Path) -> None:
+    """trimesh logs a traceback where it cannot read a PLY's picture; with no handler configured,
+    Python's last resort would print it. A fresh process: the log is quieted once, at trimesh's import."""
+    ply = write_meshlab_ply(tmp_path / "square.ply", texture="nothere.png")
+    gltf = write_gltf(tmp_path, image_uri="missing.png", image_file=None)
+    code = ("from marraztu.loaders.registry import load_model; "
+            f"print(load_model({str(ply)!r}).warnings); print(load_model({str(gltf)!r}).warnings)")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0 and result.stderr == "", result.stderr
+    assert "'nothere.png' could not be read" in result.stdout and "'missing.png' could not be read" in result.stdout
+
+
+def test_the_programming_interface_draws_any_picture_pillow_opened() -> None:
+    """A trimesh built in code is the caller's: its picture, whatever Pillow opened, is drawn."""
+    from marraztu.loaders.exchange import mesh_of_trimesh
+
+    gif = Image.open(io.BytesIO(png_bytes(top_red_bottom_blue(), format="GIF")))
+    mesh = trimesh.Trimesh(SQUARE, FACES, process=False, visual=trimesh.visual.TextureVisuals(uv=UVS, image=gif))
+    loaded = mesh_of_trimesh("gif", mesh)
+    assert loaded.warnings == () and loaded.materials[0].texture[0, 0].tolist() == list(RED)

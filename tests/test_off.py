@@ -1,0 +1,143 @@
+"""The OFF reader: polygons kept as the file gives them, COFF's colours, ModelNet's run-on header, and
+every problem refused at its line; the same positions and triangles as trimesh reads where it reads
+the file."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from marraztu.errors import LoadError
+from marraztu.loaders.off import load_off
+from marraztu.loaders.registry import load_model
+from support.work import peak_traced_bytes
+
+SQUARE = ["0 0 0", "1 0 0", "1 1 0", "0 1 0"]
+
+
+def off_text(vertices: list[str] = SQUARE, faces: tuple[str, ...] = ("3 0 1 2", "3 0 2 3"),
+             header: str | None = None) -> str:
+    header = header if header is not None else f"OFF\n{len(vertices)} {len(faces)} 0\n"
+    return header + "".join(f"{row}\n" for row in vertices) + "".join(f"{row}\n" for row in faces)
+
+
+def read(tmp_path: Path, text: str, name: str = "m.off"):
+    path = tmp_path / name
+    path.write_text(text)
+    return load_off(path)
+
+
+def refusal(tmp_path: Path, text: str) -> LoadError:
+    with pytest.raises(LoadError) as refused:
+        read(tmp_path, text)
+    assert "\n" not in str(refused.value)
+    return refused.value
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_positions_and_triangles_are_those_trimesh_reads_from_its_own_export(tmp_path: Path, seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    mesh = trimesh.Trimesh(rng.normal(size=(30, 3)) * 100, rng.integers(0, 30, (50, 3)), process=False)
+    loaded = read(tmp_path, trimesh.exchange.off.export_off(mesh))
+    assert np.allclose(loaded.positions, mesh.vertices, rtol=0, atol=1e-7)  # trimesh writes 8 decimals
+    assert np.array_equal(loaded.corner_vertex.reshape(-1, 3), mesh.faces)
+
+
+def test_polygons_stay_polygons_and_comments_and_blank_lines_are_read_past(tmp_path: Path) -> None:
+    text = "# made by hand\nOFF\n\n5 2 0 # counts\n" + "".join(f"{row} # a vertex\n" for row in SQUARE) + \
+        "2 0.5 0\n4 0 1 2 3\n\n3 2 4 3 255 0 0\n"
+    mesh = read(tmp_path, text)
+    assert mesh.face_sizes.tolist() == [4, 3] and mesh.corner_vertex.tolist() == [0, 1, 2, 3, 2, 4, 3]
+
+
+@pytest.mark.parametrize("header", ["OFF 4 2 0\n", "OFF4 2 0\n", "off\n4 2\n"])
+def test_the_counts_may_follow_the_keyword_on_its_line(tmp_path: Path, header: str) -> None:
+    """ModelNet's files often run the vertex count on after OFF."""
+    assert read(tmp_path, off_text(header=header)).face_count == 2
+
+
+@pytest.mark.parametrize(("rows", "expected"), [
+    (["0 0 0 255 0 0", "1 0 0 0 255 0", "1 1 0 0 0 255", "0 1 0 255 255 255"], [255, 0, 0]),
+    (["0 0 0 1 0 0 1", "1 0 0 0 1 0 1", "1 1 0 0 0 1 1", "0 1 0 1 1 1 1"], [255, 0, 0]),
+    (["0 0 0 0.5 0 0 1", "1 0 0 0 1 0 1", "1 1 0 0 0 1 1", "0 1 0 1 1 1 1"], [128, 0, 0]),
+])
+def test_coff_colours_tint_the_vertices(tmp_path: Path, rows: list[str], expected: list[int]) -> None:
+    mesh = read(tmp_path, off_text(rows, header="COFF\n4 2 0\n"))
+    assert mesh.vertex_colours is not None and mesh.vertex_colours[0].tolist() == expected
+
+
+def test_a_noff_rows_normal_and_an_stoff_rows_coordinates_are_read_past(tmp_path: Path) -> None:
+    normals = [f"{row} 0 0 1" for row in SQUARE]
+    assert read(tmp_path, off_text(normals, header="NOFF\n4 2 0\n")).face_count == 2
+    both = [f"{row} 0 0 1 255 0 0 0.5 0.5" for row in SQUARE]
+    mesh = read(tmp_path, off_text(both, header="STCNOFF\n4 2 0\n"))
+    assert mesh.vertex_colours is not None and mesh.vertex_colours[0].tolist() == [255, 0, 0]
+
+
+@pytest.mark.parametrize(("text", "line", "message"), [
+    (off_text(faces=("4 0 1 2", "3 0 2 3")), 7, "a face of 4 corners, this line holds 3 numbers after its count"),
+    (off_text(faces=("3 0 1 2 5 6", "3 0 2 3")), 7, "a face of 3 corners, this line holds 5 numbers after its count"),
+    (off_text(faces=("2 0 1", "3 0 2 3")), 7, "a face's corner count must be a whole number of 3 or more, not '2'"),
+    (off_text(faces=("x 0 1 2", "3 0 2 3")), 7, "a face's corner count must be a whole number of 3 or more, not 'x'"),
+    (off_text(faces=("3 0 1 x", "3 0 2 3")), 7, "'x' is not a whole number"),
+    (off_text(faces=("3 0 1 2.5", "3 0 2 3")), 7, "'2.5' is not a whole number"),
+    (off_text(faces=("3 0 1 2", "3 0 2 1_0")), 8, "'1_0' is not a whole number"),
+    (off_text(faces=("3 0 1 9", "3 0 2 3")), 7, "vertex index 9 out of range (the file has 4 vertices)"),
+    (off_text(faces=("3 0 1 -1", "3 0 2 3")), 7, "vertex index -1 out of range (the file has 4 vertices)"),
+    (off_text(faces=("3 0 1 99999999999999999999", "3 0 2 3")), 7,
+     "vertex index 99999999999999999999 out of range (the file has 4 vertices)"),
+    (off_text(["0 0", *SQUARE[1:]]), 3, "a vertex row holds 3 numbers here, this one 2"),
+    (off_text(["0 0 0 x", *SQUARE[1:]]), 3, "a vertex row holds 3 numbers here, this one 4"),
+    (off_text(["0 0 y", *SQUARE[1:]]), 3, "'y' is not a number"),
+    (off_text([*SQUARE[:3], "0 1 nan"]), 6, "a vertex coordinate is not a finite number the GPU can hold"),
+    (off_text([*SQUARE[:3], "0 1 1e39"]), 6, "a vertex coordinate is not a finite number the GPU can hold"),
+    (off_text(header="OFF\n4 3 0\n"), 8, "the header counts 3 faces, the file ends before them"),
+    (off_text(header="OFF\n5 2 0\n"), 7, "a vertex row holds 3 numbers here, this one 4"),
+    (off_text(header="OFF\n4 0 0\n"), 2, "the header declares no faces: nothing to draw"),
+    (off_text(header="OFF\nfour 2 0\n"), 2, "expected the vertex, face and edge counts"),
+    (off_text(header="PLY\n4 2 0\n"), 1, "not an OFF file (it does not start with 'OFF')"),
+    (off_text(header="4OFF\n4 2 0\n"), 1,
+     "4OFF: only OFF, COFF, NOFF, STOFF and their blends are read (no 4 or n dimensions)"),
+    (off_text(["0 0 0 255 0", *SQUARE[1:]], header="COFF\n4 2 0\n"), 3,
+     "a vertex row holds 6 or 7 numbers here, this one 5"),
+    (off_text([f"{row} 255 0 0" for row in SQUARE[:3]] + ["0 1 0 255 0 0 255"], header="COFF\n4 2 0\n"), 6,
+     "a vertex row holds 6 or 7 numbers here, this one 7"),
+])
+def test_a_broken_off_is_refused_at_its_line(tmp_path: Path, text: str, line: int, message: str) -> None:
+    refused = refusal(tmp_path, text)
+    assert (refused.message, refused.line) == (message, line)
+
+
+def test_a_colour_past_255_is_refused(tmp_path: Path) -> None:
+    rows = [f"{row} 300 0 0" for row in SQUARE]
+    assert "a vertex colour is not within 0..255" in refusal(tmp_path, off_text(rows, header="COFF\n4 2 0\n")).message
+
+
+def test_the_first_bad_index_is_named_among_many(tmp_path: Path) -> None:
+    """Indices are made numbers many faces at a time: the line is found again within the block."""
+    faces = ("3 0 1 2",) * 40_000 + ("4 0 1 2 3",) * 30_000 + ("3 0 1 7",)
+    refused = refusal(tmp_path, off_text(faces=faces))
+    assert refused.line == 2 + 4 + 70_001 and refused.message.startswith("vertex index 7 out of range")
+
+
+def test_reading_holds_blocks_of_words_not_a_list_of_every_line(tmp_path: Path) -> None:
+    rows = [f"{x} 0.123456 1.5" for x in range(100_000)]
+    faces = tuple(f"3 {a} {a + 1} {a + 2}" for a in range(100_000 - 2))
+    path = tmp_path / "big.off"
+    path.write_text(off_text(rows, faces))
+    mesh, peak = peak_traced_bytes(lambda: load_off(path))
+    mesh_bytes = sum(value.nbytes for value in vars(mesh).values() if isinstance(value, np.ndarray))
+    assert mesh.face_count == 100_000 - 2
+    # The bytes, the mesh and the arrays it is derived through, and one block of words (a list of every
+    # line's words would be 30 MB more).
+    assert peak < path.stat().st_size + 5 * mesh_bytes // 2 + (8 << 20), (peak, mesh_bytes)
+
+
+def test_an_off_file_loads_through_the_registry_without_trimesh(tmp_path: Path) -> None:
+    path = tmp_path / "square.off"
+    path.write_text(off_text(faces=("4 0 1 2 3",)))
+    mesh = load_model(path)
+    assert (mesh.vertex_count, mesh.face_count, mesh.face_sizes.tolist()) == (4, 1, [4])
