@@ -75,7 +75,7 @@ def test_pagedown_replaces_the_selected_object_in_place_keeping_its_moves(tmp_pa
     obj = viewer.scene.object
     assert (obj.name, obj.mesh.vertex_count, obj.source) == ("b", 4, tmp_path / "b.obj")
     assert len(viewer.scene.objects) == 1 and np.array_equal(obj.model, moved)
-    assert viewer.scene.message.startswith("b.obj in place of a: 4 vertices, 1 faces")
+    assert viewer.scene.message.startswith("b.obj in place of a: 4 vertices, 1 face")
     press(viewer, "PGUP u")  # the alias, then the moves are still there to undo
     assert obj.name == "a" and len(obj.history) == 2
 
@@ -87,6 +87,20 @@ def test_a_bad_next_file_keeps_the_scene_and_says_which_line(tmp_path: Path) -> 
     press(viewer, "PAGEDOWN")
     assert viewer.scene.object.mesh is before and viewer.scene.object.name == "a"
     assert "b.obj" in viewer.scene.message and "b.obj:4:" in viewer.scene.message
+
+
+def test_pagedown_steps_past_a_bad_file_and_pageup_comes_back(tmp_path: Path) -> None:
+    """A file that would not load is where the next step starts from, not a wall PageDown keeps hitting."""
+    folder_of(tmp_path, a_obj=TRIANGLE, b_obj=corpus.TRIANGLE + b"f 1 2 9\n", c_obj=SQUARE)
+    viewer = viewer_on(tmp_path / "a.obj")
+    press(viewer, "PAGEDOWN")
+    assert viewer.scene.object.name == "a" and "b.obj:4:" in viewer.scene.message
+    press(viewer, "PAGEDOWN")
+    assert viewer.scene.object.name == "c" and viewer.scene.object.mesh.face_count == 1
+    press(viewer, "PAGEUP")
+    assert viewer.scene.object.name == "c" and "b.obj:4:" in viewer.scene.message
+    press(viewer, "PAGEUP")
+    assert viewer.scene.object.name == "a"
 
 
 def test_the_strict_screenshot_refuses_a_bad_next_file(tmp_path: Path) -> None:

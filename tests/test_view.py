@@ -100,10 +100,26 @@ def test_a_camera_loaded_with_f_stands_outside_the_scene_looking_at_it(tmp_path:
     assert np.dot(camera.forward, to_centre / np.linalg.norm(to_centre)) == pytest.approx(1.0)
 
 
-def test_the_near_plane_is_the_specifications_for_its_scene_and_small_for_small_models(tmp_path: Path) -> None:
+def test_the_near_plane_is_the_specifications_for_its_scene_small_for_small_models_and_far_for_huge_ones(
+        tmp_path: Path) -> None:
     assert viewer_with("").scene.near_plane() == 5.0
     small = viewer_with("", (octahedron(tmp_path / "m.obj", 1e-3),), empty=True)
     assert small.scene.near_plane() == pytest.approx(2e-3 * np.sqrt(3) / 10)  # its box's diagonal / 10
+    huge = viewer_with("", (octahedron(tmp_path / "h.obj", 1e7),), empty=True)
+    assert huge.scene.near_plane() == pytest.approx(2e7 * np.sqrt(3) / 10_000)
+    beside_the_ships = viewer_with("", (octahedron(tmp_path / "h.obj", 1e7),))
+    assert beside_the_ships.scene.near_plane() == 5.0  # theirs: a near plane past them would cut them away
+
+
+@pytest.mark.parametrize("size", [1e5, 1e7, 1e9])
+def test_a_huge_model_shows_as_a_small_one_does(tmp_path: Path, size: float) -> None:
+    """Its back faces (red) stay behind its front ones: from 5 units to the distance that frames it,
+    the depth buffer could not tell them apart, and at 1e9 it put everything at the far plane."""
+    keys = "y*2 x*3"  # ambient light alone: point lights stay where they are whatever the model's size
+    small = picture(tmp_path, keys, (octahedron(tmp_path / "small.obj", 10.0),), name="small.png")
+    huge = picture(tmp_path, keys, (octahedron(tmp_path / "huge.obj", size),), name="huge.png")
+    assert (small != BACKGROUND).any(axis=2).sum() > 0.1 * small.shape[0] * small.shape[1]
+    assert np.abs(huge - small).max(axis=2).mean() < 1.0, "the same picture, but for rounding"
 
 
 # --- the mouse -----------------------------------------------------------------------------------

@@ -480,7 +480,7 @@ def replace_loaded(element: SceneObject, loaded: SceneObject) -> None:
     undo and GPU slot stay), and takes the new file's mesh, name and material."""
     element.mesh, element.name, element.material = loaded.mesh, loaded.name, loaded.material
     element.part_materials = loaded.part_materials
-    element.source, element.selected_face = loaded.source, 0
+    element.source, element.browsed, element.selected_face = loaded.source, None, 0
 
 
 def step_file(step: int) -> CommandFunction:
@@ -495,10 +495,12 @@ def step_file(step: int) -> CommandFunction:
         if element.source is None:
             scene.message = f"{element.name} was not read from a file"
             return
-        sibling = sibling_model(element.source, step)
+        # From the file last asked for, which may not have loaded: a bad file is stepped past, not retried.
+        sibling = sibling_model(element.browsed or element.source, step)
         if sibling is None:
             scene.message = f"no other model file beside {element.source.name}"
             return
+        element.browsed = sibling
         host.replace_model(element, sibling)
 
     return step_through_folder

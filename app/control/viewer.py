@@ -311,8 +311,7 @@ class Viewer:
             return
         old_name = element.name
         commands.replace_loaded(element, loaded)
-        message = (f"{loaded.source.name} in place of {old_name}: "
-                   f"{loaded.mesh.vertex_count} vertices, {loaded.mesh.face_count} faces")
+        message = f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}"
         if loaded.mesh.warnings:
             message += " (" + "; ".join(loaded.mesh.warnings) + ")"
         self.tell(message)
@@ -330,8 +329,7 @@ class Viewer:
     def _add(self, obj: SceneObject, path: Path, as_camera: bool, at_start: bool | None = None) -> None:
         commands.add_loaded(self.scene, obj, as_camera=as_camera)
         kind = "camera" if as_camera else "object"
-        message = (f"loaded {Path(path).name} as a new {kind}: "
-                   f"{obj.mesh.vertex_count} vertices, {obj.mesh.face_count} faces")
+        message = f"loaded {Path(path).name} as a new {kind}: {obj.mesh.summary()}"
         if obj.mesh.warnings:
             message += " (" + "; ".join(obj.mesh.warnings) + ")"
         self.tell(message, at_start, worth_a_notice=bool(obj.mesh.warnings))

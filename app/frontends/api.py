@@ -165,7 +165,7 @@ class Viewer:
         obj = SceneObject.placed(mesh.name, mesh, material, (0.0, 0.0, 0.0))
         obj.part_materials = materials_of_parts(mesh, material, from_scene=False)
         commands.add_loaded(self.scene, obj, as_camera=False)
-        self.scene.message = f"added {mesh.name}: {mesh.vertex_count} vertices, {mesh.face_count} faces"
+        self.scene.message = f"added {mesh.name}: {mesh.summary()}"
         return self
 
     # --- pictures ------------------------------------------------------------------------------

@@ -13,7 +13,7 @@ from numbers import Real
 import numpy as np
 
 from marraztu.model.geometry import FLOAT32_MAX, column_bounds, unit_rows
-from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, fan_gather
+from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted, fan_gather
 
 # Zero-area faces get a fallback normal; "zero" is relative to the model's size.
 DEGENERATE_AREA = 1e-12
@@ -144,7 +144,7 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
     bounds = column_bounds(positions)
     face_normals, degenerate = _face_normals(positions, corner_vertex, face_start, sizes, bounds)
     if degenerate.any():
-        notes += (f"{int(degenerate.sum())} zero-area faces (given a fallback normal)",)
+        notes += (f"{counted(int(degenerate.sum()), 'zero-area face')} (given a fallback normal)",)
     shape = _Shape(positions, corner_vertex, face_start, sizes, bounds, face_normals, degenerate)
     by_position = _per_position_sources(corner_vertex, positions.shape[0], uv, normals)
     # Per position where each position has one uv and one normal: derived once each, not once per corner.

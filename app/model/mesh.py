@@ -28,6 +28,11 @@ INDEX_LIMIT = int(np.iinfo(INDEX).max)  # counts of positions and corners stay b
 MAX_MATERIALS = 256
 
 
+def counted(number: int, noun: str, plural: str | None = None) -> str:
+    """'1 face', '2 faces'."""
+    return f"{number} {noun if number == 1 else plural or noun + 's'}"
+
+
 def fan_gather(values: np.ndarray, face_start: np.ndarray) -> np.ndarray:
     """(3T,) `values`, one per corner, in the order of the fan triangles' corners, polygon by polygon:
     the seed's triangulation from each polygon's first corner. Where the polygons are all of one size
@@ -104,6 +109,10 @@ class Mesh:
     # The files looked for beside the model's own (an OBJ's MTL and its textures, a glTF's buffers and
     # pictures), read or not: the screenshot command must write over none of them.
     read_beside: tuple[Path, ...] = ()
+
+    def summary(self) -> str:
+        """Its size as messages give it: '4 vertices, 1 face'."""
+        return f"{counted(self.vertex_count, 'vertex', 'vertices')}, {counted(self.face_count, 'face')}"
 
     @property
     def vertex_count(self) -> int:

@@ -22,8 +22,11 @@ from marraztu.model.transforms import TransformKind, Vec3, orthographic, perspec
 PERSPECTIVE_FOVY_DEG = 90.0
 NEAR_PLANE = 5.0
 # Objects smaller than NEAR_PLANE * NEAR_FRACTION units bring the near plane in to a NEAR_FRACTION-th
-# of their size, so that a model in millimetres can be framed and approached like one in metres.
-NEAR_FRACTION = 10.0
+# of the largest one's size, so that a model in millimetres can be framed and approached like one in
+# metres; objects all larger than NEAR_PLANE * DEPTH_FRACTION push it out to a DEPTH_FRACTION-th of the
+# smallest one's, so that the depth buffer still tells a model's front from its back at the distance
+# that frames it (a 24-bit buffer cannot from 5 units to 30 million), and no smaller object is cut.
+NEAR_FRACTION, DEPTH_FRACTION = 10.0, 10_000.0
 # How far the selected object's depth may pull parallel projection's size from the rest of the scene's.
 PARALLEL_DEPTH_RANGE = 1.5
 
@@ -95,6 +98,7 @@ class SceneObject:
     selected_face: int = 0
     uid: int = field(default_factory=lambda: next(_uids))  # stable key for GPU resources
     source: Path | None = None  # the model file it was read from: PageDown's folder, --watch's file
+    browsed: Path | None = None  # the file PageDown / PageUp last asked for: the next step goes on past it
     part_materials: tuple[Material, ...] = ()  # one per Mesh.materials: what each part is drawn with
 
     @classmethod
@@ -244,9 +248,12 @@ class Scene:
         return max(1000.0, 2.0 * max(reach, default=0.0))
 
     def near_plane(self) -> float:
-        """SPEC 5's 5 units, or less for a scene of small objects (see NEAR_FRACTION)."""
-        largest = max((obj.mesh.size for obj in self.objects), default=None)
-        return NEAR_PLANE if not largest else min(NEAR_PLANE, largest / NEAR_FRACTION)
+        """SPEC 5's 5 units, less for a scene of small objects and more for one of huge objects (see
+        NEAR_FRACTION and DEPTH_FRACTION)."""
+        sizes = [obj.mesh.size for obj in self.objects]
+        if not sizes or not max(sizes):
+            return NEAR_PLANE
+        return min(max(NEAR_PLANE, min(sizes) / DEPTH_FRACTION), max(sizes) / NEAR_FRACTION)
 
     def projection_matrix(self, aspect: float) -> np.ndarray:
         far = self.far_plane()

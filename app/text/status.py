@@ -88,7 +88,7 @@ def overlay_lines(viewer: Viewer) -> tuple[list[str], list[str]]:
     bottom = scene.message.splitlines()
     bottom += viewer.loading_lines()
     if viewer.prompt is not None:
-        bottom.append(f"OBJ file to load (Enter loads, ESC cancels): {viewer.prompt}_")
+        bottom.append(f"model file to load (Enter loads, ESC cancels): {viewer.prompt}_")
     return [escaped(line) for line in top], [escaped(line) for line in bottom]
 
 
