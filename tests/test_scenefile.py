@@ -211,12 +211,12 @@ def test_entry_error_gives_its_tables_line(tmp_path: Path) -> None:
 
 
 
-def test_error_in_the_last_of_many_entries_names_its_own_header(tmp_path: Path) -> None:
+def test_error_in_the_last_of_many_entries_names_its_own_line(tmp_path: Path) -> None:
     text = many_entries("objects", 60) + '\n[[objects]]\nmodel = "m.obj"\nposition = [0, 0]\n'
     path = write_scene(tmp_path, text)
     with pytest.raises(LoadError) as caught:
         load_scene(path)
-    assert caught.value.line == text.count("\n") - 2 and "objects[61]" in caught.value.message
+    assert caught.value.line == text.count("\n") and "objects[61]" in caught.value.message
 
 
 LINE_ENDS = {
@@ -232,20 +232,20 @@ def test_lines_are_counted_as_toml_counts_them(tmp_path: Path, end: str, comment
     path = write_scene(tmp_path, text.replace("\n", end))
     with pytest.raises(LoadError) as caught:
         load_scene(path)
-    assert caught.value.line == (6 if comment else 5)
+    assert caught.value.line == (8 if comment else 7)
 
 
 BAD_NS = "ka = [0, 0, 0]\nkd = [0, 0, 0]\nks = [0, 0, 0]\nns = 0\n"
 # Names written in each way TOML allows, after the camera (lines 1 to 4); the line the error must name.
 QUOTED_AND_DOTTED = {
-    "quoted material name": ('[materials."two words"]\n' + BAD_NS, 5),
-    "escaped material name": ('[materials."a\\u0020b"]\n' + BAD_NS, 5),
-    "spaces around the dot": ("[ materials . m ]\n" + BAD_NS, 5),
+    "quoted material name": ('[materials."two words"]\n' + BAD_NS, 9),
+    "escaped material name": ('[materials."a\\u0020b"]\n' + BAD_NS, 9),
+    "spaces around the dot": ("[ materials . m ]\n" + BAD_NS, 9),
     "inline in a [materials] table": ("[materials]\nok = { ka = [0, 0, 0], kd = [0, 0, 0], ks = [0, 0, 0], ns = 1 }\n"
                                       + "bad = { ka = [0, 0, 0], kd = [0, 0, 0], ks = [0, 0, 0], ns = 0 }\n", 7),
-    "dotted keys in a [materials] table": ("[materials]\n" + BAD_NS.replace("k", "m.k").replace("ns", "m.ns"), 6),
+    "dotted keys in a [materials] table": ("[materials]\n" + BAD_NS.replace("k", "m.k").replace("ns", "m.ns"), 9),
     "quoted array header": ('[["cameras"]]\nmodel = "m.obj"\nposition = [0, 0, 1]\n'
-                            + '\n[[ cameras ]]\nmodel = "m.obj"\nposition = [0, 0]\n', 9),
+                            + '\n[[ cameras ]]\nmodel = "m.obj"\nposition = [0, 0]\n', 11),
 }
 
 
@@ -376,14 +376,14 @@ def test_reading_four_times_the_entries_costs_about_four_times_the_work(tmp_path
 
 # --- numbers past what the GPU's float32 can hold ----------------------------------------------------
 TOO_LARGE = "is too large: the GPU's 32-bit numbers end at 3.4e38"
-# Where a number goes, with {n} for it, and the line an error there must name.
+# Where a number goes, with {n} for it, and the line an error there must name: the line of its key.
 NUMBER_PLACES = {
-    "object position": (CAMERA + '\n[[objects]]\nmodel = "m.obj"\nposition = [{n}, 0, 0]\n', 5),
-    "camera position": ('[[cameras]]\nmodel = "m.obj"\nposition = [0, 0, {n}]\n', 1),
-    "camera rotation": ('[[cameras]]\nmodel = "m.obj"\nposition = [0, 0, 0]\nrotation = [0, {n}, 0]\n', 1),
-    "named material ns": (CAMERA + "\n" + MATERIAL.replace("ns = 10", "ns = {n}"), 5),
-    "named material colour": (MATERIAL.replace("[0.1, 0.2, 0.3]", "[0, {n}, 0]") + CAMERA, 1),
-    "inline material ns": (CAMERA + "material = { ka = [0, 0, 0], kd = [0, 0, 0], ks = [0, 0, 0], ns = {n} }\n", 1),
+    "object position": (CAMERA + '\n[[objects]]\nmodel = "m.obj"\nposition = [{n}, 0, 0]\n', 7),
+    "camera position": ('[[cameras]]\nmodel = "m.obj"\nposition = [0, 0, {n}]\n', 3),
+    "camera rotation": ('[[cameras]]\nmodel = "m.obj"\nposition = [0, 0, 0]\nrotation = [0, {n}, 0]\n', 4),
+    "named material ns": (CAMERA + "\n" + MATERIAL.replace("ns = 10", "ns = {n}"), 9),
+    "named material colour": (MATERIAL.replace("[0.1, 0.2, 0.3]", "[0, {n}, 0]") + CAMERA, 2),
+    "inline material ns": (CAMERA + "material = { ka = [0, 0, 0], kd = [0, 0, 0], ks = [0, 0, 0], ns = {n} }\n", 4),
 }
 TOO_LARGE_NUMBERS = {"400-digit integer": "9" * 400, "40-digit integer": "1" + "0" * 39,
                      "1e39": "1e39", "-1e308": "-1e308", "just past float32": "3.5e38"}
@@ -434,7 +434,7 @@ def test_screenshot_refuses_a_huge_number_in_one_line(tmp_path: Path) -> None:
                           env={**os.environ, "PYTHONIOENCODING": "utf-8"})
     lines = done.stderr.splitlines()
     assert done.returncode == 1 and len(lines) == 1, done.stderr
-    assert f"{path}:5: " in lines[0] and lines[0].endswith(TOO_LARGE)
+    assert f"{path}:7: " in lines[0] and lines[0].endswith(TOO_LARGE)
     assert not out.exists()
 
 

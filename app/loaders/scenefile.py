@@ -32,7 +32,7 @@ import math
 import re
 import sys
 import tomllib
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import NoReturn
@@ -152,6 +152,11 @@ def read_scene_description(path: str | Path) -> SceneDescription:
 # --------------------------------------------------------------------------------------------------
 # Reading and checking the TOML
 # --------------------------------------------------------------------------------------------------
+def _nowhere(key: str) -> int | None:
+    """No key's line is known (entries written inline, or headers that do not match them)."""
+    return None
+
+
 class _SceneReader:
     """Checks one scene file; every failure is a LoadError naming the file and, when known, the line."""
 
@@ -208,28 +213,37 @@ class _SceneReader:
         tables = self.document.get("materials", {})
         if not isinstance(tables, dict):
             self.fail("materials must be tables: [materials.NAME]", self.lines.first(("materials",)))
-        return {name: self.material(table, f"material {name!r}", self.lines.first(("materials", name)))
+        return {name: self.material(table, f"material {name!r}", self.lines.first(("materials", name)),
+                                    self._material_key_line(name))
                 for name, table in tables.items()}
+
+    def _material_key_line(self, name: str) -> Callable[[str], int | None]:
+        return lambda key: self.lines.first(("materials", name, key))
 
     def entries(self, kind: str, materials: dict[str, Material]) -> tuple[SceneEntry, ...]:
         tables = self.document.get(kind, [])
         if not isinstance(tables, list):
             self.fail(f"{kind} must be an array of tables: [[{kind}]]", self.lines.first((kind,)))
         headers = self.lines.array_headers(kind, len(tables))
-        return tuple(self.entry(table, f"{kind}[{index + 1}]", line, materials)
+        return tuple(self.entry(table, f"{kind}[{index + 1}]", line, materials,
+                                self.lines.of_entry(kind, index, len(tables)))
                      for index, (table, line) in enumerate(zip(tables, headers)))
 
     # --- one object or camera ------------------------------------------------------------------
-    def entry(self, table: object, what: str, line: int | None, materials: dict[str, Material]
-              ) -> SceneEntry:
+    def entry(self, table: object, what: str, line: int | None, materials: dict[str, Material],
+              key_line: Callable[[str], int | None] = _nowhere) -> SceneEntry:
         if not isinstance(table, dict):
             self.fail(f"{what} must be a table", line)
-        self.check_keys(table, ENTRY_KEYS, what, line, required=REQUIRED_ENTRY_KEYS)
-        model = self.text_value(table["model"], f"{what}: model", line)
-        name = self.text_value(table.get("name", Path(model).stem), f"{what}: name", line)
-        position = self.triple(table["position"], f"{what}: position", line)
-        rotation = self.triple(table.get("rotation", [0, 0, 0]), f"{what}: rotation", line)
-        material = self.entry_material(table.get("material"), what, line, materials)
+
+        def at(key: str) -> int | None:  # the line that sets the key, else the entry's header
+            return key_line(key) or line
+
+        self.check_keys(table, ENTRY_KEYS, what, line, required=REQUIRED_ENTRY_KEYS, key_line=at)
+        model = self.text_value(table["model"], f"{what}: model", at("model"))
+        name = self.text_value(table.get("name", Path(model).stem), f"{what}: name", at("name"))
+        position = self.triple(table["position"], f"{what}: position", at("position"))
+        rotation = self.triple(table.get("rotation", [0, 0, 0]), f"{what}: rotation", at("rotation"))
+        material = self.entry_material(table.get("material"), what, at("material"), materials)
         return SceneEntry(name, model, self.path.parent / model, position, rotation, material, line)
 
     def entry_material(self, value: object, what: str, line: int | None,
@@ -244,24 +258,30 @@ class _SceneReader:
         return self.material(value, f"{what}: material", line)
 
     # --- materials -----------------------------------------------------------------------------
-    def material(self, table: object, what: str, line: int | None) -> Material:
+    def material(self, table: object, what: str, line: int | None,
+                 key_line: Callable[[str], int | None] = _nowhere) -> Material:
         if not isinstance(table, dict):
             self.fail(f"{what} must be a material name or a table of ka, kd, ks, ns", line)
-        self.check_keys(table, MATERIAL_KEYS, what, line, required=REQUIRED_MATERIAL_KEYS)
-        colours = {key: self.triple(table[key], f"{what}: {key}", line, unit_range=True)
+
+        def at(key: str) -> int | None:  # the line that sets the key, else the table's
+            return key_line(key) or line
+
+        self.check_keys(table, MATERIAL_KEYS, what, line, required=REQUIRED_MATERIAL_KEYS, key_line=at)
+        colours = {key: self.triple(table[key], f"{what}: {key}", at(key), unit_range=True)
                    for key in ("ka", "kd", "ks")}
-        ns = self.number(table["ns"], f"{what}: ns", line)
+        ns = self.number(table["ns"], f"{what}: ns", at("ns"))
         if ns <= 0:
-            self.fail(f"{what}: ns must be greater than 0, not {ns:g}", line)
-        rgb = self.triple(table["rgb"], f"{what}: rgb", line, unit_range=True) if "rgb" in table else WHITE
+            self.fail(f"{what}: ns must be greater than 0, not {ns:g}", at("ns"))
+        rgb = self.triple(table["rgb"], f"{what}: rgb", at("rgb"), unit_range=True) if "rgb" in table else WHITE
         return Material(ka=colours["ka"], kd=colours["kd"], ks=colours["ks"], ns=ns, rgb=rgb)
 
     # --- values --------------------------------------------------------------------------------
     def check_keys(self, table: dict, allowed: frozenset[str], what: str, line: int | None,
-                   required: tuple[str, ...] = ()) -> None:
+                   required: tuple[str, ...] = (), key_line: Callable[[str], int | None] = _nowhere) -> None:
         unknown = sorted(set(table) - allowed)
         if unknown:
-            self.fail(f"{what}: unknown key {unknown[0]!r} (allowed: {', '.join(sorted(allowed))})", line)
+            self.fail(f"{what}: unknown key {unknown[0]!r} (allowed: {', '.join(sorted(allowed))})",
+                      key_line(unknown[0]) or line)
         missing = [key for key in required if key not in table]
         if missing:
             self.fail(f"{what}: missing key {missing[0]!r}", line)
@@ -340,27 +360,40 @@ class _LineIndex:
 
     first_lines: dict[KeyPath, int]  # a table or key (and each of its parents): the line that first names it
     array_lines: dict[KeyPath, list[int]]  # [[NAME]] headers in order: one per entry of the array
+    entry_lines: dict[tuple[KeyPath, int], dict[str, int]]  # an array entry's own keys: where each is set
 
     @classmethod
     def of(cls, text: str) -> _LineIndex:
         first_lines: dict[KeyPath, int] = {}
         array_lines: dict[KeyPath, list[int]] = {}
+        entry_lines: dict[tuple[KeyPath, int], dict[str, int]] = {}
         section: KeyPath = ()
+        entry: dict[str, int] | None = None  # the keys of the [[NAME]] entry being read
         for number, line in enumerate(_lines(text), 1):
             found = _LINE_START.match(line)
             if found is None:
                 continue
             if found["key"] is not None:
-                _remember(first_lines, section, _key_parts(found["key"]), number)
+                key = _key_parts(found["key"])
+                _remember(first_lines, section, key, number)
+                if entry is not None:
+                    entry.setdefault(key[0], number)
                 continue
-            section = _key_parts(found["array"] or found["table"])
+            section, entry = _key_parts(found["array"] or found["table"]), None
             _remember(first_lines, (), section, number)
             if found["array"] is not None:
                 array_lines.setdefault(section, []).append(number)
-        return cls(first_lines, array_lines)
+                entry = entry_lines.setdefault((section, len(array_lines[section]) - 1), {})
+        return cls(first_lines, array_lines, entry_lines)
 
     def first(self, key: KeyPath) -> int | None:
         return self.first_lines.get(key)
+
+    def of_entry(self, name: str, index: int, count: int) -> Callable[[str], int | None]:
+        """Where each key of entry `index` of the array `name` (of `count` entries) is set, when the
+        headers match the entries one to one (see array_headers)."""
+        lines = self.entry_lines.get(((name,), index), {})
+        return lines.get if len(self.array_lines.get((name,), [])) == count else _nowhere
 
     def array_headers(self, name: str, count: int) -> list[int | None]:
         """The header line of each of the `count` entries; None for all when the headers do not match
