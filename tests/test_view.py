@@ -100,6 +100,24 @@ def test_a_camera_loaded_with_f_stands_outside_the_scene_looking_at_it(tmp_path:
     assert np.dot(camera.forward, to_centre / np.linalg.norm(to_centre)) == pytest.approx(1.0)
 
 
+def test_the_models_of_the_command_line_are_framed_together(tmp_path: Path) -> None:
+    """A small model first and a large one beside it: the camera frames both, outside the large one,
+    and HOME comes back to that view; beside the built-in scene's ships, they leave the view alone."""
+    small = octahedron(tmp_path / "small.obj", 1.0)
+    large = tmp_path / "large.obj"
+    large.write_text("".join(f"v {x + 300:g} {y:g} {z:g}\n" for x, y, z in np.loadtxt(small, usecols=(1, 2, 3),
+                                                                                   max_rows=6) * 50)
+                     + "".join(line + "\n" for line in small.read_text().splitlines() if line.startswith("f")))
+    viewer = viewer_with("", (small, large), empty=True)
+    camera = viewer.scene.camera
+    centre, radius = bounding_sphere(viewer.scene.objects)
+    to_centre = centre - camera.origin
+    assert np.linalg.norm(to_centre) > radius and len(camera.history) == 1
+    assert np.dot(camera.forward, to_centre / np.linalg.norm(to_centre)) == pytest.approx(1.0)
+    built_in = viewer_with("", (small, large))
+    assert np.array_equal(built_in.scene.camera.model, viewer_with("").scene.camera.model)
+
+
 def test_the_near_plane_is_the_specifications_for_its_scene_small_for_small_models_and_far_for_huge_ones(
         tmp_path: Path) -> None:
     assert viewer_with("").scene.near_plane() == 5.0

@@ -447,9 +447,11 @@ def loads_as_camera(scene: Scene) -> bool:
     return scene.modes.target is Target.CAMERAS
 
 
-def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool) -> None:
+def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool, with_the_others: bool = False) -> None:
     """The host's half of `f`: the loaded element joins its list, selected, at face 0. A new camera
-    stands where it sees the scene, looking the way the current one does; a lone model is framed."""
+    stands where it sees the scene, looking the way the current one does; a lone model is framed,
+    and so are the models of the command line together (`with_the_others`: the scene holds only
+    them), while the camera has not moved."""
     obj.selected_face = 0
     if as_camera:
         if scene.objects:
@@ -460,15 +462,15 @@ def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool) -> None:
     lone = not scene.objects
     scene.objects.append(obj)
     scene.selected_object = len(scene.objects) - 1
-    if lone:
-        frame_lone_model(scene, obj)
+    if lone or (with_the_others and len(scene.camera.history) == 1):
+        frame_models(scene, scene.objects)
 
 
-def frame_lone_model(scene: Scene, obj: SceneObject) -> None:
-    """A model alone in the scene fills two thirds of the view, whatever its units. A camera not yet
-    moved takes that as its start (HOME comes back to it); otherwise it is a move `u` takes back."""
+def frame_models(scene: Scene, objects: list[SceneObject]) -> None:
+    """The models fill two thirds of the view, whatever their units. A camera not yet moved takes
+    that as its start (HOME comes back to it); otherwise it is a move `u` takes back."""
     camera = scene.camera
-    matrix = framing.frame_objects(scene, camera, [obj])
+    matrix = framing.frame_objects(scene, camera, objects)
     if len(camera.history) == 1:
         camera.history[0] = matrix
     else:

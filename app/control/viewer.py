@@ -173,6 +173,7 @@ class Viewer:
         self.prompt: str | None = None  # the `f` prompt's text while it is open
         self.watcher: ModelWatcher | None = None  # set by --watch
         self._starting = False
+        self._framed_together: list[SceneObject] = []  # the command line's models, while the scene holds only them
 
     # --- start-up ------------------------------------------------------------------------------
     def start(self, options: StartOptions, longest_texture_side: int) -> None:
@@ -327,7 +328,12 @@ class Viewer:
         return False
 
     def _add(self, obj: SceneObject, path: Path, as_camera: bool, at_start: bool | None = None) -> None:
-        commands.add_loaded(self.scene, obj, as_camera=as_camera)
+        # The command line's models are framed together while the scene holds only them.
+        together = ((self._starting if at_start is None else at_start) and not as_camera
+                    and all(element in self._framed_together for element in self.scene.objects))
+        commands.add_loaded(self.scene, obj, as_camera=as_camera, with_the_others=together)
+        if together:
+            self._framed_together.append(obj)
         kind = "camera" if as_camera else "object"
         message = f"loaded {Path(path).name} as a new {kind}: {obj.mesh.summary()}"
         if obj.mesh.warnings:
