@@ -103,6 +103,21 @@ def test_pagedown_steps_past_a_bad_file_and_pageup_comes_back(tmp_path: Path) ->
     assert viewer.scene.object.name == "a"
 
 
+def test_an_earlier_load_finishing_late_leaves_the_next_step_where_the_last_press_put_it(tmp_path: Path) -> None:
+    """In the window loads finish later: b asked, then c; b arrives, c fails; the next press goes past c."""
+    from marraztu.control.commands import replace_loaded
+    from marraztu.control.viewer import load_model_object
+
+    folder_of(tmp_path, a_obj=TRIANGLE, b_obj=SQUARE, c_obj=b"v 1 2\n", d_obj=TRIANGLE)
+    viewer = viewer_on(tmp_path / "a.obj")
+    element = viewer.scene.object
+    element.browsed = tmp_path / "c.obj"  # the second press, whose load will fail
+    replace_loaded(element, load_model_object(tmp_path / "b.obj"))  # the first press's load, arriving now
+    assert element.source == tmp_path / "b.obj" and element.browsed == tmp_path / "c.obj"
+    press(viewer, "PAGEDOWN")
+    assert viewer.scene.object.name == "d" and element.browsed is None
+
+
 def test_the_strict_screenshot_refuses_a_bad_next_file(tmp_path: Path) -> None:
     folder_of(tmp_path, a_obj=TRIANGLE, b_obj=b"v 1 2\n")
     viewer = Viewer(empty_scene(), NoFrontend(), strict=True)

@@ -101,6 +101,15 @@ def test_a_uri_whose_percent_is_the_files_own_is_read_as_written(tmp_path: Path)
     assert loaded.warnings == () and loaded.materials[0].texture is not None
 
 
+def test_a_buffer_named_by_a_whole_path_is_looked_for_in_the_folder_and_says_so(tmp_path: Path) -> None:
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    (elsewhere / "square.bin").write_bytes(b"")
+    path = write_gltf(tmp_path / "elsewhere", buffer_file="other.bin", buffer_uri=str(elsewhere / "gone.bin"))
+    with pytest.raises(LoadError, match="only that folder is read, not a whole path"):
+        load_model(path)
+
+
 def test_a_missing_buffer_is_one_load_error_naming_it_decoded(tmp_path: Path) -> None:
     path = write_gltf(tmp_path, buffer_file="elsewhere.bin", buffer_uri="my%20buf.bin")
     with pytest.raises(LoadError) as caught:
@@ -161,6 +170,7 @@ def test_an_embedded_picture_of_another_format_is_a_note_not_drawn(tmp_path: Pat
     ("", None, "empty file: no faces"),
     ("[1, 2]", 1, "not a glTF file: its JSON is not an object of glTF's keys"),
     ("[" * 100_000, None, "not a glTF file: its JSON nests too deeply to read"),
+    ('{"asset": {"version": ' + "9" * 5000 + "}}", None, "not a glTF file: its JSON holds a number too long to read"),
 ])
 def test_a_gltf_that_is_not_json_says_so_at_its_line(tmp_path: Path, text: str, line: int | None, words: str) -> None:
     path = write_gltf(tmp_path, text=text)
@@ -177,6 +187,11 @@ def test_a_gltf_that_is_not_utf8_is_one_load_error(tmp_path: Path) -> None:
 
 
 # --- PLY ---------------------------------------------------------------------------------------------
+def test_a_ply_count_of_thousands_of_digits_is_one_load_error(tmp_path: Path) -> None:
+    (tmp_path / "m.ply").write_text("ply\nformat ascii 1.0\nelement vertex " + "9" * 5000 + "\nend_header\n")
+    with pytest.raises(LoadError, match="is not a count"):
+        load_model(tmp_path / "m.ply")
+
 def write_meshlab_ply(path: Path, texture: str = "q.png", per_face: bool = False) -> Path:
     """An ASCII PLY as MeshLab writes a textured one: `comment TextureFile`, and texture coordinates
     per vertex (s t) or per face corner (a texcoord list)."""

@@ -145,8 +145,15 @@ def test_every_library_named_is_read_and_the_first_of_a_name_wins(tmp_path: Path
         "blue": (0.0, 0.0, 1.0), "shared": (0.0, 0.0, 0.0)}
     assert mesh.file_material == {"kd": (1.0, 0.0, 0.0)}  # the first library's first material: the model's
     missing = [note for note in mesh.warnings if "not found" in note]
-    assert missing == (["material library 'gone.mtl' not found next to the model; using the scene's material"]
-                       if "gone" in statements else [])
+    assert missing == (["material library 'gone.mtl' not found next to the model"] if "gone" in statements else [])
+
+
+def test_a_windows_1252_byte_in_an_mtl_leaves_its_utf8_names_alone(tmp_path: Path) -> None:
+    """Each line is decoded on its own, as an OBJ's are: a comment in one encoding, names in the other."""
+    (tmp_path / "m.mtl").write_bytes(b"# Erstellt am 01.M\xe4rz\n" + "newmtl Matériau\nKd 0 1 0\n".encode())
+    uses = "usemtl Matériau\nf 1 2 3\n"
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + uses).encode(), str(tmp_path / "m.obj"), base_dir=tmp_path)
+    assert [material.name for material in mesh.materials] == ["Matériau"] and not mesh.warnings
 
 
 @pytest.mark.parametrize("written", ["C:\\Users\\artist\\maps\\wood.ppm", "maps\\wood.ppm", '"wood.ppm"', "WOOD.PPM",

@@ -104,11 +104,33 @@ def test_a_noff_rows_normal_and_an_stoff_rows_coordinates_are_read_past(tmp_path
     (off_text(["0 0 0 255 0", *SQUARE[1:]], header="COFF\n4 2 0\n"), 3,
      "a vertex row holds 6 or 7 numbers here, this one 5"),
     (off_text([f"{row} 255 0 0" for row in SQUARE[:3]] + ["0 1 0 255 0 0 255"], header="COFF\n4 2 0\n"), 6,
-     "a vertex row holds 6 or 7 numbers here, this one 7"),
+     "a vertex row holds 6 numbers here, as the first one does; this one 7"),
 ])
 def test_a_broken_off_is_refused_at_its_line(tmp_path: Path, text: str, line: int, message: str) -> None:
     refused = refusal(tmp_path, text)
     assert (refused.message, refused.line) == (message, line)
+
+
+@pytest.mark.parametrize(("header", "line"), [("OFF\n4 100000000000 0\n", 8), ("OFF\n4 " + "9" * 5000 + " 0\n", 2),
+                                              ("OFF" + "9" * 5000 + " 2 0\n", 1), ("OFF\n" + "9" * 20 + " 2 0\n", 2)])
+def test_a_header_claiming_more_than_the_file_holds_is_refused_without_reserving_it(tmp_path: Path, header: str,
+                                                                                      line: int) -> None:
+    refused = refusal(tmp_path, off_text(header=header))
+    assert refused.line == line and ("file ends before them" in refused.message
+                                     or refused.message == "expected the vertex, face and edge counts")
+
+
+def test_a_form_feed_in_a_comment_ends_no_line(tmp_path: Path) -> None:
+    """str.splitlines() ends lines at form feeds and separators too: a comment's would become a row."""
+    mesh = read(tmp_path, off_text(header="OFF # written by \x0c a tool\n4 2 0\n"))
+    assert mesh.face_count == 2
+    refused = refusal(tmp_path, "# a\x0cb\n" + off_text(faces=("3 0 1 9", "3 0 2 3")))
+    assert refused.line == 8
+
+
+def test_leading_zeros_make_no_index_too_long(tmp_path: Path) -> None:
+    mesh = read(tmp_path, off_text(faces=("3 0 1 " + "0" * 30 + "2", "3 0 2 3")))
+    assert mesh.corner_vertex[:3].tolist() == [0, 1, 2]
 
 
 def test_a_colour_past_255_is_refused(tmp_path: Path) -> None:

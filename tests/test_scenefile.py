@@ -270,7 +270,7 @@ def test_broken_model_names_the_model_and_its_line(tmp_path: Path) -> None:
     path = write_scene(tmp_path, '[[cameras]]\nmodel = "broken.obj"\nposition = [0, 0, 0]\n')
     with pytest.raises(LoadError) as caught:
         load_scene(path)
-    assert caught.value.path == str(path) and caught.value.line == 1
+    assert caught.value.path == str(path) and caught.value.line == 2  # its model key's
     assert caught.value.message.startswith("model broken.obj: ")
     assert "broken.obj:4" in caught.value.message
 

@@ -106,6 +106,17 @@ def test_the_first_bad_number_is_named_among_many() -> None:
     assert (refused.message, refused.line) == ("'bad' is not a number", 1 + 20_000 * 7 + 5)
 
 
+@pytest.mark.parametrize("padding", [b"\x1a", b"\0" * 300, b"\r\n\x1a\0\0\n"])
+def test_padding_after_the_last_endsolid_is_read_past(padding: bytes) -> None:
+    """DOS's end-of-file byte, or NULs, that some writers put at the end."""
+    assert read(solid(facet(TRIANGLE)).encode() + padding).shape == (3, 3)
+
+
+def test_a_form_feed_ends_no_line() -> None:
+    text = solid(facet(TRIANGLE)).replace("outer loop", "outer loop \x0c") + solid(facet(["0 0 0", "1 0 0", "x 1 0"]))
+    assert refusal(text).line == 9 + 6  # the third vertex of the second solid's facet
+
+
 def test_binary_data_after_solid_is_named() -> None:
     """A binary STL whose header begins with 'solid' and whose size does not match its count."""
     data = b"solid exported by some tool" + bytes(53) + (5).to_bytes(4, "little") + bytes(50 * 4)

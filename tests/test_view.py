@@ -127,6 +127,10 @@ def test_the_near_plane_is_the_specifications_for_its_scene_small_for_small_mode
     assert huge.scene.near_plane() == pytest.approx(2e7 * np.sqrt(3) / 10_000)
     beside_the_ships = viewer_with("", (octahedron(tmp_path / "h.obj", 1e7),))
     assert beside_the_ships.scene.near_plane() == 5.0  # theirs: a near plane past them would cut them away
+    camera = octahedron(tmp_path / "cam.obj", 5.0)
+    with_a_camera_in_view = viewer_with(f"c f={camera}", (tmp_path / "h.obj",), empty=True)
+    assert len(with_a_camera_in_view.scene.cameras) == 2
+    assert with_a_camera_in_view.scene.near_plane() == 5.0  # the second camera is seen: no nearer than SPEC's
 
 
 @pytest.mark.parametrize("size", [1e5, 1e7, 1e9])

@@ -482,7 +482,11 @@ def replace_loaded(element: SceneObject, loaded: SceneObject) -> None:
     undo and GPU slot stay), and takes the new file's mesh, name and material."""
     element.mesh, element.name, element.material = loaded.mesh, loaded.name, loaded.material
     element.part_materials = loaded.part_materials
-    element.source, element.browsed, element.selected_face = loaded.source, None, 0
+    # PageDown goes on from the shown file once the last file it asked for is the one shown (an earlier
+    # load, or --watch's, finishing after a later PageDown leaves that one where the next step starts).
+    if element.browsed == loaded.source:
+        element.browsed = None
+    element.source, element.selected_face = loaded.source, 0
 
 
 def step_file(step: int) -> CommandFunction:

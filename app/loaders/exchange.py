@@ -34,6 +34,7 @@ from marraztu.errors import LoadError, escaped
 from marraztu.loaders.files import MAX_FILE_BYTES, read_file, read_model_bytes, same_file_key, size_or_zero
 from marraztu.loaders.images import image_format, rgb_array
 from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES, stl_corners
+from marraztu.loaders.words import MAX_COUNT_DIGITS
 from marraztu.model.build import build_mesh, colour_bytes
 from marraztu.model.geometry import holds_in_float32, merged_rows
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial
@@ -180,6 +181,8 @@ class _FilesBeside:
         found = next((path for path in inside if _exists(path)), None)
         if found is None and candidates[0] not in inside:
             raise LoadError(shown, "it lies outside the model's folder")
+        if found is None and _looks_absolute(next(iter(written))):
+            raise LoadError(shown, "no such file in the model's folder (only that folder is read, not a whole path)")
         return found or candidates[0]  # not there: reading it says so
 
     def notes(self) -> list[str]:
@@ -207,6 +210,10 @@ def _looked_for(name: str) -> list[str]:
     return [written.lstrip("/"), written.rsplit("/", 1)[-1]]
 
 
+def _looks_absolute(name: str) -> bool:
+    return name.startswith(("/", "\\")) or re.match(r"[A-Za-z]:[\\/]", name) is not None
+
+
 def _exists(path: Path) -> bool:
     try:
         return path.exists()
@@ -225,6 +232,8 @@ def _gltf_pictures(path: Path, data: bytes) -> frozenset[str]:
         raise LoadError(path, "not a glTF file: its JSON is not UTF-8 text") from None
     except RecursionError:
         raise LoadError(path, "not a glTF file: its JSON nests too deeply to read") from None
+    except ValueError:  # an integer of thousands of digits, which Python will not read
+        raise LoadError(path, "not a glTF file: its JSON holds a number too long to read") from None
     if not isinstance(document, dict):
         raise LoadError(path, "not a glTF file: its JSON is not an object of glTF's keys", line=1)
     return frozenset(_uris(document.get("images"))) - frozenset(_uris(document.get("buffers")))
@@ -259,7 +268,7 @@ def _ply_header(path: Path, data: bytes) -> tuple[dict[str, int], int, bool]:
     for number, line in enumerate(header, start=1):
         words = line.split()
         if words[:1] == ["element"] and len(words) == 3 and words[1] in counts:
-            if not words[2].isdigit():
+            if not (words[2].isdigit() and len(words[2]) <= MAX_COUNT_DIGITS):
                 raise LoadError(path, f"element {words[1]}: {words[2]!r} is not a count", line=number)
             counts[words[1]] = int(words[2])
     if counts["face"] == 0:

@@ -18,7 +18,7 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import read_model_bytes, text_lines
-from marraztu.loaders.words import checked_coordinates, checked_indices
+from marraztu.loaders.words import MAX_COUNT_DIGITS, checked_coordinates, checked_indices
 from marraztu.model.build import derive_mesh
 from marraztu.model.mesh import Mesh
 
@@ -122,7 +122,7 @@ def _header(path: Path, rows: _Rows) -> tuple[_Layout, int, int]:
     counts = ([keyword[4]] if keyword[4] else []) + words[1:]
     if not counts:
         number, counts = rows.next() or (number, [])
-    if len(counts) < 2 or not (counts[0].isdigit() and counts[1].isdigit()):
+    if len(counts) < 2 or not all(word.isdigit() and len(word) <= MAX_COUNT_DIGITS for word in counts[:2]):
         raise LoadError(path, "expected the vertex, face and edge counts", line=number)
     vertices, faces = int(counts[0]), int(counts[1])
     if faces == 0:
@@ -151,9 +151,12 @@ def _vertex_rows(path: Path, rows: _Rows, count: int, layout: _Layout
     lines: list[int] = []
     width = 0
     for number, words in _taken(path, rows, count, "vertices"):
-        if len(words) not in sizes or (width and len(words) != width):
+        if len(words) not in sizes:
             wanted = " or ".join(map(str, sizes))
             raise LoadError(path, f"a vertex row holds {wanted} numbers here, this one {len(words)}", line=number)
+        if width and len(words) != width:
+            raise LoadError(path, f"a vertex row holds {width} numbers here, as the first one does; this one "
+                                  f"{len(words)}", line=number)
         width = len(words)
         words_read += words[:3]
         extra_words += words[3:]
@@ -178,13 +181,14 @@ def _flush(path: Path, blocks: list[np.ndarray], words: list[str], extra_blocks:
 
 
 def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.ndarray, np.ndarray]:
-    """Each face row's corner count n, its n vertex indices and perhaps a colour (not read)."""
+    """Each face row's corner count n, its n vertex indices and perhaps a colour (not read). Held a
+    block at a time as the rows come: never by the header's count, which a short file may exaggerate."""
     blocks: list[np.ndarray] = []
-    sizes = np.empty(count, np.int64)
+    size_blocks: list[np.ndarray] = []
+    sizes: list[int] = []
     index_words: list[str] = []
     face_lines: list[int] = []
-    done = 0
-    for face, (number, words) in enumerate(_taken(path, rows, count, "faces")):
+    for number, words in _taken(path, rows, count, "faces"):
         corners = int(words[0]) if words[0].isdigit() and len(words[0]) < 10 else -1
         if corners < 3:
             raise LoadError(path, f"a face's corner count must be a whole number of 3 or more, not '{words[0][:40]}'",
@@ -192,14 +196,16 @@ def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.n
         if len(words) - 1 - corners not in _FACE_COLOUR_WORDS:
             raise LoadError(path, f"a face of {corners} corners, this line holds {len(words) - 1} numbers after "
                                   "its count", line=number)
-        sizes[face] = corners
+        sizes.append(corners)
         index_words += words[1:1 + corners]
         face_lines.append(number)
         if len(face_lines) == _ROWS_AT_ONCE:
-            blocks.append(_indices(path, index_words, face_lines, sizes[done:face + 1], vertices))
-            index_words, face_lines, done = [], [], face + 1
-    blocks.append(_indices(path, index_words, face_lines, sizes[done:], vertices))
-    return np.concatenate(blocks), np.concatenate(([0], np.cumsum(sizes)))
+            size_blocks.append(np.array(sizes, np.int64))
+            blocks.append(_indices(path, index_words, face_lines, size_blocks[-1], vertices))
+            sizes, index_words, face_lines = [], [], []
+    size_blocks.append(np.array(sizes, np.int64))
+    blocks.append(_indices(path, index_words, face_lines, size_blocks[-1], vertices))
+    return np.concatenate(blocks), np.concatenate(([0], np.cumsum(np.concatenate(size_blocks))))
 
 
 def _indices(path: Path, words: list[str], lines: list[int], sizes: np.ndarray, vertices: int) -> np.ndarray:

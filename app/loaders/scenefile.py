@@ -244,7 +244,7 @@ class _SceneReader:
         position = self.triple(table["position"], f"{what}: position", at("position"))
         rotation = self.triple(table.get("rotation", [0, 0, 0]), f"{what}: rotation", at("rotation"))
         material = self.entry_material(table.get("material"), what, at("material"), materials)
-        return SceneEntry(name, model, self.path.parent / model, position, rotation, material, line)
+        return SceneEntry(name, model, self.path.parent / model, position, rotation, material, at("model"))
 
     def entry_material(self, value: object, what: str, line: int | None,
                        materials: dict[str, Material]) -> Material | None:

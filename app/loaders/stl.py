@@ -33,10 +33,22 @@ def stl_corners(path: Path, data: bytes) -> np.ndarray:
     if not _ASCII_START.match(data):
         raise LoadError(path, "neither a binary STL (its size does not match its triangle count) nor an "
                               "ASCII one (it does not start with 'solid')", line=1)
+    data = _without_end_padding(data)
     if b"\0" in data:
         raise LoadError(path, "binary data after 'solid': a binary STL whose size does not match its "
                               f"triangle count ({len(data)} bytes)?", line=_line_of(data, data.find(b"\0")))
     return _ascii_corners(path, data)
+
+
+_END_PADDING = b"\0\x1a \t\r\n"  # NULs, or DOS's end-of-file byte, that some writers put after endsolid
+
+
+def _without_end_padding(data: bytes) -> bytes:
+    """The text without the padding after its last endsolid (copied only where there is some)."""
+    end = len(data)
+    while end and data[end - 1] in _END_PADDING:
+        end -= 1
+    return data if data.find(b"\0", end) < 0 and data.find(b"\x1a", end) < 0 else data[:end] + b"\n"
 
 
 def _binary_corners(data: bytes) -> np.ndarray:

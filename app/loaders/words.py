@@ -17,6 +17,9 @@ from marraztu.errors import LoadError
 from marraztu.model.geometry import FLOAT32_MAX, holds_in_float32
 
 LineOf = Callable[[int], int]  # the line of the word at this index
+# A header's count longer than this is no count of anything a 1 GiB file holds (and int() refuses
+# thousands of digits with a ValueError).
+MAX_COUNT_DIGITS = 12
 
 _DECIMAL = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 _WHOLE = re.compile(r"[-+]?\d+")
@@ -34,10 +37,13 @@ def checked_coordinates(path: Path, words: list[str], line_of: LineOf) -> np.nda
 
 def checked_indices(path: Path, words: list[str], line_of: LineOf, vertices: int) -> np.ndarray:
     """int64 vertex indices, each a whole number from 0 to vertices - 1."""
-    if any(len(word) > 18 for word in words):  # past int64: numpy would raise OverflowError
-        at = next(at for at, word in enumerate(words) if len(word) > 18)
-        raise LoadError(path, f"vertex index {words[at][:40]} out of range (the file has {vertices} vertices)",
-                        line=line_of(at))
+    if any(len(word) > 18 for word in words):  # numpy raises OverflowError past int64's 18 digits
+        words = [_trimmed(word) for word in words]
+        at = next((at for at, word in enumerate(words) if len(word.lstrip("+-")) > 18 and _WHOLE.fullmatch(word)),
+                  None)
+        if at is not None:
+            raise LoadError(path, f"vertex index {words[at][:40]} out of range (the file has {vertices} vertices)",
+                            line=line_of(at))
     values = _converted(path, words, line_of, np.int64, _WHOLE)
     outside = (values < 0) | (values >= vertices)
     if outside.any():
@@ -45,6 +51,14 @@ def checked_indices(path: Path, words: list[str], line_of: LineOf, vertices: int
         raise LoadError(path, f"vertex index {values[at]} out of range (the file has {vertices} vertices)",
                         line=line_of(at))
     return values
+
+
+def _trimmed(word: str) -> str:
+    """A whole number's word without its leading zeros ('-0000000000000000000002' is '-2'); others as they are."""
+    if not _WHOLE.fullmatch(word):
+        return word
+    digits = word.lstrip("+-")
+    return word[:len(word) - len(digits)] + (digits.lstrip("0") or "0")
 
 
 def _converted(path: Path, words: list[str], line_of: LineOf, kind: type, syntax: re.Pattern[str]) -> np.ndarray:

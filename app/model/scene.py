@@ -253,7 +253,9 @@ class Scene:
         sizes = [obj.mesh.size for obj in self.objects]
         if not sizes or not max(sizes):
             return NEAR_PLANE
-        return min(max(NEAR_PLANE, min(sizes) / DEPTH_FRACTION), max(sizes) / NEAR_FRACTION)
+        # A camera seen in the scene is cut no more than a small object would be.
+        seen = sizes + [camera.mesh.size for camera in self.cameras if camera is not self.viewer]
+        return min(max(NEAR_PLANE, min(seen) / DEPTH_FRACTION), max(sizes) / NEAR_FRACTION)
 
     def projection_matrix(self, aspect: float) -> np.ndarray:
         far = self.far_plane()

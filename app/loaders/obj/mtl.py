@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import decoded, read_file, same_file_key, text_lines
+from marraztu.loaders.files import read_file, same_file_key, text_lines
 from marraztu.loaders.images import load_image
 from marraztu.loaders.obj.raw import MAX_MATERIAL_NAME, finite_floats
 from marraztu.model.mesh import MeshMaterial
@@ -46,7 +46,7 @@ def _read_library(mtl: Path, notes: list[str], wanted: Collection[str], tried: l
     tried.append(mtl)
     shown = _shown(mtl.name)
     try:
-        text = decoded(read_file(mtl, limit=MAX_MTL_BYTES))
+        text = read_file(mtl, limit=MAX_MTL_BYTES)  # its lines are decoded one by one, as an OBJ's names
     except LoadError as error:
         notes.append(f"material library '{shown}' could not be read ({error.message}); using the scene's material")
         return []
@@ -61,8 +61,9 @@ def _library_paths(base_dir: Path, name: str, notes: list[str]) -> list[Path]:
     words = name.split(None, _MOST_NAMES)[:_MOST_NAMES]
     found = [base_dir / word for word in words if _is_there(base_dir / word)]
     missing = [word for word in words if not _is_there(base_dir / word)] if found else [name]
-    for word in missing[:1]:
-        notes.append(f"material library '{_shown(word)}' not found next to the model; using the scene's material")
+    for word in missing[:1]:  # the scene's material stands in only where no library was found
+        notes.append(f"material library '{_shown(word)}' not found next to the model"
+                     + ("" if found else "; using the scene's material"))
     return found
 
 
@@ -79,7 +80,7 @@ class _Block:
     texture: str | None = None
 
 
-def _parse_library(text: str, name: str, folder: Path, notes: list[str], wanted: Collection[str],
+def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wanted: Collection[str],
                    tried: list[Path], keep_first: bool = True) -> list[MeshMaterial]:
     kept: dict[str, _Block] = {}  # the materials the model can use, by name, in file order
     block: _Block | None = None  # the material being read; dropped at the next newmtl unless kept
