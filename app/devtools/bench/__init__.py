@@ -61,7 +61,7 @@ def main(argv: Sequence[str]) -> int:
             if any(section in config.sections for section in ("load", "memory", "window")):
                 inputs = generate_load_inputs(directory, *config.load_sizes)
             if "load" in config.sections:
-                emit(loading_section(config, inputs + generate_format_inputs(directory, config.load_sizes[-1])))
+                emit(loading_section(config, inputs + generate_format_inputs(directory, *config.load_sizes)))
             if bench is not None and "frames" in config.sections:
                 emit(frames_section(bench, config))
             if bench is not None and "cpu" in config.sections:

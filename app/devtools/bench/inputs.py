@@ -141,25 +141,41 @@ def generate_load_inputs(directory: Path, small: int, large: int) -> list[LoadIn
     return inputs
 
 
-# The other formats, as trimesh's own exporters write them: (label, file suffix, exporter's file type).
-FORMATS = (("binary STL", ".stl", "stl"), ("binary PLY", ".ply", "ply"), ("GLB", ".glb", "glb"))
+# The other formats, as trimesh's own exporters write them: (label, file name, exporter's file type).
+# The text ones at the small size: a 1M-triangle ASCII STL is 290 MB, and trimesh reads it in seconds.
+BINARY_FORMATS = (("binary STL", "bench_grid.stl", "stl"), ("binary PLY", "bench_grid.ply", "ply"),
+                  ("GLB", "bench_grid.glb", "glb"))
+TEXT_FORMATS = (("ASCII STL", "bench_grid_ascii.stl", "stl_ascii"), ("OFF", "bench_grid.off", "off"))
+FORMATS = BINARY_FORMATS + TEXT_FORMATS
 
 
-def generate_format_inputs(directory: Path, triangles: int) -> list[LoadInput]:
-    """The large v f only grid again in each of FORMATS (positions and triangles: what STL can hold)."""
+@dataclass(frozen=True)
+class FormatInput(LoadInput):
+    file_type: str = ""
+
+    @property
+    def warm_up(self) -> Path:
+        """A one-triangle file of the same format and encoding: ASCII and binary STL share a suffix."""
+        return self.path.with_name(f"warm-up-{self.file_type}{self.path.suffix}")
+
+
+def generate_format_inputs(directory: Path, small: int, large: int) -> list[LoadInput]:
+    """The v f only grid again in each of FORMATS (positions and triangles: what STL can hold), the
+    binary ones at the large size and the text ones at the small."""
     import trimesh
 
-    cells = cells_for_triangles(triangles)
-    faces = grid_triangles(cells)
-    grid = trimesh.Trimesh(wavy_surface(cells, SEED + 3).positions, faces, process=False)
     tiny = trimesh.Trimesh([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], [[0, 1, 2]], process=False)
-    inputs = []
-    for label, suffix, file_type in FORMATS:
-        item = LoadInput(f"{count_label(triangles)} tri {label}", directory / f"bench_grid{suffix}", len(faces))
-        progress(f"writing {item.path.name}")
-        grid.export(item.path, file_type=file_type)
-        tiny.export(item.warm_up, file_type=file_type)
-        inputs.append(item)
+    inputs: list[LoadInput] = []
+    for size, formats in ((large, BINARY_FORMATS), (small, TEXT_FORMATS)):
+        cells = cells_for_triangles(size)
+        faces = grid_triangles(cells)
+        grid = trimesh.Trimesh(wavy_surface(cells, SEED + 3).positions, faces, process=False)
+        for label, name, file_type in formats:
+            item = FormatInput(f"{count_label(size)} tri {label}", directory / name, len(faces), file_type)
+            progress(f"writing {item.path.name}")
+            grid.export(item.path, file_type=file_type)
+            tiny.export(item.warm_up, file_type=file_type)
+            inputs.append(item)
     return inputs
 
 

@@ -314,7 +314,7 @@ def loading_section(config: BenchConfig, inputs: Sequence[LoadInput]) -> list[st
         "any earlier large file would have; the reader's own memory is in section 4), so that only what "
         "the file itself costs is left; *÷ file*: that over the file's size. *ours* = `load_model` (the OBJ "
         "reader; for the other formats, whose files trimesh's exporters wrote from the v f only grid, our "
-        "binary STL reader, or trimesh and our checks) + the surface vertex and index "
+        "STL and OFF readers, or trimesh and our checks for PLY and GLB) + the surface vertex and index "
         "arrays `ObjectGpu` uploads for the first frame (marraztu.render.gpu; edges and normal segments "
         "are built later, when lines or normals are first drawn); trimesh = `trimesh.load(process=False)`; "
         "tinyobjloader = parse (triangulated) + numpy copies of its tables; rapidobj = `parse_obj` "
