@@ -187,6 +187,15 @@ def test_a_gltf_that_is_not_utf8_is_one_load_error(tmp_path: Path) -> None:
 
 
 # --- PLY ---------------------------------------------------------------------------------------------
+def test_a_plys_face_colours_are_said_not_to_be_drawn(tmp_path: Path) -> None:
+    mesh = trimesh.Trimesh(vertices=SQUARE, faces=FACES, process=False)
+    mesh.visual.face_colors = [[255, 0, 0, 255], [0, 0, 255, 255]]
+    (tmp_path / "faces.ply").write_bytes(trimesh.exchange.ply.export_ply(mesh, encoding="ascii"))
+    loaded = load_model(tmp_path / "faces.ply")
+    assert loaded.vertex_colours is None
+    assert loaded.warnings == ("colours given per face are not drawn (vertex colours are)",)
+
+
 def test_a_ply_count_of_thousands_of_digits_is_one_load_error(tmp_path: Path) -> None:
     (tmp_path / "m.ply").write_text("ply\nformat ascii 1.0\nelement vertex " + "9" * 5000 + "\nend_header\n")
     with pytest.raises(LoadError, match="is not a count"):

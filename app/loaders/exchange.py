@@ -357,6 +357,8 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own
     uvs = _joined([geometry.uvs for geometry, _ in parts], sizes, np.nan)  # NaN: derived
     colours = _joined([geometry.colours for geometry, _ in parts], sizes, 255)  # white: untinted
     materials, part_material, notes = _part_materials(name, parts, picture_formats)
+    if any(getattr(getattr(geometry.mesh, "visual", None), "kind", None) == "face" for geometry, _ in parts):
+        notes.append("colours given per face are not drawn (vertex colours are)")
     # One mesh's base colour is the model's; of several, each keeps its own, and one without takes the
     # viewer's rather than another mesh's.
     own = _material_of(parts[0][0].mesh) if len(parts) == 1 else None
