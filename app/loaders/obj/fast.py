@@ -16,17 +16,9 @@ from typing import TypeVar
 
 import numpy as np
 
-from marraztu.loaders.files import decoded
 from marraztu.loaders.obj import scan
 from marraztu.loaders.obj.lines import LineReader, check_forward_indices, no_faces_error
-from marraztu.loaders.obj.raw import (
-    MAX_LIBRARY_LINES,
-    ColourComment,
-    RawObj,
-    add_material_run,
-    material_name,
-    statement,
-)
+from marraztu.loaders.obj.raw import ColourComment, RawObj, add_material_run, material_name, statement, with_library
 from marraztu.model.mesh import INDEX
 
 # Pieces of at least this many bytes: below it a thread costs more than it saves.
@@ -130,8 +122,8 @@ class _Records:
     def statement(self, faces_before: int, content: bytes) -> None:
         keyword, rest = statement(content)
         self.statements += 1
-        if keyword == b"mtllib" and len(self.mtllib) < MAX_LIBRARY_LINES:
-            self.mtllib += (decoded(rest),)
+        if keyword == b"mtllib":
+            self.mtllib = with_library(self.mtllib, rest)
         elif keyword == b"usemtl":
             add_material_run(self.material_runs, faces_before, material_name(rest))
 

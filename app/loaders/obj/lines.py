@@ -20,12 +20,12 @@ from marraztu.loaders.files import decoded
 from marraztu.loaders.obj.raw import (
     CORNER_GAPS,
     MAX_DIGITS,
-    MAX_LIBRARY_LINES,
     ColourComment,
     RawObj,
     add_material_run,
     material_name,
     statement,
+    with_library,
 )
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import INDEX, INDEX_LIMIT
@@ -115,8 +115,8 @@ class LineReader:
             self.defined[field] += 1
         elif keyword == b"f":
             self.face(number, rest)
-        elif keyword == b"mtllib" and len(self.mtllib) < MAX_LIBRARY_LINES:
-            self.mtllib += (decoded(rest),)
+        elif keyword == b"mtllib":
+            self.mtllib = with_library(self.mtllib, rest)
         elif keyword == b"usemtl":
             add_material_run(self.material_runs, len(self.face_sizes), material_name(rest))
 

@@ -103,6 +103,11 @@ MAX_LIBRARY_LINES = 16  # mtllib lines read: a file of a million must not cost a
 MAX_MATERIAL_NAME = 200  # characters of a usemtl name kept: enough for any real one, bounded for a hostile one
 
 
+def with_library(libraries: tuple[str, ...], rest: bytes) -> tuple[str, ...]:
+    """The mtllib lines' names so far, and this line's: at most MAX_LIBRARY_LINES of them."""
+    return libraries + (decoded(rest),) if len(libraries) < MAX_LIBRARY_LINES else libraries
+
+
 def material_name(rest: bytes) -> str:
     """The name a usemtl line gives (the whole rest of the line: names may hold spaces)."""
     return decoded(rest)[:MAX_MATERIAL_NAME]
