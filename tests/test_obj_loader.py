@@ -335,6 +335,16 @@ def test_windows_1252_comments_and_names_are_read(tmp_path: Path) -> None:
     assert mesh.materials[0].values["kd"] == (0.0, 1.0, 0.0) and not mesh.warnings
 
 
+@pytest.mark.parametrize("read", [read_by_lines, fast_reader.read_fast], ids=["line reader", "fast reader"])
+def test_vertex_colours_after_the_position_are_said_not_to_be_drawn(read) -> None:
+    """MeshLab and ZBrush write `v x y z r g b`: the position is read, and one note says the colour is not."""
+    text = b"v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n"
+    raw = read(text, "coloured.obj")
+    assert raw.notes == ["vertex colours (v x y z r g b) are not drawn"]
+    assert raw.positions.tolist() == [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+    assert read(b"v 0 0 0 1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "w.obj").notes == []  # x y z w: no colour
+
+
 def test_a_stray_byte_in_a_number_is_that_lines_error() -> None:
     with pytest.raises(LoadError) as caught:
         parse(b"v 0 0 0\nv 1 0 0\nv 0 1\xff 0\nf 1 2 3\n")

@@ -18,7 +18,15 @@ import numpy as np
 
 from marraztu.loaders.obj import scan
 from marraztu.loaders.obj.lines import LineReader, check_forward_indices, no_faces_error
-from marraztu.loaders.obj.raw import ColourComment, RawObj, add_material_run, material_name, statement, with_library
+from marraztu.loaders.obj.raw import (
+    VERTEX_COLOURS_NOTE,
+    ColourComment,
+    RawObj,
+    add_material_run,
+    material_name,
+    statement,
+    with_library,
+)
 from marraztu.model.mesh import INDEX
 
 # Pieces of at least this many bytes: below it a thread costs more than it saves.
@@ -63,7 +71,8 @@ def read_fast(text: bytes, source: str) -> RawObj:
         buf, int(np.searchsorted(face_start, corner, "right")) - 1))
     optional = [column if column.size and column.max() >= 0 else None for column in columns[1:]]
     return RawObj(*tables, columns[0], *optional, face_start, outcome.mtllib, outcome.colour.colour,
-                  outcome.colour.notes, outcome.material_runs)
+                  outcome.colour.notes + ([VERTEX_COLOURS_NOTE] if outcome.vertex_colours else []),
+                  outcome.material_runs)
 
 
 def _pieces(text: bytes, count: int) -> list[tuple[int, int]]:
@@ -100,6 +109,7 @@ class _Records:
         self.material_runs: list[tuple[int, str]] = []
         self.colour = ColourComment()
         self.statements = 0
+        self.vertex_colours = False  # some v line gives a colour after its position
 
     def settle(self, records: np.ndarray) -> None:
         for first in range(0, records.shape[0], _SETTLED_AT_ONCE):  # as Python ints a few at a time: ten each
@@ -112,6 +122,8 @@ class _Records:
                 self.read_line(record, content)
             elif record[scan.R_KIND] == scan.STATEMENT:
                 self.statement(record[scan.R_FACE], content)
+            elif record[scan.R_KIND] == scan.VERTEX_COLOURS:
+                self.vertex_colours = True
             else:
                 self.colour.offer(record[scan.R_LINE], content)
 
@@ -132,6 +144,7 @@ class _Records:
         reader = LineReader(self.source)
         reader.defined = [record[scan.R_V], record[scan.R_VT], record[scan.R_VN]]
         reader.read_line(record[scan.R_LINE], content)  # raises the line's LoadError
+        self.vertex_colours |= reader.vertex_colours
         kind = record[scan.R_KEYWORD]
         if kind == scan.F:
             corner, corners = record[scan.R_CORNER], len(reader.corners[0])

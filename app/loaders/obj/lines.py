@@ -18,8 +18,10 @@ import numpy as np
 from marraztu.errors import LoadError
 from marraztu.loaders.files import decoded
 from marraztu.loaders.obj.raw import (
+    COLOURED_V_NUMBERS,
     CORNER_GAPS,
     MAX_DIGITS,
+    VERTEX_COLOURS_NOTE,
     ColourComment,
     RawObj,
     add_material_run,
@@ -79,6 +81,7 @@ class LineReader:
         self.face_sizes = array("q")
         self.face_lines = array("q")
         self.mtllib: tuple[str, ...] = ()
+        self.vertex_colours = False  # some v line gives a colour after its position
         self.material_runs: list[tuple[int, str]] = []
         self.colour = ColourComment()
         self.statements = 0
@@ -112,6 +115,7 @@ class LineReader:
             field, name, fewest, most = _TABLES[keyword]
             values = self.numbers(number, rest, name, fewest, most)
             self.tables[field].extend(values[:_TABLE_WIDTHS[field]])
+            self.vertex_colours |= field == 0 and len(values) >= COLOURED_V_NUMBERS
             self.defined[field] += 1
         elif keyword == b"f":
             self.face(number, rest)
@@ -213,7 +217,8 @@ class LineReader:
                   for table, width in zip(self.tables, _TABLE_WIDTHS)]
         optional = [column if np.any(column >= 0) else None for column in corners]
         return RawObj(tables[0], tables[1], tables[2], corners[0], optional[1], optional[2],
-                      face_start, self.mtllib, self.colour.colour, self.colour.notes, self.material_runs)
+                      face_start, self.mtllib, self.colour.colour,
+                      self.colour.notes + ([VERTEX_COLOURS_NOTE] if self.vertex_colours else []), self.material_runs)
 
 
 def read_by_lines(text: bytes, source: str) -> RawObj:

@@ -99,6 +99,9 @@ def add_material_run(runs: list[tuple[int, str]], faces_before: int, name: str) 
         runs.append((faces_before, name))
 
 
+# `v x y z r g b` (MeshLab, ZBrush): a colour after the position; the viewer does not draw it, and says so.
+COLOURED_V_NUMBERS = 6
+VERTEX_COLOURS_NOTE = "vertex colours (v x y z r g b) are not drawn"
 MAX_LIBRARY_LINES = 16  # mtllib lines read: a file of a million must not cost a million lookups
 MAX_MATERIAL_NAME = 200  # characters of a usemtl name kept: enough for any real one, bounded for a hostile one
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from marraztu.loaders.obj.raw import MAX_DIGITS
+from marraztu.loaders.obj.raw import COLOURED_V_NUMBERS, MAX_DIGITS
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import INDEX_LIMIT
 
@@ -22,9 +22,9 @@ V, VT, VN, F = 0, 1, 2, 3
 LINES, CORNERS = 4, 5
 COUNT_COLUMNS = 6
 _NO_KEYWORD, _OTHER_KEYWORD, _USEMTL_KEYWORD, _MTLLIB_KEYWORD = -1, -2, -3, -4
-# What a record is: a table or face line for the line reader, another statement, or a comment that
-# may be the seed's "# colour".
-DEFERRED, STATEMENT, COMMENT = 0, 1, 2
+# What a record is: a table or face line for the line reader, another statement, a comment that
+# may be the seed's "# colour", or a piece's first v line with a colour after its x y z.
+DEFERRED, STATEMENT, COMMENT, VERTEX_COLOURS = 0, 1, 2, 3
 # Columns of a record: its kind, the line's bytes and number, the rows of v, vt and vn before it,
 # the faces and corners before it, and its keyword's kind.
 R_KIND, R_START, R_END, R_LINE, R_V, R_VT, R_VN, R_FACE, R_CORNER, R_KEYWORD = range(10)
@@ -179,19 +179,19 @@ def _number(buf: np.ndarray, at: int) -> tuple[float, int, bool]:
 
 
 @njit(**_JIT)
-def _numbers(buf: np.ndarray, at: int, row: np.ndarray, fewest: int, most: int) -> tuple[bool, int]:
-    """A v, vt or vn line's numbers, the first len(row) of them into row: whether they were read (else
-    the line reader reads the line), and where reading stopped."""
+def _numbers(buf: np.ndarray, at: int, row: np.ndarray, fewest: int, most: int) -> tuple[int, int]:
+    """A v, vt or vn line's numbers, the first len(row) of them into row: how many it holds, or -1
+    where they were not read (the line reader reads the line), and where reading stopped."""
     count = 0
     while True:
         at = _skip_blanks(buf, at)
         if buf[at] == _NEWLINE or buf[at] == _HASH:
-            return fewest <= count, at
+            return (count if fewest <= count else -1), at
         if count == most:
-            return False, at
+            return -1, at
         value, at, ok = _number(buf, at)
         if not ok:
-            return False, at
+            return -1, at
         if count < row.shape[0]:
             row[count] = value
         count += 1
@@ -315,6 +315,7 @@ def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, f
     used = 0
     stated = False  # whether this piece has recorded a statement yet
     coloured = False  # whether it has recorded a colour comment that sets the colour: later ones cannot
+    colours_seen = False  # whether it has recorded a v line with a colour: once a piece is enough
     start = low
     while start < high:
         if buf[start] == _NEWLINE:
@@ -324,11 +325,16 @@ def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, f
         kind, at = _keyword(buf, start)
         record, corners, read = -1, 0, True
         if kind == V:
-            read, at = _numbers(buf, at, positions[defined[V]], 3, 7)
+            numbers, at = _numbers(buf, at, positions[defined[V]], 3, 7)
+            read = numbers >= 0
+            if numbers >= COLOURED_V_NUMBERS and not colours_seen:
+                record, colours_seen = VERTEX_COLOURS, True
         elif kind == VT:
-            read, at = _numbers(buf, at, texcoords[defined[VT]], 2, 3)
+            numbers, at = _numbers(buf, at, texcoords[defined[VT]], 2, 3)
+            read = numbers >= 0
         elif kind == VN:
-            read, at = _numbers(buf, at, normals[defined[VN]], 3, 3)
+            numbers, at = _numbers(buf, at, normals[defined[VN]], 3, 3)
+            read = numbers >= 0
         elif kind == F:
             corners, stop = _face(buf, at, defined, vertex, texcoord, normal, corner)
             if corners < 0:
