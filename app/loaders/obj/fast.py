@@ -16,17 +16,8 @@ from typing import TypeVar
 
 import numpy as np
 
-from marraztu.loaders.obj import scan
+from marraztu.loaders.obj import raw, scan
 from marraztu.loaders.obj.lines import LineReader, check_forward_indices, no_faces_error
-from marraztu.loaders.obj.raw import (
-    VERTEX_COLOURS_NOTE,
-    ColourComment,
-    RawObj,
-    add_material_run,
-    material_name,
-    statement,
-    with_library,
-)
 from marraztu.model.mesh import INDEX
 
 # Pieces of at least this many bytes: below it a thread costs more than it saves.
@@ -46,7 +37,7 @@ def machine_code_loaded() -> bool:
     return all(function.signatures for function in (scan.count_piece, scan.read_piece))
 
 
-def read_fast(text: bytes, source: str) -> RawObj:
+def read_fast(text: bytes, source: str) -> raw.RawObj:
     """The file's tables, or the LoadError the line reader gives for its first bad line.
 
     `text` ends with a newline (marraztu.loaders.obj normalizes it)."""
@@ -70,9 +61,8 @@ def read_fast(text: bytes, source: str) -> RawObj:
     check_forward_indices(source, columns, totals, lambda corner: scan.line_of_face(
         buf, int(np.searchsorted(face_start, corner, "right")) - 1))
     optional = [column if column.size and column.max() >= 0 else None for column in columns[1:]]
-    return RawObj(*tables, columns[0], *optional, face_start, outcome.mtllib, outcome.colour.colour,
-                  outcome.colour.notes + ([VERTEX_COLOURS_NOTE] if outcome.vertex_colours else []),
-                  outcome.material_runs)
+    return raw.RawObj(*tables, columns[0], *optional, face_start, outcome.mtllib, outcome.colour.colour,
+                      raw.file_notes(outcome.colour, outcome.vertex_colours), outcome.material_runs)
 
 
 def _pieces(text: bytes, count: int) -> list[tuple[int, int]]:
@@ -107,7 +97,7 @@ class _Records:
         self.text, self.source, self.tables, self.columns, self.face_start = text, source, tables, columns, face_start
         self.mtllib: tuple[str, ...] = ()
         self.material_runs: list[tuple[int, str]] = []
-        self.colour = ColourComment()
+        self.colour = raw.ColourComment()
         self.statements = 0
         self.vertex_colours = False  # some v line gives a colour after its position
 
@@ -132,12 +122,12 @@ class _Records:
         return int(self.face_start[face + 1] - self.face_start[face])
 
     def statement(self, faces_before: int, content: bytes) -> None:
-        keyword, rest = statement(content)
+        keyword, rest = raw.statement(content)
         self.statements += 1
         if keyword == b"mtllib":
-            self.mtllib = with_library(self.mtllib, rest)
+            self.mtllib = raw.with_library(self.mtllib, rest)
         elif keyword == b"usemtl":
-            add_material_run(self.material_runs, faces_before, material_name(rest))
+            raw.add_material_run(self.material_runs, faces_before, raw.material_name(rest))
 
     def read_line(self, record: list[int], content: bytes) -> None:
         """A v, vt, vn or f line the compiled code left to the line reader: its row or corners, or its error."""

@@ -21,10 +21,10 @@ from marraztu.loaders.obj.raw import (
     COLOURED_V_NUMBERS,
     CORNER_GAPS,
     MAX_DIGITS,
-    VERTEX_COLOURS_NOTE,
     ColourComment,
     RawObj,
     add_material_run,
+    file_notes,
     material_name,
     statement,
     with_library,
@@ -217,8 +217,8 @@ class LineReader:
                   for table, width in zip(self.tables, _TABLE_WIDTHS)]
         optional = [column if np.any(column >= 0) else None for column in corners]
         return RawObj(tables[0], tables[1], tables[2], corners[0], optional[1], optional[2],
-                      face_start, self.mtllib, self.colour.colour,
-                      self.colour.notes + ([VERTEX_COLOURS_NOTE] if self.vertex_colours else []), self.material_runs)
+                      face_start, self.mtllib, self.colour.colour, file_notes(self.colour, self.vertex_colours),
+                      self.material_runs)
 
 
 def read_by_lines(text: bytes, source: str) -> RawObj:

@@ -106,6 +106,11 @@ MAX_LIBRARY_LINES = 16  # mtllib lines read: a file of a million must not cost a
 MAX_MATERIAL_NAME = 200  # characters of a usemtl name kept: enough for any real one, bounded for a hostile one
 
 
+def file_notes(colour: ColourComment, vertex_colours: bool) -> list[str]:
+    """What a reader says of the file as a whole: malformed colour comments, colours it does not draw."""
+    return colour.notes + ([VERTEX_COLOURS_NOTE] if vertex_colours else [])
+
+
 def with_library(libraries: tuple[str, ...], rest: bytes) -> tuple[str, ...]:
     """The mtllib lines' names so far, and this line's: at most MAX_LIBRARY_LINES of them."""
     return libraries + (decoded(rest),) if len(libraries) < MAX_LIBRARY_LINES else libraries
