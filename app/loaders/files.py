@@ -11,7 +11,7 @@ import os
 import stat
 from contextlib import contextmanager
 from pathlib import Path
-from typing import BinaryIO, Callable, Iterator, TypeVar
+from typing import BinaryIO, Callable, Iterator
 
 from marraztu.errors import LoadError
 
@@ -50,38 +50,29 @@ def decoded(text: bytes) -> str:
 
 
 _LINES_PIECE = 1 << 12  # a piece and the list of its lines stay a few kilobytes
-_Text = TypeVar("_Text", str, bytes)
 
 
-def text_lines(text: str | bytes) -> Iterator[str]:
+def text_lines(data: bytes) -> Iterator[str]:
     """The text's lines as editors count them (a line ends at \n, \r\n or a lone \r, never at the form
     feeds and separators str.splitlines() also ends lines at), a piece at a time: a list of every line
-    would hold the text again, in pieces. Bytes are decoded line by line, each UTF-8 or else
-    Windows-1252 (see decoded). Each piece ends just after a newline, so its lines are the text's."""
-    newline = "\n" if isinstance(text, str) else b"\n"
+    would hold the text again, in pieces. Each is UTF-8, or else Windows-1252 (see decoded). Each
+    piece ends just after a newline, so its lines are the text's."""
     start = 0
-    while start < len(text):
-        cut = text.find(newline, start + _LINES_PIECE)  # type: ignore[arg-type]
-        stop = len(text) if cut < 0 else cut + 1
-        yield from _lines_of(text[start:stop])
+    while start < len(data):
+        cut = data.find(b"\n", start + _LINES_PIECE)
+        stop = len(data) if cut < 0 else cut + 1
+        yield from _lines_of(data[start:stop])
         start = stop
 
 
-def _lines_of(piece: str | bytes) -> list[str]:
-    if isinstance(piece, bytes):
-        try:
-            piece = piece.decode("utf-8")
-        except UnicodeDecodeError:  # a line of another encoding: each line decoded on its own
-            return [decoded(line) for line in _split_lines(piece)]
-    return _split_lines(piece)
-
-
-def _split_lines(piece: _Text) -> list[_Text]:
-    if "\r" in piece if isinstance(piece, str) else b"\r" in piece:
-        piece = piece.replace("\r\n", "\n").replace("\r", "\n") if isinstance(piece, str) else \
-            piece.replace(b"\r\n", b"\n").replace(b"\r", b"\n")
-    lines = piece.split("\n" if isinstance(piece, str) else b"\n")
-    return lines[:-1] if lines and not lines[-1] else lines  # the piece ends with its newline
+def _lines_of(piece: bytes) -> list[str]:
+    if b"\r" in piece:
+        piece = piece.replace(b"\r\n", b"\n").replace(b"\r", b"\n")
+    try:
+        lines = piece.decode("utf-8").split("\n")
+    except UnicodeDecodeError:  # a line of another encoding: each line decoded on its own
+        lines = [decoded(line) for line in piece.split(b"\n")]
+    return lines[:-1] if not lines[-1] else lines  # the piece ends with its newline
 
 
 def regular_file_size(path: str | Path, limit: int = MAX_FILE_BYTES) -> int:
