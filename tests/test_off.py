@@ -163,3 +163,12 @@ def test_an_off_file_loads_through_the_registry_without_trimesh(tmp_path: Path) 
     path.write_text(off_text(faces=("4 0 1 2 3",)))
     mesh = load_model(path)
     assert (mesh.vertex_count, mesh.face_count, mesh.face_sizes.tolist()) == (4, 1, [4])
+
+
+@pytest.mark.parametrize("word", ["\u0663", "\uff13", "\u00b3"])
+def test_digits_of_other_scripts_are_no_number(tmp_path: Path, word: str) -> None:
+    """float() and int() read '٣' (and numpy with them) as 3: a model file's numbers are ASCII."""
+    refused = refusal(tmp_path, off_text([*SQUARE[:3], f"0 {word} 0"]))
+    assert (refused.message, refused.line) == (f"'{word}' is not a number", 6)
+    refused = refusal(tmp_path, off_text(faces=(f"3 0 1 {word}", "3 0 2 3")))
+    assert (refused.message, refused.line) == (f"'{word}' is not a whole number", 7)

@@ -173,13 +173,15 @@ class Viewer:
         self.prompt: str | None = None  # the `f` prompt's text while it is open
         self.watcher: ModelWatcher | None = None  # set by --watch
         self._starting = False
-        self._framed_together: list[SceneObject] = []  # the command line's models, while the scene holds only them
+        self._start_models_alone = False  # the scene holds only the command line's models: framed together
+        self.models_read = 0  # models added or replaced so far: a front end checks what they read when it grows
 
     # --- start-up ------------------------------------------------------------------------------
     def start(self, options: StartOptions, longest_texture_side: int) -> None:
         """The texture (the one named, or the scene's) and the models of the command line. Every
         failure is told, on screen and to the front end, and none hides another."""
         self._starting = True
+        self._start_models_alone = not self.scene.objects
         self.scene.message = ""
         try:
             named = options.texture
@@ -312,6 +314,7 @@ class Viewer:
             return
         old_name = element.name
         commands.replace_loaded(element, loaded)
+        self.models_read += 1
         message = f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}"
         if loaded.mesh.warnings:
             message += " (" + "; ".join(loaded.mesh.warnings) + ")"
@@ -329,11 +332,11 @@ class Viewer:
 
     def _add(self, obj: SceneObject, path: Path, as_camera: bool, at_start: bool | None = None) -> None:
         # The command line's models are framed together while the scene holds only them.
-        together = ((self._starting if at_start is None else at_start) and not as_camera
-                    and all(element in self._framed_together for element in self.scene.objects))
+        together = (self._starting if at_start is None else at_start) and not as_camera and self._start_models_alone
         commands.add_loaded(self.scene, obj, as_camera=as_camera, with_the_others=together)
-        if together:
-            self._framed_together.append(obj)
+        if not as_camera:
+            self._start_models_alone = together  # a model from elsewhere joins: no longer theirs alone
+        self.models_read += 1
         kind = "camera" if as_camera else "object"
         message = f"loaded {Path(path).name} as a new {kind}: {obj.mesh.summary()}"
         if obj.mesh.warnings:

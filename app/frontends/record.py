@@ -16,8 +16,8 @@ from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import StartOptions, Viewer, starting_scene
 from marraztu.errors import ViewerError
 from marraztu.frontends.screenshot import (
+    InputsGuard,
     OffscreenFrontend,
-    check_files_read,
     check_output,
     render_pixels,
     write_atomically,
@@ -63,8 +63,8 @@ def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, f
         renderer = Renderer(ctx)
         viewer = Viewer(scene, OffscreenFrontend(), strict=True)
         viewer.start(options, renderer.max_texture_side)
-        checked: set[Path] = set()
-        check_files_read(out, viewer.scene, checked, RECORDING_FORMATS, "an animation")
+        inputs = InputsGuard(out, RECORDING_FORMATS, "an animation")
+        inputs.check(viewer)
 
         def frames() -> Iterator[np.ndarray]:
             for press in presses:
@@ -72,7 +72,7 @@ def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, f
                     return
                 viewer.press(press)
                 # A model loaded by a key brings its MTL and textures: refused before `out` is replaced.
-                check_files_read(out, viewer.scene, checked, RECORDING_FORMATS, "an animation")
+                inputs.check(viewer)
                 yield render_pixels(ctx, renderer, viewer, size, overlay)
 
         return write_animation(frames(), out, fps)

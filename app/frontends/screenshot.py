@@ -57,13 +57,13 @@ def take_screenshot(options: StartOptions, out: Path, size: tuple[int, int], key
         renderer = Renderer(ctx)
         viewer = Viewer(scene, OffscreenFrontend(), strict=True)
         viewer.start(options, renderer.max_texture_side)
-        checked: set[Path] = set()
-        check_files_read(out, viewer.scene, checked)
+        inputs = InputsGuard(out)
+        inputs.check(viewer)
         for press in presses:
             if viewer.frontend.quitting:
                 break
             viewer.press(press)
-            check_files_read(out, viewer.scene, checked)  # a model loaded by a key brings its MTL and textures
+            inputs.check(viewer)  # a model loaded by a key brings its MTL and textures
         write_picture(render_pixels(ctx, renderer, viewer, size, overlay), out)
     finally:
         ctx.release()
@@ -114,13 +114,22 @@ def files_read(scene: Scene) -> dict[Path, None]:
             for path in (element.source, *element.mesh.read_beside) if path is not None}
 
 
-def check_files_read(out: Path, scene: Scene, checked: set[Path], formats: Mapping[str, str] = IMAGE_FORMATS,
-                     what: str = "a picture") -> None:
-    """Refuses `out` when it is a file the scene was read from; `checked` holds the files found to be
-    others already, so a long replay looks at each once."""
-    new = [path for path in files_read(scene) if path not in checked]
-    check_output(out, new, formats, what)
-    checked.update(new)
+class InputsGuard:
+    """Refuses `out` when it is a file the scene was read from, looked at again only once another
+    model has been read: a long replay of keys that load nothing costs nothing here."""
+
+    def __init__(self, out: Path, formats: Mapping[str, str] = IMAGE_FORMATS, what: str = "a picture") -> None:
+        self.out, self.formats, self.what = out, formats, what
+        self.checked: set[Path] = set()  # found to be other files than `out` already
+        self.models_read = -1
+
+    def check(self, viewer: Viewer) -> None:
+        if viewer.models_read == self.models_read:
+            return
+        self.models_read = viewer.models_read
+        new = [path for path in files_read(viewer.scene) if path not in self.checked]
+        check_output(self.out, new, self.formats, self.what)
+        self.checked.update(new)
 
 
 def write_picture(pixels: np.ndarray, out: Path) -> None:

@@ -30,9 +30,19 @@ from urllib.parse import unquote
 import numpy as np
 from PIL import Image
 
-from marraztu.errors import LoadError, escaped
-from marraztu.loaders.files import MAX_FILE_BYTES, read_file, read_model_bytes, same_file_key, size_or_zero
-from marraztu.loaders.images import image_format, rgb_array
+from marraztu.errors import LoadError
+from marraztu.loaders.files import (
+    MAX_FILE_BYTES,
+    is_there,
+    line_at,
+    read_file,
+    read_model_bytes,
+    same_file_key,
+    shown,
+    size_or_zero,
+    spellings,
+)
+from marraztu.loaders.images import image_format, rgb_array, unread_textures_note
 from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES, stl_corners
 from marraztu.loaders.words import MAX_COUNT_DIGITS
 from marraztu.model.build import build_mesh, colour_bytes
@@ -159,66 +169,40 @@ class _FilesBeside:
         self.failures: dict[str, str] = {}  # the name shown -> why it was not read
 
     def get(self, name: str) -> bytes:
-        shown = _shown((unquote(name) if self.uri else name).strip())
+        named = shown((unquote(name) if self.uri else name).strip())
         try:
-            data = read_file(self._path(name, shown))
+            data = read_file(self._path(name, named))
             if self.is_picture(name) and image_format(data[:8]) is None:
-                raise LoadError(shown, f"not a PNG, JPEG or PPM picture (it starts with {data[:8]!r})")
+                raise LoadError(named, f"not a PNG, JPEG or PPM picture (it starts with {data[:8]!r})")
         except LoadError as error:
-            self.failures.setdefault(shown, error.message)
-            raise LoadError(shown, error.message) from None  # named as the file names it
+            self.failures.setdefault(named, error.message)
+            raise LoadError(named, error.message) from None  # named as the file names it
         return data
 
     __getitem__ = get  # trimesh's glTF reader asks resolver[name]
 
-    def _path(self, name: str, shown: str) -> Path:
+    def _path(self, name: str, named: str) -> Path:
         # The name decoded; then as written, for a writer that left a '%' of the file's name unencoded.
         written = dict.fromkeys([unquote(name), name] if self.uri else [name])
-        candidates = [self.folder / candidate for text in written for candidate in _looked_for(text)]
+        # From the folder, a leading slash too, as trimesh's own resolver does.
+        candidates = [self.folder / candidate.lstrip("/") for text in written for candidate in spellings(text)]
         self.tried.extend(candidates)
         folder = same_file_key(self.folder)
         inside = [path for path in candidates if same_file_key(path).is_relative_to(folder)]  # links followed
-        found = next((path for path in inside if _exists(path)), None)
+        found = next((path for path in inside if is_there(path)), None)
         if found is None and candidates[0] not in inside:
-            raise LoadError(shown, "it lies outside the model's folder")
+            raise LoadError(named, "it lies outside the model's folder")
         if found is None and _looks_absolute(next(iter(written))):
-            raise LoadError(shown, "no such file in the model's folder (only that folder is read, not a whole path)")
+            raise LoadError(named, "no such file in the model's folder (only that folder is read, not a whole path)")
         return found or candidates[0]  # not there: reading it says so
 
     def notes(self) -> list[str]:
         """One note of the pictures not read, as for an MTL's textures."""
-        if not self.failures:
-            return []
-        (name, why), more = next(iter(self.failures.items())), len(self.failures) - 1
-        if not more:
-            return [escaped(f"texture '{name}' could not be read ({why}); the scene's texture is shown in its place")]
-        return [escaped(f"{more + 1} textures could not be read (the first, '{name}': {why}); the scene's texture "
-                        "is shown in their place")]
-
-
-_SHOWN_NAME_CHARACTERS = 80  # as an MTL's names: a long URI is cut in a note
-
-
-def _shown(name: str) -> str:
-    return name if len(name) <= _SHOWN_NAME_CHARACTERS else name[:_SHOWN_NAME_CHARACTERS - 3] + "..."
-
-
-def _looked_for(name: str) -> list[str]:
-    """Where trimesh's resolver looks for a name: as written (back slashes, from Windows exporters, as
-    slashes; from the folder, a leading slash too), then its last part."""
-    written = name.strip().replace("\\", "/")
-    return [written.lstrip("/"), written.rsplit("/", 1)[-1]]
+        return unread_textures_note(list(self.failures.items()))
 
 
 def _looks_absolute(name: str) -> bool:
     return name.startswith(("/", "\\")) or re.match(r"[A-Za-z]:[\\/]", name) is not None
-
-
-def _exists(path: Path) -> bool:
-    try:
-        return path.exists()
-    except (OSError, ValueError):  # a name too long for the file system, or with a NUL
-        return False
 
 
 def _gltf_pictures(path: Path, data: bytes) -> frozenset[str]:
@@ -291,12 +275,12 @@ def _check_text_rows(path: Path, data: bytes, after_line: int, expected: int, ki
     rows = sum(1 for _ in _ROW_WITH_CONTENT.finditer(data, body_at))  # counted, never held
     if rows < expected:
         raise LoadError(path, f"the {kind} header counts {expected} rows of vertices and faces, the file "
-                              f"ends after {rows}", line=max(after_line, data.count(b"\n") + 1))
+                              f"ends after {rows}", line=max(after_line, line_at(data, len(data))))
 
 
 def _line_of_first_non_finite(data: bytes) -> int | None:
     found = _NOT_FINITE.search(data)
-    return None if found is None else data.count(b"\n", 0, found.start()) + 1
+    return None if found is None else line_at(data, found.start())
 
 
 def _finish(path: Path, loaded: Any, data: bytes | None, beside: _FilesBeside | None = None) -> Mesh:

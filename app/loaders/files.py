@@ -41,6 +41,35 @@ def same_file_key(path: Path) -> Path:
         return path.absolute()
 
 
+_SHOWN_NAME_CHARACTERS = 80
+
+
+def shown(name: str) -> str:
+    """A name a file gives (a library, a texture, a URI) as a message shows it: a long one cut."""
+    return name if len(name) <= _SHOWN_NAME_CHARACTERS else name[:_SHOWN_NAME_CHARACTERS - 3] + "..."
+
+
+def is_there(path: Path) -> bool:
+    """Something other than a folder is at `path`: reading a device or a pipe then says what it is."""
+    try:
+        return path.exists() and not path.is_dir()
+    except (OSError, ValueError):  # a name too long for the file system, or with a NUL: not there
+        return False
+
+
+def spellings(name: str) -> tuple[str, str]:
+    """Where a file a model names beside it is looked for: as written (a Windows exporter's back
+    slashes as slashes, quotes and blanks around it dropped), then by its last part alone, as the
+    model's own folder would hold it."""
+    written = name.strip().strip('"').replace("\\", "/")
+    return written, written.rsplit("/", 1)[-1]
+
+
+def line_at(data: bytes, offset: int) -> int:
+    """The line number of the byte at `offset`."""
+    return data.count(b"\n", 0, offset) + 1
+
+
 def decoded(text: bytes) -> str:
     """A name or a text file's words: UTF-8, or else Windows-1252, which Windows exporters write."""
     try:

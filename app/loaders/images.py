@@ -17,13 +17,14 @@ from __future__ import annotations
 
 import re
 import warnings
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 from PIL import Image
 
-from marraztu.errors import LoadError
-from marraztu.loaders.files import read_file, read_head
+from marraztu.errors import LoadError, escaped
+from marraztu.loaders.files import read_file, read_head, shown
 
 # No texture a student uses comes near this; a header claiming more is broken or hostile.
 MAX_PIXELS = 64 * 1024 * 1024
@@ -238,3 +239,17 @@ def rgb_array(image: Image.Image) -> np.ndarray:
             grey = np.clip(scaled, 0.0, 255.0).round().astype(np.uint8)
         return np.ascontiguousarray(np.repeat(grey[..., None], 3, axis=2))
     return np.ascontiguousarray(np.asarray(image.convert("RGB"), dtype=np.uint8))
+
+
+def unread_textures_note(failures: Sequence[tuple[str, str]]) -> list[str]:
+    """One note of the textures a model names that could not be read, (name, why) each: their faces
+    show the scene's texture."""
+    if not failures:
+        return []
+    (name, why), more = failures[0], len(failures) - 1
+    if not more:
+        said = f"texture '{shown(name)}' could not be read ({why}); the scene's texture is shown in its place"
+    else:
+        said = (f"{more + 1} textures could not be read (the first, '{shown(name)}': {why}); the scene's texture "
+                "is shown in their place")
+    return [escaped(said)]

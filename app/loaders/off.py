@@ -18,11 +18,10 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import read_model_bytes, text_lines
-from marraztu.loaders.words import MAX_COUNT_DIGITS, checked_coordinates, checked_indices
-from marraztu.model.build import derive_mesh
+from marraztu.loaders.words import MAX_COUNT_DIGITS, WordBlocks, checked_coordinates, checked_indices
+from marraztu.model.build import colour_bytes, derive_mesh
 from marraztu.model.mesh import Mesh
 
-_ROWS_AT_ONCE = 1 << 15  # rows whose words are made numbers in one call
 # A polygon's colour may follow its indices: none, an index into a colour map, RGB or RGBA. Not read.
 _FACE_COLOUR_WORDS = (0, 1, 3, 4)
 
@@ -40,10 +39,10 @@ def load_off(path: Path, stage: Callable[[str], None] | None = None) -> Mesh:
 
 def _colour_bytes(path: Path, colours: np.ndarray) -> np.ndarray:
     """COFF writes colours as 0..255 or as 0..1: the file's largest value says which."""
-    rgb = colours[:, :3] * (1.0 if colours.max(initial=0.0) > 1.0 else 255.0)
-    if rgb.min(initial=0.0) < 0.0 or rgb.max(initial=0.0) > 255.0:
-        raise LoadError(path, "a vertex colour is not within 0..255 (or 0..1)")
-    return np.rint(rgb).astype(np.uint8)
+    try:
+        return colour_bytes(colours / 255.0 if colours.max(initial=0.0) > 1.0 else colours, len(colours))
+    except ValueError:
+        raise LoadError(path, "a vertex colour is not within 0..255 (or 0..1)") from None
 
 
 @dataclass(frozen=True)
@@ -143,12 +142,8 @@ def _vertex_rows(path: Path, rows: _Rows, count: int, layout: _Layout
                  ) -> tuple[np.ndarray, np.ndarray | None]:
     """Each vertex row's x y z, and COFF's colour; the row holds what the keyword says, all numbers."""
     sizes = layout.row_sizes()
-    colour_at = 3 + 3 * layout.normal
-    blocks: list[np.ndarray] = []
-    colour_blocks: list[np.ndarray] = []
-    words_read: list[str] = []
-    extra_words: list[str] = []  # checked to be numbers; the colour's kept
-    lines: list[int] = []
+    positions = WordBlocks(path, checked_coordinates)
+    extras = WordBlocks(path, checked_coordinates)  # all checked to be numbers; the colour's kept
     width = 0
     for number, words in _taken(path, rows, count, "vertices"):
         if len(words) not in sizes:
@@ -158,56 +153,28 @@ def _vertex_rows(path: Path, rows: _Rows, count: int, layout: _Layout
             raise LoadError(path, f"a vertex row holds {width} numbers here, as the first one does; this one "
                                   f"{len(words)}", line=number)
         width = len(words)
-        words_read += words[:3]
-        extra_words += words[3:]
-        lines.append(number)
-        if len(lines) == _ROWS_AT_ONCE:
-            _flush(path, blocks, words_read, colour_blocks, extra_words, lines)
-            words_read, extra_words, lines = [], [], []
-    _flush(path, blocks, words_read, colour_blocks, extra_words, lines)
-    positions = np.concatenate(blocks).reshape(-1, 3)
+        positions.add(words[:3], number)
+        if width > 3:
+            extras.add(words[3:], number)
+    extra = extras.values()
     if not layout.coloured or not count:
-        return positions, None
-    extras = np.concatenate(colour_blocks).reshape(count, width - 3)
-    return positions, extras[:, colour_at - 3:colour_at - 3 + width - sizes[0] + 3]
-
-
-def _flush(path: Path, blocks: list[np.ndarray], words: list[str], extra_blocks: list[np.ndarray],
-           extra_words: list[str], lines: list[int]) -> None:
-    blocks.append(checked_coordinates(path, words, lambda at: lines[at // 3]))
-    if extra_words:
-        per_row = len(extra_words) // len(lines)
-        extra_blocks.append(checked_coordinates(path, extra_words, lambda at: lines[at // per_row]))
+        return positions.values().reshape(-1, 3), None
+    colour_at = 3 * layout.normal  # after the normal, among the words past x y z
+    return positions.values().reshape(-1, 3), extra.reshape(count, -1)[:, colour_at:colour_at + width - sizes[0] + 3]
 
 
 def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.ndarray, np.ndarray]:
     """Each face row's corner count n, its n vertex indices and perhaps a colour (not read). Held a
     block at a time as the rows come: never by the header's count, which a short file may exaggerate."""
-    blocks: list[np.ndarray] = []
-    size_blocks: list[np.ndarray] = []
-    sizes: list[int] = []
-    index_words: list[str] = []
-    face_lines: list[int] = []
+    corners = WordBlocks(path, lambda path, words, line_of: checked_indices(path, words, line_of, vertices))
     for number, words in _taken(path, rows, count, "faces"):
-        corners = int(words[0]) if words[0].isdigit() and len(words[0]) < 10 else -1
-        if corners < 3:
+        size = int(words[0]) if words[0].isdigit() and len(words[0]) < 10 else -1
+        if size < 3:
             raise LoadError(path, f"a face's corner count must be a whole number of 3 or more, not '{words[0][:40]}'",
                             line=number)
-        if len(words) - 1 - corners not in _FACE_COLOUR_WORDS:
-            raise LoadError(path, f"a face of {corners} corners, this line holds {len(words) - 1} numbers after "
+        if len(words) - 1 - size not in _FACE_COLOUR_WORDS:
+            raise LoadError(path, f"a face of {size} corners, this line holds {len(words) - 1} numbers after "
                                   "its count", line=number)
-        sizes.append(corners)
-        index_words += words[1:1 + corners]
-        face_lines.append(number)
-        if len(face_lines) == _ROWS_AT_ONCE:
-            size_blocks.append(np.array(sizes, np.int64))
-            blocks.append(_indices(path, index_words, face_lines, size_blocks[-1], vertices))
-            sizes, index_words, face_lines = [], [], []
-    size_blocks.append(np.array(sizes, np.int64))
-    blocks.append(_indices(path, index_words, face_lines, size_blocks[-1], vertices))
-    return np.concatenate(blocks), np.concatenate(([0], np.cumsum(np.concatenate(size_blocks))))
-
-
-def _indices(path: Path, words: list[str], lines: list[int], sizes: np.ndarray, vertices: int) -> np.ndarray:
-    ends = np.cumsum(sizes)
-    return checked_indices(path, words, lambda at: lines[int(np.searchsorted(ends, at, side="right"))], vertices)
+        corners.add(words[1:1 + size], number)
+    corner_vertex = corners.values()
+    return corner_vertex, np.concatenate(([0], np.cumsum(corners.row_sizes())))

@@ -157,6 +157,11 @@ def _nowhere(key: str) -> int | None:
     return None
 
 
+def _or_header(key_line: Callable[[str], int | None], header: int | None) -> Callable[[str], int | None]:
+    """The line that sets a key, else its table's header line."""
+    return lambda key: key_line(key) or header
+
+
 class _SceneReader:
     """Checks one scene file; every failure is a LoadError naming the file and, when known, the line."""
 
@@ -235,9 +240,7 @@ class _SceneReader:
         if not isinstance(table, dict):
             self.fail(f"{what} must be a table", line)
 
-        def at(key: str) -> int | None:  # the line that sets the key, else the entry's header
-            return key_line(key) or line
-
+        at = _or_header(key_line, line)
         self.check_keys(table, ENTRY_KEYS, what, line, required=REQUIRED_ENTRY_KEYS, key_line=at)
         model = self.text_value(table["model"], f"{what}: model", at("model"))
         name = self.text_value(table.get("name", Path(model).stem), f"{what}: name", at("name"))
@@ -263,9 +266,7 @@ class _SceneReader:
         if not isinstance(table, dict):
             self.fail(f"{what} must be a material name or a table of ka, kd, ks, ns", line)
 
-        def at(key: str) -> int | None:  # the line that sets the key, else the table's
-            return key_line(key) or line
-
+        at = _or_header(key_line, line)
         self.check_keys(table, MATERIAL_KEYS, what, line, required=REQUIRED_MATERIAL_KEYS, key_line=at)
         colours = {key: self.triple(table[key], f"{what}: {key}", at(key), unit_range=True)
                    for key in ("ka", "kd", "ks")}

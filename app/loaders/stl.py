@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import text_lines
-from marraztu.loaders.words import checked_coordinates
+from marraztu.loaders.files import line_at, text_lines
+from marraztu.loaders.words import WordBlocks, checked_coordinates
 
 HEADER_BYTES, TRIANGLE_BYTES = 84, 50  # binary: an 80-byte header and a count, then 50 bytes a triangle
 # A binary triangle: its normal, its three corners, and two bytes of attributes (no standard meaning).
@@ -36,7 +36,7 @@ def stl_corners(path: Path, data: bytes) -> np.ndarray:
     data = _without_end_padding(data)
     if b"\0" in data:
         raise LoadError(path, "binary data after 'solid': a binary STL whose size does not match its "
-                              f"triangle count ({len(data)} bytes)?", line=_line_of(data, data.find(b"\0")))
+                              f"triangle count ({len(data)} bytes)?", line=line_at(data, data.find(b"\0")))
     return _ascii_corners(path, data)
 
 
@@ -63,10 +63,6 @@ def _is_binary(data: bytes) -> bool:
     return len(data) == HEADER_BYTES + TRIANGLE_BYTES * int.from_bytes(data[80:84], "little")
 
 
-def _line_of(data: bytes, offset: int) -> int:
-    return data.count(b"\n", 0, offset) + 1
-
-
 # What each state of a solid takes next: the keyword and the state it leads to. A facet is
 # `facet normal n n n`, `outer loop`, three `vertex x y z`, `endloop`, `endfacet`; what follows
 # `facet` and `outer` is not read (the normals are derived from the corners).
@@ -85,15 +81,10 @@ _EXPECTED = {
     _OUTSIDE: "'solid' or the end of the file", _IN_SOLID: "'facet' or 'endsolid'", _FACET: "'outer loop'",
     _LOOP: "'vertex'", _SECOND: "'vertex'", _THIRD: "'vertex'", _LOOP_END: "'endloop'", _FACET_END: "'endfacet'",
 }
-_CORNERS_AT_ONCE = 1 << 15  # numbers are made floats this many corners at a time, not one by one
-
-
 def _ascii_corners(path: Path, data: bytes) -> np.ndarray:
     """One pass over the lines, a state per line: every corner's three numbers, or the first bad line."""
     state, step, number, solid_line = _OUTSIDE, _NEXT, 0, 0
-    blocks: list[np.ndarray] = []
-    words_read: list[str] = []  # the numbers of the corners not yet made floats, and their lines
-    corner_lines: list[int] = []
+    corners = WordBlocks(path, checked_coordinates)
     for number, line in enumerate(text_lines(data), start=1):
         words = line.split()
         if not words:
@@ -108,11 +99,7 @@ def _ascii_corners(path: Path, data: bytes) -> np.ndarray:
         if keyword == "vertex":
             if len(words) != 4:
                 raise LoadError(path, f"a vertex line holds 3 numbers, this one {len(words) - 1}", line=number)
-            words_read += words[1:]
-            corner_lines.append(number)
-            if len(corner_lines) == _CORNERS_AT_ONCE:
-                blocks.append(checked_coordinates(path, words_read, lambda at: corner_lines[at // 3]))
-                words_read, corner_lines = [], []
+            corners.add(words[1:], number)
         elif keyword == "solid":
             solid_line = number
         state = next_state
@@ -120,8 +107,7 @@ def _ascii_corners(path: Path, data: bytes) -> np.ndarray:
         raise LoadError(path, f"the solid begun on line {solid_line} is not closed by 'endsolid'", line=number)
     if state != _OUTSIDE:
         raise LoadError(path, "the file ends inside a facet", line=number)
-    blocks.append(checked_coordinates(path, words_read, lambda at: corner_lines[at // 3]))
-    return np.concatenate(blocks).reshape(-1, 3)
+    return corners.values().reshape(-1, 3)
 
 
 def _unexpected(path: Path, state: int, keyword: str, line: int) -> LoadError:

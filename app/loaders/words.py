@@ -20,9 +20,49 @@ LineOf = Callable[[int], int]  # the line of the word at this index
 # A header's count longer than this is no count of anything a 1 GiB file holds (and int() refuses
 # thousands of digits with a ValueError).
 MAX_COUNT_DIGITS = 12
+# A decimal number as float() reads it, but in ASCII digits only (float() also takes '٣' for 3).
+DECIMAL_SYNTAX = r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
+ROWS_AT_ONCE = 1 << 15  # rows whose words are made numbers in one call
 
-_DECIMAL = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
-_WHOLE = re.compile(r"[-+]?\d+")
+_DECIMAL = re.compile(DECIMAL_SYNTAX)
+_WHOLE = re.compile(r"[+-]?[0-9]+")
+
+
+class WordBlocks:
+    """Rows of words gathered as a file is read, and made numbers a block of rows at a time by
+    `convert` (checked_coordinates, say), which names a bad word's line: never a list of every word."""
+
+    def __init__(self, path: Path, convert: Callable[[Path, list[str], LineOf], np.ndarray]) -> None:
+        self.path, self.convert = path, convert
+        self.blocks: list[np.ndarray] = []
+        self.size_blocks: list[np.ndarray] = []
+        self.words: list[str] = []
+        self.lines: list[int] = []
+        self.sizes: list[int] = []
+
+    def add(self, words: list[str], line: int) -> None:
+        self.words += words
+        self.lines.append(line)
+        self.sizes.append(len(words))
+        if len(self.lines) == ROWS_AT_ONCE:
+            self._convert()
+
+    def values(self) -> np.ndarray:
+        """Every row's numbers, one after the other."""
+        self._convert()
+        return np.concatenate(self.blocks)
+
+    def row_sizes(self) -> np.ndarray:
+        """How many numbers each row gave (after values())."""
+        return np.concatenate(self.size_blocks)
+
+    def _convert(self) -> None:
+        ends = np.cumsum(self.sizes, dtype=np.int64)
+        lines = self.lines
+        self.blocks.append(self.convert(self.path, self.words,
+                                        lambda at: lines[int(np.searchsorted(ends, at, side="right"))]))
+        self.size_blocks.append(np.array(self.sizes, np.int64))
+        self.words, self.lines, self.sizes = [], [], []
 
 
 def checked_coordinates(path: Path, words: list[str], line_of: LineOf) -> np.ndarray:
@@ -66,7 +106,8 @@ def _converted(path: Path, words: list[str], line_of: LineOf, kind: type, syntax
         values = np.array(words, dtype=kind)
     except ValueError:
         values = None
-    if values is None or "_" in "".join(words):  # float() and int() read 1_000 too
+    joined = "".join(words)
+    if values is None or "_" in joined or not joined.isascii():  # float() and int() read 1_000 and '٣' too
         at = next((at for at, word in enumerate(words) if not syntax.fullmatch(word)), 0)
         wanted = "a number" if kind is np.float64 else "a whole number"
         raise LoadError(path, f"'{words[at][:40]}' is not {wanted}", line=line_of(at))

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import read_model_bytes
+from marraztu.loaders.files import line_at, read_model_bytes
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.mtl import read_libraries
 from marraztu.loaders.obj.raw import RawObj
@@ -168,14 +168,10 @@ def _normalized_text(data: bytes, source: str) -> bytes:
         data = data.replace(b"\r\n", b"\n").replace(b"\r", b"\n")  # no regex: it would hold a piece per line
     nul = data.find(b"\0")
     if nul >= 0:
-        raise LoadError(source, "binary data (a NUL byte), not an OBJ text file", line=_line_of(data, nul))
+        raise LoadError(source, "binary data (a NUL byte), not an OBJ text file", line=line_at(data, nul))
     if not data.isascii():  # comments and names may be UTF-8 or Windows-1252: both are read
         data = data.replace(_NO_BREAK_SPACE, b"  ")
     start = len(_BOM) if data.startswith(_BOM) else 0
     if start or not data.endswith(b"\n"):  # both edits in one copy
         data = b"".join((memoryview(data)[start:], b"" if data.endswith(b"\n") else b"\n"))
     return data
-
-
-def _line_of(data: bytes, offset: int) -> int:
-    return data.count(b"\n", 0, offset) + 1

@@ -29,10 +29,11 @@ from marraztu.loaders.obj.raw import (
     statement,
     with_library,
 )
+from marraztu.loaders.words import DECIMAL_SYNTAX
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import INDEX, INDEX_LIMIT
 
-_FLOAT = re.compile(rb"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
+_FLOAT = re.compile(DECIMAL_SYNTAX.encode() + rb"\Z")
 _INTEGER = re.compile(rb"-?[0-9]+\Z")
 _TOKEN = re.compile(rb"\S+")
 _TABLES = {b"v": (0, "vertex position (v)", 3, 7), b"vt": (1, "texture coordinate (vt)", 2, 3),

@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import read_file, same_file_key, text_lines
-from marraztu.loaders.images import load_image
+from marraztu.loaders.files import is_there, read_file, same_file_key, shown, spellings, text_lines
+from marraztu.loaders.images import load_image, unread_textures_note
 from marraztu.loaders.obj.raw import MAX_MATERIAL_NAME, finite_floats
 from marraztu.model.mesh import MeshMaterial
 
@@ -20,7 +20,6 @@ from marraztu.model.mesh import MeshMaterial
 MAX_MTL_BYTES = 16 << 20
 # 'mtllib a.mtl b.mtl' names several files; a line of a million names must not cost a million lookups.
 _MOST_NAMES = 16
-_SHOWN_NAME_CHARACTERS = 80
 
 
 def read_libraries(base_dir: Path, lines: Sequence[str], notes: list[str], wanted: Collection[str],
@@ -37,38 +36,36 @@ def read_libraries(base_dir: Path, lines: Sequence[str], notes: list[str], wante
             if same_file_key(mtl) not in read:
                 read.add(same_file_key(mtl))
                 materials += _read_library(mtl, notes, wanted, tried, keep_first=not materials)
-    names: set[str] = set()
-    return [material for material in materials if not (material.name in names or names.add(material.name))]
+    first_of_name: dict[str, MeshMaterial] = {}
+    for material in materials:
+        first_of_name.setdefault(material.name, material)
+    return list(first_of_name.values())
 
 
 def _read_library(mtl: Path, notes: list[str], wanted: Collection[str], tried: list[Path], keep_first: bool
                   ) -> list[MeshMaterial]:
     tried.append(mtl)
-    shown = _shown(mtl.name)
+    name = shown(mtl.name)
     try:
         text = read_file(mtl, limit=MAX_MTL_BYTES)  # its lines are decoded one by one, as an OBJ's names
     except LoadError as error:
-        notes.append(f"material library '{shown}' could not be read ({error.message}); using the scene's material")
+        notes.append(f"material library '{name}' could not be read ({error.message}); using the scene's material")
         return []
-    return _parse_library(text, shown, mtl.parent, notes, wanted, tried, keep_first)
+    return _parse_library(text, name, mtl.parent, notes, wanted, tried, keep_first)
 
 
 def _library_paths(base_dir: Path, name: str, notes: list[str]) -> list[Path]:
     """The files an mtllib line names: the whole line where it is one file's name ('a b.mtl' with its
     space), else each of its names that is a file ('mtllib a.mtl b.mtl'); one note for those missing."""
-    if _is_there(base_dir / name):
+    if is_there(base_dir / name):
         return [base_dir / name]
     words = name.split(None, _MOST_NAMES)[:_MOST_NAMES]
-    found = [base_dir / word for word in words if _is_there(base_dir / word)]
-    missing = [word for word in words if not _is_there(base_dir / word)] if found else [name]
+    found = [base_dir / word for word in words if is_there(base_dir / word)]
+    missing = [word for word in words if not is_there(base_dir / word)] if found else [name]
     for word in missing[:1]:  # the scene's material stands in only where no library was found
-        notes.append(f"material library '{_shown(word)}' not found next to the model"
+        notes.append(f"material library '{shown(word)}' not found next to the model"
                      + ("" if found else "; using the scene's material"))
     return found
-
-
-def _shown(name: str) -> str:
-    return name if len(name) <= _SHOWN_NAME_CHARACTERS else name[:_SHOWN_NAME_CHARACTERS - 3] + "..."
 
 
 @dataclass
@@ -173,11 +170,10 @@ class _TextureCache:
         C:\\Users\\...\\t.png, from the machine the model was made on), quote names, and differ in
         case from the file: what is not found as written is looked for by its last part beside the
         MTL, and then in any case."""
-        written = self.folder / name.strip('"').replace("\\", "/")
-        candidates = [written, self.folder / written.name]
-        found = next((path for path in candidates if _is_file(path)), None)
+        candidates = [self.folder / spelling for spelling in spellings(name)]
+        found = next((path for path in candidates if is_there(path)), None)
         found = found or next((path for path in map(self._in_any_case, candidates) if path is not None), None)
-        return found or written  # not there: reading it says so
+        return found or candidates[0]  # not there: reading it says so
 
     def _in_any_case(self, path: Path) -> Path | None:
         if path.parent not in self.listings:  # each folder listed once, however many names are looked for
@@ -192,13 +188,7 @@ class _TextureCache:
             return None, None
 
     def notes(self) -> list[str]:
-        if not self.failures:
-            return []
-        (name, why), more = self.failures[0], len(self.failures) - 1
-        if not more:
-            return [f"texture '{_shown(name)}' could not be read ({why}); the scene's texture is shown in its place"]
-        return [f"{more + 1} textures could not be read (the first, '{_shown(name)}': {why}); the scene's texture "
-                "is shown in their place"]
+        return unread_textures_note(self.failures)
 
 
 def _see_through(key: str, tokens: list[str]) -> bool:
@@ -207,21 +197,6 @@ def _see_through(key: str, tokens: list[str]) -> bool:
     if not values:
         return True  # unreadable: said to be ignored
     return values[0] < 1.0 if key == "d" else values[0] > 0.0
-
-
-def _is_there(path: Path) -> bool:
-    """Something other than a folder: reading a device or a pipe then says what it is."""
-    try:
-        return path.exists() and not path.is_dir()
-    except (OSError, ValueError):  # a name too long for the file system, or with a NUL: not there
-        return False
-
-
-def _is_file(path: Path) -> bool:
-    try:
-        return path.is_file()
-    except (OSError, ValueError):  # a name too long for the file system, or with a NUL
-        return False
 
 
 def _files_by_lower_name(folder: Path) -> dict[str, Path]:
