@@ -162,6 +162,41 @@ def test_the_bare_draw_covers_the_pixels_the_renderer_does(gl_ctx, mode: str) ->
     assert np.array_equal(covered[0], covered[1])
 
 
+@pytest.mark.parametrize("mode", ["flat", "gouraud"])
+def test_the_inputs_floor_shows_the_lit_rows_times_the_texture_over_the_same_pixels(gl_ctx, mode: str) -> None:
+    """The floor under a still frame reads the lit rows and the texture and shows their product:
+    with every lit row one colour and the renderer's white texture of a scene without a picture,
+    every pixel the renderer covers is that colour, and no other pixel changes."""
+    from marraztu.devtools.bench.frames import BareDraw, bench_scene, set_mode
+    from marraztu.render.renderer import Renderer
+
+    size = (160, 120)
+    scene = bench_scene(None)
+    set_mode(scene, mode)
+    scene.modes.culling = True  # the renderer draws back faces red; the floor draws them as front ones
+    renderer = Renderer(gl_ctx)
+    bare = BareDraw(gl_ctx, scene, renderer.compute_lighting)
+    colour = np.array([0.5, 0.25, 1.0, 1.0], np.float32)
+    pictures = []
+    try:
+        for draw in (lambda fbo: renderer.render(scene, fbo, size),
+                     lambda fbo: bare.render(fbo, size, mode, texture=renderer.texture)):
+            for lighting in bare.lighting:
+                lighting.lit.write(np.tile(colour, lighting.lit.size // 16))
+            fbo = gl_ctx.simple_framebuffer(size, components=4)
+            draw(fbo)
+            pictures.append(np.frombuffer(fbo.read(components=3), np.uint8).reshape(size[1], size[0], 3))
+            fbo.release()
+    finally:
+        bare.release()
+        renderer.release()
+    drawn, floor = pictures
+    covered = np.any(drawn != drawn[0, 0], axis=2)  # the corner is background
+    assert covered.sum() > 100, "not blank"
+    assert np.array_equal(floor[~covered], drawn[~covered])
+    assert np.abs(floor[covered].astype(int) - np.round(colour[:3] * 255)).max() <= 1
+
+
 @pytest.mark.parametrize("compute", [False, True])
 @pytest.mark.parametrize("mode", ["flat", "gouraud"])
 def test_the_bare_moving_frame_captures_the_rows_the_lighting_pass_lights(gl_ctx, mode: str, compute: bool) -> None:

@@ -386,7 +386,7 @@ class ComputeLighting:
         ctx.memory_barrier(_AFTER_COMPUTE_LIGHTING)
 
 
-def _layout_for(program: moderngl.Program, layout: tuple[str, ...]) -> tuple[str, ...]:
+def layout_for(program: moderngl.Program, layout: tuple[str, ...]) -> tuple[str, ...]:
     """`layout` with the attributes `program` does not read (its compiler dropped them) skipped."""
     formats, names = layout[0].split(), layout[1:]
     kept_formats, kept_names = [], []
@@ -632,7 +632,7 @@ class ObjectGpu:
         return sizes
 
     def _surface_content(self, program: moderngl.Program, layout: tuple[str, ...] = SURFACE_LAYOUT) -> list[tuple]:
-        return [(self._surface_buffers["surface"], *_layout_for(program, layout))]
+        return [(self._surface_buffers["surface"], *layout_for(program, layout))]
 
     def _build(self, name: str, data: np.ndarray, program: moderngl.Program, layout: tuple[str, ...] | list[tuple],
                indexed: bool = False) -> tuple[moderngl.Buffer | None, moderngl.VertexArray]:

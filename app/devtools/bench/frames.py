@@ -21,10 +21,11 @@ if TYPE_CHECKING:
     from marraztu.model.mesh import Mesh
     from marraztu.model.scene import Scene, SceneObject
     from marraztu.render.gpu import VertexRange
+    from marraztu.render.mipmaps import MipmappedTexture
     from marraztu.render.renderer import Renderer
 
 FRAME_HEADERS = ("scene", "triangles", "size", "mode", "still ms", "moving ms", "bare ms", "bare moving ms",
-                 "still ÷ bare", "moving ÷ bare", "moving ÷ bare moving", "frames")
+                 "inputs ms", "still ÷ bare", "moving ÷ bare", "moving ÷ bare moving", "still ÷ inputs", "frames")
 CPU_HEADERS = ("mode", "program process ms", "program thread ms", "program without draw calls ms",
                "bare process ms", "bare thread ms")
 
@@ -37,6 +38,42 @@ void main() { gl_Position = u_mvp * vec4(in_position, 1.0); }
 BARE_FRAGMENT_SHADER = """#version 330
 out vec4 f_colour;
 void main() { f_colour = vec4(1.0); }
+"""
+# The floor under a still filled frame's inputs: each row's position, texture coordinate and lit row read, the
+# lit colour handed on as the renderer's program hands it (flat in Flat, interpolated in Gouraud) and
+# multiplied by the texture; no back-face test, no view switch, no uniforms but these.
+# Compiled through shaded_source, which defines SHADING.
+BARE_INPUTS_VERTEX_SHADER = """
+uniform mat4 u_mvp;
+in vec3 in_position;
+in vec2 in_uv;
+in vec4 in_lit;
+#if SHADING == FLAT
+flat out vec4 v_lit;
+#else
+smooth out vec3 v_lit;
+#endif
+out vec2 v_uv;
+void main() {
+#if SHADING == FLAT
+    v_lit = in_lit;
+#else
+    v_lit = in_lit.rgb;
+#endif
+    v_uv = in_uv;
+    gl_Position = u_mvp * vec4(in_position, 1.0);
+}
+"""
+BARE_INPUTS_FRAGMENT_SHADER = """
+uniform sampler2D u_texture;
+#if SHADING == FLAT
+flat in vec4 v_lit;
+#else
+smooth in vec3 v_lit;
+#endif
+in vec2 v_uv;
+out vec4 f_colour;
+void main() { f_colour = vec4(v_lit.rgb * texture(u_texture, v_uv).rgb, 1.0); }
 """
 # The lighting pass's floor: the same rows read and the same 16-byte rows captured, no lighting.
 BARE_LIGHTING_SHADER = """#version 330
@@ -63,13 +100,11 @@ void main() {
 """
 
 
-def position_only(layout: tuple[str, ...]) -> str:
-    """One of the renderer's interleaved layouts (marraztu.render.gpu), its first attribute (the
-    position) read and the rest skipped: same buffer, same stride."""
-    from marraztu.render.gpu import attribute_bytes
+def shaded_source(body: str, mode: str) -> str:
+    """A bare program's GLSL for a filled mode: SHADING defined as FLAT or GOURAUD."""
+    return f"#version 330\n#define FLAT 0\n#define GOURAUD 1\n#define SHADING {mode.upper()}\n{body}"
 
-    position, *rest = layout[0].split()
-    return f"{position} {sum(attribute_bytes(fmt) for fmt in rest)}x"
+
 MODES = ("flat", "gouraud", "lines")
 MIN_FRAMES = 3  # a median of fewer says little
 
@@ -108,8 +143,9 @@ class BareDraw:
     Gouraud) and vertex count as the renderer; no lighting, no texture, one pass of edges. A moving
     frame first runs a pass-through lighting pass over the rows the renderer's lighting pass lights
     (gpu.lit_row_range), writing as many bytes, by transform feedback or by a compute program as the
-    renderer would. Each object's mesh is taken whole, as one part: the renderer draws and lights a
-    mesh of several materials part by part, and the bench's meshes have one.
+    renderer would. Given the renderer's texture, a filled frame instead draws the still frame's
+    inputs (BARE_INPUTS_VERTEX_SHADER). Each object's mesh is taken whole, as one part: the renderer
+    draws and lights a mesh of several materials part by part, and the bench's meshes have one.
     """
 
     def __init__(self, ctx: moderngl.Context, scene: Scene, compute_lighting: bool) -> None:
@@ -134,12 +170,17 @@ class BareDraw:
         self.lit_row_bytes = LIT_ROW_BYTES
         self.buffers: list[moderngl.Buffer] = []
         self.objects: list[tuple[SceneObject, dict[str, tuple[moderngl.VertexArray, VertexRange]]]] = []
+        self.inputs: list[dict[str, moderngl.VertexArray]] = []  # per object, per filled mode
         self.lighting: list[BareLighting] = []
         self.programs: list[moderngl.Program | moderngl.ComputeShader] = []
         self.compute_lighting: ComputeLighting | None = None  # the same pass-through for both shadings
         try:
             self.program = self._program(vertex_shader=BARE_VERTEX_SHADER, fragment_shader=BARE_FRAGMENT_SHADER)
             self.mvp = self.program["u_mvp"]
+            self.inputs_programs = {mode: self._program(
+                vertex_shader=shaded_source(BARE_INPUTS_VERTEX_SHADER, mode),
+                fragment_shader=shaded_source(BARE_INPUTS_FRAGMENT_SHADER, mode)) for mode in self.shadings}
+            self.inputs_mvps = {mode: program["u_mvp"] for mode, program in self.inputs_programs.items()}
             self.lighting_program = self._program(vertex_shader=BARE_LIGHTING_SHADER, varyings=["v_lit"])
             if compute_lighting:
                 program = compute_program(ctx, BARE_COMPUTE_LIGHTING_SHADER, LIGHTING_DEFINES)
@@ -168,11 +209,13 @@ class BareDraw:
         from marraztu.render.context import max_texture_side
         from marraztu.render.gpu import (
             EDGE_LAYOUT,
+            LIT_LAYOUT,
             SURFACE_LAYOUT,
             VertexRange,
             edge_face_shape,
             edge_pairs,
             edge_rows,
+            layout_for,
             lit_row_range,
             surface_arrays,
         )
@@ -186,19 +229,23 @@ class BareDraw:
         pair_indices = edge_pairs(mesh)
         edges, pairs = self._buffer(edge_rows(mesh, width)), self._buffer(pair_indices)
         lit = self._buffer(reserve=rows * self.lit_row_bytes)
-        position = [(surface, position_only(SURFACE_LAYOUT), "in_position")]
+        position = [(surface, *layout_for(self.program, SURFACE_LAYOUT))]  # the bare program reads in_position only
         lit_rows = {shading.value: lit_row_range(shading, arrays.shared_rows, 0, mesh.face_count)
                     for shading in (Shading.FLAT, Shading.GOURAUD)}
         self.lighting.append(BareLighting(ctx.vertex_array(self.lighting_program, position), surface, lit, lit_rows))
+        filled = {"flat": (indices, arrays.indices.size), "gouraud": (shared, arrays.shared_indices.size)}
         self.objects.append((obj, {  # each mode's vertex array and the vertices it draws
-            "flat": (ctx.vertex_array(self.program, position, index_buffer=indices, index_element_size=4),
-                     VertexRange(0, arrays.indices.size)),
-            "gouraud": (ctx.vertex_array(self.program, position, index_buffer=shared, index_element_size=4),
-                        VertexRange(0, arrays.shared_indices.size)),
-            "lines": (ctx.vertex_array(self.program, [(edges, position_only(EDGE_LAYOUT), "in_position")],
+            **{mode: (ctx.vertex_array(self.program, position, index_buffer=buffer, index_element_size=4),
+                      VertexRange(0, count)) for mode, (buffer, count) in filled.items()},
+            "lines": (ctx.vertex_array(self.program, [(edges, *layout_for(self.program, EDGE_LAYOUT))],
                                        index_buffer=pairs, index_element_size=4), VertexRange(0, pair_indices.size))}))
+        self.inputs.append({mode: ctx.vertex_array(
+            program, [(surface, *layout_for(program, SURFACE_LAYOUT)), (lit, *LIT_LAYOUT)],
+            index_buffer=filled[mode][0], index_element_size=4) for mode, program in self.inputs_programs.items()})
 
-    def render(self, fbo: moderngl.Framebuffer, size: tuple[int, int], mode: str, moving: bool = False) -> None:
+    def render(self, fbo: moderngl.Framebuffer, size: tuple[int, int], mode: str, moving: bool = False,
+               texture: MipmappedTexture | None = None) -> None:
+        """The bare frame; with `texture` (filled modes), the still frame's inputs shown instead."""
         gl = self.gl
         width, height = size
         fbo.use()  # before the lighting pass too: with no framebuffer bound, a draw captures nothing
@@ -211,12 +258,16 @@ class BareDraw:
             self.ctx.enable(gl.DEPTH_TEST)
         else:
             self.ctx.disable(gl.DEPTH_TEST)
+        shown = texture is not None and filled
+        if shown:
+            texture.use(location=0)
+        mvp_uniform = self.inputs_mvps[mode] if shown else self.mvp
         view_projection = self.scene.projection_matrix(width / height) @ self.scene.view_matrix()
-        for obj, arrays in self.objects:
+        for (obj, arrays), inputs in zip(self.objects, self.inputs, strict=True):
             mvp = view_projection @ obj.model
-            self.mvp.write(np.ascontiguousarray(mvp.T, dtype="f4").tobytes())
+            mvp_uniform.write(np.ascontiguousarray(mvp.T, dtype="f4").tobytes())
             vertex_array, span = arrays[mode]
-            self.draw(vertex_array, gl.TRIANGLES if filled else gl.LINES, span)
+            self.draw(inputs[mode] if shown else vertex_array, gl.TRIANGLES if filled else gl.LINES, span)
         self.ctx.disable(gl.DEPTH_TEST)
 
     def _light(self, mode: str) -> None:
@@ -235,6 +286,9 @@ class BareDraw:
         for _, arrays in self.objects:
             for vao, _ in arrays.values():
                 vao.release()
+        for inputs in self.inputs:
+            for vao in inputs.values():
+                vao.release()
         for lighting in self.lighting:
             lighting.vertex_array.release()
         for resource in (*self.buffers, *self.programs):
@@ -247,6 +301,7 @@ class FrameTimes:
     still: list[float] = field(default_factory=list)
     bare: list[float] = field(default_factory=list)
     bare_moving: list[float] = field(default_factory=list)
+    inputs: list[float] = field(default_factory=list)
 
 
 # The camera turns this far, to and fro, before each moving frame: every lit colour changes (V and
@@ -264,9 +319,10 @@ def nudge_camera(scene: Scene, step: int) -> None:
 
 def paired_frame_times(ctx: moderngl.Context, scene: Scene, program_frame: Callable[[], None],
                        bare_frame: Callable[[], None], bare_moving_frame: Callable[[], None],
-                       config: BenchConfig) -> FrameTimes:
-    """A moving frame (the camera nudged first), a still one (nothing changed since), a bare one and a
-    bare moving one, in turn, so all four see the same load from other processes.
+                       inputs_frame: Callable[[], None] | None, config: BenchConfig) -> FrameTimes:
+    """A moving frame (the camera nudged first), a still one (nothing changed since), a bare one, a
+    bare moving one and (where there is one) the still frame's inputs, in turn, so all see the same
+    load from other processes.
 
     The first warm-up frame also builds the renderer's buffers for the object and compiles shader
     variants, which is why it is never measured.
@@ -281,8 +337,9 @@ def paired_frame_times(ctx: moderngl.Context, scene: Scene, program_frame: Calla
         if len(times.still) >= MIN_FRAMES and time.perf_counter() - started > config.frame_budget_s:
             break
         nudge_camera(scene, len(times.moving))
-        for frame, record in ((program_frame, times.moving), (program_frame, times.still),
-                              (bare_frame, times.bare), (bare_moving_frame, times.bare_moving)):
+        frames = [(program_frame, times.moving), (program_frame, times.still), (bare_frame, times.bare),
+                  (bare_moving_frame, times.bare_moving)] + [(inputs_frame, times.inputs)] * bool(inputs_frame)
+        for frame, record in frames:
             start = time.perf_counter()
             frame()
             ctx.finish()
@@ -363,17 +420,21 @@ def frame_cases(bench: FrameBench, scene: Scene, label: str, config: BenchConfig
                     set_mode(scene, mode)
                     times = paired_frame_times(bench.ctx, scene, lambda: bench.renderer.render(scene, fbo, size),
                                                lambda: bare.render(fbo, size, mode),
-                                               lambda: bare.render(fbo, size, mode, moving=True), config)
+                                               lambda: bare.render(fbo, size, mode, moving=True),
+                                               None if mode == "lines" else
+                                               lambda: bare.render(fbo, size, mode, texture=bench.renderer.texture),
+                                               config)
                     rows.append(_frame_row(label, scene_triangles(scene), size, mode, times))
     return rows
 
 
 def _frame_row(label: str, triangles: int, size: tuple[int, int], mode: str, times: FrameTimes) -> list[str]:
-    still, moving, bare, bare_moving = (statistics.median(frames) * 1000 for frames in
-                                        (times.still, times.moving, times.bare, times.bare_moving))
+    still, moving, bare, bare_moving, inputs = (statistics.median(frames) * 1000 if frames else None for frames in
+                                                (times.still, times.moving, times.bare, times.bare_moving,
+                                                 times.inputs))
     return [label, str(triangles), f"{size[0]}x{size[1]}", mode, number(still), number(moving), number(bare),
-            number(bare_moving), ratio(still, bare), ratio(moving, bare), ratio(moving, bare_moving),
-            str(len(times.still))]
+            number(bare_moving), number(inputs), ratio(still, bare), ratio(moving, bare), ratio(moving, bare_moving),
+            ratio(still, inputs), str(len(times.still))]
 
 
 def frames_section(bench: FrameBench, config: BenchConfig) -> list[str]:
@@ -398,7 +459,11 @@ def frames_section(bench: FrameBench, config: BenchConfig) -> list[str]:
         "program's; the ratios are what the program adds. *bare moving* = the bare draw after a "
         "pass-through transform feedback over the rows the lighting pass reads, capturing as many bytes "
         "per row (Flat: one row per polygon; Gouraud: the shared rows; lines: none): the floor under a "
-        "moving frame, which must light every row again.",
+        "moving frame, which must light every row again. *inputs* (filled modes) = the bare draw reading "
+        "and showing what a still frame reads: each row's position, texture coordinate and lit row, the lit "
+        "colour handed on as the program hands it (flat in Flat, interpolated in Gouraud) and multiplied by "
+        "the scene's texture, sampled as the program samples it; no back-face test or view switch: the floor "
+        "under a still frame that shows the lit, textured picture.",
         "",
         *markdown_table(FRAME_HEADERS, rows),
     ]
