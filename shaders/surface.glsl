@@ -7,6 +7,9 @@
 //   Flat: evaluated once, at the polygon's first vertex with the face normal;
 //   Gouraud: evaluated at every vertex with its vertex normal, the colours interpolated;
 //   Phong: the position and vertex normal interpolated, evaluated at every pixel (side by side only).
+// The depth view (DEPTH_VIEW defined) is a program of each way of its own, which paints the depth and
+// hands on no colour: on an NVIDIA H100, gl_FragCoord.z read in any program, even in a branch never
+// taken, made Gouraud's frames of small triangles a third slower.
 // Flat and Gouraud light their vertices in a pass of their own (LIGHTING_PASS: transform feedback,
 // nothing rasterised, or a compute program) that writes a colour per vertex row into the object's
 // lit buffer, and the drawing pass reads it back as an attribute. The renderer runs that pass only
@@ -188,28 +191,34 @@ uniform bool u_vertex_coloured;
 #if SHADING == FLAT
 // With the provoking vertex set to the first one, `flat` varyings take the value of the first
 // corner of each fan triangle, which Flat's indices make its polygon's own row (SPEC 4's Flat).
-flat out vec4 v_flat_lit;
-#else
+flat out vec4 v_flat_lit;  // the depth view reads its N.V alone
+#elif !defined DEPTH_VIEW
 smooth out vec3 v_smooth_colour;  // Gouraud: the lit colour; Phong: the vertex colour, or white
 #endif
-#if SHADING == PHONG
+#if SHADING == PHONG && !defined DEPTH_VIEW
 out vec3 v_world_position;  // interpolated, lit per pixel
 out vec3 v_world_normal;
 #endif
+#if !defined DEPTH_VIEW
 out vec2 v_uv;
+#endif
 
 void main() {
     vec3 world_position = (u_model * vec4(in_position, 1.0)).xyz;
 #if SHADING == FLAT
     v_flat_lit = in_lit;
-#elif SHADING == GOURAUD
+#elif !defined DEPTH_VIEW
+#if SHADING == GOURAUD
     v_smooth_colour = in_lit.rgb;
 #else
     v_smooth_colour = u_vertex_coloured ? in_colour.rgb : vec3(1.0);
     v_world_position = world_position;
     v_world_normal = normalize(u_normal_matrix * in_normal);
 #endif
+#endif
+#if !defined DEPTH_VIEW
     v_uv = in_uv;
+#endif
     gl_Position = u_view_projection * vec4(world_position, 1.0);
 }
 
@@ -222,17 +231,20 @@ uniform int u_show;
 
 #if SHADING == FLAT
 flat in vec4 v_flat_lit;
-#else
+#elif !defined DEPTH_VIEW
 smooth in vec3 v_smooth_colour;
 #endif
-#if SHADING == PHONG
+#if SHADING == PHONG && !defined DEPTH_VIEW
 in vec3 v_world_position;
 in vec3 v_world_normal;
 #endif
+#if !defined DEPTH_VIEW
 in vec2 v_uv;
+#endif
 
 out vec4 out_colour;
 
+#if !defined DEPTH_VIEW
 vec3 surface_colour() {
 #if SHADING == FLAT
     return v_flat_lit.rgb;
@@ -247,6 +259,7 @@ vec3 surface_colour() {
     return lit_colour(v_world_position, normal, toward_eye(v_world_position)) * v_smooth_colour;
 #endif
 }
+#endif
 
 // SPEC 4's back face: N.V <= 0 with the face normal at the polygon's first vertex. Flat draws from
 // the polygon's own row, which carries that value. Gouraud and Phong draw from the shared rows only
@@ -271,15 +284,15 @@ void main() {
         out_colour = vec4(1.0, 0.0, 0.0, 1.0);
         return;
     }
-    if (u_show == SHOW_DEPTH) {
-        out_colour = vec4(vec3(gl_FragCoord.z), 1.0);
-        return;
-    }
+#if defined DEPTH_VIEW
+    out_colour = vec4(vec3(gl_FragCoord.z), 1.0);
+#else
     vec3 colour = surface_colour();
     if (u_textured && u_show == SHOW_LIT) {
         colour *= texture(u_texture, v_uv).rgb;
     }
     out_colour = vec4(colour, 1.0);
+#endif
 }
 
 #endif

@@ -19,7 +19,7 @@ import pytest
 from marraztu.control.keymap import KEYMAP, KeyPress
 from marraztu.loaders.images import fallback_texture
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
-from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG
+from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, TermView
 from marraztu.model.scene import Scene, Target
 from marraztu.render.gpu import ObjectGpu
 from marraztu.render.renderer import Renderer
@@ -180,13 +180,21 @@ def test_soak_random_keys_keep_the_scene_sound(own_ctx, soak_renderer: Renderer,
     frontend = CountingFrontend()
     viewer = RenderingViewer(scene, soak_renderer, frontend)
     scene.texture = fallback_texture()
-    corpus.render_float(own_ctx, soak_renderer, empty_scene(), SIZE)  # make the framebuffer first
+    # The framebuffer first, and the depth view's programs (made when that view is first drawn), side by
+    # side for every shading's.
+    no_objects = empty_scene()
+    no_objects.modes.term_view, no_objects.modes.side_by_side = TermView.DEPTH, True
+    corpus.render_float(own_ctx, soak_renderer, no_objects, SIZE)
     gl_without_objects = gl_total(own_ctx)
-    # Lines, both kinds of normals (of whole objects and of one face) and side by side once, so every
-    # object holds all it ever will (the surface buffers at once; edges, normal segments and a vertex
-    # array per surface program and lighting pass on first use), then back to the start's modes.
+    # Lines, both kinds of normals (of whole objects and of one face) and side by side, lit and in the
+    # depth view, once, so every object holds all it ever will (the surface buffers at once; edges,
+    # normal segments and a vertex array per surface program and lighting pass on first use), then back
+    # to the start's modes.
     one_face_each = ["TAB"] * len(scene.objects)  # one face of the selected object only: each in turn
-    for keys in ("", "l n", "F", "o d", *one_face_each, "o d", "F n l", "s", "s"):
+    to_depth_view = " ".join(["v"] * TERM_VIEWS.index(TermView.DEPTH))
+    back_from_depth_view = " ".join(["v"] * (len(TERM_VIEWS) - TERM_VIEWS.index(TermView.DEPTH)))
+    for keys in ("", "l n", "F", "o d", *one_face_each, "o d", "F n l", "s", to_depth_view, "s",
+                 back_from_depth_view):
         viewer.press_sequence(keys)
         corpus.render_float(own_ctx, soak_renderer, scene, SIZE)
     per_object = (gl_total(own_ctx) - gl_without_objects) // len(scene.objects)

@@ -43,9 +43,9 @@ class Fill(Enum):
 
 
 class Shading(Enum):
-    """How lighting spreads over a polygon, from the key to the shader (surface.glsl builds one
-    program per member, by its name). `F` switches Flat and Gouraud; Phong is the third model of the
-    side-by-side view."""
+    """How lighting spreads over a polygon, from the key to the shader (surface.glsl builds a lit
+    program and a depth view's for each member, by its name). `F` switches Flat and Gouraud; Phong is
+    the third model of the side-by-side view."""
 
     FLAT = "flat"
     GOURAUD = "gouraud"

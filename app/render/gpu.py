@@ -24,7 +24,7 @@ import re
 import threading
 import weakref
 from dataclasses import dataclass
-from typing import Hashable, Mapping, Sequence
+from typing import Hashable, Mapping, NamedTuple, Sequence
 
 import moderngl
 import numpy as np
@@ -55,6 +55,22 @@ EDGE_FACE_TEXTURE_SIDE = 1 << 15  # the polygon tables' widest: an edge row's te
 # The normals program reads a vertex row's position and vertex normal as a foot and a direction.
 VERTEX_NORMAL_LAYOUT = ("3f 3f 2f", "in_position", "in_direction", "in_uv")
 FACE_NORMAL_LAYOUT = ("3f 3f", "in_position", "in_direction")
+
+
+class SurfaceWay(NamedTuple):
+    """Which surface program draws: a shading, and whether it paints the depth view instead of the
+    lit picture (surface.glsl builds one program for each)."""
+
+    shading: Shading
+    depth_view: bool = False
+
+    @property
+    def defines(self) -> dict[str, str]:
+        return {"SHADING": self.shading.name, **({"DEPTH_VIEW": "1"} if self.depth_view else {})}
+
+
+LIT_SURFACE_WAYS = tuple(SurfaceWay(shading) for shading in Shading)
+SURFACE_WAYS = (*LIT_SURFACE_WAYS, *(SurfaceWay(shading, depth_view=True) for shading in Shading))
 
 
 def load_program(ctx: moderngl.Context, name: str, defines: Mapping[str, str] | None = None,
@@ -408,11 +424,11 @@ class VertexRange:
 
 @dataclass(frozen=True)
 class Programs:
-    """The programs an object's vertex arrays are bound to: one surface program per shading, the
-    lighting pass of those that light vertices, edges, normals; and where compute programs light
+    """The programs an object's vertex arrays are bound to: one surface program per SurfaceWay, the
+    lighting pass of the shadings that light vertices, edges, normals; and where compute programs light
     large passes quicker (lights_by_compute), the lighting passes as compute programs too."""
 
-    surfaces: Mapping[Shading, moderngl.Program]
+    surfaces: dict[SurfaceWay, moderngl.Program]  # the depth view's added by the renderer when first drawn
     lightings: Mapping[Shading, moderngl.Program]
     edges: moderngl.Program
     normals: moderngl.Program
@@ -456,12 +472,12 @@ class ObjectGpu:
     than the surface's), then kept until the object leaves the scene.
     """
 
-    # surface: a vertex, a lit and two index buffers, a vertex array per surface program (3) and per
-    # transform-feedback lighting pass (2; a compute pass has none); edges: a row and an index buffer,
-    # a vertex array and two textures of polygons; face normals: a buffer and a vertex array; vertex
-    # normals: a buffer of used rows and its vertex array, and a vertex array over the surface indices
-    # for a range of faces. Vertex colours add one buffer.
-    GL_OBJECTS = 19
+    # surface: a vertex, a lit and two index buffers, a vertex array per surface program (3 lit, 3 of
+    # the depth view) and per transform-feedback lighting pass (2; a compute pass has none); edges: a
+    # row and an index buffer, a vertex array and two textures of polygons; face normals: a buffer and
+    # a vertex array; vertex normals: a buffer of used rows and its vertex array, and a vertex array
+    # over the surface indices for a range of faces. Vertex colours add one buffer.
+    GL_OBJECTS = 22
     # Which index buffer each surface program draws with (see SurfaceArrays).
     INDICES = {Shading.FLAT: "surface indices", Shading.GOURAUD: "shared surface indices",
                Shading.PHONG: "shared surface indices"}
@@ -493,18 +509,18 @@ class ObjectGpu:
             for buffer in self._surface_buffers.values():
                 buffer.release()
             raise
-        # By (program, shading): "surface" draws, "lighting" runs the lighting pass.
-        self._surface_arrays: dict[tuple[str, Shading], moderngl.VertexArray] = {}
+        # By (program, way): "surface" draws, "lighting" runs the lighting pass (of the way's shading).
+        self._surface_arrays: dict[tuple[str, SurfaceWay], moderngl.VertexArray] = {}
         self._lit: dict[Shading, LitRows] = {}
 
     @property
     def vertex_coloured(self) -> bool:
         return "colours" in self._surface_buffers
 
-    def surface(self, shading: Shading) -> moderngl.VertexArray:
-        """The surface bound to the program of `shading`; each is made the first time that shading is
-        drawn, sharing the buffers."""
-        return self._surface_array("surface", shading)
+    def surface(self, way: SurfaceWay) -> moderngl.VertexArray:
+        """The surface bound to the program of `way`; each is made the first time that way is drawn,
+        sharing the buffers."""
+        return self._surface_array("surface", way)
 
     def light(self, shading: Shading, inputs: Hashable, start: int, stop: int) -> bool:
         """Lights the rows the faces [start, stop) take their colour from, with the lighting pass of
@@ -522,7 +538,7 @@ class ObjectGpu:
         if compute is not None and compute.takes(first, stop_row):
             self._light_by_compute(compute, shading, first, stop_row)
         else:
-            self._surface_array("lighting", shading).transform(
+            self._surface_array("lighting", SurfaceWay(shading)).transform(
                 self._surface_buffers["lit"], moderngl.POINTS, vertices=stop_row - first, first=first,
                 buffer_offset=first * LIT_ROW_BYTES)
         self._lit[shading] = LitRows(inputs, first, stop_row)
@@ -532,21 +548,21 @@ class ObjectGpu:
         buffers = self._surface_buffers
         compute.run(self.ctx, shading, buffers["surface"], buffers.get("colours"), buffers["lit"], first, stop)
 
-    def _surface_array(self, kind: str, shading: Shading) -> moderngl.VertexArray:
+    def _surface_array(self, kind: str, way: SurfaceWay) -> moderngl.VertexArray:
         """The surface's vertex buffer bound to a surface program ("surface", indexed, reading the lit
-        buffer unless it is Phong's) or a lighting pass ("lighting": every row once, no indices)."""
-        vao = self._surface_arrays.get((kind, shading))
+        buffer where the program does) or a lighting pass ("lighting": every row once, no indices)."""
+        vao = self._surface_arrays.get((kind, way))
         if vao is None:
             drawing = kind == "surface"
-            program = (self.programs.surfaces if drawing else self.programs.lightings)[shading]
+            program = self.programs.surfaces[way] if drawing else self.programs.lightings[way.shading]
             content = self._surface_content(program)
             if LIT_LAYOUT[1] in program:  # Phong lights per pixel and reads no lit colour
                 content.append((self._surface_buffers["lit"], *LIT_LAYOUT))
             if "colours" in self._surface_buffers and COLOUR_LAYOUT[1] in program:
                 content.append((self._surface_buffers["colours"], *COLOUR_LAYOUT))
-            indices = self._surface_buffers[self.INDICES[shading]] if drawing else None
+            indices = self._surface_buffers[self.INDICES[way.shading]] if drawing else None
             vao = self.ctx.vertex_array(program, content, index_buffer=indices, index_element_size=4)
-            self._surface_arrays[(kind, shading)] = vao
+            self._surface_arrays[(kind, way)] = vao
         return vao
 
     @property

@@ -18,7 +18,7 @@ import numpy as np
 from marraztu.errors import ViewerError
 from marraztu.loaders.images import fit_texture
 from marraztu.model.guides import scene_guides
-from marraztu.model.lights import MAX_LIGHTS, shader_defines
+from marraztu.model.lights import MAX_LIGHTS, Show, shader_defines
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Fill, Projection, Scene, SceneObject, Shading, Target
 from marraztu.model.transforms import normal_matrix
@@ -33,9 +33,11 @@ from marraztu.render.context import (
 from marraztu.render.gpu import (
     EDGE_FACE_UNITS,
     LIGHTING_DEFINES,
+    LIT_SURFACE_WAYS,
     ComputeLighting,
     ObjectGpu,
     Programs,
+    SurfaceWay,
     VertexRange,
     lighting_window_rows,
     load_compute_program,
@@ -155,25 +157,25 @@ class Renderer:
         is quicker, lights_by_compute)."""
         self.ctx = ctx
         self.draw, self.draw_segments = pieced_draws(ctx)
-        # One surface program per shading, and a lighting pass (and on llvmpipe a compute one too) for
-        # those that light vertices; the current view's are `self.surface` and `self.lighting`.
-        lights = shader_defines()
+        # A surface program per shading (the depth view's too, made when first drawn: _use_way), and a
+        # lighting pass (and on llvmpipe a compute one too) for the shadings that light vertices; the
+        # current view's are `self.surface` and `self.lighting`.
+        self.shader_defines = lights = shader_defines()
         self.compute_lighting = lights_by_compute(ctx) if compute_lighting is None else compute_lighting
         passes = {way: {"SHADING": way.name, "LIGHTING_PASS": "1", **lights} for way in Shading if way.lights_vertices}
         self.programs = Programs(
-            surfaces={way: load_program(ctx, "surface", defines={"SHADING": way.name, **lights})
-                      for way in Shading},
+            surfaces={way: self._surface_program(way) for way in LIT_SURFACE_WAYS},
             lightings={way: load_program(ctx, "surface", varyings=("v_lit",), defines=defines)
                        for way, defines in passes.items()},
             edges=load_program(ctx, "edges"), normals=load_program(ctx, "normals"),
             compute_lighting=ComputeLighting(
                 {way: load_compute_program(ctx, "surface", {**defines, **LIGHTING_DEFINES})
                  for way, defines in passes.items()}, lighting_window_rows(ctx)) if self.compute_lighting else None)
-        self.surface_uniforms = {way: Uniforms(self.programs.surfaces[way]) for way in Shading}
+        self.surface_uniforms = {way: Uniforms(program) for way, program in self.programs.surfaces.items()}
         # A shading's two lighting passes, where it has both, read the same uniforms: set once for both.
         self.lighting_uniforms = {way: Uniforms(*self.programs.lighting_passes(way)) if way.lights_vertices
-                                  else self.surface_uniforms[way] for way in Shading}
-        self.shading = Shading.FLAT
+                                  else self.surface_uniforms[SurfaceWay(way)] for way in Shading}
+        self.way = SurfaceWay(Shading.FLAT)
         self.lighting_passes = 0  # run so far: a frame where nothing lighting reads changed adds none
         self.marker_program = load_program(ctx, "marker")
         self.edges = Uniforms(self.programs.edges)
@@ -235,16 +237,26 @@ class Renderer:
                 resource.release()
         self.texture = None
 
+    def _surface_program(self, way: SurfaceWay) -> moderngl.Program:
+        return load_program(self.ctx, "surface", defines={**way.defines, **self.shader_defines})
+
+    def _use_way(self, way: SurfaceWay) -> None:
+        """Draws surfaces with the program of `way` from now on, made the first time it is used."""
+        if way not in self.programs.surfaces:
+            self.programs.surfaces[way] = program = self._surface_program(way)
+            self.surface_uniforms[way] = Uniforms(program)
+        self.way = way
+
     @property
     def surface(self) -> Uniforms:
         """The uniforms of the surface program the current view draws with."""
-        return self.surface_uniforms[self.shading]
+        return self.surface_uniforms[self.way]
 
     @property
     def lighting(self) -> Uniforms:
         """The uniforms of the program that lights the current view: its lighting pass (Flat,
         Gouraud), or the surface program itself (Phong, per pixel)."""
-        return self.lighting_uniforms[self.shading]
+        return self.lighting_uniforms[self.way.shading]
 
     def _gpu_for(self, obj: SceneObject, part: int = WHOLE) -> ObjectGpu:
         mesh = obj.mesh if part == WHOLE else obj.mesh.parts[part].mesh
@@ -305,7 +317,7 @@ class Renderer:
                      items: list[tuple[DrawItem, ObjectGpu]]) -> None:
         filled = scene.modes.fill is Fill.FILLED
         self._set_gl_state(depth_test=filled)
-        self.shading = view.shading
+        self._use_way(SurfaceWay(view.shading, depth_view=scene.modes.term_view.shows is Show.DEPTH))
         frame_view_projection = view_projection(scene, view)
         self._set_frame_uniforms(scene, frame_view_projection)
         if filled:
@@ -412,12 +424,12 @@ class Renderer:
         lighting.set("u_ns", float(material.ns))
         for uniforms in (self.surface, lighting):  # the lighting pass tints its rows; Phong, its pixels
             uniforms.set("u_vertex_coloured", gpu.vertex_coloured)
-        if self.shading.lights_vertices:
-            self.lighting_passes += gpu.light(self.shading, lighting.values(), item.start, item.stop)
+        if self.way.shading.lights_vertices:
+            self.lighting_passes += gpu.light(self.way.shading, lighting.values(), item.start, item.stop)
         assert self.texture is not None
         picture = item.obj.mesh.materials[item.file_material].texture if item.file_material >= 0 else None
         (self.texture if picture is None else self._file_texture(picture)).use(location=0)
-        self.draw(gpu.surface(self.shading), moderngl.TRIANGLES, gpu.surface_range(item.start, item.stop))
+        self.draw(gpu.surface(self.way), moderngl.TRIANGLES, gpu.surface_range(item.start, item.stop))
 
     def _draw_all_edges(self, scene: Scene, items: list[tuple[DrawItem, ObjectGpu]]) -> None:
         """Every object's edges in one pass: front faces' edges over back faces' (red; skipped with
