@@ -607,6 +607,32 @@ def test_build_mesh_takes_per_corner_uv_and_normals_with_nan_meaning_derive() ->
     assert mesh.base_colour == (1.0, 0.5, 0.0) and mesh.warnings == ("made in code",)
 
 
+QUAD_CORNERS = np.array([[0, 0, 0], [2, 0, 0], [2, 1, 0], [0, 1, 0]], dtype=np.float64)
+
+
+@pytest.mark.parametrize(("offset", "moved_by"), [
+    ((5e3, 0, 0), None),  # 2,200 of its 2.2-unit sizes away: its 32-bit steps are 1/4,600 of it
+    ((1e4, -2e4, 5.26), "-10001, 20000, -5"),  # over 4,096: moved by whole units (its size's order)
+    ((4e8 + 0.37, 3e8, -1e9), "-400000001, -300000000, 1000000000"),
+])
+def test_a_mesh_far_from_the_origin_is_moved_near_it_with_a_note(offset: tuple[float, float, float],
+                                                                 moved_by: str | None) -> None:
+    far = build_mesh("quad", QUAD_CORNERS + offset, [[0, 1, 2, 3]])
+    if moved_by is None:
+        np.testing.assert_array_equal(far.positions, QUAD_CORNERS + offset)
+        assert far.warnings == ()
+        return
+    assert far.warnings == (f"far from the origin: moved by ({moved_by}) to be drawn exactly",)
+    shift = -np.array([float(value) for value in moved_by.split(", ")])
+    np.testing.assert_array_equal(far.positions, (QUAD_CORNERS + offset) - shift)
+    assert np.abs(far.positions).max() < 10
+    near = build_mesh("quad", QUAD_CORNERS, [[0, 1, 2, 3]])
+    for name in ("corner_uv", "corner_normal", "face_normals"):
+        np.testing.assert_allclose(getattr(far, name), getattr(near, name), atol=1e-6)
+    np.testing.assert_array_equal(far.bounds[0], far.positions.min(axis=0))
+    np.testing.assert_array_equal(far.bounds[1], far.positions.max(axis=0))
+
+
 @pytest.mark.parametrize("faces", [[[0, 1]], [], [[0, 1, 7]], [[0, -1, 2]]])
 def test_build_mesh_rejects_impossible_faces(faces: list[list[int]]) -> None:
     with pytest.raises(ValueError):

@@ -22,11 +22,12 @@ from support.scenes import BACKGROUND, NoFrontend, RecordingHost
 SIZE = (160, 160)
 
 
-def octahedron(path: Path, size: float) -> Path:
-    """A round-ish model of radius `size`, its six tips on the axes."""
+def octahedron(path: Path, size: float, centre: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> Path:
+    """A round-ish model of radius `size`, its six tips on the axes through `centre`."""
     tips = [(size, 0, 0), (-size, 0, 0), (0, size, 0), (0, -size, 0), (0, 0, size), (0, 0, -size)]
+    tips = [tuple(float(np.float64(at) + offset) for at, offset in zip(tip, centre)) for tip in tips]
     faces = [(1, 3, 5), (3, 2, 5), (2, 4, 5), (4, 1, 5), (3, 1, 6), (2, 3, 6), (4, 2, 6), (1, 4, 6)]
-    path.write_text("".join(f"v {x:.9g} {y:.9g} {z:.9g}\n" for x, y, z in tips)
+    path.write_text("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in tips)
                     + "".join(f"f {a} {b} {c}\n" for a, b, c in faces))
     return path
 
@@ -142,6 +143,18 @@ def test_a_huge_model_shows_as_a_small_one_does(tmp_path: Path, size: float) -> 
     huge = picture(tmp_path, keys, (octahedron(tmp_path / "huge.obj", size),), name="huge.png")
     assert (small != BACKGROUND).any(axis=2).sum() > 0.1 * small.shape[0] * small.shape[1]
     assert np.abs(huge - small).max(axis=2).mean() < 1.0, "the same picture, but for rounding"
+
+
+@pytest.mark.parametrize("distance", [4e6, 4e7])
+def test_a_model_far_from_the_origin_shows_as_one_at_it_does(tmp_path: Path, distance: float) -> None:
+    """Moved near the origin in 64-bit numbers before the GPU's 32-bit ones round its corners: 4e7
+    units away a 10-unit model's corners would land on steps of 4 units."""
+    keys = "y*2 x*3"
+    near = picture(tmp_path, keys, (octahedron(tmp_path / "near.obj", 10.0),), name="near.png")
+    far = picture(tmp_path, keys, (octahedron(tmp_path / "far.obj", 10.0, (distance, -0.75 * distance, 0.0)),),
+                  name="far.png")
+    assert (near != BACKGROUND).any(axis=2).sum() > 0.1 * near.shape[0] * near.shape[1]
+    assert np.abs(far - near).max(axis=2).mean() < 1.0, "the same picture, but for rounding"
 
 
 # --- the mouse -----------------------------------------------------------------------------------
