@@ -182,7 +182,7 @@ def _near_origin(positions: np.ndarray, bounds: tuple[np.ndarray, np.ndarray]
     if not size > 0 or np.abs(centre).max() <= FAR_FROM_ORIGIN * size:
         return positions, bounds, ""
     # As coarse as keeps the model within FAR_FROM_ORIGIN sizes: readable, and the same for models of
-    # one site loaded one by one, unless a multiple of it falls between them.
+    # one site loaded one by one, unless their centres round to different multiples of it.
     step = 10.0 ** np.floor(np.log10(FAR_FROM_ORIGIN * size))
     shift = np.round(centre / step) * step
     moved_by = ", ".join(f"{-value + 0.0:.15g}" for value in shift)  # + 0.0: no "-0"
