@@ -336,13 +336,54 @@ def test_windows_1252_comments_and_names_are_read(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("read", [read_by_lines, fast_reader.read_fast], ids=["line reader", "fast reader"])
-def test_vertex_colours_after_the_position_are_said_not_to_be_drawn(read) -> None:
-    """MeshLab and ZBrush write `v x y z r g b`: the position is read, and one note says the colour is not."""
-    text = b"v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n"
+def test_vertex_colours_after_the_position_are_read(read) -> None:
+    """MeshLab and ZBrush write `v x y z r g b`: the position and the colour are read; x y z w is no colour."""
+    text = b"v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 0.5\nf 1 2 3\n"
     raw = read(text, "coloured.obj")
-    assert raw.notes == ["vertex colours (v x y z r g b) are not drawn"]
+    assert raw.notes == []
     assert raw.positions.tolist() == [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
-    assert read(b"v 0 0 0 1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "w.obj").notes == []  # x y z w: no colour
+    assert raw.vertex_colours.tolist() == [[1, 0, 0], [0, 1, 0], [0, 0, 0.5]]
+    assert read(b"v 0 0 0 1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "w.obj").vertex_colours is None
+
+
+@pytest.mark.parametrize(("lines", "colours", "notes"), [
+    (b"v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 0.5\n", [[255, 0, 0], [0, 255, 0], [0, 0, 128]], []),
+    (b"v 0 0 0 255 0 0\nv 1 0 0 0 255 0\nv 0 1 0 0 0 128\n", [[255, 0, 0], [0, 255, 0], [0, 0, 128]], []),
+    (b"v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0 1\n", [[255, 0, 0], [255, 255, 255], [255, 255, 255]],
+     ["2 positions without a colour drawn white"]),
+    (b"v 0 0 0 1 0 0\nv 1 0 0 0 -1 0\nv 0 1 0 0 0 1\n", None,
+     ["vertex colours (v x y z r g b) outside 0..1 and 0..255 are not drawn"]),
+    (b"v 0 0 0 300 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\n", None,
+     ["vertex colours (v x y z r g b) outside 0..1 and 0..255 are not drawn"]),
+])
+def test_vertex_colours_are_drawn_as_0_to_1_or_0_to_255(tmp_path: Path, lines: bytes, colours: list | None,
+                                                        notes: list[str]) -> None:
+    path = tmp_path / "coloured.obj"
+    path.write_bytes(lines + b"f 1 2 3\n")
+    mesh = load_obj(path)
+    assert (mesh.vertex_colours is None) == (colours is None)
+    if colours is not None:
+        assert mesh.vertex_colours.tolist() == colours
+    assert list(mesh.warnings) == notes
+
+
+def test_a_large_files_vertex_colours_come_through_the_compiled_reader(tmp_path: Path) -> None:
+    """Past COMPILED_READER_BYTES the third, compiled pass reads them; a line it leaves to the line
+    reader (a number it does not read: 17 digits) still gives its colour."""
+    rows = 200_000
+    rng = np.random.default_rng(5)
+    colours = rng.integers(0, 256, size=(rows, 3))
+    lines = [f"v {i} {i % 7} 0 {r} {g} {b}" for i, (r, g, b) in enumerate(colours.tolist())]
+    lines[1234] = "v 1234.0000000000000001 6 0 1 2 3"  # the line reader's: the compiled reader reads 15 digits
+    colours[1234] = (1, 2, 3)
+    faces = [f"f {i + 1} {i + 2} {i + 3}" for i in range(rows - 2)]
+    path = tmp_path / "large.obj"
+    path.write_text("\n".join(lines + faces) + "\n")
+    assert path.stat().st_size > obj_module.COMPILED_READER_BYTES
+    with lines_read_by_the_line_reader() as counted:
+        mesh = load_obj(path)
+    assert counted.lines == 1
+    assert mesh.vertex_colours.tolist() == colours.tolist()
 
 
 def test_a_stray_byte_in_a_number_is_that_lines_error() -> None:
@@ -445,6 +486,10 @@ def assert_same_tables(fast: object, slow: object) -> None:
             assert a.shape == b.shape and np.array_equal(a, b), name
     for name in ("mtllib", "colour", "notes"):
         assert getattr(fast, name) == getattr(slow, name), name
+    colours = [getattr(tables, "vertex_colours") for tables in (fast, slow)]
+    assert (colours[0] is None) == (colours[1] is None)
+    if colours[0] is not None:
+        assert np.array_equal(colours[0], colours[1], equal_nan=True)
 
 
 NUMBER = st.one_of(

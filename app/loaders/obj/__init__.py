@@ -27,8 +27,8 @@ from marraztu.loaders.files import line_at, read_model_bytes
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.mtl import read_libraries
 from marraztu.loaders.obj.raw import RawObj
-from marraztu.model.build import derive_mesh
-from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial
+from marraztu.model.build import colour_bytes, derive_mesh
+from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, counted
 
 
 def load_obj(path: str | Path, stage: Callable[[str], None] | None = None) -> Mesh:
@@ -75,8 +75,10 @@ def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
     uv = None if raw.corner_texcoord is None else (raw.texcoords, raw.corner_texcoord)
     normals = None if raw.corner_normal is None else (raw.normals, raw.corner_normal)
     first = (library[0].values or None) if library else None  # the whole model's, where no usemtl says
+    colours, colour_notes = _drawn_vertex_colours(raw.vertex_colours)
     mesh = derive_mesh(Path(source).stem, raw.positions, raw.corner_vertex, raw.face_start,
-                       uv, normals, raw.colour, first, tuple(notes))
+                       uv, normals, raw.colour, first, tuple(notes + colour_notes))
+    mesh = replace(mesh, vertex_colours=colours) if colours is not None else mesh
     mesh = replace(mesh, read_beside=tuple(tried)) if tried else mesh
     if not raw.material_runs or not library:  # no library read: its absence is noted once already
         return mesh
@@ -91,6 +93,24 @@ def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
                      "take the model's first material")
     return replace(mesh, materials=used, face_material=face_material, warnings=tuple(notes))
 
+
+
+def _drawn_vertex_colours(table: np.ndarray | None) -> tuple[np.ndarray | None, list[str]]:
+    """The colours v lines give as the renderer's bytes, and what to say of them: 0..1 as MeshLab
+    writes them, or 0..255 where the file's largest is above 1 (as COFF's); a position whose v line
+    gives none is white. Colours outside both are not drawn, and a note says so."""
+    if table is None:
+        return None, []
+    given = ~np.isnan(table[:, 0])
+    values = table[given]
+    if values.max(initial=0.0) > 1.0:
+        values = values / 255.0
+    if values.min(initial=0.0) < 0.0 or values.max(initial=0.0) > 1.0:
+        return None, ["vertex colours (v x y z r g b) outside 0..1 and 0..255 are not drawn"]
+    colours = np.ones((table.shape[0], 3))
+    colours[given] = values
+    notes = [] if given.all() else [f"{counted(int((~given).sum()), 'position')} without a colour drawn white"]
+    return colour_bytes(colours, len(colours)), notes
 
 
 def _face_materials(runs: list[tuple[int, str]], library: list[MeshMaterial], faces: int

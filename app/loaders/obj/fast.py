@@ -61,8 +61,15 @@ def read_fast(text: bytes, source: str) -> raw.RawObj:
     check_forward_indices(source, columns, totals, lambda corner: scan.line_of_face(
         buf, int(np.searchsorted(face_start, corner, "right")) - 1))
     optional = [column if column.size and column.max() >= 0 else None for column in columns[1:]]
+    colours = None
+    if outcome.coloured:  # a third pass, for the files that have colours only
+        colours = np.full((len(tables[0]), 3), np.nan)
+        _each(lambda at: scan.read_vertex_colours(buf, *pieces[at], before[at][scan.V], colours),
+              list(range(len(pieces))))
+        for row, colour in outcome.vertex_colours.items():  # the lines the compiled code left to the line reader
+            colours[row] = colour
     return raw.RawObj(*tables, columns[0], *optional, face_start, outcome.mtllib, outcome.colour.colour,
-                      raw.file_notes(outcome.colour, outcome.vertex_colours), outcome.material_runs)
+                      list(outcome.colour.notes), outcome.material_runs, colours)
 
 
 def _pieces(text: bytes, count: int) -> list[tuple[int, int]]:
@@ -99,7 +106,8 @@ class _Records:
         self.material_runs: list[tuple[int, str]] = []
         self.colour = raw.ColourComment()
         self.statements = 0
-        self.vertex_colours = False  # some v line gives a colour after its position
+        self.coloured = False  # some v line gives a colour after its position
+        self.vertex_colours: dict[int, tuple[float, ...]] = {}  # by row, those of the line reader's lines
 
     def settle(self, records: np.ndarray) -> None:
         for first in range(0, records.shape[0], _SETTLED_AT_ONCE):  # as Python ints a few at a time: ten each
@@ -113,7 +121,7 @@ class _Records:
             elif record[scan.R_KIND] == scan.STATEMENT:
                 self.statement(record[scan.R_FACE], content)
             elif record[scan.R_KIND] == scan.VERTEX_COLOURS:
-                self.vertex_colours = True
+                self.coloured = True
             else:
                 self.colour.offer(record[scan.R_LINE], content)
 
@@ -134,7 +142,8 @@ class _Records:
         reader = LineReader(self.source)
         reader.defined = [record[scan.R_V], record[scan.R_VT], record[scan.R_VN]]
         reader.read_line(record[scan.R_LINE], content)  # raises the line's LoadError
-        self.vertex_colours |= reader.vertex_colours
+        self.vertex_colours.update(reader.vertex_colours)
+        self.coloured |= bool(reader.vertex_colours)
         kind = record[scan.R_KEYWORD]
         if kind == scan.F:
             corner, corners = record[scan.R_CORNER], len(reader.corners[0])

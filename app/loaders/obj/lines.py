@@ -24,7 +24,7 @@ from marraztu.loaders.obj.raw import (
     ColourComment,
     RawObj,
     add_material_run,
-    file_notes,
+    colour_table,
     material_name,
     statement,
     with_library,
@@ -82,7 +82,7 @@ class LineReader:
         self.face_sizes = array("q")
         self.face_lines = array("q")
         self.mtllib: tuple[str, ...] = ()
-        self.vertex_colours = False  # some v line gives a colour after its position
+        self.vertex_colours: dict[int, tuple[float, ...]] = {}  # by position row: a colour after x y z
         self.material_runs: list[tuple[int, str]] = []
         self.colour = ColourComment()
         self.statements = 0
@@ -116,7 +116,8 @@ class LineReader:
             field, name, fewest, most = _TABLES[keyword]
             values = self.numbers(number, rest, name, fewest, most)
             self.tables[field].extend(values[:_TABLE_WIDTHS[field]])
-            self.vertex_colours |= field == 0 and len(values) >= COLOURED_V_NUMBERS
+            if field == 0 and len(values) >= COLOURED_V_NUMBERS:
+                self.vertex_colours[self.defined[0]] = tuple(values[3:COLOURED_V_NUMBERS])
             self.defined[field] += 1
         elif keyword == b"f":
             self.face(number, rest)
@@ -218,8 +219,8 @@ class LineReader:
                   for table, width in zip(self.tables, _TABLE_WIDTHS)]
         optional = [column if np.any(column >= 0) else None for column in corners]
         return RawObj(tables[0], tables[1], tables[2], corners[0], optional[1], optional[2],
-                      face_start, self.mtllib, self.colour.colour, file_notes(self.colour, self.vertex_colours),
-                      self.material_runs)
+                      face_start, self.mtllib, self.colour.colour, list(self.colour.notes), self.material_runs,
+                      colour_table(self.vertex_colours, len(tables[0])))
 
 
 def read_by_lines(text: bytes, source: str) -> RawObj:

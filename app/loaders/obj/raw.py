@@ -32,6 +32,9 @@ class RawObj:
     notes: list[str]
     # (first face, material name) of every `usemtl`, in file order: the faces up to the next one use it.
     material_runs: list[tuple[int, str]] = field(default_factory=list)
+    # (V, 3) float64: the colour each `v x y z r g b` line gives (NaN where its line gives none); None:
+    # no v line gives one.
+    vertex_colours: np.ndarray | None = None
 
 
 COLOUR_COMMENT = re.compile(rb"\s*#\s*colou?r\s+(\S+)\s+(\S+)\s+(\S+)\s*\Z")
@@ -99,16 +102,19 @@ def add_material_run(runs: list[tuple[int, str]], faces_before: int, name: str) 
         runs.append((faces_before, name))
 
 
-# `v x y z r g b` (MeshLab, ZBrush): a colour after the position; the viewer does not draw it, and says so.
+# `v x y z r g b` (MeshLab, ZBrush): a colour after the position, drawn as PLY's and COFF's are.
 COLOURED_V_NUMBERS = 6
-VERTEX_COLOURS_NOTE = "vertex colours (v x y z r g b) are not drawn"
 MAX_LIBRARY_LINES = 16  # mtllib lines read: a file of a million must not cost a million lookups
 MAX_MATERIAL_NAME = 200  # characters of a usemtl name kept: enough for any real one, bounded for a hostile one
 
 
-def file_notes(colour: ColourComment, vertex_colours: bool) -> list[str]:
-    """What a reader says of the file as a whole: malformed colour comments, colours it does not draw."""
-    return colour.notes + ([VERTEX_COLOURS_NOTE] if vertex_colours else [])
+def colour_table(colours: dict[int, tuple[float, ...]], rows: int) -> np.ndarray | None:
+    """RawObj.vertex_colours from the colours some v lines give, by position row."""
+    if not colours:
+        return None
+    table = np.full((rows, 3), np.nan)
+    table[list(colours)] = list(colours.values())
+    return table
 
 
 def with_library(libraries: tuple[str, ...], rest: bytes) -> tuple[str, ...]:

@@ -374,6 +374,26 @@ def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, f
 
 
 @njit(**_JIT)
+def read_vertex_colours(buf: np.ndarray, low: int, high: int, first_row: int, colours: np.ndarray) -> None:
+    """A third pass over buf[low:high], for files with `v x y z r g b` lines: each v line's 4th to 6th
+    numbers into its row of `colours` from `first_row` on; rows of lines with fewer, or of lines this
+    code leaves to the line reader, are left as they are."""
+    numbers_read = np.empty(7)
+    row, start = first_row, low
+    while start < high:
+        if buf[start] == _NEWLINE:
+            start += 1
+            continue
+        kind, at = _keyword(buf, start)
+        if kind == V:
+            numbers, at = _numbers(buf, at, numbers_read, 3, 7)
+            if numbers >= COLOURED_V_NUMBERS:
+                colours[row] = numbers_read[3:COLOURED_V_NUMBERS]
+            row += 1
+        start = _line_end(buf, at) + 1
+
+
+@njit(**_JIT)
 def line_of_face(buf: np.ndarray, face: int) -> int:
     """The line number of the file's face line number `face` (0-based): only for an error's message."""
     start, line, seen = 0, 1, 0
