@@ -14,6 +14,7 @@ import pytest
 
 from marraztu.control.viewer import StartOptions
 from marraztu.loaders.scenefile import load_builtin_scene
+from marraztu.model.lights import TERM_VIEWS, TermView
 from marraztu.model.scene import Scene
 from marraztu.render.renderer import Renderer
 from support import corpus
@@ -37,7 +38,7 @@ STEPS = [
     ("F", True),  # Gouraud: its own pass, never run yet
     ("F", True),  # back to Flat: Flat's rows were lit for inputs Gouraud's frames have not changed...
     ("v", True),  # term view: ambient only
-    ("v*7", True),  # ... round to everything again
+    (f"v*{len(TERM_VIEWS) - 1}", True),  # ... round to everything again
     ("p", True),  # parallel projection: one V for the whole scene
     ("p", True),
     ("c t Z", True),  # the camera moves: V and the camera's spotlight
@@ -60,6 +61,10 @@ STEPS = [
     ("i", False),  # the probe's outline and panel
     ("l", False),  # lines: no surface, no pass
     ("l", True),  # filled again: lit afresh, as the lines frame before lit nothing
+    (f"v*{TERM_VIEWS.index(TermView.DEPTH)}", True),  # the depth view: Flat's rows carry N.V, for back faces
+    ("F", False),  # Gouraud's depth view reads no lit row
+    ("F", True),  # Flat's again: its rows were dropped, and Gouraud's fresh frame lit none
+    (f"v*{len(TERM_VIEWS) - TERM_VIEWS.index(TermView.DEPTH)}", True),  # lit again
 ]
 
 

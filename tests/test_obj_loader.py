@@ -23,7 +23,7 @@ from marraztu.loaders.obj import fast as fast_reader
 from marraztu.loaders.obj import load_obj, parse_obj
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.raw import RawObj
-from marraztu.model.build import FAR_FROM_ORIGIN, build_mesh
+from marraztu.model.build import build_mesh
 from marraztu.model.mesh import Mesh
 from support.seed import SEED_MODELS, seed_model
 from support.work import lines_read_by_the_line_reader
@@ -650,42 +650,6 @@ def test_build_mesh_takes_per_corner_uv_and_normals_with_nan_meaning_derive() ->
     np.testing.assert_allclose(mesh.corner_normal[0], [0, 0, 1])
     np.testing.assert_allclose(mesh.corner_normal[1], np.ones(3) / np.sqrt(3), rtol=1e-6)
     assert mesh.base_colour == (1.0, 0.5, 0.0) and mesh.warnings == ("made in code",)
-
-
-QUAD_CORNERS = np.array([[0, 0, 0], [2, 0, 0], [2, 1, 0], [0, 1, 0]], dtype=np.float64)
-
-
-@pytest.mark.parametrize(("offset", "moved_by"), [
-    ((5e3, 0, 0), None),  # 2,200 of its 2.2-unit sizes away: its 32-bit steps are 1/4,600 of it
-    ((1e4, -2e4, 5.26), "-10000, 20000, 0"),  # over 4,096: by thousands, the power of ten under 4,096 sizes
-    ((4e8 + 0.37, 3e8, -1e9), "-400000000, -300000000, 1000000000"),
-])
-def test_a_mesh_far_from_the_origin_is_moved_near_it_with_a_note(offset: tuple[float, float, float],
-                                                                 moved_by: str | None) -> None:
-    far = build_mesh("quad", QUAD_CORNERS + offset, [[0, 1, 2, 3]])
-    if moved_by is None:
-        np.testing.assert_array_equal(far.positions, QUAD_CORNERS + offset)
-        assert far.warnings == ()
-        return
-    assert far.warnings == (f"far from the origin: moved by ({moved_by}) to be drawn exactly",)
-    shift = -np.array([float(value) for value in moved_by.split(", ")])
-    np.testing.assert_array_equal(far.positions, (QUAD_CORNERS + offset) - shift)
-    assert np.abs(far.bounds[0] + far.bounds[1]).max() / 2 <= FAR_FROM_ORIGIN * far.size / 2
-    near = build_mesh("quad", QUAD_CORNERS, [[0, 1, 2, 3]])
-    for name in ("corner_uv", "corner_normal", "face_normals"):
-        np.testing.assert_allclose(getattr(far, name), getattr(near, name), atol=1e-6)
-    np.testing.assert_array_equal(far.bounds[0], far.positions.min(axis=0))
-    np.testing.assert_array_equal(far.bounds[1], far.positions.max(axis=0))
-
-
-def test_two_models_of_one_site_loaded_apart_are_moved_alike() -> None:
-    """Two buildings 100 units apart, 5,000 km out: moved by the same vector, they keep their places."""
-    site = np.array([4_012_345.0, 2_987_654.0, 12.0])
-    first, second = (build_mesh(name, QUAD_CORNERS * 10 + site + offset, [[0, 1, 2, 3]])
-                     for name, offset in (("a", (0, 0, 0)), ("b", (100, 0, 0))))
-    assert first.warnings == second.warnings == ("far from the origin: moved by (-4010000, -2990000, 0) to be "
-                                                 "drawn exactly",)
-    np.testing.assert_array_equal(second.positions - first.positions, np.tile([100.0, 0, 0], (4, 1)))
 
 
 @pytest.mark.parametrize("faces", [[[0, 1]], [], [[0, 1, 7]], [[0, -1, 2]]])

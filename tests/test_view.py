@@ -15,6 +15,7 @@ from marraztu.control import commands
 from marraztu.control.keymap import dispatch, parse_key_sequence
 from marraztu.control.viewer import StartOptions, Viewer
 from marraztu.frontends.screenshot import take_screenshot
+from marraztu.loaders.registry import load_model
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
 from marraztu.model.framing import FILL, bounding_sphere
 from support.scenes import BACKGROUND, NoFrontend, RecordingHost
@@ -145,16 +146,30 @@ def test_a_huge_model_shows_as_a_small_one_does(tmp_path: Path, size: float) -> 
     assert np.abs(huge - small).max(axis=2).mean() < 1.0, "the same picture, but for rounding"
 
 
-@pytest.mark.parametrize("distance", [4e6, 4e7])
-def test_a_model_far_from_the_origin_shows_as_one_at_it_does(tmp_path: Path, distance: float) -> None:
-    """Moved near the origin in 64-bit numbers before the GPU's 32-bit ones round its corners: 4e7
-    units away a 10-unit model's corners would land on steps of 4 units."""
-    keys = "y*2 x*3"
-    near = picture(tmp_path, keys, (octahedron(tmp_path / "near.obj", 10.0),), name="near.png")
-    far = picture(tmp_path, keys, (octahedron(tmp_path / "far.obj", 10.0, (distance, -0.75 * distance, 0.0)),),
-                  name="far.png")
-    assert (near != BACKGROUND).any(axis=2).sum() > 0.1 * near.shape[0] * near.shape[1]
+@pytest.mark.parametrize("distance", [4e6, 4e7, 4e9])
+def test_models_far_from_the_origin_show_as_the_same_models_at_it_do(tmp_path: Path, distance: float) -> None:
+    """The GPU's rows of a far model are measured from its centre and the world's positions from the
+    eye, both in 64-bit numbers, so its 32-bit numbers stay small: 4e7 units away the corners of a
+    10-unit model would otherwise land on steps of 4 units. Two models of one site, of different
+    sizes, keep their places."""
+    site = np.array([distance, -0.75 * distance, 7.0])
+    models = {"near": np.zeros(3), "far": site}
+    pictures = {}
+    for name, centre in models.items():
+        small = octahedron(tmp_path / f"{name}_small.obj", 10.0, tuple(centre))
+        large = octahedron(tmp_path / f"{name}_large.obj", 60.0, tuple(centre + (90.0, 40.0, -30.0)))
+        pictures[name] = picture(tmp_path, "", (small, large), name=f"{name}.png")
+    near, far = pictures["near"], pictures["far"]
+    assert (near != BACKGROUND).any(axis=2).sum() > 0.03 * near.shape[0] * near.shape[1]
     assert np.abs(far - near).max(axis=2).mean() < 1.0, "the same picture, but for rounding"
+
+
+def test_only_a_model_far_from_the_origin_is_measured_from_its_centre_on_the_gpu(tmp_path: Path) -> None:
+    near = load_model(octahedron(tmp_path / "near.obj", 10.0, (1e4, 0.0, 0.0)))  # 290 sizes out
+    far = load_model(octahedron(tmp_path / "far.obj", 10.0, (1e6, 5.0, 0.0)))
+    assert not near.gpu_origin.any() and near.gpu_positions() is near.positions
+    assert far.gpu_origin.tolist() == [1e6, 5.0, 0.0]
+    assert np.abs(far.gpu_positions()).max() == 10.0
 
 
 # --- the mouse -----------------------------------------------------------------------------------

@@ -18,9 +18,6 @@ from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted, fan_gather
 # Zero-area faces get a fallback normal; "zero" is relative to the model's size.
 DEGENERATE_AREA = 1e-12
 FALLBACK_NORMAL = np.array([0.0, 0.0, 1.0])
-# The GPU's positions are 32-bit: a model this many times its size from the origin would be drawn with
-# its corners on steps of up to 1/2048 of its size, and one farther away on coarser steps still.
-FAR_FROM_ORIGIN = 4096
 # Per-corner values as the readers give them: a table and, per corner, its row (-1: none, derive it).
 CornerSource = tuple[np.ndarray, np.ndarray]
 
@@ -144,8 +141,7 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
     if max(positions.shape[0], corner_vertex.size) >= INDEX_LIMIT:
         raise ValueError(f"a mesh holds fewer than {INDEX_LIMIT} positions and corners")
     sizes = np.diff(face_start)
-    positions, bounds, moved = _near_origin(positions, column_bounds(positions))
-    notes += (moved,) * bool(moved)
+    bounds = column_bounds(positions)
     face_normals, degenerate = _face_normals(positions, corner_vertex, face_start, sizes, bounds)
     if degenerate.any():
         notes += (f"{counted(int(degenerate.sum()), 'zero-area face')} (given a fallback normal)",)
@@ -169,26 +165,6 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
         warnings=notes,
         attributes_per_position=per_position,
     )
-
-
-def _near_origin(positions: np.ndarray, bounds: tuple[np.ndarray, np.ndarray]
-                 ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray], str]:
-    """The positions, and their bounds, moved by a round vector to near the origin where they lie
-    more than FAR_FROM_ORIGIN times the model's size from it, with a note saying by how much (as
-    CloudCompare shifts survey coordinates); else as they are, and no note."""
-    low, high = bounds
-    size = float(np.linalg.norm(high - low))
-    centre = (low + high) / 2
-    if not size > 0 or np.abs(centre).max() <= FAR_FROM_ORIGIN * size:
-        return positions, bounds, ""
-    # As coarse as keeps the model within FAR_FROM_ORIGIN sizes: readable, and the same for models of
-    # one site loaded one by one, unless their centres round to different multiples of it.
-    step = 10.0 ** np.floor(np.log10(FAR_FROM_ORIGIN * size))
-    shift = np.round(centre / step) * step
-    moved_by = ", ".join(f"{-value + 0.0:.15g}" for value in shift)  # + 0.0: no "-0"
-    # Subtraction rounds monotonically, so the bounds moved are the moved positions' bounds.
-    return (positions - shift, (low - shift, high - shift),
-            f"far from the origin: moved by ({moved_by}) to be drawn exactly")
 
 
 @dataclass(frozen=True)

@@ -23,6 +23,9 @@ from marraztu.model.geometry import column_bounds
 # most, two bytes a corner at least) holds 2**31 of anything. build.derive_mesh refuses more.
 INDEX = np.int32
 INDEX_LIMIT = int(np.iinfo(INDEX).max)  # counts of positions and corners stay below it
+# The GPU's positions are 32-bit: a model this many times its size from the origin would be drawn with
+# its corners on steps of up to 1/2048 of its size, and one farther away on coarser steps still.
+FAR_FROM_ORIGIN = 4096
 # Each material is drawn as a part of its own (a draw and a lighting pass): a file of thousands of
 # materials would cost thousands of draws a frame. Real models use tens.
 MAX_MATERIALS = 256
@@ -148,6 +151,23 @@ class Mesh:
         low, high = column_bounds(self.positions)
         low.flags.writeable = high.flags.writeable = False  # cached, so shared by every caller
         return low, high
+
+    @cached_property
+    def gpu_origin(self) -> np.ndarray:
+        """Where its GPU rows are measured from: the origin, or the centre of its box where that lies
+        more than FAR_FROM_ORIGIN times its size away (the renderer adds it back to the model matrix
+        in 64-bit numbers)."""
+        low, high = self.bounds
+        centre = (low + high) / 2
+        if np.abs(centre).max() <= FAR_FROM_ORIGIN * self.size:
+            return np.zeros(3)
+        centre.flags.writeable = False  # cached, so shared by every caller
+        return centre
+
+    def gpu_positions(self) -> np.ndarray:
+        """(V, 3) float64: the positions less gpu_origin (the table itself where that is the origin)."""
+        origin = self.gpu_origin
+        return self.positions - origin if origin.any() else self.positions
 
     @cached_property
     def all_triangles(self) -> bool:

@@ -177,7 +177,7 @@ def _surface_rows(mesh: Mesh) -> tuple[np.ndarray, np.ndarray | None, np.ndarray
 
     vertices = np.empty((positions + later_corners.shape[0], 8), np.float32)
     # A position's own row is the position (rows of unused positions are never indexed).
-    vertices[:positions, 0:3] = mesh.positions
+    vertices[:positions, 0:3] = mesh.gpu_positions()
     # np.take gathers rows faster than fancy indexing does; here from the float32 rows just written.
     vertices[positions:, 0:3] = np.take(vertices[:positions, 0:3], later_positions, axis=0)
     vertices[:positions, 3:6] = _own_rows(mesh.normals, own)
@@ -244,7 +244,7 @@ def edge_rows(mesh: Mesh, width: int) -> np.ndarray:
     texels = np.empty((mesh.face_count, 2), np.uint16)
     texels[:, 0], texels[:, 1] = faces % width, faces // width
     out = np.empty(mesh.corner_vertex.shape[0], EDGE_ROW)
-    out["position"] = np.take(mesh.positions.astype(np.float32), mesh.corner_vertex, axis=0)
+    out["position"] = np.take(mesh.gpu_positions().astype(np.float32), mesh.corner_vertex, axis=0)
     out["face_texel"] = np.repeat(texels, mesh.face_sizes, axis=0)
     return out
 
@@ -254,7 +254,7 @@ def edge_faces(mesh: Mesh, shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarr
     and its face normal, polygon f at texel (f % width, f // width), the rest of the last row zeros."""
     width, height = shape
     points, normals = (np.zeros((height * width, 3), np.float32) for _ in range(2))
-    points[:mesh.face_count] = np.take(mesh.positions, mesh.corner_vertex[mesh.face_start[:-1]], axis=0)
+    points[:mesh.face_count] = np.take(mesh.gpu_positions(), mesh.corner_vertex[mesh.face_start[:-1]], axis=0)
     normals[:mesh.face_count] = mesh.face_normals
     return points.reshape(height, width, 3), normals.reshape(height, width, 3)
 
@@ -282,7 +282,7 @@ def used_shared_rows(mesh: Mesh, shared_rows: int) -> np.ndarray:
 
 def face_normal_feet(mesh: Mesh) -> np.ndarray:
     """(F, 6) float32: each polygon's centroid and face normal, one point per face normal."""
-    corner_positions = np.take(mesh.positions, mesh.corner_vertex, axis=0)
+    corner_positions = np.take(mesh.gpu_positions(), mesh.corner_vertex, axis=0)
     centroids = np.add.reduceat(corner_positions, mesh.face_start[:-1], axis=0)
     centroids /= mesh.face_sizes[:, None]
     out = np.empty((mesh.face_count, 6), np.float32)

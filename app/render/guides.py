@@ -21,10 +21,15 @@ class GuidesDrawer:
         self._rows = 0
         self._held: bytes = b""  # what the buffer holds: unchanged guides upload nothing
 
-    def draw(self, guides: Guides, view_projection: np.ndarray, fbo: moderngl.Framebuffer) -> None:
+    def draw(self, guides: Guides, view_projection: np.ndarray, fbo: moderngl.Framebuffer,
+             origin: np.ndarray) -> None:
         """The grid first, hidden by models but hiding nothing (no depth writes), so that the axes on
-        it show even where it is seen edge on; then the axes, through the depth test."""
-        data = np.ascontiguousarray(np.concatenate([guides.grid, guides.axes]), dtype="f4").tobytes()
+        it show even where it is seen edge on; then the axes, through the depth test. Positions are
+        measured from `origin`, as `view_projection` takes them (the renderer's frame origin)."""
+        rows = np.concatenate([guides.grid, guides.axes])
+        if origin.any():
+            rows = rows - np.concatenate([origin, np.zeros(rows.shape[1] - 3)])  # position first, colour after
+        data = np.ascontiguousarray(rows, dtype="f4").tobytes()
         if data != self._held:
             self._upload(data)
         self.program["u_view_projection"].write(np.ascontiguousarray(view_projection.T, dtype="f4").tobytes())

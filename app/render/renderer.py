@@ -21,7 +21,7 @@ from marraztu.model.guides import scene_guides
 from marraztu.model.lights import MAX_LIGHTS, Show, shader_defines
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Fill, Projection, Scene, SceneObject, Shading, Target
-from marraztu.model.transforms import normal_matrix
+from marraztu.model.transforms import normal_matrix, translation_by
 from marraztu.render.context import (
     SOFTWARE_SEGMENT_PIECES_IN_FLIGHT,
     check_gl,
@@ -33,6 +33,7 @@ from marraztu.render.context import (
 from marraztu.render.gpu import (
     EDGE_FACE_UNITS,
     LIGHTING_DEFINES,
+    LIT_LAYOUT,
     LIT_SURFACE_WAYS,
     ComputeLighting,
     ObjectGpu,
@@ -160,9 +161,10 @@ class Renderer:
         # A surface program per shading (the depth view's too, made when first drawn: _use_way), and a
         # lighting pass (and on llvmpipe a compute one too) for the shadings that light vertices; the
         # current view's are `self.surface` and `self.lighting`.
-        self.shader_defines = lights = shader_defines()
+        self._defines = lights = shader_defines()
         self.compute_lighting = lights_by_compute(ctx) if compute_lighting is None else compute_lighting
-        passes = {way: {"SHADING": way.name, "LIGHTING_PASS": "1", **lights} for way in Shading if way.lights_vertices}
+        passes = {way: {**SurfaceWay(way).defines, "LIGHTING_PASS": "1", **lights}
+                  for way in Shading if way.lights_vertices}
         self.programs = Programs(
             surfaces={way: self._surface_program(way) for way in LIT_SURFACE_WAYS},
             lightings={way: load_program(ctx, "surface", varyings=("v_lit",), defines=defines)
@@ -176,6 +178,9 @@ class Renderer:
         self.lighting_uniforms = {way: Uniforms(*self.programs.lighting_passes(way)) if way.lights_vertices
                                   else self.surface_uniforms[SurfaceWay(way)] for way in Shading}
         self.way = SurfaceWay(Shading.FLAT)
+        # The frame's world origin for the GPU (Renderer._frame_origin): subtracted from every world
+        # position the uniforms carry, in 64-bit numbers, so that the GPU's 32-bit ones stay small.
+        self.origin = np.zeros(3)
         self.lighting_passes = 0  # run so far: a frame where nothing lighting reads changed adds none
         self.marker_program = load_program(ctx, "marker")
         self.edges = Uniforms(self.programs.edges)
@@ -238,7 +243,7 @@ class Renderer:
         self.texture = None
 
     def _surface_program(self, way: SurfaceWay) -> moderngl.Program:
-        return load_program(self.ctx, "surface", defines={**way.defines, **self.shader_defines})
+        return load_program(self.ctx, "surface", defines={**way.defines, **self._defines})
 
     def _use_way(self, way: SurfaceWay) -> None:
         """Draws surfaces with the program of `way` from now on, made the first time it is used."""
@@ -318,7 +323,8 @@ class Renderer:
         filled = scene.modes.fill is Fill.FILLED
         self._set_gl_state(depth_test=filled)
         self._use_way(SurfaceWay(view.shading, depth_view=scene.modes.term_view.shows is Show.DEPTH))
-        frame_view_projection = view_projection(scene, view)
+        self.origin = self._frame_origin(scene, items)
+        frame_view_projection = view_projection(scene, view) @ translation_by(self.origin)
         self._set_frame_uniforms(scene, frame_view_projection)
         if filled:
             for item, gpu in items:
@@ -329,11 +335,19 @@ class Renderer:
             for item, gpu in items:
                 self._draw_normals(item, gpu, face_normals=view.shading is Shading.FLAT)
         if scene.modes.guides:
-            self.guides.draw(scene_guides(scene), frame_view_projection, self.ctx.fbo)
+            self.guides.draw(scene_guides(scene), frame_view_projection, self.ctx.fbo, self.origin)
         if scene.modes.probe or scene.modes.pipeline:  # the face the panel follows
             self._draw_probe_outline(scene)
         if scene.modes.target is Target.LIGHTS:
             self._draw_light_marker(scene)
+
+    @staticmethod
+    def _frame_origin(scene: Scene, items: list[tuple[DrawItem, ObjectGpu]]) -> np.ndarray:
+        """The world's origin, or the eye where a model far from it is drawn (Mesh.gpu_origin): world
+        positions are then measured from the eye, in 64-bit numbers, and stay small near it."""
+        if any(gpu.mesh.gpu_origin.any() for _, gpu in items):
+            return np.asarray(scene.eye_position(), dtype=np.float64)
+        return np.zeros(3)
 
     def _set_gl_state(self, depth_test: bool) -> None:
         # Flat needs the first vertex's values: the fan's first corner is the polygon's first vertex.
@@ -366,7 +380,7 @@ class Renderer:
     def _set_frame_uniforms(self, scene: Scene, view_projection: np.ndarray) -> None:
         modes = scene.modes
         parallel = modes.projection is Projection.PARALLEL
-        eye = tuple(float(c) for c in scene.eye_position())
+        eye = tuple(float(c) for c in scene.eye_position() - self.origin)
         backward = tuple(float(c) for c in scene.eye_backward())
         for uniforms in (self.surface, self.edges, self.normals, self.marker):
             uniforms.set_matrix("u_view_projection", view_projection)
@@ -396,7 +410,7 @@ class Renderer:
         for i, light in enumerate(shown):
             kind[i] = light.kind.shader_code
             intensity[i] = light.intensity
-            position[i] = light.position
+            position[i] = light.position - self.origin
             direction[i] = light.direction
             cos_aperture[i] = np.cos(np.radians(light.aperture_deg))
         self.lighting.set("u_lights_on", len(shown))
@@ -406,9 +420,11 @@ class Renderer:
         self.lighting.set_array("u_light_direction", direction)
         self.lighting.set_array("u_light_cos_aperture", cos_aperture)
 
-    @staticmethod
-    def _set_model(uniforms: Iterable[Uniforms], model: np.ndarray) -> None:
+    def _set_model(self, uniforms: Iterable[Uniforms], model: np.ndarray, mesh: Mesh) -> None:
+        """`model` for a mesh's GPU rows: from its gpu_origin, into the world less the frame's origin."""
         normals = normal_matrix(model)
+        if mesh.gpu_origin.any() or self.origin.any():
+            model = translation_by(-self.origin) @ model @ translation_by(mesh.gpu_origin)
         for u in uniforms:
             u.set_matrix("u_model", model)
             u.set_matrix("u_normal_matrix", normals)
@@ -417,14 +433,15 @@ class Renderer:
     def _draw_surface(self, item: DrawItem, gpu: ObjectGpu) -> None:
         material = item.obj.material_of(item.file_material)
         lighting = self.lighting
-        self._set_model({self.surface, lighting}, item.obj.model)
+        self._set_model({self.surface, lighting}, item.obj.model, gpu.mesh)
         lighting.set("u_ka", tuple(material.ka))
         lighting.set("u_kd", tuple(material.kd))
         lighting.set("u_ks", tuple(material.ks))
         lighting.set("u_ns", float(material.ns))
         for uniforms in (self.surface, lighting):  # the lighting pass tints its rows; Phong, its pixels
             uniforms.set("u_vertex_coloured", gpu.vertex_coloured)
-        if self.way.shading.lights_vertices:
+        # Gouraud's depth view reads no lit row (Flat's reads its N.V): nothing to light for it.
+        if self.way.shading.lights_vertices and LIT_LAYOUT[1] in self.programs.surfaces[self.way]:
             self.lighting_passes += gpu.light(self.way.shading, lighting.values(), item.start, item.stop)
         assert self.texture is not None
         picture = item.obj.mesh.materials[item.file_material].texture if item.file_material >= 0 else None
@@ -445,7 +462,7 @@ class Renderer:
         self.ctx.disable(moderngl.DEPTH_TEST)
 
     def _draw_edges(self, item: DrawItem, gpu: ObjectGpu, selected: bool) -> None:
-        self._set_model([self.edges], item.obj.model)
+        self._set_model([self.edges], item.obj.model, gpu.mesh)
         self.edges.set("u_colour", SELECTED_LINE_COLOUR if selected else LINE_COLOUR)
         self._draw_edge_lines(gpu, gpu.edge_range(item.start, item.stop))
 
@@ -458,7 +475,7 @@ class Renderer:
         part, face = part_of_face(obj, obj.selected_face % obj.mesh.face_count)
         gpu = self._gpu_for(obj, part)
         self.ctx.disable(moderngl.DEPTH_TEST)
-        self._set_model([self.edges], obj.model)
+        self._set_model([self.edges], obj.model, gpu.mesh)
         self.edges.set("u_outline", True)
         self.edges.set("u_colour", PROBE_COLOUR)
         self._draw_edge_lines(gpu, gpu.edge_range(face, face + 1))
@@ -468,7 +485,7 @@ class Renderer:
 
     def _draw_normals(self, item: DrawItem, gpu: ObjectGpu, face_normals: bool) -> None:
         """Face normals where lighting uses them (Flat), vertex normals otherwise (Gouraud, Phong)."""
-        self._set_model([self.normals], item.obj.model)
+        self._set_model([self.normals], item.obj.model, gpu.mesh)
         self.normals.set("u_length", NORMAL_LENGTH_FRACTION * item.obj.mesh.size)  # the whole object's scale
         if face_normals:  # one point per normal: normals.glsl draws its segment
             self.draw_segments(gpu.face_normals, moderngl.POINTS, gpu.face_normal_range(item.start, item.stop))
@@ -488,7 +505,7 @@ class Renderer:
         self._draw_marker(scene.placed_light(light).position, colour, MARKER_SIZE_PX)
 
     def _draw_marker(self, position: np.ndarray, colour: np.ndarray, size_px: float) -> None:
-        self.marker.set("u_position", tuple(float(c) for c in position))
+        self.marker.set("u_position", tuple(float(c) for c in position - self.origin))
         self.marker.set("u_colour", tuple(float(c) for c in colour))
         self.marker.set("u_point_size", size_px)
         self.ctx.disable(moderngl.DEPTH_TEST)
