@@ -164,12 +164,40 @@ def test_models_far_from_the_origin_show_as_the_same_models_at_it_do(tmp_path: P
     assert np.abs(far - near).max(axis=2).mean() < 1.0, "the same picture, but for rounding"
 
 
+def test_a_small_model_on_a_large_one_far_out_keeps_its_place(tmp_path: Path) -> None:
+    """A 40-unit house on a 2,800-unit terrain, each in its own file, 5.6e6 units out: the terrain is
+    not 4,096 of its sizes out, but past FAR_AWAY it is measured from its centre as the house is."""
+    pictures = {}
+    for name, centre in (("near", np.zeros(3)), ("far", np.array([4e6, -3e6, 2.4e6]))):
+        terrain = octahedron(tmp_path / f"{name}_terrain.obj", 1400.0, tuple(centre))
+        house = octahedron(tmp_path / f"{name}_house.obj", 20.0, tuple(centre + (30.0, 1400.0, 0.0)))
+        pictures[name] = picture(tmp_path, ".", (terrain, house), name=f"{name}.png")  # framed on the house
+    assert (pictures["near"] != BACKGROUND).any(axis=2).sum() > 0.1 * SIZE[0] * SIZE[1]
+    assert np.abs(pictures["far"] - pictures["near"]).max(axis=2).mean() < 1.0
+
+
 def test_only_a_model_far_from_the_origin_is_measured_from_its_centre_on_the_gpu(tmp_path: Path) -> None:
     near = load_model(octahedron(tmp_path / "near.obj", 10.0, (1e4, 0.0, 0.0)))  # 290 sizes out
     far = load_model(octahedron(tmp_path / "far.obj", 10.0, (1e6, 5.0, 0.0)))
+    far_away = load_model(octahedron(tmp_path / "far_away.obj", 1e3, (7e4, 0.0, 0.0)))  # 20 sizes, past FAR_AWAY
     assert not near.gpu_origin.any() and near.gpu_positions() is near.positions
     assert far.gpu_origin.tolist() == [1e6, 5.0, 0.0]
     assert np.abs(far.gpu_positions()).max() == 10.0
+    assert far_away.gpu_origin.tolist() == [7e4, 0.0, 0.0]
+
+
+def test_the_parts_of_a_mesh_are_measured_from_its_own_gpu_origin() -> None:
+    """A 1-unit part 60 units out on a 140-unit model at the origin is not far of its own: every
+    part of a mesh is drawn from the whole's origin."""
+    from dataclasses import replace
+
+    from marraztu.model.build import build_mesh
+    from marraztu.model.mesh import MeshMaterial
+
+    square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=np.float64)
+    mesh = build_mesh("two", np.vstack([square * 140 - 70, square * 0.01 + (60, 0, 0)]), [[0, 1, 2, 3], [4, 5, 6, 7]])
+    mesh = replace(mesh, materials=(MeshMaterial("a"), MeshMaterial("b")), face_material=np.array([0, 1], np.int32))
+    assert [part.mesh.gpu_origin.tolist() for part in mesh.parts] == [[0, 0, 0], [0, 0, 0]]
 
 
 # --- the mouse -----------------------------------------------------------------------------------

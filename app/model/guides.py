@@ -32,7 +32,7 @@ def nice_step(span: float, cells: int = GRID_CELLS) -> float:
 
 @dataclass(frozen=True)
 class Guides:
-    """(N, 6) float32 rows: x y z r g b, two rows a segment, in world space."""
+    """(N, 6) float64 rows: x y z r g b, two rows a segment, in world space."""
 
     axes: np.ndarray  # the world's, then the selected object's own in local mode
     grid: np.ndarray
@@ -45,7 +45,7 @@ def scene_guides(scene: Scene) -> Guides:
     obj = scene.object
     if obj is not None and scene.modes.frame is Frame.LOCAL and scene.modes.target is Target.OBJECTS:
         axes.append(_axes(obj.model, max(obj.mesh.size / 2.0, extent / 20.0), OWN_AXIS_LIGHTNESS))
-    return Guides(np.concatenate(axes).astype(np.float32), _grid(low, high, extent).astype(np.float32))
+    return Guides(np.concatenate(axes), _grid(low, high, extent))  # 64-bit: the renderer rounds them
 
 
 def _grid(low: np.ndarray, high: np.ndarray, extent: float) -> np.ndarray:

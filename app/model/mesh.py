@@ -24,8 +24,11 @@ from marraztu.model.geometry import column_bounds
 INDEX = np.int32
 INDEX_LIMIT = int(np.iinfo(INDEX).max)  # counts of positions and corners stay below it
 # The GPU's positions are 32-bit: a model this many times its size from the origin would be drawn with
-# its corners on steps of up to 1/2048 of its size, and one farther away on coarser steps still.
+# its corners on steps of up to 1/2048 of its size, and one farther away on coarser steps still. Past
+# FAR_AWAY units every model is measured from its centre, whatever its size, so that the models of one
+# far site (a terrain under a house) are all drawn the same way.
 FAR_FROM_ORIGIN = 4096
+FAR_AWAY = float(1 << 16)
 # Each material is drawn as a part of its own (a draw and a lighting pass): a file of thousands of
 # materials would cost thousands of draws a frame. Real models use tens.
 MAX_MATERIALS = 256
@@ -112,6 +115,8 @@ class Mesh:
     # The files looked for beside the model's own (an OBJ's MTL and its textures, a glTF's buffers and
     # pictures), read or not: the screenshot command must write over none of them.
     read_beside: tuple[Path, ...] = ()
+    # A part's gpu_origin: its whole mesh's, so that the parts of one mesh are drawn alike (None: its own).
+    whole_gpu_origin: np.ndarray | None = None
 
     def summary(self) -> str:
         """Its size as messages give it: '4 vertices, 1 face'."""
@@ -155,11 +160,14 @@ class Mesh:
     @cached_property
     def gpu_origin(self) -> np.ndarray:
         """Where its GPU rows are measured from: the origin, or the centre of its box where that lies
-        more than FAR_FROM_ORIGIN times its size away (the renderer adds it back to the model matrix
-        in 64-bit numbers)."""
+        more than FAR_FROM_ORIGIN times its size or FAR_AWAY units away (the renderer adds it back to
+        the model matrix in 64-bit numbers)."""
+        if self.whole_gpu_origin is not None:
+            return self.whole_gpu_origin
         low, high = self.bounds
         centre = (low + high) / 2
-        if np.abs(centre).max() <= FAR_FROM_ORIGIN * self.size:
+        near_enough = min(FAR_FROM_ORIGIN * self.size, FAR_AWAY) if self.size > 0 else FAR_AWAY
+        if np.abs(centre).max() <= near_enough:
             return np.zeros(3)
         centre.flags.writeable = False  # cached, so shared by every caller
         return centre
@@ -203,7 +211,8 @@ class Mesh:
                     uvs=self.uvs[rows], normals=self.normals[rows],
                     face_start=face_start, face_normals=self.face_normals[faces], base_colour=self.base_colour,
                     attributes_per_position=self.attributes_per_position,
-                    vertex_colours=None if self.vertex_colours is None else self.vertex_colours[used])
+                    vertex_colours=None if self.vertex_colours is None else self.vertex_colours[used],
+                    whole_gpu_origin=self.gpu_origin)
         return MeshPart(material, part, faces)
 
     def triangle_corners(self) -> np.ndarray:

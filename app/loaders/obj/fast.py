@@ -10,6 +10,7 @@ every message is the line reader's; other statements and colour comments are rea
 from __future__ import annotations
 
 import os
+from array import array
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import TypeVar
@@ -66,8 +67,8 @@ def read_fast(text: bytes, source: str) -> raw.RawObj:
         colours = np.full((len(tables[0]), 3), np.nan)
         _each(lambda at: scan.read_vertex_colours(buf, *pieces[at], before[at][scan.V], colours),
               list(range(len(pieces))))
-        for row, colour in outcome.vertex_colours.items():  # the lines the compiled code left to the line reader
-            colours[row] = colour
+        rows = np.frombuffer(outcome.colour_rows, dtype=np.int64)  # the lines it left to the line reader
+        colours[rows] = np.frombuffer(outcome.colour_values, dtype=np.float64).reshape(-1, 3)
     return raw.RawObj(*tables, columns[0], *optional, face_start, outcome.mtllib, outcome.colour.colour,
                       list(outcome.colour.notes), outcome.material_runs, colours)
 
@@ -107,7 +108,8 @@ class _Records:
         self.colour = raw.ColourComment()
         self.statements = 0
         self.coloured = False  # some v line gives a colour after its position
-        self.vertex_colours: dict[int, tuple[float, ...]] = {}  # by row, those of the line reader's lines
+        # The colours of the v lines the line reader read: their rows, and three numbers each.
+        self.colour_rows, self.colour_values = array("q"), array("d")
 
     def settle(self, records: np.ndarray) -> None:
         for first in range(0, records.shape[0], _SETTLED_AT_ONCE):  # as Python ints a few at a time: ten each
@@ -142,8 +144,10 @@ class _Records:
         reader = LineReader(self.source)
         reader.defined = [record[scan.R_V], record[scan.R_VT], record[scan.R_VN]]
         reader.read_line(record[scan.R_LINE], content)  # raises the line's LoadError
-        self.vertex_colours.update(reader.vertex_colours)
-        self.coloured |= bool(reader.vertex_colours)
+        if reader.coloured_rows:
+            self.colour_rows.extend(reader.coloured_rows)
+            self.colour_values.extend(reader.colour_values)
+            self.coloured = True
         kind = record[scan.R_KEYWORD]
         if kind == scan.F:
             corner, corners = record[scan.R_CORNER], len(reader.corners[0])

@@ -82,7 +82,8 @@ class LineReader:
         self.face_sizes = array("q")
         self.face_lines = array("q")
         self.mtllib: tuple[str, ...] = ()
-        self.vertex_colours: dict[int, tuple[float, ...]] = {}  # by position row: a colour after x y z
+        self.coloured_rows = array("q")  # the position rows whose v line gives a colour after x y z
+        self.colour_values = array("d")  # and its three numbers each
         self.material_runs: list[tuple[int, str]] = []
         self.colour = ColourComment()
         self.statements = 0
@@ -117,7 +118,8 @@ class LineReader:
             values = self.numbers(number, rest, name, fewest, most)
             self.tables[field].extend(values[:_TABLE_WIDTHS[field]])
             if field == 0 and len(values) >= COLOURED_V_NUMBERS:
-                self.vertex_colours[self.defined[0]] = tuple(values[3:COLOURED_V_NUMBERS])
+                self.coloured_rows.append(self.defined[0])
+                self.colour_values.extend(values[3:COLOURED_V_NUMBERS])
             self.defined[field] += 1
         elif keyword == b"f":
             self.face(number, rest)
@@ -220,7 +222,7 @@ class LineReader:
         optional = [column if np.any(column >= 0) else None for column in corners]
         return RawObj(tables[0], tables[1], tables[2], corners[0], optional[1], optional[2],
                       face_start, self.mtllib, self.colour.colour, list(self.colour.notes), self.material_runs,
-                      colour_table(self.vertex_colours, len(tables[0])))
+                      colour_table(self.coloured_rows, self.colour_values, len(tables[0])))
 
 
 def read_by_lines(text: bytes, source: str) -> RawObj:
