@@ -19,7 +19,7 @@ import numpy as np
 from marraztu.errors import LoadError
 from marraztu.loaders.files import read_model_bytes, text_lines
 from marraztu.loaders.words import MAX_COUNT_DIGITS, WordBlocks, checked_coordinates, checked_indices
-from marraztu.model.build import colour_bytes, derive_mesh
+from marraztu.model.build import by_largest, colour_bytes, derive_mesh
 from marraztu.model.mesh import Mesh
 
 # A polygon's colour may follow its indices: none, an index into a colour map, RGB or RGBA. Not read.
@@ -40,7 +40,7 @@ def load_off(path: Path, stage: Callable[[str], None] | None = None) -> Mesh:
 def _colour_bytes(path: Path, colours: np.ndarray) -> np.ndarray:
     """COFF writes colours as 0..255 or as 0..1: the file's largest value says which."""
     try:
-        return colour_bytes(colours / 255.0 if colours.max(initial=0.0) > 1.0 else colours, len(colours))
+        return colour_bytes(by_largest(colours), len(colours))
     except ValueError:
         raise LoadError(path, "a vertex colour is not within 0..255 (or 0..1)") from None
 

@@ -57,6 +57,11 @@ def build_mesh(
     return replace(mesh, vertex_colours=colour_bytes(vertex_colours, len(points)))
 
 
+def by_largest(colours: np.ndarray) -> np.ndarray:
+    """Colours a file gives as 0..1 or as 0..255, in 0..1: a largest value above 1 says 0..255."""
+    return colours / 255.0 if colours.max(initial=0.0) > 1.0 else colours
+
+
 def colour_bytes(colours: np.ndarray | Sequence[Sequence[float]], rows: int) -> np.ndarray:
     """(rows, 3) uint8 from RGB or RGBA rows of bytes (0..255) or of floats (0..1); alpha is dropped."""
     table = np.asarray(colours)

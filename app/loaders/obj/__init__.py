@@ -27,7 +27,7 @@ from marraztu.loaders.files import line_at, read_model_bytes
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.mtl import read_libraries
 from marraztu.loaders.obj.raw import RawObj
-from marraztu.model.build import colour_bytes, derive_mesh
+from marraztu.model.build import by_largest, colour_bytes, derive_mesh
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, counted
 
 
@@ -102,9 +102,7 @@ def _drawn_vertex_colours(table: np.ndarray | None) -> tuple[np.ndarray | None, 
     if table is None:
         return None, []
     given = ~np.isnan(table[:, 0])
-    values = table[given]
-    if values.max(initial=0.0) > 1.0:
-        values = values / 255.0
+    values = by_largest(table[given])
     if values.min(initial=0.0) < 0.0 or values.max(initial=0.0) > 1.0:
         return None, ["vertex colours (v x y z r g b) outside 0..1 and 0..255 are not drawn"]
     colours = np.ones((table.shape[0], 3))
