@@ -207,14 +207,12 @@ void main() {
     vec3 world_position = (u_model * vec4(in_position, 1.0)).xyz;
 #if SHADING == FLAT
     v_flat_lit = in_lit;
-#elif !defined DEPTH_VIEW
-#if SHADING == GOURAUD
+#elif SHADING == GOURAUD && !defined DEPTH_VIEW
     v_smooth_colour = in_lit.rgb;
-#else
+#elif SHADING == PHONG && !defined DEPTH_VIEW
     v_smooth_colour = u_vertex_coloured ? in_colour.rgb : vec3(1.0);
     v_world_position = world_position;
     v_world_normal = normalize(u_normal_matrix * in_normal);
-#endif
 #endif
 #if !defined DEPTH_VIEW
     v_uv = in_uv;

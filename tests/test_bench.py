@@ -225,7 +225,7 @@ def test_the_bare_moving_frame_captures_the_rows_the_lighting_pass_lights(gl_ctx
         gl_ctx.error  # noqa: B018 - reading it clears an older error
         bare.render(fbo, size, mode, moving=True)
         assert gl_ctx.error == "GL_NO_ERROR"
-        for (obj, _), lighting, lit_rows in zip(bare.objects, bare.lighting, lit_by_renderer, strict=True):
+        for (obj, _, _), lighting, lit_rows in zip(bare.objects, bare.lighting, lit_by_renderer, strict=True):
             first, stop = lighting.rows[mode]
             assert (first, stop) == (lit_rows.first, lit_rows.stop)
             vertices = surface_arrays(obj.mesh).vertices

@@ -463,14 +463,14 @@ def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool, with_the_others:
     scene.objects.append(obj)
     scene.selected_object = len(scene.objects) - 1
     if lone or (with_the_others and len(scene.camera.history) == 1):
-        frame_models(scene, scene.objects)
+        frame_models(scene)
 
 
-def frame_models(scene: Scene, objects: list[SceneObject]) -> None:
+def frame_models(scene: Scene) -> None:
     """The models fill two thirds of the view, whatever their units. A camera not yet moved takes
     that as its start (HOME comes back to it); otherwise it is a move `u` takes back."""
     camera = scene.camera
-    matrix = framing.frame_objects(scene, camera, objects)
+    matrix = framing.frame_objects(scene, camera, scene.objects)
     if len(camera.history) == 1:
         camera.history[0] = matrix
     else:

@@ -174,7 +174,6 @@ class Viewer:
         self.watcher: ModelWatcher | None = None  # set by --watch
         self._starting = False
         self._start_models_alone = False  # the scene holds only the command line's models: framed together
-        self.models_read = 0  # models added or replaced so far: a front end checks what they read when it grows
 
     # --- start-up ------------------------------------------------------------------------------
     def start(self, options: StartOptions, longest_texture_side: int) -> None:
@@ -206,10 +205,14 @@ class Viewer:
         if note:
             self.tell(note)
 
+    def _at_start(self, at_start: bool | None) -> bool:
+        """Whether a message belongs to start-up: as said, or (None) while the viewer is starting."""
+        return self._starting if at_start is None else at_start
+
     def tell(self, text: str, at_start: bool | None = None, worth_a_notice: bool = True) -> None:
         """The message the person reads. At start-up messages add up instead of replacing each other,
         and the front end hears those worth a notice (failures, notes) too."""
-        if not (self._starting if at_start is None else at_start):
+        if not self._at_start(at_start):
             self.scene.message = text
             return
         self.scene.message = f"{self.scene.message}\n{text}" if self.scene.message else text
@@ -314,11 +317,7 @@ class Viewer:
             return
         old_name = element.name
         commands.replace_loaded(element, loaded)
-        self.models_read += 1
-        message = f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}"
-        if loaded.mesh.warnings:
-            message += " (" + "; ".join(loaded.mesh.warnings) + ")"
-        self.tell(message)
+        self.tell(_with_notes(f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}", loaded.mesh))
 
     def loading_lines(self) -> list[str]:
         return [job.label for job in self.background.uncollected()] if self.background else []
@@ -332,16 +331,13 @@ class Viewer:
 
     def _add(self, obj: SceneObject, path: Path, as_camera: bool, at_start: bool | None = None) -> None:
         # The command line's models are framed together while the scene holds only them.
-        together = (self._starting if at_start is None else at_start) and not as_camera and self._start_models_alone
+        together = self._at_start(at_start) and not as_camera and self._start_models_alone
         commands.add_loaded(self.scene, obj, as_camera=as_camera, with_the_others=together)
         if not as_camera:
             self._start_models_alone = together  # a model from elsewhere joins: no longer theirs alone
-        self.models_read += 1
         kind = "camera" if as_camera else "object"
-        message = f"loaded {Path(path).name} as a new {kind}: {obj.mesh.summary()}"
-        if obj.mesh.warnings:
-            message += " (" + "; ".join(obj.mesh.warnings) + ")"
-        self.tell(message, at_start, worth_a_notice=bool(obj.mesh.warnings))
+        self.tell(_with_notes(f"loaded {Path(path).name} as a new {kind}: {obj.mesh.summary()}", obj.mesh),
+                  at_start, worth_a_notice=bool(obj.mesh.warnings))
 
     def quit(self) -> None:
         self.frontend.quit()
@@ -358,3 +354,8 @@ class Viewer:
             self.scene.message = "F9 records in the window; offscreen, `marraztu record` draws a frame per press"
         else:
             record()
+
+
+def _with_notes(message: str, mesh: Mesh) -> str:
+    """A load's message with its mesh's notes after it, in brackets."""
+    return f"{message} ({'; '.join(mesh.warnings)})" if mesh.warnings else message

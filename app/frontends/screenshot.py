@@ -102,8 +102,10 @@ def check_output(out: Path, inputs: Iterable[str | Path | None] = (),
         raise ViewerError(f"{out}: is a folder, not a file")
     if out.exists() and not out.is_symlink() and not out.is_file():
         raise ViewerError(f"{out}: is not a regular file (a pipe or a device?)")
+    if not out.exists():
+        return
     for given in inputs:
-        if given is not None and out.exists() and Path(given).exists() and os.path.samefile(out, given):
+        if given is not None and Path(given).exists() and os.path.samefile(out, given):
             raise ViewerError(f"{out}: is an input of this {what.split()[-1]} ({given}); write it elsewhere")
 
 
@@ -115,21 +117,17 @@ def files_read(scene: Scene) -> dict[Path, None]:
 
 
 class InputsGuard:
-    """Refuses `out` when it is a file the scene was read from, looked at again only once another
-    model has been read: a long replay of keys that load nothing costs nothing here."""
+    """Refuses `out` when it is a file the scene was read from; each file is looked at once."""
 
     def __init__(self, out: Path, formats: Mapping[str, str] = IMAGE_FORMATS, what: str = "a picture") -> None:
         self.out, self.formats, self.what = out, formats, what
         self.checked: set[Path] = set()  # found to be other files than `out` already
-        self.models_read = -1
 
     def check(self, viewer: Viewer) -> None:
-        if viewer.models_read == self.models_read:
-            return
-        self.models_read = viewer.models_read
         new = [path for path in files_read(viewer.scene) if path not in self.checked]
-        check_output(self.out, new, self.formats, self.what)
-        self.checked.update(new)
+        if new:
+            check_output(self.out, new, self.formats, self.what)
+            self.checked.update(new)
 
 
 def write_picture(pixels: np.ndarray, out: Path) -> None:

@@ -27,8 +27,7 @@ class GuidesDrawer:
         it show even where it is seen edge on; then the axes, through the depth test. Positions are
         measured from `origin`, as `view_projection` takes them (the renderer's frame origin)."""
         rows = np.concatenate([guides.grid, guides.axes])
-        if origin.any():
-            rows = rows - np.concatenate([origin, np.zeros(rows.shape[1] - 3)])  # position first, colour after
+        rows[:, :3] -= origin  # x y z first, r g b after
         data = np.ascontiguousarray(rows, dtype="f4").tobytes()
         if data != self._held:
             self._upload(data)

@@ -42,20 +42,20 @@ void main() { f_colour = vec4(1.0); }
 # The floor under a still filled frame's inputs: each row's position, texture coordinate and lit row read, the
 # lit colour handed on as the renderer's program hands it (flat in Flat, interpolated in Gouraud) and
 # multiplied by the texture; no back-face test, no view switch, no uniforms but these.
-# Compiled through shaded_source, which defines SHADING.
+# Compiled through shaded_source, which defines FLAT for Flat's.
 BARE_INPUTS_VERTEX_SHADER = """
 uniform mat4 u_mvp;
 in vec3 in_position;
 in vec2 in_uv;
 in vec4 in_lit;
-#if SHADING == FLAT
+#if defined FLAT
 flat out vec4 v_lit;
 #else
 smooth out vec3 v_lit;
 #endif
 out vec2 v_uv;
 void main() {
-#if SHADING == FLAT
+#if defined FLAT
     v_lit = in_lit;
 #else
     v_lit = in_lit.rgb;
@@ -66,7 +66,7 @@ void main() {
 """
 BARE_INPUTS_FRAGMENT_SHADER = """
 uniform sampler2D u_texture;
-#if SHADING == FLAT
+#if defined FLAT
 flat in vec4 v_lit;
 #else
 smooth in vec3 v_lit;
@@ -101,8 +101,8 @@ void main() {
 
 
 def shaded_source(body: str, mode: str) -> str:
-    """A bare program's GLSL for a filled mode: SHADING defined as FLAT or GOURAUD."""
-    return f"#version 330\n#define FLAT 0\n#define GOURAUD 1\n#define SHADING {mode.upper()}\n{body}"
+    """A bare program's GLSL for a filled mode: FLAT defined for Flat's."""
+    return f"#version 330\n{'#define FLAT' if mode == 'flat' else ''}\n{body}"
 
 
 MODES = ("flat", "gouraud", "lines")
@@ -169,8 +169,9 @@ class BareDraw:
         self.scene = scene
         self.lit_row_bytes = LIT_ROW_BYTES
         self.buffers: list[moderngl.Buffer] = []
-        self.objects: list[tuple[SceneObject, dict[str, tuple[moderngl.VertexArray, VertexRange]]]] = []
-        self.inputs: list[dict[str, moderngl.VertexArray]] = []  # per object, per filled mode
+        # Per object: each mode's vertex array and the vertices it draws, and each filled mode's inputs' array.
+        self.objects: list[tuple[SceneObject, dict[str, tuple[moderngl.VertexArray, VertexRange]],
+                                 dict[str, moderngl.VertexArray]]] = []
         self.lighting: list[BareLighting] = []
         self.programs: list[moderngl.Program | moderngl.ComputeShader] = []
         self.compute_lighting: ComputeLighting | None = None  # the same pass-through for both shadings
@@ -234,14 +235,14 @@ class BareDraw:
                     for shading in (Shading.FLAT, Shading.GOURAUD)}
         self.lighting.append(BareLighting(ctx.vertex_array(self.lighting_program, position), surface, lit, lit_rows))
         filled = {"flat": (indices, arrays.indices.size), "gouraud": (shared, arrays.shared_indices.size)}
-        self.objects.append((obj, {  # each mode's vertex array and the vertices it draws
+        self.objects.append((obj, {
             **{mode: (ctx.vertex_array(self.program, position, index_buffer=buffer, index_element_size=4),
                       VertexRange(0, count)) for mode, (buffer, count) in filled.items()},
             "lines": (ctx.vertex_array(self.program, [(edges, *layout_for(self.program, EDGE_LAYOUT))],
-                                       index_buffer=pairs, index_element_size=4), VertexRange(0, pair_indices.size))}))
-        self.inputs.append({mode: ctx.vertex_array(
-            program, [(surface, *layout_for(program, SURFACE_LAYOUT)), (lit, *LIT_LAYOUT)],
-            index_buffer=filled[mode][0], index_element_size=4) for mode, program in self.inputs_programs.items()})
+                                       index_buffer=pairs, index_element_size=4), VertexRange(0, pair_indices.size))},
+            {mode: ctx.vertex_array(program, [(surface, *layout_for(program, SURFACE_LAYOUT)), (lit, *LIT_LAYOUT)],
+                                    index_buffer=filled[mode][0], index_element_size=4)
+             for mode, program in self.inputs_programs.items()}))
 
     def render(self, fbo: moderngl.Framebuffer, size: tuple[int, int], mode: str, moving: bool = False,
                texture: MipmappedTexture | None = None) -> None:
@@ -263,7 +264,7 @@ class BareDraw:
             texture.use(location=0)
         mvp_uniform = self.inputs_mvps[mode] if shown else self.mvp
         view_projection = self.scene.projection_matrix(width / height) @ self.scene.view_matrix()
-        for (obj, arrays), inputs in zip(self.objects, self.inputs, strict=True):
+        for obj, arrays, inputs in self.objects:
             mvp = view_projection @ obj.model
             mvp_uniform.write(np.ascontiguousarray(mvp.T, dtype="f4").tobytes())
             vertex_array, span = arrays[mode]
@@ -283,11 +284,8 @@ class BareDraw:
                                                 buffer_offset=first * self.lit_row_bytes)
 
     def release(self) -> None:
-        for _, arrays in self.objects:
-            for vao, _ in arrays.values():
-                vao.release()
-        for inputs in self.inputs:
-            for vao in inputs.values():
+        for _, arrays, inputs in self.objects:
+            for vao in [vao for vao, _ in arrays.values()] + list(inputs.values()):
                 vao.release()
         for lighting in self.lighting:
             lighting.vertex_array.release()
@@ -327,18 +325,18 @@ def paired_frame_times(ctx: moderngl.Context, scene: Scene, program_frame: Calla
     The first warm-up frame also builds the renderer's buffers for the object and compiles shader
     variants, which is why it is never measured.
     """
-    for _ in range(config.warmup):
-        for frame in (program_frame, bare_moving_frame):
+    times = FrameTimes()
+    frames = [(program_frame, times.moving), (program_frame, times.still), (bare_frame, times.bare),
+              (bare_moving_frame, times.bare_moving)] + ([(inputs_frame, times.inputs)] if inputs_frame else [])
+    for _ in range(config.warmup):  # the inputs' programs and arrays are first used here too, not measured
+        for frame in (program_frame, bare_moving_frame, *([inputs_frame] if inputs_frame else [])):
             frame()
             ctx.finish()
-    times = FrameTimes()
     started = time.perf_counter()
     while len(times.still) < config.frames:
         if len(times.still) >= MIN_FRAMES and time.perf_counter() - started > config.frame_budget_s:
             break
         nudge_camera(scene, len(times.moving))
-        frames = [(program_frame, times.moving), (program_frame, times.still), (bare_frame, times.bare),
-                  (bare_moving_frame, times.bare_moving)] + [(inputs_frame, times.inputs)] * bool(inputs_frame)
         for frame, record in frames:
             start = time.perf_counter()
             frame()

@@ -78,8 +78,7 @@ def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
     colours, colour_notes = _drawn_vertex_colours(raw.vertex_colours)
     mesh = derive_mesh(Path(source).stem, raw.positions, raw.corner_vertex, raw.face_start,
                        uv, normals, raw.colour, first, tuple(notes + colour_notes))
-    mesh = replace(mesh, vertex_colours=colours) if colours is not None else mesh
-    mesh = replace(mesh, read_beside=tuple(tried)) if tried else mesh
+    mesh = replace(mesh, vertex_colours=colours, read_beside=tuple(tried))
     if not raw.material_runs or not library:  # no library read: its absence is noted once already
         return mesh
     used, face_material, unknown, beyond = _face_materials(raw.material_runs, library, mesh.face_count)
@@ -102,13 +101,14 @@ def _drawn_vertex_colours(table: np.ndarray | None) -> tuple[np.ndarray | None, 
     if table is None:
         return None, []
     given = ~np.isnan(table[:, 0])
-    values = by_largest(table[given])
-    if values.min(initial=0.0) < 0.0 or values.max(initial=0.0) > 1.0:
+    try:
+        drawn = colour_bytes(by_largest(table[given]), int(given.sum()))
+    except ValueError:  # outside 0..1 once scaled
         return None, ["vertex colours (v x y z r g b) outside 0..1 and 0..255 are not drawn"]
-    colours = np.ones((table.shape[0], 3))
-    colours[given] = values
+    colours = np.full((table.shape[0], 3), 255, np.uint8)
+    colours[given] = drawn
     notes = [] if given.all() else [f"{counted(int((~given).sum()), 'position')} without a colour drawn white"]
-    return colour_bytes(colours, len(colours)), notes
+    return colours, notes
 
 
 def _face_materials(runs: list[tuple[int, str]], library: list[MeshMaterial], faces: int

@@ -67,8 +67,7 @@ def read_fast(text: bytes, source: str) -> raw.RawObj:
         colours = np.full((len(tables[0]), 3), np.nan)
         _each(lambda at: scan.read_vertex_colours(buf, *pieces[at], before[at][scan.V], colours),
               list(range(len(pieces))))
-        rows = np.frombuffer(outcome.colour_rows, dtype=np.int64)  # the lines it left to the line reader
-        colours[rows] = np.frombuffer(outcome.colour_values, dtype=np.float64).reshape(-1, 3)
+        raw.put_colours(colours, outcome.colour_rows, outcome.colour_values)  # the line reader's lines
     return raw.RawObj(*tables, columns[0], *optional, face_start, outcome.mtllib, outcome.colour.colour,
                       list(outcome.colour.notes), outcome.material_runs, colours)
 

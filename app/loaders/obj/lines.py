@@ -24,8 +24,8 @@ from marraztu.loaders.obj.raw import (
     ColourComment,
     RawObj,
     add_material_run,
-    colour_table,
     material_name,
+    put_colours,
     statement,
     with_library,
 )
@@ -222,7 +222,8 @@ class LineReader:
         optional = [column if np.any(column >= 0) else None for column in corners]
         return RawObj(tables[0], tables[1], tables[2], corners[0], optional[1], optional[2],
                       face_start, self.mtllib, self.colour.colour, list(self.colour.notes), self.material_runs,
-                      colour_table(self.coloured_rows, self.colour_values, len(tables[0])))
+                      put_colours(np.full((len(tables[0]), 3), np.nan), self.coloured_rows, self.colour_values)
+                      if self.coloured_rows else None)
 
 
 def read_by_lines(text: bytes, source: str) -> RawObj:

@@ -108,11 +108,9 @@ MAX_LIBRARY_LINES = 16  # mtllib lines read: a file of a million must not cost a
 MAX_MATERIAL_NAME = 200  # characters of a usemtl name kept: enough for any real one, bounded for a hostile one
 
 
-def colour_table(rows: Sequence[int], values: Sequence[float], count: int) -> np.ndarray | None:
-    """RawObj.vertex_colours from the colours some v lines give: their position rows, and three values each."""
-    if not rows:
-        return None
-    table = np.full((count, 3), np.nan)
+def put_colours(table: np.ndarray, rows: Sequence[int], values: Sequence[float]) -> np.ndarray:
+    """RawObj.vertex_colours: `table` with the colours some v lines give put in (their position rows,
+    and three numbers each)."""
     table[np.asarray(rows, dtype=np.int64)] = np.asarray(values, dtype=np.float64).reshape(-1, 3)
     return table
 
