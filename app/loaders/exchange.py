@@ -23,7 +23,6 @@ import re
 from collections.abc import Callable, Collection, Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
-from types import SimpleNamespace
 from typing import Any, TypeVar
 from urllib.parse import unquote
 
@@ -42,11 +41,11 @@ from marraztu.loaders.files import (
     size_or_zero,
     spellings,
 )
-from marraztu.loaders.images import image_format, rgb_array, unread_textures_note
-from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES, stl_corners
-from marraztu.loaders.words import MAX_COUNT_DIGITS
-from marraztu.model.build import build_mesh, colour_bytes
-from marraztu.model.geometry import holds_in_float32, merged_rows
+from marraztu.loaders.images import FORMATS_BY_MAGIC, image_format, rgb_array, unread_textures_note
+from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES
+from marraztu.loaders.words import is_count
+from marraztu.model.build import build_mesh, by_largest, colour_bytes
+from marraztu.model.geometry import holds_in_float32
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial
 
 Stage = Callable[[str], None]
@@ -56,7 +55,6 @@ MAX_PLACED_TRIANGLES = (MAX_FILE_BYTES - HEADER_BYTES) // TRIANGLE_BYTES
 _NOT_FINITE = re.compile(rb"(?i)(?<![a-z])(?:[-+]?nan|[-+]?inf(?:inity)?)(?![a-z])")
 
 
-_ANYTHING = re.compile(rb"\S")  # searched, not stripped: strip() copies the whole file to look at its first word
 
 
 # --- the readers of the registry -----------------------------------------------------------------
@@ -80,19 +78,9 @@ def _frees_what_trimesh_held(read: Callable[..., _Read]) -> Callable[..., _Read]
     return reading
 
 
-def load_stl(path: Path, stage: Stage | None = None) -> Mesh:
-    """Each triangle lists its own corners: equal ones are joined, so that Gouraud smooths across edges.
-    Joined here, before the mesh is built, so that the corners' table is freed first."""
-    corners = stl_corners(path, _read(path, stage))  # the file's bytes are freed on return
-    _check_positions(path, corners, None)  # before merging, which takes finite numbers (no faces: _finish says so)
-    positions, _, inverse = merged_rows(corners)
-    del corners
-    return _finish(path, SimpleNamespace(vertices=positions, faces=inverse.reshape(-1, 3)), data=None)
-
-
 @_frees_what_trimesh_held
 def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
-    data = _read(path, stage)
+    data = read_model_bytes(path, stage)
     counts, header_lines, ascii_body = _ply_header(path, data)
     if ascii_body:
         _check_text_rows(path, data, header_lines, counts["vertex"] + counts["face"], "PLY")
@@ -109,20 +97,13 @@ def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
 @_frees_what_trimesh_held
 def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     """glTF (JSON beside its buffers) or GLB: every mesh with its node's transform, as one model."""
-    data, file_type = _read(path, stage), path.suffix.lower().lstrip(".")
+    data, file_type = read_model_bytes(path, stage), path.suffix.lower().lstrip(".")
     pictures = _gltf_pictures(path, data) if file_type == "gltf" else frozenset()  # a GLB's JSON is trimesh's to read
     beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True)
     return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside)
 
 
 # --- reading and checking ------------------------------------------------------------------------
-def _read(path: Path, stage: Stage | None) -> bytes:
-    data = read_model_bytes(path, stage)
-    if not _ANYTHING.search(data):
-        raise LoadError(path, "empty file: no faces")
-    return data
-
-
 def _trimesh_load(path: Path, data: bytes, file_type: str, beside: _FilesBeside | None = None) -> Any:
     """The file as a trimesh.Scene, each mesh as trimesh read it: trimesh reads every file as a scene,
     and joining one into a single mesh (force="mesh") copies and hashes every table. `beside` reads
@@ -252,7 +233,7 @@ def _ply_header(path: Path, data: bytes) -> tuple[dict[str, int], int, bool]:
     for number, line in enumerate(header, start=1):
         words = line.split()
         if words[:1] == ["element"] and len(words) == 3 and words[1] in counts:
-            if not (words[2].isdigit() and len(words[2]) <= MAX_COUNT_DIGITS):
+            if not is_count(words[2]):
                 raise LoadError(path, f"element {words[1]}: {words[2]!r} is not a count", line=number)
             counts[words[1]] = int(words[2])
     if counts["face"] == 0:
@@ -294,7 +275,7 @@ def _finish(path: Path, loaded: Any, data: bytes | None, beside: _FilesBeside | 
 
 # The pictures a file's material may show: those every texture may be (a glTF may embed any picture
 # Pillow reads, and Pillow hands some, PostScript, to other programs). MPO: a camera's JPEG, as Pillow names it.
-_PICTURE_FORMATS = frozenset({"PNG", "JPEG", "MPO", "PPM"})
+_PICTURE_FORMATS = frozenset({*FORMATS_BY_MAGIC.values(), "MPO"})
 
 
 def mesh_of_trimesh(name: str, loaded: Any) -> Mesh:
@@ -570,7 +551,7 @@ def _material_of(mesh: Any) -> dict[str, object] | None:
     if colour is None:
         return None
     rgb = np.asarray(colour, dtype=np.float64).reshape(-1)[:3]
-    rgb = rgb / 255.0 if rgb.max() > 1.0 else rgb  # trimesh keeps glTF colours as bytes
+    rgb = by_largest(rgb)  # trimesh keeps glTF colours as bytes
     return {"kd": tuple(float(c) for c in rgb)} if np.isfinite(rgb).all() else None
 
 

@@ -8,6 +8,7 @@ a time.
 from __future__ import annotations
 
 import os
+import re
 import stat
 from contextlib import contextmanager
 from pathlib import Path
@@ -66,8 +67,8 @@ def spellings(name: str) -> tuple[str, str]:
 
 
 def line_at(data: bytes, offset: int) -> int:
-    """The line number of the byte at `offset`."""
-    return data.count(b"\n", 0, offset) + 1
+    """The line number of the byte at `offset`, lines ending as text_lines ends them (\n, \r\n, a lone \r)."""
+    return data.count(b"\n", 0, offset) + data.count(b"\r", 0, offset) - data.count(b"\r\n", 0, offset) + 1
 
 
 def decoded(text: bytes) -> str:
@@ -146,11 +147,17 @@ def read_file(path: str | Path, limit: int = MAX_FILE_BYTES) -> bytes:
     return data
 
 
+_ANYTHING = re.compile(rb"\S")  # searched, not stripped: strip() copies the whole file to look at its first word
+
+
 def read_model_bytes(path: str | Path, stage: Callable[[str], None] | None) -> bytes:
-    """A model file's bytes; `stage` hears "reading" and then "parsing" (the window shows them)."""
+    """A model file's bytes, refused where they are blank; `stage` hears "reading" and then "parsing"
+    (the window shows them)."""
     if stage is not None:
         stage("reading")
     data = read_file(path)
+    if not _ANYTHING.search(data):
+        raise LoadError(path, "empty file: no faces")
     if stage is not None:
         stage("parsing")
     return data

@@ -18,7 +18,7 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import read_model_bytes, text_lines
-from marraztu.loaders.words import MAX_COUNT_DIGITS, WordBlocks, checked_coordinates, checked_indices
+from marraztu.loaders.words import WordBlocks, checked_coordinates, checked_indices, is_count
 from marraztu.model.build import by_largest, colour_bytes, derive_mesh
 from marraztu.model.mesh import Mesh
 
@@ -121,7 +121,7 @@ def _header(path: Path, rows: _Rows) -> tuple[_Layout, int, int]:
     counts = ([keyword[4]] if keyword[4] else []) + words[1:]
     if not counts:
         number, counts = rows.next() or (number, [])
-    if len(counts) < 2 or not all(word.isdigit() and len(word) <= MAX_COUNT_DIGITS for word in counts[:2]):
+    if len(counts) < 2 or not all(is_count(word) for word in counts[:2]):
         raise LoadError(path, "expected the vertex, face and edge counts", line=number)
     vertices, faces = int(counts[0]), int(counts[1])
     if faces == 0:
@@ -168,7 +168,7 @@ def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.n
     block at a time as the rows come: never by the header's count, which a short file may exaggerate."""
     corners = WordBlocks(path, lambda path, words, line_of: checked_indices(path, words, line_of, vertices))
     for number, words in _taken(path, rows, count, "faces"):
-        size = int(words[0]) if words[0].isdigit() and len(words[0]) < 10 else -1
+        size = int(words[0]) if is_count(words[0]) else -1
         if size < 3:
             raise LoadError(path, f"a face's corner count must be a whole number of 3 or more, not '{words[0][:40]}'",
                             line=number)

@@ -7,10 +7,11 @@ from collections.abc import Callable
 from pathlib import Path
 
 from marraztu.errors import LoadError
-from marraztu.loaders.exchange import COLLECT_AFTER_BYTES, load_gltf, load_ply, load_stl
+from marraztu.loaders.exchange import COLLECT_AFTER_BYTES, load_gltf, load_ply
 from marraztu.loaders.files import size_or_zero
 from marraztu.loaders.obj import load_obj
 from marraztu.loaders.off import load_off
+from marraztu.loaders.stl import load_stl
 from marraztu.model.mesh import Mesh
 
 Stage = Callable[[str], None]  # hears what a long load is doing now, for the window's status

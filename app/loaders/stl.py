@@ -10,19 +10,40 @@ which line is wrong.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import line_at, text_lines
+from marraztu.loaders.files import line_at, read_model_bytes, text_lines
 from marraztu.loaders.words import WordBlocks, checked_coordinates
+from marraztu.model.build import derive_mesh
+from marraztu.model.geometry import holds_in_float32, merged_rows
+from marraztu.model.mesh import INDEX, Mesh
 
 HEADER_BYTES, TRIANGLE_BYTES = 84, 50  # binary: an 80-byte header and a count, then 50 bytes a triangle
 # A binary triangle: its normal, its three corners, and two bytes of attributes (no standard meaning).
 _TRIANGLE_LAYOUT = np.dtype([("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attributes", "<u2")])
 # Searched, not stripped: strip() and lstrip() copy the whole file to look at its first word.
 _ASCII_START = re.compile(rb"\s*solid(?![^\s])", re.IGNORECASE)
+
+
+def load_stl(path: Path, stage: Callable[[str], None] | None = None) -> Mesh:
+    """Each triangle lists its own corners: equal ones are joined, so that Gouraud smooths across edges.
+    Joined here, before the mesh is built, so that the corners' table is freed first."""
+    corners = stl_corners(path, read_model_bytes(path, stage))  # the file's bytes are freed on return
+    if not len(corners):
+        raise LoadError(path, "no faces")
+    if not holds_in_float32(corners):  # a binary file's; before merging, which takes finite numbers
+        raise LoadError(path, "a vertex coordinate is not a finite number the GPU can hold")
+    positions, _, corner_vertex = merged_rows(corners)
+    del corners
+    try:
+        return derive_mesh(path.stem, positions, corner_vertex.astype(INDEX, copy=False),
+                           np.arange(0, len(corner_vertex) + 1, 3, dtype=INDEX), None, None, None, None, ())
+    except ValueError as error:  # more corners than 32-bit indices hold
+        raise LoadError(path, str(error)) from None
 
 
 def stl_corners(path: Path, data: bytes) -> np.ndarray:

@@ -26,6 +26,7 @@ ROWS_AT_ONCE = 1 << 15  # rows whose words are made numbers in one call
 
 _DECIMAL = re.compile(DECIMAL_SYNTAX)
 _WHOLE = re.compile(r"[+-]?[0-9]+")
+_COUNT = re.compile(r"[0-9]+")
 
 
 class WordBlocks:
@@ -77,38 +78,40 @@ def checked_coordinates(path: Path, words: list[str], line_of: LineOf) -> np.nda
 
 def checked_indices(path: Path, words: list[str], line_of: LineOf, vertices: int) -> np.ndarray:
     """int64 vertex indices, each a whole number from 0 to vertices - 1."""
-    if any(len(word) > 18 for word in words):  # numpy raises OverflowError past int64's 18 digits
-        words = [_trimmed(word) for word in words]
-        at = next((at for at, word in enumerate(words) if len(word.lstrip("+-")) > 18 and _WHOLE.fullmatch(word)),
-                  None)
-        if at is not None:
-            raise LoadError(path, f"vertex index {words[at][:40]} out of range (the file has {vertices} vertices)",
-                            line=line_of(at))
-    values = _converted(path, words, line_of, np.int64, _WHOLE)
+    beyond = f"out of range (the file has {vertices} vertices)"
+    values = _converted(path, words, line_of, np.int64, _WHOLE, beyond)
     outside = (values < 0) | (values >= vertices)
     if outside.any():
         at = int(np.argmax(outside))
-        raise LoadError(path, f"vertex index {values[at]} out of range (the file has {vertices} vertices)",
-                        line=line_of(at))
+        raise LoadError(path, f"vertex index {values[at]} {beyond}", line=line_of(at))
     return values
 
 
-def _trimmed(word: str) -> str:
-    """A whole number's word without its leading zeros ('-0000000000000000000002' is '-2'); others as they are."""
-    if not _WHOLE.fullmatch(word):
-        return word
-    digits = word.lstrip("+-")
-    return word[:len(word) - len(digits)] + (digits.lstrip("0") or "0")
+def is_count(word: str) -> bool:
+    """A header's count: ASCII digits ('٣'.isdigit() too is true), no more than MAX_COUNT_DIGITS."""
+    return len(word) <= MAX_COUNT_DIGITS and _COUNT.fullmatch(word) is not None
 
 
-def _converted(path: Path, words: list[str], line_of: LineOf, kind: type, syntax: re.Pattern[str]) -> np.ndarray:
+def _converted(path: Path, words: list[str], line_of: LineOf, kind: type, syntax: re.Pattern[str],
+               beyond: str = "") -> np.ndarray:
+    """The words as `kind`, or the LoadError of the first, in file order, that is not one: not of
+    `syntax`, or (int64) a whole number past it, numpy's OverflowError, said to be `beyond` range."""
     try:
         values = np.array(words, dtype=kind)
-    except ValueError:
+    except (ValueError, OverflowError):
         values = None
     joined = "".join(words)
-    if values is None or "_" in joined or not joined.isascii():  # float() and int() read 1_000 and '٣' too
-        at = next((at for at, word in enumerate(words) if not syntax.fullmatch(word)), 0)
-        wanted = "a number" if kind is np.float64 else "a whole number"
-        raise LoadError(path, f"'{words[at][:40]}' is not {wanted}", line=line_of(at))
-    return values
+    if values is not None and "_" not in joined and joined.isascii():  # float() and int() read 1_000 and '٣' too
+        return values
+    whole = kind is np.int64
+    at, word = next(((at, word) for at, word in enumerate(words)
+                     if not syntax.fullmatch(word) or (whole and _past_int64(word))), (0, words[0]))
+    if syntax.fullmatch(word):
+        raise LoadError(path, f"vertex index {word[:40]} {beyond}", line=line_of(at))
+    wanted = "a number" if kind is np.float64 else "a whole number"
+    raise LoadError(path, f"'{word[:40]}' is not {wanted}", line=line_of(at))
+
+
+def _past_int64(word: str) -> bool:
+    """A whole number of more than 18 significant digits ('-0000000000000000000002' is not one)."""
+    return _WHOLE.fullmatch(word) is not None and len(word.lstrip("+-").lstrip("0")) > 18

@@ -31,19 +31,23 @@ def read_libraries(base_dir: Path, lines: Sequence[str], notes: list[str], wante
     for: the MTLs and their textures."""
     materials: list[MeshMaterial] = []
     read: set[Path] = set()
+    textures = _TextureCache()  # one for every library: a picture two of them name is read once
     for line in lines:
         for mtl in _library_paths(base_dir, line, notes):
-            if same_file_key(mtl) not in read:
-                read.add(same_file_key(mtl))
-                materials += _read_library(mtl, notes, wanted, tried, keep_first=not materials)
+            key = same_file_key(mtl)
+            if key not in read:
+                read.add(key)
+                materials += _read_library(mtl, notes, wanted, tried, textures, keep_first=not materials)
+    notes.extend(textures.notes())
+    tried.extend(textures.read_already)
     first_of_name: dict[str, MeshMaterial] = {}
     for material in materials:
         first_of_name.setdefault(material.name, material)
     return list(first_of_name.values())
 
 
-def _read_library(mtl: Path, notes: list[str], wanted: Collection[str], tried: list[Path], keep_first: bool
-                  ) -> list[MeshMaterial]:
+def _read_library(mtl: Path, notes: list[str], wanted: Collection[str], tried: list[Path],
+                  textures: _TextureCache, keep_first: bool) -> list[MeshMaterial]:
     tried.append(mtl)
     name = shown(mtl.name)
     try:
@@ -51,7 +55,7 @@ def _read_library(mtl: Path, notes: list[str], wanted: Collection[str], tried: l
     except LoadError as error:
         notes.append(f"material library '{name}' could not be read ({error.message}); using the scene's material")
         return []
-    return _parse_library(text, name, mtl.parent, notes, wanted, tried, keep_first)
+    return _parse_library(text, name, mtl.parent, notes, wanted, textures, keep_first)
 
 
 def _library_paths(base_dir: Path, name: str, notes: list[str]) -> list[Path]:
@@ -60,8 +64,9 @@ def _library_paths(base_dir: Path, name: str, notes: list[str]) -> list[Path]:
     if is_there(base_dir / name):
         return [base_dir / name]
     words = name.split(None, _MOST_NAMES)[:_MOST_NAMES]
-    found = [base_dir / word for word in words if is_there(base_dir / word)]
-    missing = [word for word in words if not is_there(base_dir / word)] if found else [name]
+    there = [is_there(base_dir / word) for word in words]
+    found = [base_dir / word for word, is_file in zip(words, there) if is_file]
+    missing = [word for word, is_file in zip(words, there) if not is_file] if found else [name]
     for word in missing[:1]:  # the scene's material stands in only where no library was found
         notes.append(f"material library '{shown(word)}' not found next to the model"
                      + ("" if found else "; using the scene's material"))
@@ -78,7 +83,7 @@ class _Block:
 
 
 def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wanted: Collection[str],
-                   tried: list[Path], keep_first: bool = True) -> list[MeshMaterial]:
+                   textures: _TextureCache, keep_first: bool = True) -> list[MeshMaterial]:
     kept: dict[str, _Block] = {}  # the materials the model can use, by name, in file order
     block: _Block | None = None  # the material being read; dropped at the next newmtl unless kept
     malformed, first_malformed = 0, ""  # one note however many lines are ignored
@@ -110,11 +115,7 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
                      f"{first_malformed} line)")
     if ignored:
         notes.append(f"material library '{name}': {', '.join(sorted(ignored))} ignored")
-    textures = _TextureCache(folder)
-    materials = [MeshMaterial(block.name, block.values, *textures.read(block.texture)) for block in kept.values()]
-    notes.extend(textures.notes())
-    tried.extend(textures.read_already)
-    return materials
+    return [MeshMaterial(block.name, block.values, *textures.read(block.texture, folder)) for block in kept.values()]
 
 
 # map_Kd's options and how many values each takes (-o, -s and -t take one to three numbers).
@@ -150,27 +151,27 @@ class _TextureCache:
     """Each texture file read once, however many materials name it; the ones that cannot be read
     make one note."""
 
-    def __init__(self, folder: Path) -> None:
-        self.folder = folder
+    def __init__(self) -> None:
         self.read_already: dict[Path, tuple[np.ndarray | None, str | None]] = {}
         self.failures: list[tuple[str, str]] = []  # (name, why)
         self.listings: dict[Path, dict[str, Path]] = {}
 
-    def read(self, name: str | None) -> tuple[np.ndarray | None, str | None]:
+    def read(self, name: str | None, folder: Path) -> tuple[np.ndarray | None, str | None]:
+        """The picture a map_Kd line of an MTL in `folder` names."""
         if name is None:
             return None, None
-        path = self._path(name)
+        path = self._path(name, folder)
         key = same_file_key(path)  # t.png and ./t.png are one file, read once
         if key not in self.read_already:
             self.read_already[key] = self._read(path, name)
         return self.read_already[key]
 
-    def _path(self, name: str) -> Path:
+    def _path(self, name: str, folder: Path) -> Path:
         """The file a map_Kd name means. Exporters write Windows paths (back slashes, a drive:
         C:\\Users\\...\\t.png, from the machine the model was made on), quote names, and differ in
         case from the file: what is not found as written is looked for by its last part beside the
         MTL, and then in any case."""
-        candidates = [self.folder / spelling for spelling in spellings(name)]
+        candidates = [folder / spelling for spelling in spellings(name)]
         found = next((path for path in candidates if is_there(path)), None)
         found = found or next((path for path in map(self._in_any_case, candidates) if path is not None), None)
         return found or candidates[0]  # not there: reading it says so
