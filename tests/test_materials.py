@@ -14,7 +14,7 @@ from PIL import Image
 from marraztu.control.viewer import StartOptions, Viewer
 from marraztu.devtools import assetgen
 from marraztu.frontends.screenshot import take_screenshot
-from marraztu.loaders.obj import parse_obj
+from marraztu.loaders.obj import load_obj, parse_obj
 from marraztu.loaders.obj.fast import read_fast
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.registry import load_model
@@ -279,3 +279,20 @@ def test_a_file_of_a_thousand_materials_costs_in_proportion_to_its_faces(tmp_pat
     assert len(mesh.parts) == MAX_MATERIALS + 1  # the first 256, and the rest together
     assert sum(part.mesh.vertex_count for part in mesh.parts) == 3 * count
     assert any(f"{count} materials used" in note for note in mesh.warnings), mesh.warnings
+
+
+def test_a_picture_two_libraries_name_is_read_once_and_noted_once(tmp_path: Path, monkeypatch) -> None:
+    """One texture cache for all of a model's MTL libraries: the same picture, or the same missing one."""
+    from marraztu.loaders.obj import mtl
+
+    reads: list[Path] = []
+    real = mtl.load_image
+    monkeypatch.setattr(mtl, "load_image", lambda path: reads.append(Path(path)) or real(path))
+    (tmp_path / "a.mtl").write_text("newmtl a\nKd 1 0 0\nmap_Kd gone.png\n")
+    (tmp_path / "b.mtl").write_text("newmtl b\nKd 0 1 0\nmap_Kd gone.png\n")
+    path = tmp_path / "two.obj"
+    path.write_text("mtllib a.mtl b.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\nusemtl b\nf 1 2 3\n")
+    mesh = load_obj(path)
+    assert [material.name for material in mesh.materials] == ["a", "b"]
+    assert len(reads) == 1
+    assert sum("gone.png" in note for note in mesh.warnings) == 1

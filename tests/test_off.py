@@ -26,7 +26,7 @@ def off_text(vertices: list[str] = SQUARE, faces: tuple[str, ...] = ("3 0 1 2", 
 
 def read(tmp_path: Path, text: str, name: str = "m.off"):
     path = tmp_path / name
-    path.write_text(text)
+    path.write_text(text, encoding="utf-8")
     return load_off(path)
 
 
@@ -98,6 +98,10 @@ def test_a_noff_rows_normal_and_an_stoff_rows_coordinates_are_read_past(tmp_path
     (off_text(header="OFF\n5 2 0\n"), 7, "a vertex row holds 3 numbers here, this one 4"),
     (off_text(header="OFF\n4 0 0\n"), 2, "the header declares no faces: nothing to draw"),
     (off_text(header="OFF\nfour 2 0\n"), 2, "expected the vertex, face and edge counts"),
+    (off_text(header="OFF\n4 \u00b2 0\n"), 2, "expected the vertex, face and edge counts"),  # '²'.isdigit()
+    (off_text(faces=("\u0663 0 1 2", "3 0 2 3")), 7,
+     "a face's corner count must be a whole number of 3 or more, not '\u0663'"),  # an Arabic-Indic 3
+    (off_text(faces=("3 0 x 2", "3 0 1 99999999999999999999")), 7, "'x' is not a whole number"),  # the first
     (off_text(header="PLY\n4 2 0\n"), 1, "not an OFF file (it does not start with 'OFF')"),
     (off_text(header="4OFF\n4 2 0\n"), 1,
      "4OFF: only OFF, COFF, NOFF, STOFF and their blends are read (no 4 or n dimensions)"),
