@@ -21,6 +21,7 @@ from marraztu.loaders import obj as obj_module
 from marraztu.loaders.files import read_file
 from marraztu.loaders.obj import fast as fast_reader
 from marraztu.loaders.obj import load_obj, parse_obj
+from marraztu.loaders.obj import text as obj_text
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.raw import RawObj
 from marraztu.model.build import build_mesh
@@ -450,10 +451,10 @@ class Both(NamedTuple):
 def read_both(text: bytes) -> Both:
     """What the fast reader gives (its tables or its error), what the line reader alone gives, and how
     many lines the fast reader had the line reader read."""
-    normalized = obj_module._normalized_text(text, "x.obj")
+    normalized = obj_text.checked(obj_text.ended(text), "x.obj")
     fast: RawObj | LoadError | None = None
     with lines_read_by_the_line_reader() as counted:
-        if not obj_module._has_continuations(normalized):
+        if not obj_text.has_continuations(normalized):
             fast = outcome(lambda: fast_reader.read_fast(normalized, "x.obj"))
     return Both(fast, outcome(lambda: read_by_lines(normalized, "x.obj")), counted.lines)
 
@@ -542,6 +543,72 @@ def obj_texts(draw: st.DrawFn) -> bytes:
 @given(obj_texts())
 def test_the_fast_reader_agrees_with_the_line_reader(text: bytes) -> None:
     assert_agree(read_both(text))
+
+
+# Bytes the text checks judge (a NUL, a CR, a backslash, a no-break space), and others beside them.
+LOOKED_AT = st.sampled_from(["\0", "\r", "\r\n", "\\", "\\\n", "\u00a0", "\u00e9", "\u00a9", "\xa0", "\t"])
+
+
+def with_inserted(text: bytes, insertions: list[tuple[int, str]]) -> bytes:
+    for where, inserted in insertions:
+        at = where % (len(text) + 1)
+        text = text[:at] + inserted.encode() + text[at:]
+    return text
+
+
+# Every kind of line pass one reads, with blanks and a comment.
+EVERY_LINE = b"v 1 2 3\n vt 0.5 1\nvn 0 0 1 # n\n\tf 1/1/1 2/1/1 3/1/1\ng part\n# colour 1 2 3\n\nusemtl a\n"
+
+
+@pytest.mark.parametrize("inserted", ["\0", "\r", "\\", "\u00a0"])
+def test_pass_one_notes_a_byte_the_text_checks_judge_wherever_it_is(inserted: str) -> None:
+    """The compiled path runs the text checks only where pass one says so, so it must say so for
+    each of their bytes at each byte offset of every kind of line."""
+    assert not fast_reader.count_text(EVERY_LINE).to_look_at
+    for at in range(len(EVERY_LINE)):
+        assert fast_reader.count_text(EVERY_LINE[:at] + inserted.encode() + EVERY_LINE[at:]).to_look_at, at
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(obj_texts(), st.lists(st.tuples(st.integers(0, 10**6), LOOKED_AT), max_size=3))
+def test_the_compiled_path_gives_what_the_checked_line_reader_gives(text: bytes,
+                                                                    insertions: list[tuple[int, str]]) -> None:
+    """A NUL, a lone CR, a continuation or a no-break space anywhere: the tables, or the very error."""
+    text = with_inserted(text, insertions)
+    fast_reader.read_fast(QUAD, "warm.obj")  # the compiled reader loaded: small texts take its path
+    compiled = outcome(lambda: obj_module._tables(text, "x.obj"))
+    by_lines = outcome(lambda: read_by_lines(obj_text.checked(obj_text.ended(text), "x.obj"), "x.obj"))
+    if isinstance(by_lines, LoadError) or isinstance(compiled, LoadError):
+        assert isinstance(compiled, LoadError) and isinstance(by_lines, LoadError), (compiled, by_lines)
+        assert (compiled.message, compiled.line) == (by_lines.message, by_lines.line)
+    else:
+        assert_same_tables(compiled, by_lines)
+
+
+@pytest.mark.parametrize("edit", ["none", "CRLF", "a lone CR", "a NUL", "a no-break space", "a continuation",
+                                  "a backslash in a comment"])
+def test_a_large_text_is_checked_only_where_pass_one_says(edit: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Over the compiled reader's size: the checks run for the texts that hold what they judge, and
+    the outcome is the line reader's on the checked text."""
+    plain = b"".join(b"v %d 0 %d\n" % (row, row % 7) for row in range(1, 250_001)) + b"f 1 2 3\nf -1 -2 -3\n"
+    text = {"none": plain, "CRLF": plain.replace(b"\n", b"\r\n"), "a lone CR": plain.replace(b"\n", b"\r", 5),
+            "a NUL": plain[:-12] + b"\0" + plain[-12:], "a no-break space": plain.replace(b"v ", "v\u00a0".encode(), 3),
+            "a continuation": plain + b"f 1 \\\n 2 3\n",
+            "a backslash in a comment": b"# C:\\models\\\n" + plain}[edit]
+    assert len(text) > obj_module.COMPILED_READER_BYTES
+    checks: list[bytes] = []
+    real_checked = obj_module.checked
+    monkeypatch.setattr(obj_module, "checked", lambda text, source: checks.append(text) or real_checked(text, source))
+    compiled = outcome(lambda: obj_module._tables(text, "x.obj"))
+    by_lines = outcome(lambda: read_by_lines(real_checked(text, "x.obj"), "x.obj"))
+    assert len(checks) == (edit != "none")
+    if edit == "a NUL":
+        assert isinstance(compiled, LoadError) and isinstance(by_lines, LoadError)
+        assert (compiled.message, compiled.line) == (by_lines.message, by_lines.line) == (
+            "binary data (a NUL byte), not an OBJ text file", 250_001)
+    else:
+        assert_same_tables(compiled, by_lines)
+        assert compiled.corner_vertex.size == 6 + 3 * (edit == "a continuation")
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -784,7 +851,7 @@ def test_a_process_reading_only_small_files_never_imports_numba() -> None:
 def test_once_the_compiled_reader_is_loaded_it_reads_small_files_too(monkeypatch: pytest.MonkeyPatch) -> None:
     read: list[str] = []
 
-    def spy(text: bytes, source: str) -> RawObj:
+    def spy(text: bytes, source: str, counted: fast_reader.Counted | None = None) -> RawObj:
         read.append(source)
         return read_by_lines(text, source)
 

@@ -14,7 +14,6 @@ file lacks are derived by marraztu.model.build, as for every other format.
 
 from __future__ import annotations
 
-import re
 import sys
 from collections.abc import Callable
 from dataclasses import replace
@@ -23,10 +22,11 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import line_at, read_model_bytes
+from marraztu.loaders.files import read_model_bytes
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.mtl import read_libraries
 from marraztu.loaders.obj.raw import RawObj
+from marraztu.loaders.obj.text import checked, ended, has_continuations
 from marraztu.model.build import by_largest, colour_bytes, derive_mesh
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, counted
 
@@ -58,12 +58,6 @@ def _guarded(source: str, read: Callable[[], Mesh]) -> Mesh:
         raise LoadError(source, "not enough memory to load this file") from None
     except Exception as error:  # the contract: bad input never escapes as anything but LoadError
         raise LoadError(source, f"could not read the model ({type(error).__name__}: {error})") from None
-
-
-def _tables(data: bytes, source: str) -> RawObj:
-    text = _normalized_text(data, source)
-    del data  # where normalizing made a copy (a last newline added), the original goes before the reading
-    return _read_tables(text, source)
 
 
 def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
@@ -141,55 +135,34 @@ def _face_materials(runs: list[tuple[int, str]], library: list[MeshMaterial], fa
 COMPILED_READER_BYTES = 5 << 19
 
 
-def _read_tables(text: bytes, source: str) -> RawObj:
-    # A continuation joins lines: only the line reader follows them.
-    if _has_continuations(text) or (len(text) < COMPILED_READER_BYTES and not _compiled_reader_loaded()):
-        return read_by_lines(text, source)
+def _tables(data: bytes, source: str) -> RawObj:
+    """The raw tables. One function, so that where the text is edited (a copy) the original, which
+    only this frame holds, goes before the reading."""
+    text = ended(data)
+    del data  # where ending it made a copy, the original goes before the reading
+    if len(text) < COMPILED_READER_BYTES and not _compiled_reader_loaded():
+        return _read_by_lines(text, source)
     try:
-        from marraztu.loaders.obj.fast import read_fast  # numba, imported for the files that repay it
-        return read_fast(text, source)
+        from marraztu.loaders.obj import fast  # numba, imported for the files that repay it
+        counted = fast.count_text(text)
+        if counted.to_look_at:  # a NUL, a CR, a backslash or a no-break space: the text checks decide
+            edited = checked(text, source)
+            if edited is not text:
+                text, counted = edited, fast.count_text(edited)
+            del edited
+            if has_continuations(text):  # a continuation joins lines: only the line reader follows them
+                return read_by_lines(text, source)
+        return fast.read_fast(text, source, counted)
     except (LoadError, MemoryError):
         raise
     except Exception:  # no numba here, or a fast-reader bug: the person still gets their model, slowly
-        return read_by_lines(text, source)
+        return _read_by_lines(text, source)
+
+
+def _read_by_lines(text: bytes, source: str) -> RawObj:
+    return read_by_lines(checked(text, source), source)
 
 
 def _compiled_reader_loaded() -> bool:
     fast = sys.modules.get("marraztu.loaders.obj.fast")  # never imported here: that would import numba
     return fast is not None and fast.machine_code_loaded()
-
-
-_BACKSLASH_AT_LINE_END = re.compile(rb"\\[^\S\n]*\n")
-_BOM = b"\xef\xbb\xbf"
-_NO_BREAK_SPACE = "\u00a0".encode()
-
-
-def _has_continuations(text: bytes) -> bool:
-    """A backslash ending a line continues it, unless the line holds a comment (C:\\models\\ in one)."""
-    if b"\\" not in text:
-        return False
-    for match in _BACKSLASH_AT_LINE_END.finditer(text):
-        line_start = text.rfind(b"\n", 0, match.start()) + 1
-        if text.find(b"#", line_start, match.start()) < 0:
-            return True
-    return False
-
-
-def _normalized_text(data: bytes, source: str) -> bytes:
-    """Reject binary data; make every line end with a newline; read what editors write as ASCII.
-
-    A UTF-8 byte order mark goes, a lone CR (old Mac files) ends a line, and a no-break space
-    becomes two spaces. Tabs, the CR of CRLF and the other ASCII whitespace
-    stay: both readers treat them as spaces.
-    """
-    if b"\r" in data and data.count(b"\r") != data.count(b"\r\n"):
-        data = data.replace(b"\r\n", b"\n").replace(b"\r", b"\n")  # no regex: it would hold a piece per line
-    nul = data.find(b"\0")
-    if nul >= 0:
-        raise LoadError(source, "binary data (a NUL byte), not an OBJ text file", line=line_at(data, nul))
-    if not data.isascii():  # comments and names may be UTF-8 or Windows-1252: both are read
-        data = data.replace(_NO_BREAK_SPACE, b"  ")
-    start = len(_BOM) if data.startswith(_BOM) else 0
-    if start or not data.endswith(b"\n"):  # both edits in one copy
-        data = b"".join((memoryview(data)[start:], b"" if data.endswith(b"\n") else b"\n"))
-    return data

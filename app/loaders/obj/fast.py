@@ -1,7 +1,8 @@
 """The fast OBJ reader: compiled passes over the bytes (scan.py), on several threads.
 
-The text is cut into pieces at line ends. Pass one counts each piece's rows, faces and corners;
-the tables are then made at their final sizes, and pass two writes every piece into them at its own
+The text is cut into pieces at line ends. Pass one counts each piece's rows, faces and corners,
+and says whether the text needs the text checks (text.py), which most files, pure ASCII with LF line
+ends, do not; the tables are then made at their final sizes, and pass two writes every piece into them at its own
 offsets. What the compiled code does not read itself comes back as records, in file order: the
 line reader (lines.py) reads each listed v, vt, vn or f line, giving its values or its error, so
 every message is the line reader's; other statements and colour comments are read here.
@@ -13,6 +14,7 @@ import os
 from array import array
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 from typing import TypeVar
 
 import numpy as np
@@ -38,13 +40,33 @@ def machine_code_loaded() -> bool:
     return all(function.signatures for function in (scan.count_piece, scan.read_piece))
 
 
-def read_fast(text: bytes, source: str) -> raw.RawObj:
-    """The file's tables, or the LoadError the line reader gives for its first bad line.
+@dataclass(frozen=True)
+class Counted:
+    """Pass one's outcome: the pieces of the text, their counts, and whether a byte in them is one
+    only the text checks judge (scan._TO_LOOK_AT)."""
 
-    `text` ends with a newline (marraztu.loaders.obj normalizes it)."""
+    pieces: list[tuple[int, int]]
+    counts: np.ndarray  # (pieces, scan.COUNT_COLUMNS)
+    to_look_at: bool
+
+
+def count_text(text: bytes) -> Counted:
+    """Pass one, over the whole text. `text` ends with a newline (marraztu.loaders.obj.text.ended)."""
     buf = np.frombuffer(text, dtype=np.uint8)
     pieces = _pieces(text, PARSE_THREADS * PIECES_PER_THREAD)
-    counts = np.array(_each(lambda piece: scan.count_piece(buf, *piece), pieces)).reshape(-1, scan.COUNT_COLUMNS)
+    outcomes = _each(lambda piece: scan.count_piece(buf, *piece), pieces)
+    counts = np.array([counts for counts, _ in outcomes]).reshape(-1, scan.COUNT_COLUMNS)
+    return Counted(pieces, counts, any(look for _, look in outcomes))
+
+
+def read_fast(text: bytes, source: str, counted: Counted | None = None) -> raw.RawObj:
+    """The file's tables, or the LoadError the line reader gives for its first bad line.
+
+    `text` ends with a newline and has passed the text checks where `counted` (its pass one, made
+    here when not given) says it needs them (marraztu.loaders.obj.text)."""
+    buf = np.frombuffer(text, dtype=np.uint8)
+    counted = counted or count_text(text)
+    pieces, counts = counted.pieces, counted.counts
     before = np.cumsum(counts, axis=0) - counts  # each piece's offsets into the tables
     total = counts.sum(axis=0)
     tables = [np.empty((int(total[kind]), width)) for kind, width in zip((scan.V, scan.VT, scan.VN), _WIDTHS)]

@@ -1,11 +1,12 @@
 """The compiled half of the fast OBJ reader: two passes over the bytes, machine code by numba.
 
-Pass one counts the rows of each table, the faces and their corners in a piece of the text; pass two
-writes them straight into the whole file's tables at the offsets the counts give. A line is read
-byte by byte, once, up to its newline (every line ends with one: the caller makes sure), with
-nothing allocated per line. A line this code does not read itself, valid or not (an exponent past
-1e22, a number of more than 15 digits, any error, o/g/usemtl and the like), is listed as a *record*,
-in file order, for the Python side (fast.py) and the line reader.
+Pass one counts the rows of each table, the faces and their corners in a piece of the text, and
+notes whether it holds a byte only the text checks judge (text.py); pass two writes them straight
+into the whole file's tables at the offsets the counts give. A line is read byte by byte, up to its
+newline (every line ends with one: the caller makes sure), with nothing allocated per line. A line
+this code does not read itself, valid or not (an exponent past 1e22, a number of more than 15
+digits, any error, o/g/usemtl and the like), is listed as a *record*, in file order, for the Python
+side (fast.py) and the line reader.
 """
 
 from __future__ import annotations
@@ -40,6 +41,11 @@ _USEMTL, _MTLLIB = np.frombuffer(b"usemtl", np.uint8), np.frombuffer(b"mtllib", 
 # Up to 1e22 powers of ten are exact doubles: mantissa and power then round once, as float() does
 # (Clinger's fast path).
 _POWERS_OF_TEN = np.array([10.0**k for k in range(23)])
+# The bytes that only the Python side's text checks judge (marraztu.loaders.obj.text): a NUL, a CR
+# (a lone one ends a line), a backslash (it may continue a line), and the first byte of a UTF-8
+# no-break space. Pass one notes whether a text holds any, so a text without them is not checked.
+_TO_LOOK_AT = np.zeros(256, np.uint8)
+_TO_LOOK_AT[[0, ord("\r"), ord("\\"), 0xC2]] = 1
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}  # cached machine code; threads run at once
 
 
@@ -99,21 +105,38 @@ def _keyword(buf: np.ndarray, start: int) -> tuple[int, int]:
 
 
 @njit(**_JIT)
-def _tokens(buf: np.ndarray, at: int) -> int:
-    """Whitespace-separated tokens before any '#': a face line's corners."""
-    count = 0
+def _tokens(buf: np.ndarray, at: int) -> tuple[int, int, int]:
+    """Whitespace-separated tokens before any '#' (a face line's corners), where they end, and whether
+    they hold a byte to look at (_TO_LOOK_AT)."""
+    count, look = 0, 0
     while True:
-        at = _skip_blanks(buf, at)
+        while _is_blank(buf[at]):
+            look |= _TO_LOOK_AT[buf[at]]
+            at += 1
         if buf[at] == _NEWLINE or buf[at] == _HASH:
-            return count
+            return count, at, look
         count += 1
-        at = _token_end(buf, at)
+        while not _ends_token(buf[at]):
+            look |= _TO_LOOK_AT[buf[at]]
+            at += 1
 
 
 @njit(**_JIT)
-def count_piece(buf: np.ndarray, low: int, high: int) -> np.ndarray:
-    """Rows of v, vt and vn, faces, lines and corners in buf[low:high], whole lines."""
+def _line_end_looking(buf: np.ndarray, at: int) -> tuple[int, int]:
+    """_line_end, and whether the bytes on the way hold one to look at (_TO_LOOK_AT)."""
+    look = 0
+    while buf[at] != _NEWLINE:
+        look |= _TO_LOOK_AT[buf[at]]  # an OR, not a branch: it costs pass one almost nothing
+        at += 1
+    return at, look
+
+
+@njit(**_JIT)
+def count_piece(buf: np.ndarray, low: int, high: int) -> tuple[np.ndarray, int]:
+    """Rows of v, vt and vn, faces, lines and corners in buf[low:high], whole lines; and whether they
+    hold a byte the Python side must look at first (_TO_LOOK_AT), 1 or 0."""
     counts = np.zeros(COUNT_COLUMNS, np.int64)
+    look = 0
     start = low
     while start < high:
         if buf[start] == _NEWLINE:  # an empty line, in a loop of its own: a file of them must be cheap
@@ -121,13 +144,19 @@ def count_piece(buf: np.ndarray, low: int, high: int) -> np.ndarray:
             start += 1
             continue
         kind, after = _keyword(buf, start)
+        for at in range(start, after):
+            look |= _TO_LOOK_AT[buf[at]]
         if kind >= 0:
             counts[kind] += 1
         if kind == F:
-            counts[CORNERS] += _tokens(buf, after)
+            corners, after, tokens_look = _tokens(buf, after)
+            counts[CORNERS] += corners
+            look |= tokens_look
         counts[LINES] += 1
-        start = _line_end(buf, after) + 1
-    return counts
+        end, rest_look = _line_end_looking(buf, after)
+        look |= rest_look
+        start = end + 1
+    return counts, look
 
 
 @njit(**_JIT)
@@ -338,7 +367,7 @@ def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, f
         elif kind == F:
             corners, stop = _face(buf, at, defined, vertex, texcoord, normal, corner)
             if corners < 0:
-                read, corners = False, _tokens(buf, at)  # its slots, as pass one counted them
+                read, corners = False, _tokens(buf, at)[0]  # its slots, as pass one counted them
             at = stop
         elif kind == _OTHER_KEYWORD:
             kind = _statement_kind(buf, start)
