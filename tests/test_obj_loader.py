@@ -155,6 +155,47 @@ def test_last_line_without_newline() -> None:
     assert parse(QUAD.rstrip(b"\n")).face_count == 1
 
 
+@pytest.mark.parametrize(("written", "read"), [
+    (QUAD, QUAD), (QUAD[:-1], QUAD), (b"\xef\xbb\xbf" + QUAD, QUAD), (b"\xef\xbb\xbf" + QUAD[:-1], QUAD),
+    (b"\xef\xbb\xbf", b"\n"), (b"x", b"x\n")])
+def test_a_file_is_read_as_its_text_ended(tmp_path: Path, written: bytes, read: bytes) -> None:
+    """What read_text gives is what ended gives the bytes: no byte order mark, a last newline."""
+    path = tmp_path / "m.obj"
+    path.write_bytes(written)
+    assert obj_text.read_text(path, None).tobytes() == obj_text.ended(written) == read
+
+
+def test_a_file_that_grows_after_its_size_is_known_is_read_whole(tmp_path: Path,
+                                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+    """Read into room for the size stat gave, and a byte more: a file that grew since is read again."""
+    path = tmp_path / "m.obj"
+    path.write_bytes(QUAD * 100)
+    monkeypatch.setattr(obj_text, "regular_file_size", lambda path: len(QUAD))
+    assert obj_text.read_text(path, None).tobytes() == QUAD * 100
+    assert load_obj(path).face_count == 100
+
+
+def test_a_blank_file_is_refused_as_empty(tmp_path: Path) -> None:
+    path = tmp_path / "m.obj"
+    path.write_bytes(b" \n\t\r\n")
+    with pytest.raises(LoadError, match="empty file: no faces"):
+        obj_text.read_text(path, None)
+
+
+@pytest.mark.parametrize("long_line", ["first", "middle", "last", "only"])
+def test_the_text_is_cut_into_whole_lines_whatever_their_lengths(long_line: str) -> None:
+    """A line longer than a piece (one huge polygon) must not cut a piece short, repeat one, or send
+    the search for the next cut past the text's end."""
+    short = b"v 1 2 3\n" * (fast_reader.MIN_PIECE_BYTES // 4)
+    long = b"f" + b" 1" * (3 * fast_reader.MIN_PIECE_BYTES) + b"\n"
+    text = {"first": long + short, "middle": short + long + short, "last": short + long, "only": long}[long_line]
+    buf = np.frombuffer(text, np.uint8)
+    pieces = fast_reader._pieces(buf, 16)
+    assert pieces[0][0] == 0 and pieces[-1][1] == len(text)
+    assert all(low < high and text[high - 1:high] == b"\n" for low, high in pieces)
+    assert all(earlier[1] == later[0] for earlier, later in zip(pieces, pieces[1:]))
+
+
 def test_vertex_extras_w_and_colours_are_ignored_and_vt_may_have_w() -> None:
     text = "v 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0 1 0.2 0.3 0.4\nvt 0.5 0.5 0\nf 1/1 2/1 3/1\n"
     mesh = parse(text)

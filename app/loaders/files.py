@@ -156,11 +156,16 @@ def read_model_bytes(path: str | Path, stage: Callable[[str], None] | None) -> b
     if stage is not None:
         stage("reading")
     data = read_file(path)
-    if not _ANYTHING.search(data):
-        raise LoadError(path, "empty file: no faces")
+    refuse_blank(path, data)
     if stage is not None:
         stage("parsing")
     return data
+
+
+def refuse_blank(path: str | Path, data: bytes | memoryview) -> None:
+    """A LoadError for a model file of whitespace alone."""
+    if not _ANYTHING.search(data):
+        raise LoadError(path, "empty file: no faces")
 
 
 def _read_up_to(stream: BinaryIO, expected: int, limit: int) -> bytes:

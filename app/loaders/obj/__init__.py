@@ -22,11 +22,10 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import read_model_bytes
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.mtl import read_libraries
 from marraztu.loaders.obj.raw import RawObj
-from marraztu.loaders.obj.text import checked, ended, has_continuations
+from marraztu.loaders.obj.text import as_bytes, checked, ended, has_continuations, read_text
 from marraztu.model.build import by_largest, colour_bytes, derive_mesh
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, counted
 
@@ -38,7 +37,7 @@ def load_obj(path: str | Path, stage: Callable[[str], None] | None = None) -> Me
     # The bytes are passed on, never kept here: they are freed once the tables are read, before
     # the normals and coordinates are derived.
     source = str(path)
-    return _guarded(source, lambda: _mesh(_tables(read_model_bytes(path, stage), source), source, Path(path).parent))
+    return _guarded(source, lambda: _mesh(_tables(read_text(path, stage), source), source, Path(path).parent))
 
 
 def parse_obj(data: bytes, source: str, base_dir: str | Path | None = None) -> Mesh:
@@ -46,7 +45,8 @@ def parse_obj(data: bytes, source: str, base_dir: str | Path | None = None) -> M
 
     ``base_dir`` is where ``mtllib`` files are looked for; without it the MTL is not read.
     """
-    return _guarded(source, lambda: _mesh(_tables(data, source), source, None if base_dir is None else Path(base_dir)))
+    return _guarded(source, lambda: _mesh(_tables(ended(data), source), source,
+                                          None if base_dir is None else Path(base_dir)))
 
 
 def _guarded(source: str, read: Callable[[], Mesh]) -> Mesh:
@@ -135,17 +135,16 @@ def _face_materials(runs: list[tuple[int, str]], library: list[MeshMaterial], fa
 COMPILED_READER_BYTES = 5 << 19
 
 
-def _tables(data: bytes, source: str) -> RawObj:
-    """The raw tables. One function, so that where the text is edited (a copy) the original, which
-    only this frame holds, goes before the reading."""
-    text = ended(data)
-    del data  # where ending it made a copy, the original goes before the reading
+def _tables(text: bytes | np.ndarray, source: str) -> RawObj:
+    """The raw tables of an ended text (marraztu.loaders.obj.text). One function, so that where the
+    text is copied or edited the original, which only this frame holds, goes before the reading."""
     if len(text) < COMPILED_READER_BYTES and not _compiled_reader_loaded():
         return _read_by_lines(text, source)
     try:
         from marraztu.loaders.obj import fast  # numba, imported for the files that repay it
         counted = fast.count_text(text)
         if counted.to_look_at:  # a NUL, a CR, a backslash or a no-break space: the text checks decide
+            text = as_bytes(text)
             edited = checked(text, source)
             if edited is not text:
                 text, counted = edited, fast.count_text(edited)
@@ -159,8 +158,8 @@ def _tables(data: bytes, source: str) -> RawObj:
         return _read_by_lines(text, source)
 
 
-def _read_by_lines(text: bytes, source: str) -> RawObj:
-    return read_by_lines(checked(text, source), source)
+def _read_by_lines(text: bytes | np.ndarray, source: str) -> RawObj:
+    return read_by_lines(checked(as_bytes(text), source), source)
 
 
 def _compiled_reader_loaded() -> bool:

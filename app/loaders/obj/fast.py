@@ -50,16 +50,16 @@ class Counted:
     to_look_at: bool
 
 
-def count_text(text: bytes) -> Counted:
+def count_text(text: bytes | np.ndarray) -> Counted:
     """Pass one, over the whole text. `text` ends with a newline (marraztu.loaders.obj.text.ended)."""
     buf = np.frombuffer(text, dtype=np.uint8)
-    pieces = _pieces(text, PARSE_THREADS * PIECES_PER_THREAD)
+    pieces = _pieces(buf, PARSE_THREADS * PIECES_PER_THREAD)
     outcomes = _each(lambda piece: scan.count_piece(buf, *piece), pieces)
     counts = np.array([counts for counts, _ in outcomes]).reshape(-1, scan.COUNT_COLUMNS)
     return Counted(pieces, counts, any(look for _, look in outcomes))
 
 
-def read_fast(text: bytes, source: str, counted: Counted | None = None) -> raw.RawObj:
+def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = None) -> raw.RawObj:
     """The file's tables, or the LoadError the line reader gives for its first bad line.
 
     `text` ends with a newline and has passed the text checks where `counted` (its pass one, made
@@ -75,7 +75,7 @@ def read_fast(text: bytes, source: str, counted: Counted | None = None) -> raw.R
     first_lines = (before[:, scan.LINES] + 1).tolist()
     records = _each(lambda at: scan.read_piece(buf, *pieces[at], before[at], first_lines[at], *tables, *columns,
                                                face_start), list(range(len(pieces))))
-    outcome = _Records(text, source, tables, columns, face_start)
+    outcome = _Records(buf, source, tables, columns, face_start)
     for piece in records:
         outcome.settle(piece)
     if total[scan.F] == 0:
@@ -94,16 +94,17 @@ def read_fast(text: bytes, source: str, counted: Counted | None = None) -> raw.R
                       list(outcome.colour.notes), outcome.material_runs, colours)
 
 
-def _pieces(text: bytes, count: int) -> list[tuple[int, int]]:
+def _pieces(buf: np.ndarray, count: int) -> list[tuple[int, int]]:
     """[low, high) byte ranges of whole lines, about equal: at most `count`, of MIN_PIECE_BYTES or more."""
-    count = max(1, min(count, len(text) // MIN_PIECE_BYTES))
+    size = buf.shape[0]
+    count = max(1, min(count, size // MIN_PIECE_BYTES))
     cuts = [0]
     for piece in range(1, count):
-        line_end = text.find(b"\n", piece * len(text) // count) + 1
-        if line_end > cuts[-1]:
-            cuts.append(line_end)
-    if cuts[-1] < len(text):
-        cuts.append(len(text))
+        if cuts[-1] == size:  # a long last line reached past the cuts still to make
+            break
+        cuts.append(scan.line_end(buf, max(piece * size // count, cuts[-1])) + 1)
+    if cuts[-1] < size:
+        cuts.append(size)
     return list(zip(cuts[:-1], cuts[1:]))
 
 
@@ -121,9 +122,9 @@ _SETTLED_AT_ONCE = 4096
 class _Records:
     """Settles the records of pass two in file order: the first bad line raises its LoadError."""
 
-    def __init__(self, text: bytes, source: str, tables: list[np.ndarray], columns: list[np.ndarray],
+    def __init__(self, buf: np.ndarray, source: str, tables: list[np.ndarray], columns: list[np.ndarray],
                  face_start: np.ndarray) -> None:
-        self.text, self.source, self.tables, self.columns, self.face_start = text, source, tables, columns, face_start
+        self.buf, self.source, self.tables, self.columns, self.face_start = buf, source, tables, columns, face_start
         self.mtllib: tuple[str, ...] = ()
         self.material_runs: list[tuple[int, str]] = []
         self.colour = raw.ColourComment()
@@ -138,7 +139,7 @@ class _Records:
 
     def _settle(self, records: list[list[int]]) -> None:
         for record in records:
-            content = self.text[record[scan.R_START]:record[scan.R_END]]
+            content = self.buf[record[scan.R_START]:record[scan.R_END]].tobytes()
             if record[scan.R_KIND] == scan.DEFERRED:
                 self.read_line(record, content)
             elif record[scan.R_KIND] == scan.STATEMENT:

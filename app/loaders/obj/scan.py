@@ -79,7 +79,7 @@ def _token_end(buf: np.ndarray, at: int) -> int:
 
 
 @njit(**_JIT)
-def _line_end(buf: np.ndarray, at: int) -> int:
+def line_end(buf: np.ndarray, at: int) -> int:
     while buf[at] != _NEWLINE:
         at += 1
     return at
@@ -123,7 +123,7 @@ def _tokens(buf: np.ndarray, at: int) -> tuple[int, int, int]:
 
 @njit(**_JIT)
 def _line_end_looking(buf: np.ndarray, at: int) -> tuple[int, int]:
-    """_line_end, and whether the bytes on the way hold one to look at (_TO_LOOK_AT)."""
+    """line_end, and whether the bytes on the way hold one to look at (_TO_LOOK_AT)."""
     look = 0
     while buf[at] != _NEWLINE:
         look |= _TO_LOOK_AT[buf[at]]  # an OR, not a branch: it costs pass one almost nothing
@@ -374,7 +374,7 @@ def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, f
             # usemtl and mtllib are read; of the rest (g, o, s...) one says the file has statements
             record = STATEMENT if not stated or kind != _OTHER_KEYWORD else -1
             stated = True
-        end = _line_end(buf, at)
+        end = line_end(buf, at)
         if not read:
             record = DEFERRED
         elif kind == _NO_KEYWORD and buf[at] == _HASH and not coloured:
@@ -419,7 +419,7 @@ def read_vertex_colours(buf: np.ndarray, low: int, high: int, first_row: int, co
             if numbers >= COLOURED_V_NUMBERS:
                 colours[row] = numbers_read[3:COLOURED_V_NUMBERS]
             row += 1
-        start = _line_end(buf, at) + 1
+        start = line_end(buf, at) + 1
 
 
 @njit(**_JIT)
@@ -433,5 +433,5 @@ def line_of_face(buf: np.ndarray, face: int) -> int:
                 return line
             seen += 1
         line += 1
-        start = _line_end(buf, after) + 1
+        start = line_end(buf, after) + 1
     return line
