@@ -889,6 +889,18 @@ def test_a_process_reading_only_small_files_never_imports_numba() -> None:
     assert done.stdout.strip() == "False"
 
 
+def test_files_and_bytes_share_one_machine_code_of_each_compiled_pass(tmp_path: Path) -> None:
+    """numba compiles and loads machine code per array type: a file read into an array and bytes
+    given to parse_obj must take the same, or a process holds (and a fresh install compiles) two."""
+    path = tmp_path / "big.obj"
+    path.write_bytes(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n" + b"f 1 2 3\n" * (obj_module.COMPILED_READER_BYTES // 8))
+    code = ("import sys; from marraztu.loaders.obj import load_obj, parse_obj, scan; "
+            f"load_obj({str(path)!r}); parse_obj(b'v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nf 1 2 3\\n' * 2, 'b.obj'); "
+            "print([len(f.signatures) for f in (scan.count_piece, scan.read_piece, scan.line_end)])")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "[1, 1, 1]"
+
+
 def test_once_the_compiled_reader_is_loaded_it_reads_small_files_too(monkeypatch: pytest.MonkeyPatch) -> None:
     read: list[str] = []
 

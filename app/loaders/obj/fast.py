@@ -52,7 +52,7 @@ class Counted:
 
 def count_text(text: bytes | np.ndarray) -> Counted:
     """Pass one, over the whole text. `text` ends with a newline (marraztu.loaders.obj.text.ended)."""
-    buf = np.frombuffer(text, dtype=np.uint8)
+    buf = _read_only_bytes(text)
     pieces = _pieces(buf, PARSE_THREADS * PIECES_PER_THREAD)
     outcomes = _each(lambda piece: scan.count_piece(buf, *piece), pieces)
     counts = np.array([counts for counts, _ in outcomes]).reshape(-1, scan.COUNT_COLUMNS)
@@ -64,7 +64,7 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
 
     `text` ends with a newline and has passed the text checks where `counted` (its pass one, made
     here when not given) says it needs them (marraztu.loaders.obj.text)."""
-    buf = np.frombuffer(text, dtype=np.uint8)
+    buf = _read_only_bytes(text)
     counted = counted or count_text(text)
     pieces, counts = counted.pieces, counted.counts
     before = np.cumsum(counts, axis=0) - counts  # each piece's offsets into the tables
@@ -92,6 +92,14 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
         raw.put_colours(colours, outcome.colour_rows, outcome.colour_values)  # the line reader's lines
     return raw.RawObj(*tables, columns[0], *optional, face_start, outcome.mtllib, outcome.colour.colour,
                       list(outcome.colour.notes), outcome.material_runs, colours)
+
+
+def _read_only_bytes(text: bytes | np.ndarray) -> np.ndarray:
+    """The text as the compiled passes take it: read-only, as bytes give it, whatever it came as, so
+    that numba has one machine code to load (it compiles each array type apart)."""
+    buf = np.frombuffer(text, dtype=np.uint8)
+    buf.flags.writeable = False
+    return buf
 
 
 def _pieces(buf: np.ndarray, count: int) -> list[tuple[int, int]]:
