@@ -1,11 +1,12 @@
 """The fast OBJ reader: compiled passes over the bytes (scan.py), on several threads.
 
 The text is cut into pieces at line ends. Pass one counts each piece's rows, faces and corners,
-and says whether the text needs the text checks (text.py), which most files, pure ASCII with LF line
-ends, do not; the tables are then made at their final sizes, and pass two writes every piece into them at its own
-offsets. What the compiled code does not read itself comes back as records, in file order: the
-line reader (lines.py) reads each listed v, vt, vn or f line, giving its values or its error, so
-every message is the line reader's; other statements and colour comments are read here.
+and says whether the text needs the text checks (text.py), which most files (pure ASCII, LF line
+ends) do not; the tables are then made at their final sizes, and pass two writes every piece into
+them at its own offsets. What the compiled code does not read itself comes back as records, in
+file order: the line reader (lines.py) reads each listed v, vt, vn or f line, giving its values or
+its error, so every message is the line reader's; other statements and colour comments are read
+here.
 """
 
 from __future__ import annotations
@@ -65,7 +66,8 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
     `text` ends with a newline and has passed the text checks where `counted` (its pass one, made
     here when not given) says it needs them (marraztu.loaders.obj.text)."""
     buf = _read_only_bytes(text)
-    counted = counted or count_text(text)
+    if counted is None:
+        counted = count_text(text)
     pieces, counts = counted.pieces, counted.counts
     before = np.cumsum(counts, axis=0) - counts  # each piece's offsets into the tables
     total = counts.sum(axis=0)

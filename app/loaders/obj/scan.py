@@ -252,8 +252,8 @@ def _face(buf: np.ndarray, at: int, defined: np.ndarray, vertex: np.ndarray, tex
     or -1 when the line is the line reader's, and where reading stopped. Every corner must have the
     first one's format; positive indices may point forward (checked once the file is read).
 
-    The loop leaves only at the line's end: a bad corner is noted and read past, never returned
-    from, which keeps the loop a third quicker. Each turn takes one token, so a bad line fills no
+    The loop leaves only at the line's end: a bad corner is noted and read past, because a loop that
+    can leave at one compiles to much slower code. Each turn takes one token, so a bad line fills no
     more slots than pass one counted for it (the line reader fills them again)."""
     count, shape, bad = 0, -1, False
     while True:

@@ -25,8 +25,8 @@ _NEWLINE = ord("\n")
 
 def read_text(path: str | Path, stage: Callable[[str], None] | None) -> np.ndarray:
     """A file's text as `ended` makes it, in a uint8 array: numpy backs a large array with huge pages,
-    which a large file is read into in about half the time bytes take, and the newline a last line
-    lacks goes in room kept for it instead of a copy. `stage` hears "reading", then "parsing"."""
+    which a large file is read into more quickly than into bytes, and the newline a last line lacks
+    goes in room kept for it instead of a copy. `stage` hears "reading", then "parsing"."""
     if stage is not None:
         stage("reading")
     size = regular_file_size(path)
