@@ -125,22 +125,41 @@ def test_polygons_of_every_size_get_the_same_normal(corners: int, copies: int, t
 ROW_VALUES = st.sampled_from([0.0, -0.0, 1.0, -1.0, 0.1, 1e-300, 5e-324, 3.0e38, -1e308, 2.0**52 + 1])
 
 
+# Keys that collide: none (each row's own), every row's, or rows sharing their first number's (so
+# that some keys hold one row's copies and others several rows).
+COLLIDING_KEYS = {
+    "none": None,
+    "all": lambda table: np.zeros(len(table), np.uint64),
+    "by first number": lambda table: (table[:, 0] + 0.0).view(np.uint64) * np.uint64(0x9E3779B97F4A7C15),
+}
+
+
 @FUZZ
 @given(rows=st.lists(st.tuples(ROW_VALUES, ROW_VALUES, ROW_VALUES), min_size=0, max_size=60),
-       colliding=st.booleans())
-def test_equal_rows_merge_as_np_unique_merges_them(rows: list[tuple[float, float, float]], colliding: bool) -> None:
-    """The same rows in the order first seen, whether each key is its row's or every row shares one
-    (the exact fallback): -0.0 and 0.0 are one number, as np.unique has them."""
+       colliding=st.sampled_from(sorted(COLLIDING_KEYS)))
+def test_equal_rows_merge_as_np_unique_merges_them(rows: list[tuple[float, float, float]], colliding: str) -> None:
+    """The same rows in the order first seen, whether each key is its row's or keys collide (those
+    rows grouped exactly): -0.0 and 0.0 are one number, as np.unique has them."""
     table = np.array(rows, dtype=np.float64).reshape(-1, 3)
     with pytest.MonkeyPatch.context() as patch:
-        if colliding:
-            patch.setattr(geometry, "_row_keys", lambda bits: np.zeros(len(bits), np.uint64))
+        if COLLIDING_KEYS[colliding] is not None:
+            patch.setattr(geometry, "_row_keys", COLLIDING_KEYS[colliding])
         merged, first, inverse = merged_rows(table)
     expected = np.unique(table, axis=0) if len(table) else table
     assert len(merged) == len(expected) and len(inverse) == len(table)
     np.testing.assert_array_equal(merged[inverse], table)  # each row is its merged row (-0.0 == 0.0)
     np.testing.assert_array_equal(merged, table[first])
     assert (np.diff(first) > 0).all() and (first[inverse] <= np.arange(len(table))).all()  # first seen, first
+
+
+def test_a_large_table_merges_as_np_unique_merges_it() -> None:
+    """Enough rows that the key's low bits give way to 18 bits of index; seeded."""
+    table = np.random.default_rng(7).integers(0, 40, (200_000, 3)).astype(np.float64) / 8.0
+    merged, first, inverse = merged_rows(table)
+    assert len(merged) == len(np.unique(table, axis=0))
+    np.testing.assert_array_equal(merged[inverse], table)
+    np.testing.assert_array_equal(merged, table[first])
+    assert (np.diff(first) > 0).all() and (first[inverse] <= np.arange(len(table))).all()
 
 
 CELLS = st.sampled_from([0.0, 0.5, -2.0, 1e30, 1e300, float("nan"), float("inf"), -float("inf")])

@@ -63,38 +63,57 @@ def merged_rows(table: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     order first seen, the index of each one's first appearance, and each row's index among them.
 
     Not np.unique(axis=0), which sorts 24-byte records several times more slowly, and not trimesh's
-    unique_rows, which rounds: rows are hashed to one 64-bit key and sorted once, and the rare key
-    shared by different rows is caught and np.unique does the grouping instead."""
+    unique_rows, which rounds: rows are hashed to one 64-bit key, whose low bits then hold the row's
+    index, so that a plain sort (quicker than an argsort) groups them; the rare key shared by
+    different rows is caught, and np.unique groups the rows of those keys alone."""
     if table.ndim != 2 or table.shape[1] != 3:
         raise ValueError(f"merged_rows takes rows of three numbers, not shape {table.shape}")
     if len(table) == 0:
         return table, np.zeros(0, np.int64), np.zeros(0, np.int64)
     first, group = _groups_by_key(table)
-    if not all(np.array_equal(np.take(table[first, column], group), table[:, column]) for column in range(3)):
-        _, first, group = np.unique(table, axis=0, return_index=True, return_inverse=True)  # keys collided
-        group = group.reshape(-1)
-    seen = np.argsort(first)  # the groups in the order the table first shows them
-    number = np.empty(len(seen), np.int64)
-    number[seen] = np.arange(len(seen))
-    first = first[seen]
+    differ = np.zeros(len(table), bool)
+    for column in range(3):  # each row against its group's first row
+        differ |= np.take(table[first, column], group) != table[:, column]
+    if differ.any():  # keys collided
+        first, group = _collisions_split(table, first, group, np.unique(group[differ]))
+    # The groups in the order the table first shows them: a group's number is its first row's rank.
+    is_first = np.zeros(len(table), bool)
+    is_first[first] = True
+    number = (np.cumsum(is_first) - 1)[first]
+    first = np.flatnonzero(is_first)
     return table[first], first, number[group]
 
 
 def _groups_by_key(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Rows grouped by key: each group's first row, and each row's group."""
-    order, starts = _sorted_by_key(table)
-    group = np.empty(len(order), np.int64)
-    group[order] = np.repeat(np.arange(len(starts)), np.diff(np.append(starts, len(order))))
-    return np.minimum.reduceat(order, starts), group
+    """Rows grouped by key: each group's first row, and each row's group. The key's low bits give way
+    to the row's index, so sorting the keys orders each group's rows by index too."""
+    count = len(table)
+    index_bits = np.uint64(max(1, (count - 1).bit_length()))
+    keyed = _row_keys(table) >> index_bits << index_bits
+    keyed |= np.arange(count, dtype=np.uint64)
+    keyed.sort()
+    order = (keyed & ((np.uint64(1) << index_bits) - np.uint64(1))).astype(np.int64)
+    keyed >>= index_bits
+    starts = np.flatnonzero(np.concatenate(([True], keyed[1:] != keyed[:-1])))
+    del keyed
+    group = np.empty(count, np.int64)
+    group[order] = np.repeat(np.arange(len(starts)), np.diff(np.append(starts, count)))
+    return order[starts], group
 
 
-def _sorted_by_key(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The rows in the order of their keys, and where each key's run starts in that order. (A function
-    of its own, so that the keys are freed before the rest is made.)"""
-    key = _row_keys(table)
-    order = np.argsort(key)
-    sorted_key = key[order]
-    return order, np.flatnonzero(np.concatenate(([True], sorted_key[1:] != sorted_key[:-1])))
+def _collisions_split(table: np.ndarray, first: np.ndarray, group: np.ndarray, collided: np.ndarray
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """`first` and `group` with the groups `collided` (which hold different rows under one key)
+    regrouped by np.unique, their rows alone: equal rows have equal keys, so no other group holds
+    one of theirs."""
+    rows = np.flatnonzero(np.isin(group, collided))
+    _, row_first, row_group = np.unique(table[rows], axis=0, return_index=True, return_inverse=True)
+    kept = np.ones(len(first), bool)
+    kept[collided] = False
+    renumbered = np.cumsum(kept) - 1  # the groups kept, numbered again from 0
+    group = renumbered[group]
+    group[rows] = int(kept.sum()) + row_group.reshape(-1)
+    return np.concatenate([first[kept], rows[row_first]]), group
 
 
 def _row_keys(table: np.ndarray) -> np.ndarray:
