@@ -8,8 +8,8 @@
 //   Gouraud: evaluated at every vertex with its vertex normal, the colours interpolated;
 //   Phong: the position and vertex normal interpolated, evaluated at every pixel (side by side only).
 // The depth view (DEPTH_VIEW defined) has a program of its own for each way, which paints the depth
-// and hands on no colour: on an NVIDIA H100, gl_FragCoord.z read in Gouraud's lit program, even in a
-// branch never taken, made its frames of small triangles a third slower.
+// and hands on no colour: on an NVIDIA GPU, gl_FragCoord.z read in Gouraud's lit program, even in a
+// branch never taken, made its frames of small triangles much slower.
 // Flat and Gouraud light their vertices in a pass of their own (LIGHTING_PASS: transform feedback,
 // nothing rasterised, or a compute program) that writes a colour per vertex row into the object's
 // lit buffer, and the drawing pass reads it back as an attribute. The renderer runs that pass only

@@ -55,8 +55,6 @@ MAX_PLACED_TRIANGLES = (MAX_FILE_BYTES - HEADER_BYTES) // TRIANGLE_BYTES
 _NOT_FINITE = re.compile(rb"(?i)(?<![a-z])(?:[-+]?nan|[-+]?inf(?:inity)?)(?![a-z])")
 
 
-
-
 # --- the readers of the registry -----------------------------------------------------------------
 # trimesh's objects refer to one another (a mesh, its visuals, their caches), so its tables, and the
 # file's bytes it keeps, wait for Python's cycle collector, which may not run for minutes. From this

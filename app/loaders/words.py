@@ -78,12 +78,12 @@ def checked_coordinates(path: Path, words: list[str], line_of: LineOf) -> np.nda
 
 def checked_indices(path: Path, words: list[str], line_of: LineOf, vertices: int) -> np.ndarray:
     """int64 vertex indices, each a whole number from 0 to vertices - 1."""
-    beyond = f"out of range (the file has {vertices} vertices)"
-    values = _converted(path, words, line_of, np.int64, _WHOLE, beyond)
+    out_of_range = f"vertex index {{}} out of range (the file has {vertices} vertices)"
+    values = _converted(path, words, line_of, np.int64, _WHOLE, out_of_range)
     outside = (values < 0) | (values >= vertices)
     if outside.any():
         at = int(np.argmax(outside))
-        raise LoadError(path, f"vertex index {values[at]} {beyond}", line=line_of(at))
+        raise LoadError(path, out_of_range.format(values[at]), line=line_of(at))
     return values
 
 
@@ -93,9 +93,9 @@ def is_count(word: str) -> bool:
 
 
 def _converted(path: Path, words: list[str], line_of: LineOf, kind: type, syntax: re.Pattern[str],
-               beyond: str = "") -> np.ndarray:
+               out_of_range: str = "{} out of range") -> np.ndarray:
     """The words as `kind`, or the LoadError of the first, in file order, that is not one: not of
-    `syntax`, or (int64) a whole number past it, numpy's OverflowError, said to be `beyond` range."""
+    `syntax`, or (int64) a whole number past it (numpy's OverflowError), worded by `out_of_range`."""
     try:
         values = np.array(words, dtype=kind)
     except (ValueError, OverflowError):
@@ -107,7 +107,7 @@ def _converted(path: Path, words: list[str], line_of: LineOf, kind: type, syntax
     at, word = next(((at, word) for at, word in enumerate(words)
                      if not syntax.fullmatch(word) or (whole and _past_int64(word))), (0, words[0]))
     if syntax.fullmatch(word):
-        raise LoadError(path, f"vertex index {word[:40]} {beyond}", line=line_of(at))
+        raise LoadError(path, out_of_range.format(word[:40]), line=line_of(at))
     wanted = "a number" if kind is np.float64 else "a whole number"
     raise LoadError(path, f"'{word[:40]}' is not {wanted}", line=line_of(at))
 

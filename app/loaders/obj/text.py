@@ -44,8 +44,7 @@ def read_text(path: str | Path, stage: Callable[[str], None] | None) -> np.ndarr
         got += 1
     if stage is not None:
         stage("parsing")
-    start = len(_BOM) if got >= len(_BOM) and room[:len(_BOM)].tobytes() == _BOM else 0
-    return room[start:got]
+    return room[_bom_length(room[:min(got, len(_BOM))].tobytes()):got]
 
 
 def _read_into(stream: BinaryIO, room: memoryview) -> int:
@@ -66,10 +65,15 @@ def as_bytes(text: bytes | np.ndarray) -> bytes:
 def ended(data: bytes) -> bytes:
     """The text without a UTF-8 byte order mark, its last line ended by a newline (a copy only where
     either is needed)."""
-    start = len(_BOM) if data.startswith(_BOM) else 0
+    start = _bom_length(data[:len(_BOM)])
     if start or not data.endswith(b"\n"):  # both edits in one copy
         data = b"".join((memoryview(data)[start:], b"" if data.endswith(b"\n") else b"\n"))
     return data
+
+
+def _bom_length(head: bytes) -> int:
+    """How many of a text's first bytes are a UTF-8 byte order mark, which both readers skip."""
+    return len(_BOM) if head == _BOM else 0
 
 
 def checked(text: bytes, source: str) -> bytes:
