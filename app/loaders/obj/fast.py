@@ -74,9 +74,8 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
     tables = [np.empty((int(total[kind]), width)) for kind, width in zip((scan.V, scan.VT, scan.VN), _WIDTHS)]
     columns = [np.empty(int(total[scan.CORNERS]), INDEX) for _ in range(3)]
     face_start = np.zeros(int(total[scan.F]) + 1, INDEX)
-    first_lines = (before[:, scan.LINES] + 1).tolist()
-    records = _each(lambda at: scan.read_piece(buf, *pieces[at], before[at], first_lines[at], *tables, *columns,
-                                               face_start), list(range(len(pieces))))
+    records = _each(lambda at: _read_piece(buf, pieces[at], before[at], tables, columns, face_start),
+                    list(range(len(pieces))))
     outcome = _Records(buf, source, tables, columns, face_start)
     for piece in records:
         outcome.settle(piece)
@@ -94,6 +93,21 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
         raw.put_colours(colours, outcome.colour_rows, outcome.colour_values)  # the line reader's lines
     return raw.RawObj(*tables, columns[0], *optional, face_start, outcome.mtllib, outcome.colour.colour,
                       list(outcome.colour.notes), outcome.material_runs, colours)
+
+
+def _read_piece(buf: np.ndarray, piece: tuple[int, int], before: np.ndarray, tables: list[np.ndarray],
+                columns: list[np.ndarray], face_start: np.ndarray) -> np.ndarray:
+    """Pass two over a piece, given more room for its records each time it fills them; its records."""
+    state = np.zeros(scan.STATE_COLUMNS, np.int64)
+    state[:scan.COUNT_COLUMNS] = before
+    state[scan.LINES] += 1  # line numbers start at 1
+    state[scan.S_AT] = piece[0]
+    records = np.empty((16, scan.RECORD_COLUMNS), np.int64)
+    while True:
+        scan.read_piece(buf, piece[1], state, records, *tables, *columns, face_start)
+        if state[scan.S_AT] >= piece[1]:
+            return records[:state[scan.S_USED]]
+        records = np.concatenate([records, np.empty_like(records)])
 
 
 def _read_only_bytes(text: bytes | np.ndarray) -> np.ndarray:

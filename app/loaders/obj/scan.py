@@ -30,6 +30,13 @@ DEFERRED, STATEMENT, COMMENT, VERTEX_COLOURS = 0, 1, 2, 3
 # the faces and corners before it, and its keyword's kind.
 R_KIND, R_START, R_END, R_LINE, R_V, R_VT, R_VN, R_FACE, R_CORNER, R_KEYWORD = range(10)
 RECORD_COLUMNS = 10
+# Where pass two is in a piece: the counts (as COUNT_COLUMNS, LINES being the next line's number),
+# the next line's first byte, the records used, and what the piece has recorded once (_STATED...).
+S_AT, S_USED, S_FLAGS = COUNT_COLUMNS, COUNT_COLUMNS + 1, COUNT_COLUMNS + 2
+STATE_COLUMNS = COUNT_COLUMNS + 3
+# A statement (one says the file has some); a colour comment that sets the colour (later ones cannot);
+# a v line with a colour (once a piece is enough).
+_STATED, _COLOUR_SET, _COLOURS_SEEN = 1, 2, 4
 
 _NEWLINE, _HASH, _SLASH, _MINUS, _PLUS, _DOT, _ZERO, _NINE = (ord(c) for c in "\n#/-+.09")
 _LETTER_V, _LETTER_T, _LETTER_N, _LETTER_F, _LOWER_CASE = ord("v"), ord("t"), ord("n"), ord("f"), 0x20
@@ -208,10 +215,11 @@ def _number(buf: np.ndarray, at: int) -> tuple[float, int, bool]:
 
 
 @njit(**_JIT)
-def _numbers(buf: np.ndarray, at: int, row: np.ndarray, fewest: int, most: int) -> tuple[int, int]:
-    """A v, vt or vn line's numbers, the first len(row) of them into row: how many it holds, or -1
-    where they were not read (the line reader reads the line), and where reading stopped."""
-    count = 0
+def _numbers(buf: np.ndarray, at: int, table: np.ndarray, row: int, fewest: int, most: int) -> tuple[int, int]:
+    """A v, vt or vn line's numbers, the first table.shape[1] of them into table[row]: how many it
+    holds, or -1 where they were not read (the line reader reads the line), and where reading stopped.
+    The row is written by index: a view of it per line costs more than the line's numbers."""
+    count, width = 0, table.shape[1]
     while True:
         at = _skip_blanks(buf, at)
         if buf[at] == _NEWLINE or buf[at] == _HASH:
@@ -221,8 +229,8 @@ def _numbers(buf: np.ndarray, at: int, row: np.ndarray, fewest: int, most: int) 
         value, at, ok = _number(buf, at)
         if not ok:
             return -1, at
-        if count < row.shape[0]:
-            row[count] = value
+        if count < width:
+            table[row, count] = value
         count += 1
 
 
@@ -281,15 +289,6 @@ def _face(buf: np.ndarray, at: int, defined: np.ndarray, vertex: np.ndarray, tex
 
 
 @njit(**_JIT)
-def _grown(records: np.ndarray, used: int) -> np.ndarray:
-    if used < records.shape[0]:
-        return records
-    bigger = np.empty((records.shape[0] * 2, RECORD_COLUMNS), np.int64)
-    bigger[:used] = records[:used]
-    return bigger
-
-
-@njit(**_JIT)
 def _colour_comment(buf: np.ndarray, at: int) -> int:
     """What the comment whose '#' is at `at` is to the colour reader: raw.COLOUR_COMMENT's shape ("colour"
     or "color", then exactly three words) is checked here; its words are _COLOUR_READ when each is a
@@ -337,20 +336,17 @@ def _statement_kind(buf: np.ndarray, start: int) -> int:
 
 
 @njit(**_JIT)
-def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, first_line: int,
-               positions: np.ndarray, texcoords: np.ndarray, normals: np.ndarray, vertex: np.ndarray,
-               texcoord: np.ndarray, normal: np.ndarray, face_start: np.ndarray) -> np.ndarray:
-    """Pass two over buf[low:high]: its rows, corners and face ends into the whole file's tables, from
-    the offsets `start_counts` (the counts of every piece before it). Returns its records."""
-    defined = start_counts[:3].copy()
-    face, corner, line = start_counts[F], start_counts[CORNERS], first_line
-    records = np.empty((16, RECORD_COLUMNS), np.int64)
-    used = 0
-    stated = False  # whether this piece has recorded a statement yet
-    coloured = False  # whether it has recorded a colour comment that sets the colour: later ones cannot
-    colours_seen = False  # whether it has recorded a v line with a colour: once a piece is enough
-    start = low
-    while start < high:
+def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarray, positions: np.ndarray,
+               texcoords: np.ndarray, normals: np.ndarray, vertex: np.ndarray, texcoord: np.ndarray,
+               normal: np.ndarray, face_start: np.ndarray) -> None:
+    """Pass two over a piece, up to `high`: its rows, corners and face ends into the whole file's
+    tables, and its records into `records`. `state` says where it is (STATE_COLUMNS): the counts so
+    far in the whole file, the next line, and the records used. It returns once the piece is read or
+    `records` is full, to be called again with more room: growing them here would cost every line."""
+    defined = state[:3].copy()
+    face, corner, line = state[F], state[CORNERS], state[LINES]
+    start, used, flags = state[S_AT], state[S_USED], state[S_FLAGS]
+    while start < high and used < records.shape[0]:
         if buf[start] == _NEWLINE:
             line += 1
             start += 1
@@ -358,15 +354,15 @@ def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, f
         kind, at = _keyword(buf, start)
         record, corners, read = -1, 0, True
         if kind == V:
-            numbers, at = _numbers(buf, at, positions[defined[V]], 3, 7)
+            numbers, at = _numbers(buf, at, positions, defined[V], 3, 7)
             read = numbers >= 0
-            if numbers >= COLOURED_V_NUMBERS and not colours_seen:
-                record, colours_seen = VERTEX_COLOURS, True
+            if numbers >= COLOURED_V_NUMBERS and not flags & _COLOURS_SEEN:
+                record, flags = VERTEX_COLOURS, flags | _COLOURS_SEEN
         elif kind == VT:
-            numbers, at = _numbers(buf, at, texcoords[defined[VT]], 2, 3)
+            numbers, at = _numbers(buf, at, texcoords, defined[VT], 2, 3)
             read = numbers >= 0
         elif kind == VN:
-            numbers, at = _numbers(buf, at, normals[defined[VN]], 3, 3)
+            numbers, at = _numbers(buf, at, normals, defined[VN], 3, 3)
             read = numbers >= 0
         elif kind == F:
             corners, stop = _face(buf, at, defined, vertex, texcoord, normal, corner)
@@ -376,20 +372,20 @@ def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, f
         elif kind == _OTHER_KEYWORD:
             kind = _statement_kind(buf, start)
             # usemtl and mtllib are read; of the rest (g, o, s...) one says the file has statements
-            record = STATEMENT if not stated or kind != _OTHER_KEYWORD else -1
-            stated = True
+            record = STATEMENT if not flags & _STATED or kind != _OTHER_KEYWORD else -1
+            flags |= _STATED
         end = line_end(buf, at)
         if not read:
             record = DEFERRED
-        elif kind == _NO_KEYWORD and buf[at] == _HASH and not coloured:
+        elif kind == _NO_KEYWORD and buf[at] == _HASH and not flags & _COLOUR_SET:
             shape = _colour_comment(buf, at)
             if shape != _NOT_COLOUR:
-                record, coloured = COMMENT, shape == _COLOUR_READ
+                record = COMMENT
+                flags |= _COLOUR_SET if shape == _COLOUR_READ else 0
         if (kind == _USEMTL_KEYWORD and used > 0 and records[used - 1, R_KEYWORD] == _USEMTL_KEYWORD
                 and records[used - 1, R_FACE] == face):
             used -= 1  # a usemtl no face followed: this one takes its place (as raw.add_material_run does)
         if record >= 0:
-            records = _grown(records, used)
             row = records[used]
             row[R_KIND], row[R_START], row[R_END], row[R_LINE], row[R_KEYWORD] = record, start, end, line, kind
             row[R_V:R_VN + 1] = defined
@@ -403,7 +399,9 @@ def read_piece(buf: np.ndarray, low: int, high: int, start_counts: np.ndarray, f
             defined[kind] += 1
         line += 1
         start = end + 1
-    return records[:used].copy()
+    state[:3] = defined
+    state[F], state[CORNERS], state[LINES] = face, corner, line
+    state[S_AT], state[S_USED], state[S_FLAGS] = start, used, flags
 
 
 @njit(**_JIT)
@@ -411,7 +409,7 @@ def read_vertex_colours(buf: np.ndarray, low: int, high: int, first_row: int, co
     """A third pass over buf[low:high], for files with `v x y z r g b` lines: each v line's 4th to 6th
     numbers into its row of `colours` from `first_row` on; rows of lines with fewer, or of lines this
     code leaves to the line reader, are left as they are."""
-    numbers_read = np.empty(7)
+    numbers_read = np.empty((1, 7))
     row, start = first_row, low
     while start < high:
         if buf[start] == _NEWLINE:
@@ -419,9 +417,9 @@ def read_vertex_colours(buf: np.ndarray, low: int, high: int, first_row: int, co
             continue
         kind, at = _keyword(buf, start)
         if kind == V:
-            numbers, at = _numbers(buf, at, numbers_read, 3, 7)
+            numbers, at = _numbers(buf, at, numbers_read, 0, 3, 7)
             if numbers >= COLOURED_V_NUMBERS:
-                colours[row] = numbers_read[3:COLOURED_V_NUMBERS]
+                colours[row] = numbers_read[0, 3:COLOURED_V_NUMBERS]
             row += 1
         start = line_end(buf, at) + 1
 
