@@ -20,7 +20,7 @@ from marraztu.errors import LoadError
 from marraztu.loaders import obj as obj_module
 from marraztu.loaders.files import read_file
 from marraztu.loaders.obj import fast as fast_reader
-from marraztu.loaders.obj import load_obj, parse_obj
+from marraztu.loaders.obj import load_obj, parse_obj, scan
 from marraztu.loaders.obj import text as obj_text
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.raw import RawObj
@@ -608,6 +608,24 @@ def test_pass_one_notes_a_byte_the_text_checks_judge_wherever_it_is(inserted: st
     assert not fast_reader.count_text(EVERY_LINE).to_look_at
     for at in range(len(EVERY_LINE)):
         assert fast_reader.count_text(EVERY_LINE[:at] + inserted.encode() + EVERY_LINE[at:]).to_look_at, at
+
+
+def test_the_word_scan_for_those_bytes_sees_each_at_any_alignment_and_bounds() -> None:
+    """It reads aligned eight-byte words between bytewise ends: each byte it looks for, or one next to
+    them in value, at every place of a short text at every alignment, with every low and high bound."""
+    plain = np.frombuffer(b"v 0.5 1/2 # \x7f\x80\xc3\n" * 2, np.uint8)
+    for byte in (0x00, 0x0D, 0x5C, 0xC2, 0x01, 0x0C, 0x5D, 0xC1, 0xFF):
+        for alignment in range(8):
+            room = np.zeros(len(plain) + 16, np.uint8)
+            text = room[alignment:alignment + len(plain)]
+            for at in range(len(plain)):
+                text[:] = plain
+                text[at] = byte
+                read_only = fast_reader._read_only_bytes(text)  # as the reader passes it: one machine code
+                for low in range(0, at + 1, 5):
+                    for high in range(at, len(text) + 1, 3):
+                        looked_at = byte in (0x00, 0x0D, 0x5C, 0xC2) and low <= at < high
+                        assert scan.holds_bytes_to_look_at(read_only, low, high) == looked_at, (byte, at, low, high)
 
 
 @settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])

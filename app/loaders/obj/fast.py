@@ -38,13 +38,13 @@ _WIDTHS = (3, 2, 3)
 
 def machine_code_loaded() -> bool:
     """Whether this process has its compiled code yet (numba loads it, from its cache, on first use)."""
-    return all(function.signatures for function in (scan.count_piece, scan.read_piece))
+    return all(function.signatures for function in (scan.count_piece, scan.holds_bytes_to_look_at, scan.read_piece))
 
 
 @dataclass(frozen=True)
 class Counted:
     """Pass one's outcome: the pieces of the text, their counts, and whether a byte in them is one
-    only the text checks judge (scan._TO_LOOK_AT)."""
+    only the text checks judge (scan.holds_bytes_to_look_at)."""
 
     pieces: list[tuple[int, int]]
     counts: np.ndarray  # (pieces, scan.COUNT_COLUMNS)
@@ -55,7 +55,7 @@ def count_text(text: bytes | np.ndarray) -> Counted:
     """Pass one, over the whole text. `text` ends with a newline (marraztu.loaders.obj.text.ended)."""
     buf = _read_only_bytes(text)
     pieces = _pieces(buf, PARSE_THREADS * PIECES_PER_THREAD)
-    outcomes = _each(lambda piece: scan.count_piece(buf, *piece), pieces)
+    outcomes = _each(lambda piece: (scan.count_piece(buf, *piece), scan.holds_bytes_to_look_at(buf, *piece)), pieces)
     counts = np.array([counts for counts, _ in outcomes]).reshape(-1, scan.COUNT_COLUMNS)
     return Counted(pieces, counts, any(look for _, look in outcomes))
 

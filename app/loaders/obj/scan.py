@@ -1,8 +1,8 @@
 """The compiled half of the fast OBJ reader: two passes over the bytes, machine code by numba.
 
-Pass one counts the rows of each table, the faces and their corners in a piece of the text, and
-notes whether it holds a byte only the text checks judge (text.py); pass two writes them straight
-into the whole file's tables at the offsets the counts give. A line is read byte by byte, up to its
+Pass one counts the rows of each table, the faces and their corners in a piece of the text (and a
+quick scan says whether it holds a byte only the text checks judge, text.py); pass two writes them
+straight into the whole file's tables at the offsets the counts give. A line is read byte by byte, up to its
 newline (every line ends with one: the caller makes sure), with nothing allocated per line. A line
 this code does not read itself, valid or not (an exponent past 1e22, a number of more than 15
 digits, any error, o/g/usemtl and the like), is listed as a *record*, in file order, for the Python
@@ -50,9 +50,12 @@ _USEMTL, _MTLLIB = np.frombuffer(b"usemtl", np.uint8), np.frombuffer(b"mtllib", 
 _POWERS_OF_TEN = np.array([10.0**k for k in range(23)])
 # The bytes that only the Python side's text checks judge (marraztu.loaders.obj.text): a NUL, a CR
 # (a lone one ends a line), a backslash (it may continue a line), and the first byte of a UTF-8
-# no-break space. Pass one notes whether a text holds any, so a text without them is not checked.
+# no-break space. A text without them is not checked.
 _TO_LOOK_AT = np.zeros(256, np.uint8)
 _TO_LOOK_AT[[0, ord("\r"), ord("\\"), 0xC2]] = 1
+# Each of them repeated over a word's eight bytes (holds_bytes_to_look_at), and the words' constants.
+_LOW_BITS, _HIGH_BITS = np.uint64(0x0101010101010101), np.uint64(0x8080808080808080)
+_NULS, _CRS, _BACKSLASHES, _C2S = (np.uint64(byte) * _LOW_BITS for byte in np.flatnonzero(_TO_LOOK_AT))
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}  # cached machine code; threads run at once
 
 
@@ -112,38 +115,21 @@ def _keyword(buf: np.ndarray, start: int) -> tuple[int, int]:
 
 
 @njit(**_JIT)
-def _tokens(buf: np.ndarray, at: int) -> tuple[int, int, int]:
-    """Whitespace-separated tokens before any '#' (a face line's corners), where they end, and whether
-    they hold a byte to look at (_TO_LOOK_AT)."""
-    count, look = 0, 0
+def _tokens(buf: np.ndarray, at: int) -> tuple[int, int]:
+    """Whitespace-separated tokens before any '#' (a face line's corners), and where they end."""
+    count = 0
     while True:
-        while _is_blank(buf[at]):
-            look |= _TO_LOOK_AT[buf[at]]
-            at += 1
+        at = _skip_blanks(buf, at)
         if buf[at] == _NEWLINE or buf[at] == _HASH:
-            return count, at, look
+            return count, at
         count += 1
-        while not _ends_token(buf[at]):
-            look |= _TO_LOOK_AT[buf[at]]
-            at += 1
+        at = _token_end(buf, at)
 
 
 @njit(**_JIT)
-def _line_end_looking(buf: np.ndarray, at: int) -> tuple[int, int]:
-    """line_end, and whether the bytes on the way hold one to look at (_TO_LOOK_AT)."""
-    look = 0
-    while buf[at] != _NEWLINE:
-        look |= _TO_LOOK_AT[buf[at]]  # an OR, not a branch: it costs pass one almost nothing
-        at += 1
-    return at, look
-
-
-@njit(**_JIT)
-def count_piece(buf: np.ndarray, low: int, high: int) -> tuple[np.ndarray, int]:
-    """Rows of v, vt and vn, faces, lines and corners in buf[low:high], whole lines; and whether they
-    hold a byte the Python side must look at first (_TO_LOOK_AT), 1 or 0."""
+def count_piece(buf: np.ndarray, low: int, high: int) -> np.ndarray:
+    """Rows of v, vt and vn, faces, lines and corners in buf[low:high], whole lines."""
     counts = np.zeros(COUNT_COLUMNS, np.int64)
-    look = 0
     start = low
     while start < high:
         if buf[start] == _NEWLINE:  # an empty line, in a loop of its own: a file of them must be cheap
@@ -151,19 +137,40 @@ def count_piece(buf: np.ndarray, low: int, high: int) -> tuple[np.ndarray, int]:
             start += 1
             continue
         kind, after = _keyword(buf, start)
-        for at in range(start, after):
-            look |= _TO_LOOK_AT[buf[at]]
         if kind >= 0:
             counts[kind] += 1
         if kind == F:
-            corners, after, tokens_look = _tokens(buf, after)
+            corners, after = _tokens(buf, after)
             counts[CORNERS] += corners
-            look |= tokens_look
         counts[LINES] += 1
-        end, rest_look = _line_end_looking(buf, after)
-        look |= rest_look
-        start = end + 1
-    return counts, look
+        start = line_end(buf, after) + 1
+    return counts
+
+
+@njit(**_JIT)
+def holds_bytes_to_look_at(buf: np.ndarray, low: int, high: int) -> bool:
+    """Whether buf[low:high] holds a byte only the text checks judge (_TO_LOOK_AT): eight bytes at a
+    time, as aligned words, where a word holds byte b if (word ^ bbbbbbbb) has a zero byte."""
+    first = min(high, low + (-(buf.ctypes.data + low)) % 8)
+    last = first + (high - first) // 8 * 8
+    found = 0
+    for at in range(low, first):
+        found |= _TO_LOOK_AT[buf[at]]
+    for at in range(last, high):
+        found |= _TO_LOOK_AT[buf[at]]
+    words, zeros = buf[first:last].view(np.uint64), np.uint64(0)
+    for at in range(words.shape[0]):  # indexed, not iterated: LLVM vectorizes this loop
+        word = words[at]
+        zeros |= _zero_bytes(word ^ _NULS) | _zero_bytes(word ^ _CRS) | _zero_bytes(word ^ _BACKSLASHES) \
+            | _zero_bytes(word ^ _C2S)
+    return found != 0 or zeros != 0
+
+
+@njit(**_JIT)
+def _zero_bytes(word: np.uint64) -> np.uint64:
+    """Not zero if and only if a byte of the word is zero: subtracting 1 sets a byte's top bit only
+    where it was 0 or above 0x80, ~word clears it for the latter, and only a zero byte borrows."""
+    return (word - _LOW_BITS) & ~word & _HIGH_BITS
 
 
 @njit(**_JIT)
