@@ -1,12 +1,12 @@
 """The fast OBJ reader: compiled passes over the bytes (scan.py), on several threads.
 
 The text is cut into pieces at line ends. Pass one counts each piece's rows, faces and corners,
-and says whether the text needs the text checks (text.py), which most files (pure ASCII, LF line
-ends) do not; the tables are then made at their final sizes, and pass two writes every piece into
-them at its own offsets. What the compiled code does not read itself comes back as records, in
-file order: the line reader (lines.py) reads each listed v, vt, vn or f line, giving its values or
-its error, so every message is the line reader's; other statements and colour comments are read
-here.
+and a word scan says whether the text needs the text checks (text.py), which most files (pure
+ASCII, LF line ends) do not; the tables are then made at their final sizes, and pass two writes
+every piece into them at its own offsets. What the compiled code does not read itself comes back
+as records, in file order: the line reader (lines.py) reads each listed v, vt, vn or f line, giving
+its values or its error, so every message is the line reader's; other statements and colour
+comments are read here.
 """
 
 from __future__ import annotations
