@@ -34,8 +34,8 @@ RECORD_COLUMNS = 10
 # the next line's first byte, the records used, and what the piece has recorded once (_STATED...).
 S_AT, S_USED, S_FLAGS = COUNT_COLUMNS, COUNT_COLUMNS + 1, COUNT_COLUMNS + 2
 STATE_COLUMNS = COUNT_COLUMNS + 3
-# A statement (one says the file has some); a colour comment that sets the colour (later ones cannot);
-# a v line with a colour (once a piece is enough).
+# The flags of what a piece has recorded: a statement (one says the file has some), a colour comment
+# that sets the colour (later ones cannot), a v line with a colour (one a piece is enough).
 _STATED, _COLOUR_SET, _COLOURS_SEEN = 1, 2, 4
 
 _NEWLINE, _HASH, _SLASH, _MINUS, _PLUS, _DOT, _ZERO, _NINE = (ord(c) for c in "\n#/-+.09")
