@@ -43,7 +43,7 @@ from marraztu.loaders.files import (
 )
 from marraztu.loaders.images import FORMATS_BY_MAGIC, image_format, rgb_array, unread_textures_note
 from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES
-from marraztu.loaders.words import is_count
+from marraztu.loaders.words import is_count, unheld_coordinate
 from marraztu.model.build import build_mesh, by_largest, colour_bytes
 from marraztu.model.geometry import holds_in_float32
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial
@@ -512,13 +512,9 @@ def _check_tables(path: str | Path, positions: np.ndarray, faces: np.ndarray, da
     """Faces, and positions the GPU can hold (each mesh's indices are checked as it is read)."""
     if len(faces) == 0:
         raise LoadError(path, "no faces")
-    _check_positions(path, positions, data)
-
-
-def _check_positions(path: str | Path, positions: np.ndarray, data: bytes | None) -> None:
     if not holds_in_float32(positions):
         line = _line_of_first_non_finite(data) if data is not None else None
-        raise LoadError(path, "a vertex coordinate is not a finite number the GPU can hold", line=line)
+        raise unheld_coordinate(path, line)
 
 
 def _check_placed_size(path: str | Path, placed: list[Any]) -> None:

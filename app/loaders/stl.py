@@ -17,7 +17,7 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import line_at, read_model_bytes, text_lines
-from marraztu.loaders.words import WordBlocks, checked_coordinates
+from marraztu.loaders.words import WordBlocks, checked_coordinates, unheld_coordinate
 from marraztu.model.build import derive_mesh
 from marraztu.model.geometry import holds_in_float32, merged_rows
 from marraztu.model.mesh import INDEX, Mesh
@@ -36,7 +36,7 @@ def load_stl(path: Path, stage: Callable[[str], None] | None = None) -> Mesh:
     if not len(corners):
         raise LoadError(path, "no faces")
     if not holds_in_float32(corners):  # a binary file's; before merging, which takes finite numbers
-        raise LoadError(path, "a vertex coordinate is not a finite number the GPU can hold")
+        raise unheld_coordinate(path)
     positions, _, corner_vertex = merged_rows(corners)
     del corners
     try:

@@ -71,9 +71,13 @@ def checked_coordinates(path: Path, words: list[str], line_of: LineOf) -> np.nda
     values = _converted(path, words, line_of, np.float64, _DECIMAL)
     if not holds_in_float32(values):
         held = np.abs(values) <= FLOAT32_MAX  # NaN too is not
-        raise LoadError(path, "a vertex coordinate is not a finite number the GPU can hold",
-                        line=line_of(int(np.argmin(held))))
+        raise unheld_coordinate(path, line_of(int(np.argmin(held))))
     return values
+
+
+def unheld_coordinate(path: str | Path, line: int | None = None) -> LoadError:
+    """The error of a model whose coordinates the GPU cannot hold (not finite, or past float32's range)."""
+    return LoadError(path, "a vertex coordinate is not a finite number the GPU can hold", line=line)
 
 
 def checked_indices(path: Path, words: list[str], line_of: LineOf, vertices: int) -> np.ndarray:
