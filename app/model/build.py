@@ -14,6 +14,7 @@ import numpy as np
 
 from marraztu.model.geometry import FLOAT32_MAX, column_bounds, unit_rows
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted, fan_gather
+from marraztu.model.threads import each
 
 # Zero-area faces get a fallback normal; "zero" is relative to the model's size.
 DEGENERATE_AREA = 1e-12
@@ -296,12 +297,13 @@ def _cross_from_first(positions: np.ndarray, fans: np.ndarray) -> np.ndarray:
     """(3, T): (p1 - p0) x (p2 - p0) for the triangles `fans`, (3, T) position indices.
 
     In pieces, so that the gathered coordinates and products are cache-sized temporaries instead of a
-    dozen arrays as long as the mesh in fresh memory."""
+    dozen arrays as long as the mesh in fresh memory; the pieces are worked on in threads."""
     x, y, z = np.ascontiguousarray(positions.T)
     out = np.empty((3, fans.shape[1]), positions.dtype)
-    with np.errstate(all="ignore"):
-        for low in range(0, fans.shape[1], _CROSS_CHUNK):
-            first, second, third = fans[:, low:low + _CROSS_CHUNK]
+
+    def piece(low: int) -> None:
+        first, second, third = fans[:, low:low + _CROSS_CHUNK]
+        with np.errstate(all="ignore"):
             x0, y0, z0 = x[first], y[first], z[first]
             ax, ay, az = x[second] - x0, y[second] - y0, z[second] - z0
             bx, by, bz = x[third] - x0, y[third] - y0, z[third] - z0
@@ -309,6 +311,8 @@ def _cross_from_first(positions: np.ndarray, fans: np.ndarray) -> np.ndarray:
             np.subtract(ay * bz, az * by, out=out[0, low:high])
             np.subtract(az * bx, ax * bz, out=out[1, low:high])
             np.subtract(ax * by, ay * bx, out=out[2, low:high])
+
+    each(piece, range(0, fans.shape[1], _CROSS_CHUNK))
     return out
 
 

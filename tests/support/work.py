@@ -14,6 +14,7 @@ from typing import TypeVar
 
 from marraztu.errors import LoadError
 from marraztu.loaders.obj import lines as line_reader
+from marraztu.model import threads
 
 Result = TypeVar("Result")
 
@@ -43,8 +44,12 @@ def lines_read_by_the_line_reader() -> Iterator[LineCount]:
 def peak_traced_bytes(work: Callable[[], Result]) -> tuple[Result | LoadError, int]:
     """(work's result or the LoadError it raised, the peak of memory traced while it ran, beyond the start).
 
-    numpy reports its arrays to tracemalloc, so this counts the readers' arrays as well as Python objects."""
+    numpy reports its arrays to tracemalloc, so this counts the readers' arrays as well as Python objects.
+    The model's own pieces (marraztu.model.threads) are worked on in one thread meanwhile, so that the
+    peak does not depend on whose temporaries happen to meet; the readers' threads are left as set."""
     gc.collect()
+    saved_threads = threads.THREADS
+    threads.THREADS = 1
     tracemalloc.start()
     try:
         baseline = tracemalloc.get_traced_memory()[0]
@@ -55,4 +60,5 @@ def peak_traced_bytes(work: Callable[[], Result]) -> tuple[Result | LoadError, i
         peak = tracemalloc.get_traced_memory()[1] - baseline
     finally:
         tracemalloc.stop()
+        threads.THREADS = saved_threads
     return outcome, peak

@@ -11,39 +11,23 @@ comments are read here.
 
 from __future__ import annotations
 
-import os
 from array import array
-from collections.abc import Callable, Sequence
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import TypeVar
 
 import numpy as np
 
 from marraztu.loaders.obj import raw, scan
 from marraztu.loaders.obj.lines import LineReader, check_forward_indices, no_faces_error
 from marraztu.model.mesh import INDEX
+from marraztu.model.threads import THREADS, each
 
 # Pieces of at least this many bytes: below it a thread costs more than it saves.
 MIN_PIECE_BYTES = 1 << 20
-
-
-def _usable_cores() -> int:
-    """The cores this process may run on: a container's or taskset's share where the system tells."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # not Linux
-        return os.cpu_count() or 1
-
-
-# numba's code runs without the GIL, so threads parse pieces at once; passes one and two measured
-# still getting quicker from 8 to 16 threads on a 16-core machine.
-PARSE_THREADS = max(1, min(16, _usable_cores()))
+# numba's code runs without the GIL, so threads parse pieces at once.
+PARSE_THREADS = THREADS
 # More pieces than threads: a thread whose pieces went quickly takes the next, so a piece of costly
 # lines (faces, long numbers) does not keep the others waiting.
 PIECES_PER_THREAD = 4
-_Item = TypeVar("_Item")
-_Result = TypeVar("_Result")
 _WIDTHS = (3, 2, 3)
 
 
@@ -66,7 +50,8 @@ def count_text(text: bytes | np.ndarray) -> Counted:
     """Pass one, over the whole text. `text` ends with a newline (marraztu.loaders.obj.text.ended)."""
     buf = _read_only_bytes(text)
     pieces = _pieces(buf, PARSE_THREADS * PIECES_PER_THREAD)
-    outcomes = _each(lambda piece: (scan.count_piece(buf, *piece), scan.holds_bytes_to_look_at(buf, *piece)), pieces)
+    outcomes = each(lambda piece: (scan.count_piece(buf, *piece), scan.holds_bytes_to_look_at(buf, *piece)), pieces,
+                    PARSE_THREADS)
     counts = np.array([counts for counts, _ in outcomes]).reshape(-1, scan.COUNT_COLUMNS)
     return Counted(pieces, counts, any(look for _, look in outcomes))
 
@@ -85,8 +70,8 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
     tables = [np.empty((int(total[kind]), width)) for kind, width in zip((scan.V, scan.VT, scan.VN), _WIDTHS)]
     columns = [np.empty(int(total[scan.CORNERS]), INDEX) for _ in range(3)]
     face_start = np.zeros(int(total[scan.F]) + 1, INDEX)
-    records = _each(lambda at: _read_piece(buf, pieces[at], before[at], tables, columns, face_start),
-                    list(range(len(pieces))))
+    records = each(lambda at: _read_piece(buf, pieces[at], before[at], tables, columns, face_start),
+                   list(range(len(pieces))), PARSE_THREADS)
     outcome = _Records(buf, source, tables, columns, face_start)
     for piece in records:
         outcome.settle(piece)
@@ -99,8 +84,8 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
     colours = None
     if outcome.coloured:  # a third pass, for the files that have colours only
         colours = np.full((len(tables[0]), 3), np.nan)
-        _each(lambda at: scan.read_vertex_colours(buf, *pieces[at], before[at][scan.V], colours),
-              list(range(len(pieces))))
+        each(lambda at: scan.read_vertex_colours(buf, *pieces[at], before[at][scan.V], colours),
+             list(range(len(pieces))), PARSE_THREADS)
         raw.put_colours(colours, outcome.colour_rows, outcome.colour_values)  # the line reader's lines
     return raw.RawObj(*tables, columns[0], *optional, face_start, outcome.mtllib, outcome.colour.colour,
                       list(outcome.colour.notes), outcome.material_runs, colours)
@@ -141,14 +126,6 @@ def _pieces(buf: np.ndarray, count: int) -> list[tuple[int, int]]:
     if cuts[-1] < size:
         cuts.append(size)
     return list(zip(cuts[:-1], cuts[1:]))
-
-
-def _each(work: Callable[[_Item], _Result], items: Sequence[_Item]) -> list[_Result]:
-    """[work(item) for item in items], on up to PARSE_THREADS threads; the first exception is raised."""
-    if len(items) < 2:
-        return [work(item) for item in items]
-    with ThreadPoolExecutor(max_workers=min(PARSE_THREADS, len(items)), thread_name_prefix="obj-parse") as pool:
-        return list(pool.map(work, items))
 
 
 _SETTLED_AT_ONCE = 4096

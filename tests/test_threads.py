@@ -1,0 +1,54 @@
+"""Work in pieces on threads (marraztu.model.threads): the same results, in order, as one thread gives."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from marraztu.model import threads
+from marraztu.model.build import _CROSS_CHUNK, derive_mesh
+
+
+def test_each_keeps_the_order_and_raises_the_first_error() -> None:
+    assert threads.each(lambda item: item * item, range(50), threads=4) == [item * item for item in range(50)]
+
+    def fails_at_seven(item: int) -> int:
+        if item >= 7:
+            raise ValueError(f"item {item}")
+        return item
+
+    with pytest.raises(ValueError, match="item 7"):
+        threads.each(fails_at_seven, range(20), threads=4)
+
+
+def _mesh_of_several_pieces(sizes: np.ndarray, far: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(14)
+    positions = rng.normal(size=(5000, 3)) * (1e37 if far else 1.0)  # far: as far as float32 holds
+    corner_vertex = rng.integers(0, positions.shape[0], int(sizes.sum()))
+    corner_vertex[:3] = 0  # a zero-area face
+    face_start = np.concatenate(([0], np.cumsum(sizes)))
+    return positions, corner_vertex, face_start
+
+
+@pytest.mark.parametrize("mixed", [False, True], ids=["triangles", "mixed sizes"])
+@pytest.mark.parametrize("far", [False, True], ids=["near", "far"])
+def test_face_normals_on_threads_equal_one_threads_bit_for_bit(mixed: bool, far: bool,
+                                                               monkeypatch: pytest.MonkeyPatch) -> None:
+    """A mesh of several pieces, with a zero-area face: the normals are the one-thread ones exactly,
+    and no thread warns."""
+    faces = 3 * _CROSS_CHUNK + 17
+    sizes = np.random.default_rng(1).integers(3, 7, faces) if mixed else np.full(faces, 3)
+    positions, corner_vertex, face_start = _mesh_of_several_pieces(sizes, far)
+    results = []
+    for count in (1, 4):
+        monkeypatch.setattr(threads, "THREADS", count)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            mesh = derive_mesh("m", positions, corner_vertex, face_start, None, None, None, None, ())
+        results.append(mesh)
+    one, several = results
+    assert np.array_equal(one.face_normals, several.face_normals)
+    assert np.array_equal(one.normals, several.normals)
+    assert np.isfinite(several.face_normals).all()
