@@ -23,7 +23,7 @@ from PIL import Image
 from marraztu.errors import LoadError, ViewerError
 from marraztu.frontends.screenshot import write_picture
 from marraztu.loaders.images import image_format, load_image
-from marraztu.model import geometry
+from marraztu.model import geometry, threads
 from marraztu.model.build import build_mesh
 from marraztu.model.geometry import FLOAT32_MAX, merged_rows
 
@@ -127,10 +127,23 @@ ROW_VALUES = st.sampled_from([0.0, -0.0, 1.0, -1.0, 0.1, 1e-300, 5e-324, 3.0e38,
 
 # Keys that collide: none (each row's own), every row's, or rows sharing their first number's (so
 # that some keys hold one row's copies and others several rows).
+_ROW_KEYS = geometry._row_keys
+
+
+def _last_row_keyed_as_the_middle_one(table: np.ndarray) -> np.ndarray:
+    """The real keys, but the last row's (and its equals') made the middle row's: one collision, found
+    far into the table, in a large one in a later piece. Equal rows keep equal keys."""
+    keys = _ROW_KEYS(table)
+    if len(table):
+        keys[keys == keys[-1]] = keys[len(table) // 2]
+    return keys
+
+
 COLLIDING_KEYS = {
     "none": None,
     "all": lambda table: np.zeros(len(table), np.uint64),
     "by first number": lambda table: (table[:, 0] + 0.0).view(np.uint64) * np.uint64(0x9E3779B97F4A7C15),
+    "last row as the middle one": _last_row_keyed_as_the_middle_one,
 }
 
 
@@ -152,10 +165,16 @@ def test_equal_rows_merge_as_np_unique_merges_them(rows: list[tuple[float, float
     assert (np.diff(first) > 0).all() and (first[inverse] <= np.arange(len(table))).all()  # first seen, first
 
 
-def test_a_large_table_merges_as_np_unique_merges_it() -> None:
-    """Enough rows that the key's low bits give way to 18 bits of index; seeded."""
+@pytest.mark.parametrize("colliding", sorted(COLLIDING_KEYS))
+def test_a_large_table_merges_as_np_unique_merges_it(colliding: str) -> None:
+    """Enough rows that the key's low bits give way to 18 bits of index, and that the key and the
+    check of the groups work in several pieces, on threads; seeded."""
     table = np.random.default_rng(7).integers(0, 40, (200_000, 3)).astype(np.float64) / 8.0
-    merged, first, inverse = merged_rows(table)
+    with pytest.MonkeyPatch.context() as patch:
+        if COLLIDING_KEYS[colliding] is not None:
+            patch.setattr(geometry, "_row_keys", COLLIDING_KEYS[colliding])
+        patch.setattr(threads, "THREADS", 4)
+        merged, first, inverse = merged_rows(table)
     assert len(merged) == len(np.unique(table, axis=0))
     np.testing.assert_array_equal(merged[inverse], table)
     np.testing.assert_array_equal(merged, table[first])

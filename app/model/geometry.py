@@ -6,6 +6,8 @@ from collections.abc import Iterable
 
 import numpy as np
 
+from marraztu.model.threads import each
+
 # The GPU draws in float32: a coordinate beyond this would be infinite there.
 FLOAT32_MAX = float(np.finfo(np.float32).max)
 
@@ -71,17 +73,15 @@ def merged_rows(table: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if len(table) == 0:
         return table, np.zeros(0, np.int64), np.zeros(0, np.int64)
     first, group = _groups_by_key(table)
-    differ = np.zeros(len(table), bool)
-    for column in range(3):  # each row against its group's first row
-        differ |= np.take(table[first, column], group) != table[:, column]
-    if differ.any():  # keys collided
+    differ = _differing_from_first(table, first, group)
+    if differ.size:  # keys collided
         first, group = _collisions_split(table, first, group, np.unique(group[differ]))
     # The groups in the order the table first shows them: a group's number is its first row's rank.
     is_first = np.zeros(len(table), bool)
     is_first[first] = True
     number = (np.cumsum(is_first) - 1)[first]
     first = np.flatnonzero(is_first)
-    return table[first], first, number[group]
+    return np.take(table, first, axis=0), first, np.take(number, group)
 
 
 def _groups_by_key(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -116,18 +116,44 @@ def _collisions_split(table: np.ndarray, first: np.ndarray, group: np.ndarray, c
     return np.concatenate([first[kept], rows[row_first]]), group
 
 
+# Rows per piece of the key and the check: a piece's temporaries stay in the cache.
+_ROWS_PER_PIECE = 1 << 16
+
+
+def _row_pieces(count: int) -> range:
+    return range(0, count, _ROWS_PER_PIECE)
+
+
+def _differing_from_first(table: np.ndarray, first: np.ndarray, group: np.ndarray) -> np.ndarray:
+    """The rows that differ from their group's first row: where different rows share a key."""
+    firsts = np.take(table, first, axis=0)  # np.take gathers whole rows several times quicker than table[first]
+
+    def piece(low: int) -> np.ndarray:
+        rows, groups = table[low:low + _ROWS_PER_PIECE], group[low:low + _ROWS_PER_PIECE]
+        same = np.take(firsts, groups, axis=0) == rows
+        return low + np.flatnonzero(~(same[:, 0] & same[:, 1] & same[:, 2]))
+
+    return np.concatenate(each(piece, _row_pieces(len(table))))
+
+
 def _row_keys(table: np.ndarray) -> np.ndarray:
     """One 64-bit key per row of an (N, 3) float64 table, from the numbers' bits. Each is folded onto
     its low bits first: a float32 number held as a double has 29 zero bits there, which a product
-    alone would keep. Column by column, in two reused buffers: no table-sized temporaries."""
-    key = np.zeros(len(table), np.uint64)
-    number = np.empty(len(table), np.float64)
-    bits, folded = number.view(np.uint64), np.empty(len(table), np.uint64)
-    for column, factor in enumerate(_ROW_KEY_FACTORS):
-        np.add(table[:, column], 0.0, out=number)  # -0.0 becomes 0.0: equal numbers, equal bits
-        np.right_shift(bits, np.uint64(29), out=folded)
-        folded ^= bits
-        folded *= factor
-        key += folded
-    key ^= key >> np.uint64(32)
+    alone would keep."""
+    key = np.empty(len(table), np.uint64)
+
+    def piece(low: int) -> None:
+        rows, out = table[low:low + _ROWS_PER_PIECE], key[low:low + _ROWS_PER_PIECE]
+        number = np.empty(len(rows), np.float64)
+        bits, folded = number.view(np.uint64), np.empty(len(rows), np.uint64)
+        out[:] = 0
+        for column, factor in enumerate(_ROW_KEY_FACTORS):
+            np.add(rows[:, column], 0.0, out=number)  # -0.0 becomes 0.0: equal numbers, equal bits
+            np.right_shift(bits, np.uint64(29), out=folded)
+            folded ^= bits
+            folded *= factor
+            out += folded
+        out ^= out >> np.uint64(32)
+
+    each(piece, _row_pieces(len(table)))
     return key
