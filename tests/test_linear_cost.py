@@ -21,18 +21,19 @@ def polygon(corners: int) -> tuple[np.ndarray, list[list[int]]]:
 def work(monkeypatch) -> dict[str, int]:
     """Counts the rows the face normals gather and the bins the vertex-normal sums allocate."""
     counted = {"rows": 0, "bins": 0}
-    cross = build._cross_from_first
+    fan_sums = build._fan_sums
     bincount = np.bincount
 
-    def counting_cross(positions: np.ndarray, fans: np.ndarray) -> np.ndarray:
-        counted["rows"] += positions.shape[0] + fans.shape[1]  # the positions are copied per call
-        return cross(positions, fans)
+    def counting_fan_sums(positions: np.ndarray, polygons: np.ndarray) -> np.ndarray:
+        # The positions are copied per call, and each polygon's fans gathered.
+        counted["rows"] += positions.shape[0] + polygons.shape[0] * (polygons.shape[1] - 2)
+        return fan_sums(positions, polygons)
 
     def counting_bincount(values, weights=None, minlength=0):
         counted["bins"] += max(minlength, len(values))
         return bincount(values, weights=weights, minlength=minlength)
 
-    monkeypatch.setattr(build, "_cross_from_first", counting_cross)
+    monkeypatch.setattr(build, "_fan_sums", counting_fan_sums)
     monkeypatch.setattr(build.np, "bincount", counting_bincount)
     return counted
 

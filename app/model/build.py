@@ -263,15 +263,12 @@ def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: 
     The work is done on one contiguous array per axis: gathers from and arithmetic on (N,) arrays
     run at memory speed, where the columns of an (N, 3) array are strided.
     """
-    if _one_small_size(sizes):  # triangles, quads...: the fans column by column
-        corners = corner_vertex.reshape(-1, int(sizes[0])).T
-        sums = _cross_from_first(positions, corners[0:3])  # a view: no copy of the corner table
-        for second in range(2, int(sizes[0]) - 1):  # in fan order, as reduceat below adds them
-            sums += _cross_from_first(positions, corners[[0, second, second + 1]])
-    else:
-        fans = fan_gather(corner_vertex, face_start).reshape(-1, 3).T
+    if _one_small_size(sizes):  # triangles, quads...: each polygon's fans summed in place
+        sums = _fan_sums(positions, corner_vertex.reshape(-1, int(sizes[0])))  # a view of the corners
+    else:  # each fan a polygon of its own, then the fans of each polygon added in fan order
+        fans = fan_gather(corner_vertex, face_start).reshape(-1, 3)
         firsts = np.concatenate(([0], np.cumsum(sizes - 2)[:-1]))
-        sums = np.add.reduceat(_cross_from_first(positions, fans), firsts, axis=1)
+        sums = np.add.reduceat(_fan_sums(positions, fans), firsts, axis=1)
     with np.errstate(all="ignore"):
         x, y, z = sums
         length = np.sqrt(x * x + y * y + z * z)
@@ -290,29 +287,38 @@ def _one_small_size(sizes: np.ndarray) -> bool:
     return bool(sizes.min() == sizes.max() and sizes[0] <= MAX_COLUMN_SIZE)
 
 
-_CROSS_CHUNK = 1 << 14  # triangles per piece: a dozen temporaries of this many numbers stay in cache
+_CROSS_CHUNK = 1 << 14  # polygons per piece: a dozen temporaries of this many numbers stay in cache
 
 
-def _cross_from_first(positions: np.ndarray, fans: np.ndarray) -> np.ndarray:
-    """(3, T): (p1 - p0) x (p2 - p0) for the triangles `fans`, (3, T) position indices.
+def _fan_sums(positions: np.ndarray, polygons: np.ndarray) -> np.ndarray:
+    """(3, N): for each of the (N, k) polygons, the sum of (p_i - p_0) x (p_(i+1) - p_0) over its fan,
+    in fan order.
 
     In pieces, so that the gathered coordinates and products are cache-sized temporaries instead of a
     dozen arrays as long as the mesh in fresh memory; the pieces are worked on in threads."""
     x, y, z = np.ascontiguousarray(positions.T)
-    out = np.empty((3, fans.shape[1]), positions.dtype)
+    out = np.empty((3, polygons.shape[0]), positions.dtype)
 
     def piece(low: int) -> None:
-        first, second, third = fans[:, low:low + _CROSS_CHUNK]
+        block = polygons[low:low + _CROSS_CHUNK]
+        high = low + block.shape[0]
+        first = block[:, 0]
         with np.errstate(all="ignore"):
             x0, y0, z0 = x[first], y[first], z[first]
-            ax, ay, az = x[second] - x0, y[second] - y0, z[second] - z0
-            bx, by, bz = x[third] - x0, y[third] - y0, z[third] - z0
-            high = low + first.shape[0]
-            np.subtract(ay * bz, az * by, out=out[0, low:high])
-            np.subtract(az * bx, ax * bz, out=out[1, low:high])
-            np.subtract(ax * by, ay * bx, out=out[2, low:high])
+            for corner in range(1, polygons.shape[1] - 1):
+                second, third = block[:, corner], block[:, corner + 1]
+                ax, ay, az = x[second] - x0, y[second] - y0, z[second] - z0
+                bx, by, bz = x[third] - x0, y[third] - y0, z[third] - z0
+                if corner == 1:
+                    np.subtract(ay * bz, az * by, out=out[0, low:high])
+                    np.subtract(az * bx, ax * bz, out=out[1, low:high])
+                    np.subtract(ax * by, ay * bx, out=out[2, low:high])
+                else:
+                    out[0, low:high] += ay * bz - az * by
+                    out[1, low:high] += az * bx - ax * bz
+                    out[2, low:high] += ax * by - ay * bx
 
-    each(piece, range(0, fans.shape[1], _CROSS_CHUNK))
+    each(piece, range(0, polygons.shape[0], _CROSS_CHUNK))
     return out
 
 
