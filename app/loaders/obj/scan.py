@@ -57,6 +57,9 @@ _TO_LOOK_AT[[0, ord("\r"), ord("\\"), 0xC2]] = 1
 _LOW_BITS, _HIGH_BITS = np.uint64(0x0101010101010101), np.uint64(0x8080808080808080)
 _NULS, _CRS, _BACKSLASHES, _C2S = (np.uint64(byte) * _LOW_BITS for byte in np.flatnonzero(_TO_LOOK_AT))
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}  # cached machine code; threads run at once
+# The helpers the line loops call, inlined: a call passes the array with its reference count and
+# returns its tuple through memory, per number. Only these: inlining more slows the first compile.
+_INLINED = dict(_JIT, inline="always")
 
 
 @njit(**_JIT)
@@ -74,28 +77,28 @@ def _is_digit(byte: int) -> bool:
     return _ZERO <= byte <= _NINE
 
 
-@njit(**_JIT)
+@njit(**_INLINED)
 def _skip_blanks(buf: np.ndarray, at: int) -> int:
     while _is_blank(buf[at]):
         at += 1
     return at
 
 
-@njit(**_JIT)
+@njit(**_INLINED)
 def _token_end(buf: np.ndarray, at: int) -> int:
     while not _ends_token(buf[at]):
         at += 1
     return at
 
 
-@njit(**_JIT)
+@njit(**_INLINED)
 def line_end(buf: np.ndarray, at: int) -> int:
     while buf[at] != _NEWLINE:
         at += 1
     return at
 
 
-@njit(**_JIT)
+@njit(**_INLINED)
 def _keyword(buf: np.ndarray, start: int) -> tuple[int, int]:
     """The line's kind (V, VT, VN, F, or _NO_KEYWORD, _OTHER_KEYWORD) and where its keyword ends."""
     at = _skip_blanks(buf, start)
@@ -173,7 +176,7 @@ def _zero_bytes(word: np.uint64) -> np.uint64:
     return (word - _LOW_BITS) & ~word & _HIGH_BITS
 
 
-@njit(**_JIT)
+@njit(**_INLINED)
 def _number(buf: np.ndarray, at: int) -> tuple[float, int, bool]:
     """The decimal number at `at` (float()'s syntax), where it ends, and whether it was read: False for
     anything else, and for what needs more than a double's exact range (the line reader reads it)."""
@@ -221,7 +224,7 @@ def _number(buf: np.ndarray, at: int) -> tuple[float, int, bool]:
     return (-value if negative else value), at, True
 
 
-@njit(**_JIT)
+@njit(**_INLINED)
 def _numbers(buf: np.ndarray, at: int, table: np.ndarray, row: int, fewest: int, most: int) -> tuple[int, int]:
     """A v, vt or vn line's numbers, the first table.shape[1] of them into table[row]: how many it
     holds, or -1 where they were not read (the line reader reads the line), and where reading stopped.
@@ -241,7 +244,7 @@ def _numbers(buf: np.ndarray, at: int, table: np.ndarray, row: int, fewest: int,
         count += 1
 
 
-@njit(**_JIT)
+@njit(**_INLINED)
 def _index(buf: np.ndarray, at: int, defined: int) -> tuple[int, int]:
     """A face index made 0-based (a relative one counted back from `defined`) and where it ends;
     -1 when it is not one this code reads (0, past a 32-bit index, reaching before the first, no digits)."""
@@ -260,7 +263,7 @@ def _index(buf: np.ndarray, at: int, defined: int) -> tuple[int, int]:
     return value - 1, at
 
 
-@njit(**_JIT)
+@njit(**_INLINED)
 def _face(buf: np.ndarray, at: int, defined: np.ndarray, vertex: np.ndarray, texcoord: np.ndarray,
           normal: np.ndarray, first: int) -> tuple[int, int]:
     """A face line's 0-based v, vt, vn per corner from `first` on (-1: no vt or vn): how many corners,
