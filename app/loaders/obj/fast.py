@@ -50,10 +50,13 @@ def count_text(text: bytes | np.ndarray) -> Counted:
     """Pass one, over the whole text. `text` ends with a newline (marraztu.loaders.obj.text.ended)."""
     buf = _read_only_bytes(text)
     pieces = _pieces(buf, PARSE_THREADS * PIECES_PER_THREAD)
-    outcomes = each(lambda piece: (scan.count_piece(buf, *piece), scan.holds_bytes_to_look_at(buf, *piece)), pieces,
-                    PARSE_THREADS)
-    counts = np.array([counts for counts, _ in outcomes]).reshape(-1, scan.COUNT_COLUMNS)
-    return Counted(pieces, counts, any(look for _, look in outcomes))
+    counts = np.zeros((len(pieces), scan.COUNT_COLUMNS), np.int64)
+
+    def count(at: int) -> bool:  # the piece's counts into its row; whether it holds a byte to look at
+        scan.count_piece(buf, *pieces[at], counts[at])
+        return scan.holds_bytes_to_look_at(buf, *pieces[at])
+
+    return Counted(pieces, counts, any(each(count, list(range(len(pieces))), PARSE_THREADS)))
 
 
 def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = None) -> raw.RawObj:

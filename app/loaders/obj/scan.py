@@ -67,6 +67,9 @@ _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}  # cached machine 
 # The helpers the line loops call, inlined: a call passes the array with its reference count and
 # returns its tuple through memory, per number. Only these: inlining more slows the first compile.
 _INLINED = dict(_JIT, inline="always")
+# The passes' loops without numba's reference counts: an atomic increment and decrement of an
+# array's count per number cost pass two half its time. So those loops allocate nothing.
+_UNCOUNTED = dict(_JIT, _nrt=False)
 
 
 @njit(**_JIT)
@@ -136,10 +139,10 @@ def _tokens(buf: np.ndarray, at: int) -> tuple[int, int]:
         at = _token_end(buf, at)
 
 
-@njit(**_JIT)
-def count_piece(buf: np.ndarray, low: int, high: int) -> np.ndarray:
-    """Rows of v, vt and vn, faces, lines and corners in buf[low:high], whole lines."""
-    counts = np.zeros(COUNT_COLUMNS, np.int64)
+@njit(**_UNCOUNTED)
+def count_piece(buf: np.ndarray, low: int, high: int, counts: np.ndarray) -> None:
+    """Rows of v, vt and vn, faces, lines and corners in buf[low:high], whole lines, added to `counts`
+    (COUNT_COLUMNS)."""
     start = low
     while start < high:
         if buf[start] == _NEWLINE:  # an empty line, in a loop of its own: a file of them must be cheap
@@ -154,7 +157,6 @@ def count_piece(buf: np.ndarray, low: int, high: int) -> np.ndarray:
             counts[CORNERS] += corners
         counts[LINES] += 1
         start = line_end(buf, after) + 1
-    return counts
 
 
 @njit(**_JIT)
@@ -352,7 +354,7 @@ def _statement_kind(buf: np.ndarray, start: int) -> int:
     return _OTHER_KEYWORD
 
 
-@njit(**_JIT)
+@njit(**_UNCOUNTED)
 def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarray, positions: np.ndarray,
                texcoords: np.ndarray, normals: np.ndarray, vertex: np.ndarray, texcoord: np.ndarray,
                normal: np.ndarray, face_start: np.ndarray) -> None:
@@ -360,7 +362,7 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
     tables, and its records into `records`. `state` says where it is (STATE_COLUMNS): the counts so
     far in the whole file, the next line, and the records used. It returns once the piece is read or
     `records` is full, to be called again with more room: growing them here would cost every line."""
-    defined = state[:3].copy()
+    defined = state[:3]  # the rows of v, vt and vn so far, counted in place
     face, corner, line = state[F], state[CORNERS], state[LINES]
     start, used, flags = state[S_AT], state[S_USED], state[S_FLAGS]
     while start < high and used < records.shape[0]:
@@ -405,7 +407,7 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
         if record >= 0:
             row = records[used]
             row[R_KIND], row[R_START], row[R_END], row[R_LINE], row[R_KEYWORD] = record, start, end, line, kind
-            row[R_V:R_VN + 1] = defined
+            row[R_V], row[R_VT], row[R_VN] = defined[V], defined[VT], defined[VN]
             row[R_FACE], row[R_CORNER] = face, corner
             used += 1
         if kind == F:
@@ -416,7 +418,6 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
             defined[kind] += 1
         line += 1
         start = end + 1
-    state[:3] = defined
     state[F], state[CORNERS], state[LINES] = face, corner, line
     state[S_AT], state[S_USED], state[S_FLAGS] = start, used, flags
 
