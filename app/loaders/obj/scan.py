@@ -73,6 +73,13 @@ _UNCOUNTED = dict(_JIT, _nrt=False)
 
 
 @njit(**_JIT)
+def _byte(buf: np.ndarray, at: int) -> int:
+    """buf[at], by an unsigned index: numba checks every signed one for a negative value to count
+    from the end, which cost the passes a third of their time."""
+    return buf[np.uint64(at)]
+
+
+@njit(**_JIT)
 def _is_blank(byte: int) -> bool:
     return _BLANK[byte]
 
@@ -89,21 +96,21 @@ def _is_digit(byte: int) -> bool:
 
 @njit(**_INLINED)
 def _skip_blanks(buf: np.ndarray, at: int) -> int:
-    while _is_blank(buf[at]):
+    while _is_blank(_byte(buf, at)):
         at += 1
     return at
 
 
 @njit(**_INLINED)
 def _token_end(buf: np.ndarray, at: int) -> int:
-    while not _ends_token(buf[at]):
+    while not _ends_token(_byte(buf, at)):
         at += 1
     return at
 
 
 @njit(**_INLINED)
 def line_end(buf: np.ndarray, at: int) -> int:
-    while buf[at] != _NEWLINE:
+    while _byte(buf, at) != _NEWLINE:
         at += 1
     return at
 
@@ -116,13 +123,13 @@ def _keyword(buf: np.ndarray, start: int) -> tuple[int, int]:
     length = stop - at
     if length == 0:
         return _NO_KEYWORD, stop
-    if length == 1 and buf[at] == _LETTER_V:
+    if length == 1 and _byte(buf, at) == _LETTER_V:
         return V, stop
-    if length == 1 and buf[at] == _LETTER_F:
+    if length == 1 and _byte(buf, at) == _LETTER_F:
         return F, stop
-    if length == 2 and buf[at] == _LETTER_V and buf[at + 1] == _LETTER_T:
+    if length == 2 and _byte(buf, at) == _LETTER_V and _byte(buf, at + 1) == _LETTER_T:
         return VT, stop
-    if length == 2 and buf[at] == _LETTER_V and buf[at + 1] == _LETTER_N:
+    if length == 2 and _byte(buf, at) == _LETTER_V and _byte(buf, at + 1) == _LETTER_N:
         return VN, stop
     return _OTHER_KEYWORD, stop
 
@@ -133,7 +140,7 @@ def _tokens(buf: np.ndarray, at: int) -> tuple[int, int]:
     count = 0
     while True:
         at = _skip_blanks(buf, at)
-        if buf[at] == _NEWLINE or buf[at] == _HASH:
+        if _byte(buf, at) == _NEWLINE or _byte(buf, at) == _HASH:
             return count, at
         count += 1
         at = _token_end(buf, at)
@@ -145,7 +152,7 @@ def count_piece(buf: np.ndarray, low: int, high: int, counts: np.ndarray) -> Non
     (COUNT_COLUMNS)."""
     start = low
     while start < high:
-        if buf[start] == _NEWLINE:  # an empty line, in a loop of its own: a file of them must be cheap
+        if _byte(buf, start) == _NEWLINE:  # an empty line, in a loop of its own: a file of them must be cheap
             counts[LINES] += 1
             start += 1
             continue
@@ -167,9 +174,9 @@ def holds_bytes_to_look_at(buf: np.ndarray, low: int, high: int) -> bool:
     last = first + (high - first) // 8 * 8
     found = 0
     for at in range(low, first):
-        found |= _TO_LOOK_AT[buf[at]]
+        found |= _TO_LOOK_AT[_byte(buf, at)]
     for at in range(last, high):
-        found |= _TO_LOOK_AT[buf[at]]
+        found |= _TO_LOOK_AT[_byte(buf, at)]
     words, zeros = buf[first:last].view(np.uint64), np.uint64(0)
     for at in range(words.shape[0]):  # indexed, not iterated: LLVM vectorizes this loop
         word = words[at]
@@ -189,36 +196,36 @@ def _zero_bytes(word: np.uint64) -> np.uint64:
 def _number(buf: np.ndarray, at: int) -> tuple[float, int, bool]:
     """The decimal number at `at` (float()'s syntax), where it ends, and whether it was read: False for
     anything else, and for what needs more than a double's exact range (the line reader reads it)."""
-    negative = buf[at] == _MINUS
-    if negative or buf[at] == _PLUS:
+    negative = _byte(buf, at) == _MINUS
+    if negative or _byte(buf, at) == _PLUS:
         at += 1
     mantissa, digits, exponent, seen = 0, 0, 0, False
-    while _is_digit(buf[at]):
-        mantissa, seen = mantissa * 10 + (buf[at] - _ZERO), True
+    while _is_digit(_byte(buf, at)):
+        mantissa, seen = mantissa * 10 + (_byte(buf, at) - _ZERO), True
         digits += mantissa > 0  # leading zeros are not significant
         at += 1
-    if buf[at] == _DOT:
+    if _byte(buf, at) == _DOT:
         at += 1
-        while _is_digit(buf[at]):
-            mantissa, seen = mantissa * 10 + (buf[at] - _ZERO), True
+        while _is_digit(_byte(buf, at)):
+            mantissa, seen = mantissa * 10 + (_byte(buf, at) - _ZERO), True
             digits += mantissa > 0
             exponent -= 1
             at += 1
     if not seen or digits > MAX_DIGITS:  # more significant digits than a double holds exactly
         return 0.0, at, False
-    if buf[at] | _LOWER_CASE == _LETTER_E:
+    if _byte(buf, at) | _LOWER_CASE == _LETTER_E:
         at += 1
-        sign = -1 if buf[at] == _MINUS else 1
-        if buf[at] == _MINUS or buf[at] == _PLUS:
+        sign = -1 if _byte(buf, at) == _MINUS else 1
+        if _byte(buf, at) == _MINUS or _byte(buf, at) == _PLUS:
             at += 1
-        if not _is_digit(buf[at]):
+        if not _is_digit(_byte(buf, at)):
             return 0.0, at, False
         power = 0
-        while _is_digit(buf[at]):
-            power = min(power * 10 + (buf[at] - _ZERO), 10_000)  # bounded: 1e99999999999 must not wrap
+        while _is_digit(_byte(buf, at)):
+            power = min(power * 10 + (_byte(buf, at) - _ZERO), 10_000)  # bounded: 1e99999999999 must not wrap
             at += 1
         exponent += sign * power
-    if not _ends_token(buf[at]):
+    if not _ends_token(_byte(buf, at)):
         return 0.0, at, False
     if mantissa == 0:
         value = 0.0
@@ -241,7 +248,7 @@ def _numbers(buf: np.ndarray, at: int, table: np.ndarray, row: int, fewest: int,
     count, width = 0, table.shape[1]
     while True:
         at = _skip_blanks(buf, at)
-        if buf[at] == _NEWLINE or buf[at] == _HASH:
+        if _byte(buf, at) == _NEWLINE or _byte(buf, at) == _HASH:
             return (count if fewest <= count else -1), at
         if count == most:
             return -1, at
@@ -257,12 +264,12 @@ def _numbers(buf: np.ndarray, at: int, table: np.ndarray, row: int, fewest: int,
 def _index(buf: np.ndarray, at: int, defined: int) -> tuple[int, int]:
     """A face index made 0-based (a relative one counted back from `defined`) and where it ends;
     -1 when it is not one this code reads (0, past a 32-bit index, reaching before the first, no digits)."""
-    negative = buf[at] == _MINUS
+    negative = _byte(buf, at) == _MINUS
     if negative:
         at += 1
     value, digits = 0, 0
-    while _is_digit(buf[at]):
-        value = value * 10 + (buf[at] - _ZERO)
+    while _is_digit(_byte(buf, at)):
+        value = value * 10 + (_byte(buf, at) - _ZERO)
         digits += 1
         at += 1
     if digits == 0 or digits > MAX_DIGITS or value == 0 or value > INDEX_LIMIT:
@@ -285,21 +292,21 @@ def _face(buf: np.ndarray, at: int, defined: np.ndarray, vertex: np.ndarray, tex
     count, shape, bad = 0, -1, False
     while True:
         at = _skip_blanks(buf, at)
-        if buf[at] == _NEWLINE or buf[at] == _HASH:
+        if _byte(buf, at) == _NEWLINE or _byte(buf, at) == _HASH:
             return (count if count >= 3 and not bad else -1), at
         v, at = _index(buf, at, defined[V])
         t = n = -1
         corner_shape = 0
-        if buf[at] == _SLASH:
+        if _byte(buf, at) == _SLASH:
             at += 1
-            if buf[at] != _SLASH:
+            if _byte(buf, at) != _SLASH:
                 t, at = _index(buf, at, defined[VT])
                 corner_shape |= 1
-            if buf[at] == _SLASH:
+            if _byte(buf, at) == _SLASH:
                 n, at = _index(buf, at + 1, defined[VN])
                 corner_shape |= 2
         bad |= ((v < 0) | ((corner_shape & 1) != 0) & (t < 0) | ((corner_shape & 2) != 0) & (n < 0)
-                | (not _ends_token(buf[at])) | (shape >= 0) & (corner_shape != shape))
+                | (not _ends_token(_byte(buf, at))) | (shape >= 0) & (corner_shape != shape))
         at = _token_end(buf, at)  # past what is left of a bad token: each turn moves on
         corner = first + count
         vertex[corner], texcoord[corner], normal[corner] = v, t, n
@@ -315,21 +322,21 @@ def _colour_comment(buf: np.ndarray, at: int) -> int:
     at = _skip_blanks(buf, at + 1)
     if not _word_at(buf, at, _COLO):
         return _NOT_COLOUR
-    at += 4 + (buf[at + 4] == _LETTER_U)
-    if buf[at] != _LETTER_R or not _is_blank(buf[at + 1]):
+    at += 4 + (_byte(buf, at + 4) == _LETTER_U)
+    if _byte(buf, at) != _LETTER_R or not _is_blank(_byte(buf, at + 1)):
         return _NOT_COLOUR
     at, read = at + 1, True
     for _ in range(3):
         at = _skip_blanks(buf, at)
-        if buf[at] == _NEWLINE:
+        if _byte(buf, at) == _NEWLINE:
             return _NOT_COLOUR
         end = at
-        while not _is_blank(buf[end]) and buf[end] != _NEWLINE:  # a word: '#' and all, as \S+ reads it
+        while not _is_blank(_byte(buf, end)) and _byte(buf, end) != _NEWLINE:  # a word: '#' and all, as \S+ reads it
             end += 1
         _, stop, ok = _number(buf, at)
         read = read and ok and stop == end
         at = end
-    if buf[_skip_blanks(buf, at)] != _NEWLINE:
+    if _byte(buf, _skip_blanks(buf, at)) != _NEWLINE:
         return _NOT_COLOUR
     return _COLOUR_READ if read else _COLOUR_UNREAD
 
@@ -337,7 +344,7 @@ def _colour_comment(buf: np.ndarray, at: int) -> int:
 @njit(**_JIT)
 def _word_at(buf: np.ndarray, at: int, word: np.ndarray) -> bool:
     for offset in range(word.shape[0]):  # buf ends with a newline, which no word holds: never past the end
-        if buf[at + offset] != word[offset]:
+        if _byte(buf, at + offset) != word[offset]:
             return False
     return True
 
@@ -366,7 +373,7 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
     face, corner, line = state[F], state[CORNERS], state[LINES]
     start, used, flags = state[S_AT], state[S_USED], state[S_FLAGS]
     while start < high and used < records.shape[0]:
-        if buf[start] == _NEWLINE:
+        if _byte(buf, start) == _NEWLINE:
             line += 1
             start += 1
             continue
@@ -396,7 +403,7 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
         end = line_end(buf, at)
         if not read:
             record = DEFERRED
-        elif kind == _NO_KEYWORD and buf[at] == _HASH and not flags & _COLOUR_SET:
+        elif kind == _NO_KEYWORD and _byte(buf, at) == _HASH and not flags & _COLOUR_SET:
             shape = _colour_comment(buf, at)
             if shape != _NOT_COLOUR:
                 record = COMMENT
@@ -430,7 +437,7 @@ def read_vertex_colours(buf: np.ndarray, low: int, high: int, first_row: int, co
     numbers_read = np.empty((1, 7))
     row, start = first_row, low
     while start < high:
-        if buf[start] == _NEWLINE:
+        if _byte(buf, start) == _NEWLINE:
             start += 1
             continue
         kind, at = _keyword(buf, start)
