@@ -287,7 +287,7 @@ def _one_small_size(sizes: np.ndarray) -> bool:
     return bool(sizes.min() == sizes.max() and sizes[0] <= MAX_COLUMN_SIZE)
 
 
-_CROSS_CHUNK = 1 << 14  # polygons per piece: a dozen temporaries of this many numbers stay in cache
+_CROSS_CHUNK = 1 << 15  # polygons per piece: its temporaries stay in cache, and few pieces to hand out
 
 
 def _fan_sums(positions: np.ndarray, polygons: np.ndarray) -> np.ndarray:
@@ -300,15 +300,16 @@ def _fan_sums(positions: np.ndarray, polygons: np.ndarray) -> np.ndarray:
     out = np.empty((3, polygons.shape[0]), positions.dtype)
 
     def piece(low: int) -> None:
-        block = polygons[low:low + _CROSS_CHUNK]
-        high = low + block.shape[0]
-        first = block[:, 0]
+        # Each corner column as numpy's own index type, once: a gather by int32 indices converts them.
+        block = polygons[low:low + _CROSS_CHUNK].T.astype(np.intp)
+        high = low + block.shape[1]
+        first = block[0]
         with np.errstate(all="ignore"):
-            x0, y0, z0 = x[first], y[first], z[first]
+            x0, y0, z0 = x.take(first), y.take(first), z.take(first)
             for corner in range(1, polygons.shape[1] - 1):
-                second, third = block[:, corner], block[:, corner + 1]
-                ax, ay, az = x[second] - x0, y[second] - y0, z[second] - z0
-                bx, by, bz = x[third] - x0, y[third] - y0, z[third] - z0
+                second, third = block[corner], block[corner + 1]
+                ax, ay, az = x.take(second) - x0, y.take(second) - y0, z.take(second) - z0
+                bx, by, bz = x.take(third) - x0, y.take(third) - y0, z.take(third) - z0
                 if corner == 1:
                     np.subtract(ay * bz, az * by, out=out[0, low:high])
                     np.subtract(az * bx, ax * bz, out=out[1, low:high])
