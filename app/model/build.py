@@ -374,16 +374,23 @@ def _normal_sums(face_normals: np.ndarray, corner_vertex: np.ndarray, sizes: np.
                  ) -> np.ndarray:
     """(V, 3): per position, the sum of the normals of the faces that use it.
 
-    One axis at a time on contiguous arrays; for polygons of one size, one bincount per corner column,
+    One axis at a time on contiguous arrays; for polygons of one size, one sum per corner column,
     which is cheaper than repeating every face normal per corner.
     """
     axes = [np.ascontiguousarray(face_normals[:, axis]) for axis in range(3)]
     if _one_small_size(sizes):
-        columns = [np.ascontiguousarray(column) for column in corner_vertex.reshape(-1, int(sizes[0])).T]
-        return np.stack([sum(np.bincount(column, weights=axis, minlength=vertex_count) for column in columns)
-                         for axis in axes], axis=1)
-    return np.stack([np.bincount(corner_vertex, weights=np.repeat(axis, sizes), minlength=vertex_count)
-                     for axis in axes], axis=1)
+        columns = [column.astype(np.intp) for column in corner_vertex.reshape(-1, int(sizes[0])).T]
+        return np.stack([sum(_sums_at(column, axis, vertex_count) for column in columns) for axis in axes], axis=1)
+    rows = corner_vertex.astype(np.intp)
+    return np.stack([_sums_at(rows, np.repeat(axis, sizes), vertex_count) for axis in axes], axis=1)
+
+
+def _sums_at(rows: np.ndarray, values: np.ndarray, length: int) -> np.ndarray:
+    """out[rows[i]] += values[i], in the order of i: np.bincount's sums, bit for bit, without its
+    two passes over the rows to find their range (these are in range)."""
+    out = np.zeros(length)
+    np.add.at(out, rows, values)
+    return out
 
 
 def _fill_degenerate(shape: _Shape, vertex_normals: np.ndarray, row_vertex: np.ndarray | None) -> None:
