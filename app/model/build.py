@@ -379,8 +379,12 @@ def _normal_sums(face_normals: np.ndarray, corner_vertex: np.ndarray, sizes: np.
     """
     axes = [np.ascontiguousarray(face_normals[:, axis]) for axis in range(3)]
     if _one_small_size(sizes):
-        columns = [column.astype(np.intp) for column in corner_vertex.reshape(-1, int(sizes[0])).T]
-        return np.stack([sum(_sums_at(column, axis, vertex_count) for column in columns) for axis in axes], axis=1)
+        sums = np.zeros((3, vertex_count))
+        for column in corner_vertex.reshape(-1, int(sizes[0])).T:
+            rows = column.astype(np.intp)  # one column's at a time: numpy's index type is 8 bytes a corner
+            for axis, values in enumerate(axes):
+                sums[axis] += _sums_at(rows, values, vertex_count)  # column by column, as the sum of three
+        return np.ascontiguousarray(sums.T)
     rows = corner_vertex.astype(np.intp)
     return np.stack([_sums_at(rows, np.repeat(axis, sizes), vertex_count) for axis in axes], axis=1)
 
