@@ -287,7 +287,7 @@ def _one_small_size(sizes: np.ndarray) -> bool:
     return bool(sizes.min() == sizes.max() and sizes[0] <= MAX_COLUMN_SIZE)
 
 
-_CROSS_CHUNK = 1 << 15  # polygons per piece: its temporaries stay in cache, and few pieces to hand out
+_CROSS_CHUNK = 1 << 14  # polygons per piece: a dozen temporaries of this many numbers stay in cache
 
 
 def _fan_sums(positions: np.ndarray, polygons: np.ndarray) -> np.ndarray:
