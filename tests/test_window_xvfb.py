@@ -241,6 +241,7 @@ import pyglet.app
 import pyglet.window
 from marraztu.control import viewer as viewer_module
 from marraztu.control.viewer import StartOptions
+from marraztu.frontends import window as window_module
 from marraztu.frontends.window import open_window
 
 read = viewer_module.load_model
@@ -252,24 +253,28 @@ def held_load(path, stage=None):
 viewer_module.load_model = held_load
 
 window = open_window(StartOptions(), (120, 120))
-frames, scene_draws = [], []
+frames, scene_draws, trims = [], [], []
 draw, render = window.wnd.render_func, window.renderer.render
 window.wnd.render_func = lambda *args: (frames.append(1), draw(*args))
 window.renderer.render = lambda *args: (scene_draws.append(1), render(*args))
+window_module.return_freed_memory = lambda: trims.append(1)
 
 def script():
     while not scene_draws:  # the window's first picture, however long the start takes; then it is idle
         time.sleep(0.01)
     objects, before_frames, before_draws = len(window.scene.objects), len(frames), len(scene_draws)
+    before_trims = len(trims)
     window.wnd._window.dispatch_event("on_file_drop", 0, 0, [sys.argv[1]])
     pyglet.app.platform_event_loop.notify()
     while len(frames) - before_frames < 3:  # the drop and two counted seconds, however long they take
         time.sleep(0.01)
+    held_trims = len(trims) - before_trims
     release.set()
     while len(window.scene.objects) == objects or len(scene_draws) - before_draws < 1:  # joined and drawn
         time.sleep(0.01)
     time.sleep(0.3)  # room for any further scene draw to show up in the count (there should be none)
-    print(len(frames) - before_frames, len(scene_draws) - before_draws, flush=True)
+    print(len(frames) - before_frames, len(scene_draws) - before_draws, held_trims,
+          len(trims) - before_trims - held_trims, flush=True)
 
     def typed(*texts):  # each text as pyglet delivers typed text, a frame each
         for text in texts:
@@ -302,18 +307,21 @@ window.run()
 def test_frames_that_change_only_the_text_over_the_scene_do_not_draw_it_again(display: str, tmp_path: Path) -> None:
     """While a model loads, the status line counts seconds: those frames copy the scene's held picture,
     so the loader keeps the cores, and so does the frame of the drop itself. The scene is drawn again
-    once the model has joined. Typing a path into the `f` prompt and closing it copy it too."""
+    once the model has joined. Between those frames the window hands no freed memory back, which the
+    loader would only take again, page by page; it does once the model has joined. Typing a path into
+    the `f` prompt and closing it copy the held picture too."""
     model = tmp_path / "model.obj"
     model.write_text("v 0 0 0\nv 10 0 0\nv 0 10 0\nf 1 2 3\n")
     result = subprocess.run([sys.executable, "-c", _HELD_PICTURE_COUNTER, str(model)],
                             env={**os.environ, "DISPLAY": display}, capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     loading, prompt = result.stdout.splitlines()
-    frames, scene_draws = map(int, loading.split())
+    frames, scene_draws, trims_while_loading, trims_once_joined = map(int, loading.split())
     # Frames counted, not timed: the script above waits, with no deadline, for the drop's frame and two
     # seconds' frames before it lets the load finish, and then for the joining model's frame.
     assert frames >= 4
     assert scene_draws == 1
+    assert (trims_while_loading, trims_once_joined) == (0, 1)
     opening, typing_and_closing, key, closed = prompt.split()
     assert (int(opening), int(typing_and_closing), int(key), closed) == (1, 0, 1, "True")
 

@@ -174,7 +174,9 @@ class ViewerWindow:
         while not self.wnd.is_closing:
             self._check_watched_files()
             if not (self.needs_frame or self._loading_changed()):
-                if self.drawn_since_still:  # still now: what those frames freed goes back to the system
+                # Still now: what those frames freed goes back to the system. Not while a file loads:
+                # the loader would take the same memory back, page by page, and wait for the trim's lock.
+                if self.drawn_since_still and not self.drawn_loading_lines:
                     return_freed_memory()
                     self.drawn_since_still = False
                 self._wait_for_events(IDLE_WAKE_S)
