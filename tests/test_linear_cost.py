@@ -22,19 +22,19 @@ def work(monkeypatch) -> dict[str, int]:
     """Counts the rows the face normals gather and the bins the vertex-normal sums allocate."""
     counted = {"rows": 0, "bins": 0}
     fan_sums = build._fan_sums
-    bincount = np.bincount
+    sums_at = build._sums_at
 
     def counting_fan_sums(positions: np.ndarray, polygons: np.ndarray) -> np.ndarray:
         # The positions are copied per call, and each polygon's fans gathered.
         counted["rows"] += positions.shape[0] + polygons.shape[0] * (polygons.shape[1] - 2)
         return fan_sums(positions, polygons)
 
-    def counting_bincount(values, weights=None, minlength=0):
-        counted["bins"] += max(minlength, len(values))
-        return bincount(values, weights=weights, minlength=minlength)
+    def counting_sums_at(rows: np.ndarray, values: np.ndarray, length: int) -> np.ndarray:
+        counted["bins"] += max(length, len(rows))
+        return sums_at(rows, values, length)
 
     monkeypatch.setattr(build, "_fan_sums", counting_fan_sums)
-    monkeypatch.setattr(build.np, "bincount", counting_bincount)
+    monkeypatch.setattr(build, "_sums_at", counting_sums_at)
     return counted
 
 

@@ -310,14 +310,11 @@ def _fan_sums(positions: np.ndarray, polygons: np.ndarray) -> np.ndarray:
                 second, third = block[corner], block[corner + 1]
                 ax, ay, az = x.take(second) - x0, y.take(second) - y0, z.take(second) - z0
                 bx, by, bz = x.take(third) - x0, y.take(third) - y0, z.take(third) - z0
-                if corner == 1:
-                    np.subtract(ay * bz, az * by, out=out[0, low:high])
-                    np.subtract(az * bx, ax * bz, out=out[1, low:high])
-                    np.subtract(ax * by, ay * bx, out=out[2, low:high])
+                cross = (ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx)
+                if corner == 1:  # set, not added to zeros: 0.0 + -0.0 would lose the zero's sign
+                    out[:, low:high] = cross
                 else:
-                    out[0, low:high] += ay * bz - az * by
-                    out[1, low:high] += az * bx - ax * bz
-                    out[2, low:high] += ax * by - ay * bx
+                    out[:, low:high] += cross
 
     each(piece, range(0, polygons.shape[0], _CROSS_CHUNK))
     return out

@@ -87,7 +87,7 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
     colours = None
     if outcome.coloured:  # a third pass, for the files that have colours only
         colours = np.full((len(tables[0]), 3), np.nan)
-        each(lambda at: scan.read_vertex_colours(buf, *pieces[at], before[at][scan.V], colours),
+        each(lambda at: scan.read_vertex_colours(buf, *pieces[at], before[at][scan.V], colours, np.empty((1, 7))),
              list(range(len(pieces))), PARSE_THREADS)
         raw.put_colours(colours, outcome.colour_rows, outcome.colour_values)  # the line reader's lines
     return raw.RawObj(*tables, columns[0], *optional, face_start, outcome.mtllib, outcome.colour.colour,

@@ -68,7 +68,8 @@ _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}  # cached machine 
 # returns its tuple through memory, per number. Only these: inlining more slows the first compile.
 _INLINED = dict(_JIT, inline="always")
 # The passes' loops without numba's reference counts: an atomic increment and decrement of an
-# array's count per number cost pass two half its time. So those loops allocate nothing.
+# array's count per number cost pass two half its time. So those loops allocate nothing, and copy
+# no slice (a copy needs the counts too).
 _UNCOUNTED = dict(_JIT, _nrt=False)
 
 
@@ -429,12 +430,13 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
     state[S_AT], state[S_USED], state[S_FLAGS] = start, used, flags
 
 
-@njit(**_JIT)
-def read_vertex_colours(buf: np.ndarray, low: int, high: int, first_row: int, colours: np.ndarray) -> None:
+@njit(**_UNCOUNTED)
+def read_vertex_colours(buf: np.ndarray, low: int, high: int, first_row: int, colours: np.ndarray,
+                        numbers_read: np.ndarray) -> None:
     """A third pass over buf[low:high], for files with `v x y z r g b` lines: each v line's 4th to 6th
     numbers into its row of `colours` from `first_row` on; rows of lines with fewer, or of lines this
-    code leaves to the line reader, are left as they are."""
-    numbers_read = np.empty((1, 7))
+    code leaves to the line reader, are left as they are. `numbers_read`, (1, 7), is this call's own
+    room for a line's numbers."""
     row, start = first_row, low
     while start < high:
         if _byte(buf, start) == _NEWLINE:
@@ -444,7 +446,8 @@ def read_vertex_colours(buf: np.ndarray, low: int, high: int, first_row: int, co
         if kind == V:
             numbers, at = _numbers(buf, at, numbers_read, 0, 3, 7)
             if numbers >= COLOURED_V_NUMBERS:
-                colours[row] = numbers_read[0, 3:COLOURED_V_NUMBERS]
+                for column in range(3):
+                    colours[row, column] = numbers_read[0, 3 + column]
             row += 1
         start = line_end(buf, at) + 1
 
