@@ -14,7 +14,7 @@ from marraztu.devtools import bench
 from marraztu.devtools.bench.config import LOADERS, config_from_args, parse_counts
 from marraztu.devtools.bench.frames import CPU_HEADERS, FRAME_HEADERS, MODES
 from marraztu.devtools.bench.inputs import FORMATS, generate_format_inputs, generate_load_inputs
-from marraztu.devtools.bench.loading import LOAD_HEADERS, OBJ_ONLY_LOADERS, available_loaders
+from marraztu.devtools.bench.loading import LOAD_HEADERS, OBJ_ONLY_LOADERS, PAUSE_HEADERS, available_loaders
 from marraztu.devtools.bench.memory import MEMORY_HEADERS
 from marraztu.devtools.bench.report import MACHINE_HEADING, MISSING
 from marraztu.devtools.bench.shapes import SHAPE_HEADERS, SHAPES
@@ -26,7 +26,7 @@ from support import corpus
 
 TINY_ARGS = ["--load-sizes", "200,400", "--sizes", "300", "--resolutions", "48x32", "--frames", "2",
              "--warmup", "1", "--repeats", "1", "--rounds", "1", "--start-runs", "1", "--cpu-frames", "2",
-             "--shape-megabytes", "1", "--idle-seconds", "0.5"]
+             "--shape-megabytes", "1", "--idle-seconds", "0.5", "--load-pause", "0.1"]
 
 
 def markdown_tables(text: str) -> dict[tuple[str, ...], list[list[str]]]:
@@ -69,6 +69,7 @@ def test_every_section_prints_one_whole_table(report: str) -> None:
     loaders = available_loaders(LOADERS)[0]
     other_format_loaders = [loader for loader in loaders if loader not in OBJ_ONLY_LOADERS]
     expected = {LOAD_HEADERS: 4 * len(loaders) + len(FORMATS) * len(other_format_loaders),
+                PAUSE_HEADERS: 2 + ("rapidobj" in loaders),  # ours with and without numpy's huge pages
                 FRAME_HEADERS: 2 * len(MODES),  # the built-in scene and the 300-triangle grid
                 CPU_HEADERS: len(MODES),
                 START_HEADERS: len(START_COMMANDS),
@@ -87,6 +88,8 @@ def test_figures_are_positive_numbers(report: str) -> None:
     tables = markdown_tables(report)
     measured = {
         LOAD_HEADERS: ["triangles", "MB", "seconds", "MB/s", "time ÷ ours"],
+        PAUSE_HEADERS: ["first s", "after a pause s", "right after s", "after a pause ÷ right after",
+                        "after a pause: time ÷ ours"],
         FRAME_HEADERS: ["triangles", "still ms", "moving ms", "bare ms", "bare moving ms", "still ÷ bare",
                         "moving ÷ bare", "moving ÷ bare moving", "frames"],
         CPU_HEADERS: ["program process ms", "program without draw calls ms", "bare process ms"],

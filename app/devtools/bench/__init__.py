@@ -19,7 +19,7 @@ from pathlib import Path
 from marraztu.devtools.bench.config import config_from_args
 from marraztu.devtools.bench.frames import FrameBench, cpu_section, frames_section
 from marraztu.devtools.bench.inputs import generate_format_inputs, generate_load_inputs
-from marraztu.devtools.bench.loading import loading_section
+from marraztu.devtools.bench.loading import loading_section, pause_section
 from marraztu.devtools.bench.memory import memory_section
 from marraztu.devtools.bench.report import emit, load_average, machine_lines
 from marraztu.devtools.bench.shapes import shapes_section
@@ -62,6 +62,7 @@ def main(argv: Sequence[str]) -> int:
                 inputs = generate_load_inputs(directory, *config.load_sizes)
             if "load" in config.sections:
                 emit(loading_section(config, inputs + generate_format_inputs(directory, *config.load_sizes)))
+                emit(pause_section(config, inputs[1]))
             if bench is not None and "frames" in config.sections:
                 emit(frames_section(bench, config))
             if bench is not None and "cpu" in config.sections:

@@ -25,6 +25,7 @@ class BenchConfig:
     cpu_frames: int
     shape_megabytes: int  # the size of each input shaped to break linear cost
     idle_seconds: float  # how long the window is left alone while its CPU is measured
+    load_pause_s: float  # how long a process waits before its load after a pause
     sections: tuple[str, ...]
     loaders: tuple[str, ...]
     workdir: Path | None = None
@@ -33,11 +34,12 @@ class BenchConfig:
 DEFAULT_CONFIG = BenchConfig(
     load_sizes=(100_000, 1_000_000), frame_sizes=(100_000, 1_000_000, 5_000_000),
     resolutions=((1280, 720), (1920, 1080)), frames=10, warmup=1, frame_budget_s=5.0, repeats=3, rounds=3,
-    start_runs=3, cpu_frames=100, shape_megabytes=50, idle_seconds=10.0, sections=SECTIONS, loaders=LOADERS)
+    start_runs=3, cpu_frames=100, shape_megabytes=50, idle_seconds=10.0, load_pause_s=4.0,
+    sections=SECTIONS, loaders=LOADERS)
 QUICK_CONFIG = replace(
     DEFAULT_CONFIG, load_sizes=(10_000, 50_000), frame_sizes=(20_000,), resolutions=((1280, 720),),
     frames=5, warmup=1, frame_budget_s=1.0, repeats=1, rounds=1, start_runs=1, cpu_frames=30, shape_megabytes=5,
-    idle_seconds=2.0)
+    idle_seconds=2.0, load_pause_s=1.0)
 
 
 def parse_count(text: str) -> int:
@@ -102,6 +104,8 @@ def bench_parser() -> argparse.ArgumentParser:
                         help="size of each input shaped to break linear cost (default 50)")
     parser.add_argument("--idle-seconds", type=float, metavar="S",
                         help="how long the window is left alone while its CPU is measured (default 10)")
+    parser.add_argument("--load-pause", type=float, metavar="S", dest="load_pause_s",
+                        help="how long a process waits before its load after a pause (default 4)")
     parser.add_argument("--sections", type=parse_choices(SECTIONS), metavar="LIST",
                         help=f"which sections to run (default all: {','.join(SECTIONS)})")
     parser.add_argument("--loaders", type=parse_choices(LOADERS), metavar="LIST",
@@ -124,7 +128,8 @@ def config_from_args(argv: Sequence[str]) -> BenchConfig:
     if args.skip_5m:
         config = replace(config, frame_sizes=tuple(n for n in config.frame_sizes if n < 5_000_000))
     if min(config.frames, config.repeats, config.rounds, config.start_runs, config.cpu_frames,
-           config.shape_megabytes) < 1 or config.warmup < 1 or not config.idle_seconds > 0:
+           config.shape_megabytes) < 1 or config.warmup < 1 or not config.idle_seconds > 0 \
+            or not config.load_pause_s >= 0:
         parser.error("--frames, --warmup, --repeats, --rounds, --start-runs, --cpu-frames and --shape-megabytes "
-                     "must be at least 1, and --idle-seconds more than 0")
+                     "must be at least 1, --idle-seconds more than 0 and --load-pause at least 0")
     return config

@@ -142,20 +142,24 @@ def load_worker(argv: Sequence[str]) -> int:
     large file before would have), then measure from there."""
     loader, path, repeats = argv[0], Path(argv[1]), int(argv[2])
     load = _LOADER_FACTORIES[loader]()
+    peak_known = True
     if argv[3:]:
         if loader == "ours" and argv[3].endswith(".obj"):
             warm_compiled_reader()  # a file this small would go to the line reader
         else:
             load(Path(argv[3]))
-        if not reset_peak_rss():
-            print(json.dumps({"peak_rss_bytes": None}))
-            return 0
+        peak_known = reset_peak_rss()
+    pause_s = float(argv[4]) if argv[4:] else 0.0
     baseline = peak_rss_bytes()
-    timings = [load(path) for _ in range(repeats)]
+    timings = []
+    for done in range(repeats):
+        if done == 1:
+            time.sleep(pause_s)  # as a person looks at one model before opening the next
+        timings.append(load(path))
     print(json.dumps({"triangles": timings[0].triangles,
                       "seconds": [t.seconds for t in timings],
                       "surface_seconds": [t.surface_seconds for t in timings],
-                      "peak_rss_bytes": peak_rss_bytes() - baseline}))
+                      "peak_rss_bytes": peak_rss_bytes() - baseline if peak_known else None}))
     return 0
 
 
@@ -174,16 +178,18 @@ def peak():
         if line.startswith("VmHWM:"):
             return int(line.split()[1]) * 1024
     return 0
-path, repeats = sys.argv[1], int(sys.argv[2])
+path, repeats, peak_known = sys.argv[1], int(sys.argv[2]), True
 if sys.argv[3:]:  # a one-triangle model to read first, as load_worker's warm-up
     rapidobj.parse_obj(sys.argv[3])
     try:
         Path("/proc/self/clear_refs").write_text("5")
     except OSError:
-        print(json.dumps({"peak_rss_bytes": None}))
-        raise SystemExit(0)
+        peak_known = False
+pause_s = float(sys.argv[4]) if sys.argv[4:] else 0.0
 baseline, seconds, triangles = peak(), [], 0
-for _ in range(repeats):
+for done in range(repeats):
+    if done == 1:
+        time.sleep(pause_s)
     start = time.perf_counter()
     result = rapidobj.parse_obj(path)  # triangulated; numpy tables of positions, uvs and indices
     if not result.ok:
@@ -192,7 +198,7 @@ for _ in range(repeats):
     result.vertices, result.texcoords, result.wedge_texcoord_indices
     seconds.append(time.perf_counter() - start)
 print(json.dumps({"triangles": triangles, "seconds": seconds, "surface_seconds": [None] * repeats,
-                  "peak_rss_bytes": peak() - baseline}))
+                  "peak_rss_bytes": peak() - baseline if peak_known else None}))
 """
 
 
@@ -212,8 +218,10 @@ def rapidobj_python() -> str | None:
     return None
 
 
-def _worker_command(loader: str, path: Path, repeats: int, warm_up: Path | None = None) -> list[str]:
-    arguments = [str(path), str(repeats), *([str(warm_up)] if warm_up else [])]
+def _worker_command(loader: str, path: Path, repeats: int, warm_up: Path | None = None,
+                    pause_s: float | None = None) -> list[str]:
+    arguments = [str(path), str(repeats), *([str(warm_up)] if warm_up else []),
+                 *([str(pause_s)] if warm_up and pause_s is not None else [])]
     if loader == "rapidobj":
         python = rapidobj_python()
         assert python is not None, "available_loaders keeps rapidobj only where an interpreter has it"
@@ -221,8 +229,10 @@ def _worker_command(loader: str, path: Path, repeats: int, warm_up: Path | None 
     return [sys.executable, "-c", _WORKER_CODE, loader, *arguments]
 
 
-def _run_worker(loader: str, path: Path, repeats: int, warm_up: Path | None = None) -> dict:
-    done = subprocess.run(_worker_command(loader, path, repeats, warm_up), capture_output=True, text=True)
+def _run_worker(loader: str, path: Path, repeats: int, warm_up: Path | None = None, pause_s: float | None = None,
+                environment: dict[str, str] | None = None) -> dict:
+    done = subprocess.run(_worker_command(loader, path, repeats, warm_up, pause_s), capture_output=True, text=True,
+                          env=None if environment is None else {**os.environ, **environment})
     if done.returncode != 0:
         raise RuntimeError(f"{loader} on {path.name} failed:\n{done.stderr.strip()}")
     return json.loads(done.stdout.strip().splitlines()[-1])
@@ -339,3 +349,66 @@ def _load_row(item: LoadInput, loader: str, result: LoadResult, ours: LoadResult
             number(result.median_peak_rss_bytes / MEGABYTE), number(warm), number(None if warm is None else warm / mb),
             ratio(seconds, ours.median_seconds if ours else None),
             ratio(result.median_peak_rss_bytes, ours.median_peak_rss_bytes if ours else None)]
+
+
+PAUSE_HEADERS = ("file", "loader", "first s", "after a pause s", "right after s", "after a pause ÷ right after",
+                 "after a pause: time ÷ ours")
+# numpy asks for huge pages for arrays of 4 MB and more unless this says 0.
+_SMALL_PAGES = {"NUMPY_MADVISE_HUGEPAGE": "0"}
+# A virtio balloon with this feature hands the guest's free memory back to its host (Linux reports
+# free blocks of 2 MB and more, two seconds after they are freed); the host makes it up again on use.
+_BALLOON_REPORTING_BIT = 5
+
+
+@dataclass(frozen=True)
+class _PausedLoader:
+    label: str
+    loader: str
+    environment: dict[str, str] | None = None
+
+
+def pause_section(config: BenchConfig, item: LoadInput) -> list[str]:
+    """Loads after a pause, as a person makes them: in a fresh process, after the one-triangle warm-up,
+    a first load, `config.load_pause_s` seconds idle, the load measured, then one more at once, as the
+    loading section's repeats are made."""
+    loaders = [_PausedLoader("ours", "ours"), _PausedLoader("ours, numpy's huge pages off", "ours", _SMALL_PAGES)]
+    loaders += [_PausedLoader(name, name) for name in available_loaders(["rapidobj"])[0]]
+    seconds: dict[str, tuple[list[float], ...]] = {run.label: ([], [], []) for run in loaders}
+    for round_number in range(config.rounds):
+        for run in loaders:
+            progress(f"loading {item.path.name} after a pause with {run.label} ({round_number + 1}/{config.rounds})")
+            report = _run_worker(run.loader, item.path, 3, item.warm_up, config.load_pause_s, run.environment)
+            for kept, measured in zip(seconds[run.label], report["seconds"]):
+                kept.append(measured)
+    ours = statistics.median(seconds["ours"][1])
+    rows = []
+    for label, loads in seconds.items():
+        first, after_pause, at_once = (statistics.median(each_load) for each_load in loads)
+        rows.append([item.label, label, number(first), number(after_pause), number(at_once),
+                     ratio(after_pause, at_once), ratio(after_pause, ours)])
+    return [
+        "### Loading after a pause",
+        "",
+        f"Median over {config.rounds} fresh process(es) per loader, taking turns: the process reads the "
+        f"one-triangle model, loads the file (*first*), waits {config.load_pause_s:g} s, loads it again "
+        "(*after a pause*, as a person opens a second model after looking at the first), then once more at "
+        "once (*right after*, as the repeats above). *numpy's huge pages off*: ours with "
+        "`NUMPY_MADVISE_HUGEPAGE=0`, so that its arrays are made of 4 KB pages. Free memory handed back to "
+        f"a virtual machine's host: {free_page_reporting()}.",
+        "",
+        *markdown_table(PAUSE_HEADERS, rows),
+    ]
+
+
+def free_page_reporting() -> str:
+    """Whether this machine's virtio balloon reports free memory to its host, in words."""
+    features = sorted(Path("/sys/bus/virtio/drivers/virtio_balloon").glob("virtio*/features"))
+    if not features:
+        return "no virtio balloon here"
+    try:
+        bits = features[0].read_text().strip()
+    except OSError:
+        return "unknown (the virtio balloon's features cannot be read)"
+    reporting = len(bits) > _BALLOON_REPORTING_BIT and bits[_BALLOON_REPORTING_BIT] == "1"
+    return ("yes: the virtio balloon reports free memory (Linux's free page reporting)" if reporting
+            else "no: the virtio balloon does not report free memory")
