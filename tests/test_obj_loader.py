@@ -919,6 +919,31 @@ def test_files_and_bytes_share_one_machine_code_of_each_compiled_pass(tmp_path: 
     assert done.stdout.strip() == "[1, 1, 1]"
 
 
+def test_a_first_large_file_is_read_while_the_compiled_reader_loads(tmp_path: Path) -> None:
+    """numba's import and the passes' machine code load on another thread while the file is read."""
+    path = tmp_path / "big.obj"
+    faces = obj_module.COMPILED_READER_BYTES // 8
+    path.write_bytes(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n" + b"f 1 2 3\n" * faces)
+    code = ("import threading; import marraztu.loaders.obj as obj; seen = []; read_text = obj.read_text\n"
+            "def spy(path, stage):\n"
+            "    seen.append([thread.name for thread in threading.enumerate()])\n"
+            "    return read_text(path, stage)\n"
+            f"obj.read_text = spy; mesh = obj.load_obj({str(path)!r})\n"
+            "print(mesh.face_count, 'marraztu compiled reader' in seen[0], obj._compiled_reader_loaded())")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.split() == [str(faces), "True", "True"]
+
+
+def test_without_numba_a_large_file_is_read_by_lines(tmp_path: Path) -> None:
+    path = tmp_path / "big.obj"
+    faces = obj_module.COMPILED_READER_BYTES // 8
+    path.write_bytes(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n" + b"f 1 2 3\n" * faces)
+    code = ("import sys; sys.modules['numba'] = None; import marraztu.loaders.obj as obj; "
+            f"mesh = obj.load_obj({str(path)!r}); print(mesh.face_count, obj._compiled_reader_loaded())")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.split() == [str(faces), "False"]
+
+
 def test_once_the_compiled_reader_is_loaded_it_reads_small_files_too(monkeypatch: pytest.MonkeyPatch) -> None:
     read: list[str] = []
 

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from marraztu.devtools.bench.config import BenchConfig
-from marraztu.devtools.bench.inputs import TINY_OBJ, LoadInput
+from marraztu.devtools.bench.inputs import LoadInput
 from marraztu.devtools.bench.report import MEGABYTE, markdown_table, number, progress, ratio
 
 if TYPE_CHECKING:
@@ -68,9 +68,9 @@ def gpu_ready_arrays(mesh: Mesh) -> dict[str, np.ndarray]:
 
 def warm_compiled_reader() -> None:
     """Import numba and load the OBJ reader's compiled code, as the first large file does."""
-    from marraztu.loaders.obj.fast import read_fast
+    from marraztu.loaders.obj.fast import load_machine_code
 
-    read_fast(TINY_OBJ, "warm-up.obj")
+    load_machine_code()
 
 
 def _trimesh() -> LoadFunction:

@@ -14,7 +14,9 @@ file lacks are derived by marraztu.model.build, as for every other format.
 
 from __future__ import annotations
 
+import os
 import sys
+import threading
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
@@ -37,7 +39,8 @@ def load_obj(path: str | Path, stage: Callable[[str], None] | None = None) -> Me
     # The bytes are passed on, never kept here: they are freed once the tables are read, before
     # the normals and coordinates are derived.
     source = str(path)
-    return _guarded(source, lambda: _mesh(_tables(read_text(path, stage), source), source, Path(path).parent))
+    return _guarded(source, lambda: _mesh(_tables(_read_while_reader_loads(path, stage), source), source,
+                                          Path(path).parent))
 
 
 def parse_obj(data: bytes, source: str, base_dir: str | Path | None = None) -> Mesh:
@@ -156,6 +159,31 @@ def _tables(text: bytes | np.ndarray, source: str) -> RawObj:
         raise
     except Exception:  # no numba here, or a fast-reader bug: the person still gets their model, slowly
         return _read_by_lines(text, source)
+
+
+def _read_while_reader_loads(path: str | Path, stage: Callable[[str], None] | None) -> np.ndarray:
+    """read_text; for a file the compiled reader will read, with its machine code loaded meanwhile on
+    another thread: the read waits on the disk and on the kernel's fresh pages, the loading on a CPU."""
+    try:
+        large = os.stat(path).st_size >= COMPILED_READER_BYTES
+    except (OSError, ValueError):  # ValueError: a NUL in the name
+        large = False  # read_text says what is wrong
+    if not large or _compiled_reader_loaded():
+        return read_text(path, stage)
+    loading = threading.Thread(target=_load_compiled_reader, name="marraztu compiled reader", daemon=True)
+    loading.start()
+    try:
+        return read_text(path, stage)
+    finally:
+        loading.join()
+
+
+def _load_compiled_reader() -> None:
+    try:
+        from marraztu.loaders.obj import fast  # numba
+        fast.load_machine_code()
+    except Exception:  # no numba here: _tables meets the same failure and reads by lines
+        return
 
 
 def _read_by_lines(text: bytes | np.ndarray, source: str) -> RawObj:

@@ -31,6 +31,14 @@ PIECES_PER_THREAD = 4
 _WIDTHS = (3, 2, 3)
 
 
+_ONE_TRIANGLE = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+
+
+def load_machine_code() -> None:
+    """Has numba load the passes' machine code (from its cache, or compiled), as a first file would."""
+    read_fast(_ONE_TRIANGLE, "one triangle")
+
+
 def machine_code_loaded() -> bool:
     """Whether this process has its compiled code yet (numba loads it, from its cache, on first use)."""
     return all(function.signatures for function in (scan.count_piece, scan.holds_bytes_to_look_at, scan.read_piece))
