@@ -136,6 +136,14 @@ def test_sizes_and_shortcuts_parse() -> None:
     config = config_from_args(["--skip-5m"])
     assert config.frame_sizes == (100_000, 1_000_000)
     assert config_from_args(["--quick", "--frames", "7"]).frames == 7
+    assert config_from_args(["--load-pause", "0"]).load_pause_s == 0
+
+
+@pytest.mark.parametrize("option, value", [("--load-pause", "-1"), ("--load-pause", "inf"), ("--load-pause", "nan"),
+                                           ("--idle-seconds", "0"), ("--idle-seconds", "inf")])
+def test_pauses_must_be_finite(option: str, value: str) -> None:
+    with pytest.raises(SystemExit):
+        config_from_args([option, value])
 
 
 @pytest.mark.parametrize("mode", MODES)

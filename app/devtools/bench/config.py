@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -128,8 +129,8 @@ def config_from_args(argv: Sequence[str]) -> BenchConfig:
     if args.skip_5m:
         config = replace(config, frame_sizes=tuple(n for n in config.frame_sizes if n < 5_000_000))
     if min(config.frames, config.repeats, config.rounds, config.start_runs, config.cpu_frames,
-           config.shape_megabytes) < 1 or config.warmup < 1 or not config.idle_seconds > 0 \
-            or not config.load_pause_s >= 0:
+           config.shape_megabytes) < 1 or config.warmup < 1 or not 0 < config.idle_seconds < math.inf \
+            or not 0 <= config.load_pause_s < math.inf:
         parser.error("--frames, --warmup, --repeats, --rounds, --start-runs, --cpu-frames and --shape-megabytes "
-                     "must be at least 1, --idle-seconds more than 0 and --load-pause at least 0")
+                     "must be at least 1, --idle-seconds more than 0 and --load-pause at least 0, both finite")
     return config

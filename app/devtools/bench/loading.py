@@ -220,8 +220,9 @@ def rapidobj_python() -> str | None:
 
 def _worker_command(loader: str, path: Path, repeats: int, warm_up: Path | None = None,
                     pause_s: float | None = None) -> list[str]:
+    assert pause_s is None or warm_up is not None, "the pause's argument follows the warm-up's"
     arguments = [str(path), str(repeats), *([str(warm_up)] if warm_up else []),
-                 *([str(pause_s)] if warm_up and pause_s is not None else [])]
+                 *([str(pause_s)] if pause_s is not None else [])]
     if loader == "rapidobj":
         python = rapidobj_python()
         assert python is not None, "available_loaders keeps rapidobj only where an interpreter has it"
@@ -371,8 +372,11 @@ def pause_section(config: BenchConfig, item: LoadInput) -> list[str]:
     """Loads after a pause, as a person makes them: in a fresh process, after the one-triangle warm-up,
     a first load, `config.load_pause_s` seconds idle, the load measured, then one more at once, as the
     loading section's repeats are made."""
+    if "ours" not in config.loaders:
+        return []
     loaders = [_PausedLoader("ours", "ours"), _PausedLoader("ours, numpy's huge pages off", "ours", _SMALL_PAGES)]
-    loaders += [_PausedLoader(name, name) for name in available_loaders(["rapidobj"])[0]]
+    loaders += [_PausedLoader(name, name) for name in available_loaders([name for name in config.loaders
+                                                                         if name == "rapidobj"])[0]]
     seconds: dict[str, tuple[list[float], ...]] = {run.label: ([], [], []) for run in loaders}
     for round_number in range(config.rounds):
         for run in loaders:

@@ -14,7 +14,6 @@ file lacks are derived by marraztu.model.build, as for every other format.
 
 from __future__ import annotations
 
-import os
 import sys
 import threading
 from collections.abc import Callable
@@ -161,21 +160,26 @@ def _tables(text: bytes | np.ndarray, source: str) -> RawObj:
         return _read_by_lines(text, source)
 
 
+_LOADING_THREAD = "marraztu compiled reader"
+
+
 def _read_while_reader_loads(path: str | Path, stage: Callable[[str], None] | None) -> np.ndarray:
     """read_text; for a file the compiled reader will read, with its machine code loaded meanwhile on
     another thread: the read waits on the disk and on the kernel's fresh pages, the loading on a CPU."""
-    try:
-        large = os.stat(path).st_size >= COMPILED_READER_BYTES
-    except (OSError, ValueError):  # ValueError: a NUL in the name
-        large = False  # read_text says what is wrong
-    if not large or _compiled_reader_loaded():
+    if _compiled_reader_loaded():
         return read_text(path, stage)
-    loading = threading.Thread(target=_load_compiled_reader, name="marraztu compiled reader", daemon=True)
-    loading.start()
+    loading: list[threading.Thread] = []
+
+    def start_loading(size: int) -> None:  # once the file is open: a file that cannot be read waits for nothing
+        if size >= COMPILED_READER_BYTES:
+            loading.append(threading.Thread(target=_load_compiled_reader, name=_LOADING_THREAD, daemon=True))
+            loading[0].start()
+
     try:
-        return read_text(path, stage)
+        return read_text(path, stage, start_loading)
     finally:
-        loading.join()
+        for thread in loading:
+            thread.join()
 
 
 def _load_compiled_reader() -> None:

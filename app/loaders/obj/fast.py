@@ -37,6 +37,7 @@ _ONE_TRIANGLE = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
 def load_machine_code() -> None:
     """Has numba load the passes' machine code (from its cache, or compiled), as a first file would."""
     read_fast(_ONE_TRIANGLE, "one triangle")
+    scan.line_end(_read_only_bytes(_ONE_TRIANGLE), 0)  # _pieces's, for texts of two pieces or more
 
 
 def machine_code_loaded() -> bool:

@@ -23,15 +23,18 @@ _NO_BREAK_SPACE = "\u00a0".encode()
 _NEWLINE = ord("\n")
 
 
-def read_text(path: str | Path, stage: Callable[[str], None] | None) -> np.ndarray:
+def read_text(path: str | Path, stage: Callable[[str], None] | None,
+              opened: Callable[[int], None] = lambda size: None) -> np.ndarray:
     """A file's text as `ended` makes it, in a uint8 array: numpy backs a large array with huge pages,
     which a large file is read into more quickly than into bytes, and the newline a last line lacks
-    goes in room kept for it instead of a copy. `stage` hears "reading", then "parsing"."""
+    goes in room kept for it instead of a copy. `stage` hears "reading", then "parsing"; `opened`
+    hears the file's size once it is open, before it is read."""
     if stage is not None:
         stage("reading")
     size = regular_file_size(path)
     room = np.empty(size + 2, np.uint8)  # the room for a newline, and a byte more to notice a file that grew
     with errors_as_load_errors(path), open(path, "rb", buffering=0) as stream:
+        opened(size)
         got = _read_into(stream, memoryview(room))
     if got > size:  # it grew after stat: read as bytes, which follow it up to the size limit
         data = read_model_bytes(path, None)
