@@ -66,13 +66,6 @@ def gpu_ready_arrays(mesh: Mesh) -> dict[str, np.ndarray]:
     return surface_arrays(mesh).arrays
 
 
-def warm_compiled_reader() -> None:
-    """Import numba and load the OBJ reader's compiled code, as the first large file does."""
-    from marraztu.loaders.obj.fast import load_machine_code
-
-    load_machine_code()
-
-
 def _trimesh() -> LoadFunction:
     import trimesh
 
@@ -145,7 +138,9 @@ def load_worker(argv: Sequence[str]) -> int:
     peak_known = True
     if argv[3:]:
         if loader == "ours" and argv[3].endswith(".obj"):
-            warm_compiled_reader()  # a file this small would go to the line reader
+            from marraztu.loaders.obj.fast import load_machine_code
+
+            load_machine_code()  # a file this small would go to the line reader
         else:
             load(Path(argv[3]))
         peak_known = reset_peak_rss()
@@ -375,8 +370,8 @@ def pause_section(config: BenchConfig, item: LoadInput) -> list[str]:
     if "ours" not in config.loaders:
         return []
     loaders = [_PausedLoader("ours", "ours"), _PausedLoader("ours, numpy's huge pages off", "ours", _SMALL_PAGES)]
-    loaders += [_PausedLoader(name, name) for name in available_loaders([name for name in config.loaders
-                                                                         if name == "rapidobj"])[0]]
+    if "rapidobj" in config.loaders and rapidobj_python() is not None:
+        loaders.append(_PausedLoader("rapidobj", "rapidobj"))
     seconds: dict[str, tuple[list[float], ...]] = {run.label: ([], [], []) for run in loaders}
     for round_number in range(config.rounds):
         for run in loaders:

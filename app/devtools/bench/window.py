@@ -80,8 +80,8 @@ def script():
             time.sleep(0.2)
         result["latency"], result["frame"] = statistics.median(latencies), statistics.median(draws)
     else:
-        from marraztu.devtools.bench.loading import warm_compiled_reader
-        warm_compiled_reader()  # as the shown model's load did: both drops then read alike
+        from marraztu.loaders.obj.fast import load_machine_code
+        load_machine_code()  # as the shown model's load did: both drops then read alike
         objects, started = len(window.scene.objects), time.perf_counter()
         send("on_file_drop", 0, 0, [other])
         while len(window.scene.objects) <= objects:

@@ -168,18 +168,17 @@ def _read_while_reader_loads(path: str | Path, stage: Callable[[str], None] | No
     another thread: the read waits on the disk and on the kernel's fresh pages, the loading on a CPU."""
     if _compiled_reader_loaded():
         return read_text(path, stage)
-    loading: list[threading.Thread] = []
+    loading = threading.Thread(target=_load_compiled_reader, name=_LOADING_THREAD, daemon=True)
 
     def start_loading(size: int) -> None:  # once the file is open: a file that cannot be read waits for nothing
         if size >= COMPILED_READER_BYTES:
-            loading.append(threading.Thread(target=_load_compiled_reader, name=_LOADING_THREAD, daemon=True))
-            loading[0].start()
+            loading.start()
 
     try:
         return read_text(path, stage, start_loading)
     finally:
-        for thread in loading:
-            thread.join()
+        if loading.ident is not None:  # started
+            loading.join()
 
 
 def _load_compiled_reader() -> None:
