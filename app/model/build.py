@@ -14,7 +14,7 @@ import numpy as np
 
 from marraztu.model.geometry import FLOAT32_MAX, column_bounds, unit_rows
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted, fan_gather
-from marraztu.model.threads import each
+from marraztu.model.threads import converted, each, pieces
 
 # Zero-area faces get a fallback normal; "zero" is relative to the model's size.
 DEGENERATE_AREA = 1e-12
@@ -165,7 +165,7 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
         uvs=attributes[0],
         normals=attributes[1],
         face_start=np.ascontiguousarray(face_start, dtype=INDEX),
-        face_normals=face_normals.astype(np.float32),
+        face_normals=converted(face_normals, np.float32),
         base_colour=base_colour,
         file_material=file_material,
         warnings=notes,
@@ -269,12 +269,20 @@ def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: 
         fans = fan_gather(corner_vertex, face_start).reshape(-1, 3)
         firsts = np.concatenate(([0], np.cumsum(sizes - 2)[:-1]))
         sums = np.add.reduceat(_fan_sums(positions, fans), firsts, axis=1)
-    with np.errstate(all="ignore"):
-        x, y, z = sums
-        length = np.sqrt(x * x + y * y + z * z)
-        degenerate = ~np.isfinite(length) | (length <= DEGENERATE_AREA * _size_squared(bounds))
-        sums /= np.where(degenerate, 1.0, length)
-    sums[:, degenerate] = 0.0
+    smallest = DEGENERATE_AREA * _size_squared(bounds)
+    degenerate = np.empty(sums.shape[1], bool)
+
+    def unit(polygons: slice) -> None:  # in place, piece by piece: no temporary as long as the mesh
+        piece = sums[:, polygons]
+        with np.errstate(all="ignore"):
+            x, y, z = piece
+            length = np.sqrt(x * x + y * y + z * z)
+            flat = degenerate[polygons]
+            np.logical_or(~np.isfinite(length), length <= smallest, out=flat)
+            piece /= np.where(flat, 1.0, length)
+        piece[:, flat] = 0.0
+
+    each(unit, pieces(sums.shape[1], _CROSS_CHUNK))
     return sums.T, degenerate
 
 
@@ -335,8 +343,18 @@ def _usable_normals(normals: CornerSource | None, rows: int) -> tuple[np.ndarray
     if normals is None:
         return np.zeros((rows, 3), dtype=np.float32), np.ones(rows, dtype=bool)
     table, index = normals
-    unit, ok = unit_rows(table)
-    vertex_normals = np.take(unit.astype(np.float32), index, axis=0)
+    unit, ok = np.empty(table.shape, np.float32), np.empty(table.shape[0], bool)
+
+    def unit_piece(rows: slice) -> None:
+        unit[rows], ok[rows] = unit_rows(table[rows])
+
+    vertex_normals = np.empty((index.shape[0], 3), np.float32)
+
+    def gather_piece(rows: slice) -> None:  # mode="wrap" writes `out` unbuffered; -1 (no vn) is zeroed below
+        np.take(unit, index[rows], axis=0, out=vertex_normals[rows], mode="wrap")
+
+    each(unit_piece, pieces(table.shape[0], _CROSS_CHUNK))
+    each(gather_piece, pieces(index.shape[0], _CROSS_CHUNK))
     if ok.all() and index.min() >= 0:  # the usual case: nothing to derive
         return vertex_normals, np.zeros(rows, dtype=bool)
     missing = (index < 0) | ~ok[index]

@@ -172,10 +172,12 @@ class Mesh:
         centre.flags.writeable = False  # cached, so shared by every caller
         return centre
 
-    def gpu_positions(self) -> np.ndarray:
-        """(V, 3) float64: the positions less gpu_origin (the table itself where that is the origin)."""
+    def gpu_positions(self, rows: slice | None = None) -> np.ndarray:
+        """(V, 3) float64: the positions (these rows of them) less gpu_origin (the table itself where
+        that is the origin)."""
         origin = self.gpu_origin
-        return self.positions - origin if origin.any() else self.positions
+        table = self.positions if rows is None else self.positions[rows]
+        return table - origin if origin.any() else table
 
     @cached_property
     def all_triangles(self) -> bool:

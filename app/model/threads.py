@@ -8,6 +8,8 @@ from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import TypeVar
 
+import numpy as np
+
 _Item = TypeVar("_Item")
 _Result = TypeVar("_Result")
 
@@ -32,3 +34,19 @@ def each(work: Callable[[_Item], _Result], items: Sequence[_Item], threads: int 
         return [work(item) for item in items]
     with ThreadPoolExecutor(max_workers=min(threads, len(items)), thread_name_prefix="marraztu-piece") as pool:
         return list(pool.map(work, items))
+
+
+def pieces(count: int, size: int) -> list[slice]:
+    """Rows 0..count in slices of `size` rows, the last shorter."""
+    return [slice(low, min(low + size, count)) for low in range(0, count, size)]
+
+
+def converted(table: np.ndarray, dtype: type) -> np.ndarray:
+    """table.astype(dtype), C-ordered, converted in pieces of rows on threads."""
+    out = np.empty(table.shape, dtype)
+
+    def piece(rows: slice) -> None:
+        out[rows] = table[rows]
+
+    each(piece, pieces(table.shape[0], 1 << 16))
+    return out

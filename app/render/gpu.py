@@ -32,6 +32,7 @@ import numpy as np
 from marraztu.errors import ViewerError
 from marraztu.model.mesh import INDEX, Mesh, fan_gather
 from marraztu.model.scene import Shading
+from marraztu.model.threads import each, pieces
 from marraztu.render.context import (
     COMPUTE_GL_VERSION,
     check_gl,
@@ -174,21 +175,31 @@ def _surface_rows(mesh: Mesh) -> tuple[np.ndarray, np.ndarray | None, np.ndarray
     shared_rows = positions + seams.shape[0]
     later_corners = np.concatenate([seams, mesh.face_start[:-1]])  # the corners of the rows past the positions'
     later_positions = corner_vertex[later_corners]
-
     vertices = np.empty((positions + later_corners.shape[0], 8), np.float32)
-    # A position's own row is the position (rows of unused positions are never indexed).
-    vertices[:positions, 0:3] = mesh.gpu_positions()
-    vertices[:positions, 3:6] = _own_rows(mesh.normals, own)
-    vertices[:positions, 6:8] = _own_rows(mesh.uvs, own)
-    # Each later row starts as a copy of its position's row, gathered whole (np.take gathers rows
-    # faster than fancy indexing, and whole rows faster than a few columns of them); then what differs.
-    # mode="clip" (the indices are the mesh's, in range) is the mode that writes into `out` unbuffered.
-    np.take(vertices[:positions], later_positions, axis=0, out=vertices[positions:], mode="clip")
-    if own is not None:  # attributes per corner: a seam's normal and each later row's uv are its corner's
-        later_rows = mesh.attribute_rows(later_corners)
-        vertices[positions:shared_rows, 3:6] = np.take(mesh.normals, later_rows[:seams.shape[0]], axis=0)
-        vertices[positions:, 6:8] = np.take(mesh.uvs, later_rows, axis=0)
-    vertices[shared_rows:, 3:6] = mesh.face_normals  # Flat lights a polygon at its own row only
+
+    def position_rows(rows: slice) -> None:  # a position's own row is the position (unused ones are never indexed)
+        vertices[rows, 0:3] = mesh.gpu_positions(rows)
+        vertices[rows, 3:6] = _own_rows(mesh.normals, own, rows)
+        vertices[rows, 6:8] = _own_rows(mesh.uvs, own, rows)
+
+    def later_rows(later: slice) -> None:
+        rows = slice(positions + later.start, positions + later.stop)
+        # Each later row starts as a copy of its position's row, gathered whole (np.take gathers rows
+        # faster than fancy indexing, and whole rows faster than a few columns of them); then what differs.
+        # mode="clip" (the indices are the mesh's, in range) is the mode that writes into `out` unbuffered.
+        np.take(vertices[:positions], later_positions[later], axis=0, out=vertices[rows], mode="clip")
+        if own is not None:  # attributes per corner: a seam's normal and each later row's uv are its corner's
+            attribute_rows = mesh.attribute_rows(later_corners[later])
+            seam_rows = max(0, min(later.stop, seams.shape[0]) - later.start)
+            vertices[rows.start:rows.start + seam_rows, 3:6] = np.take(mesh.normals, attribute_rows[:seam_rows],
+                                                                       axis=0)
+            vertices[rows, 6:8] = np.take(mesh.uvs, attribute_rows, axis=0)
+        polygons = slice(max(later.start, seams.shape[0]) - seams.shape[0], later.stop - seams.shape[0])
+        if polygons.stop > polygons.start:  # Flat lights a polygon at its own row only
+            vertices[shared_rows + polygons.start:shared_rows + polygons.stop, 3:6] = mesh.face_normals[polygons]
+
+    each(position_rows, pieces(positions, _ROW_CHUNK))
+    each(later_rows, pieces(later_corners.shape[0], _ROW_CHUNK))  # after: they copy the positions' rows
     colours = None
     if mesh.vertex_colours is not None:  # 4 bytes a row keeps every row aligned for the GPU
         colours = np.full((vertices.shape[0], 4), 255, np.uint8)
@@ -197,9 +208,12 @@ def _surface_rows(mesh: Mesh) -> tuple[np.ndarray, np.ndarray | None, np.ndarray
     return vertices, colours, seams, shared_rows
 
 
-def _own_rows(table: np.ndarray, own: np.ndarray | None) -> np.ndarray:
-    """Each position's row of a per-row table (uvs, normals): the table itself where rows are positions."""
-    return table if own is None else np.take(table, own, axis=0)
+_ROW_CHUNK = 1 << 16  # rows per piece: each piece's gathers and copies stay in the CPU's cache
+
+
+def _own_rows(table: np.ndarray, own: np.ndarray | None, rows: slice) -> np.ndarray:
+    """These positions' rows of a per-row table (uvs, normals): the table's own where rows are positions."""
+    return table[rows] if own is None else np.take(table, own[rows], axis=0)
 
 
 def _surface_indices(mesh: Mesh, seams: np.ndarray, shared_rows: int) -> tuple[np.ndarray, np.ndarray]:
