@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import threading
+import time
 import warnings
 
 import numpy as np
@@ -21,6 +23,35 @@ def test_each_keeps_the_order_and_raises_the_first_error() -> None:
 
     with pytest.raises(ValueError, match="item 7"):
         threads.each(fails_at_seven, range(20), threads=4)
+
+
+def test_each_on_the_shared_pool_finishes_every_item_before_it_raises() -> None:
+    finished: list[int] = []
+
+    def slow_unless_first(item: int) -> int:
+        if item == 0:
+            raise ValueError("item 0")
+        time.sleep(0.01)  # the others still run when the first has failed
+        finished.append(item)
+        return item
+
+    with pytest.raises(ValueError, match="item 0"):
+        threads.each(slow_unless_first, range(6), threads=threads.THREADS if threads.THREADS > 1 else None)
+    assert sorted(finished) == ([1, 2, 3, 4, 5] if threads.THREADS > 1 else [])
+
+
+def test_each_within_each_works_in_its_own_thread(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A piece that works in pieces again does so in its own thread: the pool cannot run out of
+    threads that wait for it."""
+    monkeypatch.setattr(threads, "THREADS", 2)
+    monkeypatch.setattr(threads, "_pool", None)
+    inner = threads.each(lambda outer: threads.each(lambda item: (outer, item, threading.current_thread().name),
+                                                    range(3)), range(4))
+    for outer, rows in enumerate(inner):
+        assert [row[:2] for row in rows] == [(outer, 0), (outer, 1), (outer, 2)]
+        assert len({name for _, _, name in rows}) == 1
+    assert threads._pool is not None
+    threads._pool.shutdown()
 
 
 def _mesh_of_several_pieces(sizes: np.ndarray, far: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -6,7 +6,7 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from marraztu.model.threads import each
+from marraztu.model.threads import each, pieces
 
 # The GPU draws in float32: a coordinate beyond this would be infinite there.
 FLOAT32_MAX = float(np.finfo(np.float32).max)
@@ -120,20 +120,15 @@ def _collisions_split(table: np.ndarray, first: np.ndarray, group: np.ndarray, c
 _ROWS_PER_PIECE = 1 << 16
 
 
-def _row_pieces(count: int) -> range:
-    return range(0, count, _ROWS_PER_PIECE)
-
-
 def _differing_from_first(table: np.ndarray, first: np.ndarray, group: np.ndarray) -> np.ndarray:
     """The rows that differ from their group's first row: where different rows share a key."""
     firsts = np.take(table, first, axis=0)  # np.take gathers whole rows several times quicker than table[first]
 
-    def piece(low: int) -> np.ndarray:
-        rows, groups = table[low:low + _ROWS_PER_PIECE], group[low:low + _ROWS_PER_PIECE]
-        same = np.take(firsts, groups, axis=0) == rows
-        return low + np.flatnonzero(~(same[:, 0] & same[:, 1] & same[:, 2]))
+    def piece(rows: slice) -> np.ndarray:
+        same = np.take(firsts, group[rows], axis=0) == table[rows]
+        return rows.start + np.flatnonzero(~(same[:, 0] & same[:, 1] & same[:, 2]))
 
-    return np.concatenate(each(piece, _row_pieces(len(table))))
+    return np.concatenate(each(piece, pieces(len(table), _ROWS_PER_PIECE)))
 
 
 def _row_keys(table: np.ndarray) -> np.ndarray:
@@ -142,8 +137,8 @@ def _row_keys(table: np.ndarray) -> np.ndarray:
     alone would keep."""
     key = np.empty(len(table), np.uint64)
 
-    def piece(low: int) -> None:
-        rows, out = table[low:low + _ROWS_PER_PIECE], key[low:low + _ROWS_PER_PIECE]
+    def piece(piece_rows: slice) -> None:
+        rows, out = table[piece_rows], key[piece_rows]
         number = np.empty(len(rows), np.float64)
         bits, folded = number.view(np.uint64), np.empty(len(rows), np.uint64)
         out[:] = 0
@@ -155,5 +150,5 @@ def _row_keys(table: np.ndarray) -> np.ndarray:
             out += folded
         out ^= out >> np.uint64(32)
 
-    each(piece, _row_pieces(len(table)))
+    each(piece, pieces(len(table), _ROWS_PER_PIECE))
     return key

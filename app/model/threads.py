@@ -4,8 +4,9 @@ run without the GIL, so pieces of one large table are worked on together."""
 from __future__ import annotations
 
 import os
+import threading
 from collections.abc import Callable, Sequence
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, wait
 from typing import TypeVar
 
 import numpy as np
@@ -27,13 +28,42 @@ THREADS = max(1, min(16, usable_cores()))
 
 
 def each(work: Callable[[_Item], _Result], items: Sequence[_Item], threads: int | None = None) -> list[_Result]:
-    """[work(item) for item in items], on up to `threads` threads (THREADS unless given); the first
-    exception is raised. numpy's error state is per thread: `work` sets its own."""
+    """[work(item) for item in items], on up to `threads` threads (THREADS unless given), every item
+    done before it returns; the first exception, in the items' order, is raised. numpy's error state is
+    per thread: `work` sets its own. Called from one of its own threads, it works in that thread."""
     threads = THREADS if threads is None else threads
-    if len(items) < 2 or threads < 2:
+    if len(items) < 2 or threads < 2 or threading.current_thread().name.startswith(_PREFIX):
         return [work(item) for item in items]
-    with ThreadPoolExecutor(max_workers=min(threads, len(items)), thread_name_prefix="marraztu-piece") as pool:
-        return list(pool.map(work, items))
+    if threads != THREADS:  # a count of its own (tests): a pool of its own
+        with ThreadPoolExecutor(max_workers=min(threads, len(items)), thread_name_prefix=_PREFIX) as pool:
+            return list(pool.map(work, items))
+    futures = [_shared_pool().submit(work, item) for item in items]
+    wait(futures)
+    return [future.result() for future in futures]
+
+
+_PREFIX = "marraztu-piece"
+_pool: ThreadPoolExecutor | None = None
+_pool_lock = threading.Lock()
+
+
+def _shared_pool() -> ThreadPoolExecutor:
+    """One pool for the process: on a 16-core host, starting 16 threads anew for each table took
+    longer than some tables' work."""
+    global _pool
+    with _pool_lock:
+        if _pool is None:
+            _pool = ThreadPoolExecutor(max_workers=THREADS, thread_name_prefix=_PREFIX)
+        return _pool
+
+
+def _forget_pool() -> None:  # a forked child has none of its parent's threads
+    global _pool
+    _pool = None
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_pool)
 
 
 def pieces(count: int, size: int) -> list[slice]:
