@@ -147,7 +147,7 @@ SOFTWARE_SEGMENT_PIECES_IN_FLIGHT = 4
 def draw_piece_primitives(ctx: moderngl.Context) -> int | None:
     """How many primitives a draw call sends before a glFlush: pieces on llvmpipe; None (whole draws)
     on a GPU, where each flush costs a submission."""
-    return SOFTWARE_PIECE_PRIMITIVES if _is_llvmpipe(ctx) else None
+    return SOFTWARE_PIECE_PRIMITIVES if is_llvmpipe(ctx) else None
 
 
 # Compute programs came with OpenGL 4.3.
@@ -157,10 +157,11 @@ COMPUTE_GL_VERSION = 430
 def lights_by_compute(ctx: moderngl.Context) -> bool:
     """Whether the lighting pass runs as a compute program: on llvmpipe, which runs a vertex stage on
     one thread and a compute program on all of them. GPUs keep transform feedback, as fast there."""
-    return _is_llvmpipe(ctx) and ctx.version_code >= COMPUTE_GL_VERSION
+    return is_llvmpipe(ctx) and ctx.version_code >= COMPUTE_GL_VERSION
 
 
-def _is_llvmpipe(ctx: moderngl.Context) -> bool:
+def is_llvmpipe(ctx: moderngl.Context) -> bool:
+    """Whether this context is Mesa's llvmpipe, whose GPU memory is the process's own."""
     # At the start only: zink on lavapipe, a Vulkan driver, names llvmpipe later in its string.
     return str(ctx.info.get("GL_RENDERER", "")).startswith("llvmpipe")
 

@@ -16,6 +16,7 @@ from marraztu.devtools.bench.frames import FrameBench
 from marraztu.devtools.bench.inputs import LoadInput
 from marraztu.devtools.bench.loading import gpu_ready_arrays
 from marraztu.devtools.bench.report import MEGABYTE, markdown_table, number, progress
+from marraztu.render.context import is_llvmpipe
 
 if TYPE_CHECKING:
     from marraztu.model.mesh import Mesh
@@ -52,9 +53,12 @@ def memory_row(bench: FrameBench, item: LoadInput) -> list[str]:
     finally:
         gpu.release()
     growth, reader_bytes, reader_seconds = median_rss_growth(item.path)
-    unqueued, _, _ = median_rss_growth(item.path, {"LP_NUM_THREADS": "0"})  # llvmpipe rasterizes each scene at once
+    queue = "—"  # a GPU has no such queue, and ignores the variable
+    if is_llvmpipe(bench.ctx):
+        unqueued, _, _ = median_rss_growth(item.path, {"LP_NUM_THREADS": "0"})  # each scene rasterized at once
+        queue = number(growth - unqueued)
     return [item.label, str(triangles), *(number(value) for value in per_triangle), number(growth),
-            number(growth - unqueued), number(reader_bytes / MEGABYTE), number(reader_seconds)]
+            queue, number(reader_bytes / MEGABYTE), number(reader_seconds)]
 
 
 def resident_bytes() -> int:
@@ -138,7 +142,7 @@ def memory_section(bench: FrameBench, inputs: Sequence[LoadInput]) -> list[str]:
         "everything the object costs the machine, host and (on llvmpipe) GPU. *Of which llvmpipe's "
         "scene queue*: that growth less the same with `LP_NUM_THREADS=0`, where llvmpipe rasterizes each "
         "scene as soon as it is binned instead of queueing binned scenes for its threads and keeping "
-        "their memory for reuse (none of ours; about zero on a GPU, which ignores the variable). "
+        "their memory for reuse (none of ours; measured on llvmpipe only). "
         "*Compiled reader*: what importing numba and loading the OBJ reader's machine code from numba's "
         "cache adds to the same process before that, and how long that takes, once per process whatever "
         "the model (a process whose files are all under 2.5 MB never pays it: the line reader reads "
