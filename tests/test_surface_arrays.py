@@ -97,6 +97,39 @@ def test_a_smooth_grid_shares_its_vertices() -> None:
     assert vertices.shape[0] == mesh.vertex_count + mesh.face_count  # no seams: uv and normals per vertex
 
 
+def _random_obj(seams: bool) -> bytes:
+    """Triangles and quads over shared positions; with seams, each corner names a vt and vn of its own."""
+    rng = np.random.default_rng(37)
+    lines = [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in rng.normal(size=(40, 3))]
+    corner = 0
+    for size in rng.integers(3, 5, 60):
+        picked = rng.choice(40, int(size), replace=False) + 1
+        if seams:
+            lines += [f"vt {u:.4f} {v:.4f}" for u, v in rng.random((size, 2))]
+            lines += [f"vn {x:.4f} {y:.4f} {z:.4f}" for x, y, z in rng.normal(size=(size, 3))]
+            lines.append("f " + " ".join(f"{p}/{corner + k + 1}/{corner + k + 1}" for k, p in enumerate(picked)))
+            corner += int(size)
+        else:
+            lines.append("f " + " ".join(str(p) for p in picked))
+    return ("\n".join(lines) + "\n").encode()
+
+
+@pytest.mark.parametrize("seams", [False, True], ids=["per position", "seams"])
+def test_surface_rows_made_in_small_pieces_are_the_same(seams: bool, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Pieces of 3 rows cut through the positions' rows, the seams' and the polygons' own: the arrays
+    are those made in one piece, and draw the same corners."""
+    from marraztu.render import gpu
+
+    mesh = parse_obj(_random_obj(seams), "random.obj")
+    whole = surface_arrays(mesh)
+    monkeypatch.setattr(gpu, "_ROW_CHUNK", 3)
+    pieced = surface_arrays(mesh)
+    assert (whole.shared_rows > mesh.vertex_count) == seams
+    for name, array in whole.arrays.items():
+        assert np.array_equal(array.view(np.uint8), pieced.arrays[name].view(np.uint8)), name
+    check_same_corners(mesh)
+
+
 @pytest.mark.parametrize("size", [4, 5, 7])
 def test_polygons_all_of_one_size_fan_from_their_first_corner(size: int) -> None:
     """Their fans are gathered within each polygon's row of corners (no table of triangle corners)."""
