@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from marraztu.loaders.obj import load_obj, parse_obj
+from marraztu.model import threads
 from marraztu.model.build import build_mesh
 from marraztu.model.mesh import Mesh
 from marraztu.render.gpu import _seams, edge_pairs, surface_arrays, used_shared_rows
@@ -118,11 +119,9 @@ def _random_obj(seams: bool) -> bytes:
 def test_surface_rows_made_in_small_pieces_are_the_same(seams: bool, monkeypatch: pytest.MonkeyPatch) -> None:
     """Pieces of 3 rows cut through the positions' rows, the seams' and the polygons' own: the arrays
     are those made in one piece, and draw the same corners."""
-    from marraztu.render import gpu
-
     mesh = parse_obj(_random_obj(seams), "random.obj")
     whole = surface_arrays(mesh)
-    monkeypatch.setattr(gpu, "_ROW_CHUNK", 3)
+    monkeypatch.setattr(threads, "ROWS_PER_PIECE", 3)
     pieced = surface_arrays(mesh)
     assert (whole.shared_rows > mesh.vertex_count) == seams
     for name, array in whole.arrays.items():

@@ -307,10 +307,9 @@ def _fan_sums(positions: np.ndarray, polygons: np.ndarray) -> np.ndarray:
     x, y, z = np.ascontiguousarray(positions.T)
     out = np.empty((3, polygons.shape[0]), positions.dtype)
 
-    def piece(low: int) -> None:
+    def piece(rows: slice) -> None:
         # Each corner column as numpy's own index type, once: a gather by int32 indices converts them.
-        block = polygons[low:low + _CROSS_CHUNK].T.astype(np.intp)
-        high = low + block.shape[1]
+        block = polygons[rows].T.astype(np.intp)
         first = block[0]
         with np.errstate(all="ignore"):
             x0, y0, z0 = x.take(first), y.take(first), z.take(first)
@@ -320,11 +319,11 @@ def _fan_sums(positions: np.ndarray, polygons: np.ndarray) -> np.ndarray:
                 bx, by, bz = x.take(third) - x0, y.take(third) - y0, z.take(third) - z0
                 cross = (ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx)
                 if corner == 1:  # set, not added to zeros: 0.0 + -0.0 would lose the zero's sign
-                    out[:, low:high] = cross
+                    out[:, rows] = cross
                 else:
-                    out[:, low:high] += cross
+                    out[:, rows] += cross
 
-    each(piece, range(0, polygons.shape[0], _CROSS_CHUNK))
+    each(piece, pieces(polygons.shape[0], _CROSS_CHUNK))
     return out
 
 

@@ -117,9 +117,6 @@ def _collisions_split(table: np.ndarray, first: np.ndarray, group: np.ndarray, c
 
 
 # Rows per piece of the key and the check: a piece's temporaries stay in the cache.
-_ROWS_PER_PIECE = 1 << 16
-
-
 def _differing_from_first(table: np.ndarray, first: np.ndarray, group: np.ndarray) -> np.ndarray:
     """The rows that differ from their group's first row: where different rows share a key."""
     firsts = np.take(table, first, axis=0)  # np.take gathers whole rows several times quicker than table[first]
@@ -128,7 +125,7 @@ def _differing_from_first(table: np.ndarray, first: np.ndarray, group: np.ndarra
         same = np.take(firsts, group[rows], axis=0) == table[rows]
         return rows.start + np.flatnonzero(~(same[:, 0] & same[:, 1] & same[:, 2]))
 
-    return np.concatenate(each(piece, pieces(len(table), _ROWS_PER_PIECE)))
+    return np.concatenate(each(piece, pieces(len(table))))
 
 
 def _row_keys(table: np.ndarray) -> np.ndarray:
@@ -150,5 +147,5 @@ def _row_keys(table: np.ndarray) -> np.ndarray:
             out += folded
         out ^= out >> np.uint64(32)
 
-    each(piece, pieces(len(table), _ROWS_PER_PIECE))
+    each(piece, pieces(len(table)))
     return key

@@ -173,42 +173,44 @@ def _surface_rows(mesh: Mesh) -> tuple[np.ndarray, np.ndarray | None, np.ndarray
         own[corner_vertex] = np.arange(corner_vertex.shape[0])
         seams = _seams(mesh, own[corner_vertex])
     shared_rows = positions + seams.shape[0]
-    later_corners = np.concatenate([seams, mesh.face_start[:-1]])  # the corners of the rows past the positions'
-    later_positions = corner_vertex[later_corners]
-    vertices = np.empty((positions + later_corners.shape[0], 8), np.float32)
+    firsts = mesh.face_start[:-1]  # each polygon's own row copies its first corner's
+    vertices = np.empty((shared_rows + firsts.shape[0], 8), np.float32)
 
     def position_rows(rows: slice) -> None:  # a position's own row is the position (unused ones are never indexed)
         vertices[rows, 0:3] = mesh.gpu_positions(rows)
         vertices[rows, 3:6] = _own_rows(mesh.normals, own, rows)
         vertices[rows, 6:8] = _own_rows(mesh.uvs, own, rows)
 
-    def later_rows(later: slice) -> None:
-        rows = slice(positions + later.start, positions + later.stop)
-        # Each later row starts as a copy of its position's row, gathered whole (np.take gathers rows
-        # faster than fancy indexing, and whole rows faster than a few columns of them); then what differs.
-        # mode="clip" (the indices are the mesh's, in range) is the mode that writes into `out` unbuffered.
-        np.take(vertices[:positions], later_positions[later], axis=0, out=vertices[rows], mode="clip")
-        if own is not None:  # attributes per corner: a seam's normal and each later row's uv are its corner's
-            attribute_rows = mesh.attribute_rows(later_corners[later])
-            seam_rows = max(0, min(later.stop, seams.shape[0]) - later.start)
-            vertices[rows.start:rows.start + seam_rows, 3:6] = np.take(mesh.normals, attribute_rows[:seam_rows],
-                                                                       axis=0)
-            vertices[rows, 6:8] = np.take(mesh.uvs, attribute_rows, axis=0)
-        polygons = slice(max(later.start, seams.shape[0]) - seams.shape[0], later.stop - seams.shape[0])
-        if polygons.stop > polygons.start:  # Flat lights a polygon at its own row only
-            vertices[shared_rows + polygons.start:shared_rows + polygons.stop, 3:6] = mesh.face_normals[polygons]
+    # Each later row starts as a copy of its corner's position's row, gathered whole (np.take gathers rows
+    # faster than fancy indexing, and whole rows faster than a few columns of them); then what differs.
+    # mode="clip" (the indices are the mesh's, in range) is the mode that writes into `out` unbuffered.
+    def seam_rows(seam: slice) -> None:  # seams exist only where attributes are per corner
+        rows, corners = _after(positions, seam), seams[seam]
+        np.take(vertices[:positions], corner_vertex[corners], axis=0, out=vertices[rows], mode="clip")
+        vertices[rows, 3:6] = np.take(mesh.normals, corners, axis=0)
+        vertices[rows, 6:8] = np.take(mesh.uvs, corners, axis=0)
 
-    each(position_rows, pieces(positions, _ROW_CHUNK))
-    each(later_rows, pieces(later_corners.shape[0], _ROW_CHUNK))  # after: they copy the positions' rows
+    def polygon_rows(polygon: slice) -> None:
+        rows, corners = _after(shared_rows, polygon), firsts[polygon]
+        np.take(vertices[:positions], corner_vertex[corners], axis=0, out=vertices[rows], mode="clip")
+        if own is not None:  # attributes per corner: the uv is the first corner's own
+            vertices[rows, 6:8] = np.take(mesh.uvs, corners, axis=0)
+        vertices[rows, 3:6] = mesh.face_normals[polygon]  # Flat lights a polygon at its own row only
+
+    each(position_rows, pieces(positions))
+    each(seam_rows, pieces(seams.shape[0]))  # these two after the positions' rows, which they copy
+    each(polygon_rows, pieces(firsts.shape[0]))
     colours = None
     if mesh.vertex_colours is not None:  # 4 bytes a row keeps every row aligned for the GPU
         colours = np.full((vertices.shape[0], 4), 255, np.uint8)
         colours[:positions, :3] = mesh.vertex_colours
-        colours[positions:, :3] = np.take(mesh.vertex_colours, later_positions, axis=0)
+        colours[positions:, :3] = np.take(mesh.vertex_colours, corner_vertex[np.concatenate([seams, firsts])], axis=0)
     return vertices, colours, seams, shared_rows
 
 
-_ROW_CHUNK = 1 << 16  # rows per piece: each piece's gathers and copies stay in the CPU's cache
+def _after(first_row: int, rows: slice) -> slice:
+    """These rows of a block that starts at `first_row`, as rows of the whole table."""
+    return slice(first_row + rows.start, first_row + rows.stop)
 
 
 def _own_rows(table: np.ndarray, own: np.ndarray | None, rows: slice) -> np.ndarray:
