@@ -6,15 +6,17 @@ gets the same normals and coordinates whichever way it came in.
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from numbers import Real
+from types import ModuleType
 
 import numpy as np
 
 from marraztu.model.geometry import FLOAT32_MAX, column_bounds, unit_rows
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted, fan_gather
-from marraztu.model.threads import converted, each, pieces
+from marraztu.model.threads import THREADS, converted, each, pieces
 
 # Zero-area faces get a fallback normal; "zero" is relative to the model's size.
 DEGENERATE_AREA = 1e-12
@@ -263,13 +265,17 @@ def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: 
     The work is done on one contiguous array per axis: gathers from and arithmetic on (N,) arrays
     run at memory speed, where the columns of an (N, 3) array are strided.
     """
+    smallest = DEGENERATE_AREA * _size_squared(bounds)
     if _one_small_size(sizes):  # triangles, quads...: each polygon's fans summed in place
-        sums = _fan_sums(positions, corner_vertex.reshape(-1, int(sizes[0])))  # a view of the corners
+        polygons = corner_vertex.reshape(-1, int(sizes[0]))  # a view of the corners
+        compiled = _compiled_loops(positions, polygons)
+        if compiled is not None:
+            return _compiled_face_normals(compiled, positions, polygons, smallest)
+        sums = _fan_sums(positions, polygons)
     else:  # each fan a polygon of its own, then the fans of each polygon added in fan order
         fans = fan_gather(corner_vertex, face_start).reshape(-1, 3)
         firsts = np.concatenate(([0], np.cumsum(sizes - 2)[:-1]))
         sums = np.add.reduceat(_fan_sums(positions, fans), firsts, axis=1)
-    smallest = DEGENERATE_AREA * _size_squared(bounds)
     degenerate = np.empty(sums.shape[1], bool)
 
     def unit(polygons: slice) -> None:  # in place, piece by piece: no temporary as long as the mesh
@@ -284,6 +290,27 @@ def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: 
 
     each(unit, pieces(sums.shape[1], _CROSS_CHUNK))
     return sums.T, degenerate
+
+
+def _compiled_loops(table: np.ndarray, polygons: np.ndarray) -> ModuleType | None:
+    """marraztu.model.compiled where this process has imported it already and the float table and
+    the polygons are the types its machine code takes; else None, and numpy does the work."""
+    if "marraztu.model.compiled" not in sys.modules:
+        return None
+    if not (table.dtype == np.float64 and polygons.dtype == INDEX and table.flags.c_contiguous
+            and polygons.flags.c_contiguous):
+        return None
+    from marraztu.model import compiled  # imported, or being imported by another thread: this waits for it
+    return compiled
+
+
+def _compiled_face_normals(compiled: ModuleType, positions: np.ndarray, polygons: np.ndarray, smallest: float
+                           ) -> tuple[np.ndarray, np.ndarray]:
+    """_face_normals's outcome for polygons of one size, by the compiled loop, in pieces on threads."""
+    normals, degenerate = np.empty((polygons.shape[0], 3)), np.empty(polygons.shape[0], bool)
+    each(lambda rows: compiled.polygon_normals(positions, polygons, smallest, rows.start, rows.stop, normals,
+                                               degenerate), pieces(polygons.shape[0]))
+    return normals, degenerate
 
 
 # Polygons of one size up to this many corners are worked on corner column by corner column; beyond
@@ -391,6 +418,11 @@ def _normal_sums(face_normals: np.ndarray, corner_vertex: np.ndarray, sizes: np.
     One axis at a time on contiguous arrays; for polygons of one size, one sum per corner column,
     which is cheaper than repeating every face normal per corner.
     """
+    if _one_small_size(sizes):
+        polygons = corner_vertex.reshape(-1, int(sizes[0]))
+        compiled = _compiled_loops(face_normals, polygons)
+        if compiled is not None:
+            return _compiled_normal_sums(compiled, face_normals, polygons, vertex_count)
     axes = [np.ascontiguousarray(face_normals[:, axis]) for axis in range(3)]
     if _one_small_size(sizes):
         sums = np.zeros((3, vertex_count))
@@ -401,6 +433,18 @@ def _normal_sums(face_normals: np.ndarray, corner_vertex: np.ndarray, sizes: np.
         return np.ascontiguousarray(sums.T)
     rows = corner_vertex.astype(np.intp)
     return np.stack([_sums_at(rows, np.repeat(axis, sizes), vertex_count) for axis in axes], axis=1)
+
+
+def _compiled_normal_sums(compiled: ModuleType, face_normals: np.ndarray, polygons: np.ndarray, vertex_count: int
+                          ) -> np.ndarray:
+    """_normal_sums's outcome by the compiled loop: a range of positions per thread, each reading every corner."""
+    sums = np.zeros((vertex_count, 3))
+
+    def position_range(rows: slice) -> None:
+        compiled.normal_sums(face_normals, polygons, rows.start, rows.stop, sums, np.empty((rows.stop - rows.start, 3)))
+
+    each(position_range, pieces(vertex_count, -(-vertex_count // THREADS)))
+    return sums
 
 
 def _sums_at(rows: np.ndarray, values: np.ndarray, length: int) -> np.ndarray:

@@ -18,6 +18,7 @@ import numpy as np
 
 from marraztu.loaders.obj import raw, scan
 from marraztu.loaders.obj.lines import LineReader, check_forward_indices, no_faces_error
+from marraztu.model import compiled  # noqa: F401  # the mesh's compiled loops: its machine code loads with the reader's
 from marraztu.model.mesh import INDEX
 from marraztu.model.threads import THREADS, each
 

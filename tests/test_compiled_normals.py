@@ -1,0 +1,100 @@
+"""The mesh's compiled loops (marraztu.model.compiled) give numpy's normals bit for bit, and take no
+array type they were not compiled for."""
+
+from __future__ import annotations
+
+import importlib
+import sys
+import warnings
+
+import numpy as np
+import pytest
+
+from marraztu.model import build, threads
+from marraztu.model.build import derive_mesh
+from marraztu.model.geometry import column_bounds
+from marraztu.model.mesh import INDEX, Mesh
+
+compiled = pytest.importorskip("marraztu.model.compiled", reason="numba is not installed here")
+NAME = "marraztu.model.compiled"
+
+
+def _one_size_mesh(size: int, scale: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Random polygons of one size over 5,000 positions, in pieces of several threads' worth, with a
+    zero-area face; far away, one face whose cross product overflows to infinity."""
+    rng = np.random.default_rng(size)
+    positions = rng.normal(size=(5000, 3)) * scale
+    faces = 2 * threads.ROWS_PER_PIECE // size + 7
+    corner_vertex = rng.integers(0, positions.shape[0] - 2, faces * size).astype(INDEX)
+    corner_vertex[:size] = 0  # a zero-area face
+    if scale > 1.0:
+        positions[-2:] = [[1e160, 0.0, 0.0], [0.0, 1e160, 0.0]]
+        corner_vertex[size:2 * size] = [0, 4998] + [4999] * (size - 2)  # its first fan's x*y overflows
+    return positions, corner_vertex, np.arange(faces + 1, dtype=INDEX) * size
+
+
+def _derived(positions: np.ndarray, corner_vertex: np.ndarray, face_start: np.ndarray) -> Mesh:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow or division warning from either way
+        return derive_mesh("m", positions, corner_vertex, face_start, None, None, None, None, ())
+
+
+def _float64_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: np.ndarray
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The face normals, degenerate faces and per-position sums before they are rounded to float32."""
+    sizes = np.diff(face_start)
+    faces, degenerate = build._face_normals(positions, corner_vertex, face_start, sizes, column_bounds(positions))
+    return faces, degenerate, build._normal_sums(faces, corner_vertex, sizes, positions.shape[0])
+
+
+@pytest.mark.parametrize("size", [3, 4, 5, build.MAX_COLUMN_SIZE])
+@pytest.mark.parametrize("scale", [1.0, 1e37], ids=["near", "far"])
+@pytest.mark.parametrize("thread_count", [1, 4])
+def test_compiled_normals_equal_numpys_bit_for_bit(size: int, scale: float, thread_count: int,
+                                                   monkeypatch: pytest.MonkeyPatch) -> None:
+    """In float64 (the per-position sums' order shows there), and in the mesh made of them."""
+    positions, corner_vertex, face_start = _one_size_mesh(size, scale)
+    monkeypatch.setattr(threads, "THREADS", thread_count)
+    with monkeypatch.context() as without:
+        without.delitem(sys.modules, NAME)  # as in a process that has not imported it
+        by_numpy = _float64_normals(positions, corner_vertex, face_start)
+        mesh_by_numpy = _derived(positions, corner_vertex, face_start)
+    calls: list[str] = []
+    for loop in ("polygon_normals", "normal_sums"):
+        monkeypatch.setattr(compiled, loop, _counted(getattr(compiled, loop), calls, loop))
+    by_compiled = _float64_normals(positions, corner_vertex, face_start)
+    mesh = _derived(positions, corner_vertex, face_start)
+    assert {"polygon_normals", "normal_sums"} <= set(calls)
+    for ours, numpys in zip(by_compiled, by_numpy):
+        assert ours.tobytes() == numpys.tobytes()  # zeros' signs too
+    assert by_compiled[1][0] and by_compiled[1][1] == (scale > 1.0)
+    assert mesh.face_normals.tobytes() == mesh_by_numpy.face_normals.tobytes()
+    assert mesh.normals.tobytes() == mesh_by_numpy.normals.tobytes()
+    assert mesh.warnings == mesh_by_numpy.warnings
+
+
+def _counted(loop, calls: list[str], name: str):  # noqa: ANN001, ANN202  # numba's dispatcher, wrapped
+    def counting(*args: object) -> None:
+        calls.append(name)
+        loop(*args)
+    return counting
+
+
+@pytest.mark.parametrize("kind", ["float32 positions", "int64 corners", "Fortran-ordered positions"])
+def test_arrays_of_other_types_go_to_numpy_and_compile_nothing(kind: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Another format's or the API's own array types are worked on by numpy, as without the loops,
+    which keep their one machine code each."""
+    importlib.import_module(NAME)
+    positions, corner_vertex, face_start = _one_size_mesh(3, 1.0)
+    if kind == "float32 positions":
+        positions = positions.astype(np.float32)
+    elif kind == "int64 corners":
+        corner_vertex = corner_vertex.astype(np.int64)
+    else:
+        positions = np.asfortranarray(positions)
+    given = _derived(positions, corner_vertex, face_start)
+    with monkeypatch.context() as without:
+        without.delitem(sys.modules, NAME)
+        by_numpy = _derived(positions, corner_vertex, face_start)
+    assert given.normals.tobytes() == by_numpy.normals.tobytes()
+    assert [len(loop.signatures) for loop in (compiled.polygon_normals, compiled.normal_sums)] == [1, 1]
