@@ -81,9 +81,11 @@ def number(value: float | None) -> str:
 
 
 def ratio(value: float | None, reference: float | None) -> str:
+    """Two decimals; below 0.01 (a C parser beside ours on a tiny file), three significant figures, not 0.00."""
     if value is None or not reference:
         return MISSING
-    return f"{value / reference:.2f}"
+    quotient = value / reference
+    return f"{quotient:.2f}" if abs(quotient) >= 0.01 else number(quotient)
 
 
 def count_label(count: int) -> str:
