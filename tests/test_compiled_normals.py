@@ -19,18 +19,27 @@ compiled = pytest.importorskip("marraztu.model.compiled", reason="numba is not i
 NAME = "marraztu.model.compiled"
 
 
-def _one_size_mesh(size: int, scale: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Random polygons of one size over 5,000 positions, in pieces of several threads' worth, with a
-    zero-area face; far away, one face whose cross product overflows to infinity."""
-    rng = np.random.default_rng(size)
+def _mesh(shape: str, scale: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Random polygons over 5,000 positions, in pieces of several threads' worth, with a zero-area
+    face; far away, one face whose cross product overflows to infinity. `shape`: one size (a number),
+    sizes 3 to 8 mixed, or triangles and one polygon of 20,000 corners."""
+    rng = np.random.default_rng(len(shape))
     positions = rng.normal(size=(5000, 3)) * scale
-    faces = 2 * threads.ROWS_PER_PIECE // size + 7
-    corner_vertex = rng.integers(0, positions.shape[0] - 2, faces * size).astype(INDEX)
-    corner_vertex[:size] = 0  # a zero-area face
+    faces = 2 * threads.ROWS_PER_PIECE // 3 + 7
+    if shape == "mixed":
+        sizes = rng.integers(3, 9, faces)
+    elif shape == "huge":
+        sizes = np.full(faces, 3)
+        sizes[faces // 2] = 20_000
+    else:
+        sizes = np.full(faces, int(shape))
+    face_start = np.concatenate(([0], np.cumsum(sizes))).astype(INDEX)
+    corner_vertex = rng.integers(0, positions.shape[0] - 2, face_start[-1]).astype(INDEX)
+    corner_vertex[:sizes[0]] = 0  # a zero-area face
     if scale > 1.0:
         positions[-2:] = [[1e160, 0.0, 0.0], [0.0, 1e160, 0.0]]
-        corner_vertex[size:2 * size] = [0, 4998] + [4999] * (size - 2)  # its first fan's x*y overflows
-    return positions, corner_vertex, np.arange(faces + 1, dtype=INDEX) * size
+        corner_vertex[face_start[1]:face_start[2]] = [0, 4998] + [4999] * (sizes[1] - 2)  # x*y overflows
+    return positions, corner_vertex, face_start
 
 
 def _derived(positions: np.ndarray, corner_vertex: np.ndarray, face_start: np.ndarray) -> Mesh:
@@ -44,16 +53,16 @@ def _float64_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_star
     """The face normals, degenerate faces and per-position sums before they are rounded to float32."""
     sizes = np.diff(face_start)
     faces, degenerate = build._face_normals(positions, corner_vertex, face_start, sizes, column_bounds(positions))
-    return faces, degenerate, build._normal_sums(faces, corner_vertex, sizes, positions.shape[0])
+    return faces, degenerate, build._normal_sums(faces, corner_vertex, face_start, sizes, positions.shape[0])
 
 
-@pytest.mark.parametrize("size", [3, 4, 5, build.MAX_COLUMN_SIZE])
+@pytest.mark.parametrize("shape", ["3", "4", "5", str(build.MAX_COLUMN_SIZE), "mixed", "huge"])
 @pytest.mark.parametrize("scale", [1.0, 1e37], ids=["near", "far"])
 @pytest.mark.parametrize("thread_count", [1, 4])
-def test_compiled_normals_equal_numpys_bit_for_bit(size: int, scale: float, thread_count: int,
+def test_compiled_normals_equal_numpys_bit_for_bit(shape: str, scale: float, thread_count: int,
                                                    monkeypatch: pytest.MonkeyPatch) -> None:
-    """In float64 (the per-position sums' order shows there), and in the mesh made of them."""
-    positions, corner_vertex, face_start = _one_size_mesh(size, scale)
+    """In float64 (the order of the fans' and the per-position sums shows there), and in the mesh."""
+    positions, corner_vertex, face_start = _mesh(shape, scale)
     monkeypatch.setattr(threads, "THREADS", thread_count)
     with monkeypatch.context() as without:
         without.delitem(sys.modules, NAME)  # as in a process that has not imported it
@@ -85,7 +94,7 @@ def test_arrays_of_other_types_go_to_numpy_and_compile_nothing(kind: str, monkey
     """Another format's or the API's own array types are worked on by numpy, as without the loops,
     which keep their one machine code each."""
     importlib.import_module(NAME)
-    positions, corner_vertex, face_start = _one_size_mesh(3, 1.0)
+    positions, corner_vertex, face_start = _mesh("mixed", 1.0)
     if kind == "float32 positions":
         positions = positions.astype(np.float32)
     elif kind == "int64 corners":

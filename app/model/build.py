@@ -266,16 +266,13 @@ def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: 
     run at memory speed, where the columns of an (N, 3) array are strided.
     """
     smallest = DEGENERATE_AREA * _size_squared(bounds)
+    compiled = _compiled_loops(positions, corner_vertex, face_start)
+    if compiled is not None:
+        return _compiled_face_normals(compiled, positions, corner_vertex, face_start, smallest)
     if _one_small_size(sizes):  # triangles, quads...: each polygon's fans summed in place
-        polygons = corner_vertex.reshape(-1, int(sizes[0]))  # a view of the corners
-        compiled = _compiled_loops(positions, polygons)
-        if compiled is not None:
-            return _compiled_face_normals(compiled, positions, polygons, smallest)
-        sums = _fan_sums(positions, polygons)
+        sums = _fan_sums(positions, corner_vertex.reshape(-1, int(sizes[0])))  # a view of the corners
     else:  # each fan a polygon of its own, then the fans of each polygon added in fan order
-        fans = fan_gather(corner_vertex, face_start).reshape(-1, 3)
-        firsts = np.concatenate(([0], np.cumsum(sizes - 2)[:-1]))
-        sums = np.add.reduceat(_fan_sums(positions, fans), firsts, axis=1)
+        sums = _fans_added(_fan_sums(positions, fan_gather(corner_vertex, face_start).reshape(-1, 3)), sizes)
     degenerate = np.empty(sums.shape[1], bool)
 
     def unit(polygons: slice) -> None:  # in place, piece by piece: no temporary as long as the mesh
@@ -292,24 +289,38 @@ def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: 
     return sums.T, degenerate
 
 
-def _compiled_loops(table: np.ndarray, polygons: np.ndarray) -> ModuleType | None:
+def _fans_added(fan_sums: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """(3, F): each polygon's first fan's sum, then its others added one by one in fan order, as the
+    one-size path and the compiled loop add them (np.add.reduceat would add the later ones pairwise)."""
+    firsts = np.concatenate(([0], np.cumsum(sizes - 2)[:-1]))
+    sums = fan_sums[:, firsts]
+    later = np.ones(fan_sums.shape[1], bool)
+    later[firsts] = False
+    polygon = np.repeat(np.arange(sizes.size), sizes - 2)[later]
+    for axis in range(3):
+        np.add.at(sums[axis], polygon, fan_sums[axis, later])
+    return sums
+
+
+def _compiled_loops(table: np.ndarray, corner_vertex: np.ndarray, face_start: np.ndarray) -> ModuleType | None:
     """marraztu.model.compiled where this process has imported it already and the float table and
-    the polygons are the types its machine code takes; else None, and numpy does the work."""
+    the corners are the types its machine code takes; else None, and numpy does the work."""
     if "marraztu.model.compiled" not in sys.modules:
         return None
-    if not (table.dtype == np.float64 and polygons.dtype == INDEX and table.flags.c_contiguous
-            and polygons.flags.c_contiguous):
+    if not (table.dtype == np.float64 and table.flags.c_contiguous
+            and all(index.dtype == INDEX and index.flags.c_contiguous for index in (corner_vertex, face_start))):
         return None
     from marraztu.model import compiled  # imported, or being imported by another thread: this waits for it
     return compiled
 
 
-def _compiled_face_normals(compiled: ModuleType, positions: np.ndarray, polygons: np.ndarray, smallest: float
-                           ) -> tuple[np.ndarray, np.ndarray]:
-    """_face_normals's outcome for polygons of one size, by the compiled loop, in pieces on threads."""
-    normals, degenerate = np.empty((polygons.shape[0], 3)), np.empty(polygons.shape[0], bool)
-    each(lambda rows: compiled.polygon_normals(positions, polygons, smallest, rows.start, rows.stop, normals,
-                                               degenerate), pieces(polygons.shape[0]))
+def _compiled_face_normals(compiled: ModuleType, positions: np.ndarray, corner_vertex: np.ndarray,
+                           face_start: np.ndarray, smallest: float) -> tuple[np.ndarray, np.ndarray]:
+    """_face_normals's outcome by the compiled loop, in pieces of faces on threads."""
+    faces = face_start.size - 1
+    normals, degenerate = np.empty((faces, 3)), np.empty(faces, bool)
+    each(lambda rows: compiled.polygon_normals(positions, corner_vertex, face_start, smallest, rows.start, rows.stop,
+                                               normals, degenerate), pieces(faces))
     return normals, degenerate
 
 
@@ -393,7 +404,8 @@ def _fill_vertex_normals(vertex_normals: np.ndarray, missing: np.ndarray, shape:
     """Normals for the missing rows: the normalised sum of the unit normals of the faces around the
     row's position (zero-area faces, still zero here, do not count). Returns the rows still missing
     one: their position touches no face with an area."""
-    sums = _normal_sums(shape.face_normals, shape.corner_vertex, shape.sizes, shape.positions.shape[0])
+    sums = _normal_sums(shape.face_normals, shape.corner_vertex, shape.face_start, shape.sizes,
+                        shape.positions.shape[0])
     position_normals, position_ok = unit_rows(sums)
     # Converted first: a fancy assignment that also converts is slower than a gather of the right type.
     position_normals = position_normals.astype(vertex_normals.dtype)
@@ -411,39 +423,23 @@ def _fill_vertex_normals(vertex_normals: np.ndarray, missing: np.ndarray, shape:
     return still
 
 
-def _normal_sums(face_normals: np.ndarray, corner_vertex: np.ndarray, sizes: np.ndarray, vertex_count: int
-                 ) -> np.ndarray:
-    """(V, 3): per position, the sum of the normals of the faces that use it.
-
-    One axis at a time on contiguous arrays; for polygons of one size, one sum per corner column,
-    which is cheaper than repeating every face normal per corner.
-    """
-    if _one_small_size(sizes):
-        polygons = corner_vertex.reshape(-1, int(sizes[0]))
-        compiled = _compiled_loops(face_normals, polygons)
-        if compiled is not None:
-            return _compiled_normal_sums(compiled, face_normals, polygons, vertex_count)
-    axes = [np.ascontiguousarray(face_normals[:, axis]) for axis in range(3)]
-    if _one_small_size(sizes):
-        sums = np.zeros((3, vertex_count))
-        for column in corner_vertex.reshape(-1, int(sizes[0])).T:
-            rows = column.astype(np.intp)  # one column's at a time: numpy's index type is 8 bytes a corner
-            for axis, values in enumerate(axes):
-                sums[axis] += _sums_at(rows, values, vertex_count)  # column by column, as the sum of three
-        return np.ascontiguousarray(sums.T)
+def _normal_sums(face_normals: np.ndarray, corner_vertex: np.ndarray, face_start: np.ndarray, sizes: np.ndarray,
+                 vertex_count: int) -> np.ndarray:
+    """(V, 3): per position, the sum of the normals of the faces that use it, corner by corner in order."""
+    compiled = _compiled_loops(face_normals, corner_vertex, face_start)
+    if compiled is not None:
+        return _compiled_normal_sums(compiled, face_normals, corner_vertex, face_start, vertex_count)
     rows = corner_vertex.astype(np.intp)
-    return np.stack([_sums_at(rows, np.repeat(axis, sizes), vertex_count) for axis in axes], axis=1)
+    return np.stack([_sums_at(rows, np.repeat(face_normals[:, axis], sizes), vertex_count) for axis in range(3)],
+                    axis=1)
 
 
-def _compiled_normal_sums(compiled: ModuleType, face_normals: np.ndarray, polygons: np.ndarray, vertex_count: int
-                          ) -> np.ndarray:
+def _compiled_normal_sums(compiled: ModuleType, face_normals: np.ndarray, corner_vertex: np.ndarray,
+                          face_start: np.ndarray, vertex_count: int) -> np.ndarray:
     """_normal_sums's outcome by the compiled loop: a range of positions per thread, each reading every corner."""
     sums = np.zeros((vertex_count, 3))
-
-    def position_range(rows: slice) -> None:
-        compiled.normal_sums(face_normals, polygons, rows.start, rows.stop, sums, np.empty((rows.stop - rows.start, 3)))
-
-    each(position_range, pieces(vertex_count, -(-vertex_count // THREADS)))
+    each(lambda rows: compiled.normal_sums(face_normals, corner_vertex, face_start, rows.start, rows.stop, sums),
+         pieces(vertex_count, -(-vertex_count // THREADS)))
     return sums
 
 

@@ -42,8 +42,9 @@ class LoadTiming:
 LoadFunction = Callable[[Path], LoadTiming]
 
 
-def _ours() -> LoadFunction:
-    import marraztu.loaders.obj.fast  # noqa: F401  # numba: an import, as the other loaders' are
+def _ours(path: Path) -> LoadFunction:
+    if path.suffix == ".obj":  # the other formats' readers never import numba, nor the mesh's compiled loops
+        import marraztu.loaders.obj.fast  # noqa: F401  # numba: an import, as the other loaders' are
     from marraztu.loaders.registry import load_model
 
     def load(path: Path) -> LoadTiming:
@@ -66,7 +67,7 @@ def gpu_ready_arrays(mesh: Mesh) -> dict[str, np.ndarray]:
     return surface_arrays(mesh).arrays
 
 
-def _trimesh() -> LoadFunction:
+def _trimesh(_path: Path) -> LoadFunction:
     import trimesh
 
     def load(path: Path) -> LoadTiming:
@@ -78,7 +79,7 @@ def _trimesh() -> LoadFunction:
     return load
 
 
-def _tinyobjloader() -> LoadFunction:
+def _tinyobjloader(_path: Path) -> LoadFunction:
     import tinyobjloader
 
     def load(path: Path) -> LoadTiming:
@@ -99,7 +100,8 @@ def _tinyobjloader() -> LoadFunction:
     return load
 
 
-_LOADER_FACTORIES: dict[str, Callable[[], LoadFunction]] = {
+# Each imports what it needs for reading this file, before the peak-memory baseline.
+_LOADER_FACTORIES: dict[str, Callable[[Path], LoadFunction]] = {
     "ours": _ours, "trimesh": _trimesh, "tinyobjloader": _tinyobjloader}
 
 
@@ -134,7 +136,7 @@ def load_worker(argv: Sequence[str]) -> int:
     fourth argument, a one-triangle model: read it first (ours through the compiled reader, as any
     large file before would have), then measure from there."""
     loader, path, repeats = argv[0], Path(argv[1]), int(argv[2])
-    load = _LOADER_FACTORIES[loader]()
+    load = _LOADER_FACTORIES[loader](path)
     peak_known = True
     if argv[3:]:
         if loader == "ours" and argv[3].endswith(".obj"):
@@ -320,8 +322,10 @@ def loading_section(config: BenchConfig, inputs: Sequence[LoadInput]) -> list[st
         "any earlier large file would have; the reader's own memory is in section 4), so that only what "
         "the file itself costs is left; *÷ file*: that over the file's size. *ours* = `load_model` (the OBJ "
         "reader; for the other formats, whose files trimesh's exporters wrote from the v f only grid, our "
-        "STL and OFF readers, or trimesh and our checks for PLY and GLB) + the surface vertex and index "
-        "arrays `ObjectGpu` uploads for the first frame (marraztu.render.gpu; edges and normal segments "
+        "STL and OFF readers, or trimesh and our checks for PLY and GLB, in processes without numba, as "
+        "in a window that has opened no large OBJ file: their normals by numpy, the OBJ files' by the "
+        "compiled loops that load with the OBJ reader) + the surface vertex and index arrays `ObjectGpu` "
+        "uploads for the first frame (marraztu.render.gpu; edges and normal segments "
         "are built later, when lines or normals are first drawn); trimesh = `trimesh.load(process=False)`; "
         "tinyobjloader = parse (triangulated) + numpy copies of its tables; rapidobj = `parse_obj` "
         "(multi-threaded C++, triangulated; numpy tables of positions, uvs and indices, no normals), in a "
