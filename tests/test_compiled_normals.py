@@ -21,24 +21,25 @@ NAME = "marraztu.model.compiled"
 
 def _mesh(shape: str, scale: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Random polygons over 5,000 positions, in pieces of several threads' worth, with a zero-area
-    face; far away, one face whose cross product overflows to infinity. `shape`: one size (a number),
+    face; far away, one face whose fans' cross products overflow to infinity. `shape`: one size (a number),
     sizes 3 to 8 mixed, or triangles and one polygon of 20,000 corners."""
     rng = np.random.default_rng(len(shape))
     positions = rng.normal(size=(5000, 3)) * scale
     faces = 2 * threads.ROWS_PER_PIECE // 3 + 7
     if shape == "mixed":
         sizes = rng.integers(3, 9, faces)
+        sizes[1] = 5
     elif shape == "huge":
         sizes = np.full(faces, 3)
         sizes[faces // 2] = 20_000
     else:
         sizes = np.full(faces, int(shape))
     face_start = np.concatenate(([0], np.cumsum(sizes))).astype(INDEX)
-    corner_vertex = rng.integers(0, positions.shape[0] - 2, face_start[-1]).astype(INDEX)
+    corner_vertex = rng.integers(0, positions.shape[0] - 3, face_start[-1]).astype(INDEX)
     corner_vertex[:sizes[0]] = 0  # a zero-area face
-    if scale > 1.0:
-        positions[-2:] = [[1e160, 0.0, 0.0], [0.0, 1e160, 0.0]]
-        corner_vertex[face_start[1]:face_start[2]] = [0, 4998] + [4999] * (sizes[1] - 2)  # x*y overflows
+    if scale > 1.0:  # face 1's first fan's x*y overflows to inf; its second's, where it has one, to -inf
+        positions[-3:] = [[1e160, 0.0, 0.0], [0.0, 1e160, 0.0], [1e160, 1e160, 0.0]]
+        corner_vertex[face_start[1]:face_start[2]] = ([0, 4997, 4998, 4999] + [4999] * sizes[1])[:sizes[1]]
     return positions, corner_vertex, face_start
 
 
@@ -64,6 +65,7 @@ def test_compiled_normals_equal_numpys_bit_for_bit(shape: str, scale: float, thr
     """In float64 (the order of the fans' and the per-position sums shows there), and in the mesh."""
     positions, corner_vertex, face_start = _mesh(shape, scale)
     monkeypatch.setattr(threads, "THREADS", thread_count)
+    assert len(threads.one_per_thread(5000)) == thread_count  # the sums' position ranges
     with monkeypatch.context() as without:
         without.delitem(sys.modules, NAME)  # as in a process that has not imported it
         by_numpy = _float64_normals(positions, corner_vertex, face_start)
@@ -89,7 +91,8 @@ def _counted(loop, calls: list[str], name: str):  # noqa: ANN001, ANN202  # numb
     return counting
 
 
-@pytest.mark.parametrize("kind", ["float32 positions", "int64 corners", "Fortran-ordered positions"])
+@pytest.mark.parametrize("kind", ["float32 positions", "int64 corners", "Fortran-ordered positions",
+                                  "read-only positions", "read-only corners"])
 def test_arrays_of_other_types_go_to_numpy_and_compile_nothing(kind: str, monkeypatch: pytest.MonkeyPatch) -> None:
     """Another format's or the API's own array types are worked on by numpy, as without the loops,
     which keep their one machine code each."""
@@ -99,8 +102,10 @@ def test_arrays_of_other_types_go_to_numpy_and_compile_nothing(kind: str, monkey
         positions = positions.astype(np.float32)
     elif kind == "int64 corners":
         corner_vertex = corner_vertex.astype(np.int64)
-    else:
+    elif kind == "Fortran-ordered positions":
         positions = np.asfortranarray(positions)
+    else:  # as np.frombuffer gives them
+        (positions if kind == "read-only positions" else corner_vertex).flags.writeable = False
     given = _derived(positions, corner_vertex, face_start)
     with monkeypatch.context() as without:
         without.delitem(sys.modules, NAME)

@@ -16,7 +16,7 @@ import numpy as np
 
 from marraztu.model.geometry import FLOAT32_MAX, column_bounds, unit_rows
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted, fan_gather
-from marraztu.model.threads import THREADS, converted, each, pieces
+from marraztu.model.threads import converted, each, one_per_thread, pieces
 
 # Zero-area faces get a fallback normal; "zero" is relative to the model's size.
 DEGENERATE_AREA = 1e-12
@@ -145,7 +145,11 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
                  uv: CornerSource | None, normals: CornerSource | None,
                  base_colour: tuple[float, float, float] | None, file_material: dict[str, object] | None,
                  notes: tuple[str, ...]) -> Mesh:
-    """The Mesh, with every normal and texture coordinate the file lacks derived. Never NaN."""
+    """The Mesh, with every normal and texture coordinate the file lacks derived. Never NaN.
+
+    The tables are checked already (every loader and the API check them): face_start runs from 0, each
+    face has 3 corners or more, and every index is in range.
+    """
     if max(positions.shape[0], corner_vertex.size) >= INDEX_LIMIT:
         raise ValueError(f"a mesh holds fewer than {INDEX_LIMIT} positions and corners")
     sizes = np.diff(face_start)
@@ -262,8 +266,9 @@ def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: 
 
     Newell's sum of p_i x p_(i+1) is unchanged by moving the origin to the first vertex, where it
     becomes the sum of the fan triangles' cross products: cheaper, and exact far from the origin.
-    The work is done on one contiguous array per axis: gathers from and arithmetic on (N,) arrays
-    run at memory speed, where the columns of an (N, 3) array are strided.
+    numpy works on one contiguous array per axis: gathers from and arithmetic on (N,) arrays run at
+    memory speed, where the columns of an (N, 3) array are strided. The compiled loop, where it is
+    loaded, does the same arithmetic polygon by polygon.
     """
     smallest = DEGENERATE_AREA * _size_squared(bounds)
     compiled = _compiled_loops(positions, corner_vertex, face_start)
@@ -297,20 +302,26 @@ def _fans_added(fan_sums: np.ndarray, sizes: np.ndarray) -> np.ndarray:
     later = np.ones(fan_sums.shape[1], bool)
     later[firsts] = False
     polygon = np.repeat(np.arange(sizes.size), sizes - 2)[later]
-    for axis in range(3):
-        np.add.at(sums[axis], polygon, fan_sums[axis, later])
+    with np.errstate(all="ignore"):  # inf + -inf: a NaN the degenerate test catches
+        for axis in range(3):
+            np.add.at(sums[axis], polygon, fan_sums[axis, later])
     return sums
 
 
-def _compiled_loops(table: np.ndarray, corner_vertex: np.ndarray, face_start: np.ndarray) -> ModuleType | None:
-    """marraztu.model.compiled where this process has imported it already and the float table and
-    the corners are the types its machine code takes; else None, and numpy does the work."""
+def _compiled_loops(floats: np.ndarray, corner_vertex: np.ndarray, face_start: np.ndarray) -> ModuleType | None:
+    """marraztu.model.compiled where this process has imported it already and the float table
+    (positions or face normals) and the corners are the types its machine code takes (writable ones:
+    numba types read-only arrays apart); else None, and numpy does the work."""
     if "marraztu.model.compiled" not in sys.modules:
         return None
-    if not (table.dtype == np.float64 and table.flags.c_contiguous
-            and all(index.dtype == INDEX and index.flags.c_contiguous for index in (corner_vertex, face_start))):
+    if not (floats.dtype == np.float64 and all(table.flags.c_contiguous and table.flags.writeable
+                                               for table in (floats, corner_vertex, face_start))
+            and corner_vertex.dtype == INDEX and face_start.dtype == INDEX):
         return None
-    from marraztu.model import compiled  # imported, or being imported by another thread: this waits for it
+    try:
+        from marraztu.model import compiled  # imported, or being imported by another thread: this waits
+    except ImportError:  # that import failed: numba cannot be loaded here
+        return None
     return compiled
 
 
@@ -439,7 +450,7 @@ def _compiled_normal_sums(compiled: ModuleType, face_normals: np.ndarray, corner
     """_normal_sums's outcome by the compiled loop: a range of positions per thread, each reading every corner."""
     sums = np.zeros((vertex_count, 3))
     each(lambda rows: compiled.normal_sums(face_normals, corner_vertex, face_start, rows.start, rows.stop, sums),
-         pieces(vertex_count, -(-vertex_count // THREADS)))
+         one_per_thread(vertex_count))
     return sums
 
 

@@ -76,6 +76,12 @@ def pieces(count: int, size: int | None = None) -> list[slice]:
     return [slice(low, min(low + size, count)) for low in range(0, count, size)]
 
 
+def one_per_thread(count: int) -> list[slice]:
+    """Rows 0..count in one slice per thread (THREADS when called), the last shorter: for work whose
+    every piece reads all of its input, where more pieces would read it more often."""
+    return pieces(count, max(1, -(-count // THREADS)))  # ceil(count / THREADS) rows each
+
+
 def converted(table: np.ndarray, dtype: type) -> np.ndarray:
     """table.astype(dtype), C-ordered, converted in pieces of rows on threads."""
     out = np.empty(table.shape, dtype)
