@@ -4,6 +4,7 @@ array type they were not compiled for."""
 from __future__ import annotations
 
 import importlib
+import subprocess
 import sys
 import warnings
 
@@ -112,3 +113,14 @@ def test_arrays_of_other_types_go_to_numpy_and_compile_nothing(kind: str, monkey
         by_numpy = _derived(positions, corner_vertex, face_start)
     assert given.normals.tobytes() == by_numpy.normals.tobytes()
     assert [len(loop.signatures) for loop in (compiled.polygon_normals, compiled.normal_sums)] == [1, 1]
+
+
+def test_the_compiled_reader_reads_where_the_loops_cannot_load() -> None:
+    """The loops load with the OBJ reader's passes, but the reader does not depend on them."""
+    code = ("import sys\nsys.modules['marraztu.model.compiled'] = None  # its import fails\n"
+            "from marraztu.loaders.obj import fast\n"
+            "raw = fast.read_fast(b'v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nf 1 2 3\\n', 'one triangle')\n"
+            "print(raw.face_start.size - 1, sys.modules['marraztu.model.compiled'])")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.split() == ["1", "None"]

@@ -18,9 +18,13 @@ import numpy as np
 
 from marraztu.loaders.obj import raw, scan
 from marraztu.loaders.obj.lines import LineReader, check_forward_indices, no_faces_error
-from marraztu.model import compiled  # noqa: F401  # the mesh's compiled loops: its machine code loads with the reader's
 from marraztu.model.mesh import INDEX
 from marraztu.model.threads import THREADS, each
+
+try:  # the mesh's compiled loops: their machine code loads with the reader's
+    from marraztu.model import compiled  # noqa: F401
+except Exception:  # they cannot load here: numpy derives the normals, and this reader still reads
+    pass
 
 # Pieces of at least this many bytes: below it a thread costs more than it saves.
 MIN_PIECE_BYTES = 1 << 20
