@@ -83,3 +83,20 @@ def test_face_normals_on_threads_equal_one_threads_bit_for_bit(mixed: bool, far:
     assert np.array_equal(one.face_normals, several.face_normals)
     assert np.array_equal(one.normals, several.normals)
     assert np.isfinite(several.face_normals).all()
+
+
+def test_unit_rows_in_pieces_equal_one_piece_in_either_type(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Rows of every kind (long, tiny, zero, NaN, infinite) across pieces of 3 rows on 4 threads: the
+    same numbers as in one piece, and as float32 the float64 ones rounded."""
+    from marraztu.model.geometry import unit_rows
+
+    vectors = np.random.default_rng(3).normal(size=(40, 3)) * np.logspace(-200, 200, 40)[:, None]
+    vectors[[4, 11, 23]] = [[0.0, 0.0, 0.0], [np.nan, 1.0, 0.0], [np.inf, 0.0, 0.0]]
+    whole, whole_ok = unit_rows(vectors)
+    monkeypatch.setattr(threads, "ROWS_PER_PIECE", 3)
+    monkeypatch.setattr(threads, "THREADS", 4)
+    for dtype in (np.float64, np.float32):
+        pieced, ok = unit_rows(vectors, dtype)
+        assert pieced.dtype == dtype and np.array_equal(ok, whole_ok)
+        assert pieced.tobytes() == whole.astype(dtype).tobytes()
+    assert not whole_ok[[4, 11, 23]].any() and not whole[[4, 11, 23]].any()

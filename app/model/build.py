@@ -391,17 +391,12 @@ def _usable_normals(normals: CornerSource | None, rows: int) -> tuple[np.ndarray
     if normals is None:
         return np.zeros((rows, 3), dtype=np.float32), np.ones(rows, dtype=bool)
     table, index = normals
-    unit, ok = np.empty(table.shape, np.float32), np.empty(table.shape[0], bool)
-
-    def unit_piece(rows: slice) -> None:
-        unit[rows], ok[rows] = unit_rows(table[rows])
-
+    unit, ok = unit_rows(table, np.float32)
     vertex_normals = np.empty((index.shape[0], 3), np.float32)
 
     def gather_piece(rows: slice) -> None:  # mode="wrap" writes `out` unbuffered; -1 (no vn) is zeroed below
         np.take(unit, index[rows], axis=0, out=vertex_normals[rows], mode="wrap")
 
-    each(unit_piece, pieces(table.shape[0], _CROSS_CHUNK))
     each(gather_piece, pieces(index.shape[0], _CROSS_CHUNK))
     if ok.all() and index.min() >= 0:  # the usual case: nothing to derive
         return vertex_normals, np.zeros(rows, dtype=bool)
@@ -417,9 +412,8 @@ def _fill_vertex_normals(vertex_normals: np.ndarray, missing: np.ndarray, shape:
     one: their position touches no face with an area."""
     sums = _normal_sums(shape.face_normals, shape.corner_vertex, shape.face_start, shape.sizes,
                         shape.positions.shape[0])
-    position_normals, position_ok = unit_rows(sums)
-    # Converted first: a fancy assignment that also converts is slower than a gather of the right type.
-    position_normals = position_normals.astype(vertex_normals.dtype)
+    # In the rows' type: a fancy assignment that also converts is slower than a gather of the right type.
+    position_normals, position_ok = unit_rows(sums, vertex_normals.dtype)
     if missing.all():  # no `vn` in the file, the usual case: straight into place
         if row_vertex is None:
             vertex_normals[:] = position_normals

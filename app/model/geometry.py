@@ -32,13 +32,20 @@ def unit_or_none(vector: Iterable[float], shortest: float = 1e-12) -> np.ndarray
     return None if length < shortest else v / length
 
 
-def unit_rows(vectors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Each row scaled to length 1, and which rows could be; the others are left zero."""
-    with np.errstate(all="ignore"):
-        length = np.sqrt(np.einsum("ij,ij->i", vectors, vectors))
-        ok = np.isfinite(length) & (length > 1e-300)
-        scaled = vectors / np.where(ok, length, 1.0)[:, None]
-    scaled[~ok] = 0.0
+def unit_rows(vectors: np.ndarray, dtype: type = np.float64) -> tuple[np.ndarray, np.ndarray]:
+    """Each row scaled to length 1 and stored as `dtype`, and which rows could be; the others are left
+    zero. In pieces of rows on threads, each row's arithmetic as in one piece."""
+    scaled, ok = np.empty(vectors.shape, dtype), np.empty(vectors.shape[0], bool)
+
+    def piece(rows: slice) -> None:
+        block, usable = vectors[rows], ok[rows]
+        with np.errstate(all="ignore"):
+            length = np.sqrt(np.einsum("ij,ij->i", block, block))
+            np.logical_and(np.isfinite(length), length > 1e-300, out=usable)
+            scaled[rows] = block / np.where(usable, length, 1.0)[:, None]
+        scaled[rows][~usable] = 0.0
+
+    each(piece, pieces(vectors.shape[0]))
     return scaled, ok
 
 
