@@ -92,6 +92,8 @@ def test_a_noff_rows_normal_and_an_stoff_rows_coordinates_are_read_past(tmp_path
     (off_text(["0 0", *SQUARE[1:]]), 3, "a vertex row holds 3 numbers here, this one 2"),
     (off_text(["0 0 0 x", *SQUARE[1:]]), 3, "a vertex row holds 3 numbers here, this one 4"),
     (off_text(["0 0 y", *SQUARE[1:]]), 3, "'y' is not a number"),
+    # a megabyte of digits ending badly: read once, not once for every split of the digits
+    (off_text(["0 0 " + "1" * (1 << 20) + "x", *SQUARE[1:]]), 3, f"'{'1' * 40}' is not a number"),
     (off_text([*SQUARE[:3], "0 1 nan"]), 6, "a vertex coordinate is not a finite number the GPU can hold"),
     (off_text([*SQUARE[:3], "0 1 1e39"]), 6, "a vertex coordinate is not a finite number the GPU can hold"),
     (off_text(header="OFF\n4 3 0\n"), 8, "the header counts 3 faces, the file ends before them"),

@@ -81,6 +81,7 @@ def test_a_solid_without_facets_gives_no_corners() -> None:
     (solid(facet(["0 0 0", "1 0 x1", "0 1 0"])), 5, "'x1' is not a number"),
     (solid(facet(["0 0 0", "1 0 1_0", "0 1 0"])), 5, "'1_0' is not a number"),
     (solid(facet(["0 0 0", "1 0 0x10", "0 1 0"])), 5, "'0x10' is not a number"),
+    (solid(facet(["0 0 0", "1 0 " + "1" * (1 << 20) + "e", "0 1 0"])), 5, f"'{'1' * 40}' is not a number"),
     (solid(facet(["0 0 0", "1 0 0", "0 1 nan"])), 6, "a vertex coordinate is not a finite number the GPU can hold"),
     (solid(facet(["0 0 0", "1e400 0 0", "0 1 0"])), 5, "a vertex coordinate is not a finite number the GPU can hold"),
     (solid(facet(["0 0 0", "1e39 0 0", "0 1 0"])), 5, "a vertex coordinate is not a finite number the GPU can hold"),

@@ -28,6 +28,7 @@ scene file and, where it can be found, the line.
 from __future__ import annotations
 
 import functools
+import itertools
 import math
 import re
 import sys
@@ -52,6 +53,9 @@ REQUIRED_ENTRY_KEYS = ("model", "position")
 MATERIAL_KEYS = frozenset({"ka", "kd", "ks", "ns", "rgb"})
 REQUIRED_MATERIAL_KEYS = ("ka", "kd", "ks", "ns")
 SCENE_FILE_LIMIT = 16 << 20  # far beyond any hand-written scene; refuses a model given by mistake
+# Dotted parts a key or table header may have: the deepest a scene uses is 3 (materials.NAME.kd).
+# Checked before tomllib, whose cost for a dotted key grows with the square of its parts.
+MAX_KEY_PARTS = 8
 WHITE: Vec3 = (1.0, 1.0, 1.0)
 
 # What a model loaded at run time is made of when its file says nothing: a light grey, mostly
@@ -65,8 +69,10 @@ _TOML_POSITION = re.compile(r"\s*\(at line (\d+), column \d+\)$")
 TOO_LARGE = "is too large: the GPU's 32-bit numbers end at 3.4e38"
 
 # A TOML key as written: bare, "basic" (with escapes) or 'literal'; dotted keys join them with dots.
-_KEY_PART = r"""(?:[A-Za-z0-9_-]+|"(?:[^"\\\n]|\\.)*"|'[^'\n]*')"""
-_DOTTED_KEY = rf"{_KEY_PART}(?:[ \t]*\.[ \t]*{_KEY_PART})*"
+# Possessive (nothing a key gives back could match what follows it): sre keeps no state per part, which
+# for a line of millions of parts was gigabytes.
+_KEY_PART = r"""(?:[A-Za-z0-9_-]++|"(?:[^"\\\n]|\\.)*+"|'[^'\n]*+')"""
+_DOTTED_KEY = rf"{_KEY_PART}(?:[ \t]*+\.[ \t]*+{_KEY_PART})*+"
 _LINE_START = re.compile("|".join((rf"[ \t]*\[\[[ \t]*(?P<array>{_DOTTED_KEY})[ \t]*\]\]",
                                     rf"[ \t]*\[[ \t]*(?P<table>{_DOTTED_KEY})[ \t]*\]",
                                     rf"[ \t]*(?P<key>{_DOTTED_KEY})[ \t]*=")))
@@ -168,8 +174,11 @@ class _SceneReader:
     def __init__(self, path: Path) -> None:
         self.path = path
         self.text = self._read_text()
-        self.document = self._parse()
         self.lines = _LineIndex.of(self.text)
+        if self.lines.too_deep is not None:
+            self.fail(f"a key of more than {MAX_KEY_PARTS} dotted parts (a scene's deepest, materials.NAME.kd, "
+                      "has 3)", self.lines.too_deep)
+        self.document = self._parse()
 
     def fail(self, message: str, line: int | None = None) -> NoReturn:
         raise LoadError(self.path, message, line)
@@ -362,6 +371,7 @@ class _LineIndex:
     first_lines: dict[KeyPath, int]  # a table or key (and each of its parents): the line that first names it
     array_lines: dict[KeyPath, list[int]]  # [[NAME]] headers in order: one per entry of the array
     entry_lines: dict[tuple[KeyPath, int], dict[str, int]]  # an array entry's own keys: where each is set
+    too_deep: int | None = None  # the first line naming a key of more than MAX_KEY_PARTS parts: read no further
 
     @classmethod
     def of(cls, text: str) -> _LineIndex:
@@ -374,13 +384,15 @@ class _LineIndex:
             found = _LINE_START.match(line)
             if found is None:
                 continue
+            named = _key_parts(found["key"] or found["array"] or found["table"])
+            if len(named) > MAX_KEY_PARTS:
+                return cls(first_lines, array_lines, entry_lines, too_deep=number)
             if found["key"] is not None:
-                key = _key_parts(found["key"])
-                _remember(first_lines, section, key, number)
+                _remember(first_lines, section, named, number)
                 if entry is not None:
-                    entry.setdefault(key[0], number)
+                    entry.setdefault(named[0], number)
                 continue
-            section, entry = _key_parts(found["array"] or found["table"]), None
+            section, entry = named, None
             _remember(first_lines, (), section, number)
             if found["array"] is not None:
                 array_lines.setdefault(section, []).append(number)
@@ -411,7 +423,9 @@ def _remember(first_lines: dict[KeyPath, int], section: KeyPath, key: KeyPath, n
 
 @functools.lru_cache(maxsize=1024)  # the same few keys come back on line after line
 def _key_parts(dotted: str) -> KeyPath:
-    return tuple(_unquoted(part) for part in _KEY_PARTS.findall(dotted))
+    """The key's parts, but no more than MAX_KEY_PARTS + 1: enough to know it is too deep."""
+    parts = itertools.islice(_KEY_PARTS.finditer(dotted), MAX_KEY_PARTS + 1)
+    return tuple(_unquoted(part.group()) for part in parts)
 
 
 def _unquoted(part: str) -> str:

@@ -173,6 +173,9 @@ def bad_obj_cases() -> list[Case]:
         _obj("million_faces_one_line", TRIANGLE + b"f 1 2 3" + b" f 1 2 3" * MILLION + b"\n", 4),
         _obj("megabyte_line_of_text", b"v " + b"x" * MEGABYTE + b"\n" + TRIANGLE + b"f 2 3 4\n", 1),
         _obj("megabyte_number", b"v " + b"1" * MEGABYTE + b" 0 0\n" + TRIANGLE + b"f 2 3 4\n", 1),
+        # a long run of digits that ends badly: a number's syntax must not try every split of it
+        _obj("megabyte_number_ending_badly", b"v " + b"1" * MEGABYTE + b"x 0 0\n" + TRIANGLE + b"f 2 3 4\n", 1),
+        _obj("megabyte_texcoord_ending_badly", TRIANGLE + b"vt 0 " + b"1" * MEGABYTE + b"e\nf 1 2 3\n", 4),
         _obj("megabyte_of_numbers", b"v" + b" 1" * (MEGABYTE // 2) + b"\n" + TRIANGLE + b"f 2 3 4\n", 1),
         # paths that are not a readable file
         Case("missing", "obj", "missing.obj", setup="missing"),
@@ -331,6 +334,11 @@ def bad_scene_cases() -> list[Case]:
         _scene("not_utf8", b"# caf\xe9\n" + CAMERA_TABLE.encode()),
         _scene("deeply_nested_array", CAMERA_TABLE + "texture = " + "[" * 5000 + "]" * 5000 + "\n"),
         _scene("deeply_nested_table", CAMERA_TABLE + "texture = " + "{a=" * 3000 + "1" + "}" * 3000 + "\n"),
+        # dotted keys of many parts: tomllib's cost grows with the square of a key's parts
+        _scene("key_of_a_million_parts", "a" + ".a" * MILLION + " = 1\n" + CAMERA_TABLE, 1),
+        _scene("quoted_key_of_a_million_parts", CAMERA_TABLE + '"a"' + '."a"' * MILLION + " = 1\n", 4),
+        _scene("table_of_a_million_parts", CAMERA_TABLE + "[" + "a." * MILLION + "a]\n", 4),
+        _scene("key_of_nine_parts", CAMERA_TABLE + "a.b.c.d.e.f.g.h.i = 1\n", 4),
         _scene("unknown_top_level_key", "lights = 4\n" + CAMERA_TABLE),
         _scene("missing_model", '[[cameras]]\nposition = [0, 0, 150]\n', 1),
         _scene("missing_position", '[[cameras]]\nmodel = "tri.obj"\n', 1),

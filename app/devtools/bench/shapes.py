@@ -63,6 +63,18 @@ def _one_long_line(path: Path, size: int) -> None:
     path.write_text(_TRIANGLE + "v" + " 1.5" * (size // 4) + "\n")
 
 
+def _one_long_bad_number(path: Path, size: int) -> None:
+    """Digits to the end, then a letter: a number's syntax that backtracks tries every split of them."""
+    path.write_text(_TRIANGLE + "v 0 0 " + "1" * size + "x\n")
+
+
+def _scene_of_one_deep_key(path: Path, size: int) -> None:
+    """One dotted key of every part: tomllib's cost for one grows with the square of its parts."""
+    size = min(size, SCENE_FILE_MEGABYTES * MEGABYTE)
+    (path.parent / "tri.obj").write_text(_TRIANGLE)
+    path.write_text('[[cameras]]\nmodel = "tri.obj"\nposition = [0, 0, 150]\n\n' + "a" + ".a" * (size // 2) + " = 1\n")
+
+
 def _scene_of_many_objects(path: Path, size: int) -> None:
     size = min(size, SCENE_FILE_MEGABYTES * MEGABYTE)
     (path.parent / "tri.obj").write_text(_TRIANGLE)
@@ -117,7 +129,9 @@ SHAPES = (
     Shape("one polygon of every corner", "polygon.obj", _one_polygon),
     Shape("blank lines only", "blank.obj", _blank_lines),
     Shape("one long v line", "long_line.obj", _one_long_line),
+    Shape("one long number ending badly", "long_number.obj", _one_long_bad_number),
     Shape("scene file: many objects", "objects.toml", _scene_of_many_objects),
+    Shape("scene file: one key of every part", "deep_key.toml", _scene_of_one_deep_key),
     Shape("scene file: many materials", "materials.toml", _scene_of_many_materials),
     Shape("glTF: one textured triangle placed by many nodes", "nodes.gltf", _scene_of_many_nodes),
 )
