@@ -204,7 +204,7 @@ class _Records:
             corner, corners = record[scan.R_CORNER], len(reader.corners[0])
             if corners != self.slots(record):
                 raise RuntimeError("the line reader read other corners than pass one counted")
-            for column, read in zip(self.columns, reader.corners):
+            for column, read in zip(self.columns, reader.corner_columns()):
                 column[corner:corner + corners] = read
         else:
             self.tables[kind][record[scan.R_V + kind]] = reader.tables[kind]

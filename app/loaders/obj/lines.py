@@ -8,6 +8,7 @@ below. Either way a LoadError names the first offending line.
 
 from __future__ import annotations
 
+import io
 import math
 import re
 from array import array
@@ -29,11 +30,13 @@ from marraztu.loaders.obj.raw import (
     statement,
     with_library,
 )
+from marraztu.loaders.obj.text import has_continuations
 from marraztu.loaders.words import DECIMAL_SYNTAX
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import INDEX, INDEX_LIMIT
 
-_FLOAT = re.compile(DECIMAL_SYNTAX.encode() + rb"\Z")
+_NUMBER = DECIMAL_SYNTAX.encode()
+_FLOAT = re.compile(_NUMBER + rb"\Z")
 _INTEGER = re.compile(rb"-?[0-9]+\Z")
 _TOKEN = re.compile(rb"\S+")
 _TABLES = {b"v": (0, "vertex position (v)", 3, 7), b"vt": (1, "texture coordinate (vt)", 2, 3),
@@ -42,6 +45,9 @@ _FIELDS = (b"v", b"vt", b"vn")
 _FIELD_NAMES = ("vertex", "texture coordinate (vt)", "normal (vn)")
 _TABLE_WIDTHS = (3, 2, 3)
 _QUOTED_CHARACTERS = 40
+# A v, vt or vn line of plain numbers, in one match: most lines. Anything else is read number by number.
+_PLAIN_ROWS = {keyword: re.compile(rb"%s(?:\s+%s){%d,%d}" % (_NUMBER, _NUMBER, fewest - 1, most - 1))
+               for keyword, (_, _, fewest, most) in _TABLES.items()}
 # Short faces of positive indices in one of the four corner formats, read in one match: most faces.
 # Anything else (relative or zero indices, leading zeros, long faces) takes the corner-by-corner path.
 _PLAIN_FACE_BYTES = 256
@@ -49,7 +55,6 @@ _INDEX = rb"[1-9][0-9]{0,%d}" % (MAX_DIGITS - 1)
 _PLAIN_FACES = [(re.compile(rb"%s(?:\s+%s){2,}" % (corner, corner)), fields) for corner, fields in (
     (_INDEX, (0,)), (rb"%s/%s" % (_INDEX, _INDEX), (0, 1)), (rb"%s//%s" % (_INDEX, _INDEX), (0, 2)),
     (rb"%s/%s/%s" % (_INDEX, _INDEX, _INDEX), (0, 1, 2)))]
-_DIGITS = re.compile(rb"[0-9]+")
 
 
 def _beyond_index(part: bytes) -> bool:
@@ -78,7 +83,10 @@ class LineReader:
         self.source = source
         self.tables = [array("d") for _ in _FIELDS]  # flat rows, _TABLE_WIDTHS numbers each
         self.defined = [0, 0, 0]
-        self.corners = [array("q") for _ in _FIELDS]  # 0-based v, vt, vn per corner; -1: none
+        # The file's v, vt and vn index per corner, relative ones made absolute: 1-based, 0 for none,
+        # so that most faces' digits go in as read (corner_columns makes them 0-based, -1 for none).
+        self.corners = [array("q") for _ in _FIELDS]
+        self.face_form = _PLAIN_FACES[-1]  # the last short face's form: a file keeps to one, so it is tried first
         self.face_sizes = array("q")
         self.face_lines = array("q")
         self.mtllib: tuple[str, ...] = ()
@@ -92,16 +100,22 @@ class LineReader:
         return LoadError(self.source, message, line=line)
 
     def read(self, text: bytes) -> RawObj:
-        for number, content in _logical_lines(text):
+        # bytes' own line iterator where no line continues: a generator's step a line costs more
+        lines = _logical_lines(text) if has_continuations(text) else enumerate(io.BytesIO(text), start=1)
+        for number, content in lines:
             self.read_line(number, content)
         if not self.face_sizes:
             raise no_faces_error(self.source, self.statements > 0)
-        corners = [np.frombuffer(field, dtype=np.int64).astype(INDEX) for field in self.corners]
+        corners = self.corner_columns()
         face_lines = np.frombuffer(self.face_lines, dtype=np.int64)
         face_start = np.concatenate(([0], np.cumsum(np.frombuffer(self.face_sizes, dtype=np.int64)))).astype(INDEX)
         check_forward_indices(self.source, corners, self.defined,
                               lambda corner: int(face_lines[np.searchsorted(face_start, corner, "right") - 1]))
         return self.result(corners, face_start)
+
+    def corner_columns(self) -> list[np.ndarray]:
+        """The corners' v, vt and vn columns: 0-based, -1 for none."""
+        return [(np.frombuffer(field, dtype=np.int64) - 1).astype(INDEX) for field in self.corners]
 
     def read_line(self, number: int, content: bytes) -> None:
         """One physical (or continued) line: the statement it holds, or the comment it is."""
@@ -114,8 +128,8 @@ class LineReader:
 
     def statement(self, number: int, keyword: bytes, rest: bytes) -> None:
         if keyword in _TABLES:
-            field, name, fewest, most = _TABLES[keyword]
-            values = self.numbers(number, rest, name, fewest, most)
+            field = _TABLES[keyword][0]
+            values = self.numbers(number, keyword, rest)
             self.tables[field].extend(values[:_TABLE_WIDTHS[field]])
             if field == 0 and len(values) >= COLOURED_V_NUMBERS:
                 self.coloured_rows.append(self.defined[0])
@@ -128,7 +142,12 @@ class LineReader:
         elif keyword == b"usemtl":
             add_material_run(self.material_runs, len(self.face_sizes), material_name(rest))
 
-    def numbers(self, number: int, rest: bytes, name: str, fewest: int, most: int) -> list[float]:
+    def numbers(self, number: int, keyword: bytes, rest: bytes) -> list[float]:
+        if _PLAIN_ROWS[keyword].fullmatch(rest):
+            values = [float(token) for token in rest.split()]
+            if max(map(abs, values)) <= FLOAT32_MAX:
+                return values
+        _, name, fewest, most = _TABLES[keyword]
         tokens = rest.split(None, most + 1)  # bounded: a line of millions of numbers is not split into them
         if not fewest <= len(tokens) <= most:
             expected = str(fewest) if fewest == most else f"{fewest} to {most}"
@@ -158,7 +177,7 @@ class LineReader:
             corner = self.corner(number, match.group())
             shapes.add(tuple(index == 0 for index in corner))
             for field, index in enumerate(corner):
-                self.corners[field].append(index)  # the file's index for now (0: none); resolved below
+                self.corners[field].append(index)  # relative ones are resolved below
         if len(shapes) > 1:
             raise self.fail(number, f"mixed corner formats in one face: {_quoted(_first_tokens(rest))}")
         self.resolve(number, rest, first)
@@ -170,31 +189,33 @@ class LineReader:
 
     def plain_face(self, number: int, rest: bytes) -> bool:
         """A short face of positive indices in one format, read whole; False (nothing read) otherwise."""
-        for pattern, fields in _PLAIN_FACES:
-            if pattern.fullmatch(rest):
-                indices = [int(digits) - 1 for digits in _DIGITS.findall(rest)]
-                if max(indices) >= INDEX_LIMIT:  # the corner-by-corner path words the error
-                    return False
-                width = len(fields)
-                for column, field in enumerate(fields):
-                    self.corners[field].extend(indices[column::width])
-                size = len(indices) // width
-                for field in range(len(_FIELDS)):
-                    if field not in fields:
-                        self.corners[field].extend([-1] * size)
-                self.end_face(number, size)
-                return True
-        return False
+        form = self.face_form
+        if not form[0].fullmatch(rest):
+            form = next((other for other in _PLAIN_FACES if other[0].fullmatch(rest)), None)
+            if form is None:
+                return False
+            self.face_form = form
+        indices = [int(index) for index in rest.replace(b"/", b" ").split()]
+        if max(indices) > INDEX_LIMIT:  # the corner-by-corner path words the error
+            return False
+        fields = form[1]
+        width = len(fields)
+        size = len(indices) // width
+        for field, column in enumerate(self.corners):
+            column.extend(indices[fields.index(field)::width] if field in fields else [0] * size)
+        self.end_face(number, size)
+        return True
 
     def resolve(self, number: int, rest: bytes, first: int) -> None:
-        """The face's corners from `first` on, from the file's indices to 0-based ones (-1: none), corner
-        by corner; positive ones may point forward. A relative one reaching before the first is an error."""
+        """The face's relative corners from `first` on made absolute, corner by corner; positive ones
+        may point forward. A relative one reaching before the first is an error."""
         for at in range(first, len(self.corners[0])):
             for field, column in enumerate(self.corners):
                 raw = column[at]
-                if raw < 0 and self.defined[field] + raw < 0:
-                    raise self.relative_error(number, field, raw, rest, at - first)
-                column[at] = raw - 1 if raw >= 0 else self.defined[field] + raw
+                if raw < 0:
+                    if self.defined[field] + raw < 0:
+                        raise self.relative_error(number, field, raw, rest, at - first)
+                    column[at] = self.defined[field] + raw + 1
 
     def relative_error(self, number: int, field: int, raw: int, rest: bytes, corner: int) -> LoadError:
         token = next(match.group() for position, match in enumerate(_TOKEN.finditer(rest)) if position == corner)
