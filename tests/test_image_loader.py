@@ -279,6 +279,17 @@ def test_a_p6_raster_is_read_where_it_lies() -> None:
     assert peak < len(raster) * 3 // 2, peak
 
 
+@pytest.mark.parametrize("gap", [b" ", b"#\n"])
+def test_whitespace_and_comments_in_a_header_cost_their_length(gap: bytes) -> None:
+    """The header's gaps are skipped without regex state per byte (it held 115 bytes a byte)."""
+    from support.work import peak_traced_bytes
+
+    data = b"P6" + gap * 500_000 + b"1 1 255\n\x01\x02\x03"
+    image, peak = peak_traced_bytes(lambda: parse_ppm(data, "a.ppm"))
+    assert image.tolist() == [[[1, 2, 3]]]
+    assert peak < len(data), peak
+
+
 @pytest.mark.parametrize("maxval", [254, 1000, 65535])
 def test_samples_are_scaled_by_table_within_a_bounded_memory(maxval: int) -> None:
     """A maxval other than 255 scales every sample, rounded, as (v * 255 + maxval // 2) // maxval

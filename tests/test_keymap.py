@@ -108,6 +108,14 @@ def test_parse_bounds_the_whole_sequence() -> None:
         parse_key_sequence(" ".join(["x*100000"] * 11))
 
 
+def test_parse_bounds_the_text_before_splitting_it() -> None:
+    """shlex grows a word a character at a time: a word of megabytes would cost its length squared."""
+    longest = keymap.MAX_SEQUENCE_CHARACTERS
+    assert parse_key_sequence("f=" + "a" * (longest - 2)) == [KeyPress("f", "a" * (longest - 2))]
+    with pytest.raises(KeyMapError, match="characters"):
+        parse_key_sequence("f=" + "a" * (1 << 24))
+
+
 # --- dispatch --------------------------------------------------------------------------------------
 @pytest.mark.parametrize("target", list(Target))
 @pytest.mark.parametrize("token", sorted(KEYMAP))

@@ -215,6 +215,16 @@ def test_trailing_comments_line_continuations_and_forward_references() -> None:
     assert mesh.corner_vertex.tolist() == [0, 1, 2]
 
 
+def test_a_statement_continued_over_many_lines_costs_its_length() -> None:
+    """Continued lines are joined in one growing buffer, not kept as an object each until the end."""
+    from support.work import peak_traced_bytes
+
+    text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no a \\\n" + b"\\\n" * 500_000 + b"x\n"
+    raw, peak = peak_traced_bytes(lambda: read_by_lines(text, "continued.obj"))
+    assert raw.corner_vertex.tolist() == [0, 1, 2]
+    assert peak < 4 * len(text), peak  # a list of its lines held 94 times the text
+
+
 def test_faces_may_mix_formats_across_faces() -> None:
     text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0.5 0.5\nf 1 2 3\nf 2/1 4/1 3/1\n"
     mesh = parse(text)

@@ -180,6 +180,10 @@ BAD_SCENES = {
     "cameras not an array": ('[cameras]\nmodel = "m.obj"\nposition = [0, 0, 0]\n', "[[cameras]]"),
     "texture not a string": ("texture = 5\n" + CAMERA, "texture must be"),
     "model file missing": ('[[cameras]]\nmodel = "missing.obj"\nposition = [0, 0, 0]\n', "model missing.obj"),
+    "key of 16 parts": (CAMERA + ".".join("abcdefghijklmnop") + " = 1\n", "unknown key 'a'"),
+    "key of 17 parts": (CAMERA + ".".join("abcdefghijklmnopq") + " = 1\n", "more than 16 words joined by dots"),
+    "17 words joined by dots in a comment": (CAMERA + "# " + ".".join("abcdefghijklmnopq") + "\n",
+                                             "more than 16 words joined by dots"),
 }
 
 
@@ -191,6 +195,18 @@ def test_bad_scene_raises_load_error_naming_the_file(tmp_path: Path, text: str, 
     assert caught.value.path == str(path)
     assert expected in caught.value.message
     assert str(path) in str(caught.value)
+
+
+def test_an_overlong_integer_is_found_without_state_per_digit(tmp_path: Path) -> None:
+    """The search for the integer Python refuses skips a comment of a million digits in its length (a
+    backtracking repeat held over 100 bytes a digit)."""
+    from support.work import peak_traced_bytes
+
+    text = "# " + "1" * 1_000_000 + "x\n" + CAMERA.replace("[0, 0, 10]", f"[{'9' * 5000}, 0, 0]")
+    path = write_scene(tmp_path, text)
+    error, peak = peak_traced_bytes(lambda: load_scene(path))
+    assert isinstance(error, LoadError) and (error.line, "thousands of digits" in error.message) == (4, True)
+    assert peak < 8 * len(text), peak
 
 
 def test_syntax_error_gives_tomls_line(tmp_path: Path) -> None:

@@ -29,6 +29,9 @@ PROMPT_TEXT = {"SPACE": " "}
 PROMPT_OPENER, PROMPT_CLOSERS = "f", ("ENTER", "ESC")
 MAX_REPEAT = 100_000
 MAX_SEQUENCE_PRESSES = 1_000_000
+# shlex grows a word a character at a time, each step a copy: a sequence's text is bounded before it
+# (a few dozen file paths of the longest a system allows; repeats say KEY*N).
+MAX_SEQUENCE_CHARACTERS = 1 << 17
 LOAD_PREFIX = "f="
 
 
@@ -225,6 +228,8 @@ def _typed(word: str, keymap: dict[str, Command]) -> KeyPress:
 
 def parse_key_sequence(text: str, keymap: dict[str, Command] = KEYMAP) -> list[KeyPress]:
     """'0 1 F x*10 f=model.obj' -> the presses, in order. KeyMapError on anything unknown."""
+    if len(text) > MAX_SEQUENCE_CHARACTERS:
+        raise KeyMapError(f"key sequence: more than {MAX_SEQUENCE_CHARACTERS} characters (KEY*N repeats a key)")
     try:
         words = shlex.split(text)
     except ValueError as error:  # an unclosed quote

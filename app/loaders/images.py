@@ -32,7 +32,8 @@ _PPM_MAGICS = (b"P6", b"P3")
 # The formats read, by their first bytes.
 FORMATS_BY_MAGIC = {b"P6": "PPM", b"P3": "PPM", b"\x89PNG\r\n\x1a\n": "PNG", b"\xff\xd8\xff": "JPEG"}
 _MAGIC_LENGTH = max(len(magic) for magic in FORMATS_BY_MAGIC)
-_HEADER_TOKEN = re.compile(rb"(?:\s|#[^\n\r]*[\n\r])*([^\s#]+)")  # skips whitespace and comments
+# Skips whitespace and comments; possessive, so that sre keeps no state per byte skipped.
+_HEADER_TOKEN = re.compile(rb"(?:\s|#[^\n\r]*+[\n\r])*+([^\s#]++)")
 
 
 def load_image(path: str | Path) -> np.ndarray:

@@ -28,7 +28,6 @@ scene file and, where it can be found, the line.
 from __future__ import annotations
 
 import functools
-import itertools
 import math
 import re
 import sys
@@ -53,9 +52,9 @@ REQUIRED_ENTRY_KEYS = ("model", "position")
 MATERIAL_KEYS = frozenset({"ka", "kd", "ks", "ns", "rgb"})
 REQUIRED_MATERIAL_KEYS = ("ka", "kd", "ks", "ns")
 SCENE_FILE_LIMIT = 16 << 20  # far beyond any hand-written scene; refuses a model given by mistake
-# Dotted parts a key or table header may have: the deepest a scene uses is 3 (materials.NAME.kd).
-# Checked before tomllib, whose cost for a dotted key grows with the square of its parts.
-MAX_KEY_PARTS = 8
+# Dotted parts a key may have: the deepest a scene uses is 3 (materials.NAME.kd). Checked before
+# tomllib, whose cost for a dotted key grows with the square of its parts.
+MAX_KEY_PARTS = 16
 WHITE: Vec3 = (1.0, 1.0, 1.0)
 
 # What a model loaded at run time is made of when its file says nothing: a light grey, mostly
@@ -77,6 +76,8 @@ _LINE_START = re.compile("|".join((rf"[ \t]*\[\[[ \t]*(?P<array>{_DOTTED_KEY})[ 
                                     rf"[ \t]*\[[ \t]*(?P<table>{_DOTTED_KEY})[ \t]*\]",
                                     rf"[ \t]*(?P<key>{_DOTTED_KEY})[ \t]*=")))
 _KEY_PARTS = re.compile(_KEY_PART)
+# A dotted key of more than MAX_KEY_PARTS parts, from the start of its first (never a part's middle).
+_LONG_DOTTED_RUN = re.compile(rf"(?<![A-Za-z0-9_-]){_KEY_PART}(?:[ \t]*+\.[ \t]*+{_KEY_PART}){{{MAX_KEY_PARTS}}}")
 
 
 @dataclass(frozen=True)
@@ -174,11 +175,9 @@ class _SceneReader:
     def __init__(self, path: Path) -> None:
         self.path = path
         self.text = self._read_text()
-        self.lines = _LineIndex.of(self.text)
-        if self.lines.too_deep is not None:
-            self.fail(f"a key of more than {MAX_KEY_PARTS} dotted parts (a scene's deepest, materials.NAME.kd, "
-                      "has 3)", self.lines.too_deep)
+        self._refuse_long_keys()
         self.document = self._parse()
+        self.lines = _LineIndex.of(self.text)
 
     def fail(self, message: str, line: int | None = None) -> NoReturn:
         raise LoadError(self.path, message, line)
@@ -189,6 +188,14 @@ class _SceneReader:
             return data.decode("utf-8")
         except UnicodeDecodeError:
             self.fail("not a TOML scene file (not UTF-8 text)")
+
+    def _refuse_long_keys(self) -> None:
+        """Any run of words joined by dots longer than a key may be, wherever tomllib would read it as
+        one (a line's key, a header, an inline table); in a string or a comment too, where no scene has one."""
+        found = _LONG_DOTTED_RUN.search(self.text)
+        if found is not None:
+            self.fail(f"more than {MAX_KEY_PARTS} words joined by dots: a key of so many parts (a scene's "
+                      "deepest, materials.NAME.kd, has 3)", self.text.count("\n", 0, found.start()) + 1)
 
     def _parse(self) -> dict:
         try:
@@ -343,7 +350,8 @@ def _overlong_integer_line(text: str) -> int | None:
     """The line of the first decimal integer longer than Python will read, or None when there is none."""
     limit = sys.get_int_max_str_digits()
     # whole runs of digits only (not inside words, hex numbers or fractions): each run is tried once
-    pattern = rf"(?<![0-9A-Za-z_.])[0-9](?:_?[0-9]){{{limit},}}(?![0-9A-Za-z_.])"
+    # possessive: sre keeps no state per digit (a backtracking repeat kept over 100 bytes per digit)
+    pattern = rf"(?<![0-9A-Za-z_.])[0-9](?:_?+[0-9]){{{limit},}}+(?![0-9A-Za-z_.])"
     found = re.search(pattern, text) if limit else None
     return None if found is None else text.count("\n", 0, found.start()) + 1
 
@@ -371,7 +379,6 @@ class _LineIndex:
     first_lines: dict[KeyPath, int]  # a table or key (and each of its parents): the line that first names it
     array_lines: dict[KeyPath, list[int]]  # [[NAME]] headers in order: one per entry of the array
     entry_lines: dict[tuple[KeyPath, int], dict[str, int]]  # an array entry's own keys: where each is set
-    too_deep: int | None = None  # the first line naming a key of more than MAX_KEY_PARTS parts: read no further
 
     @classmethod
     def of(cls, text: str) -> _LineIndex:
@@ -384,15 +391,13 @@ class _LineIndex:
             found = _LINE_START.match(line)
             if found is None:
                 continue
-            named = _key_parts(found["key"] or found["array"] or found["table"])
-            if len(named) > MAX_KEY_PARTS:
-                return cls(first_lines, array_lines, entry_lines, too_deep=number)
             if found["key"] is not None:
-                _remember(first_lines, section, named, number)
+                key = _key_parts(found["key"])
+                _remember(first_lines, section, key, number)
                 if entry is not None:
-                    entry.setdefault(named[0], number)
+                    entry.setdefault(key[0], number)
                 continue
-            section, entry = named, None
+            section, entry = _key_parts(found["array"] or found["table"]), None
             _remember(first_lines, (), section, number)
             if found["array"] is not None:
                 array_lines.setdefault(section, []).append(number)
@@ -423,9 +428,7 @@ def _remember(first_lines: dict[KeyPath, int], section: KeyPath, key: KeyPath, n
 
 @functools.lru_cache(maxsize=1024)  # the same few keys come back on line after line
 def _key_parts(dotted: str) -> KeyPath:
-    """The key's parts, but no more than MAX_KEY_PARTS + 1: enough to know it is too deep."""
-    parts = itertools.islice(_KEY_PARTS.finditer(dotted), MAX_KEY_PARTS + 1)
-    return tuple(_unquoted(part.group()) for part in parts)
+    return tuple(_unquoted(part) for part in _KEY_PARTS.findall(dotted))
 
 
 def _unquoted(part: str) -> str:

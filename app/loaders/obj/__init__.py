@@ -132,7 +132,7 @@ def _face_materials(runs: list[tuple[int, str]], library: list[MeshMaterial], fa
 
 
 # The compiled reader's first use in a process imports numba and loads its machine code, about a
-# quarter of a second: the line reader, at about 10 MB/s, is done sooner below this size. Once
+# quarter of a second: the line reader, at 10-15 MB/s, is done sooner below this size. Once
 # loaded, the compiled reader is the quicker one whatever the size.
 COMPILED_READER_BYTES = 5 << 19
 

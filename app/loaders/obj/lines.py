@@ -271,24 +271,26 @@ def _logical_lines(text: bytes) -> Iterator[tuple[int, bytes]]:
 
     A backslash continues only a statement: not a line with a comment, and a comment line is never
     joined to the statement before it."""
-    pending: list[bytes] = []  # joined once the statement ends: += would copy it at every line
+    pending = bytearray()  # grows in place: bytes' += copies at every line, a list holds an object a line
     first = 0
     for number, line in enumerate(_physical_lines(text), start=1):
         if pending and line.lstrip().startswith(b"#"):
-            yield first, b"".join(pending)
-            pending = []
+            yield first, bytes(pending)
+            pending.clear()
         stripped = line.rstrip()
         if stripped.endswith(b"\\") and b"#" not in line:
             first = first if pending else number
-            pending += (stripped[:-1], b" ")
+            pending += stripped[:-1]
+            pending += b" "
             continue
         if pending:
-            yield first, b"".join((*pending, line))
-            pending = []
+            pending += line
+            yield first, bytes(pending)
+            pending.clear()
         else:
             yield number, line
     if pending:
-        yield first, b"".join(pending)
+        yield first, bytes(pending)
 
 
 def _physical_lines(text: bytes) -> Iterator[bytes]:
