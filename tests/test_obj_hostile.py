@@ -133,6 +133,18 @@ def test_statements_that_take_no_face_cost_no_memory(plain_peak: int, statement:
     assert peak < plain_peak + len(TEXT) // 8, (plain_peak, peak)
 
 
+def test_records_are_never_copied_to_make_room(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A piece's records grow by chunks, each kept as it is: at most twice the records are held (and
+    4096 of them as Python lists while they are settled), where doubling one table held three times
+    them while it was copied, four times in all. One piece, so the count is exact."""
+    monkeypatch.setattr(fast_reader, "MIN_PIECE_BYTES", 1 << 30)
+    deferred = 16 * 2**12 + 1  # one record past a doubling: the worst case for a table that doubles
+    outcome, lines, peak = load_counting(QUAD + b"f\n" * deferred)
+    assert (error_of(outcome).line, lines) == (6, 1)
+    record_bytes = fast_reader.scan.RECORD_COLUMNS * 8
+    assert peak < 3 * deferred * record_bytes, (peak, deferred * record_bytes)
+
+
 @pytest.mark.parametrize("comment", [b"# colour 255 0 0\n", b"# the colour is red\n", b"#color\n"])
 def test_colour_comments_after_the_one_that_counts_cost_no_memory(plain_peak: int, comment: bytes,
                                                                   monkeypatch: pytest.MonkeyPatch) -> None:

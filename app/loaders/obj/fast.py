@@ -91,7 +91,8 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
                    list(range(len(pieces))), PARSE_THREADS)
     outcome = _Records(buf, source, tables, columns, face_start)
     for piece in records:
-        outcome.settle(piece)
+        for chunk in piece:
+            outcome.settle(chunk)
     if total[scan.F] == 0:
         raise no_faces_error(source, outcome.statements > 0 or bool(total[[scan.V, scan.VT, scan.VN]].any()))
     totals = [len(table) for table in tables]
@@ -109,18 +110,23 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
 
 
 def _read_piece(buf: np.ndarray, piece: tuple[int, int], before: np.ndarray, tables: list[np.ndarray],
-                columns: list[np.ndarray], face_start: np.ndarray) -> np.ndarray:
-    """Pass two over a piece, given more room for its records each time it fills them; its records."""
+                columns: list[np.ndarray], face_start: np.ndarray) -> list[np.ndarray]:
+    """Pass two over a piece; its records, in file order, in chunks of doubling size: a full chunk is
+    kept as it is and the next one given, so that no record is copied to make room."""
     state = np.zeros(scan.STATE_COLUMNS, np.int64)
     state[:scan.COUNT_COLUMNS] = before
     state[scan.LINES] += 1  # line numbers start at 1
     state[scan.S_AT] = piece[0]
-    records = np.empty((16, scan.RECORD_COLUMNS), np.int64)
+    chunks = []
+    rows = 16
     while True:
+        records = np.empty((rows, scan.RECORD_COLUMNS), np.int64)
+        state[scan.S_USED] = 0
         scan.read_piece(buf, piece[1], state, records, *tables, *columns, face_start)
+        chunks.append(records[:state[scan.S_USED]])
         if state[scan.S_AT] >= piece[1]:
-            return records[:state[scan.S_USED]]
-        records = np.concatenate([records, np.empty_like(records)])
+            return chunks
+        rows *= 2
 
 
 def _read_only_bytes(text: bytes | np.ndarray) -> np.ndarray:
