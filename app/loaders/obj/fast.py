@@ -119,8 +119,10 @@ def _read_piece(buf: np.ndarray, piece: tuple[int, int], before: np.ndarray, tab
     state[scan.S_AT] = piece[0]
     chunks = []
     rows = 16
+    # A record's numbers (byte offsets, a line's number, counts) all stay below the text's length.
+    record_type = np.int32 if buf.shape[0] <= np.iinfo(np.int32).max else np.int64
     while True:
-        records = np.empty((rows, scan.RECORD_COLUMNS), np.int64)
+        records = np.empty((rows, scan.RECORD_COLUMNS), record_type)
         state[scan.S_USED] = 0
         scan.read_piece(buf, piece[1], state, records, *tables, *columns, face_start)
         chunks.append(records[:state[scan.S_USED]])
