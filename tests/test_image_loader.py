@@ -290,6 +290,27 @@ def test_whitespace_and_comments_in_a_header_cost_their_length(gap: bytes) -> No
     assert peak < len(data), peak
 
 
+def test_comments_in_a_p3_raster_cost_their_length_and_read_as_spaces(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Comments become spaces a piece of lines at a time: every piece boundary gives what one
+    substitution over the whole raster gives, and a raster of short comments holds a few copies of
+    itself at most (one substitution held 87 bytes a byte)."""
+    import random
+    import re
+
+    from marraztu.loaders import images
+    from support.work import peak_traced_bytes
+
+    rng = random.Random(6)
+    raster = b"".join(rng.choice([b"1", b" ", b"#", b"\n", b"\r", b"x"]) for _ in range(5000))
+    monkeypatch.setattr(images, "_COMMENT_PIECE_BYTES", 7)
+    assert images._without_comments(raster) == re.sub(rb"#[^\n\r]*", b" ", raster)
+    monkeypatch.undo()
+    data = b"P3 1 1 255\n1 2 3\n" + b"#\n" * 500_000
+    image, peak = peak_traced_bytes(lambda: parse_ppm(data, "a.ppm"))
+    assert image.tolist() == [[[1, 2, 3]]]
+    assert peak < 4 * len(data), peak
+
+
 @pytest.mark.parametrize("maxval", [254, 1000, 65535])
 def test_samples_are_scaled_by_table_within_a_bounded_memory(maxval: int) -> None:
     """A maxval other than 255 scales every sample, rounded, as (v * 255 + maxval // 2) // maxval
