@@ -87,6 +87,7 @@ def test_a_solid_without_facets_gives_no_corners() -> None:
     (solid(facet(["0 0 0", "1e39 0 0", "0 1 0"])), 5, "a vertex coordinate is not a finite number the GPU can hold"),
     (solid(facet(["0 0 0", "1 0", "0 1 0"])), 5, "a vertex line holds 3 numbers, this one 2"),
     (solid(facet(["0 0 0", "1 0 0 1", "0 1 0"])), 5, "a vertex line holds 3 numbers, this one 4"),
+    (solid(facet(["0 0 0", "1 0 0 1 2 3 4", "0 1 0"])), 5, "a vertex line holds 3 numbers, this one more than 4"),
     (solid(facet(TRIANGLE)).replace("vertex 1", "vertx 1"), 5, "expected 'vertex', found 'vertx'"),
     (solid(facet(TRIANGLE)).replace("outer loop", "vertex 0 0 0"), 3, "expected 'outer loop', found 'vertex'"),
     (solid(facet(TRIANGLE)).replace("endfacet", "endloop"), 8, "expected 'endfacet', found 'endloop'"),
@@ -158,3 +159,12 @@ def test_an_ascii_stl_with_a_keyword_in_its_name_loads_as_a_model(tmp_path: Path
     path.write_text(solid(facet(TRIANGLE), facet(["1 0 0", "1 1 0", "0 1 0"]), name="vertex_paint"))
     mesh = load_model(path)
     assert (mesh.vertex_count, mesh.face_count) == (4, 2)
+
+
+def test_a_line_of_many_words_is_never_a_list_of_them() -> None:
+    """A line is split into at most six words, what any STL line needs: a solid's name of a million
+    words held 26 bytes a byte as a list of them."""
+    text = solid(facet(TRIANGLE), name="a " * 500_000).encode()
+    corners, peak = peak_traced_bytes(lambda: read(text))
+    np.testing.assert_array_equal(corners, [[0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    assert peak < 4 * len(text), peak

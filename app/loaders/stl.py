@@ -107,7 +107,7 @@ def _ascii_corners(path: Path, data: bytes) -> np.ndarray:
     state, step, number, solid_line = _OUTSIDE, _NEXT, 0, 0
     corners = WordBlocks(path, checked_coordinates)
     for number, line in enumerate(text_lines(data), start=1):
-        words = line.split()
+        words = line.split(None, 5)  # bounded: a line of millions of words is not made a list of them
         if not words:
             continue
         keyword = words[0]
@@ -119,7 +119,8 @@ def _ascii_corners(path: Path, data: bytes) -> np.ndarray:
                 raise _unexpected(path, state, keyword, number)
         if keyword == "vertex":
             if len(words) != 4:
-                raise LoadError(path, f"a vertex line holds 3 numbers, this one {len(words) - 1}", line=number)
+                found = len(words) - 1 if len(words) < 6 else "more than 4"
+                raise LoadError(path, f"a vertex line holds 3 numbers, this one {found}", line=number)
             corners.add(words[1:], number)
         elif keyword == "solid":
             solid_line = number
