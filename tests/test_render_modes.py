@@ -163,6 +163,21 @@ def test_flat_normal_from_the_centroid_gouraud_normals_from_the_vertices(offscre
     assert not gouraud[:, NORMALS_MIDDLE - 5:NORMALS_MIDDLE + 6].any()
 
 
+def test_each_face_normal_is_its_own_faces(offscreen, build_mesh, make_scene) -> None:
+    """A sheet folded along a vertical ridge toward the camera: each slope's face normal (read from its
+    polygon's own surface row) leans out sideways as long as it comes forward, 7 pixels across here,
+    where the ridge's vertex normal, pointing at the camera, would draw a segment of 2."""
+    positions = [(-10, -10, -10), (0, -10, 0), (0, 10, 0), (-10, 10, -10), (10, -10, -10), (10, 10, -10)]
+    fold = build_mesh("fold", positions, [(0, 1, 2, 3), (1, 4, 5, 2)])
+    scene = make_scene([SceneObject.placed("fold", fold, MATERIAL, (0, 0, 0))], camera_at=(0, 0, 15))
+    scene.modes.normals = True
+    yellow = (offscreen(scene, NORMALS_SIZE) == YELLOW).all(axis=2)
+    left, right = (np.nonzero(half)[1] for half in (yellow[:, :NORMALS_MIDDLE], yellow[:, NORMALS_MIDDLE + 1:]))
+    assert left.size and right.size
+    assert left.max() - left.min() >= 5 and right.max() - right.min() >= 5, (left, right)
+    assert abs((NORMALS_MIDDLE - 1 - left.max()) - right.min()) <= 1  # mirror images
+
+
 def test_normals_in_lines_mode(offscreen, tilted_scene: Scene) -> None:
     tilted_scene.modes.normals, tilted_scene.modes.fill = True, Fill.LINES
     assert count(offscreen(tilted_scene, NORMALS_SIZE), YELLOW) >= 4

@@ -4,9 +4,10 @@ The vertex arrays are built here with numpy. GL has no per-primitive attributes,
 a polygon (its face normal, its first vertex) rides on vertices: the surface is indexed, with one
 extra vertex per polygon for its first corner (see SurfaceArrays). Vertex normals are the surface's
 own rows drawn as points (each used row once, or a range of faces' corners through its indices),
-face normals one point per polygon, and a geometry stage draws each as a segment. Edges are one row
-per polygon corner: its position and its polygon's texel in two float textures holding each
-polygon's first vertex and face normal, drawn as indexed lines (a geometry stage over the surface's
+face normals one point per polygon (its centroid, its direction read from the polygon's own surface
+row), and a geometry stage draws each as a segment. Edges are one row per polygon corner: its
+position and its polygon's texel in two float textures holding each polygon's first vertex and
+face normal, drawn as indexed lines (a geometry stage over the surface's
 rows would spare those rows, but makes llvmpipe's lines frames a third slower; the polygon's point
 and normal copied into every row made three attributes a vertex, whose fetch doubled NVIDIA's frames
 of millions of edges).
@@ -55,7 +56,8 @@ EDGE_FACE_UNITS = {"u_face_points": 2, "u_face_normals": 3}
 EDGE_FACE_TEXTURE_SIDE = 1 << 15  # the polygon tables' widest: an edge row's texel coordinates are 16-bit
 # The normals program reads a vertex row's position and vertex normal as a foot and a direction.
 VERTEX_NORMAL_LAYOUT = ("3f 3f 2f", "in_position", "in_direction", "in_uv")
-FACE_NORMAL_LAYOUT = ("3f 3f", "in_position", "in_direction")
+# A face normal's foot; its direction is read from the polygon's own surface row (ObjectGpu.face_normals).
+FACE_NORMAL_LAYOUT = ("3f", "in_position")
 
 
 class SurfaceWay(NamedTuple):
@@ -301,14 +303,11 @@ def used_shared_rows(mesh: Mesh, shared_rows: int) -> np.ndarray:
 
 
 def face_normal_feet(mesh: Mesh) -> np.ndarray:
-    """(F, 6) float32: each polygon's centroid and face normal, one point per face normal."""
+    """(F, 3) float32: each polygon's centroid, the foot of its face normal."""
     corner_positions = np.take(mesh.gpu_positions(), mesh.corner_vertex, axis=0)
     centroids = np.add.reduceat(corner_positions, mesh.face_start[:-1], axis=0)
     centroids /= mesh.face_sizes[:, None]
-    out = np.empty((mesh.face_count, 6), np.float32)
-    out[:, 0:3] = centroids
-    out[:, 3:6] = mesh.face_normals
-    return out
+    return centroids.astype(np.float32)
 
 
 # Surface arrays made ahead of time, off the render thread (the window's loader thread), waiting for
@@ -632,10 +631,14 @@ class ObjectGpu:
 
     @property
     def face_normals(self) -> moderngl.VertexArray:
-        """Drawn as POINTS, one per polygon."""
+        """Drawn as POINTS, one per polygon: its foot from a buffer of feet, its direction from the
+        polygon's own surface row, which holds its face normal already (SurfaceArrays)."""
         built = self._built.get("face normals")
         if built is None:
             built = self._build("face normals", face_normal_feet(self.mesh), self.programs.normals, FACE_NORMAL_LAYOUT)
+            polygon_normals = self.shared_rows * SURFACE_ROW_BYTES + attribute_offset(SURFACE_LAYOUT, "in_normal")
+            built[1].bind(self.programs.normals["in_direction"].location, "f", self._surface_buffers["surface"],
+                          "3f", offset=polygon_normals, stride=SURFACE_ROW_BYTES)
         return built[1]
 
     def vertex_normals(self, start: int, stop: int) -> tuple[moderngl.VertexArray, VertexRange]:
