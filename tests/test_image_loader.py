@@ -290,7 +290,9 @@ def test_whitespace_and_comments_in_a_header_cost_their_length(gap: bytes) -> No
     assert peak < len(data), peak
 
 
-def test_comments_in_a_p3_raster_cost_their_length_and_read_as_spaces(monkeypatch: pytest.MonkeyPatch) -> None:
+@pytest.mark.parametrize("line_end", [b"\n", b"\r"])
+def test_comments_in_a_p3_raster_cost_their_length_and_read_as_spaces(monkeypatch: pytest.MonkeyPatch,
+                                                                      line_end: bytes) -> None:
     """Comments become spaces a piece of lines at a time: every piece boundary gives what one
     substitution over the whole raster gives, and a raster of short comments holds a few copies of
     itself at most (one substitution held 87 bytes a byte)."""
@@ -305,7 +307,7 @@ def test_comments_in_a_p3_raster_cost_their_length_and_read_as_spaces(monkeypatc
     monkeypatch.setattr(images, "_COMMENT_PIECE_BYTES", 7)
     assert images._without_comments(raster) == re.sub(rb"#[^\n\r]*", b" ", raster)
     monkeypatch.undo()
-    data = b"P3 1 1 255\n1 2 3\n" + b"#\n" * 500_000
+    data = b"P3 1 1 255\n1 2 3\n" + (b"#" + line_end) * 500_000
     image, peak = peak_traced_bytes(lambda: parse_ppm(data, "a.ppm"))
     assert image.tolist() == [[[1, 2, 3]]]
     assert peak < 4 * len(data), peak

@@ -225,6 +225,13 @@ def test_a_statement_continued_over_many_lines_costs_its_length() -> None:
     assert peak < 4 * len(text), peak  # a list of its lines held 94 times the text
 
 
+def test_a_last_line_continued_without_a_newline_is_read_as_with_one() -> None:
+    """The loader always ends a text with a newline; a caller of the line reader may not."""
+    with pytest.raises(LoadError) as refused:
+        read_by_lines(b"v 1 2 \\", "x.obj")
+    assert (refused.value.line, refused.value.message) == (1, "a vertex position (v) needs 3 to 7 numbers, found 2")
+
+
 def test_faces_may_mix_formats_across_faces() -> None:
     text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0.5 0.5\nf 1 2 3\nf 2/1 4/1 3/1\n"
     mesh = parse(text)

@@ -197,6 +197,13 @@ def test_bad_scene_raises_load_error_naming_the_file(tmp_path: Path, text: str, 
     assert str(path) in str(caught.value)
 
 
+def test_a_string_of_escaped_quotes_is_looked_at_once(tmp_path: Path) -> None:
+    """The search for over-long dotted keys starts no key at an escaped quote: from each, it would scan
+    the rest of the string again (a name of 500,000 escaped quotes would have taken about half an hour)."""
+    path = write_scene(tmp_path, CAMERA + 'name = "' + '\\"' * 500_000 + '"\n')
+    assert load_scene(path).cameras[0].name == '"' * 500_000
+
+
 def test_an_overlong_integer_is_found_without_state_per_digit(tmp_path: Path) -> None:
     """The search for the integer Python refuses skips a comment of a million digits in its length (a
     backtracking repeat held over 100 bytes a digit)."""

@@ -168,6 +168,7 @@ def _binary_samples(raster: bytes | memoryview, count: int, maxval: int, source:
 
 
 _COMMENT = re.compile(rb"#[^\n\r]*+")
+_LINE_END = re.compile(rb"[\n\r]")
 _COMMENT_PIECE_BYTES = 1 << 12
 
 
@@ -176,7 +177,8 @@ def _without_comments(raster: bytes) -> bytes:
     objects a comment until it joins them, which for a raster of short comments was 87 bytes a byte."""
     cleaned, start = [], 0
     while start < len(raster):
-        end = raster.find(b"\n", start + _COMMENT_PIECE_BYTES) + 1 or len(raster)  # no comment spans a newline
+        line_end = _LINE_END.search(raster, start + _COMMENT_PIECE_BYTES)  # no comment spans one
+        end = len(raster) if line_end is None else line_end.end()
         cleaned.append(_COMMENT.sub(b" ", raster[start:end]))
         start = end
     return b"".join(cleaned)

@@ -76,8 +76,9 @@ _LINE_START = re.compile("|".join((rf"[ \t]*\[\[[ \t]*(?P<array>{_DOTTED_KEY})[ 
                                     rf"[ \t]*\[[ \t]*(?P<table>{_DOTTED_KEY})[ \t]*\]",
                                     rf"[ \t]*(?P<key>{_DOTTED_KEY})[ \t]*=")))
 _KEY_PARTS = re.compile(_KEY_PART)
-# A dotted key of more than MAX_KEY_PARTS parts, from the start of its first (never a part's middle).
-_LONG_DOTTED_RUN = re.compile(rf"(?<![A-Za-z0-9_-]){_KEY_PART}(?:[ \t]*+\.[ \t]*+{_KEY_PART}){{{MAX_KEY_PARTS}}}")
+# A dotted key of more than MAX_KEY_PARTS parts, from the start of its first: never a part's middle,
+# nor an escaped quote, from which a string of them would be scanned again at every one.
+_LONG_DOTTED_RUN = re.compile(rf"(?<![A-Za-z0-9_\\-]){_KEY_PART}(?:[ \t]*+\.[ \t]*+{_KEY_PART}){{{MAX_KEY_PARTS}}}")
 
 
 @dataclass(frozen=True)

@@ -119,8 +119,7 @@ def _ascii_corners(path: Path, data: bytes) -> np.ndarray:
                 raise _unexpected(path, state, keyword, number)
         if keyword == "vertex":
             if len(words) != 4:
-                found = len(words) - 1 if len(words) < 6 else "more than 4"
-                raise LoadError(path, f"a vertex line holds 3 numbers, this one {found}", line=number)
+                raise LoadError(path, f"a vertex line holds 3 numbers, this one {_numbers_after(words)}", line=number)
             corners.add(words[1:], number)
         elif keyword == "solid":
             solid_line = number
@@ -130,6 +129,11 @@ def _ascii_corners(path: Path, data: bytes) -> np.ndarray:
     if state != _OUTSIDE:
         raise LoadError(path, "the file ends inside a facet", line=number)
     return corners.values().reshape(-1, 3)
+
+
+def _numbers_after(words: list[str]) -> str:
+    """How many words follow a line's keyword, of at most six split off: exactly, up to five."""
+    return str(len(words) - 1) if len(words) < 6 or len(words[5].split(None, 1)) == 1 else "more than 5"
 
 
 def _unexpected(path: Path, state: int, keyword: str, line: int) -> LoadError:

@@ -100,8 +100,9 @@ class LineReader:
         return LoadError(self.source, message, line=line)
 
     def read(self, text: bytes) -> RawObj:
-        # bytes' own line iterator where no line continues: a generator's step a line costs more
-        lines = _logical_lines(text) if has_continuations(text) else enumerate(io.BytesIO(text), start=1)
+        # BytesIO's line iterator where no line continues (a generator's step a line costs more)
+        plain = text.endswith(b"\n") and not has_continuations(text)
+        lines = enumerate(io.BytesIO(text), start=1) if plain else _logical_lines(text)
         for number, content in lines:
             self.read_line(number, content)
         if not self.face_sizes:
