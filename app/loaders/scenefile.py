@@ -71,14 +71,15 @@ TOO_LARGE = "is too large: the GPU's 32-bit numbers end at 3.4e38"
 # Possessive (nothing a key gives back could match what follows it): sre keeps no state per part, which
 # for a line of millions of parts was gigabytes.
 _KEY_PART = r"""(?:[A-Za-z0-9_-]++|"(?:[^"\\\n]|\\.)*+"|'[^'\n]*+')"""
-_DOTTED_KEY = rf"{_KEY_PART}(?:[ \t]*+\.[ \t]*+{_KEY_PART})*+"
+_NEXT_PART = rf"[ \t]*+\.[ \t]*+{_KEY_PART}"
+_DOTTED_KEY = rf"{_KEY_PART}(?:{_NEXT_PART})*+"
 _LINE_START = re.compile("|".join((rf"[ \t]*\[\[[ \t]*(?P<array>{_DOTTED_KEY})[ \t]*\]\]",
                                     rf"[ \t]*\[[ \t]*(?P<table>{_DOTTED_KEY})[ \t]*\]",
                                     rf"[ \t]*(?P<key>{_DOTTED_KEY})[ \t]*=")))
 _KEY_PARTS = re.compile(_KEY_PART)
 # A dotted key of more than MAX_KEY_PARTS parts, from the start of its first: never a part's middle,
 # nor an escaped quote, from which a string of them would be scanned again at every one.
-_LONG_DOTTED_RUN = re.compile(rf"(?<![A-Za-z0-9_\\-]){_KEY_PART}(?:[ \t]*+\.[ \t]*+{_KEY_PART}){{{MAX_KEY_PARTS}}}")
+_LONG_DOTTED_RUN = re.compile(rf"(?<![A-Za-z0-9_\\-]){_KEY_PART}(?:{_NEXT_PART}){{{MAX_KEY_PARTS}}}")
 
 
 @dataclass(frozen=True)
@@ -196,7 +197,7 @@ class _SceneReader:
         found = _LONG_DOTTED_RUN.search(self.text)
         if found is not None:
             self.fail(f"more than {MAX_KEY_PARTS} words joined by dots: a key of so many parts (a scene's "
-                      "deepest, materials.NAME.kd, has 3)", self.text.count("\n", 0, found.start()) + 1)
+                      "deepest, materials.NAME.kd, has 3)", _line_of(self.text, found.start()))
 
     def _parse(self) -> dict:
         try:
@@ -354,7 +355,12 @@ def _overlong_integer_line(text: str) -> int | None:
     # possessive: sre keeps no state per digit (a backtracking repeat kept over 100 bytes per digit)
     pattern = rf"(?<![0-9A-Za-z_.])[0-9](?:_?+[0-9]){{{limit},}}+(?![0-9A-Za-z_.])"
     found = re.search(pattern, text) if limit else None
-    return None if found is None else text.count("\n", 0, found.start()) + 1
+    return None if found is None else _line_of(text, found.start())
+
+
+def _line_of(text: str, offset: int) -> int:
+    """The line of the character at `offset`, as tomllib counts lines ("\n" ends one)."""
+    return text.count("\n", 0, offset) + 1
 
 
 # --------------------------------------------------------------------------------------------------

@@ -123,7 +123,6 @@ def _collisions_split(table: np.ndarray, first: np.ndarray, group: np.ndarray, c
     return np.concatenate([first[kept], rows[row_first]]), group
 
 
-# Rows per piece of the key and the check: a piece's temporaries stay in the cache.
 def _differing_from_first(table: np.ndarray, first: np.ndarray, group: np.ndarray) -> np.ndarray:
     """The rows that differ from their group's first row: where different rows share a key."""
     firsts = np.take(table, first, axis=0)  # np.take gathers whole rows several times quicker than table[first]

@@ -7,10 +7,9 @@ own rows drawn as points (each used row once, or a range of faces' corners throu
 face normals one point per polygon (its centroid, its direction read from the polygon's own surface
 row), and a geometry stage draws each as a segment. Edges are one row per polygon corner: its
 position and its polygon's texel in two float textures holding each polygon's first vertex and
-face normal, drawn as indexed lines (a geometry stage over the surface's
-rows would spare those rows, but makes llvmpipe's lines frames a third slower; the polygon's point
-and normal copied into every row made three attributes a vertex, whose fetch doubled NVIDIA's frames
-of millions of edges).
+face normal, drawn as indexed lines (a geometry stage over the surface's rows would spare those
+rows, but makes llvmpipe's lines frames a third slower; the polygon's point and normal copied into
+every row made three attributes a vertex, whose fetch doubled NVIDIA's frames of millions of edges).
 
 Everything is built once per object (edges and normals on first use) and kept until the object
 leaves the scene; drawing a subset of faces is a `first`/`vertices` range. Beside the surface, each
