@@ -334,3 +334,15 @@ def test_many_malformed_material_lines_are_one_note(tmp_path: Path) -> None:
     mesh = load_obj(path)
     assert mesh.file_material == {"ns": 5.0}
     assert mesh.warnings == ("material library 'bad.mtl': ignored 1001 malformed lines (the first a Kd line)",)
+
+
+def test_a_material_line_of_a_million_numbers_is_never_a_list_of_them(tmp_path: Path) -> None:
+    """An MTL line is split into a bounded number of words: a Kd line of a million numbers was held 44
+    bytes a byte as a list of them and their floats."""
+    (tmp_path / "long.mtl").write_text("newmtl a\nKd" + " 10" * 1_000_000 + "\nKs 0.5\nnewmtl " + "b " * 500 + "\n")
+    path = tmp_path / "model.obj"
+    path.write_bytes(b"mtllib long.mtl\n" + QUAD)
+    mesh, peak = peak_traced_bytes(lambda: load_obj(path))
+    assert mesh.file_material == {"ks": (0.5, 0.5, 0.5)}
+    assert mesh.warnings == ("material library 'long.mtl': ignored a malformed Kd line",)
+    assert peak < 8 * (tmp_path / "long.mtl").stat().st_size, peak  # the text's bytes, piece, line and rest

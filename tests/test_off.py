@@ -164,6 +164,22 @@ def test_reading_holds_blocks_of_words_not_a_list_of_every_line(tmp_path: Path) 
     assert peak < path.stat().st_size + 5 * mesh_bytes // 2 + (8 << 20), (peak, mesh_bytes)
 
 
+@pytest.mark.parametrize("where", ["header", "vertex"])
+def test_a_line_of_a_million_words_is_never_a_list_of_them(tmp_path: Path, where: str) -> None:
+    """A header line is split into its keyword and counts, a vertex row into at most 12 numbers: a header
+    with a million words after its counts was held 31 bytes a byte as a list of them."""
+    many = " 7" * 1_000_000
+    text = off_text(header=f"OFF 4 2 0{many}\n") if where == "header" else off_text([*SQUARE[:3], f"0 1 0{many}"])
+    path = tmp_path / "long.off"
+    path.write_text(text)
+    outcome, peak = peak_traced_bytes(lambda: load_off(path))
+    if where == "header":
+        assert outcome.face_count == 2
+    else:
+        assert (outcome.line, outcome.message) == (6, "a vertex row holds 3 numbers here, this one more than 12")
+    assert peak < 5 * len(text), peak
+
+
 def test_an_off_file_loads_through_the_registry_without_trimesh(tmp_path: Path) -> None:
     path = tmp_path / "square.off"
     path.write_text(off_text(faces=("4 0 1 2 3",)))

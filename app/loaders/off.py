@@ -54,6 +54,10 @@ class OffTables:
 
 
 Row = tuple[int, list[str]]  # a line's number and its words before any '#'
+# A header line needs its keyword and three counts, a vertex row at most 12 numbers (STCNOFF with an
+# RGBA colour): split further, a line of a million words would be held as a list of them.
+_HEADER_WORDS = 4
+_MOST_VERTEX_WORDS = 12
 
 
 class _Rows:
@@ -61,14 +65,16 @@ class _Rows:
     file ends too soon)."""
 
     def __init__(self, data: bytes) -> None:
-        self.rows = _rows_with_words(data)
+        self.rows = _lines_with_words(data)
         self.line = 1
 
-    def next(self) -> Row | None:
+    def next(self, most_words: int = -1) -> Row | None:
+        """The next line's number and its words, the last of `most_words` (unless -1) holding the rest."""
         row = next(self.rows, None)
-        if row is not None:
-            self.line = row[0]
-        return row
+        if row is None:
+            return None
+        self.line = row[0]
+        return row[0], row[1].split(None, most_words)
 
 
 def read_off(path: Path, data: bytes) -> OffTables:
@@ -79,12 +85,12 @@ def read_off(path: Path, data: bytes) -> OffTables:
     return OffTables(positions, corner_vertex, face_start, colours)
 
 
-def _rows_with_words(data: bytes) -> Iterator[Row]:
-    """(line number, words before any #) of each line that has some, read a piece at a time."""
+def _lines_with_words(data: bytes) -> Iterator[tuple[int, str]]:
+    """(line number, what comes before any #) of each line that holds a word, read a piece at a time."""
     for number, line in enumerate(text_lines(data), start=1):
-        words = (line.split("#", 1)[0] if "#" in line else line).split()
-        if words:
-            yield number, words
+        content = line.split("#", 1)[0] if "#" in line else line
+        if content and not content.isspace():
+            yield number, content
 
 
 # The keyword: [ST][C][N]OFF says the vertex rows also hold texture coordinates, a colour, a normal.
@@ -108,7 +114,7 @@ class _Layout:
 
 def _header(path: Path, rows: _Rows) -> tuple[_Layout, int, int]:
     """The layout its keyword gives, and the vertex and face counts, on the keyword's line or the next."""
-    first = rows.next()
+    first = rows.next(_HEADER_WORDS)
     if first is None:
         raise LoadError(path, "empty file: no faces")
     number, words = first
@@ -120,7 +126,7 @@ def _header(path: Path, rows: _Rows) -> tuple[_Layout, int, int]:
         raise LoadError(path, said, line=number)
     counts = ([keyword[4]] if keyword[4] else []) + words[1:]
     if not counts:
-        number, counts = rows.next() or (number, [])
+        number, counts = rows.next(_HEADER_WORDS - 1) or (number, [])
     if len(counts) < 2 or not all(is_count(word) for word in counts[:2]):
         raise LoadError(path, "expected the vertex, face and edge counts", line=number)
     vertices, faces = int(counts[0]), int(counts[1])
@@ -129,10 +135,10 @@ def _header(path: Path, rows: _Rows) -> tuple[_Layout, int, int]:
     return _Layout(normal=bool(keyword[3]), coloured=bool(keyword[2]), texture=bool(keyword[1])), vertices, faces
 
 
-def _taken(path: Path, rows: _Rows, count: int, what: str) -> Iterator[Row]:
+def _taken(path: Path, rows: _Rows, count: int, what: str, most_words: int = -1) -> Iterator[Row]:
     """The next `count` rows, or a LoadError where the file ends before them."""
     for _ in range(count):
-        row = rows.next()
+        row = rows.next(most_words)
         if row is None:
             raise LoadError(path, f"the header counts {count} {what}, the file ends before them", line=rows.line)
         yield row
@@ -145,10 +151,11 @@ def _vertex_rows(path: Path, rows: _Rows, count: int, layout: _Layout
     positions = WordBlocks(path, checked_coordinates)
     extras = WordBlocks(path, checked_coordinates)  # all checked to be numbers; the colour's kept
     width = 0
-    for number, words in _taken(path, rows, count, "vertices"):
+    for number, words in _taken(path, rows, count, "vertices", _MOST_VERTEX_WORDS):
         if len(words) not in sizes:
             wanted = " or ".join(map(str, sizes))
-            raise LoadError(path, f"a vertex row holds {wanted} numbers here, this one {len(words)}", line=number)
+            held = len(words) if len(words) <= _MOST_VERTEX_WORDS else f"more than {_MOST_VERTEX_WORDS}"
+            raise LoadError(path, f"a vertex row holds {wanted} numbers here, this one {held}", line=number)
         if width and len(words) != width:
             raise LoadError(path, f"a vertex row holds {width} numbers here, as the first one does; this one "
                                   f"{len(words)}", line=number)

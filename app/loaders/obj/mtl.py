@@ -20,6 +20,9 @@ from marraztu.model.mesh import MeshMaterial
 MAX_MTL_BYTES = 16 << 20
 # 'mtllib a.mtl b.mtl' names several files; a line of a million names must not cost a million lookups.
 _MOST_NAMES = 16
+# Words split off an MTL line: more than any statement read here needs (a map_Kd's options and a name
+# of spaces, newmtl's MAX_MATERIAL_NAME characters), so that a line of a million is never a list of them.
+_MOST_WORDS = MAX_MATERIAL_NAME + 1
 
 
 def read_libraries(base_dir: Path, lines: Sequence[str], notes: list[str], wanted: Collection[str],
@@ -89,7 +92,7 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
     malformed, first_malformed = 0, ""  # one note however many lines are ignored
     ignored: set[str] = set()
     for line in text_lines(text):
-        tokens = line.split("#", 1)[0].split()
+        tokens = line.split("#", 1)[0].split(None, _MOST_WORDS)
         if not tokens:
             continue
         key = tokens[0].lower()
