@@ -120,10 +120,11 @@ def test_the_generated_files_are_the_sizes_asked_for(tmp_path: Path) -> None:
 def test_the_other_formats_hold_the_large_grid_and_are_read_by_ours_and_trimesh(report: str,
                                                                               tmp_path: Path) -> None:
     inputs = generate_format_inputs(tmp_path, 200, 400)
-    assert [item.path.suffix for item in inputs] == [".stl", ".ply", ".glb", ".stl", ".off"]
-    assert [item.triangles for item in inputs] == [392, 392, 392, 200, 200]
+    assert [item.path.suffix for item in inputs] == [".stl", ".ply", ".glb", ".stl", ".ply", ".off"]
+    assert [item.triangles for item in inputs] == [392, 392, 392, 200, 200, 200]
     assert all(load_model(item.path).face_count == item.triangles for item in inputs)
     assert inputs[3].path.read_bytes().startswith(b"solid") and inputs[3].warm_up.read_bytes().startswith(b"solid")
+    assert b"format ascii" in inputs[4].path.read_bytes()[:40] and b"format ascii" in inputs[4].warm_up.read_bytes()
     assert all(load_model(item.warm_up).face_count == 1 for item in inputs)
     rows = markdown_tables(report)[LOAD_HEADERS]
     for item in inputs:

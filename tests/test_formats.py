@@ -336,7 +336,7 @@ def _far_index(data: bytes) -> bytes:
 
 @pytest.mark.parametrize(("name", "damage", "line"), [
     ("ascii.stl", _cut, True), ("ascii.stl", _nan, True), ("model.stl", _cut, True),
-    ("ascii.ply", _cut, True), ("ascii.ply", _nan, True), ("ascii.ply", _far_index, False),
+    ("ascii.ply", _cut, True), ("ascii.ply", _nan, True), ("ascii.ply", _far_index, True),
     ("model.ply", _cut, False), ("model.off", _cut, True), ("model.off", _nan, True),
     ("model.off", _far_index, True), ("model.glb", _cut, False),
     ("model.glb", lambda data: b"glTF" + bytes(40), False), ("model.off", lambda data: b"", False),

@@ -42,8 +42,9 @@ from marraztu.loaders.files import (
     spellings,
 )
 from marraztu.loaders.images import FORMATS_BY_MAGIC, image_format, rgb_array, unread_textures_note
+from marraztu.loaders.ply import binary_of_ascii, read_header
 from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES
-from marraztu.loaders.words import is_count, unheld_coordinate
+from marraztu.loaders.words import unheld_coordinate
 from marraztu.model.build import build_mesh, by_largest, colour_bytes
 from marraztu.model.geometry import holds_in_float32
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial
@@ -79,16 +80,18 @@ def _frees_what_trimesh_held(read: Callable[..., _Read]) -> Callable[..., _Read]
 @_frees_what_trimesh_held
 def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
     data = read_model_bytes(path, stage)
-    counts, header_lines, ascii_body = _ply_header(path, data)
-    if ascii_body:
-        _check_text_rows(path, data, header_lines, counts["vertex"] + counts["face"], "PLY")
+    header = read_header(path, data)
+    if header.count("face") == 0:
+        raise LoadError(path, "the header declares no faces (a point cloud?): nothing to draw")
+    text = data if header.encoding == "ascii" else None  # kept for a text body only, to name the line of a bad number
+    if text is not None:
+        data = binary_of_ascii(path, text, header)
     beside = _FilesBeside(path.parent, is_picture=lambda name: True)  # a PLY names its TextureFile only
     scene = _trimesh_load(path, data, "ply", beside)
-    text = data if ascii_body else None
-    del data  # kept for a text body only, to name the line of a bad number
+    del data
     held = sum(_ply_vertices_read(geometry) for geometry in scene.geometry.values())
-    if held != counts["vertex"]:
-        raise LoadError(path, f"the header promises {counts['vertex']} vertices, the file holds {held}")
+    if held != header.count("vertex"):
+        raise LoadError(path, f"the header promises {header.count('vertex')} vertices, the file holds {held}")
     return _finish(path, scene, data=text, beside=beside)
 
 
@@ -219,42 +222,6 @@ def _ply_vertices_read(mesh: Any) -> int:
     if isinstance(table, dict) and table:
         return len(next(iter(table.values())))
     return len(mesh.vertices)
-
-
-def _ply_header(path: Path, data: bytes) -> tuple[dict[str, int], int, bool]:
-    """The vertex and face counts, how many lines the header takes, and whether the body is ASCII."""
-    end = data.find(b"end_header")
-    if not data.startswith(b"ply") or end < 0:
-        raise LoadError(path, "not a PLY file (no 'ply' ... 'end_header' header)", line=1)
-    header = data[:end].decode("ascii", errors="replace").splitlines()
-    counts = {"vertex": 0, "face": 0}
-    for number, line in enumerate(header, start=1):
-        words = line.split()
-        if words[:1] == ["element"] and len(words) == 3 and words[1] in counts:
-            if not is_count(words[2]):
-                raise LoadError(path, f"element {words[1]}: {words[2]!r} is not a count", line=number)
-            counts[words[1]] = int(words[2])
-    if counts["face"] == 0:
-        raise LoadError(path, "the header declares no faces (a point cloud?): nothing to draw")
-    return counts, len(header) + 1, any(line.split()[:2] == ["format", "ascii"] for line in header)
-
-
-# A line holding something before any comment: its first character that is neither blank nor #.
-_ROW_WITH_CONTENT = re.compile(rb"(?m)^[^\S\n]*[^\s#]")
-
-
-def _check_text_rows(path: Path, data: bytes, after_line: int, expected: int, kind: str) -> None:
-    """A text body must hold the rows its header counted: one cut short is an error, not a smaller model."""
-    body_at = 0
-    for _ in range(after_line):
-        body_at = data.find(b"\n", body_at) + 1
-        if body_at == 0:
-            body_at = len(data)
-            break
-    rows = sum(1 for _ in _ROW_WITH_CONTENT.finditer(data, body_at))  # counted, never held
-    if rows < expected:
-        raise LoadError(path, f"the {kind} header counts {expected} rows of vertices and faces, the file "
-                              f"ends after {rows}", line=max(after_line, line_at(data, len(data))))
 
 
 def _line_of_first_non_finite(data: bytes) -> int | None:

@@ -145,8 +145,11 @@ def generate_load_inputs(directory: Path, small: int, large: int) -> list[LoadIn
 # The text ones at the small size: a 1M-triangle ASCII STL is 290 MB, and trimesh reads it in seconds.
 BINARY_FORMATS = (("binary STL", "bench_grid.stl", "stl"), ("binary PLY", "bench_grid.ply", "ply"),
                   ("GLB", "bench_grid.glb", "glb"))
-TEXT_FORMATS = (("ASCII STL", "bench_grid_ascii.stl", "stl_ascii"), ("OFF", "bench_grid.off", "off"))
+TEXT_FORMATS = (("ASCII STL", "bench_grid_ascii.stl", "stl_ascii"), ("ASCII PLY", "bench_grid_ascii.ply", "ply_ascii"),
+                ("OFF", "bench_grid.off", "off"))
 FORMATS = BINARY_FORMATS + TEXT_FORMATS
+# The exporter's file type and options where the name above is ours (trimesh writes PLY's encodings as one type).
+_EXPORTS = {"ply_ascii": ("ply", {"encoding": "ascii"})}
 
 
 @dataclass(frozen=True)
@@ -173,8 +176,9 @@ def generate_format_inputs(directory: Path, small: int, large: int) -> list[Load
         for label, name, file_type in formats:
             item = FormatInput(f"{count_label(size)} tri {label}", directory / name, len(faces), file_type)
             progress(f"writing {item.path.name}")
-            grid.export(item.path, file_type=file_type)
-            tiny.export(item.warm_up, file_type=file_type)
+            exporter, options = _EXPORTS.get(file_type, (file_type, {}))
+            grid.export(item.path, file_type=exporter, **options)
+            tiny.export(item.warm_up, file_type=exporter, **options)
             inputs.append(item)
     return inputs
 

@@ -37,8 +37,8 @@ def machine_lines(ctx: moderngl.Context | None, config: BenchConfig) -> list[str
         f"- load average at start: {load_average()} (other processes share the cores: expect noise)",
         f"- sections: {', '.join(config.sections)}; OBJ files of {count_label(config.load_sizes[0])} and "
         f"{count_label(config.load_sizes[1])} triangles (the latter as binary STL, PLY and GLB too, the former "
-        f"as ASCII STL and OFF); drawn grids: {', '.join(count_label(n) for n in config.frame_sizes) or 'none'}; "
-        "sizes: "
+        f"as ASCII STL, ASCII PLY and OFF); drawn grids: "
+        f"{', '.join(count_label(n) for n in config.frame_sizes) or 'none'}; sizes: "
         f"{', '.join(f'{w}x{h}' for w, h in config.resolutions)}",
     ]
     return lines

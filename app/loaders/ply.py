@@ -1,0 +1,398 @@
+"""A PLY file's header read here, and an ASCII body made the binary body it stands for, for trimesh.
+
+Why not trimesh's ASCII reader: it holds one numpy array per line, about 18 bytes per byte of the
+file (170 with blank lines, which it then cannot read), casts 1.5 or 300 into an index or a byte
+without a word, and names no line. Here the body becomes numbers in one call, each property is
+checked against its type where the file gives it, and the rows are written as the little-endian
+binary body that trimesh reads without parsing, so that both encodings give the same model.
+trimesh's binary reader takes one corner count for a whole face element: faces of mixed or more than
+four corners are fanned into triangles first, as trimesh fans an ASCII file's quads.
+"""
+
+from __future__ import annotations
+
+import functools
+import re
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from marraztu.errors import LoadError
+from marraztu.loaders.files import line_at, text_lines
+from marraztu.loaders.words import DECIMAL_SYNTAX, is_count
+
+# The property types PLY names, as trimesh reads them (its float16 and 64-bit integers too).
+PLY_TYPES = {"char": "i1", "uchar": "u1", "short": "i2", "ushort": "u2", "int": "i4", "uint": "u4",
+             "float": "f4", "double": "f8", "int8": "i1", "uint8": "u1", "int16": "i2", "uint16": "u2",
+             "int32": "i4", "uint32": "u4", "int64": "i8", "uint64": "u8", "float16": "f2", "float32": "f4",
+             "float64": "f8"}
+FORMATS = {"ascii": "ascii", "binary_little_endian": "<", "binary_big_endian": ">"}
+FACE_LISTS = ("vertex_indices", "vertex_index")  # the names exporters give a face's corners
+TEXCOORD_LIST = "texcoord"  # MeshLab's: u v for each corner of the face
+_DECIMAL = re.compile(DECIMAL_SYNTAX.encode())
+_PIECE_BYTES = 1 << 20  # where a body's numbers fail, they are read again a piece at a time to find the line
+_WHITESPACE = np.zeros(256, bool)
+_WHITESPACE[list(b" \t\n\r\x0b\x0c")] = True  # what bytes.split() and numpy's fromstring part numbers at
+
+
+@dataclass(frozen=True)
+class PlyProperty:
+    name: str
+    value_type: str  # PLY's name of the value's type (a list's items')
+    count_type: str | None = None  # a list's count's; None for a single value
+
+    def declaration(self) -> str:
+        if self.count_type is None:
+            return f"property {self.value_type} {self.name}"
+        return f"property list {self.count_type} {self.value_type} {self.name}"
+
+
+@dataclass(frozen=True)
+class PlyElement:
+    name: str
+    count: int
+    properties: tuple[PlyProperty, ...]
+
+
+@dataclass(frozen=True)
+class PlyHeader:
+    encoding: str  # a FORMATS value
+    elements: tuple[PlyElement, ...]
+    picture: str | None  # MeshLab's 'comment TextureFile name' line, the last as trimesh reads it
+    body_at: int  # the offset of the body's first byte
+
+    def count(self, name: str) -> int:
+        return sum(element.count for element in self.elements if element.name == name)
+
+    def text(self, encoding: str, elements: tuple[PlyElement, ...]) -> bytes:
+        """A header of the given encoding and elements that names this one's picture."""
+        lines = ["ply", f"format {encoding} 1.0", *([self.picture] if self.picture else [])]
+        for element in elements:
+            lines.append(f"element {element.name} {element.count}")
+            lines.extend(prop.declaration() for prop in element.properties)
+        return ("\n".join([*lines, "end_header"]) + "\n").encode("utf-8")
+
+
+# A model's header declares a few elements of a few properties each: past this many, it is no model's.
+MAX_DECLARATIONS = 4096
+
+
+def read_header(path: Path, data: bytes) -> PlyHeader:
+    """The header's format, elements and properties, each line checked; a LoadError names the line."""
+    end = data.find(b"end_header")
+    if not data.startswith(b"ply") or end < 0:
+        raise LoadError(path, "not a PLY file (no 'ply' ... 'end_header' header)", line=1)
+    newline = data.find(b"\n", end)
+    body_at = len(data) if newline < 0 else newline + 1
+    encoding, picture, elements = None, None, []
+    properties: list[list[PlyProperty]] = []
+    number, declared = 1, 0
+    for number, line in enumerate(text_lines(data[:end]), start=1):  # a line at a time: never a list of them
+        words = line.split(None, 5)
+        keyword = words[0] if words and number > 1 else ""
+        if keyword == "comment" and "texturefile" in line.lower():
+            picture = line.strip()
+        elif keyword == "format":
+            if len(words) != 3 or words[1] not in FORMATS:
+                raise LoadError(path, "expected 'format ascii 1.0' or a binary_little_endian or binary_big_endian "
+                                      "format", line=number)
+            encoding = FORMATS[words[1]]
+        elif keyword in ("element", "property"):
+            declared += 1
+            if declared > MAX_DECLARATIONS:
+                raise LoadError(path, f"more than {MAX_DECLARATIONS} elements and properties: no model's header",
+                                line=number)
+            if keyword == "element":
+                elements.append(_element(path, words, number))
+                properties.append([])
+            elif not elements:
+                raise LoadError(path, "a property before any element", line=number)
+            else:
+                properties[-1].append(_property(path, words, number))
+    if encoding is None:
+        raise LoadError(path, "the header has no 'format' line", line=number + 1)
+    elements = [replace(element, properties=tuple(props)) for element, props in zip(elements, properties)]
+    return PlyHeader(encoding, tuple(elements), picture, body_at)
+
+
+def _element(path: Path, words: list[str], line: int) -> PlyElement:
+    if len(words) != 3:
+        raise LoadError(path, "expected 'element', a name and a count", line=line)
+    if not is_count(words[2]):
+        raise LoadError(path, f"element {words[1][:40]}: {words[2][:40]!r} is not a count", line=line)
+    return PlyElement(words[1], int(words[2]), ())
+
+
+def _property(path: Path, words: list[str], line: int) -> PlyProperty:
+    types = words[2:4] if words[1:2] == ["list"] else words[1:2]
+    if len(words) != 3 + 2 * (words[1:2] == ["list"]):
+        raise LoadError(path, "expected 'property', a type and a name, or 'property list', two types and a name",
+                        line=line)
+    unknown = [kind for kind in types if kind not in PLY_TYPES]
+    if unknown:
+        raise LoadError(path, f"'{unknown[0][:40]}' is not a PLY type", line=line)
+    if len(types) == 2:
+        if PLY_TYPES[types[0]][0] == "f":
+            raise LoadError(path, f"a list's count must be of a whole-number type, not {types[0]}", line=line)
+        return PlyProperty(words[4], types[1], types[0])
+    return PlyProperty(words[2], types[0])
+
+
+# --- the ASCII body -------------------------------------------------------------------------------
+def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> bytes:
+    """The binary little-endian PLY file that holds what `data`, an ASCII one, holds: every number
+    checked against its property's type, every face's corners against the vertex count."""
+    body = _Body(path, data, header.body_at, _numbers(path, data, header.body_at))
+    tables, at = [], 0
+    for element in header.elements:
+        columns, uniform, at = _element_columns(body, element, at)
+        for column in columns:
+            _check_type(body, element, column)
+        corners = _face_corners(body, element, columns, header.count("vertex"))
+        if corners is not None and (not uniform or corners.values.shape[1] > 4):
+            tables.append(_fanned(element, columns, corners))
+        elif uniform and element.properties:
+            tables.append((element, [column.values for column in columns]))
+        # else: an element of nothing, or of lists of mixed lengths, that trimesh draws nothing of, left out
+    return _written(header.text("binary_little_endian", tuple(element for element, _ in tables)), tables)
+
+
+def _numbers(path: Path, data: bytes, body_at: int) -> np.ndarray:
+    """Every number of the body, in order, as float64; a LoadError names the line of a word that is none."""
+    body = data[body_at:]
+    if not body or body.isspace():  # numpy reads a body of blanks alone as [-1]
+        return np.empty(0)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", DeprecationWarning)  # numpy's "could not be read to its end"
+            return np.fromstring(body, dtype=np.float64, sep=" ")
+    except (ValueError, DeprecationWarning):
+        raise _first_bad_word(path, data, body_at) from None
+
+
+def _first_bad_word(path: Path, data: bytes, body_at: int) -> LoadError:
+    """The error of the first word of the body that numpy would not read: looked for a piece at a time."""
+    start = body_at
+    while start < len(data):
+        cut = data.find(b"\n", start + _PIECE_BYTES)
+        stop = len(data) if cut < 0 else cut + 1
+        for found in re.finditer(rb"\S++", data[start:stop]):
+            if not _DECIMAL.fullmatch(found[0]) and found[0].lower().lstrip(b"+-") not in _NOT_FINITE_WORDS:
+                word = found[0][:40].decode("utf-8", errors="replace")
+                return LoadError(path, f"'{word}' is not a number", line=line_at(data, start + found.start()))
+        start = stop
+    return LoadError(path, "its body could not be read as numbers")
+
+
+# numpy reads these too; where a value cannot be one (an index, a colour byte), its line is named.
+_NOT_FINITE_WORDS = (b"nan", b"inf", b"infinity")
+
+
+@dataclass(frozen=True)
+class _Body:
+    """The body's numbers, and the file, to name the line of one of them."""
+
+    path: Path
+    data: bytes
+    body_at: int
+    numbers: np.ndarray
+
+    def error(self, message: str, index: int) -> LoadError:
+        """A LoadError at the line of the number at `index` (counted only when one is raised)."""
+        blank = _WHITESPACE[np.frombuffer(self.data, np.uint8, offset=self.body_at)]
+        starts = np.flatnonzero(~blank & np.concatenate(([True], blank[:-1])))
+        return LoadError(self.path, message, line=line_at(self.data, self.body_at + int(starts[index])))
+
+    def ended(self, element: PlyElement) -> LoadError:
+        return LoadError(self.path, f"the header counts {element.count} rows of {element.name}, the file ends "
+                                    "before them", line=line_at(self.data, max(len(self.data.rstrip()) - 1, 0)))
+
+
+@dataclass(frozen=True)
+class _Column:
+    """One property's numbers: a value by row, or a list's items and each row's count."""
+
+    prop: PlyProperty
+    values: np.ndarray  # (rows,); a list's (rows, count) where every row has one count, else row after row
+    index: Callable[[int], int]  # where the k-th of values (in row order) lies among the body's numbers
+    counts: np.ndarray | None = None  # (rows,) a list's
+    count_index: Callable[[int], int] | None = None  # where a row's count of a list lies
+
+
+def _element_columns(body: _Body, element: PlyElement, at: int) -> tuple[list[_Column], bool, int]:
+    """The element's columns from `at`, whether every row has the first row's counts, and where the
+    next element starts. Such rows are views of one table; only where a count differs are the rows
+    walked one by one."""
+    if not element.count or not element.properties:
+        return [], True, at
+    counts_of_first, width = _walked_row(body, element, at)
+    first_counts = np.array(counts_of_first, np.int64)
+    end = at + width * element.count
+    if end <= len(body.numbers):
+        table = body.numbers[at:end].reshape(element.count, width)
+        columns, count_offsets = _table_columns(element, table, at, first_counts)
+        if all((table[:, offset] == count).all() for offset, count in zip(count_offsets, first_counts)):
+            return columns, True, end
+    if not first_counts.size or at + element.count * len(element.properties) > len(body.numbers):
+        raise body.ended(element)  # before anything is made by the count: each row holds a number a property
+    starts, counts = np.empty(element.count, np.int64), np.empty((element.count, first_counts.size), np.int64)
+    for row in range(element.count):  # each row's length is known only once its counts are read
+        starts[row] = at
+        counts[row], width = _walked_row(body, element, at)
+        at += width
+    return _walked_columns(body, element, starts, counts), False, at
+
+
+def _walked_row(body: _Body, element: PlyElement, at: int) -> tuple[list[int], int]:
+    """The counts of the row at `at`, each checked, and how many numbers the row holds."""
+    counts, position = [], at
+    for prop in element.properties:
+        if prop.count_type is not None:
+            if position >= len(body.numbers):
+                raise body.ended(element)
+            count = float(body.numbers[position])
+            if not (0 <= count <= _most(prop.count_type) and count == int(count)):
+                raise body.error(f"{element.name} {prop.name}: {_shown(count)} is not a count a {prop.count_type} "
+                                 "holds", position)
+            counts.append(int(count))
+            position += int(count)
+        position += 1
+    if position > len(body.numbers):
+        raise body.ended(element)
+    return counts, position - at
+
+
+def _table_columns(element: PlyElement, table: np.ndarray, at: int, counts: np.ndarray
+                   ) -> tuple[list[_Column], list[int]]:
+    """Columns of rows that all have these counts, views of the table; and where in a row each list's
+    count lies."""
+    columns, count_offsets, offset, width = [], [], 0, table.shape[1]
+    for prop in element.properties:
+        if prop.count_type is None:
+            columns.append(_Column(prop, table[:, offset], lambda k, o=offset: at + k * width + o))
+            offset += 1
+            continue
+        count = int(counts[len(count_offsets)])
+        count_offsets.append(offset)
+        where = lambda k, o=offset + 1, c=max(count, 1): at + (k // c) * width + o + k % c  # noqa: E731
+        columns.append(_Column(prop, table[:, offset + 1:offset + 1 + count], where,
+                               np.full(len(table), count, np.int64), lambda row, o=offset: at + row * width + o))
+        offset += 1 + count
+    return columns, count_offsets
+
+
+def _walked_columns(body: _Body, element: PlyElement, starts: np.ndarray, counts: np.ndarray) -> list[_Column]:
+    """Columns of rows of mixed counts: each value, and each list's items one row after another, gathered."""
+    columns, passed, lists = [], np.zeros(len(starts), np.int64), 0
+    for index, prop in enumerate(element.properties):
+        at = starts + index + passed  # a value, or a list's count
+        if prop.count_type is None:
+            columns.append(_Column(prop, body.numbers[at], lambda k, at=at: int(at[k])))
+            continue
+        count = counts[:, lists]
+        # An item's index: its row's first item's, plus the items before it, less those before its row.
+        items = np.repeat(at + 1 - (np.cumsum(count) - count), count) + np.arange(int(count.sum()))
+        columns.append(_Column(prop, body.numbers[items], lambda k, items=items: int(items[k]), count,
+                               lambda row, at=at: int(at[row])))
+        passed, lists = passed + count, lists + 1
+    return columns
+
+
+def _check_type(body: _Body, element: PlyElement, column: _Column) -> None:
+    """Whole-number types hold whole numbers within their range; a float type, any number it can hold
+    (NaN and infinities are refused later where a value cannot be one, as in every model)."""
+    code, values = PLY_TYPES[column.prop.value_type], column.values
+    if not values.size:
+        return
+    if code[0] == "f":
+        held = ~(np.abs(values) > np.finfo(code).max) | ~np.isfinite(values)
+    else:
+        limits = np.iinfo(code)
+        held = (values >= limits.min) & (values <= limits.max) & (values == np.trunc(values))  # NaN: none
+    if not held.all():
+        first = int(np.argmin(held.ravel()))
+        wanted = "number" if code[0] == "f" else "whole number"
+        raise body.error(f"{element.name} {column.prop.name}: {_shown(values.ravel()[first])} is not a {wanted} "
+                         f"a {column.prop.value_type} holds", column.index(first))
+
+
+def _shown(value: float) -> str:
+    return str(int(value)) if abs(value) < 1e15 and value == int(value) else repr(float(value))
+
+
+@functools.cache
+def _most(kind: str) -> int:
+    return int(np.iinfo(PLY_TYPES[kind]).max)
+
+
+def _face_corners(body: _Body, element: PlyElement, columns: list[_Column], vertices: int) -> _Column | None:
+    """A face element's list of vertex indices, each face checked to have 3 or more corners and each
+    index to name a vertex; None for another element."""
+    corners = next((column for column in columns if column.prop.name in FACE_LISTS and column.counts is not None),
+                   None)
+    if element.name != "face" or corners is None or corners.counts is None or corners.count_index is None:
+        return None
+    short = corners.counts < 3
+    if short.any():
+        row = int(np.argmax(short))
+        raise body.error(f"a face of {corners.counts[row]} corners: 3 or more make one", corners.count_index(row))
+    outside = (corners.values < 0) | (corners.values >= vertices)
+    if outside.any():
+        first = int(np.argmax(outside.ravel()))
+        raise body.error(f"vertex index {_shown(corners.values.ravel()[first])} out of range (the file has "
+                         f"{vertices} vertices)", corners.index(first))
+    return corners
+
+
+def _fanned(element: PlyElement, columns: list[_Column], corners: _Column) -> tuple[PlyElement, list[np.ndarray]]:
+    """The faces as triangles (0, i, i + 1) of each, which trimesh's binary reader takes: each keeps
+    its face's values, and MeshLab's texture coordinates their corners'. Other lists are left out."""
+    assert corners.counts is not None
+    triangles = corners.counts - 2
+    face = np.repeat(np.arange(len(triangles)), triangles)
+    second = np.arange(len(face)) - np.repeat(np.cumsum(triangles) - triangles, triangles) + 1  # i of (0, i, i + 1)
+    first_corner = (np.cumsum(corners.counts) - corners.counts)[face]
+    fan = np.stack([first_corner, first_corner + second, first_corner + second + 1], axis=1)
+    kept, values = [], []
+    for column in columns:
+        if column.counts is None:
+            values.append(column.values[face])
+        elif column is corners:
+            values.append(column.values.ravel()[fan])
+        elif column.prop.name == TEXCOORD_LIST and (column.counts == 2 * corners.counts).all():
+            values.append(column.values.ravel()[(2 * fan[:, :, None] + np.arange(2)).reshape(len(face), 6)])
+        else:
+            continue
+        kept.append(column.prop)
+    return PlyElement(element.name, len(face), tuple(kept)), values
+
+
+def _written(header: bytes, tables: list[tuple[PlyElement, list[np.ndarray]]]) -> bytes:
+    """The header and each element's rows in binary little-endian PLY's layout: each value, and each
+    list's count before its items, written in place."""
+    layouts = [_row_layout(element, values) for element, values in tables]
+    out = bytearray(len(header) + sum(element.count * layout.itemsize for (element, _), layout in
+                                      zip(tables, layouts)))
+    out[:len(header)] = header
+    offset = len(header)
+    for (element, values), layout in zip(tables, layouts):
+        rows = np.frombuffer(out, layout, count=element.count, offset=offset)
+        for number, (prop, value) in enumerate(zip(element.properties, values)):
+            if prop.count_type is not None:
+                rows[f"count{number}"] = value.shape[1]
+            rows[f"value{number}"] = value
+        offset += element.count * layout.itemsize
+        del rows  # a view of `out`, which bytes() must not find exported
+    return bytes(out)
+
+
+def _row_layout(element: PlyElement, values: list[np.ndarray]) -> np.dtype:
+    fields: list[tuple] = []
+    for number, (prop, value) in enumerate(zip(element.properties, values)):
+        if prop.count_type is not None:
+            fields.append((f"count{number}", "<" + PLY_TYPES[prop.count_type]))
+        fields.append((f"value{number}", "<" + PLY_TYPES[prop.value_type], value.shape[1:]))
+    return np.dtype(fields)

@@ -1,0 +1,200 @@
+"""PLY: the header read here, an ASCII body made the binary one it stands for (marraztu.loaders.ply), and
+the model trimesh makes of it, checked against trimesh's own reading and at the line of a problem."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from marraztu.errors import LoadError
+from marraztu.loaders.ply import binary_of_ascii, read_header
+from marraztu.loaders.registry import load_model
+from support.work import peak_traced_bytes
+
+GRID = [f"{x} {y} {(x * y) % 3 * 0.1:.1f}" for y in range(3) for x in range(3)]  # 3 x 3 vertices
+
+
+def ply_text(faces: list[str], vertices: list[str] = GRID, face_properties: str = "property list uchar int "
+             "vertex_indices\n", vertex_properties: str = "property float x\nproperty float y\nproperty float z\n",
+             remarks: str = "") -> str:
+    return (f"ply\nformat ascii 1.0\n{remarks}element vertex {len(vertices)}\n{vertex_properties}"
+            f"element face {len(faces)}\n{face_properties}end_header\n" + "\n".join(vertices + faces) + "\n")
+
+
+def load(tmp_path: Path, text: str, name: str = "m.ply"):
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return load_model(path)
+
+
+def refusal(tmp_path: Path, text: str) -> LoadError:
+    with pytest.raises(LoadError) as refused:
+        load(tmp_path, text)
+    assert "\n" not in str(refused.value)
+    return refused.value
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_an_exported_ascii_ply_gives_what_trimesh_reads_of_it(tmp_path: Path, seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    mesh = trimesh.creation.icosphere(subdivisions=2)
+    mesh.vertices += rng.normal(size=mesh.vertices.shape) * 0.01
+    mesh.visual.vertex_colors = rng.integers(0, 256, size=(len(mesh.vertices), 4), dtype=np.uint8)
+    path = tmp_path / "a.ply"
+    path.write_bytes(trimesh.exchange.ply.export_ply(mesh, encoding="ascii"))
+    ours, theirs = load_model(path), trimesh.load(path, process=False)
+    np.testing.assert_array_equal(ours.positions, theirs.vertices)
+    np.testing.assert_array_equal(ours.corner_vertex.reshape(-1, 3), theirs.faces)
+    np.testing.assert_array_equal(ours.vertex_colours, theirs.visual.vertex_colors[:, :3])
+
+
+def test_blank_lines_and_rows_split_over_lines_read_as_the_numbers_they_hold(tmp_path: Path) -> None:
+    """PLY's body is numbers in order: trimesh's reader, a line at a time, could read neither."""
+    text = ply_text(["3 0 1 4", "3 0 4 3"])
+    plain = load(tmp_path, text, "plain.ply")
+    header, body = text.split("end_header\n")
+    rows = body.splitlines()
+    spread = "\n\n".join(" ".join(rows[:4]).split()) + "\n\n\n" + " ".join(rows[4:8]) + "\n"
+    spread += "\n".join(rows[8:]) + "\n\n"
+    loose = load(tmp_path, header + "end_header\n" + spread, "loose.ply")
+    np.testing.assert_array_equal(loose.positions, plain.positions)
+    np.testing.assert_array_equal(loose.corner_vertex, plain.corner_vertex)
+
+
+def test_faces_of_mixed_corners_are_fanned_in_the_files_order(tmp_path: Path) -> None:
+    """trimesh's binary reader takes one corner count per element: faces of others are fanned first,
+    (0, 1, 2), (0, 2, 3), ..., each in its place, as a uniform file's quads are."""
+    mesh = load(tmp_path, ply_text(["4 0 1 4 3", "3 1 2 5", "5 3 4 7 6 3"]))
+    assert mesh.corner_vertex.reshape(-1, 3).tolist() == [[0, 1, 4], [0, 4, 3], [1, 2, 5], [3, 4, 7], [3, 7, 6],
+                                                          [3, 6, 3]]
+
+
+def test_mixed_faces_keep_their_corners_texture_coordinates(tmp_path: Path) -> None:
+    """MeshLab writes a face's u v per corner in a second list; fanned, each triangle keeps its corners',
+    as the same triangles written as such give them."""
+    uv = {0: (0.0, 0.0), 1: (0.5, 0.0), 4: (0.5, 0.5), 3: (0.0, 0.5), 2: (1.0, 0.0), 5: (1.0, 0.5)}
+
+    def rows(faces: list[list[int]]) -> list[str]:
+        return [f"{len(f)} {' '.join(map(str, f))} {2 * len(f)} {' '.join(f'{c:g}' for v in f for c in uv[v])}"
+                for f in faces]
+
+    properties = "property list uchar int vertex_indices\nproperty list uchar float texcoord\n"
+    fanned = load(tmp_path, ply_text(rows([[0, 1, 4, 3], [1, 2, 5]]), face_properties=properties), "fanned.ply")
+    written = load(tmp_path, ply_text(rows([[0, 1, 4], [0, 4, 3], [1, 2, 5]]), face_properties=properties),
+                   "written.ply")
+    assert fanned.face_count == 3
+    for name, value in vars(written).items():
+        if isinstance(value, np.ndarray):
+            np.testing.assert_array_equal(getattr(fanned, name), value, err_msg=name)
+
+
+@pytest.mark.parametrize(("faces", "line", "message"), [
+    (["3 0 1 4", "3 0 x 3"], 20, "'x' is not a number"),
+    (["3 0 1 4", "3 0 1.5 3"], 20, "face vertex_indices: 1.5 is not a whole number a int holds"),
+    (["3 0 1 4", "3 0 9 3"], 20, "vertex index 9 out of range (the file has 9 vertices)"),
+    (["3 0 1 4", "3 0 -1 3"], 20, "vertex index -1 out of range (the file has 9 vertices)"),
+    (["3 0 1 4", "2 0 1"], 20, "a face of 2 corners: 3 or more make one"),
+    (["3 0 1 4", "300 0 1"], 20, "face vertex_indices: 300 is not a count a uchar holds"),
+    (["3 0 1 4", "3 0 1"], 20, "the header counts 2 rows of face, the file ends before them"),
+    (["3 0 1 4"], 19, "the header counts 2 rows of face, the file ends before them"),
+])
+def test_a_bad_body_is_refused_at_its_line(tmp_path: Path, faces: list[str], line: int, message: str) -> None:
+    text = ply_text(faces)
+    if len(faces) == 1:
+        text = text.replace("element face 1", "element face 2")
+    refused = refusal(tmp_path, text)
+    assert (refused.line, refused.message) == (line, message)
+
+
+def test_a_coordinate_past_a_floats_range_is_refused_at_its_line(tmp_path: Path) -> None:
+    refused = refusal(tmp_path, ply_text(["3 0 1 4"], vertices=[*GRID[:4], "1 1 -1e39", *GRID[5:]]))
+    assert (refused.line, refused.message) == (14, "vertex z: -1e+39 is not a number a float holds")
+
+
+@pytest.mark.parametrize("claim", ["element face 99999999999\nproperty list uchar int vertex_indices\n",
+                                   "element face 2\nproperty list uchar int vertex_indices\nelement nothing "
+                                   "99999999999\n"])
+def test_a_claimed_count_reserves_nothing(tmp_path: Path, claim: str) -> None:
+    text = ply_text(["3 0 1 4", "4 0 1 4 3"]).replace("element face 2\nproperty list uchar int vertex_indices\n",
+                                                       claim)
+    path = tmp_path / "m.ply"
+    path.write_text(text)
+    outcome, peak = peak_traced_bytes(lambda: load_model(path))
+    if "nothing" in claim:
+        assert outcome.face_count == 3
+    else:
+        assert outcome.message == "the header counts 99999999999 rows of face, the file ends before them"
+    assert peak < 1 << 20, peak
+
+
+def test_a_colour_past_its_type_is_refused_at_its_line(tmp_path: Path) -> None:
+    colours = [f"{row} 10 20 {300 if number == 5 else 30}" for number, row in enumerate(GRID)]
+    properties = "property float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar " \
+                 "green\nproperty uchar blue\n"
+    refused = refusal(tmp_path, ply_text(["3 0 1 4"], vertices=colours, vertex_properties=properties))
+    assert (refused.line, refused.message) == (18, "vertex blue: 300 is not a whole number a uchar holds")
+
+
+def test_a_header_of_many_lines_is_never_a_list_of_them(tmp_path: Path) -> None:
+    header = ("ply\nformat ascii 1.0\n" + "comment many\n" * 200_000 + "element vertex 3\n" * 5000 + "end_header\n"
+              ).encode()
+    refused, peak = peak_traced_bytes(lambda: read_header(Path("m.ply"), header))
+    assert (refused.line, refused.message) == (200_000 + 2 + 4097, "more than 4096 elements and properties: no "
+                                                                   "model's header")
+    assert peak < 1.5 * len(header), peak  # the header's bytes once more, cut from the body
+
+
+@pytest.mark.parametrize(("header", "line", "message"), [
+    ("ply\nformat ascii 1.0\nproperty float x\nend_header\n", 3, "a property before any element"),
+    ("ply\nformat ascii 1.0\nelement vertex 3\nproperty real x\nend_header\n", 4, "'real' is not a PLY type"),
+    ("ply\nformat ascii 1.0\nelement face 1\nproperty list float int vertex_indices\nend_header\n", 4,
+     "a list's count must be of a whole-number type, not float"),
+    ("ply\nformat ascii 2.0 x\nelement face 1\nend_header\n", 2,
+     "expected 'format ascii 1.0' or a binary_little_endian or binary_big_endian format"),
+    ("ply\nelement face 1\nend_header\n", 3, "the header has no 'format' line"),
+    ("ply\nformat ascii 1.0\nelement face\nend_header\n", 3, "expected 'element', a name and a count"),
+])
+def test_a_bad_header_is_refused_at_its_line(tmp_path: Path, header: str, line: int, message: str) -> None:
+    refused = refusal(tmp_path, header + "3 0 1 2\n")
+    assert (refused.line, refused.message) == (line, message)
+
+
+def test_the_picture_and_unknown_elements_are_kept_for_trimesh(tmp_path: Path) -> None:
+    text = ply_text(["3 0 1 4"], remarks="comment TextureFile p.png\ncomment TextureFile q.png\nobj_info by hand\n")
+    text = text.replace("end_header", "element material 1\nproperty float shine\nend_header") + "0.5\n"
+    data = text.encode()
+    binary = binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data))
+    header = read_header(Path("m.ply"), binary)
+    assert header.encoding == "<" and header.picture == "comment TextureFile q.png"
+    assert [(element.name, element.count) for element in header.elements] == [("vertex", 9), ("face", 1),
+                                                                              ("material", 1)]
+    assert binary[header.body_at:] == np.array(GRID_NUMBERS, "<f4").tobytes() + b"\x03" + \
+        np.array([0, 1, 4], "<i4").tobytes() + np.array([0.5], "<f4").tobytes()
+
+
+GRID_NUMBERS = [float(number) for row in GRID for number in row.split()]
+
+
+def test_blank_lines_cost_no_more_than_their_bytes(tmp_path: Path) -> None:
+    """trimesh's reader held a numpy array per line: 170 bytes a byte of blank lines."""
+    text = ply_text(["3 0 1 4\n" * 20 + "\n" * 1_000_000]).replace("element face 1\n", "element face 20\n")
+    path = tmp_path / "m.ply"
+    path.write_text(text)
+    mesh, peak = peak_traced_bytes(lambda: load_model(path))
+    assert mesh.face_count == 20
+    assert peak < 3 * len(text), peak  # the file's bytes, and its body once more while numpy reads it
+
+
+def test_short_face_rows_cost_their_numbers(tmp_path: Path) -> None:
+    """Rows of '3 0 1 4' took 60 bytes a byte through trimesh's reader (52 in it alone). Made binary, they
+    take 8 bytes for each number of two, and the binary rows; the model built of them, about 11 more."""
+    data = ply_text(["3 0 1 4"] * 200_000).encode()
+    binary, peak = peak_traced_bytes(lambda: binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data)))
+    assert len(binary) - binary.index(b"end_header\n") - 11 == 9 * 12 + 200_000 * 13  # the rows, bytes as typed
+    assert peak < 10 * len(data), peak
+    (tmp_path / "m.ply").write_bytes(data)
+    mesh, peak = peak_traced_bytes(lambda: load_model(tmp_path / "m.ply"))
+    assert mesh.face_count == 200_000 and peak < 25 * len(data), peak
