@@ -205,15 +205,33 @@ def test_a_string_of_escaped_quotes_is_looked_at_once(tmp_path: Path) -> None:
 
 
 def test_an_overlong_integer_is_found_without_state_per_digit(tmp_path: Path) -> None:
-    """The search for the integer Python refuses skips a comment of a million digits in its length (a
+    """The search for the integer Python refuses skips a comment of thousands of digits in its length (a
     backtracking repeat held over 100 bytes a digit)."""
     from support.work import peak_traced_bytes
 
-    text = "# " + "1" * 1_000_000 + "x\n" + CAMERA.replace("[0, 0, 10]", f"[{'9' * 5000}, 0, 0]")
+    text = ("# " + "1" * 4000 + "x\n") * 250 + CAMERA.replace("[0, 0, 10]", f"[{'9' * 4300}, 0, 0]")
     path = write_scene(tmp_path, text)
-    error, peak = peak_traced_bytes(lambda: load_scene(path))
-    assert isinstance(error, LoadError) and (error.line, "thousands of digits" in error.message) == (4, True)
+    previous = sys.get_int_max_str_digits()
+    sys.set_int_max_str_digits(1000)  # a Python that reads fewer digits than the scene reader lets through
+    try:
+        error, peak = peak_traced_bytes(lambda: load_scene(path))
+    finally:
+        sys.set_int_max_str_digits(previous)
+    assert isinstance(error, LoadError) and (error.line, "thousands of digits" in error.message) == (253, True)
     assert peak < 8 * len(text), peak
+
+
+@pytest.mark.parametrize("number", ["1" * 1_000_000, "1." + "1" * 1_000_000, "1e" + "1" * 1_000_000,
+                                    "0x" + "a" * 1_000_000, "1_" * 500_000 + "1"])
+def test_a_number_of_a_million_digits_is_refused_before_toml_reads_it(tmp_path: Path, number: str) -> None:
+    """tomllib held about 130 bytes a digit of a number while it read it (a backtracking repeat)."""
+    from support.work import peak_traced_bytes
+
+    path = write_scene(tmp_path, CAMERA + f"fov = {number}\n")
+    error, peak = peak_traced_bytes(lambda: load_scene(path))
+    assert isinstance(error, LoadError) and error.line == 4
+    assert error.message == "more than 4300 digits in a row: no number of a scene is so long"
+    assert peak < 3 * len(number), peak
 
 
 def test_syntax_error_gives_tomls_line(tmp_path: Path) -> None:
@@ -435,12 +453,21 @@ def test_number_within_float32_is_accepted(tmp_path: Path, template: str, number
 
 
 def test_integer_too_long_for_python_to_read_names_its_line(tmp_path: Path) -> None:
-    """Python refuses to turn thousands of decimal digits into an integer: still a LoadError, not a ValueError."""
-    path = write_scene(tmp_path, CAMERA + '\n[[objects]]\nmodel = "m.obj"\nposition = [1, ' + "9" * 5000 + ", 0]\n")
+    """Python refuses to turn thousands of decimal digits into an integer: still a LoadError, not a ValueError
+    (refused before the TOML reader reads it; with a Python that reads fewer digits, after)."""
+    path = write_scene(tmp_path, CAMERA + '\n[[objects]]\nmodel = "m.obj"\nposition = [1, ' + "9" * 4301 + ", 0]\n")
     with pytest.raises(LoadError) as caught:
         load_scene(path)
     assert (caught.value.path, caught.value.line) == (str(path), 7)
-    assert caught.value.message.endswith(TOO_LARGE) and len(str(caught.value)) < 200
+    assert caught.value.message.startswith("more than 4300 digits") and len(str(caught.value)) < 200
+    previous = sys.get_int_max_str_digits()
+    sys.set_int_max_str_digits(1000)
+    try:
+        with pytest.raises(LoadError) as caught:
+            load_scene(write_scene(tmp_path, CAMERA.replace("10]", "9" * 4300 + "]")))
+    finally:
+        sys.set_int_max_str_digits(previous)
+    assert caught.value.line == 3 and caught.value.message.endswith(TOO_LARGE)
 
 
 def test_huge_numbers_in_a_models_own_material_fall_back_to_the_default() -> None:

@@ -80,6 +80,11 @@ _KEY_PARTS = re.compile(_KEY_PART)
 # A dotted key of more than MAX_KEY_PARTS parts, from the start of its first: never a part's middle,
 # nor an escaped quote, from which a string of them would be scanned again at every one.
 _LONG_DOTTED_RUN = re.compile(rf"(?<![A-Za-z0-9_\\-]){_KEY_PART}(?:{_NEXT_PART}){{{MAX_KEY_PARTS}}}")
+# tomllib reads a number with patterns that hold over 100 bytes a digit (a backtracking repeat), so a
+# run of (hex) digits longer than any number Python reads is refused at its line first, wherever it
+# stands. Each run is tried once, from its start: never again from each of its digits.
+MAX_DIGIT_RUN = 4300  # Python's default limit on the digits of an integer it reads
+_LONG_DIGIT_RUN = re.compile(rf"(?<![0-9A-Fa-f_])[0-9A-Fa-f](?:_?+[0-9A-Fa-f]){{{MAX_DIGIT_RUN},}}+")
 
 
 @dataclass(frozen=True)
@@ -178,6 +183,7 @@ class _SceneReader:
         self.path = path
         self.text = self._read_text()
         self._refuse_long_keys()
+        self._refuse_long_numbers()
         self.document = self._parse()
         self.lines = _LineIndex.of(self.text)
 
@@ -198,6 +204,12 @@ class _SceneReader:
         if found is not None:
             self.fail(f"more than {MAX_KEY_PARTS} words joined by dots: a key of so many parts (a scene's "
                       "deepest, materials.NAME.kd, has 3)", _line_of(self.text, found.start()))
+
+    def _refuse_long_numbers(self) -> None:
+        found = _LONG_DIGIT_RUN.search(self.text)
+        if found is not None:
+            self.fail(f"more than {MAX_DIGIT_RUN} digits in a row: no number of a scene is so long",
+                      _line_of(self.text, found.start()))
 
     def _parse(self) -> dict:
         try:
