@@ -251,6 +251,17 @@ def test_a_plys_texture_that_cannot_be_read_is_a_note(tmp_path: Path, texture: s
                                "its place",)
 
 
+def test_a_plys_jpeg_of_a_million_header_segments_is_a_note(tmp_path: Path) -> None:
+    """The pictures a file names are checked as textures are, before Pillow keeps every segment."""
+    top_red_bottom_blue().save(tmp_path / "plain.jpg")
+    data = (tmp_path / "plain.jpg").read_bytes()
+    (tmp_path / "q.jpg").write_bytes(data[:2] + b"\xff\xef\x00\x02" * 1_000_000 + data[2:])
+    loaded = load_model(write_meshlab_ply(tmp_path / "square.ply", texture="q.jpg"))
+    assert loaded.face_count == 2 and loaded.materials == ()
+    assert loaded.warnings == ("texture 'q.jpg' could not be read (more than 1024 segments before the picture: no "
+                               "JPEG's header holds so many); the scene's texture is shown in its place",)
+
+
 def test_a_plys_windows_texture_path_is_looked_for_beside_it(tmp_path: Path) -> None:
     top_red_bottom_blue().save(tmp_path / "q.png")
     loaded = load_model(write_meshlab_ply(tmp_path / "square.ply", texture="C:\\Users\\me\\Desktop\\q.png"))

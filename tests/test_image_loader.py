@@ -147,6 +147,35 @@ def test_jpeg_round_trip(tmp_path: Path) -> None:
     np.testing.assert_allclose(image[10:].reshape(-1, 3).mean(axis=0), (0, 0, 0), atol=8)
 
 
+def test_a_jpeg_with_exif_a_comment_and_a_large_colour_profile_loads(tmp_path: Path) -> None:
+    """A profile of 1 MB goes in 16 APP2 segments: a photo's header holds tens of segments."""
+    exif = Image.Exif()
+    exif[0x010F] = "camera"
+    path = tmp_path / "photo.jpg"
+    Image.new("RGB", (16, 8), (200, 30, 30)).save(path, "JPEG", exif=exif, icc_profile=bytes(1 << 20),
+                                                   comment=b"made here", progressive=True)
+    assert load_image(path).shape == (8, 16, 3)
+
+
+def test_a_jpeg_header_of_a_million_segments_is_refused_before_pillow_keeps_them(tmp_path: Path) -> None:
+    """Pillow kept every empty APP segment in a list, about 33 bytes for each byte of the file."""
+    plain = tmp_path / "plain.jpg"
+    Image.new("RGB", (8, 8), (200, 30, 30)).save(plain, "JPEG")
+    data = plain.read_bytes()
+    path = tmp_path / "many.jpg"
+    path.write_bytes(data[:2] + b"\xff\xef\x00\x02" * 1_000_000 + data[2:])
+    tracemalloc.start()
+    try:
+        with pytest.raises(LoadError, match="more than 1024 segments before the picture"):
+            load_image(path)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert peak < 1 << 20, peak
+    path.write_bytes(data[:2] + b"\xff\xef\x00\x02" * 1000 + data[2:])
+    assert load_image(path).shape == (8, 8, 3)
+
+
 def test_rgba_grey_and_palette_become_rgb(tmp_path: Path) -> None:
     rgba = np.dstack([PIXELS, np.full((2, 2), 7, dtype=np.uint8)])
     Image.fromarray(rgba).save(tmp_path / "rgba.png")

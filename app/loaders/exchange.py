@@ -41,7 +41,13 @@ from marraztu.loaders.files import (
     size_or_zero,
     spellings,
 )
-from marraztu.loaders.images import FORMATS_BY_MAGIC, image_format, rgb_array, unread_textures_note
+from marraztu.loaders.images import (
+    FORMATS_BY_MAGIC,
+    check_jpeg_segments,
+    image_format,
+    rgb_array,
+    unread_textures_note,
+)
 from marraztu.loaders.ply import binary_of_ascii, read_header
 from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES
 from marraztu.loaders.words import unheld_coordinate
@@ -156,6 +162,8 @@ class _FilesBeside:
             data = read_file(self._path(name, named))
             if self.is_picture(name) and image_format(data[:8]) is None:
                 raise LoadError(named, f"not a PNG, JPEG or PPM picture (it starts with {data[:8]!r})")
+            if self.is_picture(name) and image_format(data[:8]) == "JPEG":
+                check_jpeg_segments(named, io.BytesIO(data))
         except LoadError as error:
             self.failures.setdefault(named, error.message)
             raise LoadError(named, error.message) from None  # named as the file names it

@@ -15,10 +15,12 @@ them for OpenGL so that v = 0 is the bottom row.
 
 from __future__ import annotations
 
+import io
 import re
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
+from typing import BinaryIO
 
 import numpy as np
 from PIL import Image
@@ -28,6 +30,9 @@ from marraztu.loaders.files import read_file, read_head, shown
 
 # No texture a student uses comes near this; a header claiming more is broken or hostile.
 MAX_PIXELS = 64 * 1024 * 1024
+# A photo's header holds tens of segments (JFIF, EXIF, an ICC profile in 64 KB pieces, its tables).
+# Pillow keeps each APP segment it reads, about a hundred bytes for one of four.
+MAX_JPEG_SEGMENTS = 1024
 _PPM_MAGICS = (b"P6", b"P3")
 # The formats read, by their first bytes.
 FORMATS_BY_MAGIC = {b"P6": "PPM", b"P3": "PPM", b"\x89PNG\r\n\x1a\n": "PNG", b"\xff\xd8\xff": "JPEG"}
@@ -228,7 +233,23 @@ def _through_table(samples: np.ndarray, table: np.ndarray) -> np.ndarray:
 # --------------------------------------------------------------------------------------------------
 
 
+def check_jpeg_segments(source: str | Path, stream: BinaryIO) -> None:
+    """Refuses a JPEG whose header, before its scan, holds more segments than any picture's. What is
+    not a segment ends the walk: Pillow says what is wrong with it."""
+    stream.seek(2)  # past the start-of-image marker
+    for _ in range(MAX_JPEG_SEGMENTS):
+        marker = stream.read(4)
+        if len(marker) < 4 or marker[0] != 0xFF or marker[1] in (0xDA, 0xFF):  # the scan; not a segment
+            return
+        stream.seek(int.from_bytes(marker[2:], "big") - 2, io.SEEK_CUR)
+    raise LoadError(source, f"more than {MAX_JPEG_SEGMENTS} segments before the picture: no JPEG's header holds "
+                            "so many")
+
+
 def _load_with_pillow(file: Path, kind: str) -> np.ndarray:
+    if kind == "JPEG":
+        with file.open("rb") as stream:
+            check_jpeg_segments(file, stream)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("error", Image.DecompressionBombWarning)
