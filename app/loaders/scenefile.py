@@ -472,6 +472,7 @@ class _ModelLoader:
     def __init__(self, scene_path: Path) -> None:
         self.scene_path = scene_path
         self.meshes: dict[Path, Mesh] = {}
+        self.keys: dict[str, Path] = {}  # each spelling resolved once: thousands of entries may name one model
 
     def place(self, entry: SceneEntry) -> SceneObject:
         mesh = self.mesh(entry)
@@ -481,7 +482,9 @@ class _ModelLoader:
         return obj
 
     def mesh(self, entry: SceneEntry) -> Mesh:
-        key = same_file_key(entry.model_path)  # x.obj and ./x.obj are one model, loaded once
+        key = self.keys.get(entry.model)
+        if key is None:
+            key = self.keys[entry.model] = same_file_key(entry.model_path)  # x.obj and ./x.obj: one model
         if key not in self.meshes:
             try:
                 self.meshes[key] = load_model(entry.model_path.absolute())

@@ -68,6 +68,21 @@ def _one_long_bad_number(path: Path, size: int) -> None:
     path.write_text(_TRIANGLE + "v 0 0 " + "1" * size + "x\n")
 
 
+def _ply_of_blank_lines(path: Path, size: int) -> None:
+    """An ASCII PLY whose rows are parted by blank lines: a reader of a numpy array per line holds one each."""
+    header = ("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "element face 1\nproperty list uchar int vertex_indices\nend_header\n")
+    gap = "\n" * (size // 4)
+    path.write_text(header + gap.join(["0 0 0", "1 0 0", "0 1 0", "3 0 1 2"]) + "\n")
+
+
+def _scene_of_one_long_number(path: Path, size: int) -> None:
+    """A number of every digit: tomllib's patterns for one hold over 100 bytes a digit."""
+    size = min(size, SCENE_FILE_MEGABYTES * MEGABYTE)
+    (path.parent / "tri.obj").write_text(_TRIANGLE)
+    path.write_text('[[cameras]]\nmodel = "tri.obj"\nposition = [0, 0, 150]\nfov = ' + "1" * size + "\n")
+
+
 def _scene_of_one_deep_key(path: Path, size: int) -> None:
     """One dotted key of every part: tomllib's cost for one grows with the square of its parts."""
     size = min(size, SCENE_FILE_MEGABYTES * MEGABYTE)
@@ -130,8 +145,10 @@ SHAPES = (
     Shape("blank lines only", "blank.obj", _blank_lines),
     Shape("one long v line", "long_line.obj", _one_long_line),
     Shape("one long number ending badly", "long_number.obj", _one_long_bad_number),
+    Shape("ASCII PLY: its rows parted by blank lines", "blank.ply", _ply_of_blank_lines),
     Shape("scene file: many objects", "objects.toml", _scene_of_many_objects),
     Shape("scene file: one key of every part", "deep_key.toml", _scene_of_one_deep_key),
+    Shape("scene file: one number of every digit", "long_number.toml", _scene_of_one_long_number),
     Shape("scene file: many materials", "materials.toml", _scene_of_many_materials),
     Shape("glTF: one textured triangle placed by many nodes", "nodes.gltf", _scene_of_many_nodes),
 )
