@@ -164,19 +164,24 @@ def test_reading_holds_blocks_of_words_not_a_list_of_every_line(tmp_path: Path) 
     assert peak < path.stat().st_size + 5 * mesh_bytes // 2 + (8 << 20), (peak, mesh_bytes)
 
 
-@pytest.mark.parametrize("where", ["header", "vertex"])
+@pytest.mark.parametrize("where", ["header", "vertex", "face"])
 def test_a_line_of_a_million_words_is_never_a_list_of_them(tmp_path: Path, where: str) -> None:
-    """A header line is split into its keyword and counts, a vertex row into at most 12 numbers: a header
-    with a million words after its counts was held 31 bytes a byte as a list of them."""
+    """A header line is split into its keyword and counts, a vertex row into at most 12 numbers, a face
+    row into its count, corners and colour: a header with a million words after its counts was held
+    31 bytes a byte as a list of them."""
     many = " 7" * 1_000_000
-    text = off_text(header=f"OFF 4 2 0{many}\n") if where == "header" else off_text([*SQUARE[:3], f"0 1 0{many}"])
+    text = {"header": off_text(header=f"OFF 4 2 0{many}\n"), "vertex": off_text([*SQUARE[:3], f"0 1 0{many}"]),
+            "face": off_text(faces=("3 0 1 2", f"3 0 2 3{many}"))}[where]
     path = tmp_path / "long.off"
     path.write_text(text)
     outcome, peak = peak_traced_bytes(lambda: load_off(path))
     if where == "header":
         assert outcome.face_count == 2
-    else:
+    elif where == "vertex":
         assert (outcome.line, outcome.message) == (6, "a vertex row holds 3 numbers here, this one more than 12")
+    else:
+        assert (outcome.line, outcome.message) == (8, "a face of 3 corners, this line holds more than 7 numbers "
+                                                      "after its count")
     assert peak < 5 * len(text), peak
 
 

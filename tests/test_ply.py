@@ -93,11 +93,11 @@ def test_mixed_faces_keep_their_corners_texture_coordinates(tmp_path: Path) -> N
 
 @pytest.mark.parametrize(("faces", "line", "message"), [
     (["3 0 1 4", "3 0 x 3"], 20, "'x' is not a number"),
-    (["3 0 1 4", "3 0 1.5 3"], 20, "face vertex_indices: 1.5 is not a whole number a int holds"),
+    (["3 0 1 4", "3 0 1.5 3"], 20, "face vertex_indices: 1.5 is no int (whole numbers from -2147483648 to 2147483647)"),
     (["3 0 1 4", "3 0 9 3"], 20, "vertex index 9 out of range (the file has 9 vertices)"),
     (["3 0 1 4", "3 0 -1 3"], 20, "vertex index -1 out of range (the file has 9 vertices)"),
     (["3 0 1 4", "2 0 1"], 20, "a face of 2 corners: 3 or more make one"),
-    (["3 0 1 4", "300 0 1"], 20, "face vertex_indices: 300 is not a count a uchar holds"),
+    (["3 0 1 4", "300 0 1"], 20, "face vertex_indices: 300 is no uchar count (whole numbers from 0 to 255)"),
     (["3 0 1 4", "3 0 1"], 20, "the header counts 2 rows of face, the file ends before them"),
     (["3 0 1 4"], 19, "the header counts 2 rows of face, the file ends before them"),
 ])
@@ -111,7 +111,7 @@ def test_a_bad_body_is_refused_at_its_line(tmp_path: Path, faces: list[str], lin
 
 def test_a_coordinate_past_a_floats_range_is_refused_at_its_line(tmp_path: Path) -> None:
     refused = refusal(tmp_path, ply_text(["3 0 1 4"], vertices=[*GRID[:4], "1 1 -1e39", *GRID[5:]]))
-    assert (refused.line, refused.message) == (14, "vertex z: -1e+39 is not a number a float holds")
+    assert (refused.line, refused.message) == (14, "vertex z: -1e+39 is no float (numbers up to 3.4e+38)")
 
 
 @pytest.mark.parametrize("claim", ["element face 99999999999\nproperty list uchar int vertex_indices\n",
@@ -135,7 +135,7 @@ def test_a_colour_past_its_type_is_refused_at_its_line(tmp_path: Path) -> None:
     properties = "property float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar " \
                  "green\nproperty uchar blue\n"
     refused = refusal(tmp_path, ply_text(["3 0 1 4"], vertices=colours, vertex_properties=properties))
-    assert (refused.line, refused.message) == (18, "vertex blue: 300 is not a whole number a uchar holds")
+    assert (refused.line, refused.message) == (18, "vertex blue: 300 is no uchar (whole numbers from 0 to 255)")
 
 
 def test_a_header_of_many_lines_is_never_a_list_of_them(tmp_path: Path) -> None:
@@ -145,6 +145,88 @@ def test_a_header_of_many_lines_is_never_a_list_of_them(tmp_path: Path) -> None:
     assert (refused.line, refused.message) == (200_000 + 2 + 4097, "more than 4096 elements and properties: no "
                                                                    "model's header")
     assert peak < 1.5 * len(header), peak  # the header's bytes once more, cut from the body
+
+
+def test_rows_that_stop_beginning_lines_are_named_with_the_error(tmp_path: Path) -> None:
+    """A vertex row short of a number shifts every row after it: the error shows where one no longer
+    makes sense, and says where the rows stopped beginning lines."""
+    vertices = [*GRID[:4], "1 1", *GRID[5:]]
+    refused = refusal(tmp_path, ply_text(["3 0 1 4", "3 0 4 3"], vertices=vertices))
+    assert refused.message.endswith("(the row on line 14 holds a number too many or too few: the rows after it "
+                                    "no longer begin lines)"), refused.message
+    vertices = [*GRID[:4], "1 1 0 1", *GRID[5:]]
+    refused = refusal(tmp_path, ply_text(["3 0 1 4", "3 0 4 3"], vertices=vertices))
+    assert "(the row on line 14 holds a number too many or too few" in refused.message, refused.message
+
+
+def test_an_error_in_the_first_row_is_named_too(tmp_path: Path) -> None:
+    properties = "property float x\nproperty float y\nproperty float z\nproperty list uchar int n\n"
+    refused = refusal(tmp_path, ply_text(["3 0 1 4"], vertices=[f"{row} 1.5" for row in GRID],
+                                         vertex_properties=properties))
+    assert (refused.line, refused.message) == (11, "vertex n: 1.5 is no uchar count (whole numbers from 0 to 255)")
+
+
+def test_an_error_in_a_file_that_packs_its_rows_says_nothing_of_lines(tmp_path: Path) -> None:
+    text = ply_text(["3 0 1 4", "3 0 9 3"])
+    header, body = text.split("end_header\n")
+    refused = refusal(tmp_path, header + "end_header\n" + " ".join(body.split()) + "\n")
+    assert refused.message == "vertex index 9 out of range (the file has 9 vertices)" and refused.line == 10
+
+
+@pytest.mark.parametrize("word", ["--inf", "+-nan", "1e", "0x10"])
+def test_a_word_numpy_would_not_read_is_named_at_its_line(tmp_path: Path, word: str) -> None:
+    refused = refusal(tmp_path, ply_text(["3 0 1 4"], vertices=[*GRID[:6], f"0 {word} 0", *GRID[7:]]))
+    assert (refused.line, refused.message) == (16, f"'{word}' is not a number")
+
+
+def test_an_index_past_a_64_bit_types_range_is_refused(tmp_path: Path) -> None:
+    """float64 rounds uint64's largest value up to 2 ** 64, which it must not let through."""
+    refused = refusal(tmp_path, ply_text(["3 0 1 18446744073709551616"], face_properties="property list uchar "
+                                                                                           "uint64 vertex_indices\n"))
+    assert refused.line == 19 and refused.message.startswith("face vertex_indices: 1.8446744073709552e+19 is no uint64")
+
+
+@pytest.mark.parametrize(("faces", "line", "said"), [
+    (["3 0 1 4 4 0 0 1 0"], 20, "4 numbers for a face of 3 corners"),
+    (["3 0 1 4 6 0 0 1 0 1 1", "4 0 1 4 3 6 0 0 1 0 1 1"], 21, "6 numbers for a face of 4 corners")])
+def test_texture_coordinates_of_the_wrong_length_are_refused_at_their_line(tmp_path: Path, faces: list[str],
+                                                                           line: int, said: str) -> None:
+    """Whether the faces are fanned or not: trimesh refused the one and dropped the other's silently."""
+    properties = "property list uchar int vertex_indices\nproperty list uchar float texcoord\n"
+    refused = refusal(tmp_path, ply_text(faces, face_properties=properties))
+    assert (refused.line, refused.message) == (line, f"face texcoord: {said} (two a corner)")
+
+
+def test_elements_trimesh_draws_nothing_of_are_left_to_it_or_out(tmp_path: Path) -> None:
+    """A zero-row edge element (trimesh makes a path of any edge element, which needs scipy) is left out,
+    and a vertex element's lists of mixed lengths too, its colours kept."""
+    colours = [f"{row} {1 + number % 2} {' '.join(['7'] * (1 + number % 2))} 10 20 30" for number, row in
+               enumerate(GRID)]
+    properties = ("property float x\nproperty float y\nproperty float z\nproperty list uchar int neighbours\n"
+                  "property uchar red\nproperty uchar green\nproperty uchar blue\n")
+    text = ply_text(["3 0 1 4"], vertices=colours, vertex_properties=properties)
+    text = text.replace("end_header", "element edge 0\nproperty int vertex1\nproperty int vertex2\nend_header")
+    mesh = load(tmp_path, text)
+    assert mesh.face_count == 1 and mesh.vertex_colours.tolist() == [[10, 20, 30]] * 9
+
+
+@pytest.mark.parametrize("line_end", ["\r", "\r\n"])
+def test_other_line_ends_read_as_newlines(tmp_path: Path, line_end: str) -> None:
+    text = ply_text(["3 0 1 4", "3 0 4 3"], remarks="obj_info TextureFile q.png\n").replace("\n", line_end)
+    header = read_header(Path("m.ply"), text.encode())
+    assert header.picture == "q.png" and header.count("vertex") == 9
+    assert load(tmp_path, text).face_count == 2
+
+
+def test_one_polygon_of_many_corners_fans_in_proportion(tmp_path: Path) -> None:
+    """Fanned with 32-bit indices, each value made its type before it is gathered: at most a few times
+    the binary rows written (a triangle of 16 bytes for each corner of two in the text)."""
+    corners = 300_000
+    data = ply_text([f"{corners} " + " ".join(["0 1 4"] * (corners // 3))],
+                    face_properties="property list int int vertex_indices\n").encode()
+    binary, peak = peak_traced_bytes(lambda: binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data)))
+    assert len(binary) - binary.index(b"end_header\n") - 11 == 9 * 12 + (corners - 2) * 16  # int count, 3 ints
+    assert peak < 3.5 * len(binary), peak
 
 
 @pytest.mark.parametrize(("header", "line", "message"), [
@@ -168,7 +250,7 @@ def test_the_picture_and_unknown_elements_are_kept_for_trimesh(tmp_path: Path) -
     data = text.encode()
     binary = binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data))
     header = read_header(Path("m.ply"), binary)
-    assert header.encoding == "<" and header.picture == "comment TextureFile q.png"
+    assert header.encoding == "<" and header.picture == "q.png"
     assert [(element.name, element.count) for element in header.elements] == [("vertex", 9), ("face", 1),
                                                                               ("material", 1)]
     assert binary[header.body_at:] == np.array(GRID_NUMBERS, "<f4").tobytes() + b"\x03" + \

@@ -174,14 +174,17 @@ def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.n
     """Each face row's corner count n, its n vertex indices and perhaps a colour (not read). Held a
     block at a time as the rows come: never by the header's count, which a short file may exaggerate."""
     corners = WordBlocks(path, lambda path, words, line_of: checked_indices(path, words, line_of, vertices))
-    for number, words in _taken(path, rows, count, "faces"):
-        size = int(words[0]) if is_count(words[0]) else -1
+    most = max(_FACE_COLOUR_WORDS)
+    for number, (first, *rest) in _taken(path, rows, count, "faces", 1):
+        size = int(first) if is_count(first) else -1
         if size < 3:
-            raise LoadError(path, f"a face's corner count must be a whole number of 3 or more, not '{words[0][:40]}'",
+            raise LoadError(path, f"a face's corner count must be a whole number of 3 or more, not '{first[:40]}'",
                             line=number)
-        if len(words) - 1 - size not in _FACE_COLOUR_WORDS:
-            raise LoadError(path, f"a face of {size} corners, this line holds {len(words) - 1} numbers after "
-                                  "its count", line=number)
-        corners.add(words[1:1 + size], number)
+        words = rest[0].split(None, size + most) if rest else []  # its corners and a colour: never more words
+        if len(words) - size not in _FACE_COLOUR_WORDS:
+            held = len(words) if len(words) <= size + most else f"more than {size + most}"
+            raise LoadError(path, f"a face of {size} corners, this line holds {held} numbers after its count",
+                            line=number)
+        corners.add(words[:size], number)
     corner_vertex = corners.values()
     return corner_vertex, np.concatenate(([0], np.cumsum(corners.row_sizes())))

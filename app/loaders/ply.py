@@ -4,9 +4,9 @@ Why not trimesh's ASCII reader: it holds one numpy array per line, about 18 byte
 file (170 with blank lines, which it then cannot read), casts 1.5 or 300 into an index or a byte
 without a word, and names no line. Here the body becomes numbers in one call, each property is
 checked against its type where the file gives it, and the rows are written as the little-endian
-binary body that trimesh reads without parsing, so that both encodings give the same model.
-trimesh's binary reader takes one corner count for a whole face element: faces of mixed or more than
-four corners are fanned into triangles first, as trimesh fans an ASCII file's quads.
+binary body that trimesh reads without parsing, so that what trimesh makes of it is what it makes of
+a binary file. trimesh's binary reader takes one corner count for a whole face element: faces of
+mixed or more than four corners are fanned into triangles first, as trimesh fans a file's quads.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from __future__ import annotations
 import functools
 import re
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -32,8 +32,12 @@ PLY_TYPES = {"char": "i1", "uchar": "u1", "short": "i2", "ushort": "u2", "int": 
 FORMATS = {"ascii": "ascii", "binary_little_endian": "<", "binary_big_endian": ">"}
 FACE_LISTS = ("vertex_indices", "vertex_index")  # the names exporters give a face's corners
 TEXCOORD_LIST = "texcoord"  # MeshLab's: u v for each corner of the face
+# A model's header declares a few elements of a few properties each: past this many, it is no model's.
+MAX_DECLARATIONS = 4096
 _DECIMAL = re.compile(DECIMAL_SYNTAX.encode())
-_PIECE_BYTES = 1 << 20  # where a body's numbers fail, they are read again a piece at a time to find the line
+_NOT_FINITE = re.compile(rb"(?i)[+-]?(?:nan|inf|infinity)")  # numpy reads these too: refused later where wrong
+_PIECE_BYTES = 1 << 20  # where the body is looked at again (an error's line), a piece at a time
+_GAP = re.compile(rb"\s")
 _WHITESPACE = np.zeros(256, bool)
 _WHITESPACE[list(b" \t\n\r\x0b\x0c")] = True  # what bytes.split() and numpy's fromstring part numbers at
 
@@ -61,7 +65,7 @@ class PlyElement:
 class PlyHeader:
     encoding: str  # a FORMATS value
     elements: tuple[PlyElement, ...]
-    picture: str | None  # MeshLab's 'comment TextureFile name' line, the last as trimesh reads it
+    picture: str | None  # what a 'TextureFile' names (MeshLab's comment), the last as trimesh reads it
     body_at: int  # the offset of the body's first byte
 
     def count(self, name: str) -> int:
@@ -69,15 +73,11 @@ class PlyHeader:
 
     def text(self, encoding: str, elements: tuple[PlyElement, ...]) -> bytes:
         """A header of the given encoding and elements that names this one's picture."""
-        lines = ["ply", f"format {encoding} 1.0", *([self.picture] if self.picture else [])]
+        lines = ["ply", f"format {encoding} 1.0", *([f"comment TextureFile {self.picture}"] if self.picture else [])]
         for element in elements:
             lines.append(f"element {element.name} {element.count}")
             lines.extend(prop.declaration() for prop in element.properties)
         return ("\n".join([*lines, "end_header"]) + "\n").encode("utf-8")
-
-
-# A model's header declares a few elements of a few properties each: past this many, it is no model's.
-MAX_DECLARATIONS = 4096
 
 
 def read_header(path: Path, data: bytes) -> PlyHeader:
@@ -85,17 +85,13 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
     end = data.find(b"end_header")
     if not data.startswith(b"ply") or end < 0:
         raise LoadError(path, "not a PLY file (no 'ply' ... 'end_header' header)", line=1)
-    newline = data.find(b"\n", end)
-    body_at = len(data) if newline < 0 else newline + 1
     encoding, picture, elements = None, None, []
     properties: list[list[PlyProperty]] = []
     number, declared = 1, 0
     for number, line in enumerate(text_lines(data[:end]), start=1):  # a line at a time: never a list of them
         words = line.split(None, 5)
         keyword = words[0] if words and number > 1 else ""
-        if keyword == "comment" and "texturefile" in line.lower():
-            picture = line.strip()
-        elif keyword == "format":
+        if keyword == "format":
             if len(words) != 3 or words[1] not in FORMATS:
                 raise LoadError(path, "expected 'format ascii 1.0' or a binary_little_endian or binary_big_endian "
                                       "format", line=number)
@@ -112,10 +108,21 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
                 raise LoadError(path, "a property before any element", line=number)
             else:
                 properties[-1].append(_property(path, words, number))
+        elif "texturefile" in line.lower():  # on any other line, as trimesh reads it
+            picture = line[line.lower().index("texturefile") + len("texturefile"):].strip() or None
     if encoding is None:
         raise LoadError(path, "the header has no 'format' line", line=number + 1)
     elements = [replace(element, properties=tuple(props)) for element, props in zip(elements, properties)]
-    return PlyHeader(encoding, tuple(elements), picture, body_at)
+    return PlyHeader(encoding, tuple(elements), picture, _after_line(data, end))
+
+
+def _after_line(data: bytes, at: int) -> int:
+    """The offset just past the end of the line `at` lies on (\n, \r\n or a lone \r)."""
+    end = _LINE_END.search(data, at)
+    return len(data) if end is None else end.end()
+
+
+_LINE_END = re.compile(rb"\r\n|\n|\r")
 
 
 def _element(path: Path, words: list[str], line: int) -> PlyElement:
@@ -146,17 +153,18 @@ def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> bytes:
     """The binary little-endian PLY file that holds what `data`, an ASCII one, holds: every number
     checked against its property's type, every face's corners against the vertex count."""
     body = _Body(path, data, header.body_at, _numbers(path, data, header.body_at))
-    tables, at = [], 0
+    vertices, tables, at = header.count("vertex"), [], 0
     for element in header.elements:
         columns, uniform, at = _element_columns(body, element, at)
         for column in columns:
             _check_type(body, element, column)
-        corners = _face_corners(body, element, columns, header.count("vertex"))
+        corners = _face_corners(body, element, columns, vertices)
         if corners is not None and (not uniform or corners.values.shape[1] > 4):
             tables.append(_fanned(element, columns, corners))
-        elif uniform and element.properties:
+        elif columns and not uniform:  # lists of mixed lengths, which trimesh draws nothing of: left out
+            tables.append(_without_lists(element, columns))
+        elif columns:
             tables.append((element, [column.values for column in columns]))
-        # else: an element of nothing, or of lists of mixed lengths, that trimesh draws nothing of, left out
     return _written(header.text("binary_little_endian", tuple(element for element, _ in tables)), tables)
 
 
@@ -166,49 +174,116 @@ def _numbers(path: Path, data: bytes, body_at: int) -> np.ndarray:
     if not body or body.isspace():  # numpy reads a body of blanks alone as [-1]
         return np.empty(0)
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("error", DeprecationWarning)  # numpy's "could not be read to its end"
-            return np.fromstring(body, dtype=np.float64, sep=" ")
-    except (ValueError, DeprecationWarning):
+        return _read_numbers(body)
+    except ValueError:
+        del body
         raise _first_bad_word(path, data, body_at) from None
 
 
-def _first_bad_word(path: Path, data: bytes, body_at: int) -> LoadError:
-    """The error of the first word of the body that numpy would not read: looked for a piece at a time."""
-    start = body_at
+def _read_numbers(text: bytes) -> np.ndarray:
+    """The text's numbers; ValueError where a word is none (numpy before 2.3 warned, and stopped there)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DeprecationWarning)
+        try:
+            return np.fromstring(text, dtype=np.float64, sep=" ")
+        except DeprecationWarning:
+            raise ValueError("not a number") from None
+
+
+def _pieces(data: bytes, start: int) -> Iterator[tuple[int, int]]:
+    """(start, stop) of pieces of about a megabyte from `start` to the end, each ending at a blank."""
     while start < len(data):
-        cut = data.find(b"\n", start + _PIECE_BYTES)
-        stop = len(data) if cut < 0 else cut + 1
-        for found in re.finditer(rb"\S++", data[start:stop]):
-            if not _DECIMAL.fullmatch(found[0]) and found[0].lower().lstrip(b"+-") not in _NOT_FINITE_WORDS:
+        gap = _GAP.search(data, start + _PIECE_BYTES)
+        stop = len(data) if gap is None else gap.end()
+        yield start, stop
+        start = stop
+
+
+def _first_bad_word(path: Path, data: bytes, body_at: int) -> LoadError:
+    """The error of the first word of the body that numpy would not read: numpy finds its piece, and
+    only that piece's words are looked at one by one."""
+    for start, stop in _pieces(data, body_at):
+        piece = data[start:stop]
+        if piece.isspace():
+            continue
+        try:
+            _read_numbers(piece)
+            continue
+        except ValueError:
+            pass
+        for found in re.finditer(rb"\S++", piece):
+            if not _DECIMAL.fullmatch(found[0]) and not _NOT_FINITE.fullmatch(found[0]):
                 word = found[0][:40].decode("utf-8", errors="replace")
                 return LoadError(path, f"'{word}' is not a number", line=line_at(data, start + found.start()))
-        start = stop
     return LoadError(path, "its body could not be read as numbers")
 
 
-# numpy reads these too; where a value cannot be one (an index, a colour byte), its line is named.
-_NOT_FINITE_WORDS = (b"nan", b"inf", b"infinity")
-
-
-@dataclass(frozen=True)
 class _Body:
-    """The body's numbers, and the file, to name the line of one of them."""
+    """The body's numbers, the file, to name the line of one of them, and where the rows read so far
+    start, to say where they stop beginning lines."""
 
-    path: Path
-    data: bytes
-    body_at: int
-    numbers: np.ndarray
+    def __init__(self, path: Path, data: bytes, body_at: int, numbers: np.ndarray) -> None:
+        self.path, self.data, self.body_at, self.numbers = path, data, body_at, numbers
+        self.row_starts: list[Callable[[int, int], np.ndarray]] = []  # an element's row starts in [first, stop)
 
     def error(self, message: str, index: int) -> LoadError:
-        """A LoadError at the line of the number at `index` (counted only when one is raised)."""
-        blank = _WHITESPACE[np.frombuffer(self.data, np.uint8, offset=self.body_at)]
-        starts = np.flatnonzero(~blank & np.concatenate(([True], blank[:-1])))
-        return LoadError(self.path, message, line=line_at(self.data, self.body_at + int(starts[index])))
+        """A LoadError at the line of the number at `index`; and where rows that began lines stopped
+        doing so before it, the line of the row before the first that does not: a row that holds a
+        number too many or too few shifts every row after it, and the error shows only where one no
+        longer makes sense."""
+        line, culprit = self._lines(index)
+        if culprit is not None:
+            message += (f" (the row on line {culprit} holds a number too many or too few: the rows after it no "
+                        "longer begin lines)")
+        return LoadError(self.path, message, line=line)
 
     def ended(self, element: PlyElement) -> LoadError:
         return LoadError(self.path, f"the header counts {element.count} rows of {element.name}, the file ends "
                                     "before them", line=line_at(self.data, max(len(self.data.rstrip()) - 1, 0)))
+
+    def _lines(self, index: int) -> tuple[int, int | None]:
+        """The line of the number at `index`, and that of the row before the first row before it that
+        does not begin its line, after two or more that do; counted a piece at a time, up to that
+        number only."""
+        passed, aligned, culprit, after_line_end = 0, 0, None, True  # the body starts on a line of its own
+        last_row_at = self.body_at  # the offset of the last row start seen
+        for start, stop in _pieces(self.data, self.body_at):
+            piece = np.frombuffer(self.data, np.uint8, count=stop - start, offset=start)
+            blank = _WHITESPACE[piece]
+            words = np.flatnonzero(~blank & np.concatenate(([True], blank[:-1])))
+            line_ends = np.cumsum((piece == 10) | (piece == 13))  # \n, \r: a line ends at either
+            before = np.concatenate(([-1 if after_line_end else 0], line_ends[words]))
+            begins_line = np.diff(before) > 0  # a line ended between the word before and this one
+            if culprit is None and aligned >= 0:
+                starts = np.concatenate([np.empty(0, np.int64), *(rows(passed, min(passed + len(words), index))
+                                                                   for rows in self.row_starts)])
+                misplaced = np.flatnonzero(~begins_line[starts - passed])
+                if misplaced.size:
+                    first = int(misplaced[0])
+                    if first:
+                        last_row_at = start + int(words[starts[first - 1] - passed])
+                    culprit = line_at(self.data, last_row_at) if aligned + first >= 2 else None
+                    aligned = -1  # a file whose rows never began lines packs them: no hint
+                elif starts.size:
+                    aligned += len(starts)
+                    last_row_at = start + int(words[starts[-1] - passed])
+            if index < passed + len(words):
+                return line_at(self.data, start + int(words[index - passed])), culprit
+            passed += len(words)
+            after_line_end = bool(line_ends[-1] > line_ends[words[-1]]) if len(words) else (
+                after_line_end or bool(line_ends[-1]))
+        return line_at(self.data, len(self.data)), culprit
+
+
+class _WalkedStarts:
+    """The starts of the rows walked so far, for _Body's hint while the walk goes on."""
+
+    def __init__(self, starts: np.ndarray) -> None:
+        self.starts, self.known = starts, 0
+
+    def __call__(self, first: int, stop: int) -> np.ndarray:
+        done = self.starts[:self.known]
+        return done[(done >= first) & (done < stop)]
 
 
 @dataclass(frozen=True)
@@ -234,13 +309,18 @@ def _element_columns(body: _Body, element: PlyElement, at: int) -> tuple[list[_C
     if end <= len(body.numbers):
         table = body.numbers[at:end].reshape(element.count, width)
         columns, count_offsets = _table_columns(element, table, at, first_counts)
+        body.row_starts.append(lambda first, stop, at=at, width=width, end=end: np.arange(
+            at + -(-max(first - at, 0) // width) * width, min(stop, end), width))
         if all((table[:, offset] == count).all() for offset, count in zip(count_offsets, first_counts)):
             return columns, True, end
+        body.row_starts.pop()
     if not first_counts.size or at + element.count * len(element.properties) > len(body.numbers):
         raise body.ended(element)  # before anything is made by the count: each row holds a number a property
     starts, counts = np.empty(element.count, np.int64), np.empty((element.count, first_counts.size), np.int64)
+    walked = _WalkedStarts(starts)
+    body.row_starts.append(walked)
     for row in range(element.count):  # each row's length is known only once its counts are read
-        starts[row] = at
+        starts[row], walked.known = at, row + 1
         counts[row], width = _walked_row(body, element, at)
         at += width
     return _walked_columns(body, element, starts, counts), False, at
@@ -255,8 +335,8 @@ def _walked_row(body: _Body, element: PlyElement, at: int) -> tuple[list[int], i
                 raise body.ended(element)
             count = float(body.numbers[position])
             if not (0 <= count <= _most(prop.count_type) and count == int(count)):
-                raise body.error(f"{element.name} {prop.name}: {_shown(count)} is not a count a {prop.count_type} "
-                                 "holds", position)
+                raise body.error(f"{element.name} {prop.name}: {_shown(count)} is no {prop.count_type} count "
+                                 f"({_range(prop.count_type, counts=True)})", position)
             counts.append(int(count))
             position += int(count)
         position += 1
@@ -304,23 +384,30 @@ def _walked_columns(body: _Body, element: PlyElement, starts: np.ndarray, counts
 def _check_type(body: _Body, element: PlyElement, column: _Column) -> None:
     """Whole-number types hold whole numbers within their range; a float type, any number it can hold
     (NaN and infinities are refused later where a value cannot be one, as in every model)."""
-    code, values = PLY_TYPES[column.prop.value_type], column.values
-    if not values.size:
+    if not column.values.size:
         return
-    if code[0] == "f":
-        held = ~(np.abs(values) > np.finfo(code).max) | ~np.isfinite(values)
-    else:
-        limits = np.iinfo(code)
-        held = (values >= limits.min) & (values <= limits.max) & (values == np.trunc(values))  # NaN: none
+    held = _held(column.values, column.prop.value_type)
     if not held.all():
         first = int(np.argmin(held.ravel()))
-        wanted = "number" if code[0] == "f" else "whole number"
-        raise body.error(f"{element.name} {column.prop.name}: {_shown(values.ravel()[first])} is not a {wanted} "
-                         f"a {column.prop.value_type} holds", column.index(first))
+        raise body.error(f"{element.name} {column.prop.name}: {_shown(column.values.ravel()[first])} is no "
+                         f"{column.prop.value_type} ({_range(column.prop.value_type)})", column.index(first))
 
 
-def _shown(value: float) -> str:
-    return str(int(value)) if abs(value) < 1e15 and value == int(value) else repr(float(value))
+def _held(values: np.ndarray, kind: str) -> np.ndarray:
+    """Which values a PLY type holds: a float's finite range (NaN and infinities too), or whole numbers
+    within an integer's (below 2 ** bits, which float64 holds exactly where it does not hold the max)."""
+    code = PLY_TYPES[kind]
+    if code[0] == "f":
+        return ~(np.isfinite(values) & (np.abs(values) > np.finfo(code).max))
+    limits = np.iinfo(code)
+    return (values >= limits.min) & (values < float(limits.max) + 1) & (values == np.trunc(values))  # NaN: none
+
+
+def _range(kind: str, counts: bool = False) -> str:
+    code = PLY_TYPES[kind]
+    if code[0] == "f":
+        return f"numbers up to {np.finfo(code).max:.3g}"
+    return f"whole numbers from {0 if counts else np.iinfo(code).min} to {np.iinfo(code).max}"
 
 
 @functools.cache
@@ -328,9 +415,14 @@ def _most(kind: str) -> int:
     return int(np.iinfo(PLY_TYPES[kind]).max)
 
 
+def _shown(value: float) -> str:
+    return str(int(value)) if abs(value) < 1e15 and value == int(value) else repr(float(value))
+
+
 def _face_corners(body: _Body, element: PlyElement, columns: list[_Column], vertices: int) -> _Column | None:
-    """A face element's list of vertex indices, each face checked to have 3 or more corners and each
-    index to name a vertex; None for another element."""
+    """A face element's list of vertex indices, each face checked to have 3 or more corners, each index
+    to name a vertex and MeshLab's texture coordinates to give two numbers a corner; None for another
+    element."""
     corners = next((column for column in columns if column.prop.name in FACE_LISTS and column.counts is not None),
                    None)
     if element.name != "face" or corners is None or corners.counts is None or corners.count_index is None:
@@ -338,36 +430,57 @@ def _face_corners(body: _Body, element: PlyElement, columns: list[_Column], vert
     short = corners.counts < 3
     if short.any():
         row = int(np.argmax(short))
-        raise body.error(f"a face of {corners.counts[row]} corners: 3 or more make one", corners.count_index(row))
+        size = int(corners.counts[row])
+        raise body.error(f"a face of {size} corner{'' if size == 1 else 's'}: 3 or more make one",
+                         corners.count_index(row))
     outside = (corners.values < 0) | (corners.values >= vertices)
     if outside.any():
         first = int(np.argmax(outside.ravel()))
         raise body.error(f"vertex index {_shown(corners.values.ravel()[first])} out of range (the file has "
                          f"{vertices} vertices)", corners.index(first))
+    for column in columns:
+        if column.prop.name == TEXCOORD_LIST and column.counts is not None and column.count_index is not None:
+            wrong = column.counts != 2 * corners.counts
+            if wrong.any():
+                row = int(np.argmax(wrong))
+                raise body.error(f"face texcoord: {column.counts[row]} numbers for a face of {corners.counts[row]} "
+                                 "corners (two a corner)", column.count_index(row))
     return corners
 
 
 def _fanned(element: PlyElement, columns: list[_Column], corners: _Column) -> tuple[PlyElement, list[np.ndarray]]:
     """The faces as triangles (0, i, i + 1) of each, which trimesh's binary reader takes: each keeps
-    its face's values, and MeshLab's texture coordinates their corners'. Other lists are left out."""
+    its face's values, and MeshLab's texture coordinates their corners'. Other lists are left out.
+    Each value is made its type before it is gathered, and the indices are 32-bit where they fit."""
     assert corners.counts is not None
-    triangles = corners.counts - 2
-    face = np.repeat(np.arange(len(triangles)), triangles)
-    second = np.arange(len(face)) - np.repeat(np.cumsum(triangles) - triangles, triangles) + 1  # i of (0, i, i + 1)
-    first_corner = (np.cumsum(corners.counts) - corners.counts)[face]
+    kind = np.int32 if corners.values.size < np.iinfo(np.int32).max // 2 else np.int64
+    triangles = (corners.counts - 2).astype(kind)
+    face = np.repeat(np.arange(len(triangles), dtype=kind), triangles)
+    second = np.arange(1, len(face) + 1, dtype=kind) - np.repeat(np.cumsum(triangles, dtype=kind) - triangles,
+                                                                  triangles)  # i of (0, i, i + 1)
+    first_corner = (np.cumsum(corners.counts, dtype=kind) - corners.counts.astype(kind))[face]
     fan = np.stack([first_corner, first_corner + second, first_corner + second + 1], axis=1)
+    del second, first_corner
     kept, values = [], []
     for column in columns:
+        typed = column.values.astype("<" + PLY_TYPES[column.prop.value_type])
         if column.counts is None:
-            values.append(column.values[face])
+            values.append(typed[face])
         elif column is corners:
-            values.append(column.values.ravel()[fan])
-        elif column.prop.name == TEXCOORD_LIST and (column.counts == 2 * corners.counts).all():
-            values.append(column.values.ravel()[(2 * fan[:, :, None] + np.arange(2)).reshape(len(face), 6)])
+            values.append(typed.ravel()[fan])
+        elif column.prop.name == TEXCOORD_LIST:  # two numbers a corner (_face_corners)
+            values.append(typed.ravel()[(2 * fan[:, :, None] + np.arange(2, dtype=kind)).reshape(len(face), 6)])
         else:
             continue
         kept.append(column.prop)
     return PlyElement(element.name, len(face), tuple(kept)), values
+
+
+def _without_lists(element: PlyElement, columns: list[_Column]) -> tuple[PlyElement, list[np.ndarray]]:
+    """An element of lists of mixed lengths, which trimesh's binary reader cannot take, as its single
+    values alone (trimesh draws nothing of such lists)."""
+    kept = [column for column in columns if column.counts is None]
+    return replace(element, properties=tuple(column.prop for column in kept)), [column.values for column in kept]
 
 
 def _written(header: bytes, tables: list[tuple[PlyElement, list[np.ndarray]]]) -> bytes:
