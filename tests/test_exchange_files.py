@@ -74,6 +74,54 @@ def write_gltf(folder: Path, buffer_file: str = "square.bin", buffer_uri: str | 
     return folder / "square.gltf"
 
 
+def hostile_jpeg(segments: int) -> bytes:
+    """The top-red, bottom-blue picture as a JPEG whose header holds `segments` empty APP15 segments more."""
+    data = png_bytes(top_red_bottom_blue(), "JPEG")
+    return data[:2] + b"\xff\xef\x00\x02" * segments + data[2:]
+
+
+def with_held_jpeg(folder: Path, where: str, segments: int) -> Path:
+    """write_gltf's square, its picture a JPEG held in the glTF itself: a data: URI, a view of the GLB's
+    binary chunk, or a view of the buffer it names beside it."""
+    path = write_gltf(folder, image_uri=None, image_file=None)
+    document = json.loads(path.read_text())
+    joined = (folder / "square.bin").read_bytes()
+    picture = hostile_jpeg(segments)
+    if where == "data URI":
+        document["images"] = [{"uri": "data:image/jpeg;base64," + base64.b64encode(picture).decode()}]
+        path.write_text(json.dumps(document))
+        return path
+    document["bufferViews"].append({"buffer": 0, "byteOffset": len(joined), "byteLength": len(picture)})
+    document["images"] = [{"bufferView": len(document["bufferViews"]) - 1, "mimeType": "image/jpeg"}]
+    joined += picture + b"\0" * (-len(picture) % 4)
+    document["buffers"][0]["byteLength"] = len(joined)
+    if where == "beside":
+        (folder / "square.bin").write_bytes(joined)
+        path.write_text(json.dumps(document))
+        return path
+    del document["buffers"][0]["uri"]
+    text = json.dumps(document).encode()
+    text += b" " * (-len(text) % 4)
+    glb = folder / "square.glb"
+    chunks = len(text).to_bytes(4, "little") + b"JSON" + text + len(joined).to_bytes(4, "little") + b"BIN\0" + joined
+    glb.write_bytes(b"glTF" + (2).to_bytes(4, "little") + (12 + len(chunks)).to_bytes(4, "little") + chunks)
+    return glb
+
+
+@pytest.mark.parametrize("where", ["data URI", "GLB", "beside"])
+def test_a_jpeg_a_gltf_holds_is_checked_as_a_texture_is(tmp_path: Path, where: str) -> None:
+    """Pillow kept every empty APP segment of a JPEG's header in a list, 33 bytes a byte; the pictures a
+    glTF holds itself reached it through trimesh unchecked."""
+    loaded = load_model(with_held_jpeg(tmp_path, where, 100))
+    texture = loaded.materials[0].texture
+    assert texture[0, 0, 0] > 200 and texture[-1, 0, 2] > 200  # red above blue
+    with pytest.raises(LoadError) as caught:
+        load_model(with_held_jpeg(tmp_path, where, 1_000_000))
+    said = "more than 1024 segments before the picture: no JPEG's header holds so many"
+    assert caught.value.message == (f"'square.bin', which it names, could not be read ({said})" if where == "beside"
+                                    else f"image 0: {said}")
+
+
 def test_a_gltf_draws_its_picture_named_by_a_plain_uri(tmp_path: Path) -> None:
     loaded = load_model(write_gltf(tmp_path))
     assert loaded.warnings == () and loaded.materials[0].texture.shape == (8, 8, 3)
