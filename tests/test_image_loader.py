@@ -157,23 +157,89 @@ def test_a_jpeg_with_exif_a_comment_and_a_large_colour_profile_loads(tmp_path: P
     assert load_image(path).shape == (8, 16, 3)
 
 
-def test_a_jpeg_header_of_a_million_segments_is_refused_before_pillow_keeps_them(tmp_path: Path) -> None:
-    """Pillow kept every empty APP segment in a list, about 33 bytes for each byte of the file."""
+@pytest.mark.parametrize("stray", [b"", b"\xff", b"\x00", b"\xff\x00"])
+def test_a_jpeg_header_of_a_million_segments_is_refused_before_pillow_keeps_them(tmp_path: Path,
+                                                                                stray: bytes) -> None:
+    """Pillow kept every empty APP segment in a list, about 33 bytes for each byte of the file; a fill
+    byte, a stray byte or an escaped 0xFF, which Pillow skips, must not end the walk before them."""
     plain = tmp_path / "plain.jpg"
     Image.new("RGB", (8, 8), (200, 30, 30)).save(plain, "JPEG")
     data = plain.read_bytes()
     path = tmp_path / "many.jpg"
-    path.write_bytes(data[:2] + b"\xff\xef\x00\x02" * 1_000_000 + data[2:])
+    path.write_bytes(data[:2] + b"\xff\xef\x00\x02" + stray + b"\xff\xef\x00\x02" * 1_000_000 + data[2:])
     tracemalloc.start()
     try:
-        with pytest.raises(LoadError, match="more than 1024 segments before the picture"):
+        with pytest.raises(LoadError, match="more than 4096 markers and stray bytes before the picture"):
             load_image(path)
         _, peak = tracemalloc.get_traced_memory()
     finally:
         tracemalloc.stop()
-    assert peak < 1 << 20, peak
-    path.write_bytes(data[:2] + b"\xff\xef\x00\x02" * 1000 + data[2:])
+    assert peak < 3 * path.stat().st_size, peak  # the file read once to walk it
+    path.write_bytes(data[:2] + b"\xff\xef\x00\x02" + stray + b"\xff\xef\x00\x02" * 4000 + data[2:])
     assert load_image(path).shape == (8, 8, 3)
+
+
+@pytest.mark.parametrize("kind", [b"tEXt", b"iTXt", b"prVt"])
+def test_a_png_of_a_million_text_or_private_chunks_is_refused_before_pillow_keeps_them(tmp_path: Path,
+                                                                                     kind: bytes) -> None:
+    """Pillow kept each text and private chunk: an iTXt flood took 31 bytes for each byte of the file."""
+    import zlib
+
+    plain = tmp_path / "plain.png"
+    Image.new("RGB", (8, 8), (200, 30, 30)).save(plain, "PNG")
+    data = plain.read_bytes()
+    body = b"k%d\0" if kind == b"tEXt" else b"k%d\0\0\0\0\0" if kind == b"iTXt" else b"%d"
+
+    def chunk(number: int) -> bytes:
+        payload = body % number
+        return len(payload).to_bytes(4, "big") + kind + payload + zlib.crc32(kind + payload).to_bytes(4, "big")
+
+    header_end = 8 + 25  # the signature and IHDR
+    path = tmp_path / "many.png"
+    path.write_bytes(data[:header_end] + b"".join(chunk(number) for number in range(300_000)) + data[header_end:])
+    with pytest.raises(LoadError, match="more than 4096 chunks besides its pixels"):
+        load_image(path)
+    path.write_bytes(data[:header_end] + b"".join(chunk(number) for number in range(100)) + data[header_end:])
+    assert load_image(path).shape == (8, 8, 3)
+
+
+def test_pillows_own_openers_stand_again_once_pictures_are_opened(tmp_path: Path) -> None:
+    """marraztu's checking openers stand in for Pillow's only while it opens pictures, however many
+    threads do at once: a program that uses Pillow beside it gets Pillow's own after."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    Image.preinit()
+    own = {kind: Image.OPEN[kind] for kind in ("JPEG", "PNG")}
+    Image.new("RGB", (8, 8), (200, 30, 30)).save(tmp_path / "a.jpg", "JPEG")
+    Image.new("RGB", (8, 8), (200, 30, 30)).save(tmp_path / "a.png", "PNG")
+    with ThreadPoolExecutor(4) as pool:
+        shapes = list(pool.map(lambda name: load_image(tmp_path / name).shape, ["a.jpg", "a.png"] * 20))
+    assert shapes == [(8, 8, 3)] * 40
+    assert {kind: Image.OPEN[kind] for kind in own} == own
+
+
+def test_a_png_of_many_pixel_chunks_loads(tmp_path: Path) -> None:
+    """Pixels in many IDAT chunks are no header: an encoder may cut them small."""
+    import zlib
+
+    pixels = np.random.default_rng(1).integers(0, 256, size=(64, 64, 3), dtype=np.uint8)
+    Image.fromarray(pixels).save(tmp_path / "one.png", "PNG")
+    data = (tmp_path / "one.png").read_bytes()
+    at, stream, rest = 8, b"", []
+    while at < len(data):  # the compressed pixels gathered from the IDAT chunks, every other chunk kept
+        length, kind = int.from_bytes(data[at:at + 4], "big"), data[at + 4:at + 8]
+        if kind == b"IDAT":
+            stream += data[at + 8:at + 8 + length]
+        else:
+            rest.append(data[at:at + 12 + length])
+        at += 12 + length
+    pieces = [stream[start:start + 2] for start in range(0, len(stream), 2)]
+    idat = b"".join(len(piece).to_bytes(4, "big") + b"IDAT" + piece + zlib.crc32(b"IDAT" + piece).to_bytes(4, "big")
+                    for piece in pieces)
+    path = tmp_path / "chunked.png"
+    path.write_bytes(data[:8] + b"".join(rest[:-1]) + idat + rest[-1])  # ... IDAT x many, IEND
+    assert len(pieces) > 4096
+    np.testing.assert_array_equal(load_image(path), pixels)
 
 
 def test_rgba_grey_and_palette_become_rgb(tmp_path: Path) -> None:

@@ -230,7 +230,8 @@ def test_a_number_of_a_million_digits_is_refused_before_toml_reads_it(tmp_path: 
     path = write_scene(tmp_path, CAMERA + f"fov = {number}\n")
     error, peak = peak_traced_bytes(lambda: load_scene(path))
     assert isinstance(error, LoadError) and error.line == 4
-    assert error.message == "more than 4300 digits in a row: no number of a scene is so long"
+    assert error.message == ("more than 4300 digits in a row (in a number, a string or a comment): no scene holds "
+                             "so many")
     assert peak < 3 * len(number), peak
 
 

@@ -14,7 +14,6 @@ trimesh's log, which would print its tracebacks on the person's terminal, is kep
 
 from __future__ import annotations
 
-import base64
 import functools
 import gc
 import io
@@ -44,8 +43,9 @@ from marraztu.loaders.files import (
 )
 from marraztu.loaders.images import (
     FORMATS_BY_MAGIC,
-    check_jpeg_segments,
+    check_picture_header,
     image_format,
+    pictures_checked,
     rgb_array,
     unread_textures_note,
 )
@@ -106,11 +106,8 @@ def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
 def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     """glTF (JSON beside its buffers) or GLB: every mesh with its node's transform, as one model."""
     data, file_type = read_model_bytes(path, stage), path.suffix.lower().lstrip(".")
-    document, binary = (_gltf_document(path, data), None) if file_type == "gltf" else _glb_parts(data)
-    pictures = frozenset(_uris(document.get("images"))) - frozenset(_uris(document.get("buffers")))
-    viewed = _check_held_jpegs(path, document, binary)
-    del document, binary  # trimesh reads the JSON again, into its own objects
-    beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True, jpeg_views=viewed)
+    pictures = _gltf_pictures(path, data) if file_type == "gltf" else frozenset()  # a GLB's JSON is trimesh's to read
+    beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True)
     return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside)
 
 
@@ -121,8 +118,12 @@ def _trimesh_load(path: Path, data: bytes, file_type: str, beside: _FilesBeside 
     the files it names."""
     trimesh = _quiet_trimesh()
     try:
-        return trimesh.load(io.BytesIO(data), file_type=file_type, process=False,
-                            force="scene", resolver=beside)
+        with pictures_checked() as refused:  # the pictures trimesh has Pillow open, a glTF's own included
+            loaded = trimesh.load(io.BytesIO(data), file_type=file_type, process=False, force="scene",
+                                  resolver=beside)
+        if beside is not None:
+            beside.held_failures.extend(refused)
+        return loaded
     except MemoryError:
         raise LoadError(path, "not enough memory to load this file") from None
     except LoadError as error:  # from `beside`: a file it names that trimesh cannot do without (a buffer)
@@ -153,14 +154,13 @@ class _FilesBeside:
     by read_file (no device, pipe or huge file); a picture only when its first bytes are PNG, JPEG or
     PPM, as every texture. trimesh drops a picture it cannot have; `failures` keeps why, for a note."""
 
-    def __init__(self, folder: Path, is_picture: Callable[[str], bool], uri: bool = False,
-                 jpeg_views: dict[str, list[tuple[int, int]]] | None = None) -> None:
+    def __init__(self, folder: Path, is_picture: Callable[[str], bool], uri: bool = False) -> None:
         self.folder = folder
         self.is_picture = is_picture
         self.uri = uri
-        self.jpeg_views = jpeg_views or {}  # a buffer's name -> where pictures lie in it (a glTF's)
         self.tried: list[Path] = []  # every path looked at, read or not: no output may replace one
         self.failures: dict[str, str] = {}  # the name shown -> why it was not read
+        self.held_failures: list[str] = []  # why a picture the file holds itself was not read
 
     def get(self, name: str) -> bytes:
         named = shown((unquote(name) if self.uri else name).strip())
@@ -168,11 +168,8 @@ class _FilesBeside:
             data = read_file(self._path(name, named))
             if self.is_picture(name) and image_format(data[:8]) is None:
                 raise LoadError(named, f"not a PNG, JPEG or PPM picture (it starts with {data[:8]!r})")
-            if self.is_picture(name) and image_format(data[:8]) == "JPEG":
-                check_jpeg_segments(named, io.BytesIO(data))
-            for start, length in self.jpeg_views.get(name, ()):
-                if image_format(data[start:start + 8]) == "JPEG":
-                    check_jpeg_segments(named, io.BytesIO(memoryview(data)[start:start + length]))
+            if self.is_picture(name):
+                check_picture_header(named, data)
         except LoadError as error:
             self.failures.setdefault(named, error.message)
             raise LoadError(named, error.message) from None  # named as the file names it
@@ -197,16 +194,18 @@ class _FilesBeside:
 
     def notes(self) -> list[str]:
         """One note of the pictures not read, as for an MTL's textures."""
-        return unread_textures_note(list(self.failures.items()))
+        held = [f"a picture the file holds could not be read ({why}); the scene's texture is shown in its place"
+                for why in self.held_failures[:1]]
+        return unread_textures_note(list(self.failures.items())) + held
 
 
 def _looks_absolute(name: str) -> bool:
     return name.startswith(("/", "\\")) or re.match(r"[A-Za-z]:[\\/]", name) is not None
 
 
-def _gltf_document(path: Path, data: bytes) -> dict:
-    """A .gltf's JSON, checked first: trimesh, given text that is not JSON, looks for a file named
-    model.gltf and says that is missing."""
+def _gltf_pictures(path: Path, data: bytes) -> frozenset[str]:
+    """The URIs of a .gltf's pictures (not its buffers', which may be named anything), its JSON checked
+    first: trimesh, given text that is not JSON, looks for a file named model.gltf and says that is missing."""
     try:
         document = json.loads(data)  # from bytes: UTF-8, -16 or -32, as the glTF's JSON may be
     except json.JSONDecodeError as error:
@@ -219,77 +218,7 @@ def _gltf_document(path: Path, data: bytes) -> dict:
         raise LoadError(path, "not a glTF file: its JSON holds a number too long to read") from None
     if not isinstance(document, dict):
         raise LoadError(path, "not a glTF file: its JSON is not an object of glTF's keys", line=1)
-    return document
-
-
-def _glb_parts(data: bytes) -> tuple[dict, memoryview | None]:
-    """A GLB's JSON and binary chunk, where the file holds them as a GLB does; else nothing, for trimesh
-    to say what is wrong."""
-    head = np.frombuffer(data, "<u4", count=5) if len(data) >= 20 else None
-    if head is None or data[:4] != b"glTF" or data[16:20] != b"JSON" or 20 + int(head[3]) > len(data):
-        return {}, None
-    try:
-        document = json.loads(data[20:20 + int(head[3])])
-    except (ValueError, RecursionError):  # trimesh says what is wrong with it
-        return {}, None
-    at = 20 + int(head[3])
-    binary = None
-    if at + 8 <= len(data) and data[at + 4:at + 8] == b"BIN\0":
-        binary = memoryview(data)[at + 8:at + 8 + int.from_bytes(data[at:at + 4], "little")]
-    return (document if isinstance(document, dict) else {}), binary
-
-
-def _check_held_jpegs(path: Path, document: dict, binary: memoryview | None) -> dict[str, list[tuple[int, int]]]:
-    """The JPEGs a glTF holds itself (in data: URIs, or in a GLB's binary chunk), checked as every
-    texture is before Pillow reads it; and, for the buffers it names beside it, where its pictures lie
-    in them, to be checked as they are read."""
-    images, views, buffers = (document.get(key) for key in ("images", "bufferViews", "buffers"))
-    views = views if isinstance(views, list) else []
-    buffers = buffers if isinstance(buffers, list) else []
-    beside: dict[str, list[tuple[int, int]]] = {}
-    for number, image in enumerate(images if isinstance(images, list) else []):
-        held = None
-        if isinstance(image, dict) and isinstance(image.get("uri"), str):
-            held = _data_uri_bytes(image["uri"])
-        elif isinstance(image, dict) and _is_index(image.get("bufferView"), views):
-            view = views[image["bufferView"]]
-            start, length = _view_span(view)
-            number_of_buffer = view.get("buffer") if isinstance(view, dict) else None
-            buffer = buffers[number_of_buffer] if _is_index(number_of_buffer, buffers) else None
-            uri = buffer.get("uri") if isinstance(buffer, dict) else None
-            if isinstance(uri, str) and not uri.startswith("data:"):
-                beside.setdefault(uri, []).append((start, length))
-            else:
-                whole = _data_uri_bytes(uri) if isinstance(uri, str) else binary
-                held = None if whole is None else whole[start:start + length]
-        if held is not None and image_format(bytes(held[:8])) == "JPEG":
-            try:
-                check_jpeg_segments(path, io.BytesIO(held))
-            except LoadError as error:
-                raise LoadError(path, f"image {number}: {error.message}") from None
-    return beside
-
-
-def _is_index(value: object, items: list) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool) and 0 <= value < len(items)
-
-
-def _view_span(view: object) -> tuple[int, int]:
-    """A buffer view's byte offset and length; nothing where they are not numbers (trimesh refuses it)."""
-    start = view.get("byteOffset", 0) if isinstance(view, dict) else 0
-    length = view.get("byteLength", 0) if isinstance(view, dict) else 0
-    valid = all(isinstance(value, int) and not isinstance(value, bool) and value >= 0 for value in (start, length))
-    return (start, length) if valid else (0, 0)
-
-
-def _data_uri_bytes(uri: str) -> bytes | None:
-    """What a base64 data: URI holds; None for a file's URI or one that does not decode."""
-    if not uri.startswith("data:") or ";base64," not in uri[:200]:
-        return None
-    try:
-        return base64.b64decode(uri[uri.index(";base64,") + 8:])
-    except ValueError:
-        return None
+    return frozenset(_uris(document.get("images"))) - frozenset(_uris(document.get("buffers")))
 
 
 def _uris(items: object) -> Iterator[str]:
@@ -320,7 +249,7 @@ def _finish(path: Path, loaded: Any, data: bytes | None, beside: _FilesBeside | 
     """A file's Mesh; `data`, for a text format, lets a bad number be found by line; `beside` read what
     the file names beside it, and says what it could not read."""
     mesh = _mesh_of(path, path.stem, loaded, data, picture_formats=_PICTURE_FORMATS)
-    if beside is None or not (beside.tried or beside.failures):
+    if beside is None or not (beside.tried or beside.failures or beside.held_failures):
         return mesh
     return replace(mesh, warnings=(*beside.notes(), *mesh.warnings), read_beside=tuple(dict.fromkeys(beside.tried)))
 

@@ -15,10 +15,11 @@ them for OpenGL so that v = 0 is the bottom row.
 
 from __future__ import annotations
 
-import io
+import contextlib
 import re
+import threading
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import BinaryIO
 
@@ -30,9 +31,11 @@ from marraztu.loaders.files import read_file, read_head, shown
 
 # No texture a student uses comes near this; a header claiming more is broken or hostile.
 MAX_PIXELS = 64 * 1024 * 1024
-# A photo's header holds tens of segments (JFIF, EXIF, an ICC profile in 64 KB pieces, its tables).
-# Pillow keeps each APP segment it reads, about a hundred bytes for one of four.
-MAX_JPEG_SEGMENTS = 1024
+# A photo's header holds tens of markers (JFIF, EXIF, an ICC profile in 64 KB pieces, its tables), an
+# editor's PNG tens of chunks besides its pixels. Pillow keeps every segment and text or private chunk
+# it reads, in lists and dicts, some 33 bytes for each byte of a header of empty ones: a picture that
+# holds more than this many is refused before Pillow reads it.
+MAX_HEADER_PARTS = 4096
 _PPM_MAGICS = (b"P6", b"P3")
 # The formats read, by their first bytes.
 FORMATS_BY_MAGIC = {b"P6": "PPM", b"P3": "PPM", b"\x89PNG\r\n\x1a\n": "PNG", b"\xff\xd8\xff": "JPEG"}
@@ -233,27 +236,118 @@ def _through_table(samples: np.ndarray, table: np.ndarray) -> np.ndarray:
 # --------------------------------------------------------------------------------------------------
 
 
-def check_jpeg_segments(source: str | Path, stream: BinaryIO) -> None:
-    """Refuses a JPEG whose header, before its scan, holds more segments than any picture's. What is
-    not a segment ends the walk: Pillow says what is wrong with it."""
-    stream.seek(2)  # past the start-of-image marker
-    for _ in range(MAX_JPEG_SEGMENTS):
-        marker = stream.read(4)
-        if len(marker) < 4 or marker[0] != 0xFF or marker[1] in (0xDA, 0xFF):  # the scan; not a segment
-            return
-        stream.seek(int.from_bytes(marker[2:], "big") - 2, io.SEEK_CUR)
-    raise LoadError(source, f"more than {MAX_JPEG_SEGMENTS} segments before the picture: no JPEG's header holds "
-                            "so many")
+def check_picture_header(source: str | Path, data: bytes | memoryview) -> None:
+    """Refuses a JPEG or PNG whose header Pillow would keep at many times its size."""
+    kind = image_format(bytes(data[:_MAGIC_LENGTH]))
+    if kind == "JPEG" and _jpeg_header_steps(data) > MAX_HEADER_PARTS:
+        raise LoadError(source, f"more than {MAX_HEADER_PARTS} markers and stray bytes before the picture: no "
+                                "JPEG's header holds so many")
+    if kind == "PNG" and _png_extra_chunks(data) > MAX_HEADER_PARTS:
+        raise LoadError(source, f"more than {MAX_HEADER_PARTS} chunks besides its pixels: no PNG holds so many")
+
+
+def _jpeg_header_steps(data: bytes | memoryview) -> int:
+    """The markers and stray bytes Pillow reads before the scan, walked as its reader walks them (up to
+    one past the limit): it skips bytes that are not 0xFF, fill bytes and escaped 0xFF one at a time."""
+    from PIL.JpegImagePlugin import MARKER
+
+    view, at, steps = memoryview(data), 2, 0  # the first 0xFF after the start-of-image marker
+    while at + 1 < len(view) and steps <= MAX_HEADER_PARTS:
+        if view[at] != 0xFF:  # junk: to the next 0xFF, a step a byte
+            found = bytes(view[at:at + MAX_HEADER_PARTS + 1]).find(b"\xff")
+            steps, at = steps + (found if found >= 0 else MAX_HEADER_PARTS + 1), at + max(found, 1)
+            continue
+        marker, steps = (view[at] << 8) | view[at + 1], steps + 1
+        if marker in MARKER and MARKER[marker][2] is not None:  # a segment: its length follows
+            if marker == 0xFFDA or at + 4 > len(view):  # the scan: Pillow's header ends
+                break
+            at += 2 + ((view[at + 2] << 8) | view[at + 3])
+        elif marker in MARKER or marker == 0xFF00:  # a marker alone, or an escaped 0xFF
+            at += 2
+        elif marker == 0xFFFF:  # a fill byte
+            at += 1
+        else:  # Pillow says "no marker found"
+            break
+    return steps
+
+
+def _png_extra_chunks(data: bytes | memoryview) -> int:
+    """The chunks besides the pixels' (IDAT, fdAT) up to the end (up to one past the limit)."""
+    view, at, chunks = memoryview(data), 8, 0
+    while at + 8 <= len(view) and chunks <= MAX_HEADER_PARTS:
+        kind = bytes(view[at + 4:at + 8])
+        chunks += kind not in (b"IDAT", b"fdAT")
+        if kind == b"IEND":
+            break
+        at += 12 + int.from_bytes(view[at:at + 4], "big")
+    return chunks
+
+
+class _HeaderRefused(SyntaxError):
+    """A picture refused by check_picture_header inside Pillow: SyntaxError, so that Pillow goes on as it
+    does for a file not of that format, and its message noted where pictures_checked() asked."""
+
+
+_checked = threading.local()  # .refusals: the messages of the innermost pictures_checked() of this thread
+_installed: dict[str, tuple[Callable, Callable | None]] = {}  # Pillow's own openers while ours stand in
+_installed_by = [0]  # how many pictures_checked() blocks are open, in all threads
+_install_lock = threading.Lock()
+
+
+@contextlib.contextmanager
+def pictures_checked() -> Iterator[list[str]]:
+    """While the block runs, Pillow's JPEG and PNG openers check a picture's header first
+    (check_picture_header), wherever Pillow is asked to open one: by marraztu, or by trimesh for the
+    pictures a glTF holds. What they refused is listed (trimesh drops a picture it cannot open)."""
+    refusals: list[str] = []
+    outer, _checked.refusals = getattr(_checked, "refusals", None), refusals
+    with _install_lock:
+        if not _installed_by[0]:
+            Image.preinit()
+            for kind in ("JPEG", "PNG"):
+                factory, accept = Image.OPEN[kind]
+                _installed[kind] = (factory, accept)
+                Image.OPEN[kind] = (_checking(factory), accept)
+        _installed_by[0] += 1
+    try:
+        yield refusals
+    finally:
+        with _install_lock:
+            _installed_by[0] -= 1
+            if not _installed_by[0]:
+                Image.OPEN.update(_installed)
+                _installed.clear()
+        _checked.refusals = outer
+
+
+def _checking(factory: Callable) -> Callable:
+    def open_checked(fp: BinaryIO, filename: str | bytes | None = None) -> Image.Image:
+        start = fp.tell()
+        data = fp.read()
+        fp.seek(start)
+        try:
+            check_picture_header("picture", data)
+        except LoadError as error:
+            if getattr(_checked, "refusals", None) is not None:
+                _checked.refusals.append(error.message)
+            raise _HeaderRefused(error.message) from None
+        finally:
+            del data
+        return factory(fp, filename)
+    return open_checked
 
 
 def _load_with_pillow(file: Path, kind: str) -> np.ndarray:
-    if kind == "JPEG":
-        with file.open("rb") as stream:
-            check_jpeg_segments(file, stream)
     try:
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), pictures_checked() as refusals:
             warnings.simplefilter("error", Image.DecompressionBombWarning)
-            with Image.open(file, formats=[kind]) as image:
+            try:
+                image = Image.open(file, formats=[kind])
+            except Image.UnidentifiedImageError:
+                if refusals:
+                    raise LoadError(file, refusals[0]) from None
+                raise
+            with image:
                 width, height = image.size
                 if width * height > MAX_PIXELS:
                     raise LoadError(file, f"image size {width}x{height} is too large (at most {MAX_PIXELS} pixels)")

@@ -208,7 +208,8 @@ class _SceneReader:
     def _refuse_long_numbers(self) -> None:
         found = _LONG_DIGIT_RUN.search(self.text)
         if found is not None:
-            self.fail(f"more than {MAX_DIGIT_RUN} digits in a row: no number of a scene is so long",
+            self.fail(f"more than {MAX_DIGIT_RUN} digits in a row (in a number, a string or a comment): no scene "
+                      "holds so many",
                       _line_of(self.text, found.start()))
 
     def _parse(self) -> dict:
