@@ -179,6 +179,15 @@ def test_a_jpeg_header_of_a_million_segments_is_refused_before_pillow_keeps_them
     assert load_image(path).shape == (8, 8, 3)
 
 
+def test_a_jpeg_cut_off_in_stray_bytes_is_pillows_to_refuse(tmp_path: Path) -> None:
+    """Stray bytes up to the end are counted as far as they go, not as a run past the limit."""
+    path = tmp_path / "cut.jpg"
+    path.write_bytes(b"\xff\xd8\xff\xe0\x00\x04ab" + b"\x00" * 100)
+    with pytest.raises(LoadError) as refused:
+        load_image(path)
+    assert "markers and stray bytes" not in refused.value.message and "not a readable image" in refused.value.message
+
+
 @pytest.mark.parametrize("kind", [b"tEXt", b"iTXt", b"prVt"])
 def test_a_png_of_a_million_text_or_private_chunks_is_refused_before_pillow_keeps_them(tmp_path: Path,
                                                                                      kind: bytes) -> None:

@@ -254,8 +254,9 @@ def _jpeg_header_steps(data: bytes | memoryview) -> int:
     view, at, steps = memoryview(data), 2, 0  # the first 0xFF after the start-of-image marker
     while at + 1 < len(view) and steps <= MAX_HEADER_PARTS:
         if view[at] != 0xFF:  # junk: to the next 0xFF, a step a byte
-            found = bytes(view[at:at + MAX_HEADER_PARTS + 1]).find(b"\xff")
-            steps, at = steps + (found if found >= 0 else MAX_HEADER_PARTS + 1), at + max(found, 1)
+            window = bytes(view[at:at + MAX_HEADER_PARTS + 1])
+            found = window.find(b"\xff")
+            steps, at = steps + (found if found >= 0 else len(window)), at + (found if found >= 0 else len(window))
             continue
         marker, steps = (view[at] << 8) | view[at + 1], steps + 1
         if marker in MARKER and MARKER[marker][2] is not None:  # a segment: its length follows
