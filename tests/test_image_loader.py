@@ -157,16 +157,19 @@ def test_a_jpeg_with_exif_a_comment_and_a_large_colour_profile_loads(tmp_path: P
     assert load_image(path).shape == (8, 16, 3)
 
 
-@pytest.mark.parametrize("stray", [b"", b"\xff", b"\x00", b"\xff\x00"])
-def test_a_jpeg_header_of_a_million_segments_is_refused_before_pillow_keeps_them(tmp_path: Path,
-                                                                                stray: bytes) -> None:
+@pytest.mark.parametrize(("stray", "segment"), [(b"", b"\xff\xef\x00\x02"), (b"\xff", b"\xff\xef\x00\x02"),
+                                               (b"\x00", b"\xff\xef\x00\x02"), (b"\xff\x00", b"\xff\xef\x00\x02"),
+                                               (b"", b"\xff\xef\x00\x00")])
+def test_a_jpeg_header_of_a_million_segments_is_refused_before_pillow_keeps_them(tmp_path: Path, stray: bytes,
+                                                                                segment: bytes) -> None:
     """Pillow kept every empty APP segment in a list, about 33 bytes for each byte of the file; a fill
-    byte, a stray byte or an escaped 0xFF, which Pillow skips, must not end the walk before them."""
+    byte, a stray byte or an escaped 0xFF, which Pillow skips, must not end the walk before them, nor a
+    segment whose length is less than its own two bytes, which Pillow reads as empty."""
     plain = tmp_path / "plain.jpg"
     Image.new("RGB", (8, 8), (200, 30, 30)).save(plain, "JPEG")
     data = plain.read_bytes()
     path = tmp_path / "many.jpg"
-    path.write_bytes(data[:2] + b"\xff\xef\x00\x02" + stray + b"\xff\xef\x00\x02" * 1_000_000 + data[2:])
+    path.write_bytes(data[:2] + b"\xff\xef\x00\x02" + stray + segment * 1_000_000 + data[2:])
     tracemalloc.start()
     try:
         with pytest.raises(LoadError, match="more than 4096 markers and stray bytes before the picture"):
@@ -175,7 +178,7 @@ def test_a_jpeg_header_of_a_million_segments_is_refused_before_pillow_keeps_them
     finally:
         tracemalloc.stop()
     assert peak < 3 * path.stat().st_size, peak  # the file read once to walk it
-    path.write_bytes(data[:2] + b"\xff\xef\x00\x02" + stray + b"\xff\xef\x00\x02" * 4000 + data[2:])
+    path.write_bytes(data[:2] + b"\xff\xef\x00\x02" + stray + segment * 4000 + data[2:])
     assert load_image(path).shape == (8, 8, 3)
 
 

@@ -262,7 +262,7 @@ def _jpeg_header_steps(data: bytes | memoryview) -> int:
         if marker in MARKER and MARKER[marker][2] is not None:  # a segment: its length follows
             if marker == 0xFFDA or at + 4 > len(view):  # the scan: Pillow's header ends
                 break
-            at += 2 + ((view[at + 2] << 8) | view[at + 3])
+            at += 2 + max((view[at + 2] << 8) | view[at + 3], 2)  # Pillow reads no less than the length's own
         elif marker in MARKER or marker == 0xFF00:  # a marker alone, or an escaped 0xFF
             at += 2
         elif marker == 0xFFFF:  # a fill byte
