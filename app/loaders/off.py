@@ -18,7 +18,7 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import read_model_bytes, text_lines
-from marraztu.loaders.words import WordBlocks, checked_coordinates, checked_indices, is_count
+from marraztu.loaders.words import WordBlocks, checked_coordinates, checked_indices, is_count, said_count
 from marraztu.model.build import by_largest, colour_bytes, derive_mesh
 from marraztu.model.mesh import Mesh
 
@@ -154,8 +154,8 @@ def _vertex_rows(path: Path, rows: _Rows, count: int, layout: _Layout
     for number, words in _taken(path, rows, count, "vertices", _MOST_VERTEX_WORDS):
         if len(words) not in sizes:
             wanted = " or ".join(map(str, sizes))
-            held = len(words) if len(words) <= _MOST_VERTEX_WORDS else f"more than {_MOST_VERTEX_WORDS}"
-            raise LoadError(path, f"a vertex row holds {wanted} numbers here, this one {held}", line=number)
+            raise LoadError(path, f"a vertex row holds {wanted} numbers here, this one "
+                                  f"{said_count(words, _MOST_VERTEX_WORDS)}", line=number)
         if width and len(words) != width:
             raise LoadError(path, f"a vertex row holds {width} numbers here, as the first one does; this one "
                                   f"{len(words)}", line=number)
@@ -182,9 +182,8 @@ def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.n
                             line=number)
         words = rest[0].split(None, size + most) if rest else []  # its corners and a colour: never more words
         if len(words) - size not in _FACE_COLOUR_WORDS:
-            held = len(words) if len(words) <= size + most else f"more than {size + most}"
-            raise LoadError(path, f"a face of {size} corners, this line holds {held} numbers after its count",
-                            line=number)
+            raise LoadError(path, f"a face of {size} corners, this line holds {said_count(words, size + most)} "
+                                  "numbers after its count", line=number)
         corners.add(words[:size], number)
     corner_vertex = corners.values()
     return corner_vertex, np.concatenate(([0], np.cumsum(corners.row_sizes())))

@@ -85,6 +85,12 @@ _LONG_DOTTED_RUN = re.compile(rf"(?<![A-Za-z0-9_\\-]){_KEY_PART}(?:{_NEXT_PART})
 # stands. Each run is tried once, from its start: never again from each of its digits.
 MAX_DIGIT_RUN = 4300  # Python's default limit on the digits of an integer it reads
 _LONG_DIGIT_RUN = re.compile(rf"(?<![0-9A-Fa-f_])[0-9A-Fa-f](?:_?+[0-9A-Fa-f]){{{MAX_DIGIT_RUN},}}+")
+_LONG_RUNS = (
+    (_LONG_DOTTED_RUN, f"more than {MAX_KEY_PARTS} words joined by dots: a key of so many parts (a scene's deepest, "
+                       "materials.NAME.kd, has 3)"),
+    (_LONG_DIGIT_RUN, f"more than {MAX_DIGIT_RUN} digits in a row (in a number, a string or a comment): no scene "
+                      "holds so many"),
+)
 
 
 @dataclass(frozen=True)
@@ -182,8 +188,7 @@ class _SceneReader:
     def __init__(self, path: Path) -> None:
         self.path = path
         self.text = self._read_text()
-        self._refuse_long_keys()
-        self._refuse_long_numbers()
+        self._refuse_long_runs()
         self.document = self._parse()
         self.lines = _LineIndex.of(self.text)
 
@@ -197,20 +202,13 @@ class _SceneReader:
         except UnicodeDecodeError:
             self.fail("not a TOML scene file (not UTF-8 text)")
 
-    def _refuse_long_keys(self) -> None:
-        """Any run of words joined by dots longer than a key may be, wherever tomllib would read it as
-        one (a line's key, a header, an inline table); in a string or a comment too, where no scene has one."""
-        found = _LONG_DOTTED_RUN.search(self.text)
-        if found is not None:
-            self.fail(f"more than {MAX_KEY_PARTS} words joined by dots: a key of so many parts (a scene's "
-                      "deepest, materials.NAME.kd, has 3)", _line_of(self.text, found.start()))
-
-    def _refuse_long_numbers(self) -> None:
-        found = _LONG_DIGIT_RUN.search(self.text)
-        if found is not None:
-            self.fail(f"more than {MAX_DIGIT_RUN} digits in a row (in a number, a string or a comment): no scene "
-                      "holds so many",
-                      _line_of(self.text, found.start()))
+    def _refuse_long_runs(self) -> None:
+        """Any run longer than tomllib reads in proportion to it, wherever tomllib would read it (a key, a
+        header, an inline table, a number); in a string or a comment too, where no scene has one."""
+        for run, said in _LONG_RUNS:
+            found = run.search(self.text)
+            if found is not None:
+                self.fail(said, _line_of(self.text, found.start()))
 
     def _parse(self) -> dict:
         try:

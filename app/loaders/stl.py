@@ -17,7 +17,7 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import line_at, read_model_bytes, text_lines
-from marraztu.loaders.words import WordBlocks, checked_coordinates, unheld_coordinate
+from marraztu.loaders.words import WordBlocks, checked_coordinates, said_count, unheld_coordinate
 from marraztu.model.build import derive_mesh
 from marraztu.model.geometry import holds_in_float32, merged_rows
 from marraztu.model.mesh import INDEX, Mesh
@@ -107,7 +107,7 @@ def _ascii_corners(path: Path, data: bytes) -> np.ndarray:
     state, step, number, solid_line = _OUTSIDE, _NEXT, 0, 0
     corners = WordBlocks(path, checked_coordinates)
     for number, line in enumerate(text_lines(data), start=1):
-        words = line.split(None, 5)  # bounded: a line of millions of words is not made a list of them
+        words = line.split(None, 6)  # bounded: a line of millions of words is not made a list of them
         if not words:
             continue
         keyword = words[0]
@@ -119,7 +119,8 @@ def _ascii_corners(path: Path, data: bytes) -> np.ndarray:
                 raise _unexpected(path, state, keyword, number)
         if keyword == "vertex":
             if len(words) != 4:
-                raise LoadError(path, f"a vertex line holds 3 numbers, this one {_numbers_after(words)}", line=number)
+                raise LoadError(path, f"a vertex line holds 3 numbers, this one {said_count(words[1:], 5)}",
+                                line=number)
             corners.add(words[1:], number)
         elif keyword == "solid":
             solid_line = number
@@ -129,11 +130,6 @@ def _ascii_corners(path: Path, data: bytes) -> np.ndarray:
     if state != _OUTSIDE:
         raise LoadError(path, "the file ends inside a facet", line=number)
     return corners.values().reshape(-1, 3)
-
-
-def _numbers_after(words: list[str]) -> str:
-    """How many words follow a line's keyword, of at most six split off: exactly, up to five."""
-    return str(len(words) - 1) if len(words) < 6 or len(words[5].split(None, 1)) == 1 else "more than 5"
 
 
 def _unexpected(path: Path, state: int, keyword: str, line: int) -> LoadError:

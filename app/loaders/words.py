@@ -93,6 +93,11 @@ def checked_indices(path: Path, words: list[str], line_of: LineOf, vertices: int
     return values
 
 
+def said_count(words: list[str], most: int) -> str:
+    """How many words a line held, from its split into at most `most` + 1: exactly, up to `most`."""
+    return str(len(words)) if len(words) <= most else f"more than {most}"
+
+
 def is_count(word: str) -> bool:
     """A header's count: ASCII digits ('٣'.isdigit() too is true), no more than MAX_COUNT_DIGITS."""
     return len(word) <= MAX_COUNT_DIGITS and _COUNT.fullmatch(word) is not None

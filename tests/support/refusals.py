@@ -1,0 +1,17 @@
+"""The error a person sees of a reader's refusal: a LoadError, in one line."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import pytest
+
+from marraztu.errors import LoadError
+
+
+def one_line_refusal(read: Callable[[], object]) -> LoadError:
+    """The LoadError `read` raises, checked to be one line."""
+    with pytest.raises(LoadError) as refused:
+        read()
+    assert "\n" not in str(refused.value)
+    return refused.value
