@@ -46,10 +46,21 @@ def picture(tmp_path: Path, model: Path, keys: str = "", name: str = "shot.png",
     TRIANGLES + "usemtl b\n" + "f 1 2 3\nusemtl a\n" * 500,
     "g x\r\nusemtl a # a comment\r\n" + TRIANGLES.replace("\n", "\r\n"),
     "usemtl a\nusemtl b\n" + TRIANGLES + "usemtl c\ng y\nusemtl d\nf 1 2 3\nusemtl e\n",  # runs that take no face
+    TRIANGLES + "usemtl a\nf 1 2 3\n" * 300 + "usemtl  a\nf 1 2 3\nusemtl b\nusemtl a\nf 1 2 3\n",  # one run
+    TRIANGLES + "usemtl a\nf 1 2 3\nusemtl b\nf 1 2 3\n" * 300,  # a run per face
 ])
 def test_both_readers_find_the_same_material_runs(text: str) -> None:
     data = text.encode()
-    assert read_fast(data, "m.obj").material_runs == read_by_lines(data, "m.obj").material_runs
+    runs = read_fast(data, "m.obj").material_runs.as_pairs()
+    assert runs == read_by_lines(data, "m.obj").material_runs.as_pairs()
+    assert all(before[1] != after[1] for before, after in zip(runs, runs[1:]))  # a name goes on with its run
+
+
+def test_a_usemtl_naming_the_material_in_use_goes_on_with_its_run() -> None:
+    data = (TRIANGLES + "usemtl a\nf 1 2 3\nusemtl a\nf 1 2 3\nusemtl b\nusemtl a\nf 1 2 3\n"
+            "usemtl b\nf 1 2 3\n").encode()
+    for read in (read_fast, read_by_lines):
+        assert read(data, "m.obj").material_runs.as_pairs() == [(1, "a"), (4, "b")]
 
 
 def test_each_usemtl_group_gets_its_own_material(tmp_path: Path) -> None:

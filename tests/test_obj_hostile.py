@@ -123,10 +123,12 @@ def test_a_text_edit_costs_one_copy_not_several(tmp_path: Path, edit: str) -> No
     assert edited_peak < plain_peak + len(TEXT) // 4, (plain_peak, edited_peak, len(TEXT))
 
 
-@pytest.mark.parametrize("statement", [b"g\n", b"o part\n", b"s 1\n", b"usemtl a\n", b"usemtl a\nusemtl b\n"])
+@pytest.mark.parametrize("statement", [b"g\n", b"o part\n", b"s 1\n", b"usemtl a\n", b"usemtl a\nusemtl b\n",
+                                       b"mtllib a.mtl\n"])
 def test_statements_that_take_no_face_cost_no_memory(plain_peak: int, statement: bytes) -> None:
-    """g, o and s are only counted, and a usemtl no face follows is replaced by the next: a file of
-    them holds nothing per line (each was an 80-byte record, and a run per usemtl)."""
+    """g, o and s are only counted, a usemtl no face follows is replaced by the next, and mtllib lines
+    past the first 16 are not read: a file of them holds nothing per line (each was an 80-byte record,
+    and a run per usemtl)."""
     outcome, lines, peak = load_counting(TEXT + statement * (len(TEXT) // len(statement)))
     assert isinstance(outcome, Mesh) and outcome.face_count == 2 * 119 * 119
     assert lines == 0
@@ -134,16 +136,38 @@ def test_statements_that_take_no_face_cost_no_memory(plain_peak: int, statement:
 
 
 def test_records_are_never_copied_to_make_room(monkeypatch: pytest.MonkeyPatch) -> None:
-    """A piece's records grow by chunks, each kept as it is: at most twice the records are held (and
-    4096 of them as Python lists while they are settled), where doubling one table held three times
-    them while it was copied, four times in all. One piece, so the count is exact."""
+    """A piece's records grow by chunks, each kept as it is, and the deferred lines among them are read
+    as each chunk comes and then dropped: the largest chunk is the most held at once, where doubling
+    one table held three times them while it was copied. One piece, so the count is exact."""
     monkeypatch.setattr(fast_reader, "MIN_PIECE_BYTES", 1 << 30)
     parse_obj(QUAD, "warm.obj")  # the compiled reader's code loaded (or compiled) before anything is weighed
     deferred = 16 * 2**12 + 1  # one record past a doubling: the worst case for a table that doubles
-    outcome, lines, peak = load_counting(QUAD + b"f\n" * deferred)
-    assert (error_of(outcome).line, lines) == (6, 1)
+    outcome, lines, peak = load_counting(QUAD + b"v 1e-30 0 0\n" * deferred)  # an exponent the line reader reads
+    assert isinstance(outcome, Mesh) and lines == deferred
+    same, _, read_peak = load_counting(QUAD + b"v 1e-3 0 0\n" * deferred)  # the compiled pass reads these
     record_bytes = fast_reader.scan.RECORD_COLUMNS * 4  # int32: a text under 2 GiB
-    assert peak < 3 * deferred * record_bytes, (peak, deferred * record_bytes)
+    assert peak - read_peak < deferred * record_bytes, (peak, read_peak, deferred * record_bytes)
+
+
+def test_a_file_of_bad_lines_holds_the_records_before_the_first() -> None:
+    """Each piece's deferred lines are read as its records come, so a bad one ends the piece: a file of
+    millions of faces without corners holds a few chunks of records, not 40 bytes for each 2-byte
+    line (20 times the file). What is left is the face table pass one counted, 4 bytes a face."""
+    data = QUAD + b"f\n" * (len(TEXT) // 2)
+    outcome, lines, peak = load_counting(data)
+    assert error_of(outcome).line == 6
+    assert peak < 3 * len(data), (peak, len(data))
+
+
+def test_a_usemtl_before_every_face_is_one_run(plain_peak: int) -> None:
+    """A usemtl naming the material the faces before it use is not recorded (the compiled pass compares
+    it with the piece's last one) and goes on with their run (raw.MaterialRuns)."""
+    faces = TEXT[TEXT.index(b"\nf ") + 1:]
+    data = TEXT[:len(TEXT) - len(faces)] + faces.replace(b"\nf ", b"\nusemtl a\nf ")
+    outcome, lines, peak = load_counting(data)
+    assert isinstance(outcome, Mesh) and outcome.face_count == 2 * 119 * 119 and lines == 0
+    assert peak < plain_peak + len(TEXT) // 8, (plain_peak, peak)
+    assert fast_reader.read_fast(data, "runs.obj").material_runs.as_pairs() == [(1, "a")]
 
 
 @pytest.mark.parametrize("comment", [b"# colour 255 0 0\n", b"# the colour is red\n", b"#color\n"])

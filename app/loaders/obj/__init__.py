@@ -25,7 +25,7 @@ import numpy as np
 from marraztu.errors import LoadError
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.mtl import read_libraries
-from marraztu.loaders.obj.raw import RawObj
+from marraztu.loaders.obj.raw import MaterialRuns, RawObj
 from marraztu.loaders.obj.text import as_bytes, checked, ended, has_continuations, read_text
 from marraztu.model.build import by_largest, colour_bytes, derive_mesh
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, counted
@@ -67,7 +67,8 @@ def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
     library: list[MeshMaterial] = []
     tried: list[Path] = []
     if raw.mtllib and base_dir is not None:
-        library = read_libraries(base_dir, raw.mtllib, notes, {name for _, name in raw.material_runs}, tried)
+        runs = raw.material_runs
+        library = read_libraries(base_dir, raw.mtllib, notes, {runs.names[n] for n in runs.used_numbers()}, tried)
     uv = None if raw.corner_texcoord is None else (raw.texcoords, raw.corner_texcoord)
     normals = None if raw.corner_normal is None else (raw.normals, raw.corner_normal)
     first = (library[0].values or None) if library else None  # the whole model's, where no usemtl says
@@ -107,28 +108,29 @@ def _drawn_vertex_colours(table: np.ndarray | None) -> tuple[np.ndarray | None, 
     return colours, notes
 
 
-def _face_materials(runs: list[tuple[int, str]], library: list[MeshMaterial], faces: int
+def _face_materials(runs: MaterialRuns, library: list[MeshMaterial], faces: int
                     ) -> tuple[tuple[MeshMaterial, ...], np.ndarray, list[str], int]:
     """The materials the faces use, each once, and per face its index among them (-1: before any
     usemtl, a name the library lacks, or a material past MAX_MATERIALS); the names it lacks; how many
     materials past MAX_MATERIALS."""
     by_name = {material.name: material for material in reversed(library)}  # the first of a name wins
     used: dict[str, int] = {}
-    unknown: set[str] = set()
-    beyond: set[str] = set()
-    run_index = np.empty(len(runs), np.int32)
-    for at, (_, name) in enumerate(runs):
-        if name not in by_name or (name not in used and len(used) >= MAX_MATERIALS):
-            (unknown if name not in by_name else beyond).add(name)
-            run_index[at] = -1
-            continue
-        run_index[at] = used.setdefault(name, len(used))
-    starts = np.array([face for face, _ in runs], dtype=np.int64)
+    unknown: list[str] = []  # in file order
+    beyond = 0
+    index_of_number = np.full(len(runs.names), -1, np.int32)
+    for number in runs.used_numbers().tolist():  # each name once, in the order of its first run
+        name = runs.names[number]
+        if name not in by_name:
+            unknown.append(name)
+        elif len(used) >= MAX_MATERIALS:
+            beyond += 1
+        else:
+            index_of_number[number] = used.setdefault(name, len(used))
+    starts = np.frombuffer(runs.starts, np.int64)
     lengths = np.diff(np.append(starts, faces))
     face_material = np.full(faces, -1, np.int32)
-    face_material[int(starts[0]):] = np.repeat(run_index, lengths)
-    lacking = list(dict.fromkeys(name for _, name in runs if name in unknown))  # in file order
-    return tuple(by_name[name] for name in used), face_material, lacking, len(beyond)
+    face_material[int(starts[0]):] = np.repeat(index_of_number[np.frombuffer(runs.name_numbers, np.int64)], lengths)
+    return tuple(by_name[name] for name in used), face_material, unknown, beyond
 
 
 # The compiled reader's first use in a process imports numba and loads its machine code, about a

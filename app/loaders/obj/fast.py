@@ -4,9 +4,10 @@ The text is cut into pieces at line ends. Pass one counts each piece's rows, fac
 and a word scan says whether the text needs the text checks (text.py), which most files (pure
 ASCII, LF line ends) do not; the tables are then made at their final sizes, and pass two writes
 every piece into them at its own offsets. What the compiled code does not read itself comes back
-as records, in file order: the line reader (lines.py) reads each listed v, vt, vn or f line, giving
-its values or its error, so every message is the line reader's; other statements and colour
-comments are read here.
+as records, in file order: the line reader (lines.py) reads each listed v, vt, vn or f line in its
+piece's thread as the records come, giving its values or its error, so every message is the line
+reader's and a bad line ends its piece; other statements and colour comments are read here, in file
+order, once every piece is read.
 """
 
 from __future__ import annotations
@@ -87,11 +88,14 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
     tables = [np.empty((int(total[kind]), width)) for kind, width in zip((scan.V, scan.VT, scan.VN), _WIDTHS)]
     columns = [np.empty(int(total[scan.CORNERS]), INDEX) for _ in range(3)]
     face_start = np.zeros(int(total[scan.F]) + 1, INDEX)
-    records = each(lambda at: _read_piece(buf, pieces[at], before[at], tables, columns, face_start),
-                   list(range(len(pieces))), PARSE_THREADS)
-    outcome = _Records(buf, source, tables, columns, face_start)
-    for piece in records:
-        for chunk in piece:
+    # The first bad line, in the pieces' order, is raised here: each piece stops at its own.
+    read = each(lambda at: _read_piece(buf, pieces[at], before[at], _DeferredLines(source, buf, tables, columns),
+                                       face_start),
+                list(range(len(pieces))), PARSE_THREADS)
+    outcome = _Records(buf)
+    for chunks, deferred in read:
+        outcome.take_colours(deferred)
+        for chunk in chunks:
             outcome.settle(chunk)
     if total[scan.F] == 0:
         raise no_faces_error(source, outcome.statements > 0 or bool(total[[scan.V, scan.VT, scan.VN]].any()))
@@ -109,10 +113,12 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
                       list(outcome.colour.notes), outcome.material_runs, colours)
 
 
-def _read_piece(buf: np.ndarray, piece: tuple[int, int], before: np.ndarray, tables: list[np.ndarray],
-                columns: list[np.ndarray], face_start: np.ndarray) -> list[np.ndarray]:
+def _read_piece(buf: np.ndarray, piece: tuple[int, int], before: np.ndarray, deferred: _DeferredLines,
+                face_start: np.ndarray) -> tuple[list[np.ndarray], _DeferredLines]:
     """Pass two over a piece; its records, in file order, in chunks of doubling size: a full chunk is
-    kept as it is and the next one given, so that no record is copied to make room."""
+    kept as it is and the next one given, so that no record is copied to make room. The line reader
+    reads each chunk's deferred lines as it comes, so a bad one ends the piece: a file of millions
+    of bad lines holds a few records, not one per line."""
     state = np.zeros(scan.STATE_COLUMNS, np.int64)
     state[:scan.COUNT_COLUMNS] = before
     state[scan.LINES] += 1  # line numbers start at 1
@@ -124,10 +130,10 @@ def _read_piece(buf: np.ndarray, piece: tuple[int, int], before: np.ndarray, tab
     while True:
         records = np.empty((rows, scan.RECORD_COLUMNS), record_type)
         state[scan.S_USED] = 0
-        scan.read_piece(buf, piece[1], state, records, *tables, *columns, face_start)
-        chunks.append(records[:state[scan.S_USED]])
+        scan.read_piece(buf, piece[1], state, records, *deferred.tables, *deferred.columns, face_start)
+        chunks.append(deferred.read(records[:state[scan.S_USED]], face_start))
         if state[scan.S_AT] >= piece[1]:
-            return chunks
+            return chunks, deferred
         rows *= 2
 
 
@@ -156,19 +162,64 @@ def _pieces(buf: np.ndarray, count: int) -> list[tuple[int, int]]:
 _SETTLED_AT_ONCE = 4096
 
 
-class _Records:
-    """Settles the records of pass two in file order: the first bad line raises its LoadError."""
+class _DeferredLines:
+    """Reads the v, vt, vn and f lines a piece's compiled pass left to the line reader, into the
+    whole file's tables at the rows its records give: their values, or their LoadError."""
 
-    def __init__(self, buf: np.ndarray, source: str, tables: list[np.ndarray], columns: list[np.ndarray],
-                 face_start: np.ndarray) -> None:
-        self.buf, self.source, self.tables, self.columns, self.face_start = buf, source, tables, columns, face_start
+    def __init__(self, source: str, buf: np.ndarray, tables: list[np.ndarray], columns: list[np.ndarray]) -> None:
+        self.source, self.buf, self.tables, self.columns = source, buf, tables, columns
+        self.coloured = False  # some v line the line reader read gives a colour after its position
+        # The colours of those v lines: their rows, and three numbers each.
+        self.colour_rows, self.colour_values = array("q"), array("d")
+
+    def read(self, records: np.ndarray, face_start: np.ndarray) -> np.ndarray:
+        """Reads the deferred lines among `records`; the others, left for _Records to settle."""
+        deferred = records[:, scan.R_KIND] == scan.DEFERRED
+        if not deferred.any():
+            return records
+        lines = records[deferred]
+        for first in range(0, lines.shape[0], _SETTLED_AT_ONCE):  # as Python ints a few at a time: ten each
+            for record in lines[first:first + _SETTLED_AT_ONCE].tolist():
+                self.read_line(record, face_start)
+        return records[~deferred]
+
+    def read_line(self, record: list[int], face_start: np.ndarray) -> None:
+        reader = LineReader(self.source)
+        reader.defined = [record[scan.R_V], record[scan.R_VT], record[scan.R_VN]]
+        reader.read_line(record[scan.R_LINE], self.buf[record[scan.R_START]:record[scan.R_END]].tobytes())
+        if reader.coloured_rows:
+            self.colour_rows.extend(reader.coloured_rows)
+            self.colour_values.extend(reader.colour_values)
+            self.coloured = True
+        kind = record[scan.R_KEYWORD]
+        if kind == scan.F:
+            # Its slots end where pass two ended the face; they start where the record says, not where
+            # face_start does: another piece, on another thread, writes the face's first entry.
+            corner, corners = record[scan.R_CORNER], len(reader.corners[0])
+            if corner + corners != face_start[record[scan.R_FACE] + 1]:
+                raise RuntimeError("the line reader read other corners than pass one counted")
+            for column, values in zip(self.columns, reader.corner_columns()):
+                column[corner:corner + corners] = values
+        else:
+            self.tables[kind][record[scan.R_V + kind]] = reader.tables[kind]
+
+
+class _Records:
+    """Settles the statements and comments of pass two in file order (every deferred line is read)."""
+
+    def __init__(self, buf: np.ndarray) -> None:
+        self.buf = buf
         self.mtllib: tuple[str, ...] = ()
-        self.material_runs: list[tuple[int, str]] = []
+        self.material_runs = raw.MaterialRuns()
         self.colour = raw.ColourComment()
         self.statements = 0
         self.coloured = False  # some v line gives a colour after its position
-        # The colours of the v lines the line reader read: their rows, and three numbers each.
         self.colour_rows, self.colour_values = array("q"), array("d")
+
+    def take_colours(self, deferred: _DeferredLines) -> None:
+        self.coloured |= deferred.coloured
+        self.colour_rows.extend(deferred.colour_rows)
+        self.colour_values.extend(deferred.colour_values)
 
     def settle(self, records: np.ndarray) -> None:
         for first in range(0, records.shape[0], _SETTLED_AT_ONCE):  # as Python ints a few at a time: ten each
@@ -177,42 +228,16 @@ class _Records:
     def _settle(self, records: list[list[int]]) -> None:
         for record in records:
             content = self.buf[record[scan.R_START]:record[scan.R_END]].tobytes()
-            if record[scan.R_KIND] == scan.DEFERRED:
-                self.read_line(record, content)
-            elif record[scan.R_KIND] == scan.STATEMENT:
-                self.statement(record[scan.R_FACE], content)
+            if record[scan.R_KIND] == scan.STATEMENT:
+                self.statement(record[scan.R_KEYWORD], record[scan.R_FACE], content)
             elif record[scan.R_KIND] == scan.VERTEX_COLOURS:
                 self.coloured = True
             else:
                 self.colour.offer(record[scan.R_LINE], content)
 
-    def slots(self, record: list[int]) -> int:
-        face = record[scan.R_FACE]
-        return int(self.face_start[face + 1] - self.face_start[face])
-
-    def statement(self, faces_before: int, content: bytes) -> None:
-        keyword, rest = raw.statement(content)
+    def statement(self, kind: int, faces_before: int, content: bytes) -> None:
         self.statements += 1
-        if keyword == b"mtllib":
-            self.mtllib = raw.with_library(self.mtllib, rest)
-        elif keyword == b"usemtl":
-            raw.add_material_run(self.material_runs, faces_before, raw.material_name(rest))
-
-    def read_line(self, record: list[int], content: bytes) -> None:
-        """A v, vt, vn or f line the compiled code left to the line reader: its row or corners, or its error."""
-        reader = LineReader(self.source)
-        reader.defined = [record[scan.R_V], record[scan.R_VT], record[scan.R_VN]]
-        reader.read_line(record[scan.R_LINE], content)  # raises the line's LoadError
-        if reader.coloured_rows:
-            self.colour_rows.extend(reader.coloured_rows)
-            self.colour_values.extend(reader.colour_values)
-            self.coloured = True
-        kind = record[scan.R_KEYWORD]
-        if kind == scan.F:
-            corner, corners = record[scan.R_CORNER], len(reader.corners[0])
-            if corners != self.slots(record):
-                raise RuntimeError("the line reader read other corners than pass one counted")
-            for column, read in zip(self.columns, reader.corner_columns()):
-                column[corner:corner + corners] = read
-        else:
-            self.tables[kind][record[scan.R_V + kind]] = reader.tables[kind]
+        if kind == scan.MTLLIB_KEYWORD:
+            self.mtllib = raw.with_library(self.mtllib, raw.statement(content)[1])
+        elif kind == scan.USEMTL_KEYWORD:
+            self.material_runs.add_line(faces_before, content)

@@ -23,8 +23,8 @@ from marraztu.loaders.obj.raw import (
     CORNER_GAPS,
     MAX_DIGITS,
     ColourComment,
+    MaterialRuns,
     RawObj,
-    add_material_run,
     material_name,
     put_colours,
     statement,
@@ -92,7 +92,7 @@ class LineReader:
         self.mtllib: tuple[str, ...] = ()
         self.coloured_rows = array("q")  # the position rows whose v line gives a colour after x y z
         self.colour_values = array("d")  # and its three numbers each
-        self.material_runs: list[tuple[int, str]] = []
+        self.material_runs = MaterialRuns()
         self.colour = ColourComment()
         self.statements = 0
 
@@ -141,7 +141,7 @@ class LineReader:
         elif keyword == b"mtllib":
             self.mtllib = with_library(self.mtllib, rest)
         elif keyword == b"usemtl":
-            add_material_run(self.material_runs, len(self.face_sizes), material_name(rest))
+            self.material_runs.add(len(self.face_sizes), material_name(rest))
 
     def numbers(self, number: int, keyword: bytes, rest: bytes) -> list[float]:
         if _PLAIN_ROWS[keyword].fullmatch(rest):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from array import array
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -30,8 +31,7 @@ class RawObj:
     mtllib: tuple[str, ...]  # each mtllib line's names, at most MAX_LIBRARY_LINES of them
     colour: tuple[float, float, float] | None  # the seed reader's "# colour r g b", in 0..1
     notes: list[str]
-    # (first face, material name) of every `usemtl`, in file order: the faces up to the next one use it.
-    material_runs: list[tuple[int, str]] = field(default_factory=list)
+    material_runs: MaterialRuns = field(default_factory=lambda: MaterialRuns())
     # (V, 3) float64: the colour each `v x y z r g b` line gives (NaN where its line gives none); None:
     # no v line gives one.
     vertex_colours: np.ndarray | None = None
@@ -93,19 +93,57 @@ def statement(content: bytes) -> tuple[bytes, bytes]:
     return parts[0], parts[1].strip() if len(parts) > 1 else b""
 
 
-def add_material_run(runs: list[tuple[int, str]], faces_before: int, name: str) -> None:
-    """A usemtl: its faces start at `faces_before`. One that another follows before any face takes no
-    face, so the later replaces it: a file of usemtl lines holds one run, not one per line."""
-    if runs and runs[-1][0] == faces_before:
-        runs[-1] = (faces_before, name)
-    else:
-        runs.append((faces_before, name))
+class MaterialRuns:
+    """The file's `usemtl` runs, in file order: the first face of each and its material's number in
+    `names`; the faces up to the next run use it. Two arrays, not a tuple per run: a file may change
+    material before every face."""
+
+    def __init__(self) -> None:
+        self.starts, self.name_numbers = array("q"), array("q")
+        self.names: list[str] = []
+        self._numbers: dict[str, int] = {}
+        self._named: dict[bytes, str] = {}  # each usemtl line's name, decoded once
+
+    def __len__(self) -> int:
+        return len(self.starts)
+
+    def as_pairs(self) -> list[tuple[int, str]]:
+        return [(start, self.names[number]) for start, number in zip(self.starts, self.name_numbers)]
+
+    def used_numbers(self) -> np.ndarray:
+        """The numbers of the names the runs use, in the order of their first run."""
+        numbers, first_runs = np.unique(np.frombuffer(self.name_numbers, np.int64), return_index=True)
+        return numbers[np.argsort(first_runs)]
+
+    def add_line(self, faces_before: int, line: bytes) -> None:
+        """A usemtl line, whole."""
+        name = self._named.get(line)
+        if name is None:
+            name = material_name(statement(line)[1])
+            if len(self._named) < MAX_NAMES_REMEMBERED:
+                self._named[line] = name
+        self.add(faces_before, name)
+
+    def add(self, faces_before: int, name: str) -> None:
+        """A usemtl: its faces start at `faces_before`. One that another follows before any face takes
+        no face, so the later replaces it: a file of usemtl lines holds one run, not one per line; one
+        naming the material the faces before use goes on with their run."""
+        if self.starts and self.starts[-1] == faces_before:
+            self.starts.pop()
+            self.name_numbers.pop()
+        number = self._numbers.setdefault(name, len(self.names))
+        if number == len(self.names):
+            self.names.append(name)
+        if not self.name_numbers or self.name_numbers[-1] != number:
+            self.starts.append(faces_before)
+            self.name_numbers.append(number)
 
 
 # `v x y z r g b` (MeshLab, ZBrush): a colour after the position, drawn as PLY's and COFF's are.
 COLOURED_V_NUMBERS = 6
 MAX_LIBRARY_LINES = 16  # mtllib lines read: a file of a million must not cost a million lookups
 MAX_MATERIAL_NAME = 200  # characters of a usemtl name kept: enough for any real one, bounded for a hostile one
+MAX_NAMES_REMEMBERED = 4096  # usemtl lines whose decoded name is kept for the next line that says the same
 
 
 def put_colours(table: np.ndarray, rows: Sequence[int], values: Sequence[float]) -> np.ndarray:

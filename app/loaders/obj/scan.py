@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from marraztu.loaders.obj.raw import COLOURED_V_NUMBERS, MAX_DIGITS
+from marraztu.loaders.obj.raw import COLOURED_V_NUMBERS, MAX_DIGITS, MAX_LIBRARY_LINES
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import INDEX_LIMIT
 
@@ -22,7 +22,7 @@ from marraztu.model.mesh import INDEX_LIMIT
 V, VT, VN, F = 0, 1, 2, 3
 LINES, CORNERS = 4, 5
 COUNT_COLUMNS = 6
-_NO_KEYWORD, _OTHER_KEYWORD, _USEMTL_KEYWORD, _MTLLIB_KEYWORD = -1, -2, -3, -4
+_NO_KEYWORD, _OTHER_KEYWORD, USEMTL_KEYWORD, MTLLIB_KEYWORD = -1, -2, -3, -4
 # What a record is: a table or face line for the line reader, another statement, a comment that
 # may be the seed's "# colour", or a piece's first v line with a colour after its x y z.
 DEFERRED, STATEMENT, COMMENT, VERTEX_COLOURS = 0, 1, 2, 3
@@ -31,9 +31,10 @@ DEFERRED, STATEMENT, COMMENT, VERTEX_COLOURS = 0, 1, 2, 3
 R_KIND, R_START, R_END, R_LINE, R_V, R_VT, R_VN, R_FACE, R_CORNER, R_KEYWORD = range(10)
 RECORD_COLUMNS = 10
 # Where pass two is in a piece: the counts (as COUNT_COLUMNS, LINES being the next line's number),
-# the next line's first byte, the records used, and what the piece has recorded once (_STATED...).
-S_AT, S_USED, S_FLAGS = COUNT_COLUMNS, COUNT_COLUMNS + 1, COUNT_COLUMNS + 2
-STATE_COLUMNS = COUNT_COLUMNS + 3
+# the next line's first byte, the records used, what the piece has recorded once (_STATED...), its
+# mtllib lines recorded, and the bytes of its last usemtl line recorded.
+S_AT, S_USED, S_FLAGS, S_LIBRARIES, S_MATERIAL_START, S_MATERIAL_END = range(COUNT_COLUMNS, COUNT_COLUMNS + 6)
+STATE_COLUMNS = COUNT_COLUMNS + 6
 # The flags of what a piece has recorded: a statement (one says the file has some), a colour comment
 # that sets the colour (later ones cannot), a v line with a colour (one a piece is enough).
 _STATED, _COLOUR_SET, _COLOURS_SEEN = 1, 2, 4
@@ -351,14 +352,24 @@ def _word_at(buf: np.ndarray, at: int, word: np.ndarray) -> bool:
 
 
 @njit(**_JIT)
+def _same_bytes(buf: np.ndarray, start: int, end: int, other_start: int, other_end: int) -> bool:
+    if end - start != other_end - other_start:
+        return False
+    for offset in range(end - start):
+        if _byte(buf, start + offset) != _byte(buf, other_start + offset):
+            return False
+    return True
+
+
+@njit(**_JIT)
 def _statement_kind(buf: np.ndarray, start: int) -> int:
-    """_USEMTL_KEYWORD, _MTLLIB_KEYWORD (the only statements the loader reads), or _OTHER_KEYWORD."""
+    """USEMTL_KEYWORD, MTLLIB_KEYWORD (the only statements the loader reads), or _OTHER_KEYWORD."""
     at = _skip_blanks(buf, start)
     if _token_end(buf, at) - at == 6:
         if _word_at(buf, at, _USEMTL):
-            return _USEMTL_KEYWORD
+            return USEMTL_KEYWORD
         if _word_at(buf, at, _MTLLIB):
-            return _MTLLIB_KEYWORD
+            return MTLLIB_KEYWORD
     return _OTHER_KEYWORD
 
 
@@ -372,7 +383,8 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
     `records` is full, to be called again with more room: growing them here would cost every line."""
     defined = state[:3]  # the rows of v, vt and vn so far, counted in place
     face, corner, line = state[F], state[CORNERS], state[LINES]
-    start, used, flags = state[S_AT], state[S_USED], state[S_FLAGS]
+    start, used, flags, libraries = state[S_AT], state[S_USED], state[S_FLAGS], state[S_LIBRARIES]
+    material_start, material_end = state[S_MATERIAL_START], state[S_MATERIAL_END]
     while start < high and used < records.shape[0]:
         if _byte(buf, start) == _NEWLINE:
             line += 1
@@ -402,6 +414,11 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
             record = STATEMENT if not flags & _STATED or kind != _OTHER_KEYWORD else -1
             flags |= _STATED
         end = line_end(buf, at)
+        if kind == MTLLIB_KEYWORD:  # the file's first MAX_LIBRARY_LINES are read: a piece's first are enough
+            record = STATEMENT if libraries < MAX_LIBRARY_LINES else -1
+            libraries += 1
+        elif kind == USEMTL_KEYWORD and _same_bytes(buf, start, end, material_start, material_end):
+            record = -1  # the material its faces use already: a usemtl before every face is one run
         if not read:
             record = DEFERRED
         elif kind == _NO_KEYWORD and _byte(buf, at) == _HASH and not flags & _COLOUR_SET:
@@ -409,9 +426,10 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
             if shape != _NOT_COLOUR:
                 record = COMMENT
                 flags |= _COLOUR_SET if shape == _COLOUR_READ else 0
-        if (kind == _USEMTL_KEYWORD and used > 0 and records[used - 1, R_KEYWORD] == _USEMTL_KEYWORD
-                and records[used - 1, R_FACE] == face):
-            used -= 1  # a usemtl no face followed: this one takes its place (as raw.add_material_run does)
+        if record >= 0 and kind == USEMTL_KEYWORD:
+            if used > 0 and records[used - 1, R_KEYWORD] == USEMTL_KEYWORD and records[used - 1, R_FACE] == face:
+                used -= 1  # a usemtl no face followed: this one takes its place (as raw.add_material_run does)
+            material_start, material_end = start, end
         if record >= 0:
             row = records[used]
             row[R_KIND], row[R_START], row[R_END], row[R_LINE], row[R_KEYWORD] = record, start, end, line, kind
@@ -427,7 +445,8 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
         line += 1
         start = end + 1
     state[F], state[CORNERS], state[LINES] = face, corner, line
-    state[S_AT], state[S_USED], state[S_FLAGS] = start, used, flags
+    state[S_AT], state[S_USED], state[S_FLAGS], state[S_LIBRARIES] = start, used, flags, libraries
+    state[S_MATERIAL_START], state[S_MATERIAL_END] = material_start, material_end
 
 
 @njit(**_UNCOUNTED)
