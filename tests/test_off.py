@@ -11,6 +11,7 @@ import pytest
 import trimesh
 
 from marraztu.errors import LoadError
+from marraztu.loaders import off, words
 from marraztu.loaders.off import load_off
 from marraztu.loaders.registry import load_model
 from support.refusals import one_line_refusal
@@ -197,3 +198,93 @@ def test_digits_of_other_scripts_are_no_number(tmp_path: Path, word: str) -> Non
     assert (refused.message, refused.line) == (f"'{word}' is not a number", 6)
     refused = refusal(tmp_path, off_text(faces=(f"3 0 1 {word}", "3 0 2 3")))
     assert (refused.message, refused.line) == (f"'{word}' is not a whole number", 7)
+
+
+# --- the body read at once ---------------------------------------------------------------------------
+def outcome(tmp_path: Path, text: str | bytes, monkeypatch: pytest.MonkeyPatch | None = None) -> tuple:
+    """What reading gives, as plain values: its tables, or its error and line; by the line reader alone
+    where `monkeypatch` is given."""
+    path = tmp_path / "m.off"
+    path.write_bytes(text.encode() if isinstance(text, str) else text)
+    with pytest.MonkeyPatch.context() as patch:
+        if monkeypatch is not None:
+            patch.setattr(off, "_body_at_once", lambda *args: None)
+        try:
+            tables = off.read_off(path, path.read_bytes())
+        except LoadError as error:
+            return error.message, error.line
+    colours = None if tables.colours is None else tables.colours.tolist()
+    return tables.positions.tolist(), tables.corner_vertex.tolist(), tables.face_start.tolist(), colours
+
+
+PLAIN_BODIES = [
+    off_text(),
+    off_text(faces=("4 0 1 2 3", "3 0 2 3")),
+    off_text(header="OFF 4 2 0\n\n") + "\r\n",
+    off_text(header="COFF\n4 2 0\n", vertices=[f"{row} 255 0 0 1" for row in SQUARE]),
+    off_text(header="NOFF\n4 2 0\n", vertices=[f"{row} 0 0 1" for row in SQUARE]),
+    "OFF\r\n4 1 0\r\n" + "".join(f"  {row}\t\r\n\r\n" for row in SQUARE) + "4 0 1 2 3" + " 0" * 0,
+    off_text(vertices=[f"{i} {i * i % 7} 1e-3" for i in range(80)], faces=("70 " + " ".join(map(str, range(70))),)),
+]
+
+
+@pytest.mark.parametrize("text", PLAIN_BODIES)
+def test_a_plain_body_is_read_at_once_as_the_line_reader_reads_it(tmp_path: Path, text: str,
+                                                                   monkeypatch: pytest.MonkeyPatch) -> None:
+    by_lines = outcome(tmp_path, text, monkeypatch)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(off, "_vertex_rows", lambda *args: pytest.fail("the line reader read a plain body"))
+        assert outcome(tmp_path, text) == by_lines
+
+
+@pytest.mark.parametrize("text", [
+    off_text(faces=("3 0 1 2 # a comment", "3 0 2 3")),
+    off_text(faces=("3 0 1 2 255 0 0", "3 0 2 3")),  # a face's colour
+    off_text(faces=("+3 0 1 2", "3 0 2 3")),
+    off_text(faces=("3.0 0 1 2", "3 0 2 3")),
+    off_text(faces=("3 0 1 2.0", "3 0 2 3")),
+    off_text(faces=("3 0 -1 2", "3 0 2 3")),
+    off_text(faces=("0000000000003 0 1 2", "3 0 2 3")),  # 13 digits: no count
+    off_text(faces=("000000000003 0 1 0000000000002", "3 0 2 3")),  # 12 digits, and leading zeros: both read
+    off_text(faces=("3 0 1 99999999999999999999", "3 0 2 3")),
+    off_text(faces=("70 " + " ".join(["1"] * 71), "3 0 2 3")),  # a long row one word too long
+    off_text(vertices=[*SQUARE[:3], "0 1 1e400"]),
+    off_text(vertices=[*SQUARE[:3], "0 1 nan"]),
+    off_text(vertices=[*SQUARE[:3], "0 1\x1c0"]),  # a separator str.split() splits at and numpy does not
+    off_text(vertices=[*SQUARE[:3], "0 1 0\x00"]),
+    off_text(faces=("3 0 1 2", "3 0 2 3", "junk after the faces")),
+    off_text(faces=("3 0 1", "2 3 0 2 3")),  # the right numbers, on the wrong lines
+    off_text(faces=("3 0 1 4", "3 0 2 3")),
+])
+def test_what_needs_the_line_reader_is_read_by_it(tmp_path: Path, text: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    assert outcome(tmp_path, text) == outcome(tmp_path, text, monkeypatch)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_seeded_bodies_read_the_same_at_once_and_by_lines(tmp_path: Path, seed: int,
+                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """Small pieces, so that rows and words are cut where a large file's are."""
+    monkeypatch.setattr(words, "_WORDS_PIECE_BYTES", 16)
+    rng = np.random.default_rng(seed)
+    for _ in range(60):
+        vertices = int(rng.integers(1, 9))
+        rows = [" ".join(f"{value:.{rng.integers(0, 5)}f}" for value in rng.normal(size=3)) for _ in range(vertices)]
+        faces = []
+        for _ in range(rng.integers(1, 6)):
+            size = int(rng.choice([3, 4, 5, 66]))
+            corners = [str(corner) for corner in rng.integers(0, vertices + (rng.random() < 0.05), size)]
+            faces.append(" ".join([str(size), *corners]))
+        text = off_text(rows, tuple(faces)).replace("\n", str(rng.choice(["\n", "\r\n", " \n\n", "\t\r"])))
+        assert outcome(tmp_path, text) == outcome(tmp_path, text, monkeypatch)
+
+
+def test_a_file_of_triangles_costs_a_few_times_its_size(tmp_path: Path) -> None:
+    """Read at once: the numbers and a few per line, where a list of every block's words cost fifteen
+    times the file."""
+    faces = 300_000
+    path = tmp_path / "triangles.off"
+    path.write_text("OFF\n11 %d 0\n" % faces + "".join(f"{i} {i * i % 7} 0\n" for i in range(11))
+                    + "3 10 1 2\n" * faces)
+    tables, peak = peak_traced_bytes(lambda: off.read_off(path, path.read_bytes()))
+    assert tables.face_start.size == faces + 1
+    assert peak < 8 * path.stat().st_size, (peak, path.stat().st_size)

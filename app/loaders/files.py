@@ -71,6 +71,17 @@ def line_at(data: bytes, offset: int) -> int:
     return data.count(b"\n", 0, offset) + data.count(b"\r", 0, offset) - data.count(b"\r\n", 0, offset) + 1
 
 
+def line_end_after(data: bytes, line: int) -> int:
+    """The offset just past the end of line number `line` (1-based, lines ending as text_lines ends them)."""
+    at = 0
+    for _, end in zip(range(line), _LINE_END.finditer(data)):
+        at = end.end()
+    return at if line else 0
+
+
+_LINE_END = re.compile(rb"\r\n|\n|\r")
+
+
 def decoded(text: bytes) -> str:
     """A name or a text file's words: UTF-8, or else Windows-1252, which Windows exporters write."""
     try:

@@ -3,8 +3,10 @@ its polygons as the file gives them, and COFF's vertex colours.
 
 Why not trimesh's reader: it takes a face line with fewer indices than its count as a smaller face,
 reads past words after a vertex's numbers, names no line for a bad number or index, fails with a
-TypeError on some polygons and drops COFF's colours. This one reads a line at a time, makes the
-numbers arrays a block of lines at a time, and names the line of the first problem.
+TypeError on some polygons and drops COFF's colours. This one reads the body's numbers in one numpy
+call where its lines are plain (no comment, no face colour, only digits among the faces), and
+otherwise a line at a time, making the numbers arrays a block of lines at a time; that reader names
+the line of the first problem.
 """
 
 from __future__ import annotations
@@ -17,10 +19,21 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import read_model_bytes, text_lines
-from marraztu.loaders.words import WordBlocks, checked_coordinates, checked_indices, is_count, said_count
+from marraztu.loaders.files import line_end_after, read_model_bytes, text_lines
+from marraztu.loaders.words import (
+    MAX_COUNT_DIGITS,
+    WHITESPACE,
+    WordBlocks,
+    checked_coordinates,
+    checked_indices,
+    is_count,
+    line_words,
+    said_count,
+    text_numbers,
+)
 from marraztu.model.build import by_largest, colour_bytes, derive_mesh
-from marraztu.model.mesh import Mesh
+from marraztu.model.geometry import holds_in_float32
+from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh
 
 # A polygon's colour may follow its indices: none, an index into a colour map, RGB or RGBA. Not read.
 _FACE_COLOUR_WORDS = (0, 1, 3, 4)
@@ -48,7 +61,7 @@ def _colour_bytes(path: Path, colours: np.ndarray) -> np.ndarray:
 @dataclass(frozen=True)
 class OffTables:
     positions: np.ndarray  # (V, 3) float64
-    corner_vertex: np.ndarray  # (C,) int64
+    corner_vertex: np.ndarray  # (C,) whole numbers
     face_start: np.ndarray  # (F + 1,) int64
     colours: np.ndarray | None  # (V, 3 or 4) float64, COFF's, as the file writes them (0..255 or 0..1)
 
@@ -62,7 +75,7 @@ _MOST_VERTEX_WORDS = 12
 
 class _Rows:
     """The lines that hold words, one at a time, remembering the last one's number (to name where a
-    file ends too soon)."""
+    file ends too soon) and the offset just past it."""
 
     def __init__(self, data: bytes) -> None:
         self.rows = _lines_with_words(data)
@@ -80,9 +93,114 @@ class _Rows:
 def read_off(path: Path, data: bytes) -> OffTables:
     rows = _Rows(data)
     layout, vertices, faces = _header(path, rows)
+    at_once = _body_at_once(data, line_end_after(data, rows.line), layout, vertices, faces)
+    if at_once is not None:
+        return at_once
     positions, colours = _vertex_rows(path, rows, vertices, layout)
     corner_vertex, face_start = _face_rows(path, rows, faces, vertices)
     return OffTables(positions, corner_vertex, face_start, colours)
+
+
+def _body_at_once(data: bytes, body_at: int, layout: _Layout, vertices: int, faces: int) -> OffTables | None:
+    """The tables, from the body's numbers read by numpy (the vertex rows' in one call, the faces' a block
+    of rows at a time), where each row is one the line reader takes without a word and nothing in it
+    needs that reader's care: no comment, no face colour, only digits and blanks among the faces. None
+    otherwise: the line reader reads the file, and names any problem. The rows' shapes are checked from
+    their word counts first, so a line of a million words is never made numbers here."""
+    if data.find(b"#", body_at) >= 0:
+        return None
+    counts, firsts = line_words(data, body_at)
+    rows = vertices + faces
+    if counts.size < rows:
+        return None
+    width = int(counts[0]) if vertices else 3
+    face_words = counts[vertices:rows]
+    faces_at, faces_end = int(firsts[vertices]), int(firsts[rows]) if counts.size > rows else len(data)
+    if (width not in layout.row_sizes() or (counts[:vertices] != width).any()
+            or _long_counts(data, firsts[vertices:rows]) or not _counts_fit(data, firsts[vertices:rows], face_words)):
+        return None
+    table = _numbers_of(data[body_at:faces_at], vertices * width, np.float64)
+    if table is None or not holds_in_float32(table):
+        return None
+    faces_read = _face_rows_at_once(data, firsts[vertices:rows], faces_end, face_words, vertices)
+    if faces_read is None:
+        return None
+    positions, colours = _vertex_table(table.reshape(vertices, width), layout)
+    return OffTables(positions, *faces_read, colours)
+
+
+_FACE_BLOCK_WORDS = 1 << 16  # the faces' words made numbers at once: half a megabyte of them
+
+
+def _face_rows_at_once(data: bytes, firsts: np.ndarray, end: int, words: np.ndarray, vertices: int
+                       ) -> tuple[np.ndarray, np.ndarray] | None:
+    """The corners and face_start of the face rows that begin at `firsts`, each of its count and that
+    many corners (`words` in all); made numbers a block of rows at a time, into the corners' final
+    table. None where a row is another (a colour after its corners, a count of less than 3, an index
+    out of range)."""
+    if words.min() < 4:
+        return None
+    face_start = np.empty(words.size + 1, np.int64)
+    face_start[0] = 0
+    word_ends = np.cumsum(words, out=face_start[1:])  # made each row's first corner in place, below
+    corners = np.empty(int(word_ends[-1]) - words.size, INDEX)
+    cuts = np.unique(np.searchsorted(word_ends, np.arange(0, word_ends[-1], _FACE_BLOCK_WORDS), side="right"))
+    before = 0  # words before the block
+    for low, high in zip(cuts.tolist(), [*cuts[1:].tolist(), words.size]):
+        if low >= high:
+            continue
+        after = int(word_ends[high - 1])
+        numbers = _numbers_of(data[firsts[low]:firsts[high] if high < words.size else end], after - before, np.int64)
+        if numbers is None:
+            return None
+        count_at = word_ends[low:high] - words[low:high] - before
+        if (numbers[count_at] != words[low:high] - 1).any():  # a colour after the corners, say
+            return None
+        numbers[count_at] = -1
+        block = numbers[numbers >= 0]
+        if block.max() >= min(vertices, INDEX_LIMIT):
+            return None
+        corners[before - low:after - high] = block
+        word_ends[low:high] -= np.arange(low + 1, high + 1)  # words before less rows before: corners before
+        before = after
+    return corners, face_start
+
+
+def _numbers_of(text: bytes, expected: int, kind: type) -> np.ndarray | None:
+    """The text's numbers, where its words are `expected` numbers; None otherwise. Whole numbers only
+    where it holds only digits and blanks: a sign, a decimal point or an exponent is read otherwise by
+    the line reader ('3.0' is no count), or refused."""
+    if kind is np.int64 and text.translate(None, _DIGITS_AND_BLANKS):
+        return None
+    try:
+        numbers = text_numbers(text, kind)
+    except ValueError:
+        return None
+    return numbers if numbers.size == expected else None  # numpy stops at a NUL
+
+
+_DIGITS_AND_BLANKS = b"0123456789 \t\n\r\x0b\x0c"
+# A face row this long has its count read alone before any row is made numbers.
+_LONG_ROW_WORDS = 64
+
+
+def _long_counts(data: bytes, firsts: np.ndarray) -> bool:
+    """Whether a face row's first word may be longer than a count is (leading zeros make it one numpy
+    reads): its bytes looked at one place further at a time, for the rows whose word is that long yet."""
+    text, rows = np.frombuffer(data, np.uint8), firsts
+    for offset in range(1, MAX_COUNT_DIGITS + 1):
+        rows = rows[~WHITESPACE[text[np.minimum(rows + offset, len(data) - 1)]]]
+    return rows.size > 0
+
+
+def _counts_fit(data: bytes, firsts: np.ndarray, words: np.ndarray) -> bool:
+    """Whether each long face row's count (its first word) is its number of words less one."""
+    for row in np.flatnonzero(words > _LONG_ROW_WORDS).tolist():
+        first = int(firsts[row])
+        count = data[first:first + MAX_COUNT_DIGITS].split(None, 1)[0]
+        if not count.isdigit() or int(count) != words[row] - 1:
+            return False
+    return True
 
 
 def _lines_with_words(data: bytes) -> Iterator[tuple[int, str]]:
@@ -164,10 +282,19 @@ def _vertex_rows(path: Path, rows: _Rows, count: int, layout: _Layout
         if width > 3:
             extras.add(words[3:], number)
     extra = extras.values()
-    if not layout.coloured or not count:
-        return positions.values().reshape(-1, 3), None
-    colour_at = 3 * layout.normal  # after the normal, among the words past x y z
-    return positions.values().reshape(-1, 3), extra.reshape(count, -1)[:, colour_at:colour_at + width - sizes[0] + 3]
+    if not count:
+        return np.zeros((0, 3)), None
+    return _vertex_table(np.concatenate([positions.values().reshape(count, 3), extra.reshape(count, -1)], axis=1),
+                         layout)
+
+
+def _vertex_table(table: np.ndarray, layout: _Layout) -> tuple[np.ndarray, np.ndarray | None]:
+    """The positions and COFF's colours (3 or 4 numbers) of a table of the vertex rows' numbers."""
+    positions = np.ascontiguousarray(table[:, :3])
+    if not layout.coloured or not table.shape[0]:
+        return positions, None
+    colour_at = 3 + 3 * layout.normal  # after x y z and the normal
+    return positions, table[:, colour_at:colour_at + table.shape[1] - layout.row_sizes()[0] + 3]
 
 
 def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.ndarray, np.ndarray]:

@@ -13,8 +13,7 @@ from __future__ import annotations
 
 import functools
 import re
-import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -22,7 +21,7 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import line_at, text_lines
-from marraztu.loaders.words import DECIMAL_SYNTAX, is_count
+from marraztu.loaders.words import DECIMAL_SYNTAX, WHITESPACE, is_count, pieces_at_gaps, text_numbers
 
 # The property types PLY names, as trimesh reads them (its float16 and 64-bit integers too).
 PLY_TYPES = {"char": "i1", "uchar": "u1", "short": "i2", "ushort": "u2", "int": "i4", "uint": "u4",
@@ -36,10 +35,6 @@ TEXCOORD_LIST = "texcoord"  # MeshLab's: u v for each corner of the face
 MAX_DECLARATIONS = 4096
 _DECIMAL = re.compile(DECIMAL_SYNTAX.encode())
 _NOT_FINITE = re.compile(rb"(?i)[+-]?(?:nan|inf|infinity)")  # numpy reads these too: refused later where wrong
-_PIECE_BYTES = 1 << 20  # where the body is looked at again (an error's line), a piece at a time
-_GAP = re.compile(rb"\s")
-_WHITESPACE = np.zeros(256, bool)
-_WHITESPACE[list(b" \t\n\r\x0b\x0c")] = True  # what bytes.split() and numpy's fromstring part numbers at
 
 
 @dataclass(frozen=True)
@@ -174,40 +169,21 @@ def _numbers(path: Path, data: bytes, body_at: int) -> np.ndarray:
     if not body or body.isspace():  # numpy reads a body of blanks alone as [-1]
         return np.empty(0)
     try:
-        return _read_numbers(body)
+        return text_numbers(body)
     except ValueError:
         del body
         raise _first_bad_word(path, data, body_at) from None
 
 
-def _read_numbers(text: bytes) -> np.ndarray:
-    """The text's numbers; ValueError where a word is none (numpy before 2.3 warned, and stopped there)."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", DeprecationWarning)
-        try:
-            return np.fromstring(text, dtype=np.float64, sep=" ")
-        except DeprecationWarning:
-            raise ValueError("not a number") from None
-
-
-def _pieces(data: bytes, start: int) -> Iterator[tuple[int, int]]:
-    """(start, stop) of pieces of about a megabyte from `start` to the end, each ending at a blank."""
-    while start < len(data):
-        gap = _GAP.search(data, start + _PIECE_BYTES)
-        stop = len(data) if gap is None else gap.end()
-        yield start, stop
-        start = stop
-
-
 def _first_bad_word(path: Path, data: bytes, body_at: int) -> LoadError:
     """The error of the first word of the body that numpy would not read: numpy finds its piece, and
     only that piece's words are looked at one by one."""
-    for start, stop in _pieces(data, body_at):
+    for start, stop in pieces_at_gaps(data, body_at):
         piece = data[start:stop]
         if piece.isspace():
             continue
         try:
-            _read_numbers(piece)
+            text_numbers(piece)
             continue
         except ValueError:
             pass
@@ -247,9 +223,9 @@ class _Body:
         number only."""
         passed, aligned, culprit, after_line_end = 0, 0, None, True  # the body starts on a line of its own
         last_row_at = self.body_at  # the offset of the last row start seen
-        for start, stop in _pieces(self.data, self.body_at):
+        for start, stop in pieces_at_gaps(self.data, self.body_at):
             piece = np.frombuffer(self.data, np.uint8, count=stop - start, offset=start)
-            blank = _WHITESPACE[piece]
+            blank = WHITESPACE[piece]
             words = np.flatnonzero(~blank & np.concatenate(([True], blank[:-1])))
             line_ends = np.cumsum((piece == 10) | (piece == 13))  # \n, \r: a line ends at either
             before = np.concatenate(([-1 if after_line_end else 0], line_ends[words]))

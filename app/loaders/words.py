@@ -8,7 +8,8 @@ first bad one and its line.
 from __future__ import annotations
 
 import re
-from collections.abc import Callable
+import warnings
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import numpy as np
@@ -27,6 +28,10 @@ DECIMAL_SYNTAX = r"[+-]?+(?:[0-9]++(?:\.[0-9]*+)?+|\.[0-9]++)(?:[eE][+-]?+[0-9]+
 ROWS_AT_ONCE = 1 << 15  # rows whose words are made numbers in one call
 
 _DECIMAL = re.compile(DECIMAL_SYNTAX)
+# What bytes.split() and numpy's fromstring part numbers at.
+WHITESPACE = np.zeros(256, bool)
+WHITESPACE[list(b" \t\n\r\x0b\x0c")] = True
+_PIECE_BYTES = 1 << 20  # a text looked at word by word a piece at a time: its temporaries stay small
 _WHOLE = re.compile(r"[+-]?[0-9]+")
 _COUNT = re.compile(r"[0-9]+")
 
@@ -126,3 +131,59 @@ def _converted(path: Path, words: list[str], line_of: LineOf, kind: type, syntax
 def _past_int64(word: str) -> bool:
     """A whole number of more than 18 significant digits ('-0000000000000000000002' is not one)."""
     return _WHOLE.fullmatch(word) is not None and len(word.lstrip("+-").lstrip("0")) > 18
+
+
+def text_numbers(text: bytes, kind: type = np.float64) -> np.ndarray:
+    """Every number of a text of numbers, in order, as `kind`, in one numpy call; ValueError where a
+    word is none (numpy before 2.3 warned, and stopped there). It stops at a NUL byte: callers count
+    the words too. As int64, a number past its range is read as its largest."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DeprecationWarning)
+        try:
+            return np.fromstring(text, dtype=kind, sep=" ")
+        except DeprecationWarning:
+            raise ValueError("not a number") from None
+
+
+def pieces_at_gaps(data: bytes, start: int, piece_bytes: int = _PIECE_BYTES) -> Iterator[tuple[int, int]]:
+    """(start, stop) of pieces of about `piece_bytes` from `start` to the end, each ending at a blank."""
+    while start < len(data):
+        gap = _GAP.search(data, start + piece_bytes)
+        stop = len(data) if gap is None else gap.end()
+        yield start, stop
+        start = stop
+
+
+_GAP = re.compile(rb"\s")
+
+
+def line_words(data: bytes, start: int) -> tuple[np.ndarray, np.ndarray]:
+    """For each line from `start` on that holds a word: how many it holds, and where its first begins.
+    A line ends at \\n or \\r (\\r\\n leaves an empty line between, which holds none). Worked out a
+    piece at a time, a few numbers per word and line: never one per byte."""
+    counts: list[np.ndarray] = []
+    firsts: list[np.ndarray] = []
+    offset_type = np.int32 if len(data) < 1 << 30 else np.int64  # an offset plus a little stays an int32
+    lines_before, last_line = 0, -1  # lines ended before the piece; the line of the last word seen
+    for low, high in pieces_at_gaps(data, start, _WORDS_PIECE_BYTES):  # no word spans two pieces
+        piece = np.frombuffer(data, np.uint8, count=high - low, offset=low)
+        blank = WHITESPACE[piece]
+        words = np.flatnonzero(~blank & np.concatenate(([True], blank[:-1])))
+        del blank
+        line_ends = np.flatnonzero((piece == 10) | (piece == 13))
+        line_of_word = np.searchsorted(line_ends, words) + lines_before
+        lines_before += line_ends.size
+        new_line = np.flatnonzero(np.diff(line_of_word, prepend=last_line) != 0)
+        going_on = int(new_line[0]) if new_line.size else words.size  # words on the last piece's last line
+        if going_on:
+            next(run for run in reversed(counts) if run.size)[-1] += going_on
+        if new_line.size:
+            counts.append(np.diff(np.append(new_line, words.size)).astype(np.int32))
+            firsts.append((words[new_line] + low).astype(offset_type))
+            last_line = int(line_of_word[-1])
+    if not counts:
+        return np.zeros(0, np.int32), np.zeros(0, offset_type)
+    return np.concatenate(counts), np.concatenate(firsts)
+
+
+_WORDS_PIECE_BYTES = 1 << 18  # line_words's pieces: a few megabytes of temporaries at most
