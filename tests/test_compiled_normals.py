@@ -61,11 +61,14 @@ def _float64_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_star
 @pytest.mark.parametrize("shape", ["3", "4", "5", str(build.MAX_COLUMN_SIZE), "mixed", "huge"])
 @pytest.mark.parametrize("scale", [1.0, 1e37], ids=["near", "far"])
 @pytest.mark.parametrize("thread_count", [1, 4])
-def test_compiled_normals_equal_numpys_bit_for_bit(shape: str, scale: float, thread_count: int,
+@pytest.mark.parametrize("fan_block", [build._FAN_BLOCK, 1000], ids=["blocks", "small-blocks"])
+def test_compiled_normals_equal_numpys_bit_for_bit(shape: str, scale: float, thread_count: int, fan_block: int,
                                                    monkeypatch: pytest.MonkeyPatch) -> None:
-    """In float64 (the order of the fans' and the per-position sums shows there), and in the mesh."""
+    """In float64 (the order of the fans' and the per-position sums shows there), and in the mesh. Small
+    blocks: numpy's polygons of many sizes in many blocks, and the huge one a block of fans at a time."""
     positions, corner_vertex, face_start = _mesh(shape, scale)
     monkeypatch.setattr(threads, "THREADS", thread_count)
+    monkeypatch.setattr(build, "_FAN_BLOCK", fan_block)
     assert len(threads.one_per_thread(5000)) == thread_count  # the sums' position ranges
     with monkeypatch.context() as without:
         without.delitem(sys.modules, NAME)  # as in a process that has not imported it

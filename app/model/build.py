@@ -277,7 +277,7 @@ def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: 
     if _one_small_size(sizes):  # triangles, quads...: each polygon's fans summed in place
         sums = _fan_sums(positions, corner_vertex.reshape(-1, int(sizes[0])))  # a view of the corners
     else:  # each fan a polygon of its own, then the fans of each polygon added in fan order
-        sums = _fans_added(_fan_sums(positions, fan_gather(corner_vertex, face_start).reshape(-1, 3)), sizes)
+        sums = _block_sums(positions, corner_vertex, face_start, sizes)
     degenerate = np.empty(sums.shape[1], bool)
 
     def unit(polygons: slice) -> None:  # in place, piece by piece: no temporary as long as the mesh
@@ -292,6 +292,47 @@ def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: 
 
     each(unit, pieces(sums.shape[1], _CROSS_CHUNK))
     return sums.T, degenerate
+
+
+_FAN_BLOCK = 1 << 16  # fans gathered at once where polygons are of many sizes, or huge
+
+
+def _block_sums(positions: np.ndarray, corner_vertex: np.ndarray, face_start: np.ndarray, sizes: np.ndarray
+                ) -> np.ndarray:
+    """(3, F): each polygon's fan sum, in fan order, polygons a block of about _FAN_BLOCK fans at a time
+    (a polygon of more fans alone, its fans a block at a time), so that no table is as long as the
+    mesh's fans."""
+    sums = np.empty((3, sizes.size), positions.dtype)
+    axes = np.ascontiguousarray(positions.T)  # once, not once a block
+    fans_through = np.cumsum(sizes - 2)  # fans up to each polygon's last
+    cuts = np.unique(np.searchsorted(fans_through, np.arange(0, fans_through[-1], _FAN_BLOCK), side="right"))
+    for low, high in zip(cuts.tolist(), [*cuts[1:].tolist(), sizes.size]):
+        if low >= high:
+            continue
+        first, stop = int(face_start[low]), int(face_start[high])
+        if high - low == 1 and sizes[low] - 2 > _FAN_BLOCK:
+            sums[:, low] = _huge_polygon_sum(positions, axes, corner_vertex[first:stop])
+        else:
+            fans = fan_gather(corner_vertex[first:stop], face_start[low:high + 1] - first).reshape(-1, 3)
+            sums[:, low:high] = _fans_added(_fan_sums(positions, fans, axes), sizes[low:high])
+    return sums
+
+
+def _huge_polygon_sum(positions: np.ndarray, axes: np.ndarray, corners: np.ndarray) -> np.ndarray:
+    """(3,): one polygon's fan sum, in fan order, its fans a block at a time: each block's running sum
+    (np.cumsum adds one after another, as the loop does) starts from the blocks' before it."""
+    total = None
+    for start in range(1, corners.size - 1, _FAN_BLOCK):
+        stop = min(start + _FAN_BLOCK, corners.size - 1)
+        fans = np.empty((stop - start, 3), corners.dtype)
+        fans[:, 0], fans[:, 1], fans[:, 2] = corners[0], corners[start:stop], corners[start + 1:stop + 1]
+        block = _fan_sums(positions, fans, axes)
+        if total is not None:
+            with np.errstate(all="ignore"):
+                block[:, 0] += total
+        with np.errstate(all="ignore"):
+            total = np.cumsum(block, axis=1)[:, -1]
+    return total
 
 
 def _fans_added(fan_sums: np.ndarray, sizes: np.ndarray) -> np.ndarray:
@@ -347,13 +388,13 @@ def _one_small_size(sizes: np.ndarray) -> bool:
 _CROSS_CHUNK = 1 << 14  # polygons per piece: a dozen temporaries of this many numbers stay in cache
 
 
-def _fan_sums(positions: np.ndarray, polygons: np.ndarray) -> np.ndarray:
+def _fan_sums(positions: np.ndarray, polygons: np.ndarray, axes: np.ndarray | None = None) -> np.ndarray:
     """(3, N): for each of the (N, k) polygons, the sum of (p_i - p_0) x (p_(i+1) - p_0) over its fan,
-    in fan order.
+    in fan order. `axes`: the positions as (3, V) rows, where the caller made them once for many calls.
 
     In pieces, so that the gathered coordinates and products are cache-sized temporaries instead of a
     dozen arrays as long as the mesh in fresh memory; the pieces are worked on in threads."""
-    x, y, z = np.ascontiguousarray(positions.T)
+    x, y, z = np.ascontiguousarray(positions.T) if axes is None else axes
     out = np.empty((3, polygons.shape[0]), positions.dtype)
 
     def piece(rows: slice) -> None:

@@ -41,25 +41,30 @@ def counted(number: int, noun: str, plural: str | None = None) -> str:
 
 def fan_gather(values: np.ndarray, face_start: np.ndarray) -> np.ndarray:
     """(3T,) `values`, one per corner, in the order of the fan triangles' corners, polygon by polygon:
-    the seed's triangulation from each polygon's first corner. Where the polygons are all of one size
-    the fan is gathered inside each polygon's row of values, with no table of corner indices."""
+    the seed's triangulation from each polygon's first corner. Written straight into place: where the
+    polygons are all of one size, from slices of each polygon's row of values, with no table of
+    corner indices; else from one index per fan."""
     sizes = np.diff(face_start)
     if sizes.size and sizes.min() == sizes.max():  # polygons of one size: the same fan in each
         size = int(sizes[0])
         if size == 3:  # the common case: the corners are the triangles already
             return values
-        second = np.arange(1, size - 1)
-        fan = np.stack([np.zeros_like(second), second, second + 1], axis=1)  # corners within a polygon
-        return values.reshape(-1, size)[:, fan].reshape(-1)
+        polygons = values.reshape(-1, size)
+        out = np.empty((polygons.shape[0], size - 2, 3), values.dtype)
+        out[:, :, 0] = polygons[:, :1]
+        out[:, :, 1] = polygons[:, 1:-1]
+        out[:, :, 2] = polygons[:, 2:]
+        return out.reshape(-1)
     per_face = sizes - 2
-    first_of_face = np.cumsum(per_face) - per_face
-    step = np.arange(int(per_face.sum())) - np.repeat(first_of_face, per_face)  # 0.. within each fan
-    base = np.repeat(face_start[:-1], per_face)
-    corners = np.empty((step.size, 3), np.int64)
-    corners[:, 0] = base
-    corners[:, 1] = base + step + 1
-    corners[:, 2] = base + step + 2
-    return values[corners.reshape(-1)]
+    out = np.empty((int(per_face.sum()), 3), values.dtype)
+    out[:, 0] = np.repeat(values[face_start[:-1]], per_face)
+    # Fan j of polygon p starts at corner j + 2p: each polygon before it has two corners more than fans.
+    second = np.repeat(np.arange(0, 2 * per_face.size, 2), per_face)
+    second += np.arange(1, out.shape[0] + 1)
+    out[:, 1] = values[second]
+    second += 1
+    out[:, 2] = values[second]
+    return out.reshape(-1)
 
 
 def fan_triangles(face_start: np.ndarray) -> np.ndarray:
