@@ -55,6 +55,27 @@ def _one_polygon(path: Path, size: int) -> None:
         out.write("f " + " ".join(str(i + 1) for i in range(corners)) + "\n")
 
 
+def _faces_without_corners(path: Path, size: int) -> None:
+    """A bad line on every line: each one the compiled reader leaves to the line reader."""
+    path.write_text(_TRIANGLE + "f\n" * (size // 2))
+
+
+def _materials_in_turn(path: Path, size: int) -> None:
+    """A usemtl before every face, two materials in turn: a run of one face each."""
+    block = "usemtl red\nf 1/1/1 2/1/1 3/1/1\nusemtl blue\nf 1/1/1 2/1/1 3/1/1\n"
+    path.write_text(_TRIANGLE + block * (size // len(block)))
+
+
+def _off_polygon(path: Path, size: int) -> None:
+    """One OFF polygon of every corner, over a circle of a thousand positions."""
+    corners = size // 4
+    circle = "".join(f"{np.cos(k * np.pi / 500):.6f} {np.sin(k * np.pi / 500):.6f} 0\n" for k in range(1000))
+    with path.open("w") as out:
+        out.write(f"OFF\n1000 1 0\n{circle}{corners}")
+        out.writelines(f" {k % 1000}" for k in range(corners))
+        out.write("\n")
+
+
 def _blank_lines(path: Path, size: int) -> None:
     path.write_text("\n" * size)
 
@@ -142,10 +163,13 @@ SHAPES = (
     Shape("plain model (the baseline)", "plain.obj", _plain),
     Shape("the same, its last line cut", "cut.obj", _cut_at_the_end),
     Shape("one polygon of every corner", "polygon.obj", _one_polygon),
+    Shape("a face without corners on every line", "no_corners.obj", _faces_without_corners),
+    Shape("a usemtl before every face, two in turn", "materials.obj", _materials_in_turn),
     Shape("blank lines only", "blank.obj", _blank_lines),
     Shape("one long v line", "long_line.obj", _one_long_line),
     Shape("one long number ending badly", "long_number.obj", _one_long_bad_number),
     Shape("ASCII PLY: its rows parted by blank lines", "blank.ply", _ply_of_blank_lines),
+    Shape("OFF: one polygon of every corner", "polygon.off", _off_polygon),
     Shape("scene file: many objects", "objects.toml", _scene_of_many_objects),
     Shape("scene file: one key of every part", "deep_key.toml", _scene_of_one_deep_key),
     Shape("scene file: one number of every digit", "long_number.toml", _scene_of_one_long_number),
