@@ -428,7 +428,7 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
                 flags |= _COLOUR_SET if shape == _COLOUR_READ else 0
         if record >= 0 and kind == USEMTL_KEYWORD:
             if used > 0 and records[used - 1, R_KEYWORD] == USEMTL_KEYWORD and records[used - 1, R_FACE] == face:
-                used -= 1  # a usemtl no face followed: this one takes its place (as raw.add_material_run does)
+                used -= 1  # a usemtl no face followed: this one takes its place (as raw.MaterialRuns.add does)
             material_start, material_end = start, end
         if record >= 0:
             row = records[used]
