@@ -65,10 +65,12 @@ def _float64_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_star
 def test_compiled_normals_equal_numpys_bit_for_bit(shape: str, scale: float, thread_count: int, fan_block: int,
                                                    monkeypatch: pytest.MonkeyPatch) -> None:
     """In float64 (the order of the fans' and the per-position sums shows there), and in the mesh. Small
-    blocks: numpy's polygons of many sizes in many blocks, and the huge one a block of fans at a time."""
+    blocks: numpy's polygons of many sizes in many blocks, the huge one a block of fans at a time, and
+    the per-position sums a block of corners at a time, cutting polygons."""
     positions, corner_vertex, face_start = _mesh(shape, scale)
     monkeypatch.setattr(threads, "THREADS", thread_count)
     monkeypatch.setattr(build, "_FAN_BLOCK", fan_block)
+    monkeypatch.setattr(build, "_CORNER_BLOCK", fan_block + 1)  # a block's first and last polygons cut
     assert len(threads.one_per_thread(5000)) == thread_count  # the sums' position ranges
     with monkeypatch.context() as without:
         without.delitem(sys.modules, NAME)  # as in a process that has not imported it

@@ -19,7 +19,7 @@ def polygon(corners: int) -> tuple[np.ndarray, list[list[int]]]:
 
 @pytest.fixture
 def work(monkeypatch) -> dict[str, int]:
-    """Counts the rows the face normals gather and the bins the vertex-normal sums allocate."""
+    """Counts the rows the face normals gather and the corners the vertex-normal sums add."""
     counted = {"rows": 0, "bins": 0}
     fan_sums = build._fan_sums
     sums_at = build._sums_at
@@ -29,9 +29,9 @@ def work(monkeypatch) -> dict[str, int]:
         counted["rows"] += (positions.shape[0] if axes is None else 0) + polygons.shape[0] * (polygons.shape[1] - 2)
         return fan_sums(positions, polygons, axes)
 
-    def counting_sums_at(rows: np.ndarray, values: np.ndarray, length: int) -> np.ndarray:
-        counted["bins"] += max(length, len(rows))
-        return sums_at(rows, values, length)
+    def counting_sums_at(out: np.ndarray, rows: np.ndarray, values: np.ndarray) -> None:
+        counted["bins"] += len(rows)
+        sums_at(out, rows, values)
 
     monkeypatch.setattr(build, "_fan_sums", counting_fan_sums)
     monkeypatch.setattr(build, "_sums_at", counting_sums_at)

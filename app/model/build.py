@@ -475,9 +475,15 @@ def _normal_sums(face_normals: np.ndarray, corner_vertex: np.ndarray, face_start
     compiled = _compiled_loops(face_normals, corner_vertex, face_start)
     if compiled is not None:
         return _compiled_normal_sums(compiled, face_normals, corner_vertex, face_start, vertex_count)
-    rows = corner_vertex.astype(np.intp)
-    return np.stack([_sums_at(rows, np.repeat(face_normals[:, axis], sizes), vertex_count) for axis in range(3)],
-                    axis=1)
+    sums = np.zeros((3, vertex_count))
+    for first, stop in zip(range(0, corner_vertex.size, _CORNER_BLOCK),
+                           range(_CORNER_BLOCK, corner_vertex.size + _CORNER_BLOCK, _CORNER_BLOCK)):
+        stop = min(stop, corner_vertex.size)
+        faces = _faces_of_corners(face_start, sizes, first, stop)
+        rows = corner_vertex[first:stop].astype(np.intp)  # numpy's own index type, once for the three axes
+        for axis in range(3):  # an axis gathered at a time: contiguous values add faster
+            _sums_at(sums[axis], rows, face_normals[faces, axis])
+    return sums.T
 
 
 def _compiled_normal_sums(compiled: ModuleType, face_normals: np.ndarray, corner_vertex: np.ndarray,
@@ -489,12 +495,22 @@ def _compiled_normal_sums(compiled: ModuleType, face_normals: np.ndarray, corner
     return sums
 
 
-def _sums_at(rows: np.ndarray, values: np.ndarray, length: int) -> np.ndarray:
+_CORNER_BLOCK = 1 << 16  # corners whose face normals are gathered at once
+
+
+def _faces_of_corners(face_start: np.ndarray, sizes: np.ndarray, first: int, stop: int) -> np.ndarray:
+    """The polygon of each corner from `first` to `stop`."""
+    low, high = np.searchsorted(face_start, [first, stop - 1], side="right") - 1
+    counts = sizes[low:high + 1].copy()
+    counts[0] -= first - face_start[low]  # the first and last polygons' corners outside the range
+    counts[-1] -= face_start[high + 1] - stop
+    return np.repeat(np.arange(low, high + 1), counts)
+
+
+def _sums_at(out: np.ndarray, rows: np.ndarray, values: np.ndarray) -> None:
     """out[rows[i]] += values[i], in the order of i: np.bincount's sums, bit for bit, without its
-    two passes over the rows to find their range (these are in range)."""
-    out = np.zeros(length)
+    two passes over the rows to find their range (these are in range), and into the sums so far."""
     np.add.at(out, rows, values)
-    return out
 
 
 def _fill_degenerate(shape: _Shape, vertex_normals: np.ndarray, row_vertex: np.ndarray | None) -> None:
