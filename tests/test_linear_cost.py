@@ -8,6 +8,8 @@ import pytest
 
 from marraztu.model import build
 from marraztu.model.build import build_mesh
+from marraztu.model.geometry import column_bounds
+from support.work import peak_traced_bytes
 
 
 def polygon(corners: int) -> tuple[np.ndarray, list[list[int]]]:
@@ -52,3 +54,18 @@ def test_small_polygons_of_one_size_keep_their_column_by_column_path(work: dict[
     quads = [[x * 11 + y, (x + 1) * 11 + y, (x + 1) * 11 + y + 1, x * 11 + y + 1] for x in range(10) for y in range(10)]
     build_mesh("quads", grid, quads)
     assert work["rows"] <= 2 * (len(grid) + 2 * len(quads)) + 2 * len(grid), work
+
+
+def test_a_huge_polygon_among_small_ones_is_summed_a_block_of_fans_at_a_time() -> None:
+    """Alone in its block whatever follows it: with a triangle after it, its fans were gathered whole
+    (60 bytes a corner). It goes round a circle of a thousand positions a thousand times."""
+    corners = 1_000_000
+    positions, _ = polygon(1000)
+    sizes = np.array([3, corners, 3])
+    face_start = np.concatenate(([0], np.cumsum(sizes))).astype(np.int32)
+    corner_vertex = np.concatenate(([0, 1, 2], np.arange(corners) % 1000, [2, 3, 4])).astype(np.int32)
+    normals, peak = peak_traced_bytes(lambda: build._face_normals(positions, corner_vertex, face_start, sizes,
+                                                                 column_bounds(positions)))
+    np.testing.assert_allclose(normals[0][1], [0.0, 0.0, 1.0], atol=1e-6)
+    # A block's fans, their sums and running sums, and the pieces its threads gather at once.
+    assert peak < 32 * build._FAN_BLOCK * 8, peak

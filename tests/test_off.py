@@ -288,3 +288,23 @@ def test_a_file_of_triangles_costs_a_few_times_its_size(tmp_path: Path) -> None:
     tables, peak = peak_traced_bytes(lambda: off.read_off(path, path.read_bytes()))
     assert tables.face_start.size == faces + 1
     assert peak < 8 * path.stat().st_size, (peak, path.stat().st_size)
+
+
+def test_one_face_row_of_a_million_corners_is_made_numbers_a_piece_at_a_time(tmp_path: Path) -> None:
+    corners = 1_000_000
+    path = tmp_path / "polygon.off"
+    path.write_bytes(b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n%d " % corners + b" ".join([b"2", b"0", b"1"] * (corners // 3))
+                     + b" 0\n")
+    tables, peak = peak_traced_bytes(lambda: off.read_off(path, path.read_bytes()))
+    assert tables.corner_vertex.size == corners
+    # The text, the corners (4 bytes for each 2-byte word) and a few pieces' numbers, not all of them at once.
+    assert peak < path.stat().st_size + tables.corner_vertex.nbytes + (6 << 20), (peak, path.stat().st_size)
+
+
+def test_lines_after_the_faces_are_not_looked_at(tmp_path: Path) -> None:
+    """The line reader stops after the header's faces; so does the count of each line's words."""
+    path = tmp_path / "trailing.off"
+    path.write_bytes(off_text().encode() + b"1\n" * 5_000_000)
+    tables, peak = peak_traced_bytes(lambda: off.read_off(path, path.read_bytes()))
+    assert tables.face_start.tolist() == [0, 3, 6]
+    assert peak < 2 * path.stat().st_size, (peak, path.stat().st_size)  # the text, and a piece's words counted

@@ -72,11 +72,12 @@ def line_at(data: bytes, offset: int) -> int:
 
 
 def line_end_after(data: bytes, line: int) -> int:
-    """The offset just past the end of line number `line` (1-based, lines ending as text_lines ends them)."""
-    at = 0
-    for _, end in zip(range(line), _LINE_END.finditer(data)):
+    """The offset just past the end of line number `line` (1-based, lines ending as text_lines ends them);
+    the file's end where that line is its last and has no line end."""
+    at, ended = 0, 0
+    for ended, end in zip(range(1, line + 1), _LINE_END.finditer(data)):
         at = end.end()
-    return at if line else 0
+    return at if ended == line else len(data)
 
 
 _LINE_END = re.compile(rb"\r\n|\n|\r")

@@ -28,6 +28,7 @@ from marraztu.loaders.words import (
     checked_indices,
     is_count,
     line_words,
+    pieces_at_gaps,
     said_count,
     text_numbers,
 )
@@ -109,8 +110,8 @@ def _body_at_once(data: bytes, body_at: int, layout: _Layout, vertices: int, fac
     their word counts first, so a line of a million words is never made numbers here."""
     if data.find(b"#", body_at) >= 0:
         return None
-    counts, firsts = line_words(data, body_at)
     rows = vertices + faces
+    counts, firsts = line_words(data, body_at, rows + 1)  # the line after the faces: where they end
     if counts.size < rows:
         return None
     width = int(counts[0]) if vertices else 3
@@ -130,53 +131,88 @@ def _body_at_once(data: bytes, body_at: int, layout: _Layout, vertices: int, fac
 
 
 _FACE_BLOCK_WORDS = 1 << 16  # the faces' words made numbers at once: half a megabyte of them
+_ROW_PIECE_BYTES = 1 << 18  # a longer row's text made numbers at once
 
 
 def _face_rows_at_once(data: bytes, firsts: np.ndarray, end: int, words: np.ndarray, vertices: int
                        ) -> tuple[np.ndarray, np.ndarray] | None:
     """The corners and face_start of the face rows that begin at `firsts`, each of its count and that
-    many corners (`words` in all); made numbers a block of rows at a time, into the corners' final
-    table. None where a row is another (a colour after its corners, a count of less than 3, an index
-    out of range)."""
+    many corners (`words` in all); made numbers a block of rows at a time (a row of more words than a
+    block, a piece of it at a time), into the corners' final table. None where a row is another (a
+    colour after its corners, a count of less than 3, an index out of range)."""
     if words.min() < 4:
         return None
     face_start = np.empty(words.size + 1, np.int64)
     face_start[0] = 0
     word_ends = np.cumsum(words, out=face_start[1:])  # made each row's first corner in place, below
     corners = np.empty(int(word_ends[-1]) - words.size, INDEX)
-    cuts = np.unique(np.searchsorted(word_ends, np.arange(0, word_ends[-1], _FACE_BLOCK_WORDS), side="right"))
+    long_rows = np.flatnonzero(words > _FACE_BLOCK_WORDS)  # each a block of its own
+    cuts = np.unique(np.concatenate([np.searchsorted(word_ends, np.arange(0, word_ends[-1], _FACE_BLOCK_WORDS),
+                                                     side="right"), long_rows, long_rows + 1]))
     before = 0  # words before the block
+    limit = min(vertices, INDEX_LIMIT)
     for low, high in zip(cuts.tolist(), [*cuts[1:].tolist(), words.size]):
         if low >= high:
             continue
         after = int(word_ends[high - 1])
-        numbers = _numbers_of(data[firsts[low]:firsts[high] if high < words.size else end], after - before, np.int64)
-        if numbers is None:
+        text_end = int(firsts[high]) if high < words.size else end
+        if words[low] > _FACE_BLOCK_WORDS:
+            read = _long_row(data, int(firsts[low]), text_end, corners[before - low:after - high], limit)
+        else:
+            read = _rows(data[firsts[low]:text_end], words[low:high], corners[before - low:after - high], limit)
+        if not read:
             return None
-        count_at = word_ends[low:high] - words[low:high] - before
-        if (numbers[count_at] != words[low:high] - 1).any():  # a colour after the corners, say
-            return None
-        numbers[count_at] = -1
-        block = numbers[numbers >= 0]
-        if block.max() >= min(vertices, INDEX_LIMIT):
-            return None
-        corners[before - low:after - high] = block
         word_ends[low:high] -= np.arange(low + 1, high + 1)  # words before less rows before: corners before
         before = after
     return corners, face_start
 
 
-def _numbers_of(text: bytes, expected: int, kind: type) -> np.ndarray | None:
-    """The text's numbers, where its words are `expected` numbers; None otherwise. Whole numbers only
-    where it holds only digits and blanks: a sign, a decimal point or an exponent is read otherwise by
-    the line reader ('3.0' is no count), or refused."""
+def _rows(text: bytes, words: np.ndarray, corners: np.ndarray, limit: int) -> bool:
+    """Face rows of these word counts, their corners into `corners`; False where they are other rows."""
+    numbers = _numbers_of(text, int(words.sum()), np.int64)
+    if numbers is None:
+        return False
+    count_at = np.cumsum(words) - words
+    if (numbers[count_at] != words - 1).any():  # a colour after the corners, say
+        return False
+    numbers[count_at] = -1
+    read = numbers[numbers >= 0]
+    if read.max() >= limit:  # checked before it is made 32-bit
+        return False
+    corners[:] = read
+    return True
+
+
+def _long_row(data: bytes, start: int, end: int, corners: np.ndarray, limit: int) -> bool:
+    """One face row of many words, its corners into `corners`, made numbers a piece of its text at a time;
+    False where it is another row."""
+    at = -1  # corners written; before its count, -1
+    for low, high in pieces_at_gaps(data, start, _ROW_PIECE_BYTES, end):
+        numbers = _numbers_of(data[low:high], None, np.int64)
+        if numbers is None:
+            return False
+        if at < 0:
+            if numbers[0] != corners.size:
+                return False
+            numbers, at = numbers[1:], 0
+        if at + numbers.size > corners.size or (numbers.size and numbers.max() >= limit):
+            return False
+        corners[at:at + numbers.size] = numbers
+        at += numbers.size
+    return at == corners.size
+
+
+def _numbers_of(text: bytes, expected: int | None, kind: type) -> np.ndarray | None:
+    """The text's numbers, where its words are `expected` numbers (None: any number of them); None
+    otherwise. Whole numbers only where it holds only digits and blanks: a sign, a decimal point or an
+    exponent is read otherwise by the line reader ('3.0' is no count), or refused."""
     if kind is np.int64 and text.translate(None, _DIGITS_AND_BLANKS):
         return None
     try:
         numbers = text_numbers(text, kind)
     except ValueError:
         return None
-    return numbers if numbers.size == expected else None  # numpy stops at a NUL
+    return numbers if expected is None or numbers.size == expected else None  # some numpy stops at a NUL
 
 
 _DIGITS_AND_BLANKS = b"0123456789 \t\n\r\x0b\x0c"

@@ -135,8 +135,9 @@ def _past_int64(word: str) -> bool:
 
 def text_numbers(text: bytes, kind: type = np.float64) -> np.ndarray:
     """Every number of a text of numbers, in order, as `kind`, in one numpy call; ValueError where a
-    word is none (numpy before 2.3 warned, and stopped there). It stops at a NUL byte: callers count
-    the words too. As int64, a number past its range is read as its largest."""
+    word is none (numpy before 2.3 warned, and stopped there). Some numpy versions stop at a NUL byte
+    without a word: callers count the words too. As int64, a number past its range is read as its
+    largest."""
     with warnings.catch_warnings():
         warnings.simplefilter("error", DeprecationWarning)
         try:
@@ -145,11 +146,14 @@ def text_numbers(text: bytes, kind: type = np.float64) -> np.ndarray:
             raise ValueError("not a number") from None
 
 
-def pieces_at_gaps(data: bytes, start: int, piece_bytes: int = _PIECE_BYTES) -> Iterator[tuple[int, int]]:
-    """(start, stop) of pieces of about `piece_bytes` from `start` to the end, each ending at a blank."""
-    while start < len(data):
-        gap = _GAP.search(data, start + piece_bytes)
-        stop = len(data) if gap is None else gap.end()
+def pieces_at_gaps(data: bytes, start: int, piece_bytes: int = _PIECE_BYTES, end: int | None = None
+                   ) -> Iterator[tuple[int, int]]:
+    """(start, stop) of pieces of about `piece_bytes` from `start` to `end` (the text's end unless given),
+    each ending at a blank."""
+    end = len(data) if end is None else end
+    while start < end:
+        gap = _GAP.search(data, start + piece_bytes, end)
+        stop = end if gap is None else gap.end()
         yield start, stop
         start = stop
 
@@ -157,14 +161,14 @@ def pieces_at_gaps(data: bytes, start: int, piece_bytes: int = _PIECE_BYTES) -> 
 _GAP = re.compile(rb"\s")
 
 
-def line_words(data: bytes, start: int) -> tuple[np.ndarray, np.ndarray]:
-    """For each line from `start` on that holds a word: how many it holds, and where its first begins.
-    A line ends at \\n or \\r (\\r\\n leaves an empty line between, which holds none). Worked out a
-    piece at a time, a few numbers per word and line: never one per byte."""
+def line_words(data: bytes, start: int, most: int) -> tuple[np.ndarray, np.ndarray]:
+    """For each line from `start` on that holds a word, up to `most` of them: how many it holds, and
+    where its first begins. A line ends at \\n or \\r (\\r\\n leaves an empty line between, which
+    holds none). Worked out a piece at a time, a few numbers per word and line: never one per byte."""
     counts: list[np.ndarray] = []
     firsts: list[np.ndarray] = []
     offset_type = np.int32 if len(data) < 1 << 30 else np.int64  # an offset plus a little stays an int32
-    lines_before, last_line = 0, -1  # lines ended before the piece; the line of the last word seen
+    lines_before, last_line, found = 0, -1, 0  # lines ended before the piece; the line of the last word seen
     for low, high in pieces_at_gaps(data, start, _WORDS_PIECE_BYTES):  # no word spans two pieces
         piece = np.frombuffer(data, np.uint8, count=high - low, offset=low)
         blank = WHITESPACE[piece]
@@ -181,9 +185,12 @@ def line_words(data: bytes, start: int) -> tuple[np.ndarray, np.ndarray]:
             counts.append(np.diff(np.append(new_line, words.size)).astype(np.int32))
             firsts.append((words[new_line] + low).astype(offset_type))
             last_line = int(line_of_word[-1])
+            found += new_line.size
+            if found > most:  # the lines after the last wanted one's end are not looked at
+                break
     if not counts:
         return np.zeros(0, np.int32), np.zeros(0, offset_type)
-    return np.concatenate(counts), np.concatenate(firsts)
+    return np.concatenate(counts)[:most], np.concatenate(firsts)[:most]
 
 
 _WORDS_PIECE_BYTES = 1 << 18  # line_words's pieces: a few megabytes of temporaries at most

@@ -305,7 +305,9 @@ def _block_sums(positions: np.ndarray, corner_vertex: np.ndarray, face_start: np
     sums = np.empty((3, sizes.size), positions.dtype)
     axes = np.ascontiguousarray(positions.T)  # once, not once a block
     fans_through = np.cumsum(sizes - 2)  # fans up to each polygon's last
-    cuts = np.unique(np.searchsorted(fans_through, np.arange(0, fans_through[-1], _FAN_BLOCK), side="right"))
+    huge = np.flatnonzero(sizes - 2 > _FAN_BLOCK)  # each a block of its own
+    cuts = np.unique(np.concatenate([np.searchsorted(fans_through, np.arange(0, fans_through[-1], _FAN_BLOCK),
+                                                     side="right"), huge, huge + 1]))
     for low, high in zip(cuts.tolist(), [*cuts[1:].tolist(), sizes.size]):
         if low >= high:
             continue

@@ -41,9 +41,9 @@ def counted(number: int, noun: str, plural: str | None = None) -> str:
 
 def fan_gather(values: np.ndarray, face_start: np.ndarray) -> np.ndarray:
     """(3T,) `values`, one per corner, in the order of the fan triangles' corners, polygon by polygon:
-    the seed's triangulation from each polygon's first corner. Written straight into place: where the
-    polygons are all of one size, from slices of each polygon's row of values, with no table of
-    corner indices; else from one index per fan."""
+    the seed's triangulation from each polygon's first corner; `face_start` runs from 0, as a mesh's
+    does. Written straight into place: where the polygons are all of one size, from slices of each
+    polygon's row of values, with no table of corner indices; else from one index per fan."""
     sizes = np.diff(face_start)
     if sizes.size and sizes.min() == sizes.max():  # polygons of one size: the same fan in each
         size = int(sizes[0])
