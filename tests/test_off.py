@@ -308,3 +308,15 @@ def test_lines_after_the_faces_are_not_looked_at(tmp_path: Path) -> None:
     tables, peak = peak_traced_bytes(lambda: off.read_off(path, path.read_bytes()))
     assert tables.face_start.tolist() == [0, 3, 6]
     assert peak < 2 * path.stat().st_size, (peak, path.stat().st_size)  # the text, and a piece's words counted
+
+
+def test_a_long_face_row_followed_by_blank_lines_is_read_at_once(tmp_path: Path,
+                                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+    """Its last pieces of text hold blanks only, which numpy alone would read as a number."""
+    monkeypatch.setattr(off, "_ROW_PIECE_BYTES", 16)
+    monkeypatch.setattr(off, "_FACE_BLOCK_WORDS", 8)
+    text = off_text(faces=("3 0 1 2", "40 " + " ".join(["0", "1", "2", "3"] * 10) + "\n" * 100, "3 0 2 3"))
+    by_lines = outcome(tmp_path, text, monkeypatch)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(off, "_vertex_rows", lambda *args: pytest.fail("the line reader read a plain body"))
+        assert outcome(tmp_path, text) == by_lines

@@ -208,6 +208,8 @@ def _numbers_of(text: bytes, expected: int | None, kind: type) -> np.ndarray | N
     exponent is read otherwise by the line reader ('3.0' is no count), or refused."""
     if kind is np.int64 and text.translate(None, _DIGITS_AND_BLANKS):
         return None
+    if text.isspace():  # numpy reads blanks alone as one number
+        return np.empty(0, kind) if expected in (None, 0) else None
     try:
         numbers = text_numbers(text, kind)
     except ValueError:
