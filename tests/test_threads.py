@@ -100,3 +100,16 @@ def test_unit_rows_in_pieces_equal_one_piece_in_either_type(monkeypatch: pytest.
         assert pieced.dtype == dtype and np.array_equal(ok, whole_ok)
         assert pieced.tobytes() == whole.astype(dtype).tobytes()
     assert not whole_ok[[4, 11, 23]].any() and not whole[[4, 11, 23]].any()
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_weighed_pieces_cover_the_rows_in_order_each_bounded_or_one_heavy_row(seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    weights = rng.integers(1, 40, 500)
+    weights[rng.integers(0, 500, 6)] = 300  # heavier than a piece
+    slices = threads.weighed_pieces(weights, 100)
+    assert [rows.start for rows in slices] == [0, *[rows.stop for rows in slices[:-1]]]
+    assert slices[-1].stop == weights.size
+    for rows in slices:
+        heavy = weights[rows] > 100
+        assert (rows.stop - rows.start == 1) if heavy.any() else weights[rows].sum() <= 100 + 40

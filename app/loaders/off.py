@@ -35,6 +35,7 @@ from marraztu.loaders.words import (
 from marraztu.model.build import by_largest, colour_bytes, derive_mesh
 from marraztu.model.geometry import holds_in_float32
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh
+from marraztu.model.threads import weighed_pieces
 
 # A polygon's colour may follow its indices: none, an index into a colour map, RGB or RGBA. Not read.
 _FACE_COLOUR_WORDS = (0, 1, 3, 4)
@@ -146,17 +147,13 @@ def _face_rows_at_once(data: bytes, firsts: np.ndarray, end: int, words: np.ndar
     face_start[0] = 0
     word_ends = np.cumsum(words, out=face_start[1:])  # made each row's first corner in place, below
     corners = np.empty(int(word_ends[-1]) - words.size, INDEX)
-    long_rows = np.flatnonzero(words > _FACE_BLOCK_WORDS)  # each a block of its own
-    cuts = np.unique(np.concatenate([np.searchsorted(word_ends, np.arange(0, word_ends[-1], _FACE_BLOCK_WORDS),
-                                                     side="right"), long_rows, long_rows + 1]))
     before = 0  # words before the block
     limit = min(vertices, INDEX_LIMIT)
-    for low, high in zip(cuts.tolist(), [*cuts[1:].tolist(), words.size]):
-        if low >= high:
-            continue
+    for block in weighed_pieces(words, _FACE_BLOCK_WORDS):
+        low, high = block.start, block.stop
         after = int(word_ends[high - 1])
         text_end = int(firsts[high]) if high < words.size else end
-        if words[low] > _FACE_BLOCK_WORDS:
+        if words[low] > _FACE_BLOCK_WORDS:  # alone in its block
             read = _long_row(data, int(firsts[low]), text_end, corners[before - low:after - high], limit)
         else:
             read = _rows(data[firsts[low]:text_end], words[low:high], corners[before - low:after - high], limit)

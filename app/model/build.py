@@ -16,7 +16,7 @@ import numpy as np
 
 from marraztu.model.geometry import FLOAT32_MAX, column_bounds, unit_rows
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted, fan_gather
-from marraztu.model.threads import converted, each, one_per_thread, pieces
+from marraztu.model.threads import converted, each, one_per_thread, pieces, weighed_pieces
 
 # Zero-area faces get a fallback normal; "zero" is relative to the model's size.
 DEGENERATE_AREA = 1e-12
@@ -304,15 +304,10 @@ def _block_sums(positions: np.ndarray, corner_vertex: np.ndarray, face_start: np
     mesh's fans."""
     sums = np.empty((3, sizes.size), positions.dtype)
     axes = np.ascontiguousarray(positions.T)  # once, not once a block
-    fans_through = np.cumsum(sizes - 2)  # fans up to each polygon's last
-    huge = np.flatnonzero(sizes - 2 > _FAN_BLOCK)  # each a block of its own
-    cuts = np.unique(np.concatenate([np.searchsorted(fans_through, np.arange(0, fans_through[-1], _FAN_BLOCK),
-                                                     side="right"), huge, huge + 1]))
-    for low, high in zip(cuts.tolist(), [*cuts[1:].tolist(), sizes.size]):
-        if low >= high:
-            continue
+    for block in weighed_pieces(sizes - 2, _FAN_BLOCK):
+        low, high = block.start, block.stop
         first, stop = int(face_start[low]), int(face_start[high])
-        if high - low == 1 and sizes[low] - 2 > _FAN_BLOCK:
+        if sizes[low] - 2 > _FAN_BLOCK:  # alone in its block
             sums[:, low] = _huge_polygon_sum(positions, axes, corner_vertex[first:stop])
         else:
             fans = fan_gather(corner_vertex[first:stop], face_start[low:high + 1] - first).reshape(-1, 3)
@@ -478,9 +473,8 @@ def _normal_sums(face_normals: np.ndarray, corner_vertex: np.ndarray, face_start
     if compiled is not None:
         return _compiled_normal_sums(compiled, face_normals, corner_vertex, face_start, vertex_count)
     sums = np.zeros((3, vertex_count))
-    for first, stop in zip(range(0, corner_vertex.size, _CORNER_BLOCK),
-                           range(_CORNER_BLOCK, corner_vertex.size + _CORNER_BLOCK, _CORNER_BLOCK)):
-        stop = min(stop, corner_vertex.size)
+    for block in pieces(corner_vertex.size, _CORNER_BLOCK):
+        first, stop = block.start, block.stop
         faces = _faces_of_corners(face_start, sizes, first, stop)
         rows = corner_vertex[first:stop].astype(np.intp)  # numpy's own index type, once for the three axes
         for axis in range(3):  # an axis gathered at a time: contiguous values add faster

@@ -76,6 +76,17 @@ def pieces(count: int, size: int | None = None) -> list[slice]:
     return [slice(low, min(low + size, count)) for low in range(0, count, size)]
 
 
+def weighed_pieces(weights: np.ndarray, size: int) -> list[slice]:
+    """Rows 0..len(weights), each weighing more than 0, in slices of about `size` in weight; a row that
+    weighs more, a slice of its own: a slice's work stays bounded however the rows weigh."""
+    ends = np.cumsum(weights)
+    heavy = np.flatnonzero(weights > size)
+    cuts = np.unique(np.concatenate([[0], np.searchsorted(ends, np.arange(size, ends[-1], size), side="right"),
+                                     heavy, heavy + 1]))
+    cuts = cuts[cuts < weights.size].tolist()
+    return [slice(low, high) for low, high in zip(cuts, [*cuts[1:], weights.size])]
+
+
 def one_per_thread(count: int) -> list[slice]:
     """Rows 0..count in one slice per thread (THREADS when called), the last shorter: for work whose
     every piece reads all of its input, where more pieces would read it more often."""
