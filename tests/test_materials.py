@@ -17,6 +17,7 @@ from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.obj import load_obj, parse_obj
 from marraztu.loaders.obj.fast import read_fast
 from marraztu.loaders.obj.lines import read_by_lines
+from marraztu.loaders.obj.raw import MaterialRuns
 from marraztu.loaders.registry import load_model
 from marraztu.loaders.scenefile import empty_scene
 from marraztu.model.lights import AMBIENT_INTENSITY
@@ -48,12 +49,31 @@ def picture(tmp_path: Path, model: Path, keys: str = "", name: str = "shot.png",
     "usemtl a\nusemtl b\n" + TRIANGLES + "usemtl c\ng y\nusemtl d\nf 1 2 3\nusemtl e\n",  # runs that take no face
     TRIANGLES + "usemtl a\nf 1 2 3\n" * 300 + "usemtl  a\nf 1 2 3\nusemtl b\nusemtl a\nf 1 2 3\n",  # one run
     TRIANGLES + "usemtl a\nf 1 2 3\nusemtl b\nf 1 2 3\n" * 300,  # a run per face
+    TRIANGLES + "".join(f"usemtl m{k % 100}\nf 1 2 3\ng\nusemtl m{k % 7}\n" for k in range(400)),  # past 64 names
 ])
 def test_both_readers_find_the_same_material_runs(text: str) -> None:
     data = text.encode()
     runs = read_fast(data, "m.obj").material_runs.as_pairs()
     assert runs == read_by_lines(data, "m.obj").material_runs.as_pairs()
     assert all(before[1] != after[1] for before, after in zip(runs, runs[1:]))  # a name goes on with its run
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_many_runs_at_once_are_those_one_at_a_time(seed: int) -> None:
+    """MaterialRuns.extend, as the fast reader settles a chunk's usemtl lines, and add, one by one."""
+    rng = np.random.default_rng(seed)
+    one_by_one, at_once = MaterialRuns(), MaterialRuns()
+    face = 0
+    for _ in range(20):  # chunks, each going on from the runs the chunks before made
+        count = int(rng.integers(1, 30))
+        faces = face + np.cumsum(rng.integers(0, 3, count))  # several usemtl lines at one face, too
+        numbers = rng.integers(0, 4, count)
+        names = [at_once.number(f"m{number}") for number in numbers]
+        for start, number in zip(faces.tolist(), numbers.tolist()):
+            one_by_one.add(start, f"m{number}")
+        at_once.extend(faces, np.array(names))
+        face = int(faces[-1])
+        assert at_once.as_pairs() == one_by_one.as_pairs()
 
 
 def test_a_usemtl_naming_the_material_in_use_goes_on_with_its_run() -> None:

@@ -179,7 +179,7 @@ def test_colour_comments_after_the_one_that_counts_cost_no_memory(plain_peak: in
     settled: list[int] = []
     settle = fast_reader._Records.settle
     monkeypatch.setattr(fast_reader._Records, "settle",
-                        lambda self, records: (settled.append(len(records)), settle(self, records))[1])
+                        lambda self, records, *rest: (settled.append(len(records)), settle(self, records, *rest))[1])
     outcome, lines, peak = load_counting(TEXT + comment * (len(TEXT) // len(comment)))
     assert sum(settled) <= fast_reader.PARSE_THREADS * fast_reader.PIECES_PER_THREAD * 4, settled
     assert isinstance(outcome, Mesh) and outcome.warnings == ()

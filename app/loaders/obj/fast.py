@@ -93,10 +93,11 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
                                        face_start),
                 list(range(len(pieces))), PARSE_THREADS)
     outcome = _Records(buf)
-    for chunks, deferred in read:
+    for chunks, deferred, names in read:
         outcome.take_colours(deferred)
+        numbers = outcome.name_numbers(names)
         for chunk in chunks:
-            outcome.settle(chunk)
+            outcome.settle(chunk, numbers)
     if total[scan.F] == 0:
         raise no_faces_error(source, outcome.statements > 0 or bool(total[[scan.V, scan.VT, scan.VN]].any()))
     totals = [len(table) for table in tables]
@@ -114,11 +115,11 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
 
 
 def _read_piece(buf: np.ndarray, piece: tuple[int, int], before: np.ndarray, deferred: _DeferredLines,
-                face_start: np.ndarray) -> tuple[list[np.ndarray], _DeferredLines]:
+                face_start: np.ndarray) -> tuple[list[np.ndarray], _DeferredLines, np.ndarray]:
     """Pass two over a piece; its records, in file order, in chunks of doubling size: a full chunk is
     kept as it is and the next one given, so that no record is copied to make room. The line reader
     reads each chunk's deferred lines as it comes, so a bad one ends the piece: a file of millions
-    of bad lines holds a few records, not one per line."""
+    of bad lines holds a few records, not one per line. Also the bytes of its distinct usemtl lines."""
     state = np.zeros(scan.STATE_COLUMNS, np.int64)
     state[:scan.COUNT_COLUMNS] = before
     state[scan.LINES] += 1  # line numbers start at 1
@@ -127,13 +128,14 @@ def _read_piece(buf: np.ndarray, piece: tuple[int, int], before: np.ndarray, def
     rows = 16
     # A record's numbers (byte offsets, a line's number, counts) all stay below the text's length.
     record_type = np.int32 if buf.shape[0] <= np.iinfo(np.int32).max else np.int64
+    names = np.zeros((scan.NAMES_PER_PIECE, 2), np.int64)
     while True:
         records = np.empty((rows, scan.RECORD_COLUMNS), record_type)
         state[scan.S_USED] = 0
-        scan.read_piece(buf, piece[1], state, records, *deferred.tables, *deferred.columns, face_start)
+        scan.read_piece(buf, piece[1], state, records, names, *deferred.tables, *deferred.columns, face_start)
         chunks.append(deferred.read(records[:state[scan.S_USED]], face_start))
         if state[scan.S_AT] >= piece[1]:
-            return chunks, deferred
+            return chunks, deferred, names[:state[scan.S_NAMES]]
         rows *= 2
 
 
@@ -221,7 +223,18 @@ class _Records:
         self.colour_rows.extend(deferred.colour_rows)
         self.colour_values.extend(deferred.colour_values)
 
-    def settle(self, records: np.ndarray) -> None:
+    def name_numbers(self, names: np.ndarray) -> np.ndarray:
+        """The material numbers of a piece's distinct usemtl lines (their bytes' bounds)."""
+        return np.array([self.material_runs.number(raw.material_name(raw.statement(self.buf[start:end].tobytes())[1]))
+                         for start, end in names.tolist()], np.int64)
+
+    def settle(self, records: np.ndarray, name_numbers: np.ndarray) -> None:
+        """A chunk's records; `name_numbers`: the material of each of its piece's distinct usemtl lines."""
+        usemtl = (records[:, scan.R_KIND] == scan.STATEMENT) & (records[:, scan.R_KEYWORD] == scan.USEMTL_KEYWORD)
+        if usemtl.any() and records[usemtl, scan.R_NAME].min() >= 0:  # all told apart: their runs at once
+            self.material_runs.extend(records[usemtl, scan.R_FACE], name_numbers[records[usemtl, scan.R_NAME]])
+            self.statements += int(usemtl.sum())
+            records = records[~usemtl]
         for first in range(0, records.shape[0], _SETTLED_AT_ONCE):  # as Python ints a few at a time: ten each
             self._settle(records[first:first + _SETTLED_AT_ONCE].tolist())
 

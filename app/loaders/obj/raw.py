@@ -124,6 +124,13 @@ class MaterialRuns:
                 self._named[line] = name
         self.add(faces_before, name)
 
+    def number(self, name: str) -> int:
+        """The name's number in `names`, given it now where it has none."""
+        number = self._numbers.setdefault(name, len(self.names))
+        if number == len(self.names):
+            self.names.append(name)
+        return number
+
     def add(self, faces_before: int, name: str) -> None:
         """A usemtl: its faces start at `faces_before`. One that another follows before any face takes
         no face, so the later replaces it: a file of usemtl lines holds one run, not one per line; one
@@ -131,12 +138,25 @@ class MaterialRuns:
         if self.starts and self.starts[-1] == faces_before:
             self.starts.pop()
             self.name_numbers.pop()
-        number = self._numbers.setdefault(name, len(self.names))
-        if number == len(self.names):
-            self.names.append(name)
+        number = self.number(name)
         if not self.name_numbers or self.name_numbers[-1] != number:
             self.starts.append(faces_before)
             self.name_numbers.append(number)
+
+    def extend(self, starts: np.ndarray, numbers: np.ndarray) -> None:
+        """Many usemtl lines, in file order (their first faces and name numbers), as `add` would take
+        them one by one: of those at one face (and the last run so far, where it starts there) the last
+        counts; then one naming the material of the one before goes on with its run."""
+        starts, numbers = np.asarray(starts, np.int64), np.asarray(numbers, np.int64)
+        if self.starts:
+            starts = np.concatenate(([self.starts.pop()], starts))
+            numbers = np.concatenate(([self.name_numbers.pop()], numbers))
+        last_at_its_face = np.append(starts[1:] != starts[:-1], True)
+        starts, numbers = starts[last_at_its_face], numbers[last_at_its_face]
+        before = self.name_numbers[-1] if self.name_numbers else -1
+        new_run = numbers != np.concatenate(([before], numbers[:-1]))
+        self.starts.frombytes(starts[new_run].tobytes())
+        self.name_numbers.frombytes(numbers[new_run].tobytes())
 
 
 # `v x y z r g b` (MeshLab, ZBrush): a colour after the position, drawn as PLY's and COFF's are.

@@ -27,14 +27,17 @@ _NO_KEYWORD, _OTHER_KEYWORD, USEMTL_KEYWORD, MTLLIB_KEYWORD = -1, -2, -3, -4
 # may be the seed's "# colour", or a piece's first v line with a colour after its x y z.
 DEFERRED, STATEMENT, COMMENT, VERTEX_COLOURS = 0, 1, 2, 3
 # Columns of a record: its kind, the line's bytes and number, the rows of v, vt and vn before it,
-# the faces and corners before it, and its keyword's kind.
-R_KIND, R_START, R_END, R_LINE, R_V, R_VT, R_VN, R_FACE, R_CORNER, R_KEYWORD = range(10)
-RECORD_COLUMNS = 10
+# the faces and corners before it, its keyword's kind, and a usemtl line's place among the piece's
+# distinct ones (-1: another record, or past NAMES_PER_PIECE of them).
+R_KIND, R_START, R_END, R_LINE, R_V, R_VT, R_VN, R_FACE, R_CORNER, R_KEYWORD, R_NAME = range(11)
+RECORD_COLUMNS = 11
+NAMES_PER_PIECE = 64  # distinct usemtl lines a piece tells apart: a model uses a few materials
 # Where pass two is in a piece: the counts (as COUNT_COLUMNS, LINES being the next line's number),
 # the next line's first byte, the records used, what the piece has recorded once (_STATED...), its
-# mtllib lines recorded, and the bytes of its last usemtl line recorded.
-S_AT, S_USED, S_FLAGS, S_LIBRARIES, S_MATERIAL_START, S_MATERIAL_END = range(COUNT_COLUMNS, COUNT_COLUMNS + 6)
-STATE_COLUMNS = COUNT_COLUMNS + 6
+# mtllib lines recorded, the bytes of its last usemtl line recorded, and its distinct usemtl lines.
+S_AT, S_USED, S_FLAGS, S_LIBRARIES, S_MATERIAL_START, S_MATERIAL_END, S_NAMES = range(COUNT_COLUMNS,
+                                                                                   COUNT_COLUMNS + 7)
+STATE_COLUMNS = COUNT_COLUMNS + 7
 # The flags of what a piece has recorded: a statement (one says the file has some), a colour comment
 # that sets the colour (later ones cannot), a v line with a colour (one a piece is enough).
 _STATED, _COLOUR_SET, _COLOURS_SEEN = 1, 2, 4
@@ -352,6 +355,15 @@ def _word_at(buf: np.ndarray, at: int, word: np.ndarray) -> bool:
 
 
 @njit(**_JIT)
+def _place_among(buf: np.ndarray, start: int, end: int, names: np.ndarray, named: int) -> int:
+    """Where buf[start:end] is among the first `named` lines `names` holds; `named` where it is not."""
+    for place in range(named):
+        if _same_bytes(buf, start, end, names[place, 0], names[place, 1]):
+            return place
+    return named
+
+
+@njit(**_JIT)
 def _same_bytes(buf: np.ndarray, start: int, end: int, other_start: int, other_end: int) -> bool:
     if end - start != other_end - other_start:
         return False
@@ -374,17 +386,19 @@ def _statement_kind(buf: np.ndarray, start: int) -> int:
 
 
 @njit(**_UNCOUNTED)
-def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarray, positions: np.ndarray,
-               texcoords: np.ndarray, normals: np.ndarray, vertex: np.ndarray, texcoord: np.ndarray,
-               normal: np.ndarray, face_start: np.ndarray) -> None:
+def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarray, names: np.ndarray,
+               positions: np.ndarray, texcoords: np.ndarray, normals: np.ndarray, vertex: np.ndarray,
+               texcoord: np.ndarray, normal: np.ndarray, face_start: np.ndarray) -> None:
     """Pass two over a piece, up to `high`: its rows, corners and face ends into the whole file's
     tables, and its records into `records`. `state` says where it is (STATE_COLUMNS): the counts so
-    far in the whole file, the next line, and the records used. It returns once the piece is read or
-    `records` is full, to be called again with more room: growing them here would cost every line."""
+    far in the whole file, the next line, and the records used. `names`, (NAMES_PER_PIECE, 2): the
+    bytes of the piece's distinct usemtl lines, each record's R_NAME the place of its own. It returns
+    once the piece is read or `records` is full, to be called again with more room: growing them
+    here would cost every line."""
     defined = state[:3]  # the rows of v, vt and vn so far, counted in place
     face, corner, line = state[F], state[CORNERS], state[LINES]
     start, used, flags, libraries = state[S_AT], state[S_USED], state[S_FLAGS], state[S_LIBRARIES]
-    material_start, material_end = state[S_MATERIAL_START], state[S_MATERIAL_END]
+    material_start, material_end, named = state[S_MATERIAL_START], state[S_MATERIAL_END], state[S_NAMES]
     while start < high and used < records.shape[0]:
         if _byte(buf, start) == _NEWLINE:
             line += 1
@@ -426,15 +440,22 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
             if shape != _NOT_COLOUR:
                 record = COMMENT
                 flags |= _COLOUR_SET if shape == _COLOUR_READ else 0
+        name = -1
         if record >= 0 and kind == USEMTL_KEYWORD:
             if used > 0 and records[used - 1, R_KEYWORD] == USEMTL_KEYWORD and records[used - 1, R_FACE] == face:
                 used -= 1  # a usemtl no face followed: this one takes its place (as raw.MaterialRuns.add does)
             material_start, material_end = start, end
+            name = _place_among(buf, start, end, names, named)
+            if name == named and named < names.shape[0]:  # a line the piece had not shown: it joins them
+                names[named, 0], names[named, 1] = start, end
+                named += 1
+            elif name == named:
+                name = -1
         if record >= 0:
             row = records[used]
             row[R_KIND], row[R_START], row[R_END], row[R_LINE], row[R_KEYWORD] = record, start, end, line, kind
             row[R_V], row[R_VT], row[R_VN] = defined[V], defined[VT], defined[VN]
-            row[R_FACE], row[R_CORNER] = face, corner
+            row[R_FACE], row[R_CORNER], row[R_NAME] = face, corner, name
             used += 1
         if kind == F:
             corner += corners
@@ -446,7 +467,7 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
         start = end + 1
     state[F], state[CORNERS], state[LINES] = face, corner, line
     state[S_AT], state[S_USED], state[S_FLAGS], state[S_LIBRARIES] = start, used, flags, libraries
-    state[S_MATERIAL_START], state[S_MATERIAL_END] = material_start, material_end
+    state[S_MATERIAL_START], state[S_MATERIAL_END], state[S_NAMES] = material_start, material_end, named
 
 
 @njit(**_UNCOUNTED)
