@@ -14,7 +14,7 @@ from marraztu.errors import LoadError
 from marraztu.loaders import off, words
 from marraztu.loaders.off import load_off
 from marraztu.loaders.registry import load_model
-from support.refusals import one_line_refusal
+from support.refusals import one_line_refusal, written
 from support.work import peak_traced_bytes
 
 SQUARE = ["0 0 0", "1 0 0", "1 1 0", "0 1 0"]
@@ -27,9 +27,7 @@ def off_text(vertices: list[str] = SQUARE, faces: tuple[str, ...] = ("3 0 1 2", 
 
 
 def read(tmp_path: Path, text: str, name: str = "m.off"):
-    path = tmp_path / name
-    path.write_text(text, encoding="utf-8")
-    return load_off(path)
+    return load_off(written(tmp_path, text, name))
 
 
 def refusal(tmp_path: Path, text: str) -> LoadError:

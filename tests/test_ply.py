@@ -12,7 +12,7 @@ import trimesh
 from marraztu.errors import LoadError
 from marraztu.loaders.ply import binary_of_ascii, read_header
 from marraztu.loaders.registry import load_model
-from support.refusals import one_line_refusal
+from support.refusals import one_line_refusal, written
 from support.work import peak_traced_bytes
 
 GRID = [f"{x} {y} {(x * y) % 3 * 0.1:.1f}" for y in range(3) for x in range(3)]  # 3 x 3 vertices
@@ -26,9 +26,7 @@ def ply_text(faces: list[str], vertices: list[str] = GRID, face_properties: str 
 
 
 def load(tmp_path: Path, text: str, name: str = "m.ply"):
-    path = tmp_path / name
-    path.write_text(text, encoding="utf-8")
-    return load_model(path)
+    return load_model(written(tmp_path, text, name))
 
 
 def refusal(tmp_path: Path, text: str) -> LoadError:

@@ -71,6 +71,13 @@ def line_at(data: bytes, offset: int) -> int:
     return data.count(b"\n", 0, offset) + data.count(b"\r", 0, offset) - data.count(b"\r\n", 0, offset) + 1
 
 
+def line_end_from(data: bytes, at: int) -> int:
+    """The offset just past the end of the line the byte at `at` lies on; the file's end on a last line
+    without a line end."""
+    end = _LINE_END.search(data, at)
+    return len(data) if end is None else end.end()
+
+
 def line_end_after(data: bytes, line: int) -> int:
     """The offset just past the end of line number `line` (1-based, lines ending as text_lines ends them);
     the file's end where that line is its last and has no line end."""

@@ -20,8 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import line_at, text_lines
-from marraztu.loaders.words import DECIMAL_SYNTAX, WHITESPACE, is_count, pieces_at_gaps, text_numbers
+from marraztu.loaders.files import line_at, line_end_from, text_lines
+from marraztu.loaders.words import DECIMAL_SYNTAX, is_count, pieces_at_gaps, text_numbers, words_and_line_ends
 
 # The property types PLY names, as trimesh reads them (its float16 and 64-bit integers too).
 PLY_TYPES = {"char": "i1", "uchar": "u1", "short": "i2", "ushort": "u2", "int": "i4", "uint": "u4",
@@ -108,16 +108,7 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
     if encoding is None:
         raise LoadError(path, "the header has no 'format' line", line=number + 1)
     elements = [replace(element, properties=tuple(props)) for element, props in zip(elements, properties)]
-    return PlyHeader(encoding, tuple(elements), picture, _after_line(data, end))
-
-
-def _after_line(data: bytes, at: int) -> int:
-    """The offset just past the end of the line `at` lies on (\n, \r\n or a lone \r)."""
-    end = _LINE_END.search(data, at)
-    return len(data) if end is None else end.end()
-
-
-_LINE_END = re.compile(rb"\r\n|\n|\r")
+    return PlyHeader(encoding, tuple(elements), picture, line_end_from(data, end))
 
 
 def _element(path: Path, words: list[str], line: int) -> PlyElement:
@@ -224,11 +215,9 @@ class _Body:
         passed, aligned, culprit, after_line_end = 0, 0, None, True  # the body starts on a line of its own
         last_row_at = self.body_at  # the offset of the last row start seen
         for start, stop in pieces_at_gaps(self.data, self.body_at):
-            piece = np.frombuffer(self.data, np.uint8, count=stop - start, offset=start)
-            blank = WHITESPACE[piece]
-            words = np.flatnonzero(~blank & np.concatenate(([True], blank[:-1])))
-            line_ends = np.cumsum((piece == 10) | (piece == 13))  # \n, \r: a line ends at either
-            before = np.concatenate(([-1 if after_line_end else 0], line_ends[words]))
+            words, ends_before, ends = words_and_line_ends(
+                np.frombuffer(self.data, np.uint8, count=stop - start, offset=start))
+            before = np.concatenate(([-1 if after_line_end else 0], ends_before))
             begins_line = np.diff(before) > 0  # a line ended between the word before and this one
             if culprit is None and aligned >= 0:
                 starts = np.concatenate([np.empty(0, np.int64), *(rows(passed, min(passed + len(words), index))
@@ -246,8 +235,7 @@ class _Body:
             if index < passed + len(words):
                 return line_at(self.data, start + int(words[index - passed])), culprit
             passed += len(words)
-            after_line_end = bool(line_ends[-1] > line_ends[words[-1]]) if len(words) else (
-                after_line_end or bool(line_ends[-1]))
+            after_line_end = bool(ends > ends_before[-1]) if len(words) else (after_line_end or bool(ends))
         return line_at(self.data, len(self.data)), culprit
 
 

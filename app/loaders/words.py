@@ -161,6 +161,15 @@ def pieces_at_gaps(data: bytes, start: int, piece_bytes: int = _PIECE_BYTES, end
 _GAP = re.compile(rb"\s")
 
 
+def words_and_line_ends(piece: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+    """Where each word of a piece of text (uint8) begins, how many line ends (\\n or \\r) come before
+    it, and how many the piece holds: a few numbers per word and line end, never one per byte."""
+    blank = WHITESPACE[piece]
+    words = np.flatnonzero(~blank & np.concatenate(([True], blank[:-1])))
+    line_ends = np.flatnonzero((piece == 10) | (piece == 13))
+    return words, np.searchsorted(line_ends, words), line_ends.size
+
+
 def line_words(data: bytes, start: int, most: int) -> tuple[np.ndarray, np.ndarray]:
     """For each line from `start` on that holds a word, up to `most` of them: how many it holds, and
     where its first begins. A line ends at \\n or \\r (\\r\\n leaves an empty line between, which
@@ -170,13 +179,9 @@ def line_words(data: bytes, start: int, most: int) -> tuple[np.ndarray, np.ndarr
     offset_type = np.int32 if len(data) < 1 << 30 else np.int64  # an offset plus a little stays an int32
     lines_before, last_line, found = 0, -1, 0  # lines ended before the piece; the line of the last word seen
     for low, high in pieces_at_gaps(data, start, _WORDS_PIECE_BYTES):  # no word spans two pieces
-        piece = np.frombuffer(data, np.uint8, count=high - low, offset=low)
-        blank = WHITESPACE[piece]
-        words = np.flatnonzero(~blank & np.concatenate(([True], blank[:-1])))
-        del blank
-        line_ends = np.flatnonzero((piece == 10) | (piece == 13))
-        line_of_word = np.searchsorted(line_ends, words) + lines_before
-        lines_before += line_ends.size
+        words, ends_before, ends = words_and_line_ends(np.frombuffer(data, np.uint8, count=high - low, offset=low))
+        line_of_word = ends_before + lines_before
+        lines_before += ends
         new_line = np.flatnonzero(np.diff(line_of_word, prepend=last_line) != 0)
         going_on = int(new_line[0]) if new_line.size else words.size  # words on the last piece's last line
         if going_on:

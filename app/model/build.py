@@ -324,10 +324,9 @@ def _huge_polygon_sum(positions: np.ndarray, axes: np.ndarray, corners: np.ndarr
         fans = np.empty((stop - start, 3), corners.dtype)
         fans[:, 0], fans[:, 1], fans[:, 2] = corners[0], corners[start:stop], corners[start + 1:stop + 1]
         block = _fan_sums(positions, fans, axes)
-        if total is not None:
-            with np.errstate(all="ignore"):
-                block[:, 0] += total
         with np.errstate(all="ignore"):
+            if total is not None:
+                block[:, 0] += total
             total = np.cumsum(block, axis=1)[:, -1]
     return total
 

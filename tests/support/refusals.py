@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 
 import pytest
 
@@ -15,3 +16,10 @@ def one_line_refusal(read: Callable[[], object]) -> LoadError:
         read()
     assert "\n" not in str(refused.value)
     return refused.value
+
+
+def written(folder: Path, text: str, name: str) -> Path:
+    """A file `name` in `folder` holding `text` in UTF-8, for a reader to read."""
+    path = folder / name
+    path.write_text(text, encoding="utf-8")
+    return path

@@ -13,6 +13,7 @@ order, once every piece is read.
 from __future__ import annotations
 
 from array import array
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -124,6 +125,7 @@ def _read_piece(buf: np.ndarray, piece: tuple[int, int], before: np.ndarray, def
     state[:scan.COUNT_COLUMNS] = before
     state[scan.LINES] += 1  # line numbers start at 1
     state[scan.S_AT] = piece[0]
+    state[scan.S_LAST_NAME] = -1  # no usemtl line yet
     chunks = []
     rows = 16
     # A record's numbers (byte offsets, a line's number, counts) all stay below the text's length.
@@ -164,6 +166,13 @@ def _pieces(buf: np.ndarray, count: int) -> list[tuple[int, int]]:
 _SETTLED_AT_ONCE = 4096
 
 
+def _python_rows(records: np.ndarray) -> Iterator[list[int]]:
+    """Each record as a list of Python ints, made a few thousand records at a time: ten ints a record,
+    never for every record at once."""
+    for first in range(0, records.shape[0], _SETTLED_AT_ONCE):
+        yield from records[first:first + _SETTLED_AT_ONCE].tolist()
+
+
 class _DeferredLines:
     """Reads the v, vt, vn and f lines a piece's compiled pass left to the line reader, into the
     whole file's tables at the rows its records give: their values, or their LoadError."""
@@ -179,10 +188,8 @@ class _DeferredLines:
         deferred = records[:, scan.R_KIND] == scan.DEFERRED
         if not deferred.any():
             return records
-        lines = records[deferred]
-        for first in range(0, lines.shape[0], _SETTLED_AT_ONCE):  # as Python ints a few at a time: ten each
-            for record in lines[first:first + _SETTLED_AT_ONCE].tolist():
-                self.read_line(record, face_start)
+        for record in _python_rows(records[deferred]):
+            self.read_line(record, face_start)
         return records[~deferred]
 
     def read_line(self, record: list[int], face_start: np.ndarray) -> None:
@@ -225,7 +232,7 @@ class _Records:
 
     def name_numbers(self, names: np.ndarray) -> np.ndarray:
         """The material numbers of a piece's distinct usemtl lines (their bytes' bounds)."""
-        return np.array([self.material_runs.number(raw.material_name(raw.statement(self.buf[start:end].tobytes())[1]))
+        return np.array([self.material_runs.number(raw.usemtl_name(self.buf[start:end].tobytes()))
                          for start, end in names.tolist()], np.int64)
 
     def settle(self, records: np.ndarray, name_numbers: np.ndarray) -> None:
@@ -235,11 +242,7 @@ class _Records:
             self.material_runs.extend(records[usemtl, scan.R_FACE], name_numbers[records[usemtl, scan.R_NAME]])
             self.statements += int(usemtl.sum())
             records = records[~usemtl]
-        for first in range(0, records.shape[0], _SETTLED_AT_ONCE):  # as Python ints a few at a time: ten each
-            self._settle(records[first:first + _SETTLED_AT_ONCE].tolist())
-
-    def _settle(self, records: list[list[int]]) -> None:
-        for record in records:
+        for record in _python_rows(records):
             content = self.buf[record[scan.R_START]:record[scan.R_END]].tobytes()
             if record[scan.R_KIND] == scan.STATEMENT:
                 self.statement(record[scan.R_KEYWORD], record[scan.R_FACE], content)
@@ -253,4 +256,4 @@ class _Records:
         if kind == scan.MTLLIB_KEYWORD:
             self.mtllib = raw.with_library(self.mtllib, raw.statement(content)[1])
         elif kind == scan.USEMTL_KEYWORD:
-            self.material_runs.add_line(faces_before, content)
+            self.material_runs.add(faces_before, raw.usemtl_name(content))

@@ -102,7 +102,6 @@ class MaterialRuns:
         self.starts, self.name_numbers = array("q"), array("q")
         self.names: list[str] = []
         self._numbers: dict[str, int] = {}
-        self._named: dict[bytes, str] = {}  # each usemtl line's name, decoded once
 
     def __len__(self) -> int:
         return len(self.starts)
@@ -111,18 +110,13 @@ class MaterialRuns:
         return [(start, self.names[number]) for start, number in zip(self.starts, self.name_numbers)]
 
     def used_numbers(self) -> np.ndarray:
-        """The numbers of the names the runs use, in the order of their first run."""
-        numbers, first_runs = np.unique(np.frombuffer(self.name_numbers, np.int64), return_index=True)
-        return numbers[np.argsort(first_runs)]
-
-    def add_line(self, faces_before: int, line: bytes) -> None:
-        """A usemtl line, whole."""
-        name = self._named.get(line)
-        if name is None:
-            name = material_name(statement(line)[1])
-            if len(self._named) < MAX_NAMES_REMEMBERED:
-                self._named[line] = name
-        self.add(faces_before, name)
+        """The numbers of the names the runs use, in the order of their first run. Not np.unique, whose
+        first call imports numpy.ma."""
+        numbers = np.frombuffer(self.name_numbers, np.int64)
+        first_run = np.full(len(self.names), numbers.size)
+        np.minimum.at(first_run, numbers, np.arange(numbers.size))
+        used = np.flatnonzero(first_run < numbers.size)
+        return used[np.argsort(first_run[used])]
 
     def number(self, name: str) -> int:
         """The name's number in `names`, given it now where it has none."""
@@ -163,7 +157,6 @@ class MaterialRuns:
 COLOURED_V_NUMBERS = 6
 MAX_LIBRARY_LINES = 16  # mtllib lines read: a file of a million must not cost a million lookups
 MAX_MATERIAL_NAME = 200  # characters of a usemtl name kept: enough for any real one, bounded for a hostile one
-MAX_NAMES_REMEMBERED = 4096  # usemtl lines whose decoded name is kept for the next line that says the same
 
 
 def put_colours(table: np.ndarray, rows: Sequence[int], values: Sequence[float]) -> np.ndarray:
@@ -176,6 +169,11 @@ def put_colours(table: np.ndarray, rows: Sequence[int], values: Sequence[float])
 def with_library(libraries: tuple[str, ...], rest: bytes) -> tuple[str, ...]:
     """The mtllib lines' names so far, and this line's: at most MAX_LIBRARY_LINES of them."""
     return libraries + (decoded(rest),) if len(libraries) < MAX_LIBRARY_LINES else libraries
+
+
+def usemtl_name(line: bytes) -> str:
+    """The name a whole usemtl line gives."""
+    return material_name(statement(line)[1])
 
 
 def material_name(rest: bytes) -> str:

@@ -34,10 +34,10 @@ RECORD_COLUMNS = 11
 NAMES_PER_PIECE = 64  # distinct usemtl lines a piece tells apart: a model uses a few materials
 # Where pass two is in a piece: the counts (as COUNT_COLUMNS, LINES being the next line's number),
 # the next line's first byte, the records used, what the piece has recorded once (_STATED...), its
-# mtllib lines recorded, the bytes of its last usemtl line recorded, and its distinct usemtl lines.
-S_AT, S_USED, S_FLAGS, S_LIBRARIES, S_MATERIAL_START, S_MATERIAL_END, S_NAMES = range(COUNT_COLUMNS,
-                                                                                   COUNT_COLUMNS + 7)
-STATE_COLUMNS = COUNT_COLUMNS + 7
+# mtllib lines recorded, its distinct usemtl lines, and the place among them of its last usemtl line
+# recorded (-1: none, or one past them).
+S_AT, S_USED, S_FLAGS, S_LIBRARIES, S_NAMES, S_LAST_NAME = range(COUNT_COLUMNS, COUNT_COLUMNS + 6)
+STATE_COLUMNS = COUNT_COLUMNS + 6
 # The flags of what a piece has recorded: a statement (one says the file has some), a colour comment
 # that sets the colour (later ones cannot), a v line with a colour (one a piece is enough).
 _STATED, _COLOUR_SET, _COLOURS_SEEN = 1, 2, 4
@@ -398,14 +398,14 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
     defined = state[:3]  # the rows of v, vt and vn so far, counted in place
     face, corner, line = state[F], state[CORNERS], state[LINES]
     start, used, flags, libraries = state[S_AT], state[S_USED], state[S_FLAGS], state[S_LIBRARIES]
-    material_start, material_end, named = state[S_MATERIAL_START], state[S_MATERIAL_END], state[S_NAMES]
+    named, last_name = state[S_NAMES], state[S_LAST_NAME]
     while start < high and used < records.shape[0]:
         if _byte(buf, start) == _NEWLINE:
             line += 1
             start += 1
             continue
         kind, at = _keyword(buf, start)
-        record, corners, read = -1, 0, True
+        record, corners, read, name = -1, 0, True, -1
         if kind == V:
             numbers, at = _numbers(buf, at, positions, defined[V], 3, 7)
             read = numbers >= 0
@@ -431,8 +431,15 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
         if kind == MTLLIB_KEYWORD:  # the file's first MAX_LIBRARY_LINES are read: a piece's first are enough
             record = STATEMENT if libraries < MAX_LIBRARY_LINES else -1
             libraries += 1
-        elif kind == USEMTL_KEYWORD and _same_bytes(buf, start, end, material_start, material_end):
-            record = -1  # the material its faces use already: a usemtl before every face is one run
+        elif kind == USEMTL_KEYWORD:
+            name = _place_among(buf, start, end, names, named)
+            if name == named and named < names.shape[0]:  # a line the piece had not shown: it joins them
+                names[named, 0], names[named, 1] = start, end
+                named += 1
+            elif name == named:
+                name = -1
+            if name >= 0 and name == last_name:
+                record = -1  # the material its faces use already: a usemtl before every face is one run
         if not read:
             record = DEFERRED
         elif kind == _NO_KEYWORD and _byte(buf, at) == _HASH and not flags & _COLOUR_SET:
@@ -440,17 +447,10 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
             if shape != _NOT_COLOUR:
                 record = COMMENT
                 flags |= _COLOUR_SET if shape == _COLOUR_READ else 0
-        name = -1
         if record >= 0 and kind == USEMTL_KEYWORD:
             if used > 0 and records[used - 1, R_KEYWORD] == USEMTL_KEYWORD and records[used - 1, R_FACE] == face:
                 used -= 1  # a usemtl no face followed: this one takes its place (as raw.MaterialRuns.add does)
-            material_start, material_end = start, end
-            name = _place_among(buf, start, end, names, named)
-            if name == named and named < names.shape[0]:  # a line the piece had not shown: it joins them
-                names[named, 0], names[named, 1] = start, end
-                named += 1
-            elif name == named:
-                name = -1
+            last_name = name
         if record >= 0:
             row = records[used]
             row[R_KIND], row[R_START], row[R_END], row[R_LINE], row[R_KEYWORD] = record, start, end, line, kind
@@ -467,7 +467,7 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
         start = end + 1
     state[F], state[CORNERS], state[LINES] = face, corner, line
     state[S_AT], state[S_USED], state[S_FLAGS], state[S_LIBRARIES] = start, used, flags, libraries
-    state[S_MATERIAL_START], state[S_MATERIAL_END], state[S_NAMES] = material_start, material_end, named
+    state[S_NAMES], state[S_LAST_NAME] = named, last_name
 
 
 @njit(**_UNCOUNTED)
