@@ -76,7 +76,7 @@ def test_every_section_prints_one_whole_table(report: str) -> None:
                 MEMORY_HEADERS: 4,
                 SHAPE_HEADERS: len(SHAPES)}
     if "Skipped: no Xvfb" not in report:
-        expected[WINDOW_HEADERS] = 5  # idle twice, a key, a load in the scene and on screen
+        expected[WINDOW_HEADERS] = 6  # idle twice, a key for the model and the camera, a load in the scene and shown
     assert set(tables) == set(expected)
     for headers, row_count in expected.items():
         rows = tables[headers]

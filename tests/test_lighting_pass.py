@@ -42,6 +42,13 @@ STEPS = [
     ("p", True),  # parallel projection: one V for the whole scene
     ("p", True),
     ("c t Z", True),  # the camera moves: V and the camera's spotlight
+    ("3", True),  # the camera's spotlight off
+    ("r x", False),  # the camera turns in place: perspective's V comes from its position alone
+    ("p", True),
+    ("x", True),  # parallel projection's V is the camera's direction
+    ("t Z", False),  # and its position goes unread
+    ("p", True),
+    ("3", True),
     ("c", False),  # lights targeted: their marker is drawn, nothing lit changes
     ("TAB TAB", False),  # the object spotlight selected
     ("+", True),  # its cone widens

@@ -386,8 +386,12 @@ class Renderer:
             uniforms.set_matrix("u_view_projection", view_projection)
         for uniforms in (self.lighting, self.edges):
             uniforms.set("u_parallel", parallel)
-            uniforms.set("u_eye_position", eye)
-            uniforms.set("u_eye_backward", backward)
+        self.edges.set("u_eye_position", eye)
+        self.edges.set("u_eye_backward", backward)
+        # V is the eye's direction in parallel projection and from its position in perspective: the
+        # other keeps its last value, so a camera turning in place (perspective), or moving
+        # (parallel), lights nothing again where no light moves with it.
+        self.lighting.set("u_eye_backward" if parallel else "u_eye_position", backward if parallel else eye)
         self.surface.set("u_culling", modes.culling)
         self.surface.set("u_textured", modes.texture)
         for uniforms in (self.surface, self.lighting):
