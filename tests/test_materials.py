@@ -50,6 +50,7 @@ def picture(tmp_path: Path, model: Path, keys: str = "", name: str = "shot.png",
     TRIANGLES + "usemtl a\nf 1 2 3\n" * 300 + "usemtl  a\nf 1 2 3\nusemtl b\nusemtl a\nf 1 2 3\n",  # one run
     TRIANGLES + "usemtl a\nf 1 2 3\nusemtl b\nf 1 2 3\n" * 300,  # a run per face
     TRIANGLES + "".join(f"usemtl m{k % 100}\nf 1 2 3\ng\nusemtl m{k % 7}\n" for k in range(400)),  # past 64 names
+    TRIANGLES + "".join(f"usemtl{' ' * (1 + k % 3)}m{k % 90}\nf 1 2 3\n" for k in range(900)),  # one name, other bytes
 ])
 def test_both_readers_find_the_same_material_runs(text: str) -> None:
     data = text.encode()

@@ -66,6 +66,13 @@ def _materials_in_turn(path: Path, size: int) -> None:
     path.write_text(_TRIANGLE + block * (size // len(block)))
 
 
+def _many_materials_in_turn(path: Path, size: int) -> None:
+    """A usemtl before every face, a thousand materials in turn: more than a piece of the compiled
+    reader numbers (scan.NAMES_PER_PIECE), so most of those lines are numbered one by one."""
+    block = "".join(f"usemtl m{number}\nf 1/1/1 2/1/1 3/1/1\n" for number in range(1000))
+    path.write_text(_TRIANGLE + block * (size // len(block)))
+
+
 def _off_polygon(path: Path, size: int) -> None:
     """One OFF polygon of every corner, over a circle of a thousand positions."""
     corners = size // 4
@@ -165,6 +172,7 @@ SHAPES = (
     Shape("one polygon of every corner", "polygon.obj", _one_polygon),
     Shape("a face without corners on every line", "no_corners.obj", _faces_without_corners),
     Shape("a usemtl before every face, two in turn", "materials.obj", _materials_in_turn),
+    Shape("a usemtl before every face, a thousand in turn", "many_materials.obj", _many_materials_in_turn),
     Shape("blank lines only", "blank.obj", _blank_lines),
     Shape("one long v line", "long_line.obj", _one_long_line),
     Shape("one long number ending badly", "long_number.obj", _one_long_bad_number),

@@ -220,6 +220,8 @@ class _Records:
         self.buf = buf
         self.mtllib: tuple[str, ...] = ()
         self.material_runs = raw.MaterialRuns()
+        self._by_line: dict[bytes, int] = {}  # a usemtl line's material number, by the line's bytes
+        self.text = memoryview(buf)  # whose slices are quicker to make than an array's
         self.colour = raw.ColourComment()
         self.statements = 0
         self.coloured = False  # some v line gives a colour after its position
@@ -232,28 +234,36 @@ class _Records:
 
     def name_numbers(self, names: np.ndarray) -> np.ndarray:
         """The material numbers of a piece's distinct usemtl lines (their bytes' bounds)."""
-        return np.array([self.material_runs.number(raw.usemtl_name(self.buf[start:end].tobytes()))
-                         for start, end in names.tolist()], np.int64)
+        return np.array([self._line_number(start, end) for start, end in names.tolist()], np.int64)
+
+    def _line_number(self, start: int, end: int) -> int:
+        """The material number of the usemtl line buf[start:end], looked up by its bytes."""
+        line = self.text[start:end].tobytes()
+        number = self._by_line.get(line)
+        if number is None:
+            number = self._by_line[line] = self.material_runs.number(raw.usemtl_name(line))
+        return number
 
     def settle(self, records: np.ndarray, name_numbers: np.ndarray) -> None:
         """A chunk's records; `name_numbers`: the material of each of its piece's distinct usemtl lines."""
         usemtl = (records[:, scan.R_KIND] == scan.STATEMENT) & (records[:, scan.R_KEYWORD] == scan.USEMTL_KEYWORD)
-        if usemtl.any() and records[usemtl, scan.R_NAME].min() >= 0:  # all told apart: their runs at once
-            self.material_runs.extend(records[usemtl, scan.R_FACE], name_numbers[records[usemtl, scan.R_NAME]])
-            self.statements += int(usemtl.sum())
+        if usemtl.any():  # their runs at once; lines past the piece's numbered ones are numbered here
+            lines = records[usemtl]
+            places = lines[:, scan.R_NAME]
+            numbers = name_numbers[np.maximum(places, 0)] if name_numbers.size else np.zeros(places.size, np.int64)
+            unnumbered = np.flatnonzero(places < 0)
+            starts, ends = lines[unnumbered, scan.R_START].tolist(), lines[unnumbered, scan.R_END].tolist()
+            numbers[unnumbered] = [self._line_number(start, end) for start, end in zip(starts, ends)]
+            self.material_runs.extend(lines[:, scan.R_FACE], numbers)
+            self.statements += places.size
             records = records[~usemtl]
         for record in _python_rows(records):
             content = self.buf[record[scan.R_START]:record[scan.R_END]].tobytes()
-            if record[scan.R_KIND] == scan.STATEMENT:
-                self.statement(record[scan.R_KEYWORD], record[scan.R_FACE], content)
+            if record[scan.R_KIND] == scan.STATEMENT:  # usemtl's were settled above
+                self.statements += 1
+                if record[scan.R_KEYWORD] == scan.MTLLIB_KEYWORD:
+                    self.mtllib = raw.with_library(self.mtllib, raw.statement(content)[1])
             elif record[scan.R_KIND] == scan.VERTEX_COLOURS:
                 self.coloured = True
             else:
                 self.colour.offer(record[scan.R_LINE], content)
-
-    def statement(self, kind: int, faces_before: int, content: bytes) -> None:
-        self.statements += 1
-        if kind == scan.MTLLIB_KEYWORD:
-            self.mtllib = raw.with_library(self.mtllib, raw.statement(content)[1])
-        elif kind == scan.USEMTL_KEYWORD:
-            self.material_runs.add(faces_before, raw.usemtl_name(content))
