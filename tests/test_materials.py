@@ -14,7 +14,7 @@ from PIL import Image
 from marraztu.control.viewer import StartOptions, Viewer
 from marraztu.devtools import assetgen
 from marraztu.frontends.screenshot import take_screenshot
-from marraztu.loaders.obj import load_obj, parse_obj
+from marraztu.loaders.obj import fast, load_obj, parse_obj
 from marraztu.loaders.obj.fast import read_fast
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.raw import MaterialRuns
@@ -57,6 +57,13 @@ def test_both_readers_find_the_same_material_runs(text: str) -> None:
     runs = read_fast(data, "m.obj").material_runs.as_pairs()
     assert runs == read_by_lines(data, "m.obj").material_runs.as_pairs()
     assert all(before[1] != after[1] for before, after in zip(runs, runs[1:]))  # a name goes on with its run
+
+
+def test_usemtl_lines_past_those_kept_by_their_bytes_are_read_alike(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Past the piece's numbered usemtl lines, and past the lines the reader keeps by their bytes."""
+    monkeypatch.setattr(fast, "_USEMTL_LINES_KEPT", 3)
+    data = (TRIANGLES + "".join(f"usemtl{' ' * (1 + k % 3)}m{k % 90}\nf 1 2 3\n" for k in range(900))).encode()
+    assert read_fast(data, "m.obj").material_runs.as_pairs() == read_by_lines(data, "m.obj").material_runs.as_pairs()
 
 
 @pytest.mark.parametrize("seed", range(4))

@@ -213,6 +213,11 @@ class _DeferredLines:
             self.tables[kind][record[scan.R_V + kind]] = reader.tables[kind]
 
 
+# The usemtl lines whose numbers _Records keeps by their bytes: a model's few materials, not a file of
+# millions of names, each of which MaterialRuns keeps once already.
+_USEMTL_LINES_KEPT = 1 << 12
+
+
 class _Records:
     """Settles the statements and comments of pass two in file order (every deferred line is read)."""
 
@@ -241,7 +246,9 @@ class _Records:
         line = self.text[start:end].tobytes()
         number = self._by_line.get(line)
         if number is None:
-            number = self._by_line[line] = self.material_runs.number(raw.usemtl_name(line))
+            number = self.material_runs.number(raw.usemtl_name(line))
+            if len(self._by_line) < _USEMTL_LINES_KEPT:
+                self._by_line[line] = number
         return number
 
     def settle(self, records: np.ndarray, name_numbers: np.ndarray) -> None:
