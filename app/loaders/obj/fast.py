@@ -214,8 +214,9 @@ class _DeferredLines:
 
 
 # The usemtl lines whose numbers _Records keeps by their bytes: a model's few materials, not a file of
-# millions of names, each of which MaterialRuns keeps once already.
+# millions of names, each of which MaterialRuns keeps once already, nor lines longer than a name is kept.
 _USEMTL_LINES_KEPT = 1 << 12
+_USEMTL_LINE_BYTES_KEPT = 256
 
 
 class _Records:
@@ -247,7 +248,7 @@ class _Records:
         number = self._by_line.get(line)
         if number is None:
             number = self.material_runs.number(raw.usemtl_name(line))
-            if len(self._by_line) < _USEMTL_LINES_KEPT:
+            if len(self._by_line) < _USEMTL_LINES_KEPT and len(line) <= _USEMTL_LINE_BYTES_KEPT:
                 self._by_line[line] = number
         return number
 
