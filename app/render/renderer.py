@@ -391,7 +391,10 @@ class Renderer:
         # V is the eye's direction in parallel projection and from its position in perspective: the
         # other keeps its last value, so a camera turning in place (perspective), or moving
         # (parallel), lights nothing again where no light moves with it.
-        self.lighting.set("u_eye_backward" if parallel else "u_eye_position", backward if parallel else eye)
+        if parallel:
+            self.lighting.set("u_eye_backward", backward)
+        else:
+            self.lighting.set("u_eye_position", eye)
         self.surface.set("u_culling", modes.culling)
         self.surface.set("u_textured", modes.texture)
         for uniforms in (self.surface, self.lighting):

@@ -60,17 +60,14 @@ def _faces_without_corners(path: Path, size: int) -> None:
     path.write_text(_TRIANGLE + "f\n" * (size // 2))
 
 
-def _materials_in_turn(path: Path, size: int) -> None:
-    """A usemtl before every face, two materials in turn: a run of one face each."""
-    block = "usemtl red\nf 1/1/1 2/1/1 3/1/1\nusemtl blue\nf 1/1/1 2/1/1 3/1/1\n"
-    path.write_text(_TRIANGLE + block * (size // len(block)))
+def _materials_in_turn(names: Sequence[str]) -> Callable[[Path, int], None]:
+    """A writer of a usemtl before every face, the materials `names` in turn: a run of one face each."""
+    block = "".join(f"usemtl {name}\nf 1/1/1 2/1/1 3/1/1\n" for name in names)
 
+    def write(path: Path, size: int) -> None:
+        path.write_text(_TRIANGLE + block * (size // len(block)))
 
-def _many_materials_in_turn(path: Path, size: int) -> None:
-    """A usemtl before every face, a thousand materials in turn: more than a piece of the compiled
-    reader numbers (scan.NAMES_PER_PIECE), so most of those lines are numbered one by one."""
-    block = "".join(f"usemtl m{number}\nf 1/1/1 2/1/1 3/1/1\n" for number in range(1000))
-    path.write_text(_TRIANGLE + block * (size // len(block)))
+    return write
 
 
 def _off_polygon(path: Path, size: int) -> None:
@@ -171,8 +168,10 @@ SHAPES = (
     Shape("the same, its last line cut", "cut.obj", _cut_at_the_end),
     Shape("one polygon of every corner", "polygon.obj", _one_polygon),
     Shape("a face without corners on every line", "no_corners.obj", _faces_without_corners),
-    Shape("a usemtl before every face, two in turn", "materials.obj", _materials_in_turn),
-    Shape("a usemtl before every face, a thousand in turn", "many_materials.obj", _many_materials_in_turn),
+    Shape("a usemtl before every face, two in turn", "materials.obj", _materials_in_turn(("red", "blue"))),
+    # More than a piece of the compiled reader numbers (scan.NAMES_PER_PIECE): most are numbered one by one.
+    Shape("a usemtl before every face, a thousand in turn", "many_materials.obj",
+          _materials_in_turn([f"m{number}" for number in range(1000)])),
     Shape("blank lines only", "blank.obj", _blank_lines),
     Shape("one long v line", "long_line.obj", _one_long_line),
     Shape("one long number ending badly", "long_number.obj", _one_long_bad_number),

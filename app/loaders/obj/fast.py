@@ -223,11 +223,10 @@ class _Records:
     """Settles the statements and comments of pass two in file order (every deferred line is read)."""
 
     def __init__(self, buf: np.ndarray) -> None:
-        self.buf = buf
+        self.text = memoryview(buf)  # whose slices are quicker to make than an array's
         self.mtllib: tuple[str, ...] = ()
         self.material_runs = raw.MaterialRuns()
         self._by_line: dict[bytes, int] = {}  # a usemtl line's material number, by the line's bytes
-        self.text = memoryview(buf)  # whose slices are quicker to make than an array's
         self.colour = raw.ColourComment()
         self.statements = 0
         self.coloured = False  # some v line gives a colour after its position
@@ -243,7 +242,7 @@ class _Records:
         return np.array([self._line_number(start, end) for start, end in names.tolist()], np.int64)
 
     def _line_number(self, start: int, end: int) -> int:
-        """The material number of the usemtl line buf[start:end], looked up by its bytes."""
+        """The material number of the usemtl line text[start:end], looked up by its bytes."""
         line = self.text[start:end].tobytes()
         number = self._by_line.get(line)
         if number is None:
@@ -258,15 +257,17 @@ class _Records:
         if usemtl.any():  # their runs at once; lines past the piece's numbered ones are numbered here
             lines = records[usemtl]
             places = lines[:, scan.R_NAME]
-            numbers = name_numbers[np.maximum(places, 0)] if name_numbers.size else np.zeros(places.size, np.int64)
-            unnumbered = np.flatnonzero(places < 0)
-            starts, ends = lines[unnumbered, scan.R_START].tolist(), lines[unnumbered, scan.R_END].tolist()
-            numbers[unnumbered] = [self._line_number(start, end) for start, end in zip(starts, ends)]
+            numbered = places >= 0
+            numbers = np.empty(places.size, np.int64)
+            numbers[numbered] = name_numbers[places[numbered]]
+            others = lines[~numbered]
+            starts, ends = others[:, scan.R_START].tolist(), others[:, scan.R_END].tolist()
+            numbers[~numbered] = [self._line_number(start, end) for start, end in zip(starts, ends)]
             self.material_runs.extend(lines[:, scan.R_FACE], numbers)
             self.statements += places.size
             records = records[~usemtl]
         for record in _python_rows(records):
-            content = self.buf[record[scan.R_START]:record[scan.R_END]].tobytes()
+            content = self.text[record[scan.R_START]:record[scan.R_END]].tobytes()
             if record[scan.R_KIND] == scan.STATEMENT:  # usemtl's were settled above
                 self.statements += 1
                 if record[scan.R_KEYWORD] == scan.MTLLIB_KEYWORD:
