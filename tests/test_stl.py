@@ -1,5 +1,6 @@
-"""The STL reader: an ASCII file read line by line, strictly, naming the line that is wrong; the same
-corners as trimesh reads from what its exporters write; the binary one told apart by its size."""
+"""The STL reader: an ASCII file read line by line, strictly, naming the line that is wrong, or whole
+facets at a time where it is the usual text, with the same corners; the same corners as trimesh reads
+from what its exporters write; the binary one told apart by its size."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import pytest
 import trimesh
 
 from marraztu.errors import LoadError
+from marraztu.loaders import stl
 from marraztu.loaders.registry import load_model
 from marraztu.loaders.stl import stl_corners
 from support.refusals import one_line_refusal
@@ -167,3 +169,119 @@ def test_a_line_of_many_words_is_never_a_list_of_them() -> None:
     corners, peak = peak_traced_bytes(lambda: read(text))
     np.testing.assert_array_equal(corners, [[0, 0, 0], [1, 0, 0], [0, 1, 0]])
     assert peak < 4 * len(text), peak
+
+
+def test_the_usual_text_is_read_whole_facets_at_a_time() -> None:
+    """trimesh's export, and keywords in capitals with CRLF, indents and blank lines: no call per line."""
+    mesh = trimesh.Trimesh(np.random.default_rng(0).normal(size=(40, 3)), np.arange(60).reshape(-1, 3) % 40,
+                           process=False)
+    for text in (trimesh.exchange.stl.export_stl_ascii(mesh),
+                 solid(facet(TRIANGLE, indent="\t"), "\n\n", facet(TRIANGLE)).upper().replace("\n", "\r\n")):
+        blocks, rest = stl._usual_ascii_corners(text.encode())
+        assert rest is None and np.array_equal(np.concatenate(blocks), read(text))
+
+
+def _variant(rng: np.random.Generator) -> bytes:
+    """An ASCII STL like a person's: a style of its own (keywords' case, line ends, indents), and in
+    most files each part now and then written otherwise or wrongly."""
+    oddness = float(rng.choice([0.0, 0.1, 1.0]))
+    case = str(rng.choice(["lower", "upper", "title"]))
+    newline, indent = str(rng.choice(["\n", "\r\n"])), str(rng.choice(["", "  ", "\t"]))
+
+    def pick(*choices: str, odd: float = 0.1) -> str:
+        return choices[0] if rng.random() >= odd * oddness else str(rng.choice(choices[1:]))
+
+    def keyword(word: str) -> str:
+        return pick(getattr(word, case)(), word.upper(), word[:-1], word + "x", "", odd=0.08)
+
+    def blank() -> str:
+        return pick(" ", "\t", "  ", "\v", "\f", "\xa0", "", odd=0.05)
+
+    def end() -> str:
+        return pick(newline, "\n", "\r\n", "\r", " \n", "\n\n", "\n \n", "\n\f\n", odd=0.05)
+
+    def number() -> str:
+        good = f"{rng.normal() * 10.0 ** rng.integers(-5, 6):.{rng.integers(0, 18)}{rng.choice(list('efg'))}}"
+        return pick(good, str(rng.integers(-9, 10)), "-0", "+.5", "5.", "1e", ".", "1-2", "1_0", "nan", "inf",
+                    "1e400", "1e39", "0x1", "1.5E+3", "\u0663", "", "1 2", odd=0.04)
+
+    def line(words: list[str]) -> str:
+        return pick(indent, "", "  ", "\t", odd=0.3) + blank().join(words) + end()
+
+    def one_facet() -> str:
+        text = line([keyword("facet"), pick("normal 0 0 1", "normal", "x", "", "facet", odd=0.2)])
+        text += line([keyword("outer"), pick("loop", "", "vertex", odd=0.1)])
+        for _ in range(int(pick("3", "2", "4", odd=0.03))):
+            text += line([keyword("vertex"), number(), number(), number()])
+        return text + line([keyword("endloop")]) + line([keyword("endfacet"), pick("", "x", odd=0.05)])
+
+    def one_solid() -> str:
+        name = pick("part", "", "facet", "endfacet", "vertex 1 2 3", "solid", "a\fb", odd=0.2)
+        facets = "".join(one_facet() for _ in range(int(rng.integers(0, 6))))
+        return line([keyword("solid"), name]) + facets + line([keyword("endsolid"), name])
+
+    return "".join(one_solid() for _ in range(int(rng.integers(1, 4)))).encode("utf-8")
+
+
+def _outcome(data: bytes) -> np.ndarray | str:
+    try:
+        return read(data)
+    except LoadError as error:
+        return str(error)
+
+
+@pytest.mark.parametrize("piece", [1 << 20, 1, 200])
+def test_the_reader_gives_what_the_line_reader_alone_gives(piece: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Seeded variants, in pieces of any size: the corners, bit for bit, or the same error on the same
+    line, whether the whole-facet path read all of the text, part of it, or none."""
+    monkeypatch.setattr(stl, "_FACETS_PIECE", piece)
+    rng = np.random.default_rng(piece)
+    wholly = partly = 0
+    for _ in range(600):
+        data = _variant(rng)
+        rest = stl._usual_ascii_corners(data)[1]
+        wholly, partly = wholly + (rest is None), partly + (rest is not None and rest > 0)
+        outcome = _outcome(data)
+        with monkeypatch.context() as lines_alone:
+            lines_alone.setattr(stl, "_usual_ascii_corners", lambda text: ([], 0))
+            expected = _outcome(data)
+        if isinstance(expected, str):
+            assert outcome == expected, data
+        else:
+            assert isinstance(outcome, np.ndarray) and np.array_equal(outcome.view(np.int64), expected.view(np.int64))
+    assert wholly > 100 and partly > 20  # the variants reach both paths, and the hand-over between them
+
+
+@pytest.mark.parametrize(("text", "rest"), [
+    ("solid a\nendsolid a\n", 0),  # no facet: the line reader's, which finds no faces
+    ("  \nENDSOLID \n", 0),  # no solid
+    ("solid facet\n" + facet(TRIANGLE).split("\n", 1)[1] + "endsolid\n", 0),  # `facet` is the solid's name
+    ("solid a\nendsolid a\nsolid b\n" + facet(TRIANGLE) + "endsolid b\n", 0),  # an empty solid first
+    (solid(facet(TRIANGLE)).replace("\n", "\r"), 0),  # lines ended by CR alone
+    (solid(facet(TRIANGLE), facet(["0 0 0", "1 0 0", "0 1 1e39"])), 0),  # past float32, in the first piece
+    (solid(facet(TRIANGLE), facet(TRIANGLE)) + "garbage\n", len(solid(facet(TRIANGLE), facet(TRIANGLE)))
+     - len("endsolid part\n")),  # after the last facet
+    (solid(facet(TRIANGLE)) + "\n\n", None),  # all of it
+])
+def test_the_line_reader_reads_on_from_where_the_usual_path_stops(text: str, rest: int | None) -> None:
+    assert stl._usual_ascii_corners(text.encode())[1] == rest
+
+
+def test_an_error_after_many_usual_facets_is_named_by_the_line_reader_reading_on_from_the_last_good_piece(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """The pieces before the bad one are not read again; the lines named are the file's."""
+    monkeypatch.setattr(stl, "_FACETS_PIECE", 1000)
+    text = "solid a\n" + facet(TRIANGLE) * 20 + "endsolid a\n\n" + solid(facet(TRIANGLE) * 500)
+
+    def line_of(text: str, part: str) -> int:
+        return text[:text.index(part)].count("\n") + 1
+
+    cut = text[:-len("endsolid part\n")]
+    assert stl._usual_ascii_corners(cut.encode())[1] == len(cut)  # all but the missing endsolid
+    refused = refusal(cut)
+    assert (refused.message, refused.line) == (
+        f"the solid begun on line {line_of(cut, 'solid part')} is not closed by 'endsolid'", cut.count("\n"))
+    bad = text.replace("0 1 0", "0 1 x", 401).replace("0 1 x", "0 1 0", 400)
+    assert 1000 < stl._usual_ascii_corners(bad.encode())[1] < len(bad) - 1000
+    refused = refusal(bad)
+    assert (refused.message, refused.line) == ("'x' is not a number", line_of(bad, "0 1 x"))

@@ -3,14 +3,14 @@
 Why not trimesh's readers: its binary one copies the file and keeps the copy alive through the
 normals it reads, three times the file in all; its ASCII one splits the whole text on the word
 'vertex' (a solid named 'vertex_paint' breaks it), stops without a word at a bad number, and takes
-seconds a million triangles. The ASCII reader below reads a line at a time, in blocks, and says
-which line is wrong.
+seconds a million triangles. The ASCII reader below reads the usual text whole facets at a time, and
+the rest a line at a time, in blocks, saying which line is wrong.
 """
 
 from __future__ import annotations
 
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import numpy as np
@@ -58,7 +58,10 @@ def stl_corners(path: Path, data: bytes) -> np.ndarray:
     if b"\0" in data:
         raise LoadError(path, "binary data after 'solid': a binary STL whose size does not match its "
                               f"triangle count ({len(data)} bytes)?", line=line_at(data, data.find(b"\0")))
-    return _ascii_corners(path, data)
+    blocks, rest = _usual_ascii_corners(data)
+    if rest is not None:
+        blocks.append(_ascii_corners(path, data, rest))
+    return blocks[0] if len(blocks) == 1 else np.concatenate(blocks)
 
 
 _END_PADDING = b"\0\x1a \t\r\n"  # NULs, or DOS's end-of-file byte, that some writers put after endsolid
@@ -102,11 +105,17 @@ _EXPECTED = {
     _OUTSIDE: "'solid' or the end of the file", _IN_SOLID: "'facet' or 'endsolid'", _FACET: "'outer loop'",
     _LOOP: "'vertex'", _SECOND: "'vertex'", _THIRD: "'vertex'", _LOOP_END: "'endloop'", _FACET_END: "'endfacet'",
 }
-def _ascii_corners(path: Path, data: bytes) -> np.ndarray:
-    """One pass over the lines, a state per line: every corner's three numbers, or the first bad line."""
-    state, step, number, solid_line = _OUTSIDE, _NEXT, 0, 0
+
+
+def _ascii_corners(path: Path, data: bytes, start: int = 0) -> np.ndarray:
+    """One pass over the lines from `start` (0, or just after a facet), a state per line: every
+    corner's three numbers, or the first bad line."""
+    state, step = (_IN_SOLID if start else _OUTSIDE), _NEXT
+    lines_before = line_at(data, start) - 1
+    number = lines_before  # the last line read, which the errors at the end name
+    solid_line = 0  # where the solid was opened: 0 before `start`, looked for only if it is not closed
     corners = WordBlocks(path, checked_coordinates)
-    for number, line in enumerate(text_lines(data), start=1):
+    for number, line in enumerate(text_lines(data[start:] if start else data), start=lines_before + 1):
         words = line.split(None, 6)  # bounded: a line of millions of words is not made a list of them
         if not words:
             continue
@@ -126,10 +135,87 @@ def _ascii_corners(path: Path, data: bytes) -> np.ndarray:
             solid_line = number
         state = next_state
     if state == _IN_SOLID:
+        solid_line = solid_line or _line_of_last_solid(data, start)
         raise LoadError(path, f"the solid begun on line {solid_line} is not closed by 'endsolid'", line=number)
     if state != _OUTSIDE:
         raise LoadError(path, "the file ends inside a facet", line=number)
     return corners.values().reshape(-1, 3)
+
+
+# The usual ASCII file, read whole facets at a time by one pattern: a facet's seven lines, each
+# keyword in any case at the start of its line, the vertex lines' numbers taken as they are. Text
+# between facets may only be blank lines, or close a solid and open the next. Whatever else a file
+# holds, the line reader above reads it and names what is wrong: a file this path takes is one it
+# reads the same. Possessive quantifiers (and no blank lines ahead of a facet) keep each try at a
+# line start from scanning what the last one scanned: the cost stays in proportion to the text.
+_AFTER_KEYWORD = rb"(?:[ \t][^\r\n]*+)?+"  # what follows `facet`, `outer` and `solid` is not read
+_NUMBER = rb"([-+0-9.eE]++)"
+_VERTEX_LINE = rb"[ \t]*+(?i:vertex)[ \t]++" + rb"[ \t]++".join([_NUMBER] * 3) + rb"[ \t]*+\r?\n"
+_FACET = re.compile(rb"(?m:^)[ \t]*+(?i:facet)" + _AFTER_KEYWORD + rb"\r?\n[ \t]*+(?i:outer)" + _AFTER_KEYWORD
+                    + rb"\r?\n" + _VERTEX_LINE * 3
+                    + rb"[ \t]*+(?i:endloop)[ \t]*+\r?\n[ \t]*+(?i:endfacet)[ \t]*+\r?\n")
+_FACET_GROUPS = 9  # re.split gives the text before each facet, then its nine numbers
+_SOLID, _END_SOLID = rb"(?i:solid)" + _AFTER_KEYWORD + rb"\r?\n", rb"(?i:endsolid)" + _AFTER_KEYWORD
+_FIRST = re.compile(rb"\s*+" + _SOLID + rb"\s*+")
+_SOLIDS_BETWEEN = rb"\s*+(?:" + _END_SOLID + rb"\r?\n\s*+" + _SOLID + rb"\s*+)*+"  # one closed, the next opened
+_BETWEEN = re.compile(_SOLIDS_BETWEEN)
+_LAST = re.compile(_SOLIDS_BETWEEN + _END_SOLID + rb"\s*+")
+_END_FACET = re.compile(rb"(?i:endfacet)")
+_FACETS_PIECE = 1 << 20  # bytes read at once, ending after a facet: the piece's words stay a few megabytes
+
+
+def _usual_ascii_corners(data: bytes) -> tuple[list[np.ndarray], int | None]:
+    """The (N, 3) corners of the text's leading facets, a piece at a time while the text is the usual
+    one, and the offset from which the line reader reads the rest: just after the last facet read (0
+    where none was), or None where the whole text is usual."""
+    blocks: list[np.ndarray] = []
+    gap = b""  # the text after the last facet read
+    for start, stop in _facet_pieces(data):
+        rest = start - len(gap)
+        parts = _FACET.split(memoryview(data)[start:stop])
+        gaps = parts[::_FACET_GROUPS + 1]
+        gaps[0] = gap + gaps[0]
+        if len(gaps) == 1:  # no facet: the end of the last solid, or (a piece that ends after one) another text
+            if stop < len(data):
+                return blocks, rest
+            gap = gaps[0]
+            continue
+        if not ((_BETWEEN if blocks else _FIRST).fullmatch(gaps[0])
+                and all(_BETWEEN.fullmatch(between) for between in gaps[1:-1] if between)):
+            return blocks, rest
+        gap = gaps[-1]
+        del parts[::_FACET_GROUPS + 1]
+        try:
+            corners = np.array(parts, dtype=np.float64).reshape(-1, 3)
+        except ValueError:  # `1e`, `.`, `1-2`: the line reader names the word and its line
+            return blocks, rest
+        if not holds_in_float32(corners):
+            return blocks, rest
+        blocks.append(corners)
+    return blocks, None if blocks and _LAST.fullmatch(gap) else len(data) - len(gap)
+
+
+def _facet_pieces(data: bytes) -> Iterator[tuple[int, int]]:
+    """(start, stop) of pieces of the text of about _FACETS_PIECE bytes, each ending after an endfacet line."""
+    start = 0
+    while start < len(data):
+        end = _END_FACET.search(data, start + _FACETS_PIECE)
+        stop = len(data) if end is None else data.find(b"\n", end.end()) + 1 or len(data)
+        yield start, stop
+        start = stop
+
+
+_SOLID_KEYWORD = re.compile(rb"(?m:^)[ \t\v\f\r]*+((?i:solid))")  # at a line's start: a line begun by 'solid'
+
+
+def _line_of_last_solid(data: bytes, before: int) -> int:
+    """The line of the last solid opened before `before`, in text the usual path has read: only
+    solid lines begin with 'solid' there."""
+    last = None
+    for last in _SOLID_KEYWORD.finditer(data, 0, before):
+        pass
+    assert last is not None, "the usual path reads facets in a solid only"
+    return line_at(data, last.start(1))
 
 
 def _unexpected(path: Path, state: int, keyword: str, line: int) -> LoadError:

@@ -70,6 +70,25 @@ def _materials_in_turn(names: Sequence[str]) -> Callable[[Path, int], None]:
     return write
 
 
+def _ascii_stl(path: Path, size: int) -> None:
+    """Facets as exporters write them, over a strip of triangles."""
+    facet = ("facet normal 0 0 1\n  outer loop\n" + "    vertex {:.6e} {:.6e} 0\n" * 3
+             + "  endloop\nendfacet\n")
+    with path.open("w") as out:
+        out.write("solid strip\n")
+        written, k = 0, 0
+        while written < size:
+            written += out.write(facet.format(k, 0, k + 1, 0, k, 1))
+            k += 1
+        out.write("endsolid strip\n")
+
+
+def _ascii_stl_cut_at_the_end(path: Path, size: int) -> None:
+    _ascii_stl(path, size)
+    with path.open("a") as out:
+        out.write("solid more\nfacet normal 0 0 1\n  outer loop\n    vertex 1 2")  # a corner cut off
+
+
 def _off_polygon(path: Path, size: int) -> None:
     """One OFF polygon of every corner, over a circle of a thousand positions."""
     corners = size // 4
@@ -177,6 +196,8 @@ SHAPES = (
     Shape("one long number ending badly", "long_number.obj", _one_long_bad_number),
     Shape("ASCII PLY: its rows parted by blank lines", "blank.ply", _ply_of_blank_lines),
     Shape("OFF: one polygon of every corner", "polygon.off", _off_polygon),
+    Shape("ASCII STL", "strip.stl", _ascii_stl),
+    Shape("ASCII STL, its last line cut", "cut.stl", _ascii_stl_cut_at_the_end),
     Shape("scene file: many objects", "objects.toml", _scene_of_many_objects),
     Shape("scene file: one key of every part", "deep_key.toml", _scene_of_one_deep_key),
     Shape("scene file: one number of every digit", "long_number.toml", _scene_of_one_long_number),
