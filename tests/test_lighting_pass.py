@@ -72,6 +72,24 @@ STEPS = [
     ("F", False),  # Gouraud's depth view reads no lit row
     ("F", True),  # Flat's again: its rows were dropped, and Gouraud's fresh frame lit none
     (f"v*{len(TERM_VIEWS) - TERM_VIEWS.index(TermView.DEPTH)}", True),  # lit again
+    ("F", True),  # Gouraud: its rows were lit before the views went round
+    ("3", True),  # the camera's spotlight off
+    ("c t Z", True),  # the camera moves: Gouraud's specular term reads V
+    ("v", True),  # ambient only: Gouraud reads no V...
+    ("Z", False),  # ... so a camera that moves lights nothing again
+    ("v", True),  # diffuse only
+    ("Z", False),
+    ("v", True),  # specular only: V is read again, from where the camera is now
+    ("Z", True),
+    (f"v*{TERM_VIEWS.index(TermView.NORMALS) - TERM_VIEWS.index(TermView.SPECULAR)}", True),  # the normals view
+    ("Z", False),
+    ("v", True),  # everything again
+    ("1 2", True),  # the last lights on switched off (the sun and the camera's spotlight are)
+    ("Z", False),
+    ("F", True),  # Flat: its rows carry N.V, for back faces, whatever is lit
+    ("Z", True),
+    ("1 2 3", True),
+    ("c c", False),  # objects targeted again
 ]
 
 

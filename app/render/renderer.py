@@ -389,11 +389,13 @@ class Renderer:
         self.edges.set("u_eye_position", eye)
         self.edges.set("u_eye_backward", backward)
         # V is the eye's direction in parallel projection and from its position in perspective: the
-        # other keeps its last value, so a camera turning in place (perspective), or moving
-        # (parallel), lights nothing again where no light moves with it.
-        if parallel:
+        # other keeps its last value, as V does where the pass reads none, so a camera turning in
+        # place (perspective), or moving (parallel), or any camera where V is unread, lights nothing
+        # again where no light moves with it.
+        reads_view = self._lighting_reads_view(scene)
+        if reads_view and parallel:
             self.lighting.set("u_eye_backward", backward)
-        else:
+        elif reads_view:
             self.lighting.set("u_eye_position", eye)
         self.surface.set("u_culling", modes.culling)
         self.surface.set("u_textured", modes.texture)
@@ -404,6 +406,15 @@ class Renderer:
         self.lighting.set("u_ambient", tuple(float(c) for c in scene.ambient))
         self._set_light_uniforms(scene)
         self.normals.set("u_colour", NORMAL_COLOUR)
+
+    def _lighting_reads_view(self, scene: Scene) -> bool:
+        """Whether this view's lighting pass reads V: Flat's rows carry N.V for its back-face test;
+        Gouraud's colours read V only through the specular term, weighed by the term view, of a light
+        that is on (0 times a specular term adds nothing, whatever V)."""
+        if self.way.shading is not Shading.GOURAUD:
+            return True
+        view = scene.modes.term_view
+        return view.shows is Show.LIT and view.weights.specular != 0 and bool(scene.lights_in_view())
 
     def _set_light_uniforms(self, scene: Scene) -> None:
         kind = np.zeros(MAX_LIGHTS, "i4")
