@@ -20,7 +20,7 @@ from marraztu.loaders.images import fit_texture
 from marraztu.model.guides import scene_guides
 from marraztu.model.lights import MAX_LIGHTS, Show, shader_defines
 from marraztu.model.mesh import Mesh
-from marraztu.model.scene import Fill, Projection, Scene, SceneObject, Shading, Target
+from marraztu.model.scene import Fill, Material, Projection, Scene, SceneObject, Shading, Target
 from marraztu.model.transforms import normal_matrix, translation_by
 from marraztu.render.context import (
     SOFTWARE_SEGMENT_PIECES_IN_FLIGHT,
@@ -60,6 +60,9 @@ PROBE_MARKER_PX = 7.0
 SEPARATOR_COLOUR = (0.0, 0.0, 0.0)
 SEPARATOR_PX = 2
 WHITE = np.full((1, 1, 3), 255, dtype=np.uint8)  # the texture of a scene without a picture
+# Where the lighting's V comes from: the eye's position in perspective, its direction in parallel projection.
+_VIEW_SOURCE = {Projection.PERSPECTIVE: "u_eye_position", Projection.PARALLEL: "u_eye_backward"}
+_VIEW_UNIFORMS = frozenset(_VIEW_SOURCE.values())
 
 
 class Uniforms:
@@ -182,6 +185,8 @@ class Renderer:
         # position the uniforms carry, in 64-bit numbers, so that the GPU's 32-bit ones stay small.
         self.origin = np.zeros(3)
         self.lighting_passes = 0  # run so far: a frame where nothing lighting reads changed adds none
+        # The frame's V uniform, and whether a specular term shows (a light on, the term view keeping it).
+        self.view_source, self.specular_shown = _VIEW_SOURCE[Projection.PERSPECTIVE], True
         self.marker_program = load_program(ctx, "marker")
         self.edges = Uniforms(self.programs.edges)
         for sampler, unit in EDGE_FACE_UNITS.items():
@@ -386,17 +391,11 @@ class Renderer:
             uniforms.set_matrix("u_view_projection", view_projection)
         for uniforms in (self.lighting, self.edges):
             uniforms.set("u_parallel", parallel)
-        self.edges.set("u_eye_position", eye)
-        self.edges.set("u_eye_backward", backward)
-        # V is the eye's direction in parallel projection and from its position in perspective: the
-        # other keeps its last value, as V does where the pass reads none, so a camera turning in
-        # place (perspective), or moving (parallel), or any camera where V is unread, lights nothing
-        # again where no light moves with it.
-        reads_view = self._lighting_reads_view(scene)
-        if reads_view and parallel:
-            self.lighting.set("u_eye_backward", backward)
-        elif reads_view:
-            self.lighting.set("u_eye_position", eye)
+            uniforms.set("u_eye_position", eye)
+            uniforms.set("u_eye_backward", backward)
+        self.view_source = _VIEW_SOURCE[modes.projection]
+        view = modes.term_view
+        self.specular_shown = view.shows is Show.LIT and view.weights.specular != 0 and bool(scene.lights_in_view())
         self.surface.set("u_culling", modes.culling)
         self.surface.set("u_textured", modes.texture)
         for uniforms in (self.surface, self.lighting):
@@ -406,15 +405,6 @@ class Renderer:
         self.lighting.set("u_ambient", tuple(float(c) for c in scene.ambient))
         self._set_light_uniforms(scene)
         self.normals.set("u_colour", NORMAL_COLOUR)
-
-    def _lighting_reads_view(self, scene: Scene) -> bool:
-        """Whether this view's lighting pass reads V: Flat's rows carry N.V for its back-face test;
-        Gouraud's colours read V only through the specular term, weighed by the term view, of a light
-        that is on (0 times a specular term adds nothing, whatever V)."""
-        if self.way.shading is not Shading.GOURAUD:
-            return True
-        view = scene.modes.term_view
-        return view.shows is Show.LIT and view.weights.specular != 0 and bool(scene.lights_in_view())
 
     def _set_light_uniforms(self, scene: Scene) -> None:
         kind = np.zeros(MAX_LIGHTS, "i4")
@@ -460,11 +450,22 @@ class Renderer:
             uniforms.set("u_vertex_coloured", gpu.vertex_coloured)
         # Gouraud's depth view reads no lit row (Flat's reads its N.V): nothing to light for it.
         if self.way.shading.lights_vertices and LIT_LAYOUT[1] in self.programs.surfaces[self.way]:
-            self.lighting_passes += gpu.light(self.way.shading, lighting.values(), item.start, item.stop)
+            self.lighting_passes += gpu.light(self.way.shading, self._lighting_inputs(material), item.start, item.stop)
         assert self.texture is not None
         picture = item.obj.mesh.materials[item.file_material].texture if item.file_material >= 0 else None
         (self.texture if picture is None else self._file_texture(picture)).use(location=0)
         self.draw(gpu.surface(self.way), moderngl.TRIANGLES, gpu.surface_range(item.start, item.stop))
+
+    def _lighting_inputs(self, material: Material) -> tuple[tuple[str, bytes], ...]:
+        """What the lighting pass reads, for the rows it keeps: its uniforms, less the V it does not
+        read, so that a camera that changes only that lights nothing again. V comes from the eye's
+        position in perspective and from its direction in parallel projection; Flat's rows carry N.V,
+        for its back-face test, and Gouraud's colours read V only through a specular term that shows
+        (0 times a specular term adds nothing, whatever V)."""
+        unread = _VIEW_UNIFORMS - {self.view_source}
+        if self.way.shading is Shading.GOURAUD and not (self.specular_shown and any(material.ks)):
+            unread = _VIEW_UNIFORMS
+        return tuple(item for item in self.lighting.values() if item[0] not in unread)
 
     def _draw_all_edges(self, scene: Scene, items: list[tuple[DrawItem, ObjectGpu]]) -> None:
         """Every object's edges in one pass: front faces' edges over back faces' (red; skipped with
