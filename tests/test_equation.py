@@ -703,3 +703,21 @@ def test_screenshot_keys_draw_every_panel_and_the_outline(tmp_path: Path) -> Non
     assert np.abs(everything - shoot("T 0 TAB TAB s v v", overlay=False)).max(axis=2).mean() > 10
     stepped = shoot("T 0 TAB TAB i ENTER*5", overlay=False)
     assert np.abs(stepped - probed).max() > 0, "Enter moves the outline to the next face"
+
+
+def test_a_huge_shininess_gives_an_infinite_highlight_not_an_error() -> None:
+    """N.H rounds past 1 here (found by a seeded search), and 1.0000000000000002 ** 1e300 raises in
+    Python where the GPU's pow is infinite: the highlight is infinite, its specular term clamped to
+    255 where Ks holds it, and no term at all where Ks is 0, as the shader has it."""
+    normal = np.array([0.9034701816518086, 0.09401229776087457, -0.7434992493538084])
+    sun = {"name": "sun", "kind": "directional", "intensity": [100.0, 100.0, 100.0], "position": [0.0, 0.0, 0.0],
+           "direction": list(normal / np.linalg.norm(normal))}
+    shiny = Material(ka=(0.0, 0.0, 0.0), kd=(0.0, 0.0, 0.0), ks=(1.0, 1.0, 1.0), ns=1e300)
+    terms = shade_terms([0.0, 0.0, 0.0], normal, normal, shiny, [sun], [0.0, 0.0, 0.0], parallel=True)
+    assert terms.lights[0].highlight == np.inf
+    np.testing.assert_array_equal(terms.clamped, [255.0, 255.0, 255.0])
+    np.testing.assert_array_equal(terms.in_view(TermView.DIFFUSE.weights), [0.0, 0.0, 0.0])  # weighed 0
+    dull = Material(ka=(0.0, 0.0, 0.0), kd=(0.5, 0.5, 0.5), ks=(0.0, 0.0, 0.0), ns=1e300)
+    terms = shade_terms([0.0, 0.0, 0.0], normal, normal, dull, [sun], [0.0, 0.0, 0.0], parallel=True)
+    assert np.isfinite(terms.clamped).all()
+    assert np.isfinite(terms.in_view(TermView.DIFFUSE.weights)).all()
