@@ -151,15 +151,15 @@ def test_a_changed_material_relights(own_ctx, lit_viewer) -> None:
     assert np.array_equal(draw(own_ctx, renderer, scene), kept)
 
 
-def test_gouraud_lights_nothing_again_for_a_camera_move_where_no_material_has_a_specular_term(own_ctx, lit_viewer
-                                                                                              ) -> None:
+def test_without_specular_colours_gouraud_lights_nothing_again_for_a_camera_move(own_ctx, lit_viewer,
+                                                                                 monkeypatch) -> None:
     """With every Ks zero, Gouraud's colours do not read V: a camera that moves lights nothing again,
     and its frame is a fresh renderer's. Flat's rows carry N.V, so Flat lights them again."""
     viewer, renderer, scene = lit_viewer, lit_viewer.renderer, lit_viewer.scene
-    shiny = {id(obj): (obj.material, obj.part_materials) for obj in scene.objects + scene.cameras}
-    for obj in scene.objects + scene.cameras:
-        obj.material = replace(obj.material, ks=(0.0, 0.0, 0.0))
-        obj.part_materials = tuple(replace(material, ks=(0.0, 0.0, 0.0)) for material in obj.part_materials)
+    for obj in scene.objects + scene.cameras:  # put back after the test, whatever it finds
+        monkeypatch.setattr(obj, "material", replace(obj.material, ks=(0.0, 0.0, 0.0)))
+        monkeypatch.setattr(obj, "part_materials",
+                            tuple(replace(material, ks=(0.0, 0.0, 0.0)) for material in obj.part_materials))
     for keys, relights in [("F", True), ("3 c t", True), ("Z", False), ("p", True), ("Z", False), ("p", True),
                            ("F", True), ("Z", True), ("3 c c", True)]:
         viewer.press_sequence(keys)
@@ -168,5 +168,3 @@ def test_gouraud_lights_nothing_again_for_a_camera_move_where_no_material_has_a_
         assert (renderer.lighting_passes > before) == relights, f"after {keys!r}"
         forget_lighting(renderer, scene)
         assert np.array_equal(draw(own_ctx, renderer, scene), kept), f"after {keys!r}"
-    for obj in scene.objects + scene.cameras:
-        obj.material, obj.part_materials = shiny[id(obj)]

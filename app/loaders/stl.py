@@ -58,9 +58,9 @@ def stl_corners(path: Path, data: bytes) -> np.ndarray:
     if b"\0" in data:
         raise LoadError(path, "binary data after 'solid': a binary STL whose size does not match its "
                               f"triangle count ({len(data)} bytes)?", line=line_at(data, data.find(b"\0")))
-    blocks, rest = _usual_ascii_corners(data)
-    if rest is not None:
-        blocks.append(_ascii_corners(path, data, rest))
+    blocks, resume_at = _usual_ascii_corners(data)
+    if resume_at is not None:
+        blocks.append(_ascii_corners(path, data, resume_at))
     return blocks[0] if len(blocks) == 1 else np.concatenate(blocks)
 
 
@@ -115,7 +115,8 @@ def _ascii_corners(path: Path, data: bytes, start: int = 0) -> np.ndarray:
     number = lines_before  # the last line read, which the errors at the end name
     solid_line = 0  # where the solid was opened: 0 before `start`, looked for only if it is not closed
     corners = WordBlocks(path, checked_coordinates)
-    for number, line in enumerate(text_lines(data[start:] if start else data), start=lines_before + 1):
+    text = data[start:] if start else data  # a copy of the rest only where there is a rest
+    for number, line in enumerate(text_lines(text), start=lines_before + 1):
         words = line.split(None, 6)  # bounded: a line of millions of words is not made a list of them
         if not words:
             continue
@@ -143,24 +144,25 @@ def _ascii_corners(path: Path, data: bytes, start: int = 0) -> np.ndarray:
 
 
 # The usual ASCII file, read whole facets at a time by one pattern: a facet's seven lines, each
-# keyword in any case at the start of its line, the vertex lines' numbers taken as they are. Text
-# between facets may only be blank lines, or close a solid and open the next. Whatever else a file
-# holds, the line reader above reads it and names what is wrong: a file this path takes is one it
-# reads the same. Possessive quantifiers (and no blank lines ahead of a facet) keep each try at a
-# line start from scanning what the last one scanned: the cost stays in proportion to the text.
+# keyword in any case at the start of its line, the vertex lines' numbers taken as they are. Between
+# facets there may only be blank lines, or one solid's end and the next one's start. A file holding
+# anything else goes to the line reader above from its last facet read, and that reader names what
+# is wrong; where this path reads a text, it gives what the line reader would.
+# Possessive quantifiers, and a facet that begins at a line's start with no blank lines ahead of it,
+# keep each try at a line start from scanning what the try before scanned: the cost stays linear.
 _AFTER_KEYWORD = rb"(?:[ \t][^\r\n]*+)?+"  # what follows `facet`, `outer` and `solid` is not read
 _NUMBER = rb"([-+0-9.eE]++)"
 _VERTEX_LINE = rb"[ \t]*+(?i:vertex)[ \t]++" + rb"[ \t]++".join([_NUMBER] * 3) + rb"[ \t]*+\r?\n"
-_FACET = re.compile(rb"(?m:^)[ \t]*+(?i:facet)" + _AFTER_KEYWORD + rb"\r?\n[ \t]*+(?i:outer)" + _AFTER_KEYWORD
-                    + rb"\r?\n" + _VERTEX_LINE * 3
-                    + rb"[ \t]*+(?i:endloop)[ \t]*+\r?\n[ \t]*+(?i:endfacet)[ \t]*+\r?\n")
-_FACET_GROUPS = 9  # re.split gives the text before each facet, then its nine numbers
+_FACET_TEXT = re.compile(rb"(?m:^)[ \t]*+(?i:facet)" + _AFTER_KEYWORD + rb"\r?\n[ \t]*+(?i:outer)" + _AFTER_KEYWORD
+                         + rb"\r?\n" + _VERTEX_LINE * 3
+                         + rb"[ \t]*+(?i:endloop)[ \t]*+\r?\n[ \t]*+(?i:endfacet)[ \t]*+\r?\n")
+_SPLIT_STRIDE = _FACET_TEXT.groups + 1  # re.split gives the text before each facet, then its nine numbers
 _SOLID, _END_SOLID = rb"(?i:solid)" + _AFTER_KEYWORD + rb"\r?\n", rb"(?i:endsolid)" + _AFTER_KEYWORD
-_FIRST = re.compile(rb"\s*+" + _SOLID + rb"\s*+")
 _SOLIDS_BETWEEN = rb"\s*+(?:" + _END_SOLID + rb"\r?\n\s*+" + _SOLID + rb"\s*+)*+"  # one closed, the next opened
-_BETWEEN = re.compile(_SOLIDS_BETWEEN)
-_LAST = re.compile(_SOLIDS_BETWEEN + _END_SOLID + rb"\s*+")
-_END_FACET = re.compile(rb"(?i:endfacet)")
+_BEFORE_FIRST_FACET = re.compile(rb"\s*+" + _SOLID + rb"\s*+")
+_BETWEEN_FACETS = re.compile(_SOLIDS_BETWEEN)
+_AFTER_LAST_FACET = re.compile(_SOLIDS_BETWEEN + _END_SOLID + rb"\s*+")
+_ENDFACET_WORD = re.compile(rb"(?i:endfacet)")
 _FACETS_PIECE = 1 << 20  # bytes read at once, ending after a facet: the piece's words stay a few megabytes
 
 
@@ -171,35 +173,37 @@ def _usual_ascii_corners(data: bytes) -> tuple[list[np.ndarray], int | None]:
     blocks: list[np.ndarray] = []
     gap = b""  # the text after the last facet read
     for start, stop in _facet_pieces(data):
-        rest = start - len(gap)
-        parts = _FACET.split(memoryview(data)[start:stop])
-        gaps = parts[::_FACET_GROUPS + 1]
+        resume_at = start - len(gap)
+        parts = _FACET_TEXT.split(memoryview(data)[start:stop])
+        gaps = parts[::_SPLIT_STRIDE]
         gaps[0] = gap + gaps[0]
-        if len(gaps) == 1:  # no facet: the end of the last solid, or (a piece that ends after one) another text
+        if len(gaps) == 1:  # no facet in the piece: the usual text only at its end, after the last one
             if stop < len(data):
-                return blocks, rest
+                return blocks, resume_at
             gap = gaps[0]
-            continue
-        if not ((_BETWEEN if blocks else _FIRST).fullmatch(gaps[0])
-                and all(_BETWEEN.fullmatch(between) for between in gaps[1:-1] if between)):
-            return blocks, rest
+            break
+        # An empty gap needs no look: two facets in a row.
+        if not ((_BETWEEN_FACETS if blocks else _BEFORE_FIRST_FACET).fullmatch(gaps[0])
+                and all(_BETWEEN_FACETS.fullmatch(between) for between in gaps[1:-1] if between)):
+            return blocks, resume_at
         gap = gaps[-1]
-        del parts[::_FACET_GROUPS + 1]
+        del parts[::_SPLIT_STRIDE]
         try:
             corners = np.array(parts, dtype=np.float64).reshape(-1, 3)
         except ValueError:  # `1e`, `.`, `1-2`: the line reader names the word and its line
-            return blocks, rest
+            return blocks, resume_at
         if not holds_in_float32(corners):
-            return blocks, rest
+            return blocks, resume_at
         blocks.append(corners)
-    return blocks, None if blocks and _LAST.fullmatch(gap) else len(data) - len(gap)
+    return blocks, (None if blocks and _AFTER_LAST_FACET.fullmatch(gap) else len(data) - len(gap))
 
 
 def _facet_pieces(data: bytes) -> Iterator[tuple[int, int]]:
     """(start, stop) of pieces of the text of about _FACETS_PIECE bytes, each ending after an endfacet line."""
     start = 0
     while start < len(data):
-        end = _END_FACET.search(data, start + _FACETS_PIECE)
+        end = _ENDFACET_WORD.search(data, start + _FACETS_PIECE)
+        # Just past the line end after it; the text's end where there is none (find gives -1).
         stop = len(data) if end is None else data.find(b"\n", end.end()) + 1 or len(data)
         yield start, stop
         start = stop

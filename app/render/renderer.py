@@ -60,9 +60,9 @@ PROBE_MARKER_PX = 7.0
 SEPARATOR_COLOUR = (0.0, 0.0, 0.0)
 SEPARATOR_PX = 2
 WHITE = np.full((1, 1, 3), 255, dtype=np.uint8)  # the texture of a scene without a picture
-# Where the lighting's V comes from: the eye's position in perspective, its direction in parallel projection.
-_VIEW_SOURCE = {Projection.PERSPECTIVE: "u_eye_position", Projection.PARALLEL: "u_eye_backward"}
-_VIEW_UNIFORMS = frozenset(_VIEW_SOURCE.values())
+# The uniform the lighting's V comes from: the eye's position in perspective, its direction in parallel.
+_VIEW_UNIFORM_BY_PROJECTION = {Projection.PERSPECTIVE: "u_eye_position", Projection.PARALLEL: "u_eye_backward"}
+_VIEW_UNIFORMS = frozenset(_VIEW_UNIFORM_BY_PROJECTION.values())
 
 
 class Uniforms:
@@ -185,8 +185,10 @@ class Renderer:
         # position the uniforms carry, in 64-bit numbers, so that the GPU's 32-bit ones stay small.
         self.origin = np.zeros(3)
         self.lighting_passes = 0  # run so far: a frame where nothing lighting reads changed adds none
-        # The frame's V uniform, and whether a specular term shows (a light on, the term view keeping it).
-        self.view_source, self.specular_shown = _VIEW_SOURCE[Projection.PERSPECTIVE], True
+        # Set by each frame (_set_frame_uniforms): the uniform V comes from, and whether a specular
+        # term shows (a light on, the term view keeping the term).
+        self.view_uniform = _VIEW_UNIFORM_BY_PROJECTION[Projection.PERSPECTIVE]
+        self.specular_shown = True
         self.marker_program = load_program(ctx, "marker")
         self.edges = Uniforms(self.programs.edges)
         for sampler, unit in EDGE_FACE_UNITS.items():
@@ -393,9 +395,10 @@ class Renderer:
             uniforms.set("u_parallel", parallel)
             uniforms.set("u_eye_position", eye)
             uniforms.set("u_eye_backward", backward)
-        self.view_source = _VIEW_SOURCE[modes.projection]
-        view = modes.term_view
-        self.specular_shown = view.shows is Show.LIT and view.weights.specular != 0 and bool(scene.lights_in_view())
+        self.view_uniform = _VIEW_UNIFORM_BY_PROJECTION[modes.projection]
+        term_view = modes.term_view
+        self.specular_shown = (term_view.shows is Show.LIT and term_view.weights.specular != 0
+                               and bool(scene.lights_in_view()))
         self.surface.set("u_culling", modes.culling)
         self.surface.set("u_textured", modes.texture)
         for uniforms in (self.surface, self.lighting):
@@ -458,14 +461,12 @@ class Renderer:
 
     def _lighting_inputs(self, material: Material) -> tuple[tuple[str, bytes], ...]:
         """What the lighting pass reads, for the rows it keeps: its uniforms, less the V it does not
-        read, so that a camera that changes only that lights nothing again. V comes from the eye's
-        position in perspective and from its direction in parallel projection; Flat's rows carry N.V,
-        for its back-face test, and Gouraud's colours read V only through a specular term that shows
-        (0 times a specular term adds nothing, whatever V)."""
-        unread = _VIEW_UNIFORMS - {self.view_source}
-        if self.way.shading is Shading.GOURAUD and not (self.specular_shown and any(material.ks)):
-            unread = _VIEW_UNIFORMS
-        return tuple(item for item in self.lighting.values() if item[0] not in unread)
+        read, so that a camera that changes only that lights nothing again. Flat's rows carry N.V, for
+        its back-face test; Gouraud's colours read V only through a specular term that shows, which
+        surface.glsl's lit_colour leaves out where its weight is 0 (not 0 times an infinite pow)."""
+        reads_view = self.way.shading is not Shading.GOURAUD or (self.specular_shown and any(material.ks))
+        unread = _VIEW_UNIFORMS - {self.view_uniform} if reads_view else _VIEW_UNIFORMS
+        return tuple((name, value) for name, value in self.lighting.values() if name not in unread)
 
     def _draw_all_edges(self, scene: Scene, items: list[tuple[DrawItem, ObjectGpu]]) -> None:
         """Every object's edges in one pass: front faces' edges over back faces' (red; skipped with
