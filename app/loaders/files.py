@@ -101,12 +101,11 @@ def decoded(text: bytes) -> str:
 _LINES_PIECE = 1 << 12  # a piece and the list of its lines stay a few kilobytes
 
 
-def text_lines(data: bytes) -> Iterator[str]:
-    """The text's lines as editors count them (a line ends at \n, \r\n or a lone \r, never at the form
-    feeds and separators str.splitlines() also ends lines at), a piece at a time: a list of every line
-    would hold the text again, in pieces. Each is UTF-8, or else Windows-1252 (see decoded). Each
-    piece ends just after a newline, so its lines are the text's."""
-    start = 0
+def text_lines(data: bytes, start: int = 0) -> Iterator[str]:
+    """The text's lines from `start` (a line's first byte) as editors count them (a line ends at \n,
+    \r\n or a lone \r, never at the form feeds and separators str.splitlines() also ends lines at), a
+    piece at a time: a list of every line would hold the text again, in pieces. Each is UTF-8, or else
+    Windows-1252 (see decoded). Each piece ends just after a newline, so its lines are the text's."""
     while start < len(data):
         cut = data.find(b"\n", start + _LINES_PIECE)
         stop = len(data) if cut < 0 else cut + 1

@@ -115,8 +115,7 @@ def _ascii_corners(path: Path, data: bytes, start: int = 0) -> np.ndarray:
     number = lines_before  # the last line read, which the errors at the end name
     solid_line = 0  # where the solid was opened: 0 before `start`, looked for only if it is not closed
     corners = WordBlocks(path, checked_coordinates)
-    text = data[start:] if start else data  # a copy of the rest only where there is a rest
-    for number, line in enumerate(text_lines(text), start=lines_before + 1):
+    for number, line in enumerate(text_lines(data, start), start=lines_before + 1):
         words = line.split(None, 6)  # bounded: a line of millions of words is not made a list of them
         if not words:
             continue

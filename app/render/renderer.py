@@ -18,7 +18,7 @@ import numpy as np
 from marraztu.errors import ViewerError
 from marraztu.loaders.images import fit_texture
 from marraztu.model.guides import scene_guides
-from marraztu.model.lights import MAX_LIGHTS, Show, shader_defines
+from marraztu.model.lights import MAX_LIGHTS, Show, WorldLight, shader_defines
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Fill, Material, Projection, Scene, SceneObject, Shading, Target
 from marraztu.model.transforms import normal_matrix, translation_by
@@ -395,10 +395,11 @@ class Renderer:
             uniforms.set("u_parallel", parallel)
             uniforms.set("u_eye_position", eye)
             uniforms.set("u_eye_backward", backward)
+        # Only the lights the term view shows: "one light alone" switches the others off here.
+        shown = scene.lights_in_view()[:MAX_LIGHTS]
         self.view_uniform = _VIEW_UNIFORM_BY_PROJECTION[modes.projection]
         term_view = modes.term_view
-        self.specular_shown = (term_view.shows is Show.LIT and term_view.weights.specular != 0
-                               and bool(scene.lights_in_view()))
+        self.specular_shown = term_view.shows is Show.LIT and term_view.weights.specular != 0 and bool(shown)
         self.surface.set("u_culling", modes.culling)
         self.surface.set("u_textured", modes.texture)
         for uniforms in (self.surface, self.lighting):
@@ -406,18 +407,17 @@ class Renderer:
         self.surface.set("u_texture", 0)
         self.lighting.set("u_term_weights", modes.term_view.weights.as_tuple())
         self.lighting.set("u_ambient", tuple(float(c) for c in scene.ambient))
-        self._set_light_uniforms(scene)
+        self._set_light_uniforms(shown)
         self.normals.set("u_colour", NORMAL_COLOUR)
 
-    def _set_light_uniforms(self, scene: Scene) -> None:
+    def _set_light_uniforms(self, shown: list[WorldLight]) -> None:
+        """The lights `shown` (on, and in the term view), packed first: the shader lights with the
+        first u_lights_on of them."""
         kind = np.zeros(MAX_LIGHTS, "i4")
         intensity = np.zeros((MAX_LIGHTS, 3), "f4")
         position = np.zeros((MAX_LIGHTS, 3), "f4")
         direction = np.zeros((MAX_LIGHTS, 3), "f4")
         cos_aperture = np.ones(MAX_LIGHTS, "f4")
-        # Only the lights the term view shows: "one light alone" switches the others off here. The
-        # shader lights with the first u_lights_on of them.
-        shown = scene.lights_in_view()[:MAX_LIGHTS]
         for i, light in enumerate(shown):
             kind[i] = light.kind.shader_code
             intensity[i] = light.intensity
