@@ -82,7 +82,6 @@ bool outside_cone(int i, vec3 light) {
 vec3 lit_colour(vec3 point, vec3 normal, vec3 view) {
     vec3 intensity = u_term_weights.x * u_ka * u_ambient;
     vec3 specular_weight = u_term_weights.z * u_ks;
-    bool specular_weighs = specular_weight != vec3(0.0);
     for (int i = 0; i < MAX_LIGHTS; ++i) {
         if (i >= u_lights_on) {
             break;
@@ -93,12 +92,12 @@ vec3 lit_colour(vec3 point, vec3 normal, vec3 view) {
         }
         vec3 halfway = normalize(light + view);  // Blinn's H: the normal that would mirror L into V
         float diffuse = max(dot(normal, light), 0.0);
-        float n_dot_h = max(dot(normal, halfway), 0.0);
-        // pow(0, ns) is undefined in GLSL; the formula's value there is 0 for any ns > 0. Where the
-        // term weighs nothing at all it is 0 too, whatever V: a huge ns makes pow infinite where N.H
-        // rounds past 1, and 0 times that is NaN (Renderer._lighting_inputs keeps such rows when only
-        // V changes).
-        float specular = (n_dot_h > 0.0 && specular_weighs) ? pow(n_dot_h, u_ns) : 0.0;
+        // At most 1, as for unit vectors: where rounding took N.H past 1, a huge ns made pow infinite
+        // and a Ks or weight of 0 times it NaN. So a term that weighs 0 adds 0 whatever V
+        // (Renderer._lighting_inputs keeps such rows when only V changes).
+        float n_dot_h = clamp(dot(normal, halfway), 0.0, 1.0);
+        // pow(0, ns) is undefined in GLSL; the formula's value there is 0 for any ns > 0.
+        float specular = n_dot_h > 0.0 ? pow(n_dot_h, u_ns) : 0.0;
         intensity += u_light_intensity[i] * (u_term_weights.y * u_kd * diffuse + specular_weight * specular);
     }
     return min(intensity, vec3(255.0)) / 255.0;

@@ -15,6 +15,8 @@ from typing import Any, Callable
 import numpy as np
 import pytest
 
+from marraztu.model.build import build_mesh
+from marraztu.model.geometry import FLOAT32_MAX, unit
 from marraztu.model.lighting import lit_colour_bytes, shade, shade_terms, to_bytes
 from marraztu.model.lights import DIRECTIONAL, Owner, WorldLight
 from marraztu.model.scene import SWITCHED_SHADINGS, Fill, Material, Projection, Scene, SceneObject, Shading
@@ -212,6 +214,33 @@ def test_clamped_before_the_texture_multiplies(offscreen, renderer, quad_scene: 
                                 (200, 200, 200), False, texture_rgb=texel)
     assert tuple(expected) == (128, 128, 128)
     assert_close(pixels[CENTRE], expected)
+
+
+@pytest.mark.parametrize("ns", [1e9, FLOAT32_MAX], ids=["1e9", "float32-max"])
+def test_a_huge_shininess_lights_every_vertex_as_the_formula(offscreen, make_scene, ns: float) -> None:
+    """Vertex normals a float32 rounding or two from H, Gouraud: N.H rounds past 1 at many of them on
+    the GPU, where pow of a huge ns was infinite and Ks's 0 green times it NaN (G read 99-255 on
+    llvmpipe). The green is Kd's alone, and the red at most I * Ks."""
+    side = 33
+    xs = np.linspace(-60.0, 60.0, side)
+    grid_x, grid_y = np.meshgrid(xs, xs)
+    positions = np.stack([grid_x.ravel(), grid_y.ravel(), np.zeros(side * side)], axis=1)
+    faces = [[row * side + col, row * side + col + 1, (row + 1) * side + col + 1, (row + 1) * side + col]
+             for row in range(side - 1) for col in range(side - 1)]
+    sun_to_light, view = unit(np.array([0.1, 0.2, 0.7])), np.array([0.0, 0.0, 1.0])
+    halfway = unit(sun_to_light + view)
+    normals = halfway + np.random.default_rng(14).normal(0.0, 3e-8, (side * side, 3))
+    mesh = build_mesh("grid", positions, faces, normals=normals, attributes_per_vertex=True)
+    partly_shiny = Material(ka=(0.0, 0.0, 0.0), kd=(0.0, 0.5, 0.0), ks=(1.0, 0.0, 0.0), ns=ns)
+    scene = make_scene([SceneObject.placed("grid", mesh, partly_shiny, (0.0, 0.0, 0.0))])
+    scene.lights[0].on = True
+    scene.modes.shading, scene.modes.projection = Shading.GOURAUD, Projection.PARALLEL
+    pixels = offscreen(scene, (127, 127))
+    drawn = pixels[(pixels != BACKGROUND).any(axis=2)]
+    assert len(drawn) > 1000
+    green = to_bytes(200.0 * 0.5 * np.array([float(halfway @ sun_to_light)] * 3))[1]
+    assert np.abs(drawn[:, 1].astype(int) - int(green)).max() <= 1, np.unique(drawn[:, 1])
+    assert drawn[:, 0].max() <= 201 and (drawn[:, 2] == 0).all()
 
 
 @pytest.fixture

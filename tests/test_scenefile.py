@@ -21,6 +21,7 @@ from marraztu.loaders.scenefile import (
     material_for_loaded,
     read_scene_description,
 )
+from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Material
 from marraztu.model.transforms import euler_xyz
@@ -374,6 +375,12 @@ def test_loaded_models_odd_material_numbers_are_tamed() -> None:
     assert material.ka == (1.0, 0.0, 0.5)
     assert material.ns >= 1.0  # "Ns 0" would light every face with full specular
     assert material.ks == DEFAULT_MATERIAL.ks
+
+
+def test_a_files_shininess_past_float32_is_float32s_largest() -> None:
+    """The GPU's ns is a float32: 1e300 would be infinite there, and pow(1, inf) NaN."""
+    assert material_for_loaded(tiny_mesh({"ns": 1e300})).ns == FLOAT32_MAX
+    assert material_for_loaded(tiny_mesh({"ns": 1e9})).ns == 1e9
 
 
 def test_rotation_is_optional_and_checked(tmp_path: Path) -> None:

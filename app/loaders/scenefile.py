@@ -513,4 +513,6 @@ def _file_shininess(value: object, default: float = DEFAULT_MATERIAL.ns) -> floa
         ns = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError, OverflowError):
         return default
-    return max(ns, MIN_FILE_NS) if math.isfinite(ns) else default
+    if not math.isfinite(ns):
+        return default
+    return min(max(ns, MIN_FILE_NS), FLOAT32_MAX)  # a float32 past that is infinite, and pow(1, inf) NaN

@@ -62,9 +62,7 @@ class ShadingTerms:
         total = weights.ambient * self.ambient
         for term in self.lights:
             if shown is None or term.name in shown:
-                total = total + weights.diffuse * term.diffuse
-                if weights.specular:  # as the shader: a term weighed 0 is 0, even where it is infinite
-                    total = total + weights.specular * term.specular
+                total = total + weights.diffuse * term.diffuse + weights.specular * term.specular
         return total
 
 
@@ -119,14 +117,12 @@ def _light_term(light: WorldLight, p: np.ndarray, n: np.ndarray, v: np.ndarray,
     to_light = light.to_light(p)
     halfway = unit(to_light + v)
     n_dot_l = max(float(n @ to_light), 0.0)
-    n_dot_h = max(float(n @ halfway), 0.0)
-    # 0 ** ns is 0 for ns > 0; written out so that ns = 0 does not turn 0 ** 0 into a highlight. A
-    # huge ns makes the power infinite where N.H rounds past 1, as the GPU's pow does: Python's ** raises.
-    with np.errstate(over="ignore"):
-        highlight = float(np.float64(n_dot_h) ** material.ns) if n_dot_h > 0.0 else 0.0
+    # At most 1, as for unit vectors: past it by rounding, a huge ns overflowed the power.
+    n_dot_h = min(max(float(n @ halfway), 0.0), 1.0)
+    # 0 ** ns is 0 for ns > 0; written out so that ns = 0 does not turn 0 ** 0 into a highlight.
+    highlight = n_dot_h ** material.ns if n_dot_h > 0.0 else 0.0
     diffuse = light.intensity * np.asarray(material.kd, float) * n_dot_l
-    ks = np.asarray(material.ks, float)
-    specular = light.intensity * ks * highlight if ks.any() else zero  # as the shader: no term where Ks is 0
+    specular = light.intensity * np.asarray(material.ks, float) * highlight
     return LightTerm(light.name, True, diffuse, specular, to_light, halfway, n_dot_l, highlight)
 
 

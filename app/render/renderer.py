@@ -462,8 +462,8 @@ class Renderer:
     def _lighting_inputs(self, material: Material) -> tuple[tuple[str, bytes], ...]:
         """What the lighting pass reads, for the rows it keeps: its uniforms, less the V it does not
         read, so that a camera that changes only that lights nothing again. Flat's rows carry N.V, for
-        its back-face test; Gouraud's colours read V only through a specular term that shows, which
-        surface.glsl's lit_colour leaves out where its weight is 0 (not 0 times an infinite pow)."""
+        its back-face test; Gouraud's colours read V only through a specular term that shows: a weight
+        of 0 times surface.glsl's pow, which it keeps at most 1, adds nothing."""
         reads_view = self.way.shading is not Shading.GOURAUD or (self.specular_shown and any(material.ks))
         unread = _VIEW_UNIFORMS - {self.view_uniform} if reads_view else _VIEW_UNIFORMS
         return tuple((name, value) for name, value in self.lighting.values() if name not in unread)
