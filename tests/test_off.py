@@ -223,6 +223,11 @@ PLAIN_BODIES = [
     off_text(header="NOFF\n4 2 0\n", vertices=[f"{row} 0 0 1" for row in SQUARE]),
     "OFF\r\n4 1 0\r\n" + "".join(f"  {row}\t\r\n\r\n" for row in SQUARE) + "4 0 1 2 3" + " 0" * 0,
     off_text(vertices=[f"{i} {i * i % 7} 1e-3" for i in range(80)], faces=("70 " + " ".join(map(str, range(70))),)),
+    # faces with a colour: a colour map's index, RGB or RGBA, in bytes or fractions, on some rows only
+    off_text(faces=("3 0 1 2 255 0 0", "3 0 2 3")),
+    off_text(faces=("3 0 1 2 0.5 0.25 1.0 0.75", "4 0 1 2 3 7", "3 0 2 3 1e-1 .5 1")),
+    off_text(vertices=[f"{i} {i * i % 7} 1e-3" for i in range(80)],
+             faces=("70 " + " ".join(map(str, range(70))) + " 0.2 0.4 0.6", "3 0 1 2 12 34 56 78")),
 ]
 
 
@@ -237,7 +242,13 @@ def test_a_plain_body_is_read_at_once_as_the_line_reader_reads_it(tmp_path: Path
 
 @pytest.mark.parametrize("text", [
     off_text(faces=("3 0 1 2 # a comment", "3 0 2 3")),
-    off_text(faces=("3 0 1 2 255 0 0", "3 0 2 3")),  # a face's colour
+    off_text(faces=("3 0 1 2 255 0", "3 0 2 3")),  # a colour of two words
+    off_text(faces=("3 0 1 2 red", "3 0 2 3")),  # a colour that is no number: not read, so not refused
+    off_text(faces=("3 0 1 2.0 0.5 0.5 0.5", "3 0 2 3")),  # a fraction among the corners
+    off_text(faces=("3 0 1 2", "2 0 1 3")),  # a count of 2 and a word more, as if a colour
+    off_text(faces=("3 0 1 2 0.5 0.5 0.5", "3 0 2 3 1 2 3 4 5")),  # a colour of five words
+    off_text(faces=("3 0 1 2 0.5 0.5 nan", "3 0 2 3")),
+    off_text(faces=("3 0 1 2 0.5\x1c0.5 0.5", "3 0 2 3")),
     off_text(faces=("+3 0 1 2", "3 0 2 3")),
     off_text(faces=("3.0 0 1 2", "3 0 2 3")),
     off_text(faces=("3 0 1 2.0", "3 0 2 3")),
@@ -261,8 +272,11 @@ def test_what_needs_the_line_reader_is_read_by_it(tmp_path: Path, text: str, mon
 @pytest.mark.parametrize("seed", range(3))
 def test_seeded_bodies_read_the_same_at_once_and_by_lines(tmp_path: Path, seed: int,
                                                          monkeypatch: pytest.MonkeyPatch) -> None:
-    """Small pieces, so that rows and words are cut where a large file's are."""
+    """Small pieces, so that rows and words are cut where a large file's are, and (seeds 1 and 2) small
+    blocks of face words, so that rows of 5 or 66 words are read as a polygon of many corners is."""
     monkeypatch.setattr(words, "_WORDS_PIECE_BYTES", 16)
+    monkeypatch.setattr(off, "_FACE_BLOCK_WORDS", [1 << 16, 4, 8][seed])
+    monkeypatch.setattr(off, "_ROW_PIECE_BYTES", [1 << 18, 1, 16][seed])
     rng = np.random.default_rng(seed)
     for _ in range(60):
         vertices = int(rng.integers(1, 9))
@@ -271,7 +285,9 @@ def test_seeded_bodies_read_the_same_at_once_and_by_lines(tmp_path: Path, seed: 
         for _ in range(rng.integers(1, 6)):
             size = int(rng.choice([3, 4, 5, 66]))
             corners = [str(corner) for corner in rng.integers(0, vertices + (rng.random() < 0.05), size)]
-            faces.append(" ".join([str(size), *corners]))
+            colour = [[], ["7"], [str(byte) for byte in rng.integers(0, 256, 3)],
+                      [f"{part:.2f}" for part in rng.random(4)], ["0"] * int(rng.choice([2, 5]))][rng.integers(0, 5)]
+            faces.append(" ".join([str(size), *corners, *colour]))
         text = off_text(rows, tuple(faces)).replace("\n", str(rng.choice(["\n", "\r\n", " \n\n", "\t\r"])))
         assert outcome(tmp_path, text) == outcome(tmp_path, text, monkeypatch)
 

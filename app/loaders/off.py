@@ -4,9 +4,9 @@ its polygons as the file gives them, and COFF's vertex colours.
 Why not trimesh's reader: it takes a face line with fewer indices than its count as a smaller face,
 reads past words after a vertex's numbers, names no line for a bad number or index, fails with a
 TypeError on some polygons and drops COFF's colours. This one reads the body's numbers in one numpy
-call where its lines are plain (no comment, no face colour, only digits among the faces), and
-otherwise a line at a time, making the numbers arrays a block of lines at a time; that reader names
-the line of the first problem.
+call where its lines are plain (no comment, a face's count and corners only digits, whatever its
+colour), and otherwise a line at a time, making the numbers arrays a block of lines at a time; that
+reader names the line of the first problem.
 """
 
 from __future__ import annotations
@@ -106,9 +106,9 @@ def read_off(path: Path, data: bytes) -> OffTables:
 def _body_at_once(data: bytes, body_at: int, layout: _Layout, vertices: int, faces: int) -> OffTables | None:
     """The tables, from the body's numbers read by numpy (the vertex rows' in one call, the faces' a block
     of rows at a time), where each row is one the line reader takes without a word and nothing in it
-    needs that reader's care: no comment, no face colour, only digits and blanks among the faces. None
-    otherwise: the line reader reads the file, and names any problem. The rows' shapes are checked from
-    their word counts first, so a line of a million words is never made numbers here."""
+    needs that reader's care: no comment, and a face's count and corners only digits. None otherwise:
+    the line reader reads the file, and names any problem. The rows' shapes are checked from their word
+    counts first, so a line of a million words is never made numbers here."""
     if data.find(b"#", body_at) >= 0:
         return None
     rows = vertices + faces
@@ -137,66 +137,104 @@ _ROW_PIECE_BYTES = 1 << 18  # a longer row's text made numbers at once
 
 def _face_rows_at_once(data: bytes, firsts: np.ndarray, end: int, words: np.ndarray, vertices: int
                        ) -> tuple[np.ndarray, np.ndarray] | None:
-    """The corners and face_start of the face rows that begin at `firsts`, each of its count and that
-    many corners (`words` in all); made numbers a block of rows at a time (a row of more words than a
-    block, a piece of it at a time), into the corners' final table. None where a row is another (a
-    colour after its corners, a count of less than 3, an index out of range)."""
+    """The corners and face_start of the face rows that begin at `firsts`, each of its count, that many
+    corners and perhaps a colour (`words` in all); made numbers a block of rows at a time (a row of more
+    words than a block, a piece of it at a time), into the corners' final table. None where a row is
+    another (a count of less than 3, a colour of another number of words, an index out of range)."""
     if words.min() < 4:
         return None
-    face_start = np.empty(words.size + 1, np.int64)
-    face_start[0] = 0
-    word_ends = np.cumsum(words, out=face_start[1:])  # made each row's first corner in place, below
-    corners = np.empty(int(word_ends[-1]) - words.size, INDEX)
-    before = 0  # words before the block
+    corners = np.empty(int(words.sum()) - words.size, INDEX)  # room for every word after a count
+    face_start = np.zeros(words.size + 1, np.int64)  # each row's count, then summed in place
+    written = 0
     limit = min(vertices, INDEX_LIMIT)
     for block in weighed_pieces(words, _FACE_BLOCK_WORDS):
         low, high = block.start, block.stop
-        after = int(word_ends[high - 1])
         text_end = int(firsts[high]) if high < words.size else end
         if words[low] > _FACE_BLOCK_WORDS:  # alone in its block
-            read = _long_row(data, int(firsts[low]), text_end, corners[before - low:after - high], limit)
+            counts = _long_row(data, int(firsts[low]), text_end, int(words[low]), corners[written:], limit)
         else:
-            read = _rows(data[firsts[low]:text_end], words[low:high], corners[before - low:after - high], limit)
-        if not read:
+            counts = _rows(data[firsts[low]:text_end], words[low:high], corners[written:], limit)
+        if counts is None:
             return None
-        word_ends[low:high] -= np.arange(low + 1, high + 1)  # words before less rows before: corners before
-        before = after
-    return corners, face_start
+        face_start[low + 1:high + 1] = counts
+        written += int(counts.sum())
+    np.cumsum(face_start, out=face_start)
+    return (corners if written == corners.size else corners[:written].copy()), face_start
 
 
-def _rows(text: bytes, words: np.ndarray, corners: np.ndarray, limit: int) -> bool:
-    """Face rows of these word counts, their corners into `corners`; False where they are other rows."""
-    numbers = _numbers_of(text, int(words.sum()), np.int64)
-    if numbers is None:
-        return False
+def _rows(text: bytes, words: np.ndarray, corners: np.ndarray, limit: int) -> np.ndarray | None:
+    """Face rows of these word counts: their corners into the start of `corners`, and their counts;
+    None where they are other rows."""
+    total = int(words.sum())
     count_at = np.cumsum(words) - words
-    if (numbers[count_at] != words - 1).any():  # a colour after the corners, say
-        return False
-    numbers[count_at] = -1
-    read = numbers[numbers >= 0]
+    digits = None  # whether each word is digits only, where some are not
+    numbers = _numbers_of(text, total, np.int64)
+    if numbers is None:  # a colour of fractions, say: then the counts and corners must be digits only
+        digits = _digits_only_words(text, total)
+        numbers = None if digits is None or not digits[count_at].all() else _numbers_of(text, total, np.float64)
+        if numbers is None:
+            return None
+    counts = numbers[count_at].astype(np.int64)
+    colour_words = words - 1 - counts
+    if (counts < 3).any() or not np.isin(colour_words, _FACE_COLOUR_WORDS).all():
+        return None
+    if colour_words.any():
+        corner = _corner_words(count_at, counts, total)
+        if digits is not None and not digits[corner].all():
+            return None
+        read = numbers[corner]
+    elif digits is None:  # the usual rows: every word after a count a corner
+        numbers[count_at] = -1
+        read = numbers[numbers >= 0]
+    else:
+        return None  # words of fractions and no colour: a corner is one
     if read.max() >= limit:  # checked before it is made 32-bit
-        return False
-    corners[:] = read
-    return True
+        return None
+    corners[:read.size] = read
+    return counts
 
 
-def _long_row(data: bytes, start: int, end: int, corners: np.ndarray, limit: int) -> bool:
-    """One face row of many words, its corners into `corners`, made numbers a piece of its text at a time;
-    False where it is another row."""
-    at = -1  # corners written; before its count, -1
+def _corner_words(count_at: np.ndarray, counts: np.ndarray, total: int) -> np.ndarray:
+    """Which of the rows' `total` words are corners: the `counts` words after each row's count, which
+    is word `count_at` (a colour's words follow them)."""
+    steps = np.zeros(total + 1, np.int8)
+    steps[count_at + 1] = 1  # no row's corners end where another's begin: its count is between
+    steps[count_at + 1 + counts] = -1
+    return np.cumsum(steps[:total], dtype=np.int8).astype(bool)
+
+
+def _digits_only_words(text: bytes, total: int) -> np.ndarray | None:
+    """Whether each word of the text is digits only; None where it does not hold `total` words."""
+    text_bytes = np.frombuffer(text, np.uint8)
+    blank = WHITESPACE[text_bytes]
+    word_of_byte = np.cumsum(~blank & np.concatenate(([True], blank[:-1]))) - 1
+    if not word_of_byte.size or word_of_byte[-1] != total - 1:
+        return None
+    digits = np.ones(total, bool)
+    digits[word_of_byte[~blank & ~_DIGIT[text_bytes]]] = False
+    return digits
+
+
+def _long_row(data: bytes, start: int, end: int, words: int, corners: np.ndarray, limit: int) -> np.ndarray | None:
+    """One face row of `words` words, its corners into the start of `corners`, made numbers a piece of
+    its text at a time, and its count; None where it is another row. What follows its corners is its
+    colour."""
+    count, at, seen = -1, 0, 0  # the row's count, once read; corners written; numbers read
     for low, high in pieces_at_gaps(data, start, _ROW_PIECE_BYTES, end):
         numbers = _numbers_of(data[low:high], None, np.int64)
         if numbers is None:
-            return False
-        if at < 0:
-            if numbers[0] != corners.size:
-                return False
-            numbers, at = numbers[1:], 0
-        if at + numbers.size > corners.size or (numbers.size and numbers.max() >= limit):
-            return False
+            return None
+        seen += numbers.size
+        if count < 0:
+            count, numbers = int(numbers[0]), numbers[1:]
+            if count < 3 or words - 1 - count not in _FACE_COLOUR_WORDS:
+                return None
+        numbers = numbers[:count - at]
+        if numbers.size and numbers.max() >= limit:
+            return None
         corners[at:at + numbers.size] = numbers
         at += numbers.size
-    return at == corners.size
+    return np.array([count]) if at == count and seen == words else None
 
 
 def _numbers_of(text: bytes, expected: int | None, kind: type) -> np.ndarray | None:
@@ -215,6 +253,8 @@ def _numbers_of(text: bytes, expected: int | None, kind: type) -> np.ndarray | N
 
 
 _DIGITS_AND_BLANKS = b"0123456789 \t\n\r\x0b\x0c"
+_DIGIT = np.zeros(256, bool)
+_DIGIT[list(b"0123456789")] = True
 # A face row this long has its count read alone before any row is made numbers.
 _LONG_ROW_WORDS = 64
 
@@ -229,11 +269,12 @@ def _long_counts(data: bytes, firsts: np.ndarray) -> bool:
 
 
 def _counts_fit(data: bytes, firsts: np.ndarray, words: np.ndarray) -> bool:
-    """Whether each long face row's count (its first word) is its number of words less one."""
+    """Whether each long face row's count (its first word) leaves words for that many corners and
+    perhaps a colour."""
     for row in np.flatnonzero(words > _LONG_ROW_WORDS).tolist():
         first = int(firsts[row])
         count = data[first:first + MAX_COUNT_DIGITS].split(None, 1)[0]
-        if not count.isdigit() or int(count) != words[row] - 1:
+        if not count.isdigit() or words[row] - 1 - int(count) not in _FACE_COLOUR_WORDS:
             return False
     return True
 

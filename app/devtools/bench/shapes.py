@@ -182,6 +182,16 @@ def _scene_of_many_nodes(path: Path, size: int) -> None:
     path.write_text(text)
 
 
+def _off_coloured_faces(path: Path, size: int) -> None:
+    """OFF triangles, each with a colour of fractions after its corners, as Geomview writes them."""
+    circle = "".join(f"{np.cos(k * np.pi / 500):.6f} {np.sin(k * np.pi / 500):.6f} 0\n" for k in range(1000))
+    block = "".join(f"3 {k} {k + 1} {k + 2} 0.{k % 10}5 0.5 0.75\n" for k in range(998))
+    repeats = max(1, size // len(block))
+    with path.open("w") as out:
+        out.write(f"OFF\n1000 {998 * repeats} 0\n{circle}")
+        out.writelines(block for _ in range(repeats))
+
+
 SHAPES = (
     Shape("plain model (the baseline)", "plain.obj", _plain),
     Shape("the same, its last line cut", "cut.obj", _cut_at_the_end),
@@ -196,6 +206,7 @@ SHAPES = (
     Shape("one long number ending badly", "long_number.obj", _one_long_bad_number),
     Shape("ASCII PLY: its rows parted by blank lines", "blank.ply", _ply_of_blank_lines),
     Shape("OFF: one polygon of every corner", "polygon.off", _off_polygon),
+    Shape("OFF: a colour after every face", "coloured.off", _off_coloured_faces),
     Shape("ASCII STL", "strip.stl", _ascii_stl),
     Shape("ASCII STL, its last line cut", "cut.stl", _ascii_stl_cut_at_the_end),
     Shape("scene file: many objects", "objects.toml", _scene_of_many_objects),
