@@ -249,6 +249,11 @@ def test_a_plain_body_is_read_at_once_as_the_line_reader_reads_it(tmp_path: Path
     off_text(faces=("3 0 1 2 0.5 0.5 0.5", "3 0 2 3 1 2 3 4 5")),  # a colour of five words
     off_text(faces=("3 0 1 2 0.5 0.5 nan", "3 0 2 3")),
     off_text(faces=("3 0 1 2 0.5\x1c0.5 0.5", "3 0 2 3")),
+    off_text(vertices=["0 0 0"], faces=("2147483648" + " 0" * 64,)),  # a count past int32 on a long row
+    # more digits than Python's int() reads, leading zeros all the same: the index 2
+    off_text(faces=("3 0 1 " + "0" * 4300 + "2 0.5 0.5 0.5", "3 0 2 3")),
+    off_text(faces=("3 0 1 " + "0" * 4300 + "2 9 9 9", "3 0 2 3")),
+    off_text(faces=("3 0 1 " + "0" * 4300 + "2", "3 0 2 3")),
     off_text(faces=("+3 0 1 2", "3 0 2 3")),
     off_text(faces=("3.0 0 1 2", "3 0 2 3")),
     off_text(faces=("3 0 1 2.0", "3 0 2 3")),
@@ -302,6 +307,16 @@ def test_a_file_of_triangles_costs_a_few_times_its_size(tmp_path: Path) -> None:
     tables, peak = peak_traced_bytes(lambda: off.read_off(path, path.read_bytes()))
     assert tables.face_start.size == faces + 1
     assert peak < 8 * path.stat().st_size, (peak, path.stat().st_size)
+
+
+def test_a_colour_of_one_huge_fraction_costs_a_few_times_its_size(tmp_path: Path) -> None:
+    """Its face's words are found digits only or not a few bytes per byte at most, though one word is
+    most of the text (an array of a word number per byte made it 24 times the file)."""
+    path = tmp_path / "fraction.off"
+    path.write_bytes(b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 0." + b"1" * (8 << 20) + b" 0 0\n")
+    tables, peak = peak_traced_bytes(lambda: off.read_off(path, path.read_bytes()))
+    assert tables.corner_vertex.tolist() == [0, 1, 2]
+    assert peak < 7 * path.stat().st_size, (peak, path.stat().st_size)
 
 
 def test_one_face_row_of_a_million_corners_is_made_numbers_a_piece_at_a_time(tmp_path: Path) -> None:

@@ -204,15 +204,15 @@ def _corner_words(count_at: np.ndarray, counts: np.ndarray, total: int) -> np.nd
 
 
 def _digits_only_words(text: bytes, total: int) -> np.ndarray | None:
-    """Whether each word of the text is digits only; None where it does not hold `total` words."""
+    """Whether each word of the text is digits only; None where it does not hold `total` words. A few
+    bytes of temporaries per byte: one word may be most of the text."""
     text_bytes = np.frombuffer(text, np.uint8)
     blank = WHITESPACE[text_bytes]
-    word_of_byte = np.cumsum(~blank & np.concatenate(([True], blank[:-1]))) - 1
-    if not word_of_byte.size or word_of_byte[-1] != total - 1:
+    starts = np.flatnonzero(~blank & np.concatenate(([True], blank[:-1])))
+    if starts.size != total:
         return None
-    digits = np.ones(total, bool)
-    digits[word_of_byte[~blank & ~_DIGIT[text_bytes]]] = False
-    return digits
+    other = ~(blank | _DIGIT[text_bytes])  # a byte that is neither: a sign, a point, a letter
+    return ~np.logical_or.reduceat(other, starts)  # each word with the blanks after it
 
 
 def _long_row(data: bytes, start: int, end: int, words: int, corners: np.ndarray, limit: int) -> np.ndarray | None:
@@ -274,7 +274,7 @@ def _counts_fit(data: bytes, firsts: np.ndarray, words: np.ndarray) -> bool:
     for row in np.flatnonzero(words > _LONG_ROW_WORDS).tolist():
         first = int(firsts[row])
         count = data[first:first + MAX_COUNT_DIGITS].split(None, 1)[0]
-        if not count.isdigit() or words[row] - 1 - int(count) not in _FACE_COLOUR_WORDS:
+        if not count.isdigit() or int(words[row]) - 1 - int(count) not in _FACE_COLOUR_WORDS:
             return False
     return True
 

@@ -114,8 +114,8 @@ def _converted(path: Path, words: list[str], line_of: LineOf, kind: type, syntax
     `syntax`, or (int64) a whole number past it (numpy's OverflowError), worded by `out_of_range`."""
     try:
         values = np.array(words, dtype=kind)
-    except (ValueError, OverflowError):
-        values = None
+    except (ValueError, OverflowError):  # or int()'s cap of 4,300 digits, leading zeros too
+        values = _wholes_without_leading_zeros(words) if kind is np.int64 else None
     joined = "".join(words)
     if values is not None and "_" not in joined and joined.isascii():  # float() and int() read 1_000 and '٣' too
         return values
@@ -126,6 +126,15 @@ def _converted(path: Path, words: list[str], line_of: LineOf, kind: type, syntax
         raise LoadError(path, out_of_range.format(word[:40]), line=line_of(at))
     wanted = "a number" if kind is np.float64 else "a whole number"
     raise LoadError(path, f"'{word[:40]}' is not {wanted}", line=line_of(at))
+
+
+def _wholes_without_leading_zeros(words: list[str]) -> np.ndarray | None:
+    """The words as int64 where each is a whole number within its range, however many zeros lead it;
+    None otherwise."""
+    if not all(_WHOLE.fullmatch(word) and not _past_int64(word) for word in words):
+        return None
+    return np.array([word[:1].strip("0123456789") + (word.lstrip("+-").lstrip("0") or "0") for word in words],
+                    dtype=np.int64)
 
 
 def _past_int64(word: str) -> bool:
