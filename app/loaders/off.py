@@ -178,16 +178,14 @@ def _rows(text: bytes, words: np.ndarray, corners: np.ndarray, limit: int) -> np
     colour_words = words - 1 - counts
     if (counts < 3).any() or not np.isin(colour_words, _FACE_COLOUR_WORDS).all():
         return None
-    if colour_words.any():
+    if colour_words.any() or digits is not None:
         corner = _corner_words(count_at, counts, total)
         if digits is not None and not digits[corner].all():
             return None
         read = numbers[corner]
-    elif digits is None:  # the usual rows: every word after a count a corner
+    else:  # the usual rows: every word after a count a corner
         numbers[count_at] = -1
         read = numbers[numbers >= 0]
-    else:
-        return None  # words of fractions and no colour: a corner is one
     if read.max() >= limit:  # checked before it is made 32-bit
         return None
     corners[:read.size] = read
