@@ -223,6 +223,9 @@ PLAIN_BODIES = [
     off_text(header="NOFF\n4 2 0\n", vertices=[f"{row} 0 0 1" for row in SQUARE]),
     "OFF\r\n4 1 0\r\n" + "".join(f"  {row}\t\r\n\r\n" for row in SQUARE) + "4 0 1 2 3" + " 0" * 0,
     off_text(vertices=[f"{i} {i * i % 7} 1e-3" for i in range(80)], faces=("70 " + " ".join(map(str, range(70))),)),
+    # comments: on lines of their own, after a row's words, touching a word, ending at a lone \r
+    "OFF\n4 2 0\n# the vertices\n" + "".join(f"{row} # a corner\n" for row in SQUARE) + "#\n3 0 1 2#x\r3 0 2 3\n",
+    off_text(faces=("3 0 1 2 # \x0c a form feed ends no line 7 7", "3 0 2 3 #")),
     # faces with a colour: a colour map's index, RGB or RGBA, in bytes or fractions, on some rows only
     off_text(faces=("3 0 1 2 255 0 0", "3 0 2 3")),
     off_text(faces=("3 0 1 2 0.5 0.25 1.0 0.75", "4 0 1 2 3 7", "3 0 2 3 1e-1 .5 1")),

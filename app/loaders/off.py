@@ -4,8 +4,8 @@ its polygons as the file gives them, and COFF's vertex colours.
 Why not trimesh's reader: it takes a face line with fewer indices than its count as a smaller face,
 reads past words after a vertex's numbers, names no line for a bad number or index, fails with a
 TypeError on some polygons and drops COFF's colours. This one reads the body's numbers in one numpy
-call where its lines are plain (no comment, a face's count and corners only digits, whatever its
-colour), and otherwise a line at a time, making the numbers arrays a block of lines at a time; that
+call where its lines are plain (comments taken out, a face's count and corners only digits, whatever
+its colour), and otherwise a line at a time, making the numbers arrays a block of lines at a time; that
 reader names the line of the first problem.
 """
 
@@ -37,6 +37,8 @@ from marraztu.model.geometry import holds_in_float32
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh
 from marraztu.model.threads import weighed_pieces
 
+# A comment runs from '#' to its line's end (\n, \r\n or a lone \r, as text_lines ends lines).
+_COMMENT = re.compile(rb"#[^\r\n]*+")
 # A polygon's colour may follow its indices: none, an index into a colour map, RGB or RGBA. Not read.
 _FACE_COLOUR_WORDS = (0, 1, 3, 4)
 
@@ -95,7 +97,11 @@ class _Rows:
 def read_off(path: Path, data: bytes) -> OffTables:
     rows = _Rows(data)
     layout, vertices, faces = _header(path, rows)
-    at_once = _body_at_once(data, line_end_after(data, rows.line), layout, vertices, faces)
+    body_at = line_end_after(data, rows.line)
+    if data.find(b"#", body_at) >= 0:  # the body without its comments, each line kept
+        at_once = _body_at_once(_COMMENT.sub(b"", memoryview(data)[body_at:]), 0, layout, vertices, faces)
+    else:
+        at_once = _body_at_once(data, body_at, layout, vertices, faces)
     if at_once is not None:
         return at_once
     positions, colours = _vertex_rows(path, rows, vertices, layout)
@@ -106,11 +112,9 @@ def read_off(path: Path, data: bytes) -> OffTables:
 def _body_at_once(data: bytes, body_at: int, layout: _Layout, vertices: int, faces: int) -> OffTables | None:
     """The tables, from the body's numbers read by numpy (the vertex rows' in one call, the faces' a block
     of rows at a time), where each row is one the line reader takes without a word and nothing in it
-    needs that reader's care: no comment, and a face's count and corners only digits. None otherwise:
-    the line reader reads the file, and names any problem. The rows' shapes are checked from their word
+    needs that reader's care: a face's count and corners only digits (comments are taken out before).
+    None otherwise: the line reader reads the file, and names any problem. The rows' shapes are checked from their word
     counts first, so a line of a million words is never made numbers here."""
-    if data.find(b"#", body_at) >= 0:
-        return None
     rows = vertices + faces
     counts, firsts = line_words(data, body_at, rows + 1)  # the line after the faces: where they end
     if counts.size < rows:
