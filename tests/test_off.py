@@ -322,6 +322,17 @@ def test_a_colour_of_one_huge_fraction_costs_a_few_times_its_size(tmp_path: Path
     assert peak < 7 * path.stat().st_size, (peak, path.stat().st_size)
 
 
+def test_a_body_of_comments_costs_a_few_times_its_size(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Taken out a piece at a time in numpy: a regular expression's substitution held an object per
+    comment, 86 times the text for a comment on every line; read at once, not by the line reader."""
+    monkeypatch.setattr(off, "_vertex_rows", lambda *args: pytest.fail("the line reader read the body"))
+    path = tmp_path / "comments.off"
+    path.write_bytes(off_text().replace("3 0 1 2", "#\n" * (4 << 20) + "3 0 1 2#\r").encode())
+    tables, peak = peak_traced_bytes(lambda: off.read_off(path, path.read_bytes()))
+    assert tables.corner_vertex.tolist() == [0, 1, 2, 0, 2, 3]
+    assert peak < 4 * path.stat().st_size, (peak, path.stat().st_size)
+
+
 def test_one_face_row_of_a_million_corners_is_made_numbers_a_piece_at_a_time(tmp_path: Path) -> None:
     corners = 1_000_000
     path = tmp_path / "polygon.off"
