@@ -21,6 +21,7 @@ import numpy as np
 from marraztu.errors import LoadError
 from marraztu.loaders.files import line_end_after, read_model_bytes, text_lines
 from marraztu.loaders.words import (
+    BLANKS,
     MAX_COUNT_DIGITS,
     WHITESPACE,
     WordBlocks,
@@ -31,6 +32,7 @@ from marraztu.loaders.words import (
     pieces_at_gaps,
     said_count,
     text_numbers,
+    word_starts,
 )
 from marraztu.model.build import by_largest, colour_bytes, derive_mesh
 from marraztu.model.geometry import holds_in_float32
@@ -126,24 +128,38 @@ def _without_comments(data: bytes, start: int) -> bytes:
 
 def _piece_without_comments(piece: np.ndarray) -> bytes:
     """A piece of text that ends at a line end (or the text's end), its comments taken out."""
+    spans = _comment_spans(piece)
+    return piece.tobytes() if spans is None else piece[~_in_spans(*spans, piece.size)].tobytes()
+
+
+def _comment_spans(piece: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """(starts, stops) of the piece's comments, each from its line's first '#' to its line end; None
+    where there is none. Its own function: the table of every '#' is freed on return."""
     hashes = np.flatnonzero(piece == ord("#"))
     if not hashes.size:
-        return piece.tobytes()
+        return None
     ends = np.append(np.flatnonzero((piece == ord("\n")) | (piece == ord("\r"))), piece.size)
     stops = ends[np.searchsorted(ends, hashes)]  # each '#''s line end
+    del ends  # a number per line: with a comment on every line, as large as the two tables made below
     first = np.concatenate(([True], stops[1:] != stops[:-1]))  # a line's first '#' starts its comment
-    steps = np.zeros(piece.size + 1, np.int8)
-    steps[hashes[first]] = 1
-    steps[stops[first]] = -1
-    return piece[np.cumsum(steps[:-1], dtype=np.int8) == 0].tobytes()
+    return hashes[first], stops[first]
+
+
+def _in_spans(starts: np.ndarray, stops: np.ndarray, size: int) -> np.ndarray:
+    """Which of `size` places lie in a span [start, stop), the spans in order and apart (no span's
+    stop is another's start): +1 where each begins, -1 where it ends, summed."""
+    steps = np.zeros(size + 1, np.int8)
+    steps[starts] = 1
+    steps[stops] = -1
+    return np.cumsum(steps[:size], dtype=np.int8).view(bool)  # each sum 0 or 1
 
 
 def _body_at_once(data: bytes, body_at: int, layout: _Layout, vertices: int, faces: int) -> OffTables | None:
     """The tables, from the body's numbers read by numpy (the vertex rows' in one call, the faces' a block
     of rows at a time), where each row is one the line reader takes without a word and nothing in it
     needs that reader's care: a face's count and corners only digits (comments are taken out before).
-    None otherwise: the line reader reads the file, and names any problem. The rows' shapes are checked from their word
-    counts first, so a line of a million words is never made numbers here."""
+    None otherwise: the line reader reads the file, and names any problem. The rows' shapes are
+    checked from their word counts first, so a line of a million words is never made numbers here."""
     rows = vertices + faces
     counts, firsts = line_words(data, body_at, rows + 1)  # the line after the faces: where they end
     if counts.size < rows:
@@ -228,10 +244,7 @@ def _rows(text: bytes, words: np.ndarray, corners: np.ndarray, limit: int) -> np
 def _corner_words(count_at: np.ndarray, counts: np.ndarray, total: int) -> np.ndarray:
     """Which of the rows' `total` words are corners: the `counts` words after each row's count, which
     is word `count_at` (a colour's words follow them)."""
-    steps = np.zeros(total + 1, np.int8)
-    steps[count_at + 1] = 1  # no row's corners end where another's begin: its count is between
-    steps[count_at + 1 + counts] = -1
-    return np.cumsum(steps[:total], dtype=np.int8).astype(bool)
+    return _in_spans(count_at + 1, count_at + 1 + counts, total)  # apart: the next row's count is between
 
 
 def _digits_only_words(text: bytes, total: int) -> np.ndarray | None:
@@ -239,7 +252,7 @@ def _digits_only_words(text: bytes, total: int) -> np.ndarray | None:
     bytes of temporaries per byte: one word may be most of the text."""
     text_bytes = np.frombuffer(text, np.uint8)
     blank = WHITESPACE[text_bytes]
-    starts = np.flatnonzero(~blank & np.concatenate(([True], blank[:-1])))
+    starts = word_starts(blank)
     if starts.size != total:
         return None
     other = ~(blank | _DIGIT[text_bytes])  # a byte that is neither: a sign, a point, a letter
@@ -283,9 +296,10 @@ def _numbers_of(text: bytes, expected: int | None, kind: type) -> np.ndarray | N
     return numbers if expected is None or numbers.size == expected else None  # some numpy stops at a NUL
 
 
-_DIGITS_AND_BLANKS = b"0123456789 \t\n\r\x0b\x0c"
+_DIGITS = b"0123456789"
+_DIGITS_AND_BLANKS = _DIGITS + BLANKS
 _DIGIT = np.zeros(256, bool)
-_DIGIT[list(b"0123456789")] = True
+_DIGIT[list(_DIGITS)] = True
 # A face row this long has its count read alone before any row is made numbers.
 _LONG_ROW_WORDS = 64
 

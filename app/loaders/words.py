@@ -29,8 +29,9 @@ ROWS_AT_ONCE = 1 << 15  # rows whose words are made numbers in one call
 
 _DECIMAL = re.compile(DECIMAL_SYNTAX)
 # What bytes.split() and numpy's fromstring part numbers at.
+BLANKS = b" \t\n\r\x0b\x0c"  # what numpy's and bytes.split()'s words are parted by
 WHITESPACE = np.zeros(256, bool)
-WHITESPACE[list(b" \t\n\r\x0b\x0c")] = True
+WHITESPACE[list(BLANKS)] = True
 _PIECE_BYTES = 1 << 20  # a text looked at word by word a piece at a time: its temporaries stay small
 _WHOLE = re.compile(r"[+-]?[0-9]+")
 _COUNT = re.compile(r"[0-9]+")
@@ -133,8 +134,12 @@ def _wholes_without_leading_zeros(words: list[str]) -> np.ndarray | None:
     None otherwise."""
     if not all(_WHOLE.fullmatch(word) and not _past_int64(word) for word in words):
         return None
-    return np.array([word[:1].strip("0123456789") + (word.lstrip("+-").lstrip("0") or "0") for word in words],
-                    dtype=np.int64)
+    return np.array([_without_leading_zeros(word) for word in words], dtype=np.int64)
+
+
+def _without_leading_zeros(word: str) -> str:
+    digits = word.lstrip("+-")
+    return word[:len(word) - len(digits)] + (digits.lstrip("0") or "0")
 
 
 def _past_int64(word: str) -> bool:
@@ -170,11 +175,15 @@ def pieces_at_gaps(data: bytes, start: int, piece_bytes: int = _PIECE_BYTES, end
 _GAP = re.compile(rb"\s")
 
 
+def word_starts(blank: np.ndarray) -> np.ndarray:
+    """Where each word begins in a text whose blank bytes are `blank` (WHITESPACE of its bytes)."""
+    return np.flatnonzero(~blank & np.concatenate(([True], blank[:-1])))
+
+
 def words_and_line_ends(piece: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
     """Where each word of a piece of text (uint8) begins, how many line ends (\\n or \\r) come before
     it, and how many the piece holds: a few numbers per word and line end, never one per byte."""
-    blank = WHITESPACE[piece]
-    words = np.flatnonzero(~blank & np.concatenate(([True], blank[:-1])))
+    words = word_starts(WHITESPACE[piece])
     line_ends = np.flatnonzero((piece == 10) | (piece == 13))
     return words, np.searchsorted(line_ends, words), line_ends.size
 
