@@ -117,8 +117,8 @@ def _random_obj(seams: bool) -> bytes:
 
 @pytest.mark.parametrize("seams", [False, True], ids=["per position", "seams"])
 def test_surface_rows_made_in_small_pieces_are_the_same(seams: bool, monkeypatch: pytest.MonkeyPatch) -> None:
-    """Pieces of 3 rows cut through the positions' rows, the seams' and the polygons' own: the arrays
-    are those made in one piece, and draw the same corners."""
+    """Pieces of 3 rows cut through the positions' rows, the seams', the polygons' own and their fans'
+    indices: the arrays are those made in one piece, and draw the same corners."""
     mesh = parse_obj(_random_obj(seams), "random.obj")
     whole = surface_arrays(mesh)
     monkeypatch.setattr(threads, "ROWS_PER_PIECE", 3)
