@@ -102,6 +102,21 @@ def test_unit_rows_in_pieces_equal_one_piece_in_either_type(monkeypatch: pytest.
     assert not whole_ok[[4, 11, 23]].any() and not whole[[4, 11, 23]].any()
 
 
+@pytest.mark.parametrize("rows", [1, 2, 5, 40])
+def test_column_bounds_in_pieces_are_each_columns_least_and_largest(rows: int,
+                                                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    """A piece of rows a thread, 4 threads, however few the rows: each column's bounds, a NaN's column
+    NaN as numpy gives it."""
+    from marraztu.model.geometry import column_bounds
+
+    table = np.random.default_rng(rows).normal(size=(rows, 3)) * 1e6
+    monkeypatch.setattr(threads, "THREADS", 4)
+    for values in (table, np.where(np.arange(rows)[:, None] == rows - 1, [np.nan, 1.0, -np.inf], table)):
+        low, high = column_bounds(values)
+        assert np.array_equal(low, values.min(axis=0), equal_nan=True)
+        assert np.array_equal(high, values.max(axis=0), equal_nan=True)
+
+
 @pytest.mark.parametrize("seed", range(5))
 def test_weighed_pieces_cover_the_rows_in_order_each_bounded_or_one_heavy_row(seed: int) -> None:
     rng = np.random.default_rng(seed)

@@ -252,8 +252,15 @@ def _uvs(uv: CornerSource | None, positions: np.ndarray, row_vertex: np.ndarray 
     if uv is None:
         return _bounding_box_uv(positions, row_vertex, bounds)
     table, index = uv
-    # np.take gathers small rows faster than fancy indexing
-    uvs = np.take(np.clip(table, -FLOAT32_MAX, FLOAT32_MAX).astype(np.float32), index, axis=0)
+    uvs = np.empty((index.shape[0], 2), np.float32)
+
+    def piece(rows: slice) -> None:
+        block = uvs[rows]
+        with np.errstate(over="ignore"):  # past float32's range: infinite, then its largest
+            block[:] = np.take(table, index[rows], axis=0)  # np.take gathers small rows faster than fancy indexing
+        np.clip(block, -FLOAT32_MAX, FLOAT32_MAX, out=block)
+
+    each(piece, pieces(index.shape[0]))
     without = np.flatnonzero(index < 0)
     if without.size:
         uvs[without] = _bounding_box_uv(positions, _positions_of(without, row_vertex), bounds)
@@ -449,12 +456,11 @@ def _fill_vertex_normals(vertex_normals: np.ndarray, missing: np.ndarray, shape:
     one: their position touches no face with an area."""
     sums = _normal_sums(shape.face_normals, shape.corner_vertex, shape.face_start, shape.sizes,
                         shape.positions.shape[0])
+    if missing.all() and row_vertex is None:  # no `vn` in the file, the usual case: straight into place
+        return ~unit_rows(sums, out=vertex_normals)[1]
     # In the rows' type: a fancy assignment that also converts is slower than a gather of the right type.
     position_normals, position_ok = unit_rows(sums, vertex_normals.dtype)
-    if missing.all():  # no `vn` in the file, the usual case: straight into place
-        if row_vertex is None:
-            vertex_normals[:] = position_normals
-            return ~position_ok
+    if missing.all():
         np.take(position_normals, row_vertex, axis=0, out=vertex_normals)
         return ~position_ok[row_vertex]
     rows = np.flatnonzero(missing)
@@ -536,12 +542,18 @@ def _bounding_box_uv(positions: np.ndarray, vertices: np.ndarray | None,
     with np.errstate(all="ignore"):
         extent = high - low
         extent = np.where(np.isfinite(extent), extent, 0.0)
-        axes = np.sort(np.argsort(-extent, kind="stable")[:2])
-        # Per position, then gathered: a position has one box coordinate, and corners outnumber positions.
-        # In place after the first step: one temporary as large as the table.
-        uv = positions[:, axes] - low[axes]
-        uv /= np.where(extent[axes] > 0, extent[axes], 1.0)
-    uv[:, extent[axes] <= 0] = 0.0
-    uv[~np.isfinite(uv)] = 0.0
-    uv = uv.astype(np.float32)
+    axes = np.sort(np.argsort(-extent, kind="stable")[:2])
+    scale, flat = np.where(extent[axes] > 0, extent[axes], 1.0), extent[axes] <= 0
+    # Per position, then gathered: a position has one box coordinate, and corners outnumber positions.
+    uv = np.empty((positions.shape[0], 2), np.float32)
+
+    def piece(rows: slice) -> None:
+        with np.errstate(all="ignore"):
+            block = positions[rows][:, axes] - low[axes]
+            block /= scale
+        block[:, flat] = 0.0
+        block[~np.isfinite(block)] = 0.0
+        uv[rows] = block
+
+    each(piece, pieces(positions.shape[0]))
     return uv if vertices is None else np.take(uv, vertices, axis=0)

@@ -6,7 +6,7 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from marraztu.model.threads import each, pieces
+from marraztu.model.threads import each, one_per_thread, pieces
 
 # The GPU draws in float32: a coordinate beyond this would be infinite there.
 FLOAT32_MAX = float(np.finfo(np.float32).max)
@@ -32,10 +32,12 @@ def unit_or_none(vector: Iterable[float], shortest: float = 1e-12) -> np.ndarray
     return None if length < shortest else v / length
 
 
-def unit_rows(vectors: np.ndarray, dtype: type = np.float64) -> tuple[np.ndarray, np.ndarray]:
-    """Each row scaled to length 1 and stored as `dtype`, and which rows could be; the others are left
-    zero. In pieces of rows on threads, each row's arithmetic as in one piece."""
-    scaled, ok = np.empty(vectors.shape, dtype), np.empty(vectors.shape[0], bool)
+def unit_rows(vectors: np.ndarray, dtype: type = np.float64, out: np.ndarray | None = None
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """Each row scaled to length 1 and stored as `dtype` (or into `out`, in its type), and which rows
+    could be; the others are left zero. In pieces of rows on threads, each row's arithmetic as in one piece."""
+    scaled = np.empty(vectors.shape, dtype) if out is None else out
+    ok = np.empty(vectors.shape[0], bool)
 
     def piece(rows: slice) -> None:
         block, usable = vectors[rows], ok[rows]
@@ -56,11 +58,17 @@ def newell_normal(points: np.ndarray) -> np.ndarray:
 
 
 def column_bounds(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(low, high): each column's minimum and maximum of an (N, k) table, N > 0."""
+    """(low, high): each column's minimum and maximum of an (N, k) table, N > 0; a piece of rows a
+    thread, whose bounds are then bounded (a NaN stays one, as in one piece)."""
+
     # Column by column: reducing a C-ordered table over axis 0 runs its inner loop across short rows.
-    low = np.array([table[:, column].min() for column in range(table.shape[1])])
-    high = np.array([table[:, column].max() for column in range(table.shape[1])])
-    return low, high
+    def piece(rows: slice) -> np.ndarray:
+        block = table[rows]
+        return np.array([[block[:, column].min() for column in range(table.shape[1])],
+                         [block[:, column].max() for column in range(table.shape[1])]])
+
+    bounds = each(piece, one_per_thread(table.shape[0]))
+    return np.min([low for low, _ in bounds], axis=0), np.max([high for _, high in bounds], axis=0)
 
 
 # Odd 64-bit constants (from splitmix64 and xxhash) that spread each coordinate's bits over the key.
