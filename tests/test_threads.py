@@ -117,6 +117,18 @@ def test_column_bounds_in_pieces_are_each_columns_least_and_largest(rows: int,
         assert np.array_equal(high, values.max(axis=0), equal_nan=True)
 
 
+def test_equal_in_pieces_is_array_equal(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A piece of rows a thread on 4 threads: a difference in any piece, or in the shape, is seen."""
+    monkeypatch.setattr(threads, "THREADS", 4)
+    table = np.arange(30, dtype=np.int32).reshape(10, 3)
+    assert threads.equal(table, table.copy()) and threads.equal(table[:0], table[:0])
+    for row in (0, 5, 9):
+        other = table.copy()
+        other[row, 2] += 1
+        assert not threads.equal(table, other)
+    assert not threads.equal(table, table[:9]) and not threads.equal(table.reshape(-1), table.reshape(15, 2))
+
+
 @pytest.mark.parametrize("seed", range(5))
 def test_weighed_pieces_cover_the_rows_in_order_each_bounded_or_one_heavy_row(seed: int) -> None:
     rng = np.random.default_rng(seed)

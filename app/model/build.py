@@ -16,7 +16,7 @@ import numpy as np
 
 from marraztu.model.geometry import FLOAT32_MAX, column_bounds, unit_rows
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted, fan_gather
-from marraztu.model.threads import converted, each, one_per_thread, pieces, weighed_pieces
+from marraztu.model.threads import converted, each, equal, one_per_thread, pieces, weighed_pieces
 
 # Zero-area faces get a fallback normal; "zero" is relative to the model's size.
 DEGENERATE_AREA = 1e-12
@@ -203,7 +203,7 @@ def _per_position_sources(corner_vertex: np.ndarray, vertex_count: int, uv: Corn
             sources.append(None)
             continue
         table, index = source
-        if table.shape[0] >= vertex_count and np.array_equal(index, corner_vertex):  # each the position's own row
+        if table.shape[0] >= vertex_count and equal(index, corner_vertex):  # each the position's own row
             sources.append((table, np.arange(vertex_count)))
             continue
         if representative is None:

@@ -103,3 +103,10 @@ def converted(table: np.ndarray, dtype: type) -> np.ndarray:
 
     each(piece, pieces(table.shape[0]))
     return out
+
+
+def equal(first: np.ndarray, second: np.ndarray) -> bool:
+    """np.array_equal(first, second), a piece of rows a thread."""
+    if first.shape != second.shape:
+        return False
+    return all(each(lambda rows: np.array_equal(first[rows], second[rows]), one_per_thread(first.shape[0])))
