@@ -15,7 +15,7 @@ import pytest
 from marraztu.loaders.obj import load_obj, parse_obj
 from marraztu.model import threads
 from marraztu.model.build import build_mesh
-from marraztu.model.mesh import Mesh
+from marraztu.model.mesh import Mesh, fan_gather
 from marraztu.render.gpu import _seams, edge_pairs, surface_arrays, used_shared_rows
 from support.seed import SEED_ASSETS, SEED_MODELS
 
@@ -139,6 +139,17 @@ def test_polygons_all_of_one_size_fan_from_their_first_corner(size: int) -> None
     mesh = parse_obj(("\n".join(ring + lifted + [f"f {face}" for face in faces]) + "\n").encode(), "rings.obj")
     assert not mesh.all_triangles and set(mesh.face_sizes.tolist()) == {size}
     check_same_corners(mesh)
+
+
+@pytest.mark.parametrize("sizes", [[3, 3], [4, 4, 4], [5], [3, 4, 9, 3], [1000, 3]])
+def test_fans_gathered_into_place_are_the_fans_gathered(sizes: list[int]) -> None:
+    """fan_gather's `out` takes what it would give: the surface indices write each block's fans there."""
+    face_start = np.concatenate(([0], np.cumsum(sizes)))
+    values = np.random.default_rng(len(sizes)).integers(0, 1 << 31, face_start[-1]).astype(np.uint32)
+    given = fan_gather(values, face_start)
+    out = np.full(given.shape, 7, np.uint32)
+    assert fan_gather(values, face_start, out=out) is out and np.array_equal(out, given)
+    assert np.array_equal(given.reshape(-1, 3)[:, 0], np.repeat(values[face_start[:-1]], np.array(sizes) - 2))
 
 
 def assert_no_seams(mesh: Mesh) -> None:

@@ -39,32 +39,37 @@ def counted(number: int, noun: str, plural: str | None = None) -> str:
     return f"{number} {noun if number == 1 else plural or noun + 's'}"
 
 
-def fan_gather(values: np.ndarray, face_start: np.ndarray) -> np.ndarray:
+def fan_gather(values: np.ndarray, face_start: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
     """(3T,) `values`, one per corner, in the order of the fan triangles' corners, polygon by polygon:
     the seed's triangulation from each polygon's first corner; `face_start` runs from 0, as a mesh's
-    does. Written straight into place: where the polygons are all of one size, from slices of each
-    polygon's row of values, with no table of corner indices; else from one index per fan."""
+    does. Written straight into place (`out`, where given): where the polygons are all of one size,
+    from slices of each polygon's row of values, with no table of corner indices; else from one index
+    per fan."""
     sizes = np.diff(face_start)
     if sizes.size and sizes.min() == sizes.max():  # polygons of one size: the same fan in each
         size = int(sizes[0])
         if size == 3:  # the common case: the corners are the triangles already
-            return values
+            if out is None:
+                return values
+            out[:] = values
+            return out
         polygons = values.reshape(-1, size)
-        out = np.empty((polygons.shape[0], size - 2, 3), values.dtype)
-        out[:, :, 0] = polygons[:, :1]
-        out[:, :, 1] = polygons[:, 1:-1]
-        out[:, :, 2] = polygons[:, 2:]
-        return out.reshape(-1)
+        fans = (np.empty((polygons.shape[0], size - 2, 3), values.dtype) if out is None
+                else out.reshape(polygons.shape[0], size - 2, 3))
+        fans[:, :, 0] = polygons[:, :1]
+        fans[:, :, 1] = polygons[:, 1:-1]
+        fans[:, :, 2] = polygons[:, 2:]
+        return fans.reshape(-1) if out is None else out
     per_face = sizes - 2
-    out = np.empty((int(per_face.sum()), 3), values.dtype)
-    out[:, 0] = np.repeat(values[face_start[:-1]], per_face)
+    fans = np.empty((int(per_face.sum()), 3), values.dtype) if out is None else out.reshape(-1, 3)
+    fans[:, 0] = np.repeat(values[face_start[:-1]], per_face)
     # Fan j of polygon p starts at corner j + 2p: each polygon before it has two corners more than fans.
     second = np.repeat(np.arange(0, 2 * per_face.size, 2), per_face)
-    second += np.arange(1, out.shape[0] + 1)
-    out[:, 1] = values[second]
+    second += np.arange(1, fans.shape[0] + 1)
+    fans[:, 1] = values[second]
     second += 1
-    out[:, 2] = values[second]
-    return out.reshape(-1)
+    fans[:, 2] = values[second]
+    return fans.reshape(-1) if out is None else out
 
 
 def fan_triangles(face_start: np.ndarray) -> np.ndarray:

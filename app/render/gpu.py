@@ -237,7 +237,7 @@ def _surface_indices(mesh: Mesh, seams: np.ndarray, shared_rows: int) -> tuple[n
         low, high = np.searchsorted(seams, [first, stop]).tolist()
         row_of_corner[seams[low:high] - first] = np.arange(vertex_count + low, vertex_count + high, dtype=np.uint32)
         if not mesh.all_triangles:
-            shared_indices[out] = fan_gather(row_of_corner, face_start[block.start:block.stop + 1] - first)
+            fan_gather(row_of_corner, face_start[block.start:block.stop + 1] - first, out=shared_indices[out])
         indices[out] = shared_indices[out]
         own_rows = np.arange(shared_rows + block.start, shared_rows + block.stop, dtype=np.uint32)
         fans = np.diff(face_start[block.start:block.stop + 1]) - 2
