@@ -18,7 +18,6 @@ from hypothesis import strategies as st
 
 from marraztu.errors import LoadError
 from marraztu.loaders import obj as obj_module
-from marraztu.loaders import files
 from marraztu.loaders.files import read_file
 from marraztu.loaders.obj import fast as fast_reader
 from marraztu.loaders.obj import load_obj, parse_obj, scan
@@ -174,37 +173,6 @@ def test_a_file_that_grows_after_its_size_is_known_is_read_whole(tmp_path: Path,
     monkeypatch.setattr(obj_text, "regular_file_size", lambda path: len(QUAD))
     assert obj_text.read_text(path, None).tobytes() == QUAD * 100
     assert load_obj(path).face_count == 100
-
-
-@pytest.fixture
-def small_read_pieces(monkeypatch: pytest.MonkeyPatch) -> list[int]:
-    """Pieces of 64 bytes on 4 threads, whatever the machine; the offsets each piece's reads began at."""
-    monkeypatch.setattr(files, "READ_PIECE_BYTES", 64)
-    monkeypatch.setattr(files, "THREADS", 4)
-    offsets: list[int] = []
-    preadv = os.preadv
-
-    def noted(descriptor: int, buffers: list[memoryview], offset: int) -> int:
-        offsets.append(offset)
-        return preadv(descriptor, buffers, offset)
-
-    monkeypatch.setattr(os, "preadv", noted)
-    return offsets
-
-
-@pytest.mark.skipif(not hasattr(os, "preadv"), reason="a file is read in pieces only where os.preadv is")
-@pytest.mark.parametrize("told", ["its size", "less", "more"])
-def test_a_large_file_is_read_in_pieces_as_it_is(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
-                                                 small_read_pieces: list[int], told: str) -> None:
-    """Read on several threads a piece each; a file that grew or shrank since its size was known is
-    read whole as it is now, the same bytes as one read."""
-    text = b"".join(b"v %d 0 0\n" % number for number in range(200)) + QUAD
-    path = tmp_path / "m.obj"
-    path.write_bytes(text)
-    size = {"its size": len(text), "less": len(text) - 300, "more": len(text) + 300}[told]
-    monkeypatch.setattr(obj_text, "regular_file_size", lambda path: size)
-    assert obj_text.read_text(path, None).tobytes() == text
-    assert len(set(small_read_pieces)) >= 4, "pieces read at their offsets"
 
 
 def test_a_blank_file_is_refused_as_empty(tmp_path: Path) -> None:
@@ -974,14 +942,14 @@ def test_files_and_bytes_share_one_machine_code_of_each_compiled_pass(tmp_path: 
 _FIRST_LARGE_FILE = """
 import sys, threading
 import marraztu.loaders.obj as obj, marraztu.loaders.obj.text as text
-alive, read_into, ran_on, load = [], text.read_into, [], obj._load_compiled_reader
+alive, read_into, ran_on, load = [], text._read_into, [], obj._load_compiled_reader
 def spy_read(*args):
     alive.append(obj._LOADING_THREAD in [thread.name for thread in threading.enumerate()])
     return read_into(*args)
 def spy_load():
     ran_on.append(threading.current_thread().name)
     load()
-text.read_into, obj._load_compiled_reader = spy_read, spy_load
+text._read_into, obj._load_compiled_reader = spy_read, spy_load
 mesh = obj.load_obj(sys.argv[1])
 print(mesh.face_count, ran_on == [obj._LOADING_THREAD], alive[0], obj._compiled_reader_loaded())
 """

@@ -15,7 +15,6 @@ from pathlib import Path
 from typing import BinaryIO, Callable, Iterator
 
 from marraztu.errors import LoadError
-from marraztu.model.threads import THREADS, each, pieces
 
 MAX_FILE_BYTES = 1 << 30
 
@@ -202,45 +201,3 @@ def _read_up_to(stream: BinaryIO, expected: int, limit: int) -> bytes:
         pieces.append(piece)
         total += len(piece)
     return b"".join(pieces) if len(pieces) > 1 else pieces[0]
-
-
-# A piece of a file read on a thread of its own: below this, one read is as quick as a thread's start.
-READ_PIECE_BYTES = 4 << 20
-
-
-def read_into(stream: BinaryIO, room: memoryview, size: int) -> int:
-    """Reads an unbuffered stream, at its start, into `room` (at least size + 1 bytes) up to the room's
-    end or the file's; how many bytes came. A large file's `size` bytes come in pieces read on several
-    threads at once: the kernel's copy from its cache, and the fresh pages it fills, are most of a
-    read, and one thread alone does them at a fraction of the memory's speed."""
-    if size >= 2 * READ_PIECE_BYTES and THREADS > 1 and hasattr(os, "preadv"):  # preadv: not on Windows
-        if _read_in_pieces(stream.fileno(), room, size) == size:
-            stream.seek(size)
-            return size + _read_serially(stream, room[size:])  # more only where the file grew since stat
-        stream.seek(0)  # it shrank meanwhile: read again, as it is now
-    return _read_serially(stream, room)
-
-
-def _read_in_pieces(descriptor: int, room: memoryview, size: int) -> int:
-    """Bytes 0..size read into room[0:size] on threads, a piece each: the bytes that came."""
-
-    def piece(span: slice) -> int:
-        got = span.start
-        while got < span.stop:
-            count = os.preadv(descriptor, [room[got:span.stop]], got)
-            if not count:  # the file ends earlier than it did
-                break
-            got += count
-        return got - span.start
-
-    return sum(each(piece, pieces(size, max(READ_PIECE_BYTES, -(-size // THREADS)))))
-
-
-def _read_serially(stream: BinaryIO, room: memoryview) -> int:
-    got = 0
-    while got < len(room):
-        count = stream.readinto(room[got:])
-        if not count:
-            break
-        got += count
-    return got

@@ -10,18 +10,12 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 from pathlib import Path
+from typing import BinaryIO
 
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import (
-    errors_as_load_errors,
-    line_at,
-    read_into,
-    read_model_bytes,
-    refuse_blank,
-    regular_file_size,
-)
+from marraztu.loaders.files import errors_as_load_errors, line_at, read_model_bytes, refuse_blank, regular_file_size
 
 _BACKSLASH_AT_LINE_END = re.compile(rb"\\[^\S\n]*\n")
 _BOM = b"\xef\xbb\xbf"
@@ -41,7 +35,7 @@ def read_text(path: str | Path, stage: Callable[[str], None] | None,
     room = np.empty(size + 2, np.uint8)  # the room for a newline, and a byte more to notice a file that grew
     with errors_as_load_errors(path), open(path, "rb", buffering=0) as stream:
         opened(size)
-        got = read_into(stream, memoryview(room), size)
+        got = _read_into(stream, memoryview(room))
     if got > size:  # it grew after stat: read as bytes, which follow it up to the size limit
         data = read_model_bytes(path, None)
         room, got = np.empty(len(data) + 1, np.uint8), len(data)
@@ -54,6 +48,16 @@ def read_text(path: str | Path, stage: Callable[[str], None] | None,
     if stage is not None:
         stage("parsing")
     return room[_bom_length(room[:min(got, len(_BOM))].tobytes()):got]
+
+
+def _read_into(stream: BinaryIO, room: memoryview) -> int:
+    got = 0
+    while got < len(room):
+        count = stream.readinto(room[got:])
+        if not count:
+            break
+        got += count
+    return got
 
 
 def as_bytes(text: bytes | np.ndarray) -> bytes:
