@@ -69,6 +69,7 @@ def test_compiled_normals_equal_numpys_bit_for_bit(shape: str, scale: float, thr
     the per-position sums a block of corners at a time, cutting polygons."""
     positions, corner_vertex, face_start = _mesh(shape, scale)
     monkeypatch.setattr(threads, "THREADS", thread_count)
+    monkeypatch.setattr(threads, "FEWEST_ROWS_PER_THREAD", 1)
     monkeypatch.setattr(build, "_FAN_BLOCK", fan_block)
     monkeypatch.setattr(build, "_CORNER_BLOCK", fan_block + 1)  # a block's first and last polygons cut
     assert len(threads.one_per_thread(5000)) == thread_count  # the sums' position ranges

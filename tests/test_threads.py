@@ -111,6 +111,7 @@ def test_column_bounds_in_pieces_are_each_columns_least_and_largest(rows: int,
 
     table = np.random.default_rng(rows).normal(size=(rows, 3)) * 1e6
     monkeypatch.setattr(threads, "THREADS", 4)
+    monkeypatch.setattr(threads, "FEWEST_ROWS_PER_THREAD", 1)
     for values in (table, np.where(np.arange(rows)[:, None] == rows - 1, [np.nan, 1.0, -np.inf], table)):
         low, high = column_bounds(values)
         assert np.array_equal(low, values.min(axis=0), equal_nan=True)
@@ -120,6 +121,7 @@ def test_column_bounds_in_pieces_are_each_columns_least_and_largest(rows: int,
 def test_equal_in_pieces_is_array_equal(monkeypatch: pytest.MonkeyPatch) -> None:
     """A piece of rows a thread on 4 threads: a difference in any piece, or in the shape, is seen."""
     monkeypatch.setattr(threads, "THREADS", 4)
+    monkeypatch.setattr(threads, "FEWEST_ROWS_PER_THREAD", 1)
     table = np.arange(30, dtype=np.int32).reshape(10, 3)
     assert threads.equal(table, table.copy()) and threads.equal(table[:0], table[:0])
     for row in (0, 5, 9):

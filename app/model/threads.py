@@ -88,10 +88,15 @@ def weighed_pieces(weights: np.ndarray, size: int) -> list[slice]:
     return [slice(low, high) for low, high in zip(cuts, [*cuts[1:], weights.size])]
 
 
+# Rows a thread takes at least from one_per_thread: a small table is done sooner than a thread is woken.
+FEWEST_ROWS_PER_THREAD = 1 << 12
+
+
 def one_per_thread(count: int) -> list[slice]:
-    """Rows 0..count in one slice per thread (THREADS when called), the last shorter: for work whose
-    every piece reads all of its input, where more pieces would read it more often."""
-    return pieces(count, max(1, -(-count // THREADS)))  # ceil(count / THREADS) rows each
+    """Rows 0..count in one slice per thread (THREADS when called), the last shorter, and none of fewer
+    than FEWEST_ROWS_PER_THREAD rows but the last: for work whose every piece reads all of its input,
+    where more pieces would read it more often, or a quick pass over a table."""
+    return pieces(count, max(FEWEST_ROWS_PER_THREAD, -(-count // THREADS)))  # ceil(count / THREADS) rows each
 
 
 def converted(table: np.ndarray, dtype: type) -> np.ndarray:
