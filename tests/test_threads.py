@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from marraztu.model import threads
-from marraztu.model.build import _CROSS_CHUNK, derive_mesh
+from marraztu.model.build import _CROSS_CHUNK, build_mesh, derive_mesh
 
 
 def test_each_keeps_the_order_and_raises_the_first_error() -> None:
@@ -102,20 +102,25 @@ def test_unit_rows_in_pieces_equal_one_piece_in_either_type(monkeypatch: pytest.
     assert not whole_ok[[4, 11, 23]].any() and not whole[[4, 11, 23]].any()
 
 
-@pytest.mark.parametrize("rows", [1, 2, 5, 40])
-def test_column_bounds_in_pieces_are_each_columns_least_and_largest(rows: int,
-                                                                    monkeypatch: pytest.MonkeyPatch) -> None:
-    """A piece of rows a thread, 4 threads, however few the rows: each column's bounds, a NaN's column
-    NaN as numpy gives it."""
-    from marraztu.model.geometry import column_bounds
-
-    table = np.random.default_rng(rows).normal(size=(rows, 3)) * 1e6
-    monkeypatch.setattr(threads, "THREADS", 4)
-    monkeypatch.setattr(threads, "FEWEST_ROWS_PER_THREAD", 1)
-    for values in (table, np.where(np.arange(rows)[:, None] == rows - 1, [np.nan, 1.0, -np.inf], table)):
-        low, high = column_bounds(values)
-        assert np.array_equal(low, values.min(axis=0), equal_nan=True)
-        assert np.array_equal(high, values.max(axis=0), equal_nan=True)
+@pytest.mark.parametrize("seed", range(6))
+def test_zeros_of_both_signs_give_the_same_mesh_in_pieces_as_in_one(seed: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Positions whose columns hold 0.0 and -0.0 in any order: the bounds, and the bounding-box uvs
+    whose sign bits follow them, are those of one piece on one thread, bit for bit."""
+    rng = np.random.default_rng(seed)
+    positions = np.abs(rng.normal(size=(9000, 3)))  # each column's least is a zero, of either sign
+    zeros = rng.random(positions.shape) < 0.3
+    positions[zeros] = np.where(rng.random(int(zeros.sum())) < 0.5, 0.0, -0.0)
+    faces = np.arange(9000).reshape(-1, 3)
+    meshes = []
+    for count, rows in ((1, 1 << 16), (4, 7)):
+        monkeypatch.setattr(threads, "THREADS", count)
+        monkeypatch.setattr(threads, "ROWS_PER_PIECE", rows)
+        monkeypatch.setattr(threads, "FEWEST_ROWS_PER_THREAD", rows)
+        meshes.append(build_mesh("zeros", positions, faces))
+    one, several = meshes
+    for low_or_high, other in zip(one.bounds, several.bounds):
+        assert low_or_high.tobytes() == other.tobytes()
+    assert one.uvs.tobytes() == several.uvs.tobytes() and one.normals.tobytes() == several.normals.tobytes()
 
 
 def test_equal_in_pieces_is_array_equal(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -6,7 +6,7 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from marraztu.model.threads import each, one_per_thread, pieces
+from marraztu.model.threads import each, pieces
 
 # The GPU draws in float32: a coordinate beyond this would be infinite there.
 FLOAT32_MAX = float(np.finfo(np.float32).max)
@@ -58,17 +58,14 @@ def newell_normal(points: np.ndarray) -> np.ndarray:
 
 
 def column_bounds(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(low, high): each column's minimum and maximum of an (N, k) table, N > 0; a piece of rows a
-    thread, whose bounds are then bounded (a NaN stays one, as in one piece)."""
+    """(low, high): each column's minimum and maximum of an (N, k) table, N > 0.
 
+    Whole columns, not pieces on threads: where a column holds 0.0 and -0.0, the least of the pieces'
+    least can be the other zero, which the bounding-box uvs then carry in their sign bits."""
     # Column by column: reducing a C-ordered table over axis 0 runs its inner loop across short rows.
-    def piece(rows: slice) -> np.ndarray:
-        block = table[rows]
-        return np.array([[block[:, column].min() for column in range(table.shape[1])],
-                         [block[:, column].max() for column in range(table.shape[1])]])
-
-    bounds = each(piece, one_per_thread(table.shape[0]))
-    return np.min([low for low, _ in bounds], axis=0), np.max([high for _, high in bounds], axis=0)
+    low = np.array([table[:, column].min() for column in range(table.shape[1])])
+    high = np.array([table[:, column].max() for column in range(table.shape[1])])
+    return low, high
 
 
 # Odd 64-bit constants (from splitmix64 and xxhash) that spread each coordinate's bits over the key.
