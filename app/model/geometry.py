@@ -93,7 +93,7 @@ def merged_rows(table: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     is_first[first] = True
     number = (np.cumsum(is_first) - 1)[first]
     first = np.flatnonzero(is_first)
-    return np.take(table, first, axis=0), first, np.take(number, group)
+    return _gathered(table, first), first, _gathered(number, group)
 
 
 def _groups_by_key(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -108,9 +108,25 @@ def _groups_by_key(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     keyed >>= index_bits
     starts = np.flatnonzero(np.concatenate(([True], keyed[1:] != keyed[:-1])))
     del keyed
+    sorted_group = np.repeat(np.arange(len(starts)), np.diff(np.append(starts, count)))
     group = np.empty(count, np.int64)
-    group[order] = np.repeat(np.arange(len(starts)), np.diff(np.append(starts, count)))
+
+    def scatter(rows: slice) -> None:  # each row's place once: the pieces write apart
+        group[order[rows]] = sorted_group[rows]
+
+    each(scatter, pieces(count))
     return order[starts], group
+
+
+def _gathered(table: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """np.take(table, rows, axis=0), a piece of rows on each thread."""
+    out = np.empty((len(rows), *table.shape[1:]), table.dtype)
+
+    def piece(some: slice) -> None:
+        np.take(table, rows[some], axis=0, out=out[some])
+
+    each(piece, pieces(len(rows)))
+    return out
 
 
 def _collisions_split(table: np.ndarray, first: np.ndarray, group: np.ndarray, collided: np.ndarray
