@@ -136,6 +136,19 @@ def test_equal_in_pieces_is_array_equal(monkeypatch: pytest.MonkeyPatch) -> None
     assert not threads.equal(table, table[:9]) and not threads.equal(table.reshape(-1), table.reshape(15, 2))
 
 
+def test_largest_in_pieces_is_the_largest(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A piece of rows a thread on 4 threads, the largest in any piece, negatives only, one value."""
+    monkeypatch.setattr(threads, "THREADS", 4)
+    monkeypatch.setattr(threads, "FEWEST_ROWS_PER_THREAD", 1)
+    values = np.random.default_rng(8).integers(-1000, 1000, 41).astype(np.int32)
+    for at in (0, 20, 40):
+        tall = values.copy()
+        tall[at] = 5000
+        assert threads.largest(tall) == 5000
+    assert threads.largest(-np.abs(values) - 1) == int((-np.abs(values) - 1).max())
+    assert threads.largest(np.array([-7])) == -7
+
+
 @pytest.mark.parametrize("seed", range(5))
 def test_weighed_pieces_cover_the_rows_in_order_each_bounded_or_one_heavy_row(seed: int) -> None:
     rng = np.random.default_rng(seed)

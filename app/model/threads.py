@@ -115,3 +115,9 @@ def equal(first: np.ndarray, second: np.ndarray) -> bool:
     if first.shape != second.shape:
         return False
     return all(each(lambda rows: np.array_equal(first[rows], second[rows]), one_per_thread(first.shape[0])))
+
+
+def largest(values: np.ndarray) -> int:
+    """The largest of a non-empty table of whole numbers, a piece of rows a thread (whole numbers: the
+    pieces' order cannot change which of two equal values is given, as it can a zero's sign)."""
+    return max(each(lambda rows: int(values[rows].max()), one_per_thread(values.shape[0])))

@@ -21,7 +21,7 @@ import numpy as np
 from marraztu.loaders.obj import raw, scan
 from marraztu.loaders.obj.lines import LineReader, check_forward_indices, no_faces_error
 from marraztu.model.mesh import INDEX
-from marraztu.model.threads import THREADS, each
+from marraztu.model.threads import THREADS, each, largest
 
 try:  # the mesh's compiled loops: their machine code loads with the reader's
     from marraztu.model import compiled  # noqa: F401
@@ -104,7 +104,7 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
     totals = [len(table) for table in tables]
     check_forward_indices(source, columns, totals, lambda corner: scan.line_of_face(
         buf, int(np.searchsorted(face_start, corner, "right")) - 1))
-    optional = [column if column.size and column.max() >= 0 else None for column in columns[1:]]
+    optional = [column if column.size and largest(column) >= 0 else None for column in columns[1:]]
     colours = None
     if outcome.coloured:  # a third pass, for the files that have colours only
         colours = np.full((len(tables[0]), 3), np.nan)

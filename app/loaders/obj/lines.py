@@ -34,6 +34,7 @@ from marraztu.loaders.obj.text import has_continuations
 from marraztu.loaders.words import DECIMAL_SYNTAX
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import INDEX, INDEX_LIMIT
+from marraztu.model.threads import largest
 
 _NUMBER = DECIMAL_SYNTAX.encode()
 _FLOAT = re.compile(_NUMBER + rb"\Z")
@@ -260,7 +261,7 @@ def check_forward_indices(source: str, corners: Sequence[np.ndarray | None], tot
                           line_of_corner: Callable[[int], int]) -> None:
     """Positive indices may point forward, so they are checked once the whole file is read."""
     for field, resolved in enumerate(corners):
-        if resolved is None or resolved.size == 0 or resolved.max() < totals[field]:
+        if resolved is None or resolved.size == 0 or largest(resolved) < totals[field]:
             continue
         first_bad = int(np.argmax(resolved >= totals[field]))
         raise LoadError(source, f"{_FIELD_NAMES[field]} index {resolved[first_bad] + 1} out of range: "
