@@ -123,17 +123,18 @@ def test_zeros_of_both_signs_give_the_same_mesh_in_pieces_as_in_one(seed: int, m
     assert one.uvs.tobytes() == several.uvs.tobytes() and one.normals.tobytes() == several.normals.tobytes()
 
 
-def test_equal_in_pieces_is_array_equal(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_arrays_equal_in_pieces_is_array_equal(monkeypatch: pytest.MonkeyPatch) -> None:
     """A piece of rows a thread on 4 threads: a difference in any piece, or in the shape, is seen."""
     monkeypatch.setattr(threads, "THREADS", 4)
     monkeypatch.setattr(threads, "FEWEST_ROWS_PER_THREAD", 1)
     table = np.arange(30, dtype=np.int32).reshape(10, 3)
-    assert threads.equal(table, table.copy()) and threads.equal(table[:0], table[:0])
+    assert threads.arrays_equal(table, table.copy()) and threads.arrays_equal(table[:0], table[:0])
     for row in (0, 5, 9):
         other = table.copy()
         other[row, 2] += 1
-        assert not threads.equal(table, other)
-    assert not threads.equal(table, table[:9]) and not threads.equal(table.reshape(-1), table.reshape(15, 2))
+        assert not threads.arrays_equal(table, other)
+    assert not threads.arrays_equal(table, table[:9])
+    assert not threads.arrays_equal(table.reshape(-1), table.reshape(15, 2))
 
 
 def test_largest_in_pieces_is_the_largest(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -16,7 +16,7 @@ import numpy as np
 
 from marraztu.model.geometry import FLOAT32_MAX, column_bounds, unit_rows
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted, fan_gather
-from marraztu.model.threads import converted, each, equal, one_per_thread, pieces, weighed_pieces
+from marraztu.model.threads import arrays_equal, converted, each, one_per_thread, pieces, weighed_pieces
 
 # Zero-area faces get a fallback normal; "zero" is relative to the model's size.
 DEGENERATE_AREA = 1e-12
@@ -203,7 +203,7 @@ def _per_position_sources(corner_vertex: np.ndarray, vertex_count: int, uv: Corn
             sources.append(None)
             continue
         table, index = source
-        if table.shape[0] >= vertex_count and equal(index, corner_vertex):  # each the position's own row
+        if table.shape[0] >= vertex_count and arrays_equal(index, corner_vertex):  # each the position's own row
             sources.append((table, np.arange(vertex_count)))
             continue
         if representative is None:
@@ -460,7 +460,7 @@ def _fill_vertex_normals(vertex_normals: np.ndarray, missing: np.ndarray, shape:
         return ~unit_rows(sums, out=vertex_normals)[1]
     # In the rows' type: a fancy assignment that also converts is slower than a gather of the right type.
     position_normals, position_ok = unit_rows(sums, vertex_normals.dtype)
-    if missing.all():
+    if missing.all():  # no vn, rows per corner: each takes its position's normal
         np.take(position_normals, row_vertex, axis=0, out=vertex_normals)
         return ~position_ok[row_vertex]
     rows = np.flatnonzero(missing)
@@ -543,7 +543,8 @@ def _bounding_box_uv(positions: np.ndarray, vertices: np.ndarray | None,
         extent = high - low
         extent = np.where(np.isfinite(extent), extent, 0.0)
     axes = np.sort(np.argsort(-extent, kind="stable")[:2])
-    scale, flat = np.where(extent[axes] > 0, extent[axes], 1.0), extent[axes] <= 0
+    flat = extent[axes] <= 0
+    scale = np.where(flat, 1.0, extent[axes])
     # Per position, then gathered: a position has one box coordinate, and corners outnumber positions.
     uv = np.empty((positions.shape[0], 2), np.float32)
 

@@ -6,7 +6,7 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from marraztu.model.threads import each, pieces
+from marraztu.model.threads import each, gathered, pieces
 
 # The GPU draws in float32: a coordinate beyond this would be infinite there.
 FLOAT32_MAX = float(np.finfo(np.float32).max)
@@ -60,8 +60,8 @@ def newell_normal(points: np.ndarray) -> np.ndarray:
 def column_bounds(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(low, high): each column's minimum and maximum of an (N, k) table, N > 0.
 
-    Whole columns, not pieces on threads: where a column holds 0.0 and -0.0, the least of the pieces'
-    least can be the other zero, which the bounding-box uvs then carry in their sign bits."""
+    Whole columns on one thread: pieces may pick the other of 0.0 and -0.0, whose sign the
+    bounding-box uvs carry."""
     # Column by column: reducing a C-ordered table over axis 0 runs its inner loop across short rows.
     low = np.array([table[:, column].min() for column in range(table.shape[1])])
     high = np.array([table[:, column].max() for column in range(table.shape[1])])
@@ -93,7 +93,7 @@ def merged_rows(table: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     is_first[first] = True
     number = (np.cumsum(is_first) - 1)[first]
     first = np.flatnonzero(is_first)
-    return _gathered(table, first), first, _gathered(number, group)
+    return gathered(table, first), first, gathered(number, group)
 
 
 def _groups_by_key(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -116,17 +116,6 @@ def _groups_by_key(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
     each(scatter, pieces(count))
     return order[starts], group
-
-
-def _gathered(table: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """np.take(table, rows, axis=0), a piece of rows on each thread."""
-    out = np.empty((len(rows), *table.shape[1:]), table.dtype)
-
-    def piece(some: slice) -> None:
-        np.take(table, rows[some], axis=0, out=out[some])
-
-    each(piece, pieces(len(rows)))
-    return out
 
 
 def _collisions_split(table: np.ndarray, first: np.ndarray, group: np.ndarray, collided: np.ndarray

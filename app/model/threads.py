@@ -93,10 +93,10 @@ FEWEST_ROWS_PER_THREAD = 1 << 12
 
 
 def one_per_thread(count: int) -> list[slice]:
-    """Rows 0..count in one slice per thread (THREADS when called), the last shorter, and none of fewer
-    than FEWEST_ROWS_PER_THREAD rows but the last: for work whose every piece reads all of its input,
-    where more pieces would read it more often, or a quick pass over a table."""
-    return pieces(count, max(FEWEST_ROWS_PER_THREAD, -(-count // THREADS)))  # ceil(count / THREADS) rows each
+    """Rows 0..count in at most one slice per thread (THREADS when called), none under
+    FEWEST_ROWS_PER_THREAD rows but the last: for work whose every piece reads all of its input, where
+    more pieces would read it more often, or a quick pass over a table."""
+    return pieces(count, max(FEWEST_ROWS_PER_THREAD, -(-count // THREADS)))  # ceil(count / THREADS) rows, or more
 
 
 def converted(table: np.ndarray, dtype: type) -> np.ndarray:
@@ -110,7 +110,7 @@ def converted(table: np.ndarray, dtype: type) -> np.ndarray:
     return out
 
 
-def equal(first: np.ndarray, second: np.ndarray) -> bool:
+def arrays_equal(first: np.ndarray, second: np.ndarray) -> bool:
     """np.array_equal(first, second), a piece of rows a thread."""
     if first.shape != second.shape:
         return False
@@ -118,6 +118,17 @@ def equal(first: np.ndarray, second: np.ndarray) -> bool:
 
 
 def largest(values: np.ndarray) -> int:
-    """The largest of a non-empty table of whole numbers, a piece of rows a thread (whole numbers: the
-    pieces' order cannot change which of two equal values is given, as it can a zero's sign)."""
+    """The largest of a non-empty array of integers, a piece of rows a thread (integers have no signed
+    zero for the pieces to disagree on)."""
     return max(each(lambda rows: int(values[rows].max()), one_per_thread(values.shape[0])))
+
+
+def gathered(table: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """np.take(table, rows, axis=0) of rows in range, a piece of rows a thread."""
+    out = np.empty((len(rows), *table.shape[1:]), table.dtype)
+
+    def piece(some: slice) -> None:  # mode="clip" is the mode that writes into `out` unbuffered
+        np.take(table, rows[some], axis=0, out=out[some], mode="clip")
+
+    each(piece, pieces(len(rows)))
+    return out

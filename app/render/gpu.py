@@ -222,26 +222,27 @@ def _own_rows(table: np.ndarray, own: np.ndarray | None, rows: slice) -> np.ndar
 def _surface_indices(mesh: Mesh, seams: np.ndarray, shared_rows: int) -> tuple[np.ndarray, np.ndarray]:
     """SurfaceArrays' indices (Flat) and shared_indices (Gouraud, Phong), written a block of polygons
     at a time on threads: a polygon's fans go after the fans of the polygons before it."""
-    face_start, vertex_count = mesh.face_start, mesh.vertex_count
+    face_start, vertex_count, all_triangles = mesh.face_start, mesh.vertex_count, mesh.all_triangles
     triangles = int(face_start[-1]) - 2 * mesh.face_count  # a polygon of n corners has n - 2 fans
     shared_indices = np.empty(3 * triangles, np.uint32)
     indices = np.empty(3 * triangles, np.uint32)
 
     def polygons(block: slice) -> None:
         first, stop = int(face_start[block.start]), int(face_start[block.stop])
-        # Fans before polygon p: each polygon before it has two corners more than fans.
-        out = slice(3 * (first - 2 * block.start), 3 * (stop - 2 * block.stop))
-        row_of_corner = shared_indices[out] if mesh.all_triangles else np.empty(stop - first, np.uint32)
+        # Fans before polygon p, as Mesh.triangles_before_face counts them: two fewer than corners a polygon.
+        fan_rows = slice(3 * (first - 2 * block.start), 3 * (stop - 2 * block.stop))
+        row_of_corner = shared_indices[fan_rows] if all_triangles else np.empty(stop - first, np.uint32)
         row_of_corner[:] = mesh.corner_vertex[first:stop]
         # Seam k, a corner with a row of its own, is row vertex_count + k; seams are in corner order.
         low, high = np.searchsorted(seams, [first, stop]).tolist()
         row_of_corner[seams[low:high] - first] = np.arange(vertex_count + low, vertex_count + high, dtype=np.uint32)
-        if not mesh.all_triangles:
-            fan_gather(row_of_corner, face_start[block.start:block.stop + 1] - first, out=shared_indices[out])
-        indices[out] = shared_indices[out]
+        if not all_triangles:
+            fan_gather(row_of_corner, face_start[block.start:block.stop + 1] - first, out=shared_indices[fan_rows])
+        indices[fan_rows] = shared_indices[fan_rows]
         own_rows = np.arange(shared_rows + block.start, shared_rows + block.stop, dtype=np.uint32)
-        fans = np.diff(face_start[block.start:block.stop + 1]) - 2
-        indices[out][0::3] = own_rows if mesh.all_triangles else np.repeat(own_rows, fans)
+        if not all_triangles:  # each polygon's own row begins each of its fans
+            own_rows = np.repeat(own_rows, np.diff(face_start[block.start:block.stop + 1]) - 2)
+        indices[fan_rows.start:fan_rows.stop:3] = own_rows
 
     each(polygons, pieces(mesh.face_count))
     return indices, shared_indices
