@@ -28,6 +28,7 @@ from marraztu.loaders.words import (
     checked_coordinates,
     checked_indices,
     is_count,
+    line_end_places,
     line_words,
     pieces_at_gaps,
     said_count,
@@ -138,7 +139,7 @@ def _comment_spans(piece: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
     hashes = np.flatnonzero(piece == ord("#"))
     if not hashes.size:
         return None
-    ends = np.append(np.flatnonzero((piece == ord("\n")) | (piece == ord("\r"))), piece.size)
+    ends = np.append(line_end_places(piece), piece.size)
     stops = ends[np.searchsorted(ends, hashes)]  # each '#''s line end
     del ends  # a number per line: with a comment on every line, as large as the two tables made below
     first = np.concatenate(([True], stops[1:] != stops[:-1]))  # a line's first '#' starts its comment

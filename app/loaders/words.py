@@ -180,11 +180,16 @@ def word_starts(blank: np.ndarray) -> np.ndarray:
     return np.flatnonzero(~blank & np.concatenate(([True], blank[:-1])))
 
 
+def line_end_places(piece: np.ndarray) -> np.ndarray:
+    """Where a piece of text (uint8) holds a line end, \\n or \\r (a CRLF's two count apart)."""
+    return np.flatnonzero((piece == ord("\n")) | (piece == ord("\r")))
+
+
 def words_and_line_ends(piece: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
     """Where each word of a piece of text (uint8) begins, how many line ends (\\n or \\r) come before
     it, and how many the piece holds: a few numbers per word and line end, never one per byte."""
     words = word_starts(WHITESPACE[piece])
-    line_ends = np.flatnonzero((piece == 10) | (piece == 13))
+    line_ends = line_end_places(piece)
     return words, np.searchsorted(line_ends, words), line_ends.size
 
 

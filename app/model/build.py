@@ -16,7 +16,7 @@ import numpy as np
 
 from marraztu.model.geometry import FLOAT32_MAX, column_bounds, unit_rows
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted, fan_gather
-from marraztu.model.threads import arrays_equal, converted, each, one_per_thread, pieces, weighed_pieces
+from marraztu.model.threads import arrays_equal, converted, each, gathered, one_per_thread, pieces, weighed_pieces
 
 # Zero-area faces get a fallback normal; "zero" is relative to the model's size.
 DEGENERATE_AREA = 1e-12
@@ -557,4 +557,4 @@ def _bounding_box_uv(positions: np.ndarray, vertices: np.ndarray | None,
         uv[rows] = block
 
     each(piece, pieces(positions.shape[0]))
-    return uv if vertices is None else np.take(uv, vertices, axis=0)
+    return uv if vertices is None else gathered(uv, vertices)

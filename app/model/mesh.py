@@ -46,30 +46,27 @@ def fan_gather(values: np.ndarray, face_start: np.ndarray, out: np.ndarray | Non
     from slices of each polygon's row of values, with no table of corner indices; else from one index
     per fan."""
     sizes = np.diff(face_start)
-    if sizes.size and sizes.min() == sizes.max():  # polygons of one size: the same fan in each
-        size = int(sizes[0])
-        if size == 3:  # the common case: the corners are the triangles already
-            if out is None:
-                return values
-            out[:] = values
-            return out
-        polygons = values.reshape(-1, size)
-        fans = (np.empty((polygons.shape[0], size - 2, 3), values.dtype) if out is None
-                else out.reshape(polygons.shape[0], size - 2, 3))
-        fans[:, :, 0] = polygons[:, :1]
-        fans[:, :, 1] = polygons[:, 1:-1]
-        fans[:, :, 2] = polygons[:, 2:]
-        return fans.reshape(-1) if out is None else out
+    one_size = bool(sizes.size) and sizes.min() == sizes.max()
+    if one_size and sizes[0] == 3 and out is None:  # the common case: the corners are the triangles already
+        return values
     per_face = sizes - 2
-    fans = np.empty((int(per_face.sum()), 3), values.dtype) if out is None else out.reshape(-1, 3)
-    fans[:, 0] = np.repeat(values[face_start[:-1]], per_face)
+    fans = np.empty(3 * int(per_face.sum()), values.dtype) if out is None else out
+    if one_size:  # the same fan in each polygon
+        polygons = values.reshape(-1, int(sizes[0]))
+        in_place = fans.reshape(polygons.shape[0], -1, 3)
+        in_place[:, :, 0] = polygons[:, :1]
+        in_place[:, :, 1] = polygons[:, 1:-1]
+        in_place[:, :, 2] = polygons[:, 2:]
+        return fans
+    rows = fans.reshape(-1, 3)
+    rows[:, 0] = np.repeat(values[face_start[:-1]], per_face)
     # Fan j of polygon p starts at corner j + 2p: each polygon before it has two corners more than fans.
     second = np.repeat(np.arange(0, 2 * per_face.size, 2), per_face)
-    second += np.arange(1, fans.shape[0] + 1)
-    fans[:, 1] = values[second]
+    second += np.arange(1, rows.shape[0] + 1)
+    rows[:, 1] = values[second]
     second += 1
-    fans[:, 2] = values[second]
-    return fans.reshape(-1) if out is None else out
+    rows[:, 2] = values[second]
+    return fans
 
 
 def fan_triangles(face_start: np.ndarray) -> np.ndarray:

@@ -19,9 +19,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from marraztu.loaders.obj import raw, scan
-from marraztu.loaders.obj.lines import LineReader, check_forward_indices, no_faces_error
+from marraztu.loaders.obj.lines import LineReader, checked_columns, no_faces_error
 from marraztu.model.mesh import INDEX
-from marraztu.model.threads import THREADS, each, largest
+from marraztu.model.threads import THREADS, each
 
 try:  # the mesh's compiled loops: their machine code loads with the reader's
     from marraztu.model import compiled  # noqa: F401
@@ -102,16 +102,15 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
     if total[scan.F] == 0:
         raise no_faces_error(source, outcome.statements > 0 or bool(total[[scan.V, scan.VT, scan.VN]].any()))
     totals = [len(table) for table in tables]
-    check_forward_indices(source, columns, totals, lambda corner: scan.line_of_face(
+    kept = checked_columns(source, columns, totals, lambda corner: scan.line_of_face(
         buf, int(np.searchsorted(face_start, corner, "right")) - 1))
-    optional = [column if column.size and largest(column) >= 0 else None for column in columns[1:]]
     colours = None
     if outcome.coloured:  # a third pass, for the files that have colours only
         colours = np.full((len(tables[0]), 3), np.nan)
         each(lambda at: scan.read_vertex_colours(buf, *pieces[at], before[at][scan.V], colours, np.empty((1, 7))),
              list(range(len(pieces))), PARSE_THREADS)
         raw.put_colours(colours, outcome.colour_rows, outcome.colour_values)  # the line reader's lines
-    return raw.RawObj(*tables, columns[0], *optional, face_start, outcome.mtllib, outcome.colour.colour,
+    return raw.RawObj(*tables, *kept, face_start, outcome.mtllib, outcome.colour.colour,
                       list(outcome.colour.notes), outcome.material_runs, colours)
 
 

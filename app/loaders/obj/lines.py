@@ -111,9 +111,9 @@ class LineReader:
         corners = self.corner_columns()
         face_lines = np.frombuffer(self.face_lines, dtype=np.int64)
         face_start = np.concatenate(([0], np.cumsum(np.frombuffer(self.face_sizes, dtype=np.int64)))).astype(INDEX)
-        check_forward_indices(self.source, corners, self.defined,
-                              lambda corner: int(face_lines[np.searchsorted(face_start, corner, "right") - 1]))
-        return self.result(corners, face_start)
+        columns = checked_columns(self.source, corners, self.defined,
+                                  lambda corner: int(face_lines[np.searchsorted(face_start, corner, "right") - 1]))
+        return self.result(columns, face_start)
 
     def corner_columns(self) -> list[np.ndarray]:
         """The corners' v, vt and vn columns: 0-based, -1 for none."""
@@ -239,11 +239,10 @@ class LineReader:
             raise self.fail(number, f"index 0 in face corner {_quoted(token)}: OBJ indices start at 1")
         return [index or 0 for index in indices]
 
-    def result(self, corners: list[np.ndarray], face_start: np.ndarray) -> RawObj:
+    def result(self, columns: list[np.ndarray | None], face_start: np.ndarray) -> RawObj:
         tables = [np.frombuffer(table, dtype=np.float64).reshape(-1, width)
                   for table, width in zip(self.tables, _TABLE_WIDTHS)]
-        optional = [column if np.any(column >= 0) else None for column in corners]
-        return RawObj(tables[0], tables[1], tables[2], corners[0], optional[1], optional[2],
+        return RawObj(tables[0], tables[1], tables[2], *columns,
                       face_start, self.mtllib, self.colour.colour, list(self.colour.notes), self.material_runs,
                       put_colours(np.full((len(tables[0]), 3), np.nan), self.coloured_rows, self.colour_values)
                       if self.coloured_rows else None)
@@ -257,15 +256,20 @@ def no_faces_error(source: str, has_statements: bool) -> LoadError:
     return LoadError(source, "no faces (no 'f' statements)" if has_statements else "empty file: no faces")
 
 
-def check_forward_indices(source: str, corners: Sequence[np.ndarray | None], totals: Sequence[int],
-                          line_of_corner: Callable[[int], int]) -> None:
-    """Positive indices may point forward, so they are checked once the whole file is read."""
-    for field, resolved in enumerate(corners):
-        if resolved is None or resolved.size == 0 or largest(resolved) < totals[field]:
-            continue
-        first_bad = int(np.argmax(resolved >= totals[field]))
-        raise LoadError(source, f"{_FIELD_NAMES[field]} index {resolved[first_bad] + 1} out of range: "
-                                f"the file has {totals[field]}", line=line_of_corner(first_bad))
+def checked_columns(source: str, corners: Sequence[np.ndarray], totals: Sequence[int],
+                    line_of_corner: Callable[[int], int]) -> list[np.ndarray | None]:
+    """The corners' v, vt and vn columns (0-based, -1 for none), each index checked against its table
+    once the whole file is read, since positive indices may point forward; a vt or vn column that
+    names no row, None."""
+    kept: list[np.ndarray | None] = []
+    for field, column in enumerate(corners):
+        top = largest(column) if column.size else -1
+        if top >= totals[field]:
+            first_bad = int(np.argmax(column >= totals[field]))
+            raise LoadError(source, f"{_FIELD_NAMES[field]} index {column[first_bad] + 1} out of range: "
+                                    f"the file has {totals[field]}", line=line_of_corner(first_bad))
+        kept.append(column if field == 0 or top >= 0 else None)
+    return kept
 
 
 def _logical_lines(text: bytes) -> Iterator[tuple[int, bytes]]:
