@@ -15,7 +15,7 @@ import pytest
 from marraztu.loaders.obj import load_obj, parse_obj
 from marraztu.model import threads
 from marraztu.model.build import build_mesh
-from marraztu.model.mesh import Mesh, fan_gather
+from marraztu.model.mesh import INDEX, Mesh, fan_gather, polygons_of_corners
 from marraztu.render.gpu import _seams, edge_pairs, surface_arrays, used_shared_rows
 from support.seed import SEED_ASSETS, SEED_MODELS
 
@@ -150,6 +150,16 @@ def test_fans_gathered_into_place_are_the_fans_gathered(sizes: list[int]) -> Non
     out = np.full(given.shape, 7, np.uint32)
     assert fan_gather(values, face_start, out=out) is out and np.array_equal(out, given)
     assert np.array_equal(given.reshape(-1, 3)[:, 0], np.repeat(values[face_start[:-1]], np.array(sizes) - 2))
+
+
+def test_each_corner_is_found_in_its_polygon() -> None:
+    """One corner (a Python int) or many (int64, as np.flatnonzero gives them), on the mesh's own index type."""
+    sizes = [3, 4, 9, 3, 1000, 3]
+    face_start = np.concatenate(([0], np.cumsum(sizes))).astype(INDEX)
+    owner = np.repeat(np.arange(len(sizes)), sizes)
+    corners = np.arange(face_start[-1], dtype=np.int64)
+    assert np.array_equal(polygons_of_corners(face_start, corners), owner)
+    assert [int(polygons_of_corners(face_start, corner)) for corner in (0, 2, 3, 16, 1018, 1021)] == [0, 0, 1, 3, 4, 5]
 
 
 def assert_no_seams(mesh: Mesh) -> None:

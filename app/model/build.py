@@ -15,7 +15,7 @@ from types import ModuleType
 import numpy as np
 
 from marraztu.model.geometry import FLOAT32_MAX, column_bounds, unit_rows
-from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted, fan_gather
+from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted, fan_gather, polygons_of_corners
 from marraztu.model.threads import arrays_equal, converted, each, gathered, one_per_thread, pieces, weighed_pieces
 
 # Zero-area faces get a fallback normal; "zero" is relative to the model's size.
@@ -237,7 +237,7 @@ def _attributes(shape: _Shape, uv: CornerSource | None, normals: CornerSource | 
         _fill_degenerate(shape, vertex_normals, row_vertex)
     if missing.any():
         corners = np.flatnonzero(missing)  # no usable face touches their position: take their face's
-        vertex_normals[corners] = shape.face_normals[np.searchsorted(shape.face_start, corners, side="right") - 1]
+        vertex_normals[corners] = shape.face_normals[polygons_of_corners(shape.face_start, corners)]
     return _uvs(uv, shape.positions, row_vertex, shape.bounds), vertex_normals
 
 
@@ -478,11 +478,19 @@ def _normal_sums(face_normals: np.ndarray, corner_vertex: np.ndarray, face_start
     if compiled is not None:
         return _compiled_normal_sums(compiled, face_normals, corner_vertex, face_start, vertex_count)
     sums = np.zeros((3, vertex_count))
+    if _one_small_size(sizes):  # triangles, quads...: each polygon's normal repeated for its corners, no gather
+        size = int(sizes[0])
+        polygons = corner_vertex.reshape(-1, size)
+        for block in pieces(polygons.shape[0], max(1, _CORNER_BLOCK // size)):
+            rows = polygons[block].astype(np.intp).ravel()  # numpy's own index type, once for the three axes
+            for axis in range(3):  # an axis at a time: contiguous values add faster
+                _sums_at(sums[axis], rows, np.repeat(face_normals[block, axis], size))
+        return sums.T
     for block in pieces(corner_vertex.size, _CORNER_BLOCK):
         first, stop = block.start, block.stop
         faces = _faces_of_corners(face_start, sizes, first, stop)
-        rows = corner_vertex[first:stop].astype(np.intp)  # numpy's own index type, once for the three axes
-        for axis in range(3):  # an axis gathered at a time: contiguous values add faster
+        rows = corner_vertex[first:stop].astype(np.intp)
+        for axis in range(3):
             _sums_at(sums[axis], rows, face_normals[faces, axis])
     return sums.T
 
@@ -501,7 +509,7 @@ _CORNER_BLOCK = 1 << 16  # corners whose face normals are gathered at once
 
 def _faces_of_corners(face_start: np.ndarray, sizes: np.ndarray, first: int, stop: int) -> np.ndarray:
     """The polygon of each corner from `first` to `stop`."""
-    low, high = np.searchsorted(face_start, [first, stop - 1], side="right") - 1
+    low, high = polygons_of_corners(face_start, np.array([first, stop - 1]))
     counts = sizes[low:high + 1].copy()
     counts[0] -= first - face_start[low]  # the first and last polygons' corners outside the range
     counts[-1] -= face_start[high + 1] - stop

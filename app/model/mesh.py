@@ -39,6 +39,13 @@ def counted(number: int, noun: str, plural: str | None = None) -> str:
     return f"{number} {noun if number == 1 else plural or noun + 's'}"
 
 
+def polygons_of_corners(face_start: np.ndarray, corners: int | np.ndarray) -> np.ndarray:
+    """The polygon of each corner, where polygon p's corners start at face_start[p] (and the last ends
+    at face_start[-1])."""
+    # Corners in the table's own type: any other would have numpy convert the whole table at each call.
+    return np.searchsorted(face_start, np.asarray(corners, face_start.dtype), side="right") - 1
+
+
 def fan_gather(values: np.ndarray, face_start: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
     """(3T,) `values`, one per corner, in the order of the fan triangles' corners, polygon by polygon:
     the seed's triangulation from each polygon's first corner; `face_start` runs from 0, as a mesh's

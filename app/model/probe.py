@@ -17,6 +17,7 @@ import numpy as np
 from marraztu.model.geometry import unit
 from marraztu.model.lighting import ShadingTerms, shade_terms, to_bytes
 from marraztu.model.lights import TermView, TermWeights, WorldLight
+from marraztu.model.mesh import polygons_of_corners
 from marraztu.model.scene import Projection, Scene, SceneObject, Shading
 from marraztu.model.transforms import normal_matrix, transform_point
 
@@ -111,7 +112,7 @@ class _VertexLighting:
         position = transform_point(obj.model, mesh.positions[vertex])
         normal = (face_normal if face_normal is not None
                   else _world_normal(obj.model, mesh.normals[mesh.attribute_rows(corner)]))
-        face = int(np.searchsorted(mesh.face_start, corner, side="right") - 1)
+        face = int(polygons_of_corners(mesh.face_start, corner))
         terms = shade_terms(position, normal, self.eye_or_view, obj.face_material(face), self.lights,
                             self.scene.ambient, self.parallel)
         return VertexProbe(

@@ -20,7 +20,7 @@ import numpy as np
 
 from marraztu.loaders.obj import raw, scan
 from marraztu.loaders.obj.lines import LineReader, checked_columns, no_faces_error
-from marraztu.model.mesh import INDEX
+from marraztu.model.mesh import INDEX, polygons_of_corners
 from marraztu.model.threads import THREADS, each
 
 try:  # the mesh's compiled loops: their machine code loads with the reader's
@@ -103,7 +103,7 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
         raise no_faces_error(source, outcome.statements > 0 or bool(total[[scan.V, scan.VT, scan.VN]].any()))
     totals = [len(table) for table in tables]
     kept = checked_columns(source, columns, totals, lambda corner: scan.line_of_face(
-        buf, int(np.searchsorted(face_start, corner, "right")) - 1))
+        buf, int(polygons_of_corners(face_start, corner))))
     colours = None
     if outcome.coloured:  # a third pass, for the files that have colours only
         colours = np.full((len(tables[0]), 3), np.nan)

@@ -33,7 +33,7 @@ from marraztu.loaders.obj.raw import (
 from marraztu.loaders.obj.text import has_continuations
 from marraztu.loaders.words import DECIMAL_SYNTAX
 from marraztu.model.geometry import FLOAT32_MAX
-from marraztu.model.mesh import INDEX, INDEX_LIMIT
+from marraztu.model.mesh import INDEX, INDEX_LIMIT, polygons_of_corners
 from marraztu.model.threads import largest
 
 _NUMBER = DECIMAL_SYNTAX.encode()
@@ -112,7 +112,7 @@ class LineReader:
         face_lines = np.frombuffer(self.face_lines, dtype=np.int64)
         face_start = np.concatenate(([0], np.cumsum(np.frombuffer(self.face_sizes, dtype=np.int64)))).astype(INDEX)
         columns = checked_columns(self.source, corners, self.defined,
-                                  lambda corner: int(face_lines[np.searchsorted(face_start, corner, "right") - 1]))
+                                  lambda corner: int(face_lines[polygons_of_corners(face_start, corner)]))
         return self.result(columns, face_start)
 
     def corner_columns(self) -> list[np.ndarray]:
