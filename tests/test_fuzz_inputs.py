@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import io
 import subprocess
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -130,20 +131,28 @@ ROW_VALUES = st.sampled_from([0.0, -0.0, 1.0, -1.0, 0.1, 1e-300, 5e-324, 3.0e38,
 _ROW_KEYS = geometry._row_keys
 
 
-def _last_row_keyed_as_the_middle_one(table: np.ndarray) -> np.ndarray:
+def _keyed(hashes: Callable[[np.ndarray, np.uint64], np.ndarray]) -> Callable[[np.ndarray, np.uint64], np.ndarray]:
+    """Keys as _row_keys makes them from these hashes of the rows: their low bits the row's index."""
+    def keys(table: np.ndarray, index_bits: np.uint64) -> np.ndarray:
+        return hashes(table, index_bits) >> index_bits << index_bits | np.arange(len(table), dtype=np.uint64)
+    return keys
+
+
+def _last_row_hashed_as_the_middle_one(table: np.ndarray, index_bits: np.uint64) -> np.ndarray:
     """The real keys, but the last row's (and its equals') made the middle row's: one collision, found
     far into the table, in a large one in a later piece. Equal rows keep equal keys."""
-    keys = _ROW_KEYS(table)
+    keys = _ROW_KEYS(table, index_bits)
     if len(table):
-        keys[keys == keys[-1]] = keys[len(table) // 2]
+        hashes = keys >> index_bits
+        keys[hashes == hashes[-1]] = keys[len(table) // 2]
     return keys
 
 
 COLLIDING_KEYS = {
     "none": None,
-    "all": lambda table: np.zeros(len(table), np.uint64),
-    "by first number": lambda table: (table[:, 0] + 0.0).view(np.uint64) * np.uint64(0x9E3779B97F4A7C15),
-    "last row as the middle one": _last_row_keyed_as_the_middle_one,
+    "all": _keyed(lambda table, _: np.zeros(len(table), np.uint64)),
+    "by first number": _keyed(lambda table, _: (table[:, 0] + 0.0).view(np.uint64) * np.uint64(0x9E3779B97F4A7C15)),
+    "last row as the middle one": _keyed(_last_row_hashed_as_the_middle_one),
 }
 
 

@@ -101,12 +101,9 @@ def _groups_by_key(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     to the row's index, so sorting the keys orders each group's rows by index too."""
     count = len(table)
     index_bits = np.uint64(max(1, (count - 1).bit_length()))
-    keyed = _row_keys(table) >> index_bits << index_bits
-    keyed |= np.arange(count, dtype=np.uint64)
+    keyed = _row_keys(table, index_bits)
     keyed.sort()
-    order = (keyed & ((np.uint64(1) << index_bits) - np.uint64(1))).astype(np.int64)
-    keyed >>= index_bits
-    starts = np.flatnonzero(np.concatenate(([True], keyed[1:] != keyed[:-1])))
+    order, starts = _split_keys(keyed, index_bits)
     del keyed
     sorted_group = np.repeat(np.arange(len(starts)), np.diff(np.append(starts, count)))
     group = np.empty(count, np.int64)
@@ -116,6 +113,22 @@ def _groups_by_key(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
     each(scatter, pieces(count))
     return order[starts], group
+
+
+def _split_keys(keyed: np.ndarray, index_bits: np.uint64) -> tuple[np.ndarray, np.ndarray]:
+    """Of sorted keys: each one's row index (its low bits), and where each run of one key (its other
+    bits) starts."""
+    order, starts_run = np.empty(len(keyed), np.int64), np.empty(len(keyed), bool)
+    starts_run[0] = True
+
+    def piece(rows: slice) -> None:  # reads a row before its own, which no piece writes
+        order[rows] = keyed[rows] & ((np.uint64(1) << index_bits) - np.uint64(1))
+        low = max(rows.start, 1)
+        np.not_equal(keyed[low:rows.stop] >> index_bits, keyed[low - 1:rows.stop - 1] >> index_bits,
+                     out=starts_run[low:rows.stop])
+
+    each(piece, pieces(len(keyed)))
+    return order, np.flatnonzero(starts_run)
 
 
 def _collisions_split(table: np.ndarray, first: np.ndarray, group: np.ndarray, collided: np.ndarray
@@ -144,10 +157,10 @@ def _differing_from_first(table: np.ndarray, first: np.ndarray, group: np.ndarra
     return np.concatenate(each(piece, pieces(len(table))))
 
 
-def _row_keys(table: np.ndarray) -> np.ndarray:
-    """One 64-bit key per row of an (N, 3) float64 table, from the numbers' bits. Each is folded onto
-    its low bits first: a float32 number held as a double has 29 zero bits there, which a product
-    alone would keep."""
+def _row_keys(table: np.ndarray, index_bits: np.uint64) -> np.ndarray:
+    """One 64-bit key per row of an (N, 3) float64 table, from the numbers' bits, its low `index_bits`
+    bits given to the row's index. Each number is folded onto its low bits first: a float32 number held
+    as a double has 29 zero bits there, which a product alone would keep."""
     key = np.empty(len(table), np.uint64)
 
     def piece(piece_rows: slice) -> None:
@@ -162,6 +175,9 @@ def _row_keys(table: np.ndarray) -> np.ndarray:
             folded *= factor
             out += folded
         out ^= out >> np.uint64(32)
+        out >>= index_bits
+        out <<= index_bits
+        out |= np.arange(piece_rows.start, piece_rows.stop, dtype=np.uint64)
 
     each(piece, pieces(len(table)))
     return key
