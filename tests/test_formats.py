@@ -101,6 +101,36 @@ def test_a_large_models_trimesh_objects_are_freed_when_it_is_read(tmp_path: Path
         gc.enable()
 
 
+@pytest.mark.parametrize("moved_on", [False, True])
+def test_the_collection_after_a_read_spares_the_old_generation_unless_it_must(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, moved_on: bool) -> None:
+    """The young generations hold trimesh's objects, so only they are collected; where a collection
+    during the read moved those objects to the oldest generation, a full collection frees them."""
+    sphere = trimesh.creation.icosphere(subdivisions=6)
+    path = tmp_path / "model.ply"
+    path.write_bytes(FORMATS["model.ply"](sphere))
+    if moved_on:  # as an automatic collection during the read would: its survivors go to the oldest generation
+        watched = exchange._watched
+        monkeypatch.setattr(exchange, "_watched", lambda loaded: (watched(loaded), gc.collect())[0])
+    generations: list[int] = []
+
+    def note(phase: str, info: dict[str, int]) -> None:
+        if phase == "start":
+            generations.append(info["generation"])
+
+    gc.collect()
+    gc.disable()
+    gc.callbacks.append(note)
+    try:
+        assert load_model(path).face_count == len(sphere.faces)
+        assert not [item for item in gc.get_objects() if isinstance(item, (trimesh.Trimesh, trimesh.Scene))
+                    and item is not sphere]
+    finally:
+        gc.callbacks.remove(note)
+        gc.enable()
+    assert generations == ([2, 1, 2] if moved_on else [1])
+
+
 def test_a_gltf_whose_buffers_lie_beside_it_is_freed_by_its_faces(tmp_path: Path) -> None:
     """Its JSON is small, the buffer beside it large: the faces read say a collection is worth it."""
     sphere = trimesh.creation.icosphere(subdivisions=5)

@@ -20,6 +20,8 @@ import io
 import json
 import logging
 import re
+import threading
+import weakref
 from collections.abc import Callable, Collection, Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -67,21 +69,43 @@ _NOT_FINITE = re.compile(rb"(?i)(?<![a-z])(?:[-+]?nan|[-+]?inf(?:inity)?)(?![a-z
 # trimesh's objects refer to one another (a mesh, its visuals, their caches), so its tables, and the
 # file's bytes it keeps, wait for Python's cycle collector, which may not run for minutes. From this
 # size of file on (or this many faces read: a .gltf's buffers lie beside it), what reads through
-# trimesh runs it once done: a full collection takes some ms, which a scene file of thousands of
-# small models would pay thousands of times. (After a refused file, the registry runs it.)
+# trimesh runs it once done: a collection takes some ms, which a scene file of thousands of small
+# models would pay thousands of times. (After a refused file, the registry runs it.)
 COLLECT_AFTER_BYTES, COLLECT_AFTER_FACES = 1 << 20, 20_000
 _Read = TypeVar("_Read")
+# Per thread, what the read under way loaded through trimesh, weakly: what its collection must free.
+_reading = threading.local()
 
 
 def _frees_what_trimesh_held(read: Callable[..., _Read]) -> Callable[..., _Read]:
     """`read(path, ...)`, which reads through trimesh, then the collection that frees trimesh's objects."""
     @functools.wraps(read)
     def reading(path: Path, *args: Any, **options: Any) -> _Read:
-        result = read(path, *args, **options)  # its frame, the last plain reference to trimesh's scene, is gone
+        outer, _reading.loaded = getattr(_reading, "loaded", None), []
+        try:
+            result = read(path, *args, **options)  # its frame, the last plain reference to trimesh's scene, is gone
+        finally:
+            loaded, _reading.loaded = _reading.loaded, outer
         if getattr(result, "face_count", 0) >= COLLECT_AFTER_FACES or size_or_zero(path) >= COLLECT_AFTER_BYTES:
-            gc.collect()
+            _collect(loaded)
         return result
     return reading
+
+
+def _collect(loaded: list[weakref.ref[Any]]) -> None:
+    """Frees trimesh's scenes and meshes: the young generations hold them unless a collection during the
+    read moved them on, and collecting those alone skips the whole heap (a notebook's may be large)."""
+    gc.collect(1)
+    if any(alive() is not None for alive in loaded):
+        gc.collect()
+
+
+def _watched(loaded: Any) -> Any:
+    """trimesh's scene, its meshes noted as the read's to free."""
+    watched = getattr(_reading, "loaded", None)
+    if watched is not None:
+        watched.extend(weakref.ref(item) for item in (loaded, *loaded.geometry.values()))
+    return loaded
 
 
 @_frees_what_trimesh_held
@@ -119,8 +143,8 @@ def _trimesh_load(path: Path, data: bytes, file_type: str, beside: _FilesBeside 
     trimesh = _quiet_trimesh()
     try:
         with pictures_checked() as refused:  # the pictures trimesh has Pillow open, a glTF's own included
-            loaded = trimesh.load(io.BytesIO(data), file_type=file_type, process=False, force="scene",
-                                  resolver=beside)
+            loaded = _watched(trimesh.load(io.BytesIO(data), file_type=file_type, process=False, force="scene",
+                                           resolver=beside))
         if beside is not None:
             beside.held_failures.extend(refused)
         return loaded
