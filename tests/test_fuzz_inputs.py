@@ -138,7 +138,7 @@ def _keyed(hashes: Callable[[np.ndarray, np.uint64], np.ndarray]) -> Callable[[n
     return keys
 
 
-def _last_row_hashed_as_the_middle_one(table: np.ndarray, index_bits: np.uint64) -> np.ndarray:
+def _last_row_keyed_as_the_middle_one(table: np.ndarray, index_bits: np.uint64) -> np.ndarray:
     """The real keys, but the last row's (and its equals') made the middle row's: one collision, found
     far into the table, in a large one in a later piece. Equal rows keep equal keys."""
     keys = _ROW_KEYS(table, index_bits)
@@ -152,7 +152,7 @@ COLLIDING_KEYS = {
     "none": None,
     "all": _keyed(lambda table, _: np.zeros(len(table), np.uint64)),
     "by first number": _keyed(lambda table, _: (table[:, 0] + 0.0).view(np.uint64) * np.uint64(0x9E3779B97F4A7C15)),
-    "last row as the middle one": _keyed(_last_row_hashed_as_the_middle_one),
+    "last row as the middle one": _keyed(_last_row_keyed_as_the_middle_one),
 }
 
 

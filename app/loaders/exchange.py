@@ -81,7 +81,8 @@ def _frees_what_trimesh_held(read: Callable[..., _Read]) -> Callable[..., _Read]
     """`read(path, ...)`, which reads through trimesh, then the collection that frees trimesh's objects."""
     @functools.wraps(read)
     def reading(path: Path, *args: Any, **options: Any) -> _Read:
-        outer, _reading.loaded = getattr(_reading, "loaded", None), []
+        outer = getattr(_reading, "loaded", None)  # a read within a read (none does so yet) keeps its own list
+        _reading.loaded = []
         try:
             result = read(path, *args, **options)  # its frame, the last plain reference to trimesh's scene, is gone
         finally:

@@ -489,8 +489,8 @@ def _normal_sums(face_normals: np.ndarray, corner_vertex: np.ndarray, face_start
     for block in pieces(corner_vertex.size, _CORNER_BLOCK):
         first, stop = block.start, block.stop
         faces = _faces_of_corners(face_start, sizes, first, stop)
-        rows = corner_vertex[first:stop].astype(np.intp)
-        for axis in range(3):
+        rows = corner_vertex[first:stop].astype(np.intp)  # numpy's own index type, once for the three axes
+        for axis in range(3):  # an axis gathered at a time, as above
             _sums_at(sums[axis], rows, face_normals[faces, axis])
     return sums.T
 
@@ -504,7 +504,7 @@ def _compiled_normal_sums(compiled: ModuleType, face_normals: np.ndarray, corner
     return sums
 
 
-_CORNER_BLOCK = 1 << 16  # corners whose face normals are gathered at once
+_CORNER_BLOCK = 1 << 16  # corners whose face normals are gathered or repeated at once
 
 
 def _faces_of_corners(face_start: np.ndarray, sizes: np.ndarray, first: int, stop: int) -> np.ndarray:

@@ -116,13 +116,14 @@ def _groups_by_key(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _split_keys(keyed: np.ndarray, index_bits: np.uint64) -> tuple[np.ndarray, np.ndarray]:
-    """Of sorted keys: each one's row index (its low bits), and where each run of one key (its other
-    bits) starts."""
+    """Of sorted keys, one at least: each one's row index (its low bits), and where each run of one key
+    (its other bits) starts."""
     order, starts_run = np.empty(len(keyed), np.int64), np.empty(len(keyed), bool)
     starts_run[0] = True
+    index_mask = (np.uint64(1) << index_bits) - np.uint64(1)
 
     def piece(rows: slice) -> None:  # reads a row before its own, which no piece writes
-        order[rows] = keyed[rows] & ((np.uint64(1) << index_bits) - np.uint64(1))
+        order[rows] = keyed[rows] & index_mask
         low = max(rows.start, 1)
         np.not_equal(keyed[low:rows.stop] >> index_bits, keyed[low - 1:rows.stop - 1] >> index_bits,
                      out=starts_run[low:rows.stop])

@@ -41,7 +41,7 @@ def counted(number: int, noun: str, plural: str | None = None) -> str:
 
 def polygons_of_corners(face_start: np.ndarray, corners: int | np.ndarray) -> np.ndarray:
     """The polygon of each corner, where polygon p's corners start at face_start[p] (and the last ends
-    at face_start[-1])."""
+    at face_start[-1]); the corners are below face_start[-1], so they hold in its type."""
     # Corners in the table's own type: any other would have numpy convert the whole table at each call.
     return np.searchsorted(face_start, np.asarray(corners, face_start.dtype), side="right") - 1
 
