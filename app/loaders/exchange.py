@@ -33,6 +33,7 @@ from PIL import Image
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import (
+    COLLECT_AFTER_BYTES,
     MAX_FILE_BYTES,
     is_there,
     line_at,
@@ -67,11 +68,11 @@ _NOT_FINITE = re.compile(rb"(?i)(?<![a-z])(?:[-+]?nan|[-+]?inf(?:inity)?)(?![a-z
 
 # --- the readers of the registry -----------------------------------------------------------------
 # trimesh's objects refer to one another (a mesh, its visuals, their caches), so its tables, and the
-# file's bytes it keeps, wait for Python's cycle collector, which may not run for minutes. From this
-# size of file on (or this many faces read: a .gltf's buffers lie beside it), what reads through
-# trimesh runs it once done: a collection takes some ms, which a scene file of thousands of small
-# models would pay thousands of times. (After a refused file, the registry runs it.)
-COLLECT_AFTER_BYTES, COLLECT_AFTER_FACES = 1 << 20, 20_000
+# file's bytes it keeps, wait for Python's cycle collector, which may not run for minutes. From
+# COLLECT_AFTER_BYTES of file on (or this many faces read: a .gltf's buffers lie beside it), what
+# reads through trimesh runs it once done: a collection takes some ms, which a scene file of
+# thousands of small models would pay thousands of times. (After a refused file, the registry runs it.)
+COLLECT_AFTER_FACES = 20_000
 _Read = TypeVar("_Read")
 # Per thread, what the read under way loaded through trimesh, weakly: what its collection must free.
 _reading = threading.local()

@@ -17,6 +17,9 @@ from typing import BinaryIO, Callable, Iterator
 from marraztu.errors import LoadError
 
 MAX_FILE_BYTES = 1 << 30
+# From this size of file on, what a read left in reference cycles (trimesh's objects, a refused read's
+# frames) is collected once it is done (marraztu.loaders.exchange, marraztu.loaders.registry).
+COLLECT_AFTER_BYTES = 1 << 20
 
 
 @contextmanager

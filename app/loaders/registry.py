@@ -3,35 +3,44 @@
 from __future__ import annotations
 
 import gc
+import importlib
 from collections.abc import Callable
 from pathlib import Path
 
 from marraztu.errors import LoadError
-from marraztu.loaders.exchange import COLLECT_AFTER_BYTES, load_gltf, load_ply
-from marraztu.loaders.files import size_or_zero
-from marraztu.loaders.obj import load_obj
-from marraztu.loaders.off import load_off
-from marraztu.loaders.stl import load_stl
+from marraztu.loaders.files import COLLECT_AFTER_BYTES, size_or_zero
 from marraztu.model.mesh import Mesh
 
 Stage = Callable[[str], None]  # hears what a long load is doing now, for the window's status
 ModelReader = Callable[[Path, Stage | None], Mesh]
 
+# Each reader's module and function: a module is imported when a file of its kind is first opened,
+# so a start that reads OBJ files only (the built-in scene's) never imports the others.
 # STL and PLY come in ASCII and binary: their readers tell the two apart by content.
-MODEL_READERS: dict[str, ModelReader] = {
-    ".obj": load_obj,
-    ".stl": load_stl,
-    ".ply": load_ply,
-    ".off": load_off,
-    ".gltf": load_gltf,
-    ".glb": load_gltf,
+MODEL_READERS: dict[str, tuple[str, str]] = {
+    ".obj": ("marraztu.loaders.obj", "load_obj"),
+    ".stl": ("marraztu.loaders.stl", "load_stl"),
+    ".ply": ("marraztu.loaders.exchange", "load_ply"),
+    ".off": ("marraztu.loaders.off", "load_off"),
+    ".gltf": ("marraztu.loaders.exchange", "load_gltf"),
+    ".glb": ("marraztu.loaders.exchange", "load_gltf"),
 }
+
+
+def reader_of(suffix: str) -> ModelReader | None:
+    """The reader of files ending in `suffix` (lower case), None for a suffix no reader takes."""
+    found = MODEL_READERS.get(suffix)
+    if found is None:
+        return None
+    module, name = found
+    reader: ModelReader = getattr(importlib.import_module(module), name)
+    return reader
 
 
 def load_model(path: str | Path, stage: Stage | None = None) -> Mesh:
     """The model in `path`, read by the reader of its suffix; LoadError naming the file otherwise."""
     path = Path(path)
-    reader = MODEL_READERS.get(path.suffix.lower())
+    reader = reader_of(path.suffix.lower())
     if reader is None:
         known = ", ".join(MODEL_READERS)
         raise LoadError(path, f"not a model file marraztu reads (by its suffix: {known})")
