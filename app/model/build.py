@@ -478,20 +478,16 @@ def _normal_sums(face_normals: np.ndarray, corner_vertex: np.ndarray, face_start
     if compiled is not None:
         return _compiled_normal_sums(compiled, face_normals, corner_vertex, face_start, vertex_count)
     sums = np.zeros((3, vertex_count))
-    if _one_small_size(sizes):  # triangles, quads...: each polygon's normal repeated for its corners, no gather
-        size = int(sizes[0])
-        polygons = corner_vertex.reshape(-1, size)
-        for block in pieces(polygons.shape[0], max(1, _CORNER_BLOCK // size)):
-            rows = polygons[block].astype(np.intp).ravel()  # numpy's own index type, once for the three axes
-            for axis in range(3):  # an axis at a time: contiguous values add faster
-                _sums_at(sums[axis], rows, np.repeat(face_normals[block, axis], size))
-        return sums.T
-    for block in pieces(corner_vertex.size, _CORNER_BLOCK):
-        first, stop = block.start, block.stop
-        faces = _faces_of_corners(face_start, sizes, first, stop)
-        rows = corner_vertex[first:stop].astype(np.intp)  # numpy's own index type, once for the three axes
-        for axis in range(3):  # an axis gathered at a time, as above
-            _sums_at(sums[axis], rows, face_normals[faces, axis])
+    # Polygons of one size go in blocks of whole polygons, so that each normal is repeated a fixed number
+    # of times (numpy's quick case); else by each polygon's corners in the block.
+    size = int(sizes[0]) if _one_small_size(sizes) else None
+    block_corners = _CORNER_BLOCK if size is None else max(size, _CORNER_BLOCK // size * size)
+    for block in pieces(corner_vertex.size, block_corners):
+        polygons, counts = (_polygons_in(face_start, sizes, block.start, block.stop) if size is None
+                            else (slice(block.start // size, block.stop // size), size))
+        rows = corner_vertex[block].astype(np.intp)  # numpy's own index type, once for the three axes
+        for axis in range(3):  # an axis at a time: contiguous values add faster
+            _sums_at(sums[axis], rows, np.repeat(face_normals[polygons, axis], counts))
     return sums.T
 
 
@@ -504,16 +500,16 @@ def _compiled_normal_sums(compiled: ModuleType, face_normals: np.ndarray, corner
     return sums
 
 
-_CORNER_BLOCK = 1 << 16  # corners whose face normals are gathered or repeated at once
+_CORNER_BLOCK = 1 << 16  # corners whose face normals are repeated at once
 
 
-def _faces_of_corners(face_start: np.ndarray, sizes: np.ndarray, first: int, stop: int) -> np.ndarray:
-    """The polygon of each corner from `first` to `stop`."""
+def _polygons_in(face_start: np.ndarray, sizes: np.ndarray, first: int, stop: int) -> tuple[slice, np.ndarray]:
+    """The polygons that corners `first` to `stop` belong to, and how many of those corners each holds."""
     low, high = polygons_of_corners(face_start, np.array([first, stop - 1]))
     counts = sizes[low:high + 1].copy()
     counts[0] -= first - face_start[low]  # the first and last polygons' corners outside the range
     counts[-1] -= face_start[high + 1] - stop
-    return np.repeat(np.arange(low, high + 1), counts)
+    return slice(low, high + 1), counts
 
 
 def _sums_at(out: np.ndarray, rows: np.ndarray, values: np.ndarray) -> None:
