@@ -149,7 +149,7 @@ def _collisions_split(table: np.ndarray, first: np.ndarray, group: np.ndarray, c
 
 def _differing_from_first(table: np.ndarray, first: np.ndarray, group: np.ndarray) -> np.ndarray:
     """The rows that differ from their group's first row: where different rows share a key."""
-    firsts = np.take(table, first, axis=0)  # np.take gathers whole rows several times quicker than table[first]
+    firsts = gathered(table, first)
 
     def piece(rows: slice) -> np.ndarray:
         same = np.take(firsts, group[rows], axis=0) == table[rows]
