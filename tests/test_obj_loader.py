@@ -20,6 +20,7 @@ from marraztu.errors import LoadError
 from marraztu.loaders import obj as obj_module
 from marraztu.loaders.files import read_file
 from marraztu.loaders.obj import fast as fast_reader
+from marraztu.loaders.obj import lines as lines_module
 from marraztu.loaders.obj import load_obj, parse_obj, scan
 from marraztu.loaders.obj import text as obj_text
 from marraztu.loaders.obj.lines import read_by_lines
@@ -556,6 +557,8 @@ NUMBER = st.one_of(
     st.floats(-1e6, 1e6, allow_nan=False).map(lambda x: f"{x:.6f}"),
     st.floats(-1e6, 1e6, allow_nan=False).map(repr),
     st.sampled_from(["-0", ".5", "5.", "-.5", "1e3", "+2", "1E-2", "0.1234567890123456789", "007"]),
+    # either side of the plain numbers' border (lines.py), read without a check
+    st.sampled_from(["9" * 29 + ".5e9", "9" * 30, "1e+09", "1e+10", "2E+00000009", "1e-400", "-0.5e-09"]),
 )
 SPACE = st.sampled_from([" ", " ", " ", "  ", "\t", " \t"])
 END = st.sampled_from(["\n", "\n", "\n", "\r\n", " \n", "\n\n", "\n# note\n", " # trailing\n", "\r", "#\\\n"])
@@ -601,6 +604,31 @@ def obj_texts(draw: st.DrawFn) -> bytes:
 @given(obj_texts())
 def test_the_fast_reader_agrees_with_the_line_reader(text: bytes) -> None:
     assert_agree(read_both(text))
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(obj_texts())
+def test_the_line_reader_reads_alike_in_batches_of_any_size(text: bytes) -> None:
+    """A whole file's plain lines are kept and read a batch at a time: however many a batch holds,
+    the tables, or the error and its line, are the same."""
+    text = obj_text.checked(obj_text.ended(text), "x.obj")
+    outcomes = []
+    for size in (1, 2, lines_module._BATCHED_LINES):
+        with pytest.MonkeyPatch.context() as patch:
+            patch.setattr(lines_module, "_BATCHED_LINES", size)
+            outcomes.append(outcome(lambda: read_by_lines(text, "x.obj")))
+    first = outcomes[0]
+    for other in outcomes[1:]:
+        if isinstance(first, LoadError):
+            assert isinstance(other, LoadError) and (other.message, other.line) == (first.message, first.line)
+        else:
+            assert_same_tables(other, first)
+
+
+def test_an_error_after_batches_of_plain_lines_names_its_own_line() -> None:
+    plain = b"v 1 2 3\nvt 0.5 0.5\nvn 0 0 1\nf 1/1/1 1/1/1 1/1/1\n" * (lines_module._BATCHED_LINES + 5)
+    error = outcome(lambda: read_by_lines(plain + b"v 1 2 3e39\nf 1 2\n", "x.obj"))
+    assert isinstance(error, LoadError) and error.line == plain.count(b"\n") + 1 and "too large" in error.message
 
 
 # Bytes the text checks judge (a NUL, a CR, a backslash, a no-break space), and others beside them.

@@ -1,9 +1,10 @@
 """The line-by-line OBJ reader: the authority on meaning and on error messages.
 
-It reads a whole file only when the file continues lines with a backslash; otherwise the fast reader
-hands it just the lines of a piece it does not handle, one line at a time (LineReader.read_line),
-and words the errors that need the whole file (no faces, indices past the end) with the functions
-below. Either way a LoadError names the first offending line.
+It reads whole files (a process's first small files, and files that continue lines with a
+backslash), its plain lines in batches (_PlainLines); otherwise the fast reader hands it just the
+lines of a piece it does not handle, one line at a time (LineReader.read_line), and words the errors
+that need the whole file (no faces, indices past the end) with the functions below. Either way a
+LoadError names the first offending line.
 """
 
 from __future__ import annotations
@@ -46,16 +47,29 @@ _FIELDS = (b"v", b"vt", b"vn")
 _FIELD_NAMES = ("vertex", "texture coordinate (vt)", "normal (vn)")
 _TABLE_WIDTHS = (3, 2, 3)
 _QUOTED_CHARACTERS = 40
-# A v, vt or vn line of plain numbers, in one match: most lines. Anything else is read number by number.
-_PLAIN_ROWS = {keyword: re.compile(rb"%s(?:\s+%s){%d,%d}" % (_NUMBER, _NUMBER, fewest - 1, most - 1))
-               for keyword, (_, _, fewest, most) in _TABLES.items()}
-# Short faces of positive indices in one of the four corner formats, read in one match: most faces.
-# Anything else (relative or zero indices, leading zeros, long faces) takes the corner-by-corner path.
+# Plain lines, read in one match each: most lines. Their numbers and indices need no check: a plain
+# number is finite and within float32 by its syntax alone (at most 29 digits before the point, a
+# positive exponent of one digit), and a plain index is below INDEX_LIMIT (at most 9 digits).
+# Anything else is read number by number, or corner by corner, and its errors are worded there.
+_PLAIN_NUMBER = rb"[+-]?+(?:[0-9]{1,29}+(?:\.[0-9]*+)?+|\.[0-9]++)(?:[eE](?:-[0-9]++|\+?+0*+[0-9]))?+"
+_PLAIN_INDEX = rb"[1-9][0-9]{0,8}"
+
+
+def _numbers_pattern(fewest: int, most: int) -> re.Pattern[bytes]:
+    return re.compile(rb"%s(?:\s+%s){%d,%d}" % (_PLAIN_NUMBER, _PLAIN_NUMBER, fewest - 1, most - 1))
+
+
+# A v, vt or vn line of plain numbers; a whole file's reading batches those of just the table's width.
+_PLAIN_ROWS = {keyword: _numbers_pattern(fewest, most) for keyword, (_, _, fewest, most) in _TABLES.items()}
+_BATCHED_ROWS = {keyword: _numbers_pattern(width, width) for keyword, width in zip(_FIELDS, _TABLE_WIDTHS)}
+# A short face of plain indices in one of the four corner formats, and the fields its corners give.
 _PLAIN_FACE_BYTES = 256
-_INDEX = rb"[1-9][0-9]{0,%d}" % (MAX_DIGITS - 1)
-_PLAIN_FACES = [(re.compile(rb"%s(?:\s+%s){2,}" % (corner, corner)), fields) for corner, fields in (
-    (_INDEX, (0,)), (rb"%s/%s" % (_INDEX, _INDEX), (0, 1)), (rb"%s//%s" % (_INDEX, _INDEX), (0, 2)),
-    (rb"%s/%s/%s" % (_INDEX, _INDEX, _INDEX), (0, 1, 2)))]
+_FaceForm = tuple[re.Pattern[bytes], tuple[int, ...]]
+_PLAIN_FACES: list[_FaceForm] = [(re.compile(rb"%s(?:\s+%s){2,}" % (corner, corner)), fields) for corner, fields in (
+    (_PLAIN_INDEX, (0,)), (rb"%s/%s" % (_PLAIN_INDEX, _PLAIN_INDEX), (0, 1)),
+    (rb"%s//%s" % (_PLAIN_INDEX, _PLAIN_INDEX), (0, 2)),
+    (rb"%s/%s/%s" % (_PLAIN_INDEX, _PLAIN_INDEX, _PLAIN_INDEX), (0, 1, 2)))]
+_BATCHED = frozenset((*_FIELDS, b"f"))
 
 
 def _beyond_index(part: bytes) -> bool:
@@ -104,8 +118,15 @@ class LineReader:
         # BytesIO's line iterator where no line continues (a generator's step a line costs more)
         plain = text.endswith(b"\n") and not has_continuations(text)
         lines = enumerate(io.BytesIO(text), start=1) if plain else _logical_lines(text)
+        batch = _PlainLines(self)
         for number, content in lines:
-            self.read_line(number, content)
+            keyword, rest = statement(content)
+            if keyword in _BATCHED:
+                if batch.took(number, keyword, rest):
+                    continue
+                batch.flush()  # first: the tables' rows and the corners stay in file order
+            self.read_statement(number, content, keyword, rest)
+        batch.flush()
         if not self.face_sizes:
             raise no_faces_error(self.source, self.statements > 0)
         corners = self.corner_columns()
@@ -121,7 +142,9 @@ class LineReader:
 
     def read_line(self, number: int, content: bytes) -> None:
         """One physical (or continued) line: the statement it holds, or the comment it is."""
-        keyword, rest = statement(content)
+        self.read_statement(number, content, *statement(content))
+
+    def read_statement(self, number: int, content: bytes, keyword: bytes, rest: bytes) -> None:
         if keyword:
             self.statements += 1
             self.statement(number, keyword, rest)
@@ -146,9 +169,7 @@ class LineReader:
 
     def numbers(self, number: int, keyword: bytes, rest: bytes) -> list[float]:
         if _PLAIN_ROWS[keyword].fullmatch(rest):
-            values = [float(token) for token in rest.split()]
-            if max(map(abs, values)) <= FLOAT32_MAX:
-                return values
+            return [float(token) for token in rest.split()]
         _, name, fewest, most = _TABLES[keyword]
         tokens = rest.split(None, most + 1)  # bounded: a line of millions of numbers is not split into them
         if not fewest <= len(tokens) <= most:
@@ -191,15 +212,11 @@ class LineReader:
 
     def plain_face(self, number: int, rest: bytes) -> bool:
         """A short face of positive indices in one format, read whole; False (nothing read) otherwise."""
-        form = self.face_form
-        if not form[0].fullmatch(rest):
-            form = next((other for other in _PLAIN_FACES if other[0].fullmatch(rest)), None)
-            if form is None:
-                return False
-            self.face_form = form
-        indices = [int(index) for index in rest.replace(b"/", b" ").split()]
-        if max(indices) > INDEX_LIMIT:  # the corner-by-corner path words the error
+        form = _plain_face_form(rest, self.face_form)
+        if form is None:
             return False
+        self.face_form = form
+        indices = [int(index) for index in rest.replace(b"/", b" ").split()]
         fields = form[1]
         width = len(fields)
         size = len(indices) // width
@@ -246,6 +263,84 @@ class LineReader:
                       face_start, self.mtllib, self.colour.colour, list(self.colour.notes), self.material_runs,
                       put_colours(np.full((len(tables[0]), 3), np.nan), self.coloured_rows, self.colour_values)
                       if self.coloured_rows else None)
+
+
+_BATCHED_LINES = 1 << 12  # a line's bytes object costs several times its numbers: a large file's are not all kept
+
+
+class _PlainLines:
+    """A whole file's plain v, vt and vn rows of just their table's width, and its short plain faces,
+    kept as bytes until the next other line of those kinds, the file's end or BATCHED_LINES of them:
+    then their numbers are made in one call, several times quicker than a float() or int() each."""
+
+    def __init__(self, reader: LineReader) -> None:
+        self.reader = reader
+        self.rows: list[list[bytes]] = [[] for _ in _FIELDS]
+        self.faces: list[bytes] = []
+        self.face_form = _PLAIN_FACES[-1]  # the kept faces' form
+
+    def took(self, number: int, keyword: bytes, rest: bytes) -> bool:
+        """Whether the line is plain, and kept."""
+        reader = self.reader
+        if keyword == b"f":
+            if len(rest) > _PLAIN_FACE_BYTES or not self.took_face(rest):
+                return False
+            reader.end_face(number, len(rest.split()))
+        else:
+            if not _BATCHED_ROWS[keyword].fullmatch(rest):
+                return False
+            field = _TABLES[keyword][0]
+            self.rows[field].append(rest)
+            reader.defined[field] += 1
+            if len(self.rows[field]) >= _BATCHED_LINES:
+                self.flush_rows(field)
+        reader.statements += 1
+        return True
+
+    def took_face(self, rest: bytes) -> bool:
+        form = _plain_face_form(rest, self.face_form)
+        if form is None:
+            return False
+        if form is not self.face_form:
+            self.flush_faces()
+            self.face_form = form
+        self.faces.append(rest)
+        if len(self.faces) >= _BATCHED_LINES:
+            self.flush_faces()
+        return True
+
+    def flush(self) -> None:
+        for field in range(len(_FIELDS)):
+            self.flush_rows(field)
+        self.flush_faces()
+
+    def flush_rows(self, field: int) -> None:
+        rows = self.rows[field]
+        if rows:
+            self.reader.tables[field].frombytes(_read_numbers(rows, np.float64).tobytes())
+            rows.clear()
+
+    def flush_faces(self) -> None:
+        if not self.faces:
+            return
+        fields = self.face_form[1]
+        corners = _read_numbers(self.faces, np.int64).reshape(-1, len(fields))
+        for field, column in enumerate(self.reader.corners):
+            column.frombytes(corners[:, fields.index(field)].tobytes() if field in fields
+                             else bytes(corners.itemsize * len(corners)))
+        self.faces.clear()
+
+
+def _plain_face_form(rest: bytes, last: _FaceForm) -> _FaceForm | None:
+    """The form of a short face of plain indices (the last face's is tried first: a file keeps to one)."""
+    if last[0].fullmatch(rest):
+        return last
+    return next((form for form in _PLAIN_FACES if form[0].fullmatch(rest)), None)
+
+
+def _read_numbers(lines: list[bytes], dtype: type) -> np.ndarray:
+    """The numbers of plain lines (a face's slashes part them too); numpy reads each as float() or int() would."""
+    return np.fromstring(b" ".join(lines).replace(b"/", b" "), dtype=dtype, sep=" ")
 
 
 def read_by_lines(text: bytes, source: str) -> RawObj:
