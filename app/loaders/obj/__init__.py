@@ -133,10 +133,10 @@ def _face_materials(runs: MaterialRuns, library: list[MeshMaterial], faces: int
     return tuple(by_name[name] for name in used), face_material, unknown, beyond
 
 
-# The compiled reader's first use in a process imports numba and loads its machine code, about a
-# quarter of a second: the line reader, at 10-15 MB/s, is done sooner below this size. Once
-# loaded, the compiled reader is the quicker one whatever the size.
-COMPILED_READER_BYTES = 5 << 19
+# The compiled reader's first use in a process imports numba and loads its machine code: the line
+# reader is done sooner below this size (measured on files of v/vt/vn and of v and f lines only).
+# Once loaded, the compiled reader is the quicker one whatever the size.
+COMPILED_READER_BYTES = 4 << 20
 
 
 def _tables(text: bytes | np.ndarray, source: str) -> RawObj:
