@@ -560,7 +560,10 @@ def pieced_draws(ctx: moderngl.Context) -> tuple[Draw, Draw]:
     piece = draw_piece_primitives(ctx)
     if piece is None:
         return Draw(), Draw()
-    flush = gl_flush()
+
+    def flush() -> None:  # glFlush is looked up at a draw's second piece: a start whose draws fit in one never looks
+        gl_flush()()
+
     return Draw(piece, flush), Draw(piece, flush, SOFTWARE_SEGMENT_PIECES_IN_FLIGHT)
 
 
