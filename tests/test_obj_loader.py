@@ -609,13 +609,15 @@ def test_the_fast_reader_agrees_with_the_line_reader(text: bytes) -> None:
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(obj_texts())
 def test_the_line_reader_reads_alike_in_batches_of_any_size(text: bytes) -> None:
-    """A whole file's plain lines are kept and read a batch at a time: however many a batch holds,
-    the tables, or the error and its line, are the same."""
+    """A whole file's plain lines are kept and read a batch at a time: however many lines or bytes a
+    batch holds, the tables, or the error and its line, are the same."""
     text = obj_text.checked(obj_text.ended(text), "x.obj")
     outcomes = []
-    for size in (1, 2, lines_module._BATCHED_LINES):
+    for lines, size in ((lines_module._BATCHED_LINES, lines_module._BATCHED_BYTES), (1, 1 << 20), (2, 1 << 20),
+                        (1 << 12, 16)):
         with pytest.MonkeyPatch.context() as patch:
-            patch.setattr(lines_module, "_BATCHED_LINES", size)
+            patch.setattr(lines_module, "_BATCHED_LINES", lines)
+            patch.setattr(lines_module, "_BATCHED_BYTES", size)
             outcomes.append(outcome(lambda: read_by_lines(text, "x.obj")))
     first = outcomes[0]
     for other in outcomes[1:]:

@@ -1,10 +1,10 @@
 """The line-by-line OBJ reader: the authority on meaning and on error messages.
 
-It reads whole files (a process's first small files, and files that continue lines with a
-backslash), its plain lines in batches (_PlainLines); otherwise the fast reader hands it just the
-lines of a piece it does not handle, one line at a time (LineReader.read_line), and words the errors
-that need the whole file (no faces, indices past the end) with the functions below. Either way a
-LoadError names the first offending line.
+It reads whole files: a process's first small files, and files that continue lines with a
+backslash. Their plain lines it keeps and reads in batches (_PlainLines), the others one at a time.
+Otherwise the fast reader hands it just the lines of a piece it does not handle, one at a time
+(LineReader.read_line), and it words the errors that need the whole file (no faces, indices past
+the end) with the functions below. Either way a LoadError names the first offending line.
 """
 
 from __future__ import annotations
@@ -48,10 +48,11 @@ _FIELD_NAMES = ("vertex", "texture coordinate (vt)", "normal (vn)")
 _TABLE_WIDTHS = (3, 2, 3)
 _QUOTED_CHARACTERS = 40
 # Plain lines, read in one match each: most lines. Their numbers and indices need no check: a plain
-# number is finite and within float32 by its syntax alone (at most 29 digits before the point, a
-# positive exponent of one digit), and a plain index is below INDEX_LIMIT (at most 9 digits).
+# number is finite and within float32 by its syntax alone (at most 29 digits before the point; a
+# negative exponent, or one digit after any zeros), and a plain index is below INDEX_LIMIT (at most
+# 9 digits).
 # Anything else is read number by number, or corner by corner, and its errors are worded there.
-_PLAIN_NUMBER = rb"[+-]?+(?:[0-9]{1,29}+(?:\.[0-9]*+)?+|\.[0-9]++)(?:[eE](?:-[0-9]++|\+?+0*+[0-9]))?+"
+_PLAIN_NUMBER = rb"[+-]?+(?:[0-9]{1,29}+(?:\.[0-9]*+)?+|\.[0-9]++)(?:[eE](?:-[0-9]++|\+?+0*[0-9]))?+"
 _PLAIN_INDEX = rb"[1-9][0-9]{0,8}"
 
 
@@ -69,7 +70,7 @@ _PLAIN_FACES: list[_FaceForm] = [(re.compile(rb"%s(?:\s+%s){2,}" % (corner, corn
     (_PLAIN_INDEX, (0,)), (rb"%s/%s" % (_PLAIN_INDEX, _PLAIN_INDEX), (0, 1)),
     (rb"%s//%s" % (_PLAIN_INDEX, _PLAIN_INDEX), (0, 2)),
     (rb"%s/%s/%s" % (_PLAIN_INDEX, _PLAIN_INDEX, _PLAIN_INDEX), (0, 1, 2)))]
-_BATCHED = frozenset((*_FIELDS, b"f"))
+_BATCHED_KEYWORDS = frozenset((*_FIELDS, b"f"))
 
 
 def _beyond_index(part: bytes) -> bool:
@@ -121,8 +122,8 @@ class LineReader:
         batch = _PlainLines(self)
         for number, content in lines:
             keyword, rest = statement(content)
-            if keyword in _BATCHED:
-                if batch.took(number, keyword, rest):
+            if keyword in _BATCHED_KEYWORDS:
+                if batch.keep(number, keyword, rest):
                     continue
                 batch.flush()  # first: the tables' rows and the corners stay in file order
             self.read_statement(number, content, keyword, rest)
@@ -265,25 +266,30 @@ class LineReader:
                       if self.coloured_rows else None)
 
 
-_BATCHED_LINES = 1 << 12  # a line's bytes object costs several times its numbers: a large file's are not all kept
+# A batch is read once it holds this many lines or bytes, whichever comes first: a line's bytes object
+# costs more than its numbers, and a batch's joined copy as much as its lines.
+_BATCHED_LINES = 1 << 12
+_BATCHED_BYTES = 1 << 20
 
 
 class _PlainLines:
     """A whole file's plain v, vt and vn rows of just their table's width, and its short plain faces,
-    kept as bytes until the next other line of those kinds, the file's end or BATCHED_LINES of them:
-    then their numbers are made in one call, several times quicker than a float() or int() each."""
+    kept as bytes until the next other line of those kinds, the file's end or a full batch: then their
+    numbers are made in one call, several times quicker than a float() or int() each."""
 
     def __init__(self, reader: LineReader) -> None:
         self.reader = reader
         self.rows: list[list[bytes]] = [[] for _ in _FIELDS]
         self.faces: list[bytes] = []
-        self.face_form = _PLAIN_FACES[-1]  # the kept faces' form
+        # The kept faces' form (the reader's own face_form serves the lines it reads itself).
+        self.face_form = _PLAIN_FACES[-1]
+        self.lines = self.bytes = 0
 
-    def took(self, number: int, keyword: bytes, rest: bytes) -> bool:
-        """Whether the line is plain, and kept."""
+    def keep(self, number: int, keyword: bytes, rest: bytes) -> bool:
+        """Whether the line is plain, and kept; if so, the reader counts it as LineReader.statement would."""
         reader = self.reader
         if keyword == b"f":
-            if len(rest) > _PLAIN_FACE_BYTES or not self.took_face(rest):
+            if len(rest) > _PLAIN_FACE_BYTES or not self.keep_face(rest):
                 return False
             reader.end_face(number, len(rest.split()))
         else:
@@ -292,12 +298,14 @@ class _PlainLines:
             field = _TABLES[keyword][0]
             self.rows[field].append(rest)
             reader.defined[field] += 1
-            if len(self.rows[field]) >= _BATCHED_LINES:
-                self.flush_rows(field)
         reader.statements += 1
+        self.lines += 1
+        self.bytes += len(rest)
+        if self.lines >= _BATCHED_LINES or self.bytes >= _BATCHED_BYTES:
+            self.flush()
         return True
 
-    def took_face(self, rest: bytes) -> bool:
+    def keep_face(self, rest: bytes) -> bool:
         form = _plain_face_form(rest, self.face_form)
         if form is None:
             return False
@@ -305,20 +313,15 @@ class _PlainLines:
             self.flush_faces()
             self.face_form = form
         self.faces.append(rest)
-        if len(self.faces) >= _BATCHED_LINES:
-            self.flush_faces()
         return True
 
     def flush(self) -> None:
-        for field in range(len(_FIELDS)):
-            self.flush_rows(field)
+        for table, rows in zip(self.reader.tables, self.rows):
+            if rows:
+                table.frombytes(_read_numbers(rows, np.float64).tobytes())
+                rows.clear()
         self.flush_faces()
-
-    def flush_rows(self, field: int) -> None:
-        rows = self.rows[field]
-        if rows:
-            self.reader.tables[field].frombytes(_read_numbers(rows, np.float64).tobytes())
-            rows.clear()
+        self.lines = self.bytes = 0
 
     def flush_faces(self) -> None:
         if not self.faces:
@@ -339,7 +342,8 @@ def _plain_face_form(rest: bytes, last: _FaceForm) -> _FaceForm | None:
 
 
 def _read_numbers(lines: list[bytes], dtype: type) -> np.ndarray:
-    """The numbers of plain lines (a face's slashes part them too); numpy reads each as float() or int() would."""
+    """The numbers of plain lines (a face's slashes part them too). numpy reads each as float() and
+    int() do: its decimal numbers go through the same PyOS_string_to_double, and indices have 9 digits."""
     return np.fromstring(b" ".join(lines).replace(b"/", b" "), dtype=dtype, sep=" ")
 
 
