@@ -901,6 +901,26 @@ def test_a_number_reads_as_float_reads_it_or_goes_to_the_line_reader(token: str,
         assert np.signbit(both.fast.positions[0, 0]) == np.signbit(both.slow.positions[0, 0])
 
 
+@pytest.mark.parametrize("at_once", [1, 3, 1 << 12])
+def test_rows_left_for_their_long_numbers_are_read_in_batches_into_their_rows(at_once: int,
+                                                                             monkeypatch: pytest.MonkeyPatch) -> None:
+    """The compiled code leaves numbers of more than 15 digits to Python; the plain rows among those
+    lines are read a batch at a time into the rows they fill, the others one at a time, all as the line
+    reader reads them."""
+    monkeypatch.setattr(fast_reader, "_PLAIN_ROWS_AT_ONCE", at_once)
+    rng = np.random.default_rng(47)
+    lines = []
+    for row in range(300):
+        x, y, z = (rng.normal(size=3) * 100).tolist()
+        lines.append(rng.choice([f"v {x!r} {y!r} {z!r}", f"v {x:.3f} {y:.3f} {z:.3f}", f"v {x!r} {y} {z} 0.5 0.25 1",
+                                 f"  v\t{x!r} {y!r} {z!r}  ", f"v {x!r} {y!r} {z!r} # a comment", f"vt {x!r} {y!r}",
+                                 f"vn {x!r} {y!r} {z!r}", f"vt {x!r} {y!r} 0"]))
+    lines += [f"f {row + 1} {row + 2} {row + 3}" for row in range(100)]
+    both = read_both(("\n".join(lines) + "\n").encode())
+    assert_agree(both)
+    assert isinstance(both.fast, RawObj) and both.fast_lines > 150
+
+
 @settings(max_examples=300, deadline=None)
 @given(st.floats(-3e38, 3e38, allow_nan=False),
        st.sampled_from(["{!r}", "{:.17g}", "{:.6f}", "{:.9g}", "{:.6e}", "{:.15e}", "{:.3E}", "{:.0f}"]))

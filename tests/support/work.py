@@ -26,19 +26,30 @@ class LineCount:
 
 @contextmanager
 def lines_read_by_the_line_reader() -> Iterator[LineCount]:
-    """Counts the lines the Python line reader reads inside the block: each goes through its `statement`."""
+    """Counts the lines the Python side reads inside the block: each goes through the line reader's
+    `statement`, or, a plain row the compiled code left for its long numbers, into the fast reader's
+    batches (fast._PlainRows)."""
+    from marraztu.loaders.obj import fast  # imports numba: only where a test counts
+
     count = LineCount()
-    original = line_reader.statement
+    original, original_keep = line_reader.statement, fast._PlainRows.keep
 
     def counted(content: bytes) -> tuple[bytes, bytes]:
         count.lines += 1  # threads may race here; the GIL makes the loss at most a line or two
         return original(content)
 
+    def counted_keep(self: fast._PlainRows, content: bytes, kind: int, row: int) -> bool:
+        kept = original_keep(self, content, kind, row)
+        count.lines += kept
+        return kept
+
     line_reader.statement = counted  # type: ignore[assignment]
+    fast._PlainRows.keep = counted_keep  # type: ignore[method-assign]
     try:
         yield count
     finally:
         line_reader.statement = original  # type: ignore[assignment]
+        fast._PlainRows.keep = original_keep  # type: ignore[method-assign]
 
 
 def peak_traced_bytes(work: Callable[[], Result]) -> tuple[Result | LoadError, int]:

@@ -6,12 +6,14 @@ ASCII, LF line ends) do not; the tables are then made at their final sizes, and 
 every piece into them at its own offsets. What the compiled code does not read itself comes back
 as records, in file order: the line reader (lines.py) reads each listed v, vt, vn or f line in its
 piece's thread as the records come, giving its values or its error, so every message is the line
-reader's and a bad line ends its piece; other statements and colour comments are read here, in file
-order, once every piece is read.
+reader's and a bad line ends its piece (the plain rows among them, left for their long numbers, hold
+no error: they are read here a batch at a time); other statements and colour comments are read here,
+in file order, once every piece is read.
 """
 
 from __future__ import annotations
 
+import re
 from array import array
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -19,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from marraztu.loaders.obj import raw, scan
-from marraztu.loaders.obj.lines import LineReader, checked_columns, no_faces_error
+from marraztu.loaders.obj.lines import LineReader, checked_columns, no_faces_error, plain_numbers, read_plain_numbers
 from marraztu.model.mesh import INDEX, polygons_of_corners
 from marraztu.model.threads import THREADS, each
 
@@ -187,14 +189,19 @@ class _DeferredLines:
         deferred = records[:, scan.R_KIND] == scan.DEFERRED
         if not deferred.any():
             return records
+        plain = _PlainRows(self.tables)
         for record in _python_rows(records[deferred]):
-            self.read_line(record, face_start)
+            content = self.buf[record[scan.R_START]:record[scan.R_END]].tobytes()
+            kind = record[scan.R_KEYWORD]
+            if kind == scan.F or not plain.keep(content, kind, record[scan.R_V + kind]):
+                self.read_line(record, content, face_start)
+        plain.write()
         return records[~deferred]
 
-    def read_line(self, record: list[int], face_start: np.ndarray) -> None:
+    def read_line(self, record: list[int], content: bytes, face_start: np.ndarray) -> None:
         reader = LineReader(self.source)
         reader.defined = [record[scan.R_V], record[scan.R_VT], record[scan.R_VN]]
-        reader.read_line(record[scan.R_LINE], self.buf[record[scan.R_START]:record[scan.R_END]].tobytes())
+        reader.read_line(record[scan.R_LINE], content)
         if reader.coloured_rows:
             self.colour_rows.extend(reader.coloured_rows)
             self.colour_values.extend(reader.colour_values)
@@ -210,6 +217,48 @@ class _DeferredLines:
                 column[corner:corner + corners] = values
         else:
             self.tables[kind][record[scan.R_V + kind]] = reader.tables[kind]
+
+
+# The whole of a deferred v, vt or vn line that is a plain row of its table's width (lines.py): its
+# keyword and numbers, parted and surrounded by the whitespace bytes.split parts a line at, and no
+# comment. The compiled code leaves such lines for their long numbers (more than 15 digits, as
+# Python's repr writes them).
+_BLANK = rb"[ \t\x0b\x0c\r]"
+_PLAIN_ROW_LINES = [re.compile(rb"%s*+%s%s++(%s)%s*+" % (_BLANK, keyword, _BLANK, plain_numbers(width), _BLANK))
+                    for keyword, width in zip((b"v", b"vt", b"vn"), _WIDTHS)]
+_PLAIN_ROWS_AT_ONCE = 1 << 12
+
+
+class _PlainRows:
+    """Such lines, kept with the rows they fill and written into the whole file's tables a batch at a
+    time: a line reader for each would cost several times their numbers."""
+
+    def __init__(self, tables: list[np.ndarray]) -> None:
+        self.tables = tables
+        self.numbers: list[list[bytes]] = [[] for _ in _WIDTHS]
+        self.rows: list[array] = [array("q") for _ in _WIDTHS]
+        self.kept = 0
+
+    def keep(self, content: bytes, kind: int, row: int) -> bool:
+        """Whether the line, of table `kind` (scan.V, VT or VN) at `row`, is such a line, and kept."""
+        line = _PLAIN_ROW_LINES[kind].fullmatch(content)
+        if line is None:
+            return False
+        self.numbers[kind].append(line.group(1))
+        self.rows[kind].append(row)
+        self.kept += 1
+        if self.kept >= _PLAIN_ROWS_AT_ONCE:
+            self.write()
+        return True
+
+    def write(self) -> None:
+        for table, numbers, rows in zip(self.tables, self.numbers, self.rows):
+            if numbers:
+                values = read_plain_numbers(numbers, np.float64).reshape(-1, table.shape[1])
+                table[np.frombuffer(rows, np.int64)] = values
+                numbers.clear()
+                del rows[:]
+        self.kept = 0
 
 
 # The usemtl lines whose numbers _Records keeps by their bytes: a model's few materials, not a file of

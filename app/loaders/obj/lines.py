@@ -56,13 +56,14 @@ _PLAIN_NUMBER = rb"[+-]?+(?:[0-9]{1,29}+(?:\.[0-9]*+)?+|\.[0-9]++)(?:[eE](?:-[0-
 _PLAIN_INDEX = rb"[1-9][0-9]{0,8}"
 
 
-def _numbers_pattern(fewest: int, most: int) -> re.Pattern[bytes]:
-    return re.compile(rb"%s(?:\s+%s){%d,%d}" % (_PLAIN_NUMBER, _PLAIN_NUMBER, fewest - 1, most - 1))
+def plain_numbers(fewest: int, most: int | None = None) -> bytes:
+    """The syntax of `fewest` to `most` (or just `fewest`) plain numbers parted by whitespace."""
+    return rb"%s(?:\s+%s){%d,%d}" % (_PLAIN_NUMBER, _PLAIN_NUMBER, fewest - 1, (most or fewest) - 1)
 
 
 # A v, vt or vn line of plain numbers; a whole file's reading batches those of just the table's width.
-_PLAIN_ROWS = {keyword: _numbers_pattern(fewest, most) for keyword, (_, _, fewest, most) in _TABLES.items()}
-_BATCHED_ROWS = {keyword: _numbers_pattern(width, width) for keyword, width in zip(_FIELDS, _TABLE_WIDTHS)}
+_PLAIN_ROWS = {keyword: re.compile(plain_numbers(fewest, most)) for keyword, (_, _, fewest, most) in _TABLES.items()}
+_BATCHED_ROWS = {keyword: re.compile(plain_numbers(width)) for keyword, width in zip(_FIELDS, _TABLE_WIDTHS)}
 # A short face of plain indices in one of the four corner formats, and the fields its corners give.
 _PLAIN_FACE_BYTES = 256
 _FaceForm = tuple[re.Pattern[bytes], tuple[int, ...]]
@@ -318,7 +319,7 @@ class _PlainLines:
     def flush(self) -> None:
         for table, rows in zip(self.reader.tables, self.rows):
             if rows:
-                table.frombytes(_read_numbers(rows, np.float64).tobytes())
+                table.frombytes(read_plain_numbers(rows, np.float64).tobytes())
                 rows.clear()
         self.flush_faces()
         self.lines = self.bytes = 0
@@ -327,7 +328,7 @@ class _PlainLines:
         if not self.faces:
             return
         fields = self.face_form[1]
-        corners = _read_numbers(self.faces, np.int64).reshape(-1, len(fields))
+        corners = read_plain_numbers(self.faces, np.int64).reshape(-1, len(fields))
         for field, column in enumerate(self.reader.corners):
             column.frombytes(corners[:, fields.index(field)].tobytes() if field in fields
                              else bytes(corners.itemsize * len(corners)))
@@ -341,7 +342,7 @@ def _plain_face_form(rest: bytes, last: _FaceForm) -> _FaceForm | None:
     return next((form for form in _PLAIN_FACES if form[0].fullmatch(rest)), None)
 
 
-def _read_numbers(lines: list[bytes], dtype: type) -> np.ndarray:
+def read_plain_numbers(lines: Sequence[bytes], dtype: type) -> np.ndarray:
     """The numbers of plain lines (a face's slashes part them too). numpy reads each as float() and
     int() do: its decimal numbers go through the same PyOS_string_to_double, and indices have 9 digits."""
     return np.fromstring(b" ".join(lines).replace(b"/", b" "), dtype=dtype, sep=" ")
