@@ -20,7 +20,7 @@ from marraztu.errors import LoadError
 from marraztu.loaders.obj import fast as fast_reader
 from marraztu.loaders.obj import load_obj, parse_obj
 from marraztu.model.mesh import Mesh
-from support.work import lines_read_by_the_line_reader, peak_traced_bytes
+from support.work import lines_read_by_python, peak_traced_bytes
 
 PIECE_BYTES = 1 << 16
 QUAD = b"v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nf 1 2 3 4\n"
@@ -58,7 +58,7 @@ TEXT_LINES = TEXT.count(b"\n")
 
 def load_counting(data: bytes) -> tuple[Mesh | LoadError, int, int]:
     """(the mesh or the error, lines the line reader read, peak bytes traced)."""
-    with lines_read_by_the_line_reader() as counted:
+    with lines_read_by_python() as counted:
         outcome, peak = peak_traced_bytes(lambda: parse_obj(data, "hostile.obj"))
     return outcome, counted.lines, peak
 
@@ -295,7 +295,7 @@ def test_cr_only_line_ends_are_line_ends() -> None:
 
 def test_a_comment_ending_in_a_backslash_does_not_swallow_the_next_line() -> None:
     data = b"# exported from C:\\models\\\n" + QUAD
-    with lines_read_by_the_line_reader() as counted:
+    with lines_read_by_python() as counted:
         mesh = parse_obj(data, "windows.obj")
     assert mesh.vertex_count == 4
     assert counted.lines == 0  # the comment alone does not send the file to the line reader

@@ -28,7 +28,7 @@ from marraztu.loaders.obj.raw import RawObj
 from marraztu.model.build import build_mesh
 from marraztu.model.mesh import Mesh
 from support.seed import SEED_MODELS, seed_model
-from support.work import lines_read_by_the_line_reader
+from support.work import lines_read_by_python
 
 QUAD = b"v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nf 1 2 3 4\n"
 
@@ -440,7 +440,7 @@ def test_a_large_files_vertex_colours_come_through_the_compiled_reader(tmp_path:
     path = tmp_path / "large.obj"
     path.write_text("\n".join(lines + faces) + "\n")
     assert path.stat().st_size > obj_module.COMPILED_READER_BYTES
-    with lines_read_by_the_line_reader() as counted:
+    with lines_read_by_python() as counted:
         mesh = load_obj(path)
     assert counted.lines == 1
     assert mesh.vertex_colours.tolist() == colours.tolist()
@@ -512,7 +512,7 @@ def read_both(text: bytes) -> Both:
     many lines the fast reader had the line reader read."""
     normalized = obj_text.checked(obj_text.ended(text), "x.obj")
     fast: RawObj | LoadError | None = None
-    with lines_read_by_the_line_reader() as counted:
+    with lines_read_by_python() as counted:
         if not obj_text.has_continuations(normalized):
             fast = outcome(lambda: fast_reader.read_fast(normalized, "x.obj"))
     return Both(fast, outcome(lambda: read_by_lines(normalized, "x.obj")), counted.lines)
@@ -899,6 +899,31 @@ def test_a_number_reads_as_float_reads_it_or_goes_to_the_line_reader(token: str,
     assert both.fast_lines == (0 if compiled else 1), token
     if isinstance(both.fast, RawObj):  # -0 stays -0: the GPU would see the sign
         assert np.signbit(both.fast.positions[0, 0]) == np.signbit(both.slow.positions[0, 0])
+
+
+LONG_NUMBER = st.one_of(st.floats(-1e30, 1e30, allow_nan=False).map(repr), st.floats(allow_nan=False).map(repr),
+                        st.sampled_from(["1e23", "1e-23", "0.1234567890123456789", "-0.0", "1e0", "9" * 29 + "e9",
+                                         "9" * 30, "1e+10", "nan", "1x", "+.5e-400"]))
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.sampled_from(["", " ", "\t", "\x0b ", "\r"]), st.sampled_from(["v", "vt", "vn", "f", "V"]),
+       st.sampled_from([" ", "\t", "\x0c", ""]), st.lists(st.one_of(LONG_NUMBER, NUMBER), min_size=2, max_size=3),
+       st.sampled_from(["", " ", "\r", " # c", "#"]))
+def test_a_deferred_line_read_whole_reads_as_the_line_reader_reads_it(start: str, keyword: str, space: str,
+                                                                     numbers: list[str], end: str) -> None:
+    """A deferred line the fast reader takes as a plain row (fast._PLAIN_ROW_LINES) gives the line
+    reader's values, and no error."""
+    content = (start + keyword + space + " ".join(numbers) + end).encode()
+    for kind, pattern in enumerate(fast_reader._PLAIN_ROW_LINES):
+        line = pattern.fullmatch(content)
+        if line is None:
+            continue
+        reader = lines_module.LineReader("x.obj")
+        reader.read_line(1, content)
+        values = lines_module.read_plain_numbers([line.group(1)], np.float64)
+        assert np.array_equal(np.frombuffer(reader.tables[kind], np.float64), values)
+        assert np.array_equal(np.signbit(np.frombuffer(reader.tables[kind], np.float64)), np.signbit(values))
 
 
 @pytest.mark.parametrize("at_once", [1, 3, 1 << 12])

@@ -25,7 +25,7 @@ class LineCount:
 
 
 @contextmanager
-def lines_read_by_the_line_reader() -> Iterator[LineCount]:
+def lines_read_by_python() -> Iterator[LineCount]:
     """Counts the lines the Python side reads inside the block: each goes through the line reader's
     `statement`, or, a plain row the compiled code left for its long numbers, into the fast reader's
     batches (fast._PlainRows)."""

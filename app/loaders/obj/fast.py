@@ -189,12 +189,13 @@ class _DeferredLines:
         deferred = records[:, scan.R_KIND] == scan.DEFERRED
         if not deferred.any():
             return records
-        plain = _PlainRows(self.tables)
+        plain = _PlainRows(self.tables)  # on an error, its pending rows go with the load
         for record in _python_rows(records[deferred]):
             content = self.buf[record[scan.R_START]:record[scan.R_END]].tobytes()
             kind = record[scan.R_KEYWORD]
-            if kind == scan.F or not plain.keep(content, kind, record[scan.R_V + kind]):
-                self.read_line(record, content, face_start)
+            if kind != scan.F and plain.keep(content, kind, record[scan.R_V + kind]):
+                continue
+            self.read_line(record, content, face_start)
         plain.write()
         return records[~deferred]
 
@@ -221,10 +222,10 @@ class _DeferredLines:
 
 # The whole of a deferred v, vt or vn line that is a plain row of its table's width (lines.py): its
 # keyword and numbers, parted and surrounded by the whitespace bytes.split parts a line at, and no
-# comment. The compiled code leaves such lines for their long numbers (more than 15 digits, as
-# Python's repr writes them).
-_BLANK = rb"[ \t\x0b\x0c\r]"
-_PLAIN_ROW_LINES = [re.compile(rb"%s*+%s%s++(%s)%s*+" % (_BLANK, keyword, _BLANK, plain_numbers(width), _BLANK))
+# comment. Such a line holds no error (a plain number is finite and within float32 by its syntax); the
+# compiled code leaves it for its long numbers (more than 15 digits, as Python's repr writes them).
+_SPACE = rb"[ \t\x0b\x0c\r]"
+_PLAIN_ROW_LINES = [re.compile(rb"%s*+%s%s++(%s)%s*+" % (_SPACE, keyword, _SPACE, plain_numbers(width), _SPACE))
                     for keyword, width in zip((b"v", b"vt", b"vn"), _WIDTHS)]
 _PLAIN_ROWS_AT_ONCE = 1 << 12
 
