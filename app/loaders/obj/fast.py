@@ -22,6 +22,7 @@ import numpy as np
 
 from marraztu.loaders.obj import raw, scan
 from marraztu.loaders.obj.lines import LineReader, checked_columns, no_faces_error, plain_numbers, read_plain_numbers
+from marraztu.loaders.words import BLANKS
 from marraztu.model.mesh import INDEX, polygons_of_corners
 from marraztu.model.threads import THREADS, each
 
@@ -224,7 +225,7 @@ class _DeferredLines:
 # keyword and numbers, parted and surrounded by the whitespace bytes.split parts a line at, and no
 # comment. Such a line holds no error (a plain number is finite and within float32 by its syntax); the
 # compiled code leaves it for its long numbers (more than 15 digits, as Python's repr writes them).
-_SPACE = rb"[ \t\x0b\x0c\r]"
+_SPACE = b"[%s]" % re.escape(BLANKS.replace(b"\n", b""))
 _PLAIN_ROW_LINES = [re.compile(rb"%s*+%s%s++(%s)%s*+" % (_SPACE, keyword, _SPACE, plain_numbers(width), _SPACE))
                     for keyword, width in zip((b"v", b"vt", b"vn"), _WIDTHS)]
 _PLAIN_ROWS_AT_ONCE = 1 << 12

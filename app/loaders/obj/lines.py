@@ -66,8 +66,7 @@ _PLAIN_ROWS = {keyword: re.compile(plain_numbers(fewest, most)) for keyword, (_,
 _BATCHED_ROWS = {keyword: re.compile(plain_numbers(width)) for keyword, width in zip(_FIELDS, _TABLE_WIDTHS)}
 # A short face of plain indices in one of the four corner formats, and the fields its corners give.
 _PLAIN_FACE_BYTES = 256
-_FaceForm = tuple[re.Pattern[bytes], tuple[int, ...]]
-_PLAIN_FACES: list[_FaceForm] = [(re.compile(rb"%s(?:\s+%s){2,}" % (corner, corner)), fields) for corner, fields in (
+_PLAIN_FACES = [(re.compile(rb"%s(?:\s+%s){2,}" % (corner, corner)), fields) for corner, fields in (
     (_PLAIN_INDEX, (0,)), (rb"%s/%s" % (_PLAIN_INDEX, _PLAIN_INDEX), (0, 1)),
     (rb"%s//%s" % (_PLAIN_INDEX, _PLAIN_INDEX), (0, 2)),
     (rb"%s/%s/%s" % (_PLAIN_INDEX, _PLAIN_INDEX, _PLAIN_INDEX), (0, 1, 2)))]
@@ -103,7 +102,6 @@ class LineReader:
         # The file's v, vt and vn index per corner, relative ones made absolute: 1-based, 0 for none,
         # so that most faces' digits go in as read (corner_columns makes them 0-based, -1 for none).
         self.corners = [array("q") for _ in _FIELDS]
-        self.face_form = _PLAIN_FACES[-1]  # the last short face's form: a file keeps to one, so it is tried first
         self.face_sizes = array("q")
         self.face_lines = array("q")
         self.mtllib: tuple[str, ...] = ()
@@ -190,9 +188,8 @@ class LineReader:
         return values
 
     def face(self, number: int, rest: bytes) -> None:
-        """Corner by corner, never a list of them: one face may hold millions."""
-        if len(rest) <= _PLAIN_FACE_BYTES and self.plain_face(number, rest):
-            return
+        """Corner by corner, never a list of them: one face may hold millions. (A whole file's plain faces
+        are read in batches, _PlainLines; the compiled reader reads them itself.)"""
         count = len(rest.split(None, 3))
         if count < 3:
             raise self.fail(number, f"a face needs at least 3 vertices, found {count}")
@@ -211,21 +208,6 @@ class LineReader:
     def end_face(self, number: int, size: int) -> None:
         self.face_sizes.append(size)
         self.face_lines.append(number)
-
-    def plain_face(self, number: int, rest: bytes) -> bool:
-        """A short face of positive indices in one format, read whole; False (nothing read) otherwise."""
-        form = _plain_face_form(rest, self.face_form)
-        if form is None:
-            return False
-        self.face_form = form
-        indices = [int(index) for index in rest.replace(b"/", b" ").split()]
-        fields = form[1]
-        width = len(fields)
-        size = len(indices) // width
-        for field, column in enumerate(self.corners):
-            column.extend(indices[fields.index(field)::width] if field in fields else [0] * size)
-        self.end_face(number, size)
-        return True
 
     def resolve(self, number: int, rest: bytes, first: int) -> None:
         """The face's relative corners from `first` on made absolute, corner by corner; positive ones
@@ -282,8 +264,7 @@ class _PlainLines:
         self.reader = reader
         self.rows: list[list[bytes]] = [[] for _ in _FIELDS]
         self.faces: list[bytes] = []
-        # The kept faces' form (the reader's own face_form serves the lines it reads itself).
-        self.face_form = _PLAIN_FACES[-1]
+        self.face_form = _PLAIN_FACES[-1]  # the kept faces' form: a file keeps to one, so it is tried first
         self.lines = self.bytes = 0
 
     def keep(self, number: int, keyword: bytes, rest: bytes) -> bool:
@@ -307,11 +288,11 @@ class _PlainLines:
         return True
 
     def keep_face(self, rest: bytes) -> bool:
-        form = _plain_face_form(rest, self.face_form)
-        if form is None:
-            return False
-        if form is not self.face_form:
-            self.flush_faces()
+        if not self.face_form[0].fullmatch(rest):
+            form = next((form for form in _PLAIN_FACES if form[0].fullmatch(rest)), None)
+            if form is None:
+                return False
+            self.flush_faces()  # the kept faces, in their own form
             self.face_form = form
         self.faces.append(rest)
         return True
@@ -333,13 +314,6 @@ class _PlainLines:
             column.frombytes(corners[:, fields.index(field)].tobytes() if field in fields
                              else bytes(corners.itemsize * len(corners)))
         self.faces.clear()
-
-
-def _plain_face_form(rest: bytes, last: _FaceForm) -> _FaceForm | None:
-    """The form of a short face of plain indices (the last face's is tried first: a file keeps to one)."""
-    if last[0].fullmatch(rest):
-        return last
-    return next((form for form in _PLAIN_FACES if form[0].fullmatch(rest)), None)
 
 
 def read_plain_numbers(lines: Sequence[bytes], dtype: type) -> np.ndarray:
