@@ -912,18 +912,47 @@ LONG_NUMBER = st.one_of(st.floats(-1e30, 1e30, allow_nan=False).map(repr), st.fl
        st.sampled_from(["", " ", "\r", " # c", "#"]))
 def test_a_deferred_line_read_whole_reads_as_the_line_reader_reads_it(start: str, keyword: str, space: str,
                                                                      numbers: list[str], end: str) -> None:
-    """A deferred line the fast reader takes as a plain row (fast._PLAIN_ROW_LINES) gives the line
-    reader's values, and no error."""
+    """A deferred line the fast reader takes as a plain row (fast._PLAIN_ROW_RUNS, the line with its
+    newline) gives the line reader's values, and no error."""
     content = (start + keyword + space + " ".join(numbers) + end).encode()
-    for kind, pattern in enumerate(fast_reader._PLAIN_ROW_LINES):
-        line = pattern.fullmatch(content)
-        if line is None:
+    for kind, pattern in enumerate(fast_reader._PLAIN_ROW_RUNS):
+        if pattern.match(content + b"\n").end() == 0:
             continue
         reader = lines_module.LineReader("x.obj")
         reader.read_line(1, content)
-        values = lines_module.read_plain_numbers([line.group(1)], np.float64)
-        assert np.array_equal(np.frombuffer(reader.tables[kind], np.float64), values)
-        assert np.array_equal(np.signbit(np.frombuffer(reader.tables[kind], np.float64)), np.signbit(values))
+        table = np.zeros((1, fast_reader._WIDTHS[kind]))
+        assert fast_reader.read_plain_batch(np.frombuffer(content + b"\n", np.uint8), kind,
+                                            record_of_line(kind, len(content)), table).tolist() == [0]
+        assert np.array_equal(np.frombuffer(reader.tables[kind], np.float64), table[0])
+        assert np.array_equal(np.signbit(np.frombuffer(reader.tables[kind], np.float64)), np.signbit(table[0]))
+
+
+def record_of_line(kind: int, length: int) -> np.ndarray:
+    """The compiled pass's record of a line of `length` bytes at the text's start, of table `kind`, row 0."""
+    record = np.zeros((1, scan.RECORD_COLUMNS), np.int64)
+    record[0, scan.R_KEYWORD], record[0, scan.R_END] = kind, length
+    return record
+
+
+# Lines whose numbers run on into the next line's if a newline were taken for a blank between numbers.
+NUMBERS = st.lists(st.one_of(LONG_NUMBER, NUMBER), min_size=1, max_size=4).map(" ".join)
+RUN_ON_LINES = st.lists(st.one_of(
+    st.tuples(st.sampled_from(["v", "vt", "vn", " v", "v\t"]), NUMBERS).map(" ".join), NUMBERS,
+    st.sampled_from(["", "# a comment", "\t", "f 1 1 1", "vt", "v 0.5 0.25 1 # c"])), min_size=1, max_size=12)
+
+
+@settings(max_examples=300, deadline=None)
+@given(RUN_ON_LINES)
+def test_deferred_rows_are_read_line_by_line_whatever_follows_them(lines: list[str]) -> None:
+    """A run of plain rows read at once ends at each line's newline: a row short of numbers is the line
+    reader's error even when the next line holds numbers alone."""
+    assert_agree(read_both(("\n".join(lines) + "\nf 1 1 1\n").encode()))
+
+
+def test_a_row_short_of_numbers_is_not_finished_by_the_next_line() -> None:
+    both = read_both(b"v 0.10000000000000001 2\n3\nf 1 1 1\n")
+    assert_agree(both)
+    assert isinstance(both.fast, LoadError) and both.fast.line == 1
 
 
 @pytest.mark.parametrize("at_once", [1, 3, 1 << 12])

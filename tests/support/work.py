@@ -10,7 +10,9 @@ import tracemalloc
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import TypeVar
+from typing import Any, TypeVar
+
+import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.obj import lines as line_reader
@@ -28,28 +30,28 @@ class LineCount:
 def lines_read_by_python() -> Iterator[LineCount]:
     """Counts the lines the Python side reads inside the block: each goes through the line reader's
     `statement`, or, a plain row the compiled code left for its long numbers, into the fast reader's
-    batches (fast._PlainRows)."""
+    batches (fast.read_plain_batch)."""
     from marraztu.loaders.obj import fast  # imports numba: only where a test counts
 
     count = LineCount()
-    original, original_keep = line_reader.statement, fast._PlainRows.keep
+    original, original_batch = line_reader.statement, fast.read_plain_batch
 
     def counted(content: bytes) -> tuple[bytes, bytes]:
         count.lines += 1  # threads may race here; the GIL makes the loss at most a line or two
         return original(content)
 
-    def counted_keep(self: fast._PlainRows, content: bytes, kind: int, row: int) -> bool:
-        kept = original_keep(self, content, kind, row)
-        count.lines += kept
+    def counted_batch(*args: Any) -> np.ndarray:
+        kept = original_batch(*args)
+        count.lines += len(kept)
         return kept
 
     line_reader.statement = counted  # type: ignore[assignment]
-    fast._PlainRows.keep = counted_keep  # type: ignore[method-assign]
+    fast.read_plain_batch = counted_batch  # type: ignore[assignment]
     try:
         yield count
     finally:
         line_reader.statement = original  # type: ignore[assignment]
-        fast._PlainRows.keep = original_keep  # type: ignore[method-assign]
+        fast.read_plain_batch = original_batch  # type: ignore[assignment]
 
 
 def peak_traced_bytes(work: Callable[[], Result]) -> tuple[Result | LoadError, int]:

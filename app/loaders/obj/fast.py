@@ -13,6 +13,7 @@ in file order, once every piece is read.
 
 from __future__ import annotations
 
+import bisect
 import re
 from array import array
 from collections.abc import Iterator
@@ -21,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from marraztu.loaders.obj import raw, scan
-from marraztu.loaders.obj.lines import LineReader, checked_columns, no_faces_error, plain_numbers, read_plain_numbers
+from marraztu.loaders.obj.lines import LineReader, checked_columns, no_faces_error, plain_numbers
 from marraztu.loaders.words import BLANKS
 from marraztu.model.mesh import INDEX, polygons_of_corners
 from marraztu.model.threads import THREADS, each
@@ -190,15 +191,23 @@ class _DeferredLines:
         deferred = records[:, scan.R_KIND] == scan.DEFERRED
         if not deferred.any():
             return records
-        plain = _PlainRows(self.tables)  # on an error, its pending rows go with the load
-        for record in _python_rows(records[deferred]):
-            content = self.buf[record[scan.R_START]:record[scan.R_END]].tobytes()
-            kind = record[scan.R_KEYWORD]
-            if kind != scan.F and plain.keep(content, kind, record[scan.R_V + kind]):
-                continue
-            self.read_line(record, content, face_start)
-        plain.write()
+        left = records[deferred]
+        # The plain rows hold no error, so the other lines still meet the line reader in file order.
+        for record in _python_rows(left[~self.read_plain_rows(left)]):
+            self.read_line(record, self.buf[record[scan.R_START]:record[scan.R_END]].tobytes(), face_start)
         return records[~deferred]
+
+    def read_plain_rows(self, records: np.ndarray) -> np.ndarray:
+        """Reads the records' v, vt and vn lines that are plain rows of their table's width into their
+        rows, a batch at a time; which records they were."""
+        read = np.zeros(len(records), bool)
+        lengths = records[:, scan.R_END] - records[:, scan.R_START]
+        for kind in (scan.V, scan.VT, scan.VN):
+            lines = np.flatnonzero((records[:, scan.R_KEYWORD] == kind) & (lengths <= _PLAIN_ROW_BYTES))
+            for first in range(0, len(lines), _PLAIN_ROWS_AT_ONCE):
+                batch = lines[first:first + _PLAIN_ROWS_AT_ONCE]
+                read[batch[read_plain_batch(self.buf, kind, records[batch], self.tables[kind])]] = True
+        return read
 
     def read_line(self, record: list[int], content: bytes, face_start: np.ndarray) -> None:
         reader = LineReader(self.source)
@@ -221,46 +230,44 @@ class _DeferredLines:
             self.tables[kind][record[scan.R_V + kind]] = reader.tables[kind]
 
 
-# The whole of a deferred v, vt or vn line that is a plain row of its table's width (lines.py): its
-# keyword and numbers, parted and surrounded by the whitespace bytes.split parts a line at, and no
-# comment. Such a line holds no error (a plain number is finite and within float32 by its syntax); the
-# compiled code leaves it for its long numbers (more than 15 digits, as Python's repr writes them).
+# Plain rows of their table's width (lines.py), each a whole line with its newline: a keyword and
+# numbers, parted and surrounded by the whitespace bytes.split parts a line at (the newline alone
+# ends a line), and no comment. Such a line holds no error (a plain number is finite and within
+# float32 by its syntax); the compiled code leaves it for its long numbers (more than 15 digits, as
+# Python's repr writes them).
 _SPACE = b"[%s]" % re.escape(BLANKS.replace(b"\n", b""))
-_PLAIN_ROW_LINES = [re.compile(rb"%s*+%s%s++(%s)%s*+" % (_SPACE, keyword, _SPACE, plain_numbers(width), _SPACE))
-                    for keyword, width in zip((b"v", b"vt", b"vn"), _WIDTHS)]
+_KEYWORDS = (b"v", b"vt", b"vn")
+_PLAIN_ROW_RUNS = [re.compile(rb"(?:%s*+%s%s++%s%s*+\n)*+" % (
+    _SPACE, keyword, _SPACE, plain_numbers(width, blank=_SPACE), _SPACE)) for keyword, width in zip(_KEYWORDS, _WIDTHS)]
+_KEYWORD_LETTERS = b"vtn"  # no plain number holds one
 _PLAIN_ROWS_AT_ONCE = 1 << 12
+_PLAIN_ROW_BYTES = 1 << 10  # longer lines go to the line reader: a batch's copy stays a few megabytes
 
 
-class _PlainRows:
-    """Such lines, kept with the rows they fill and written into the whole file's tables a batch at a
-    time: a line reader for each would cost several times their numbers."""
-
-    def __init__(self, tables: list[np.ndarray]) -> None:
-        self.tables = tables
-        self.numbers: list[list[bytes]] = [[] for _ in _WIDTHS]
-        self.rows: list[array] = [array("q") for _ in _WIDTHS]
-        self.kept = 0
-
-    def keep(self, content: bytes, kind: int, row: int) -> bool:
-        """Whether the line, of table `kind` (scan.V, VT or VN) at `row`, is such a line, and kept."""
-        line = _PLAIN_ROW_LINES[kind].fullmatch(content)
-        if line is None:
-            return False
-        self.numbers[kind].append(line.group(1))
-        self.rows[kind].append(row)
-        self.kept += 1
-        if self.kept >= _PLAIN_ROWS_AT_ONCE:
-            self.write()
-        return True
-
-    def write(self) -> None:
-        for table, numbers, rows in zip(self.tables, self.numbers, self.rows):
-            if numbers:
-                values = read_plain_numbers(numbers, np.float64).reshape(-1, table.shape[1])
-                table[np.frombuffer(rows, np.int64)] = values
-                numbers.clear()
-                del rows[:]
-        self.kept = 0
+def read_plain_batch(buf: np.ndarray, kind: int, records: np.ndarray, table: np.ndarray) -> np.ndarray:
+    """Writes the plain rows among the lines of `records`, all of table `kind` (scan.V, VT or VN), into
+    `table` at their rows, their numbers made in one call: a line reader for each would cost several
+    times their numbers. Which of the records they were, as indices."""
+    starts, ends = records[:, scan.R_START], records[:, scan.R_END] + 1  # each line with its newline
+    # One slice per run of adjacent lines: a file whose numbers are all long has few, and long ones.
+    gaps = np.flatnonzero(starts[1:] != ends[:-1]) + 1
+    text = memoryview(buf)
+    lines = b"".join([text[start:end] for start, end in zip(starts[np.r_[0, gaps]].tolist(),
+                                                             ends[np.r_[gaps - 1, len(ends) - 1]].tolist())])
+    line_ends = np.cumsum(ends - starts).tolist()
+    runs, read = [], np.zeros(len(line_ends), bool)
+    first, at = 0, 0
+    while first < len(line_ends):  # a run of plain rows, then a line that is not one
+        stop = _PLAIN_ROW_RUNS[kind].match(lines, at).end()
+        past = bisect.bisect_right(line_ends, stop, first)
+        runs.append(lines[at:stop])
+        read[first:past] = True
+        first = past + 1
+        at = line_ends[past] if past < len(line_ends) else stop
+    kept = np.flatnonzero(read)
+    numbers = np.fromstring(b"".join(runs).translate(None, _KEYWORD_LETTERS), np.float64, sep=" ")
+    table[records[kept, scan.R_V + kind]] = numbers.reshape(len(kept), table.shape[1])
+    return kept
 
 
 # The usemtl lines whose numbers _Records keeps by their bytes: a model's few materials, not a file of

@@ -56,9 +56,10 @@ _PLAIN_NUMBER = rb"[+-]?+(?:[0-9]{1,29}+(?:\.[0-9]*+)?+|\.[0-9]++)(?:[eE](?:-[0-
 _PLAIN_INDEX = rb"[1-9][0-9]{0,8}"
 
 
-def plain_numbers(fewest: int, most: int | None = None) -> bytes:
-    """The syntax of `fewest` to `most` (or just `fewest`) plain numbers parted by whitespace."""
-    return rb"%s(?:\s+%s){%d,%d}" % (_PLAIN_NUMBER, _PLAIN_NUMBER, fewest - 1, (fewest if most is None else most) - 1)
+def plain_numbers(fewest: int, most: int | None = None, blank: bytes = rb"\s") -> bytes:
+    """The syntax of `fewest` to `most` (or just `fewest`) plain numbers parted by `blank`s."""
+    return rb"%s(?:%s+%s){%d,%d}" % (_PLAIN_NUMBER, blank, _PLAIN_NUMBER, fewest - 1,
+                                     (fewest if most is None else most) - 1)
 
 
 # A v, vt or vn line of plain numbers; a whole file's reading batches those of just the table's width.
