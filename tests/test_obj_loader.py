@@ -912,10 +912,10 @@ LONG_NUMBER = st.one_of(st.floats(-1e30, 1e30, allow_nan=False).map(repr), st.fl
        st.sampled_from(["", " ", "\r", " # c", "#"]))
 def test_a_deferred_line_read_whole_reads_as_the_line_reader_reads_it(start: str, keyword: str, space: str,
                                                                      numbers: list[str], end: str) -> None:
-    """A deferred line the fast reader takes as a plain row (fast._PLAIN_ROW_RUNS, the line with its
+    """A deferred line the fast reader takes as a plain row (lines.PLAIN_ROW_RUNS, the line with its
     newline) gives the line reader's values, and no error."""
     content = (start + keyword + space + " ".join(numbers) + end).encode()
-    for kind, pattern in enumerate(fast_reader._PLAIN_ROW_RUNS):
+    for kind, pattern in enumerate(lines_module.PLAIN_ROW_RUNS):
         if pattern.match(content + b"\n").end() == 0:
             continue
         reader = lines_module.LineReader("x.obj")

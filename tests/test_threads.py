@@ -126,7 +126,7 @@ def test_zeros_of_both_signs_give_the_same_mesh_in_pieces_as_in_one(seed: int, m
 def test_arrays_equal_in_pieces_is_array_equal(monkeypatch: pytest.MonkeyPatch) -> None:
     """A piece of rows a thread on 4 threads: a difference in any piece, or in the shape, is seen."""
     monkeypatch.setattr(threads, "THREADS", 4)
-    monkeypatch.setattr(threads, "FEWEST_ROWS_PER_THREAD", 1)
+    monkeypatch.setattr(threads, "FEWEST_QUICK_ROWS_PER_THREAD", 1)
     table = np.arange(30, dtype=np.int32).reshape(10, 3)
     assert threads.arrays_equal(table, table.copy()) and threads.arrays_equal(table[:0], table[:0])
     for row in (0, 5, 9):
@@ -140,7 +140,7 @@ def test_arrays_equal_in_pieces_is_array_equal(monkeypatch: pytest.MonkeyPatch) 
 def test_largest_in_pieces_is_the_largest(monkeypatch: pytest.MonkeyPatch) -> None:
     """A piece of rows a thread on 4 threads, the largest in any piece, negatives only, one value."""
     monkeypatch.setattr(threads, "THREADS", 4)
-    monkeypatch.setattr(threads, "FEWEST_ROWS_PER_THREAD", 1)
+    monkeypatch.setattr(threads, "FEWEST_QUICK_ROWS_PER_THREAD", 1)
     values = np.random.default_rng(8).integers(-1000, 1000, 41).astype(np.int32)
     for at in (0, 20, 40):
         tall = values.copy()

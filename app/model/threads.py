@@ -90,13 +90,18 @@ def weighed_pieces(weights: np.ndarray, size: int) -> list[slice]:
 
 # Rows a thread takes at least from one_per_thread: a small table is done sooner than a thread is woken.
 FEWEST_ROWS_PER_THREAD = 1 << 12
+# The same for a pass that does next to nothing a row (a comparison, a maximum): waking a thread took
+# longer than such a pass over 200,000 integers.
+FEWEST_QUICK_ROWS_PER_THREAD = 1 << 18
 
 
-def one_per_thread(count: int) -> list[slice]:
+def one_per_thread(count: int, quick: bool = False) -> list[slice]:
     """Rows 0..count in at most one slice per thread (THREADS when called), none under
-    FEWEST_ROWS_PER_THREAD rows but the last: for work whose every piece reads all of its input, where
-    more pieces would read it more often, or a quick pass over a table."""
-    return pieces(count, max(FEWEST_ROWS_PER_THREAD, -(-count // THREADS)))  # ceil(count / THREADS) rows, or more
+    FEWEST_ROWS_PER_THREAD rows but the last (FEWEST_QUICK_ROWS_PER_THREAD for a `quick` pass over a
+    table): for work whose every piece reads all of its input, where more pieces would read it more
+    often, or a pass over a table."""
+    fewest = FEWEST_QUICK_ROWS_PER_THREAD if quick else FEWEST_ROWS_PER_THREAD
+    return pieces(count, max(fewest, -(-count // THREADS)))  # ceil(count / THREADS) rows, or more
 
 
 def converted(table: np.ndarray, dtype: type) -> np.ndarray:
@@ -114,13 +119,14 @@ def arrays_equal(first: np.ndarray, second: np.ndarray) -> bool:
     """np.array_equal(first, second), a piece of rows a thread."""
     if first.shape != second.shape:
         return False
-    return all(each(lambda rows: np.array_equal(first[rows], second[rows]), one_per_thread(first.shape[0])))
+    return all(each(lambda rows: np.array_equal(first[rows], second[rows]),
+                    one_per_thread(first.shape[0], quick=True)))
 
 
 def largest(values: np.ndarray) -> int:
     """The largest of a non-empty array of integers, a piece of rows a thread (integers have no signed
     zero for the pieces to disagree on)."""
-    return max(each(lambda rows: int(values[rows].max()), one_per_thread(values.shape[0])))
+    return max(each(lambda rows: int(values[rows].max()), one_per_thread(values.shape[0], quick=True)))
 
 
 def gathered(table: np.ndarray, rows: np.ndarray) -> np.ndarray:

@@ -14,7 +14,6 @@ in file order, once every piece is read.
 from __future__ import annotations
 
 import bisect
-import re
 from array import array
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -22,8 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from marraztu.loaders.obj import raw, scan
-from marraztu.loaders.obj.lines import LineReader, checked_columns, no_faces_error, plain_numbers
-from marraztu.loaders.words import BLANKS
+from marraztu.loaders.obj.lines import PLAIN_ROW_RUNS, LineReader, checked_columns, no_faces_error, read_plain_numbers
 from marraztu.model.mesh import INDEX, polygons_of_corners
 from marraztu.model.threads import THREADS, each
 
@@ -230,16 +228,9 @@ class _DeferredLines:
             self.tables[kind][record[scan.R_V + kind]] = reader.tables[kind]
 
 
-# Plain rows of their table's width (lines.py), each a whole line with its newline: a keyword and
-# numbers, parted and surrounded by the whitespace bytes.split parts a line at (the newline alone
-# ends a line), and no comment. Such a line holds no error (a plain number is finite and within
-# float32 by its syntax); the compiled code leaves it for its long numbers (more than 15 digits, as
-# Python's repr writes them).
-_SPACE = b"[%s]" % re.escape(BLANKS.replace(b"\n", b""))
-_KEYWORDS = (b"v", b"vt", b"vn")
-_PLAIN_ROW_RUNS = [re.compile(rb"(?:%s*+%s%s++%s%s*+\n)*+" % (
-    _SPACE, keyword, _SPACE, plain_numbers(width, blank=_SPACE), _SPACE)) for keyword, width in zip(_KEYWORDS, _WIDTHS)]
-_KEYWORD_LETTERS = b"vtn"  # no plain number holds one
+# The deferred lines that are plain rows of their table's width (lines.PLAIN_ROW_RUNS) hold no error (a
+# plain number is finite and within float32 by its syntax); the compiled code leaves them for their
+# long numbers (more than 15 digits, as Python's repr writes them).
 _PLAIN_ROWS_AT_ONCE = 1 << 12
 _PLAIN_ROW_BYTES = 1 << 10  # longer lines go to the line reader: a batch's copy stays a few megabytes
 
@@ -258,15 +249,16 @@ def read_plain_batch(buf: np.ndarray, kind: int, records: np.ndarray, table: np.
     runs, read = [], np.zeros(len(line_ends), bool)
     first, at = 0, 0
     while first < len(line_ends):  # a run of plain rows, then a line that is not one
-        stop = _PLAIN_ROW_RUNS[kind].match(lines, at).end()
+        stop = PLAIN_ROW_RUNS[kind].match(lines, at).end()
         past = bisect.bisect_right(line_ends, stop, first)
-        runs.append(lines[at:stop])
-        read[first:past] = True
+        if past > first:
+            runs.append(lines[at:stop])
+            read[first:past] = True
         first = past + 1
         at = line_ends[past] if past < len(line_ends) else stop
     kept = np.flatnonzero(read)
-    numbers = np.fromstring(b"".join(runs).translate(None, _KEYWORD_LETTERS), np.float64, sep=" ")
-    table[records[kept, scan.R_V + kind]] = numbers.reshape(len(kept), table.shape[1])
+    if runs:
+        table[records[kept, scan.R_V + kind]] = read_plain_numbers(runs, np.float64).reshape(len(kept), -1)
     return kept
 
 

@@ -1,7 +1,8 @@
 """The line-by-line OBJ reader: the authority on meaning and on error messages.
 
 It reads whole files: a process's first small files, and files that continue lines with a
-backslash. Their plain lines it keeps and reads in batches (_PlainLines), the others one at a time.
+backslash. Their plain lines it keeps and reads in batches (_PlainLines), a run of them in one match
+where no line continues, the others one at a time.
 Otherwise the fast reader hands it just the lines of a piece it does not handle, one at a time
 (LineReader.read_line), and it words the errors that need the whole file (no faces, indices past
 the end) with the functions below. Either way a LoadError names the first offending line.
@@ -14,6 +15,7 @@ import math
 import re
 from array import array
 from collections.abc import Callable, Iterator, Sequence
+from typing import NamedTuple
 
 import numpy as np
 
@@ -32,7 +34,7 @@ from marraztu.loaders.obj.raw import (
     with_library,
 )
 from marraztu.loaders.obj.text import has_continuations
-from marraztu.loaders.words import DECIMAL_SYNTAX
+from marraztu.loaders.words import BLANKS, DECIMAL_SYNTAX
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, polygons_of_corners
 from marraztu.model.threads import largest
@@ -62,12 +64,41 @@ def plain_numbers(fewest: int, most: int | None = None, blank: bytes = rb"\s") -
                                      (fewest if most is None else most) - 1)
 
 
-# A v, vt or vn line of plain numbers; a whole file's reading batches those of just the table's width.
+_SPACE = b"[%s]" % re.escape(BLANKS.replace(b"\n", b""))  # a blank within a line
+
+
+def plain_run(keyword: bytes, items: bytes) -> re.Pattern[bytes]:
+    """Whole lines, each with its newline, of `keyword` and `items` parted and surrounded by blanks
+    within the line and no comment: a run of them read in one match."""
+    return re.compile(rb"(?:%s*+%s%s++%s%s*+\n)*+" % (_SPACE, keyword, _SPACE, items, _SPACE))
+
+
+# A v, vt or vn line of plain numbers; a whole file's reading batches those of just the table's width,
+# and reads runs of such lines in one match.
 _PLAIN_ROWS = {keyword: re.compile(plain_numbers(fewest, most)) for keyword, (_, _, fewest, most) in _TABLES.items()}
 _BATCHED_ROWS = {keyword: re.compile(plain_numbers(width)) for keyword, width in zip(_FIELDS, _TABLE_WIDTHS)}
-# A short face of plain indices in one of the four corner formats, and the fields its corners give.
+PLAIN_ROW_RUNS = [plain_run(keyword, plain_numbers(width, blank=_SPACE))
+                  for keyword, width in zip(_FIELDS, _TABLE_WIDTHS)]
+_ROW_RUN_FIELDS = {b"vt": 1, b"vn": 2}  # by a line's first two bytes; v's, any other after a v
+
+
+class _FaceForm(NamedTuple):
+    """One of the four corner formats: a short face of plain indices in it, the fields its corners
+    give, and runs of plain triangles and quads in it (corners a face, the run's pattern)."""
+
+    face: re.Pattern[bytes]
+    fields: tuple[int, ...]
+    runs: tuple[tuple[int, re.Pattern[bytes]], ...]
+
+
+def _face_form(corner: bytes, fields: tuple[int, ...]) -> _FaceForm:
+    return _FaceForm(re.compile(rb"%s(?:\s+%s){2,}" % (corner, corner)), fields,
+                     tuple((corners, plain_run(b"f", rb"%s(?:%s++%s){%d}" % (corner, _SPACE, corner, corners - 1)))
+                           for corners in (3, 4)))
+
+
 _PLAIN_FACE_BYTES = 256
-_PLAIN_FACES = [(re.compile(rb"%s(?:\s+%s){2,}" % (corner, corner)), fields) for corner, fields in (
+_FACE_FORMS = [_face_form(corner, fields) for corner, fields in (
     (_PLAIN_INDEX, (0,)), (rb"%s/%s" % (_PLAIN_INDEX, _PLAIN_INDEX), (0, 1)),
     (rb"%s//%s" % (_PLAIN_INDEX, _PLAIN_INDEX), (0, 2)),
     (rb"%s/%s/%s" % (_PLAIN_INDEX, _PLAIN_INDEX, _PLAIN_INDEX), (0, 1, 2)))]
@@ -116,17 +147,12 @@ class LineReader:
         return LoadError(self.source, message, line=line)
 
     def read(self, text: bytes) -> RawObj:
-        # BytesIO's line iterator where no line continues (a generator's step a line costs more)
-        plain = text.endswith(b"\n") and not has_continuations(text)
-        lines = enumerate(io.BytesIO(text), start=1) if plain else _logical_lines(text)
         batch = _PlainLines(self)
-        for number, content in lines:
-            keyword, rest = statement(content)
-            if keyword in _BATCHED_KEYWORDS:
-                if batch.keep(number, keyword, rest):
-                    continue
-                batch.flush()  # first: the tables' rows and the corners stay in file order
-            self.read_statement(number, content, keyword, rest)
+        if text.endswith(b"\n") and not has_continuations(text):
+            self.read_runs(text, batch)
+        else:
+            for number, content in _logical_lines(text):
+                self.read_kept(number, content, batch)
         batch.flush()
         if not self.face_sizes:
             raise no_faces_error(self.source, self.statements > 0)
@@ -136,6 +162,34 @@ class LineReader:
         columns = checked_columns(self.source, corners, self.defined,
                                   lambda corner: int(face_lines[polygons_of_corners(face_start, corner)]))
         return self.result(columns, face_start)
+
+    def read_runs(self, text: bytes, batch: _PlainLines) -> None:
+        """Runs of plain lines in one match each (most of a file), the other lines one at a time. After
+        a line that starts no run, runs are tried again 2, 4, 8... lines on, _RUN_TRIES_APART at most:
+        a file of other lines pays for a try that far apart."""
+        lines = io.BytesIO(text)  # its line iterator: the lines between runs one at a time
+        at, number, next_try, apart = 0, 0, 1, 1
+        for content in lines:
+            number += 1
+            if number >= next_try:
+                end, taken = batch.take_run(text, at, number)
+                if taken:
+                    lines.seek(end)
+                    at, number, next_try, apart = end, number + taken - 1, number + taken, 1
+                    continue
+                apart = min(2 * apart, _RUN_TRIES_APART)
+                next_try = number + apart
+            at += len(content)
+            self.read_kept(number, content, batch)
+
+    def read_kept(self, number: int, content: bytes, batch: _PlainLines) -> None:
+        """One line: kept in the batch if plain, else read now."""
+        keyword, rest = statement(content)
+        if keyword in _BATCHED_KEYWORDS:
+            if batch.keep(number, keyword, rest):
+                return
+            batch.flush()  # first: the tables' rows and the corners stay in file order
+        self.read_statement(number, content, keyword, rest)
 
     def corner_columns(self) -> list[np.ndarray]:
         """The corners' v, vt and vn columns: 0-based, -1 for none."""
@@ -251,22 +305,54 @@ class LineReader:
 
 
 # A batch is read once it holds this many lines or bytes, whichever comes first: a line's bytes object
-# costs more than its numbers, and a batch's joined copy as much as its lines.
+# costs more than its numbers, and a batch's joined copy as much as its lines. A run is read a
+# batch's bytes at a time.
 _BATCHED_LINES = 1 << 12
 _BATCHED_BYTES = 1 << 20
+_RUN_TRIES_APART = 64
 
 
 class _PlainLines:
     """A whole file's plain v, vt and vn rows of just their table's width, and its short plain faces,
-    kept as bytes until the next other line of those kinds, the file's end or a full batch: then their
-    numbers are made in one call, several times quicker than a float() or int() each."""
+    kept as bytes (a run of such lines as one) until the next other line of those kinds, the file's
+    end or a full batch: then their numbers are made in one call, several times quicker than a
+    float() or int() each."""
 
     def __init__(self, reader: LineReader) -> None:
         self.reader = reader
         self.rows: list[list[bytes]] = [[] for _ in _FIELDS]
         self.faces: list[bytes] = []
-        self.face_form = _PLAIN_FACES[-1]  # the kept faces' form: a file keeps to one, so it is tried first
+        self.face_form = _FACE_FORMS[-1]  # the kept faces' form: a file keeps to one, so it is tried first
         self.lines = self.bytes = 0
+
+    def take_run(self, text: bytes, at: int, number: int) -> tuple[int, int]:
+        """Keeps the run of plain rows of a table's width, or of plain triangles or quads in the kept
+        faces' form, that starts at `at` (line `number`), a batch's bytes of it at most: where it ends
+        and its lines; (at, 0) where none starts there."""
+        reader, stop, first = self.reader, at + _BATCHED_BYTES, text[at:at + 2]
+        if first[:1] == b"v":
+            field = _ROW_RUN_FIELDS.get(first, 0)
+            end = PLAIN_ROW_RUNS[field].match(text, at, stop).end()
+            lines = text.count(b"\n", at, end)
+            if not lines:
+                return at, 0
+            self.rows[field].append(text[at:end])
+            reader.defined[field] += lines
+        elif first[:1] == b"f":
+            for corners, run in self.face_form.runs:
+                end = run.match(text, at, stop).end()
+                if end > at:
+                    break
+            else:
+                return at, 0
+            lines = text.count(b"\n", at, end)
+            self.faces.append(text[at:end])
+            reader.face_sizes.extend(array("q", [corners]) * lines)
+            reader.face_lines.extend(range(number, number + lines))
+        else:
+            return at, 0
+        self.counted(lines, end - at)
+        return end, lines
 
     def keep(self, number: int, keyword: bytes, rest: bytes) -> bool:
         """Whether the line is plain, and kept; if so, the reader counts it as LineReader.statement would."""
@@ -281,22 +367,25 @@ class _PlainLines:
             field = _TABLES[keyword][0]
             self.rows[field].append(rest)
             reader.defined[field] += 1
-        reader.statements += 1
-        self.lines += 1
-        self.bytes += len(rest)
-        if self.lines >= _BATCHED_LINES or self.bytes >= _BATCHED_BYTES:
-            self.flush()
+        self.counted(1, len(rest))
         return True
 
     def keep_face(self, rest: bytes) -> bool:
-        if not self.face_form[0].fullmatch(rest):
-            form = next((form for form in _PLAIN_FACES if form[0].fullmatch(rest)), None)
+        if not self.face_form.face.fullmatch(rest):
+            form = next((form for form in _FACE_FORMS if form.face.fullmatch(rest)), None)
             if form is None:
                 return False
             self.flush_faces()  # the kept faces, in their own form
             self.face_form = form
         self.faces.append(rest)
         return True
+
+    def counted(self, lines: int, size: int) -> None:
+        self.reader.statements += lines
+        self.lines += lines
+        self.bytes += size
+        if self.lines >= _BATCHED_LINES or self.bytes >= _BATCHED_BYTES:
+            self.flush()
 
     def flush(self) -> None:
         for table, rows in zip(self.reader.tables, self.rows):
@@ -309,7 +398,7 @@ class _PlainLines:
     def flush_faces(self) -> None:
         if not self.faces:
             return
-        fields = self.face_form[1]
+        fields = self.face_form.fields
         corners = read_plain_numbers(self.faces, np.int64).reshape(-1, len(fields))
         for field, column in enumerate(self.reader.corners):
             column.frombytes(corners[:, fields.index(field)].tobytes() if field in fields
@@ -317,10 +406,15 @@ class _PlainLines:
         self.faces.clear()
 
 
+# What parts the numbers of plain lines and runs: blanks, newlines, a face's slashes and the keywords'
+# letters, none of which a plain number holds.
+_NUMBERS_ONLY = bytes.maketrans(b"/vtnf", b"     ")
+
+
 def read_plain_numbers(lines: Sequence[bytes], dtype: type) -> np.ndarray:
-    """The numbers of plain lines (a face's slashes part them too). numpy reads each as float() and
-    int() do: its decimal numbers go through the same PyOS_string_to_double, and indices have 9 digits."""
-    return np.fromstring(b" ".join(lines).replace(b"/", b" "), dtype=dtype, sep=" ")
+    """The numbers of plain lines or runs of them. numpy reads each as float() and int() do: its
+    decimal numbers go through the same PyOS_string_to_double, and indices have 9 digits."""
+    return np.fromstring(b" ".join(lines).translate(_NUMBERS_ONLY), dtype=dtype, sep=" ")
 
 
 def read_by_lines(text: bytes, source: str) -> RawObj:
