@@ -316,3 +316,61 @@ def test_close_releases_and_garbage_collection_too() -> None:
     closer = marraztu.Viewer(size=SIZE)._closer
     gc.collect()
     assert not closer.alive, "a viewer no one holds has closed its context"
+
+
+def test_each_viewer_draws_in_its_own_context() -> None:
+    """A notebook cell run again makes a second Viewer while the first is alive: each draws its own
+    picture, and closing one leaves the other drawing."""
+    first = marraztu.Viewer(size=SIZE)
+    alone = np.asarray(first.render())
+    second = marraztu.Viewer(size=SIZE)
+    empty = marraztu.Viewer(size=SIZE, empty=True)
+    assert np.array_equal(np.asarray(second.render()), alone)
+    assert not np.array_equal(np.asarray(empty.render()), alone)
+    assert np.array_equal(np.asarray(first.render()), alone)
+    assert np.array_equal(np.asarray(first.render(overlay=True)), np.asarray(second.render(overlay=True)))
+    second.close()
+    empty.close()
+    assert np.array_equal(np.asarray(first.render()), alone)
+    first.close()
+
+
+@pytest.mark.parametrize("size", [(float("inf"), 5), (True, True), (1.9, 2.7), "12", ("5", "5"), (10**5000, 5),
+                                  (5,), (5, 5, 5), None, b"\x05\x05", {3: 0, 4: 0}, (0, 10),
+                                  (-(10**30), 10)])
+def test_a_size_is_two_whole_numbers_in_range(size: object) -> None:
+    with pytest.raises(ValueError, match="size") as caught:
+        marraztu.Viewer(size=size)  # type: ignore[arg-type]
+    assert len(str(caught.value)) < 200
+
+
+def test_a_size_of_numpy_integers_is_a_size(viewer) -> None:
+    assert viewer.render(size=(np.int64(20), np.int32(10))).size == (20, 10)
+
+
+@pytest.mark.parametrize("keys", [b"x", ["x"], None, 5])
+def test_keys_are_text(viewer, keys: object) -> None:
+    with pytest.raises(TypeError, match="str"):
+        viewer.press(keys)  # type: ignore[arg-type]
+
+
+def test_a_number_past_a_doubles_range_is_refused(viewer) -> None:
+    with pytest.raises(ValueError, match="real numbers"):
+        viewer.add_mesh([[10**400, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+
+
+def test_too_many_rows_are_refused_before_any_pass_over_them(viewer, monkeypatch) -> None:
+    """A broadcast view makes any count of rows without memory: they are counted first."""
+    from marraztu.frontends import api
+    from marraztu.model import build
+
+    monkeypatch.setattr(api, "INDEX_LIMIT", 1000)
+    monkeypatch.setattr(build, "INDEX_LIMIT", 1000)
+    monkeypatch.setattr(api, "holds_in_float32", lambda table: pytest.fail("looked at every row"))
+    with pytest.raises(ValueError, match="fewer than 1000 positions"):
+        viewer.add_mesh(np.broadcast_to(np.zeros(3), (5000, 3)), [[0, 1, 2]])
+    monkeypatch.undo()
+    monkeypatch.setattr(build, "INDEX_LIMIT", 1000)
+    monkeypatch.setattr(build, "_whole_numbers", lambda values: pytest.fail("copied every corner"))
+    with pytest.raises(ValueError, match="fewer than 1000"):
+        viewer.add_mesh(TRIANGLE, np.broadcast_to(np.arange(3), (5000, 3)))

@@ -112,7 +112,7 @@ def test_an_earlier_load_finishing_late_leaves_the_next_step_where_the_last_pres
     viewer = viewer_on(tmp_path / "a.obj")
     element = viewer.scene.object
     element.browsed = tmp_path / "c.obj"  # the second press, whose load will fail
-    replace_loaded(element, load_model_object(tmp_path / "b.obj"))  # the first press's load, arriving now
+    replace_loaded(viewer.scene, element, load_model_object(tmp_path / "b.obj"))  # the first press's load, arriving now
     assert element.source == tmp_path / "b.obj" and element.browsed == tmp_path / "c.obj"
     press(viewer, "PAGEDOWN")
     assert viewer.scene.object.name == "d" and element.browsed is None

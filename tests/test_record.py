@@ -65,6 +65,8 @@ def test_gif_frames_match_to_its_colours(tmp_path: Path) -> None:
 @pytest.mark.parametrize(("arguments", "words"), [
     (["-o", "{tmp}/turn.txt", "--keys", "y"], "write an animation as .gif"),
     (["-o", "{tmp}/turn.gif", "--keys", "y", "--fps", "0"], "--fps"),
+    (["-o", "{tmp}/turn.png", "--keys", "y y", "--fps", "0.001"], "--fps"),  # a frame past 65.535 s
+    (["-o", "{tmp}/turn.gif", "--keys", "y", "--fps", "1e-308"], "--fps"),
     (["-o", "{tmp}/turn.gif", "--keys", ""], "one frame is drawn after each press"),
     (["-o", "{tmp}", "--keys", "y"], "write an animation"),
     (["-o", "{tmp}/turn.gif", "--keys", "y*2000", "--size", "1000x1000"], "GiB"),

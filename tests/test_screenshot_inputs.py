@@ -203,3 +203,32 @@ def test_the_window_goes_on_with_the_checker(tmp_path: Path) -> None:
     viewer.start(StartOptions(scene_file=scene_file), longest_texture_side=4096)
     assert len(front.told) == 1 and "t.gif" in front.told[0] and "checker" in front.told[0]
     assert (viewer.scene.texture == fallback_texture()).all()
+
+
+def test_a_name_too_long_for_the_system_is_one_line(tmp_path: Path, capsys) -> None:
+    assert main(["screenshot", "-o", str(tmp_path / ("a" * 300 + ".png")), "--size", "8x8", "--empty"]) == 1
+    error = capsys.readouterr().err.strip()
+    assert error.startswith("error:") and "\n" not in error and "cannot write here" in error, error
+
+
+def test_an_input_named_past_the_systems_limit_is_its_loads_error(tmp_path: Path, capsys) -> None:
+    out = tmp_path / "k.png"
+    Image.new("RGB", (4, 4)).save(out)  # it exists: the inputs are compared with it
+    assert main(["screenshot", "-o", str(out), "--size", "8x8", "--empty", "--keys",
+                 f"f={tmp_path / ('a' * 300 + '.obj')}"]) == 1
+    error = capsys.readouterr().err.strip()
+    assert error.startswith("error:") and "\n" not in error and "Traceback" not in error, error
+
+
+def test_keys_that_load_nothing_do_not_look_at_the_files_again(tmp_path: Path, monkeypatch) -> None:
+    """Each press is followed by a look at the files read, which costs every element: only after a load."""
+    from marraztu.frontends import screenshot
+
+    for name in ("t.obj", "u.obj"):  # PageDown goes from t to u
+        (tmp_path / name).write_text(TRIANGLE + "f 1 2 3\n")
+    looks: list[int] = []
+    original = screenshot.files_read
+    monkeypatch.setattr(screenshot, "files_read", lambda scene: looks.append(1) or original(scene))
+    keys = " ".join([f"f={tmp_path / 't.obj'}"] * 3 + ["x*500", "PAGEDOWN"])
+    assert main(["screenshot", "-o", str(tmp_path / "s.png"), "--size", "8x8", "--empty", "--keys", keys]) == 0
+    assert len(looks) == 1 + 3 + 1  # the start, each load, the PageDown that read the file again

@@ -97,3 +97,21 @@ def test_the_strict_viewer_refuses_a_load_while_lights_are_targeted(tmp_path: Pa
     press(forgiving, "c c")
     forgiving.press(KeyPress("f", str(tmp_path / "good.obj")))
     assert "lights are targeted" in forgiving.scene.message
+
+
+def test_the_command_lines_models_are_framed_once_together(tmp_path: Path, monkeypatch) -> None:
+    """Framing looks at every model: once for all of them, not once as each joins."""
+    from marraztu.control import commands
+
+    (tmp_path / "t.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    (tmp_path / "far.obj").write_text("v 50 0 0\nv 51 0 0\nv 50 1 0\nf 1 2 3\n")
+    framed: list[int] = []
+    original = commands.frame_models
+    monkeypatch.setattr(commands, "frame_models", lambda scene: framed.append(len(scene.objects)) or original(scene))
+    models = (tmp_path / "t.obj",) * 40 + (tmp_path / "far.obj",)
+    viewer = Viewer(empty_scene(), Notices(), strict=True)
+    viewer.start(StartOptions(empty=True, models=models), 4096)
+    assert framed == [1, 41]  # the first into the empty scene, then all of them
+    alone = Viewer(empty_scene(), Notices(), strict=True)
+    alone.start(StartOptions(empty=True, models=models[-2:]), 4096)
+    assert (viewer.scene.camera.model == alone.scene.camera.model).all()  # as if framed as each joined

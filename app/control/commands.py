@@ -447,12 +447,12 @@ def loads_as_camera(scene: Scene) -> bool:
     return scene.modes.target is Target.CAMERAS
 
 
-def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool, with_the_others: bool = False) -> None:
+def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool) -> None:
     """The host's half of `f`: the loaded element joins its list, selected, at face 0. A new camera
-    stands where it sees the scene, looking the way the current one does; a lone model is framed,
-    and so are the models of the command line together (`with_the_others`: the scene holds only
-    them), while the camera has not moved."""
+    stands where it sees the scene, looking the way the current one does; a lone model is framed
+    (the host frames the models of the command line together, frame_models)."""
     obj.selected_face = 0
+    scene.loads += 1
     if as_camera:
         if scene.objects:
             obj.history = [framing.frame_objects(scene, scene.camera, scene.objects)]
@@ -462,7 +462,7 @@ def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool, with_the_others:
     lone = not scene.objects
     scene.objects.append(obj)
     scene.selected_object = len(scene.objects) - 1
-    if lone or (with_the_others and len(scene.camera.history) == 1):
+    if lone:
         frame_models(scene)
 
 
@@ -477,10 +477,11 @@ def frame_models(scene: Scene) -> None:
         move_view(scene, matrix)
 
 
-def replace_loaded(element: SceneObject, loaded: SceneObject) -> None:
+def replace_loaded(scene: Scene, element: SceneObject, loaded: SceneObject) -> None:
     """The host's half of PageDown / --watch: the element keeps its place, history and uid (so its
     undo and GPU slot stay), and takes the new file's mesh, name and material."""
     element.mesh, element.name, element.material = loaded.mesh, loaded.name, loaded.material
+    scene.loads += 1
     element.part_materials = loaded.part_materials
     # PageDown goes on from the shown file once the last file it asked for is the one shown (an earlier
     # load, or --watch's, finishing after a later PageDown leaves that one where the next step starts).

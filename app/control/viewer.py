@@ -174,6 +174,7 @@ class Viewer:
         self.watcher: ModelWatcher | None = None  # set by --watch
         self._starting = False
         self._start_models_alone = False  # the scene holds only the command line's models: framed together
+        self._start_models_to_frame = False  # some of them joined since they were last framed
 
     # --- start-up ------------------------------------------------------------------------------
     def start(self, options: StartOptions, longest_texture_side: int) -> None:
@@ -194,6 +195,7 @@ class Viewer:
                 self._set_texture(image, longest_texture_side)
             for model in options.models:
                 self.load_model(model)
+            self._frame_start_models()
             if options.watch:
                 self.watcher = ModelWatcher()
                 self.watcher.changed(self.scene)  # what the files are now: later changes are the news
@@ -290,6 +292,7 @@ class Viewer:
             else:  # a bug, not a bad file: say so instead of dying in the render loop
                 self._failed(LoadError(job.path, f"could not be loaded ({type(error).__name__}: {error})"),
                              job.at_start)
+        self._frame_start_models()
 
     def replace_model(self, element: SceneObject, path: Path) -> bool:
         """PageDown / PageUp and --watch: `path` in `element`'s place; a bad file leaves it as it was."""
@@ -316,7 +319,7 @@ class Viewer:
             self.tell(f"{loaded.source.name} was read, but {element.name} has left the scene meanwhile")
             return
         old_name = element.name
-        commands.replace_loaded(element, loaded)
+        commands.replace_loaded(self.scene, element, loaded)
         self.tell(_with_notes(f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}", loaded.mesh))
 
     def loading_lines(self) -> list[str]:
@@ -330,14 +333,22 @@ class Viewer:
         return False
 
     def _add(self, obj: SceneObject, path: Path, as_camera: bool, at_start: bool | None = None) -> None:
-        # The command line's models are framed together while the scene holds only them.
+        # The command line's models are framed together while the scene holds only them, once the
+        # ones that join together have (_frame_start_models): framing looks at every model.
         together = self._at_start(at_start) and not as_camera and self._start_models_alone
-        commands.add_loaded(self.scene, obj, as_camera=as_camera, with_the_others=together)
+        commands.add_loaded(self.scene, obj, as_camera=as_camera)
         if not as_camera:
             self._start_models_alone = together  # a model from elsewhere joins: no longer theirs alone
+            self._start_models_to_frame = together
         kind = "camera" if as_camera else "object"
         self.tell(_with_notes(f"loaded {Path(path).name} as a new {kind}: {obj.mesh.summary()}", obj.mesh),
                   at_start, worth_a_notice=bool(obj.mesh.warnings))
+
+    def _frame_start_models(self) -> None:
+        """The command line's models that joined, framed together while the camera has not moved."""
+        if self._start_models_to_frame and len(self.scene.camera.history) == 1:
+            commands.frame_models(self.scene)
+        self._start_models_to_frame = False
 
     def quit(self) -> None:
         self.frontend.quit()

@@ -10,6 +10,7 @@ drawing offscreen (EGL, or the platform's default context) into pictures.
 
 from __future__ import annotations
 
+import operator
 import weakref
 from dataclasses import dataclass
 from io import BytesIO
@@ -29,6 +30,7 @@ from marraztu.loaders.exchange import mesh_of_trimesh
 from marraztu.loaders.scenefile import material_for_loaded, materials_of_parts
 from marraztu.model.build import build_mesh, real_numbers
 from marraztu.model.geometry import holds_in_float32
+from marraztu.model.mesh import INDEX_LIMIT
 from marraztu.model.probe import probe as probe_scene
 from marraztu.model.scene import Scene, SceneObject
 from marraztu.render.context import create_offscreen_context
@@ -83,17 +85,26 @@ def _triple(values: Any) -> tuple[float, float, float]:
 
 
 def _checked_size(size: Sequence[int]) -> Size:
+    """(width, height): a tuple, list or array of two whole numbers (a bool, a float or a text is no
+    side), each 1..MAX_SIDE."""
     try:
-        width, height = (int(side) for side in size)
+        if not isinstance(size, (tuple, list, np.ndarray)):
+            raise TypeError
+        sides = tuple(size)
+        if len(sides) != 2 or any(isinstance(side, (bool, np.bool_, str, bytes)) for side in sides):
+            raise TypeError
+        width, height = (operator.index(side) for side in sides)
     except (TypeError, ValueError):
-        raise ValueError(f"size must be (width, height), not {size!r}") from None
+        raise ValueError(f"size must be (width, height) in whole numbers, not {escaped(repr(size))[:80]}") from None
     if not (1 <= width <= MAX_SIDE and 1 <= height <= MAX_SIDE):
-        raise ValueError(f"size {width}x{height} is out of range 1..{MAX_SIDE}")
+        shown = f" {width}x{height}" if max(abs(width), abs(height)) < 10**9 else ""  # not a page of digits
+        raise ValueError(f"size{shown} is out of range 1..{MAX_SIDE}")
     return width, height
 
 
 def _release(ctx: Any, renderer: Renderer) -> None:
-    renderer.release()
+    with ctx:  # its objects are released in their own context, whichever Viewer drew last
+        renderer.release()
     ctx.release()
 
 
@@ -140,6 +151,8 @@ class Viewer:
 
     def press(self, keys: str) -> Viewer:
         """Keys in the language of --keys: "0 1 F x*5 f=model.obj"."""
+        if not isinstance(keys, str):
+            raise TypeError(f"keys are a str, as --keys takes them (\"0 1 F x*5\"), not {type(keys).__name__}")
         self._viewer.press_sequence(keys)
         return self
 
@@ -173,7 +186,8 @@ class Viewer:
         """The picture the window would show (with `overlay`, its text and panels too)."""
         self._check_open()
         shape = self.size if size is None else _checked_size(size)
-        pixels = render_pixels(self._ctx, self._renderer, self._viewer, shape, overlay)
+        with self._ctx:  # another Viewer's context may be the current one: each draws in its own
+            pixels = render_pixels(self._ctx, self._renderer, self._viewer, shape, overlay)
         return_freed_memory()  # as the window does when still: a notebook keeps the process between pictures
         return Image.fromarray(pixels)
 
@@ -225,6 +239,8 @@ def _finite_positions(positions: Any) -> np.ndarray:
     table = real_numbers(positions, "positions must be real numbers, (V, 3)")
     if table.ndim != 2 or table.shape[1] != 3 or table.shape[0] == 0:
         raise ValueError(f"positions must have shape (V, 3), not {table.shape}")
+    if table.shape[0] >= INDEX_LIMIT:  # before any pass over them: a broadcast view may be endless
+        raise ValueError(f"a mesh holds fewer than {INDEX_LIMIT} positions")
     if not holds_in_float32(table):
         raise ValueError("positions must be finite numbers a float32 can hold")
     # The scene's own: a later change to the caller's array must not move it. A plain list or tuple was

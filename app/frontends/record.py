@@ -28,13 +28,14 @@ from marraztu.render.renderer import Renderer
 RECORDING_FORMATS = {".gif": "GIF", ".png": "PNG", ".apng": "PNG", ".mp4": "MP4"}
 DEFAULT_FPS = 20
 MAX_FPS = 100  # GIF counts frame times in hundredths of a second
+MIN_FPS = 0.02  # an animated PNG's frame lasts at most 65.535 s (a 16-bit count of milliseconds)
 # Pillow reads an animation's frames twice (APNG) or gathers them (GIF), so they are all held at once.
 MAX_RECORDING_BYTES = 2 << 30
 
 
 def check_fps(fps: float) -> float:
-    if not (0 < fps <= MAX_FPS):
-        raise ViewerError(f"--fps must be above 0 and at most {MAX_FPS}, not {fps:g}")
+    if not (MIN_FPS <= fps <= MAX_FPS):
+        raise ViewerError(f"--fps must be {MIN_FPS:g} to {MAX_FPS}, not {fps:g}")
     return fps
 
 

@@ -98,15 +98,27 @@ def check_output(out: Path, inputs: Iterable[str | Path | None] = (),
     """Refuses, in one line, a file that cannot be written where asked, or would replace an input."""
     if formats.get(out.suffix.lower()) is None:
         raise ViewerError(f"{out}: write {what} as {', '.join(formats)}")
-    if out.is_dir():
-        raise ViewerError(f"{out}: is a folder, not a file")
-    if out.exists() and not out.is_symlink() and not out.is_file():
-        raise ViewerError(f"{out}: is not a regular file (a pipe or a device?)")
-    if not out.exists():
-        return
+    try:
+        if out.is_dir():
+            raise ViewerError(f"{out}: is a folder, not a file")
+        if out.exists() and not out.is_symlink() and not out.is_file():
+            raise ViewerError(f"{out}: is not a regular file (a pipe or a device?)")
+        if not out.exists():
+            return
+    except OSError as error:  # a name too long, a folder it may not look into
+        raise ViewerError(f"{out}: cannot write here ({error.strerror or error})") from None
     for given in inputs:
-        if given is not None and Path(given).exists() and os.path.samefile(out, given):
+        if given is not None and _same_file(out, Path(given)):
             raise ViewerError(f"{out}: is an input of this {what.split()[-1]} ({given}); write it elsewhere")
+
+
+def _same_file(out: Path, given: Path) -> bool:
+    """Whether `given` is the file `out` names; an input that cannot be looked at is not (reading it
+    will say why)."""
+    try:
+        return given.exists() and os.path.samefile(out, given)
+    except OSError:
+        return False
 
 
 def files_read(scene: Scene) -> dict[Path, None]:
@@ -117,13 +129,18 @@ def files_read(scene: Scene) -> dict[Path, None]:
 
 
 class InputsGuard:
-    """Refuses `out` when it is a file the scene was read from; each file is looked at once."""
+    """Refuses `out` when it is a file the scene was read from; each file is looked at once, and the
+    scene's files again only after a load (a key that loads nothing costs nothing here)."""
 
     def __init__(self, out: Path, formats: Mapping[str, str] = IMAGE_FORMATS, what: str = "a picture") -> None:
         self.out, self.formats, self.what = out, formats, what
         self.checked: set[Path] = set()  # found to be other files than `out` already
+        self.loads_seen = -1  # the scene's load count when last looked at
 
     def check(self, viewer: Viewer) -> None:
+        if viewer.scene.loads == self.loads_seen:
+            return
+        self.loads_seen = viewer.scene.loads
         new = [path for path in files_read(viewer.scene) if path not in self.checked]
         if new:
             check_output(self.out, new, self.formats, self.what)

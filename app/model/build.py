@@ -116,11 +116,16 @@ def real_numbers(values: object, refusal: str) -> np.ndarray:
         table.dtype.kind == "O" and all(isinstance(value, Real) for value in table.flat))  # pandas gives these
     if not numbers_only:  # text, complex numbers, times, or objects that are not all real numbers
         raise ValueError(refusal)
-    return table.astype(np.float64, copy=False)  # float64 already: the caller's array, not a copy
+    try:
+        return table.astype(np.float64, copy=False)  # float64 already: the caller's array, not a copy
+    except OverflowError:  # a Python int past a double's range
+        raise ValueError(refusal) from None
 
 
 def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if isinstance(faces, np.ndarray) and faces.ndim == 2:
+        if faces.size >= INDEX_LIMIT:  # before any copy: a broadcast view costs nothing to make
+            raise ValueError(f"a mesh holds fewer than {INDEX_LIMIT} positions and corners")
         sizes = np.full(faces.shape[0], faces.shape[1], dtype=np.int64)
         corners = _whole_numbers(faces.ravel())
     else:

@@ -196,6 +196,8 @@ class Scene:
     # events make one undo step in all.
     view_moves: list[SceneObject] = field(default_factory=list)
     view_gesture: str | None = None
+    # Elements that joined or were read again so far: who watches the files read looks when it moves.
+    loads: int = 0
 
     def __post_init__(self) -> None:
         if not self.cameras:
