@@ -232,6 +232,7 @@ def test_rows_that_fit_vertices_and_corners_alike_must_say_which(viewer) -> None
 @pytest.mark.parametrize(("positions", "faces", "words"), [
     (np.full((3, 3), np.nan), [[0, 1, 2]], "finite"),
     (TRIANGLE * 1e39, [[0, 1, 2]], "float32"),
+    (TRIANGLE * 1e20, [[0, 1, 2]], "cannot light"),
     (TRIANGLE[:, :2], [[0, 1, 2]], "shape"),
     (TRIANGLE, [[0, 1, 3]], "does not exist"),
     (TRIANGLE, [[0, 1]], "at least 3"),

@@ -621,3 +621,21 @@ def test_named_pipe_is_refused_without_blocking(kind: str, tmp_path: Path) -> No
         process.communicate()
         pytest.fail(f"{kind} loader blocked on a named pipe")
     assert out.startswith("LoadError") and str(pipe) in out, out + err
+
+
+@pytest.mark.parametrize("scale", ["1e20", "3e38"])
+def test_a_model_too_large_to_light_is_refused_by_every_reader(tmp_path: Path, scale: str) -> None:
+    """Past 1e18 a vector's squared length overflows the GPU's 32-bit numbers: the model would be drawn
+    flat red, or not at all, with numpy's overflow warnings on the terminal."""
+    from marraztu.loaders.registry import load_model
+
+    files = {"big.obj": f"v 0 0 0\nv {scale} 0 0\nv 0 1 0\nf 1 2 3\n",
+             "big.off": f"OFF\n3 1 0\n0 0 0\n{scale} 0 0\n0 1 0\n3 0 1 2\n",
+             "big.stl": f"solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex {scale} 0 0\n"
+                        "vertex 0 1 0\nendloop\nendfacet\nendsolid s\n"}
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+        with pytest.raises(LoadError, match="cannot light the model"):
+            load_model(tmp_path / name)
+    (tmp_path / "edge.obj").write_text("v 0 0 0\nv -1e18 0 0\nv 0 1e18 0\nf 1 2 3\n")
+    assert load_model(tmp_path / "edge.obj").face_count == 1

@@ -259,3 +259,13 @@ def test_a_move_of_the_target_makes_u_undo_that_move_not_the_view(tmp_path: Path
     for key in parse_key_sequence("x u"):
         dispatch(scene, key, host)
     assert len(scene.object.history) == 1 and len(scene.camera.history) == 2
+
+
+def test_a_size_out_of_range_is_not_echoed_digit_by_digit() -> None:
+    from marraztu.render.layout import parse_size
+
+    with pytest.raises(ValueError, match="out of range") as caught:
+        parse_size("9" * 4000 + "x9")
+    assert len(str(caught.value)) < 120
+    with pytest.raises(ValueError, match="size 0x10 is out of range"):
+        parse_size("0x10")

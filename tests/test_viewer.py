@@ -115,3 +115,14 @@ def test_the_command_lines_models_are_framed_once_together(tmp_path: Path, monke
     alone = Viewer(empty_scene(), Notices(), strict=True)
     alone.start(StartOptions(empty=True, models=models[-2:]), 4096)
     assert (viewer.scene.camera.model == alone.scene.camera.model).all()  # as if framed as each joined
+
+
+def test_the_file_prompt_holds_a_path_at_most() -> None:
+    """Typing on past PATH_MAX is dropped: each key would copy the line, and its error would fill pages."""
+    from marraztu.control.viewer import MAX_PROMPT_CHARACTERS
+
+    viewer = Viewer(empty_scene(), Notices(), strict=False)
+    press(viewer, f"f a*{MAX_PROMPT_CHARACTERS + 500}")
+    assert viewer.prompt == "a" * MAX_PROMPT_CHARACTERS
+    viewer.type_text("b")
+    assert viewer.prompt == "a" * MAX_PROMPT_CHARACTERS

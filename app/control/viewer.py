@@ -77,6 +77,9 @@ def _placed(mesh: Mesh, source: Path) -> SceneObject:
     return obj
 
 
+MAX_PROMPT_CHARACTERS = 4096  # Linux's PATH_MAX
+
+
 @dataclass(eq=False)
 class LoadJob:
     """One file being loaded on the worker thread; where it goes is decided when it is asked for."""
@@ -238,7 +241,7 @@ class Viewer:
     def type_text(self, char: str) -> None:
         """A character from the window's text input: typed into the prompt, or pressed as a key."""
         if self.prompt is not None:
-            self.prompt += char
+            self._type(char)
         elif not char.isspace():
             self.press(keymap.KeyPress(char))
 
@@ -253,9 +256,15 @@ class Viewer:
         elif token == "BACKSPACE":
             self.prompt = self.prompt[:-1]
         elif token in keymap.PROMPT_TEXT:
-            self.prompt += keymap.PROMPT_TEXT[token]
+            self._type(keymap.PROMPT_TEXT[token])
         elif len(token) == 1:
-            self.prompt += token
+            self._type(token)
+
+    def _type(self, text: str) -> None:
+        """Into the `f` prompt, up to MAX_PROMPT_CHARACTERS: a path is shorter, and a longer line would
+        cost every key a copy of it and end as an error message pages long."""
+        if len(self.prompt) + len(text) <= MAX_PROMPT_CHARACTERS:
+            self.prompt += text
 
     # --- Host ----------------------------------------------------------------------------------
     def load_model(self, path: str | Path) -> bool:

@@ -29,7 +29,7 @@ from marraztu.frontends.screenshot import OffscreenFrontend, render_pixels
 from marraztu.loaders.exchange import mesh_of_trimesh
 from marraztu.loaders.scenefile import material_for_loaded, materials_of_parts
 from marraztu.model.build import build_mesh, real_numbers
-from marraztu.model.geometry import holds_in_float32
+from marraztu.model.geometry import DRAWABLE_COORDINATE, drawable_bounds, holds_in_float32
 from marraztu.model.mesh import INDEX_LIMIT
 from marraztu.model.probe import probe as probe_scene
 from marraztu.model.scene import Scene, SceneObject
@@ -174,6 +174,9 @@ class Viewer:
         else:
             mesh = build_mesh(name=shown_name, positions=_finite_positions(positions), faces=faces, uvs=uvs,
                               normals=normals, vertex_colours=colours, attributes_per_vertex=attributes_per_vertex)
+        if not drawable_bounds(*mesh.bounds):
+            raise ValueError(f"positions must lie within ±{DRAWABLE_COORDINATE:.0e}: the GPU's 32-bit numbers "
+                             "cannot light a model past that (scale it down)")
         material = material_for_loaded(mesh)
         obj = SceneObject.placed(mesh.name, mesh, material, (0.0, 0.0, 0.0))
         obj.part_materials = materials_of_parts(mesh, material, from_scene=False)

@@ -7,8 +7,11 @@ import importlib
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
+
 from marraztu.errors import LoadError
 from marraztu.loaders.files import COLLECT_AFTER_BYTES, size_or_zero
+from marraztu.model.geometry import DRAWABLE_COORDINATE, drawable_bounds
 from marraztu.model.mesh import Mesh
 
 Stage = Callable[[str], None]  # hears what a long load is doing now, for the window's status
@@ -45,7 +48,7 @@ def load_model(path: str | Path, stage: Stage | None = None) -> Mesh:
         known = ", ".join(MODEL_READERS)
         raise LoadError(path, f"not a model file marraztu reads (by its suffix: {known})")
     try:
-        return reader(path, stage)
+        return _drawable(reader(path, stage), path)
     except MemoryError:  # every reader's tables grow with the file
         failure = LoadError(path, "not enough memory to load this file")
     except LoadError as error:
@@ -54,6 +57,14 @@ def load_model(path: str | Path, stage: Stage | None = None) -> Mesh:
         raise _freed(failure, path)
     finally:
         del failure  # else this frame, in the error's traceback, would hold the error: a cycle
+
+
+def _drawable(mesh: Mesh, path: Path) -> Mesh:
+    if not drawable_bounds(*mesh.bounds):
+        farthest = max(-float(np.min(mesh.bounds[0])), float(np.max(mesh.bounds[1])))
+        raise LoadError(path, f"a coordinate reaches {farthest:.3g}: past {DRAWABLE_COORDINATE:.0e} the GPU's "
+                              "32-bit numbers cannot light the model (scale it down)")
+    return mesh
 
 
 def _freed(failure: LoadError, path: Path) -> LoadError:

@@ -12,6 +12,16 @@ from marraztu.model.threads import each, gathered, pieces
 FLOAT32_MAX = float(np.finfo(np.float32).max)
 
 
+# The farthest coordinate a model may have: the GPU lights in float32, and a vector's squared length
+# must stay below float32's largest number with the camera a few times the model's size away.
+DRAWABLE_COORDINATE = 1e18
+
+
+def drawable_bounds(low: np.ndarray, high: np.ndarray) -> bool:
+    """Whether a model within these bounds can be lit and drawn (DRAWABLE_COORDINATE)."""
+    return bool(max(-float(np.min(low)), float(np.max(high))) <= DRAWABLE_COORDINATE)
+
+
 def holds_in_float32(table: np.ndarray) -> bool:
     """Whether every number is finite and within float32's range, as the GPU holds it. Two reductions,
     no mask as large as the table; NaN fails both comparisons."""

@@ -20,7 +20,8 @@ def parse_size(text: str) -> tuple[int, int]:
     except ValueError:
         raise ValueError(f"size must look like 800x600, not {text[:40]!r}") from None
     if not (1 <= width <= MAX_SIDE and 1 <= height <= MAX_SIDE):
-        raise ValueError(f"size {width}x{height} is out of range 1..{MAX_SIDE}")
+        shown = f"{width}x{height}" if len(text) <= 40 else f"{text[:40]!r}..."  # not a page of digits
+        raise ValueError(f"size {shown} is out of range 1..{MAX_SIDE}")
     return width, height
 
 
