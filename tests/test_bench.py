@@ -141,8 +141,10 @@ def test_sizes_and_shortcuts_parse() -> None:
 
 
 @pytest.mark.parametrize("option, value", [("--load-pause", "-1"), ("--load-pause", "inf"), ("--load-pause", "nan"),
-                                           ("--idle-seconds", "0"), ("--idle-seconds", "inf")])
-def test_pauses_must_be_finite(option: str, value: str) -> None:
+                                           ("--idle-seconds", "0"), ("--idle-seconds", "inf"),
+                                           ("--frame-budget", "nan"), ("--frame-budget", "0"), ("--sizes", "inf"),
+                                           ("--sizes", "1e12"), ("--sizes", "nan"), ("--load-sizes", "1,1e400")])
+def test_pauses_and_sizes_must_be_finite_and_bounded(option: str, value: str) -> None:
     with pytest.raises(SystemExit):
         config_from_args([option, value])
 

@@ -42,7 +42,10 @@ def _open_gl(required: bool) -> FrameBench | None:
 @contextmanager
 def _work_directory(chosen: Path | None) -> Iterator[Path]:
     if chosen is not None:
-        chosen.mkdir(parents=True, exist_ok=True)
+        try:
+            chosen.mkdir(parents=True, exist_ok=True)
+        except OSError as error:
+            raise SystemExit(f"error: --workdir {chosen}: {error.strerror or error}") from None
         yield chosen
         return
     with tempfile.TemporaryDirectory(prefix="marraztu-bench-") as temporary:

@@ -43,6 +43,10 @@ QUICK_CONFIG = replace(
     idle_seconds=2.0, load_pause_s=1.0)
 
 
+# The largest generated mesh: 100M triangles take tens of GB in the bench's own tables already.
+MAX_TRIANGLES = 100_000_000
+
+
 def parse_count(text: str) -> int:
     """'100k', '1M', '5m', '2500' -> triangles."""
     multipliers = {"k": 1_000, "m": 1_000_000}
@@ -51,9 +55,9 @@ def parse_count(text: str) -> int:
     try:
         value = float(text[:-1] if scale != 1 else text) * scale
     except ValueError:
-        raise argparse.ArgumentTypeError(f"not a size: {text!r} (e.g. 100k, 1m, 2500)") from None
-    if value < 2:
-        raise argparse.ArgumentTypeError(f"size {text!r} is too small: at least 2 triangles")
+        raise argparse.ArgumentTypeError(f"not a size: {text[:40]!r} (e.g. 100k, 1m, 2500)") from None
+    if not 2 <= value <= MAX_TRIANGLES:  # NaN fails too
+        raise argparse.ArgumentTypeError(f"size {text[:40]!r}: from 2 triangles to {MAX_TRIANGLES:,}")
     return int(value)
 
 
@@ -130,7 +134,8 @@ def config_from_args(argv: Sequence[str]) -> BenchConfig:
         config = replace(config, frame_sizes=tuple(n for n in config.frame_sizes if n < 5_000_000))
     if min(config.frames, config.repeats, config.rounds, config.start_runs, config.cpu_frames,
            config.shape_megabytes) < 1 or config.warmup < 1 or not 0 < config.idle_seconds < math.inf \
-            or not 0 <= config.load_pause_s < math.inf:
+            or not 0 <= config.load_pause_s < math.inf or not 0 < config.frame_budget_s < math.inf:
         parser.error("--frames, --warmup, --repeats, --rounds, --start-runs, --cpu-frames and --shape-megabytes "
-                     "must be at least 1, --idle-seconds more than 0 and --load-pause at least 0, both finite")
+                     "must be at least 1, --idle-seconds and --frame-budget more than 0 and --load-pause at "
+                     "least 0, all finite")
     return config
