@@ -430,7 +430,7 @@ def test_vertex_colours_are_drawn_as_0_to_1_or_0_to_255(tmp_path: Path, lines: b
 def test_a_large_files_vertex_colours_come_through_the_compiled_reader(tmp_path: Path) -> None:
     """Past COMPILED_READER_BYTES the third, compiled pass reads them; a line it leaves to the line
     reader (a number it does not read: 17 digits) still gives its colour."""
-    rows = 200_000
+    rows = obj_module.COMPILED_READER_BYTES // 40
     rng = np.random.default_rng(5)
     colours = rng.integers(0, 256, size=(rows, 3))
     lines = [f"v {i} {i % 7} 0 {r} {g} {b}" for i, (r, g, b) in enumerate(colours.tolist())]
@@ -696,7 +696,7 @@ def test_the_compiled_path_gives_what_the_checked_line_reader_gives(text: bytes,
 def test_a_large_text_is_checked_only_where_pass_one_says(edit: str, monkeypatch: pytest.MonkeyPatch) -> None:
     """Over the compiled reader's size: the checks run for the texts that hold what they judge, and
     the outcome is the line reader's on the checked text."""
-    rows = 350_000
+    rows = obj_module.COMPILED_READER_BYTES // 12
     plain = b"".join(b"v %d 0 %d\n" % (row, row % 7) for row in range(1, rows + 1)) + b"f 1 2 3\nf -1 -2 -3\n"
     text = {"none": plain, "CRLF": plain.replace(b"\n", b"\r\n"), "a lone CR": plain.replace(b"\n", b"\r", 5),
             "a NUL": plain[:-12] + b"\0" + plain[-12:], "a no-break space": plain.replace(b"v ", "v\u00a0".encode(), 3),
@@ -1083,7 +1083,7 @@ def test_a_first_large_file_is_read_while_the_compiled_reader_loads(tmp_path: Pa
 
 def test_a_large_file_that_cannot_be_opened_waits_for_no_compiled_reader(tmp_path: Path) -> None:
     path = tmp_path / "big.obj"
-    path.write_bytes(b"v 0 0 0\n" * obj_module.COMPILED_READER_BYTES)
+    path.write_bytes(b"v 0 0 0\n" * (obj_module.COMPILED_READER_BYTES // 8 + 1))
     code = ("import sys, marraztu.loaders.obj as obj, marraztu.loaders.obj.text as text\n"
             "def refuse(*args, **kwargs):\n    raise PermissionError(13, 'Permission denied')\n"
             "text.open = refuse  # as for a file this user may not read\n"

@@ -123,7 +123,7 @@ def test_the_installed_program_draws_what_the_checkout_draws(installed: Path, tm
 def test_the_installed_program_reads_a_large_model_as_the_checkout_does(installed: Path, tmp_path: Path) -> None:
     """A file of megabytes goes through numba's compiled reader, compiled in the fresh environment."""
     model = tmp_path / "grid.obj"
-    write_obj(model, wavy_surface(cells=260, seed=SEED), grid_triangles(260), uv_and_normals=False)
+    write_obj(model, wavy_surface(cells=360, seed=SEED), grid_triangles(360), uv_and_normals=False)
     assert model.stat().st_size > COMPILED_READER_BYTES
     args = ["--empty", "--size", SIZE, "--keys", "0 1", str(model)]
     installed_run = run_installed(installed, "screenshot", "-o", str(tmp_path / "wheel.png"), *args, cwd=tmp_path)

@@ -145,7 +145,7 @@ def memory_section(bench: FrameBench, inputs: Sequence[LoadInput]) -> list[str]:
         "their memory for reuse (none of ours; measured on llvmpipe only). "
         "*Compiled reader*: what importing numba and loading the OBJ reader's machine code from numba's "
         "cache adds to the same process before that, and how long that takes, once per process whatever "
-        "the model (a process whose files are all under 4 MB never pays it: the line reader reads "
+        "the model (a process whose files are all under 8 MB never pays it: the line reader reads "
         "them).",
         "",
         *markdown_table(MEMORY_HEADERS, rows),

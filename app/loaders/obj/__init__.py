@@ -134,9 +134,10 @@ def _face_materials(runs: MaterialRuns, library: list[MeshMaterial], faces: int
 
 
 # The compiled reader's first use in a process imports numba and loads its machine code: the line
-# reader is done sooner below this size (measured on files of v/vt/vn and of v and f lines only).
+# reader is done sooner below this size (measured on files of v/vt/vn and of v and f lines only, to
+# the load's end and to the process's), and holds the GIL no longer than the compiled reader's import.
 # Once loaded, the compiled reader is the quicker one whatever the size.
-COMPILED_READER_BYTES = 4 << 20
+COMPILED_READER_BYTES = 8 << 20
 
 
 def _tables(text: bytes | np.ndarray, source: str) -> RawObj:
