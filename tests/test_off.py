@@ -363,3 +363,30 @@ def test_a_long_face_row_followed_by_blank_lines_is_read_at_once(tmp_path: Path,
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(off, "_vertex_rows", lambda *args: pytest.fail("the line reader read a plain body"))
         assert outcome(tmp_path, text) == by_lines
+
+
+def test_one_long_comment_line_costs_a_few_times_its_size(tmp_path: Path) -> None:
+    """Comments are taken out a piece of a fixed size at a time: cut only at line ends, the one long
+    line was one piece, with an 8-byte number for each of its '#'s (25 times the file)."""
+    path = tmp_path / "comment.off"
+    path.write_bytes(b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 " + b"#" * (4 << 20) + b"\n")
+    tables, peak = peak_traced_bytes(lambda: off.read_off(path, path.read_bytes()))
+    assert tables.corner_vertex.tolist() == [0, 1, 2]
+    assert peak < 4 * path.stat().st_size, (peak, path.stat().st_size)
+
+
+@pytest.mark.parametrize("piece", [1, 2, 3, 7])
+def test_comments_cut_anywhere_by_the_pieces_read_as_the_line_reader_reads_them(
+        tmp_path: Path, piece: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A piece may begin inside a comment, on its '#', on the \\n of a \\r\\n or just after a comment's end."""
+    rng = np.random.default_rng(piece)
+    for _ in range(40):
+        notes = [rng.choice(["", "#", " # a note", "#\t##x", "# 3 0 1 2"]) for _ in range(len(SQUARE) + 2)]
+        ends = [str(rng.choice(["\n", "\r\n", "\r", " \n"])) for _ in notes]
+        rows = [*SQUARE, "3 0 1 2", "3 0 2 3"]
+        text = "OFF\n4 2 0\n" + "".join(f"{row}{note}{end}" for row, note, end in zip(rows, notes, ends))
+        by_lines = outcome(tmp_path, text, monkeypatch)
+        with pytest.MonkeyPatch.context() as patch:
+            patch.setattr(off, "_UNCOMMENT_PIECE_BYTES", piece)
+            patch.setattr(off, "_vertex_rows", lambda *args: pytest.fail("the line reader read a plain body"))
+            assert outcome(tmp_path, text) == by_lines

@@ -436,6 +436,83 @@ def test_reading_four_times_the_entries_costs_about_four_times_the_work(tmp_path
     assert large <= 4.4 * small, f"{kind}: {small} calls for 100 entries, {large} for 400"
 
 
+# --- what tomllib reads at a hundred bytes a byte, refused before it reads it ------------------------
+ALLOWED_TOP = "(allowed: cameras, materials, objects, texture)"
+
+
+def unparsed(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Fails a test where tomllib reads the scene: what it is handed costs up to 100 bytes a byte."""
+    import tomllib
+
+    monkeypatch.setattr(tomllib, "loads", lambda *args, **kwargs: pytest.fail("tomllib read the scene"))
+
+
+@pytest.mark.parametrize("text, line, name", [
+    (CAMERA + "".join(f"[t{i}]\n" for i in range(20_000)), 4, "t0"),
+    (CAMERA + "".join(f"[[t{i}]] # a comment\n" for i in range(20_000)), 4, "t0"),
+    ("".join(f"t{i} = {{ a = 1 }}\n" for i in range(20_000)) + CAMERA, 1, "t0"),
+    ('texture = "t.ppm"\n  "x".y = 1\n' + CAMERA, 2, "x"),
+    (CAMERA + "[ 'lights' . a ]\n", 4, "lights"),
+])
+def test_an_unknown_top_level_name_is_refused_at_its_line_before_toml_reads_the_file(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, text: str, line: int, name: str) -> None:
+    """tomllib held about 100 bytes for each byte of a file of [t1] [t2]... tables (a megabyte: 111 MB and
+    2 s) before the scene's keys were checked, and the unknown one was named without its line."""
+    from support.work import peak_traced_bytes
+
+    path = write_scene(tmp_path, text)
+    unparsed(monkeypatch)
+    error, peak = peak_traced_bytes(lambda: read_scene_description(path))
+    assert isinstance(error, LoadError)
+    assert (error.message, error.line) == (f"the scene: unknown key {name!r} {ALLOWED_TOP}", line)
+    assert peak < 4 * len(text) + (64 << 10), peak  # the text, and a few objects
+
+
+KNOWN_NAMES_WRITTEN_OTHERWISE = (
+    '"texture" = "t.ppm"\nmaterials.q = { ka = [0, 0, 0], kd = [0, 0, 0], ks = [0, 0, 0], ns = 1 }\n'
+    '[ materials . m ]\nka = [0, 0, 0]\nkd = [0, 0, 0]\nks = [0, 0, 0]\nns = 1\n'
+    '[["cam\\u0065ras"]]\nmodel = "m.obj"\nposition = [0, 0, 1]\n[[ \'objects\' ]] # one\n'
+    'model = "m.obj"\nposition = [1, 0, 0]\nname = "o"\n[objects.material]\nka = [0, 0, 0]\nkd = [0, 0, 0]\n'
+    "ks = [0, 0, 0]\nns = 2\n")
+
+
+@pytest.mark.parametrize("name, text", [
+    ("o", KNOWN_NAMES_WRITTEN_OTHERWISE),
+    ("[lights]\n", KNOWN_NAMES_WRITTEN_OTHERWISE.replace('"o"', '"""\n[lights]\n"""')),
+    ("[lights]\n", KNOWN_NAMES_WRITTEN_OTHERWISE.replace('"o"', "\'\'\'\n[lights]\n\'\'\'")),
+])
+def test_top_level_names_quoted_split_or_in_a_multi_line_string_are_read_as_before(tmp_path: Path, name: str,
+                                                                                    text: str) -> None:
+    """Quoted, escaped, dotted or spaced, they are the known ones; a header-like line in a multi-line
+    string is no header, so the look for unknown names is not made where the text holds one."""
+    description = read_scene_description(write_scene(tmp_path, text))
+    assert [entry.name for entry in description.objects] == [name]
+    assert description.objects[0].material.ns == 2 and description.cameras[0].position == (0.0, 0.0, 1.0)
+
+
+def test_a_scene_larger_than_a_scene_is_refused_before_toml_reads_it(tmp_path: Path,
+                                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    """Known names cost tomllib as much ([materials.mN] tables: 47 bytes a byte): only 1 MiB is parsed."""
+    from marraztu.loaders.scenefile import SCENE_FILE_LIMIT
+    from support.work import peak_traced_bytes
+
+    text = CAMERA + "".join(f"[materials.m{i}]\n" for i in range(SCENE_FILE_LIMIT // 16))
+    path = write_scene(tmp_path, text)
+    unparsed(monkeypatch)
+    error, peak = peak_traced_bytes(lambda: read_scene_description(path))
+    assert isinstance(error, LoadError) and error.line is None
+    assert error.message == "file too large for a scene (more than 1 MiB; a thousand objects take about 100 KB)"
+    assert peak < 4 * len(text), peak
+
+
+def test_a_scene_of_a_thousand_objects_is_far_within_the_limit(tmp_path: Path) -> None:
+    from marraztu.loaders.scenefile import SCENE_FILE_LIMIT
+
+    text = many_entries("objects", 1000)
+    assert len(text) < SCENE_FILE_LIMIT // 4
+    assert len(read_scene_description(write_scene(tmp_path, text)).objects) == 1000
+
+
 # --- numbers past what the GPU's float32 can hold ----------------------------------------------------
 TOO_LARGE = "is too large: the GPU's 32-bit numbers end at 3.4e38"
 # Where a number goes, with {n} for it, and the line an error there must name: the line of its key.

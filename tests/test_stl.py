@@ -4,7 +4,10 @@ from what its exporters write; the binary one told apart by its size."""
 
 from __future__ import annotations
 
+import sys
+from collections.abc import Callable
 from pathlib import Path
+from types import FrameType
 
 import numpy as np
 import pytest
@@ -113,6 +116,52 @@ def test_the_first_bad_number_is_named_among_many() -> None:
 def test_padding_after_the_last_endsolid_is_read_past(padding: bytes) -> None:
     """DOS's end-of-file byte, or NULs, that some writers put at the end."""
     assert read(solid(facet(TRIANGLE)).encode() + padding).shape == (3, 3)
+
+
+def python_lines_run(action: Callable[[], object], module: str) -> int:
+    """How many lines of `module`'s source Python runs in `action`: work counted, not timed."""
+    count = 0
+
+    def tracer(frame: FrameType, event: str, arg: object) -> Callable | None:
+        if frame.f_code.co_filename != module:
+            return None
+        return counting
+
+    def counting(frame: FrameType, event: str, arg: object) -> Callable:
+        nonlocal count
+        count += event == "line"
+        return counting
+
+    previous = sys.gettrace()
+    sys.settrace(tracer)
+    try:
+        action()
+    finally:
+        sys.settrace(previous)
+    return count
+
+
+@pytest.mark.parametrize("padding", [b" " * (1 << 20) + b"\0", b"\0" * (1 << 20), b"\r\n\x1a\t" * (1 << 18)])
+def test_a_megabyte_of_padding_is_read_past_in_a_few_steps(padding: bytes) -> None:
+    """It is looked at a piece at a time by bytes' own loops: a Python step per byte took 1.2 s for
+    8 MB of blanks and a NUL (150 s at the size limit)."""
+    text = solid(facet(TRIANGLE)).encode() + padding
+    steps = python_lines_run(lambda: stl._without_end_padding(text), stl.__file__)
+    assert stl._without_end_padding(text) == solid(facet(TRIANGLE)).encode()[:-1] + b"\n"
+    assert steps < 4 * len(padding) // stl._PADDING_PIECE_BYTES + 32, steps
+
+
+@pytest.mark.parametrize("piece", [1, 2, 3, 5])
+def test_padding_cut_anywhere_by_the_pieces_is_the_same_run(piece: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(stl, "_PADDING_PIECE_BYTES", piece)
+    rng = np.random.default_rng(piece)
+    for _ in range(200):
+        tail = bytes(rng.choice(list(b"\0\x1a \t\r\nx"), int(rng.integers(0, 12))))
+        data = b"solid" + tail
+        end = len(data)
+        while end and data[end - 1] in b"\0\x1a \t\r\n":
+            end -= 1
+        assert stl._padding_start(data) == end, data
 
 
 def test_a_form_feed_ends_no_line() -> None:
@@ -243,7 +292,7 @@ def test_the_reader_gives_what_the_line_reader_alone_gives(piece: int, monkeypat
         wholly, partly = wholly + (rest is None), partly + (rest is not None and rest > 0)
         outcome = _outcome(data)
         with monkeypatch.context() as lines_alone:
-            lines_alone.setattr(stl, "_usual_ascii_corners", lambda text: ([], 0))
+            lines_alone.setattr(stl, "_usual_ascii_corners", lambda text, start: ([], start))
             expected = _outcome(data)
         if isinstance(expected, str):
             assert outcome == expected, data

@@ -93,6 +93,15 @@ def line_end_after(data: bytes, line: int) -> int:
 _LINE_END = re.compile(rb"\r\n|\n|\r")
 
 
+BOM = b"\xef\xbb\xbf"  # UTF-8's byte order mark, which Notepad and some exporters put before a text
+
+
+def bom_length(data: bytes) -> int:
+    """How many of a text's first bytes are one UTF-8 byte order mark, which every text reader skips
+    (read from just after it: a copy of the text would cost its size again)."""
+    return len(BOM) if data.startswith(BOM) else 0
+
+
 def decoded(text: bytes) -> str:
     """A name or a text file's words: UTF-8, or else Windows-1252, which Windows exporters write."""
     try:

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import line_end_after, read_model_bytes, text_lines
+from marraztu.loaders.files import bom_length, line_end_after, read_model_bytes, text_lines
 from marraztu.loaders.words import (
     BLANKS,
     MAX_COUNT_DIGITS,
@@ -41,8 +41,8 @@ from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh
 from marraztu.model.threads import weighed_pieces
 
 # A comment runs from '#' to its line's end (\n, \r\n or a lone \r, as text_lines ends lines).
-_LINE_END = re.compile(rb"[\r\n]")
-_UNCOMMENT_PIECE_BYTES = 1 << 20
+_LINE_END_BYTES = (ord("\r"), ord("\n"))
+_UNCOMMENT_PIECE_BYTES = 1 << 18  # a piece's tables of its '#'s and line ends stay a few megabytes
 # A polygon's colour may follow its indices: none, an index into a colour map, RGB or RGBA. Not read.
 _FACE_COLOUR_WORDS = (0, 1, 3, 4)
 
@@ -114,29 +114,36 @@ def read_off(path: Path, data: bytes) -> OffTables:
 
 
 def _without_comments(data: bytes, start: int) -> bytes:
-    """The text from `start` with its comments taken out, their line ends kept; a piece at a time, cut
-    at line ends, in numpy: a few bytes of temporaries per byte of a piece, however many comments
-    (a regular expression's substitution held an object per comment)."""
+    """The text from `start` with its comments taken out, their line ends kept; a piece of a fixed size
+    at a time, in numpy, carrying whether a piece begins inside a comment: a few bytes of temporaries
+    per byte of a piece, however many comments and however long a line (a piece cut only at line ends
+    was a whole line, and a long comment line cost 25 times itself)."""
     kept = []
-    low = start
-    while low < len(data):
-        cut = _LINE_END.search(data, low + _UNCOMMENT_PIECE_BYTES)
-        high = len(data) if cut is None else cut.end()
-        kept.append(_piece_without_comments(np.frombuffer(data, np.uint8, count=high - low, offset=low)))
-        low = high
+    inside = False  # whether the text before the piece ends inside a comment
+    for low in range(start, len(data), _UNCOMMENT_PIECE_BYTES):
+        piece = np.frombuffer(data, np.uint8, count=min(_UNCOMMENT_PIECE_BYTES, len(data) - low), offset=low)
+        text, inside = _piece_without_comments(piece, inside)
+        kept.append(text)
     return b"".join(kept)
 
 
-def _piece_without_comments(piece: np.ndarray) -> bytes:
-    """A piece of text that ends at a line end (or the text's end), its comments taken out."""
-    spans = _comment_spans(piece)
-    return piece.tobytes() if spans is None else piece[~_in_spans(*spans, piece.size)].tobytes()
+def _piece_without_comments(piece: np.ndarray, inside: bool) -> tuple[bytes, bool]:
+    """A piece of text, its comments taken out (one runs on from the piece before where `inside`), and
+    whether it ends inside one."""
+    spans = _comment_spans(piece, inside)
+    if spans is None:
+        return piece.tobytes(), False
+    starts, stops = spans
+    return piece[~_in_spans(starts, stops, piece.size)].tobytes(), bool(stops[-1] == piece.size)
 
 
-def _comment_spans(piece: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
-    """(starts, stops) of the piece's comments, each from its line's first '#' to its line end; None
-    where there is none. Its own function: the table of every '#' is freed on return."""
+def _comment_spans(piece: np.ndarray, inside: bool) -> tuple[np.ndarray, np.ndarray] | None:
+    """(starts, stops) of the piece's comments, each from its line's first '#' (the piece's start, for
+    one carried in) to its line end or the piece's end; None where there is none. Its own function: the
+    table of every '#' is freed on return."""
     hashes = np.flatnonzero(piece == ord("#"))
+    if inside and piece[0] not in _LINE_END_BYTES:  # as if a '#' began the piece (one there is its line's second)
+        hashes = np.concatenate(([0], hashes))
     if not hashes.size:
         return None
     ends = np.append(line_end_places(piece), piece.size)
@@ -326,8 +333,9 @@ def _counts_fit(data: bytes, firsts: np.ndarray, words: np.ndarray) -> bool:
 
 
 def _lines_with_words(data: bytes) -> Iterator[tuple[int, str]]:
-    """(line number, what comes before any #) of each line that holds a word, read a piece at a time."""
-    for number, line in enumerate(text_lines(data), start=1):
+    """(line number, what comes before any #) of each line that holds a word, read a piece at a time
+    (after a byte order mark, which holds no line end: the body's offsets are the file's)."""
+    for number, line in enumerate(text_lines(data, bom_length(data)), start=1):
         content = line.split("#", 1)[0] if "#" in line else line
         if content and not content.isspace():
             yield number, content

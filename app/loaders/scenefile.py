@@ -34,6 +34,7 @@ import sys
 import tomllib
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
+from itertools import chain
 from pathlib import Path
 from typing import NoReturn
 
@@ -51,7 +52,11 @@ ENTRY_KEYS = frozenset({"name", "model", "position", "rotation", "material"})
 REQUIRED_ENTRY_KEYS = ("model", "position")
 MATERIAL_KEYS = frozenset({"ka", "kd", "ks", "ns", "rgb"})
 REQUIRED_MATERIAL_KEYS = ("ka", "kd", "ks", "ns")
-SCENE_FILE_LIMIT = 16 << 20  # far beyond any hand-written scene; refuses a model given by mistake
+# tomllib holds up to 100 bytes for each byte of some texts ([t1] [t2]... tables): only a scene's size is
+# parsed. A scene names files and numbers: a thousand objects take about 100 KB.
+SCENE_FILE_LIMIT = 1 << 20
+# Read, and scanned for the runs below (linear), up to this size: a key of a million parts is named at its line.
+SCENE_READ_LIMIT = 16 << 20
 # Dotted parts a key may have: the deepest a scene uses is 3 (materials.NAME.kd). Checked before
 # tomllib, whose cost for a dotted key grows with the square of its parts.
 MAX_KEY_PARTS = 16
@@ -91,6 +96,14 @@ _LONG_RUNS = (
     (_LONG_DIGIT_RUN, f"more than {MAX_DIGIT_RUN} digits in a row (in a number, a string or a comment): no scene "
                       "holds so many"),
 )
+# The first part of a table header, or of a key before any header (the top level's), that is none of
+# TOP_LEVEL_KEYS as written bare; found before tomllib, which holds hundreds of bytes for each table.
+_KNOWN_BARE = "|".join(sorted(TOP_LEVEL_KEYS))
+_UNKNOWN_NAME = rf"(?!(?:{_KNOWN_BARE})[ \t]*+[.\]=])(?P<first>{_KEY_PART})(?:{_NEXT_PART})*+[ \t]*+"
+_UNKNOWN_TABLE = re.compile(rf"(?m:^)[ \t]*+\[\[?+[ \t]*+{_UNKNOWN_NAME}\]\]?+[ \t]*+(?=#|\r?(?m:$))")
+_UNKNOWN_TOP_KEY = re.compile(rf"(?m:^)[ \t]*+{_UNKNOWN_NAME}=")
+_FIRST_HEADER = re.compile(r"(?m:^)[ \t]*+\[")
+_MULTI_LINE_QUOTES = ('"""', "'''")  # a header-like line may be inside a multi-line string
 
 
 @dataclass(frozen=True)
@@ -189,6 +202,10 @@ class _SceneReader:
         self.path = path
         self.text = self._read_text()
         self._refuse_long_runs()
+        self._refuse_unknown_top_level()
+        if len(self.text) > SCENE_FILE_LIMIT:  # in characters, which tomllib reads one by one
+            self.fail(f"file too large for a scene (more than {SCENE_FILE_LIMIT >> 20} MiB; a thousand objects take "
+                      "about 100 KB)")
         self.document = self._parse()
         self.lines = _LineIndex.of(self.text)
 
@@ -196,9 +213,9 @@ class _SceneReader:
         raise LoadError(self.path, message, line)
 
     def _read_text(self) -> str:
-        data = read_file(self.path, limit=SCENE_FILE_LIMIT)
+        data = read_file(self.path, limit=SCENE_READ_LIMIT)
         try:
-            return data.decode("utf-8")
+            return data.decode("utf-8-sig")  # a byte order mark (Notepad writes one) is no TOML
         except UnicodeDecodeError:
             self.fail("not a TOML scene file (not UTF-8 text)")
 
@@ -209,6 +226,19 @@ class _SceneReader:
             found = run.search(self.text)
             if found is not None:
                 self.fail(said, _line_of(self.text, found.start()))
+
+    def _refuse_unknown_top_level(self) -> None:
+        """A table header, or a key before any header, whose first part is no top-level key, refused at
+        its line before tomllib reads it; not looked for where a multi-line string may hold such a line."""
+        if any(quotes in self.text for quotes in _MULTI_LINE_QUOTES):
+            return
+        header = _FIRST_HEADER.search(self.text)
+        top_end = len(self.text) if header is None else header.start()
+        names = chain(_UNKNOWN_TOP_KEY.finditer(self.text, 0, top_end), _UNKNOWN_TABLE.finditer(self.text, top_end))
+        for found in names:
+            name = _key_parts(found["first"])[0]  # quoted ("objects") or escaped names are known ones too
+            if name not in TOP_LEVEL_KEYS:
+                self.fail(_unknown_key("the scene", name, TOP_LEVEL_KEYS), _line_of(self.text, found.start()))
 
     def _parse(self) -> dict:
         try:
@@ -310,8 +340,7 @@ class _SceneReader:
                    required: tuple[str, ...] = (), key_line: Callable[[str], int | None] = _nowhere) -> None:
         unknown = sorted(set(table) - allowed)
         if unknown:
-            self.fail(f"{what}: unknown key {unknown[0]!r} (allowed: {', '.join(sorted(allowed))})",
-                      key_line(unknown[0]) or line)
+            self.fail(_unknown_key(what, unknown[0], allowed), key_line(unknown[0]) or line)
         missing = [key for key in required if key not in table]
         if missing:
             self.fail(f"{what}: missing key {missing[0]!r}", line)
@@ -338,6 +367,10 @@ class _SceneReader:
         if unit_range and not all(0.0 <= c <= 1.0 for c in (x, y, z)):
             self.fail(f"{what} must be three numbers between 0 and 1", line)
         return (x, y, z)
+
+
+def _unknown_key(what: str, key: str, allowed: frozenset[str]) -> str:
+    return f"{what}: unknown key {key!r} (allowed: {', '.join(sorted(allowed))})"
 
 
 def _toml_type(value: object) -> str:

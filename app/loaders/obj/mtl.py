@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import is_there, read_file, same_file_key, shown, spellings, text_lines
+from marraztu.loaders.files import bom_length, is_there, read_file, same_file_key, shown, spellings, text_lines
 from marraztu.loaders.images import load_image, unread_textures_note
 from marraztu.loaders.obj.raw import MAX_MATERIAL_NAME, finite_floats
 from marraztu.model.mesh import MeshMaterial
@@ -91,7 +91,7 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
     block: _Block | None = None  # the material being read; dropped at the next newmtl unless kept
     malformed, first_malformed = 0, ""  # one note however many lines are ignored
     ignored: set[str] = set()
-    for line in text_lines(text):
+    for line in text_lines(text, bom_length(text)):  # a byte order mark would make the first newmtl no keyword
         tokens = line.split("#", 1)[0].split(None, _MOST_WORDS)
         if not tokens:
             continue
