@@ -15,10 +15,17 @@ from typing import BinaryIO
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import errors_as_load_errors, line_at, read_model_bytes, refuse_blank, regular_file_size
+from marraztu.loaders.files import (
+    BOM,
+    bom_length,
+    errors_as_load_errors,
+    line_at,
+    read_model_bytes,
+    refuse_blank,
+    regular_file_size,
+)
 
 _BACKSLASH_AT_LINE_END = re.compile(rb"\\[^\S\n]*\n")
-_BOM = b"\xef\xbb\xbf"
 _NO_BREAK_SPACE = "\u00a0".encode()
 _NEWLINE = ord("\n")
 
@@ -47,7 +54,7 @@ def read_text(path: str | Path, stage: Callable[[str], None] | None,
         got += 1
     if stage is not None:
         stage("parsing")
-    return room[_bom_length(room[:min(got, len(_BOM))].tobytes()):got]
+    return room[bom_length(room[:min(got, len(BOM))].tobytes()):got]
 
 
 def _read_into(stream: BinaryIO, room: memoryview) -> int:
@@ -68,15 +75,10 @@ def as_bytes(text: bytes | np.ndarray) -> bytes:
 def ended(data: bytes) -> bytes:
     """The text without a UTF-8 byte order mark, its last line ended by a newline (a copy only where
     either is needed)."""
-    start = _bom_length(data[:len(_BOM)])
+    start = bom_length(data[:len(BOM)])
     if start or not data.endswith(b"\n"):  # both edits in one copy
         data = b"".join((memoryview(data)[start:], b"" if data.endswith(b"\n") else b"\n"))
     return data
-
-
-def _bom_length(head: bytes) -> int:
-    """How many of a text's first bytes are a UTF-8 byte order mark, which both readers skip."""
-    return len(_BOM) if head == _BOM else 0
 
 
 def checked(text: bytes, source: str) -> bytes:
