@@ -246,8 +246,8 @@ class _WalkedStarts:
         self.starts, self.known = starts, 0
 
     def __call__(self, first: int, stop: int) -> np.ndarray:
-        done = self.starts[:self.known]
-        return done[(done >= first) & (done < stop)]
+        done = self.starts[:self.known]  # ascending: rows are walked in order
+        return done[np.searchsorted(done, first):np.searchsorted(done, stop)]  # not a mask of every row a piece
 
 
 @dataclass(frozen=True)
