@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import io
 import tracemalloc
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -10,7 +12,16 @@ import pytest
 from PIL import Image
 
 from marraztu.errors import LoadError
-from marraztu.loaders.images import MAX_PIXELS, fallback_texture, load_image, load_texture_or_fallback, parse_ppm
+from marraztu.loaders.images import (
+    MAX_JPEG_SCANS,
+    MAX_PIXELS,
+    check_picture_header,
+    fallback_texture,
+    load_image,
+    load_texture_or_fallback,
+    parse_ppm,
+)
+from support.corpus import png_bytes
 
 # 2 x 2: red, green / blue, white. Rows top first, as in the file.
 PIXELS = np.array([[[255, 0, 0], [0, 255, 0]], [[0, 0, 255], [255, 255, 255]]], dtype=np.uint8)
@@ -215,13 +226,51 @@ def test_a_png_of_a_million_text_or_private_chunks_is_refused_before_pillow_keep
     assert load_image(path).shape == (8, 8, 3)
 
 
+def jpeg_of_scans(scans: int) -> bytes:
+    """A 16 x 16 progressive JPEG (Pillow writes 10 scans), its last scan repeated until it holds `scans`."""
+    out = io.BytesIO()
+    Image.fromarray(np.random.default_rng(4).integers(0, 255, (16, 16, 3), dtype=np.uint8)).save(
+        out, "JPEG", progressive=True)
+    data = out.getvalue()
+    last = data.rindex(b"\xff\xda")
+    return data[:-2] + data[last:-2] * (scans - data.count(b"\xff\xda")) + data[-2:]
+
+
+def test_a_jpeg_of_more_scans_than_encoders_write_is_refused_before_it_is_decoded(tmp_path: Path) -> None:
+    """Each scan of a progressive JPEG is decoded over the whole picture: 2,006 scans of a few bytes each
+    made 507 KB that took 95 s to load."""
+    with pytest.raises(LoadError) as caught:
+        load_image(write(tmp_path, "scans.jpg", jpeg_of_scans(MAX_JPEG_SCANS + 1)))
+    assert caught.value.message == (f"more than {MAX_JPEG_SCANS} scans, each decoded over the whole picture: a "
+                                    "progressive JPEG has about 10")
+    assert load_image(write(tmp_path, "ten.jpg", jpeg_of_scans(10))).shape == (16, 16, 3)
+
+
+def test_the_scans_are_counted_up_to_the_bound() -> None:
+    check_picture_header("a.jpg", jpeg_of_scans(MAX_JPEG_SCANS))
+    with pytest.raises(LoadError, match="scans"):
+        check_picture_header("a.jpg", jpeg_of_scans(MAX_JPEG_SCANS + 1))
+
+
+def test_a_picture_claiming_more_pixels_than_the_cap_is_refused_as_such_and_quietly(tmp_path: Path) -> None:
+    """A PNG header claiming 13000 x 13000 pixels: refused by the cap, in the cap's words, before Pillow's
+    own guard warns of it."""
+    path = write(tmp_path, "big.png", png_bytes(2, 2, claimed=(13000, 13000)))
+    with warnings.catch_warnings(record=True) as heard:
+        warnings.simplefilter("always")
+        with pytest.raises(LoadError) as caught:
+            load_image(path)
+    assert caught.value.message == f"image size 13000x13000 is too large (at most {MAX_PIXELS} pixels)"
+    assert [str(item.message) for item in heard] == []
+
+
 def test_pillows_own_openers_stand_again_once_pictures_are_opened(tmp_path: Path) -> None:
     """marraztu's checking openers stand in for Pillow's only while it opens pictures, however many
     threads do at once: a program that uses Pillow beside it gets Pillow's own after."""
     from concurrent.futures import ThreadPoolExecutor
 
     Image.preinit()
-    own = {kind: Image.OPEN[kind] for kind in ("JPEG", "PNG")}
+    own = dict(Image.OPEN)  # every format's: each checks a picture's size while pictures are opened
     Image.new("RGB", (8, 8), (200, 30, 30)).save(tmp_path / "a.jpg", "JPEG")
     Image.new("RGB", (8, 8), (200, 30, 30)).save(tmp_path / "a.png", "PNG")
     with ThreadPoolExecutor(4) as pool:

@@ -10,6 +10,9 @@ can be known). trimesh is imported only when such a file is opened.
 What a file names beside it (a glTF's buffers and pictures, a PLY's TextureFile) is read by marraztu
 for trimesh, in the file's folder only; a picture that cannot be read is a note, as an MTL's is, and
 trimesh's log, which would print its tracebacks on the person's terminal, is kept quiet.
+
+A PLY's body is first made the binary body trimesh reads (ply.py); a glTF's placements are counted
+from its JSON before trimesh builds a node for each.
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ import json
 import logging
 import re
 import threading
+import warnings
 import weakref
 from collections.abc import Callable, Collection, Iterator
 from dataclasses import dataclass, replace
@@ -46,13 +50,14 @@ from marraztu.loaders.files import (
 )
 from marraztu.loaders.images import (
     FORMATS_BY_MAGIC,
-    check_picture_header,
+    MAX_PIXELS,
+    check_picture,
     image_format,
     pictures_checked,
     rgb_array,
     unread_textures_note,
 )
-from marraztu.loaders.ply import binary_of_ascii, read_header
+from marraztu.loaders.ply import binary_of_ascii, read_header, vertices_and_faces
 from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES
 from marraztu.loaders.words import unheld_coordinate
 from marraztu.model.build import build_mesh, by_largest, colour_bytes
@@ -63,6 +68,10 @@ Stage = Callable[[str], None]
 # A glTF node places a mesh, so a small file can place one mesh a million times. No scene may place
 # more triangles than the largest binary STL the viewer reads lists one by one.
 MAX_PLACED_TRIANGLES = (MAX_FILE_BYTES - HEADER_BYTES) // TRIANGLE_BYTES
+# Each (node, primitive) placed costs trimesh a node of its graph and this reader a part, some 2 KB and
+# 40 us, whatever its triangles: 400 nodes placing a mesh of 400 primitives are 160,000 placements from
+# 23 KB. Real scenes place hundreds to thousands of meshes: past this many, a file is refused unread.
+MAX_PLACEMENTS = 1 << 16
 _NOT_FINITE = re.compile(rb"(?i)(?<![a-z])(?:[-+]?nan|[-+]?inf(?:inity)?)(?![a-z])")
 
 
@@ -119,6 +128,8 @@ def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
     text = data if header.encoding == "ascii" else None  # kept for a text body only, to name the line of a bad number
     if text is not None:
         data = binary_of_ascii(path, text, header)
+        header = read_header(path, data)
+    data = vertices_and_faces(path, data, header)
     beside = _FilesBeside(path.parent, is_picture=lambda name: True)  # a PLY names its TextureFile only
     scene = _trimesh_load(path, data, "ply", beside)
     del data
@@ -132,7 +143,12 @@ def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
 def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     """glTF (JSON beside its buffers) or GLB: every mesh with its node's transform, as one model."""
     data, file_type = read_model_bytes(path, stage), path.suffix.lower().lstrip(".")
-    pictures = _gltf_pictures(path, data) if file_type == "gltf" else frozenset()  # a GLB's JSON is trimesh's to read
+    document = _gltf_document(path, data) if file_type == "gltf" else _glb_document(data)
+    pictures = _gltf_pictures(document) if file_type == "gltf" else frozenset()  # a GLB holds its own
+    counts = _gltf_counts(document)
+    if counts is not None:  # before trimesh builds a node and a mesh per placement
+        _check_placed_counts(path, *counts)
+    del document
     beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True)
     return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside)
 
@@ -144,7 +160,10 @@ def _trimesh_load(path: Path, data: bytes, file_type: str, beside: _FilesBeside 
     the files it names."""
     trimesh = _quiet_trimesh()
     try:
-        with pictures_checked() as refused:  # the pictures trimesh has Pillow open, a glTF's own included
+        # The pictures trimesh has Pillow open (a glTF's own too) checked; numpy's and Pillow's warnings of
+        # what trimesh does with NaN or huge values kept off the terminal: the checks after it say what is wrong.
+        with pictures_checked() as refused, np.errstate(all="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
             loaded = _watched(trimesh.load(io.BytesIO(data), file_type=file_type, process=False, force="scene",
                                            resolver=beside))
         if beside is not None:
@@ -195,7 +214,7 @@ class _FilesBeside:
             if self.is_picture(name) and image_format(data[:8]) is None:
                 raise LoadError(named, f"not a PNG, JPEG or PPM picture (it starts with {data[:8]!r})")
             if self.is_picture(name):
-                check_picture_header(named, data)
+                check_picture(named, data)  # its header and size, before trimesh has Pillow decode it
         except LoadError as error:
             self.failures.setdefault(named, error.message)
             raise LoadError(named, error.message) from None  # named as the file names it
@@ -229,9 +248,9 @@ def _looks_absolute(name: str) -> bool:
     return name.startswith(("/", "\\")) or re.match(r"[A-Za-z]:[\\/]", name) is not None
 
 
-def _gltf_pictures(path: Path, data: bytes) -> frozenset[str]:
-    """The URIs of a .gltf's pictures (not its buffers', which may be named anything), its JSON checked
-    first: trimesh, given text that is not JSON, looks for a file named model.gltf and says that is missing."""
+def _gltf_document(path: Path, data: bytes) -> dict[str, Any]:
+    """A .gltf's JSON, checked: trimesh, given text that is not JSON, looks for a file named model.gltf
+    and says that is missing."""
     try:
         document = json.loads(data)  # from bytes: UTF-8, -16 or -32, as the glTF's JSON may be
     except json.JSONDecodeError as error:
@@ -244,7 +263,93 @@ def _gltf_pictures(path: Path, data: bytes) -> frozenset[str]:
         raise LoadError(path, "not a glTF file: its JSON holds a number too long to read") from None
     if not isinstance(document, dict):
         raise LoadError(path, "not a glTF file: its JSON is not an object of glTF's keys", line=1)
+    return document
+
+
+def _gltf_pictures(document: dict[str, Any]) -> frozenset[str]:
+    """The URIs of a .gltf's pictures (not its buffers', which may be named anything)."""
     return frozenset(_uris(document.get("images"))) - frozenset(_uris(document.get("buffers")))
+
+
+def _glb_document(data: bytes) -> dict[str, Any] | None:
+    """A GLB's JSON chunk, read to count what it places; None where it cannot be read, which trimesh,
+    reading it after, says in its words."""
+    if data[:4] != b"glTF" or data[16:20] != b"JSON":
+        return None
+    try:
+        document = json.loads(data[20:20 + int.from_bytes(data[12:16], "little")])
+    except (ValueError, RecursionError):  # not JSON, not UTF-8, a number too long to read
+        return None
+    return document if isinstance(document, dict) else None
+
+
+class _Unshaped(Exception):
+    """A glTF's JSON that is not shaped as glTF's where it is counted: trimesh says how."""
+
+
+def _gltf_counts(document: dict[str, Any] | None) -> tuple[int, int, int] | None:
+    """(placements, triangles, vertices) the scene trimesh reads places, from the counts its JSON
+    declares: its nodes walked from the scene's roots as trimesh walks them (an edge from a parent to a
+    child once; a node's mesh placed once a primitive where it has several), each node's children once.
+    None where the JSON is not shaped as glTF's."""
+    if document is None:
+        return None
+    try:
+        sizes = _primitive_sizes(document)
+        nodes = document.get("nodes", [])
+        edges = [("root", root) for root in _roots(document)]
+        consumed, opened, placements, triangles, vertices = set(), set(), 0, 0, 0
+        while edges:
+            edge = edges.pop()
+            if edge in consumed:
+                continue
+            consumed.add(edge)
+            child = nodes[edge[1]]
+            if edge[1] not in opened:  # trimesh queues them again for each parent: all consumed by then
+                opened.add(edge[1])
+                edges.extend((edge[1], index) for index in child.get("children", []))
+            for faces, points in sizes[child["mesh"]] if "mesh" in child else ():
+                placements, triangles, vertices = placements + 1, triangles + faces, vertices + points
+    except (_Unshaped, LookupError, TypeError, AttributeError):
+        return None
+    return placements, triangles, vertices
+
+
+def _roots(document: dict[str, Any]) -> list[Any]:
+    """The root nodes of the scene trimesh reads: the one `scene` names, else the first."""
+    if "scenes" not in document:
+        return []
+    return list(document["scenes"][document.get("scene", 0)].get("nodes", []))
+
+
+# glTF's modes of primitive that trimesh reads: points and lines (placed, not drawn), triangles and strips.
+_POINTS, _LINES, _TRIANGLES, _STRIP = 0, 1, 4, 5
+
+
+def _primitive_sizes(document: dict[str, Any]) -> list[list[tuple[int, int]]]:
+    """Per mesh, (triangles, vertices) of each primitive trimesh reads, from its accessors' counts
+    (the vertices of a primitive of no triangles are not drawn, so not counted)."""
+    accessors = document.get("accessors", [])
+    sizes = []
+    for mesh in document.get("meshes", []):
+        read = []
+        for primitive in mesh["primitives"]:
+            mode = primitive.get("mode", _TRIANGLES)
+            if mode not in (_POINTS, _LINES, _TRIANGLES, _STRIP):
+                continue  # trimesh skips it
+            points = _count(accessors[primitive["attributes"]["POSITION"]])
+            corners = _count(accessors[primitive["indices"]]) if "indices" in primitive else points
+            faces = 0 if mode in (_POINTS, _LINES) else corners // 3 if mode == _TRIANGLES else max(corners - 2, 0)
+            read.append((faces, points if faces else 0))
+        sizes.append(read)
+    return sizes
+
+
+def _count(accessor: Any) -> int:
+    count = accessor["count"]
+    if not isinstance(count, int) or isinstance(count, bool) or count < 0:
+        raise _Unshaped
+    return count
 
 
 def _uris(items: object) -> Iterator[str]:
@@ -274,7 +379,7 @@ def _line_of_first_non_finite(data: bytes) -> int | None:
 def _finish(path: Path, loaded: Any, data: bytes | None, beside: _FilesBeside | None = None) -> Mesh:
     """A file's Mesh; `data`, for a text format, lets a bad number be found by line; `beside` read what
     the file names beside it, and says what it could not read."""
-    mesh = _mesh_of(path, path.stem, loaded, data, picture_formats=_PICTURE_FORMATS)
+    mesh = _mesh_of(path, path.stem, loaded, data, picture_formats=_PICTURE_FORMATS, finite_uvs=True)
     if beside is None or not (beside.tried or beside.failures or beside.held_failures):
         return mesh
     return replace(mesh, warnings=(*beside.notes(), *mesh.warnings), read_beside=tuple(dict.fromkeys(beside.tried)))
@@ -310,12 +415,14 @@ Part = tuple[_Geometry, np.ndarray | None]
 
 
 def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own_copy: bool = False,
-             picture_formats: Collection[str] | None = None) -> Mesh:
+             picture_formats: Collection[str] | None = None, finite_uvs: bool = False) -> Mesh:
     """One Mesh of every placed mesh, each keeping its uvs, vertex colours and material (base colour
     and texture), as an OBJ's groups keep theirs. Placed here, not by trimesh's to_geometry(), which
     packs every mesh's picture into one (recoloured) atlas and keeps one material. `own_copy`: the
     caller keeps `loaded` (the programming interface), so a mesh left where it is is copied too.
-    `picture_formats`: the formats of picture Pillow opened that a material may show (None: any)."""
+    `picture_formats`: the formats of picture Pillow opened that a material may show (None: any).
+    `finite_uvs`: a texture coordinate that is not a finite number is refused, as an OBJ's is (the
+    programming interface derives it, as build_mesh does)."""
     parts = _placed_parts(source, loaded)
     sizes = [len(geometry.positions) for geometry, _ in parts]
     with np.errstate(all="ignore"):  # a transform of NaN or huge numbers: refused by _check_tables
@@ -326,6 +433,8 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own
         mirrored = _mirroring([transform for _, transform in parts])
     faces = _placed_faces([geometry.faces for geometry, _ in parts], mirrored, sizes)
     _check_tables(source, positions, faces, data)
+    if finite_uvs:
+        _check_uvs(source, parts, data)
     uvs = _joined([geometry.uvs for geometry, _ in parts], sizes, np.nan)  # NaN: derived
     colours = _joined([geometry.colours for geometry, _ in parts], sizes, 255)  # white: untinted
     materials, part_material, notes = _part_materials(name, parts, picture_formats)
@@ -351,22 +460,88 @@ def _placed_parts(source: str | Path, loaded: Any) -> list[Part]:
               if hasattr(geometry, "faces") and len(geometry.faces)}  # a mesh of no faces draws nothing
     if not meshes:
         raise LoadError(source, "the scene holds no triangle mesh: nothing to draw")
+    graph = loaded.graph
+    placed = [(node, graph.transforms.node_data[node].get("geometry")) for node in graph.nodes_geometry]
+    placed = [(node, name) for node, name in placed if name in meshes]
+    if not placed:
+        raise LoadError(source, "no node of the scene places a triangle mesh: nothing to draw")
+    _check_placed_size(source, [meshes[name] for _, name in placed])
     try:
-        placements = [loaded.graph[node] for node in loaded.graph.nodes_geometry]
+        transforms = _moving(_world_transforms(graph, [node for node, _ in placed]))
     except Exception as error:  # a broken node graph (a cycle, say): trimesh's own words
         raise LoadError(source, f"cannot place the scene's meshes ({type(error).__name__}: {error})") from None
-    placements = [(transform, name) for transform, name in placements if name in meshes]
-    if not placements:
-        raise LoadError(source, "no node of the scene places a triangle mesh: nothing to draw")
-    _check_placed_size(source, [meshes[name] for _, name in placements])
-    read = {name: _geometry(source, meshes[name]) for name in dict.fromkeys(name for _, name in placements)}
-    return [(read[name], _moving(transform)) for transform, name in placements]
+    read = {name: _geometry(source, meshes[name]) for name in dict.fromkeys(name for _, name in placed)}
+    return [(read[name], transform) for (_, name), transform in zip(placed, transforms)]
 
 
-def _moving(transform: Any) -> np.ndarray | None:
-    """A node's transform; None where it leaves its mesh where it is (a file of one mesh, usually)."""
-    transform = np.asarray(transform, dtype=np.float64)
-    return None if np.array_equal(transform, _IDENTITY) else transform
+def _world_transforms(graph: Any, nodes: list[Any]) -> list[np.ndarray]:
+    """Each node's transform from the scene's base frame, as trimesh's graph[node] makes it (an edge from
+    the base as it is; else the product down the path of the matrices that are not the identity; a
+    nearly rigid one repaired), from one walk down the forest: graph[node] multiplies the chain above
+    each node anew, numpy ordering its product in the cube of its length (7.5 s for one mesh 400 deep)."""
+    with np.errstate(all="ignore"):  # NaN or huge matrices: refused once placed, by _check_tables
+        products = _walked_products(graph.transforms, graph.base_frame)
+        found = [_from_base(graph, products, node) for node in nodes]
+        return _repaired(found, getattr(graph, "repair_rigid", None))
+
+
+def _from_base(graph: Any, products: dict[Any, np.ndarray | None], node: Any) -> np.ndarray:
+    """One node's transform from the base, before any repair, as trimesh's graph.get makes it."""
+    base, edges = graph.base_frame, graph.transforms.edge_data
+    if node == base:
+        return _IDENTITY
+    if (base, node) in edges:  # trimesh takes an edge from the base as it is
+        return edges[(base, node)]["matrix"]
+    if node in products:
+        product = products[node]
+        return _IDENTITY if product is None else product
+    return graph[node][0]  # not below the base: trimesh's own path, or its error
+
+
+def _walked_products(forest: Any, base: Any) -> dict[Any, np.ndarray | None]:
+    """Every node below `base` with the product of the matrices on its path from it that are not the
+    identity (None: none is), each node's from its parent's, once."""
+    children: dict[Any, list[Any]] = {}
+    for child, parent in forest.parents.items():
+        children.setdefault(parent, []).append(child)
+    products: dict[Any, np.ndarray | None] = {base: None}
+    waiting = [base]
+    while waiting:
+        parent = waiting.pop()
+        for child in children.get(parent, ()):
+            if child not in products:  # a forest's node has one parent: a cycle through the base stops here
+                products[child] = _then(products[parent], forest.edge_data.get((parent, child), {}).get("matrix"))
+                waiting.append(child)
+    return products
+
+
+def _then(above: np.ndarray | None, matrix: Any) -> np.ndarray | None:
+    """The product of the path down to a node from its parent's: trimesh leaves out what is within 1e-8
+    of the identity (NaN too)."""
+    if matrix is None or not np.abs(np.asarray(matrix, dtype=np.float64) - _IDENTITY).max() > 1e-8:
+        return above
+    return matrix if above is None else above @ matrix
+
+
+def _repaired(matrices: list[np.ndarray], most: float | None) -> list[np.ndarray]:
+    """The matrices with trimesh's repair of one that is rigid but for rounding (what graph[node] does),
+    found for all at once: a scene may place thousands."""
+    if most is None or not matrices:
+        return matrices
+    from trimesh.transformations import fix_rigid
+
+    turns = np.stack([np.asarray(matrix, dtype=np.float64) for matrix in matrices])[:, :3, :3]
+    with np.errstate(all="ignore"):
+        off = np.abs(turns @ turns.transpose(0, 2, 1) - np.eye(3)).max(axis=(1, 2))
+    mended = set(np.flatnonzero((off > 1e-13) & (off < most)).tolist())
+    return [fix_rigid(matrix, max_deviance=most) if at in mended else matrix for at, matrix in enumerate(matrices)]
+
+
+def _moving(transforms: list[np.ndarray]) -> list[np.ndarray | None]:
+    """The nodes' transforms; None for one that leaves its mesh where it is (a file of one mesh, usually)."""
+    stacked = np.stack([np.asarray(transform, dtype=np.float64) for transform in transforms])
+    still = (stacked == _IDENTITY).all(axis=(1, 2))
+    return [None if unmoved else transform for transform, unmoved in zip(stacked, still)]
 
 
 _IDENTITY = np.eye(4)
@@ -467,10 +642,22 @@ def _drawn_picture(picture: Any, formats: Collection[str] | None, undrawn: list[
     if formats is not None and found is not None and found not in formats:
         undrawn.append(f"a {found} picture, not a PNG, JPEG or PPM one")
         return None
+    width, height = _picture_size(picture)
+    if width * height > MAX_PIXELS:  # before it is decoded
+        undrawn.append(f"a {width}x{height} picture, more than {MAX_PIXELS} pixels")
+        return None
     texture = _texture(picture)
     if texture is None:
         undrawn.append("Pillow cannot decode it")
     return texture
+
+
+def _picture_size(picture: Any) -> tuple[int, int]:
+    """(width, height) of a picture Pillow opened (from its header) or of an array of pixels."""
+    if isinstance(picture, Image.Image):
+        return picture.size
+    shape = np.shape(picture)
+    return (int(shape[1]), int(shape[0])) if len(shape) >= 2 else (0, 0)
 
 
 def _undrawn_notes(undrawn: list[str]) -> list[str]:
@@ -526,15 +713,32 @@ def _check_tables(path: str | Path, positions: np.ndarray, faces: np.ndarray, da
         raise unheld_coordinate(path, line)
 
 
+def _check_uvs(path: str | Path, parts: list[Part], data: bytes | None) -> None:
+    """A file's texture coordinates, each mesh's once: NaN or infinite ones are the file's error (trimesh
+    reads them as they are), not coordinates to derive."""
+    tables = {id(geometry): geometry.uvs for geometry, _ in parts if geometry.uvs is not None}
+    if not all(np.isfinite(table).all() for table in tables.values()):
+        line = _line_of_first_non_finite(data) if data is not None else None
+        raise LoadError(path, "a texture coordinate is not a finite number", line=line)
+
+
 def _check_placed_size(path: str | Path, placed: list[Any]) -> None:
     """Counted from the node graph before any mesh is copied into place: triangles, and vertices too
     (a mesh of many vertices and one face, placed many times, would otherwise pass)."""
     triangles = sum(len(mesh.faces) for mesh in placed)
     vertices = sum(len(mesh.vertices) for mesh in placed)
+    _check_placed_counts(path, len(placed), triangles, vertices)
+
+
+def _check_placed_counts(path: str | Path, placements: int, triangles: int, vertices: int) -> None:
+    """Refuses a scene of more placements, or of more triangles or vertices placed, than a model may hold."""
     if triangles > MAX_PLACED_TRIANGLES or vertices > 3 * MAX_PLACED_TRIANGLES:
-        raise LoadError(path, f"the scene places its meshes {len(placed)} times, {triangles} triangles and "
+        raise LoadError(path, f"the scene places its meshes {placements} times, {triangles} triangles and "
                               f"{vertices} vertices in all: more than the {MAX_PLACED_TRIANGLES} triangles (and three "
                               "vertices each) the viewer draws from one model")
+    if placements > MAX_PLACEMENTS:
+        raise LoadError(path, f"the scene places its meshes {placements} times (nodes times primitives): more than "
+                              f"the {MAX_PLACEMENTS} placements the viewer reads from one model")
 
 
 def _vertex_uvs(mesh: Any) -> np.ndarray | None:

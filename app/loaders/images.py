@@ -16,6 +16,7 @@ them for OpenGL so that v = 0 is the bottom row.
 from __future__ import annotations
 
 import contextlib
+import io
 import re
 import threading
 import warnings
@@ -36,6 +37,9 @@ MAX_PIXELS = 64 * 1024 * 1024
 # it reads, in lists and dicts, some 33 bytes for each byte of a header of empty ones: a picture that
 # holds more than this many is refused before Pillow reads it.
 MAX_HEADER_PARTS = 4096
+# A progressive JPEG is drawn in scans, each decoded over the whole picture: encoders write about 10, so a
+# file of thousands (a few bytes each) would cost thousands of decodings. More than this is refused.
+MAX_JPEG_SCANS = 100
 _PPM_MAGICS = (b"P6", b"P3")
 # The formats read, by their first bytes.
 FORMATS_BY_MAGIC = {b"P6": "PPM", b"P3": "PPM", b"\x89PNG\r\n\x1a\n": "PNG", b"\xff\xd8\xff": "JPEG"}
@@ -237,13 +241,40 @@ def _through_table(samples: np.ndarray, table: np.ndarray) -> np.ndarray:
 
 
 def check_picture_header(source: str | Path, data: bytes | memoryview) -> None:
-    """Refuses a JPEG or PNG whose header Pillow would keep at many times its size."""
+    """Refuses a JPEG or PNG whose header Pillow would keep at many times its size, and a JPEG of more
+    scans than any encoder writes."""
     kind = image_format(bytes(data[:_MAGIC_LENGTH]))
     if kind == "JPEG" and _jpeg_header_steps(data) > MAX_HEADER_PARTS:
         raise LoadError(source, f"more than {MAX_HEADER_PARTS} markers and stray bytes before the picture: no "
                                 "JPEG's header holds so many")
+    if kind == "JPEG" and _jpeg_scans(data) > MAX_JPEG_SCANS:
+        raise LoadError(source, f"more than {MAX_JPEG_SCANS} scans, each decoded over the whole picture: a "
+                                "progressive JPEG has about 10")
     if kind == "PNG" and _png_extra_chunks(data) > MAX_HEADER_PARTS:
         raise LoadError(source, f"more than {MAX_HEADER_PARTS} chunks besides its pixels: no PNG holds so many")
+
+
+def check_picture(source: str | Path, data: bytes) -> None:
+    """Refuses, from its header alone, a PPM, PNG or JPEG that check_picture_header refuses, one of more
+    than MAX_PIXELS pixels, or one Pillow cannot open: for a picture read for another reader (trimesh)."""
+    kind = image_format(data[:_MAGIC_LENGTH])
+    if kind == "PPM":
+        _ppm_header(data, str(source))  # checks the size
+    elif kind is not None:
+        with _opened(source, io.BytesIO(data), kind):
+            pass
+
+
+def check_picture_size(source: str | Path, width: int, height: int) -> None:
+    """Refuses a picture of more than MAX_PIXELS pixels (before it is decoded)."""
+    if width * height > MAX_PIXELS:
+        raise LoadError(source, f"image size {width}x{height} is too large (at most {MAX_PIXELS} pixels)")
+
+
+def _jpeg_scans(data: bytes | memoryview) -> int:
+    """The start-of-scan markers: an 0xFF in a scan's coded data is followed by 0x00, so each is a marker
+    (or lies in a segment's bytes, a thumbnail's own scan say: counted too, as few are)."""
+    return (data if isinstance(data, bytes) else bytes(data)).count(b"\xff\xda")
 
 
 def _jpeg_header_steps(data: bytes | memoryview) -> int:
@@ -285,8 +316,9 @@ def _png_extra_chunks(data: bytes | memoryview) -> int:
 
 
 class _HeaderRefused(SyntaxError):
-    """A picture refused by check_picture_header inside Pillow: SyntaxError, so that Pillow goes on as it
-    does for a file not of that format, and its message noted where pictures_checked() asked."""
+    """A picture refused by check_picture_header or check_picture_size inside Pillow: SyntaxError, so that
+    Pillow goes on as it does for a file not of that format, and its message noted where
+    pictures_checked() asked."""
 
 
 _checked = threading.local()  # .refusals: the messages of the innermost pictures_checked() of this thread
@@ -297,16 +329,16 @@ _install_lock = threading.Lock()
 
 @contextlib.contextmanager
 def pictures_checked() -> Iterator[list[str]]:
-    """While the block runs, Pillow's JPEG and PNG openers check a picture's header first
-    (check_picture_header), wherever Pillow is asked to open one: by marraztu, or by trimesh for the
+    """While the block runs, Pillow's openers of the common formats (JPEG, PNG, PPM, BMP, GIF) check a
+    picture's header first (check_picture_header) and its size once read (check_picture_size), before
+    Pillow's own guard warns, wherever Pillow is asked to open one: by marraztu, or by trimesh for the
     pictures a glTF holds. What they refused is listed (trimesh drops a picture it cannot open)."""
     refusals: list[str] = []
     outer, _checked.refusals = getattr(_checked, "refusals", None), refusals
     with _install_lock:
         if not _installed_by[0]:
             Image.preinit()
-            for kind in ("JPEG", "PNG"):
-                factory, accept = Image.OPEN[kind]
+            for kind, (factory, accept) in list(Image.OPEN.items()):
                 _installed[kind] = (factory, accept)
                 Image.OPEN[kind] = (_checking(factory), accept)
         _installed_by[0] += 1
@@ -329,16 +361,35 @@ def _checking(factory: Callable) -> Callable:
         try:
             check_picture_header("picture", data)
         except LoadError as error:
-            if getattr(_checked, "refusals", None) is not None:
-                _checked.refusals.append(error.message)
-            raise _HeaderRefused(error.message) from None
+            raise _refused(error) from None
         finally:
             del data
-        return factory(fp, filename)
+        image = factory(fp, filename)
+        try:
+            check_picture_size("picture", *image.size)
+        except LoadError as error:
+            raise _refused(error) from None
+        return image
     return open_checked
 
 
+def _refused(error: LoadError) -> _HeaderRefused:
+    """The refusal Pillow takes for "not this format", its message listed where pictures_checked() asks."""
+    if getattr(_checked, "refusals", None) is not None:
+        _checked.refusals.append(error.message)
+    return _HeaderRefused(error.message)
+
+
 def _load_with_pillow(file: Path, kind: str) -> np.ndarray:
+    with _opened(file, file, kind) as image:
+        image.load()
+        return rgb_array(image)
+
+
+@contextlib.contextmanager
+def _opened(source: str | Path, file: Path | BinaryIO, kind: str) -> Iterator[Image.Image]:
+    """The picture as Pillow opens it, of `kind` only, its header and size checked and its pixels not yet
+    decoded; what goes wrong, then or while the block decodes it, a LoadError naming `source`."""
     try:
         with warnings.catch_warnings(), pictures_checked() as refusals:
             warnings.simplefilter("error", Image.DecompressionBombWarning)
@@ -346,20 +397,17 @@ def _load_with_pillow(file: Path, kind: str) -> np.ndarray:
                 image = Image.open(file, formats=[kind])
             except Image.UnidentifiedImageError:
                 if refusals:
-                    raise LoadError(file, refusals[0]) from None
+                    raise LoadError(source, refusals[0]) from None
                 raise
             with image:
-                width, height = image.size
-                if width * height > MAX_PIXELS:
-                    raise LoadError(file, f"image size {width}x{height} is too large (at most {MAX_PIXELS} pixels)")
-                image.load()
-                return rgb_array(image)
+                check_picture_size(source, *image.size)
+                yield image
     except LoadError:
         raise
     except (Image.DecompressionBombError, Image.DecompressionBombWarning):
-        raise LoadError(file, "image is too large (Pillow's decompression-bomb guard)") from None
+        raise LoadError(source, "image is too large (Pillow's decompression-bomb guard)") from None
     except Exception as error:  # Pillow raises OSError, ValueError, SyntaxError, EOFError, ... for bad files
-        raise LoadError(file, f"not a readable image ({type(error).__name__}: {error})") from None
+        raise LoadError(source, f"not a readable image ({type(error).__name__}: {error})") from None
 
 
 def rgb_array(image: Image.Image) -> np.ndarray:

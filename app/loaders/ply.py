@@ -7,12 +7,16 @@ checked against its type where the file gives it, and the rows are written as th
 binary body that trimesh reads without parsing, so that what trimesh makes of it is what it makes of
 a binary file. trimesh's binary reader takes one corner count for a whole face element: faces of
 mixed or more than four corners are fanned into triangles first, as trimesh fans a file's quads.
+A binary body is read the same way (vertices_and_faces) where trimesh's reader would refuse it
+(faces of mixed lengths) or make of it what the viewer cannot use (a path of an edge element).
 """
 
 from __future__ import annotations
 
 import functools
 import re
+import struct
+from array import array
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -473,3 +477,199 @@ def _row_layout(element: PlyElement, values: list[np.ndarray]) -> np.dtype:
             fields.append((f"count{number}", "<" + PLY_TYPES[prop.count_type]))
         fields.append((f"value{number}", "<" + PLY_TYPES[prop.value_type], value.shape[1:]))
     return np.dtype(fields)
+
+
+# --- a binary body, for trimesh's reader --------------------------------------------------------------
+# What the viewer draws: trimesh makes a path of an edge element (which needs scipy), and draws nothing
+# of the others.
+_KEPT_ELEMENTS = ("vertex", "face")
+
+
+def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> bytes:
+    """A binary PLY as trimesh's binary reader takes it: its vertex and face elements alone, read where
+    they lie in the body, little-endian; faces whose corner counts differ (triangles and quads), or of
+    more than four, fanned into triangles as an ASCII body's are, as that reader takes one count for a
+    whole element. The file itself where that changes nothing."""
+    at, tables, unchanged = header.body_at, [], header.encoding == "<"
+    for element in header.elements:
+        columns, uniform, at = _binary_columns(path, data, element, at, header.encoding)
+        if element.name not in _KEPT_ELEMENTS or not columns:
+            unchanged = False
+            continue
+        table, as_read = _kept_table(path, element, columns, uniform, header.count("vertex"))
+        tables.append(table)
+        unchanged = unchanged and as_read
+    if at != len(data):
+        raise LoadError(path, f"its body holds {len(data) - at} bytes more than the rows its header counts")
+    if unchanged:
+        return data
+    return _written(header.text("binary_little_endian", tuple(element for element, _ in tables)), tables)
+
+
+def _kept_table(path: Path, element: PlyElement, columns: list[_Column], uniform: bool, vertices: int
+                ) -> tuple[tuple[PlyElement, list[np.ndarray]], bool]:
+    """The element's rows as trimesh's binary reader takes them, and whether they are the file's own:
+    faces fanned where their lists vary in length or hold more than four corners; another element's
+    lists left out where they vary (trimesh draws nothing of them)."""
+    corners = _binary_corners(path, element, columns, vertices)
+    if corners is not None and (not uniform or corners.values.shape[1] > 4):
+        return _fanned(element, columns, corners), False
+    if not uniform:
+        return _without_lists(element, columns), False
+    return (element, [column.values for column in columns]), True
+
+
+def _binary_corners(path: Path, element: PlyElement, columns: list[_Column], vertices: int) -> _Column | None:
+    """A face element's list of vertex indices, checked as an ASCII body's are: 3 or more corners a face,
+    each index a vertex's, two texture coordinates a corner; None for another element."""
+    corners = next((column for column in columns if column.prop.name in FACE_LISTS and column.counts is not None),
+                   None)
+    if element.name != "face" or corners is None or corners.counts is None:
+        return None
+    if (corners.counts < 3).any():
+        size = int(corners.counts[np.argmax(corners.counts < 3)])
+        raise LoadError(path, f"a face of {size} corner{'' if size == 1 else 's'}: 3 or more make one")
+    outside = (corners.values < 0) | (corners.values >= vertices)
+    if outside.any():
+        index = corners.values.ravel()[np.argmax(outside.ravel())]
+        raise LoadError(path, f"vertex index {index} out of range (the file has {vertices} vertices)")
+    for column in columns:
+        if column.prop.name == TEXCOORD_LIST and column.counts is not None:
+            wrong = column.counts != 2 * corners.counts
+            if wrong.any():
+                row = int(np.argmax(wrong))
+                raise LoadError(path, f"face texcoord: {column.counts[row]} numbers for a face of "
+                                      f"{corners.counts[row]} corners (two a corner)")
+    return corners
+
+
+def _binary_columns(path: Path, data: bytes, element: PlyElement, at: int, order: str
+                    ) -> tuple[list[_Column], bool, int]:
+    """The element's columns from byte `at`, whether every row has the first row's list counts, and where
+    the next element starts. Such rows are one table, read in place; only where a count differs are the
+    rows walked one by one (a row's length is known once its counts are read)."""
+    if not element.count or not element.properties:
+        return [], True, at
+    _, counts, _ = _walked_rows(path, data, element, at, order, rows=1)
+    layout = _row_dtype(element, counts[0], order)
+    end = at + element.count * layout.itemsize
+    if end <= len(data):
+        table = np.frombuffer(data, layout, count=element.count, offset=at)
+        lists = [number for number, prop in enumerate(element.properties) if prop.count_type is not None]
+        if all((table[f"count{number}"] == count).all() for number, count in zip(lists, counts[0])):
+            return _binary_table_columns(element, table), True, end
+    starts, counts, end = _walked_rows(path, data, element, at, order)
+    return _gathered_columns(data, element, starts, counts, order), False, end
+
+
+def _row_dtype(element: PlyElement, counts: np.ndarray, order: str) -> np.dtype:
+    """A row of the element whose lists hold these counts, as a numpy record."""
+    fields: list[tuple] = []
+    given = iter(counts)
+    for number, prop in enumerate(element.properties):
+        if prop.count_type is None:
+            fields.append((f"value{number}", order + PLY_TYPES[prop.value_type]))
+            continue
+        fields.append((f"count{number}", order + PLY_TYPES[prop.count_type]))
+        fields.append((f"value{number}", order + PLY_TYPES[prop.value_type], (int(next(given)),)))
+    return np.dtype(fields)
+
+
+def _binary_table_columns(element: PlyElement, table: np.ndarray) -> list[_Column]:
+    """Columns of rows that all hold the same counts: views of the table, a list's as (rows, count)."""
+    columns = []
+    for number, prop in enumerate(element.properties):
+        values = table[f"value{number}"]
+        counts = None if prop.count_type is None else np.full(len(table), values.shape[1], np.int64)
+        columns.append(_Column(prop, values, _no_line, counts, None if counts is None else _no_line))
+    return columns
+
+
+def _walked_rows(path: Path, data: bytes, element: PlyElement, at: int, order: str, rows: int | None = None
+                 ) -> tuple[np.ndarray, np.ndarray, int]:
+    """Each row's start and its lists' counts, row by row (the first `rows` only, where given), and
+    where the rows end. Each row holds its values and counts at least: the header's count is checked
+    against what the body can hold before anything is made by it."""
+    steps, tail = _row_steps(element, order)
+    least = sum(skip + counter.size for skip, counter, _ in steps) + tail
+    if element.count * least > len(data) - at:
+        raise _ended(path, element)
+    starts, counts, end = array("q"), array("q"), len(data)
+    walks = [(skip, counter.unpack_from, skip + counter.size, item) for skip, counter, item in steps]
+    try:
+        for _ in range(element.count if rows is None else rows):
+            starts.append(at)
+            for skip, unpack, before_items, item in walks:
+                (count,) = unpack(data, at + skip)
+                at += before_items + count * item
+                if count < 0 or at > end:  # (a count read past the end raises struct.error)
+                    raise _bad_count(path, element, count)
+                counts.append(count)
+            at += tail
+    except struct.error:  # the body ends before a count
+        raise _ended(path, element) from None
+    if at > end:
+        raise _ended(path, element)
+    return np.frombuffer(starts, np.int64), np.frombuffer(counts, np.int64).reshape(len(starts), len(steps)), at
+
+
+def _bad_count(path: Path, element: PlyElement, count: int) -> LoadError:
+    if count < 0:
+        return LoadError(path, f"{element.name}: a list count of {count}, below 0")
+    return _ended(path, element)
+
+
+def _row_steps(element: PlyElement, order: str) -> tuple[list[tuple[int, struct.Struct, int]], int]:
+    """How a row is walked: for each list, the bytes of values before its count, its count's format and
+    the bytes of an item; and the bytes of values after the last list."""
+    steps, before = [], 0
+    for prop in element.properties:
+        if prop.count_type is None:
+            before += np.dtype(PLY_TYPES[prop.value_type]).itemsize
+            continue
+        counter = struct.Struct(order + _STRUCT_CODES[PLY_TYPES[prop.count_type]])
+        steps.append((before, counter, np.dtype(PLY_TYPES[prop.value_type]).itemsize))
+        before = 0
+    return steps, before
+
+
+# A list's count, of a whole-number type (read_header refuses others), as struct reads it.
+_STRUCT_CODES = {"i1": "b", "u1": "B", "i2": "h", "u2": "H", "i4": "i", "u4": "I", "i8": "q", "u8": "Q"}
+
+
+def _gathered_columns(data: bytes, element: PlyElement, starts: np.ndarray, counts: np.ndarray, order: str
+                      ) -> list[_Column]:
+    """Columns of rows of mixed counts, as the ASCII reader makes them: each value gathered from its
+    row, and each list's items one row after another."""
+    columns, at, lists = [], starts.copy(), 0  # `at`: where each row's next property lies
+    for prop in element.properties:
+        item = np.dtype(order + PLY_TYPES[prop.value_type])
+        if prop.count_type is None:
+            columns.append(_Column(prop, _gathered(data, at, item), _no_line))
+            at += item.itemsize
+            continue
+        count, first = counts[:, lists], at + np.dtype(PLY_TYPES[prop.count_type]).itemsize
+        # An item's offset: its row's first item's, plus the bytes of the items before it, less those before its row.
+        items = (np.repeat(first - (np.cumsum(count) - count) * item.itemsize, count)
+                 + np.arange(int(count.sum()), dtype=np.int64) * item.itemsize)
+        columns.append(_Column(prop, _gathered(data, items, item), _no_line, count.copy(), _no_line))
+        at, lists = first + count * item.itemsize, lists + 1
+    return columns
+
+
+def _gathered(data: bytes, offsets: np.ndarray, kind: np.dtype) -> np.ndarray:
+    """The values of type `kind` at these byte offsets, which need not be a multiple of its size."""
+    raw, out = np.frombuffer(data, np.uint8), np.empty(len(offsets), kind)
+    out_bytes = out.view(np.uint8).reshape(len(offsets), kind.itemsize)
+    for byte in range(kind.itemsize):
+        out_bytes[:, byte] = raw[offsets + byte]
+    return out
+
+
+def _no_line(at: int) -> int:
+    """A binary body's value has no line to name: the ASCII reader's way of finding one, unused."""
+    return at
+
+
+def _ended(path: Path, element: PlyElement) -> LoadError:
+    return LoadError(path, f"the header counts {element.count} rows of {element.name}, the file ends before them")
