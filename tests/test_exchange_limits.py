@@ -495,3 +495,17 @@ def test_nan_texture_coordinates_of_a_binary_ply_are_refused(tmp_path: Path) -> 
     refused, heard = heard_warnings(lambda: load_model(path))
     assert heard == [] and isinstance(refused, LoadError)
     assert (refused.line, refused.message) == (None, "a texture coordinate is not a finite number")
+
+
+def test_a_node_that_is_the_child_of_two_is_refused_before_trimesh_reads_the_file(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """glTF's nodes form trees; trimesh's reader takes time in the square of a child shared by many."""
+    nodes = [{"children": [2]}, {"children": [2]}, {"mesh": 0}]
+    path = tmp_path / "shared.glb"
+    path.write_bytes(glb(*triangle_gltf(nodes, [0, 1])))
+    read = trimesh_loads(monkeypatch)
+    refused = one_line_refusal(lambda: load_model(path))
+    assert refused.message == "not a glTF file: node 2 is the child of two nodes (glTF's nodes form trees)"
+    assert read == []
+    path.write_bytes(glb(*triangle_gltf([{"children": [2]}, {"children": [3]}, {"mesh": 0}, {"mesh": 0}], [0, 1])))
+    assert load_model(path).face_count == 2

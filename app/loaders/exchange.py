@@ -145,6 +145,7 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     data, file_type = read_model_bytes(path, stage), path.suffix.lower().lstrip(".")
     document = _gltf_document(path, data) if file_type == "gltf" else _glb_document(data)
     pictures = _gltf_pictures(document) if file_type == "gltf" else frozenset()  # a GLB holds its own
+    _check_one_parent_each(path, document)
     counts = _gltf_counts(document)
     if counts is not None:  # before trimesh builds a node and a mesh per placement
         _check_placed_counts(path, *counts)
@@ -313,6 +314,22 @@ def _gltf_counts(document: dict[str, Any] | None) -> tuple[int, int, int] | None
     except (_Unshaped, LookupError, TypeError, AttributeError):
         return None
     return placements, triangles, vertices
+
+
+def _check_one_parent_each(path: Path, document: dict[str, Any] | None) -> None:
+    """glTF's nodes form trees: a node that is the child of two (trimesh's reader takes time in the square
+    of such sharing) is refused before trimesh reads the file."""
+    nodes = document.get("nodes") if isinstance(document, dict) else None
+    seen: set[int] = set()
+    for node in nodes if isinstance(nodes, list) else ():
+        children = node.get("children") if isinstance(node, dict) else None
+        for child in children if isinstance(children, list) else ():
+            if not isinstance(child, int) or isinstance(child, bool):
+                continue  # not an index: trimesh says what is wrong with it
+            if child in seen:
+                raise LoadError(path, f"not a glTF file: node {child} is the child of two nodes (glTF's nodes form "
+                                      "trees)")
+            seen.add(child)
 
 
 def _roots(document: dict[str, Any]) -> list[Any]:
