@@ -23,7 +23,7 @@ from marraztu.loaders import exchange
 from marraztu.loaders.images import MAX_JPEG_SCANS, MAX_PIXELS
 from marraztu.loaders.ply import read_header, vertices_and_faces
 from marraztu.loaders.registry import load_model
-from support.corpus import png_bytes
+from support.corpus import jpeg_of_scans, png_bytes
 from support.refusals import one_line_refusal
 from support.work import peak_traced_bytes
 
@@ -79,16 +79,6 @@ def textured_ply(folder: Path, picture_name: str) -> Path:
                     "property float y\nproperty float z\nproperty float s\nproperty float t\nelement face 1\n"
                     f"property list uchar int vertex_indices\nend_header\n{rows}\n3 0 1 2\n")
     return path
-
-
-def jpeg_of_scans(scans: int) -> bytes:
-    """A 16 x 16 progressive JPEG, its last scan repeated until it holds `scans` (a few bytes each)."""
-    out = io.BytesIO()
-    Image.fromarray(np.random.default_rng(4).integers(0, 255, (16, 16, 3), dtype=np.uint8)).save(
-        out, "JPEG", progressive=True)
-    data = out.getvalue()
-    last = data.rindex(b"\xff\xda")
-    return data[:-2] + data[last:-2] * (scans - data.count(b"\xff\xda")) + data[-2:]
 
 
 def claimed_pictures() -> dict[str, bytes]:

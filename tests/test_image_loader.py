@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import io
 import tracemalloc
 import warnings
 from pathlib import Path
@@ -21,7 +20,7 @@ from marraztu.loaders.images import (
     load_texture_or_fallback,
     parse_ppm,
 )
-from support.corpus import png_bytes
+from support.corpus import jpeg_of_scans, png_bytes
 
 # 2 x 2: red, green / blue, white. Rows top first, as in the file.
 PIXELS = np.array([[[255, 0, 0], [0, 255, 0]], [[0, 0, 255], [255, 255, 255]]], dtype=np.uint8)
@@ -224,16 +223,6 @@ def test_a_png_of_a_million_text_or_private_chunks_is_refused_before_pillow_keep
         load_image(path)
     path.write_bytes(data[:header_end] + b"".join(chunk(number) for number in range(100)) + data[header_end:])
     assert load_image(path).shape == (8, 8, 3)
-
-
-def jpeg_of_scans(scans: int) -> bytes:
-    """A 16 x 16 progressive JPEG (Pillow writes 10 scans), its last scan repeated until it holds `scans`."""
-    out = io.BytesIO()
-    Image.fromarray(np.random.default_rng(4).integers(0, 255, (16, 16, 3), dtype=np.uint8)).save(
-        out, "JPEG", progressive=True)
-    data = out.getvalue()
-    last = data.rindex(b"\xff\xda")
-    return data[:-2] + data[last:-2] * (scans - data.count(b"\xff\xda")) + data[-2:]
 
 
 def test_a_jpeg_of_more_scans_than_encoders_write_is_refused_before_it_is_decoded(tmp_path: Path) -> None:

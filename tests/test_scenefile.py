@@ -5,7 +5,6 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
-from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -26,6 +25,7 @@ from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Material
 from marraztu.model.transforms import euler_xyz
 from marraztu.resources import ASSET_DIR
+from support.work import calls_made
 
 SPEC_MATERIALS = {
     "shiny_plastic": Material((0.0, 0.3, 1.0), (0.5922, 0.0166, 0.0), (0.5974, 0.2084, 0.2084), 100.2237),
@@ -397,24 +397,6 @@ def test_rotation_is_optional_and_checked(tmp_path: Path) -> None:
 
 
 # --- cost grows with the file, not with its square -------------------------------------------------
-def calls_made(action: Callable[[], object]) -> int:
-    """How many Python and C functions `action` calls: work counted, not timed, so a busy machine cannot fail it."""
-    count = 0
-
-    def profile(frame: object, event: str, arg: object) -> None:
-        nonlocal count
-        if event in ("call", "c_call"):
-            count += 1
-
-    previous = sys.getprofile()
-    sys.setprofile(profile)
-    try:
-        action()
-    finally:
-        sys.setprofile(previous)
-    return count
-
-
 def many_entries(kind: str, count: int) -> str:
     """A scene of `count` objects, cameras or named materials, each table on lines of its own."""
     if kind == "materials":

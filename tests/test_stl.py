@@ -4,10 +4,7 @@ from what its exporters write; the binary one told apart by its size."""
 
 from __future__ import annotations
 
-import sys
-from collections.abc import Callable
 from pathlib import Path
-from types import FrameType
 
 import numpy as np
 import pytest
@@ -18,7 +15,7 @@ from marraztu.loaders import stl
 from marraztu.loaders.registry import load_model
 from marraztu.loaders.stl import stl_corners
 from support.refusals import one_line_refusal
-from support.work import peak_traced_bytes
+from support.work import peak_traced_bytes, python_lines_run
 
 PATH = Path("m.stl")
 
@@ -118,27 +115,7 @@ def test_padding_after_the_last_endsolid_is_read_past(padding: bytes) -> None:
     assert read(solid(facet(TRIANGLE)).encode() + padding).shape == (3, 3)
 
 
-def python_lines_run(action: Callable[[], object], module: str) -> int:
-    """How many lines of `module`'s source Python runs in `action`: work counted, not timed."""
-    count = 0
 
-    def tracer(frame: FrameType, event: str, arg: object) -> Callable | None:
-        if frame.f_code.co_filename != module:
-            return None
-        return counting
-
-    def counting(frame: FrameType, event: str, arg: object) -> Callable:
-        nonlocal count
-        count += event == "line"
-        return counting
-
-    previous = sys.gettrace()
-    sys.settrace(tracer)
-    try:
-        action()
-    finally:
-        sys.settrace(previous)
-    return count
 
 
 @pytest.mark.parametrize("padding", [b" " * (1 << 20) + b"\0", b"\0" * (1 << 20), b"\r\n\x1a\t" * (1 << 18)])
@@ -292,7 +269,7 @@ def test_the_reader_gives_what_the_line_reader_alone_gives(piece: int, monkeypat
         wholly, partly = wholly + (rest is None), partly + (rest is not None and rest > 0)
         outcome = _outcome(data)
         with monkeypatch.context() as lines_alone:
-            lines_alone.setattr(stl, "_usual_ascii_corners", lambda text, start: ([], start))
+            lines_alone.setattr(stl, "_usual_ascii_corners", lambda text: ([], 0))
             expected = _outcome(data)
         if isinstance(expected, str):
             assert outcome == expected, data

@@ -29,12 +29,12 @@ from marraztu.frontends.screenshot import OffscreenFrontend, render_pixels
 from marraztu.loaders.exchange import mesh_of_trimesh
 from marraztu.loaders.scenefile import material_for_loaded, materials_of_parts
 from marraztu.model.build import build_mesh, real_numbers
-from marraztu.model.geometry import DRAWABLE_COORDINATE, drawable_bounds, holds_in_float32
+from marraztu.model.geometry import holds_in_float32, too_far_to_light
 from marraztu.model.mesh import INDEX_LIMIT
 from marraztu.model.probe import probe as probe_scene
 from marraztu.model.scene import Scene, SceneObject
 from marraztu.render.context import create_offscreen_context
-from marraztu.render.layout import MAX_SIDE
+from marraztu.render.layout import checked_size
 from marraztu.render.renderer import Renderer
 
 Size = tuple[int, int]
@@ -86,7 +86,7 @@ def _triple(values: Any) -> tuple[float, float, float]:
 
 def _checked_size(size: Sequence[int]) -> Size:
     """(width, height): a tuple, list or array of two whole numbers (a bool, a float or a text is no
-    side), each 1..MAX_SIDE."""
+    side), each in checked_size's range."""
     try:
         if not isinstance(size, (tuple, list, np.ndarray)):
             raise TypeError
@@ -96,10 +96,7 @@ def _checked_size(size: Sequence[int]) -> Size:
         width, height = (operator.index(side) for side in sides)
     except (TypeError, ValueError):
         raise ValueError(f"size must be (width, height) in whole numbers, not {escaped(repr(size))[:80]}") from None
-    if not (1 <= width <= MAX_SIDE and 1 <= height <= MAX_SIDE):
-        shown = f" {width}x{height}" if max(abs(width), abs(height)) < 10**9 else ""  # not a page of digits
-        raise ValueError(f"size{shown} is out of range 1..{MAX_SIDE}")
-    return width, height
+    return checked_size(width, height)
 
 
 def _release(ctx: Any, renderer: Renderer) -> None:
@@ -174,9 +171,9 @@ class Viewer:
         else:
             mesh = build_mesh(name=shown_name, positions=_finite_positions(positions), faces=faces, uvs=uvs,
                               normals=normals, vertex_colours=colours, attributes_per_vertex=attributes_per_vertex)
-        if not drawable_bounds(*mesh.bounds):
-            raise ValueError(f"positions must lie within ±{DRAWABLE_COORDINATE:.0e}: the GPU's 32-bit numbers "
-                             "cannot light a model past that (scale it down)")
+        refusal = too_far_to_light(*mesh.bounds)
+        if refusal is not None:
+            raise ValueError(refusal)
         material = material_for_loaded(mesh)
         obj = SceneObject.placed(mesh.name, mesh, material, (0.0, 0.0, 0.0))
         obj.part_materials = materials_of_parts(mesh, material, from_scene=False)

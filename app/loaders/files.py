@@ -97,8 +97,7 @@ BOM = b"\xef\xbb\xbf"  # UTF-8's byte order mark, which Notepad and some exporte
 
 
 def bom_length(data: bytes) -> int:
-    """How many of a text's first bytes are one UTF-8 byte order mark, which every text reader skips
-    (read from just after it: a copy of the text would cost its size again)."""
+    """How many of a text's first bytes are one UTF-8 byte order mark, which every text reader skips."""
     return len(BOM) if data.startswith(BOM) else 0
 
 

@@ -7,11 +7,9 @@ import importlib
 from collections.abc import Callable
 from pathlib import Path
 
-import numpy as np
-
 from marraztu.errors import LoadError
 from marraztu.loaders.files import COLLECT_AFTER_BYTES, size_or_zero
-from marraztu.model.geometry import DRAWABLE_COORDINATE, drawable_bounds
+from marraztu.model.geometry import too_far_to_light
 from marraztu.model.mesh import Mesh
 
 Stage = Callable[[str], None]  # hears what a long load is doing now, for the window's status
@@ -60,10 +58,9 @@ def load_model(path: str | Path, stage: Stage | None = None) -> Mesh:
 
 
 def _drawable(mesh: Mesh, path: Path) -> Mesh:
-    if not drawable_bounds(*mesh.bounds):
-        farthest = max(-float(np.min(mesh.bounds[0])), float(np.max(mesh.bounds[1])))
-        raise LoadError(path, f"a coordinate reaches {farthest:.3g}: past {DRAWABLE_COORDINATE:.0e} the GPU's "
-                              "32-bit numbers cannot light the model (scale it down)")
+    refusal = too_far_to_light(*mesh.bounds)
+    if refusal is not None:
+        raise LoadError(path, refusal)
     return mesh
 
 

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import BOM, bom_length, line_at, read_model_bytes, text_lines
+from marraztu.loaders.files import bom_length, line_at, read_model_bytes, text_lines
 from marraztu.loaders.words import WordBlocks, checked_coordinates, said_count, unheld_coordinate
 from marraztu.model.build import derive_mesh
 from marraztu.model.geometry import holds_in_float32, merged_rows
@@ -51,17 +51,18 @@ def stl_corners(path: Path, data: bytes) -> np.ndarray:
     a binary file's are the caller's to check."""
     if _is_binary(data):
         return _binary_corners(data)
-    start = bom_length(data)  # an ASCII file's text is read from after it, never copied without it
-    if not _ASCII_START.match(data, start):
+    if bom_length(data):  # Notepad's mark before the text: such a rare file costs one copy without it
+        data = data[bom_length(data):]
+    if not _ASCII_START.match(data):
         raise LoadError(path, "neither a binary STL (its size does not match its triangle count) nor an "
                               "ASCII one (it does not start with 'solid')", line=1)
     data = _without_end_padding(data)
     if b"\0" in data:
         raise LoadError(path, "binary data after 'solid': a binary STL whose size does not match its "
                               f"triangle count ({len(data)} bytes)?", line=line_at(data, data.find(b"\0")))
-    blocks, resume_at = _usual_ascii_corners(data, start)
+    blocks, resume_at = _usual_ascii_corners(data)
     if resume_at is not None:
-        blocks.append(_ascii_corners(path, data, resume_at, in_solid=resume_at > start))
+        blocks.append(_ascii_corners(path, data, resume_at))
     return blocks[0] if len(blocks) == 1 else np.concatenate(blocks)
 
 
@@ -123,10 +124,10 @@ _EXPECTED = {
 }
 
 
-def _ascii_corners(path: Path, data: bytes, start: int, in_solid: bool) -> np.ndarray:
-    """One pass over the lines from `start` (the text's start, or just after a facet: `in_solid`), a
-    state per line: every corner's three numbers, or the first bad line."""
-    state, step = (_IN_SOLID if in_solid else _OUTSIDE), _NEXT
+def _ascii_corners(path: Path, data: bytes, start: int = 0) -> np.ndarray:
+    """One pass over the lines from `start` (0, or just after a facet), a state per line: every
+    corner's three numbers, or the first bad line."""
+    state, step = (_IN_SOLID if start else _OUTSIDE), _NEXT
     lines_before = line_at(data, start) - 1
     number = lines_before  # the last line read, which the errors at the end name
     solid_line = 0  # where the solid was opened: 0 before `start`, looked for only if it is not closed
@@ -181,13 +182,13 @@ _ENDFACET_WORD = re.compile(rb"(?i:endfacet)")
 _FACETS_PIECE = 1 << 20  # bytes read at once, ending after a facet: the piece's words stay a few megabytes
 
 
-def _usual_ascii_corners(data: bytes, text_start: int = 0) -> tuple[list[np.ndarray], int | None]:
-    """The (N, 3) corners of the leading facets of the text from `text_start`, a piece at a time while
-    the text is the usual one, and the offset from which the line reader reads the rest: just after the
-    last facet read (`text_start` where none was), or None where the whole text is usual."""
+def _usual_ascii_corners(data: bytes) -> tuple[list[np.ndarray], int | None]:
+    """The (N, 3) corners of the text's leading facets, a piece at a time while the text is the usual
+    one, and the offset from which the line reader reads the rest: just after the last facet read (0
+    where none was), or None where the whole text is usual."""
     blocks: list[np.ndarray] = []
     gap = b""  # the text after the last facet read
-    for start, stop in _facet_pieces(data, text_start):
+    for start, stop in _facet_pieces(data):
         resume_at = start - len(gap)
         parts = _FACET_TEXT.split(memoryview(data)[start:stop])
         gaps = parts[::_SPLIT_STRIDE]
@@ -213,9 +214,9 @@ def _usual_ascii_corners(data: bytes, text_start: int = 0) -> tuple[list[np.ndar
     return blocks, (None if blocks and _AFTER_LAST_FACET.fullmatch(gap) else len(data) - len(gap))
 
 
-def _facet_pieces(data: bytes, start: int) -> Iterator[tuple[int, int]]:
-    """(start, stop) of pieces of the text from `start` of about _FACETS_PIECE bytes, each ending after an
-    endfacet line."""
+def _facet_pieces(data: bytes) -> Iterator[tuple[int, int]]:
+    """(start, stop) of pieces of the text of about _FACETS_PIECE bytes, each ending after an endfacet line."""
+    start = 0
     while start < len(data):
         end = _ENDFACET_WORD.search(data, start + _FACETS_PIECE)
         # Just past the line end after it; the text's end where there is none (find gives -1).
@@ -224,8 +225,7 @@ def _facet_pieces(data: bytes, start: int) -> Iterator[tuple[int, int]]:
         start = stop
 
 
-# At a line's start (or after the text's byte order mark): a line begun by 'solid'.
-_SOLID_KEYWORD = re.compile(rb"(?:\A" + BOM + rb"|(?m:^))[ \t\v\f\r]*+((?i:solid))")
+_SOLID_KEYWORD = re.compile(rb"(?m:^)[ \t\v\f\r]*+((?i:solid))")  # at a line's start: a line begun by 'solid'
 
 
 def _line_of_last_solid(data: bytes, before: int) -> int:

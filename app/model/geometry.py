@@ -17,9 +17,13 @@ FLOAT32_MAX = float(np.finfo(np.float32).max)
 DRAWABLE_COORDINATE = 1e18
 
 
-def drawable_bounds(low: np.ndarray, high: np.ndarray) -> bool:
-    """Whether a model within these bounds can be lit and drawn (DRAWABLE_COORDINATE)."""
-    return bool(max(-float(np.min(low)), float(np.max(high))) <= DRAWABLE_COORDINATE)
+def too_far_to_light(low: np.ndarray, high: np.ndarray) -> str | None:
+    """Why a model within these bounds cannot be lit (a coordinate past DRAWABLE_COORDINATE); None if it can."""
+    farthest = max(-float(np.min(low)), float(np.max(high)))
+    if farthest <= DRAWABLE_COORDINATE:
+        return None
+    return (f"a coordinate reaches {farthest:.3g}: past {DRAWABLE_COORDINATE:.0e} the GPU's 32-bit numbers cannot "
+            "light the model (scale it down)")
 
 
 def holds_in_float32(table: np.ndarray) -> bool:

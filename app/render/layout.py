@@ -19,9 +19,14 @@ def parse_size(text: str) -> tuple[int, int]:
         width, height = (int(part) for part in text.lower().split("x"))
     except ValueError:
         raise ValueError(f"size must look like 800x600, not {text[:40]!r}") from None
+    return checked_size(width, height)
+
+
+def checked_size(width: int, height: int) -> tuple[int, int]:
+    """(width, height), each 1..MAX_SIDE; ValueError otherwise."""
     if not (1 <= width <= MAX_SIDE and 1 <= height <= MAX_SIDE):
-        shown = f"{width}x{height}" if len(text) <= 40 else f"{text[:40]!r}..."  # not a page of digits
-        raise ValueError(f"size {shown} is out of range 1..{MAX_SIDE}")
+        shown = f" {width}x{height}" if max(abs(width), abs(height)) < 10**9 else ""  # not a page of digits
+        raise ValueError(f"size{shown} is out of range 1..{MAX_SIDE}")
     return width, height
 
 

@@ -13,6 +13,7 @@ Random bytes come from seeded generators, so every run tries exactly the same fi
 from __future__ import annotations
 
 import gc
+import io
 import os
 import random
 import struct
@@ -23,6 +24,9 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Literal
+
+import numpy as np
+from PIL import Image
 
 Kind = Literal["obj", "image", "scene"]
 # How the path is made: a plain file with `content`, or one of the things that are not one.
@@ -233,6 +237,16 @@ def png_bytes(width: int, height: int, claimed: tuple[int, int] | None = None) -
     ihdr = struct.pack(">IIBBBBB", header_w, header_h, 8, 2, 0, 0, 0)  # 8-bit RGB
     rows = b"".join(b"\0" + bytes([200, 40, 40]) * width for _ in range(height))
     return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b"")
+
+
+def jpeg_of_scans(scans: int) -> bytes:
+    """A 16 x 16 progressive JPEG (Pillow writes 10 scans), its last scan repeated until it holds `scans`."""
+    out = io.BytesIO()
+    Image.fromarray(np.random.default_rng(4).integers(0, 255, (16, 16, 3), dtype=np.uint8)).save(
+        out, "JPEG", progressive=True)
+    data = out.getvalue()
+    last = data.rindex(b"\xff\xda")
+    return data[:-2] + data[last:-2] * (scans - data.count(b"\xff\xda")) + data[-2:]
 
 
 def _image(case_id: str, content: bytes, filename: str = "") -> Case:

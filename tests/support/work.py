@@ -6,10 +6,12 @@ A busy machine makes seconds meaningless; a count of Python lines or traced byte
 from __future__ import annotations
 
 import gc
+import sys
 import tracemalloc
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
+from types import FrameType
 from typing import Any, TypeVar
 
 import numpy as np
@@ -75,3 +77,43 @@ def peak_traced_bytes(work: Callable[[], Result]) -> tuple[Result | LoadError, i
         tracemalloc.stop()
         threads.THREADS = saved_threads
     return outcome, peak
+
+
+def python_lines_run(action: Callable[[], object], module: str) -> int:
+    """How many lines of `module`'s source Python runs in `action`: work counted, not timed."""
+    count = 0
+
+    def tracer(frame: FrameType, event: str, arg: object) -> Callable | None:
+        if frame.f_code.co_filename != module:
+            return None
+        return counting
+
+    def counting(frame: FrameType, event: str, arg: object) -> Callable:
+        nonlocal count
+        count += event == "line"
+        return counting
+
+    _run_hooked(sys.settrace, sys.gettrace(), tracer, action)
+    return count
+
+
+def calls_made(action: Callable[[], object]) -> int:
+    """How many Python and C functions `action` calls: work counted, not timed, so a busy machine cannot fail it."""
+    count = 0
+
+    def profile(frame: object, event: str, arg: object) -> None:
+        nonlocal count
+        if event in ("call", "c_call"):
+            count += 1
+
+    _run_hooked(sys.setprofile, sys.getprofile(), profile, action)
+    return count
+
+
+def _run_hooked(install: Callable[[Any], None], previous: Any, hook: Any, action: Callable[[], object]) -> None:
+    """`action` run with the interpreter's trace or profile hook set to `hook`, `previous` put back after."""
+    install(hook)
+    try:
+        action()
+    finally:
+        install(previous)

@@ -56,18 +56,16 @@ _QUOTED_CHARACTERS = 40
 # Anything else is read number by number, or corner by corner, and its errors are worded there.
 _PLAIN_NUMBER = rb"[+-]?+(?:[0-9]{1,29}+(?:\.[0-9]*+)?+|\.[0-9]++)(?:[eE](?:-[0-9]++|\+?+0*[0-9]))?+"
 _PLAIN_INDEX = rb"[1-9][0-9]{0,8}"
-
-
-def plain_numbers(fewest: int, most: int | None = None, blank: bytes = rb"\s") -> bytes:
-    """The syntax of `fewest` to `most` (or just `fewest`) plain numbers parted by `blank`s."""
-    return rb"%s(?:%s+%s){%d,%d}" % (_PLAIN_NUMBER, blank, _PLAIN_NUMBER, fewest - 1,
-                                     (fewest if most is None else most) - 1)
-
-
 _SPACE = b"[%s]" % re.escape(BLANKS.replace(b"\n", b""))  # a blank within a line
 
 
-def plain_run(keyword: bytes, items: bytes) -> re.Pattern[bytes]:
+def _plain_numbers(fewest: int, most: int | None = None) -> bytes:
+    """The syntax of `fewest` to `most` (or just `fewest`) plain numbers parted by blanks within a line."""
+    return rb"%s(?:%s+%s){%d,%d}" % (_PLAIN_NUMBER, _SPACE, _PLAIN_NUMBER, fewest - 1,
+                                     (fewest if most is None else most) - 1)
+
+
+def _plain_run(keyword: bytes, items: bytes) -> re.Pattern[bytes]:
     """Whole lines, each with its newline, of `keyword` and `items` parted and surrounded by blanks
     within the line and no comment: a run of them read in one match."""
     return re.compile(rb"(?:%s*+%s%s++%s%s*+\n)*+" % (_SPACE, keyword, _SPACE, items, _SPACE))
@@ -75,10 +73,9 @@ def plain_run(keyword: bytes, items: bytes) -> re.Pattern[bytes]:
 
 # A v, vt or vn line of plain numbers; a whole file's reading batches those of just the table's width,
 # and reads runs of such lines in one match.
-_PLAIN_ROWS = {keyword: re.compile(plain_numbers(fewest, most)) for keyword, (_, _, fewest, most) in _TABLES.items()}
-_BATCHED_ROWS = {keyword: re.compile(plain_numbers(width)) for keyword, width in zip(_FIELDS, _TABLE_WIDTHS)}
-PLAIN_ROW_RUNS = [plain_run(keyword, plain_numbers(width, blank=_SPACE))
-                  for keyword, width in zip(_FIELDS, _TABLE_WIDTHS)]
+_PLAIN_ROWS = {keyword: re.compile(_plain_numbers(fewest, most)) for keyword, (_, _, fewest, most) in _TABLES.items()}
+_BATCHED_ROWS = {keyword: re.compile(_plain_numbers(width)) for keyword, width in zip(_FIELDS, _TABLE_WIDTHS)}
+PLAIN_ROW_RUNS = [_plain_run(keyword, _plain_numbers(width)) for keyword, width in zip(_FIELDS, _TABLE_WIDTHS)]
 _ROW_RUN_FIELDS = {b"vt": 1, b"vn": 2}  # by a line's first two bytes; v's, any other after a v
 
 
@@ -92,8 +89,8 @@ class _FaceForm(NamedTuple):
 
 
 def _face_form(corner: bytes, fields: tuple[int, ...]) -> _FaceForm:
-    return _FaceForm(re.compile(rb"%s(?:\s+%s){2,}" % (corner, corner)), fields,
-                     tuple((corners, plain_run(b"f", rb"%s(?:%s++%s){%d}" % (corner, _SPACE, corner, corners - 1)))
+    return _FaceForm(re.compile(rb"%s(?:%s+%s){2,}" % (corner, _SPACE, corner)), fields,
+                     tuple((corners, _plain_run(b"f", rb"%s(?:%s++%s){%d}" % (corner, _SPACE, corner, corners - 1)))
                            for corners in (3, 4)))
 
 
