@@ -3,6 +3,8 @@ the model trimesh makes of it, checked against trimesh's own reading and at the 
 
 from __future__ import annotations
 
+import random
+import struct
 from pathlib import Path
 
 import numpy as np
@@ -10,7 +12,8 @@ import pytest
 import trimesh
 
 from marraztu.errors import LoadError
-from marraztu.loaders.ply import binary_of_ascii, read_header
+from marraztu.loaders import ply
+from marraztu.loaders.ply import binary_of_ascii, read_header, vertices_and_faces
 from marraztu.loaders.registry import load_model
 from support.refusals import one_line_refusal, written
 from support.work import peak_traced_bytes
@@ -276,3 +279,67 @@ def test_short_face_rows_cost_their_numbers(tmp_path: Path) -> None:
     (tmp_path / "m.ply").write_bytes(data)
     mesh, peak = peak_traced_bytes(lambda: load_model(tmp_path / "m.ply"))
     assert mesh.face_count == 200_000 and peak < 25 * len(data), peak
+
+
+# --- rows of one list, walked quickly ------------------------------------------------------------
+def mixed_faces_ply(rng: random.Random, encoding: str) -> bytes:
+    """Triangles and quads under one header, maybe a value before or after each face's list, and
+    maybe one thing wrong: a count that is no count, a row cut or lengthened, rows packed on one line."""
+    before, after = rng.random() < 0.3, rng.random() < 0.3
+    count_type = "uchar" if encoding != "ascii" else rng.choice(["uchar", "int", "ushort"])
+    faces = [[rng.randrange(9) for _ in range(rng.choice([3, 4]))] for _ in range(rng.randint(1, 60))]
+    rows = [[*([("uchar", 1)] if before else []), (count_type, len(face)), *(("int", index) for index in face),
+             *([("float", 0.5)] if after else [])] for face in faces]
+    wrong = rng.random()
+    if wrong < 0.6:
+        row = rng.choice(rows)
+        at = int(before)
+        row[at] = (row[at][0], rng.choice([-1, 2, 0, 2.5, 256, 65536, float("nan"), 5]))
+    header = ["ply", f"format {encoding} 1.0", "element vertex 9", "property float x", "property float y",
+              "property float z", f"element face {len(faces)}", *(["property uchar flag"] if before else []),
+              f"property list {count_type} int vertex_indices", *(["property float quality"] if after else []),
+              "end_header"]
+    head = ("\n".join(header) + "\n").encode()
+    if encoding == "ascii":
+        lines = [" ".join(f"{value:g}" for _, value in row) for row in rows]
+        body = "\n".join(GRID) + "\n" + (" " if rng.random() < 0.1 else "\n").join(lines) + "\n"
+        data = head + body.encode()
+    else:
+        codes = {"uchar": "B", "int": "i", "float": "f"}
+        vertices = np.array(GRID_NUMBERS, "<f4").tobytes()
+        data = head + vertices + b"".join(struct.pack("<" + codes[kind], int(value) if kind != "float" else value)
+                                          if not (kind == "uchar" and not 0 <= value <= 255 or value != value)
+                                          else b"\xff" for row in rows for kind, value in row)
+    if 0.6 <= wrong < 0.8:
+        return data[:rng.randrange(len(head), len(data) + 1)]
+    return data + b" 3 1 2 0\n" if wrong >= 0.9 else data
+
+
+def as_read(data: bytes) -> bytes | tuple[int | None, str]:
+    """What the PLY reader makes of a file for trimesh, or its error's line and message."""
+    path = Path("m.ply")
+    try:
+        header = read_header(path, data)
+        if header.encoding == "ascii":
+            data = binary_of_ascii(path, data, header)
+            header = read_header(path, data)
+        return vertices_and_faces(path, data, header)
+    except LoadError as refused:
+        return refused.line, refused.message
+
+
+@pytest.mark.parametrize("encoding", ["ascii", "binary_little_endian"])
+def test_rows_of_one_list_walked_quickly_read_as_the_checked_walk_reads_them(
+        monkeypatch: pytest.MonkeyPatch, encoding: str) -> None:
+    """A face element's rows are walked without a check per value while their counts are good, and the
+    first that is not is left to the walk that checks each: the same tables, or the same error at the
+    same line, as that walk gives alone."""
+    rng = random.Random(encoding)
+    files = [mixed_faces_ply(rng, encoding) for _ in range(300)]
+    quick = [as_read(data) for data in files]
+    monkeypatch.setattr(ply, "_quick_rows", lambda body, element, at, starts, counts: (0, at))
+    monkeypatch.setattr(ply, "_byte_counted_rows", lambda data, at, rows, step, tail: (
+        np.zeros(0, np.int64), np.zeros((0, 1), np.int64), at))
+    checked = [as_read(data) for data in files]
+    assert quick == checked
+    assert sum(isinstance(outcome, tuple) for outcome in quick) > 50  # errors of every kind among them

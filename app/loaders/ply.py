@@ -287,11 +287,39 @@ def _element_columns(body: _Body, element: PlyElement, at: int) -> tuple[list[_C
     starts, counts = np.empty(element.count, np.int64), np.empty((element.count, first_counts.size), np.int64)
     walked = _WalkedStarts(starts)
     body.row_starts.append(walked)
-    for row in range(element.count):  # each row's length is known only once its counts are read
+    quick, at = _quick_rows(body, element, at, starts, counts)
+    walked.known = quick
+    for row in range(quick, element.count):  # each row's length is known only once its counts are read
         starts[row], walked.known = at, row + 1
         counts[row], width = _walked_row(body, element, at)
         at += width
     return _walked_columns(body, element, starts, counts), False, at
+
+
+def _quick_rows(body: _Body, element: PlyElement, at: int, starts: np.ndarray, counts: np.ndarray
+                ) -> tuple[int, int]:
+    """Rows of one list each (a face's corners), walked from `at` into `starts` and `counts` as long as
+    each count is good: how many were, and where the next row starts. _walked_row takes the first that
+    is not, and names what is wrong with it."""
+    lists = [(number, prop.count_type) for number, prop in enumerate(element.properties) if prop.count_type]
+    if len(lists) != 1:
+        return 0, at
+    (before, count_type), = lists
+    most, stride, size = _most(count_type), len(element.properties), len(body.numbers)  # stride: less the items
+    numbers, row_starts, row_counts = memoryview(body.numbers), array("q"), array("q")  # Python floats, ints
+    for _ in range(len(starts)):
+        value = numbers[at + before] if at + before < size else -1.0
+        if not 0 <= value <= most:  # NaN too
+            break
+        count = int(value)
+        if count != value or at + stride + count > size:
+            break
+        row_starts.append(at)
+        row_counts.append(count)
+        at += stride + count
+    quick = len(row_starts)
+    starts[:quick], counts[:quick, 0] = row_starts, row_counts
+    return quick, at
 
 
 def _walked_row(body: _Body, element: PlyElement, at: int) -> tuple[list[int], int]:
@@ -594,10 +622,14 @@ def _walked_rows(path: Path, data: bytes, element: PlyElement, at: int, order: s
     least = sum(skip + counter.size for skip, counter, _ in steps) + tail
     if element.count * least > len(data) - at:
         raise _ended(path, element)
+    wanted = element.count if rows is None else rows
+    quick_starts, quick_counts = np.zeros(0, np.int64), np.zeros((0, len(steps)), np.int64)
+    if len(steps) == 1 and steps[0][1].format.endswith("B"):
+        quick_starts, quick_counts, at = _byte_counted_rows(data, at, wanted, steps[0], tail)
     starts, counts, end = array("q"), array("q"), len(data)
     walks = [(skip, counter.unpack_from, skip + counter.size, item) for skip, counter, item in steps]
     try:
-        for _ in range(element.count if rows is None else rows):
+        for _ in range(wanted - len(quick_starts)):
             starts.append(at)
             for skip, unpack, before_items, item in walks:
                 (count,) = unpack(data, at + skip)
@@ -610,7 +642,27 @@ def _walked_rows(path: Path, data: bytes, element: PlyElement, at: int, order: s
         raise _ended(path, element) from None
     if at > end:
         raise _ended(path, element)
-    return np.frombuffer(starts, np.int64), np.frombuffer(counts, np.int64).reshape(len(starts), len(steps)), at
+    return (np.concatenate((quick_starts, np.frombuffer(starts, np.int64))),
+            np.concatenate((quick_counts, np.frombuffer(counts, np.int64).reshape(len(starts), len(steps)))), at)
+
+
+def _byte_counted_rows(data: bytes, at: int, rows: int, step: tuple[int, struct.Struct, int], tail: int
+                       ) -> tuple[np.ndarray, np.ndarray, int]:
+    """Rows of one list whose count is an unsigned byte (a face's, as exporters write it), walked from
+    `at` while their counts lie within the data: their starts, their counts, and where the next row
+    starts. The general walk takes the rest, and says where the body ends."""
+    skip, _, item = step
+    stride, starts, row = skip + 1 + tail, array("q", [0]) * rows, 0
+    try:
+        for row in range(rows):
+            starts[row] = at
+            at += stride + data[at + skip] * item  # indexing bytes gives the byte's value without a call
+        row = rows
+    except IndexError:  # the row at `at` has no count within the data
+        pass
+    walked = np.frombuffer(starts, np.int64, count=row)
+    counts = np.frombuffer(data, np.uint8)[walked + skip].astype(np.int64)
+    return walked, counts.reshape(row, 1), at
 
 
 def _bad_count(path: Path, element: PlyElement, count: int) -> LoadError:
