@@ -298,28 +298,29 @@ def _element_columns(body: _Body, element: PlyElement, at: int) -> tuple[list[_C
 
 def _quick_rows(body: _Body, element: PlyElement, at: int, starts: np.ndarray, counts: np.ndarray
                 ) -> tuple[int, int]:
-    """Rows of one list each (a face's corners), walked from `at` into `starts` and `counts` as long as
-    each count is good: how many were, and where the next row starts. _walked_row takes the first that
-    is not, and names what is wrong with it."""
+    """Rows of one list each (a face's corners), walked from `at` into `starts` and `counts` up to the
+    first whose count is bad: how many rows, and where the next starts. _walked_row takes that one,
+    and names what is wrong with it."""
     lists = [(number, prop.count_type) for number, prop in enumerate(element.properties) if prop.count_type]
     if len(lists) != 1:
         return 0, at
     (before, count_type), = lists
-    most, stride, size = _most(count_type), len(element.properties), len(body.numbers)  # stride: less the items
-    numbers, row_starts, row_counts = memoryview(body.numbers), array("q"), array("q")  # Python floats, ints
-    for _ in range(len(starts)):
-        value = numbers[at + before] if at + before < size else -1.0
-        if not 0 <= value <= most:  # NaN too
-            break
-        count = int(value)
-        if count != value or at + stride + count > size:
-            break
-        row_starts.append(at)
-        row_counts.append(count)
-        at += stride + count
-    quick = len(row_starts)
-    starts[:quick], counts[:quick, 0] = row_starts, row_counts
-    return quick, at
+    stride, size = len(element.properties), len(body.numbers)  # stride: a row's numbers less its items
+    numbers, walked, row = memoryview(body.numbers), array("q", [0]) * len(starts), 0
+    try:
+        for row in range(len(starts)):  # checked after: every row up to the first bad one is found right
+            walked[row] = at
+            at += stride + int(numbers[at + before])
+        row = len(starts)
+    except (IndexError, ValueError, OverflowError):  # past the numbers, NaN or infinite: a bad row
+        pass
+    starts[:row] = np.frombuffer(walked, np.int64, count=row)
+    found = body.numbers[starts[:row] + before]
+    good = (found >= 0) & (found <= _most(count_type)) & (found == np.trunc(found))
+    good &= starts[:row] + stride + found <= size
+    quick = row if good.all() else int(np.argmin(good))
+    counts[:quick, 0] = found[:quick]
+    return quick, at if quick == row else int(starts[quick])
 
 
 def _walked_row(body: _Body, element: PlyElement, at: int) -> tuple[list[int], int]:
@@ -642,6 +643,8 @@ def _walked_rows(path: Path, data: bytes, element: PlyElement, at: int, order: s
         raise _ended(path, element) from None
     if at > end:
         raise _ended(path, element)
+    if not starts:  # every row walked quickly: no copy
+        return quick_starts, quick_counts, at
     return (np.concatenate((quick_starts, np.frombuffer(starts, np.int64))),
             np.concatenate((quick_counts, np.frombuffer(counts, np.int64).reshape(len(starts), len(steps)))), at)
 

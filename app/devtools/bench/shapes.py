@@ -7,6 +7,7 @@ from __future__ import annotations
 import base64
 import io
 import json
+import struct
 import subprocess
 import sys
 import time
@@ -182,6 +183,32 @@ def _scene_of_many_nodes(path: Path, size: int) -> None:
     path.write_text(text)
 
 
+def _ply_of_mixed_faces(encoding: str) -> Callable[[Path, int], None]:
+    """A writer of a PLY of triangles and quads in turn over a circle of a thousand positions, as
+    exporters write a model of both: rows of two lengths, each found only where the one before ends."""
+    count = 996  # pairs of faces a block: the quads' last corner stays within the circle
+
+    def write(path: Path, size: int) -> None:
+        circle = np.stack([np.cos(np.arange(1000) * np.pi / 500), np.sin(np.arange(1000) * np.pi / 500),
+                           np.zeros(1000)], axis=1)
+        if encoding == "ascii":
+            vertices = "".join(f"{x:.6f} {y:.6f} 0\n" for x, y, _ in circle).encode()
+            block = "".join(f"3 {k} {k + 1} {k + 2}\n4 {k} {k + 1} {k + 2} {k + 3}\n" for k in range(count)).encode()
+        else:
+            vertices = circle.astype("<f4").tobytes()
+            block = b"".join(struct.pack("<B3iB4i", 3, k, k + 1, k + 2, 4, k, k + 1, k + 2, k + 3)
+                             for k in range(count))
+        repeats = max(1, size // len(block))
+        header = (f"ply\nformat {encoding} 1.0\nelement vertex 1000\nproperty float x\nproperty float y\n"
+                  f"property float z\nelement face {2 * count * repeats}\nproperty list uchar int vertex_indices\n"
+                  "end_header\n")
+        with path.open("wb") as out:
+            out.write(header.encode() + vertices)
+            out.writelines(block for _ in range(repeats))
+
+    return write
+
+
 def _off_coloured_faces(path: Path, size: int) -> None:
     """OFF triangles, each with a colour of fractions after its corners, as Geomview writes them."""
     circle = "".join(f"{np.cos(k * np.pi / 500):.6f} {np.sin(k * np.pi / 500):.6f} 0\n" for k in range(1000))
@@ -205,6 +232,8 @@ SHAPES = (
     Shape("one long v line", "long_line.obj", _one_long_line),
     Shape("one long number ending badly", "long_number.obj", _one_long_bad_number),
     Shape("ASCII PLY: its rows parted by blank lines", "blank.ply", _ply_of_blank_lines),
+    Shape("ASCII PLY: triangles and quads in turn", "mixed_ascii.ply", _ply_of_mixed_faces("ascii")),
+    Shape("binary PLY: triangles and quads in turn", "mixed.ply", _ply_of_mixed_faces("binary_little_endian")),
     Shape("OFF: one polygon of every corner", "polygon.off", _off_polygon),
     Shape("OFF: a colour after every face", "coloured.off", _off_coloured_faces),
     Shape("ASCII STL", "strip.stl", _ascii_stl),
