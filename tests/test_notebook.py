@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import pytest
@@ -23,3 +24,10 @@ def test_the_notebook_runs_clean_and_shows_pictures(tmp_path: Path) -> None:
     assert len(pictures) >= 6, "every viewer shown, and every render, is a picture"
     printed = "".join(output.get("text", "") for output in outputs if output.output_type == "stream")
     assert "colour (" in printed, "the probe's numbers are printed"
+
+
+def test_the_notebook_is_valid_as_nbformat_will_require() -> None:
+    """Every cell has an id: nbformat warns of one without, and will refuse it."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        nbformat.validate(nbformat.read(NOTEBOOK, as_version=4))
