@@ -338,8 +338,8 @@ def test_rows_of_one_list_walked_quickly_read_as_the_checked_walk_reads_them(
     files = [mixed_faces_ply(rng, encoding) for _ in range(300)]
     quick = [as_read(data) for data in files]
     monkeypatch.setattr(ply, "_quick_rows", lambda body, element, at, starts, counts: (0, at))
-    monkeypatch.setattr(ply, "_byte_counted_rows", lambda data, at, rows, step, tail: (
-        np.zeros(0, np.int64), np.zeros((0, 1), np.int64), at))
+    monkeypatch.setattr(ply, "_byte_counted_rows", lambda data, at, rows, steps, tail: (
+        np.zeros(0, np.int64), np.zeros((0, len(steps)), np.int64), at))
     checked = [as_read(data) for data in files]
     assert quick == checked
     assert sum(isinstance(outcome, tuple) for outcome in quick) > 50  # errors of every kind among them

@@ -304,6 +304,7 @@ def _quick_rows(body: _Body, element: PlyElement, at: int, starts: np.ndarray, c
     lists = [(number, prop.count_type) for number, prop in enumerate(element.properties) if prop.count_type]
     if len(lists) != 1:
         return 0, at
+    # Every other property is one number, so the list's count lies `before` numbers into its row.
     (before, count_type), = lists
     stride, size = len(element.properties), len(body.numbers)  # stride: a row's numbers less its items
     numbers, walked, row = memoryview(body.numbers), array("q", [0]) * len(starts), 0
@@ -314,13 +315,15 @@ def _quick_rows(body: _Body, element: PlyElement, at: int, starts: np.ndarray, c
         row = len(starts)
     except (IndexError, ValueError, OverflowError):  # past the numbers, NaN or infinite: a bad row
         pass
-    starts[:row] = np.frombuffer(walked, np.int64, count=row)
-    found = body.numbers[starts[:row] + before]
+    found_starts = np.frombuffer(walked, np.int64, count=row)
+    found = body.numbers[found_starts + before]
     good = (found >= 0) & (found <= _most(count_type)) & (found == np.trunc(found))
-    good &= starts[:row] + stride + found <= size
-    quick = row if good.all() else int(np.argmin(good))
-    counts[:quick, 0] = found[:quick]
-    return quick, at if quick == row else int(starts[quick])
+    good &= found_starts + stride + found <= size
+    if not good.all():  # the rows after the first bad one were found by a wrong count: dropped
+        row = int(np.argmin(good))
+        at = int(found_starts[row])
+    starts[:row], counts[:row, 0] = found_starts[:row], found[:row]
+    return row, at
 
 
 def _walked_row(body: _Body, element: PlyElement, at: int) -> tuple[list[int], int]:
@@ -624,9 +627,7 @@ def _walked_rows(path: Path, data: bytes, element: PlyElement, at: int, order: s
     if element.count * least > len(data) - at:
         raise _ended(path, element)
     wanted = element.count if rows is None else rows
-    quick_starts, quick_counts = np.zeros(0, np.int64), np.zeros((0, len(steps)), np.int64)
-    if len(steps) == 1 and steps[0][1].format.endswith("B"):
-        quick_starts, quick_counts, at = _byte_counted_rows(data, at, wanted, steps[0], tail)
+    quick_starts, quick_counts, at = _byte_counted_rows(data, at, wanted, steps, tail)
     starts, counts, end = array("q"), array("q"), len(data)
     walks = [(skip, counter.unpack_from, skip + counter.size, item) for skip, counter, item in steps]
     try:
@@ -649,12 +650,15 @@ def _walked_rows(path: Path, data: bytes, element: PlyElement, at: int, order: s
             np.concatenate((quick_counts, np.frombuffer(counts, np.int64).reshape(len(starts), len(steps)))), at)
 
 
-def _byte_counted_rows(data: bytes, at: int, rows: int, step: tuple[int, struct.Struct, int], tail: int
+def _byte_counted_rows(data: bytes, at: int, rows: int, steps: list[tuple[int, struct.Struct, int]], tail: int
                        ) -> tuple[np.ndarray, np.ndarray, int]:
     """Rows of one list whose count is an unsigned byte (a face's, as exporters write it), walked from
-    `at` while their counts lie within the data: their starts, their counts, and where the next row
-    starts. The general walk takes the rest, and says where the body ends."""
-    skip, _, item = step
+    `at` up to the first whose count lies past the data: their starts, their counts, and where the next
+    row starts; none for other rows. The last row's items may run past the data: the caller's walk
+    says where the body ends."""
+    if len(steps) != 1 or not steps[0][1].format.endswith("B"):
+        return np.zeros(0, np.int64), np.zeros((0, len(steps)), np.int64), at
+    skip, _, item = steps[0]
     stride, starts, row = skip + 1 + tail, array("q", [0]) * rows, 0
     try:
         for row in range(rows):
