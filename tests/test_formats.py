@@ -202,6 +202,53 @@ def test_each_format_is_drawn_as_the_same_triangles_written_as_obj(written: dict
     assert (np.abs(drawn - expected).max(axis=2) > 1).mean() < 0.002
 
 
+@pytest.mark.parametrize("encoding", ["ascii", "binary_little_endian"])
+@pytest.mark.parametrize("keys", ["T 0 1 l", "T 0 1"])
+def test_a_plys_quads_are_drawn_as_the_objs_of_the_same_faces(tmp_path: Path, encoding: str, keys: str) -> None:
+    """A PLY's polygons are polygons, as an OBJ's: in lines, a quad shows no diagonal; filled, Flat
+    lights it with one normal."""
+    rng = np.random.default_rng(7)
+    grid = [(x * 20.0 - 50, y * 20.0 - 50, float(rng.uniform(-8, 8))) for y in range(6) for x in range(6)]
+    faces = []
+    for y in range(5):
+        for x in range(5):
+            a = 6 * y + x
+            faces += [[a, a + 1, a + 7, a + 6]] if (x + y) % 2 else [[a, a + 1, a + 7], [a, a + 7, a + 6]]
+    obj = tmp_path / "grid.obj"
+    obj.write_text("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in np.float32(grid).tolist())
+                   + "".join("f " + " ".join(str(i + 1) for i in face) + "\n" for face in faces))
+    mesh = trimesh.Trimesh(np.float32(grid), [face[:3] for face in faces], process=False)
+    ply = tmp_path / "grid.ply"
+    exported = trimesh.exchange.ply.export_ply(mesh, encoding="ascii" if encoding == "ascii" else "binary")
+    head, body = exported.split(b"end_header\n", 1)
+    ply.write_bytes(_ply_with_faces(head, body, len(grid), faces, encoding))
+    assert load_model(ply).face_sizes.tolist() == [len(face) for face in faces]
+    expected, drawn = picture(obj, tmp_path / "obj.png", keys), picture(ply, tmp_path / "ply.png", keys)
+    assert (drawn != np.array(BACKGROUND)).any(axis=2).mean() > 0.02  # not blank
+    assert np.array_equal(drawn, expected)
+    if keys.endswith("l"):  # the quads' diagonals are what the triangles would add
+        triangles = tmp_path / "triangles.obj"
+        positions = "".join(line for line in obj.read_text().splitlines(keepends=True) if line.startswith("v "))
+        triangles.write_text(positions + "".join(f"f {face[0] + 1} {face[k] + 1} {face[k + 1] + 1}\n"
+                                                 for face in faces for k in range(1, len(face) - 1)))
+        assert not np.array_equal(picture(triangles, tmp_path / "triangles.png", keys), drawn)
+
+
+def _ply_with_faces(head: bytes, body: bytes, vertices: int, faces: list[list[int]], encoding: str) -> bytes:
+    """trimesh's PLY of the vertices, its faces replaced by these (trimesh writes triangles alone)."""
+    lines = head.decode().splitlines()
+    at = next(number for number, line in enumerate(lines) if line.startswith("element face"))
+    lines[at] = f"element face {len(faces)}"
+    header = ("\n".join(lines) + "\nend_header\n").encode()
+    if encoding == "ascii":
+        rows = body.decode().splitlines()[:vertices]
+        return header + ("\n".join(rows) + "\n" + "".join(
+            f"{len(face)} {' '.join(map(str, face))}\n" for face in faces)).encode()
+    vertex_bytes = vertices * 12
+    return header + body[:vertex_bytes] + b"".join(
+        np.array([len(face)], "u1").tobytes() + np.array(face, "<i4").tobytes() for face in faces)
+
+
 def test_gltf_nodes_are_placed_by_their_transforms(tmp_path: Path) -> None:
     scene = trimesh.Scene()
     moved = trimesh.transformations.translation_matrix([30, 0, 0])

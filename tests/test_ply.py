@@ -63,31 +63,53 @@ def test_blank_lines_and_rows_split_over_lines_read_as_the_numbers_they_hold(tmp
     np.testing.assert_array_equal(loose.corner_vertex, plain.corner_vertex)
 
 
-def test_faces_of_mixed_corners_are_fanned_in_the_files_order(tmp_path: Path) -> None:
-    """trimesh's binary reader takes one corner count per element: faces of others are fanned first,
-    (0, 1, 2), (0, 2, 3), ..., each in its place, as a uniform file's quads are."""
-    mesh = load(tmp_path, ply_text(["4 0 1 4 3", "3 1 2 5", "5 3 4 7 6 3"]))
-    assert mesh.corner_vertex.reshape(-1, 3).tolist() == [[0, 1, 4], [0, 4, 3], [1, 2, 5], [3, 4, 7], [3, 7, 6],
-                                                          [3, 6, 3]]
+def test_polygons_are_kept_as_the_file_gives_them(tmp_path: Path) -> None:
+    """trimesh makes triangles of every face: they are fanned here first, in the file's order, and made
+    polygons again of trimesh's triangles, as an OBJ or OFF file's polygons are kept."""
+    faces = [[0, 1, 4, 3], [1, 2, 5], [3, 4, 7, 6, 3], [4, 5, 8, 7]]
+    mesh = load(tmp_path, ply_text([f"{len(face)} {' '.join(map(str, face))}" for face in faces]))
+    obj = load(tmp_path, "".join(f"v {row}\n" for row in GRID) + "".join(
+        "f " + " ".join(str(index + 1) for index in face) + "\n" for face in faces), "m.obj")
+    assert mesh.corner_vertex.tolist() == [index for face in faces for index in face]
+    assert mesh.face_start.tolist() == [0, 4, 7, 12, 16]
+    for name in ("corner_vertex", "face_start"):
+        np.testing.assert_array_equal(getattr(mesh, name), getattr(obj, name), err_msg=name)
+    for name in ("positions", "face_normals", "corner_normal", "corner_uv"):  # a PLY's floats are 32-bit
+        np.testing.assert_allclose(getattr(mesh, name), getattr(obj, name), atol=1e-6, err_msg=name)
+
+
+def test_uniform_quads_are_kept_too(tmp_path: Path) -> None:
+    """A file of quads alone, which trimesh's reader would make triangles of in an order of its own."""
+    faces = [[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]]
+    for name, data in written_both_ways(faces).items():
+        (tmp_path / name).write_bytes(data)
+        mesh = load_model(tmp_path / name)
+        assert mesh.corner_vertex.tolist() == [index for face in faces for index in face], name
+        assert mesh.face_start.tolist() == [0, 4, 8, 12, 16], name
+
+
+def written_both_ways(faces: list[list[int]]) -> dict[str, bytes]:
+    """The grid with these faces as an ASCII PLY and a binary one."""
+    text = ply_text([f"{len(face)} {' '.join(map(str, face))}" for face in faces])
+    header = text[:text.index("end_header\n") + 11].replace("format ascii", "format binary_little_endian")
+    binary = header.encode() + np.array(GRID_NUMBERS, "<f4").tobytes() + b"".join(
+        struct.pack(f"<B{len(face)}i", len(face), *face) for face in faces)
+    return {"ascii.ply": text.encode(), "binary.ply": binary}
 
 
 def test_mixed_faces_keep_their_corners_texture_coordinates(tmp_path: Path) -> None:
-    """MeshLab writes a face's u v per corner in a second list; fanned, each triangle keeps its corners',
-    as the same triangles written as such give them."""
+    """MeshLab writes a face's u v per corner in a second list: each polygon's corners keep theirs, as
+    an OBJ's vt per corner gives them."""
     uv = {0: (0.0, 0.0), 1: (0.5, 0.0), 4: (0.5, 0.5), 3: (0.0, 0.5), 2: (1.0, 0.0), 5: (1.0, 0.5)}
-
-    def rows(faces: list[list[int]]) -> list[str]:
-        return [f"{len(f)} {' '.join(map(str, f))} {2 * len(f)} {' '.join(f'{c:g}' for v in f for c in uv[v])}"
-                for f in faces]
-
+    faces = [[0, 1, 4, 3], [1, 2, 5]]
+    rows = [f"{len(f)} {' '.join(map(str, f))} {2 * len(f)} {' '.join(f'{c:g}' for v in f for c in uv[v])}"
+            for f in faces]
     properties = "property list uchar int vertex_indices\nproperty list uchar float texcoord\n"
-    fanned = load(tmp_path, ply_text(rows([[0, 1, 4, 3], [1, 2, 5]]), face_properties=properties), "fanned.ply")
-    written = load(tmp_path, ply_text(rows([[0, 1, 4], [0, 4, 3], [1, 2, 5]]), face_properties=properties),
-                   "written.ply")
-    assert fanned.face_count == 3
-    for name, value in vars(written).items():
-        if isinstance(value, np.ndarray):
-            np.testing.assert_array_equal(getattr(fanned, name), value, err_msg=name)
+    mesh = load(tmp_path, ply_text(rows, face_properties=properties))
+    assert mesh.face_sizes.tolist() == [4, 3]
+    assert mesh.corner_uv.tolist() == [list(uv[v]) for face in faces for v in face]
+    np.testing.assert_allclose(mesh.positions[mesh.corner_vertex],
+                               np.array([GRID[v].split() for face in faces for v in face], float), atol=1e-6)
 
 
 @pytest.mark.parametrize(("faces", "line", "message"), [
@@ -121,9 +143,10 @@ def test_a_claimed_count_reserves_nothing(tmp_path: Path, claim: str) -> None:
                                                        claim)
     path = tmp_path / "m.ply"
     path.write_text(text)
+    load(tmp_path, ply_text(["3 0 1 4"]), "warm.ply")  # trimesh imported, as by any PLY opened before
     outcome, peak = peak_traced_bytes(lambda: load_model(path))
     if "nothing" in claim:
-        assert outcome.face_count == 3
+        assert outcome.face_count == 2
     else:
         assert outcome.message == "the header counts 99999999999 rows of face, the file ends before them"
     assert peak < 1 << 20, peak
@@ -223,7 +246,8 @@ def test_one_polygon_of_many_corners_fans_in_proportion(tmp_path: Path) -> None:
     corners = 300_000
     data = ply_text([f"{corners} " + " ".join(["0 1 4"] * (corners // 3))],
                     face_properties="property list int int vertex_indices\n").encode()
-    binary, peak = peak_traced_bytes(lambda: binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data)))
+    binary, peak = peak_traced_bytes(lambda: binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data))
+                                     .data)
     assert len(binary) - binary.index(b"end_header\n") - 11 == 9 * 12 + (corners - 2) * 16  # int count, 3 ints
     assert peak < 3.5 * len(binary), peak
 
@@ -247,7 +271,7 @@ def test_the_picture_and_unknown_elements_are_kept_for_trimesh(tmp_path: Path) -
     text = ply_text(["3 0 1 4"], remarks="comment TextureFile p.png\ncomment TextureFile q.png\nobj_info by hand\n")
     text = text.replace("end_header", "element material 1\nproperty float shine\nend_header") + "0.5\n"
     data = text.encode()
-    binary = binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data))
+    binary = binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data)).data
     header = read_header(Path("m.ply"), binary)
     assert header.encoding == "<" and header.picture == "q.png"
     assert [(element.name, element.count) for element in header.elements] == [("vertex", 9), ("face", 1),
@@ -273,7 +297,8 @@ def test_short_face_rows_cost_their_numbers(tmp_path: Path) -> None:
     """Rows of '3 0 1 4' took 60 bytes a byte through trimesh's reader (52 in it alone). Made binary, they
     take 8 bytes for each number of two, and the binary rows; the model built of them, about 11 more."""
     data = ply_text(["3 0 1 4"] * 200_000).encode()
-    binary, peak = peak_traced_bytes(lambda: binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data)))
+    binary, peak = peak_traced_bytes(lambda: binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data))
+                                     .data)
     assert len(binary) - binary.index(b"end_header\n") - 11 == 9 * 12 + 200_000 * 13  # the rows, bytes as typed
     assert peak < 10 * len(data), peak
     (tmp_path / "m.ply").write_bytes(data)
@@ -315,15 +340,19 @@ def mixed_faces_ply(rng: random.Random, encoding: str) -> bytes:
     return data + b" 3 1 2 0\n" if wrong >= 0.9 else data
 
 
-def as_read(data: bytes) -> bytes | tuple[int | None, str]:
-    """What the PLY reader makes of a file for trimesh, or its error's line and message."""
+def as_read(data: bytes) -> tuple[bytes, list[int] | None] | tuple[int | None, str]:
+    """What the PLY reader makes of a file for trimesh and the sizes of the polygons it fanned, or its
+    error's line and message."""
     path = Path("m.ply")
     try:
         header = read_header(path, data)
+        sizes = None
         if header.encoding == "ascii":
-            data = binary_of_ascii(path, data, header)
+            data, sizes = binary_of_ascii(path, data, header)
             header = read_header(path, data)
-        return vertices_and_faces(path, data, header)
+        data, binary_sizes = vertices_and_faces(path, data, header)
+        fanned = binary_sizes if sizes is None else sizes
+        return data, None if fanned is None else fanned.tolist()
     except LoadError as refused:
         return refused.line, refused.message
 

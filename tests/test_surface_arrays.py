@@ -15,7 +15,7 @@ import pytest
 from marraztu.loaders.obj import load_obj, parse_obj
 from marraztu.model import threads
 from marraztu.model.build import build_mesh
-from marraztu.model.mesh import INDEX, Mesh, fan_gather, polygons_of_corners
+from marraztu.model.mesh import INDEX, Mesh, fan_gather, polygon_corners_of_fans, polygons_of_corners
 from marraztu.render.gpu import _seams, edge_pairs, surface_arrays, used_shared_rows
 from support.seed import SEED_ASSETS, SEED_MODELS
 
@@ -150,6 +150,23 @@ def test_fans_gathered_into_place_are_the_fans_gathered(sizes: list[int]) -> Non
     out = np.full(given.shape, 7, np.uint32)
     assert fan_gather(values, face_start, out=out) is out and np.array_equal(out, given)
     assert np.array_equal(given.reshape(-1, 3)[:, 0], np.repeat(values[face_start[:-1]], np.array(sizes) - 2))
+
+
+@pytest.mark.parametrize("sizes", [[3, 3], [4, 4, 4], [5], [3, 4, 9, 3], [1000, 3]])
+def test_polygons_are_made_again_of_their_fans(sizes: list[int]) -> None:
+    """polygon_corners_of_fans undoes fan_gather (a PLY's polygons, made again of trimesh's triangles),
+    and build_mesh takes the corners with their sizes as it takes the polygons listed."""
+    face_start = np.concatenate(([0], np.cumsum(sizes)))
+    corners = np.random.default_rng(len(sizes)).integers(0, 1200, face_start[-1])
+    fans = fan_gather(corners, face_start).reshape(-1, 3)
+    assert np.array_equal(polygon_corners_of_fans(fans, np.array(sizes)), corners)
+    positions = np.random.default_rng(1).normal(size=(1200, 3))
+    listed = build_mesh("m", positions, [corners[start:stop] for start, stop in zip(face_start, face_start[1:])])
+    sized = build_mesh("m", positions, corners, face_sizes=np.array(sizes))
+    for name in ("corner_vertex", "face_start", "face_normals", "normals", "uvs"):
+        assert np.array_equal(getattr(sized, name), getattr(listed, name)), name
+    with pytest.raises(ValueError, match="hold"):
+        build_mesh("m", positions, corners[:-1], face_sizes=np.array(sizes))
 
 
 def test_each_corner_is_found_in_its_polygon() -> None:

@@ -62,7 +62,7 @@ from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES
 from marraztu.loaders.words import unheld_coordinate
 from marraztu.model.build import build_mesh, by_largest, colour_bytes
 from marraztu.model.geometry import holds_in_float32
-from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial
+from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, polygon_corners_of_fans
 
 Stage = Callable[[str], None]
 # A glTF node places a mesh, so a small file can place one mesh a million times. No scene may place
@@ -126,17 +126,19 @@ def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
     if header.count("face") == 0:
         raise LoadError(path, "the header declares no faces (a point cloud?): nothing to draw")
     text = data if header.encoding == "ascii" else None  # kept for a text body only, to name the line of a bad number
+    face_sizes = None
     if text is not None:
-        data = binary_of_ascii(path, text, header)
+        data, face_sizes = binary_of_ascii(path, text, header)
         header = read_header(path, data)
-    data = vertices_and_faces(path, data, header)
+    data, binary_face_sizes = vertices_and_faces(path, data, header)
+    face_sizes = binary_face_sizes if face_sizes is None else face_sizes
     beside = _FilesBeside(path.parent, is_picture=lambda name: True)  # a PLY names its TextureFile only
     scene = _trimesh_load(path, data, "ply", beside)
     del data
     held = sum(_ply_vertices_read(geometry) for geometry in scene.geometry.values())
     if held != header.count("vertex"):
         raise LoadError(path, f"the header promises {header.count('vertex')} vertices, the file holds {held}")
-    return _finish(path, scene, data=text, beside=beside)
+    return _finish(path, scene, data=text, beside=beside, face_sizes=face_sizes)
 
 
 @_frees_what_trimesh_held
@@ -393,10 +395,13 @@ def _line_of_first_non_finite(data: bytes) -> int | None:
     return None if found is None else line_at(data, found.start())
 
 
-def _finish(path: Path, loaded: Any, data: bytes | None, beside: _FilesBeside | None = None) -> Mesh:
+def _finish(path: Path, loaded: Any, data: bytes | None, beside: _FilesBeside | None = None,
+            face_sizes: np.ndarray | None = None) -> Mesh:
     """A file's Mesh; `data`, for a text format, lets a bad number be found by line; `beside` read what
-    the file names beside it, and says what it could not read."""
-    mesh = _mesh_of(path, path.stem, loaded, data, picture_formats=_PICTURE_FORMATS, finite_uvs=True)
+    the file names beside it, and says what it could not read; `face_sizes`, the polygons a PLY's
+    triangles were fanned from."""
+    mesh = _mesh_of(path, path.stem, loaded, data, picture_formats=_PICTURE_FORMATS, finite_uvs=True,
+                    face_sizes=face_sizes)
     if beside is None or not (beside.tried or beside.failures or beside.held_failures):
         return mesh
     return replace(mesh, warnings=(*beside.notes(), *mesh.warnings), read_beside=tuple(dict.fromkeys(beside.tried)))
@@ -432,14 +437,16 @@ Part = tuple[_Geometry, np.ndarray | None]
 
 
 def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own_copy: bool = False,
-             picture_formats: Collection[str] | None = None, finite_uvs: bool = False) -> Mesh:
+             picture_formats: Collection[str] | None = None, finite_uvs: bool = False,
+             face_sizes: np.ndarray | None = None) -> Mesh:
     """One Mesh of every placed mesh, each keeping its uvs, vertex colours and material (base colour
     and texture), as an OBJ's groups keep theirs. Placed here, not by trimesh's to_geometry(), which
     packs every mesh's picture into one (recoloured) atlas and keeps one material. `own_copy`: the
     caller keeps `loaded` (the programming interface), so a mesh left where it is is copied too.
     `picture_formats`: the formats of picture Pillow opened that a material may show (None: any).
     `finite_uvs`: a texture coordinate that is not a finite number is refused, as an OBJ's is (the
-    programming interface derives it, as build_mesh does)."""
+    programming interface derives it, as build_mesh does). `face_sizes`: the polygons whose fans the
+    one mesh's triangles are, made polygons again."""
     parts = _placed_parts(source, loaded)
     sizes = [len(geometry.positions) for geometry, _ in parts]
     with np.errstate(all="ignore"):  # a transform of NaN or huge numbers: refused by _check_tables
@@ -460,11 +467,14 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own
     # One mesh's base colour is the model's; of several, each keeps its own, and one without takes the
     # viewer's rather than another mesh's.
     own = _material_of(parts[0][0].mesh) if len(parts) == 1 else None
-    mesh = build_mesh(name=name, positions=positions, faces=faces, uvs=uvs, file_material=own, warnings=notes,
-                      vertex_colours=colours, attributes_per_vertex=True)
+    if face_sizes is not None and (len(parts) != 1 or len(faces) != int((face_sizes - 2).sum())):
+        face_sizes = None  # not the fans of those polygons (trimesh read them otherwise): drawn as its triangles
+    polygons = faces if face_sizes is None else polygon_corners_of_fans(faces, face_sizes)
+    mesh = build_mesh(name=name, positions=positions, faces=polygons, uvs=uvs, file_material=own, warnings=notes,
+                      vertex_colours=colours, attributes_per_vertex=True, face_sizes=face_sizes)
     if not materials:
         return mesh
-    part_faces = [len(geometry.faces) for geometry, _ in parts]
+    part_faces = [len(geometry.faces) for geometry, _ in parts] if face_sizes is None else [len(face_sizes)]
     return replace(mesh, materials=materials, face_material=np.repeat(np.array(part_material, np.int32), part_faces))
 
 

@@ -5,10 +5,12 @@ file (170 with blank lines, which it then cannot read), casts 1.5 or 300 into an
 without a word, and names no line. Here the body becomes numbers in one call, each property is
 checked against its type where the file gives it, and the rows are written as the little-endian
 binary body that trimesh reads without parsing, so that what trimesh makes of it is what it makes of
-a binary file. trimesh's binary reader takes one corner count for a whole face element: faces of
-mixed or more than four corners are fanned into triangles first, as trimesh fans a file's quads.
-A binary body is read the same way (vertices_and_faces) where trimesh's reader would refuse it
-(faces of mixed lengths) or make of it what the viewer cannot use (a path of an edge element).
+a binary file. trimesh's binary reader takes one corner count for a whole face element, and makes
+triangles of quads in an order of its own: faces of more than three corners are fanned into
+triangles first, in the file's order, and their sizes kept, so that the loader makes the polygons
+again of trimesh's triangles (marraztu.model.mesh.polygon_corners_of_fans). A binary body is read
+the same way (vertices_and_faces) where trimesh's reader would refuse it (faces of mixed lengths),
+fan it its own way (quads) or make of it what the viewer cannot use (a path of an edge element).
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from array import array
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -39,6 +42,14 @@ TEXCOORD_LIST = "texcoord"  # MeshLab's: u v for each corner of the face
 MAX_DECLARATIONS = 4096
 _DECIMAL = re.compile(DECIMAL_SYNTAX.encode())
 _NOT_FINITE = re.compile(rb"(?i)[+-]?(?:nan|inf|infinity)")  # numpy reads these too: refused later where wrong
+
+
+class ForTrimesh(NamedTuple):
+    """A binary PLY that trimesh's reader takes as it is, and the sizes of the one face element's
+    polygons where they were fanned into its triangles (None where trimesh's triangles are the file's)."""
+
+    data: bytes
+    face_sizes: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -139,23 +150,31 @@ def _property(path: Path, words: list[str], line: int) -> PlyProperty:
 
 
 # --- the ASCII body -------------------------------------------------------------------------------
-def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> bytes:
+def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
     """The binary little-endian PLY file that holds what `data`, an ASCII one, holds: every number
     checked against its property's type, every face's corners against the vertex count."""
     body = _Body(path, data, header.body_at, _numbers(path, data, header.body_at))
-    vertices, tables, at = header.count("vertex"), [], 0
+    vertices, tables, sizes, at = header.count("vertex"), [], [], 0
     for element in header.elements:
         columns, uniform, at = _element_columns(body, element, at)
         for column in columns:
             _check_type(body, element, column)
         corners = _face_corners(body, element, columns, vertices)
-        if corners is not None and (not uniform or corners.values.shape[1] > 4):
+        if corners is not None and (not uniform or corners.values.shape[1] > 3):
             tables.append(_fanned(element, columns, corners))
+            sizes.append(corners.counts)
         elif columns and not uniform:  # lists of mixed lengths, which trimesh draws nothing of: left out
             tables.append(_without_lists(element, columns))
         elif columns:
             tables.append((element, [column.values for column in columns]))
-    return _written(header.text("binary_little_endian", tuple(element for element, _ in tables)), tables)
+    return ForTrimesh(_written(header.text("binary_little_endian", tuple(element for element, _ in tables)), tables),
+                      _face_sizes(header, sizes))
+
+
+def _face_sizes(header: PlyHeader, fanned: list[np.ndarray | None]) -> np.ndarray | None:
+    """The fanned polygons' sizes, where the file's one face element was fanned (trimesh reads one)."""
+    faces = sum(element.name == "face" for element in header.elements)
+    return fanned[0] if faces == 1 and len(fanned) == 1 else None
 
 
 def _numbers(path: Path, data: bytes, body_at: int) -> np.ndarray:
@@ -517,38 +536,40 @@ def _row_layout(element: PlyElement, values: list[np.ndarray]) -> np.dtype:
 _KEPT_ELEMENTS = ("vertex", "face")
 
 
-def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> bytes:
+def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
     """A binary PLY as trimesh's binary reader takes it: its vertex and face elements alone, read where
-    they lie in the body, little-endian; faces whose corner counts differ (triangles and quads), or of
-    more than four, fanned into triangles as an ASCII body's are, as that reader takes one count for a
-    whole element. The file itself where that changes nothing."""
-    at, tables, unchanged = header.body_at, [], header.encoding == "<"
+    they lie in the body, little-endian; faces of more than three corners fanned into triangles as an
+    ASCII body's are, as that reader takes one count for a whole element. The file itself where that
+    changes nothing."""
+    at, tables, sizes, unchanged = header.body_at, [], [], header.encoding == "<"
     for element in header.elements:
         columns, uniform, at = _binary_columns(path, data, element, at, header.encoding)
         if element.name not in _KEPT_ELEMENTS or not columns:
             unchanged = False
             continue
-        table, as_read = _kept_table(path, element, columns, uniform, header.count("vertex"))
+        table, as_read, fanned = _kept_table(path, element, columns, uniform, header.count("vertex"))
         tables.append(table)
+        sizes += [fanned] if fanned is not None else []
         unchanged = unchanged and as_read
     if at != len(data):
         raise LoadError(path, f"its body holds {len(data) - at} bytes more than the rows its header counts")
     if unchanged:
-        return data
-    return _written(header.text("binary_little_endian", tuple(element for element, _ in tables)), tables)
+        return ForTrimesh(data)
+    return ForTrimesh(_written(header.text("binary_little_endian", tuple(element for element, _ in tables)), tables),
+                      _face_sizes(header, sizes))
 
 
 def _kept_table(path: Path, element: PlyElement, columns: list[_Column], uniform: bool, vertices: int
-                ) -> tuple[tuple[PlyElement, list[np.ndarray]], bool]:
-    """The element's rows as trimesh's binary reader takes them, and whether they are the file's own:
-    faces fanned where their lists vary in length or hold more than four corners; another element's
-    lists left out where they vary (trimesh draws nothing of them)."""
+                ) -> tuple[tuple[PlyElement, list[np.ndarray]], bool, np.ndarray | None]:
+    """The element's rows as trimesh's binary reader takes them, whether they are the file's own, and
+    the sizes of the faces fanned: faces of more than three corners fanned; another element's lists
+    left out where they vary (trimesh draws nothing of them)."""
     corners = _binary_corners(path, element, columns, vertices)
-    if corners is not None and (not uniform or corners.values.shape[1] > 4):
-        return _fanned(element, columns, corners), False
+    if corners is not None and (not uniform or corners.values.shape[1] > 3):
+        return _fanned(element, columns, corners), False, corners.counts
     if not uniform:
-        return _without_lists(element, columns), False
-    return (element, [column.values for column in columns]), True
+        return _without_lists(element, columns), False, None
+    return (element, [column.values for column in columns]), True, None
 
 
 def _binary_corners(path: Path, element: PlyElement, columns: list[_Column], vertices: int) -> _Column | None:

@@ -36,10 +36,12 @@ def build_mesh(
     warnings: Sequence[str] = (),
     vertex_colours: np.ndarray | Sequence[Sequence[float]] | None = None,
     attributes_per_vertex: bool | None = None,
+    face_sizes: np.ndarray | None = None,
 ) -> Mesh:
     """A Mesh from plain tables, with normals and texture coordinates derived as the loader does.
 
-    ``faces`` holds 0-based vertex indices, one sequence per polygon (3 or more). ``uvs`` and
+    ``faces`` holds 0-based vertex indices, one sequence per polygon (3 or more); with ``face_sizes``,
+    one flat array of every polygon's corners, one polygon after another, of those sizes. ``uvs`` and
     ``normals`` have one row per position, or one per corner in the order the faces list their
     corners; their row count says which, and ``attributes_per_vertex`` where both counts are equal.
     A row with a NaN or an infinity means "derive this one". ``vertex_colours`` are per position: RGB
@@ -47,7 +49,7 @@ def build_mesh(
     programming interface).
     """
     points = real_numbers(positions, "positions must be real numbers, (V, 3)").reshape(-1, 3)
-    corner_vertex, face_start = _faces_to_csr(faces)
+    corner_vertex, face_start = _faces_to_csr(faces) if face_sizes is None else _sized_faces(faces, face_sizes)
     if corner_vertex.size and (corner_vertex.min() < 0 or corner_vertex.max() >= len(points)):
         raise ValueError("a face refers to a vertex that does not exist")
     given_uv, given_normals = (
@@ -135,6 +137,18 @@ def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray) -> tuple[np.ndarr
     if sizes.size == 0 or sizes.min() < 3:
         raise ValueError("a mesh needs faces of at least 3 vertices")
     return corners, np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)
+
+
+def _sized_faces(corners: np.ndarray | Sequence[int], sizes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Polygons given as their corners one after another and each one's size, as corners and starts."""
+    sizes = _whole_numbers(np.asarray(sizes).ravel())
+    if sizes.size == 0 or sizes.min() < 3:
+        raise ValueError("a mesh needs faces of at least 3 vertices")
+    face_start = np.concatenate(([0], np.cumsum(sizes)))
+    corner_vertex = _whole_numbers(np.asarray(corners).ravel())
+    if corner_vertex.size != face_start[-1]:
+        raise ValueError(f"faces of these sizes hold {face_start[-1]} corners, not {corner_vertex.size}")
+    return corner_vertex, face_start
 
 
 def _whole_numbers(indices: np.ndarray) -> np.ndarray:

@@ -76,6 +76,17 @@ def fan_gather(values: np.ndarray, face_start: np.ndarray, out: np.ndarray | Non
     return fans
 
 
+def polygon_corners_of_fans(fans: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """The corners of polygons of these sizes, one polygon after another, from their fans (T, 3) in
+    fan_gather's order, which this undoes: a polygon's first fan holds its first three corners, and
+    each fan after it the next corner, last."""
+    first_fans = np.cumsum(sizes - 2) - (sizes - 2)
+    kept = np.ones(fans.shape, bool)
+    kept[:, :2] = False
+    kept[first_fans, :2] = True
+    return fans[kept]  # row by row: the corners in order
+
+
 def fan_triangles(face_start: np.ndarray) -> np.ndarray:
     """(T, 3) corner indices of every polygon's fan from its first corner, polygon by polygon: the
     seed's triangulation, so each triangle's first corner is its polygon's first vertex."""
