@@ -88,6 +88,13 @@ def test_uniform_quads_are_kept_too(tmp_path: Path) -> None:
         assert mesh.face_start.tolist() == [0, 4, 8, 12, 16], name
 
 
+def test_an_empty_second_face_element_leaves_the_polygons_kept(tmp_path: Path) -> None:
+    """trimesh reads one face element: an empty one beside it is left out before trimesh sees it."""
+    text = ply_text(["4 0 1 4 3", "5 1 2 5 8 4"]).replace(
+        "end_header", "element face 0\nproperty list uchar int vertex_indices\nend_header")
+    assert load(tmp_path, text).face_sizes.tolist() == [4, 5]
+
+
 def written_both_ways(faces: list[list[int]]) -> dict[str, bytes]:
     """The grid with these faces as an ASCII PLY and a binary one."""
     text = ply_text([f"{len(face)} {' '.join(map(str, face))}" for face in faces])

@@ -169,6 +169,18 @@ def test_polygons_are_made_again_of_their_fans(sizes: list[int]) -> None:
         build_mesh("m", positions, corners[:-1], face_sizes=np.array(sizes))
 
 
+@pytest.mark.parametrize(("sizes", "corners", "said"), [
+    ([3.5], [0, 1, 2], "face sizes must be whole numbers"),
+    ([float("nan")], [0, 1, 2], "face sizes must be whole numbers"),
+    ([2], [0, 1], "at least 3 vertices"),
+    ([2 ** 62] * 3 + [2 ** 62 + 3], [0, 1, 2], "fewer than"),  # a sum that would wrap
+    ([3, 4], [[0, 1, 2], [0, 1, 2, 3]], "one flat array"),
+])
+def test_faces_with_sizes_are_checked_where_they_enter(sizes: list[float], corners: list, said: str) -> None:
+    with pytest.raises(ValueError, match=said):
+        build_mesh("m", np.zeros((5, 3)), corners, face_sizes=sizes)
+
+
 def test_each_corner_is_found_in_its_polygon() -> None:
     """One corner (a Python int) or many (int64, as np.flatnonzero gives them), on the mesh's own index type."""
     sizes = [3, 4, 9, 3, 1000, 3]

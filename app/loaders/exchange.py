@@ -131,7 +131,8 @@ def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
         data, face_sizes = binary_of_ascii(path, text, header)
         header = read_header(path, data)
     data, binary_face_sizes = vertices_and_faces(path, data, header)
-    face_sizes = binary_face_sizes if face_sizes is None else face_sizes
+    if text is None:  # (an ASCII body's polygons are fanned already: the binary one holds triangles)
+        face_sizes = binary_face_sizes
     beside = _FilesBeside(path.parent, is_picture=lambda name: True)  # a PLY names its TextureFile only
     scene = _trimesh_load(path, data, "ply", beside)
     del data
@@ -468,7 +469,7 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own
     # viewer's rather than another mesh's.
     own = _material_of(parts[0][0].mesh) if len(parts) == 1 else None
     if face_sizes is not None and (len(parts) != 1 or len(faces) != int((face_sizes - 2).sum())):
-        face_sizes = None  # not the fans of those polygons (trimesh read them otherwise): drawn as its triangles
+        face_sizes = None  # a guard, never met: trimesh keeps a PLY's triangles, in order; else drawn as they are
     polygons = faces if face_sizes is None else polygon_corners_of_fans(faces, face_sizes)
     mesh = build_mesh(name=name, positions=positions, faces=polygons, uvs=uvs, file_material=own, warnings=notes,
                       vertex_colours=colours, attributes_per_vertex=True, face_sizes=face_sizes)

@@ -5,12 +5,13 @@ file (170 with blank lines, which it then cannot read), casts 1.5 or 300 into an
 without a word, and names no line. Here the body becomes numbers in one call, each property is
 checked against its type where the file gives it, and the rows are written as the little-endian
 binary body that trimesh reads without parsing, so that what trimesh makes of it is what it makes of
-a binary file. trimesh's binary reader takes one corner count for a whole face element, and makes
-triangles of quads in an order of its own: faces of more than three corners are fanned into
+a binary file. trimesh's binary reader takes one corner count for a whole face element, and splits
+quads into triangles in an order of its own: faces of more than three corners are fanned into
 triangles first, in the file's order, and their sizes kept, so that the loader makes the polygons
 again of trimesh's triangles (marraztu.model.mesh.polygon_corners_of_fans). A binary body is read
 the same way (vertices_and_faces) where trimesh's reader would refuse it (faces of mixed lengths),
-fan it its own way (quads) or make of it what the viewer cannot use (a path of an edge element).
+split it its own way (every quad's first triangle, then every second one, from its third corner) or
+make of it what the viewer cannot use (a path of an edge element).
 """
 
 from __future__ import annotations
@@ -154,7 +155,8 @@ def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
     """The binary little-endian PLY file that holds what `data`, an ASCII one, holds: every number
     checked against its property's type, every face's corners against the vertex count."""
     body = _Body(path, data, header.body_at, _numbers(path, data, header.body_at))
-    vertices, tables, sizes, at = header.count("vertex"), [], [], 0
+    vertices, tables, at = header.count("vertex"), [], 0
+    sizes: list[np.ndarray] = []
     for element in header.elements:
         columns, uniform, at = _element_columns(body, element, at)
         for column in columns:
@@ -171,9 +173,10 @@ def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
                       _face_sizes(header, sizes))
 
 
-def _face_sizes(header: PlyHeader, fanned: list[np.ndarray | None]) -> np.ndarray | None:
-    """The fanned polygons' sizes, where the file's one face element was fanned (trimesh reads one)."""
-    faces = sum(element.name == "face" for element in header.elements)
+def _face_sizes(header: PlyHeader, fanned: list[np.ndarray]) -> np.ndarray | None:
+    """The fanned polygons' sizes, where the file's one face element of rows was fanned (trimesh reads
+    one; an empty one is left out before it)."""
+    faces = sum(element.name == "face" and element.count > 0 for element in header.elements)
     return fanned[0] if faces == 1 and len(fanned) == 1 else None
 
 
@@ -541,7 +544,8 @@ def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh
     they lie in the body, little-endian; faces of more than three corners fanned into triangles as an
     ASCII body's are, as that reader takes one count for a whole element. The file itself where that
     changes nothing."""
-    at, tables, sizes, unchanged = header.body_at, [], [], header.encoding == "<"
+    at, tables, unchanged = header.body_at, [], header.encoding == "<"
+    sizes: list[np.ndarray] = []
     for element in header.elements:
         columns, uniform, at = _binary_columns(path, data, element, at, header.encoding)
         if element.name not in _KEPT_ELEMENTS or not columns:
@@ -549,7 +553,8 @@ def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh
             continue
         table, as_read, fanned = _kept_table(path, element, columns, uniform, header.count("vertex"))
         tables.append(table)
-        sizes += [fanned] if fanned is not None else []
+        if fanned is not None:
+            sizes.append(fanned)
         unchanged = unchanged and as_read
     if at != len(data):
         raise LoadError(path, f"its body holds {len(data) - at} bytes more than the rows its header counts")

@@ -36,7 +36,7 @@ def build_mesh(
     warnings: Sequence[str] = (),
     vertex_colours: np.ndarray | Sequence[Sequence[float]] | None = None,
     attributes_per_vertex: bool | None = None,
-    face_sizes: np.ndarray | None = None,
+    face_sizes: np.ndarray | Sequence[int] | None = None,
 ) -> Mesh:
     """A Mesh from plain tables, with normals and texture coordinates derived as the loader does.
 
@@ -139,13 +139,24 @@ def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray) -> tuple[np.ndarr
     return corners, np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)
 
 
-def _sized_faces(corners: np.ndarray | Sequence[int], sizes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Polygons given as their corners one after another and each one's size, as corners and starts."""
-    sizes = _whole_numbers(np.asarray(sizes).ravel())
-    if sizes.size == 0 or sizes.min() < 3:
+def _sized_faces(corners: np.ndarray | Sequence[int], sizes: np.ndarray | Sequence[int]
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Polygons given as their corners one after another (flattened) and each one's size, as corners
+    and starts."""
+    given = np.asarray(sizes).ravel()
+    if given.dtype.kind not in "iu" and not (given.dtype.kind == "f" and np.isfinite(given).all()
+                                             and (given == np.round(given)).all()):
+        raise ValueError("face sizes must be whole numbers")
+    if given.size == 0 or given.min() < 3:
         raise ValueError("a mesh needs faces of at least 3 vertices")
-    face_start = np.concatenate(([0], np.cumsum(sizes)))
-    corner_vertex = _whole_numbers(np.asarray(corners).ravel())
+    if given.size >= INDEX_LIMIT or given.max() >= INDEX_LIMIT:  # before a sum that could wrap
+        raise ValueError(f"a mesh holds fewer than {INDEX_LIMIT} positions and corners")
+    face_start = np.concatenate(([0], np.cumsum(given.astype(np.int64))))
+    try:
+        flat = np.asarray(corners)
+    except ValueError:  # polygons of several sizes listed as such
+        raise ValueError("with face_sizes, faces are every polygon's corners in one flat array") from None
+    corner_vertex = _whole_numbers(flat.ravel())
     if corner_vertex.size != face_start[-1]:
         raise ValueError(f"faces of these sizes hold {face_start[-1]} corners, not {corner_vertex.size}")
     return corner_vertex, face_start
