@@ -88,6 +88,28 @@ def test_uniform_quads_are_kept_too(tmp_path: Path) -> None:
         assert mesh.face_start.tolist() == [0, 4, 8, 12, 16], name
 
 
+@pytest.mark.parametrize(("index", "said"), [("1.5", "1.5 is not a whole number"), ("nan", "nan is not a whole number"),
+                                             ("12.0", "12 out of range (the file has 9 vertices)")])
+@pytest.mark.parametrize("encoding", ["ascii", "binary_little_endian"])
+def test_an_index_list_of_floats_names_vertices_by_whole_numbers(tmp_path: Path, index: str, said: str,
+                                                                 encoding: str) -> None:
+    """A face list may be declared of floats: 1.5 or NaN names no vertex (trimesh cast them without a
+    word, NaN to -2**63)."""
+    faces = [[0, 1, 4, 3], [1, 2, 5, float(index)]]
+    text = ply_text([" ".join(f"{value:g}" for value in [len(face), *face]) for face in faces],
+                    face_properties="property list uchar float vertex_indices\n")
+    if encoding == "ascii":
+        data = text.encode()
+    else:
+        header = text[:text.index("end_header\n") + 11].replace("format ascii", "format binary_little_endian")
+        data = header.encode() + np.array(GRID_NUMBERS, "<f4").tobytes() + b"".join(
+            struct.pack("<B4f", 4, *face) for face in faces)
+    (tmp_path / "m.ply").write_bytes(data)
+    refused = one_line_refusal(lambda: load_model(tmp_path / "m.ply"))
+    assert refused.message == f"vertex index {said}"
+    assert refused.line == (20 if encoding == "ascii" else None)
+
+
 def test_an_empty_second_face_element_leaves_the_polygons_kept(tmp_path: Path) -> None:
     """trimesh reads one face element: an empty one beside it is left out before trimesh sees it."""
     text = ply_text(["4 0 1 4 3", "5 1 2 5 8 4"]).replace(

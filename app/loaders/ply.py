@@ -455,11 +455,10 @@ def _face_corners(body: _Body, element: PlyElement, columns: list[_Column], vert
         size = int(corners.counts[row])
         raise body.error(f"a face of {size} corner{'' if size == 1 else 's'}: 3 or more make one",
                          corners.count_index(row))
-    outside = (corners.values < 0) | (corners.values >= vertices)
-    if outside.any():
-        first = int(np.argmax(outside.ravel()))
-        raise body.error(f"vertex index {_shown(corners.values.ravel()[first])} out of range (the file has "
-                         f"{vertices} vertices)", corners.index(first))
+    first = _first_unnamed_vertex(corners.values, vertices)
+    if first is not None:
+        value = corners.values.ravel()[first]
+        raise body.error(_unnamed_vertex(value, _shown(value), vertices), corners.index(first))
     for column in columns:
         if column.prop.name == TEXCOORD_LIST and column.counts is not None and column.count_index is not None:
             wrong = column.counts != 2 * corners.counts
@@ -468,6 +467,21 @@ def _face_corners(body: _Body, element: PlyElement, columns: list[_Column], vert
                 raise body.error(f"face texcoord: {column.counts[row]} numbers for a face of {corners.counts[row]} "
                                  "corners (two a corner)", column.count_index(row))
     return corners
+
+
+def _first_unnamed_vertex(indices: np.ndarray, vertices: int) -> int | None:
+    """Where the first index (in file order) names no vertex: a whole number from 0 to vertices - 1 names
+    one (an index list of a float type may hold 1.5 or NaN, which trimesh would cast without a word)."""
+    named = (indices >= 0) & (indices < vertices)  # NaN: False
+    if indices.dtype.kind == "f":
+        named &= indices == np.trunc(indices)
+    return None if named.all() else int(np.argmin(named.ravel()))
+
+
+def _unnamed_vertex(value: float | np.number, shown: str, vertices: int) -> str:
+    if value == np.trunc(value):  # NaN is not
+        return f"vertex index {shown} out of range (the file has {vertices} vertices)"
+    return f"vertex index {shown} is not a whole number"
 
 
 def _fanned(element: PlyElement, columns: list[_Column], corners: _Column) -> tuple[PlyElement, list[np.ndarray]]:
@@ -587,10 +601,11 @@ def _binary_corners(path: Path, element: PlyElement, columns: list[_Column], ver
     if (corners.counts < 3).any():
         size = int(corners.counts[np.argmax(corners.counts < 3)])
         raise LoadError(path, f"a face of {size} corner{'' if size == 1 else 's'}: 3 or more make one")
-    outside = (corners.values < 0) | (corners.values >= vertices)
-    if outside.any():
-        index = corners.values.ravel()[np.argmax(outside.ravel())]
-        raise LoadError(path, f"vertex index {index} out of range (the file has {vertices} vertices)")
+    first = _first_unnamed_vertex(corners.values, vertices)
+    if first is not None:
+        value = corners.values.ravel()[first]
+        shown = _shown(value) if value.dtype.kind == "f" else str(value)
+        raise LoadError(path, _unnamed_vertex(value, shown, vertices))
     for column in columns:
         if column.prop.name == TEXCOORD_LIST and column.counts is not None:
             wrong = column.counts != 2 * corners.counts
