@@ -30,6 +30,7 @@ import numpy as np
 from marraztu.errors import LoadError
 from marraztu.loaders.files import line_at, line_end_from, text_lines
 from marraztu.loaders.words import DECIMAL_SYNTAX, is_count, pieces_at_gaps, text_numbers, words_and_line_ends
+from marraztu.model.mesh import fan_gather
 
 # The property types PLY names, as trimesh reads them (its float16 and 64-bit integers too).
 PLY_TYPES = {"char": "i1", "uchar": "u1", "short": "i2", "ushort": "u2", "int": "i4", "uint": "u4",
@@ -161,7 +162,7 @@ def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
         columns, uniform, at = _element_columns(body, element, at)
         for column in columns:
             _check_type(body, element, column)
-        corners = _face_corners(body, element, columns, vertices)
+        corners = _face_corners(element, columns, vertices, body.error)
         if corners is not None and (not uniform or corners.values.shape[1] > 3):
             tables.append(_fanned(element, columns, corners))
             sizes.append(corners.counts)
@@ -437,14 +438,19 @@ def _most(kind: str) -> int:
     return int(np.iinfo(PLY_TYPES[kind]).max)
 
 
-def _shown(value: float) -> str:
+def _shown(value: float | np.number) -> str:
+    """A number as the file gives it: a whole one without a point (a binary body's integers exactly)."""
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
     return str(int(value)) if abs(value) < 1e15 and value == int(value) else repr(float(value))
 
 
-def _face_corners(body: _Body, element: PlyElement, columns: list[_Column], vertices: int) -> _Column | None:
+def _face_corners(element: PlyElement, columns: list[_Column], vertices: int,
+                  fail: Callable[[str, int], LoadError]) -> _Column | None:
     """A face element's list of vertex indices, each face checked to have 3 or more corners, each index
     to name a vertex and MeshLab's texture coordinates to give two numbers a corner; None for another
-    element."""
+    element. `fail` makes the error of a problem at a number's place: an ASCII body's names its line
+    (_Body.error), a binary one's its file."""
     corners = next((column for column in columns if column.prop.name in FACE_LISTS and column.counts is not None),
                    None)
     if element.name != "face" or corners is None or corners.counts is None or corners.count_index is None:
@@ -453,19 +459,17 @@ def _face_corners(body: _Body, element: PlyElement, columns: list[_Column], vert
     if short.any():
         row = int(np.argmax(short))
         size = int(corners.counts[row])
-        raise body.error(f"a face of {size} corner{'' if size == 1 else 's'}: 3 or more make one",
-                         corners.count_index(row))
+        raise fail(f"a face of {size} corner{'' if size == 1 else 's'}: 3 or more make one", corners.count_index(row))
     first = _first_unnamed_vertex(corners.values, vertices)
     if first is not None:
-        value = corners.values.ravel()[first]
-        raise body.error(_unnamed_vertex(value, _shown(value), vertices), corners.index(first))
+        raise fail(_unnamed_vertex(corners.values.ravel()[first], vertices), corners.index(first))
     for column in columns:
         if column.prop.name == TEXCOORD_LIST and column.counts is not None and column.count_index is not None:
             wrong = column.counts != 2 * corners.counts
             if wrong.any():
                 row = int(np.argmax(wrong))
-                raise body.error(f"face texcoord: {column.counts[row]} numbers for a face of {corners.counts[row]} "
-                                 "corners (two a corner)", column.count_index(row))
+                raise fail(f"face texcoord: {column.counts[row]} numbers for a face of {corners.counts[row]} corners "
+                           "(two a corner)", column.count_index(row))
     return corners
 
 
@@ -478,25 +482,22 @@ def _first_unnamed_vertex(indices: np.ndarray, vertices: int) -> int | None:
     return None if named.all() else int(np.argmin(named.ravel()))
 
 
-def _unnamed_vertex(value: float | np.number, shown: str, vertices: int) -> str:
+def _unnamed_vertex(value: float | np.number, vertices: int) -> str:
     if value == np.trunc(value):  # NaN is not
-        return f"vertex index {shown} out of range (the file has {vertices} vertices)"
-    return f"vertex index {shown} is not a whole number"
+        return f"vertex index {_shown(value)} out of range (the file has {vertices} vertices)"
+    return f"vertex index {_shown(value)} is not a whole number"
 
 
 def _fanned(element: PlyElement, columns: list[_Column], corners: _Column) -> tuple[PlyElement, list[np.ndarray]]:
-    """The faces as triangles (0, i, i + 1) of each, which trimesh's binary reader takes: each keeps
-    its face's values, and MeshLab's texture coordinates their corners'. Other lists are left out.
-    Each value is made its type before it is gathered, and the indices are 32-bit where they fit."""
+    """The faces as triangles (0, i, i + 1) of each, fan_gather's, which trimesh's binary reader takes:
+    each keeps its face's values, and MeshLab's texture coordinates their corners'. Other lists are
+    left out. Each value is made its type before it is gathered, and the indices are 32-bit where they fit."""
     assert corners.counts is not None
     kind = np.int32 if corners.values.size < np.iinfo(np.int32).max // 2 else np.int64
-    triangles = (corners.counts - 2).astype(kind)
-    face = np.repeat(np.arange(len(triangles), dtype=kind), triangles)
-    second = np.arange(1, len(face) + 1, dtype=kind) - np.repeat(np.cumsum(triangles, dtype=kind) - triangles,
-                                                                  triangles)  # i of (0, i, i + 1)
-    first_corner = (np.cumsum(corners.counts, dtype=kind) - corners.counts.astype(kind))[face]
-    fan = np.stack([first_corner, first_corner + second, first_corner + second + 1], axis=1)
-    del second, first_corner
+    face_start = np.concatenate(([0], np.cumsum(corners.counts, dtype=kind))).astype(kind, copy=False)
+    # The mesh's own fans, in the order polygon_corners_of_fans undoes to make the polygons again.
+    fan = fan_gather(np.arange(int(face_start[-1]), dtype=kind), face_start).reshape(-1, 3)
+    face = np.repeat(np.arange(len(corners.counts), dtype=kind), corners.counts - 2)
     kept, values = [], []
     for column in columns:
         typed = column.values.astype("<" + PLY_TYPES[column.prop.value_type])
@@ -583,37 +584,12 @@ def _kept_table(path: Path, element: PlyElement, columns: list[_Column], uniform
     """The element's rows as trimesh's binary reader takes them, whether they are the file's own, and
     the sizes of the faces fanned: faces of more than three corners fanned; another element's lists
     left out where they vary (trimesh draws nothing of them)."""
-    corners = _binary_corners(path, element, columns, vertices)
+    corners = _face_corners(element, columns, vertices, lambda message, at: LoadError(path, message))
     if corners is not None and (not uniform or corners.values.shape[1] > 3):
         return _fanned(element, columns, corners), False, corners.counts
     if not uniform:
         return _without_lists(element, columns), False, None
     return (element, [column.values for column in columns]), True, None
-
-
-def _binary_corners(path: Path, element: PlyElement, columns: list[_Column], vertices: int) -> _Column | None:
-    """A face element's list of vertex indices, checked as an ASCII body's are: 3 or more corners a face,
-    each index a vertex's, two texture coordinates a corner; None for another element."""
-    corners = next((column for column in columns if column.prop.name in FACE_LISTS and column.counts is not None),
-                   None)
-    if element.name != "face" or corners is None or corners.counts is None:
-        return None
-    if (corners.counts < 3).any():
-        size = int(corners.counts[np.argmax(corners.counts < 3)])
-        raise LoadError(path, f"a face of {size} corner{'' if size == 1 else 's'}: 3 or more make one")
-    first = _first_unnamed_vertex(corners.values, vertices)
-    if first is not None:
-        value = corners.values.ravel()[first]
-        shown = _shown(value) if value.dtype.kind == "f" else str(value)
-        raise LoadError(path, _unnamed_vertex(value, shown, vertices))
-    for column in columns:
-        if column.prop.name == TEXCOORD_LIST and column.counts is not None:
-            wrong = column.counts != 2 * corners.counts
-            if wrong.any():
-                row = int(np.argmax(wrong))
-                raise LoadError(path, f"face texcoord: {column.counts[row]} numbers for a face of "
-                                      f"{corners.counts[row]} corners (two a corner)")
-    return corners
 
 
 def _binary_columns(path: Path, data: bytes, element: PlyElement, at: int, order: str

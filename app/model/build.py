@@ -143,15 +143,12 @@ def _sized_faces(corners: np.ndarray | Sequence[int], sizes: np.ndarray | Sequen
                  ) -> tuple[np.ndarray, np.ndarray]:
     """Polygons given as their corners one after another (flattened) and each one's size, as corners
     and starts."""
-    given = np.asarray(sizes).ravel()
-    if given.dtype.kind not in "iu" and not (given.dtype.kind == "f" and np.isfinite(given).all()
-                                             and (given == np.round(given)).all()):
-        raise ValueError("face sizes must be whole numbers")
+    given = _whole_numbers(np.asarray(sizes).ravel(), "face sizes must be whole numbers")
     if given.size == 0 or given.min() < 3:
         raise ValueError("a mesh needs faces of at least 3 vertices")
     if given.size >= INDEX_LIMIT or given.max() >= INDEX_LIMIT:  # before a sum that could wrap
         raise ValueError(f"a mesh holds fewer than {INDEX_LIMIT} positions and corners")
-    face_start = np.concatenate(([0], np.cumsum(given.astype(np.int64))))
+    face_start = np.concatenate(([0], np.cumsum(given)))
     try:
         flat = np.asarray(corners)
     except ValueError:  # polygons of several sizes listed as such
@@ -162,13 +159,14 @@ def _sized_faces(corners: np.ndarray | Sequence[int], sizes: np.ndarray | Sequen
     return corner_vertex, face_start
 
 
-def _whole_numbers(indices: np.ndarray) -> np.ndarray:
-    """Vertex indices as int64; 1.5 or "a" is refused, not rounded or read as something else."""
+def _whole_numbers(indices: np.ndarray, refusal: str = "face indices must be whole numbers (0-based vertex rows)"
+                   ) -> np.ndarray:
+    """Vertex indices (or face sizes) as int64; 1.5 or "a" is refused, not rounded or read as something else."""
     if indices.dtype.kind in "iu":
         return indices.astype(np.int64, copy=False)
     if indices.dtype.kind == "f" and np.isfinite(indices).all() and (indices == np.round(indices)).all():
         return indices.astype(np.int64)
-    raise ValueError("face indices must be whole numbers (0-based vertex rows)")
+    raise ValueError(refusal)
 
 
 def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, face_start: np.ndarray,
