@@ -6,7 +6,7 @@
 
 from typing import Any
 
-_API_NAMES = ("Viewer", "ProbeReport", "ProbedVertex", "LightShare", "LoadError")
+_API_NAMES = ("Viewer", "ProbeReport", "ProbedVertex", "LightShare", "ViewerError", "LoadError", "KeyMapError")
 
 
 def __getattr__(name: str) -> Any:

@@ -309,11 +309,20 @@ def test_no_face_no_probe() -> None:
         assert v.probe() is None
 
 
+def test_the_package_names_its_errors() -> None:
+    assert (marraztu.ViewerError, marraztu.LoadError, marraztu.KeyMapError) == (ViewerError, LoadError, KeyMapError)
+    assert all(hasattr(marraztu, name) for name in marraztu.__all__)
+
+
 def test_close_releases_and_garbage_collection_too() -> None:
     v = marraztu.Viewer(size=SIZE)
     v.close()
-    with pytest.raises(ViewerError, match="closed"):
-        v.render()
+    for call in (v.render, v.probe, lambda: v.press("x"), lambda: v.load("no-such.obj"),
+                 lambda: v.add_mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])):
+        with pytest.raises(ViewerError, match="closed"):
+            call()
+    assert v._repr_png_() is None, "a notebook shows a closed viewer's text, not a traceback"
+    assert v.scene.objects and v.size == SIZE, "what it held can still be read"
     closer = marraztu.Viewer(size=SIZE)._closer
     gc.collect()
     assert not closer.alive, "a viewer no one holds has closed its context"

@@ -23,7 +23,7 @@ from PIL import Image
 from marraztu.control import commands
 from marraztu.control.viewer import StartOptions, starting_scene
 from marraztu.control.viewer import Viewer as KeyViewer
-from marraztu.errors import LoadError, ViewerError, escaped
+from marraztu.errors import KeyMapError, LoadError, ViewerError, escaped
 from marraztu.frontends.heap import return_freed_memory
 from marraztu.frontends.screenshot import OffscreenFrontend, render_pixels
 from marraztu.loaders.exchange import mesh_of_trimesh
@@ -143,6 +143,7 @@ class Viewer:
 
     def load(self, path: str | Path) -> Viewer:
         """Any model file the program reads, added as `f` adds it; LoadError on bad input."""
+        self._check_open()
         self._viewer.load_model(path)
         return self
 
@@ -150,6 +151,7 @@ class Viewer:
         """Keys in the language of --keys: "0 1 F x*5 f=model.obj"."""
         if not isinstance(keys, str):
             raise TypeError(f"keys are a str, as --keys takes them (\"0 1 F x*5\"), not {type(keys).__name__}")
+        self._check_open()
         self._viewer.press_sequence(keys)
         return self
 
@@ -159,6 +161,7 @@ class Viewer:
         texture and vertex colours): positions (V, 3), faces (F, k) of 0-based indices (or a list of
         polygons), uvs and normals per vertex or per corner (`attributes_per_vertex` says which where
         both fit), colours per vertex."""
+        self._check_open()
         shown_name = escaped(str(name))[:200]
         if faces is None and (hasattr(positions, "geometry")
                               or (hasattr(positions, "vertices") and hasattr(positions, "faces"))):
@@ -191,13 +194,16 @@ class Viewer:
         return_freed_memory()  # as the window does when still: a notebook keeps the process between pictures
         return Image.fromarray(pixels)
 
-    def _repr_png_(self) -> bytes:
+    def _repr_png_(self) -> bytes | None:
+        if not self._closer.alive:  # None: the notebook shows the text repr instead of a traceback
+            return None
         stream = BytesIO()
         self.render().save(stream, format="PNG")
         return stream.getvalue()
 
     def probe(self) -> ProbeReport | None:
         """The selected face's probe as numbers; None when there is no face to probe."""
+        self._check_open()
         found = probe_scene(self.scene)
         if found is None:
             return None
@@ -208,7 +214,8 @@ class Viewer:
 
     # --- the context ---------------------------------------------------------------------------
     def close(self) -> None:
-        """Releases the GL context; the viewer cannot draw afterwards."""
+        """Releases the GL context; afterwards the scene can be read, and every other call raises
+        ViewerError."""
         self._closer()
 
     def _check_open(self) -> None:
@@ -253,4 +260,4 @@ def _finite_positions(positions: Any) -> np.ndarray:
     return table.copy()
 
 
-__all__ = ["LightShare", "LoadError", "ProbeReport", "ProbedVertex", "Viewer"]
+__all__ = ["KeyMapError", "LightShare", "LoadError", "ProbeReport", "ProbedVertex", "Viewer", "ViewerError"]
