@@ -19,7 +19,7 @@ import trimesh
 from PIL import Image
 
 from marraztu.errors import LoadError
-from marraztu.loaders import exchange
+from marraztu.loaders import exchange, images
 from marraztu.loaders.images import MAX_JPEG_SCANS, MAX_PIXELS
 from marraztu.loaders.ply import read_header, vertices_and_faces
 from marraztu.loaders.registry import load_model
@@ -139,14 +139,14 @@ def test_a_glbs_picture_of_too_many_pixels_is_a_note_never_decoded(tmp_path: Pat
 def test_a_picture_made_in_code_past_the_limit_is_not_drawn(monkeypatch: pytest.MonkeyPatch) -> None:
     """The programming interface's pictures are held already: one past the limit is still not drawn
     (its size checked before it is converted), with a note."""
-    monkeypatch.setattr(exchange, "MAX_PIXELS", 63)
+    monkeypatch.setattr(images, "MAX_PIXELS", 63)
     image = Image.new("RGB", (8, 8), (250, 0, 0))
     mesh = trimesh.Trimesh(TRIANGLE, [[0, 1, 2]], process=False,
                            visual=trimesh.visual.TextureVisuals(uv=UVS, image=image))
     loaded = exchange.mesh_of_trimesh("big", mesh)
     assert loaded.materials == ()
-    assert loaded.warnings == ("a material's picture is not drawn (a 8x8 picture, more than 63 pixels); the scene's "
-                               "texture is shown in its place",)
+    assert loaded.warnings == ("a material's picture is not drawn (image size 8x8 is too large (at most 63 pixels)); "
+                               "the scene's texture is shown in its place",)
 
 
 def test_a_plys_jpeg_of_thousands_of_scans_is_a_note(tmp_path: Path, decoded: list[object]) -> None:

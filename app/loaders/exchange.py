@@ -50,9 +50,9 @@ from marraztu.loaders.files import (
 )
 from marraztu.loaders.images import (
     FORMATS_BY_MAGIC,
-    MAX_PIXELS,
     check_picture,
     image_format,
+    picture_size_refusal,
     pictures_checked,
     rgb_array,
     unread_textures_note,
@@ -670,9 +670,9 @@ def _drawn_picture(picture: Any, formats: Collection[str] | None, undrawn: list[
     if formats is not None and found is not None and found not in formats:
         undrawn.append(f"a {found} picture, not a PNG, JPEG or PPM one")
         return None
-    width, height = _picture_size(picture)
-    if width * height > MAX_PIXELS:  # before it is decoded
-        undrawn.append(f"a {width}x{height} picture, more than {MAX_PIXELS} pixels")
+    refusal = picture_size_refusal(*_picture_size(picture))
+    if refusal is not None:  # before it is decoded
+        undrawn.append(refusal)
         return None
     texture = _texture(picture)
     if texture is None:

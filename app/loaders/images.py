@@ -165,8 +165,9 @@ def _skip_comment(data: bytes, at: int) -> int:
 def _check_header(width: int, height: int, maxval: int, source: str) -> None:
     if width < 1 or height < 1:
         raise LoadError(source, f"bad PPM size {width}x{height}: both must be at least 1")
-    if width * height > MAX_PIXELS:
-        raise LoadError(source, f"PPM size {width}x{height} is too large (at most {MAX_PIXELS} pixels)")
+    refusal = picture_size_refusal(width, height, "PPM")
+    if refusal is not None:
+        raise LoadError(source, refusal)
     if not 1 <= maxval <= 65535:
         raise LoadError(source, f"bad PPM maxval {maxval}: must be 1 to 65535")
 
@@ -267,8 +268,16 @@ def check_picture(source: str | Path, data: bytes) -> None:
 
 def check_picture_size(source: str | Path, width: int, height: int) -> None:
     """Refuses a picture of more than MAX_PIXELS pixels (before it is decoded)."""
+    refusal = picture_size_refusal(width, height)
+    if refusal is not None:
+        raise LoadError(source, refusal)
+
+
+def picture_size_refusal(width: int, height: int, kind: str = "image") -> str | None:
+    """Why a picture of this size is not decoded (more than MAX_PIXELS pixels); None when it may be."""
     if width * height > MAX_PIXELS:
-        raise LoadError(source, f"image size {width}x{height} is too large (at most {MAX_PIXELS} pixels)")
+        return f"{kind} size {width}x{height} is too large (at most {MAX_PIXELS} pixels)"
+    return None
 
 
 def _jpeg_scans(data: bytes | memoryview) -> int:
