@@ -499,3 +499,41 @@ def test_a_node_that_is_the_child_of_two_is_refused_before_trimesh_reads_the_fil
     assert read == []
     path.write_bytes(glb(*triangle_gltf([{"children": [2]}, {"children": [3]}, {"mesh": 0}, {"mesh": 0}], [0, 1])))
     assert load_model(path).face_count == 2
+
+
+@pytest.mark.parametrize("extension, words", [
+    ("KHR_draco_mesh_compression", "its geometry is Draco-compressed (KHR_draco_mesh_compression), which is not "
+                                   "read here: export it uncompressed"),
+    ("EXT_meshopt_compression", "its geometry is meshopt-compressed (EXT_meshopt_compression), which is not read "
+                                "here: export it uncompressed"),
+])
+def test_compressed_gltf_geometry_is_refused_not_read_as_zeros(tmp_path: Path, extension: str, words: str,
+                                                               monkeypatch: pytest.MonkeyPatch) -> None:
+    """trimesh read a Draco primitive without DracoPy as placeholder zeros (a 'zero-area face'), and a
+    meshopt one raised an IndexError: glTF's writers list such extensions as required."""
+    monkeypatch.setattr(exchange, "_draco_decoder", lambda: False)
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["extensionsUsed"] = document["extensionsRequired"] = [extension]
+    path = tmp_path / "packed.glb"
+    path.write_bytes(glb(document, binary))
+    assert str(one_line_refusal(lambda: load_model(path))) == f"{path}: {words}"
+
+
+def test_normalized_integer_positions_are_refused_not_read_raw(tmp_path: Path) -> None:
+    """KHR_mesh_quantization's normalized positions: trimesh reads the integers (255 where 1 was meant)."""
+    document, _ = triangle_gltf([{"mesh": 0}], [0])
+    binary = (TRIANGLE * 255).astype(np.uint8).tobytes() + b"\0" * 3 + UVS.tobytes()
+    document["accessors"][0].update(componentType=5121, normalized=True)
+    document["bufferViews"] = [{"buffer": 0, "byteLength": 9, "byteStride": 4},
+                               {"buffer": 0, "byteOffset": 12, "byteLength": 24}]
+    document["buffers"] = [{"byteLength": len(binary)}]
+    document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_mesh_quantization"]
+    path = tmp_path / "quantized.glb"
+    path.write_bytes(glb(document, binary))
+    assert str(one_line_refusal(lambda: load_model(path))) == (
+        f"{path}: its positions are stored as normalized integers (KHR_mesh_quantization), which are not read "
+        "here: export them as floats")
+    document, binary = triangle_gltf([{"mesh": 0}], [0])  # the extension alone, its positions floats: read
+    document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_mesh_quantization"]
+    path.write_bytes(glb(document, binary))
+    assert np.array_equal(load_model(path).positions, TRIANGLE)

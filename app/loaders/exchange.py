@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import functools
 import gc
+import importlib.util
 import io
 import json
 import logging
@@ -149,6 +150,7 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     document = _gltf_document(path, data) if file_type == "gltf" else _glb_document(data)
     pictures = _gltf_pictures(document) if file_type == "gltf" else frozenset()  # a GLB holds its own
     _check_one_parent_each(path, document)
+    _check_geometry_readable(path, document)
     counts = _gltf_counts(document)
     if counts is not None:  # before trimesh builds a node and a mesh per placement
         _check_placed_counts(path, *counts)
@@ -333,6 +335,47 @@ def _check_one_parent_each(path: Path, document: dict[str, Any] | None) -> None:
                 raise LoadError(path, f"not a glTF file: node {child} is the child of two nodes (glTF's nodes form "
                                       "trees)")
             seen.add(child)
+
+
+# Geometry trimesh cannot decode here: it reads such a file as placeholder zeros, or fails inside.
+_UNREAD_COMPRESSION = {
+    "KHR_draco_mesh_compression": "Draco-compressed",
+    "EXT_meshopt_compression": "meshopt-compressed",
+}
+
+
+def _check_geometry_readable(path: Path, document: dict[str, Any] | None) -> None:
+    """Refuses compressed geometry, which glTF's writers list as required, and positions stored as
+    normalized integers (KHR_mesh_quantization), which trimesh reads as the raw integers."""
+    if not isinstance(document, dict):
+        return
+    required = document.get("extensionsRequired")
+    for name in required if isinstance(required, list) else ():
+        if name in _UNREAD_COMPRESSION and not (name == "KHR_draco_mesh_compression" and _draco_decoder()):
+            raise LoadError(path, f"its geometry is {_UNREAD_COMPRESSION[name]} ({name}), which is not read here: "
+                                  "export it uncompressed")
+    if _normalized_positions(document):
+        raise LoadError(path, "its positions are stored as normalized integers (KHR_mesh_quantization), which "
+                              "are not read here: export them as floats")
+
+
+def _draco_decoder() -> bool:
+    """trimesh decodes Draco where DracoPy is installed (not a dependency: it is built for few platforms)."""
+    return importlib.util.find_spec("DracoPy") is not None
+
+
+def _normalized_positions(document: dict[str, Any]) -> bool:
+    accessors, meshes = document.get("accessors"), document.get("meshes")
+    if not isinstance(accessors, list) or not isinstance(meshes, list):
+        return False
+    for mesh in meshes:
+        for primitive in mesh.get("primitives", []) if isinstance(mesh, dict) else ():
+            attributes = primitive.get("attributes") if isinstance(primitive, dict) else None
+            index = attributes.get("POSITION") if isinstance(attributes, dict) else None
+            if (isinstance(index, int) and 0 <= index < len(accessors) and isinstance(accessors[index], dict)
+                    and accessors[index].get("normalized") is True):
+                return True
+    return False
 
 
 def _roots(document: dict[str, Any]) -> list[Any]:
