@@ -537,3 +537,12 @@ def test_normalized_integer_positions_are_refused_not_read_raw(tmp_path: Path) -
     document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_mesh_quantization"]
     path.write_bytes(glb(document, binary))
     assert np.array_equal(load_model(path).positions, TRIANGLE)
+
+
+def test_a_plys_own_two_by_two_picture_of_one_colour_is_drawn(tmp_path: Path) -> None:
+    """trimesh's stand-in for no picture is 2x2 pixels of one colour, made in code: a file's own picture
+    of that size was taken for it and dropped without a note."""
+    (tmp_path / "red.png").write_bytes(png_bytes(2, 2))
+    (material,) = load_model(textured_ply(tmp_path, "red.png")).materials
+    assert material.texture is not None and material.texture.shape == (2, 2, 3)
+    assert (material.texture == (200, 40, 40)).all()

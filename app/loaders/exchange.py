@@ -767,9 +767,10 @@ def _texture(picture: Any) -> np.ndarray | None:
 
 def _stand_in_material(material: Any) -> bool:
     """trimesh gives uvs without a picture a material whose image is 2x2 pixels of one colour
-    (trimesh.visual.material.empty_material): no texture, not a grey one."""
+    (trimesh.visual.material.empty_material): no texture, not a grey one. It is made in code, so
+    Pillow names no format; a file's own 2x2 picture of one colour is drawn."""
     image = getattr(material, "image", None)
-    if not isinstance(image, Image.Image) or image.size != (2, 2):
+    if not isinstance(image, Image.Image) or image.size != (2, 2) or image.format is not None:
         return False
     pixels = np.asarray(image).reshape(4, -1)
     return bool((pixels == pixels[0]).all())
