@@ -335,3 +335,45 @@ def test_a_picture_two_libraries_name_is_read_once_and_noted_once(tmp_path: Path
     assert [material.name for material in mesh.materials] == ["a", "b"]
     assert len(reads) == 1
     assert sum("gone.png" in note for note in mesh.warnings) == 1
+
+
+@pytest.mark.parametrize("reader", [read_by_lines, read_fast])
+def test_material_names_are_read_alike_on_both_sides_with_their_hashes(tmp_path: Path, reader) -> None:
+    """3ds Max names materials "Material #25" (a '#' is no comment in a name), and a name's blanks are
+    one blank on both sides: a name with two was looked for as written and not found."""
+    (tmp_path / "m.mtl").write_text("newmtl Material #1\nKd 1 0 0\nnewmtl Material #2\nKd 0 1 0\n"
+                                    "newmtl Wood  Dark\nKd 0 0 1\n")
+    uses = "usemtl Material #2\nf 1 2 3\nusemtl Wood  Dark \nf 1 2 3\n"
+    raw = reader(("mtllib m.mtl\n" + TRIANGLES + uses).encode(), "m.obj")
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + uses).encode(), str(tmp_path / "m.obj"), base_dir=tmp_path)
+    assert raw.material_runs.names == ["Material #2", "Wood Dark"]
+    assert {material.name: material.values["kd"] for material in mesh.materials} == {
+        "Material #2": (0.0, 1.0, 0.0), "Wood Dark": (0.0, 0.0, 1.0)}
+    assert not mesh.warnings, mesh.warnings
+
+
+@pytest.mark.parametrize("reader", [read_by_lines, read_fast])
+def test_a_library_named_again_is_no_new_one_and_those_past_the_bound_are_said(reader) -> None:
+    """Files joined into one repeat their mtllib line per object: a repeat took one of the 16 places."""
+    repeated = "mtllib a.mtl\n" * 20 + "mtllib  b.mtl  # the last\n" + TRIANGLES
+    assert reader(repeated.encode(), "m.obj").mtllib == ("a.mtl", "b.mtl")
+    many = "".join(f"mtllib l{at}.mtl\n" for at in range(40)) + TRIANGLES
+    assert reader(many.encode(), "m.obj").mtllib == tuple(f"l{at}.mtl" for at in range(17))
+
+
+@pytest.mark.parametrize("written", ["M.MTL", ".\\m.mtl", "C:\\Users\\artist\\m.mtl", '"m.mtl"'])
+def test_a_library_named_as_other_machines_write_it_is_found(tmp_path: Path, written: str) -> None:
+    (tmp_path / "m.mtl").write_text("newmtl w\nKd 0 1 0\n")
+    mesh = parse_obj((f"mtllib {written}\n" + TRIANGLES + "usemtl w\nf 1 2 3\n").encode(), str(tmp_path / "m.obj"),
+                     base_dir=tmp_path)
+    assert [material.name for material in mesh.materials] == ["w"] and not mesh.warnings, mesh.warnings
+
+
+def test_libraries_past_the_bound_are_a_note(tmp_path: Path) -> None:
+    for at in range(20):
+        (tmp_path / f"l{at}.mtl").write_text(f"newmtl m{at}\nKd 0 1 0\n")
+    statements = "".join(f"mtllib l{at}.mtl\n" for at in range(20))
+    mesh = parse_obj((statements + TRIANGLES + "usemtl m3\nf 1 2 3\n").encode(), str(tmp_path / "m.obj"),
+                     base_dir=tmp_path)
+    assert "more than 16 material libraries named: those after 'l15.mtl' are not read" in mesh.warnings
+    assert [material.name for material in mesh.materials] == ["m3"]

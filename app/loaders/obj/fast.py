@@ -132,10 +132,12 @@ def _read_piece(buf: np.ndarray, piece: tuple[int, int], before: np.ndarray, def
     # A record's numbers (byte offsets, a line's number, counts) all stay below the text's length.
     record_type = np.int32 if buf.shape[0] <= np.iinfo(np.int32).max else np.int64
     names = np.zeros((scan.NAMES_PER_PIECE, 2), np.int64)
+    libraries_named = np.zeros((raw.MAX_LIBRARY_LINES + 1, 2), np.int64)  # as many as raw.with_library keeps
     while True:
         records = np.empty((rows, scan.RECORD_COLUMNS), record_type)
         state[scan.S_USED] = 0
-        scan.read_piece(buf, piece[1], state, records, names, *deferred.tables, *deferred.columns, face_start)
+        scan.read_piece(buf, piece[1], state, records, names, libraries_named, *deferred.tables, *deferred.columns,
+                        face_start)
         chunks.append(deferred.read(records[:state[scan.S_USED]], face_start))
         if state[scan.S_AT] >= piece[1]:
             return chunks, deferred, names[:state[scan.S_NAMES]]

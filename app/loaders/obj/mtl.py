@@ -13,7 +13,7 @@ import numpy as np
 from marraztu.errors import LoadError
 from marraztu.loaders.files import bom_length, is_there, read_file, same_file_key, shown, spellings, text_lines
 from marraztu.loaders.images import load_image, unread_textures_note
-from marraztu.loaders.obj.raw import MAX_MATERIAL_NAME, finite_floats
+from marraztu.loaders.obj.raw import MAX_LIBRARY_LINES, MAX_MATERIAL_NAME, finite_floats, name_of_words
 from marraztu.model.mesh import MeshMaterial
 
 # A material library is a few lines per material: one this large is not one.
@@ -34,9 +34,13 @@ def read_libraries(base_dir: Path, lines: Sequence[str], notes: list[str], wante
     for: the MTLs and their textures."""
     materials: list[MeshMaterial] = []
     read: set[Path] = set()
-    textures = _TextureCache()  # one for every library: a picture two of them name is read once
-    for line in lines:
-        for mtl in _library_paths(base_dir, line, notes):
+    finder = _Finder()
+    textures = _TextureCache(finder)  # one for every library: a picture two of them name is read once
+    if len(lines) > MAX_LIBRARY_LINES:
+        notes.append(f"more than {MAX_LIBRARY_LINES} material libraries named: those after "
+                     f"'{shown(lines[MAX_LIBRARY_LINES - 1])}' are not read")
+    for line in lines[:MAX_LIBRARY_LINES]:
+        for mtl in _library_paths(base_dir, line, notes, finder):
             key = same_file_key(mtl)
             if key not in read:
                 read.add(key)
@@ -61,15 +65,17 @@ def _read_library(mtl: Path, notes: list[str], wanted: Collection[str], tried: l
     return _parse_library(text, name, mtl.parent, notes, wanted, textures, keep_first)
 
 
-def _library_paths(base_dir: Path, name: str, notes: list[str]) -> list[Path]:
+def _library_paths(base_dir: Path, name: str, notes: list[str], finder: _Finder) -> list[Path]:
     """The files an mtllib line names: the whole line where it is one file's name ('a b.mtl' with its
-    space), else each of its names that is a file ('mtllib a.mtl b.mtl'); one note for those missing."""
-    if is_there(base_dir / name):
-        return [base_dir / name]
+    space), else each of its names that is a file ('mtllib a.mtl b.mtl'), each found as a texture is;
+    one note for those missing."""
+    whole = finder.find(name, base_dir)
+    if whole is not None:
+        return [whole]
     words = name.split(None, _MOST_NAMES)[:_MOST_NAMES]
-    there = [is_there(base_dir / word) for word in words]
-    found = [base_dir / word for word, is_file in zip(words, there) if is_file]
-    missing = [word for word, is_file in zip(words, there) if not is_file] if found else [name]
+    there = [finder.find(word, base_dir) for word in words]
+    found = [path for path in there if path is not None]
+    missing = [word for word, path in zip(words, there) if path is None] if found else [name]
     for word in missing[:1]:  # the scene's material stands in only where no library was found
         notes.append(f"material library '{shown(word)}' not found next to the model"
                      + ("" if found else "; using the scene's material"))
@@ -97,7 +103,7 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
             continue
         key = tokens[0].lower()
         if key == "newmtl":
-            block = _Block(" ".join(tokens[1:])[:MAX_MATERIAL_NAME])
+            block = _Block(name_of_words(line.lstrip()[len(tokens[0]):]))  # as usemtl's, '#' and all
             if (keep_first and not kept) or (block.name in wanted and block.name not in kept):  # the first wins
                 kept[block.name] = block
         elif block is None:
@@ -150,39 +156,44 @@ def _is_number(token: str) -> bool:
     return True
 
 
+class _Finder:
+    """The file a name in an OBJ or MTL means. Exporters write Windows paths (back slashes, a drive:
+    C:\\Users\\...\\t.png, from the machine the model was made on), quote names, and differ in case from
+    the file: what is not found as written is looked for by its last part beside the file that
+    names it, and then in any case, each folder listed once however many names are looked for."""
+
+    def __init__(self) -> None:
+        self.listings: dict[Path, dict[str, Path]] = {}
+
+    def find(self, name: str, folder: Path) -> Path | None:
+        candidates = [folder / spelling for spelling in spellings(name)]
+        found = next((path for path in candidates if is_there(path)), None)
+        return found or next((path for path in map(self._in_any_case, candidates) if path is not None), None)
+
+    def _in_any_case(self, path: Path) -> Path | None:
+        if path.parent not in self.listings:
+            self.listings[path.parent] = _files_by_lower_name(path.parent)
+        return self.listings[path.parent].get(path.name.lower())
+
+
 class _TextureCache:
     """Each texture file read once, however many materials name it; the ones that cannot be read
     make one note."""
 
-    def __init__(self) -> None:
+    def __init__(self, finder: _Finder) -> None:
         self.read_already: dict[Path, tuple[np.ndarray | None, str | None]] = {}
         self.failures: list[tuple[str, str]] = []  # (name, why)
-        self.listings: dict[Path, dict[str, Path]] = {}
+        self.finder = finder
 
     def read(self, name: str | None, folder: Path) -> tuple[np.ndarray | None, str | None]:
         """The picture a map_Kd line of an MTL in `folder` names."""
         if name is None:
             return None, None
-        path = self._path(name, folder)
+        path = self.finder.find(name, folder) or folder / spellings(name)[0]  # not there: reading it says so
         key = same_file_key(path)  # t.png and ./t.png are one file, read once
         if key not in self.read_already:
             self.read_already[key] = self._read(path, name)
         return self.read_already[key]
-
-    def _path(self, name: str, folder: Path) -> Path:
-        """The file a map_Kd name means. Exporters write Windows paths (back slashes, a drive:
-        C:\\Users\\...\\t.png, from the machine the model was made on), quote names, and differ in
-        case from the file: what is not found as written is looked for by its last part beside the
-        MTL, and then in any case."""
-        candidates = [folder / spelling for spelling in spellings(name)]
-        found = next((path for path in candidates if is_there(path)), None)
-        found = found or next((path for path in map(self._in_any_case, candidates) if path is not None), None)
-        return found or candidates[0]  # not there: reading it says so
-
-    def _in_any_case(self, path: Path) -> Path | None:
-        if path.parent not in self.listings:  # each folder listed once, however many names are looked for
-            self.listings[path.parent] = _files_by_lower_name(path.parent)
-        return self.listings[path.parent].get(path.name.lower())
 
     def _read(self, path: Path, name: str) -> tuple[np.ndarray | None, str | None]:
         try:

@@ -28,7 +28,7 @@ class RawObj:
     corner_texcoord: np.ndarray | None  # (C,) INDEX, -1 where a corner has no vt; None: no corner has
     corner_normal: np.ndarray | None  # (C,) INDEX, likewise for vn
     face_start: np.ndarray  # (F + 1,) INDEX
-    mtllib: tuple[str, ...]  # each mtllib line's names, at most MAX_LIBRARY_LINES of them
+    mtllib: tuple[str, ...]  # each distinct mtllib line's names, at most MAX_LIBRARY_LINES + 1 of them
     colour: tuple[float, float, float] | None  # the seed reader's "# colour r g b", in 0..1
     notes: list[str]
     material_runs: MaterialRuns = field(default_factory=lambda: MaterialRuns())
@@ -90,6 +90,8 @@ def statement(content: bytes) -> tuple[bytes, bytes]:
     parts = content.split(b"#", 1)[0].split(None, 1)
     if not parts:
         return b"", b""
+    if parts[0] == b"usemtl":  # a name, '#' and all: 3ds Max names materials "Material #25"
+        return parts[0], content.lstrip()[len(parts[0]):].strip()
     return parts[0], parts[1].strip() if len(parts) > 1 else b""
 
 
@@ -153,7 +155,7 @@ class MaterialRuns:
         self.name_numbers.frombytes(numbers[new_run].tobytes())
 
 
-# `v x y z r g b` (MeshLab, ZBrush): a colour after the position, drawn as PLY's and COFF's are.
+# `v x y z r g b` (MeshLab): a colour after the position, drawn as PLY's and COFF's are.
 COLOURED_V_NUMBERS = 6
 MAX_LIBRARY_LINES = 16  # mtllib lines read: a file of a million must not cost a million lookups
 MAX_MATERIAL_NAME = 200  # characters of a usemtl name kept: enough for any real one, bounded for a hostile one
@@ -167,8 +169,11 @@ def put_colours(table: np.ndarray, rows: Sequence[int], values: Sequence[float])
 
 
 def with_library(libraries: tuple[str, ...], rest: bytes) -> tuple[str, ...]:
-    """The mtllib lines' names so far, and this line's: at most MAX_LIBRARY_LINES of them."""
-    return libraries + (decoded(rest),) if len(libraries) < MAX_LIBRARY_LINES else libraries
+    """The mtllib lines' names so far, and this line's where it names others: one more than
+    MAX_LIBRARY_LINES at most, so that the reader can say some were left unread. Files joined into
+    one repeat the same mtllib line for each object."""
+    name = decoded(rest)
+    return libraries + (name,) if len(libraries) <= MAX_LIBRARY_LINES and name not in libraries else libraries
 
 
 def usemtl_name(line: bytes) -> str:
@@ -178,4 +183,10 @@ def usemtl_name(line: bytes) -> str:
 
 def material_name(rest: bytes) -> str:
     """The name a usemtl line gives (the whole rest of the line: names may hold spaces)."""
-    return decoded(rest)[:MAX_MATERIAL_NAME]
+    return name_of_words(decoded(rest))
+
+
+def name_of_words(text: str) -> str:
+    """A material's name, as usemtl and newmtl give it: the words of the rest of the line, one blank
+    between each, '#' and all; at most MAX_MATERIAL_NAME characters (so never more words than that)."""
+    return " ".join(text.split(None, MAX_MATERIAL_NAME)[:MAX_MATERIAL_NAME])[:MAX_MATERIAL_NAME]

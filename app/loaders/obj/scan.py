@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from marraztu.loaders.obj.raw import COLOURED_V_NUMBERS, MAX_DIGITS, MAX_LIBRARY_LINES
+from marraztu.loaders.obj.raw import COLOURED_V_NUMBERS, MAX_DIGITS
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import INDEX_LIMIT
 
@@ -364,6 +364,19 @@ def _place_among(buf: np.ndarray, start: int, end: int, names: np.ndarray, named
 
 
 @njit(**_JIT)
+def _named_part(buf: np.ndarray, start: int, end: int) -> tuple[int, int]:
+    """The bounds of what the statement buf[start:end] names (raw.statement's rest): after its keyword and
+    blanks, up to a '#' or the line's end, without the blanks that end it."""
+    at = _skip_blanks(buf, _token_end(buf, _skip_blanks(buf, start)))
+    stop = at
+    while stop < end and _byte(buf, stop) != _HASH:
+        stop += 1
+    while stop > at and _is_blank(_byte(buf, stop - 1)):
+        stop -= 1
+    return at, stop
+
+
+@njit(**_JIT)
 def _same_bytes(buf: np.ndarray, start: int, end: int, other_start: int, other_end: int) -> bool:
     if end - start != other_end - other_start:
         return False
@@ -387,12 +400,13 @@ def _statement_kind(buf: np.ndarray, start: int) -> int:
 
 @njit(**_UNCOUNTED)
 def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarray, names: np.ndarray,
-               positions: np.ndarray, texcoords: np.ndarray, normals: np.ndarray, vertex: np.ndarray,
-               texcoord: np.ndarray, normal: np.ndarray, face_start: np.ndarray) -> None:
+               libraries_named: np.ndarray, positions: np.ndarray, texcoords: np.ndarray, normals: np.ndarray,
+               vertex: np.ndarray, texcoord: np.ndarray, normal: np.ndarray, face_start: np.ndarray) -> None:
     """Pass two over a piece, up to `high`: its rows, corners and face ends into the whole file's
     tables, and its records into `records`. `state` says where it is (STATE_COLUMNS): the counts so
     far in the whole file, the next line, and the records used. `names`, (NAMES_PER_PIECE, 2): the
-    bytes of the piece's distinct usemtl lines, each record's R_NAME the place of its own. It returns
+    bytes of the piece's distinct usemtl lines, each record's R_NAME the place of its own;
+    `libraries_named`, the bounds of the names of its first distinct mtllib lines. It returns
     once the piece is read or `records` is full, to be called again with more room: growing them
     here would cost every line."""
     defined = state[:3]  # the rows of v, vt and vn so far, counted in place
@@ -428,9 +442,15 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
             record = STATEMENT if not flags & _STATED or kind != _OTHER_KEYWORD else -1
             flags |= _STATED
         end = line_end(buf, at)
-        if kind == MTLLIB_KEYWORD:  # the file's first MAX_LIBRARY_LINES are read: a piece's first are enough
-            record = STATEMENT if libraries < MAX_LIBRARY_LINES else -1
-            libraries += 1
+        if kind == MTLLIB_KEYWORD:  # a piece's first distinct names hold the file's first (raw.with_library)
+            low, stop = _named_part(buf, start, end)
+            if libraries < libraries_named.shape[0] and _place_among(buf, low, stop, libraries_named,
+                                                                     libraries) == libraries:
+                libraries_named[libraries, 0], libraries_named[libraries, 1] = low, stop
+                libraries += 1
+                record = STATEMENT
+            else:
+                record = -1
         elif kind == USEMTL_KEYWORD:
             name = _place_among(buf, start, end, names, named)
             if name == named and named < names.shape[0]:  # a line the piece had not shown: it joins them
