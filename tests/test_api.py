@@ -328,6 +328,23 @@ def test_close_releases_and_garbage_collection_too() -> None:
     assert not closer.alive, "a viewer no one holds has closed its context"
 
 
+def test_a_viewer_collected_while_another_draws_leaves_it_drawing(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Garbage collection may run inside another viewer's GL calls: releasing a context there broke them
+    ('cannot create vertex array' at the 29th of a loop of viewers held in cycles)."""
+    from marraztu.frontends import screenshot as screenshot_module
+
+    kept = marraztu.Viewer(size=SIZE)
+    alone = np.asarray(kept.render())
+    for _ in range(40):
+        cycle = marraztu.Viewer(size=SIZE, empty=True)
+        cycle.me = cycle  # only the cyclic collector frees it, whenever it runs
+        cycle.render()
+    drawn = screenshot_module.render
+    monkeypatch.setattr(screenshot_module, "render", lambda *args, **options: (gc.collect(), drawn(*args, **options))[1])
+    assert np.array_equal(np.asarray(kept.render()), alone)
+    kept.close()
+
+
 def test_each_viewer_draws_in_its_own_context() -> None:
     """A notebook cell run again makes a second Viewer while the first is alive: each draws its own
     picture, and closing one leaves the other drawing."""

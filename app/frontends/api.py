@@ -10,6 +10,7 @@ drawing offscreen (EGL, or the platform's default context) into pictures.
 
 from __future__ import annotations
 
+import atexit
 import operator
 import weakref
 from dataclasses import dataclass
@@ -105,6 +106,23 @@ def _release(ctx: Any, renderer: Renderer) -> None:
     ctx.release()
 
 
+# Contexts of viewers that garbage collection closed, released at the next call that draws: a
+# collection may run in the middle of another viewer's GL calls, which releasing there would break.
+_unreleased: list[tuple[Any, Renderer]] = []
+
+
+def _release_later(ctx: Any, renderer: Renderer) -> None:
+    _unreleased.append((ctx, renderer))
+
+
+def _release_unreleased() -> None:
+    while _unreleased:
+        _release(*_unreleased.pop())
+
+
+atexit.register(_release_unreleased)  # before weakref.finalize's own hook, so it runs after it
+
+
 class Viewer:
     """A scene and its renderer, offscreen. `scene` names a TOML scene file; `empty` starts with the
     camera alone. Bad files raise LoadError, bad keys KeyMapError, bad arguments ValueError."""
@@ -115,10 +133,12 @@ class Viewer:
         options = StartOptions(scene_file=None if scene is None else Path(scene), empty=empty,
                                texture=None if texture is None else Path(texture))
         self._viewer = KeyViewer(starting_scene(options), OffscreenFrontend(quiet=True), strict=True)
+        _release_unreleased()
         self._ctx = create_offscreen_context()
-        self._renderer = Renderer(self._ctx)
+        with self._ctx:
+            self._renderer = Renderer(self._ctx)
         # Garbage collection closes the context too: a notebook rarely says `close`.
-        self._closer = weakref.finalize(self, _release, self._ctx, self._renderer)
+        self._closer = weakref.finalize(self, _release_later, self._ctx, self._renderer)
         self._viewer.start(options, self._renderer.max_texture_side)
 
     @property
@@ -189,6 +209,7 @@ class Viewer:
         """The picture the window would show (with `overlay`, its text and panels too)."""
         self._check_open()
         shape = self.size if size is None else _checked_size(size)
+        _release_unreleased()
         with self._ctx:  # another Viewer's context may be the current one: each draws in its own
             pixels = render_pixels(self._ctx, self._renderer, self._viewer, shape, overlay)
         return_freed_memory()  # as the window does when still: a notebook keeps the process between pictures
@@ -217,6 +238,7 @@ class Viewer:
         """Releases the GL context; afterwards the scene can be read, and every other call raises
         ViewerError."""
         self._closer()
+        _release_unreleased()
 
     def _check_open(self) -> None:
         if not self._closer.alive:
