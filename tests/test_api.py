@@ -36,7 +36,8 @@ def viewer():
         yield v
 
 
-@pytest.mark.parametrize("keys", ["", "0 1 F x*5", "c t Z*8 c c l b", "TAB TAB ENTER*3 i v v s"])
+@pytest.mark.parametrize("keys", ["", "0 1 F x*5", "c t Z*8 c c l b", "TAB TAB ENTER*3 i v v s", "x ESC x*20",
+                                  "f ESC x*3"])
 def test_the_api_draws_the_screenshot_commands_pixels(viewer, tmp_path: Path, keys: str) -> None:
     picture = np.asarray(viewer.press(keys).render())
     assert np.array_equal(picture, screenshot(tmp_path, keys))
@@ -307,6 +308,13 @@ def test_the_probe_as_plain_numbers(viewer) -> None:
 def test_no_face_no_probe() -> None:
     with marraztu.Viewer(size=SIZE, empty=True) as v:
         assert v.probe() is None
+
+
+def test_esc_ends_a_sequence_and_the_next_one_is_pressed(viewer) -> None:
+    viewer.press("x ESC x*20")
+    once = np.asarray(viewer.render())
+    viewer.press("x")
+    assert not np.array_equal(np.asarray(viewer.render()), once)
 
 
 def test_the_package_names_its_errors() -> None:

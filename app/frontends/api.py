@@ -22,6 +22,7 @@ import numpy as np
 from PIL import Image
 
 from marraztu.control import commands
+from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import StartOptions, starting_scene
 from marraztu.control.viewer import Viewer as KeyViewer
 from marraztu.errors import KeyMapError, LoadError, ViewerError, escaped
@@ -132,7 +133,8 @@ class Viewer:
         self._size = _checked_size(size)
         options = StartOptions(scene_file=None if scene is None else Path(scene), empty=empty,
                                texture=None if texture is None else Path(texture))
-        self._viewer = KeyViewer(starting_scene(options), OffscreenFrontend(quiet=True), strict=True)
+        self._frontend = OffscreenFrontend(quiet=True)
+        self._viewer = KeyViewer(starting_scene(options), self._frontend, strict=True)
         _release_unreleased()
         self._ctx = create_offscreen_context()
         with self._ctx:
@@ -168,11 +170,17 @@ class Viewer:
         return self
 
     def press(self, keys: str) -> Viewer:
-        """Keys in the language of --keys: "0 1 F x*5 f=model.obj"."""
+        """Keys in the language of --keys: "0 1 F x*5 f=model.obj". ESC (but in the file prompt) ends
+        the sequence, as it ends the screenshot command's keys."""
         if not isinstance(keys, str):
             raise TypeError(f"keys are a str, as --keys takes them (\"0 1 F x*5\"), not {type(keys).__name__}")
         self._check_open()
-        self._viewer.press_sequence(keys)
+        presses = parse_key_sequence(keys)  # all of them checked before any is pressed
+        for press in presses:
+            if self._frontend.quitting:  # ESC ends the sequence, as it ends the screenshot command's replay
+                break
+            self._viewer.press(press)
+        self._frontend.quitting = False  # the next sequence is pressed: a notebook has no window to close
         return self
 
     def add_mesh(self, positions: Any, faces: Any = None, uvs: Any = None, normals: Any = None,
