@@ -348,7 +348,8 @@ def test_a_viewer_collected_while_another_draws_leaves_it_drawing(monkeypatch: p
         cycle.me = cycle  # only the cyclic collector frees it, whenever it runs
         cycle.render()
     drawn = screenshot_module.render
-    monkeypatch.setattr(screenshot_module, "render", lambda *args, **options: (gc.collect(), drawn(*args, **options))[1])
+    monkeypatch.setattr(screenshot_module, "render",
+                        lambda *args, **options: (gc.collect(), drawn(*args, **options))[1])
     assert np.array_equal(np.asarray(kept.render()), alone)
     kept.close()
 
@@ -409,3 +410,24 @@ def test_too_many_rows_are_refused_before_any_pass_over_them(viewer, monkeypatch
     monkeypatch.setattr(build, "_whole_numbers", lambda values: pytest.fail("copied every corner"))
     with pytest.raises(ValueError, match="fewer than 1000"):
         viewer.add_mesh(TRIANGLE, np.broadcast_to(np.arange(3), (5000, 3)))
+
+
+def test_arguments_that_contradict_or_only_look_right_are_refused() -> None:
+    with pytest.raises(ValueError, match="give one"):
+        marraztu.Viewer(size=SIZE, scene="nowhere.toml", empty=True)
+    with pytest.raises(ValueError, match="empty is True or False"):
+        marraztu.Viewer(size=SIZE, empty="yes")  # type: ignore[arg-type]
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        with pytest.raises(ValueError, match="attributes_per_vertex is True, False or None"):
+            v.add_mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]], attributes_per_vertex="no")  # type: ignore
+        for faces, said in ([[0, 1, 2, 3]], "rows of 3 real numbers"), ([0, 1, 2], "rows of 3"), \
+                           ([[0, 1, 2.5]], "whole numbers"), ([[0, 1], [2]], "not a table of numbers"):
+            with pytest.raises(ValueError, match=said):  # taken as a trimesh's: checked as its arrays are
+                v.add_mesh(SimpleNamespace(vertices=np.eye(4, 3), faces=faces))
+        assert v.scene.objects == []
+
+
+def test_add_mesh_says_its_notes_as_a_load_does() -> None:
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [2, 0, 0]], [[0, 1, 2], [0, 1, 3]])
+        assert v.message.startswith("added mesh: 4 vertices, 2 faces (") and "zero-area" in v.message

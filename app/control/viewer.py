@@ -329,7 +329,7 @@ class Viewer:
             return
         old_name = element.name
         commands.replace_loaded(self.scene, element, loaded)
-        self.tell(_with_notes(f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}", loaded.mesh))
+        self.tell(with_notes(f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}", loaded.mesh))
 
     def loading_lines(self) -> list[str]:
         return [job.label for job in self.background.uncollected()] if self.background else []
@@ -350,7 +350,7 @@ class Viewer:
             self._start_models_alone = together  # a model from elsewhere joins: no longer theirs alone
             self._start_models_to_frame = together
         kind = "camera" if as_camera else "object"
-        self.tell(_with_notes(f"loaded {Path(path).name} as a new {kind}: {obj.mesh.summary()}", obj.mesh),
+        self.tell(with_notes(f"loaded {Path(path).name} as a new {kind}: {obj.mesh.summary()}", obj.mesh),
                   at_start, worth_a_notice=bool(obj.mesh.warnings))
 
     def _frame_start_models(self) -> None:
@@ -376,6 +376,6 @@ class Viewer:
             record()
 
 
-def _with_notes(message: str, mesh: Mesh) -> str:
+def with_notes(message: str, mesh: Mesh) -> str:
     """A load's message with its mesh's notes after it, in brackets."""
     return f"{message} ({'; '.join(mesh.warnings)})" if mesh.warnings else message

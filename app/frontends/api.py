@@ -23,7 +23,7 @@ from PIL import Image
 
 from marraztu.control import commands
 from marraztu.control.keymap import parse_key_sequence
-from marraztu.control.viewer import StartOptions, starting_scene
+from marraztu.control.viewer import StartOptions, starting_scene, with_notes
 from marraztu.control.viewer import Viewer as KeyViewer
 from marraztu.errors import KeyMapError, LoadError, ViewerError, escaped
 from marraztu.frontends.heap import return_freed_memory
@@ -131,6 +131,10 @@ class Viewer:
     def __init__(self, size: Sequence[int] = (800, 600), scene: str | Path | None = None, empty: bool = False,
                  texture: str | Path | None = None) -> None:
         self._size = _checked_size(size)
+        if not isinstance(empty, (bool, np.bool_)):
+            raise ValueError(f"empty is True or False, not {escaped(repr(empty))[:80]}")
+        if empty and scene is not None:  # as the command line's --scene and --empty
+            raise ValueError("a scene file or empty=True: the two are starting scenes, give one")
         options = StartOptions(scene_file=None if scene is None else Path(scene), empty=empty,
                                texture=None if texture is None else Path(texture))
         self._frontend = OffscreenFrontend(quiet=True)
@@ -190,6 +194,9 @@ class Viewer:
         polygons), uvs and normals per vertex or per corner (`attributes_per_vertex` says which where
         both fit), colours per vertex."""
         self._check_open()
+        if not (attributes_per_vertex is None or isinstance(attributes_per_vertex, (bool, np.bool_))):
+            shown = escaped(repr(attributes_per_vertex))[:80]
+            raise ValueError(f"attributes_per_vertex is True, False or None, not {shown}")
         shown_name = escaped(str(name))[:200]
         if faces is None and (hasattr(positions, "geometry")
                               or (hasattr(positions, "vertices") and hasattr(positions, "faces"))):
@@ -209,7 +216,7 @@ class Viewer:
         obj = SceneObject.placed(mesh.name, mesh, material, (0.0, 0.0, 0.0))
         obj.part_materials = materials_of_parts(mesh, material, from_scene=False)
         commands.add_loaded(self.scene, obj, as_camera=False)
-        self.scene.message = f"added {mesh.name}: {mesh.summary()}"
+        self.scene.message = with_notes(f"added {mesh.name}: {mesh.summary()}", mesh)
         return self
 
     # --- pictures ------------------------------------------------------------------------------

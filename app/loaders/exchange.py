@@ -628,12 +628,30 @@ def _mirroring(transforms: list[np.ndarray | None]) -> np.ndarray:
 
 
 def _geometry(source: str | Path, mesh: Any) -> _Geometry:
-    positions = np.asarray(mesh.vertices, dtype=np.float64).reshape(-1, 3)
-    faces = np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
+    positions = _rows_of_three(source, mesh.vertices, "vertices").astype(np.float64, copy=False)
+    faces = _rows_of_three(source, mesh.faces, "faces")
+    if faces.dtype.kind not in "iub":  # a mesh given in code may hold anything; trimesh's files hold int64
+        with np.errstate(all="ignore"):
+            if faces.dtype.kind != "f" or not (faces == np.floor(faces)).all():
+                raise LoadError(source, "its faces must be whole numbers")
+    faces = faces.astype(np.int64, copy=False)
     if faces.size and (faces.min() < 0 or faces.max() >= len(positions)):  # checked before meshes are joined
         bad = int(faces.min()) if faces.min() < 0 else int(faces.max())
         raise LoadError(source, f"a face refers to vertex {bad}, but its mesh has {len(positions)}")
     return _Geometry(mesh, positions, faces, _vertex_uvs(mesh), _vertex_colours(mesh))
+
+
+def _rows_of_three(source: str | Path, values: Any, what: str) -> np.ndarray:
+    """A trimesh-like mesh's vertices or faces, (N, 3) real numbers (faces as triangles, as trimesh's)."""
+    try:
+        table = np.asarray(values)
+    except (ValueError, TypeError):  # ragged rows
+        raise LoadError(source, f"its {what} are not a table of numbers") from None
+    if table.size == 0:
+        return table.reshape(0, 3).astype(np.float64)
+    if table.ndim != 2 or table.shape[1] != 3 or table.dtype.kind not in "iubf":
+        raise LoadError(source, f"its {what} must be rows of 3 real numbers, not {table.dtype} of shape {table.shape}")
+    return table
 
 
 def _placed_faces(faces: list[np.ndarray], mirrored: np.ndarray, sizes: list[int]) -> np.ndarray:
