@@ -431,3 +431,15 @@ def test_add_mesh_says_its_notes_as_a_load_does() -> None:
     with marraztu.Viewer(size=SIZE, empty=True) as v:
         v.add_mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [2, 0, 0]], [[0, 1, 2], [0, 1, 3]])
         assert v.message.startswith("added mesh: 4 vertices, 2 faces (") and "zero-area" in v.message
+
+
+def test_faces_and_colours_in_other_shapes_are_read_or_refused_in_words(viewer) -> None:
+    square = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
+    for faces in (np.array([0, 1, 2]), np.array([[[0, 1, 2]]]), 5):
+        with pytest.raises(ValueError, match=r"faces must be rows of vertex indices, \(F, k\), or a list of polygons"):
+            viewer.add_mesh(square, faces)
+    viewer.add_mesh(square, np.array([[0, 1, 2], [0, 2, 3]], dtype=object),  # as pandas gives them
+                    colours=np.array([[255, 0, 0]] * 4, dtype=object))
+    assert viewer.scene.object.mesh.face_count == 2 and (viewer.scene.object.mesh.vertex_colours == [255, 0, 0]).all()
+    with pytest.raises(ValueError, match="vertex colours must be 4 rows of RGB or RGBA"):
+        viewer.add_mesh(square, [[0, 1, 2]], colours=[[1, 0], [0, 0, 0], [1, 1, 1], [0, 0, 0]])

@@ -69,7 +69,12 @@ def by_largest(colours: np.ndarray) -> np.ndarray:
 
 def colour_bytes(colours: np.ndarray | Sequence[Sequence[float]], rows: int) -> np.ndarray:
     """(rows, 3) uint8 from RGB or RGBA rows of bytes (0..255) or of floats (0..1); alpha is dropped."""
-    table = np.asarray(colours)
+    try:
+        table = np.asarray(colours)
+        if table.dtype.kind == "O":  # objects (pandas gives these): numbers as numpy reads them, ints as ints
+            table = np.array(table.tolist())
+    except (ValueError, TypeError):  # ragged rows
+        raise ValueError(f"vertex colours must be {rows} rows of RGB or RGBA") from None
     if table.dtype.kind not in "biuf":  # text or objects: not read as numbers
         raise ValueError("vertex colours must be numbers")
     if table.ndim != 2 or table.shape[0] != rows or table.shape[1] not in (3, 4):
@@ -124,14 +129,22 @@ def real_numbers(values: object, refusal: str) -> np.ndarray:
         raise ValueError(refusal) from None
 
 
+_FACES_SHAPE = "faces must be rows of vertex indices, (F, k), or a list of polygons"
+
+
 def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    if isinstance(faces, np.ndarray) and faces.dtype.kind != "O" and faces.ndim != 2:  # a flat index buffer, say
+        raise ValueError(f"{_FACES_SHAPE}, not an array of shape {faces.shape}")
     if isinstance(faces, np.ndarray) and faces.ndim == 2:
         if faces.size >= INDEX_LIMIT:  # before any copy: a broadcast view costs nothing to make
             raise ValueError(f"a mesh holds fewer than {INDEX_LIMIT} positions and corners")
         sizes = np.full(faces.shape[0], faces.shape[1], dtype=np.int64)
         corners = _whole_numbers(faces.ravel())
     else:
-        lists = [list(face) for face in faces]
+        try:
+            lists = [list(face) for face in faces]
+        except TypeError:  # a number, or a list of numbers, where polygons were wanted
+            raise ValueError(_FACES_SHAPE) from None
         sizes = np.array([len(face) for face in lists], dtype=np.int64)
         corners = _whole_numbers(np.array([index for face in lists for index in face]))
     if sizes.size == 0 or sizes.min() < 3:
@@ -164,6 +177,8 @@ def _whole_numbers(indices: np.ndarray, refusal: str = "face indices must be who
     """Vertex indices (or face sizes) as int64; 1.5 or "a" is refused, not rounded or read as something else."""
     if indices.dtype.kind in "iu":
         return indices.astype(np.int64, copy=False)
+    if indices.dtype.kind == "O":  # a (F, k) array of objects, as pandas gives: whole numbers in them too
+        indices = real_numbers(indices, refusal)
     if indices.dtype.kind == "f" and np.isfinite(indices).all() and (indices == np.round(indices)).all():
         return indices.astype(np.int64)
     raise ValueError(refusal)
