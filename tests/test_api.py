@@ -443,3 +443,17 @@ def test_faces_and_colours_in_other_shapes_are_read_or_refused_in_words(viewer) 
     assert viewer.scene.object.mesh.face_count == 2 and (viewer.scene.object.mesh.vertex_colours == [255, 0, 0]).all()
     with pytest.raises(ValueError, match="vertex colours must be 4 rows of RGB or RGBA"):
         viewer.add_mesh(square, [[0, 1, 2]], colours=[[1, 0], [0, 0, 0], [1, 1, 1], [0, 0, 0]])
+
+
+def test_a_scene_changed_by_hand_keeps_its_selection_in_range() -> None:
+    """The scene is the caller's to change: an object removed by hand left the selection past the list's
+    end, and every later call raised an IndexError."""
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(TRIANGLE, [[0, 1, 2]], name="one").add_mesh(TRIANGLE, [[0, 1, 2]], name="two")
+        v.scene.objects.pop()
+        assert v.probe().object == "one" and np.asarray(v.render()).any()
+        v.scene.objects.clear()
+        assert v.probe() is None and v.press("x").scene.object is None
+        v.scene.lights.clear()
+        with pytest.raises(ValueError, match="needs a camera and a light"):
+            v.render(overlay=True)

@@ -65,7 +65,7 @@ class ProbedVertex:
     ambient: tuple[float, float, float]  # Ka * Ia
     lights: tuple[LightShare, ...]
     total: tuple[float, float, float]  # I before the clamp, in the current term view
-    colour: tuple[int, int, int]  # the 0..255 colour drawn there (texture off)
+    colour: tuple[int, int, int]  # the 0..255 lit colour: drawn there in the lit view with the texture off, before vertex colours tint it
 
 
 @dataclass(frozen=True)
@@ -258,6 +258,7 @@ class Viewer:
     def _check_open(self) -> None:
         if not self._closer.alive:
             raise ViewerError("this Viewer is closed")
+        self.scene.settle_selection()  # the scene may have been changed by hand since the last call
 
     def __enter__(self) -> Viewer:
         return self

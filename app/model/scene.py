@@ -204,6 +204,16 @@ class Scene:
             raise ValueError("a scene needs at least one camera")
 
     # --- selection -----------------------------------------------------------------------------
+    def settle_selection(self) -> None:
+        """Selections kept within lists changed by hand (the programming interface's scene): the last
+        element where the selected one is gone. ValueError where no camera or light is left to select."""
+        if not self.cameras or not self.lights:
+            raise ValueError(f"the scene needs a camera and a light (it has {len(self.cameras)} and "
+                             f"{len(self.lights)}): the keys and panels act on the selected ones")
+        self.selected_object = max(0, min(self.selected_object, len(self.objects) - 1))
+        self.selected_camera = max(0, min(self.selected_camera, len(self.cameras) - 1))
+        self.selected_light = max(0, min(self.selected_light, len(self.lights) - 1))
+
     @property
     def object(self) -> SceneObject | None:
         return self.objects[self.selected_object] if self.objects else None
