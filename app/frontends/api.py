@@ -65,7 +65,7 @@ class ProbedVertex:
     ambient: tuple[float, float, float]  # Ka * Ia
     lights: tuple[LightShare, ...]
     total: tuple[float, float, float]  # I before the clamp, in the current term view
-    colour: tuple[int, int, int]  # the 0..255 lit colour: drawn there in the lit view with the texture off, before vertex colours tint it
+    colour: tuple[int, int, int]  # the 0..255 lit colour, before a texture or vertex colour tints it
 
 
 @dataclass(frozen=True)
