@@ -52,6 +52,13 @@ def test_animated_png_holds_one_exact_frame_per_press(tmp_path: Path, capsys) ->
     assert not np.array_equal(frames[2], frames[3]), "each press turns the object"
 
 
+def test_a_gifs_frame_time_is_rounded_to_its_hundredths(tmp_path: Path) -> None:
+    """Pillow truncated 1000/35 ms to 20 ms: 50 frames a second for 35."""
+    out = tmp_path / "turn.gif"
+    assert main(["record", "-o", str(out), "--size", "16x16", "--keys", "y y", "--fps", "35"]) == 0
+    assert stated_frame_ms(frames_of(out)[1]) == 30
+
+
 def test_gif_frames_match_to_its_colours(tmp_path: Path) -> None:
     out = tmp_path / "turn.gif"
     assert main(["record", "-o", str(out), "--size", SIZE, "--keys", KEYS, "--fps", "10"]) == 0
@@ -72,6 +79,9 @@ def test_gif_frames_match_to_its_colours(tmp_path: Path) -> None:
     (["-o", "{tmp}/turn.gif", "--keys", "y*2000", "--size", "1000x1000"], "GiB"),
     (["-o", "{tmp}/model.png", "--keys", "y", "--texture", "{tmp}/model.png"], "is an input"),
     (["-o", "/dev/full/x.gif", "--keys", "y"], "cannot"),
+    (["-o", "{tmp}/turn.gif", "--keys", "y", "--fps", "60"], "a GIF plays at most 50 frames a second"),
+    (["-o", "{tmp}/turn.mp4", "--keys", "y", "--size", "1x50"], "an MP4's sides are at least 2 pixels"),
+    (["-o", "{tmp}/still.gif", "--keys", "c*14", "--size", "16x16", "--fps", "0.02"], "at most 655 s"),
 ])
 def test_bad_input_is_one_line(tmp_path: Path, capsys, arguments: list[str], words: str) -> None:
     Image.new("RGB", (4, 4)).save(tmp_path / "model.png")

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from PIL import Image
@@ -27,8 +28,11 @@ from marraztu.render.renderer import Renderer
 
 RECORDING_FORMATS = {".gif": "GIF", ".png": "PNG", ".apng": "PNG", ".mp4": "MP4"}
 DEFAULT_FPS = 20
-MAX_FPS = 100  # GIF counts frame times in hundredths of a second
+MAX_FPS = 100
 MIN_FPS = 0.02  # an animated PNG's frame lasts at most 65.535 s (a 16-bit count of milliseconds)
+# GIF counts frame times in hundredths of a second, and browsers show one of less than two as ten.
+MAX_GIF_FPS = 50
+MIN_MP4_SIDE = 2  # H.264's colour planes are half the picture's size
 # Pillow reads an animation's frames twice (APNG) or gathers them (GIF), so they are all held at once.
 MAX_RECORDING_BYTES = 2 << 30
 
@@ -37,6 +41,18 @@ def check_fps(fps: float) -> float:
     if not (MIN_FPS <= fps <= MAX_FPS):
         raise ViewerError(f"--fps must be {MIN_FPS:g} to {MAX_FPS}, not {fps:g}")
     return fps
+
+
+def check_format(out: Path, size: tuple[int, int], fps: float) -> None:
+    """What one animation format cannot hold, refused before anything is drawn."""
+    kind = RECORDING_FORMATS.get(out.suffix.lower())
+    if kind == "GIF" and fps > MAX_GIF_FPS:
+        raise ViewerError(f"a GIF plays at most {MAX_GIF_FPS} frames a second (its frame times are whole "
+                          f"hundredths of a second), not {fps:g}: use .png or .mp4")
+    if kind == "MP4" and min(size) < MIN_MP4_SIDE:
+        raise ViewerError(f"an MP4's sides are at least {MIN_MP4_SIDE} pixels, not {size[0]}x{size[1]}")
+    if kind == "MP4":
+        _ffmpeg_writer()
 
 
 def check_recording_size(frames: int, size: tuple[int, int]) -> None:
@@ -51,6 +67,7 @@ def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, f
     """Replays `keys` on the starting scene, drawing a frame after each press into the animation
     `out`; returns how many frames were written. ViewerError on bad input, as the screenshot command."""
     check_fps(fps)
+    check_format(out, size, fps)
     presses = parse_key_sequence(keys)
     if not presses:
         raise ViewerError("record needs --keys: one frame is drawn after each press")
@@ -107,28 +124,41 @@ def _write_with_pillow(frames: _Counted, temporary: Path, kind: str, fps: float)
     pictures = [Image.fromarray(frame) for frame in frames]
     if not pictures:
         raise ViewerError("no frame to write: the keys quit before the first one was drawn")
-    duration = round(1000.0 / fps)
-    # disposal 1 and no optimisation: every frame is whole and shown as drawn (GIF and APNG alike).
-    pictures[0].save(temporary, format=kind, save_all=True, append_images=pictures[1:], duration=duration,
-                     loop=0, disposal=1, optimize=False)
+    # GIF's times are hundredths of a second, which Pillow would truncate: rounded to the nearest.
+    duration = round(100.0 / fps) * 10 if kind == "GIF" else round(1000.0 / fps)
+    try:
+        # disposal 1 and no optimisation: every frame is whole and shown as drawn (GIF and APNG alike).
+        pictures[0].save(temporary, format=kind, save_all=True, append_images=pictures[1:], duration=duration,
+                         loop=0, disposal=1, optimize=False)
+    except OverflowError:  # Pillow joins a GIF's frames that repeat the one before, adding their times
+        raise ViewerError("a GIF shows one picture for at most 655 s, and these presses leave the same one longer: "
+                          "use a higher --fps or .png") from None
 
 
-def _write_mp4(frames: _Counted, temporary: Path, fps: float) -> None:
+def _ffmpeg_writer() -> Any:
     try:
         import imageio_ffmpeg
     except ImportError:
         raise ViewerError("writing MP4 needs imageio-ffmpeg (pip install imageio-ffmpeg); "
                           ".gif and .png need nothing more") from None
+    return imageio_ffmpeg
+
+
+def _write_mp4(frames: _Counted, temporary: Path, fps: float) -> None:
+    imageio_ffmpeg = _ffmpeg_writer()
     writer = None
     for frame in frames:
         if writer is None:
             height, width = frame.shape[:2]
             # Even sides: the usual H.264 pixel format halves the colour planes.
+            # Block size 1: the sides as drawn (imageio's 16 stretched 800x600 to 800x608, with a warning).
             writer = imageio_ffmpeg.write_frames(str(temporary), (width - width % 2, height - height % 2),
-                                                 fps=fps, output_params=["-f", "mp4"])
+                                                 fps=fps, output_params=["-f", "mp4"], macro_block_size=1)
             writer.send(None)
         writer.send(np.ascontiguousarray(frame[: frame.shape[0] - frame.shape[0] % 2,
                                                : frame.shape[1] - frame.shape[1] % 2]))
     if writer is None:
         raise ViewerError("no frame to write: the keys quit before the first one was drawn")
     writer.close()
+    if temporary.stat().st_size == 0:  # ffmpeg said why on stderr, and exited as if it had written
+        raise ViewerError("ffmpeg wrote nothing (its words are above)")
