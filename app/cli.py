@@ -33,15 +33,21 @@ def parse_size(text: str) -> tuple[int, int]:
         raise argparse.ArgumentTypeError(str(error)) from None
 
 
+def user_path(text: str) -> Path:
+    """A path as a person types it: `~` is their home, as in `f=~/model.obj` (a shell expands it only
+    at a word's start, not in --output=~/shot.png)."""
+    return Path(text).expanduser()
+
+
 def add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     group = parser.add_argument_group("the scene")
-    group.add_argument("models", nargs="*", type=Path, metavar="MODEL",
+    group.add_argument("models", nargs="*", type=user_path, metavar="MODEL",
                        help="model files added to the scene as the `f` key adds them")
     source = group.add_mutually_exclusive_group()
-    source.add_argument("--scene", type=Path, metavar="FILE",
+    source.add_argument("--scene", type=user_path, metavar="FILE",
                         help="a TOML scene file instead of the built-in scene")
     source.add_argument("--empty", action="store_true", help="start with the camera alone")
-    group.add_argument("--texture", type=Path, metavar="PATH",
+    group.add_argument("--texture", type=user_path, metavar="PATH",
                        help="the texture image (PPM P6/P3, PNG, JPEG); default: the scene's own")
 
 
@@ -88,7 +94,7 @@ def window_parser() -> argparse.ArgumentParser:
 
 
 def run_window(argv: Sequence[str]) -> int:
-    args = window_parser().parse_args(list(argv))
+    args = window_parser().parse_intermixed_args(list(argv))
     if not has_display():
         out = take_screenshot(start_options(args), NO_DISPLAY_SHOT, args.size)
         print(escaped(f"no display: wrote a screenshot of the scene to {out} instead"), file=sys.stderr)
@@ -106,7 +112,7 @@ def has_display() -> bool:
 
 def screenshot_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="marraztu screenshot", description=COMMANDS["screenshot"].summary)
-    parser.add_argument("-o", "--output", type=Path, required=True, metavar="PICTURE",
+    parser.add_argument("-o", "--output", type=user_path, required=True, metavar="PICTURE",
                         help="the picture to write: .png, .jpg or .jpeg")
     add_size_argument(parser, "picture size")
     parser.add_argument("--keys", default="", metavar="KEYS",
@@ -118,7 +124,7 @@ def screenshot_parser() -> argparse.ArgumentParser:
 
 
 def run_screenshot(argv: Sequence[str]) -> int:
-    args = screenshot_parser().parse_args(list(argv))
+    args = screenshot_parser().parse_intermixed_args(_keys_joined(argv))
     out = take_screenshot(start_options(args), args.output, args.size, args.keys, args.overlay)
     print(escaped(str(out)))
     return 0
@@ -132,7 +138,7 @@ def take_screenshot(options, out: Path, size: tuple[int, int], keys: str = "", o
 
 def record_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="marraztu record", description=COMMANDS["record"].summary)
-    parser.add_argument("-o", "--output", type=Path, required=True, metavar="ANIMATION",
+    parser.add_argument("-o", "--output", type=user_path, required=True, metavar="ANIMATION",
                         help="the animation to write: .gif (256 colours a frame), .png (animated PNG, "
                              "lossless) or .mp4 (with imageio-ffmpeg installed)")
     add_size_argument(parser, "frame size")
@@ -148,10 +154,26 @@ def record_parser() -> argparse.ArgumentParser:
 def run_record(argv: Sequence[str]) -> int:
     from marraztu.frontends.record import record
 
-    args = record_parser().parse_args(list(argv))
+    args = record_parser().parse_intermixed_args(_keys_joined(argv))
     frames = record(start_options(args), args.output, args.size, args.keys, args.fps, args.overlay)
     print(escaped(f"{args.output}: {frames} frames"))
     return 0
+
+
+def _keys_joined(argv: Sequence[str]) -> list[str]:
+    """--keys and its value as one word: argparse takes a value that starts with '-' ("-*5", the key
+    `-` five times) for an option of its own."""
+    words, at = [], 0
+    while at < len(argv):
+        if argv[at] == "--":
+            return words + list(argv[at:])
+        if argv[at] == "--keys" and at + 1 < len(argv):
+            words.append(f"--keys={argv[at + 1]}")
+            at += 2
+            continue
+        words.append(argv[at])
+        at += 1
+    return words
 
 
 def run_bench(argv: Sequence[str]) -> int:
@@ -178,12 +200,29 @@ COMMANDS = {
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     command = COMMANDS.get(argv[0]) if argv else None
+    for stream in (sys.stdout, sys.stderr):  # a name the terminal's encoding lacks is escaped, not a traceback
+        if hasattr(stream, "reconfigure"):
+            stream.reconfigure(errors="backslashreplace")
     try:
-        if command is not None:
-            return command.run(argv[1:])
-        return run_window(argv)
+        if command is None:
+            _check_command_first(argv)
+            return run_window(argv)
+        return command.run(argv[1:])
     except ViewerError as error:
         print(f"error: {escaped(str(error))}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         return 130
+    except BrokenPipeError:  # `marraztu screenshot ... | head`: what was asked is written
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # Python's flush at exit would fail again
+        return 0
+    except OSError as error:  # standard output full or gone: the picture itself is written
+        print(f"error: cannot write to standard output ({error.strerror or error})", file=sys.stderr)
+        return 1
+
+
+def _check_command_first(argv: Sequence[str]) -> None:
+    """`marraztu --empty screenshot -o a.png`: the command is a word the window's options do not take."""
+    named = next((word for word in argv if word in COMMANDS and not Path(word).exists()), None)
+    if named is not None:
+        raise ViewerError(f"'{named}' is a command, and a command comes first: marraztu {named} [options]")

@@ -156,3 +156,43 @@ def test_an_unreachable_display_is_one_line(tmp_path: Path) -> None:
     env.pop("WAYLAND_DISPLAY", None)
     result = run_app("--size", "64x64", cwd=tmp_path, env=env)
     assert_one_line_error(result, "display")
+
+
+def test_keys_that_start_with_a_minus_models_after_options_and_a_home_path(tmp_path: Path,
+                                                                           monkeypatch: pytest.MonkeyPatch) -> None:
+    """`--keys "-*5"` is the key `-` five times, not an option (argparse refused it); a model may follow
+    an option; `~` in --output=~/x.png (which no shell expands) is the home folder, as in f=~/model.obj."""
+    from marraztu.cli import main
+
+    model = tmp_path / "tri.obj"
+    model.write_text("v -50 -50 0\nv 50 -50 0\nv 0 50 0\nf 1 2 3\n")
+    monkeypatch.setenv("HOME", str(tmp_path))
+    assert main(["screenshot", "--keys", "c c -*5", "-o=~/split.png", "--size", "32x32", str(model)]) == 0
+    joined = ["screenshot", str(model), "--keys=c c -*5", "-o", str(tmp_path / "joined.png"), "--size", "32x32"]
+    assert main(joined) == 0
+    split, joined = (np.asarray(Image.open(tmp_path / name)) for name in ("split.png", "joined.png"))
+    assert np.array_equal(split, joined) and (split != split[0, 0]).any()
+
+
+@pytest.mark.parametrize("arguments, words", [
+    (["--empty", "screenshot", "-o", "{tmp}/a.png"], "'screenshot' is a command, and a command comes first"),
+    (["screenshot", "-o", "{tmp}/file.txt/a.png"], "file.txt is not a folder"),
+])
+def test_misplaced_commands_and_outputs_under_a_file_are_one_line(tmp_path: Path, capsys, arguments: list[str],
+                                                                  words: str) -> None:
+    from marraztu.cli import main
+
+    (tmp_path / "file.txt").write_text("")
+    assert main([word.format(tmp=tmp_path) for word in arguments]) == 1
+    error = capsys.readouterr().err.strip()
+    assert error.startswith("error:") and "\n" not in error and words in error, error
+
+
+def test_standard_output_full_or_closed_is_no_traceback(tmp_path: Path) -> None:
+    with open("/dev/full", "w") as full:
+        result = subprocess.run([sys.executable, "-m", "marraztu", "screenshot", "-o", str(tmp_path / "a.png"),
+                                 "--size", "16x16", "--empty"], stdout=full, stderr=subprocess.PIPE, text=True,
+                                timeout=120)
+    assert result.returncode == 1 and result.stderr.strip() == (
+        "error: cannot write to standard output (No space left on device)")
+    assert (tmp_path / "a.png").exists()

@@ -103,6 +103,9 @@ def check_output(out: Path, inputs: Iterable[str | Path | None] = (),
             raise ViewerError(f"{out}: is a folder, not a file")
         if out.exists() and not out.is_symlink() and not out.is_file():
             raise ViewerError(f"{out}: is not a regular file (a pipe or a device?)")
+        folder = next((above for above in out.parents if above.exists()), None)  # made when it is written
+        if folder is not None and not folder.is_dir():
+            raise ViewerError(f"{out}: {folder} is not a folder")
         if not out.exists():
             return
     except OSError as error:  # a name too long, a folder it may not look into
