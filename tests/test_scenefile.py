@@ -331,6 +331,16 @@ def test_broken_model_names_the_model_and_its_line(tmp_path: Path) -> None:
     assert "broken.obj:4" in caught.value.message
 
 
+@pytest.mark.parametrize("model", [".", "models/"])
+def test_a_model_without_a_file_name_is_blamed_not_its_name(tmp_path: Path, model: str) -> None:
+    """Its name came from the model's stem, empty here: the error blamed a name the file never gave."""
+    (tmp_path / "models").mkdir()
+    path = write_scene(tmp_path, f'[[cameras]]\nmodel = "{model}"\nposition = [0, 0, 0]\n')
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert caught.value.line == 2 and caught.value.message.startswith(f"model {model}: ")
+
+
 def test_binary_scene_file(tmp_path: Path) -> None:
     path = tmp_path / "scene.toml"
     path.write_bytes(bytes(range(256)))

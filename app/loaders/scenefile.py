@@ -302,7 +302,8 @@ class _SceneReader:
         at = _or_header(key_line, line)
         self.check_keys(table, ENTRY_KEYS, what, line, required=REQUIRED_ENTRY_KEYS, key_line=at)
         model = self.text_value(table["model"], f"{what}: model", at("model"))
-        name = self.text_value(table.get("name", Path(model).stem), f"{what}: name", at("name"))
+        # A model "." has no stem: its own words name it, and loading it says what is wrong with it.
+        name = self.text_value(table.get("name", Path(model).stem or model), f"{what}: name", at("name"))
         position = self.triple(table["position"], f"{what}: position", at("position"))
         rotation = self.triple(table.get("rotation", [0, 0, 0]), f"{what}: rotation", at("rotation"))
         material = self.entry_material(table.get("material"), what, at("material"), materials)
