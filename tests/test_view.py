@@ -56,7 +56,7 @@ def viewer_with(keys: str, models: tuple[Path, ...] = (), empty: bool = False) -
 # In perspective the bounding sphere's outline fills FILL of the view's height; the octahedron's tips,
 # on the sphere but level with its centre, span sin(atan(FILL)) of it (90 degree field: tan 45 = 1).
 # `p` keeps that size (SPEC 5's matching depth); `.` in parallel projection makes the sphere FILL.
-@pytest.mark.parametrize("size", [1e-3, 1.0, 1e4])
+@pytest.mark.parametrize("size", [1e-10, 1e-3, 1.0, 1e4])  # 1e-10: a molecule in metres
 @pytest.mark.parametrize(("keys", "share"), [("", math.sin(math.atan(FILL))), ("p", math.sin(math.atan(FILL))),
                                              ("p .", FILL)])
 def test_a_lone_model_is_framed_whatever_its_units(tmp_path: Path, size: float, keys: str, share: float) -> None:
@@ -68,7 +68,9 @@ def test_a_lone_model_is_framed_whatever_its_units(tmp_path: Path, size: float, 
 def test_the_framed_start_is_the_same_at_every_scale(tmp_path: Path) -> None:
     small = picture(tmp_path, "", (octahedron(tmp_path / "a.obj", 1e-3),), name="a.png")
     large = picture(tmp_path, "", (octahedron(tmp_path / "b.obj", 1e4),), name="b.png")
+    tiny = picture(tmp_path, "", (octahedron(tmp_path / "c.obj", 1e-10),), name="c.png")
     assert (np.abs(small - large).max(axis=2) > 2).mean() < 0.01
+    assert (np.abs(small - tiny).max(axis=2) > 2).mean() < 0.01
 
 
 def test_the_built_in_scene_is_not_reframed_by_a_model_added_to_it(tmp_path: Path) -> None:

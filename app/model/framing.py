@@ -53,11 +53,17 @@ def framing_distance(radius: float) -> float:
     return radius / math.sin(math.atan(FILL * math.tan(half_fov)))  # the sphere's tangents span FILL
 
 
+def _framed_radius(radius: float) -> float:
+    """The radius framed: a model's own, however small its units (a molecule in metres is 1e-10), and
+    a unit's for a model of one point."""
+    return radius if radius > 0.0 else 1.0
+
+
 def framed(camera_model: np.ndarray, centre: np.ndarray, radius: float) -> np.ndarray:
     """The camera's matrix moved, not turned, so that it looks at `centre` from far enough back."""
     backward = camera_model[:3, 2] / np.linalg.norm(camera_model[:3, 2])  # the camera looks along -z
     moved = np.array(camera_model, dtype=np.float64)
-    moved[:3, 3] = centre + backward * framing_distance(max(radius, 1e-9))
+    moved[:3, 3] = centre + backward * framing_distance(_framed_radius(radius))
     return moved
 
 
@@ -65,5 +71,5 @@ def frame_objects(scene: Scene, camera: SceneObject, objects: list[SceneObject])
     """The camera's matrix framing `objects`; in parallel projection the view's size follows too."""
     centre, radius = bounding_sphere(objects)
     if scene.modes.projection is Projection.PARALLEL:
-        scene.modes.parallel_half_height = max(radius, 1e-9) / FILL
+        scene.modes.parallel_half_height = _framed_radius(radius) / FILL
     return framed(camera.model, centre, radius)
