@@ -644,6 +644,24 @@ def test_the_probe_panel_works_the_sum_through(make_quad, make_scene) -> None:
     np.testing.assert_allclose(flat.vertices[0].world_normal, face_normal, atol=1e-6)
 
 
+def test_a_polygon_of_thousands_of_corners_is_probed_as_far_as_the_panel_shows(build_mesh, make_scene) -> None:
+    """Every corner of a 100,000-corner polygon was lit in Python for a panel that shows four (1.5 s a
+    picture), and marked by a draw each."""
+    corners = 5000
+    turn = np.linspace(0.0, 2.0 * np.pi, corners, endpoint=False)
+    disc = build_mesh("disc", np.c_[np.cos(turn), np.sin(turn), np.zeros(corners)] * 50.0, [list(range(corners))])
+    scene = make_scene([SceneObject.placed("disc", disc, SHINY, (0.0, 0.0, 0.0))])
+    scene.modes.probe, scene.modes.shading = True, Shading.GOURAUD
+    shown, whole = probe(scene, 4), probe(scene)
+    assert len(shown.vertices) == 4 and shown.lit_count == corners == len(whole.vertices)
+    assert [vertex.corner for vertex in shown.vertices] == [vertex.corner for vertex in whole.vertices[:4]]
+    lines = probe_lines(scene)
+    assert f"lit at each of its {corners} vertices" in lines[0] + lines[1]
+    assert lines[-1] == f"(and {corners - 4} more vertices of this polygon, lit the same way)"
+    np.testing.assert_allclose(scene.probed_points(3), [[50.0, 0.0, 0.0], *50.0 * np.c_[np.cos(turn[1:3]),
+                                                        np.sin(turn[1:3]), [0.0, 0.0]]], atol=1e-12)
+
+
 def test_the_probe_sees_term_views_and_back_faces(make_quad, make_scene) -> None:
     scene = quad_scene_with_sun(make_quad, make_scene)
     full = probe(scene).vertices[0]

@@ -63,7 +63,7 @@ class FacePipeline:
 
 def face_pipeline(scene: Scene, viewport: tuple[int, int, int, int]) -> FacePipeline | None:
     """The selected object's selected face (the probe's face) drawn into `viewport`; None without one."""
-    found = probe(scene)  # the back-face verdict, made once for the probe and for this view
+    found = probe(scene, most=0)  # the back-face verdict, made once for the probe and for this view
     if found is None:
         return None
     obj, mesh = found.obj, found.obj.mesh

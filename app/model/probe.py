@@ -60,7 +60,8 @@ class Probe:
     textured: bool
     view: TermView
     weights: TermWeights
-    vertices: tuple[VertexProbe, ...]
+    vertices: tuple[VertexProbe, ...]  # the first `most` that probe() was asked for, or all
+    lit_count: int  # the vertices lit for this face: all its corners in Gouraud, the first in Flat
 
     @property
     def back_face(self) -> bool:
@@ -74,8 +75,9 @@ class Probe:
         return None if self.culling else BACK_FACE_RGB.copy()
 
 
-def probe(scene: Scene) -> Probe | None:
-    """The probe of the selected object's selected face; None when there is no face to probe."""
+def probe(scene: Scene, most: int | None = None) -> Probe | None:
+    """The probe of the selected object's selected face, its first `most` lit vertices worked out (a
+    panel shows a few of a polygon of thousands); None when there is no face to probe."""
     obj = scene.object
     if obj is None or obj.mesh.face_count == 0:
         return None
@@ -88,10 +90,10 @@ def probe(scene: Scene) -> Probe | None:
     facing = float(face_normal @ _toward_eye(scene, transform_point(obj.model, mesh.positions[
         mesh.corner_vertex[start]])))
     lit = _VertexLighting(scene)
-    vertices = tuple(lit.probe(obj, corner, None if gouraud else face_normal) for corner in corners)
+    vertices = tuple(lit.probe(obj, corner, None if gouraud else face_normal) for corner in corners[:most])
     return Probe(obj=obj, face=face, face_count=mesh.face_count, shading=scene.modes.shading,
                  facing=facing, culling=scene.modes.culling, textured=scene.modes.texture,
-                 view=scene.modes.term_view, weights=lit.weights, vertices=vertices)
+                 view=scene.modes.term_view, weights=lit.weights, vertices=vertices, lit_count=len(corners))
 
 
 class _VertexLighting:

@@ -16,7 +16,15 @@ import numpy as np
 
 from marraztu.model.lights import AMBIENT_INTENSITY, Light, Owner, TermView, WorldLight, default_lights
 from marraztu.model.mesh import Mesh
-from marraztu.model.transforms import TransformKind, Vec3, orthographic, perspective, placement, transform_point
+from marraztu.model.transforms import (
+    TransformKind,
+    Vec3,
+    orthographic,
+    perspective,
+    placement,
+    transform_point,
+    transform_points,
+)
 
 # SPEC 5: perspective is the seed's frustum l=-5 r=5 b=-5 t=5 n=5, i.e. a 90 degree vertical field.
 PERSPECTIVE_FOVY_DEG = 90.0
@@ -310,11 +318,14 @@ class Scene:
         start, stop = int(obj.mesh.face_start[face]), int(obj.mesh.face_start[face + 1])
         return list(range(start, stop if self.modes.shading is Shading.GOURAUD else start + 1))
 
-    def probed_points(self) -> list[np.ndarray]:
-        """World positions of the probed corners, in probed_corners' order."""
+    def probed_points(self, most: int | None = None) -> np.ndarray:
+        """(N, 3) world positions of the first `most` probed corners (all where not given), in
+        probed_corners' order."""
+        corners = self.probed_corners()[:most]
+        if not corners:
+            return np.zeros((0, 3))
         obj = self.object
-        return [transform_point(obj.model, obj.mesh.positions[obj.mesh.corner_vertex[corner]])
-                for corner in self.probed_corners()]
+        return transform_points(obj.model, obj.mesh.positions[obj.mesh.corner_vertex[corners]])
 
     # --- lights in the world -------------------------------------------------------------------
     def light_owner(self, light: Light) -> SceneObject | None:

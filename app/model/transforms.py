@@ -120,6 +120,11 @@ def transform_point(matrix: np.ndarray, point: np.ndarray) -> np.ndarray:
     return (matrix @ np.append(np.asarray(point, float), 1.0))[:3]
 
 
+def transform_points(matrix: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """(N, 3) points through a 4x4 affine matrix, at once: p' = M3 p + t for each."""
+    return np.asarray(points, float) @ matrix[:3, :3].T + matrix[:3, 3]
+
+
 def point_in_frame(model: np.ndarray, world_point: np.ndarray) -> np.ndarray:
     """Coordinates of a world point in the frame of `model` (the inverse transform)."""
     return transform_point(np.linalg.inv(model), world_point)

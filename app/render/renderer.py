@@ -57,6 +57,9 @@ NORMAL_LENGTH_FRACTION = 0.05  # of the object's bounding-box diagonal
 MARKER_SIZE_PX = 9.0
 PROBE_COLOUR = (0.0, 1.0, 1.0)  # cyan: no other drawing uses it
 PROBE_MARKER_PX = 7.0
+# Corners the probe marks at most, a draw each: every corner of any polygon a model has; a polygon of
+# thousands (one file's whole outline) shows its outline instead.
+MAX_PROBE_MARKERS = 1024
 SEPARATOR_COLOUR = (0.0, 0.0, 0.0)
 SEPARATOR_PX = 2
 WHITE = np.full((1, 1, 3), 255, dtype=np.uint8)  # the texture of a scene without a picture
@@ -500,7 +503,7 @@ class Renderer:
         self.edges.set("u_colour", PROBE_COLOUR)
         self._draw_edge_lines(gpu, gpu.edge_range(face, face + 1))
         self.edges.set("u_outline", False)
-        for point in scene.probed_points():
+        for point in scene.probed_points(MAX_PROBE_MARKERS):
             self._draw_marker(point, np.array(PROBE_COLOUR), PROBE_MARKER_PX)
 
     def _draw_normals(self, item: DrawItem, gpu: ObjectGpu, face_normals: bool) -> None:

@@ -49,13 +49,13 @@ def probe_lines(scene: Scene) -> list[str]:
     """The probe panel: empty unless the probe is on."""
     if not scene.modes.probe:
         return []
-    found = probe(scene)
+    found = probe(scene, MAX_PROBED_VERTICES)
     if found is None:
         return ["PROBE: no face to probe (select an object with TAB)"]
     lines = _probe_header(found)
-    for number, vertex in enumerate(found.vertices[:MAX_PROBED_VERTICES], start=1):
+    for number, vertex in enumerate(found.vertices, start=1):
         lines += _vertex_lines(found, number, vertex)
-    hidden = len(found.vertices) - MAX_PROBED_VERTICES
+    hidden = found.lit_count - MAX_PROBED_VERTICES
     if hidden > 0:
         lines.append(f"(and {hidden} more vertices of this polygon, lit the same way)")
     return lines
@@ -67,7 +67,7 @@ def _probe_header(found: Probe) -> list[str]:
     if found.shading is Shading.FLAT:
         how = "flat: lit once, at v1 with the face normal; the whole face takes v1's colour"
     else:
-        how = f"gouraud: lit at each of its {len(found.vertices)} vertices, colours interpolated"
+        how = f"gouraud: lit at each of its {found.lit_count} vertices, colours interpolated"
     face = "a back face, drawn red" if found.back_face else "a front face"
     if found.back_face and found.culling:
         face = "a back face, culled (b)"
@@ -205,7 +205,7 @@ def vertex_labels(scene: Scene, size: tuple[int, int]) -> list[Label]:
     obj = scene.object
     if not scene.modes.probe or obj is None or obj is scene.viewer:
         return []
-    points = scene.probed_points()[:MAX_PROBED_VERTICES]  # no lighting needed: the panel does that
+    points = scene.probed_points(MAX_PROBED_VERTICES)  # no lighting needed: the panel does that
     labels = []
     for view in views(scene, size):
         matrix = view_projection(scene, view)
