@@ -397,7 +397,7 @@ def test_windows_1252_comments_and_names_are_read(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("read", [read_by_lines, fast_reader.read_fast], ids=["line reader", "fast reader"])
 def test_vertex_colours_after_the_position_are_read(read) -> None:
-    """MeshLab and ZBrush write `v x y z r g b`: the position and the colour are read; x y z w is no colour."""
+    """MeshLab writes `v x y z r g b`: the position and the colour are read; x y z w is no colour."""
     text = b"v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 0.5\nf 1 2 3\n"
     raw = read(text, "coloured.obj")
     assert raw.notes == []
@@ -411,10 +411,13 @@ def test_vertex_colours_after_the_position_are_read(read) -> None:
     (b"v 0 0 0 255 0 0\nv 1 0 0 0 255 0\nv 0 1 0 0 0 128\n", [[255, 0, 0], [0, 255, 0], [0, 0, 128]], []),
     (b"v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0 1\n", [[255, 0, 0], [255, 255, 255], [255, 255, 255]],
      ["2 positions without a colour drawn white"]),
-    (b"v 0 0 0 1 0 0\nv 1 0 0 0 -1 0\nv 0 1 0 0 0 1\n", None,
-     ["vertex colours (v x y z r g b) outside 0..1 and 0..255 are not drawn"]),
-    (b"v 0 0 0 300 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\n", None,
-     ["vertex colours (v x y z r g b) outside 0..1 and 0..255 are not drawn"]),
+    (b"v 0 0 0 1 0 0\nv 1 0 0 0 -1 0\nv 0 1 0 0 0 1\n", [[255, 0, 0], [0, 0, 0], [0, 0, 255]],
+     ["1 vertex colour outside 0..1 (or 0..255) held to it"]),
+    (b"v 0 0 0 300 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\n", [[255, 0, 0], [0, 1, 0], [0, 0, 1]],
+     ["1 vertex colour outside 0..1 (or 0..255) held to it"]),
+    # A float colour a little past 1 (Blender's, made sRGB) is no 0..255 one: the others stay as they are.
+    (b"v 0 0 0 1.0001 0.5 0.5\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0 -0.0001 0.2 0.1\n",
+     [[255, 128, 128], [128, 128, 128], [0, 51, 26]], ["2 vertex colours outside 0..1 (or 0..255) held to it"]),
 ])
 def test_vertex_colours_are_drawn_as_0_to_1_or_0_to_255(tmp_path: Path, lines: bytes, colours: list | None,
                                                         notes: list[str]) -> None:

@@ -63,8 +63,11 @@ def build_mesh(
 
 
 def by_largest(colours: np.ndarray) -> np.ndarray:
-    """Colours a file gives as 0..1 or as 0..255, in 0..1: a largest value above 1 says 0..255."""
-    return colours / 255.0 if colours.max(initial=0.0) > 1.0 else colours
+    """Colours a file gives as 0..1 or as 0..255, in 0..1: whole numbers of which the largest is above 1
+    say 0..255; any other value is a fraction of 1 (1.0001 from a float colour is not 0..255's 1)."""
+    with np.errstate(invalid="ignore"):
+        bytes_like = colours.max(initial=0.0) > 1.0 and bool((colours == np.round(colours)).all())
+    return colours / 255.0 if bytes_like else colours
 
 
 def colour_bytes(colours: np.ndarray | Sequence[Sequence[float]], rows: int) -> np.ndarray:

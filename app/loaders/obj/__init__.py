@@ -93,18 +93,20 @@ def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
 
 def _drawn_vertex_colours(table: np.ndarray | None) -> tuple[np.ndarray | None, list[str]]:
     """The colours v lines give as the renderer's bytes, and what to say of them: 0..1 as MeshLab
-    writes them, or 0..255 where the file's largest is above 1 (as COFF's); a position whose v line
-    gives none is white. Colours outside both are not drawn, and a note says so."""
+    writes them, or 0..255 where they are whole numbers above 1 (as COFF's); a position whose v line
+    gives none is white. A value outside the range (a float colour past 1) is held to it, with a note."""
     if table is None:
         return None, []
     given = ~np.isnan(table[:, 0])
-    try:
-        drawn = colour_bytes(by_largest(table[given]), int(given.sum()))
-    except ValueError:  # outside 0..1 once scaled
-        return None, ["vertex colours (v x y z r g b) outside 0..1 and 0..255 are not drawn"]
+    scaled = by_largest(table[given])
+    held = np.clip(scaled, 0.0, 1.0)
+    drawn = colour_bytes(held, int(given.sum()))
     colours = np.full((table.shape[0], 3), 255, np.uint8)
     colours[given] = drawn
     notes = [] if given.all() else [f"{counted(int((~given).sum()), 'position')} without a colour drawn white"]
+    outside = int((held != scaled).any(axis=1).sum())
+    if outside:
+        notes.append(f"{counted(outside, 'vertex colour')} outside 0..1 (or 0..255) held to it")
     return colours, notes
 
 
