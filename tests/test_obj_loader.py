@@ -335,7 +335,7 @@ BAD_CASES = [
     ("overflow", V3 + "v 1 1e999 3\nf 1 2 3\n", 4, "'1e999' is not a finite number"),
     ("beyond float32", V3 + "v 1 3.5e38 3\nf 1 2 3\n", 4, "'3.5e38' is too large"),
     ("beyond float32 vt", V3 + "vt 1e300 0\nf 1 2 3\n", 4, "'1e300' is too large"),
-    ("vt one number", V3 + "vt 0.5\nf 1 2 3\n", 4, "texture coordinate (vt) needs 2 to 3 numbers"),
+    ("vt no number", V3 + "vt\nf 1 2 3\n", 4, "texture coordinate (vt) needs 1 to 3 numbers, found 0"),
     ("vn two numbers", V3 + "vn 0 1\nf 1 2 3\n", 4, "normal (vn) needs 3 numbers, found 2"),
     ("truncated face", V3 + "f 1 2 3\nf 1 2", 5, "at least 3 vertices, found 2"),
     ("face of one", V3 + "f 1\nf 1 2 3\n", 4, "found 1"),
@@ -393,6 +393,13 @@ def test_windows_1252_comments_and_names_are_read(tmp_path: Path) -> None:
     mesh = load_obj(path)
     assert mesh.face_count == 1 and [material.name for material in mesh.materials] == ["Gr\u00fcn"]
     assert mesh.materials[0].values["kd"] == (0.0, 1.0, 0.0) and not mesh.warnings
+
+
+@pytest.mark.parametrize("read", [read_by_lines, fast_reader.read_fast], ids=["line reader", "fast reader"])
+def test_a_vt_of_one_number_has_v_0_as_the_format_says(read) -> None:
+    """Wavefront's `vt u [v [w]]`: v and w default to 0 (one number was refused)."""
+    text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.5\nvt 0.25 0.75\nvt 0.125 # u alone\nf 1/1 2/2 3/3\n"
+    assert read(text, "u.obj").texcoords.tolist() == [[0.5, 0.0], [0.25, 0.75], [0.125, 0.0]]
 
 
 @pytest.mark.parametrize("read", [read_by_lines, fast_reader.read_fast], ids=["line reader", "fast reader"])

@@ -43,7 +43,7 @@ _NUMBER = DECIMAL_SYNTAX.encode()
 _FLOAT = re.compile(_NUMBER + rb"\Z")
 _INTEGER = re.compile(rb"-?[0-9]+\Z")
 _TOKEN = re.compile(rb"\S+")
-_TABLES = {b"v": (0, "vertex position (v)", 3, 7), b"vt": (1, "texture coordinate (vt)", 2, 3),
+_TABLES = {b"v": (0, "vertex position (v)", 3, 7), b"vt": (1, "texture coordinate (vt)", 1, 3),
            b"vn": (2, "normal (vn)", 3, 3)}
 _FIELDS = (b"v", b"vt", b"vn")
 _FIELD_NAMES = ("vertex", "texture coordinate (vt)", "normal (vn)")
@@ -207,7 +207,8 @@ class LineReader:
         if keyword in _TABLES:
             field = _TABLES[keyword][0]
             values = self.numbers(number, keyword, rest)
-            self.tables[field].extend(values[:_TABLE_WIDTHS[field]])
+            row = values[:_TABLE_WIDTHS[field]]
+            self.tables[field].extend(row + [0.0] * (_TABLE_WIDTHS[field] - len(row)))  # `vt u`: v is 0
             if field == 0 and len(values) >= COLOURED_V_NUMBERS:
                 self.coloured_rows.append(self.defined[0])
                 self.colour_values.extend(values[3:COLOURED_V_NUMBERS])

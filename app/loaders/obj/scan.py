@@ -254,7 +254,11 @@ def _numbers(buf: np.ndarray, at: int, table: np.ndarray, row: int, fewest: int,
     while True:
         at = _skip_blanks(buf, at)
         if _byte(buf, at) == _NEWLINE or _byte(buf, at) == _HASH:
-            return (count if fewest <= count else -1), at
+            if count < fewest:
+                return -1, at
+            for column in range(count, width):  # `vt u`: v is 0, as the format says
+                table[row, column] = 0.0
+            return count, at
         if count == most:
             return -1, at
         value, at, ok = _number(buf, at)
@@ -426,7 +430,7 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
             if numbers >= COLOURED_V_NUMBERS and not flags & _COLOURS_SEEN:
                 record, flags = VERTEX_COLOURS, flags | _COLOURS_SEEN
         elif kind == VT:
-            numbers, at = _numbers(buf, at, texcoords, defined[VT], 2, 3)
+            numbers, at = _numbers(buf, at, texcoords, defined[VT], 1, 3)
             read = numbers >= 0
         elif kind == VN:
             numbers, at = _numbers(buf, at, normals, defined[VN], 3, 3)
