@@ -377,3 +377,13 @@ def test_libraries_past_the_bound_are_a_note(tmp_path: Path) -> None:
                      base_dir=tmp_path)
     assert "more than 16 material libraries named: those after 'l15.mtl' are not read" in mesh.warnings
     assert [material.name for material in mesh.materials] == ["m3"]
+
+
+def test_an_mtl_names_a_texture_with_a_hash_in_it(tmp_path: Path) -> None:
+    """A '#' inside a word is the word's, as in an OBJ: 'wood#2.ppm' was cut to 'wood'."""
+    shutil.copy(EXAMPLES / "crate.ppm", tmp_path / "wood#2.ppm")
+    (tmp_path / "m.mtl").write_text("newmtl w # the wood\nKd 1 1 1 # white\nmap_Kd wood#2.ppm # its picture\n")
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + "usemtl w\nf 1 2 3\n").encode(), str(tmp_path / "m.obj"),
+                     base_dir=tmp_path)
+    (material,) = mesh.materials  # named "w # the wood", found by its name before the comment
+    assert material.texture is not None and material.texture_name == "wood#2.ppm" and not mesh.warnings

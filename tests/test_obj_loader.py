@@ -396,6 +396,21 @@ def test_windows_1252_comments_and_names_are_read(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("read", [read_by_lines, fast_reader.read_fast], ids=["line reader", "fast reader"])
+@pytest.mark.parametrize(("line", "said"), [
+    ("v 0 1 -1.#IND", "4: '-1.#IND' is not a finite number"), ("vn 0 0 1.#QNAN", "4: '1.#QNAN' is not a finite number"),
+    ("vt 0.5 1.#INF00", "4: '1.#INF00' is not a finite number"), ("v 0 1 2#c", "4: '2#c' is not a number"),
+    ("f 1 2 3#c", "4: bad face corner '3#c': '3#c' is not an index"),
+])
+def test_a_hash_inside_a_word_is_the_words_not_a_comment(read, line: str, said: str) -> None:
+    """Old Windows programs wrote NaN as -1.#IND: cut at its '#', it was read as -1, without a word."""
+    with pytest.raises(LoadError) as refused:
+        read(f"{V3}{line}\nf 1 2 3\n".encode(), "w.obj")
+    assert str(refused.value) == f"w.obj:{said}"
+    kept = read(f"{V3}vn 0 0 1 # a comment\n\t# and one more\nf 1//1 2//1 3//1 #\n".encode(), "w.obj")
+    assert kept.normals.tolist() == [[0, 0, 1]] and kept.face_start.tolist() == [0, 3]
+
+
+@pytest.mark.parametrize("read", [read_by_lines, fast_reader.read_fast], ids=["line reader", "fast reader"])
 def test_a_vt_of_one_number_has_v_0_as_the_format_says(read) -> None:
     """Wavefront's `vt u [v [w]]`: v and w default to 0 (one number was refused)."""
     text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.5\nvt 0.25 0.75\nvt 0.125 # u alone\nf 1/1 2/2 3/3\n"

@@ -25,7 +25,7 @@ import numpy as np
 from marraztu.errors import LoadError
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.mtl import read_libraries
-from marraztu.loaders.obj.raw import MaterialRuns, RawObj
+from marraztu.loaders.obj.raw import MaterialRuns, RawObj, name_before_comment
 from marraztu.loaders.obj.text import as_bytes, checked, ended, has_continuations, read_text
 from marraztu.model.build import by_largest, colour_bytes, derive_mesh
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, counted
@@ -116,6 +116,8 @@ def _face_materials(runs: MaterialRuns, library: list[MeshMaterial], faces: int
     usemtl, a name the library lacks, or a material past MAX_MATERIALS); the names it lacks; how many
     materials past MAX_MATERIALS."""
     by_name = {material.name: material for material in reversed(library)}  # the first of a name wins
+    for material in library:  # "newmtl wood # oak" is found as "wood" too, where no "wood" is
+        by_name.setdefault(name_before_comment(material.name), material)
     used: dict[str, int] = {}
     unknown: list[str] = []  # in file order
     beyond = 0

@@ -113,9 +113,13 @@ def _float_or_none(token: bytes) -> float | None:
     return float(token) if _FLOAT.match(token) else None
 
 
+_WINDOWS_NON_FINITE = re.compile(rb"[+-]?[0-9]\.#(?:IND|QNAN|SNAN|INF)[0-9]*", re.IGNORECASE)
+
+
 def _is_non_finite(token: bytes) -> bool:
-    """nan, inf, infinity (any case and sign): worth a clearer message than "not a number"."""
-    return token.lstrip(b"+-").lower() in (b"nan", b"inf", b"infinity")
+    """nan, inf, infinity (any case and sign), and old Windows programs' -1.#IND, 1.#QNAN, 1.#INF00:
+    worth a clearer message than "not a number"."""
+    return token.lstrip(b"+-").lower() in (b"nan", b"inf", b"infinity") or bool(_WINDOWS_NON_FINITE.fullmatch(token))
 
 
 class LineReader:

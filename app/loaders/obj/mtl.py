@@ -13,7 +13,14 @@ import numpy as np
 from marraztu.errors import LoadError
 from marraztu.loaders.files import bom_length, is_there, read_file, same_file_key, shown, spellings, text_lines
 from marraztu.loaders.images import load_image, unread_textures_note
-from marraztu.loaders.obj.raw import MAX_LIBRARY_LINES, MAX_MATERIAL_NAME, finite_floats, name_of_words
+from marraztu.loaders.obj.raw import (
+    MAX_LIBRARY_LINES,
+    MAX_MATERIAL_NAME,
+    finite_floats,
+    name_before_comment,
+    name_of_words,
+    text_without_comment,
+)
 from marraztu.model.mesh import MeshMaterial
 
 # A material library is a few lines per material: one this large is not one.
@@ -98,13 +105,14 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
     malformed, first_malformed = 0, ""  # one note however many lines are ignored
     ignored: set[str] = set()
     for line in text_lines(text, bom_length(text)):  # a byte order mark would make the first newmtl no keyword
-        tokens = line.split("#", 1)[0].split(None, _MOST_WORDS)
+        tokens = text_without_comment(line).split(None, _MOST_WORDS)
         if not tokens:
             continue
         key = tokens[0].lower()
         if key == "newmtl":
             block = _Block(name_of_words(line.lstrip()[len(tokens[0]):]))  # as usemtl's, '#' and all
-            if (keep_first and not kept) or (block.name in wanted and block.name not in kept):  # the first wins
+            named = block.name in wanted or name_before_comment(block.name) in wanted
+            if (keep_first and not kept) or (named and block.name not in kept):  # the first wins
                 kept[block.name] = block
         elif block is None:
             continue

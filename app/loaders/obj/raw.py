@@ -82,12 +82,29 @@ def finite_floats(tokens: Sequence[bytes | str]) -> list[float] | None:
     return values if all(np.isfinite(values)) else None
 
 
+# A comment starts at a '#' that begins the line or follows a blank: inside a word it is the word's
+# (old Windows programs wrote NaN as -1.#IND, which cut there read as -1).
+_COMMENT = re.compile(rb"(?<![^ \t\n\r\x0b\x0c])#")
+_TEXT_COMMENT = re.compile(r"(?<![^ \t\n\r\x0b\x0c])#")
+
+
+def without_comment(content: bytes) -> bytes:
+    found = _COMMENT.search(content)
+    return content if found is None else content[:found.start()]
+
+
+def text_without_comment(line: str) -> str:
+    """An MTL line without its comment, by the rule of an OBJ line's."""
+    found = _TEXT_COMMENT.search(line)
+    return line if found is None else line[:found.start()]
+
+
 def statement(content: bytes) -> tuple[bytes, bytes]:
     """(keyword, rest of the line without comment, stripped); keyword b'' for blank and comment lines.
 
     Only ASCII whitespace separates (bytes.split), as in the fast reader.
     """
-    parts = content.split(b"#", 1)[0].split(None, 1)
+    parts = without_comment(content).split(None, 1)
     if not parts:
         return b"", b""
     if parts[0] == b"usemtl":  # a name, '#' and all: 3ds Max names materials "Material #25"
@@ -184,6 +201,12 @@ def usemtl_name(line: bytes) -> str:
 def material_name(rest: bytes) -> str:
     """The name a usemtl line gives (the whole rest of the line: names may hold spaces)."""
     return name_of_words(decoded(rest))
+
+
+def name_before_comment(name: str) -> str:
+    """A material's name read the other way, a '#' after a blank starting a comment ("wood # oak" is
+    "wood"): looked for where the whole name is not found."""
+    return name_of_words(text_without_comment(name))
 
 
 def name_of_words(text: str) -> str:

@@ -61,12 +61,13 @@ _TO_LOOK_AT[[0, ord("\r"), ord("\\"), 0xC2]] = 1
 _LOW_BITS, _HIGH_BITS = np.uint64(0x0101010101010101), np.uint64(0x8080808080808080)
 _NULS, _CRS, _BACKSLASHES, _C2S = (np.uint64(byte) * _LOW_BITS for byte in np.flatnonzero(_TO_LOOK_AT))
 # The blanks (what bytes.split() splits on, but the newline), and the bytes that end a token: a
-# blank, the newline, a '#'. Looked up, not compared: seven comparisons a byte cost pass one's face
-# lines a third of their time.
+# blank, the newline. Looked up, not compared: seven comparisons a byte cost pass one's face lines a
+# third of their time. A '#' starts a comment only where a token would start (raw.without_comment):
+# inside one it is the token's, and makes it no number (-1.#IND, old Windows programs' NaN).
 _BLANK = np.zeros(256, np.bool_)
 _BLANK[list(b" \t\v\f\r")] = True
 _ENDS_TOKEN = _BLANK.copy()
-_ENDS_TOKEN[[_NEWLINE, _HASH]] = True
+_ENDS_TOKEN[_NEWLINE] = True
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}  # cached machine code; threads run at once
 # The helpers the line loops call, inlined: a call passes the array with its reference count and
 # returns its tuple through memory, per number. Only these: inlining more slows the first compile.
@@ -124,6 +125,8 @@ def line_end(buf: np.ndarray, at: int) -> int:
 def _keyword(buf: np.ndarray, start: int) -> tuple[int, int]:
     """The line's kind (V, VT, VN, F, or _NO_KEYWORD, _OTHER_KEYWORD) and where its keyword ends."""
     at = _skip_blanks(buf, start)
+    if _byte(buf, at) == _HASH:  # a comment line
+        return _NO_KEYWORD, at
     stop = _token_end(buf, at)
     length = stop - at
     if length == 0:
@@ -373,7 +376,7 @@ def _named_part(buf: np.ndarray, start: int, end: int) -> tuple[int, int]:
     blanks, up to a '#' or the line's end, without the blanks that end it."""
     at = _skip_blanks(buf, _token_end(buf, _skip_blanks(buf, start)))
     stop = at
-    while stop < end and _byte(buf, stop) != _HASH:
+    while stop < end and not (_byte(buf, stop) == _HASH and (stop == at or _is_blank(_byte(buf, stop - 1)))):
         stop += 1
     while stop > at and _is_blank(_byte(buf, stop - 1)):
         stop -= 1
