@@ -1130,3 +1130,12 @@ def test_once_the_compiled_reader_is_loaded_it_reads_small_files_too(monkeypatch
     monkeypatch.setattr(fast_reader, "read_fast", spy)
     parse(QUAD, "small.obj")
     assert read == ["small.obj"]
+
+
+def test_utf16_text_is_named_as_such(tmp_path: Path) -> None:
+    """Notepad's "Unicode" and PowerShell's Out-File write UTF-16, which was refused as binary data."""
+    path = tmp_path / "notepad.obj"
+    path.write_bytes("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n".encode("utf-16"))
+    with pytest.raises(LoadError) as refused:
+        load_obj(path)
+    assert (refused.value.message, refused.value.line) == ("UTF-16 text, not an OBJ text file: save it as UTF-8", 1)

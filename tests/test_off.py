@@ -390,3 +390,8 @@ def test_comments_cut_anywhere_by_the_pieces_read_as_the_line_reader_reads_them(
             patch.setattr(off, "_UNCOMMENT_PIECE_BYTES", piece)
             patch.setattr(off, "_vertex_rows", lambda *args: pytest.fail("the line reader read a plain body"))
             assert outcome(tmp_path, text) == by_lines
+
+
+def test_a_binary_off_is_named_as_such(tmp_path: Path) -> None:
+    refused = refusal(tmp_path, "OFF BINARY\n" + "\n".join(SQUARE))
+    assert (refused.message, refused.line) == ("a binary OFF file: only text OFF is read", 1)

@@ -372,6 +372,8 @@ def _header(path: Path, rows: _Rows) -> tuple[_Layout, int, int]:
         if words[0].upper().endswith("OFF"):
             said = f"{words[0][:40]}: only OFF, COFF, NOFF, STOFF and their blends are read (no 4 or n dimensions)"
         raise LoadError(path, said, line=number)
+    if len(words) > 1 and words[1].upper() == "BINARY":
+        raise LoadError(path, "a binary OFF file: only text OFF is read", line=number)
     counts = ([keyword[4]] if keyword[4] else []) + words[1:]
     if not counts:
         number, counts = rows.next(_HEADER_WORDS - 1) or (number, [])
