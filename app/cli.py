@@ -10,10 +10,12 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
+import threading
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 import marraztu
 from marraztu.errors import ViewerError, escaped
@@ -22,6 +24,13 @@ WINDOW_SIZE = (800, 800)
 NO_DISPLAY_SHOT = Path("out") / "marraztu.png"
 DESCRIPTION = ("A 3D viewer for learning computer graphics: textured models lit by ambient, diffuse "
                "and specular light from four lights, moved from the keyboard.")
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """argparse's errors in one line, as the program's own: the usage is a --help away."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {escaped(message)} (see {self.prog} --help)\n")
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -77,7 +86,7 @@ class VersionAction(argparse.Action):
 
 
 def window_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog="marraztu", description=DESCRIPTION,
         usage="marraztu [--size WxH] [--watch] [--scene FILE | --empty] [--texture PATH] [MODEL ...]\n"
               "       marraztu COMMAND [options]   (marraztu COMMAND --help for its options)",
@@ -111,7 +120,7 @@ def has_display() -> bool:
 
 
 def screenshot_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="marraztu screenshot", description=COMMANDS["screenshot"].summary)
+    parser = OneLineParser(prog="marraztu screenshot", description=COMMANDS["screenshot"].summary)
     parser.add_argument("-o", "--output", type=user_path, required=True, metavar="PICTURE",
                         help="the picture to write: .png, .jpg or .jpeg")
     add_size_argument(parser, "picture size")
@@ -137,7 +146,7 @@ def take_screenshot(options, out: Path, size: tuple[int, int], keys: str = "", o
 
 
 def record_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="marraztu record", description=COMMANDS["record"].summary)
+    parser = OneLineParser(prog="marraztu record", description=COMMANDS["record"].summary)
     parser.add_argument("-o", "--output", type=user_path, required=True, metavar="ANIMATION",
                         help="the animation to write: .gif (256 colours a frame), .png (animated PNG, "
                              "lossless) or .mp4 (with imageio-ffmpeg installed)")
@@ -203,6 +212,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     for stream in (sys.stdout, sys.stderr):  # a name the terminal's encoding lacks is escaped, not a traceback
         if hasattr(stream, "reconfigure"):
             stream.reconfigure(errors="backslashreplace")
+    # `kill` or a closed terminal ends the run as Ctrl-C does: a file being written is taken away whole.
+    before = signal.signal(signal.SIGTERM, _interrupted) if threading.current_thread() is threading.main_thread() \
+        else None
     try:
         if command is None:
             _check_command_first(argv)
@@ -219,6 +231,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OSError as error:  # standard output full or gone: the picture itself is written
         print(f"error: cannot write to standard output ({error.strerror or error})", file=sys.stderr)
         return 1
+    finally:
+        if before is not None:
+            signal.signal(signal.SIGTERM, before)
+
+
+def _interrupted(number: int, frame: object) -> NoReturn:
+    raise KeyboardInterrupt
 
 
 def _check_command_first(argv: Sequence[str]) -> None:

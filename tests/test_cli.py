@@ -196,3 +196,22 @@ def test_standard_output_full_or_closed_is_no_traceback(tmp_path: Path) -> None:
     assert result.returncode == 1 and result.stderr.strip() == (
         "error: cannot write to standard output (No space left on device)")
     assert (tmp_path / "a.png").exists()
+
+
+def test_a_usage_error_is_one_line_too(tmp_path: Path) -> None:
+    result = run_app("screenshot", "-o", str(tmp_path / "a.png"), "--size", "0x0")
+    assert result.returncode == 2 and result.stderr.count("\n") == 1
+    assert result.stderr.startswith("marraztu screenshot: error: argument --size:")
+    assert result.stderr.rstrip().endswith("(see marraztu screenshot --help)")
+
+
+def test_a_failed_write_takes_away_the_folders_it_made(tmp_path: Path) -> None:
+    from marraztu.errors import ViewerError
+    from marraztu.frontends.screenshot import write_atomically
+
+    def full(temporary: Path) -> None:
+        raise OSError(28, "No space left on device")
+
+    with pytest.raises(ViewerError, match="No space left on device"):
+        write_atomically(tmp_path / "new" / "deeper" / "shot.png", full)
+    assert list(tmp_path.iterdir()) == []

@@ -106,9 +106,13 @@ def check_output(out: Path, inputs: Iterable[str | Path | None] = (),
         folder = next((above for above in out.parents if above.exists()), None)  # made when it is written
         if folder is not None and not folder.is_dir():
             raise ViewerError(f"{out}: {folder} is not a folder")
+        if folder is not None:  # tried before anything is drawn: a large picture takes seconds
+            handle, name = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".part", dir=folder)
+            os.close(handle)
+            os.unlink(name)
         if not out.exists():
             return
-    except OSError as error:  # a name too long, a folder it may not look into
+    except OSError as error:  # a name too long, a folder it may not look into or write in
         raise ViewerError(f"{out}: cannot write here ({error.strerror or error})") from None
     for given in inputs:
         if given is not None and _same_file(out, Path(given)):
@@ -162,11 +166,13 @@ def write_atomically(out: Path, write: Callable[[Path], None]) -> None:
     """`write` fills a temporary file beside `out`, which is then renamed into place: the file is
     written whole or not at all, and an older one survives a failure."""
     folder = out.parent
+    made = [above for above in (folder, *folder.parents) if not above.exists()]  # taken away again on failure
     try:
         folder.mkdir(parents=True, exist_ok=True)
         handle, name = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".part", dir=folder)
         os.close(handle)
     except OSError as error:
+        _remove_folders(made)
         raise ViewerError(f"{out}: cannot write here ({error.strerror or error})") from None
     temporary = Path(name)
     try:
@@ -177,7 +183,18 @@ def write_atomically(out: Path, write: Callable[[Path], None]) -> None:
         os.replace(temporary, out)
     except OSError as error:
         temporary.unlink(missing_ok=True)
+        _remove_folders(made)
         raise ViewerError(f"{out}: cannot write it ({error.strerror or error})") from None
     except BaseException:
         temporary.unlink(missing_ok=True)
+        _remove_folders(made)
         raise
+
+
+def _remove_folders(made: list[Path]) -> None:
+    """The folders a failed write made for its file, deepest first, where still empty."""
+    for folder in made:
+        try:
+            folder.rmdir()
+        except OSError:
+            return
