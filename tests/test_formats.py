@@ -640,3 +640,21 @@ def test_a_ply_with_uvs_and_no_picture_has_no_texture(tmp_path: Path, encoding: 
     loaded = load_model(path)
     assert loaded.materials == () and loaded.attributes_per_position
     assert np.allclose(loaded.uvs, uvs)
+
+
+@pytest.mark.parametrize("encoding", ["ascii", "binary_little_endian"])
+def test_a_plys_diffuse_colours_are_its_vertex_colours(tmp_path: Path, encoding: str) -> None:
+    """Some writers name a vertex's colour diffuse_red/green/blue, which trimesh passed over: not drawn,
+    and no note said so."""
+    rows = [((0, 0, 0), (0, 255, 0)), ((1, 0, 0), (255, 0, 0)), ((0, 1, 0), (0, 0, 255))]
+    header = (f"ply\nformat {encoding} 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "property uchar diffuse_red\nproperty uchar diffuse_green\nproperty uchar diffuse_blue\n"
+              "element face 1\nproperty list uchar int vertex_indices\nend_header\n").encode()
+    if encoding == "ascii":
+        body = "".join(f"{x} {y} {z} {r} {g} {b}\n" for (x, y, z), (r, g, b) in rows).encode() + b"3 0 1 2\n"
+    else:
+        vertex = np.dtype([("p", "<f4", 3), ("c", "u1", 3)])
+        body = np.array(rows, vertex).tobytes() + np.array([3], "u1").tobytes() + np.array([0, 1, 2], "<i4").tobytes()
+    path = tmp_path / "diffuse.ply"
+    path.write_bytes(header + body)
+    assert load_model(path).vertex_colours.tolist() == [list(colour) for _, colour in rows]

@@ -423,6 +423,17 @@ def _uris(items: object) -> Iterator[str]:
             yield uri
 
 
+def _ply_vertex_column(mesh: Any, name: str) -> np.ndarray | None:
+    """One property of a PLY's vertex table as trimesh read it, one value a row; None where there is none."""
+    table = getattr(mesh, "metadata", {}).get("_ply_raw", {}).get("vertex", {}).get("data")
+    if isinstance(table, np.ndarray) and table.dtype.names and name in table.dtype.names:
+        return np.asarray(table[name]).reshape(len(table), -1)[:, 0]
+    if isinstance(table, dict) and name in table:
+        column = np.asarray(table[name])
+        return column.reshape(len(column), -1)[:, 0]
+    return None
+
+
 def _ply_vertices_read(mesh: Any) -> int:
     """The vertices trimesh read from a PLY's vertex table: before it splits those whose faces give them
     several texture coordinates (MeshLab's texcoord lists), which would count as more."""
@@ -855,8 +866,11 @@ def _material_of(mesh: Any) -> dict[str, object] | None:
 def _vertex_colours(mesh: Any) -> np.ndarray | None:
     """The file's colour per vertex (PLY's red/green/blue, glTF's COLOR_0) as RGB bytes, if any."""
     visual = getattr(mesh, "visual", None)
+    diffuse = [_ply_vertex_column(mesh, f"diffuse_{part}") for part in ("red", "green", "blue")]
     if getattr(visual, "kind", None) == "vertex":
         colours = np.asarray(visual.vertex_colors)
+    elif all(column is not None for column in diffuse):  # some PLY writers' names, which trimesh passes over
+        colours = np.column_stack(diffuse)  # type: ignore[arg-type]
     else:  # glTF's COLOR_0 beside a material: trimesh keeps it as the file gives it, a vertex attribute
         attributes = getattr(visual, "vertex_attributes", None)
         if attributes is None or "color" not in attributes:
