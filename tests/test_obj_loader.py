@@ -411,6 +411,13 @@ def test_a_hash_inside_a_word_is_the_words_not_a_comment(read, line: str, said: 
 
 
 @pytest.mark.parametrize("read", [read_by_lines, fast_reader.read_fast], ids=["line reader", "fast reader"])
+def test_l_and_p_statements_beside_faces_are_said_to_be_undrawn(read) -> None:
+    lines = read(f"{V3}l 1 2\np 3\nl 2 3\nf 1 2 3\n".encode(), "guides.obj")
+    assert lines.notes == ["its l and p statements (lines and points) are not drawn"]
+    assert read(f"{V3}lod 1\nf 1 2 3\n".encode(), "lod.obj").notes == []
+
+
+@pytest.mark.parametrize("read", [read_by_lines, fast_reader.read_fast], ids=["line reader", "fast reader"])
 def test_a_vt_of_one_number_has_v_0_as_the_format_says(read) -> None:
     """Wavefront's `vt u [v [w]]`: v and w default to 0 (one number was refused)."""
     text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.5\nvt 0.25 0.75\nvt 0.125 # u alone\nf 1/1 2/2 3/3\n"

@@ -112,8 +112,9 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
         each(lambda at: scan.read_vertex_colours(buf, *pieces[at], before[at][scan.V], colours, np.empty((1, 7))),
              list(range(len(pieces))), PARSE_THREADS)
         raw.put_colours(colours, outcome.colour_rows, outcome.colour_values)  # the line reader's lines
-    return raw.RawObj(*tables, *kept, face_start, outcome.mtllib, outcome.colour.colour,
-                      list(outcome.colour.notes), outcome.material_runs, colours)
+    notes = [*outcome.colour.notes, *([raw.UNDRAWN_ELEMENTS] if outcome.elements else [])]
+    return raw.RawObj(*tables, *kept, face_start, outcome.mtllib, outcome.colour.colour, notes,
+                      outcome.material_runs, colours)
 
 
 def _read_piece(buf: np.ndarray, piece: tuple[int, int], before: np.ndarray, deferred: _DeferredLines,
@@ -280,6 +281,7 @@ class _Records:
         self._by_line: dict[bytes, int] = {}  # a usemtl line's material number, by the line's bytes
         self.colour = raw.ColourComment()
         self.statements = 0
+        self.elements = False  # an l or p statement was read
         self.coloured = False  # some v line gives a colour after its position
         self.colour_rows, self.colour_values = array("q"), array("d")
 
@@ -323,6 +325,7 @@ class _Records:
                 self.statements += 1
                 if record[scan.R_KEYWORD] == scan.MTLLIB_KEYWORD:
                     self.mtllib = raw.with_library(self.mtllib, raw.statement(content)[1])
+                self.elements |= record[scan.R_KEYWORD] == scan.ELEMENTS_KEYWORD
             elif record[scan.R_KIND] == scan.VERTEX_COLOURS:
                 self.coloured = True
             else:

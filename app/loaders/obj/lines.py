@@ -25,6 +25,7 @@ from marraztu.loaders.obj.raw import (
     COLOURED_V_NUMBERS,
     CORNER_GAPS,
     MAX_DIGITS,
+    UNDRAWN_ELEMENTS,
     ColourComment,
     MaterialRuns,
     RawObj,
@@ -143,6 +144,7 @@ class LineReader:
         self.material_runs = MaterialRuns()
         self.colour = ColourComment()
         self.statements = 0
+        self.elements = False  # an l or p statement was read
 
     def fail(self, line: int, message: str) -> LoadError:
         return LoadError(self.source, message, line=line)
@@ -223,6 +225,8 @@ class LineReader:
             self.mtllib = with_library(self.mtllib, rest)
         elif keyword == b"usemtl":
             self.material_runs.add(len(self.face_sizes), material_name(rest))
+        elif keyword in (b"l", b"p"):
+            self.elements = True
 
     def numbers(self, number: int, keyword: bytes, rest: bytes) -> list[float]:
         if _PLAIN_ROWS[keyword].fullmatch(rest):
@@ -301,7 +305,8 @@ class LineReader:
         tables = [np.frombuffer(table, dtype=np.float64).reshape(-1, width)
                   for table, width in zip(self.tables, _TABLE_WIDTHS)]
         return RawObj(tables[0], tables[1], tables[2], *columns,
-                      face_start, self.mtllib, self.colour.colour, list(self.colour.notes), self.material_runs,
+                      face_start, self.mtllib, self.colour.colour,
+                      [*self.colour.notes, *([UNDRAWN_ELEMENTS] if self.elements else [])], self.material_runs,
                       put_colours(np.full((len(tables[0]), 3), np.nan), self.coloured_rows, self.colour_values)
                       if self.coloured_rows else None)
 

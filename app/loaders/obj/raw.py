@@ -174,6 +174,8 @@ class MaterialRuns:
 
 # `v x y z r g b` (MeshLab): a colour after the position, drawn as PLY's and COFF's are.
 COLOURED_V_NUMBERS = 6
+# Said where a file has l or p statements beside its faces: drawn nowhere, not lost without a word.
+UNDRAWN_ELEMENTS = "its l and p statements (lines and points) are not drawn"
 MAX_LIBRARY_LINES = 16  # mtllib lines read: a file of a million must not cost a million lookups
 MAX_MATERIAL_NAME = 200  # characters of a usemtl name kept: enough for any real one, bounded for a hostile one
 

@@ -22,7 +22,7 @@ from marraztu.model.mesh import INDEX_LIMIT
 V, VT, VN, F = 0, 1, 2, 3
 LINES, CORNERS = 4, 5
 COUNT_COLUMNS = 6
-_NO_KEYWORD, _OTHER_KEYWORD, USEMTL_KEYWORD, MTLLIB_KEYWORD = -1, -2, -3, -4
+_NO_KEYWORD, _OTHER_KEYWORD, USEMTL_KEYWORD, MTLLIB_KEYWORD, ELEMENTS_KEYWORD = -1, -2, -3, -4, -5
 # What a record is: a table or face line for the line reader, another statement, a comment that
 # may be the seed's "# colour", or a piece's first v line with a colour after its x y z.
 DEFERRED, STATEMENT, COMMENT, VERTEX_COLOURS = 0, 1, 2, 3
@@ -39,11 +39,13 @@ NAMES_PER_PIECE = 64  # distinct usemtl lines a piece tells apart: a model uses 
 S_AT, S_USED, S_FLAGS, S_LIBRARIES, S_NAMES, S_LAST_NAME = range(COUNT_COLUMNS, COUNT_COLUMNS + 6)
 STATE_COLUMNS = COUNT_COLUMNS + 6
 # The flags of what a piece has recorded: a statement (one says the file has some), a colour comment
-# that sets the colour (later ones cannot), a v line with a colour (one a piece is enough).
-_STATED, _COLOUR_SET, _COLOURS_SEEN = 1, 2, 4
+# that sets the colour (later ones cannot), a v line with a colour, an l or p line (one a piece is
+# enough of each).
+_STATED, _COLOUR_SET, _COLOURS_SEEN, _ELEMENTS_SEEN = 1, 2, 4, 8
 
 _NEWLINE, _HASH, _SLASH, _MINUS, _PLUS, _DOT, _ZERO, _NINE = (ord(c) for c in "\n#/-+.09")
 _LETTER_V, _LETTER_T, _LETTER_N, _LETTER_F, _LOWER_CASE = ord("v"), ord("t"), ord("n"), ord("f"), 0x20
+_LETTER_L, _LETTER_P = ord("l"), ord("p")
 _LETTER_E, _LETTER_U, _LETTER_R, _COLO = ord("e"), ord("u"), ord("r"), np.frombuffer(b"colo", np.uint8)
 # What a comment is to the colour reader (raw.ColourComment): not the seed's "# colour r g b"; one
 # whose three numbers this code reads, so it sets the colour; one only the Python side can judge.
@@ -395,8 +397,11 @@ def _same_bytes(buf: np.ndarray, start: int, end: int, other_start: int, other_e
 
 @njit(**_JIT)
 def _statement_kind(buf: np.ndarray, start: int) -> int:
-    """USEMTL_KEYWORD, MTLLIB_KEYWORD (the only statements the loader reads), or _OTHER_KEYWORD."""
+    """USEMTL_KEYWORD, MTLLIB_KEYWORD (the only statements the loader reads), ELEMENTS_KEYWORD (l and p,
+    which it says it does not draw), or _OTHER_KEYWORD."""
     at = _skip_blanks(buf, start)
+    if _token_end(buf, at) - at == 1 and (_byte(buf, at) == _LETTER_L or _byte(buf, at) == _LETTER_P):
+        return ELEMENTS_KEYWORD
     if _token_end(buf, at) - at == 6:
         if _word_at(buf, at, _USEMTL):
             return USEMTL_KEYWORD
@@ -447,7 +452,9 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
             kind = _statement_kind(buf, start)
             # usemtl and mtllib are read; of the rest (g, o, s...) one says the file has statements
             record = STATEMENT if not flags & _STATED or kind != _OTHER_KEYWORD else -1
-            flags |= _STATED
+            if kind == ELEMENTS_KEYWORD and flags & _ELEMENTS_SEEN:  # one a piece says the file has some
+                record = -1
+            flags |= _STATED | (_ELEMENTS_SEEN if kind == ELEMENTS_KEYWORD else 0)
         end = line_end(buf, at)
         if kind == MTLLIB_KEYWORD:  # a piece's first distinct names hold the file's first (raw.with_library)
             low, stop = _named_part(buf, start, end)
