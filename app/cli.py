@@ -135,7 +135,7 @@ def screenshot_parser() -> argparse.ArgumentParser:
 def run_screenshot(argv: Sequence[str]) -> int:
     args = screenshot_parser().parse_intermixed_args(_keys_joined(argv))
     out = take_screenshot(start_options(args), args.output, args.size, args.keys, args.overlay)
-    print(escaped(str(out)))
+    _say(escaped(str(out)))
     return 0
 
 
@@ -165,7 +165,7 @@ def run_record(argv: Sequence[str]) -> int:
 
     args = record_parser().parse_intermixed_args(_keys_joined(argv))
     frames = record(start_options(args), args.output, args.size, args.keys, args.fps, args.overlay)
-    print(escaped(f"{args.output}: {frames} frames"))
+    _say(escaped(f"{args.output}: {frames} frames"))
     return 0
 
 
@@ -176,7 +176,7 @@ def _keys_joined(argv: Sequence[str]) -> list[str]:
     while at < len(argv):
         if argv[at] == "--":
             return words + list(argv[at:])
-        if argv[at] == "--keys" and at + 1 < len(argv):
+        if len(argv[at]) > 3 and "--keys".startswith(argv[at]) and at + 1 < len(argv):  # --ke too, as argparse
             words.append(f"--keys={argv[at + 1]}")
             at += 2
             continue
@@ -225,15 +225,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 1
     except KeyboardInterrupt:
         return 130
-    except BrokenPipeError:  # `marraztu screenshot ... | head`: what was asked is written
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # Python's flush at exit would fail again
-        return 0
-    except OSError as error:  # standard output full or gone: the picture itself is written
-        print(f"error: cannot write to standard output ({error.strerror or error})", file=sys.stderr)
-        return 1
     finally:
         if before is not None:
             signal.signal(signal.SIGTERM, before)
+
+
+def _say(text: str) -> None:
+    """What a command made, on standard output: a full or closed one is no traceback (the file is written)."""
+    try:
+        print(text, flush=True)
+    except BrokenPipeError:  # `marraztu screenshot ... | head`: the reader has what it wanted
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # Python's flush at exit would fail again
+    except OSError as error:
+        raise ViewerError(f"cannot write to standard output ({error.strerror or error})") from None
 
 
 def _interrupted(number: int, frame: object) -> NoReturn:

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import dataclasses
 import gc
+import subprocess
+import sys
 from io import BytesIO
 from pathlib import Path
 from types import SimpleNamespace
@@ -457,3 +459,15 @@ def test_a_scene_changed_by_hand_keeps_its_selection_in_range() -> None:
         v.scene.lights.clear()
         with pytest.raises(ValueError, match="needs a camera and a light"):
             v.render(overlay=True)
+
+
+def test_viewers_open_at_exit_are_released_whenever_the_first_finalizer_was_made(tmp_path: Path) -> None:
+    """weakref.finalize's exit hook is registered by the process's first finalizer (numba's, say): the
+    API's own hook releases what is open or queued whichever runs first."""
+    script = ("import sys, tempfile\nif sys.argv[1] == 'early':\n    held = tempfile.TemporaryDirectory()\n"
+              "import marraztu.frontends.api as api\nreal = api._release\n"
+              "api._release = lambda *both: (print('released', flush=True), real(*both))\n"
+              "viewer = api.Viewer((16, 12))\nviewer.render()\n")
+    for order in ("early", "late"):
+        result = subprocess.run([sys.executable, "-c", script, order], capture_output=True, text=True, timeout=120)
+        assert result.returncode == 0 and result.stdout.split() == ["released"], (order, result.stderr)

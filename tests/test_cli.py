@@ -170,8 +170,10 @@ def test_keys_that_start_with_a_minus_models_after_options_and_a_home_path(tmp_p
     assert main(["screenshot", "--keys", "c c -*5", "-o=~/split.png", "--size", "32x32", str(model)]) == 0
     joined = ["screenshot", str(model), "--keys=c c -*5", "-o", str(tmp_path / "joined.png"), "--size", "32x32"]
     assert main(joined) == 0
-    split, joined = (np.asarray(Image.open(tmp_path / name)) for name in ("split.png", "joined.png"))
-    assert np.array_equal(split, joined) and (split != split[0, 0]).any()
+    assert main(["screenshot", "--ke", "c c -*5", "-o", str(tmp_path / "short.png"), "--size=32x32", str(model)]) == 0
+    names = ("split.png", "joined.png", "short.png")
+    split, joined, short = (np.asarray(Image.open(tmp_path / name)) for name in names)
+    assert np.array_equal(split, joined) and np.array_equal(split, short) and (split != split[0, 0]).any()
 
 
 @pytest.mark.parametrize("arguments, words", [

@@ -387,3 +387,22 @@ def test_an_mtl_names_a_texture_with_a_hash_in_it(tmp_path: Path) -> None:
                      base_dir=tmp_path)
     (material,) = mesh.materials  # named "w # the wood", found by its name before the comment
     assert material.texture is not None and material.texture_name == "wood#2.ppm" and not mesh.warnings
+
+
+def test_an_mtllib_line_of_paths_reads_each_and_a_usemtl_comment_is_no_name(tmp_path: Path) -> None:
+    """'mtllib ./a.mtl ./b.mtl' ends in a file's name too: looked up whole by its last part, it read b
+    alone; 'usemtl blue # the sky' names blue."""
+    (tmp_path / "a.mtl").write_text("newmtl red\nKd 1 0 0\n")
+    (tmp_path / "b.mtl").write_text("newmtl blue\nKd 0 0 1\n")
+    uses = "usemtl red\nf 1 2 3\nusemtl blue # the sky\nf 1 2 3\nusemtl blue\nf 1 2 3\n"
+    mesh = parse_obj(("mtllib ./a.mtl ./b.mtl\n" + TRIANGLES + uses).encode(), str(tmp_path / "m.obj"),
+                     base_dir=tmp_path)
+    assert [material.name for material in mesh.materials] == ["red", "blue"] and not mesh.warnings
+    assert mesh.face_material.tolist() == [-1, 0, 1, 1]
+
+
+@pytest.mark.parametrize("reader", [read_by_lines, read_fast])
+def test_libraries_are_told_apart_by_their_bytes_in_both_readers(reader) -> None:
+    """Two spellings of one name (Windows-1252's \\xe9 and UTF-8's é) are two lines to both readers."""
+    lines = b"".join(b"mtllib \xe9%d.mtl\nmtllib \xc3\xa9%d.mtl\n" % (at, at) for at in range(8)) + b"mtllib last.mtl\n"
+    assert reader(lines + TRIANGLES.encode(), "m.obj").mtllib[-1] == "last.mtl"

@@ -447,6 +447,7 @@ def test_vertex_colours_after_the_position_are_read(read) -> None:
     # A float colour a little past 1 (Blender's, made sRGB) is no 0..255 one: the others stay as they are.
     (b"v 0 0 0 1.0001 0.5 0.5\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0 -0.0001 0.2 0.1\n",
      [[255, 128, 128], [128, 128, 128], [0, 51, 26]], ["2 vertex colours outside 0..1 (or 0..255) held to it"]),
+    (b"v 0 0 0 127.5 0 0\nv 1 0 0 0 255 0\nv 0 1 0 0 0 64\n", [[128, 0, 0], [0, 255, 0], [0, 0, 64]], []),
 ])
 def test_vertex_colours_are_drawn_as_0_to_1_or_0_to_255(tmp_path: Path, lines: bytes, colours: list | None,
                                                         notes: list[str]) -> None:
@@ -1146,3 +1147,10 @@ def test_utf16_text_is_named_as_such(tmp_path: Path) -> None:
     with pytest.raises(LoadError) as refused:
         load_obj(path)
     assert (refused.value.message, refused.value.line) == ("UTF-16 text, not an OBJ text file: save it as UTF-8", 1)
+
+
+def test_a_hash_inside_a_word_does_not_stop_a_line_continuing() -> None:
+    text = f"{V3}usemtl Wood#2 \\\n oak\nf 1 2 3\nusemtl W # c \\\nf 1 2 3\n".encode()
+    fast_reader.read_fast(QUAD, "warm.obj")
+    assert obj_module._tables(text, "x.obj").material_runs.names == ["Wood#2 oak", "W # c \\"]
+    assert read_by_lines(obj_module.checked(text, "x.obj"), "x.obj").material_runs.names == ["Wood#2 oak", "W # c \\"]

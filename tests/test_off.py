@@ -138,7 +138,7 @@ def test_leading_zeros_make_no_index_too_long(tmp_path: Path) -> None:
 
 def test_a_colour_past_255_is_refused(tmp_path: Path) -> None:
     rows = [f"{row} 300 0 0" for row in SQUARE]
-    assert "a vertex colour is not within 0..255" in refusal(tmp_path, off_text(rows, header="COFF\n4 2 0\n")).message
+    assert "nor the file's colours within 0..255" in refusal(tmp_path, off_text(rows, header="COFF\n4 2 0\n")).message
 
 
 def test_the_first_bad_index_is_named_among_many(tmp_path: Path) -> None:

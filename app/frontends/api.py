@@ -121,7 +121,16 @@ def _release_unreleased() -> None:
         _release(*_unreleased.pop())
 
 
-atexit.register(_release_unreleased)  # before weakref.finalize's own hook, so it runs after it
+_open_viewers: weakref.WeakSet[Viewer] = weakref.WeakSet()
+
+
+@atexit.register
+def _close_all() -> None:
+    """At exit, whichever of this and weakref.finalize's own hook runs first (it is registered when the
+    process makes its first finalizer, numba's say): the viewers still open, and those it queued."""
+    for viewer in list(_open_viewers):
+        viewer.close()
+    _release_unreleased()
 
 
 class Viewer:
@@ -145,6 +154,7 @@ class Viewer:
             self._renderer = Renderer(self._ctx)
         # Garbage collection closes the context too: a notebook rarely says `close`.
         self._closer = weakref.finalize(self, _release_later, self._ctx, self._renderer)
+        _open_viewers.add(self)
         self._viewer.start(options, self._renderer.max_texture_side)
 
     @property

@@ -59,11 +59,11 @@ def load_off(path: Path, stage: Callable[[str], None] | None = None) -> Mesh:
 
 
 def _colour_bytes(path: Path, colours: np.ndarray) -> np.ndarray:
-    """COFF writes colours as 0..255 or as 0..1: the file's largest value says which."""
+    """COFF writes colours as 0..255 or as 0..1: the file's values say which (build.by_largest)."""
     try:
         return colour_bytes(by_largest(colours), len(colours))
     except ValueError:
-        raise LoadError(path, "a vertex colour is not within 0..255 (or 0..1)") from None
+        raise LoadError(path, "a vertex colour is not within 0..1, nor the file's colours within 0..255") from None
 
 
 @dataclass(frozen=True)

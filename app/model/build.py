@@ -63,10 +63,12 @@ def build_mesh(
 
 
 def by_largest(colours: np.ndarray) -> np.ndarray:
-    """Colours a file gives as 0..1 or as 0..255, in 0..1: whole numbers of which the largest is above 1
-    say 0..255; any other value is a fraction of 1 (1.0001 from a float colour is not 0..255's 1)."""
+    """Colours a file gives as 0..1 or as 0..255, in 0..1: a largest value above 2, or whole numbers of
+    which the largest is above 1, say 0..255 (127.5 too); a largest value in 1..2 with a fraction is
+    a float colour a little past 1 (1.0001 made sRGB), not 0..255's 1."""
+    largest = colours.max(initial=0.0)
     with np.errstate(invalid="ignore"):
-        bytes_like = colours.max(initial=0.0) > 1.0 and bool((colours == np.round(colours)).all())
+        bytes_like = largest > 2.0 or (largest > 1.0 and bool((colours == np.round(colours)).all()))
     return colours / 255.0 if bytes_like else colours
 
 

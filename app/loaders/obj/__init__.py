@@ -68,7 +68,9 @@ def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
     tried: list[Path] = []
     if raw.mtllib and base_dir is not None:
         runs = raw.material_runs
-        library = read_libraries(base_dir, raw.mtllib, notes, {runs.names[n] for n in runs.used_numbers()}, tried)
+        used = [runs.names[number] for number in runs.used_numbers()]
+        wanted = {*used, *map(name_before_comment, used)}  # "usemtl wood # oak" may mean "wood"
+        library = read_libraries(base_dir, raw.mtllib, notes, wanted, tried)
     uv = None if raw.corner_texcoord is None else (raw.texcoords, raw.corner_texcoord)
     normals = None if raw.corner_normal is None else (raw.normals, raw.corner_normal)
     first = (library[0].values or None) if library else None  # the whole model's, where no usemtl says
@@ -118,23 +120,28 @@ def _face_materials(runs: MaterialRuns, library: list[MeshMaterial], faces: int
     by_name = {material.name: material for material in reversed(library)}  # the first of a name wins
     for material in library:  # "newmtl wood # oak" is found as "wood" too, where no "wood" is
         by_name.setdefault(name_before_comment(material.name), material)
-    used: dict[str, int] = {}
+    used: dict[int, int] = {}  # a material's id -> its index among those used
+    materials: list[MeshMaterial] = []
     unknown: list[str] = []  # in file order
     beyond = 0
     index_of_number = np.full(len(runs.names), -1, np.int32)
     for number in runs.used_numbers().tolist():  # each name once, in the order of its first run
         name = runs.names[number]
-        if name not in by_name:
+        material = by_name.get(name) or by_name.get(name_before_comment(name))  # "usemtl wood # oak": wood
+        if material is None:
             unknown.append(name)
-        elif len(used) >= MAX_MATERIALS:
+        elif id(material) not in used and len(used) >= MAX_MATERIALS:
             beyond += 1
         else:
-            index_of_number[number] = used.setdefault(name, len(used))
+            if id(material) not in used:
+                used[id(material)] = len(materials)
+                materials.append(material)
+            index_of_number[number] = used[id(material)]
     starts = np.frombuffer(runs.starts, np.int64)
     lengths = np.diff(np.append(starts, faces))
     face_material = np.full(faces, -1, np.int32)
     face_material[int(starts[0]):] = np.repeat(index_of_number[np.frombuffer(runs.name_numbers, np.int64)], lengths)
-    return tuple(by_name[name] for name in used), face_material, unknown, beyond
+    return tuple(materials), face_material, unknown, beyond
 
 
 # The compiled reader's first use in a process imports numba and loads its machine code: the line

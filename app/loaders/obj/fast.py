@@ -113,7 +113,7 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
              list(range(len(pieces))), PARSE_THREADS)
         raw.put_colours(colours, outcome.colour_rows, outcome.colour_values)  # the line reader's lines
     notes = [*outcome.colour.notes, *([raw.UNDRAWN_ELEMENTS] if outcome.elements else [])]
-    return raw.RawObj(*tables, *kept, face_start, outcome.mtllib, outcome.colour.colour, notes,
+    return raw.RawObj(*tables, *kept, face_start, raw.library_names(outcome.mtllib), outcome.colour.colour, notes,
                       outcome.material_runs, colours)
 
 
@@ -276,7 +276,7 @@ class _Records:
 
     def __init__(self, buf: np.ndarray) -> None:
         self.text = memoryview(buf)  # whose slices are quicker to make than an array's
-        self.mtllib: tuple[str, ...] = ()
+        self.mtllib: tuple[bytes, ...] = ()
         self.material_runs = raw.MaterialRuns()
         self._by_line: dict[bytes, int] = {}  # a usemtl line's material number, by the line's bytes
         self.colour = raw.ColourComment()

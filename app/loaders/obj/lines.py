@@ -29,6 +29,8 @@ from marraztu.loaders.obj.raw import (
     ColourComment,
     MaterialRuns,
     RawObj,
+    comment_at,
+    library_names,
     material_name,
     put_colours,
     statement,
@@ -138,7 +140,7 @@ class LineReader:
         self.corners = [array("q") for _ in _FIELDS]
         self.face_sizes = array("q")
         self.face_lines = array("q")
-        self.mtllib: tuple[str, ...] = ()
+        self.mtllib: tuple[bytes, ...] = ()
         self.coloured_rows = array("q")  # the position rows whose v line gives a colour after x y z
         self.colour_values = array("d")  # and its three numbers each
         self.material_runs = MaterialRuns()
@@ -305,7 +307,7 @@ class LineReader:
         tables = [np.frombuffer(table, dtype=np.float64).reshape(-1, width)
                   for table, width in zip(self.tables, _TABLE_WIDTHS)]
         return RawObj(tables[0], tables[1], tables[2], *columns,
-                      face_start, self.mtllib, self.colour.colour,
+                      face_start, library_names(self.mtllib), self.colour.colour,
                       [*self.colour.notes, *([UNDRAWN_ELEMENTS] if self.elements else [])], self.material_runs,
                       put_colours(np.full((len(tables[0]), 3), np.nan), self.coloured_rows, self.colour_values)
                       if self.coloured_rows else None)
@@ -460,7 +462,7 @@ def _logical_lines(text: bytes) -> Iterator[tuple[int, bytes]]:
             yield first, bytes(pending)
             pending.clear()
         stripped = line.rstrip()
-        if stripped.endswith(b"\\") and b"#" not in line:
+        if stripped.endswith(b"\\") and comment_at(line) < 0:
             first = first if pending else number
             pending += stripped[:-1]
             pending += b" "

@@ -76,7 +76,7 @@ def _library_paths(base_dir: Path, name: str, notes: list[str], finder: _Finder)
     """The files an mtllib line names: the whole line where it is one file's name ('a b.mtl' with its
     space), else each of its names that is a file ('mtllib a.mtl b.mtl'), each found as a texture is;
     one note for those missing."""
-    whole = finder.find(name, base_dir)
+    whole = finder.find(name, base_dir, by_last_part=False)  # 'a/x.mtl b/y.mtl' ends in a file's name too
     if whole is not None:
         return [whole]
     words = name.split(None, _MOST_NAMES)[:_MOST_NAMES]
@@ -173,8 +173,8 @@ class _Finder:
     def __init__(self) -> None:
         self.listings: dict[Path, dict[str, Path]] = {}
 
-    def find(self, name: str, folder: Path) -> Path | None:
-        candidates = [folder / spelling for spelling in spellings(name)]
+    def find(self, name: str, folder: Path, by_last_part: bool = True) -> Path | None:
+        candidates = [folder / spelling for spelling in spellings(name)[:None if by_last_part else 1]]
         found = next((path for path in candidates if is_there(path)), None)
         return found or next((path for path in map(self._in_any_case, candidates) if path is not None), None)
 

@@ -88,6 +88,12 @@ _COMMENT = re.compile(rb"(?<![^ \t\n\r\x0b\x0c])#")
 _TEXT_COMMENT = re.compile(r"(?<![^ \t\n\r\x0b\x0c])#")
 
 
+def comment_at(text: bytes, start: int = 0, stop: int | None = None) -> int:
+    """Where the first comment of text[start:stop] starts (by the rule above); -1 where there is none."""
+    found = _COMMENT.search(text, start, len(text) if stop is None else stop)
+    return -1 if found is None else found.start()
+
+
 def without_comment(content: bytes) -> bytes:
     found = _COMMENT.search(content)
     return content if found is None else content[:found.start()]
@@ -187,12 +193,15 @@ def put_colours(table: np.ndarray, rows: Sequence[int], values: Sequence[float])
     return table
 
 
-def with_library(libraries: tuple[str, ...], rest: bytes) -> tuple[str, ...]:
-    """The mtllib lines' names so far, and this line's where it names others: one more than
-    MAX_LIBRARY_LINES at most, so that the reader can say some were left unread. Files joined into
-    one repeat the same mtllib line for each object."""
-    name = decoded(rest)
-    return libraries + (name,) if len(libraries) <= MAX_LIBRARY_LINES and name not in libraries else libraries
+def with_library(libraries: tuple[bytes, ...], rest: bytes) -> tuple[bytes, ...]:
+    """The mtllib lines' names so far, as the file's bytes, and this line's where its bytes are new (as
+    the compiled reader tells them apart): one more than MAX_LIBRARY_LINES at most, so that the
+    reader can say some were left unread. Files joined into one repeat one mtllib line per object."""
+    return libraries + (rest,) if len(libraries) <= MAX_LIBRARY_LINES and rest not in libraries else libraries
+
+
+def library_names(libraries: tuple[bytes, ...]) -> tuple[str, ...]:
+    return tuple(decoded(name) for name in libraries)
 
 
 def usemtl_name(line: bytes) -> str:

@@ -24,6 +24,7 @@ from marraztu.loaders.files import (
     refuse_blank,
     regular_file_size,
 )
+from marraztu.loaders.obj.raw import comment_at
 
 _BACKSLASH_AT_LINE_END = re.compile(rb"\\[^\S\n]*\n")
 _NO_BREAK_SPACE = "\u00a0".encode()
@@ -100,11 +101,12 @@ def checked(text: bytes, source: str) -> bytes:
 
 
 def has_continuations(text: bytes) -> bool:
-    """A backslash ending a line continues it, unless the line holds a comment (C:\\models\\ in one)."""
+    """A backslash ending a line continues it, unless the line holds a comment (C:\\models\\ in one): a
+    '#' at its start or after a blank (raw.comment_at), as both readers read comments."""
     if b"\\" not in text:
         return False
     for match in _BACKSLASH_AT_LINE_END.finditer(text):
         line_start = text.rfind(b"\n", 0, match.start()) + 1
-        if text.find(b"#", line_start, match.start()) < 0:
+        if comment_at(text, line_start, match.start()) < 0:
             return True
     return False
