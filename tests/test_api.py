@@ -471,3 +471,15 @@ def test_viewers_open_at_exit_are_released_whenever_the_first_finalizer_was_made
     for order in ("early", "late"):
         result = subprocess.run([sys.executable, "-c", script, order], capture_output=True, text=True, timeout=120)
         assert result.returncode == 0 and result.stdout.split() == ["released"], (order, result.stderr)
+
+
+def test_the_probe_report_says_its_view_and_the_vertex_colour_that_tints_it() -> None:
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(TRIANGLE, [[0, 1, 2]], colours=[[255, 0, 0], [0, 255, 0], [0, 0, 255]])
+        report = v.press("F").probe()
+        assert report.view == "everything"
+        assert [vertex.vertex_colour for vertex in report.vertices] == [(255, 0, 0), (0, 255, 0), (0, 0, 255)][
+            :len(report.vertices)]
+        assert v.press("v").probe().view != "everything"
+        v.add_mesh(TRIANGLE, [[0, 1, 2]], name="plain")
+        assert v.probe().vertices[0].vertex_colour is None

@@ -66,6 +66,7 @@ class ProbedVertex:
     lights: tuple[LightShare, ...]
     total: tuple[float, float, float]  # I before the clamp, in the current term view
     colour: tuple[int, int, int]  # the 0..255 lit colour, before a texture or vertex colour tints it
+    vertex_colour: tuple[int, int, int] | None  # the model's colour at the vertex, which multiplies it; None: none
 
 
 @dataclass(frozen=True)
@@ -77,6 +78,7 @@ class ProbeReport:
     face_count: int
     material: str | None
     shading: str
+    view: str  # what the lit colour shows (key v): "everything", one term, one light, depth or normals
     back_face: bool
     culled: bool
     vertices: tuple[ProbedVertex, ...]
@@ -256,6 +258,7 @@ class Viewer:
         vertices = tuple(_probed_vertex(found, vertex) for vertex in found.vertices)
         return ProbeReport(object=found.obj.name, face=found.face, face_count=found.face_count,
                            material=found.obj.material_name_of_face(found.face), shading=found.shading.value,
+                           view=found.view.name,
                            back_face=found.back_face, culled=found.back_face and found.culling, vertices=vertices)
 
     # --- the context ---------------------------------------------------------------------------
@@ -283,10 +286,12 @@ def _probed_vertex(found: Any, vertex: Any) -> ProbedVertex:
                               specular=_triple(term.specular)) for term in vertex.terms.lights)
     shown = found.displayed(vertex)
     colour = tuple(int(c) for c in (shown if shown is not None else vertex.lit_bytes))
+    tints = found.obj.mesh.vertex_colours
+    tint = None if tints is None else tuple(int(c) for c in tints[vertex.vertex])
     return ProbedVertex(vertex=vertex.vertex, world_position=_triple(vertex.world_position),
                         normal=_triple(vertex.world_normal), n_dot_v=vertex.n_dot_v,
                         ambient=_triple(vertex.terms.ambient), lights=shares, total=_triple(vertex.shown),
-                        colour=colour)  # type: ignore[arg-type]
+                        colour=colour, vertex_colour=tint)  # type: ignore[arg-type]
 
 
 def _finite_positions(positions: Any) -> np.ndarray:
