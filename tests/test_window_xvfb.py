@@ -91,7 +91,7 @@ def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None
     with window_in(display, tmp_path, SIZE) as (window, window_id):
         xdotool(display, "windowfocus", "--sync", window_id)
         xdotool(display, "type", "--delay", "60", "01F")  # F is shift+f: Gouraud
-        xdotool(display, "key", "--delay", "60", "Tab", "Return", "Return")
+        xdotool(display, "key", "--delay", "60", "Tab", "KP_Enter", "Return")  # the keypad's Enter too
         xdotool(display, "type", "--delay", "60", "ct")  # target cameras, translate
         xdotool(display, "type", "--delay", "60", "zzzXX")
         xdotool(display, "type", "--delay", "60", "cc")  # lights, then objects: f loads an object
@@ -370,3 +370,53 @@ def test_the_mouse_orbits_and_dollies_and_u_takes_each_gesture_back(display: str
 
     assert differing(orbited, start_path) > 0.02 and differing(dollied, start_path) > 0.02
     assert differing(orbit_undone, start_path) <= 0.001 and differing(dolly_undone, start_path) <= 0.001
+
+
+# The window's drawing failing every time (a size past what GL draws, GPU memory gone): frames counted
+# for a second after the failure starts, and the stderr lines it gave.
+_FAILING_DRAW = """
+import threading, time
+import pyglet.app
+from marraztu.control.viewer import StartOptions
+from marraztu.errors import ViewerError
+from marraztu.frontends.window import open_window
+
+window = open_window(StartOptions(empty=True), (120, 120))
+frames, failing = [], threading.Event()
+draw, render = window.wnd.render_func, window.renderer.render
+window.wnd.render_func = lambda *args: (frames.append(1), draw(*args))
+
+def broken(*args):
+    if failing.is_set():
+        raise ViewerError("a picture of 17000x17000 is larger than this OpenGL can draw")
+    return render(*args)
+window.renderer.render = broken
+
+def script():
+    while not frames:
+        time.sleep(0.01)
+    time.sleep(0.3)
+    failing.set()
+    for _ in range(3):  # three events in a row, each asking for a frame that fails alike
+        window.wnd._window.dispatch_event("on_text", "y")
+        pyglet.app.platform_event_loop.notify()
+        time.sleep(0.1)
+    before = len(frames)
+    time.sleep(1.0)
+    print(len(frames) - before, flush=True)
+    window.wnd.is_closing = True
+
+threading.Thread(target=script, daemon=True).start()
+window.run()
+"""
+
+
+def test_a_drawing_that_keeps_failing_is_said_once_and_not_tried_in_a_loop(display: str) -> None:
+    """A failed frame asked for itself again: the window spun at 65% of a core, and said the same line
+    on stderr some 100,000 times a few seconds."""
+    result = subprocess.run([sys.executable, "-c", _FAILING_DRAW], env={**os.environ, "DISPLAY": display},
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert int(result.stdout.split()[-1]) <= 1  # no frame asks for another
+    said = [line for line in result.stderr.splitlines() if "render failed" in line]
+    assert len(said) == 1 and "larger than this OpenGL can draw" in said[0], result.stderr

@@ -26,6 +26,7 @@ from marraztu.errors import ViewerError, escaped
 from marraztu.frontends.heap import return_freed_memory
 from marraztu.frontends.record import MAX_RECORDING_BYTES, write_animation
 from marraztu.frontends.screenshot import write_picture
+from marraztu.model.mesh import counted
 from marraztu.render.context import offscreen_framebuffer, read_pixels
 from marraztu.render.gpu import prepare_surface
 from marraztu.render.overlay import Overlay
@@ -49,10 +50,12 @@ class Unchanged(Enum):
     SCENE = "scene"  # only the text over the scene changed: the frame copies the held picture
 
 
-def guarded(handler: Callable[..., Unchanged | None]) -> Callable[..., None]:
-    """A window event must never end the session: a failure becomes one line on screen and on stderr,
-    and the window goes on. An event asks for a frame, which draws the scene again, unless the handler
-    says what it left unchanged."""
+def guarded(handler: Callable[..., Unchanged | None], after_failure: Unchanged | None = None
+            ) -> Callable[..., None]:
+    """A window event must never end the session: a failure becomes one line on screen and on stderr
+    (once, however often it comes again in a row), and the window goes on. An event asks for a frame,
+    which draws the scene again, unless the handler says what it left unchanged; after a failure,
+    unless `after_failure` says so (a failed drawing must not ask for itself again, in a loop)."""
 
     @functools.wraps(handler)
     def run(window: ViewerWindow, *args: Any) -> None:
@@ -62,7 +65,9 @@ def guarded(handler: Callable[..., Unchanged | None]) -> Callable[..., None]:
         except Exception as error:  # what no check foresaw: said, not fatal
             line = escaped(f"{handler.__name__.removeprefix('on_')} failed: {type(error).__name__}: {error}")
             window.scene.message = line
-            print(line, file=sys.stderr)
+            if line != window.last_failure:
+                print(line, file=sys.stderr)
+            window.last_failure, unchanged = line, after_failure
         if unchanged is not Unchanged.NOTHING:
             window.needs_frame = True
         if unchanged is None:
@@ -112,6 +117,7 @@ class ViewerWindow:
         self.wnd.set_default_viewport()
         self.ctx = self.wnd.ctx
         self.wnd.exit_key = None  # ESC belongs to the key map: it also cancels the file prompt
+        self.last_failure = ""  # the last failure said on stderr: a repeat is not said again
         self.renderer = Renderer(self.ctx)
         loader = BackgroundLoader(prepare_surface, wake=_wake_event_loop)
         self.viewer = Viewer(starting_scene(options), self, background=loader)
@@ -161,7 +167,10 @@ class ViewerWindow:
                  keys.PAGE_DOWN: "PAGEDOWN", keys.PAGE_UP: "PAGEUP", keys.HOME: "HOME"}
         from pyglet.window import key as pyglet_key
 
-        names[pyglet_key.RETURN] = "ENTER"  # moderngl-window's ENTER is the keypad's; this is the main one
+        # The keypad's keys do what the main ones do (its Enter confirms the file prompt).
+        names.update({pyglet_key.RETURN: "ENTER", pyglet_key.NUM_ENTER: "ENTER", pyglet_key.NUM_TAB: "TAB",
+                      pyglet_key.NUM_DELETE: "DELETE", pyglet_key.NUM_HOME: "HOME",
+                      pyglet_key.NUM_PAGE_DOWN: "PAGEDOWN", pyglet_key.NUM_PAGE_UP: "PAGEUP"})
         return names
 
     @property
@@ -193,7 +202,7 @@ class ViewerWindow:
         self.wnd.destroy()
 
     # --- drawing -------------------------------------------------------------------------------
-    @guarded
+    @functools.partial(guarded, after_failure=Unchanged.NOTHING)
     def on_render(self, time: float, frame_time: float) -> Unchanged:
         # No event that changed the scene and no finished load: only the text over it changed.
         scene_unchanged = not self.scene_changed and not self.viewer.background.finished()
@@ -316,13 +325,13 @@ class ViewerWindow:
             self.scene.message = "recording: every new picture is a frame; F9 again saves them"
             return
         frames, self.recording = self.recording, None
-        if not frames:
+        if len(frames) <= 1:  # the picture F9 found, and none after it
             self.scene.message = "recording stopped: no picture changed, nothing saved"
             return
         path = (RECORDING_DIR / f"marraztu-{datetime.now():%Y%m%d-%H%M%S-%f}.gif").absolute()
         try:
             write_animation(frames, path, RECORDING_FPS)
-            self.scene.message = f"recording of {len(frames)} frames saved to {path}"
+            self.scene.message = f"recording of {counted(len(frames), 'frame')} saved to {path}"
         except ViewerError as error:
             self.scene.message = f"recording not saved: {error}"
 
