@@ -505,6 +505,27 @@ def test_drag_turns_like_the_y_and_x_keys(scene: Scene) -> None:
     assert scene.modes.transform is TransformKind.TRANSLATE
 
 
+@pytest.mark.parametrize("targeting", ["", "c", "c c"])
+def test_one_drag_is_one_undo_step_whatever_it_turns(scene: Scene, targeting: str) -> None:
+    """Each mouse event of a ctrl-drag pushed a step of its own (two, one an axis): 20 presses of u to
+    undo a drag of ten events. A button or a key starts the next drag."""
+    press(scene, targeting or "r")
+    moved = {"": lambda: scene.object.model, "c": lambda: scene.camera.model,
+             "c c": lambda: np.concatenate([scene.light.position, scene.light.direction])}[targeting]
+    start = moved().copy()
+    for _ in range(10):
+        commands.drag(scene, 3.0, 2.0)
+    after_first = moved().copy()
+    commands.end_view_gesture(scene)  # the button let go and pressed again
+    for _ in range(5):
+        commands.drag(scene, 4.0, 0.0)
+    assert not np.allclose(moved(), after_first)
+    press(scene, "u")
+    np.testing.assert_allclose(moved(), after_first, atol=1e-9)
+    press(scene, "u")
+    np.testing.assert_allclose(moved(), start, atol=1e-9)
+
+
 # --- status and help -------------------------------------------------------------------------------
 def test_status_line_reports_modes_lights_and_selection(scene: Scene) -> None:
     press(scene, "0 2 F g t ENTER*2")

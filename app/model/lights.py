@@ -191,6 +191,10 @@ class Light:
         self.position, self.direction, self.axis_in_owner = self.history.pop()
         return True
 
+    def fold_history(self, depth: int) -> None:
+        """The moves since the history was `depth` deep become one undo step: back to where they began."""
+        del self.history[depth + 1:]
+
 
 def default_lights() -> list[Light]:
     """SPEC 4: the sun, the bulb, the object spotlight and the camera spotlight, all off."""

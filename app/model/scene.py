@@ -157,6 +157,10 @@ class SceneObject:
         self.history.pop()
         return True
 
+    def fold_history(self, depth: int) -> None:
+        """The moves pushed since the history was `depth` deep become one undo step (a mouse gesture)."""
+        del self.history[depth:-1]
+
 
 @dataclass
 class Modes:
@@ -204,6 +208,9 @@ class Scene:
     # events make one undo step in all.
     view_moves: list[SceneObject] = field(default_factory=list)
     view_gesture: str | None = None
+    # Where a ctrl-drag of the target began: the element and its history's depth, so that its events
+    # make one undo step in all.
+    drag_start: tuple[object, int] | None = None
     # Elements that joined or were read again so far: who watches the files read looks when it moves.
     loads: int = 0
 
