@@ -87,3 +87,26 @@ def test_the_dot_of_an_i_is_drawn_apart_from_its_stem(own_ctx, overlay) -> None:
     rows = cover.max(axis=1) > 0.3  # which rows hold ink, top first
     inked = np.flatnonzero(rows)
     assert inked.size and (~rows[inked[0]:inked[-1] + 1]).any(), "no gap between the dot and the stem"
+
+
+@pytest.mark.parametrize("keys", ["m", "i ENTER m P s"])
+def test_the_right_hand_panel_is_fitted_to_a_small_window(tmp_path, monkeypatch, keys: str) -> None:
+    """The matrices panel ran off a 320x320 window's bottom, over the panel and the message below it."""
+    from marraztu.control.viewer import StartOptions
+    from marraztu.frontends.screenshot import take_screenshot
+    from marraztu.render import overlay as overlay_module
+
+    blocks: list[tuple[list[str], float, float, float]] = []
+    real = overlay_module.Overlay._block
+
+    def spied(self, lines, left, top, line_height=overlay_module.PANEL_LINE_HEIGHT_PX):
+        blocks.append((lines, left, top, top - 2 * overlay_module.MARGIN_PX - line_height * len(lines)))
+        return real(self, lines, left, top, line_height)
+
+    monkeypatch.setattr(overlay_module.Overlay, "_block", spied)
+    take_screenshot(StartOptions(), tmp_path / "shot.png", (320, 320), keys=keys, overlay=True)
+    matrices = [block for block in blocks if block[0][0].startswith("MATRICES")]
+    assert matrices and matrices[0][0][-1].endswith("a taller window shows them")
+    others_below = [block for block in blocks if block[2] < matrices[0][3] + 1e-6 and block is not matrices[0]]
+    assert all(block[3] >= 0.0 for block in blocks)
+    assert matrices[0][3] >= max((block[2] for block in others_below), default=0.0) - 1e-6

@@ -140,10 +140,14 @@ class Overlay:
             below_top -= 2 * MARGIN_PX + LINE_HEIGHT_PX
         room_for_bottom = below_top - above_bottom
         if extras.right:
-            panel_width = self._text_width(max(extras.right, key=len)) + 2 * MARGIN_PX
-            self._block(extras.right, max(width - panel_width, 0.0), below_top)
+            # Fitted as the bottom panel is, leaving that panel two lines: it never ran off the window.
+            kept_for_bottom = 2 * MARGIN_PX + 2 * PANEL_LINE_HEIGHT_PX if extras.bottom else 0.0
+            right = fit_lines(extras.right, room_for_bottom - 2 * MARGIN_PX - kept_for_bottom, PANEL_LINE_HEIGHT_PX,
+                              "a taller window shows them")
+            panel_width = self._text_width(max(right, key=len)) + 2 * MARGIN_PX
+            self._block(right, max(width - panel_width, 0.0), below_top)
             # The bottom panel spans the width: it stops below the right-hand one, never over it.
-            room_for_bottom -= 2 * MARGIN_PX + PANEL_LINE_HEIGHT_PX * len(extras.right)
+            room_for_bottom -= 2 * MARGIN_PX + PANEL_LINE_HEIGHT_PX * len(right)
         if extras.bottom:
             lines = fit_lines(extras.bottom, room_for_bottom - 2 * MARGIN_PX, PANEL_LINE_HEIGHT_PX,
                               extras.bottom_overflow_hint)
