@@ -420,3 +420,44 @@ def test_a_drawing_that_keeps_failing_is_said_once_and_not_tried_in_a_loop(displ
     assert int(result.stdout.split()[-1]) <= 1  # no frame asks for another
     said = [line for line in result.stderr.splitlines() if "render failed" in line]
     assert len(said) == 1 and "larger than this OpenGL can draw" in said[0], result.stderr
+
+
+_PRESS_COUNTER = """
+import sys
+from marraztu.control import viewer as viewer_module
+real = viewer_module.Viewer.press
+def press(self, key):
+    print(key.token, flush=True)
+    return real(self, key)
+viewer_module.Viewer.press = press
+from marraztu.cli import main
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+def test_a_named_key_held_down_repeats_as_a_letter_does_and_a_press_counts_once(display: str) -> None:
+    """pyglet sends a held key's repeats as text (Enter's, Tab's) or as a text motion (BackSpace's...),
+    never as presses: holding Enter stepped one face. The text that comes with a press is not a repeat."""
+    env = {**os.environ, "DISPLAY": display}
+    process = subprocess.Popen([sys.executable, "-c", _PRESS_COUNTER, "--size", "160x160", "--empty"], env=env,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        window_id = wait_for(lambda: xdotool(display, "search", "--name", "^marraztu$").split(), 60, "the window")[0]
+        time.sleep(1.0)
+        xdotool(display, "windowfocus", "--sync", window_id)
+        xdotool(display, "key", "--delay", "200", "Return", "Tab", "KP_Enter", "Next")
+        time.sleep(0.5)
+        xdotool(display, "keydown", "Return")
+        time.sleep(1.5)  # past the X server's repeat delay (660 ms), then 25 a second
+        xdotool(display, "keyup", "Return")
+        time.sleep(0.5)
+        xdotool(display, "key", "Escape")
+        out, errors = process.communicate(timeout=30)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    presses = out.split()
+    assert presses[:4] == ["ENTER", "TAB", "ENTER", "PAGEDOWN"], presses  # each press once
+    assert presses[-1] == "ESC" and presses[4:-1] == ["ENTER"] * len(presses[4:-1])
+    assert len(presses[4:-1]) >= 5, "holding Enter repeats it"
+    assert "Traceback" not in errors, errors

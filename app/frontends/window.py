@@ -50,6 +50,11 @@ class Unchanged(Enum):
     SCENE = "scene"  # only the text over the scene changed: the frame copies the held picture
 
 
+# Named keys whose repeats, while held down, come as text or as a text motion (pyglet's), not as presses.
+_REPEATED_TEXT = {"\r": "ENTER", "\t": "TAB"}
+_REPEATED_MOTIONS = {0xff08: "BACKSPACE", 0xffff: "DELETE", 0xff56: "PAGEDOWN", 0xff55: "PAGEUP"}  # pyglet's MOTION_*
+
+
 def guarded(handler: Callable[..., Unchanged | None], after_failure: Unchanged | None = None
             ) -> Callable[..., None]:
     """A window event must never end the session: a failure becomes one line on screen and on stderr
@@ -118,6 +123,7 @@ class ViewerWindow:
         self.ctx = self.wnd.ctx
         self.wnd.exit_key = None  # ESC belongs to the key map: it also cancels the file prompt
         self.last_failure = ""  # the last failure said on stderr: a repeat is not said again
+        self.text_of_press: str | None = None  # a named key just pressed, whose own text or motion comes next
         self.renderer = Renderer(self.ctx)
         loader = BackgroundLoader(prepare_surface, wake=_wake_event_loop)
         self.viewer = Viewer(starting_scene(options), self, background=loader)
@@ -147,7 +153,7 @@ class ViewerWindow:
         wnd.resize_func = self.on_resize
         pyglet_window = getattr(wnd, "_window", None)
         if pyglet_window is not None:  # uncovered after being hidden: the window system lost the picture
-            pyglet_window.push_handlers(on_expose=self.on_expose)
+            pyglet_window.push_handlers(on_expose=self.on_expose, on_text_motion=self.on_text_motion)
 
     def _close_when_destroyed(self) -> None:
         """Without a window manager, `xdotool windowclose` destroys the X window outright and no close
@@ -264,19 +270,42 @@ class ViewerWindow:
     # --- keys ----------------------------------------------------------------------------------
     @guarded
     def on_unicode_char_entered(self, char: str) -> Unchanged | None:
-        """Letters come from text input so that `F` is shift+f on any keyboard layout (SPEC 6)."""
+        """Letters come from text input so that `F` is shift+f on any keyboard layout (SPEC 6); Enter's
+        and Tab's text, held down, are their repeats."""
+        if char in _REPEATED_TEXT:
+            return self._repeated(_REPEATED_TEXT[char])
         typed_into_prompt = self.viewer.prompt is not None
         if char.isprintable():
             self.viewer.type_text(char)
         return Unchanged.SCENE if typed_into_prompt else None
 
     @guarded
+    def on_text_motion(self, motion: int) -> Unchanged | None:
+        """BackSpace, Delete, PageDown and PageUp held down: pyglet sends their repeats as motions."""
+        name = _REPEATED_MOTIONS.get(motion)
+        return Unchanged.NOTHING if name is None else self._repeated(name)
+
+    def _repeated(self, name: str) -> Unchanged | None:
+        """A named key's text or motion: the one its own press brings is that press; any other is the
+        key held down, repeating (pyglet sends no press for a repeat)."""
+        if self.text_of_press == name:
+            self.text_of_press = None
+            return Unchanged.NOTHING
+        return self._named_press(name)
+
+    @guarded
     def on_key_event(self, key: Any, action: Any, modifiers: Any) -> Unchanged | None:
         """Named keys (letters come as text); a release, a modifier or BACKSPACE outside the prompt
         does nothing."""
-        in_prompt = self.viewer.prompt is not None
         name = self.named_keys.get(key)
-        if action != self.wnd.keys.ACTION_PRESS or name is None or (name == "BACKSPACE" and not in_prompt):
+        if action != self.wnd.keys.ACTION_PRESS or name is None:
+            return Unchanged.NOTHING
+        self.text_of_press = name  # the text or motion that comes with this press is not a repeat
+        return self._named_press(name)
+
+    def _named_press(self, name: str) -> Unchanged | None:
+        in_prompt = self.viewer.prompt is not None
+        if name == "BACKSPACE" and not in_prompt:
             return Unchanged.NOTHING
         self.viewer.press(KeyPress(name))
         # The prompt takes every key while open, and what Enter asks for loads in the background.
