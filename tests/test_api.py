@@ -409,7 +409,7 @@ def test_too_many_rows_are_refused_before_any_pass_over_them(viewer, monkeypatch
         viewer.add_mesh(np.broadcast_to(np.zeros(3), (5000, 3)), [[0, 1, 2]])
     monkeypatch.undo()
     monkeypatch.setattr(build, "INDEX_LIMIT", 1000)
-    monkeypatch.setattr(build, "_whole_numbers", lambda values: pytest.fail("copied every corner"))
+    monkeypatch.setattr(build, "whole_numbers", lambda values: pytest.fail("copied every corner"))
     with pytest.raises(ValueError, match="fewer than 1000"):
         viewer.add_mesh(TRIANGLE, np.broadcast_to(np.arange(3), (5000, 3)))
 

@@ -387,16 +387,16 @@ def drag(scene: Scene, dx_pixels: float, dy_pixels: float) -> None:
     """Ctrl-drag turns the current target as y (sideways drag) and x (vertical drag) do, whatever
     r/t says. Window y grows downward: dragging right or down swings the near side right or down.
     The events of one drag make one undo step, as the view's gestures do."""
-    target = {Target.OBJECTS: scene.object, Target.CAMERAS: scene.camera, Target.LIGHTS: scene.light}[
-        scene.modes.target]
-    if target is None or scene.view_gesture != "drag" or scene.drag_start is None or scene.drag_start[0] is not target:
-        scene.drag_start = None if target is None else (target, len(target.history))
+    # A key or a button ends the gesture (end_view_gesture): the selection cannot change within one.
+    target = scene.light if scene.modes.target is Target.LIGHTS else scene.targeted_element
+    if scene.view_gesture != "drag":
+        scene.drag_depth = 0 if target is None else len(target.history)
     if dx_pixels:
         move_target(scene, TransformKind.ROTATE, 1, dx_pixels * DRAG_RADIANS_PER_PIXEL)
     if dy_pixels:
         move_target(scene, TransformKind.ROTATE, 0, dy_pixels * DRAG_RADIANS_PER_PIXEL)
-    if target is not None and scene.drag_start is not None:
-        target.fold_history(scene.drag_start[1])
+    if target is not None:
+        target.fold_history(scene.drag_depth)
         scene.view_gesture = "drag"
 
 

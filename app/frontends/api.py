@@ -192,10 +192,8 @@ class Viewer:
             raise TypeError(f"keys are a str, as --keys takes them (\"0 1 F x*5\"), not {type(keys).__name__}")
         self._check_open()
         presses = parse_key_sequence(keys)  # all of them checked before any is pressed
-        for press in presses:
-            if self._frontend.quitting:  # ESC ends the sequence, as it ends the screenshot command's replay
-                break
-            self._viewer.press(press)
+        for _ in self._frontend.replay(self._viewer, presses):  # up to ESC, as the screenshot command's keys
+            pass
         self._frontend.quitting = False  # the next sequence is pressed: a notebook has no window to close
         return self
 

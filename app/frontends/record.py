@@ -79,16 +79,14 @@ def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, f
     ctx = create_offscreen_context()
     try:
         renderer = Renderer(ctx)
-        viewer = Viewer(scene, OffscreenFrontend(), strict=True)
+        frontend = OffscreenFrontend()
+        viewer = Viewer(scene, frontend, strict=True)
         viewer.start(options, renderer.max_texture_side)
         inputs = InputsGuard(out, RECORDING_FORMATS, "an animation")
         inputs.check(viewer)
 
         def frames() -> Iterator[np.ndarray]:
-            for press in presses:
-                if viewer.frontend.quitting:
-                    return
-                viewer.press(press)
+            for _ in frontend.replay(viewer, presses):
                 # A model loaded by a key brings its MTL and textures: refused before `out` is replaced.
                 inputs.check(viewer)
                 yield render_pixels(ctx, renderer, viewer, size, overlay)

@@ -8,14 +8,14 @@ from __future__ import annotations
 import os
 import sys
 import tempfile
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
 
 import moderngl
 import numpy as np
 from PIL import Image
 
-from marraztu.control.keymap import parse_key_sequence
+from marraztu.control.keymap import KeyPress, parse_key_sequence
 from marraztu.control.viewer import StartOptions, Viewer, starting_scene
 from marraztu.errors import ViewerError, escaped
 from marraztu.model.scene import Scene
@@ -37,6 +37,14 @@ class OffscreenFrontend:
     def quit(self) -> None:
         self.quitting = True
 
+    def replay(self, viewer: Viewer, presses: Iterable[KeyPress]) -> Iterator[KeyPress]:
+        """Each press, given to `viewer` and then yielded, up to ESC, which ends the replay."""
+        for press in presses:
+            if self.quitting:
+                return
+            viewer.press(press)
+            yield press
+
     def save_screenshot(self) -> None:
         pass
 
@@ -55,14 +63,12 @@ def take_screenshot(options: StartOptions, out: Path, size: tuple[int, int], key
     ctx = create_offscreen_context()
     try:
         renderer = Renderer(ctx)
-        viewer = Viewer(scene, OffscreenFrontend(), strict=True)
+        frontend = OffscreenFrontend()
+        viewer = Viewer(scene, frontend, strict=True)
         viewer.start(options, renderer.max_texture_side)
         inputs = InputsGuard(out)
         inputs.check(viewer)
-        for press in presses:
-            if viewer.frontend.quitting:
-                break
-            viewer.press(press)
+        for _ in frontend.replay(viewer, presses):
             inputs.check(viewer)  # a model loaded by a key brings its MTL and textures
         write_picture(render_pixels(ctx, renderer, viewer, size, overlay), out)
     finally:
@@ -181,13 +187,11 @@ def write_atomically(out: Path, write: Callable[[Path], None]) -> None:
         os.umask(mask)
         os.chmod(temporary, 0o666 & ~mask)  # mkstemp makes it private; a picture is not
         os.replace(temporary, out)
-    except OSError as error:
+    except BaseException as error:  # a write that failed, or was interrupted: nothing of it is left
         temporary.unlink(missing_ok=True)
         _remove_folders(made)
-        raise ViewerError(f"{out}: cannot write it ({error.strerror or error})") from None
-    except BaseException:
-        temporary.unlink(missing_ok=True)
-        _remove_folders(made)
+        if isinstance(error, OSError):
+            raise ViewerError(f"{out}: cannot write it ({error.strerror or error})") from None
         raise
 
 

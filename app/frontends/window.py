@@ -50,9 +50,9 @@ class Unchanged(Enum):
     SCENE = "scene"  # only the text over the scene changed: the frame copies the held picture
 
 
-# Named keys whose repeats, while held down, come as text or as a text motion (pyglet's), not as presses.
+# Named keys whose repeats, while held down, come as text (here) or as a text motion (repeated_motions),
+# not as presses.
 _REPEATED_TEXT = {"\r": "ENTER", "\t": "TAB"}
-_REPEATED_MOTIONS = {0xff08: "BACKSPACE", 0xffff: "DELETE", 0xff56: "PAGEDOWN", 0xff55: "PAGEUP"}  # pyglet's MOTION_*
 
 
 def guarded(handler: Callable[..., Unchanged | None], after_failure: Unchanged | None = None
@@ -129,7 +129,7 @@ class ViewerWindow:
         self.viewer = Viewer(starting_scene(options), self, background=loader)
         self.viewer.start(options, self.renderer.max_texture_side)
         self.overlay = Overlay(self.ctx)
-        self.named_keys = self._named_keys()
+        self.named_keys, self.repeated_motions = self._named_keys()
         self.last_watch_check = perf_counter()
         self.needs_frame = True
         self.drawn_since_still = False  # frames since the window was last still: it then returns what they freed
@@ -166,7 +166,8 @@ class ViewerWindow:
         if isinstance(handlers, dict):
             handlers[xlib.DestroyNotify] = lambda event: self.wnd.close()
 
-    def _named_keys(self) -> dict[Any, str]:
+    def _named_keys(self) -> tuple[dict[Any, str], dict[int, str]]:
+        """The key map's names of the window's keys, and of the text motions that repeat them."""
         keys = self.wnd.keys
         names = {keys.TAB: "TAB", keys.ENTER: "ENTER", keys.ESCAPE: "ESC", keys.DELETE: "DELETE",
                  keys.F1: "F1", keys.F9: "F9", keys.F12: "F12", keys.BACKSPACE: "BACKSPACE",
@@ -177,7 +178,9 @@ class ViewerWindow:
         names.update({pyglet_key.RETURN: "ENTER", pyglet_key.NUM_ENTER: "ENTER", pyglet_key.NUM_TAB: "TAB",
                       pyglet_key.NUM_DELETE: "DELETE", pyglet_key.NUM_HOME: "HOME",
                       pyglet_key.NUM_PAGE_DOWN: "PAGEDOWN", pyglet_key.NUM_PAGE_UP: "PAGEUP"})
-        return names
+        motions = {pyglet_key.MOTION_BACKSPACE: "BACKSPACE", pyglet_key.MOTION_DELETE: "DELETE",
+                   pyglet_key.MOTION_NEXT_PAGE: "PAGEDOWN", pyglet_key.MOTION_PREVIOUS_PAGE: "PAGEUP"}
+        return names, motions
 
     @property
     def scene(self):
@@ -282,7 +285,7 @@ class ViewerWindow:
     @guarded
     def on_text_motion(self, motion: int) -> Unchanged | None:
         """BackSpace, Delete, PageDown and PageUp held down: pyglet sends their repeats as motions."""
-        name = _REPEATED_MOTIONS.get(motion)
+        name = self.repeated_motions.get(motion)
         return Unchanged.NOTHING if name is None else self._repeated(name)
 
     def _repeated(self, name: str) -> Unchanged | None:

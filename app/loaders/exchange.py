@@ -61,7 +61,7 @@ from marraztu.loaders.images import (
 from marraztu.loaders.ply import binary_of_ascii, read_header, vertices_and_faces
 from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES
 from marraztu.loaders.words import unheld_coordinate
-from marraztu.model.build import build_mesh, by_largest, colour_bytes
+from marraztu.model.build import build_mesh, by_largest, colour_bytes, whole_numbers
 from marraztu.model.geometry import holds_in_float32
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, polygon_corners_of_fans
 
@@ -423,26 +423,22 @@ def _uris(items: object) -> Iterator[str]:
             yield uri
 
 
-def _ply_vertex_column(mesh: Any, name: str) -> np.ndarray | None:
-    """One property of a PLY's vertex table as trimesh read it, one value a row; None where there is none."""
+def _ply_vertex_table(mesh: Any) -> dict[str, np.ndarray]:
+    """A PLY's vertex table as trimesh read it, before it splits vertices for MeshLab's per-corner
+    texture coordinates: each property's values, one a row; empty for another file."""
     table = getattr(mesh, "metadata", {}).get("_ply_raw", {}).get("vertex", {}).get("data")
-    if isinstance(table, np.ndarray) and table.dtype.names and name in table.dtype.names:
-        return np.asarray(table[name]).reshape(len(table), -1)[:, 0]
-    if isinstance(table, dict) and name in table:
-        column = np.asarray(table[name])
-        return column.reshape(len(column), -1)[:, 0]
-    return None
+    if isinstance(table, np.ndarray) and table.dtype.names:
+        table = {name: table[name] for name in table.dtype.names}
+    if not isinstance(table, dict):
+        return {}
+    return {name: np.asarray(values).reshape(len(values), -1)[:, 0] for name, values in table.items()}
 
 
 def _ply_vertices_read(mesh: Any) -> int:
     """The vertices trimesh read from a PLY's vertex table: before it splits those whose faces give them
     several texture coordinates (MeshLab's texcoord lists), which would count as more."""
-    table = getattr(mesh, "metadata", {}).get("_ply_raw", {}).get("vertex", {}).get("data")
-    if isinstance(table, np.ndarray):
-        return len(table)
-    if isinstance(table, dict) and table:
-        return len(next(iter(table.values())))
-    return len(mesh.vertices)
+    columns = _ply_vertex_table(mesh)
+    return len(next(iter(columns.values()))) if columns else len(mesh.vertices)
 
 
 def _line_of_first_non_finite(data: bytes) -> int | None:
@@ -641,11 +637,10 @@ def _mirroring(transforms: list[np.ndarray | None]) -> np.ndarray:
 def _geometry(source: str | Path, mesh: Any) -> _Geometry:
     positions = _rows_of_three(source, mesh.vertices, "vertices").astype(np.float64, copy=False)
     faces = _rows_of_three(source, mesh.faces, "faces")
-    if faces.dtype.kind not in "iub":  # a mesh given in code may hold anything; trimesh's files hold int64
-        with np.errstate(all="ignore"):
-            if faces.dtype.kind != "f" or not (faces == np.floor(faces)).all():
-                raise LoadError(source, "its faces must be whole numbers")
-    faces = faces.astype(np.int64, copy=False)
+    try:  # a mesh given in code may hold anything; trimesh's files hold int64
+        faces = whole_numbers(faces, "its faces must be whole numbers")
+    except ValueError as error:
+        raise LoadError(source, str(error)) from None
     if faces.size and (faces.min() < 0 or faces.max() >= len(positions)):  # checked before meshes are joined
         bad = int(faces.min()) if faces.min() < 0 else int(faces.max())
         raise LoadError(source, f"a face refers to vertex {bad}, but its mesh has {len(positions)}")
@@ -866,11 +861,11 @@ def _material_of(mesh: Any) -> dict[str, object] | None:
 def _vertex_colours(mesh: Any) -> np.ndarray | None:
     """The file's colour per vertex (PLY's red/green/blue, glTF's COLOR_0) as RGB bytes, if any."""
     visual = getattr(mesh, "visual", None)
-    diffuse = [_ply_vertex_column(mesh, f"diffuse_{part}") for part in ("red", "green", "blue")]
+    diffuse = ("diffuse_red", "diffuse_green", "diffuse_blue")  # some PLY writers' names, which trimesh passes over
     if getattr(visual, "kind", None) == "vertex":
         colours = np.asarray(visual.vertex_colors)
-    elif all(column is not None for column in diffuse):  # some PLY writers' names, which trimesh passes over
-        colours = np.column_stack(diffuse)  # type: ignore[arg-type]
+    elif (table := _ply_vertex_table(mesh)).keys() >= set(diffuse):
+        colours = np.column_stack([table[name] for name in diffuse])
     else:  # glTF's COLOR_0 beside a material: trimesh keeps it as the file gives it, a vertex attribute
         attributes = getattr(visual, "vertex_attributes", None)
         if attributes is None or "color" not in attributes:

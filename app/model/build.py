@@ -144,14 +144,14 @@ def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray) -> tuple[np.ndarr
         if faces.size >= INDEX_LIMIT:  # before any copy: a broadcast view costs nothing to make
             raise ValueError(f"a mesh holds fewer than {INDEX_LIMIT} positions and corners")
         sizes = np.full(faces.shape[0], faces.shape[1], dtype=np.int64)
-        corners = _whole_numbers(faces.ravel())
+        corners = whole_numbers(faces.ravel())
     else:
         try:
             lists = [list(face) for face in faces]
         except TypeError:  # a number, or a list of numbers, where polygons were wanted
             raise ValueError(_FACES_SHAPE) from None
         sizes = np.array([len(face) for face in lists], dtype=np.int64)
-        corners = _whole_numbers(np.array([index for face in lists for index in face]))
+        corners = whole_numbers(np.array([index for face in lists for index in face]))
     if sizes.size == 0 or sizes.min() < 3:
         raise ValueError("a mesh needs faces of at least 3 vertices")
     return corners, np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)
@@ -161,7 +161,7 @@ def _sized_faces(corners: np.ndarray | Sequence[int], sizes: np.ndarray | Sequen
                  ) -> tuple[np.ndarray, np.ndarray]:
     """Polygons given as their corners one after another (flattened) and each one's size, as corners
     and starts."""
-    given = _whole_numbers(np.asarray(sizes).ravel(), "face sizes must be whole numbers")
+    given = whole_numbers(np.asarray(sizes).ravel(), "face sizes must be whole numbers")
     if given.size == 0 or given.min() < 3:
         raise ValueError("a mesh needs faces of at least 3 vertices")
     if given.size >= INDEX_LIMIT or given.max() >= INDEX_LIMIT:  # before a sum that could wrap
@@ -171,14 +171,14 @@ def _sized_faces(corners: np.ndarray | Sequence[int], sizes: np.ndarray | Sequen
         flat = np.asarray(corners)
     except ValueError:  # polygons of several sizes listed as such
         raise ValueError("with face_sizes, faces are every polygon's corners in one flat array") from None
-    corner_vertex = _whole_numbers(flat.ravel())
+    corner_vertex = whole_numbers(flat.ravel())
     if corner_vertex.size != face_start[-1]:
         raise ValueError(f"faces of these sizes hold {face_start[-1]} corners, not {corner_vertex.size}")
     return corner_vertex, face_start
 
 
-def _whole_numbers(indices: np.ndarray, refusal: str = "face indices must be whole numbers (0-based vertex rows)"
-                   ) -> np.ndarray:
+def whole_numbers(indices: np.ndarray, refusal: str = "face indices must be whole numbers (0-based vertex rows)"
+                  ) -> np.ndarray:
     """Vertex indices (or face sizes) as int64; 1.5 or "a" is refused, not rounded or read as something else."""
     if indices.dtype.kind in "iu":
         return indices.astype(np.int64, copy=False)

@@ -208,9 +208,9 @@ class Scene:
     # events make one undo step in all.
     view_moves: list[SceneObject] = field(default_factory=list)
     view_gesture: str | None = None
-    # Where a ctrl-drag of the target began: the element and its history's depth, so that its events
-    # make one undo step in all.
-    drag_start: tuple[object, int] | None = None
+    # How deep the dragged element's history was when the ctrl-drag going on began: its events fold into
+    # one undo step.
+    drag_depth: int = 0
     # Elements that joined or were read again so far: who watches the files read looks when it moves.
     loads: int = 0
 

@@ -84,8 +84,8 @@ def finite_floats(tokens: Sequence[bytes | str]) -> list[float] | None:
 
 # A comment starts at a '#' that begins the line or follows a blank: inside a word it is the word's
 # (old Windows programs wrote NaN as -1.#IND, which cut there read as -1).
-_COMMENT = re.compile(rb"(?<![^ \t\n\r\x0b\x0c])#")
-_TEXT_COMMENT = re.compile(r"(?<![^ \t\n\r\x0b\x0c])#")
+_COMMENT_SYNTAX = r"(?<![^ \t\n\r\x0b\x0c])#"
+_COMMENT, _TEXT_COMMENT = re.compile(_COMMENT_SYNTAX.encode()), re.compile(_COMMENT_SYNTAX)  # in bytes, in text
 
 
 def comment_at(text: bytes, start: int = 0, stop: int | None = None) -> int:
@@ -95,8 +95,8 @@ def comment_at(text: bytes, start: int = 0, stop: int | None = None) -> int:
 
 
 def without_comment(content: bytes) -> bytes:
-    found = _COMMENT.search(content)
-    return content if found is None else content[:found.start()]
+    at = comment_at(content)
+    return content if at < 0 else content[:at]
 
 
 def text_without_comment(line: str) -> str:
