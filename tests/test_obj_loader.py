@@ -435,6 +435,61 @@ def test_vertex_colours_after_the_position_are_read(read) -> None:
     assert read(b"v 0 0 0 1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "w.obj").vertex_colours is None
 
 
+@pytest.mark.parametrize("read", [read_by_lines, fast_reader.read_fast], ids=["line reader", "fast reader"])
+def test_zbrush_polypaint_gives_the_positions_colours_in_file_order(read) -> None:
+    """ZBrush writes `#MRGB` lines of MMRRGGBB entries (a mask byte, then the colour), one per
+    position, 64 to a line, each after its positions."""
+    text = b"v 0 0 0\nv 1 0 0\n#MRGB 00ff0000ffFF8000\nv 0 1 0\n  #MRGB  ff0000ff \nf 1 2 3\n"
+    raw = read(text, "painted.obj")
+    assert raw.notes == []
+    assert (raw.vertex_colours * 255).round().tolist() == [[255, 0, 0], [255, 128, 0], [0, 0, 255]]
+
+
+@pytest.mark.parametrize("read", [read_by_lines, fast_reader.read_fast], ids=["line reader", "fast reader"])
+@pytest.mark.parametrize(("paint", "colours", "note"), [
+    (b"#MRGB ffff0000ff00ff00\n#MRGB ff0000f\n", None,
+     "ignored the ZBrush polypaint (#MRGB): line 5 is malformed"),  # one entry short of a digit
+    (b"#MRGB ffff0000ff00ff00\n#MRGB ff0000fg\n", None, "ignored the ZBrush polypaint (#MRGB): line 5 is malformed"),
+    (b"#MRGBffff0000\n", None, "ignored the ZBrush polypaint (#MRGB): line 4 is malformed"),
+    (b"#MRGB ffff0000ff00ff00ff0000ffff111111\n", [[255, 0, 0], [0, 255, 0], [0, 0, 255]],
+     "1 ZBrush polypaint (#MRGB) colours past the last position ignored"),
+    (b"#MRGB ffff0000\n", [[255, 0, 0], [None] * 3, [None] * 3], None),  # the rest are drawn white
+])
+def test_zbrush_polypaint_that_does_not_fit_is_said(read, paint: bytes, colours: list | None, note: str | None) -> None:
+    raw = read(V3.encode() + paint + b"f 1 2 3\n", "painted.obj")
+    assert raw.notes == ([note] if note else [])
+    if colours is None:
+        assert raw.vertex_colours is None
+    else:
+        got = np.where(np.isnan(raw.vertex_colours), -1, raw.vertex_colours * 255).round()
+        assert got.tolist() == [[-1 if value is None else value for value in row] for row in colours]
+
+
+def test_v_line_colours_win_over_zbrush_polypaint(tmp_path: Path) -> None:
+    path = tmp_path / "both.obj"
+    path.write_bytes(b"v 0 0 0 0 1 0\nv 1 0 0 0 1 0\nv 0 1 0 0 1 0\n#MRGB ffff0000ffff0000ffff0000\nf 1 2 3\n")
+    mesh = load_obj(path)
+    assert mesh.vertex_colours.tolist() == [[0, 255, 0]] * 3
+    assert list(mesh.warnings) == ["the v lines' colours are drawn, not the ZBrush polypaint (#MRGB)"]
+
+
+def test_a_large_files_polypaint_comes_through_the_compiled_reader(tmp_path: Path) -> None:
+    """Every byte value of every channel comes back exactly, 64 entries a line, past
+    COMPILED_READER_BYTES (so read by the compiled reader, in several pieces)."""
+    rows = obj_module.COMPILED_READER_BYTES // 20
+    colours = np.random.default_rng(7).integers(0, 256, size=(rows, 3))
+    lines = []
+    for block in range(0, rows, 64):
+        lines += [f"v {i} {i % 5} 0" for i in range(block, min(rows, block + 64))]
+        lines.append("#MRGB " + "".join(f"ff{r:02x}{g:02x}{b:02x}" for r, g, b in colours[block:block + 64].tolist()))
+    lines += [f"f {i + 1} {i + 2} {i + 3}" for i in range(0, rows - 2, 3)]
+    path = tmp_path / "painted.obj"
+    path.write_text("\n".join(lines) + "\n")
+    assert path.stat().st_size > obj_module.COMPILED_READER_BYTES
+    mesh = load_obj(path)
+    assert not [note for note in mesh.warnings if "MRGB" in note] and np.array_equal(mesh.vertex_colours, colours)
+
+
 @pytest.mark.parametrize(("lines", "colours", "notes"), [
     (b"v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 0.5\n", [[255, 0, 0], [0, 255, 0], [0, 0, 128]], []),
     (b"v 0 0 0 255 0 0\nv 1 0 0 0 255 0\nv 0 1 0 0 0 128\n", [[255, 0, 0], [0, 255, 0], [0, 0, 128]], []),
@@ -596,7 +651,8 @@ NUMBER = st.one_of(
 SPACE = st.sampled_from([" ", " ", " ", "  ", "\t", " \t"])
 END = st.sampled_from(["\n", "\n", "\n", "\r\n", " \n", "\n\n", "\n# note\n", " # trailing\n", "\r", "#\\\n"])
 EXTRAS = ["o thing", "s 1", "g a b", "# colour 10 20 30", "#colour 1 2", "usemtl x", "vp 1", "# c",
-          "mtllib a b.mtl", "  # indented comment", "cstype bezier", "# exported from C:\\models\\", "\r", " "]
+          "mtllib a b.mtl", "  # indented comment", "cstype bezier", "# exported from C:\\models\\", "\r", " ",
+          "#MRGB ffff0000ff00ff00", " #MRGB ff0000ff", "#MRGB ff00ff", "#MRGBff000000", "#MRGB ff0000ff # c"]
 BROKEN_LINES = ["v 1 2", "v 1 nan 3", "v 1 2 3x", "v 1.2.3 0 0", "vt 1", "vn 0 1", "f 1 2", "f 0 1 2",
                 "f 1 2 99", "f -99 1 2", "f 1/1 2 3", "f 1// 2// 3//", "f 1/2/3/4 1 2", "f a b c", "v 1 - 2",
                 "v 1 2 3 # trailing", "f 1 2 \\\n 3"]

@@ -112,7 +112,8 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
         each(lambda at: scan.read_vertex_colours(buf, *pieces[at], before[at][scan.V], colours, np.empty((1, 7))),
              list(range(len(pieces))), PARSE_THREADS)
         raw.put_colours(colours, outcome.colour_rows, outcome.colour_values)  # the line reader's lines
-    notes = [*outcome.colour.notes, *([raw.UNDRAWN_ELEMENTS] if outcome.elements else [])]
+    colours, paint_notes = outcome.polypaint.with_colours(colours, len(tables[0]))
+    notes = [*outcome.colour.notes, *paint_notes, *([raw.UNDRAWN_ELEMENTS] if outcome.elements else [])]
     return raw.RawObj(*tables, *kept, face_start, raw.library_names(outcome.mtllib), outcome.colour.colour, notes,
                       outcome.material_runs, colours)
 
@@ -280,6 +281,7 @@ class _Records:
         self.material_runs = raw.MaterialRuns()
         self._by_line: dict[bytes, int] = {}  # a usemtl line's material number, by the line's bytes
         self.colour = raw.ColourComment()
+        self.polypaint = raw.Polypaint()
         self.statements = 0
         self.elements = False  # an l or p statement was read
         self.coloured = False  # some v line gives a colour after its position
@@ -330,3 +332,4 @@ class _Records:
                 self.coloured = True
             else:
                 self.colour.offer(record[scan.R_LINE], content)
+                self.polypaint.offer(record[scan.R_LINE], content)

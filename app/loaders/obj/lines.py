@@ -28,6 +28,7 @@ from marraztu.loaders.obj.raw import (
     UNDRAWN_ELEMENTS,
     ColourComment,
     MaterialRuns,
+    Polypaint,
     RawObj,
     comment_at,
     library_names,
@@ -145,6 +146,7 @@ class LineReader:
         self.colour_values = array("d")  # and its three numbers each
         self.material_runs = MaterialRuns()
         self.colour = ColourComment()
+        self.polypaint = Polypaint()
         self.statements = 0
         self.elements = False  # an l or p statement was read
 
@@ -210,6 +212,7 @@ class LineReader:
             self.statement(number, keyword, rest)
         elif content.lstrip().startswith(b"#"):
             self.colour.offer(number, content)
+            self.polypaint.offer(number, content)
 
     def statement(self, number: int, keyword: bytes, rest: bytes) -> None:
         if keyword in _TABLES:
@@ -306,11 +309,13 @@ class LineReader:
     def result(self, columns: list[np.ndarray | None], face_start: np.ndarray) -> RawObj:
         tables = [np.frombuffer(table, dtype=np.float64).reshape(-1, width)
                   for table, width in zip(self.tables, _TABLE_WIDTHS)]
+        colours, paint_notes = self.polypaint.with_colours(
+            put_colours(np.full((len(tables[0]), 3), np.nan), self.coloured_rows, self.colour_values)
+            if self.coloured_rows else None, len(tables[0]))
         return RawObj(tables[0], tables[1], tables[2], *columns,
                       face_start, library_names(self.mtllib), self.colour.colour,
-                      [*self.colour.notes, *([UNDRAWN_ELEMENTS] if self.elements else [])], self.material_runs,
-                      put_colours(np.full((len(tables[0]), 3), np.nan), self.coloured_rows, self.colour_values)
-                      if self.coloured_rows else None)
+                      [*self.colour.notes, *paint_notes, *([UNDRAWN_ELEMENTS] if self.elements else [])],
+                      self.material_runs, colours)
 
 
 # A batch is read once it holds this many lines or bytes, whichever comes first: a line's bytes object

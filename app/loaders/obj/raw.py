@@ -74,6 +74,44 @@ class ColourComment:
         return [f"ignored {self.malformed} malformed '# colour' comments (the first on line {first})"]
 
 
+_POLYPAINT_LINE = re.compile(rb"\s*#MRGB[ \t\v\f\r]+([0-9A-Fa-f]+)\s*\Z")
+_POLYPAINT_ENTRY_DIGITS = 8  # MMRRGGBB: ZBrush's mask byte, then the colour
+
+
+class Polypaint:
+    """ZBrush's vertex colours: `#MRGB` comment lines of MMRRGGBB entries, one per position in file
+    order. A malformed line would shift every colour after it, so one makes the whole paint a note."""
+
+    def __init__(self) -> None:
+        self.payloads: list[bytes] = []
+        self.first_malformed_line = 0
+
+    def offer(self, line_number: int, comment: bytes) -> None:
+        if b"#MRGB" not in comment[:16] or self.first_malformed_line:
+            return
+        match = _POLYPAINT_LINE.match(comment)
+        if match is None or len(match.group(1)) % _POLYPAINT_ENTRY_DIGITS:
+            if comment.lstrip().startswith(b"#MRGB"):
+                self.first_malformed_line = line_number
+            return
+        self.payloads.append(match.group(1))
+
+    def with_colours(self, table: np.ndarray | None, positions: int) -> tuple[np.ndarray | None, list[str]]:
+        """RawObj.vertex_colours with the paint put in where no v line gives colours, and its notes."""
+        if self.first_malformed_line:
+            return table, [f"ignored the ZBrush polypaint (#MRGB): line {self.first_malformed_line} is malformed"]
+        if not self.payloads:
+            return table, []
+        if table is not None:
+            return table, ["the v lines' colours are drawn, not the ZBrush polypaint (#MRGB)"]
+        entries = np.frombuffer(bytes.fromhex(b"".join(self.payloads).decode("ascii")), np.uint8).reshape(-1, 4)
+        table = np.full((positions, 3), np.nan)
+        painted = min(positions, len(entries))
+        table[:painted] = entries[:painted, 1:] / 255.0  # 0..1, so that by_largest never reads them as 0..255
+        extra = len(entries) - painted
+        return table, [f"{extra} ZBrush polypaint (#MRGB) colours past the last position ignored"] if extra else []
+
+
 def finite_floats(tokens: Sequence[bytes | str]) -> list[float] | None:
     try:
         values = [float(token) for token in tokens]

@@ -24,7 +24,7 @@ LINES, CORNERS = 4, 5
 COUNT_COLUMNS = 6
 _NO_KEYWORD, _OTHER_KEYWORD, USEMTL_KEYWORD, MTLLIB_KEYWORD, ELEMENTS_KEYWORD = -1, -2, -3, -4, -5
 # What a record is: a table or face line for the line reader, another statement, a comment that
-# may be the seed's "# colour", or a piece's first v line with a colour after its x y z.
+# may be the seed's "# colour" or ZBrush's "#MRGB", or a piece's first v line with a colour after its x y z.
 DEFERRED, STATEMENT, COMMENT, VERTEX_COLOURS = 0, 1, 2, 3
 # Columns of a record: its kind, the line's bytes and number, the rows of v, vt and vn before it,
 # the faces and corners before it, its keyword's kind, and a usemtl line's place among the piece's
@@ -51,6 +51,7 @@ _LETTER_E, _LETTER_U, _LETTER_R, _COLO = ord("e"), ord("u"), ord("r"), np.frombu
 # whose three numbers this code reads, so it sets the colour; one only the Python side can judge.
 _NOT_COLOUR, _COLOUR_READ, _COLOUR_UNREAD = 0, 1, 2
 _USEMTL, _MTLLIB = np.frombuffer(b"usemtl", np.uint8), np.frombuffer(b"mtllib", np.uint8)
+_MRGB = np.frombuffer(b"MRGB", np.uint8)
 # Up to 1e22 powers of ten are exact doubles: mantissa and power then round once, as float() does
 # (Clinger's fast path).
 _POWERS_OF_TEN = np.array([10.0**k for k in range(23)])
@@ -476,11 +477,14 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
                 record = -1  # the material its faces use already: a usemtl before every face is one run
         if not read:
             record = DEFERRED
-        elif kind == _NO_KEYWORD and _byte(buf, at) == _HASH and not flags & _COLOUR_SET:
-            shape = _colour_comment(buf, at)
-            if shape != _NOT_COLOUR:
+        elif kind == _NO_KEYWORD and _byte(buf, at) == _HASH:
+            if _word_at(buf, at + 1, _MRGB):  # ZBrush's polypaint: every line counts (raw.Polypaint)
                 record = COMMENT
-                flags |= _COLOUR_SET if shape == _COLOUR_READ else 0
+            elif not flags & _COLOUR_SET:
+                shape = _colour_comment(buf, at)
+                if shape != _NOT_COLOUR:
+                    record = COMMENT
+                    flags |= _COLOUR_SET if shape == _COLOUR_READ else 0
         if record >= 0 and kind == USEMTL_KEYWORD:
             if used > 0 and records[used - 1, R_KEYWORD] == USEMTL_KEYWORD and records[used - 1, R_FACE] == face:
                 used -= 1  # a usemtl no face followed: this one takes its place (as raw.MaterialRuns.add does)
