@@ -8,6 +8,7 @@ import dataclasses
 import gc
 import subprocess
 import sys
+import threading
 from io import BytesIO
 from pathlib import Path
 from types import SimpleNamespace
@@ -66,6 +67,30 @@ def test_each_picture_hands_back_the_memory_its_drawing_freed(viewer, monkeypatc
     viewer.render()
     viewer.press("l").render(overlay=True)
     assert len(handed_back) == 2
+
+
+def test_threads_sharing_a_viewer_take_turns(viewer, tmp_path: Path) -> None:
+    """Its GL context can be current in one thread only: two renders at once failed with "cannot
+    create renderbuffer"; they now take turns, each picture whole."""
+    expected = screenshot(tmp_path, "x")
+    viewer.press("x")
+    pictures: list[np.ndarray] = []
+    failures: list[Exception] = []
+
+    def draw() -> None:
+        for _ in range(4):
+            try:
+                pictures.append(np.asarray(viewer.render()))
+            except Exception as error:  # noqa: BLE001 - collected, to fail in the test's own thread
+                failures.append(error)
+
+    threads = [threading.Thread(target=draw) for _ in range(3)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert failures == [] and len(pictures) == 12
+    assert all(np.array_equal(picture, expected) for picture in pictures)
 
 
 def test_render_at_another_size(viewer) -> None:

@@ -11,12 +11,15 @@ drawing offscreen (EGL, or the platform's default context) into pictures.
 from __future__ import annotations
 
 import atexit
+import functools
 import operator
+import threading
 import weakref
+from collections.abc import Callable
 from dataclasses import dataclass
 from io import BytesIO
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Sequence, TypeVar
 
 import numpy as np
 from PIL import Image
@@ -40,6 +43,7 @@ from marraztu.render.layout import checked_size
 from marraztu.render.renderer import Renderer
 
 Size = tuple[int, int]
+_Result = TypeVar("_Result")
 
 
 @dataclass(frozen=True)
@@ -114,13 +118,27 @@ def _release(ctx: Any, renderer: Renderer) -> None:
 _unreleased: list[tuple[Any, Renderer]] = []
 
 
+_releasing = threading.Lock()  # the queue is emptied by whichever thread draws next
+
+
 def _release_later(ctx: Any, renderer: Renderer) -> None:
     _unreleased.append((ctx, renderer))
 
 
 def _release_unreleased() -> None:
-    while _unreleased:
-        _release(*_unreleased.pop())
+    with _releasing:
+        while _unreleased:
+            _release(*_unreleased.pop())
+
+
+def _one_call_at_a_time(method: Callable[..., _Result]) -> Callable[..., _Result]:
+    """A Viewer's calls from several threads take turns: its GL context can be current in one thread
+    only, and a press half done would be drawn."""
+    @functools.wraps(method)
+    def in_turn(self: Viewer, *args: Any, **kwargs: Any) -> _Result:
+        with self._turn:
+            return method(self, *args, **kwargs)
+    return in_turn
 
 
 _open_viewers: weakref.WeakSet[Viewer] = weakref.WeakSet()
@@ -148,6 +166,7 @@ class Viewer:
             raise ValueError("a scene file or empty=True: the two are starting scenes, give one")
         options = StartOptions(scene_file=None if scene is None else Path(scene), empty=empty,
                                texture=None if texture is None else Path(texture))
+        self._turn = threading.RLock()
         self._frontend = OffscreenFrontend(quiet=True)
         self._viewer = KeyViewer(starting_scene(options), self._frontend, strict=True)
         _release_unreleased()
@@ -179,12 +198,14 @@ class Viewer:
         """What the status line says after the last press or load."""
         return self.scene.message
 
+    @_one_call_at_a_time
     def load(self, path: str | Path) -> Viewer:
         """Any model file the program reads, added as `f` adds it; LoadError on bad input."""
         self._check_open()
         self._viewer.load_model(path)
         return self
 
+    @_one_call_at_a_time
     def press(self, keys: str) -> Viewer:
         """Keys in the language of --keys: "0 1 F x*5 f=model.obj". ESC (but in the file prompt) ends
         the sequence, as it ends the screenshot command's keys."""
@@ -197,6 +218,7 @@ class Viewer:
         self._frontend.quitting = False  # the next sequence is pressed: a notebook has no window to close
         return self
 
+    @_one_call_at_a_time
     def add_mesh(self, positions: Any, faces: Any = None, uvs: Any = None, normals: Any = None,
                  name: str = "mesh", colours: Any = None, attributes_per_vertex: bool | None = None) -> Viewer:
         """A model from arrays, or from a trimesh.Trimesh or trimesh.Scene given alone (with its uvs,
@@ -230,6 +252,7 @@ class Viewer:
         return self
 
     # --- pictures ------------------------------------------------------------------------------
+    @_one_call_at_a_time
     def render(self, overlay: bool = False, size: Sequence[int] | None = None) -> Image.Image:
         """The picture the window would show (with `overlay`, its text and panels too)."""
         self._check_open()
@@ -247,6 +270,7 @@ class Viewer:
         self.render().save(stream, format="PNG")
         return stream.getvalue()
 
+    @_one_call_at_a_time
     def probe(self) -> ProbeReport | None:
         """The selected face's probe as numbers; None when there is no face to probe."""
         self._check_open()
@@ -260,6 +284,7 @@ class Viewer:
                            back_face=found.back_face, culled=found.back_face and found.culling, vertices=vertices)
 
     # --- the context ---------------------------------------------------------------------------
+    @_one_call_at_a_time
     def close(self) -> None:
         """Releases the GL context; afterwards the scene can be read, and every other call raises
         ViewerError."""
