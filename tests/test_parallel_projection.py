@@ -65,3 +65,15 @@ def test_an_object_moved_behind_the_camera_does_not_fill_the_picture(tmp_path) -
     pixels = np.asarray(Image.open(out)).astype(int)
     background = (np.abs(pixels - BACKGROUND).sum(axis=2) == 0).mean()
     assert background > 0.5, f"only {background:.0%} of the picture is background"
+
+
+@pytest.mark.parametrize("projection", ["", "p"], ids=["perspective", "parallel"])
+def test_what_is_behind_the_near_plane_is_cut_in_either_projection(tmp_path, projection: str) -> None:
+    """SPEC 5's near plane (n = 5) is glOrtho's as gluPerspective's: a camera flown past every ship
+    sees none of them (parallel's depth range once reached as far behind the eye as in front)."""
+    out = take_screenshot(StartOptions(), tmp_path / "past.png", (120, 90), keys=f"{projection} c t Z*40")
+    assert (np.asarray(Image.open(out)).astype(int) == BACKGROUND).all()
+    scene = load_builtin_scene()
+    press(scene, projection)
+    clip = scene.projection_matrix(4 / 3) @ np.array([0.0, 0.0, -scene.near_plane(), 1.0])
+    assert clip[2] / clip[3] == pytest.approx(-1.0)  # the near plane is where depth starts

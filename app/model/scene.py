@@ -289,7 +289,7 @@ class Scene:
         if self.modes.projection is Projection.PERSPECTIVE:
             return perspective(PERSPECTIVE_FOVY_DEG, aspect, self.near_plane(), far)
         half_h = self.modes.parallel_half_height
-        return orthographic(half_h * aspect, half_h, -far, far)
+        return orthographic(half_h * aspect, half_h, self.near_plane(), far)  # SPEC 5: n, as in perspective
 
     def matching_parallel_half_height(self) -> float:
         """Half height that keeps the scene about where perspective showed it (SPEC 5): the selected
