@@ -41,4 +41,4 @@ def test_background(figure1: np.ndarray) -> None:
 ])
 def test_check_colour(figure1: np.ndarray, name: str, columns: slice) -> None:
     colour = dominant_colour(figure1[:, columns])
-    assert np.abs(np.subtract(colour, EXPECTED[name])).max() <= 1, (name, colour)
+    assert np.abs(np.subtract(colour, EXPECTED[name])).max() == 0, (name, colour)

@@ -108,18 +108,6 @@ def cycle_term_view(scene: Scene, host: Host) -> None:
     scene.modes.term_view = TERM_VIEWS[(position + 1) % len(TERM_VIEWS)]
 
 
-def term_view_name(scene: Scene) -> str:
-    """What the lit colour shows, with the light's own name for the "one light alone" views."""
-    view = scene.modes.term_view
-    index = view.light_index
-    if index is None:
-        return view.name
-    if index >= len(scene.lights):
-        return f"light {index} alone (no such light)"
-    light = scene.lights[index]
-    return f"{light.name} alone" + ("" if light.on else f" (off: {light.key} turns it on)")
-
-
 def toggle_probe(scene: Scene, host: Host) -> None:
     """`i`: the lighting probe of the selected face (Enter steps to the next face)."""
     if not scene.modes.probe and scene.object is None:

@@ -128,7 +128,7 @@ def build_commands() -> list[Command]:
         Command("F", "flat / Gouraud shading", commands.toggle_shading, lambda s: s.modes.shading.value),
         Command("T", "texture on / off", commands.toggle("texture"), lambda s: _on_off(s.modes.texture)),
         Command("v", "lit colour: all / ambient / diffuse / specular / each light / depth / normals",
-                commands.cycle_term_view, commands.term_view_name),
+                commands.cycle_term_view, Scene.term_view_name),
         Command("i", "lighting probe of the selected face", commands.toggle_probe,
                 lambda s: _on_off(s.modes.probe)),
         Command("m", "matrices panel", commands.toggle("matrices"), lambda s: _on_off(s.modes.matrices)),

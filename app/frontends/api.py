@@ -280,7 +280,7 @@ class Viewer:
         vertices = tuple(_probed_vertex(found, vertex) for vertex in found.vertices)
         return ProbeReport(object=found.obj.name, face=found.face, face_count=found.face_count,
                            material=found.obj.material_name_of_face(found.face), shading=found.shading.value,
-                           view=found.view.name,
+                           view=found.view_name,
                            back_face=found.back_face, culled=found.back_face and found.culling, vertices=vertices)
 
     # --- the context ---------------------------------------------------------------------------

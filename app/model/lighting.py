@@ -143,9 +143,9 @@ def lit_colour_bytes(point: Iterable[float], normal: Iterable[float], eye_or_vie
 
 def to_bytes(intensity: np.ndarray, texture_rgb: Iterable[int] | None = None) -> np.ndarray:
     """Clamped 0..255 intensity (times an 8-bit texture colour) as the uint8 pixel GL would store."""
-    colour = np.minimum(np.asarray(intensity, float), MAX_INTENSITY) / MAX_INTENSITY
+    # The shader's steps in its 32-bit floats, then round half to even, as llvmpipe stores a float
+    # (and Direct3D's rule): SPEC 4's 76.5 is the 76 of its check colour, not 77.
+    colour = np.minimum(np.asarray(intensity, np.float32), np.float32(MAX_INTENSITY)) / np.float32(MAX_INTENSITY)
     if texture_rgb is not None:
-        colour = colour * np.asarray(texture_rgb, float) / 255.0
-    # GL converts to unsigned normalized by round-to-nearest; floor(x + 0.5) avoids numpy's
-    # round-half-to-even, which GL does not do.
-    return np.floor(colour * 255.0 + 0.5).astype(np.uint8)
+        colour = colour * (np.asarray(texture_rgb, np.float32) / np.float32(255.0))
+    return np.rint(colour * np.float32(255.0)).astype(np.uint8)

@@ -59,7 +59,9 @@ class Probe:
     culling: bool
     textured: bool
     view: TermView
+    view_name: str  # Scene.term_view_name: "sun alone", not "light 0 alone"
     weights: TermWeights
+    shown_lights: frozenset[str]  # the lights the term view keeps: every one on, or one alone
     vertices: tuple[VertexProbe, ...]  # the first `most` that probe() was asked for, or all
     lit_count: int  # the vertices lit for this face: all its corners in Gouraud, the first in Flat
 
@@ -93,7 +95,8 @@ def probe(scene: Scene, most: int | None = None) -> Probe | None:
     vertices = tuple(lit.probe(obj, corner, None if gouraud else face_normal) for corner in corners[:most])
     return Probe(obj=obj, face=face, face_count=mesh.face_count, shading=scene.modes.shading,
                  facing=facing, culling=scene.modes.culling, textured=scene.modes.texture,
-                 view=scene.modes.term_view, weights=lit.weights, vertices=vertices, lit_count=len(corners))
+                 view=scene.modes.term_view, view_name=scene.term_view_name(), weights=lit.weights,
+                 shown_lights=frozenset(lit.shown_names), vertices=vertices, lit_count=len(corners))
 
 
 class _VertexLighting:

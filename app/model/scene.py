@@ -350,6 +350,17 @@ class Scene:
         """The scene's lights in the world, as the renderer and the probe use them."""
         return [self.placed_light(light) for light in self.lights if light.on or not only_on]
 
+    def term_view_name(self) -> str:
+        """What the lit colour shows (v), with the light's own name for the "one light alone" views."""
+        view = self.modes.term_view
+        index = view.light_index
+        if index is None:
+            return view.name
+        if index >= len(self.lights):
+            return f"light {index} alone (no such light)"
+        light = self.lights[index]
+        return f"{light.name} alone" + ("" if light.on else f" (off: {light.key} turns it on)")
+
     def lights_in_view(self) -> list[WorldLight]:
         """The lights that are on and that the term view shows: one of them for "light k alone"."""
         index = self.modes.term_view.light_index

@@ -71,7 +71,7 @@ def _probe_header(found: Probe) -> list[str]:
     face = "a back face, drawn red" if found.back_face else "a front face"
     if found.back_face and found.culling:
         face = "a back face, culled (b)"
-    notes = "" if found.view == TermView.EVERYTHING else f"; showing {found.view.name} (v)"
+    notes = "" if found.view == TermView.EVERYTHING else f"; showing {found.view_name} (v)"
     if found.view.shows is not Show.LIT:
         notes += ", not the colour below"
     notes += "; texture on: pixel = colour x texel (T)" if found.textured else ""
@@ -97,28 +97,38 @@ def _vertex_lines(found: Probe, number: int, vertex: VertexProbe) -> list[str]:
         f"{head:<{INDENT}}world  P {_triple(vertex.world_position, 1)}  N {_triple(vertex.world_normal, 2)}"
         f" ({normal})  N.V {_signed(vertex.n_dot_v, 2)}",
         f"{pad}camera P {_triple(vertex.camera_position, 1)}  N {_triple(vertex.camera_normal, 2)}",
-        pad + _row("ambient Ka*Ia", "", "", "", "", "", _channels(vertex.terms.ambient)),
+        pad + _row("ambient Ka*Ia", "", "", "", "", "", _kept(found.weights.ambient * vertex.terms.ambient,
+                                                             bool(found.weights.ambient))),
     ]
     for light, term in zip(vertex.lights, vertex.terms.lights):
-        lines.append(pad + _light_row(light, term, vertex))
+        lines.append(pad + _light_row(found, light, term, vertex))
     lines.append(pad + _result(found, vertex))
     return lines
 
 
-def _light_row(light: WorldLight, term: LightTerm, vertex: VertexProbe) -> str:
+def _light_row(found: Probe, light: WorldLight, term: LightTerm, vertex: VertexProbe) -> str:
+    """A light's row: what it adds in the term view shown, so that the rows add up to its sum."""
     cone = ""
     if light.kind.has_cone:
         angle = cone_angle_deg(light, vertex.world_position)
         cone = f"{angle:.1f}{'<' if term.reaches else '>='}{light.aperture_deg:g}"
+    weights = found.weights
+    kept = light.name in found.shown_lights and bool(weights.diffuse or weights.specular)
+    adds = _kept(weights.diffuse * term.diffuse + weights.specular * term.specular, kept)
     if not term.reaches:
-        return _row(light.name, "outside the cone", "", "", "", cone, _channels(term.contribution))
+        return _row(light.name, "outside the cone", "", "", "", cone, adds)
     return _row(light.name, _triple(term.to_light, 2), _triple(term.halfway, 2), f"{term.n_dot_l:.3f}",
-                f"{term.highlight:.4f}", cone, _channels(term.contribution))
+                f"{term.highlight:.4f}", cone, adds)
+
+
+def _kept(adds: np.ndarray, kept: bool) -> str:
+    """A row's share of the sum, or that the term view leaves it out."""
+    return _channels(adds) if kept else "(not in this view)"
 
 
 def _result(found: Probe, vertex: VertexProbe) -> str:
     lit_view = found.view == TermView.EVERYTHING or found.view.shows is not Show.LIT
-    view = "sum" if lit_view else f"sum of {found.view.name}"
+    view = "sum" if lit_view else f"sum of {found.view_name}"
     displayed = found.displayed(vertex)
     final = f"colour {_bytes(vertex.lit_bytes)}"
     if displayed is None:

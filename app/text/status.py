@@ -5,7 +5,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from marraztu.control.commands import term_view_name
 from marraztu.control.keymap import Command
 from marraztu.control.viewer import Viewer
 from marraztu.errors import escaped
@@ -47,7 +46,7 @@ def display_summary(scene: Scene) -> list[str]:
     shading = "flat/gouraud/phong side by side" if modes.side_by_side else modes.shading.value
     return [
         shading,
-        f"{'lit' if modes.term_view.shows is Show.LIT else 'shows'}: {term_view_name(scene)}",
+        f"{'lit' if modes.term_view.shows is Show.LIT else 'shows'}: {scene.term_view_name()}",
         projection,
         "culling on" if modes.culling else "culling off",
         modes.fill.value,
