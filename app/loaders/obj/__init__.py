@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.obj.lines import read_by_lines
+from marraztu.loaders.obj.lines import LONGEST_BATCHED_LINE, read_by_lines
 from marraztu.loaders.obj.mtl import read_libraries
 from marraztu.loaders.obj.raw import MaterialRuns, RawObj, name_before_comment
 from marraztu.loaders.obj.text import as_bytes, checked, ended, has_continuations, read_text
@@ -149,12 +149,25 @@ def _face_materials(runs: MaterialRuns, library: list[MeshMaterial], faces: int
 # the load's end and to the process's), and holds the GIL no longer than the compiled reader's import.
 # Once loaded, the compiled reader is the quicker one whatever the size.
 COMPILED_READER_BYTES = 8 << 20
+# Except a file with this many bytes in lines the line reader reads a word at a time (faces longer
+# than its batches take, CAD's n-gons): there it reads a few hundred kilobytes a second.
+COMPILED_READER_LONG_LINE_BYTES = 512 << 10
+
+
+def _prefers_compiled_reader(text: bytes | np.ndarray) -> bool:
+    if len(text) >= COMPILED_READER_BYTES or _compiled_reader_loaded():
+        return True
+    if len(text) < COMPILED_READER_LONG_LINE_BYTES:
+        return False
+    ends = np.flatnonzero(np.frombuffer(text, np.uint8) == ord("\n"))
+    lengths = np.diff(ends, prepend=-1)
+    return int(lengths[lengths > LONGEST_BATCHED_LINE].sum()) >= COMPILED_READER_LONG_LINE_BYTES
 
 
 def _tables(text: bytes | np.ndarray, source: str) -> RawObj:
     """The raw tables of an ended text (marraztu.loaders.obj.text). One function, so that where the
     text is copied or edited the original, which only this frame holds, goes before the reading."""
-    if len(text) < COMPILED_READER_BYTES and not _compiled_reader_loaded():
+    if not _prefers_compiled_reader(text):
         return _read_by_lines(text, source)
     try:
         from marraztu.loaders.obj import fast  # numba, imported for the files that repay it

@@ -98,7 +98,7 @@ def _face_form(corner: bytes, fields: tuple[int, ...]) -> _FaceForm:
                            for corners in (3, 4)))
 
 
-_PLAIN_FACE_BYTES = 256
+LONGEST_BATCHED_LINE = 256
 _FACE_FORMS = [_face_form(corner, fields) for corner, fields in (
     (_PLAIN_INDEX, (0,)), (rb"%s/%s" % (_PLAIN_INDEX, _PLAIN_INDEX), (0, 1)),
     (rb"%s//%s" % (_PLAIN_INDEX, _PLAIN_INDEX), (0, 2)),
@@ -372,7 +372,7 @@ class _PlainLines:
         """Whether the line is plain, and kept; if so, the reader counts it as LineReader.statement would."""
         reader = self.reader
         if keyword == b"f":
-            if len(rest) > _PLAIN_FACE_BYTES or not self.keep_face(rest):
+            if len(rest) > LONGEST_BATCHED_LINE or not self.keep_face(rest):
                 return False
             reader.end_face(number, len(rest.split()))
         else:
