@@ -539,6 +539,34 @@ def test_normalized_integer_positions_are_refused_not_read_raw(tmp_path: Path) -
     assert np.array_equal(load_model(path).positions, TRIANGLE)
 
 
+@pytest.mark.parametrize("extension", ["KHR_texture_basisu", "KHR_some_unknown", "EXT_texture_webp", 7])
+def test_a_required_gltf_extension_not_read_here_is_refused(tmp_path: Path, extension: object) -> None:
+    """glTF: a reader must refuse a file that requires what it cannot honour; such files loaded
+    without a word. Materials' extensions and those only used, not required, are read as before."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["extensionsUsed"] = document["extensionsRequired"] = [extension]
+    path = tmp_path / "needs.glb"
+    path.write_bytes(glb(document, binary))
+    assert str(one_line_refusal(lambda: load_model(path))) == (
+        f"{path}: it requires the glTF extension {extension}, which is not read here")
+    for used, required in ([extension], []), (["KHR_materials_emissive_strength"],) * 2:
+        document["extensionsUsed"], document["extensionsRequired"] = used, required
+        path.write_bytes(glb(document, binary))
+        assert np.array_equal(load_model(path).positions, TRIANGLE)
+
+
+def test_normalized_integer_texture_coordinates_are_refused_not_read_raw(tmp_path: Path) -> None:
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    uvs = document["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"]
+    document["accessors"][uvs].update(componentType=5123, normalized=True)
+    document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_mesh_quantization"]
+    path = tmp_path / "quantized.glb"
+    path.write_bytes(glb(document, binary))
+    assert str(one_line_refusal(lambda: load_model(path))) == (
+        f"{path}: its texture coordinates are stored as normalized integers (KHR_mesh_quantization), which are "
+        "not read here: export them as floats")
+
+
 def test_a_plys_own_two_by_two_picture_of_one_colour_is_drawn(tmp_path: Path) -> None:
     """trimesh's stand-in for no picture is 2x2 pixels of one colour, made in code: a file's own picture
     of that size was taken for it and dropped without a note."""

@@ -36,7 +36,7 @@ from urllib.parse import unquote
 import numpy as np
 from PIL import Image
 
-from marraztu.errors import LoadError
+from marraztu.errors import LoadError, escaped
 from marraztu.loaders.files import (
     COLLECT_AFTER_BYTES,
     MAX_FILE_BYTES,
@@ -354,9 +354,20 @@ def _check_geometry_readable(path: Path, document: dict[str, Any] | None) -> Non
         if name in _UNREAD_COMPRESSION and not (name == "KHR_draco_mesh_compression" and _draco_decoder()):
             raise LoadError(path, f"its geometry is {_UNREAD_COMPRESSION[name]} ({name}), which is not read here: "
                                   "export it uncompressed")
-    if _normalized_positions(document):
-        raise LoadError(path, "its positions are stored as normalized integers (KHR_mesh_quantization), which "
+        if not _required_extension_read(name):  # glTF: a reader must refuse what it cannot honour
+            raise LoadError(path, f"it requires the glTF extension {escaped(str(name))[:80]}, which is not read here")
+    normalized = _normalized_attribute(document)
+    if normalized is not None:
+        raise LoadError(path, f"its {normalized} are stored as normalized integers (KHR_mesh_quantization), which "
                               "are not read here: export them as floats")
+
+
+def _required_extension_read(name: object) -> bool:
+    """Extensions a file may require and still be drawn as it means: Draco with its decoder, quantized
+    attributes (normalized positions are refused above), and materials' extensions, which change only
+    what the viewer's Phong lighting does not draw (it takes the base colour)."""
+    return (name in ("KHR_draco_mesh_compression", "KHR_mesh_quantization")
+            or isinstance(name, str) and name.startswith("KHR_materials_"))
 
 
 def _draco_decoder() -> bool:
@@ -364,18 +375,22 @@ def _draco_decoder() -> bool:
     return importlib.util.find_spec("DracoPy") is not None
 
 
-def _normalized_positions(document: dict[str, Any]) -> bool:
+def _normalized_attribute(document: dict[str, Any]) -> str | None:
+    """What trimesh would read wrong, as raw integers: "positions" or "texture coordinates" stored as
+    normalized ones (normals keep their direction, and are made unit length anyway); None if neither."""
     accessors, meshes = document.get("accessors"), document.get("meshes")
     if not isinstance(accessors, list) or not isinstance(meshes, list):
-        return False
+        return None
     for mesh in meshes:
         for primitive in mesh.get("primitives", []) if isinstance(mesh, dict) else ():
             attributes = primitive.get("attributes") if isinstance(primitive, dict) else None
-            index = attributes.get("POSITION") if isinstance(attributes, dict) else None
-            if (isinstance(index, int) and 0 <= index < len(accessors) and isinstance(accessors[index], dict)
-                    and accessors[index].get("normalized") is True):
-                return True
-    return False
+            for name, index in attributes.items() if isinstance(attributes, dict) else ():
+                kind = "positions" if name == "POSITION" else "texture coordinates" if str(name).startswith(
+                    "TEXCOORD_") else None
+                if (kind and isinstance(index, int) and 0 <= index < len(accessors)
+                        and isinstance(accessors[index], dict) and accessors[index].get("normalized") is True):
+                    return kind
+    return None
 
 
 def _roots(document: dict[str, Any]) -> list[Any]:
