@@ -10,6 +10,7 @@ import json
 import random
 import struct
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -553,6 +554,27 @@ def test_a_required_gltf_extension_not_read_here_is_refused(tmp_path: Path, exte
         document["extensionsUsed"], document["extensionsRequired"] = used, required
         path.write_bytes(glb(document, binary))
         assert np.array_equal(load_model(path).positions, TRIANGLE)
+
+
+@pytest.mark.parametrize("edit, words", [
+    (lambda d: d[:10], "not a GLB file: it does not begin with glTF's 12-byte header and a chunk"),
+    (lambda d: b"glTX" + d[4:], "not a GLB file: it does not begin with glTF's 12-byte header and a chunk"),
+    (lambda d: d[:4] + struct.pack("<I", 1) + d[8:], "a GLB of glTF version 1: only version 2 is read"),
+    (lambda d: d[:-8], "cut short: its header gives {size} bytes, the file holds {cut}"),
+    (lambda d: d[:12] + struct.pack("<I", 2**31) + d[16:], "not a GLB file: its JSON chunk of 2147483648 bytes "
+                                                          "runs past the file's {size}"),
+    (lambda d: d[:16] + b"BIN\0" + d[20:], "not a GLB file: its first chunk is not its JSON"),
+    (lambda d: d[:20] + b"\xff" + d[21:], "not a glTF file: its JSON is not UTF-8 text"),
+])
+def test_a_glbs_frame_is_checked_before_trimesh_reads_it(tmp_path: Path, edit: Callable[[bytes], bytes],
+                                                         words: str) -> None:
+    """A JSON chunk's length of 2**31 ended in "ModuleNotFoundError: No module named 'charset_normalizer'",
+    a file cut short in trimesh's "chunk was not expected length!"."""
+    whole = glb(*triangle_gltf([{"mesh": 0}], [0]))
+    path = tmp_path / "lying.glb"
+    path.write_bytes(edit(whole))
+    refused = one_line_refusal(lambda: load_model(path))
+    assert refused.message == words.format(size=len(whole), cut=len(whole) - 8)
 
 
 def test_normalized_integer_texture_coordinates_are_refused_not_read_raw(tmp_path: Path) -> None:

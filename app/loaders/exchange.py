@@ -147,7 +147,7 @@ def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
 def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     """glTF (JSON beside its buffers) or GLB: every mesh with its node's transform, as one model."""
     data, file_type = read_model_bytes(path, stage), path.suffix.lower().lstrip(".")
-    document = _gltf_document(path, data) if file_type == "gltf" else _glb_document(data)
+    document = _gltf_document(path, data) if file_type == "gltf" else _glb_document(path, data)
     pictures = _gltf_pictures(document) if file_type == "gltf" else frozenset()  # a GLB holds its own
     _check_one_parent_each(path, document)
     _check_geometry_readable(path, document)
@@ -255,8 +255,8 @@ def _looks_absolute(name: str) -> bool:
 
 
 def _gltf_document(path: Path, data: bytes) -> dict[str, Any]:
-    """A .gltf's JSON, checked: trimesh, given text that is not JSON, looks for a file named model.gltf
-    and says that is missing."""
+    """A .gltf's JSON (or a GLB's chunk of it), checked: trimesh, given text that is not JSON, looks
+    for a file named model.gltf and says that is missing."""
     try:
         document = json.loads(data)  # from bytes: UTF-8, -16 or -32, as the glTF's JSON may be
     except json.JSONDecodeError as error:
@@ -277,16 +277,24 @@ def _gltf_pictures(document: dict[str, Any]) -> frozenset[str]:
     return frozenset(_uris(document.get("images"))) - frozenset(_uris(document.get("buffers")))
 
 
-def _glb_document(data: bytes) -> dict[str, Any] | None:
-    """A GLB's JSON chunk, read to count what it places; None where it cannot be read, which trimesh,
-    reading it after, says in its words."""
-    if data[:4] != b"glTF" or data[16:20] != b"JSON":
-        return None
-    try:
-        document = json.loads(data[20:20 + int.from_bytes(data[12:16], "little")])
-    except (ValueError, RecursionError):  # not JSON, not UTF-8, a number too long to read
-        return None
-    return document if isinstance(document, dict) else None
+def _glb_document(path: Path, data: bytes) -> dict[str, Any]:
+    """A GLB's JSON chunk, its frame checked: trimesh, given lying lengths, fails in words of its own
+    internals (a missing text-encoding module, a chunk "not expected length")."""
+    def word(at: int) -> int:
+        return int.from_bytes(data[at:at + 4], "little")
+
+    if len(data) < 20 or data[:4] != b"glTF":
+        raise LoadError(path, "not a GLB file: it does not begin with glTF's 12-byte header and a chunk")
+    if word(4) != 2:
+        raise LoadError(path, f"a GLB of glTF version {word(4)}: only version 2 is read")
+    if word(8) > len(data):
+        raise LoadError(path, f"cut short: its header gives {word(8)} bytes, the file holds {len(data)}")
+    if data[16:20] != b"JSON":
+        raise LoadError(path, "not a GLB file: its first chunk is not its JSON")
+    if 20 + word(12) > word(8):
+        raise LoadError(path, f"not a GLB file: its JSON chunk of {word(12)} bytes runs past the file's "
+                              f"{word(8)}")
+    return _gltf_document(path, data[20:20 + word(12)])
 
 
 class _Unshaped(Exception):
