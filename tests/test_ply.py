@@ -63,6 +63,22 @@ def test_blank_lines_and_rows_split_over_lines_read_as_the_numbers_they_hold(tmp
     np.testing.assert_array_equal(loose.corner_vertex, plain.corner_vertex)
 
 
+def test_rows_of_a_line_each_that_shift_are_refused_though_the_counts_balance(tmp_path: Path) -> None:
+    """A row of a number too many and a later one of a number too few moved every vertex between
+    them, without a word: the count of numbers came out right."""
+    vertices = list(GRID)
+    vertices[2] += " 7"
+    vertices[5] = vertices[5].rsplit(" ", 1)[0]
+    assert str(refusal(tmp_path, ply_text(["3 0 1 4", "3 0 4 3"], vertices))).endswith(
+        "m.ply:12: vertex row 4 does not begin its line, as the rows before it do: the row before it holds a "
+        "number too many or too few")
+    said = str(refusal(tmp_path, ply_text(["3 0 1 4 3 1", "3 1 4 2"])))  # face 2 read as (1, 3, 1)
+    assert said.endswith("m.ply:20: 2 numbers after the rows the header counts (the row on line 19 holds a number "
+                         "too many or too few: the rows after it no longer begin lines)"), said
+    packed = ply_text(["3 0 1 4 3 0 4 3"]).replace("element face 1", "element face 2")
+    assert load(tmp_path, packed).face_count == 2  # rows never one a line: PLY's body is numbers in order
+
+
 def test_polygons_are_kept_as_the_file_gives_them(tmp_path: Path) -> None:
     """trimesh makes triangles of every face: they are fanned here first, in the file's order, and made
     polygons again of trimesh's triangles, as an OBJ or OFF file's polygons are kept."""

@@ -30,7 +30,7 @@ import numpy as np
 from marraztu.errors import LoadError
 from marraztu.loaders.files import line_at, line_end_from, text_lines
 from marraztu.loaders.words import DECIMAL_SYNTAX, is_count, pieces_at_gaps, text_numbers, words_and_line_ends
-from marraztu.model.mesh import fan_gather
+from marraztu.model.mesh import counted, fan_gather
 
 # The property types PLY names, as trimesh reads them (its float16 and 64-bit integers too).
 PLY_TYPES = {"char": "i1", "uchar": "u1", "short": "i2", "ushort": "u2", "int": "i4", "uint": "u4",
@@ -170,6 +170,7 @@ def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
             tables.append(_without_lists(element, columns))
         elif columns:
             tables.append((element, [column.values for column in columns]))
+    _check_rows_fill_the_body(body, header, at)
     return ForTrimesh(_written(header.text("binary_little_endian", tuple(element for element, _ in tables)), tables),
                       _face_sizes(header, sizes))
 
@@ -212,6 +213,9 @@ def _first_bad_word(path: Path, data: bytes, body_at: int) -> LoadError:
     return LoadError(path, "its body could not be read as numbers")
 
 
+_LINE_PIECE_BYTES = 1 << 16
+
+
 class _Body:
     """The body's numbers, the file, to name the line of one of them, and where the rows read so far
     start, to say where they stop beginning lines."""
@@ -234,6 +238,16 @@ class _Body:
     def ended(self, element: PlyElement) -> LoadError:
         return LoadError(self.path, f"the header counts {element.count} rows of {element.name}, the file ends "
                                     "before them", line=line_at(self.data, max(len(self.data.rstrip()) - 1, 0)))
+
+    def numbers_beginning_lines(self) -> np.ndarray:
+        """Per number of the body, whether it is the first word of its line."""
+        flags, after_line_end = [np.empty(0, bool)], True  # the body starts on a line of its own
+        for start, stop in pieces_at_gaps(self.data, self.body_at, _LINE_PIECE_BYTES):  # a line end's 8 bytes a piece
+            words, ends_before, ends = words_and_line_ends(
+                np.frombuffer(self.data, np.uint8, count=stop - start, offset=start))
+            flags.append(np.diff(np.concatenate(([-1 if after_line_end else 0], ends_before))) > 0)
+            after_line_end = bool(ends > ends_before[-1]) if len(words) else (after_line_end or bool(ends))
+        return np.concatenate(flags)
 
     def _lines(self, index: int) -> tuple[int, int | None]:
         """The line of the number at `index`, and that of the row before the first row before it that
@@ -264,6 +278,30 @@ class _Body:
             passed += len(words)
             after_line_end = bool(ends > ends_before[-1]) if len(words) else (after_line_end or bool(ends))
         return line_at(self.data, len(self.data)), culprit
+
+
+def _check_rows_fill_the_body(body: _Body, header: PlyHeader, at: int) -> None:
+    """Rows the header's counts place wrong, which the counts alone cannot show: a number left over
+    after the last row, or, in an element whose first rows began lines, a row that does not (a row
+    of one number too many and a later one of one too few shift the rows between, and balance)."""
+    if at < len(body.numbers):
+        raise body.error(f"{counted(len(body.numbers) - at, 'number')} after the rows the header counts", at)
+    begins: np.ndarray | None = None
+    for element, rows in zip([element for element in header.elements if element.count and element.properties],
+                             body.row_starts):
+        starts = rows(0, len(body.numbers))
+        if starts.size < 3:
+            continue
+        begins = body.numbers_beginning_lines() if begins is None else begins
+        # Rows of a line each: the first two begin lines, and no other of their numbers does (a file
+        # may spread its numbers over lines as it likes, or pack its rows into a few)
+        one_a_line = (begins.size == len(body.numbers) and begins[starts[0]] and begins[starts[1]]
+                      and not begins[starts[0] + 1:starts[1]].any() and not begins[starts[1] + 1:starts[2]].any())
+        if one_a_line and not begins[starts].all():
+            row = int(np.argmin(begins[starts]))
+            raise body.error(f"{element.name} row {row + 1} does not begin its line, as the rows before it do: "
+                             "the row before it holds a number too many or too few",
+                             int(starts[row]))
 
 
 class _WalkedStarts:
