@@ -21,6 +21,7 @@ from marraztu.errors import LoadError
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders import exchange, stl
 from marraztu.loaders.registry import MODEL_READERS, load_model
+from support.refusals import one_line_refusal
 from support.scenes import BACKGROUND
 
 SIZE = (120, 120)
@@ -658,3 +659,25 @@ def test_a_plys_diffuse_colours_are_its_vertex_colours(tmp_path: Path, encoding:
     path = tmp_path / "diffuse.ply"
     path.write_bytes(header + body)
     assert load_model(path).vertex_colours.tolist() == [list(colour) for _, colour in rows]
+
+
+@pytest.mark.parametrize("prefix", ["", "diffuse_"])
+@pytest.mark.parametrize(("first", "colour", "notes"), [
+    ("0.25", [64, 128, 128], ()), ("1e30", [255, 128, 128], ("1 vertex colour outside 0..1 held to it",)),
+    ("-5", [0, 128, 128], ("1 vertex colour outside 0..1 held to it",)), ("nan", None, ()), ("-inf", None, ()),
+])
+def test_a_plys_float_colours_are_checked(tmp_path: Path, prefix: str, first: str, colour: list | None,
+                                          notes: tuple) -> None:
+    """trimesh made NaN 0 and 1e30 255 without a word: a NaN is refused as in every model, and a
+    value outside 0..1 held to it with a note, as an OBJ's is."""
+    names = "".join(f"property float {prefix}{channel}\n" for channel in ("red", "green", "blue"))
+    path = tmp_path / "floats.ply"
+    path.write_text("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                    f"{names}element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                    f"0 0 0 {first} 0.5 0.5\n1 0 0 0.5 0.5 0.5\n0 1 0 0.5 0.5 0.5\n3 0 1 2\n")
+    if colour is None:
+        refused = one_line_refusal(lambda: load_model(path))
+        assert str(refused) == f"{path}: its vertex colours hold a NaN or an infinity"
+        return
+    loaded = load_model(path)
+    assert loaded.vertex_colours[0].tolist() == colour and loaded.warnings == notes

@@ -63,7 +63,7 @@ from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES
 from marraztu.loaders.words import unheld_coordinate
 from marraztu.model.build import build_mesh, by_largest, colour_bytes, whole_numbers
 from marraztu.model.geometry import holds_in_float32
-from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, polygon_corners_of_fans
+from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, counted, polygon_corners_of_fans
 
 Stage = Callable[[str], None]
 # A glTF node places a mesh, so a small file can place one mesh a million times. No scene may place
@@ -504,6 +504,7 @@ class _Geometry:
     faces: np.ndarray
     uvs: np.ndarray | None  # per vertex, NaN rows to derive
     colours: np.ndarray | None  # per vertex, RGB bytes
+    notes: tuple[str, ...] = ()  # what its tables say of themselves (PLY's float colours held to 0..1)
 
 
 # A mesh and the transform of a node that places it (None: where it is).
@@ -536,6 +537,7 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own
     uvs = _joined([geometry.uvs for geometry, _ in parts], sizes, np.nan)  # NaN: derived
     colours = _joined([geometry.colours for geometry, _ in parts], sizes, 255)  # white: untinted
     materials, part_material, notes = _part_materials(name, parts, picture_formats)
+    notes += dict.fromkeys(note for geometry, _ in parts for note in geometry.notes)
     if any(getattr(getattr(geometry.mesh, "visual", None), "kind", None) == "face" for geometry, _ in parts):
         notes.append("colours given per face are not drawn (vertex colours are)")
     # One mesh's base colour is the model's; of several, each keeps its own, and one without takes the
@@ -667,7 +669,7 @@ def _geometry(source: str | Path, mesh: Any) -> _Geometry:
     if faces.size and (faces.min() < 0 or faces.max() >= len(positions)):  # checked before meshes are joined
         bad = int(faces.min()) if faces.min() < 0 else int(faces.max())
         raise LoadError(source, f"a face refers to vertex {bad}, but its mesh has {len(positions)}")
-    return _Geometry(mesh, positions, faces, _vertex_uvs(mesh), _vertex_colours(mesh))
+    return _Geometry(mesh, positions, faces, _vertex_uvs(mesh), _vertex_colours(mesh), _ply_colour_notes(source, mesh))
 
 
 def _rows_of_three(source: str | Path, values: Any, what: str) -> np.ndarray:
@@ -881,6 +883,24 @@ def _material_of(mesh: Any) -> dict[str, object] | None:
     return {"kd": tuple(float(c) for c in rgb)} if np.isfinite(rgb).all() else None
 
 
+_PLY_COLOURS = (("red", "green", "blue"), ("diffuse_red", "diffuse_green", "diffuse_blue"))
+
+
+def _ply_colour_notes(source: str | Path, mesh: Any) -> tuple[str, ...]:
+    """A PLY's float colours, which trimesh makes bytes without a word (NaN as 0, 1e30 as 255): a NaN
+    or an infinity is refused, as in every model; values outside 0..1 are held to it, with a note, as
+    an OBJ's are."""
+    table = _ply_vertex_table(mesh)
+    names = next((names for names in _PLY_COLOURS if table.keys() >= set(names)), None)
+    if names is None or any(table[name].dtype.kind != "f" for name in names):
+        return ()
+    colours = np.column_stack([table[name] for name in names])
+    if not np.isfinite(colours).all():
+        raise LoadError(source, "its vertex colours hold a NaN or an infinity")
+    outside = int(((colours < 0.0) | (colours > 1.0)).any(axis=1).sum())
+    return (f"{counted(outside, 'vertex colour')} outside 0..1 held to it",) if outside else ()
+
+
 def _vertex_colours(mesh: Any) -> np.ndarray | None:
     """The file's colour per vertex (PLY's red/green/blue, glTF's COLOR_0) as RGB bytes, if any."""
     visual = getattr(mesh, "visual", None)
@@ -889,6 +909,8 @@ def _vertex_colours(mesh: Any) -> np.ndarray | None:
         colours = np.asarray(visual.vertex_colors)
     elif (table := _ply_vertex_table(mesh)).keys() >= set(diffuse):
         colours = np.column_stack([table[name] for name in diffuse])
+        if colours.dtype.kind == "f":  # held to 0..1, as _ply_colour_notes says
+            colours = np.clip(colours, 0.0, 1.0)
     else:  # glTF's COLOR_0 beside a material: trimesh keeps it as the file gives it, a vertex attribute
         attributes = getattr(visual, "vertex_attributes", None)
         if attributes is None or "color" not in attributes:
