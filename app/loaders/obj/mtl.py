@@ -190,6 +190,7 @@ class _TextureCache:
 
     def __init__(self, finder: _Finder) -> None:
         self.read_already: dict[Path, tuple[np.ndarray | None, str | None]] = {}
+        self.found: dict[tuple[str, Path], Path] = {}  # a name's file, looked for once: thousands of materials may name one
         self.failures: list[tuple[str, str]] = []  # (name, why)
         self.finder = finder
 
@@ -197,10 +198,12 @@ class _TextureCache:
         """The picture a map_Kd line of an MTL in `folder` names."""
         if name is None:
             return None, None
-        path = self.finder.find(name, folder) or folder / spellings(name)[0]  # not there: reading it says so
-        key = same_file_key(path)  # t.png and ./t.png are one file, read once
-        if key not in self.read_already:
-            self.read_already[key] = self._read(path, name)
+        key = self.found.get((name, folder))
+        if key is None:
+            path = self.finder.find(name, folder) or folder / spellings(name)[0]  # not there: reading it says so
+            key = self.found[name, folder] = same_file_key(path)  # t.png and ./t.png are one file, read once
+            if key not in self.read_already:
+                self.read_already[key] = self._read(path, name)
         return self.read_already[key]
 
     def _read(self, path: Path, name: str) -> tuple[np.ndarray | None, str | None]:
