@@ -136,9 +136,13 @@ def test_leading_zeros_make_no_index_too_long(tmp_path: Path) -> None:
     assert mesh.corner_vertex[:3].tolist() == [0, 1, 2]
 
 
-def test_a_colour_past_255_is_refused(tmp_path: Path) -> None:
+def test_a_colour_past_255_is_refused_at_its_line(tmp_path: Path) -> None:
     rows = [f"{row} 300 0 0" for row in SQUARE]
     assert "nor the file's colours within 0..255" in refusal(tmp_path, off_text(rows, header="COFF\n4 2 0\n")).message
+    rows = [f"{row} {255 if at != 2 else -1} 0 0" for at, row in enumerate(SQUARE)]
+    refused = refusal(tmp_path, off_text(rows, header="COFF\n# a note\n4 2 0\n"))
+    assert (refused.line, refused.message) == (6, "a vertex colour is not within 0..1, nor the file's colours within "
+                                                  "0..255")
 
 
 def test_the_first_bad_index_is_named_among_many(tmp_path: Path) -> None:

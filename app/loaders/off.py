@@ -59,7 +59,7 @@ def load_off(path: Path, stage: Callable[[str], None] | None = None) -> Mesh:
 
 
 def _colour_bytes(path: Path, colours: np.ndarray) -> np.ndarray:
-    """COFF writes colours as 0..255 or as 0..1: the file's values say which (build.by_largest)."""
+    """COFF's colours as bytes, checked by read_off."""
     try:
         return colour_bytes(by_largest(colours), len(colours))
     except ValueError:
@@ -106,11 +106,28 @@ def read_off(path: Path, data: bytes) -> OffTables:
         at_once = _body_at_once(_without_comments(data, body_at), 0, layout, vertices, faces)
     else:
         at_once = _body_at_once(data, body_at, layout, vertices, faces)
-    if at_once is not None:
-        return at_once
-    positions, colours = _vertex_rows(path, rows, vertices, layout)
-    corner_vertex, face_start = _face_rows(path, rows, faces, vertices)
-    return OffTables(positions, corner_vertex, face_start, colours)
+    if at_once is None:
+        positions, colours = _vertex_rows(path, rows, vertices, layout)
+        corner_vertex, face_start = _face_rows(path, rows, faces, vertices)
+        at_once = OffTables(positions, corner_vertex, face_start, colours)
+    if at_once.colours is not None:
+        _check_colours(path, data, at_once.colours)
+    return at_once
+
+
+def _check_colours(path: Path, data: bytes, colours: np.ndarray) -> None:
+    """COFF writes colours as 0..255 or as 0..1, the file's values say which (build.by_largest): a
+    colour within neither is refused at its line."""
+    scaled = by_largest(colours[:, :3])
+    with np.errstate(invalid="ignore"):
+        outside = ~((scaled >= 0.0) & (scaled <= 1.0)).all(axis=1)
+    if not outside.any():
+        return
+    rows = _Rows(data)
+    _header(path, rows)
+    for _ in range(int(np.argmax(outside)) + 1):  # that vertex's row: an error's cost, once
+        rows.next(0)
+    raise LoadError(path, "a vertex colour is not within 0..1, nor the file's colours within 0..255", line=rows.line)
 
 
 def _without_comments(data: bytes, start: int) -> bytes:
