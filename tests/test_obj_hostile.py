@@ -357,7 +357,8 @@ def test_many_malformed_material_lines_are_one_note(tmp_path: Path) -> None:
     path.write_bytes(b"mtllib bad.mtl\n" + QUAD)
     mesh = load_obj(path)
     assert mesh.file_material == {"ns": 5.0}
-    assert mesh.warnings == ("material library 'bad.mtl': ignored 1001 malformed lines (the first a Kd line)",)
+    assert mesh.warnings == ("material library 'bad.mtl': ignored 1001 malformed lines (the first a Kd line, on "
+                             "line 2)",)
 
 
 def test_a_material_line_of_a_million_numbers_is_never_a_list_of_them(tmp_path: Path) -> None:
@@ -368,5 +369,5 @@ def test_a_material_line_of_a_million_numbers_is_never_a_list_of_them(tmp_path: 
     path.write_bytes(b"mtllib long.mtl\n" + QUAD)
     mesh, peak = peak_traced_bytes(lambda: load_obj(path))
     assert mesh.file_material == {"ks": (0.5, 0.5, 0.5)}
-    assert mesh.warnings == ("material library 'long.mtl': ignored a malformed Kd line",)
+    assert mesh.warnings == ("material library 'long.mtl': ignored a malformed Kd line, on line 2",)
     assert peak < 8 * (tmp_path / "long.mtl").stat().st_size, peak  # the text's bytes, piece, line and rest

@@ -102,9 +102,10 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
                    textures: _TextureCache, keep_first: bool = True) -> list[MeshMaterial]:
     kept: dict[str, _Block] = {}  # the materials the model can use, by name, in file order
     block: _Block | None = None  # the material being read; dropped at the next newmtl unless kept
-    malformed, first_malformed = 0, ""  # one note however many lines are ignored
+    malformed, first_malformed = 0, ""  # one note however many lines are ignored, naming the first
     ignored: set[str] = set()
-    for line in text_lines(text, bom_length(text)):  # a byte order mark would make the first newmtl no keyword
+    for number, line in enumerate(text_lines(text, bom_length(text)), start=1):  # a byte order mark would make the
+        # first newmtl no keyword
         tokens = text_without_comment(line).split(None, _MOST_WORDS)
         if not tokens:
             continue
@@ -117,7 +118,7 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
         elif block is None:
             continue
         elif key in ("ka", "kd", "ks", "ns") and not _material_value(block.values, key, tokens[1:]):
-            malformed, first_malformed = malformed + 1, first_malformed or key.capitalize()
+            malformed, first_malformed = malformed + 1, first_malformed or f"{key.capitalize()} line, on line {number}"
         elif key == "map_kd":
             block.texture, options = _texture_file(tokens[1:])
             ignored.update(options)
@@ -126,10 +127,10 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
     if block is None:
         notes.append(f"material library '{name}' defines no material; using the scene's material")
     if malformed == 1:
-        notes.append(f"material library '{name}': ignored a malformed {first_malformed} line")
+        notes.append(f"material library '{name}': ignored a malformed {first_malformed}")
     elif malformed:
         notes.append(f"material library '{name}': ignored {malformed} malformed lines (the first a "
-                     f"{first_malformed} line)")
+                     f"{first_malformed})")
     if ignored:
         notes.append(f"material library '{name}': {', '.join(sorted(ignored))} ignored")
     return [MeshMaterial(block.name, block.values, *textures.read(block.texture, folder)) for block in kept.values()]
@@ -190,7 +191,7 @@ class _TextureCache:
 
     def __init__(self, finder: _Finder) -> None:
         self.read_already: dict[Path, tuple[np.ndarray | None, str | None]] = {}
-        self.found: dict[tuple[str, Path], Path] = {}  # a name's file, looked for once: thousands of materials may name one
+        self.found: dict[tuple[str, Path], Path] = {}  # a name looked for once, for every material
         self.failures: list[tuple[str, str]] = []  # (name, why)
         self.finder = finder
 
