@@ -525,7 +525,7 @@ def test_normalized_integer_positions_are_refused_not_read_raw(tmp_path: Path) -
     document, _ = triangle_gltf([{"mesh": 0}], [0])
     binary = (TRIANGLE * 255).astype(np.uint8).tobytes() + b"\0" * 3 + UVS.tobytes()
     document["accessors"][0].update(componentType=5121, normalized=True)
-    document["bufferViews"] = [{"buffer": 0, "byteLength": 9, "byteStride": 4},
+    document["bufferViews"] = [{"buffer": 0, "byteLength": 12, "byteStride": 4},
                                {"buffer": 0, "byteOffset": 12, "byteLength": 24}]
     document["buffers"] = [{"byteLength": len(binary)}]
     document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_mesh_quantization"]
@@ -575,6 +575,57 @@ def test_a_glbs_frame_is_checked_before_trimesh_reads_it(tmp_path: Path, edit: C
     path.write_bytes(edit(whole))
     refused = one_line_refusal(lambda: load_model(path))
     assert refused.message == words.format(size=len(whole), cut=len(whole) - 8)
+
+
+def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
+    exec(edit, {}, {"d": document})  # the edits written below, each one statement on `d`
+    return document
+
+
+@pytest.mark.parametrize("edit, words", [
+    ("d['scene'] = 3", "its scene names scene 3, of 1"),
+    ("d['nodes'][0]['mesh'] = 5", "node 0 names mesh 5, of 1"),
+    ("d['scenes'][0]['nodes'] = [True]", "scene 0 names node True, of 1"),
+    ("d['meshes'][0]['primitives'][0]['indices'] = 7", "mesh 0's primitive 0's indices names accessor 7, of 2"),
+    ("d['meshes'][0]['primitives'][0]['attributes']['POSITION'] = '0'",
+     "mesh 0's primitive 0's POSITION names accessor '0', of 2"),
+    ("d['accessors'][0]['count'] = '3'", "accessor 0's count is not a whole number"),
+    ("d['accessors'][0]['count'] = 4", "accessor 0's 4 items run past the 36 bytes of buffer view 0"),
+    ("d['accessors'][1]['bufferView'] = 9", "accessor 1 names buffer view 9, of 2"),
+    ("d['bufferViews'][1]['byteOffset'] = 40", "buffer view 1 runs past the 60 bytes of buffer 0"),
+    ("d['bufferViews'][0]['buffer'] = 1", "buffer view 0 names buffer 1, of 1"),
+    ("d['nodes'][0]['translation'] = [1, 'x', 0]", "node 0's translation is not 3 numbers"),
+    ("d['nodes'][0]['matrix'] = [1] * 15", "node 0's matrix is not 16 numbers"),
+    ("d['accessors'].append({'bufferView': 0, 'componentType': 5125, 'count': 2, 'type': 'SCALAR'}); "
+     "d['meshes'][0]['primitives'][0]['indices'] = 2", "mesh 0's primitive 0 has 2 indices: its triangles take "
+                                                       "three each"),
+])
+def test_what_a_gltf_names_is_checked_before_trimesh_reads_it(tmp_path: Path, edit: str, words: str) -> None:
+    """trimesh said IndexError, TypeError, a failed reshape or "could not convert string to float"; a
+    node naming no mesh was said to place none."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    path = tmp_path / "named.glb"
+    path.write_bytes(glb(_edited(document, edit), binary))
+    assert one_line_refusal(lambda: load_model(path)).message == f"not a glTF file: {words}"
+
+
+def test_a_buffer_shorter_than_the_gltf_says_is_refused_in_words(tmp_path: Path) -> None:
+    """trimesh's reader asserted, with no words."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["buffers"] = [{"uri": "tri.bin", "byteLength": len(binary)}]
+    (tmp_path / "tri.bin").write_bytes(binary[:-8])
+    path = tmp_path / "tri.gltf"
+    path.write_text(json.dumps(document))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        "'tri.bin', which it names, could not be read (it holds 52 bytes, where the model says 60)")
+    (tmp_path / "tri.bin").write_bytes(binary)
+    assert np.array_equal(load_model(path).positions, TRIANGLE)
+    path = tmp_path / "short.glb"
+    path.write_bytes(glb(*triangle_gltf([{"mesh": 0}], [0]))[:-8])
+    whole = glb(*triangle_gltf([{"mesh": 0}], [0]))
+    path.write_bytes(whole[:8] + struct.pack("<I", len(whole) - 8) + whole[12:-8])
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        "cut short: its buffer is 60 bytes, its binary chunk holds 52")
 
 
 def test_normalized_integer_texture_coordinates_are_refused_not_read_raw(tmp_path: Path) -> None:

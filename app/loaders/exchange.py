@@ -149,13 +149,15 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     data, file_type = read_model_bytes(path, stage), path.suffix.lower().lstrip(".")
     document = _gltf_document(path, data) if file_type == "gltf" else _glb_document(path, data)
     pictures = _gltf_pictures(document) if file_type == "gltf" else frozenset()  # a GLB holds its own
+    buffer_bytes = _buffer_bytes(document)
+    _GltfReferences(path, document).check()
     _check_one_parent_each(path, document)
     _check_geometry_readable(path, document)
     counts = _gltf_counts(document)
     if counts is not None:  # before trimesh builds a node and a mesh per placement
         _check_placed_counts(path, *counts)
     del document
-    beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True)
+    beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True, least_bytes=buffer_bytes)
     return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside)
 
 
@@ -205,8 +207,10 @@ class _FilesBeside:
     by read_file (no device, pipe or huge file); a picture only when its first bytes are PNG, JPEG or
     PPM, as every texture. trimesh drops a picture it cannot have; `failures` keeps why, for a note."""
 
-    def __init__(self, folder: Path, is_picture: Callable[[str], bool], uri: bool = False) -> None:
+    def __init__(self, folder: Path, is_picture: Callable[[str], bool], uri: bool = False,
+                 least_bytes: dict[str, int] | None = None) -> None:
         self.folder = folder
+        self.least_bytes = least_bytes or {}  # a glTF buffer's byteLength, by its URI
         self.is_picture = is_picture
         self.uri = uri
         self.tried: list[Path] = []  # every path looked at, read or not: no output may replace one
@@ -217,6 +221,8 @@ class _FilesBeside:
         named = shown((unquote(name) if self.uri else name).strip())
         try:
             data = read_file(self._path(name, named))
+            if len(data) < self.least_bytes.get(name, 0):  # trimesh's reader asserts, in no words
+                raise LoadError(named, f"it holds {len(data)} bytes, where the model says {self.least_bytes[name]}")
             if self.is_picture(name) and image_format(data[:8]) is None:
                 raise LoadError(named, f"not a PNG, JPEG or PPM picture (it starts with {data[:8]!r})")
             if self.is_picture(name):
@@ -294,7 +300,15 @@ def _glb_document(path: Path, data: bytes) -> dict[str, Any]:
     if 20 + word(12) > word(8):
         raise LoadError(path, f"not a GLB file: its JSON chunk of {word(12)} bytes runs past the file's "
                               f"{word(8)}")
-    return _gltf_document(path, data[20:20 + word(12)])
+    document = _gltf_document(path, data[20:20 + word(12)])
+    binary_at = 20 + word(12) + (-word(12) % 4)  # chunks are aligned to four bytes
+    buffers = document.get("buffers")
+    first = buffers[0] if isinstance(buffers, list) and buffers and isinstance(buffers[0], dict) else {}
+    declared = first.get("byteLength")
+    held = min(word(binary_at), len(data) - binary_at - 8) if data[binary_at + 4:binary_at + 8] == b"BIN\0" else 0
+    if "uri" not in first and _is_whole(declared) and declared > held:  # the buffer the binary chunk holds
+        raise LoadError(path, f"cut short: its buffer is {declared} bytes, its binary chunk holds {max(held, 0)}")
+    return document
 
 
 class _Unshaped(Exception):
@@ -327,6 +341,109 @@ def _gltf_counts(document: dict[str, Any] | None) -> tuple[int, int, int] | None
     except (_Unshaped, LookupError, TypeError, AttributeError):
         return None
     return placements, triangles, vertices
+
+
+# Bytes of an accessor's component types, and components of its types.
+_COMPONENT_BYTES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
+_TYPE_COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
+_NODE_TRANSFORMS = {"translation": 3, "rotation": 4, "scale": 3, "matrix": 16}
+
+
+class _GltfReferences:
+    """What a glTF's JSON names checked to exist, and its byte ranges to fit, before trimesh reads it:
+    trimesh says an IndexError, an AssertionError or a failed reshape. Parts not shaped as glTF's
+    (a list that is not one) are left to trimesh's words."""
+
+    def __init__(self, path: Path, document: dict[str, Any]) -> None:
+        self.path, self.document = path, document
+
+    def check(self) -> None:
+        if "scene" in self.document:
+            self.named(self.document["scene"], "scenes", "its scene")
+        for number, scene in self.each("scenes"):
+            for node in self.listed(scene, "nodes"):
+                self.named(node, "nodes", f"scene {number}")
+        for number, node in self.each("nodes"):
+            self.node(number, node)
+        for number, mesh in self.each("meshes"):
+            for primitive_number, primitive in enumerate(self.listed(mesh, "primitives")):
+                self.primitive(f"mesh {number}'s primitive {primitive_number}", primitive)
+        for number, accessor in self.each("accessors"):
+            self.accessor(number, accessor)
+        for number, view in self.each("bufferViews"):
+            self.view(number, view)
+
+    def node(self, number: int, node: dict[str, Any]) -> None:
+        for child in self.listed(node, "children"):
+            self.named(child, "nodes", f"node {number}")
+        if "mesh" in node:
+            self.named(node["mesh"], "meshes", f"node {number}")
+        for key, size in _NODE_TRANSFORMS.items():
+            values = node.get(key, [0.0] * size)
+            if not (isinstance(values, list) and len(values) == size and all(_is_number(value) for value in values)):
+                self.refuse(f"node {number}'s {key} is not {size} numbers")
+
+    def primitive(self, what: str, primitive: dict[str, Any]) -> None:
+        attributes = primitive.get("attributes")
+        for name, index in attributes.items() if isinstance(attributes, dict) else ():
+            self.named(index, "accessors", f"{what}'s {escaped(str(name))[:40]}")
+        if "indices" in primitive:
+            accessor = self.named(primitive["indices"], "accessors", f"{what}'s indices")
+            count = accessor.get("count")
+            if primitive.get("mode", _TRIANGLES) == _TRIANGLES and _is_whole(count) and count % 3:
+                self.refuse(f"{what} has {count} indices: its triangles take three each")
+
+    def accessor(self, number: int, accessor: dict[str, Any]) -> None:
+        count = accessor.get("count")
+        if not _is_whole(count) or count < 0:
+            self.refuse(f"accessor {number}'s count is not a whole number")
+        if "bufferView" not in accessor:
+            return  # all zeros, or sparse: trimesh reads it
+        view = self.named(accessor["bufferView"], "bufferViews", f"accessor {number}")
+        size = _COMPONENT_BYTES.get(accessor.get("componentType"), 0) * _TYPE_COMPONENTS.get(accessor.get("type"), 0)
+        offset, length, stride = accessor.get("byteOffset", 0), view.get("byteLength"), view.get("byteStride") or size
+        whole = size and count and all(map(_is_whole, (offset, length, stride)))
+        if whole and offset + (count - 1) * stride + size > length:  # its last item's last byte
+            self.refuse(f"accessor {number}'s {count} items run past the {length} bytes of buffer view "
+                        f"{accessor['bufferView']}")
+
+    def view(self, number: int, view: dict[str, Any]) -> None:
+        buffer = self.named(view.get("buffer"), "buffers", f"buffer view {number}")
+        offset, length, size = view.get("byteOffset", 0), view.get("byteLength"), buffer.get("byteLength")
+        if all(map(_is_whole, (offset, length, size))) and offset + length > size:
+            self.refuse(f"buffer view {number} runs past the {size} bytes of buffer {view['buffer']}")
+
+    def named(self, index: object, key: str, by: str) -> dict[str, Any]:
+        """The item document[key][index] that `by` names, which must be there."""
+        items = self.document.get(key)
+        size = len(items) if isinstance(items, list) else 0
+        if not _is_whole(index) or not 0 <= index < size:  # type: ignore[operator]
+            kind = {"bufferViews": "buffer view", "meshes": "mesh"}.get(key, key[:-1])
+            self.refuse(f"{by} names {kind} {escaped(repr(index))[:20]}, of {size}")
+        item = items[index]  # type: ignore[index]
+        return item if isinstance(item, dict) else {}
+
+    def each(self, key: str) -> Iterator[tuple[int, dict[str, Any]]]:
+        items = self.document.get(key)
+        for number, item in enumerate(items if isinstance(items, list) else ()):
+            if isinstance(item, dict):
+                yield number, item
+
+    @staticmethod
+    def listed(item: dict[str, Any], key: str) -> list[Any]:
+        values = item.get(key)
+        return values if isinstance(values, list) else []
+
+    def refuse(self, words: str) -> None:
+        raise LoadError(self.path, f"not a glTF file: {words}")
+
+
+def _is_whole(value: object) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _is_number(value: object) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
 def _check_one_parent_each(path: Path, document: dict[str, Any] | None) -> None:
@@ -436,6 +553,14 @@ def _count(accessor: Any) -> int:
     if not isinstance(count, int) or isinstance(count, bool) or count < 0:
         raise _Unshaped
     return count
+
+
+def _buffer_bytes(document: dict[str, Any]) -> dict[str, int]:
+    """The byteLength of each buffer a glTF names by a file URI."""
+    buffers = document.get("buffers")
+    return {item["uri"]: item["byteLength"] for item in buffers if isinstance(item, dict)
+            and isinstance(item.get("uri"), str) and not item["uri"].startswith("data:")
+            and _is_whole(item.get("byteLength"))} if isinstance(buffers, list) else {}
 
 
 def _uris(items: object) -> Iterator[str]:
