@@ -262,7 +262,9 @@ def test_rows_that_fit_vertices_and_corners_alike_must_say_which(viewer) -> None
     (TRIANGLE * 1e39, [[0, 1, 2]], "float32"),
     (TRIANGLE * 1e20, [[0, 1, 2]], "cannot light"),
     (TRIANGLE[:, :2], [[0, 1, 2]], "shape"),
-    (TRIANGLE, [[0, 1, 3]], "does not exist"),
+    (TRIANGLE, [[0, 1, 2], [0, 1, 3]], r"face 1 refers to vertex 3, but there are 3 \(0-based\)"),
+    (TRIANGLE, [[0, 1, 2**63]], "face 0 refers to vertex"),  # past int64: no numpy warning on the terminal
+    (TRIANGLE, [[0, 1, 2.0**70]], "face 0 refers to vertex"),
     (TRIANGLE, [[0, 1]], "at least 3"),
     (TRIANGLE, np.array([[0, 1, 1.5]]), "whole numbers"),
     (TRIANGLE, [[0, 1, "2"]], "whole numbers"),
@@ -273,6 +275,13 @@ def test_rows_that_fit_vertices_and_corners_alike_must_say_which(viewer) -> None
 def test_bad_arrays_are_refused_where_they_enter(viewer, positions, faces, words: str) -> None:
     with pytest.raises(ValueError, match=words):
         viewer.add_mesh(positions, faces)
+
+
+def test_uvs_and_normals_past_32_bit_floats_are_refused_as_a_files_are(viewer) -> None:
+    for given in ("uvs", "normals"):
+        huge = np.full((3, 2 if given == "uvs" else 3), 1e300)
+        with pytest.raises(ValueError, match=f"{given} must lie within 32-bit floats"):
+            viewer.add_mesh(TRIANGLE, [[0, 1, 2]], **{given: huge})
 
 
 def test_per_corner_values_of_the_wrong_shape_say_what_is_expected(viewer) -> None:

@@ -966,6 +966,8 @@ def _check_uvs(path: str | Path, parts: list[Part], data: bytes | None) -> None:
     if not all(np.isfinite(table).all() for table in tables.values()):
         line = _line_of_first_non_finite(data) if data is not None else None
         raise LoadError(path, "a texture coordinate is not a finite number", line=line)
+    if not all(holds_in_float32(table) for table in tables.values()):  # a PLY's doubles: as an OBJ's vt
+        raise LoadError(path, "a texture coordinate is too large: the GPU's 32-bit numbers end at 3.4e38")
 
 
 def _check_placed_size(path: str | Path, placed: list[Any]) -> None:

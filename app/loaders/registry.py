@@ -51,6 +51,10 @@ def load_model(path: str | Path, stage: Stage | None = None) -> Mesh:
         failure = LoadError(path, "not enough memory to load this file")
     except LoadError as error:
         failure = error
+    except Exception as error:  # a reader's bug: the person still reads one line naming the file
+        words = str(error).strip().splitlines()
+        failure = LoadError(path, f"could not read the model ({type(error).__name__}"
+                                  f"{': ' + words[0][:160] if words else ''})")
     try:
         raise _freed(failure, path)
     finally:

@@ -14,7 +14,7 @@ from types import ModuleType
 
 import numpy as np
 
-from marraztu.model.geometry import FLOAT32_MAX, column_bounds, unit_rows
+from marraztu.model.geometry import FLOAT32_MAX, column_bounds, holds_in_float32, unit_rows
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted, fan_gather, polygons_of_corners
 from marraztu.model.threads import arrays_equal, converted, each, gathered, one_per_thread, pieces, weighed_pieces
 
@@ -51,7 +51,10 @@ def build_mesh(
     points = real_numbers(positions, "positions must be real numbers, (V, 3)").reshape(-1, 3)
     corner_vertex, face_start = _faces_to_csr(faces) if face_sizes is None else _sized_faces(faces, face_sizes)
     if corner_vertex.size and (corner_vertex.min() < 0 or corner_vertex.max() >= len(points)):
-        raise ValueError("a face refers to a vertex that does not exist")
+        corner = int(np.argmax((corner_vertex < 0) | (corner_vertex >= len(points))))
+        face = int(np.searchsorted(face_start, corner, side="right")) - 1
+        raise ValueError(f"face {face} refers to vertex {int(corner_vertex[corner])}, but there are {len(points)} "
+                         "(0-based)")
     given_uv, given_normals = (
         None if values is None else _given_table(what, values, width, corner_vertex, len(points), attributes_per_vertex)
         for what, values, width in (("uvs", uvs, 2), ("normals", normals, 3)))
@@ -113,8 +116,11 @@ def _given_table(what: str, values: np.ndarray | Sequence[Sequence[float]], widt
     if table.shape[0] != (vertex_count if per_vertex else corners):
         raise ValueError(f"{what} given per {'vertex' if per_vertex else 'corner'} need shape "
                          f"({vertex_count if per_vertex else corners}, {width}), not {table.shape}")
+    finite = np.isfinite(table).all(axis=1)
+    if not holds_in_float32(np.where(finite[:, None], table, 0.0)):  # the GPU holds 32-bit floats, as a file's vt
+        raise ValueError(f"{what} must lie within 32-bit floats (3.4e38)")
     rows = corner_vertex if per_vertex else np.arange(corners)
-    return table, np.where(~np.isfinite(table).all(axis=1)[rows], -1, rows)
+    return table, np.where(~finite[rows], -1, rows)
 
 
 def real_numbers(values: object, refusal: str) -> np.ndarray:
@@ -185,7 +191,7 @@ def whole_numbers(indices: np.ndarray, refusal: str = "face indices must be whol
     if indices.dtype.kind == "O":  # a (F, k) array of objects, as pandas gives: whole numbers in them too
         indices = real_numbers(indices, refusal)
     if indices.dtype.kind == "f" and np.isfinite(indices).all() and (indices == np.round(indices)).all():
-        return indices.astype(np.int64)
+        return np.clip(indices, -2.0**62, 2.0**62).astype(np.int64)  # past int64: out of range all the same
     raise ValueError(refusal)
 
 
