@@ -178,6 +178,22 @@ def test_a_small_model_on_a_large_one_far_out_keeps_its_place(tmp_path: Path) ->
     assert np.abs(pictures["far"] - pictures["near"]).max(axis=2).mean() < 1.0
 
 
+@pytest.mark.parametrize("distance", [1e5, 1e8, 1e10])
+def test_a_small_model_a_scene_places_far_out_shows_as_at_the_origin(tmp_path: Path, distance: float) -> None:
+    """A scene file's position, not the model's own coordinates: the eye beside a 1-unit triangle at
+    1e8 was 1e8 out in 32-bit numbers, and nothing was drawn."""
+    (tmp_path / "tri.obj").write_text("v -0.5 -0.5 0\nv 0.5 -0.5 0\nv 0 0.5 0\nf 1 2 3\n")
+    pictures = []
+    for place in (0.0, distance):
+        scene = tmp_path / f"at{place:g}.toml"
+        scene.write_text(f'[[cameras]]\nmodel = "tri.obj"\nposition = [{place}, 0, 5]\n'
+                         f'[[objects]]\nmodel = "tri.obj"\nposition = [{place}, 0, 0]\n')
+        out = take_screenshot(StartOptions(scene_file=scene), tmp_path / f"at{place:g}.png", (120, 90), keys="")
+        pictures.append(np.asarray(Image.open(out).convert("RGB")))
+    assert (pictures[0] != BACKGROUND).any(axis=2).sum() > 30
+    assert np.array_equal(pictures[1], pictures[0])
+
+
 def test_only_a_model_far_from_the_origin_is_measured_from_its_centre_on_the_gpu(tmp_path: Path) -> None:
     near = load_model(octahedron(tmp_path / "near.obj", 10.0, (1e4, 0.0, 0.0)))  # 290 sizes out
     far = load_model(octahedron(tmp_path / "far.obj", 10.0, (1e6, 5.0, 0.0)))

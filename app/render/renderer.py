@@ -60,6 +60,9 @@ PROBE_MARKER_PX = 7.0
 # Corners the probe marks at most, a draw each: every corner of any polygon a model has; a polygon of
 # thousands (one file's whole outline) shows its outline instead.
 MAX_PROBE_MARKERS = 1024
+# An eye this many times the smallest model's size from the world's origin leaves a 32-bit position
+# near it about a thousandth of that size (24 bits of mantissa, 14 of them spent on the distance).
+EYE_ORIGIN_SIZES = 2.0**14
 SEPARATOR_COLOUR = (0.0, 0.0, 0.0)
 SEPARATOR_PX = 2
 WHITE = np.full((1, 1, 3), 255, dtype=np.uint8)  # the texture of a scene without a picture
@@ -353,10 +356,14 @@ class Renderer:
 
     @staticmethod
     def _frame_origin(scene: Scene, items: list[tuple[DrawItem, ObjectGpu]]) -> np.ndarray:
-        """The world's origin, or the eye where a model far from it is drawn (Mesh.gpu_origin): world
+        """The world's origin, or the eye where a model far from it is drawn (Mesh.gpu_origin) or the
+        eye is far from it for the models' sizes (a scene placing a 1-unit model at 1e8): world
         positions are then measured from the eye, in 64-bit numbers, and stay small near it."""
-        if any(gpu.mesh.gpu_origin.any() for _, gpu in items):
-            return np.asarray(scene.eye_position(), dtype=np.float64)
+        eye = np.asarray(scene.eye_position(), dtype=np.float64)
+        sizes = [gpu.mesh.size for _, gpu in items if gpu.mesh.size > 0]
+        if any(gpu.mesh.gpu_origin.any() for _, gpu in items) or (
+                sizes and np.abs(eye).max() > EYE_ORIGIN_SIZES * min(sizes)):
+            return eye
         return np.zeros(3)
 
     def _set_gl_state(self, depth_test: bool) -> None:
