@@ -347,6 +347,10 @@ def test_binary_scene_file(tmp_path: Path) -> None:
     with pytest.raises(LoadError, match="not UTF-8") as caught:
         load_scene(path)
     assert caught.value.path == str(path)
+    path.write_bytes("# a scene\n\n# caf\xe9, in Latin-1\n[[objects]]\n".encode("latin-1"))
+    with pytest.raises(LoadError, match="not UTF-8") as caught:
+        load_scene(path)
+    assert caught.value.line == 3
 
 
 @pytest.mark.parametrize("name, reason", [("does_not_exist.toml", "no such file"),

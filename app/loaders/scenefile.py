@@ -39,7 +39,7 @@ from pathlib import Path
 from typing import NoReturn
 
 from marraztu.errors import LoadError, ViewerError
-from marraztu.loaders.files import read_file, same_file_key
+from marraztu.loaders.files import line_at, read_file, same_file_key
 from marraztu.loaders.registry import load_model
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh
@@ -216,8 +216,8 @@ class _SceneReader:
         data = read_file(self.path, limit=SCENE_READ_LIMIT)
         try:
             return data.decode("utf-8-sig")  # a byte order mark (Notepad writes one) is no TOML
-        except UnicodeDecodeError:
-            self.fail("not a TOML scene file (not UTF-8 text)")
+        except UnicodeDecodeError as error:
+            self.fail("not a TOML scene file (not UTF-8 text)", line_at(data, error.start))
 
     def _refuse_long_runs(self) -> None:
         """Any run longer than tomllib reads in proportion to it, wherever tomllib would read it (a key, a
