@@ -23,6 +23,11 @@ def __getattr__(name: str) -> Any:
 __all__ = ["__version__", *_API_NAMES]
 
 
+def __dir__() -> list[str]:
+    """The lazily imported names too, so that a notebook's completion offers marraztu.Viewer."""
+    return sorted({*globals(), *__all__})
+
+
 def _installed_version() -> str:
     from importlib.metadata import PackageNotFoundError, version
 

@@ -517,3 +517,8 @@ def test_the_probe_report_says_its_view_and_the_vertex_colour_that_tints_it() ->
         assert v.press("v").probe().view != "everything"
         v.add_mesh(TRIANGLE, [[0, 1, 2]], name="plain")
         assert v.probe().vertices[0].vertex_colour is None
+
+
+def test_dir_offers_the_lazily_imported_names() -> None:
+    """A notebook's tab completion asks dir(): marraztu.Viewer was missing from it."""
+    assert {"Viewer", "ViewerError", "LoadError", "ProbeReport"} <= set(dir(marraztu))

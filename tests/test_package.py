@@ -100,8 +100,8 @@ def installed(built: dict[str, Path], tmp_path_factory: pytest.TempPathFactory) 
     return venv / "bin"
 
 
-def run_installed(bin_folder: Path, *args: str, cwd: Path) -> subprocess.CompletedProcess:
-    env = {key: value for key, value in os.environ.items() if key not in ("PYTHONPATH", "VIRTUAL_ENV")}
+def run_installed(bin_folder: Path, *args: str, cwd: Path, **env_set: str) -> subprocess.CompletedProcess:
+    env = {key: value for key, value in os.environ.items() if key not in ("PYTHONPATH", "VIRTUAL_ENV")} | env_set
     return subprocess.run([str(bin_folder / "marraztu"), *args], cwd=cwd, env=env, capture_output=True,
                           text=True, timeout=300)
 
@@ -121,13 +121,21 @@ def test_the_installed_program_draws_what_the_checkout_draws(installed: Path, tm
 
 
 def test_the_installed_program_reads_a_large_model_as_the_checkout_does(installed: Path, tmp_path: Path) -> None:
-    """A file of megabytes goes through numba's compiled reader, compiled in the fresh environment."""
+    """A file of megabytes goes through numba's compiled reader, compiled in the fresh environment, its
+    machine code cached in the person's cache folder: numba's files in the package were left behind by
+    `pip uninstall`, and the folder still imported as an empty package."""
     model = tmp_path / "grid.obj"
     write_obj(model, wavy_surface(cells=360, seed=SEED), grid_triangles(360), uv_and_normals=False)
     assert model.stat().st_size > COMPILED_READER_BYTES
     args = ["--empty", "--size", SIZE, "--keys", "0 1", str(model)]
-    installed_run = run_installed(installed, "screenshot", "-o", str(tmp_path / "wheel.png"), *args, cwd=tmp_path)
+    cache = tmp_path / "cache"
+    installed_run = run_installed(installed, "screenshot", "-o", str(tmp_path / "wheel.png"), *args, cwd=tmp_path,
+                                  XDG_CACHE_HOME=str(cache))
     assert installed_run.returncode == 0, installed_run.stderr
+    package = next(installed.parent.glob("lib/python*/site-packages/marraztu"))
+    assert not [path for path in package.rglob("*") if path.suffix in (".nbi", ".nbc")]
+    if "NUMBA_CACHE_DIR" not in os.environ:
+        assert list((cache / "marraztu" / "numba").rglob("*.nbi"))
     checkout = subprocess.run([sys.executable, "-m", "marraztu", "screenshot", "-o", str(tmp_path / "checkout.png"),
                                *args], capture_output=True, text=True, timeout=300)
     assert checkout.returncode == 0, checkout.stderr

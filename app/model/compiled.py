@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from marraztu.model.jit import njit
 
 # positions (V, 3), corners' positions, face starts, smallest length, first and end face, normals (F, 3), degenerate
 _NORMALS = "void(float64[:, ::1], int32[::1], int32[::1], float64, int64, int64, float64[:, ::1], boolean[::1])"

@@ -12,7 +12,7 @@ side (fast.py) and the line reader.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from marraztu.model.jit import njit
 
 from marraztu.loaders.obj.raw import COLOURED_V_NUMBERS, MAX_DIGITS
 from marraztu.model.geometry import FLOAT32_MAX
