@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
 from marraztu.model.jit import njit
 
 # positions (V, 3), corners' positions, face starts, smallest length, first and end face, normals (F, 3), degenerate

@@ -12,10 +12,10 @@ side (fast.py) and the line reader.
 from __future__ import annotations
 
 import numpy as np
-from marraztu.model.jit import njit
 
 from marraztu.loaders.obj.raw import COLOURED_V_NUMBERS, MAX_DIGITS
 from marraztu.model.geometry import FLOAT32_MAX
+from marraztu.model.jit import njit
 from marraztu.model.mesh import INDEX_LIMIT
 
 # Kinds of line, and the columns of a pass-one count.
