@@ -150,11 +150,9 @@ def test_absolute_model_path(tmp_path: Path) -> None:
 BAD_SCENES = {
     "toml syntax": ('[[cameras]]\nmodel = m.obj\n', "TOML syntax"),
     "duplicate table": (MATERIAL + "[materials.m]\nns = 1\n", "TOML syntax"),
-    "empty file": ("", "no camera"),
-    "objects but no camera": ('[[objects]]\nmodel = "m.obj"\nposition = [0, 0, 0]\n', "no camera"),
     "unknown top-level key": ('textures = "a.ppm"\n' + CAMERA, "unknown key 'textures'"),
     "unknown entry key": (CAMERA + "positon = [1, 2, 3]\n", "unknown key 'positon'"),
-    "missing model": ("[[cameras]]\nposition = [0, 0, 0]\n", "missing key 'model'"),
+    "missing model": ("[[objects]]\nposition = [0, 0, 0]\n", "missing key 'model'"),
     "missing position": ('[[cameras]]\nmodel = "m.obj"\n', "missing key 'position'"),
     "model not a string": ("[[cameras]]\nmodel = 3\nposition = [0, 0, 0]\n", "model must be"),
     "empty model": ('[[cameras]]\nmodel = ""\nposition = [0, 0, 0]\n', "model must be"),
@@ -186,6 +184,23 @@ BAD_SCENES = {
     "17 words joined by dots in a comment": (CAMERA + "# " + ".".join("abcdefghijklmnopq") + "\n",
                                              "more than 16 words joined by dots"),
 }
+
+
+def test_a_camera_may_leave_out_its_model_and_a_scene_its_cameras(tmp_path: Path) -> None:
+    """An installed copy's own scene files cannot name the built-in camera model, which lies inside the
+    package: every scene needed a camera OBJ of its own beside it."""
+    (tmp_path / "m.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    path = tmp_path / "scene.toml"
+    path.write_text('[[cameras]]\nposition = [0, 0, 40]\n[[objects]]\nmodel = "m.obj"\nposition = [0, 0, 0]\n')
+    scene = load_scene(path)
+    builtin = load_builtin_scene()
+    assert len(scene.cameras) == 1 and scene.cameras[0].name == "camera"
+    assert scene.cameras[0].mesh.face_count == builtin.cameras[0].mesh.face_count
+    assert np.allclose(scene.cameras[0].model[:3, 3], [0, 0, 40])
+    path.write_text('[[objects]]\nmodel = "m.obj"\nposition = [0, 0, 0]\n')  # none: the built-in scene's
+    alone = load_scene(path)
+    assert [camera.name for camera in alone.cameras] == [camera.name for camera in builtin.cameras]
+    assert np.allclose(alone.cameras[0].model, builtin.cameras[0].model)
 
 
 @pytest.mark.parametrize("text, expected", BAD_SCENES.values(), ids=BAD_SCENES.keys())

@@ -9,8 +9,8 @@
     ns = 80                               # > 0
     rgb = [1, 1, 1]                       # optional base colour, default white
 
-    [[cameras]]                           # at least one
-    model = "camera.obj"                  # relative to the scene file
+    [[cameras]]                           # none: the built-in scene's
+    model = "camera.obj"                  # relative to the scene file; a camera's is the built-in one if left out
     position = [0, 0, 150]
     material = "golden"                   # a name above, or an inline table of the same keys
 
@@ -50,6 +50,9 @@ BUILTIN_SCENE_FILE = "scene.toml"
 TOP_LEVEL_KEYS = frozenset({"texture", "materials", "objects", "cameras"})
 ENTRY_KEYS = frozenset({"name", "model", "position", "rotation", "material"})
 REQUIRED_ENTRY_KEYS = ("model", "position")
+# A camera's model may be left out: the built-in camera's is drawn, which an installed copy's own
+# scene files cannot otherwise name (it lies inside the package).
+CAMERA_MODEL = "camera.obj"
 MATERIAL_KEYS = frozenset({"ka", "kd", "ks", "ns", "rgb"})
 REQUIRED_MATERIAL_KEYS = ("ka", "kd", "ks", "ns")
 # tomllib holds up to 100 bytes for each byte of some texts ([t1] [t2]... tables): only a scene's size is
@@ -259,8 +262,8 @@ class _SceneReader:
         materials = self.named_materials()
         objects = self.entries("objects", materials)
         cameras = self.entries("cameras", materials)
-        if not cameras:
-            self.fail("the scene has no camera: add a [[cameras]] table with a model and a position")
+        if not cameras:  # the built-in scene's, as --empty gives
+            cameras = read_scene_description(builtin_scene_path()).cameras
         return SceneDescription(self.path, objects, cameras, self.texture())
 
     # --- top level -----------------------------------------------------------------------------
@@ -290,24 +293,29 @@ class _SceneReader:
             self.fail(f"{kind} must be an array of tables: [[{kind}]]", self.lines.first((kind,)))
         headers = self.lines.array_headers(kind, len(tables))
         return tuple(self.entry(table, f"{kind}[{index + 1}]", line, materials,
-                                self.lines.of_entry(kind, index, len(tables)))
+                                self.lines.of_entry(kind, index, len(tables)), camera=kind == "cameras")
                      for index, (table, line) in enumerate(zip(tables, headers)))
 
     # --- one object or camera ------------------------------------------------------------------
     def entry(self, table: object, what: str, line: int | None, materials: dict[str, Material],
-              key_line: Callable[[str], int | None] = _nowhere) -> SceneEntry:
+              key_line: Callable[[str], int | None] = _nowhere, camera: bool = False) -> SceneEntry:
         if not isinstance(table, dict):
             self.fail(f"{what} must be a table", line)
 
         at = _or_header(key_line, line)
-        self.check_keys(table, ENTRY_KEYS, what, line, required=REQUIRED_ENTRY_KEYS, key_line=at)
-        model = self.text_value(table["model"], f"{what}: model", at("model"))
+        required = REQUIRED_ENTRY_KEYS[1:] if camera else REQUIRED_ENTRY_KEYS
+        self.check_keys(table, ENTRY_KEYS, what, line, required=required, key_line=at)
+        if "model" in table:
+            model = self.text_value(table["model"], f"{what}: model", at("model"))
+            path = self.path.parent / model
+        else:  # a camera's: the built-in one
+            model, path = CAMERA_MODEL, ASSET_DIR / CAMERA_MODEL
         # A model "." has no stem: its own words name it, and loading it says what is wrong with it.
         name = self.text_value(table.get("name", Path(model).stem or model), f"{what}: name", at("name"))
         position = self.triple(table["position"], f"{what}: position", at("position"))
         rotation = self.triple(table.get("rotation", [0, 0, 0]), f"{what}: rotation", at("rotation"))
         material = self.entry_material(table.get("material"), what, at("material"), materials)
-        return SceneEntry(name, model, self.path.parent / model, position, rotation, material, at("model"))
+        return SceneEntry(name, model, path, position, rotation, material, at("model"))
 
     def entry_material(self, value: object, what: str, line: int | None,
                        materials: dict[str, Material]) -> Material | None:
