@@ -28,7 +28,7 @@ def create_offscreen_context() -> moderngl.Context:
         except Exception as error:
             raise ViewerError(f"cannot create an offscreen OpenGL {GL_VERSION // 100}.{GL_VERSION // 10 % 10} "
                               f"context: EGL said {_first_line(egl_error)}; the platform's context said "
-                              f"{_first_line(error)}") from error
+                              f"{_first_line(error)}") from None  # both causes are in its words
 
 
 def _first_line(error: Exception) -> str:

@@ -88,7 +88,7 @@ def bench_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="marraztu bench",
         description="Measure loading, frames, start-up and memory on generated inputs; print Markdown.")
-    parser.add_argument("--quick", action="store_true", help="small sizes, one resolution: seconds")
+    parser.add_argument("--quick", action="store_true", help="small sizes, one resolution: a few minutes on two cores")
     parser.add_argument("--sizes", type=parse_counts, metavar="LIST",
                         help="triangles of the drawn meshes, e.g. 100k,1m,5m (the default)")
     parser.add_argument("--skip-5m", action="store_true", help="leave out drawn meshes of 5M triangles and more")

@@ -293,7 +293,7 @@ def available_loaders(wanted: Sequence[str]) -> tuple[list[str], list[str]]:
             present.append(name)
         else:
             notes.append(f"{name} is not installed, so its rows are left out "
-                         f"(`pip install '.[bench]'` adds tinyobjloader).")
+                         f"(`pip install 'marraztu[bench]'`, or `'.[bench]'` in a checkout, adds tinyobjloader).")
     return present, notes
 
 
