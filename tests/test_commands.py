@@ -354,6 +354,10 @@ def test_analysis_approach_stops_at_the_minimum_distance(scene: Scene) -> None:
     assert distance == pytest.approx(commands.ANALYSIS_MIN_DISTANCE)
     assert "as close" in scene.message
     assert centre_off_view_axis(scene) < 1e-9
+    camera = scene.camera  # 3 units out, as framing puts a small model (the mouse's dolly goes there too)
+    camera.push(transforms.apply_local(camera.model, transforms.translation(2, 3.0 - commands.ANALYSIS_MIN_DISTANCE)))
+    press(scene, "z")  # backing away from within the minimum was refused as coming closer
+    assert np.linalg.norm(scene.object.centre - scene.camera.origin) == pytest.approx(8.0)
 
 
 def test_analysis_sideways_translation_is_refused(scene: Scene) -> None:

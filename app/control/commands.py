@@ -230,7 +230,7 @@ def approach_object(scene: Scene, axis_index: int, distance: float) -> None:
         return
     camera = scene.camera
     depth = -transforms.point_in_frame(camera.model, obj.centre)[2]
-    if depth + distance < ANALYSIS_MIN_DISTANCE:
+    if distance < 0.0 and depth + distance < ANALYSIS_MIN_DISTANCE:  # backing away is never refused
         distance = min(0.0, ANALYSIS_MIN_DISTANCE - depth)  # stop at the minimum, never push back
         if distance == 0.0:
             scene.message = f"analysis mode: as close to {obj.name} as allowed"
