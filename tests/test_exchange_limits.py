@@ -520,6 +520,14 @@ def test_compressed_gltf_geometry_is_refused_not_read_as_zeros(tmp_path: Path, e
     assert str(one_line_refusal(lambda: load_model(path))) == f"{path}: {words}"
 
 
+def quantized_refusal(tmp_path: Path, document: dict[str, Any], binary: bytes) -> str:
+    """What loading this glTF, marked as needing KHR_mesh_quantization, is refused with."""
+    document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_mesh_quantization"]
+    path = tmp_path / "quantized.glb"
+    path.write_bytes(glb(document, binary))
+    return one_line_refusal(lambda: load_model(path)).message
+
+
 def test_normalized_integer_positions_are_refused_not_read_raw(tmp_path: Path) -> None:
     """KHR_mesh_quantization's normalized positions: trimesh reads the integers (255 where 1 was meant)."""
     document, _ = triangle_gltf([{"mesh": 0}], [0])
@@ -528,14 +536,12 @@ def test_normalized_integer_positions_are_refused_not_read_raw(tmp_path: Path) -
     document["bufferViews"] = [{"buffer": 0, "byteLength": 12, "byteStride": 4},
                                {"buffer": 0, "byteOffset": 12, "byteLength": 24}]
     document["buffers"] = [{"byteLength": len(binary)}]
-    document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_mesh_quantization"]
-    path = tmp_path / "quantized.glb"
-    path.write_bytes(glb(document, binary))
-    assert str(one_line_refusal(lambda: load_model(path))) == (
-        f"{path}: its positions are stored as normalized integers (KHR_mesh_quantization), which are not read "
+    assert quantized_refusal(tmp_path, document, binary) == (
+        "its positions are stored as normalized integers (KHR_mesh_quantization), which are not read "
         "here: export them as floats")
     document, binary = triangle_gltf([{"mesh": 0}], [0])  # the extension alone, its positions floats: read
     document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_mesh_quantization"]
+    path = tmp_path / "quantized.glb"
     path.write_bytes(glb(document, binary))
     assert np.array_equal(load_model(path).positions, TRIANGLE)
 
@@ -632,11 +638,8 @@ def test_normalized_integer_texture_coordinates_are_refused_not_read_raw(tmp_pat
     document, binary = triangle_gltf([{"mesh": 0}], [0])
     uvs = document["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"]
     document["accessors"][uvs].update(componentType=5123, normalized=True)
-    document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_mesh_quantization"]
-    path = tmp_path / "quantized.glb"
-    path.write_bytes(glb(document, binary))
-    assert str(one_line_refusal(lambda: load_model(path))) == (
-        f"{path}: its texture coordinates are stored as normalized integers (KHR_mesh_quantization), which are "
+    assert quantized_refusal(tmp_path, document, binary) == (
+        "its texture coordinates are stored as normalized integers (KHR_mesh_quantization), which are "
         "not read here: export them as floats")
 
 

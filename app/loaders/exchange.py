@@ -367,7 +367,8 @@ class _GltfReferences:
             self.node(number, node)
         for number, mesh in self.each("meshes"):
             for primitive_number, primitive in enumerate(self.listed(mesh, "primitives")):
-                self.primitive(f"mesh {number}'s primitive {primitive_number}", primitive)
+                if isinstance(primitive, dict):
+                    self.primitive(f"mesh {number}'s primitive {primitive_number}", primitive)
         for number, accessor in self.each("accessors"):
             self.accessor(number, accessor)
         for number, view in self.each("bufferViews"):
@@ -512,8 +513,8 @@ def _normalized_attribute(document: dict[str, Any]) -> str | None:
             for name, index in attributes.items() if isinstance(attributes, dict) else ():
                 kind = "positions" if name == "POSITION" else "texture coordinates" if str(name).startswith(
                     "TEXCOORD_") else None
-                if (kind and isinstance(index, int) and 0 <= index < len(accessors)
-                        and isinstance(accessors[index], dict) and accessors[index].get("normalized") is True):
+                # _GltfReferences has checked that the index names an accessor
+                if kind and isinstance(accessors[index], dict) and accessors[index].get("normalized") is True:
                     return kind
     return None
 
@@ -1010,7 +1011,9 @@ def _material_of(mesh: Any) -> dict[str, object] | None:
     return {"kd": tuple(float(c) for c in rgb)} if np.isfinite(rgb).all() else None
 
 
-_PLY_COLOURS = (("red", "green", "blue"), ("diffuse_red", "diffuse_green", "diffuse_blue"))
+# A PLY vertex's colour: trimesh reads the first names; some writers use the second, which it passes over.
+_DIFFUSE_COLOURS = ("diffuse_red", "diffuse_green", "diffuse_blue")
+_PLY_COLOURS = (("red", "green", "blue"), _DIFFUSE_COLOURS)
 
 
 def _ply_colour_notes(source: str | Path, mesh: Any) -> tuple[str, ...]:
@@ -1031,11 +1034,10 @@ def _ply_colour_notes(source: str | Path, mesh: Any) -> tuple[str, ...]:
 def _vertex_colours(mesh: Any) -> np.ndarray | None:
     """The file's colour per vertex (PLY's red/green/blue, glTF's COLOR_0) as RGB bytes, if any."""
     visual = getattr(mesh, "visual", None)
-    diffuse = ("diffuse_red", "diffuse_green", "diffuse_blue")  # some PLY writers' names, which trimesh passes over
     if getattr(visual, "kind", None) == "vertex":
         colours = np.asarray(visual.vertex_colors)
-    elif (table := _ply_vertex_table(mesh)).keys() >= set(diffuse):
-        colours = np.column_stack([table[name] for name in diffuse])
+    elif (table := _ply_vertex_table(mesh)).keys() >= set(_DIFFUSE_COLOURS):
+        colours = np.column_stack([table[name] for name in _DIFFUSE_COLOURS])
         if colours.dtype.kind == "f":  # held to 0..1, as _ply_colour_notes says
             colours = np.clip(colours, 0.0, 1.0)
     else:  # glTF's COLOR_0 beside a material: trimesh keeps it as the file gives it, a vertex attribute

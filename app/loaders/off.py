@@ -55,15 +55,12 @@ def load_off(path: Path, stage: Callable[[str], None] | None = None) -> Mesh:
                            None, ())
     except ValueError as error:  # more corners than 32-bit indices hold
         raise LoadError(path, str(error)) from None
-    return mesh if tables.colours is None else replace(mesh, vertex_colours=_colour_bytes(path, tables.colours))
+    return mesh if tables.colours is None else replace(mesh, vertex_colours=_colour_bytes(tables.colours))
 
 
-def _colour_bytes(path: Path, colours: np.ndarray) -> np.ndarray:
-    """COFF's colours as bytes, checked by read_off."""
-    try:
-        return colour_bytes(by_largest(colours), len(colours))
-    except ValueError:
-        raise LoadError(path, "a vertex colour is not within 0..1, nor the file's colours within 0..255") from None
+def _colour_bytes(colours: np.ndarray) -> np.ndarray:
+    """COFF's colours as bytes: read_off has checked them (_check_colours)."""
+    return colour_bytes(by_largest(colours), len(colours))
 
 
 @dataclass(frozen=True)

@@ -170,7 +170,7 @@ def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
             tables.append(_without_lists(element, columns))
         elif columns:
             tables.append((element, [column.values for column in columns]))
-    _check_rows_fill_the_body(body, header, at)
+    _check_rows_fill_the_body(body, at)
     return ForTrimesh(_written(header.text("binary_little_endian", tuple(element for element, _ in tables)), tables),
                       _face_sizes(header, sizes))
 
@@ -222,7 +222,8 @@ class _Body:
 
     def __init__(self, path: Path, data: bytes, body_at: int, numbers: np.ndarray) -> None:
         self.path, self.data, self.body_at, self.numbers = path, data, body_at, numbers
-        self.row_starts: list[Callable[[int, int], np.ndarray]] = []  # an element's row starts in [first, stop)
+        # Each element's row starts in [first, stop), by the element (those of no rows have none).
+        self.row_starts: dict[str, Callable[[int, int], np.ndarray]] = {}
 
     def error(self, message: str, index: int) -> LoadError:
         """A LoadError at the line of the number at `index`; and where rows that began lines stopped
@@ -262,7 +263,7 @@ class _Body:
             begins_line = np.diff(before) > 0  # a line ended between the word before and this one
             if culprit is None and aligned >= 0:
                 starts = np.concatenate([np.empty(0, np.int64), *(rows(passed, min(passed + len(words), index))
-                                                                   for rows in self.row_starts)])
+                                                                   for rows in self.row_starts.values())])
                 misplaced = np.flatnonzero(~begins_line[starts - passed])
                 if misplaced.size:
                     first = int(misplaced[0])
@@ -280,15 +281,14 @@ class _Body:
         return line_at(self.data, len(self.data)), culprit
 
 
-def _check_rows_fill_the_body(body: _Body, header: PlyHeader, at: int) -> None:
+def _check_rows_fill_the_body(body: _Body, at: int) -> None:
     """Rows the header's counts place wrong, which the counts alone cannot show: a number left over
     after the last row, or, in an element whose first rows began lines, a row that does not (a row
     of one number too many and a later one of one too few shift the rows between, and balance)."""
     if at < len(body.numbers):
         raise body.error(f"{counted(len(body.numbers) - at, 'number')} after the rows the header counts", at)
     begins: np.ndarray | None = None
-    for element, rows in zip([element for element in header.elements if element.count and element.properties],
-                             body.row_starts):
+    for name, rows in body.row_starts.items():
         starts = rows(0, len(body.numbers))
         if starts.size < 3:
             continue
@@ -299,7 +299,7 @@ def _check_rows_fill_the_body(body: _Body, header: PlyHeader, at: int) -> None:
                       and not begins[starts[0] + 1:starts[1]].any() and not begins[starts[1] + 1:starts[2]].any())
         if one_a_line and not begins[starts].all():
             row = int(np.argmin(begins[starts]))
-            raise body.error(f"{element.name} row {row + 1} does not begin its line, as the rows before it do: "
+            raise body.error(f"{name} row {row + 1} does not begin its line, as the rows before it do: "
                              "the row before it holds a number too many or too few",
                              int(starts[row]))
 
@@ -338,16 +338,16 @@ def _element_columns(body: _Body, element: PlyElement, at: int) -> tuple[list[_C
     if end <= len(body.numbers):
         table = body.numbers[at:end].reshape(element.count, width)
         columns, count_offsets = _table_columns(element, table, at, first_counts)
-        body.row_starts.append(lambda first, stop, at=at, width=width, end=end: np.arange(
-            at + -(-max(first - at, 0) // width) * width, min(stop, end), width))
+        body.row_starts[element.name] = lambda first, stop, at=at, width=width, end=end: np.arange(
+            at + -(-max(first - at, 0) // width) * width, min(stop, end), width)
         if all((table[:, offset] == count).all() for offset, count in zip(count_offsets, first_counts)):
             return columns, True, end
-        body.row_starts.pop()
+        del body.row_starts[element.name]
     if not first_counts.size or at + element.count * len(element.properties) > len(body.numbers):
         raise body.ended(element)  # before anything is made by the count: each row holds a number a property
     starts, counts = np.empty(element.count, np.int64), np.empty((element.count, first_counts.size), np.int64)
     walked = _WalkedStarts(starts)
-    body.row_starts.append(walked)
+    body.row_starts[element.name] = walked
     quick, at = _quick_rows(body, element, at, starts, counts)
     walked.known = quick
     for row in range(quick, element.count):  # each row's length is known only once its counts are read

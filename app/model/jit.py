@@ -5,17 +5,30 @@ imported as an empty package. NUMBA_CACHE_DIR, where set, is the person's own ch
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
-from numba import config, njit
+import numba
+from numba import config
 
-__all__ = ["njit"]
+
+def njit(*args: Any, **options: Any) -> Callable[[Callable[..., Any]], Any]:
+    """numba.njit, whose cache (numba picks its folder as it decorates) is ours for our functions
+    only: a notebook's own cached functions stay where numba puts them."""
+    decorate = numba.njit(*args, **options)
+
+    def cached_in_ours(function: Callable[..., Any]) -> Any:
+        given = config.CACHE_DIR
+        config.CACHE_DIR = given or str(_cache_folder())  # a folder numba cannot make: it falls back
+        try:
+            return decorate(function)
+        finally:
+            config.CACHE_DIR = given
+
+    return cached_in_ours
 
 
 def _cache_folder() -> Path:
     base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
     return Path(base) / "marraztu" / "numba"
-
-
-if not config.CACHE_DIR:  # a folder numba cannot make or write falls back to its own places
-    config.CACHE_DIR = str(_cache_folder())

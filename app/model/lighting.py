@@ -40,6 +40,10 @@ class LightTerm:
     def contribution(self) -> np.ndarray:
         return self.diffuse + self.specular
 
+    def in_view(self, weights: TermWeights) -> np.ndarray:
+        """Its share of I as a term view shows it."""
+        return weights.diffuse * self.diffuse + weights.specular * self.specular
+
 
 @dataclass(frozen=True)
 class ShadingTerms:
@@ -62,7 +66,7 @@ class ShadingTerms:
         total = weights.ambient * self.ambient
         for term in self.lights:
             if shown is None or term.name in shown:
-                total = total + weights.diffuse * term.diffuse + weights.specular * term.specular
+                total = total + term.in_view(weights)
         return total
 
 

@@ -114,7 +114,7 @@ def _light_row(found: Probe, light: WorldLight, term: LightTerm, vertex: VertexP
         cone = f"{angle:.1f}{'<' if term.reaches else '>='}{light.aperture_deg:g}"
     weights = found.weights
     kept = light.name in found.shown_lights and bool(weights.diffuse or weights.specular)
-    adds = _kept(weights.diffuse * term.diffuse + weights.specular * term.specular, kept)
+    adds = _kept(term.in_view(weights), kept)
     if not term.reaches:
         return _row(light.name, "outside the cone", "", "", "", cone, adds)
     return _row(light.name, _triple(term.to_light, 2), _triple(term.halfway, 2), f"{term.n_dot_l:.3f}",
