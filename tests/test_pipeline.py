@@ -62,7 +62,7 @@ def test_every_stage_equals_numpy() -> None:
 def test_a_corner_nearer_than_the_near_plane_is_clipped_and_says_why() -> None:
     with marraztu.Viewer(size=SIZE, empty=True) as v:
         # The square moved toward the camera and tilted: one edge between the near plane and the eye.
-        v.add_mesh([[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]], [[0, 1, 2, 3]]).press("t z*2 r x*3 P")
+        v.add_mesh([[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]], [[0, 1, 2, 3]]).press("t z*2 r x*5 P")
         found = face_pipeline(v.scene, (0, 0, *SIZE))
         lines = "\n".join(pipeline_lines(v.scene, (0, 0, *SIZE)))
         near = v.scene.near_plane()

@@ -122,19 +122,65 @@ def test_the_models_of_the_command_line_are_framed_together(tmp_path: Path) -> N
     assert np.array_equal(built_in.scene.camera.model, viewer_with("").scene.camera.model)
 
 
+def nearest_depth(scene, element) -> float:
+    """How far in front of the eye the element's nearest vertex is."""
+    world = element.mesh.positions @ element.model[:3, :3].T + element.model[:3, 3]
+    return float(((world - scene.eye_position()) @ scene.viewer.forward).min())
+
+
 def test_the_near_plane_is_the_specifications_for_its_scene_small_for_small_models_and_far_for_huge_ones(
         tmp_path: Path) -> None:
     assert viewer_with("").scene.near_plane() == 5.0
-    small = viewer_with("", (octahedron(tmp_path / "m.obj", 1e-3),), empty=True)
-    assert small.scene.near_plane() == pytest.approx(2e-3 * np.sqrt(3) / 10)  # its box's diagonal / 10
-    huge = viewer_with("", (octahedron(tmp_path / "h.obj", 1e7),), empty=True)
-    assert huge.scene.near_plane() == pytest.approx(2e7 * np.sqrt(3) / 10_000)
-    beside_the_ships = viewer_with("", (octahedron(tmp_path / "h.obj", 1e7),))
-    assert beside_the_ships.scene.near_plane() == 5.0  # theirs: a near plane past them would cut them away
+    unit = viewer_with("", (octahedron(tmp_path / "u.obj", 1.0),), empty=True).scene
+    assert 0.0 < unit.near_plane() < nearest_depth(unit, unit.object)
+    small = viewer_with("", (octahedron(tmp_path / "m.obj", 1e-3),), empty=True).scene
+    assert small.near_plane() == pytest.approx(1e-3 * unit.near_plane())  # the same view, in its units
+    huge = viewer_with("", (octahedron(tmp_path / "h.obj", 1e7),), empty=True).scene
+    assert nearest_depth(huge, huge.object) / 100 < huge.near_plane() < nearest_depth(huge, huge.object)
+    beside_the_ships = viewer_with("", (octahedron(tmp_path / "h.obj", 1e7),)).scene
+    ships = [obj for obj in beside_the_ships.objects if obj.name != "h"]
+    # The eye is deep inside the huge model: the ships, all far ahead, keep it short of them.
+    assert 5.0 < beside_the_ships.near_plane() < min(nearest_depth(beside_the_ships, ship) for ship in ships)
     camera = octahedron(tmp_path / "cam.obj", 5.0)
     with_a_camera_in_view = viewer_with(f"c f={camera}", (tmp_path / "h.obj",), empty=True)
     assert len(with_a_camera_in_view.scene.cameras) == 2
-    assert with_a_camera_in_view.scene.near_plane() == 5.0  # the second camera is seen: no nearer than SPEC's
+    assert with_a_camera_in_view.scene.near_plane() <= 5.0  # the other camera, round the eye: cut no more
+
+
+def test_the_near_plane_keeps_clear_of_a_small_model_looked_at_from_close_by(tmp_path: Path) -> None:
+    """A 2-unit model above the built-in ships: `.` frames it 2 units away and the wheel comes closer;
+    SPEC 5's near plane of 5 units cut it away whole (an empty picture)."""
+    model = octahedron(tmp_path / "two.obj", 1.0, (0.0, 60.0, 0.0))
+    framed = viewer_with(".", (model,)).scene
+    assert framed.object.name == "two" and 0.0 < framed.near_plane() < nearest_depth(framed, framed.object)
+    pixels = picture(tmp_path, ".", (model,), empty=False)
+    assert (pixels != BACKGROUND).any(axis=2).mean() > 0.1
+    while nearest_depth(framed, framed.object) > framed.object.mesh.size / 10:
+        assert 0.0 < framed.near_plane() < nearest_depth(framed, framed.object)
+        commands.dolly_view(framed, 1)
+
+
+def plate_with_a_label(path: Path, unit: float) -> Path:
+    """A white plate 50 metres across and a green label 20 metres across lying 2 millimetres above it,
+    in `unit`s of a metre."""
+    plate, label, proud = 25.0 / unit, 10.0 / unit, 0.002 / unit
+    corners = [(-plate, 0, -plate, 1), (plate, 0, -plate, 1), (plate, 0, plate, 1), (-plate, 0, plate, 1),
+               (-label, proud, -label, 0), (label, proud, -label, 0), (label, proud, label, 0),
+               (-label, proud, label, 0)]
+    path.write_text("".join(f"v {x!r} {y!r} {z!r} {white} 1 {white}\n" for x, y, z, white in corners)
+                    + "f 1 4 3 2\nf 5 8 7 6\n")
+    return path
+
+
+def test_a_model_in_millimetres_keeps_the_depth_precision_it_has_in_metres(tmp_path: Path) -> None:
+    """The near plane moves out where everything shown is far: at 5 units, 64 metres of millimetres
+    away, the plate's depth covered the label 2 millimetres above it."""
+    keys = "x*10"  # the plate turned to face the camera a little
+    metres = picture(tmp_path, keys, (plate_with_a_label(tmp_path / "m.obj", 1.0),), name="m.png")
+    millimetres = picture(tmp_path, keys, (plate_with_a_label(tmp_path / "mm.obj", 1e-3),), name="mm.png")
+    label = (metres[..., 1] > 2 * metres[..., 0] + 10) & (metres[..., 1] > 2 * metres[..., 2] + 10)
+    assert label.mean() > 0.01, "the green label shows in metres"
+    assert np.abs(millimetres - metres).max(axis=2).mean() < 1.0, "the same picture, but for rounding"
 
 
 @pytest.mark.parametrize("size", [1e5, 1e7, 1e9])

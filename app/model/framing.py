@@ -19,17 +19,11 @@ FILL = 2.0 / 3.0  # of the view's height: the model whole, with a margin round i
 
 def world_box(objects: Iterable[SceneObject]) -> tuple[np.ndarray, np.ndarray]:
     """The world bounding box of the objects' mesh boxes (the origin alone when there are none)."""
-    corners = [_world_corners(obj) for obj in objects]
+    corners = [obj.world_corners() for obj in objects]
     if not corners:
         return np.zeros(3), np.zeros(3)
     points = np.concatenate(corners)
     return points.min(axis=0), points.max(axis=0)
-
-
-def _world_corners(obj: SceneObject) -> np.ndarray:
-    low, high = obj.mesh.bounds
-    box = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
-    return box @ obj.model[:3, :3].T + obj.model[:3, 3]  # the eight corners, placed in the world
 
 
 def bounding_sphere(objects: Iterable[SceneObject]) -> tuple[np.ndarray, float]:

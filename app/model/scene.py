@@ -35,6 +35,15 @@ NEAR_PLANE = 5.0
 # smallest one's, so that the depth buffer still tells a model's front from its back at the distance
 # that frames it (a 24-bit buffer cannot from 5 units to 30 million), and no smaller object is cut.
 NEAR_FRACTION, DEPTH_FRACTION = 10.0, 10_000.0
+# The near plane keeps clear of what is shown: within this share of the distance to the nearest thing
+# wholly in front of the eye (a small model looked at from close by is not cut away)...
+NEAR_MARGIN = 0.5
+# ...and, where everything is that far, moves out to a DEPTH_RANGE-th of the depth of the farthest
+# shown point, so that a model in millimetres keeps the depth buffer's precision of the same model in
+# metres (the built-in scene, all within 250 units, keeps SPEC 5's 5).
+DEPTH_RANGE = 200.0
+# SPEC 5: the normals' length, a fixed share of the object's bounding-box diagonal (key `n`).
+NORMAL_LENGTH_FRACTION = 0.05
 # How far the selected object's depth may pull parallel projection's size from the rest of the scene's.
 PARALLEL_DEPTH_RANGE = 1.5
 
@@ -147,6 +156,12 @@ class SceneObject:
         """World position of the mesh's bounding-box centre: what analysis mode orbits."""
         low, high = self.mesh.bounds
         return transform_point(self.model, (low + high) / 2.0)
+
+    def world_corners(self) -> np.ndarray:
+        """(8, 3): the mesh's bounding box's corners, placed in the world."""
+        low, high = self.mesh.bounds
+        box = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+        return box @ self.model[:3, :3].T + self.model[:3, 3]
 
     def push(self, model: np.ndarray) -> None:
         self.history.append(np.asarray(model, dtype=np.float64))
@@ -274,15 +289,36 @@ class Scene:
         reach += [np.linalg.norm(light.position - eye) for light in self.lights]
         return max(1000.0, 2.0 * max(reach, default=0.0))
 
+    def shown_elements(self) -> list[SceneObject]:
+        """What the picture draws: the selected object alone (SPEC 5's `o` and `d`) or every object
+        and camera; never the viewer, which we look from inside."""
+        if self.modes.triangle_only or not self.modes.draw_all:
+            shown = [self.object] if self.object is not None else []
+        else:
+            shown = self.objects + self.cameras
+        return [element for element in shown if element is not self.viewer and element.mesh.face_count > 0]
+
     def near_plane(self) -> float:
-        """SPEC 5's 5 units, less for a scene of small objects and more for one of huge objects (see
-        NEAR_FRACTION and DEPTH_FRACTION)."""
-        sizes = [obj.mesh.size for obj in self.objects]
-        if not sizes or not max(sizes):
-            return NEAR_PLANE
-        # A camera seen in the scene is cut no more than a small object would be.
-        seen = sizes + [camera.mesh.size for camera in self.cameras if camera is not self.viewer]
-        return min(max(NEAR_PLANE, min(seen) / DEPTH_FRACTION), max(sizes) / NEAR_FRACTION)
+        """SPEC 5's 5 units, brought in to keep clear of anything shown that is nearer, and moved out
+        where all of it is far (see NEAR_MARGIN and DEPTH_RANGE); around the eye, what the eye is
+        inside of sets it by its size (NEAR_FRACTION and DEPTH_FRACTION)."""
+        spans = [self._depth_span(element) for element in self.shown_elements()]
+        if self.modes.target is Target.LIGHTS:  # the selected light's marker
+            marker = self.depth_of(self.placed_light(self.light).position)
+            spans.append((marker, marker, 0.0))
+        ahead = [span for span in spans if span[1] > 0.0]  # not wholly behind the eye
+        farthest = max(NEAR_PLANE, max((back for _, back, _ in ahead), default=0.0) / DEPTH_RANGE)
+        allowed = [_near_allowance(front, size, farthest) for front, _, size in ahead]
+        sizes = [size for _, _, size in spans if size > 0.0]
+        least = min(sizes) / DEPTH_FRACTION if sizes else 0.0  # the depth buffer's precision for the rest
+        return max(min(allowed, default=NEAR_PLANE), least)
+
+    def _depth_span(self, element: SceneObject) -> tuple[float, float, float]:
+        """How far in front of the eye the element's box begins and ends, the normals drawn out of it
+        included, and its size."""
+        depths = (element.world_corners() - self.eye_position()) @ self.viewer.forward
+        reach = NORMAL_LENGTH_FRACTION * element.mesh.size
+        return float(depths.min()) - reach, float(depths.max()) + reach, element.mesh.size
 
     def projection_matrix(self, aspect: float) -> np.ndarray:
         far = self.far_plane()
@@ -369,3 +405,12 @@ class Scene:
         if index >= len(self.lights) or not self.lights[index].on:
             return []
         return [self.placed_light(self.lights[index])]
+
+
+def _near_allowance(front: float, size: float, farthest: float) -> float:
+    """The farthest near plane that leaves a shown thing whole: short of it, where it begins in front
+    of the eye; and where the eye is within its depth, what its size allows (a model in millimetres
+    brings it in, one of many kilometres out)."""
+    if front > 0.0:
+        return min(front * NEAR_MARGIN, farthest)
+    return min(max(NEAR_PLANE, size / DEPTH_FRACTION), size / NEAR_FRACTION)

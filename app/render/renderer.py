@@ -20,7 +20,16 @@ from marraztu.loaders.images import fit_texture
 from marraztu.model.guides import scene_guides
 from marraztu.model.lights import MAX_LIGHTS, Show, WorldLight, shader_defines
 from marraztu.model.mesh import Mesh
-from marraztu.model.scene import Fill, Material, Projection, Scene, SceneObject, Shading, Target
+from marraztu.model.scene import (
+    NORMAL_LENGTH_FRACTION,
+    Fill,
+    Material,
+    Projection,
+    Scene,
+    SceneObject,
+    Shading,
+    Target,
+)
 from marraztu.model.transforms import normal_matrix, translation_by
 from marraztu.render.context import (
     SOFTWARE_SEGMENT_PIECES_IN_FLIGHT,
@@ -53,7 +62,6 @@ WHOLE = -1  # a DrawItem of the whole mesh, not of one material's part
 SELECTED_LINE_COLOUR = (0.0, 1.0, 0.0)
 LINE_COLOUR = (1.0, 1.0, 1.0)
 NORMAL_COLOUR = (1.0, 1.0, 0.0)
-NORMAL_LENGTH_FRACTION = 0.05  # of the object's bounding-box diagonal
 MARKER_SIZE_PX = 9.0
 PROBE_COLOUR = (0.0, 1.0, 1.0)  # cyan: no other drawing uses it
 PROBE_MARKER_PX = 7.0
