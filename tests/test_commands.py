@@ -45,10 +45,11 @@ def cube_mesh(name: str, half: float = 10.0) -> Mesh:
     )
 
 
-def make_scene() -> Scene:
-    objects = [SceneObject.placed(name, cube_mesh(name), PLAIN, position)
+def make_scene(unit: float = 1.0) -> Scene:
+    """Three 20-unit cubes 100 units apart, seen from 150 units: the seed's scale, in `unit`s."""
+    objects = [SceneObject.placed(name, cube_mesh(name, 10.0 * unit), PLAIN, tuple(unit * np.array(position)))
                for name, position in (("left", (-100, 0, 0)), ("right", (100, 0, 0)), ("middle", (0, 0, 0)))]
-    cameras = [SceneObject.placed("camera", cube_mesh("camera", 3.0), PLAIN, (0, 0, 150))]
+    cameras = [SceneObject.placed("camera", cube_mesh("camera", 3.0 * unit), PLAIN, (0, 0, 150 * unit))]
     return Scene(objects=objects, cameras=cameras)
 
 
@@ -358,6 +359,19 @@ def test_analysis_approach_stops_at_the_minimum_distance(scene: Scene) -> None:
     camera.push(transforms.apply_local(camera.model, transforms.translation(2, 3.0 - commands.ANALYSIS_MIN_DISTANCE)))
     press(scene, "z")  # backing away from within the minimum was refused as coming closer
     assert np.linalg.norm(scene.object.centre - scene.camera.origin) == pytest.approx(8.0)
+
+
+@pytest.mark.parametrize("unit", [1e-3, 1.0, 1e3])
+def test_the_steps_follow_the_models_size_by_powers_of_ten(unit: float) -> None:
+    """The seed's scene in millimetres or kilometres moves the same share of itself a press: SPEC 6's
+    few units are 5 of the seed's, and analysis mode's closest approach follows too."""
+    scene = make_scene(unit)
+    start = scene.object.model
+    press(scene, "t x")
+    np.testing.assert_allclose(scene.object.model, start @ transforms.translation(0, 5.0 * unit), rtol=1e-12)
+    press(scene, "c g Z*100")
+    distance = np.linalg.norm(scene.object.centre - scene.camera.origin)
+    assert distance == pytest.approx(commands.ANALYSIS_MIN_DISTANCE * unit)
 
 
 def test_analysis_sideways_translation_is_refused(scene: Scene) -> None:

@@ -710,6 +710,7 @@ def test_the_matrices_panel(make_quad, make_scene) -> None:
     lines = matrix_lines(scene, (800, 800))
     text = "\n".join(lines)
     assert "model of object quad" in text and "undo depth of the quad: 2" in text
+    assert "a press of x y z: 0.1 rad or 5 units" in text
     assert "objects global: M = T M" in text and "cameras flight" in text
     model_rows = lines[lines.index("model of object quad") + 1:][:4]
     np.testing.assert_allclose([[float(x) for x in row.split()] for row in model_rows],

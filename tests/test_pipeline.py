@@ -61,8 +61,9 @@ def test_every_stage_equals_numpy() -> None:
 
 def test_a_corner_nearer_than_the_near_plane_is_clipped_and_says_why() -> None:
     with marraztu.Viewer(size=SIZE, empty=True) as v:
-        # The square moved toward the camera and tilted: one edge between the near plane and the eye.
-        v.add_mesh([[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]], [[0, 1, 2, 3]]).press("t z*2 r x*5 P")
+        # The square moved 10 units toward the camera (0.5 a press: it is 14 units across) and tilted:
+        # one edge between the near plane and the eye.
+        v.add_mesh([[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]], [[0, 1, 2, 3]]).press("t z*20 r x*5 P")
         found = face_pipeline(v.scene, (0, 0, *SIZE))
         lines = "\n".join(pipeline_lines(v.scene, (0, 0, *SIZE)))
         near = v.scene.near_plane()
@@ -77,7 +78,7 @@ def test_a_corner_nearer_than_the_near_plane_is_clipped_and_says_why() -> None:
 
 def test_behind_the_eye_there_is_no_divide() -> None:
     with marraztu.Viewer(size=SIZE, empty=True) as v:
-        v.add_mesh([[-5, -5, 0], [5, -5, 0], [0, 5, 0]], [[0, 1, 2]]).press("t z*3 P")  # past the eye
+        v.add_mesh([[-5, -5, 0], [5, -5, 0], [0, 5, 0]], [[0, 1, 2]]).press("t z*30 P")  # past the eye
         found = face_pipeline(v.scene, (0, 0, *SIZE))
         assert all(corner.behind_eye and corner.ndc is None for corner in found.corners)
         assert "w <= 0: behind the eye, no divide" in "\n".join(pipeline_lines(v.scene, (0, 0, *SIZE)))

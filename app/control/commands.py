@@ -10,6 +10,7 @@ place, so `u` gives back the earlier state bit for bit.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from pathlib import Path
 from typing import Protocol
@@ -34,10 +35,14 @@ from marraztu.model.scene import (
 from marraztu.model.transforms import TransformKind, step_matrix
 
 ROTATION_STEP_RAD = 0.1  # the seed author's step
-TRANSLATION_STEP = 5.0  # world units; the models are about +-45 units, the scene about +-150
+TRANSLATION_STEP = 5.0  # world units, in a scene of the seed's models (see scene_unit)
 APERTURE_STEP_DEG = 2.5
-# Analysis mode never lets the camera come closer to the orbited centre than this (no passing through).
+# Analysis mode never lets the camera come closer to the orbited centre than this (no passing through),
+# in a scene of the seed's models.
 ANALYSIS_MIN_DISTANCE = 10.0
+# The seed's models are about +-45 units: a scene of models a power of ten larger or smaller moves by
+# steps a power of ten longer or shorter (SPEC 6's "a few units" where a unit is a millimetre or a km).
+SEED_MODEL_SIZE = 100.0
 # Mouse drag: 10 pixels turn as far as one key press.
 DRAG_RADIANS_PER_PIXEL = ROTATION_STEP_RAD / 10.0
 DOLLY_PER_NOTCH = 0.9  # each wheel notch toward the object leaves this share of the distance
@@ -181,9 +186,18 @@ def aim_camera_at_object(scene: Scene) -> None:
 
 
 # --- moving ----------------------------------------------------------------------------------------
-def key_amount(kind: TransformKind, sign: int) -> float:
+def scene_unit(scene: Scene) -> float:
+    """1 in a scene whose largest model is about the seed's models' size, else the power of ten that
+    brings it there, so that the steps stay round numbers."""
+    largest = max((obj.mesh.size for obj in scene.objects), default=0.0)
+    if not largest > 0.0:
+        return 1.0
+    return 10.0 ** float(np.clip(round(math.log10(largest / SEED_MODEL_SIZE)), -300, 300))
+
+
+def key_amount(scene: Scene, kind: TransformKind, sign: int) -> float:
     """How far one press of x/y/z (sign +1) or X/Y/Z (sign -1) goes."""
-    return sign * (ROTATION_STEP_RAD if kind is TransformKind.ROTATE else TRANSLATION_STEP)
+    return sign * (ROTATION_STEP_RAD if kind is TransformKind.ROTATE else TRANSLATION_STEP * scene_unit(scene))
 
 
 def move_object(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> None:
@@ -230,8 +244,9 @@ def approach_object(scene: Scene, axis_index: int, distance: float) -> None:
         return
     camera = scene.camera
     depth = -transforms.point_in_frame(camera.model, obj.centre)[2]
-    if distance < 0.0 and depth + distance < ANALYSIS_MIN_DISTANCE:  # backing away is never refused
-        distance = min(0.0, ANALYSIS_MIN_DISTANCE - depth)  # stop at the minimum, never push back
+    closest = ANALYSIS_MIN_DISTANCE * scene_unit(scene)
+    if distance < 0.0 and depth + distance < closest:  # backing away is never refused
+        distance = min(0.0, closest - depth)  # stop at the minimum, never push back
         if distance == 0.0:
             scene.message = f"analysis mode: as close to {obj.name} as allowed"
             return
@@ -331,7 +346,7 @@ def axis_press(axis_index: int, sign: int) -> CommandFunction:
 
     def press(scene: Scene, host: Host) -> None:
         kind = scene.modes.transform
-        move_target(scene, kind, axis_index, key_amount(kind, sign))
+        move_target(scene, kind, axis_index, key_amount(scene, kind, sign))
 
     return press
 
