@@ -76,6 +76,19 @@ def test_a_corner_nearer_than_the_near_plane_is_clipped_and_says_why() -> None:
     assert "near plane: eye z" in lines and "so clip z < -w" in lines
 
 
+@pytest.mark.parametrize("half", [0.004, 4e-7])
+def test_a_small_models_positions_keep_their_digits(half: float) -> None:
+    """A square a centimetre or a micron across, framed: its positions read as numbers, not zeros."""
+    corners = [[-half, -half, 0], [half, -half, 0], [half, half, 0], [-half, half, 0]]
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(corners, [[0, 1, 2, 3]]).press("P")
+        lines = pipeline_lines(v.scene, (0, 0, *SIZE))
+        eye = face_pipeline(v.scene, (0, 0, *SIZE)).corners[0].eye
+    first = next(line for line in lines if line.startswith("v1 "))
+    assert np.allclose(numbers_after("model", first), corners[0], rtol=0, atol=half / 100)
+    assert np.allclose(numbers_after("eye", first), eye, rtol=0, atol=half / 100)
+
+
 def test_behind_the_eye_there_is_no_divide() -> None:
     with marraztu.Viewer(size=SIZE, empty=True) as v:
         v.add_mesh([[-5, -5, 0], [5, -5, 0], [0, 5, 0]], [[0, 1, 2]]).press("t z*30 P")  # past the eye

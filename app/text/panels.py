@@ -19,6 +19,7 @@ from marraztu.model.lights import DIRECTIONAL, Show, TermView, WorldLight, cone_
 from marraztu.model.probe import Probe, VertexProbe, probe
 from marraztu.model.scene import CameraMode, Frame, Projection, Scene, Shading, Target
 from marraztu.render.layout import Extras, Label, project, view_projection, views
+from marraztu.text.numbers import position_decimals
 from marraztu.text.pipeline import pipeline_lines
 
 MAX_PROBED_VERTICES = 4  # more would not fit an 800 pixel window; the panel says how many are left
@@ -94,10 +95,11 @@ def _vertex_lines(found: Probe, number: int, vertex: VertexProbe) -> list[str]:
     normal = "face normal" if found.shading is Shading.FLAT else "vertex normal"
     head = f"v{number} #{vertex.vertex + 1}"
     pad = " " * INDENT
+    decimals = position_decimals(found.obj.mesh.size, 1)
     lines = [
-        f"{head:<{INDENT}}world  P {_triple(vertex.world_position, 1)}  N {_triple(vertex.world_normal, 2)}"
+        f"{head:<{INDENT}}world  P {_triple(vertex.world_position, decimals)}  N {_triple(vertex.world_normal, 2)}"
         f" ({normal})  N.V {_signed(vertex.n_dot_v, 2)}",
-        f"{pad}camera P {_triple(vertex.camera_position, 1)}  N {_triple(vertex.camera_normal, 2)}",
+        f"{pad}camera P {_triple(vertex.camera_position, decimals)}  N {_triple(vertex.camera_normal, 2)}",
         pad + _row("ambient Ka*Ia", "", "", "", "", "", _kept(found.weights.ambient * vertex.terms.ambient,
                                                              bool(found.weights.ambient))),
     ]

@@ -10,6 +10,7 @@ import numpy as np
 
 from marraztu.model.pipeline import CornerStages, FacePipeline, face_pipeline
 from marraztu.model.scene import Projection, Scene
+from marraztu.text.numbers import position_decimals
 
 MAX_CORNERS = 4  # more would not fit an 800 pixel window; the panel says how many are left
 INDENT = "       "
@@ -47,9 +48,10 @@ def _header(found: FacePipeline, probe_hidden: bool) -> list[str]:
 
 
 def _corner_lines(found: FacePipeline, number: int, corner: CornerStages) -> list[str]:
-    lines = [f"v{number} #{corner.vertex + 1:<4} model {_vector(corner.model)} -> world {_vector(corner.world)}"
-             f" -> eye {_vector(corner.eye)}",
-             f"{INDENT}clip {_vector(corner.clip[:3])} w {corner.clip[3]:.2f}"]
+    decimals = position_decimals(found.obj.mesh.size, 1)
+    lines = [f"v{number} #{corner.vertex + 1:<4} model {_vector(corner.model, decimals)} -> world "
+             f"{_vector(corner.world, decimals)} -> eye {_vector(corner.eye, decimals)}",
+             f"{INDENT}clip {_vector(corner.clip[:3], decimals)} w {corner.clip[3]:.{decimals + 1}f}"]
     if corner.ndc is None or corner.window is None:
         lines[-1] += "  w <= 0: behind the eye, no divide"
     else:
@@ -65,7 +67,8 @@ def _clip_verdict(found: FacePipeline, corner: CornerStages) -> list[str]:
     lines = ["outside the clip volume, beyond the planes: " + ", ".join(corner.outside) + " (the polygon is cut there)"]
     if "near" in corner.outside:
         behind = "; w <= 0: behind the eye too" if corner.behind_eye else ""
-        lines.append(f"near plane: eye z {corner.eye[2]:.2f} > -{found.near:g}, nearer than it, so clip z < -w{behind}")
+        eye_z = f"{corner.eye[2]:.{position_decimals(found.obj.mesh.size, 2)}f}"
+        lines.append(f"near plane: eye z {eye_z} > -{found.near:g}, nearer than it, so clip z < -w{behind}")
     return lines
 
 
