@@ -435,6 +435,35 @@ def test_vertex_colours_after_the_position_are_read(read) -> None:
     assert read(b"v 0 0 0 1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "w.obj").vertex_colours is None
 
 
+FORMS = "v reads x y z, x y z w or x y z r g b"
+
+
+@pytest.mark.parametrize("read", [read_by_lines, fast_reader.read_fast], ids=["line reader", "fast reader"])
+def test_a_v_line_of_5_or_7_numbers_is_read_as_the_form_before_it_with_a_note(read) -> None:
+    """x y z w and x y z r g b are the forms past x y z: 5 numbers read as the first, 7 as the second,
+    the last number ignored; one note counts them and names the first."""
+    five = read(b"v 1 2 3 4 5\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "five.obj")
+    assert five.notes == [f"ignored the last number of a v line of 5 or 7 numbers on line 1 ({FORMS})"]
+    assert five.positions[0].tolist() == [1, 2, 3] and five.vertex_colours is None
+    seven = read(b"v 0 0 0\n# x\nv 1 0 0 0.5 0.5 0.5 9\nv 0 1 0 1 2\nf 1 2 3\n", "seven.obj")
+    assert seven.notes == [f"ignored the last number of 2 v lines of 5 or 7 numbers (the first on line 3; {FORMS})"]
+    assert seven.vertex_colours[1].tolist() == [0.5, 0.5, 0.5]
+    assert read(b"v 0 0 0 1\nv 1 0 0 1 0 0\nv 0 1 0\nf 1 2 3\n", "forms.obj").notes == []
+
+
+@pytest.mark.parametrize("chunk", [8, 24, 64])
+def test_v_lines_of_no_form_are_counted_across_pieces_and_lines_left_to_the_line_reader(chunk: int) -> None:
+    """Each piece counts its own, and the line reader the lines left to it for their long numbers:
+    the note sums them and names the file's first, whichever piece read it."""
+    lines = [b"v 0 0 0"] * 20 + [b"v 0 0 0.1234567890123456789 1 2", b"v 1 2 3 4 5"] * 3
+    text = b"\n".join([*lines, b"v 1 0 0 0.5 0.5 0.5 1", b"f 1 2 3"]) + b"\n"
+    with small_chunks(chunk):
+        both = read_both(text)
+    assert_agree(both)
+    said = f"ignored the last number of 7 v lines of 5 or 7 numbers (the first on line 21; {FORMS})"
+    assert both.fast.notes == [said]
+
+
 @pytest.mark.parametrize("read", [read_by_lines, fast_reader.read_fast], ids=["line reader", "fast reader"])
 def test_zbrush_polypaint_gives_the_positions_colours_in_file_order(read) -> None:
     """ZBrush writes `#MRGB` lines of MMRRGGBB entries (a mask byte, then the colour), one per
@@ -667,7 +696,7 @@ def table_lines(draw: st.DrawFn, keyword: str, count: int, widths: list[int]) ->
 def obj_texts(draw: st.DrawFn) -> bytes:
     """Valid OBJ text in many spellings, a third of it with one broken or unusual line."""
     counts = {"v": draw(st.integers(3, 8)), "vt": draw(st.integers(0, 4)), "vn": draw(st.integers(0, 4))}
-    lines = table_lines(draw, "v", counts["v"], [3, 3, 3, 4, 6, 7])
+    lines = table_lines(draw, "v", counts["v"], [3, 3, 3, 4, 5, 6, 7])
     lines += table_lines(draw, "vt", counts["vt"], [2, 2, 3]) + table_lines(draw, "vn", counts["vn"], [3])
     shapes = ["{v}"] + ["{v}/{t}"] * bool(counts["vt"]) + ["{v}//{n}"] * bool(counts["vn"])
     shapes += ["{v}/{t}/{n}"] * bool(counts["vt"] and counts["vn"])

@@ -97,7 +97,7 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
                 list(range(len(pieces))), PARSE_THREADS)
     outcome = _Records(buf)
     for chunks, deferred, names in read:
-        outcome.take_colours(deferred)
+        outcome.take_piece(deferred)
         numbers = outcome.name_numbers(names)
         for chunk in chunks:
             outcome.settle(chunk, numbers)
@@ -113,7 +113,8 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
              list(range(len(pieces))), PARSE_THREADS)
         raw.put_colours(colours, outcome.colour_rows, outcome.colour_values)  # the line reader's lines
     colours, paint_notes = outcome.polypaint.with_colours(colours, len(tables[0]))
-    notes = [*outcome.colour.notes, *paint_notes, *([raw.UNDRAWN_ELEMENTS] if outcome.elements else [])]
+    notes = [*outcome.unformed.notes, *outcome.colour.notes, *paint_notes,
+             *([raw.UNDRAWN_ELEMENTS] if outcome.elements else [])]
     return raw.RawObj(*tables, *kept, face_start, raw.library_names(outcome.mtllib), outcome.colour.colour, notes,
                       outcome.material_runs, colours)
 
@@ -142,6 +143,7 @@ def _read_piece(buf: np.ndarray, piece: tuple[int, int], before: np.ndarray, def
                         face_start)
         chunks.append(deferred.read(records[:state[scan.S_USED]], face_start))
         if state[scan.S_AT] >= piece[1]:
+            deferred.unformed.add(int(state[scan.S_FIRST_UNFORMED]), int(state[scan.S_UNFORMED]))
             return chunks, deferred, names[:state[scan.S_NAMES]]
         rows *= 2
 
@@ -187,6 +189,7 @@ class _DeferredLines:
         self.coloured = False  # some v line the line reader read gives a colour after its position
         # The colours of those v lines: their rows, and three numbers each.
         self.colour_rows, self.colour_values = array("q"), array("d")
+        self.unformed = raw.UnformedVLines()  # the piece's: the lines the line reader read, then pass two's
 
     def read(self, records: np.ndarray, face_start: np.ndarray) -> np.ndarray:
         """Reads the deferred lines among `records`; the others, left for _Records to settle."""
@@ -219,6 +222,7 @@ class _DeferredLines:
             self.colour_rows.extend(reader.coloured_rows)
             self.colour_values.extend(reader.colour_values)
             self.coloured = True
+        self.unformed.add(reader.unformed.first_line, reader.unformed.count)
         kind = record[scan.R_KEYWORD]
         if kind == scan.F:
             # Its slots end where pass two ended the face; they start where the record says, not where
@@ -286,8 +290,12 @@ class _Records:
         self.elements = False  # an l or p statement was read
         self.coloured = False  # some v line gives a colour after its position
         self.colour_rows, self.colour_values = array("q"), array("d")
+        self.unformed = raw.UnformedVLines()
 
-    def take_colours(self, deferred: _DeferredLines) -> None:
+    def take_piece(self, deferred: _DeferredLines) -> None:
+        """What a piece's v lines give beside its records: colours the line reader read, and the
+        lines of no v form."""
+        self.unformed.add(deferred.unformed.first_line, deferred.unformed.count)
         self.coloured |= deferred.coloured
         self.colour_rows.extend(deferred.colour_rows)
         self.colour_values.extend(deferred.colour_values)

@@ -26,10 +26,12 @@ from marraztu.loaders.obj.raw import (
     CORNER_GAPS,
     MAX_DIGITS,
     UNDRAWN_ELEMENTS,
+    V_FORMS,
     ColourComment,
     MaterialRuns,
     Polypaint,
     RawObj,
+    UnformedVLines,
     comment_at,
     library_names,
     material_name,
@@ -144,6 +146,7 @@ class LineReader:
         self.mtllib: tuple[bytes, ...] = ()
         self.coloured_rows = array("q")  # the position rows whose v line gives a colour after x y z
         self.colour_values = array("d")  # and its three numbers each
+        self.unformed = UnformedVLines()
         self.material_runs = MaterialRuns()
         self.colour = ColourComment()
         self.polypaint = Polypaint()
@@ -223,6 +226,8 @@ class LineReader:
             if field == 0 and len(values) >= COLOURED_V_NUMBERS:
                 self.coloured_rows.append(self.defined[0])
                 self.colour_values.extend(values[3:COLOURED_V_NUMBERS])
+            if field == 0 and len(values) not in V_FORMS:
+                self.unformed.add(number)
             self.defined[field] += 1
         elif keyword == b"f":
             self.face(number, rest)
@@ -314,7 +319,8 @@ class LineReader:
             if self.coloured_rows else None, len(tables[0]))
         return RawObj(tables[0], tables[1], tables[2], *columns,
                       face_start, library_names(self.mtllib), self.colour.colour,
-                      [*self.colour.notes, *paint_notes, *([UNDRAWN_ELEMENTS] if self.elements else [])],
+                      [*self.unformed.notes, *self.colour.notes, *paint_notes,
+                       *([UNDRAWN_ELEMENTS] if self.elements else [])],
                       self.material_runs, colours)
 
 

@@ -218,6 +218,34 @@ class MaterialRuns:
 
 # `v x y z r g b` (MeshLab): a colour after the position, drawn as PLY's and COFF's are.
 COLOURED_V_NUMBERS = 6
+# The v forms: x y z; x y z w; x y z r g b. A line of 5 or 7 numbers (3 to 7 are read) fits none: it is
+# read as the form before it, with a note, as the readers have always read it.
+V_FORMS = (3, 4, COLOURED_V_NUMBERS)
+
+
+class UnformedVLines:
+    """The v lines of 5 or 7 numbers, each read as the form before it, its last number ignored: one
+    note for them all, naming the first (the readers of pieces give theirs in any order)."""
+
+    def __init__(self) -> None:
+        self.count = 0
+        self.first_line = 0
+
+    def add(self, line_number: int, count: int = 1) -> None:
+        """`count` such lines, the first of them on line `line_number`."""
+        if count:
+            self.count += count
+            self.first_line = min(self.first_line or line_number, line_number)
+
+    @property
+    def notes(self) -> list[str]:
+        forms = "v reads x y z, x y z w or x y z r g b"
+        if self.count == 0:
+            return []
+        if self.count == 1:
+            return [f"ignored the last number of a v line of 5 or 7 numbers on line {self.first_line} ({forms})"]
+        return [f"ignored the last number of {self.count} v lines of 5 or 7 numbers (the first on line "
+                f"{self.first_line}; {forms})"]
 # Said where a file has l or p statements beside its faces: drawn nowhere, not lost without a word.
 UNDRAWN_ELEMENTS = "its l and p statements (lines and points) are not drawn"
 MAX_LIBRARY_LINES = 16  # mtllib lines read: a file of a million must not cost a million lookups

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from marraztu.loaders.obj.raw import COLOURED_V_NUMBERS, MAX_DIGITS
+from marraztu.loaders.obj.raw import COLOURED_V_NUMBERS, MAX_DIGITS, V_FORMS
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.jit import njit
 from marraztu.model.mesh import INDEX_LIMIT
@@ -34,10 +34,12 @@ RECORD_COLUMNS = 11
 NAMES_PER_PIECE = 64  # distinct usemtl lines a piece tells apart: a model uses a few materials
 # Where pass two is in a piece: the counts (as COUNT_COLUMNS, LINES being the next line's number),
 # the next line's first byte, the records used, what the piece has recorded once (_STATED...), its
-# mtllib lines recorded, its distinct usemtl lines, and the place among them of its last usemtl line
-# recorded (-1: none, or one past them).
-S_AT, S_USED, S_FLAGS, S_LIBRARIES, S_NAMES, S_LAST_NAME = range(COUNT_COLUMNS, COUNT_COLUMNS + 6)
-STATE_COLUMNS = COUNT_COLUMNS + 6
+# mtllib lines recorded, its distinct usemtl lines, the place among them of its last usemtl line
+# recorded (-1: none, or one past them), and its v lines of no v form (raw.UnformedVLines) it read:
+# how many, and the first one's number (0: none). Counted, not recorded: a file may hold millions.
+S_AT, S_USED, S_FLAGS, S_LIBRARIES, S_NAMES, S_LAST_NAME, S_UNFORMED, S_FIRST_UNFORMED = range(
+    COUNT_COLUMNS, COUNT_COLUMNS + 8)
+STATE_COLUMNS = COUNT_COLUMNS + 8
 # The flags of what a piece has recorded: a statement (one says the file has some), a colour comment
 # that sets the colour (later ones cannot), a v line with a colour, an l or p line (one a piece is
 # enough of each).
@@ -52,6 +54,9 @@ _LETTER_E, _LETTER_U, _LETTER_R, _COLO = ord("e"), ord("u"), ord("r"), np.frombu
 _NOT_COLOUR, _COLOUR_READ, _COLOUR_UNREAD = 0, 1, 2
 _USEMTL, _MTLLIB = np.frombuffer(b"usemtl", np.uint8), np.frombuffer(b"mtllib", np.uint8)
 _MRGB = np.frombuffer(b"MRGB", np.uint8)
+# By a v line's count of numbers (3 to 7): whether it fits no v form (raw.V_FORMS).
+_NO_V_FORM = np.ones(8, np.bool_)
+_NO_V_FORM[list(V_FORMS)] = False
 # Up to 1e22 powers of ten are exact doubles: mantissa and power then round once, as float() does
 # (Clinger's fast path).
 _POWERS_OF_TEN = np.array([10.0**k for k in range(23)])
@@ -426,6 +431,7 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
     face, corner, line = state[F], state[CORNERS], state[LINES]
     start, used, flags, libraries = state[S_AT], state[S_USED], state[S_FLAGS], state[S_LIBRARIES]
     named, last_name = state[S_NAMES], state[S_LAST_NAME]
+    unformed, first_unformed = state[S_UNFORMED], state[S_FIRST_UNFORMED]
     while start < high and used < records.shape[0]:
         if _byte(buf, start) == _NEWLINE:
             line += 1
@@ -438,6 +444,9 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
             read = numbers >= 0
             if numbers >= COLOURED_V_NUMBERS and not flags & _COLOURS_SEEN:
                 record, flags = VERTEX_COLOURS, flags | _COLOURS_SEEN
+            if read and _NO_V_FORM[numbers]:
+                unformed += 1
+                first_unformed = first_unformed or line
         elif kind == VT:
             numbers, at = _numbers(buf, at, texcoords, defined[VT], 1, 3)
             read = numbers >= 0
@@ -506,6 +515,7 @@ def read_piece(buf: np.ndarray, high: int, state: np.ndarray, records: np.ndarra
     state[F], state[CORNERS], state[LINES] = face, corner, line
     state[S_AT], state[S_USED], state[S_FLAGS], state[S_LIBRARIES] = start, used, flags, libraries
     state[S_NAMES], state[S_LAST_NAME] = named, last_name
+    state[S_UNFORMED], state[S_FIRST_UNFORMED] = unformed, first_unformed
 
 
 @njit(**_UNCOUNTED)
