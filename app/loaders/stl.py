@@ -142,21 +142,29 @@ def _ascii_corners(path: Path, data: bytes, start: int = 0) -> np.ndarray:
             keyword = keyword.lower()
             next_state = step[state].get(keyword)
             if next_state is None:
-                raise _unexpected(path, state, keyword, number)
+                raise _after_words_read(corners, _unexpected(path, state, keyword, number))
         if keyword == "vertex":
             if len(words) != 4:
-                raise LoadError(path, f"a vertex line holds 3 numbers, this one {said_count(words[1:], 5)}",
-                                line=number)
+                raise _after_words_read(corners, LoadError(
+                    path, f"a vertex line holds 3 numbers, this one {said_count(words[1:], 5)}", line=number))
             corners.add(words[1:], number)
         elif keyword == "solid":
             solid_line = number
         state = next_state
     if state == _IN_SOLID:
         solid_line = solid_line or _line_of_last_solid(data, start)
-        raise LoadError(path, f"the solid begun on line {solid_line} is not closed by 'endsolid'", line=number)
+        raise _after_words_read(corners, LoadError(
+            path, f"the solid begun on line {solid_line} is not closed by 'endsolid'", line=number))
     if state != _OUTSIDE:
-        raise LoadError(path, "the file ends inside a facet", line=number)
+        raise _after_words_read(corners, LoadError(path, "the file ends inside a facet", line=number))
     return corners.values().reshape(-1, 3)
+
+
+def _after_words_read(corners: WordBlocks, error: LoadError) -> LoadError:
+    """`error`, unless a word of the lines before its own is no coordinate: that line's error, since the
+    words are made numbers a block at a time and the first bad line is the one named."""
+    corners.values()
+    return error
 
 
 # The usual ASCII file, read whole facets at a time by one pattern: a facet's seven lines, each
