@@ -96,6 +96,9 @@ def test_a_noff_rows_normal_and_an_stoff_rows_coordinates_are_read_past(tmp_path
     (off_text(header="OFF\n4 3 0\n"), 8, "the header counts 3 faces, the file ends before them"),
     (off_text(header="OFF\n5 2 0\n"), 7, "a vertex row holds 3 numbers here, this one 4"),
     (off_text(header="OFF\n4 0 0\n"), 2, "the header declares no faces: nothing to draw"),
+    (off_text() + "5 6 7\n", 9, "'5' after the 2 faces the header counts"),
+    (off_text(header="OFF\n4 1 0\n"), 8, "'3' after the 1 face the header counts"),
+    (off_text() + "# the end\n\n \t\n junk # more\n", 12, "'junk' after the 2 faces the header counts"),
     (off_text(header="OFF\nfour 2 0\n"), 2, "expected the vertex, face and edge counts"),
     (off_text(header="OFF\n4 \u00b2 0\n"), 2, "expected the vertex, face and edge counts"),  # '²'.isdigit()
     (off_text(faces=("\u0663 0 1 2", "3 0 2 3")), 7,
@@ -348,12 +351,20 @@ def test_one_face_row_of_a_million_corners_is_made_numbers_a_piece_at_a_time(tmp
     assert peak < path.stat().st_size + tables.corner_vertex.nbytes + (6 << 20), (peak, path.stat().st_size)
 
 
-def test_lines_after_the_faces_are_not_looked_at(tmp_path: Path) -> None:
-    """The line reader stops after the header's faces; so does the count of each line's words."""
+@pytest.mark.parametrize("after", ["", "\n\n", "# written by hand\n", " \t\r\n# a\n\n#b"])
+def test_blank_lines_and_comments_after_the_faces_are_read_past(tmp_path: Path, after: str,
+                                                                monkeypatch: pytest.MonkeyPatch) -> None:
+    by_lines = outcome(tmp_path, off_text() + after, monkeypatch)
+    assert outcome(tmp_path, off_text() + after) == by_lines == outcome(tmp_path, off_text())
+
+
+def test_lines_after_the_faces_are_refused_at_the_first_without_reading_on(tmp_path: Path) -> None:
+    """The line reader stops at the first line of words after the header's faces; so does the count of
+    each line's words."""
     path = tmp_path / "trailing.off"
     path.write_bytes(off_text().encode() + b"1\n" * 5_000_000)
-    tables, peak = peak_traced_bytes(lambda: off.read_off(path, path.read_bytes()))
-    assert tables.face_start.tolist() == [0, 3, 6]
+    refused, peak = peak_traced_bytes(lambda: one_line_refusal(lambda: off.read_off(path, path.read_bytes())))
+    assert (refused.message, refused.line) == ("'1' after the 2 faces the header counts", 9)
     assert peak < 2 * path.stat().st_size, (peak, path.stat().st_size)  # the text, and a piece's words counted
 
 

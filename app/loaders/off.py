@@ -37,7 +37,7 @@ from marraztu.loaders.words import (
 )
 from marraztu.model.build import by_largest, colour_bytes, derive_mesh
 from marraztu.model.geometry import holds_in_float32
-from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh
+from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted
 from marraztu.model.threads import weighed_pieces
 
 # A comment runs from '#' to its line's end (\n, \r\n or a lone \r, as text_lines ends lines).
@@ -106,6 +106,7 @@ def read_off(path: Path, data: bytes) -> OffTables:
     if at_once is None:
         positions, colours = _vertex_rows(path, rows, vertices, layout)
         corner_vertex, face_start = _face_rows(path, rows, faces, vertices)
+        _check_nothing_after(path, rows, faces)
         at_once = OffTables(positions, corner_vertex, face_start, colours)
     if at_once.colours is not None:
         _check_colours(path, data, at_once.colours)
@@ -180,22 +181,23 @@ def _body_at_once(data: bytes, body_at: int, layout: _Layout, vertices: int, fac
     """The tables, from the body's numbers read by numpy (the vertex rows' in one call, the faces' a block
     of rows at a time), where each row is one the line reader takes without a word and nothing in it
     needs that reader's care: a face's count and corners only digits (comments are taken out before).
-    None otherwise: the line reader reads the file, and names any problem. The rows' shapes are
-    checked from their word counts first, so a line of a million words is never made numbers here."""
+    None otherwise: the line reader reads the file, and names any problem (a line of words after the
+    faces, say). The rows' shapes are checked from their word counts first, so a line of a million
+    words is never made numbers here."""
     rows = vertices + faces
-    counts, firsts = line_words(data, body_at, rows + 1)  # the line after the faces: where they end
-    if counts.size < rows:
+    counts, firsts = line_words(data, body_at, rows + 1)  # a line after the faces: words past them
+    if counts.size != rows:
         return None
     width = int(counts[0]) if vertices else 3
     face_words = counts[vertices:rows]
-    faces_at, faces_end = int(firsts[vertices]), int(firsts[rows]) if counts.size > rows else len(data)
+    faces_at = int(firsts[vertices])
     if (width not in layout.row_sizes() or (counts[:vertices] != width).any()
             or _long_counts(data, firsts[vertices:rows]) or not _counts_fit(data, firsts[vertices:rows], face_words)):
         return None
     table = _numbers_of(data[body_at:faces_at], vertices * width, np.float64)
     if table is None or not holds_in_float32(table):
         return None
-    faces_read = _face_rows_at_once(data, firsts[vertices:rows], faces_end, face_words, vertices)
+    faces_read = _face_rows_at_once(data, firsts[vertices:rows], len(data), face_words, vertices)
     if faces_read is None:
         return None
     positions, colours = _vertex_table(table.reshape(vertices, width), layout)
@@ -432,6 +434,15 @@ def _vertex_rows(path: Path, rows: _Rows, count: int, layout: _Layout
         return np.zeros((0, 3)), None
     return _vertex_table(np.concatenate([positions.values().reshape(count, 3), extra.reshape(count, -1)], axis=1),
                          layout)
+
+
+def _check_nothing_after(path: Path, rows: _Rows, faces: int) -> None:
+    """Only blanks and comments may follow the faces: a word there is refused at its line, as PLY's
+    numbers after its last row are (the header's counts, or the file, are not what they say)."""
+    after = rows.next(1)
+    if after is not None:
+        raise LoadError(path, f"'{after[1][0][:40]}' after the {counted(faces, 'face')} the header counts",
+                        line=after[0])
 
 
 def _vertex_table(table: np.ndarray, layout: _Layout) -> tuple[np.ndarray, np.ndarray | None]:
