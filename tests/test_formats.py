@@ -661,6 +661,28 @@ def test_a_plys_diffuse_colours_are_its_vertex_colours(tmp_path: Path, encoding:
     assert load_model(path).vertex_colours.tolist() == [list(colour) for _, colour in rows]
 
 
+@pytest.mark.parametrize(("channels", "notes"), [
+    (["diffuse_red"], ("vertex colours not drawn: diffuse_red without diffuse_green and diffuse_blue",)),
+    (["red", "blue"], ("vertex colours not drawn: red and blue without green",)),
+    (["red", "diffuse_green", "diffuse_blue"], ("vertex colours not drawn: red without green and blue",
+                                                "vertex colours not drawn: diffuse_green and diffuse_blue without "
+                                                "diffuse_red")),
+    (["alpha"], ()),
+    (["red", "green", "blue", "diffuse_red"], ()),  # drawn: the first names trimesh reads
+])
+def test_a_plys_colour_of_only_some_channels_is_not_drawn_with_a_note(tmp_path: Path, channels: list[str],
+                                                                       notes: tuple) -> None:
+    """trimesh passes over a colour short of a channel without a word."""
+    names = "".join(f"property uchar {channel}\n" for channel in channels)
+    values = " 200" * len(channels)
+    path = tmp_path / "partial.ply"
+    path.write_text("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                    f"{names}element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                    f"0 0 0{values}\n1 0 0{values}\n0 1 0{values}\n3 0 1 2\n")
+    loaded = load_model(path)
+    assert loaded.warnings == notes and (loaded.vertex_colours is None) == ("green" not in channels)
+
+
 @pytest.mark.parametrize("prefix", ["", "diffuse_"])
 @pytest.mark.parametrize(("first", "colour", "notes"), [
     ("0.25", [64, 128, 128], ()), ("1e30", [255, 128, 128], ("1 vertex colour outside 0..1 held to it",)),

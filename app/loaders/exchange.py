@@ -1022,13 +1022,24 @@ def _ply_colour_notes(source: str | Path, mesh: Any) -> tuple[str, ...]:
     an OBJ's are."""
     table = _ply_vertex_table(mesh)
     names = next((names for names in _PLY_COLOURS if table.keys() >= set(names)), None)
-    if names is None or any(table[name].dtype.kind != "f" for name in names):
+    if names is None:
+        return _partial_colour_notes(table)
+    if any(table[name].dtype.kind != "f" for name in names):
         return ()
     colours = np.column_stack([table[name] for name in names])
     if not np.isfinite(colours).all():
         raise LoadError(source, "its vertex colours hold a NaN or an infinity")
     outside = int(((colours < 0.0) | (colours > 1.0)).any(axis=1).sum())
     return (f"{counted(outside, 'vertex colour')} outside 0..1 held to it",) if outside else ()
+
+
+def _partial_colour_notes(table: dict[str, np.ndarray]) -> tuple[str, ...]:
+    """A PLY's vertex colour of only some of its names (diffuse_red alone, say), not drawn: a note, where
+    trimesh passes over it without a word."""
+    partial = [(present, [name for name in names if name not in table]) for names in _PLY_COLOURS
+               if (present := [name for name in names if name in table])]
+    return tuple(f"vertex colours not drawn: {' and '.join(present)} without {' and '.join(missing)}"
+                 for present, missing in partial)
 
 
 def _vertex_colours(mesh: Any) -> np.ndarray | None:
