@@ -595,6 +595,10 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
     ("d['meshes'][0]['primitives'][0]['indices'] = 7", "mesh 0's primitive 0's indices names accessor 7, of 2"),
     ("d['meshes'][0]['primitives'][0]['attributes']['POSITION'] = '0'",
      "mesh 0's primitive 0's POSITION names accessor '0', of 2"),
+    # trimesh said an AttributeError ("'int' object has no attribute 'get'") or a TypeError
+    ("d['meshes'][0]['primitives'].append(3)", "mesh 0's primitive 1 is not an object"),
+    ("d['meshes'][0]['primitives'][0] = None", "mesh 0's primitive 0 is not an object"),
+    ("d['meshes'][0]['primitives'] = {'0': {}}", "mesh 0's primitives are not a list"),
     ("d['accessors'][0]['count'] = '3'", "accessor 0's count is not a whole number"),
     ("d['accessors'][0]['count'] = 4", "accessor 0's 4 items run past the 36 bytes of buffer view 0"),
     ("d['accessors'][1]['bufferView'] = 9", "accessor 1 names buffer view 9, of 2"),

@@ -351,8 +351,9 @@ _NODE_TRANSFORMS = {"translation": 3, "rotation": 4, "scale": 3, "matrix": 16}
 
 class _GltfReferences:
     """What a glTF's JSON names checked to exist, and its byte ranges to fit, before trimesh reads it:
-    trimesh says an IndexError, an AssertionError or a failed reshape. Parts not shaped as glTF's
-    (a list that is not one) are left to trimesh's words."""
+    trimesh says an IndexError, an AssertionError or a failed reshape. A mesh's primitives must be a
+    list of objects (trimesh says an AttributeError); other parts not shaped as glTF's (a list that is
+    not one) are left to trimesh's words."""
 
     def __init__(self, path: Path, document: dict[str, Any]) -> None:
         self.path, self.document = path, document
@@ -366,9 +367,13 @@ class _GltfReferences:
         for number, node in self.each("nodes"):
             self.node(number, node)
         for number, mesh in self.each("meshes"):
-            for primitive_number, primitive in enumerate(self.listed(mesh, "primitives")):
-                if isinstance(primitive, dict):
-                    self.primitive(f"mesh {number}'s primitive {primitive_number}", primitive)
+            primitives = mesh.get("primitives", [])
+            if not isinstance(primitives, list):
+                self.refuse(f"mesh {number}'s primitives are not a list")
+            for primitive_number, primitive in enumerate(primitives):
+                if not isinstance(primitive, dict):
+                    self.refuse(f"mesh {number}'s primitive {primitive_number} is not an object")
+                self.primitive(f"mesh {number}'s primitive {primitive_number}", primitive)
         for number, accessor in self.each("accessors"):
             self.accessor(number, accessor)
         for number, view in self.each("bufferViews"):
