@@ -13,7 +13,8 @@ from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import StartOptions, Viewer
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
-from marraztu.model.guides import AXIS_COLOURS, GRID_COLOUR, MIN_EXTENT, OWN_AXIS_LIGHTNESS, nice_step, scene_guides
+from marraztu.model.guides import AXIS_COLOURS, GRID_COLOUR, OWN_AXIS_LIGHTNESS, nice_step, scene_guides
+from marraztu.model.scene import GUIDES_MIN_EXTENT
 from marraztu.render.layout import View, project, view_projection
 from support.scenes import BACKGROUND, NoFrontend
 
@@ -56,9 +57,21 @@ def test_the_grid_lies_flat_at_the_bottom_of_the_scene() -> None:
     assert len(grid) >= 20 and np.allclose(grid[:, :, 1], lowest, atol=1e-4)
 
 
+@pytest.mark.parametrize("keys", ["a p", "a c t Z*28 p", "a c t Z*28 r y*8 X*3 p", "a c t z*200 p"])
+def test_parallel_projections_far_plane_is_beyond_every_guide(keys: str) -> None:
+    """Its far plane is twice the depth of what is shown, not 1,000 units: the guides count too."""
+    viewer = Viewer(load_builtin_scene(), NoFrontend())
+    viewer.start(StartOptions(), longest_texture_side=64)
+    for key in parse_key_sequence(keys):
+        viewer.press(key)
+    scene = viewer.scene
+    depths = [scene.depth_of(point) for point in guide_lines(scene)[:, :3]]
+    assert max(depths) < scene.far_plane()
+
+
 def test_an_empty_scene_still_has_a_grid_of_sensible_size() -> None:
     grid = axes_among(guide_lines(empty_scene()), np.float32(GRID_COLOUR))
-    assert grid[:, :, 0].max() - grid[:, :, 0].min() >= MIN_EXTENT
+    assert grid[:, :, 0].max() - grid[:, :, 0].min() >= GUIDES_MIN_EXTENT
 
 
 def test_local_mode_adds_the_selected_objects_own_axes_along_its_matrix() -> None:

@@ -160,27 +160,43 @@ def test_the_near_plane_keeps_clear_of_a_small_model_looked_at_from_close_by(tmp
         commands.dolly_view(framed, 1)
 
 
-def plate_with_a_label(path: Path, unit: float) -> Path:
+def plate_with_a_label(path: Path, unit: float, centre: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> Path:
     """A white plate 50 metres across and a green label 20 metres across lying 2 millimetres above it,
-    in `unit`s of a metre."""
+    in `unit`s of a metre, about `centre`, tilted a radian toward the start camera."""
     plate, label, proud = 25.0 / unit, 10.0 / unit, 0.002 / unit
-    corners = [(-plate, 0, -plate, 1), (plate, 0, -plate, 1), (plate, 0, plate, 1), (-plate, 0, plate, 1),
-               (-label, proud, -label, 0), (label, proud, -label, 0), (label, proud, label, 0),
-               (-label, proud, label, 0)]
-    path.write_text("".join(f"v {x!r} {y!r} {z!r} {white} 1 {white}\n" for x, y, z, white in corners)
-                    + "f 1 4 3 2\nf 5 8 7 6\n")
+    corners = np.array([(-plate, 0, -plate), (plate, 0, -plate), (plate, 0, plate), (-plate, 0, plate),
+                        (-label, proud, -label), (label, proud, -label), (label, proud, label), (-label, proud, label)])
+    tilt = np.array([[1.0, 0.0, 0.0], [0.0, np.cos(1.0), -np.sin(1.0)], [0.0, np.sin(1.0), np.cos(1.0)]])
+    placed = corners @ tilt.T + centre
+    path.write_text("".join(f"v {float(x)!r} {float(y)!r} {float(z)!r} {int(row < 4)} 1 {int(row < 4)}\n"
+                            for row, (x, y, z) in enumerate(placed)) + "f 1 4 3 2\nf 5 8 7 6\n")
     return path
+
+
+def green_share(pixels: np.ndarray) -> float:
+    """How much of the picture the green label covers."""
+    return float(((pixels[..., 1] > 2 * pixels[..., 0] + 10) & (pixels[..., 1] > 2 * pixels[..., 2] + 10)).mean())
 
 
 def test_a_model_in_millimetres_keeps_the_depth_precision_it_has_in_metres(tmp_path: Path) -> None:
     """The near plane moves out where everything shown is far: at 5 units, 64 metres of millimetres
     away, the plate's depth covered the label 2 millimetres above it."""
-    keys = "x*10"  # the plate turned to face the camera a little
-    metres = picture(tmp_path, keys, (plate_with_a_label(tmp_path / "m.obj", 1.0),), name="m.png")
-    millimetres = picture(tmp_path, keys, (plate_with_a_label(tmp_path / "mm.obj", 1e-3),), name="mm.png")
-    label = (metres[..., 1] > 2 * metres[..., 0] + 10) & (metres[..., 1] > 2 * metres[..., 2] + 10)
-    assert label.mean() > 0.01, "the green label shows in metres"
+    metres = picture(tmp_path, "", (plate_with_a_label(tmp_path / "m.obj", 1.0),), name="m.png")
+    millimetres = picture(tmp_path, "", (plate_with_a_label(tmp_path / "mm.obj", 1e-3),), name="mm.png")
+    assert green_share(metres) > 0.01, "the green label shows in metres"
     assert np.abs(millimetres - metres).max(axis=2).mean() < 1.0, "the same picture, but for rounding"
+
+
+@pytest.mark.parametrize("unit,centre", [(1e6, (0.0, 0.0, 0.0)), (1.0, (4e6, -3e6, 7.0))],
+                         ids=["in micrometres", "5,000 km out"])
+def test_in_parallel_projection_the_label_shows_whatever_the_units_and_place(
+        tmp_path: Path, unit: float, centre: tuple[float, float, float]) -> None:
+    """Parallel projection's depth buffer steps evenly from near to far: a far plane 1,000 units out,
+    or beyond the lights at the origin, made its steps coarser than the 2 millimetres."""
+    metres = picture(tmp_path, "p", (plate_with_a_label(tmp_path / "m.obj", 1.0),), name="m.png")
+    odd = picture(tmp_path, "p", (plate_with_a_label(tmp_path / "odd.obj", unit, centre),), name="odd.png")
+    assert green_share(metres) > 0.01, "the green label shows in metres"
+    assert np.abs(odd - metres).max(axis=2).mean() < 1.0, "the same picture, but for rounding"
 
 
 @pytest.mark.parametrize("size", [1e5, 1e7, 1e9])

@@ -12,18 +12,9 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from marraztu.model.scene import PERSPECTIVE_FOVY_DEG, Projection, Scene, SceneObject
+from marraztu.model.scene import PERSPECTIVE_FOVY_DEG, Projection, Scene, SceneObject, world_box
 
 FILL = 2.0 / 3.0  # of the view's height: the model whole, with a margin round it
-
-
-def world_box(objects: Iterable[SceneObject]) -> tuple[np.ndarray, np.ndarray]:
-    """The world bounding box of the objects' mesh boxes (the origin alone when there are none)."""
-    corners = [obj.world_corners() for obj in objects]
-    if not corners:
-        return np.zeros(3), np.zeros(3)
-    points = np.concatenate(corners)
-    return points.min(axis=0), points.max(axis=0)
 
 
 def bounding_sphere(objects: Iterable[SceneObject]) -> tuple[np.ndarray, float]:

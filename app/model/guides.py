@@ -13,14 +13,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from marraztu.model.framing import world_box
 from marraztu.model.scene import Frame, Scene, Target
 
 AXIS_COLOURS = np.eye(3, dtype=np.float32)  # x red, y green, z blue, as in every graphics tool
 OWN_AXIS_LIGHTNESS = 0.55  # an object's own axes: the same hues, paler, told from the world's
 GRID_COLOUR = (0.55, 0.55, 0.6)
 GRID_CELLS = 20  # about this many cells across the scene: fine enough to read distances
-MIN_EXTENT = 100.0  # an empty scene gets a grid of the start camera's scale (it stands 150 away)
 
 
 def nice_step(span: float, cells: int = GRID_CELLS) -> float:
@@ -39,8 +37,7 @@ class Guides:
 
 
 def scene_guides(scene: Scene) -> Guides:
-    low, high = world_box(scene.objects)
-    extent = max(float(np.max(high - low)), float(np.max(np.abs(np.concatenate([low, high])))), MIN_EXTENT)
+    low, high, extent = scene.guides_extent()
     axes = [_axes(np.eye(4), extent / 2.0, 1.0)]
     obj = scene.object
     if obj is not None and scene.modes.frame is Frame.LOCAL and scene.modes.target is Target.OBJECTS:

@@ -8,6 +8,7 @@ column-major, which is ``M.T`` in numpy's row-major memory; the renderer does th
 from __future__ import annotations
 
 import itertools
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
@@ -42,6 +43,11 @@ NEAR_MARGIN = 0.5
 # shown point, so that a model in millimetres keeps the depth buffer's precision of the same model in
 # metres (the built-in scene, all within 250 units, keeps SPEC 5's 5).
 DEPTH_RANGE = 200.0
+# The guides (key `a`): an empty scene's grid is of the start camera's scale (it stands 150 away)...
+GUIDES_MIN_EXTENT = 100.0
+# ...and they lie within this many extents of the objects' box centre: the grid's half width is three
+# quarters of one, rounded up to a step, and the world's axes reach half of one from the origin.
+GUIDES_REACH = 1.5
 # SPEC 5: the normals' length, a fixed share of the object's bounding-box diagonal (key `n`).
 NORMAL_LENGTH_FRACTION = 0.05
 # How far the selected object's depth may pull parallel projection's size from the rest of the scene's.
@@ -156,12 +162,6 @@ class SceneObject:
         """World position of the mesh's bounding-box centre: what analysis mode orbits."""
         low, high = self.mesh.bounds
         return transform_point(self.model, (low + high) / 2.0)
-
-    def world_corners(self) -> np.ndarray:
-        """(8, 3): the mesh's bounding box's corners, placed in the world."""
-        low, high = self.mesh.bounds
-        box = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
-        return box @ self.model[:3, :3].T + self.model[:3, 3]
 
     def push(self, model: np.ndarray) -> None:
         self.history.append(np.asarray(model, dtype=np.float64))
@@ -283,11 +283,29 @@ class Scene:
         return -self.viewer.forward
 
     def far_plane(self) -> float:
-        """Beyond the whole scene, from wherever the eye is."""
+        """Beyond the whole scene, from wherever the eye is. In parallel projection, whose depth buffer
+        steps evenly from near to far, twice the depth of the farthest shown point: neither the floor
+        nor the lights far off (a molecule, or a model 5,000 km from the lights at the origin, would
+        have its back faces show through its front)."""
+        if self.modes.projection is Projection.PARALLEL:
+            deepest = float(self._shown_spans()[:, 1].max(initial=0.0))
+            if self.modes.guides:
+                low, high, extent = self.guides_extent()
+                deepest = max(deepest, self.depth_of((low + high) / 2.0) + GUIDES_REACH * extent)
+            return 2.0 * max(deepest, self.near_plane())
         eye = self.eye_position()
-        reach = [np.linalg.norm(o.centre - eye) + o.mesh.size for o in self.objects + self.cameras]
+        elements = self.objects + self.cameras
+        centres = _placed_centres(elements)
+        reach = list(np.linalg.norm(centres - eye, axis=1) + [element.mesh.size for element in elements])
         reach += [np.linalg.norm(light.position - eye) for light in self.lights]
         return max(1000.0, 2.0 * max(reach, default=0.0))
+
+    def guides_extent(self) -> tuple[np.ndarray, np.ndarray, float]:
+        """The objects' world box, and the guides' scale: the box's size, or its distance from the
+        origin where the world's axes start, whichever is larger, never under GUIDES_MIN_EXTENT."""
+        low, high = world_box(self.objects)
+        return low, high, max(float(np.max(high - low)), float(np.max(np.abs(np.concatenate([low, high])))),
+                              GUIDES_MIN_EXTENT)
 
     def shown_elements(self) -> list[SceneObject]:
         """What the picture draws: the selected object alone (SPEC 5's `o` and `d`) or every object
@@ -302,23 +320,30 @@ class Scene:
         """SPEC 5's 5 units, brought in to keep clear of anything shown that is nearer, and moved out
         where all of it is far (see NEAR_MARGIN and DEPTH_RANGE); around the eye, what the eye is
         inside of sets it by its size (NEAR_FRACTION and DEPTH_FRACTION)."""
-        spans = [self._depth_span(element) for element in self.shown_elements()]
-        if self.modes.target is Target.LIGHTS:  # the selected light's marker
-            marker = self.depth_of(self.placed_light(self.light).position)
-            spans.append((marker, marker, 0.0))
-        ahead = [span for span in spans if span[1] > 0.0]  # not wholly behind the eye
-        farthest = max(NEAR_PLANE, max((back for _, back, _ in ahead), default=0.0) / DEPTH_RANGE)
-        allowed = [_near_allowance(front, size, farthest) for front, _, size in ahead]
-        sizes = [size for _, _, size in spans if size > 0.0]
-        least = min(sizes) / DEPTH_FRACTION if sizes else 0.0  # the depth buffer's precision for the rest
-        return max(min(allowed, default=NEAR_PLANE), least)
+        spans = self._shown_spans()
+        ahead = spans[spans[:, 1] > 0.0]  # not wholly behind the eye
+        front, back, size = ahead.T
+        farthest = max(NEAR_PLANE, float(back.max(initial=0.0)) / DEPTH_RANGE)
+        # Short of what lies wholly in front; round the eye, what its size allows (millimetres bring
+        # the near plane in, kilometres out).
+        allowed = np.where(front > 0.0, np.minimum(front * NEAR_MARGIN, farthest),
+                           np.minimum(np.maximum(NEAR_PLANE, size / DEPTH_FRACTION), size / NEAR_FRACTION))
+        sizes = spans[:, 2][spans[:, 2] > 0.0]
+        least = float(sizes.min()) / DEPTH_FRACTION if sizes.size else 0.0  # the depth buffer's precision for the rest
+        return max(float(allowed.min()) if allowed.size else NEAR_PLANE, least)
 
-    def _depth_span(self, element: SceneObject) -> tuple[float, float, float]:
-        """How far in front of the eye the element's box begins and ends, the normals drawn out of it
-        included, and its size."""
-        depths = (element.world_corners() - self.eye_position()) @ self.viewer.forward
-        reach = NORMAL_LENGTH_FRACTION * element.mesh.size
-        return float(depths.min()) - reach, float(depths.max()) + reach, element.mesh.size
+    def _shown_spans(self) -> np.ndarray:
+        """(N, 3): how far in front of the eye each thing shown begins and ends (its box, and the
+        normals drawn out of it), and its size; the selected light's marker a point."""
+        shown = self.shown_elements()
+        depths = (world_boxes(shown) - self.eye_position()) @ self.viewer.forward
+        sizes = np.array([element.mesh.size for element in shown], dtype=np.float64)
+        reach = NORMAL_LENGTH_FRACTION * sizes
+        spans = np.column_stack([depths.min(axis=1) - reach, depths.max(axis=1) + reach, sizes])
+        if self.modes.target is Target.LIGHTS:
+            marker = self.depth_of(self.placed_light(self.light).position)
+            spans = np.vstack([spans, [marker, marker, 0.0]])
+        return spans
 
     def projection_matrix(self, aspect: float) -> np.ndarray:
         far = self.far_plane()
@@ -407,10 +432,31 @@ class Scene:
         return [self.placed_light(self.lights[index])]
 
 
-def _near_allowance(front: float, size: float, farthest: float) -> float:
-    """The farthest near plane that leaves a shown thing whole: short of it, where it begins in front
-    of the eye; and where the eye is within its depth, what its size allows (a model in millimetres
-    brings it in, one of many kilometres out)."""
-    if front > 0.0:
-        return min(front * NEAR_MARGIN, farthest)
-    return min(max(NEAR_PLANE, size / DEPTH_FRACTION), size / NEAR_FRACTION)
+_BOX_CORNER_PICKS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)])  # low 0, high 1
+
+
+def world_boxes(elements: list[SceneObject]) -> np.ndarray:
+    """(N, 8, 3): each element's mesh's bounding box's corners, placed in the world, in one pass."""
+    if not elements:
+        return np.zeros((0, 8, 3))
+    bounds = np.array([element.mesh.bounds for element in elements], dtype=np.float64)  # (N, 2, 3)
+    models = np.array([element.model for element in elements])
+    corners = bounds[:, _BOX_CORNER_PICKS, np.arange(3)]
+    return np.einsum("nij,nkj->nki", models[:, :3, :3], corners) + models[:, None, :3, 3]
+
+
+def world_box(objects: Iterable[SceneObject]) -> tuple[np.ndarray, np.ndarray]:
+    """The world bounding box of the objects' mesh boxes (the origin alone when there are none)."""
+    points = world_boxes(list(objects)).reshape(-1, 3)
+    if not points.size:
+        return np.zeros(3), np.zeros(3)
+    return points.min(axis=0), points.max(axis=0)
+
+
+def _placed_centres(elements: list[SceneObject]) -> np.ndarray:
+    """(N, 3): each element's box centre in the world (SceneObject.centre, in one pass)."""
+    if not elements:
+        return np.zeros((0, 3))
+    bounds = np.array([element.mesh.bounds for element in elements], dtype=np.float64)
+    models = np.array([element.model for element in elements])
+    return np.einsum("nij,nj->ni", models[:, :3, :3], bounds.mean(axis=1)) + models[:, :3, 3]
