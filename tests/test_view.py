@@ -88,6 +88,17 @@ def test_dot_frames_the_selected_object_and_u_takes_it_back(tmp_path: Path) -> N
     assert np.array_equal(undone, away) and not np.array_equal(away, start)
 
 
+@pytest.mark.parametrize("centre,outside", [((0.0, 60.0, 0.0), False), ((0.0, 0.0, 400.0), True),
+                                            ((3000.0, 0.0, 0.0), True)], ids=["above", "behind", "aside"])
+def test_a_model_loaded_outside_the_view_says_so_and_dot_frames_it(
+        tmp_path: Path, centre: tuple[float, float, float], outside: bool) -> None:
+    viewer = viewer_with("", (octahedron(tmp_path / "m.obj", 1.0, centre),))
+    assert ("outside the view (. frames it)" in viewer.scene.message) == outside
+    assert viewer.scene.outside_view(viewer.scene.object, 1.0) == outside
+    viewer.press(parse_key_sequence(".")[0])
+    assert not viewer.scene.outside_view(viewer.scene.object, 1.0)
+
+
 def test_home_returns_to_the_start_and_u_takes_it_back(tmp_path: Path) -> None:
     start = picture(tmp_path, "", empty=False, name="start.png")
     moved = picture(tmp_path, "c t x*5 Z*3 r y c c", empty=False, name="moved.png")

@@ -371,6 +371,13 @@ class Scene:
         half_fov = np.radians(PERSPECTIVE_FOVY_DEG) / 2.0
         return max(depth, near) * float(np.tan(half_fov))
 
+    def outside_view(self, element: SceneObject, aspect: float) -> bool:
+        """Whether the element's box lies wholly beyond one side of the view (a load may land there)."""
+        corners = np.column_stack([world_boxes([element])[0], np.ones(8)])
+        clip = corners @ (self.projection_matrix(aspect) @ self.view_matrix()).T
+        w = clip[:, 3:]
+        return bool(((clip[:, :3] > w).all(axis=0).any() or (clip[:, :3] < -w).all(axis=0).any()))
+
     def depth_of(self, point: np.ndarray) -> float:
         """How far in front of the eye a world point is, along the view axis (negative: behind)."""
         return float(np.dot(point - self.eye_position(), self.viewer.forward))
