@@ -76,6 +76,32 @@ def test_the_framed_start_is_the_same_at_every_scale(tmp_path: Path) -> None:
 def test_the_built_in_scene_is_not_reframed_by_a_model_added_to_it(tmp_path: Path) -> None:
     viewer = viewer_with("", (octahedron(tmp_path / "m.obj", 1e4),))
     assert np.array_equal(viewer.scene.camera.model, load_builtin_scene().camera.model)
+    flat = viewer_with("", (box(tmp_path / "ground.obj", (20.0, 0.0, 20.0)),))
+    assert np.array_equal(flat.scene.camera.model, load_builtin_scene().camera.model)
+
+
+def box(path: Path, extents: tuple[float, float, float]) -> Path:
+    """A box of these extents about the origin, its faces outward (a flat one is a plate)."""
+    half = np.array(extents) / 2.0
+    corners = [(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)] * half
+    faces = [(1, 2, 4, 3), (5, 7, 8, 6), (1, 5, 6, 2), (3, 4, 8, 7), (1, 3, 7, 5), (2, 6, 8, 4)]
+    path.write_text("".join(f"v {float(x)!r} {float(y)!r} {float(z)!r}\n" for x, y, z in corners)
+                    + "".join("f " + " ".join(map(str, face)) + "\n" for face in faces))
+    return path
+
+
+@pytest.mark.parametrize("extents", [(20.0, 0.0, 20.0), (0.4, 0.4, 100.0), (50.0, 3.0, 50.0)],
+                         ids=["a ground plane", "a beam along the view", "a flat building"])
+def test_a_lone_model_seen_edge_or_end_on_is_shown_from_above_right_and_in_front(
+        tmp_path: Path, extents: tuple[float, float, float]) -> None:
+    """The start camera looks along -z: such a model showed an empty picture or a dot."""
+    viewer = viewer_with("", (box(tmp_path / "m.obj", extents),), empty=True)
+    assert np.allclose(viewer.scene.camera.forward, -np.ones(3) / np.sqrt(3.0))
+    assert np.allclose(viewer.scene.camera.model[:3, 1] @ [0.0, 1.0, 0.0], np.sqrt(2.0 / 3.0))  # y stays up
+    pixels = picture(tmp_path, "", (tmp_path / "m.obj",))
+    assert (pixels != BACKGROUND).any(axis=2).mean() > 0.001  # the beam a thin line, where end on a dot
+    standing = viewer_with("", (box(tmp_path / "s.obj", (20.0, 20.0, 0.0)),), empty=True)
+    assert np.allclose(standing.scene.camera.forward, [0.0, 0.0, -1.0])  # seen face on: as it was
 
 
 def test_dot_frames_the_selected_object_and_u_takes_it_back(tmp_path: Path) -> None:

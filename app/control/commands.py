@@ -481,11 +481,11 @@ def frame_models(scene: Scene) -> None:
     """The models fill two thirds of the view, whatever their units. A camera not yet moved takes
     that as its start (HOME comes back to it); otherwise it is a move `u` takes back."""
     camera = scene.camera
-    matrix = framing.frame_objects(scene, camera, scene.objects)
     if len(camera.history) == 1:
-        camera.history[0] = matrix
+        camera.history[0] = framing.revealing(camera.model, scene.objects)  # the start may turn
+        camera.history[0] = framing.frame_objects(scene, camera, scene.objects)
     else:
-        move_view(scene, matrix)
+        move_view(scene, framing.frame_objects(scene, camera, scene.objects))
 
 
 def replace_loaded(scene: Scene, element: SceneObject, loaded: SceneObject) -> None:

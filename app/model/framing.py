@@ -12,9 +12,13 @@ from collections.abc import Iterable
 
 import numpy as np
 
+from marraztu.model import transforms
 from marraztu.model.scene import PERSPECTIVE_FOVY_DEG, Projection, Scene, SceneObject, world_box
 
 FILL = 2.0 / 3.0  # of the view's height: the model whole, with a margin round it
+# A start view whose box shows less than this share of its largest side's area (a ground plane edge
+# on, a beam end on) turns to look from above, right and in front, as a drawing's oblique view does.
+THIN_VIEW_SHARE = 0.1
 
 
 def bounding_sphere(objects: Iterable[SceneObject]) -> tuple[np.ndarray, float]:
@@ -58,3 +62,18 @@ def frame_objects(scene: Scene, camera: SceneObject, objects: list[SceneObject])
     if scene.modes.projection is Projection.PARALLEL:
         scene.modes.parallel_half_height = _framed_radius(radius) / FILL
     return framed(camera.model, centre, radius)
+
+
+def revealing(camera_model: np.ndarray, objects: list[SceneObject]) -> np.ndarray:
+    """The camera turned, where it stands, to look at the objects from above, right and in front
+    where its own direction sees their box nearly edge or end on; else as it is."""
+    low, high = world_box(objects)
+    a, b, c = high - low
+    sides = np.array([b * c, a * c, a * b])  # the box's faces across x, y and z
+    backward = camera_model[:3, 2] / np.linalg.norm(camera_model[:3, 2])
+    if not sides.max() > 0.0 or float(np.abs(backward) @ sides) >= THIN_VIEW_SHARE * sides.max():
+        return camera_model
+    oblique = camera_model[:3, :3] @ np.array([1.0, 1.0, 1.0]) / math.sqrt(3.0)  # the camera's own
+    centre = (low + high) / 2.0
+    turned = transforms.look_at_model(centre + oblique, centre, camera_model[:3, 1])
+    return camera_model if turned is None else turned
