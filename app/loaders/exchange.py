@@ -347,30 +347,35 @@ def _gltf_counts(document: dict[str, Any] | None) -> tuple[int, int, int] | None
 _COMPONENT_BYTES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
 _TYPE_COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 _NODE_TRANSFORMS = {"translation": 3, "rotation": 4, "scale": 3, "matrix": 16}
+# The arrays of objects trimesh reads item by item (with .get or [key]), by the name of their items.
+_READ_ARRAYS = {"scenes": "scene", "nodes": "node", "meshes": "mesh", "materials": "material", "textures": "texture",
+                "images": "image", "accessors": "accessor", "bufferViews": "buffer view", "buffers": "buffer"}
 
 
 class _GltfReferences:
     """What a glTF's JSON names checked to exist, and its byte ranges to fit, before trimesh reads it:
-    trimesh says an IndexError, an AssertionError or a failed reshape. A mesh's primitives must be a
-    list of objects (trimesh says an AttributeError); other parts not shaped as glTF's (a list that is
-    not one) are left to trimesh's words."""
+    trimesh says an IndexError, an AssertionError or a failed reshape. The arrays it reads must be
+    lists of objects, and a primitive's attributes an object with POSITION (trimesh says an
+    AttributeError, a TypeError or a KeyError); values it reads that are not shaped as glTF's (a
+    count that is not a number) are refused where they are known to fail it."""
 
     def __init__(self, path: Path, document: dict[str, Any]) -> None:
         self.path, self.document = path, document
 
     def check(self) -> None:
+        for key in _READ_ARRAYS:
+            self.objects(key)
         if "scene" in self.document:
             self.named(self.document["scene"], "scenes", "its scene")
         for number, scene in self.each("scenes"):
-            for node in self.listed(scene, "nodes"):
+            for node in self.listed(scene, "nodes", f"scene {number}"):
                 self.named(node, "nodes", f"scene {number}")
         for number, node in self.each("nodes"):
             self.node(number, node)
         for number, mesh in self.each("meshes"):
-            primitives = mesh.get("primitives", [])
-            if not isinstance(primitives, list):
-                self.refuse(f"mesh {number}'s primitives are not a list")
-            for primitive_number, primitive in enumerate(primitives):
+            if "primitives" not in mesh:
+                self.refuse(f"mesh {number} has no primitives")
+            for primitive_number, primitive in enumerate(self.listed(mesh, "primitives", f"mesh {number}")):
                 if not isinstance(primitive, dict):
                     self.refuse(f"mesh {number}'s primitive {primitive_number} is not an object")
                 self.primitive(f"mesh {number}'s primitive {primitive_number}", primitive)
@@ -380,7 +385,7 @@ class _GltfReferences:
             self.view(number, view)
 
     def node(self, number: int, node: dict[str, Any]) -> None:
-        for child in self.listed(node, "children"):
+        for child in self.listed(node, "children", f"node {number}"):
             self.named(child, "nodes", f"node {number}")
         if "mesh" in node:
             self.named(node["mesh"], "meshes", f"node {number}")
@@ -391,7 +396,11 @@ class _GltfReferences:
 
     def primitive(self, what: str, primitive: dict[str, Any]) -> None:
         attributes = primitive.get("attributes")
-        for name, index in attributes.items() if isinstance(attributes, dict) else ():
+        if not isinstance(attributes, dict):
+            self.refuse(f"{what} has no attributes" if attributes is None else f"{what}'s attributes are not an object")
+        if "POSITION" not in attributes:  # trimesh reads every primitive's positions (a KeyError)
+            self.refuse(f"{what} has no POSITION attribute")
+        for name, index in attributes.items():
             self.named(index, "accessors", f"{what}'s {escaped(str(name))[:40]}")
         if "indices" in primitive:
             accessor = self.named(primitive["indices"], "accessors", f"{what}'s indices")
@@ -435,10 +444,21 @@ class _GltfReferences:
             if isinstance(item, dict):
                 yield number, item
 
-    @staticmethod
-    def listed(item: dict[str, Any], key: str) -> list[Any]:
-        values = item.get(key)
-        return values if isinstance(values, list) else []
+    def objects(self, key: str) -> None:
+        """document[key], where there, must be a list of objects."""
+        items = self.document.get(key, [])
+        if not isinstance(items, list):
+            self.refuse(f"its {key} are not a list")
+        for number, item in enumerate(items):
+            if not isinstance(item, dict):
+                self.refuse(f"{_READ_ARRAYS[key]} {number} is not an object")
+
+    def listed(self, item: dict[str, Any], key: str, what: str) -> list[Any]:
+        """item[key], where there, which must be a list."""
+        values = item.get(key, [])
+        if not isinstance(values, list):
+            self.refuse(f"{what}'s {key} are not a list")
+        return values
 
     def refuse(self, words: str) -> None:
         raise LoadError(self.path, f"not a glTF file: {words}")
