@@ -206,8 +206,8 @@ def test_a_colour_past_its_type_is_refused_at_its_line(tmp_path: Path) -> None:
 
 
 def test_a_header_of_many_lines_is_never_a_list_of_them(tmp_path: Path) -> None:
-    header = ("ply\nformat ascii 1.0\n" + "comment many\n" * 200_000 + "element vertex 3\n" * 5000 + "end_header\n"
-              ).encode()
+    elements = "".join(f"element e{number} 3\n" for number in range(5000))  # of names of their own
+    header = ("ply\nformat ascii 1.0\n" + "comment many\n" * 200_000 + elements + "end_header\n").encode()
     refused, peak = peak_traced_bytes(lambda: read_header(Path("m.ply"), header))
     assert (refused.line, refused.message) == (200_000 + 2 + 4097, "more than 4096 elements and properties: no "
                                                                    "model's header")
@@ -306,6 +306,11 @@ def test_one_polygon_of_many_corners_fans_in_proportion(tmp_path: Path) -> None:
      "expected 'format ascii 1.0' or a binary_little_endian or binary_big_endian format"),
     ("ply\nelement face 1\nend_header\n", 3, "the header has no 'format' line"),
     ("ply\nformat ascii 1.0\nelement face\nend_header\n", 3, "expected 'element', a name and a count"),
+    # trimesh said "PLY is unexpected length!" for both
+    ("ply\nformat ascii 1.0\nelement face 2\nelement vertex 0\nelement face 0\nelement face 1\nend_header\n", 6,
+     "a second element named face with rows"),
+    ("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float x\nend_header\n", 6,
+     "element vertex: a second property named x"),
 ])
 def test_a_bad_header_is_refused_at_its_line(tmp_path: Path, header: str, line: int, message: str) -> None:
     refused = refusal(tmp_path, header + "3 0 1 2\n")

@@ -99,6 +99,7 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
         raise LoadError(path, "not a PLY file (no 'ply' ... 'end_header' header)", line=1)
     encoding, picture, elements = None, None, []
     properties: list[list[PlyProperty]] = []
+    filled: set[str] = set()  # the names of the elements of rows so far
     number, declared = 1, 0
     for number, line in enumerate(text_lines(data[:end]), start=1):  # a line at a time: never a list of them
         words = line.split(None, 5)
@@ -114,12 +115,13 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
                 raise LoadError(path, f"more than {MAX_DECLARATIONS} elements and properties: no model's header",
                                 line=number)
             if keyword == "element":
-                elements.append(_element(path, words, number))
+                elements.append(_element(path, words, number, filled))
                 properties.append([])
+                property_names: set[str] = set()
             elif not elements:
                 raise LoadError(path, "a property before any element", line=number)
             else:
-                properties[-1].append(_property(path, words, number))
+                properties[-1].append(_property(path, words, number, elements[-1], property_names))
         elif "texturefile" in line.lower():  # on any other line, as trimesh reads it
             picture = line[line.lower().index("texturefile") + len("texturefile"):].strip() or None
     if encoding is None:
@@ -128,19 +130,28 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
     return PlyHeader(encoding, tuple(elements), picture, line_end_from(data, end))
 
 
-def _element(path: Path, words: list[str], line: int) -> PlyElement:
+def _element(path: Path, words: list[str], line: int, filled: set[str]) -> PlyElement:
+    """The element a line declares; `filled`, the names of those of rows before it, takes its own."""
     if len(words) != 3:
         raise LoadError(path, "expected 'element', a name and a count", line=line)
     if not is_count(words[2]):
         raise LoadError(path, f"element {words[1][:40]}: {words[2][:40]!r} is not a count", line=line)
+    if int(words[2]) and words[1] in filled:  # trimesh keeps one table of each name (an empty one is left out)
+        raise LoadError(path, f"a second element named {words[1][:40]} with rows", line=line)
+    if int(words[2]):
+        filled.add(words[1])
     return PlyElement(words[1], int(words[2]), ())
 
 
-def _property(path: Path, words: list[str], line: int) -> PlyProperty:
+def _property(path: Path, words: list[str], line: int, element: PlyElement, names: set[str]) -> PlyProperty:
+    """The property a line declares; `names`, the element's so far, takes its name."""
     types = words[2:4] if words[1:2] == ["list"] else words[1:2]
     if len(words) != 3 + 2 * (words[1:2] == ["list"]):
         raise LoadError(path, "expected 'property', a type and a name, or 'property list', two types and a name",
                         line=line)
+    if words[-1] in names:  # a row's fields are named: numpy refuses two of a name
+        raise LoadError(path, f"element {element.name[:40]}: a second property named {words[-1][:40]}", line=line)
+    names.add(words[-1])
     unknown = [kind for kind in types if kind not in PLY_TYPES]
     if unknown:
         raise LoadError(path, f"'{unknown[0][:40]}' is not a PLY type", line=line)
