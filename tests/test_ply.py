@@ -311,6 +311,11 @@ def test_one_polygon_of_many_corners_fans_in_proportion(tmp_path: Path) -> None:
      "a second element named face with rows"),
     ("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float x\nend_header\n", 6,
      "element vertex: a second property named x"),
+    # numpy said "no field of name z" and "The DType <class 'numpy.dtypes.VoidDType'> could not be promoted"
+    ("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nelement face 1\nend_header\n", 3,
+     "element vertex has no property z: a vertex's coordinates are x, y and z"),
+    ("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty list uchar float y\nend_header\n", 5,
+     "vertex y is a list: a coordinate is one number"),
 ])
 def test_a_bad_header_is_refused_at_its_line(tmp_path: Path, header: str, line: int, message: str) -> None:
     refused = refusal(tmp_path, header + "3 0 1 2\n")

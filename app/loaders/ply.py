@@ -100,6 +100,7 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
     encoding, picture, elements = None, None, []
     properties: list[list[PlyProperty]] = []
     filled: set[str] = set()  # the names of the elements of rows so far
+    element_lines: list[int] = []
     number, declared = 1, 0
     for number, line in enumerate(text_lines(data[:end]), start=1):  # a line at a time: never a list of them
         words = line.split(None, 5)
@@ -118,6 +119,7 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
                 elements.append(_element(path, words, number, filled))
                 properties.append([])
                 property_names: set[str] = set()
+                element_lines.append(number)
             elif not elements:
                 raise LoadError(path, "a property before any element", line=number)
             else:
@@ -127,6 +129,9 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
     if encoding is None:
         raise LoadError(path, "the header has no 'format' line", line=number + 1)
     elements = [replace(element, properties=tuple(props)) for element, props in zip(elements, properties)]
+    for element, line in zip(elements, element_lines):
+        if element.name == "vertex" and element.count:
+            _check_coordinates(path, element, line)
     return PlyHeader(encoding, tuple(elements), picture, line_end_from(data, end))
 
 
@@ -152,6 +157,8 @@ def _property(path: Path, words: list[str], line: int, element: PlyElement, name
     if words[-1] in names:  # a row's fields are named: numpy refuses two of a name
         raise LoadError(path, f"element {element.name[:40]}: a second property named {words[-1][:40]}", line=line)
     names.add(words[-1])
+    if element.name == "vertex" and words[-1] in ("x", "y", "z") and len(types) == 2:  # numpy fails to promote it
+        raise LoadError(path, f"vertex {words[-1]} is a list: a coordinate is one number", line=line)
     unknown = [kind for kind in types if kind not in PLY_TYPES]
     if unknown:
         raise LoadError(path, f"'{unknown[0][:40]}' is not a PLY type", line=line)
@@ -160,6 +167,15 @@ def _property(path: Path, words: list[str], line: int, element: PlyElement, name
             raise LoadError(path, f"a list's count must be of a whole-number type, not {types[0]}", line=line)
         return PlyProperty(words[4], types[1], types[0])
     return PlyProperty(words[2], types[0])
+
+
+def _check_coordinates(path: Path, element: PlyElement, line: int) -> None:
+    """A vertex element's x, y and z, which trimesh reads (or fails in numpy's words)."""
+    names = {prop.name for prop in element.properties}
+    missing = [name for name in "xyz" if name not in names]
+    if missing:
+        raise LoadError(path, f"element vertex has no property {missing[0]}: a vertex's coordinates are x, y and z",
+                        line=line)
 
 
 # --- the ASCII body -------------------------------------------------------------------------------
