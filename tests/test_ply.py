@@ -285,6 +285,16 @@ def test_other_line_ends_read_as_newlines(tmp_path: Path, line_end: str) -> None
     assert load(tmp_path, text).face_count == 2
 
 
+@pytest.mark.parametrize("line_end", [b"\r", b"\r\n"])
+def test_a_binary_bodys_header_of_other_line_ends_is_read(tmp_path: Path, line_end: bytes) -> None:
+    """trimesh ends a header's lines at \\n alone: one of lone \\r said "IndexError: list index out of range"."""
+    data = written_both_ways([[0, 1, 4], [0, 4, 3]])["binary.ply"]
+    body_at = data.index(b"end_header\n") + 11
+    path = tmp_path / "m.ply"
+    path.write_bytes(data[:body_at].replace(b"\n", line_end) + data[body_at:])
+    assert load_model(path).face_count == 2
+
+
 def test_one_polygon_of_many_corners_fans_in_proportion(tmp_path: Path) -> None:
     """Fanned with 32-bit indices, each value made its type before it is gathered: at most a few times
     the binary rows written (a triangle of 16 bytes for each corner of two in the text)."""

@@ -624,7 +624,8 @@ def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh
     they lie in the body, little-endian; faces of more than three corners fanned into triangles as an
     ASCII body's are, as that reader takes one count for a whole element. The file itself where that
     changes nothing."""
-    at, tables, unchanged = header.body_at, [], header.encoding == "<"
+    # trimesh ends a header's lines at \n alone: one ended by a lone \r is written again
+    at, tables, unchanged = header.body_at, [], header.encoding == "<" and b"\r" not in data[:header.body_at]
     sizes: list[np.ndarray] = []
     for element in header.elements:
         columns, uniform, at = _binary_columns(path, data, element, at, header.encoding)
