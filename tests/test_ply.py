@@ -285,6 +285,15 @@ def test_other_line_ends_read_as_newlines(tmp_path: Path, line_end: str) -> None
     assert load(tmp_path, text).face_count == 2
 
 
+def test_a_byte_order_mark_before_the_header_is_read_past(tmp_path: Path) -> None:
+    """Notepad's mark before 'ply' was refused as no PLY header, as STL's, OFF's and OBJ's are read past."""
+    for name, data in written_both_ways([[0, 1, 4], [0, 4, 3]]).items():
+        (tmp_path / name).write_bytes(b"\xef\xbb\xbf" + data)
+        assert load_model(tmp_path / name).face_count == 2
+    refused = refusal(tmp_path, "\ufeff" + ply_text(["3 0 1 9"]))
+    assert (refused.line, refused.message) == (19, "vertex index 9 out of range (the file has 9 vertices)")
+
+
 @pytest.mark.parametrize("line_end", [b"\r", b"\r\n"])
 def test_a_binary_bodys_header_of_other_line_ends_is_read(tmp_path: Path, line_end: bytes) -> None:
     """trimesh ends a header's lines at \\n alone: one of lone \\r said "IndexError: list index out of range"."""

@@ -40,6 +40,7 @@ from marraztu.errors import LoadError, escaped
 from marraztu.loaders.files import (
     COLLECT_AFTER_BYTES,
     MAX_FILE_BYTES,
+    bom_length,
     is_there,
     line_at,
     read_file,
@@ -123,6 +124,8 @@ def _watched(loaded: Any) -> Any:
 @_frees_what_trimesh_held
 def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
     data = read_model_bytes(path, stage)
+    if bom_length(data):  # Notepad's mark before the header: such a rare file costs one copy without it
+        data = data[bom_length(data):]
     header = read_header(path, data)
     if header.count("face") == 0:
         raise LoadError(path, "the header declares no faces (a point cloud?): nothing to draw")
