@@ -99,7 +99,7 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
         raise LoadError(path, "not a PLY file (no 'ply' ... 'end_header' header)", line=1)
     encoding, picture, elements = None, None, []
     properties: list[list[PlyProperty]] = []
-    filled: set[str] = set()  # the names of the elements of rows so far
+    filled: set[str] = set()  # the names of the vertex and face elements of rows so far
     element_lines: list[int] = []
     number, declared = 1, 0
     for number, line in enumerate(text_lines(data[:end]), start=1):  # a line at a time: never a list of them
@@ -141,9 +141,10 @@ def _element(path: Path, words: list[str], line: int, filled: set[str]) -> PlyEl
         raise LoadError(path, "expected 'element', a name and a count", line=line)
     if not is_count(words[2]):
         raise LoadError(path, f"element {words[1][:40]}: {words[2][:40]!r} is not a count", line=line)
-    if int(words[2]) and words[1] in filled:  # trimesh keeps one table of each name (an empty one is left out)
-        raise LoadError(path, f"a second element named {words[1][:40]} with rows", line=line)
-    if int(words[2]):
+    # trimesh keeps one table of each name (an empty one, and elements other than these, are left out)
+    if int(words[2]) and words[1] in _KEPT_ELEMENTS:
+        if words[1] in filled:
+            raise LoadError(path, f"a second element named {words[1][:40]} with rows", line=line)
         filled.add(words[1])
     return PlyElement(words[1], int(words[2]), ())
 
