@@ -703,3 +703,21 @@ def test_a_plys_float_colours_are_checked(tmp_path: Path, prefix: str, first: st
         return
     loaded = load_model(path)
     assert loaded.vertex_colours[0].tolist() == colour and loaded.warnings == notes
+
+
+@pytest.mark.parametrize("prefix", ["", "diffuse_"])
+@pytest.mark.parametrize(("kind", "first", "colour", "notes"), [
+    ("int", "300", [255, 20, 30], ("1 vertex colour outside 0..255 held to it",)),
+    ("char", "-5", [0, 20, 30], ("1 vertex colour outside 0..255 held to it",)),
+    ("ushort", "200", [200, 20, 30], ()),
+])
+def test_a_plys_whole_number_colours_past_a_byte_are_held_to_it(tmp_path: Path, prefix: str, kind: str, first: str,
+                                                                 colour: list, notes: tuple) -> None:
+    """trimesh wrapped an int's 300 to 44 and a char's -5 to 251 without a word."""
+    names = "".join(f"property {kind} {prefix}{channel}\n" for channel in ("red", "green", "blue"))
+    path = tmp_path / "whole.ply"
+    path.write_text("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                    f"{names}element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                    f"0 0 0 {first} 20 30\n1 0 0 10 20 30\n0 1 0 10 20 30\n3 0 1 2\n")
+    loaded = load_model(path)
+    assert loaded.vertex_colours.tolist() == [colour, [10, 20, 30], [10, 20, 30]] and loaded.warnings == notes

@@ -1045,20 +1045,34 @@ _PLY_COLOURS = (("red", "green", "blue"), _DIFFUSE_COLOURS)
 
 
 def _ply_colour_notes(source: str | Path, mesh: Any) -> tuple[str, ...]:
-    """A PLY's float colours, which trimesh makes bytes without a word (NaN as 0, 1e30 as 255): a NaN
-    or an infinity is refused, as in every model; values outside 0..1 are held to it, with a note, as
-    an OBJ's are."""
+    """A PLY's colours, which trimesh makes bytes without a word (NaN as 0, 1e30 as 255, an int's 300 as
+    44): a NaN or an infinity is refused, as in every model; values outside 0..1 (floats) or 0..255
+    (whole numbers) are held to it, with a note, as an OBJ's are."""
     table = _ply_vertex_table(mesh)
     names = next((names for names in _PLY_COLOURS if table.keys() >= set(names)), None)
     if names is None:
         return _partial_colour_notes(table)
-    if any(table[name].dtype.kind != "f" for name in names):
-        return ()
     colours = np.column_stack([table[name] for name in names])
-    if not np.isfinite(colours).all():
+    if colours.dtype.kind == "f" and not np.isfinite(colours).all():
         raise LoadError(source, "its vertex colours hold a NaN or an infinity")
-    outside = int(((colours < 0.0) | (colours > 1.0)).any(axis=1).sum())
-    return (f"{counted(outside, 'vertex colour')} outside 0..1 held to it",) if outside else ()
+    most = 1.0 if colours.dtype.kind == "f" else 255
+    outside = int(((colours < 0) | (colours > most)).any(axis=1).sum())
+    return (f"{counted(outside, 'vertex colour')} outside 0..{most:g} held to it",) if outside else ()
+
+
+def _ply_colours(mesh: Any) -> np.ndarray | None:
+    """A PLY's vertex colours where trimesh's are not the file's, held as _ply_colour_notes says: the
+    diffuse_ names it passes over, and whole numbers other than bytes, which it wraps; else None."""
+    table = _ply_vertex_table(mesh)
+    names = next((names for names in _PLY_COLOURS if table.keys() >= set(names)), None)
+    if names is None:
+        return None
+    colours = np.column_stack([table[name] for name in names])
+    if colours.dtype.kind == "f":
+        return np.clip(colours, 0.0, 1.0) if names == _DIFFUSE_COLOURS else None
+    if colours.dtype != np.uint8:
+        return np.clip(colours, 0, 255).astype(np.uint8)
+    return colours if names == _DIFFUSE_COLOURS else None
 
 
 def _partial_colour_notes(table: dict[str, np.ndarray]) -> tuple[str, ...]:
@@ -1073,12 +1087,10 @@ def _partial_colour_notes(table: dict[str, np.ndarray]) -> tuple[str, ...]:
 def _vertex_colours(mesh: Any) -> np.ndarray | None:
     """The file's colour per vertex (PLY's red/green/blue, glTF's COLOR_0) as RGB bytes, if any."""
     visual = getattr(mesh, "visual", None)
-    if getattr(visual, "kind", None) == "vertex":
+    if (ply_colours := _ply_colours(mesh)) is not None:
+        colours = ply_colours
+    elif getattr(visual, "kind", None) == "vertex":
         colours = np.asarray(visual.vertex_colors)
-    elif (table := _ply_vertex_table(mesh)).keys() >= set(_DIFFUSE_COLOURS):
-        colours = np.column_stack([table[name] for name in _DIFFUSE_COLOURS])
-        if colours.dtype.kind == "f":  # held to 0..1, as _ply_colour_notes says
-            colours = np.clip(colours, 0.0, 1.0)
     else:  # glTF's COLOR_0 beside a material: trimesh keeps it as the file gives it, a vertex attribute
         attributes = getattr(visual, "vertex_attributes", None)
         if attributes is None or "color" not in attributes:
