@@ -133,6 +133,15 @@ def test_an_empty_second_face_element_leaves_the_polygons_kept(tmp_path: Path) -
     assert load(tmp_path, text).face_sizes.tolist() == [4, 5]
 
 
+def test_a_face_elements_one_list_of_another_name_is_its_corners(tmp_path: Path) -> None:
+    """trimesh reads the one list of a face element as its corners, whatever its name: its polygons were
+    not fanned (mixed corners were no faces at all) and its corners not checked."""
+    foo = "property list uchar int foo\n"
+    assert load(tmp_path, ply_text(["4 0 1 4 3", "3 1 2 5"], face_properties=foo)).face_sizes.tolist() == [4, 3]
+    refused = refusal(tmp_path, ply_text(["3 0 1 4", "2 1 2"], face_properties=foo))
+    assert (refused.line, refused.message) == (20, "a face of 2 corners: 3 or more make one")
+
+
 def written_both_ways(faces: list[list[int]]) -> dict[str, bytes]:
     """The grid with these faces as an ASCII PLY and a binary one."""
     text = ply_text([f"{len(face)} {' '.join(map(str, face))}" for face in faces])
@@ -335,6 +344,9 @@ def test_one_polygon_of_many_corners_fans_in_proportion(tmp_path: Path) -> None:
      "element vertex has no property z: a vertex's coordinates are x, y and z"),
     ("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty list uchar float y\nend_header\n", 5,
      "vertex y is a list: a coordinate is one number"),
+    # trimesh said "UnboundLocalError: cannot access local variable 'name'"
+    ("ply\nformat ascii 1.0\nelement face 1\nproperty int a\nproperty list uchar int b\nend_header\n", 3,
+     "element face has no list of its corners (property list uchar int vertex_indices)"),
 ])
 def test_a_bad_header_is_refused_at_its_line(tmp_path: Path, header: str, line: int, message: str) -> None:
     refused = refusal(tmp_path, header + "3 0 1 2\n")

@@ -132,6 +132,9 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
     for element, line in zip(elements, element_lines):
         if element.name == "vertex" and element.count:
             _check_coordinates(path, element, line)
+        if element.name == "face" and element.count and _corner_list(element) is None:
+            raise LoadError(path, "element face has no list of its corners (property list uchar int vertex_indices)",
+                            line=line)
     return PlyHeader(encoding, tuple(elements), picture, line_end_from(data, end))
 
 
@@ -177,6 +180,14 @@ def _check_coordinates(path: Path, element: PlyElement, line: int) -> None:
     if missing:
         raise LoadError(path, f"element vertex has no property {missing[0]}: a vertex's coordinates are x, y and z",
                         line=line)
+
+
+def _corner_list(element: PlyElement) -> str | None:
+    """The name of a face element's list of corners as trimesh reads it: vertex_indices (or vertex_index),
+    or the one property of an element of one list, whatever its name; None where there is none."""
+    lists = [prop.name for prop in element.properties if prop.count_type is not None]
+    named = [name for name in lists if name in FACE_LISTS]
+    return named[0] if named else lists[0] if len(element.properties) == 1 and lists else None
 
 
 # --- the ASCII body -------------------------------------------------------------------------------
@@ -517,8 +528,8 @@ def _face_corners(element: PlyElement, columns: list[_Column], vertices: int,
     to name a vertex and MeshLab's texture coordinates to give two numbers a corner; None for another
     element. `fail` makes the error of a problem at a number's place: an ASCII body's names its line
     (_Body.error), a binary one's its file."""
-    corners = next((column for column in columns if column.prop.name in FACE_LISTS and column.counts is not None),
-                   None)
+    name = _corner_list(element)
+    corners = next((column for column in columns if column.prop.name == name and column.counts is not None), None)
     if element.name != "face" or corners is None or corners.counts is None or corners.count_index is None:
         return None
     short = corners.counts < 3
