@@ -382,10 +382,10 @@ class _GltfReferences:
                 if not isinstance(primitive, dict):
                     self.refuse(f"mesh {number}'s primitive {primitive_number} is not an object")
                 self.primitive(f"mesh {number}'s primitive {primitive_number}", primitive)
+        for number, view in self.each("bufferViews"):  # before the accessors that count on their lengths
+            self.view(number, view)
         for number, accessor in self.each("accessors"):
             self.accessor(number, accessor)
-        for number, view in self.each("bufferViews"):
-            self.view(number, view)
 
     def node(self, number: int, node: dict[str, Any]) -> None:
         for child in self.listed(node, "children", f"node {number}"):
@@ -415,21 +415,46 @@ class _GltfReferences:
         count = accessor.get("count")
         if not _is_whole(count) or count < 0:
             self.refuse(f"accessor {number}'s count is not a whole number")
+        component, kind = accessor.get("componentType"), accessor.get("type")
+        if not (_is_whole(component) and component in _COMPONENT_BYTES):  # trimesh says a KeyError
+            self.refuse(self.unknown(f"accessor {number}", "componentType", component))
+        if not (isinstance(kind, str) and kind in _TYPE_COMPONENTS):
+            self.refuse(self.unknown(f"accessor {number}", "type", kind))
+        offset = self.byte_count(accessor, "byteOffset", f"accessor {number}")
         if "bufferView" not in accessor:
             return  # all zeros, or sparse: trimesh reads it
         view = self.named(accessor["bufferView"], "bufferViews", f"accessor {number}")
-        size = _COMPONENT_BYTES.get(accessor.get("componentType"), 0) * _TYPE_COMPONENTS.get(accessor.get("type"), 0)
-        offset, length, stride = accessor.get("byteOffset", 0), view.get("byteLength"), view.get("byteStride") or size
-        whole = size and count and all(map(_is_whole, (offset, length, stride)))
-        if whole and offset + (count - 1) * stride + size > length:  # its last item's last byte
+        size = _COMPONENT_BYTES[component] * _TYPE_COMPONENTS[kind]
+        length, stride = view.get("byteLength"), view.get("byteStride") or size
+        if count and all(map(_is_whole, (length, stride))) and offset + (count - 1) * stride + size > length:
             self.refuse(f"accessor {number}'s {count} items run past the {length} bytes of buffer view "
-                        f"{accessor['bufferView']}")
+                        f"{accessor['bufferView']}")  # its last item's last byte
 
     def view(self, number: int, view: dict[str, Any]) -> None:
         buffer = self.named(view.get("buffer"), "buffers", f"buffer view {number}")
-        offset, length, size = view.get("byteOffset", 0), view.get("byteLength"), buffer.get("byteLength")
-        if all(map(_is_whole, (offset, length, size))) and offset + length > size:
+        offset = self.byte_count(view, "byteOffset", f"buffer view {number}")
+        length = self.byte_count(view, "byteLength", f"buffer view {number}", required=True)
+        if "byteStride" in view and self.byte_count(view, "byteStride", f"buffer view {number}") == 0:
+            self.refuse(f"buffer view {number}'s byteStride is 0")  # trimesh asserts it is positive
+        size = buffer.get("byteLength")
+        if _is_whole(size) and offset + length > size:
             self.refuse(f"buffer view {number} runs past the {size} bytes of buffer {view['buffer']}")
+
+    @staticmethod
+    def unknown(what: str, key: str, value: object) -> str:
+        if value is None:
+            return f"{what} has no {key}"
+        return f"{what}'s {key} {escaped(repr(value))[:20]} is not one of glTF's"
+
+    def byte_count(self, item: dict[str, Any], key: str, what: str, required: bool = False) -> int:
+        """item[key], a number of bytes (0 where it may be left out), which must be a whole number of 0 or
+        more: trimesh reads a negative one as counting from the end, and asserts, or fails to reshape."""
+        if required and key not in item:
+            self.refuse(f"{what} has no {key}")
+        value = item.get(key, 0)
+        if not _is_whole(value) or value < 0:
+            self.refuse(f"{what}'s {key} is not a whole number of 0 or more")
+        return value
 
     def named(self, index: object, key: str, by: str) -> dict[str, Any]:
         """The item document[key][index] that `by` names, which must be there."""
