@@ -634,6 +634,13 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
     ("d['accessors'].append({'bufferView': 0, 'componentType': 5125, 'count': 2, 'type': 'SCALAR'}); "
      "d['meshes'][0]['primitives'][0]['indices'] = 2", "mesh 0's primitive 0 has 2 indices: its triangles take "
                                                        "three each"),
+    # trimesh said "cannot reshape array of size 2 into shape (3)", an IndexError, a TypeError, or that
+    # no node places a mesh (it leaves out a node whose camera it cannot read)
+    ("d['accessors'][0]['count'] = 2", "mesh 0's primitive 0 has 2 vertices and no indices: its triangles take "
+                                       "three each"),
+    ("d['meshes'][0]['primitives'][0]['material'] = 9", "mesh 0's primitive 0's material names material 9, of 0"),
+    ("d['images'] = [{'bufferView': 7}]", "image 0 names buffer view 7, of 2"),
+    ("d['nodes'][0]['camera'] = 5", "node 0 names camera 5, of 0"),
 ])
 def test_what_a_gltf_names_is_checked_before_trimesh_reads_it(tmp_path: Path, edit: str, words: str) -> None:
     """trimesh said IndexError, TypeError, a failed reshape or "could not convert string to float"; a

@@ -375,23 +375,31 @@ class _GltfReferences:
                 self.named(node, "nodes", f"scene {number}")
         for number, node in self.each("nodes"):
             self.node(number, node)
-        for number, mesh in self.each("meshes"):
-            if "primitives" not in mesh:
-                self.refuse(f"mesh {number} has no primitives")
-            for primitive_number, primitive in enumerate(self.listed(mesh, "primitives", f"mesh {number}")):
-                if not isinstance(primitive, dict):
-                    self.refuse(f"mesh {number}'s primitive {primitive_number} is not an object")
-                self.primitive(f"mesh {number}'s primitive {primitive_number}", primitive)
+        for number, image in self.each("images"):
+            if "bufferView" in image:
+                self.named(image["bufferView"], "bufferViews", f"image {number}")
         for number, view in self.each("bufferViews"):  # before the accessors that count on their lengths
             self.view(number, view)
-        for number, accessor in self.each("accessors"):
+        for number, accessor in self.each("accessors"):  # before the primitives that count their items
             self.accessor(number, accessor)
+        for number, mesh in self.each("meshes"):
+            self.mesh(number, mesh)
+
+    def mesh(self, number: int, mesh: dict[str, Any]) -> None:
+        if "primitives" not in mesh:
+            self.refuse(f"mesh {number} has no primitives")
+        for primitive_number, primitive in enumerate(self.listed(mesh, "primitives", f"mesh {number}")):
+            if not isinstance(primitive, dict):
+                self.refuse(f"mesh {number}'s primitive {primitive_number} is not an object")
+            self.primitive(f"mesh {number}'s primitive {primitive_number}", primitive)
 
     def node(self, number: int, node: dict[str, Any]) -> None:
         for child in self.listed(node, "children", f"node {number}"):
             self.named(child, "nodes", f"node {number}")
         if "mesh" in node:
             self.named(node["mesh"], "meshes", f"node {number}")
+        if "camera" in node:  # trimesh leaves out a node whose camera it cannot read, its mesh too
+            self.named(node["camera"], "cameras", f"node {number}")
         for key, size in _NODE_TRANSFORMS.items():
             values = node.get(key, [0.0] * size)
             if not (isinstance(values, list) and len(values) == size and all(_is_number(value) for value in values)):
@@ -405,11 +413,15 @@ class _GltfReferences:
             self.refuse(f"{what} has no POSITION attribute")
         for name, index in attributes.items():
             self.named(index, "accessors", f"{what}'s {escaped(str(name))[:40]}")
+        if "material" in primitive:
+            self.named(primitive["material"], "materials", f"{what}'s material")
         if "indices" in primitive:
-            accessor = self.named(primitive["indices"], "accessors", f"{what}'s indices")
-            count = accessor.get("count")
-            if primitive.get("mode", _TRIANGLES) == _TRIANGLES and _is_whole(count) and count % 3:
-                self.refuse(f"{what} has {count} indices: its triangles take three each")
+            self.named(primitive["indices"], "accessors", f"{what}'s indices")
+        if primitive.get("mode", _TRIANGLES) == _TRIANGLES:  # three corners each, or trimesh fails to reshape them
+            corners = "indices" if "indices" in primitive else "vertices and no indices"
+            count = self.document["accessors"][primitive.get("indices", attributes["POSITION"])].get("count")
+            if _is_whole(count) and count % 3:
+                self.refuse(f"{what} has {count} {corners}: its triangles take three each")
 
     def accessor(self, number: int, accessor: dict[str, Any]) -> None:
         count = accessor.get("count")
