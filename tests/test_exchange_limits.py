@@ -641,6 +641,11 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
     ("d['meshes'][0]['primitives'][0]['material'] = 9", "mesh 0's primitive 0's material names material 9, of 0"),
     ("d['images'] = [{'bufferView': 7}]", "image 0 names buffer view 7, of 2"),
     ("d['nodes'][0]['camera'] = 5", "node 0 names camera 5, of 0"),
+    # trimesh said "could not convert string to float: 'x'" or "'int' object is not iterable"
+    ("d['materials'] = [{'pbrMetallicRoughness': {'baseColorFactor': [1, 'x', 0, 1]}}]",
+     "material 0's baseColorFactor is not a list of numbers"),
+    ("d['materials'] = [{'emissiveFactor': [None, 0, 0]}]", "material 0's emissiveFactor is not a list of numbers"),
+    ("d['materials'] = [{'pbrMetallicRoughness': 3}]", "material 0's pbrMetallicRoughness is not an object"),
 ])
 def test_what_a_gltf_names_is_checked_before_trimesh_reads_it(tmp_path: Path, edit: str, words: str) -> None:
     """trimesh said IndexError, TypeError, a failed reshape or "could not convert string to float"; a

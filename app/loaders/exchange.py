@@ -384,6 +384,18 @@ class _GltfReferences:
             self.accessor(number, accessor)
         for number, mesh in self.each("meshes"):
             self.mesh(number, mesh)
+        for number, material in self.each("materials"):
+            self.material(number, material)
+
+    def material(self, number: int, material: dict[str, Any]) -> None:
+        """Its values as trimesh reads them: pbrMetallicRoughness's merged into the material's, each list
+        made numbers (it says "could not convert string to float" or a TypeError)."""
+        values = material.get("pbrMetallicRoughness", {})
+        if not isinstance(values, dict):
+            self.refuse(f"material {number}'s pbrMetallicRoughness is not an object")
+        for key, value in (*material.items(), *values.items()):
+            if isinstance(value, list) and not all(map(_is_number, value)):
+                self.refuse(f"material {number}'s {escaped(str(key))[:40]} is not a list of numbers")
 
     def mesh(self, number: int, mesh: dict[str, Any]) -> None:
         if "primitives" not in mesh:
