@@ -646,6 +646,9 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
      "material 0's baseColorFactor is not a list of numbers"),
     ("d['materials'] = [{'emissiveFactor': [None, 0, 0]}]", "material 0's emissiveFactor is not a list of numbers"),
     ("d['materials'] = [{'pbrMetallicRoughness': 3}]", "material 0's pbrMetallicRoughness is not an object"),
+    # trimesh made it zeros, read or not: "not enough memory" for a file of a few hundred bytes
+    ("d['accessors'].append({'componentType': 5126, 'count': 10**8, 'type': 'MAT4'})", "accessor 2 is 100000000 "
+     "items of zeros, 6400000000 bytes: more than the 1073741824 a model's file may hold"),
 ])
 def test_what_a_gltf_names_is_checked_before_trimesh_reads_it(tmp_path: Path, edit: str, words: str) -> None:
     """trimesh said IndexError, TypeError, a failed reshape or "could not convert string to float"; a

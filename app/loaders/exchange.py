@@ -445,10 +445,13 @@ class _GltfReferences:
         if not (isinstance(kind, str) and kind in _TYPE_COMPONENTS):
             self.refuse(self.unknown(f"accessor {number}", "type", kind))
         offset = self.byte_count(accessor, "byteOffset", f"accessor {number}")
-        if "bufferView" not in accessor:
-            return  # all zeros, or sparse: trimesh reads it
-        view = self.named(accessor["bufferView"], "bufferViews", f"accessor {number}")
         size = _COMPONENT_BYTES[component] * _TYPE_COMPONENTS[kind]
+        if "bufferView" not in accessor:  # all zeros, or sparse, which trimesh makes of its count, read or not
+            if count * size > MAX_FILE_BYTES:
+                self.refuse(f"accessor {number} is {count} items of zeros, {count * size} bytes: more than the "
+                            f"{MAX_FILE_BYTES} a model's file may hold")
+            return
+        view = self.named(accessor["bufferView"], "bufferViews", f"accessor {number}")
         length, stride = view.get("byteLength"), view.get("byteStride") or size
         if count and all(map(_is_whole, (length, stride))) and offset + (count - 1) * stride + size > length:
             self.refuse(f"accessor {number}'s {count} items run past the {length} bytes of buffer view "
