@@ -374,6 +374,23 @@ def test_the_steps_follow_the_models_size_by_powers_of_ten(unit: float) -> None:
     assert distance == pytest.approx(commands.ANALYSIS_MIN_DISTANCE * unit)
 
 
+def test_a_small_part_among_large_models_moves_and_is_approached_on_its_own_scale() -> None:
+    """A 2-unit part beside the 20-unit cubes: a press moves it 0.5 (5 was two and a half of its
+    lengths), and analysis mode comes within 1 of it; a flying camera still moves on the scene's scale."""
+    scene = make_scene()
+    scene.objects.append(SceneObject.placed("part", cube_mesh("part", 1.0), PLAIN, (0, 0, 100)))
+    scene.selected_object = 3
+    start = scene.object.model
+    press(scene, "t x")
+    np.testing.assert_allclose(scene.object.model, start @ transforms.translation(0, 0.5), rtol=1e-12)
+    camera = scene.camera.model
+    press(scene, "c Z")  # flight
+    np.testing.assert_allclose(scene.camera.model, camera @ transforms.translation(2, -5.0), rtol=1e-12)
+    press(scene, "g Z*1000")  # analysis
+    distance = np.linalg.norm(scene.object.centre - scene.camera.origin)
+    assert distance == pytest.approx(commands.ANALYSIS_MIN_DISTANCE / 10)
+
+
 def test_analysis_sideways_translation_is_refused(scene: Scene) -> None:
     press(scene, "c g t")
     before = len(scene.camera.history)

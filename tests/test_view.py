@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
+import marraztu
 from marraztu.control import commands
 from marraztu.control.keymap import dispatch, parse_key_sequence
 from marraztu.control.viewer import StartOptions, Viewer
@@ -80,11 +81,14 @@ def test_the_built_in_scene_is_not_reframed_by_a_model_added_to_it(tmp_path: Pat
     assert np.array_equal(flat.scene.camera.model, load_builtin_scene().camera.model)
 
 
-def box(path: Path, extents: tuple[float, float, float]) -> Path:
-    """A box of these extents about the origin, its faces outward (a flat one is a plate)."""
-    half = np.array(extents) / 2.0
-    corners = [(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)] * half
-    faces = [(1, 2, 4, 3), (5, 7, 8, 6), (1, 5, 6, 2), (3, 4, 8, 7), (1, 3, 7, 5), (2, 6, 8, 4)]
+BOX_FACES = [(1, 2, 4, 3), (5, 7, 8, 6), (1, 5, 6, 2), (3, 4, 8, 7), (1, 3, 7, 5), (2, 6, 8, 4)]  # outward
+
+
+def box(path: Path, extents: tuple[float, float, float], centre: tuple[float, float, float] = (0.0, 0.0, 0.0),
+        inward: bool = False) -> Path:
+    """A box of these extents about `centre`, its faces outward (a flat one is a plate) or inward (a room)."""
+    corners = [(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)] * np.array(extents) / 2.0 + centre
+    faces = [face[::-1] if inward else face for face in BOX_FACES]
     path.write_text("".join(f"v {float(x)!r} {float(y)!r} {float(z)!r}\n" for x, y, z in corners)
                     + "".join("f " + " ".join(map(str, face)) + "\n" for face in faces))
     return path
@@ -195,6 +199,40 @@ def test_the_near_plane_keeps_clear_of_a_small_model_looked_at_from_close_by(tmp
     while nearest_depth(framed, framed.object) > framed.object.mesh.size / 10:
         assert 0.0 < framed.near_plane() < nearest_depth(framed, framed.object)
         commands.dolly_view(framed, 1)
+
+
+@pytest.mark.parametrize("unit", [1e-3, 1e3], ids=["kilometres", "millimetres"])
+def test_the_same_scene_in_other_units_draws_the_same_close_up_inside_and_in_the_depth_view(
+        tmp_path: Path, unit: float) -> None:
+    """The near plane is on the scene's scale: the wheel up to a cube's face, a room's wall a metre
+    off, and the depth view draw as in metres (their near planes were 5 units in each)."""
+    def close_up(scale: float) -> np.ndarray:
+        with marraztu.Viewer(size=SIZE, empty=True) as viewer:
+            viewer.load(box(tmp_path / f"cube{scale}.obj", (10 * scale,) * 3))
+            for _ in range(10):  # the eye ends 0.44 m from the face
+                commands.dolly_view(viewer.scene, 1)
+            return np.asarray(viewer.render().convert("RGB")).astype(int)
+
+    def inside(scale: float) -> np.ndarray:
+        room = box(tmp_path / f"room{scale}.obj", (10 * scale, 3 * scale, 10 * scale), inward=True)
+        return picture(tmp_path, "c t Z*34", (room,), name=f"room{scale}.png")  # a metre from the far wall
+
+    def depth(scale: float) -> np.ndarray:
+        return picture(tmp_path, "v*8", (box(tmp_path / f"d{scale}.obj", (20 * scale,) * 3),), name=f"d{scale}.png")
+
+    for draw in (close_up, inside, depth):
+        metres, other = draw(1.0), draw(unit)
+        assert (metres != BACKGROUND).any(axis=2).mean() > 0.2, draw.__name__
+        assert np.abs(other - metres).max() <= 1, draw.__name__
+
+
+def test_a_small_model_out_of_view_leaves_the_picture_alone(tmp_path: Path) -> None:
+    """A millimetre cube beside the flight path, 20 units to the side: the near plane keeps clear of
+    what is in view alone (it came in to 0.0002 for it, and the ships showed their backs through)."""
+    bolt = box(tmp_path / "bolt.obj", (0.001,) * 3, (20.0, 0.0, 100.0))
+    without, beside = (picture(tmp_path, "c t Z*10", models, empty=False, name=f"{len(models)}.png")
+                       for models in ((), (bolt,)))
+    assert np.array_equal(without, beside)
 
 
 def plate_with_a_label(path: Path, unit: float, centre: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> Path:

@@ -10,7 +10,6 @@ place, so `u` gives back the earlier state bit for bit.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from pathlib import Path
 from typing import Protocol
@@ -31,18 +30,16 @@ from marraztu.model.scene import (
     Scene,
     SceneObject,
     Target,
+    size_unit,
 )
 from marraztu.model.transforms import TransformKind, step_matrix
 
 ROTATION_STEP_RAD = 0.1  # the seed author's step
-TRANSLATION_STEP = 5.0  # world units, in a scene of the seed's models (see scene_unit)
+TRANSLATION_STEP = 5.0  # world units, for models of the seed's size (see translation_unit)
 APERTURE_STEP_DEG = 2.5
 # Analysis mode never lets the camera come closer to the orbited centre than this (no passing through),
-# in a scene of the seed's models.
+# for an object of the seed's models' size.
 ANALYSIS_MIN_DISTANCE = 10.0
-# The seed's models are about +-45 units: a scene of models a power of ten larger or smaller moves by
-# steps a power of ten longer or shorter (SPEC 6's "a few units" where a unit is a millimetre or a km).
-SEED_MODEL_SIZE = 100.0
 # Mouse drag: 10 pixels turn as far as one key press.
 DRAG_RADIANS_PER_PIXEL = ROTATION_STEP_RAD / 10.0
 DOLLY_PER_NOTCH = 0.9  # each wheel notch toward the object leaves this share of the distance
@@ -186,18 +183,20 @@ def aim_camera_at_object(scene: Scene) -> None:
 
 
 # --- moving ----------------------------------------------------------------------------------------
-def scene_unit(scene: Scene) -> float:
-    """1 in a scene whose largest model is about the seed's models' size, else the power of ten that
-    brings it there, so that the steps stay round numbers."""
-    largest = max((obj.mesh.size for obj in scene.objects), default=0.0)
-    if not largest > 0.0:
-        return 1.0
-    return 10.0 ** float(np.clip(round(math.log10(largest / SEED_MODEL_SIZE)), -300, 300))
+def translation_unit(scene: Scene) -> float:
+    """SPEC 6's "a few units" on the scale of what moves (size_unit): the selected object's, where it
+    moves or analysis mode approaches it; the scene's, where a flying camera or a light moves."""
+    obj = scene.object
+    target = scene.modes.target
+    if obj is not None and (target is Target.OBJECTS or (target is Target.CAMERAS and
+                                                         scene.modes.camera_mode is CameraMode.ANALYSIS)):
+        return size_unit(obj.mesh.size)
+    return scene.unit()
 
 
 def key_amount(scene: Scene, kind: TransformKind, sign: int) -> float:
     """How far one press of x/y/z (sign +1) or X/Y/Z (sign -1) goes."""
-    return sign * (ROTATION_STEP_RAD if kind is TransformKind.ROTATE else TRANSLATION_STEP * scene_unit(scene))
+    return sign * (ROTATION_STEP_RAD if kind is TransformKind.ROTATE else TRANSLATION_STEP * translation_unit(scene))
 
 
 def move_object(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> None:
@@ -244,7 +243,7 @@ def approach_object(scene: Scene, axis_index: int, distance: float) -> None:
         return
     camera = scene.camera
     depth = -transforms.point_in_frame(camera.model, obj.centre)[2]
-    closest = ANALYSIS_MIN_DISTANCE * scene_unit(scene)
+    closest = ANALYSIS_MIN_DISTANCE * size_unit(obj.mesh.size)
     if distance < 0.0 and depth + distance < closest:  # backing away is never refused
         distance = min(0.0, closest - depth)  # stop at the minimum, never push back
         if distance == 0.0:

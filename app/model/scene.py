@@ -8,6 +8,7 @@ column-major, which is ``M.T`` in numpy's row-major memory; the renderer does th
 from __future__ import annotations
 
 import itertools
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from enum import Enum
@@ -29,20 +30,18 @@ from marraztu.model.transforms import (
 
 # SPEC 5: perspective is the seed's frustum l=-5 r=5 b=-5 t=5 n=5, i.e. a 90 degree vertical field.
 PERSPECTIVE_FOVY_DEG = 90.0
-NEAR_PLANE = 5.0
-# Objects smaller than NEAR_PLANE * NEAR_FRACTION units bring the near plane in to a NEAR_FRACTION-th
-# of the largest one's size, so that a model in millimetres can be framed and approached like one in
-# metres; objects all larger than NEAR_PLANE * DEPTH_FRACTION push it out to a DEPTH_FRACTION-th of the
-# smallest one's, so that the depth buffer still tells a model's front from its back at the distance
-# that frames it (a 24-bit buffer cannot from 5 units to 30 million), and no smaller object is cut.
-NEAR_FRACTION, DEPTH_FRACTION = 10.0, 10_000.0
-# The near plane keeps clear of what is shown: within this share of the distance to the nearest thing
-# wholly in front of the eye (a small model looked at from close by is not cut away)...
+# SPEC 5's near plane, and the least far plane, in a scene of the seed's models' size: a power of ten
+# more or less for a scene of larger or smaller models (size_unit).
+NEAR_PLANE, FAR_PLANE_LEAST = 5.0, 1000.0
+# The seed's models are about +-45 units: a scene of models a power of ten larger or smaller is seen
+# and moved as the seed's are, on a scale a power of ten larger or smaller (millimetres as metres).
+SEED_MODEL_SIZE = 100.0
+# The near plane keeps clear of what is shown and in view: within this share of the eye's distance to
+# the nearest box (its normals included while drawn), measured along a view's widest direction...
 NEAR_MARGIN = 0.5
-# ...and, where everything is that far, moves out to a DEPTH_RANGE-th of the depth of the farthest
-# shown point, so that a model in millimetres keeps the depth buffer's precision of the same model in
-# metres (the built-in scene, all within 250 units, keeps SPEC 5's 5).
-DEPTH_RANGE = 200.0
+WIDEST_ASPECT = 3.0  # ...in a view up to this wide (the window's shape is the front end's)...
+# ...and where the eye is inside a box, or nearly, within this share of that box's size.
+INSIDE_FRACTION = 1e-3
 # The guides (key `a`): an empty scene's grid is of the start camera's scale (it stands 150 away)...
 GUIDES_MIN_EXTENT = 100.0
 # ...and they lie within this many extents of the objects' box centre: the grid's half width is three
@@ -282,13 +281,17 @@ class Scene:
         """SPEC 4: V for parallel projection, the viewer's backward (+z) axis in the world."""
         return -self.viewer.forward
 
+    def unit(self) -> float:
+        """The scene's scale against the seed's (size_unit of its largest model)."""
+        return size_unit(max((obj.mesh.size for obj in self.objects), default=0.0))
+
     def far_plane(self) -> float:
         """Beyond the whole scene, from wherever the eye is. In parallel projection, whose depth buffer
         steps evenly from near to far, twice the depth of the farthest shown point: neither the floor
         nor the lights far off (a molecule, or a model 5,000 km from the lights at the origin, would
         have its back faces show through its front)."""
         if self.modes.projection is Projection.PARALLEL:
-            deepest = float(self._shown_spans()[:, 1].max(initial=0.0))
+            deepest = float(self._boxes_in_view().backs.max(initial=0.0))
             if self.modes.guides:
                 low, high, extent = self.guides_extent()
                 deepest = max(deepest, self.depth_of((low + high) / 2.0) + GUIDES_REACH * extent)
@@ -298,7 +301,7 @@ class Scene:
         centres = _placed_centres(elements)
         reach = list(np.linalg.norm(centres - eye, axis=1) + [element.mesh.size for element in elements])
         reach += [np.linalg.norm(light.position - eye) for light in self.lights]
-        return max(1000.0, 2.0 * max(reach, default=0.0))
+        return max(FAR_PLANE_LEAST * self.unit(), 2.0 * max(reach, default=0.0))
 
     def guides_extent(self) -> tuple[np.ndarray, np.ndarray, float]:
         """The objects' world box, and the guides' scale: the box's size, or its distance from the
@@ -317,33 +320,44 @@ class Scene:
         return [element for element in shown if element is not self.viewer and element.mesh.face_count > 0]
 
     def near_plane(self) -> float:
-        """SPEC 5's 5 units, brought in to keep clear of anything shown that is nearer, and moved out
-        where all of it is far (see NEAR_MARGIN and DEPTH_RANGE); around the eye, what the eye is
-        inside of sets it by its size (NEAR_FRACTION and DEPTH_FRACTION)."""
-        spans = self._shown_spans()
-        ahead = spans[spans[:, 1] > 0.0]  # not wholly behind the eye
-        front, back, size = ahead.T
-        farthest = max(NEAR_PLANE, float(back.max(initial=0.0)) / DEPTH_RANGE)
-        # Short of what lies wholly in front; round the eye, what its size allows (millimetres bring
-        # the near plane in, kilometres out).
-        allowed = np.where(front > 0.0, np.minimum(front * NEAR_MARGIN, farthest),
-                           np.minimum(np.maximum(NEAR_PLANE, size / DEPTH_FRACTION), size / NEAR_FRACTION))
-        sizes = spans[:, 2][spans[:, 2] > 0.0]
-        least = float(sizes.min()) / DEPTH_FRACTION if sizes.size else 0.0  # the depth buffer's precision for the rest
-        return max(float(allowed.min()) if allowed.size else NEAR_PLANE, least)
+        """SPEC 5's 5 units on the scene's scale, brought in to keep clear of what is shown and in view
+        (see NEAR_MARGIN and INSIDE_FRACTION)."""
+        boxes = self._boxes_in_view()
+        clear = np.maximum(NEAR_MARGIN * boxes.distances, INSIDE_FRACTION * boxes.sizes)
+        return min(NEAR_PLANE * self.unit(), float(clear.min(initial=np.inf)))
 
-    def _shown_spans(self) -> np.ndarray:
-        """(N, 3): how far in front of the eye each thing shown begins and ends (its box, and the
-        normals drawn out of it), and its size; the selected light's marker a point."""
+    def _boxes_in_view(self) -> InView:
+        """The boxes of what is shown that meet the view (a view WIDEST_ASPECT wide), the normals drawn
+        out of them included, and the selected light's marker while lights are targeted."""
         shown = self.shown_elements()
-        depths = (world_boxes(shown) - self.eye_position()) @ self.viewer.forward
+        models, bounds = _placements(shown)
         sizes = np.array([element.mesh.size for element in shown], dtype=np.float64)
-        reach = NORMAL_LENGTH_FRACTION * sizes
-        spans = np.column_stack([depths.min(axis=1) - reach, depths.max(axis=1) + reach, sizes])
-        if self.modes.target is Target.LIGHTS:
-            marker = self.depth_of(self.placed_light(self.light).position)
-            spans = np.vstack([spans, [marker, marker, 0.0]])
-        return spans
+        pad = NORMAL_LENGTH_FRACTION * sizes if self.modes.normals else np.zeros(len(shown))
+        bounds = bounds + np.stack([-pad, pad], axis=1)[:, :, None]
+        if self.modes.target is Target.LIGHTS:  # a box of no size round the marker
+            marker = np.eye(4)
+            marker[:3, 3] = self.placed_light(self.light).position
+            models, bounds = np.concatenate([models, marker[None]]), np.concatenate([bounds, np.zeros((1, 2, 3))])
+            sizes = np.append(sizes, 0.0)
+        corners = _box_corners(bounds)  # (N, 8, 3) in each element's frame, then the eye's
+        view = self.view_matrix() @ models
+        in_eye = np.einsum("nij,nkj->nki", view[:, :3, :3], corners) + view[:, None, :3, 3]
+        x, y, depth = in_eye[..., 0], in_eye[..., 1], -in_eye[..., 2]
+        if self.modes.projection is Projection.PARALLEL:
+            half_height = self.modes.parallel_half_height
+            reach_x, reach_y = np.full_like(depth, WIDEST_ASPECT * half_height), np.full_like(depth, half_height)
+            distance = np.maximum(depth.min(axis=1, initial=np.inf), 0.0)
+        else:
+            reach_x, reach_y = WIDEST_ASPECT * depth, depth  # 90 degrees high: tan 45 = 1
+            # The eye's distance to the box, in its frame; along the view's widest direction a point that
+            # far is this much less deep.
+            eye = np.einsum("nij,j->ni", np.linalg.inv(models), np.append(self.eye_position(), 1.0))[:, :3]
+            outside = eye - np.clip(eye, bounds[:, 0], bounds[:, 1])
+            distance = np.linalg.norm(outside, axis=1) / np.sqrt(WIDEST_ASPECT**2 + 2.0)
+        beyond = ((depth <= 0.0).all(axis=1) | (x > reach_x).all(axis=1) | (x < -reach_x).all(axis=1)
+                  | (y > reach_y).all(axis=1) | (y < -reach_y).all(axis=1))
+        seen = ~beyond
+        return InView(distance[seen], depth.max(axis=1, initial=-np.inf)[seen], sizes[seen])
 
     def projection_matrix(self, aspect: float) -> np.ndarray:
         far = self.far_plane()
@@ -439,17 +453,43 @@ class Scene:
         return [self.placed_light(self.lights[index])]
 
 
+@dataclass(frozen=True)
+class InView:
+    """Scene._boxes_in_view: for each box, (N,) arrays."""
+
+    distances: np.ndarray  # how deep, at least, its nearest point in view lies
+    backs: np.ndarray  # the depth of its farthest corner
+    sizes: np.ndarray  # its mesh's size (0 for the light's marker)
+
+
 _BOX_CORNER_PICKS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)])  # low 0, high 1
+
+
+def size_unit(size: float) -> float:
+    """1 for a model about the seed's models' size, else the power of ten that brings it there, so that
+    its scale's numbers stay round."""
+    if not size > 0.0 or not math.isfinite(size):
+        return 1.0
+    return 10.0 ** float(np.clip(round(math.log10(size / SEED_MODEL_SIZE)), -300, 300))
+
+
+def _placements(elements: list[SceneObject]) -> tuple[np.ndarray, np.ndarray]:
+    """(N, 4, 4) model matrices and (N, 2, 3) mesh boxes (low, high) of the elements."""
+    if not elements:
+        return np.zeros((0, 4, 4)), np.zeros((0, 2, 3))
+    return (np.array([element.model for element in elements]),
+            np.array([element.mesh.bounds for element in elements], dtype=np.float64))
+
+
+def _box_corners(bounds: np.ndarray) -> np.ndarray:
+    """(N, 8, 3): the corners of (N, 2, 3) boxes."""
+    return bounds[:, _BOX_CORNER_PICKS, np.arange(3)]
 
 
 def world_boxes(elements: list[SceneObject]) -> np.ndarray:
     """(N, 8, 3): each element's mesh's bounding box's corners, placed in the world, in one pass."""
-    if not elements:
-        return np.zeros((0, 8, 3))
-    bounds = np.array([element.mesh.bounds for element in elements], dtype=np.float64)  # (N, 2, 3)
-    models = np.array([element.model for element in elements])
-    corners = bounds[:, _BOX_CORNER_PICKS, np.arange(3)]
-    return np.einsum("nij,nkj->nki", models[:, :3, :3], corners) + models[:, None, :3, 3]
+    models, bounds = _placements(elements)
+    return np.einsum("nij,nkj->nki", models[:, :3, :3], _box_corners(bounds)) + models[:, None, :3, 3]
 
 
 def world_box(objects: Iterable[SceneObject]) -> tuple[np.ndarray, np.ndarray]:
@@ -462,8 +502,5 @@ def world_box(objects: Iterable[SceneObject]) -> tuple[np.ndarray, np.ndarray]:
 
 def _placed_centres(elements: list[SceneObject]) -> np.ndarray:
     """(N, 3): each element's box centre in the world (SceneObject.centre, in one pass)."""
-    if not elements:
-        return np.zeros((0, 3))
-    bounds = np.array([element.mesh.bounds for element in elements], dtype=np.float64)
-    models = np.array([element.model for element in elements])
+    models, bounds = _placements(elements)
     return np.einsum("nij,nj->ni", models[:, :3, :3], bounds.mean(axis=1)) + models[:, :3, 3]
