@@ -226,6 +226,18 @@ def test_the_same_scene_in_other_units_draws_the_same_close_up_inside_and_in_the
         assert np.abs(other - metres).max() <= 1, draw.__name__
 
 
+@pytest.mark.parametrize("ahead", [1e-15, 0.0, 2.0])
+def test_a_lights_marker_asks_nothing_of_the_near_plane(ahead: float) -> None:
+    """A bulb a hair in front of the eye brought the near plane to 0 (a projection of NaNs, as a
+    spotlight carried by the object looked through with `C` did)."""
+    viewer = viewer_with("c c TAB")
+    scene = viewer.scene
+    assert scene.light.name == "bulb"
+    scene.light.position = scene.eye_position() + ahead * scene.viewer.forward
+    assert scene.near_plane() == 5.0
+    assert np.isfinite(scene.projection_matrix(1.0)).all()
+
+
 def test_a_small_model_out_of_view_leaves_the_picture_alone(tmp_path: Path) -> None:
     """A millimetre cube beside the flight path, 20 units to the side: the near plane keeps clear of
     what is in view alone (it came in to 0.0002 for it, and the ships showed their backs through)."""

@@ -322,19 +322,19 @@ class Scene:
     def near_plane(self) -> float:
         """SPEC 5's 5 units on the scene's scale, brought in to keep clear of what is shown and in view
         (see NEAR_MARGIN and INSIDE_FRACTION)."""
-        boxes = self._boxes_in_view()
+        boxes = self._boxes_in_view(marker=False)  # a light carried at the eye would bring it to 0
         clear = np.maximum(NEAR_MARGIN * boxes.distances, INSIDE_FRACTION * boxes.sizes)
         return min(NEAR_PLANE * self.unit(), float(clear.min(initial=np.inf)))
 
-    def _boxes_in_view(self) -> InView:
+    def _boxes_in_view(self, marker: bool = True) -> InView:
         """The boxes of what is shown that meet the view (a view WIDEST_ASPECT wide), the normals drawn
-        out of them included, and the selected light's marker while lights are targeted."""
+        out of them included, and the selected light's marker while lights are targeted (`marker`)."""
         shown = self.shown_elements()
         models, bounds = _placements(shown)
         sizes = np.array([element.mesh.size for element in shown], dtype=np.float64)
         pad = NORMAL_LENGTH_FRACTION * sizes if self.modes.normals else np.zeros(len(shown))
         bounds = bounds + np.stack([-pad, pad], axis=1)[:, :, None]
-        if self.modes.target is Target.LIGHTS:  # a box of no size round the marker
+        if marker and self.modes.target is Target.LIGHTS:  # a box of no size round the marker
             marker = np.eye(4)
             marker[:3, 3] = self.placed_light(self.light).position
             models, bounds = np.concatenate([models, marker[None]]), np.concatenate([bounds, np.zeros((1, 2, 3))])
