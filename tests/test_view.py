@@ -403,6 +403,25 @@ def test_the_wheel_dollies_toward_the_object_and_never_through_it(tmp_path: Path
     assert 0 < after == pytest.approx(before * commands.DOLLY_PER_NOTCH ** 200)
 
 
+def test_in_parallel_projection_the_wheel_zooms_and_u_and_home_take_the_zoom_back(tmp_path: Path) -> None:
+    """Parallel projection's picture does not change with the distance: the wheel moving the camera
+    only cut into the model, and `u` and HOME left the view zoomed."""
+    scene = viewer_with("p", (octahedron(tmp_path / "m.obj", 20.0),), empty=True).scene
+    start, half_height = scene.camera.model.copy(), scene.modes.parallel_half_height
+    for _ in range(30):
+        commands.dolly_view(scene, 1)
+    assert np.array_equal(scene.camera.model, start)
+    assert scene.modes.parallel_half_height == pytest.approx(half_height * commands.DOLLY_PER_NOTCH ** 30)
+    commands.end_view_gesture(scene)
+    dispatch(scene, parse_key_sequence("u")[0], RecordingHost())
+    assert scene.modes.parallel_half_height == half_height
+    commands.dolly_view(scene, 5)
+    dispatch(scene, parse_key_sequence("HOME")[0], RecordingHost())
+    assert scene.modes.parallel_half_height == pytest.approx(half_height)
+    dispatch(scene, parse_key_sequence("u")[0], RecordingHost())
+    assert scene.modes.parallel_half_height == pytest.approx(half_height * commands.DOLLY_PER_NOTCH ** 5)
+
+
 def test_a_gesture_is_one_undo_step_and_u_takes_it_back_whatever_is_targeted(tmp_path: Path) -> None:
     scene = scene_with_model(tmp_path)
     start, history = scene.camera.model.copy(), len(scene.camera.history)

@@ -270,16 +270,21 @@ def move_target(scene: Scene, kind: TransformKind, axis_index: int, amount: floa
 
 
 # --- the view: framing, reset, and the mouse's orbit, pan and dolly ----------------------------------
-def move_view(scene: Scene, matrix: np.ndarray, gesture: str | None = None) -> None:
-    """The selected camera moved to `matrix`, undoable with `u` whatever is targeted. The events of one
-    mouse gesture (`gesture` names it) amend one history entry instead of pushing one each."""
+def move_view(scene: Scene, matrix: np.ndarray, gesture: str | None = None,
+              half_height: float | None = None) -> None:
+    """The selected camera moved to `matrix`, and the parallel view's half height set where given,
+    undoable with `u` whatever is targeted. The events of one mouse gesture (`gesture` names it) amend
+    one history entry instead of pushing one each."""
     camera = scene.camera
-    if gesture is not None and scene.view_gesture == gesture and scene.view_moves[-1:] == [camera]:
+    if not (gesture is not None and scene.view_gesture == gesture and scene.view_moves[-1:]
+            and scene.view_moves[-1][0] is camera):
+        scene.view_moves.append((camera, scene.modes.parallel_half_height))
+        camera.push(matrix)
+        scene.view_gesture = gesture
+    else:
         camera.history[-1] = np.asarray(matrix, dtype=np.float64)
-        return
-    camera.push(matrix)
-    scene.view_moves.append(camera)
-    scene.view_gesture = gesture
+    if half_height is not None:
+        scene.modes.parallel_half_height = half_height
 
 
 def end_view_gesture(scene: Scene) -> None:
@@ -293,13 +298,17 @@ def frame_selected(scene: Scene, host: Host) -> None:
     if obj is None:
         scene.message = "no object to frame"
         return
-    move_view(scene, framing.frame_objects(scene, scene.camera, [obj]))
+    matrix, half_height = framing.frame_objects(scene, scene.camera, [obj])
+    move_view(scene, matrix, half_height=half_height)
     scene.message = f"framed {obj.name}"
 
 
 def reset_view(scene: Scene, host: Host) -> None:
-    """HOME: the selected camera back where the scene started it (u takes it back again)."""
+    """HOME: the selected camera back where the scene started it, and a parallel view sized as `p`
+    sizes it there (u takes both back again)."""
     move_view(scene, scene.camera.history[0].copy())
+    if scene.modes.projection is Projection.PARALLEL:
+        scene.modes.parallel_half_height = scene.matching_parallel_half_height()
     scene.message = "view reset to the start"
 
 
@@ -331,12 +340,15 @@ def pan_view(scene: Scene, dx_pixels: float, dy_pixels: float, view_height_px: i
 
 def dolly_view(scene: Scene, steps: float) -> None:
     """The wheel: toward the selected object (steps > 0) or away, a fraction of the way each notch, so
-    the camera never passes through it; in parallel projection the view's size follows."""
+    the camera never passes through it. In parallel projection, where the distance changes nothing
+    but what the near plane cuts, the view's size shrinks instead and the camera stays."""
     factor = DOLLY_PER_NOTCH ** steps
-    centre, model = _view_centre(scene), scene.camera.model.copy()
-    model[:3, 3] = centre + (model[:3, 3] - centre) * factor
+    model = scene.camera.model.copy()
     if scene.modes.projection is Projection.PARALLEL:
-        scene.modes.parallel_half_height *= factor
+        move_view(scene, model, "dolly", half_height=scene.modes.parallel_half_height * factor)
+        return
+    centre = _view_centre(scene)
+    model[:3, 3] = centre + (model[:3, 3] - centre) * factor
     move_view(scene, model, "dolly")
 
 
@@ -354,8 +366,9 @@ def undo(scene: Scene, host: Host) -> None:
     """`u`: a view move just made first (framing, reset, the mouse), else the target's last move."""
     scene.view_gesture = None
     while scene.view_moves:
-        moved = scene.view_moves.pop()
+        moved, half_height = scene.view_moves.pop()
         if moved in scene.cameras and moved.undo():
+            scene.modes.parallel_half_height = half_height
             return
     if scene.modes.target is Target.LIGHTS:
         undone = scene.light.undo()
@@ -465,7 +478,7 @@ def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool) -> None:
     scene.loads += 1
     if as_camera:
         if scene.objects:
-            obj.history = [framing.frame_objects(scene, scene.camera, scene.objects)]
+            obj.history = [framing.frame_objects(scene, scene.camera, scene.objects)[0]]
         scene.cameras.append(obj)
         scene.selected_camera = len(scene.cameras) - 1
         return
@@ -482,9 +495,10 @@ def frame_models(scene: Scene) -> None:
     camera = scene.camera
     if len(camera.history) == 1:
         camera.history[0] = framing.revealing(camera.model, scene.objects)  # the start may turn
-        camera.history[0] = framing.frame_objects(scene, camera, scene.objects)
+        camera.history[0], scene.modes.parallel_half_height = framing.frame_objects(scene, camera, scene.objects)
     else:
-        move_view(scene, framing.frame_objects(scene, camera, scene.objects))
+        matrix, half_height = framing.frame_objects(scene, camera, scene.objects)
+        move_view(scene, matrix, half_height=half_height)
 
 
 def replace_loaded(scene: Scene, element: SceneObject, loaded: SceneObject) -> None:

@@ -56,12 +56,13 @@ def framed(camera_model: np.ndarray, centre: np.ndarray, radius: float) -> np.nd
     return moved
 
 
-def frame_objects(scene: Scene, camera: SceneObject, objects: list[SceneObject]) -> np.ndarray:
-    """The camera's matrix framing `objects`; in parallel projection the view's size follows too."""
+def frame_objects(scene: Scene, camera: SceneObject, objects: list[SceneObject]) -> tuple[np.ndarray, float]:
+    """The camera's matrix framing `objects`, and the parallel view's half height that frames them
+    (the current one in perspective)."""
     centre, radius = bounding_sphere(objects)
-    if scene.modes.projection is Projection.PARALLEL:
-        scene.modes.parallel_half_height = _framed_radius(radius) / FILL
-    return framed(camera.model, centre, radius)
+    parallel = scene.modes.projection is Projection.PARALLEL
+    half_height = _framed_radius(radius) / FILL if parallel else scene.modes.parallel_half_height
+    return framed(camera.model, centre, radius), half_height
 
 
 def revealing(camera_model: np.ndarray, objects: list[SceneObject]) -> np.ndarray:

@@ -218,9 +218,9 @@ class Scene:
     texture: np.ndarray | None = None  # (H, W, 3) uint8, top row first, what filled faces show; None: white
     message: str = ""  # the last thing the person should read (errors, where a file was saved)
     # The cameras the view moves (framing, reset, the mouse) moved since the target last moved, latest
-    # last: `u` undoes those first, whatever is targeted. And the mouse gesture still going on, whose
-    # events make one undo step in all.
-    view_moves: list[SceneObject] = field(default_factory=list)
+    # last, each with the parallel view's half height before: `u` undoes those first, whatever is
+    # targeted. And the mouse gesture still going on, whose events make one undo step in all.
+    view_moves: list[tuple[SceneObject, float]] = field(default_factory=list)
     view_gesture: str | None = None
     # How deep the dragged element's history was when the ctrl-drag going on began: its events fold into
     # one undo step.
