@@ -573,6 +573,16 @@ def test_status_line_reports_modes_lights_and_selection(scene: Scene) -> None:
     assert "flight" not in status_line(scene) and "analysis" in status_line(scene)
 
 
+def test_status_line_gives_a_step_and_a_parallel_size_on_a_scale_other_than_the_seeds() -> None:
+    scene = make_scene(1e-3)  # the cubes in thousandths
+    press(scene, "t p")
+    line = status_line(scene)
+    assert "translate 0.005 local" in line and "parallel 0.15" in line, line
+    seed_scale = make_scene()
+    press(seed_scale, "t")
+    assert "translate local" in status_line(seed_scale)  # SPEC's 5: not said
+
+
 def test_help_lists_every_key_with_its_state(scene: Scene) -> None:
     lines = help_lines(scene, KEYMAP)
     for token in KEYMAP:

@@ -5,11 +5,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+from marraztu.control.commands import TRANSLATION_STEP, translation_unit
 from marraztu.control.keymap import Command
 from marraztu.control.viewer import Viewer
 from marraztu.errors import escaped
 from marraztu.model.lights import Show
 from marraztu.model.scene import Projection, Scene, SceneObject, Target
+from marraztu.model.transforms import TransformKind
 
 SEPARATOR = " | "
 LIGHT_OFF_MARK = "\u00b7"  # a middle dot: "lights 0·2·" reads as sun and object spot on
@@ -20,13 +22,18 @@ def lights_summary(scene: Scene) -> str:
 
 
 def moving_mode(scene: Scene) -> str:
-    """What x/y/z do now: the transform kind and, for the target, its frame or camera mode."""
+    """What x/y/z do now: the transform kind (with its step where it is not SPEC's, on a scale other
+    than the seed's) and, for the target, its frame or camera mode."""
     modes = scene.modes
+    kind = modes.transform.value
+    step = TRANSLATION_STEP * translation_unit(scene)
+    if modes.transform is TransformKind.TRANSLATE and step != TRANSLATION_STEP:
+        kind += f" {step:g}"
     if modes.target is Target.OBJECTS:
-        return f"{modes.transform.value} {modes.frame.value}"
+        return f"{kind} {modes.frame.value}"
     if modes.target is Target.CAMERAS:
-        return f"{modes.transform.value} {modes.camera_mode.value}"
-    return modes.transform.value
+        return f"{kind} {modes.camera_mode.value}"
+    return kind
 
 
 def selection_summary(scene: Scene) -> list[str]:
@@ -42,7 +49,7 @@ def display_summary(scene: Scene) -> list[str]:
     modes = scene.modes
     projection = modes.projection.value
     if modes.projection is Projection.PARALLEL:
-        projection += f" {modes.parallel_half_height:.0f}"
+        projection += f" {modes.parallel_half_height:.3g}"  # three digits, whatever the units
     shading = "flat/gouraud/phong side by side" if modes.side_by_side else modes.shading.value
     return [
         shading,
