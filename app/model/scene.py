@@ -335,22 +335,22 @@ class Scene:
         pad = NORMAL_LENGTH_FRACTION * sizes if self.modes.normals else np.zeros(len(shown))
         bounds = bounds + np.stack([-pad, pad], axis=1)[:, :, None]
         if marker and self.modes.target is Target.LIGHTS:  # a box of no size round the marker
-            marker = np.eye(4)
-            marker[:3, 3] = self.placed_light(self.light).position
-            models, bounds = np.concatenate([models, marker[None]]), np.concatenate([bounds, np.zeros((1, 2, 3))])
-            sizes = np.append(sizes, 0.0)
+            at_marker = np.eye(4)
+            at_marker[:3, 3] = self.placed_light(self.light).position
+            models = np.concatenate([models, at_marker[None]])
+            bounds, sizes = np.concatenate([bounds, np.zeros((1, 2, 3))]), np.append(sizes, 0.0)
         corners = _box_corners(bounds)  # (N, 8, 3) in each element's frame, then the eye's
         view = self.view_matrix() @ models
         in_eye = np.einsum("nij,nkj->nki", view[:, :3, :3], corners) + view[:, None, :3, 3]
         x, y, depth = in_eye[..., 0], in_eye[..., 1], -in_eye[..., 2]
-        if self.modes.projection is Projection.PARALLEL:
+        if self.modes.projection is Projection.PARALLEL:  # the view a box, its depth the distance
             half_height = self.modes.parallel_half_height
             reach_x, reach_y = np.full_like(depth, WIDEST_ASPECT * half_height), np.full_like(depth, half_height)
             distance = np.maximum(depth.min(axis=1, initial=np.inf), 0.0)
         else:
             reach_x, reach_y = WIDEST_ASPECT * depth, depth  # 90 degrees high: tan 45 = 1
-            # The eye's distance to the box, in its frame; along the view's widest direction a point that
-            # far is this much less deep.
+            # The eye's distance to the box, in the box's frame; a point that far toward the view's
+            # corner (WIDEST_ASPECT : 1 : 1) is 1 / sqrt(WIDEST_ASPECT^2 + 2) of it deep.
             eye = np.einsum("nij,j->ni", np.linalg.inv(models), np.append(self.eye_position(), 1.0))[:, :3]
             outside = eye - np.clip(eye, bounds[:, 0], bounds[:, 1])
             distance = np.linalg.norm(outside, axis=1) / np.sqrt(WIDEST_ASPECT**2 + 2.0)
