@@ -31,7 +31,7 @@ from marraztu.loaders.scenefile import (
     materials_of_parts,
 )
 from marraztu.model.mesh import Mesh
-from marraztu.model.scene import Scene, SceneObject
+from marraztu.model.scene import WIDEST_ASPECT, Scene, SceneObject
 
 
 class Frontend(Protocol):
@@ -78,9 +78,6 @@ def _placed(mesh: Mesh, source: Path) -> SceneObject:
 
 
 MAX_PROMPT_CHARACTERS = 4096  # Linux's PATH_MAX
-# A loaded model is said to be outside the view where a view this wide would not show it: the window's
-# shape is the front end's, and a wide one shows the most.
-WIDEST_ASPECT = 16.0 / 9.0
 
 
 @dataclass(eq=False)
@@ -353,6 +350,7 @@ class Viewer:
             self._start_models_alone = together  # a model from elsewhere joins: no longer theirs alone
             self._start_models_to_frame = together
         kind = "camera" if as_camera else "object"
+        # The window's shape is the front end's: outside even a wide view.
         unseen = not as_camera and not together and self.scene.outside_view(obj, WIDEST_ASPECT)
         where = ", outside the view (. frames it)" if unseen else ""
         self.tell(with_notes(f"loaded {Path(path).name} as a new {kind}: {obj.mesh.summary()}{where}", obj.mesh),

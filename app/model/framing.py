@@ -2,7 +2,8 @@
 
 The camera keeps the direction it looks in and moves along it until the objects' bounding sphere
 fills FILL of the view's height: in perspective the sphere's angular size, in parallel projection
-its share of the half height.
+its share of the half height. Only a start view that would see them edge or end on turns first
+(revealing).
 """
 
 from __future__ import annotations
