@@ -69,6 +69,23 @@ def test_parallel_projections_far_plane_is_beyond_every_guide(keys: str) -> None
     assert max(depths) < scene.far_plane()
 
 
+@pytest.mark.parametrize("size,centre", [(1e-3, (0.0, 0.0, 0.0)), (50.0, (4e6, 3e6, -2e6))],
+                         ids=["a millimetre in metres", "a site 5,000 km out"])
+def test_a_small_or_far_model_gets_a_grid_of_its_own_size_under_it(
+        tmp_path: Path, size: float, centre: tuple[float, float, float]) -> None:
+    """The grid's cells followed the distance from the origin and a 100-unit least: a millimetre cube
+    sat inside one 5-unit cell, a site's model on cells of 250 km 3,000 km above their plane."""
+    corners = [(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)] * np.array([size / 2] * 3) + centre
+    path = tmp_path / "cube.obj"
+    path.write_text("".join(f"v {float(x)!r} {float(y)!r} {float(z)!r}\n" for x, y, z in corners)
+                    + "f 1 2 4 3\nf 5 7 8 6\nf 1 5 6 2\nf 3 4 8 7\nf 1 3 7 5\nf 2 6 8 4\n")
+    viewer = Viewer(empty_scene(), NoFrontend())
+    viewer.start(StartOptions(empty=True, models=(path,)), longest_texture_side=64)
+    grid = axes_among(guide_lines(viewer.scene), np.float32(GRID_COLOUR))
+    cells = (grid[:, :, 0].max() - grid[:, :, 0].min()) / nice_step(size)
+    assert 20 <= cells <= 60 and np.allclose(grid[:, :, 1], centre[1] - size / 2)
+
+
 def test_an_empty_scene_still_has_a_grid_of_sensible_size() -> None:
     grid = axes_among(guide_lines(empty_scene()), np.float32(GRID_COLOUR))
     assert grid[:, :, 0].max() - grid[:, :, 0].min() >= GUIDES_MIN_EXTENT

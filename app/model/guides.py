@@ -46,9 +46,11 @@ def scene_guides(scene: Scene) -> Guides:
 
 
 def _grid(low: np.ndarray, high: np.ndarray, extent: float) -> np.ndarray:
-    """Lines along x and z at the bottom of the scene, on round numbers, covering it with a margin."""
+    """Lines along x and z at the bottom of the scene, on round numbers, covering it with a margin:
+    on the ground (y = 0) where the scene stands on it or floats less than an extent above, else
+    under the scene itself (a site's model thousands of kilometres up its map's axis)."""
     step = nice_step(extent)
-    floor_y = min(float(low[1]), 0.0)
+    floor_y = float(low[1]) if low[1] > extent else min(float(low[1]), 0.0)
     centre = (low + high) / 2.0
     half = math.ceil(extent * 0.75 / step) * step
     x_from, z_from = (round(centre[axis] / step) * step - half for axis in (0, 2))

@@ -44,9 +44,10 @@ WIDEST_ASPECT = 3.0  # ...in a view up to this wide (the window's shape is the f
 INSIDE_FRACTION = 1e-3
 # The guides (key `a`): an empty scene's grid is of the start camera's scale (it stands 150 away)...
 GUIDES_MIN_EXTENT = 100.0
-# ...and they lie within this many extents of the objects' box centre: the grid's half width is three
-# quarters of one, rounded up to a step, and the world's axes reach half of one from the origin.
-GUIDES_REACH = 1.5
+# ...and the grid lies within this many extents of the objects' box centre (its half width is three
+# quarters of one, rounded up to a step, and the ground under them up to one down); the world's axes
+# reach half of one from the origin.
+GUIDES_REACH = 2.0
 # SPEC 5: the normals' length, a fixed share of the object's bounding-box diagonal (key `n`).
 NORMAL_LENGTH_FRACTION = 0.05
 # How far the selected object's depth may pull parallel projection's size from the rest of the scene's.
@@ -294,7 +295,8 @@ class Scene:
             deepest = float(self._boxes_in_view().backs.max(initial=0.0))
             if self.modes.guides:
                 low, high, extent = self.guides_extent()
-                deepest = max(deepest, self.depth_of((low + high) / 2.0) + GUIDES_REACH * extent)
+                deepest = max(deepest, self.depth_of((low + high) / 2.0) + GUIDES_REACH * extent,
+                              self.depth_of(np.zeros(3)) + extent / 2.0)
             return 2.0 * max(deepest, self.near_plane())
         eye = self.eye_position()
         elements = self.objects + self.cameras
@@ -304,11 +306,11 @@ class Scene:
         return max(FAR_PLANE_LEAST * self.unit(), 2.0 * max(reach, default=0.0))
 
     def guides_extent(self) -> tuple[np.ndarray, np.ndarray, float]:
-        """The objects' world box, and the guides' scale: the box's size, or its distance from the
-        origin where the world's axes start, whichever is larger, never under GUIDES_MIN_EXTENT."""
+        """The objects' world box, and the guides' scale: the box's size, never under GUIDES_MIN_EXTENT
+        on the scene's scale (a model a millimetre across, or one 5,000 km from the origin, gets a grid
+        of its own size)."""
         low, high = world_box(self.objects)
-        return low, high, max(float(np.max(high - low)), float(np.max(np.abs(np.concatenate([low, high])))),
-                              GUIDES_MIN_EXTENT)
+        return low, high, max(float(np.max(high - low)), GUIDES_MIN_EXTENT * self.unit())
 
     def shown_elements(self) -> list[SceneObject]:
         """What the picture draws: the selected object alone (SPEC 5's `o` and `d`) or every object
