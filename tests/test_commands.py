@@ -353,7 +353,7 @@ def test_analysis_approach_stops_at_the_minimum_distance(scene: Scene) -> None:
     press(scene, "c g t Z*100")
     distance = np.linalg.norm(scene.object.centre - scene.camera.origin)
     assert distance == pytest.approx(commands.ANALYSIS_MIN_DISTANCE)
-    assert "as close" in scene.message
+    assert "as close to left as allowed, 10 units from its centre" in scene.message
     assert centre_off_view_axis(scene) < 1e-9
     camera = scene.camera  # 3 units out, as framing puts a small model (the mouse's dolly goes there too)
     camera.push(transforms.apply_local(camera.model, transforms.translation(2, 3.0 - commands.ANALYSIS_MIN_DISTANCE)))

@@ -247,7 +247,7 @@ def approach_object(scene: Scene, axis_index: int, distance: float) -> None:
     if distance < 0.0 and depth + distance < closest:  # backing away is never refused
         distance = min(0.0, closest - depth)  # stop at the minimum, never push back
         if distance == 0.0:
-            scene.message = f"analysis mode: as close to {obj.name} as allowed"
+            scene.message = f"analysis mode: as close to {obj.name} as allowed, {closest:g} units from its centre"
             return
     camera.push(transforms.apply_local(camera.model, transforms.translation(2, distance)))
 
