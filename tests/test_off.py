@@ -74,6 +74,23 @@ def test_a_noff_rows_normal_and_an_stoff_rows_coordinates_are_read_past(tmp_path
     assert mesh.vertex_colours is not None and mesh.vertex_colours[0].tolist() == [255, 0, 0]
 
 
+@pytest.mark.parametrize("faces", [("3 0 1 2 255 0 0", "3 0 2 3"), ("3 0 2 3", "4 0 1 2 3 7"),
+                                   ("3 0 1 2 0.5 0.25 1.0 0.75", "3 0 2 3")])
+def test_a_faces_colour_is_read_past_with_a_note(tmp_path: Path, faces: tuple[str, ...]) -> None:
+    mesh = read(tmp_path, off_text(faces=faces))
+    assert mesh.face_count == 2 and mesh.vertex_colours is None
+    assert mesh.warnings == ("colours given per face are not drawn (vertex colours are)",)
+    assert read(tmp_path, off_text()).warnings == ()
+
+
+@pytest.mark.parametrize(("faces", "word"), [(("3 0 1 2", "3 0 2 3 255 0 x"), "x"), (("3 0 1 2", "3 0 2 3 red"), "red"),
+                                             (("3 0 1 2", "3 0 2 3 1_0 0 0"), "1_0")])
+def test_a_faces_colour_that_is_no_number_is_refused_at_its_line(tmp_path: Path, faces: tuple[str, ...],
+                                                                  word: str) -> None:
+    refused = refusal(tmp_path, off_text(faces=faces))
+    assert (refused.message, refused.line) == (f"'{word}' is not a number", 8)
+
+
 @pytest.mark.parametrize(("text", "line", "message"), [
     (off_text(faces=("4 0 1 2", "3 0 2 3")), 7, "a face of 4 corners, this line holds 3 numbers after its count"),
     (off_text(faces=("3 0 1 2 5 6", "3 0 2 3")), 7, "a face of 3 corners, this line holds 5 numbers after its count"),
@@ -219,7 +236,8 @@ def outcome(tmp_path: Path, text: str | bytes, monkeypatch: pytest.MonkeyPatch |
         except LoadError as error:
             return error.message, error.line
     colours = None if tables.colours is None else tables.colours.tolist()
-    return tables.positions.tolist(), tables.corner_vertex.tolist(), tables.face_start.tolist(), colours
+    return (tables.positions.tolist(), tables.corner_vertex.tolist(), tables.face_start.tolist(), colours,
+            tables.face_colours)
 
 
 PLAIN_BODIES = [
@@ -253,7 +271,7 @@ def test_a_plain_body_is_read_at_once_as_the_line_reader_reads_it(tmp_path: Path
 @pytest.mark.parametrize("text", [
     off_text(faces=("3 0 1 2 # a comment", "3 0 2 3")),
     off_text(faces=("3 0 1 2 255 0", "3 0 2 3")),  # a colour of two words
-    off_text(faces=("3 0 1 2 red", "3 0 2 3")),  # a colour that is no number: not read, so not refused
+    off_text(faces=("3 0 1 2 red", "3 0 2 3")),  # a colour that is no number: refused
     off_text(faces=("3 0 1 2.0 0.5 0.5 0.5", "3 0 2 3")),  # a fraction among the corners
     off_text(faces=("3 0 1 2", "2 0 1 3")),  # a count of 2 and a word more, as if a colour
     off_text(faces=("3 0 1 2 0.5 0.5 0.5", "3 0 2 3 1 2 3 4 5")),  # a colour of five words

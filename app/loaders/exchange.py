@@ -62,7 +62,7 @@ from marraztu.loaders.images import (
 from marraztu.loaders.ply import binary_of_ascii, read_header, vertices_and_faces
 from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES
 from marraztu.loaders.words import unheld_coordinate
-from marraztu.model.build import build_mesh, by_largest, colour_bytes, whole_numbers
+from marraztu.model.build import FACE_COLOURS_NOTE, build_mesh, by_largest, colour_bytes, whole_numbers
 from marraztu.model.geometry import holds_in_float32
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, counted, polygon_corners_of_fans
 
@@ -745,7 +745,7 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own
     materials, part_material, notes = _part_materials(name, parts, picture_formats)
     notes += dict.fromkeys(note for geometry, _ in parts for note in geometry.notes)
     if any(getattr(getattr(geometry.mesh, "visual", None), "kind", None) == "face" for geometry, _ in parts):
-        notes.append("colours given per face are not drawn (vertex colours are)")
+        notes.append(FACE_COLOURS_NOTE)
     # One mesh's base colour is the model's; of several, each keeps its own, and one without takes the
     # viewer's rather than another mesh's.
     own = _material_of(parts[0][0].mesh) if len(parts) == 1 else None

@@ -27,6 +27,7 @@ from marraztu.loaders.words import (
     WordBlocks,
     checked_coordinates,
     checked_indices,
+    checked_numbers,
     is_count,
     line_end_places,
     line_words,
@@ -35,7 +36,7 @@ from marraztu.loaders.words import (
     text_numbers,
     word_starts,
 )
-from marraztu.model.build import by_largest, colour_bytes, derive_mesh
+from marraztu.model.build import FACE_COLOURS_NOTE, by_largest, colour_bytes, derive_mesh
 from marraztu.model.geometry import holds_in_float32
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted
 from marraztu.model.threads import weighed_pieces
@@ -43,16 +44,17 @@ from marraztu.model.threads import weighed_pieces
 # A comment runs from '#' to its line's end (\n, \r\n or a lone \r, as text_lines ends lines).
 _LINE_END_BYTES = (ord("\r"), ord("\n"))
 _UNCOMMENT_PIECE_BYTES = 1 << 18  # a piece's tables of its '#'s and line ends stay a few megabytes
-# A polygon's colour may follow its indices: none, an index into a colour map, RGB or RGBA. Not read.
+# A polygon's colour may follow its indices: none, an index into a colour map, RGB or RGBA. Not drawn.
 _FACE_COLOUR_WORDS = (0, 1, 3, 4)
 
 
 def load_off(path: Path, stage: Callable[[str], None] | None = None) -> Mesh:
     """An OFF file's Mesh: its polygons as they are (as an OBJ's), tinted by COFF's vertex colours."""
     tables = read_off(path, read_model_bytes(path, stage))  # the bytes are freed on return
+    notes = (FACE_COLOURS_NOTE,) if tables.face_colours else ()
     try:
         mesh = derive_mesh(path.stem, tables.positions, tables.corner_vertex, tables.face_start, None, None, None,
-                           None, ())
+                           None, notes)
     except ValueError as error:  # more corners than 32-bit indices hold
         raise LoadError(path, str(error)) from None
     return mesh if tables.colours is None else replace(mesh, vertex_colours=_colour_bytes(tables.colours))
@@ -69,6 +71,7 @@ class OffTables:
     corner_vertex: np.ndarray  # (C,) whole numbers
     face_start: np.ndarray  # (F + 1,) int64
     colours: np.ndarray | None  # (V, 3 or 4) float64, COFF's, as the file writes them (0..255 or 0..1)
+    face_colours: bool  # whether a face row gives a colour (checked to be numbers, not drawn)
 
 
 Row = tuple[int, list[str]]  # a line's number and its words before any '#'
@@ -105,9 +108,9 @@ def read_off(path: Path, data: bytes) -> OffTables:
         at_once = _body_at_once(data, body_at, layout, vertices, faces)
     if at_once is None:
         positions, colours = _vertex_rows(path, rows, vertices, layout)
-        corner_vertex, face_start = _face_rows(path, rows, faces, vertices)
+        corner_vertex, face_start, face_colours = _face_rows(path, rows, faces, vertices)
         _check_nothing_after(path, rows, faces)
-        at_once = OffTables(positions, corner_vertex, face_start, colours)
+        at_once = OffTables(positions, corner_vertex, face_start, colours, face_colours)
     if at_once.colours is not None:
         _check_colours(path, data, at_once.colours)
     return at_once
@@ -201,7 +204,8 @@ def _body_at_once(data: bytes, body_at: int, layout: _Layout, vertices: int, fac
     if faces_read is None:
         return None
     positions, colours = _vertex_table(table.reshape(vertices, width), layout)
-    return OffTables(positions, *faces_read, colours)
+    corner_vertex, face_start, face_colours = faces_read
+    return OffTables(positions, corner_vertex, face_start, colours, face_colours)
 
 
 _FACE_BLOCK_WORDS = 1 << 16  # the faces' words made numbers at once: half a megabyte of them
@@ -209,11 +213,12 @@ _ROW_PIECE_BYTES = 1 << 18  # a longer row's text made numbers at once
 
 
 def _face_rows_at_once(data: bytes, firsts: np.ndarray, end: int, words: np.ndarray, vertices: int
-                       ) -> tuple[np.ndarray, np.ndarray] | None:
+                       ) -> tuple[np.ndarray, np.ndarray, bool] | None:
     """The corners and face_start of the face rows that begin at `firsts`, each of its count, that many
-    corners and perhaps a colour (`words` in all); made numbers a block of rows at a time (a row of more
-    words than a block, a piece of it at a time), into the corners' final table. None where a row is
-    another (a count of less than 3, a colour of another number of words, an index out of range)."""
+    corners and perhaps a colour (`words` in all), and whether any gives a colour; made numbers a block
+    of rows at a time (a row of more words than a block, a piece of it at a time), into the corners'
+    final table. None where a row is another (a count of less than 3, a colour of another number of
+    words, an index out of range)."""
     if words.min() < 4:
         return None
     corners = np.empty(int(words.sum()) - words.size, INDEX)  # room for every word after a count
@@ -232,7 +237,8 @@ def _face_rows_at_once(data: bytes, firsts: np.ndarray, end: int, words: np.ndar
         face_start[low + 1:high + 1] = counts
         written += int(counts.sum())
     np.cumsum(face_start, out=face_start)
-    return (corners if written == corners.size else corners[:written].copy()), face_start
+    coloured = written != corners.size  # the words after a count that are no corner are a colour's
+    return (corners if not coloured else corners[:written].copy()), face_start, coloured
 
 
 def _rows(text: bytes, words: np.ndarray, corners: np.ndarray, limit: int) -> np.ndarray | None:
@@ -454,10 +460,12 @@ def _vertex_table(table: np.ndarray, layout: _Layout) -> tuple[np.ndarray, np.nd
     return positions, table[:, colour_at:colour_at + table.shape[1] - layout.row_sizes()[0] + 3]
 
 
-def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.ndarray, np.ndarray]:
-    """Each face row's corner count n, its n vertex indices and perhaps a colour (not read). Held a
-    block at a time as the rows come: never by the header's count, which a short file may exaggerate."""
+def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.ndarray, np.ndarray, bool]:
+    """Each face row's corner count n, its n vertex indices and perhaps a colour (checked to be numbers,
+    not drawn), and whether any row gives one. Held a block at a time as the rows come: never by the
+    header's count, which a short file may exaggerate."""
     corners = WordBlocks(path, lambda path, words, line_of: checked_indices(path, words, line_of, vertices))
+    colours = WordBlocks(path, checked_numbers)
     most = max(_FACE_COLOUR_WORDS)
     for number, (first, *rest) in _taken(path, rows, count, "faces", 1):
         size = int(first) if is_count(first) else -1
@@ -469,5 +477,8 @@ def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.n
             raise LoadError(path, f"a face of {size} corners, this line holds {said_count(words, size + most)} "
                                   "numbers after its count", line=number)
         corners.add(words[:size], number)
+        if len(words) > size:
+            colours.add(words[size:], number)
     corner_vertex = corners.values()
-    return corner_vertex, np.concatenate(([0], np.cumsum(corners.row_sizes())))
+    coloured = colours.values().size > 0
+    return corner_vertex, np.concatenate(([0], np.cumsum(corners.row_sizes()))), coloured

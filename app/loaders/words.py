@@ -83,6 +83,11 @@ def checked_coordinates(path: Path, words: list[str], line_of: LineOf) -> np.nda
     return values
 
 
+def checked_numbers(path: Path, words: list[str], line_of: LineOf) -> np.ndarray:
+    """float64 numbers, each a decimal number (or what numpy reads as one, 'nan' say): read past, not drawn."""
+    return _converted(path, words, line_of, np.float64, _DECIMAL)
+
+
 def unheld_coordinate(path: str | Path, line: int | None = None) -> LoadError:
     """The error of a model whose coordinates the GPU cannot hold (not finite, or past float32's range)."""
     return LoadError(path, "a vertex coordinate is not a finite number the GPU can hold", line=line)

@@ -65,6 +65,10 @@ def build_mesh(
     return replace(mesh, vertex_colours=colour_bytes(vertex_colours, len(points)))
 
 
+# The renderer tints by vertex colours only: a file's colours per face (a PLY's, an OFF's) are read past.
+FACE_COLOURS_NOTE = "colours given per face are not drawn (vertex colours are)"
+
+
 def by_largest(colours: np.ndarray) -> np.ndarray:
     """Colours a file gives as 0..1 or as 0..255, in 0..1: a largest value above 2, or whole numbers of
     which the largest is above 1, say 0..255 (127.5 too); a largest value in 1..2 with a fraction is
