@@ -353,6 +353,30 @@ def test_a_bad_header_is_refused_at_its_line(tmp_path: Path, header: str, line: 
     assert (refused.line, refused.message) == (line, message)
 
 
+@pytest.mark.parametrize("comment", [b"comment no end_header here\n", b"obj_info end_header\r\n",
+                                     b"comment xend_header\nend_headers\n"])
+def test_end_header_ends_the_header_only_as_a_line_alone(tmp_path: Path, comment: bytes) -> None:
+    """The word in a comment ended the header there ("the header declares no faces"), and trimesh ends
+    it at any line holding the word: a binary file's header is written again for it without comments."""
+    for name, data in written_both_ways([[0, 1, 4], [0, 4, 3]]).items():
+        data = data.replace(b"1.0\n", b"1.0\n" + comment, 1)
+        header = read_header(Path(name), data)
+        assert header.count("face") == 2 and data[:header.body_at].endswith(b"\nend_header\n")
+        if header.encoding == "<":
+            for_trimesh = trimesh.util.wrap_as_stream(vertices_and_faces(Path(name), data, header).data)
+            assert len(trimesh.load(for_trimesh, file_type="ply", process=False).faces) == 2
+        (tmp_path / name).write_bytes(data)
+        assert load_model(tmp_path / name).face_count == 2
+
+
+@pytest.mark.parametrize("line", ["end_header x", "x end_header", "comment TextureFile end_header .png"])
+def test_end_header_on_a_line_of_other_words_before_the_end_is_refused(tmp_path: Path, line: str) -> None:
+    refused = refusal(tmp_path, ply_text(["3 0 1 4"], remarks=line + "\n"))
+    assert (refused.line, refused.message) == (3, "'end_header' on a line of other words: the header ends at a line "
+                                                  "of 'end_header' alone, and before it only a comment (not a "
+                                                  "TextureFile's) may hold the word")
+
+
 def test_the_picture_and_unknown_elements_are_kept_for_trimesh(tmp_path: Path) -> None:
     text = ply_text(["3 0 1 4"], remarks="comment TextureFile p.png\ncomment TextureFile q.png\nobj_info by hand\n")
     text = text.replace("end_header", "element material 1\nproperty float shine\nend_header") + "0.5\n"

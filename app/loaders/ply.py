@@ -44,6 +44,8 @@ TEXCOORD_LIST = "texcoord"  # MeshLab's: u v for each corner of the face
 MAX_DECLARATIONS = 4096
 _DECIMAL = re.compile(DECIMAL_SYNTAX.encode())
 _NOT_FINITE = re.compile(rb"(?i)[+-]?(?:nan|inf|infinity)")  # numpy reads these too: refused later where wrong
+_END_WORD = "end_header"
+_END_LINE = re.compile(rb"[\r\n][ \t]*+end_header[ \t]*+(?=[\r\n]|\Z)")  # a line end leads: re looks for it fast
 
 
 class ForTrimesh(NamedTuple):
@@ -79,6 +81,8 @@ class PlyHeader:
     elements: tuple[PlyElement, ...]
     picture: str | None  # what a 'TextureFile' names (MeshLab's comment), the last as trimesh reads it
     body_at: int  # the offset of the body's first byte
+    # whether a comment holds the word end_header: trimesh ends the header at any line that does
+    comment_ends_it_for_trimesh: bool = False
 
     def count(self, name: str) -> int:
         return sum(element.count for element in self.elements if element.name == name)
@@ -94,10 +98,11 @@ class PlyHeader:
 
 def read_header(path: Path, data: bytes) -> PlyHeader:
     """The header's format, elements and properties, each line checked; a LoadError names the line."""
-    end = data.find(b"end_header")
+    end = _end_line(data)
     if not data.startswith(b"ply") or end < 0:
         raise LoadError(path, "not a PLY file (no 'ply' ... 'end_header' header)", line=1)
     encoding, picture, elements = None, None, []
+    comment_ends_it = False
     properties: list[list[PlyProperty]] = []
     filled: set[str] = set()  # the names of the vertex and face elements of rows so far
     element_lines: list[int] = []
@@ -105,6 +110,9 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
     for number, line in enumerate(text_lines(data[:end]), start=1):  # a line at a time: never a list of them
         words = line.split(None, 5)
         keyword = words[0] if words and number > 1 else ""
+        if _END_WORD in line and _END_WORD in line.split():
+            comment_ends_it = True
+            _check_end_word_in_comment(path, keyword, line, number)
         if keyword == "format":
             if len(words) != 3 or words[1] not in FORMATS:
                 raise LoadError(path, "expected 'format ascii 1.0' or a binary_little_endian or binary_big_endian "
@@ -135,7 +143,24 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
         if element.name == "face" and element.count and _corner_list(element) is None:
             raise LoadError(path, "element face has no list of its corners (property list uchar int vertex_indices)",
                             line=line)
-    return PlyHeader(encoding, tuple(elements), picture, line_end_from(data, end))
+    return PlyHeader(encoding, tuple(elements), picture, line_end_from(data, end), comment_ends_it)
+
+
+def _end_line(data: bytes) -> int:
+    """Where the header's last line starts: the first line of 'end_header' alone, blanks around it (the
+    word in a comment, 'no end_header here', ends nothing); -1 where there is none. The file begins
+    'ply', so that line follows a line end."""
+    found = _END_LINE.search(data) if _END_WORD.encode() in data else None  # the word alone is found sooner
+    return -1 if found is None else found.start() + 1
+
+
+def _check_end_word_in_comment(path: Path, keyword: str, line: str, number: int) -> None:
+    """The word end_header on a header line before its end: trimesh ends the header there, so it may
+    stand only in a comment, which is left out of the header handed to trimesh."""
+    if keyword in ("comment", "obj_info") and "texturefile" not in line.lower():
+        return
+    raise LoadError(path, "'end_header' on a line of other words: the header ends at a line of 'end_header' alone, "
+                          "and before it only a comment (not a TextureFile's) may hold the word", line=number)
 
 
 def _element(path: Path, words: list[str], line: int, filled: set[str]) -> PlyElement:
@@ -636,8 +661,9 @@ def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh
     they lie in the body, little-endian; faces of more than three corners fanned into triangles as an
     ASCII body's are, as that reader takes one count for a whole element. The file itself where that
     changes nothing."""
-    # trimesh ends a header's lines at \n alone: one ended by a lone \r is written again
-    at, tables, unchanged = header.body_at, [], header.encoding == "<" and b"\r" not in data[:header.body_at]
+    # trimesh ends a header's lines at \n alone, and the header at a comment's end_header: such a one is written again
+    at, tables = header.body_at, []
+    unchanged = header.encoding == "<" and b"\r" not in data[:header.body_at] and not header.comment_ends_it_for_trimesh
     sizes: list[np.ndarray] = []
     for element in header.elements:
         columns, uniform, at = _binary_columns(path, data, element, at, header.encoding)
