@@ -255,11 +255,30 @@ def test_a_word_numpy_would_not_read_is_named_at_its_line(tmp_path: Path, word: 
     assert (refused.line, refused.message) == (16, f"'{word}' is not a number")
 
 
-def test_an_index_past_a_64_bit_types_range_is_refused(tmp_path: Path) -> None:
-    """float64 rounds uint64's largest value up to 2 ** 64, which it must not let through."""
-    refused = refusal(tmp_path, ply_text(["3 0 1 18446744073709551616"], face_properties="property list uchar "
-                                                                                           "uint64 vertex_indices\n"))
-    assert refused.line == 19 and refused.message.startswith("face vertex_indices: 1.8446744073709552e+19 is no uint64")
+@pytest.mark.parametrize(("kind", "index"), [("uint64", 2**64 - 1), ("uint64", 2**64), ("int64", 2**63 - 1)])
+def test_an_index_at_a_64_bit_types_edge_is_out_of_range(tmp_path: Path, kind: str, index: int) -> None:
+    """float64 rounds a 64-bit type's largest value up to 2 ** bits: it was refused as no uint64."""
+    refused = refusal(tmp_path, ply_text([f"3 0 1 {index}"], face_properties=f"property list uchar {kind} "
+                                                                              "vertex_indices\n"))
+    assert (refused.line, refused.message) == (19, f"vertex index {float(index)!r} out of range (the file has 9 "
+                                                   "vertices)")
+
+
+def test_a_64_bit_value_at_its_types_edge_is_read_as_its_float_value(tmp_path: Path) -> None:
+    """Past it, a value is still refused: 2 ** 64 + 10 ** 6 is float64's next number after 2 ** 64."""
+    extra = "property uint64 id\nproperty int64 low\nproperty int64 high\n"
+    vertices = [f"{row} {2**64 - 1} {-2**63} {2**63 - 1}" for row in GRID]
+    text = ply_text(["3 0 1 4"], vertices, vertex_properties="property float x\nproperty float y\nproperty float z\n"
+                    + extra)
+    data = text.encode()
+    binary = binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data)).data
+    rows = np.frombuffer(binary, "<3f4,<u8,<i8,<i8", count=9, offset=read_header(Path("m.ply"), binary).body_at)
+    assert rows["f1"].tolist() == [2**64 - 1] * 9 and rows["f2"].tolist() == [-2**63] * 9
+    assert rows["f3"].tolist() == [2**63 - 1] * 9
+    assert load(tmp_path, text).face_count == 1
+    refused = refusal(tmp_path, text.replace(str(2**64 - 1), str(2**64 + 10**6), 1))
+    assert (refused.line, refused.message) == (13, "vertex id: 1.844674407371055e+19 is no uint64 (whole numbers "
+                                                   "from 0 to 18446744073709551615)")
 
 
 @pytest.mark.parametrize(("faces", "line", "said"), [

@@ -520,12 +520,22 @@ def _check_type(body: _Body, element: PlyElement, column: _Column) -> None:
 
 def _held(values: np.ndarray, kind: str) -> np.ndarray:
     """Which values a PLY type holds: a float's finite range (NaN and infinities too), or whole numbers
-    within an integer's (below 2 ** bits, which float64 holds exactly where it does not hold the max)."""
+    within an integer's. A 64-bit type's largest is float64's 2 ** bits, as an ASCII body's numbers are
+    float64 (the few whole numbers past it that round there too cannot be told from it)."""
     code = PLY_TYPES[kind]
     if code[0] == "f":
         return ~(np.isfinite(values) & (np.abs(values) > np.finfo(code).max))
     limits = np.iinfo(code)
-    return (values >= limits.min) & (values < float(limits.max) + 1) & (values == np.trunc(values))  # NaN: none
+    return (values >= limits.min) & (values <= float(limits.max)) & (values == np.trunc(values))  # NaN: none
+
+
+def _write_typed(target: np.ndarray, values: np.ndarray, kind: str) -> None:
+    """Checked values (_held) into `target`, of PLY type `kind`: float64's 2 ** bits, a 64-bit type's
+    largest as an ASCII body reads it, written as that largest (a cast would wrap it round)."""
+    with np.errstate(invalid="ignore"):
+        target[...] = values
+    if values.dtype.kind == "f" and PLY_TYPES[kind] in ("i8", "u8"):
+        target[values >= float(_most(kind))] = _most(kind)
 
 
 def _range(kind: str, counts: bool = False) -> str:
@@ -602,7 +612,8 @@ def _fanned(element: PlyElement, columns: list[_Column], corners: _Column) -> tu
     face = np.repeat(np.arange(len(corners.counts), dtype=kind), corners.counts - 2)
     kept, values = [], []
     for column in columns:
-        typed = column.values.astype("<" + PLY_TYPES[column.prop.value_type])
+        typed = np.empty(column.values.shape, "<" + PLY_TYPES[column.prop.value_type])
+        _write_typed(typed, column.values, column.prop.value_type)
         if column.counts is None:
             values.append(typed[face])
         elif column is corners:
@@ -635,7 +646,7 @@ def _written(header: bytes, tables: list[tuple[PlyElement, list[np.ndarray]]]) -
         for number, (prop, value) in enumerate(zip(element.properties, values)):
             if prop.count_type is not None:
                 rows[f"count{number}"] = value.shape[1]
-            rows[f"value{number}"] = value
+            _write_typed(rows[f"value{number}"], value, prop.value_type)
         offset += element.count * layout.itemsize
         del rows  # a view of `out`, which bytes() must not find exported
     return bytes(out)
