@@ -659,6 +659,27 @@ def test_what_a_gltf_names_is_checked_before_trimesh_reads_it(tmp_path: Path, ed
     assert one_line_refusal(lambda: load_model(path)).message == f"not a glTF file: {words}"
 
 
+@pytest.mark.parametrize("camera", [{"type": "perspective", "perspective": {"yfov": 1.0, "znear": 0.1}},
+                                    {"type": "orthographic", "orthographic": {"xmag": 1, "ymag": 1, "znear": 0.1,
+                                                                              "zfar": 10}}])
+def test_a_node_with_a_camera_keeps_its_mesh_and_children(tmp_path: Path, camera: dict[str, Any]) -> None:
+    """trimesh leaves out a node with a camera: its mesh vanished, and a child under it said "No path
+    from world->1"."""
+    nodes = [{"mesh": 0, "camera": 0, "children": [1]}, {"mesh": 0, "translation": [5, 0, 0]},
+             {"mesh": 0, "translation": [0, 5, 0]}]
+    document, binary = triangle_gltf(nodes, [0, 2])
+    document["cameras"] = [camera]
+    (tmp_path / "cam.glb").write_bytes(glb(document, binary))
+    document["buffers"] = [{"uri": "tri.bin", "byteLength": len(binary)}]
+    (tmp_path / "tri.bin").write_bytes(binary)
+    (tmp_path / "cam.gltf").write_text(json.dumps(document))
+    placed = np.concatenate([TRIANGLE, TRIANGLE + (5, 0, 0), TRIANGLE + (0, 5, 0)])
+    for name in ("cam.glb", "cam.gltf"):
+        mesh = load_model(tmp_path / name)
+        assert mesh.face_count == 3 and mesh.warnings == ()
+        assert sorted(map(tuple, mesh.positions.tolist())) == sorted(map(tuple, placed.tolist()))
+
+
 def test_a_buffer_shorter_than_the_gltf_says_is_refused_in_words(tmp_path: Path) -> None:
     """trimesh's reader asserted, with no words."""
     document, binary = triangle_gltf([{"mesh": 0}], [0])

@@ -159,6 +159,7 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     counts = _gltf_counts(document)
     if counts is not None:  # before trimesh builds a node and a mesh per placement
         _check_placed_counts(path, *counts)
+    data = _without_node_cameras(data, document, file_type)
     del document
     beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True, least_bytes=buffer_bytes)
     return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside)
@@ -314,6 +315,25 @@ def _glb_document(path: Path, data: bytes) -> dict[str, Any]:
     return document
 
 
+def _without_node_cameras(data: bytes, document: dict[str, Any], file_type: str) -> bytes:
+    """The file, its nodes' cameras taken out of its JSON where a node has one (a GLB's JSON chunk made
+    again): trimesh leaves out a node with a camera, its mesh and the children under it too, and the
+    viewer reads no camera of a model. The document is checked already (_GltfReferences)."""
+    nodes = [node for node in document.get("nodes", []) if "camera" in node]
+    if not nodes:
+        return data
+    for node in nodes:
+        del node["camera"]
+    text = json.dumps(document).encode()
+    if file_type == "gltf":
+        return text
+    text += b" " * (-len(text) % 4)  # chunks are aligned to four bytes, a JSON chunk padded with spaces
+    old_length, declared = int.from_bytes(data[12:16], "little"), int.from_bytes(data[8:12], "little")
+    rest = data[20 + old_length + (-old_length % 4):declared]  # the chunks after the JSON, as _glb_document reads them
+    return (b"glTF" + (2).to_bytes(4, "little") + (20 + len(text) + len(rest)).to_bytes(4, "little")
+            + len(text).to_bytes(4, "little") + b"JSON" + text + rest)
+
+
 class _Unshaped(Exception):
     """A glTF's JSON that is not shaped as glTF's where it is counted: trimesh says how."""
 
@@ -410,7 +430,7 @@ class _GltfReferences:
             self.named(child, "nodes", f"node {number}")
         if "mesh" in node:
             self.named(node["mesh"], "meshes", f"node {number}")
-        if "camera" in node:  # trimesh leaves out a node whose camera it cannot read, its mesh too
+        if "camera" in node:  # a broken reference, though the camera is taken out before trimesh reads it
             self.named(node["camera"], "cameras", f"node {number}")
         for key, size in _NODE_TRANSFORMS.items():
             values = node.get(key, [0.0] * size)
