@@ -583,6 +583,11 @@ def test_a_glbs_frame_is_checked_before_trimesh_reads_it(tmp_path: Path, edit: C
     assert refused.message == words.format(size=len(whole), cut=len(whole) - 8)
 
 
+# Two of an accessor's three items changed: indices 0 and 1 (bytes) in buffer view 0, values in view 1.
+SPARSE = {"count": 2, "indices": {"bufferView": 0, "componentType": 5121},
+          "values": {"bufferView": 1, "byteOffset": 0}}
+
+
 def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
     exec(edit, {}, {"d": document})  # the edits written below, each one statement on `d`
     return document
@@ -646,6 +651,26 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
      "material 0's baseColorFactor is not a list of numbers"),
     ("d['materials'] = [{'emissiveFactor': [None, 0, 0]}]", "material 0's emissiveFactor is not a list of numbers"),
     ("d['materials'] = [{'pbrMetallicRoughness': 3}]", "material 0's pbrMetallicRoughness is not an object"),
+    # trimesh dropped the picture without a word, and read a bad byteLength as nothing
+    ("d['images'] = [{'bufferView': 1}]; d['textures'] = [{'source': 5}]", "texture 0 names image 5, of 1"),
+    ("d['materials'] = [{'pbrMetallicRoughness': {'baseColorTexture': {'index': 2}}}]",
+     "material 0's baseColorTexture names texture 2, of 0"),
+    ("d['buffers'][0]['byteLength'] = '60'", "buffer 0's byteLength is not a whole number of 0 or more"),
+    # trimesh reads no sparse values: a primitive's are drawn without them, and malformed ones are not seen
+    (f"d['accessors'][0]['sparse'] = {SPARSE}", "mesh 0's primitive 0 reads sparse accessor 0, whose sparse values "
+     "are not read here (the model would be drawn without them): export it without sparse accessors"),
+    (f"d['accessors'].append({{**d['accessors'][0], 'sparse': {SPARSE}}}); d['accessors'][2]['sparse']['count'] = 4",
+     "accessor 2's sparse's count is not a whole number from 1 to the accessor's 3"),
+    (f"d['accessors'].append({{**d['accessors'][0], 'sparse': {SPARSE}}}); d['accessors'][2]['sparse'].pop('values')",
+     "accessor 2's sparse has no values"),
+    (f"d['accessors'].append({{**d['accessors'][0], 'sparse': {SPARSE}}}); "
+     "d['accessors'][2]['sparse']['indices']['componentType'] = 5126",
+     "accessor 2's sparse indices' componentType 5126 is not one of an index's (5121, 5123, 5125)"),
+    (f"d['accessors'].append({{**d['accessors'][0], 'sparse': {SPARSE}}}); "
+     "d['accessors'][2]['sparse']['values']['bufferView'] = 4", "accessor 2's sparse values names buffer view 4, of 2"),
+    (f"d['accessors'].append({{**d['accessors'][0], 'sparse': {SPARSE}}}); "
+     "d['accessors'][2]['sparse']['values']['byteOffset'] = 16",
+     "accessor 2's sparse values, 2 items, run past the 24 bytes of buffer view 1"),
     # trimesh made it zeros, read or not: "not enough memory" for a file of a few hundred bytes
     ("d['accessors'].append({'componentType': 5126, 'count': 10**8, 'type': 'MAT4'})", "accessor 2 is 100000000 "
      "items of zeros, 6400000000 bytes: more than the 1073741824 a model's file may hold"),
@@ -678,6 +703,15 @@ def test_a_node_with_a_camera_keeps_its_mesh_and_children(tmp_path: Path, camera
         mesh = load_model(tmp_path / name)
         assert mesh.face_count == 3 and mesh.warnings == ()
         assert sorted(map(tuple, mesh.positions.tolist())) == sorted(map(tuple, placed.tolist()))
+
+
+def test_a_sparse_accessor_no_primitive_reads_is_left_to_trimesh(tmp_path: Path) -> None:
+    """An animation's or a morph target's, say: trimesh reads none, and the model is drawn as it is."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["accessors"].append({**document["accessors"][1], "sparse": SPARSE})
+    path = tmp_path / "sparse.glb"
+    path.write_bytes(glb(document, binary))
+    assert np.array_equal(load_model(path).positions, TRIANGLE)
 
 
 def test_a_buffer_shorter_than_the_gltf_says_is_refused_in_words(tmp_path: Path) -> None:

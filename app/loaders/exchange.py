@@ -369,6 +369,7 @@ def _gltf_counts(document: dict[str, Any] | None) -> tuple[int, int, int] | None
 # Bytes of an accessor's component types, and components of its types.
 _COMPONENT_BYTES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
 _TYPE_COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
+_SPARSE_INDEX_BYTES = {5121: 1, 5123: 2, 5125: 4}  # a sparse accessor's indices: unsigned integers
 _NODE_TRANSFORMS = {"translation": 3, "rotation": 4, "scale": 3, "matrix": 16}
 # The arrays of objects trimesh reads item by item (with .get or [key]), by the name of their items.
 _READ_ARRAYS = {"scenes": "scene", "nodes": "node", "meshes": "mesh", "materials": "material", "textures": "texture",
@@ -398,6 +399,12 @@ class _GltfReferences:
         for number, image in self.each("images"):
             if "bufferView" in image:
                 self.named(image["bufferView"], "bufferViews", f"image {number}")
+        for number, texture in self.each("textures"):  # trimesh drops a picture named out of range without a word
+            if "source" in texture:
+                self.named(texture["source"], "images", f"texture {number}")
+        for number, buffer in self.each("buffers"):  # before the views that count on their lengths
+            if "byteLength" in buffer:
+                self.byte_count(buffer, "byteLength", f"buffer {number}")
         for number, view in self.each("bufferViews"):  # before the accessors that count on their lengths
             self.view(number, view)
         for number, accessor in self.each("accessors"):  # before the primitives that count their items
@@ -416,6 +423,8 @@ class _GltfReferences:
         for key, value in (*material.items(), *values.items()):
             if isinstance(value, list) and not all(map(_is_number, value)):
                 self.refuse(f"material {number}'s {escaped(str(key))[:40]} is not a list of numbers")
+            if isinstance(value, dict) and "index" in value:  # a texture, which trimesh drops where it names none
+                self.named(value["index"], "textures", f"material {number}'s {escaped(str(key))[:40]}")
 
     def mesh(self, number: int, mesh: dict[str, Any]) -> None:
         if "primitives" not in mesh:
@@ -444,11 +453,12 @@ class _GltfReferences:
         if "POSITION" not in attributes:  # trimesh reads every primitive's positions (a KeyError)
             self.refuse(f"{what} has no POSITION attribute")
         for name, index in attributes.items():
-            self.named(index, "accessors", f"{what}'s {escaped(str(name))[:40]}")
+            self.not_sparse(self.named(index, "accessors", f"{what}'s {escaped(str(name))[:40]}"), index, what)
         if "material" in primitive:
             self.named(primitive["material"], "materials", f"{what}'s material")
         if "indices" in primitive:
-            self.named(primitive["indices"], "accessors", f"{what}'s indices")
+            self.not_sparse(self.named(primitive["indices"], "accessors", f"{what}'s indices"), primitive["indices"],
+                            what)
         if primitive.get("mode", _TRIANGLES) == _TRIANGLES:  # three corners each, or trimesh fails to reshape them
             corners = "indices" if "indices" in primitive else "vertices and no indices"
             count = self.document["accessors"][primitive.get("indices", attributes["POSITION"])].get("count")
@@ -466,6 +476,8 @@ class _GltfReferences:
             self.refuse(self.unknown(f"accessor {number}", "type", kind))
         offset = self.byte_count(accessor, "byteOffset", f"accessor {number}")
         size = _COMPONENT_BYTES[component] * _TYPE_COMPONENTS[kind]
+        if "sparse" in accessor:
+            self.sparse(f"accessor {number}'s sparse", accessor["sparse"], count, size)
         if "bufferView" not in accessor:  # all zeros, or sparse, which trimesh makes of its count, read or not
             if count * size > MAX_FILE_BYTES:
                 self.refuse(f"accessor {number} is {count} items of zeros, {count * size} bytes: more than the "
@@ -476,6 +488,36 @@ class _GltfReferences:
         if count and all(map(_is_whole, (length, stride))) and offset + (count - 1) * stride + size > length:
             self.refuse(f"accessor {number}'s {count} items run past the {length} bytes of buffer view "
                         f"{accessor['bufferView']}")  # its last item's last byte
+
+    def sparse(self, what: str, sparse: object, count: int, size: int) -> None:
+        """An accessor's sparse values, shaped as glTF's: a count of 1 up to the accessor's, and its
+        indices (of unsigned integers) and values, each that many items within its buffer view."""
+        if not isinstance(sparse, dict):
+            self.refuse(f"{what} is not an object")
+        changed = sparse.get("count")
+        if not _is_whole(changed) or not 1 <= changed <= count:
+            self.refuse(f"{what}'s count is not a whole number from 1 to the accessor's {count}")
+        for key in ("indices", "values"):
+            part, named = sparse.get(key), f"{what} {key}"
+            if not isinstance(part, dict):
+                self.refuse(f"{what} has no {key}" if part is None else f"{named} are not an object")
+            kind = part.get("componentType")
+            if key == "indices" and not (_is_whole(kind) and kind in _SPARSE_INDEX_BYTES):
+                self.refuse(f"{named}' componentType {escaped(repr(kind))[:20]} is not one of an index's (5121, 5123, "
+                            "5125)")
+            view = self.named(part.get("bufferView"), "bufferViews", named)
+            offset = self.byte_count(part, "byteOffset", named)
+            length = view.get("byteLength")
+            item = _SPARSE_INDEX_BYTES[kind] if key == "indices" else size
+            if _is_whole(length) and offset + changed * item > length:
+                self.refuse(f"{named}, {changed} items, run past the {length} bytes of buffer view "
+                            f"{part['bufferView']}")
+
+    def not_sparse(self, accessor: dict[str, Any], number: int, what: str) -> None:
+        """A primitive's accessor that is sparse is refused: trimesh reads none of its sparse values."""
+        if "sparse" in accessor:
+            self.refuse(f"{what} reads sparse accessor {number}, whose sparse values are not read here (the "
+                        "model would be drawn without them): export it without sparse accessors")
 
     def view(self, number: int, view: dict[str, Any]) -> None:
         buffer = self.named(view.get("buffer"), "buffers", f"buffer view {number}")
