@@ -96,8 +96,10 @@ material = { ka = [0, 0, 0], kd = [1, 1, 1], ks = [0.5, 0.5, 0.5], ns = 2.5, rgb
     assert ship.name == "ship"
     assert tuple(ship.origin) == (1.0, 2.5, -3.0)
     assert ship.material == Material((0.0, 0.0, 0.0), (1.0, 1.0, 1.0), (0.5, 0.5, 0.5), 2.5, (1.0, 0.0, 0.0))
-    # a missing texture is not the scene's problem: the viewer falls back to a built-in one
+    # a missing texture is not the scene's problem: the viewer falls back to a built-in one, and its
+    # message names the scene file's entry
     assert scene.texture_path == str(tmp_path / "pics" / "t.png")
+    assert scene.texture_named_at == f"{path}:1: texture"
 
 
 def test_named_material_explicit_name_and_no_texture(tmp_path: Path) -> None:

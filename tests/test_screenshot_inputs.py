@@ -158,7 +158,7 @@ def write_gif(path: Path) -> None:
 
 @pytest.mark.parametrize("command", ["screenshot", "record"])
 @pytest.mark.parametrize("texture, words", [("../bad/t.gif", "not a PNG, JPEG or PPM picture"),
-                                            ("nothere.ppm", "no such file")])
+                                            ("nothere.ppm", "no such file"), ("../bad", "is a directory")])
 def test_a_bad_scene_texture_is_a_message_and_the_checker(tmp_path: Path, capsys, command: str, texture: str,
                                                           words: str) -> None:
     """SPEC 7: a missing or broken texture at start is a message and the fallback, not an exit (a texture
@@ -169,6 +169,7 @@ def test_a_bad_scene_texture_is_a_message_and_the_checker(tmp_path: Path, capsys
     status, error = run(capsys, command, "-o", str(out), "--scene", str(scene), "--keys", "y")
     assert status == 0 and out.exists()
     assert "\n" not in error and Path(texture).name in error and words in error and "checker" in error, error
+    assert error.startswith(f"{scene}:1: texture: "), error  # the scene file's entry that named it
 
 
 def test_a_named_texture_takes_the_place_of_a_bad_scene_texture(tmp_path: Path, capsys) -> None:

@@ -193,6 +193,8 @@ class Viewer:
             else:
                 texture_path = named or (Path(self.scene.texture_path) if self.scene.texture_path else None)
                 image, message = load_texture_or_fallback(texture_path)
+                if message and named is None and self.scene.texture_named_at:  # the scene file's entry named it
+                    message = f"{self.scene.texture_named_at}: {message}"
                 if message:
                     self.tell(message)
                 self._set_texture(image, longest_texture_side)

@@ -128,6 +128,7 @@ class SceneDescription:
     objects: tuple[SceneEntry, ...]
     cameras: tuple[SceneEntry, ...]
     texture_path: Path | None
+    texture_line: int | None = None  # where `texture` is set, for the message of a texture that fails
 
 
 # --------------------------------------------------------------------------------------------------
@@ -143,7 +144,7 @@ def load_scene(path: str | Path) -> Scene:
     loader = _ModelLoader(description.path)
     return Scene(objects=[loader.place(entry) for entry in description.objects],
                  cameras=[loader.place(entry) for entry in description.cameras],
-                 texture_path=_optional_str(description.texture_path))
+                 texture_path=_optional_str(description.texture_path), texture_named_at=_texture_named_at(description))
 
 
 def load_builtin_scene() -> Scene:
@@ -156,7 +157,15 @@ def empty_scene() -> Scene:
     description = read_scene_description(builtin_scene_path())
     loader = _ModelLoader(description.path)
     return Scene(objects=[], cameras=[loader.place(entry) for entry in description.cameras],
-                 texture_path=_optional_str(description.texture_path))
+                 texture_path=_optional_str(description.texture_path), texture_named_at=_texture_named_at(description))
+
+
+def _texture_named_at(description: SceneDescription) -> str | None:
+    """'FILE:LINE: texture', where the scene file names its texture: the words before that texture's
+    message, which is given when the viewer starts (SPEC 7: the checker, not a refusal)."""
+    if description.texture_path is None:
+        return None
+    return str(LoadError(description.path, "texture", description.texture_line))
 
 
 def material_for_loaded(mesh: Mesh) -> Material:
@@ -264,7 +273,7 @@ class _SceneReader:
         cameras = self.entries("cameras", materials)
         if not cameras:  # the built-in scene's, as --empty gives
             cameras = read_scene_description(builtin_scene_path()).cameras
-        return SceneDescription(self.path, objects, cameras, self.texture())
+        return SceneDescription(self.path, objects, cameras, self.texture(), self.lines.first(("texture",)))
 
     # --- top level -----------------------------------------------------------------------------
     def texture(self) -> Path | None:

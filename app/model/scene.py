@@ -216,6 +216,7 @@ class Scene:
     selected_camera: int = 0
     selected_light: int = 0
     texture_path: str | None = None
+    texture_named_at: str | None = None  # 'FILE:LINE: texture', the scene file's entry that names texture_path
     texture: np.ndarray | None = None  # (H, W, 3) uint8, top row first, what filled faces show; None: white
     message: str = ""  # the last thing the person should read (errors, where a file was saved)
     # The cameras the view moves (framing, reset, the mouse) moved since the target last moved, latest
