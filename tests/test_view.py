@@ -35,8 +35,8 @@ def octahedron(path: Path, size: float, centre: tuple[float, float, float] = (0.
 
 
 def picture(tmp_path: Path, keys: str = "", models: tuple[Path, ...] = (), empty: bool = True,
-            name: str = "shot.png") -> np.ndarray:
-    out = take_screenshot(StartOptions(empty=empty, models=models), tmp_path / name, SIZE, keys=keys)
+            name: str = "shot.png", size: tuple[int, int] = SIZE) -> np.ndarray:
+    out = take_screenshot(StartOptions(empty=empty, models=models), tmp_path / name, size, keys=keys)
     return np.asarray(Image.open(out).convert("RGB")).astype(int)
 
 
@@ -420,6 +420,50 @@ def test_in_parallel_projection_the_wheel_zooms_and_u_and_home_take_the_zoom_bac
     assert scene.modes.parallel_half_height == pytest.approx(half_height)
     dispatch(scene, parse_key_sequence("u")[0], RecordingHost())
     assert scene.modes.parallel_half_height == pytest.approx(half_height * commands.DOLLY_PER_NOTCH ** 5)
+
+
+def test_u_after_p_sizes_the_parallel_view_for_the_camera_it_gives_back(tmp_path: Path) -> None:
+    """A view move made in perspective kept the half height of then, the default 150 that was never
+    on screen: a 2-unit model shrank to a speck."""
+    scene = viewer_with("HOME p u", (octahedron(tmp_path / "m.obj", 1.0),), empty=True).scene
+    assert scene.modes.parallel_half_height == pytest.approx(scene.matching_parallel_half_height())
+    assert scene.modes.parallel_half_height < 5.0
+
+
+def test_in_parallel_projection_a_zoom_leaves_the_far_plane_where_it_is(tmp_path: Path) -> None:
+    """It followed the boxes in view: one leaving the view on a wheel notch moved it from 682 to 82,
+    and the depth view's grey with it."""
+    front = octahedron(tmp_path / "front.obj", 10.0)
+    back = octahedron(tmp_path / "back.obj", 10.0, (60.0, 0.0, -300.0))
+    scene = viewer_with("p", (front, back), empty=True).scene
+    scene.selected_object = 0
+    far = scene.far_plane()
+    for _ in range(30):
+        commands.dolly_view(scene, 1)
+        assert scene.far_plane() == far
+
+
+def test_looking_through_an_object_the_view_moves_say_so_and_leave_the_camera(tmp_path: Path) -> None:
+    """The wheel, a drag, `.` and HOME moved the hidden camera: nothing on screen changed, and `C` again
+    showed it somewhere else."""
+    viewer = viewer_with("C")
+    scene = viewer.scene
+    start = scene.camera.model.copy()
+    commands.dolly_view(scene, 5)
+    commands.orbit_view(scene, 100, 20)
+    for key in (".", "HOME"):
+        viewer.press(parse_key_sequence(key)[0])
+    assert np.array_equal(scene.camera.model, start) and "C looks through the camera again" in scene.message
+
+
+def test_a_window_wider_than_three_to_one_keeps_the_near_plane_clear_of_what_it_shows(tmp_path: Path) -> None:
+    """A 2-unit box at the right edge of a 1000x200 window, 3 units from the eye: the near plane kept
+    clear of a 3:1 view's boxes only, and cut it away whole."""
+    side = octahedron(tmp_path / "side.obj", 1.0, (14.0, 0.0, 147.0))
+    scene = viewer_with("", (side,)).scene
+    wide = picture(tmp_path, "", (side,), empty=False, name="wide.png", size=(1000, 200))
+    assert scene.near_plane(5.0) < nearest_depth(scene, scene.objects[-1])
+    assert ((wide[..., 0] > 40) & (wide[..., 2] < 150)).any(), "the box shows at the right"
 
 
 def test_a_gesture_is_one_undo_step_and_u_takes_it_back_whatever_is_targeted(tmp_path: Path) -> None:

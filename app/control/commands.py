@@ -271,20 +271,26 @@ def move_target(scene: Scene, kind: TransformKind, axis_index: int, amount: floa
 
 # --- the view: framing, reset, and the mouse's orbit, pan and dolly ----------------------------------
 def move_view(scene: Scene, matrix: np.ndarray, gesture: str | None = None,
-              half_height: float | None = None) -> None:
+              half_height: float | None = None) -> bool:
     """The selected camera moved to `matrix`, and the parallel view's half height set where given,
     undoable with `u` whatever is targeted. The events of one mouse gesture (`gesture` names it) amend
-    one history entry instead of pushing one each."""
+    one history entry instead of pushing one each. False, with a message, while looking through the
+    object: the camera is not what we see through, and moving it would show nothing."""
+    if scene.modes.view_from_object:
+        scene.message = "looking through the object: C looks through the camera again, which the view moves"
+        return False
     camera = scene.camera
     if not (gesture is not None and scene.view_gesture == gesture and scene.view_moves[-1:]
             and scene.view_moves[-1][0] is camera):
-        scene.view_moves.append((camera, scene.modes.parallel_half_height))
+        parallel = scene.modes.projection is Projection.PARALLEL
+        scene.view_moves.append((camera, scene.modes.parallel_half_height if parallel else None))
         camera.push(matrix)
         scene.view_gesture = gesture
     else:
         camera.history[-1] = np.asarray(matrix, dtype=np.float64)
     if half_height is not None:
         scene.modes.parallel_half_height = half_height
+    return True
 
 
 def end_view_gesture(scene: Scene) -> None:
@@ -299,14 +305,15 @@ def frame_selected(scene: Scene, host: Host) -> None:
         scene.message = "no object to frame"
         return
     matrix, half_height = framing.frame_objects(scene, scene.camera, [obj])
-    move_view(scene, matrix, half_height=half_height)
-    scene.message = f"framed {obj.name}"
+    if move_view(scene, matrix, half_height=half_height):
+        scene.message = f"framed {obj.name}"
 
 
 def reset_view(scene: Scene, host: Host) -> None:
     """HOME: the selected camera back where the scene started it, and a parallel view sized as `p`
     sizes it there (u takes both back again)."""
-    move_view(scene, scene.camera.history[0].copy())
+    if not move_view(scene, scene.camera.history[0].copy()):
+        return
     if scene.modes.projection is Projection.PARALLEL:
         scene.modes.parallel_half_height = scene.matching_parallel_half_height()
     scene.message = "view reset to the start"
@@ -368,7 +375,10 @@ def undo(scene: Scene, host: Host) -> None:
     while scene.view_moves:
         moved, half_height = scene.view_moves.pop()
         if moved in scene.cameras and moved.undo():
-            scene.modes.parallel_half_height = half_height
+            if half_height is not None:
+                scene.modes.parallel_half_height = half_height
+            elif scene.modes.projection is Projection.PARALLEL:  # moved in perspective: sized as `p` sizes it
+                scene.modes.parallel_half_height = scene.matching_parallel_half_height()
             return
     if scene.modes.target is Target.LIGHTS:
         undone = scene.light.undo()

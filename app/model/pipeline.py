@@ -68,13 +68,14 @@ def face_pipeline(scene: Scene, viewport: tuple[int, int, int, int]) -> FacePipe
         return None
     obj, mesh = found.obj, found.obj.mesh
     model, view = obj.model, scene.view_matrix()
-    projection = scene.projection_matrix(viewport[2] / viewport[3])
+    aspect = viewport[2] / viewport[3]
+    projection = scene.projection_matrix(aspect)
     start, stop = int(mesh.face_start[found.face]), int(mesh.face_start[found.face + 1])
     corners = tuple(_stages(int(mesh.corner_vertex[corner]), mesh.positions[mesh.corner_vertex[corner]], model,
                             view, projection, viewport) for corner in range(start, stop))
     return FacePipeline(obj=obj, face=found.face, face_count=found.face_count, model_matrix=model,
                         view_matrix=view, projection_matrix=projection, projection=scene.modes.projection,
-                        near=scene.near_plane(), viewport=viewport, corners=corners, facing=found.facing,
+                        near=scene.near_plane(aspect), viewport=viewport, corners=corners, facing=found.facing,
                         culling=found.culling)
 
 

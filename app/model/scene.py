@@ -220,9 +220,10 @@ class Scene:
     texture: np.ndarray | None = None  # (H, W, 3) uint8, top row first, what filled faces show; None: white
     message: str = ""  # the last thing the person should read (errors, where a file was saved)
     # The cameras the view moves (framing, reset, the mouse) moved since the target last moved, latest
-    # last, each with the parallel view's half height before: `u` undoes those first, whatever is
-    # targeted. And the mouse gesture still going on, whose events make one undo step in all.
-    view_moves: list[tuple[SceneObject, float]] = field(default_factory=list)
+    # last, each with the parallel view's half height before (None: made in perspective): `u` undoes
+    # those first, whatever is targeted. And the mouse gesture still going on, whose events make one
+    # undo step in all.
+    view_moves: list[tuple[SceneObject, float | None]] = field(default_factory=list)
     view_gesture: str | None = None
     # How deep the dragged element's history was when the ctrl-drag going on began: its events fold into
     # one undo step.
@@ -292,8 +293,8 @@ class Scene:
         steps evenly from near to far, twice the depth of the farthest shown point: neither the floor
         nor the lights far off (a molecule, or a model 5,000 km from the lights at the origin, would
         have its back faces show through its front)."""
-        if self.modes.projection is Projection.PARALLEL:
-            deepest = float(self._boxes_in_view().backs.max(initial=0.0))
+        if self.modes.projection is Projection.PARALLEL:  # in view or not: a zoom never moves it
+            deepest = float(self._shown_boxes(everywhere=True).backs.max(initial=0.0))
             if self.modes.guides:
                 low, high, extent = self.guides_extent()
                 deepest = max(deepest, self.depth_of((low + high) / 2.0) + GUIDES_REACH * extent,
@@ -322,16 +323,17 @@ class Scene:
             shown = self.objects + self.cameras
         return [element for element in shown if element is not self.viewer and element.mesh.face_count > 0]
 
-    def near_plane(self) -> float:
-        """SPEC 5's 5 units on the scene's scale, brought in to keep clear of what is shown and in view
-        (see NEAR_MARGIN and INSIDE_FRACTION)."""
-        boxes = self._boxes_in_view(marker=False)  # a light carried at the eye would bring it to 0
+    def near_plane(self, aspect: float = WIDEST_ASPECT) -> float:
+        """SPEC 5's 5 units on the scene's scale, brought in to keep clear of what is shown and in a
+        view `aspect` wide, or WIDEST_ASPECT if narrower (see NEAR_MARGIN and INSIDE_FRACTION)."""
+        boxes = self._shown_boxes(max(aspect, WIDEST_ASPECT), marker=False)  # a light at the eye: 0
         clear = np.maximum(NEAR_MARGIN * boxes.distances, INSIDE_FRACTION * boxes.sizes)
         return min(NEAR_PLANE * self.unit(), float(clear.min(initial=np.inf)))
 
-    def _boxes_in_view(self, marker: bool = True) -> InView:
-        """The boxes of what is shown that meet the view (a view WIDEST_ASPECT wide), the normals drawn
-        out of them included, and the selected light's marker while lights are targeted (`marker`)."""
+    def _shown_boxes(self, aspect: float = WIDEST_ASPECT, marker: bool = True, everywhere: bool = False) -> InView:
+        """The boxes of what is shown that meet a view `aspect` wide (all of them, `everywhere`), the
+        normals drawn out of them included, and the selected light's marker while lights are targeted
+        (`marker`)."""
         shown = self.shown_elements()
         models, bounds = _placements(shown)
         sizes = np.array([element.mesh.size for element in shown], dtype=np.float64)
@@ -348,26 +350,26 @@ class Scene:
         x, y, depth = in_eye[..., 0], in_eye[..., 1], -in_eye[..., 2]
         if self.modes.projection is Projection.PARALLEL:  # the view a box, its depth the distance
             half_height = self.modes.parallel_half_height
-            reach_x, reach_y = np.full_like(depth, WIDEST_ASPECT * half_height), np.full_like(depth, half_height)
+            reach_x, reach_y = np.full_like(depth, aspect * half_height), np.full_like(depth, half_height)
             distance = np.maximum(depth.min(axis=1, initial=np.inf), 0.0)
         else:
-            reach_x, reach_y = WIDEST_ASPECT * depth, depth  # 90 degrees high: tan 45 = 1
+            reach_x, reach_y = aspect * depth, depth  # 90 degrees high: tan 45 = 1
             # The eye's distance to the box, in the box's frame; a point that far toward the view's
-            # corner (WIDEST_ASPECT : 1 : 1) is 1 / sqrt(WIDEST_ASPECT^2 + 2) of it deep.
+            # corner (aspect : 1 : 1) is 1 / sqrt(aspect^2 + 2) of it deep.
             eye = np.einsum("nij,j->ni", np.linalg.inv(models), np.append(self.eye_position(), 1.0))[:, :3]
             outside = eye - np.clip(eye, bounds[:, 0], bounds[:, 1])
-            distance = np.linalg.norm(outside, axis=1) / np.sqrt(WIDEST_ASPECT**2 + 2.0)
+            distance = np.linalg.norm(outside, axis=1) / np.sqrt(aspect**2 + 2.0)
         beyond = ((depth <= 0.0).all(axis=1) | (x > reach_x).all(axis=1) | (x < -reach_x).all(axis=1)
                   | (y > reach_y).all(axis=1) | (y < -reach_y).all(axis=1))
-        seen = ~beyond
+        seen = np.ones_like(beyond) if everywhere else ~beyond
         return InView(distance[seen], depth.max(axis=1, initial=-np.inf)[seen], sizes[seen])
 
     def projection_matrix(self, aspect: float) -> np.ndarray:
         far = self.far_plane()
         if self.modes.projection is Projection.PERSPECTIVE:
-            return perspective(PERSPECTIVE_FOVY_DEG, aspect, self.near_plane(), far)
+            return perspective(PERSPECTIVE_FOVY_DEG, aspect, self.near_plane(aspect), far)
         half_h = self.modes.parallel_half_height
-        return orthographic(half_h * aspect, half_h, self.near_plane(), far)  # SPEC 5: n, as in perspective
+        return orthographic(half_h * aspect, half_h, self.near_plane(aspect), far)  # SPEC 5: n, as in perspective
 
     def matching_parallel_half_height(self) -> float:
         """Half height that keeps the scene about where perspective showed it (SPEC 5): the selected
