@@ -185,7 +185,9 @@ def test_the_near_plane_is_the_specifications_for_its_scene_small_for_small_mode
     camera = octahedron(tmp_path / "cam.obj", 5.0)
     with_a_camera_in_view = viewer_with(f"c f={camera}", (tmp_path / "h.obj",), empty=True)
     assert len(with_a_camera_in_view.scene.cameras) == 2
-    assert with_a_camera_in_view.scene.near_plane() <= 5.0  # the other camera, round the eye: cut no more
+    scene = with_a_camera_in_view.scene
+    other = next(camera for camera in scene.cameras if camera is not scene.viewer)
+    assert scene.near_plane() < nearest_depth(scene, other)  # it stands clear of the other's body
 
 
 def test_the_near_plane_keeps_clear_of_a_small_model_looked_at_from_close_by(tmp_path: Path) -> None:
@@ -236,6 +238,26 @@ def test_a_lights_marker_asks_nothing_of_the_near_plane(ahead: float) -> None:
     scene.light.position = scene.eye_position() + ahead * scene.viewer.forward
     assert scene.near_plane() == 5.0
     assert np.isfinite(scene.projection_matrix(1.0)).all()
+
+
+@pytest.mark.parametrize("unit", [1e-3, 1e3], ids=["kilometres", "millimetres"])
+def test_the_lights_and_the_cameras_body_follow_a_lone_models_units(tmp_path: Path, unit: float) -> None:
+    """The bulb stayed 200 units up (inside a cube in millimetres, 200 km above one in kilometres) and
+    the camera's body 18 units long: the same cube was lit otherwise, and turned to look back at the
+    camera (C) saw its body fill the view."""
+    for keys in ("1 3 F", "C r y*31 1"):
+        metres = picture(tmp_path, keys, (box(tmp_path / "m.obj", (60.0,) * 3),), name="m.png")
+        other = picture(tmp_path, keys, (box(tmp_path / "o.obj", (60.0 / unit,) * 3),), name="o.png")
+        assert (metres != BACKGROUND).any(axis=2).mean() > 0.002, keys
+        assert np.abs(other - metres).max() <= 1, keys
+
+
+def test_a_camera_loaded_into_a_lone_models_scene_stands_clear_of_the_first(tmp_path: Path) -> None:
+    """It stood where the first camera frames the model, inside that camera's body: a red picture."""
+    camera = box(tmp_path / "cam.obj", (0.05,) * 3)
+    pixels = picture(tmp_path, f"c f={camera}", (box(tmp_path / "m.obj", (60.0,) * 3),))
+    red = (pixels[..., 0] > 200) & (pixels[..., 1] < 50) & (pixels[..., 2] < 50)
+    assert red.mean() < 0.05 and (pixels != BACKGROUND).any(axis=2).mean() > 0.02
 
 
 def test_a_small_model_out_of_view_leaves_the_picture_alone(tmp_path: Path) -> None:

@@ -11,14 +11,16 @@ place, so `u` gives back the earlier state bit for bit.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 from typing import Protocol
 
 import numpy as np
 
 from marraztu.control.browse import sibling_model
+from marraztu.loaders.scenefile import BUILT_IN_CAMERA_MODEL
 from marraztu.model import framing, transforms
-from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, Light
+from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, Light, Owner
 from marraztu.model.scene import (
     PERSPECTIVE_FOVY_DEG,
     SWITCHED_SHADINGS,
@@ -487,8 +489,8 @@ def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool) -> None:
     obj.selected_face = 0
     scene.loads += 1
     if as_camera:
-        if scene.objects:
-            obj.history = [framing.frame_objects(scene, scene.camera, scene.objects)[0]]
+        if scene.objects:  # the cameras too: it stands clear of their bodies, which it sees
+            obj.history = [framing.frame_objects(scene, scene.camera, scene.objects + scene.cameras)[0]]
         scene.cameras.append(obj)
         scene.selected_camera = len(scene.cameras) - 1
         return
@@ -504,11 +506,28 @@ def frame_models(scene: Scene) -> None:
     that as its start (HOME comes back to it); otherwise it is a move `u` takes back."""
     camera = scene.camera
     if len(camera.history) == 1:
+        fit_to_models(scene)
         camera.history[0] = framing.revealing(camera.model, scene.objects)  # the start may turn
         camera.history[0], scene.modes.parallel_half_height = framing.frame_objects(scene, camera, scene.objects)
     else:
         matrix, half_height = framing.frame_objects(scene, camera, scene.objects)
         move_view(scene, matrix, half_height=half_height)
+
+
+def fit_to_models(scene: Scene) -> None:
+    """The built-in camera's body and the lights' places on the models' scale (Scene.unit), as the
+    near plane and the steps are: a scene in millimetres is lit and seen as the same in metres (the
+    bulb 200 m up, not 200 mm up inside the model, and a camera's body not 18 m long round a mug)."""
+    factor = scene.unit() / scene.fitted_unit
+    if factor == 1.0:
+        return
+    scene.fitted_unit = scene.unit()
+    for light in scene.lights:
+        if light.owner is Owner.NONE:  # an owned light rides at its owner's origin
+            light.position = light.position * factor
+    for camera in scene.cameras:
+        if camera.source == BUILT_IN_CAMERA_MODEL:
+            camera.mesh = replace(camera.mesh, positions=camera.mesh.positions * factor)
 
 
 def replace_loaded(scene: Scene, element: SceneObject, loaded: SceneObject) -> None:

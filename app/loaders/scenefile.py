@@ -53,6 +53,7 @@ REQUIRED_ENTRY_KEYS = ("model", "position")
 # A camera's model may be left out: the built-in camera's is drawn, which an installed copy's own
 # scene files cannot otherwise name (it lies inside the package).
 CAMERA_MODEL = "camera.obj"
+BUILT_IN_CAMERA_MODEL = ASSET_DIR / CAMERA_MODEL  # a camera's body where its scene names none
 MATERIAL_KEYS = frozenset({"ka", "kd", "ks", "ns", "rgb"})
 REQUIRED_MATERIAL_KEYS = ("ka", "kd", "ks", "ns")
 # tomllib holds up to 100 bytes for each byte of some texts ([t1] [t2]... tables): only a scene's size is
@@ -318,7 +319,7 @@ class _SceneReader:
             model = self.text_value(table["model"], f"{what}: model", at("model"))
             path = self.path.parent / model
         else:  # a camera's: the built-in one
-            model, path = CAMERA_MODEL, ASSET_DIR / CAMERA_MODEL
+            model, path = CAMERA_MODEL, BUILT_IN_CAMERA_MODEL
         # A model "." has no stem: its own words name it, and loading it says what is wrong with it.
         name = self.text_value(table.get("name", Path(model).stem or model), f"{what}: name", at("name"))
         position = self.triple(table["position"], f"{what}: position", at("position"))

@@ -230,6 +230,8 @@ class Scene:
     drag_depth: int = 0
     # Elements that joined or were read again so far: who watches the files read looks when it moves.
     loads: int = 0
+    # The scale (unit) the built-in camera's body and the lights' places were last fitted to.
+    fitted_unit: float = 1.0
 
     def __post_init__(self) -> None:
         if not self.cameras:
