@@ -89,6 +89,25 @@ def test_a_small_models_positions_keep_their_digits(half: float) -> None:
     assert np.allclose(numbers_after("eye", first), eye, rtol=0, atol=half / 100)
 
 
+@pytest.mark.parametrize("half,keys", [(0.001, "P"), (5e4, "p P"), (10.0, "p P")])
+def test_the_printed_matrices_give_the_numbers_printed_under_them(half: float, keys: str) -> None:
+    """Fixed decimals printed a model in millimetres' view as 0.00 and a parallel projection of
+    kilometres as zeros; in parallel projection clip is ndc (w = 1), and was printed with one decimal."""
+    cube = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float) * half
+    quads = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(cube, quads).press(keys)
+        found = face_pipeline(v.scene, (0, 0, *SIZE))
+        lines = pipeline_lines(v.scene, (0, 0, *SIZE))
+    printed = np.array([[float(word) for word in line.split()] for line in lines[3:7]])
+    true = np.hstack([found.model_matrix, found.view_matrix, found.projection_matrix])
+    assert np.array_equal(printed != 0.0, true != 0.0)  # nothing but zeros reads as zero
+    assert np.allclose(printed, true, rtol=0.06, atol=0.006)
+    first = next(line for line in lines if line.startswith("       clip"))
+    if "p" in keys.split():
+        assert numbers_after("clip", first) == numbers_after("ndc", first)
+
+
 def test_behind_the_eye_there_is_no_divide() -> None:
     with marraztu.Viewer(size=SIZE, empty=True) as v:
         v.add_mesh([[-5, -5, 0], [5, -5, 0], [0, 5, 0]], [[0, 1, 2]]).press("t z*30 P")  # past the eye

@@ -252,6 +252,22 @@ def test_the_lights_and_the_cameras_body_follow_a_lone_models_units(tmp_path: Pa
         assert np.abs(other - metres).max() <= 1, keys
 
 
+def test_the_lights_follow_a_lone_model_whatever_the_camera_did_and_u_keeps_to_the_scale() -> None:
+    """The fit waited for a camera not yet moved (a nudge left the bulb 200 units over a 0.02 cube),
+    and `u` took the bulb back to a place of the old scale."""
+    cube = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float) * 0.01
+    quads = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
+    for before in ("", "c t x c c"):
+        with marraztu.Viewer(size=SIZE, empty=True) as viewer:
+            viewer.press(before)
+            viewer.add_mesh(cube, quads)
+            assert np.allclose(viewer.scene.lights[1].position, [0.0, 0.2, 0.0]), before
+    with marraztu.Viewer(size=SIZE, empty=True) as viewer:
+        viewer.press("c c TAB t x")  # the bulb 5 along x
+        viewer.add_mesh(cube, quads).press("u")
+        assert np.allclose(viewer.scene.lights[1].position, [0.0, 0.2, 0.0])
+
+
 def test_a_camera_loaded_into_a_lone_models_scene_stands_clear_of_the_first(tmp_path: Path) -> None:
     """It stood where the first camera frames the model, inside that camera's body: a red picture."""
     camera = box(tmp_path / "cam.obj", (0.05,) * 3)

@@ -504,9 +504,9 @@ def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool) -> None:
 def frame_models(scene: Scene) -> None:
     """The models fill two thirds of the view, whatever their units. A camera not yet moved takes
     that as its start (HOME comes back to it); otherwise it is a move `u` takes back."""
+    fit_to_models(scene)
     camera = scene.camera
     if len(camera.history) == 1:
-        fit_to_models(scene)
         camera.history[0] = framing.revealing(camera.model, scene.objects)  # the start may turn
         camera.history[0], scene.modes.parallel_half_height = framing.frame_objects(scene, camera, scene.objects)
     else:
@@ -524,7 +524,7 @@ def fit_to_models(scene: Scene) -> None:
     scene.fitted_unit = scene.unit()
     for light in scene.lights:
         if light.owner is Owner.NONE:  # an owned light rides at its owner's origin
-            light.position = light.position * factor
+            light.rescale(factor)
     for camera in scene.cameras:
         if camera.source == BUILT_IN_CAMERA_MODEL:
             camera.mesh = replace(camera.mesh, positions=camera.mesh.positions * factor)

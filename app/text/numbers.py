@@ -1,12 +1,16 @@
-"""How many decimals the panels give a position: the seed's one for models of its size, more for
-smaller ones, so that a model a centimetre across does not read as all zeros."""
+"""How the panels write their numbers so that a model a centimetre across does not read as all
+zeros: positions with the decimals its size needs, a matrix entry too small for its decimals in
+powers of ten."""
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
+
 SIGNIFICANT_DIGITS = 3  # of a model's size, that a position on it shows
 MOST_DECIMALS = 15  # as far as a 64-bit number's digits go
+NOISE_SHARE = 1e-9  # of a matrix column's largest entry: below it, an entry is rounding
 
 
 def position_decimals(size: float, least: int) -> int:
@@ -16,3 +20,21 @@ def position_decimals(size: float, least: int) -> int:
         return least
     needed = SIGNIFICANT_DIGITS - 1 - math.floor(math.log10(size))
     return max(least, min(needed, MOST_DECIMALS))
+
+
+def matrix_entries(matrix: np.ndarray, decimals: int) -> list[list[str]]:
+    """A matrix's entries with `decimals` decimals, or, where those would leave one less than two
+    digits (under 0.01 at three decimals), as 6.4e-4: the matrix of a model in millimetres must still
+    give the numbers printed under it. An entry a billionth of its column's largest is rounding (a
+    quarter turn's cosine) and reads 0."""
+    columns = np.abs(matrix).max(axis=0)
+    return [[_entry(float(value), decimals, float(largest)) for value, largest in zip(row, columns)] for row in matrix]
+
+
+def _entry(value: float, decimals: int, largest: float) -> str:
+    if abs(value) < NOISE_SHARE * largest:
+        value = 0.0
+    if value == 0.0 or abs(value) >= 10.0 ** (1 - decimals) or not math.isfinite(value):
+        return f"{round(value, decimals) + 0.0:.{decimals}f}"  # + 0.0: no "-0.00"
+    mantissa, power = f"{value:.1e}".split("e")
+    return f"{mantissa}e{int(power)}"

@@ -19,7 +19,7 @@ from marraztu.model.lights import DIRECTIONAL, Show, TermView, WorldLight, cone_
 from marraztu.model.probe import Probe, VertexProbe, probe
 from marraztu.model.scene import CameraMode, Frame, Projection, Scene, Shading, Target
 from marraztu.render.layout import Extras, Label, project, view_projection, views
-from marraztu.text.numbers import position_decimals
+from marraztu.text.numbers import matrix_entries, position_decimals
 from marraztu.text.pipeline import pipeline_lines
 
 MAX_PROBED_VERTICES = 4  # more would not fit an 800 pixel window; the panel says how many are left
@@ -207,8 +207,8 @@ def _undo_depth(scene: Scene) -> int:
 
 
 def _matrix_rows(matrix: np.ndarray) -> list[str]:
-    return ["  " + " ".join(f"{_signed(value, MATRIX_DECIMALS):>{MATRIX_COLUMN}}" for value in row)
-            for row in matrix]
+    return ["  " + " ".join(f"{_signed_entry(entry):>{MATRIX_COLUMN}}" for entry in row)
+            for row in matrix_entries(matrix, MATRIX_DECIMALS)]
 
 
 # --- labels in the picture ---------------------------------------------------------------------
@@ -252,6 +252,11 @@ def _triple(values: Iterable[float], decimals: int) -> str:
 def _signed(value: float, decimals: int) -> str:
     rounded = round(float(value), decimals) + 0.0  # + 0.0 turns -0.0 into 0.0: no "-0.00"
     return f"{rounded: .{decimals}f}"
+
+
+def _signed_entry(entry: str) -> str:
+    """Positive entries get a space, as _signed gives them."""
+    return entry if entry.startswith("-") else " " + entry
 
 
 def _channels(values: Sequence[float]) -> str:

@@ -10,7 +10,7 @@ import numpy as np
 
 from marraztu.model.pipeline import CornerStages, FacePipeline, face_pipeline
 from marraztu.model.scene import Projection, Scene
-from marraztu.text.numbers import position_decimals
+from marraztu.text.numbers import matrix_entries, position_decimals
 
 MAX_CORNERS = 4  # more would not fit an 800 pixel window; the panel says how many are left
 INDENT = "       "
@@ -41,17 +41,19 @@ def _header(found: FacePipeline, probe_hidden: bool) -> list[str]:
              f"{width}x{height}, {projection}, near plane {found.near:g}{note}",
              "world = M model   eye = V world   clip = P eye   ndc = clip.xyz / w   window = viewport(ndc)",
              _columns(f"M: model of {found.obj.name}", "V: view", f"P: projection, aspect {width / height:.2f}")]
+    model, view = matrix_entries(found.model_matrix, 2), matrix_entries(found.view_matrix, 2)
+    projection = matrix_entries(found.projection_matrix, 3)
     for row in range(4):
-        lines.append(_columns(_matrix_row(found.model_matrix[row], 2), _matrix_row(found.view_matrix[row], 2),
-                              _matrix_row(found.projection_matrix[row], 3)))
+        lines.append(_columns(_matrix_row(model[row]), _matrix_row(view[row]), _matrix_row(projection[row])))
     return lines
 
 
 def _corner_lines(found: FacePipeline, number: int, corner: CornerStages) -> list[str]:
     decimals = position_decimals(found.obj.mesh.size, 1)
+    clip = 3 if found.projection is Projection.PARALLEL else decimals  # parallel's clip is its ndc (w = 1)
     lines = [f"v{number} #{corner.vertex + 1:<4} model {_vector(corner.model, decimals)} -> world "
              f"{_vector(corner.world, decimals)} -> eye {_vector(corner.eye, decimals)}",
-             f"{INDENT}clip {_vector(corner.clip[:3], decimals)} w {corner.clip[3]:.{decimals + 1}f}"]
+             f"{INDENT}clip {_vector(corner.clip[:3], clip)} w {corner.clip[3]:.{clip + 1}f}"]
     if corner.ndc is None or corner.window is None:
         lines[-1] += "  w <= 0: behind the eye, no divide"
     else:
@@ -83,8 +85,8 @@ def _columns(*texts: str) -> str:
     return "".join(f"{text:<32}" for text in texts).rstrip()
 
 
-def _matrix_row(values: np.ndarray, decimals: int) -> str:
-    return " ".join(f"{round(value, decimals) + 0.0:7.{decimals}f}" for value in values)  # + 0.0: no "-0.00"
+def _matrix_row(entries: list[str]) -> str:
+    return " ".join(f"{entry:>7}" for entry in entries)
 
 
 def _vector(values: Sequence[float] | np.ndarray, decimals: int = 1) -> str:
