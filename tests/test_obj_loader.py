@@ -766,6 +766,15 @@ def with_inserted(text: bytes, insertions: list[tuple[int, str]]) -> bytes:
 EVERY_LINE = b"v 1 2 3\n vt 0.5 1\nvn 0 0 1 # n\n\tf 1/1/1 2/1/1 3/1/1\ng part\n# colour 1 2 3\n\nusemtl a\n"
 
 
+def test_the_compiled_passes_refuse_a_text_that_does_not_end_a_line() -> None:
+    """They stop at newlines: given a text without its last one (a test inserting a byte after it
+    did), they read past its end, and one run in many crashed."""
+    with pytest.raises(ValueError, match="ended text"):
+        fast_reader.count_text(b"v 1 2 3\nf 1 1 1")
+    with pytest.raises(ValueError, match="ended text"):
+        fast_reader.count_text(b"")
+
+
 @pytest.mark.parametrize("inserted", ["\0", "\r", "\\", "\u00a0"])
 def test_pass_one_notes_a_byte_the_text_checks_judge_wherever_it_is(inserted: str) -> None:
     """The compiled path runs the text checks only where pass one says so, so it must say so for
@@ -800,7 +809,7 @@ def test_the_compiled_path_gives_what_the_checked_line_reader_gives(text: bytes,
     """A NUL, a lone CR, a continuation or a no-break space anywhere: the tables, or the very error."""
     text = with_inserted(text, insertions)
     fast_reader.read_fast(QUAD, "warm.obj")  # the compiled reader loaded: small texts take its path
-    compiled = outcome(lambda: obj_module._tables(text, "x.obj"))
+    compiled = outcome(lambda: obj_module._tables(obj_text.ended(text), "x.obj"))  # as the loader hands it on
     by_lines = outcome(lambda: read_by_lines(obj_text.checked(obj_text.ended(text), "x.obj"), "x.obj"))
     if isinstance(by_lines, LoadError) or isinstance(compiled, LoadError):
         assert isinstance(compiled, LoadError) and isinstance(by_lines, LoadError), (compiled, by_lines)

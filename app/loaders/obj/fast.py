@@ -67,6 +67,8 @@ class Counted:
 def count_text(text: bytes | np.ndarray) -> Counted:
     """Pass one, over the whole text. `text` ends with a newline (marraztu.loaders.obj.text.ended)."""
     buf = _read_only_bytes(text)
+    if not buf.size or buf[-1] != ord("\n"):  # the passes stop at newlines: past the text's end, a crash
+        raise ValueError("the compiled passes read an ended text (marraztu.loaders.obj.text.ended)")
     pieces = _pieces(buf, PARSE_THREADS * PIECES_PER_THREAD)
     counts = np.zeros((len(pieces), scan.COUNT_COLUMNS), np.int64)
 
