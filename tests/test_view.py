@@ -252,9 +252,9 @@ def test_the_lights_and_the_cameras_body_follow_a_lone_models_units(tmp_path: Pa
         assert np.abs(other - metres).max() <= 1, keys
 
 
-def test_the_lights_follow_a_lone_model_whatever_the_camera_did_and_u_keeps_to_the_scale() -> None:
-    """The fit waited for a camera not yet moved (a nudge left the bulb 200 units over a 0.02 cube),
-    and `u` took the bulb back to a place of the old scale."""
+def test_the_lights_follow_a_lone_model_whatever_the_camera_did_but_a_placed_light_stays() -> None:
+    """The fit waited for a camera not yet moved (a nudge left the bulb 200 units over a 0.02 cube);
+    a light the person placed, with the keys or from Python, stays where they put it."""
     cube = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float) * 0.01
     quads = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
     for before in ("", "c t x c c"):
@@ -264,8 +264,14 @@ def test_the_lights_follow_a_lone_model_whatever_the_camera_did_and_u_keeps_to_t
             assert np.allclose(viewer.scene.lights[1].position, [0.0, 0.2, 0.0]), before
     with marraztu.Viewer(size=SIZE, empty=True) as viewer:
         viewer.press("c c TAB t x")  # the bulb 5 along x
-        viewer.add_mesh(cube, quads).press("u")
-        assert np.allclose(viewer.scene.lights[1].position, [0.0, 0.2, 0.0])
+        viewer.add_mesh(cube, quads)
+        assert np.allclose(viewer.scene.lights[1].position, [5.0, 200.0, 0.0])
+        viewer.press("u")
+        assert np.allclose(viewer.scene.lights[1].position, [0.0, 200.0, 0.0])
+    with marraztu.Viewer(size=SIZE, empty=True) as viewer:
+        viewer.scene.lights[1].position = np.array([0.0, 0.05, 0.0])  # placed from Python, in the model's units
+        viewer.add_mesh(cube, quads)
+        assert np.allclose(viewer.scene.lights[1].position, [0.0, 0.05, 0.0])
 
 
 def test_a_camera_loaded_into_a_lone_models_scene_stands_clear_of_the_first(tmp_path: Path) -> None:

@@ -20,7 +20,7 @@ import numpy as np
 from marraztu.control.browse import sibling_model
 from marraztu.loaders.scenefile import BUILT_IN_CAMERA_MODEL
 from marraztu.model import framing, transforms
-from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, Light, Owner
+from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, Light, Owner, default_lights
 from marraztu.model.scene import (
     PERSPECTIVE_FOVY_DEG,
     SWITCHED_SHADINGS,
@@ -517,14 +517,18 @@ def frame_models(scene: Scene) -> None:
 def fit_to_models(scene: Scene) -> None:
     """The built-in camera's body and the lights' places on the models' scale (Scene.unit), as the
     near plane and the steps are: a scene in millimetres is lit and seen as the same in metres (the
-    bulb 200 m up, not 200 mm up inside the model, and a camera's body not 18 m long round a mug)."""
+    bulb 200 m up, not 200 mm up inside the model, and a camera's body not 18 m long round a mug).
+    A light the person has placed (with the keys, or from Python) stays where they put it."""
     factor = scene.unit() / scene.fitted_unit
     if factor == 1.0:
         return
+    given = {light.key: light.position * scene.fitted_unit for light in default_lights()}
     scene.fitted_unit = scene.unit()
     for light in scene.lights:
-        if light.owner is Owner.NONE:  # an owned light rides at its owner's origin
-            light.rescale(factor)
+        # An owned light rides at its owner's origin; a moved one is the person's.
+        if light.owner is Owner.NONE and not light.history and light.key in given \
+                and np.allclose(light.position, given[light.key], rtol=1e-9, atol=0.0):
+            light.position = light.position * factor
     for camera in scene.cameras:
         if camera.source == BUILT_IN_CAMERA_MODEL:
             camera.mesh = replace(camera.mesh, positions=camera.mesh.positions * factor)

@@ -191,12 +191,6 @@ class Light:
         self.position, self.direction, self.axis_in_owner = self.history.pop()
         return True
 
-    def rescale(self, factor: float) -> None:
-        """Its place, and the places `u` takes it back to, `factor` times as far from the world's origin
-        (the scene's scale changed)."""
-        self.position = self.position * factor
-        self.history = [(position * factor, direction, axis) for position, direction, axis in self.history]
-
     def fold_history(self, depth: int) -> None:
         """The moves since the history was `depth` deep become one undo step: back to where they began."""
         del self.history[depth + 1:]
