@@ -196,9 +196,14 @@ def translation_unit(scene: Scene) -> float:
     return scene.unit()
 
 
+def translation_step(scene: Scene) -> float:
+    """How far one press of t's x/y/z moves what is targeted now."""
+    return TRANSLATION_STEP * translation_unit(scene)
+
+
 def key_amount(scene: Scene, kind: TransformKind, sign: int) -> float:
     """How far one press of x/y/z (sign +1) or X/Y/Z (sign -1) goes."""
-    return sign * (ROTATION_STEP_RAD if kind is TransformKind.ROTATE else TRANSLATION_STEP * translation_unit(scene))
+    return sign * (ROTATION_STEP_RAD if kind is TransformKind.ROTATE else translation_step(scene))
 
 
 def move_object(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> None:

@@ -462,7 +462,7 @@ class Scene:
 
 @dataclass(frozen=True)
 class InView:
-    """Scene._boxes_in_view: for each box, (N,) arrays."""
+    """Scene._shown_boxes: for each box, (N,) arrays."""
 
     distances: np.ndarray  # how deep, at least, its nearest point in view lies
     backs: np.ndarray  # the depth of its farthest corner

@@ -386,20 +386,16 @@ class Renderer:
             self.ctx.disable(moderngl.DEPTH_TEST)
 
     def _draw_list(self, scene: Scene) -> list[DrawItem]:
-        """SPEC 5's `o` and `d`: whole objects or faces of the selected one. The viewer is never drawn:
-        we are inside it."""
-        modes = scene.modes
-        selected = scene.object
-        if modes.triangle_only or not modes.draw_all:
-            if selected is None or selected is scene.viewer or selected.mesh.face_count == 0:
-                return []
-            if not modes.triangle_only:
-                return [DrawItem(selected, 0, selected.mesh.face_count)]
-            face = selected.selected_face % selected.mesh.face_count
-            return [DrawItem(selected, 0 if modes.draw_all else face, face + 1)]
-        everything = scene.objects + scene.cameras
-        return [DrawItem(obj, 0, obj.mesh.face_count) for obj in everything
-                if obj is not scene.viewer and obj.mesh.face_count > 0]
+        """SPEC 5's `o` and `d`: the shown elements whole (Scene.shown_elements: never the viewer, we
+        are inside it), or the selected one's faces up to the selected face, or that face alone."""
+        shown = scene.shown_elements()
+        if not scene.modes.triangle_only:
+            return [DrawItem(element, 0, element.mesh.face_count) for element in shown]
+        if not shown:
+            return []
+        selected = shown[0]  # the selected object alone
+        face = selected.selected_face % selected.mesh.face_count
+        return [DrawItem(selected, 0 if scene.modes.draw_all else face, face + 1)]
 
     # --- uniforms ----------------------------------------------------------------------------
     def _set_frame_uniforms(self, scene: Scene, view_projection: np.ndarray) -> None:

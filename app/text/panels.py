@@ -13,7 +13,7 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
-from marraztu.control.commands import ROTATION_STEP_RAD, TRANSLATION_STEP, translation_unit
+from marraztu.control.commands import ROTATION_STEP_RAD, translation_step
 from marraztu.model.lighting import LightTerm
 from marraztu.model.lights import DIRECTIONAL, Show, TermView, WorldLight, cone_angle_deg
 from marraztu.model.probe import Probe, VertexProbe, probe
@@ -185,9 +185,9 @@ def _frame_lines(scene: Scene) -> list[str]:
     local = "local: M = M T" if modes.frame is Frame.LOCAL else "global: M = T M"
     camera = ("flight: moves in its own frame" if modes.camera_mode is CameraMode.FLIGHT
               else "analysis: orbits the object")
-    step = TRANSLATION_STEP * translation_unit(scene)
+    press = f"a press of x y z: {ROTATION_STEP_RAD:g} rad or {translation_step(scene):g} units"
     return [f"objects {local}", f"cameras {camera}", f"undo depth of the {_target_name(scene)}: "
-            f"{_undo_depth(scene)} (u)", f"a press of x y z: {ROTATION_STEP_RAD:g} rad or {step:g} units"]
+            f"{_undo_depth(scene)} (u)", press]
 
 
 def _target_name(scene: Scene) -> str:

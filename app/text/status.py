@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from marraztu.control.commands import TRANSLATION_STEP, translation_unit
+from marraztu.control.commands import TRANSLATION_STEP, translation_step
 from marraztu.control.keymap import Command
 from marraztu.control.viewer import Viewer
 from marraztu.errors import escaped
@@ -26,7 +26,7 @@ def moving_mode(scene: Scene) -> str:
     than the seed's) and, for the target, its frame or camera mode."""
     modes = scene.modes
     kind = modes.transform.value
-    step = TRANSLATION_STEP * translation_unit(scene)
+    step = translation_step(scene)
     if modes.transform is TransformKind.TRANSLATE and step != TRANSLATION_STEP:
         kind += f" {step:g}"
     if modes.target is Target.OBJECTS:
