@@ -91,6 +91,23 @@ def test_a_faces_colour_that_is_no_number_is_refused_at_its_line(tmp_path: Path,
     assert (refused.message, refused.line) == (f"'{word}' is not a number", 8)
 
 
+@pytest.mark.parametrize(("text", "line", "word"), [
+    (off_text(faces=("3 0 1 2", "3 0 2 3 nan 0 0")), 8, "nan"),
+    (off_text(faces=("3 0 1 2 0.5 0.5 0.5", "3 0 2 3 0.5 inf 0.5 1")), 8, "inf"),
+    (off_text(faces=("3 0 1 2 1e400 0 0", "3 0 2 3")), 7, "1e400"),
+    (off_text([f"{row} 1 0 0" for row in SQUARE[:3]] + ["0 1 0 NaN 0 0"], header="COFF\n4 2 0\n"), 6, "NaN"),
+    (off_text([f"{row} 1 0 0 1" for row in SQUARE[:3]] + ["0 1 0 0.5 0.5 0.5 -inf"], header="COFF\n4 2 0\n"), 6,
+     "-inf"),
+])
+def test_a_colour_that_is_not_finite_is_refused_at_its_line(tmp_path: Path, text: str, line: int, word: str,
+                                                            monkeypatch: pytest.MonkeyPatch) -> None:
+    """A face's NaN passed unread, and a vertex colour's was called a coordinate: both are numbers of
+    the file's that are not finite, refused alike (whichever reader reads the body)."""
+    refused = refusal(tmp_path, text)
+    assert (refused.message, refused.line) == (f"'{word}' is not a finite number", line)
+    assert outcome(tmp_path, text, monkeypatch) == (refused.message, line)
+
+
 @pytest.mark.parametrize(("text", "line", "message"), [
     (off_text(faces=("4 0 1 2", "3 0 2 3")), 7, "a face of 4 corners, this line holds 3 numbers after its count"),
     (off_text(faces=("3 0 1 2 5 6", "3 0 2 3")), 7, "a face of 3 corners, this line holds 5 numbers after its count"),

@@ -251,7 +251,7 @@ def _rows(text: bytes, words: np.ndarray, corners: np.ndarray, limit: int) -> np
     if numbers is None:  # a colour of fractions, say: then the counts and corners must be digits only
         digits = _digits_only_words(text, total)
         numbers = None if digits is None or not digits[count_at].all() else _numbers_of(text, total, np.float64)
-        if numbers is None:
+        if numbers is None or not np.isfinite(numbers).all():  # a colour's NaN: the line reader names it
             return None
     counts = numbers[count_at].astype(np.int64)
     colour_words = words - 1 - counts
@@ -421,7 +421,7 @@ def _vertex_rows(path: Path, rows: _Rows, count: int, layout: _Layout
     """Each vertex row's x y z, and COFF's colour; the row holds what the keyword says, all numbers."""
     sizes = layout.row_sizes()
     positions = WordBlocks(path, checked_coordinates)
-    extras = WordBlocks(path, checked_coordinates)  # all checked to be numbers; the colour's kept
+    extras = WordBlocks(path, checked_numbers)  # all checked to be finite numbers; the colour's kept
     width = 0
     for number, words in _taken(path, rows, count, "vertices", _MOST_VERTEX_WORDS):
         if len(words) not in sizes:

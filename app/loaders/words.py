@@ -84,8 +84,13 @@ def checked_coordinates(path: Path, words: list[str], line_of: LineOf) -> np.nda
 
 
 def checked_numbers(path: Path, words: list[str], line_of: LineOf) -> np.ndarray:
-    """float64 numbers, each a decimal number (or what numpy reads as one, 'nan' say): read past, not drawn."""
-    return _converted(path, words, line_of, np.float64, _DECIMAL)
+    """float64 numbers, each a finite decimal number (numpy reads 'nan', 'inf' and 1e400 too: refused)."""
+    values = _converted(path, words, line_of, np.float64, _DECIMAL)
+    finite = np.isfinite(values)
+    if not finite.all():
+        at = int(np.argmin(finite))
+        raise LoadError(path, f"'{words[at][:40]}' is not a finite number", line=line_of(at))
+    return values
 
 
 def unheld_coordinate(path: str | Path, line: int | None = None) -> LoadError:
