@@ -403,8 +403,7 @@ class _GltfReferences:
             if "source" in texture:
                 self.named(texture["source"], "images", f"texture {number}")
         for number, buffer in self.each("buffers"):  # before the views that count on their lengths
-            if "byteLength" in buffer:
-                self.byte_count(buffer, "byteLength", f"buffer {number}")
+            self.byte_count(buffer, "byteLength", f"buffer {number}", required=True)
         for number, view in self.each("bufferViews"):  # before the accessors that count on their lengths
             self.view(number, view)
         for number, accessor in self.each("accessors"):  # before the primitives that count their items
