@@ -189,6 +189,17 @@ def test_a_coordinate_past_a_floats_range_is_refused_at_its_line(tmp_path: Path)
     assert (refused.line, refused.message) == (14, "vertex z: -1e+39 is no float (numbers up to 3.4e+38)")
 
 
+@pytest.mark.parametrize("value", ["3.5e38", "-1e300", "nan"])
+def test_a_double_coordinate_the_gpu_cannot_hold_is_refused_at_its_line(tmp_path: Path, value: str) -> None:
+    """A double holds 3.5e38, a float does not: the line was named for NaN alone, and the NaN of a
+    normal's line before it was named instead of the coordinate's."""
+    doubles = "".join(f"property double {name}\n" for name in ("x", "y", "z", "nx"))
+    vertices = [f"{row} {'nan' if at == 2 else 0}" for at, row in enumerate(GRID)]
+    vertices[4] = f"1 1 {value} 0"
+    refused = refusal(tmp_path, ply_text(["3 0 1 4"], vertices=vertices, vertex_properties=doubles))
+    assert (refused.line, refused.message) == (15, "a vertex coordinate is not a finite number the GPU can hold")
+
+
 @pytest.mark.parametrize("claim", ["element face 99999999999\nproperty list uchar int vertex_indices\n",
                                    "element face 2\nproperty list uchar int vertex_indices\nelement nothing "
                                    "99999999999\n"])

@@ -29,7 +29,15 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import line_at, line_end_from, text_lines
-from marraztu.loaders.words import DECIMAL_SYNTAX, is_count, pieces_at_gaps, text_numbers, words_and_line_ends
+from marraztu.loaders.words import (
+    DECIMAL_SYNTAX,
+    is_count,
+    pieces_at_gaps,
+    text_numbers,
+    unheld_coordinate,
+    words_and_line_ends,
+)
+from marraztu.model.geometry import FLOAT32_MAX, holds_in_float32
 from marraztu.model.mesh import counted, fan_gather
 
 # The property types PLY names, as trimesh reads them (its float16 and 64-bit integers too).
@@ -226,6 +234,7 @@ def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
         columns, uniform, at = _element_columns(body, element, at)
         for column in columns:
             _check_type(body, element, column)
+            _check_coordinate(body, element, column)
         corners = _face_corners(element, columns, vertices, body.error)
         if corners is not None and (not uniform or corners.values.shape[1] > 3):
             tables.append(_fanned(element, columns, corners))
@@ -516,6 +525,16 @@ def _check_type(body: _Body, element: PlyElement, column: _Column) -> None:
         first = int(np.argmin(held.ravel()))
         raise body.error(f"{element.name} {column.prop.name}: {_shown(column.values.ravel()[first])} is no "
                          f"{column.prop.value_type} ({_range(column.prop.value_type)})", column.index(first))
+
+
+def _check_coordinate(body: _Body, element: PlyElement, column: _Column) -> None:
+    """A vertex's x, y or z, of any type, within what the GPU holds (a double may hold 3.5e38): refused
+    here, at its line, where the table trimesh makes of it names none."""
+    if element.name != "vertex" or column.prop.name not in ("x", "y", "z") or holds_in_float32(column.values):
+        return
+    with np.errstate(invalid="ignore"):
+        first = int(np.argmin(np.abs(column.values.ravel()) <= FLOAT32_MAX))  # NaN too is not
+    raise body.error(unheld_coordinate(body.path).message, column.index(first))
 
 
 def _held(values: np.ndarray, kind: str) -> np.ndarray:
