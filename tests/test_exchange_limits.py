@@ -571,6 +571,12 @@ def test_a_required_gltf_extension_not_read_here_is_refused(tmp_path: Path, exte
                                                           "runs past the file's {size}"),
     (lambda d: d[:16] + b"BIN\0" + d[20:], "not a GLB file: its first chunk is not its JSON"),
     (lambda d: d[:20] + b"\xff" + d[21:], "not a glTF file: its JSON is not UTF-8 text"),
+    # trimesh said "chunk was not expected length!"
+    (lambda d: d[:_bin_at(d)] + struct.pack("<I", _word(d, _bin_at(d)) + 4) + d[_bin_at(d) + 4:],
+     "not a GLB file: its chunk at byte {bin_at}, of {bin_more} bytes, runs past the {size} its header gives"),
+    # trimesh read each in a loop of its own: a million empty chunks, 8 MB, took 3 s
+    (lambda d: _declared(d + struct.pack("<I4s", 0, b"XTRA") * 17),
+     "not a GLB file: more than 16 chunks after its JSON (glTF writes one, its binary buffer)"),
 ])
 def test_a_glbs_frame_is_checked_before_trimesh_reads_it(tmp_path: Path, edit: Callable[[bytes], bytes],
                                                          words: str) -> None:
@@ -580,7 +586,31 @@ def test_a_glbs_frame_is_checked_before_trimesh_reads_it(tmp_path: Path, edit: C
     path = tmp_path / "lying.glb"
     path.write_bytes(edit(whole))
     refused = one_line_refusal(lambda: load_model(path))
-    assert refused.message == words.format(size=len(whole), cut=len(whole) - 8)
+    assert refused.message == words.format(size=len(whole), cut=len(whole) - 8, bin_at=_bin_at(whole),
+                                           bin_more=_word(whole, _bin_at(whole)) + 4)
+
+
+def _word(data: bytes, at: int) -> int:
+    return int.from_bytes(data[at:at + 4], "little")
+
+
+def _bin_at(data: bytes) -> int:
+    """Where a GLB's chunk after its JSON begins."""
+    return 20 + _word(data, 12)
+
+
+def _declared(data: bytes) -> bytes:
+    """The GLB with the length its header gives made its own."""
+    return data[:8] + struct.pack("<I", len(data)) + data[12:]
+
+
+def test_bytes_after_a_glbs_length_are_not_read(tmp_path: Path) -> None:
+    """trimesh read on past the length the header gives, the next bytes as a chunk's length, and said
+    "chunk was not expected length!" (of a file saved twice over, say)."""
+    whole = glb(*triangle_gltf([{"mesh": 0}], [0]))
+    path = tmp_path / "twice.glb"
+    path.write_bytes(whole + whole)
+    assert np.array_equal(load_model(path).positions, TRIANGLE)
 
 
 # Two of an accessor's three items changed: indices 0 and 1 (bytes) in buffer view 0, values in view 1.

@@ -74,6 +74,9 @@ MAX_PLACED_TRIANGLES = (MAX_FILE_BYTES - HEADER_BYTES) // TRIANGLE_BYTES
 # 40 us, whatever its triangles: 400 nodes placing a mesh of 400 primitives are 160,000 placements from
 # 23 KB. Real scenes place hundreds to thousands of meshes: past this many, a file is refused unread.
 MAX_PLACEMENTS = 1 << 16
+# A GLB holds its JSON and, after it, its binary buffer; chunks of other kinds are to be read past. Past
+# this many after the JSON, a file is refused unread.
+MAX_GLB_CHUNKS = 16
 _NOT_FINITE = re.compile(rb"(?i)(?<![a-z])(?:[-+]?nan|[-+]?inf(?:inity)?)(?![a-z])")
 
 
@@ -159,7 +162,7 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     counts = _gltf_counts(document)
     if counts is not None:  # before trimesh builds a node and a mesh per placement
         _check_placed_counts(path, *counts)
-    data = _without_node_cameras(data, document, file_type)
+    data = _without_node_cameras(data if file_type == "gltf" else _declared_part(data), document, file_type)
     del document
     beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True, least_bytes=buffer_bytes)
     return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside)
@@ -312,7 +315,32 @@ def _glb_document(path: Path, data: bytes) -> dict[str, Any]:
     held = min(word(binary_at), len(data) - binary_at - 8) if data[binary_at + 4:binary_at + 8] == b"BIN\0" else 0
     if "uri" not in first and _is_whole(declared) and declared > held:  # the buffer the binary chunk holds
         raise LoadError(path, f"cut short: its buffer is {declared} bytes, its binary chunk holds {max(held, 0)}")
+    _check_glb_chunks(path, data, 20 + word(12), word(8))
     return document
+
+
+def _check_glb_chunks(path: Path, data: bytes, at: int, end: int) -> None:
+    """The chunks after the JSON, as trimesh reads them (each where the one before ends, up to `end`, the
+    length the header gives): each within it, and few (trimesh reads each in a Python loop: a million
+    empty ones, 8 MB, took 3 s)."""
+    for _ in range(MAX_GLB_CHUNKS):
+        if at + 8 > end:
+            return
+        size = int.from_bytes(data[at:at + 4], "little")
+        if at + 8 + size > end:  # trimesh said "chunk was not expected length!"
+            raise LoadError(path, f"not a GLB file: its chunk at byte {at}, of {size} bytes, runs past the {end} "
+                                  "its header gives")
+        at += 8 + size
+    if at + 8 <= end:
+        raise LoadError(path, f"not a GLB file: more than {MAX_GLB_CHUNKS} chunks after its JSON (glTF writes one, "
+                              "its binary buffer)")
+
+
+def _declared_part(data: bytes) -> bytes:
+    """A GLB's bytes up to the length its header gives (checked not to pass the file's): trimesh read on
+    past it, the bytes after as chunks."""
+    declared = int.from_bytes(data[8:12], "little")
+    return data if len(data) == declared else data[:declared]
 
 
 def _without_node_cameras(data: bytes, document: dict[str, Any], file_type: str) -> bytes:
