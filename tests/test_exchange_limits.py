@@ -781,3 +781,45 @@ def test_a_plys_own_two_by_two_picture_of_one_colour_is_drawn(tmp_path: Path) ->
     (material,) = load_model(textured_ply(tmp_path, "red.png")).materials
     assert material.texture is not None and material.texture.shape == (2, 2, 3)
     assert (material.texture == (200, 40, 40)).all()
+
+
+def many_over_one_view(what: str, times: int, view_bytes: int) -> bytes:
+    """A GLB of the triangle and a view of `view_bytes` bytes read `times` times over: by as many views of
+    it (from byte 4: a slice trimesh copies), or by as many accessors."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    binary += bytes(view_bytes)
+    document["buffers"] = [{"byteLength": len(binary)}]
+    if what == "views":
+        document["bufferViews"] += [{"buffer": 0, "byteOffset": 64, "byteLength": view_bytes - 4}] * times
+    else:
+        document["bufferViews"].append({"buffer": 0, "byteOffset": 60, "byteLength": view_bytes})
+        document["accessors"] += [{"bufferView": 2, "componentType": 5126, "count": view_bytes // 16,
+                                   "type": "VEC4"}] * times
+    return glb(document, binary)
+
+
+@pytest.mark.parametrize("what", ["views", "accessors"])
+def test_views_or_accessors_adding_up_past_a_files_bytes_are_refused_before_trimesh_reads_them(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, what: str) -> None:
+    """trimesh copies each view's and each accessor's bytes: 100 of a 20 MB buffer took 2.2 GB."""
+    loads = trimesh_loads(monkeypatch)
+    path = tmp_path / "over.glb"
+    path.write_bytes(many_over_one_view(what, 20_000, 1 << 16))
+    refused = one_line_refusal(lambda: load_model(path))
+    assert refused.message.startswith(f"not a glTF file: its {what[:-1].replace('v', 'buffer v')}s add up to ")
+    assert refused.message.endswith(f"bytes: more than the {1 << 30} a model's file may hold")
+    assert loads == []
+    path.write_bytes(many_over_one_view(what, 10, 1 << 16))
+    assert np.array_equal(load_model(path).positions, TRIANGLE)
+
+
+def test_a_buffer_file_named_many_times_is_read_once(tmp_path: Path) -> None:
+    """trimesh asked for it once a name, and each read was kept: 100 names of a 20 MB file took 2.2 GB."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    binary += bytes(1 << 20)
+    (tmp_path / "big.bin").write_bytes(binary)
+    document["buffers"] = [{"uri": "big.bin", "byteLength": len(binary)}] * 50
+    (tmp_path / "many.gltf").write_text(json.dumps(document))
+    mesh, peak = peak_traced_bytes(lambda: load_model(tmp_path / "many.gltf"))
+    assert np.array_equal(mesh.positions, TRIANGLE)
+    assert peak < 10 * len(binary)

@@ -183,6 +183,7 @@ def _trimesh_load(path: Path, data: bytes, file_type: str, beside: _FilesBeside 
                                            resolver=beside))
         if beside is not None:
             beside.held_failures.extend(refused)
+            beside.read.clear()  # trimesh has made its tables of them
         return loaded
     except MemoryError:
         raise LoadError(path, "not enough memory to load this file") from None
@@ -223,11 +224,12 @@ class _FilesBeside:
         self.tried: list[Path] = []  # every path looked at, read or not: no output may replace one
         self.failures: dict[str, str] = {}  # the name shown -> why it was not read
         self.held_failures: list[str] = []  # why a picture the file holds itself was not read
+        self.read: dict[Path, bytes] = {}  # each file once, however many names give it: trimesh keeps each answer
 
     def get(self, name: str) -> bytes:
         named = shown((unquote(name) if self.uri else name).strip())
         try:
-            data = read_file(self._path(name, named))
+            data = self._read(self._path(name, named))
             if len(data) < self.least_bytes.get(name, 0):  # trimesh's reader asserts, in no words
                 raise LoadError(named, f"it holds {len(data)} bytes, where the model says {self.least_bytes[name]}")
             if self.is_picture(name) and image_format(data[:8]) is None:
@@ -240,6 +242,12 @@ class _FilesBeside:
         return data
 
     __getitem__ = get  # trimesh's glTF reader asks resolver[name]
+
+    def _read(self, path: Path) -> bytes:
+        key = same_file_key(path)
+        if key not in self.read:
+            self.read[key] = read_file(path)
+        return self.read[key]
 
     def _path(self, name: str, named: str) -> Path:
         # The name decoded; then as written, for a writer that left a '%' of the file's name unencoded.
@@ -413,6 +421,7 @@ class _GltfReferences:
 
     def __init__(self, path: Path, document: dict[str, Any]) -> None:
         self.path, self.document = path, document
+        self.copied = {"buffer view": 0, "accessor": 0}  # the bytes trimesh copies of each, in all
 
     def check(self) -> None:
         for key in _READ_ARRAYS:
@@ -436,6 +445,10 @@ class _GltfReferences:
             self.view(number, view)
         for number, accessor in self.each("accessors"):  # before the primitives that count their items
             self.accessor(number, accessor)
+        for what, total in self.copied.items():  # each view and accessor a copy: many of one buffer are many times it
+            if total > MAX_FILE_BYTES:
+                self.refuse(f"its {what}s add up to {total} bytes: more than the {MAX_FILE_BYTES} a model's file may "
+                            "hold")
         for number, mesh in self.each("meshes"):
             self.mesh(number, mesh)
         for number, material in self.each("materials"):
@@ -503,6 +516,7 @@ class _GltfReferences:
             self.refuse(self.unknown(f"accessor {number}", "type", kind))
         offset = self.byte_count(accessor, "byteOffset", f"accessor {number}")
         size = _COMPONENT_BYTES[component] * _TYPE_COMPONENTS[kind]
+        self.copied["accessor"] += count * size
         if "sparse" in accessor:
             self.sparse(f"accessor {number}'s sparse", accessor["sparse"], count, size)
         if "bufferView" not in accessor:  # all zeros, or sparse, which trimesh makes of its count, read or not
@@ -550,6 +564,7 @@ class _GltfReferences:
         buffer = self.named(view.get("buffer"), "buffers", f"buffer view {number}")
         offset = self.byte_count(view, "byteOffset", f"buffer view {number}")
         length = self.byte_count(view, "byteLength", f"buffer view {number}", required=True)
+        self.copied["buffer view"] += length
         if "byteStride" in view and self.byte_count(view, "byteStride", f"buffer view {number}") == 0:
             self.refuse(f"buffer view {number}'s byteStride is 0")  # trimesh asserts it is positive
         size = buffer.get("byteLength")
