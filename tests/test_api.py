@@ -495,6 +495,28 @@ def test_a_scene_changed_by_hand_keeps_its_selection_in_range() -> None:
             v.render(overlay=True)
 
 
+@pytest.mark.parametrize("model, words", [
+    (np.diag([1.0, 0.0, 1.0, 1.0]), "has no inverse"),  # a squash onto a plane, as a lab might try
+    (np.eye(3), r"4x4, not \(3, 3\)"),
+    (np.full((4, 4), np.nan), "finite"),
+    ("abc", "4x4 of numbers"),
+])
+def test_a_model_matrix_set_by_hand_that_cannot_be_drawn_is_refused_in_one_line(model, words: str) -> None:
+    """The renderer inverts every model matrix (the near plane, the normals): a singular one pushed by
+    hand raised numpy's LinAlgError from deep in the renderer, a 3x3 one a ValueError about sequences."""
+    with marraztu.Viewer(size=SIZE) as v:
+        v.scene.objects[0].history.append(model)
+        for call in (v.render, lambda: v.press("x"), v.probe):
+            with pytest.raises(ValueError, match=f"^{v.scene.objects[0].name}'s model matrix .*{words}"):
+                call()
+        v.scene.objects[0].history.pop()
+        v.scene.cameras[0].history.append(model)
+        with pytest.raises(ValueError, match=f"^{v.scene.cameras[0].name}'s model matrix"):
+            v.render()
+        v.scene.cameras[0].history.pop()
+        assert np.asarray(v.render()).any()
+
+
 def test_viewers_open_at_exit_are_released_whenever_the_first_finalizer_was_made(tmp_path: Path) -> None:
     """weakref.finalize's exit hook is registered by the process's first finalizer (numba's, say): the
     API's own hook releases what is open or queued whichever runs first."""

@@ -110,6 +110,26 @@ class Material:
 _uids = itertools.count(1)
 
 
+def model_refusal(model: object) -> str | None:
+    """Why a model matrix cannot be drawn (None: it can): a 4x4 of finite numbers with an inverse."""
+    try:
+        matrix = np.asarray(model, dtype=np.float64)
+    except (TypeError, ValueError):
+        return "must be a 4x4 of numbers"
+    if matrix.shape != (4, 4):
+        return f"must be 4x4, not {matrix.shape}"
+    if not np.isfinite(matrix).all():
+        return "must hold finite numbers"
+    try:
+        with np.errstate(all="ignore"):
+            inverse = np.linalg.inv(matrix)
+    except np.linalg.LinAlgError:
+        inverse = None
+    if inverse is None or not np.isfinite(inverse).all():
+        return "has no inverse (a scale of 0?): the view and the normals need one"
+    return None
+
+
 @dataclass(eq=False)
 class SceneObject:
     """An object or a camera: a mesh, a material and a history of model matrices (top = current)."""
@@ -247,6 +267,14 @@ class Scene:
         self.selected_object = max(0, min(self.selected_object, len(self.objects) - 1))
         self.selected_camera = max(0, min(self.selected_camera, len(self.cameras) - 1))
         self.selected_light = max(0, min(self.selected_light, len(self.lights) - 1))
+
+    def check_models(self) -> None:
+        """ValueError where an object's or a camera's model matrix, changed by hand (the programming
+        interface's scene), cannot be drawn: the renderer inverts each one."""
+        for element in (*self.objects, *self.cameras):
+            refusal = model_refusal(element.model)
+            if refusal is not None:
+                raise ValueError(f"{element.name}'s model matrix {refusal}")
 
     @property
     def object(self) -> SceneObject | None:
