@@ -266,6 +266,9 @@ def test_rows_that_fit_vertices_and_corners_alike_must_say_which(viewer) -> None
     (TRIANGLE, [[0, 1, 2**63]], "face 0 refers to vertex"),  # past int64: no numpy warning on the terminal
     (TRIANGLE, [[0, 1, 2.0**70]], "face 0 refers to vertex"),
     (TRIANGLE, [[0, 1]], "at least 3"),
+    (TRIANGLE, [[0, 1, 2], [0, 1], [1, 2]], "^face 1 has 2 vertices: a face needs at least 3$"),
+    (TRIANGLE, np.empty((0, 3), int), "^a mesh needs at least one face$"),  # not "faces of at least 3 vertices"
+    (TRIANGLE, [], "^a mesh needs at least one face$"),
     (TRIANGLE, np.array([[0, 1, 1.5]]), "whole numbers"),
     (TRIANGLE, [[0, 1, "2"]], "whole numbers"),
     (TRIANGLE + 1j, [[0, 1, 2]], "real numbers"),  # numpy would drop the imaginary part

@@ -172,7 +172,7 @@ def test_polygons_are_made_again_of_their_fans(sizes: list[int]) -> None:
 @pytest.mark.parametrize(("sizes", "corners", "said"), [
     ([3.5], [0, 1, 2], "face sizes must be whole numbers"),
     ([float("nan")], [0, 1, 2], "face sizes must be whole numbers"),
-    ([2], [0, 1], "at least 3 vertices"),
+    ([2], [0, 1], "face 0 has 2 vertices: a face needs at least 3"),
     ([2 ** 62] * 3 + [2 ** 62 + 3], [0, 1, 2], "fewer than"),  # a sum that would wrap
     ([3, 4], [[0, 1, 2], [0, 1, 2, 3]], "one flat array"),
 ])

@@ -162,9 +162,17 @@ def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray) -> tuple[np.ndarr
             raise ValueError(_FACES_SHAPE) from None
         sizes = np.array([len(face) for face in lists], dtype=np.int64)
         corners = whole_numbers(np.array([index for face in lists for index in face]))
-    if sizes.size == 0 or sizes.min() < 3:
-        raise ValueError("a mesh needs faces of at least 3 vertices")
+    _check_face_sizes(sizes)
     return corners, np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)
+
+
+def _check_face_sizes(sizes: np.ndarray) -> None:
+    """ValueError for no face at all, or for the first face of fewer than 3 vertices (0-based)."""
+    if sizes.size == 0:
+        raise ValueError("a mesh needs at least one face")
+    if sizes.min() < 3:
+        face = int(np.argmax(sizes < 3))
+        raise ValueError(f"face {face} has {int(sizes[face])} vertices: a face needs at least 3")
 
 
 def _sized_faces(corners: np.ndarray | Sequence[int], sizes: np.ndarray | Sequence[int]
@@ -172,8 +180,7 @@ def _sized_faces(corners: np.ndarray | Sequence[int], sizes: np.ndarray | Sequen
     """Polygons given as their corners one after another (flattened) and each one's size, as corners
     and starts."""
     given = whole_numbers(np.asarray(sizes).ravel(), "face sizes must be whole numbers")
-    if given.size == 0 or given.min() < 3:
-        raise ValueError("a mesh needs faces of at least 3 vertices")
+    _check_face_sizes(given)
     if given.size >= INDEX_LIMIT or given.max() >= INDEX_LIMIT:  # before a sum that could wrap
         raise ValueError(f"a mesh holds fewer than {INDEX_LIMIT} positions and corners")
     face_start = np.concatenate(([0], np.cumsum(given)))
