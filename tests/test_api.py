@@ -520,6 +520,18 @@ def test_a_model_matrix_set_by_hand_that_cannot_be_drawn_is_refused_in_one_line(
         assert np.asarray(v.render()).any()
 
 
+def test_a_path_that_is_not_a_path_is_refused_naming_the_argument(viewer) -> None:
+    """load(3) and Viewer(scene=3) raised pathlib's 'expected str, bytes or os.PathLike object, not int',
+    from eight calls down, naming no argument."""
+    with pytest.raises(TypeError, match=r"^path is a file name \(str or Path\), not int$"):
+        viewer.load(3)
+    with pytest.raises(TypeError, match=r"^path is a file name \(str or Path\), not NoneType$"):
+        viewer.load(None)
+    for argument in ("scene", "texture"):
+        with pytest.raises(TypeError, match=rf"^{argument} is a file name \(str or Path\), not list$"):
+            marraztu.Viewer(size=SIZE, **{argument: ["model.obj"]})
+
+
 def test_viewers_open_at_exit_are_released_whenever_the_first_finalizer_was_made(tmp_path: Path) -> None:
     """weakref.finalize's exit hook is registered by the process's first finalizer (numba's, say): the
     API's own hook releases what is open or queued whichever runs first."""

@@ -13,6 +13,7 @@ from __future__ import annotations
 import atexit
 import functools
 import operator
+import os
 import threading
 import weakref
 from collections.abc import Callable
@@ -107,6 +108,13 @@ def _checked_size(size: Sequence[int]) -> Size:
     return checked_size(width, height)
 
 
+def _checked_path(path: Any, what: str) -> Path:
+    """A file name given as a str or a path (os.PathLike); TypeError naming the argument otherwise."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"{what} is a file name (str or Path), not {type(path).__name__}")
+    return Path(path)
+
+
 def _release(ctx: Any, renderer: Renderer) -> None:
     with ctx:  # its objects are released in their own context, whichever Viewer drew last
         renderer.release()
@@ -155,7 +163,8 @@ def _close_all() -> None:
 
 class Viewer:
     """A scene and its renderer, offscreen. `scene` names a TOML scene file; `empty` starts with the
-    camera alone. Bad files raise LoadError, bad keys KeyMapError, bad arguments ValueError."""
+    camera alone. Bad files raise LoadError, bad keys KeyMapError, bad arguments ValueError, and
+    arguments of the wrong kind (keys not a str, a file name not a str or Path) TypeError."""
 
     def __init__(self, size: Sequence[int] = (800, 600), scene: str | Path | None = None, empty: bool = False,
                  texture: str | Path | None = None) -> None:
@@ -164,8 +173,8 @@ class Viewer:
             raise ValueError(f"empty is True or False, not {escaped(repr(empty))[:80]}")
         if empty and scene is not None:  # as the command line's --scene and --empty
             raise ValueError("a scene file or empty=True: the two are starting scenes, give one")
-        options = StartOptions(scene_file=None if scene is None else Path(scene), empty=empty,
-                               texture=None if texture is None else Path(texture))
+        options = StartOptions(scene_file=None if scene is None else _checked_path(scene, "scene"), empty=empty,
+                               texture=None if texture is None else _checked_path(texture, "texture"))
         self._turn = threading.RLock()
         self._frontend = OffscreenFrontend(quiet=True)
         self._viewer = KeyViewer(starting_scene(options), self._frontend, strict=True)
@@ -202,7 +211,7 @@ class Viewer:
     def load(self, path: str | Path) -> Viewer:
         """Any model file the program reads, added as `f` adds it; LoadError on bad input."""
         self._check_open()
-        self._viewer.load_model(path)
+        self._viewer.load_model(_checked_path(path, "path"))
         return self
 
     @_one_call_at_a_time
