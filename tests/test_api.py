@@ -520,6 +520,40 @@ def test_a_model_matrix_set_by_hand_that_cannot_be_drawn_is_refused_in_one_line(
         assert np.asarray(v.render()).any()
 
 
+@pytest.mark.parametrize("change, words", [
+    (lambda s: setattr(s.lights[1], "intensity", 200), r"the bulb's intensity must be 3 numbers \(R, G, B\)"),
+    (lambda s: setattr(s.lights[1], "intensity", "white"), "the bulb's intensity must be 3 numbers"),
+    (lambda s: setattr(s.lights[1], "position", [1.0, 2.0]), r"the bulb's position must be 3 numbers \(x, y, z\)"),
+    (lambda s: setattr(s.lights[1], "position", [np.nan, 0, 0]), "the bulb's position must be 3 finite numbers"),
+    (lambda s: setattr(s.lights[0], "direction", [0, 1]), "the sun's direction must be 3 numbers"),
+    (lambda s: setattr(s, "ambient", 50), "the scene's ambient must be 3 numbers"),
+    (lambda s: setattr(s.objects[0], "material", dataclasses.replace(s.objects[0].material, kd=(1, 0))),
+     "'s material kd must be 3 numbers"),
+    (lambda s: setattr(s.objects[0], "material", dataclasses.replace(s.objects[0].material, ks="red")),
+     "'s material ks must be 3 numbers"),
+    (lambda s: setattr(s.objects[0], "material", dataclasses.replace(s.objects[0].material, ns=float("nan"))),
+     "'s material ns must be a finite number"),
+])
+def test_lights_and_materials_set_by_hand_that_cannot_be_drawn_are_refused_in_one_line(change, words: str) -> None:
+    """A light's intensity set to 200, or a kd of two numbers, raised numpy's broadcasting errors or
+    moderngl's 'pack expected 3 items for packing (got 2)' from deep in the renderer."""
+    with marraztu.Viewer(size=SIZE) as v:
+        v.press("0 1 2 3")
+        change(v.scene)
+        for call in (v.render, lambda: v.press("x"), v.probe):
+            with pytest.raises(ValueError, match=words):
+                call()
+
+
+def test_lights_and_materials_set_by_hand_in_lists_are_drawn() -> None:
+    with marraztu.Viewer(size=SIZE) as v:
+        v.press("0 1")
+        v.scene.lights[1].intensity, v.scene.lights[1].position = [255, 255, 255], (10, 20, 30)
+        v.scene.objects[0].material = dataclasses.replace(v.scene.objects[0].material, kd=[1, 0, 0], ns=5)
+        v.scene.ambient = [10, 10, 10]
+        assert np.asarray(v.render()).any() and v.probe() is not None
+
+
 def test_a_path_that_is_not_a_path_is_refused_naming_the_argument(viewer) -> None:
     """load(3) and Viewer(scene=3) raised pathlib's 'expected str, bytes or os.PathLike object, not int',
     from eight calls down, naming no argument."""

@@ -304,7 +304,7 @@ class Viewer:
         if not self._closer.alive:
             raise ViewerError("this Viewer is closed")
         self.scene.settle_selection()  # the scene may have been changed by hand since the last call
-        self.scene.check_models()
+        self.scene.check_values()
 
     def __enter__(self) -> Viewer:
         return self

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
@@ -128,6 +128,31 @@ def model_refusal(model: object) -> str | None:
     if inverse is None or not np.isfinite(inverse).all():
         return "has no inverse (a scale of 0?): the view and the normals need one"
     return None
+
+
+def triple_refusal(value: object, names: str) -> str | None:
+    """Why a colour or a point cannot be drawn (None: it can): it must be 3 finite numbers."""
+    try:
+        numbers = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        numbers = None
+    if numbers is None or numbers.shape != (3,):
+        return f"must be 3 numbers ({names}), not {_shown(value)}"
+    if not np.isfinite(numbers).all():
+        return "must be 3 finite numbers"
+    return None
+
+
+def _shown(value: object) -> str:
+    """A value in an error's one line: its repr, its line breaks made spaces, cut short."""
+    return " ".join(repr(value).split())[:40]
+
+
+def _finite_number(value: object) -> bool:
+    try:
+        return math.isfinite(float(value))  # type: ignore[arg-type]
+    except (TypeError, ValueError, OverflowError):
+        return False
 
 
 @dataclass(eq=False)
@@ -268,13 +293,33 @@ class Scene:
         self.selected_camera = max(0, min(self.selected_camera, len(self.cameras) - 1))
         self.selected_light = max(0, min(self.selected_light, len(self.lights) - 1))
 
-    def check_models(self) -> None:
-        """ValueError where an object's or a camera's model matrix, changed by hand (the programming
-        interface's scene), cannot be drawn: the renderer inverts each one."""
+    def check_values(self) -> None:
+        """ValueError, naming the first, where a value changed by hand (the programming interface's
+        scene) cannot be drawn: a model matrix without an inverse, a light's or a material's colour
+        or place that is not 3 finite numbers."""
+        refusal = next(self._refusals(), None)
+        if refusal is not None:
+            raise ValueError(refusal)
+
+    def _refusals(self) -> Iterator[str]:
+        triples = [("the scene's ambient", self.ambient, "R, G, B")]
+        for light in self.lights:
+            triples += [(f"the {light.name}'s intensity", light.intensity, "R, G, B"),
+                        (f"the {light.name}'s position", light.position, "x, y, z"),
+                        (f"the {light.name}'s direction", light.direction, "x, y, z")]
         for element in (*self.objects, *self.cameras):
             refusal = model_refusal(element.model)
             if refusal is not None:
-                raise ValueError(f"{element.name}'s model matrix {refusal}")
+                yield f"{element.name}'s model matrix {refusal}"
+            for material in (element.material, *element.part_materials):
+                triples += [(f"{element.name}'s material {k}", getattr(material, k), "R, G, B")
+                            for k in ("ka", "kd", "ks")]
+                if not _finite_number(material.ns):
+                    yield f"{element.name}'s material ns must be a finite number, not {_shown(material.ns)}"
+        for what, value, names in triples:
+            refusal = triple_refusal(value, names)
+            if refusal is not None:
+                yield f"{what} {refusal}"
 
     @property
     def object(self) -> SceneObject | None:
