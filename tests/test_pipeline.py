@@ -11,6 +11,7 @@ import pytest
 
 import marraztu
 from marraztu.model.pipeline import face_pipeline
+from marraztu.text.panels import matrix_lines
 from marraztu.text.pipeline import pipeline_lines
 
 SIZE = (800, 800)
@@ -133,3 +134,18 @@ def test_the_panel_is_drawn_and_replaces_the_probes() -> None:
     changed = (np.abs(with_pipeline[bottom] - plain[bottom]).max(axis=2) > 0).mean()
     assert changed > 0.05, "the bottom panel shows other text"
     assert len(np.unique(with_pipeline[bottom].reshape(-1, 3), axis=0)) > 20, "not blank"
+
+
+def test_a_model_far_from_the_origin_keeps_the_matrices_bottom_row() -> None:
+    """A translation of 1e12 made the 1 under it a billionth of its column, read as rounding: the
+    model and view matrices' bottom rows were printed 0 0 0 0."""
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh([[-1, -1, 0], [1, -1, 0], [0, 1, 0]], [[0, 1, 2]]).press("t x m P")
+        for element in (v.scene.objects[0], v.scene.camera):
+            element.push(element.model + np.pad(np.full((3, 1), 1e12), ((0, 1), (3, 0))))
+        lines = pipeline_lines(v.scene, (0, 0, *SIZE))
+        panel = matrix_lines(v.scene, SIZE)
+    printed = [[float(word) for word in line.split()] for line in lines[3:7]]
+    assert printed[3][:8] == [0.0, 0.0, 0.0, 1.0] * 2 and printed[0][3] > 1e12
+    rows = [[float(word) for word in line.split()] for line in panel if re.fullmatch(r"[\s\d.e+-]+", line)]
+    assert rows[3] == rows[7] == [0.0, 0.0, 0.0, 1.0], panel

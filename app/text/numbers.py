@@ -26,9 +26,12 @@ def matrix_entries(matrix: np.ndarray, decimals: int) -> list[list[str]]:
     """A matrix's entries with `decimals` decimals, or, where those would leave one less than two
     digits (under 0.01 at three decimals), as 6.4e-4: the matrix of a model in millimetres must still
     give the numbers printed under it. An entry a billionth of its column's largest is rounding (a
-    quarter turn's cosine) and reads 0."""
+    quarter turn's cosine) and reads 0; the bottom row, exact in every matrix the panels print, never
+    does (a model 1e12 from the origin keeps its 1)."""
     columns = np.abs(matrix).max(axis=0)
-    return [[_entry(float(value), decimals, float(largest)) for value, largest in zip(row, columns)] for row in matrix]
+    rows = [[_entry(float(value), decimals, float(largest)) for value, largest in zip(row, columns)]
+            for row in matrix[:-1]]
+    return rows + [[_entry(float(value), decimals, 0.0) for value in matrix[-1]]]
 
 
 def _entry(value: float, decimals: int, largest: float) -> str:
