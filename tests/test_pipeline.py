@@ -149,3 +149,22 @@ def test_a_model_far_from_the_origin_keeps_the_matrices_bottom_row() -> None:
     assert printed[3][:8] == [0.0, 0.0, 0.0, 1.0] * 2 and printed[0][3] > 1e12
     rows = [[float(word) for word in line.split()] for line in panel if re.fullmatch(r"[\s\d.e+-]+", line)]
     assert rows[3] == rows[7] == [0.0, 0.0, 0.0, 1.0], panel
+
+
+def test_a_wide_entry_widens_its_own_column() -> None:
+    """A translation of 1e12 pushed the rest of its row along: the rows below no longer stood under
+    it, and the V and P titles stood over other matrices' columns."""
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh([[-1, -1, 0], [1, -1, 0], [0, 1, 0]], [[0, 1, 2]]).press("m P")
+        for element in (v.scene.objects[0], v.scene.camera):
+            element.push(element.model + np.pad(np.full((3, 1), 1e12), ((0, 1), (3, 0))))
+        lines = pipeline_lines(v.scene, (0, 0, *SIZE))
+        panel = matrix_lines(v.scene, SIZE)
+    rows = lines[3:7]
+    ends = {tuple(match.end() for match in re.finditer(NUMBER, row)) for row in rows}
+    assert len(ends) == 1, rows  # every entry ends where the one above it does
+    v_at, p_at = lines[2].index("V: view"), lines[2].index("P: projection")
+    for row in rows:  # each title over its own matrix's four entries
+        assert [len(re.findall(NUMBER, part)) for part in (row[:v_at], row[v_at:p_at], row[p_at:])] == [4, 4, 4], row
+    model_rows = panel[panel.index("model of object mesh") + 1:][:4]
+    assert len({len(row) for row in model_rows}) == 1, model_rows  # right-aligned columns: rows as long

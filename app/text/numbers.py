@@ -41,3 +41,11 @@ def _entry(value: float, decimals: int, largest: float) -> str:
         return f"{round(value, decimals) + 0.0:.{decimals}f}"  # + 0.0: no "-0.00"
     mantissa, power = f"{value:.1e}".split("e")
     return f"{mantissa}e{int(power)}"
+
+
+def aligned_columns(entries: list[list[str]], least: int) -> list[str]:
+    """Rows of a matrix's entries, each column right-aligned to its widest entry (at least `least`
+    wide): a translation of 1e12 widens its own column, where it pushed its row's later entries out
+    of line with the rows above and below."""
+    widths = [max(least, *(len(row[k]) for row in entries)) for k in range(len(entries[0]))]
+    return [" ".join(f"{entry:>{width}}" for entry, width in zip(row, widths)) for row in entries]

@@ -19,7 +19,7 @@ from marraztu.model.lights import DIRECTIONAL, Show, TermView, WorldLight, cone_
 from marraztu.model.probe import Probe, VertexProbe, probe
 from marraztu.model.scene import CameraMode, Frame, Projection, Scene, Shading, Target
 from marraztu.render.layout import Extras, Label, project, view_projection, views
-from marraztu.text.numbers import matrix_entries, position_decimals
+from marraztu.text.numbers import aligned_columns, matrix_entries, position_decimals
 from marraztu.text.pipeline import pipeline_lines
 
 MAX_PROBED_VERTICES = 4  # more would not fit an 800 pixel window; the panel says how many are left
@@ -207,8 +207,8 @@ def _undo_depth(scene: Scene) -> int:
 
 
 def _matrix_rows(matrix: np.ndarray) -> list[str]:
-    return ["  " + " ".join(f"{_signed_entry(entry):>{MATRIX_COLUMN}}" for entry in row)
-            for row in matrix_entries(matrix, MATRIX_DECIMALS)]
+    entries = [[_signed_entry(entry) for entry in row] for row in matrix_entries(matrix, MATRIX_DECIMALS)]
+    return ["  " + line for line in aligned_columns(entries, MATRIX_COLUMN)]
 
 
 # --- labels in the picture ---------------------------------------------------------------------

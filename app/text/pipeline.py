@@ -10,10 +10,12 @@ import numpy as np
 
 from marraztu.model.pipeline import CornerStages, FacePipeline, face_pipeline
 from marraztu.model.scene import Projection, Scene
-from marraztu.text.numbers import matrix_entries, position_decimals
+from marraztu.text.numbers import aligned_columns, matrix_entries, position_decimals
 
 MAX_CORNERS = 4  # more would not fit an 800 pixel window; the panel says how many are left
 INDENT = "       "
+ENTRY_WIDTH = 7  # characters of a matrix entry, at least
+BLOCK_WIDTH = 32  # characters: a matrix of such entries and its title
 
 
 def pipeline_lines(scene: Scene, viewport: tuple[int, int, int, int]) -> list[str]:
@@ -39,13 +41,11 @@ def _header(found: FacePipeline, probe_hidden: bool) -> list[str]:
     note = "   (the probe, i, waits behind this panel)" if probe_hidden else ""
     lines = [f"PIPELINE {found.obj.name} face {found.face + 1}/{found.face_count} (Enter: next)   "
              f"{width}x{height}, {projection}, near plane {found.near:g}{note}",
-             "world = M model   eye = V world   clip = P eye   ndc = clip.xyz / w   window = viewport(ndc)",
-             _columns(f"M: model of {found.obj.name}", "V: view", f"P: projection, aspect {width / height:.2f}")]
-    model, view = matrix_entries(found.model_matrix, 2), matrix_entries(found.view_matrix, 2)
-    projection = matrix_entries(found.projection_matrix, 3)
-    for row in range(4):
-        lines.append(_columns(_matrix_row(model[row]), _matrix_row(view[row]), _matrix_row(projection[row])))
-    return lines
+             "world = M model   eye = V world   clip = P eye   ndc = clip.xyz / w   window = viewport(ndc)"]
+    blocks = [[f"M: model of {found.obj.name}", *_matrix_rows(found.model_matrix, 2)],
+              ["V: view", *_matrix_rows(found.view_matrix, 2)],
+              [f"P: projection, aspect {width / height:.2f}", *_matrix_rows(found.projection_matrix, 3)]]
+    return lines + _side_by_side(blocks)
 
 
 def _corner_lines(found: FacePipeline, number: int, corner: CornerStages) -> list[str]:
@@ -81,12 +81,16 @@ def _culling_line(found: FacePipeline) -> str:
     return f"culling: face normal . V at v1 {found.facing:.3f} {'<= 0' if found.back_face else '> 0'}: {verdict}"
 
 
-def _columns(*texts: str) -> str:
-    return "".join(f"{text:<32}" for text in texts).rstrip()
+def _matrix_rows(matrix: np.ndarray, decimals: int) -> list[str]:
+    return aligned_columns(matrix_entries(matrix, decimals), ENTRY_WIDTH)
 
 
-def _matrix_row(entries: list[str]) -> str:
-    return " ".join(f"{entry:>7}" for entry in entries)
+def _side_by_side(blocks: list[list[str]]) -> list[str]:
+    """Blocks of lines set beside each other, each as wide as its widest line and at least
+    BLOCK_WIDTH: a wide entry moves the blocks after it on every line, and its title with them."""
+    widths = [max(BLOCK_WIDTH, 1 + max(len(line) for line in block)) for block in blocks]
+    return ["".join(f"{block[k]:<{width}}" for block, width in zip(blocks, widths)).rstrip()
+            for k in range(len(blocks[0]))]
 
 
 def _vector(values: Sequence[float] | np.ndarray, decimals: int = 1) -> str:
