@@ -129,6 +129,18 @@ def test_a_model_loaded_outside_the_view_says_so_and_dot_frames_it(
     assert not viewer.scene.outside_view(viewer.scene.object, 1.0)
 
 
+@pytest.mark.parametrize("size,keys,outside", [((800, 800), "", True), ((1500, 500), "", False),
+                                               ((1500, 500), "s", True)], ids=["square", "wide", "side by side"])
+def test_outside_the_view_is_said_for_the_view_drawn(tmp_path: Path, size: tuple[int, int], keys: str,
+                                                     outside: bool) -> None:
+    """The hint assumed a view 3:1 wide: a model beside the ships, out of an 800x800 picture (and of
+    each third of the side-by-side view), loaded without a word."""
+    model = octahedron(tmp_path / "m.obj", 10.0, (300.0, 0.0, 0.0))
+    with marraztu.Viewer(size=size) as v:
+        v.press(keys).load(model)
+        assert ("outside the view (. frames it)" in v.message) == outside, v.message
+
+
 def test_home_returns_to_the_start_and_u_takes_it_back(tmp_path: Path) -> None:
     start = picture(tmp_path, "", empty=False, name="start.png")
     moved = picture(tmp_path, "c t x*5 Z*3 r y c c", empty=False, name="moved.png")

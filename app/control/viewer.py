@@ -163,8 +163,12 @@ class BackgroundLoader:
 
 class Viewer:
     def __init__(self, scene: Scene, frontend: Frontend, strict: bool = False,
-                 background: BackgroundLoader | None = None) -> None:
+                 background: BackgroundLoader | None = None,
+                 view_aspect: Callable[[Scene], float] | None = None) -> None:
         self.scene = scene
+        # The narrowest view the front end draws now, width over height (layout's): a model loaded
+        # beside the scene is said to be outside it. Not known: a view WIDEST_ASPECT wide.
+        self.view_aspect = view_aspect or (lambda scene: WIDEST_ASPECT)
         self.frontend = frontend
         self.keys = keymap.KEYMAP
         # Strict (the screenshot command): a failed load is an error that ends the run, since a
@@ -352,8 +356,7 @@ class Viewer:
             self._start_models_alone = together  # a model from elsewhere joins: no longer theirs alone
             self._start_models_to_frame = together
         kind = "camera" if as_camera else "object"
-        # The window's shape is the front end's: outside even a wide view.
-        unseen = not as_camera and not together and self.scene.outside_view(obj, WIDEST_ASPECT)
+        unseen = not as_camera and not together and self.scene.outside_view(obj, self.view_aspect(self.scene))
         where = ", outside the view (. frames it)" if unseen else ""
         self.tell(with_notes(f"loaded {Path(path).name} as a new {kind}: {obj.mesh.summary()}{where}", obj.mesh),
                   at_start, worth_a_notice=bool(obj.mesh.warnings) or unseen)

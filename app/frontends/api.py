@@ -40,7 +40,7 @@ from marraztu.model.mesh import INDEX_LIMIT
 from marraztu.model.probe import probe as probe_scene
 from marraztu.model.scene import Scene, SceneObject
 from marraztu.render.context import create_offscreen_context
-from marraztu.render.layout import checked_size
+from marraztu.render.layout import checked_size, narrowest_aspect
 from marraztu.render.renderer import Renderer
 
 Size = tuple[int, int]
@@ -177,7 +177,9 @@ class Viewer:
                                texture=None if texture is None else _checked_path(texture, "texture"))
         self._turn = threading.RLock()
         self._frontend = OffscreenFrontend(quiet=True)
-        self._viewer = KeyViewer(starting_scene(options), self._frontend, strict=True)
+        # The size, not the Viewer: a closure over it would hold it in a cycle, past its last reference.
+        self._viewer = KeyViewer(starting_scene(options), self._frontend, strict=True,
+                                 view_aspect=functools.partial(narrowest_aspect, size=self._size))
         _release_unreleased()
         self._ctx = create_offscreen_context()
         with self._ctx:
@@ -195,6 +197,7 @@ class Viewer:
     @size.setter
     def size(self, size: Sequence[int]) -> None:
         self._size = _checked_size(size)
+        self._viewer.view_aspect = functools.partial(narrowest_aspect, size=self._size)
 
     # --- the scene -----------------------------------------------------------------------------
     @property

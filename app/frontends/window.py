@@ -29,6 +29,7 @@ from marraztu.frontends.screenshot import write_picture
 from marraztu.model.mesh import counted
 from marraztu.render.context import offscreen_framebuffer, read_pixels
 from marraztu.render.gpu import prepare_surface
+from marraztu.render.layout import narrowest_aspect
 from marraztu.render.overlay import Overlay
 from marraztu.render.renderer import Renderer
 from marraztu.text import panels, status
@@ -126,7 +127,8 @@ class ViewerWindow:
         self.text_of_press: str | None = None  # a named key just pressed, whose own text or motion comes next
         self.renderer = Renderer(self.ctx)
         loader = BackgroundLoader(prepare_surface, wake=_wake_event_loop)
-        self.viewer = Viewer(starting_scene(options), self, background=loader)
+        self.viewer = Viewer(starting_scene(options), self, background=loader,
+                             view_aspect=lambda scene: narrowest_aspect(scene, self.wnd.buffer_size))
         self.viewer.start(options, self.renderer.max_texture_side)
         self.overlay = Overlay(self.ctx)
         self.named_keys, self.repeated_motions = self._named_keys()

@@ -57,6 +57,11 @@ def views(scene: Scene, size: tuple[int, int]) -> list[View]:
             for k, (shading, title) in enumerate(SIDE_BY_SIDE)]
 
 
+def narrowest_aspect(scene: Scene, size: tuple[int, int]) -> float:
+    """Width over height of the narrowest view of the framebuffer (a third of it, side by side)."""
+    return min(view.aspect for view in views(scene, size))
+
+
 def view_projection(scene: Scene, view: View) -> np.ndarray:
     return scene.projection_matrix(view.aspect) @ scene.view_matrix()
 
