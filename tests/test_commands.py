@@ -342,6 +342,15 @@ def test_analysis_orbits_keep_the_object_on_the_view_axis(scene: Scene, seed: in
     assert np.linalg.norm(scene.object.centre - scene.camera.origin) == pytest.approx(distance + 10.0)
 
 
+def test_reach_along_follows_the_objects_turn_and_scale() -> None:
+    """A 20-unit cube stretched 2x along its own x, then turned 90 degrees about y (its x to world -z)."""
+    cube = SceneObject.placed("cube", cube_mesh("cube", 10.0), PLAIN, (5, 6, 7))
+    cube.push(cube.model @ transforms.rotation_about_axis(1, np.pi / 2) @ np.diag([2.0, 1.0, 1.0, 1.0]))
+    assert cube.reach_along(np.array([1.0, 0.0, 0.0])) == pytest.approx(10.0)
+    assert cube.reach_along(np.array([0.0, 0.0, -1.0])) == pytest.approx(20.0)
+    assert cube.reach_along(np.array([0.0, 0.6, 0.8])) == pytest.approx(10.0 / 0.6)
+
+
 def test_analysis_rotation_orbits_around_the_centre(scene: Scene) -> None:
     scene.selected_object = 2  # "middle", at the origin
     press(scene, "c g y*16")  # 1.6 rad around it, from (0, 0, 150)
@@ -349,14 +358,22 @@ def test_analysis_rotation_orbits_around_the_centre(scene: Scene) -> None:
     np.testing.assert_allclose(eye, [150 * np.sin(1.6), 0.0, 150 * np.cos(1.6)], atol=1e-9)
 
 
-def test_analysis_approach_stops_at_the_minimum_distance(scene: Scene) -> None:
+def left_reach(x: float = 100.0) -> float:
+    """The camera at (0, 0, 150) looks at "left" (-x, 0, 0): the line back to it leaves the 20-unit
+    cube through its +z face, 10 / cos(its angle to z) from the centre."""
+    return 10.0 * np.hypot(x, 150.0) / 150.0
+
+
+def test_analysis_approach_stops_outside_the_objects_box(scene: Scene) -> None:
     press(scene, "c g t Z*100")
     distance = np.linalg.norm(scene.object.centre - scene.camera.origin)
-    assert distance == pytest.approx(commands.ANALYSIS_MIN_DISTANCE)
-    assert "as close to left as allowed, 10 units from its centre" in scene.message
+    assert distance == pytest.approx(left_reach() + commands.ANALYSIS_GAP)
+    assert "as close to left as allowed, 10 units outside its box" in scene.message
     assert centre_off_view_axis(scene) < 1e-9
+    eye = transforms.point_in_frame(scene.object.model, scene.camera.origin) - np.mean(scene.object.mesh.bounds, axis=0)
+    assert eye[2] == pytest.approx(10.0 + commands.ANALYSIS_GAP * 150.0 / np.hypot(100.0, 150.0))
     camera = scene.camera  # 3 units out, as framing puts a small model (the mouse's dolly goes there too)
-    camera.push(transforms.apply_local(camera.model, transforms.translation(2, 3.0 - commands.ANALYSIS_MIN_DISTANCE)))
+    camera.push(transforms.apply_local(camera.model, transforms.translation(2, 3.0 - distance)))
     press(scene, "z")  # backing away from within the minimum was refused as coming closer
     assert np.linalg.norm(scene.object.centre - scene.camera.origin) == pytest.approx(8.0)
 
@@ -371,12 +388,12 @@ def test_the_steps_follow_the_models_size_by_powers_of_ten(unit: float) -> None:
     np.testing.assert_allclose(scene.object.model, start @ transforms.translation(0, 5.0 * unit), rtol=1e-12)
     press(scene, "c g Z*100")
     distance = np.linalg.norm(scene.object.centre - scene.camera.origin)
-    assert distance == pytest.approx(commands.ANALYSIS_MIN_DISTANCE * unit)
+    assert distance == pytest.approx((left_reach(95.0) + commands.ANALYSIS_GAP) * unit)  # t x moved it 5
 
 
 def test_a_small_part_among_large_models_moves_and_is_approached_on_its_own_scale() -> None:
     """A 2-unit part beside the 20-unit cubes: a press moves it 0.5 (5 was two and a half of its
-    lengths), and analysis mode comes within 1 of it; a flying camera still moves on the scene's scale."""
+    lengths), and analysis mode stops 1 outside its box; a flying camera still moves on the scene's scale."""
     scene = make_scene()
     scene.objects.append(SceneObject.placed("part", cube_mesh("part", 1.0), PLAIN, (0, 0, 100)))
     scene.selected_object = 3
@@ -386,9 +403,9 @@ def test_a_small_part_among_large_models_moves_and_is_approached_on_its_own_scal
     camera = scene.camera.model
     press(scene, "c Z")  # flight
     np.testing.assert_allclose(scene.camera.model, camera @ transforms.translation(2, -5.0), rtol=1e-12)
-    press(scene, "g Z*1000")  # analysis
+    press(scene, "g Z*1000")  # analysis: 1 outside the part's +z face, seen 0.5 off its axis from 45 out
     distance = np.linalg.norm(scene.object.centre - scene.camera.origin)
-    assert distance == pytest.approx(commands.ANALYSIS_MIN_DISTANCE / 10)
+    assert distance == pytest.approx(np.hypot(0.5, 45.0) / 45.0 + commands.ANALYSIS_GAP / 10)
 
 
 def test_analysis_sideways_translation_is_refused(scene: Scene) -> None:

@@ -39,9 +39,9 @@ from marraztu.model.transforms import TransformKind, step_matrix
 ROTATION_STEP_RAD = 0.1  # the seed author's step
 TRANSLATION_STEP = 5.0  # world units, for models of the seed's size (see translation_unit)
 APERTURE_STEP_DEG = 2.5
-# Analysis mode never lets the camera come closer to the orbited centre than this (no passing through),
-# for an object of the seed's models' size.
-ANALYSIS_MIN_DISTANCE = 10.0
+# Analysis mode stops the camera this far outside the orbited object's box (no entering it), for an
+# object of the seed's models' size.
+ANALYSIS_GAP = 10.0
 # Mouse drag: 10 pixels turn as far as one key press.
 DRAG_RADIANS_PER_PIXEL = ROTATION_STEP_RAD / 10.0
 DOLLY_PER_NOTCH = 0.9  # each wheel notch toward the object leaves this share of the distance
@@ -250,11 +250,12 @@ def approach_object(scene: Scene, axis_index: int, distance: float) -> None:
         return
     camera = scene.camera
     depth = -transforms.point_in_frame(camera.model, obj.centre)[2]
-    closest = ANALYSIS_MIN_DISTANCE * size_unit(obj.mesh.size)
+    gap = ANALYSIS_GAP * size_unit(obj.mesh.size)
+    closest = obj.reach_along(-camera.forward) + gap  # outside the object's box, not on or in it
     if distance < 0.0 and depth + distance < closest:  # backing away is never refused
         distance = min(0.0, closest - depth)  # stop at the minimum, never push back
         if distance == 0.0:
-            scene.message = f"analysis mode: as close to {obj.name} as allowed, {closest:g} units from its centre"
+            scene.message = f"analysis mode: as close to {obj.name} as allowed, {gap:g} units outside its box"
             return
     camera.push(transforms.apply_local(camera.model, transforms.translation(2, distance)))
 

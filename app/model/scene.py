@@ -208,6 +208,13 @@ class SceneObject:
         low, high = self.mesh.bounds
         return transform_point(self.model, (low + high) / 2.0)
 
+    def reach_along(self, direction: np.ndarray) -> float:
+        """How far from its centre a line along the world `direction` (a unit vector) leaves its box."""
+        step = np.linalg.solve(self.model[:3, :3], direction)  # a world unit along it, in the box's frame
+        low, high = self.mesh.bounds
+        moving = np.abs(step) > 0.0
+        return float(np.min((high - low)[moving] / 2.0 / np.abs(step[moving]), initial=np.inf))
+
     def push(self, model: np.ndarray) -> None:
         self.history.append(np.asarray(model, dtype=np.float64))
 
