@@ -503,6 +503,8 @@ def test_a_scene_changed_by_hand_keeps_its_selection_in_range() -> None:
     (np.eye(3), r"4x4, not \(3, 3\)"),
     (np.full((4, 4), np.nan), "finite"),
     ("abc", "4x4 of numbers"),
+    (np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0.002, 0, 1]]),  # drew, lit as if affine
+     "must end in the row 0 0 0 1 \\(an affine transform\\), not 0 0.002 0 1"),
 ])
 def test_a_model_matrix_set_by_hand_that_cannot_be_drawn_is_refused_in_one_line(model, words: str) -> None:
     """The renderer inverts every model matrix (the near plane, the normals): a singular one pushed by

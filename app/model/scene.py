@@ -111,7 +111,7 @@ _uids = itertools.count(1)
 
 
 def model_refusal(model: object) -> str | None:
-    """Why a model matrix cannot be drawn (None: it can): a 4x4 of finite numbers with an inverse."""
+    """Why a model matrix cannot be drawn (None: it can): an affine 4x4 of finite numbers with an inverse."""
     try:
         matrix = np.asarray(model, dtype=np.float64)
     except (TypeError, ValueError):
@@ -120,6 +120,8 @@ def model_refusal(model: object) -> str | None:
         return f"must be 4x4, not {matrix.shape}"
     if not np.isfinite(matrix).all():
         return "must hold finite numbers"
+    if not np.array_equal(matrix[3], [0.0, 0.0, 0.0, 1.0]):  # the lighting and the probe take M p as a point
+        return f"must end in the row 0 0 0 1 (an affine transform), not {' '.join(f'{x:g}' for x in matrix[3])}"
     try:
         with np.errstate(all="ignore"):
             inverse = np.linalg.inv(matrix)
@@ -302,8 +304,8 @@ class Scene:
 
     def check_values(self) -> None:
         """ValueError, naming the first, where a value changed by hand (the programming interface's
-        scene) cannot be drawn: a model matrix without an inverse, a light's or a material's colour
-        or place that is not 3 finite numbers."""
+        scene) cannot be drawn: a model matrix not affine or without an inverse, a light's or a
+        material's colour or place that is not 3 finite numbers."""
         refusal = next(self._refusals(), None)
         if refusal is not None:
             raise ValueError(refusal)
