@@ -29,6 +29,7 @@ from PIL import Image
 
 from marraztu.errors import LoadError, escaped
 from marraztu.loaders.files import read_file, read_head, shown
+from marraztu.loaders.patterns import compiled
 
 # No texture a student uses comes near this; a header claiming more is broken or hostile.
 MAX_PIXELS = 64 * 1024 * 1024
@@ -45,7 +46,7 @@ _PPM_MAGICS = (b"P6", b"P3")
 FORMATS_BY_MAGIC = {b"P6": "PPM", b"P3": "PPM", b"\x89PNG\r\n\x1a\n": "PNG", b"\xff\xd8\xff": "JPEG"}
 _MAGIC_LENGTH = max(len(magic) for magic in FORMATS_BY_MAGIC)
 # Skips whitespace and comments; possessive, so that sre keeps no state per byte skipped.
-_HEADER_TOKEN = re.compile(rb"(?:\s|#[^\n\r]*+[\n\r])*+([^\s#]++)")
+_HEADER_TOKEN = compiled(rb"(?:\s|#[^\n\r]*+[\n\r])*+([^\s#]++)")
 
 
 def load_image(path: str | Path) -> np.ndarray:

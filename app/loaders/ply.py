@@ -29,6 +29,7 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import line_at, line_end_from, text_lines
+from marraztu.loaders.patterns import compiled
 from marraztu.loaders.words import (
     DECIMAL_SYNTAX,
     is_count,
@@ -50,7 +51,7 @@ FACE_LISTS = ("vertex_indices", "vertex_index")  # the names exporters give a fa
 TEXCOORD_LIST = "texcoord"  # MeshLab's: u v for each corner of the face
 # A model's header declares a few elements of a few properties each: past this many, it is no model's.
 MAX_DECLARATIONS = 4096
-_DECIMAL = re.compile(DECIMAL_SYNTAX.encode())
+_DECIMAL = compiled(DECIMAL_SYNTAX.encode())
 _NOT_FINITE = re.compile(rb"(?i)[+-]?(?:nan|inf|infinity)")  # numpy reads these too: refused later where wrong
 _END_WORD = "end_header"
 _END_LINE = re.compile(rb"[\r\n][ \t]*+end_header[ \t]*+(?=[\r\n]|\Z)")  # a line end leads: re looks for it fast

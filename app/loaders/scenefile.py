@@ -40,6 +40,7 @@ from typing import NoReturn
 
 from marraztu.errors import LoadError, ViewerError
 from marraztu.loaders.files import line_at, read_file, same_file_key
+from marraztu.loaders.patterns import compiled
 from marraztu.loaders.registry import load_model
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh
@@ -82,18 +83,18 @@ TOO_LARGE = "is too large: the GPU's 32-bit numbers end at 3.4e38"
 _KEY_PART = r"""(?:[A-Za-z0-9_-]++|"(?:[^"\\\n]|\\.)*+"|'[^'\n]*+')"""
 _NEXT_PART = rf"[ \t]*+\.[ \t]*+{_KEY_PART}"
 _DOTTED_KEY = rf"{_KEY_PART}(?:{_NEXT_PART})*+"
-_LINE_START = re.compile("|".join((rf"[ \t]*\[\[[ \t]*(?P<array>{_DOTTED_KEY})[ \t]*\]\]",
-                                    rf"[ \t]*\[[ \t]*(?P<table>{_DOTTED_KEY})[ \t]*\]",
-                                    rf"[ \t]*(?P<key>{_DOTTED_KEY})[ \t]*=")))
-_KEY_PARTS = re.compile(_KEY_PART)
+_LINE_START = compiled("|".join((rf"[ \t]*\[\[[ \t]*(?P<array>{_DOTTED_KEY})[ \t]*\]\]",
+                                 rf"[ \t]*\[[ \t]*(?P<table>{_DOTTED_KEY})[ \t]*\]",
+                                 rf"[ \t]*(?P<key>{_DOTTED_KEY})[ \t]*=")))
+_KEY_PARTS = compiled(_KEY_PART)
 # A dotted key of more than MAX_KEY_PARTS parts, from the start of its first: never a part's middle,
 # nor an escaped quote, from which a string of them would be scanned again at every one.
-_LONG_DOTTED_RUN = re.compile(rf"(?<![A-Za-z0-9_\\-]){_KEY_PART}(?:{_NEXT_PART}){{{MAX_KEY_PARTS}}}")
+_LONG_DOTTED_RUN = compiled(rf"(?<![A-Za-z0-9_\\-]){_KEY_PART}(?:{_NEXT_PART}){{{MAX_KEY_PARTS}}}")
 # tomllib reads a number with patterns that hold over 100 bytes a digit (a backtracking repeat), so a
 # run of (hex) digits longer than any number Python reads is refused at its line first, wherever it
 # stands. Each run is tried once, from its start: never again from each of its digits.
 MAX_DIGIT_RUN = 4300  # Python's default limit on the digits of an integer it reads
-_LONG_DIGIT_RUN = re.compile(rf"(?<![0-9A-Fa-f_])[0-9A-Fa-f](?:_?+[0-9A-Fa-f]){{{MAX_DIGIT_RUN},}}+")
+_LONG_DIGIT_RUN = compiled(rf"(?<![0-9A-Fa-f_])[0-9A-Fa-f](?:_?+[0-9A-Fa-f]){{{MAX_DIGIT_RUN},}}+")
 _LONG_RUNS = (
     (_LONG_DOTTED_RUN, f"more than {MAX_KEY_PARTS} words joined by dots: a key of so many parts (a scene's deepest, "
                        "materials.NAME.kd, has 3)"),
@@ -104,8 +105,8 @@ _LONG_RUNS = (
 # TOP_LEVEL_KEYS as written bare; found before tomllib, which holds hundreds of bytes for each table.
 _KNOWN_BARE = "|".join(sorted(TOP_LEVEL_KEYS))
 _UNKNOWN_NAME = rf"(?!(?:{_KNOWN_BARE})[ \t]*+[.\]=])(?P<first>{_KEY_PART})(?:{_NEXT_PART})*+[ \t]*+"
-_UNKNOWN_TABLE = re.compile(rf"(?m:^)[ \t]*+\[\[?+[ \t]*+{_UNKNOWN_NAME}\]\]?+[ \t]*+(?=#|\r?(?m:$))")
-_UNKNOWN_TOP_KEY = re.compile(rf"(?m:^)[ \t]*+{_UNKNOWN_NAME}=")
+_UNKNOWN_TABLE = compiled(rf"(?m:^)[ \t]*+\[\[?+[ \t]*+{_UNKNOWN_NAME}\]\]?+[ \t]*+(?=#|\r?(?m:$))")
+_UNKNOWN_TOP_KEY = compiled(rf"(?m:^)[ \t]*+{_UNKNOWN_NAME}=")
 _FIRST_HEADER = re.compile(r"(?m:^)[ \t]*+\[")
 _MULTI_LINE_QUOTES = ('"""', "'''")  # a header-like line may be inside a multi-line string
 
@@ -416,9 +417,13 @@ def _overlong_integer_line(text: str) -> int | None:
     limit = sys.get_int_max_str_digits()
     # whole runs of digits only (not inside words, hex numbers or fractions): each run is tried once
     # possessive: sre keeps no state per digit (a backtracking repeat kept over 100 bytes per digit)
-    pattern = rf"(?<![0-9A-Za-z_.])[0-9](?:_?+[0-9]){{{limit},}}+(?![0-9A-Za-z_.])"
-    found = re.search(pattern, text) if limit else None
+    found = _integer_run_longer_than(limit).search(text) if limit else None
     return None if found is None else _line_of(text, found.start())
+
+
+@functools.lru_cache(maxsize=2)
+def _integer_run_longer_than(limit: int) -> re.Pattern[str]:
+    return compiled(rf"(?<![0-9A-Za-z_.])[0-9](?:_?+[0-9]){{{limit},}}+(?![0-9A-Za-z_.])")
 
 
 def _line_of(text: str, offset: int) -> int:

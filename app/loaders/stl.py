@@ -17,6 +17,7 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import bom_length, line_at, read_model_bytes, text_lines
+from marraztu.loaders.patterns import compiled
 from marraztu.loaders.words import WordBlocks, checked_coordinates, said_count, unheld_coordinate
 from marraztu.model.build import derive_mesh
 from marraztu.model.geometry import holds_in_float32, merged_rows
@@ -177,15 +178,15 @@ def _after_words_read(corners: WordBlocks, error: LoadError) -> LoadError:
 _AFTER_KEYWORD = rb"(?:[ \t][^\r\n]*+)?+"  # what follows `facet`, `outer` and `solid` is not read
 _NUMBER = rb"([-+0-9.eE]++)"
 _VERTEX_LINE = rb"[ \t]*+(?i:vertex)[ \t]++" + rb"[ \t]++".join([_NUMBER] * 3) + rb"[ \t]*+\r?\n"
-_FACET_TEXT = re.compile(rb"(?m:^)[ \t]*+(?i:facet)" + _AFTER_KEYWORD + rb"\r?\n[ \t]*+(?i:outer)" + _AFTER_KEYWORD
+_FACET_TEXT = compiled(rb"(?m:^)[ \t]*+(?i:facet)" + _AFTER_KEYWORD + rb"\r?\n[ \t]*+(?i:outer)" + _AFTER_KEYWORD
                          + rb"\r?\n" + _VERTEX_LINE * 3
                          + rb"[ \t]*+(?i:endloop)[ \t]*+\r?\n[ \t]*+(?i:endfacet)[ \t]*+\r?\n")
 _SPLIT_STRIDE = _FACET_TEXT.groups + 1  # re.split gives the text before each facet, then its nine numbers
 _SOLID, _END_SOLID = rb"(?i:solid)" + _AFTER_KEYWORD + rb"\r?\n", rb"(?i:endsolid)" + _AFTER_KEYWORD
 _SOLIDS_BETWEEN = rb"\s*+(?:" + _END_SOLID + rb"\r?\n\s*+" + _SOLID + rb"\s*+)*+"  # one closed, the next opened
-_BEFORE_FIRST_FACET = re.compile(rb"\s*+" + _SOLID + rb"\s*+")
-_BETWEEN_FACETS = re.compile(_SOLIDS_BETWEEN)
-_AFTER_LAST_FACET = re.compile(_SOLIDS_BETWEEN + _END_SOLID + rb"\s*+")
+_BEFORE_FIRST_FACET = compiled(rb"\s*+" + _SOLID + rb"\s*+")
+_BETWEEN_FACETS = compiled(_SOLIDS_BETWEEN)
+_AFTER_LAST_FACET = compiled(_SOLIDS_BETWEEN + _END_SOLID + rb"\s*+")
 _ENDFACET_WORD = re.compile(rb"(?i:endfacet)")
 _FACETS_PIECE = 1 << 20  # bytes read at once, ending after a facet: the piece's words stay a few megabytes
 

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
+from marraztu.loaders.patterns import compiled
 from marraztu.model.geometry import FLOAT32_MAX, holds_in_float32
 
 LineOf = Callable[[int], int]  # the line of the word at this index
@@ -27,7 +28,7 @@ MAX_COUNT_DIGITS = 12
 DECIMAL_SYNTAX = r"[+-]?+(?:[0-9]++(?:\.[0-9]*+)?+|\.[0-9]++)(?:[eE][+-]?+[0-9]++)?+"
 ROWS_AT_ONCE = 1 << 15  # rows whose words are made numbers in one call
 
-_DECIMAL = re.compile(DECIMAL_SYNTAX)
+_DECIMAL = compiled(DECIMAL_SYNTAX)
 # What bytes.split() and numpy's fromstring part numbers at.
 BLANKS = b" \t\n\r\x0b\x0c"  # what numpy's and bytes.split()'s words are parted by
 WHITESPACE = np.zeros(256, bool)

@@ -21,6 +21,7 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import decoded
+from marraztu.loaders.patterns import compiled
 from marraztu.loaders.obj.raw import (
     COLOURED_V_NUMBERS,
     CORNER_GAPS,
@@ -46,7 +47,7 @@ from marraztu.model.mesh import INDEX, INDEX_LIMIT, polygons_of_corners
 from marraztu.model.threads import largest
 
 _NUMBER = DECIMAL_SYNTAX.encode()
-_FLOAT = re.compile(_NUMBER + rb"\Z")
+_FLOAT = compiled(_NUMBER + rb"\Z")
 _INTEGER = re.compile(rb"-?[0-9]+\Z")
 _TOKEN = re.compile(rb"\S+")
 _TABLES = {b"v": (0, "vertex position (v)", 3, 7), b"vt": (1, "texture coordinate (vt)", 1, 3),
@@ -74,13 +75,13 @@ def _plain_numbers(fewest: int, most: int | None = None) -> bytes:
 def _plain_run(keyword: bytes, items: bytes) -> re.Pattern[bytes]:
     """Whole lines, each with its newline, of `keyword` and `items` parted and surrounded by blanks
     within the line and no comment: a run of them read in one match."""
-    return re.compile(rb"(?:%s*+%s%s++%s%s*+\n)*+" % (_SPACE, keyword, _SPACE, items, _SPACE))
+    return compiled(rb"(?:%s*+%s%s++%s%s*+\n)*+" % (_SPACE, keyword, _SPACE, items, _SPACE))
 
 
 # A v, vt or vn line of plain numbers; a whole file's reading batches those of just the table's width,
 # and reads runs of such lines in one match.
-_PLAIN_ROWS = {keyword: re.compile(_plain_numbers(fewest, most)) for keyword, (_, _, fewest, most) in _TABLES.items()}
-_BATCHED_ROWS = {keyword: re.compile(_plain_numbers(width)) for keyword, width in zip(_FIELDS, _TABLE_WIDTHS)}
+_PLAIN_ROWS = {keyword: compiled(_plain_numbers(fewest, most)) for keyword, (_, _, fewest, most) in _TABLES.items()}
+_BATCHED_ROWS = {keyword: compiled(_plain_numbers(width)) for keyword, width in zip(_FIELDS, _TABLE_WIDTHS)}
 PLAIN_ROW_RUNS = [_plain_run(keyword, _plain_numbers(width)) for keyword, width in zip(_FIELDS, _TABLE_WIDTHS)]
 _ROW_RUN_FIELDS = {b"vt": 1, b"vn": 2}  # by a line's first two bytes; v's, any other after a v
 
@@ -95,7 +96,7 @@ class _FaceForm(NamedTuple):
 
 
 def _face_form(corner: bytes, fields: tuple[int, ...]) -> _FaceForm:
-    return _FaceForm(re.compile(rb"%s(?:%s+%s){2,}" % (corner, _SPACE, corner)), fields,
+    return _FaceForm(compiled(rb"%s(?:%s+%s){2,}" % (corner, _SPACE, corner)), fields,
                      tuple((corners, _plain_run(b"f", rb"%s(?:%s++%s){%d}" % (corner, _SPACE, corner, corners - 1)))
                            for corners in (3, 4)))
 
