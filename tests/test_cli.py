@@ -151,6 +151,19 @@ def test_screenshot_writes_jpeg_for_a_jpeg_suffix(tmp_path: Path) -> None:
         assert picture.format == "JPEG" and picture.size == (32, 24)
 
 
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="EGL through libglvnd: Linux")
+def test_no_opengl_at_all_is_one_line_saying_what_to_install(tmp_path: Path) -> None:
+    """libglvnd's EGL with no vendor library to load, and no display: as on a machine without libegl1."""
+    env = {**os.environ, "__EGL_VENDOR_LIBRARY_FILENAMES": str(tmp_path / "none.json")}
+    env.pop("DISPLAY", None)
+    env.pop("WAYLAND_DISPLAY", None)
+    result = run_app("screenshot", "-o", str(tmp_path / "shot.png"), "--size", "8x8", cwd=tmp_path, env=env)
+    if result.returncode == 0:
+        pytest.skip("this machine's EGL is not libglvnd's: it drew without a vendor library")
+    assert_one_line_error(result, "cannot create an offscreen OpenGL 3.3 context",
+                          "apt-get install libegl1 libgl1-mesa-dri")
+
+
 def test_an_unreachable_display_is_one_line(tmp_path: Path) -> None:
     env = {**__import__("os").environ, "DISPLAY": ":97531"}
     env.pop("WAYLAND_DISPLAY", None)

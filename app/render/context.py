@@ -28,7 +28,12 @@ def create_offscreen_context() -> moderngl.Context:
         except Exception as error:
             raise ViewerError(f"cannot create an offscreen OpenGL {GL_VERSION // 100}.{GL_VERSION // 10 % 10} "
                               f"context: EGL said {_first_line(egl_error)}; the platform's context said "
-                              f"{_first_line(error)}") from None  # both causes are in its words
+                              f"{_first_line(error)}{_INSTALL_HINT}") from None  # both causes are in its words
+
+
+# What a person on Linux is missing, most likely: Mesa's EGL and its drivers (llvmpipe among them).
+_INSTALL_HINT = (" (Mesa's EGL draws without a display or a GPU: apt-get install libegl1 libgl1-mesa-dri on "
+                 "Debian and Ubuntu)" if sys.platform.startswith("linux") else "")
 
 
 def _first_line(error: Exception) -> str:
