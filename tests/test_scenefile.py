@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from marraztu.errors import LoadError
+from marraztu.loaders.patterns import POSSESSIVE_GROUPS_HOLD
 from marraztu.loaders.scenefile import (
     DEFAULT_MATERIAL,
     builtin_scene_path,
@@ -20,7 +21,6 @@ from marraztu.loaders.scenefile import (
     material_for_loaded,
     read_scene_description,
 )
-from marraztu.loaders.patterns import POSSESSIVE_GROUPS_HOLD
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Material

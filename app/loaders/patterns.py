@@ -10,10 +10,8 @@ atomic group keeps some (150 MB for a run of two million digits).
 
 from __future__ import annotations
 
-import _sre
 import re
 import sys
-from re import _compiler, _constants, _parser  # Python's own; read only where its re needs help
 from typing import AnyStr
 
 POSSESSIVE_GROUPS_HOLD = sys.version_info >= (3, 11, 5)
@@ -28,6 +26,9 @@ def compiled(pattern: AnyStr, flags: int = 0) -> re.Pattern[AnyStr]:
 def atomic_compiled(pattern: AnyStr, flags: int = 0) -> re.Pattern[AnyStr]:
     """The pattern compiled with every possessive repeat of more than one character, X*+, X++, X?+
     or X{m,n}+, compiled as (?>X*), (?>X+), (?>X?) or (?>X{m,n}): the same matches."""
+    import _sre  # Python's own re internals, read only on the Pythons that need the rewrite
+    from re import _compiler, _parser
+
     tree = _parser.parse(pattern, flags)
     _make_atomic(tree)
     groups = tree.state.groupdict
@@ -39,6 +40,8 @@ def atomic_compiled(pattern: AnyStr, flags: int = 0) -> re.Pattern[AnyStr]:
 
 
 def _make_atomic(tree: object) -> None:
+    from re import _compiler, _constants, _parser
+
     data = tree.data  # type: ignore[attr-defined]
     for at, (op, value) in enumerate(data):
         if op is _constants.POSSESSIVE_REPEAT and not _compiler._simple(value[2]):
@@ -52,6 +55,8 @@ def _make_atomic(tree: object) -> None:
 
 def _parts(value: object) -> list[object]:
     """The subpatterns a node holds."""
+    from re import _parser
+
     found: list[object] = []
     stack = [value]
     while stack:

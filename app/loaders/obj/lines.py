@@ -21,7 +21,6 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import decoded
-from marraztu.loaders.patterns import compiled
 from marraztu.loaders.obj.raw import (
     COLOURED_V_NUMBERS,
     CORNER_GAPS,
@@ -41,6 +40,7 @@ from marraztu.loaders.obj.raw import (
     with_library,
 )
 from marraztu.loaders.obj.text import has_continuations
+from marraztu.loaders.patterns import compiled
 from marraztu.loaders.words import BLANKS, DECIMAL_SYNTAX
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, polygons_of_corners
