@@ -23,6 +23,7 @@ from marraztu.control.viewer import StartOptions
 from marraztu.errors import KeyMapError, LoadError, ViewerError
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.model.probe import probe as scene_probe
+from marraztu.resources import ASSET_DIR
 
 SIZE = (160, 120)
 TRIANGLE = np.array([[-60.0, -60.0, 20.0], [60.0, -60.0, 20.0], [0.0, 60.0, 20.0]])
@@ -554,6 +555,32 @@ def test_lights_and_materials_set_by_hand_in_lists_are_drawn() -> None:
         v.scene.objects[0].material = dataclasses.replace(v.scene.objects[0].material, kd=[1, 0, 0], ns=5)
         v.scene.ambient = [10, 10, 10]
         assert np.asarray(v.render()).any() and v.probe() is not None
+
+
+def test_a_material_set_by_hand_on_a_model_of_several_draws_its_every_part(tmp_path: Path) -> None:
+    """two_tone's red and blue parts were drawn with the MTL's materials whatever `material` was set to:
+    now it replaces them, as a scene file's material does, in the picture and the probe alike."""
+    for name in ("two_tone.obj", "two_tone.mtl"):
+        (tmp_path / name).write_bytes((ASSET_DIR / "examples" / name).read_bytes())
+    entry = '[[objects]]\nmodel = "two_tone.obj"\nposition = [0, 0, 0]\n'
+    green = "material = { ka = [0, 1, 0], kd = [0, 0.5, 0], ks = [0, 0, 0], ns = 1 }\n"
+    (tmp_path / "own.toml").write_text(entry)
+    (tmp_path / "given.toml").write_text(entry + green)
+    with marraztu.Viewer(size=SIZE, scene=tmp_path / "given.toml") as given, \
+            marraztu.Viewer(size=SIZE, scene=tmp_path / "own.toml") as v:
+        before = np.asarray(v.press("T").render())
+        obj = v.scene.objects[0]
+        obj.material = given.scene.objects[0].material
+        assert obj.part_materials == (obj.material, obj.material)
+        after = np.asarray(v.render())
+        assert not np.array_equal(after, before)
+        assert np.array_equal(after, np.asarray(given.press("T").render()))
+        for face in (0, 6):  # one face of each part
+            obj.selected_face = face
+            assert v.probe().vertices[0].ambient == (0.0, 75.0, 0.0)  # Ka x Ia: Ia is (200, 75, 255)
+        blue = dataclasses.replace(obj.material, ka=(0, 0, 1))
+        obj.part_materials = (obj.material, blue)  # set after it, a part's own
+        assert v.probe().vertices[0].ambient == (0.0, 0.0, 255.0)
 
 
 def test_a_path_that_is_not_a_path_is_refused_naming_the_argument(viewer) -> None:

@@ -202,7 +202,9 @@ class Viewer:
     # --- the scene -----------------------------------------------------------------------------
     @property
     def scene(self) -> Scene:
-        """The scene itself (objects, cameras, lights, modes), for reading or changing by hand."""
+        """The scene itself (objects, cameras, lights, modes), for reading or changing by hand. An
+        object's `material` set by hand is given to all its parts (a file's materials); its
+        `part_materials`, one per material of the file, set after it tell the parts apart."""
         return self._viewer.scene
 
     @property

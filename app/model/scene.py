@@ -159,7 +159,8 @@ def _finite_number(value: object) -> bool:
 
 @dataclass(eq=False)
 class SceneObject:
-    """An object or a camera: a mesh, a material and a history of model matrices (top = current)."""
+    """An object or a camera: a mesh, a material and a history of model matrices (top = current).
+    Setting `material` gives it to every part too; `part_materials` set after it tell parts apart."""
 
     name: str
     mesh: Mesh
@@ -177,6 +178,13 @@ class SceneObject:
         """Initial placement: turned about the world x, then y, then z axis, then moved."""
         return cls(name=name, mesh=mesh, material=material, history=[placement(position, rotation_deg)],
                    source=source)
+
+    def __setattr__(self, name: str, value: object) -> None:
+        """Setting `material` gives it to every part too, as a scene file's material does: the whole
+        object is then drawn, probed and shown with it. Set `part_materials` after it to tell parts apart."""
+        super().__setattr__(name, value)
+        if name == "material":
+            super().__setattr__("part_materials", tuple(value for _ in self.part_materials))
 
     @property
     def model(self) -> np.ndarray:
