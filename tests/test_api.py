@@ -457,7 +457,11 @@ def test_arguments_that_contradict_or_only_look_right_are_refused() -> None:
         marraztu.Viewer(size=SIZE, scene="nowhere.toml", empty=True)
     with pytest.raises(ValueError, match="empty is True or False"):
         marraztu.Viewer(size=SIZE, empty="yes")  # type: ignore[arg-type]
-    with marraztu.Viewer(size=SIZE, empty=True) as v:
+    with marraztu.Viewer(size=SIZE, empty=np.True_) as v:
+        for overlay in ("yes", 1, None, ""):  # render(overlay="no") drew the overlay
+            with pytest.raises(ValueError, match=f"^overlay is True or False, not {overlay!r}$"):
+                v.render(overlay=overlay)  # type: ignore[arg-type]
+        v.render(overlay=np.False_)
         with pytest.raises(ValueError, match="attributes_per_vertex is True, False or None"):
             v.add_mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]], attributes_per_vertex="no")  # type: ignore
         for faces, said in ([[0, 1, 2, 3]], "rows of 3 real numbers"), ([0, 1, 2], "rows of 3"), \

@@ -108,6 +108,14 @@ def _checked_size(size: Sequence[int]) -> Size:
     return checked_size(width, height)
 
 
+def _checked_flag(value: Any, what: str, none: bool = False) -> None:
+    """Every switch of the interface takes True or False (numpy's too) and nothing else: "no" and 1
+    are refused, not taken as true. `none`: None means "let the program decide"."""
+    if not (isinstance(value, (bool, np.bool_)) or (none and value is None)):
+        allowed = "True, False or None" if none else "True or False"
+        raise ValueError(f"{what} is {allowed}, not {escaped(repr(value))[:80]}")
+
+
 def _checked_path(path: Any, what: str) -> Path:
     """A file name given as a str or a path (os.PathLike); TypeError naming the argument otherwise."""
     if not isinstance(path, (str, os.PathLike)):
@@ -169,8 +177,7 @@ class Viewer:
     def __init__(self, size: Sequence[int] = (800, 600), scene: str | Path | None = None, empty: bool = False,
                  texture: str | Path | None = None) -> None:
         self._size = _checked_size(size)
-        if not isinstance(empty, (bool, np.bool_)):
-            raise ValueError(f"empty is True or False, not {escaped(repr(empty))[:80]}")
+        _checked_flag(empty, "empty")
         if empty and scene is not None:  # as the command line's --scene and --empty
             raise ValueError("a scene file or empty=True: the two are starting scenes, give one")
         options = StartOptions(scene_file=None if scene is None else _checked_path(scene, "scene"), empty=empty,
@@ -240,9 +247,7 @@ class Viewer:
         polygons), uvs and normals per vertex or per corner (`attributes_per_vertex` says which where
         both fit), colours per vertex."""
         self._check_open()
-        if not (attributes_per_vertex is None or isinstance(attributes_per_vertex, (bool, np.bool_))):
-            shown = escaped(repr(attributes_per_vertex))[:80]
-            raise ValueError(f"attributes_per_vertex is True, False or None, not {shown}")
+        _checked_flag(attributes_per_vertex, "attributes_per_vertex", none=True)
         shown_name = escaped(str(name))[:200]
         if faces is None and (hasattr(positions, "geometry")
                               or (hasattr(positions, "vertices") and hasattr(positions, "faces"))):
@@ -270,6 +275,7 @@ class Viewer:
     def render(self, overlay: bool = False, size: Sequence[int] | None = None) -> Image.Image:
         """The picture the window would show (with `overlay`, its text and panels too)."""
         self._check_open()
+        _checked_flag(overlay, "overlay")
         shape = self.size if size is None else _checked_size(size)
         _release_unreleased()
         with self._ctx:  # another Viewer's context may be the current one: each draws in its own
