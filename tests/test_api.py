@@ -362,6 +362,15 @@ def test_the_package_names_its_errors() -> None:
     assert all(hasattr(marraztu, name) for name in marraztu.__all__)
 
 
+def test_the_repr_says_what_the_viewer_holds_without_drawing(monkeypatch: pytest.MonkeyPatch) -> None:
+    """It was object.__repr__'s '<marraztu.frontends.api.Viewer object at 0x...>'."""
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        monkeypatch.setattr(v, "render", None)  # drawing would fail
+        assert repr(v) == "<marraztu.Viewer 160x120, 0 objects, 1 camera, 4 lights, open>"
+        v.add_mesh(TRIANGLE, [[0, 1, 2]])
+    assert repr(v) == "<marraztu.Viewer 160x120, 1 object, 1 camera, 4 lights, closed>"
+
+
 def test_close_releases_and_garbage_collection_too() -> None:
     v = marraztu.Viewer(size=SIZE)
     v.close()

@@ -108,6 +108,10 @@ def _checked_size(size: Sequence[int]) -> Size:
     return checked_size(width, height)
 
 
+def _counted(count: int, what: str) -> str:
+    return f"{count} {what}{'' if count == 1 else 's'}"
+
+
 def _checked_flag(value: Any, what: str, none: bool = False) -> None:
     """Every switch of the interface takes True or False (numpy's too) and nothing else: "no" and 1
     are refused, not taken as true. `none`: None means "let the program decide"."""
@@ -282,6 +286,13 @@ class Viewer:
             pixels = render_pixels(self._ctx, self._renderer, self._viewer, shape, overlay)
         return_freed_memory()  # as the window does when still: a notebook keeps the process between pictures
         return Image.fromarray(pixels)
+
+    def __repr__(self) -> str:
+        """What the viewer holds, in words, drawing nothing: a notebook shows it once closed."""
+        scene, (width, height) = self.scene, self.size
+        counts = ", ".join(_counted(len(items), what) for items, what in
+                           ((scene.objects, "object"), (scene.cameras, "camera"), (scene.lights, "light")))
+        return f"<marraztu.Viewer {width}x{height}, {counts}, {'open' if self._closer.alive else 'closed'}>"
 
     def _repr_png_(self) -> bytes | None:
         if not self._closer.alive:  # None: the notebook shows the text repr instead of a traceback
