@@ -264,8 +264,11 @@ def test_rows_that_fit_vertices_and_corners_alike_must_say_which(viewer) -> None
     (TRIANGLE * 1e20, [[0, 1, 2]], "cannot light"),
     (TRIANGLE[:, :2], [[0, 1, 2]], "shape"),
     (TRIANGLE, [[0, 1, 2], [0, 1, 3]], r"face 1 refers to vertex 3, but there are 3 \(0-based\)"),
-    (TRIANGLE, [[0, 1, 2**63]], "face 0 refers to vertex"),  # past int64: no numpy warning on the terminal
-    (TRIANGLE, [[0, 1, 2.0**70]], "face 0 refers to vertex"),
+    # Past int64, named as given: a uint64 2**63 was "vertex -9223372036854775808", the others 2**62.
+    (TRIANGLE, np.array([[0, 1, 2**63]], np.uint64), "^9223372036854775808 is no vertex index or face size: "),
+    (TRIANGLE, [[0, 1, 2**63]], "^9223372036854775808 is no vertex index"),  # no numpy warning on the terminal
+    (TRIANGLE, [[0, 1, 2.0**70]], "^1180591620717411303424 is no vertex index"),
+    (TRIANGLE, [[0, 1, 2**40]], "^face 0 refers to vertex 1099511627776, but there are 3"),
     (TRIANGLE, [[0, 1]], "at least 3"),
     (TRIANGLE, [[0, 1, 2], [0, 1], [1, 2]], "^face 1 has 2 vertices: a face needs at least 3$"),
     (TRIANGLE, np.empty((0, 3), int), "^a mesh needs at least one face$"),  # not "faces of at least 3 vertices"

@@ -196,14 +196,24 @@ def _sized_faces(corners: np.ndarray | Sequence[int], sizes: np.ndarray | Sequen
 
 def whole_numbers(indices: np.ndarray, refusal: str = "face indices must be whole numbers (0-based vertex rows)"
                   ) -> np.ndarray:
-    """Vertex indices (or face sizes) as int64; 1.5 or "a" is refused, not rounded or read as something else."""
-    if indices.dtype.kind in "iu":
+    """Vertex indices (or face sizes) as int64; 1.5 or "a" is refused, not rounded or read as something
+    else, and a number past int64 (2**63 or more) is refused naming it, not wrapped to a negative one."""
+    given = indices
+    if indices.dtype.kind == "i":
         return indices.astype(np.int64, copy=False)
     if indices.dtype.kind == "O":  # a (F, k) array of objects, as pandas gives: whole numbers in them too
         indices = real_numbers(indices, refusal)
-    if indices.dtype.kind == "f" and np.isfinite(indices).all() and (indices == np.round(indices)).all():
-        return np.clip(indices, -2.0**62, 2.0**62).astype(np.int64)  # past int64: out of range all the same
-    raise ValueError(refusal)
+    if indices.dtype.kind == "u":
+        past = indices > np.iinfo(np.int64).max
+    elif indices.dtype.kind == "f" and np.isfinite(indices).all() and (indices == np.round(indices)).all():
+        past = np.abs(indices) >= 2.0**63
+    else:
+        raise ValueError(refusal)
+    if past.any():
+        value = int(given.flat[int(np.argmax(past))])
+        raise ValueError(f"{value} is no vertex index or face size: a mesh holds fewer than {INDEX_LIMIT} "
+                         "positions and corners")
+    return indices.astype(np.int64, copy=False)
 
 
 def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, face_start: np.ndarray,
