@@ -284,6 +284,18 @@ def test_bad_arrays_are_refused_where_they_enter(viewer, positions, faces, words
         viewer.add_mesh(positions, faces)
 
 
+def test_masked_values_are_refused_not_drawn(viewer) -> None:
+    """A masked array's hidden values were read as any others: the masked corner at 77 was drawn there."""
+    shown = np.ma.masked_array(TRIANGLE, mask=np.eye(3, dtype=bool))
+    for given in ("positions", "normals", "uvs", "colours", "faces"):
+        arrays = {"positions": TRIANGLE, "faces": [[0, 1, 2]], given: shown[:, :2] if given == "uvs" else shown}
+        if given == "faces":
+            arrays["faces"] = np.ma.masked_array([[0, 1, 2]], mask=[[0, 0, 1]])
+        with pytest.raises(ValueError, match=f"^{given} has masked values, which would be drawn as any others"):
+            viewer.add_mesh(**arrays)
+    assert viewer.add_mesh(np.ma.masked_array(TRIANGLE), [[0, 1, 2]]).scene.objects[-1].mesh.face_count == 1
+
+
 def test_uvs_and_normals_past_32_bit_floats_are_refused_as_a_files_are(viewer) -> None:
     for given in ("uvs", "normals"):
         huge = np.full((3, 2 if given == "uvs" else 3), 1e300)

@@ -252,6 +252,7 @@ class Viewer:
         both fit), colours per vertex."""
         self._check_open()
         _checked_flag(attributes_per_vertex, "attributes_per_vertex", none=True)
+        _refuse_masked(positions=positions, faces=faces, uvs=uvs, normals=normals, colours=colours)
         shown_name = escaped(str(name))[:200]
         if faces is None and (hasattr(positions, "geometry")
                               or (hasattr(positions, "vertices") and hasattr(positions, "faces"))):
@@ -347,6 +348,15 @@ def _probed_vertex(found: Any, vertex: Any) -> ProbedVertex:
                         normal=_triple(vertex.world_normal), n_dot_v=vertex.n_dot_v,
                         ambient=_triple(vertex.terms.ambient), lights=shares, total=_triple(vertex.shown),
                         colour=colour, vertex_colour=tint)  # type: ignore[arg-type]
+
+
+def _refuse_masked(**arrays: Any) -> None:
+    """numpy reads a masked array's hidden values as any others: they would be drawn, so a mask that
+    hides any is refused (one that hides none is its values)."""
+    for what, values in arrays.items():
+        if np.ma.is_masked(values):
+            raise ValueError(f"{what} has masked values, which would be drawn as any others: give "
+                             f"np.ma.filled({what}, value) or leave their rows out")
 
 
 def _finite_positions(positions: Any) -> np.ndarray:
