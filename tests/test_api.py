@@ -527,14 +527,17 @@ def test_a_scene_changed_by_hand_keeps_its_selection_in_range() -> None:
             v.render(overlay=True)
 
 
-@pytest.mark.parametrize("model, words", [
+BAD_MODELS = [
     (np.diag([1.0, 0.0, 1.0, 1.0]), "has no inverse"),  # a squash onto a plane, as a lab might try
     (np.eye(3), r"4x4, not \(3, 3\)"),
     (np.full((4, 4), np.nan), "finite"),
     ("abc", "4x4 of numbers"),
     (np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0.002, 0, 1]]),  # drew, lit as if affine
      "must end in the row 0 0 0 1 \\(an affine transform\\), not 0 0.002 0 1"),
-])
+]
+
+
+@pytest.mark.parametrize("model, words", BAD_MODELS)
 def test_a_model_matrix_set_by_hand_that_cannot_be_drawn_is_refused_in_one_line(model, words: str) -> None:
     """The renderer inverts every model matrix (the near plane, the normals): a singular one pushed by
     hand raised numpy's LinAlgError from deep in the renderer, a 3x3 one a ValueError about sequences."""
@@ -549,6 +552,22 @@ def test_a_model_matrix_set_by_hand_that_cannot_be_drawn_is_refused_in_one_line(
             v.render()
         v.scene.cameras[0].history.pop()
         assert np.asarray(v.render()).any()
+
+
+@pytest.mark.parametrize("model, words", BAD_MODELS)
+def test_a_matrix_down_the_undo_history_that_cannot_be_drawn_is_refused_before_u_makes_it_current(
+        model, words: str) -> None:
+    """Only the current matrix is checked at each call: a singular one pushed under a good one was made
+    current by `u` (a 3x3 one raised matmul's error from x), and from then on every call, press("u")
+    too, was refused. `u` refuses it, leaving the good one current."""
+    with marraztu.Viewer(size=SIZE) as v:
+        obj = v.scene.objects[0]
+        obj.history += [model, np.eye(4)]
+        with pytest.raises(ValueError, match=rf"^{obj.name}'s history\[-2\], which u undoes to, .*{words}"):
+            v.press("u x")
+        assert obj.history[-1] is not model and np.asarray(v.render()).any()
+        del obj.history[-2]
+        assert np.asarray(v.press("u x").render()).any()
 
 
 @pytest.mark.parametrize("change, words", [

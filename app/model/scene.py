@@ -229,8 +229,14 @@ class SceneObject:
         self.history.append(np.asarray(model, dtype=np.float64))
 
     def undo(self) -> bool:
+        """The previous model matrix made current again. The keys push only matrices that can be drawn;
+        one pushed by hand (the programming interface's scene) under the current one is refused here,
+        ValueError, before it becomes current: the calls after could not undo past it."""
         if len(self.history) <= 1:
             return False
+        refusal = model_refusal(self.history[-2])
+        if refusal is not None:
+            raise ValueError(f"{self.name}'s history[-2], which u undoes to, {refusal}")
         self.history.pop()
         return True
 
