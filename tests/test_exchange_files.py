@@ -81,12 +81,15 @@ def hostile_jpeg(segments: int) -> bytes:
 
 
 def with_held_jpeg(folder: Path, where: str, segments: int) -> Path:
-    """write_gltf's square, its picture a JPEG held in the glTF itself: a data: URI, a view of the GLB's
-    binary chunk, or a view of the buffer it names beside it."""
+    return with_held_picture(folder, where, hostile_jpeg(segments))
+
+
+def with_held_picture(folder: Path, where: str, picture: bytes) -> Path:
+    """write_gltf's square, its picture (a JPEG's bytes) held in the glTF itself: a data: URI, a view of
+    the GLB's binary chunk, or a view of the buffer it names beside it."""
     path = write_gltf(folder, image_uri=None, image_file=None)
     document = json.loads(path.read_text())
     joined = (folder / "square.bin").read_bytes()
-    picture = hostile_jpeg(segments)
     if where == "data URI":
         document["images"] = [{"uri": "data:image/jpeg;base64," + base64.b64encode(picture).decode()}]
         path.write_text(json.dumps(document))
@@ -121,6 +124,28 @@ def test_a_jpeg_a_gltf_holds_is_checked_as_a_texture_is(tmp_path: Path, where: s
     assert refused.warnings == ("a picture the file holds could not be read (more than 4096 markers and stray bytes "
                                 "before the picture: no JPEG's header holds so many); the scene's texture is shown "
                                 "in its place",)
+
+
+@pytest.mark.parametrize("where", ["data URI", "GLB", "beside"])
+@pytest.mark.parametrize(("picture", "why"), [
+    (b"garbage!" * 8, "not a PNG, JPEG or PPM picture (it starts with b'garbage!')"),
+    (b"\x89PNG\r\n\x1a\n" + b"\0" * 30, "a broken PNG: Pillow cannot read its header"),
+])
+def test_a_picture_the_gltf_holds_that_pillow_cannot_open_is_a_note(tmp_path: Path, where: str, picture: bytes,
+                                                                    why: str) -> None:
+    """trimesh dropped it without a word, and the square was drawn untextured; Pillow's own words named
+    its object ('<_io.BytesIO object at 0x...>')."""
+    loaded = load_model(with_held_picture(tmp_path, where, picture))
+    assert loaded.face_count == 2 and all(material.texture is None for material in loaded.materials)
+    assert loaded.warnings == (f"a picture the file holds could not be read ({why}); the scene's texture is shown "
+                               "in its place",)
+
+
+def test_a_broken_png_beside_a_gltf_is_named_without_pillows_object(tmp_path: Path) -> None:
+    (tmp_path / "broken.png").write_bytes(b"\x89PNG\r\n\x1a\n" + b"\0" * 30)
+    loaded = load_model(write_gltf(tmp_path, image_uri="broken.png", image_file=None))
+    assert loaded.warnings == ("texture 'broken.png' could not be read (a broken PNG: Pillow cannot read its header); "
+                               "the scene's texture is shown in its place",)
 
 
 def test_a_gltf_draws_its_picture_named_by_a_plain_uri(tmp_path: Path) -> None:

@@ -333,6 +333,7 @@ class _HeaderRefused(SyntaxError):
 
 _checked = threading.local()  # .refusals: the messages of the innermost pictures_checked() of this thread
 _installed: dict[str, tuple[Callable, Callable | None]] = {}  # Pillow's own openers while ours stand in
+_installed_open: list[Callable] = []  # Pillow's own Image.open while ours stands in
 _installed_by = [0]  # how many pictures_checked() blocks are open, in all threads
 _install_lock = threading.Lock()
 
@@ -342,7 +343,8 @@ def pictures_checked() -> Iterator[list[str]]:
     """While the block runs, Pillow's openers of the common formats (JPEG, PNG, PPM, BMP, GIF) check a
     picture's header first (check_picture_header) and its size once read (check_picture_size), before
     Pillow's own guard warns, wherever Pillow is asked to open one: by marraztu, or by trimesh for the
-    pictures a glTF holds. What they refused is listed (trimesh drops a picture it cannot open)."""
+    pictures a glTF holds. What they refused is listed, and a picture Pillow cannot open at all
+    (trimesh drops a picture it cannot open, in no words)."""
     refusals: list[str] = []
     outer, _checked.refusals = getattr(_checked, "refusals", None), refusals
     with _install_lock:
@@ -351,6 +353,8 @@ def pictures_checked() -> Iterator[list[str]]:
             for kind, (factory, accept) in list(Image.OPEN.items()):
                 _installed[kind] = (factory, accept)
                 Image.OPEN[kind] = (_checking(factory), accept)
+            _installed_open.append(Image.open)
+            Image.open = _noting_failures(Image.open)
         _installed_by[0] += 1
     try:
         yield refusals
@@ -360,6 +364,7 @@ def pictures_checked() -> Iterator[list[str]]:
             if not _installed_by[0]:
                 Image.OPEN.update(_installed)
                 _installed.clear()
+                Image.open = _installed_open.pop()
         _checked.refusals = outer
 
 
@@ -383,6 +388,41 @@ def _checking(factory: Callable) -> Callable:
     return open_checked
 
 
+def _noting_failures(open_: Callable) -> Callable:
+    """Pillow's Image.open, a picture it cannot open listed, as a refusal, with why."""
+    def open_noted(fp: BinaryIO | str | Path, *args: object, **options: object) -> Image.Image:
+        try:
+            return open_(fp, *args, **options)
+        except Exception as error:
+            if getattr(_checked, "refusals", None) is not None:
+                _checked.refusals.append(unreadable(error, _head_of(fp)))
+            raise
+    return open_noted
+
+
+def _head_of(stream: object) -> bytes:
+    """The first bytes of a stream Pillow was handed and left open; none of a file name."""
+    try:
+        at = stream.tell()  # type: ignore[attr-defined]
+        stream.seek(0)  # type: ignore[attr-defined]
+        head = stream.read(_MAGIC_LENGTH)  # type: ignore[attr-defined]
+        stream.seek(at)  # type: ignore[attr-defined]
+    except (AttributeError, OSError, ValueError):
+        return b""
+    return head if isinstance(head, bytes) else b""
+
+
+def unreadable(error: Exception, head: bytes) -> str:
+    """Why Pillow could not open or decode a picture of these first bytes: its own words, but not where
+    they hold its object's repr ('cannot identify image file <_io.BytesIO object at 0x...>')."""
+    if not isinstance(error, Image.UnidentifiedImageError):
+        return f"not a readable image ({type(error).__name__}: {error})"
+    kind = image_format(head)
+    if kind is None:
+        return f"not a PNG, JPEG or PPM picture (it starts with {head[:8]!r})"
+    return f"a broken {kind}: Pillow cannot read its header"
+
+
 def _refused(error: LoadError) -> _HeaderRefused:
     """The refusal Pillow takes for "not this format", its message listed where pictures_checked() asks."""
     if getattr(_checked, "refusals", None) is not None:
@@ -391,13 +431,13 @@ def _refused(error: LoadError) -> _HeaderRefused:
 
 
 def _load_with_pillow(file: Path, kind: str) -> np.ndarray:
-    with _opened(file, file, kind) as image:
+    with file.open("rb") as stream, _opened(file, stream, kind) as image:  # a stream: its head for a message
         image.load()
         return rgb_array(image)
 
 
 @contextlib.contextmanager
-def _opened(source: str | Path, file: Path | BinaryIO, kind: str) -> Iterator[Image.Image]:
+def _opened(source: str | Path, file: BinaryIO, kind: str) -> Iterator[Image.Image]:
     """The picture as Pillow opens it, of `kind` only, its header and size checked and its pixels not yet
     decoded; what goes wrong, then or while the block decodes it, a LoadError naming `source`."""
     try:
@@ -405,10 +445,8 @@ def _opened(source: str | Path, file: Path | BinaryIO, kind: str) -> Iterator[Im
             warnings.simplefilter("error", Image.DecompressionBombWarning)
             try:
                 image = Image.open(file, formats=[kind])
-            except Image.UnidentifiedImageError:
-                if refusals:
-                    raise LoadError(source, refusals[0]) from None
-                raise
+            except Image.UnidentifiedImageError as error:  # refused by a check, or not identified: listed
+                raise LoadError(source, refusals[0] if refusals else unreadable(error, _head_of(file))) from None
             with image:
                 check_picture_size(source, *image.size)
                 yield image
@@ -417,7 +455,7 @@ def _opened(source: str | Path, file: Path | BinaryIO, kind: str) -> Iterator[Im
     except (Image.DecompressionBombError, Image.DecompressionBombWarning):
         raise LoadError(source, "image is too large (Pillow's decompression-bomb guard)") from None
     except Exception as error:  # Pillow raises OSError, ValueError, SyntaxError, EOFError, ... for bad files
-        raise LoadError(source, f"not a readable image ({type(error).__name__}: {error})") from None
+        raise LoadError(source, unreadable(error, _head_of(file))) from None
 
 
 def rgb_array(image: Image.Image) -> np.ndarray:
