@@ -823,3 +823,53 @@ def test_a_buffer_file_named_many_times_is_read_once(tmp_path: Path) -> None:
     mesh, peak = peak_traced_bytes(lambda: load_model(tmp_path / "many.gltf"))
     assert np.array_equal(mesh.positions, TRIANGLE)
     assert peak < 10 * len(binary)
+
+
+# --- what trimesh passes over without a word: notes -----------------------------------------------
+def morphed_glb(folder: Path, mesh_weights: list[float], node: dict[str, Any]) -> Path:
+    """The triangle with one morph target that lifts it by 5 along z, placed by `node`."""
+    document, binary = triangle_gltf([node], [0])
+    target = np.full((3, 3), [0, 0, 5], np.float32).tobytes()
+    document["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(target)})
+    document["accessors"].append({"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC3",
+                                  "min": [0, 0, 5], "max": [0, 0, 5]})
+    document["meshes"][0]["primitives"][0]["targets"] = [{"POSITION": 2}]
+    document["meshes"][0]["weights"] = mesh_weights
+    document["buffers"][0]["byteLength"] = len(binary + target)
+    path = folder / "morphed.glb"
+    path.write_bytes(glb(document, binary + target))
+    return path
+
+
+@pytest.mark.parametrize(("mesh_weights", "node", "noted"), [
+    ([1.0], {"mesh": 0}, True),
+    ([0.0], {"mesh": 0}, False),
+    ([0.0], {"mesh": 0, "weights": [0.5]}, True),  # a node's weights are its mesh's
+    ([1.0], {"mesh": 0, "weights": [0]}, False),
+])
+def test_morph_targets_that_would_change_the_shape_are_a_note(tmp_path: Path, mesh_weights: list[float],
+                                                              node: dict[str, Any], noted: bool) -> None:
+    """trimesh reads no morph target: a mesh whose default weights are not zero was drawn in its base
+    shape without a word."""
+    loaded = load_model(morphed_glb(tmp_path, mesh_weights, node))
+    assert np.array_equal(loaded.positions, TRIANGLE)  # the base shape
+    assert loaded.warnings == (("1 mesh with morph targets drawn in the base shape: the weights that change it are "
+                                "not applied",) if noted else ())
+
+
+@pytest.mark.parametrize(("factors", "note"), [
+    ([[1, 0.5, 30.5, 1]], "material 0's baseColorFactor holds 30.5: glTF's colours are 0..1, held to it"),
+    ([[1, 0.5, 1, 1], [-2, 0.5, 1, 1], [1, 0.5, 1, 1.5]],
+     "2 materials' baseColorFactor hold values outside glTF's 0..1 (the first, material 1's, -2), held to it"),
+    ([[1, 0.5, 0, 1]], None),
+])
+def test_a_base_colour_outside_0_to_1_is_a_note(tmp_path: Path, factors: list[list[float]], note: str | None) -> None:
+    """glTF's colours are 0..1, and trimesh held 30.5 to 1 without a word."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["materials"] = [{"pbrMetallicRoughness": {"baseColorFactor": factor}} for factor in factors]
+    document["meshes"][0]["primitives"][0]["material"] = len(factors) - 1
+    path = tmp_path / "coloured.glb"
+    path.write_bytes(glb(document, binary))
+    loaded = load_model(path)
+    assert loaded.warnings == (() if note is None else (note,))
+    assert loaded.file_material["kd"][:2] == (1.0, pytest.approx(0.5, abs=0.01))

@@ -162,10 +162,11 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     counts = _gltf_counts(document)
     if counts is not None:  # before trimesh builds a node and a mesh per placement
         _check_placed_counts(path, *counts)
+    notes = _unfaithful_notes(document)
     data = _without_node_cameras(data if file_type == "gltf" else _declared_part(data), document, file_type)
     del document
     beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True, least_bytes=buffer_bytes)
-    return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside)
+    return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside, notes=notes)
 
 
 # --- reading and checking ------------------------------------------------------------------------
@@ -296,6 +297,50 @@ def _gltf_document(path: Path, data: bytes) -> dict[str, Any]:
 def _gltf_pictures(document: dict[str, Any]) -> frozenset[str]:
     """The URIs of a .gltf's pictures (not its buffers', which may be named anything)."""
     return frozenset(_uris(document.get("images"))) - frozenset(_uris(document.get("buffers")))
+
+
+def _unfaithful_notes(document: dict[str, Any]) -> list[str]:
+    """What of a checked glTF is drawn otherwise than it says, which trimesh passes over without a word:
+    morph targets it does not read, and base colours outside 0..1 it holds to it."""
+    return [*_morphed_notes(document), *_outside_colour_notes(document)]
+
+
+def _morphed_notes(document: dict[str, Any]) -> list[str]:
+    """A mesh placed with morph targets and weights not all zero (a node's, else the mesh's own) is drawn
+    in its base shape: trimesh reads no target."""
+    meshes = document.get("meshes", [])
+    morphed = {index for node in document.get("nodes", []) if _is_whole(index := node.get("mesh"))
+               and _has_targets(meshes[index]) and _any_weight(node.get("weights", meshes[index].get("weights")))}
+    if not morphed:
+        return []
+    return [f"{counted(len(morphed), 'mesh', 'meshes')} with morph targets drawn in the base shape: the weights "
+            "that change it are not applied"]
+
+
+def _has_targets(mesh: dict[str, Any]) -> bool:
+    return any(isinstance(primitive, dict) and primitive.get("targets") for primitive in mesh["primitives"])
+
+
+def _any_weight(weights: object) -> bool:
+    return isinstance(weights, list) and any(_is_number(weight) and weight != 0 for weight in weights)
+
+
+def _outside_colour_notes(document: dict[str, Any]) -> list[str]:
+    """A material's baseColorFactor outside glTF's 0..1, which trimesh holds to it."""
+    outside = [(number, value) for number, material in enumerate(document.get("materials", []))
+               for value in _listed(material.get("pbrMetallicRoughness", {}).get("baseColorFactor"))
+               if _is_number(value) and not 0 <= value <= 1]
+    if not outside:
+        return []
+    (number, value), materials = outside[0], len({number for number, _ in outside})
+    if materials == 1:
+        return [f"material {number}'s baseColorFactor holds {value:g}: glTF's colours are 0..1, held to it"]
+    return [f"{materials} materials' baseColorFactor hold values outside glTF's 0..1 (the first, material {number}'s, "
+            f"{value:g}), held to it"]
+
+
+def _listed(value: object) -> list[Any]:
+    return value if isinstance(value, list) else []
 
 
 def _glb_document(path: Path, data: bytes) -> dict[str, Any]:
@@ -780,12 +825,14 @@ def _line_of_first_non_finite(data: bytes) -> int | None:
 
 
 def _finish(path: Path, loaded: Any, data: bytes | None, beside: _FilesBeside | None = None,
-            face_sizes: np.ndarray | None = None) -> Mesh:
+            face_sizes: np.ndarray | None = None, notes: list[str] | None = None) -> Mesh:
     """A file's Mesh; `data`, for a text format, lets a bad number be found by line; `beside` read what
     the file names beside it, and says what it could not read; `face_sizes`, the polygons a PLY's
-    triangles were fanned from."""
+    triangles were fanned from; `notes`, what was found of the file before trimesh read it."""
     mesh = _mesh_of(path, path.stem, loaded, data, picture_formats=_PICTURE_FORMATS, finite_uvs=True,
                     face_sizes=face_sizes)
+    if notes:
+        mesh = replace(mesh, warnings=(*notes, *mesh.warnings))
     if beside is None or not (beside.tried or beside.failures or beside.held_failures):
         return mesh
     return replace(mesh, warnings=(*beside.notes(), *mesh.warnings), read_beside=tuple(dict.fromkeys(beside.tried)))
