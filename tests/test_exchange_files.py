@@ -148,6 +148,25 @@ def test_a_broken_png_beside_a_gltf_is_named_without_pillows_object(tmp_path: Pa
                                "the scene's texture is shown in its place",)
 
 
+@pytest.mark.parametrize("fallback", [True, False])
+def test_a_webp_textures_fallback_is_drawn(tmp_path: Path, fallback: bool) -> None:
+    """EXT_texture_webp names a WEBP, `source` a PNG for a viewer that draws no WEBP: trimesh took the
+    WEBP, which was refused with a note, and the PNG was never drawn. Without a fallback, the note stays."""
+    path = write_gltf(tmp_path)
+    document = json.loads(path.read_text())
+    (tmp_path / "square.webp").write_bytes(png_bytes(top_red_bottom_blue(), "WEBP"))
+    document["images"].append({"uri": "square.webp"})
+    document["textures"] = [{**({"source": 0} if fallback else {}), "extensions": {"EXT_texture_webp": {"source": 1}}}]
+    document["extensionsUsed"] = ["EXT_texture_webp"]
+    path.write_text(json.dumps(document))
+    loaded = load_model(path)
+    if fallback:
+        assert loaded.warnings == () and loaded.materials[0].texture[0, 0, 0] > 200
+        assert tmp_path / "square.webp" not in loaded.read_beside  # not read at all
+    else:
+        assert loaded.warnings[0].startswith("texture 'square.webp' could not be read (not a PNG, JPEG or PPM")
+
+
 def test_a_gltf_draws_its_picture_named_by_a_plain_uri(tmp_path: Path) -> None:
     loaded = load_model(write_gltf(tmp_path))
     assert loaded.warnings == () and loaded.materials[0].texture.shape == (8, 8, 3)

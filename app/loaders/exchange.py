@@ -163,7 +163,7 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     if counts is not None:  # before trimesh builds a node and a mesh per placement
         _check_placed_counts(path, *counts)
     notes = _unfaithful_notes(document)
-    data = _without_node_cameras(data if file_type == "gltf" else _declared_part(data), document, file_type)
+    data = _as_trimesh_reads(data if file_type == "gltf" else _declared_part(data), document, file_type)
     del document
     beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True, least_bytes=buffer_bytes)
     return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside, notes=notes)
@@ -396,15 +396,12 @@ def _declared_part(data: bytes) -> bytes:
     return data if len(data) == declared else data[:declared]
 
 
-def _without_node_cameras(data: bytes, document: dict[str, Any], file_type: str) -> bytes:
-    """The file, its nodes' cameras taken out of its JSON where a node has one (a GLB's JSON chunk made
-    again): trimesh leaves out a node with a camera, its mesh and the children under it too, and the
-    viewer reads no camera of a model. The document is checked already (_GltfReferences)."""
-    nodes = [node for node in document.get("nodes", []) if "camera" in node]
-    if not nodes:
+def _as_trimesh_reads(data: bytes, document: dict[str, Any], file_type: str) -> bytes:
+    """The file, its JSON made again (a GLB's JSON chunk too) where trimesh is to read it otherwise: its
+    nodes' cameras taken out, and its WEBP textures' fallbacks chosen. The document is checked already
+    (_GltfReferences)."""
+    if not (_node_cameras_taken_out(document) | _fallbacks_chosen(document)):  # |: both take out theirs
         return data
-    for node in nodes:
-        del node["camera"]
     text = json.dumps(document).encode()
     if file_type == "gltf":
         return text
@@ -413,6 +410,44 @@ def _without_node_cameras(data: bytes, document: dict[str, Any], file_type: str)
     rest = data[20 + old_length + (-old_length % 4):declared]  # the chunks after the JSON, as _glb_document reads them
     return (b"glTF" + (2).to_bytes(4, "little") + (20 + len(text) + len(rest)).to_bytes(4, "little")
             + len(text).to_bytes(4, "little") + b"JSON" + text + rest)
+
+
+def _node_cameras_taken_out(document: dict[str, Any]) -> bool:
+    """Takes out the nodes' cameras: trimesh leaves out a node with a camera, its mesh and the children
+    under it too, and the viewer reads no camera of a model. False where there is none."""
+    nodes = [node for node in document.get("nodes", []) if "camera" in node]
+    for node in nodes:
+        del node["camera"]
+    return bool(nodes)
+
+
+_WEBP = "EXT_texture_webp"
+
+
+def _fallbacks_chosen(document: dict[str, Any]) -> bool:
+    """Takes out EXT_texture_webp where a texture gives a fallback `source` too, as a viewer that draws
+    no WEBP does (trimesh took the WEBP, not drawn), and empties a picture no texture names then, which
+    is not read. False where no texture has both."""
+    textures = document.get("textures", [])
+    both = [texture for texture in textures if "source" in texture and _WEBP in _listed_extensions(texture)]
+    alternatives = {_webp_source(texture["extensions"].pop(_WEBP)) for texture in both}
+    named = {texture.get("source") for texture in textures} | {
+        _webp_source(_listed_extensions(texture).get(_WEBP)) for texture in textures}
+    images = document.get("images", [])
+    for index in alternatives - named:
+        if index is not None and 0 <= index < len(images):
+            images[index] = {}  # trimesh passes over a picture of neither a URI nor a view
+    return bool(both)
+
+
+def _webp_source(extension: object) -> int | None:
+    source = extension.get("source") if isinstance(extension, dict) else None
+    return source if _is_whole(source) else None
+
+
+def _listed_extensions(item: dict[str, Any]) -> dict[str, Any]:
+    extensions = item.get("extensions")
+    return extensions if isinstance(extensions, dict) else {}
 
 
 class _Unshaped(Exception):
