@@ -363,6 +363,14 @@ def test_one_polygon_of_many_corners_fans_in_proportion(tmp_path: Path) -> None:
     ("ply\nformat ascii 2.0 x\nelement face 1\nend_header\n", 2,
      "expected 'format ascii 1.0' or a binary_little_endian or binary_big_endian format"),
     ("ply\nelement face 1\nend_header\n", 3, "the header has no 'format' line"),
+    # the second was read, the first passed over
+    ("ply\nformat binary_little_endian 1.0\nformat ascii 1.0\nelement face 1\nend_header\n", 3,
+     "a second 'format' line: a PLY's header has one"),
+    # passed over: a header cut or run together
+    ("ply\nformat ascii 1.0\n1 2 3 4\nelement face 1\nend_header\n", 3,
+     "'1' begins no PLY header line: a line is a format, element, property, comment or obj_info"),
+    ("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nvertex 3\nend_header\n", 5,
+     "'vertex' begins no PLY header line: a line is a format, element, property, comment or obj_info"),
     ("ply\nformat ascii 1.0\nelement face\nend_header\n", 3, "expected 'element', a name and a count"),
     # trimesh said "PLY is unexpected length!" for both
     ("ply\nformat ascii 1.0\nelement face 2\nelement vertex 0\nelement face 0\nelement face 1\nend_header\n", 6,
@@ -384,7 +392,7 @@ def test_a_bad_header_is_refused_at_its_line(tmp_path: Path, header: str, line: 
 
 
 @pytest.mark.parametrize("comment", [b"comment no end_header here\n", b"obj_info end_header\r\n",
-                                     b"comment xend_header\nend_headers\n"])
+                                     b"comment xend_header\ncomment end_headers\n"])
 def test_end_header_ends_the_header_only_as_a_line_alone(tmp_path: Path, comment: bytes) -> None:
     """The word in a comment ended the header there ("the header declares no faces"), and trimesh ends
     it at any line holding the word: a binary file's header is written again for it without comments."""

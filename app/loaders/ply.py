@@ -51,6 +51,8 @@ FACE_LISTS = ("vertex_indices", "vertex_index")  # the names exporters give a fa
 TEXCOORD_LIST = "texcoord"  # MeshLab's: u v for each corner of the face
 # A model's header declares a few elements of a few properties each: past this many, it is no model's.
 MAX_DECLARATIONS = 4096
+# The header's lines that say nothing of the body ("": a blank line, or the first, 'ply').
+_REMARKS = ("", "comment", "obj_info")
 _DECIMAL = compiled(DECIMAL_SYNTAX.encode())
 _NOT_FINITE = re.compile(rb"(?i)[+-]?(?:nan|inf|infinity)")  # numpy reads these too: refused later where wrong
 _END_WORD = "end_header"
@@ -123,6 +125,8 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
             comment_ends_it = True
             _check_end_word_in_comment(path, keyword, line, number)
         if keyword == "format":
+            if encoding is not None:  # trimesh read the last one, numpy the body as that
+                raise LoadError(path, "a second 'format' line: a PLY's header has one", line=number)
             if len(words) != 3 or words[1] not in FORMATS:
                 raise LoadError(path, "expected 'format ascii 1.0' or a binary_little_endian or binary_big_endian "
                                       "format", line=number)
@@ -143,6 +147,9 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
                 properties[-1].append(_property(path, words, number, elements[-1], property_names))
         elif "texturefile" in line.lower():  # on any other line, as trimesh reads it
             picture = line[line.lower().index("texturefile") + len("texturefile"):].strip() or None
+        elif keyword not in _REMARKS:  # trimesh passed over it: a header cut or run together
+            raise LoadError(path, f"'{keyword[:40]}' begins no PLY header line: a line is a format, element, property, "
+                                  "comment or obj_info", line=number)
     if encoding is None:
         raise LoadError(path, "the header has no 'format' line", line=number + 1)
     elements = [replace(element, properties=tuple(props)) for element, props in zip(elements, properties)]
