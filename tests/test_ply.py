@@ -184,6 +184,12 @@ def test_a_bad_body_is_refused_at_its_line(tmp_path: Path, faces: list[str], lin
     assert (refused.line, refused.message) == (line, message)
 
 
+def test_a_body_short_of_its_one_row_says_one_row(tmp_path: Path) -> None:
+    text = ply_text(["3 0 1 4"])
+    refused = refusal(tmp_path, text[:text.rindex("3 0 1 4")])
+    assert (refused.line, refused.message) == (18, "the header counts 1 row of face, the file ends before them")
+
+
 def test_a_coordinate_past_a_floats_range_is_refused_at_its_line(tmp_path: Path) -> None:
     refused = refusal(tmp_path, ply_text(["3 0 1 4"], vertices=[*GRID[:4], "1 1 -1e39", *GRID[5:]]))
     assert (refused.line, refused.message) == (14, "vertex z: -1e+39 is no float (numbers up to 3.4e+38)")

@@ -249,10 +249,19 @@ def test_a_number_of_a_million_digits_is_refused_before_toml_reads_it(tmp_path: 
     path = write_scene(tmp_path, CAMERA + f"fov = {number}\n")
     error, peak = peak_traced_bytes(lambda: load_scene(path))
     assert isinstance(error, LoadError) and error.line == 4
-    assert error.message == ("more than 4300 digits in a row (in a number, a string or a comment): no scene holds "
-                             "so many")
+    assert error.message == ("more than 4300 digits or letters a to f in a row (in a number, a string or a comment): "
+                             "no scene holds so many")
     if POSSESSIVE_GROUPS_HOLD:  # 3.11.0 to 3.11.4 match the digits with an atomic group, which keeps state per digit
         assert peak < 3 * len(number), peak
+
+
+def test_a_string_of_a_million_letters_a_is_refused_as_hexadecimal_digits(tmp_path: Path) -> None:
+    """tomllib's hexadecimal numbers take a to f as digits, so a run of them is refused as a run of digits
+    is: it was called 'more than 4300 digits in a row', which a string of letters is not, to read."""
+    path = write_scene(tmp_path, CAMERA + f'name = "{"a" * 1_000_000}"\n')
+    with pytest.raises(LoadError) as refused:
+        load_scene(path)
+    assert refused.value.line == 4 and refused.value.message.startswith("more than 4300 digits or letters a to f in")
 
 
 def test_thousands_of_entries_of_one_model_resolve_its_path_once(tmp_path: Path, monkeypatch) -> None:
@@ -572,7 +581,7 @@ def test_integer_too_long_for_python_to_read_names_its_line(tmp_path: Path) -> N
     with pytest.raises(LoadError) as caught:
         load_scene(path)
     assert (caught.value.path, caught.value.line) == (str(path), 7)
-    assert caught.value.message.startswith("more than 4300 digits") and len(str(caught.value)) < 200
+    assert caught.value.message.startswith("more than 4300 digits or letters") and len(str(caught.value)) < 200
     previous = sys.get_int_max_str_digits()
     sys.set_int_max_str_digits(1000)
     try:

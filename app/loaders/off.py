@@ -407,12 +407,13 @@ def _header(path: Path, rows: _Rows) -> tuple[_Layout, int, int]:
     return _Layout(normal=bool(keyword[3]), coloured=bool(keyword[2]), texture=bool(keyword[1])), vertices, faces
 
 
-def _taken(path: Path, rows: _Rows, count: int, what: str, most_words: int = -1) -> Iterator[Row]:
-    """The next `count` rows, or a LoadError where the file ends before them."""
+def _taken(path: Path, rows: _Rows, count: int, what: tuple[str, str], most_words: int = -1) -> Iterator[Row]:
+    """The next `count` rows, or a LoadError where the file ends before them; `what`: a row's noun, and its plural."""
     for _ in range(count):
         row = rows.next(most_words)
         if row is None:
-            raise LoadError(path, f"the header counts {count} {what}, the file ends before them", line=rows.line)
+            raise LoadError(path, f"the header counts {counted(count, *what)}, the file ends before them",
+                            line=rows.line)
         yield row
 
 
@@ -423,7 +424,7 @@ def _vertex_rows(path: Path, rows: _Rows, count: int, layout: _Layout
     positions = WordBlocks(path, checked_coordinates)
     extras = WordBlocks(path, checked_numbers)  # all checked to be finite numbers; the colour's kept
     width = 0
-    for number, words in _taken(path, rows, count, "vertices", _MOST_VERTEX_WORDS):
+    for number, words in _taken(path, rows, count, ("vertex", "vertices"), _MOST_VERTEX_WORDS):
         if len(words) not in sizes:
             wanted = " or ".join(map(str, sizes))
             raise LoadError(path, f"a vertex row holds {wanted} numbers here, this one "
@@ -467,7 +468,7 @@ def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.n
     corners = WordBlocks(path, lambda path, words, line_of: checked_indices(path, words, line_of, vertices))
     colours = WordBlocks(path, checked_numbers)
     most = max(_FACE_COLOUR_WORDS)
-    for number, (first, *rest) in _taken(path, rows, count, "faces", 1):
+    for number, (first, *rest) in _taken(path, rows, count, ("face", "faces"), 1):
         size = int(first) if is_count(first) else -1
         if size < 3:
             raise LoadError(path, f"a face's corner count must be a whole number of 3 or more, not '{first[:40]}'",

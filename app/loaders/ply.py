@@ -318,8 +318,8 @@ class _Body:
         return LoadError(self.path, message, line=line)
 
     def ended(self, element: PlyElement) -> LoadError:
-        return LoadError(self.path, f"the header counts {element.count} rows of {element.name}, the file ends "
-                                    "before them", line=line_at(self.data, max(len(self.data.rstrip()) - 1, 0)))
+        return LoadError(self.path, f"the header counts {counted(element.count, 'row')} of {element.name}, the file "
+                                    "ends before them", line=line_at(self.data, max(len(self.data.rstrip()) - 1, 0)))
 
     def numbers_beginning_lines(self) -> np.ndarray:
         """Per number of the body, whether it is the first word of its line."""
@@ -890,4 +890,5 @@ def _no_line(at: int) -> int:
 
 
 def _ended(path: Path, element: PlyElement) -> LoadError:
-    return LoadError(path, f"the header counts {element.count} rows of {element.name}, the file ends before them")
+    return LoadError(path, f"the header counts {counted(element.count, 'row')} of {element.name}, the file ends "
+                           "before them")

@@ -98,8 +98,8 @@ _LONG_DIGIT_RUN = compiled(rf"(?<![0-9A-Fa-f_])[0-9A-Fa-f](?:_?+[0-9A-Fa-f]){{{M
 _LONG_RUNS = (
     (_LONG_DOTTED_RUN, f"more than {MAX_KEY_PARTS} words joined by dots: a key of so many parts (a scene's deepest, "
                        "materials.NAME.kd, has 3)"),
-    (_LONG_DIGIT_RUN, f"more than {MAX_DIGIT_RUN} digits in a row (in a number, a string or a comment): no scene "
-                      "holds so many"),
+    (_LONG_DIGIT_RUN, f"more than {MAX_DIGIT_RUN} digits or letters a to f in a row (in a number, a string or a "
+                      "comment): no scene holds so many"),
 )
 # The first part of a table header, or of a key before any header (the top level's), that is none of
 # TOP_LEVEL_KEYS as written bare; found before tomllib, which holds hundreds of bytes for each table.
