@@ -136,15 +136,19 @@ def test_the_panel_is_drawn_and_replaces_the_probes() -> None:
     assert len(np.unique(with_pipeline[bottom].reshape(-1, 3), axis=0)) > 20, "not blank"
 
 
+def panels_of_a_model_1e12_away(keys: str) -> tuple[list[str], list[str]]:
+    """The pipeline and matrices panels' lines, a triangle and its camera moved 1e12 along x, y and z."""
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh([[-1, -1, 0], [1, -1, 0], [0, 1, 0]], [[0, 1, 2]]).press(keys)
+        for element in (v.scene.objects[0], v.scene.camera):
+            element.push(element.model + np.pad(np.full((3, 1), 1e12), ((0, 1), (3, 0))))
+        return pipeline_lines(v.scene, (0, 0, *SIZE)), matrix_lines(v.scene, SIZE)
+
+
 def test_a_model_far_from_the_origin_keeps_the_matrices_bottom_row() -> None:
     """A translation of 1e12 made the 1 under it a billionth of its column, read as rounding: the
     model and view matrices' bottom rows were printed 0 0 0 0."""
-    with marraztu.Viewer(size=SIZE, empty=True) as v:
-        v.add_mesh([[-1, -1, 0], [1, -1, 0], [0, 1, 0]], [[0, 1, 2]]).press("t x m P")
-        for element in (v.scene.objects[0], v.scene.camera):
-            element.push(element.model + np.pad(np.full((3, 1), 1e12), ((0, 1), (3, 0))))
-        lines = pipeline_lines(v.scene, (0, 0, *SIZE))
-        panel = matrix_lines(v.scene, SIZE)
+    lines, panel = panels_of_a_model_1e12_away("t x m P")
     printed = [[float(word) for word in line.split()] for line in lines[3:7]]
     assert printed[3][:8] == [0.0, 0.0, 0.0, 1.0] * 2 and printed[0][3] > 1e12
     rows = [[float(word) for word in line.split()] for line in panel if re.fullmatch(r"[\s\d.e+-]+", line)]
@@ -154,12 +158,7 @@ def test_a_model_far_from_the_origin_keeps_the_matrices_bottom_row() -> None:
 def test_a_wide_entry_widens_its_own_column() -> None:
     """A translation of 1e12 pushed the rest of its row along: the rows below no longer stood under
     it, and the V and P titles stood over other matrices' columns."""
-    with marraztu.Viewer(size=SIZE, empty=True) as v:
-        v.add_mesh([[-1, -1, 0], [1, -1, 0], [0, 1, 0]], [[0, 1, 2]]).press("m P")
-        for element in (v.scene.objects[0], v.scene.camera):
-            element.push(element.model + np.pad(np.full((3, 1), 1e12), ((0, 1), (3, 0))))
-        lines = pipeline_lines(v.scene, (0, 0, *SIZE))
-        panel = matrix_lines(v.scene, SIZE)
+    lines, panel = panels_of_a_model_1e12_away("m P")
     rows = lines[3:7]
     ends = {tuple(match.end() for match in re.finditer(NUMBER, row)) for row in rows}
     assert len(ends) == 1, rows  # every entry ends where the one above it does

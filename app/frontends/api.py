@@ -36,7 +36,7 @@ from marraztu.loaders.exchange import mesh_of_trimesh
 from marraztu.loaders.scenefile import material_for_loaded, materials_of_parts
 from marraztu.model.build import build_mesh, real_numbers
 from marraztu.model.geometry import holds_in_float32, too_far_to_light
-from marraztu.model.mesh import INDEX_LIMIT
+from marraztu.model.mesh import INDEX_LIMIT, counted
 from marraztu.model.probe import probe as probe_scene
 from marraztu.model.scene import Scene, SceneObject
 from marraztu.render.context import create_offscreen_context
@@ -106,10 +106,6 @@ def _checked_size(size: Sequence[int]) -> Size:
     except (TypeError, ValueError):
         raise ValueError(f"size must be (width, height) in whole numbers, not {escaped(repr(size))[:80]}") from None
     return checked_size(width, height)
-
-
-def _counted(count: int, what: str) -> str:
-    return f"{count} {what}{'' if count == 1 else 's'}"
 
 
 def _checked_flag(value: Any, what: str, none: bool = False) -> None:
@@ -291,7 +287,7 @@ class Viewer:
     def __repr__(self) -> str:
         """What the viewer holds, in words, drawing nothing: a notebook shows it once closed."""
         scene, (width, height) = self.scene, self.size
-        counts = ", ".join(_counted(len(items), what) for items, what in
+        counts = ", ".join(counted(len(items), what) for items, what in
                            ((scene.objects, "object"), (scene.cameras, "camera"), (scene.lights, "light")))
         return f"<marraztu.Viewer {width}x{height}, {counts}, {'open' if self._closer.alive else 'closed'}>"
 

@@ -127,8 +127,8 @@ def _watched(loaded: Any) -> Any:
 @_frees_what_trimesh_held
 def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
     data = read_model_bytes(path, stage)
-    if bom_length(data):  # Notepad's mark before the header: such a rare file costs one copy without it
-        data = data[bom_length(data):]
+    if bom := bom_length(data):  # Notepad's mark before the header: such a rare file costs one copy without it
+        data = data[bom:]
     header = read_header(path, data)
     if header.count("face") == 0:
         raise LoadError(path, "the header declares no faces (a point cloud?): nothing to draw")
@@ -400,7 +400,9 @@ def _as_trimesh_reads(data: bytes, document: dict[str, Any], file_type: str) -> 
     """The file, its JSON made again (a GLB's JSON chunk too) where trimesh is to read it otherwise: its
     nodes' cameras taken out, and its WEBP textures' fallbacks chosen. The document is checked already
     (_GltfReferences)."""
-    if not (_node_cameras_taken_out(document) | _fallbacks_chosen(document)):  # |: both take out theirs
+    cameras_taken_out = _node_cameras_taken_out(document)
+    fallbacks_chosen = _fallbacks_chosen(document)
+    if not (cameras_taken_out or fallbacks_chosen):
         return data
     text = json.dumps(document).encode()
     if file_type == "gltf":
@@ -1287,10 +1289,9 @@ def _ply_colour_notes(source: str | Path, mesh: Any) -> tuple[str, ...]:
     44): a NaN or an infinity is refused, as in every model; values outside 0..1 (floats) or 0..255
     (whole numbers) are held to it, with a note, as an OBJ's are."""
     table = _ply_vertex_table(mesh)
-    names = next((names for names in _PLY_COLOURS if table.keys() >= set(names)), None)
-    if names is None:
+    names, colours = _ply_colour_columns(table)
+    if colours is None:
         return _partial_colour_notes(table)
-    colours = np.column_stack([table[name] for name in names])
     if colours.dtype.kind == "f" and not np.isfinite(colours).all():
         raise LoadError(source, "its vertex colours hold a NaN or an infinity")
     most = 1.0 if colours.dtype.kind == "f" else 255
@@ -1301,16 +1302,21 @@ def _ply_colour_notes(source: str | Path, mesh: Any) -> tuple[str, ...]:
 def _ply_colours(mesh: Any) -> np.ndarray | None:
     """A PLY's vertex colours where trimesh's are not the file's, held as _ply_colour_notes says: the
     diffuse_ names it passes over, and whole numbers other than bytes, which it wraps; else None."""
-    table = _ply_vertex_table(mesh)
-    names = next((names for names in _PLY_COLOURS if table.keys() >= set(names)), None)
-    if names is None:
+    names, colours = _ply_colour_columns(_ply_vertex_table(mesh))
+    if colours is None:
         return None
-    colours = np.column_stack([table[name] for name in names])
     if colours.dtype.kind == "f":
         return np.clip(colours, 0.0, 1.0) if names == _DIFFUSE_COLOURS else None
     if colours.dtype != np.uint8:
         return np.clip(colours, 0, 255).astype(np.uint8)
     return colours if names == _DIFFUSE_COLOURS else None
+
+
+def _ply_colour_columns(table: dict[str, np.ndarray]) -> tuple[tuple[str, ...], np.ndarray | None]:
+    """The first of _PLY_COLOURS' names the vertex table has all of, and their (V, 3) columns; None
+    where it has no whole colour."""
+    names = next((names for names in _PLY_COLOURS if table.keys() >= set(names)), ())
+    return names, np.column_stack([table[name] for name in names]) if names else None
 
 
 def _partial_colour_notes(table: dict[str, np.ndarray]) -> tuple[str, ...]:

@@ -466,7 +466,9 @@ def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.n
     not drawn), and whether any row gives one. Held a block at a time as the rows come: never by the
     header's count, which a short file may exaggerate."""
     corners = WordBlocks(path, lambda path, words, line_of: checked_indices(path, words, line_of, vertices))
-    colours = WordBlocks(path, checked_numbers)
+    # The colours' words are checked a block at a time, as the corners are; their numbers are not kept.
+    colours = WordBlocks(path, lambda path, words, line_of: checked_numbers(path, words, line_of)[:0])
+    coloured = False
     most = max(_FACE_COLOUR_WORDS)
     for number, (first, *rest) in _taken(path, rows, count, ("face", "faces"), 1):
         size = int(first) if is_count(first) else -1
@@ -480,6 +482,7 @@ def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.n
         corners.add(words[:size], number)
         if len(words) > size:
             colours.add(words[size:], number)
+            coloured = True
     corner_vertex = corners.values()
-    coloured = colours.values().size > 0
+    colours.values()  # the last block's words checked
     return corner_vertex, np.concatenate(([0], np.cumsum(corners.row_sizes()))), coloured

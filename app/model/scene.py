@@ -386,18 +386,19 @@ class Scene:
         """The scene's scale against the seed's (size_unit of its largest model)."""
         return size_unit(max((obj.mesh.size for obj in self.objects), default=0.0))
 
-    def far_plane(self) -> float:
+    def far_plane(self, near: float | None = None) -> float:
         """Beyond the whole scene, from wherever the eye is. In parallel projection, whose depth buffer
-        steps evenly from near to far, twice the depth of the farthest shown point: neither the floor
-        nor the lights far off (a molecule, or a model 5,000 km from the lights at the origin, would
-        have its back faces show through its front)."""
+        steps evenly from near to far, twice the depth of the farthest shown point, and never nearer
+        than the near plane (`near`, where the caller has it): neither the floor nor the lights far
+        off (a molecule, or a model 5,000 km from the lights at the origin, would have its back faces
+        show through its front)."""
         if self.modes.projection is Projection.PARALLEL:  # in view or not: a zoom never moves it
             deepest = float(self._shown_boxes(everywhere=True).backs.max(initial=0.0))
             if self.modes.guides:
                 low, high, extent = self.guides_extent()
                 deepest = max(deepest, self.depth_of((low + high) / 2.0) + GUIDES_REACH * extent,
                               self.depth_of(np.zeros(3)) + extent / 2.0)
-            return 2.0 * max(deepest, self.near_plane())
+            return 2.0 * max(deepest, self.near_plane() if near is None else near)
         eye = self.eye_position()
         elements = self.objects + self.cameras
         centres = _placed_centres(elements)
@@ -463,11 +464,12 @@ class Scene:
         return InView(distance[seen], depth.max(axis=1, initial=-np.inf)[seen], sizes[seen])
 
     def projection_matrix(self, aspect: float) -> np.ndarray:
-        far = self.far_plane()
+        near = self.near_plane(aspect)
+        far = self.far_plane(near)
         if self.modes.projection is Projection.PERSPECTIVE:
-            return perspective(PERSPECTIVE_FOVY_DEG, aspect, self.near_plane(aspect), far)
+            return perspective(PERSPECTIVE_FOVY_DEG, aspect, near, far)
         half_h = self.modes.parallel_half_height
-        return orthographic(half_h * aspect, half_h, self.near_plane(aspect), far)  # SPEC 5: n, as in perspective
+        return orthographic(half_h * aspect, half_h, near, far)  # SPEC 5: n, as in perspective
 
     def matching_parallel_half_height(self) -> float:
         """Half height that keeps the scene about where perspective showed it (SPEC 5): the selected

@@ -239,9 +239,9 @@ class UnformedVLines:
 
     @property
     def notes(self) -> list[str]:
-        forms = "v reads x y z, x y z w or x y z r g b"
         if self.count == 0:
             return []
+        forms = "v reads x y z, x y z w or x y z r g b"
         if self.count == 1:
             return [f"ignored the last number of a v line of 5 or 7 numbers on line {self.first_line} ({forms})"]
         return [f"ignored the last number of {self.count} v lines of 5 or 7 numbers (the first on line "
