@@ -151,6 +151,39 @@ def written_both_ways(faces: list[list[int]]) -> dict[str, bytes]:
     return {"ascii.ply": text.encode(), "binary.ply": binary}
 
 
+def written_as_strips(strips: list[list[int]], encoding: str) -> bytes:
+    """The grid with these rows of a tristrips element (scanalyze's and VCG's), in place of faces."""
+    rows = [f"{len(strip)} {' '.join(map(str, strip))}" for strip in strips]
+    text = ply_text(rows).replace("element face", "element tristrips")
+    if encoding == "ascii":
+        return text.encode()
+    header = text[:text.index("end_header\n") + 11].replace("format ascii", "format binary_little_endian")
+    return header.encode() + np.array(GRID_NUMBERS, "<f4").tobytes() + b"".join(
+        struct.pack(f"<B{len(strip)}i", len(strip), *strip) for strip in strips)
+
+
+@pytest.mark.parametrize("encoding", ["ascii", "binary_little_endian"])
+def test_triangle_strips_are_drawn_as_their_triangles(tmp_path: Path, encoding: str) -> None:
+    """Each index after a strip's second makes a triangle of the two before it, every second one turned
+    so that all face +z as the grid's quads
+    do; -1 and a row's end start a new strip, and the
+    triangles that repeat a vertex (a join between strips) are none."""
+    strips = [[3, 0, 4, 1, 5, 2, 2, 6, 6, 3, 7, 4, 8, 5], [0, 1, -1, 3, 4, 6]]
+    (tmp_path / "m.ply").write_bytes(written_as_strips(strips, encoding))
+    mesh = load_model(tmp_path / "m.ply")
+    assert mesh.corner_vertex.reshape(-1, 3).tolist() == [
+        [3, 0, 4], [4, 0, 1], [4, 1, 5], [5, 1, 2], [6, 3, 7], [7, 3, 4], [7, 4, 8], [8, 4, 5], [3, 4, 6]]
+    assert (mesh.face_normals[:, 2] > 0.9).all()  # the grid rises a little in z
+
+
+@pytest.mark.parametrize(("encoding", "line"), [("ascii", 20), ("binary_little_endian", None)])
+def test_a_strip_index_that_names_no_vertex_is_refused_at_its_line(tmp_path: Path, encoding: str,
+                                                                   line: int | None) -> None:
+    (tmp_path / "m.ply").write_bytes(written_as_strips([[0, 1, 3], [4, -2, 5]], encoding))
+    refused = one_line_refusal(lambda: load_model(tmp_path / "m.ply"))
+    assert (refused.line, refused.message) == (line, "vertex index -2 out of range (the file has 9 vertices)")
+
+
 def test_mixed_faces_keep_their_corners_texture_coordinates(tmp_path: Path) -> None:
     """MeshLab writes a face's u v per corner in a second list: each polygon's corners keep theirs, as
     an OBJ's vt per corner gives them."""

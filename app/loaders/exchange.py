@@ -59,7 +59,7 @@ from marraztu.loaders.images import (
     rgb_array,
     unread_textures_note,
 )
-from marraztu.loaders.ply import binary_of_ascii, read_header, vertices_and_faces
+from marraztu.loaders.ply import STRIPS, binary_of_ascii, read_header, vertices_and_faces
 from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES
 from marraztu.loaders.words import unheld_coordinate
 from marraztu.model.build import FACE_COLOURS_NOTE, build_mesh, by_largest, colour_bytes, whole_numbers
@@ -130,7 +130,7 @@ def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
     if bom := bom_length(data):  # Notepad's mark before the header: such a rare file costs one copy without it
         data = data[bom:]
     header = read_header(path, data)
-    if header.count("face") == 0:
+    if header.count("face") == 0 and header.count(STRIPS) == 0:
         raise LoadError(path, "the header declares no faces (a point cloud?): nothing to draw")
     text = data if header.encoding == "ascii" else None  # kept for a text body only, to name the line of a bad number
     face_sizes = None

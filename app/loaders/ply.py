@@ -48,6 +48,7 @@ PLY_TYPES = {"char": "i1", "uchar": "u1", "short": "i2", "ushort": "u2", "int": 
              "float64": "f8"}
 FORMATS = {"ascii": "ascii", "binary_little_endian": "<", "binary_big_endian": ">"}
 FACE_LISTS = ("vertex_indices", "vertex_index")  # the names exporters give a face's corners
+STRIPS = "tristrips"  # scanalyze's and VCG's element: one list of triangle strips, -1 between two
 TEXCOORD_LIST = "texcoord"  # MeshLab's: u v for each corner of the face
 # A model's header declares a few elements of a few properties each: past this many, it is no model's.
 MAX_DECLARATIONS = 4096
@@ -244,7 +245,10 @@ def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
             _check_type(body, element, column)
             _check_coordinate(body, element, column)
         corners = _face_corners(element, columns, vertices, body.error)
-        if corners is not None and (not uniform or corners.values.shape[1] > 3):
+        strips = _strip_triangles(header, element, columns, vertices, body.error)
+        if strips is not None:
+            tables.append(strips)
+        elif corners is not None and (not uniform or corners.values.shape[1] > 3):
             tables.append(_fanned(element, columns, corners))
             sizes.append(corners.counts)
         elif columns and not uniform:  # lists of mixed lengths, which trimesh draws nothing of: left out
@@ -612,6 +616,30 @@ def _face_corners(element: PlyElement, columns: list[_Column], vertices: int,
     return corners
 
 
+def _strip_triangles(header: PlyHeader, element: PlyElement, columns: list[_Column], vertices: int,
+                     fail: Callable[[str, int], LoadError]) -> tuple[PlyElement, list[np.ndarray]] | None:
+    """A file's triangle strips as the face element of their triangles, where it has no face element;
+    None for another element. Each row is a strip, or several with -1 between them; each next index
+    makes a triangle of the two before it, every second one turned so that all face the same way
+    (as VCG reads them), and those that repeat a vertex, which only join two strips, are left out."""
+    lists = [column for column in columns if column.counts is not None and column.prop.name in FACE_LISTS]
+    if element.name != STRIPS or header.count("face") or not lists:
+        return None
+    indices = lists[0].values
+    first = _first_unnamed_vertex(np.where(indices == -1, 0, indices), vertices)
+    if first is not None:
+        raise fail(_unnamed_vertex(indices.ravel()[first], vertices), lists[0].index(first))
+    row_ends = np.cumsum(lists[0].counts if indices.ndim == 1 else np.full(len(indices), indices.shape[1]))
+    chain = np.insert(indices.ravel().astype(np.int64), row_ends, -1)  # a row's end ends its strip too
+    at = np.arange(len(chain))
+    strip_start = np.maximum.accumulate(np.where(chain == -1, at + 1, 0))
+    a, b, c = chain[:-2], chain[1:-1], chain[2:]
+    made = (a >= 0) & (b >= 0) & (c >= 0) & (a != b) & (b != c) & (a != c)
+    turned = (at[:-2] - strip_start[:-2]) % 2 == 1
+    triangles = np.stack([np.where(turned, b, a), np.where(turned, a, b), c], axis=1)[made]
+    return PlyElement("face", len(triangles), (PlyProperty(FACE_LISTS[0], "int", "uchar"),)), [triangles]
+
+
 def _first_unnamed_vertex(indices: np.ndarray, vertices: int) -> int | None:
     """Where the first index (in file order) names no vertex: a whole number from 0 to vertices - 1 names
     one (an index list of a float type may hold 1.5 or NaN, which trimesh would cast without a word)."""
@@ -691,7 +719,7 @@ def _row_layout(element: PlyElement, values: list[np.ndarray]) -> np.dtype:
 # --- a binary body, for trimesh's reader --------------------------------------------------------------
 # What the viewer draws: trimesh makes a path of an edge element (which needs scipy), and draws nothing
 # of the others.
-_KEPT_ELEMENTS = ("vertex", "face")
+_KEPT_ELEMENTS = ("vertex", "face", STRIPS)
 
 
 def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
@@ -708,7 +736,7 @@ def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh
         if element.name not in _KEPT_ELEMENTS or not columns:
             unchanged = False
             continue
-        table, as_read, fanned = _kept_table(path, element, columns, uniform, header.count("vertex"))
+        table, as_read, fanned = _kept_table(path, header, element, columns, uniform)
         tables.append(table)
         if fanned is not None:
             sizes.append(fanned)
@@ -721,11 +749,15 @@ def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh
                       _face_sizes(header, sizes))
 
 
-def _kept_table(path: Path, element: PlyElement, columns: list[_Column], uniform: bool, vertices: int
+def _kept_table(path: Path, header: PlyHeader, element: PlyElement, columns: list[_Column], uniform: bool
                 ) -> tuple[tuple[PlyElement, list[np.ndarray]], bool, np.ndarray | None]:
     """The element's rows as trimesh's binary reader takes them, whether they are the file's own, and
-    the sizes of the faces fanned: faces of more than three corners fanned; another element's lists
-    left out where they vary (trimesh draws nothing of them)."""
+    the sizes of the faces fanned: faces of more than three corners fanned, triangle strips made faces;
+    another element's lists left out where they vary (trimesh draws nothing of them)."""
+    vertices = header.count("vertex")
+    strips = _strip_triangles(header, element, columns, vertices, lambda message, at: LoadError(path, message))
+    if strips is not None:
+        return strips, False, None
     corners = _face_corners(element, columns, vertices, lambda message, at: LoadError(path, message))
     if corners is not None and (not uniform or corners.values.shape[1] > 3):
         return _fanned(element, columns, corners), False, corners.counts
