@@ -167,6 +167,21 @@ def test_a_webp_textures_fallback_is_drawn(tmp_path: Path, fallback: bool) -> No
         assert loaded.warnings[0].startswith("texture 'square.webp' could not be read (not a PNG, JPEG or PPM")
 
 
+@pytest.mark.parametrize("map_name", ["normalTexture", "occlusionTexture", "emissiveTexture"])
+def test_a_picture_no_material_draws_is_not_read(tmp_path: Path, map_name: str) -> None:
+    """A normal, occlusion or emissive map is not drawn: one that could not be read was a note that
+    the scene's texture is shown in its place, though the base colour's picture was drawn."""
+    path = write_gltf(tmp_path)
+    document = json.loads(path.read_text())
+    document["images"].append({"uri": "missing.png"})
+    document["textures"].append({"source": 1})
+    document["materials"][0][map_name] = {"index": len(document["textures"]) - 1}
+    path.write_text(json.dumps(document))
+    loaded = load_model(path)
+    assert loaded.warnings == () and loaded.materials[0].texture[0, 0, 0] > 200
+    assert tmp_path / "missing.png" not in loaded.read_beside
+
+
 def test_a_gltf_draws_its_picture_named_by_a_plain_uri(tmp_path: Path) -> None:
     loaded = load_model(write_gltf(tmp_path))
     assert loaded.warnings == () and loaded.materials[0].texture.shape == (8, 8, 3)

@@ -398,11 +398,12 @@ def _declared_part(data: bytes) -> bytes:
 
 def _as_trimesh_reads(data: bytes, document: dict[str, Any], file_type: str) -> bytes:
     """The file, its JSON made again (a GLB's JSON chunk too) where trimesh is to read it otherwise: its
-    nodes' cameras taken out, and its WEBP textures' fallbacks chosen. The document is checked already
-    (_GltfReferences)."""
+    nodes' cameras taken out, its WEBP textures' fallbacks chosen and the pictures no material draws
+    emptied. The document is checked already (_GltfReferences)."""
     cameras_taken_out = _node_cameras_taken_out(document)
     fallbacks_chosen = _fallbacks_chosen(document)
-    if not (cameras_taken_out or fallbacks_chosen):
+    undrawn_emptied = _undrawn_pictures_emptied(document)
+    if not (cameras_taken_out or fallbacks_chosen or undrawn_emptied):
         return data
     text = json.dumps(document).encode()
     if file_type == "gltf":
@@ -428,21 +429,49 @@ _WEBP = "EXT_texture_webp"
 
 def _fallbacks_chosen(document: dict[str, Any]) -> bool:
     """Takes out EXT_texture_webp where a texture gives a fallback `source` too, as a viewer that draws
-    no WEBP does (trimesh took the WEBP, not drawn), and empties a picture no texture names then, which
-    is not read. False where no texture has both."""
-    textures = document.get("textures", [])
-    both = [texture for texture in textures if "source" in texture and _WEBP in _listed_extensions(texture)]
-    alternatives = {_webp_source(texture["extensions"].pop(_WEBP)) for texture in both}
-    named = {texture.get("source") for texture in textures} | {
-        _webp_source(_listed_extensions(texture).get(_WEBP)) for texture in textures}
-    images = document.get("images", [])
-    for index in alternatives - named:
-        if index is not None and 0 <= index < len(images):
-            images[index] = {}  # trimesh passes over a picture of neither a URI nor a view
+    no WEBP does (trimesh took the WEBP, not drawn). False where no texture has both."""
+    both = [texture for texture in document.get("textures", [])
+            if "source" in texture and _WEBP in _listed_extensions(texture)]
+    for texture in both:
+        del texture["extensions"][_WEBP]
     return bool(both)
 
 
-def _webp_source(extension: object) -> int | None:
+# The textures a material's colour is made of, as trimesh reads them (a specular-glossiness material's
+# base colour is made of its diffuse and specular textures); a normal, occlusion or emissive map is not drawn.
+_COLOUR_TEXTURES = (("pbrMetallicRoughness", "baseColorTexture"),
+                    ("extensions", "KHR_materials_pbrSpecularGlossiness", "diffuseTexture"),
+                    ("extensions", "KHR_materials_pbrSpecularGlossiness", "specularGlossinessTexture"))
+
+
+def _undrawn_pictures_emptied(document: dict[str, Any]) -> bool:
+    """Empties each picture no material's colour is made of, which trimesh then neither reads nor
+    decodes: a normal map that cannot be read is no note that the scene's texture is shown. False where
+    there is none."""
+    textures, images = document.get("textures", []), document.get("images", [])
+    drawn = {source for material in document.get("materials", []) for keys in _COLOUR_TEXTURES
+             if _is_whole(index := _nested(material, keys).get("index")) and 0 <= index < len(textures)
+             for source in _texture_sources(textures[index])}
+    undrawn = [index for index, image in enumerate(images) if image and index not in drawn]
+    for index in undrawn:
+        images[index] = {}  # trimesh passes over a picture of neither a URI nor a view
+    return bool(undrawn)
+
+
+def _nested(item: dict[str, Any], keys: tuple[str, ...]) -> dict[str, Any]:
+    for key in keys:
+        inner = item.get(key)
+        item = inner if isinstance(inner, dict) else {}
+    return item
+
+
+def _texture_sources(texture: dict[str, Any]) -> set[int | None]:
+    """The pictures trimesh may take for a texture: its `source`, or an extension's (EXT_texture_webp's)."""
+    extensions = _listed_extensions(texture).values()
+    return {texture.get("source"), *(_extension_source(extension) for extension in extensions)}
+
+
+def _extension_source(extension: object) -> int | None:
     source = extension.get("source") if isinstance(extension, dict) else None
     return source if _is_whole(source) else None
 
