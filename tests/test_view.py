@@ -118,6 +118,21 @@ def test_dot_frames_the_selected_object_and_u_takes_it_back(tmp_path: Path) -> N
     assert np.array_equal(undone, away) and not np.array_equal(away, start)
 
 
+@pytest.mark.parametrize("keys", ["d .", "r z*8 d .", "c r Z*8 c c d ."],
+                         ids=["level", "the plate turned", "the camera rolled"])
+def test_dot_on_a_plate_seen_edge_on_looks_at_it_from_above(tmp_path: Path, keys: str) -> None:
+    """A plate beside the ships seen edge on: `.` drew nothing. Turned about z its world box is not
+    flat, and turned 0.8 rad (or the camera rolled back as far) the view from above, right and in
+    front sees it edge on too: then from above, left and in front."""
+    plate = box(tmp_path / "plate.obj", (20.0, 0.0, 20.0))
+    assert not (picture(tmp_path, keys.replace(".", ""), (plate,), empty=False, name="before.png")
+                != BACKGROUND).any()
+    pixels = picture(tmp_path, keys, (plate,), empty=False)
+    assert (pixels != BACKGROUND).any(axis=2).mean() > 0.1
+    camera = viewer_with(keys, (plate,)).scene.camera
+    assert camera.forward[1] < -0.5  # looking down on it
+
+
 @pytest.mark.parametrize("centre,outside", [((0.0, 60.0, 0.0), False), ((0.0, 0.0, 400.0), True),
                                             ((3000.0, 0.0, 0.0), True)], ids=["above", "behind", "aside"])
 def test_a_model_loaded_outside_the_view_says_so_and_dot_frames_it(

@@ -307,12 +307,14 @@ def end_view_gesture(scene: Scene) -> None:
 
 
 def frame_selected(scene: Scene, host: Host) -> None:
-    """`.`: the camera steps back along its view until the selected object fills two thirds of it."""
+    """`.`: the camera steps back along its view until the selected object fills two thirds of it,
+    turned first where that view sees it edge or end on (a plate, a beam: a line or nothing)."""
     obj = scene.object
     if obj is None:
         scene.message = "no object to frame"
         return
-    matrix, half_height = framing.frame_objects(scene, scene.camera, [obj])
+    turned = framing.revealing(scene.camera.model, [obj])
+    matrix, half_height = framing.frame_objects(scene, turned, [obj])
     if move_view(scene, matrix, half_height=half_height):
         scene.message = f"framed {obj.name}"
 
@@ -496,7 +498,7 @@ def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool) -> None:
     scene.loads += 1
     if as_camera:
         if scene.objects:  # the cameras too: it stands clear of their bodies, which it sees
-            obj.history = [framing.frame_objects(scene, scene.camera, scene.objects + scene.cameras)[0]]
+            obj.history = [framing.frame_objects(scene, scene.camera.model, scene.objects + scene.cameras)[0]]
         scene.cameras.append(obj)
         scene.selected_camera = len(scene.cameras) - 1
         return
@@ -514,9 +516,9 @@ def frame_models(scene: Scene) -> None:
     camera = scene.camera
     if len(camera.history) == 1:
         camera.history[0] = framing.revealing(camera.model, scene.objects)  # the start may turn
-        camera.history[0], scene.modes.parallel_half_height = framing.frame_objects(scene, camera, scene.objects)
+        camera.history[0], scene.modes.parallel_half_height = framing.frame_objects(scene, camera.model, scene.objects)
     else:
-        matrix, half_height = framing.frame_objects(scene, camera, scene.objects)
+        matrix, half_height = framing.frame_objects(scene, camera.model, scene.objects)
         move_view(scene, matrix, half_height=half_height)
 
 

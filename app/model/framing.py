@@ -2,8 +2,8 @@
 
 The camera keeps the direction it looks in and moves along it until the objects' bounding sphere
 fills FILL of the view's height: in perspective the sphere's angular size, in parallel projection
-its share of the half height. Only a start view that would see them edge or end on turns first
-(revealing).
+its share of the half height. Only a view that would see them edge or end on turns first
+(revealing): the start's, and `.`'s.
 """
 
 from __future__ import annotations
@@ -17,9 +17,12 @@ from marraztu.model import transforms
 from marraztu.model.scene import PERSPECTIVE_FOVY_DEG, Projection, Scene, SceneObject, world_box
 
 FILL = 2.0 / 3.0  # of the view's height: the model whole, with a margin round it
-# A start view whose box shows less than this share of its largest side's area (a ground plane edge
+# A view whose box shows less than this share of its largest side's area (a ground plane edge
 # on, a beam end on) turns to look from above, right and in front, as a drawing's oblique view does.
 THIN_VIEW_SHARE = 0.1
+# In the camera's frame: from above, right and in front; from above, left and in front where a plane
+# holds both the view and the first (no plane holds all three).
+OBLIQUE_VIEWS = (np.array([1.0, 1.0, 1.0]), np.array([-1.0, 1.0, 1.0]))
 
 
 def bounding_sphere(objects: Iterable[SceneObject]) -> tuple[np.ndarray, float]:
@@ -57,25 +60,41 @@ def framed(camera_model: np.ndarray, centre: np.ndarray, radius: float) -> np.nd
     return moved
 
 
-def frame_objects(scene: Scene, camera: SceneObject, objects: list[SceneObject]) -> tuple[np.ndarray, float]:
+def frame_objects(scene: Scene, camera_model: np.ndarray, objects: list[SceneObject]) -> tuple[np.ndarray, float]:
     """The camera's matrix framing `objects`, and the parallel view's half height that frames them
     (the current one in perspective)."""
     centre, radius = bounding_sphere(objects)
     parallel = scene.modes.projection is Projection.PARALLEL
     half_height = _framed_radius(radius) / FILL if parallel else scene.modes.parallel_half_height
-    return framed(camera.model, centre, radius), half_height
+    return framed(camera_model, centre, radius), half_height
+
+
+def _box_faces(objects: list[SceneObject]) -> np.ndarray:
+    """(3, 3): the area vectors of the box's faces across its three axes: a lone object's own box as
+    placed (turned, a plate stays a plate), else the objects' world box."""
+    if len(objects) == 1:
+        axes = objects[0].model[:3, :3] * np.ptp(objects[0].mesh.bounds, axis=0)  # its edges, columns
+    else:
+        low, high = world_box(objects)
+        axes = np.diag(high - low)
+    return np.cross(axes[:, [1, 2, 0]].T, axes[:, [2, 0, 1]].T)
 
 
 def revealing(camera_model: np.ndarray, objects: list[SceneObject]) -> np.ndarray:
-    """The camera turned, where it stands, to look at the objects from above, right and in front
-    where its own direction sees their box nearly edge or end on; else as it is."""
-    low, high = world_box(objects)
-    a, b, c = high - low
-    sides = np.array([b * c, a * c, a * b])  # the box's faces across x, y and z
-    backward = camera_model[:3, 2] / np.linalg.norm(camera_model[:3, 2])
-    if not sides.max() > 0.0 or float(np.abs(backward) @ sides) >= THIN_VIEW_SHARE * sides.max():
+    """The camera turned, where it stands, to look at the objects from above, right and in front (or
+    left, where that too sees it so) where its own direction sees their box nearly edge or end on;
+    else as it is."""
+    faces = _box_faces(objects)
+    least = THIN_VIEW_SHARE * float(np.linalg.norm(faces, axis=1).max())
+
+    def shows(direction: np.ndarray) -> bool:  # the box's outline along it: one face of each pair
+        return float(np.abs(faces @ direction).sum()) >= least * float(np.linalg.norm(direction))
+
+    if not least > 0.0 or shows(camera_model[:3, 2]):
         return camera_model
-    oblique = camera_model[:3, :3] @ np.array([1.0, 1.0, 1.0]) / math.sqrt(3.0)  # the camera's own
-    centre = (low + high) / 2.0
-    turned = transforms.look_at_model(centre + oblique, centre, camera_model[:3, 1])
-    return camera_model if turned is None else turned
+    centre = np.mean(world_box(objects), axis=0)
+    for oblique in (camera_model[:3, :3] @ view for view in OBLIQUE_VIEWS):
+        if shows(oblique):
+            turned = transforms.look_at_model(centre + oblique, centre, camera_model[:3, 1])
+            return camera_model if turned is None else turned
+    return camera_model
