@@ -144,6 +144,17 @@ def test_a_model_loaded_outside_the_view_says_so_and_dot_frames_it(
     assert not viewer.scene.outside_view(viewer.scene.object, 1.0)
 
 
+@pytest.mark.parametrize("size,small", [(0.01, True), (1e-4, True), (1.0, False)])
+def test_a_model_loaded_too_small_to_see_says_so_and_dot_frames_it(tmp_path: Path, size: float,
+                                                                    small: bool) -> None:
+    """A model in millimetres loaded among the ships, 150 units off, drew nothing without a word."""
+    viewer = viewer_with("", (octahedron(tmp_path / "m.obj", size, (0.0, 60.0, 0.0)),))
+    assert ("too small to see from here (. frames it)" in viewer.scene.message) == small, viewer.scene.message
+    assert viewer.scene.too_small_to_see(viewer.scene.object, 1.0) == small
+    viewer.press(parse_key_sequence(".")[0])
+    assert not viewer.scene.too_small_to_see(viewer.scene.object, 1.0)
+
+
 @pytest.mark.parametrize("size,keys,outside", [((800, 800), "", True), ((1500, 500), "", False),
                                                ((1500, 500), "s", True)], ids=["square", "wide", "side by side"])
 def test_outside_the_view_is_said_for_the_view_drawn(tmp_path: Path, size: tuple[int, int], keys: str,

@@ -356,10 +356,16 @@ class Viewer:
             self._start_models_alone = together  # a model from elsewhere joins: no longer theirs alone
             self._start_models_to_frame = together
         kind = "camera" if as_camera else "object"
-        unseen = not as_camera and not together and self.scene.outside_view(obj, self.view_aspect(self.scene))
-        where = ", outside the view (. frames it)" if unseen else ""
+        where = "" if as_camera or together else self._unseen(obj)
         self.tell(with_notes(f"loaded {Path(path).name} as a new {kind}: {obj.mesh.summary()}{where}", obj.mesh),
-                  at_start, worth_a_notice=bool(obj.mesh.warnings) or unseen)
+                  at_start, worth_a_notice=bool(obj.mesh.warnings) or bool(where))
+
+    def _unseen(self, obj: SceneObject) -> str:
+        """What the load's message says of an object the view does not show; "" where it does."""
+        aspect = self.view_aspect(self.scene)
+        if self.scene.outside_view(obj, aspect):
+            return ", outside the view (. frames it)"
+        return ", too small to see from here (. frames it)" if self.scene.too_small_to_see(obj, aspect) else ""
 
     def _frame_start_models(self) -> None:
         """The command line's models that joined, framed together while the camera has not moved."""

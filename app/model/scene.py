@@ -52,6 +52,9 @@ GUIDES_REACH = 2.0
 NORMAL_LENGTH_FRACTION = 0.05
 # How far the selected object's depth may pull parallel projection's size from the rest of the scene's.
 PARALLEL_DEPTH_RANGE = 1.5
+# A box spanning less of the view's width and height than this is too small to see: under a pixel
+# in a view 1000 pixels high (a model in millimetres loaded beside ships in metres).
+SEEN_SHARE_LEAST = 1e-3
 
 
 class Target(Enum):
@@ -490,12 +493,25 @@ class Scene:
         half_fov = np.radians(PERSPECTIVE_FOVY_DEG) / 2.0
         return max(depth, near) * float(np.tan(half_fov))
 
+    def _box_in_clip(self, element: SceneObject, aspect: float) -> np.ndarray:
+        """(8, 4): the element's box's corners in clip space, in a view `aspect` wide."""
+        corners = np.column_stack([world_boxes([element])[0], np.ones(8)])
+        return corners @ (self.projection_matrix(aspect) @ self.view_matrix()).T
+
     def outside_view(self, element: SceneObject, aspect: float) -> bool:
         """Whether the element's box lies wholly beyond one side of the view (a load may land there)."""
-        corners = np.column_stack([world_boxes([element])[0], np.ones(8)])
-        clip = corners @ (self.projection_matrix(aspect) @ self.view_matrix()).T
+        clip = self._box_in_clip(element, aspect)
         w = clip[:, 3:]
         return bool(((clip[:, :3] > w).all(axis=0).any() or (clip[:, :3] < -w).all(axis=0).any()))
+
+    def too_small_to_see(self, element: SceneObject, aspect: float) -> bool:
+        """Whether the element's box, wholly in front of the eye, spans less than SEEN_SHARE_LEAST of
+        the view's width and height (a load may land so far off or be so small)."""
+        clip = self._box_in_clip(element, aspect)
+        if not (clip[:, 3] > 0.0).all():
+            return False
+        spans = np.ptp(clip[:, :2] / clip[:, 3:], axis=0) / 2.0  # the view is 2 across in x and y
+        return bool(spans.max() < SEEN_SHARE_LEAST)
 
     def depth_of(self, point: np.ndarray) -> float:
         """How far in front of the eye a world point is, along the view axis (negative: behind)."""
