@@ -625,6 +625,7 @@ def test_a_material_set_by_hand_on_a_model_of_several_draws_its_every_part(tmp_p
         for face in (0, 6):  # one face of each part
             obj.selected_face = face
             assert v.probe().vertices[0].ambient == (0.0, 75.0, 0.0)  # Ka x Ia: Ia is (200, 75, 255)
+            assert v.probe().material is None  # not the MTL's 'red' or 'blue': not what is drawn
         blue = dataclasses.replace(obj.material, ka=(0, 0, 1))
         obj.part_materials = (obj.material, blue)  # set after it, a part's own
         assert v.probe().vertices[0].ambient == (0.0, 0.0, 255.0)

@@ -19,7 +19,7 @@ from marraztu.loaders.obj.fast import read_fast
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.raw import MaterialRuns
 from marraztu.loaders.registry import load_model
-from marraztu.loaders.scenefile import empty_scene
+from marraztu.loaders.scenefile import empty_scene, load_scene
 from marraztu.model.lights import AMBIENT_INTENSITY
 from marraztu.resources import ASSET_DIR
 from marraztu.text.panels import probe_lines
@@ -303,6 +303,32 @@ def test_the_status_line_and_the_probe_name_the_selected_faces_material() -> Non
     assert "(material blue)" in status_line(viewer.scene)
     panel = "\n".join(probe_lines(viewer.scene))
     assert "(material blue)" in panel and "Kd (" in panel and "0.20" in panel.split("Kd (")[1][:20]
+
+
+def test_a_face_drawn_with_another_material_than_its_files_is_not_named_by_the_file(tmp_path: Path) -> None:
+    """The probe and the status line named two_tone's faces 'red' and 'blue' after a material given
+    by a scene file or set by hand had replaced the MTL's: they showed green numbers as red."""
+    for name in ("two_tone.obj", "two_tone.mtl"):
+        shutil.copy(EXAMPLES / name, tmp_path / name)
+    green = "material = { ka = [0, 1, 0], kd = [0, 0.5, 0], ks = [0, 0, 0], ns = 1 }\n"
+    (tmp_path / "given.toml").write_text('[[objects]]\nmodel = "two_tone.obj"\nposition = [0, 0, 0]\n' + green)
+    given = Viewer(load_scene(tmp_path / "given.toml"), NoFrontend())
+    viewer = Viewer(empty_scene(), NoFrontend())
+    viewer.start(StartOptions(empty=True, models=(tmp_path / "two_tone.obj",)), longest_texture_side=64)
+    obj = viewer.scene.objects[0]
+    files_red, files_blue = obj.part_materials
+    obj.material = given.scene.objects[0].material
+    viewer.press_sequence("i")
+    given.press_sequence("i")
+    for scene in (given.scene, viewer.scene):
+        for face in (0, 6):  # one face of each part
+            scene.objects[0].selected_face = face
+            panel = "\n".join(probe_lines(scene))
+            assert "PROBE" in panel and "(material" not in status_line(scene) + panel
+    obj.part_materials = (obj.material, files_blue)  # the right box drawn with its file's again
+    assert "(material blue)" in status_line(viewer.scene) and "(material blue)" in "".join(probe_lines(viewer.scene))
+    obj.selected_face = 0
+    assert "(material" not in status_line(viewer.scene)
 
 
 def test_a_file_of_a_thousand_materials_costs_in_proportion_to_its_faces(tmp_path: Path) -> None:

@@ -547,7 +547,7 @@ def replace_loaded(scene: Scene, element: SceneObject, loaded: SceneObject) -> N
     undo and GPU slot stay), and takes the new file's mesh, name and material."""
     element.mesh, element.name, element.material = loaded.mesh, loaded.name, loaded.material
     scene.loads += 1
-    element.part_materials = loaded.part_materials
+    element.part_materials, element.file_materials = loaded.part_materials, loaded.file_materials
     # PageDown goes on from the shown file once the last file it asked for is the one shown (an earlier
     # load, or --watch's, finishing after a later PageDown leaves that one where the next step starts).
     if element.browsed == loaded.source:

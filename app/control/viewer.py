@@ -25,10 +25,10 @@ from marraztu.loaders.images import fit_texture, load_image, load_texture_or_fal
 from marraztu.loaders.registry import load_model
 from marraztu.loaders.scenefile import (
     empty_scene,
+    give_part_materials,
     load_builtin_scene,
     load_scene,
     material_for_loaded,
-    materials_of_parts,
 )
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import WIDEST_ASPECT, Scene, SceneObject
@@ -73,7 +73,7 @@ def load_model_object(path: str | Path) -> SceneObject:
 def _placed(mesh: Mesh, source: Path) -> SceneObject:
     material = material_for_loaded(mesh)
     obj = SceneObject.placed(mesh.name, mesh, material, (0.0, 0.0, 0.0), source=source)
-    obj.part_materials = materials_of_parts(mesh, material, from_scene=False)
+    give_part_materials(obj, from_scene=False)
     return obj
 
 

@@ -33,7 +33,7 @@ from marraztu.errors import KeyMapError, LoadError, ViewerError, escaped
 from marraztu.frontends.heap import return_freed_memory
 from marraztu.frontends.screenshot import OffscreenFrontend, render_pixels
 from marraztu.loaders.exchange import mesh_of_trimesh
-from marraztu.loaders.scenefile import material_for_loaded, materials_of_parts
+from marraztu.loaders.scenefile import give_part_materials, material_for_loaded
 from marraztu.model.build import build_mesh, real_numbers
 from marraztu.model.geometry import holds_in_float32, too_far_to_light
 from marraztu.model.mesh import INDEX_LIMIT, counted
@@ -81,7 +81,7 @@ class ProbeReport:
     object: str
     face: int  # 0-based
     face_count: int
-    material: str | None
+    material: str | None  # the file's name for the material the face is drawn with; None: none, or another
     shading: str
     view: str  # what the lit colour shows (key v): "everything", one term, one light, depth or normals
     back_face: bool
@@ -266,7 +266,7 @@ class Viewer:
             raise ValueError(refusal)
         material = material_for_loaded(mesh)
         obj = SceneObject.placed(mesh.name, mesh, material, (0.0, 0.0, 0.0))
-        obj.part_materials = materials_of_parts(mesh, material, from_scene=False)
+        give_part_materials(obj, from_scene=False)
         commands.add_loaded(self.scene, obj, as_camera=False)
         self.scene.message = with_notes(f"added {mesh.name}: {mesh.summary()}", mesh)
         return self

@@ -175,12 +175,12 @@ def material_for_loaded(mesh: Mesh) -> Material:
     return _material_from(mesh.file_material or {}, DEFAULT_MATERIAL, _clamped_colour(mesh.base_colour, WHITE))
 
 
-def materials_of_parts(mesh: Mesh, own: Material, from_scene: bool) -> tuple[Material, ...]:
+def give_part_materials(obj: SceneObject, from_scene: bool) -> None:
     """One material per material of the file, as Mesh.materials lists them: its MTL numbers, each
     missing one taken from the object's own; all the object's own when the scene file gave it one."""
-    if from_scene:
-        return tuple(own for _ in mesh.materials)
-    return tuple(_material_from(material.values, own, own.rgb) for material in mesh.materials)
+    own = obj.material
+    obj.file_materials = tuple(_material_from(material.values, own, own.rgb) for material in obj.mesh.materials)
+    obj.part_materials = tuple(own for _ in obj.mesh.materials) if from_scene else obj.file_materials
 
 
 def _material_from(values: dict[str, object], fallback: Material, rgb: Vec3) -> Material:
@@ -534,7 +534,7 @@ class _ModelLoader:
         mesh = self.mesh(entry)
         material = entry.material if entry.material is not None else material_for_loaded(mesh)
         obj = SceneObject.placed(entry.name, mesh, material, entry.position, entry.rotation, source=entry.model_path)
-        obj.part_materials = materials_of_parts(mesh, material, from_scene=entry.material is not None)
+        give_part_materials(obj, from_scene=entry.material is not None)
         return obj
 
     def mesh(self, entry: SceneEntry) -> Mesh:

@@ -174,6 +174,7 @@ class SceneObject:
     source: Path | None = None  # the model file it was read from: PageDown's folder, --watch's file
     browsed: Path | None = None  # the file PageDown / PageUp last asked for: the next step goes on past it
     part_materials: tuple[Material, ...] = ()  # one per Mesh.materials: what each part is drawn with
+    file_materials: tuple[Material, ...] = ()  # what the file gave each part: a part drawn with another is not its
 
     @classmethod
     def placed(cls, name: str, mesh: Mesh, material: Material, position: Vec3,
@@ -198,9 +199,12 @@ class SceneObject:
         return self.part_materials[index] if 0 <= index < len(self.part_materials) else self.material
 
     def material_name_of_face(self, face: int) -> str | None:
-        """The file's name for the material of polygon `face`, where the file names one."""
+        """The file's name for the material polygon `face` is drawn with: None where the file names
+        none, or the part is drawn with another (a scene file's, or one set by hand)."""
         index = -1 if self.mesh.face_material is None else int(self.mesh.face_material[face])
-        return self.mesh.materials[index].name if index >= 0 else None
+        if not 0 <= index < len(self.file_materials) or self.material_of(index) is not self.file_materials[index]:
+            return None
+        return self.mesh.materials[index].name
 
     def face_material(self, face: int) -> Material:
         return self.material_of(-1 if self.mesh.face_material is None else int(self.mesh.face_material[face]))
