@@ -670,3 +670,31 @@ def test_the_probe_report_says_its_view_and_the_vertex_colour_that_tints_it() ->
 def test_dir_offers_the_lazily_imported_names() -> None:
     """A notebook's tab completion asks dir(): marraztu.Viewer was missing from it."""
     assert {"Viewer", "ViewerError", "LoadError", "ProbeReport"} <= set(dir(marraztu))
+
+
+@pytest.mark.parametrize("keys, error", [
+    ("F 0 l x u u u u", ValueError),  # the fourth u would undo to the singular matrix
+    ("F x x u u u u u", ValueError),  # the history's top, pushed and popped below, as it was
+    ("F HOME x u u u u", ValueError),  # the view moves, cleared by x's move, as they were
+    ("F 0 x f=missing.obj", LoadError),
+    ("F 0 x f={model} x f=missing.obj", LoadError),  # a model loaded before the refusal leaves again
+    ("F 0 x c c f={model}", ViewerError),  # no file is loaded while lights are targeted
+    ("F 0 x qq", KeyMapError),  # as before: no key is pressed before every name is known
+])
+def test_a_press_refused_half_way_leaves_the_viewer_as_it_was(keys: str, error: type) -> None:
+    """The keys before a refused one stayed pressed: press("F 0 u") with u refused raised, yet left
+    Gouraud shading and the sun on, so the same cell run again after the mistake was mended turned them
+    off. A press is all or nothing, as a bad key's name always made it: the scene is as it was."""
+    with marraztu.Viewer(size=SIZE) as v:
+        obj = v.scene.objects[0]
+        obj.history[:0] = [np.eye(4), np.zeros((4, 4)), np.eye(4), np.eye(4)]  # a singular matrix 3 down
+        v.press(". .")  # view moves, which u undoes first
+        history, objects, modes = list(obj.history), list(v.scene.objects), dataclasses.replace(v.scene.modes)
+        cameras, view_moves = list(v.scene.camera.history), list(v.scene.view_moves)
+        before = v.render(overlay=True)
+        with pytest.raises(error):
+            v.press(keys.format(model=ASSET_DIR / "examples" / "two_tone.obj"))
+        assert [id(m) for m in obj.history] == [id(m) for m in history] and v.scene.objects == objects
+        assert v.scene.modes == modes and v.scene.view_moves == view_moves and len(view_moves) == 2
+        assert [id(m) for m in v.scene.camera.history] == [id(m) for m in cameras]
+        assert np.array_equal(np.asarray(v.render(overlay=True)), np.asarray(before))

@@ -229,14 +229,23 @@ class Viewer:
     @_one_call_at_a_time
     def press(self, keys: str) -> Viewer:
         """Keys in the language of --keys: "0 1 F x*5 f=model.obj". ESC (but in the file prompt) ends
-        the sequence, as it ends the screenshot command's keys."""
+        the sequence, as it ends the screenshot command's keys. All or nothing: a key refused (a file
+        that does not load, a `u` that would undo to a matrix that cannot be drawn) raises with the
+        viewer as it was before the call."""
         if not isinstance(keys, str):
             raise TypeError(f"keys are a str, as --keys takes them (\"0 1 F x*5\"), not {type(keys).__name__}")
         self._check_open()
         presses = parse_key_sequence(keys)  # all of them checked before any is pressed
-        for _ in self._frontend.replay(self._viewer, presses):  # up to ESC, as the screenshot command's keys
-            pass
-        self._frontend.quitting = False  # the next sequence is pressed: a notebook has no window to close
+        restore, prompt = self.scene.restorer(len(presses)), self._viewer.prompt
+        try:
+            for _ in self._frontend.replay(self._viewer, presses):  # up to ESC, as the screenshot command's keys
+                pass
+        except BaseException:  # all or nothing, as a bad key's name (an interrupt too): run again, it presses them once
+            restore()
+            self._viewer.prompt = prompt
+            raise
+        finally:
+            self._frontend.quitting = False  # the next sequence is pressed: a notebook has no window to close
         return self
 
     @_one_call_at_a_time

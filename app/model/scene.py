@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
@@ -311,6 +311,28 @@ class Scene:
     def __post_init__(self) -> None:
         if not self.cameras:
             raise ValueError("a scene needs at least one camera")
+
+    # --- going back ----------------------------------------------------------------------------
+    def restorer(self, presses: int) -> Callable[[], None]:
+        """What puts the scene back in place as it is now, after up to `presses` keys (the programming
+        interface's press refused half way): the fields of the scene, its modes, elements and lights, and
+        its lists. Arrays and meshes are kept, not copied: keys replace them, never change one in place.
+        A key changes a history only at its top (a push, an undo, a view step redone), so of each the
+        last presses + 1 are kept: the cost grows with the keys and the elements, not the histories."""
+        elements = (*self.objects, *self.cameras, *self.lights)
+        fields = [(part, dict(vars(part))) for part in (self, self.modes, *elements)]
+        lists = [(items, list(items)) for items in (self.objects, self.cameras, self.lights, self.view_moves)]
+        tops = [(history, len(history), history[max(0, len(history) - presses - 1):])
+                for history in (element.history for element in elements)]
+
+        def restore() -> None:
+            for part, kept in fields:
+                vars(part).update(kept)  # past SceneObject's setattr: its part materials are kept as they were
+            for items, contents in lists:
+                items[:] = contents
+            for history, depth, top in tops:
+                history[depth - len(top):] = top
+        return restore
 
     # --- selection -----------------------------------------------------------------------------
     def settle_selection(self) -> None:
