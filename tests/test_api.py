@@ -199,9 +199,9 @@ def test_a_trimeshs_picture_is_its_texture_whatever_its_kind() -> None:
 def test_a_trimesh_face_past_its_own_vertices_is_refused_not_joined_to_the_next_mesh(viewer) -> None:
     scene = trimesh.Scene([trimesh.Trimesh(TRIANGLE, [[0, 1, 5]], process=False, validate=False),
                            trimesh.Trimesh(TRIANGLE + 100.0, [[0, 1, 2]], process=False)])
-    with pytest.raises(ValueError, match="refers to vertex 5, but its mesh has 3"):
+    with pytest.raises(ValueError, match="face 0 refers to vertex 5, but its mesh has 3"):
         viewer.add_mesh(scene)
-    with pytest.raises(ValueError, match="refers to vertex -1, but its mesh has 3"):
+    with pytest.raises(ValueError, match="face 0 refers to vertex -1, but its mesh has 3"):
         viewer.add_mesh(trimesh.Trimesh(TRIANGLE, [[0, 1, -1]], process=False, validate=False))
 
 
@@ -264,10 +264,15 @@ def test_rows_that_fit_vertices_and_corners_alike_must_say_which(viewer) -> None
     (TRIANGLE * 1e20, [[0, 1, 2]], "cannot light"),
     (TRIANGLE[:, :2], [[0, 1, 2]], "shape"),
     (TRIANGLE, [[0, 1, 2], [0, 1, 3]], r"face 1 refers to vertex 3, but there are 3 \(0-based\)"),
-    # Past int64, named as given: a uint64 2**63 was "vertex -9223372036854775808", the others 2**62.
-    (TRIANGLE, np.array([[0, 1, 2**63]], np.uint64), "^9223372036854775808 is no vertex index or face size: "),
-    (TRIANGLE, [[0, 1, 2**63]], "^9223372036854775808 is no vertex index"),  # no numpy warning on the terminal
-    (TRIANGLE, [[0, 1, 2.0**70]], "^1180591620717411303424 is no vertex index"),
+    # Past int64, named as given: a uint64 2**63 was "vertex -9223372036854775808", the others 2**62; and
+    # with their face, which "1180591620717411303424 is no vertex index or face size" left out.
+    (TRIANGLE, np.array([[0, 1, 2**63]], np.uint64), r"^face 0 refers to vertex 9223372036854775808, but there "
+                                                     r"are 3 \(0-based\)$"),
+    (TRIANGLE, [[0, 1, 2**63]], "^face 0 refers to vertex 9223372036854775808, "),  # no numpy warning on the terminal
+    (TRIANGLE, [[0, 1, 2.0**70]], "^face 0 refers to vertex 1180591620717411303424, "),
+    (TRIANGLE, [[0, 1, 2], [0, 1, 2**70]], "^face 1 refers to vertex 1180591620717411303424, "),
+    (TRIANGLE, np.array([[0, 1, 2], [0, -2**70, 1]], object), "^face 1 refers to vertex -1180591620717411303424, "),
+    (TRIANGLE, [[0, 1, 2], [0, 1, 2, 2**70]], "^face 1 refers to vertex 1180591620717411303424, "),
     (TRIANGLE, [[0, 1, 2**40]], "^face 0 refers to vertex 1099511627776, but there are 3"),
     (TRIANGLE, [[0, 1]], "at least 3"),
     (TRIANGLE, [[0, 1, 2], [0, 1], [1, 2]], "^face 1 has 2 vertices: a face needs at least 3$"),

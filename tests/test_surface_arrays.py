@@ -175,6 +175,8 @@ def test_polygons_are_made_again_of_their_fans(sizes: list[int]) -> None:
     ([2], [0, 1], "face 0 has 2 vertices: a face needs at least 3"),
     ([2 ** 62] * 3 + [2 ** 62 + 3], [0, 1, 2], "fewer than"),  # a sum that would wrap
     ([3, 4], [[0, 1, 2], [0, 1, 2, 3]], "one flat array"),
+    ([3, 3], [0, 1, 2, 0, 1, 2**70], r"^face 1 refers to vertex 1180591620717411303424, but there are 5 \(0-based\)$"),
+    ([3, 3], [0, 1, 2, 0, 1, 7], r"^face 1 refers to vertex 7, but there are 5 \(0-based\)$"),
 ])
 def test_faces_with_sizes_are_checked_where_they_enter(sizes: list[float], corners: list, said: str) -> None:
     with pytest.raises(ValueError, match=said):

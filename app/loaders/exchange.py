@@ -1085,13 +1085,16 @@ def _mirroring(transforms: list[np.ndarray | None]) -> np.ndarray:
 def _geometry(source: str | Path, mesh: Any) -> _Geometry:
     positions = _rows_of_three(source, mesh.vertices, "vertices").astype(np.float64, copy=False)
     faces = _rows_of_three(source, mesh.faces, "faces")
+    def refusal(value: int, corner: int) -> str:
+        return f"face {corner // 3} refers to vertex {value}, but its mesh has {len(positions)}"
+
     try:  # a mesh given in code may hold anything; trimesh's files hold int64
-        faces = whole_numbers(faces, "its faces must be whole numbers")
+        faces = whole_numbers(faces, "its faces must be whole numbers", past_int64=refusal)
     except ValueError as error:
         raise LoadError(source, str(error)) from None
     if faces.size and (faces.min() < 0 or faces.max() >= len(positions)):  # checked before meshes are joined
-        bad = int(faces.min()) if faces.min() < 0 else int(faces.max())
-        raise LoadError(source, f"a face refers to vertex {bad}, but its mesh has {len(positions)}")
+        corner = int(np.argmax((faces < 0) | (faces >= len(positions))))  # flat: rows of 3
+        raise LoadError(source, refusal(int(faces.flat[corner]), corner))
     return _Geometry(mesh, positions, faces, _vertex_uvs(mesh), _vertex_colours(mesh), _ply_colour_notes(source, mesh))
 
 

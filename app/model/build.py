@@ -7,7 +7,7 @@ gets the same normals and coordinates whichever way it came in.
 from __future__ import annotations
 
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from numbers import Real
 from types import ModuleType
@@ -49,12 +49,8 @@ def build_mesh(
     programming interface).
     """
     points = real_numbers(positions, "positions must be real numbers, (V, 3)").reshape(-1, 3)
-    corner_vertex, face_start = _faces_to_csr(faces) if face_sizes is None else _sized_faces(faces, face_sizes)
-    if corner_vertex.size and (corner_vertex.min() < 0 or corner_vertex.max() >= len(points)):
-        corner = int(np.argmax((corner_vertex < 0) | (corner_vertex >= len(points))))
-        face = int(np.searchsorted(face_start, corner, side="right")) - 1
-        raise ValueError(f"face {face} refers to vertex {int(corner_vertex[corner])}, but there are {len(points)} "
-                         "(0-based)")
+    corner_vertex, face_start = (_faces_to_csr(faces, len(points)) if face_sizes is None
+                                 else _sized_faces(faces, face_sizes, len(points)))
     given_uv, given_normals = (
         None if values is None else _given_table(what, values, width, corner_vertex, len(points), attributes_per_vertex)
         for what, values, width in (("uvs", uvs, 2), ("normals", normals, 3)))
@@ -147,23 +143,37 @@ def real_numbers(values: object, refusal: str) -> np.ndarray:
 _FACES_SHAPE = "faces must be rows of vertex indices, (F, k), or a list of polygons"
 
 
-def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray, vertex_count: int) -> tuple[np.ndarray, np.ndarray]:
     if isinstance(faces, np.ndarray) and faces.dtype.kind != "O" and faces.ndim != 2:  # a flat index buffer, say
         raise ValueError(f"{_FACES_SHAPE}, not an array of shape {faces.shape}")
     if isinstance(faces, np.ndarray) and faces.ndim == 2:
         if faces.size >= INDEX_LIMIT:  # before any copy: a broadcast view costs nothing to make
             raise ValueError(f"a mesh holds fewer than {INDEX_LIMIT} positions and corners")
-        sizes = np.full(faces.shape[0], faces.shape[1], dtype=np.int64)
-        corners = whole_numbers(faces.ravel())
+        sizes, given = np.full(faces.shape[0], faces.shape[1], dtype=np.int64), faces.ravel()
     else:
         try:
             lists = [list(face) for face in faces]
         except TypeError:  # a number, or a list of numbers, where polygons were wanted
             raise ValueError(_FACES_SHAPE) from None
         sizes = np.array([len(face) for face in lists], dtype=np.int64)
-        corners = whole_numbers(np.array([index for face in lists for index in face]))
+        given = np.array([index for face in lists for index in face])
     _check_face_sizes(sizes)
-    return corners, np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)
+    face_start = np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)
+    return _vertex_rows(given, face_start, vertex_count), face_start
+
+
+def _vertex_rows(given: np.ndarray, face_start: np.ndarray, vertex_count: int) -> np.ndarray:
+    """The corners as int64 rows of the vertex table; ValueError naming the face of one that is none
+    (past int64 too, as given)."""
+    def refusal(value: int, corner: int) -> str:
+        face = int(np.searchsorted(face_start, corner, side="right")) - 1
+        return f"face {face} refers to vertex {value}, but there are {vertex_count} (0-based)"
+
+    corners = whole_numbers(given, past_int64=refusal)
+    if corners.size and (corners.min() < 0 or corners.max() >= vertex_count):
+        corner = int(np.argmax((corners < 0) | (corners >= vertex_count)))
+        raise ValueError(refusal(int(corners[corner]), corner))
+    return corners
 
 
 def _check_face_sizes(sizes: np.ndarray) -> None:
@@ -175,7 +185,7 @@ def _check_face_sizes(sizes: np.ndarray) -> None:
         raise ValueError(f"face {face} has {int(sizes[face])} vertices: a face needs at least 3")
 
 
-def _sized_faces(corners: np.ndarray | Sequence[int], sizes: np.ndarray | Sequence[int]
+def _sized_faces(corners: np.ndarray | Sequence[int], sizes: np.ndarray | Sequence[int], vertex_count: int
                  ) -> tuple[np.ndarray, np.ndarray]:
     """Polygons given as their corners one after another (flattened) and each one's size, as corners
     and starts."""
@@ -188,16 +198,20 @@ def _sized_faces(corners: np.ndarray | Sequence[int], sizes: np.ndarray | Sequen
         flat = np.asarray(corners)
     except ValueError:  # polygons of several sizes listed as such
         raise ValueError("with face_sizes, faces are every polygon's corners in one flat array") from None
-    corner_vertex = whole_numbers(flat.ravel())
-    if corner_vertex.size != face_start[-1]:
-        raise ValueError(f"faces of these sizes hold {face_start[-1]} corners, not {corner_vertex.size}")
-    return corner_vertex, face_start
+    if flat.size != face_start[-1]:
+        raise ValueError(f"faces of these sizes hold {face_start[-1]} corners, not {flat.size}")
+    return _vertex_rows(flat.ravel(), face_start, vertex_count), face_start
 
 
-def whole_numbers(indices: np.ndarray, refusal: str = "face indices must be whole numbers (0-based vertex rows)"
-                  ) -> np.ndarray:
+def _past_any_mesh(value: int, at: int) -> str:
+    return f"{value} is no vertex index or face size: a mesh holds fewer than {INDEX_LIMIT} positions and corners"
+
+
+def whole_numbers(indices: np.ndarray, refusal: str = "face indices must be whole numbers (0-based vertex rows)",
+                  past_int64: Callable[[int, int], str] = _past_any_mesh) -> np.ndarray:
     """Vertex indices (or face sizes) as int64; 1.5 or "a" is refused, not rounded or read as something
-    else, and a number past int64 (2**63 or more) is refused naming it, not wrapped to a negative one."""
+    else, and a number past int64 (2**63 or more) is refused naming it, not wrapped to a negative one:
+    `past_int64` says so, given the number and its place."""
     given = indices
     if indices.dtype.kind == "i":
         return indices.astype(np.int64, copy=False)
@@ -210,9 +224,8 @@ def whole_numbers(indices: np.ndarray, refusal: str = "face indices must be whol
     else:
         raise ValueError(refusal)
     if past.any():
-        value = int(given.flat[int(np.argmax(past))])
-        raise ValueError(f"{value} is no vertex index or face size: a mesh holds fewer than {INDEX_LIMIT} "
-                         "positions and corners")
+        at = int(np.argmax(past))
+        raise ValueError(past_int64(int(given.flat[at]), at))
     return indices.astype(np.int64, copy=False)
 
 
