@@ -588,6 +588,13 @@ def test_a_matrix_down_the_undo_history_that_cannot_be_drawn_is_refused_before_u
      "'s material ks must be 3 numbers"),
     (lambda s: setattr(s.objects[0], "material", dataclasses.replace(s.objects[0].material, ns=float("nan"))),
      "'s material ns must be a finite number"),
+    # AttributeError: 'dict' object has no attribute 'ka', and TypeError: Value after * must be an iterable:
+    (lambda s: setattr(s.objects[0], "material", {"kd": (1, 0, 0)}), r"'s material must be a Material \(.*not dict$"),
+    (lambda s: setattr(s.objects[0], "material", None), "'s material must be a Material .*not NoneType$"),
+    (lambda s: setattr(s.objects[0], "part_materials", s.objects[0].material),
+     r"'s part_materials must be a tuple of Materials, one per material of its file \(\d+\), not Material$"),
+    (lambda s: setattr(s.objects[0], "part_materials", ({"kd": 1},)),
+     r"'s part_materials must be .*\(\d+\), not a tuple holding a dict$"),
 ])
 def test_lights_and_materials_set_by_hand_that_cannot_be_drawn_are_refused_in_one_line(change, words: str) -> None:
     """A light's intensity set to 200, or a kd of two numbers, raised numpy's broadcasting errors or
@@ -598,6 +605,16 @@ def test_lights_and_materials_set_by_hand_that_cannot_be_drawn_are_refused_in_on
         for call in (v.render, lambda: v.press("x"), v.probe):
             with pytest.raises(ValueError, match=words):
                 call()
+
+
+def test_a_material_set_by_hand_mends_part_materials_that_are_no_tuple() -> None:
+    """Setting `material` gives it to every part: with part_materials set to one Material it raised
+    'Material' object is not iterable, so the mistake could not be mended that way."""
+    with marraztu.Viewer(size=SIZE) as v:
+        obj = v.scene.objects[0]
+        material, obj.part_materials = obj.material, obj.material
+        obj.material = material
+        assert obj.part_materials == tuple(material for _ in obj.mesh.materials) and np.asarray(v.render()).any()
 
 
 def test_lights_and_materials_set_by_hand_in_lists_are_drawn() -> None:

@@ -153,6 +153,23 @@ def _shown(value: object) -> str:
     return " ".join(repr(value).split())[:40]
 
 
+def _materials_refusal(element: SceneObject) -> str | None:
+    """Why an element's material or part materials, set by hand, are not Materials (None: they are)."""
+    if not isinstance(element.material, Material):
+        return f"material must be a Material (dataclasses.replace(obj.material, kd=...)), not " \
+               f"{type(element.material).__name__}"
+    parts = element.part_materials
+    if isinstance(parts, (tuple, list)):
+        given = next((f"a {type(parts).__name__} holding a {type(part).__name__}" for part in parts
+                      if not isinstance(part, Material)), None)
+    else:
+        given = type(parts).__name__
+    if given is None:
+        return None
+    return f"part_materials must be a tuple of Materials, one per material of its file " \
+           f"({len(element.mesh.materials)}), not {given}"
+
+
 def _finite_number(value: object) -> bool:
     try:
         return math.isfinite(float(value))  # type: ignore[arg-type]
@@ -188,7 +205,7 @@ class SceneObject:
         object is then drawn, probed and shown with it. Set `part_materials` after it to tell parts apart."""
         super().__setattr__(name, value)
         if name == "material":
-            super().__setattr__("part_materials", tuple(value for _ in self.part_materials))
+            super().__setattr__("part_materials", tuple(value for _ in self.mesh.materials))
 
     @property
     def model(self) -> np.ndarray:
@@ -363,6 +380,10 @@ class Scene:
             refusal = model_refusal(element.model)
             if refusal is not None:
                 yield f"{element.name}'s model matrix {refusal}"
+            refusal = _materials_refusal(element)
+            if refusal is not None:
+                yield f"{element.name}'s {refusal}"
+                continue
             for material in (element.material, *element.part_materials):
                 triples += [(f"{element.name}'s material {k}", getattr(material, k), "R, G, B")
                             for k in ("ka", "kd", "ks")]
