@@ -720,3 +720,11 @@ def test_a_press_refused_half_way_leaves_the_viewer_as_it_was(keys: str, error: 
         assert v.scene.modes == modes and v.scene.view_moves == view_moves and len(view_moves) == 2
         assert [id(m) for m in v.scene.camera.history] == [id(m) for m in cameras]
         assert np.array_equal(np.asarray(v.render(overlay=True)), np.asarray(before))
+
+
+def test_the_message_says_the_file_prompt_is_open() -> None:
+    """press("f") opens the prompt, and the presses after it were typed into it with no word: x did
+    nothing, and `message` said ''. The window shows the prompt under its message; so does `message`."""
+    with marraztu.Viewer(size=SIZE) as v:
+        assert v.press("f x x").message == "model file to load (Enter loads, ESC cancels): xx_"
+        assert v.press("ESC").message == "loading cancelled"

@@ -42,6 +42,7 @@ from marraztu.model.scene import Scene, SceneObject
 from marraztu.render.context import create_offscreen_context
 from marraztu.render.layout import checked_size, narrowest_aspect
 from marraztu.render.renderer import Renderer
+from marraztu.text.status import prompt_line
 
 Size = tuple[int, int]
 _Result = TypeVar("_Result")
@@ -216,8 +217,11 @@ class Viewer:
 
     @property
     def message(self) -> str:
-        """What the status line says after the last press or load."""
-        return self.scene.message
+        """What the bottom of the window says after the last press or load: the message, and the file
+        prompt while `f` holds it open (the keys pressed are typed into it, not done)."""
+        if self._viewer.prompt is None:
+            return self.scene.message
+        return "\n".join([*self.scene.message.splitlines(), prompt_line(self._viewer.prompt)])
 
     @_one_call_at_a_time
     def load(self, path: str | Path) -> Viewer:

@@ -94,8 +94,12 @@ def overlay_lines(viewer: Viewer) -> tuple[list[str], list[str]]:
     bottom = scene.message.splitlines()
     bottom += viewer.loading_lines()
     if viewer.prompt is not None:
-        bottom.append(f"model file to load (Enter loads, ESC cancels): {viewer.prompt}_")
+        bottom.append(prompt_line(viewer.prompt))
     return [escaped(line) for line in top], [escaped(line) for line in bottom]
+
+
+def prompt_line(typed: str) -> str:
+    return f"model file to load (Enter loads, ESC cancels): {typed}_"
 
 
 def _material_of_face(obj: SceneObject) -> str:
