@@ -20,7 +20,7 @@ import trimesh
 from PIL import Image
 
 from marraztu.errors import LoadError
-from marraztu.loaders import exchange, images
+from marraztu.loaders import exchange, gltf, images
 from marraztu.loaders.images import MAX_JPEG_SCANS, MAX_PIXELS
 from marraztu.loaders.ply import read_header, vertices_and_faces
 from marraztu.loaders.registry import load_model
@@ -311,7 +311,7 @@ def test_the_json_counts_what_trimesh_places(seed: int) -> None:
         triangles = [len(getattr(geometry, "faces", ())) for geometry in placed]
         expected = (len(placed), sum(triangles),
                     sum(len(geometry.vertices) for geometry, faces in zip(placed, triangles) if faces))
-        assert exchange._gltf_counts(document) == expected, json.dumps(document)
+        assert gltf.gltf_counts(document) == expected, json.dumps(document)
 
 
 @pytest.mark.parametrize("text", [b"[1, 2]", b"{\"nodes\": 5, \"scenes\": [{\"nodes\": [0]}]}",
@@ -320,7 +320,7 @@ def test_the_json_counts_what_trimesh_places(seed: int) -> None:
                                   b"\"accessors\": [{\"count\": 1.5}]}"])
 def test_json_not_shaped_as_gltfs_is_left_to_trimesh_to_name(text: bytes) -> None:
     document = json.loads(text)
-    assert exchange._gltf_counts(document if isinstance(document, dict) else None) is None
+    assert gltf.gltf_counts(document if isinstance(document, dict) else None) is None
 
 
 # --- PLY bodies ----------------------------------------------------------------------------------
@@ -512,7 +512,7 @@ def test_compressed_gltf_geometry_is_refused_not_read_as_zeros(tmp_path: Path, e
                                                                monkeypatch: pytest.MonkeyPatch) -> None:
     """trimesh read a Draco primitive without DracoPy as placeholder zeros (a 'zero-area face'), and a
     meshopt one raised an IndexError: glTF's writers list such extensions as required."""
-    monkeypatch.setattr(exchange, "_draco_decoder", lambda: False)
+    monkeypatch.setattr(gltf, "_draco_decoder", lambda: False)
     document, binary = triangle_gltf([{"mesh": 0}], [0])
     document["extensionsUsed"] = document["extensionsRequired"] = [extension]
     path = tmp_path / "packed.glb"

@@ -1,0 +1,651 @@
+"""glTF's JSON (a .gltf, or a GLB's chunk of it) read and checked before trimesh reads the file: what it
+names, its byte ranges and the placements of its scene; the notes of what trimesh draws otherwise than
+it says; the JSON made again where trimesh is to read it otherwise. Ours because trimesh reads the JSON
+without these checks, and fails in words of its own internals, or draws what the file does not say.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+from marraztu.errors import LoadError, escaped
+from marraztu.loaders.files import MAX_FILE_BYTES
+from marraztu.model.mesh import counted
+
+# A GLB holds its JSON and, after it, its binary buffer; chunks of other kinds are to be read past. Past
+# this many after the JSON, a file is refused unread.
+MAX_GLB_CHUNKS = 16
+
+
+# --- a .gltf's JSON, and a GLB's chunks ----------------------------------------------------------
+def gltf_document(path: Path, data: bytes) -> dict[str, Any]:
+    """A .gltf's JSON (or a GLB's chunk of it), checked: trimesh, given text that is not JSON, looks
+    for a file named model.gltf and says that is missing."""
+    try:
+        document = json.loads(data)  # from bytes: UTF-8, -16 or -32, as the glTF's JSON may be
+    except json.JSONDecodeError as error:
+        raise LoadError(path, f"not valid JSON: {error.msg} (column {error.colno})", line=error.lineno) from None
+    except UnicodeDecodeError:
+        raise LoadError(path, "not a glTF file: its JSON is not UTF-8 text") from None
+    except RecursionError:
+        raise LoadError(path, "not a glTF file: its JSON nests too deeply to read") from None
+    except ValueError:  # an integer of thousands of digits, which Python will not read
+        raise LoadError(path, "not a glTF file: its JSON holds a number too long to read") from None
+    if not isinstance(document, dict):
+        raise LoadError(path, "not a glTF file: its JSON is not an object of glTF's keys", line=1)
+    return document
+
+
+
+def glb_document(path: Path, data: bytes) -> dict[str, Any]:
+    """A GLB's JSON chunk, its frame checked: trimesh, given lying lengths, fails in words of its own
+    internals (a missing text-encoding module, a chunk "not expected length")."""
+    def word(at: int) -> int:
+        return int.from_bytes(data[at:at + 4], "little")
+
+    if len(data) < 20 or data[:4] != b"glTF":
+        raise LoadError(path, "not a GLB file: it does not begin with glTF's 12-byte header and a chunk")
+    if word(4) != 2:
+        raise LoadError(path, f"a GLB of glTF version {word(4)}: only version 2 is read")
+    if word(8) > len(data):
+        raise LoadError(path, f"cut short: its header gives {word(8)} bytes, the file holds {len(data)}")
+    if data[16:20] != b"JSON":
+        raise LoadError(path, "not a GLB file: its first chunk is not its JSON")
+    if 20 + word(12) > word(8):
+        raise LoadError(path, f"not a GLB file: its JSON chunk of {word(12)} bytes runs past the file's "
+                              f"{word(8)}")
+    document = gltf_document(path, data[20:20 + word(12)])
+    binary_at = 20 + word(12) + (-word(12) % 4)  # chunks are aligned to four bytes
+    buffers = document.get("buffers")
+    first = buffers[0] if isinstance(buffers, list) and buffers and isinstance(buffers[0], dict) else {}
+    declared = first.get("byteLength")
+    held = min(word(binary_at), len(data) - binary_at - 8) if data[binary_at + 4:binary_at + 8] == b"BIN\0" else 0
+    if "uri" not in first and _is_whole(declared) and declared > held:  # the buffer the binary chunk holds
+        raise LoadError(path, f"cut short: its buffer is {declared} bytes, its binary chunk holds {max(held, 0)}")
+    _check_glb_chunks(path, data, 20 + word(12), word(8))
+    return document
+
+
+
+def _check_glb_chunks(path: Path, data: bytes, at: int, end: int) -> None:
+    """The chunks after the JSON, as trimesh reads them (each where the one before ends, up to `end`, the
+    length the header gives): each within it, and few (trimesh reads each in a Python loop: a million
+    empty ones, 8 MB, took 3 s)."""
+    for _ in range(MAX_GLB_CHUNKS):
+        if at + 8 > end:
+            return
+        size = int.from_bytes(data[at:at + 4], "little")
+        if at + 8 + size > end:  # trimesh said "chunk was not expected length!"
+            raise LoadError(path, f"not a GLB file: its chunk at byte {at}, of {size} bytes, runs past the {end} "
+                                  "its header gives")
+        at += 8 + size
+    if at + 8 <= end:
+        raise LoadError(path, f"not a GLB file: more than {MAX_GLB_CHUNKS} chunks after its JSON (glTF writes one, "
+                              "its binary buffer)")
+
+
+
+def declared_part(data: bytes) -> bytes:
+    """A GLB's bytes up to the length its header gives (checked not to pass the file's): trimesh read on
+    past it, the bytes after as chunks."""
+    declared = int.from_bytes(data[8:12], "little")
+    return data if len(data) == declared else data[:declared]
+
+
+# --- what it names beside it ---------------------------------------------------------------------
+def gltf_pictures(document: dict[str, Any]) -> frozenset[str]:
+    """The URIs of a .gltf's pictures (not its buffers', which may be named anything)."""
+    return frozenset(_uris(document.get("images"))) - frozenset(_uris(document.get("buffers")))
+
+
+
+def buffer_bytes(document: dict[str, Any]) -> dict[str, int]:
+    """The byteLength of each buffer a glTF names by a file URI."""
+    buffers = document.get("buffers")
+    return {item["uri"]: item["byteLength"] for item in buffers if isinstance(item, dict)
+            and isinstance(item.get("uri"), str) and not item["uri"].startswith("data:")
+            and _is_whole(item.get("byteLength"))} if isinstance(buffers, list) else {}
+
+
+
+def _uris(items: object) -> Iterator[str]:
+    """The file URIs a glTF list of images or buffers gives (a data: URI holds its bytes itself)."""
+    for item in items if isinstance(items, list) else ():
+        uri = item.get("uri") if isinstance(item, dict) else None
+        if isinstance(uri, str) and not uri.startswith("data:"):
+            yield uri
+
+
+# --- what it names, checked ----------------------------------------------------------------------
+# Bytes of an accessor's component types, and components of its types.
+_COMPONENT_BYTES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
+_TYPE_COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
+_SPARSE_INDEX_BYTES = {5121: 1, 5123: 2, 5125: 4}  # a sparse accessor's indices: unsigned integers
+_NODE_TRANSFORMS = {"translation": 3, "rotation": 4, "scale": 3, "matrix": 16}
+# The arrays of objects trimesh reads item by item (with .get or [key]), by the name of their items.
+_READ_ARRAYS = {"scenes": "scene", "nodes": "node", "meshes": "mesh", "materials": "material", "textures": "texture",
+                "images": "image", "accessors": "accessor", "bufferViews": "buffer view", "buffers": "buffer"}
+
+
+
+class GltfReferences:
+    """What a glTF's JSON names checked to exist, and its byte ranges to fit, before trimesh reads it:
+    trimesh says an IndexError, an AssertionError or a failed reshape. The arrays it reads must be
+    lists of objects, and a primitive's attributes an object with POSITION (trimesh says an
+    AttributeError, a TypeError or a KeyError); values it reads that are not shaped as glTF's (a
+    count that is not a number) are refused where they are known to fail it."""
+
+    def __init__(self, path: Path, document: dict[str, Any]) -> None:
+        self.path, self.document = path, document
+        self.copied = {"buffer view": 0, "accessor": 0}  # the bytes trimesh copies of each, in all
+
+    def check(self) -> None:
+        for key in _READ_ARRAYS:
+            self.objects(key)
+        if "scene" in self.document:
+            self.named(self.document["scene"], "scenes", "its scene")
+        for number, scene in self.each("scenes"):
+            for node in self.listed(scene, "nodes", f"scene {number}"):
+                self.named(node, "nodes", f"scene {number}")
+        for number, node in self.each("nodes"):
+            self.node(number, node)
+        for number, image in self.each("images"):
+            if "bufferView" in image:
+                self.named(image["bufferView"], "bufferViews", f"image {number}")
+        for number, texture in self.each("textures"):  # trimesh drops a picture named out of range without a word
+            if "source" in texture:
+                self.named(texture["source"], "images", f"texture {number}")
+        for number, buffer in self.each("buffers"):  # before the views that count on their lengths
+            self.byte_count(buffer, "byteLength", f"buffer {number}", required=True)
+        for number, view in self.each("bufferViews"):  # before the accessors that count on their lengths
+            self.view(number, view)
+        for number, accessor in self.each("accessors"):  # before the primitives that count their items
+            self.accessor(number, accessor)
+        for what, total in self.copied.items():  # each view and accessor a copy: many of one buffer are many times it
+            if total > MAX_FILE_BYTES:
+                self.refuse(f"its {what}s add up to {total} bytes: more than the {MAX_FILE_BYTES} a model's file may "
+                            "hold")
+        for number, mesh in self.each("meshes"):
+            self.mesh(number, mesh)
+        for number, material in self.each("materials"):
+            self.material(number, material)
+
+    def material(self, number: int, material: dict[str, Any]) -> None:
+        """Its values as trimesh reads them: pbrMetallicRoughness's merged into the material's, each list
+        made numbers (it says "could not convert string to float" or a TypeError)."""
+        values = material.get("pbrMetallicRoughness", {})
+        if not isinstance(values, dict):
+            self.refuse(f"material {number}'s pbrMetallicRoughness is not an object")
+        for key, value in (*material.items(), *values.items()):
+            if isinstance(value, list) and not all(map(_is_number, value)):
+                self.refuse(f"material {number}'s {escaped(str(key))[:40]} is not a list of numbers")
+            if isinstance(value, dict) and "index" in value:  # a texture, which trimesh drops where it names none
+                self.named(value["index"], "textures", f"material {number}'s {escaped(str(key))[:40]}")
+
+    def mesh(self, number: int, mesh: dict[str, Any]) -> None:
+        if "primitives" not in mesh:
+            self.refuse(f"mesh {number} has no primitives")
+        for primitive_number, primitive in enumerate(self.listed(mesh, "primitives", f"mesh {number}")):
+            if not isinstance(primitive, dict):
+                self.refuse(f"mesh {number}'s primitive {primitive_number} is not an object")
+            self.primitive(f"mesh {number}'s primitive {primitive_number}", primitive)
+
+    def node(self, number: int, node: dict[str, Any]) -> None:
+        for child in self.listed(node, "children", f"node {number}"):
+            self.named(child, "nodes", f"node {number}")
+        if "mesh" in node:
+            self.named(node["mesh"], "meshes", f"node {number}")
+        if "camera" in node:  # a broken reference, though the camera is taken out before trimesh reads it
+            self.named(node["camera"], "cameras", f"node {number}")
+        for key, size in _NODE_TRANSFORMS.items():
+            values = node.get(key, [0.0] * size)
+            if not (isinstance(values, list) and len(values) == size and all(_is_number(value) for value in values)):
+                self.refuse(f"node {number}'s {key} is not {size} numbers")
+
+    def primitive(self, what: str, primitive: dict[str, Any]) -> None:
+        attributes = primitive.get("attributes")
+        if not isinstance(attributes, dict):
+            self.refuse(f"{what} has no attributes" if attributes is None else f"{what}'s attributes are not an object")
+        if "POSITION" not in attributes:  # trimesh reads every primitive's positions (a KeyError)
+            self.refuse(f"{what} has no POSITION attribute")
+        for name, index in attributes.items():
+            self.not_sparse(self.named(index, "accessors", f"{what}'s {escaped(str(name))[:40]}"), index, what)
+        if "material" in primitive:
+            self.named(primitive["material"], "materials", f"{what}'s material")
+        if "indices" in primitive:
+            self.not_sparse(self.named(primitive["indices"], "accessors", f"{what}'s indices"), primitive["indices"],
+                            what)
+        if primitive.get("mode", _TRIANGLES) == _TRIANGLES:  # three corners each, or trimesh fails to reshape them
+            corners = "indices" if "indices" in primitive else "vertices and no indices"
+            count = self.document["accessors"][primitive.get("indices", attributes["POSITION"])].get("count")
+            if _is_whole(count) and count % 3:
+                self.refuse(f"{what} has {count} {corners}: its triangles take three each")
+
+    def accessor(self, number: int, accessor: dict[str, Any]) -> None:
+        count = accessor.get("count")
+        if not _is_whole(count) or count < 0:
+            self.refuse(f"accessor {number}'s count is not a whole number")
+        component, kind = accessor.get("componentType"), accessor.get("type")
+        if not (_is_whole(component) and component in _COMPONENT_BYTES):  # trimesh says a KeyError
+            self.refuse(self.unknown(f"accessor {number}", "componentType", component))
+        if not (isinstance(kind, str) and kind in _TYPE_COMPONENTS):
+            self.refuse(self.unknown(f"accessor {number}", "type", kind))
+        offset = self.byte_count(accessor, "byteOffset", f"accessor {number}")
+        size = _COMPONENT_BYTES[component] * _TYPE_COMPONENTS[kind]
+        self.copied["accessor"] += count * size
+        if "sparse" in accessor:
+            self.sparse(f"accessor {number}'s sparse", accessor["sparse"], count, size)
+        if "bufferView" not in accessor:  # all zeros, or sparse, which trimesh makes of its count, read or not
+            if count * size > MAX_FILE_BYTES:
+                self.refuse(f"accessor {number} is {count} items of zeros, {count * size} bytes: more than the "
+                            f"{MAX_FILE_BYTES} a model's file may hold")
+            return
+        view = self.named(accessor["bufferView"], "bufferViews", f"accessor {number}")
+        length, stride = view.get("byteLength"), view.get("byteStride") or size
+        if count and all(map(_is_whole, (length, stride))) and offset + (count - 1) * stride + size > length:
+            self.refuse(f"accessor {number}'s {count} items run past the {length} bytes of buffer view "
+                        f"{accessor['bufferView']}")  # its last item's last byte
+
+    def sparse(self, what: str, sparse: object, count: int, size: int) -> None:
+        """An accessor's sparse values, shaped as glTF's: a count of 1 up to the accessor's, and its
+        indices (of unsigned integers) and values, each that many items within its buffer view."""
+        if not isinstance(sparse, dict):
+            self.refuse(f"{what} is not an object")
+        changed = sparse.get("count")
+        if not _is_whole(changed) or not 1 <= changed <= count:
+            self.refuse(f"{what}'s count is not a whole number from 1 to the accessor's {count}")
+        for key in ("indices", "values"):
+            part, named = sparse.get(key), f"{what} {key}"
+            if not isinstance(part, dict):
+                self.refuse(f"{what} has no {key}" if part is None else f"{named} are not an object")
+            kind = part.get("componentType")
+            if key == "indices" and not (_is_whole(kind) and kind in _SPARSE_INDEX_BYTES):
+                self.refuse(f"{named}' componentType {escaped(repr(kind))[:20]} is not one of an index's (5121, 5123, "
+                            "5125)")
+            view = self.named(part.get("bufferView"), "bufferViews", named)
+            offset = self.byte_count(part, "byteOffset", named)
+            length = view.get("byteLength")
+            item = _SPARSE_INDEX_BYTES[kind] if key == "indices" else size
+            if _is_whole(length) and offset + changed * item > length:
+                self.refuse(f"{named}, {changed} items, run past the {length} bytes of buffer view "
+                            f"{part['bufferView']}")
+
+    def not_sparse(self, accessor: dict[str, Any], number: int, what: str) -> None:
+        """A primitive's accessor that is sparse is refused: trimesh reads none of its sparse values."""
+        if "sparse" in accessor:
+            self.refuse(f"{what} reads sparse accessor {number}, whose sparse values are not read here (the "
+                        "model would be drawn without them): export it without sparse accessors")
+
+    def view(self, number: int, view: dict[str, Any]) -> None:
+        buffer = self.named(view.get("buffer"), "buffers", f"buffer view {number}")
+        offset = self.byte_count(view, "byteOffset", f"buffer view {number}")
+        length = self.byte_count(view, "byteLength", f"buffer view {number}", required=True)
+        self.copied["buffer view"] += length
+        if "byteStride" in view and self.byte_count(view, "byteStride", f"buffer view {number}") == 0:
+            self.refuse(f"buffer view {number}'s byteStride is 0")  # trimesh asserts it is positive
+        size = buffer.get("byteLength")
+        if _is_whole(size) and offset + length > size:
+            self.refuse(f"buffer view {number} runs past the {size} bytes of buffer {view['buffer']}")
+
+    @staticmethod
+    def unknown(what: str, key: str, value: object) -> str:
+        if value is None:
+            return f"{what} has no {key}"
+        return f"{what}'s {key} {escaped(repr(value))[:20]} is not one of glTF's"
+
+    def byte_count(self, item: dict[str, Any], key: str, what: str, required: bool = False) -> int:
+        """item[key], a number of bytes (0 where it may be left out), which must be a whole number of 0 or
+        more: trimesh reads a negative one as counting from the end, and asserts, or fails to reshape."""
+        if required and key not in item:
+            self.refuse(f"{what} has no {key}")
+        value = item.get(key, 0)
+        if not _is_whole(value) or value < 0:
+            self.refuse(f"{what}'s {key} is not a whole number of 0 or more")
+        return value
+
+    def named(self, index: object, key: str, by: str) -> dict[str, Any]:
+        """The item document[key][index] that `by` names, which must be there."""
+        items = self.document.get(key)
+        size = len(items) if isinstance(items, list) else 0
+        if not _is_whole(index) or not 0 <= index < size:  # type: ignore[operator]
+            kind = {"bufferViews": "buffer view", "meshes": "mesh"}.get(key, key[:-1])
+            self.refuse(f"{by} names {kind} {escaped(repr(index))[:20]}, of {size}")
+        item = items[index]  # type: ignore[index]
+        return item if isinstance(item, dict) else {}
+
+    def each(self, key: str) -> Iterator[tuple[int, dict[str, Any]]]:
+        items = self.document.get(key)
+        for number, item in enumerate(items if isinstance(items, list) else ()):
+            if isinstance(item, dict):
+                yield number, item
+
+    def objects(self, key: str) -> None:
+        """document[key], where there, must be a list of objects."""
+        items = self.document.get(key, [])
+        if not isinstance(items, list):
+            self.refuse(f"its {key} are not a list")
+        for number, item in enumerate(items):
+            if not isinstance(item, dict):
+                self.refuse(f"{_READ_ARRAYS[key]} {number} is not an object")
+
+    def listed(self, item: dict[str, Any], key: str, what: str) -> list[Any]:
+        """item[key], where there, which must be a list."""
+        values = item.get(key, [])
+        if not isinstance(values, list):
+            self.refuse(f"{what}'s {key} are not a list")
+        return values
+
+    def refuse(self, words: str) -> None:
+        raise LoadError(self.path, f"not a glTF file: {words}")
+
+
+
+def _is_whole(value: object) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+
+def _is_number(value: object) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+
+def check_one_parent_each(path: Path, document: dict[str, Any] | None) -> None:
+    """glTF's nodes form trees: a node that is the child of two (trimesh's reader takes time in the square
+    of such sharing) is refused before trimesh reads the file."""
+    nodes = document.get("nodes") if isinstance(document, dict) else None
+    seen: set[int] = set()
+    for node in nodes if isinstance(nodes, list) else ():
+        children = node.get("children") if isinstance(node, dict) else None
+        for child in children if isinstance(children, list) else ():
+            if not isinstance(child, int) or isinstance(child, bool):
+                continue  # not an index: trimesh says what is wrong with it
+            if child in seen:
+                raise LoadError(path, f"not a glTF file: node {child} is the child of two nodes (glTF's nodes form "
+                                      "trees)")
+            seen.add(child)
+
+
+
+# Geometry trimesh cannot decode here: it reads such a file as placeholder zeros, or fails inside.
+_UNREAD_COMPRESSION = {
+    "KHR_draco_mesh_compression": "Draco-compressed",
+    "EXT_meshopt_compression": "meshopt-compressed",
+}
+
+
+
+def check_geometry_readable(path: Path, document: dict[str, Any] | None) -> None:
+    """Refuses compressed geometry, which glTF's writers list as required, and positions stored as
+    normalized integers (KHR_mesh_quantization), which trimesh reads as the raw integers."""
+    if not isinstance(document, dict):
+        return
+    required = document.get("extensionsRequired")
+    for name in required if isinstance(required, list) else ():
+        if name in _UNREAD_COMPRESSION and not (name == "KHR_draco_mesh_compression" and _draco_decoder()):
+            raise LoadError(path, f"its geometry is {_UNREAD_COMPRESSION[name]} ({name}), which is not read here: "
+                                  "export it uncompressed")
+        if not _required_extension_read(name):  # glTF: a reader must refuse what it cannot honour
+            raise LoadError(path, f"it requires the glTF extension {escaped(str(name))[:80]}, which is not read here")
+    normalized = _normalized_attribute(document)
+    if normalized is not None:
+        raise LoadError(path, f"its {normalized} are stored as normalized integers (KHR_mesh_quantization), which "
+                              "are not read here: export them as floats")
+
+
+
+def _required_extension_read(name: object) -> bool:
+    """Extensions a file may require and still be drawn as it means: Draco with its decoder, quantized
+    attributes (normalized positions are refused above), and materials' extensions, which change only
+    what the viewer's Phong lighting does not draw (it takes the base colour)."""
+    return (name in ("KHR_draco_mesh_compression", "KHR_mesh_quantization")
+            or isinstance(name, str) and name.startswith("KHR_materials_"))
+
+
+
+def _draco_decoder() -> bool:
+    """trimesh decodes Draco where DracoPy is installed (not a dependency: it is built for few platforms)."""
+    return importlib.util.find_spec("DracoPy") is not None
+
+
+
+def _normalized_attribute(document: dict[str, Any]) -> str | None:
+    """What trimesh would read wrong, as raw integers: "positions" or "texture coordinates" stored as
+    normalized ones (normals keep their direction, and are made unit length anyway); None if neither."""
+    accessors, meshes = document.get("accessors"), document.get("meshes")
+    if not isinstance(accessors, list) or not isinstance(meshes, list):
+        return None
+    for mesh in meshes:
+        for primitive in mesh.get("primitives", []) if isinstance(mesh, dict) else ():
+            attributes = primitive.get("attributes") if isinstance(primitive, dict) else None
+            for name, index in attributes.items() if isinstance(attributes, dict) else ():
+                kind = "positions" if name == "POSITION" else "texture coordinates" if str(name).startswith(
+                    "TEXCOORD_") else None
+                # GltfReferences has checked that the index names an accessor
+                if kind and isinstance(accessors[index], dict) and accessors[index].get("normalized") is True:
+                    return kind
+    return None
+
+
+# --- what the scene places, counted --------------------------------------------------------------
+class _Unshaped(Exception):
+    """A glTF's JSON that is not shaped as glTF's where it is counted: trimesh says how."""
+
+
+
+def gltf_counts(document: dict[str, Any] | None) -> tuple[int, int, int] | None:
+    """(placements, triangles, vertices) the scene trimesh reads places, from the counts its JSON
+    declares: its nodes walked from the scene's roots as trimesh walks them (an edge from a parent to a
+    child once; a node's mesh placed once a primitive where it has several), each node's children once.
+    None where the JSON is not shaped as glTF's."""
+    if document is None:
+        return None
+    try:
+        sizes = _primitive_sizes(document)
+        nodes = document.get("nodes", [])
+        edges = [("root", root) for root in _roots(document)]
+        consumed, opened, placements, triangles, vertices = set(), set(), 0, 0, 0
+        while edges:
+            edge = edges.pop()
+            if edge in consumed:
+                continue
+            consumed.add(edge)
+            child = nodes[edge[1]]
+            if edge[1] not in opened:  # trimesh queues them again for each parent: all consumed by then
+                opened.add(edge[1])
+                edges.extend((edge[1], index) for index in child.get("children", []))
+            for faces, points in sizes[child["mesh"]] if "mesh" in child else ():
+                placements, triangles, vertices = placements + 1, triangles + faces, vertices + points
+    except (_Unshaped, LookupError, TypeError, AttributeError):
+        return None
+    return placements, triangles, vertices
+
+
+
+def _roots(document: dict[str, Any]) -> list[Any]:
+    """The root nodes of the scene trimesh reads: the one `scene` names, else the first."""
+    if "scenes" not in document:
+        return []
+    return list(document["scenes"][document.get("scene", 0)].get("nodes", []))
+
+
+
+# glTF's modes of primitive that trimesh reads: points and lines (placed, not drawn), triangles and strips.
+_POINTS, _LINES, _TRIANGLES, _STRIP = 0, 1, 4, 5
+
+
+
+def _primitive_sizes(document: dict[str, Any]) -> list[list[tuple[int, int]]]:
+    """Per mesh, (triangles, vertices) of each primitive trimesh reads, from its accessors' counts
+    (the vertices of a primitive of no triangles are not drawn, so not counted)."""
+    accessors = document.get("accessors", [])
+    sizes = []
+    for mesh in document.get("meshes", []):
+        read = []
+        for primitive in mesh["primitives"]:
+            mode = primitive.get("mode", _TRIANGLES)
+            if mode not in (_POINTS, _LINES, _TRIANGLES, _STRIP):
+                continue  # trimesh skips it
+            points = _count(accessors[primitive["attributes"]["POSITION"]])
+            corners = _count(accessors[primitive["indices"]]) if "indices" in primitive else points
+            faces = 0 if mode in (_POINTS, _LINES) else corners // 3 if mode == _TRIANGLES else max(corners - 2, 0)
+            read.append((faces, points if faces else 0))
+        sizes.append(read)
+    return sizes
+
+
+
+def _count(accessor: Any) -> int:
+    count = accessor["count"]
+    if not isinstance(count, int) or isinstance(count, bool) or count < 0:
+        raise _Unshaped
+    return count
+
+
+# --- what trimesh draws otherwise than it says ---------------------------------------------------
+def unfaithful_notes(document: dict[str, Any]) -> list[str]:
+    """What of a checked glTF is drawn otherwise than it says, which trimesh passes over without a word:
+    morph targets it does not read, and base colours outside 0..1 it holds to it."""
+    return [*_morphed_notes(document), *_outside_colour_notes(document)]
+
+
+
+def _morphed_notes(document: dict[str, Any]) -> list[str]:
+    """A mesh placed with morph targets and weights not all zero (a node's, else the mesh's own) is drawn
+    in its base shape: trimesh reads no target."""
+    meshes = document.get("meshes", [])
+    morphed = {index for node in document.get("nodes", []) if _is_whole(index := node.get("mesh"))
+               and _has_targets(meshes[index]) and _any_weight(node.get("weights", meshes[index].get("weights")))}
+    if not morphed:
+        return []
+    return [f"{counted(len(morphed), 'mesh', 'meshes')} with morph targets drawn in the base shape: the weights "
+            "that change it are not applied"]
+
+
+
+def _has_targets(mesh: dict[str, Any]) -> bool:
+    return any(isinstance(primitive, dict) and primitive.get("targets") for primitive in mesh["primitives"])
+
+
+
+def _any_weight(weights: object) -> bool:
+    return isinstance(weights, list) and any(_is_number(weight) and weight != 0 for weight in weights)
+
+
+
+def _outside_colour_notes(document: dict[str, Any]) -> list[str]:
+    """A material's baseColorFactor outside glTF's 0..1, which trimesh holds to it."""
+    outside = [(number, value) for number, material in enumerate(document.get("materials", []))
+               for value in _listed(material.get("pbrMetallicRoughness", {}).get("baseColorFactor"))
+               if _is_number(value) and not 0 <= value <= 1]
+    if not outside:
+        return []
+    (number, value), materials = outside[0], len({number for number, _ in outside})
+    if materials == 1:
+        return [f"material {number}'s baseColorFactor holds {value:g}: glTF's colours are 0..1, held to it"]
+    return [f"{materials} materials' baseColorFactor hold values outside glTF's 0..1 (the first, material {number}'s, "
+            f"{value:g}), held to it"]
+
+
+
+def _listed(value: object) -> list[Any]:
+    return value if isinstance(value, list) else []
+
+
+# --- the JSON made again for trimesh -------------------------------------------------------------
+def as_trimesh_reads(data: bytes, document: dict[str, Any], file_type: str) -> bytes:
+    """The file, its JSON made again (a GLB's JSON chunk too) where trimesh is to read it otherwise: its
+    nodes' cameras taken out, its WEBP textures' fallbacks chosen and the pictures no material draws
+    emptied. The document is checked already (GltfReferences)."""
+    cameras_taken_out = _node_cameras_taken_out(document)
+    fallbacks_chosen = _fallbacks_chosen(document)
+    undrawn_emptied = _undrawn_pictures_emptied(document)
+    if not (cameras_taken_out or fallbacks_chosen or undrawn_emptied):
+        return data
+    text = json.dumps(document).encode()
+    if file_type == "gltf":
+        return text
+    text += b" " * (-len(text) % 4)  # chunks are aligned to four bytes, a JSON chunk padded with spaces
+    old_length, declared = int.from_bytes(data[12:16], "little"), int.from_bytes(data[8:12], "little")
+    rest = data[20 + old_length + (-old_length % 4):declared]  # the chunks after the JSON, as glb_document reads them
+    return (b"glTF" + (2).to_bytes(4, "little") + (20 + len(text) + len(rest)).to_bytes(4, "little")
+            + len(text).to_bytes(4, "little") + b"JSON" + text + rest)
+
+
+
+def _node_cameras_taken_out(document: dict[str, Any]) -> bool:
+    """Takes out the nodes' cameras: trimesh leaves out a node with a camera, its mesh and the children
+    under it too, and the viewer reads no camera of a model. False where there is none."""
+    nodes = [node for node in document.get("nodes", []) if "camera" in node]
+    for node in nodes:
+        del node["camera"]
+    return bool(nodes)
+
+
+
+_WEBP = "EXT_texture_webp"
+
+
+
+def _fallbacks_chosen(document: dict[str, Any]) -> bool:
+    """Takes out EXT_texture_webp where a texture gives a fallback `source` too, as a viewer that draws
+    no WEBP does (trimesh took the WEBP, not drawn). False where no texture has both."""
+    both = [texture for texture in document.get("textures", [])
+            if "source" in texture and _WEBP in _listed_extensions(texture)]
+    for texture in both:
+        del texture["extensions"][_WEBP]
+    return bool(both)
+
+
+
+# The textures a material's colour is made of, as trimesh reads them (a specular-glossiness material's
+# base colour is made of its diffuse and specular textures); a normal, occlusion or emissive map is not drawn.
+_COLOUR_TEXTURES = (("pbrMetallicRoughness", "baseColorTexture"),
+                    ("extensions", "KHR_materials_pbrSpecularGlossiness", "diffuseTexture"),
+                    ("extensions", "KHR_materials_pbrSpecularGlossiness", "specularGlossinessTexture"))
+
+
+
+def _undrawn_pictures_emptied(document: dict[str, Any]) -> bool:
+    """Empties each picture no material's colour is made of, which trimesh then neither reads nor
+    decodes: a normal map that cannot be read is no note that the scene's texture is shown. False where
+    there is none."""
+    textures, images = document.get("textures", []), document.get("images", [])
+    drawn = {source for material in document.get("materials", []) for keys in _COLOUR_TEXTURES
+             if _is_whole(index := _nested(material, keys).get("index")) and 0 <= index < len(textures)
+             for source in _texture_sources(textures[index])}
+    undrawn = [index for index, image in enumerate(images) if image and index not in drawn]
+    for index in undrawn:
+        images[index] = {}  # trimesh passes over a picture of neither a URI nor a view
+    return bool(undrawn)
+
+
+
+def _nested(item: dict[str, Any], keys: tuple[str, ...]) -> dict[str, Any]:
+    for key in keys:
+        inner = item.get(key)
+        item = inner if isinstance(inner, dict) else {}
+    return item
+
+
+
+def _texture_sources(texture: dict[str, Any]) -> set[int | None]:
+    """The pictures trimesh may take for a texture: its `source`, or an extension's (EXT_texture_webp's)."""
+    extensions = _listed_extensions(texture).values()
+    return {texture.get("source"), *(_extension_source(extension) for extension in extensions)}
+
+
+
+def _extension_source(extension: object) -> int | None:
+    source = extension.get("source") if isinstance(extension, dict) else None
+    return source if _is_whole(source) else None
+
+
+
+def _listed_extensions(item: dict[str, Any]) -> dict[str, Any]:
+    extensions = item.get("extensions")
+    return extensions if isinstance(extensions, dict) else {}
