@@ -434,14 +434,15 @@ def test_a_broken_file_is_one_load_error_naming_it(written: dict[str, Path], nam
 def test_a_readers_module_is_imported_only_when_a_file_of_its_kind_is_opened(tmp_path: Path) -> None:
     """A start on OBJ files (the built-in scene's) imports no other reader; an STL brings its own alone."""
     (tmp_path / "m.stl").write_bytes(FORMATS["model.stl"](square_mesh()))
-    others = ["marraztu.loaders.stl", "marraztu.loaders.off", "marraztu.loaders.exchange", "marraztu.loaders.ply"]
+    others = ["marraztu.loaders.stl", "marraztu.loaders.off", "marraztu.loaders.exchange", "marraztu.loaders.ply",
+              "marraztu.loaders.gltf"]
     code = ("import sys; from marraztu.cli import main; from marraztu.loaders.registry import load_model; "
             f"main(['screenshot', '-o', {str(tmp_path / 'x.png')!r}, '--size', '32x32']); "
             f"print([name in sys.modules for name in {others!r}]); "
             f"load_model({str(tmp_path / 'm.stl')!r}); print([name in sys.modules for name in {others!r}])")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
-    assert result.stdout.splitlines()[-2:] == [str([False] * 4), str([True, False, False, False])]
+    assert result.stdout.splitlines()[-2:] == [str([False] * 5), str([True, False, False, False, False])]
 
 
 def test_trimesh_is_imported_only_when_such_a_file_is_opened(tmp_path: Path) -> None:
