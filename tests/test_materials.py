@@ -247,6 +247,24 @@ def test_what_is_missing_is_a_note_and_the_colours_are_used(tmp_path: Path, mtl:
     assert mesh.face_count == 2
 
 
+@pytest.mark.parametrize(("mtl", "said"), [
+    ("newmtl w\nKd 255 128 0\n", "material library 'm.mtl': Kd on line 2 holds 255, outside MTL's 0..1: held to it"),
+    ("newmtl w\nKa 0 0 0\nKd 0.5 -0.5 2\nKs 3\n",
+     "material library 'm.mtl': 2 colours outside MTL's 0..1 held to it (the first, Kd on line 3 holds -0.5)"),
+])
+def test_a_colour_outside_0_to_1_is_held_to_it_with_a_note(tmp_path: Path, mtl: str, said: str) -> None:
+    (tmp_path / "m.mtl").write_text(mtl + "newmtl unused\nKd 9 9 9\n")  # a material no face uses says nothing
+    (tmp_path / "m.obj").write_text(f"mtllib m.mtl\n{TRIANGLES}usemtl w\nf 1 2 3\n")
+    mesh = load_model(tmp_path / "m.obj")
+    assert [note for note in mesh.warnings if "0..1" in note] == [said]
+
+
+def test_a_colour_set_again_within_0_to_1_says_nothing(tmp_path: Path) -> None:
+    (tmp_path / "m.mtl").write_text("newmtl w\nKd 2 2 2\nKd 1 1 1\n")
+    (tmp_path / "m.obj").write_text(f"mtllib m.mtl\n{TRIANGLES}usemtl w\nf 1 2 3\n")
+    assert load_model(tmp_path / "m.obj").warnings == ()
+
+
 # --- drawing ---------------------------------------------------------------------------------------
 def centre_of(pixels: np.ndarray, left: bool) -> np.ndarray:
     """The front face of the left or right box of two_tone, at the start's framed view."""

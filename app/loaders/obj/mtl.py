@@ -4,7 +4,7 @@ error: the model still loads, with the colours that could be read."""
 from __future__ import annotations
 
 import os
-from collections.abc import Collection, Sequence
+from collections.abc import Collection, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -96,6 +96,7 @@ class _Block:
     name: str
     values: dict[str, object] = field(default_factory=dict)
     texture: str | None = None
+    outside: dict[str, tuple[int, float]] = field(default_factory=dict)  # a colour past 0..1: its line, a value
 
 
 def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wanted: Collection[str],
@@ -119,6 +120,8 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
             continue
         elif key in ("ka", "kd", "ks", "ns") and not _material_value(block.values, key, tokens[1:]):
             malformed, first_malformed = malformed + 1, first_malformed or f"{key.capitalize()} line, on line {number}"
+        elif key != "ns" and key in block.values:
+            _note_outside(block, key, number)
         elif key == "map_kd":
             block.texture, options = _texture_file(tokens[1:])
             ignored.update(options)
@@ -133,7 +136,30 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
                      f"{first_malformed})")
     if ignored:
         notes.append(f"material library '{name}': {', '.join(sorted(ignored))} ignored")
+    notes.extend(_outside_note(name, kept.values()))
     return [MeshMaterial(block.name, block.values, *textures.read(block.texture, folder)) for block in kept.values()]
+
+
+def _note_outside(block: _Block, key: str, line: int) -> None:
+    """Remembers where the colour `key` just set holds a value outside 0..1, which drawing holds to that range."""
+    outside = [value for value in block.values[key] if not 0.0 <= value <= 1.0]  # type: ignore[attr-defined]
+    if outside:
+        block.outside[key] = (line, outside[0])
+    else:
+        block.outside.pop(key, None)  # a later line of the key replaces the earlier one
+
+
+def _outside_note(name: str, blocks: Iterable[_Block]) -> list[str]:
+    """The note of the kept materials' colours outside MTL's 0..1: Kd 255 128 0, written in 0..255,
+    is drawn yellow, not orange."""
+    found = sorted((line, key, value) for block in blocks for key, (line, value) in block.outside.items())
+    if not found:
+        return []
+    line, key, value = found[0]
+    first = f"{key.capitalize()} on line {line} holds {value:g}"
+    if len(found) == 1:
+        return [f"material library '{name}': {first}, outside MTL's 0..1: held to it"]
+    return [f"material library '{name}': {len(found)} colours outside MTL's 0..1 held to it (the first, {first})"]
 
 
 # map_Kd's options and how many values each takes (-o, -s and -t take one to three numbers).
