@@ -6,10 +6,11 @@ wrong and on which line.
 
 Two readers produce the same raw tables (raw.py): the fast one (fast.py, compiled by numba) reads
 files of a few megabytes or more, and any file once it is loaded; the line-by-line one (lines.py) is
-the authority on meaning. It reads a process's first small files, files that continue lines with a
-backslash, and every line the fast one does not read itself, valid or not, so it alone words the
-errors. The MTL beside the file gives the material (mtl.py). Normals and texture coordinates the
-file lacks are derived by marraztu.model.build, as for every other format.
+the authority on meaning. It reads a process's first small files (but for those of many lines it
+reads one at a time), files that continue lines with a backslash, and every line the fast one does
+not read itself, valid or not, so it alone words the errors. The MTL beside the file gives the
+material (mtl.py). Normals and texture coordinates the file lacks are derived by
+marraztu.model.build, as for every other format.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.obj.lines import LONGEST_BATCHED_LINE, read_by_lines
+from marraztu.loaders.obj.lines import LONGEST_BATCHED_LINE, ReadsSlowly, read_by_lines
 from marraztu.loaders.obj.mtl import read_libraries
 from marraztu.loaders.obj.raw import MaterialRuns, RawObj, name_before_comment
 from marraztu.loaders.obj.text import as_bytes, checked, ended, has_continuations, read_text
@@ -154,6 +155,12 @@ COMPILED_READER_BYTES = 8 << 20
 COMPILED_READER_LONG_LINE_BYTES = 512 << 10
 
 
+# Lines the line reader reads one at a time (blank lines, comments, statements, relative faces: not plain
+# rows and faces, which it reads a batch at a time) cost it 2 to 40 microseconds each, 30 s for 8 MB of
+# them; past this many a first file goes to the compiled reader, which reads it again from its start.
+LINE_READER_SINGLE_LINES = 1 << 14
+
+
 def _prefers_compiled_reader(text: bytes | np.ndarray) -> bool:
     if len(text) >= COMPILED_READER_BYTES or _compiled_reader_loaded():
         return True
@@ -168,7 +175,10 @@ def _tables(text: bytes | np.ndarray, source: str) -> RawObj:
     """The raw tables of an ended text (marraztu.loaders.obj.text). One function, so that where the
     text is copied or edited the original, which only this frame holds, goes before the reading."""
     if not _prefers_compiled_reader(text):
-        return _read_by_lines(text, source)
+        try:
+            return _read_by_lines(text, source, LINE_READER_SINGLE_LINES)
+        except ReadsSlowly:
+            pass
     try:
         from marraztu.loaders.obj import fast  # numba, imported for the files that repay it
         counted = fast.count_text(text)
@@ -216,8 +226,8 @@ def _load_compiled_reader() -> None:
         return
 
 
-def _read_by_lines(text: bytes | np.ndarray, source: str) -> RawObj:
-    return read_by_lines(checked(as_bytes(text), source), source)
+def _read_by_lines(text: bytes | np.ndarray, source: str, most_single_lines: int = sys.maxsize) -> RawObj:
+    return read_by_lines(checked(as_bytes(text), source), source, most_single_lines)
 
 
 def _compiled_reader_loaded() -> bool:

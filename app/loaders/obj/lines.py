@@ -13,6 +13,7 @@ from __future__ import annotations
 import io
 import math
 import re
+import sys
 from array import array
 from collections.abc import Callable, Iterator, Sequence
 from typing import NamedTuple
@@ -129,14 +130,19 @@ def _is_non_finite(token: bytes) -> bool:
     return token.lstrip(b"+-").lower() in (b"nan", b"inf", b"infinity") or bool(_WINDOWS_NON_FINITE.fullmatch(token))
 
 
+class ReadsSlowly(Exception):
+    """A whole file held more lines to read one at a time than the reader was given leave to read."""
+
+
 class LineReader:
     """Reads statement by statement, remembering enough to name the line of any later problem.
 
     `defined` counts the v, vt and vn lines before the line being read: relative indices count back
     from there. Reading a whole file keeps it up to date; the fast reader sets it before each line."""
 
-    def __init__(self, source: str) -> None:
+    def __init__(self, source: str, most_single_lines: int = sys.maxsize) -> None:
         self.source = source
+        self.most_single_lines = most_single_lines  # a whole file's, read one at a time (see ReadsSlowly)
         self.tables = [array("d") for _ in _FIELDS]  # flat rows, _TABLE_WIDTHS numbers each
         self.defined = [0, 0, 0]
         # The file's v, vt and vn index per corner, relative ones made absolute: 1-based, 0 for none,
@@ -179,7 +185,7 @@ class LineReader:
         a line that starts no run, runs are tried again 2, 4, 8... lines on, _RUN_TRIES_APART at most:
         a file of other lines pays for a try that far apart."""
         lines = io.BytesIO(text)  # its line iterator: the lines between runs one at a time
-        at, number, next_try, apart = 0, 0, 1, 1
+        at, number, next_try, apart, single = 0, 0, 1, 1, 0
         for content in lines:
             number += 1
             if number >= next_try:
@@ -191,16 +197,20 @@ class LineReader:
                 apart = min(2 * apart, _RUN_TRIES_APART)
                 next_try = number + apart
             at += len(content)
-            self.read_kept(number, content, batch)
+            if not self.read_kept(number, content, batch):
+                single += 1
+                if single > self.most_single_lines:
+                    raise ReadsSlowly
 
-    def read_kept(self, number: int, content: bytes, batch: _PlainLines) -> None:
-        """One line: kept in the batch if plain, else read now."""
+    def read_kept(self, number: int, content: bytes, batch: _PlainLines) -> bool:
+        """One line: kept in the batch if plain, else read now; whether it was kept."""
         keyword, rest = statement(content)
         if keyword in _BATCHED_KEYWORDS:
             if batch.keep(number, keyword, rest):
-                return
+                return True
             batch.flush()  # first: the tables' rows and the corners stay in file order
         self.read_statement(number, content, keyword, rest)
+        return False
 
     def corner_columns(self) -> list[np.ndarray]:
         """The corners' v, vt and vn columns: 0-based, -1 for none."""
@@ -438,8 +448,9 @@ def read_plain_numbers(lines: Sequence[bytes], dtype: type) -> np.ndarray:
     return np.fromstring(b" ".join(lines).translate(_NUMBERS_ONLY), dtype=dtype, sep=" ")
 
 
-def read_by_lines(text: bytes, source: str) -> RawObj:
-    return LineReader(source).read(text)
+def read_by_lines(text: bytes, source: str, most_single_lines: int = sys.maxsize) -> RawObj:
+    """The file's tables; ReadsSlowly past `most_single_lines` lines read one at a time, unless lines continue."""
+    return LineReader(source, most_single_lines).read(text)
 
 
 def no_faces_error(source: str, has_statements: bool) -> LoadError:
