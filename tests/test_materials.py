@@ -259,6 +259,15 @@ def test_a_colour_outside_0_to_1_is_held_to_it_with_a_note(tmp_path: Path, mtl: 
     assert [note for note in mesh.warnings if "0..1" in note] == [said]
 
 
+@pytest.mark.parametrize("number", ["\u0661", "1_0", "0x1"])  # float() reads the first two, as 1 and 10
+def test_a_colour_of_no_ascii_decimal_number_is_a_malformed_line(tmp_path: Path, number: str) -> None:
+    (tmp_path / "m.mtl").write_text(f"newmtl w\nKd {number} 0 0\n", encoding="utf-8")
+    (tmp_path / "m.obj").write_text(f"mtllib m.mtl\n{TRIANGLES}usemtl w\nf 1 2 3\n")
+    mesh = load_model(tmp_path / "m.obj")
+    assert mesh.warnings == ("material library 'm.mtl': ignored a malformed Kd line, on line 2",)
+    assert mesh.materials[0].values == {}
+
+
 def test_a_colour_set_again_within_0_to_1_says_nothing(tmp_path: Path) -> None:
     (tmp_path / "m.mtl").write_text("newmtl w\nKd 2 2 2\nKd 1 1 1\n")
     (tmp_path / "m.obj").write_text(f"mtllib m.mtl\n{TRIANGLES}usemtl w\nf 1 2 3\n")

@@ -273,8 +273,9 @@ def test_colour_comment_sets_the_base_colour() -> None:
     assert mesh.base_colour == pytest.approx((1.0, 0.0, 0.2))
 
 
-def test_malformed_colour_comment_is_a_warning() -> None:
-    mesh = parse("# colour red green blue\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+@pytest.mark.parametrize("comment", ["# colour red green blue", "# colour 1_0 0 0"])  # float() reads 1_0 as 10
+def test_malformed_colour_comment_is_a_warning(comment: str) -> None:
+    mesh = parse(f"{comment}\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
     assert mesh.base_colour is None
     assert mesh.warnings == ("ignored a malformed '# colour' comment on line 1",)
 
