@@ -30,8 +30,20 @@ class LoadError(ViewerError):
         super().__init__(str(self))
 
     def __str__(self) -> str:
-        where = self.path if self.line is None else f"{self.path}:{self.line}"
+        where = _cut_middle(self.path) if self.line is None else f"{_cut_middle(self.path)}:{self.line}"
         return escaped(f"{where}: {self.message}")
+
+
+# A path a message shows whole; a longer one (a name a hostile file gives) is cut, its start and end kept.
+_LONGEST_SHOWN_PATH = 1024
+
+
+def _cut_middle(path: str) -> str:
+    """The path as a message shows it: a long one cut in the middle, its folder and name kept."""
+    if len(path) <= _LONGEST_SHOWN_PATH:
+        return path
+    half = _LONGEST_SHOWN_PATH // 2 - 2
+    return f"{path[:half]}...{path[-half:]}"
 
 
 class KeyMapError(ViewerError):

@@ -264,6 +264,18 @@ def test_a_string_of_a_million_letters_a_is_refused_as_hexadecimal_digits(tmp_pa
     assert refused.value.line == 4 and refused.value.message.startswith("more than 4300 digits or letters a to f in")
 
 
+@pytest.mark.parametrize("suffix", ["", ".obj"])
+def test_a_model_name_of_half_a_million_letters_is_cut_in_its_message(tmp_path: Path, suffix: str) -> None:
+    """The refusal named it twice, as written and as the path looked at: one line of a million characters."""
+    name = "n" * 500_000 + suffix
+    (tmp_path / "s.toml").write_text(f'[[objects]]\nmodel = "{name}"\nposition = [0, 0, 0]\n')
+    with pytest.raises(LoadError) as raised:
+        load_scene(tmp_path / "s.toml")
+    shown = str(raised.value)
+    assert len(shown) < 2_500 and shown.startswith(f"{tmp_path / 's.toml'}:2: model nnn")
+    assert f"{tmp_path}/nnn" in shown and "nnn..." in shown
+
+
 def test_thousands_of_entries_of_one_model_resolve_its_path_once(tmp_path: Path, monkeypatch) -> None:
     """Resolving a path asks the file system about every folder in it: a third of the reading of a scene
     of 160,000 objects, when it was done for each."""

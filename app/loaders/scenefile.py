@@ -39,7 +39,7 @@ from pathlib import Path
 from typing import NoReturn
 
 from marraztu.errors import LoadError, ViewerError
-from marraztu.loaders.files import line_at, read_file, same_file_key
+from marraztu.loaders.files import line_at, read_file, same_file_key, shown
 from marraztu.loaders.patterns import compiled
 from marraztu.loaders.registry import load_model
 from marraztu.model.geometry import FLOAT32_MAX
@@ -545,7 +545,7 @@ class _ModelLoader:
             try:
                 self.meshes[key] = load_model(entry.model_path.absolute())
             except (ViewerError, OSError) as err:
-                raise LoadError(self.scene_path, f"model {entry.model}: {err}", entry.line) from err
+                raise LoadError(self.scene_path, f"model {shown(entry.model)}: {err}", entry.line) from err
         return self.meshes[key]
 
 
