@@ -247,6 +247,21 @@ def test_what_is_missing_is_a_note_and_the_colours_are_used(tmp_path: Path, mtl:
     assert mesh.face_count == 2
 
 
+@pytest.mark.parametrize(("mtl", "obj", "said"), [
+    ("newmtl w\nKd 1 0 0\n".encode("utf-16"), "mtllib m.mtl\n",
+     "material library 'm.mtl' is UTF-16 text: save it as UTF-8; using the scene's material"),
+    (b"# exported\nKd 1 0 0\nKs 1 1 1\nnewmtl w\nKd 1 0 0\n", "mtllib m.mtl\n",
+     "material library 'm.mtl': 2 lines before the first newmtl, which belong to no material, ignored"),
+    (b"", "", "usemtl names materials ('w') but no mtllib line names their library; using the scene's material"),
+])
+def test_what_is_read_of_no_material_is_a_note(tmp_path: Path, mtl: bytes, obj: str, said: str) -> None:
+    """A UTF-16 library said it 'defines no material'; the lines before the first newmtl, and a usemtl
+    with no library, were passed over without a word."""
+    (tmp_path / "m.mtl").write_bytes(mtl)
+    (tmp_path / "m.obj").write_text(f"{obj}{TRIANGLES}usemtl w\nf 1 2 3\n")
+    assert load_model(tmp_path / "m.obj").warnings == (said,)
+
+
 @pytest.mark.parametrize(("mtl", "said"), [
     ("newmtl w\nKd 255 128 0\n", "material library 'm.mtl': Kd on line 2 holds 255, outside MTL's 0..1: held to it"),
     ("newmtl w\nKa 0 0 0\nKd 0.5 -0.5 2\nKs 3\n",

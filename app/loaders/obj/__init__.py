@@ -67,11 +67,14 @@ def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
     notes = list(raw.notes)
     library: list[MeshMaterial] = []
     tried: list[Path] = []
+    runs = raw.material_runs
+    used = [runs.names[number] for number in runs.used_numbers()] if runs else []
     if raw.mtllib and base_dir is not None:
-        runs = raw.material_runs
-        used = [runs.names[number] for number in runs.used_numbers()]
         wanted = {*used, *map(name_before_comment, used)}  # "usemtl wood # oak" may mean "wood"
         library = read_libraries(base_dir, raw.mtllib, notes, wanted, tried)
+    elif used and not raw.mtllib:
+        notes.append(f"usemtl names materials ({_names_shown(used)}) but no mtllib line names their library; "
+                     "using the scene's material")
     uv = None if raw.corner_texcoord is None else (raw.texcoords, raw.corner_texcoord)
     normals = None if raw.corner_normal is None else (raw.normals, raw.corner_normal)
     first = (library[0].values or None) if library else None  # the whole model's, where no usemtl says
@@ -84,14 +87,17 @@ def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
     used, face_material, unknown, beyond = _face_materials(raw.material_runs, library, mesh.face_count)
     notes = list(mesh.warnings)
     if unknown:
-        shown = ", ".join(f"'{name[:40]}'" for name in unknown[:3]) + (" ..." if len(unknown) > 3 else "")
-        notes.append(f"usemtl names materials the library lacks ({shown}); their faces take the model's first "
-                     "material")
+        notes.append(f"usemtl names materials the library lacks ({_names_shown(unknown)}); their faces take the "
+                     "model's first material")
     if beyond:
         notes.append(f"{MAX_MATERIALS + beyond} materials used; the faces of all but the first {MAX_MATERIALS} "
                      "take the model's first material")
     return replace(mesh, materials=used, face_material=face_material, warnings=tuple(notes))
 
+
+
+def _names_shown(names: list[str]) -> str:
+    return ", ".join(f"'{name[:40]}'" for name in names[:3]) + (" ..." if len(names) > 3 else "")
 
 
 def _drawn_vertex_colours(table: np.ndarray | None) -> tuple[np.ndarray | None, list[str]]:

@@ -21,7 +21,7 @@ from marraztu.loaders.obj.raw import (
     name_of_words,
     text_without_comment,
 )
-from marraztu.model.mesh import MeshMaterial
+from marraztu.model.mesh import MeshMaterial, counted
 
 # A material library is a few lines per material: one this large is not one.
 MAX_MTL_BYTES = 16 << 20
@@ -105,6 +105,7 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
     block: _Block | None = None  # the material being read; dropped at the next newmtl unless kept
     malformed, first_malformed = 0, ""  # one note however many lines are ignored, naming the first
     ignored: set[str] = set()
+    before_first = 0  # lines of values before the first newmtl, which belong to no material
     for number, line in enumerate(text_lines(text, bom_length(text)), start=1):  # a byte order mark would make the
         # first newmtl no keyword
         tokens = text_without_comment(line).split(None, _MOST_WORDS)
@@ -117,7 +118,7 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
             if (keep_first and not kept) or (named and block.name not in kept):  # the first wins
                 kept[block.name] = block
         elif block is None:
-            continue
+            before_first += 1
         elif key in ("ka", "kd", "ks", "ns") and not _material_value(block.values, key, tokens[1:]):
             malformed, first_malformed = malformed + 1, first_malformed or f"{key.capitalize()} line, on line {number}"
         elif key != "ns" and key in block.values:
@@ -127,8 +128,13 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
             ignored.update(options)
         elif key in ("d", "tr") and _see_through(key, tokens[1:]):
             ignored.add("transparency (d, Tr)")
-    if block is None:
+    if block is None and text.startswith((b"\xff\xfe", b"\xfe\xff")):  # Notepad's "Unicode", as an OBJ's
+        notes.append(f"material library '{name}' is UTF-16 text: save it as UTF-8; using the scene's material")
+    elif block is None:
         notes.append(f"material library '{name}' defines no material; using the scene's material")
+    elif before_first:
+        notes.append(f"material library '{name}': {counted(before_first, 'line')} before the first newmtl, "
+                     "which belong to no material, ignored")
     if malformed == 1:
         notes.append(f"material library '{name}': ignored a malformed {first_malformed}")
     elif malformed:
