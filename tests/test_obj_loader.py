@@ -358,7 +358,8 @@ BAD_CASES = [
     ("float index", V3 + "f 1.0 2 3\n", 4, "is not an index"),
     ("absurd index", V3 + "f 1 2 99999999999999999999\n", 4, "vertex index '99999999999999999999' out of range"),
     # Past a 32-bit index: 2**32 + 1 must not wrap round to vertex 1.
-    ("index past 32 bits", V3 + "f 1 2 4294967297\n", 4, "vertex index '4294967297' out of range"),
+    ("index past 32 bits", V3 + "f 1 2 4294967297\n", 4,
+     "vertex index '4294967297' out of range: more than a model holds (2147483647)"),
     ("vt past 32 bits", V3 + "vt 0 0\nf 1/1 2/1 3/2147483648\n", 5,
      "texture coordinate (vt) index '2147483648' out of range"),
     ("absurd negative", V3 + "f 1 2 -99999999999999999999\n", 4, "out of range"),

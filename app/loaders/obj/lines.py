@@ -316,7 +316,8 @@ class LineReader:
             if part and not _INTEGER.match(part):
                 raise self.fail(number, f"bad face corner {_quoted(token)}: {_quoted(part)} is not an index")
             if _beyond_index(part):
-                raise self.fail(number, f"{_FIELD_NAMES[field]} index {_quoted(part)} out of range")
+                raise self.fail(number, f"{_FIELD_NAMES[field]} index {_quoted(part)} out of range: more than a "
+                                        f"model holds ({INDEX_LIMIT})")
         indices = [int(part) if part else None for part in (parts + [b"", b""])[:3]]
         if 0 in indices:
             raise self.fail(number, f"index 0 in face corner {_quoted(token)}: OBJ indices start at 1")
