@@ -362,7 +362,7 @@ def check_one_parent_each(path: Path, document: dict[str, Any] | None) -> None:
     for node in nodes if isinstance(nodes, list) else ():
         children = node.get("children") if isinstance(node, dict) else None
         for child in children if isinstance(children, list) else ():
-            if not isinstance(child, int) or isinstance(child, bool):
+            if not _is_whole(child):
                 continue  # not an index: trimesh says what is wrong with it
             if child in seen:
                 raise LoadError(path, f"not a glTF file: node {child} is the child of two nodes (glTF's nodes form "
@@ -501,7 +501,7 @@ def _primitive_sizes(document: dict[str, Any]) -> list[list[tuple[int, int]]]:
 
 def _count(accessor: Any) -> int:
     count = accessor["count"]
-    if not isinstance(count, int) or isinstance(count, bool) or count < 0:
+    if not _is_whole(count) or count < 0:
         raise _Unshaped
     return count
 
