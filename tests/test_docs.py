@@ -1,5 +1,5 @@
 """The README and docs/ are for the people who use the program: every link they hold resolves inside
-the repository, every picture they show exists, and the README's Python runs as written."""
+the repository, every picture they show exists, and the README's Python and scene file run as written."""
 
 from __future__ import annotations
 
@@ -46,3 +46,19 @@ def test_the_readmes_python_runs_as_written_given_its_two_files(tmp_path: Path, 
     exec(compile(code, "README.md", "exec"), {})
     assert Image.open(tmp_path / "shot.png").size == (800, 600)
     assert capsys.readouterr().out.startswith("everything ")
+
+
+def test_the_readmes_scene_file_loads_as_written_beside_its_models(tmp_path: Path) -> None:
+    """The Files section's TOML, with the models and texture it names beside it, is a scene the viewer
+    opens without a word of complaint."""
+    import marraztu
+
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    scene = re.search(r"```toml\n(.*?)```", text, re.DOTALL).group(1)
+    (tmp_path / "my.toml").write_text(scene, encoding="utf-8")
+    for name in ("camera.obj", "rammer.obj", "selfi.ppm"):
+        (tmp_path / name).write_bytes((ASSET_DIR / name).read_bytes())
+    with marraztu.Viewer(size=(64, 48), scene=tmp_path / "my.toml") as viewer:
+        assert [obj.name for obj in viewer.scene.objects] == ["Rammer_255"]
+        assert viewer.scene.objects[0].material.ns == 10
+        assert "checker" not in viewer.message
