@@ -31,6 +31,20 @@ def test_every_local_link_resolves_inside_the_repository(document: Path) -> None
         assert resolved.exists(), f"{document.name}: {target} does not exist"
 
 
+def _slug(heading: str) -> str:
+    """GitHub's anchor for a heading: lower case, punctuation dropped, blanks made hyphens."""
+    return re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-")
+
+
+@pytest.mark.parametrize("document", DOCUMENTS, ids=lambda path: str(path.relative_to(ROOT)))
+def test_every_anchor_names_a_heading_of_its_document(document: Path) -> None:
+    text = document.read_text(encoding="utf-8")
+    headings = {_slug(heading) for heading in re.findall(r"^#+ (.*)$", text, re.MULTILINE)}
+    for target in _LINK.findall(text):
+        if target.startswith("#"):
+            assert target[1:] in headings, f"{document.name}: {target} names no heading"
+
+
 def test_the_readme_links_somewhere() -> None:
     assert len(_local_targets(ROOT / "README.md")) >= 10  # the pattern still finds the README's links
 
