@@ -252,6 +252,8 @@ def test_what_is_missing_is_a_note_and_the_colours_are_used(tmp_path: Path, mtl:
      "material library 'm.mtl' is UTF-16 text: save it as UTF-8; using the scene's material"),
     (b"# exported\nKd 1 0 0\nKs 1 1 1\nnewmtl w\nKd 1 0 0\n", "mtllib m.mtl\n",
      "material library 'm.mtl': 2 lines before the first newmtl, which belong to no material, ignored"),
+    (b"Kd 1 0 0\nnewmtl w\nKd 1 0 0\n", "mtllib m.mtl\n",
+     "material library 'm.mtl': 1 line before the first newmtl, which belongs to no material, ignored"),
     (b"", "", "usemtl names materials ('w') but no mtllib line names their library; using the scene's material"),
 ])
 def test_what_is_read_of_no_material_is_a_note(tmp_path: Path, mtl: bytes, obj: str, said: str) -> None:

@@ -134,7 +134,7 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
         notes.append(f"material library '{name}' defines no material; using the scene's material")
     elif before_first:
         notes.append(f"material library '{name}': {counted(before_first, 'line')} before the first newmtl, "
-                     "which belong to no material, ignored")
+                     f"which belong{'s' if before_first == 1 else ''} to no material, ignored")
     if malformed == 1:
         notes.append(f"material library '{name}': ignored a malformed {first_malformed}")
     elif malformed:
