@@ -187,6 +187,21 @@ def test_every_library_named_is_read_and_the_first_of_a_name_wins(tmp_path: Path
     assert missing == (["material library 'gone.mtl' not found next to the model"] if "gone" in statements else [])
 
 
+@pytest.mark.parametrize(("statements", "said"), [
+    ("mtllib a.mtl\n" + "".join(f"mtllib gone{at}.mtl\n" for at in range(3)),
+     "3 material libraries not found next to the model (the first 'gone0.mtl')"),
+    ("".join(f"mtllib gone{at}.mtl\n" for at in range(3)),
+     "3 material libraries not found next to the model (the first 'gone0.mtl'); using the scene's material"),
+])
+def test_libraries_not_found_are_one_note(tmp_path: Path, statements: str, said: str) -> None:
+    """A note a line made the load message a list of them; and one said 'using the scene's material'
+    where another library's materials were used."""
+    (tmp_path / "a.mtl").write_text("newmtl red\nKd 1 0 0\n")
+    mesh = parse_obj((statements + TRIANGLES + "usemtl red\nf 1 2 3\n").encode(), str(tmp_path / "m.obj"),
+                     base_dir=tmp_path)
+    assert [note for note in mesh.warnings if "not found" in note] == [said]
+
+
 def test_a_windows_1252_byte_in_an_mtl_leaves_its_utf8_names_alone(tmp_path: Path) -> None:
     """Each line is decoded on its own, as an OBJ's are: a comment in one encoding, names in the other."""
     (tmp_path / "m.mtl").write_bytes(b"# Erstellt am 01.M\xe4rz\n" + "newmtl Matériau\nKd 0 1 0\n".encode())

@@ -46,12 +46,14 @@ def read_libraries(base_dir: Path, lines: Sequence[str], notes: list[str], wante
     if len(lines) > MAX_LIBRARY_LINES:
         notes.append(f"more than {MAX_LIBRARY_LINES} material libraries named: those after "
                      f"'{shown(lines[MAX_LIBRARY_LINES - 1])}' are not read")
+    missing: list[str] = []
     for line in lines[:MAX_LIBRARY_LINES]:
-        for mtl in _library_paths(base_dir, line, notes, finder):
+        for mtl in _library_paths(base_dir, line, missing, finder):
             key = same_file_key(mtl)
             if key not in read:
                 read.add(key)
                 materials += _read_library(mtl, notes, wanted, tried, textures, keep_first=not materials)
+    notes.extend(_missing_note(missing, none_read=not read))
     notes.extend(textures.notes())
     tried.extend(textures.read_already)
     first_of_name: dict[str, MeshMaterial] = {}
@@ -72,21 +74,30 @@ def _read_library(mtl: Path, notes: list[str], wanted: Collection[str], tried: l
     return _parse_library(text, name, mtl.parent, notes, wanted, textures, keep_first)
 
 
-def _library_paths(base_dir: Path, name: str, notes: list[str], finder: _Finder) -> list[Path]:
+def _library_paths(base_dir: Path, name: str, missing: list[str], finder: _Finder) -> list[Path]:
     """The files an mtllib line names: the whole line where it is one file's name ('a b.mtl' with its
     space), else each of its names that is a file ('mtllib a.mtl b.mtl'), each found as a texture is;
-    one note for those missing."""
+    the names not found go to `missing` (the whole line where none is)."""
     whole = finder.find(name, base_dir, by_last_part=False)  # 'a/x.mtl b/y.mtl' ends in a file's name too
     if whole is not None:
         return [whole]
     words = name.split(None, _MOST_NAMES)[:_MOST_NAMES]
     there = [finder.find(word, base_dir) for word in words]
     found = [path for path in there if path is not None]
-    missing = [word for word, path in zip(words, there) if path is None] if found else [name]
-    for word in missing[:1]:  # the scene's material stands in only where no library was found
-        notes.append(f"material library '{shown(word)}' not found next to the model"
-                     + ("" if found else "; using the scene's material"))
+    missing.extend([word for word, path in zip(words, there) if path is None] if found else [name])
     return found
+
+
+def _missing_note(missing: list[str], none_read: bool) -> list[str]:
+    """One note for the libraries not found, however many lines name them; the scene's material stands
+    in only where no library was read."""
+    if not missing:
+        return []
+    stand_in = "; using the scene's material" if none_read else ""
+    if len(missing) == 1:
+        return [f"material library '{shown(missing[0])}' not found next to the model{stand_in}"]
+    return [f"{len(missing)} material libraries not found next to the model (the first '{shown(missing[0])}')"
+            f"{stand_in}"]
 
 
 @dataclass
