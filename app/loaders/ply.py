@@ -691,7 +691,7 @@ def _without_lists(element: PlyElement, columns: list[_Column]) -> tuple[PlyElem
 def _written(header: bytes, tables: list[tuple[PlyElement, list[np.ndarray]]]) -> bytes:
     """The header and each element's rows in binary little-endian PLY's layout: each value, and each
     list's count before its items, written in place."""
-    layouts = [_row_layout(element, values) for element, values in tables]
+    layouts = [_row_dtype(element, _list_counts(element, values), "<") for element, values in tables]
     out = bytearray(len(header) + sum(element.count * layout.itemsize for (element, _), layout in
                                       zip(tables, layouts)))
     out[:len(header)] = header
@@ -707,13 +707,9 @@ def _written(header: bytes, tables: list[tuple[PlyElement, list[np.ndarray]]]) -
     return bytes(out)
 
 
-def _row_layout(element: PlyElement, values: list[np.ndarray]) -> np.dtype:
-    fields: list[tuple] = []
-    for number, (prop, value) in enumerate(zip(element.properties, values)):
-        if prop.count_type is not None:
-            fields.append((f"count{number}", "<" + PLY_TYPES[prop.count_type]))
-        fields.append((f"value{number}", "<" + PLY_TYPES[prop.value_type], value.shape[1:]))
-    return np.dtype(fields)
+def _list_counts(element: PlyElement, values: list[np.ndarray]) -> list[int]:
+    """The one count of each list of a table whose rows all have the same counts: its values' width."""
+    return [value.shape[1] for prop, value in zip(element.properties, values) if prop.count_type is not None]
 
 
 # --- a binary body, for trimesh's reader --------------------------------------------------------------
@@ -785,7 +781,7 @@ def _binary_columns(path: Path, data: bytes, element: PlyElement, at: int, order
     return _gathered_columns(data, element, starts, counts, order), False, end
 
 
-def _row_dtype(element: PlyElement, counts: np.ndarray, order: str) -> np.dtype:
+def _row_dtype(element: PlyElement, counts: np.ndarray | list[int], order: str) -> np.dtype:
     """A row of the element whose lists hold these counts, as a numpy record."""
     fields: list[tuple] = []
     given = iter(counts)
