@@ -237,27 +237,41 @@ def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
     """The binary little-endian PLY file that holds what `data`, an ASCII one, holds: every number
     checked against its property's type, every face's corners against the vertex count."""
     body = _Body(path, data, header.body_at, _numbers(path, data, header.body_at))
-    vertices, tables, at = header.count("vertex"), [], 0
+    tables, at = [], 0
     sizes: list[np.ndarray] = []
     for element in header.elements:
         columns, uniform, at = _element_columns(body, element, at)
         for column in columns:
             _check_type(body, element, column)
             _check_coordinate(body, element, column)
-        corners = _face_corners(element, columns, vertices, body.error)
-        strips = _strip_triangles(header, element, columns, vertices, body.error)
-        if strips is not None:
-            tables.append(strips)
-        elif corners is not None and (not uniform or corners.values.shape[1] > 3):
-            tables.append(_fanned(element, columns, corners))
-            sizes.append(corners.counts)
-        elif columns and not uniform:  # lists of mixed lengths, which trimesh draws nothing of: left out
-            tables.append(_without_lists(element, columns))
-        elif columns:
-            tables.append((element, [column.values for column in columns]))
+        if not columns:  # no rows, or no properties: nothing of it for trimesh to read
+            continue
+        table, _, fanned = _table_for_trimesh(header, element, columns, uniform, body.error)
+        tables.append(table)
+        if fanned is not None:
+            sizes.append(fanned)
     _check_rows_fill_the_body(body, at)
     return ForTrimesh(_written(header.text("binary_little_endian", tuple(element for element, _ in tables)), tables),
                       _face_sizes(header, sizes))
+
+
+def _table_for_trimesh(header: PlyHeader, element: PlyElement, columns: list[_Column], uniform: bool,
+                       fail: Callable[[str, int], LoadError]
+                       ) -> tuple[tuple[PlyElement, list[np.ndarray]], bool, np.ndarray | None]:
+    """The element's rows as trimesh's binary reader takes them, whether they are the file's own, and
+    the sizes of the faces fanned: faces of more than three corners fanned, triangle strips made faces;
+    another element's lists left out where they vary (trimesh draws nothing of them). `fail` makes
+    the error of a bad index, as _face_corners says."""
+    vertices = header.count("vertex")
+    strips = _strip_triangles(header, element, columns, vertices, fail)
+    if strips is not None:
+        return strips, False, None
+    corners = _face_corners(element, columns, vertices, fail)
+    if corners is not None and (not uniform or corners.values.shape[1] > 3):
+        return _fanned(element, columns, corners), False, corners.counts
+    if not uniform:
+        return _without_lists(element, columns), False, None
+    return (element, [column.values for column in columns]), True, None
 
 
 def _face_sizes(header: PlyHeader, fanned: list[np.ndarray]) -> np.ndarray | None:
@@ -732,7 +746,8 @@ def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh
         if element.name not in _KEPT_ELEMENTS or not columns:
             unchanged = False
             continue
-        table, as_read, fanned = _kept_table(path, header, element, columns, uniform)
+        table, as_read, fanned = _table_for_trimesh(header, element, columns, uniform,
+                                                     lambda message, at: LoadError(path, message))
         tables.append(table)
         if fanned is not None:
             sizes.append(fanned)
@@ -743,23 +758,6 @@ def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh
         return ForTrimesh(data)
     return ForTrimesh(_written(header.text("binary_little_endian", tuple(element for element, _ in tables)), tables),
                       _face_sizes(header, sizes))
-
-
-def _kept_table(path: Path, header: PlyHeader, element: PlyElement, columns: list[_Column], uniform: bool
-                ) -> tuple[tuple[PlyElement, list[np.ndarray]], bool, np.ndarray | None]:
-    """The element's rows as trimesh's binary reader takes them, whether they are the file's own, and
-    the sizes of the faces fanned: faces of more than three corners fanned, triangle strips made faces;
-    another element's lists left out where they vary (trimesh draws nothing of them)."""
-    vertices = header.count("vertex")
-    strips = _strip_triangles(header, element, columns, vertices, lambda message, at: LoadError(path, message))
-    if strips is not None:
-        return strips, False, None
-    corners = _face_corners(element, columns, vertices, lambda message, at: LoadError(path, message))
-    if corners is not None and (not uniform or corners.values.shape[1] > 3):
-        return _fanned(element, columns, corners), False, corners.counts
-    if not uniform:
-        return _without_lists(element, columns), False, None
-    return (element, [column.values for column in columns]), True, None
 
 
 def _binary_columns(path: Path, data: bytes, element: PlyElement, at: int, order: str
