@@ -312,6 +312,12 @@ def _first_bad_word(path: Path, data: bytes, body_at: int) -> LoadError:
     return LoadError(path, "its body could not be read as numbers")
 
 
+def _ended(path: Path, element: PlyElement, line: int | None = None) -> LoadError:
+    """The body ends before the rows of `element` its header counts (a binary body names no line)."""
+    return LoadError(path, f"the header counts {counted(element.count, 'row')} of {element.name}, the file ends "
+                           "before them", line=line)
+
+
 _LINE_PIECE_BYTES = 1 << 16
 
 
@@ -336,8 +342,8 @@ class _Body:
         return LoadError(self.path, message, line=line)
 
     def ended(self, element: PlyElement) -> LoadError:
-        return LoadError(self.path, f"the header counts {counted(element.count, 'row')} of {element.name}, the file "
-                                    "ends before them", line=line_at(self.data, max(len(self.data.rstrip()) - 1, 0)))
+        """_ended at the body's last line."""
+        return _ended(self.path, element, line=line_at(self.data, max(len(self.data.rstrip()) - 1, 0)))
 
     def numbers_beginning_lines(self) -> np.ndarray:
         """Per number of the body, whether it is the first word of its line."""
@@ -913,8 +919,3 @@ def _gathered(data: bytes, offsets: np.ndarray, kind: np.dtype) -> np.ndarray:
 def _no_line(at: int) -> int:
     """A binary body's value has no line to name: the ASCII reader's way of finding one, unused."""
     return at
-
-
-def _ended(path: Path, element: PlyElement) -> LoadError:
-    return LoadError(path, f"the header counts {counted(element.count, 'row')} of {element.name}, the file ends "
-                           "before them")
