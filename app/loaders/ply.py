@@ -20,7 +20,7 @@ import functools
 import re
 import struct
 from array import array
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import NamedTuple
@@ -347,25 +347,27 @@ class _Body:
 
     def numbers_beginning_lines(self) -> np.ndarray:
         """Per number of the body, whether it is the first word of its line."""
-        flags, after_line_end = [np.empty(0, bool)], True  # the body starts on a line of its own
-        for start, stop in pieces_at_gaps(self.data, self.body_at, _LINE_PIECE_BYTES):  # a line end's 8 bytes a piece
+        pieces = pieces_at_gaps(self.data, self.body_at, _LINE_PIECE_BYTES)  # a line end's 8 bytes a piece
+        return np.concatenate([np.empty(0, bool), *(begins for _, _, begins in self._words_by_piece(pieces))])
+
+    def _words_by_piece(self, pieces: Iterable[tuple[int, int]]) -> Iterator[tuple[int, np.ndarray, np.ndarray]]:
+        """For each (start, stop) piece of the body, in order: its start, where each of its words starts
+        within it, and whether each word begins its line."""
+        after_line_end = True  # the body starts on a line of its own
+        for start, stop in pieces:
             words, ends_before, ends = words_and_line_ends(
                 np.frombuffer(self.data, np.uint8, count=stop - start, offset=start))
-            flags.append(np.diff(np.concatenate(([-1 if after_line_end else 0], ends_before))) > 0)
+            # a line ended between the word before and this one
+            yield start, words, np.diff(np.concatenate(([-1 if after_line_end else 0], ends_before))) > 0
             after_line_end = bool(ends > ends_before[-1]) if len(words) else (after_line_end or bool(ends))
-        return np.concatenate(flags)
 
     def _lines(self, index: int) -> tuple[int, int | None]:
         """The line of the number at `index`, and that of the row before the first row before it that
         does not begin its line, after two or more that do; counted a piece at a time, up to that
         number only."""
-        passed, aligned, culprit, after_line_end = 0, 0, None, True  # the body starts on a line of its own
+        passed, aligned, culprit = 0, 0, None
         last_row_at = self.body_at  # the offset of the last row start seen
-        for start, stop in pieces_at_gaps(self.data, self.body_at):
-            words, ends_before, ends = words_and_line_ends(
-                np.frombuffer(self.data, np.uint8, count=stop - start, offset=start))
-            before = np.concatenate(([-1 if after_line_end else 0], ends_before))
-            begins_line = np.diff(before) > 0  # a line ended between the word before and this one
+        for start, words, begins_line in self._words_by_piece(pieces_at_gaps(self.data, self.body_at)):
             if culprit is None and aligned >= 0:
                 starts = np.concatenate([np.empty(0, np.int64), *(rows(passed, min(passed + len(words), index))
                                                                    for rows in self.row_starts.values())])
@@ -382,7 +384,6 @@ class _Body:
             if index < passed + len(words):
                 return line_at(self.data, start + int(words[index - passed])), culprit
             passed += len(words)
-            after_line_end = bool(ends > ends_before[-1]) if len(words) else (after_line_end or bool(ends))
         return line_at(self.data, len(self.data)), culprit
 
 
