@@ -624,9 +624,7 @@ def _face_corners(element: PlyElement, columns: list[_Column], vertices: int,
         row = int(np.argmax(short))
         size = int(corners.counts[row])
         raise fail(f"a face of {size} corner{'' if size == 1 else 's'}: 3 or more make one", corners.count_index(row))
-    first = _first_unnamed_vertex(corners.values, vertices)
-    if first is not None:
-        raise fail(_unnamed_vertex(corners.values.ravel()[first], vertices), corners.index(first))
+    _check_names_vertices(corners, vertices, fail)
     for column in columns:
         if column.prop.name == TEXCOORD_LIST and column.counts is not None and column.count_index is not None:
             wrong = column.counts != 2 * corners.counts
@@ -646,10 +644,8 @@ def _strip_triangles(header: PlyHeader, element: PlyElement, columns: list[_Colu
     lists = [column for column in columns if column.counts is not None and column.prop.name in FACE_LISTS]
     if element.name != STRIPS or header.count("face") or not lists:
         return None
+    _check_names_vertices(lists[0], vertices, fail, between_strips=True)
     indices = lists[0].values
-    first = _first_unnamed_vertex(np.where(indices == -1, 0, indices), vertices)
-    if first is not None:
-        raise fail(_unnamed_vertex(indices.ravel()[first], vertices), lists[0].index(first))
     row_ends = np.cumsum(lists[0].counts if indices.ndim == 1 else np.full(len(indices), indices.shape[1]))
     chain = np.insert(indices.ravel().astype(np.int64), row_ends, -1)  # a row's end ends its strip too
     at = np.arange(len(chain))
@@ -661,13 +657,19 @@ def _strip_triangles(header: PlyHeader, element: PlyElement, columns: list[_Colu
     return PlyElement("face", len(triangles), (PlyProperty(FACE_LISTS[0], "int", "uchar"),)), [triangles]
 
 
-def _first_unnamed_vertex(indices: np.ndarray, vertices: int) -> int | None:
-    """Where the first index (in file order) names no vertex: a whole number from 0 to vertices - 1 names
-    one (an index list of a float type may hold 1.5 or NaN, which trimesh would cast without a word)."""
-    named = (indices >= 0) & (indices < vertices)  # NaN: False
+def _check_names_vertices(column: _Column, vertices: int, fail: Callable[[str, int], LoadError],
+                          between_strips: bool = False) -> None:
+    """Each index names a vertex: a whole number from 0 to vertices - 1 (an index list of a float type may
+    hold 1.5 or NaN, which trimesh would cast without a word), or -1 `between_strips` where there are
+    vertices. The first that does not, in file order, is refused at its place."""
+    indices = column.values
+    checked = np.where(indices == -1, 0, indices) if between_strips else indices  # -1 passes where 0 would
+    named = (checked >= 0) & (checked < vertices)  # NaN: False
     if indices.dtype.kind == "f":
-        named &= indices == np.trunc(indices)
-    return None if named.all() else int(np.argmin(named.ravel()))
+        named &= checked == np.trunc(checked)
+    if not named.all():
+        first = int(np.argmin(named.ravel()))
+        raise fail(_unnamed_vertex(indices.ravel()[first], vertices), column.index(first))
 
 
 def _unnamed_vertex(value: float | np.number, vertices: int) -> str:
