@@ -126,12 +126,7 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
             comment_ends_it = True
             _check_end_word_in_comment(path, keyword, line, number)
         if keyword == "format":
-            if encoding is not None:  # trimesh read the last one, numpy the body as that
-                raise LoadError(path, "a second 'format' line: a PLY's header has one", line=number)
-            if len(words) != 3 or words[1] not in FORMATS:
-                raise LoadError(path, "expected 'format ascii 1.0' or a binary_little_endian or binary_big_endian "
-                                      "format", line=number)
-            encoding = FORMATS[words[1]]
+            encoding = _encoding(path, words, number, encoding)
         elif keyword in ("element", "property"):
             declared += 1
             if declared > MAX_DECLARATIONS:
@@ -147,12 +142,35 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
             else:
                 properties[-1].append(_property(path, words, number, elements[-1], property_names))
         elif "texturefile" in line.lower():  # on any other line, as trimesh reads it
-            picture = line[line.lower().index("texturefile") + len("texturefile"):].strip() or None
+            picture = _picture_named(line)
         elif keyword not in _REMARKS:  # trimesh passed over it: a header cut or run together
             raise LoadError(path, f"'{keyword[:40]}' begins no PLY header line: a line is a format, element, property, "
                                   "comment or obj_info", line=number)
     if encoding is None:
         raise LoadError(path, "the header has no 'format' line", line=number + 1)
+    return PlyHeader(encoding, _checked_elements(path, elements, properties, element_lines), picture,
+                     line_end_from(data, end), comment_ends_it)
+
+
+def _encoding(path: Path, words: list[str], line: int, encoding_so_far: str | None) -> str:
+    """The FORMATS value a 'format' line names, where it is the header's first."""
+    if encoding_so_far is not None:  # trimesh read the last one, numpy the body as that
+        raise LoadError(path, "a second 'format' line: a PLY's header has one", line=line)
+    if len(words) != 3 or words[1] not in FORMATS:
+        raise LoadError(path, "expected 'format ascii 1.0' or a binary_little_endian or binary_big_endian "
+                              "format", line=line)
+    return FORMATS[words[1]]
+
+
+def _picture_named(line: str) -> str | None:
+    """What a header line names after the word TextureFile, in any case, as trimesh reads it."""
+    return line[line.lower().index("texturefile") + len("texturefile"):].strip() or None
+
+
+def _checked_elements(path: Path, elements: list[PlyElement], properties: list[list[PlyProperty]],
+                      element_lines: list[int]) -> tuple[PlyElement, ...]:
+    """The elements given their properties, a vertex element of rows checked to have its coordinates and
+    a face element of rows its list of corners."""
     elements = [replace(element, properties=tuple(props)) for element, props in zip(elements, properties)]
     for element, line in zip(elements, element_lines):
         if element.name == "vertex" and element.count:
@@ -160,7 +178,7 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
         if element.name == "face" and element.count and _corner_list(element) is None:
             raise LoadError(path, "element face has no list of its corners (property list uchar int vertex_indices)",
                             line=line)
-    return PlyHeader(encoding, tuple(elements), picture, line_end_from(data, end), comment_ends_it)
+    return tuple(elements)
 
 
 def _end_line(data: bytes) -> int:
