@@ -456,20 +456,37 @@ def _element_columns(body: _Body, element: PlyElement, at: int) -> tuple[list[_C
     walked one by one."""
     if not element.count or not element.properties:
         return [], True, at
-    counts_of_first, width = _walked_row(body, element, at)
-    first_counts = np.array(counts_of_first, np.int64)
-    end = at + width * element.count
-    if end <= len(body.numbers):
-        table = body.numbers[at:end].reshape(element.count, width)
-        columns, count_offsets = _table_columns(element, table, at, first_counts)
-        body.row_starts[element.name] = lambda first, stop, at=at, width=width, end=end: np.arange(
-            at + -(-max(first - at, 0) // width) * width, min(stop, end), width)
-        if all((table[:, offset] == count).all() for offset, count in zip(count_offsets, first_counts)):
-            return columns, True, end
-        del body.row_starts[element.name]
-    if not first_counts.size or at + element.count * len(element.properties) > len(body.numbers):
+    first_counts, width = _walked_row(body, element, at)
+    columns = _one_table_columns(body, element, at, first_counts, width)
+    if columns is not None:
+        return columns, True, at + width * element.count
+    if not first_counts or at + element.count * len(element.properties) > len(body.numbers):
         raise body.ended(element)  # before anything is made by the count: each row holds a number a property
-    starts, counts = np.empty(element.count, np.int64), np.empty((element.count, first_counts.size), np.int64)
+    columns, at = _walked_element(body, element, at, len(first_counts))
+    return columns, False, at
+
+
+def _one_table_columns(body: _Body, element: PlyElement, at: int, first_counts: list[int], width: int
+                       ) -> list[_Column] | None:
+    """The columns where every row has the first row's counts, and so its `width`: views of one table
+    from `at`. None where the body ends before the table or some row's count differs."""
+    end = at + width * element.count
+    if end > len(body.numbers):
+        return None
+    table = body.numbers[at:end].reshape(element.count, width)
+    counts = np.array(first_counts, np.int64)
+    columns, count_offsets = _table_columns(element, table, at, counts)
+    if not all((table[:, offset] == count).all() for offset, count in zip(count_offsets, counts)):
+        return None
+    body.row_starts[element.name] = lambda first, stop: np.arange(
+        at + -(-max(first - at, 0) // width) * width, min(stop, end), width)
+    return columns
+
+
+def _walked_element(body: _Body, element: PlyElement, at: int, lists: int) -> tuple[list[_Column], int]:
+    """The columns of rows of mixed counts from `at`, walked row by row (those _quick_rows cannot take
+    one at a time), and where the next element starts."""
+    starts, counts = np.empty(element.count, np.int64), np.empty((element.count, lists), np.int64)
     walked = _WalkedStarts(starts)
     body.row_starts[element.name] = walked
     quick, at = _quick_rows(body, element, at, starts, counts)
@@ -478,7 +495,7 @@ def _element_columns(body: _Body, element: PlyElement, at: int) -> tuple[list[_C
         starts[row], walked.known = at, row + 1
         counts[row], width = _walked_row(body, element, at)
         at += width
-    return _walked_columns(body, element, starts, counts), False, at
+    return _walked_columns(body, element, starts, counts), at
 
 
 def _quick_rows(body: _Body, element: PlyElement, at: int, starts: np.ndarray, counts: np.ndarray
