@@ -1,17 +1,17 @@
 """A PLY file's header read here, and an ASCII body made the binary body it stands for, for trimesh.
 
-Why not trimesh's ASCII reader: it holds one numpy array per line, about 18 bytes per byte of the
-file (170 with blank lines, which it then cannot read), casts 1.5 or 300 into an index or a byte
-without a word, and names no line. Here the body becomes numbers in one call, each property is
-checked against its type where the file gives it, and the rows are written as the little-endian
-binary body that trimesh reads without parsing, so that what trimesh makes of it is what it makes of
-a binary file. trimesh's binary reader takes one corner count for a whole face element, and splits
-quads into triangles in an order of its own: faces of more than three corners are fanned into
-triangles first, in the file's order, and their sizes kept, so that the loader makes the polygons
-again of trimesh's triangles (marraztu.model.mesh.polygon_corners_of_fans). A binary body is read
-the same way (vertices_and_faces) where trimesh's reader would refuse it (faces of mixed lengths),
-split it its own way (every quad's first triangle, then every second one, from its third corner) or
-make of it what the viewer cannot use (a path of an edge element).
+Why not trimesh's ASCII reader: it holds one numpy array per line, many times the file's size, fails
+on blank lines, casts 1.5 or 300 into an index or a byte without a word, and names no line. Here the
+body becomes numbers in one call, each property is checked against its type where the file gives it,
+and the rows are written as the little-endian binary body that trimesh reads without parsing, so
+that what trimesh makes of it is what it makes of a binary file. trimesh's binary reader takes one
+corner count for a whole face element, and splits quads into triangles in an order of its own: faces
+of more than three corners are fanned into triangles first, in the file's order, and their sizes
+kept, so that the loader makes the polygons again of trimesh's triangles
+(marraztu.model.mesh.polygon_corners_of_fans). A binary body is read the same way
+(vertices_and_faces) where trimesh's reader would refuse it (faces of mixed lengths), split it its
+own way (every quad's first triangle, then every second one, from its third corner) or make of it
+what the viewer cannot use (a path of an edge element).
 """
 
 from __future__ import annotations
