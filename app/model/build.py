@@ -49,8 +49,8 @@ def build_mesh(
     programming interface).
     """
     points = real_numbers(positions, "positions must be real numbers, (V, 3)").reshape(-1, 3)
-    corner_vertex, face_start = (_faces_to_csr(faces, len(points)) if face_sizes is None
-                                 else _sized_faces(faces, face_sizes, len(points)))
+    corner_vertex, face_start = (_listed_polygons(faces, len(points)) if face_sizes is None
+                                 else _sized_polygons(faces, face_sizes, len(points)))
     given_uv, given_normals = (
         None if values is None else _given_table(what, values, width, corner_vertex, len(points), attributes_per_vertex)
         for what, values, width in (("uvs", uvs, 2), ("normals", normals, 3)))
@@ -143,12 +143,19 @@ def real_numbers(values: object, refusal: str) -> np.ndarray:
 _FACES_SHAPE = "faces must be rows of vertex indices, (F, k), or a list of polygons"
 
 
-def _faces_to_csr(faces: Sequence[Sequence[int]] | np.ndarray, vertex_count: int) -> tuple[np.ndarray, np.ndarray]:
+def _mesh_limit() -> str:
+    """What a mesh holds at most, for the refusal of a count past it."""
+    return f"a mesh holds fewer than {INDEX_LIMIT} positions and corners"
+
+
+def _listed_polygons(faces: Sequence[Sequence[int]] | np.ndarray, vertex_count: int) -> tuple[np.ndarray, np.ndarray]:
+    """Polygons given as a list of corner lists or as an (F, k) array, as corners (their vertex rows)
+    and each polygon's first corner."""
     if isinstance(faces, np.ndarray) and faces.dtype.kind != "O" and faces.ndim != 2:  # a flat index buffer, say
         raise ValueError(f"{_FACES_SHAPE}, not an array of shape {faces.shape}")
     if isinstance(faces, np.ndarray) and faces.ndim == 2:
         if faces.size >= INDEX_LIMIT:  # before any copy: a broadcast view costs nothing to make
-            raise ValueError(f"a mesh holds fewer than {INDEX_LIMIT} positions and corners")
+            raise ValueError(_mesh_limit())
         sizes, given = np.full(faces.shape[0], faces.shape[1], dtype=np.int64), faces.ravel()
     else:
         try:
@@ -185,14 +192,14 @@ def _check_face_sizes(sizes: np.ndarray) -> None:
         raise ValueError(f"face {face} has {int(sizes[face])} vertices: a face needs at least 3")
 
 
-def _sized_faces(corners: np.ndarray | Sequence[int], sizes: np.ndarray | Sequence[int], vertex_count: int
-                 ) -> tuple[np.ndarray, np.ndarray]:
+def _sized_polygons(corners: np.ndarray | Sequence[int], sizes: np.ndarray | Sequence[int], vertex_count: int
+                    ) -> tuple[np.ndarray, np.ndarray]:
     """Polygons given as their corners one after another (flattened) and each one's size, as corners
-    and starts."""
+    (their vertex rows) and each polygon's first corner."""
     given = whole_numbers(np.asarray(sizes).ravel(), "face sizes must be whole numbers")
     _check_face_sizes(given)
     if given.size >= INDEX_LIMIT or given.max() >= INDEX_LIMIT:  # before a sum that could wrap
-        raise ValueError(f"a mesh holds fewer than {INDEX_LIMIT} positions and corners")
+        raise ValueError(_mesh_limit())
     face_start = np.concatenate(([0], np.cumsum(given)))
     try:
         flat = np.asarray(corners)
@@ -204,7 +211,7 @@ def _sized_faces(corners: np.ndarray | Sequence[int], sizes: np.ndarray | Sequen
 
 
 def _past_any_mesh(value: int, at: int) -> str:
-    return f"{value} is no vertex index or face size: a mesh holds fewer than {INDEX_LIMIT} positions and corners"
+    return f"{value} is no vertex index or face size: {_mesh_limit()}"
 
 
 def whole_numbers(indices: np.ndarray, refusal: str = "face indices must be whole numbers (0-based vertex rows)",
@@ -239,7 +246,7 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
     face has 3 corners or more, and every index is in range.
     """
     if max(positions.shape[0], corner_vertex.size) >= INDEX_LIMIT:
-        raise ValueError(f"a mesh holds fewer than {INDEX_LIMIT} positions and corners")
+        raise ValueError(_mesh_limit())
     sizes = np.diff(face_start)
     bounds = column_bounds(positions)
     face_normals, degenerate = _face_normals(positions, corner_vertex, face_start, sizes, bounds)
