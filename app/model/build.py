@@ -253,18 +253,13 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
     if degenerate.any():
         notes += (f"{counted(int(degenerate.sum()), 'zero-area face')} (given a fallback normal)",)
     shape = _Shape(positions, corner_vertex, face_start, sizes, bounds, face_normals, degenerate)
-    by_position = _per_position_sources(corner_vertex, positions.shape[0], uv, normals)
-    # Per position where each position has one uv and one normal: derived once each, not once per corner.
-    attributes = None if by_position is None else _attributes(shape, *by_position, per_position=True)
-    per_position = attributes is not None
-    if attributes is None:
-        attributes = _attributes(shape, uv, normals, per_position=False)
+    uvs, vertex_normals, per_position = _uvs_and_normals(shape, uv, normals)
     return Mesh(
         name=name,
         positions=np.ascontiguousarray(positions, dtype=np.float64),
         corner_vertex=np.ascontiguousarray(corner_vertex, dtype=INDEX),
-        uvs=attributes[0],
-        normals=attributes[1],
+        uvs=uvs,
+        normals=vertex_normals,
         face_start=np.ascontiguousarray(face_start, dtype=INDEX),
         face_normals=converted(face_normals, np.float32),
         base_colour=base_colour,
@@ -285,6 +280,18 @@ class _Shape:
     bounds: tuple[np.ndarray, np.ndarray]
     face_normals: np.ndarray  # (F, 3), zero for the degenerate faces until _fill_degenerate
     degenerate: np.ndarray
+
+
+def _uvs_and_normals(shape: _Shape, uv: CornerSource | None, normals: CornerSource | None
+                     ) -> tuple[np.ndarray, np.ndarray, bool]:
+    """The uvs and unit normals, and whether their rows are per position rather than per corner."""
+    by_position = _per_position_sources(shape.corner_vertex, shape.positions.shape[0], uv, normals)
+    # Per position where each position has one uv and one normal: derived once each, not once per corner.
+    attributes = None if by_position is None else _attributes(shape, *by_position, per_position=True)
+    if attributes is not None:
+        return attributes[0], attributes[1], True
+    uvs, vertex_normals = _attributes(shape, uv, normals, per_position=False)  # never None per corner
+    return uvs, vertex_normals, False
 
 
 def _per_position_sources(corner_vertex: np.ndarray, vertex_count: int, uv: CornerSource | None,
