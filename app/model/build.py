@@ -387,6 +387,11 @@ def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: 
         sums = _fan_sums(positions, corner_vertex.reshape(-1, int(sizes[0])))  # a view of the corners
     else:  # each fan a polygon of its own, then the fans of each polygon added in fan order
         sums = _block_sums(positions, corner_vertex, face_start, sizes)
+    return sums.T, _made_unit(sums, smallest)
+
+
+def _made_unit(sums: np.ndarray, smallest: float) -> np.ndarray:
+    """Each polygon's (3, F) sum made unit length in place; which are (almost) no length (zeroed)."""
     degenerate = np.empty(sums.shape[1], bool)
 
     def unit(polygons: slice) -> None:  # in place, piece by piece: no temporary as long as the mesh
@@ -400,7 +405,7 @@ def _face_normals(positions: np.ndarray, corner_vertex: np.ndarray, face_start: 
         piece[:, flat] = 0.0
 
     each(unit, pieces(sums.shape[1], _CROSS_CHUNK))
-    return sums.T, degenerate
+    return degenerate
 
 
 _FAN_BLOCK = 1 << 16  # fans gathered at once where polygons are of many sizes, or huge
