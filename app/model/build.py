@@ -629,7 +629,7 @@ def _fill_degenerate(shape: _Shape, vertex_normals: np.ndarray, row_vertex: np.n
     """A zero-area face takes the average of its corners' normals, or +z when that is zero too."""
     faces = np.flatnonzero(shape.degenerate)
     sizes = shape.sizes[faces]
-    corners = np.repeat(shape.face_start[faces], sizes) + _ranks(sizes)
+    corners = np.repeat(shape.face_start[faces], sizes) + _places_in_polygon(sizes)
     rows = shape.corner_vertex[corners] if row_vertex is None else corners  # per position: the corner's position
     sums = np.add.reduceat(vertex_normals[rows], np.concatenate(([0], np.cumsum(sizes)[:-1])), axis=0)
     averaged, ok = unit_rows(sums)
@@ -637,8 +637,8 @@ def _fill_degenerate(shape: _Shape, vertex_normals: np.ndarray, row_vertex: np.n
     shape.face_normals[faces] = averaged
 
 
-def _ranks(sizes: np.ndarray) -> np.ndarray:
-    """0, 1, .. size-1 for each size, concatenated."""
+def _places_in_polygon(sizes: np.ndarray) -> np.ndarray:
+    """Each corner's place in its polygon, polygons of these sizes one after another: 0, 1, .. size-1 each."""
     return np.arange(int(sizes.sum())) - np.repeat(np.cumsum(sizes) - sizes, sizes)
 
 
