@@ -74,7 +74,7 @@ from marraztu.loaders.images import (
 from marraztu.loaders.ply import STRIPS, binary_of_ascii, read_header, vertices_and_faces
 from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES
 from marraztu.loaders.words import unheld_coordinate
-from marraztu.model.build import FACE_COLOURS_NOTE, build_mesh, by_largest, colour_bytes, whole_numbers
+from marraztu.model.build import FACE_COLOURS_NOTE, build_mesh, by_largest, checked_vertex_rows, colour_bytes
 from marraztu.model.geometry import holds_in_float32
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, counted, polygon_corners_of_fans
 
@@ -506,13 +506,10 @@ def _geometry(source: str | Path, mesh: Any) -> _Geometry:
     def refusal(value: int, corner: int) -> str:
         return f"face {corner // 3} refers to vertex {value}, but its mesh has {len(positions)}"
 
-    try:  # a mesh given in code may hold anything; trimesh's files hold int64
-        faces = whole_numbers(faces, "its faces must be whole numbers", past_int64=refusal)
+    try:  # a mesh given in code may hold anything; trimesh's files hold int64. Before meshes are joined
+        faces = checked_vertex_rows(faces, len(positions), refusal, "its faces must be whole numbers")
     except ValueError as error:
         raise LoadError(source, str(error)) from None
-    if faces.size and (faces.min() < 0 or faces.max() >= len(positions)):  # checked before meshes are joined
-        corner = int(np.argmax((faces < 0) | (faces >= len(positions))))  # flat: rows of 3
-        raise LoadError(source, refusal(int(faces.flat[corner]), corner))
     return _Geometry(mesh, positions, faces, _vertex_uvs(mesh), _vertex_colours(mesh), _ply_colour_notes(source, mesh))
 
 

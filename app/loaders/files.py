@@ -94,6 +94,7 @@ _LINE_END = re.compile(rb"\r\n|\n|\r")
 
 
 BOM = b"\xef\xbb\xbf"  # UTF-8's byte order mark, which Notepad and some exporters put before a text
+UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")  # Notepad's "Unicode", PowerShell's Out-File: no text a reader reads
 
 
 def bom_length(data: bytes) -> int:

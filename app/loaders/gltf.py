@@ -595,7 +595,7 @@ def _fallbacks_chosen(document: dict[str, Any]) -> bool:
     """Takes out EXT_texture_webp where a texture gives a fallback `source` too, as a viewer that draws
     no WEBP does (trimesh took the WEBP, not drawn). False where no texture has both."""
     both = [texture for texture in document.get("textures", [])
-            if "source" in texture and _WEBP in _listed_extensions(texture)]
+            if "source" in texture and _WEBP in _nested(texture, ("extensions",))]
     for texture in both:
         del texture["extensions"][_WEBP]
     return bool(both)
@@ -635,7 +635,7 @@ def _nested(item: dict[str, Any], keys: tuple[str, ...]) -> dict[str, Any]:
 
 def _texture_sources(texture: dict[str, Any]) -> set[int | None]:
     """The pictures trimesh may take for a texture: its `source`, or an extension's (EXT_texture_webp's)."""
-    extensions = _listed_extensions(texture).values()
+    extensions = _nested(texture, ("extensions",)).values()
     return {texture.get("source"), *(_extension_source(extension) for extension in extensions)}
 
 
@@ -644,8 +644,3 @@ def _extension_source(extension: object) -> int | None:
     source = extension.get("source") if isinstance(extension, dict) else None
     return source if _is_whole(source) else None
 
-
-
-def _listed_extensions(item: dict[str, Any]) -> dict[str, Any]:
-    extensions = item.get("extensions")
-    return extensions if isinstance(extensions, dict) else {}

@@ -29,9 +29,8 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import line_at, line_end_from, text_lines
-from marraztu.loaders.patterns import compiled
 from marraztu.loaders.words import (
-    DECIMAL_SYNTAX,
+    DECIMAL_BYTES,
     is_count,
     pieces_at_gaps,
     text_numbers,
@@ -54,7 +53,6 @@ TEXCOORD_LIST = "texcoord"  # MeshLab's: u v for each corner of the face
 MAX_DECLARATIONS = 4096
 # The header's lines that say nothing of the body ("": a blank line, or the first, 'ply').
 _REMARKS = ("", "comment", "obj_info")
-_DECIMAL = compiled(DECIMAL_SYNTAX.encode())
 _NOT_FINITE = re.compile(rb"(?i)[+-]?(?:nan|inf|infinity)")  # numpy reads these too: refused later where wrong
 _END_WORD = "end_header"
 _END_LINE = re.compile(rb"[\r\n][ \t]*+end_header[ \t]*+(?=[\r\n]|\Z)")  # a line end leads: re looks for it fast
@@ -324,7 +322,7 @@ def _first_bad_word(path: Path, data: bytes, body_at: int) -> LoadError:
         except ValueError:
             pass
         for found in re.finditer(rb"\S++", piece):
-            if not _DECIMAL.fullmatch(found[0]) and not _NOT_FINITE.fullmatch(found[0]):
+            if not DECIMAL_BYTES.fullmatch(found[0]) and not _NOT_FINITE.fullmatch(found[0]):
                 word = found[0][:40].decode("utf-8", errors="replace")
                 return LoadError(path, f"'{word}' is not a number", line=line_at(data, start + found.start()))
     return LoadError(path, "its body could not be read as numbers")
@@ -681,7 +679,7 @@ def _strip_triangles(header: PlyHeader, element: PlyElement, columns: list[_Colu
         return None
     _check_names_vertices(lists[0], vertices, fail, between_strips=True)
     indices = lists[0].values
-    row_ends = np.cumsum(lists[0].counts if indices.ndim == 1 else np.full(len(indices), indices.shape[1]))
+    row_ends = np.cumsum(lists[0].counts)
     chain = np.insert(indices.ravel().astype(np.int64), row_ends, -1)  # a row's end ends its strip too
     at = np.arange(len(chain))
     strip_start = np.maximum.accumulate(np.where(chain == -1, at + 1, 0))

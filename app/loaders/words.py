@@ -28,7 +28,8 @@ MAX_COUNT_DIGITS = 12
 DECIMAL_SYNTAX = r"[+-]?+(?:[0-9]++(?:\.[0-9]*+)?+|\.[0-9]++)(?:[eE][+-]?+[0-9]++)?+"
 ROWS_AT_ONCE = 1 << 15  # rows whose words are made numbers in one call
 
-_DECIMAL = compiled(DECIMAL_SYNTAX)
+DECIMAL = compiled(DECIMAL_SYNTAX)  # fullmatch: one decimal number in ASCII digits
+DECIMAL_BYTES = compiled(DECIMAL_SYNTAX.encode())
 # What bytes.split() and numpy's fromstring part numbers at.
 BLANKS = b" \t\n\r\x0b\x0c"  # what numpy's and bytes.split()'s words are parted by
 WHITESPACE = np.zeros(256, bool)
@@ -77,7 +78,7 @@ class WordBlocks:
 
 def checked_coordinates(path: Path, words: list[str], line_of: LineOf) -> np.ndarray:
     """float64 coordinates, each a decimal number within float32's range (the GPU's)."""
-    values = _converted(path, words, line_of, np.float64, _DECIMAL)
+    values = _converted(path, words, line_of, np.float64, DECIMAL)
     if not holds_in_float32(values):
         held = np.abs(values) <= FLOAT32_MAX  # NaN too is not
         raise unheld_coordinate(path, line_of(int(np.argmin(held))))
@@ -86,7 +87,7 @@ def checked_coordinates(path: Path, words: list[str], line_of: LineOf) -> np.nda
 
 def checked_numbers(path: Path, words: list[str], line_of: LineOf) -> np.ndarray:
     """float64 numbers, each a finite decimal number (numpy reads 'nan', 'inf' and 1e400 too: refused)."""
-    values = _converted(path, words, line_of, np.float64, _DECIMAL)
+    values = _converted(path, words, line_of, np.float64, DECIMAL)
     finite = np.isfinite(values)
     if not finite.all():
         at = int(np.argmin(finite))

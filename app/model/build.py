@@ -170,16 +170,22 @@ def _listed_polygons(faces: Sequence[Sequence[int]] | np.ndarray, vertex_count: 
 
 
 def _vertex_rows(given: np.ndarray, face_start: np.ndarray, vertex_count: int) -> np.ndarray:
-    """The corners as int64 rows of the vertex table; ValueError naming the face of one that is none
-    (past int64 too, as given)."""
+    """The corners as int64 rows of the vertex table; ValueError naming the face of one that is none."""
     def refusal(value: int, corner: int) -> str:
         face = int(np.searchsorted(face_start, corner, side="right")) - 1
         return f"face {face} refers to vertex {value}, but there are {vertex_count} (0-based)"
 
-    corners = whole_numbers(given, past_int64=refusal)
-    if corners.size and (corners.min() < 0 or corners.max() >= vertex_count):
+    return checked_vertex_rows(given, vertex_count, refusal)
+
+
+def checked_vertex_rows(given: np.ndarray, vertex_count: int, refusal: Callable[[int, int], str],
+                        not_whole: str = "face indices must be whole numbers (0-based vertex rows)") -> np.ndarray:
+    """Corners (any shape) as int64 rows of a table of `vertex_count` vertices; ValueError of
+    refusal(value, flat place) for the first that names none, past int64 too, as given."""
+    corners = whole_numbers(given, not_whole, past_int64=refusal)
+    if corners.size and (corners.min() < 0 or corners.max() >= vertex_count):  # no mask as long as the mesh
         corner = int(np.argmax((corners < 0) | (corners >= vertex_count)))
-        raise ValueError(refusal(int(corners[corner]), corner))
+        raise ValueError(refusal(int(corners.flat[corner]), corner))
     return corners
 
 

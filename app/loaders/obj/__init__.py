@@ -68,12 +68,12 @@ def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
     library: list[MeshMaterial] = []
     tried: list[Path] = []
     runs = raw.material_runs
-    used = [runs.names[number] for number in runs.used_numbers()] if runs else []
+    used_names = [runs.names[number] for number in runs.used_numbers()] if runs else []
     if raw.mtllib and base_dir is not None:
-        wanted = {*used, *map(name_before_comment, used)}  # "usemtl wood # oak" may mean "wood"
+        wanted = {*used_names, *map(name_before_comment, used_names)}  # "usemtl wood # oak" may mean "wood"
         library = read_libraries(base_dir, raw.mtllib, notes, wanted, tried)
-    elif used and not raw.mtllib:
-        notes.append(f"usemtl names materials ({_names_shown(used)}) but no mtllib line names their library; "
+    elif used_names and not raw.mtllib:
+        notes.append(f"usemtl names materials ({_names_shown(used_names)}) but no mtllib line names their library; "
                      "using the scene's material")
     uv = None if raw.corner_texcoord is None else (raw.texcoords, raw.corner_texcoord)
     normals = None if raw.corner_normal is None else (raw.normals, raw.corner_normal)

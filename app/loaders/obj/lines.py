@@ -42,13 +42,11 @@ from marraztu.loaders.obj.raw import (
 )
 from marraztu.loaders.obj.text import has_continuations
 from marraztu.loaders.patterns import compiled
-from marraztu.loaders.words import BLANKS, DECIMAL_SYNTAX
+from marraztu.loaders.words import BLANKS, DECIMAL_BYTES
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, polygons_of_corners
 from marraztu.model.threads import largest
 
-_NUMBER = DECIMAL_SYNTAX.encode()
-_FLOAT = compiled(_NUMBER + rb"\Z")
 _INTEGER = re.compile(rb"-?[0-9]+\Z")
 _TOKEN = re.compile(rb"\S+")
 _TABLES = {b"v": (0, "vertex position (v)", 3, 7), b"vt": (1, "texture coordinate (vt)", 1, 3),
@@ -118,7 +116,7 @@ def _beyond_index(part: bytes) -> bool:
 
 
 def _float_or_none(token: bytes) -> float | None:
-    return float(token) if _FLOAT.match(token) else None
+    return float(token) if DECIMAL_BYTES.fullmatch(token) else None
 
 
 _WINDOWS_NON_FINITE = re.compile(rb"[+-]?[0-9]\.#(?:IND|QNAN|SNAN|INF)[0-9]*", re.IGNORECASE)

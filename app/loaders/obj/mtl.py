@@ -11,7 +11,16 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.files import bom_length, is_there, read_file, same_file_key, shown, spellings, text_lines
+from marraztu.loaders.files import (
+    UTF16_BOMS,
+    bom_length,
+    is_there,
+    read_file,
+    same_file_key,
+    shown,
+    spellings,
+    text_lines,
+)
 from marraztu.loaders.images import load_image, unread_textures_note
 from marraztu.loaders.obj.raw import (
     MAX_LIBRARY_LINES,
@@ -139,7 +148,7 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
             ignored.update(options)
         elif key in ("d", "tr") and _see_through(key, tokens[1:]):
             ignored.add("transparency (d, Tr)")
-    if block is None and text.startswith((b"\xff\xfe", b"\xfe\xff")):  # Notepad's "Unicode", as an OBJ's
+    if block is None and text.startswith(UTF16_BOMS):  # as an OBJ's
         notes.append(f"material library '{name}' is UTF-16 text: save it as UTF-8; using the scene's material")
     elif block is None:
         notes.append(f"material library '{name}' defines no material; using the scene's material")

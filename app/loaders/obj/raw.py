@@ -10,8 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from marraztu.loaders.files import decoded
-from marraztu.loaders.patterns import compiled
-from marraztu.loaders.words import DECIMAL_SYNTAX
+from marraztu.loaders.words import DECIMAL, DECIMAL_BYTES
 
 # Corner formats by which of v/vt/vn they hold: the slashes between consecutive numbers.
 CORNER_GAPS = {(True,): (), (True, True): (1,), (True, False, True): (2,), (True, True, True): (1, 1)}
@@ -114,13 +113,10 @@ class Polypaint:
         return table, [f"{extra} ZBrush polypaint (#MRGB) colours past the last position ignored"] if extra else []
 
 
-# float() reads '١' (an Arabic-Indic 1) and 1_0 (10) too, which v lines refuse as no number.
-_DECIMAL_TEXT, _DECIMAL_BYTES = compiled(DECIMAL_SYNTAX), compiled(DECIMAL_SYNTAX.encode())
-
-
 def finite_floats(tokens: Sequence[bytes | str]) -> list[float] | None:
     """The tokens' values where each is a finite decimal number in ASCII digits; None otherwise."""
-    if not all((_DECIMAL_BYTES if isinstance(token, bytes) else _DECIMAL_TEXT).fullmatch(token)  # type: ignore[arg-type]
+    # float() reads '١' (an Arabic-Indic 1) and 1_0 (10) too, which v lines refuse as no number
+    if not all((DECIMAL_BYTES if isinstance(token, bytes) else DECIMAL).fullmatch(token)  # type: ignore[arg-type]
                for token in tokens):
         return None
     values = [float(token) for token in tokens]

@@ -17,6 +17,7 @@ import numpy as np
 from marraztu.errors import LoadError
 from marraztu.loaders.files import (
     BOM,
+    UTF16_BOMS,
     bom_length,
     errors_as_load_errors,
     line_at,
@@ -91,7 +92,7 @@ def checked(text: bytes, source: str) -> bytes:
     if b"\r" in text and text.count(b"\r") != text.count(b"\r\n"):
         text = text.replace(b"\r\n", b"\n").replace(b"\r", b"\n")  # no regex: it would hold a piece per line
     nul = text.find(b"\0")
-    if nul >= 0 and text.startswith((b"\xff\xfe", b"\xfe\xff")):  # Notepad's "Unicode", PowerShell's Out-File
+    if nul >= 0 and text.startswith(UTF16_BOMS):
         raise LoadError(source, "UTF-16 text, not an OBJ text file: save it as UTF-8", line=1)
     if nul >= 0:
         raise LoadError(source, "binary data (a NUL byte), not an OBJ text file", line=line_at(text, nul))
