@@ -184,6 +184,86 @@ def test_a_strip_index_that_names_no_vertex_is_refused_at_its_line(tmp_path: Pat
     assert (refused.line, refused.message) == (line, "vertex index -2 out of range (the file has 9 vertices)")
 
 
+def faces_and_strips(faces: list[str], strips: list[list[int]], encoding: str, face_properties: str = "property "
+                     "list uchar int vertex_indices\n", strips_first: bool = False) -> bytes:
+    """The grid with these face rows (as ply_text's) and a tristrips element of these rows after them
+    (before them in the header and body where `strips_first`)."""
+    strip_rows = [f"{len(strip)} {' '.join(map(str, strip))}" for strip in strips]
+    strip_header = f"element tristrips {len(strips)}\nproperty list uchar int vertex_indices\n"
+    text = ply_text(faces, face_properties=face_properties)
+    head, body = text.split("end_header\n")
+    if strips_first:
+        head = head.replace("element face", strip_header + "element face")
+    else:
+        head += strip_header
+    rows = body.splitlines()
+    rows = rows[:len(GRID)] + (strip_rows + rows[len(GRID):] if strips_first else rows[len(GRID):] + strip_rows)
+    if encoding == "ascii":
+        return (head + "end_header\n" + "\n".join(rows) + "\n").encode()
+    binary = b"".join(struct.pack(f"<B{len(row.split()) - 1}i", *map(int, row.split())) for row in rows[len(GRID):])
+    return (head.replace("format ascii", "format binary_little_endian") + "end_header\n").encode() + np.array(
+        GRID_NUMBERS, "<f4").tobytes() + binary
+
+
+@pytest.mark.parametrize("strips_first", [False, True])
+@pytest.mark.parametrize("encoding", ["ascii", "binary_little_endian"])
+def test_strips_beside_faces_are_drawn_after_them(tmp_path: Path, encoding: str, strips_first: bool) -> None:
+    """A file of faces and strips: its faces, which keep their numbers, then the strips' triangles (the
+    strips were left out, without a word)."""
+    data = faces_and_strips(["4 0 1 4 3", "3 1 2 5"], [[7, 4, 8, 5], [6, 3, 7, 4]], encoding,
+                            strips_first=strips_first)
+    (tmp_path / "m.ply").write_bytes(data)
+    mesh = load_model(tmp_path / "m.ply")
+    assert mesh.face_sizes.tolist() == [4, 3, 3, 3, 3, 3]
+    assert mesh.corner_vertex.tolist() == [0, 1, 4, 3, 1, 2, 5, 7, 4, 8, 8, 4, 5, 6, 3, 7, 7, 3, 4]
+    assert (mesh.face_normals[:, 2] > 0.9).all() and not mesh.warnings
+
+
+@pytest.mark.parametrize("encoding", ["ascii", "binary_little_endian"])
+def test_strips_beside_triangles_name_vertices_past_the_faces_index_type(tmp_path: Path, encoding: str) -> None:
+    """Faces of uchar indices beside strips that name vertex 299: the appended triangles' indices
+    are not cut to a byte. Each strip index is checked as where the file has no faces."""
+    vertices = [f"{i % 20} {i // 20} 0" for i in range(300)]
+    faces = "property list uchar uchar vertex_indices\n"
+    text = ply_text(["3 0 1 20"], vertices=vertices, face_properties=faces).replace(
+        "end_header", "element tristrips 1\nproperty list uchar int vertex_indices\nend_header") + "3 278 279 298\n"
+    if encoding != "ascii":
+        head = text[:text.index("end_header\n") + 11].replace("format ascii", "format binary_little_endian")
+        numbers = np.array([row.split() for row in vertices], float)
+        text = head.encode() + numbers.astype("<f4").tobytes() + bytes([3, 0, 1, 20]) + struct.pack(
+            "<B3i", 3, 278, 279, 298)
+    (tmp_path / "m.ply").write_bytes(text.encode() if isinstance(text, str) else text)
+    assert load_model(tmp_path / "m.ply").corner_vertex.tolist() == [0, 1, 20, 278, 279, 298]
+    (tmp_path / "bad.ply").write_bytes(faces_and_strips(["3 0 1 4"], [[0, 1, 9]], encoding))
+    refused = one_line_refusal(lambda: load_model(tmp_path / "bad.ply"))
+    assert refused.message == "vertex index 9 out of range (the file has 9 vertices)"
+
+
+def test_strips_beside_coloured_faces_keep_the_colours_rows(tmp_path: Path) -> None:
+    """A face's own values (its colour) stay its own: the strips' triangles come after every face."""
+    properties = ("property list uchar int vertex_indices\nproperty uchar red\nproperty uchar green\n"
+                  "property uchar blue\n")
+    data = faces_and_strips(["4 0 1 4 3 255 0 0", "3 1 2 5 0 255 0"], [[7, 4, 8, 5]], "ascii", properties)
+    (tmp_path / "m.ply").write_bytes(data)
+    mesh = load_model(tmp_path / "m.ply")
+    assert mesh.face_sizes.tolist() == [4, 3, 3, 3]
+    assert mesh.corner_vertex.tolist() == [0, 1, 4, 3, 1, 2, 5, 7, 4, 8, 8, 4, 5]
+    assert any("per face" in note for note in mesh.warnings)
+
+
+def test_strips_beside_faces_of_corner_texture_coordinates_are_a_note(tmp_path: Path) -> None:
+    """Faces with MeshLab's texture coordinates per corner: a strip has none to give its triangles, so
+    they are not drawn, and a note says so; the faces keep theirs."""
+    properties = "property list uchar int vertex_indices\nproperty list uchar float texcoord\n"
+    data = faces_and_strips(["3 0 1 4 6 0 0 0.5 0 0.5 0.5"], [[4, 7, 5, 8]], "ascii", properties)
+    (tmp_path / "m.ply").write_bytes(data)
+    mesh = load_model(tmp_path / "m.ply")
+    np.testing.assert_allclose(mesh.positions[mesh.corner_vertex], [[0, 0, 0], [1, 0, 0], [1, 1, 0.1]], atol=1e-6)
+    assert mesh.corner_uv.tolist() == [[0, 0], [0.5, 0], [0.5, 0.5]]
+    assert mesh.warnings == ("2 triangles of its triangle strips not drawn: its faces give texture coordinates per "
+                             "corner, which strips do not",)
+
+
 def test_mixed_faces_keep_their_corners_texture_coordinates(tmp_path: Path) -> None:
     """MeshLab writes a face's u v per corner in a second list: each polygon's corners keep theirs, as
     an OBJ's vt per corner gives them."""
@@ -535,9 +615,9 @@ def as_read(data: bytes) -> tuple[bytes, list[int] | None] | tuple[int | None, s
         header = read_header(path, data)
         sizes = None
         if header.encoding == "ascii":
-            data, sizes = binary_of_ascii(path, data, header)
+            data, sizes, _ = binary_of_ascii(path, data, header)
             header = read_header(path, data)
-        data, binary_sizes = vertices_and_faces(path, data, header)
+        data, binary_sizes, _ = vertices_and_faces(path, data, header)
         fanned = binary_sizes if sizes is None else sizes
         return data, None if fanned is None else fanned.tolist()
     except LoadError as refused:

@@ -142,20 +142,20 @@ def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
     if header.count("face") == 0 and header.count(STRIPS) == 0:
         raise LoadError(path, "the header declares no faces (a point cloud?): nothing to draw")
     text = data if header.encoding == "ascii" else None  # kept for a text body only, to name the line of a bad number
-    face_sizes = None
+    face_sizes, notes = None, ()
     if text is not None:
-        data, face_sizes = binary_of_ascii(path, text, header)
+        data, face_sizes, notes = binary_of_ascii(path, text, header)
         header = read_header(path, data)
-    data, binary_face_sizes = vertices_and_faces(path, data, header)
+    data, binary_face_sizes, binary_notes = vertices_and_faces(path, data, header)
     if text is None:  # (an ASCII body's polygons are fanned already: the binary one holds triangles)
-        face_sizes = binary_face_sizes
+        face_sizes, notes = binary_face_sizes, binary_notes
     beside = _FilesBeside(path.parent, is_picture=lambda name: True)  # a PLY names its TextureFile only
     scene = _trimesh_load(path, data, "ply", beside)
     del data
     held = sum(_ply_vertices_read(geometry) for geometry in scene.geometry.values())
     if held != header.count("vertex"):
         raise LoadError(path, f"the header promises {header.count('vertex')} vertices, the file holds {held}")
-    return _finish(path, scene, data=text, beside=beside, face_sizes=face_sizes)
+    return _finish(path, scene, data=text, beside=beside, face_sizes=face_sizes, notes=list(notes))
 
 
 @_frees_what_trimesh_held

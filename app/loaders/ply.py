@@ -59,11 +59,13 @@ _END_LINE = re.compile(rb"[\r\n][ \t]*+end_header[ \t]*+(?=[\r\n]|\Z)")  # a lin
 
 
 class ForTrimesh(NamedTuple):
-    """A binary PLY that trimesh's reader takes as it is, and the sizes of the one face element's
-    polygons where they were fanned into its triangles (None where trimesh's triangles are the file's)."""
+    """A binary PLY that trimesh's reader takes as it is, the sizes of the one face element's polygons
+    where they were fanned into its triangles (None where trimesh's triangles are the file's), and what
+    of the file it does not hold (notes)."""
 
     data: bytes
     face_sizes: np.ndarray | None = None
+    notes: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -83,6 +85,10 @@ class PlyElement:
     name: str
     count: int
     properties: tuple[PlyProperty, ...]
+
+
+# An element's rows as trimesh's binary reader takes them: the element and each property's values.
+_Table = tuple[PlyElement, list[np.ndarray]]
 
 
 @dataclass(frozen=True)
@@ -267,19 +273,20 @@ def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
         if fanned is not None:
             sizes.append(fanned)
     _check_rows_fill_the_body(body, at)
+    tables, sizes, notes = _strips_made_faces(tables, sizes)
     return ForTrimesh(_written(header.text("binary_little_endian", tuple(element for element, _ in tables)), tables),
-                      _face_sizes(header, sizes))
+                      _face_sizes(header, sizes), notes)
 
 
 def _table_for_trimesh(header: PlyHeader, element: PlyElement, columns: list[_Column], uniform: bool,
                        fail: Callable[[str, int], LoadError]
-                       ) -> tuple[tuple[PlyElement, list[np.ndarray]], bool, np.ndarray | None]:
+                       ) -> tuple[_Table, bool, np.ndarray | None]:
     """The element's rows as trimesh's binary reader takes them, whether they are the file's own, and
     the sizes of the faces fanned: faces of more than three corners fanned, triangle strips made faces;
     another element's lists left out where they vary (trimesh draws nothing of them). `fail` makes
     the error of a bad index, as _face_corners says."""
     vertices = header.count("vertex")
-    strips = _strip_triangles(header, element, columns, vertices, fail)
+    strips = _strip_triangles(element, columns, vertices, fail)
     if strips is not None:
         return strips, False, None
     corners = _face_corners(element, columns, vertices, fail)
@@ -668,14 +675,14 @@ def _face_corners(element: PlyElement, columns: list[_Column], vertices: int,
     return corners
 
 
-def _strip_triangles(header: PlyHeader, element: PlyElement, columns: list[_Column], vertices: int,
-                     fail: Callable[[str, int], LoadError]) -> tuple[PlyElement, list[np.ndarray]] | None:
-    """A file's triangle strips as the face element of their triangles, where it has no face element;
-    None for another element. Each row is a strip, or several with -1 between them; each next index
-    makes a triangle of the two before it, every second one turned so that all face the same way
-    (as VCG reads them), and those that repeat a vertex, which only join two strips, are left out."""
+def _strip_triangles(element: PlyElement, columns: list[_Column], vertices: int,
+                     fail: Callable[[str, int], LoadError]) -> _Table | None:
+    """A file's triangle strips as a table of their triangles, still named STRIPS (_strips_made_faces
+    makes them faces); None for another element. Each row is a strip, or several with -1 between them;
+    each next index makes a triangle of the two before it, every second one turned so that all face the
+    same way (as VCG reads them), and those that repeat a vertex, which only join two strips, are left out."""
     lists = [column for column in columns if column.counts is not None and column.prop.name in FACE_LISTS]
-    if element.name != STRIPS or header.count("face") or not lists:
+    if element.name != STRIPS or not lists:
         return None
     _check_names_vertices(lists[0], vertices, fail, between_strips=True)
     indices = lists[0].values
@@ -687,7 +694,37 @@ def _strip_triangles(header: PlyHeader, element: PlyElement, columns: list[_Colu
     made = (a >= 0) & (b >= 0) & (c >= 0) & (a != b) & (b != c) & (a != c)
     turned = (at[:-2] - strip_start[:-2]) % 2 == 1
     triangles = np.stack([np.where(turned, b, a), np.where(turned, a, b), c], axis=1)[made]
-    return PlyElement("face", len(triangles), (PlyProperty(FACE_LISTS[0], "int", "uchar"),)), [triangles]
+    return PlyElement(STRIPS, len(triangles), (PlyProperty(FACE_LISTS[0], "int", "uchar"),)), [triangles]
+
+
+def _strips_made_faces(tables: list[_Table], fanned: list[np.ndarray]
+                       ) -> tuple[list[_Table], list[np.ndarray], tuple[str, ...]]:
+    """The tables with the strips' triangles (_strip_triangles') made the face element trimesh reads,
+    where the file has no faces; else appended to its faces, which keep their numbers, as triangles
+    (`fanned`, a fanned face element's sizes, given theirs) whose other values are zeros (trimesh draws
+    none of them: a face's colour is a note). Not where the faces give texture coordinates per corner,
+    which no strip has: a note says they are not drawn. Also the notes."""
+    names = [element.name for element, _ in tables]
+    if STRIPS not in names:
+        return tables, fanned, ()
+    strips = tables.pop(names.index(STRIPS))
+    names.remove(STRIPS)
+    if "face" not in names:
+        return [*tables, (replace(strips[0], name="face"), strips[1])], fanned, ()
+    at = names.index("face")
+    (faces, values), triangles = tables[at], strips[1][0]
+    if any(prop.name == TEXCOORD_LIST and prop.count_type for prop in faces.properties):
+        return tables, fanned, (f"{counted(len(triangles), 'triangle')} of its triangle strips not drawn: its faces "
+                                "give texture coordinates per corner, which strips do not",)
+    corners = _corner_list(faces)
+    joined = [np.concatenate((value, triangles if prop.name == corners else
+                              np.zeros((len(triangles), *value.shape[1:]), value.dtype)))
+              for prop, value in zip(faces.properties, values)]
+    # the strips' indices name any vertex, past the type of the faces' (a uchar's 255, say)
+    props = tuple(replace(prop, value_type="int") if prop.name == corners else prop for prop in faces.properties)
+    tables[at] = (PlyElement("face", faces.count + len(triangles), props), joined)
+    sizes = [np.concatenate((fanned[0], np.full(len(triangles), 3, fanned[0].dtype)))] if fanned else fanned
+    return tables, sizes, ()
 
 
 def _check_names_vertices(column: _Column, vertices: int, fail: Callable[[str, int], LoadError],
@@ -711,7 +748,7 @@ def _unnamed_vertex(value: float | np.number, vertices: int) -> str:
     return f"vertex index {_shown(value)} is not a whole number"
 
 
-def _fanned(element: PlyElement, columns: list[_Column], corners: _Column) -> tuple[PlyElement, list[np.ndarray]]:
+def _fanned(element: PlyElement, columns: list[_Column], corners: _Column) -> _Table:
     """The faces as triangles (0, i, i + 1) of each, fan_gather's, which trimesh's binary reader takes:
     each keeps its face's values, and MeshLab's texture coordinates their corners'. Other lists are
     left out. Each value is made its type before it is gathered, and the indices are 32-bit where they fit."""
@@ -737,14 +774,14 @@ def _fanned(element: PlyElement, columns: list[_Column], corners: _Column) -> tu
     return PlyElement(element.name, len(face), tuple(kept)), values
 
 
-def _without_lists(element: PlyElement, columns: list[_Column]) -> tuple[PlyElement, list[np.ndarray]]:
+def _without_lists(element: PlyElement, columns: list[_Column]) -> _Table:
     """An element of lists of mixed lengths, which trimesh's binary reader cannot take, as its single
     values alone (trimesh draws nothing of such lists)."""
     kept = [column for column in columns if column.counts is None]
     return replace(element, properties=tuple(column.prop for column in kept)), [column.values for column in kept]
 
 
-def _written(header: bytes, tables: list[tuple[PlyElement, list[np.ndarray]]]) -> bytes:
+def _written(header: bytes, tables: list[_Table]) -> bytes:
     """The header and each element's rows in binary little-endian PLY's layout: each value, and each
     list's count before its items, written in place."""
     layouts = [_row_dtype(element, _list_counts(element, values), "<") for element, values in tables]
@@ -798,8 +835,9 @@ def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh
         raise LoadError(path, f"its body holds {len(data) - at} bytes more than the rows its header counts")
     if unchanged:
         return ForTrimesh(data)
+    tables, sizes, notes = _strips_made_faces(tables, sizes)
     return ForTrimesh(_written(header.text("binary_little_endian", tuple(element for element, _ in tables)), tables),
-                      _face_sizes(header, sizes))
+                      _face_sizes(header, sizes), notes)
 
 
 def _binary_columns(path: Path, data: bytes, element: PlyElement, at: int, order: str
