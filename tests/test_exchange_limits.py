@@ -5,6 +5,7 @@ would refuse or misread: an edge element, a binary face list of mixed lengths, N
 
 from __future__ import annotations
 
+import base64
 import io
 import json
 import random
@@ -19,7 +20,9 @@ import pytest
 import trimesh
 from PIL import Image
 
+from marraztu.control.viewer import StartOptions
 from marraztu.errors import LoadError
+from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders import exchange, gltf, images
 from marraztu.loaders.images import MAX_JPEG_SCANS, MAX_PIXELS
 from marraztu.loaders.ply import read_header, vertices_and_faces
@@ -688,9 +691,9 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
     ("d['buffers'][0]['byteLength'] = '60'", "buffer 0's byteLength is not a whole number of 0 or more"),
     # trimesh read a buffer of no byteLength as it found it: one too short said "AssertionError", no more
     ("d['buffers'][0].pop('byteLength')", "buffer 0 has no byteLength"),
-    # trimesh reads no sparse values: a primitive's are drawn without them, and malformed ones are not seen
-    (f"d['accessors'][0]['sparse'] = {SPARSE}", "mesh 0's primitive 0 reads sparse accessor 0, whose sparse values "
-     "are not read here (the model would be drawn without them): export it without sparse accessors"),
+    # trimesh reads no sparse values, so a primitive's are applied here: each index names an item
+    (f"d['accessors'][0]['sparse'] = {{**{SPARSE}, 'indices': {{'bufferView': 1, 'byteOffset': 8, "
+     "'componentType': 5125}}", "accessor 0's sparse indices name item 1065353216, of 3"),  # the bits of 1.0f
     (f"d['accessors'].append({{**d['accessors'][0], 'sparse': {SPARSE}}}); d['accessors'][2]['sparse']['count'] = 4",
      "accessor 2's sparse's count is not a whole number from 1 to the accessor's 3"),
     (f"d['accessors'].append({{**d['accessors'][0], 'sparse': {SPARSE}}}); d['accessors'][2]['sparse'].pop('values')",
@@ -744,6 +747,117 @@ def test_a_sparse_accessor_no_primitive_reads_is_left_to_trimesh(tmp_path: Path)
     path = tmp_path / "sparse.glb"
     path.write_bytes(glb(document, binary))
     assert np.array_equal(load_model(path).positions, TRIANGLE)
+
+
+QUAD = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], np.float32)
+
+
+def sparse_quad(sparse: bool = True) -> tuple[dict[str, Any], bytes]:
+    """A quad whose positions' sparse values move its corner 2 to its middle, whose indices' put back
+    the 2 its second triangle lacks, and whose uvs are zeros (no buffer view) but corner 3's: indices
+    of each of glTF's three types. Not `sparse`: the same quad written out in full."""
+    moved, uvs = QUAD.copy(), np.zeros((4, 2), np.float32)
+    moved[2], uvs[3] = 0, (0.5, 1)
+    if sparse:
+        parts = [QUAD, np.array([0, 1, 2, 0, 1, 3], "<u2"), np.array([2], "u1"), moved[2], np.array([4], "<u4"),
+                 np.array([2], "<u2"), np.array([3], "<u2"), uvs[3]]
+    else:
+        parts = [moved, np.array([0, 1, 2, 0, 2, 3], "<u2"), uvs]
+    binary, views = b"", []
+    for part in parts:
+        views.append({"buffer": 0, "byteOffset": len(binary), "byteLength": part.nbytes})
+        binary += part.tobytes() + b"\0" * (-part.nbytes % 4)
+    accessors: list[dict[str, Any]] = [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3"},
+                                       {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"},
+                                       {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"}]
+    if sparse:
+        del accessors[2]["bufferView"]
+        for accessor, indices, kind in zip(accessors, (2, 4, 6), (5121, 5125, 5123)):
+            accessor["sparse"] = {"count": 1, "indices": {"bufferView": indices, "componentType": kind},
+                                  "values": {"bufferView": indices + 1}}
+    document = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+                "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 2}, "indices": 1}]}],
+                "accessors": accessors, "bufferViews": views, "buffers": [{"byteLength": len(binary)}]}
+    return document, binary
+
+
+def written_gltf(folder: Path, name: str, document: dict[str, Any], binary: bytes) -> Path:
+    """`name`, a .glb holding `binary`, or a .gltf whose buffer is a data: URI (data.gltf) or a file."""
+    path = folder / name
+    if name.endswith(".glb"):
+        path.write_bytes(glb(document, binary))
+        return path
+    if name == "data.gltf":
+        document["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(binary).decode()
+    else:
+        document["buffers"][0]["uri"] = "quad.bin"
+        (folder / "quad.bin").write_bytes(binary)
+    path.write_text(json.dumps(document))
+    return path
+
+
+def interleaved(document: dict[str, Any], binary: bytes) -> tuple[dict[str, Any], bytes]:
+    """The glTF with its positions' base read from a view that interleaves each with 12 bytes of
+    other numbers (a byteStride of 24), at byte 4 of each row."""
+    rows = np.concatenate([np.full((4, 1), 9, np.float32), QUAD, np.full((4, 2), 9, np.float32)], axis=1).tobytes()
+    document["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(rows),
+                                    "byteStride": 24})
+    document["accessors"][0].update(bufferView=len(document["bufferViews"]) - 1, byteOffset=4)
+    document["buffers"][0]["byteLength"] += len(rows)
+    return document, binary + rows
+
+
+@pytest.mark.parametrize("name", ["quad.glb", "data.gltf", "quad.gltf", "interleaved.glb"])
+def test_a_primitives_sparse_accessors_are_applied(tmp_path: Path, name: str) -> None:
+    """glTF's sparse accessor is its base (its buffer view's items, or zeros) with the listed items
+    replaced: trimesh read the base alone, and the file was refused."""
+    quad = interleaved(*sparse_quad()) if name.startswith("interleaved") else sparse_quad()
+    mesh = load_model(written_gltf(tmp_path, name, *quad))
+    dense = load_model(written_gltf(tmp_path, "dense.glb", *sparse_quad(sparse=False)))
+    np.testing.assert_array_equal(mesh.positions, [[-1, -1, 0], [1, -1, 0], [0, 0, 0], [-1, 1, 0]])
+    assert mesh.corner_vertex.tolist() == [0, 1, 2, 0, 2, 3] and mesh.warnings == ()
+    for table in ("positions", "corner_vertex", "corner_uv", "corner_normal"):
+        np.testing.assert_array_equal(getattr(mesh, table), getattr(dense, table), err_msg=table)
+
+
+def test_a_sparse_corner_is_drawn_where_it_was_moved(tmp_path: Path) -> None:
+    """Corner 2, moved from the quad's top right to its middle, leaves the lower left triangle: its top
+    right shows the background, as the same quad written out in full does, and as the base quad (the
+    positions' sparse values left out, as trimesh read them) does not."""
+    unmoved, binary = sparse_quad()
+    del unmoved["accessors"][0]["sparse"]
+    files = [written_gltf(tmp_path, name, *quad) for name, quad in
+             [("quad.glb", sparse_quad()), ("dense.glb", sparse_quad(sparse=False)), ("base.glb", (unmoved, binary))]]
+    sparse, dense, base = [np.asarray(Image.open(take_screenshot(
+        StartOptions(empty=True, models=(path,)), tmp_path / f"{path.stem}.png", (80, 80), keys="0"))).astype(int)
+        for path in files]
+    background = sparse[2, 2]
+    for shot in (sparse, dense, base):
+        assert np.abs(shot[50, 32] - background).max() > 40  # the lower left: the quad
+    assert np.abs(sparse[30, 50] - background).max() <= 2  # the top right: nothing
+    assert np.abs(base[30, 50] - background).max() > 40
+    assert np.abs(sparse - dense).max() <= 2
+
+
+@pytest.mark.parametrize(("edit", "words"), [
+    ("d['accessors'][0]['sparse']['indices']['bufferView'] = 4", "accessor 0's sparse indices name item 4, of 4"),
+    ("d['accessors'][2]['sparse']['indices'].update(bufferView=0, byteOffset=2)",  # -1.0f's high half: 0xbf80
+     "accessor 2's sparse indices name item 49024, of 4"),
+    ("d['buffers'][0]['uri'] = 'data:application/octet-stream;base64,AAAA'",
+     "buffer 0 holds 3 bytes, where its byteLength says 96"),
+    ("d['buffers'][0]['uri'] = 'data:application/octet-stream;base64,AAA'", "buffer 0's data: URI is not base64"),
+])
+def test_a_sparse_accessor_that_names_no_item_is_refused(tmp_path: Path, edit: str, words: str) -> None:
+    path = written_gltf(tmp_path, "data.gltf", *sparse_quad())
+    path.write_text(json.dumps(_edited(json.loads(path.read_text()), edit)))
+    assert one_line_refusal(lambda: load_model(path)).message == f"not a glTF file: {words}"
+
+
+def test_a_sparse_accessors_missing_buffer_is_named(tmp_path: Path) -> None:
+    path = written_gltf(tmp_path, "quad.gltf", *sparse_quad())
+    (tmp_path / "quad.bin").unlink()
+    refused = one_line_refusal(lambda: load_model(path))
+    assert refused.message.startswith("'quad.bin', which it names, could not be read")
 
 
 def test_a_buffer_shorter_than_the_gltf_says_is_refused_in_words(tmp_path: Path) -> None:

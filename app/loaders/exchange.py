@@ -172,9 +172,10 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     if counts is not None:  # before trimesh builds a node and a mesh per placement
         _check_placed_counts(path, *counts)
     notes = unfaithful_notes(document)
-    data = as_trimesh_reads(data if file_type == "gltf" else declared_part(data), document, file_type)
-    del document
     beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True, least_bytes=least_bytes)
+    data = as_trimesh_reads(path, data if file_type == "gltf" else declared_part(data), document, file_type,
+                            functools.partial(_read_named, path, beside))
+    del document
     return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside, notes=notes)
 
 
@@ -198,11 +199,25 @@ def _trimesh_load(path: Path, data: bytes, file_type: str, beside: _FilesBeside 
     except MemoryError:
         raise LoadError(path, "not enough memory to load this file") from None
     except LoadError as error:  # from `beside`: a file it names that trimesh cannot do without (a buffer)
-        raise LoadError(path, f"'{error.path}', which it names, could not be read ({error.message})") from None
+        raise _unread_named_file(path, error) from None
     except Exception as error:  # trimesh raises ValueError, KeyError, IndexError, struct.error, ... for bad files
         words = str(error).strip().splitlines()
         detail = f"{type(error).__name__}: {words[0][:160]}" if words else type(error).__name__
         raise LoadError(path, f"not a readable {file_type.upper()} file ({detail})") from None
+
+
+def _unread_named_file(path: Path, error: LoadError) -> LoadError:
+    """The model's error of a file it names that cannot be read, and that it cannot do without."""
+    return LoadError(path, f"'{error.path}', which it names, could not be read ({error.message})")
+
+
+def _read_named(path: Path, beside: _FilesBeside, name: str) -> bytes:
+    """A file the model at `path` names, read by `beside` before trimesh reads the model (a glTF's
+    buffer, to apply a sparse accessor's values)."""
+    try:
+        return beside.get(name)
+    except LoadError as error:
+        raise _unread_named_file(path, error) from None
 
 
 @functools.cache

@@ -6,11 +6,15 @@ without these checks, and fails in words of its own internals, or draws what the
 
 from __future__ import annotations
 
+import base64
+import binascii
 import importlib.util
 import json
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from marraztu.errors import LoadError, escaped
 from marraztu.loaders.files import MAX_FILE_BYTES
@@ -59,16 +63,24 @@ def glb_document(path: Path, data: bytes) -> dict[str, Any]:
         raise LoadError(path, f"not a GLB file: its JSON chunk of {word(12)} bytes runs past the file's "
                               f"{word(8)}")
     document = gltf_document(path, data[20:20 + word(12)])
-    binary_at = 20 + word(12) + (-word(12) % 4)  # chunks are aligned to four bytes
     buffers = document.get("buffers")
     first = buffers[0] if isinstance(buffers, list) and buffers and isinstance(buffers[0], dict) else {}
     declared = first.get("byteLength")
-    held = min(word(binary_at), len(data) - binary_at - 8) if data[binary_at + 4:binary_at + 8] == b"BIN\0" else 0
+    held = len(_binary_chunk(data))
     if "uri" not in first and _is_whole(declared) and declared > held:  # the buffer the binary chunk holds
-        raise LoadError(path, f"cut short: its buffer is {declared} bytes, its binary chunk holds {max(held, 0)}")
+        raise LoadError(path, f"cut short: its buffer is {declared} bytes, its binary chunk holds {held}")
     _check_glb_chunks(path, data, 20 + word(12), word(8))
     return document
 
+
+
+def _binary_chunk(data: bytes) -> memoryview:
+    """A GLB's binary chunk, the one after its JSON, as much of it as the file holds; empty where none is."""
+    json_length = int.from_bytes(data[12:16], "little")
+    at = 20 + json_length + (-json_length % 4)  # chunks are aligned to four bytes
+    if data[at + 4:at + 8] != b"BIN\0":
+        return memoryview(b"")
+    return memoryview(data)[at + 8:at + 8 + int.from_bytes(data[at:at + 4], "little")]
 
 
 def _check_glb_chunks(path: Path, data: bytes, at: int, end: int) -> None:
@@ -213,12 +225,11 @@ class GltfReferences:
         if "POSITION" not in attributes:  # trimesh reads every primitive's positions (a KeyError)
             self.refuse(f"{what} has no POSITION attribute")
         for name, index in attributes.items():
-            self.not_sparse(self.named(index, "accessors", f"{what}'s {escaped(str(name))[:40]}"), index, what)
+            self.named(index, "accessors", f"{what}'s {escaped(str(name))[:40]}")
         if "material" in primitive:
             self.named(primitive["material"], "materials", f"{what}'s material")
         if "indices" in primitive:
-            self.not_sparse(self.named(primitive["indices"], "accessors", f"{what}'s indices"), primitive["indices"],
-                            what)
+            self.named(primitive["indices"], "accessors", f"{what}'s indices")
         if primitive.get("mode", _TRIANGLES) == _TRIANGLES:  # three corners each, or trimesh fails to reshape them
             corners = "indices" if "indices" in primitive else "vertices and no indices"
             count = self.document["accessors"][primitive.get("indices", attributes["POSITION"])].get("count")
@@ -273,12 +284,6 @@ class GltfReferences:
             if _is_whole(length) and offset + changed * item > length:
                 self.refuse(f"{named}, {changed} items, run past the {length} bytes of buffer view "
                             f"{part['bufferView']}")
-
-    def not_sparse(self, accessor: dict[str, Any], number: int, what: str) -> None:
-        """A primitive's accessor that is sparse is refused: trimesh reads none of its sparse values."""
-        if "sparse" in accessor:
-            self.refuse(f"{what} reads sparse accessor {number}, whose sparse values are not read here (the "
-                        "model would be drawn without them): export it without sparse accessors")
 
     def view(self, number: int, view: dict[str, Any]) -> None:
         buffer = self.named(view.get("buffer"), "buffers", f"buffer view {number}")
@@ -557,14 +562,17 @@ def _listed(value: object) -> list[Any]:
 
 
 # --- the JSON made again for trimesh -------------------------------------------------------------
-def as_trimesh_reads(data: bytes, document: dict[str, Any], file_type: str) -> bytes:
-    """The file, its JSON made again (a GLB's JSON chunk too) where trimesh is to read it otherwise: its
-    nodes' cameras taken out, its WEBP textures' fallbacks chosen and the pictures no material draws
-    emptied. The document is checked already (GltfReferences)."""
+def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_type: str,
+                     read_beside: Callable[[str], bytes]) -> bytes:
+    """The file, its JSON made again (a GLB's JSON chunk too) where trimesh is to read it otherwise: the
+    sparse accessors its primitives read made dense, its nodes' cameras taken out, its WEBP textures'
+    fallbacks chosen and the pictures no material draws emptied. The document is checked already
+    (GltfReferences); `read_beside` reads a buffer's file."""
+    made_dense = _sparse_made_dense(path, document, _BufferBytes(path, data, document, file_type, read_beside))
     cameras_taken_out = _node_cameras_taken_out(document)
     fallbacks_chosen = _fallbacks_chosen(document)
     undrawn_emptied = _undrawn_pictures_emptied(document)
-    if not (cameras_taken_out or fallbacks_chosen or undrawn_emptied):
+    if not (made_dense or cameras_taken_out or fallbacks_chosen or undrawn_emptied):
         return data
     text = json.dumps(document).encode()
     if file_type == "gltf":
@@ -575,6 +583,105 @@ def as_trimesh_reads(data: bytes, document: dict[str, Any], file_type: str) -> b
     return (b"glTF" + (2).to_bytes(4, "little") + (20 + len(text) + len(rest)).to_bytes(4, "little")
             + len(text).to_bytes(4, "little") + b"JSON" + text + rest)
 
+
+
+class _BufferBytes:
+    """A checked glTF's buffers' bytes, each read once when first asked for, as trimesh reads them: a
+    GLB's binary chunk, a data: URI's base64, or the file a URI names (`read_beside`)."""
+
+    def __init__(self, path: Path, data: bytes, document: dict[str, Any], file_type: str,
+                 read_beside: Callable[[str], bytes]) -> None:
+        self.path, self.data, self.file_type, self.read_beside = path, data, file_type, read_beside
+        self.buffers: list[dict[str, Any]] = document.get("buffers", [])
+        self.read: dict[int, bytes | memoryview] = {}
+
+    def __call__(self, number: int) -> bytes | memoryview:
+        if number not in self.read:
+            held = self._held(self.buffers[number].get("uri"), number)
+            if len(held) < self.buffers[number]["byteLength"]:
+                raise LoadError(self.path, f"not a glTF file: buffer {number} holds {len(held)} bytes, where its "
+                                           f"byteLength says {self.buffers[number]['byteLength']}")
+            self.read[number] = held
+        return self.read[number]
+
+    def _held(self, uri: object, number: int) -> bytes | memoryview:
+        if not isinstance(uri, str):  # a GLB's own buffer
+            return _binary_chunk(self.data) if self.file_type == "glb" and number == 0 else b""
+        if "base64," not in uri:
+            return self.read_beside(uri)
+        try:
+            return base64.b64decode(uri[uri.index("base64,") + 7:])
+        except (binascii.Error, ValueError):
+            raise LoadError(self.path, f"not a glTF file: buffer {number}'s data: URI is not base64") from None
+
+
+def _sparse_made_dense(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview]) -> bool:
+    """Makes each sparse accessor a primitive reads (an attribute, its indices) the accessor glTF means:
+    its base (its buffer view's items, or zeros) with the listed items replaced, in a buffer appended
+    as a data: URI. trimesh reads no sparse values; those no primitive reads (a morph target's) are left.
+    False where there is none."""
+    accessors = document.get("accessors", [])
+    sparse = sorted(index for index in _read_by_primitives(document) if "sparse" in accessors[index])
+    if not sparse:
+        return False
+    dense, views = bytearray(), document.setdefault("bufferViews", [])
+    for index in sparse:
+        items = _dense_items(path, document, index, buffer)
+        views.append({"buffer": len(document["buffers"]), "byteOffset": len(dense), "byteLength": items.nbytes})
+        dense += memoryview(items).cast("B")  # its bytes, not a copy of them
+        dense += b"\0" * (-items.nbytes % 4)  # each view at a multiple of four bytes, as glTF's
+        kept = {key: value for key, value in accessors[index].items() if key not in ("sparse", "byteOffset")}
+        accessors[index] = {**kept, "bufferView": len(views) - 1}
+    document["buffers"].append({"byteLength": len(dense),
+                                "uri": "data:application/octet-stream;base64," + base64.b64encode(dense).decode()})
+    return True
+
+
+def _read_by_primitives(document: dict[str, Any]) -> set[int]:
+    """The accessors the primitives read: their attributes' and indices (each checked to name one)."""
+    read: set[int] = set()
+    for mesh in document.get("meshes", []):
+        for primitive in mesh["primitives"]:
+            read.update(primitive["attributes"].values())
+            if "indices" in primitive:
+                read.add(primitive["indices"])
+    return read
+
+
+def _dense_items(path: Path, document: dict[str, Any], number: int, buffer: Callable[[int], bytes | memoryview]
+                 ) -> np.ndarray:
+    """Sparse accessor `number`'s items, (count, bytes of an item): its base with the listed ones
+    replaced; an index that names no item is refused."""
+    accessor = document["accessors"][number]
+    count, size = accessor["count"], _COMPONENT_BYTES[accessor["componentType"]] * _TYPE_COMPONENTS[accessor["type"]]
+    if "bufferView" in accessor:
+        items = _view_items(document, accessor["bufferView"], accessor.get("byteOffset", 0), count, size, buffer).copy()
+    else:
+        items = np.zeros((count, size), np.uint8)
+    sparse = accessor["sparse"]
+    changed, index_bytes = sparse["count"], _SPARSE_INDEX_BYTES[sparse["indices"]["componentType"]]
+    where = _view_items(document, sparse["indices"]["bufferView"], sparse["indices"].get("byteOffset", 0), changed,
+                        index_bytes, buffer, packed=True).view(f"<u{index_bytes}").ravel()
+    outside = where >= count
+    if outside.any():
+        raise LoadError(path, f"not a glTF file: accessor {number}'s sparse indices name item "
+                              f"{where[np.argmax(outside)]}, of {count}")
+    items[where] = _view_items(document, sparse["values"]["bufferView"], sparse["values"].get("byteOffset", 0),
+                               changed, size, buffer, packed=True)
+    return items
+
+
+def _view_items(document: dict[str, Any], view_number: int, offset: int, count: int, size: int,
+                buffer: Callable[[int], bytes | memoryview], packed: bool = False) -> np.ndarray:
+    """(count, size) bytes from `offset` into buffer view `view_number`, an item each `size` bytes apart
+    where `packed` (a sparse accessor's parts), else its byteStride's; a view of the buffer. GltfReferences
+    has checked that they lie within the view, and the view within its buffer's byteLength (_BufferBytes,
+    that the buffer holds it)."""
+    view = document["bufferViews"][view_number]
+    stride = size if packed else view.get("byteStride") or size
+    held = np.frombuffer(buffer(view["buffer"]), np.uint8, offset=view.get("byteOffset", 0) + offset,
+                         count=(count - 1) * stride + size)
+    return np.lib.stride_tricks.as_strided(held, (count, size), (stride, 1), writeable=False)
 
 
 def _node_cameras_taken_out(document: dict[str, Any]) -> bool:
