@@ -559,6 +559,37 @@ def test_a_model_matrix_set_by_hand_that_cannot_be_drawn_is_refused_in_one_line(
         assert np.asarray(v.render()).any()
 
 
+def test_a_scene_that_can_be_drawn_is_checked_in_stacked_arrays_not_element_by_element(monkeypatch) -> None:
+    """Every call checks the whole scene (it may have been changed by hand): element by element, a press
+    of TAB on a scene of 4,000 objects took 190 ms, 47 µs an object, where the screenshot command's
+    took none. The walk that names the first bad value runs only where there is one."""
+    from marraztu.model import scene as scene_module
+
+    walked = {"models": 0, "triples": 0}
+    model_refusal, triple_refusal = scene_module.model_refusal, scene_module.triple_refusal
+
+    def counting_model_refusal(model: object) -> str | None:
+        walked["models"] += 1
+        return model_refusal(model)
+
+    def counting_triple_refusal(value: object, names: str) -> str | None:
+        walked["triples"] += 1
+        return triple_refusal(value, names)
+
+    monkeypatch.setattr(scene_module, "model_refusal", counting_model_refusal)
+    monkeypatch.setattr(scene_module, "triple_refusal", counting_triple_refusal)
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        for index in range(50):
+            v.add_mesh(TRIANGLE + [index, 0, 0], [[0, 1, 2]], name=f"t{index}")
+        v.press("TAB x c y").probe()
+        assert np.asarray(v.render()).any()
+        assert walked == {"models": 0, "triples": 0}
+        v.scene.objects[7].history.append(np.diag([1.0, 0.0, 1.0, 1.0]))
+        with pytest.raises(ValueError, match="^t7's model matrix has no inverse"):
+            v.press("TAB")
+        assert walked["models"] == 8  # the walk stops at the first refusal
+
+
 @pytest.mark.parametrize("model, words", BAD_MODELS)
 def test_a_matrix_down_the_undo_history_that_cannot_be_drawn_is_refused_before_u_makes_it_current(
         model, words: str) -> None:

@@ -170,6 +170,15 @@ def _materials_refusal(element: SceneObject) -> str | None:
            f"({len(element.mesh.materials)}), not {given}"
 
 
+def _stacked(values: list[object], shape: tuple[int, ...]) -> np.ndarray | None:
+    """(N, *shape) float64 of values each of `shape`; None where one is not (model_refusal says why)."""
+    try:
+        stack = np.array(values, dtype=np.float64) if values else np.zeros((0, *shape))
+    except (TypeError, ValueError):
+        return None
+    return stack if stack.shape == (len(values), *shape) else None
+
+
 def _finite_number(value: object) -> bool:
     try:
         return math.isfinite(float(value))  # type: ignore[arg-type]
@@ -366,9 +375,34 @@ class Scene:
         """ValueError, naming the first, where a value changed by hand (the programming interface's
         scene) cannot be drawn: a model matrix not affine or without an inverse, a light's or a
         material's colour or place that is not 3 finite numbers."""
+        if self._all_drawable():  # every call of the interface asks: the walk below costs far more per element
+            return
         refusal = next(self._refusals(), None)
         if refusal is not None:
             raise ValueError(refusal)
+
+    def _all_drawable(self) -> bool:
+        """Whether _refusals finds nothing, in a few passes over stacked arrays (False may also mean
+        that some value could not be stacked: the walk then decides)."""
+        elements = (*self.objects, *self.cameras)
+        if any(_materials_refusal(element) is not None for element in elements):
+            return False
+        materials = list({id(m): m for e in elements for m in (e.material, *e.part_materials)}.values())
+        if not all(_finite_number(material.ns) for material in materials):
+            return False
+        triples = [self.ambient, *(v for light in self.lights for v in (light.intensity, light.position,
+                                                                        light.direction))]
+        triples += [getattr(material, k) for material in materials for k in ("ka", "kd", "ks")]
+        models, rows = _stacked([element.model for element in elements], (4, 4)), _stacked(triples, (3,))
+        if models is None or rows is None or not np.isfinite(rows).all() or not np.isfinite(models).all():
+            return False
+        if not (models[:, 3] == [0.0, 0.0, 0.0, 1.0]).all():
+            return False
+        try:
+            with np.errstate(all="ignore"):
+                return bool(np.isfinite(np.linalg.inv(models)).all())
+        except np.linalg.LinAlgError:  # one of them is singular: the walk names it
+            return False
 
     def _refusals(self) -> Iterator[str]:
         triples = [("the scene's ambient", self.ambient, "R, G, B")]
