@@ -504,7 +504,8 @@ class Scene:
             shown = [self.object] if self.object is not None else []
         else:
             shown = self.objects + self.cameras
-        return [element for element in shown if element is not self.viewer and element.mesh.face_count > 0]
+        viewer = self.viewer
+        return [element for element in shown if element is not viewer and element.mesh.face_count > 0]
 
     def near_plane(self, aspect: float = WIDEST_ASPECT) -> float:
         """SPEC 5's 5 units on the scene's scale, brought in to keep clear of what is shown and in a
@@ -561,11 +562,13 @@ class Scene:
         theirs when it is not in front itself; never less than the near plane."""
         selected = self.object
         near = self.near_plane()
-        depths = {id(obj): self.depth_of(obj.centre) for obj in self.objects if obj is not self.viewer}
-        others = [depth for key, depth in depths.items()
-                  if depth > near and (selected is None or key != id(selected))]
-        scene_depth = float(np.median(others)) if others else None
-        own = depths.get(id(selected)) if selected is not None else None
+        viewer = self.viewer
+        placed = [obj for obj in self.objects if obj is not viewer]
+        depths = (_placed_centres(placed) - viewer.origin) @ viewer.forward  # each one's depth_of, at once
+        mine = np.array([obj is selected for obj in placed], dtype=bool)
+        others = depths[~mine & (depths > near)]
+        scene_depth = float(np.median(others)) if others.size else None
+        own = float(depths[mine][0]) if mine.any() else None
         if own is not None and own > near:
             depth = own if scene_depth is None else float(np.clip(own, scene_depth / PARALLEL_DEPTH_RANGE,
                                                                   scene_depth * PARALLEL_DEPTH_RANGE))
