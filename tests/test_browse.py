@@ -204,3 +204,22 @@ def test_the_watcher_forgets_elements_that_left_and_tells_each_change_once(tmp_p
     assert watcher.changed(viewer.scene) == []
     viewer.scene.objects.clear()
     assert watcher.changed(viewer.scene) == [] and set(watcher._seen) == {viewer.scene.camera.uid}
+
+
+def test_the_watcher_looks_at_a_file_many_elements_share_once(tmp_path: Path, monkeypatch) -> None:
+    """--watch stat'ed the file of every element, twice a second: a scene file of 8,000 objects of one
+    model took 8,000 stats and 28 ms each time, 6% of a core with the window left alone."""
+    from marraztu.control import browse
+
+    model = folder_of(tmp_path, a_obj=TRIANGLE, b_obj=SQUARE)
+    viewer = viewer_on(model / "a.obj")
+    for name in ("a.obj", "b.obj") * 20:
+        viewer.load_model(model / name)
+    stamped: list[Path] = []
+    stamp = browse._stamp
+    monkeypatch.setattr(browse, "_stamp", lambda path: stamped.append(path) or stamp(path))
+    watcher = ModelWatcher()
+    assert watcher.changed(viewer.scene) == []
+    assert len(stamped) == 3 and set(stamped) == {model / "a.obj", model / "b.obj", viewer.scene.camera.source}
+    rewrite(model / "b.obj", TRIANGLE)
+    assert watcher.changed(viewer.scene) == [obj for obj in viewer.scene.objects if obj.source.name == "b.obj"]

@@ -68,8 +68,9 @@ class ModelWatcher:
         """Elements whose file differs from when it was first or last seen; each change told once."""
         changed = []
         elements = [element for element in scene.objects + scene.cameras if element.source is not None]
+        stamps = {source: _stamp(source) for source in {element.source for element in elements}}  # one stat a file
         for element in elements:
-            stamp = _stamp(element.source)
+            stamp = stamps[element.source]
             if stamp is None:
                 continue
             seen = self._seen.get(element.uid)
