@@ -9,6 +9,7 @@ pixel for pixel: scaled while drawing, as moderngl-window's text writer does, it
 from __future__ import annotations
 
 import json
+import re
 import textwrap
 from functools import cache
 from importlib.resources import files
@@ -36,6 +37,8 @@ PANEL_LINE_HEIGHT_PX = 15.0
 PANEL_BACKDROP_RGBA = (0.0, 0.0, 0.0, 0.88)  # darker: the panels are read for long, over anything
 BACKDROP_RGBA = (0.0, 0.0, 0.0, 0.6)
 NO_BREAK = "\u00a0"
+# What textwrap turns into spaces (tabs into several): a short line of none, ending in no blank, is kept whole.
+_WRAPPED_WHITESPACE = re.compile("[\t\n\x0b\x0c\r]")
 
 
 @cache
@@ -226,6 +229,8 @@ def wrap(line: str, columns: int) -> list[str]:
     """
     if " | " in line:
         line = " | ".join(field.replace(" ", NO_BREAK) for field in line.split(" | "))
+    if len(line) <= columns and not _WRAPPED_WHITESPACE.search(line) and not line[-1:].isspace():
+        return [line.replace(NO_BREAK, " ")]  # textwrap's answer, without its work
     pieces = textwrap.wrap(line, columns, subsequent_indent="  ", break_on_hyphens=False,
                            drop_whitespace=True) or [""]
     return [piece.replace(NO_BREAK, " ") for piece in pieces]
