@@ -461,3 +461,81 @@ def test_a_named_key_held_down_repeats_as_a_letter_does_and_a_press_counts_once(
     assert presses[-1] == "ESC" and presses[4:-1] == ["ENTER"] * len(presses[4:-1])
     assert len(presses[4:-1]) >= 5, "holding Enter repeats it"
     assert "Traceback" not in errors, errors
+
+
+# An XDND drag source (the X11 drag-and-drop protocol) that offers its one type, text/uri-list, in the
+# XdndEnter message itself, as a source of at most three types may; then drops the URI list given.
+_DROP_SOURCE = """
+import sys, time
+from ctypes import POINTER, byref, c_ubyte, cast, create_string_buffer
+from pyglet.libs.x11 import xlib
+
+target, uris = int(sys.argv[1]), sys.argv[2].encode()
+display = xlib.XOpenDisplay(None)
+source = xlib.XCreateSimpleWindow(display, xlib.XDefaultRootWindow(display), 0, 0, 1, 1, 0, 0, 0)
+atom = {name: xlib.XInternAtom(display, name.encode(), False)
+        for name in ("XdndEnter", "XdndPosition", "XdndDrop", "XdndSelection", "XdndActionCopy", "text/uri-list")}
+
+def send(kind, *longs):
+    event = xlib.XEvent()
+    message = event.xclient
+    message.type, message.display, message.window = xlib.ClientMessage, display, target
+    message.message_type, message.format = atom[kind], 32
+    for index, value in enumerate(longs):
+        message.data.l[index] = value
+    xlib.XSendEvent(display, target, False, xlib.NoEventMask, byref(event))
+    xlib.XFlush(display)
+
+send("XdndEnter", source, 5 << 24, atom["text/uri-list"], 0, 0)  # version 5, no 'more types' bit
+send("XdndPosition", source, 0, (20 << 16) | 20, 0, atom["XdndActionCopy"])
+xlib.XSetSelectionOwner(display, atom["XdndSelection"], source, 0)
+send("XdndDrop", source, 0, 0)
+deadline = time.monotonic() + 10
+while time.monotonic() < deadline:  # the target asks for the list; it is answered once
+    if not xlib.XPending(display):
+        time.sleep(0.05)
+        continue
+    event = xlib.XEvent()
+    xlib.XNextEvent(display, byref(event))
+    if event.type == xlib.SelectionRequest:
+        asked = event.xselectionrequest
+        text = create_string_buffer(uris, len(uris))
+        xlib.XChangeProperty(display, asked.requestor, asked.property, asked.target, 8, xlib.PropModeReplace,
+                             cast(text, POINTER(c_ubyte)), len(uris))
+        reply = xlib.XEvent()
+        told = reply.xselection
+        told.type, told.display, told.requestor = xlib.SelectionNotify, display, asked.requestor
+        told.selection, told.target, told.property = asked.selection, asked.target, asked.property
+        told.time = asked.time
+        xlib.XSendEvent(display, asked.requestor, False, 0, byref(reply))
+        xlib.XFlush(display)
+        break
+"""
+
+
+def test_a_file_dropped_from_a_source_of_few_types_is_loaded(display: str, tmp_path: Path) -> None:
+    """pyglet raised out of its event loop on an XdndEnter that lists its types itself, which ended the
+    program as soon as such a file was dragged over the window. The file now loads as a dropped one."""
+    model = tmp_path / "dropped ñ.obj"
+    model.write_text("v -60 -60 20\nv 60 -60 20\nv 0 60 20\nf 1 2 3\n")
+    with window_in(display, tmp_path, (96, 96)) as (window, window_id):
+        dropped = subprocess.run([sys.executable, "-c", _DROP_SOURCE, window_id, f"{model.as_uri()}\r\n"],
+                                 env={**os.environ, "DISPLAY": display}, capture_output=True, text=True, timeout=60)
+        assert dropped.returncode == 0, dropped.stderr
+        time.sleep(1.0)
+        assert window.poll() is None, "the drop ended the window"
+        xdotool(display, "key", "--window", window_id, "F12")
+        shots = tmp_path / "screenshots"
+        saved = wait_for(lambda: sorted(shots.glob("*.png")) if shots.is_dir() else [], 30, "the screenshot",
+                         display)[0]
+        time.sleep(0.3)
+        xdotool(display, "key", "--window", window_id, "Escape")
+        assert window.wait(timeout=30) == 0
+    expected_path = tmp_path / "expected.png"
+    result = subprocess.run([sys.executable, "-m", "marraztu", "screenshot", "-o", str(expected_path),
+                             "--size", "96x96", "--keys", f'"f={model.as_posix()}"'],
+                            cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    from_window = np.asarray(Image.open(saved).convert("RGB")).astype(int)
+    expected = np.asarray(Image.open(expected_path).convert("RGB")).astype(int)
+    assert (np.abs(from_window - expected).max(axis=2) > 2).mean() <= 0.001

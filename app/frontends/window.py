@@ -141,6 +141,7 @@ class ViewerWindow:
         self.recording: list[np.ndarray] | None = None  # F9: the pictures drawn since it was pressed
         self._connect_events()
         self._close_when_destroyed()
+        self._read_short_drag_enters()
 
     def _connect_events(self) -> None:
         wnd = self.wnd
@@ -167,6 +168,33 @@ class ViewerWindow:
             return
         if isinstance(handlers, dict):
             handlers[xlib.DestroyNotify] = lambda event: self.wnd.close()
+
+    def _read_short_drag_enters(self) -> None:
+        """A drag source offering at most three types lists them in its XdndEnter message itself, and
+        pyglet (2.1) reads that list as a pointer, raising out of its event loop: dragging such a file
+        over the window ended the program. Those messages are read here; pyglet reads the others."""
+        pyglet_window = getattr(self.wnd, "_window", None)
+        handlers = getattr(pyglet_window, "_event_handlers", None)
+        atoms = getattr(pyglet_window, "_xdnd_atoms", None)
+        try:
+            from pyglet.libs.x11 import xlib
+        except ImportError:  # not X11
+            return
+        if not isinstance(handlers, dict) or not isinstance(atoms, dict) or xlib.ClientMessage not in handlers:
+            return
+        pyglet_reads = handlers[xlib.ClientMessage]
+
+        def on_client_message(event: Any) -> None:
+            message = event.xclient
+            if message.message_type != atoms["XdndEnter"] or message.data.l[1] & 1:  # bit 0: more types
+                pyglet_reads(event)
+                return
+            pyglet_window._xdnd_source = message.data.l[0]
+            pyglet_window._xdnd_version = message.data.l[1] >> 24
+            offered = list(message.data.l[2:5])
+            pyglet_window._xdnd_format = atoms["text/uri-list"] if atoms["text/uri-list"] in offered else None
+
+        handlers[xlib.ClientMessage] = on_client_message
 
     def _named_keys(self) -> tuple[dict[Any, str], dict[int, str]]:
         """The key map's names of the window's keys, and of the text motions that repeat them."""
