@@ -141,7 +141,7 @@ class ViewerWindow:
         self.recording: list[np.ndarray] | None = None  # F9: the pictures drawn since it was pressed
         self._connect_events()
         self._close_when_destroyed()
-        self._read_short_drag_enters()
+        self._take_drag_messages()
 
     def _connect_events(self) -> None:
         wnd = self.wnd
@@ -169,32 +169,21 @@ class ViewerWindow:
         if isinstance(handlers, dict):
             handlers[xlib.DestroyNotify] = lambda event: self.wnd.close()
 
-    def _read_short_drag_enters(self) -> None:
-        """A drag source offering at most three types lists them in its XdndEnter message itself, and
-        pyglet (2.1) reads that list as a pointer, raising out of its event loop: dragging such a file
-        over the window ended the program. Those messages are read here; pyglet reads the others."""
+    def _take_drag_messages(self) -> None:
+        """X11's drag and drop comes as client messages that pyglet (2.1) reads, and one it did not
+        foresee raised out of its event loop, ending the program: an XdndEnter listing its types itself
+        (as a source of at most three types does), read as a pointer, or an XdndPosition before any
+        XdndEnter. The window reads the first kind itself, and guards pyglet's reading of the others."""
         pyglet_window = getattr(self.wnd, "_window", None)
         handlers = getattr(pyglet_window, "_event_handlers", None)
-        atoms = getattr(pyglet_window, "_xdnd_atoms", None)
         try:
             from pyglet.libs.x11 import xlib
         except ImportError:  # not X11
             return
-        if not isinstance(handlers, dict) or not isinstance(atoms, dict) or xlib.ClientMessage not in handlers:
-            return
-        pyglet_reads = handlers[xlib.ClientMessage]
-
-        def on_client_message(event: Any) -> None:
-            message = event.xclient
-            if message.message_type != atoms["XdndEnter"] or message.data.l[1] & 1:  # bit 0: more types
-                pyglet_reads(event)
-                return
-            pyglet_window._xdnd_source = message.data.l[0]
-            pyglet_window._xdnd_version = message.data.l[1] >> 24
-            offered = list(message.data.l[2:5])
-            pyglet_window._xdnd_format = atoms["text/uri-list"] if atoms["text/uri-list"] in offered else None
-
-        handlers[xlib.ClientMessage] = on_client_message
+        if (isinstance(handlers, dict) and xlib.ClientMessage in handlers
+                and isinstance(getattr(pyglet_window, "_xdnd_atoms", None), dict)):
+            self.pyglet_client_message = handlers[xlib.ClientMessage]
+            handlers[xlib.ClientMessage] = self.on_client_message
 
     def _named_keys(self) -> tuple[dict[Any, str], dict[int, str]]:
         """The key map's names of the window's keys, and of the text motions that repeat them."""
@@ -372,6 +361,19 @@ class ViewerWindow:
         for path in paths:
             self.viewer.load_model(path)
         return Unchanged.SCENE  # the models load in the background and join the scene at a later frame
+
+    @functools.partial(guarded, after_failure=Unchanged.SCENE)
+    def on_client_message(self, event: Any) -> Unchanged:
+        """A drag's messages and the window manager's (close, sync): no new picture by themselves."""
+        pyglet_window, message = self.wnd._window, event.xclient
+        atoms = pyglet_window._xdnd_atoms
+        if message.message_type == atoms["XdndEnter"] and not message.data.l[1] & 1:  # bit 0: more types
+            pyglet_window._xdnd_source, pyglet_window._xdnd_version = message.data.l[0], message.data.l[1] >> 24
+            offered = list(message.data.l[2:5])
+            pyglet_window._xdnd_format = atoms["text/uri-list"] if atoms["text/uri-list"] in offered else None
+        else:
+            self.pyglet_client_message(event)
+        return Unchanged.NOTHING
 
     # --- Frontend ------------------------------------------------------------------------------
     def quit(self) -> None:
