@@ -223,8 +223,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ViewerError as error:
         print(f"error: {escaped(str(error))}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        return 130
+    except KeyboardInterrupt as stop:
+        return 128 + getattr(stop, "signal_number", signal.SIGINT)  # the shell's status for a run a signal ended
     finally:
         if before is not None:
             signal.signal(signal.SIGTERM, before)
@@ -240,8 +240,14 @@ def _say(text: str) -> None:
         raise ViewerError(f"cannot write to standard output ({error.strerror or error})") from None
 
 
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM, unwound as Ctrl-C is, but told apart in the exit status (143, not 130)."""
+
+    signal_number = signal.SIGTERM
+
+
 def _interrupted(number: int, frame: object) -> NoReturn:
-    raise KeyboardInterrupt
+    raise _Terminated
 
 
 def _check_command_first(argv: Sequence[str]) -> None:

@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -230,3 +232,17 @@ def test_a_failed_write_takes_away_the_folders_it_made(tmp_path: Path) -> None:
     with pytest.raises(ViewerError, match="No space left on device"):
         write_atomically(tmp_path / "new" / "deeper" / "shot.png", full)
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(("number", "status"), [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_a_signal_ends_a_run_with_the_shells_status(monkeypatch: pytest.MonkeyPatch, number: int, status: int) -> None:
+    """Ctrl-C and `kill` both unwind the run (a file being written is taken away), each with its own status."""
+    from marraztu import cli
+
+    def signalled(argv: object) -> int:
+        os.kill(os.getpid(), number)
+        time.sleep(30)  # the handler interrupts this
+        return 0
+
+    monkeypatch.setitem(cli.COMMANDS, "screenshot", cli.Command("test", signalled))
+    assert cli.main(["screenshot"]) == status
