@@ -38,7 +38,7 @@ from marraztu.loaders.words import (
     words_and_line_ends,
 )
 from marraztu.model.geometry import FLOAT32_MAX, holds_in_float32
-from marraztu.model.mesh import counted, fan_gather
+from marraztu.model.mesh import corners_of_polygons, counted, fan_gather
 
 # The property types PLY names, as trimesh reads them (its float16 and 64-bit integers too).
 PLY_TYPES = {"char": "i1", "uchar": "u1", "short": "i2", "ushort": "u2", "int": "i4", "uint": "u4",
@@ -580,8 +580,7 @@ def _walked_columns(body: _Body, element: PlyElement, starts: np.ndarray, counts
             columns.append(_Column(prop, body.numbers[at], lambda k, at=at: int(at[k])))
             continue
         count = counts[:, lists]
-        # An item's index: its row's first item's, plus the items before it, less those before its row.
-        items = np.repeat(at + 1 - (np.cumsum(count) - count), count) + np.arange(int(count.sum()))
+        items = corners_of_polygons(at + 1, count)  # each row's items, its list's first after its count
         columns.append(_Column(prop, body.numbers[items], lambda k, items=items: int(items[k]), count,
                                lambda row, at=at: int(at[row])))
         passed, lists = passed + count, lists + 1
@@ -973,9 +972,7 @@ def _gathered_columns(data: bytes, element: PlyElement, starts: np.ndarray, coun
             at += item.itemsize
             continue
         count, first = counts[:, lists], at + np.dtype(PLY_TYPES[prop.count_type]).itemsize
-        # An item's offset: its row's first item's, plus the bytes of the items before it, less those before its row.
-        items = (np.repeat(first - (np.cumsum(count) - count) * item.itemsize, count)
-                 + np.arange(int(count.sum()), dtype=np.int64) * item.itemsize)
+        items = corners_of_polygons(first, count, item.itemsize)  # each row's items' byte offsets
         columns.append(_Column(prop, _gathered(data, items, item), _no_line, count.copy(), _no_line))
         at, lists = first + count * item.itemsize, lists + 1
     return columns

@@ -15,7 +15,7 @@ from types import ModuleType
 import numpy as np
 
 from marraztu.model.geometry import FLOAT32_MAX, column_bounds, holds_in_float32, unit_rows
-from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted, fan_gather, polygons_of_corners
+from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, corners_of_polygons, counted, fan_gather, polygons_of_corners
 from marraztu.model.threads import arrays_equal, converted, each, gathered, one_per_thread, pieces, weighed_pieces
 
 # Zero-area faces get a fallback normal; "zero" is relative to the model's size.
@@ -635,17 +635,12 @@ def _fill_degenerate(shape: _Shape, vertex_normals: np.ndarray, row_vertex: np.n
     """A zero-area face takes the average of its corners' normals, or +z when that is zero too."""
     faces = np.flatnonzero(shape.degenerate)
     sizes = shape.sizes[faces]
-    corners = np.repeat(shape.face_start[faces], sizes) + _places_in_polygon(sizes)
+    corners = corners_of_polygons(shape.face_start[faces], sizes)
     rows = shape.corner_vertex[corners] if row_vertex is None else corners  # per position: the corner's position
     sums = np.add.reduceat(vertex_normals[rows], np.concatenate(([0], np.cumsum(sizes)[:-1])), axis=0)
     averaged, ok = unit_rows(sums)
     averaged[~ok] = FALLBACK_NORMAL
     shape.face_normals[faces] = averaged
-
-
-def _places_in_polygon(sizes: np.ndarray) -> np.ndarray:
-    """Each corner's place in its polygon, polygons of these sizes one after another: 0, 1, .. size-1 each."""
-    return np.arange(int(sizes.sum())) - np.repeat(np.cumsum(sizes) - sizes, sizes)
 
 
 def _bounding_box_uv(positions: np.ndarray, vertices: np.ndarray | None,

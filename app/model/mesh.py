@@ -46,6 +46,18 @@ def polygons_of_corners(face_start: np.ndarray, corners: int | np.ndarray) -> np
     return np.searchsorted(face_start, np.asarray(corners, face_start.dtype), side="right") - 1
 
 
+def corners_of_polygons(first_corners: np.ndarray, sizes: np.ndarray, step: int = 1) -> np.ndarray:
+    """Every corner of polygons that start at `first_corners` and hold `sizes` corners (`step` apart),
+    one polygon after another: each polygon's first corner plus each corner's place in it. Any rows
+    laid out so list their items this way: a PLY row's list items, their byte offsets too."""
+    before = np.cumsum(sizes) - sizes  # the corners listed before each polygon's
+    places = np.arange(int(sizes.sum()), dtype=np.int64)
+    if step != 1:
+        before *= step
+        places *= step
+    return np.repeat(first_corners - before, sizes) + places
+
+
 def fan_gather(values: np.ndarray, face_start: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
     """(3T,) `values`, one per corner, in the order of the fan triangles' corners, polygon by polygon:
     the seed's triangulation from each polygon's first corner; `face_start` runs from 0, as a mesh's
@@ -227,8 +239,7 @@ class Mesh:
     def _part(self, faces: np.ndarray) -> MeshPart:
         sizes = self.face_sizes[faces]
         face_start = np.concatenate(([0], np.cumsum(sizes))).astype(INDEX)
-        # Each corner of the chosen faces, in order: its face's first corner plus its place in the face.
-        corners = np.repeat(self.face_start[faces] - face_start[:-1], sizes) + np.arange(int(face_start[-1]))
+        corners = corners_of_polygons(self.face_start[faces], sizes)
         material = int(self.face_material[faces[0]])
         # Only the positions the part uses: the GPU arrays hold a row per position, so parts sharing
         # the whole table would cost the table once per material.
