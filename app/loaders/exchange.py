@@ -74,7 +74,7 @@ from marraztu.loaders.images import (
 from marraztu.loaders.ply import STRIPS, binary_of_ascii, read_header, vertices_and_faces
 from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES
 from marraztu.loaders.words import unheld_coordinate
-from marraztu.model.build import FACE_COLOURS_NOTE, build_mesh, by_largest, checked_vertex_rows, colour_bytes
+from marraztu.model.build import FACE_COLOURS_NOTE, build_mesh, checked_vertex_rows, colour_bytes, colour_fractions
 from marraztu.model.geometry import holds_in_float32
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, counted, polygon_corners_of_fans
 
@@ -737,7 +737,7 @@ def _material_of(mesh: Any) -> dict[str, object] | None:
     if colour is None:
         return None
     rgb = np.asarray(colour, dtype=np.float64).reshape(-1)[:3]
-    rgb = by_largest(rgb)  # trimesh keeps glTF colours as bytes
+    rgb = colour_fractions(rgb)  # trimesh keeps glTF colours as bytes
     return {"kd": tuple(float(c) for c in rgb)} if np.isfinite(rgb).all() else None
 
 

@@ -36,7 +36,7 @@ from marraztu.loaders.words import (
     text_numbers,
     word_starts,
 )
-from marraztu.model.build import FACE_COLOURS_NOTE, by_largest, colour_bytes, derive_mesh
+from marraztu.model.build import FACE_COLOURS_NOTE, colour_bytes, colour_fractions, derive_mesh
 from marraztu.model.geometry import holds_in_float32
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, Mesh, counted
 from marraztu.model.threads import weighed_pieces
@@ -62,7 +62,7 @@ def load_off(path: Path, stage: Callable[[str], None] | None = None) -> Mesh:
 
 def _colour_bytes(colours: np.ndarray) -> np.ndarray:
     """COFF's colours as bytes: read_off has checked them (_check_colours)."""
-    return colour_bytes(by_largest(colours), len(colours))
+    return colour_bytes(colour_fractions(colours), len(colours))
 
 
 @dataclass(frozen=True)
@@ -117,9 +117,9 @@ def read_off(path: Path, data: bytes) -> OffTables:
 
 
 def _check_colours(path: Path, data: bytes, colours: np.ndarray) -> None:
-    """COFF writes colours as 0..255 or as 0..1, the file's values say which (build.by_largest): a
+    """COFF writes colours as 0..255 or as 0..1, the file's values say which (build.colour_fractions): a
     colour within neither is refused at its line."""
-    scaled = by_largest(colours[:, :3])
+    scaled = colour_fractions(colours[:, :3])
     with np.errstate(invalid="ignore"):
         outside = ~((scaled >= 0.0) & (scaled <= 1.0)).all(axis=1)
     if not outside.any():

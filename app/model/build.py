@@ -65,10 +65,11 @@ def build_mesh(
 FACE_COLOURS_NOTE = "colours given per face are not drawn (vertex colours are)"
 
 
-def by_largest(colours: np.ndarray) -> np.ndarray:
-    """Colours a file gives as 0..1 or as 0..255, in 0..1: a largest value above 2, or whole numbers of
-    which the largest is above 1, say 0..255 (127.5 too); a largest value in 1..2 with a fraction is
-    a float colour a little past 1 (1.0001 made sRGB), not 0..255's 1."""
+def colour_fractions(colours: np.ndarray) -> np.ndarray:
+    """Colours a file gives as 0..1 or as 0..255, as fractions 0..1, the largest value saying which: one
+    above 2, or whole numbers of which the largest is above 1, say 0..255 (127.5 too), divided by 255;
+    a largest value in 1..2 with a fraction is a float colour a little past 1 (1.0001 made sRGB), not
+    0..255's 1, and kept."""
     largest = colours.max(initial=0.0)
     with np.errstate(invalid="ignore"):
         bytes_like = largest > 2.0 or (largest > 1.0 and bool((colours == np.round(colours)).all()))

@@ -28,7 +28,7 @@ from marraztu.loaders.obj.lines import LONGEST_BATCHED_LINE, ReadsSlowly, read_b
 from marraztu.loaders.obj.mtl import read_libraries
 from marraztu.loaders.obj.raw import MaterialRuns, RawObj, name_before_comment
 from marraztu.loaders.obj.text import as_bytes, checked, ended, has_continuations, read_text
-from marraztu.model.build import by_largest, colour_bytes, derive_mesh
+from marraztu.model.build import colour_bytes, colour_fractions, derive_mesh
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, counted
 
 
@@ -107,7 +107,7 @@ def _drawn_vertex_colours(table: np.ndarray | None) -> tuple[np.ndarray | None, 
     if table is None:
         return None, []
     given = ~np.isnan(table[:, 0])
-    scaled = by_largest(table[given])
+    scaled = colour_fractions(table[given])
     held = np.clip(scaled, 0.0, 1.0)
     drawn = colour_bytes(held, int(given.sum()))
     colours = np.full((table.shape[0], 3), 255, np.uint8)

@@ -108,7 +108,7 @@ class Polypaint:
         entries = np.frombuffer(bytes.fromhex(b"".join(self.payloads).decode("ascii")), np.uint8).reshape(-1, 4)
         table = np.full((positions, 3), np.nan)
         painted = min(positions, len(entries))
-        table[:painted] = entries[:painted, 1:] / 255.0  # 0..1, so that by_largest never reads them as 0..255
+        table[:painted] = entries[:painted, 1:] / 255.0  # 0..1 already: colour_fractions never reads them as 0..255
         extra = len(entries) - painted
         return table, [f"{extra} ZBrush polypaint (#MRGB) colours past the last position ignored"] if extra else []
 
