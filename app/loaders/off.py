@@ -24,6 +24,7 @@ from marraztu.loaders.words import (
     BLANKS,
     MAX_COUNT_DIGITS,
     WHITESPACE,
+    LineOf,
     WordBlocks,
     checked_coordinates,
     checked_indices,
@@ -466,8 +467,7 @@ def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.n
     not drawn), and whether any row gives one. Held a block at a time as the rows come: never by the
     header's count, which a short file may exaggerate."""
     corners = WordBlocks(path, lambda path, words, line_of: checked_indices(path, words, line_of, vertices))
-    # The colours' words are checked a block at a time, as the corners are; their numbers are not kept.
-    colours = WordBlocks(path, lambda path, words, line_of: checked_numbers(path, words, line_of)[:0])
+    colours = WordBlocks(path, _checked_not_kept)
     coloured = False
     most = max(_FACE_COLOUR_WORDS)
     for number, (first, *rest) in _taken(path, rows, count, ("face", "faces"), 1):
@@ -486,3 +486,9 @@ def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.n
     corner_vertex = corners.values()
     colours.values()  # the last block's words checked
     return corner_vertex, np.concatenate(([0], np.cumsum(corners.row_sizes()))), coloured
+
+
+def _checked_not_kept(path: Path, words: list[str], line_of: LineOf) -> np.ndarray:
+    """A block of face colours' words checked to be numbers, as the corners are, and none kept (an
+    empty array): the renderer draws no colour given per face."""
+    return checked_numbers(path, words, line_of)[:0]
