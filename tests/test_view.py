@@ -19,6 +19,7 @@ from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.registry import load_model
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
 from marraztu.model.framing import FILL, bounding_sphere
+from marraztu.model.scene import Sight
 from support.scenes import BACKGROUND, NoFrontend, RecordingHost
 
 SIZE = (160, 160)
@@ -139,9 +140,9 @@ def test_a_model_loaded_outside_the_view_says_so_and_dot_frames_it(
         tmp_path: Path, centre: tuple[float, float, float], outside: bool) -> None:
     viewer = viewer_with("", (octahedron(tmp_path / "m.obj", 1.0, centre),))
     assert ("outside the view (. frames it)" in viewer.scene.message) == outside
-    assert viewer.scene.outside_view(viewer.scene.object, 1.0) == outside
+    assert (viewer.scene.sight(viewer.scene.object, 1.0) is Sight.OUTSIDE) == outside
     viewer.press(parse_key_sequence(".")[0])
-    assert not viewer.scene.outside_view(viewer.scene.object, 1.0)
+    assert viewer.scene.sight(viewer.scene.object, 1.0) is not Sight.OUTSIDE
 
 
 @pytest.mark.parametrize("size,small", [(0.01, True), (1e-4, True), (1.0, False)])
@@ -150,9 +151,9 @@ def test_a_model_loaded_too_small_to_see_says_so_and_dot_frames_it(tmp_path: Pat
     """A model in millimetres loaded among the ships, 150 units off, drew nothing without a word."""
     viewer = viewer_with("", (octahedron(tmp_path / "m.obj", size, (0.0, 60.0, 0.0)),))
     assert ("too small to see from here (. frames it)" in viewer.scene.message) == small, viewer.scene.message
-    assert viewer.scene.too_small_to_see(viewer.scene.object, 1.0) == small
+    assert (viewer.scene.sight(viewer.scene.object, 1.0) is Sight.TOO_SMALL) == small
     viewer.press(parse_key_sequence(".")[0])
-    assert not viewer.scene.too_small_to_see(viewer.scene.object, 1.0)
+    assert viewer.scene.sight(viewer.scene.object, 1.0) is not Sight.TOO_SMALL
 
 
 @pytest.mark.parametrize("size,keys,outside", [((800, 800), "", True), ((1500, 500), "", False),

@@ -31,7 +31,7 @@ from marraztu.loaders.scenefile import (
     material_for_loaded,
 )
 from marraztu.model.mesh import Mesh
-from marraztu.model.scene import WIDEST_ASPECT, Scene, SceneObject
+from marraztu.model.scene import WIDEST_ASPECT, Scene, SceneObject, Sight
 
 
 class Frontend(Protocol):
@@ -362,10 +362,8 @@ class Viewer:
 
     def _unseen(self, obj: SceneObject) -> str:
         """What the load's message says of an object the view does not show; "" where it does."""
-        aspect = self.view_aspect(self.scene)
-        if self.scene.outside_view(obj, aspect):
-            return ", outside the view (. frames it)"
-        return ", too small to see from here (. frames it)" if self.scene.too_small_to_see(obj, aspect) else ""
+        sight = self.scene.sight(obj, self.view_aspect(self.scene))
+        return "" if sight is Sight.SEEN else f", {sight.value} (. frames it)"
 
     def _frame_start_models(self) -> None:
         """The command line's models that joined, framed together while the camera has not moved."""

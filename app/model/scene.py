@@ -577,25 +577,14 @@ class Scene:
         half_fov = np.radians(PERSPECTIVE_FOVY_DEG) / 2.0
         return max(depth, near) * float(np.tan(half_fov))
 
-    def _box_in_clip(self, element: SceneObject, aspect: float) -> np.ndarray:
-        """(8, 4): the element's box's corners in clip space, in a view `aspect` wide."""
+    def sight(self, element: SceneObject, aspect: float) -> Sight:
+        """How the element's box stands in a view `aspect` wide (a load may land outside it, or so far
+        off or so small that it is not seen): its corners are put in clip space once for both tests."""
         corners = np.column_stack([world_boxes([element])[0], np.ones(8)])
-        return corners @ (self.projection_matrix(aspect) @ self.view_matrix()).T
-
-    def outside_view(self, element: SceneObject, aspect: float) -> bool:
-        """Whether the element's box lies wholly beyond one side of the view (a load may land there)."""
-        clip = self._box_in_clip(element, aspect)
-        w = clip[:, 3:]
-        return bool(((clip[:, :3] > w).all(axis=0).any() or (clip[:, :3] < -w).all(axis=0).any()))
-
-    def too_small_to_see(self, element: SceneObject, aspect: float) -> bool:
-        """Whether the element's box, wholly in front of the eye, spans less than SEEN_SHARE_LEAST of
-        the view's width and height (a load may land so far off or be so small)."""
-        clip = self._box_in_clip(element, aspect)
-        if not (clip[:, 3] > 0.0).all():
-            return False
-        spans = np.ptp(clip[:, :2] / clip[:, 3:], axis=0) / 2.0  # the view is 2 across in x and y
-        return bool(spans.max() < SEEN_SHARE_LEAST)
+        clip = corners @ (self.projection_matrix(aspect) @ self.view_matrix()).T
+        if _beyond_one_side(clip):
+            return Sight.OUTSIDE
+        return Sight.TOO_SMALL if _spans_too_little(clip) else Sight.SEEN
 
     def depth_of(self, point: np.ndarray) -> float:
         """How far in front of the eye a world point is, along the view axis (negative: behind)."""
@@ -665,6 +654,29 @@ class InView:
     distances: np.ndarray  # how deep, at least, its nearest point in view lies
     backs: np.ndarray  # the depth of its farthest corner
     sizes: np.ndarray  # its mesh's size (0 for the light's marker)
+
+
+class Sight(Enum):
+    """How a box stands in the view (Scene.sight), in the words a load's message says it with."""
+
+    SEEN = "seen"
+    OUTSIDE = "outside the view"  # wholly beyond one side of it
+    TOO_SMALL = "too small to see from here"  # wholly in front of the eye, under SEEN_SHARE_LEAST of it
+
+
+def _beyond_one_side(clip: np.ndarray) -> bool:
+    """Whether the (8, 4) clip-space corners of a box all lie beyond one of the view's six planes."""
+    w = clip[:, 3:]
+    return bool(((clip[:, :3] > w).all(axis=0).any() or (clip[:, :3] < -w).all(axis=0).any()))
+
+
+def _spans_too_little(clip: np.ndarray) -> bool:
+    """Whether a box of these (8, 4) clip-space corners, wholly in front of the eye, spans less than
+    SEEN_SHARE_LEAST of the view's width and height."""
+    if not (clip[:, 3] > 0.0).all():
+        return False
+    spans = np.ptp(clip[:, :2] / clip[:, 3:], axis=0) / 2.0  # the view is 2 across in x and y
+    return bool(spans.max() < SEEN_SHARE_LEAST)
 
 
 _BOX_CORNER_PICKS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)])  # low 0, high 1
