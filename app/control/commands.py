@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
-from typing import Protocol
+from typing import Protocol, TypeVar
 
 import numpy as np
 
@@ -74,6 +74,14 @@ class Host(Protocol):
 CommandFunction = Callable[[Scene, Host], None]
 
 
+_Item = TypeVar("_Item")
+
+
+def _next_in(cycle: tuple[_Item, ...], current: _Item) -> _Item:
+    """The item after `current` in `cycle`, wrapping (ValueError where it is none of them)."""
+    return cycle[(cycle.index(current) + 1) % len(cycle)]
+
+
 # --- display switches ------------------------------------------------------------------------------
 def toggle_fill(scene: Scene, host: Host) -> None:
     scene.modes.fill = Fill.LINES if scene.modes.fill is Fill.FILLED else Fill.FILLED
@@ -100,16 +108,15 @@ def toggle_projection(scene: Scene, host: Host) -> None:
 
 
 def toggle_shading(scene: Scene, host: Host) -> None:
-    position = SWITCHED_SHADINGS.index(scene.modes.shading) if scene.modes.shading in SWITCHED_SHADINGS else -1
-    scene.modes.shading = SWITCHED_SHADINGS[(position + 1) % len(SWITCHED_SHADINGS)]
+    shading = scene.modes.shading  # Phong, set by hand, is none of the two: F goes to the first
+    scene.modes.shading = _next_in(SWITCHED_SHADINGS, shading) if shading in SWITCHED_SHADINGS else SWITCHED_SHADINGS[0]
 
 
 # --- seeing the equation ---------------------------------------------------------------------------
 def cycle_term_view(scene: Scene, host: Host) -> None:
     """`v`: the next term view (everything, ambient, diffuse, specular, each light alone, depth,
     normals), wrapping."""
-    position = TERM_VIEWS.index(scene.modes.term_view)
-    scene.modes.term_view = TERM_VIEWS[(position + 1) % len(TERM_VIEWS)]
+    scene.modes.term_view = _next_in(TERM_VIEWS, scene.modes.term_view)
 
 
 def toggle_probe(scene: Scene, host: Host) -> None:
@@ -288,17 +295,23 @@ def move_view(scene: Scene, matrix: np.ndarray, gesture: str | None = None,
         scene.message = "looking through the object: C looks through the camera again, which the view moves"
         return False
     camera = scene.camera
-    if not (gesture is not None and scene.view_gesture == gesture and scene.view_moves[-1:]
-            and scene.view_moves[-1][0] is camera):
+    if _continues_gesture(scene, camera, gesture):
+        camera.history[-1] = np.asarray(matrix, dtype=np.float64)
+    else:
         parallel = scene.modes.projection is Projection.PARALLEL
         scene.view_moves.append((camera, scene.modes.parallel_half_height if parallel else None))
         camera.push(matrix)
         scene.view_gesture = gesture
-    else:
-        camera.history[-1] = np.asarray(matrix, dtype=np.float64)
     if half_height is not None:
         scene.modes.parallel_half_height = half_height
     return True
+
+
+def _continues_gesture(scene: Scene, camera: SceneObject, gesture: str | None) -> bool:
+    """Whether an event of `gesture` goes on with the one whose move of this camera is the last view
+    move: it amends that move's history entry, and `u` takes the whole gesture back."""
+    return (gesture is not None and scene.view_gesture == gesture and bool(scene.view_moves)
+            and scene.view_moves[-1][0] is camera)
 
 
 def end_view_gesture(scene: Scene) -> None:
@@ -437,8 +450,7 @@ def drag(scene: Scene, dx_pixels: float, dy_pixels: float) -> None:
 
 # --- selection -------------------------------------------------------------------------------------
 def cycle_target(scene: Scene, host: Host) -> None:
-    position = TARGET_CYCLE.index(scene.modes.target)
-    scene.modes.target = TARGET_CYCLE[(position + 1) % len(TARGET_CYCLE)]
+    scene.modes.target = _next_in(TARGET_CYCLE, scene.modes.target)
 
 
 def select_next(scene: Scene, host: Host) -> None:
