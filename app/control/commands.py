@@ -22,7 +22,6 @@ from marraztu.loaders.scenefile import BUILT_IN_CAMERA_MODEL
 from marraztu.model import framing, transforms
 from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, Light, Owner, default_lights
 from marraztu.model.scene import (
-    PERSPECTIVE_FOVY_DEG,
     SWITCHED_SHADINGS,
     CameraMode,
     Fill,
@@ -32,6 +31,7 @@ from marraztu.model.scene import (
     Scene,
     SceneObject,
     Target,
+    perspective_half_height,
     size_unit,
 )
 from marraztu.model.transforms import TransformKind, step_matrix
@@ -337,9 +337,14 @@ def reset_view(scene: Scene, host: Host) -> None:
     sizes it there (u takes both back again)."""
     if not move_view(scene, scene.camera.history[0].copy()):
         return
+    _size_parallel_view(scene)
+    scene.message = "view reset to the start"
+
+
+def _size_parallel_view(scene: Scene) -> None:
+    """In parallel projection, its half height as `p` sizes it for the view now (SPEC 5)."""
     if scene.modes.projection is Projection.PARALLEL:
         scene.modes.parallel_half_height = scene.matching_parallel_half_height()
-    scene.message = "view reset to the start"
 
 
 def _view_centre(scene: Scene) -> np.ndarray:
@@ -361,8 +366,7 @@ def pan_view(scene: Scene, dx_pixels: float, dy_pixels: float, view_height_px: i
     if scene.modes.projection is Projection.PARALLEL:
         half_height = scene.modes.parallel_half_height
     else:
-        depth = max(scene.depth_of(_view_centre(scene)), scene.near_plane())
-        half_height = depth * float(np.tan(np.radians(PERSPECTIVE_FOVY_DEG) / 2.0))
+        half_height = perspective_half_height(max(scene.depth_of(_view_centre(scene)), scene.near_plane()))
     units_per_pixel = 2.0 * half_height / max(view_height_px, 1)
     step = transforms.translation_by(np.array([-dx_pixels * units_per_pixel, dy_pixels * units_per_pixel, 0.0]))
     move_view(scene, transforms.apply_local(scene.camera.model, step), "pan")
@@ -395,14 +399,8 @@ def axis_press(axis_index: int, sign: int) -> CommandFunction:
 def undo(scene: Scene, host: Host) -> None:
     """`u`: a view move just made first (framing, reset, the mouse), else the target's last move."""
     scene.view_gesture = None
-    while scene.view_moves:
-        moved, half_height = scene.view_moves.pop()
-        if moved in scene.cameras and moved.undo():
-            if half_height is not None:
-                scene.modes.parallel_half_height = half_height
-            elif scene.modes.projection is Projection.PARALLEL:  # moved in perspective: sized as `p` sizes it
-                scene.modes.parallel_half_height = scene.matching_parallel_half_height()
-            return
+    if _undo_view_move(scene):
+        return
     if scene.modes.target is Target.LIGHTS:
         undone = scene.light.undo()
     else:
@@ -410,6 +408,20 @@ def undo(scene: Scene, host: Host) -> None:
         undone = element is not None and element.undo()
     if not undone:
         scene.message = "nothing to undo"
+
+
+def _undo_view_move(scene: Scene) -> bool:
+    """The latest view move undone, with the parallel view's size before it; False where none is left
+    (a move of a camera since deleted, or of one with nothing left to undo, is passed over)."""
+    while scene.view_moves:
+        moved, half_height = scene.view_moves.pop()
+        if moved in scene.cameras and moved.undo():
+            if half_height is not None:
+                scene.modes.parallel_half_height = half_height
+            else:  # moved in perspective
+                _size_parallel_view(scene)
+            return True
+    return False
 
 
 def change_aperture(delta_deg: float) -> CommandFunction:

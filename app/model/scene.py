@@ -574,8 +574,7 @@ class Scene:
                                                                   scene_depth * PARALLEL_DEPTH_RANGE))
         else:
             depth = scene_depth if scene_depth is not None else near
-        half_fov = np.radians(PERSPECTIVE_FOVY_DEG) / 2.0
-        return max(depth, near) * float(np.tan(half_fov))
+        return perspective_half_height(max(depth, near))
 
     def sight(self, element: SceneObject, aspect: float) -> Sight:
         """How the element's box stands in a view `aspect` wide (a load may land outside it, or so far
@@ -680,6 +679,11 @@ def _spans_too_little(clip: np.ndarray) -> bool:
 
 
 _BOX_CORNER_PICKS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)])  # low 0, high 1
+
+
+def perspective_half_height(depth: float) -> float:
+    """Half the height perspective's view spans at this depth in front of the eye."""
+    return depth * float(np.tan(np.radians(PERSPECTIVE_FOVY_DEG) / 2.0))
 
 
 def size_unit(size: float) -> float:
