@@ -518,35 +518,48 @@ class Scene:
         """The boxes of what is shown that meet a view `aspect` wide (all of them, `everywhere`), the
         normals drawn out of them included, and the selected light's marker while lights are targeted
         (`marker`)."""
+        models, bounds, sizes = self._shown_placements(marker)
+        view = self.view_matrix() @ models
+        in_eye = np.einsum("nij,nkj->nki", view[:, :3, :3], _box_corners(bounds)) + view[:, None, :3, 3]
+        x, y, depth = in_eye[..., 0], in_eye[..., 1], -in_eye[..., 2]
+        if self.modes.projection is Projection.PARALLEL:  # the view a box
+            half_height = self.modes.parallel_half_height
+            reach_x, reach_y = np.full_like(depth, aspect * half_height), np.full_like(depth, half_height)
+        else:
+            reach_x, reach_y = aspect * depth, depth  # 90 degrees high: tan 45 = 1
+        beyond = ((depth <= 0.0).all(axis=1) | (x > reach_x).all(axis=1) | (x < -reach_x).all(axis=1)
+                  | (y > reach_y).all(axis=1) | (y < -reach_y).all(axis=1))
+        seen = np.ones_like(beyond) if everywhere else ~beyond
+        distances = self._least_depths(models, bounds, depth, aspect)
+        return InView(distances[seen], depth.max(axis=1, initial=-np.inf)[seen], sizes[seen])
+
+    def _shown_placements(self, marker: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(N, 4, 4) model matrices, (N, 2, 3) boxes and (N,) sizes of what is shown, each box grown by
+        the normals drawn out of it, and a box of no size round the selected light's marker while
+        lights are targeted (`marker`)."""
         shown = self.shown_elements()
         models, bounds = _placements(shown)
         sizes = np.array([element.mesh.size for element in shown], dtype=np.float64)
         pad = NORMAL_LENGTH_FRACTION * sizes if self.modes.normals else np.zeros(len(shown))
         bounds = bounds + np.stack([-pad, pad], axis=1)[:, :, None]
-        if marker and self.modes.target is Target.LIGHTS:  # a box of no size round the marker
+        if marker and self.modes.target is Target.LIGHTS:
             at_marker = np.eye(4)
             at_marker[:3, 3] = self.placed_light(self.light).position
             models = np.concatenate([models, at_marker[None]])
             bounds, sizes = np.concatenate([bounds, np.zeros((1, 2, 3))]), np.append(sizes, 0.0)
-        corners = _box_corners(bounds)  # (N, 8, 3) in each element's frame, then the eye's
-        view = self.view_matrix() @ models
-        in_eye = np.einsum("nij,nkj->nki", view[:, :3, :3], corners) + view[:, None, :3, 3]
-        x, y, depth = in_eye[..., 0], in_eye[..., 1], -in_eye[..., 2]
-        if self.modes.projection is Projection.PARALLEL:  # the view a box, its depth the distance
-            half_height = self.modes.parallel_half_height
-            reach_x, reach_y = np.full_like(depth, aspect * half_height), np.full_like(depth, half_height)
-            distance = np.maximum(depth.min(axis=1, initial=np.inf), 0.0)
-        else:
-            reach_x, reach_y = aspect * depth, depth  # 90 degrees high: tan 45 = 1
-            # The eye's distance to the box, in the box's frame; a point that far toward the view's
-            # corner (aspect : 1 : 1) is 1 / sqrt(aspect^2 + 2) of it deep.
-            eye = np.einsum("nij,j->ni", np.linalg.inv(models), np.append(self.eye_position(), 1.0))[:, :3]
-            outside = eye - np.clip(eye, bounds[:, 0], bounds[:, 1])
-            distance = np.linalg.norm(outside, axis=1) / np.sqrt(aspect**2 + 2.0)
-        beyond = ((depth <= 0.0).all(axis=1) | (x > reach_x).all(axis=1) | (x < -reach_x).all(axis=1)
-                  | (y > reach_y).all(axis=1) | (y < -reach_y).all(axis=1))
-        seen = np.ones_like(beyond) if everywhere else ~beyond
-        return InView(distance[seen], depth.max(axis=1, initial=-np.inf)[seen], sizes[seen])
+        return models, bounds, sizes
+
+    def _least_depths(self, models: np.ndarray, bounds: np.ndarray, depth: np.ndarray, aspect: float
+                      ) -> np.ndarray:
+        """(N,): how deep, at least, each box's nearest point in a view `aspect` wide lies, from its
+        (N, 8) corners' depths: in parallel projection its nearest corner's depth (0 with the eye past
+        it); in perspective the eye's distance to the box, in the box's frame, of which a point that
+        far toward the view's corner (aspect : 1 : 1) is 1 / sqrt(aspect^2 + 2) deep."""
+        if self.modes.projection is Projection.PARALLEL:
+            return np.maximum(depth.min(axis=1, initial=np.inf), 0.0)
+        eye = np.einsum("nij,j->ni", np.linalg.inv(models), np.append(self.eye_position(), 1.0))[:, :3]
+        outside = eye - np.clip(eye, bounds[:, 0], bounds[:, 1])
+        return np.linalg.norm(outside, axis=1) / np.sqrt(aspect**2 + 2.0)
 
     def projection_matrix(self, aspect: float) -> np.ndarray:
         near = self.near_plane(aspect)
