@@ -554,16 +554,21 @@ def fit_to_models(scene: Scene) -> None:
     factor = scene.unit() / scene.fitted_unit
     if factor == 1.0:
         return
-    given = {light.key: light.position * scene.fitted_unit for light in default_lights()}
+    fitted_places = {light.key: light.position * scene.fitted_unit for light in default_lights()}
     scene.fitted_unit = scene.unit()
     for light in scene.lights:
-        # An owned light rides at its owner's origin; a moved one is the person's.
-        if light.owner is Owner.NONE and not light.history and light.key in given \
-                and np.allclose(light.position, given[light.key], rtol=1e-9, atol=0.0):
+        if _where_fitting_left_it(light, fitted_places):
             light.position = light.position * factor
     for camera in scene.cameras:
         if camera.source == BUILT_IN_CAMERA_MODEL:
             camera.mesh = replace(camera.mesh, positions=camera.mesh.positions * factor)
+
+
+def _where_fitting_left_it(light: Light, fitted_places: dict[str, np.ndarray]) -> bool:
+    """Whether a light stands where the last fitting put it (`fitted_places`: each built-in light's place
+    on that scale, by key): an owned one rides at its owner's origin, and a moved one is the person's."""
+    return (light.owner is Owner.NONE and not light.history and light.key in fitted_places
+            and np.allclose(light.position, fitted_places[light.key], rtol=1e-9, atol=0.0))
 
 
 def replace_loaded(scene: Scene, element: SceneObject, loaded: SceneObject) -> None:
