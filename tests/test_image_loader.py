@@ -500,3 +500,24 @@ def test_16_bit_grey_is_scaled_by_table_as_the_formula_rounds(tmp_path: Path) ->
     expected = np.clip(values * (255.0 / 65535.0), 0, 255).round().astype(np.uint8)
     assert np.array_equal(image[..., 0], expected) and np.array_equal(image[..., 2], expected)
     assert peak < 16 * values.size, peak  # the picture, its indices and the RGB image: not floats (24 B a pixel)
+
+
+@pytest.mark.parametrize("mode", ["RGB", "L"])
+def test_a_picture_becomes_rgb_a_band_at_a_time(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, mode: str) -> None:
+    """No whole-picture conversion (Pillow's own memory, which tracemalloc does not see) and no
+    whole-picture bytes object (tobytes() joins its pieces: twice the picture's size)."""
+    from support.work import peak_traced_bytes
+
+    rows, columns = np.indices((1024, 2048))
+    pixels = np.dstack([rows % 256, columns % 256, (rows + columns) % 256]).astype(np.uint8)
+    picture = Image.fromarray(pixels).convert(mode)
+    picture.save(tmp_path / "big.png")  # small: the header check reads the whole file
+    expected = np.asarray(picture.convert("RGB"))
+    converted: list[tuple[int, int]] = []
+    convert = Image.Image.convert
+    monkeypatch.setattr(Image.Image, "convert",
+                        lambda self, *a, **k: converted.append(self.size) or convert(self, *a, **k))
+    image, peak = peak_traced_bytes(lambda: load_image(tmp_path / "big.png"))
+    np.testing.assert_array_equal(image, expected)
+    assert all(width * height <= 2048 * 256 for width, height in converted), converted
+    assert peak < 1.5 * image.nbytes, peak / image.nbytes

@@ -468,7 +468,22 @@ def rgb_array(image: Image.Image) -> np.ndarray:
             scaled = np.nan_to_num(values.astype(np.float64)) * (255.0 / 65535.0)
             grey = np.clip(scaled, 0.0, 255.0).round().astype(np.uint8)
         return np.ascontiguousarray(np.repeat(grey[..., None], 3, axis=2))
-    return np.ascontiguousarray(np.asarray(image.convert("RGB"), dtype=np.uint8))
+    return _rgb_in_bands(image)
+
+
+_BAND_BYTES = 1 << 20
+
+
+def _rgb_in_bands(image: Image.Image) -> np.ndarray:
+    """RGB uint8, a band of rows at a time: converting the whole picture, then numpy's tobytes(), made
+    a 4-byte-a-pixel copy and two 3-byte ones, each the picture's size."""
+    width, height = image.size
+    out = np.empty((height, width, 3), np.uint8)
+    rows = max(1, _BAND_BYTES // (4 * width))
+    for top in range(0, height, rows):
+        band = image.crop((0, top, width, min(top + rows, height)))
+        out[top:top + rows] = np.asarray(band if band.mode == "RGB" else band.convert("RGB"), dtype=np.uint8)
+    return out
 
 
 def unread_textures_note(failures: Sequence[tuple[str, str]]) -> list[str]:
