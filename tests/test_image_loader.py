@@ -521,3 +521,11 @@ def test_a_picture_becomes_rgb_a_band_at_a_time(tmp_path: Path, monkeypatch: pyt
     np.testing.assert_array_equal(image, expected)
     assert all(width * height <= 2048 * 256 for width, height in converted), converted
     assert peak < 1.5 * image.nbytes, peak / image.nbytes
+
+
+def test_a_palette_png_with_alpha_per_entry_loads_without_pillows_warning(tmp_path: Path) -> None:
+    """Paint programs and optimisers write such a tRNS; alpha is dropped, as an RGBA picture's is."""
+    Image.fromarray(PIXELS).convert("P").save(tmp_path / "palette.png", transparency=bytes([0, 128, 255, 255]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        np.testing.assert_array_equal(load_image(tmp_path / "palette.png"), PIXELS)

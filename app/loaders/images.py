@@ -482,6 +482,7 @@ def _rgb_in_bands(image: Image.Image) -> np.ndarray:
     rows = max(1, _BAND_BYTES // (4 * width))
     for top in range(0, height, rows):
         band = image.crop((0, top, width, min(top + rows, height)))
+        band.info.pop("transparency", None)  # dropped as alpha is; Pillow warns on stderr for a palette's
         out[top:top + rows] = np.asarray(band if band.mode == "RGB" else band.convert("RGB"), dtype=np.uint8)
     return out
 
