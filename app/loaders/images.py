@@ -249,6 +249,9 @@ def check_picture_header(source: str | Path, data: bytes | memoryview) -> None:
     if kind == "JPEG" and _jpeg_header_steps(data) > MAX_HEADER_PARTS:
         raise LoadError(source, f"more than {MAX_HEADER_PARTS} markers and stray bytes before the picture: no "
                                 "JPEG's header holds so many")
+    precision = _jpeg_precision(data) if kind == "JPEG" else None
+    if precision not in (None, 8):
+        raise LoadError(source, f"a {precision}-bit JPEG: Pillow reads 8-bit ones only")
     if kind == "JPEG" and _jpeg_scans(data) > MAX_JPEG_SCANS:
         raise LoadError(source, f"more than {MAX_JPEG_SCANS} scans, each decoded over the whole picture: a "
                                 "progressive JPEG has about 10")
@@ -285,6 +288,23 @@ def _jpeg_scans(data: bytes | memoryview) -> int:
     """The start-of-scan markers: an 0xFF in a scan's coded data is followed by 0x00, so each is a marker
     (or lies in a segment's bytes, a thumbnail's own scan say: counted too, as few are)."""
     return (data if isinstance(data, bytes) else bytes(data)).count(b"\xff\xda")
+
+
+# Start-of-frame markers: baseline, extended, progressive, lossless, in their Huffman and arithmetic kinds.
+_JPEG_FRAMES = frozenset(range(0xC0, 0xD0)) - {0xC4, 0xC8, 0xCC}
+
+
+def _jpeg_precision(data: bytes | memoryview) -> int | None:
+    """The bits a sample of the frame's header gives (8, or 12 and 16, which Pillow takes for a file not a
+    JPEG at all); None where the segments before it are not well formed: Pillow's to refuse."""
+    view, at = memoryview(data), 2
+    for _ in range(MAX_HEADER_PARTS):
+        if at + 4 >= len(view) or view[at] != 0xFF or view[at + 1] in (0xD8, 0xD9, 0xDA, 0xFF):
+            return None
+        if view[at + 1] in _JPEG_FRAMES:
+            return view[at + 4]
+        at += 2 + ((view[at + 2] << 8) | view[at + 3])
+    return None
 
 
 def _jpeg_header_steps(data: bytes | memoryview) -> int:
