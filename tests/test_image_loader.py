@@ -159,6 +159,17 @@ def test_jpeg_round_trip(tmp_path: Path) -> None:
     np.testing.assert_allclose(image[10:].reshape(-1, 3).mean(axis=0), (0, 0, 0), atol=8)
 
 
+@pytest.mark.parametrize("orientation", range(1, 9))
+def test_a_jpeg_is_drawn_as_stored_whatever_its_exif_orientation(tmp_path: Path, orientation: int) -> None:
+    """As Blender and game engines draw a texture, so that UVs made there fit (the README says so)."""
+    exif = Image.Exif()
+    exif[0x0112] = orientation
+    stored = np.kron(PIXELS[:, :1], np.ones((16, 8, 1), dtype=np.uint8))  # 8 wide, 32 high: red over blue
+    Image.fromarray(stored).save(tmp_path / "phone.jpg", quality=95, subsampling=0, exif=exif)
+    image = load_image(tmp_path / "phone.jpg")
+    assert image.shape == stored.shape and np.abs(image.astype(int) - stored).max() < 20
+
+
 def test_a_jpeg_with_exif_a_comment_and_a_large_colour_profile_loads(tmp_path: Path) -> None:
     """A profile of 1 MB goes in 16 APP2 segments: a photo's header holds tens of segments."""
     exif = Image.Exif()
