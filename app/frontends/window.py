@@ -56,6 +56,10 @@ class Unchanged(Enum):
 _REPEATED_TEXT = {"\r": "ENTER", "\t": "TAB"}
 
 
+# pyglet 2.1's X11 window's state of a drag, which an XdndEnter sets and its later messages read.
+_PYGLET_DRAG_STATE = ("_xdnd_source", "_xdnd_version", "_xdnd_format")
+
+
 def guarded(handler: Callable[..., Unchanged | None], after_failure: Unchanged | None = None
             ) -> Callable[..., None]:
     """A window event must never end the session: a failure becomes one line on screen and on stderr
@@ -180,8 +184,11 @@ class ViewerWindow:
             from pyglet.libs.x11 import xlib
         except ImportError:  # not X11
             return
-        if (isinstance(handlers, dict) and xlib.ClientMessage in handlers
-                and isinstance(getattr(pyglet_window, "_xdnd_atoms", None), dict)):
+        atoms = getattr(pyglet_window, "_xdnd_atoms", None)
+        # only where this pyglet keeps the drag as on_client_message reads and writes it: another leaves pyglet's own
+        if (isinstance(handlers, dict) and xlib.ClientMessage in handlers and isinstance(atoms, dict)
+                and {"XdndEnter", "text/uri-list"} <= atoms.keys()
+                and all(hasattr(pyglet_window, name) for name in _PYGLET_DRAG_STATE)):
             self.pyglet_client_message = handlers[xlib.ClientMessage]
             handlers[xlib.ClientMessage] = self.on_client_message
 
