@@ -15,7 +15,14 @@ import pytest
 from marraztu.loaders.obj import load_obj, parse_obj
 from marraztu.model import threads
 from marraztu.model.build import build_mesh
-from marraztu.model.mesh import INDEX, Mesh, fan_gather, polygon_corners_of_fans, polygons_of_corners
+from marraztu.model.mesh import (
+    INDEX,
+    Mesh,
+    corners_of_polygons,
+    fan_gather,
+    polygon_corners_of_fans,
+    polygons_of_corners,
+)
 from marraztu.render.gpu import _seams, edge_pairs, surface_arrays, used_shared_rows
 from support.seed import SEED_ASSETS, SEED_MODELS
 
@@ -191,6 +198,15 @@ def test_each_corner_is_found_in_its_polygon() -> None:
     corners = np.arange(face_start[-1], dtype=np.int64)
     assert np.array_equal(polygons_of_corners(face_start, corners), owner)
     assert [int(polygons_of_corners(face_start, corner)) for corner in (0, 2, 3, 16, 1018, 1021)] == [0, 0, 1, 3, 4, 5]
+
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint32, np.int32, np.int64])
+def test_the_corners_of_chosen_polygons_are_listed_whatever_the_counts_type(dtype: type) -> None:
+    """A PLY's list counts may come as uchar: the corners are indices (or byte offsets), never floats."""
+    first, sizes = np.array([5, 0, 9], dtype), np.array([3, 4, 2], dtype)
+    corners = corners_of_polygons(first, sizes)
+    assert corners.dtype.kind == "i" and corners.tolist() == [5, 6, 7, 0, 1, 2, 3, 9, 10]
+    assert corners_of_polygons(first, sizes, 4).tolist() == [5, 9, 13, 0, 4, 8, 12, 9, 13]
 
 
 def assert_no_seams(mesh: Mesh) -> None:

@@ -50,6 +50,8 @@ def corners_of_polygons(first_corners: np.ndarray, sizes: np.ndarray, step: int 
     """Every corner of polygons that start at `first_corners` and hold `sizes` corners (`step` apart),
     one polygon after another: each polygon's first corner plus each corner's place in it. Any rows
     laid out so list their items this way: a PLY row's list items, their byte offsets too."""
+    # signed: an unsigned count's cumsum is uint64, and uint64 less int64 is float64 in numpy
+    first_corners, sizes = np.asarray(first_corners, np.int64), np.asarray(sizes, np.int64)
     before = np.cumsum(sizes) - sizes  # the corners listed before each polygon's
     places = np.arange(int(sizes.sum()), dtype=np.int64)
     if step != 1:
