@@ -542,14 +542,18 @@ def test_a_palette_png_with_alpha_per_entry_loads_without_pillows_warning(tmp_pa
         np.testing.assert_array_equal(load_image(tmp_path / "palette.png"), PIXELS)
 
 
+@pytest.mark.parametrize("before_frame", [b"", b"\xff", b"\x00"])
 @pytest.mark.parametrize("bits", [12, 16])
-def test_a_jpeg_of_more_than_8_bits_is_refused_as_such(tmp_path: Path, bits: int) -> None:
+def test_a_jpeg_of_more_than_8_bits_is_refused_as_such(tmp_path: Path, bits: int, before_frame: bytes) -> None:
     """Not "broken", as Pillow's words had it: a 12-bit JPEG (medical and some camera pictures) or a
-    16-bit lossless one is sound, and Pillow reads 8-bit ones only. Its frame comes after an EXIF block."""
+    16-bit lossless one is sound, and Pillow reads 8-bit ones only. Its frame comes after an EXIF block,
+    and a fill byte or a stray one, which Pillow's reader skips."""
     path = tmp_path / "deep.jpg"
     Image.fromarray(PIXELS).save(path, exif=Image.Exif())
     data = bytearray(path.read_bytes())
-    data[data.index(b"\xff\xc0") + 4] = bits  # the frame's sample precision
+    frame = data.index(b"\xff\xc0")
+    data[frame + 4] = bits  # the frame's sample precision
+    data[frame:frame] = before_frame
     path.write_bytes(data)
     with pytest.raises(LoadError, match=rf"deep\.jpg: a {bits}-bit JPEG: Pillow reads 8-bit ones only$"):
         load_image(path)

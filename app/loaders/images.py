@@ -22,7 +22,7 @@ import threading
 import warnings
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
-from typing import BinaryIO
+from typing import BinaryIO, NamedTuple
 
 import numpy as np
 from PIL import Image
@@ -246,12 +246,12 @@ def check_picture_header(source: str | Path, data: bytes | memoryview) -> None:
     """Refuses a JPEG or PNG whose header Pillow would keep at many times its size, and a JPEG of more
     scans than any encoder writes."""
     kind = image_format(bytes(data[:_MAGIC_LENGTH]))
-    if kind == "JPEG" and _jpeg_header_steps(data) > MAX_HEADER_PARTS:
+    header = _jpeg_header(data) if kind == "JPEG" else _JpegHeader(0, None)
+    if header.steps > MAX_HEADER_PARTS:
         raise LoadError(source, f"more than {MAX_HEADER_PARTS} markers and stray bytes before the picture: no "
                                 "JPEG's header holds so many")
-    precision = _jpeg_precision(data) if kind == "JPEG" else None
-    if precision not in (None, 8):
-        raise LoadError(source, f"a {precision}-bit JPEG: Pillow reads 8-bit ones only")
+    if header.precision not in (None, 8):
+        raise LoadError(source, f"a {header.precision}-bit JPEG: Pillow reads 8-bit ones only")
     if kind == "JPEG" and _jpeg_scans(data) > MAX_JPEG_SCANS:
         raise LoadError(source, f"more than {MAX_JPEG_SCANS} scans, each decoded over the whole picture: a "
                                 "progressive JPEG has about 10")
@@ -294,25 +294,17 @@ def _jpeg_scans(data: bytes | memoryview) -> int:
 _JPEG_FRAMES = frozenset(range(0xC0, 0xD0)) - {0xC4, 0xC8, 0xCC}
 
 
-def _jpeg_precision(data: bytes | memoryview) -> int | None:
-    """The bits a sample of the frame's header gives (8, or 12 and 16, which Pillow takes for a file not a
-    JPEG at all); None where the segments before it are not well formed: Pillow's to refuse."""
-    view, at = memoryview(data), 2
-    for _ in range(MAX_HEADER_PARTS):
-        if at + 4 >= len(view) or view[at] != 0xFF or view[at + 1] in (0xD8, 0xD9, 0xDA, 0xFF):
-            return None
-        if view[at + 1] in _JPEG_FRAMES:
-            return view[at + 4]
-        at += 2 + ((view[at + 2] << 8) | view[at + 3])
-    return None
+class _JpegHeader(NamedTuple):
+    steps: int  # the markers and stray bytes Pillow reads before the scan (up to one past the limit)
+    precision: int | None  # the frame header's bits a sample (Pillow takes all but 8 for no JPEG); None: none read
 
 
-def _jpeg_header_steps(data: bytes | memoryview) -> int:
-    """The markers and stray bytes Pillow reads before the scan, walked as its reader walks them (up to
-    one past the limit): it skips bytes that are not 0xFF, fill bytes and escaped 0xFF one at a time."""
+def _jpeg_header(data: bytes | memoryview) -> _JpegHeader:
+    """The header walked as Pillow's reader walks it: it skips bytes that are not 0xFF, fill bytes and
+    escaped 0xFF one at a time, and stops at a frame header of other than 8 bits a sample."""
     from PIL.JpegImagePlugin import MARKER
 
-    view, at, steps = memoryview(data), 2, 0  # the first 0xFF after the start-of-image marker
+    view, at, steps, precision = memoryview(data), 2, 0, None  # the first 0xFF after the start-of-image marker
     while at + 1 < len(view) and steps <= MAX_HEADER_PARTS:
         if view[at] != 0xFF:  # junk: to the next 0xFF, a step a byte
             window = bytes(view[at:at + MAX_HEADER_PARTS + 1])
@@ -323,6 +315,10 @@ def _jpeg_header_steps(data: bytes | memoryview) -> int:
         if marker in MARKER and MARKER[marker][2] is not None:  # a segment: its length follows
             if marker == 0xFFDA or at + 4 > len(view):  # the scan: Pillow's header ends
                 break
+            if view[at + 1] in _JPEG_FRAMES and precision is None and at + 4 < len(view):
+                precision = view[at + 4]
+                if precision != 8:  # Pillow refuses the file here
+                    break
             at += 2 + max((view[at + 2] << 8) | view[at + 3], 2)  # Pillow reads no less than the length's own
         elif marker in MARKER or marker == 0xFF00:  # a marker alone, or an escaped 0xFF
             at += 2
@@ -330,7 +326,7 @@ def _jpeg_header_steps(data: bytes | memoryview) -> int:
             at += 1
         else:  # Pillow says "no marker found"
             break
-    return steps
+    return _JpegHeader(steps, precision)
 
 
 def _png_extra_chunks(data: bytes | memoryview) -> int:
