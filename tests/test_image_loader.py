@@ -534,6 +534,14 @@ def test_a_picture_becomes_rgb_a_band_at_a_time(tmp_path: Path, monkeypatch: pyt
     assert peak < 1.5 * image.nbytes, peak / image.nbytes
 
 
+@pytest.mark.parametrize("size", [(0, 5), (5, 0), (0, 0)])
+def test_a_picture_of_no_pixels_becomes_an_empty_rgb_array(size: tuple[int, int]) -> None:
+    """No file makes one (Pillow refuses them), but rgb_array also takes pictures handed to it."""
+    from marraztu.loaders.images import rgb_array
+
+    assert rgb_array(Image.new("RGB", size)).shape == (size[1], size[0], 3)
+
+
 def test_a_palette_png_with_alpha_per_entry_loads_without_pillows_warning(tmp_path: Path) -> None:
     """Paint programs and optimisers write such a tRNS; alpha is dropped, as an RGBA picture's is."""
     Image.fromarray(PIXELS).convert("P").save(tmp_path / "palette.png", transparency=bytes([0, 128, 255, 255]))

@@ -495,7 +495,7 @@ def _rgb_in_bands(image: Image.Image) -> np.ndarray:
     a 4-byte-a-pixel copy and two 3-byte ones, each the picture's size."""
     width, height = image.size
     out = np.empty((height, width, 3), np.uint8)
-    rows = max(1, _BAND_BYTES // (4 * width))
+    rows = max(1, _BAND_BYTES // (4 * max(width, 1)))  # a picture 0 wide has rows, and no bytes in them
     for top in range(0, height, rows):
         band = image.crop((0, top, width, min(top + rows, height)))
         band.info.pop("transparency", None)  # dropped as alpha is; Pillow warns on stderr for a palette's
