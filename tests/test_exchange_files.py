@@ -296,9 +296,13 @@ def test_a_gltf_that_is_not_utf8_is_one_load_error(tmp_path: Path) -> None:
 
 # --- PLY ---------------------------------------------------------------------------------------------
 def test_a_plys_face_colours_are_said_not_to_be_drawn(tmp_path: Path) -> None:
-    mesh = trimesh.Trimesh(vertices=SQUARE, faces=FACES, process=False)
-    mesh.visual.face_colors = [[255, 0, 0, 255], [0, 0, 255, 255]]
-    (tmp_path / "faces.ply").write_bytes(trimesh.exchange.ply.export_ply(mesh, encoding="ascii"))
+    # Written here: trimesh's exporter leaves face colours out before 5.2.
+    corners = "".join(f"{x} {y} {z}\n" for x, y, z in SQUARE)
+    (tmp_path / "faces.ply").write_text(
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 2\nproperty list uchar int vertex_indices\nproperty uchar red\nproperty uchar green\n"
+        "property uchar blue\nproperty uchar alpha\nend_header\n"
+        + corners + "3 0 1 2 255 0 0 255\n3 0 2 3 0 0 255 255\n")
     loaded = load_model(tmp_path / "faces.ply")
     assert loaded.vertex_colours is None
     assert loaded.warnings == ("colours given per face are not drawn (vertex colours are)",)
