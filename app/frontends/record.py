@@ -6,6 +6,7 @@ needs imageio-ffmpeg, imported only for such a file.
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any
@@ -129,7 +130,9 @@ def _write_with_pillow(frames: _Counted, temporary: Path, kind: str, fps: float)
         # disposal 1 and no optimisation: every frame is whole and shown as drawn (GIF and APNG alike).
         pictures[0].save(temporary, format=kind, save_all=True, append_images=pictures[1:], duration=duration,
                          loop=0, disposal=1, optimize=False)
-    except OverflowError:  # Pillow joins a GIF's frames that repeat the one before, adding their times
+    # Pillow joins a GIF's frames that repeat the one before, adding their times: past 16 bits, Pillow 13
+    # raises OverflowError, Pillow 10.2 to 12 struct.error.
+    except (OverflowError, struct.error):
         raise ViewerError("a GIF shows one picture for at most 655 s, and these presses leave the same one longer: "
                           "use a higher --fps or .png") from None
 
