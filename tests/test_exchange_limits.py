@@ -897,16 +897,17 @@ def test_a_plys_own_two_by_two_picture_of_one_colour_is_drawn(tmp_path: Path) ->
     assert (material.texture == (200, 40, 40)).all()
 
 
-def many_over_one_view(what: str, times: int, view_bytes: int) -> bytes:
+def many_over_one_view(what: str, times: int, view_bytes: int, stride: int | None = None) -> bytes:
     """A GLB of the triangle and a view of `view_bytes` bytes read `times` times over: by as many views of
-    it (from byte 4: a slice trimesh copies), or by as many accessors."""
+    it (from byte 4: a slice trimesh copies), or by as many accessors (of its byteStride `stride`)."""
     document, binary = triangle_gltf([{"mesh": 0}], [0])
     binary += bytes(view_bytes)
     document["buffers"] = [{"byteLength": len(binary)}]
     if what == "views":
         document["bufferViews"] += [{"buffer": 0, "byteOffset": 64, "byteLength": view_bytes - 4}] * times
     else:
-        document["bufferViews"].append({"buffer": 0, "byteOffset": 60, "byteLength": view_bytes})
+        document["bufferViews"].append({"buffer": 0, "byteOffset": 60, "byteLength": view_bytes,
+                                        **({"byteStride": stride} if stride else {})})
         document["accessors"] += [{"bufferView": 2, "componentType": 5126, "count": view_bytes // 16,
                                    "type": "VEC4"}] * times
     return glb(document, binary)
@@ -924,6 +925,73 @@ def test_views_or_accessors_adding_up_past_a_files_bytes_are_refused_before_trim
     assert refused.message.endswith(f"bytes: more than the {1 << 30} a model's file may hold")
     assert loads == []
     path.write_bytes(many_over_one_view(what, 10, 1 << 16))
+    assert np.array_equal(load_model(path).positions, TRIANGLE)
+
+
+def test_views_adding_up_past_twice_the_files_bytes_are_refused_before_trimesh_reads_them(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """15,000 views of one 64 KB stretch, a GLB of 876 KB, took 1 GB: the limit was 1 GiB of views."""
+    loads = trimesh_loads(monkeypatch)
+    path = tmp_path / "over.glb"
+    path.write_bytes(many_over_one_view("views", 100, 1 << 16))
+    held = path.stat().st_size
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        f"not a glTF file: its buffer views add up to {60 + 100 * ((1 << 16) - 4)} bytes: more than the "
+        f"{2 * held + (1 << 20)} a file and buffers of {held} bytes may make (twice them, and {1 << 20} more)")
+    assert loads == []
+
+
+def made_past_the_file(what: str, items: int) -> bytes:
+    """A GLB of the triangle with `what` of `items` items: its POSITION, NORMAL or indices as zeros (no
+    buffer view), or its POSITION as zeros but one sparse item; or as many accessors of a 64 KB view
+    (`strided`: of a byteStride of 16)."""
+    if what in ("copies", "strided"):
+        return many_over_one_view("accessors", items, 1 << 16, stride=16 if what == "strided" else None)
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    accessors, primitive = document["accessors"], document["meshes"][0]["primitives"][0]
+    zeros = {"componentType": 5126, "count": items, "type": "VEC3"}
+    if what in ("POSITION", "NORMAL", "sparse"):
+        primitive["attributes"][what if what != "sparse" else "POSITION"] = len(accessors)
+        accessors.append(zeros if what != "sparse" else {**zeros, "sparse": {**SPARSE, "count": 1}})
+    else:
+        primitive["indices"] = len(accessors)
+        accessors.append({**zeros, "componentType": 5125, "type": "SCALAR"})
+    return glb(document, binary)
+
+
+@pytest.mark.parametrize(("what", "items", "named"), [
+    ("POSITION", 3_000_000, 2), ("NORMAL", 3_000_000, 2), ("indices", 3_000_000, 2), ("sparse", 3_000_000, 2),
+    ("copies", 100, 20), ("strided", 100, 20)])
+def test_accessors_making_more_than_the_files_bytes_are_refused_before_trimesh_reads_them(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, what: str, items: int, named: int) -> None:
+    """A GLB of 400 bytes whose POSITION was 3M zeros took 376 MB and 1 s (the limit was 1 GiB of items,
+    64M vertices placed); 15,000 accessors of one 64 KB view, 1 GB."""
+    loads = trimesh_loads(monkeypatch)
+    path = tmp_path / "made.glb"
+    path.write_bytes(made_past_the_file(what, items))
+    held = path.stat().st_size
+    refused = one_line_refusal(lambda: load_model(path)).message
+    assert refused.startswith(f"not a glTF file: accessor {named}'s ")
+    assert refused.endswith(f"more than the {2 * held + (1 << 20)} a file and buffers of {held} bytes may make "
+                            f"(twice them, and {1 << 20} more)")
+    assert loads == []
+
+
+@pytest.mark.parametrize(("what", "items"), [("POSITION", 3 * 29_000), ("sparse", 3 * 29_000), ("copies", 10),
+                                             ("strided", 10)])
+def test_accessors_making_a_little_past_a_small_files_bytes_load(tmp_path: Path, what: str, items: int) -> None:
+    path = tmp_path / "made.glb"
+    path.write_bytes(made_past_the_file(what, items))
+    assert load_model(path).face_count == (29_000 if items > 10 else 1)
+
+
+def test_accessors_of_zeros_no_primitive_reads_make_nothing(tmp_path: Path) -> None:
+    """A morph target's base is zeros, many times a file's bytes (Blender writes shape keys so): trimesh
+    makes them zeros, pages no one writes."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["accessors"] += [{"componentType": 5126, "count": 1_000_000, "type": "VEC3"}] * 20
+    path = tmp_path / "targets.glb"
+    path.write_bytes(glb(document, binary))
     assert np.array_equal(load_model(path).positions, TRIANGLE)
 
 

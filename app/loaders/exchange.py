@@ -165,7 +165,7 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     document = gltf_document(path, data) if file_type == "gltf" else glb_document(path, data)
     pictures = gltf_pictures(document) if file_type == "gltf" else frozenset()  # a GLB holds its own
     least_bytes = buffer_bytes(document)
-    GltfReferences(path, document).check()
+    GltfReferences(path, document, held=len(data) + sum(least_bytes.values())).check()
     check_one_parent_each(path, document)
     check_geometry_readable(path, document)
     counts = gltf_counts(document)

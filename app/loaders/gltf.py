@@ -138,6 +138,11 @@ _COMPONENT_BYTES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
 _TYPE_COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 _SPARSE_INDEX_BYTES = {5121: 1, 5123: 2, 5125: 4}  # a sparse accessor's indices: unsigned integers
 _NODE_TRANSFORMS = {"translation": 3, "rotation": 4, "scale": 3, "matrix": 16}
+# What trimesh copies (each buffer view, each accessor's items from its view) and what is written before
+# it builds the meshes (the zeros, or sparse items, of an accessor a primitive reads) adds up, in a file
+# as glTF's writers make it, to at most the bytes the file and its buffers hold: past twice those and
+# this many more, a file is refused unread (a POSITION of 3M zeros from 400 bytes took 376 MB).
+MADE_FLOOR_BYTES = 1 << 20
 # The arrays of objects trimesh reads item by item (with .get or [key]), by the name of their items.
 _READ_ARRAYS = {"scenes": "scene", "nodes": "node", "meshes": "mesh", "materials": "material", "textures": "texture",
                 "images": "image", "accessors": "accessor", "bufferViews": "buffer view", "buffers": "buffer"}
@@ -151,9 +156,11 @@ class GltfReferences:
     AttributeError, a TypeError or a KeyError); values it reads that are not shaped as glTF's (a
     count that is not a number) are refused where they are known to fail it."""
 
-    def __init__(self, path: Path, document: dict[str, Any]) -> None:
+    def __init__(self, path: Path, document: dict[str, Any], held: int) -> None:
+        """`held`: the bytes of the file and of the buffers it names beside it."""
         self.path, self.document = path, document
         self.copied = {"buffer view": 0, "accessor": 0}  # the bytes trimesh copies of each, in all
+        self.held, self.made_limit = held, 2 * held + MADE_FLOOR_BYTES
 
     def check(self) -> None:
         for key in _READ_ARRAYS:
@@ -181,10 +188,28 @@ class GltfReferences:
             if total > MAX_FILE_BYTES:
                 self.refuse(f"its {what}s add up to {total} bytes: more than the {MAX_FILE_BYTES} a model's file may "
                             "hold")
+        if self.copied["buffer view"] > self.made_limit:
+            self.refuse(f"its buffer views add up to {self.copied['buffer view']} bytes: {self.past_made_limit()}")
         for number, mesh in self.each("meshes"):
             self.mesh(number, mesh)
+        self.made_accessors()  # once the primitives are checked to name accessors
         for number, material in self.each("materials"):
             self.material(number, material)
+
+    def made_accessors(self) -> None:
+        """The accessors' items trimesh copies (those of a view) or that are written before it reads them
+        (those a primitive reads), added up in the accessors' order: the one that passes the limit is named."""
+        read, total = _read_by_primitives(self.document), 0
+        for number, accessor in self.each("accessors"):
+            if "bufferView" in accessor or number in read:  # an unread one of zeros: pages nothing writes
+                total += accessor["count"] * _item_bytes(accessor)
+                if total > self.made_limit:
+                    self.refuse(f"accessor {number}'s {accessor['count']} items bring what its accessors make to "
+                                f"{total} bytes: {self.past_made_limit()}")
+
+    def past_made_limit(self) -> str:
+        return (f"more than the {self.made_limit} a file and buffers of {self.held} bytes may make (twice them, and "
+                f"{MADE_FLOOR_BYTES} more)")
 
     def material(self, number: int, material: dict[str, Any]) -> None:
         """Its values as trimesh reads them: pbrMetallicRoughness's merged into the material's, each list
@@ -346,6 +371,12 @@ class GltfReferences:
 
     def refuse(self, words: str) -> None:
         raise LoadError(self.path, f"not a glTF file: {words}")
+
+
+
+def _item_bytes(accessor: dict[str, Any]) -> int:
+    """The bytes of a checked accessor's item."""
+    return _COMPONENT_BYTES[accessor["componentType"]] * _TYPE_COMPONENTS[accessor["type"]]
 
 
 
@@ -653,7 +684,7 @@ def _dense_items(path: Path, document: dict[str, Any], number: int, buffer: Call
     """Sparse accessor `number`'s items, (count, bytes of an item): its base with the listed ones
     replaced; an index that names no item is refused."""
     accessor = document["accessors"][number]
-    count, size = accessor["count"], _COMPONENT_BYTES[accessor["componentType"]] * _TYPE_COMPONENTS[accessor["type"]]
+    count, size = accessor["count"], _item_bytes(accessor)
     if "bufferView" in accessor:
         items = _view_items(document, accessor["bufferView"], accessor.get("byteOffset", 0), count, size, buffer).copy()
     else:
