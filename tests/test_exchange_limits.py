@@ -846,8 +846,15 @@ def test_a_sparse_corner_is_drawn_where_it_was_moved(tmp_path: Path) -> None:
     ("d['buffers'][0]['uri'] = 'data:application/octet-stream;base64,AAAA'",
      "buffer 0 holds 3 bytes, where its byteLength says 96"),
     ("d['buffers'][0]['uri'] = 'data:application/octet-stream;base64,AAA'", "buffer 0's data: URI is not base64"),
+    # glTF's rules, where the last value of an index named twice won, and a byteStride was read past
+    ("d['accessors'][0]['sparse'] = {'count': 2, 'indices': {'bufferView': 1, 'byteOffset': 4, 'componentType': 5123}, "
+     "'values': {'bufferView': 0}}", "accessor 0's sparse indices do not strictly increase: item 0 follows 2"),
+    ("d['bufferViews'][3]['byteStride'] = 16",
+     "accessor 0's sparse values' buffer view 3 has a byteStride: glTF's sparse indices and values are packed"),
+    ("d['bufferViews'][6]['byteStride'] = 4",
+     "accessor 2's sparse indices' buffer view 6 has a byteStride: glTF's sparse indices and values are packed"),
 ])
-def test_a_sparse_accessor_that_names_no_item_is_refused(tmp_path: Path, edit: str, words: str) -> None:
+def test_a_sparse_accessor_against_gltfs_rules_is_refused(tmp_path: Path, edit: str, words: str) -> None:
     path = written_gltf(tmp_path, "data.gltf", *sparse_quad())
     path.write_text(json.dumps(_edited(json.loads(path.read_text()), edit)))
     assert one_line_refusal(lambda: load_model(path)).message == f"not a glTF file: {words}"

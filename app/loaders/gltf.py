@@ -303,6 +303,9 @@ class GltfReferences:
                 self.refuse(f"{named}' componentType {escaped(repr(kind))[:20]} is not one of an index's (5121, 5123, "
                             "5125)")
             view = self.named(part.get("bufferView"), "bufferViews", named)
+            if "byteStride" in view:  # which would be read packed
+                self.refuse(f"{named}' buffer view {part['bufferView']} has a byteStride: glTF's sparse indices and "
+                            "values are packed")
             offset = self.byte_count(part, "byteOffset", named)
             length = view.get("byteLength")
             item = _SPARSE_INDEX_BYTES[kind] if key == "indices" else size
@@ -682,7 +685,7 @@ def _read_by_primitives(document: dict[str, Any]) -> set[int]:
 def _dense_items(path: Path, document: dict[str, Any], number: int, buffer: Callable[[int], bytes | memoryview]
                  ) -> np.ndarray:
     """Sparse accessor `number`'s items, (count, bytes of an item): its base with the listed ones
-    replaced; an index that names no item is refused."""
+    replaced; an index that names no item, or indices that do not strictly increase, are refused."""
     accessor = document["accessors"][number]
     count, size = accessor["count"], _item_bytes(accessor)
     if "bufferView" in accessor:
@@ -697,6 +700,11 @@ def _dense_items(path: Path, document: dict[str, Any], number: int, buffer: Call
     if outside.any():
         raise LoadError(path, f"not a glTF file: accessor {number}'s sparse indices name item "
                               f"{where[np.argmax(outside)]}, of {count}")
+    unordered = np.diff(where.astype(np.int64)) <= 0  # of an index named twice, the last value would win
+    if unordered.any():
+        at = np.argmax(unordered) + 1
+        raise LoadError(path, f"not a glTF file: accessor {number}'s sparse indices do not strictly increase: item "
+                              f"{where[at]} follows {where[at - 1]}")
     items[where] = _view_items(document, sparse["values"]["bufferView"], sparse["values"].get("byteOffset", 0),
                                changed, size, buffer, packed=True)
     return items
