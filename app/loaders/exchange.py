@@ -710,7 +710,10 @@ def _check_placed_size(path: str | Path, placed: list[Any]) -> None:
 
 
 def _check_placed_counts(path: str | Path, placements: int, triangles: int, vertices: int) -> None:
-    """Refuses a scene of more placements, or of more triangles or vertices placed, than a model may hold."""
+    """Refuses a scene of more placements, or of more triangles or vertices placed, than a model may hold,
+    and one that places no triangle (a glTF's meshes no node places are not handed to trimesh)."""
+    if triangles == 0:
+        raise LoadError(path, "no node of the scene places a triangle mesh: nothing to draw")
     if triangles > MAX_PLACED_TRIANGLES or vertices > 3 * MAX_PLACED_TRIANGLES:
         raise LoadError(path, f"the scene places its meshes {placements} times, {triangles} triangles and "
                               f"{vertices} vertices in all: more than the {MAX_PLACED_TRIANGLES} triangles (and three "
