@@ -523,30 +523,32 @@ def test_compressed_gltf_geometry_is_refused_not_read_as_zeros(tmp_path: Path, e
     assert str(one_line_refusal(lambda: load_model(path))) == f"{path}: {words}"
 
 
-def quantized_refusal(tmp_path: Path, document: dict[str, Any], binary: bytes) -> str:
-    """What loading this glTF, marked as needing KHR_mesh_quantization, is refused with."""
-    document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_mesh_quantization"]
-    path = tmp_path / "quantized.glb"
-    path.write_bytes(glb(document, binary))
-    return one_line_refusal(lambda: load_model(path)).message
-
-
-def test_normalized_integer_positions_are_refused_not_read_raw(tmp_path: Path) -> None:
-    """KHR_mesh_quantization's normalized positions: trimesh reads the integers (255 where 1 was meant)."""
+@pytest.mark.parametrize("component_type, dtype, one", [(5121, "<u1", 255), (5123, "<u2", 65535),
+                                                        (5120, "<i1", 127), (5122, "<i2", 32767)])
+def test_normalized_integer_positions_are_read_as_the_fractions_they_stand_for(
+        tmp_path: Path, component_type: int, dtype: str, one: int) -> None:
+    """KHR_mesh_quantization's normalized positions: trimesh read the integers (255 where 1 was meant),
+    so they were refused; they are c / the value that stands for 1, and no less than -1."""
+    raw = (TRIANGLE * one).astype(np.int64)
+    signed = dtype[1] == "i"
+    if signed:
+        raw[0, 0] = -one - 1  # a signed type's one value below -one: -1 too
+    padded = np.zeros((3, 4), dtype)  # a vertex attribute's items are aligned to 4 bytes: a stride
+    padded[:, :3] = raw
     document, _ = triangle_gltf([{"mesh": 0}], [0])
-    binary = (TRIANGLE * 255).astype(np.uint8).tobytes() + b"\0" * 3 + UVS.tobytes()
-    document["accessors"][0].update(componentType=5121, normalized=True)
-    document["bufferViews"] = [{"buffer": 0, "byteLength": 12, "byteStride": 4},
-                               {"buffer": 0, "byteOffset": 12, "byteLength": 24}]
+    binary = padded.tobytes() + UVS.tobytes()
+    document["accessors"][0].update(componentType=component_type, normalized=True, min=[0, 0, 0], max=[one, one, 0])
+    stride = padded.itemsize * 4
+    document["bufferViews"] = [{"buffer": 0, "byteLength": 3 * stride, "byteStride": stride},
+                               {"buffer": 0, "byteOffset": 3 * stride, "byteLength": 24}]
     document["buffers"] = [{"byteLength": len(binary)}]
-    assert quantized_refusal(tmp_path, document, binary) == (
-        "its positions are stored as normalized integers (KHR_mesh_quantization), which are not read "
-        "here: export them as floats")
-    document, binary = triangle_gltf([{"mesh": 0}], [0])  # the extension alone, its positions floats: read
     document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_mesh_quantization"]
     path = tmp_path / "quantized.glb"
     path.write_bytes(glb(document, binary))
-    assert np.array_equal(load_model(path).positions, TRIANGLE)
+    expected = TRIANGLE.copy()
+    if signed:
+        expected[0, 0] = -1
+    np.testing.assert_array_equal(load_model(path).positions, expected)
 
 
 @pytest.mark.parametrize("extension", ["KHR_texture_basisu", "KHR_some_unknown", "EXT_texture_webp", 7])
@@ -886,13 +888,24 @@ def test_a_buffer_shorter_than_the_gltf_says_is_refused_in_words(tmp_path: Path)
         "cut short: its buffer is 60 bytes, its binary chunk holds 52")
 
 
-def test_normalized_integer_texture_coordinates_are_refused_not_read_raw(tmp_path: Path) -> None:
-    document, binary = triangle_gltf([{"mesh": 0}], [0])
-    uvs = document["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"]
-    document["accessors"][uvs].update(componentType=5123, normalized=True)
-    assert quantized_refusal(tmp_path, document, binary) == (
-        "its texture coordinates are stored as normalized integers (KHR_mesh_quantization), which are "
-        "not read here: export them as floats")
+@pytest.mark.parametrize("component_type, dtype, one", [(5121, "<u1", 255), (5123, "<u2", 65535)])
+def test_normalized_integer_texture_coordinates_are_read_as_fractions(
+        tmp_path: Path, component_type: int, dtype: str, one: int) -> None:
+    """glTF's own unsigned byte and short texture coordinates, normalized: read as the same file of
+    floats is (trimesh read 65535 where 1 was meant, so they were refused)."""
+    stored = np.zeros((3, 8 // np.dtype(dtype).itemsize), dtype)  # 24 bytes, as the floats' view
+    stored[:, :2] = np.array([[0, 0], [one, 0], [0, one]]) + np.array([[one // 5, one // 3]])  # not only 0 and 1
+    fractions = (stored[:, :2] / np.float32(one)).astype(np.float32)
+    document, binary = triangle_gltf([{"mesh": 0}], [0], picture=png_bytes(2, 2))
+    floats = glb(document, TRIANGLE.tobytes() + fractions.tobytes() + binary[60:])
+    document["accessors"][1].update(componentType=component_type, normalized=True)
+    document["bufferViews"][1]["byteStride"] = 8  # a vertex attribute's items are aligned to 4 bytes
+    quantized = glb(document, TRIANGLE.tobytes() + stored.tobytes() + binary[60:])
+    (tmp_path / "floats.glb").write_bytes(floats)
+    (tmp_path / "quantized.glb").write_bytes(quantized)
+    uvs = load_model(tmp_path / "quantized.glb").uvs
+    np.testing.assert_array_equal(uvs, load_model(tmp_path / "floats.glb").uvs)
+    assert abs(uvs[0, 0] - 0.2) < 1e-6, uvs  # the file's fractions, not derived from the box
 
 
 def test_a_plys_own_two_by_two_picture_of_one_colour_is_drawn(tmp_path: Path) -> None:

@@ -419,8 +419,8 @@ _UNREAD_COMPRESSION = {
 
 
 def check_geometry_readable(path: Path, document: dict[str, Any] | None) -> None:
-    """Refuses compressed geometry, which glTF's writers list as required, and positions stored as
-    normalized integers (KHR_mesh_quantization), which trimesh reads as the raw integers."""
+    """Refuses compressed geometry, which glTF's writers list as required, and extensions it requires
+    that are not read here."""
     if not isinstance(document, dict):
         return
     required = document.get("extensionsRequired")
@@ -430,17 +430,14 @@ def check_geometry_readable(path: Path, document: dict[str, Any] | None) -> None
                                   "export it uncompressed")
         if not _required_extension_read(name):  # glTF: a reader must refuse what it cannot honour
             raise LoadError(path, f"it requires the glTF extension {escaped(str(name))[:80]}, which is not read here")
-    normalized = _normalized_attribute(document)
-    if normalized is not None:
-        raise LoadError(path, f"its {normalized} are stored as normalized integers (KHR_mesh_quantization), which "
-                              "are not read here: export them as floats")
 
 
 
 def _required_extension_read(name: object) -> bool:
     """Extensions a file may require and still be drawn as it means: Draco with its decoder, quantized
-    attributes (normalized positions are refused above), and materials' extensions, which change only
-    what the viewer's Phong lighting does not draw (it takes the base colour)."""
+    attributes (normalized ones made floats for trimesh: _accessors_made_plain), and materials'
+    extensions, which change only what the viewer's Phong lighting does not draw (it takes the base
+    colour)."""
     return (name in ("KHR_draco_mesh_compression", "KHR_mesh_quantization")
             or isinstance(name, str) and name.startswith("KHR_materials_"))
 
@@ -450,24 +447,6 @@ def _draco_decoder() -> bool:
     """trimesh decodes Draco where DracoPy is installed (not a dependency: it is built for few platforms)."""
     return importlib.util.find_spec("DracoPy") is not None
 
-
-
-def _normalized_attribute(document: dict[str, Any]) -> str | None:
-    """What trimesh would read wrong, as raw integers: "positions" or "texture coordinates" stored as
-    normalized ones (normals keep their direction, and are made unit length anyway); None if neither."""
-    accessors, meshes = document.get("accessors"), document.get("meshes")
-    if not isinstance(accessors, list) or not isinstance(meshes, list):
-        return None
-    for mesh in meshes:
-        for primitive in mesh.get("primitives", []) if isinstance(mesh, dict) else ():
-            attributes = primitive.get("attributes") if isinstance(primitive, dict) else None
-            for name, index in attributes.items() if isinstance(attributes, dict) else ():
-                kind = "positions" if name == "POSITION" else "texture coordinates" if str(name).startswith(
-                    "TEXCOORD_") else None
-                # GltfReferences has checked that the index names an accessor
-                if kind and isinstance(accessors[index], dict) and accessors[index].get("normalized") is True:
-                    return kind
-    return None
 
 
 # --- what the scene places, counted --------------------------------------------------------------
@@ -599,15 +578,16 @@ def _listed(value: object) -> list[Any]:
 def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_type: str,
                      read_beside: Callable[[str], bytes]) -> bytes:
     """The file, its JSON made again (a GLB's JSON chunk too) where trimesh is to read it otherwise: the
-    meshes no node places emptied, the sparse accessors its primitives read made dense, its nodes'
+    meshes no node places emptied, the accessors its primitives read made plain (sparse ones dense,
+    normalized positions and texture coordinates floats), its nodes'
     cameras taken out, its WEBP textures' fallbacks chosen and the pictures no material draws emptied.
     The document is checked already (GltfReferences); `read_beside` reads a buffer's file."""
-    unplaced_emptied = _unplaced_meshes_emptied(document)  # before their sparse accessors are made dense
-    made_dense = _sparse_made_dense(path, document, _BufferBytes(path, data, document, file_type, read_beside))
+    unplaced_emptied = _unplaced_meshes_emptied(document)  # before their accessors are made plain
+    made_plain = _accessors_made_plain(path, document, _BufferBytes(path, data, document, file_type, read_beside))
     cameras_taken_out = _node_cameras_taken_out(document)
     fallbacks_chosen = _fallbacks_chosen(document)
     undrawn_emptied = _undrawn_pictures_emptied(document)
-    if not (unplaced_emptied or made_dense or cameras_taken_out or fallbacks_chosen or undrawn_emptied):
+    if not (unplaced_emptied or made_plain or cameras_taken_out or fallbacks_chosen or undrawn_emptied):
         return data
     text = json.dumps(document).encode()
     if file_type == "gltf":
@@ -674,26 +654,78 @@ class _BufferBytes:
             raise LoadError(self.path, f"not a glTF file: buffer {number}'s data: URI is not base64") from None
 
 
-def _sparse_made_dense(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview]) -> bool:
-    """Makes each sparse accessor a primitive reads (an attribute, its indices) the accessor glTF means:
-    its base (its buffer view's items, or zeros) with the listed items replaced, in a buffer appended
-    as a data: URI. trimesh reads no sparse values; those no primitive reads (a morph target's) are left.
-    False where there is none."""
-    accessors = document.get("accessors", [])
-    sparse = sorted(index for index in _read_by_primitives(document) if "sparse" in accessors[index])
-    if not sparse:
+def _accessors_made_plain(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview]) -> bool:
+    """Makes the accessors the primitives read ones trimesh reads as glTF means them, in a buffer
+    appended as a data: URI: a sparse one dense (its base, its view's items or zeros, with the listed
+    items replaced), and positions or texture coordinates stored as normalized integers (as
+    KHR_mesh_quantization writes them) floats. trimesh reads no sparse values, and reads normalized
+    integers as the integers (255 where 1 was meant). False where there is none."""
+    accessors, read = document.get("accessors", []), _read_by_primitives(document)
+    fractions = _normalized_read(document)
+    plain = sorted({index for index in read if "sparse" in accessors[index]} | fractions)
+    if not plain:
         return False
-    dense, views = bytearray(), document.setdefault("bufferViews", [])
-    for index in sparse:
-        items = _dense_items(path, document, index, buffer)
-        views.append({"buffer": len(document["buffers"]), "byteOffset": len(dense), "byteLength": items.nbytes})
-        dense += memoryview(items).cast("B")  # its bytes, not a copy of them
-        dense += b"\0" * (-items.nbytes % 4)  # each view at a multiple of four bytes, as glTF's
+    made, views = bytearray(), document.setdefault("bufferViews", [])
+    for index in plain:
+        items = _items(path, document, index, buffer)
         kept = {key: value for key, value in accessors[index].items() if key not in ("sparse", "byteOffset")}
+        if index in fractions:
+            items = _as_fractions(items, accessors[index])
+            kept = {key: value for key, value in kept.items() if key not in ("normalized", "min", "max")}
+            kept["componentType"] = 5126
+        views.append({"buffer": len(document["buffers"]), "byteOffset": len(made), "byteLength": items.nbytes})
+        made += memoryview(np.ascontiguousarray(items)).cast("B")  # its bytes, not a copy of them
+        made += b"\0" * (-items.nbytes % 4)  # each view at a multiple of four bytes, as glTF's
         accessors[index] = {**kept, "bufferView": len(views) - 1}
-    document["buffers"].append({"byteLength": len(dense),
-                                "uri": "data:application/octet-stream;base64," + base64.b64encode(dense).decode()})
+    document["buffers"].append({"byteLength": len(made),
+                                "uri": "data:application/octet-stream;base64," + base64.b64encode(made).decode()})
     return True
+
+
+# glTF's normalized integers: each component type's dtype and the value that stands for 1.
+_NORMALIZED = {5120: ("<i1", 127), 5121: ("<u1", 255), 5122: ("<i2", 32767), 5123: ("<u2", 65535)}
+
+
+def _normalized_read(document: dict[str, Any]) -> set[int]:
+    """The accessors the primitives read as positions or texture coordinates that hold normalized
+    integers (normals keep their direction, and are made unit length anyway; colours are scaled where
+    they are read)."""
+    accessors, found = document.get("accessors", []), set()
+    for mesh in document.get("meshes", []):
+        for primitive in mesh["primitives"]:
+            for name, index in primitive["attributes"].items():
+                accessor = accessors[index]
+                if ((name == "POSITION" or str(name).startswith("TEXCOORD_")) and accessor.get("normalized") is True
+                        and accessor["componentType"] in _NORMALIZED):
+                    found.add(index)
+    return found
+
+
+def _as_fractions(items: np.ndarray, accessor: dict[str, Any]) -> np.ndarray:
+    """(count, components) float32 of normalized integer items, as glTF defines them: c / the value
+    that stands for 1, and no less than -1 (a signed type has one value more below 0)."""
+    dtype, one = _NORMALIZED[accessor["componentType"]]
+    values = np.ascontiguousarray(items).view(dtype).reshape(len(items), -1)
+    return np.maximum(values / np.float32(one), np.float32(-1.0)).astype(np.float32)
+
+
+def _items(path: Path, document: dict[str, Any], number: int, buffer: Callable[[int], bytes | memoryview]
+           ) -> np.ndarray:
+    """Accessor `number`'s items, (count, bytes of an item): a sparse one's made dense, else its view's
+    items, or zeros where it has no view."""
+    if "sparse" in document["accessors"][number]:
+        return _dense_items(path, document, number, buffer)
+    return _base_items(document, number, buffer)
+
+
+def _base_items(document: dict[str, Any], number: int, buffer: Callable[[int], bytes | memoryview]) -> np.ndarray:
+    """Accessor `number`'s items before any sparse ones, (count, bytes of an item): its view's, or
+    zeros where it has no view (glTF's meaning)."""
+    accessor = document["accessors"][number]
+    count, size = accessor["count"], _item_bytes(accessor)
+    if "bufferView" not in accessor:
+        return np.zeros((count, size), np.uint8)
+    return _view_items(document, accessor["bufferView"], accessor.get("byteOffset", 0), count, size, buffer)
 
 
 def _read_by_primitives(document: dict[str, Any]) -> set[int]:
@@ -713,10 +745,8 @@ def _dense_items(path: Path, document: dict[str, Any], number: int, buffer: Call
     replaced; an index that names no item, or indices that do not strictly increase, are refused."""
     accessor = document["accessors"][number]
     count, size = accessor["count"], _item_bytes(accessor)
-    if "bufferView" in accessor:
-        items = _view_items(document, accessor["bufferView"], accessor.get("byteOffset", 0), count, size, buffer).copy()
-    else:
-        items = np.zeros((count, size), np.uint8)
+    base = _base_items(document, number, buffer)
+    items = base if base.flags.writeable else base.copy()  # a view of the buffer is read-only
     sparse = accessor["sparse"]
     changed, index_bytes = sparse["count"], _SPARSE_INDEX_BYTES[sparse["indices"]["componentType"]]
     where = _view_items(document, sparse["indices"]["bufferView"], sparse["indices"].get("byteOffset", 0), changed,
