@@ -102,8 +102,22 @@ def window_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def parse_command_line(parser: argparse.ArgumentParser, argv: Sequence[str]) -> argparse.Namespace:
+    """Options and models in any order; every word after `--` is a model, even one named like an option
+    (Python 3.11's parse_intermixed_args refuses it as an unrecognized argument)."""
+    words = list(argv)
+    after = words.index("--") if "--" in words else len(words)
+    args = parser.parse_intermixed_args(words[:after])
+    # Python 3.11 takes the `--` out of `--output=--` and leaves an empty list as the value, untyped.
+    emptied = next((name for name, value in vars(args).items() if value == [] and name != "models"), None)
+    if emptied is not None:
+        parser.error(f"argument --{emptied}: expected one argument")
+    args.models = [*args.models, *(user_path(word) for word in words[after + 1:])]
+    return args
+
+
 def run_window(argv: Sequence[str]) -> int:
-    args = window_parser().parse_intermixed_args(list(argv))
+    args = parse_command_line(window_parser(), argv)
     if not has_display():
         out = take_screenshot(start_options(args), NO_DISPLAY_SHOT, args.size)
         print(escaped(f"no display: wrote a screenshot of the scene to {out} instead"), file=sys.stderr)
@@ -133,7 +147,7 @@ def screenshot_parser() -> argparse.ArgumentParser:
 
 
 def run_screenshot(argv: Sequence[str]) -> int:
-    args = screenshot_parser().parse_intermixed_args(_keys_joined(argv))
+    args = parse_command_line(screenshot_parser(), _keys_joined(argv))
     out = take_screenshot(start_options(args), args.output, args.size, args.keys, args.overlay)
     _say(escaped(str(out)))
     return 0
@@ -163,7 +177,7 @@ def record_parser() -> argparse.ArgumentParser:
 def run_record(argv: Sequence[str]) -> int:
     from marraztu.frontends.record import record
 
-    args = record_parser().parse_intermixed_args(_keys_joined(argv))
+    args = parse_command_line(record_parser(), _keys_joined(argv))
     frames = record(start_options(args), args.output, args.size, args.keys, args.fps, args.overlay)
     _say(escaped(f"{args.output}: {frames} frames"))
     return 0

@@ -191,6 +191,43 @@ def test_keys_that_start_with_a_minus_models_after_options_and_a_home_path(tmp_p
     assert np.array_equal(split, joined) and np.array_equal(split, short) and (split != split[0, 0]).any()
 
 
+def test_words_after_a_double_dash_are_models_even_named_like_options(tmp_path: Path,
+                                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+    """`marraztu screenshot -o a.png -- -x.obj` loads the model `-x.obj` (Python 3.11's intermixed parsing
+    refused it as an unrecognized argument)."""
+    from marraztu.cli import main
+
+    (tmp_path / "-x.obj").write_text("v -50 -50 0\nv 50 -50 0\nv 0 50 0\nf 1 2 3\n")
+    monkeypatch.chdir(tmp_path)
+    assert main(["screenshot", "-o", "dashed.png", "--size", "32x32", "--empty", "--", "-x.obj"]) == 0
+    assert main(["screenshot", "-o", "dotted.png", "--size", "32x32", "--empty", "./-x.obj"]) == 0
+    assert main(["record", "--keys", "y", "-o", "dashed.gif", "--size", "8x8", "--", "-x.obj"]) == 0
+    dashed, dotted = (np.asarray(Image.open(tmp_path / name)) for name in ("dashed.png", "dotted.png"))
+    assert np.array_equal(dashed, dotted) and (dashed != dashed[0, 0]).any()
+    from marraztu.cli import parse_command_line, window_parser
+
+    args = parse_command_line(window_parser(), ["a.obj", "--size", "8x8", "--", "-x.obj", "--empty"])
+    assert args.models == [Path("a.obj"), Path("-x.obj"), Path("--empty")] and not args.empty
+
+
+@pytest.mark.parametrize("arguments", [
+    ["screenshot", "-o", "a.png", "--output=--"], ["screenshot", "-o--"], ["screenshot", "-o", "a.png", "--keys", "--"],
+    ["screenshot", "-o", "a.png", "--size=--"], ["record", "-o", "a.gif", "--keys", "y", "--fps=--"],
+    ["--texture=--"], ["--scene=--"],
+])
+def test_an_option_given_only_a_double_dash_is_a_usage_error(tmp_path: Path, capsys, monkeypatch: pytest.MonkeyPatch,
+                                                             arguments: list[str]) -> None:
+    """Python 3.11 strips the `--` of `--output=--` and leaves an empty list as the value: a traceback."""
+    from marraztu.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as stop:
+        main(arguments)
+    error = capsys.readouterr().err
+    assert stop.value.code == 2 and error.count("\n") == 1 and "expected one argument" in error, error
+    assert not list(tmp_path.iterdir())
+
+
 @pytest.mark.parametrize("arguments, words", [
     (["--empty", "screenshot", "-o", "{tmp}/a.png"], "'screenshot' is a command, and a command comes first"),
     (["screenshot", "-o", "{tmp}/file.txt/a.png"], "file.txt is not a folder"),
