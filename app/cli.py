@@ -190,7 +190,7 @@ def _keys_joined(argv: Sequence[str]) -> list[str]:
     while at < len(argv):
         if argv[at] == "--":
             return words + list(argv[at:])
-        if len(argv[at]) > 3 and "--keys".startswith(argv[at]) and at + 1 < len(argv):  # --ke too, as argparse
+        if len(argv[at]) > 2 and "--keys".startswith(argv[at]) and at + 1 < len(argv):  # --k too, as argparse
             words.append(f"--keys={argv[at + 1]}")
             at += 2
             continue

@@ -189,6 +189,10 @@ def test_keys_that_start_with_a_minus_models_after_options_and_a_home_path(tmp_p
     names = ("split.png", "joined.png", "short.png")
     split, joined, short = (np.asarray(Image.open(tmp_path / name)) for name in names)
     assert np.array_equal(split, joined) and np.array_equal(split, short) and (split != split[0, 0]).any()
+    # `--k`, the shortest prefix argparse takes for --keys, with keys that start with a minus
+    assert main(["screenshot", "--k", "-*5", "-o", str(tmp_path / "k.png"), "--size=32x32", str(model)]) == 0
+    assert main(["screenshot", "--keys=-*5", "-o", str(tmp_path / "keys.png"), "--size=32x32", str(model)]) == 0
+    assert np.array_equal(*(np.asarray(Image.open(tmp_path / name)) for name in ("k.png", "keys.png")))
 
 
 def test_words_after_a_double_dash_are_models_even_named_like_options(tmp_path: Path,
