@@ -42,6 +42,18 @@ def parse_size(text: str) -> tuple[int, int]:
         raise argparse.ArgumentTypeError(str(error)) from None
 
 
+def parse_fps(text: str) -> float:
+    """--fps out of its range is a usage error, as --size out of its range is."""
+    from marraztu.frontends.record import check_fps
+
+    try:
+        return check_fps(float(text))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"frames a second must be a number, not {text[:40]!r}") from None
+    except ViewerError as error:
+        raise argparse.ArgumentTypeError(str(error).removeprefix("--fps ")) from None
+
+
 def user_path(text: str) -> Path:
     """A path as a person types it: `~` is their home, as in `f=~/model.obj` (a shell expands it only
     at a word's start, not in --output=~/shot.png)."""
@@ -167,7 +179,7 @@ def record_parser() -> argparse.ArgumentParser:
     add_size_argument(parser, "frame size")
     parser.add_argument("--keys", required=True, metavar="KEYS",
                         help='keys as for screenshot; one frame is drawn after each press: "y*63"')
-    parser.add_argument("--fps", type=float, default=20.0, metavar="N", help="frames a second (default 20)")
+    parser.add_argument("--fps", type=parse_fps, default=20.0, metavar="N", help="frames a second (default 20)")
     parser.add_argument("--overlay", action="store_true",
                         help="draw the status line, the panels and the last message in every frame")
     add_scene_arguments(parser)
