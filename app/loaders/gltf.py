@@ -44,7 +44,6 @@ def gltf_document(path: Path, data: bytes) -> dict[str, Any]:
     return document
 
 
-
 def glb_document(path: Path, data: bytes) -> dict[str, Any]:
     """A GLB's JSON chunk, its frame checked: trimesh, given lying lengths, fails in words of its own
     internals (a missing text-encoding module, a chunk "not expected length")."""
@@ -73,7 +72,6 @@ def glb_document(path: Path, data: bytes) -> dict[str, Any]:
     return document
 
 
-
 def _binary_chunk(data: bytes) -> memoryview:
     """A GLB's binary chunk, the one after its JSON, as much of it as the file holds; empty where none is."""
     json_length = int.from_bytes(data[12:16], "little")
@@ -100,7 +98,6 @@ def _check_glb_chunks(path: Path, data: bytes, at: int, end: int) -> None:
                               "its binary buffer)")
 
 
-
 def declared_part(data: bytes) -> bytes:
     """A GLB's bytes up to the length its header gives (checked not to pass the file's): trimesh read on
     past it, the bytes after as chunks."""
@@ -114,14 +111,12 @@ def gltf_pictures(document: dict[str, Any]) -> frozenset[str]:
     return frozenset(_uris(document.get("images"))) - frozenset(_uris(document.get("buffers")))
 
 
-
 def buffer_bytes(document: dict[str, Any]) -> dict[str, int]:
     """The byteLength of each buffer a glTF names by a file URI."""
     buffers = document.get("buffers")
     return {item["uri"]: item["byteLength"] for item in buffers if isinstance(item, dict)
             and isinstance(item.get("uri"), str) and not item["uri"].startswith("data:")
             and _is_whole(item.get("byteLength"))} if isinstance(buffers, list) else {}
-
 
 
 def _uris(items: object) -> Iterator[str]:
@@ -146,7 +141,6 @@ MADE_FLOOR_BYTES = 1 << 20
 # The arrays of objects trimesh reads item by item (with .get or [key]), by the name of their items.
 _READ_ARRAYS = {"scenes": "scene", "nodes": "node", "meshes": "mesh", "materials": "material", "textures": "texture",
                 "images": "image", "accessors": "accessor", "bufferViews": "buffer view", "buffers": "buffer"}
-
 
 
 class GltfReferences:
@@ -271,7 +265,7 @@ class GltfReferences:
         if not (isinstance(kind, str) and kind in _TYPE_COMPONENTS):
             self.refuse(self.unknown(f"accessor {number}", "type", kind))
         offset = self.byte_count(accessor, "byteOffset", f"accessor {number}")
-        size = _COMPONENT_BYTES[component] * _TYPE_COMPONENTS[kind]
+        size = _item_bytes(accessor)
         self.copied["accessor"] += count * size
         if "sparse" in accessor:
             self.sparse(f"accessor {number}'s sparse", accessor["sparse"], count, size)
@@ -376,21 +370,17 @@ class GltfReferences:
         raise LoadError(self.path, f"not a glTF file: {words}")
 
 
-
 def _item_bytes(accessor: dict[str, Any]) -> int:
     """The bytes of a checked accessor's item."""
     return _COMPONENT_BYTES[accessor["componentType"]] * _TYPE_COMPONENTS[accessor["type"]]
-
 
 
 def _is_whole(value: object) -> bool:
     return isinstance(value, int) and not isinstance(value, bool)
 
 
-
 def _is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
-
 
 
 def check_one_parent_each(path: Path, document: dict[str, Any] | None) -> None:
@@ -409,13 +399,11 @@ def check_one_parent_each(path: Path, document: dict[str, Any] | None) -> None:
             seen.add(child)
 
 
-
 # Geometry trimesh cannot decode here: it reads such a file as placeholder zeros, or fails inside.
 _UNREAD_COMPRESSION = {
     "KHR_draco_mesh_compression": "Draco-compressed",
     "EXT_meshopt_compression": "meshopt-compressed",
 }
-
 
 
 def check_geometry_readable(path: Path, document: dict[str, Any] | None) -> None:
@@ -432,7 +420,6 @@ def check_geometry_readable(path: Path, document: dict[str, Any] | None) -> None
             raise LoadError(path, f"it requires the glTF extension {escaped(str(name))[:80]}, which is not read here")
 
 
-
 def _required_extension_read(name: object) -> bool:
     """Extensions a file may require and still be drawn as it means: Draco with its decoder, quantized
     attributes (normalized ones made floats for trimesh: _accessors_made_plain), and materials'
@@ -442,17 +429,14 @@ def _required_extension_read(name: object) -> bool:
             or isinstance(name, str) and name.startswith("KHR_materials_"))
 
 
-
 def _draco_decoder() -> bool:
     """trimesh decodes Draco where DracoPy is installed (not a dependency: it is built for few platforms)."""
     return importlib.util.find_spec("DracoPy") is not None
 
 
-
 # --- what the scene places, counted --------------------------------------------------------------
 class _Unshaped(Exception):
     """A glTF's JSON that is not shaped as glTF's where it is counted: trimesh says how."""
-
 
 
 def gltf_counts(document: dict[str, Any] | None) -> tuple[int, int, int] | None:
@@ -483,7 +467,6 @@ def gltf_counts(document: dict[str, Any] | None) -> tuple[int, int, int] | None:
     return placements, triangles, vertices
 
 
-
 def _roots(document: dict[str, Any]) -> list[Any]:
     """The root nodes of the scene trimesh reads: the one `scene` names, else the first."""
     if "scenes" not in document:
@@ -491,10 +474,8 @@ def _roots(document: dict[str, Any]) -> list[Any]:
     return list(document["scenes"][document.get("scene", 0)].get("nodes", []))
 
 
-
 # glTF's modes of primitive that trimesh reads: points and lines (placed, not drawn), triangles and strips.
 _POINTS, _LINES, _TRIANGLES, _STRIP = 0, 1, 4, 5
-
 
 
 def _primitive_sizes(document: dict[str, Any]) -> list[list[tuple[int, int]]]:
@@ -516,7 +497,6 @@ def _primitive_sizes(document: dict[str, Any]) -> list[list[tuple[int, int]]]:
     return sizes
 
 
-
 def _count(accessor: Any) -> int:
     count = accessor["count"]
     if not _is_whole(count) or count < 0:
@@ -531,7 +511,6 @@ def unfaithful_notes(document: dict[str, Any]) -> list[str]:
     return [*_morphed_notes(document), *_outside_colour_notes(document)]
 
 
-
 def _morphed_notes(document: dict[str, Any]) -> list[str]:
     """A mesh placed with morph targets and weights not all zero (a node's, else the mesh's own) is drawn
     in its base shape: trimesh reads no target."""
@@ -544,15 +523,12 @@ def _morphed_notes(document: dict[str, Any]) -> list[str]:
             "that change it are not applied"]
 
 
-
 def _has_targets(mesh: dict[str, Any]) -> bool:
     return any(isinstance(primitive, dict) and primitive.get("targets") for primitive in mesh["primitives"])
 
 
-
 def _any_weight(weights: object) -> bool:
     return isinstance(weights, list) and any(_is_number(weight) and weight != 0 for weight in weights)
-
 
 
 def _outside_colour_notes(document: dict[str, Any]) -> list[str]:
@@ -567,7 +543,6 @@ def _outside_colour_notes(document: dict[str, Any]) -> list[str]:
         return [f"material {number}'s baseColorFactor holds {value:g}: glTF's colours are 0..1, held to it"]
     return [f"{materials} materials' baseColorFactor hold values outside glTF's 0..1 (the first, material {number}'s, "
             f"{value:g}), held to it"]
-
 
 
 def _listed(value: object) -> list[Any]:
@@ -597,7 +572,6 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     rest = data[20 + old_length + (-old_length % 4):declared]  # the chunks after the JSON, as glb_document reads them
     return (b"glTF" + (2).to_bytes(4, "little") + (20 + len(text) + len(rest)).to_bytes(4, "little")
             + len(text).to_bytes(4, "little") + b"JSON" + text + rest)
-
 
 
 def _unplaced_meshes_emptied(document: dict[str, Any]) -> bool:
@@ -667,15 +641,13 @@ def _accessors_made_plain(path: Path, document: dict[str, Any], buffer: Callable
         return False
     made, views = bytearray(), document.setdefault("bufferViews", [])
     for index in plain:
-        items = _items(path, document, index, buffer)
-        kept = {key: value for key, value in accessors[index].items() if key not in ("sparse", "byteOffset")}
+        items, accessor = _items(path, document, index, buffer), accessors[index]
         if index in fractions:
-            items = _as_fractions(items, accessors[index])
-            kept = {key: value for key, value in kept.items() if key not in ("normalized", "min", "max")}
-            kept["componentType"] = 5126
+            items, accessor = _as_fractions(items, accessor)
         views.append({"buffer": len(document["buffers"]), "byteOffset": len(made), "byteLength": items.nbytes})
         made += memoryview(np.ascontiguousarray(items)).cast("B")  # its bytes, not a copy of them
         made += b"\0" * (-items.nbytes % 4)  # each view at a multiple of four bytes, as glTF's
+        kept = {key: value for key, value in accessor.items() if key not in ("sparse", "byteOffset")}
         accessors[index] = {**kept, "bufferView": len(views) - 1}
     document["buffers"].append({"byteLength": len(made),
                                 "uri": "data:application/octet-stream;base64," + base64.b64encode(made).decode()})
@@ -701,12 +673,15 @@ def _normalized_read(document: dict[str, Any]) -> set[int]:
     return found
 
 
-def _as_fractions(items: np.ndarray, accessor: dict[str, Any]) -> np.ndarray:
-    """(count, components) float32 of normalized integer items, as glTF defines them: c / the value
-    that stands for 1, and no less than -1 (a signed type has one value more below 0)."""
+def _as_fractions(items: np.ndarray, accessor: dict[str, Any]) -> tuple[np.ndarray, dict[str, Any]]:
+    """(count, components) float32 of normalized integer items, as glTF defines them (c / the value that
+    stands for 1, and no less than -1: a signed type has one value more below 0), and the accessor of
+    them: float, its bounds (the integers') left out."""
     dtype, one = _NORMALIZED[accessor["componentType"]]
     values = np.ascontiguousarray(items).view(dtype).reshape(len(items), -1)
-    return np.maximum(values / np.float32(one), np.float32(-1.0)).astype(np.float32)
+    fractions = np.maximum(values / np.float32(one), np.float32(-1.0)).astype(np.float32)
+    described = {key: value for key, value in accessor.items() if key not in ("normalized", "min", "max")}
+    return fractions, {**described, "componentType": 5126}
 
 
 def _items(path: Path, document: dict[str, Any], number: int, buffer: Callable[[int], bytes | memoryview]
@@ -787,9 +762,7 @@ def _node_cameras_taken_out(document: dict[str, Any]) -> bool:
     return bool(nodes)
 
 
-
 _WEBP = "EXT_texture_webp"
-
 
 
 def _fallbacks_chosen(document: dict[str, Any]) -> bool:
@@ -802,13 +775,11 @@ def _fallbacks_chosen(document: dict[str, Any]) -> bool:
     return bool(both)
 
 
-
 # The textures a material's colour is made of, as trimesh reads them (a specular-glossiness material's
 # base colour is made of its diffuse and specular textures); a normal, occlusion or emissive map is not drawn.
 _COLOUR_TEXTURES = (("pbrMetallicRoughness", "baseColorTexture"),
                     ("extensions", "KHR_materials_pbrSpecularGlossiness", "diffuseTexture"),
                     ("extensions", "KHR_materials_pbrSpecularGlossiness", "specularGlossinessTexture"))
-
 
 
 def _undrawn_pictures_emptied(document: dict[str, Any]) -> bool:
@@ -825,7 +796,6 @@ def _undrawn_pictures_emptied(document: dict[str, Any]) -> bool:
     return bool(undrawn)
 
 
-
 def _nested(item: dict[str, Any], keys: tuple[str, ...]) -> dict[str, Any]:
     for key in keys:
         inner = item.get(key)
@@ -833,12 +803,10 @@ def _nested(item: dict[str, Any], keys: tuple[str, ...]) -> dict[str, Any]:
     return item
 
 
-
 def _texture_sources(texture: dict[str, Any]) -> set[int | None]:
     """The pictures trimesh may take for a texture: its `source`, or an extension's (EXT_texture_webp's)."""
     extensions = _nested(texture, ("extensions",)).values()
     return {texture.get("source"), *(_extension_source(extension) for extension in extensions)}
-
 
 
 def _extension_source(extension: object) -> int | None:

@@ -95,7 +95,6 @@ def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
     return replace(mesh, materials=used, face_material=face_material, warnings=tuple(notes))
 
 
-
 def _names_shown(names: list[str]) -> str:
     return ", ".join(f"'{name[:40]}'" for name in names[:3]) + (" ..." if len(names) > 3 else "")
 

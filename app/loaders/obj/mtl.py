@@ -141,7 +141,7 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
             before_first += 1
         elif key in ("ka", "kd", "ks", "ns") and not _material_value(block.values, key, tokens[1:]):
             malformed, first_malformed = malformed + 1, first_malformed or f"{key.capitalize()} line, on line {number}"
-        elif key != "ns" and key in block.values:
+        elif key in ("ka", "kd", "ks"):  # a colour, just set
             _note_outside(block, key, number)
         elif key == "map_kd":
             block.texture, options = _texture_file(tokens[1:])
