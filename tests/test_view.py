@@ -156,6 +156,19 @@ def test_a_model_loaded_too_small_to_see_says_so_and_dot_frames_it(tmp_path: Pat
     assert viewer.scene.sight(viewer.scene.object, 1.0) is not Sight.TOO_SMALL
 
 
+@pytest.mark.parametrize("centre,inside", [((0.0, 0.0, 0.0), True), ((0.0, 60.0, 0.0), False)],
+                         ids=["at the origin", "above"])
+def test_a_model_loaded_inside_another_says_so(tmp_path: Path, centre: tuple[float, float, float],
+                                               inside: bool) -> None:
+    """A student's 2-unit model added to the built-in scene lands at the origin inside Rammer_255 and
+    was drawn hidden there, the load's message saying nothing of it."""
+    model = octahedron(tmp_path / "m.obj", 1.0, centre)
+    hidden = "inside Rammer_255's bounding box, perhaps hidden by it (d shows it alone)"
+    assert (hidden in viewer_with("", (model,)).scene.message) == inside
+    with marraztu.Viewer(size=SIZE) as v:
+        assert hidden not in v.press("d").load(model).message  # d: the others are not drawn
+
+
 @pytest.mark.parametrize("size,keys,outside", [((800, 800), "", True), ((1500, 500), "", False),
                                                ((1500, 500), "s", True)], ids=["square", "wide", "side by side"])
 def test_outside_the_view_is_said_for_the_view_drawn(tmp_path: Path, size: tuple[int, int], keys: str,

@@ -363,7 +363,12 @@ class Viewer:
     def _unseen(self, obj: SceneObject) -> str:
         """What the load's message says of an object the view does not show; "" where it does."""
         sight = self.scene.sight(obj, self.view_aspect(self.scene))
-        return "" if sight is Sight.SEEN else f", {sight.value} (. frames it)"
+        if sight is not Sight.SEEN:
+            return f", {sight.value} (. frames it)"
+        around = self.scene.enclosing(obj)
+        if around is None:
+            return ""
+        return f", inside {around.name}'s bounding box, perhaps hidden by it (d shows it alone)"
 
     def _frame_start_models(self) -> None:
         """The command line's models that joined, framed together while the camera has not moved."""

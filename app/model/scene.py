@@ -598,6 +598,15 @@ class Scene:
             return Sight.OUTSIDE
         return Sight.TOO_SMALL if _spans_too_little(clip) else Sight.SEEN
 
+    def enclosing(self, element: SceneObject) -> SceneObject | None:
+        """The first other shown element whose world box holds the element's whole (a model in metres
+        loaded at the origin, inside Rammer_255), which may hide it; None where there is none."""
+        others = [other for other in self.shown_elements() if other is not element]
+        boxes = world_boxes([element, *others])
+        low, high = boxes.min(axis=1), boxes.max(axis=1)
+        holds = ((low[1:] <= low[0]) & (high[1:] >= high[0])).all(axis=1)
+        return others[int(np.argmax(holds))] if holds.any() else None
+
     def depth_of(self, point: np.ndarray) -> float:
         """How far in front of the eye a world point is, along the view axis (negative: behind)."""
         return float(np.dot(point - self.eye_position(), self.viewer.forward))
