@@ -453,6 +453,23 @@ def test_bulb_moves_along_world_axes_but_does_not_turn(scene: Scene) -> None:
     assert np.array_equal(bulb.position, [0.0, 200.0, 0.0])
 
 
+def test_a_light_with_a_direction_says_where_it_points(scene: Scene) -> None:
+    """In the built-in scene `2` changed no pixel and said nothing: the object spotlight points down
+    each ship's -z, at empty space. Switching on or turning the sun or a spotlight says where its
+    light goes; the bulb, lighting every way, and switching off say nothing."""
+    press(scene, "2")
+    assert scene.message == "object spotlight on (left's): pointing (0.00, 0.00, -1.00), a 25.75 deg cone"
+    press(scene, "0")
+    assert scene.message == "sun on: its light comes from (0.14, 0.27, 0.95)"
+    press(scene, "c c TAB TAB r y*16")
+    assert scene.message == "object spotlight (left's): pointing (-1.00, 0.00, 0.03), a 25.75 deg cone"
+    press(scene, "3")
+    assert scene.message.startswith("camera spotlight on (camera's): pointing (0.00, 0.00, -1.00)")
+    for keys in ("3", "1", "TAB*3 t x"):
+        press(scene, keys)
+        assert scene.message == "", keys
+
+
 def test_sun_and_spots_refuse_translation(scene: Scene) -> None:
     press(scene, "c c t x")
     assert scene.message and not scene.lights[0].history

@@ -147,8 +147,19 @@ def light_switch(key: str) -> CommandFunction:
             scene.message = f"no light on key {key}"
             return
         light.on = not light.on
+        if light.on:
+            say_aim(scene, light, f"{light.name} on")
 
     return switch
+
+
+def say_aim(scene: Scene, light: Light, said: str) -> None:
+    """Where a light that sends its light one way points now, after `said`, as the message."""
+    aim = light.kind.aim(scene.placed_light(light))
+    if aim:
+        owner = scene.light_owner(light)
+        whose = "" if owner is None else f" ({owner.name}'s)"
+        scene.message = f"{said}{whose}: {aim}"
 
 
 # --- modes of moving ---------------------------------------------------------------------------------
@@ -273,6 +284,8 @@ def move_light(scene: Scene, kind: TransformKind, axis_index: int, amount: float
     refusal = scene.light.move(kind, axis_index, amount)
     if refusal:
         scene.message = refusal
+    else:
+        say_aim(scene, scene.light, scene.light.name)
 
 
 _MOVERS = {Target.OBJECTS: move_object, Target.CAMERAS: move_camera, Target.LIGHTS: move_light}

@@ -63,6 +63,11 @@ class LightKind:
         """One press of x/y/z with `moved_by`: radians about, or units along, the axis."""
         raise NotImplementedError
 
+    def aim(self, light: WorldLight) -> str:
+        """Where its light goes, in words, for a kind that sends it one way ("" for one that shines
+        every way): a spotlight pointing at empty space lights no pixel."""
+        return ""
+
     def __repr__(self) -> str:
         return f"LightKind.{self.name.upper()}"
 
@@ -83,6 +88,9 @@ class Directional(LightKind):
 
     def move(self, light: Light, axis_index: int, amount: float) -> None:
         light.direction = rotation3(axis_index, amount) @ light.direction
+
+    def aim(self, light: WorldLight) -> str:
+        return f"its light comes from {_unit_vector(light.direction)}"
 
 
 class Point(LightKind):
@@ -118,6 +126,9 @@ class Spot(LightKind):
     def move(self, light: Light, axis_index: int, amount: float) -> None:
         light.axis_in_owner = rotation3(axis_index, amount) @ light.axis_in_owner
 
+    def aim(self, light: WorldLight) -> str:
+        return f"pointing {_unit_vector(light.direction)}, a {light.aperture_deg:g} deg cone"
+
 
 DIRECTIONAL, POINT, SPOT = Directional(), Point(), Spot()
 LIGHT_KINDS: tuple[LightKind, ...] = (DIRECTIONAL, POINT, SPOT)
@@ -131,6 +142,11 @@ def kind_named(kind: LightKind | str) -> LightKind:
     if found is None:
         raise ValueError(f"no light kind {kind!r}; kinds: {', '.join(known.name for known in LIGHT_KINDS)}")
     return found
+
+
+def _unit_vector(vector: np.ndarray) -> str:
+    """A unit vector to two decimals, without a "-0.00"."""
+    return "(" + ", ".join(f"{value:.2f}" for value in np.round(vector, 2) + 0.0) + ")"
 
 
 def cone_angle_deg(light: WorldLight, point: np.ndarray) -> float:
