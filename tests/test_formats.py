@@ -348,6 +348,23 @@ def test_gltf_json_beside_its_buffer_and_its_base_colour(tmp_path: Path) -> None
     assert np.allclose(loaded.file_material["kd"], (1.0, 128 / 255, 0.0), atol=1e-3)
 
 
+@pytest.mark.parametrize("textured", [True, False])
+def test_a_gltf_material_without_a_base_colour_factor_is_white(tmp_path: Path, textured: bool) -> None:
+    """glTF's baseColorFactor defaults to white, and Blender leaves it out of a material whose colour
+    is its texture: such a material was lit with the viewer's Kd of 0.7, not the file's 1."""
+    picture = Image.new("RGB", (4, 4), (0, 250, 0)) if textured else None
+    mesh = square_with(trimesh.visual.material.PBRMaterial(name="leaf", baseColorTexture=picture), uv=textured)
+    files = trimesh.Scene(mesh).export(file_type="gltf")
+    document = json.loads(files["model.gltf"])
+    for material in document["materials"]:
+        material.get("pbrMetallicRoughness", {}).pop("baseColorFactor", None)
+    for name, content in files.items():
+        (tmp_path / name).write_bytes(json.dumps(document).encode() if name == "model.gltf" else content)
+    loaded = load_model(tmp_path / "model.gltf")
+    kd = loaded.materials[0].values["kd"] if textured else loaded.file_material["kd"]
+    assert kd == (1.0, 1.0, 1.0)
+
+
 def coloured_mesh(colours: np.ndarray) -> trimesh.Trimesh:
     mesh = square_mesh()
     mesh.visual.vertex_colors = colours

@@ -733,12 +733,17 @@ def _vertex_uvs(mesh: Any) -> np.ndarray | None:
     return table if table.ndim == 2 and table.shape[1] == 2 else None
 
 
+GLTF_BASE_COLOUR = (1.0, 1.0, 1.0)  # a glTF material's baseColorFactor where it gives none
+
+
 def _material_of(mesh: Any) -> dict[str, object] | None:
     """The base colour of a glTF material as Kd: the quantity the lighting equation reads."""
     material = getattr(getattr(mesh, "visual", None), "material", None)
-    colour = getattr(material, "baseColorFactor", None)
-    if colour is None:
+    if not hasattr(material, "baseColorFactor"):  # no glTF material (none, or trimesh's of an OBJ)
         return None
+    colour = material.baseColorFactor
+    if colour is None:  # glTF's default, which Blender leaves out
+        return {"kd": GLTF_BASE_COLOUR}
     rgb = np.asarray(colour, dtype=np.float64).reshape(-1)[:3]
     rgb = colour_fractions(rgb)  # trimesh keeps glTF colours as bytes
     return {"kd": tuple(float(c) for c in rgb)} if np.isfinite(rgb).all() else None
