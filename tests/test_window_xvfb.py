@@ -465,13 +465,13 @@ def test_a_named_key_held_down_repeats_as_a_letter_does_and_a_press_counts_once(
 
 # An XDND drag source (the X11 drag-and-drop protocol): a stray XdndPosition first, as from a source that
 # missed the window's entry; then it offers its one type, text/uri-list, in the XdndEnter message itself,
-# as a source of at most three types may, and drops the URI list given.
+# as a source of at most three types may, and drops the URI list given (its bytes as the file system's).
 _DROP_SOURCE = """
-import sys, time
+import os, sys, time
 from ctypes import POINTER, byref, c_ubyte, cast, create_string_buffer
 from pyglet.libs.x11 import xlib
 
-target, uris = int(sys.argv[1]), sys.argv[2].encode()
+target, uris = int(sys.argv[1]), os.fsencode(sys.argv[2])
 display = xlib.XOpenDisplay(None)
 source = xlib.XCreateSimpleWindow(display, xlib.XDefaultRootWindow(display), 0, 0, 1, 1, 0, 0, 0)
 atom = {name: xlib.XInternAtom(display, name.encode(), False)
@@ -518,11 +518,13 @@ while time.monotonic() < deadline:  # the target asks for the list; it is answer
 def test_a_file_dropped_from_a_source_of_few_types_is_loaded(display: str, tmp_path: Path) -> None:
     """pyglet raised out of its event loop on an XdndEnter that lists its types itself, which ended the
     program as soon as such a file was dragged over the window, and on an XdndPosition before any
-    XdndEnter. The stray message is said once; the file loads as a dropped one."""
+    XdndEnter. The stray message is said once; the file loads as a dropped one, among a comment and a
+    web address (which pyglet read as the paths "" and /model.obj)."""
     model = tmp_path / "dropped ñ.obj"
     model.write_text("v -60 -60 20\nv 60 -60 20\nv 0 60 20\nf 1 2 3\n")
+    uris = f"# a comment\r\nhttps://example.com/model.obj\r\n{model.as_uri().replace('file://', 'file://localhost')}\r\n"
     with window_in(display, tmp_path, (96, 96)) as (window, window_id):
-        dropped = subprocess.run([sys.executable, "-c", _DROP_SOURCE, window_id, f"{model.as_uri()}\r\n"],
+        dropped = subprocess.run([sys.executable, "-c", _DROP_SOURCE, window_id, uris],
                                  env={**os.environ, "DISPLAY": display}, capture_output=True, text=True, timeout=60)
         assert dropped.returncode == 0, dropped.stderr
         time.sleep(1.0)
@@ -543,3 +545,17 @@ def test_a_file_dropped_from_a_source_of_few_types_is_loaded(display: str, tmp_p
     expected = np.asarray(Image.open(expected_path).convert("RGB")).astype(int)
     assert (np.abs(from_window - expected).max(axis=2) > 2).mean() <= 0.001
     assert window.errors.count("client_message failed") == 1, window.errors
+
+
+def test_a_dropped_list_that_is_not_utf8_leaves_the_window_open(display: str, tmp_path: Path) -> None:
+    """pyglet decodes a dropped URI list as UTF-8: a byte that is not (a URI may hold none) raised out of
+    its event loop and ended the program."""
+    with window_in(display, tmp_path, (96, 96)) as (window, window_id):
+        dropped = subprocess.run([sys.executable, "-c", _DROP_SOURCE, window_id,
+                                  os.fsdecode(b"file:///tmp/\xff.obj\r\n")],
+                                 env={**os.environ, "DISPLAY": display}, capture_output=True, text=True, timeout=60)
+        assert dropped.returncode == 0, dropped.stderr
+        time.sleep(1.0)
+        assert window.poll() is None, "the drop ended the window"
+        xdotool(display, "key", "--window", window_id, "Escape")
+        assert window.wait(timeout=30) == 0

@@ -6,6 +6,7 @@ from __future__ import annotations
 import functools
 import logging
 import os
+import socket
 import sys
 from collections.abc import Callable
 from contextlib import ExitStack
@@ -14,6 +15,7 @@ from enum import Enum
 from pathlib import Path
 from time import perf_counter
 from typing import Any
+from urllib.parse import unquote_to_bytes, urlsplit
 
 import moderngl_window as mglw
 import numpy as np
@@ -22,7 +24,7 @@ from moderngl_window.timers.clock import Timer
 from marraztu.control import commands
 from marraztu.control.keymap import KeyPress
 from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer, starting_scene
-from marraztu.errors import ViewerError, escaped
+from marraztu.errors import LoadError, ViewerError, escaped
 from marraztu.frontends.heap import return_freed_memory
 from marraztu.frontends.record import MAX_RECORDING_BYTES, write_animation
 from marraztu.frontends.screenshot import write_picture
@@ -58,6 +60,34 @@ _REPEATED_TEXT = {"\r": "ENTER", "\t": "TAB"}
 
 # pyglet 2.1's X11 window's state of a drag, which an XdndEnter sets and its later messages read.
 _PYGLET_DRAG_STATE = ("_xdnd_source", "_xdnd_version", "_xdnd_format")
+
+
+def uri_list_lines(text: str) -> list[str]:
+    """An X11 drop's text/uri-list (RFC 2483: lines end CRLF) as its lines, which dropped_files reads."""
+    return [line.removesuffix("\r") for line in text.split("\n")]
+
+
+def dropped_files(entries: list[str | Path]) -> tuple[list[str | Path], list[str]]:
+    """The local paths among a drop's entries, and the URIs of what is not on this computer. An entry is
+    a line of an X11 text/uri-list, or a path that another system gives."""
+    local_hosts = ("", "localhost", socket.gethostname().lower())  # RFC 8089: a file URI's own host
+    paths: list[str | Path] = []
+    remote: list[str] = []
+    for entry in entries:
+        if isinstance(entry, str) and (not entry or entry.startswith("#")):
+            continue  # a blank line, or a comment
+        try:
+            uri = urlsplit(str(entry))
+        except ValueError:  # "http://[": no address, and no path either
+            remote.append(str(entry))
+            continue
+        if isinstance(entry, Path) or len(uri.scheme) < 2:  # a path as given (a drive letter is no scheme)
+            paths.append(entry)
+        elif uri.scheme.lower() == "file" and uri.netloc.lower() in local_hosts:
+            paths.append(os.fsdecode(unquote_to_bytes(uri.path)))  # %FF is a name's byte, not UTF-8
+        else:
+            remote.append(entry)
+    return paths, remote
 
 
 def guarded(handler: Callable[..., Unchanged | None], after_failure: Unchanged | None = None
@@ -177,7 +207,8 @@ class ViewerWindow:
         """X11's drag and drop comes as client messages that pyglet (2.1) reads, and one it did not
         foresee raised out of its event loop, ending the program: an XdndEnter listing its types itself
         (as a source of at most three types does), read as a pointer, or an XdndPosition before any
-        XdndEnter. The window reads the first kind itself, and guards pyglet's reading of the others."""
+        XdndEnter. The window reads the first kind itself, and guards pyglet's reading of the others; and
+        it reads the dropped list of files itself (dropped_files), guarding pyglet's decoding of it."""
         pyglet_window = getattr(self.wnd, "_window", None)
         handlers = getattr(pyglet_window, "_event_handlers", None)
         try:
@@ -191,6 +222,12 @@ class ViewerWindow:
                 and all(hasattr(pyglet_window, name) for name in _PYGLET_DRAG_STATE)):
             self.pyglet_client_message = handlers[xlib.ClientMessage]
             handlers[xlib.ClientMessage] = self.on_client_message
+        if (isinstance(handlers, dict) and xlib.SelectionNotify in handlers
+                and hasattr(pyglet_window, "parse_filenames")):
+            # pyglet read a URI list's comment as the path "" and a web address as a local path
+            pyglet_window.parse_filenames = uri_list_lines
+            self.pyglet_selection_notify = handlers[xlib.SelectionNotify]
+            handlers[xlib.SelectionNotify] = self.on_selection_notify
 
     def _named_keys(self) -> tuple[dict[Any, str], dict[int, str]]:
         """The key map's names of the window's keys, and of the text motions that repeat them."""
@@ -364,9 +401,13 @@ class ViewerWindow:
         return Unchanged.SCENE
 
     @guarded
-    def on_files_dropped_event(self, x: int, y: int, paths: list[str | Path]) -> Unchanged:
+    def on_files_dropped_event(self, x: int, y: int, entries: list[str | Path]) -> Unchanged:
+        paths, remote = dropped_files(entries)
         for path in paths:
             self.viewer.load_model(path)
+        if remote:  # said after the loads' 'loading' lines, which would replace it
+            more = f" ({counted(len(remote) - 1, 'other')} not opened either)" if len(remote) > 1 else ""
+            self.viewer.tell(f"{LoadError(remote[0], 'only files on this computer can be opened')}{more}")
         return Unchanged.SCENE  # the models load in the background and join the scene at a later frame
 
     @functools.partial(guarded, after_failure=Unchanged.SCENE)
@@ -381,6 +422,16 @@ class ViewerWindow:
         else:
             self.pyglet_client_message(event)
         return Unchanged.NOTHING
+
+    @functools.partial(guarded, after_failure=Unchanged.SCENE)
+    def on_selection_notify(self, event: Any) -> Unchanged:
+        """A drop's list of files: pyglet decodes it as UTF-8, and other bytes raised out of its event loop."""
+        try:
+            self.pyglet_selection_notify(event)
+        except UnicodeDecodeError as error:
+            self.viewer.tell(f"dropped files not opened: their list is not UTF-8 text (byte {error.start})")
+            return Unchanged.SCENE
+        return Unchanged.NOTHING  # a drop asks for its own frame
 
     # --- Frontend ------------------------------------------------------------------------------
     def quit(self) -> None:
