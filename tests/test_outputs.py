@@ -119,3 +119,28 @@ def test_the_format_follows_the_suffix(folder: Path, suffix: str, kind: str) -> 
 @pytest.mark.parametrize("output", ["shot.gif", "shot", "/dev/full"])
 def test_an_unknown_suffix_is_refused(folder: Path, output: str) -> None:
     assert_refused(run_app("screenshot", "-o", output, "--size", "16x16", cwd=folder), ".png, .jpg")
+
+
+
+def test_a_picture_read_upside_down_is_put_upright_without_a_copy_of_it(tmp_path: Path) -> None:
+    """read_pixels turns GL's rows over in a view; Pillow's fromarray copied such a view whole before its
+    own copy (at 16384x16384, 805 MB more at the screenshot command's peak)."""
+    import tracemalloc
+
+    import numpy as np
+
+    from marraztu.frontends.screenshot import picture_of, write_picture
+
+    rows = np.random.default_rng(1).integers(0, 256, (600, 500, 3), np.uint8)
+    stored = np.frombuffer(rows[::-1].tobytes(), np.uint8).reshape(rows.shape)  # as GL gives them
+    tracemalloc.start()
+    try:
+        picture = picture_of(np.flipud(stored))
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert peak < rows.nbytes / 4
+    assert np.array_equal(np.asarray(picture), rows)
+    assert np.array_equal(np.asarray(picture_of(rows)), rows)  # an array upright already
+    write_picture(np.flipud(stored), tmp_path / "picture.png")
+    assert np.array_equal(np.asarray(Image.open(tmp_path / "picture.png").convert("RGB")), rows)

@@ -31,7 +31,7 @@ from marraztu.control.viewer import StartOptions, starting_scene, with_notes
 from marraztu.control.viewer import Viewer as KeyViewer
 from marraztu.errors import KeyMapError, LoadError, ViewerError, escaped
 from marraztu.frontends.heap import return_freed_memory
-from marraztu.frontends.screenshot import OffscreenFrontend, render_pixels
+from marraztu.frontends.screenshot import OffscreenFrontend, picture_of, render_pixels
 from marraztu.loaders.exchange import mesh_of_trimesh
 from marraztu.loaders.scenefile import give_part_materials, material_for_loaded
 from marraztu.model.build import build_mesh, real_numbers
@@ -315,7 +315,7 @@ class Viewer:
         with self._ctx:  # another Viewer's context may be the current one: each draws in its own
             pixels = render_pixels(self._ctx, self._renderer, self._viewer, shape, overlay)
         return_freed_memory()  # as the window does when still: a notebook keeps the process between pictures
-        return Image.fromarray(pixels)
+        return picture_of(pixels)
 
     def __repr__(self) -> str:
         """What the viewer holds, in words, drawing nothing: a notebook shows it once closed."""

@@ -12,7 +12,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from PIL import Image
 
 from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import StartOptions, Viewer, starting_scene
@@ -21,6 +20,7 @@ from marraztu.frontends.screenshot import (
     InputsGuard,
     OffscreenFrontend,
     check_output,
+    picture_of,
     render_pixels,
     write_atomically,
 )
@@ -121,7 +121,7 @@ class _Counted:
 
 
 def _write_with_pillow(frames: _Counted, temporary: Path, kind: str, fps: float) -> None:
-    pictures = [Image.fromarray(frame) for frame in frames]
+    pictures = [picture_of(frame) for frame in frames]
     if not pictures:
         raise ViewerError("no frame to write: the keys quit before the first one was drawn")
     # GIF's times are hundredths of a second, which Pillow would truncate: rounded to the nearest.

@@ -166,7 +166,17 @@ def write_picture(pixels: np.ndarray, out: Path) -> None:
     check_output(out)
     image_format = IMAGE_FORMATS[out.suffix.lower()]
     options = {"compress_level": 1} if image_format == "PNG" else {"quality": 95}
-    write_atomically(out, lambda temporary: Image.fromarray(pixels).save(temporary, format=image_format, **options))
+    write_atomically(out, lambda temporary: picture_of(pixels).save(temporary, format=image_format, **options))
+
+
+def picture_of(pixels: np.ndarray) -> Image.Image:
+    """Pillow's picture of (H, W, 3) uint8. Rows read_pixels turned upside down in a view are put upright
+    by Pillow's decoder, which fromarray would first copy whole (a large picture's size once more)."""
+    stored = pixels[::-1]
+    if pixels.ndim != 3 or not stored.flags.c_contiguous:
+        return Image.fromarray(pixels)
+    height, width = pixels.shape[:2]
+    return Image.frombuffer("RGB", (width, height), stored, "raw", "RGB", 0, -1)
 
 
 def write_atomically(out: Path, write: Callable[[Path], None]) -> None:
