@@ -169,6 +169,46 @@ def test_a_model_loaded_inside_another_says_so(tmp_path: Path, centre: tuple[flo
         assert hidden not in v.press("d").load(model).message  # d: the others are not drawn
 
 
+def test_the_command_lines_models_are_placed_in_one_look_at_the_scene(tmp_path: Path,
+                                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each of the command line's models joining the ships was placed against a projection of the whole
+    scene, and its message copied all those before it: 4,000 models took 123 s. Now one projection
+    serves the batch, and the messages keep their order, a failure's among them."""
+    models = [octahedron(tmp_path / f"m{index}.obj", 1.0, (0.0, 60.0 * (index % 3), 0.0)) for index in range(40)]
+    models.insert(7, tmp_path / "missing.obj")
+    projections = []
+    real = marraztu.model.scene.Scene.projection_matrix
+    monkeypatch.setattr(marraztu.model.scene.Scene, "projection_matrix",
+                        lambda scene, aspect: projections.append(aspect) or real(scene, aspect))
+    lines = viewer_with("", tuple(models)).scene.message.splitlines()
+    assert len(projections) == 1
+    named = [line.split(" as a new")[0].removeprefix("loaded ").split(":")[0] for line in lines[-41:]]
+    assert named == [Path(model).name if index != 7 else str(models[7]) for index, model in enumerate(models)]
+    inside = "inside Rammer_255's bounding box"
+    assert [inside in line for line in lines[-41:]] == [index != 7 and (index - (index > 7)) % 3 == 0
+                                                         for index in range(41)]
+
+
+def test_enclosers_of_many_are_each_ones_by_itself() -> None:
+    """The batch's look for a box holding each element agrees with a plain pairwise look."""
+    scene = load_builtin_scene()
+    rng = np.random.default_rng(7)
+    originals = list(scene.objects)
+    for index in range(60):
+        twin = originals[index % len(originals)]
+        model = twin.model.copy()
+        model[:3, :3] *= rng.uniform(0.05, 1.5)
+        model[:3, 3] += rng.uniform(-40.0, 40.0, 3)
+        scene.objects.append(type(twin)(name=f"o{index}", mesh=twin.mesh, material=twin.material, history=[model]))
+    boxes = {id(element): marraztu.model.scene.world_box([element]) for element in scene.shown_elements()}
+    expected = [next((other for other in scene.shown_elements() if other is not element
+                      and (boxes[id(other)][0] <= boxes[id(element)][0]).all()
+                      and (boxes[id(other)][1] >= boxes[id(element)][1]).all()), None)
+                for element in scene.objects]
+    assert scene.enclosers(scene.objects) == expected
+    assert sum(found is not None for found in expected) > 5
+
+
 @pytest.mark.parametrize("size,keys,outside", [((800, 800), "", True), ((1500, 500), "", False),
                                                ((1500, 500), "s", True)], ids=["square", "wide", "side by side"])
 def test_outside_the_view_is_said_for_the_view_drawn(tmp_path: Path, size: tuple[int, int], keys: str,

@@ -14,7 +14,7 @@ from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Protocol
+from typing import NamedTuple, Protocol
 
 import numpy as np
 
@@ -161,6 +161,14 @@ class BackgroundLoader:
         self._pool.shutdown(wait=False, cancel_futures=True)
 
 
+class _StartLoad(NamedTuple):
+    """A start-up load's outcome, told with the rest of its batch (Viewer._tell_start_loads)."""
+    failure: str = ""  # its message, where it failed
+    obj: SceneObject | None = None
+    path: Path | None = None
+    joined: bool = False  # joined objects from elsewhere: where it stands is said
+
+
 class Viewer:
     def __init__(self, scene: Scene, frontend: Frontend, strict: bool = False,
                  background: BackgroundLoader | None = None,
@@ -182,6 +190,9 @@ class Viewer:
         self._starting = False
         self._start_models_alone = False  # the scene holds only the command line's models: framed together
         self._start_models_to_frame = False  # some of them joined since they were last framed
+        # Told once the batch is in: where each stands then comes from one look at the scene, not one
+        # per model (thousands of models on the command line).
+        self._start_loads: list[_StartLoad] = []
 
     # --- start-up ------------------------------------------------------------------------------
     def start(self, options: StartOptions, longest_texture_side: int) -> None:
@@ -204,6 +215,7 @@ class Viewer:
                 self._set_texture(image, longest_texture_side)
             for model in options.models:
                 self.load_model(model)
+            self._tell_start_loads()
             self._frame_start_models()
             if options.watch:
                 self.watcher = ModelWatcher()
@@ -223,12 +235,21 @@ class Viewer:
     def tell(self, text: str, at_start: bool | None = None, worth_a_notice: bool = True) -> None:
         """The message the person reads. At start-up messages add up instead of replacing each other,
         and the front end hears those worth a notice (failures, notes) too."""
-        if not self._at_start(at_start):
-            self.scene.message = text
+        self._tell_each([(text, worth_a_notice)], at_start)
+
+    def _tell_each(self, told: list[tuple[str, bool]], at_start: bool | None) -> None:
+        """Messages, each with whether it is worth a notice, as `tell` tells them one by one; joined
+        once, as a batch of thousands would be copied thousands of times."""
+        if not told:
             return
-        self.scene.message = f"{self.scene.message}\n{text}" if self.scene.message else text
-        if worth_a_notice:
-            self.frontend.notice(text)
+        if not self._at_start(at_start):
+            self.scene.message = told[-1][0]
+            return
+        lines = [text for text, _ in told]
+        self.scene.message = "\n".join([self.scene.message, *lines] if self.scene.message else lines)
+        for text, worth_a_notice in told:
+            if worth_a_notice:
+                self.frontend.notice(text)
 
     # --- keys ----------------------------------------------------------------------------------
     def press(self, key: keymap.KeyPress) -> None:
@@ -307,6 +328,7 @@ class Viewer:
             else:  # a bug, not a bad file: say so instead of dying in the render loop
                 self._failed(LoadError(job.path, f"could not be loaded ({type(error).__name__}: {error})"),
                              job.at_start)
+        self._tell_start_loads()
         self._frame_start_models()
 
     def replace_model(self, element: SceneObject, path: Path) -> bool:
@@ -342,9 +364,13 @@ class Viewer:
 
     def _failed(self, error: LoadError, at_start: bool | None = None) -> bool:
         if self.strict:
+            self._tell_start_loads()  # the loads before it are told first
             self.scene.message = str(error)
             raise error
-        self.tell(str(error), at_start)
+        if self._at_start(at_start):
+            self._start_loads.append(_StartLoad(failure=str(error)))
+        else:
+            self.tell(str(error), at_start)
         return False
 
     def _add(self, obj: SceneObject, path: Path, as_camera: bool, at_start: bool | None = None) -> None:
@@ -355,20 +381,41 @@ class Viewer:
         if not as_camera:
             self._start_models_alone = together  # a model from elsewhere joins: no longer theirs alone
             self._start_models_to_frame = together
+        if self._at_start(at_start) and not as_camera:
+            self._start_loads.append(_StartLoad(obj=obj, path=Path(path), joined=not together))
+            return
         kind = "camera" if as_camera else "object"
-        where = "" if as_camera or together else self._unseen(obj)
-        self.tell(with_notes(f"loaded {Path(path).name} as a new {kind}: {obj.mesh.summary()}{where}", obj.mesh),
-                  at_start, worth_a_notice=bool(obj.mesh.warnings) or bool(where))
+        where = "" if as_camera else self._unseen([obj])[0]
+        self._tell_each([_loaded_message(obj, Path(path), kind, where)], at_start)
 
-    def _unseen(self, obj: SceneObject) -> str:
-        """What the load's message says of an object the view does not show; "" where it does."""
-        sight = self.scene.sight(obj, self.view_aspect(self.scene))
-        if sight is not Sight.SEEN:
-            return f", {sight.value} (. frames it)"
-        around = self.scene.enclosing(obj)
-        if around is None:
-            return ""
-        return f", inside {around.name}'s bounding box, perhaps hidden by it (d shows it alone)"
+    def _tell_start_loads(self) -> None:
+        """The start-up loads' messages, in the order asked, once the batch has joined the scene."""
+        loads, self._start_loads = self._start_loads, []
+        joined = [load.obj for load in loads if load.obj is not None and load.joined]
+        wheres = iter(self._unseen(joined))
+        told = []
+        for load in loads:
+            if load.obj is None:
+                told.append((load.failure, True))
+            else:
+                where = next(wheres) if load.joined else ""
+                told.append(_loaded_message(load.obj, load.path or Path(), "object", where))
+        self._tell_each(told, at_start=True)
+
+    def _unseen(self, objects: list[SceneObject]) -> list[str]:
+        """What each load's message says of an object the view does not show; "" where it does."""
+        sights = self.scene.sights(objects, self.view_aspect(self.scene))
+        seen = [obj for obj, sight in zip(objects, sights) if sight is Sight.SEEN]
+        around = iter(self.scene.enclosers(seen))
+        wheres = []
+        for sight in sights:
+            if sight is not Sight.SEEN:
+                wheres.append(f", {sight.value} (. frames it)")
+            elif (holder := next(around)) is not None:
+                wheres.append(f", inside {holder.name}'s bounding box, perhaps hidden by it (d shows it alone)")
+            else:
+                wheres.append("")
+        return wheres
 
     def _frame_start_models(self) -> None:
         """The command line's models that joined, framed together while the camera has not moved."""
@@ -391,6 +438,12 @@ class Viewer:
             self.scene.message = "F9 records in the window; offscreen, `marraztu record` draws a frame per press"
         else:
             record()
+
+
+def _loaded_message(obj: SceneObject, path: Path, kind: str, where: str) -> tuple[str, bool]:
+    """A load's message, and whether it is worth a notice: notes, or a place the view does not show."""
+    text = with_notes(f"loaded {path.name} as a new {kind}: {obj.mesh.summary()}{where}", obj.mesh)
+    return text, bool(obj.mesh.warnings) or bool(where)
 
 
 def with_notes(message: str, mesh: Mesh) -> str:

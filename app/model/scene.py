@@ -55,6 +55,7 @@ PARALLEL_DEPTH_RANGE = 1.5
 # A box spanning less of the view's width and height than this is too small to see: under a pixel
 # in a view 1000 pixels high (a model in millimetres loaded beside ships in metres).
 SEEN_SHARE_LEAST = 1e-3
+ENCLOSING_BLOCK = 1 << 20  # box pairs compared at once: thousands of loads against thousands of boxes
 
 
 class Target(Enum):
@@ -590,22 +591,38 @@ class Scene:
         return perspective_half_height(max(depth, near))
 
     def sight(self, element: SceneObject, aspect: float) -> Sight:
-        """How the element's box stands in a view `aspect` wide (a load may land outside it, or so far
-        off or so small that it is not seen): its corners are put in clip space once for both tests."""
-        corners = np.column_stack([world_boxes([element])[0], np.ones(8)])
-        clip = corners @ (self.projection_matrix(aspect) @ self.view_matrix()).T
-        if _beyond_one_side(clip):
-            return Sight.OUTSIDE
-        return Sight.TOO_SMALL if _spans_too_little(clip) else Sight.SEEN
+        return self.sights([element], aspect)[0]
+
+    def sights(self, elements: list[SceneObject], aspect: float) -> list[Sight]:
+        """How each element's box stands in a view `aspect` wide (a load may land outside it, or so far
+        off or so small that it is not seen), from one projection: a box's corners are put in clip
+        space once for both tests."""
+        corners = world_boxes(elements)
+        homogeneous = np.concatenate([corners, np.ones((*corners.shape[:2], 1))], axis=2)
+        clips = homogeneous @ (self.projection_matrix(aspect) @ self.view_matrix()).T
+        return [_sight_of(clip) for clip in clips]
 
     def enclosing(self, element: SceneObject) -> SceneObject | None:
-        """The first other shown element whose world box holds the element's whole (a model in metres
-        loaded at the origin, inside Rammer_255), which may hide it; None where there is none."""
-        others = [other for other in self.shown_elements() if other is not element]
-        boxes = world_boxes([element, *others])
-        low, high = boxes.min(axis=1), boxes.max(axis=1)
-        holds = ((low[1:] <= low[0]) & (high[1:] >= high[0])).all(axis=1)
-        return others[int(np.argmax(holds))] if holds.any() else None
+        return self.enclosers([element])[0]
+
+    def enclosers(self, elements: list[SceneObject]) -> list[SceneObject | None]:
+        """For each element, the first other shown element whose world box holds its whole (a model in
+        metres loaded at the origin, inside Rammer_255), which may hide it; None where there is none."""
+        shown = self.shown_elements()
+        shown_low, shown_high = _box_bounds(world_boxes(shown))
+        low, high = _box_bounds(world_boxes(elements))
+        position = {id(element): index for index, element in enumerate(shown)}
+        own = np.array([position.get(id(element), -1) for element in elements], dtype=np.int64)
+        found: list[SceneObject | None] = []
+        step = max(1, ENCLOSING_BLOCK // max(len(shown), 1))  # a block of elements against every shown box
+        for first in range(0, len(elements), step):
+            block = slice(first, first + step)
+            holds = ((shown_low <= low[block, None]) & (shown_high >= high[block, None])).all(axis=2)
+            rows = np.flatnonzero(own[block] >= 0)
+            holds[rows, own[block][rows]] = False  # not itself
+            found += [shown[int(index)] if any_ else None
+                      for index, any_ in zip(holds.argmax(axis=1), holds.any(axis=1))]
+        return found
 
     def depth_of(self, point: np.ndarray) -> float:
         """How far in front of the eye a world point is, along the view axis (negative: behind)."""
@@ -685,6 +702,13 @@ class Sight(Enum):
     TOO_SMALL = "too small to see from here"  # wholly in front of the eye, under SEEN_SHARE_LEAST of it
 
 
+def _sight_of(clip: np.ndarray) -> Sight:
+    """How a box of these (8, 4) clip-space corners stands in the view."""
+    if _beyond_one_side(clip):
+        return Sight.OUTSIDE
+    return Sight.TOO_SMALL if _spans_too_little(clip) else Sight.SEEN
+
+
 def _beyond_one_side(clip: np.ndarray) -> bool:
     """Whether the (8, 4) clip-space corners of a box all lie beyond one of the view's six planes."""
     w = clip[:, 3:]
@@ -733,6 +757,11 @@ def world_boxes(elements: list[SceneObject]) -> np.ndarray:
     """(N, 8, 3): each element's mesh's bounding box's corners, placed in the world, in one pass."""
     models, bounds = _placements(elements)
     return np.einsum("nij,nkj->nki", models[:, :3, :3], _box_corners(bounds)) + models[:, None, :3, 3]
+
+
+def _box_bounds(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(N, 3) lows and highs of (N, 8, 3) placed box corners."""
+    return corners.min(axis=1, initial=np.inf), corners.max(axis=1, initial=-np.inf)
 
 
 def world_box(objects: Iterable[SceneObject]) -> tuple[np.ndarray, np.ndarray]:
