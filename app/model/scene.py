@@ -55,6 +55,7 @@ PARALLEL_DEPTH_RANGE = 1.5
 # A box spanning less of the view's width and height than this is too small to see: under a pixel
 # in a view 1000 pixels high (a model in millimetres loaded beside ships in metres).
 SEEN_SHARE_LEAST = 1e-3
+MATERIAL_COLOURS = ("ka", "kd", "ks")  # a material's colours, each 3 finite numbers
 ENCLOSING_BLOCK = 1 << 20  # box pairs compared at once: thousands of loads against thousands of boxes
 
 
@@ -388,12 +389,11 @@ class Scene:
         elements = (*self.objects, *self.cameras)
         if any(_materials_refusal(element) is not None for element in elements):
             return False
-        materials = list({id(m): m for e in elements for m in (e.material, *e.part_materials)}.values())
+        materials = list({id(m): m for element in elements for m in _materials_of(element)}.values())
         if not all(_finite_number(material.ns) for material in materials):
             return False
-        triples = [self.ambient, *(v for light in self.lights for v in (light.intensity, light.position,
-                                                                        light.direction))]
-        triples += [getattr(material, k) for material in materials for k in ("ka", "kd", "ks")]
+        triples = [value for _, value, _ in self._own_triples()]
+        triples += [getattr(material, key) for material in materials for key in MATERIAL_COLOURS]
         models, rows = _stacked([element.model for element in elements], (4, 4)), _stacked(triples, (3,))
         if models is None or rows is None or not np.isfinite(rows).all() or not np.isfinite(models).all():
             return False
@@ -405,12 +405,20 @@ class Scene:
         except np.linalg.LinAlgError:  # one of them is singular: the walk names it
             return False
 
-    def _refusals(self) -> Iterator[str]:
-        triples = [("the scene's ambient", self.ambient, "R, G, B")]
+    def _own_triples(self) -> list[tuple[str, object, str]]:
+        """The scene's colours and places that must be 3 finite numbers, outside its elements: what each
+        is, its value, and its numbers' names."""
+        triples: list[tuple[str, object, str]] = [("the scene's ambient", self.ambient, "R, G, B")]
         for light in self.lights:
             triples += [(f"the {light.name}'s intensity", light.intensity, "R, G, B"),
                         (f"the {light.name}'s position", light.position, "x, y, z"),
                         (f"the {light.name}'s direction", light.direction, "x, y, z")]
+        return triples
+
+    def _refusals(self) -> Iterator[str]:
+        """Each value that cannot be drawn, in words: the walk that _all_drawable's stacked passes
+        shortcut, both reading the values from _own_triples, _materials_of and MATERIAL_COLOURS."""
+        triples = self._own_triples()
         for element in (*self.objects, *self.cameras):
             refusal = model_refusal(element.model)
             if refusal is not None:
@@ -419,9 +427,9 @@ class Scene:
             if refusal is not None:
                 yield f"{element.name}'s {refusal}"
                 continue
-            for material in (element.material, *element.part_materials):
-                triples += [(f"{element.name}'s material {k}", getattr(material, k), "R, G, B")
-                            for k in ("ka", "kd", "ks")]
+            for material in _materials_of(element):
+                triples += [(f"{element.name}'s material {key}", getattr(material, key), "R, G, B")
+                            for key in MATERIAL_COLOURS]
                 if not _finite_number(material.ns):
                     yield f"{element.name}'s material ns must be a finite number, not {_shown(material.ns)}"
         for what, value, names in triples:
@@ -757,6 +765,11 @@ def world_boxes(elements: list[SceneObject]) -> np.ndarray:
     """(N, 8, 3): each element's mesh's bounding box's corners, placed in the world, in one pass."""
     models, bounds = _placements(elements)
     return np.einsum("nij,nkj->nki", models[:, :3, :3], _box_corners(bounds)) + models[:, None, :3, 3]
+
+
+def _materials_of(element: SceneObject) -> tuple[Material, ...]:
+    """The materials an element is drawn with: its own, and its parts'."""
+    return (element.material, *element.part_materials)
 
 
 def _box_bounds(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
