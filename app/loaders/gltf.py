@@ -448,23 +448,32 @@ def gltf_counts(document: dict[str, Any] | None) -> tuple[int, int, int] | None:
         return None
     try:
         sizes = _primitive_sizes(document)
-        nodes = document.get("nodes", [])
-        edges = [("root", root) for root in _roots(document)]
-        consumed, opened, placements, triangles, vertices = set(), set(), 0, 0, 0
-        while edges:
-            edge = edges.pop()
-            if edge in consumed:
-                continue
-            consumed.add(edge)
-            child = nodes[edge[1]]
-            if edge[1] not in opened:  # trimesh queues them again for each parent: all consumed by then
-                opened.add(edge[1])
-                edges.extend((edge[1], index) for index in child.get("children", []))
-            for faces, points in sizes[child["mesh"]] if "mesh" in child else ():
+        placements, triangles, vertices = 0, 0, 0
+        for node in _placed_nodes(document):
+            for faces, points in sizes[node["mesh"]] if "mesh" in node else ():
                 placements, triangles, vertices = placements + 1, triangles + faces, vertices + points
     except (_Unshaped, LookupError, TypeError, AttributeError):
         return None
     return placements, triangles, vertices
+
+
+def _placed_nodes(document: dict[str, Any]) -> Iterator[dict[str, Any]]:
+    """Each node of the scene each time trimesh places it: walked from the scene's roots, an edge from a
+    parent to a child once, each node's children queued once (a node under two parents is placed
+    twice; a cycle ends)."""
+    nodes = document.get("nodes", [])
+    edges = [("root", root) for root in _roots(document)]
+    consumed, opened = set(), set()
+    while edges:
+        edge = edges.pop()
+        if edge in consumed:
+            continue
+        consumed.add(edge)
+        child = nodes[edge[1]]
+        if edge[1] not in opened:  # trimesh queues them again for each parent: all consumed by then
+            opened.add(edge[1])
+            edges.extend((edge[1], index) for index in child.get("children", []))
+        yield child
 
 
 def _roots(document: dict[str, Any]) -> list[Any]:
@@ -586,16 +595,8 @@ def _unplaced_meshes_emptied(document: dict[str, Any]) -> bool:
 
 
 def _placed_meshes(document: dict[str, Any]) -> set[int]:
-    """The meshes of the nodes under the scene's roots, as trimesh walks them (a cycle once)."""
-    nodes, seen, placed = document.get("nodes", []), set(), set()
-    waiting = _roots(document)
-    while waiting:
-        index = waiting.pop()
-        if index not in seen:
-            seen.add(index)
-            waiting.extend(nodes[index].get("children", []))
-            placed.update([nodes[index]["mesh"]] if "mesh" in nodes[index] else [])
-    return placed
+    """The meshes of the nodes under the scene's roots, as trimesh walks them."""
+    return {node["mesh"] for node in _placed_nodes(document) if "mesh" in node}
 
 
 class _BufferBytes:
