@@ -505,6 +505,21 @@ def test_a_node_that_is_the_child_of_two_is_refused_before_trimesh_reads_the_fil
     assert load_model(path).face_count == 2
 
 
+@pytest.mark.parametrize("nodes, roots, looped", [
+    ([{"mesh": 0, "children": [0]}], [0], 0),
+    ([{"mesh": 0, "children": [1]}, {"mesh": 0, "children": [0]}], [0], 1),
+    ([{"mesh": 0}, {"mesh": 0, "children": [2]}, {"mesh": 0, "children": [1]}], [0], 2),
+])
+def test_a_node_that_is_its_own_ancestor_is_refused_in_those_words(
+        tmp_path: Path, nodes: list[dict[str, Any]], roots: list[int], looped: int) -> None:
+    """trimesh said "Iteration limit exceeded", or loaded a node that is its own child once."""
+    path = tmp_path / "loop.glb"
+    path.write_bytes(glb(*triangle_gltf(nodes, roots)))
+    refused = one_line_refusal(lambda: load_model(path))
+    assert refused.message == (f"not a glTF file: node {looped} is its own ancestor (its children lead back to it; "
+                               "glTF's nodes form trees)")
+
+
 @pytest.mark.parametrize("extension, words", [
     ("KHR_draco_mesh_compression", "its geometry is Draco-compressed (KHR_draco_mesh_compression), which is not "
                                    "read here: export it uncompressed"),

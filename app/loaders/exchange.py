@@ -427,7 +427,7 @@ def _placed_parts(source: str | Path, loaded: Any) -> list[Part]:
     _check_placed_size(source, [meshes[name] for _, name in placed])
     try:
         transforms = _moving(_world_transforms(graph, [node for node, _ in placed]))
-    except Exception as error:  # a broken node graph (a cycle, say): trimesh's own words
+    except Exception as error:  # a broken node graph (loops are refused before): trimesh's own words
         raise LoadError(source, f"cannot place the scene's meshes ({type(error).__name__}: {error})") from None
     read = {name: _geometry(source, meshes[name]) for name in dict.fromkeys(name for _, name in placed)}
     return [(read[name], transform) for (_, name), transform in zip(placed, transforms)]

@@ -385,18 +385,35 @@ def _is_number(value: object) -> bool:
 
 def check_one_parent_each(path: Path, document: dict[str, Any] | None) -> None:
     """glTF's nodes form trees: a node that is the child of two (trimesh's reader takes time in the square
-    of such sharing) is refused before trimesh reads the file."""
+    of such sharing), or its own ancestor, is refused before trimesh reads the file."""
     nodes = document.get("nodes") if isinstance(document, dict) else None
-    seen: set[int] = set()
-    for node in nodes if isinstance(nodes, list) else ():
+    parent: dict[int, int] = {}
+    for number, node in enumerate(nodes if isinstance(nodes, list) else ()):
         children = node.get("children") if isinstance(node, dict) else None
         for child in children if isinstance(children, list) else ():
             if not _is_whole(child):
                 continue  # not an index: trimesh says what is wrong with it
-            if child in seen:
+            if child in parent:
                 raise LoadError(path, f"not a glTF file: node {child} is the child of two nodes (glTF's nodes form "
                                       "trees)")
-            seen.add(child)
+            parent[child] = number
+    _check_no_loop(path, parent)
+
+
+def _check_no_loop(path: Path, parent: dict[int, int]) -> None:
+    """A loop of children (trimesh said only "Iteration limit exceeded", or that no node placed a mesh), found
+    in one walk up from each node, none walked twice."""
+    cleared: set[int] = set()
+    for start in parent:
+        walked: set[int] = set()
+        node: int | None = start
+        while node is not None and node not in cleared:
+            if node in walked:
+                raise LoadError(path, f"not a glTF file: node {node} is its own ancestor (its children lead back "
+                                      "to it; glTF's nodes form trees)")
+            walked.add(node)
+            node = parent.get(node)
+        cleared |= walked
 
 
 # Geometry trimesh cannot decode here: it reads such a file as placeholder zeros, or fails inside.
