@@ -701,6 +701,14 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
      "material 0's baseColorFactor is not a list of numbers"),
     ("d['materials'] = [{'emissiveFactor': [None, 0, 0]}]", "material 0's emissiveFactor is not a list of numbers"),
     ("d['materials'] = [{'pbrMetallicRoughness': 3}]", "material 0's pbrMetallicRoughness is not an object"),
+    # trimesh said "Colors not of appropriate shape!", "cannot reshape array of size 1 into shape (3,)",
+    # "only 0-dimensional arrays can be converted to Python scalars" or "('incorrect alphaMode: %s', 'X')"
+    ("d['materials'] = [{'pbrMetallicRoughness': {'baseColorFactor': [1, 1]}}]",
+     "material 0's baseColorFactor is not 4 numbers"),
+    ("d['materials'] = [{'emissiveFactor': 5}]", "material 0's emissiveFactor is not 3 numbers"),
+    ("d['materials'] = [{'pbrMetallicRoughness': {'metallicFactor': [1, 2]}}]",
+     "material 0's metallicFactor is not a number"),
+    ("d['materials'] = [{'alphaMode': 'x'}]", "material 0's alphaMode 'x' is not one of glTF's (OPAQUE, MASK, BLEND)"),
     # trimesh dropped the picture without a word, and read a bad byteLength as nothing
     ("d['images'] = [{'bufferView': 1}]; d['textures'] = [{'source': 5}]", "texture 0 names image 5, of 1"),
     ("d['materials'] = [{'pbrMetallicRoughness': {'baseColorTexture': {'index': 2}}}]",

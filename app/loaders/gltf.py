@@ -133,6 +133,11 @@ _COMPONENT_BYTES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
 _TYPE_COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 _SPARSE_INDEX_BYTES = {5121: 1, 5123: 2, 5125: 4}  # a sparse accessor's indices: unsigned integers
 _NODE_TRANSFORMS = {"translation": 3, "rotation": 4, "scale": 3, "matrix": 16}
+# A material's numbers as trimesh reads them (its words otherwise: "cannot reshape array of size 1 into
+# shape (3,)", "Colors not of appropriate shape!"): how many, or None for one number.
+_MATERIAL_NUMBERS = {"baseColorFactor": 4, "emissiveFactor": 3, "metallicFactor": None, "roughnessFactor": None,
+                     "alphaCutoff": None}
+_ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
 # What trimesh copies (each buffer view, each accessor's items from its view) and what is written before
 # it builds the meshes (the zeros, or sparse items, of an accessor a primitive reads) adds up, in a file
 # as glTF's writers make it, to at most the bytes the file and its buffers hold: past twice those and
@@ -214,8 +219,16 @@ class GltfReferences:
         for key, value in (*material.items(), *values.items()):
             if isinstance(value, list) and not all(map(_is_number, value)):
                 self.refuse(f"material {number}'s {escaped(str(key))[:40]} is not a list of numbers")
+            if key in _MATERIAL_NUMBERS and not _numbers_of(value, _MATERIAL_NUMBERS[key]):
+                size = _MATERIAL_NUMBERS[key]
+                self.refuse(f"material {number}'s {key} is not {'a number' if size is None else f'{size} numbers'}")
             if isinstance(value, dict) and "index" in value:  # a texture, which trimesh drops where it names none
                 self.named(value["index"], "textures", f"material {number}'s {escaped(str(key))[:40]}")
+
+        mode = material.get("alphaMode", "OPAQUE")
+        if not (isinstance(mode, str) and mode.upper() in _ALPHA_MODES):  # trimesh upper-cases it
+            self.refuse(f"material {number}'s alphaMode {escaped(repr(mode))[:20]} is not one of glTF's (OPAQUE, "
+                        "MASK, BLEND)")
 
     def mesh(self, number: int, mesh: dict[str, Any]) -> None:
         if "primitives" not in mesh:
@@ -373,6 +386,14 @@ class GltfReferences:
 def _item_bytes(accessor: dict[str, Any]) -> int:
     """The bytes of a checked accessor's item."""
     return _COMPONENT_BYTES[accessor["componentType"]] * _TYPE_COMPONENTS[accessor["type"]]
+
+
+def _numbers_of(value: object, size: int | None) -> bool:
+    """One number (size None), or a list of `size` (a baseColorFactor of 3, as trimesh reads it, too)."""
+    if size is None:
+        return _is_number(value)
+    sizes = (size, 3) if size == 4 else (size,)
+    return isinstance(value, list) and len(value) in sizes and all(map(_is_number, value))
 
 
 def _is_whole(value: object) -> bool:
