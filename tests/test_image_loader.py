@@ -238,6 +238,23 @@ def test_a_png_of_a_million_text_or_private_chunks_is_refused_before_pillow_keep
     assert load_image(path).shape == (8, 8, 3)
 
 
+def test_a_png_chunk_longer_than_the_file_is_refused_before_pillow_asks_for_it(tmp_path: Path) -> None:
+    """Pillow read an IDAT's whole length at once: 4 GiB asked for by a 77-byte file (a MemoryError
+    under a memory limit). A chunk cut short by the file's end, a checksum missing, is Pillow's still."""
+    plain = tmp_path / "plain.png"
+    Image.new("RGB", (5, 3), (200, 30, 30)).save(plain, "PNG")
+    data = plain.read_bytes()
+    idat = data.index(b"IDAT") - 4
+    path = tmp_path / "long.png"
+    path.write_bytes(data[:idat] + b"\xff\xff\xff\xff" + data[idat + 4:])
+    with pytest.raises(LoadError) as refused:
+        load_image(path)
+    assert refused.value.message == (f"a broken PNG: its chunk at byte {idat} says it holds 4294967295 bytes, past "
+                                     f"the file's end ({len(data)} bytes)")
+    path.write_bytes(data[:-4])  # IEND's checksum left out
+    assert load_image(path).shape == (3, 5, 3)
+
+
 def test_a_jpeg_of_more_scans_than_encoders_write_is_refused_before_it_is_decoded(tmp_path: Path) -> None:
     """Each scan of a progressive JPEG is decoded over the whole picture: 2,006 scans of a few bytes each
     made 507 KB that took 95 s to load."""

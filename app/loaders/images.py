@@ -255,8 +255,12 @@ def check_picture_header(source: str | Path, data: bytes | memoryview) -> None:
     if kind == "JPEG" and _jpeg_scans(data) > MAX_JPEG_SCANS:
         raise LoadError(source, f"more than {MAX_JPEG_SCANS} scans, each decoded over the whole picture: a "
                                 "progressive JPEG has about 10")
-    if kind == "PNG" and _png_extra_chunks(data) > MAX_HEADER_PARTS:
+    chunks = _png_chunks(data) if kind == "PNG" else _PngChunks(0, None)
+    if chunks.extra > MAX_HEADER_PARTS:
         raise LoadError(source, f"more than {MAX_HEADER_PARTS} chunks besides its pixels: no PNG holds so many")
+    if chunks.past_end is not None:
+        raise LoadError(source, "a broken PNG: its chunk at byte {} says it holds {} bytes, past the file's end "
+                                "({} bytes)".format(*chunks.past_end, len(data)))
 
 
 def check_picture(source: str | Path, data: bytes) -> None:
@@ -329,16 +333,24 @@ def _jpeg_header(data: bytes | memoryview) -> _JpegHeader:
     return _JpegHeader(steps, precision)
 
 
-def _png_extra_chunks(data: bytes | memoryview) -> int:
-    """The chunks besides the pixels' (IDAT, fdAT) up to the end (up to one past the limit)."""
+class _PngChunks(NamedTuple):
+    extra: int  # the chunks besides the pixels' (IDAT, fdAT) up to the end (up to one past the limit)
+    past_end: tuple[int, int] | None  # (byte, length) of a chunk that runs past the file's end
+
+
+def _png_chunks(data: bytes | memoryview) -> _PngChunks:
+    """The chunks walked by their lengths: a length past the file's end is refused before Pillow, which
+    asks for the whole of an IDAT's at once (4 GiB for a length of 0xFFFFFFFF in a 77-byte file)."""
     view, at, chunks = memoryview(data), 8, 0
     while at + 8 <= len(view) and chunks <= MAX_HEADER_PARTS:
-        kind = bytes(view[at + 4:at + 8])
+        kind, length = bytes(view[at + 4:at + 8]), int.from_bytes(view[at:at + 4], "big")
+        if at + 8 + length > len(view):  # its data; a missing checksum is Pillow's to judge
+            return _PngChunks(chunks, (at, length))
         chunks += kind not in (b"IDAT", b"fdAT")
         if kind == b"IEND":
             break
-        at += 12 + int.from_bytes(view[at:at + 4], "big")
-    return chunks
+        at += 12 + length
+    return _PngChunks(chunks, None)
 
 
 class _HeaderRefused(SyntaxError):
