@@ -505,6 +505,15 @@ def test_a_node_that_is_the_child_of_two_is_refused_before_trimesh_reads_the_fil
     assert load_model(path).face_count == 2
 
 
+def test_a_gltf_buffer_without_a_uri_is_refused_in_those_words(tmp_path: Path) -> None:
+    """Only a GLB's buffer holds its bytes without a uri: trimesh said "KeyError: 'uri'"."""
+    document, _ = triangle_gltf([{"mesh": 0}], [0])
+    path = tmp_path / "no_uri.gltf"
+    path.write_text(json.dumps(document))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        "not a glTF file: buffer 0 has no uri: a .gltf's buffers are files beside it or data: URIs")
+
+
 @pytest.mark.parametrize("nodes, roots, looped", [
     ([{"mesh": 0, "children": [0]}], [0], 0),
     ([{"mesh": 0, "children": [1]}, {"mesh": 0, "children": [0]}], [0], 1),
@@ -709,6 +718,13 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
     ("d['materials'] = [{'pbrMetallicRoughness': {'metallicFactor': [1, 2]}}]",
      "material 0's metallicFactor is not a number"),
     ("d['materials'] = [{'alphaMode': 'x'}]", "material 0's alphaMode 'x' is not one of glTF's (OPAQUE, MASK, BLEND)"),
+    # trimesh said "'int' object has no attribute 'get'", "invalid literal for int() with base 10: 'x'",
+    # "only GLTF 2 is supported not `1.0`", "object of type 'int' has no len()", "'bool' object has no attribute 'find'"
+    ("d['asset'] = 5", "its asset is not an object"),
+    ("d['asset'] = {'version': 'x'}", "its asset's version 'x' is not a version such as \"2.0\""),
+    ("d['asset'] = {'version': '1.0'}", "its asset's version is 1.0: only glTF 2 is read"),
+    ("d['meshes'][0]['name'] = 4", "mesh 0's name is not a string"),
+    ("d['buffers'][0]['uri'] = True", "buffer 0's uri is not a string"),
     # trimesh dropped the picture without a word, and read a bad byteLength as nothing
     ("d['images'] = [{'bufferView': 1}]; d['textures'] = [{'source': 5}]", "texture 0 names image 5, of 1"),
     ("d['materials'] = [{'pbrMetallicRoughness': {'baseColorTexture': {'index': 2}}}]",

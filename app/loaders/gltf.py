@@ -162,8 +162,12 @@ class GltfReferences:
         self.held, self.made_limit = held, 2 * held + MADE_FLOOR_BYTES
 
     def check(self) -> None:
+        self.asset()
         for key in _READ_ARRAYS:
             self.objects(key)
+            for number, item in self.each(key):  # trimesh says "object of type 'int' has no len()"
+                if not isinstance(item.get("name", ""), str):
+                    self.refuse(f"{_READ_ARRAYS[key]} {number}'s name is not a string")
         if "scene" in self.document:
             self.named(self.document["scene"], "scenes", "its scene")
         for number, scene in self.each("scenes"):
@@ -179,6 +183,7 @@ class GltfReferences:
                 self.named(texture["source"], "images", f"texture {number}")
         for number, buffer in self.each("buffers"):  # before the views that count on their lengths
             self.byte_count(buffer, "byteLength", f"buffer {number}", required=True)
+            self.buffer_uri(number, buffer)
         for number, view in self.each("bufferViews"):  # before the accessors that count on their lengths
             self.view(number, view)
         for number, accessor in self.each("accessors"):  # before the primitives that count their items
@@ -194,6 +199,26 @@ class GltfReferences:
         self.made_accessors()  # once the primitives are checked to name accessors
         for number, material in self.each("materials"):
             self.material(number, material)
+
+    def asset(self) -> None:
+        """The asset's version as trimesh reads it: a string whose part before its first dot is a whole
+        number of 2 or more (it says "'int' object has no attribute 'get'", or "invalid literal for int()")."""
+        asset = self.document.get("asset", {})
+        if not isinstance(asset, dict):
+            self.refuse("its asset is not an object")
+        version = asset.get("version", "2.0")
+        major = version.split(".", 1)[0] if isinstance(version, str) else ""
+        if not major.isdecimal():
+            self.refuse(f"its asset's version {escaped(repr(version))[:20]} is not a version such as \"2.0\"")
+        if int(major) < 2:
+            self.refuse(f"its asset's version is {escaped(version)[:20]}: only glTF 2 is read")
+
+    def buffer_uri(self, number: int, buffer: dict[str, Any]) -> None:
+        """A buffer's uri, a string; left out only by a GLB's buffer (trimesh says "KeyError: 'uri'")."""
+        if "uri" in buffer and not isinstance(buffer["uri"], str):
+            self.refuse(f"buffer {number}'s uri is not a string")
+        if "uri" not in buffer and self.path.suffix.lower() == ".gltf":
+            self.refuse(f"buffer {number} has no uri: a .gltf's buffers are files beside it or data: URIs")
 
     def made_accessors(self) -> None:
         """The accessors' items trimesh copies (those of a view) or that are written before it reads them
