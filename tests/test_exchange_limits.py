@@ -725,6 +725,12 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
     ("d['asset'] = {'version': '1.0'}", "its asset's version is 1.0: only glTF 2 is read"),
     ("d['meshes'][0]['name'] = 4", "mesh 0's name is not a string"),
     ("d['buffers'][0]['uri'] = True", "buffer 0's uri is not a string"),
+    # trimesh said "IndexError: index 1 is out of bounds for axis 1 with size 1", or read a VEC2 as colours
+    ("d['accessors'].append({'bufferView': 1, 'componentType': 5126, 'count': 6, 'type': 'SCALAR'}); "
+     "d['meshes'][0]['primitives'][0]['attributes']['TEXCOORD_0'] = 2",
+     "mesh 0's primitive 0's TEXCOORD_0 is accessor 2, of type SCALAR: glTF's are VEC2"),
+    ("d['meshes'][0]['primitives'][0]['attributes']['COLOR_0'] = 1",
+     "mesh 0's primitive 0's COLOR_0 is accessor 1, of type VEC2: glTF's are VEC3 or VEC4"),
     # trimesh dropped the picture without a word, and read a bad byteLength as nothing
     ("d['images'] = [{'bufferView': 1}]; d['textures'] = [{'source': 5}]", "texture 0 names image 5, of 1"),
     ("d['materials'] = [{'pbrMetallicRoughness': {'baseColorTexture': {'index': 2}}}]",

@@ -138,6 +138,8 @@ _NODE_TRANSFORMS = {"translation": 3, "rotation": 4, "scale": 3, "matrix": 16}
 _MATERIAL_NUMBERS = {"baseColorFactor": 4, "emissiveFactor": 3, "metallicFactor": None, "roughnessFactor": None,
                      "alphaCutoff": None}
 _ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
+# The accessor types of the attributes read here (POSITION, TEXCOORD_n, COLOR_n), by the name before "_".
+_ATTRIBUTE_TYPES = {"POSITION": ("VEC3",), "TEXCOORD": ("VEC2",), "COLOR": ("VEC3", "VEC4")}
 # What trimesh copies (each buffer view, each accessor's items from its view) and what is written before
 # it builds the meshes (the zeros, or sparse items, of an accessor a primitive reads) adds up, in a file
 # as glTF's writers make it, to at most the bytes the file and its buffers hold: past twice those and
@@ -282,7 +284,11 @@ class GltfReferences:
         if "POSITION" not in attributes:  # trimesh reads every primitive's positions (a KeyError)
             self.refuse(f"{what} has no POSITION attribute")
         for name, index in attributes.items():
-            self.named(index, "accessors", f"{what}'s {escaped(str(name))[:40]}")
+            accessor = self.named(index, "accessors", f"{what}'s {escaped(str(name))[:40]}")
+            types = _ATTRIBUTE_TYPES.get(str(name).split("_", 1)[0], (accessor.get("type"),))
+            if accessor.get("type") not in types:  # trimesh said an IndexError, or misread them
+                self.refuse(f"{what}'s {escaped(str(name))[:40]} is accessor {index}, of type {accessor['type']}: "
+                            f"glTF's are {' or '.join(types)}")
         if "material" in primitive:
             self.named(primitive["material"], "materials", f"{what}'s material")
         if "indices" in primitive:
