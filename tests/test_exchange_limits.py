@@ -514,6 +514,20 @@ def test_a_gltf_buffer_without_a_uri_is_refused_in_those_words(tmp_path: Path) -
         "not a glTF file: buffer 0 has no uri: a .gltf's buffers are files beside it or data: URIs")
 
 
+@pytest.mark.parametrize("short, words", [
+    (True, "buffer 0 holds 57 bytes, where its byteLength says 60"),
+    (False, "buffer 0's data: URI is not base64"),
+])
+def test_a_gltf_data_uri_short_or_broken_is_refused_in_those_words(tmp_path: Path, short: bool, words: str) -> None:
+    """trimesh said "AssertionError" for a buffer shorter than its byteLength, "Incorrect padding" for a broken one."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    text = base64.b64encode(binary[:-3]).decode() if short else base64.b64encode(binary).decode()[:-1]
+    document["buffers"][0]["uri"] = "data:application/octet-stream;base64," + text
+    path = tmp_path / "short.gltf"
+    path.write_text(json.dumps(document))
+    assert one_line_refusal(lambda: load_model(path)).message == f"not a glTF file: {words}"
+
+
 @pytest.mark.parametrize("nodes, roots, looped", [
     ([{"mesh": 0, "children": [0]}], [0], 0),
     ([{"mesh": 0, "children": [1]}, {"mesh": 0, "children": [0]}], [0], 1),

@@ -221,6 +221,11 @@ class GltfReferences:
             self.refuse(f"buffer {number}'s uri is not a string")
         if "uri" not in buffer and self.path.suffix.lower() == ".gltf":
             self.refuse(f"buffer {number} has no uri: a .gltf's buffers are files beside it or data: URIs")
+        if "base64," in buffer.get("uri", ""):  # one short of its byteLength: trimesh said "AssertionError"
+            held = len(data_uri_bytes(self.path, buffer["uri"], number))
+            if held < buffer["byteLength"]:
+                self.refuse(f"buffer {number} holds {held} bytes, where its byteLength says "
+                            f"{buffer['byteLength']}")
 
     def made_accessors(self) -> None:
         """The accessors' items trimesh copies (those of a view) or that are written before it reads them
@@ -692,10 +697,15 @@ class _BufferBytes:
             return _binary_chunk(self.data) if self.file_type == "glb" and number == 0 else b""
         if "base64," not in uri:
             return self.read_beside(uri)
-        try:
-            return base64.b64decode(uri[uri.index("base64,") + 7:])
-        except (binascii.Error, ValueError):
-            raise LoadError(self.path, f"not a glTF file: buffer {number}'s data: URI is not base64") from None
+        return data_uri_bytes(self.path, uri, number)
+
+
+def data_uri_bytes(path: Path, uri: str, number: int) -> bytes:
+    """Buffer `number`'s bytes, in its uri after "base64,", decoded as trimesh decodes them."""
+    try:
+        return base64.b64decode(uri[uri.index("base64,") + 7:])
+    except (binascii.Error, ValueError):
+        raise LoadError(path, f"not a glTF file: buffer {number}'s data: URI is not base64") from None
 
 
 def _accessors_made_plain(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview]) -> bool:
