@@ -533,10 +533,29 @@ def test_the_wheel_dollies_toward_the_object_and_never_through_it(tmp_path: Path
     scene = scene_with_model(tmp_path)
     centre = scene.object.centre
     before = np.linalg.norm(scene.camera.origin - centre)
-    for _ in range(200):
+    for _ in range(20):
         commands.dolly_view(scene, 1)
     after = np.linalg.norm(scene.camera.origin - centre)
-    assert 0 < after == pytest.approx(before * commands.DOLLY_PER_NOTCH ** 200)
+    assert after == pytest.approx(before * commands.DOLLY_PER_NOTCH ** 20)
+    for _ in range(200):
+        commands.dolly_view(scene, 1)
+    closest = np.linalg.norm(scene.camera.origin - centre)
+    assert closest == pytest.approx(commands.DOLLY_CLOSEST * scene.object.mesh.size)
+
+
+@pytest.mark.parametrize("centre", [(0.0, 0.0, 0.0), (5000.0, -3000.0, 12000.0)])
+def test_the_wheel_comes_back_out_after_any_number_of_notches_in(tmp_path: Path,
+                                                                 centre: tuple[float, float, float]) -> None:
+    """A 200 mm model at (5000, -3000, 12000): 400 notches in left the camera 7e-12 from its centre,
+    where a notch out no longer changed a 64-bit coordinate, and 1650 notches out never moved it; at
+    the origin 400 notches in took 400 out again."""
+    scene = viewer_with("", (octahedron(tmp_path / "m.obj", 100.0, centre),), empty=True).scene
+    before = np.linalg.norm(scene.camera.origin - scene.object.centre)
+    for _ in range(400):
+        commands.dolly_view(scene, 1)
+    for _ in range(100):
+        commands.dolly_view(scene, -1)
+    assert np.linalg.norm(scene.camera.origin - scene.object.centre) > before
 
 
 def test_in_parallel_projection_the_wheel_zooms_and_u_and_home_take_the_zoom_back(tmp_path: Path) -> None:
@@ -556,6 +575,23 @@ def test_in_parallel_projection_the_wheel_zooms_and_u_and_home_take_the_zoom_bac
     assert scene.modes.parallel_half_height == pytest.approx(half_height)
     dispatch(scene, parse_key_sequence("u")[0], RecordingHost())
     assert scene.modes.parallel_half_height == pytest.approx(half_height * commands.DOLLY_PER_NOTCH ** 5)
+
+
+def test_in_parallel_projection_the_wheel_zooms_in_no_further_than_it_comes_back_from(tmp_path: Path) -> None:
+    """900 notches in made the view's half height 1.5e-39, past a 32-bit number's reach: the picture
+    went blank, and 100 notches out left it 5.5e-35."""
+    model = octahedron(tmp_path / "m.obj", 100.0, (5000.0, -3000.0, 12000.0))
+    with marraztu.Viewer(size=SIZE, empty=True) as viewer:
+        viewer.load(model)
+        viewer.press("p")
+        half_height = viewer.scene.modes.parallel_half_height
+        for _ in range(900):
+            commands.dolly_view(viewer.scene, 1)
+        pixels = np.asarray(viewer.render().convert("RGB")).astype(int)
+        assert (pixels != BACKGROUND).any(axis=2).all(), "the view inside the model, filled by it"
+        for _ in range(100):
+            commands.dolly_view(viewer.scene, -1)
+        assert viewer.scene.modes.parallel_half_height > half_height
 
 
 def test_u_after_p_sizes_the_parallel_view_for_the_camera_it_gives_back(tmp_path: Path) -> None:

@@ -33,6 +33,7 @@ from marraztu.model.scene import (
     Target,
     perspective_half_height,
     size_unit,
+    world_box,
 )
 from marraztu.model.transforms import TransformKind, step_matrix
 
@@ -45,6 +46,7 @@ ANALYSIS_GAP = 10.0
 # Mouse drag: 10 pixels turn as far as one key press.
 DRAG_RADIANS_PER_PIXEL = ROTATION_STEP_RAD / 10.0
 DOLLY_PER_NOTCH = 0.9  # each wheel notch toward the object leaves this share of the distance
+DOLLY_CLOSEST = 1e-3  # of the object's size: nearer, a notch out no longer moves a far model's camera
 
 TARGET_CYCLE = (Target.OBJECTS, Target.CAMERAS, Target.LIGHTS)
 
@@ -365,6 +367,12 @@ def _view_centre(scene: Scene) -> np.ndarray:
     return scene.object.centre if scene.object is not None else framing.bounding_sphere(scene.objects)[0]
 
 
+def _view_size(scene: Scene) -> float:
+    """The diagonal of the world box of what the mouse turns the view about."""
+    low, high = world_box([scene.object] if scene.object is not None else scene.objects)
+    return float(np.linalg.norm(high - low))
+
+
 def orbit_view(scene: Scene, dx_pixels: float, dy_pixels: float) -> None:
     """Left drag: the camera turns round the selected object, as analysis mode's r x/y keys do."""
     model, centre = scene.camera.model, _view_centre(scene)
@@ -387,16 +395,28 @@ def pan_view(scene: Scene, dx_pixels: float, dy_pixels: float, view_height_px: i
 
 def dolly_view(scene: Scene, steps: float) -> None:
     """The wheel: toward the selected object (steps > 0) or away, a fraction of the way each notch, so
-    the camera never passes through it. In parallel projection, where the distance changes nothing
-    but what the near plane cuts, the view's size shrinks instead and the camera stays."""
+    the camera never passes through it, and no nearer than DOLLY_CLOSEST of its size. In parallel
+    projection, where the distance changes nothing but what the near plane cuts, the view's size
+    shrinks instead (as far) and the camera stays."""
     factor = DOLLY_PER_NOTCH ** steps
+    closest = DOLLY_CLOSEST * _view_size(scene)
     model = scene.camera.model.copy()
     if scene.modes.projection is Projection.PARALLEL:
-        move_view(scene, model, "dolly", half_height=scene.modes.parallel_half_height * factor)
+        half_height = _dollied(scene.modes.parallel_half_height, factor, closest)
+        move_view(scene, model, "dolly", half_height=half_height)
         return
     centre = _view_centre(scene)
-    model[:3, 3] = centre + (model[:3, 3] - centre) * factor
+    offset = model[:3, 3] - centre
+    distance = float(np.linalg.norm(offset))
+    backward = offset / distance if distance > 0.0 else model[:3, 2] / np.linalg.norm(model[:3, 2])
+    model[:3, 3] = centre + backward * _dollied(distance, factor, closest)
     move_view(scene, model, "dolly")
+
+
+def _dollied(length: float, factor: float, closest: float) -> float:
+    """A distance or a view's size scaled by the wheel, never in under `closest` (one already under it
+    stays), so that notches out always move it back."""
+    return max(length * factor, closest if factor > 1.0 else min(length, closest))
 
 
 def axis_press(axis_index: int, sign: int) -> CommandFunction:
