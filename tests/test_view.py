@@ -255,6 +255,17 @@ def test_the_models_of_the_command_line_are_framed_together(tmp_path: Path) -> N
     assert np.array_equal(built_in.scene.camera.model, viewer_with("").scene.camera.model)
 
 
+def test_models_of_the_command_line_too_small_to_see_framed_together_are_said(tmp_path: Path) -> None:
+    """Two 10-unit boxes 100,000 units apart, framed together, each under a thousandth of the view: the
+    picture was empty and the messages said only that both loaded."""
+    near = octahedron(tmp_path / "near.obj", 5.0)
+    far = octahedron(tmp_path / "far.obj", 5.0, (1e5, 0.0, 0.0))
+    big = octahedron(tmp_path / "big.obj", 500.0, (1000.0, 0.0, 0.0))
+    message = viewer_with("", (near, far), empty=True).scene.message
+    assert "near, far: too small to see framed together (TAB selects one, . frames it)" in message
+    assert "too small" not in viewer_with("", (near, big), empty=True).scene.message  # near is seen
+
+
 def nearest_depth(scene, element) -> float:
     """How far in front of the eye the element's nearest vertex is."""
     world = element.mesh.positions @ element.model[:3, :3].T + element.model[:3, 3]

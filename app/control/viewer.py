@@ -78,6 +78,7 @@ def _placed(mesh: Mesh, source: Path) -> SceneObject:
 
 
 MAX_PROMPT_CHARACTERS = 4096  # Linux's PATH_MAX
+UNSEEN_NAMES_SAID = 5  # a start message names this many models too small to see, then "..."
 
 
 @dataclass(eq=False)
@@ -421,7 +422,16 @@ class Viewer:
         """The command line's models that joined, framed together while the camera has not moved."""
         if self._start_models_to_frame and len(self.scene.camera.history) == 1:
             commands.frame_models(self.scene)
+            self._tell_unseen_start_models()
         self._start_models_to_frame = False
+
+    def _tell_unseen_start_models(self) -> None:
+        """Models framed together far apart may each span under a pixel: the picture alone is empty."""
+        aspect = self.view_aspect(self.scene)
+        unseen = [obj.name for obj in self.scene.objects if self.scene.sight(obj, aspect) is not Sight.SEEN]
+        if unseen:
+            names = ", ".join(unseen[:UNSEEN_NAMES_SAID]) + (", ..." if len(unseen) > UNSEEN_NAMES_SAID else "")
+            self.tell(f"{names}: too small to see framed together (TAB selects one, . frames it)", at_start=True)
 
     def quit(self) -> None:
         self.frontend.quit()
