@@ -156,13 +156,15 @@ def test_a_model_loaded_too_small_to_see_says_so_and_dot_frames_it(tmp_path: Pat
     assert viewer.scene.sight(viewer.scene.object, 1.0) is not Sight.TOO_SMALL
 
 
-@pytest.mark.parametrize("centre,inside", [((0.0, 0.0, 0.0), True), ((0.0, 60.0, 0.0), False)],
-                         ids=["at the origin", "above"])
-def test_a_model_loaded_inside_another_says_so(tmp_path: Path, centre: tuple[float, float, float],
+@pytest.mark.parametrize("centre,size,inside", [((0.0, 0.0, 0.0), 1.0, True), ((0.0, 60.0, 0.0), 1.0, False),
+                                                ((0.0, 0.0, 0.0), 1e-4, True)],
+                         ids=["at the origin", "above", "too small to see, at the origin"])
+def test_a_model_loaded_inside_another_says_so(tmp_path: Path, centre: tuple[float, float, float], size: float,
                                                inside: bool) -> None:
     """A student's 2-unit model added to the built-in scene lands at the origin inside Rammer_255 and
-    was drawn hidden there, the load's message saying nothing of it."""
-    model = octahedron(tmp_path / "m.obj", 1.0, centre)
+    was drawn hidden there, the load's message saying nothing of it; a 0.2 mm one was said too small
+    to see, and `.` showed it against Rammer_255's inside, drawn red, without a word of why."""
+    model = octahedron(tmp_path / "m.obj", size, centre)
     hidden = "inside Rammer_255's bounding box, perhaps hidden by it (d shows it alone)"
     assert (hidden in viewer_with("", (model,)).scene.message) == inside
     with marraztu.Viewer(size=SIZE) as v:

@@ -404,18 +404,15 @@ class Viewer:
         self._tell_each(told, at_start=True)
 
     def _unseen(self, objects: list[SceneObject]) -> list[str]:
-        """What each load's message says of an object the view does not show; "" where it does."""
+        """What each load's message says of an object the view does not show, or that another's box
+        holds (framed with `.`, it may still be hidden there); "" where neither."""
         sights = self.scene.sights(objects, self.view_aspect(self.scene))
-        seen = [obj for obj, sight in zip(objects, sights) if sight is Sight.SEEN]
-        around = iter(self.scene.enclosers(seen))
         wheres = []
-        for sight in sights:
-            if sight is not Sight.SEEN:
-                wheres.append(f", {sight.value} (. frames it)")
-            elif (holder := next(around)) is not None:
-                wheres.append(f", inside {holder.name}'s bounding box, perhaps hidden by it (d shows it alone)")
-            else:
-                wheres.append("")
+        for sight, holder in zip(sights, self.scene.enclosers(objects)):
+            where = "" if sight is Sight.SEEN else f", {sight.value} (. frames it)"
+            if holder is not None:
+                where += f", inside {holder.name}'s bounding box, perhaps hidden by it (d shows it alone)"
+            wheres.append(where)
         return wheres
 
     def _frame_start_models(self) -> None:
