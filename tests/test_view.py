@@ -590,6 +590,20 @@ def test_in_parallel_projection_the_wheel_zooms_and_u_and_home_take_the_zoom_bac
     assert scene.modes.parallel_half_height == pytest.approx(half_height * commands.DOLLY_PER_NOTCH ** 5)
 
 
+def test_the_wheel_stops_where_the_near_plane_leaves_what_it_looks_at(tmp_path: Path) -> None:
+    """A 10 km ground seen from above: stopped a thousandth of its size from its centre, as far as the
+    near plane inside its box, the camera showed the ground beyond that point only, and half the
+    picture was background."""
+    ground = tmp_path / "ground.obj"
+    ground.write_text("v -5000 0 -5000\nv -5000 0 5000\nv 5000 0 5000\nv 5000 0 -5000\nf 1 2 3 4\n")
+    with marraztu.Viewer(size=SIZE, empty=True) as viewer:
+        viewer.load(ground)
+        for _ in range(300):
+            commands.dolly_view(viewer.scene, 1)
+        pixels = np.asarray(viewer.render().convert("RGB")).astype(int)
+    assert (pixels[SIZE[1] // 2:] != BACKGROUND).any(axis=2).all()  # the ground below the view's centre
+
+
 def test_in_parallel_projection_the_wheel_zooms_in_no_further_than_it_comes_back_from(tmp_path: Path) -> None:
     """900 notches in made the view's half height 1.5e-39, past a 32-bit number's reach: the picture
     went blank, and 100 notches out left it 5.5e-35."""

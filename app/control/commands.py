@@ -22,6 +22,7 @@ from marraztu.loaders.scenefile import BUILT_IN_CAMERA_MODEL
 from marraztu.model import framing, transforms
 from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, Light, Owner, default_lights
 from marraztu.model.scene import (
+    INSIDE_FRACTION,
     SWITCHED_SHADINGS,
     CameraMode,
     Fill,
@@ -46,7 +47,9 @@ ANALYSIS_GAP = 10.0
 # Mouse drag: 10 pixels turn as far as one key press.
 DRAG_RADIANS_PER_PIXEL = ROTATION_STEP_RAD / 10.0
 DOLLY_PER_NOTCH = 0.9  # each wheel notch toward the object leaves this share of the distance
-DOLLY_CLOSEST = 1e-3  # of the object's size: nearer, a notch out no longer moves a far model's camera
+# Of the object's size: nearer, a notch out no longer moved a far model's camera; ten near planes
+# inside its box (INSIDE_FRACTION), so that what the camera looks at is not cut away there.
+DOLLY_CLOSEST = 10.0 * INSIDE_FRACTION
 
 TARGET_CYCLE = (Target.OBJECTS, Target.CAMERAS, Target.LIGHTS)
 
