@@ -542,6 +542,20 @@ def test_pan_slides_the_camera_in_its_own_plane_following_the_cursor(tmp_path: P
     assert moved[0, 3] - before[0, 3] == pytest.approx(-depth * np.tan(np.radians(45)))  # half the view
 
 
+def test_pan_with_the_selected_object_behind_the_eye_follows_the_cursor_at_the_scenes_depth(tmp_path: Path) -> None:
+    """A model in millimetres loaded 12 km behind the built-in camera, selected: half the view's width
+    of a drag moved the camera as at the near plane's depth, 20 units (5 in a 400x400 window), where
+    with a ship selected it moves 150, the ships' depth."""
+    behind = octahedron(tmp_path / "behind.obj", 100.0, (5000.0, -3000.0, 12000.0))
+    moved = []
+    for models in ((), (behind,)):
+        scene = viewer_with("", models).scene
+        before = scene.camera.origin
+        commands.pan_view(scene, SIZE[0] / 2, 0, SIZE[1])
+        moved.append(np.linalg.norm(scene.camera.origin - before))
+    assert moved[1] == pytest.approx(moved[0], rel=0.2)
+
+
 def test_the_wheel_dollies_toward_the_object_and_never_through_it(tmp_path: Path) -> None:
     scene = scene_with_model(tmp_path)
     centre = scene.object.centre

@@ -386,11 +386,14 @@ def orbit_view(scene: Scene, dx_pixels: float, dy_pixels: float) -> None:
 
 def pan_view(scene: Scene, dx_pixels: float, dy_pixels: float, view_height_px: int) -> None:
     """Right or shift drag: the camera slides in its own plane so that the point under the cursor at
-    the selected object's depth follows the cursor."""
+    the selected object's depth follows the cursor, or, with it behind the eye, at the depth `p` keeps."""
+    depth = scene.depth_of(_view_centre(scene))
     if scene.modes.projection is Projection.PARALLEL:
         half_height = scene.modes.parallel_half_height
+    elif depth > scene.near_plane():
+        half_height = perspective_half_height(depth)
     else:
-        half_height = perspective_half_height(max(scene.depth_of(_view_centre(scene)), scene.near_plane()))
+        half_height = scene.matching_parallel_half_height()
     units_per_pixel = 2.0 * half_height / max(view_height_px, 1)
     step = transforms.translation_by(np.array([-dx_pixels * units_per_pixel, dy_pixels * units_per_pixel, 0.0]))
     move_view(scene, transforms.apply_local(scene.camera.model, step), "pan")
