@@ -424,8 +424,8 @@ class Viewer:
 
     def _tell_unseen_start_models(self) -> None:
         """Models framed together far apart may each span under a pixel: the picture alone is empty."""
-        aspect = self.view_aspect(self.scene)
-        unseen = [obj.name for obj in self.scene.objects if self.scene.sight(obj, aspect) is not Sight.SEEN]
+        sights = self.scene.sights(self.scene.objects, self.view_aspect(self.scene))
+        unseen = [obj.name for obj, sight in zip(self.scene.objects, sights) if sight is not Sight.SEEN]
         if unseen:
             names = ", ".join(unseen[:UNSEEN_NAMES_SAID]) + (", ..." if len(unseen) > UNSEEN_NAMES_SAID else "")
             self.tell(f"{names}: too small to see framed together (TAB selects one, . frames it)", at_start=True)
