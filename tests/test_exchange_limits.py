@@ -745,6 +745,9 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
      "mesh 0's primitive 0's TEXCOORD_0 is accessor 2, of type SCALAR: glTF's are VEC2"),
     ("d['meshes'][0]['primitives'][0]['attributes']['COLOR_0'] = 1",
      "mesh 0's primitive 0's COLOR_0 is accessor 1, of type VEC2: glTF's are VEC3 or VEC4"),
+    # trimesh drew the uvs it had, shifted, beside the positions they did not match
+    ("d['accessors'][1]['count'] = 2", "mesh 0's primitive 0's TEXCOORD_0 has 2 items, its POSITION 3: a primitive's "
+     "attributes hold one item per vertex each"),
     # trimesh dropped the picture without a word, and read a bad byteLength as nothing
     ("d['images'] = [{'bufferView': 1}]; d['textures'] = [{'source': 5}]", "texture 0 names image 5, of 1"),
     ("d['materials'] = [{'pbrMetallicRoughness': {'baseColorTexture': {'index': 2}}}]",
@@ -1030,8 +1033,12 @@ def made_past_the_file(what: str, items: int) -> bytes:
     accessors, primitive = document["accessors"], document["meshes"][0]["primitives"][0]
     zeros = {"componentType": 5126, "count": items, "type": "VEC3"}
     if what in ("POSITION", "NORMAL", "sparse"):
+        del primitive["attributes"]["TEXCOORD_0"]  # an item per vertex: the triangle's 3 uvs would be refused
         primitive["attributes"][what if what != "sparse" else "POSITION"] = len(accessors)
         accessors.append(zeros if what != "sparse" else {**zeros, "sparse": {**SPARSE, "count": 1}})
+        if what == "NORMAL":  # as many positions, made after it
+            primitive["attributes"]["POSITION"] = len(accessors)
+            accessors.append(zeros)
     else:
         primitive["indices"] = len(accessors)
         accessors.append({**zeros, "componentType": 5125, "type": "SCALAR"})

@@ -303,6 +303,17 @@ class GltfReferences:
             count = self.document["accessors"][primitive.get("indices", attributes["POSITION"])].get("count")
             if _is_whole(count) and count % 3:
                 self.refuse(f"{what} has {count} {corners}: its triangles take three each")
+        self.counts_alike(what, attributes)
+
+    def counts_alike(self, what: str, attributes: dict[str, Any]) -> None:
+        """One item of each attribute per vertex, as glTF requires: trimesh drew 4 uvs over 5 positions
+        shifted, without a word."""
+        accessors = self.document["accessors"]
+        vertices = accessors[attributes["POSITION"]]["count"]
+        for name, index in attributes.items():
+            if accessors[index]["count"] != vertices:
+                self.refuse(f"{what}'s {escaped(str(name))[:40]} has {accessors[index]['count']} items, its POSITION "
+                            f"{vertices}: a primitive's attributes hold one item per vertex each")
 
     def accessor(self, number: int, accessor: dict[str, Any]) -> None:
         count = accessor.get("count")
