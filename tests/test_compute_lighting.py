@@ -109,8 +109,8 @@ def test_compute_pass_writes_the_bytes_of_transform_feedback(own_ctx, both_rende
         pixels = corpus.render_float(own_ctx, renderer, scene, (96, 72))
         pictures.append(pixels)
         gpu = renderer._gpu_for(scene.objects[0])
-        assert gpu.vertex_coloured
-        lit.append(gpu._surface_buffers["lit"].read())
+        assert gpu.shared.vertex_coloured
+        lit.append(gpu.lit.read())
         renderer.release_object(scene.objects[0])
     assert (np.round(pictures[0][..., :3] * 255) != np.array(BACKGROUND)).any(axis=2).mean() > 0.2, "not blank"
     assert lit[0] == lit[1]

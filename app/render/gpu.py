@@ -1,4 +1,4 @@
-"""GPU side of a mesh: the shader loader and the per-object vertex buffers the renderer draws from.
+"""GPU side of a mesh: the shader loader and the vertex buffers the renderer draws from.
 
 The vertex arrays are built here with numpy. GL has no per-primitive attributes, so what belongs to
 a polygon (its face normal, its first vertex) rides on vertices: the surface is indexed, with one
@@ -11,10 +11,10 @@ face normal, drawn as indexed lines (a geometry stage over the surface's rows wo
 rows, but makes llvmpipe's lines frames a third slower; the polygon's point and normal copied into
 every row made three attributes a vertex, whose fetch doubled NVIDIA's frames of millions of edges).
 
-Everything is built once per object (edges and normals on first use) and kept until the object
-leaves the scene; drawing a subset of faces is a `first`/`vertices` range. Beside the surface, each
-object has a lit buffer: a colour per vertex row, written by the lighting pass and kept until what
-lighting reads changes (ObjectGpu.light).
+Everything is built once per mesh (edges and normals on first use), shared by the objects that place
+it, and kept until the last of them leaves the scene (MeshGpus); drawing a subset of faces is a
+`first`/`vertices` range. Each object has a lit buffer of its own: a colour per vertex row, written by
+the lighting pass from its placement and kept until what lighting reads changes (ObjectGpu.light).
 """
 
 from __future__ import annotations
@@ -500,105 +500,73 @@ def lit_row_range(shading: Shading, shared_rows: int, start: int, stop: int) -> 
     return 0, shared_rows
 
 
-class ObjectGpu:
-    """The buffers and vertex arrays of one scene object.
+class MeshGpu:
+    """The buffers and vertex arrays of one mesh that no object's placement changes, shared by every
+    object drawing the mesh (a scene file may place one model a thousand times): the surface's vertex,
+    index and colour buffers, the lighting passes' vertex arrays (which write into each object's own lit
+    buffer), and the edges and normal segments.
 
-    The surface is built when the object first appears; edges and normal segments only when lines
-    or normals are first drawn (most models are never seen that way, and those arrays are bigger
-    than the surface's), then kept until the object leaves the scene.
+    The surface is built with the first object; edges and normal segments only when lines or normals
+    are first drawn (most models are never seen that way, and those arrays are bigger than the
+    surface's), then kept while an object uses the mesh (MeshGpus).
     """
 
-    # surface: a vertex, a lit and two index buffers, a vertex array per surface program (3 lit, 3 of
-    # the depth view) and per transform-feedback lighting pass (2; a compute pass has none); edges: a
-    # row and an index buffer, a vertex array and two textures of polygons; face normals: a buffer and
-    # a vertex array; vertex normals: a buffer of used rows and its vertex array, and a vertex array
-    # over the surface indices for a range of faces. Vertex colours add one buffer.
-    GL_OBJECTS = 22
-    # Which index buffer each surface program draws with (see SurfaceArrays).
-    INDICES = {Shading.FLAT: "surface indices", Shading.GOURAUD: "shared surface indices",
-               Shading.PHONG: "shared surface indices"}
+    # surface: a vertex and two index buffers, a vertex array per transform-feedback lighting pass (2;
+    # a compute pass has none); edges: a row and an index buffer, a vertex array and two textures of
+    # polygons; face normals: a buffer and a vertex array; vertex normals: a buffer of used rows and its
+    # vertex array, and a vertex array over the surface indices for a range of faces. Vertex colours
+    # add one buffer.
+    GL_OBJECTS = 15
 
     def __init__(self, ctx: moderngl.Context, mesh: Mesh, programs: Programs,
                  surface_data: SurfaceArrays | None = None) -> None:
         self.ctx = ctx
         self.mesh = mesh  # the mesh these buffers were built from: a replaced mesh means rebuilding
         self.programs = programs
+        self.users = 0  # the ObjectGpus drawing from these buffers (MeshGpus releases them with the last)
         # By name: a buffer and the vertex array drawing it (either may be None: vertex normals own no
         # buffer, the edges' rows are drawn through the edges' index buffer's vertex array).
         self._built: dict[str, tuple[moderngl.Buffer | None, moderngl.VertexArray | None]] = {}
         self._edge_faces: dict[str, moderngl.Texture] = {}  # by EDGE_FACE_UNITS's sampler names, with the edges
         self.triangles_before = mesh.triangles_before_face()  # kept so drawing allocates nothing
+        self.offset = bool(mesh.gpu_origin.any())  # whether its rows are measured from elsewhere than the origin
         if surface_data is None:
             surface_data = _take_prepared_surface(mesh)
         arrays = surface_arrays(mesh) if surface_data is None else surface_data
-        rows = arrays.vertices.shape[0]
+        self.rows = arrays.vertices.shape[0]
         self.shared_rows = arrays.shared_rows
-        self._surface_buffers: dict[str, moderngl.Buffer] = {}
+        self.buffers: dict[str, moderngl.Buffer] = {}  # by SurfaceArrays.arrays' names
+        self._lightings: dict[Shading, moderngl.VertexArray] = {}
         ctx.error  # noqa: B018 - reading it clears an older error, so the check below is about these uploads
         try:
             for name, data in arrays.arrays.items():
-                self._surface_buffers[name] = device_buffer(ctx, data)
-            # Zeros, not undefined memory: rows no pass has lit yet are read (never shown) by draws.
-            self._surface_buffers["lit"] = zeroed_device_buffer(ctx, rows * LIT_ROW_BYTES)
+                self.buffers[name] = device_buffer(ctx, data)
             check_gl(ctx, f"the vertex buffers of {mesh.name}")
         except Exception:
-            for buffer in self._surface_buffers.values():
-                buffer.release()
+            self.release()
             raise
-        # By (program, way): "surface" draws, "lighting" runs the lighting pass (of the way's shading).
-        self._surface_arrays: dict[tuple[str, SurfaceWay], moderngl.VertexArray] = {}
-        self._lit: dict[Shading, LitRows] = {}
 
     @property
     def vertex_coloured(self) -> bool:
-        return "colours" in self._surface_buffers
+        return "colours" in self.buffers
 
-    def surface(self, way: SurfaceWay) -> moderngl.VertexArray:
-        """The surface bound to the program of `way`; each is made the first time that way is drawn,
-        sharing the buffers."""
-        return self._surface_array("surface", way)
+    def surface_content(self, program: moderngl.Program, lit: moderngl.Buffer | None = None) -> list[tuple]:
+        """The surface's vertex buffers `program` reads: the rows, the lit buffer `lit` where it reads
+        lit rows (Phong lights per pixel and reads none), the colours where the mesh has them."""
+        content = [(self.buffers["surface"], *layout_for(program, SURFACE_LAYOUT))]
+        if lit is not None and LIT_LAYOUT[1] in program:
+            content.append((lit, *LIT_LAYOUT))
+        if "colours" in self.buffers and COLOUR_LAYOUT[1] in program:
+            content.append((self.buffers["colours"], *COLOUR_LAYOUT))
+        return content
 
-    def light(self, shading: Shading, inputs: Hashable, start: int, stop: int) -> bool:
-        """Lights the rows the faces [start, stop) take their colour from, with the lighting pass of
-        `shading` (Flat or Gouraud) whose uniforms are already set; `inputs` are those
-        uniforms' values. Rows already lit with the same inputs are not lit again: a still frame
-        runs no pass. Returns whether the pass ran.
-
-        Which rows those are: lit_row_range.
-        """
-        first, stop_row = lit_row_range(shading, self.shared_rows, start, stop)
-        done = self._lit.get(shading)
-        if stop_row <= first or (done is not None and done.cover(inputs, first, stop_row)):
-            return False
-        compute = self.programs.compute_lighting
-        if compute is not None and compute.takes(first, stop_row):
-            self._light_by_compute(compute, shading, first, stop_row)
-        else:
-            self._surface_array("lighting", SurfaceWay(shading)).transform(
-                self._surface_buffers["lit"], moderngl.POINTS, vertices=stop_row - first, first=first,
-                buffer_offset=first * LIT_ROW_BYTES)
-        self._lit[shading] = LitRows(inputs, first, stop_row)
-        return True
-
-    def _light_by_compute(self, compute: ComputeLighting, shading: Shading, first: int, stop: int) -> None:
-        buffers = self._surface_buffers
-        compute.run(self.ctx, shading, buffers["surface"], buffers.get("colours"), buffers["lit"], first, stop)
-
-    def _surface_array(self, kind: str, way: SurfaceWay) -> moderngl.VertexArray:
-        """The surface's vertex buffer bound to a surface program ("surface", indexed, reading the lit
-        buffer where the program does) or a lighting pass ("lighting": every row once, no indices)."""
-        vao = self._surface_arrays.get((kind, way))
+    def lighting(self, shading: Shading) -> moderngl.VertexArray:
+        """Every surface row once, no indices, bound to the transform-feedback lighting pass of
+        `shading`: the pass writes into the lit buffer it is given."""
+        vao = self._lightings.get(shading)
         if vao is None:
-            drawing = kind == "surface"
-            program = self.programs.surfaces[way] if drawing else self.programs.lightings[way.shading]
-            content = self._surface_content(program)
-            if LIT_LAYOUT[1] in program:  # Phong lights per pixel and reads no lit colour
-                content.append((self._surface_buffers["lit"], *LIT_LAYOUT))
-            if "colours" in self._surface_buffers and COLOUR_LAYOUT[1] in program:
-                content.append((self._surface_buffers["colours"], *COLOUR_LAYOUT))
-            indices = self._surface_buffers[self.INDICES[way.shading]] if drawing else None
-            vao = self.ctx.vertex_array(program, content, index_buffer=indices, index_element_size=4)
-            self._surface_arrays[(kind, way)] = vao
+            program = self.programs.lightings[shading]
+            vao = self._lightings[shading] = self.ctx.vertex_array(program, self.surface_content(program))
         return vao
 
     @property
@@ -654,7 +622,7 @@ class ObjectGpu:
         if built is None:
             built = self._build("face normals", face_normal_feet(self.mesh), self.programs.normals, FACE_NORMAL_LAYOUT)
             polygon_normals = self.shared_rows * SURFACE_ROW_BYTES + attribute_offset(SURFACE_LAYOUT, "in_normal")
-            built[1].bind(self.programs.normals["in_direction"].location, "f", self._surface_buffers["surface"],
+            built[1].bind(self.programs.normals["in_direction"].location, "f", self.buffers["surface"],
                           "3f", offset=polygon_normals, stride=SURFACE_ROW_BYTES)
         return built[1]
 
@@ -665,14 +633,12 @@ class ObjectGpu:
         if start == 0 and stop == self.mesh.face_count:  # a row is shared by ~6 triangles: 6x fewer segments
             rows, vao = self._built.get("vertex normal rows") or self._build(
                 "vertex normal rows", used_shared_rows(self.mesh, self.shared_rows), self.programs.normals,
-                self._surface_content(self.programs.normals, VERTEX_NORMAL_LAYOUT), indexed=True)
+                self._normal_content(), indexed=True)
             return vao, VertexRange(0, rows.size // 4 if rows is not None else 0)  # uint32 indices
         built = self._built.get("vertex normals")
         if built is None:
-            content = self._surface_content(self.programs.normals, VERTEX_NORMAL_LAYOUT)
-            vao = self.ctx.vertex_array(self.programs.normals, content,
-                                        index_buffer=self._surface_buffers["shared surface indices"],
-                                        index_element_size=4)
+            vao = self.ctx.vertex_array(self.programs.normals, self._normal_content(),
+                                        index_buffer=self.buffers["shared surface indices"], index_element_size=4)
             built = self._built["vertex normals"] = (None, vao)
         return built[1], self.surface_range(start, stop)
 
@@ -681,14 +647,14 @@ class ObjectGpu:
         """The bytes of each buffer built so far by name ("surface" and "surface indices", "edges", ...),
         and of the edges' polygon textures ("edge faces")."""
         built = {name: buffer for name, (buffer, _) in self._built.items() if buffer is not None}
-        sizes = {name: buffer.size for name, buffer in {**self._surface_buffers, **built}.items()}
+        sizes = {name: buffer.size for name, buffer in {**self.buffers, **built}.items()}
         if self._edge_faces:
             sizes["edge faces"] = sum(texture.width * texture.height * texture.components
                                       * np.dtype(texture.dtype).itemsize for texture in self._edge_faces.values())
         return sizes
 
-    def _surface_content(self, program: moderngl.Program, layout: tuple[str, ...] = SURFACE_LAYOUT) -> list[tuple]:
-        return [(self._surface_buffers["surface"], *layout_for(program, layout))]
+    def _normal_content(self) -> list[tuple]:
+        return [(self.buffers["surface"], *layout_for(self.programs.normals, VERTEX_NORMAL_LAYOUT))]
 
     def _build(self, name: str, data: np.ndarray, program: moderngl.Program, layout: tuple[str, ...] | list[tuple],
                indexed: bool = False) -> tuple[moderngl.Buffer | None, moderngl.VertexArray]:
@@ -709,9 +675,9 @@ class ObjectGpu:
         return buffer, vao
 
     def release(self) -> None:
-        for vao in self._surface_arrays.values():
+        for vao in self._lightings.values():
             vao.release()
-        for buffer in self._surface_buffers.values():
+        for buffer in self.buffers.values():
             buffer.release()
         for buffer, vao in self._built.values():
             for resource in (vao, buffer):
@@ -720,9 +686,8 @@ class ObjectGpu:
         for texture in self._edge_faces.values():
             texture.release()
         self._edge_faces.clear()
-        self._surface_arrays.clear()
-        self._lit.clear()
-        self._surface_buffers.clear()
+        self._lightings.clear()
+        self.buffers.clear()
         self._built.clear()
 
     # Vertex ranges of the faces [start, stop): every array above is laid out polygon by polygon
@@ -738,3 +703,115 @@ class ObjectGpu:
     def face_normal_range(self, start: int, stop: int) -> VertexRange:
         return VertexRange(start, stop - start)
 
+
+class ObjectGpu:
+    """What one scene object holds of its own beside its mesh's shared buffers (`shared`): a lit
+    buffer, a colour per surface row written by the lighting pass from the object's placement, material
+    and the lights, kept until what lighting reads changes (light); and the surface's vertex arrays that
+    read it.
+    """
+
+    # The lit buffer, and a vertex array per surface program (3 lit, 3 of the depth view).
+    GL_OBJECTS = 7
+    # Which index buffer each surface program draws with (see SurfaceArrays).
+    INDICES = {Shading.FLAT: "surface indices", Shading.GOURAUD: "shared surface indices",
+               Shading.PHONG: "shared surface indices"}
+
+    def __init__(self, shared: MeshGpu) -> None:
+        self.shared = shared
+        ctx = shared.ctx
+        ctx.error  # noqa: B018 - reading it clears an older error, so the check below is about this buffer
+        # Zeros, not undefined memory: rows no pass has lit yet are read (never shown) by draws.
+        self.lit = zeroed_device_buffer(ctx, shared.rows * LIT_ROW_BYTES)
+        try:
+            check_gl(ctx, f"the lit rows of {shared.mesh.name}")
+        except Exception:
+            self.lit.release()
+            raise
+        self._surfaces: dict[SurfaceWay, moderngl.VertexArray] = {}
+        self._lit: dict[Shading, LitRows] = {}
+        self.placement: tuple[bytes, bytes, bytes] | None = None  # the renderer's: see Renderer._set_model
+        shared.users += 1
+
+    @property
+    def mesh(self) -> Mesh:
+        return self.shared.mesh
+
+    def surface(self, way: SurfaceWay) -> moderngl.VertexArray:
+        """The surface bound to the program of `way`, indexed, reading this object's lit rows where the
+        program does; each is made the first time that way is drawn."""
+        vao = self._surfaces.get(way)
+        if vao is None:
+            shared = self.shared
+            program = shared.programs.surfaces[way]
+            vao = self._surfaces[way] = shared.ctx.vertex_array(
+                program, shared.surface_content(program, self.lit),
+                index_buffer=shared.buffers[self.INDICES[way.shading]], index_element_size=4)
+        return vao
+
+    def light(self, shading: Shading, inputs: Hashable, start: int, stop: int) -> bool:
+        """Lights the rows the faces [start, stop) take their colour from, with the lighting pass of
+        `shading` (Flat or Gouraud) whose uniforms are already set; `inputs` are those
+        uniforms' values. Rows already lit with the same inputs are not lit again: a still frame
+        runs no pass. Returns whether the pass ran.
+
+        Which rows those are: lit_row_range.
+        """
+        first, stop_row = lit_row_range(shading, self.shared.shared_rows, start, stop)
+        done = self._lit.get(shading)
+        if stop_row <= first or (done is not None and done.cover(inputs, first, stop_row)):
+            return False
+        compute = self.shared.programs.compute_lighting
+        if compute is not None and compute.takes(first, stop_row):
+            self._light_by_compute(compute, shading, first, stop_row)
+        else:
+            self.shared.lighting(shading).transform(self.lit, moderngl.POINTS, vertices=stop_row - first,
+                                                    first=first, buffer_offset=first * LIT_ROW_BYTES)
+        self._lit[shading] = LitRows(inputs, first, stop_row)
+        return True
+
+    def _light_by_compute(self, compute: ComputeLighting, shading: Shading, first: int, stop: int) -> None:
+        buffers = self.shared.buffers
+        compute.run(self.shared.ctx, shading, buffers["surface"], buffers.get("colours"), self.lit, first, stop)
+
+    def release(self) -> None:
+        """Releases what is the object's own; its mesh's buffers are MeshGpus's to release."""
+        for vao in self._surfaces.values():
+            vao.release()
+        self._surfaces.clear()
+        self._lit.clear()
+        self.lit.release()
+        self.shared.users -= 1
+
+
+class MeshGpus:
+    """Each mesh's MeshGpu while an object draws it: built for its first ObjectGpu, released with its last."""
+
+    def __init__(self, ctx: moderngl.Context) -> None:
+        self.ctx = ctx
+        self._held: dict[int, MeshGpu] = {}  # by the id of its mesh, which it holds (so the id is not reused)
+
+    def object_gpu(self, mesh: Mesh, programs: Programs) -> ObjectGpu:
+        """A new object's lit buffer and vertex arrays, over its mesh's shared buffers."""
+        shared = self._held.get(id(mesh))
+        if shared is None:
+            shared = self._held[id(mesh)] = MeshGpu(self.ctx, mesh, programs)
+        try:
+            return ObjectGpu(shared)
+        except Exception:
+            self._drop_unused(shared)
+            raise
+
+    def release(self, gpu: ObjectGpu) -> None:
+        """Releases the object's own buffers, and its mesh's with the last object drawing it."""
+        gpu.release()
+        self._drop_unused(gpu.shared)
+
+    def _drop_unused(self, shared: MeshGpu) -> None:
+        if shared.users == 0:
+            del self._held[id(shared.mesh)]
+            shared.release()
+
+    @property
+    def held(self) -> list[MeshGpu]:
+        return list(self._held.values())

@@ -1,7 +1,8 @@
 """Draws a Scene into any framebuffer: the window's, or an offscreen one for screenshots and tests.
 
 GPU resources of each object are built once, keyed by the object's uid, and dropped when the object
-leaves the scene. Per frame only uniforms change, and only those whose values changed are written.
+leaves the scene; objects placing one mesh share its buffers (MeshGpus). Per frame only uniforms
+change, and only those whose values changed are written.
 The lighting itself lives in shaders/surface.glsl; marraztu.model.lighting is the same formula in
 numpy, kept apart so that each checks the other. Flat and Gouraud light the vertices in a pass of their own
 that is skipped while every uniform it reads keeps its value (ObjectGpu.light).
@@ -45,6 +46,8 @@ from marraztu.render.gpu import (
     LIT_LAYOUT,
     LIT_SURFACE_WAYS,
     ComputeLighting,
+    MeshGpu,
+    MeshGpus,
     ObjectGpu,
     Programs,
     SurfaceWay,
@@ -215,6 +218,7 @@ class Renderer:
         self._texture_image: np.ndarray | None = None  # the scene's picture the texture was made from
         self._set_texture(WHITE)
         self._objects: dict[tuple[int, int], ObjectGpu] = {}  # by (uid, part)
+        self._meshes = MeshGpus(ctx)  # the buffers of each mesh, shared by the objects placing it
         self._file_textures: dict[int, tuple[np.ndarray, MipmappedTexture]] = {}  # by id of the image
 
     # --- resources ---------------------------------------------------------------------------
@@ -246,11 +250,11 @@ class Renderer:
 
     def release_object(self, obj: SceneObject) -> None:
         for key in [key for key in self._objects if key[0] == obj.uid]:
-            self._objects.pop(key).release()
+            self._meshes.release(self._objects.pop(key))
 
     def release(self) -> None:
         for gpu in self._objects.values():
-            gpu.release()
+            self._meshes.release(gpu)
         self._objects.clear()
         for _, texture in self._file_textures.values():
             texture.release()
@@ -290,16 +294,15 @@ class Renderer:
         if gpu is not None and gpu.mesh is mesh:
             return gpu
         if gpu is not None:  # the object got a new mesh: its old buffers are stale
-            gpu.release()
-        gpu = ObjectGpu(self.ctx, mesh, self.programs)
-        self._objects[(obj.uid, part)] = gpu
+            self._meshes.release(self._objects.pop((obj.uid, part)))
+        gpu = self._objects[(obj.uid, part)] = self._meshes.object_gpu(mesh, self.programs)
         return gpu
 
     def _drop_departed(self, scene: Scene) -> None:
         elements = scene.objects + scene.cameras
         live = {(obj.uid, part) for obj in elements for part in range(WHOLE, len(obj.mesh.parts))}
         for key in [key for key in self._objects if key not in live]:
-            self._objects.pop(key).release()
+            self._meshes.release(self._objects.pop(key))
         pictures = {id(material.texture) for obj in elements for material in obj.mesh.materials}
         for key in [key for key in self._file_textures if key not in pictures]:
             self._file_textures.pop(key)[1].release()
@@ -369,7 +372,7 @@ class Renderer:
         positions are then measured from the eye, in 64-bit numbers, and stay small near it."""
         eye = np.asarray(scene.eye_position(), dtype=np.float64)
         sizes = [gpu.mesh.size for _, gpu in items if gpu.mesh.size > 0]
-        if any(gpu.mesh.gpu_origin.any() for _, gpu in items) or (
+        if any(gpu.shared.offset for _, gpu in items) or (
                 sizes and np.abs(eye).max() > EYE_ORIGIN_SIZES * min(sizes)):
             return eye
         return np.zeros(3)
@@ -464,14 +467,14 @@ class Renderer:
         lighting.set("u_ks", tuple(material.ks))
         lighting.set("u_ns", float(material.ns))
         for uniforms in (self.surface, lighting):  # the lighting pass tints its rows; Phong, its pixels
-            uniforms.set("u_vertex_coloured", gpu.vertex_coloured)
+            uniforms.set("u_vertex_coloured", gpu.shared.vertex_coloured)
         # Gouraud's depth view reads no lit row (Flat's reads its N.V): nothing to light for it.
         if self.way.shading.lights_vertices and LIT_LAYOUT[1] in self.programs.surfaces[self.way]:
             self.lighting_passes += gpu.light(self.way.shading, self._lighting_inputs(material), item.start, item.stop)
         assert self.texture is not None
         picture = item.obj.mesh.materials[item.file_material].texture if item.file_material >= 0 else None
         (self.texture if picture is None else self._file_texture(picture)).use(location=0)
-        self.draw(gpu.surface(self.way), moderngl.TRIANGLES, gpu.surface_range(item.start, item.stop))
+        self.draw(gpu.surface(self.way), moderngl.TRIANGLES, gpu.shared.surface_range(item.start, item.stop))
 
     def _lighting_inputs(self, material: Material) -> tuple[tuple[str, bytes], ...]:
         """What the lighting pass reads, for the rows it keeps: its uniforms, less the V it does not
@@ -498,7 +501,7 @@ class Renderer:
     def _draw_edges(self, item: DrawItem, gpu: ObjectGpu, selected: bool) -> None:
         self._set_model([self.edges], item.obj.model, gpu.mesh)
         self.edges.set("u_colour", SELECTED_LINE_COLOUR if selected else LINE_COLOUR)
-        self._draw_edge_lines(gpu, gpu.edge_range(item.start, item.stop))
+        self._draw_edge_lines(gpu.shared, gpu.shared.edge_range(item.start, item.stop))
 
     def _draw_probe_outline(self, scene: Scene) -> None:
         """The probed face's edges and a dot on each vertex the probe lights, over everything, so the
@@ -512,7 +515,7 @@ class Renderer:
         self._set_model([self.edges], obj.model, gpu.mesh)
         self.edges.set("u_outline", True)
         self.edges.set("u_colour", PROBE_COLOUR)
-        self._draw_edge_lines(gpu, gpu.edge_range(face, face + 1))
+        self._draw_edge_lines(gpu.shared, gpu.shared.edge_range(face, face + 1))
         self.edges.set("u_outline", False)
         for point in scene.probed_points(MAX_PROBE_MARKERS):
             self._draw_marker(point, np.array(PROBE_COLOUR), PROBE_MARKER_PX)
@@ -521,13 +524,14 @@ class Renderer:
         """Face normals where lighting uses them (Flat), vertex normals otherwise (Gouraud, Phong)."""
         self._set_model([self.normals], item.obj.model, gpu.mesh)
         self.normals.set("u_length", NORMAL_LENGTH_FRACTION * item.obj.mesh.size)  # the whole object's scale
+        shared = gpu.shared
         if face_normals:  # one point per normal: normals.glsl draws its segment
-            self.draw_segments(gpu.face_normals, moderngl.POINTS, gpu.face_normal_range(item.start, item.stop))
+            self.draw_segments(shared.face_normals, moderngl.POINTS, shared.face_normal_range(item.start, item.stop))
         else:
-            vao, span = gpu.vertex_normals(item.start, item.stop)
+            vao, span = shared.vertex_normals(item.start, item.stop)
             self.draw_segments(vao, moderngl.POINTS, span)
 
-    def _draw_edge_lines(self, gpu: ObjectGpu, span: VertexRange) -> None:
+    def _draw_edge_lines(self, gpu: MeshGpu, span: VertexRange) -> None:
         edges = gpu.edges
         gpu.use_edge_faces()
         self.draw(edges, moderngl.LINES, span)

@@ -58,7 +58,7 @@ def _ours(path: Path) -> LoadFunction:
 
 
 def gpu_ready_arrays(mesh: Mesh) -> dict[str, np.ndarray]:
-    """What a new object costs before its first frame: the surface array `ObjectGpu` uploads.
+    """What a new model costs before its first frame: the surface array `MeshGpu` uploads.
 
     Edges and normal segments are built only when lines or normals are first drawn (marraztu.render.gpu).
     """
@@ -324,7 +324,7 @@ def loading_section(config: BenchConfig, inputs: Sequence[LoadInput]) -> list[st
         "reader; for the other formats, whose files trimesh's exporters wrote from the v f only grid, our "
         "STL and OFF readers, or trimesh and our checks for PLY and GLB, in processes without numba, as "
         "in a window that has opened no large OBJ file: their normals by numpy, the OBJ files' by the "
-        "compiled loops that load with the OBJ reader) + the surface vertex and index arrays `ObjectGpu` "
+        "compiled loops that load with the OBJ reader) + the surface vertex and index arrays `MeshGpu` "
         "uploads for the first frame (marraztu.render.gpu; edges and normal segments "
         "are built later, when lines or normals are first drawn); trimesh = `trimesh.load(process=False)`; "
         "tinyobjloader = parse (triangulated) + numpy copies of its tables; rapidobj = `parse_obj` "

@@ -35,23 +35,25 @@ def mesh_bytes(mesh: Mesh) -> int:
 
 def memory_row(bench: FrameBench, item: LoadInput) -> list[str]:
     from marraztu.loaders.obj import load_obj
-    from marraztu.render.gpu import ObjectGpu
+    from marraztu.render.gpu import MeshGpus
 
     mesh = load_obj(item.path)
     triangles = int(mesh.triangles_before_face()[-1])
     ready = sum(array.nbytes for array in gpu_ready_arrays(mesh).values())
-    renderer = bench.renderer
-    gpu = ObjectGpu(bench.ctx, mesh, renderer.programs)  # exactly what the renderer allocates per object
+    meshes = MeshGpus(bench.ctx)
+    gpu = meshes.object_gpu(mesh, bench.renderer.programs)  # exactly what the renderer allocates for one object
+    shared = gpu.shared
     try:
-        surface = sum(gpu.byte_sizes.values())  # all there is before lines or normals
-        _ = gpu.edges, gpu.face_normals, gpu.vertex_normals(0, mesh.face_count)  # built on first use: force them
-        sizes = gpu.byte_sizes
-        host = mesh_bytes(mesh) + gpu.triangles_before.nbytes
+        surface = sum(shared.byte_sizes.values()) + gpu.lit.size  # all there is before lines or normals
+        _ = shared.edges, shared.face_normals, shared.vertex_normals(0, mesh.face_count)  # built on first use
+        sizes = shared.byte_sizes
+        sizes["lit"] = gpu.lit.size
+        host = mesh_bytes(mesh) + shared.triangles_before.nbytes
         per_triangle = [value / triangles for value in (
             host, ready, surface, sum(sizes.values()), sizes["edges"] + sizes["edge rows"] + sizes["edge faces"],
             sizes["face normals"] + sizes["vertex normal rows"])]  # vertex normals read the surface's rows
     finally:
-        gpu.release()
+        meshes.release(gpu)
     growth, reader_bytes, reader_seconds = median_rss_growth(item.path)
     queue = "—"  # a GPU has no such queue, and ignores the variable
     if is_llvmpipe(bench.ctx):
