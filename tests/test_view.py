@@ -209,6 +209,9 @@ def test_enclosers_of_many_are_each_ones_by_itself() -> None:
                 for element in scene.objects]
     assert scene.enclosers(scene.objects) == expected
     assert sum(found is not None for found in expected) > 5
+    scene.modes.draw_all, loaded = False, scene.objects
+    scene.objects = []  # nothing shown: nothing holds them (the soak test's random keys found it)
+    assert scene.enclosers(loaded[:3]) == [None, None, None]
 
 
 @pytest.mark.parametrize("size,keys,outside", [((800, 800), "", True), ((1500, 500), "", False),

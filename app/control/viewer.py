@@ -391,7 +391,8 @@ class Viewer:
 
     def _tell_start_loads(self) -> None:
         """The start-up loads' messages, in the order asked, once the batch has joined the scene."""
-        loads, self._start_loads = self._start_loads, []
+        loads = self._start_loads.copy()
+        self._start_loads.clear()  # the same list: a refused press leaves the viewer as it found it
         joined = [load.obj for load in loads if load.obj is not None and load.joined]
         wheres = iter(self._unseen(joined))
         told = []

@@ -617,12 +617,14 @@ class Scene:
         """For each element, the first other shown element whose world box holds its whole (a model in
         metres loaded at the origin, inside Rammer_255), which may hide it; None where there is none."""
         shown = self.shown_elements()
+        if not shown:
+            return [None] * len(elements)
         shown_low, shown_high = _box_bounds(world_boxes(shown))
         low, high = _box_bounds(world_boxes(elements))
         position = {id(element): index for index, element in enumerate(shown)}
         own = np.array([position.get(id(element), -1) for element in elements], dtype=np.int64)
         found: list[SceneObject | None] = []
-        step = max(1, ENCLOSING_BLOCK // max(len(shown), 1))  # a block of elements against every shown box
+        step = max(1, ENCLOSING_BLOCK // len(shown))  # a block of elements against every shown box
         for first in range(0, len(elements), step):
             block = slice(first, first + step)
             holds = ((shown_low <= low[block, None]) & (shown_high >= high[block, None])).all(axis=2)
