@@ -1,6 +1,7 @@
 """Objects that place one mesh (a scene file's model placed again and again) share its GPU buffers:
 each holds only its own lit rows. The pictures are those of objects each with a copy of the mesh, and
-the mesh's buffers go with the last object that draws it."""
+the mesh's buffers go with the last object that draws it. A frame works out again only the matrices
+of objects that moved."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ from marraztu.loaders.registry import load_model
 from marraztu.loaders.scenefile import load_builtin_scene
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Fill, Material, Scene, SceneObject, Shading, TermView
+from marraztu.render import renderer as renderer_module
 from marraztu.render.gpu import LIT_ROW_BYTES, surface_arrays
 from marraztu.render.renderer import Renderer
 from marraztu.resources import ASSET_DIR
@@ -129,3 +131,21 @@ def test_a_mesh_s_buffers_go_with_its_last_object(own_ctx, own_renderer) -> None
         own_renderer.release_object(scene.objects[0])
         assert own_renderer._meshes.held == []
     assert dropped.leaked == 0
+
+
+def test_a_frame_works_out_only_the_matrices_of_objects_that_moved(own_ctx, own_renderer, monkeypatch) -> None:
+    inverted = []
+    normal_matrix = renderer_module.normal_matrix
+    monkeypatch.setattr(renderer_module, "normal_matrix", lambda model: inverted.append(1) or normal_matrix(model))
+    scene = placed_scene([load_model(RAMMER)] * COPIES)
+    corpus.render_float(own_ctx, own_renderer, scene, SIZE)
+    assert len(inverted) == COPIES
+    corpus.render_float(own_ctx, own_renderer, scene, SIZE)
+    assert len(inverted) == COPIES  # a still frame: none
+    moved = scene.objects[2]
+    moved.history.append(moved.model @ np.diag([1.0, 2.0, 1.0, 1.0]))
+    moved_picture = corpus.render_float(own_ctx, own_renderer, scene, SIZE)
+    assert len(inverted) == COPIES + 1
+    for obj in scene.objects:
+        own_renderer.release_object(obj)
+    assert np.array_equal(moved_picture, corpus.render_float(own_ctx, own_renderer, scene, SIZE))  # as if new

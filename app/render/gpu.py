@@ -730,7 +730,8 @@ class ObjectGpu:
             raise
         self._surfaces: dict[SurfaceWay, moderngl.VertexArray] = {}
         self._lit: dict[Shading, LitRows] = {}
-        self.placement: tuple[bytes, bytes, bytes] | None = None  # the renderer's: see Renderer._set_model
+        # (the model and frame origin's bytes, u_model's, u_normal_matrix's) as last drawn: Renderer._set_model
+        self.placement: tuple[bytes, bytes, bytes] | None = None
         shared.users += 1
 
     @property

@@ -82,6 +82,12 @@ _VIEW_UNIFORM_BY_PROJECTION = {Projection.PERSPECTIVE: "u_eye_position", Project
 _VIEW_UNIFORMS = frozenset(_VIEW_UNIFORM_BY_PROJECTION.values())
 
 
+def gl_matrix(matrix: np.ndarray) -> bytes:
+    """A matrix's bytes as GL reads a uniform's: numpy is row-major and GL column-major, so M.T's bytes
+    are M for GL."""
+    return np.ascontiguousarray(matrix.T, dtype="f4").tobytes()
+
+
 class Uniforms:
     """The uniforms of a program, or of programs that always hold the same values, looked up once.
     Uniforms the GLSL compiler removed as unused are skipped silently: e.g. u_colour does not exist
@@ -106,17 +112,17 @@ class Uniforms:
                 handle.value = value
 
     def set_matrix(self, name: str, matrix: np.ndarray) -> None:
-        """numpy is row-major and GL reads column-major, so M.T's bytes are M for GL."""
-        self._write(name, np.ascontiguousarray(matrix.T, dtype="f4").tobytes())
+        self.set_bytes(name, gl_matrix(matrix))
 
     def set_array(self, name: str, values: np.ndarray) -> None:
-        self._write(name, np.ascontiguousarray(values).tobytes())
+        self.set_bytes(name, np.ascontiguousarray(values).tobytes())
 
     def values(self) -> tuple[tuple[str, bytes], ...]:
         """Every uniform written so far with its value: equal tuples, equal program state."""
         return tuple(self._held.items())
 
-    def _write(self, name: str, data: bytes) -> None:
+    def set_bytes(self, name: str, data: bytes) -> None:
+        """The uniform's value as the bytes GL reads (gl_matrix's, set_array's)."""
         handles = self._handles.get(name)
         if handles is not None and self._changed(name, data):
             for handle in handles:
@@ -197,7 +203,10 @@ class Renderer:
         # A shading's two lighting passes, where it has both, read the same uniforms: set once for both.
         self.lighting_uniforms = {way: Uniforms(*self.programs.lighting_passes(way)) if way.lights_vertices
                                   else self.surface_uniforms[SurfaceWay(way)] for way in Shading}
-        self.way = SurfaceWay(Shading.FLAT)
+        # The current view's way, the uniforms of its surface program and of the program that lights it
+        # (its lighting pass in Flat and Gouraud, the surface program itself in Phong), and whether the
+        # surface program reads the lighting pass's rows: set by _use_way, with object_uniforms.
+        self._use_way(SurfaceWay(Shading.FLAT))
         # The frame's world origin for the GPU (Renderer._frame_origin): subtracted from every world
         # position the uniforms carry, in 64-bit numbers, so that the GPU's 32-bit ones stay small.
         self.origin = np.zeros(3)
@@ -275,18 +284,12 @@ class Renderer:
         if way not in self.programs.surfaces:
             self.programs.surfaces[way] = program = self._surface_program(way)
             self.surface_uniforms[way] = Uniforms(program)
-        self.way = way
-
-    @property
-    def surface(self) -> Uniforms:
-        """The uniforms of the surface program the current view draws with."""
-        return self.surface_uniforms[self.way]
-
-    @property
-    def lighting(self) -> Uniforms:
-        """The uniforms of the program that lights the current view: its lighting pass (Flat,
-        Gouraud), or the surface program itself (Phong, per pixel)."""
-        return self.lighting_uniforms[self.way.shading]
+        # Looked up once a view, not once an object drawn.
+        self.way, self.surface, self.lighting = way, self.surface_uniforms[way], self.lighting_uniforms[way.shading]
+        # Those that read each object's model and whether it is vertex coloured (Phong's are one).
+        self.object_uniforms = (self.surface,) if self.lighting is self.surface else (self.surface, self.lighting)
+        # Gouraud's depth view reads no lit row (Flat's reads its N.V): nothing to light for it.
+        self.reads_lit_rows = way.shading.lights_vertices and LIT_LAYOUT[1] in self.programs.surfaces[way]
 
     def _gpu_for(self, obj: SceneObject, part: int = WHOLE) -> ObjectGpu:
         mesh = obj.mesh if part == WHOLE else obj.mesh.parts[part].mesh
@@ -448,28 +451,37 @@ class Renderer:
         self.lighting.set_array("u_light_direction", direction)
         self.lighting.set_array("u_light_cos_aperture", cos_aperture)
 
-    def _set_model(self, uniforms: Iterable[Uniforms], model: np.ndarray, mesh: Mesh) -> None:
-        """`model` for a mesh's GPU rows: from its gpu_origin, into the world less the frame's origin."""
-        normals = normal_matrix(model)
-        if mesh.gpu_origin.any() or self.origin.any():
-            model = translation_by(-self.origin) @ model @ translation_by(mesh.gpu_origin)
+    def _set_model(self, uniforms: Iterable[Uniforms], model: np.ndarray, gpu: ObjectGpu) -> None:
+        """The object's model and normal matrices, worked out again only when it or the frame's origin
+        has moved since its last draw (a still scene of a thousand objects inverts no matrix)."""
+        key = model.tobytes() + self.origin.tobytes()
+        if gpu.placement is None or gpu.placement[0] != key:
+            gpu.placement = (key, *self._placement(model, gpu.shared))
+        _, model_bytes, normal_bytes = gpu.placement
         for u in uniforms:
-            u.set_matrix("u_model", model)
-            u.set_matrix("u_normal_matrix", normals)
+            u.set_bytes("u_model", model_bytes)
+            u.set_bytes("u_normal_matrix", normal_bytes)
+
+    def _placement(self, model: np.ndarray, shared: MeshGpu) -> tuple[bytes, bytes]:
+        """`model` for a mesh's GPU rows (from its gpu_origin, into the world less the frame's origin)
+        and its normal matrix, as GL reads them."""
+        normals = normal_matrix(model)
+        if shared.offset or self.origin.any():
+            model = translation_by(-self.origin) @ model @ translation_by(shared.mesh.gpu_origin)
+        return gl_matrix(model), gl_matrix(normals)
 
     # --- drawing -----------------------------------------------------------------------------
     def _draw_surface(self, item: DrawItem, gpu: ObjectGpu) -> None:
         material = item.obj.material_of(item.file_material)
         lighting = self.lighting
-        self._set_model({self.surface, lighting}, item.obj.model, gpu.mesh)
+        self._set_model(self.object_uniforms, item.obj.model, gpu)
         lighting.set("u_ka", tuple(material.ka))
         lighting.set("u_kd", tuple(material.kd))
         lighting.set("u_ks", tuple(material.ks))
         lighting.set("u_ns", float(material.ns))
-        for uniforms in (self.surface, lighting):  # the lighting pass tints its rows; Phong, its pixels
+        for uniforms in self.object_uniforms:  # the lighting pass tints its rows; Phong, its pixels
             uniforms.set("u_vertex_coloured", gpu.shared.vertex_coloured)
-        # Gouraud's depth view reads no lit row (Flat's reads its N.V): nothing to light for it.
-        if self.way.shading.lights_vertices and LIT_LAYOUT[1] in self.programs.surfaces[self.way]:
+        if self.reads_lit_rows:
             self.lighting_passes += gpu.light(self.way.shading, self._lighting_inputs(material), item.start, item.stop)
         assert self.texture is not None
         picture = item.obj.mesh.materials[item.file_material].texture if item.file_material >= 0 else None
@@ -499,7 +511,7 @@ class Renderer:
         self.ctx.disable(moderngl.DEPTH_TEST)
 
     def _draw_edges(self, item: DrawItem, gpu: ObjectGpu, selected: bool) -> None:
-        self._set_model([self.edges], item.obj.model, gpu.mesh)
+        self._set_model([self.edges], item.obj.model, gpu)
         self.edges.set("u_colour", SELECTED_LINE_COLOUR if selected else LINE_COLOUR)
         self._draw_edge_lines(gpu.shared, gpu.shared.edge_range(item.start, item.stop))
 
@@ -512,7 +524,7 @@ class Renderer:
         part, face = part_of_face(obj, obj.selected_face % obj.mesh.face_count)
         gpu = self._gpu_for(obj, part)
         self.ctx.disable(moderngl.DEPTH_TEST)
-        self._set_model([self.edges], obj.model, gpu.mesh)
+        self._set_model([self.edges], obj.model, gpu)
         self.edges.set("u_outline", True)
         self.edges.set("u_colour", PROBE_COLOUR)
         self._draw_edge_lines(gpu.shared, gpu.shared.edge_range(face, face + 1))
@@ -522,7 +534,7 @@ class Renderer:
 
     def _draw_normals(self, item: DrawItem, gpu: ObjectGpu, face_normals: bool) -> None:
         """Face normals where lighting uses them (Flat), vertex normals otherwise (Gouraud, Phong)."""
-        self._set_model([self.normals], item.obj.model, gpu.mesh)
+        self._set_model([self.normals], item.obj.model, gpu)
         self.normals.set("u_length", NORMAL_LENGTH_FRACTION * item.obj.mesh.size)  # the whole object's scale
         shared = gpu.shared
         if face_normals:  # one point per normal: normals.glsl draws its segment
