@@ -26,7 +26,7 @@ from support import corpus
 
 TINY_ARGS = ["--load-sizes", "200,400", "--sizes", "300", "--resolutions", "48x32", "--frames", "2",
              "--warmup", "1", "--repeats", "1", "--rounds", "1", "--start-runs", "1", "--cpu-frames", "2",
-             "--shape-megabytes", "1", "--idle-seconds", "0.5", "--load-pause", "0.1"]
+             "--objects", "20", "--shape-megabytes", "1", "--idle-seconds", "0.5", "--load-pause", "0.1"]
 
 
 def markdown_tables(text: str) -> dict[tuple[str, ...], list[list[str]]]:
@@ -71,7 +71,7 @@ def test_every_section_prints_one_whole_table(report: str) -> None:
     expected = {LOAD_HEADERS: 4 * len(loaders) + len(FORMATS) * len(other_format_loaders),
                 PAUSE_HEADERS: 2 + ("rapidobj" in loaders),  # ours with and without numpy's huge pages
                 FRAME_HEADERS: 2 * len(MODES),  # the built-in scene and the 300-triangle grid
-                CPU_HEADERS: len(MODES),
+                CPU_HEADERS: 2 * len(MODES),  # the built-in scene and 20 objects of one mesh
                 START_HEADERS: len(START_COMMANDS),
                 MEMORY_HEADERS: 4,
                 SHAPE_HEADERS: len(SHAPES)}
@@ -142,7 +142,8 @@ def test_sizes_and_shortcuts_parse() -> None:
 
 @pytest.mark.parametrize("option, value", [("--load-pause", "-1"), ("--load-pause", "inf"), ("--load-pause", "nan"),
                                            ("--idle-seconds", "0"), ("--idle-seconds", "inf"),
-                                           ("--frame-budget", "nan"), ("--frame-budget", "0"), ("--sizes", "inf"),
+                                           ("--frame-budget", "nan"), ("--frame-budget", "0"), ("--objects", "0"),
+                                           ("--sizes", "inf"),
                                            ("--sizes", "1e12"), ("--sizes", "nan"), ("--load-sizes", "1,1e400")])
 def test_pauses_and_sizes_must_be_finite_and_bounded(option: str, value: str) -> None:
     with pytest.raises(SystemExit):

@@ -24,6 +24,7 @@ class BenchConfig:
     rounds: int  # processes per (loader, file), the loaders taking turns; the median of all loads is reported
     start_runs: int
     cpu_frames: int
+    objects: int  # placements of one model in the CPU section's scene of many objects
     shape_megabytes: int  # the size of each input shaped to break linear cost
     idle_seconds: float  # how long the window is left alone while its CPU is measured
     load_pause_s: float  # how long a process waits before its load after a pause
@@ -35,12 +36,12 @@ class BenchConfig:
 DEFAULT_CONFIG = BenchConfig(
     load_sizes=(100_000, 1_000_000), frame_sizes=(100_000, 1_000_000, 5_000_000),
     resolutions=((1280, 720), (1920, 1080)), frames=10, warmup=1, frame_budget_s=5.0, repeats=3, rounds=3,
-    start_runs=3, cpu_frames=100, shape_megabytes=50, idle_seconds=10.0, load_pause_s=4.0,
+    start_runs=3, cpu_frames=100, objects=1000, shape_megabytes=50, idle_seconds=10.0, load_pause_s=4.0,
     sections=SECTIONS, loaders=LOADERS)
 QUICK_CONFIG = replace(
     DEFAULT_CONFIG, load_sizes=(10_000, 50_000), frame_sizes=(20_000,), resolutions=((1280, 720),),
-    frames=5, warmup=1, frame_budget_s=1.0, repeats=1, rounds=1, start_runs=1, cpu_frames=30, shape_megabytes=5,
-    idle_seconds=2.0, load_pause_s=1.0)
+    frames=5, warmup=1, frame_budget_s=1.0, repeats=1, rounds=1, start_runs=1, cpu_frames=30, objects=200,
+    shape_megabytes=5, idle_seconds=2.0, load_pause_s=1.0)
 
 
 # The largest generated mesh: 100M triangles take tens of GB in the bench's own tables already.
@@ -105,6 +106,8 @@ def bench_parser() -> argparse.ArgumentParser:
                         help="processes per loader and file, the loaders taking turns (default 3)")
     parser.add_argument("--start-runs", type=int, metavar="N", help="runs of each start command (default 3)")
     parser.add_argument("--cpu-frames", type=int, metavar="N", help="frames timed for CPU per frame (default 100)")
+    parser.add_argument("--objects", type=int, metavar="N",
+                        help="placements of one model in the CPU per frame of many objects (default 1000)")
     parser.add_argument("--shape-megabytes", type=int, metavar="N",
                         help="size of each input shaped to break linear cost (default 50)")
     parser.add_argument("--idle-seconds", type=float, metavar="S",
@@ -132,10 +135,10 @@ def config_from_args(argv: Sequence[str]) -> BenchConfig:
                                 for name, value in overrides.items()})
     if args.skip_5m:
         config = replace(config, frame_sizes=tuple(n for n in config.frame_sizes if n < 5_000_000))
-    if min(config.frames, config.repeats, config.rounds, config.start_runs, config.cpu_frames,
+    if min(config.frames, config.repeats, config.rounds, config.start_runs, config.cpu_frames, config.objects,
            config.shape_megabytes) < 1 or config.warmup < 1 or not 0 < config.idle_seconds < math.inf \
             or not 0 <= config.load_pause_s < math.inf or not 0 < config.frame_budget_s < math.inf:
-        parser.error("--frames, --warmup, --repeats, --rounds, --start-runs, --cpu-frames and --shape-megabytes "
-                     "must be at least 1, --idle-seconds and --frame-budget more than 0 and --load-pause at "
-                     "least 0, all finite")
+        parser.error("--frames, --warmup, --repeats, --rounds, --start-runs, --cpu-frames, --objects and "
+                     "--shape-megabytes must be at least 1, --idle-seconds and --frame-budget more than 0 and "
+                     "--load-pause at least 0, all finite")
     return config

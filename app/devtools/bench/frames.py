@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import statistics
 import time
 from collections.abc import Callable, Iterator
@@ -26,7 +27,7 @@ if TYPE_CHECKING:
 
 FRAME_HEADERS = ("scene", "triangles", "size", "mode", "still ms", "moving ms", "bare ms", "bare moving ms",
                  "inputs ms", "still ÷ bare", "moving ÷ bare", "moving ÷ bare moving", "still ÷ inputs", "frames")
-CPU_HEADERS = ("mode", "program process ms", "program thread ms", "program without draw calls ms",
+CPU_HEADERS = ("scene", "mode", "program process ms", "program thread ms", "program without draw calls ms",
                "bare process ms", "bare thread ms")
 
 
@@ -385,6 +386,26 @@ def bench_scene(mesh: Mesh | None) -> Scene:
     return scene
 
 
+def many_objects_scene(count: int) -> Scene:
+    """The built-in scene (bench_scene) with its Rammer_255 alone, placed `count` times in a square
+    that fills the camera's view, each turned a little more: one Mesh for all."""
+    from marraztu.model.scene import SceneObject
+    from marraztu.model.transforms import placement
+
+    scene = bench_scene(None)
+    rammer = next(obj for obj in scene.objects if obj.name == "Rammer_255")
+    side = math.ceil(math.sqrt(count))
+    step = 260.0 / side  # the square is 260 units wide at the origin, 150 in front of the camera
+    scene.objects = []
+    for k in range(count):
+        model = rammer.model @ placement((0.0, 0.0, 0.0), (0.0, 0.0, 7.0 * k))
+        model[:3, :3] *= 3.0 / side  # each about four fifths of its step across
+        model[:3, 3] = ((k % side - (side - 1) / 2) * step, (k // side - (side - 1) / 2) * step, 0.0)
+        scene.objects.append(SceneObject(f"Rammer_255 {k}", rammer.mesh, rammer.material, [model]))
+    scene.selected_object = 0
+    return scene
+
+
 @contextmanager
 def scene_and_bare(bench: FrameBench, scene: Scene) -> Iterator[BareDraw]:
     """`scene` ready to draw with its texture, and the bare program on the same vertex data; both
@@ -468,28 +489,32 @@ def frames_section(bench: FrameBench, config: BenchConfig) -> list[str]:
 
 
 def cpu_section(bench: FrameBench, config: BenchConfig) -> list[str]:
-    """Python CPU per frame on the built-in scene: render() without finish, GPU work waited out
-    between frames so none of it lands in the next measurement."""
-    scene = bench_scene(None)
+    """Python CPU per frame on the built-in scene and on one of many objects: render() without finish,
+    GPU work waited out between frames so none of it lands in the next measurement."""
     size = config.resolutions[0]
+    many = f"{config.objects:,} × Rammer_255"
     rows = []
-    with scene_and_bare(bench, scene) as bare, framebuffer(bench, size) as fbo:
-        for mode in MODES:
-            progress(f"CPU per frame: built-in {mode}")
-            set_mode(scene, mode)
-            program = _cpu_per_frame(bench.ctx, lambda: bench.renderer.render(scene, fbo, size), config)
-            with _draw_calls_skipped():
-                python_only = _cpu_per_frame(bench.ctx, lambda: bench.renderer.render(scene, fbo, size), config)
-            bare_cpu = _cpu_per_frame(bench.ctx, lambda: bare.render(fbo, size, mode), config)
-            rows.append([mode, *(number(ms) for ms in (*program, python_only[1], *bare_cpu))])
+    for label, scene in (("built-in", bench_scene(None)), (many, many_objects_scene(config.objects))):
+        with scene_and_bare(bench, scene) as bare, framebuffer(bench, size) as fbo:
+            for mode in MODES:
+                progress(f"CPU per frame: {label} {mode}")
+                set_mode(scene, mode)
+                program = _cpu_per_frame(bench.ctx, lambda: bench.renderer.render(scene, fbo, size), config)
+                with _draw_calls_skipped():
+                    python_only = _cpu_per_frame(bench.ctx, lambda: bench.renderer.render(scene, fbo, size), config)
+                bare_cpu = _cpu_per_frame(bench.ctx, lambda: bare.render(fbo, size, mode), config)
+                rows.append([label, mode, *(number(ms) for ms in (*program, python_only[1], *bare_cpu))])
     return [
-        "### Python CPU per frame, built-in scene",
+        "### Python CPU per frame",
         "",
         f"Median over {config.cpu_frames} frames at {size[0]}x{size[1]} of `time.process_time()` (all "
         "threads) and `time.thread_time()` (the calling thread) around `render` alone, without "
         "`finish`. llvmpipe runs vertex shading in the calling thread, so both include some driver "
         "work; the bare columns are that floor. *without draw calls*: thread time with "
-        "`VertexArray.render` made a no-op, i.e. the renderer's own Python work.",
+        "`VertexArray.render` made a no-op, i.e. the renderer's own Python work. Scenes: the built-in "
+        f"one, and {many}: the built-in scene with its Rammer_255 placed {config.objects:,} times in a "
+        "square, one mesh for all, as a scene file placing one model again and again (what the renderer "
+        "spends per object; the bare draw builds buffers of its own for each).",
         "",
         *markdown_table(CPU_HEADERS, rows),
     ]
