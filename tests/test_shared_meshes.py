@@ -30,11 +30,7 @@ MATERIALS = [Material(ka=(0.1 * k, 0.2, 0.3), kd=(0.5, 0.1 * k, 0.4), ks=(0.6, 0
 
 @pytest.fixture(scope="module")
 def own_renderer(own_ctx):
-    corpus.make_current(own_ctx)
-    renderer = Renderer(own_ctx)
-    yield renderer
-    corpus.make_current(own_ctx)
-    renderer.release()
+    yield from corpus.own_renderer(own_ctx)
 
 
 def placed_scene(meshes: list[Mesh]) -> Scene:

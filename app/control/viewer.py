@@ -163,11 +163,10 @@ class BackgroundLoader:
 
 
 class _StartLoad(NamedTuple):
-    """A start-up load's outcome, told with the rest of its batch (Viewer._tell_start_loads)."""
-    failure: str = ""  # its message, where it failed
-    obj: SceneObject | None = None
-    path: Path | None = None
-    joined: bool = False  # joined objects from elsewhere: where it stands is said
+    """A start-up model that loaded, told with the rest of its batch (Viewer._tell_start_loads)."""
+    obj: SceneObject
+    path: Path
+    joined: bool  # joined objects from elsewhere: where it stands is said
 
 
 class Viewer:
@@ -193,7 +192,7 @@ class Viewer:
         self._start_models_to_frame = False  # some of them joined since they were last framed
         # Told once the batch is in: where each stands then comes from one look at the scene, not one
         # per model (thousands of models on the command line).
-        self._start_loads: list[_StartLoad] = []
+        self._start_loads: list[_StartLoad | str] = []  # a failure as its message
 
     # --- start-up ------------------------------------------------------------------------------
     def start(self, options: StartOptions, longest_texture_side: int) -> None:
@@ -369,7 +368,7 @@ class Viewer:
             self.scene.message = str(error)
             raise error
         if self._at_start(at_start):
-            self._start_loads.append(_StartLoad(failure=str(error)))
+            self._start_loads.append(str(error))
         else:
             self.tell(str(error), at_start)
         return False
@@ -383,7 +382,7 @@ class Viewer:
             self._start_models_alone = together  # a model from elsewhere joins: no longer theirs alone
             self._start_models_to_frame = together
         if self._at_start(at_start) and not as_camera:
-            self._start_loads.append(_StartLoad(obj=obj, path=Path(path), joined=not together))
+            self._start_loads.append(_StartLoad(obj, Path(path), joined=not together))
             return
         kind = "camera" if as_camera else "object"
         where = "" if as_camera else self._unseen([obj])[0]
@@ -393,15 +392,14 @@ class Viewer:
         """The start-up loads' messages, in the order asked, once the batch has joined the scene."""
         loads = self._start_loads.copy()
         self._start_loads.clear()  # the same list: a refused press leaves the viewer as it found it
-        joined = [load.obj for load in loads if load.obj is not None and load.joined]
+        joined = [load.obj for load in loads if isinstance(load, _StartLoad) and load.joined]
         wheres = iter(self._unseen(joined))
         told = []
         for load in loads:
-            if load.obj is None:
-                told.append((load.failure, True))
+            if isinstance(load, str):
+                told.append((load, True))
             else:
-                where = next(wheres) if load.joined else ""
-                told.append(_loaded_message(load.obj, load.path or Path(), "object", where))
+                told.append(_loaded_message(load.obj, load.path, "object", next(wheres) if load.joined else ""))
         self._tell_each(told, at_start=True)
 
     def _unseen(self, objects: list[SceneObject]) -> list[str]:

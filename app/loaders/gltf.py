@@ -544,8 +544,8 @@ def gltf_counts(document: dict[str, Any] | None) -> tuple[int, int, int] | None:
 
 def _placed_nodes(document: dict[str, Any]) -> Iterator[dict[str, Any]]:
     """Each node of the scene each time trimesh places it: walked from the scene's roots, an edge from a
-    parent to a child once, each node's children queued once (a node under two parents is placed
-    twice; a cycle ends)."""
+    parent to a child once (a scene root that is also a node's child is placed twice), each node's
+    children queued once."""
     nodes = document.get("nodes", [])
     edges = [("root", root) for root in _roots(document)]
     consumed, opened = set(), set()

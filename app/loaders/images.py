@@ -255,12 +255,8 @@ def check_picture_header(source: str | Path, data: bytes | memoryview) -> None:
     if kind == "JPEG" and _jpeg_scans(data) > MAX_JPEG_SCANS:
         raise LoadError(source, f"more than {MAX_JPEG_SCANS} scans, each decoded over the whole picture: a "
                                 "progressive JPEG has about 10")
-    chunks = _png_chunks(data) if kind == "PNG" else _PngChunks(0, None)
-    if chunks.extra > MAX_HEADER_PARTS:
-        raise LoadError(source, f"more than {MAX_HEADER_PARTS} chunks besides its pixels: no PNG holds so many")
-    if chunks.past_end is not None:
-        raise LoadError(source, "a broken PNG: its chunk at byte {} says it holds {} bytes, past the file's end "
-                                "({} bytes)".format(*chunks.past_end, len(data)))
+    if kind == "PNG":
+        _check_png_chunks(source, data)
 
 
 def check_picture(source: str | Path, data: bytes) -> None:
@@ -333,24 +329,22 @@ def _jpeg_header(data: bytes | memoryview) -> _JpegHeader:
     return _JpegHeader(steps, precision)
 
 
-class _PngChunks(NamedTuple):
-    extra: int  # the chunks besides the pixels' (IDAT, fdAT) up to the end (up to one past the limit)
-    past_end: tuple[int, int] | None  # (byte, length) of a chunk that runs past the file's end
-
-
-def _png_chunks(data: bytes | memoryview) -> _PngChunks:
-    """The chunks walked by their lengths: a length past the file's end is refused before Pillow, which
-    asks for the whole of an IDAT's at once (4 GiB for a length of 0xFFFFFFFF in a 77-byte file)."""
+def _check_png_chunks(source: str | Path, data: bytes | memoryview) -> None:
+    """The chunks walked by their lengths, up to the end: more than MAX_HEADER_PARTS besides the pixels'
+    (IDAT, fdAT), or a length past the file's end, is refused before Pillow, which asks for the whole
+    of an IDAT's at once (4 GiB for a length of 0xFFFFFFFF in a 77-byte file)."""
     view, at, chunks = memoryview(data), 8, 0
-    while at + 8 <= len(view) and chunks <= MAX_HEADER_PARTS:
+    while at + 8 <= len(view):
         kind, length = bytes(view[at + 4:at + 8]), int.from_bytes(view[at:at + 4], "big")
         if at + 8 + length > len(view):  # its data; a missing checksum is Pillow's to judge
-            return _PngChunks(chunks, (at, length))
+            raise LoadError(source, f"a broken PNG: its chunk at byte {at} says it holds {length} bytes, past the "
+                                    f"file's end ({len(view)} bytes)")
         chunks += kind not in (b"IDAT", b"fdAT")
+        if chunks > MAX_HEADER_PARTS:
+            raise LoadError(source, f"more than {MAX_HEADER_PARTS} chunks besides its pixels: no PNG holds so many")
         if kind == b"IEND":
             break
         at += 12 + length
-    return _PngChunks(chunks, None)
 
 
 class _HeaderRefused(SyntaxError):

@@ -610,9 +610,6 @@ class Scene:
         clips = homogeneous @ (self.projection_matrix(aspect) @ self.view_matrix()).T
         return [_sight_of(clip) for clip in clips]
 
-    def enclosing(self, element: SceneObject) -> SceneObject | None:
-        return self.enclosers([element])[0]
-
     def enclosers(self, elements: list[SceneObject]) -> list[SceneObject | None]:
         """For each element, the first other shown element whose world box holds its whole (a model in
         metres loaded at the origin, inside Rammer_255), which may hide it; None where there is none."""
