@@ -152,3 +152,35 @@ def test_the_ground_grid_is_drawn_in_its_colour(tmp_path: Path) -> None:
     grid = np.round(np.float32(GRID_COLOUR) * 255).astype(int)
     on_grid = (np.abs(pixels - grid).max(axis=2) <= 1)
     assert on_grid[SIZE[1] // 2:].sum() > 100 and not on_grid[: SIZE[1] // 2 - 2].any()  # below the horizon only
+
+
+def ground_plane(tmp_path: Path, half: float = 20.0, cells: int = 8) -> Path:
+    """A square of quads lying in y = 0: the ground grid's own plane."""
+    path = tmp_path / "ground.obj"
+    ticks = np.linspace(-half, half, cells + 1)
+    lines = [f"v {x} 0 {z}" for x in ticks for z in ticks]
+    for i in range(cells):
+        for j in range(cells):
+            a = i * (cells + 1) + j + 1
+            lines.append(f"f {a} {a + 1} {a + cells + 2} {a + cells + 1}")
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("camera", ["", " c t Y*3", " c t Y*5", " c t Y*6", " p"])
+def test_a_model_lying_on_the_ground_hides_the_grid_and_axes_in_its_plane(tmp_path: Path, camera: str) -> None:
+    # Lines and triangles in one plane get depths up to half a pixel apart: the grid and the x and z
+    # axes once showed through such a model as dots, most where the camera looks along the ground.
+    plane = (ground_plane(tmp_path),)
+    keys = "a" + camera
+    shown, hidden = picture(tmp_path, keys, plane), picture(tmp_path, keys.replace("a", "", 1).strip(), plane)
+    y_axis = np.round(AXIS_COLOURS[1] * 255).astype(int)  # rising from the origin, in front of the model
+    for x in (-15.0, -10.0, -6.0, -3.0, 0.0, 3.0, 6.0, 10.0, 15.0):
+        for z in (-15.0, -10.0, -6.0, -3.0, 0.0, 3.0, 6.0, 10.0, 15.0):
+            row, column = pixel_of(keys, (x, 0.0, z), plane)
+            near, bare = shown[row - 1:row + 2, column - 1:column + 2], hidden[row - 1:row + 2, column - 1:column + 2]
+            on_model = (bare != BACKGROUND).any(axis=2)  # seen edge on, the model is a few pixels thin
+            kept = (near == bare).all(axis=2) | (near == y_axis).all(axis=2)
+            assert kept[on_model].all(), (x, z, near, bare)
+            assert (bare[1, 1] != BACKGROUND).any()  # the model is there
+    assert (shown != hidden).any()  # the guides are drawn beside it

@@ -9,7 +9,8 @@ import numpy as np
 from marraztu.model.guides import Guides
 from marraztu.render.gpu import load_program
 
-ROW_BYTES = 6 * 4  # x y z r g b, float32
+ROW_BYTES = 7 * 4  # x y z r g b level, float32
+LEVEL_TOLERANCE = 1e-6  # of a segment's length: a rise this small still lies in a horizontal plane
 
 
 class GuidesDrawer:
@@ -21,17 +22,15 @@ class GuidesDrawer:
         self._rows = 0
         self._held: bytes = b""  # what the buffer holds: unchanged guides upload nothing
 
-    def draw(self, guides: Guides, view_projection: np.ndarray, fbo: moderngl.Framebuffer,
-             origin: np.ndarray) -> None:
+    def draw(self, guides: Guides, fbo: moderngl.Framebuffer, origin: np.ndarray) -> None:
         """The grid first, hidden by models but hiding nothing (no depth writes), so that the axes on
         it show even where it is seen edge on; then the axes, through the depth test. Positions are
-        measured from `origin`, as `view_projection` takes them (the renderer's frame origin)."""
+        measured from `origin`, the renderer's frame origin; the renderer sets the program's uniforms."""
         rows = np.concatenate([guides.grid, guides.axes])
         rows[:, :3] -= origin  # x y z first, r g b after
-        data = np.ascontiguousarray(rows, dtype="f4").tobytes()
+        data = np.ascontiguousarray(np.hstack([rows, _levels(rows)]), dtype="f4").tobytes()
         if data != self._held:
             self._upload(data)
-        self.program["u_view_projection"].write(np.ascontiguousarray(view_projection.T, dtype="f4").tobytes())
         grid_rows = len(guides.grid)
         fbo.depth_mask = False
         self.vao.render(moderngl.LINES, vertices=grid_rows)
@@ -42,7 +41,8 @@ class GuidesDrawer:
         if self.buffer is None or self.buffer.size < len(data):
             self.release()
             self.buffer = self.ctx.buffer(reserve=max(len(data), ROW_BYTES))
-            self.vao = self.ctx.vertex_array(self.program, [(self.buffer, "3f 3f", "in_position", "in_colour")])
+            self.vao = self.ctx.vertex_array(
+                self.program, [(self.buffer, "3f 3f 1f", "in_position", "in_colour", "in_level")])
         self.buffer.write(data)
         self._rows, self._held = len(data) // ROW_BYTES, data
 
@@ -56,3 +56,12 @@ class GuidesDrawer:
     def release_program(self) -> None:
         self.release()
         self.program.release()
+
+
+def _levels(rows: np.ndarray) -> np.ndarray:
+    """(N, 1): 1 on both rows of a horizontal segment (the grid, the x and z axes), whose likeliest
+    companion is a model lying in its plane, else 0 (guides.glsl pushes the first further)."""
+    starts, ends = rows[0::2, :3], rows[1::2, :3]
+    rise = np.abs(ends[:, 1] - starts[:, 1])
+    level = rise <= LEVEL_TOLERANCE * np.linalg.norm(ends - starts, axis=1)
+    return np.repeat(level, 2).astype(np.float64)[:, None]

@@ -88,6 +88,12 @@ def gl_matrix(matrix: np.ndarray) -> bytes:
     return np.ascontiguousarray(matrix.T, dtype="f4").tobytes()
 
 
+def _pixel_per_w(scene: Scene, view: View) -> float:
+    """A pixel's height in the world at clip w = 1: w is the depth in perspective and 1 in parallel,
+    and projection[1][1] maps a world height at w = 1 to half the view's height."""
+    return 2.0 / (float(scene.projection_matrix(view.aspect)[1, 1]) * view.viewport[3])
+
+
 class Uniforms:
     """The uniforms of a program, or of programs that always hold the same values, looked up once.
     Uniforms the GLSL compiler removed as unused are skipped silently: e.g. u_colour does not exist
@@ -223,6 +229,7 @@ class Renderer:
         self.marker = Uniforms(self.marker_program)
         self.marker_vao = ctx.vertex_array(self.marker_program, [])  # the position is a uniform
         self.guides = GuidesDrawer(ctx)
+        self.guide_uniforms = Uniforms(self.guides.program)
         self.texture: MipmappedTexture | None = None
         self._texture_image: np.ndarray | None = None  # the scene's picture the texture was made from
         self._set_texture(WHITE)
@@ -351,8 +358,8 @@ class Renderer:
         self._set_gl_state(depth_test=filled)
         self._use_way(SurfaceWay(view.shading, depth_view=scene.modes.term_view.shows is Show.DEPTH))
         self.origin = self._frame_origin(scene, items)
-        frame_view_projection = view_projection(scene, view) @ translation_by(self.origin)
-        self._set_frame_uniforms(scene, frame_view_projection)
+        self._set_frame_uniforms(scene, view_projection(scene, view) @ translation_by(self.origin))
+        self.guide_uniforms.set("u_pixel_per_w", _pixel_per_w(scene, view))
         if filled:
             for item, gpu in items:
                 self._draw_surface(item, gpu)
@@ -362,7 +369,7 @@ class Renderer:
             for item, gpu in items:
                 self._draw_normals(item, gpu, face_normals=view.shading is Shading.FLAT)
         if scene.modes.guides:
-            self.guides.draw(scene_guides(scene), frame_view_projection, self.ctx.fbo, self.origin)
+            self.guides.draw(scene_guides(scene), self.ctx.fbo, self.origin)
         if scene.modes.probe or scene.modes.pipeline:  # the face the panel follows
             self._draw_probe_outline(scene)
         if scene.modes.target is Target.LIGHTS:
@@ -409,9 +416,9 @@ class Renderer:
         parallel = modes.projection is Projection.PARALLEL
         eye = tuple(float(c) for c in scene.eye_position() - self.origin)
         backward = tuple(float(c) for c in scene.eye_backward())
-        for uniforms in (self.surface, self.edges, self.normals, self.marker):
+        for uniforms in (self.surface, self.edges, self.normals, self.marker, self.guide_uniforms):
             uniforms.set_matrix("u_view_projection", view_projection)
-        for uniforms in (self.lighting, self.edges):
+        for uniforms in (self.lighting, self.edges, self.guide_uniforms):
             uniforms.set("u_parallel", parallel)
             uniforms.set("u_eye_position", eye)
             uniforms.set("u_eye_backward", backward)
