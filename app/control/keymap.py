@@ -63,6 +63,11 @@ def _on_off(flag: bool) -> str:
     return "on" if flag else "off"
 
 
+def _switch(token: str, description: str, switch: str) -> Command:
+    """The key of one on/off switch of the modes, shown in the help overlay as on or off."""
+    return Command(token, description, commands.toggle(switch), lambda scene: _on_off(getattr(scene.modes, switch)))
+
+
 def _light_on(key: str) -> Callable[[Scene], str]:
     def state(scene: Scene) -> str:
         light = commands.light_by_key(scene, key)
@@ -120,24 +125,20 @@ def build_commands() -> list[Command]:
                 lambda s: "face only" if s.modes.triangle_only else "whole"),
         Command("d", "all objects / selected only", commands.toggle("draw_all"),
                 lambda s: "all" if s.modes.draw_all else "selected"),
-        Command("n", "normals on / off", commands.toggle("normals"), lambda s: _on_off(s.modes.normals)),
-        Command("b", "back-face culling on / off", commands.toggle("culling"),
-                lambda s: _on_off(s.modes.culling)),
+        _switch("n", "normals on / off", "normals"),
+        _switch("b", "back-face culling on / off", "culling"),
         Command("p", "perspective / parallel", commands.toggle_projection,
                 lambda s: s.modes.projection.value),
         Command("F", "flat / Gouraud shading", commands.toggle_shading, lambda s: s.modes.shading.value),
-        Command("T", "texture on / off", commands.toggle("texture"), lambda s: _on_off(s.modes.texture)),
+        _switch("T", "texture on / off", "texture"),
         Command("v", "lit colour: all / ambient / diffuse / specular / each light / depth / normals",
                 commands.cycle_term_view, Scene.term_view_name),
         Command("i", "lighting probe of the selected face", commands.toggle_probe,
                 lambda s: _on_off(s.modes.probe)),
-        Command("m", "matrices panel", commands.toggle("matrices"), lambda s: _on_off(s.modes.matrices)),
-        Command("P", "pipeline: the selected face from model space to the window, clipping, culling",
-                commands.toggle("pipeline"), lambda s: _on_off(s.modes.pipeline)),
-        Command("s", "side by side: Flat | Gouraud | Phong", commands.toggle("side_by_side"),
-                lambda s: _on_off(s.modes.side_by_side)),
-        Command("a", "grid and axes: the world's, and in local mode the object's own", commands.toggle("guides"),
-                lambda s: _on_off(s.modes.guides)),
+        _switch("m", "matrices panel", "matrices"),
+        _switch("P", "pipeline: the selected face from model space to the window, clipping, culling", "pipeline"),
+        _switch("s", "side by side: Flat | Gouraud | Phong", "side_by_side"),
+        _switch("a", "grid and axes: the world's, and in local mode the object's own", "guides"),
         *_light_commands(),
         Command("+", "widen the spotlight", commands.change_aperture(+commands.APERTURE_STEP_DEG),
                 _aperture_state),
@@ -148,8 +149,8 @@ def build_commands() -> list[Command]:
         Command("PAGEUP", "previous model file in that folder, in its place", commands.step_file(-1)),
         Command("F12", "save a screenshot", commands.save_screenshot),
         Command("F9", "record every new picture; F9 again saves them as a GIF", commands.toggle_recording),
-        Command("h", "help on / off", commands.toggle("show_help"), lambda s: _on_off(s.modes.show_help)),
-        Command("F1", "help on / off", commands.toggle("show_help"), lambda s: _on_off(s.modes.show_help)),
+        _switch("h", "help on / off", "show_help"),
+        _switch("F1", "help on / off", "show_help"),
         Command("ESC", "quit", commands.quit_viewer),
     ]
 
