@@ -293,6 +293,12 @@ def move_light(scene: Scene, kind: TransformKind, axis_index: int, amount: float
         say_aim(scene, scene.light, scene.light.name)
 
 
+def _moved_target(scene: Scene) -> Light | SceneObject | None:
+    """What x/y/z, a ctrl-drag and `u` act on now: the selected light, object or camera (None: objects
+    targeted, and none loaded)."""
+    return scene.light if scene.modes.target is Target.LIGHTS else scene.targeted_element
+
+
 _MOVERS = {Target.OBJECTS: move_object, Target.CAMERAS: move_camera, Target.LIGHTS: move_light}
 
 
@@ -440,12 +446,8 @@ def undo(scene: Scene, host: Host) -> None:
     scene.view_gesture = None
     if _undo_view_move(scene):
         return
-    if scene.modes.target is Target.LIGHTS:
-        undone = scene.light.undo()
-    else:
-        element = scene.targeted_element
-        undone = element is not None and element.undo()
-    if not undone:
+    target = _moved_target(scene)
+    if target is None or not target.undo():
         scene.message = "nothing to undo"
 
 
@@ -487,7 +489,7 @@ def drag(scene: Scene, dx_pixels: float, dy_pixels: float) -> None:
     r/t says. Window y grows downward: dragging right or down swings the near side right or down.
     The events of one drag make one undo step, as the view's gestures do."""
     # A key or a button ends the gesture (end_view_gesture): the selection cannot change within one.
-    target = scene.light if scene.modes.target is Target.LIGHTS else scene.targeted_element
+    target = _moved_target(scene)
     if scene.view_gesture != "drag":
         scene.drag_depth = 0 if target is None else len(target.history)
     if dx_pixels:
@@ -534,18 +536,22 @@ LIGHTS_LOAD_REFUSAL = "cannot load a file while lights are targeted"
 
 def request_file(scene: Scene, host: Host) -> None:
     """`f`: the host asks for a file name (in the window) and loads it."""
-    if scene.modes.target is Target.LIGHTS:
-        scene.message = LIGHTS_LOAD_REFUSAL
-        return
-    host.open_file_prompt()
+    if not _refuses_loading(scene):
+        host.open_file_prompt()
 
 
 def load_file(scene: Scene, host: Host, path: str) -> None:
     """An `f=PATH` press: as `f` with the name already given."""
+    if not _refuses_loading(scene):
+        host.load_model(path)
+
+
+def _refuses_loading(scene: Scene) -> bool:
+    """Whether `f` is refused now, saying why: a file becomes an object or a camera, never a light."""
     if scene.modes.target is Target.LIGHTS:
         scene.message = LIGHTS_LOAD_REFUSAL
-        return
-    host.load_model(path)
+        return True
+    return False
 
 
 def loads_as_camera(scene: Scene) -> bool:
