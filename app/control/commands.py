@@ -658,21 +658,30 @@ def delete_selected(scene: Scene, host: Host) -> None:
     if target is Target.LIGHTS:
         scene.message = "lights cannot be deleted (switch them off with their keys)"
     elif target is Target.CAMERAS:
-        if len(scene.cameras) == 1:
-            scene.message = "the last camera cannot be deleted"
-            return
-        removed = scene.cameras.pop(scene.selected_camera)
-        scene.selected_camera = min(scene.selected_camera, len(scene.cameras) - 1)
-        scene.message = f"deleted the camera {removed.name}; looking through {scene.camera.name}"
-    elif scene.objects:
-        removed = scene.objects.pop(scene.selected_object)
-        scene.selected_object = max(0, min(scene.selected_object, len(scene.objects) - 1))
-        if not scene.objects:
-            scene.modes.view_from_object = False
-        left = f"{scene.object.name} selected" if scene.object is not None else "no objects left"
-        scene.message = f"deleted {removed.name}; {left}"
+        _delete_camera(scene)
     else:
+        _delete_object(scene)
+
+
+def _delete_camera(scene: Scene) -> None:
+    if len(scene.cameras) == 1:
+        scene.message = "the last camera cannot be deleted"
+        return
+    removed = scene.cameras.pop(scene.selected_camera)
+    scene.selected_camera = min(scene.selected_camera, len(scene.cameras) - 1)
+    scene.message = f"deleted the camera {removed.name}; looking through {scene.camera.name}"
+
+
+def _delete_object(scene: Scene) -> None:
+    if not scene.objects:
         scene.message = "no object to delete"
+        return
+    removed = scene.objects.pop(scene.selected_object)
+    scene.selected_object = max(0, min(scene.selected_object, len(scene.objects) - 1))
+    if not scene.objects:
+        scene.modes.view_from_object = False
+    left = f"{scene.object.name} selected" if scene.object is not None else "no objects left"
+    scene.message = f"deleted {removed.name}; {left}"
 
 
 def quit_viewer(scene: Scene, host: Host) -> None:
