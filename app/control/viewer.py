@@ -202,17 +202,7 @@ class Viewer:
         self._start_models_alone = not self.scene.objects
         self.scene.message = ""
         try:
-            named = options.texture
-            if named is not None and self.strict:  # asked for by name: a bad one ends the command
-                self._set_texture(load_image(named), longest_texture_side)
-            else:
-                texture_path = named or (Path(self.scene.texture_path) if self.scene.texture_path else None)
-                image, message = load_texture_or_fallback(texture_path)
-                if message and named is None and self.scene.texture_named_at:  # the scene file's entry named it
-                    message = f"{self.scene.texture_named_at}: {message}"
-                if message:
-                    self.tell(message)
-                self._set_texture(image, longest_texture_side)
+            self._start_texture(options.texture, longest_texture_side)
             for model in options.models:
                 self.load_model(model)
             self._tell_start_loads()
@@ -222,6 +212,20 @@ class Viewer:
                 self.watcher.changed(self.scene)  # what the files are now: later changes are the news
         finally:
             self._starting = False
+
+    def _start_texture(self, named: Path | None, longest_side: int) -> None:
+        """The texture named on the command line, else the scene's; one that cannot be read is told
+        and stood in for, but where strict a named one ends the command."""
+        if named is not None and self.strict:  # asked for by name: a bad one ends the command
+            self._set_texture(load_image(named), longest_side)
+            return
+        texture_path = named or (Path(self.scene.texture_path) if self.scene.texture_path else None)
+        image, message = load_texture_or_fallback(texture_path)
+        if message and named is None and self.scene.texture_named_at:  # the scene file's entry named it
+            message = f"{self.scene.texture_named_at}: {message}"
+        if message:
+            self.tell(message)
+        self._set_texture(image, longest_side)
 
     def _set_texture(self, image: np.ndarray, longest_side: int) -> None:
         self.scene.texture, note = fit_texture(image, longest_side)
@@ -376,17 +380,18 @@ class Viewer:
     def _add(self, obj: SceneObject, path: Path, as_camera: bool, at_start: bool | None = None) -> None:
         # The command line's models are framed together while the scene holds only them, once the
         # ones that join together have (_frame_start_models): framing looks at every model.
-        together = self._at_start(at_start) and not as_camera and self._start_models_alone
+        starting = self._at_start(at_start)
+        together = starting and not as_camera and self._start_models_alone
         commands.add_loaded(self.scene, obj, as_camera=as_camera)
-        if not as_camera:
-            self._start_models_alone = together  # a model from elsewhere joins: no longer theirs alone
-            self._start_models_to_frame = together
-        if self._at_start(at_start) and not as_camera:
+        if as_camera:
+            self._tell_each([_loaded_message(obj, Path(path), "camera", "")], at_start)
+            return
+        self._start_models_alone = together  # a model from elsewhere joins: no longer theirs alone
+        self._start_models_to_frame = together
+        if starting:
             self._start_loads.append(_StartLoad(obj, Path(path), joined=not together))
             return
-        kind = "camera" if as_camera else "object"
-        where = "" if as_camera else self._unseen([obj])[0]
-        self._tell_each([_loaded_message(obj, Path(path), kind, where)], at_start)
+        self._tell_each([_loaded_message(obj, Path(path), "object", self._unseen([obj])[0])], at_start)
 
     def _tell_start_loads(self) -> None:
         """The start-up loads' messages, in the order asked, once the batch has joined the scene."""
