@@ -89,7 +89,7 @@ class LoadJob:
     as_camera: bool
     at_start: bool = False  # asked for on the command line: its outcome is told, not overwritten
     replaces: SceneObject | None = None  # PageDown / --watch: the element it takes the place of
-    future: Future = field(default_factory=Future)
+    future: Future[SceneObject] = field(default_factory=Future)
     # Written by the worker, read by the window's status line. Stages, not a percentage: the parser
     # works on whole arrays, so a percentage would jump in a few steps rather than move smoothly.
     stage: str = "waiting"
