@@ -34,11 +34,16 @@ def matrix_entries(matrix: np.ndarray, decimals: int) -> list[list[str]]:
     return rows + [[_entry(float(value), decimals, 0.0) for value in matrix[-1]]]
 
 
+def fixed(value: float, decimals: int) -> str:
+    """`value` with `decimals` decimals, never "-0.00": + 0.0 turns a rounded -0.0 into 0.0."""
+    return f"{round(value, decimals) + 0.0:.{decimals}f}"
+
+
 def _entry(value: float, decimals: int, largest: float) -> str:
     if abs(value) < NOISE_SHARE * largest:
         value = 0.0
     if value == 0.0 or abs(value) >= 10.0 ** (1 - decimals) or not math.isfinite(value):
-        return f"{round(value, decimals) + 0.0:.{decimals}f}"  # + 0.0: no "-0.00"
+        return fixed(value, decimals)
     mantissa, power = f"{value:.1e}".split("e")
     return f"{mantissa}e{int(power)}"
 

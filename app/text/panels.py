@@ -19,7 +19,7 @@ from marraztu.model.lights import DIRECTIONAL, Show, TermView, WorldLight, cone_
 from marraztu.model.probe import Probe, VertexProbe, probe
 from marraztu.model.scene import CameraMode, Frame, Projection, Scene, Shading, Target
 from marraztu.render.layout import Extras, Label, project, view_projection, views
-from marraztu.text.numbers import aligned_columns, matrix_entries, position_decimals
+from marraztu.text.numbers import aligned_columns, fixed, matrix_entries, position_decimals
 from marraztu.text.pipeline import pipeline_lines
 
 MAX_PROBED_VERTICES = 4  # more would not fit an 800 pixel window; the panel says how many are left
@@ -250,12 +250,11 @@ def _triple(values: Iterable[float], decimals: int) -> str:
 
 
 def _signed(value: float, decimals: int) -> str:
-    rounded = round(float(value), decimals) + 0.0  # + 0.0 turns -0.0 into 0.0: no "-0.00"
-    return f"{rounded: .{decimals}f}"
+    return _signed_entry(fixed(float(value), decimals))
 
 
 def _signed_entry(entry: str) -> str:
-    """Positive entries get a space, as _signed gives them."""
+    """A space before an entry without a minus, where a "+" would be (see _triple)."""
     return entry if entry.startswith("-") else " " + entry
 
 

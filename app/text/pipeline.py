@@ -10,7 +10,7 @@ import numpy as np
 
 from marraztu.model.pipeline import CornerStages, FacePipeline, face_pipeline
 from marraztu.model.scene import Projection, Scene
-from marraztu.text.numbers import aligned_columns, matrix_entries, position_decimals
+from marraztu.text.numbers import aligned_columns, fixed, matrix_entries, position_decimals
 
 MAX_CORNERS = 4  # more would not fit an 800 pixel window; the panel says how many are left
 INDENT = "       "
@@ -94,4 +94,4 @@ def _side_by_side(blocks: list[list[str]]) -> list[str]:
 
 
 def _vector(values: Sequence[float] | np.ndarray, decimals: int = 1) -> str:
-    return "(" + " ".join(f"{round(value, decimals) + 0.0:.{decimals}f}" for value in values) + ")"
+    return "(" + " ".join(fixed(value, decimals) for value in values) + ")"
