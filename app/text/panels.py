@@ -229,13 +229,19 @@ def vertex_labels(scene: Scene, size: tuple[int, int]) -> list[Label]:
         screen = np.array(at)
         middle = screen.mean(axis=0)
         for number, point in enumerate(screen, start=1):
-            away = point - middle
-            length = float(np.linalg.norm(away))
-            away = away / length if length > 1e-6 else np.array([1.0, 1.0]) / np.sqrt(2.0)
-            centre = point + LABEL_DISTANCE_PX * away
             if _inside(tuple(point), view.viewport):
+                centre = _label_centre(point, middle)
                 labels.append(Label(f"v{number}", float(centre[0]), float(centre[1])))
     return labels
+
+
+def _label_centre(point: np.ndarray, middle: np.ndarray) -> np.ndarray:
+    """LABEL_DISTANCE_PX from a vertex on the screen, straight away from the face's `middle` (along the
+    diagonal where the two meet)."""
+    away = point - middle
+    length = float(np.linalg.norm(away))
+    away = away / length if length > 1e-6 else np.array([1.0, 1.0]) / np.sqrt(2.0)
+    return point + LABEL_DISTANCE_PX * away
 
 
 def _inside(point: tuple[float, float], viewport: tuple[int, int, int, int]) -> bool:
