@@ -24,7 +24,7 @@ from marraztu.loaders.obj import lines as lines_module
 from marraztu.loaders.obj import load_obj, parse_obj, scan
 from marraztu.loaders.obj import text as obj_text
 from marraztu.loaders.obj.lines import read_by_lines
-from marraztu.loaders.obj.raw import RawObj
+from marraztu.loaders.obj.raw import TABLE_WIDTHS, RawObj
 from marraztu.model.build import build_mesh
 from marraztu.model.mesh import Mesh
 from support.seed import SEED_MODELS, seed_model
@@ -1049,7 +1049,7 @@ def test_a_deferred_line_read_whole_reads_as_the_line_reader_reads_it(start: str
             continue
         reader = lines_module.LineReader("x.obj")
         reader.read_line(1, content)
-        table = np.zeros((1, fast_reader._WIDTHS[kind]))
+        table = np.zeros((1, TABLE_WIDTHS[kind]))
         assert fast_reader.read_plain_batch(np.frombuffer(content + b"\n", np.uint8), kind,
                                             record_of_line(kind, len(content)), table).tolist() == [0]
         assert np.array_equal(np.frombuffer(reader.tables[kind], np.float64), table[0])

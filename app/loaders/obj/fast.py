@@ -37,7 +37,6 @@ PARSE_THREADS = THREADS
 # More pieces than threads: a thread whose pieces went quickly takes the next, so a piece of costly
 # lines (faces, long numbers) does not keep the others waiting.
 PIECES_PER_THREAD = 4
-_WIDTHS = (3, 2, 3)
 
 
 _ONE_TRIANGLE = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
@@ -90,7 +89,7 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
     pieces, counts = counted.pieces, counted.counts
     before = np.cumsum(counts, axis=0) - counts  # each piece's offsets into the tables
     total = counts.sum(axis=0)
-    tables = [np.empty((int(total[kind]), width)) for kind, width in zip((scan.V, scan.VT, scan.VN), _WIDTHS)]
+    tables = [np.empty((int(total[kind]), width)) for kind, width in zip((scan.V, scan.VT, scan.VN), raw.TABLE_WIDTHS)]
     columns = [np.empty(int(total[scan.CORNERS]), INDEX) for _ in range(3)]
     face_start = np.zeros(int(total[scan.F]) + 1, INDEX)
     # The first bad line, in the pieces' order, is raised here: each piece stops at its own.
@@ -115,8 +114,7 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
              list(range(len(pieces))), PARSE_THREADS)
         raw.put_colours(colours, outcome.colour_rows, outcome.colour_values)  # the line reader's lines
     colours, paint_notes = outcome.polypaint.with_colours(colours, len(tables[0]))
-    notes = [*outcome.unformed.notes, *outcome.colour.notes, *paint_notes,
-             *([raw.UNDRAWN_ELEMENTS] if outcome.elements else [])]
+    notes = raw.reading_notes(outcome.unformed, outcome.colour, paint_notes, outcome.elements)
     return raw.RawObj(*tables, *kept, face_start, raw.library_names(outcome.mtllib), outcome.colour.colour, notes,
                       outcome.material_runs, colours)
 

@@ -26,7 +26,7 @@ from marraztu.loaders.obj.raw import (
     COLOURED_V_NUMBERS,
     CORNER_GAPS,
     MAX_DIGITS,
-    UNDRAWN_ELEMENTS,
+    TABLE_WIDTHS,
     V_FORMS,
     ColourComment,
     MaterialRuns,
@@ -37,6 +37,7 @@ from marraztu.loaders.obj.raw import (
     library_names,
     material_name,
     put_colours,
+    reading_notes,
     statement,
     with_library,
 )
@@ -53,7 +54,6 @@ _TABLES = {b"v": (0, "vertex position (v)", 3, 7), b"vt": (1, "texture coordinat
            b"vn": (2, "normal (vn)", 3, 3)}
 _FIELDS = (b"v", b"vt", b"vn")
 _FIELD_NAMES = ("vertex", "texture coordinate (vt)", "normal (vn)")
-_TABLE_WIDTHS = (3, 2, 3)
 _QUOTED_CHARACTERS = 40
 # Plain lines, read in one match each: most lines. Their numbers and indices need no check: a plain
 # number is finite and within float32 by its syntax alone (at most 29 digits before the point; a
@@ -80,8 +80,8 @@ def _plain_run(keyword: bytes, items: bytes) -> re.Pattern[bytes]:
 # A v, vt or vn line of plain numbers; a whole file's reading batches those of just the table's width,
 # and reads runs of such lines in one match.
 _PLAIN_ROWS = {keyword: compiled(_plain_numbers(fewest, most)) for keyword, (_, _, fewest, most) in _TABLES.items()}
-_BATCHED_ROWS = {keyword: compiled(_plain_numbers(width)) for keyword, width in zip(_FIELDS, _TABLE_WIDTHS)}
-PLAIN_ROW_RUNS = [_plain_run(keyword, _plain_numbers(width)) for keyword, width in zip(_FIELDS, _TABLE_WIDTHS)]
+_BATCHED_ROWS = {keyword: compiled(_plain_numbers(width)) for keyword, width in zip(_FIELDS, TABLE_WIDTHS)}
+PLAIN_ROW_RUNS = [_plain_run(keyword, _plain_numbers(width)) for keyword, width in zip(_FIELDS, TABLE_WIDTHS)]
 _ROW_RUN_FIELDS = {b"vt": 1, b"vn": 2}  # by a line's first two bytes; v's, any other after a v
 
 
@@ -141,7 +141,7 @@ class LineReader:
     def __init__(self, source: str, most_single_lines: int = sys.maxsize) -> None:
         self.source = source
         self.most_single_lines = most_single_lines  # a whole file's, read one at a time (see ReadsSlowly)
-        self.tables = [array("d") for _ in _FIELDS]  # flat rows, _TABLE_WIDTHS numbers each
+        self.tables = [array("d") for _ in _FIELDS]  # flat rows, TABLE_WIDTHS numbers each
         self.defined = [0, 0, 0]
         # The file's v, vt and vn index per corner, relative ones made absolute: 1-based, 0 for none,
         # so that most faces' digits go in as read (corner_columns makes them 0-based, -1 for none).
@@ -230,8 +230,8 @@ class LineReader:
         if keyword in _TABLES:
             field = _TABLES[keyword][0]
             values = self.numbers(number, keyword, rest)
-            row = values[:_TABLE_WIDTHS[field]]
-            self.tables[field].extend(row + [0.0] * (_TABLE_WIDTHS[field] - len(row)))  # `vt u`: v is 0
+            row = values[:TABLE_WIDTHS[field]]
+            self.tables[field].extend(row + [0.0] * (TABLE_WIDTHS[field] - len(row)))  # `vt u`: v is 0
             if field == 0 and len(values) >= COLOURED_V_NUMBERS:
                 self.coloured_rows.append(self.defined[0])
                 self.colour_values.extend(values[3:COLOURED_V_NUMBERS])
@@ -323,14 +323,13 @@ class LineReader:
 
     def result(self, columns: list[np.ndarray | None], face_start: np.ndarray) -> RawObj:
         tables = [np.frombuffer(table, dtype=np.float64).reshape(-1, width)
-                  for table, width in zip(self.tables, _TABLE_WIDTHS)]
+                  for table, width in zip(self.tables, TABLE_WIDTHS)]
         colours, paint_notes = self.polypaint.with_colours(
             put_colours(np.full((len(tables[0]), 3), np.nan), self.coloured_rows, self.colour_values)
             if self.coloured_rows else None, len(tables[0]))
         return RawObj(tables[0], tables[1], tables[2], *columns,
                       face_start, library_names(self.mtllib), self.colour.colour,
-                      [*self.unformed.notes, *self.colour.notes, *paint_notes,
-                       *([UNDRAWN_ELEMENTS] if self.elements else [])],
+                      reading_notes(self.unformed, self.colour, paint_notes, self.elements),
                       self.material_runs, colours)
 
 

@@ -16,6 +16,8 @@ from marraztu.loaders.words import DECIMAL, DECIMAL_BYTES
 CORNER_GAPS = {(True,): (), (True, True): (1,), (True, False, True): (2,), (True, True, True): (1, 1)}
 # No file holds 10**15 of anything, and up to 15 digits an index or mantissa is an exact double.
 MAX_DIGITS = 15
+# The columns of the v, vt and vn tables (RawObj's positions, texcoords and normals).
+TABLE_WIDTHS = (3, 2, 3)
 
 
 @dataclass
@@ -251,6 +253,13 @@ class UnformedVLines:
                 f"{self.first_line}; {forms})"]
 # Said where a file has l or p statements beside its faces: drawn nowhere, not lost without a word.
 UNDRAWN_ELEMENTS = "its l and p statements (lines and points) are not drawn"
+
+
+def reading_notes(unformed: UnformedVLines, colour: ColourComment, paint_notes: list[str], elements: bool
+                  ) -> list[str]:
+    """RawObj.notes, in the one order both readers give them: v lines of no v form, '# colour'
+    comments, the polypaint, l and p statements."""
+    return [*unformed.notes, *colour.notes, *paint_notes, *([UNDRAWN_ELEMENTS] if elements else [])]
 MAX_LIBRARY_LINES = 16  # mtllib lines read: a file of a million must not cost a million lookups
 MAX_MATERIAL_NAME = 200  # characters of a usemtl name kept: enough for any real one, bounded for a hostile one
 
