@@ -65,16 +65,8 @@ def _guarded(source: str, read: Callable[[], Mesh]) -> Mesh:
 
 def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
     notes = list(raw.notes)
-    library: list[MeshMaterial] = []
     tried: list[Path] = []
-    runs = raw.material_runs
-    used_names = [runs.names[number] for number in runs.used_numbers()] if runs else []
-    if raw.mtllib and base_dir is not None:
-        wanted = {*used_names, *map(name_before_comment, used_names)}  # "usemtl wood # oak" may mean "wood"
-        library = read_libraries(base_dir, raw.mtllib, notes, wanted, tried)
-    elif used_names and not raw.mtllib:
-        notes.append(f"usemtl names materials ({_names_shown(used_names)}) but no mtllib line names their library; "
-                     "using the scene's material")
+    library = _library(raw, base_dir, notes, tried)
     uv = None if raw.corner_texcoord is None else (raw.texcoords, raw.corner_texcoord)
     normals = None if raw.corner_normal is None else (raw.normals, raw.corner_normal)
     first = (library[0].values or None) if library else None  # the whole model's, where no usemtl says
@@ -84,7 +76,27 @@ def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
     mesh = replace(mesh, vertex_colours=colours, read_beside=tuple(tried))
     if not raw.material_runs or not library:  # no library read: its absence is noted once already
         return mesh
-    used, face_material, unknown, beyond = _face_materials(raw.material_runs, library, mesh.face_count)
+    return _with_face_materials(mesh, raw.material_runs, library)
+
+
+def _library(raw: RawObj, base_dir: Path | None, notes: list[str], tried: list[Path]) -> list[MeshMaterial]:
+    """The materials of the MTL files the mtllib lines name that the model uses (mtl.read_libraries);
+    without a base_dir none is read, and usemtl lines with no mtllib line make a note."""
+    runs = raw.material_runs
+    used_names = [runs.names[number] for number in runs.used_numbers()] if runs else []
+    if raw.mtllib and base_dir is not None:
+        wanted = {*used_names, *map(name_before_comment, used_names)}  # "usemtl wood # oak" may mean "wood"
+        return read_libraries(base_dir, raw.mtllib, notes, wanted, tried)
+    if used_names and not raw.mtllib:
+        notes.append(f"usemtl names materials ({_names_shown(used_names)}) but no mtllib line names their library; "
+                     "using the scene's material")
+    return []
+
+
+def _with_face_materials(mesh: Mesh, runs: MaterialRuns, library: list[MeshMaterial]) -> Mesh:
+    """The mesh with each face's material from the usemtl runs, and notes for the names the library
+    lacks and the materials past MAX_MATERIALS."""
+    used, face_material, unknown, beyond = _face_materials(runs, library, mesh.face_count)
     notes = list(mesh.warnings)
     if unknown:
         notes.append(f"usemtl names materials the library lacks ({_names_shown(unknown)}); their faces take the "
