@@ -119,51 +119,75 @@ class _Block:
     outside: dict[str, tuple[int, float]] = field(default_factory=dict)  # a colour past 0..1: its line, a value
 
 
+@dataclass
+class _Library:
+    """What one MTL's lines held: the materials the model can use, and what was left out of them."""
+
+    kept: dict[str, _Block] = field(default_factory=dict)  # the materials the model can use, by name, in file order
+    defines_any: bool = False  # a newmtl line was read
+    before_first: int = 0  # lines of values before the first newmtl, which belong to no material
+    malformed: int = 0  # one note however many lines are ignored, naming the first
+    first_malformed: str = ""
+    ignored: set[str] = field(default_factory=set)
+
+
 def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wanted: Collection[str],
                    textures: _TextureCache, keep_first: bool = True) -> list[MeshMaterial]:
-    kept: dict[str, _Block] = {}  # the materials the model can use, by name, in file order
+    library = _library_contents(text, wanted, keep_first)
+    notes.extend(_library_notes(name, text, library))
+    return [MeshMaterial(block.name, block.values, *textures.read(block.texture, folder))
+            for block in library.kept.values()]
+
+
+def _library_contents(text: bytes, wanted: Collection[str], keep_first: bool) -> _Library:
+    library = _Library()
     block: _Block | None = None  # the material being read; dropped at the next newmtl unless kept
-    malformed, first_malformed = 0, ""  # one note however many lines are ignored, naming the first
-    ignored: set[str] = set()
-    before_first = 0  # lines of values before the first newmtl, which belong to no material
-    for number, line in enumerate(text_lines(text, bom_length(text)), start=1):  # a byte order mark would make the
-        # first newmtl no keyword
+    # Past a byte order mark, which would make the first newmtl no keyword.
+    for number, line in enumerate(text_lines(text, bom_length(text)), start=1):
         tokens = text_without_comment(line).split(None, _MOST_WORDS)
         if not tokens:
             continue
         key = tokens[0].lower()
         if key == "newmtl":
             block = _Block(name_of_words(line.lstrip()[len(tokens[0]):]))  # as usemtl's, '#' and all
+            library.defines_any = True
             named = block.name in wanted or name_before_comment(block.name) in wanted
-            if (keep_first and not kept) or (named and block.name not in kept):  # the first wins
-                kept[block.name] = block
+            if (keep_first and not library.kept) or (named and block.name not in library.kept):  # the first wins
+                library.kept[block.name] = block
         elif block is None:
-            before_first += 1
+            library.before_first += 1
         elif key in ("ka", "kd", "ks", "ns") and not _material_value(block.values, key, tokens[1:]):
-            malformed, first_malformed = malformed + 1, first_malformed or f"{key.capitalize()} line, on line {number}"
+            library.malformed += 1
+            library.first_malformed = library.first_malformed or f"{key.capitalize()} line, on line {number}"
         elif key in ("ka", "kd", "ks"):  # a colour, just set
             _note_outside(block, key, number)
         elif key == "map_kd":
             block.texture, options = _texture_file(tokens[1:])
-            ignored.update(options)
+            library.ignored.update(options)
         elif key in ("d", "tr") and _see_through(key, tokens[1:]):
-            ignored.add("transparency (d, Tr)")
-    if block is None and text.startswith(UTF16_BOMS):  # as an OBJ's
+            library.ignored.add("transparency (d, Tr)")
+    return library
+
+
+def _library_notes(name: str, text: bytes, library: _Library) -> list[str]:
+    notes: list[str] = []
+    if not library.defines_any and text.startswith(UTF16_BOMS):  # as an OBJ's
         notes.append(f"material library '{name}' is UTF-16 text: save it as UTF-8; using the scene's material")
-    elif block is None:
+    elif not library.defines_any:
         notes.append(f"material library '{name}' defines no material; using the scene's material")
-    elif before_first:
+    elif library.before_first:
+        before_first = library.before_first
         notes.append(f"material library '{name}': {counted(before_first, 'line')} before the first newmtl, "
                      f"which belong{'s' if before_first == 1 else ''} to no material, ignored")
-    if malformed == 1:
-        notes.append(f"material library '{name}': ignored a malformed {first_malformed}")
-    elif malformed:
-        notes.append(f"material library '{name}': ignored {malformed} malformed lines (the first a "
-                     f"{first_malformed})")
-    if ignored:
-        notes.append(f"material library '{name}': {', '.join(sorted(ignored))} ignored")
-    notes.extend(_outside_note(name, kept.values()))
-    return [MeshMaterial(block.name, block.values, *textures.read(block.texture, folder)) for block in kept.values()]
+    if library.malformed == 1:
+        notes.append(f"material library '{name}': ignored a malformed {library.first_malformed}")
+    elif library.malformed:
+        notes.append(f"material library '{name}': ignored {library.malformed} malformed lines (the first a "
+                     f"{library.first_malformed})")
+    if library.ignored:
+        notes.append(f"material library '{name}': {', '.join(sorted(library.ignored))} ignored")
+    notes.extend(_outside_note(name, library.kept.values()))
+    return notes
 
 
 def _note_outside(block: _Block, key: str, line: int) -> None:
