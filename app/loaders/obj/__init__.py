@@ -162,19 +162,18 @@ def _face_materials(runs: MaterialRuns, library: list[MeshMaterial], faces: int
     return tuple(materials), face_material, unknown, beyond
 
 
-# The compiled reader's first use in a process imports numba and loads its machine code: the line
-# reader is done sooner below this size (measured on files of v/vt/vn and of v and f lines only, to
-# the load's end and to the process's), and holds the GIL no longer than the compiled reader's import.
+# The compiled reader's first use in a process imports numba and loads its machine code: below this
+# size the line reader is done sooner, and holds the GIL no longer than that import would.
 # Once loaded, the compiled reader is the quicker one whatever the size.
 COMPILED_READER_BYTES = 8 << 20
 # Except a file with this many bytes in lines the line reader reads a word at a time (faces longer
-# than its batches take, CAD's n-gons): there it reads a few hundred kilobytes a second.
+# than its batches take, CAD's n-gons), where it is at its slowest.
 COMPILED_READER_LONG_LINE_BYTES = 512 << 10
 
 
 # Lines the line reader reads one at a time (blank lines, comments, statements, relative faces: not plain
-# rows and faces, which it reads a batch at a time) cost it 2 to 40 microseconds each, 30 s for 8 MB of
-# them; past this many a first file goes to the compiled reader, which reads it again from its start.
+# rows and faces, which it reads a batch at a time) cost it many times a batched line each; past this
+# many a first file goes to the compiled reader, which reads it again from its start.
 LINE_READER_SINGLE_LINES = 1 << 14
 
 

@@ -344,8 +344,7 @@ _RUN_TRIES_APART = 64
 class _PlainLines:
     """A whole file's plain v, vt and vn rows of just their table's width, and its short plain faces,
     kept as bytes (a run of such lines as one) until the next other line of those kinds, the file's
-    end or a full batch: then their numbers are made in one call, several times quicker than a
-    float() or int() each."""
+    end or a full batch: then their numbers are made in one call, not a float() or int() each."""
 
     def __init__(self, reader: LineReader) -> None:
         self.reader = reader

@@ -69,8 +69,8 @@ _TO_LOOK_AT[[0, ord("\r"), ord("\\"), 0xC2]] = 1
 _LOW_BITS, _HIGH_BITS = np.uint64(0x0101010101010101), np.uint64(0x8080808080808080)
 _NULS, _CRS, _BACKSLASHES, _C2S = (np.uint64(byte) * _LOW_BITS for byte in np.flatnonzero(_TO_LOOK_AT))
 # The blanks (what bytes.split() splits on, but the newline), and the bytes that end a token: a
-# blank, the newline. Looked up, not compared: seven comparisons a byte cost pass one's face lines a
-# third of their time. A '#' starts a comment only where a token would start (raw.without_comment):
+# blank, the newline. Looked up, not compared: one load a byte where comparing took seven, in the
+# passes' innermost loops. A '#' starts a comment only where a token would start (raw.without_comment):
 # inside one it is the token's, and makes it no number (-1.#IND, old Windows programs' NaN).
 _BLANK = np.zeros(256, np.bool_)
 _BLANK[list(b" \t\v\f\r")] = True
@@ -80,16 +80,16 @@ _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}  # cached machine 
 # The helpers the line loops call, inlined: a call passes the array with its reference count and
 # returns its tuple through memory, per number. Only these: inlining more slows the first compile.
 _INLINED = dict(_JIT, inline="always")
-# The passes' loops without numba's reference counts: an atomic increment and decrement of an
-# array's count per number cost pass two half its time. So those loops allocate nothing, and copy
-# no slice (a copy needs the counts too).
+# The passes' loops without numba's reference counts, which would cost an atomic increment and
+# decrement of an array's count per number. So those loops allocate nothing, and copy no slice (a
+# copy needs the counts too).
 _UNCOUNTED = dict(_JIT, _nrt=False)
 
 
 @njit(**_JIT)
 def _byte(buf: np.ndarray, at: int) -> int:
     """buf[at], by an unsigned index: numba checks every signed one for a negative value to count
-    from the end, which cost the passes a third of their time."""
+    from the end, a branch on every byte the passes read."""
     return buf[np.uint64(at)]
 
 
