@@ -68,7 +68,7 @@ def _switch(token: str, description: str, switch: str) -> Command:
     return Command(token, description, commands.toggle(switch), lambda scene: _on_off(getattr(scene.modes, switch)))
 
 
-def _light_on(key: str) -> Callable[[Scene], str]:
+def _light_state(key: str) -> Callable[[Scene], str]:
     def state(scene: Scene) -> str:
         light = commands.light_by_key(scene, key)
         return "none" if light is None else f"{light.name} {_on_off(light.on)}"
@@ -97,7 +97,7 @@ def _axis_commands() -> list[Command]:
 
 
 def _light_commands() -> list[Command]:
-    return [Command(key, f"light {key} on/off", commands.light_switch(key), _light_on(key))
+    return [Command(key, f"light {key} on/off", commands.light_switch(key), _light_state(key))
             for key in LIGHT_KEYS]
 
 
@@ -212,11 +212,11 @@ def _parse_word(word: str, keymap: dict[str, Command], in_prompt: bool) -> tuple
             raise KeyMapError("f= needs a file name: f=PATH")
         return KeyPress("f", path), count
     if in_prompt:
-        return _typed(word, keymap), count
+        return _prompt_press(word, keymap), count
     return key_press(word, keymap), count
 
 
-def _typed(word: str, keymap: dict[str, Command]) -> KeyPress:
+def _prompt_press(word: str, keymap: dict[str, Command]) -> KeyPress:
     """A press while the file prompt is open: any character, or a named key."""
     if len(word) == 1 and word.isprintable():
         return KeyPress(word)

@@ -50,8 +50,18 @@ from marraztu.model.threads import largest
 
 _INTEGER = re.compile(rb"-?[0-9]+\Z")
 _TOKEN = re.compile(rb"\S+")
-_TABLES = {b"v": (0, "vertex position (v)", 3, 7), b"vt": (1, "texture coordinate (vt)", 1, 3),
-           b"vn": (2, "normal (vn)", 3, 3)}
+class _Table(NamedTuple):
+    """What a v, vt or vn line fills: its table (RawObj's positions, texcoords, normals), its name in
+    messages, and how many numbers it holds."""
+
+    field: int
+    name: str
+    fewest: int
+    most: int
+
+
+_TABLES = {b"v": _Table(0, "vertex position (v)", 3, 7), b"vt": _Table(1, "texture coordinate (vt)", 1, 3),
+           b"vn": _Table(2, "normal (vn)", 3, 3)}
 _FIELDS = (b"v", b"vt", b"vn")
 _FIELD_NAMES = ("vertex", "texture coordinate (vt)", "normal (vn)")
 _QUOTED_CHARACTERS = 40
@@ -79,7 +89,7 @@ def _plain_run(keyword: bytes, items: bytes) -> re.Pattern[bytes]:
 
 # A v, vt or vn line of plain numbers; a whole file's reading batches those of just the table's width,
 # and reads runs of such lines in one match.
-_PLAIN_ROWS = {keyword: compiled(_plain_numbers(fewest, most)) for keyword, (_, _, fewest, most) in _TABLES.items()}
+_PLAIN_ROWS = {keyword: compiled(_plain_numbers(table.fewest, table.most)) for keyword, table in _TABLES.items()}
 _BATCHED_ROWS = {keyword: compiled(_plain_numbers(width)) for keyword, width in zip(_FIELDS, TABLE_WIDTHS)}
 PLAIN_ROW_RUNS = [_plain_run(keyword, _plain_numbers(width)) for keyword, width in zip(_FIELDS, TABLE_WIDTHS)]
 _ROW_RUN_FIELDS = {b"vt": 1, b"vn": 2}  # by a line's first two bytes; v's, any other after a v
@@ -228,7 +238,7 @@ class LineReader:
 
     def statement(self, number: int, keyword: bytes, rest: bytes) -> None:
         if keyword in _TABLES:
-            field = _TABLES[keyword][0]
+            field = _TABLES[keyword].field
             values = self.numbers(number, keyword, rest)
             row = values[:TABLE_WIDTHS[field]]
             self.tables[field].extend(row + [0.0] * (TABLE_WIDTHS[field] - len(row)))  # `vt u`: v is 0
@@ -392,7 +402,7 @@ class _PlainLines:
         else:
             if not _BATCHED_ROWS[keyword].fullmatch(rest):
                 return False
-            field = _TABLES[keyword][0]
+            field = _TABLES[keyword].field
             self.rows[field].append(rest)
             reader.defined[field] += 1
         self.counted(1, len(rest))
