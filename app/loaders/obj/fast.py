@@ -96,27 +96,38 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
     read = each(lambda at: _read_piece(buf, pieces[at], before[at], _DeferredLines(source, buf, tables, columns),
                                        face_start),
                 list(range(len(pieces))), PARSE_THREADS)
+    outcome = _settled(buf, read)
+    if total[scan.F] == 0:
+        raise no_faces_error(source, outcome.statements > 0 or bool(total[[scan.V, scan.VT, scan.VN]].any()))
+    totals = [len(table) for table in tables]
+    kept = checked_columns(source, columns, totals, lambda corner: scan.line_of_face(
+        buf, int(polygons_of_corners(face_start, corner))))
+    colours = _v_line_colours(buf, pieces, before, len(tables[0]), outcome) if outcome.coloured else None
+    colours, paint_notes = outcome.polypaint.with_colours(colours, len(tables[0]))
+    notes = raw.reading_notes(outcome.unformed, outcome.colour, paint_notes, outcome.elements)
+    return raw.RawObj(*tables, *kept, face_start, raw.library_names(outcome.mtllib), outcome.colour.colour, notes,
+                      outcome.material_runs, colours)
+
+
+def _settled(buf: np.ndarray, read: list[tuple[list[np.ndarray], _DeferredLines, np.ndarray]]) -> _Records:
+    """Every piece's records settled in file order, once each piece's deferred lines are read."""
     outcome = _Records(buf)
     for chunks, deferred, names in read:
         outcome.take_piece(deferred)
         numbers = outcome.name_numbers(names)
         for chunk in chunks:
             outcome.settle(chunk, numbers)
-    if total[scan.F] == 0:
-        raise no_faces_error(source, outcome.statements > 0 or bool(total[[scan.V, scan.VT, scan.VN]].any()))
-    totals = [len(table) for table in tables]
-    kept = checked_columns(source, columns, totals, lambda corner: scan.line_of_face(
-        buf, int(polygons_of_corners(face_start, corner))))
-    colours = None
-    if outcome.coloured:  # a third pass, for the files that have colours only
-        colours = np.full((len(tables[0]), 3), np.nan)
-        each(lambda at: scan.read_vertex_colours(buf, *pieces[at], before[at][scan.V], colours, np.empty((1, 7))),
-             list(range(len(pieces))), PARSE_THREADS)
-        raw.put_colours(colours, outcome.colour_rows, outcome.colour_values)  # the line reader's lines
-    colours, paint_notes = outcome.polypaint.with_colours(colours, len(tables[0]))
-    notes = raw.reading_notes(outcome.unformed, outcome.colour, paint_notes, outcome.elements)
-    return raw.RawObj(*tables, *kept, face_start, raw.library_names(outcome.mtllib), outcome.colour.colour, notes,
-                      outcome.material_runs, colours)
+    return outcome
+
+
+def _v_line_colours(buf: np.ndarray, pieces: list[tuple[int, int]], before: np.ndarray, positions: int,
+                    outcome: _Records) -> np.ndarray:
+    """RawObj.vertex_colours of a file whose v lines give colours: a third pass, which the files
+    without them skip, and the colours of the v lines the line reader read."""
+    colours = np.full((positions, 3), np.nan)
+    each(lambda at: scan.read_vertex_colours(buf, *pieces[at], before[at][scan.V], colours, np.empty((1, 7))),
+         list(range(len(pieces))), PARSE_THREADS)
+    return raw.put_colours(colours, outcome.colour_rows, outcome.colour_values)
 
 
 def _read_piece(buf: np.ndarray, piece: tuple[int, int], before: np.ndarray, deferred: _DeferredLines,
