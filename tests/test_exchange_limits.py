@@ -589,6 +589,26 @@ def test_normalized_integer_positions_are_read_as_the_fractions_they_stand_for(
     np.testing.assert_array_equal(load_model(path).positions, expected)
 
 
+@pytest.mark.parametrize("component_type, dtype, normalized", [(5126, "<f4", False), (5120, "<i1", True),
+                                                               (5122, "<i2", True)])
+def test_a_normal_of_glTFs_component_types_loads(tmp_path: Path, component_type: int, dtype: str,
+                                                 normalized: bool) -> None:
+    """glTF's NORMAL: floats, or (KHR_mesh_quantization) signed bytes or shorts normalized."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    normals = np.zeros((3, 4), dtype)  # a vertex attribute's items are aligned to 4 bytes: a stride
+    normals[:, 2] = 1 if component_type == 5126 else np.iinfo(dtype).max
+    document["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": normals.nbytes,
+                                    "byteStride": normals.itemsize * 4})
+    document["accessors"].append({"bufferView": 2, "componentType": component_type, "count": 3, "type": "VEC3",
+                                  **({"normalized": True} if normalized else {})})
+    document["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = 2
+    binary += normals.tobytes()
+    document["buffers"] = [{"byteLength": len(binary)}]
+    path = tmp_path / "normals.glb"
+    path.write_bytes(glb(document, binary))
+    assert load_model(path).face_count == 1
+
+
 @pytest.mark.parametrize("extension", ["KHR_texture_basisu", "KHR_some_unknown", "EXT_texture_webp", 7])
 def test_a_required_gltf_extension_not_read_here_is_refused(tmp_path: Path, extension: object) -> None:
     """glTF: a reader must refuse a file that requires what it cannot honour; such files loaded
@@ -745,6 +765,20 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
      "mesh 0's primitive 0's TEXCOORD_0 is accessor 2, of type SCALAR: glTF's are VEC2"),
     ("d['meshes'][0]['primitives'][0]['attributes']['COLOR_0'] = 1",
      "mesh 0's primitive 0's COLOR_0 is accessor 1, of type VEC2: glTF's are VEC3 or VEC4"),
+    # trimesh read a NORMAL of any type or integers as they were, without a word
+    ("d['meshes'][0]['primitives'][0]['attributes']['NORMAL'] = 1",
+     "mesh 0's primitive 0's NORMAL is accessor 1, of type VEC2: glTF's are VEC3"),
+    ("d['accessors'].append({'bufferView': 1, 'componentType': 5126, 'count': 3, 'type': 'SCALAR'}); "
+     "d['meshes'][0]['primitives'][0]['attributes']['NORMAL'] = 2",
+     "mesh 0's primitive 0's NORMAL is accessor 2, of type SCALAR: glTF's are VEC3"),
+    ("d['accessors'].append({**d['accessors'][0], 'componentType': 5125}); "
+     "d['meshes'][0]['primitives'][0]['attributes']['NORMAL'] = 2",
+     "mesh 0's primitive 0's NORMAL is accessor 2, of componentType 5125: glTF's are 5126 (float), or 5120 or 5122 "
+     "normalized (KHR_mesh_quantization)"),
+    ("d['accessors'].append({**d['accessors'][0], 'componentType': 5122}); "
+     "d['meshes'][0]['primitives'][0]['attributes']['NORMAL'] = 2",
+     "mesh 0's primitive 0's NORMAL is accessor 2, of componentType 5122, not normalized: glTF's are 5126 (float), "
+     "or 5120 or 5122 normalized (KHR_mesh_quantization)"),
     # trimesh drew the uvs it had, shifted, beside the positions they did not match
     ("d['accessors'][1]['count'] = 2", "mesh 0's primitive 0's TEXCOORD_0 has 2 items, its POSITION 3: a primitive's "
      "attributes hold one item per vertex each"),

@@ -138,8 +138,11 @@ _NODE_TRANSFORMS = {"translation": 3, "rotation": 4, "scale": 3, "matrix": 16}
 _MATERIAL_NUMBERS = {"baseColorFactor": 4, "emissiveFactor": 3, "metallicFactor": None, "roughnessFactor": None,
                      "alphaCutoff": None}
 _ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
-# The accessor types of the attributes read here (POSITION, TEXCOORD_n, COLOR_n), by the name before "_".
-_ATTRIBUTE_TYPES = {"POSITION": ("VEC3",), "TEXCOORD": ("VEC2",), "COLOR": ("VEC3", "VEC4")}
+# The accessor types of the attributes read here (POSITION, TEXCOORD_n, COLOR_n) and of NORMAL, by the name
+# before "_".
+_ATTRIBUTE_TYPES = {"POSITION": ("VEC3",), "NORMAL": ("VEC3",), "TEXCOORD": ("VEC2",), "COLOR": ("VEC3", "VEC4")}
+# A NORMAL's component types: floats, or signed integers normalized (as KHR_mesh_quantization writes them).
+_NORMAL_FLOAT, _NORMAL_QUANTIZED = 5126, (5120, 5122)
 # What trimesh copies (each buffer view, each accessor's items from its view) and what is written before
 # it builds the meshes (the zeros, or sparse items, of an accessor a primitive reads) adds up, in a file
 # as glTF's writers make it, to at most the bytes the file and its buffers hold: past twice those and
@@ -294,6 +297,8 @@ class GltfReferences:
             if accessor.get("type") not in types:  # trimesh said an IndexError, or misread them
                 self.refuse(f"{what}'s {escaped(str(name))[:40]} is accessor {index}, of type {accessor['type']}: "
                             f"glTF's are {' or '.join(types)}")
+            if name == "NORMAL":
+                self.normal_components(what, index, accessor)
         if "material" in primitive:
             self.named(primitive["material"], "materials", f"{what}'s material")
         if "indices" in primitive:
@@ -304,6 +309,17 @@ class GltfReferences:
             if _is_whole(count) and count % 3:
                 self.refuse(f"{what} has {count} {corners}: its triangles take three each")
         self.counts_alike(what, attributes)
+
+    def normal_components(self, what: str, index: int, accessor: dict[str, Any]) -> None:
+        """A NORMAL's components as glTF allows them: the viewer makes its own normals, but trimesh read
+        integers of any other kind as they are, without a word."""
+        component = accessor["componentType"]
+        if component == _NORMAL_FLOAT or (component in _NORMAL_QUANTIZED and accessor.get("normalized") is True):
+            return
+        unnormalized = ", not normalized" if component in _NORMAL_QUANTIZED else ""
+        self.refuse(f"{what}'s NORMAL is accessor {index}, of componentType {component}{unnormalized}: glTF's are "
+                    f"{_NORMAL_FLOAT} (float), or {' or '.join(map(str, _NORMAL_QUANTIZED))} normalized "
+                    "(KHR_mesh_quantization)")
 
     def counts_alike(self, what: str, attributes: dict[str, Any]) -> None:
         """One item of each attribute per vertex, as glTF requires: trimesh drew 4 uvs over 5 positions
