@@ -589,6 +589,20 @@ def test_normalized_integer_positions_are_read_as_the_fractions_they_stand_for(
     np.testing.assert_array_equal(load_model(path).positions, expected)
 
 
+def test_samplers_and_texture_sets_glTF_allows_load(tmp_path: Path) -> None:
+    """Every sampler value glTF names, and a texCoord the primitive has (left out, 0, is not asked for)."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0], picture=png_bytes(2, 2))
+    document["samplers"] = [{"magFilter": 9728, "minFilter": minifying, "wrapS": wrap, "wrapT": wrap}
+                            for minifying in (9728, 9729, 9984, 9985, 9986, 9987) for wrap in (33071, 33648, 10497)]
+    document["textures"][0]["sampler"] = 17
+    document["materials"][0]["normalTexture"] = {"index": 0, "texCoord": 0}
+    document["materials"].append({"occlusionTexture": {"index": 0}})
+    document["meshes"][0]["primitives"].append({"attributes": {"POSITION": 0}, "material": 1})
+    path = tmp_path / "sampled.glb"
+    path.write_bytes(glb(document, binary))
+    assert load_model(path).face_count == 2
+
+
 @pytest.mark.parametrize("component_type, dtype, normalized", [(5126, "<f4", False), (5120, "<i1", True),
                                                                (5122, "<i2", True)])
 def test_a_normal_of_glTFs_component_types_loads(tmp_path: Path, component_type: int, dtype: str,
@@ -786,6 +800,26 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
     ("d['images'] = [{'bufferView': 1}]; d['textures'] = [{'source': 5}]", "texture 0 names image 5, of 1"),
     ("d['materials'] = [{'pbrMetallicRoughness': {'baseColorTexture': {'index': 2}}}]",
      "material 0's baseColorTexture names texture 2, of 0"),
+    # trimesh passed over samplers and texCoord, whatever they held
+    ("d['samplers'] = [{'magFilter': 1}]", "sampler 0's magFilter 1 is not one of glTF's (9728, 9729)"),
+    ("d['samplers'] = [{'minFilter': 9729.5}]",
+     "sampler 0's minFilter 9729.5 is not one of glTF's (9728, 9729, 9984, 9985, 9986, 9987)"),
+    ("d['samplers'] = [{'magFilter': 9729, 'wrapS': 'REPEAT'}]",
+     "sampler 0's wrapS 'REPEAT' is not one of glTF's (33071, 33648, 10497)"),
+    ("d['samplers'] = [{'wrapT': True}]", "sampler 0's wrapT True is not one of glTF's (33071, 33648, 10497)"),
+    ("d['samplers'] = {}", "its samplers are not a list"),
+    ("d['images'] = [{'bufferView': 1}]; d['textures'] = [{'source': 0, 'sampler': 1}]; d['samplers'] = [{}]",
+     "texture 0 names sampler 1, of 1"),
+    ("d['images'] = [{'bufferView': 1}]; d['textures'] = [{'source': 0}]; "
+     "d['materials'] = [{'pbrMetallicRoughness': {'baseColorTexture': {'index': 0, 'texCoord': -1}}}]",
+     "material 0's baseColorTexture's texCoord is not a whole number of 0 or more"),
+    ("d['images'] = [{'bufferView': 1}]; d['textures'] = [{'source': 0}]; "
+     "d['materials'] = [{'normalTexture': {'index': 0, 'texCoord': '1'}}]",
+     "material 0's normalTexture's texCoord is not a whole number of 0 or more"),
+    ("d['images'] = [{'bufferView': 1}]; d['textures'] = [{'source': 0}]; "
+     "d['materials'] = [{'occlusionTexture': {'index': 0, 'texCoord': 1}}]; "
+     "d['meshes'][0]['primitives'][0]['material'] = 0",
+     "mesh 0's primitive 0 has no TEXCOORD_1, which material 0's occlusionTexture reads (its texCoord)"),
     ("d['buffers'][0]['byteLength'] = '60'", "buffer 0's byteLength is not a whole number of 0 or more"),
     # trimesh read a buffer of no byteLength as it found it: one too short said "AssertionError", no more
     ("d['buffers'][0].pop('byteLength')", "buffer 0 has no byteLength"),

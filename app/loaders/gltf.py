@@ -148,9 +148,15 @@ _NORMAL_FLOAT, _NORMAL_QUANTIZED = 5126, (5120, 5122)
 # as glTF's writers make it, to at most the bytes the file and its buffers hold: past twice those and
 # this many more, a file is refused unread (a POSITION of 3M zeros from 400 bytes took 376 MB).
 MADE_FLOOR_BYTES = 1 << 20
-# The arrays of objects trimesh reads item by item (with .get or [key]), by the name of their items.
+# The arrays of objects trimesh reads item by item (with .get or [key]), and the samplers, which it passes
+# over, by the name of their items.
 _READ_ARRAYS = {"scenes": "scene", "nodes": "node", "meshes": "mesh", "materials": "material", "textures": "texture",
-                "images": "image", "accessors": "accessor", "bufferViews": "buffer view", "buffers": "buffer"}
+                "images": "image", "accessors": "accessor", "bufferViews": "buffer view", "buffers": "buffer",
+                "samplers": "sampler"}
+# A sampler's values glTF allows (OpenGL's enums): its filters', and its wraps' (CLAMP_TO_EDGE, MIRRORED_REPEAT,
+# REPEAT).
+_SAMPLER_VALUES = {"magFilter": (9728, 9729), "minFilter": (9728, 9729, 9984, 9985, 9986, 9987),
+                   "wrapS": (33071, 33648, 10497), "wrapT": (33071, 33648, 10497)}
 
 
 class GltfReferences:
@@ -186,6 +192,10 @@ class GltfReferences:
         for number, texture in self.each("textures"):  # trimesh drops a picture named out of range without a word
             if "source" in texture:
                 self.named(texture["source"], "images", f"texture {number}")
+            if "sampler" in texture:
+                self.named(texture["sampler"], "samplers", f"texture {number}")
+        for number, sampler in self.each("samplers"):
+            self.sampler(number, sampler)
         for number, buffer in self.each("buffers"):  # before the views that count on their lengths
             self.byte_count(buffer, "byteLength", f"buffer {number}", required=True)
             self.buffer_uri(number, buffer)
@@ -257,8 +267,11 @@ class GltfReferences:
             if key in _MATERIAL_NUMBERS and not _numbers_of(value, _MATERIAL_NUMBERS[key]):
                 size = _MATERIAL_NUMBERS[key]
                 self.refuse(f"material {number}'s {key} is not {'a number' if size is None else f'{size} numbers'}")
-            if isinstance(value, dict) and "index" in value:  # a texture, which trimesh drops where it names none
-                self.named(value["index"], "textures", f"material {number}'s {escaped(str(key))[:40]}")
+        for key, texture in _texture_infos(material):  # trimesh drops one that names no texture
+            self.named(texture["index"], "textures", f"material {number}'s {escaped(key)[:40]}")
+            texture_set = texture.get("texCoord", 0)
+            if not _is_whole(texture_set) or texture_set < 0:
+                self.refuse(f"material {number}'s {escaped(key)[:40]}'s texCoord is not a whole number of 0 or more")
 
         mode = material.get("alphaMode", "OPAQUE")
         if not (isinstance(mode, str) and mode.upper() in _ALPHA_MODES):  # trimesh upper-cases it
@@ -300,7 +313,8 @@ class GltfReferences:
             if name == "NORMAL":
                 self.normal_components(what, index, accessor)
         if "material" in primitive:
-            self.named(primitive["material"], "materials", f"{what}'s material")
+            material = self.named(primitive["material"], "materials", f"{what}'s material")
+            self.texture_sets(what, primitive["material"], material, attributes)
         if "indices" in primitive:
             self.named(primitive["indices"], "accessors", f"{what}'s indices")
         if primitive.get("mode", _TRIANGLES) == _TRIANGLES:  # three corners each, or trimesh fails to reshape them
@@ -320,6 +334,24 @@ class GltfReferences:
         self.refuse(f"{what}'s NORMAL is accessor {index}, of componentType {component}{unnormalized}: glTF's are "
                     f"{_NORMAL_FLOAT} (float), or {' or '.join(map(str, _NORMAL_QUANTIZED))} normalized "
                     "(KHR_mesh_quantization)")
+
+    def texture_sets(self, what: str, number: int, material: dict[str, Any], attributes: dict[str, Any]) -> None:
+        """The TEXCOORD_n each texture of its material names by its texCoord, which the primitive must have
+        (trimesh reads TEXCOORD_0 whatever it says). One left out, 0, is not asked for: a primitive without
+        uvs is drawn untextured, as an OBJ's faces without vt are."""
+        for key, texture in _texture_infos(material):
+            texture_set = texture.get("texCoord")
+            if _is_whole(texture_set) and texture_set >= 0 and f"TEXCOORD_{texture_set}" not in attributes:
+                self.refuse(f"{what} has no TEXCOORD_{texture_set}, which material {number}'s {escaped(key)[:40]} "
+                            "reads (its texCoord)")
+
+    def sampler(self, number: int, sampler: dict[str, Any]) -> None:
+        """Its filters and wraps, each left out or one of glTF's enums: trimesh passes over them without a word."""
+        for key, allowed in _SAMPLER_VALUES.items():
+            value = sampler.get(key, allowed[0])
+            if not (_is_whole(value) and value in allowed):
+                self.refuse(f"sampler {number}'s {key} {escaped(repr(value))[:20]} is not one of glTF's "
+                            f"({', '.join(map(str, allowed))})")
 
     def counts_alike(self, what: str, attributes: dict[str, Any]) -> None:
         """One item of each attribute per vertex, as glTF requires: trimesh drew 4 uvs over 5 positions
@@ -444,6 +476,15 @@ class GltfReferences:
 
     def refuse(self, words: str) -> None:
         raise LoadError(self.path, f"not a glTF file: {words}")
+
+
+def _texture_infos(material: dict[str, Any]) -> Iterator[tuple[str, dict[str, Any]]]:
+    """A material's textures (its own, and its pbrMetallicRoughness's), each with its key: what trimesh reads
+    as one, an object with an index."""
+    values = material.get("pbrMetallicRoughness", {})
+    for key, value in (*material.items(), *(values.items() if isinstance(values, dict) else ())):
+        if isinstance(value, dict) and "index" in value:
+            yield str(key), value
 
 
 def _item_bytes(accessor: dict[str, Any]) -> int:
