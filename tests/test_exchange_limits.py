@@ -528,6 +528,36 @@ def test_a_gltf_data_uri_short_or_broken_is_refused_in_those_words(tmp_path: Pat
     assert one_line_refusal(lambda: load_model(path)).message == f"not a glTF file: {words}"
 
 
+@pytest.mark.parametrize("uri", ["data:application/octet-stream,AAAA", "data:;base64", "data:;base64;x,AAAA",
+                                 "DATA:application/gltf-buffer;BASE64,AAAA"])
+@pytest.mark.parametrize("what", ["buffer", "image"])
+def test_a_gltf_data_uri_not_of_base64_is_refused_in_those_words(tmp_path: Path, uri: str, what: str) -> None:
+    """glTF's data: URIs are base64: trimesh read another as the name of a file ("no such file", or a note
+    for a picture)."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(binary).decode()
+    if what == "buffer":
+        document["buffers"][0]["uri"] = uri
+    else:
+        document.update(images=[{"uri": uri}], textures=[{"source": 0}],
+                        materials=[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}])
+        document["meshes"][0]["primitives"][0]["material"] = 0
+    path = tmp_path / "uri.gltf"
+    path.write_text(json.dumps(document))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        f"not a glTF file: {what} 0's data: URI does not say ';base64,' before its data (glTF's data: URIs are base64)")
+
+
+def test_a_gltf_data_uri_of_base64_is_read_whatever_the_case_of_its_scheme(tmp_path: Path) -> None:
+    document, binary = triangle_gltf([{"mesh": 0}], [0], picture=png_bytes(2, 2))
+    document["buffers"][0]["uri"] = "DATA:application/gltf-buffer;base64," + base64.b64encode(binary).decode()
+    document["images"] = [{"uri": "Data:image/png;base64," + base64.b64encode(png_bytes(2, 2)).decode()}]
+    path = tmp_path / "uri.gltf"
+    path.write_text(json.dumps(document))
+    loaded = load_model(path)
+    assert loaded.warnings == () and loaded.materials[0].texture is not None
+
+
 @pytest.mark.parametrize("nodes, roots, looped", [
     ([{"mesh": 0, "children": [0]}], [0], 0),
     ([{"mesh": 0, "children": [1]}, {"mesh": 0, "children": [0]}], [0], 1),
@@ -773,6 +803,7 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
     ("d['asset'] = {'version': '1.0'}", "its asset's version is 1.0: only glTF 2 is read"),
     ("d['meshes'][0]['name'] = 4", "mesh 0's name is not a string"),
     ("d['buffers'][0]['uri'] = True", "buffer 0's uri is not a string"),
+    ("d['images'] = [{'uri': 5}]", "image 0's uri is not a string"),
     # trimesh said "IndexError: index 1 is out of bounds for axis 1 with size 1", or read a VEC2 as colours
     ("d['accessors'].append({'bufferView': 1, 'componentType': 5126, 'count': 6, 'type': 'SCALAR'}); "
      "d['meshes'][0]['primitives'][0]['attributes']['TEXCOORD_0'] = 2",

@@ -115,7 +115,7 @@ def buffer_bytes(document: dict[str, Any]) -> dict[str, int]:
     """The byteLength of each buffer a glTF names by a file URI."""
     buffers = document.get("buffers")
     return {item["uri"]: item["byteLength"] for item in buffers if isinstance(item, dict)
-            and isinstance(item.get("uri"), str) and not item["uri"].startswith("data:")
+            and isinstance(item.get("uri"), str) and not _is_data_uri(item["uri"])
             and _is_whole(item.get("byteLength"))} if isinstance(buffers, list) else {}
 
 
@@ -123,8 +123,13 @@ def _uris(items: object) -> Iterator[str]:
     """The file URIs a glTF list of images or buffers gives (a data: URI holds its bytes itself)."""
     for item in items if isinstance(items, list) else ():
         uri = item.get("uri") if isinstance(item, dict) else None
-        if isinstance(uri, str) and not uri.startswith("data:"):
+        if isinstance(uri, str) and not _is_data_uri(uri):
             yield uri
+
+
+def _is_data_uri(uri: str) -> bool:
+    """A URI that holds its bytes itself (RFC 2397): of the scheme data, in any case."""
+    return uri[:5].lower() == "data:"
 
 
 # --- what it names, checked ----------------------------------------------------------------------
@@ -189,6 +194,10 @@ class GltfReferences:
         for number, image in self.each("images"):
             if "bufferView" in image:
                 self.named(image["bufferView"], "bufferViews", f"image {number}")
+            if "uri" in image and not isinstance(image["uri"], str):  # trimesh passed over it without a word
+                self.refuse(f"image {number}'s uri is not a string")
+            if _is_data_uri(image.get("uri", "")):  # its form: trimesh decodes it (bytes of no picture are a note)
+                _data_uri_payload(self.path, image["uri"], f"image {number}")
         for number, texture in self.each("textures"):  # trimesh drops a picture named out of range without a word
             if "source" in texture:
                 self.named(texture["source"], "images", f"texture {number}")
@@ -234,8 +243,9 @@ class GltfReferences:
             self.refuse(f"buffer {number}'s uri is not a string")
         if "uri" not in buffer and self.path.suffix.lower() == ".gltf":
             self.refuse(f"buffer {number} has no uri: a .gltf's buffers are files beside it or data: URIs")
-        if "base64," in buffer.get("uri", ""):  # one short of its byteLength: trimesh said "AssertionError"
-            held = len(data_uri_bytes(self.path, buffer["uri"], number))
+        uri = buffer.get("uri", "")
+        if _is_data_uri(uri) or "base64," in uri:  # trimesh decodes it; one short of its byteLength, it asserted
+            held = len(data_uri_bytes(self.path, uri, number))
             if held < buffer["byteLength"]:
                 self.refuse(f"buffer {number} holds {held} bytes, where its byteLength says "
                             f"{buffer['byteLength']}")
@@ -771,9 +781,19 @@ class _BufferBytes:
 def data_uri_bytes(path: Path, uri: str, number: int) -> bytes:
     """Buffer `number`'s bytes, in its uri after "base64,", decoded as trimesh decodes them."""
     try:
-        return base64.b64decode(uri[uri.index("base64,") + 7:])
+        return base64.b64decode(_data_uri_payload(path, uri, f"buffer {number}"))
     except (binascii.Error, ValueError):
         raise LoadError(path, f"not a glTF file: buffer {number}'s data: URI is not base64") from None
+
+
+def _data_uri_payload(path: Path, uri: str, what: str) -> str:
+    """What a URI holds after "base64,", where trimesh decodes it; a data: URI must be glTF's, base64
+    (data:[<media type>];base64,<data>): trimesh read another as the name of a file."""
+    header, comma, _ = uri.partition(",")
+    if _is_data_uri(uri) and not (comma and header.endswith(";base64")):
+        raise LoadError(path, f"not a glTF file: {what}'s data: URI does not say ';base64,' before its data (glTF's "
+                              "data: URIs are base64)")
+    return uri[uri.index("base64,") + 7:]
 
 
 def _accessors_made_plain(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview]) -> bool:
