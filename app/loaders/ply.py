@@ -23,7 +23,7 @@ from array import array
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import NamedTuple
+from typing import NamedTuple, Protocol
 
 import numpy as np
 
@@ -31,8 +31,10 @@ from marraztu.errors import LoadError
 from marraztu.loaders.files import line_at, line_end_from, text_lines
 from marraztu.loaders.words import (
     DECIMAL_BYTES,
+    MAX_COUNT_DIGITS,
     is_count,
     pieces_at_gaps,
+    shortened,
     text_numbers,
     unheld_coordinate,
     words_and_line_ends,
@@ -207,13 +209,20 @@ def _element(path: Path, words: list[str], line: int, filled: set[str]) -> PlyEl
     if len(words) != 3:
         raise LoadError(path, "expected 'element', a name and a count", line=line)
     if not is_count(words[2]):
-        raise LoadError(path, f"element {words[1][:40]}: {words[2][:40]!r} is not a count", line=line)
+        raise LoadError(path, _not_a_count(words[1], words[2]), line=line)
     # trimesh keeps one table of each name (an empty one, and elements other than these, are left out)
     if int(words[2]) and words[1] in _KEPT_ELEMENTS:
         if words[1] in filled:
             raise LoadError(path, f"a second element named {words[1][:40]} with rows", line=line)
         filled.add(words[1])
     return PlyElement(words[1], int(words[2]), ())
+
+
+def _not_a_count(element: str, word: str) -> str:
+    if word.isascii() and word.isdecimal():  # past MAX_COUNT_DIGITS
+        return (f"element {element[:40]}: {shortened(word)} rows are more than a file holds (a count has at most "
+                f"{MAX_COUNT_DIGITS} digits)")
+    return f"element {element[:40]}: '{shortened(word)}' is not a count"
 
 
 def _property(path: Path, words: list[str], line: int, element: PlyElement, names: set[str]) -> PlyProperty:
@@ -268,7 +277,7 @@ def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
             _check_coordinate(body, element, column)
         if not columns:  # no rows, or no properties: nothing of it for trimesh to read
             continue
-        table, _, fanned = _table_for_trimesh(header, element, columns, uniform, body.error)
+        table, _, fanned = _table_for_trimesh(header, element, columns, uniform, body)
         tables.append(table)
         if fanned is not None:
             sizes.append(fanned)
@@ -279,17 +288,16 @@ def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
 
 
 def _table_for_trimesh(header: PlyHeader, element: PlyElement, columns: list[_Column], uniform: bool,
-                       fail: Callable[[str, int], LoadError]
-                       ) -> tuple[_Table, bool, np.ndarray | None]:
+                       places: _Places) -> tuple[_Table, bool, np.ndarray | None]:
     """The element's rows as trimesh's binary reader takes them, whether they are the file's own, and
     the sizes of the faces fanned: faces of more than three corners fanned, triangle strips made faces;
-    another element's lists left out where they vary (trimesh draws nothing of them). `fail` makes
+    another element's lists left out where they vary (trimesh draws nothing of them). `places` makes
     the error of a bad index, as _face_corners says."""
     vertices = header.count("vertex")
-    strips = _strip_triangles(element, columns, vertices, fail)
+    strips = _strip_triangles(element, columns, vertices, places)
     if strips is not None:
         return strips, False, None
-    corners = _face_corners(element, columns, vertices, fail)
+    corners = _face_corners(element, columns, vertices, places)
     if corners is not None and (not uniform or corners.values.shape[1] > 3):
         return _fanned(element, columns, corners), False, corners.counts
     if not uniform:
@@ -342,6 +350,29 @@ def _ended(path: Path, element: PlyElement, line: int | None = None) -> LoadErro
 
 
 _LINE_PIECE_BYTES = 1 << 16
+_WORD = re.compile(rb"\S++")  # a word of the body: bytes' \s is numpy's blanks
+
+
+class _Places(Protocol):
+    """Where a body's numbers lie: the error of a problem at a number's place, and a number as the file
+    gives it."""
+
+    def error(self, message: str, index: int) -> LoadError: ...
+
+    def shown(self, value: float, index: int) -> str: ...
+
+
+@dataclass(frozen=True)
+class _BinaryPlaces:
+    """A binary body's: its values are exact as read, and it has no line to name."""
+
+    path: Path
+
+    def error(self, message: str, index: int) -> LoadError:
+        return LoadError(self.path, message)
+
+    def shown(self, value: float, index: int) -> str:
+        return _shown(value)
 
 
 class _Body:
@@ -363,6 +394,17 @@ class _Body:
             message += (f" (the row on line {culprit} holds a number too many or too few: the rows after it no "
                         "longer begin lines)")
         return LoadError(self.path, message, line=line)
+
+    def shown(self, value: float, index: int) -> str:
+        """The number at `index` as the file writes it, shortened: its value may not be (400 nines are
+        read as inf, 24 digits as 1.2345678901234569e+23)."""
+        passed = 0
+        for start, words, _ in self._words_by_piece(pieces_at_gaps(self.data, self.body_at)):
+            if index < passed + len(words):
+                word = _WORD.match(self.data, start + int(words[index - passed]))
+                return shortened(word[0].decode("ascii", "replace")) if word else _shown(value)
+            passed += len(words)
+        return _shown(value)
 
     def ended(self, element: PlyElement) -> LoadError:
         """_ended at the body's last line."""
@@ -542,8 +584,8 @@ def _walked_row(body: _Body, element: PlyElement, at: int) -> tuple[list[int], i
                 raise body.ended(element)
             count = float(body.numbers[position])
             if not (0 <= count <= _most(prop.count_type) and count == int(count)):
-                raise body.error(f"{element.name} {prop.name}: {_shown(count)} is no {prop.count_type} count "
-                                 f"({_range(prop.count_type, counts=True)})", position)
+                raise body.error(f"{element.name} {prop.name}: {body.shown(count, position)} is no {prop.count_type} "
+                                 f"count ({_range(prop.count_type, counts=True)})", position)
             counts.append(int(count))
             position += int(count)
         position += 1
@@ -595,8 +637,9 @@ def _check_type(body: _Body, element: PlyElement, column: _Column) -> None:
     held = _held(column.values, column.prop.value_type)
     if not held.all():
         first = int(np.argmin(held.ravel()))
-        raise body.error(f"{element.name} {column.prop.name}: {_shown(column.values.ravel()[first])} is no "
-                         f"{column.prop.value_type} ({_range(column.prop.value_type)})", column.index(first))
+        at = column.index(first)
+        raise body.error(f"{element.name} {column.prop.name}: {body.shown(column.values.ravel()[first], at)} is no "
+                         f"{column.prop.value_type} ({_range(column.prop.value_type)})", at)
 
 
 def _check_coordinate(body: _Body, element: PlyElement, column: _Column) -> None:
@@ -649,10 +692,10 @@ def _shown(value: float | np.number) -> str:
 
 
 def _face_corners(element: PlyElement, columns: list[_Column], vertices: int,
-                  fail: Callable[[str, int], LoadError]) -> _Column | None:
+                  places: _Places) -> _Column | None:
     """A face element's list of vertex indices, each face checked to have 3 or more corners, each index
     to name a vertex and MeshLab's texture coordinates to give two numbers a corner; None for another
-    element. `fail` makes the error of a problem at a number's place: an ASCII body's names its line
+    element. `places` makes the error of a problem at a number's place: an ASCII body's names its line
     (_Body.error), a binary one's its file."""
     name = _corner_list(element)
     corners = next((column for column in columns if column.prop.name == name and column.counts is not None), None)
@@ -662,20 +705,21 @@ def _face_corners(element: PlyElement, columns: list[_Column], vertices: int,
     if short.any():
         row = int(np.argmax(short))
         size = int(corners.counts[row])
-        raise fail(f"a face of {size} corner{'' if size == 1 else 's'}: 3 or more make one", corners.count_index(row))
-    _check_names_vertices(corners, vertices, fail)
+        raise places.error(f"a face of {size} corner{'' if size == 1 else 's'}: 3 or more make one",
+                           corners.count_index(row))
+    _check_names_vertices(corners, vertices, places)
     for column in columns:
         if column.prop.name == TEXCOORD_LIST and column.counts is not None and column.count_index is not None:
             wrong = column.counts != 2 * corners.counts
             if wrong.any():
                 row = int(np.argmax(wrong))
-                raise fail(f"face texcoord: {column.counts[row]} numbers for a face of {corners.counts[row]} corners "
-                           "(two a corner)", column.count_index(row))
+                raise places.error(f"face texcoord: {column.counts[row]} numbers for a face of {corners.counts[row]} "
+                                   "corners (two a corner)", column.count_index(row))
     return corners
 
 
 def _strip_triangles(element: PlyElement, columns: list[_Column], vertices: int,
-                     fail: Callable[[str, int], LoadError]) -> _Table | None:
+                     places: _Places) -> _Table | None:
     """A file's triangle strips as a table of their triangles, still named STRIPS (_strips_made_faces
     makes them faces); None for another element. Each row is a strip, or several with -1 between them;
     each next index makes a triangle of the two before it, every second one turned so that all face the
@@ -683,7 +727,7 @@ def _strip_triangles(element: PlyElement, columns: list[_Column], vertices: int,
     lists = [column for column in columns if column.counts is not None and column.prop.name in FACE_LISTS]
     if element.name != STRIPS or not lists:
         return None
-    _check_names_vertices(lists[0], vertices, fail, between_strips=True)
+    _check_names_vertices(lists[0], vertices, places, between_strips=True)
     indices = lists[0].values
     row_ends = np.cumsum(lists[0].counts)
     chain = np.insert(indices.ravel().astype(np.int64), row_ends, -1)  # a row's end ends its strip too
@@ -726,7 +770,7 @@ def _strips_made_faces(tables: list[_Table], fanned: list[np.ndarray]
     return tables, sizes, ()
 
 
-def _check_names_vertices(column: _Column, vertices: int, fail: Callable[[str, int], LoadError],
+def _check_names_vertices(column: _Column, vertices: int, places: _Places,
                           between_strips: bool = False) -> None:
     """Each index names a vertex: a whole number from 0 to vertices - 1 (an index list of a float type may
     hold 1.5 or NaN, which trimesh would cast without a word), or -1 `between_strips` where there are
@@ -738,13 +782,14 @@ def _check_names_vertices(column: _Column, vertices: int, fail: Callable[[str, i
         named &= checked == np.trunc(checked)
     if not named.all():
         first = int(np.argmin(named.ravel()))
-        raise fail(_unnamed_vertex(indices.ravel()[first], vertices), column.index(first))
+        value, at = indices.ravel()[first], column.index(first)
+        raise places.error(_unnamed_vertex(value, places.shown(value, at), vertices), at)
 
 
-def _unnamed_vertex(value: float | np.number, vertices: int) -> str:
+def _unnamed_vertex(value: float | np.number, shown: str, vertices: int) -> str:
     if value == np.trunc(value):  # NaN is not
-        return f"vertex index {_shown(value)} out of range (the file has {vertices} vertices)"
-    return f"vertex index {_shown(value)} is not a whole number"
+        return f"vertex index {shown} out of range (the file has {vertices} vertices)"
+    return f"vertex index {shown} is not a whole number"
 
 
 def _fanned(element: PlyElement, columns: list[_Column], corners: _Column) -> _Table:
@@ -824,8 +869,7 @@ def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh
         if element.name not in _KEPT_ELEMENTS or not columns:
             unchanged = False
             continue
-        table, as_read, fanned = _table_for_trimesh(header, element, columns, uniform,
-                                                     lambda message, at: LoadError(path, message))
+        table, as_read, fanned = _table_for_trimesh(header, element, columns, uniform, _BinaryPlaces(path))
         tables.append(table)
         if fanned is not None:
             sizes.append(fanned)

@@ -116,6 +116,16 @@ def said_count(words: list[str], most: int) -> str:
     return str(len(words)) if len(words) <= most else f"more than {most}"
 
 
+def shortened(word: str, most: int = 20) -> str:
+    """A word as a message shows it: where longer than `most` characters, its first ones and how long it is
+    ("..." in ASCII: the window's font has no other)."""
+    if len(word) <= most:
+        return word
+    digits = word.lstrip("+-")
+    length = f"{len(digits)} digits" if digits.isascii() and digits.isdecimal() else f"{len(word)} characters"
+    return f"{word[:most]}... ({length})"
+
+
 def is_count(word: str) -> bool:
     """A header's count: ASCII digits ('٣'.isdigit() too is true), no more than MAX_COUNT_DIGITS."""
     return len(word) <= MAX_COUNT_DIGITS and _COUNT.fullmatch(word) is not None
