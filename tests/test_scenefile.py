@@ -297,6 +297,16 @@ def test_syntax_error_gives_tomls_line(tmp_path: Path) -> None:
     assert "(at line" not in caught.value.message  # the line is in the prefix, not said twice
 
 
+@pytest.mark.parametrize("end", ["", "\n", "\n\n  \n", "\r\n"])
+@pytest.mark.parametrize("cut", ["position = [1,2", 'position = "1', "position = { x = 1", "position = "])
+def test_a_syntax_error_at_the_end_gives_the_last_line(tmp_path: Path, cut: str, end: str) -> None:
+    """tomllib says "Unclosed array (at end of document)", with no line to put in the file:line prefix."""
+    path = write_scene(tmp_path, '[[objects]]\nmodel = "m.obj"\n' + cut + end)
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert caught.value.line == 3 and caught.value.message.startswith("TOML syntax: ")
+
+
 def test_entry_error_gives_its_tables_line(tmp_path: Path) -> None:
     path = write_scene(tmp_path, CAMERA + '\n[[objects]]\nmodel = "m.obj"\nposition = [0, 0, 0]\n'
                                           '\n[[objects]]\nmodel = "m.obj"\n')

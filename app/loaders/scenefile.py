@@ -75,6 +75,7 @@ DEFAULT_MATERIAL = Material(ka=(0.3, 0.3, 0.3), kd=(0.7, 0.7, 0.7), ks=(0.3, 0.3
 MIN_FILE_NS = 1.0  # MTL files often say "Ns 0", which would light every face with full specular
 
 _TOML_POSITION = re.compile(r"\s*\(at line (\d+), column \d+\)$")
+_AT_THE_END = "(at end of document)"  # tomllib's place of an error the file's end shows
 TOO_LARGE = "is too large: the GPU's 32-bit numbers end at 3.4e38"
 
 # A TOML key as written: bare, "basic" (with escapes) or 'literal'; dotted keys join them with dots.
@@ -260,13 +261,18 @@ class _SceneReader:
         except tomllib.TOMLDecodeError as err:
             message = str(err)
             found = _TOML_POSITION.search(message)
-            line = int(found.group(1)) if found else None
+            line = int(found.group(1)) if found else self._last_line() if message.endswith(_AT_THE_END) else None
             self.fail(f"TOML syntax: {_TOML_POSITION.sub('', message)}", line)
         except RecursionError:  # tomllib recurses once per nesting level of arrays and inline tables
             self.fail("TOML nested too deeply to be a scene file")
         except ValueError as err:  # Python refuses to read decimal integers longer than its digit limit
             line = _overlong_integer_line(self.text)
             self.fail(f"an integer of thousands of digits {TOO_LARGE}" if line else f"TOML: {err}", line)
+
+    def _last_line(self) -> int:
+        """The last line that holds anything: where a file cut short ends (tomllib says only "at end of
+        document")."""
+        return _line_of(self.text, max(len(self.text.rstrip()) - 1, 0))
 
     def describe(self) -> SceneDescription:
         self.check_keys(self.document, TOP_LEVEL_KEYS, "the scene", None)
