@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import io
+import random
+import re
 import tracemalloc
 import warnings
 from pathlib import Path
@@ -23,6 +26,7 @@ from marraztu.loaders.images import (
 )
 from marraztu.loaders.patterns import POSSESSIVE_GROUPS_HOLD
 from support.corpus import jpeg_of_scans, png_bytes
+from support.refusals import one_line_refusal
 
 # 2 x 2: red, green / blue, white. Rows top first, as in the file.
 PIXELS = np.array([[[255, 0, 0], [0, 255, 0]], [[0, 0, 255], [255, 255, 255]]], dtype=np.uint8)
@@ -417,6 +421,46 @@ def test_truncated_png(tmp_path: Path) -> None:
     path.write_bytes(path.read_bytes()[:200])
     with pytest.raises(LoadError):
         load_image(path)
+
+
+# What a PNG or JPEG cut short or damaged is refused as, in our words: Pillow's ("broken data stream when
+# reading image file", "image file is truncated (2 bytes not processed)", "Truncated File Read") are not shown.
+OUR_BROKEN_PICTURE = re.compile(r"a broken (PNG|JPEG): (its image data is (cut short|damaged)|Pillow finds no image "
+                                r"data in it|Pillow cannot read its header|its chunk at byte \d+ says it holds \d+ "
+                                r"bytes, past the file's end \(\d+ bytes\))")
+
+
+@pytest.mark.parametrize("kind", ["PNG", "JPEG"])
+def test_a_picture_cut_short_or_damaged_is_refused_in_our_words(tmp_path: Path, kind: str) -> None:
+    rng = random.Random(f"broken {kind}")
+    stored = io.BytesIO()
+    Image.fromarray(np.random.default_rng(3).integers(0, 255, (48, 64, 3), dtype=np.uint8)).save(stored, kind)
+    data, said = stored.getvalue(), set()
+    for attempt in range(120):
+        broken = bytearray(data[:rng.randrange(8, len(data))] if attempt % 2 else data)
+        for _ in range(0 if attempt % 2 else rng.randrange(1, 4)):
+            broken[rng.randrange(8, len(broken))] ^= 1 << rng.randrange(8)
+        path = write(tmp_path, f"broken.{kind.lower()}", bytes(broken))
+        try:
+            load_image(path)
+        except LoadError as refused:
+            assert refused.path == str(path) and OUR_BROKEN_PICTURE.fullmatch(refused.message), refused.message
+            said.add(refused.message.split(": ", 1)[1])
+    assert "its image data is damaged" in said and (kind == "PNG" or "its image data is cut short" in said)
+
+
+def test_a_png_whose_pixels_end_early_is_refused_as_cut_short(tmp_path: Path) -> None:
+    """Its chunks whole (half the pixels' zlib stream, then IEND): Pillow said "image file is truncated"."""
+    import zlib
+
+    pixels = np.random.default_rng(3).integers(0, 255, (48, 64, 3), dtype=np.uint8)
+    stream = zlib.compress(b"".join(b"\0" + row.tobytes() for row in pixels))
+    data = png_bytes(64, 48)
+    idat = data.index(b"IDAT") - 4
+    pixels_chunk = len(stream[:len(stream) // 2]).to_bytes(4, "big") + b"IDAT" + stream[:len(stream) // 2]
+    pixels_chunk += zlib.crc32(pixels_chunk[4:]).to_bytes(4, "big")
+    path = write(tmp_path, "half.png", data[:idat] + pixels_chunk + data[-12:])  # IEND
+    assert one_line_refusal(lambda: load_image(path)).message == "a broken PNG: its image data is cut short"
 
 
 def test_missing_file_directory_and_device(tmp_path: Path) -> None:

@@ -434,15 +434,31 @@ def _head_of(stream: object) -> bytes:
     return head if isinstance(head, bytes) else b""
 
 
+# Pillow's words for a picture whose file ends too soon (in its header, or its image data), and the end of
+# its words for a decoder's failure ("broken data stream when reading image file").
+_PILLOW_CUT_SHORT = ("image file is truncated", "Truncated File Read")
+_PILLOW_DECODER_FAILED = (" when reading image file",)
+_PILLOW_NO_DATA = "cannot load this image"
+
+
 def unreadable(error: Exception, head: bytes) -> str:
-    """Why Pillow could not open or decode a picture of these first bytes: its own words, but not where
-    they hold its object's repr ('cannot identify image file <_io.BytesIO object at 0x...>')."""
-    if not isinstance(error, Image.UnidentifiedImageError):
-        return f"not a readable image ({type(error).__name__}: {error})"
+    """Why Pillow could not open or decode a picture of these first bytes, in our words where its own
+    speak of its workings (its object's repr, a decoder's status, bytes not processed); else its own."""
     kind = image_format(head)
-    if kind is None:
-        return f"not a PNG, JPEG or PPM picture (it starts with {head[:8]!r})"
-    return f"a broken {kind}: Pillow cannot read its header"
+    said = str(error)
+    if isinstance(error, Image.UnidentifiedImageError):
+        if kind is None:
+            return f"not a PNG, JPEG or PPM picture (it starts with {head[:8]!r})"
+        return f"a broken {kind}: Pillow cannot read its header"
+    if kind is not None and isinstance(error, OSError) and said.startswith(_PILLOW_CUT_SHORT):
+        return f"a broken {kind}: its image data is cut short"
+    if kind is not None and (isinstance(error, SyntaxError)  # a PNG chunk's name or checksum, read as it decodes
+                             or isinstance(error, OSError) and said.endswith(_PILLOW_DECODER_FAILED)
+                             and "memory" not in said):
+        return f"a broken {kind}: its image data is damaged"
+    if kind is not None and isinstance(error, OSError) and said == _PILLOW_NO_DATA:
+        return f"a broken {kind}: Pillow finds no image data in it"
+    return f"not a readable image ({type(error).__name__}: {said})"
 
 
 def _refused(error: LoadError) -> _HeaderRefused:
