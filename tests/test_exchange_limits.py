@@ -1268,3 +1268,19 @@ def test_a_base_colour_outside_0_to_1_is_a_note(tmp_path: Path, factors: list[li
     loaded = load_model(path)
     assert loaded.warnings == (() if note is None else (note,))
     assert loaded.file_material["kd"][:2] == (1.0, pytest.approx(0.5, abs=0.01))
+
+
+@pytest.mark.parametrize(("texture_set", "noted"), [(1, True), (0, False), (None, False)])
+def test_a_base_colour_texture_on_a_second_uv_set_is_a_note(tmp_path: Path, texture_set: int | None,
+                                                             noted: bool) -> None:
+    """trimesh maps a base colour texture by TEXCOORD_0 whatever its texCoord says: one reading
+    TEXCOORD_1 was drawn by the first set's coordinates without a word."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0], picture=png_bytes(2, 2))
+    document["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = 1
+    if texture_set is not None:
+        document["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = texture_set
+    path = tmp_path / "two_sets.glb"
+    path.write_bytes(glb(document, binary))
+    loaded = load_model(path)
+    assert loaded.warnings == (("material 0's baseColorTexture reads TEXCOORD_1: drawn with TEXCOORD_0's",)
+                               if noted else ())

@@ -668,8 +668,9 @@ def _count(accessor: Any) -> int:
 # --- what trimesh draws otherwise than it says ---------------------------------------------------
 def unfaithful_notes(document: dict[str, Any]) -> list[str]:
     """What of a checked glTF is drawn otherwise than it says, which trimesh passes over without a word:
-    morph targets it does not read, and base colours outside 0..1 it holds to it."""
-    return [*_morphed_notes(document), *_outside_colour_notes(document)]
+    morph targets it does not read, base colours outside 0..1 it holds to it, and base colour textures
+    on a second set of texture coordinates, which it reads from the first."""
+    return [*_morphed_notes(document), *_outside_colour_notes(document), *_other_uv_set_notes(document)]
 
 
 def _morphed_notes(document: dict[str, Any]) -> list[str]:
@@ -704,6 +705,20 @@ def _outside_colour_notes(document: dict[str, Any]) -> list[str]:
         return [f"material {number}'s baseColorFactor holds {value:g}: glTF's colours are 0..1, held to it"]
     return [f"{materials} materials' baseColorFactor hold values outside glTF's 0..1 (the first, material {number}'s, "
             f"{value:g}), held to it"]
+
+
+def _other_uv_set_notes(document: dict[str, Any]) -> list[str]:
+    """A baseColorTexture whose texCoord names TEXCOORD_1 or later: trimesh maps it by TEXCOORD_0."""
+    others = [(number, texture["texCoord"]) for number, material in enumerate(document.get("materials", []))
+              if (texture := material.get("pbrMetallicRoughness", {}).get("baseColorTexture")) is not None
+              and texture.get("texCoord", 0) != 0]
+    if not others:
+        return []
+    (number, texture_set), materials = others[0], len(others)
+    if materials == 1:
+        return [f"material {number}'s baseColorTexture reads TEXCOORD_{texture_set}: drawn with TEXCOORD_0's"]
+    return [f"{materials} materials' baseColorTexture read a TEXCOORD_n past 0 (the first, material {number}'s, "
+            f"TEXCOORD_{texture_set}): drawn with TEXCOORD_0's"]
 
 
 def _listed(value: object) -> list[Any]:
