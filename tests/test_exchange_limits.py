@@ -653,6 +653,47 @@ def test_a_normal_of_glTFs_component_types_loads(tmp_path: Path, component_type:
     assert load_model(path).face_count == 1
 
 
+ALLOWED_VALUES = {"POSITION": ("VEC3", TRIANGLE), "TEXCOORD_0": ("VEC2", UVS), "COLOR_0": ("VEC4", np.ones((3, 4))),
+                  "indices": ("SCALAR", np.arange(3).reshape(3, 1))}
+
+
+@pytest.mark.parametrize("attribute, component_type, normalized", [
+    *[("POSITION", kind, False) for kind in (5120, 5121, 5122, 5123)],
+    *[("TEXCOORD_0", kind, False) for kind in (5120, 5121, 5122, 5123)], ("TEXCOORD_0", 5120, True),
+    ("TEXCOORD_0", 5122, True), ("COLOR_0", 5126, False), ("COLOR_0", 5121, True), ("COLOR_0", 5123, True),
+    ("indices", 5121, False), ("indices", 5123, False), ("indices", 5125, False)])
+def test_the_component_types_glTF_allows_load(tmp_path: Path, attribute: str, component_type: int,
+                                              normalized: bool) -> None:
+    """glTF's own component types, and those KHR_mesh_quantization adds, of each attribute read here and
+    of indices (the others are in the tests above); integer positions not normalized are the integers."""
+    dtype = np.dtype({5120: "<i1", 5121: "<u1", 5122: "<i2", 5123: "<u2", 5125: "<u4", 5126: "<f4"}[component_type])
+    kind, values = ALLOWED_VALUES[attribute]
+    width = values.shape[1]
+    if attribute != "indices":  # a vertex attribute's items are aligned to 4 bytes: a stride
+        width = -(-width * dtype.itemsize // 4) * 4 // dtype.itemsize
+    items = np.zeros((3, width), dtype)
+    items[:, :values.shape[1]] = values
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": items.nbytes,
+                                    **({} if attribute == "indices" else {"byteStride": items.strides[0]})})
+    document["accessors"].append({"bufferView": 2, "componentType": component_type, "count": 3, "type": kind,
+                                  **({"normalized": True} if normalized else {})})
+    primitive = document["meshes"][0]["primitives"][0]
+    if attribute == "indices":
+        primitive["indices"] = 2
+    else:
+        primitive["attributes"][attribute] = 2
+    binary += items.tobytes()
+    document["buffers"] = [{"byteLength": len(binary)}]
+    document["extensionsUsed"] = ["KHR_mesh_quantization"]
+    path = tmp_path / "allowed.glb"
+    path.write_bytes(glb(document, binary))
+    mesh = load_model(path)
+    assert mesh.face_count == 1
+    if attribute == "POSITION":
+        np.testing.assert_array_equal(mesh.positions, TRIANGLE)
+
+
 @pytest.mark.parametrize("extension", ["KHR_texture_basisu", "KHR_some_unknown", "EXT_texture_webp", 7])
 def test_a_required_gltf_extension_not_read_here_is_refused(tmp_path: Path, extension: object) -> None:
     """glTF: a reader must refuse a file that requires what it cannot honour; such files loaded
@@ -824,6 +865,32 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
      "d['meshes'][0]['primitives'][0]['attributes']['NORMAL'] = 2",
      "mesh 0's primitive 0's NORMAL is accessor 2, of componentType 5122, not normalized: glTF's are 5126 (float), "
      "or 5120 or 5122 normalized (KHR_mesh_quantization)"),
+    # trimesh read positions, uvs, colours and indices of any component type as they were, without a word
+    ("d['accessors'][0]['componentType'] = 5125", "mesh 0's primitive 0's POSITION is accessor 0, of componentType "
+     "5125: glTF's are 5126 (float), or 5120, 5121, 5122 or 5123, normalized or not (KHR_mesh_quantization)"),
+    ("d['accessors'][0]['normalized'] = True", "mesh 0's primitive 0's POSITION is accessor 0, of componentType "
+     "5126, normalized: glTF's are 5126 (float), or 5120, 5121, 5122 or 5123, normalized or not "
+     "(KHR_mesh_quantization)"),
+    ("d['accessors'][0]['componentType'] = 5124", "accessor 0's componentType 5124 is not one of glTF's"),
+    ("d['accessors'][0]['componentType'] = 5130", "accessor 0's componentType 5130 is not one of glTF's"),
+    ("d['accessors'][1]['componentType'] = 5125", "mesh 0's primitive 0's TEXCOORD_0 is accessor 1, of componentType "
+     "5125: glTF's are 5126 (float), 5121 or 5123 normalized, or 5120, 5121, 5122 or 5123, normalized or not "
+     "(KHR_mesh_quantization)"),
+    ("d['accessors'].append({'bufferView': 0, 'componentType': 5121, 'count': 3, 'type': 'VEC4'}); "
+     "d['meshes'][0]['primitives'][0]['attributes']['COLOR_0'] = 2", "mesh 0's primitive 0's COLOR_0 is accessor 2, "
+     "of componentType 5121, not normalized: glTF's are 5126 (float), or 5121 or 5123 normalized"),
+    ("d['accessors'].append({'bufferView': 0, 'componentType': 5120, 'count': 3, 'type': 'VEC4', 'normalized': True}); "
+     "d['meshes'][0]['primitives'][0]['attributes']['COLOR_0'] = 2", "mesh 0's primitive 0's COLOR_0 is accessor 2, "
+     "of componentType 5120: glTF's are 5126 (float), or 5121 or 5123 normalized"),
+    ("d['accessors'].append({'bufferView': 0, 'componentType': 5126, 'count': 3, 'type': 'SCALAR'}); "
+     "d['meshes'][0]['primitives'][0]['indices'] = 2", "mesh 0's primitive 0's indices are accessor 2, of "
+     "componentType 5126: glTF's are 5121, 5123 or 5125, not normalized"),
+    ("d['accessors'].append({'bufferView': 0, 'componentType': 5122, 'count': 3, 'type': 'SCALAR'}); "
+     "d['meshes'][0]['primitives'][0]['indices'] = 2", "mesh 0's primitive 0's indices are accessor 2, of "
+     "componentType 5122: glTF's are 5121, 5123 or 5125, not normalized"),
+    ("d['accessors'].append({'bufferView': 0, 'componentType': 5123, 'count': 3, 'type': 'SCALAR', "
+     "'normalized': True}); d['meshes'][0]['primitives'][0]['indices'] = 2", "mesh 0's primitive 0's indices are "
+     "accessor 2, of componentType 5123, normalized: glTF's are 5121, 5123 or 5125, not normalized"),
     # trimesh drew the uvs it had, shifted, beside the positions they did not match
     ("d['accessors'][1]['count'] = 2", "mesh 0's primitive 0's TEXCOORD_0 has 2 items, its POSITION 3: a primitive's "
      "attributes hold one item per vertex each"),

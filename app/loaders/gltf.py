@@ -146,8 +146,22 @@ _ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
 # The accessor types of the attributes read here (POSITION, TEXCOORD_n, COLOR_n) and of NORMAL, by the name
 # before "_".
 _ATTRIBUTE_TYPES = {"POSITION": ("VEC3",), "NORMAL": ("VEC3",), "TEXCOORD": ("VEC2",), "COLOR": ("VEC3", "VEC4")}
-# A NORMAL's component types: floats, or signed integers normalized (as KHR_mesh_quantization writes them).
-_NORMAL_FLOAT, _NORMAL_QUANTIZED = 5126, (5120, 5122)
+# The component types glTF allows of the attributes read here and of NORMAL (by the name before "_"), and of
+# indices, each with whether it may be normalized (glTF's own, and KHR_mesh_quantization's for positions, normals
+# and texture coordinates), and in words: trimesh read integers of any other kind as they were, without a word.
+_ComponentTypes = tuple[dict[int, tuple[bool, ...]], str]
+_FLOAT, _SMALL_INTEGERS = {5126: (False,)}, {kind: (False, True) for kind in (5120, 5121, 5122, 5123)}
+_COMPONENT_TYPES: dict[str, _ComponentTypes] = {
+    "POSITION": ({**_FLOAT, **_SMALL_INTEGERS},
+                 "5126 (float), or 5120, 5121, 5122 or 5123, normalized or not (KHR_mesh_quantization)"),
+    "NORMAL": ({**_FLOAT, 5120: (True,), 5122: (True,)},
+               "5126 (float), or 5120 or 5122 normalized (KHR_mesh_quantization)"),
+    "TEXCOORD": ({**_FLOAT, **_SMALL_INTEGERS}, "5126 (float), 5121 or 5123 normalized, or 5120, 5121, 5122 or 5123, "
+                                                "normalized or not (KHR_mesh_quantization)"),
+    "COLOR": ({**_FLOAT, 5121: (True,), 5123: (True,)}, "5126 (float), or 5121 or 5123 normalized"),
+}
+_INDEX_COMPONENT_TYPES: _ComponentTypes = ({5121: (False,), 5123: (False,), 5125: (False,)},
+                                           "5121, 5123 or 5125, not normalized")
 # What trimesh copies (each buffer view, each accessor's items from its view) and what is written before
 # it builds the meshes (the zeros, or sparse items, of an accessor a primitive reads) adds up, in a file
 # as glTF's writers make it, to at most the bytes the file and its buffers hold: past twice those and
@@ -320,13 +334,15 @@ class GltfReferences:
             if accessor.get("type") not in types:  # trimesh said an IndexError, or misread them
                 self.refuse(f"{what}'s {escaped(str(name))[:40]} is accessor {index}, of type {accessor['type']}: "
                             f"glTF's are {' or '.join(types)}")
-            if name == "NORMAL":
-                self.normal_components(what, index, accessor)
+            rule = _COMPONENT_TYPES.get(str(name).split("_", 1)[0])
+            if rule is not None:  # an attribute not read here is not asked
+                self.components(f"{what}'s {escaped(str(name))[:40]} is", rule, index, accessor)
         if "material" in primitive:
             material = self.named(primitive["material"], "materials", f"{what}'s material")
             self.texture_sets(what, primitive["material"], material, attributes)
         if "indices" in primitive:
-            self.named(primitive["indices"], "accessors", f"{what}'s indices")
+            accessor = self.named(primitive["indices"], "accessors", f"{what}'s indices")
+            self.components(f"{what}'s indices are", _INDEX_COMPONENT_TYPES, primitive["indices"], accessor)
         if primitive.get("mode", _TRIANGLES) == _TRIANGLES:  # three corners each, or trimesh fails to reshape them
             corners = "indices" if "indices" in primitive else "vertices and no indices"
             count = self.document["accessors"][primitive.get("indices", attributes["POSITION"])].get("count")
@@ -334,16 +350,15 @@ class GltfReferences:
                 self.refuse(f"{what} has {count} {corners}: its triangles take three each")
         self.counts_alike(what, attributes)
 
-    def normal_components(self, what: str, index: int, accessor: dict[str, Any]) -> None:
-        """A NORMAL's components as glTF allows them: the viewer makes its own normals, but trimesh read
-        integers of any other kind as they are, without a word."""
-        component = accessor["componentType"]
-        if component == _NORMAL_FLOAT or (component in _NORMAL_QUANTIZED and accessor.get("normalized") is True):
+    def components(self, what: str, rule: _ComponentTypes, index: int, accessor: dict[str, Any]) -> None:
+        """An attribute's or the indices' component type, and whether it is normalized, as glTF allows
+        them (`rule`); `what` names it, "... is" or "... are"."""
+        allowed, said = rule
+        component, normalized = accessor["componentType"], accessor.get("normalized") is True
+        if normalized in allowed.get(component, ()):
             return
-        unnormalized = ", not normalized" if component in _NORMAL_QUANTIZED else ""
-        self.refuse(f"{what}'s NORMAL is accessor {index}, of componentType {component}{unnormalized}: glTF's are "
-                    f"{_NORMAL_FLOAT} (float), or {' or '.join(map(str, _NORMAL_QUANTIZED))} normalized "
-                    "(KHR_mesh_quantization)")
+        flag = "" if component not in allowed else ", normalized" if normalized else ", not normalized"
+        self.refuse(f"{what} accessor {index}, of componentType {component}{flag}: glTF's are {said}")
 
     def texture_sets(self, what: str, number: int, material: dict[str, Any], attributes: dict[str, Any]) -> None:
         """The TEXCOORD_n each texture of its material names by its texCoord, which the primitive must have
