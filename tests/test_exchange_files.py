@@ -21,6 +21,7 @@ from marraztu.control.viewer import StartOptions
 from marraztu.errors import LoadError
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.registry import load_model
+from support.refusals import one_line_refusal
 
 SIZE = (120, 120)
 SQUARE = np.array([[-60, -60, 0], [60, -60, 0], [60, 60, 0], [-60, 60, 0]], dtype=np.float64)
@@ -207,6 +208,33 @@ def test_a_uri_whose_percent_is_the_files_own_is_read_as_written(tmp_path: Path)
     """A writer that did not encode a '%' in the name: not found decoded, the name as written is."""
     loaded = load_model(write_gltf(tmp_path, image_uri="tex%20100.png", image_file="tex%20100.png"))
     assert loaded.warnings == () and loaded.materials[0].texture is not None
+
+
+@pytest.mark.parametrize(("buffer_file", "image_file"), [
+    ("x-base64,y.bin", "square.png"), ("square.bin", "p-base64,q.png"), ("model-base64,part.bin", "base64,AAAA.png")])
+def test_a_uri_holding_base64_that_is_no_data_uri_names_a_file(tmp_path: Path, buffer_file: str, image_file: str
+                                                             ) -> None:
+    """trimesh decodes what follows 'base64,' in any URI: such a buffer was refused (its name's tail decoded
+    as a few bytes), such a picture dropped. Only a data: URI holds its bytes."""
+    loaded = load_model(write_gltf(tmp_path, buffer_file=buffer_file, image_uri=image_file, image_file=image_file))
+    assert loaded.face_count == 2 and loaded.warnings == ()
+    texture = loaded.materials[0].texture
+    assert texture[0, 0].tolist() == list(RED) and texture[-1, 0].tolist() == list(BLUE)
+    assert {tmp_path / buffer_file, tmp_path / image_file} <= set(loaded.read_beside)
+
+
+def test_a_file_uri_holding_base64_is_checked_as_the_file_it_names(tmp_path: Path) -> None:
+    """Read as a file, it is checked as one: missing, short of its byteLength, or not a picture."""
+    path = write_gltf(tmp_path, buffer_file="elsewhere.bin", buffer_uri="x-base64,AAAA")
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        "'x-base64,AAAA', which it names, could not be read (no such file)")
+    (tmp_path / "x-base64,AAAA").write_bytes((tmp_path / "elsewhere.bin").read_bytes()[:-4])
+    assert one_line_refusal(lambda: load_model(path)).message.startswith(
+        "'x-base64,AAAA', which it names, could not be read (it holds ")
+    (tmp_path / "p-base64,q.png").write_text("not a picture")
+    loaded = load_model(write_gltf(tmp_path, image_uri="p-base64,q.png", image_file=None))
+    assert loaded.materials == () and len(loaded.warnings) == 1
+    assert loaded.warnings[0].startswith("texture 'p-base64,q.png' could not be read (not a PNG, JPEG or PPM picture")
 
 
 def test_a_buffer_named_by_a_whole_path_is_looked_for_in_the_folder_and_says_so(tmp_path: Path) -> None:

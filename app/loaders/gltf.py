@@ -107,29 +107,36 @@ def declared_part(data: bytes) -> bytes:
 
 # --- what it names beside it ---------------------------------------------------------------------
 def gltf_pictures(document: dict[str, Any]) -> frozenset[str]:
-    """The URIs of a .gltf's pictures (not its buffers', which may be named anything)."""
+    """The URIs of a .gltf's pictures (not its buffers', which may be named anything), as trimesh asks for them."""
     return frozenset(_uris(document.get("images"))) - frozenset(_uris(document.get("buffers")))
 
 
 def buffer_bytes(document: dict[str, Any]) -> dict[str, int]:
-    """The byteLength of each buffer a glTF names by a file URI."""
+    """The byteLength of each buffer a glTF names by a file URI, by the URI as trimesh asks for it."""
     buffers = document.get("buffers")
-    return {item["uri"]: item["byteLength"] for item in buffers if isinstance(item, dict)
+    return {as_trimesh_asks(item["uri"]): item["byteLength"] for item in buffers if isinstance(item, dict)
             and isinstance(item.get("uri"), str) and not _is_data_uri(item["uri"])
             and _is_whole(item.get("byteLength"))} if isinstance(buffers, list) else {}
 
 
 def _uris(items: object) -> Iterator[str]:
-    """The file URIs a glTF list of images or buffers gives (a data: URI holds its bytes itself)."""
+    """The file URIs a glTF list of images or buffers gives (a data: URI holds its bytes itself), as
+    trimesh asks for them."""
     for item in items if isinstance(items, list) else ():
         uri = item.get("uri") if isinstance(item, dict) else None
         if isinstance(uri, str) and not _is_data_uri(uri):
-            yield uri
+            yield as_trimesh_asks(uri)
 
 
 def _is_data_uri(uri: str) -> bool:
     """A URI that holds its bytes itself (RFC 2397): of the scheme data, in any case."""
     return uri[:5].lower() == "data:"
+
+
+def as_trimesh_asks(uri: str) -> str:
+    """A file URI as trimesh is to ask the resolver for it: trimesh decodes what follows "base64," in any
+    URI as the bytes themselves, so there its comma is percent-encoded, which names the same file."""
+    return uri.replace("base64,", "base64%2C")
 
 
 # --- what it names, checked ----------------------------------------------------------------------
@@ -258,7 +265,7 @@ class GltfReferences:
         if "uri" not in buffer and self.path.suffix.lower() == ".gltf":
             self.refuse(f"buffer {number} has no uri: a .gltf's buffers are files beside it or data: URIs")
         uri = buffer.get("uri", "")
-        if _is_data_uri(uri) or "base64," in uri:  # trimesh decodes it; one short of its byteLength, it asserted
+        if _is_data_uri(uri):  # trimesh decodes it; one short of its byteLength, it asserted
             held = len(data_uri_bytes(self.path, uri, number))
             if held < buffer["byteLength"]:
                 self.refuse(f"buffer {number} holds {held} bytes, where its byteLength says "
@@ -743,17 +750,18 @@ def _listed(value: object) -> list[Any]:
 # --- the JSON made again for trimesh -------------------------------------------------------------
 def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_type: str,
                      read_beside: Callable[[str], bytes]) -> bytes:
-    """The file, its JSON made again (a GLB's JSON chunk too) where trimesh is to read it otherwise: the
-    meshes no node places emptied, the accessors its primitives read made plain (sparse ones dense,
-    normalized positions and texture coordinates floats), its nodes'
-    cameras taken out, its WEBP textures' fallbacks chosen and the pictures no material draws emptied.
+    """The file, its JSON made again (a GLB's JSON chunk too) where trimesh is to read it otherwise: its
+    file URIs that hold "base64," spelled apart, the meshes no node places emptied, the accessors its
+    primitives read made plain (sparse ones dense, normalized positions and texture coordinates floats), its
+    nodes' cameras taken out, its WEBP textures' fallbacks chosen and the pictures no material draws emptied.
     The document is checked already (GltfReferences); `read_beside` reads a buffer's file."""
+    respelled = _file_uris_respelled(document)  # first: a buffer read here is then named as trimesh asks for it
     unplaced_emptied = _unplaced_meshes_emptied(document)  # before their accessors are made plain
     made_plain = _accessors_made_plain(path, document, _BufferBytes(path, data, document, file_type, read_beside))
     cameras_taken_out = _node_cameras_taken_out(document)
     fallbacks_chosen = _fallbacks_chosen(document)
     undrawn_emptied = _undrawn_pictures_emptied(document)
-    if not (unplaced_emptied or made_plain or cameras_taken_out or fallbacks_chosen or undrawn_emptied):
+    if not (respelled or unplaced_emptied or made_plain or cameras_taken_out or fallbacks_chosen or undrawn_emptied):
         return data
     text = json.dumps(document).encode()
     if file_type == "gltf":
@@ -763,6 +771,17 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     rest = data[20 + old_length + (-old_length % 4):declared]  # the chunks after the JSON, as glb_document reads them
     return (b"glTF" + (2).to_bytes(4, "little") + (20 + len(text) + len(rest)).to_bytes(4, "little")
             + len(text).to_bytes(4, "little") + b"JSON" + text + rest)
+
+
+def _file_uris_respelled(document: dict[str, Any]) -> bool:
+    """Spells each buffer's and picture's file URI as trimesh is to ask for it (as_trimesh_asks): it read
+    "x-base64,y.bin" as the bytes that "y.bin" decodes to. False where none is spelled otherwise."""
+    respelled = False
+    for item in (*document.get("buffers", []), *document.get("images", [])):
+        uri = item.get("uri")
+        if isinstance(uri, str) and not _is_data_uri(uri) and as_trimesh_asks(uri) != uri:
+            item["uri"], respelled = as_trimesh_asks(uri), True
+    return respelled
 
 
 def _unplaced_meshes_emptied(document: dict[str, Any]) -> bool:
@@ -803,7 +822,7 @@ class _BufferBytes:
     def _held(self, uri: object, number: int) -> bytes | memoryview:
         if not isinstance(uri, str):  # a GLB's own buffer
             return _binary_chunk(self.data) if self.file_type == "glb" and number == 0 else b""
-        if "base64," not in uri:
+        if not _is_data_uri(uri):
             return self.read_beside(uri)
         return data_uri_bytes(self.path, uri, number)
 
