@@ -252,6 +252,7 @@ def test_names_looked_for_in_any_case_list_each_folder_once(tmp_path: Path, monk
 @pytest.mark.parametrize(("mtl", "usemtl", "said"), [
     ("newmtl w\nKd 1 0 0\nmap_Kd gone.png\n", "w", "texture 'gone.png' could not be read (no such file)"),
     ("newmtl w\nKd 1 0 0\n", "nobody", "usemtl names materials the library lacks ('nobody')"),
+    ("newmtl w\nKd 1 0 0\n", "n" * 100, f"usemtl names materials the library lacks ('{'n' * 40}... (100 characters)')"),
 ])
 def test_what_is_missing_is_a_note_and_the_colours_are_used(tmp_path: Path, mtl: str, usemtl: str,
                                                              said: str) -> None:

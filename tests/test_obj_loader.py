@@ -365,6 +365,13 @@ BAD_CASES = [
     ("absurd negative", V3 + "f 1 2 -99999999999999999999\n", 4, "out of range"),
     ("5000 digits", V3 + "f 1 2 " + "9" * 5000 + "\n", 4, "out of range"),
     ("absurd vt", "vt 0 0\n" + V3 + "f 1/1 2/1 3/99999999999999999999\n", 5, "texture coordinate (vt) index"),
+    # a long word is shown shortened, and how long it is said: 400 digits are not shown as 37 and '...'
+    ("400 digits", V3 + "f 1 2 " + "9" * 400 + "\n", 4,
+     f"vertex index '{'9' * 40}... (400 digits)' out of range: more than a model holds"),
+    ("a long number", V3 + "v 1 " + "9" * 400 + " 3\nf 1 2 3\n", 4, f"'{'9' * 40}... (400 digits)' is not a finite"),
+    ("a long word", V3 + "v 1 " + "x" * 100 + " 3\nf 1 2 3\n", 4, f"'{'x' * 40}... (100 characters)' is not a number"),
+    ("a long corner", V3 + "f 1 2 3/" + "x" * 100 + "\n", 4,
+     f"bad face corner '3/{'x' * 38}... (102 characters)': '{'x' * 40}... (100 characters)' is not an index"),
 ]
 
 

@@ -43,7 +43,7 @@ from marraztu.loaders.obj.raw import (
 )
 from marraztu.loaders.obj.text import has_continuations
 from marraztu.loaders.patterns import compiled
-from marraztu.loaders.words import BLANKS, DECIMAL_BYTES
+from marraztu.loaders.words import BLANKS, DECIMAL_BYTES, SHOWN_WHOLE, shortened
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, polygons_of_corners
 from marraztu.model.threads import largest
@@ -64,7 +64,6 @@ _TABLES = {b"v": _Table(0, "vertex position (v)", 3, 7), b"vt": _Table(1, "textu
            b"vn": _Table(2, "normal (vn)", 3, 3)}
 _FIELDS = (b"v", b"vt", b"vn")
 _FIELD_NAMES = ("vertex", "texture coordinate (vt)", "normal (vn)")
-_QUOTED_CHARACTERS = 40
 # Plain lines, read in one match each: most lines. Their numbers and indices need no check: a plain
 # number is finite and within float32 by its syntax alone (at most 29 digits before the point; a
 # negative exponent, or one digit after any zeros), and a plain index is below INDEX_LIMIT (at most
@@ -291,7 +290,7 @@ class LineReader:
             for field, index in enumerate(corner):
                 self.corners[field].append(index)  # relative ones are resolved below
         if len(shapes) > 1:
-            raise self.fail(number, f"mixed corner formats in one face: {_quoted(_first_tokens(rest))}")
+            raise self.fail(number, f"mixed corner formats in one face: {_quoted_start(_first_tokens(rest))}")
         self.resolve(number, rest, first)
         self.end_face(number, len(self.corners[0]) - first)
 
@@ -518,10 +517,16 @@ def _physical_lines(text: bytes) -> Iterator[bytes]:
 
 
 def _first_tokens(rest: bytes) -> bytes:
-    """The face's corners joined by single spaces, only as far as _quoted shows them."""
-    return b" ".join(rest.split(None, _QUOTED_CHARACTERS + 1)[:_QUOTED_CHARACTERS + 1])
+    """The face's corners joined by single spaces, only as far as _quoted_start shows them."""
+    return b" ".join(rest.split(None, SHOWN_WHOLE + 1)[:SHOWN_WHOLE + 1])
 
 
 def _quoted(token: bytes) -> str:
-    text = decoded(token)
-    return repr(text if len(text) <= _QUOTED_CHARACTERS else text[:_QUOTED_CHARACTERS - 3] + "...")
+    """A word of the file, quoted, shortened where long (its length said)."""
+    return repr(shortened(decoded(token), SHOWN_WHOLE))
+
+
+def _quoted_start(tokens: bytes) -> str:
+    """The start of a line's words, quoted, cut where long: not all of them are joined, to count."""
+    text = decoded(tokens)
+    return repr(text if len(text) <= SHOWN_WHOLE else text[:SHOWN_WHOLE - 3] + "...")
