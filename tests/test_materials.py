@@ -301,6 +301,31 @@ def test_a_colour_of_no_ascii_decimal_number_is_a_malformed_line(tmp_path: Path,
     assert mesh.materials[0].values == {}
 
 
+@pytest.mark.parametrize("options", ["-s 1_0 1 1", "-s 1 nan 1", "-o inf", "-t 1 1 \u0661", "-s 1e400",
+                                     "-bm NaN", "-boost 1_5", "-mm 0 inf", "-texres 1_024", "-bm x"])
+def test_a_texture_option_of_no_ascii_decimal_number_is_a_malformed_line(tmp_path: Path, options: str) -> None:
+    """Its numbers follow Kd's rule: float() read 1_0, nan, inf and '\u0661' (an Arabic-Indic 1), and -bm,
+    -boost, -mm and -texres took any word, as numbers of an option that is not applied, without a word."""
+    shutil.copy(EXAMPLES / "crate.ppm", tmp_path / "t.ppm")
+    (tmp_path / "m.mtl").write_text(f"newmtl w\nKd 1 0 0\nmap_Kd {options} t.ppm\n", encoding="utf-8")
+    (tmp_path / "m.obj").write_text(f"mtllib m.mtl\n{TRIANGLES}usemtl w\nf 1 2 3\n")
+    mesh = load_model(tmp_path / "m.obj")
+    assert mesh.warnings == ("material library 'm.mtl': ignored a malformed map_Kd line, on line 3",)
+    assert mesh.materials[0].texture is None and mesh.materials[0].values == {"kd": (1.0, 0.0, 0.0)}
+
+
+@pytest.mark.parametrize(("options", "name"), [("-s 1 1 1", "t.ppm"), ("-s 2", "t.ppm"), ("-o -0.5 +.5 1e-1", "t.ppm"),
+                                               ("-mm 0 1 -bm 2 -texres 256 -clamp on", "t.ppm"),
+                                               ("-s 2", "two words.ppm")])
+def test_texture_options_of_numbers_read_past_to_the_name(tmp_path: Path, options: str, name: str) -> None:
+    shutil.copy(EXAMPLES / "crate.ppm", tmp_path / name)
+    (tmp_path / "m.mtl").write_text(f"newmtl w\nmap_Kd {options} {name}\n")
+    (tmp_path / "m.obj").write_text(f"mtllib m.mtl\n{TRIANGLES}usemtl w\nf 1 2 3\n")
+    mesh = load_model(tmp_path / "m.obj")
+    assert mesh.materials[0].texture_name == name and mesh.materials[0].texture is not None
+    assert len(mesh.warnings) == 1 and mesh.warnings[0].endswith(" ignored") and "texture option" in mesh.warnings[0]
+
+
 def test_a_colour_set_again_within_0_to_1_says_nothing(tmp_path: Path) -> None:
     (tmp_path / "m.mtl").write_text("newmtl w\nKd 2 2 2\nKd 1 1 1\n")
     (tmp_path / "m.obj").write_text(f"mtllib m.mtl\n{TRIANGLES}usemtl w\nf 1 2 3\n")

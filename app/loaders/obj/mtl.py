@@ -130,6 +130,10 @@ class _Library:
     first_malformed: str = ""
     ignored: set[str] = field(default_factory=set)
 
+    def malformed_line(self, statement: str, number: int) -> None:
+        self.malformed += 1
+        self.first_malformed = self.first_malformed or f"{statement} line, on line {number}"
+
 
 def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wanted: Collection[str],
                    textures: _TextureCache, keep_first: bool = True) -> list[MeshMaterial]:
@@ -157,13 +161,16 @@ def _library_contents(text: bytes, wanted: Collection[str], keep_first: bool) ->
         elif block is None:
             library.before_first += 1
         elif key in ("ka", "kd", "ks", "ns") and not _material_value(block.values, key, tokens[1:]):
-            library.malformed += 1
-            library.first_malformed = library.first_malformed or f"{key.capitalize()} line, on line {number}"
+            library.malformed_line(key.capitalize(), number)
         elif key in ("ka", "kd", "ks"):  # a colour, just set
             _note_outside(block, key, number)
         elif key == "map_kd":
-            block.texture, options = _texture_file(tokens[1:])
-            library.ignored.update(options)
+            texture = _texture_file(tokens[1:])
+            if texture is None:
+                library.malformed_line("map_Kd", number)
+            else:
+                block.texture, options = texture
+                library.ignored.update(options)
         elif key in ("d", "tr") and _see_through(key, tokens[1:]):
             library.ignored.add("transparency (d, Tr)")
     return library
@@ -212,28 +219,34 @@ def _outside_note(name: str, blocks: Iterable[_Block]) -> list[str]:
     return [f"material library '{name}': {len(found)} colours outside MTL's 0..1 held to it (the first, {first})"]
 
 
-# map_Kd's options and how many values each takes (-o, -s and -t take one to three numbers).
-_TEXTURE_OPTIONS = {"-blendu": 1, "-blendv": 1, "-bm": 1, "-boost": 1, "-cc": 1, "-clamp": 1, "-imfchan": 1,
-                    "-mm": 2, "-texres": 1, "-type": 1, "-o": 3, "-s": 3, "-t": 3}
+# map_Kd's options: how many values each takes (-o, -s and -t one to three), and whether they are numbers.
+_TEXTURE_OPTIONS = {"-blendu": (1, False), "-blendv": (1, False), "-bm": (1, True), "-boost": (1, True),
+                    "-cc": (1, False), "-clamp": (1, False), "-imfchan": (1, False), "-mm": (2, True),
+                    "-texres": (1, True), "-type": (1, False), "-o": (3, True), "-s": (3, True), "-t": (3, True)}
 
 
-def _texture_file(tokens: list[str]) -> tuple[str | None, set[str]]:
+def _texture_file(tokens: list[str]) -> tuple[str | None, set[str]] | None:
     """The file a map_Kd line names (the rest of the line after its options: names may hold spaces),
-    and the options it gives, which marraztu does not apply."""
+    and the options it gives, which marraztu does not apply; None where an option's number is none by
+    the rule of Kd's numbers (finite_floats)."""
     options: set[str] = set()
     at = 0
     while at < len(tokens) and tokens[at].lower() in _TEXTURE_OPTIONS:
-        option, most = tokens[at].lower(), _TEXTURE_OPTIONS[tokens[at].lower()]
-        at += 1
-        taken = 0
-        while taken < most and at < len(tokens) - 1 and (most < 3 or _is_number(tokens[at])):
-            at, taken = at + 1, taken + 1
+        option = tokens[at].lower()
+        most, numbers = _TEXTURE_OPTIONS[option]
+        start = at = at + 1
+        while at - start < most and at < len(tokens) - 1 and (most < 3 or _meant_as_number(tokens[at])):
+            at += 1
+        if numbers and finite_floats(tokens[start:at]) is None:
+            return None
         options.add(f"texture option {option}")
     name = " ".join(tokens[at:])
     return (name or None), options
 
 
-def _is_number(token: str) -> bool:
+def _meant_as_number(token: str) -> bool:
+    """Where -o, -s and -t's numbers end, and the name begins: at a word float() does not read. It reads
+    more than the rule (1_0, nan, an Arabic-Indic 1), so such a word is the option's, and refused by it."""
     try:
         float(token)
     except ValueError:
