@@ -23,7 +23,6 @@ from marraztu.loaders.files import bom_length, line_end_after, read_model_bytes,
 from marraztu.loaders.words import (
     BLANKS,
     MAX_COUNT_DIGITS,
-    SHOWN_WHOLE,
     WHITESPACE,
     LineOf,
     WordBlocks,
@@ -395,7 +394,7 @@ def _header(path: Path, rows: _Rows) -> tuple[_Layout, int, int]:
     if keyword is None:
         said = "not an OFF file (it does not start with 'OFF')"
         if words[0].upper().endswith("OFF"):
-            said = (f"{shortened(words[0], SHOWN_WHOLE)}: only OFF, COFF, NOFF, STOFF and their blends are read (no 4 "
+            said = (f"{shortened(words[0])}: only OFF, COFF, NOFF, STOFF and their blends are read (no 4 "
                     "or n dimensions)")
         raise LoadError(path, said, line=number)
     if len(words) > 1 and words[1].upper() == "BINARY":
@@ -452,7 +451,7 @@ def _check_nothing_after(path: Path, rows: _Rows, faces: int) -> None:
     numbers after its last row are (the header's counts, or the file, are not what they say)."""
     after = rows.next(1)
     if after is not None:
-        raise LoadError(path, f"'{shortened(after[1][0], SHOWN_WHOLE)}' after the {counted(faces, 'face')} the header "
+        raise LoadError(path, f"'{shortened(after[1][0])}' after the {counted(faces, 'face')} the header "
                               "counts", line=after[0])
 
 
@@ -477,7 +476,7 @@ def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.n
         size = int(first) if is_count(first) else -1
         if size < 3:
             raise LoadError(path, "a face's corner count must be a whole number of 3 or more, not "
-                                  f"'{shortened(first, SHOWN_WHOLE)}'", line=number)
+                                  f"'{shortened(first)}'", line=number)
         words = rest[0].split(None, size + most) if rest else []  # its corners and a colour: never more words
         if len(words) - size not in _FACE_COLOUR_WORDS:
             raise LoadError(path, f"a face of {size} corners, this line holds {said_count(words, size + most)} "

@@ -19,7 +19,6 @@ from marraztu.errors import LoadError
 from marraztu.loaders.files import bom_length, line_at, read_model_bytes, text_lines
 from marraztu.loaders.patterns import compiled
 from marraztu.loaders.words import (
-    SHOWN_WHOLE,
     WordBlocks,
     checked_coordinates,
     said_count,
@@ -259,4 +258,4 @@ def _unexpected(path: Path, state: int, keyword: str, line: int) -> LoadError:
         return LoadError(path, "a facet of more than 3 vertices: STL facets are triangles", line=line)
     if keyword == "endloop" and state in (_LOOP, _SECOND, _THIRD):
         return LoadError(path, f"a facet of {state - _LOOP} vertices: STL facets are triangles", line=line)
-    return LoadError(path, f"expected {_EXPECTED[state]}, found '{shortened(keyword, SHOWN_WHOLE)}'", line=line)
+    return LoadError(path, f"expected {_EXPECTED[state]}, found '{shortened(keyword)}'", line=line)

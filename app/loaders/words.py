@@ -27,7 +27,7 @@ MAX_COUNT_DIGITS = 12
 # was tried at every split (a 20,000-digit word took 8 s); no part of a number gives back digits.
 DECIMAL_SYNTAX = r"[+-]?+(?:[0-9]++(?:\.[0-9]*+)?+|\.[0-9]++)(?:[eE][+-]?+[0-9]++)?+"
 ROWS_AT_ONCE = 1 << 15  # rows whose words are made numbers in one call
-SHOWN_WHOLE = 40  # a word of the file up to this long is shown whole by OFF's, OBJ's and STL's messages
+SHOWN_WHOLE = 40  # a word of the file up to this long is shown whole by the loaders' messages
 
 DECIMAL = compiled(DECIMAL_SYNTAX)  # fullmatch: one decimal number in ASCII digits
 DECIMAL_BYTES = compiled(DECIMAL_SYNTAX.encode())
@@ -92,7 +92,7 @@ def checked_numbers(path: Path, words: list[str], line_of: LineOf) -> np.ndarray
     finite = np.isfinite(values)
     if not finite.all():
         at = int(np.argmin(finite))
-        raise LoadError(path, f"'{shortened(words[at], SHOWN_WHOLE)}' is not a finite number", line=line_of(at))
+        raise LoadError(path, f"'{shortened(words[at])}' is not a finite number", line=line_of(at))
     return values
 
 
@@ -117,7 +117,7 @@ def said_count(words: list[str], most: int) -> str:
     return str(len(words)) if len(words) <= most else f"more than {most}"
 
 
-def shortened(word: str, most: int = 20) -> str:
+def shortened(word: str, most: int = SHOWN_WHOLE) -> str:
     """A word as a message shows it: where longer than `most` characters, its first ones and how long it is
     ("..." in ASCII: the window's font has no other)."""
     if len(word) <= most:
@@ -147,9 +147,9 @@ def _converted(path: Path, words: list[str], line_of: LineOf, kind: type, syntax
     at, word = next(((at, word) for at, word in enumerate(words)
                      if not syntax.fullmatch(word) or (whole and _past_int64(word))), (0, words[0]))
     if syntax.fullmatch(word):
-        raise LoadError(path, out_of_range.format(shortened(word, SHOWN_WHOLE)), line=line_of(at))
+        raise LoadError(path, out_of_range.format(shortened(word)), line=line_of(at))
     wanted = "a number" if kind is np.float64 else "a whole number"
-    raise LoadError(path, f"'{shortened(word, SHOWN_WHOLE)}' is not {wanted}", line=line_of(at))
+    raise LoadError(path, f"'{shortened(word)}' is not {wanted}", line=line_of(at))
 
 
 def _wholes_without_leading_zeros(words: list[str]) -> np.ndarray | None:

@@ -28,7 +28,7 @@ from marraztu.loaders.obj.lines import LONGEST_BATCHED_LINE, ReadsSlowly, read_b
 from marraztu.loaders.obj.mtl import read_libraries
 from marraztu.loaders.obj.raw import MaterialRuns, RawObj, name_before_comment
 from marraztu.loaders.obj.text import as_bytes, checked, ended, has_continuations, read_text
-from marraztu.loaders.words import SHOWN_WHOLE, shortened
+from marraztu.loaders.words import shortened
 from marraztu.model.build import colour_bytes, colour_fractions, derive_mesh
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, counted
 
@@ -109,7 +109,7 @@ def _with_face_materials(mesh: Mesh, runs: MaterialRuns, library: list[MeshMater
 
 
 def _names_shown(names: list[str]) -> str:
-    return ", ".join(f"'{shortened(name, SHOWN_WHOLE)}'" for name in names[:3]) + (" ..." if len(names) > 3 else "")
+    return ", ".join(f"'{shortened(name)}'" for name in names[:3]) + (" ..." if len(names) > 3 else "")
 
 
 def _drawn_vertex_colours(table: np.ndarray | None) -> tuple[np.ndarray | None, list[str]]:

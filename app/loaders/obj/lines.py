@@ -523,7 +523,7 @@ def _first_tokens(rest: bytes) -> bytes:
 
 def _quoted(token: bytes) -> str:
     """A word of the file, quoted, shortened where long (its length said)."""
-    return repr(shortened(decoded(token), SHOWN_WHOLE))
+    return repr(shortened(decoded(token)))
 
 
 def _quoted_start(tokens: bytes) -> str:
