@@ -1351,3 +1351,23 @@ def test_a_base_colour_texture_on_a_second_uv_set_is_a_note(tmp_path: Path, text
     loaded = load_model(path)
     assert loaded.warnings == (("material 0's baseColorTexture reads TEXCOORD_1: drawn with TEXCOORD_0's",)
                                if noted else ())
+
+
+@pytest.mark.parametrize("with_material", [False, True])
+def test_colours_of_normalized_shorts_are_the_fractions_they_stand_for(tmp_path: Path, with_material: bool) -> None:
+    """trimesh cast a COLOR_0 of normalized unsigned shorts to bytes where the mesh has no material:
+    65535, 32768 and 256 became 255, 0 and 0 (the low byte)."""
+    shorts = np.array([[65535, 32768, 256, 65535], [0, 65535, 0, 65535], [0, 0, 65535, 65535]], "<u2")
+    document, binary = triangle_gltf([{"mesh": 0}], [0], picture=png_bytes(2, 2) if with_material else None)
+    at = len(binary) + (-len(binary) % 4)
+    binary += b"\0" * (at - len(binary)) + shorts.tobytes()
+    document["bufferViews"].append({"buffer": 0, "byteOffset": at, "byteLength": shorts.nbytes})
+    document["accessors"].append({"bufferView": len(document["bufferViews"]) - 1, "componentType": 5123,
+                                  "normalized": True, "count": 3, "type": "VEC4"})
+    document["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = len(document["accessors"]) - 1
+    document["buffers"] = [{"byteLength": len(binary)}]
+    path = tmp_path / "shorts.glb"
+    path.write_bytes(glb(document, binary))
+    colours = load_model(path).vertex_colours
+    assert colours is not None
+    np.testing.assert_allclose(colours, np.round(shorts[:, :3] / 65535 * 255), atol=1)

@@ -809,9 +809,7 @@ def _vertex_colours(mesh: Any) -> np.ndarray | None:
         attributes = getattr(visual, "vertex_attributes", None)
         if attributes is None or "color" not in attributes:
             return None
-        colours = np.asarray(attributes["color"])
-        if colours.dtype == np.uint16:  # glTF's normalized shorts
-            colours = (colours >> 8).astype(np.uint8)
+        colours = np.asarray(attributes["color"])  # normalized shorts made fractions (gltf._normalized_read)
     try:
         return colour_bytes(colours, len(mesh.vertices))
     except ValueError:  # not one RGB or RGBA row per vertex of bytes or 0..1: not trusted, not drawn

@@ -873,19 +873,23 @@ def _accessors_made_plain(path: Path, document: dict[str, Any], buffer: Callable
 
 # glTF's normalized integers: each component type's dtype and the value that stands for 1.
 _NORMALIZED = {5120: ("<i1", 127), 5121: ("<u1", 255), 5122: ("<i2", 32767), 5123: ("<u2", 65535)}
+_NORMALIZED_SHORTS = 5123
 
 
 def _normalized_read(document: dict[str, Any]) -> set[int]:
     """The accessors the primitives read as positions or texture coordinates that hold normalized
-    integers (normals keep their direction, and are made unit length anyway; colours are scaled where
-    they are read)."""
+    integers, and colours of normalized shorts, which trimesh casts to bytes where the mesh has no
+    material (normals keep their direction, and are made unit length anyway; colours of bytes are
+    the bytes drawn)."""
     accessors, found = document.get("accessors", []), set()
     for mesh in document.get("meshes", []):
         for primitive in mesh["primitives"]:
             for name, index in primitive["attributes"].items():
-                accessor = accessors[index]
-                if ((name == "POSITION" or str(name).startswith("TEXCOORD_")) and accessor.get("normalized") is True
-                        and accessor["componentType"] in _NORMALIZED):
+                accessor, name = accessors[index], str(name)
+                if accessor.get("normalized") is not True or accessor["componentType"] not in _NORMALIZED:
+                    continue
+                if (name == "POSITION" or name.startswith("TEXCOORD_")
+                        or name.startswith("COLOR_") and accessor["componentType"] == _NORMALIZED_SHORTS):
                     found.add(index)
     return found
 
