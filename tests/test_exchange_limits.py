@@ -776,6 +776,9 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
     ("d['nodes'][0]['mesh'] = 5", "node 0 names mesh 5, of 1"),
     ("d['scenes'][0]['nodes'] = [True]", "scene 0 names node True, of 1"),
     ("d['meshes'][0]['primitives'][0]['indices'] = 7", "mesh 0's primitive 0's indices names accessor 7, of 2"),
+    ("d['accessors'].append({'bufferView': 0, 'componentType': 5123, 'count': 3, 'type': 'VEC3'}); "
+     "d['meshes'][0]['primitives'][0]['indices'] = 2",
+     "mesh 0's primitive 0's indices are accessor 2, of type VEC3: glTF's are SCALAR"),
     ("d['meshes'][0]['primitives'][0]['attributes']['POSITION'] = '0'",
      "mesh 0's primitive 0's POSITION names accessor '0', of 2"),
     # trimesh said an AttributeError ("'int' object has no attribute 'get'") or a TypeError

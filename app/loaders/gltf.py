@@ -349,6 +349,9 @@ class GltfReferences:
             self.texture_sets(what, primitive["material"], material, attributes)
         if "indices" in primitive:
             accessor = self.named(primitive["indices"], "accessors", f"{what}'s indices")
+            if accessor.get("type") != "SCALAR":  # trimesh read a VEC3's items as three indices each
+                self.refuse(f"{what}'s indices are accessor {primitive['indices']}, of type {accessor.get('type')}: "
+                            "glTF's are SCALAR")
             self.components(f"{what}'s indices are", _INDEX_COMPONENT_TYPES, primitive["indices"], accessor)
         if primitive.get("mode", _TRIANGLES) == _TRIANGLES:  # three corners each, or trimesh fails to reshape them
             corners = "indices" if "indices" in primitive else "vertices and no indices"
