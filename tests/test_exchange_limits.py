@@ -710,6 +710,15 @@ def test_a_required_gltf_extension_not_read_here_is_refused(tmp_path: Path, exte
         assert np.array_equal(load_model(path).positions, TRIANGLE)
 
 
+def test_a_long_required_gltf_extension_is_named_shortened(tmp_path: Path) -> None:
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["extensionsRequired"] = ["EXT_" + "e" * 100]
+    path = tmp_path / "needs.glb"
+    path.write_bytes(glb(document, binary))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        f"it requires the glTF extension EXT_{'e' * 36}... (104 characters), which is not read here")
+
+
 @pytest.mark.parametrize("edit, words", [
     (lambda d: d[:10], "not a GLB file: it does not begin with glTF's 12-byte header and a chunk"),
     (lambda d: b"glTX" + d[4:], "not a GLB file: it does not begin with glTF's 12-byte header and a chunk"),
@@ -840,6 +849,13 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
     ("d['materials'] = [{'pbrMetallicRoughness': {'metallicFactor': [1, 2]}}]",
      "material 0's metallicFactor is not a number"),
     ("d['materials'] = [{'alphaMode': 'x'}]", "material 0's alphaMode 'x' is not one of glTF's (OPAQUE, MASK, BLEND)"),
+    ("d['materials'] = [{'alphaMode': 'x' * 50}]",
+     f"material 0's alphaMode '{'x' * 39}... (52 characters) is not one of glTF's (OPAQUE, MASK, BLEND)"),
+    ("d['scene'] = 10 ** 50", f"its scene names scene 1{'0' * 39}... (51 digits), of 1"),
+    ("d['meshes'][0]['primitives'][0]['attributes']['TEXCOORD_' + '1' * 50] = 9",
+     f"mesh 0's primitive 0's TEXCOORD_{'1' * 31}... (59 characters) names accessor 9, of 2"),
+    ("d['materials'] = [{'pbrMetallicRoughness': {'\\x1b' * 50: ['x']}}]",
+     "material 0's " + "\\x1b" * 10 + "... (200 characters) is not a list of numbers"),
     # trimesh said "'int' object has no attribute 'get'", "invalid literal for int() with base 10: 'x'",
     # "only GLTF 2 is supported not `1.0`", "object of type 'int' has no len()", "'bool' object has no attribute 'find'"
     ("d['asset'] = 5", "its asset is not an object"),

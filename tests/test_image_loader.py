@@ -97,6 +97,8 @@ PPM_ERRORS = [
     ("no maxval", b"P6 1 1", "no maxval"),
     ("letters in header", b"P6 a 1 255\n\0\0\0", "not a whole number"),
     ("negative size", b"P6 -1 1 255\n\0\0\0", "not a whole number"),
+    ("long word in header", b"P6 1 " + b"h" * 50 + b" 255\n\0\0\0",
+     "height b'" + "h" * 40 + "'... (50 bytes) is not a whole number"),
     ("zero width", b"P6 0 1 255\n", "at least 1"),
     ("zero height", b"P3 1 0 255\n", "at least 1"),
     ("absurd size", b"P6 100000 100000 255\n\0\0\0", "too large"),

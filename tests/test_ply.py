@@ -442,6 +442,11 @@ def test_a_word_numpy_would_not_read_is_named_at_its_line(tmp_path: Path, word: 
     assert (refused.line, refused.message) == (16, f"'{word}' is not a number")
 
 
+def test_a_long_word_numpy_would_not_read_is_shown_shortened(tmp_path: Path) -> None:
+    refused = refusal(tmp_path, ply_text(["3 0 1 4"], vertices=[*GRID[:6], f"0 {'1x' * 30} 0", *GRID[7:]]))
+    assert (refused.line, refused.message) == (16, f"'{'1x' * 20}... (60 bytes)' is not a number")
+
+
 @pytest.mark.parametrize(("kind", "index"), [("uint64", 2**64 - 1), ("uint64", 2**64), ("int64", 2**63 - 1)])
 def test_an_index_at_a_64_bit_types_edge_is_out_of_range(tmp_path: Path, kind: str, index: int) -> None:
     """float64 rounds a 64-bit type's largest value up to 2 ** bits: it was refused as no uint64."""
@@ -533,6 +538,8 @@ def test_one_polygon_of_many_corners_fans_in_proportion(tmp_path: Path) -> None:
 @pytest.mark.parametrize(("header", "line", "message"), [
     ("ply\nformat ascii 1.0\nproperty float x\nend_header\n", 3, "a property before any element"),
     ("ply\nformat ascii 1.0\nelement vertex 3\nproperty real x\nend_header\n", 4, "'real' is not a PLY type"),
+    ("ply\nformat ascii 1.0\nelement vertex 3\nproperty " + "r" * 41 + " x\nend_header\n", 4,
+     f"'{'r' * 40}... (41 characters)' is not a PLY type"),
     ("ply\nformat ascii 1.0\nelement face 1\nproperty list float int vertex_indices\nend_header\n", 4,
      "a list's count must be of a whole-number type, not float"),
     ("ply\nformat ascii 2.0 x\nelement face 1\nend_header\n", 2,
@@ -546,12 +553,20 @@ def test_one_polygon_of_many_corners_fans_in_proportion(tmp_path: Path) -> None:
      "'1' begins no PLY header line: a line is a format, element, property, comment or obj_info"),
     ("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nvertex 3\nend_header\n", 5,
      "'vertex' begins no PLY header line: a line is a format, element, property, comment or obj_info"),
+    ("ply\nformat ascii 1.0\n" + "9" * 400 + "\nelement face 1\nend_header\n", 3,
+     f"'{'9' * 40}... (400 digits)' begins no PLY header line: a line is a format, element, property, comment "
+     "or obj_info"),
     ("ply\nformat ascii 1.0\nelement face\nend_header\n", 3, "expected 'element', a name and a count"),
+    ("ply\nformat ascii 1.0\nelement " + "e" * 50 + " x\nend_header\n", 3,
+     f"element {'e' * 40}... (50 characters): 'x' is not a count"),
     # trimesh said "PLY is unexpected length!" for both
     ("ply\nformat ascii 1.0\nelement face 2\nelement vertex 0\nelement face 0\nelement face 1\nend_header\n", 6,
      "a second element named face with rows"),
     ("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float x\nend_header\n", 6,
      "element vertex: a second property named x"),
+    ("ply\nformat ascii 1.0\nelement " + "e" * 50 + " 1\nproperty float " + "p" * 50 + "\nproperty float " + "p" * 50
+     + "\nend_header\n", 5,
+     f"element {'e' * 40}... (50 characters): a second property named {'p' * 40}... (50 characters)"),
     # numpy said "no field of name z" and "The DType <class 'numpy.dtypes.VoidDType'> could not be promoted"
     ("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nelement face 1\nend_header\n", 3,
      "element vertex has no property z: a vertex's coordinates are x, y and z"),

@@ -18,6 +18,7 @@ import numpy as np
 
 from marraztu.errors import LoadError, escaped
 from marraztu.loaders.files import MAX_FILE_BYTES
+from marraztu.loaders.words import shortened
 from marraztu.model.mesh import counted
 
 # A GLB holds its JSON and, after it, its binary buffer; chunks of other kinds are to be read past. Past
@@ -254,9 +255,9 @@ class GltfReferences:
         version = asset.get("version", "2.0")
         major = version.split(".", 1)[0] if isinstance(version, str) else ""
         if not major.isdecimal():
-            self.refuse(f"its asset's version {escaped(repr(version))[:20]} is not a version such as \"2.0\"")
+            self.refuse(f"its asset's version {shortened(escaped(repr(version)))} is not a version such as \"2.0\"")
         if int(major) < 2:
-            self.refuse(f"its asset's version is {escaped(version)[:20]}: only glTF 2 is read")
+            self.refuse(f"its asset's version is {shortened(escaped(version))}: only glTF 2 is read")
 
     def buffer_uri(self, number: int, buffer: dict[str, Any]) -> None:
         """A buffer's uri, a string; left out only by a GLB's buffer (trimesh says "KeyError: 'uri'")."""
@@ -294,19 +295,20 @@ class GltfReferences:
             self.refuse(f"material {number}'s pbrMetallicRoughness is not an object")
         for key, value in (*material.items(), *values.items()):
             if isinstance(value, list) and not all(map(_is_number, value)):
-                self.refuse(f"material {number}'s {escaped(str(key))[:40]} is not a list of numbers")
+                self.refuse(f"material {number}'s {shortened(escaped(str(key)))} is not a list of numbers")
             if key in _MATERIAL_NUMBERS and not _numbers_of(value, _MATERIAL_NUMBERS[key]):
                 size = _MATERIAL_NUMBERS[key]
                 self.refuse(f"material {number}'s {key} is not {'a number' if size is None else f'{size} numbers'}")
         for key, texture in _texture_infos(material):  # trimesh drops one that names no texture
-            self.named(texture["index"], "textures", f"material {number}'s {escaped(key)[:40]}")
+            self.named(texture["index"], "textures", f"material {number}'s {shortened(escaped(key))}")
             texture_set = texture.get("texCoord", 0)
             if not _is_whole(texture_set) or texture_set < 0:
-                self.refuse(f"material {number}'s {escaped(key)[:40]}'s texCoord is not a whole number of 0 or more")
+                self.refuse(f"material {number}'s {shortened(escaped(key))}'s texCoord is not a whole number of 0 "
+                            "or more")
 
         mode = material.get("alphaMode", "OPAQUE")
         if not (isinstance(mode, str) and mode.upper() in _ALPHA_MODES):  # trimesh upper-cases it
-            self.refuse(f"material {number}'s alphaMode {escaped(repr(mode))[:20]} is not one of glTF's (OPAQUE, "
+            self.refuse(f"material {number}'s alphaMode {shortened(escaped(repr(mode)))} is not one of glTF's (OPAQUE, "
                         "MASK, BLEND)")
 
     def mesh(self, number: int, mesh: dict[str, Any]) -> None:
@@ -336,14 +338,14 @@ class GltfReferences:
         if "POSITION" not in attributes:  # trimesh reads every primitive's positions (a KeyError)
             self.refuse(f"{what} has no POSITION attribute")
         for name, index in attributes.items():
-            accessor = self.named(index, "accessors", f"{what}'s {escaped(str(name))[:40]}")
+            accessor = self.named(index, "accessors", f"{what}'s {shortened(escaped(str(name)))}")
             types = _ATTRIBUTE_TYPES.get(str(name).split("_", 1)[0], (accessor.get("type"),))
             if accessor.get("type") not in types:  # trimesh said an IndexError, or misread them
-                self.refuse(f"{what}'s {escaped(str(name))[:40]} is accessor {index}, of type {accessor['type']}: "
-                            f"glTF's are {' or '.join(types)}")
+                self.refuse(f"{what}'s {shortened(escaped(str(name)))} is accessor {index}, of type "
+                            f"{accessor['type']}: glTF's are {' or '.join(types)}")
             rule = _COMPONENT_TYPES.get(str(name).split("_", 1)[0])
             if rule is not None:  # an attribute not read here is not asked
-                self.components(f"{what}'s {escaped(str(name))[:40]} is", rule, index, accessor)
+                self.components(f"{what}'s {shortened(escaped(str(name)))} is", rule, index, accessor)
         if "material" in primitive:
             material = self.named(primitive["material"], "materials", f"{what}'s material")
             self.texture_sets(what, primitive["material"], material, attributes)
@@ -377,15 +379,15 @@ class GltfReferences:
         for key, texture in _texture_infos(material):
             texture_set = texture.get("texCoord")
             if _is_whole(texture_set) and texture_set >= 0 and f"TEXCOORD_{texture_set}" not in attributes:
-                self.refuse(f"{what} has no TEXCOORD_{texture_set}, which material {number}'s {escaped(key)[:40]} "
-                            "reads (its texCoord)")
+                self.refuse(f"{what} has no TEXCOORD_{texture_set}, which material {number}'s "
+                            f"{shortened(escaped(key))} reads (its texCoord)")
 
     def sampler(self, number: int, sampler: dict[str, Any]) -> None:
         """Its filters and wraps, each left out or one of glTF's enums: trimesh passes over them without a word."""
         for key, allowed in _SAMPLER_VALUES.items():
             value = sampler.get(key, allowed[0])
             if not (_is_whole(value) and value in allowed):
-                self.refuse(f"sampler {number}'s {key} {escaped(repr(value))[:20]} is not one of glTF's "
+                self.refuse(f"sampler {number}'s {key} {shortened(escaped(repr(value)))} is not one of glTF's "
                             f"({', '.join(map(str, allowed))})")
 
     def counts_alike(self, what: str, attributes: dict[str, Any]) -> None:
@@ -395,8 +397,8 @@ class GltfReferences:
         vertices = accessors[attributes["POSITION"]]["count"]
         for name, index in attributes.items():
             if accessors[index]["count"] != vertices:
-                self.refuse(f"{what}'s {escaped(str(name))[:40]} has {accessors[index]['count']} items, its POSITION "
-                            f"{vertices}: a primitive's attributes hold one item per vertex each")
+                self.refuse(f"{what}'s {shortened(escaped(str(name)))} has {accessors[index]['count']} items, its "
+                            f"POSITION {vertices}: a primitive's attributes hold one item per vertex each")
 
     def accessor(self, number: int, accessor: dict[str, Any]) -> None:
         count = accessor.get("count")
@@ -437,8 +439,8 @@ class GltfReferences:
                 self.refuse(f"{what} has no {key}" if part is None else f"{named} are not an object")
             kind = part.get("componentType")
             if key == "indices" and not (_is_whole(kind) and kind in _SPARSE_INDEX_BYTES):
-                self.refuse(f"{named}' componentType {escaped(repr(kind))[:20]} is not one of an index's (5121, 5123, "
-                            "5125)")
+                self.refuse(f"{named}' componentType {shortened(escaped(repr(kind)))} is not one of an index's "
+                            "(5121, 5123, 5125)")
             view = self.named(part.get("bufferView"), "bufferViews", named)
             if "byteStride" in view:  # which would be read packed
                 self.refuse(f"{named}' buffer view {part['bufferView']} has a byteStride: glTF's sparse indices and "
@@ -465,7 +467,7 @@ class GltfReferences:
     def unknown(what: str, key: str, value: object) -> str:
         if value is None:
             return f"{what} has no {key}"
-        return f"{what}'s {key} {escaped(repr(value))[:20]} is not one of glTF's"
+        return f"{what}'s {key} {shortened(escaped(repr(value)))} is not one of glTF's"
 
     def byte_count(self, item: dict[str, Any], key: str, what: str, required: bool = False) -> int:
         """item[key], a number of bytes (0 where it may be left out), which must be a whole number of 0 or
@@ -483,7 +485,7 @@ class GltfReferences:
         size = len(items) if isinstance(items, list) else 0
         if not _is_whole(index) or not 0 <= index < size:  # type: ignore[operator]
             kind = {"bufferViews": "buffer view", "meshes": "mesh"}.get(key, key[:-1])
-            self.refuse(f"{by} names {kind} {escaped(repr(index))[:20]}, of {size}")
+            self.refuse(f"{by} names {kind} {shortened(escaped(repr(index)))}, of {size}")
         item = items[index]  # type: ignore[index]
         return item if isinstance(item, dict) else {}
 
@@ -594,7 +596,8 @@ def check_geometry_readable(path: Path, document: dict[str, Any] | None) -> None
             raise LoadError(path, f"its geometry is {_UNREAD_COMPRESSION[name]} ({name}), which is not read here: "
                                   "export it uncompressed")
         if not _required_extension_read(name):  # glTF: a reader must refuse what it cannot honour
-            raise LoadError(path, f"it requires the glTF extension {escaped(str(name))[:80]}, which is not read here")
+            raise LoadError(path, f"it requires the glTF extension {shortened(escaped(str(name)))}, which is not "
+                                  "read here")
 
 
 def _required_extension_read(name: object) -> bool:

@@ -30,6 +30,7 @@ from PIL import Image
 from marraztu.errors import LoadError, escaped
 from marraztu.loaders.files import read_file, read_head, shown
 from marraztu.loaders.patterns import compiled
+from marraztu.loaders.words import shortened_bytes
 
 # No texture a student uses comes near this; a header claiming more is broken or hostile.
 MAX_PIXELS = 64 * 1024 * 1024
@@ -144,7 +145,7 @@ def _ppm_header(data: bytes, source: str) -> tuple[int, int, int, int]:
             raise LoadError(source, f"truncated PPM header: no {name}")
         token = match.group(1)
         if not token.isdigit():
-            raise LoadError(source, f"bad PPM header: {name} {token[:20]!r} is not a whole number")
+            raise LoadError(source, f"bad PPM header: {name} {shortened_bytes(token)} is not a whole number")
         numbers.append(int(token[:12]) if len(token) <= 12 else 10**12)  # beyond any cap anyway
         at = match.end()
     width, height, maxval = numbers

@@ -35,6 +35,7 @@ from marraztu.loaders.words import (
     is_count,
     pieces_at_gaps,
     shortened,
+    shortened_bytes,
     text_numbers,
     unheld_coordinate,
     words_and_line_ends,
@@ -150,8 +151,8 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
         elif "texturefile" in line.lower():  # on any other line, as trimesh reads it
             picture = _picture_named(line)
         elif keyword not in _REMARKS:  # trimesh passed over it: a header cut or run together
-            raise LoadError(path, f"'{keyword[:40]}' begins no PLY header line: a line is a format, element, property, "
-                                  "comment or obj_info", line=number)
+            raise LoadError(path, f"'{shortened(keyword)}' begins no PLY header line: a line is a format, element, "
+                                  "property, comment or obj_info", line=number)
     if encoding is None:
         raise LoadError(path, "the header has no 'format' line", line=number + 1)
     return PlyHeader(encoding, _checked_elements(path, elements, properties, element_lines), picture,
@@ -213,16 +214,16 @@ def _element(path: Path, words: list[str], line: int, filled: set[str]) -> PlyEl
     # trimesh keeps one table of each name (an empty one, and elements other than these, are left out)
     if int(words[2]) and words[1] in _KEPT_ELEMENTS:
         if words[1] in filled:
-            raise LoadError(path, f"a second element named {words[1][:40]} with rows", line=line)
+            raise LoadError(path, f"a second element named {shortened(words[1])} with rows", line=line)
         filled.add(words[1])
     return PlyElement(words[1], int(words[2]), ())
 
 
 def _not_a_count(element: str, word: str) -> str:
     if word.isascii() and word.isdecimal():  # past MAX_COUNT_DIGITS
-        return (f"element {element[:40]}: {shortened(word)} rows are more than a file holds (a count has at most "
-                f"{MAX_COUNT_DIGITS} digits)")
-    return f"element {element[:40]}: '{shortened(word)}' is not a count"
+        return (f"element {shortened(element)}: {shortened(word)} rows are more than a file holds (a count has at "
+                f"most {MAX_COUNT_DIGITS} digits)")
+    return f"element {shortened(element)}: '{shortened(word)}' is not a count"
 
 
 def _property(path: Path, words: list[str], line: int, element: PlyElement, names: set[str]) -> PlyProperty:
@@ -232,13 +233,14 @@ def _property(path: Path, words: list[str], line: int, element: PlyElement, name
         raise LoadError(path, "expected 'property', a type and a name, or 'property list', two types and a name",
                         line=line)
     if words[-1] in names:  # a row's fields are named: numpy refuses two of a name
-        raise LoadError(path, f"element {element.name[:40]}: a second property named {words[-1][:40]}", line=line)
+        raise LoadError(path, f"element {shortened(element.name)}: a second property named {shortened(words[-1])}",
+                        line=line)
     names.add(words[-1])
     if element.name == "vertex" and words[-1] in ("x", "y", "z") and len(types) == 2:  # numpy fails to promote it
         raise LoadError(path, f"vertex {words[-1]} is a list: a coordinate is one number", line=line)
     unknown = [kind for kind in types if kind not in PLY_TYPES]
     if unknown:
-        raise LoadError(path, f"'{unknown[0][:40]}' is not a PLY type", line=line)
+        raise LoadError(path, f"'{shortened(unknown[0])}' is not a PLY type", line=line)
     if len(types) == 2:
         if PLY_TYPES[types[0]][0] == "f":
             raise LoadError(path, f"a list's count must be of a whole-number type, not {types[0]}", line=line)
@@ -338,9 +340,13 @@ def _first_bad_word(path: Path, data: bytes, body_at: int) -> LoadError:
             pass
         for found in re.finditer(rb"\S++", piece):
             if not DECIMAL_BYTES.fullmatch(found[0]) and not _NOT_FINITE.fullmatch(found[0]):
-                word = found[0][:40].decode("utf-8", errors="replace")
+                word = shortened_bytes(found[0], _as_text)
                 return LoadError(path, f"'{word}' is not a number", line=line_at(data, start + found.start()))
     return LoadError(path, "its body could not be read as numbers")
+
+
+def _as_text(word: bytes) -> str:
+    return word.decode("utf-8", errors="replace")
 
 
 def _ended(path: Path, element: PlyElement, line: int | None = None) -> LoadError:

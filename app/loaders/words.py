@@ -127,6 +127,14 @@ def shortened(word: str, most: int = SHOWN_WHOLE) -> str:
     return f"{word[:most]}... ({length})"
 
 
+def shortened_bytes(word: bytes, shown: Callable[[bytes], str] = repr, most: int = SHOWN_WHOLE) -> str:
+    """A word of bytes as a message shows it, made text by `shown`; where longer than `most` bytes, its first
+    ones and how many bytes it is: only those are made text, never a long word whole (repr writes 4 a byte)."""
+    if len(word) <= most:
+        return shown(word)
+    return f"{shown(word[:most])}... ({len(word)} bytes)"
+
+
 def is_count(word: str) -> bool:
     """A header's count: ASCII digits ('٣'.isdigit() too is true), no more than MAX_COUNT_DIGITS."""
     return len(word) <= MAX_COUNT_DIGITS and _COUNT.fullmatch(word) is not None
