@@ -112,3 +112,12 @@ def test_f9_offscreen_says_where_recording_happens() -> None:
 
     with marraztu.Viewer(size=(32, 32)) as viewer:
         assert "marraztu record" in viewer.press("F9").message
+
+
+def test_f12_offscreen_says_where_the_picture_is(tmp_path: Path) -> None:
+    """F12 saved nothing offscreen and said nothing: the key looked broken in --keys and in Python."""
+    import marraztu
+
+    with marraztu.Viewer(size=(32, 32)) as viewer:
+        assert "F12 saves in the window" in viewer.press("F12").message
+    assert not list(tmp_path.iterdir())

@@ -38,7 +38,6 @@ class Frontend(Protocol):
     """What only a window, or only the offscreen runner, can do."""
 
     def quit(self) -> None: ...
-    def save_screenshot(self) -> None: ...
 
     def notice(self, text: str) -> None:
         """Tells what happened at start-up where the person started the program (stderr)."""
@@ -441,7 +440,11 @@ class Viewer:
         self.prompt = ""
 
     def save_screenshot(self) -> None:
-        self.frontend.save_screenshot()
+        save = getattr(self.frontend, "save_screenshot", None)  # only a window keeps pictures as it goes
+        if save is None:
+            self.scene.message = "F12 saves in the window; offscreen, the picture is the one -o or render() makes"
+        else:
+            save()
 
     def toggle_recording(self) -> None:
         record = getattr(self.frontend, "toggle_recording", None)  # only a window records as it goes

@@ -46,9 +46,6 @@ class OffscreenFrontend:
             viewer.press(press)
             yield press
 
-    def save_screenshot(self) -> None:
-        pass
-
     def notice(self, text: str) -> None:
         if not self.quiet:
             print(escaped(text), file=sys.stderr)
