@@ -58,6 +58,8 @@ def test_every_stage_equals_numpy() -> None:
         assert np.allclose(numbers_after("ndc", lines[row + 1]), ndc, atol=0.0006)
         window_printed = re.search(rf"window x ({NUMBER}) y ({NUMBER}) depth ({NUMBER})", lines[row + 1])
         assert np.allclose([float(g) for g in window_printed.groups()], window, atol=[0.051, 0.051, 0.00006])
+    # GL's window y grows upward, a picture's rows downward: the panel says which it prints.
+    assert any("y up from the bottom" in line for line in lines[:2])
 
 
 def test_a_corner_nearer_than_the_near_plane_is_clipped_and_says_why() -> None:

@@ -41,7 +41,8 @@ def _header(found: FacePipeline, probe_hidden: bool) -> list[str]:
     note = "   (the probe, i, waits behind this panel)" if probe_hidden else ""
     lines = [f"PIPELINE {found.obj.name} face {found.face + 1}/{found.face_count} (Enter: next)   "
              f"{width}x{height}, {projection}, near plane {found.near:g}{note}",
-             "world = M model   eye = V world   clip = P eye   ndc = clip.xyz / w   window = viewport(ndc)"]
+             "world = M model   eye = V world   clip = P eye   ndc = clip.xyz / w   window = viewport(ndc), y up from "
+             "the bottom, as GL counts it"]
     blocks = [[f"M: model of {found.obj.name}", *_matrix_rows(found.model_matrix, 2)],
               ["V: view", *_matrix_rows(found.view_matrix, 2)],
               [f"P: projection, aspect {width / height:.2f}", *_matrix_rows(found.projection_matrix, 3)]]
