@@ -184,3 +184,9 @@ def test_a_model_lying_on_the_ground_hides_the_grid_and_axes_in_its_plane(tmp_pa
             assert kept[on_model].all(), (x, z, near, bare)
             assert (bare[1, 1] != BACKGROUND).any()  # the model is there
     assert (shown != hidden).any()  # the guides are drawn beside it
+
+
+def test_every_axis_stands_out_from_the_background() -> None:
+    """Pure blue z on the seed's blue background (0, 0, 178) differed by 77 levels in one channel."""
+    for colour in AXIS_COLOURS:
+        assert np.abs(np.round(colour * 255) - BACKGROUND).max() >= 128, colour

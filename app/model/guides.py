@@ -15,7 +15,9 @@ import numpy as np
 
 from marraztu.model.scene import Frame, Scene, Target
 
-AXIS_COLOURS = np.eye(3, dtype=np.float32)  # x red, y green, z blue, as in every graphics tool
+# x red, y green, z blue, as in every graphics tool; z a sky blue, as Blender's, since pure blue on the
+# seed's blue background (0, 0, 0.7) hardly shows.
+AXIS_COLOURS = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.25, 0.6, 1.0]], dtype=np.float32)
 OWN_AXIS_LIGHTNESS = 0.55  # an object's own axes: the same hues, paler, told from the world's
 GRID_COLOUR = (0.55, 0.55, 0.6)
 GRID_CELLS = 20  # about this many cells across the scene: fine enough to read distances
