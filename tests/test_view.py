@@ -67,6 +67,24 @@ def test_a_lone_model_is_framed_whatever_its_units(tmp_path: Path, size: float, 
     assert tuple(pixels[SIZE[1] // 2, SIZE[0] // 2]) != BACKGROUND  # centred
 
 
+def covered_columns(pixels: np.ndarray) -> int:
+    return covered_rows(pixels.transpose(1, 0, 2))
+
+
+@pytest.mark.parametrize(("keys", "size"), [("s .", (480, 320)), ("s p .", (480, 320)), ("", (80, 160)),
+                                            ("p .", (80, 160))])
+def test_a_view_narrower_than_high_is_framed_by_its_width(tmp_path: Path, keys: str, size: tuple[int, int]) -> None:
+    """Side by side, each third of an 800x800 window is 266 wide: `.` framed by the height alone, so a
+    round model ran off both sides of every third. A lone model at start in a tall window did too."""
+    pixels = picture(tmp_path, keys, (octahedron(tmp_path / "m.obj", 2.0),), size=size)
+    width = size[0] // 3 if keys.startswith("s") else size[0]
+    third = pixels[:, width + 2:2 * width - 2] if keys.startswith("s") else pixels  # within the separators
+    aspect = width / size[1]  # tan(half width) in a 90 degree high view
+    share = FILL if "p" in keys else math.sin(math.atan(FILL * aspect)) / aspect  # the tips, level with the centre
+    assert covered_columns(third) == pytest.approx(share * width, abs=3)
+    assert (third[:, [0, -1]] == BACKGROUND).all()  # clear of the sides
+
+
 def test_the_framed_start_is_the_same_at_every_scale(tmp_path: Path) -> None:
     small = picture(tmp_path, "", (octahedron(tmp_path / "a.obj", 1e-3),), name="a.png")
     large = picture(tmp_path, "", (octahedron(tmp_path / "b.obj", 1e4),), name="b.png")

@@ -107,7 +107,8 @@ def test_the_command_lines_models_are_framed_once_together(tmp_path: Path, monke
     (tmp_path / "far.obj").write_text("v 50 0 0\nv 51 0 0\nv 50 1 0\nf 1 2 3\n")
     framed: list[int] = []
     original = commands.frame_models
-    monkeypatch.setattr(commands, "frame_models", lambda scene: framed.append(len(scene.objects)) or original(scene))
+    monkeypatch.setattr(commands, "frame_models",
+                        lambda scene, *rest: framed.append(len(scene.objects)) or original(scene, *rest))
     models = (tmp_path / "t.obj",) * 40 + (tmp_path / "far.obj",)
     viewer = Viewer(empty_scene(), Notices(), strict=True)
     viewer.start(StartOptions(empty=True, models=models), 4096)

@@ -61,6 +61,10 @@ class Host(Protocol):
 
     def open_file_prompt(self) -> None: ...
 
+    def narrowest_aspect(self) -> float:
+        """Width over height of the narrowest view drawn now (a third of the window, side by side)."""
+        ...
+
     def load_model(self, path: str) -> bool | None:
         """Loads a model file; on success calls `add_loaded`, on failure sets scene.message."""
         ...
@@ -351,7 +355,7 @@ def frame_selected(scene: Scene, host: Host) -> None:
         scene.message = "no object to frame"
         return
     turned = framing.revealing(scene.camera.model, [obj])
-    matrix, half_height = framing.frame_objects(scene, turned, [obj])
+    matrix, half_height = framing.frame_objects(scene, turned, [obj], host.narrowest_aspect())
     if move_view(scene, matrix, half_height=half_height):
         scene.message = f"framed {obj.name}"
 
@@ -559,7 +563,7 @@ def loads_as_camera(scene: Scene) -> bool:
     return scene.modes.target is Target.CAMERAS
 
 
-def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool) -> None:
+def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool, aspect: float = 1.0) -> None:
     """The host's half of `f`: the loaded element joins its list, selected, at face 0. A new camera
     stands where it sees the scene, looking the way the current one does; a lone model is framed
     (the host frames the models of the command line together, frame_models)."""
@@ -567,7 +571,7 @@ def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool) -> None:
     scene.loads += 1
     if as_camera:
         if scene.objects:  # the cameras too: it stands clear of their bodies, which it sees
-            obj.history = [framing.frame_objects(scene, scene.camera.model, scene.objects + scene.cameras)[0]]
+            obj.history = [framing.frame_objects(scene, scene.camera.model, scene.objects + scene.cameras, aspect)[0]]
         scene.cameras.append(obj)
         scene.selected_camera = len(scene.cameras) - 1
         return
@@ -575,19 +579,20 @@ def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool) -> None:
     scene.objects.append(obj)
     scene.selected_object = len(scene.objects) - 1
     if lone:
-        frame_models(scene)
+        frame_models(scene, aspect)
 
 
-def frame_models(scene: Scene) -> None:
-    """The models fill two thirds of the view, whatever their units. A camera not yet moved takes
-    that as its start (HOME comes back to it); otherwise it is a move `u` takes back."""
+def frame_models(scene: Scene, aspect: float = 1.0) -> None:
+    """The models fill two thirds of a view `aspect` wide, whatever their units. A camera not yet moved
+    takes that as its start (HOME comes back to it); otherwise it is a move `u` takes back."""
     fit_to_models(scene)
     camera = scene.camera
     if len(camera.history) == 1:
         camera.history[0] = framing.revealing(camera.model, scene.objects)  # the start may turn
-        camera.history[0], scene.modes.parallel_half_height = framing.frame_objects(scene, camera.model, scene.objects)
+        camera.history[0], scene.modes.parallel_half_height = framing.frame_objects(
+            scene, camera.model, scene.objects, aspect)
     else:
-        matrix, half_height = framing.frame_objects(scene, camera.model, scene.objects)
+        matrix, half_height = framing.frame_objects(scene, camera.model, scene.objects, aspect)
         move_view(scene, matrix, half_height=half_height)
 
 

@@ -381,7 +381,7 @@ class Viewer:
         # ones that join together have (_frame_start_models): framing looks at every model.
         starting = self._at_start(at_start)
         together = starting and not as_camera and self._start_models_alone
-        commands.add_loaded(self.scene, obj, as_camera=as_camera)
+        commands.add_loaded(self.scene, obj, as_camera=as_camera, aspect=self.narrowest_aspect())
         if as_camera:
             self._tell_each([_loaded_message(obj, Path(path), "camera", "")], at_start)
             return
@@ -421,7 +421,7 @@ class Viewer:
     def _frame_start_models(self) -> None:
         """The command line's models that joined, framed together while the camera has not moved."""
         if self._start_models_to_frame and len(self.scene.camera.history) == 1:
-            commands.frame_models(self.scene)
+            commands.frame_models(self.scene, self.narrowest_aspect())
             self._tell_unseen_start_models()
         self._start_models_to_frame = False
 
@@ -438,6 +438,9 @@ class Viewer:
 
     def open_file_prompt(self) -> None:
         self.prompt = ""
+
+    def narrowest_aspect(self) -> float:
+        return self.view_aspect(self.scene)
 
     def save_screenshot(self) -> None:
         save = getattr(self.frontend, "save_screenshot", None)  # only a window keeps pictures as it goes

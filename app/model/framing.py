@@ -40,10 +40,12 @@ def bounding_sphere(objects: Iterable[SceneObject]) -> tuple[np.ndarray, float]:
     return centre, radius
 
 
-def framing_distance(radius: float) -> float:
-    """How far from the sphere's centre its angular size is FILL of the vertical field of view."""
+def framing_distance(radius: float, aspect: float = 1.0) -> float:
+    """How far from the sphere's centre its angular size is FILL of the field of view, vertical or, in a
+    view narrower than high, horizontal."""
     half_fov = math.radians(PERSPECTIVE_FOVY_DEG) / 2.0
-    return radius / math.sin(math.atan(FILL * math.tan(half_fov)))  # the sphere's tangents span FILL
+    # The sphere's tangents span FILL of the narrower side: tan(half width) = aspect tan(half height).
+    return radius / math.sin(math.atan(FILL * _narrowness(aspect) * math.tan(half_fov)))
 
 
 def _framed_radius(radius: float) -> float:
@@ -52,21 +54,29 @@ def _framed_radius(radius: float) -> float:
     return radius if radius > 0.0 else 1.0
 
 
-def framed(camera_model: np.ndarray, centre: np.ndarray, radius: float) -> np.ndarray:
-    """The camera's matrix moved, not turned, so that it looks at `centre` from far enough back."""
+def framed(camera_model: np.ndarray, centre: np.ndarray, radius: float, aspect: float = 1.0) -> np.ndarray:
+    """The camera's matrix moved, not turned, so that it looks at `centre` from far enough back, in a
+    view `aspect` wide."""
     backward = camera_model[:3, 2] / np.linalg.norm(camera_model[:3, 2])  # the camera looks along -z
     moved = np.array(camera_model, dtype=np.float64)
-    moved[:3, 3] = centre + backward * framing_distance(_framed_radius(radius))
+    moved[:3, 3] = centre + backward * framing_distance(_framed_radius(radius), aspect)
     return moved
 
 
-def frame_objects(scene: Scene, camera_model: np.ndarray, objects: list[SceneObject]) -> tuple[np.ndarray, float]:
-    """The camera's matrix framing `objects`, and the parallel view's half height that frames them
-    (the current one in perspective)."""
+def frame_objects(scene: Scene, camera_model: np.ndarray, objects: list[SceneObject],
+                  aspect: float = 1.0) -> tuple[np.ndarray, float]:
+    """The camera's matrix framing `objects` in a view `aspect` wide, and the parallel view's half
+    height that frames them (the current one in perspective)."""
     centre, radius = bounding_sphere(objects)
     parallel = scene.modes.projection is Projection.PARALLEL
-    half_height = _framed_radius(radius) / FILL if parallel else scene.modes.parallel_half_height
-    return framed(camera_model, centre, radius), half_height
+    half_height = _framed_radius(radius) / _narrowness(aspect) / FILL if parallel else scene.modes.parallel_half_height
+    return framed(camera_model, centre, radius, aspect), half_height
+
+
+def _narrowness(aspect: float) -> float:
+    """How much of the view's height its width spans, where less: a view narrower than high (a third
+    of the window, side by side) frames by its width."""
+    return min(aspect, 1.0)
 
 
 def _box_faces(objects: list[SceneObject]) -> np.ndarray:

@@ -72,6 +72,9 @@ class RecordingHost:
     def open_file_prompt(self) -> None:
         self.calls.append(("open_file_prompt",))
 
+    def narrowest_aspect(self) -> float:
+        return 1.0  # a square view, as the scenes' tests draw
+
     def load_model(self, path: str) -> bool | None:
         self.calls.append(("load_model", path))
         return None
