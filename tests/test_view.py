@@ -733,3 +733,17 @@ def test_a_size_out_of_range_is_not_echoed_digit_by_digit() -> None:
     assert len(str(caught.value)) < 120
     with pytest.raises(ValueError, match="size 0x10 is out of range"):
         parse_size("0x10")
+
+
+def test_a_scene_file_that_places_no_camera_is_framed(tmp_path: Path) -> None:
+    """Without [[cameras]] a scene file took the built-in camera, 150 units from a 1-unit cube, which
+    showed as a few pixels and said nothing; it is framed as a model given alone is. One that places
+    a camera keeps it."""
+    octahedron(tmp_path / "m.obj", 1.0)
+    entry = '[[objects]]\nmodel = "m.obj"\nposition = [0, 0, 0]\n'
+    camera = '[[cameras]]\nmodel = "m.obj"\nposition = [0, 0, 150]\n'
+    (tmp_path / "alone.toml").write_text(entry)
+    (tmp_path / "placed.toml").write_text(entry + camera)
+    for name, rows in (("alone.toml", math.sin(math.atan(FILL)) * SIZE[1]), ("placed.toml", 2 * SIZE[1] / 300)):
+        out = take_screenshot(StartOptions(scene_file=tmp_path / name), tmp_path / "shot.png", SIZE)
+        assert covered_rows(np.asarray(Image.open(out).convert("RGB")).astype(int)) == pytest.approx(rows, abs=3)

@@ -198,7 +198,10 @@ class Viewer:
         """The texture (the one named, or the scene's) and the models of the command line. Every
         failure is told, on screen and to the front end, and none hides another."""
         self._starting = True
-        self._start_models_alone = not self.scene.objects
+        # The command line's models are framed together where they are alone, or beside a scene
+        # file's that places no camera (framed with them).
+        self._start_models_alone = not self.scene.objects or self.scene.frame_at_start
+        self._start_models_to_frame = self.scene.frame_at_start and bool(self.scene.objects)
         self.scene.message = ""
         try:
             self._start_texture(options.texture, longest_texture_side)

@@ -9,7 +9,7 @@
     ns = 80                               # > 0
     rgb = [1, 1, 1]                       # optional base colour, default white
 
-    [[cameras]]                           # none: the built-in scene's
+    [[cameras]]                           # none: the built-in scene's, framing the models
     model = "camera.obj"                  # relative to the scene file; a camera's is the built-in one if left out
     position = [0, 0, 150]
     material = "golden"                   # a name above, or an inline table of the same keys
@@ -132,6 +132,7 @@ class SceneDescription:
     cameras: tuple[SceneEntry, ...]
     texture_path: Path | None
     texture_line: int | None = None  # where `texture` is set, for the message of a texture that fails
+    cameras_given: bool = True  # False: the file places none, and `cameras` are the built-in scene's
 
 
 # --------------------------------------------------------------------------------------------------
@@ -147,7 +148,8 @@ def load_scene(path: str | Path) -> Scene:
     loader = _ModelLoader(description.path)
     return Scene(objects=[loader.place(entry) for entry in description.objects],
                  cameras=[loader.place(entry) for entry in description.cameras],
-                 texture_path=_optional_str(description.texture_path), texture_named_at=_texture_named_at(description))
+                 texture_path=_optional_str(description.texture_path), texture_named_at=_texture_named_at(description),
+                 frame_at_start=not description.cameras_given)
 
 
 def load_builtin_scene() -> Scene:
@@ -279,9 +281,10 @@ class _SceneReader:
         materials = self.named_materials()
         objects = self.entries("objects", materials)
         cameras = self.entries("cameras", materials)
-        if not cameras:  # the built-in scene's, as --empty gives
+        given = bool(cameras)
+        if not given:  # the built-in scene's, as --empty gives
             cameras = read_scene_description(builtin_scene_path()).cameras
-        return SceneDescription(self.path, objects, cameras, self.texture(), self.lines.first(("texture",)))
+        return SceneDescription(self.path, objects, cameras, self.texture(), self.lines.first(("texture",)), given)
 
     # --- top level -----------------------------------------------------------------------------
     def texture(self) -> Path | None:

@@ -335,6 +335,8 @@ class Scene:
     loads: int = 0
     # The scale (unit) the built-in camera's body and the lights' places were last fitted to.
     fitted_unit: float = 1.0
+    # A scene file that places no camera: its models are framed at start, as a model given alone is.
+    frame_at_start: bool = False
 
     def __post_init__(self) -> None:
         if not self.cameras:
