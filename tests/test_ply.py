@@ -325,6 +325,39 @@ def test_a_huge_number_is_shown_as_written_not_as_inf(tmp_path: Path, faces: lis
     assert (refused.line, refused.message) == (19, message)  # the face's line, or the last vertex's
 
 
+LONG_NAME = "n" * 50
+SHOWN_NAME = "n" * 40 + "... (50 characters)"
+GRID_ROWS = [f"{row} 0" for row in GRID]
+
+
+@pytest.mark.parametrize(("vertex_property", "vertices", "more", "line", "message"), [
+    (f"property uchar {LONG_NAME}", [*GRID_ROWS[:8], f"{GRID[8]} 300"], "", 19,
+     f"vertex {SHOWN_NAME}: 300 is no uchar (whole numbers from 0 to 255)"),
+    (f"property list uchar int {LONG_NAME}", [*GRID_ROWS[:8], f"{GRID[8]} 300"], "", 19,
+     f"vertex {SHOWN_NAME}: 300 is no uchar count (whole numbers from 0 to 255)"),
+    ("", GRID, f"element {LONG_NAME} 2\nproperty float a\n", 22,
+     f"the header counts 2 rows of {SHOWN_NAME}, the file ends before them"),
+])
+def test_a_long_element_or_property_name_is_shown_shortened(tmp_path: Path, vertex_property: str,
+                                                           vertices: list[str], more: str, line: int,
+                                                           message: str) -> None:
+    """A body's message named its element and property whole, however long."""
+    properties = "property float x\nproperty float y\nproperty float z\n" + (vertex_property and vertex_property + "\n")
+    text = ply_text(["3 0 1 2"], vertices=vertices, vertex_properties=properties)
+    text = text.replace("end_header\n", more + "end_header\n") + ("1\n" if more else "")
+    refused = refusal(tmp_path, text)
+    assert (refused.line, refused.message) == (line, message)
+
+
+def test_a_long_element_name_is_shown_shortened_in_a_binary_body(tmp_path: Path) -> None:
+    header = ply_text(["3 0 1 2"]).split("end_header")[0].replace("ascii", "binary_little_endian")
+    header += f"element {LONG_NAME} 1\nproperty list char int a\nend_header\n"
+    rows = b"".join(struct.pack("<3f", *map(float, row.split())) for row in GRID)
+    (tmp_path / "b.ply").write_bytes(header.encode() + rows + struct.pack("<B3ib", 3, 0, 1, 2, -1))
+    refused = one_line_refusal(lambda: load_model(tmp_path / "b.ply"))
+    assert refused.message == f"{SHOWN_NAME}: a list count of -1, below 0"
+
+
 @pytest.mark.parametrize("list_type", ["float", "int"])
 def test_a_huge_index_of_a_binary_or_float_list_is_shown_as_its_value(tmp_path: Path, list_type: str) -> None:
     """A float list's 400 nines are shown as written; a binary body's values are exact as read."""

@@ -351,8 +351,8 @@ def _as_text(word: bytes) -> str:
 
 def _ended(path: Path, element: PlyElement, line: int | None = None) -> LoadError:
     """The body ends before the rows of `element` its header counts (a binary body names no line)."""
-    return LoadError(path, f"the header counts {counted(element.count, 'row')} of {element.name}, the file ends "
-                           "before them", line=line)
+    return LoadError(path, f"the header counts {counted(element.count, 'row')} of {shortened(element.name)}, the file "
+                           "ends before them", line=line)
 
 
 _LINE_PIECE_BYTES = 1 << 16
@@ -590,8 +590,8 @@ def _walked_row(body: _Body, element: PlyElement, at: int) -> tuple[list[int], i
                 raise body.ended(element)
             count = float(body.numbers[position])
             if not (0 <= count <= _most(prop.count_type) and count == int(count)):
-                raise body.error(f"{element.name} {prop.name}: {body.shown(count, position)} is no {prop.count_type} "
-                                 f"count ({_range(prop.count_type, counts=True)})", position)
+                raise body.error(f"{shortened(element.name)} {shortened(prop.name)}: {body.shown(count, position)} is "
+                                 f"no {prop.count_type} count ({_range(prop.count_type, counts=True)})", position)
             counts.append(int(count))
             position += int(count)
         position += 1
@@ -644,7 +644,8 @@ def _check_type(body: _Body, element: PlyElement, column: _Column) -> None:
     if not held.all():
         first = int(np.argmin(held.ravel()))
         at = column.index(first)
-        raise body.error(f"{element.name} {column.prop.name}: {body.shown(column.values.ravel()[first], at)} is no "
+        shown = body.shown(column.values.ravel()[first], at)
+        raise body.error(f"{shortened(element.name)} {shortened(column.prop.name)}: {shown} is no "
                          f"{column.prop.value_type} ({_range(column.prop.value_type)})", at)
 
 
@@ -988,7 +989,7 @@ def _byte_counted_rows(data: bytes, at: int, rows: int, steps: list[tuple[int, s
 
 def _bad_count(path: Path, element: PlyElement, count: int) -> LoadError:
     if count < 0:
-        return LoadError(path, f"{element.name}: a list count of {count}, below 0")
+        return LoadError(path, f"{shortened(element.name)}: a list count of {count}, below 0")
     return _ended(path, element)
 
 
