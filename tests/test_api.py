@@ -791,3 +791,11 @@ def test_the_message_says_the_file_prompt_is_open() -> None:
     with marraztu.Viewer(size=SIZE) as v:
         assert v.press("f x x").message == "model file to load (Enter loads, ESC cancels): xx_"
         assert v.press("ESC").message == "loading cancelled"
+
+
+def test_a_mesh_added_from_python_says_where_it_stands_as_a_load_does() -> None:
+    """add_mesh joined the scene past the viewer: a sphere at the origin of the built-in scene, inside
+    Rammer_255, said only how many vertices it has, where `load` of the same says it may be hidden."""
+    with marraztu.Viewer(size=SIZE) as v:
+        v.add_mesh(trimesh.creation.icosphere())
+        assert v.message.endswith("inside Rammer_255's bounding box, perhaps hidden by it (d shows it alone)")

@@ -395,6 +395,12 @@ class Viewer:
             return
         self._tell_each([_loaded_message(obj, Path(path), "object", self._unseen([obj])[0])], at_start)
 
+    def add_made(self, obj: SceneObject) -> None:
+        """An object made in Python (the API's add_mesh) joins as a loaded model does: framed where it is
+        the only one, in the narrowest view, and said with where the view shows it."""
+        commands.add_loaded(self.scene, obj, as_camera=False, aspect=self.narrowest_aspect())
+        self.scene.message = with_notes(f"added {obj.name}: {obj.mesh.summary()}{self._unseen([obj])[0]}", obj.mesh)
+
     def _tell_start_loads(self) -> None:
         """The start-up loads' messages, in the order asked, once the batch has joined the scene."""
         loads = self._start_loads.copy()

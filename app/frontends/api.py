@@ -25,9 +25,8 @@ from typing import Any, Sequence, TypeVar
 import numpy as np
 from PIL import Image
 
-from marraztu.control import commands
 from marraztu.control.keymap import parse_key_sequence
-from marraztu.control.viewer import StartOptions, starting_scene, with_notes
+from marraztu.control.viewer import StartOptions, starting_scene
 from marraztu.control.viewer import Viewer as KeyViewer
 from marraztu.errors import KeyMapError, LoadError, ViewerError, escaped
 from marraztu.frontends.heap import return_freed_memory
@@ -300,8 +299,7 @@ class Viewer:
         material = material_for_loaded(mesh)
         obj = SceneObject.placed(mesh.name, mesh, material, (0.0, 0.0, 0.0))
         give_part_materials(obj, from_scene=False)
-        commands.add_loaded(self.scene, obj, as_camera=False)
-        self.scene.message = with_notes(f"added {mesh.name}: {mesh.summary()}", mesh)
+        self._viewer.add_made(obj)
         return self
 
     # --- pictures ------------------------------------------------------------------------------

@@ -338,14 +338,13 @@ class GltfReferences:
         if "POSITION" not in attributes:  # trimesh reads every primitive's positions (a KeyError)
             self.refuse(f"{what} has no POSITION attribute")
         for name, index in attributes.items():
-            accessor = self.named(index, "accessors", f"{what}'s {shortened(escaped(str(name)))}")
-            types = _ATTRIBUTE_TYPES.get(str(name).split("_", 1)[0], (accessor.get("type"),))
+            said, semantic = f"{what}'s {shortened(escaped(str(name)))}", str(name).split("_", 1)[0]
+            accessor = self.named(index, "accessors", said)
+            types = _ATTRIBUTE_TYPES.get(semantic, (accessor.get("type"),))
             if accessor.get("type") not in types:  # trimesh said an IndexError, or misread them
-                self.refuse(f"{what}'s {shortened(escaped(str(name)))} is accessor {index}, of type "
-                            f"{accessor['type']}: glTF's are {' or '.join(types)}")
-            rule = _COMPONENT_TYPES.get(str(name).split("_", 1)[0])
-            if rule is not None:  # an attribute not read here is not asked
-                self.components(f"{what}'s {shortened(escaped(str(name)))} is", rule, index, accessor)
+                self.refuse(f"{said} is accessor {index}, of type {accessor['type']}: glTF's are {' or '.join(types)}")
+            if semantic in _COMPONENT_TYPES:  # an attribute not read here is not asked
+                self.components(f"{said} is", _COMPONENT_TYPES[semantic], index, accessor)
         if "material" in primitive:
             material = self.named(primitive["material"], "materials", f"{what}'s material")
             self.texture_sets(what, primitive["material"], material, attributes)

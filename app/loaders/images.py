@@ -446,20 +446,25 @@ def unreadable(error: Exception, head: bytes) -> str:
     """Why Pillow could not open or decode a picture of these first bytes, in our words where its own
     speak of its workings (its object's repr, a decoder's status, bytes not processed); else its own."""
     kind = image_format(head)
-    said = str(error)
     if isinstance(error, Image.UnidentifiedImageError):
         if kind is None:
             return f"not a PNG, JPEG or PPM picture (it starts with {head[:8]!r})"
         return f"a broken {kind}: Pillow cannot read its header"
-    if kind is not None and isinstance(error, OSError) and said.startswith(_PILLOW_CUT_SHORT):
-        return f"a broken {kind}: its image data is cut short"
-    if kind is not None and (isinstance(error, SyntaxError)  # a PNG chunk's name or checksum, read as it decodes
-                             or isinstance(error, OSError) and said.endswith(_PILLOW_DECODER_FAILED)
-                             and "memory" not in said):
-        return f"a broken {kind}: its image data is damaged"
-    if kind is not None and isinstance(error, OSError) and said == _PILLOW_NO_DATA:
-        return f"a broken {kind}: Pillow finds no image data in it"
-    return f"not a readable image ({type(error).__name__}: {said})"
+    ours = None if kind is None else _broken_data(error)
+    return f"a broken {kind}: {ours}" if ours else f"not a readable image ({type(error).__name__}: {error})"
+
+
+def _broken_data(error: Exception) -> str | None:
+    """What is wrong with a known picture's data, in our words, where Pillow's say it; else None."""
+    said = str(error)
+    if isinstance(error, OSError) and said.startswith(_PILLOW_CUT_SHORT):
+        return "its image data is cut short"
+    if isinstance(error, SyntaxError) or (isinstance(error, OSError) and said.endswith(_PILLOW_DECODER_FAILED)
+                                          and "memory" not in said):  # SyntaxError: a PNG chunk read as it decodes
+        return "its image data is damaged"
+    if isinstance(error, OSError) and said == _PILLOW_NO_DATA:
+        return "Pillow finds no image data in it"
+    return None
 
 
 def _refused(error: LoadError) -> _HeaderRefused:

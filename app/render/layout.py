@@ -66,6 +66,12 @@ def view_projection(scene: Scene, view: View) -> np.ndarray:
     return scene.projection_matrix(view.aspect) @ scene.view_matrix()
 
 
+def pixel_per_w(projection: np.ndarray, view: View) -> float:
+    """A pixel's height in the world at clip w = 1 (w is the depth in perspective, 1 in parallel):
+    projection[1][1] maps a world height at w = 1 to half the view's height."""
+    return 2.0 / (float(projection[1, 1]) * view.viewport[3])
+
+
 def project(view_projection: np.ndarray, point: np.ndarray,
             viewport: tuple[int, int, int, int]) -> tuple[float, float] | None:
     """Window position of a world point in pixels, origin at the framebuffer's bottom-left, as GL

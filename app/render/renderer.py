@@ -57,7 +57,7 @@ from marraztu.render.gpu import (
     load_program,
 )
 from marraztu.render.guides import GuidesDrawer
-from marraztu.render.layout import View, view_projection, views
+from marraztu.render.layout import View, pixel_per_w, views
 from marraztu.render.mipmaps import MipmappedTexture, create_mipmapped
 
 CLEAR_COLOUR = (0.0, 0.0, 0.7)  # SPEC 3: the seed's blue
@@ -86,12 +86,6 @@ def gl_matrix(matrix: np.ndarray) -> bytes:
     """A matrix's bytes as GL reads a uniform's: numpy is row-major and GL column-major, so M.T's bytes
     are M for GL."""
     return np.ascontiguousarray(matrix.T, dtype="f4").tobytes()
-
-
-def _pixel_per_w(scene: Scene, view: View) -> float:
-    """A pixel's height in the world at clip w = 1: w is the depth in perspective and 1 in parallel,
-    and projection[1][1] maps a world height at w = 1 to half the view's height."""
-    return 2.0 / (float(scene.projection_matrix(view.aspect)[1, 1]) * view.viewport[3])
 
 
 class Uniforms:
@@ -358,8 +352,8 @@ class Renderer:
         self._set_gl_state(depth_test=filled)
         self._use_way(SurfaceWay(view.shading, depth_view=scene.modes.term_view.shows is Show.DEPTH))
         self.origin = self._frame_origin(scene, items)
-        self._set_frame_uniforms(scene, view_projection(scene, view) @ translation_by(self.origin))
-        self.guide_uniforms.set("u_pixel_per_w", _pixel_per_w(scene, view))
+        projection = scene.projection_matrix(view.aspect)  # worked out once: its near plane looks at every box
+        self._set_frame_uniforms(scene, projection @ scene.view_matrix() @ translation_by(self.origin))
         if filled:
             for item, gpu in items:
                 self._draw_surface(item, gpu)
@@ -369,6 +363,7 @@ class Renderer:
             for item, gpu in items:
                 self._draw_normals(item, gpu, face_normals=view.shading is Shading.FLAT)
         if scene.modes.guides:
+            self.guide_uniforms.set("u_pixel_per_w", pixel_per_w(projection, view))
             self.guides.draw(scene_guides(scene), self.ctx.fbo, self.origin)
         if scene.modes.probe or scene.modes.pipeline:  # the face the panel follows
             self._draw_probe_outline(scene)
