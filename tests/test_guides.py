@@ -190,3 +190,17 @@ def test_every_axis_stands_out_from_the_background() -> None:
     """Pure blue z on the seed's blue background (0, 0, 178) differed by 77 levels in one channel."""
     for colour in AXIS_COLOURS:
         assert np.abs(np.round(colour * 255) - BACKGROUND).max() >= 128, colour
+
+
+@pytest.mark.parametrize("keys", ["a", "a g"], ids=["local", "global"])
+def test_the_world_axes_stand_out_of_a_model_around_the_origin(tmp_path: Path, keys: str) -> None:
+    """They were half the guides' extent long: inside a 1-unit cube centred on the origin, hidden, and
+    in local mode covered by the cube's own (paler) axes, which reach half its diagonal."""
+    corners = [(x, y, z) for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)]
+    path = tmp_path / "cube.obj"
+    path.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in corners)
+                    + "f 1 2 4 3\nf 5 7 8 6\nf 1 5 6 2\nf 3 4 8 7\nf 1 3 7 5\nf 2 6 8 4\n")
+    pixels = picture(tmp_path, keys, (path,))
+    for axis in (0, 1):  # x and y: across the view (z points at the camera)
+        expected = np.round(AXIS_COLOURS[axis] * 255).astype(int)
+        assert (np.abs(pixels - expected).max(axis=2) <= 1).sum() >= 5, axis

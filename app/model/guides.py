@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from marraztu.model.scene import Frame, Scene, Target
+from marraztu.model.scene import Frame, Scene, Target, world_axes_lengths
 
 # x red, y green, z blue, as in every graphics tool; z a sky blue, as Blender's, since pure blue on the
 # seed's blue background (0, 0, 0.7) hardly shows.
@@ -40,10 +40,10 @@ class Guides:
 
 def scene_guides(scene: Scene) -> Guides:
     low, high, extent = scene.guides_extent()
-    axes = [_axes(np.eye(4), extent / 2.0, 1.0)]
+    axes = [_axes(np.eye(4), world_axes_lengths(high, extent), 1.0)]
     obj = scene.object
     if obj is not None and scene.modes.frame is Frame.LOCAL and scene.modes.target is Target.OBJECTS:
-        axes.append(_axes(obj.model, max(obj.mesh.size / 2.0, extent / 20.0), OWN_AXIS_LIGHTNESS))
+        axes.append(_axes(obj.model, np.full(3, max(obj.mesh.size / 2.0, extent / 20.0)), OWN_AXIS_LIGHTNESS))
     return Guides(np.concatenate(axes), _grid(low, high, extent))  # 64-bit: the renderer rounds them
 
 
@@ -65,12 +65,12 @@ def _grid(low: np.ndarray, high: np.ndarray, extent: float) -> np.ndarray:
     return np.hstack([positions, np.tile(GRID_COLOUR, (len(positions), 1))])
 
 
-def _axes(model: np.ndarray, length: float, lightness: float) -> np.ndarray:
-    """Three segments from `model`'s origin along its own x, y and z axes, `length` long in the world."""
+def _axes(model: np.ndarray, lengths: np.ndarray, lightness: float) -> np.ndarray:
+    """Three segments from `model`'s origin along its own x, y and z axes, `lengths` long in the world."""
     origin = model[:3, 3]
     rows = []
     for axis in range(3):
         direction = model[:3, axis] / np.linalg.norm(model[:3, axis])
         colour = AXIS_COLOURS[axis] * lightness + (1.0 - lightness)  # paler toward white
-        rows += [[*origin, *colour], [*(origin + direction * length), *colour]]
+        rows += [[*origin, *colour], [*(origin + direction * lengths[axis]), *colour]]
     return np.array(rows)

@@ -45,9 +45,11 @@ INSIDE_FRACTION = 1e-3
 # The guides (key `a`): an empty scene's grid is of the start camera's scale (it stands 150 away)...
 GUIDES_MIN_EXTENT = 100.0
 # ...and the grid lies within this many extents of the objects' box centre (its half width is three
-# quarters of one, rounded up to a step, and the ground under them up to one down); the world's axes
-# reach half of one from the origin.
+# quarters of one, rounded up to a step, and the ground under them up to one down)...
 GUIDES_REACH = 2.0
+# ...and each world axis reaches half of one from the origin, or leaves the objects' box by half of
+# one on its side, so that it stands out of a model around the origin, seen from close by.
+WORLD_AXES_PAST_BOX = 0.5
 # SPEC 5: the normals' length, a fixed share of the object's bounding-box diagonal (key `n`).
 NORMAL_LENGTH_FRACTION = 0.05
 # How far the selected object's depth may pull parallel projection's size from the rest of the scene's.
@@ -492,7 +494,7 @@ class Scene:
             if self.modes.guides:
                 low, high, extent = self.guides_extent()
                 deepest = max(deepest, self.depth_of((low + high) / 2.0) + GUIDES_REACH * extent,
-                              self.depth_of(np.zeros(3)) + extent / 2.0)
+                              self.depth_of(np.zeros(3)) + float(world_axes_lengths(high, extent).max()))
             return 2.0 * max(deepest, self.near_plane() if near is None else near)
         eye = self.eye_position()
         elements = self.objects + self.cameras
@@ -739,6 +741,12 @@ _BOX_CORNER_PICKS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in
 def perspective_half_height(depth: float) -> float:
     """Half the height perspective's view spans at this depth in front of the eye."""
     return depth * float(np.tan(np.radians(PERSPECTIVE_FOVY_DEG) / 2.0))
+
+
+def world_axes_lengths(high: np.ndarray, extent: float) -> np.ndarray:
+    """How far the world's x, y and z axes reach from the origin, for objects whose box ends at `high`:
+    a box further off than an extent is not around the origin, and does not lengthen them."""
+    return np.maximum(extent / 2.0, np.clip(high, 0.0, extent) + WORLD_AXES_PAST_BOX * extent)
 
 
 def size_unit(size: float) -> float:
