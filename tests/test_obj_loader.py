@@ -73,9 +73,16 @@ def test_clockwise_quad_faces_the_other_way() -> None:
     np.testing.assert_allclose(mesh.face_normals, [[0, 0, -1]])
 
 
-def test_bounding_box_uv_uses_the_two_largest_extents_in_axis_order() -> None:
-    mesh = parse("v 0 0 0\nv 0 5 0\nv 0 5 2\nf 1 2 3\n")  # flat in x: y and z carry the picture
-    np.testing.assert_allclose(mesh.corner_uv, [[0, 0], [1, 0], [1, 1]])
+@pytest.mark.parametrize(("text", "uv"), [
+    ("v 0 0 0\nv 2 0 0\nv 2 5 0\nf 1 2 3\n", [[0, 0], [1, 0], [1, 1]]),  # facing z: u along x, v up y
+    ("v 0 0 0\nv 0 5 0\nv 0 5 2\nf 1 2 3\n", [[1, 0], [1, 1], [0, 1]]),  # a wall facing x: u along -z, v up y
+    ("v 0 0 0\nv 2 0 0\nv 2 0 5\nf 1 2 3\n", [[0, 1], [1, 1], [1, 0]]),  # a floor: u along x, v along -z
+])
+def test_bounding_box_uv_reads_upright_from_the_flattest_sides_positive_end(text: str, uv: list[list[int]]) -> None:
+    """A floor's v ran along +z, toward the start camera: from above its picture read mirrored."""
+    mesh = parse(text)
+    np.testing.assert_array_equal(mesh.corner_uv, np.array(uv, np.float32))
+    assert not np.signbit(mesh.corner_uv).any()
 
 
 def test_pentagon_is_kept_whole_and_fans_from_its_first_corner() -> None:

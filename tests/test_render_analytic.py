@@ -338,6 +338,25 @@ def test_texture_is_neither_flipped_nor_mirrored(offscreen, renderer, make_quad,
     assert (pixels[36, 36] == (255, 255, 255)).all()
 
 
+@pytest.mark.parametrize(("positions", "turn"), [
+    ([(-1, 0, 1), (1, 0, 1), (1, 0, -1), (-1, 0, -1)], (90.0, 0.0, 0.0)),  # a floor, seen from above
+    ([(1, -1, 1), (1, -1, -1), (1, 1, -1), (1, 1, 1)], (0.0, -90.0, 0.0)),  # a wall facing +x, from +x
+], ids=["floor", "wall"])
+def test_a_model_without_uvs_shows_its_picture_upright(offscreen, renderer, make_scene, positions, turn) -> None:
+    """The bounding-box texture, seen from the flat side's positive end with the start camera's up:
+    a floor's v ran along +z, so from above its picture read upside down; a wall's u ran up y."""
+    picture = np.zeros((16, 16, 3), np.uint8)
+    picture[:8, :8], picture[:8, 8:], picture[8:, :8], picture[8:, 8:] = RED, (0, 255, 0), (0, 0, 255), (255, 255, 255)
+    mesh = build_mesh("flat", np.array(positions, float) * QUAD_HALF, [[0, 1, 2, 3]])
+    white = Material(ka=(1.0, 1.0, 1.0), kd=(0, 0, 0), ks=(0, 0, 0), ns=1.0)
+    scene = make_scene([SceneObject.placed("flat", mesh, white, (0, 0, 0), turn)], texture=True)
+    scene.ambient = np.array([255.0, 255.0, 255.0])
+    scene.texture = picture
+    pixels = offscreen(scene, SIZE)
+    assert [pixels[row, column].tolist() for row in (26, 36) for column in (26, 36)] == [
+        list(RED), [0, 255, 0], [0, 0, 255], [255, 255, 255]]
+
+
 def test_texture_multiplies_the_lit_colour(offscreen, renderer, quad_scene: Scene) -> None:
     texel = (200, 100, 50)
     quad_scene.modes.texture = True

@@ -614,6 +614,13 @@ def _compiled_normal_sums(compiled: ModuleType, face_normals: np.ndarray, corner
     return sums
 
 
+# Where the bounding-box texture's u and v run, by the box's flattest axis, reversed or not: upright as
+# seen from that axis's positive side with y up, and a floor as the start camera sees it from above.
+UPRIGHT_FROM: dict[int, tuple[list[int], np.ndarray]] = {
+    0: ([2, 1], np.array([True, False])),  # a wall facing x: u along -z, v up y
+    1: ([0, 2], np.array([False, True])),  # a floor: u along x, v along -z, away from the start camera
+    2: ([0, 1], np.array([False, False])),  # facing the start camera: u along x, v up y
+}
 _CORNER_BLOCK = 1 << 16  # corners whose face normals are repeated at once
 
 
@@ -647,24 +654,24 @@ def _fill_degenerate(shape: _Shape, vertex_normals: np.ndarray, row_vertex: np.n
 def _bounding_box_uv(positions: np.ndarray, vertices: np.ndarray | None,
                      bounds: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
     """Planar projection onto the bounding box's two largest extents, each mapped to 0..1, for these
-    positions (None: every position, in order).
-
-    The two axes keep x-y-z order, so a model lying in the xy plane gets u along x and v along y.
-    """
+    positions (None: every position, in order), reading upright from the box's flattest side."""
     low, high = bounds
     with np.errstate(all="ignore"):
         extent = high - low
         extent = np.where(np.isfinite(extent), extent, 0.0)
-    axes = np.sort(np.argsort(-extent, kind="stable")[:2])
+    flattest = int(np.argsort(-extent, kind="stable")[2])  # of equal extents, z first, then y
+    axes, reversed_axes = UPRIGHT_FROM[flattest]
     flat = extent[axes] <= 0
     scale = np.where(flat, 1.0, extent[axes])
+    start = np.where(reversed_axes, high[axes], low[axes])  # a reversed axis counts down from its high side
     # Per position, then gathered: a position has one box coordinate, and corners outnumber positions.
     uv = np.empty((positions.shape[0], 2), np.float32)
 
     def piece(rows: slice) -> None:
         with np.errstate(all="ignore"):
-            block = positions[rows][:, axes] - low[axes]
+            block = positions[rows][:, axes] - start
             block /= scale
+        block[:, reversed_axes] = 0.0 - block[:, reversed_axes]  # not * -1: no -0.0 at the high side
         block[:, flat] = 0.0
         block[~np.isfinite(block)] = 0.0
         uv[rows] = block
