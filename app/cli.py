@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 import marraztu
-from marraztu.errors import ViewerError, escaped
+from marraztu.errors import ViewerError, escaped, shortened
 
 WINDOW_SIZE = (800, 800)
 NO_DISPLAY_SHOT = Path("out") / "marraztu.png"
@@ -49,7 +49,7 @@ def parse_fps(text: str) -> float:
     try:
         return check_fps(float(text))
     except ValueError:
-        raise argparse.ArgumentTypeError(f"frames a second must be a number, not {text[:40]!r}") from None
+        raise argparse.ArgumentTypeError(f"frames a second must be a number, not {shortened(text)!r}") from None
     except ViewerError as error:
         raise argparse.ArgumentTypeError(str(error).removeprefix("--fps ")) from None
 

@@ -13,6 +13,19 @@ def escaped(text: str) -> str:
     return "".join(char if char.isprintable() or char == " " else repr(char)[1:-1] for char in text)
 
 
+SHOWN_WHOLE = 40  # a word a message quotes (from a file, the command line, the API) is shown whole up to this long
+
+
+def shortened(word: str, most: int = SHOWN_WHOLE) -> str:
+    """A word as a message shows it: where longer than `most` characters, its first ones and how long it is
+    ("..." in ASCII: the window's font has no other)."""
+    if len(word) <= most:
+        return word
+    digits = word.lstrip("+-")
+    length = f"{len(digits)} digits" if digits.isascii() and digits.isdecimal() else f"{len(word)} characters"
+    return f"{word[:most]}... ({length})"
+
+
 class ViewerError(Exception):
     """Anything the person must be told about in one line; never a programming error."""
 

@@ -7,12 +7,18 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 import pytest
 from PIL import Image
 
+from marraztu.cli import parse_fps
+from marraztu.control.keymap import parse_key_sequence
+from marraztu.devtools.bench.config import parse_count
+from marraztu.model.scene import triple_refusal
+from marraztu.render.layout import parse_size
 from support.scenes import BACKGROUND
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -287,3 +293,26 @@ def test_a_signal_ends_a_run_with_the_shells_status(monkeypatch: pytest.MonkeyPa
 
     monkeypatch.setitem(cli.COMMANDS, "screenshot", cli.Command("test", signalled))
     assert cli.main(["screenshot"]) == status
+
+
+
+LONG = "9" * 30 + "x" * 70  # a hundred characters: a paste gone wrong
+
+
+@pytest.mark.parametrize(("refusal", "text"), [
+    (parse_fps, LONG), (parse_size, LONG), (parse_key_sequence, f"y*{LONG}"),
+    (parse_key_sequence, f"y*{'9' * 100}"), (parse_key_sequence, f"'{LONG}"), (parse_count, LONG),
+], ids=["--fps", "--size", "an unknown key", "a repeat count", "an unclosed quote", "the bench's --sizes"])
+def test_a_long_word_is_quoted_shortened_with_its_length(refusal: Callable[[str], object], text: str) -> None:
+    """These cut the word at 40 characters without a sign (or not at all), where the loaders say
+    '...' and how long it is."""
+    with pytest.raises(Exception) as caught:
+        refusal(text)
+    message = str(caught.value)
+    assert f"... ({len(text)} characters)" in message and "9" * 20 in message, message
+    assert "x" * 20 not in message and "9" * 50 not in message
+
+
+def test_a_long_value_given_for_a_point_is_shortened_with_its_length() -> None:
+    said = triple_refusal(list(range(60)), "x, y, z")
+    assert said is not None and said.startswith("must be 3 numbers (x, y, z), not [0, 1, 2,") and "characters)" in said

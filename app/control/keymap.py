@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 from marraztu.control import commands
 from marraztu.control.commands import CommandFunction, Host
-from marraztu.errors import KeyMapError
+from marraztu.errors import KeyMapError, shortened
 from marraztu.model.lights import LIGHT_KEYS
 from marraztu.model.scene import Scene
 
@@ -190,7 +190,7 @@ def key_press(token: str, keymap: dict[str, Command] = KEYMAP) -> KeyPress:
     """The press of a token; KeyMapError names the token when no key has it."""
     name = normalise_token(token)
     if name not in keymap:
-        raise KeyMapError(f"unknown key {token!r}; keys are: {' '.join(keymap)} and f=PATH")
+        raise KeyMapError(f"unknown key {shortened(token)!r}; keys are: {' '.join(keymap)} and f=PATH")
     return KeyPress(name)
 
 
@@ -205,7 +205,7 @@ def _parse_word(word: str, keymap: dict[str, Command], in_prompt: bool) -> tuple
         word, digits = match["token"], match["count"]
         count = int(digits) if len(digits) <= len(str(MAX_REPEAT)) else MAX_REPEAT + 1
         if not 1 <= count <= MAX_REPEAT:
-            raise KeyMapError(f"{match.string[:40]!r}: a repeat count must be 1 to {MAX_REPEAT}")
+            raise KeyMapError(f"{shortened(match.string)!r}: a repeat count must be 1 to {MAX_REPEAT}")
     if word.startswith(LOAD_PREFIX):
         path = word[len(LOAD_PREFIX):]
         if not path:
@@ -234,7 +234,7 @@ def parse_key_sequence(text: str, keymap: dict[str, Command] = KEYMAP) -> list[K
     try:
         words = shlex.split(text)
     except ValueError as error:  # an unclosed quote
-        raise KeyMapError(f"key sequence {text[:40]!r}: {error}") from error
+        raise KeyMapError(f"key sequence {shortened(text)!r}: {error}") from error
     presses: list[KeyPress] = []
     in_prompt = False
     for word in words:

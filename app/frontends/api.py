@@ -28,7 +28,7 @@ from PIL import Image
 from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import StartOptions, starting_scene
 from marraztu.control.viewer import Viewer as KeyViewer
-from marraztu.errors import KeyMapError, LoadError, ViewerError, escaped
+from marraztu.errors import KeyMapError, LoadError, ViewerError, escaped, shortened
 from marraztu.frontends.heap import return_freed_memory
 from marraztu.frontends.screenshot import OffscreenFrontend, picture_of, render_pixels
 from marraztu.loaders.exchange import mesh_of_trimesh
@@ -104,7 +104,8 @@ def _checked_size(size: Sequence[int]) -> Size:
             raise TypeError
         width, height = (operator.index(side) for side in sides)
     except (TypeError, ValueError):
-        raise ValueError(f"size must be (width, height) in whole numbers, not {escaped(repr(size))[:80]}") from None
+        said = shortened(escaped(repr(size)))
+        raise ValueError(f"size must be (width, height) in whole numbers, not {said}") from None
     return checked_size(width, height)
 
 
@@ -113,7 +114,7 @@ def _checked_flag(value: Any, what: str, none: bool = False) -> None:
     are refused, not taken as true. `none`: None means "let the program decide"."""
     if not (isinstance(value, (bool, np.bool_)) or (none and value is None)):
         allowed = "True, False or None" if none else "True or False"
-        raise ValueError(f"{what} is {allowed}, not {escaped(repr(value))[:80]}")
+        raise ValueError(f"{what} is {allowed}, not {shortened(escaped(repr(value)))}")
 
 
 def _checked_path(path: Any, what: str) -> Path:

@@ -16,9 +16,8 @@ from typing import Any
 
 import numpy as np
 
-from marraztu.errors import LoadError, escaped
+from marraztu.errors import LoadError, escaped, shortened
 from marraztu.loaders.files import MAX_FILE_BYTES
-from marraztu.loaders.words import shortened
 from marraztu.model.mesh import counted
 
 # A GLB holds its JSON and, after it, its binary buffer; chunks of other kinds are to be read past. Past

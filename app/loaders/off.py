@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from marraztu.errors import LoadError
+from marraztu.errors import LoadError, shortened
 from marraztu.loaders.files import bom_length, line_end_after, read_model_bytes, text_lines
 from marraztu.loaders.words import (
     BLANKS,
@@ -34,7 +34,6 @@ from marraztu.loaders.words import (
     line_words,
     pieces_at_gaps,
     said_count,
-    shortened,
     text_numbers,
     word_starts,
 )

@@ -27,14 +27,13 @@ from typing import NamedTuple, Protocol
 
 import numpy as np
 
-from marraztu.errors import LoadError
+from marraztu.errors import LoadError, shortened
 from marraztu.loaders.files import line_at, line_end_from, text_lines
 from marraztu.loaders.words import (
     DECIMAL_BYTES,
     MAX_COUNT_DIGITS,
     is_count,
     pieces_at_gaps,
-    shortened,
     shortened_bytes,
     text_numbers,
     unheld_coordinate,

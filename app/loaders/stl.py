@@ -15,14 +15,13 @@ from pathlib import Path
 
 import numpy as np
 
-from marraztu.errors import LoadError
+from marraztu.errors import LoadError, shortened
 from marraztu.loaders.files import bom_length, line_at, read_model_bytes, text_lines
 from marraztu.loaders.patterns import compiled
 from marraztu.loaders.words import (
     WordBlocks,
     checked_coordinates,
     said_count,
-    shortened,
     unheld_coordinate,
 )
 from marraztu.model.build import derive_mesh

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from marraztu.errors import LoadError
+from marraztu.errors import SHOWN_WHOLE, LoadError, shortened
 from marraztu.loaders.patterns import compiled
 from marraztu.model.geometry import FLOAT32_MAX, holds_in_float32
 
@@ -27,7 +27,6 @@ MAX_COUNT_DIGITS = 12
 # was tried at every split (a 20,000-digit word took 8 s); no part of a number gives back digits.
 DECIMAL_SYNTAX = r"[+-]?+(?:[0-9]++(?:\.[0-9]*+)?+|\.[0-9]++)(?:[eE][+-]?+[0-9]++)?+"
 ROWS_AT_ONCE = 1 << 15  # rows whose words are made numbers in one call
-SHOWN_WHOLE = 40  # a word of the file up to this long is shown whole by the loaders' messages
 
 DECIMAL = compiled(DECIMAL_SYNTAX)  # fullmatch: one decimal number in ASCII digits
 DECIMAL_BYTES = compiled(DECIMAL_SYNTAX.encode())
@@ -115,16 +114,6 @@ def checked_indices(path: Path, words: list[str], line_of: LineOf, vertices: int
 def said_count(words: list[str], most: int) -> str:
     """How many words a line held, from its split into at most `most` + 1: exactly, up to `most`."""
     return str(len(words)) if len(words) <= most else f"more than {most}"
-
-
-def shortened(word: str, most: int = SHOWN_WHOLE) -> str:
-    """A word as a message shows it: where longer than `most` characters, its first ones and how long it is
-    ("..." in ASCII: the window's font has no other)."""
-    if len(word) <= most:
-        return word
-    digits = word.lstrip("+-")
-    length = f"{len(digits)} digits" if digits.isascii() and digits.isdecimal() else f"{len(word)} characters"
-    return f"{word[:most]}... ({length})"
 
 
 def shortened_bytes(word: bytes, shown: Callable[[bytes], str] = repr, most: int = SHOWN_WHOLE) -> str:

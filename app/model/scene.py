@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from marraztu.errors import shortened
 from marraztu.model.lights import AMBIENT_INTENSITY, Light, Owner, TermView, WorldLight, default_lights
 from marraztu.model.mesh import Mesh
 from marraztu.model.transforms import (
@@ -154,7 +155,7 @@ def triple_refusal(value: object, names: str) -> str | None:
 
 def _shown(value: object) -> str:
     """A value in an error's one line: its repr, its line breaks made spaces, cut short."""
-    return " ".join(repr(value).split())[:40]
+    return shortened(" ".join(repr(value).split()))
 
 
 def _materials_refusal(element: SceneObject) -> str | None:

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from marraztu.errors import shortened
 from marraztu.model.scene import Scene, Shading
 
 MAX_SIDE = 16384  # pixels: no framebuffer side beyond what GL implementations promise
@@ -18,7 +19,7 @@ def parse_size(text: str) -> tuple[int, int]:
     try:
         width, height = (int(part) for part in text.lower().split("x"))
     except ValueError:
-        raise ValueError(f"size must look like 800x600, not {text[:40]!r}") from None
+        raise ValueError(f"size must look like 800x600, not {shortened(text)!r}") from None
     return checked_size(width, height)
 
 

@@ -8,6 +8,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from marraztu.errors import shortened
+
 SECTIONS = ("load", "frames", "cpu", "start", "memory", "shapes", "window")
 LOADERS = ("ours", "trimesh", "tinyobjloader", "rapidobj")
 
@@ -56,9 +58,9 @@ def parse_count(text: str) -> int:
     try:
         value = float(text[:-1] if scale != 1 else text) * scale
     except ValueError:
-        raise argparse.ArgumentTypeError(f"not a size: {text[:40]!r} (e.g. 100k, 1m, 2500)") from None
+        raise argparse.ArgumentTypeError(f"not a size: {shortened(text)!r} (e.g. 100k, 1m, 2500)") from None
     if not 2 <= value <= MAX_TRIANGLES:  # NaN fails too
-        raise argparse.ArgumentTypeError(f"size {text[:40]!r}: from 2 triangles to {MAX_TRIANGLES:,}")
+        raise argparse.ArgumentTypeError(f"size {shortened(text)!r}: from 2 triangles to {MAX_TRIANGLES:,}")
     return int(value)
 
 

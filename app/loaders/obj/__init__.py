@@ -23,12 +23,11 @@ from pathlib import Path
 
 import numpy as np
 
-from marraztu.errors import LoadError
+from marraztu.errors import LoadError, shortened
 from marraztu.loaders.obj.lines import LONGEST_BATCHED_LINE, ReadsSlowly, read_by_lines
 from marraztu.loaders.obj.mtl import read_libraries
 from marraztu.loaders.obj.raw import MaterialRuns, RawObj, name_before_comment
 from marraztu.loaders.obj.text import as_bytes, checked, ended, has_continuations, read_text
-from marraztu.loaders.words import shortened
 from marraztu.model.build import colour_bytes, colour_fractions, derive_mesh
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, counted
 

@@ -20,7 +20,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from marraztu.errors import LoadError
+from marraztu.errors import SHOWN_WHOLE, LoadError, shortened
 from marraztu.loaders.files import decoded
 from marraztu.loaders.obj.raw import (
     COLOURED_V_NUMBERS,
@@ -43,7 +43,7 @@ from marraztu.loaders.obj.raw import (
 )
 from marraztu.loaders.obj.text import has_continuations
 from marraztu.loaders.patterns import compiled
-from marraztu.loaders.words import BLANKS, DECIMAL_BYTES, SHOWN_WHOLE, shortened
+from marraztu.loaders.words import BLANKS, DECIMAL_BYTES
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import INDEX, INDEX_LIMIT, polygons_of_corners
 from marraztu.model.threads import largest
