@@ -12,6 +12,7 @@ import pytest
 
 from marraztu.errors import LoadError
 from marraztu.loaders.patterns import POSSESSIVE_GROUPS_HOLD
+from marraztu.loaders.registry import load_model as load_model_as_read
 from marraztu.loaders.scenefile import (
     DEFAULT_MATERIAL,
     builtin_scene_path,
@@ -142,6 +143,85 @@ def test_one_model_spelled_three_ways_is_loaded_once(tmp_path: Path, monkeypatch
     assert len({id(obj.mesh) for obj in scene.objects}) == 1
 
 
+def test_an_object_without_position_stands_where_a_model_loaded_alone_does(tmp_path: Path) -> None:
+    """position was required: a teacher's first scene of one model needed [0, 0, 0] written out."""
+    from marraztu.control.viewer import load_model_object
+
+    scene = load_scene(write_scene(tmp_path, CAMERA + '[[objects]]\nmodel = "m.obj"\n'))
+    assert np.array_equal(scene.objects[0].model, load_model_object(tmp_path / "m.obj").model)
+    assert tuple(scene.objects[0].origin) == (0.0, 0.0, 0.0)
+
+
+def test_scale_sizes_the_model_as_read_and_leaves_its_model_matrix_rigid(tmp_path: Path) -> None:
+    """A model in millimetres beside one in metres could not be sized: there was no scale."""
+    scene = load_scene(write_scene(tmp_path, CAMERA + '[[objects]]\nmodel = "m.obj"\nscale = 0.5\n'
+                                                      '[[objects]]\nmodel = "m.obj"\nposition = [5, 0, 0]\n'
+                                                      'rotation = [0, 90, 0]\nscale = [1, 2, 4]\n'))
+    plain = load_model_as_read(tmp_path / "m.obj")
+    half, stretched = scene.objects
+    assert np.array_equal(half.mesh.positions, plain.positions * 0.5) and half.mesh.size == plain.size * 0.5
+    assert np.array_equal(half.mesh.normals, plain.normals), "a uniform scale turns no normal"
+    assert np.array_equal(stretched.mesh.positions, plain.positions * [1.0, 2.0, 4.0])
+    assert (half.scale, stretched.scale) == ((0.5, 0.5, 0.5), (1.0, 2.0, 4.0))
+    assert np.array_equal(stretched.model[:3, :3], euler_xyz((0, 90, 0))), "the model matrix holds no scale"
+    assert np.array_equal(half.model, np.eye(4))
+    # Each face normal is the stretched face's own: the inverse transpose's, as Newell's method finds it.
+    for face in range(stretched.mesh.face_count):
+        corners = stretched.mesh.corner_vertex[stretched.mesh.face_start[face]:stretched.mesh.face_start[face + 1]]
+        points = stretched.mesh.positions[corners]
+        newell = np.cross(points, np.roll(points, -1, axis=0)).sum(axis=0)
+        assert np.allclose(stretched.mesh.face_normals[face], newell / np.linalg.norm(newell), atol=1e-6)
+    assert np.allclose(np.linalg.norm(stretched.mesh.normals, axis=1), 1.0, atol=1e-6)
+
+
+def test_entries_of_one_model_at_one_scale_share_its_mesh(tmp_path: Path, monkeypatch) -> None:
+    import marraztu.loaders.scenefile as scenefile
+
+    loaded: list[Path] = []
+    monkeypatch.setattr(scenefile, "load_model", lambda path: loaded.append(path) or load_model_as_read(path))
+    entries = "".join(f'[[objects]]\nmodel = "m.obj"\nscale = {scale}\n' for scale in ("2", "[2, 2, 2]", "3", "1"))
+    scene = load_scene(write_scene(tmp_path, CAMERA + entries))
+    assert len(loaded) == 1
+    meshes = [obj.mesh for obj in scene.objects]
+    assert meshes[0] is meshes[1] and len({id(mesh) for mesh in meshes}) == 3
+
+
+def test_a_scale_past_the_gpus_reach_is_refused_at_its_line(tmp_path: Path) -> None:
+    path = write_scene(tmp_path, CAMERA + '[[objects]]\nmodel = "m.obj"\nscale = 1e20\n')
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert caught.value.line == 6
+    assert caught.value.message.startswith("objects[1]: scale 1e+20: a coordinate reaches 1e+20: past 1e+18"), \
+        caught.value.message
+
+
+def test_a_cameras_scale_sizes_its_body_not_its_view(tmp_path: Path) -> None:
+    scene = load_scene(write_scene(tmp_path, CAMERA + "scale = 3\n"))
+    camera = scene.camera
+    assert np.array_equal(camera.mesh.positions, load_model_as_read(tmp_path / "m.obj").positions * 3)
+    assert np.array_equal(camera.model[:3, :3], np.eye(3)) and tuple(camera.origin) == (0.0, 0.0, 10.0)
+
+
+def test_a_model_read_again_in_its_place_keeps_its_scale(tmp_path: Path) -> None:
+    """--watch and PageDown read a file again in an element's place: a sized model came back at its
+    file's size, a thousand times too large."""
+    from marraztu.control.viewer import BackgroundLoader, Viewer
+    from support.scenes import NoFrontend
+
+    viewer = Viewer(load_scene(write_scene(tmp_path, CAMERA + '[[objects]]\nmodel = "m.obj"\nscale = 0.001\n')),
+                    NoFrontend())
+    element = viewer.scene.objects[0]
+    assert viewer.replace_model(element, tmp_path / "m.obj")
+    assert np.array_equal(element.mesh.positions, load_model_as_read(tmp_path / "m.obj").positions * 0.001)
+    assert element.scale == (0.001, 0.001, 0.001)
+    background = BackgroundLoader()  # the window's: read on a worker thread
+    try:
+        loaded = background.start(tmp_path / "m.obj", as_camera=False, replaces=element).future.result(timeout=60)
+    finally:
+        background.shutdown()
+    assert np.array_equal(loaded.mesh.positions, element.mesh.positions) and loaded.scale == element.scale
+
+
 def test_absolute_model_path(tmp_path: Path) -> None:
     model = tmp_path / "elsewhere.obj"
     model.write_text(TETRAHEDRON)
@@ -156,7 +236,17 @@ BAD_SCENES = {
     "unknown top-level key": ('textures = "a.ppm"\n' + CAMERA, "unknown key 'textures'"),
     "unknown entry key": (CAMERA + "positon = [1, 2, 3]\n", "unknown key 'positon'"),
     "missing model": ("[[objects]]\nposition = [0, 0, 0]\n", "missing key 'model'"),
-    "missing position": ('[[cameras]]\nmodel = "m.obj"\n', "missing key 'position'"),
+    "missing position": ('[[cameras]]\nmodel = "m.obj"\n', "missing key 'position' (where the camera looks from"),
+    "scale zero": (CAMERA + "[[objects]]\nmodel = \"m.obj\"\nscale = 0\n", "objects[1]: scale must be greater than 0"),
+    "scale negative": (CAMERA + "[[objects]]\nmodel = \"m.obj\"\nscale = [1, -2, 1]\n",
+                       "objects[1]: scale must be greater than 0 (a size, not a mirror), not -2"),
+    "scale two numbers": (CAMERA + "[[objects]]\nmodel = \"m.obj\"\nscale = [1, 2]\n",
+                          "objects[1]: scale must be one number or three, like 2 or [1, 2, 1], not 2 numbers"),
+    "scale a string": (CAMERA + "[[objects]]\nmodel = \"m.obj\"\nscale = \"2\"\n", "not a string"),
+    "scale a boolean": (CAMERA + "scale = true\n", "cameras[1]: scale must be one number or three"),
+    "scale nan": (CAMERA + "[[objects]]\nmodel = \"m.obj\"\nscale = nan\n", "scale must be a finite number"),
+    "scale infinite": (CAMERA + "[[objects]]\nmodel = \"m.obj\"\nscale = [1, inf, 1]\n", "finite"),
+    "scale past float32": (CAMERA + "[[objects]]\nmodel = \"m.obj\"\nscale = 1e39\n", "is too large"),
     "model not a string": ("[[cameras]]\nmodel = 3\nposition = [0, 0, 0]\n", "model must be"),
     "empty model": ('[[cameras]]\nmodel = ""\nposition = [0, 0, 0]\n', "model must be"),
     "name not a string": (CAMERA + "name = 7\n", "name must be"),
@@ -309,7 +399,7 @@ def test_a_syntax_error_at_the_end_gives_the_last_line(tmp_path: Path, cut: str,
 
 def test_entry_error_gives_its_tables_line(tmp_path: Path) -> None:
     path = write_scene(tmp_path, CAMERA + '\n[[objects]]\nmodel = "m.obj"\nposition = [0, 0, 0]\n'
-                                          '\n[[objects]]\nmodel = "m.obj"\n')
+                                          '\n[[objects]]\nposition = [0, 0, 0]\n')
     with pytest.raises(LoadError) as caught:
         load_scene(path)
     assert caught.value.line == 9
@@ -365,10 +455,10 @@ def test_quoted_and_dotted_names_still_find_their_line(tmp_path: Path, text: str
 
 def test_header_inside_a_multi_line_string_gives_no_line_rather_than_a_wrong_one(tmp_path: Path) -> None:
     path = write_scene(tmp_path, CAMERA + '\n[[objects]]\nname = """\n[[objects]]\n"""\nmodel = "m.obj"\n'
-                                          'position = [0, 0, 0]\n\n[[objects]]\nmodel = "m.obj"\n')
+                                          'position = [0, 0, 0]\n\n[[objects]]\nposition = [0, 0, 0]\n')
     with pytest.raises(LoadError) as caught:
         load_scene(path)
-    assert caught.value.line is None and "objects[2]: missing key 'position'" in caught.value.message
+    assert caught.value.line is None and "objects[2]: missing key 'model'" in caught.value.message
 
 
 def test_broken_model_names_the_model_and_its_line(tmp_path: Path) -> None:

@@ -22,7 +22,7 @@ from marraztu.control import commands, keymap
 from marraztu.control.browse import ModelWatcher
 from marraztu.errors import LoadError, ViewerError
 from marraztu.loaders.images import fit_texture, load_image, load_texture_or_fallback
-from marraztu.loaders.registry import load_model
+from marraztu.loaders.registry import UNSCALED, load_model, sized
 from marraztu.loaders.scenefile import (
     empty_scene,
     give_part_materials,
@@ -32,6 +32,7 @@ from marraztu.loaders.scenefile import (
 )
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import WIDEST_ASPECT, Scene, SceneObject, Sight
+from marraztu.model.transforms import Vec3
 
 
 class Frontend(Protocol):
@@ -64,14 +65,16 @@ def starting_scene(options: StartOptions) -> Scene:
     return load_builtin_scene()
 
 
-def load_model_object(path: str | Path) -> SceneObject:
-    """A model file as a new scene element, placed at the origin like the seed's fresh objects."""
-    return _placed(load_model(path), Path(path))
+def load_model_object(path: str | Path, scale: Vec3 = UNSCALED) -> SceneObject:
+    """A model file as a new scene element, placed at the origin like the seed's fresh objects; read at
+    `scale` where it takes the place of an element a scene file sized."""
+    return _placed(sized(load_model(path), scale, Path(path)), Path(path), scale)
 
 
-def _placed(mesh: Mesh, source: Path) -> SceneObject:
+def _placed(mesh: Mesh, source: Path, scale: Vec3 = UNSCALED) -> SceneObject:
     material = material_for_loaded(mesh)
     obj = SceneObject.placed(mesh.name, mesh, material, (0.0, 0.0, 0.0), source=source)
+    obj.scale = scale
     give_part_materials(obj, from_scene=False)
     return obj
 
@@ -127,12 +130,13 @@ class BackgroundLoader:
         return job
 
     def _load(self, job: LoadJob) -> SceneObject:
-        mesh = load_model(job.path, stage=job.set_stage)
+        scale = UNSCALED if job.replaces is None else job.replaces.scale  # read again at the size it was read
+        mesh = sized(load_model(job.path, stage=job.set_stage), scale, job.path)
         if self._prepare is not None:
             job.set_stage("preparing vertex arrays")
             self._prepare(mesh)
         job.set_stage("joining the scene at the next frame")
-        return _placed(mesh, job.path)
+        return _placed(mesh, job.path, scale)
 
     def pending(self) -> list[LoadJob]:
         with self._lock:
@@ -344,7 +348,7 @@ class Viewer:
             self.tell(f"loading {path.name} in place of {element.name}")
             return True
         try:
-            loaded = load_model_object(path)
+            loaded = load_model_object(path, element.scale)
         except LoadError as error:
             return self._failed(error)
         self._replace(element, loaded)

@@ -11,7 +11,9 @@ from marraztu.errors import LoadError
 from marraztu.loaders.files import COLLECT_AFTER_BYTES, size_or_zero
 from marraztu.model.geometry import too_far_to_light
 from marraztu.model.mesh import Mesh
+from marraztu.model.transforms import Vec3
 
+UNSCALED: Vec3 = (1.0, 1.0, 1.0)
 Stage = Callable[[str], None]  # hears what a long load is doing now, for the window's status
 ModelReader = Callable[[Path, Stage | None], Mesh]
 
@@ -59,6 +61,12 @@ def load_model(path: str | Path, stage: Stage | None = None) -> Mesh:
         raise _freed(failure, path)
     finally:
         del failure  # else this frame, in the error's traceback, would hold the error: a cycle
+
+
+def sized(mesh: Mesh, scale: Vec3, path: Path) -> Mesh:
+    """The mesh at `scale` (Mesh.scaled); LoadError naming `path` where a coordinate then lies too far
+    to light."""
+    return mesh if scale == UNSCALED else _drawable(mesh.scaled(scale), path)
 
 
 def _drawable(mesh: Mesh, path: Path) -> Mesh:

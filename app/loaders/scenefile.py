@@ -11,14 +11,18 @@
 
     [[cameras]]                           # none: the built-in scene's, framing the models
     model = "camera.obj"                  # relative to the scene file; a camera's is the built-in one if left out
-    position = [0, 0, 150]
+    position = [0, 0, 150]                # a camera's is required: where it looks from
     material = "golden"                   # a name above, or an inline table of the same keys
 
     [[objects]]                           # any number
     name = "Rammer_255"                   # optional: default is the model file's stem
     model = "rammer.obj"
-    position = [0, 0, 0]
+    position = [0, 0, 0]                  # optional: the origin, where a model loaded alone stands
+    scale = 0.5                           # optional: > 0, or three numbers along x, y, z; a camera's sizes its body
     material = { ka = [0.8, 0.72, 0], kd = [0.8, 0.6, 0.4], ks = [0.9, 0.8, 0.5], ns = 80 }
+
+`scale` sizes the model as it is read (Mesh.scaled), not in its model matrix: SPEC's keys build that
+matrix of turns and moves, and the steps, the near plane and the grid follow the model's size.
 
 An entry without ``material`` gets what a model loaded at run time gets (`material_for_loaded`).
 Every problem, unknown keys included (a typo must not pass silently), is a LoadError naming the
@@ -41,7 +45,7 @@ from typing import NoReturn
 from marraztu.errors import LoadError, ViewerError
 from marraztu.loaders.files import line_at, read_file, same_file_key, shown
 from marraztu.loaders.patterns import compiled
-from marraztu.loaders.registry import load_model
+from marraztu.loaders.registry import load_model, sized
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Material, Scene, SceneObject, Vec3
@@ -49,8 +53,9 @@ from marraztu.resources import ASSET_DIR
 
 BUILTIN_SCENE_FILE = "scene.toml"
 TOP_LEVEL_KEYS = frozenset({"texture", "materials", "objects", "cameras"})
-ENTRY_KEYS = frozenset({"name", "model", "position", "rotation", "material"})
-REQUIRED_ENTRY_KEYS = ("model", "position")
+ENTRY_KEYS = frozenset({"name", "model", "position", "rotation", "scale", "material"})
+REQUIRED_OBJECT_KEYS = ("model",)  # an object's position is the origin, where a model loaded alone stands
+ORIGIN: Vec3 = (0.0, 0.0, 0.0)
 # A camera's model may be left out: the built-in camera's is drawn, which an installed copy's own
 # scene files cannot otherwise name (it lies inside the package).
 CAMERA_MODEL = "camera.obj"
@@ -123,6 +128,9 @@ class SceneEntry:
     rotation: Vec3  # degrees about the world x, then y, then z axis
     material: Material | None  # None: the loaded model's own, see material_for_loaded
     line: int | None
+    what: str  # the entry, as messages name it: "objects[2]"
+    scale: Vec3  # the model's size as read, along x, y and z (Mesh.scaled)
+    scale_line: int | None
 
 
 @dataclass(frozen=True)
@@ -323,8 +331,10 @@ class _SceneReader:
             self.fail(f"{what} must be a table", line)
 
         at = _or_header(key_line, line)
-        required = REQUIRED_ENTRY_KEYS[1:] if camera else REQUIRED_ENTRY_KEYS
-        self.check_keys(table, ENTRY_KEYS, what, line, required=required, key_line=at)
+        self.check_keys(table, ENTRY_KEYS, what, line, required=() if camera else REQUIRED_OBJECT_KEYS, key_line=at)
+        if camera and "position" not in table:  # at the origin it would stand inside the models it is to show
+            self.fail(f"{what}: missing key 'position' (where the camera looks from; a file without [[cameras]] "
+                      "has the built-in camera framing its models)", line)
         if "model" in table:
             model = self.text_value(table["model"], f"{what}: model", at("model"))
             path = self.path.parent / model
@@ -332,10 +342,11 @@ class _SceneReader:
             model, path = CAMERA_MODEL, BUILT_IN_CAMERA_MODEL
         # A model "." has no stem: its own words name it, and loading it says what is wrong with it.
         name = self.text_value(table.get("name", Path(model).stem or model), f"{what}: name", at("name"))
-        position = self.triple(table["position"], f"{what}: position", at("position"))
+        position = self.triple(table.get("position", list(ORIGIN)), f"{what}: position", at("position"))
         rotation = self.triple(table.get("rotation", [0, 0, 0]), f"{what}: rotation", at("rotation"))
+        scale = self.scale(table.get("scale", 1), f"{what}: scale", at("scale"))
         material = self.entry_material(table.get("material"), what, at("material"), materials)
-        return SceneEntry(name, model, path, position, rotation, material, at("model"))
+        return SceneEntry(name, model, path, position, rotation, material, at("model"), what, scale, at("scale"))
 
     def entry_material(self, value: object, what: str, line: int | None,
                        materials: dict[str, Material]) -> Material | None:
@@ -388,6 +399,19 @@ class _SceneReader:
         if abs(value) > FLOAT32_MAX:  # exact for integers of any size, which float() could overflow on
             self.fail(f"{what} {_named_number(value)} {TOO_LARGE}", line)
         return float(value)
+
+    def scale(self, value: object, what: str, line: int | None) -> Vec3:
+        """One number, the same along x, y and z, or three; each greater than 0."""
+        if isinstance(value, list) and len(value) == 3:
+            x, y, z = (self.number(item, what, line) for item in value)
+        elif isinstance(value, (int, float)) and not isinstance(value, bool):
+            x = y = z = self.number(value, what, line)
+        else:
+            given = f"{len(value)} numbers" if isinstance(value, list) else _toml_type(value)
+            self.fail(f"{what} must be one number or three, like 2 or [1, 2, 1], not {given}", line)
+        if min(x, y, z) <= 0.0:
+            self.fail(f"{what} must be greater than 0 (a size, not a mirror), not {min(x, y, z):g}", line)
+        return (x, y, z)
 
     def triple(self, value: object, what: str, line: int | None, unit_range: bool = False) -> Vec3:
         if not isinstance(value, list) or len(value) != 3:
@@ -537,12 +561,14 @@ class _ModelLoader:
     def __init__(self, scene_path: Path) -> None:
         self.scene_path = scene_path
         self.meshes: dict[Path, Mesh] = {}
+        self.sized: dict[tuple[Path, Vec3], Mesh] = {}  # the entries of one model at one scale share its mesh
         self.keys: dict[str, Path] = {}  # each spelling resolved once: thousands of entries may name one model
 
     def place(self, entry: SceneEntry) -> SceneObject:
         mesh = self.mesh(entry)
         material = entry.material if entry.material is not None else material_for_loaded(mesh)
         obj = SceneObject.placed(entry.name, mesh, material, entry.position, entry.rotation, source=entry.model_path)
+        obj.scale = entry.scale
         give_part_materials(obj, from_scene=entry.material is not None)
         return obj
 
@@ -555,7 +581,18 @@ class _ModelLoader:
                 self.meshes[key] = load_model(entry.model_path.absolute())
             except (ViewerError, OSError) as err:
                 raise LoadError(self.scene_path, f"model {shown(entry.model)}: {err}", entry.line) from err
-        return self.meshes[key]
+        if (key, entry.scale) not in self.sized:
+            try:
+                self.sized[key, entry.scale] = sized(self.meshes[key], entry.scale, entry.model_path)
+            except LoadError as err:
+                raise LoadError(self.scene_path, f"{entry.what}: scale {_scale_words(entry.scale)}: {err.message}",
+                                entry.scale_line) from err
+        return self.sized[key, entry.scale]
+
+
+def _scale_words(scale: Vec3) -> str:
+    x, y, z = scale
+    return f"{x:g}" if x == y == z else f"[{x:g}, {y:g}, {z:g}]"
 
 
 def _optional_str(path: Path | None) -> str | None:

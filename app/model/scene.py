@@ -206,6 +206,8 @@ class SceneObject:
     browsed: Path | None = None  # the file PageDown / PageUp last asked for: the next step goes on past it
     part_materials: tuple[Material, ...] = ()  # one per Mesh.materials: what each part is drawn with
     file_materials: tuple[Material, ...] = ()  # what the file gave each part: a part drawn with another is not its
+    # The scene file's `scale` its mesh was read at (Mesh.scaled): a file read again in its place is too.
+    scale: Vec3 = (1.0, 1.0, 1.0)
 
     @classmethod
     def placed(cls, name: str, mesh: Mesh, material: Material, position: Vec3,
