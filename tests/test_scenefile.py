@@ -120,7 +120,16 @@ position = [5, 0, 0]
     assert [obj.name for obj in scene.objects] == ["first", "m"]
     assert scene.objects[0].material == Material((0.1, 0.2, 0.3), (0.4, 0.5, 0.6), (0.7, 0.8, 0.9), 10.0)
     assert scene.objects[1].material == DEFAULT_MATERIAL  # no material: a run-time model's default
-    assert scene.texture_path is None
+
+
+def test_a_scene_without_texture_shows_the_built_in_one_as_a_model_alone_does(tmp_path: Path) -> None:
+    """SPEC's texture at start is selfi.ppm: a model given alone showed it, and the same model in a scene
+    file that names no texture showed the built-in checker instead."""
+    scene = load_scene(write_scene(tmp_path, CAMERA + '[[objects]]\nmodel = "m.obj"\n'))
+    assert scene.texture_path == empty_scene().texture_path == load_builtin_scene().texture_path
+    assert scene.texture_path == str(ASSET_DIR / "selfi.ppm")
+    # should it fail to read, its message names the line that names it, as --empty's does
+    assert scene.texture_named_at == empty_scene().texture_named_at == f"{builtin_scene_path()}:7: texture"
 
 
 def test_one_model_spelled_three_ways_is_loaded_once(tmp_path: Path, monkeypatch) -> None:

@@ -1,6 +1,6 @@
 """Scene files: which models to load, where to put them and what they are made of, in TOML.
 
-    texture = "selfi.ppm"                 # optional, relative to the scene file
+    texture = "selfi.ppm"                 # optional, relative to the scene file; the built-in scene's otherwise
 
     [materials.golden]                    # named materials, used by name below
     ka = [0.8, 0.72, 0.0]                 # ka, kd, ks: three numbers in 0..1
@@ -141,6 +141,8 @@ class SceneDescription:
     texture_path: Path | None
     texture_line: int | None = None  # where `texture` is set, for the message of a texture that fails
     cameras_given: bool = True  # False: the file places none, and `cameras` are the built-in scene's
+    # The file that sets `texture` where this one sets none: the built-in scene's (SPEC 3: selfi.ppm at start).
+    texture_named_in: Path | None = None
 
 
 # --------------------------------------------------------------------------------------------------
@@ -178,7 +180,7 @@ def _texture_named_at(description: SceneDescription) -> str | None:
     message, which is given when the viewer starts (SPEC 7: the checker, not a refusal)."""
     if description.texture_path is None:
         return None
-    return str(LoadError(description.path, "texture", description.texture_line))
+    return str(LoadError(description.texture_named_in or description.path, "texture", description.texture_line))
 
 
 def material_for_loaded(mesh: Mesh) -> Material:
@@ -289,10 +291,13 @@ class _SceneReader:
         materials = self.named_materials()
         objects = self.entries("objects", materials)
         cameras = self.entries("cameras", materials)
-        given = bool(cameras)
-        if not given:  # the built-in scene's, as --empty gives
-            cameras = read_scene_description(builtin_scene_path()).cameras
-        return SceneDescription(self.path, objects, cameras, self.texture(), self.lines.first(("texture",)), given)
+        given, texture, texture_line, named_in = bool(cameras), self.texture(), self.lines.first(("texture",)), None
+        if not given or texture is None:
+            builtin = read_scene_description(builtin_scene_path())  # what the file leaves out, as --empty gives it
+            cameras = cameras if given else builtin.cameras
+            if texture is None:  # its models show the texture they show alone on the command line
+                texture, texture_line, named_in = builtin.texture_path, builtin.texture_line, builtin.path
+        return SceneDescription(self.path, objects, cameras, texture, texture_line, given, named_in)
 
     # --- top level -----------------------------------------------------------------------------
     def texture(self) -> Path | None:
