@@ -1196,9 +1196,9 @@ alive, read_into, ran_on, load = [], text._read_into, [], obj._load_compiled_rea
 def spy_read(*args):
     alive.append(obj._LOADING_THREAD in [thread.name for thread in threading.enumerate()])
     return read_into(*args)
-def spy_load():
+def spy_load(*args):
     ran_on.append(threading.current_thread().name)
-    load()
+    load(*args)
 text._read_into, obj._load_compiled_reader = spy_read, spy_load
 mesh = obj.load_obj(sys.argv[1])
 print(mesh.face_count, ran_on == [obj._LOADING_THREAD], alive[0], obj._compiled_reader_loaded())
@@ -1224,6 +1224,79 @@ def test_a_first_large_file_is_read_while_the_compiled_reader_loads(tmp_path: Pa
     assert (count, on_the_thread, loaded) == (str(faces), "True", str(numba))
     if numba:  # it takes a tenth of a second or more: still at work when the read begins
         assert alive_while_read == "True"
+
+
+def _compiling_for_as_long_as_it_takes(monkeypatch: pytest.MonkeyPatch, cached: bool) -> threading.Event:
+    """The first large file's loading thread, as after an install (`cached` False: numba's cache lacks the
+    passes) where compiling lasts until the load has said so (the returned event), or 10 s at most."""
+    said = threading.Event()
+    monkeypatch.setattr(obj_module, "_compiled_reader_loaded", lambda: False)
+    monkeypatch.setattr(scan, "machine_code_cached", lambda: cached)
+    monkeypatch.setattr(fast_reader, "load_machine_code", lambda: cached or said.wait(timeout=10))
+    return said
+
+
+@pytest.mark.parametrize("cached", [False, True])
+def test_a_first_large_file_says_numba_compiles_the_reader_once_where_it_does(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, cached: bool) -> None:
+    """The first large file after installing waited seconds for numba's compiling while the window's
+    status line said "parsing" and the screenshot command said nothing."""
+    path = tmp_path / "big.obj"
+    path.write_bytes(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n" + b"f 1 2 3\n" * (obj_module.COMPILED_READER_BYTES // 8))
+    said = _compiling_for_as_long_as_it_takes(monkeypatch, cached)
+    stages: list[str] = []
+
+    def stage(words: str) -> None:
+        stages.append(words)
+        if words == obj_module.READER_COMPILING:
+            said.set()
+
+    load_obj(path, stage)
+    expected = ["reading", "parsing"] if cached else ["reading", "parsing", obj_module.READER_COMPILING, "parsing"]
+    assert stages == expected
+
+
+def test_the_screenshot_command_tells_numba_compiles_the_reader(tmp_path: Path, monkeypatch) -> None:
+    from marraztu.control.viewer import StartOptions, Viewer
+    from marraztu.loaders.scenefile import empty_scene
+
+    class Told:
+        def __init__(self) -> None:
+            self.notices: list[str] = []
+
+        def quit(self) -> None: ...
+        def save_screenshot(self) -> None: ...
+
+        def notice(self, text: str) -> None:
+            self.notices.append(text)
+            if text == obj_module.READER_COMPILING:
+                said.set()
+
+    path = tmp_path / "big.obj"
+    path.write_bytes(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n" + b"f 1 2 3\n" * (obj_module.COMPILED_READER_BYTES // 8))
+    said = _compiling_for_as_long_as_it_takes(monkeypatch, cached=False)
+    front = Told()
+    Viewer(empty_scene(), front, strict=True).start(StartOptions(empty=True, models=(path,)), longest_texture_side=256)
+    assert front.notices == [obj_module.READER_COMPILING]
+
+
+def test_numba_is_asked_whether_its_cache_holds_a_functions_machine_code(tmp_path: Path, monkeypatch) -> None:
+    from marraztu.model import jit
+
+    monkeypatch.setattr(jit, "_cache_folder", lambda: tmp_path)
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    monkeypatch.setattr(jit.config, "CACHE_DIR", "")
+
+    def twice(x: int) -> int:
+        return 2 * x
+
+    compiled = jit.njit(cache=True)(twice)
+    assert jit.has_cached_code(compiled) is False
+    assert compiled(21) == 42  # compiled, and cached
+    assert jit.has_cached_code(compiled) is True
+    assert jit.has_cached_code(jit.njit(cache=True)(twice)) is True  # as a fresh process finds it
+    assert jit.has_cached_code(twice) is None, "not numba's: it cannot be asked"
+    assert scan.machine_code_cached() in (True, False)
 
 
 def test_a_large_file_that_cannot_be_opened_waits_for_no_compiled_reader(tmp_path: Path) -> None:

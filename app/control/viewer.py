@@ -22,7 +22,8 @@ from marraztu.control import commands, keymap
 from marraztu.control.browse import ModelWatcher
 from marraztu.errors import LoadError, ViewerError
 from marraztu.loaders.images import fit_texture, load_image, load_texture_or_fallback
-from marraztu.loaders.registry import UNSCALED, load_model, sized
+from marraztu.loaders.obj import READER_COMPILING
+from marraztu.loaders.registry import UNSCALED, Stage, load_model, sized
 from marraztu.loaders.scenefile import (
     empty_scene,
     give_part_materials,
@@ -65,10 +66,10 @@ def starting_scene(options: StartOptions) -> Scene:
     return load_builtin_scene()
 
 
-def load_model_object(path: str | Path, scale: Vec3 = UNSCALED) -> SceneObject:
+def load_model_object(path: str | Path, scale: Vec3 = UNSCALED, stage: Stage | None = None) -> SceneObject:
     """A model file as a new scene element, placed at the origin like the seed's fresh objects; read at
-    `scale` where it takes the place of an element a scene file sized."""
-    return _placed(sized(load_model(path), scale, Path(path)), Path(path), scale)
+    `scale` where it takes the place of an element a scene file sized. `stage` hears the load's stages."""
+    return _placed(sized(load_model(path, stage), scale, Path(path)), Path(path), scale)
 
 
 def _placed(mesh: Mesh, source: Path, scale: Vec3 = UNSCALED) -> SceneObject:
@@ -317,11 +318,17 @@ class Viewer:
                 self.tell(f"loading {job.path.name}; the window stays usable meanwhile")
             return True
         try:
-            obj = load_model_object(path)
+            obj = load_model_object(path, stage=self._waiting_on)
         except LoadError as error:
             return self._failed(error)
         self._add(obj, path, as_camera)
         return True
+
+    def _waiting_on(self, stage: str) -> None:
+        """A load the viewer waits on, with no status line meanwhile (the screenshot command's): the one
+        stage that takes seconds, numba compiling the OBJ reader once after install, is told as it begins."""
+        if stage == READER_COMPILING:
+            self.frontend.notice(stage)
 
     def collect_loads(self) -> None:
         """Adds what the worker finished, in the order asked; a failure leaves only its message."""
@@ -348,7 +355,7 @@ class Viewer:
             self.tell(f"loading {path.name} in place of {element.name}")
             return True
         try:
-            loaded = load_model_object(path, element.scale)
+            loaded = load_model_object(path, element.scale, stage=self._waiting_on)
         except LoadError as error:
             return self._failed(error)
         self._replace(element, loaded)

@@ -29,6 +29,17 @@ def njit(*args: Any, **options: Any) -> Callable[[Callable[..., Any]], Any]:
     return cached_in_ours
 
 
+def has_cached_code(function: Any) -> bool | None:
+    """Whether numba's cache holds machine code this process can load for an njit(cache=True) function:
+    numba's own lookup (an index for this source and numba version, an entry for this CPU and bytecode).
+    None where its cache cannot be asked."""
+    try:  # numba has no public question for it: its Cache's own index and key
+        cache, codegen = function._cache, function.targetctx.codegen()
+        return any(cache._index_key(key[0], codegen) == key for key in cache._cache_file._load_index())
+    except Exception:
+        return None
+
+
 def _cache_folder() -> Path:
     base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
     return Path(base) / "marraztu" / "numba"

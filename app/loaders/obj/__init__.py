@@ -18,7 +18,7 @@ from __future__ import annotations
 import sys
 import threading
 from collections.abc import Callable
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -214,14 +214,26 @@ def _tables(text: bytes | np.ndarray, source: str) -> RawObj:
 
 
 _LOADING_THREAD = "marraztu compiled reader"
+# The stage of a load that waits for numba to compile the reader (seconds, once: then it is cached).
+READER_COMPILING = "compiling the fast OBJ reader, once after install"
+
+
+@dataclass
+class _ReaderLoad:
+    """What the loading thread found out: whether numba compiles the reader (its cache lacks it)."""
+
+    known: threading.Event = field(default_factory=threading.Event)
+    compiles: bool = False
 
 
 def _read_while_reader_loads(path: str | Path, stage: Callable[[str], None] | None) -> np.ndarray:
     """read_text; for a file the compiled reader will read, with its machine code loaded meanwhile on
-    another thread: the read waits on the disk and on the kernel's fresh pages, the loading on a CPU."""
+    another thread: the read waits on the disk and on the kernel's fresh pages, the loading on a CPU.
+    `stage` hears READER_COMPILING, once, where the read is done and numba is still compiling."""
     if _compiled_reader_loaded():
         return read_text(path, stage)
-    loading = threading.Thread(target=_load_compiled_reader, name=_LOADING_THREAD, daemon=True)
+    load = _ReaderLoad()
+    loading = threading.Thread(target=_load_compiled_reader, args=(load,), name=_LOADING_THREAD, daemon=True)
 
     def start_loading(size: int) -> None:  # once the file is open: a file that cannot be read waits for nothing
         if size >= COMPILED_READER_BYTES:
@@ -231,15 +243,26 @@ def _read_while_reader_loads(path: str | Path, stage: Callable[[str], None] | No
         return read_text(path, stage, start_loading)
     finally:
         if loading.ident is not None:  # started
+            load.known.wait()  # numba's import, the thread's first step
+            compiling = load.compiles and stage is not None and loading.is_alive()
+            if compiling:
+                stage(READER_COMPILING)
             loading.join()
+            if compiling:
+                stage("parsing")
 
 
-def _load_compiled_reader() -> None:
+def _load_compiled_reader(load: _ReaderLoad) -> None:
     try:
-        from marraztu.loaders.obj import fast  # numba
+        from marraztu.loaders.obj import scan  # numba; the passes compile on first use, not here
+        load.compiles = scan.machine_code_cached() is False
+        load.known.set()
+        from marraztu.loaders.obj import fast  # its import compiles the mesh's loops where not cached
         fast.load_machine_code()
     except Exception:  # no numba here: _tables meets the same failure and reads by lines
         return
+    finally:
+        load.known.set()
 
 
 def _read_by_lines(text: bytes | np.ndarray, source: str, most_single_lines: int = sys.maxsize) -> RawObj:

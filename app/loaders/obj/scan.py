@@ -15,7 +15,7 @@ import numpy as np
 
 from marraztu.loaders.obj.raw import COLOURED_V_NUMBERS, MAX_DIGITS, V_FORMS
 from marraztu.model.geometry import FLOAT32_MAX
-from marraztu.model.jit import njit
+from marraztu.model.jit import has_cached_code, njit
 from marraztu.model.mesh import INDEX_LIMIT
 
 # Kinds of line, and the columns of a pass-one count.
@@ -538,6 +538,13 @@ def read_vertex_colours(buf: np.ndarray, low: int, high: int, first_row: int, co
                     colours[row, column] = numbers_read[0, 3 + column]
             row += 1
         start = line_end(buf, at) + 1
+
+
+def machine_code_cached() -> bool | None:
+    """Whether numba's cache holds the passes' machine code (False: the first file compiles them, for
+    seconds); None where it cannot be asked."""
+    found = [has_cached_code(function) for function in (count_piece, holds_bytes_to_look_at, read_piece, line_end)]
+    return None if None in found else all(found)
 
 
 @njit(**_JIT)
