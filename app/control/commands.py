@@ -11,7 +11,6 @@ place, so `u` gives back the earlier state bit for bit.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import replace
 from pathlib import Path
 from typing import Protocol, TypeVar
 
@@ -611,7 +610,7 @@ def fit_to_models(scene: Scene) -> None:
             light.position = light.position * factor
     for camera in scene.cameras:
         if camera.source == BUILT_IN_CAMERA_MODEL:
-            camera.mesh = replace(camera.mesh, positions=camera.mesh.positions * factor)
+            camera.mesh = camera.mesh.scaled((factor, factor, factor))
 
 
 def _where_fitting_left_it(light: Light, fitted_places: dict[str, np.ndarray]) -> bool:
