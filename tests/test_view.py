@@ -192,16 +192,16 @@ def test_a_model_loaded_inside_another_says_so(tmp_path: Path, centre: tuple[flo
 def test_the_command_lines_models_are_placed_in_one_look_at_the_scene(tmp_path: Path,
                                                                      monkeypatch: pytest.MonkeyPatch) -> None:
     """Each of the command line's models joining the ships was placed against a projection of the whole
-    scene, and its message copied all those before it: 4,000 models took 123 s. Now one projection
-    serves the batch, and the messages keep their order, a failure's among them."""
+    scene, and its message copied all those before it: 4,000 models took 123 s. Now one look serves
+    the batch, and the messages keep their order, a failure's among them."""
     models = [octahedron(tmp_path / f"m{index}.obj", 1.0, (0.0, 60.0 * (index % 3), 0.0)) for index in range(40)]
     models.insert(7, tmp_path / "missing.obj")
-    projections = []
-    real = marraztu.model.scene.Scene.projection_matrix
-    monkeypatch.setattr(marraztu.model.scene.Scene, "projection_matrix",
-                        lambda scene, aspect: projections.append(aspect) or real(scene, aspect))
+    looks = []
+    real = marraztu.model.scene.Scene.sights
+    monkeypatch.setattr(marraztu.model.scene.Scene, "sights",
+                        lambda scene, elements, aspect: looks.append(len(elements)) or real(scene, elements, aspect))
     lines = viewer_with("", tuple(models)).scene.message.splitlines()
-    assert len(projections) == 1
+    assert looks == [40]
     named = [line.split(" as a new")[0].removeprefix("loaded ").split(":")[0] for line in lines[-41:]]
     assert named == [Path(model).name if index != 7 else str(models[7]) for index, model in enumerate(models)]
     inside = "inside Rammer_255's bounding box"

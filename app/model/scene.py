@@ -7,6 +7,7 @@ column-major, which is ``M.T`` in numpy's row-major memory; the renderer does th
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from collections.abc import Callable, Iterable, Iterator
@@ -535,19 +536,19 @@ class Scene:
         normals drawn out of them included, and the selected light's marker while lights are targeted
         (`marker`)."""
         models, bounds, sizes = self._shown_placements(marker)
-        view = self.view_matrix() @ models
+        outlook = self.outlook(aspect)
+        view = outlook.view @ models
         in_eye = np.einsum("nij,nkj->nki", view[:, :3, :3], _box_corners(bounds)) + view[:, None, :3, 3]
-        x, y, depth = in_eye[..., 0], in_eye[..., 1], -in_eye[..., 2]
-        if self.modes.projection is Projection.PARALLEL:  # the view a box
-            half_height = self.modes.parallel_half_height
-            reach_x, reach_y = np.full_like(depth, aspect * half_height), np.full_like(depth, half_height)
-        else:
-            reach_x, reach_y = aspect * depth, depth  # 90 degrees high: tan 45 = 1
-        beyond = ((depth <= 0.0).all(axis=1) | (x > reach_x).all(axis=1) | (x < -reach_x).all(axis=1)
-                  | (y > reach_y).all(axis=1) | (y < -reach_y).all(axis=1))
+        depth = -in_eye[..., 2]
+        beyond = outlook.beyond(in_eye)
         seen = np.ones_like(beyond) if everywhere else ~beyond
         distances = self._least_depths(models, bounds, depth, aspect)
         return InView(distances[seen], depth.max(axis=1, initial=-np.inf)[seen], sizes[seen])
+
+    def outlook(self, aspect: float) -> Outlook:
+        """The view now, `aspect` wide, as the box tests see it."""
+        parallel = self.modes.projection is Projection.PARALLEL
+        return Outlook(self.viewer.model, self.modes.parallel_half_height if parallel else None, aspect)
 
     def _shown_placements(self, marker: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(N, 4, 4) model matrices, (N, 2, 3) boxes and (N,) sizes of what is shown, each box grown by
@@ -610,12 +611,8 @@ class Scene:
 
     def sights(self, elements: list[SceneObject], aspect: float) -> list[Sight]:
         """How each element's box stands in a view `aspect` wide (a load may land outside it, or so far
-        off or so small that it is not seen), from one projection: a box's corners are put in clip
-        space once for both tests."""
-        corners = world_boxes(elements)
-        homogeneous = np.concatenate([corners, np.ones((*corners.shape[:2], 1))], axis=2)
-        clips = homogeneous @ (self.projection_matrix(aspect) @ self.view_matrix()).T
-        return [_sight_of(clip) for clip in clips]
+        off or so small that it is not seen), from its eight corners alone: no pass over the scene."""
+        return self.outlook(aspect).sights(world_boxes(elements))
 
     def enclosers(self, elements: list[SceneObject]) -> list[SceneObject | None]:
         """For each element, the first other shown element whose world box holds its whole (a model in
@@ -708,34 +705,59 @@ class InView:
     sizes: np.ndarray  # its mesh's size (0 for the light's marker)
 
 
+@dataclass(eq=False)
+class Outlook:
+    """A view as the box tests see it: where the eye stands and how far the view reaches. A key's
+    notice keeps the one before the key (Scene.outlook), with no test made until it is needed."""
+
+    eye: np.ndarray  # the viewer's model matrix (pushed anew on each move, never changed in place)
+    parallel_half_height: float | None  # None in perspective, 90 degrees high
+    aspect: float
+
+    @functools.cached_property
+    def view(self) -> np.ndarray:
+        return np.linalg.inv(self.eye)
+
+    def sights(self, corners: np.ndarray) -> list[Sight]:
+        """How each box of these (N, 8, 3) world corners stands in the view."""
+        in_eye = corners @ self.view[:3, :3].T + self.view[:3, 3]
+        beyond, spans = self.beyond(in_eye), self._spans(in_eye)
+        return [Sight.OUTSIDE if out else Sight.TOO_SMALL if span < SEEN_SHARE_LEAST else Sight.SEEN
+                for out, span in zip(beyond.tolist(), spans.tolist())]
+
+    def beyond(self, in_eye: np.ndarray) -> np.ndarray:
+        """(N,): whether each box of these (N, 8, 3) corners in the eye's frame lies wholly behind the
+        eye or beyond one side of the view. The near and far planes keep clear of what is shown, so
+        they leave nothing more out."""
+        across, depth = in_eye[..., :2], -in_eye[..., 2]
+        reach = self._reaches(depth)
+        sides = np.concatenate([across > reach, across < -reach], axis=2)  # (N, 8, 4): beyond each side
+        return (depth <= 0.0).all(axis=1) | sides.all(axis=1).any(axis=1)
+
+    def _spans(self, in_eye: np.ndarray) -> np.ndarray:
+        """(N,): how many views each box of these (N, 8, 3) eye-frame corners spans, across or up,
+        whichever is more; in perspective, infinity where it reaches behind the eye."""
+        depth = -in_eye[..., 2]
+        reach = self._reaches(np.where(depth > 0.0, depth, 1.0))  # behind the eye: infinity below
+        spans = np.ptp(in_eye[..., :2] / reach, axis=1).max(axis=1, initial=0.0) / 2.0  # the view is 2 across
+        if self.parallel_half_height is not None:
+            return spans
+        return np.where((depth > 0.0).all(axis=1), spans, np.inf)
+
+    def _reaches(self, depth: np.ndarray) -> np.ndarray:
+        """(..., 2): how far the view reaches across and up, in the eye's frame, at these depths."""
+        widths = np.array([self.aspect, 1.0])
+        if self.parallel_half_height is not None:  # the view a box
+            return np.broadcast_to(self.parallel_half_height * widths, (*depth.shape, 2))
+        return depth[..., None] * widths  # tan 45 = 1
+
+
 class Sight(Enum):
     """How a box stands in the view (Scene.sight), in the words a load's message says it with."""
 
     SEEN = "seen"
-    OUTSIDE = "outside the view"  # wholly beyond one side of it
+    OUTSIDE = "outside the view"  # wholly behind the eye or beyond one side of it
     TOO_SMALL = "too small to see from here"  # wholly in front of the eye, under SEEN_SHARE_LEAST of it
-
-
-def _sight_of(clip: np.ndarray) -> Sight:
-    """How a box of these (8, 4) clip-space corners stands in the view."""
-    if _beyond_one_side(clip):
-        return Sight.OUTSIDE
-    return Sight.TOO_SMALL if _spans_too_little(clip) else Sight.SEEN
-
-
-def _beyond_one_side(clip: np.ndarray) -> bool:
-    """Whether the (8, 4) clip-space corners of a box all lie beyond one of the view's six planes."""
-    w = clip[:, 3:]
-    return bool(((clip[:, :3] > w).all(axis=0).any() or (clip[:, :3] < -w).all(axis=0).any()))
-
-
-def _spans_too_little(clip: np.ndarray) -> bool:
-    """Whether a box of these (8, 4) clip-space corners, wholly in front of the eye, spans less than
-    SEEN_SHARE_LEAST of the view's width and height."""
-    if not (clip[:, 3] > 0.0).all():
-        return False
-    spans = np.ptp(clip[:, :2] / clip[:, 3:], axis=0) / 2.0  # the view is 2 across in x and y
-    return bool(spans.max() < SEEN_SHARE_LEAST)
 
 
 _BOX_CORNER_PICKS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)])  # low 0, high 1
@@ -775,7 +797,11 @@ def _box_corners(bounds: np.ndarray) -> np.ndarray:
 
 def world_boxes(elements: list[SceneObject]) -> np.ndarray:
     """(N, 8, 3): each element's mesh's bounding box's corners, placed in the world, in one pass."""
-    models, bounds = _placements(elements)
+    return placed_boxes(*_placements(elements))
+
+
+def placed_boxes(models: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """(N, 8, 3): the corners of (N, 2, 3) boxes placed by (N, 4, 4) model matrices."""
     return np.einsum("nij,nkj->nki", models[:, :3, :3], _box_corners(bounds)) + models[:, None, :3, 3]
 
 
