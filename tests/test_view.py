@@ -244,6 +244,54 @@ def test_outside_the_view_is_said_for_the_view_drawn(tmp_path: Path, size: tuple
         assert ("outside the view (. frames it)" in v.message) == outside, v.message
 
 
+# Far from the origin, one turn about it swings a model further than the view is wide.
+@pytest.mark.parametrize(("centre", "keys"), [((0.0, 300.0, 0.0), "x x"), ((300.0, 0.0, 0.0), "g Y Y"),
+                                              ((0.0, 0.0, 0.0), "t x*30"), ((0.0, 0.0, 0.0), "c y*25")],
+                         ids=["its own turn", "a global turn", "moved out with t", "the camera turned"])
+def test_a_key_that_takes_the_selected_model_out_of_view_says_so_once_and_dot_frames_it(
+        tmp_path: Path, centre: tuple[float, float, float], keys: str) -> None:
+    """A model whose file places it 300 units off turned with one key, or one moved off with t, or the
+    camera turned away: the picture went blank and the message said nothing."""
+    viewer = viewer_with("", (octahedron(tmp_path / "far.obj", 10.0, centre),), empty=True)
+    scene, aspect = viewer.scene, viewer.narrowest_aspect()
+    told = []
+    for key in parse_key_sequence(keys):
+        was = scene.sight(scene.object, aspect)
+        viewer.press(key)
+        lost = was is Sight.SEEN and scene.sight(scene.object, aspect) is Sight.OUTSIDE
+        assert (scene.message == "far is now outside the view (. frames it)") == lost, (key, scene.message)
+        told.append(lost)
+    assert told.count(True) == 1
+    viewer.press(parse_key_sequence(".")[0])
+    assert scene.sight(scene.object, aspect) is Sight.SEEN and scene.message == "framed far"
+
+
+def test_a_key_that_leaves_the_model_in_view_or_changes_the_selection_says_nothing_of_it(tmp_path: Path) -> None:
+    near = octahedron(tmp_path / "near.obj", 10.0)
+    far = octahedron(tmp_path / "far.obj", 10.0, (0.0, 1e4, 0.0))
+    viewer = viewer_with("x y z t x", (near,), empty=True)
+    assert viewer.scene.message == ""
+    viewer.press(parse_key_sequence(f"f={far}")[0])  # far is selected: the one out of view is another
+    assert "is now" not in viewer.scene.message and "outside the view (. frames it)" in viewer.scene.message
+    viewer.press(parse_key_sequence("TAB")[0])
+    assert viewer.scene.message == ""
+
+
+def test_the_out_of_view_notice_looks_at_the_selected_model_alone(tmp_path: Path,
+                                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    """One box test after a key, whatever the scene holds (a second, of the view before it, only where
+    the model is out of view now): no key costs a pass over the scene."""
+    viewer = viewer_with("", tuple(octahedron(tmp_path / f"m{index}.obj", 1.0, (3.0 * index, 0.0, 0.0))
+                                   for index in range(30)))
+    looked_at: list[int] = []
+    real = marraztu.model.scene.world_boxes
+    monkeypatch.setattr(marraztu.model.scene, "world_boxes",
+                        lambda elements: looked_at.append(len(elements)) or real(elements))
+    monkeypatch.setattr(marraztu.model.scene.Scene, "near_plane", lambda *_: pytest.fail("a pass over the scene"))
+    viewer.press(parse_key_sequence("x")[0])
+    assert looked_at == [1]
+
+
 def test_home_returns_to_the_start_and_u_takes_it_back(tmp_path: Path) -> None:
     start = picture(tmp_path, "", empty=False, name="start.png")
     moved = picture(tmp_path, "c t x*5 Z*3 r y c c", empty=False, name="moved.png")

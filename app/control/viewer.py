@@ -32,7 +32,7 @@ from marraztu.loaders.scenefile import (
     material_for_loaded,
 )
 from marraztu.model.mesh import Mesh
-from marraztu.model.scene import WIDEST_ASPECT, Scene, SceneObject, Sight
+from marraztu.model.scene import WIDEST_ASPECT, Outlook, Scene, SceneObject, Sight, placed_boxes
 from marraztu.model.transforms import Vec3
 
 
@@ -173,6 +173,18 @@ class _StartLoad(NamedTuple):
     joined: bool  # joined objects from elsewhere: where it stands is said
 
 
+class _Before(NamedTuple):
+    """The selected object as a key found it (its matrix and mesh, as they are never changed in place),
+    and the view then."""
+    obj: SceneObject
+    model: np.ndarray
+    mesh: Mesh
+    outlook: Outlook
+
+    def sight(self) -> Sight:
+        return self.outlook.sights(placed_boxes(self.model[None], np.array([self.mesh.bounds], dtype=np.float64)))[0]
+
+
 class Viewer:
     def __init__(self, scene: Scene, frontend: Frontend, strict: bool = False,
                  background: BackgroundLoader | None = None,
@@ -268,7 +280,10 @@ class Viewer:
         if self.prompt is not None and key.path is None:
             self._prompt_key(key.token)
             return
+        before = self._seen_selected()
         keymap.dispatch(self.scene, key, self)
+        if before is not None:
+            self._tell_if_lost(before)
         if self.strict and key.path is not None and self.scene.message == commands.LIGHTS_LOAD_REFUSAL:
             raise ViewerError(f"f={key.path}: {commands.LIGHTS_LOAD_REFUSAL} (press c to target objects)")
 
@@ -438,6 +453,31 @@ class Viewer:
             wheres.append(where)
         return wheres
 
+    def _seen_selected(self) -> _Before | None:
+        """The selected object as a key finds it, and the view then; no test made yet."""
+        obj = self.scene.object
+        if obj is None or self.scene.viewer is obj:
+            return None
+        return _Before(obj, obj.model, obj.mesh, self.scene.outlook(self.narrowest_aspect()))
+
+    def _tell_if_lost(self, before: _Before) -> None:
+        """After a key, that the object it found in view is out of it now: one box test, and a second
+        (the view before) only where it is out (a file read in its place is told by _replace, which
+        is not told here)."""
+        obj = before.obj
+        if self.scene.object is not obj or self.scene.viewer is obj or obj.mesh is not before.mesh:
+            return
+        where = self._unseen_as(obj)
+        if where and before.sight() is Sight.SEEN:
+            said = self.scene.message
+            self.scene.message = f"{said}; {_lost_notice(obj, where)}" if said else _lost_notice(obj, where)
+
+    def _unseen_as(self, obj: SceneObject) -> str:
+        """How the view does not show the object, in a message's words: outside it or too small to see;
+        "" where it shows it."""
+        sight = self.scene.sight(obj, self.narrowest_aspect())
+        return "" if sight is Sight.SEEN else sight.value
+
     def _frame_start_models(self) -> None:
         """The command line's models that joined, framed together while the camera has not moved."""
         if self._start_models_to_frame and len(self.scene.camera.history) == 1:
@@ -481,6 +521,11 @@ def _loaded_message(obj: SceneObject, path: Path, kind: str, where: str) -> tupl
     """A load's message, and whether it is worth a notice: notes, or a place the view does not show."""
     text = with_notes(f"loaded {path.name} as a new {kind}: {obj.mesh.summary()}{where}", obj.mesh)
     return text, bool(obj.mesh.warnings) or bool(where)
+
+
+def _lost_notice(obj: SceneObject, where: str) -> str:
+    """What a key says of the selected object the view no longer shows."""
+    return f"{obj.name} is now {where} (. frames it)"
 
 
 def with_notes(message: str, mesh: Mesh) -> str:
