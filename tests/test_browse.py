@@ -4,6 +4,7 @@ and --watch reads a model again when its file changes. A bad file keeps the scen
 from __future__ import annotations
 
 import os
+import time
 from pathlib import Path
 
 import numpy as np
@@ -12,7 +13,7 @@ from PIL import Image
 
 from marraztu.control.browse import ModelWatcher, model_files, sibling_model
 from marraztu.control.keymap import parse_key_sequence
-from marraztu.control.viewer import StartOptions, Viewer
+from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer
 from marraztu.errors import LoadError
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
@@ -155,6 +156,62 @@ def test_pagedown_draws_the_next_file_as_if_it_had_been_opened(tmp_path: Path) -
     pixels = np.asarray(Image.open(stepped).convert("RGB"))
     assert np.array_equal(pixels, np.asarray(Image.open(opened).convert("RGB")))
     assert tuple(pixels[0, 0]) == BACKGROUND and (pixels != BACKGROUND).any(axis=2).sum() > 100  # not blank
+
+
+def collect_when_loaded(viewer: Viewer, seconds: float = 600.0) -> None:  # only against a hang
+    deadline = time.monotonic() + seconds
+    while viewer.background.pending() and time.monotonic() < deadline:
+        time.sleep(0.01)
+    viewer.collect_loads()
+
+
+def octahedron(size: float, centre: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> bytes:
+    """A model of radius `size` round `centre`, its six tips on the axes through it."""
+    tips = [(size, 0, 0), (-size, 0, 0), (0, size, 0), (0, -size, 0), (0, 0, size), (0, 0, -size)]
+    faces = [(1, 3, 5), (3, 2, 5), (2, 4, 5), (4, 1, 5), (3, 1, 6), (2, 3, 6), (4, 2, 6), (1, 4, 6)]
+    return ("".join(f"v {x + centre[0]:g} {y + centre[1]:g} {z + centre[2]:g}\n" for x, y, z in tips)
+            + "".join(f"f {a} {b} {c}\n" for a, b, c in faces)).encode()
+
+
+# PageDown keeps the camera (a view set up to compare same-size models stays); a file that this view
+# does not show as it showed the one before is said, with the key that frames it.
+@pytest.mark.parametrize(("next_file", "said"), [
+    (octahedron(10.0, (3000.0, 0.0, 0.0)), "b is now outside the view (. frames it)"),
+    (octahedron(0.001), "b is now too small to see from here (. frames it)"),
+    (octahedron(0.1), "b is now much smaller than the view (. frames it)"),
+    (octahedron(1000.0), "b is now much larger than the view (. frames it)"),
+    (octahedron(20.0), None),
+    (octahedron(5.0, (8.0, 0.0, 0.0)), None),
+], ids=["far off", "a speck", "100 times smaller", "100 times larger", "twice as large", "half as large, aside"])
+@pytest.mark.parametrize("projection", ["", "p"], ids=["perspective", "parallel"])
+def test_pagedown_keeps_the_camera_and_says_when_the_next_file_is_not_seen_as_the_last(
+        tmp_path: Path, next_file: bytes, said: str | None, projection: str) -> None:
+    folder_of(tmp_path, a_obj=octahedron(10.0), b_obj=next_file)
+    viewer = viewer_on(tmp_path / "a.obj")
+    press(viewer, projection)
+    camera = viewer.scene.camera.model.copy()
+    press(viewer, "PAGEDOWN")
+    first, *rest = viewer.scene.message.split("; ")
+    assert first.startswith("b.obj in place of a: 6 vertices, 8 faces") and rest == ([said] if said else [])
+    assert np.array_equal(viewer.scene.camera.model, camera)
+    press(viewer, ".")
+    assert viewer.scene.message == "framed b"
+    press(viewer, "PAGEUP")  # back to a, in b's framing: said where b was
+    assert ("; a is now" in viewer.scene.message) == (said is not None)
+
+
+def test_a_file_loaded_in_the_background_is_said_out_of_view_when_it_joins(tmp_path: Path) -> None:
+    """In the window PageDown's file joins a frame or more later: the notice comes with it."""
+    folder_of(tmp_path, a_obj=octahedron(10.0), b_obj=octahedron(10.0, (3000.0, 0.0, 0.0)))
+    viewer = Viewer(empty_scene(), NoFrontend(), background=BackgroundLoader())
+    viewer.start(StartOptions(empty=True), longest_texture_side=64)
+    viewer.load_model(tmp_path / "a.obj")
+    collect_when_loaded(viewer)
+    press(viewer, "PAGEDOWN")
+    assert viewer.scene.message == "loading b.obj in place of a"
+    collect_when_loaded(viewer)
+    assert viewer.scene.message.endswith("; b is now outside the view (. frames it)")
+    viewer.background.shutdown()
 
 
 # --- --watch -------------------------------------------------------------------------------------

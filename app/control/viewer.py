@@ -31,6 +31,7 @@ from marraztu.loaders.scenefile import (
     load_scene,
     material_for_loaded,
 )
+from marraztu.model.framing import framed_scale
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import WIDEST_ASPECT, Outlook, Scene, SceneObject, Sight, placed_boxes
 from marraztu.model.transforms import Vec3
@@ -82,6 +83,9 @@ def _placed(mesh: Mesh, source: Path, scale: Vec3 = UNSCALED) -> SceneObject:
 
 MAX_PROMPT_CHARACTERS = 4096  # Linux's PATH_MAX
 UNSEEN_NAMES_SAID = 5  # a start message names this many models too small to see, then "..."
+# PageDown keeps the camera, so that a view set up to compare models of one size stays; a file shown
+# this many times smaller or larger than `.` would frame it is said, with that key.
+SCALE_SAID_FROM_FRAMED = 10.0
 
 
 @dataclass(eq=False)
@@ -388,8 +392,12 @@ class Viewer:
             self.tell(f"{loaded.source.name} was read, but {element.name} has left the scene meanwhile")
             return
         old_name = element.name
+        watched = element is self.scene.object and self.scene.viewer is not element
+        seen = watched and not self._unseen_as(element, by_scale=True)
         commands.replace_loaded(self.scene, element, loaded)
-        self.tell(with_notes(f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}", loaded.mesh))
+        said = with_notes(f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}", loaded.mesh)
+        where = self._unseen_as(element, by_scale=True) if seen else ""
+        self.tell(f"{said}; {_lost_notice(element, where)}" if where else said)
 
     def loading_lines(self) -> list[str]:
         return [job.label for job in self.background.uncollected()] if self.background else []
@@ -463,7 +471,7 @@ class Viewer:
     def _tell_if_lost(self, before: _Before) -> None:
         """After a key, that the object it found in view is out of it now: one box test, and a second
         (the view before) only where it is out (a file read in its place is told by _replace, which
-        is not told here)."""
+        also sees the one before)."""
         obj = before.obj
         if self.scene.object is not obj or self.scene.viewer is obj or obj.mesh is not before.mesh:
             return
@@ -472,11 +480,17 @@ class Viewer:
             said = self.scene.message
             self.scene.message = f"{said}; {_lost_notice(obj, where)}" if said else _lost_notice(obj, where)
 
-    def _unseen_as(self, obj: SceneObject) -> str:
-        """How the view does not show the object, in a message's words: outside it or too small to see;
-        "" where it shows it."""
-        sight = self.scene.sight(obj, self.narrowest_aspect())
-        return "" if sight is Sight.SEEN else sight.value
+    def _unseen_as(self, obj: SceneObject, by_scale: bool = False) -> str:
+        """How the view does not show the object, in a message's words: outside it or too small to see,
+        and, `by_scale` (a pass over its vertices), much smaller or larger than framed; "" where none."""
+        aspect = self.narrowest_aspect()
+        sight = self.scene.sight(obj, aspect)
+        if sight is not Sight.SEEN or not by_scale:
+            return "" if sight is Sight.SEEN else sight.value
+        scale = framed_scale(self.scene, obj, aspect)
+        if scale < 1.0 / SCALE_SAID_FROM_FRAMED:
+            return "much smaller than the view"
+        return "much larger than the view" if scale > SCALE_SAID_FROM_FRAMED else ""
 
     def _frame_start_models(self) -> None:
         """The command line's models that joined, framed together while the camera has not moved."""
@@ -524,7 +538,7 @@ def _loaded_message(obj: SceneObject, path: Path, kind: str, where: str) -> tupl
 
 
 def _lost_notice(obj: SceneObject, where: str) -> str:
-    """What a key says of the selected object the view no longer shows."""
+    """What a key or a file read in its place says of the selected object the view no longer shows."""
     return f"{obj.name} is now {where} (. frames it)"
 
 

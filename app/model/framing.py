@@ -73,6 +73,18 @@ def frame_objects(scene: Scene, camera_model: np.ndarray, objects: list[SceneObj
     return framed(camera_model, centre, radius, aspect), half_height
 
 
+def framed_scale(scene: Scene, obj: SceneObject, aspect: float = 1.0) -> float:
+    """How many times larger than `.` would frame it a view `aspect` wide shows the object now: the
+    framing's distance over the eye's from its sphere's centre (in parallel projection, the framing's
+    view size over the view's)."""
+    centre, radius = bounding_sphere([obj])
+    radius = _framed_radius(radius)
+    if scene.modes.projection is Projection.PARALLEL:
+        return radius / _narrowness(aspect) / FILL / scene.modes.parallel_half_height
+    distance = float(np.linalg.norm(centre - scene.eye_position()))
+    return framing_distance(radius, aspect) / distance if distance > 0.0 else math.inf
+
+
 def _narrowness(aspect: float) -> float:
     """How much of the view's height its width spans, where less: a view narrower than high (a third
     of the window, side by side) frames by its width."""
