@@ -21,6 +21,7 @@ from marraztu.errors import LoadError
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders import exchange, stl
 from marraztu.loaders.registry import MODEL_READERS, load_model
+from support import corpus
 from support.refusals import one_line_refusal
 from support.scenes import BACKGROUND
 
@@ -96,7 +97,7 @@ def test_a_large_models_trimesh_objects_are_freed_when_it_is_read(tmp_path: Path
                 load_model(path)
         else:
             assert load_model(path).face_count == len(sphere.faces)
-        assert not [item for item in gc.get_objects() if isinstance(item, (trimesh.Trimesh, trimesh.Scene))
+        assert not [item for item in corpus.tracked_objects() if isinstance(item, (trimesh.Trimesh, trimesh.Scene))
                     and item is not sphere]
     finally:
         gc.enable()
@@ -124,7 +125,7 @@ def test_the_collection_after_a_read_spares_the_old_generation_unless_it_must(
     gc.callbacks.append(note)
     try:
         assert load_model(path).face_count == len(sphere.faces)
-        assert not [item for item in gc.get_objects() if isinstance(item, (trimesh.Trimesh, trimesh.Scene))
+        assert not [item for item in corpus.tracked_objects() if isinstance(item, (trimesh.Trimesh, trimesh.Scene))
                     and item is not sphere]
     finally:
         gc.callbacks.remove(note)
@@ -145,7 +146,7 @@ def test_a_gltf_whose_buffers_lie_beside_it_is_freed_by_its_faces(tmp_path: Path
     gc.disable()
     try:
         assert load_model(path).face_count == len(sphere.faces) >= exchange.COLLECT_AFTER_FACES
-        assert not [item for item in gc.get_objects() if isinstance(item, (trimesh.Trimesh, trimesh.Scene))
+        assert not [item for item in corpus.tracked_objects() if isinstance(item, (trimesh.Trimesh, trimesh.Scene))
                     and item is not sphere]
     finally:
         gc.enable()

@@ -48,7 +48,7 @@ def placed_scene(meshes: list[Mesh]) -> Scene:
 def buffer_census(ctx: moderngl.Context) -> tuple[int, int]:
     """How many GL buffers of `ctx` are alive (as corpus.live_gl_objects counts them), and their bytes."""
     gc.collect()
-    buffers = [obj for obj in gc.get_objects() if isinstance(obj, moderngl.Buffer) and obj.ctx is ctx
+    buffers = [obj for obj in corpus.tracked_objects() if isinstance(obj, moderngl.Buffer) and obj.ctx is ctx
                and not isinstance(obj.mglo, moderngl.InvalidObject)]
     return len(buffers), sum(buffer.size for buffer in buffers)
 

@@ -17,6 +17,7 @@ import io
 import os
 import random
 import struct
+import weakref
 import zlib
 from collections import Counter
 from collections.abc import Iterator
@@ -421,6 +422,13 @@ def _gl_object_types() -> tuple[type, ...]:
     return tuple(getattr(moderngl, name) for name in names if hasattr(moderngl, name))
 
 
+def tracked_objects() -> list[object]:
+    """What the garbage collector tracks, less weakref proxies: isinstance() on one whose object is gone
+    raises ReferenceError (numba leaves such proxies behind a dispatcher that was dropped)."""
+    proxies = (weakref.ProxyType, weakref.CallableProxyType)
+    return [obj for obj in gc.get_objects() if type(obj) not in proxies]
+
+
 def live_gl_objects(ctx: object) -> Counter[str]:
     """moderngl objects of `ctx` that Python still holds and nobody released, by type.
 
@@ -431,7 +439,7 @@ def live_gl_objects(ctx: object) -> Counter[str]:
 
     gc.collect()
     types = _gl_object_types()
-    return Counter(type(obj).__name__ for obj in gc.get_objects()
+    return Counter(type(obj).__name__ for obj in tracked_objects()
                    if isinstance(obj, types) and getattr(obj, "ctx", None) is ctx
                    and not isinstance(obj.mglo, moderngl.InvalidObject))
 
