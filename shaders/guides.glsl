@@ -29,26 +29,17 @@ in vec3 v_position;
 in vec3 v_colour;
 flat in float v_level;
 
-uniform mat4 u_view_projection;
-uniform bool u_parallel;
-uniform vec3 u_eye_position;
-uniform vec3 u_eye_backward;
-uniform float u_pixel_per_w;  // a pixel's width in the world at clip w = 1, in either projection
+#include "ray_depth"
 
 out vec4 out_colour;
 
 void main() {
-    // A line's depth is its nearest point's, up to half a pixel off the depth a surface in its plane
-    // gets at the same pixel, so a model lying on the ground fought the grid pixel by pixel. Taken a
-    // pixel further along its ray, a guide loses such ties and is still drawn where it is; a level
-    // one, whose likeliest companion is a level surface, further where the ray grazes that surface's
-    // plane and its depth changes fastest across a pixel.
-    vec3 ray = u_parallel ? -u_eye_backward : normalize(v_position - u_eye_position);
-    float pixel = u_pixel_per_w * (u_view_projection * vec4(v_position, 1.0)).w;
-    float pixels = mix(1.0, 1.0 / max(abs(ray.y), MIN_GRAZE), v_level);
-    vec4 pushed = u_view_projection * vec4(v_position + ray * pixel * pixels, 1.0);
+    // A model lying on the ground fought the grid pixel by pixel (ray_depth.glsl): a guide is taken
+    // a pixel further along its ray; a level one, whose likeliest companion is a level surface,
+    // further where the ray grazes that surface's plane and its depth changes fastest across a pixel.
+    float pixels = mix(1.0, 1.0 / max(abs(ray_through(v_position).y), MIN_GRAZE), v_level);
     // Never past the far plane, which the clear's depth of 1 would hide.
-    gl_FragDepth = max(gl_FragCoord.z, min(pushed.z / pushed.w * 0.5 + 0.5, 0.9999999));
+    gl_FragDepth = max(gl_FragCoord.z, min(depth_along_ray(v_position, pixels), 0.9999999));
     out_colour = vec4(v_colour, 1.0);
 }
 

@@ -43,6 +43,8 @@ from marraztu.render.context import (
 )
 from marraztu.resources import shader_source
 
+# Files of GLSL functions, not programs, that programs include: one place for what several use.
+SHADER_INCLUDES = ("ray_depth",)
 # Attribute layouts, one per program; the names are the shaders' `in_` attributes.
 SURFACE_LAYOUT = ("3f 3f 2f", "in_position", "in_normal", "in_uv")
 COLOUR_LAYOUT = ("4f1", "in_colour")  # a model's own vertex colours, bytes read as 0..1, one per surface row
@@ -84,6 +86,7 @@ def load_program(ctx: moderngl.Context, name: str, defines: Mapping[str, str] | 
     """
     # moderngl-window reads single-file programs the same way, but its loader wants a window context
     # registered; the screenshot command runs on a bare offscreen one, so the defines go in here.
+    _register_includes(ctx)
     source = shader_source(name)
     extra = _defines(defines)
     vertex_shader = _with_define(source, "VERTEX_SHADER", extra)
@@ -97,7 +100,16 @@ def load_program(ctx: moderngl.Context, name: str, defines: Mapping[str, str] | 
 def load_compute_program(ctx: moderngl.Context, name: str, defines: Mapping[str, str] | None = None
                          ) -> moderngl.ComputeShader:
     """Compile the `#if defined COMPUTE_SHADER` block of `shaders/<name>.glsl`, with `defines`."""
+    _register_includes(ctx)
     return compute_program(ctx, shader_source(name), {"COMPUTE_SHADER": "1", **(defines or {})})
+
+
+def _register_includes(ctx: moderngl.Context) -> None:
+    """moderngl pastes shaders/<name>.glsl where a program says `#include "name"`, for each of
+    SHADER_INCLUDES."""
+    for name in SHADER_INCLUDES:
+        if name not in ctx.includes:
+            ctx.includes[name] = shader_source(name)
 
 
 def compute_program(ctx: moderngl.Context, source: str, defines: Mapping[str, str]) -> moderngl.ComputeShader:
