@@ -5,8 +5,7 @@
 // does it with the depth test (GL_LEQUAL) on a depth that says only which kind an edge is: front
 // edges nearer than back ones, so a front edge covers a back one whichever is drawn first, and among
 // edges of one kind the last drawn wins: the picture of back edges drawn before front ones, in one pass.
-// The lighting probe's outline (key `i`) uses the same edges in one colour whichever way the face
-// looks, with the depth test off.
+// The lighting probe's outline draws the same rows with a program of its own (outline.glsl).
 
 #if defined VERTEX_SHADER
 
@@ -37,7 +36,6 @@ void main() {
 
 uniform vec3 u_colour;
 uniform bool u_culling;  // back faces' edges: not drawn with culling on, red otherwise
-uniform bool u_outline;  // the probe's outline: u_colour, front or back
 
 flat in float v_facing;
 
@@ -47,10 +45,6 @@ const float FRONT_EDGE_DEPTH = 0.25;
 const float BACK_EDGE_DEPTH = 0.75;
 
 void main() {
-    if (u_outline) {
-        out_colour = vec4(u_colour, 1.0);
-        return;
-    }
     bool front = v_facing > 0.0;
     if (!front && u_culling) {
         discard;

@@ -281,6 +281,15 @@ class Mesh:
         np.cumsum(self.face_sizes - 2, out=before[1:])
         return before
 
+    def edge_neighbours(self, face: int) -> np.ndarray:
+        """The other polygons with an edge of polygon `face` (its two positions, either way round), in
+        order: one pass over every polygon's edges."""
+        ends = self.corner_vertex[self.edge_corners()].astype(np.int64)
+        keys = ends.min(axis=1) * self.vertex_count + ends.max(axis=1)
+        own = keys[self.face_start[face]:self.face_start[face + 1]]
+        faces = np.unique(polygons_of_corners(self.face_start, np.flatnonzero(np.isin(keys, own))))
+        return faces[faces != face]
+
     def edge_corners(self) -> np.ndarray:
         """(E, 2) INDEX corner pairs of every polygon's boundary, polygon by polygon (its first corner
         first): each corner and the next, the last closing on the first."""

@@ -14,12 +14,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from marraztu.model.geometry import unit
+from marraztu.model.geometry import unit, unit_rows
 from marraztu.model.lighting import ShadingTerms, shade_terms, to_bytes
 from marraztu.model.lights import TermView, TermWeights, WorldLight
 from marraztu.model.mesh import polygons_of_corners
 from marraztu.model.scene import Projection, Scene, SceneObject, Shading
-from marraztu.model.transforms import normal_matrix, transform_point
+from marraztu.model.transforms import normal_matrix, transform_point, transform_points
 
 BACK_FACE_RGB = np.array([255, 0, 0], np.uint8)  # SPEC 5: back faces are drawn red without culling
 
@@ -56,6 +56,7 @@ class Probe:
     face_count: int
     shading: Shading
     facing: float  # face normal . V at the polygon's first vertex: SPEC 5's back-face test
+    face_normal: np.ndarray  # (3,) unit, in the world
     culling: bool
     textured: bool
     view: TermView
@@ -85,18 +86,28 @@ def probe(scene: Scene, most: int | None = None) -> Probe | None:
         return None
     mesh = obj.mesh
     face = obj.selected_face % mesh.face_count
-    start = int(mesh.face_start[face])
     gouraud = scene.modes.shading is Shading.GOURAUD
     corners = scene.probed_corners()
     face_normal = _world_normal(obj.model, mesh.face_normals[face])
-    facing = float(face_normal @ _toward_eye(scene, transform_point(obj.model, mesh.positions[
-        mesh.corner_vertex[start]])))
+    facing = float(facings(scene, obj, np.array([face]))[0])
     lit = _VertexLighting(scene)
     vertices = tuple(lit.probe(obj, corner, None if gouraud else face_normal) for corner in corners[:most])
     return Probe(obj=obj, face=face, face_count=mesh.face_count, shading=scene.modes.shading,
-                 facing=facing, culling=scene.modes.culling, textured=scene.modes.texture,
+                 facing=facing, face_normal=face_normal, culling=scene.modes.culling, textured=scene.modes.texture,
                  view=scene.modes.term_view, view_name=scene.term_view_name(), weights=lit.weights,
                  shown_lights=frozenset(lit.shown_names), vertices=vertices, lit_count=len(corners))
+
+
+def facings(scene: Scene, obj: SceneObject, faces: np.ndarray) -> np.ndarray:
+    """Face normal . V of each of the object's polygons `faces`, V taken at each one's first vertex: SPEC
+    5's back-face test, as the shaders make it."""
+    mesh = obj.mesh
+    normals, _ = unit_rows(mesh.face_normals[faces] @ normal_matrix(obj.model).T)
+    if scene.modes.projection is Projection.PARALLEL:
+        return normals @ unit(scene.eye_backward())
+    firsts = transform_points(obj.model, mesh.positions[mesh.corner_vertex[mesh.face_start[faces]]])
+    views, _ = unit_rows(scene.eye_position() - firsts)
+    return np.einsum("ij,ij->i", normals, views)
 
 
 class _VertexLighting:

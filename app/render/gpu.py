@@ -51,6 +51,7 @@ COLOUR_LAYOUT = ("4f1", "in_colour")  # a model's own vertex colours, bytes read
 LIT_LAYOUT = ("4f", "in_lit")  # the lighting pass's output: colour and N.V, one row per surface row
 EDGE_LAYOUT = ("3f 2u2", "in_position", "in_face_texel")
 EDGE_ROW = np.dtype([("position", np.float32, 3), ("face_texel", np.uint16, 2)])
+OUTLINE_LAYOUT = ("3f 4x", "in_position")  # the probe's outline reads an edge row's position alone
 # The edges program's polygon tables (edge_faces) by sampler and texture unit: 0 and 1 are the
 # model's picture and the text atlas.
 EDGE_FACE_UNITS = {"u_face_points": 2, "u_face_normals": 3}
@@ -480,6 +481,7 @@ class Programs:
     lightings: Mapping[Shading, moderngl.Program]
     edges: moderngl.Program
     normals: moderngl.Program
+    outline: moderngl.Program  # the probe's: the edges' rows and pairs, one colour (outline.glsl)
     compute_lighting: ComputeLighting | None = None  # llvmpipe's, for passes of COMPUTE_LIGHTING_MIN_ROWS or more
 
     def lighting_passes(self, shading: Shading) -> list[moderngl.Program | moderngl.ComputeShader]:
@@ -605,6 +607,18 @@ class MeshGpu:
                 raise
             self._built["edge rows"] = (rows, None)
             self._edge_faces = textures
+        return built[1]
+
+    @property
+    def outline(self) -> moderngl.VertexArray:
+        """The edges' rows and pairs bound to the outline program, drawn as indexed LINES like `edges`."""
+        built = self._built.get("outline")
+        if built is None:
+            self.edges  # noqa: B018 - builds the rows and pairs both draw
+            rows, pairs = self._built["edge rows"][0], self._built["edges"][0]
+            vao = self.ctx.vertex_array(self.programs.outline, [(rows, *OUTLINE_LAYOUT)], index_buffer=pairs,
+                                        index_element_size=4)
+            built = self._built["outline"] = (None, vao)
         return built[1]
 
     def use_edge_faces(self) -> None:

@@ -21,6 +21,7 @@ from marraztu.loaders.images import fit_texture
 from marraztu.model.guides import scene_guides
 from marraztu.model.lights import MAX_LIGHTS, Show, WorldLight, shader_defines
 from marraztu.model.mesh import Mesh
+from marraztu.model.probe import Probe, facings, probe
 from marraztu.model.scene import (
     NORMAL_LENGTH_FRACTION,
     Fill,
@@ -71,6 +72,14 @@ PROBE_MARKER_PX = 7.0
 # Corners the probe marks at most, a draw each: every corner of any polygon a model has; a polygon of
 # thousands (one file's whole outline) shows its outline instead.
 MAX_PROBE_MARKERS = 1024
+# The probe's outline lies on its face and its neighbours, whose depth at the line's pixels is up to
+# half a pixel's slope off: taken a pixel toward the eye, more the more obliquely they are seen, it is
+# seen wherever they are, and hidden by what lies a few pixels' depth in front of them.
+PROBE_PULL_PX = 1.0
+MIN_PROBE_FACING = 0.05  # the shallowest view the pull grows for
+# The probe's passes in filled mode: (hidden, depth test) where the picture shows the outline, and
+# where it hides it: together every fragment once.
+_PROBE_PASSES = ((False, "<="), (True, ">"))
 # An eye this many times the smallest model's size from the world's origin leaves a 32-bit position
 # near it about a thousandth of that size (24 bits of mantissa, 14 of them spent on the distance).
 EYE_ORIGIN_SIZES = 2.0**14
@@ -196,6 +205,7 @@ class Renderer:
             lightings={way: load_program(ctx, "surface", varyings=("v_lit",), defines=defines)
                        for way, defines in passes.items()},
             edges=load_program(ctx, "edges"), normals=load_program(ctx, "normals"),
+            outline=load_program(ctx, "outline"),
             compute_lighting=ComputeLighting(
                 {way: load_compute_program(ctx, "surface", {**defines, **LIGHTING_DEFINES})
                  for way, defines in passes.items()}, lighting_window_rows(ctx)) if self.compute_lighting else None)
@@ -220,6 +230,7 @@ class Renderer:
         for sampler, unit in EDGE_FACE_UNITS.items():
             self.edges.set(sampler, unit)
         self.normals = Uniforms(self.programs.normals)
+        self.outline = Uniforms(self.programs.outline)
         self.marker = Uniforms(self.marker_program)
         self.marker_vao = ctx.vertex_array(self.marker_program, [])  # the position is a uniform
         self.guides = GuidesDrawer(ctx)
@@ -228,6 +239,8 @@ class Renderer:
         self._texture_image: np.ndarray | None = None  # the scene's picture the texture was made from
         self._set_texture(WHITE)
         self._objects: dict[tuple[int, int], ObjectGpu] = {}  # by (uid, part)
+        # The probed face's mesh, the face, and the polygons across its edges (Mesh.edge_neighbours).
+        self._probe_neighbours: tuple[Mesh, int, np.ndarray] | None = None
         self._meshes = MeshGpus(ctx)  # the buffers of each mesh, shared by the objects placing it
         self._file_textures: dict[int, tuple[np.ndarray, MipmappedTexture]] = {}  # by id of the image
 
@@ -272,7 +285,7 @@ class Renderer:
         self.guides.release_program()
         lighting_passes = [program for way in self.programs.lightings for program in self.programs.lighting_passes(way)]
         for resource in (self.marker_vao, self.texture, *self.programs.surfaces.values(), *lighting_passes,
-                         self.programs.edges, self.programs.normals, self.marker_program):
+                         self.programs.edges, self.programs.normals, self.programs.outline, self.marker_program):
             if resource is not None:
                 resource.release()
         self.texture = None
@@ -362,11 +375,12 @@ class Renderer:
         if scene.modes.normals:
             for item, gpu in items:
                 self._draw_normals(item, gpu, face_normals=view.shading is Shading.FLAT)
+        for uniforms in (self.guide_uniforms, self.outline, self.marker):
+            uniforms.set("u_pixel_per_w", pixel_per_w(projection, view))
         if scene.modes.guides:
-            self.guide_uniforms.set("u_pixel_per_w", pixel_per_w(projection, view))
             self.guides.draw(scene_guides(scene), self.ctx.fbo, self.origin)
         if scene.modes.probe or scene.modes.pipeline:  # the face the panel follows
-            self._draw_probe_outline(scene)
+            self._draw_probe_outline(scene, view, filled)
         if scene.modes.target is Target.LIGHTS:
             self._draw_light_marker(scene)
 
@@ -411,9 +425,9 @@ class Renderer:
         parallel = modes.projection is Projection.PARALLEL
         eye = tuple(float(c) for c in scene.eye_position() - self.origin)
         backward = tuple(float(c) for c in scene.eye_backward())
-        for uniforms in (self.surface, self.edges, self.normals, self.marker, self.guide_uniforms):
+        for uniforms in (self.surface, self.edges, self.normals, self.outline, self.marker, self.guide_uniforms):
             uniforms.set_matrix("u_view_projection", view_projection)
-        for uniforms in (self.lighting, self.edges, self.guide_uniforms):
+        for uniforms in (self.lighting, self.edges, self.outline, self.guide_uniforms, self.marker):
             uniforms.set("u_parallel", parallel)
             uniforms.set("u_eye_position", eye)
             uniforms.set("u_eye_backward", backward)
@@ -504,7 +518,6 @@ class Renderer:
         culling on) through the depth test on the depth edges.glsl writes, so an edge between a front
         and a back face shows the front's colour. The model's own depth is never tested: hidden edges show."""
         self.edges.set("u_culling", scene.modes.culling)
-        self.edges.set("u_outline", False)
         self.ctx.enable(moderngl.DEPTH_TEST)
         self.ctx.depth_func = "<="
         for item, gpu in items:
@@ -517,22 +530,55 @@ class Renderer:
         self.edges.set("u_colour", SELECTED_LINE_COLOUR if selected else LINE_COLOUR)
         self._draw_edge_lines(gpu.shared, gpu.shared.edge_range(item.start, item.stop))
 
-    def _draw_probe_outline(self, scene: Scene) -> None:
-        """The probed face's edges and a dot on each vertex the probe lights, over everything, so the
-        face can be found in the picture whichever way it looks and whatever covers it."""
-        obj = scene.object
-        if obj is None or obj is scene.viewer or obj.mesh.face_count == 0:
+    def _draw_probe_outline(self, scene: Scene, view: View, filled: bool) -> None:
+        """The probed face's edges and a dot on each vertex the probe lights, so that the face can be
+        found whatever covers it: in filled mode solid where the picture shows them and dashed (the
+        dots hollow) where something hides them, as CAD and x-ray views tell a hidden edge; in lines
+        mode, where nothing hides anything, solid over everything."""
+        found = probe(scene, 0)
+        if found is None or found.obj is scene.viewer:
             return
-        part, face = part_of_face(obj, obj.selected_face % obj.mesh.face_count)
-        gpu = self._gpu_for(obj, part)
+        part, face = part_of_face(found.obj, found.face)
+        gpu = self._gpu_for(found.obj, part)
+        self._set_model([self.outline], found.obj.model, gpu)
+        self.outline.set("u_colour", PROBE_COLOUR)
+        pull = self._probe_pull_px(scene, found)
+        for uniforms in (self.outline, self.marker):
+            uniforms.set("u_viewport", tuple(float(c) for c in view.viewport))
+            uniforms.set("u_pull_px", pull)
+        self.marker.set("u_plane_normal", tuple(float(c) for c in found.face_normal))
+        points = scene.probed_points(MAX_PROBE_MARKERS)
+        fbo = self.ctx.fbo
+        fbo.depth_mask = False  # the picture's depth stays for the second pass to test against
+        for hidden, depth_func in _PROBE_PASSES if filled else ((False, None),):
+            if depth_func is None:
+                self.ctx.disable(moderngl.DEPTH_TEST)
+            else:
+                self.ctx.enable(moderngl.DEPTH_TEST)
+                self.ctx.depth_func = depth_func
+            for uniforms in (self.outline, self.marker):
+                uniforms.set("u_hidden", hidden)
+            self.draw(gpu.shared.outline, moderngl.LINES, gpu.shared.edge_range(face, face + 1))
+            for point in points:
+                self._draw_marker(point, np.array(PROBE_COLOUR), PROBE_MARKER_PX)
+        fbo.depth_mask = True
+        self.ctx.depth_func = "<"
         self.ctx.disable(moderngl.DEPTH_TEST)
-        self._set_model([self.edges], obj.model, gpu)
-        self.edges.set("u_outline", True)
-        self.edges.set("u_colour", PROBE_COLOUR)
-        self._draw_edge_lines(gpu.shared, gpu.shared.edge_range(face, face + 1))
-        self.edges.set("u_outline", False)
-        for point in scene.probed_points(MAX_PROBE_MARKERS):
-            self._draw_marker(point, np.array(PROBE_COLOUR), PROBE_MARKER_PX)
+        # The light's marker, drawn with the same program, is a dot of its own over everything.
+        self.marker.set("u_hidden", False)
+        self.marker.set("u_pull_px", 0.0)
+        self.marker.set("u_plane_normal", (0.0, 0.0, 0.0))
+
+    def _probe_pull_px(self, scene: Scene, found: Probe) -> float:
+        """How far toward the eye the probe's outline and dots are tested: the outline's pixels lie on
+        the face or on a polygon across one of its edges, up to half a pixel off the edge, so the more
+        obliquely the most oblique of them is seen, the further."""
+        mesh = found.obj.mesh
+        held = self._probe_neighbours
+        if held is None or held[0] is not mesh or held[1] != found.face:  # one pass over the mesh a face
+            held = self._probe_neighbours = (mesh, found.face, mesh.edge_neighbours(found.face))
+        steepest = min(abs(found.facing), float(np.abs(facings(scene, found.obj, held[2])).min(initial=1.0)))
+        return PROBE_PULL_PX / max(steepest, MIN_PROBE_FACING)
 
     def _draw_normals(self, item: DrawItem, gpu: ObjectGpu, face_normals: bool) -> None:
         """Face normals where lighting uses them (Flat), vertex normals otherwise (Gouraud, Phong)."""
@@ -554,13 +600,14 @@ class Renderer:
         """The selected light as a dot in its own colour (dimmed while it is off), over everything."""
         light = scene.light
         colour = np.asarray(light.intensity, float) / 255.0 * (1.0 if light.on else 0.4)
+        self.ctx.disable(moderngl.DEPTH_TEST)
         self._draw_marker(scene.placed_light(light).position, colour, MARKER_SIZE_PX)
 
     def _draw_marker(self, position: np.ndarray, colour: np.ndarray, size_px: float) -> None:
+        """A square dot, through the depth test as it stands."""
         self.marker.set("u_position", tuple(float(c) for c in position - self.origin))
         self.marker.set("u_colour", tuple(float(c) for c in colour))
         self.marker.set("u_point_size", size_px)
-        self.ctx.disable(moderngl.DEPTH_TEST)
         self.ctx.enable(moderngl.PROGRAM_POINT_SIZE)
         self.marker_vao.render(moderngl.POINTS, vertices=1)
         self.ctx.disable(moderngl.PROGRAM_POINT_SIZE)
