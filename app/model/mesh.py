@@ -283,12 +283,25 @@ class Mesh:
 
     def edge_neighbours(self, face: int) -> np.ndarray:
         """The other polygons with an edge of polygon `face` (its two positions, either way round), in
-        order: one pass over every polygon's edges."""
-        ends = self.corner_vertex[self.edge_corners()].astype(np.int64)
-        keys = ends.min(axis=1) * self.vertex_count + ends.max(axis=1)
-        own = keys[self.face_start[face]:self.face_start[face + 1]]
-        faces = np.unique(polygons_of_corners(self.face_start, np.flatnonzero(np.isin(keys, own))))
+        order. Only polygons with a corner on one of its positions can share an edge: one pass over the
+        corners finds them, and only their edges are compared."""
+        start, stop = int(self.face_start[face]), int(self.face_start[face + 1])
+        own = self.corner_vertex[start:stop]
+        touching = np.unique(polygons_of_corners(self.face_start, np.flatnonzero(np.isin(self.corner_vertex, own))))
+        firsts, sizes = self.face_start[touching], self.face_sizes[touching]
+        corners = corners_of_polygons(firsts, sizes)
+        following = corners + 1  # each corner's next one round its polygon, the last closing on the first
+        ends = np.cumsum(sizes) - 1
+        following[ends] = firsts
+        keys = self._edge_keys(corners, following)
+        shared = np.isin(keys, self._edge_keys(np.arange(start, stop), np.roll(np.arange(start, stop), -1)))
+        faces = np.unique(np.repeat(touching, sizes)[shared])
         return faces[faces != face]
+
+    def _edge_keys(self, corners: np.ndarray, following: np.ndarray) -> np.ndarray:
+        """One number per edge from corner to following corner, the same whichever way round it runs."""
+        ends = np.stack([self.corner_vertex[corners], self.corner_vertex[following]]).astype(np.int64)
+        return ends.min(axis=0) * self.vertex_count + ends.max(axis=0)
 
     def edge_corners(self) -> np.ndarray:
         """(E, 2) INDEX corner pairs of every polygon's boundary, polygon by polygon (its first corner
