@@ -16,14 +16,15 @@ import pytest
 import trimesh
 from PIL import Image
 
-from marraztu.control.viewer import StartOptions
+from marraztu.control.viewer import StartOptions, Viewer
 from marraztu.errors import LoadError
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders import exchange, stl
 from marraztu.loaders.registry import MODEL_READERS, load_model
+from marraztu.loaders.scenefile import empty_scene
 from support import corpus
 from support.refusals import one_line_refusal
-from support.scenes import BACKGROUND
+from support.scenes import BACKGROUND, NoFrontend
 
 SIZE = (120, 120)
 # A square of two triangles facing the start camera, and a tilted one behind it: a model whose
@@ -388,6 +389,34 @@ def test_ply_vertex_colours_tint_the_lit_colour(tmp_path: Path, encoding: str) -
     assert model.mean() > 0.15
     assert np.abs(tinted[model] - expected[model]).max() <= 1
     assert np.array_equal(tinted[~model], plain[~model])
+
+
+def test_vertex_colours_take_the_scene_pictures_place(tmp_path: Path) -> None:
+    """A coloured scan without uvs wore the scene's test picture (an arrow, "TOP", "F") over its own
+    colours, with the texture on: its colours are its surface, as a model's own texture is."""
+    path = tmp_path / "coloured.ply"
+    path.write_bytes(trimesh.exchange.ply.export_ply(coloured_mesh(np.tile(TINT, (7, 1)))))
+    untextured = picture(write_obj(tmp_path / "same.obj"), tmp_path / "obj.png")
+    textured_plain = picture(write_obj(tmp_path / "same.obj"), tmp_path / "obj_t.png", keys="0 1")
+    tinted = picture(path, tmp_path / "tinted.png", keys="0 1")
+    model = np.any(untextured != BACKGROUND, axis=2)
+    assert (textured_plain[model] != untextured[model]).any()  # the scene's picture shows on a plain model
+    expected = np.rint(untextured * (TINT[:3] / 255.0))
+    assert np.abs(tinted[model] - expected[model]).max() <= 1
+
+
+def test_the_probe_of_a_vertex_coloured_face_says_no_picture_multiplies_it(tmp_path: Path) -> None:
+    from marraztu.model.probe import probe
+
+    path = tmp_path / "coloured.ply"
+    path.write_bytes(trimesh.exchange.ply.export_ply(coloured_mesh(np.tile(TINT, (7, 1)))))
+    plain = write_obj(tmp_path / "same.obj")
+    found = {}
+    for model in (path, plain):
+        viewer = Viewer(empty_scene(), NoFrontend())
+        viewer.start(StartOptions(empty=True, models=(model,)), longest_texture_side=64)
+        found[model.suffix] = probe(viewer.scene)
+    assert viewer.scene.modes.texture and found[".obj"].textured and not found[".ply"].textured
 
 
 def test_vertex_colours_are_flat_in_flat_and_blended_in_gouraud(tmp_path: Path) -> None:

@@ -107,6 +107,9 @@ def fan_triangles(face_start: np.ndarray) -> np.ndarray:
     return fan_gather(np.arange(int(face_start[-1]), dtype=np.int64), face_start).reshape(-1, 3)
 
 
+PLAIN_PICTURE = np.full((1, 1, 3), 255, dtype=np.uint8)  # white: what a vertex-coloured model is drawn with
+
+
 @dataclass(frozen=True, eq=False)
 class MeshMaterial:
     """One material a model file defines (an MTL's newmtl): the numbers it gives, by key "ka", "kd",
@@ -270,6 +273,15 @@ class Mesh:
         whole_origin = None if self.whole_gpu_origin is None else self.whole_gpu_origin * stretch
         return replace(self, positions=self.positions * stretch, normals=normals, face_normals=face_normals,
                        whole_gpu_origin=whole_origin)
+
+    def own_picture(self, part: int) -> np.ndarray | None:
+        """The picture a part is drawn with in place of the scene's (None: the scene's): its material's
+        texture, or, where it has none and the mesh has vertex colours, plain white, since those colours
+        are the model's surface, as a texture of its own is (a scan under the scene's test picture)."""
+        texture = self.materials[part].texture if 0 <= part < len(self.materials) else None
+        if texture is None and self.vertex_colours is not None:
+            return PLAIN_PICTURE
+        return texture
 
     def triangle_corners(self) -> np.ndarray:
         """(T, 3) corner indices of the fan triangulation, polygon by polygon, in file order."""

@@ -17,7 +17,7 @@ import numpy as np
 from marraztu.model.geometry import unit, unit_rows
 from marraztu.model.lighting import ShadingTerms, shade_terms, to_bytes
 from marraztu.model.lights import TermView, TermWeights, WorldLight
-from marraztu.model.mesh import polygons_of_corners
+from marraztu.model.mesh import PLAIN_PICTURE, polygons_of_corners
 from marraztu.model.scene import Projection, Scene, SceneObject, Shading
 from marraztu.model.transforms import normal_matrix, transform_point, transform_points
 
@@ -93,9 +93,17 @@ def probe(scene: Scene, most: int | None = None) -> Probe | None:
     lit = _VertexLighting(scene)
     vertices = tuple(lit.probe(obj, corner, None if gouraud else face_normal) for corner in corners[:most])
     return Probe(obj=obj, face=face, face_count=mesh.face_count, shading=scene.modes.shading,
-                 facing=facing, face_normal=face_normal, culling=scene.modes.culling, textured=scene.modes.texture,
+                 facing=facing, face_normal=face_normal, culling=scene.modes.culling,
+                 textured=_textured(scene, obj, face),
                  view=scene.modes.term_view, view_name=scene.term_view_name(), weights=lit.weights,
                  shown_lights=frozenset(lit.shown_names), vertices=vertices, lit_count=len(corners))
+
+
+def _textured(scene: Scene, obj: SceneObject, face: int) -> bool:
+    """Whether a picture multiplies the face's pixels: the texture is on and the face's part is not
+    drawn plain (its vertex colours take the picture's place)."""
+    part = -1 if obj.mesh.face_material is None else int(obj.mesh.face_material[face])
+    return scene.modes.texture and obj.mesh.own_picture(part) is not PLAIN_PICTURE
 
 
 def facings(scene: Scene, obj: SceneObject, faces: np.ndarray) -> np.ndarray:
