@@ -60,6 +60,15 @@ def test_check_catches_a_duplicate_token() -> None:
         check_keymap(table)
 
 
+def test_check_catches_keys_listed_together_but_apart_in_the_table() -> None:
+    table = build_commands()
+    h = next(command for command in table if command.token == "h")
+    table.remove(h)
+    table.insert(0, h)  # h and F1 share a help line: apart, the help would say it twice
+    with pytest.raises(KeyMapError, match="'F1' is listed with 'help on / off' but apart from it"):
+        check_keymap(table)
+
+
 @pytest.mark.parametrize("token", ["", "ab", " ", "\t", "SPACEBAR", "f1"])
 def test_check_catches_an_impossible_token(token: str) -> None:
     with pytest.raises(KeyMapError, match="not a key token"):

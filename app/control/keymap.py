@@ -52,6 +52,8 @@ class Command:
     description: str  # one short line for the help overlay
     run: CommandFunction
     state: Callable[[Scene], str] | None = None  # the switch's current value, for the help overlay
+    # Keys listed on one line of the help, next to each other in the table (x y z, the lights): its words.
+    together: str | None = None
 
 
 # --- the table -------------------------------------------------------------------------------------
@@ -63,9 +65,10 @@ def _on_off(flag: bool) -> str:
     return "on" if flag else "off"
 
 
-def _switch(token: str, description: str, switch: str) -> Command:
+def _switch(token: str, description: str, switch: str, together: str | None = None) -> Command:
     """The key of one on/off switch of the modes, shown in the help overlay as on or off."""
-    return Command(token, description, commands.toggle(switch), lambda scene: _on_off(getattr(scene.modes, switch)))
+    return Command(token, description, commands.toggle(switch), lambda scene: _on_off(getattr(scene.modes, switch)),
+                   together)
 
 
 def _light_state(key: str) -> Callable[[Scene], str]:
@@ -92,12 +95,18 @@ def _axis_description(axis_index: int, sign: int) -> str:
 
 
 def _axis_commands() -> list[Command]:
-    return [Command(token, _axis_description(axis, sign), commands.axis_press(axis, sign))
+    return [Command(token, _axis_description(axis, sign), commands.axis_press(axis, sign),
+                    together=f"rotate about / move along {', '.join(_axis_names(sign))}")
             for token, (axis, sign) in AXIS_KEYS.items()]
 
 
+def _axis_names(sign: int) -> list[str]:
+    """The axes the keys of one sign move along, as the help says them: +x, +y, +z."""
+    return [f"{'+' if sign > 0 else '-'}{'xyz'[axis]}" for axis, way in AXIS_KEYS.values() if way == sign]
+
+
 def _light_commands() -> list[Command]:
-    return [Command(key, f"light {key} on/off", commands.light_switch(key), _light_state(key))
+    return [Command(key, f"light {key} on/off", commands.light_switch(key), _light_state(key), "lights on / off")
             for key in LIGHT_KEYS]
 
 
@@ -141,16 +150,16 @@ def build_commands() -> list[Command]:
         _switch("a", "grid and axes: the world's, and in local mode the object's own", "guides"),
         *_light_commands(),
         Command("+", "widen the spotlight", commands.change_aperture(+commands.APERTURE_STEP_DEG),
-                _aperture_state),
+                _aperture_state, "widen / narrow the spotlight"),
         Command("-", "narrow the spotlight", commands.change_aperture(-commands.APERTURE_STEP_DEG),
-                _aperture_state),
+                _aperture_state, "widen / narrow the spotlight"),
         Command("DELETE", "delete the selected object / camera", commands.delete_selected),
         Command("PAGEDOWN", "next model file in the selected one's folder, in its place", commands.step_file(+1)),
         Command("PAGEUP", "previous model file in that folder, in its place", commands.step_file(-1)),
         Command("F12", "save a screenshot", commands.save_screenshot),
         Command("F9", "record every new picture; F9 again saves them as a GIF", commands.toggle_recording),
-        _switch("h", "help on / off", "show_help"),
-        _switch("F1", "help on / off", "show_help"),
+        _switch("h", "help on / off", "show_help", together="help on / off"),
+        _switch("F1", "help on / off", "show_help", together="help on / off"),
         Command("ESC", "quit", commands.quit_viewer),
     ]
 
@@ -163,13 +172,21 @@ def is_valid_token(token: str) -> bool:
 
 
 def check_keymap(table: Iterable[Command]) -> dict[str, Command]:
-    """The table as token -> command, refusing duplicate or impossible tokens."""
+    """The table as token -> command, refusing duplicate or impossible tokens, and keys listed together
+    in the help that the table does not list next to each other."""
     by_token: dict[str, Command] = {}
+    ended: set[str] = set()  # the help lines already closed
+    previous: str | None = None
     for command in table:
         if not is_valid_token(command.token):
             raise KeyMapError(f"key table: {command.token!r} is not a key token")
         if command.token in by_token:
             raise KeyMapError(f"key table: {command.token!r} is bound twice")
+        if command.together is not None and command.together in ended:
+            raise KeyMapError(f"key table: {command.token!r} is listed with {command.together!r} but apart from it")
+        if previous is not None and previous != command.together:
+            ended.add(previous)
+        previous = command.together
         by_token[command.token] = command
     return by_token
 

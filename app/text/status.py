@@ -3,6 +3,7 @@ from the viewer, no GL."""
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Mapping
 
 from marraztu.control.commands import TRANSLATION_STEP, translation_step
@@ -73,12 +74,17 @@ def status_line(scene: Scene) -> str:
 
 
 def help_lines(scene: Scene, keymap: Mapping[str, Command]) -> list[str]:
-    """Every key with what it does and, for switches, where it stands now."""
+    """Every key with what it does and, for switches, where it stands now; keys the table lists
+    together (x y z, the lights, h and F1) share a line, so that the help fits a projector's window."""
     width = max(len(token) for token in keymap)
     lines = []
-    for token, command in keymap.items():
-        line = f"{token:<{width}}  {command.description}"
-        state = command.state(scene) if command.state is not None else ""
+    for together, group in itertools.groupby(keymap.values(), key=lambda command: command.together or command.token):
+        commands = list(group)
+        tokens = " ".join(command.token for command in commands)
+        words = commands[0].description if len(commands) == 1 else together
+        states = list(dict.fromkeys(command.state(scene) for command in commands if command.state is not None))
+        state = ", ".join(state for state in states if state)
+        line = f"{tokens:<{width}}  {words}"
         lines.append(f"{line}  [{state}]" if state else line)
     lines.append(f"{'f=PATH':<{width}}  (in --keys) load PATH")
     return lines
