@@ -568,8 +568,9 @@ def test_drag_turns_like_the_y_and_x_keys(scene: Scene) -> None:
     keyed = make_scene()
     press(keyed, "y x")
     press(scene, "t")  # the r/t mode does not matter to a drag
-    pixels_per_press = commands.ROTATION_STEP_RAD / commands.DRAG_RADIANS_PER_PIXEL
-    commands.drag(scene, pixels_per_press, pixels_per_press)
+    window = (720, 360)  # VTK's trackball: a drag across the whole window turns 200 degrees
+    press_share = commands.ROTATION_STEP_RAD / np.radians(200.0)
+    commands.drag(scene, press_share * window[0], press_share * window[1], window)
     np.testing.assert_allclose(scene.object.model, keyed.object.model, atol=1e-9)
     assert scene.modes.transform is TransformKind.TRANSLATE
 
@@ -583,11 +584,11 @@ def test_one_drag_is_one_undo_step_whatever_it_turns(scene: Scene, targeting: st
              "c c": lambda: np.concatenate([scene.light.position, scene.light.direction])}[targeting]
     start = moved().copy()
     for _ in range(10):
-        commands.drag(scene, 3.0, 2.0)
+        commands.drag(scene, 3.0, 2.0, (400, 300))
     after_first = moved().copy()
     commands.end_view_gesture(scene)  # the button let go and pressed again
     for _ in range(5):
-        commands.drag(scene, 4.0, 0.0)
+        commands.drag(scene, 4.0, 0.0, (400, 300))
     assert not np.allclose(moved(), after_first)
     press(scene, "u")
     np.testing.assert_allclose(moved(), after_first, atol=1e-9)

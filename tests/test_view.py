@@ -594,11 +594,29 @@ def test_orbit_keeps_the_distance_to_the_object_and_turns_the_view_toward_it(tmp
     scene = scene_with_model(tmp_path)
     centre = scene.object.centre
     before = np.linalg.norm(scene.camera.origin - centre)
-    commands.orbit_view(scene, 120, -45)
+    commands.orbit_view(scene, 120, -45, SIZE)
     assert np.linalg.norm(scene.camera.origin - centre) == pytest.approx(before)
     to_centre = (centre - scene.camera.origin) / before
     assert np.dot(scene.camera.forward, to_centre) == pytest.approx(1.0)
     assert scene.camera.origin[0] < 0  # dragged right: the camera swings left, the model turns right
+
+
+def _turned_deg(before: np.ndarray, after: np.ndarray) -> float:
+    cosine = np.dot(before, after) / np.linalg.norm(before) / np.linalg.norm(after)
+    return math.degrees(math.acos(np.clip(cosine, -1.0, 1.0)))
+
+
+@pytest.mark.parametrize("window", [(800, 600), (300, 1000)])
+def test_orbit_turns_as_vtks_trackball_200_degrees_across_the_window(tmp_path: Path, window: tuple[int, int]) -> None:
+    """A drag turned 0.57 degrees a pixel whatever the window's size: 90 pixels turned 52 degrees. As
+    VTK's trackball (Rotate(): -20 / size times MotionFactor 10), half the window's width turns the view
+    100 degrees, and half its height 100 degrees the other way."""
+    for dx, dy in ((window[0] / 2, 0), (0, window[1] / 2)):
+        scene = scene_with_model(tmp_path)
+        centre = scene.object.centre
+        before = scene.camera.origin - centre
+        commands.orbit_view(scene, dx, dy, window)
+        assert _turned_deg(before, scene.camera.origin - centre) == pytest.approx(100.0)
 
 
 def test_pan_slides_the_camera_in_its_own_plane_following_the_cursor(tmp_path: Path) -> None:
@@ -732,7 +750,7 @@ def test_looking_through_an_object_the_view_moves_say_so_and_leave_the_camera(tm
     scene = viewer.scene
     start = scene.camera.model.copy()
     commands.dolly_view(scene, 5)
-    commands.orbit_view(scene, 100, 20)
+    commands.orbit_view(scene, 100, 20, SIZE)
     for key in (".", "HOME"):
         viewer.press(parse_key_sequence(key)[0])
     assert np.array_equal(scene.camera.model, start) and "C looks through the camera again" in scene.message
@@ -752,7 +770,7 @@ def test_a_gesture_is_one_undo_step_and_u_takes_it_back_whatever_is_targeted(tmp
     scene = scene_with_model(tmp_path)
     start, history = scene.camera.model.copy(), len(scene.camera.history)
     for _ in range(50):
-        commands.orbit_view(scene, 3, 1)
+        commands.orbit_view(scene, 3, 1, SIZE)
     commands.end_view_gesture(scene)  # the button released
     for _ in range(20):
         commands.dolly_view(scene, 1)
@@ -766,7 +784,7 @@ def test_a_gesture_is_one_undo_step_and_u_takes_it_back_whatever_is_targeted(tmp
 
 def test_a_move_of_the_target_makes_u_undo_that_move_not_the_view(tmp_path: Path) -> None:
     scene = scene_with_model(tmp_path)
-    commands.orbit_view(scene, 30, 0)
+    commands.orbit_view(scene, 30, 0, SIZE)
     host = RecordingHost()
     for key in parse_key_sequence("x u"):
         dispatch(scene, key, host)

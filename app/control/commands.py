@@ -10,6 +10,7 @@ place, so `u` gives back the earlier state bit for bit.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from pathlib import Path
 from typing import Protocol, TypeVar
@@ -43,8 +44,9 @@ APERTURE_STEP_DEG = 2.5
 # Analysis mode stops the camera this far outside the orbited object's box (no entering it), for an
 # object of the seed's models' size.
 ANALYSIS_GAP = 10.0
-# Mouse drag: 10 pixels turn as far as one key press.
-DRAG_RADIANS_PER_PIXEL = ROTATION_STEP_RAD / 10.0
+# Mouse drag, as VTK's trackball (vtkInteractorStyleTrackballCamera::Rotate, 20 degrees times its
+# MotionFactor 10): a drag across the whole window, either way, turns this far.
+DRAG_RADIANS_PER_WINDOW = math.radians(200.0)
 DOLLY_PER_NOTCH = 0.9  # each wheel notch toward the object leaves this share of the distance
 # Of the object's size: nearer, a notch out no longer moved a far model's camera; ten near planes
 # inside its box (INSIDE_FRACTION), so that what the camera looks at is not cut away there.
@@ -385,11 +387,19 @@ def _view_size(scene: Scene) -> float:
     return float(np.linalg.norm(high - low))
 
 
-def orbit_view(scene: Scene, dx_pixels: float, dy_pixels: float) -> None:
+def drag_angles(dx_pixels: float, dy_pixels: float, window_px: tuple[int, int]) -> tuple[float, float]:
+    """A drag's turns in radians, sideways and vertical: each a share of DRAG_RADIANS_PER_WINDOW, the
+    share of the window's width (height) that the drag crossed."""
+    width, height = max(window_px[0], 1), max(window_px[1], 1)
+    return dx_pixels * DRAG_RADIANS_PER_WINDOW / width, dy_pixels * DRAG_RADIANS_PER_WINDOW / height
+
+
+def orbit_view(scene: Scene, dx_pixels: float, dy_pixels: float, window_px: tuple[int, int]) -> None:
     """Left drag: the camera turns round the selected object, as analysis mode's r x/y keys do."""
+    sideways, vertical = drag_angles(dx_pixels, dy_pixels, window_px)
     model, centre = scene.camera.model, _view_centre(scene)
-    model = transforms.orbit(model, centre, 1, -dx_pixels * DRAG_RADIANS_PER_PIXEL)
-    model = transforms.orbit(model, centre, 0, -dy_pixels * DRAG_RADIANS_PER_PIXEL)
+    model = transforms.orbit(model, centre, 1, -sideways)
+    model = transforms.orbit(model, centre, 0, -vertical)
     move_view(scene, model, "orbit")
 
 
@@ -487,18 +497,20 @@ def change_aperture(delta_deg: float) -> CommandFunction:
 
 
 # --- mouse -----------------------------------------------------------------------------------------
-def drag(scene: Scene, dx_pixels: float, dy_pixels: float) -> None:
+def drag(scene: Scene, dx_pixels: float, dy_pixels: float, window_px: tuple[int, int]) -> None:
     """Ctrl-drag turns the current target as y (sideways drag) and x (vertical drag) do, whatever
-    r/t says. Window y grows downward: dragging right or down swings the near side right or down.
-    The events of one drag make one undo step, as the view's gestures do."""
+    r/t says, as far as a plain drag turns the view. Window y grows downward: dragging right or down
+    swings the near side right or down. The events of one drag make one undo step, as the view's
+    gestures do."""
     # A key or a button ends the gesture (end_view_gesture): the selection cannot change within one.
     target = _moved_target(scene)
     if scene.view_gesture != "drag":
         scene.drag_depth = 0 if target is None else len(target.history)
+    sideways, vertical = drag_angles(dx_pixels, dy_pixels, window_px)
     if dx_pixels:
-        move_target(scene, TransformKind.ROTATE, 1, dx_pixels * DRAG_RADIANS_PER_PIXEL)
+        move_target(scene, TransformKind.ROTATE, 1, sideways)
     if dy_pixels:
-        move_target(scene, TransformKind.ROTATE, 0, dy_pixels * DRAG_RADIANS_PER_PIXEL)
+        move_target(scene, TransformKind.ROTATE, 0, vertical)
     if target is not None:
         target.fold_history(scene.drag_depth)
         scene.view_gesture = "drag"

@@ -383,11 +383,11 @@ class ViewerWindow:
         """As f3d and MeshLab: left orbits, right (or shift-left) pans; ctrl-drag turns the target."""
         buttons, held = self.wnd.mouse_states, self.wnd.modifiers
         if held.ctrl:
-            commands.drag(self.scene, dx, dy)
+            commands.drag(self.scene, dx, dy, self.wnd.size)
         elif buttons.right or buttons.middle or held.shift:
             commands.pan_view(self.scene, dx, dy, self.wnd.size[1])
         else:
-            commands.orbit_view(self.scene, dx, dy)
+            commands.orbit_view(self.scene, dx, dy, self.wnd.size)
 
     @guarded
     def on_mouse_scroll_event(self, x_offset: float, y_offset: float) -> None:
