@@ -189,6 +189,17 @@ def test_a_model_loaded_inside_another_says_so(tmp_path: Path, centre: tuple[flo
         assert hidden not in v.press("d").load(model).message  # d: the others are not drawn
 
 
+def test_a_command_line_model_inside_anothers_box_says_so_as_a_loaded_one_does(tmp_path: Path) -> None:
+    """Two models on the command line, framed together, the small one inside the big one's box: the
+    start said nothing of it, where the same file loaded with `f` said it may be hidden there."""
+    big, small = octahedron(tmp_path / "big.obj", 100.0), octahedron(tmp_path / "small.obj", 10.0)
+    hidden = "inside big's bounding box, perhaps hidden by it (d shows it alone)"
+    assert hidden in viewer_with(f"f={small}", (big,), empty=True).scene.message
+    for models in ((big, small), (small, big)):
+        lines = viewer_with("", models, empty=True).scene.message.splitlines()
+        assert [line.split(":")[0] for line in lines if "bounding box" in line] == ["loaded small.obj as a new object"]
+
+
 def test_the_command_lines_models_are_placed_in_one_look_at_the_scene(tmp_path: Path,
                                                                      monkeypatch: pytest.MonkeyPatch) -> None:
     """Each of the command line's models joining the ships was placed against a projection of the whole

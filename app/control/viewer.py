@@ -439,27 +439,29 @@ class Viewer:
         """The start-up loads' messages, in the order asked, once the batch has joined the scene."""
         loads = self._start_loads.copy()
         self._start_loads.clear()  # the same list: a refused press leaves the viewer as it found it
-        joined = [load.obj for load in loads if isinstance(load, _StartLoad) and load.joined]
-        wheres = iter(self._unseen(joined))
+        started = [load for load in loads if isinstance(load, _StartLoad)]
+        joined = iter(self._unseen([load.obj for load in started if load.joined]))
+        # Framed together, so seen: only a box of another holding one is said.
+        together = iter(self._inside([load.obj for load in started if not load.joined]))
         told = []
         for load in loads:
             if isinstance(load, str):
                 told.append((load, True))
             else:
-                told.append(_loaded_message(load.obj, load.path, "object", next(wheres) if load.joined else ""))
+                told.append(_loaded_message(load.obj, load.path, "object", next(joined if load.joined else together)))
         self._tell_each(told, at_start=True)
 
     def _unseen(self, objects: list[SceneObject]) -> list[str]:
         """What each load's message says of an object the view does not show, or that another's box
         holds (framed with `.`, it may still be hidden there); "" where neither."""
         sights = self.scene.sights(objects, self.view_aspect(self.scene))
-        wheres = []
-        for sight, holder in zip(sights, self.scene.enclosers(objects)):
-            where = "" if sight is Sight.SEEN else f", {sight.value} (. frames it)"
-            if holder is not None:
-                where += f", inside {holder.name}'s bounding box, perhaps hidden by it (d shows it alone)"
-            wheres.append(where)
-        return wheres
+        return [("" if sight is Sight.SEEN else f", {sight.value} (. frames it)") + inside
+                for sight, inside in zip(sights, self._inside(objects))]
+
+    def _inside(self, objects: list[SceneObject]) -> list[str]:
+        """What each load's message says of an object that another's box holds; "" where none does."""
+        return ["" if holder is None else f", inside {holder.name}'s bounding box, perhaps hidden by it (d shows "
+                "it alone)" for holder in self.scene.enclosers(objects)]
 
     def _seen_selected(self) -> _Before | None:
         """The selected object as a key finds it, and the view then; no test made yet."""
