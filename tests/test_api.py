@@ -212,6 +212,23 @@ def test_a_textured_trimesh_material_takes_the_models_name(viewer) -> None:
     assert [material.name for material in viewer.scene.object.mesh.materials] == ["mine"]
 
 
+@pytest.mark.parametrize("file_name", ["globe.glb", "part.stl"])
+def test_a_trimesh_read_from_a_file_takes_the_files_name(viewer, tmp_path: Path, file_name: str) -> None:
+    """README's add_mesh(trimesh.load("models/globe.glb")) named the object, and its material, "mesh";
+    trimesh keeps where it read a geometry (since 4.6.0, its .source). A name given still wins, and a
+    trimesh made in Python keeps "mesh"."""
+    visual = trimesh.visual.TextureVisuals(uv=[[0, 0], [1, 0], [0, 1]], image=Image.new("RGB", (4, 4), (9, 9, 9)))
+    trimesh.Trimesh(TRIANGLE, [[0, 1, 2]], process=False, visual=visual).export(tmp_path / file_name)
+    read = trimesh.load(tmp_path / file_name)
+    viewer.add_mesh(read)
+    stem, textured = Path(file_name).stem, file_name.endswith(".glb")  # an STL keeps no texture
+    assert viewer.scene.object.name == stem
+    assert [material.name for material in viewer.scene.object.mesh.materials] == [stem] * textured
+    assert viewer.add_mesh(read, name="mine").scene.object.name == "mine"
+    assert viewer.add_mesh(trimesh.Trimesh(TRIANGLE, [[0, 1, 2]], process=False)).scene.object.name == "mesh"
+    assert viewer.add_mesh(TRIANGLE, [[0, 1, 2]]).scene.object.name == "mesh"
+
+
 def test_any_object_with_vertices_and_faces_is_taken_as_a_trimesh_is(viewer) -> None:
     viewer.add_mesh(SimpleNamespace(vertices=TRIANGLE, faces=np.array([[0, 1, 2]])), name="plain")
     assert viewer.scene.object.mesh.face_count == 1

@@ -274,17 +274,21 @@ class Viewer:
 
     @_one_call_at_a_time
     def add_mesh(self, positions: Any, faces: Any = None, uvs: Any = None, normals: Any = None,
-                 name: str = "mesh", colours: Any = None, attributes_per_vertex: bool | None = None) -> Viewer:
+                 name: str | None = None, colours: Any = None, attributes_per_vertex: bool | None = None) -> Viewer:
         """A model from arrays, or from a trimesh.Trimesh or trimesh.Scene given alone (with its uvs,
         texture and vertex colours): positions (V, 3), faces (F, k) of 0-based indices (or a list of
         polygons), uvs and normals per vertex or per corner (`attributes_per_vertex` says which where
-        both fit), colours per vertex."""
+        both fit), colours per vertex. Without a name, one read from a file takes the file's, as a
+        loaded model does, and others are "mesh"."""
         self._check_open()
         _checked_flag(attributes_per_vertex, "attributes_per_vertex", none=True)
         _refuse_masked(positions=positions, faces=faces, uvs=uvs, normals=normals, colours=colours)
+        from_trimesh = faces is None and (hasattr(positions, "geometry")
+                                          or (hasattr(positions, "vertices") and hasattr(positions, "faces")))
+        if name is None:
+            name = (_file_stem(positions) if from_trimesh else None) or "mesh"
         shown_name = escaped(str(name))[:200]
-        if faces is None and (hasattr(positions, "geometry")
-                              or (hasattr(positions, "vertices") and hasattr(positions, "faces"))):
+        if from_trimesh:
             if not (uvs is None and normals is None and colours is None and attributes_per_vertex is None):
                 raise ValueError("a trimesh.Trimesh brings its own uvs and colours: give it alone, or give its "
                                  "arrays (mesh.vertices, mesh.faces, normals=mesh.vertex_normals, ...)")
@@ -376,6 +380,13 @@ def _probed_vertex(found: Any, vertex: Any) -> ProbedVertex:
                         normal=_triple(vertex.world_normal), n_dot_v=vertex.n_dot_v,
                         ambient=_triple(vertex.terms.ambient), lights=shares, total=_triple(vertex.shown),
                         colour=colour, vertex_colour=tint)  # type: ignore[arg-type]
+
+
+def _file_stem(model: Any) -> str | None:
+    """The stem of the file trimesh read `model` from (its .source, since trimesh 4.6.0); None where it
+    was made in Python."""
+    file_name = getattr(getattr(model, "source", None), "file_name", None)
+    return Path(file_name).stem or None if isinstance(file_name, str) else None
 
 
 def _refuse_masked(**arrays: Any) -> None:
