@@ -715,7 +715,7 @@ def test_the_matrices_panel(make_quad, make_scene) -> None:
     model_rows = lines[lines.index("model of object quad") + 1:][:4]
     np.testing.assert_allclose([[float(x) for x in row.split()] for row in model_rows],
                                scene.objects[0].model, atol=1e-3)
-    assert "     -1.000" in lines[lines.index("projection: perspective 90 deg, aspect 1.00") + 4]
+    assert "     -1.000" in lines[lines.index("projection: perspective 90 deg high") + 5]
     dispatch(scene, KeyPress("u"), RecordingHost())
     assert "undo depth of the quad: 1" in "\n".join(matrix_lines(scene, (800, 800)))
     scene.modes.target = Target.LIGHTS

@@ -164,8 +164,58 @@ def test_a_wide_entry_widens_its_own_column() -> None:
     rows = lines[3:7]
     ends = {tuple(match.end() for match in re.finditer(NUMBER, row)) for row in rows}
     assert len(ends) == 1, rows  # every entry ends where the one above it does
-    v_at, p_at = lines[2].index("V: view"), lines[2].index("P: projection")
+    v_at, p_at = lines[2].index("V: view"), lines[2].index("P: aspect")
     for row in rows:  # each title over its own matrix's four entries
         assert [len(re.findall(NUMBER, part)) for part in (row[:v_at], row[v_at:p_at], row[p_at:])] == [4, 4, 4], row
     model_rows = panel[panel.index("model of object mesh") + 1:][:4]
     assert len({len(row) for row in model_rows}) == 1, model_rows  # right-aligned columns: rows as long
+
+
+def p_built_from(line: str) -> tuple[float, ...]:
+    """Aspect, near and far as a panel prints them under or beside P's title."""
+    found = re.fullmatch(r"(?:P: )?aspect (\S+), near plane (\S+), far plane (\S+)", line.strip())
+    assert found, line
+    return tuple(float(value) for value in found.groups())
+
+
+def printed_p(panel: list[str], title: str) -> np.ndarray:
+    at = panel.index(title)
+    return np.array([[float(word) for word in row.split()] for row in panel[at + 2:at + 6]])
+
+
+@pytest.mark.parametrize("keys", ["m", "m p"])
+def test_the_matrices_panel_says_what_p_is_built_from(keys: str) -> None:
+    """P changed when only the camera moved, and the panel said nothing of why: its near and far
+    planes follow what is shown. The line under P's title gives them, the renderer's own, and P is
+    built from them (glFrustum or glOrtho written out here)."""
+    size = (800, 600)
+    with marraztu.Viewer(size=size) as v:
+        panels = []
+        for move in ("", "c t Z*14"):
+            scene = v.press(move or keys).scene
+            panels.append(matrix_lines(scene, size))
+            perspective = "p" not in keys.split()
+            title = "projection: perspective 90 deg high" if perspective else \
+                f"projection: parallel, half height {scene.modes.parallel_half_height:.3g}"
+            aspect, near, far = p_built_from(panels[-1][panels[-1].index(title) + 1])
+            assert aspect == pytest.approx(size[0] / size[1], abs=0.005)
+            renderers_near = scene.near_plane(size[0] / size[1])  # what projection_matrix, the renderer's, uses
+            assert (near, far) == pytest.approx((renderers_near, scene.far_plane(renderers_near)), rel=0.005)
+            half = scene.modes.parallel_half_height
+            built = gl_frustum(90.0, aspect, near, far) if perspective else np.array(
+                [[1 / (half * aspect), 0, 0, 0], [0, 1 / half, 0, 0],
+                 [0, 0, -2 / (far - near), -(far + near) / (far - near)], [0, 0, 0, 1]])
+            assert np.allclose(printed_p(panels[-1], title), built, rtol=0.01, atol=0.002)
+    before, after = (panel[panel.index(title) + 1:][:5] for panel in panels)
+    if perspective:
+        assert before[1:] != after[1:], "the camera's move changes P here"
+    assert before[0] != after[0], "and the numbers P is built from change with it"
+
+
+def test_both_panels_say_what_p_is_built_from_in_the_same_words() -> None:
+    with marraztu.Viewer(size=SIZE) as v:
+        v.press("c t Z*14 c c r TAB TAB m P")
+        pipeline, panel = pipeline_lines(v.scene, (0, 0, *SIZE)), matrix_lines(v.scene, SIZE)
+    built_from = panel[panel.index("projection: perspective 90 deg high") + 1]
+    assert pipeline[2][pipeline[2].index("P: "):] == f"P: {built_from}"
+    assert ", perspective 90 deg high" in pipeline[0]

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from marraztu.model.probe import probe
-from marraztu.model.scene import Projection, Scene, SceneObject
+from marraztu.model.scene import Lens, Scene, SceneObject
 
 # GL's clip volume: -w <= x, y, z <= w. Each plane by the coordinate it bounds and its side.
 CLIP_PLANES = (("left", 0, -1), ("right", 0, +1), ("bottom", 1, -1), ("top", 1, +1), ("near", 2, -1),
@@ -45,8 +45,7 @@ class FacePipeline:
     model_matrix: np.ndarray  # (4, 4) M
     view_matrix: np.ndarray  # (4, 4) V
     projection_matrix: np.ndarray  # (4, 4) P
-    projection: Projection
-    near: float  # the near plane's distance from the eye
+    lens: Lens  # what P is built from
     viewport: tuple[int, int, int, int]  # x, y, width, height in pixels
     corners: tuple[CornerStages, ...]
     facing: float  # face normal . V at the polygon's first vertex (SPEC 4's back-face test)
@@ -69,14 +68,14 @@ def face_pipeline(scene: Scene, viewport: tuple[int, int, int, int]) -> FacePipe
     obj, mesh = found.obj, found.obj.mesh
     model, view = obj.model, scene.view_matrix()
     aspect = viewport[2] / viewport[3]
-    projection = scene.projection_matrix(aspect)
+    lens = scene.lens(aspect)
+    projection = lens.matrix()
     start, stop = int(mesh.face_start[found.face]), int(mesh.face_start[found.face + 1])
     corners = tuple(_stages(int(mesh.corner_vertex[corner]), mesh.positions[mesh.corner_vertex[corner]], model,
                             view, projection, viewport) for corner in range(start, stop))
     return FacePipeline(obj=obj, face=found.face, face_count=found.face_count, model_matrix=model,
-                        view_matrix=view, projection_matrix=projection, projection=scene.modes.projection,
-                        near=scene.near_plane(aspect), viewport=viewport, corners=corners, facing=found.facing,
-                        culling=found.culling)
+                        view_matrix=view, projection_matrix=projection, lens=lens, viewport=viewport,
+                        corners=corners, facing=found.facing, culling=found.culling)
 
 
 def _stages(vertex: int, point: np.ndarray, model: np.ndarray, view: np.ndarray, projection: np.ndarray,

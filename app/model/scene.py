@@ -578,13 +578,14 @@ class Scene:
         outside = eye - np.clip(eye, bounds[:, 0], bounds[:, 1])
         return np.linalg.norm(outside, axis=1) / np.sqrt(aspect**2 + 2.0)
 
-    def projection_matrix(self, aspect: float) -> np.ndarray:
+    def lens(self, aspect: float) -> Lens:
+        """What P is built from now, in a view `aspect` wide: the near and far planes follow what is shown."""
         near = self.near_plane(aspect)
-        far = self.far_plane(near)
-        if self.modes.projection is Projection.PERSPECTIVE:
-            return perspective(PERSPECTIVE_FOVY_DEG, aspect, near, far)
-        half_h = self.modes.parallel_half_height
-        return orthographic(half_h * aspect, half_h, near, far)  # SPEC 5: n, as in perspective
+        parallel = self.modes.projection is Projection.PARALLEL
+        return Lens(aspect, near, self.far_plane(near), self.modes.parallel_half_height if parallel else None)
+
+    def projection_matrix(self, aspect: float) -> np.ndarray:
+        return self.lens(aspect).matrix()
 
     def matching_parallel_half_height(self) -> float:
         """Half height that keeps the scene about where perspective showed it (SPEC 5): the selected
@@ -703,6 +704,27 @@ class InView:
     distances: np.ndarray  # how deep, at least, its nearest point in view lies
     backs: np.ndarray  # the depth of its farthest corner
     sizes: np.ndarray  # its mesh's size (0 for the light's marker)
+
+
+@dataclass(frozen=True)
+class Lens:
+    """The numbers P is built from (Scene.lens): perspective is PERSPECTIVE_FOVY_DEG high, parallel
+    `half_height` either side of the view's middle."""
+
+    aspect: float  # the view's width over its height
+    near: float  # the near plane's distance from the eye
+    far: float
+    half_height: float | None  # None in perspective
+
+    @property
+    def projection(self) -> Projection:
+        return Projection.PERSPECTIVE if self.half_height is None else Projection.PARALLEL
+
+    def matrix(self) -> np.ndarray:
+        if self.half_height is None:
+            return perspective(PERSPECTIVE_FOVY_DEG, self.aspect, self.near, self.far)
+        # SPEC 5: n, as in perspective
+        return orthographic(self.half_height * self.aspect, self.half_height, self.near, self.far)
 
 
 @dataclass(eq=False)

@@ -39,6 +39,11 @@ def fixed(value: float, decimals: int) -> str:
     return f"{round(value, decimals) + 0.0:.{decimals}f}"
 
 
+def significant(value: float, digits: int = SIGNIFICANT_DIGITS) -> str:
+    """`value` to `digits` significant digits, no zeros after them: 0.299, 412, 5, 1000."""
+    return f"{float(f'{value:.{digits}g}'):g}"
+
+
 def _entry(value: float, decimals: int, largest: float) -> str:
     if abs(value) < NOISE_SHARE * largest:
         value = 0.0

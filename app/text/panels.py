@@ -17,10 +17,10 @@ from marraztu.control.commands import ROTATION_STEP_RAD, translation_step
 from marraztu.model.lighting import LightTerm
 from marraztu.model.lights import DIRECTIONAL, Show, TermView, WorldLight, cone_angle_deg
 from marraztu.model.probe import Probe, VertexProbe, probe
-from marraztu.model.scene import CameraMode, Frame, Projection, Scene, Shading, Target
+from marraztu.model.scene import CameraMode, Frame, Scene, Shading, Target
 from marraztu.render.layout import Extras, Label, project, view_projection, views
 from marraztu.text.numbers import aligned_columns, fixed, matrix_entries, position_decimals
-from marraztu.text.pipeline import pipeline_lines
+from marraztu.text.pipeline import lens_numbers, lens_shape, pipeline_lines
 
 MAX_PROBED_VERTICES = 4  # more would not fit an 800 pixel window; the panel says how many are left
 MATRIX_DECIMALS = 3
@@ -145,16 +145,13 @@ def _result(found: Probe, vertex: VertexProbe) -> str:
 def matrix_lines(scene: Scene, size: tuple[int, int]) -> list[str]:
     """Model of the selected element, view, projection (column vectors: p' = M p), the frame and
     the undo depth of what x/y/z move now."""
-    view = views(scene, size)[0]
-    projection_name = scene.modes.projection.value
-    if scene.modes.projection is Projection.PERSPECTIVE:
-        projection_name += " 90 deg"
+    lens = scene.lens(views(scene, size)[0].aspect)
     lines = ["MATRICES (column vectors: p' = M p)"]
     lines += _model_lines(scene)
     lines.append(f"view: inverse of {scene.viewer.name}'s model")
     lines += _matrix_rows(scene.view_matrix())
-    lines.append(f"projection: {projection_name}, aspect {view.aspect:.2f}")
-    lines += _matrix_rows(scene.projection_matrix(view.aspect))
+    lines += [f"projection: {lens_shape(lens)}", lens_numbers(lens)]
+    lines += _matrix_rows(lens.matrix())
     lines += _frame_lines(scene)
     return lines
 

@@ -9,8 +9,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from marraztu.model.pipeline import CornerStages, FacePipeline, face_pipeline
-from marraztu.model.scene import Projection, Scene
-from marraztu.text.numbers import aligned_columns, fixed, matrix_entries, position_decimals
+from marraztu.model.scene import PERSPECTIVE_FOVY_DEG, Lens, Projection, Scene
+from marraztu.text.numbers import aligned_columns, fixed, matrix_entries, position_decimals, significant
 
 MAX_CORNERS = 4  # more would not fit an 800 pixel window; the panel says how many are left
 INDENT = "       "
@@ -37,21 +37,32 @@ def pipeline_lines(scene: Scene, viewport: tuple[int, int, int, int]) -> list[st
 
 def _header(found: FacePipeline, probe_hidden: bool) -> list[str]:
     width, height = found.viewport[2], found.viewport[3]
-    projection = "perspective 90 deg" if found.projection is Projection.PERSPECTIVE else "parallel"
     note = "   (the probe, i, waits behind this panel)" if probe_hidden else ""
     lines = [f"PIPELINE {found.obj.name} face {found.face + 1}/{found.face_count} (Enter: next)   "
-             f"{width}x{height}, {projection}, near plane {found.near:g}{note}",
+             f"{width}x{height}, {lens_shape(found.lens)}{note}",
              "world = M model   eye = V world   clip = P eye   ndc = clip.xyz / w   window = viewport(ndc), y up from "
              "the bottom, as GL counts it"]
     blocks = [[f"M: model of {found.obj.name}", *_matrix_rows(found.model_matrix, 2)],
               ["V: view", *_matrix_rows(found.view_matrix, 2)],
-              [f"P: projection, aspect {width / height:.2f}", *_matrix_rows(found.projection_matrix, 3)]]
+              [f"P: {lens_numbers(found.lens)}", *_matrix_rows(found.projection_matrix, 3)]]
     return lines + _side_by_side(blocks)
+
+
+def lens_shape(lens: Lens) -> str:
+    """How P's view is shaped, in the words the pipeline and matrices panels share."""
+    if lens.half_height is None:
+        return f"{lens.projection.value} {PERSPECTIVE_FOVY_DEG:g} deg high"
+    return f"{lens.projection.value}, half height {significant(lens.half_height)}"
+
+
+def lens_numbers(lens: Lens) -> str:
+    """P's other numbers: the near and far planes follow what is shown, so a camera's move changes P."""
+    return f"aspect {lens.aspect:.2f}, near plane {significant(lens.near)}, far plane {significant(lens.far)}"
 
 
 def _corner_lines(found: FacePipeline, number: int, corner: CornerStages) -> list[str]:
     decimals = position_decimals(found.obj.mesh.size, 1)
-    clip = 3 if found.projection is Projection.PARALLEL else decimals  # parallel's clip is its ndc (w = 1)
+    clip = 3 if found.lens.projection is Projection.PARALLEL else decimals  # parallel's clip is its ndc (w = 1)
     lines = [f"v{number} #{corner.vertex + 1:<4} model {_vector(corner.model, decimals)} -> world "
              f"{_vector(corner.world, decimals)} -> eye {_vector(corner.eye, decimals)}",
              f"{INDENT}clip {_vector(corner.clip[:3], clip)} w {corner.clip[3]:.{clip + 1}f}"]
@@ -71,7 +82,7 @@ def _clip_verdict(found: FacePipeline, corner: CornerStages) -> list[str]:
     if "near" in corner.outside:
         behind = "; w <= 0: behind the eye too" if corner.behind_eye else ""
         eye_z = f"{corner.eye[2]:.{position_decimals(found.obj.mesh.size, 2)}f}"
-        lines.append(f"near plane: eye z {eye_z} > -{found.near:g}, nearer than it, so clip z < -w{behind}")
+        lines.append(f"near plane: eye z {eye_z} > -{found.lens.near:g}, nearer than it, so clip z < -w{behind}")
     return lines
 
 
