@@ -179,6 +179,8 @@ def record_parser() -> argparse.ArgumentParser:
     add_size_argument(parser, "frame size")
     parser.add_argument("--keys", required=True, metavar="KEYS",
                         help='keys as for screenshot; one frame is drawn after each press: "y*63"')
+    parser.add_argument("--before", default="", metavar="KEYS",
+                        help='keys as for --keys, pressed first and not recorded: "T 0 1 s"')
     parser.add_argument("--fps", type=parse_fps, default=20.0, metavar="N", help="frames a second (default 20)")
     parser.add_argument("--overlay", action="store_true",
                         help="draw the status line, the panels and the last message in every frame")
@@ -189,21 +191,23 @@ def record_parser() -> argparse.ArgumentParser:
 def run_record(argv: Sequence[str]) -> int:
     from marraztu.frontends.record import record
 
-    args = parse_command_line(record_parser(), _keys_joined(argv))
-    frames = record(start_options(args), args.output, args.size, args.keys, args.fps, args.overlay)
+    args = parse_command_line(record_parser(), _keys_joined(argv, ("--keys", "--before")))
+    frames = record(start_options(args), args.output, args.size, args.keys, args.fps, args.overlay, args.before)
     _say(escaped(f"{args.output}: {frames} frames"))
     return 0
 
 
-def _keys_joined(argv: Sequence[str]) -> list[str]:
-    """--keys and its value as one word: argparse takes a value that starts with '-' ("-*5", the key
-    `-` five times) for an option of its own."""
+def _keys_joined(argv: Sequence[str], options: tuple[str, ...] = ("--keys",)) -> list[str]:
+    """Each of these key `options` and its value as one word: argparse takes a value that starts with
+    '-' ("-*5", the key `-` five times) for an option of its own."""
     words, at = [], 0
     while at < len(argv):
         if argv[at] == "--":
             return words + list(argv[at:])
-        if len(argv[at]) > 2 and "--keys".startswith(argv[at]) and at + 1 < len(argv):  # --k too, as argparse
-            words.append(f"--keys={argv[at + 1]}")
+        # --k too, as argparse: --keys and --before share no prefix
+        named = [option for option in options if len(argv[at]) > 2 and option.startswith(argv[at])]
+        if named and at + 1 < len(argv):
+            words.append(f"{named[0]}={argv[at + 1]}")
             at += 2
             continue
         words.append(argv[at])

@@ -52,6 +52,26 @@ def test_animated_png_holds_one_exact_frame_per_press(tmp_path: Path, capsys) ->
     assert not np.array_equal(frames[2], frames[3]), "each press turns the object"
 
 
+def test_keys_before_are_pressed_but_not_recorded(tmp_path: Path, capsys) -> None:
+    """The set-up keys (lights on, a shading) were the slide's first frames, a dark one first: --before
+    presses them through the same replay, drawing nothing."""
+    out = tmp_path / "turn.png"
+    assert main(["record", "-o", str(out), "--size", SIZE, "--before", "0 1", "--keys", "y*5"]) == 0
+    assert "5 frames" in capsys.readouterr().out
+    frames, _ = frames_of(out)
+    assert len(frames) == 5
+    assert np.array_equal(frames[0], screenshot(tmp_path, "0 1 y"))
+    assert np.array_equal(frames[-1], screenshot(tmp_path, KEYS))
+
+
+def test_before_keys_may_start_with_a_minus(tmp_path: Path) -> None:
+    """As --keys "-*5": the value is the key `-`, not an option, after --before and its prefix --b."""
+    for option in ("--before", "--b"):
+        out = tmp_path / f"{option.strip('-')}.png"
+        assert main(["record", "-o", str(out), "--size", "16x16", option, "-*3", "--keys", "y"]) == 0
+        assert len(frames_of(out)[0]) == 1
+
+
 def test_a_gifs_frame_time_is_rounded_to_its_hundredths(tmp_path: Path) -> None:
     """Pillow truncated 1000/35 ms to 20 ms: 50 frames a second for 35."""
     out = tmp_path / "turn.gif"
@@ -79,6 +99,10 @@ def test_gif_frames_match_to_its_colours(tmp_path: Path) -> None:
     (["-o", "{tmp}/turn.gif", "--keys", "y", "--fps", "60"], "a GIF plays at most 50 frames a second"),
     (["-o", "{tmp}/turn.mp4", "--keys", "y", "--size", "1x50"], "an MP4's sides are at least 2 pixels"),
     (["-o", "{tmp}/still.gif", "--keys", "c*14", "--size", "16x16", "--fps", "0.02"], "at most 655 s"),
+    (["-o", "{tmp}/turn.gif", "--before", "0 NOSUCHKEY", "--keys", "y"], "--before: unknown key 'NOSUCHKEY'"),
+    (["-o", "{tmp}/turn.gif", "--before", "'f=unclosed", "--keys", "y"], "--before: key sequence"),
+    (["-o", "{tmp}/model.png", "--before", "f={tmp}/model.png", "--keys", "y"], "is an input"),
+    (["-o", "{tmp}/turn.gif", "--before", "ESC", "--keys", "y", "--size", "16x16"], "no frame to write"),
 ])
 def test_bad_input_is_one_line(tmp_path: Path, capsys, arguments: list[str], words: str) -> None:
     Image.new("RGB", (4, 4)).save(tmp_path / "model.png")

@@ -15,7 +15,7 @@ import numpy as np
 
 from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import StartOptions, Viewer, starting_scene
-from marraztu.errors import ViewerError
+from marraztu.errors import KeyMapError, ViewerError
 from marraztu.frontends.screenshot import (
     InputsGuard,
     OffscreenFrontend,
@@ -65,16 +65,21 @@ def check_recording_size(frames: int, size: tuple[int, int]) -> None:
 
 
 def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, fps: float = DEFAULT_FPS,
-           overlay: bool = False) -> int:
-    """Replays `keys` on the starting scene, drawing a frame after each press into the animation
-    `out`; returns how many frames were written. ViewerError on bad input, as the screenshot command."""
+           overlay: bool = False, before: str = "") -> int:
+    """Replays `before` on the starting scene, drawing nothing, then `keys`, drawing a frame after each
+    press into the animation `out`; returns how many frames were written. ViewerError on bad input,
+    as the screenshot command."""
     check_fps(fps)
     check_format(out, size, fps)
+    try:
+        set_up = parse_key_sequence(before)
+    except KeyMapError as error:
+        raise KeyMapError(f"--before: {error}") from None
     presses = parse_key_sequence(keys)
     if not presses:
         raise ViewerError("record needs --keys: one frame is drawn after each press")
     check_recording_size(len(presses), size)
-    inputs = [*options.models, options.texture, options.scene_file, *(press.path for press in presses)]
+    inputs = [*options.models, options.texture, options.scene_file, *(press.path for press in set_up + presses)]
     check_output(out, inputs, RECORDING_FORMATS, "an animation")
     scene = starting_scene(options)
     check_output(out, [scene.texture_path], RECORDING_FORMATS, "an animation")
@@ -86,6 +91,8 @@ def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, f
         viewer.start(options, renderer.max_texture_side)
         inputs = InputsGuard(out, RECORDING_FORMATS, "an animation")
         inputs.check(viewer)
+        for _ in frontend.replay(viewer, set_up):
+            inputs.check(viewer)  # a model loaded by a key brings its MTL and textures
 
         def frames() -> Iterator[np.ndarray]:
             for _ in frontend.replay(viewer, presses):
