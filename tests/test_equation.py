@@ -34,7 +34,7 @@ from marraztu.model.lights import TERM_VIEWS, Owner, TermView, cone_angle_deg
 from marraztu.model.mesh import Mesh
 from marraztu.model.probe import Probe, probe
 from marraztu.model.scene import SWITCHED_SHADINGS, Material, Projection, Scene, SceneObject, Shading, Target
-from marraztu.render.layout import View, project, view_projection, views
+from marraztu.model.viewports import View, project, view_projection, views
 from marraztu.text.panels import Extras, extras, matrix_lines, probe_lines
 from marraztu.text.status import status_line
 from support import corpus

@@ -15,7 +15,7 @@ from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
 from marraztu.model.guides import AXIS_COLOURS, GRID_COLOUR, OWN_AXIS_LIGHTNESS, nice_step, scene_guides
 from marraztu.model.scene import GUIDES_MIN_EXTENT
-from marraztu.render.layout import View, project, view_projection
+from marraztu.model.viewports import View, project, view_projection
 from support.scenes import BACKGROUND, NoFrontend
 
 SIZE = (200, 200)

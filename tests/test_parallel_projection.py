@@ -13,7 +13,7 @@ from marraztu.control.viewer import StartOptions
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.scenefile import load_builtin_scene
 from marraztu.model.scene import Projection, Scene, SceneObject
-from marraztu.render.layout import View, project, view_projection
+from marraztu.model.viewports import View, project, view_projection
 from support.scenes import BACKGROUND, RecordingHost
 
 VIEW = View((0, 0, 400, 400), shading=None)  # type: ignore[arg-type]  # only the viewport matters here

@@ -9,7 +9,7 @@ import pytest
 from marraztu.model.mesh import Mesh
 from marraztu.model.probe import probe
 from marraztu.model.scene import Fill, Projection, Scene, SceneObject
-from marraztu.render.layout import project, view_projection, views
+from marraztu.model.viewports import project, view_projection, views
 from marraztu.render.renderer import PROBE_COLOUR
 from support.scenes import PLAIN, box_mesh, mesh_from_polygons, scene_with
 

@@ -35,6 +35,7 @@ from marraztu.model.framing import framed_scale
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import WIDEST_ASPECT, Outlook, Scene, SceneObject, Sight, placed_boxes
 from marraztu.model.transforms import Vec3
+from marraztu.model.viewports import narrowest_aspect
 
 
 class Frontend(Protocol):
@@ -192,11 +193,11 @@ class _Before(NamedTuple):
 class Viewer:
     def __init__(self, scene: Scene, frontend: Frontend, strict: bool = False,
                  background: BackgroundLoader | None = None,
-                 view_aspect: Callable[[Scene], float] | None = None) -> None:
+                 frame_size: Callable[[], tuple[int, int]] | None = None) -> None:
         self.scene = scene
-        # The narrowest view the front end draws now, width over height (layout's): a model loaded
-        # beside the scene is said to be outside it. Not known: a view WIDEST_ASPECT wide.
-        self.view_aspect = view_aspect or (lambda scene: WIDEST_ASPECT)
+        # The framebuffer the front end draws now, width and height: a click finds its pixel there, and a
+        # model loaded beside the scene is said to be outside its narrowest view. None: no picture is drawn.
+        self.frame_size: Callable[[], tuple[int, int] | None] = frame_size or (lambda: None)
         self.frontend = frontend
         self.keys = keymap.KEYMAP
         # Strict (the screenshot command): a failed load is an error that ends the run, since a
@@ -454,7 +455,7 @@ class Viewer:
     def _unseen(self, objects: list[SceneObject]) -> list[str]:
         """What each load's message says of an object the view does not show, or that another's box
         holds (framed with `.`, it may still be hidden there); "" where neither."""
-        sights = self.scene.sights(objects, self.view_aspect(self.scene))
+        sights = self.scene.sights(objects, self.narrowest_aspect())
         return [("" if sight is Sight.SEEN else f", {sight.value} (. frames it)") + inside
                 for sight, inside in zip(sights, self._inside(objects))]
 
@@ -503,7 +504,7 @@ class Viewer:
 
     def _tell_unseen_start_models(self) -> None:
         """Models framed together far apart may each span under a pixel: the picture alone is empty."""
-        sights = self.scene.sights(self.scene.objects, self.view_aspect(self.scene))
+        sights = self.scene.sights(self.scene.objects, self.narrowest_aspect())
         unseen = [obj.name for obj, sight in zip(self.scene.objects, sights) if sight is not Sight.SEEN]
         if unseen:
             names = ", ".join(unseen[:UNSEEN_NAMES_SAID]) + (", ..." if len(unseen) > UNSEEN_NAMES_SAID else "")
@@ -516,7 +517,9 @@ class Viewer:
         self.prompt = ""
 
     def narrowest_aspect(self) -> float:
-        return self.view_aspect(self.scene)
+        """Width over height of the narrowest view drawn now; a view WIDEST_ASPECT wide where none is."""
+        size = self.frame_size()
+        return WIDEST_ASPECT if size is None else narrowest_aspect(self.scene, size)
 
     def save_screenshot(self) -> None:
         save = getattr(self.frontend, "save_screenshot", None)  # only a window keeps pictures as it goes

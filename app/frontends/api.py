@@ -39,7 +39,7 @@ from marraztu.model.mesh import INDEX_LIMIT, counted
 from marraztu.model.probe import probe as probe_scene
 from marraztu.model.scene import Scene, SceneObject
 from marraztu.render.context import create_offscreen_context
-from marraztu.render.layout import checked_size, narrowest_aspect
+from marraztu.render.layout import checked_size
 from marraztu.render.renderer import Renderer
 from marraztu.text.status import prompt_line
 
@@ -107,6 +107,11 @@ def _checked_size(size: Sequence[int]) -> Size:
         said = shortened(escaped(repr(size)))
         raise ValueError(f"size must be (width, height) in whole numbers, not {said}") from None
     return checked_size(width, height)
+
+
+def _fixed(size: Size) -> Callable[[], Size]:
+    """The size as the viewer asks for it; a function of the size alone, not of the Viewer."""
+    return lambda: size
 
 
 def _checked_flag(value: Any, what: str, none: bool = False) -> None:
@@ -208,7 +213,7 @@ class Viewer:
         self._frontend = OffscreenFrontend(quiet=True)
         # The size, not the Viewer: a closure over it would hold it in a cycle, past its last reference.
         self._viewer = KeyViewer(starting_scene(options), self._frontend, strict=True,
-                                 view_aspect=functools.partial(narrowest_aspect, size=self._size))
+                                 frame_size=_fixed(self._size))
         self._ctx = _context_for_a_viewer()
         with self._ctx:
             self._renderer = Renderer(self._ctx)
@@ -225,7 +230,7 @@ class Viewer:
     @size.setter
     def size(self, size: Sequence[int]) -> None:
         self._size = _checked_size(size)
-        self._viewer.view_aspect = functools.partial(narrowest_aspect, size=self._size)
+        self._viewer.frame_size = _fixed(self._size)
 
     # --- the scene -----------------------------------------------------------------------------
     @property

@@ -25,7 +25,6 @@ from marraztu.frontends.screenshot import (
     write_atomically,
 )
 from marraztu.render.context import create_offscreen_context
-from marraztu.render.layout import narrowest_aspect
 from marraztu.render.renderer import Renderer
 
 RECORDING_FORMATS = {".gif": "GIF", ".png": "PNG", ".apng": "PNG", ".mp4": "MP4"}
@@ -87,7 +86,7 @@ def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, f
     try:
         renderer = Renderer(ctx)
         frontend = OffscreenFrontend()
-        viewer = Viewer(scene, frontend, strict=True, view_aspect=lambda scene: narrowest_aspect(scene, size))
+        viewer = Viewer(scene, frontend, strict=True, frame_size=lambda: size)
         viewer.start(options, renderer.max_texture_side)
         inputs = InputsGuard(out, RECORDING_FORMATS, "an animation")
         inputs.check(viewer)

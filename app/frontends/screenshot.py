@@ -20,7 +20,6 @@ from marraztu.control.viewer import StartOptions, Viewer, starting_scene
 from marraztu.errors import ViewerError, escaped
 from marraztu.model.scene import Scene
 from marraztu.render.context import create_offscreen_context, offscreen_framebuffer, read_pixels
-from marraztu.render.layout import narrowest_aspect
 from marraztu.render.renderer import Renderer
 
 # Pillow's format for each suffix a picture may be written as.
@@ -62,7 +61,7 @@ def take_screenshot(options: StartOptions, out: Path, size: tuple[int, int], key
     try:
         renderer = Renderer(ctx)
         frontend = OffscreenFrontend()
-        viewer = Viewer(scene, frontend, strict=True, view_aspect=lambda scene: narrowest_aspect(scene, size))
+        viewer = Viewer(scene, frontend, strict=True, frame_size=lambda: size)
         viewer.start(options, renderer.max_texture_side)
         inputs = InputsGuard(out)
         inputs.check(viewer)

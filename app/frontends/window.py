@@ -31,7 +31,6 @@ from marraztu.frontends.screenshot import write_picture
 from marraztu.model.mesh import counted
 from marraztu.render.context import offscreen_framebuffer, read_pixels
 from marraztu.render.gpu import prepare_surface
-from marraztu.render.layout import narrowest_aspect
 from marraztu.render.overlay import Overlay
 from marraztu.render.renderer import Renderer
 from marraztu.text import panels, status
@@ -162,7 +161,7 @@ class ViewerWindow:
         self.renderer = Renderer(self.ctx)
         loader = BackgroundLoader(prepare_surface, wake=_wake_event_loop)
         self.viewer = Viewer(starting_scene(options), self, background=loader,
-                             view_aspect=lambda scene: narrowest_aspect(scene, self.wnd.buffer_size))
+                             frame_size=lambda: self.wnd.buffer_size)
         self.viewer.start(options, self.renderer.max_texture_side)
         self.overlay = Overlay(self.ctx)
         self.named_keys, self.repeated_motions = self._named_keys()

@@ -524,6 +524,18 @@ class Scene:
         viewer = self.viewer
         return [element for element in shown if element is not viewer and element.mesh.face_count > 0]
 
+    def drawn_faces(self) -> list[tuple[SceneObject, int, int]]:
+        """SPEC 5's `o` and `d` as (element, first face, face past the last) of what the picture draws:
+        the shown elements whole, or the selected one's faces up to the selected face, or that face alone."""
+        shown = self.shown_elements()
+        if not self.modes.triangle_only:
+            return [(element, 0, element.mesh.face_count) for element in shown]
+        if not shown:
+            return []
+        selected = shown[0]  # the selected object alone
+        face = selected.selected_face % selected.mesh.face_count
+        return [(selected, 0 if self.modes.draw_all else face, face + 1)]
+
     def near_plane(self, aspect: float = WIDEST_ASPECT) -> float:
         """SPEC 5's 5 units on the scene's scale, brought in to keep clear of what is shown and in a
         view `aspect` wide, or WIDEST_ASPECT if narrower (see NEAR_MARGIN and INSIDE_FRACTION)."""

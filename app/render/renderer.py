@@ -33,6 +33,7 @@ from marraztu.model.scene import (
     Target,
 )
 from marraztu.model.transforms import normal_matrix, translation_by
+from marraztu.model.viewports import View, views
 from marraztu.render.context import (
     SOFTWARE_SEGMENT_PIECES_IN_FLIGHT,
     check_gl,
@@ -58,7 +59,7 @@ from marraztu.render.gpu import (
     load_program,
 )
 from marraztu.render.guides import GuidesDrawer
-from marraztu.render.layout import View, pixel_per_w, views
+from marraztu.render.layout import pixel_per_w
 from marraztu.render.mipmaps import MipmappedTexture, create_mipmapped
 
 CLEAR_COLOUR = (0.0, 0.0, 0.7)  # SPEC 3: the seed's blue
@@ -409,16 +410,8 @@ class Renderer:
             self.ctx.disable(moderngl.DEPTH_TEST)
 
     def _draw_list(self, scene: Scene) -> list[DrawItem]:
-        """SPEC 5's `o` and `d`: the shown elements whole (Scene.shown_elements: never the viewer, we
-        are inside it), or the selected one's faces up to the selected face, or that face alone."""
-        shown = scene.shown_elements()
-        if not scene.modes.triangle_only:
-            return [DrawItem(element, 0, element.mesh.face_count) for element in shown]
-        if not shown:
-            return []
-        selected = shown[0]  # the selected object alone
-        face = selected.selected_face % selected.mesh.face_count
-        return [DrawItem(selected, 0 if scene.modes.draw_all else face, face + 1)]
+        """What the picture draws (Scene.drawn_faces: SPEC 5's `o` and `d`), as draw items."""
+        return [DrawItem(element, start, stop) for element, start, stop in scene.drawn_faces()]
 
     # --- uniforms ----------------------------------------------------------------------------
     def _set_frame_uniforms(self, scene: Scene, view_projection: np.ndarray) -> None:

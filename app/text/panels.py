@@ -18,7 +18,8 @@ from marraztu.model.lighting import LightTerm
 from marraztu.model.lights import DIRECTIONAL, Show, TermView, WorldLight, cone_angle_deg
 from marraztu.model.probe import Probe, VertexProbe, probe
 from marraztu.model.scene import CameraMode, Frame, Scene, Shading, Target
-from marraztu.render.layout import Extras, Label, project, view_projection, views
+from marraztu.model.viewports import project, view_projection, views
+from marraztu.render.layout import Extras, Label
 from marraztu.text.numbers import aligned_columns, fixed, matrix_entries, position_decimals
 from marraztu.text.pipeline import lens_numbers, lens_shape, pipeline_lines
 
