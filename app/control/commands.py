@@ -19,7 +19,7 @@ import numpy as np
 
 from marraztu.control.browse import sibling_model
 from marraztu.loaders.scenefile import BUILT_IN_CAMERA_MODEL
-from marraztu.model import framing, transforms
+from marraztu.model import framing, picking, transforms, viewports
 from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, Light, Owner, default_lights
 from marraztu.model.scene import (
     INSIDE_FRACTION,
@@ -64,6 +64,10 @@ class Host(Protocol):
 
     def narrowest_aspect(self) -> float:
         """Width over height of the narrowest view drawn now (a third of the window, side by side)."""
+        ...
+
+    def frame_size(self) -> tuple[int, int] | None:
+        """The framebuffer's width and height in pixels, where a picture is drawn (None: none is)."""
         ...
 
     def load_model(self, path: str) -> bool | None:
@@ -530,10 +534,15 @@ def select_next(scene: Scene, host: Host) -> None:
         scene.selected_camera = (scene.selected_camera + 1) % len(scene.cameras)
         scene.camera.selected_face = 0
     elif scene.objects:
-        scene.selected_object = (scene.selected_object + 1) % len(scene.objects)
-        scene.objects[scene.selected_object].selected_face = 0
+        select_face(scene, (scene.selected_object + 1) % len(scene.objects), 0)
     else:
         scene.message = "no objects to select"
+
+
+def select_face(scene: Scene, index: int, face: int) -> None:
+    """Object `index` of the scene and its polygon `face` selected: what the probe and the pipeline explain."""
+    scene.selected_object = index
+    scene.objects[index].selected_face = face
 
 
 def next_face(scene: Scene, host: Host) -> None:
@@ -542,7 +551,46 @@ def next_face(scene: Scene, host: Host) -> None:
     if obj is None or obj.mesh.face_count == 0:
         scene.message = "no object to step through"
         return
-    obj.selected_face = (obj.selected_face + 1) % obj.mesh.face_count
+    select_face(scene, scene.selected_object, (obj.selected_face + 1) % obj.mesh.face_count)
+
+
+def select_at(scene: Scene, host: Host, pixel: tuple[int, int]) -> None:
+    """A click (`click=X,Y` in --keys): the object and the face drawn at that pixel (column, row from the
+    top-left) selected, whatever is targeted (the probe explains the selected object's face); the
+    background, or a camera's body, changes nothing."""
+    refusal = click_refusal(host, pixel)
+    if refusal is not None:
+        scene.message = refusal
+        return
+    hit = picking.pick(scene, host.frame_size(), pixel)
+    where = f"at {pixel[0]},{pixel[1]}"
+    if hit is None:
+        scene.message = f"nothing drawn {where} (the background): the selection stays"
+    elif hit.element not in scene.objects:  # identity (eq=False): a camera's body
+        scene.message = f"camera {hit.element.name} is drawn {where}: a click selects objects, c then TAB cameras"
+    else:
+        select_face(scene, scene.objects.index(hit.element), hit.face)
+        scene.message = _picked_message(scene, hit.element, hit.face)
+
+
+def click_refusal(host: Host, pixel: tuple[int, int]) -> str | None:
+    """Why a click on `pixel` cannot be made (None: it can): no picture, or not one of its pixels."""
+    size = host.frame_size()
+    return "no picture to click in" if size is None else viewports.pixel_refusal(pixel, size)
+
+
+def _picked_message(scene: Scene, obj: SceneObject, face: int) -> str:
+    """'Rammer_255 face 812 of 3,604', and how to see why it has its colour, or that the panel shows it."""
+    said = f"{obj.name} face {face + 1:,} of {obj.mesh.face_count:,}"
+    if scene.modes.pipeline:  # it takes the probe's place
+        said += " (the pipeline follows it)"
+    elif scene.modes.probe:
+        said += " (the probe follows it)"
+    else:
+        said += " (i: its probe, P: its pipeline)"
+    if scene.modes.target is not Target.OBJECTS:
+        said += f"; {scene.modes.target.value} stay targeted"
+    return said
 
 
 # --- files, deletion and the world outside ---------------------------------------------------------

@@ -2,8 +2,9 @@
 
 A token is a character as typed (`f` and `F` differ, SPEC 6) or a named key: TAB, ENTER, ESC,
 DELETE, F1, F9, F12, PAGEDOWN, PAGEUP, HOME. A key sequence on the command line is
-whitespace-separated tokens; `TOKEN*N` repeats a press N times and `f=PATH` loads PATH (quote it as
-`f="a b.obj"` when it holds spaces).
+whitespace-separated tokens; `TOKEN*N` repeats a press N times, `f=PATH` loads PATH (quote it as
+`f="a b.obj"` when it holds spaces) and `click=X,Y` clicks the pixel X columns and Y rows from the
+top-left, as the window's left click does.
 After `f`, until ENTER or ESC, tokens are typed into the file prompt as in the window: any single
 character, SPACE and BACKSPACE.
 """
@@ -33,17 +34,28 @@ MAX_SEQUENCE_PRESSES = 1_000_000
 # (a few dozen file paths of the longest a system allows; repeats say KEY*N).
 MAX_SEQUENCE_CHARACTERS = 1 << 17
 LOAD_PREFIX = "f="
+CLICK_PREFIX, CLICK_TOKEN = "click=", "click"
+_CLICK = re.compile(r"^(?P<column>[0-9]{1,9}),(?P<row>[0-9]{1,9})$")
 
 
 @dataclass(frozen=True)
 class KeyPress:
-    """One press: a key token, or a load-this-file press (`token` "f" with `path` set)."""
+    """One press: a key token, a load-this-file press (`token` "f" with `path` set) or a click on a
+    pixel (`token` "click" with `pixel` set: column, row from the top-left)."""
 
     token: str
     path: str | None = None
+    pixel: tuple[int, int] | None = None
 
     def __str__(self) -> str:
+        if self.pixel is not None:
+            return f"{CLICK_PREFIX}{self.pixel[0]},{self.pixel[1]}"
         return self.token if self.path is None else f"{LOAD_PREFIX}{self.path}"
+
+
+def click(column: int, row: int) -> KeyPress:
+    """The press of a left click on a pixel, column and row counted from the top-left."""
+    return KeyPress(CLICK_TOKEN, pixel=(column, row))
 
 
 @dataclass(frozen=True)
@@ -207,7 +219,7 @@ def key_press(token: str, keymap: dict[str, Command] = KEYMAP) -> KeyPress:
     """The press of a token; KeyMapError names the token when no key has it."""
     name = normalise_token(token)
     if name not in keymap:
-        raise KeyMapError(f"unknown key {shortened(token)!r}; keys are: {' '.join(keymap)} and f=PATH")
+        raise KeyMapError(f"unknown key {shortened(token)!r}; keys are: {' '.join(keymap)}, f=PATH and click=X,Y")
     return KeyPress(name)
 
 
@@ -228,9 +240,20 @@ def _parse_word(word: str, keymap: dict[str, Command], in_prompt: bool) -> tuple
         if not path:
             raise KeyMapError("f= needs a file name: f=PATH")
         return KeyPress("f", path), count
+    if word.startswith(CLICK_PREFIX):
+        return _click_press(word), count
     if in_prompt:
         return _prompt_press(word, keymap), count
     return key_press(word, keymap), count
+
+
+def _click_press(word: str) -> KeyPress:
+    """`click=X,Y`: the pixel X columns and Y rows from the top-left (whether the picture holds it is
+    known only when it is clicked)."""
+    match = _CLICK.match(word[len(CLICK_PREFIX):])
+    if match is None:
+        raise KeyMapError(f"{shortened(word)!r}: a click is click=X,Y, whole pixels from the top-left (click=400,300)")
+    return click(int(match["column"]), int(match["row"]))
 
 
 def _prompt_press(word: str, keymap: dict[str, Command]) -> KeyPress:
@@ -270,6 +293,9 @@ def dispatch(scene: Scene, key: KeyPress, host: Host, keymap: dict[str, Command]
     commands.end_view_gesture(scene)
     if key.path is not None:
         commands.load_file(scene, host, key.path)
+        return
+    if key.pixel is not None:
+        commands.select_at(scene, host, key.pixel)
         return
     command = keymap.get(key.token)
     if command is None:

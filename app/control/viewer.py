@@ -285,6 +285,10 @@ class Viewer:
         if self.prompt is not None and key.path is None:
             self._prompt_key(key.token)
             return
+        if self.strict and key.pixel is not None:  # a click off the picture is a mistake in the keys, as a bad key is
+            refusal = commands.click_refusal(self, key.pixel)
+            if refusal is not None:
+                raise ViewerError(refusal)
         before = self._seen_selected()
         keymap.dispatch(self.scene, key, self)
         if before is not None:

@@ -22,7 +22,7 @@ import numpy as np
 from moderngl_window.timers.clock import Timer
 
 from marraztu.control import commands
-from marraztu.control.keymap import KeyPress
+from marraztu.control.keymap import KeyPress, click
 from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer, starting_scene
 from marraztu.errors import LoadError, ViewerError, escaped
 from marraztu.frontends.heap import return_freed_memory
@@ -43,6 +43,10 @@ WATCH_INTERVAL_S = 0.5  # --watch looks at the models' files this often: soon en
 # A frame is drawn only when something changed; between frames the loop sleeps in the window
 # system's event wait, waking at least this often for what no event announces (a load finishing).
 IDLE_WAKE_S = 0.1
+# A left press and release with the pointer moved no further in between is a click, not a drag: a hand
+# shakes a pixel or two (GTK's and Windows' drag thresholds are of this size).
+CLICK_TRAVEL_PX = 3
+LEFT_BUTTON = 1  # moderngl-window's number of the left button
 
 
 class Unchanged(Enum):
@@ -172,6 +176,7 @@ class ViewerWindow:
         self.drawn_loading_lines: list[str] = []  # the loading lines of the last frame
         self.held_scene = HeldPicture(self.ctx)
         self.recording: list[np.ndarray] | None = None  # F9: the pictures drawn since it was pressed
+        self.click_travel: int | None = None  # how far the pointer went since a left press (None: no left press)
         self._connect_events()
         self._close_when_destroyed()
         self._take_drag_messages()
@@ -183,13 +188,15 @@ class ViewerWindow:
         wnd.unicode_char_entered_func = self.on_unicode_char_entered
         wnd.mouse_drag_event_func = self.on_mouse_drag_event
         wnd.mouse_scroll_event_func = self.on_mouse_scroll_event
-        wnd.mouse_press_event_func = self.on_mouse_button_event
-        wnd.mouse_release_event_func = self.on_mouse_button_event
+        wnd.mouse_press_event_func = self.on_mouse_press_event
+        wnd.mouse_release_event_func = self.on_mouse_release_event
         wnd.files_dropped_event_func = self.on_files_dropped_event
         wnd.resize_func = self.on_resize
         pyglet_window = getattr(wnd, "_window", None)
         if pyglet_window is not None:  # uncovered after being hidden: the window system lost the picture
             pyglet_window.push_handlers(on_expose=self.on_expose, on_text_motion=self.on_text_motion)
+            # before moderngl-window's drag handler, which moves the view: a press that moves is no click
+            pyglet_window.push_handlers(on_mouse_drag=self.on_pointer_travel)
 
     def _close_when_destroyed(self) -> None:
         """Without a window manager, `xdotool windowclose` destroys the X window outright and no close
@@ -393,11 +400,39 @@ class ViewerWindow:
         commands.dolly_view(self.scene, y_offset)
 
     @guarded
-    def on_mouse_button_event(self, x: int, y: int, button: int) -> Unchanged:
-        """A press or a release ends a gesture: the next drag is an undo step of its own (the status
-        counts them)."""
+    def on_mouse_press_event(self, x: int, y: int, button: int) -> Unchanged:
+        """A press ends a gesture: the next drag is an undo step of its own (the status counts them). A
+        left one may begin a click."""
         commands.end_view_gesture(self.scene)
+        self.click_travel = 0 if button == LEFT_BUTTON else None
         return Unchanged.SCENE
+
+    @guarded
+    def on_mouse_release_event(self, x: int, y: int, button: int) -> Unchanged | None:
+        """A release ends a gesture too; the left button's, the pointer kept within CLICK_TRAVEL_PX of
+        where it was pressed, is a click: the object and the face drawn at that pixel are selected."""
+        commands.end_view_gesture(self.scene)
+        clicked = button == LEFT_BUTTON and self.click_travel is not None and self.click_travel <= CLICK_TRAVEL_PX
+        self.click_travel = None
+        if not clicked:
+            return Unchanged.SCENE
+        self.viewer.press(click(*self._framebuffer_pixel(x, y)))
+        return None
+
+    def on_pointer_travel(self, x: int, y: int, dx: int, dy: int, buttons: int, modifiers: int) -> None:
+        """pyglet's drag event, which moderngl-window's handler (the view's moves) also hears: how far
+        a press that may be a click has gone."""
+        if self.click_travel is not None:
+            self.click_travel += max(abs(dx), abs(dy))
+
+    def _framebuffer_pixel(self, x: float, y: float) -> tuple[int, int]:
+        """The framebuffer's pixel (column, row from the top-left) under moderngl-window's mouse point: it
+        gives pyglet's y (0 on the bottom row) as height - y, so the top row is 1; and on a HiDPI screen
+        the framebuffer has more pixels than the window has points."""
+        (width, height), (buffer_width, buffer_height) = self.wnd.size, self.wnd.buffer_size
+        column = int(x * buffer_width / max(width, 1))
+        row = int((y - 1) * buffer_height / max(height, 1))
+        return min(max(column, 0), buffer_width - 1), min(max(row, 0), buffer_height - 1)
 
     @guarded
     def on_files_dropped_event(self, x: int, y: int, entries: list[str | Path]) -> Unchanged:

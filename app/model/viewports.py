@@ -1,5 +1,6 @@
-"""The views of the scene in a framebuffer (one, or three side by side) and how a world point lands on
-a pixel. No GL: the renderer draws these views and the text layer labels them.
+"""The views of the scene in a framebuffer (one, or three side by side), how a world point lands on a
+pixel and which world points a pixel shows. No GL: the renderer draws these views, the text layer
+labels them, and a click finds its face in them (marraztu.model.picking).
 """
 
 from __future__ import annotations
@@ -58,3 +59,34 @@ def project(view_projection: np.ndarray, point: np.ndarray,
     ndc = clip[:3] / clip[3]
     return x0 + (ndc[0] + 1.0) / 2.0 * width, y0 + (ndc[1] + 1.0) / 2.0 * height
 
+
+def pixel_refusal(pixel: tuple[int, int], size: tuple[int, int]) -> str | None:
+    """Why `pixel` (column, row from the top-left) is no pixel of a framebuffer of `size` (None: it is)."""
+    column, row = pixel
+    width, height = size
+    if 0 <= column < width and 0 <= row < height:
+        return None
+    return f"click={column},{row} lies outside the {width}x{height} picture (0,0 is its top-left pixel)"
+
+
+def pixel_centre(pixel: tuple[int, int], size: tuple[int, int]) -> tuple[float, float]:
+    """The centre of `pixel` (column, row from the top-left) in GL's window coordinates (origin at the
+    bottom-left, pixel centres at .5), where the rasteriser samples it."""
+    return pixel[0] + 0.5, size[1] - pixel[1] - 0.5
+
+
+def view_at(scene: Scene, size: tuple[int, int], point: tuple[float, float]) -> View:
+    """The view that holds a window point (`pixel_centre`'s): side by side, the third it falls in."""
+    shown = views(scene, size)
+    return next((view for view in shown if point[0] < view.viewport[0] + view.viewport[2]), shown[-1])
+
+
+def pixel_segment(view_projection: np.ndarray, point: tuple[float, float],
+                  viewport: tuple[int, int, int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """The world points a window point shows, from the near plane to the far one (NDC z = -1 and +1):
+    `project`'s inverse, along the ray the rasteriser samples there."""
+    x0, y0, width, height = viewport
+    ndc_x, ndc_y = 2.0 * (point[0] - x0) / width - 1.0, 2.0 * (point[1] - y0) / height - 1.0
+    ends = np.linalg.inv(view_projection) @ np.array([[ndc_x, ndc_x], [ndc_y, ndc_y], [-1.0, 1.0], [1.0, 1.0]])
+    near, far = (ends[:3] / ends[3]).T
+    return near, far

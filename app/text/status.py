@@ -87,6 +87,7 @@ def help_lines(scene: Scene, keymap: Mapping[str, Command]) -> list[str]:
         line = f"{tokens:<{width}}  {words}"
         lines.append(f"{line}  [{state}]" if state else line)
     lines.append(f"{'f=PATH':<{width}}  (in --keys) load PATH")
+    lines.append(f"{'click':<{width}}  select the object and face drawn there (click=X,Y in --keys)")
     return lines
 
 

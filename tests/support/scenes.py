@@ -75,6 +75,9 @@ class RecordingHost:
     def narrowest_aspect(self) -> float:
         return 1.0  # a square view, as the scenes' tests draw
 
+    def frame_size(self) -> tuple[int, int] | None:
+        return None  # no picture: a click is refused
+
     def load_model(self, path: str) -> bool | None:
         self.calls.append(("load_model", path))
         return None

@@ -1,0 +1,262 @@
+"""A left click (the window's, or `click=X,Y` in --keys) selects the object and the face drawn at that
+pixel: the ray through the pixel's centre, in the view it falls in, met with what the picture draws.
+The pictures are the judges: in Flat every face is one colour, the probe's, so each picked face's probe
+colour must be the pixel's, and the background must be where nothing is picked."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from marraztu.control import commands
+from marraztu.control.keymap import CLICK_TOKEN, KeyPress, click, parse_key_sequence
+from marraztu.control.viewer import Viewer
+from marraztu.errors import KeyMapError, ViewerError
+from marraztu.model.build import build_mesh
+from marraztu.model.picking import pick
+from marraztu.model.probe import probe
+from marraztu.model.scene import Material, Projection, Scene, SceneObject, Shading, Target
+from marraztu.model.viewports import views
+from support.scenes import BACKGROUND, PLAIN, NoFrontend, box_mesh, quad_mesh, scene_with
+
+SIZE = (121, 91)
+STEP_PX = 3  # the pixels checked: every third column and row
+RED = Material(ka=(0.3, 0.1, 0.1), kd=(0.8, 0.2, 0.1), ks=(0.5, 0.5, 0.5), ns=30.0)
+
+
+def lit(scene: Scene) -> Scene:
+    """The sun and the bulb on: faces of one object differ in colour. Not the object spotlight, which
+    moves with the selection that the checks change."""
+    for light in scene.lights[:2]:
+        light.on = True
+    return scene
+
+
+def two_boxes(projection: Projection = Projection.PERSPECTIVE) -> Scene:
+    """Two turned cubes, the nearer hiding part of the farther."""
+    near = SceneObject.placed("near", box_mesh(25.0), PLAIN, (-15.0, -5.0, 20.0), (25.0, 35.0, 0.0))
+    far = SceneObject.placed("far", box_mesh(30.0), RED, (30.0, 15.0, -30.0), (-20.0, 50.0, 10.0))
+    scene = lit(scene_with([near, far]))
+    scene.modes.projection = projection
+    if projection is Projection.PARALLEL:
+        scene.modes.parallel_half_height = scene.matching_parallel_half_height()
+    return scene
+
+
+def back_over_front() -> Scene:
+    """A square facing away from the camera (a back face), in front of a larger one facing it."""
+    front = SceneObject.placed("front", quad_mesh(50.0), PLAIN, (0.0, 0.0, 0.0))
+    back = SceneObject.placed("back", quad_mesh(20.0, facing_camera=False), RED, (0.0, 0.0, 30.0))
+    return lit(scene_with([front, back]))
+
+
+class Host:
+    """The key map's host for a picture of SIZE."""
+
+    def frame_size(self) -> tuple[int, int]:
+        return SIZE
+
+
+def colour_of(scene: Scene, obj: SceneObject, face: int) -> np.ndarray:
+    """The colour the picture gives the face in Flat: the probe's, or red for a back face."""
+    kept = scene.selected_object, obj.selected_face
+    commands.select_face(scene, scene.objects.index(obj), face)
+    found = probe(scene)
+    scene.selected_object, obj.selected_face = kept
+    return found.displayed(found.vertices[0])
+
+
+def inner_pixels(picture: np.ndarray, columns: range) -> list[tuple[int, int]]:
+    """The checked pixels whose 3x3 neighbours have their colour: none on an edge, where the
+    rasteriser's rule for pixels shared by two triangles decides. `picture` may hold a colour, or a
+    class, per pixel."""
+    found = []
+    for row in range(1, picture.shape[0] - 1, STEP_PX):
+        for column in columns[::STEP_PX]:
+            around = picture[row - 1:row + 2, column - 1:column + 2].reshape(9, -1)
+            if (around == around[0]).all():
+                found.append((column, row))
+    return found
+
+
+def check_picks(offscreen: Callable[..., np.ndarray], scene: Scene, columns: range | None = None,
+                colours: bool = True) -> set[tuple[str, int]]:
+    """Each checked pixel: the background where nothing is picked, else (`colours`) the picked face's
+    colour. The faces picked, by object name."""
+    picture = offscreen(scene, SIZE)
+    picked = set()
+    # Gouraud and Phong shade across a face: there only the background and the rest are told apart
+    classes = picture if colours else (picture == BACKGROUND).all(axis=2)
+    pixels = inner_pixels(classes, columns or range(1, SIZE[0] - 1))
+    assert len(pixels) > 100
+    for column, row in pixels:
+        hit = pick(scene, SIZE, (column, row))
+        shown = picture[row, column]
+        if hit is None:
+            assert tuple(shown) == BACKGROUND, (column, row)
+            continue
+        assert tuple(shown) != BACKGROUND, (column, row, hit.element.name, hit.face)
+        if colours:
+            assert tuple(shown) == tuple(colour_of(scene, hit.element, hit.face)), (column, row, hit.face)
+        picked.add((hit.element.name, hit.face))
+    return picked
+
+
+@pytest.mark.parametrize("projection", list(Projection), ids=lambda p: p.value)
+def test_each_pixel_picks_the_face_drawn_there(offscreen, projection: Projection) -> None:
+    picked = check_picks(offscreen, two_boxes(projection))
+    assert {name for name, _ in picked} == {"near", "far"}
+    assert len(picked) >= 5  # three faces of the near cube, and of the far one what it leaves seen
+
+
+def test_culling_on_picks_the_front_face_behind_a_back_face(offscreen) -> None:
+    scene = back_over_front()
+    centre = (SIZE[0] // 2, SIZE[1] // 2)
+    assert pick(scene, SIZE, centre).element.name == "back"  # drawn red
+    assert ("back", 0) in check_picks(offscreen, scene)
+    scene.modes.culling = True
+    assert pick(scene, SIZE, centre).element.name == "front"  # the back face is culled
+    assert {name for name, _ in check_picks(offscreen, scene)} == {"front"}
+
+
+def test_only_the_faces_drawn_with_o_and_d_are_picked(offscreen) -> None:
+    scene = two_boxes()
+    scene.objects[0].selected_face = 3
+    scene.modes.triangle_only = True  # o: the near cube's faces up to the selected one
+    picked = check_picks(offscreen, scene)
+    assert picked and all(name == "near" and face <= 3 for name, face in picked)
+    scene.modes.draw_all = False  # d: the selected face alone
+    assert check_picks(offscreen, scene) == {("near", 3)}
+    scene.modes.triangle_only = False  # the near cube alone, whole
+    assert {name for name, _ in check_picks(offscreen, scene)} == {"near"}
+
+
+def test_side_by_side_a_click_is_in_the_third_it_falls_in(offscreen) -> None:
+    """Each third is the whole scene at its own aspect: the far cube, off to the right, is met at other
+    pixels than in the whole window. In the Flat third the colours are the probe's too."""
+    scene = two_boxes()
+    scene.modes.side_by_side = True
+    for view in views(scene, SIZE):
+        x0, _, width, _ = view.viewport
+        inside = range(x0 + 3, x0 + width - 3)  # clear of the lines between the thirds
+        picked = check_picks(offscreen, scene, inside, colours=view.shading is Shading.FLAT)
+        assert {name for name, _ in picked} == {"near", "far"}, view.title
+
+
+def test_a_click_selects_the_object_and_face_and_says_so() -> None:
+    scene = two_boxes()
+    scene.selected_object = 1
+    centre = (SIZE[0] // 2 - 10, SIZE[1] // 2)
+    hit = pick(scene, SIZE, centre)
+    assert hit is not None and hit.element is scene.objects[0]
+    commands.select_at(scene, Host(), centre)
+    assert scene.selected_object == 0 and scene.object.selected_face == hit.face
+    assert scene.message == f"near face {hit.face + 1} of 6 (i: its probe, P: its pipeline)"
+    scene.modes.probe = True
+    commands.select_at(scene, Host(), centre)
+    assert scene.message.endswith("(the probe follows it)")
+
+
+def test_thousands_of_faces_are_counted_with_commas_and_a_targeted_light_stays_targeted() -> None:
+    cells = 50
+    u, v = np.meshgrid(np.linspace(-40, 40, cells + 1), np.linspace(-40, 40, cells + 1), indexing="ij")
+    first = (np.arange(cells)[:, None] * (cells + 1) + np.arange(cells)[None, :]).reshape(-1)
+    quads = np.stack([first, first + cells + 1, first + cells + 2, first + 1], axis=1)
+    grid = build_mesh("grid", np.stack([u.ravel(), v.ravel(), np.zeros(u.size)], axis=1), quads)
+    scene = scene_with([SceneObject.placed("grid", grid, PLAIN, (0.0, 0.0, 0.0))])
+    scene.modes.target = Target.LIGHTS
+    commands.select_at(scene, Host(), (SIZE[0] // 2, SIZE[1] // 2))
+    face = scene.object.selected_face
+    assert face > 0 and scene.modes.target is Target.LIGHTS
+    assert scene.message == f"grid face {face + 1:,} of 2,500 (i: its probe, P: its pipeline); lights stay targeted"
+
+
+def test_a_click_on_the_background_or_a_camera_changes_nothing() -> None:
+    scene = two_boxes()
+    other = SceneObject.placed("spare camera", quad_mesh(10.0), PLAIN, (0.0, 0.0, 100.0))
+    scene.cameras.append(other)  # drawn in front of the cubes, at the window's centre
+    scene.selected_object, scene.objects[1].selected_face = 1, 4
+    commands.select_at(scene, Host(), (0, 0))
+    assert scene.message == "nothing drawn at 0,0 (the background): the selection stays"
+    commands.select_at(scene, Host(), (SIZE[0] // 2, SIZE[1] // 2))
+    assert scene.message.startswith("camera spare camera is drawn at")
+    assert (scene.selected_object, scene.objects[1].selected_face, scene.selected_camera) == (1, 4, 0)
+
+
+def test_click_in_a_key_sequence() -> None:
+    assert parse_key_sequence("click=400,300 i click=0,0*2") == [click(400, 300), KeyPress("i"), click(0, 0),
+                                                                 click(0, 0)]
+    assert str(click(400, 300)) == "click=400,300" and click(1, 2).token == CLICK_TOKEN
+    for bad in ("click=", "click=1", "click=-1,2", "click=a,b", "click=1,2,3", "click=1.5,2"):
+        with pytest.raises(KeyMapError, match="click=X,Y"):
+            parse_key_sequence(bad)
+
+
+def test_the_viewer_clicks_in_its_frame_and_refuses_a_pixel_outside_it_where_strict() -> None:
+    centre = (SIZE[0] // 2, SIZE[1] // 2)
+    viewer = Viewer(two_boxes(), NoFrontend(), strict=True, frame_size=lambda: SIZE)
+    viewer.press_sequence(f"click={centre[0] - 10},{centre[1]} i")
+    assert viewer.scene.object.name == "near" and viewer.scene.modes.probe
+    with pytest.raises(ViewerError, match=r"click=121,0 lies outside the 121x91 picture"):
+        viewer.press_sequence("click=121,0")
+    loose = Viewer(two_boxes(), NoFrontend(), frame_size=lambda: SIZE)
+    loose.press_sequence("click=5,91")
+    assert loose.scene.message.startswith("click=5,91 lies outside")
+    unsized = Viewer(two_boxes(), NoFrontend())  # a front end that draws no picture
+    unsized.press_sequence("click=1,1")
+    assert unsized.scene.message == "no picture to click in"
+
+
+# --- the window: a click is a left press and release that hardly moved ------------------------------
+class _Wnd:
+    size, buffer_size = (400, 300), (800, 600)  # a HiDPI screen: two pixels a point
+
+
+def _window() -> SimpleNamespace:
+    pytest.importorskip("pyglet.libs.x11.xlib")  # the window module needs pyglet, as test_window_drag_guard's
+    from marraztu.frontends.window import ViewerWindow
+
+    pressed: list[KeyPress] = []
+    window = SimpleNamespace(viewer=SimpleNamespace(press=pressed.append, scene=scene_with([])), wnd=_Wnd(),
+                             click_travel=None, needs_frame=False, scene_changed=False, last_failure="",
+                             pressed=pressed)
+    window.scene = window.viewer.scene
+    window._framebuffer_pixel = lambda x, y: ViewerWindow._framebuffer_pixel(window, x, y)
+    window.press = lambda x, y, button=1: ViewerWindow.on_mouse_press_event(window, x, y, button)
+    window.release = lambda x, y, button=1: ViewerWindow.on_mouse_release_event(window, x, y, button)
+    window.travel = lambda dx, dy: ViewerWindow.on_pointer_travel(window, 0, 0, dx, dy, 1, 0)
+    return window
+
+
+def test_a_left_press_and_release_in_place_clicks_the_pixel_under_the_pointer() -> None:
+    """moderngl-window gives y as height - pyglet's y, 1 on the top row; the framebuffer has two pixels a point."""
+    window = _window()
+    window.press(100, 51)
+    window.travel(1, -1)  # a hand's shake
+    window.release(101, 50)
+    assert window.pressed == [click(202, 98)] and window.scene_changed
+    window.press(0, 1)
+    window.release(0, 1)
+    assert window.pressed[-1] == click(0, 0)
+
+
+@pytest.mark.parametrize("moves", [[(2, 0), (0, 2)], [(5, 0), (-5, 0)]], ids=["a short drag", "there and back"])
+def test_a_drag_is_no_click(moves: list[tuple[int, int]]) -> None:
+    window = _window()
+    window.press(100, 51)
+    for dx, dy in moves:
+        window.travel(dx, dy)
+    window.release(100, 51)
+    assert window.pressed == []
+
+
+def test_the_other_buttons_do_not_click() -> None:
+    window = _window()
+    for button in (2, 3):
+        window.press(100, 51, button)
+        window.release(100, 51, button)
+    window.release(100, 51)  # a left release with no left press (pressed outside the window)
+    assert window.pressed == []
