@@ -621,7 +621,7 @@ def test_status_line_gives_a_step_and_a_parallel_size_on_a_scale_other_than_the_
 def test_help_lists_every_key_with_its_state(scene: Scene) -> None:
     lines = help_lines(scene, KEYMAP)
     listed = [token for line in lines for token in line.split("  ")[0].split()]
-    assert listed == [*KEYMAP, "f=PATH"]
+    assert listed == [*KEYMAP, "f=PATH", "click"]
     culling = next(line for line in lines if line.startswith("b "))
     assert culling.endswith("[off]")
     press(scene, "b")
