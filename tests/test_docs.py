@@ -72,7 +72,9 @@ def test_the_readmes_scene_file_loads_as_written_beside_its_models(tmp_path: Pat
     (tmp_path / "my.toml").write_text(scene, encoding="utf-8")
     for name in ("camera.obj", "rammer.obj", "selfi.ppm"):
         (tmp_path / name).write_bytes((ASSET_DIR / name).read_bytes())
+    (tmp_path / "concrete.png").write_bytes((ROOT / "docs" / "screenshots" / "start.png").read_bytes())
     with marraztu.Viewer(size=(64, 48), scene=tmp_path / "my.toml") as viewer:
         assert [obj.name for obj in viewer.scene.objects] == ["Rammer_255"]
         assert viewer.scene.objects[0].material.ns == 10
+        assert viewer.scene.objects[0].picture is not None
         assert "checker" not in viewer.message

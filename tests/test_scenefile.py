@@ -739,3 +739,51 @@ def test_the_line_index_of_a_long_scene_holds_no_list_of_its_lines() -> None:
     index, peak = peak_traced_bytes(lambda: scenefile._LineIndex.of(text))
     assert index.array_lines[("objects",)] == [1]
     assert peak < len(text) // 8, peak
+
+
+def _two_quads(tmp_path: Path, texture_line: str) -> Path:
+    (tmp_path / "quad.obj").write_text("v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n")
+    from PIL import Image
+
+    Image.new("RGB", (2, 2), (255, 0, 0)).save(tmp_path / "red.png")
+    left = f'[[objects]]\nname = "left"\nmodel = "quad.obj"\nposition = [-1.5, 0, 0]\n{texture_line}'
+    right = '[[objects]]\nname = "right"\nmodel = "quad.obj"\nposition = [1.5, 0, 0]\n'
+    return write_scene(tmp_path, '[[cameras]]\nposition = [0, 0, 6]\n' + left + right)
+
+
+def test_an_objects_own_texture_is_drawn_in_place_of_the_scenes(tmp_path: Path) -> None:
+    """A floor and a wall could only wear the scene's test picture: a scene file gave no object a
+    picture of its own, as an MTL's map_Kd gives one."""
+    from PIL import Image
+
+    from marraztu.control.viewer import StartOptions
+    from marraztu.frontends.screenshot import take_screenshot
+
+    path = _two_quads(tmp_path, 'texture = "red.png"\n')
+    scene = load_scene(path)
+    left, right = scene.objects
+    assert left.picture_of(-1) is not None and (left.picture_of(-1) == (255, 0, 0)).all()
+    assert right.picture_of(-1) is None  # the scene's
+    shot = take_screenshot(StartOptions(scene_file=path), tmp_path / "shot.png", (120, 60), keys="0 1")
+    pixels = np.asarray(Image.open(shot).convert("RGB")).astype(int)
+    left_pixels, right_pixels = pixels[27:33, 49:55].reshape(-1, 3), pixels[27:33, 64:70].reshape(-1, 3)
+    assert (left_pixels[:, 0] > 0).all() and (left_pixels[:, 1:] == 0).all()
+    assert (right_pixels[:, 1:] > 0).any()
+
+
+def test_an_objects_texture_stays_when_its_file_is_read_again_in_its_place(tmp_path: Path) -> None:
+    from marraztu.control.viewer import Viewer
+    from support.scenes import NoFrontend
+
+    viewer = Viewer(load_scene(_two_quads(tmp_path, 'texture = "red.png"\n')), NoFrontend())
+    left = viewer.scene.objects[0]
+    picture = left.picture
+    assert viewer.replace_model(left, tmp_path / "m.obj")  # PageDown's and --watch's way
+    assert left.picture is picture and left.picture_of(-1) is picture
+
+
+def test_an_objects_texture_that_cannot_be_read_is_refused_at_its_line(tmp_path: Path) -> None:
+    path = _two_quads(tmp_path, 'texture = "missing.png"\n')
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert str(caught.value).startswith(f"{path}:7: objects[1]: texture missing.png: ")

@@ -42,8 +42,11 @@ from itertools import chain
 from pathlib import Path
 from typing import NoReturn
 
+import numpy as np
+
 from marraztu.errors import LoadError, ViewerError
 from marraztu.loaders.files import line_at, read_file, same_file_key, shown
+from marraztu.loaders.images import load_image
 from marraztu.loaders.patterns import compiled
 from marraztu.loaders.registry import load_model, sized
 from marraztu.model.geometry import FLOAT32_MAX
@@ -53,7 +56,7 @@ from marraztu.resources import ASSET_DIR
 
 BUILTIN_SCENE_FILE = "scene.toml"
 TOP_LEVEL_KEYS = frozenset({"texture", "materials", "objects", "cameras"})
-ENTRY_KEYS = frozenset({"name", "model", "position", "rotation", "scale", "material"})
+ENTRY_KEYS = frozenset({"name", "model", "position", "rotation", "scale", "material", "texture"})
 REQUIRED_OBJECT_KEYS = ("model",)  # an object's position is the origin, where a model loaded alone stands
 ORIGIN: Vec3 = (0.0, 0.0, 0.0)
 # A camera's model may be left out: the built-in camera's is drawn, which an installed copy's own
@@ -131,6 +134,8 @@ class SceneEntry:
     what: str  # the entry, as messages name it: "objects[2]"
     scale: Vec3  # the model's size as read, along x, y and z (Mesh.scaled)
     scale_line: int | None
+    texture: str | None = None  # its own picture, as written in the file (relative to it), for messages
+    texture_line: int | None = None
 
 
 @dataclass(frozen=True)
@@ -351,7 +356,9 @@ class _SceneReader:
         rotation = self.triple(table.get("rotation", [0, 0, 0]), f"{what}: rotation", at("rotation"))
         scale = self.scale(table.get("scale", 1), f"{what}: scale", at("scale"))
         material = self.entry_material(table.get("material"), what, at("material"), materials)
-        return SceneEntry(name, model, path, position, rotation, material, at("model"), what, scale, at("scale"))
+        texture = self.text_value(table["texture"], f"{what}: texture", at("texture")) if "texture" in table else None
+        return SceneEntry(name, model, path, position, rotation, material, at("model"), what, scale, at("scale"),
+                          texture, at("texture"))
 
     def entry_material(self, value: object, what: str, line: int | None,
                        materials: dict[str, Material]) -> Material | None:
@@ -568,14 +575,29 @@ class _ModelLoader:
         self.meshes: dict[Path, Mesh] = {}
         self.sized: dict[tuple[Path, Vec3], Mesh] = {}  # the entries of one model at one scale share its mesh
         self.keys: dict[str, Path] = {}  # each spelling resolved once: thousands of entries may name one model
+        self.pictures: dict[str, np.ndarray] = {}  # each object texture read once, whatever wears it
 
     def place(self, entry: SceneEntry) -> SceneObject:
         mesh = self.mesh(entry)
         material = entry.material if entry.material is not None else material_for_loaded(mesh)
         obj = SceneObject.placed(entry.name, mesh, material, entry.position, entry.rotation, source=entry.model_path)
         obj.scale = entry.scale
+        obj.picture = self.picture(entry)
         give_part_materials(obj, from_scene=entry.material is not None)
         return obj
+
+    def picture(self, entry: SceneEntry) -> np.ndarray | None:
+        """The entry's own texture, read once for every entry that names it; a LoadError at its line (the
+        scene's own texture is SPEC 7's, with the checker: an object's is named as its model is)."""
+        if entry.texture is None:
+            return None
+        if entry.texture not in self.pictures:
+            try:
+                self.pictures[entry.texture] = load_image(self.scene_path.parent / entry.texture)
+            except (ViewerError, OSError) as err:
+                raise LoadError(self.scene_path, f"{entry.what}: texture {shown(entry.texture)}: {err}",
+                                entry.texture_line) from err
+        return self.pictures[entry.texture]
 
     def mesh(self, entry: SceneEntry) -> Mesh:
         key = self.keys.get(entry.model)

@@ -103,7 +103,7 @@ def _textured(scene: Scene, obj: SceneObject, face: int) -> bool:
     """Whether a picture multiplies the face's pixels: the texture is on and the face's part is not
     drawn plain (its vertex colours take the picture's place)."""
     part = -1 if obj.mesh.face_material is None else int(obj.mesh.face_material[face])
-    return scene.modes.texture and obj.mesh.own_picture(part) is not PLAIN_PICTURE
+    return scene.modes.texture and obj.picture_of(part) is not PLAIN_PICTURE
 
 
 def facings(scene: Scene, obj: SceneObject, faces: np.ndarray) -> np.ndarray:

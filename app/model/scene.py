@@ -209,6 +209,8 @@ class SceneObject:
     file_materials: tuple[Material, ...] = ()  # what the file gave each part: a part drawn with another is not its
     # The scene file's `scale` its mesh was read at (Mesh.scaled): a file read again in its place is too.
     scale: Vec3 = (1.0, 1.0, 1.0)
+    # A scene file's `texture` for this object, (H, W, 3) uint8: drawn in place of its file's and the scene's.
+    picture: np.ndarray | None = None
 
     @classmethod
     def placed(cls, name: str, mesh: Mesh, material: Material, position: Vec3,
@@ -227,6 +229,10 @@ class SceneObject:
     @property
     def model(self) -> np.ndarray:
         return self.history[-1]
+
+    def picture_of(self, part: int) -> np.ndarray | None:
+        """The picture the file's material `part` (-1: the whole) is drawn with; None: the scene's."""
+        return self.picture if self.picture is not None else self.mesh.own_picture(part)
 
     def material_of(self, index: int) -> Material:
         """The material of the file's material `index` (Mesh.materials); -1: the object's own."""

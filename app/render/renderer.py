@@ -321,7 +321,7 @@ class Renderer:
         live = {(obj.uid, part) for obj in elements for part in range(WHOLE, len(obj.mesh.parts))}
         for key in [key for key in self._objects if key not in live]:
             self._meshes.release(self._objects.pop(key))
-        pictures = {id(obj.mesh.own_picture(part)) for obj in elements
+        pictures = {id(obj.picture_of(part)) for obj in elements
                     for part in range(WHOLE, len(obj.mesh.materials))}
         for key in [key for key in self._file_textures if key not in pictures]:
             self._file_textures.pop(key)[1].release()
@@ -494,7 +494,7 @@ class Renderer:
         if self.reads_lit_rows:
             self.lighting_passes += gpu.light(self.way.shading, self._lighting_inputs(material), item.start, item.stop)
         assert self.texture is not None
-        picture = item.obj.mesh.own_picture(item.file_material)
+        picture = item.obj.picture_of(item.file_material)
         (self.texture if picture is None else self._file_texture(picture)).use(location=0)
         self.draw(gpu.surface(self.way), moderngl.TRIANGLES, gpu.shared.surface_range(item.start, item.stop))
 
