@@ -1280,6 +1280,35 @@ def test_the_screenshot_command_tells_numba_compiles_the_reader(tmp_path: Path, 
     assert front.notices == [obj_module.READER_COMPILING]
 
 
+def test_the_screenshot_command_tells_it_for_a_scene_files_model(tmp_path: Path, monkeypatch, capsys) -> None:
+    """A scene file's large OBJ (--scene) was read with no stage heard: numba compiled for seconds in silence."""
+    from marraztu.control.viewer import StartOptions
+    from marraztu.frontends.screenshot import take_screenshot
+
+    path = tmp_path / "big.obj"
+    path.write_bytes(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n" + b"f 1 2 3\n" * (obj_module.COMPILED_READER_BYTES // 8))
+    (tmp_path / "scene.toml").write_text('[[objects]]\nmodel = "big.obj"\n')
+    said = _compiling_for_as_long_as_it_takes(monkeypatch, cached=False)
+    monkeypatch.setattr(sys, "stderr", _SaysWhenTold(sys.stderr, obj_module.READER_COMPILING, said))
+    take_screenshot(StartOptions(scene_file=tmp_path / "scene.toml"), tmp_path / "shot.png", (16, 16))
+    assert said.is_set()
+
+
+class _SaysWhenTold:
+    """stderr, setting `said` once `words` are written to it."""
+
+    def __init__(self, stream, words: str, said: threading.Event) -> None:
+        self.stream, self.words, self.said = stream, words, said
+
+    def write(self, text: str) -> int:
+        if self.words in text:
+            self.said.set()
+        return self.stream.write(text)
+
+    def flush(self) -> None:
+        self.stream.flush()
+
+
 def test_numba_is_asked_whether_its_cache_holds_a_functions_machine_code(tmp_path: Path, monkeypatch) -> None:
     from marraztu.model import jit
 

@@ -138,7 +138,7 @@ def test_one_model_spelled_three_ways_is_loaded_once(tmp_path: Path, monkeypatch
 
     loaded: list[Path] = []
 
-    def counting_load(path: Path) -> Mesh:
+    def counting_load(path: Path, stage: object = None) -> Mesh:
         loaded.append(path)
         return load_model_as_is(path)
 
@@ -187,7 +187,7 @@ def test_entries_of_one_model_at_one_scale_share_its_mesh(tmp_path: Path, monkey
     import marraztu.loaders.scenefile as scenefile
 
     loaded: list[Path] = []
-    monkeypatch.setattr(scenefile, "load_model", lambda path: loaded.append(path) or load_model_as_read(path))
+    monkeypatch.setattr(scenefile, "load_model", lambda path, _=None: loaded.append(path) or load_model_as_read(path))
     entries = "".join(f'[[objects]]\nmodel = "m.obj"\nscale = {scale}\n' for scale in ("2", "[2, 2, 2]", "3", "1"))
     scene = load_scene(write_scene(tmp_path, CAMERA + entries))
     assert len(loaded) == 1

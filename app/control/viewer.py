@@ -8,6 +8,7 @@ is not here: every front end hands the viewer's scene to the one renderer.
 
 from __future__ import annotations
 
+import functools
 import threading
 import time
 from collections.abc import Callable
@@ -59,12 +60,13 @@ class StartOptions:
     watch: bool = False  # reload a model when its file changes on disk (the window's --watch)
 
 
-def starting_scene(options: StartOptions) -> Scene:
-    """Raises LoadError when the scene file is bad: there is no earlier scene to fall back on."""
+def starting_scene(options: StartOptions, notice: Callable[[str], None] | None = None) -> Scene:
+    """Raises LoadError when the scene file is bad: there is no earlier scene to fall back on. `notice`
+    hears what a scene file's loads tell as the screenshot command's do (tell_compiling)."""
     if options.empty:
         return empty_scene()
     if options.scene_file is not None:
-        return load_scene(options.scene_file)
+        return load_scene(options.scene_file, None if notice is None else functools.partial(tell_compiling, notice))
     return load_builtin_scene()
 
 
@@ -349,10 +351,7 @@ class Viewer:
         return True
 
     def _waiting_on(self, stage: str) -> None:
-        """A load the viewer waits on, with no status line meanwhile (the screenshot command's): the one
-        stage that takes seconds, numba compiling the OBJ reader once after install, is told as it begins."""
-        if stage == READER_COMPILING:
-            self.frontend.notice(stage)
+        tell_compiling(self.frontend.notice, stage)
 
     def collect_loads(self) -> None:
         """Adds what the worker finished, in the order asked; a failure leaves only its message."""
@@ -544,6 +543,13 @@ def _loaded_message(obj: SceneObject, path: Path, kind: str, where: str) -> tupl
     """A load's message, and whether it is worth a notice: notes, or a place the view does not show."""
     text = with_notes(f"loaded {path.name} as a new {kind}: {obj.mesh.summary()}{where}", obj.mesh)
     return text, bool(obj.mesh.warnings) or bool(where)
+
+
+def tell_compiling(notice: Callable[[str], None], stage: str) -> None:
+    """A stage of a load waited on with no status line meanwhile (the screenshot command's): the one that
+    takes seconds, numba compiling the OBJ reader once after install, is told as it begins."""
+    if stage == READER_COMPILING:
+        notice(stage)
 
 
 def _lost_notice(obj: SceneObject, where: str) -> str:

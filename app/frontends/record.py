@@ -80,12 +80,12 @@ def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, f
     check_recording_size(len(presses), size)
     inputs = [*options.models, options.texture, options.scene_file, *(press.path for press in set_up + presses)]
     check_output(out, inputs, RECORDING_FORMATS, "an animation")
-    scene = starting_scene(options)
+    frontend = OffscreenFrontend()
+    scene = starting_scene(options, frontend.notice)
     check_output(out, [scene.texture_path], RECORDING_FORMATS, "an animation")
     ctx = create_offscreen_context()
     try:
         renderer = Renderer(ctx)
-        frontend = OffscreenFrontend()
         viewer = Viewer(scene, frontend, strict=True, frame_size=lambda: size)
         viewer.start(options, renderer.max_texture_side)
         inputs = InputsGuard(out, RECORDING_FORMATS, "an animation")

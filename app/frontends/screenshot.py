@@ -55,12 +55,12 @@ def take_screenshot(options: StartOptions, out: Path, size: tuple[int, int], key
     """Renders the starting scene after `keys` into the picture `out`; ViewerError on bad input."""
     presses = parse_key_sequence(keys)
     check_output(out, [*options.models, options.texture, options.scene_file, *(press.path for press in presses)])
-    scene = starting_scene(options)
+    frontend = OffscreenFrontend()
+    scene = starting_scene(options, frontend.notice)
     check_output(out, [scene.texture_path])
     ctx = create_offscreen_context()
     try:
         renderer = Renderer(ctx)
-        frontend = OffscreenFrontend()
         viewer = Viewer(scene, frontend, strict=True, frame_size=lambda: size)
         viewer.start(options, renderer.max_texture_side)
         inputs = InputsGuard(out)

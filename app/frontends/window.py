@@ -164,7 +164,7 @@ class ViewerWindow:
         self.text_of_press: str | None = None  # a named key just pressed, whose own text or motion comes next
         self.renderer = Renderer(self.ctx)
         loader = BackgroundLoader(prepare_surface, wake=_wake_event_loop)
-        self.viewer = Viewer(starting_scene(options), self, background=loader,
+        self.viewer = Viewer(starting_scene(options, self.notice), self, background=loader,
                              frame_size=lambda: self.wnd.buffer_size)
         self.viewer.start(options, self.renderer.max_texture_side)
         self.overlay = Overlay(self.ctx)

@@ -48,7 +48,7 @@ from marraztu.errors import LoadError, ViewerError
 from marraztu.loaders.files import line_at, read_file, same_file_key, shown
 from marraztu.loaders.images import load_image
 from marraztu.loaders.patterns import compiled
-from marraztu.loaders.registry import load_model, sized
+from marraztu.loaders.registry import Stage, load_model, sized
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import Material, Scene, SceneObject, Vec3
@@ -157,10 +157,11 @@ def builtin_scene_path() -> Path:
     return ASSET_DIR / BUILTIN_SCENE_FILE
 
 
-def load_scene(path: str | Path) -> Scene:
-    """The scene a TOML file describes, every model loaded; LoadError naming the file otherwise."""
+def load_scene(path: str | Path, stage: Stage | None = None) -> Scene:
+    """The scene a TOML file describes, every model loaded; LoadError naming the file otherwise. `stage`
+    hears the loads' stages."""
     description = read_scene_description(path)
-    loader = _ModelLoader(description.path)
+    loader = _ModelLoader(description.path, stage)
     return Scene(objects=[loader.place(entry) for entry in description.objects],
                  cameras=[loader.place(entry) for entry in description.cameras],
                  texture_path=_optional_str(description.texture_path), texture_named_at=_texture_named_at(description),
@@ -570,8 +571,9 @@ def _unquoted(part: str) -> str:
 class _ModelLoader:
     """Loads each model file once per scene, wrapping its errors so they name the scene file too."""
 
-    def __init__(self, scene_path: Path) -> None:
+    def __init__(self, scene_path: Path, stage: Stage | None = None) -> None:
         self.scene_path = scene_path
+        self.stage = stage
         self.meshes: dict[Path, Mesh] = {}
         self.sized: dict[tuple[Path, Vec3], Mesh] = {}  # the entries of one model at one scale share its mesh
         self.keys: dict[str, Path] = {}  # each spelling resolved once: thousands of entries may name one model
@@ -605,7 +607,7 @@ class _ModelLoader:
             key = self.keys[entry.model] = same_file_key(entry.model_path)  # x.obj and ./x.obj: one model
         if key not in self.meshes:
             try:
-                self.meshes[key] = load_model(entry.model_path.absolute())
+                self.meshes[key] = load_model(entry.model_path.absolute(), self.stage)
             except (ViewerError, OSError) as err:
                 raise LoadError(self.scene_path, f"model {shown(entry.model)}: {err}", entry.line) from err
         if (key, entry.scale) not in self.sized:
