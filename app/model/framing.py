@@ -69,7 +69,7 @@ def frame_objects(scene: Scene, camera_model: np.ndarray, objects: list[SceneObj
     height that frames them (the current one in perspective)."""
     centre, radius = bounding_sphere(objects)
     parallel = scene.modes.projection is Projection.PARALLEL
-    half_height = _framed_radius(radius) / _narrowness(aspect) / FILL if parallel else scene.modes.parallel_half_height
+    half_height = _framed_half_height(radius, aspect) if parallel else scene.modes.parallel_half_height
     return framed(camera_model, centre, radius, aspect), half_height
 
 
@@ -78,11 +78,15 @@ def framed_scale(scene: Scene, obj: SceneObject, aspect: float = 1.0) -> float:
     framing's distance over the eye's from its sphere's centre (in parallel projection, the framing's
     view size over the view's)."""
     centre, radius = bounding_sphere([obj])
-    radius = _framed_radius(radius)
     if scene.modes.projection is Projection.PARALLEL:
-        return radius / _narrowness(aspect) / FILL / scene.modes.parallel_half_height
+        return _framed_half_height(radius, aspect) / scene.modes.parallel_half_height
     distance = float(np.linalg.norm(centre - scene.eye_position()))
-    return framing_distance(radius, aspect) / distance if distance > 0.0 else math.inf
+    return framing_distance(_framed_radius(radius), aspect) / distance if distance > 0.0 else math.inf
+
+
+def _framed_half_height(radius: float, aspect: float) -> float:
+    """The parallel view's half height in which a sphere of `radius` fills FILL of a view `aspect` wide."""
+    return _framed_radius(radius) / _narrowness(aspect) / FILL
 
 
 def _narrowness(aspect: float) -> float:
