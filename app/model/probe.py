@@ -111,11 +111,8 @@ def facings(scene: Scene, obj: SceneObject, faces: np.ndarray) -> np.ndarray:
     5's back-face test, as the shaders make it."""
     mesh = obj.mesh
     normals, _ = unit_rows(mesh.face_normals[faces] @ normal_matrix(obj.model).T)
-    if scene.modes.projection is Projection.PARALLEL:
-        return normals @ unit(scene.eye_backward())
     firsts = transform_points(obj.model, mesh.positions[mesh.corner_vertex[mesh.face_start[faces]]])
-    views, _ = unit_rows(scene.eye_position() - firsts)
-    return np.einsum("ij,ij->i", normals, views)
+    return np.einsum("ij,ij->i", normals, _toward_eyes(scene, firsts))
 
 
 class _VertexLighting:
@@ -143,15 +140,16 @@ class _VertexLighting:
             corner=corner, vertex=vertex, world_position=position,
             camera_position=transform_point(self.view, position), world_normal=normal,
             camera_normal=_world_normal(self.view, normal),
-            n_dot_v=float(normal @ _toward_eye(self.scene, position)),
+            n_dot_v=float(normal @ _toward_eyes(self.scene, position[None])[0]),
             terms=terms, lights=self.lights, shown=terms.in_view(self.weights, self.shown_names))
 
 
-def _toward_eye(scene: Scene, point: np.ndarray) -> np.ndarray:
-    """SPEC 4's V: toward the eye in perspective, the viewer's backward axis in parallel."""
+def _toward_eyes(scene: Scene, points: np.ndarray) -> np.ndarray:
+    """SPEC 4's V at each of these (N, 3) world points: toward the eye in perspective, the viewer's
+    backward axis in parallel."""
     if scene.modes.projection is Projection.PARALLEL:
-        return unit(scene.eye_backward())
-    return unit(scene.eye_position() - point)
+        return np.broadcast_to(unit(scene.eye_backward()), points.shape)
+    return unit_rows(scene.eye_position() - points)[0]
 
 
 def _world_normal(matrix: np.ndarray, normal: np.ndarray) -> np.ndarray:
