@@ -1,9 +1,9 @@
 """Framing: where a camera stands to see some objects whole, whatever their units.
 
 The camera keeps the direction it looks in and moves along it until the objects' bounding sphere
-fills FILL of the view's height: in perspective the sphere's angular size, in parallel projection
-its share of the half height. Only a view that would see them edge or end on turns first
-(revealing): the start's, and `.`'s.
+fills FILL of the view's narrower side (its height in a wide view): in perspective the sphere's
+angular size, in parallel projection its share of the half height or half width. Only a view that
+would see them edge or end on turns first (revealing): the start's, and `.`'s.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import numpy as np
 from marraztu.model import transforms
 from marraztu.model.scene import PERSPECTIVE_FOVY_DEG, Projection, Scene, SceneObject, world_box
 
-FILL = 2.0 / 3.0  # of the view's height: the model whole, with a margin round it
+FILL = 2.0 / 3.0  # of the view's narrower side: the model whole, with a margin round it
 # A view whose box shows less than this share of its largest side's area (a ground plane edge
 # on, a beam end on) turns to look from above, right and in front, as a drawing's oblique view does.
 THIN_VIEW_SHARE = 0.1

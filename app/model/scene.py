@@ -810,7 +810,8 @@ def perspective_half_height(depth: float) -> float:
 
 def world_axes_lengths(high: np.ndarray, extent: float) -> np.ndarray:
     """How far the world's x, y and z axes reach from the origin, for objects whose box ends at `high`:
-    a box further off than an extent is not around the origin, and does not lengthen them."""
+    half an extent past that end (past the origin where the box ends short of it), and no further than
+    one and a half extents, since a box reaching further is not around the origin."""
     return np.maximum(extent / 2.0, np.clip(high, 0.0, extent) + WORLD_AXES_PAST_BOX * extent)
 
 
