@@ -396,8 +396,8 @@ class Viewer:
             self.tell(f"{loaded.source.name} was read, but {element.name} has left the scene meanwhile")
             return
         old_name = element.name
-        watched = element is self.scene.object and self.scene.viewer is not element
-        seen = watched and not self._unseen_as(element, by_scale=True)
+        selected = element is self.scene.object and self.scene.viewer is not element
+        seen = selected and not self._unseen_as(element, by_scale=True)
         commands.replace_loaded(self.scene, element, loaded)
         said = with_notes(f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}", loaded.mesh)
         where = self._unseen_as(element, by_scale=True) if seen else ""

@@ -43,8 +43,8 @@ WATCH_INTERVAL_S = 0.5  # --watch looks at the models' files this often: soon en
 # A frame is drawn only when something changed; between frames the loop sleeps in the window
 # system's event wait, waking at least this often for what no event announces (a load finishing).
 IDLE_WAKE_S = 0.1
-# A left press and release with the pointer moved no further in between is a click, not a drag: a hand
-# shakes a pixel or two (GTK's and Windows' drag thresholds are of this size).
+# A left press and release with the pointer moved no further in all between them is a click, not a drag:
+# a hand shakes a pixel or two (GTK's and Windows' drag thresholds are of this size).
 CLICK_TRAVEL_PX = 3
 LEFT_BUTTON = 1  # moderngl-window's number of the left button
 
@@ -409,8 +409,9 @@ class ViewerWindow:
 
     @guarded
     def on_mouse_release_event(self, x: int, y: int, button: int) -> Unchanged | None:
-        """A release ends a gesture too; the left button's, the pointer kept within CLICK_TRAVEL_PX of
-        where it was pressed, is a click: the object and the face drawn at that pixel are selected."""
+        """A release ends a gesture too; the left button's, the pointer moved CLICK_TRAVEL_PX or less in all
+        since the press (there and back counts both ways), is a click: the object and the face drawn at
+        that pixel are selected."""
         commands.end_view_gesture(self.scene)
         clicked = button == LEFT_BUTTON and self.click_travel is not None and self.click_travel <= CLICK_TRAVEL_PX
         self.click_travel = None
