@@ -5,6 +5,7 @@ colour must be the pixel's, and the background must be where nothing is picked."
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
 from types import SimpleNamespace
 
@@ -20,7 +21,7 @@ from marraztu.model.picking import pick
 from marraztu.model.probe import probe
 from marraztu.model.scene import Material, Projection, Scene, SceneObject, Shading, Target
 from marraztu.model.viewports import views
-from support.scenes import BACKGROUND, PLAIN, NoFrontend, box_mesh, quad_mesh, scene_with
+from support.scenes import BACKGROUND, PLAIN, NoFrontend, box_mesh, mesh_from_polygons, quad_mesh, scene_with
 
 SIZE = (121, 91)
 STEP_PX = 3  # the pixels checked: every third column and row
@@ -184,6 +185,19 @@ def test_a_click_on_the_background_or_a_camera_changes_nothing() -> None:
     commands.select_at(scene, Host(), (SIZE[0] // 2, SIZE[1] // 2))
     assert scene.message.startswith("camera spare camera is drawn at")
     assert (scene.selected_object, scene.objects[1].selected_face, scene.selected_camera) == (1, 4, 0)
+
+
+def test_a_click_across_a_zero_area_face_warns_of_nothing() -> None:
+    """A sliver's corners on one line (a file's degenerate face, kept with a fallback normal) met the ray
+    with a determinant of 0: u + v was inf - inf, and numpy printed "RuntimeWarning: invalid value
+    encountered in add" on every such click."""
+    corners = [(-50, 0, 0), (0, 0, 0), (50, 0, 0), (-50, -50, 0), (50, -50, 0), (0, 50, 0)]
+    scene = scene_with([SceneObject.placed("sliver", mesh_from_polygons("sliver", corners, [[0, 1, 2], [3, 4, 5]]),
+                                           PLAIN, (0.0, 0.0, 0.0))])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        hits = [pick(scene, SIZE, (SIZE[0] // 2, row)) for row in range(SIZE[1] // 2 - 2, SIZE[1] // 2 + 3)]
+    assert [hit.face for hit in hits] == [1] * 5
 
 
 def test_click_in_a_key_sequence() -> None:

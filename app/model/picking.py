@@ -91,9 +91,9 @@ def _met_in(element: SceneObject, first: int, last: int, origin: np.ndarray, dir
     determinant = np.einsum("ij,ij->i", edge1, across)
     to_origin = origin - a
     up = np.cross(to_origin, edge1)
-    with np.errstate(divide="ignore", invalid="ignore"):  # a triangle edge on to the ray: det 0, not met
+    with np.errstate(divide="ignore", invalid="ignore"):  # a triangle edge on to the ray, or a sliver: det 0, not met
         u = np.einsum("ij,ij->i", to_origin, across) / determinant
         v = (up @ direction) / determinant
         t = np.einsum("ij,ij->i", edge2, up) / determinant
-    met = (u >= 0.0) & (v >= 0.0) & (u + v <= 1.0) & (t >= 0.0) & (t <= 1.0)
+        met = (u >= 0.0) & (v >= 0.0) & (u + v <= 1.0) & (t >= 0.0) & (t <= 1.0)
     return triangle_faces[met], t[met]
