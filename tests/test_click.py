@@ -200,6 +200,18 @@ def test_a_click_across_a_zero_area_face_warns_of_nothing() -> None:
     assert [hit.face for hit in hits] == [1] * 5
 
 
+def test_looking_through_an_object_a_click_does_not_jump_to_the_object_it_meets() -> None:
+    """With C, the view is the selected object's: a click that selected the box it met put the eye inside
+    that box, so the picture changed whole and the face the panels explained was no longer under the pointer."""
+    eye = SceneObject.placed("eye", box_mesh(5.0), PLAIN, (0.0, 0.0, 0.0))
+    scene = scene_with([eye, SceneObject.placed("ahead", box_mesh(20.0), PLAIN, (0.0, 0.0, -100.0))])
+    scene.modes.view_from_object = True
+    assert pick(scene, SIZE, (SIZE[0] // 2, SIZE[1] // 2)) is not None
+    commands.select_at(scene, Host(), (SIZE[0] // 2, SIZE[1] // 2))
+    assert scene.object is eye and scene.viewer is eye
+    assert scene.message == "looking through eye: a click would look through what it selects (C: the camera again)"
+
+
 def test_click_in_a_key_sequence() -> None:
     assert parse_key_sequence("click=400,300 i click=0,0*2") == [click(400, 300), KeyPress("i"), click(0, 0),
                                                                  click(0, 0)]

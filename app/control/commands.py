@@ -557,10 +557,14 @@ def next_face(scene: Scene, host: Host) -> None:
 def select_at(scene: Scene, host: Host, pixel: tuple[int, int]) -> None:
     """A click (`click=X,Y` in --keys): the object and the face drawn at that pixel (column, row from the
     top-left) selected, whatever is targeted (the probe explains the selected object's face); the
-    background, or a camera's body, changes nothing."""
+    background, a camera's body, or any click while looking through the object (C) changes nothing."""
     refusal = click_refusal(host, pixel)
     if refusal is not None:
         scene.message = refusal
+        return
+    eye = scene.object
+    if eye is not None and scene.viewer is eye:  # the selected object is the eye: another selected, the view jumps
+        scene.message = f"looking through {eye.name}: a click would look through what it selects (C: the camera again)"
         return
     hit = picking.pick(scene, host.frame_size(), pixel)
     where = f"at {pixel[0]},{pixel[1]}"
