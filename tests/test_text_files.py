@@ -70,7 +70,7 @@ def test_the_first_material_after_a_byte_order_mark_is_kept(tmp_path: Path) -> N
     (CAMERA, None),
     ('texture = "t.ppm"\n' + CAMERA, None),
     (CAMERA + "positon = [0, 0, 0]\n", ("cameras[1]: unknown key 'positon' (allowed: material, model, name, "
-                                       "position, rotation, scale)", 4)),
+                                       "position, rotation, scale, texture)", 4)),
     (CAMERA + "model = 3\n", ("TOML syntax: Cannot overwrite a value", 4)),
 ])
 def test_a_scene_after_a_byte_order_mark_reads_as_without_it(tmp_path: Path, text: str, expected: tuple | None) -> None:
