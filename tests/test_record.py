@@ -40,6 +40,12 @@ def screenshot(tmp_path: Path, keys: str) -> np.ndarray:
     return np.asarray(Image.open(out).convert("RGB")).astype(int)
 
 
+def test_one_frame_is_said_as_one(tmp_path: Path, capsys) -> None:
+    """record said '1 frames'."""
+    assert main(["record", "-o", str(tmp_path / "one.png"), "--size", "16x16", "--keys", "y"]) == 0
+    assert capsys.readouterr().out.rstrip().endswith(": 1 frame")
+
+
 def test_animated_png_holds_one_exact_frame_per_press(tmp_path: Path, capsys) -> None:
     out = tmp_path / "turn.png"
     assert main(["record", "-o", str(out), "--size", SIZE, "--keys", KEYS, "--fps", "20"]) == 0
