@@ -21,6 +21,7 @@ uniform vec3 u_colour;
 uniform vec3 u_position;
 uniform float u_point_size;
 uniform vec4 u_viewport;  // x, y, width, height in window pixels
+uniform mat4 u_inverse_view_projection;  // window to world, for a pixel's ray: inverted once a view, on the CPU
 uniform vec3 u_plane_normal;  // the probed face's (world); 0 for a dot of its own
 uniform float u_pull_px;  // toward the eye, as the outline's
 uniform bool u_hidden;  // the pass where the picture's depth hides the dot: its border alone
@@ -36,9 +37,8 @@ const float HOLLOW_BORDER_PX = 2.0;
 // surfaces about the corner, which a square of pixels reaches over, hide it only if they hide the face.
 vec3 on_plane() {
     vec2 ndc = (gl_FragCoord.xy - u_viewport.xy) / u_viewport.zw * 2.0 - 1.0;
-    mat4 unproject = inverse(u_view_projection);
-    vec4 near = unproject * vec4(ndc, -1.0, 1.0);
-    vec4 far = unproject * vec4(ndc, 1.0, 1.0);
+    vec4 near = u_inverse_view_projection * vec4(ndc, -1.0, 1.0);
+    vec4 far = u_inverse_view_projection * vec4(ndc, 1.0, 1.0);
     vec3 start = near.xyz / near.w;
     vec3 along = far.xyz / far.w - start;
     float across = dot(along, u_plane_normal);

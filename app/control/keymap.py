@@ -71,6 +71,7 @@ class Command:
 # --- the table -------------------------------------------------------------------------------------
 # ONE table for the six moving keys: token -> (axis index, sign).
 AXIS_KEYS = {"x": (0, +1), "y": (1, +1), "z": (2, +1), "X": (0, -1), "Y": (1, -1), "Z": (2, -1)}
+AXIS_WORDS = "rotate about / move along"
 
 
 def _on_off(flag: bool) -> str:
@@ -100,21 +101,17 @@ def _aperture_state(scene: Scene) -> str:
     return f"{light.name} {light.aperture_deg:g} deg" if light.aperture_deg < 180.0 else ""
 
 
-def _axis_description(axis_index: int, sign: int) -> str:
-    name = "xyz"[axis_index]
-    way = "+" if sign > 0 else "-"
-    return f"rotate about / move along {way}{name}"
+def _axis_name(axis_index: int, sign: int) -> str:
+    """An axis as the help says it: +x, -z."""
+    return f"{'+' if sign > 0 else '-'}{'xyz'[axis_index]}"
 
 
 def _axis_commands() -> list[Command]:
-    return [Command(token, _axis_description(axis, sign), commands.axis_press(axis, sign),
-                    together=f"rotate about / move along {', '.join(_axis_names(sign))}")
+    of_sign = {sign: ", ".join(_axis_name(axis, way) for axis, way in AXIS_KEYS.values() if way == sign)
+               for sign in (+1, -1)}  # one help line each: +x, +y, +z and -x, -y, -z
+    return [Command(token, f"{AXIS_WORDS} {_axis_name(axis, sign)}", commands.axis_press(axis, sign),
+                    together=f"{AXIS_WORDS} {of_sign[sign]}")
             for token, (axis, sign) in AXIS_KEYS.items()]
-
-
-def _axis_names(sign: int) -> list[str]:
-    """The axes the keys of one sign move along, as the help says them: +x, +y, +z."""
-    return [f"{'+' if sign > 0 else '-'}{'xyz'[axis]}" for axis, way in AXIS_KEYS.values() if way == sign]
 
 
 def _light_commands() -> list[Command]:

@@ -577,7 +577,7 @@ class _ModelLoader:
         self.meshes: dict[Path, Mesh] = {}
         self.sized: dict[tuple[Path, Vec3], Mesh] = {}  # the entries of one model at one scale share its mesh
         self.keys: dict[str, Path] = {}  # each spelling resolved once: thousands of entries may name one model
-        self.pictures: dict[str, np.ndarray] = {}  # each object texture read once, whatever wears it
+        self.pictures: dict[Path, np.ndarray] = {}  # each object texture read once, however spelled
 
     def place(self, entry: SceneEntry) -> SceneObject:
         mesh = self.mesh(entry)
@@ -593,13 +593,15 @@ class _ModelLoader:
         scene's own texture is SPEC 7's, with the checker: an object's is named as its model is)."""
         if entry.texture is None:
             return None
-        if entry.texture not in self.pictures:
+        path = self.scene_path.parent / entry.texture
+        key = same_file_key(path)  # a.png and ./a.png: one picture, as one model
+        if key not in self.pictures:
             try:
-                self.pictures[entry.texture] = load_image(self.scene_path.parent / entry.texture)
+                self.pictures[key] = load_image(path)
             except (ViewerError, OSError) as err:
                 raise LoadError(self.scene_path, f"{entry.what}: texture {shown(entry.texture)}: {err}",
                                 entry.texture_line) from err
-        return self.pictures[entry.texture]
+        return self.pictures[key]
 
     def mesh(self, entry: SceneEntry) -> Mesh:
         key = self.keys.get(entry.model)

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from marraztu.model.probe import probe
+from marraztu.model.probe import probed_face
 from marraztu.model.scene import Lens, Scene, SceneObject
 
 # GL's clip volume: -w <= x, y, z <= w. Each plane by the coordinate it bounds and its side.
@@ -62,7 +62,7 @@ class FacePipeline:
 
 def face_pipeline(scene: Scene, viewport: tuple[int, int, int, int]) -> FacePipeline | None:
     """The selected object's selected face (the probe's face) drawn into `viewport`; None without one."""
-    found = probe(scene, most=0)  # the back-face verdict, made once for the probe and for this view
+    found = probed_face(scene)  # the back-face verdict, made as the probe makes it
     if found is None:
         return None
     obj, mesh = found.obj, found.obj.mesh
@@ -73,9 +73,9 @@ def face_pipeline(scene: Scene, viewport: tuple[int, int, int, int]) -> FacePipe
     start, stop = int(mesh.face_start[found.face]), int(mesh.face_start[found.face + 1])
     corners = tuple(_stages(int(mesh.corner_vertex[corner]), mesh.positions[mesh.corner_vertex[corner]], model,
                             view, projection, viewport) for corner in range(start, stop))
-    return FacePipeline(obj=obj, face=found.face, face_count=found.face_count, model_matrix=model,
+    return FacePipeline(obj=obj, face=found.face, face_count=mesh.face_count, model_matrix=model,
                         view_matrix=view, projection_matrix=projection, lens=lens, viewport=viewport,
-                        corners=corners, facing=found.facing, culling=found.culling)
+                        corners=corners, facing=found.facing, culling=scene.modes.culling)
 
 
 def _stages(vertex: int, point: np.ndarray, model: np.ndarray, view: np.ndarray, projection: np.ndarray,

@@ -78,22 +78,40 @@ class Probe:
         return None if self.culling else BACK_FACE_RGB.copy()
 
 
-def probe(scene: Scene, most: int | None = None) -> Probe | None:
-    """The probe of the selected object's selected face, its first `most` lit vertices worked out (a
-    panel shows a few of a polygon of thousands); None when there is no face to probe."""
+@dataclass(frozen=True)
+class ProbedFace:
+    """The selected object's selected face and how it faces the eye: where the probe, the pipeline
+    panel and the picture's outline of that face start, without lighting anything."""
+
+    obj: SceneObject
+    face: int
+    facing: float  # face normal . V at the polygon's first vertex: SPEC 5's back-face test
+    face_normal: np.ndarray  # (3,) unit, in the world
+
+
+def probed_face(scene: Scene) -> ProbedFace | None:
+    """The face the probe explains; None when there is none."""
     obj = scene.object
     if obj is None or obj.mesh.face_count == 0:
         return None
-    mesh = obj.mesh
-    face = obj.selected_face % mesh.face_count
+    face = obj.selected_face % obj.mesh.face_count
+    return ProbedFace(obj, face, float(facings(scene, obj, np.array([face]))[0]),
+                      _world_normal(obj.model, obj.mesh.face_normals[face]))
+
+
+def probe(scene: Scene, most: int | None = None) -> Probe | None:
+    """The probe of the selected object's selected face, its first `most` lit vertices worked out (a
+    panel shows a few of a polygon of thousands); None when there is no face to probe."""
+    found = probed_face(scene)
+    if found is None:
+        return None
+    obj, face, face_normal = found.obj, found.face, found.face_normal
     gouraud = scene.modes.shading is Shading.GOURAUD
     corners = scene.probed_corners()
-    face_normal = _world_normal(obj.model, mesh.face_normals[face])
-    facing = float(facings(scene, obj, np.array([face]))[0])
     lit = _VertexLighting(scene)
     vertices = tuple(lit.probe(obj, corner, None if gouraud else face_normal) for corner in corners[:most])
-    return Probe(obj=obj, face=face, face_count=mesh.face_count, shading=scene.modes.shading,
-                 facing=facing, face_normal=face_normal, culling=scene.modes.culling,
+    return Probe(obj=obj, face=face, face_count=obj.mesh.face_count, shading=scene.modes.shading,
+                 facing=found.facing, face_normal=face_normal, culling=scene.modes.culling,
                  textured=_textured(scene, obj, face),
                  view=scene.modes.term_view, view_name=scene.term_view_name(), weights=lit.weights,
                  shown_lights=frozenset(lit.shown_names), vertices=vertices, lit_count=len(corners))

@@ -21,7 +21,7 @@ from marraztu.loaders.images import fit_texture
 from marraztu.model.guides import scene_guides
 from marraztu.model.lights import MAX_LIGHTS, Show, WorldLight, shader_defines
 from marraztu.model.mesh import Mesh
-from marraztu.model.probe import Probe, facings, probe
+from marraztu.model.probe import ProbedFace, facings, probed_face
 from marraztu.model.scene import (
     NORMAL_LENGTH_FRACTION,
     Fill,
@@ -368,7 +368,8 @@ class Renderer:
         self._use_way(SurfaceWay(view.shading, depth_view=scene.modes.term_view.shows is Show.DEPTH))
         self.origin = self._frame_origin(scene, items)
         projection = scene.projection_matrix(view.aspect)  # worked out once: its near plane looks at every box
-        self._set_frame_uniforms(scene, projection @ scene.view_matrix() @ translation_by(self.origin))
+        view_projection = projection @ scene.view_matrix() @ translation_by(self.origin)
+        self._set_frame_uniforms(scene, view_projection)
         if filled:
             for item, gpu in items:
                 self._draw_surface(item, gpu)
@@ -377,12 +378,12 @@ class Renderer:
         if scene.modes.normals:
             for item, gpu in items:
                 self._draw_normals(item, gpu, face_normals=view.shading is Shading.FLAT)
-        for uniforms in (self.guide_uniforms, self.outline, self.marker):
-            uniforms.set("u_pixel_per_w", pixel_per_w(projection, view))
+        per_w = pixel_per_w(projection, view)  # what ray_depth.glsl moves depths by
         if scene.modes.guides:
+            self.guide_uniforms.set("u_pixel_per_w", per_w)
             self.guides.draw(scene_guides(scene), self.ctx.fbo, self.origin)
         if scene.modes.probe or scene.modes.pipeline:  # the face the panel follows
-            self._draw_probe_outline(scene, view, filled)
+            self._draw_probe_outline(scene, view, filled, per_w, view_projection)
         if scene.modes.target is Target.LIGHTS:
             self._draw_light_marker(scene)
 
@@ -524,12 +525,13 @@ class Renderer:
         self.edges.set("u_colour", SELECTED_LINE_COLOUR if selected else LINE_COLOUR)
         self._draw_edge_lines(gpu.shared, gpu.shared.edge_range(item.start, item.stop))
 
-    def _draw_probe_outline(self, scene: Scene, view: View, filled: bool) -> None:
+    def _draw_probe_outline(self, scene: Scene, view: View, filled: bool, per_w: float,
+                            view_projection: np.ndarray) -> None:
         """The probed face's edges and a dot on each vertex the probe lights, so that the face can be
         found whatever covers it: in filled mode solid where the picture shows them and dashed (the
         dots hollow) where something hides them, as CAD and x-ray views tell a hidden edge; in lines
         mode, where nothing hides anything, solid over everything."""
-        found = probe(scene, 0)
+        found = probed_face(scene)
         if found is None or found.obj is scene.viewer:
             return
         part, face = part_of_face(found.obj, found.face)
@@ -540,7 +542,9 @@ class Renderer:
         for uniforms in (self.outline, self.marker):
             uniforms.set("u_viewport", tuple(float(c) for c in view.viewport))
             uniforms.set("u_pull_px", pull)
+            uniforms.set("u_pixel_per_w", per_w)
         self.marker.set("u_plane_normal", tuple(float(c) for c in found.face_normal))
+        self.marker.set_matrix("u_inverse_view_projection", np.linalg.inv(view_projection))  # a pixel's ray
         points = scene.probed_points(MAX_PROBE_MARKERS)
         fbo = self.ctx.fbo
         fbo.depth_mask = False  # the picture's depth stays for the second pass to test against
@@ -558,12 +562,8 @@ class Renderer:
         fbo.depth_mask = True
         self.ctx.depth_func = "<"
         self.ctx.disable(moderngl.DEPTH_TEST)
-        # The light's marker, drawn with the same program, is a dot of its own over everything.
-        self.marker.set("u_hidden", False)
-        self.marker.set("u_pull_px", 0.0)
-        self.marker.set("u_plane_normal", (0.0, 0.0, 0.0))
 
-    def _probe_pull_px(self, scene: Scene, found: Probe) -> float:
+    def _probe_pull_px(self, scene: Scene, found: ProbedFace) -> float:
         """How far toward the eye the probe's outline and dots are tested: the outline's pixels lie on
         the face or on a polygon across one of its edges, up to half a pixel off the edge, so the more
         obliquely the most oblique of them is seen, the further."""
@@ -595,6 +595,9 @@ class Renderer:
         light = scene.light
         colour = np.asarray(light.intensity, float) / 255.0 * (1.0 if light.on else 0.4)
         self.ctx.disable(moderngl.DEPTH_TEST)
+        self.marker.set("u_hidden", False)  # a dot of its own, whole: not a probed corner
+        self.marker.set("u_pull_px", 0.0)
+        self.marker.set("u_plane_normal", (0.0, 0.0, 0.0))
         self._draw_marker(scene.placed_light(light).position, colour, MARKER_SIZE_PX)
 
     def _draw_marker(self, position: np.ndarray, colour: np.ndarray, size_px: float) -> None:
