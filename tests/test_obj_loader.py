@@ -1259,25 +1259,14 @@ def test_a_first_large_file_says_numba_compiles_the_reader_once_where_it_does(
 def test_the_screenshot_command_tells_numba_compiles_the_reader(tmp_path: Path, monkeypatch) -> None:
     from marraztu.control.viewer import StartOptions, Viewer
     from marraztu.loaders.scenefile import empty_scene
-
-    class Told:
-        def __init__(self) -> None:
-            self.notices: list[str] = []
-
-        def quit(self) -> None: ...
-        def save_screenshot(self) -> None: ...
-
-        def notice(self, text: str) -> None:
-            self.notices.append(text)
-            if text == obj_module.READER_COMPILING:
-                said.set()
+    from support.scenes import Notices
 
     path = tmp_path / "big.obj"
     path.write_bytes(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n" + b"f 1 2 3\n" * (obj_module.COMPILED_READER_BYTES // 8))
     said = _compiling_for_as_long_as_it_takes(monkeypatch, cached=False)
-    front = Told()
+    front = Notices(heard=lambda text: said.set() if text == obj_module.READER_COMPILING else None)
     Viewer(empty_scene(), front, strict=True).start(StartOptions(empty=True, models=(path,)), longest_texture_side=256)
-    assert front.notices == [obj_module.READER_COMPILING]
+    assert front.told == [obj_module.READER_COMPILING]
 
 
 def test_the_screenshot_command_tells_it_for_a_scene_files_model(tmp_path: Path, monkeypatch, capsys) -> None:

@@ -16,6 +16,7 @@ from marraztu.cli import main
 from marraztu.control.viewer import StartOptions, Viewer
 from marraztu.loaders.images import fallback_texture
 from marraztu.loaders.scenefile import load_scene
+from support.scenes import Notices
 
 TRIANGLE = "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0.5 1\n"
 MATERIAL = "newmtl m\nKd 0.8 0.8 0.8\nmap_Kd q.png\n"
@@ -180,20 +181,6 @@ def test_a_named_texture_takes_the_place_of_a_bad_scene_texture(tmp_path: Path, 
                         "--texture", str(tmp_path / "good.png"))
     assert status == 0 and error == ""
     assert (tmp_path / "shot.png").exists()
-
-
-class Notices:
-    def __init__(self) -> None:
-        self.told: list[str] = []
-
-    def quit(self) -> None:
-        pass
-
-    def save_screenshot(self) -> None:
-        pass
-
-    def notice(self, text: str) -> None:
-        self.told.append(text)
 
 
 def test_the_window_goes_on_with_the_checker(tmp_path: Path) -> None:

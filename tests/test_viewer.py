@@ -13,19 +13,9 @@ from marraztu.errors import ViewerError
 from marraztu.loaders.images import fallback_texture
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
 from support import corpus
+from support.scenes import Notices
 
 GOOD = corpus.TRIANGLE + b"f 1 2 3\n"
-
-
-class Notices:
-    def __init__(self) -> None:
-        self.told: list[str] = []
-
-    def quit(self) -> None: ...
-    def save_screenshot(self) -> None: ...
-
-    def notice(self, text: str) -> None:
-        self.told.append(text)
 
 
 def press(viewer: Viewer, keys: str) -> None:

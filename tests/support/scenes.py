@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -99,6 +99,19 @@ class NoFrontend:
     def quit(self) -> None: ...
     def save_screenshot(self) -> None: ...
     def notice(self, text: str) -> None: ...
+
+
+class Notices(NoFrontend):
+    """A front end that keeps what the viewer tells it (`told`), and hands each to `heard` as it comes."""
+
+    def __init__(self, heard: Callable[[str], None] | None = None) -> None:
+        self.told: list[str] = []
+        self.heard = heard
+
+    def notice(self, text: str) -> None:
+        self.told.append(text)
+        if self.heard is not None:
+            self.heard(text)
 
 
 class RenderingViewer(Viewer):
