@@ -254,6 +254,15 @@ def _window() -> SimpleNamespace:
     window.press = lambda x, y, button=1: ViewerWindow.on_mouse_press_event(window, x, y, button)
     window.release = lambda x, y, button=1: ViewerWindow.on_mouse_release_event(window, x, y, button)
     window.travel = lambda dx, dy: ViewerWindow.on_pointer_travel(window, 0, 0, dx, dy, 1, 0)
+    window.wnd.mouse_states = SimpleNamespace(right=False, middle=False)  # the left button alone
+    window.wnd.modifiers = SimpleNamespace(ctrl=False, shift=False)
+    window.held_motion = (0, 0)
+
+    def drag(dx: int, dy: int) -> None:  # pyglet's drag: our travel first, then moderngl-window's handler
+        window.travel(dx, dy)
+        ViewerWindow.on_mouse_drag_event(window, 0, 0, dx, dy)
+
+    window.drag = drag
     return window
 
 
@@ -277,6 +286,29 @@ def test_a_drag_is_no_click(moves: list[tuple[int, int]]) -> None:
         window.travel(dx, dy)
     window.release(100, 51)
     assert window.pressed == []
+
+
+def test_a_hands_shake_does_not_turn_the_view_before_its_click() -> None:
+    window = _window()
+    start = window.scene.camera.model.copy()
+    window.press(100, 51)
+    window.drag(1, -1)
+    window.drag(-1, 0)
+    window.release(100, 51)
+    assert window.pressed == [click(200, 100)]
+    np.testing.assert_array_equal(window.scene.camera.model, start)
+
+
+def test_a_drag_turns_the_view_as_far_as_the_pointer_went_once_it_is_no_click() -> None:
+    """The motion held while it could still be a click is not lost: 2 + 2 + 2 pixels turn as 6 do."""
+    window, reference = _window(), scene_with([])
+    window.press(100, 51)
+    for _ in range(3):
+        window.drag(2, 0)
+    window.release(106, 51)
+    commands.orbit_view(reference, 6, 0, _Wnd.size)
+    assert window.pressed == []
+    np.testing.assert_allclose(window.scene.camera.model, reference.camera.model, atol=1e-12)
 
 
 def test_the_other_buttons_do_not_click() -> None:

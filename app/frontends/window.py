@@ -177,6 +177,7 @@ class ViewerWindow:
         self.held_scene = HeldPicture(self.ctx)
         self.recording: list[np.ndarray] | None = None  # F9: the pictures drawn since it was pressed
         self.click_travel: int | None = None  # how far the pointer went since a left press (None: no left press)
+        self.held_motion: tuple[int, int] = (0, 0)  # a left drag's motion while it may still be a click
         self._connect_events()
         self._close_when_destroyed()
         self._take_drag_messages()
@@ -385,8 +386,15 @@ class ViewerWindow:
 
     # --- mouse and files ----------------------------------------------------------------------
     @guarded
-    def on_mouse_drag_event(self, x: int, y: int, dx: int, dy: int) -> None:
-        """As f3d and MeshLab: left orbits, right (or shift-left) pans; ctrl-drag turns the target."""
+    def on_mouse_drag_event(self, x: int, y: int, dx: int, dy: int) -> Unchanged | None:
+        """As f3d and MeshLab: left orbits, right (or shift-left) pans; ctrl-drag turns the target. A left
+        drag moves nothing until it is no click, then moves as far as the pointer went since the press."""
+        if self.click_travel is not None:
+            dx, dy = dx + self.held_motion[0], dy + self.held_motion[1]
+            if self.click_travel <= CLICK_TRAVEL_PX:  # a hand's shake must not turn the view it clicks in
+                self.held_motion = (dx, dy)
+                return Unchanged.NOTHING
+            self.held_motion = (0, 0)
         buttons, held = self.wnd.mouse_states, self.wnd.modifiers
         if held.ctrl:
             commands.drag(self.scene, dx, dy, self.wnd.size)
@@ -394,6 +402,7 @@ class ViewerWindow:
             commands.pan_view(self.scene, dx, dy, self.wnd.size[1])
         else:
             commands.orbit_view(self.scene, dx, dy, self.wnd.size)
+        return None
 
     @guarded
     def on_mouse_scroll_event(self, x_offset: float, y_offset: float) -> None:
@@ -405,6 +414,7 @@ class ViewerWindow:
         left one may begin a click."""
         commands.end_view_gesture(self.scene)
         self.click_travel = 0 if button == LEFT_BUTTON else None
+        self.held_motion = (0, 0)
         return Unchanged.SCENE
 
     @guarded
