@@ -250,6 +250,7 @@ def _window() -> SimpleNamespace:
                              click_travel=None, needs_frame=False, scene_changed=False, last_failure="",
                              pressed=pressed)
     window.scene = window.viewer.scene
+    window.viewer.move_by_mouse = lambda move: move(window.scene)
     window._framebuffer_pixel = lambda x, y: ViewerWindow._framebuffer_pixel(window, x, y)
     window.press = lambda x, y, button=1: ViewerWindow.on_mouse_press_event(window, x, y, button)
     window.release = lambda x, y, button=1: ViewerWindow.on_mouse_release_event(window, x, y, button)

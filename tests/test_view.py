@@ -277,6 +277,24 @@ def test_a_key_that_takes_the_selected_model_out_of_view_says_so_once_and_dot_fr
     assert scene.sight(scene.object, aspect) is Sight.SEEN and scene.message == "framed far"
 
 
+@pytest.mark.parametrize("gesture", ["pan", "wheel"])
+def test_a_mouse_gesture_that_takes_the_selected_model_out_of_view_says_so_once(tmp_path: Path,
+                                                                                 gesture: str) -> None:
+    """A right drag that slid the model off the window, or wheel notches away until it was a speck,
+    left a blank view and no word, where a key saying the same said so."""
+    viewer = viewer_with("", (octahedron(tmp_path / "m.obj", 10.0),), empty=True)
+    viewer.scene.message = "loaded m.obj"
+    moves = {"pan": lambda scene: commands.pan_view(scene, 40, 0, 600),
+             "wheel": lambda scene: commands.dolly_view(scene, -3)}[gesture]
+    told = []
+    for _ in range(200):
+        viewer.move_by_mouse(moves)
+        told.append(viewer.scene.message)
+    lost = [index for index, message in enumerate(told) if message != "loaded m.obj"]
+    where = {"pan": "outside the view", "wheel": "too small to see from here"}[gesture]
+    assert lost and set(told[lost[0]:]) == {f"m is now {where} (. frames it)"}, told[lost[0] - 1:lost[0] + 2]
+
+
 def test_a_key_that_leaves_the_model_in_view_or_changes_the_selection_says_nothing_of_it(tmp_path: Path) -> None:
     near = octahedron(tmp_path / "near.obj", 10.0)
     far = octahedron(tmp_path / "far.obj", 10.0, (0.0, 1e4, 0.0))

@@ -293,8 +293,10 @@ class Viewer:
                 raise ViewerError(refusal)
         before = self._seen_selected()
         keymap.dispatch(self.scene, key, self)
-        if before is not None:
-            self._tell_if_lost(before)
+        lost = self._lost_since(before)
+        if lost:
+            said = self.scene.message
+            self.scene.message = f"{said}; {lost}" if said else lost
         if self.strict and key.path is not None and self.scene.message == commands.LIGHTS_LOAD_REFUSAL:
             raise ViewerError(f"f={key.path}: {commands.LIGHTS_LOAD_REFUSAL} (press c to target objects)")
 
@@ -474,17 +476,26 @@ class Viewer:
             return None
         return _Before(obj, obj.model, obj.mesh, self.scene.outlook(self.narrowest_aspect()))
 
-    def _tell_if_lost(self, before: _Before) -> None:
-        """After a key, that the object it found in view is out of it now: one box test, and a second
-        (the view before) only where it is out (a file read in its place is told by _replace, which
-        also sees the one before)."""
+    def move_by_mouse(self, move: Callable[[Scene], None]) -> None:
+        """One event of a drag or the wheel; said, as a key's move is, where it takes the selected model
+        out of view (the message then answers the mouse, not the last key)."""
+        before = self._seen_selected()
+        move(self.scene)
+        lost = self._lost_since(before)
+        if lost:
+            self.scene.message = lost
+
+    def _lost_since(self, before: _Before | None) -> str:
+        """That the object a key or a mouse move found in view is out of it now, in a message's words; ""
+        where not: one box test, and a second (the view before) only where it is out (a file read in its
+        place is told by _replace, which also sees the one before)."""
+        if before is None:
+            return ""
         obj = before.obj
         if self.scene.object is not obj or self.scene.viewer is obj or obj.mesh is not before.mesh:
-            return
+            return ""
         where = self._unseen_as(obj)
-        if where and before.sight() is Sight.SEEN:
-            said = self.scene.message
-            self.scene.message = f"{said}; {_lost_notice(obj, where)}" if said else _lost_notice(obj, where)
+        return _lost_notice(obj, where) if where and before.sight() is Sight.SEEN else ""
 
     def _unseen_as(self, obj: SceneObject, by_scale: bool = False) -> str:
         """How the view does not show the object, in a message's words: outside it or too small to see,
@@ -553,7 +564,7 @@ def tell_compiling(notice: Callable[[str], None], stage: str) -> None:
 
 
 def _lost_notice(obj: SceneObject, where: str) -> str:
-    """What a key or a file read in its place says of the selected object the view no longer shows."""
+    """What a key, a mouse move or a file read in its place says of the selected object the view no longer shows."""
     return f"{obj.name} is now {where} (. frames it)"
 
 

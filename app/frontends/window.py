@@ -395,18 +395,18 @@ class ViewerWindow:
                 self.held_motion = (dx, dy)
                 return Unchanged.NOTHING
             self.held_motion = (0, 0)
-        buttons, held = self.wnd.mouse_states, self.wnd.modifiers
+        buttons, held, size = self.wnd.mouse_states, self.wnd.modifiers, self.wnd.size
         if held.ctrl:
-            commands.drag(self.scene, dx, dy, self.wnd.size)
+            self.viewer.move_by_mouse(lambda scene: commands.drag(scene, dx, dy, size))
         elif buttons.right or buttons.middle or held.shift:
-            commands.pan_view(self.scene, dx, dy, self.wnd.size[1])
+            self.viewer.move_by_mouse(lambda scene: commands.pan_view(scene, dx, dy, size[1]))
         else:
-            commands.orbit_view(self.scene, dx, dy, self.wnd.size)
+            self.viewer.move_by_mouse(lambda scene: commands.orbit_view(scene, dx, dy, size))
         return None
 
     @guarded
     def on_mouse_scroll_event(self, x_offset: float, y_offset: float) -> None:
-        commands.dolly_view(self.scene, y_offset)
+        self.viewer.move_by_mouse(lambda scene: commands.dolly_view(scene, y_offset))
 
     @guarded
     def on_mouse_press_event(self, x: int, y: int, button: int) -> Unchanged:
