@@ -687,6 +687,40 @@ def test_lights_and_materials_set_by_hand_that_cannot_be_drawn_are_refused_in_on
                 call()
 
 
+@pytest.mark.parametrize("name, value, words", [
+    ("shading", "gouraud", r"modes\.shading must be a Shading \(Shading\.FLAT, Shading\.GOURAUD, Shading\.PHONG"),
+    ("projection", "parallel", r"modes\.projection must be a Projection \(Projection\.PERSPECTIVE, "),
+    ("culling", "on", r"modes\.culling must be True or False, not 'on'$"),
+    ("texture", None, r"modes\.texture must be True or False, not None$"),
+    ("normals", np.True_, r"modes\.normals must be True or False, not np\.True_$"),
+    ("term_view", "ambient", r"modes\.term_view must be a TermView \(TermView\.EVERYTHING, .*not 'ambient'$"),
+    ("parallel_half_height", 0.0, r"modes\.parallel_half_height must be a finite number above 0, not 0\.0$"),
+    ("parallel_half_height", float("nan"), r"modes\.parallel_half_height must be a finite number above 0"),
+])
+def test_modes_set_by_hand_that_cannot_be_drawn_are_refused_in_one_line(name: str, value: object, words: str) -> None:
+    """`scene.modes.shading = "gouraud"`, as the repr's <Shading.FLAT: 'flat'> invites, raised 'str'
+    object has no attribute 'name' from the renderer, culling = "on" struct's 'required argument is not
+    an integer', and and a half height of 0 a ZeroDivisionError."""
+    with marraztu.Viewer(size=SIZE) as v:
+        setattr(v.scene.modes, name, value)
+        for call in (v.render, lambda: v.press("x"), v.probe):
+            with pytest.raises(ValueError, match=f"^the scene's {words}"):
+                call()
+        setattr(v.scene.modes, name, getattr(type(v.scene.modes)(), name))
+        assert np.asarray(v.render()).any()
+
+
+def test_modes_set_by_hand_draw_as_their_keys_do() -> None:
+    from marraztu.model.scene import Projection, Shading
+
+    with marraztu.Viewer(size=SIZE) as by_key, marraztu.Viewer(size=SIZE) as by_hand:
+        by_key.press("0 1 F p b")
+        by_hand.press("0 1").scene.modes.shading = Shading.GOURAUD
+        by_hand.scene.modes.projection, by_hand.scene.modes.culling = Projection.PARALLEL, True
+        by_hand.scene.modes.parallel_half_height = by_key.scene.modes.parallel_half_height
+        assert np.array_equal(np.asarray(by_key.render()), np.asarray(by_hand.render()))
+
+
 def test_a_material_set_by_hand_mends_part_materials_that_are_no_tuple() -> None:
     """Setting `material` gives it to every part: with part_materials set to one Material it raised
     'Material' object is not iterable, so the mistake could not be mended that way."""

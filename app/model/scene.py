@@ -10,6 +10,7 @@ from __future__ import annotations
 import functools
 import itertools
 import math
+import typing
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from enum import Enum
@@ -320,6 +321,33 @@ class Modes:
     parallel_half_height: float = 150.0
 
 
+_MODE_KINDS: dict[str, type] = typing.get_type_hints(Modes)  # the kind each switch holds
+
+
+def _modes_refusal(modes: Modes) -> str | None:
+    """Why a switch set by hand cannot be drawn (None: none): each holds the kind its key sets."""
+    for name, kind in _MODE_KINDS.items():
+        value = getattr(modes, name)
+        if kind is bool:
+            if not isinstance(value, bool):  # numpy's True too: moderngl packs only Python's into a uniform
+                return f"modes.{name} must be True or False, not {_shown(value)}"
+        elif kind is float:
+            if isinstance(value, (bool, np.bool_)) or not _finite_number(value) or not float(value) > 0.0:
+                return f"modes.{name} must be a finite number above 0, not {_shown(value)}"
+        elif not isinstance(value, kind):
+            members = [f"{kind.__name__}.{member}" for member in _named_members(kind)]
+            return f"modes.{name} must be a {kind.__name__} ({', '.join(members)}; from {kind.__module__}), " \
+                   f"not {_shown(value)}"
+    return None
+
+
+def _named_members(kind: type) -> list[str]:
+    """An enum's members, or a class's own instances kept as its attributes (TermView.EVERYTHING)."""
+    if issubclass(kind, Enum):
+        return [member.name for member in kind]
+    return [name for name, value in vars(kind).items() if isinstance(value, kind)]
+
+
 @dataclass(eq=False)
 class Scene:
     objects: list[SceneObject]
@@ -390,7 +418,7 @@ class Scene:
     def check_values(self) -> None:
         """ValueError, naming the first, where a value changed by hand (the programming interface's
         scene) cannot be drawn: a model matrix not affine or without an inverse, a light's or a
-        material's colour or place that is not 3 finite numbers."""
+        material's colour or place that is not 3 finite numbers, a mode not of the kind its key sets."""
         if self._all_drawable():  # every call of the interface asks: the walk below costs far more per element
             return
         refusal = next(self._refusals(), None)
@@ -401,6 +429,8 @@ class Scene:
         """Whether _refusals finds nothing, in a few passes over stacked arrays (False may also mean
         that some value could not be stacked: the walk then decides)."""
         elements = (*self.objects, *self.cameras)
+        if _modes_refusal(self.modes) is not None:
+            return False
         if any(_materials_refusal(element) is not None for element in elements):
             return False
         materials = list({id(m): m for element in elements for m in _materials_of(element)}.values())
@@ -432,6 +462,9 @@ class Scene:
     def _refusals(self) -> Iterator[str]:
         """Each value that cannot be drawn, in words: the walk that _all_drawable's stacked passes
         shortcut, both reading the values from _own_triples, _materials_of and MATERIAL_COLOURS."""
+        refusal = _modes_refusal(self.modes)
+        if refusal is not None:
+            yield f"the scene's {refusal}"
         triples = self._own_triples()
         for element in (*self.objects, *self.cameras):
             refusal = model_refusal(element.model)
