@@ -196,6 +196,25 @@ def test_a_trimeshs_picture_is_its_texture_whatever_its_kind() -> None:
                         "16-bit grey": [117, 117, 117], "no picture": None}
 
 
+@pytest.mark.parametrize("picture, kind", [
+    (np.full((4, 4, 3), 0.5, np.float32), "float32"),
+    (np.full((4, 4, 3), 0.5), "float64"),
+    (np.full((4, 4), 0.5), "float64"),
+    (Image.fromarray(np.full((4, 4), 0.5, np.float32)), "mode F"),
+])
+def test_a_trimeshs_picture_of_floats_is_not_drawn_and_the_note_says_why(viewer, picture: object, kind: str) -> None:
+    """A texture of 0..1 floats, as numpy makes them: an RGB array's note blamed Pillow ('Pillow cannot
+    decode it'), and a grey one (or a Pillow picture of mode F made from it) was drawn black without a
+    word, read as 16-bit grey is."""
+    square = trimesh.Trimesh([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0]], [[0, 1, 2]], process=False,
+                             visual=trimesh.visual.TextureVisuals(uv=[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]],
+                                                                  image=picture))
+    viewer.add_mesh(square)
+    assert viewer.scene.object.mesh.materials == ()
+    assert f"(its pixels are floats ({kind}): a texture's are 0..255 bytes, " \
+           "(pixels * 255).astype(np.uint8) from 0..1)" in viewer.message
+
+
 def test_a_trimesh_face_past_its_own_vertices_is_refused_not_joined_to_the_next_mesh(viewer) -> None:
     scene = trimesh.Scene([trimesh.Trimesh(TRIANGLE, [[0, 1, 5]], process=False, validate=False),
                            trimesh.Trimesh(TRIANGLE + 100.0, [[0, 1, 2]], process=False)])

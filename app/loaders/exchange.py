@@ -622,10 +622,24 @@ def _drawn_picture(picture: Any, formats: Collection[str] | None, undrawn: list[
     if refusal is not None:  # before it is decoded
         undrawn.append(refusal)
         return None
+    floats = _float_kind(picture)
+    if floats is not None:
+        undrawn.append(f"its pixels are floats ({floats}): a texture's are 0..255 bytes, "
+                       "(pixels * 255).astype(np.uint8) from 0..1")
+        return None
     texture = _texture(picture)
     if texture is None:
         undrawn.append("Pillow cannot decode it")
     return texture
+
+
+def _float_kind(picture: Any) -> str | None:
+    """The kind of floats a picture made in code holds (None: not floats), whose range no file says:
+    Pillow's mode F, read as 16-bit grey is, would draw numpy's 0..1 black."""
+    if isinstance(picture, Image.Image):
+        return "mode F" if picture.mode == "F" and picture.format is None else None
+    kind = np.asarray(picture).dtype
+    return kind.name if kind.kind == "f" else None
 
 
 def _picture_size(picture: Any) -> tuple[int, int]:
