@@ -427,6 +427,17 @@ def test_the_repr_says_what_the_viewer_holds_without_drawing(monkeypatch: pytest
     assert repr(v) == "<marraztu.Viewer 160x120, 1 object, 1 camera, 4 lights, closed>"
 
 
+def test_the_scene_shows_what_it_holds_not_its_tables() -> None:
+    """A notebook cell ending in `v.scene` printed 17 KB: every mesh's position, uv, normal and index
+    tables, and the texture's pixels. A mesh says its name and size; the scene names its texture's file."""
+    with marraztu.Viewer(size=SIZE) as v:
+        obj = v.scene.objects[0]
+        assert repr(obj.mesh) == f"<Mesh {obj.mesh.name!r}: {obj.mesh.summary()}>"
+        shown = repr(v.scene)
+        assert f"mesh=<Mesh {obj.mesh.name!r}: " in shown and "positions=array" not in shown
+        assert "texture=array" not in shown and f"texture_path={v.scene.texture_path!r}" in shown
+
+
 def test_close_releases_and_garbage_collection_too() -> None:
     v = marraztu.Viewer(size=SIZE)
     v.close()

@@ -160,6 +160,10 @@ class Mesh:
     # A part's gpu_origin: its whole mesh's, so that the parts of one mesh are drawn alike (None: its own).
     whole_gpu_origin: np.ndarray | None = None
 
+    def __repr__(self) -> str:
+        """Its name and size, not its tables: a notebook showing a scene would print every row."""
+        return f"<Mesh {self.name!r}: {self.summary()}>"
+
     def summary(self) -> str:
         """Its size as messages give it: '4 vertices, 1 face'."""
         return f"{counted(self.vertex_count, 'vertex', 'vertices')}, {counted(self.face_count, 'face')}"

@@ -360,7 +360,8 @@ class Scene:
     selected_light: int = 0
     texture_path: str | None = None
     texture_named_at: str | None = None  # 'FILE:LINE: texture', the scene file's entry that names texture_path
-    texture: np.ndarray | None = None  # (H, W, 3) uint8, top row first, what filled faces show; None: white
+    # (H, W, 3) uint8, top row first, what filled faces show; None: white. Its file names it in a repr.
+    texture: np.ndarray | None = field(default=None, repr=False)
     message: str = ""  # the last thing the person should read (errors, where a file was saved)
     # The cameras the view moves (framing, reset, the mouse) moved since the target last moved, latest
     # last, each with the parallel view's half height before (None: made in perspective): `u` undoes
