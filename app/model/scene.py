@@ -231,6 +231,15 @@ class SceneObject:
     def model(self) -> np.ndarray:
         return self.history[-1]
 
+    @model.setter
+    def model(self, matrix: object) -> None:
+        """A move set by hand (the programming interface): an undo step, as a key's is, refused here
+        where it could not be drawn."""
+        refusal = model_refusal(matrix)
+        if refusal is not None:
+            raise ValueError(f"{self.name}'s model matrix {refusal}")
+        self.push(matrix)
+
     def picture_of(self, part: int) -> np.ndarray | None:
         """The picture the file's material `part` (-1: the whole) is drawn with; None: the scene's."""
         return self.picture if self.picture is not None else self.mesh.own_picture(part)
