@@ -58,7 +58,7 @@ class Probe:
     facing: float  # face normal . V at the polygon's first vertex: SPEC 5's back-face test
     face_normal: np.ndarray  # (3,) unit, in the world
     culling: bool
-    textured: bool
+    textured: bool  # a picture multiplies the pixel: it is the colour here times the texel (T turns it off)
     view: TermView
     view_name: str  # Scene.term_view_name: "sun alone", not "light 0 alone"
     weights: TermWeights
