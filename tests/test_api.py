@@ -150,6 +150,59 @@ def test_a_trimesh_with_its_texture_draws_like_the_same_model_from_a_file(tmp_pa
     assert left[0] > 2 * max(left[1:]) and right[0] > 2 * right[2] and right[1] > 2 * right[2]  # red; yellow
 
 
+FOUR = np.array([[[255, 0, 0], [0, 255, 0]], [[0, 0, 255], [255, 255, 0]]], dtype=np.uint8)  # top row first
+SQUARE = np.array([[-60.0, -60.0, 20.0], [60.0, -60.0, 20.0], [60.0, 60.0, 20.0], [-60.0, 60.0, 20.0]])
+SQUARE_UVS = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+
+
+def _textured_square(texture: object) -> np.ndarray:
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(SQUARE, [[0, 1, 2], [0, 2, 3]], uvs=SQUARE_UVS, texture=texture, name="square")
+        return np.asarray(v.press("0 1").render())
+
+
+@pytest.mark.parametrize("kind", ["bytes", "floats", "RGBA", "a PIL image", "a file"])
+def test_add_mesh_takes_a_texture_made_in_numpy_and_draws_it_as_a_files_own(tmp_path: Path, kind: str) -> None:
+    """A picture made in code could only reach a mesh through trimesh's TextureVisuals: add_mesh's
+    texture= takes one as colours are taken (bytes, or floats in 0..1), a PIL image, or a file."""
+    Image.fromarray(FOUR).save(tmp_path / "four.png")
+    texture = {"bytes": FOUR, "floats": FOUR / 255.0, "RGBA": np.dstack([FOUR, np.full((2, 2), 9, np.uint8)]),
+               "a PIL image": Image.fromarray(FOUR).convert("P"), "a file": tmp_path / "four.png"}[kind]
+    visual = trimesh.visual.TextureVisuals(uv=SQUARE_UVS, image=Image.fromarray(FOUR))
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(trimesh.Trimesh(SQUARE, [[0, 1, 2], [0, 2, 3]], process=False, visual=visual), name="square")
+        from_trimesh = np.asarray(v.press("0 1").render())
+    np.testing.assert_array_equal(_textured_square(texture), from_trimesh)
+
+
+def test_the_probe_says_whether_a_texture_multiplies_the_pixel() -> None:
+    """A student compared the probe's colour with the pixel's and found them apart, with nothing in the
+    report saying the built-in picture multiplied it."""
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(SQUARE, [[0, 1, 2], [0, 2, 3]])
+        assert v.probe().textured and not v.press("T").probe().textured
+        v.add_mesh(SQUARE, [[0, 1, 2], [0, 2, 3]], colours=np.full((4, 3), 200))  # its colours are its surface
+        assert not v.press("T").probe().textured
+
+
+@pytest.mark.parametrize("texture, words", [
+    (np.zeros((2, 2, 2), np.uint8), r"an \(H, W\) grey or \(H, W, 3 or 4\) picture, not shape \(2, 2, 2\)"),
+    (np.zeros((0, 4, 3), np.uint8), r"not shape \(0, 4, 3\)"),
+    (np.full((2, 2, 3), 256), "integer texture pixels must lie in 0..255"),
+    (np.full((2, 2, 3), 1.5), "float texture pixels must be finite and lie in 0..1"),
+    (np.full((2, 2, 3), np.nan), "float texture pixels must be finite"),
+    (np.array([["a"]]), "texture pixels must be numbers"),
+    (np.broadcast_to(np.uint8(7), (10**5, 10**5, 3)), "at most 67108864 pixels, not 100000x100000"),
+])
+def test_a_texture_that_cannot_be_drawn_is_refused_by_add_mesh_in_one_line(texture: object, words: str) -> None:
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        with pytest.raises(ValueError, match=words):
+            v.add_mesh(SQUARE, [[0, 1, 2], [0, 2, 3]], uvs=SQUARE_UVS, texture=texture)
+        with pytest.raises(LoadError, match="^no such file.png: "):  # a file's picture: as v.load says it
+            v.add_mesh(SQUARE, [[0, 1, 2], [0, 2, 3]], uvs=SQUARE_UVS, texture="no such file.png")
+        assert v.scene.objects == []
+
+
 def test_a_trimesh_scene_draws_like_its_glb_file(tmp_path: Path) -> None:
     """Its meshes placed by their nodes, each with its own picture, as the file reader places them."""
     corners = np.array([[-25.0, -25.0, 20.0], [25.0, -25.0, 20.0], [25.0, 25.0, 20.0], [-25.0, 25.0, 20.0]])

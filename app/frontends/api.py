@@ -32,8 +32,9 @@ from marraztu.errors import KeyMapError, LoadError, ViewerError, escaped, shorte
 from marraztu.frontends.heap import return_freed_memory
 from marraztu.frontends.screenshot import OffscreenFrontend, picture_of, render_pixels
 from marraztu.loaders.exchange import mesh_of_trimesh
+from marraztu.loaders.images import MAX_PIXELS, load_image
 from marraztu.loaders.scenefile import give_part_materials, material_for_loaded
-from marraztu.model.build import build_mesh, real_numbers
+from marraztu.model.build import build_mesh, picture_bytes, real_numbers
 from marraztu.model.geometry import holds_in_float32, too_far_to_light
 from marraztu.model.mesh import INDEX_LIMIT, counted
 from marraztu.model.probe import probe as probe_scene
@@ -86,6 +87,7 @@ class ProbeReport:
     view: str  # what the lit colour shows (key v): "everything", one term, one light, depth or normals
     back_face: bool
     culled: bool
+    textured: bool  # a picture multiplies the pixel: it is a vertex's colour times the texel (T turns it off)
     vertices: tuple[ProbedVertex, ...]
 
 
@@ -279,15 +281,19 @@ class Viewer:
 
     @_one_call_at_a_time
     def add_mesh(self, positions: Any, faces: Any = None, uvs: Any = None, normals: Any = None,
-                 name: str | None = None, colours: Any = None, attributes_per_vertex: bool | None = None) -> Viewer:
+                 name: str | None = None, colours: Any = None, attributes_per_vertex: bool | None = None,
+                 texture: Any = None) -> Viewer:
         """A model from arrays, or from a trimesh.Trimesh or trimesh.Scene given alone (with its uvs,
         texture and vertex colours): positions (V, 3), faces (F, k) of 0-based indices (or a list of
         polygons), uvs and normals per vertex or per corner (`attributes_per_vertex` says which where
-        both fit), colours per vertex. Without a name, one read from a file takes the file's, as a
-        loaded model does, and others are "mesh"."""
+        both fit), colours per vertex. `texture`, its own picture in place of the scene's: an (H, W)
+        or (H, W, 3 or 4) array of bytes or of 0..1 floats, top row first, a PIL image, or a picture
+        file. Without a name, one read from a file takes the file's, as a loaded model does, and
+        others are "mesh"."""
         self._check_open()
         _checked_flag(attributes_per_vertex, "attributes_per_vertex", none=True)
-        _refuse_masked(positions=positions, faces=faces, uvs=uvs, normals=normals, colours=colours)
+        _refuse_masked(positions=positions, faces=faces, uvs=uvs, normals=normals, colours=colours, texture=texture)
+        picture = None if texture is None else _picture_given(texture)
         from_trimesh = faces is None and (hasattr(positions, "geometry")
                                           or (hasattr(positions, "vertices") and hasattr(positions, "faces")))
         if name is None:
@@ -308,6 +314,7 @@ class Viewer:
             raise ValueError(refusal)
         material = material_for_loaded(mesh)
         obj = SceneObject.placed(mesh.name, mesh, material, (0.0, 0.0, 0.0))
+        obj.picture = picture
         give_part_materials(obj, from_scene=False)
         self._viewer.add_made(obj)
         return self
@@ -350,7 +357,8 @@ class Viewer:
         return ProbeReport(object=found.obj.name, face=found.face, face_count=found.face_count,
                            material=found.obj.material_name_of_face(found.face), shading=found.shading.value,
                            view=found.view_name,
-                           back_face=found.back_face, culled=found.back_face and found.culling, vertices=vertices)
+                           back_face=found.back_face, culled=found.back_face and found.culling,
+                           textured=found.textured, vertices=vertices)
 
     # --- the context ---------------------------------------------------------------------------
     @_one_call_at_a_time
@@ -401,6 +409,16 @@ def _refuse_masked(**arrays: Any) -> None:
         if np.ma.is_masked(values):
             raise ValueError(f"{what} has masked values, which would be drawn as any others: give "
                              f"np.ma.filled({what}, value) or leave their rows out")
+
+
+def _picture_given(texture: Any) -> np.ndarray:
+    """add_mesh's texture as the renderer takes it: a file read as a model's picture is, a PIL image of
+    any mode, an array checked as colours are."""
+    if isinstance(texture, (str, os.PathLike)):
+        return load_image(texture)
+    if isinstance(texture, Image.Image):  # floats and wide integers as they are, to be checked as an array's
+        texture = np.asarray(texture if texture.mode in ("L", "RGB", "RGBA", "F", "I") else texture.convert("RGBA"))
+    return picture_bytes(texture, MAX_PIXELS)
 
 
 def _finite_positions(positions: Any) -> np.ndarray:

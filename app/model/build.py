@@ -78,24 +78,47 @@ def colour_fractions(colours: np.ndarray) -> np.ndarray:
 
 def colour_bytes(colours: np.ndarray | Sequence[Sequence[float]], rows: int) -> np.ndarray:
     """(rows, 3) uint8 from RGB or RGBA rows of bytes (0..255) or of floats (0..1); alpha is dropped."""
+    table = _number_table(colours, f"vertex colours must be {rows} rows of RGB or RGBA", "vertex colours")
+    if table.ndim != 2 or table.shape[0] != rows or table.shape[1] not in (3, 4):
+        raise ValueError(f"vertex colours must be {rows} rows of RGB or RGBA, not shape {table.shape}")
+    return _rgb_bytes(table, "vertex colours")
+
+
+def picture_bytes(picture: np.ndarray | Sequence[Sequence[float]], most_pixels: int) -> np.ndarray:
+    """(H, W, 3) uint8, top row first, from an (H, W) grey or (H, W, 3 or 4) picture of bytes (0..255)
+    or of floats (0..1), as colours are given; alpha is dropped."""
+    table = _number_table(picture, "a texture must be an array of pixels", "texture pixels")
+    if table.ndim not in (2, 3) or (table.ndim == 3 and table.shape[2] not in (3, 4)) or 0 in table.shape:
+        raise ValueError(f"a texture must be an (H, W) grey or (H, W, 3 or 4) picture, not shape {table.shape}")
+    if table.shape[0] * table.shape[1] > most_pixels:  # before a copy: a broadcast view may be endless
+        raise ValueError(f"a texture holds at most {most_pixels} pixels, not {table.shape[1]}x{table.shape[0]}")
+    grey = table.ndim == 2
+    rgb = _rgb_bytes(table[..., None] if grey else table, "texture pixels")
+    return np.ascontiguousarray(rgb.repeat(3, axis=2) if grey else rgb)
+
+
+def _number_table(values: object, ragged: str, what: str) -> np.ndarray:
     try:
-        table = np.asarray(colours)
+        table = np.asarray(values)
         if table.dtype.kind == "O":  # objects (pandas gives these): numbers as numpy reads them, ints as ints
             table = np.array(table.tolist())
     except (ValueError, TypeError):  # ragged rows
-        raise ValueError(f"vertex colours must be {rows} rows of RGB or RGBA") from None
+        raise ValueError(ragged) from None
     if table.dtype.kind not in "biuf":  # text or objects: not read as numbers
-        raise ValueError("vertex colours must be numbers")
-    if table.ndim != 2 or table.shape[0] != rows or table.shape[1] not in (3, 4):
-        raise ValueError(f"vertex colours must be {rows} rows of RGB or RGBA, not shape {table.shape}")
-    rgb = table[:, :3]
+        raise ValueError(f"{what} must be numbers")
+    return table
+
+
+def _rgb_bytes(table: np.ndarray, what: str) -> np.ndarray:
+    """The first three channels of the last axis as bytes: integers kept, floats in 0..1 scaled."""
+    rgb = table[..., :3]
     if np.issubdtype(rgb.dtype, np.integer):
         if rgb.size and (rgb.min() < 0 or rgb.max() > 255):
-            raise ValueError("integer vertex colours must lie in 0..255")
+            raise ValueError(f"integer {what} must lie in 0..255")
         return rgb.astype(np.uint8)
     floats = rgb.astype(np.float64)
     if not np.isfinite(floats).all() or (floats.size and (floats.min() < 0.0 or floats.max() > 1.0)):
-        raise ValueError("float vertex colours must be finite and lie in 0..1")
+        raise ValueError(f"float {what} must be finite and lie in 0..1")
     return np.rint(floats * 255.0).astype(np.uint8)
 
 
