@@ -175,6 +175,17 @@ def test_add_mesh_takes_a_texture_made_in_numpy_and_draws_it_as_a_files_own(tmp_
     np.testing.assert_array_equal(_textured_square(texture), from_trimesh)
 
 
+def test_faces_given_transposed_are_said_to_be_perhaps_so() -> None:
+    """An icosphere's (80, 3) faces given as (3, 80) drew 3 polygons of 80 corners; the message said
+    '3 faces' and '1 zero-area face', not why."""
+    sphere = trimesh.creation.icosphere(1, radius=50.0)
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(sphere.vertices, sphere.faces.T, name="ball")
+        assert v.message.endswith("(3 polygons of 80 corners: for 80 polygons of 3, give faces.T)"), v.message
+        v.add_mesh(sphere.vertices, sphere.faces, name="ball")
+        assert v.message.startswith("added ball: 42 vertices, 80 faces") and "faces.T" not in v.message
+
+
 def test_the_probe_says_whether_a_texture_multiplies_the_pixel() -> None:
     """A student compared the probe's colour with the pixel's and found them apart, with nothing in the
     report saying the built-in picture multiplied it."""

@@ -308,7 +308,8 @@ class Viewer:
             raise ValueError("add_mesh needs faces, or a trimesh.Trimesh or trimesh.Scene alone")
         else:
             mesh = build_mesh(name=shown_name, positions=_finite_positions(positions), faces=faces, uvs=uvs,
-                              normals=normals, vertex_colours=colours, attributes_per_vertex=attributes_per_vertex)
+                              normals=normals, vertex_colours=colours, attributes_per_vertex=attributes_per_vertex,
+                              warnings=_transposed_hint(faces))
         refusal = too_far_to_light(*mesh.bounds)
         if refusal is not None:
             raise ValueError(refusal)
@@ -409,6 +410,15 @@ def _refuse_masked(**arrays: Any) -> None:
         if np.ma.is_masked(values):
             raise ValueError(f"{what} has masked values, which would be drawn as any others: give "
                              f"np.ma.filled({what}, value) or leave their rows out")
+
+
+def _transposed_hint(faces: Any) -> tuple[str, ...]:
+    """A note where faces look given transposed: (3, F) of triangles reads as three polygons of F
+    corners, which draw, so no error says so."""
+    rows, columns = np.shape(faces) if isinstance(faces, np.ndarray) and faces.ndim == 2 else (0, 0)
+    if rows in (3, 4) and columns > 4:
+        return (f"{rows} polygons of {columns} corners: for {columns} polygons of {rows}, give faces.T",)
+    return ()
 
 
 def _picture_given(texture: Any) -> np.ndarray:
