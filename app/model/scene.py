@@ -227,6 +227,17 @@ class SceneObject:
         if name == "material":
             super().__setattr__("part_materials", tuple(value for _ in self.mesh.materials))
 
+    def __repr__(self) -> str:
+        """What it is and where, not its tables: the history grows a matrix with every move."""
+        own_picture = "" if self.picture is None else f", picture={self.picture.shape[1]}x{self.picture.shape[0]}"
+        try:
+            model: object = np.round(np.asarray(self.model, dtype=np.float64), 6).tolist()
+        except (TypeError, ValueError):  # pushed by hand, refused at the next call: shown as it is
+            model = self.model
+        return (f"SceneObject(name={self.name!r}, mesh={self.mesh!r}, material={self.material!r}, "
+                f"model={model!r}, moves={len(self.history) - 1}, "
+                f"selected_face={self.selected_face}, source={self.source!r}{own_picture})")
+
     @property
     def model(self) -> np.ndarray:
         return self.history[-1]
