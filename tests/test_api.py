@@ -362,6 +362,7 @@ def test_rows_that_fit_vertices_and_corners_alike_must_say_which(viewer) -> None
     (np.full((3, 3), np.nan), [[0, 1, 2]], "finite"),
     (TRIANGLE * 1e39, [[0, 1, 2]], "float32"),
     (TRIANGLE * 1e20, [[0, 1, 2]], "cannot light"),
+    (TRIANGLE * 1e-25, [[0, 1, 2]], "under 1e-18 the GPU's 32-bit numbers cannot light"),
     (TRIANGLE[:, :2], [[0, 1, 2]], "shape"),
     (TRIANGLE, [[0, 1, 2], [0, 1, 3]], r"face 1 refers to vertex 3, but there are 3 \(0-based\)"),
     # Past int64, named as given: a uint64 2**63 was "vertex -9223372036854775808", the others 2**62; and

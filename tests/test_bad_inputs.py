@@ -639,3 +639,24 @@ def test_a_model_too_large_to_light_is_refused_by_every_reader(tmp_path: Path, s
             load_model(tmp_path / name)
     (tmp_path / "edge.obj").write_text("v 0 0 0\nv -1e18 0 0\nv 0 1e18 0\nf 1 2 3\n")
     assert load_model(tmp_path / "edge.obj").face_count == 1
+
+
+@pytest.mark.parametrize("size", ["1e-20", "1e-300"])
+def test_a_model_too_small_to_light_is_refused_by_every_reader(tmp_path: Path, size: str) -> None:
+    """Under 1e-18 across, a framed model's vectors have squared lengths under float32's smallest normal
+    number: it was drawn flat red, or not at all, with numpy's overflow warning on the terminal. A
+    model that is one point (no size at all) is drawn as before."""
+    from marraztu.loaders.registry import load_model
+
+    files = {"small.obj": f"v 0 0 0\nv {size} 0 0\nv 0 {size} 0\nf 1 2 3\n",
+             "small.off": f"OFF\n3 1 0\n0 0 0\n{size} 0 0\n0 {size} 0\n3 0 1 2\n",
+             "small.stl": f"solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex {size} 0 0\n"
+                          f"vertex 0 {size} 0\nendloop\nendfacet\nendsolid s\n"}
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+        with pytest.raises(LoadError, match="under 1e-18 the GPU's 32-bit numbers cannot light the model"):
+            load_model(tmp_path / name)
+    (tmp_path / "edge.obj").write_text("v 0 0 0\nv 1e-18 0 0\nv 0 1e-18 0\nf 1 2 3\n")
+    assert load_model(tmp_path / "edge.obj").face_count == 1
+    (tmp_path / "point.obj").write_text("v 5 5 5\nv 5 5 5\nv 5 5 5\nf 1 2 3\n")
+    assert load_model(tmp_path / "point.obj").face_count == 1

@@ -204,6 +204,18 @@ def test_a_scale_past_the_gpus_reach_is_refused_at_its_line(tmp_path: Path) -> N
         caught.value.message
 
 
+@pytest.mark.parametrize("scale", ["1e-300", "[1e-25, 1e-25, 1e-25]"])
+def test_a_scale_too_small_to_light_is_refused_at_its_line(tmp_path: Path, scale: str) -> None:
+    """scale = 1e-300 was accepted: the model was drawn flat red or not at all, framing it printed numpy's
+    overflow warning, and a click still picked its faces."""
+    path = write_scene(tmp_path, CAMERA + f'[[objects]]\nmodel = "m.obj"\nscale = {scale}\n')
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert caught.value.line == 6
+    assert caught.value.message.startswith("objects[1]: scale 1e-"), caught.value.message
+    assert "under 1e-18 the GPU's 32-bit numbers cannot light the model (scale it up)" in caught.value.message
+
+
 def test_a_cameras_scale_sizes_its_body_not_its_view(tmp_path: Path) -> None:
     scene = load_scene(write_scene(tmp_path, CAMERA + "scale = 3\n"))
     camera = scene.camera

@@ -35,7 +35,7 @@ from marraztu.loaders.exchange import mesh_of_trimesh
 from marraztu.loaders.images import MAX_PIXELS, load_image
 from marraztu.loaders.scenefile import give_part_materials, material_for_loaded
 from marraztu.model.build import build_mesh, picture_bytes, real_numbers
-from marraztu.model.geometry import holds_in_float32, too_far_to_light
+from marraztu.model.geometry import cannot_light, holds_in_float32
 from marraztu.model.mesh import INDEX_LIMIT, counted
 from marraztu.model.probe import probe as probe_scene
 from marraztu.model.scene import Scene, SceneObject
@@ -310,7 +310,7 @@ class Viewer:
             mesh = build_mesh(name=shown_name, positions=_finite_positions(positions), faces=faces, uvs=uvs,
                               normals=normals, vertex_colours=colours, attributes_per_vertex=attributes_per_vertex,
                               warnings=_transposed_hint(faces))
-        refusal = too_far_to_light(*mesh.bounds)
+        refusal = cannot_light(*mesh.bounds)
         if refusal is not None:
             raise ValueError(refusal)
         material = material_for_loaded(mesh)

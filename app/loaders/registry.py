@@ -9,7 +9,7 @@ from pathlib import Path
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import COLLECT_AFTER_BYTES, size_or_zero
-from marraztu.model.geometry import too_far_to_light
+from marraztu.model.geometry import cannot_light
 from marraztu.model.mesh import Mesh
 from marraztu.model.transforms import Vec3
 
@@ -70,7 +70,7 @@ def sized(mesh: Mesh, scale: Vec3, path: Path) -> Mesh:
 
 
 def _drawable(mesh: Mesh, path: Path) -> Mesh:
-    refusal = too_far_to_light(*mesh.bounds)
+    refusal = cannot_light(*mesh.bounds)
     if refusal is not None:
         raise LoadError(path, refusal)
     return mesh

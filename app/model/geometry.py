@@ -15,15 +15,23 @@ FLOAT32_MAX = float(np.finfo(np.float32).max)
 # The farthest coordinate a model may have: the GPU lights in float32, and a vector's squared length
 # must stay below float32's largest number with the camera a few times the model's size away.
 DRAWABLE_COORDINATE = 1e18
+# The smallest model: framed, its vectors' squared lengths must stay above float32's smallest normal
+# number (1.2e-38), under which the GPU lights it flat or not at all. A point, of no size, is drawn as one.
+DRAWABLE_SIZE = 1e-18
 
 
-def too_far_to_light(low: np.ndarray, high: np.ndarray) -> str | None:
-    """Why a model within these bounds cannot be lit (a coordinate past DRAWABLE_COORDINATE); None if it can."""
+def cannot_light(low: np.ndarray, high: np.ndarray) -> str | None:
+    """Why a model within these bounds cannot be lit (a coordinate past DRAWABLE_COORDINATE, or a size
+    under DRAWABLE_SIZE); None if it can."""
     farthest = max(-float(np.min(low)), float(np.max(high)))
-    if farthest <= DRAWABLE_COORDINATE:
-        return None
-    return (f"a coordinate reaches {farthest:.3g}: past {DRAWABLE_COORDINATE:.0e} the GPU's 32-bit numbers cannot "
-            "light the model (scale it down)")
+    if farthest > DRAWABLE_COORDINATE:
+        return (f"a coordinate reaches {farthest:.3g}: past {DRAWABLE_COORDINATE:.0e} the GPU's 32-bit numbers "
+                "cannot light the model (scale it down)")
+    size = float(np.max(np.asarray(high) - np.asarray(low)))
+    if 0.0 < size < DRAWABLE_SIZE:
+        return (f"the model is {size:.3g} across: under {DRAWABLE_SIZE:.0e} the GPU's 32-bit numbers cannot "
+                "light the model (scale it up)")
+    return None
 
 
 def holds_in_float32(table: np.ndarray) -> bool:
