@@ -441,6 +441,23 @@ def test_a_name_cannot_move_the_cursor(viewer) -> None:
     assert "\x1b" not in viewer.scene.object.name and "\n" not in viewer.scene.object.name
 
 
+@pytest.mark.parametrize("name", [b"abc", 5, object(), ["a"]])
+def test_a_name_that_is_no_text_is_refused(viewer, name: object) -> None:
+    """str() was taken of any name: b"abc" became "b'abc'", an object() "<object object at 0x7f...>", and
+    one whose __str__ raised raised its own error. A scene file's name is text too."""
+    before = len(viewer.scene.objects)
+    with pytest.raises(TypeError, match=f"^name is a str, not {type(name).__name__}$"):
+        viewer.add_mesh(TRIANGLE, [[0, 1, 2]], name=name)
+    assert len(viewer.scene.objects) == before
+
+
+@pytest.mark.parametrize("name", ["", "   "])
+def test_a_blank_name_is_refused(viewer, name: str) -> None:
+    """"" was taken as the object's name ("added : 3 vertices"); a scene file refuses it."""
+    with pytest.raises(ValueError, match="^name is empty: give one with words in it, or None for the default$"):
+        viewer.add_mesh(TRIANGLE, [[0, 1, 2]], name=name)
+
+
 def test_bad_files_and_keys_raise_the_programs_errors(viewer, tmp_path: Path) -> None:
     bad = tmp_path / "bad.obj"
     bad.write_text("v 0 0 0\nf 1 2 3\n")

@@ -124,6 +124,17 @@ def _checked_flag(value: Any, what: str, none: bool = False) -> None:
         raise ValueError(f"{what} is {allowed}, not {shortened(escaped(repr(value)))}")
 
 
+def _checked_name(name: Any) -> None:
+    """A name is text with words in it, or None for the default: str() of anything else would be a guess
+    (b"abc" shown as "b'abc'"), and a scene file refuses an empty one too."""
+    if name is None:
+        return
+    if not isinstance(name, str):
+        raise TypeError(f"name is a str, not {type(name).__name__}")
+    if not name.strip():
+        raise ValueError("name is empty: give one with words in it, or None for the default")
+
+
 def _checked_path(path: Any, what: str) -> Path:
     """A file name given as a str or a path (os.PathLike); TypeError naming the argument otherwise."""
     if not isinstance(path, (str, os.PathLike)):
@@ -292,13 +303,14 @@ class Viewer:
         others are "mesh"."""
         self._check_open()
         _checked_flag(attributes_per_vertex, "attributes_per_vertex", none=True)
+        _checked_name(name)
         _refuse_masked(positions=positions, faces=faces, uvs=uvs, normals=normals, colours=colours, texture=texture)
         picture = None if texture is None else _picture_given(texture)
         from_trimesh = faces is None and (hasattr(positions, "geometry")
                                           or (hasattr(positions, "vertices") and hasattr(positions, "faces")))
         if name is None:
             name = (_file_stem(positions) if from_trimesh else None) or "mesh"
-        shown_name = escaped(str(name))[:200]
+        shown_name = escaped(name)[:200]
         if from_trimesh:
             if not (uvs is None and normals is None and colours is None and attributes_per_vertex is None):
                 raise ValueError("a trimesh.Trimesh brings its own uvs and colours: give it alone, or give its "
