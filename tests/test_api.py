@@ -520,7 +520,7 @@ def test_the_scene_shows_what_it_holds_not_its_tables() -> None:
         assert "texture=array" not in shown and f"texture_path={v.scene.texture_path!r}" in shown
         still = repr(obj)
         v.press("x*50")  # each move is one more matrix in its history: the repr grew 300 bytes a key
-        assert len(repr(obj)) == len(still) and "moves=50" in repr(obj) and "history" not in repr(obj)
+        assert len(repr(obj)) < len(still) + 60 and "moves=50" in repr(obj) and "history" not in repr(obj)
         obj.picture = np.zeros((512, 512, 3), np.uint8)
         assert len(repr(obj)) < 1000, repr(obj)
         obj.history.append("abc")  # refused at the next call, but shown
