@@ -47,7 +47,7 @@ def parse_fps(text: str) -> float:
     from marraztu.frontends.record import check_fps
 
     try:
-        return check_fps(float(text))
+        return check_fps(float(text), text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"frames a second must be a number, not {shortened(text)!r}") from None
     except ViewerError as error:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import os
 import signal
 import subprocess
@@ -17,6 +18,7 @@ from PIL import Image
 from marraztu.cli import parse_fps
 from marraztu.control.keymap import parse_key_sequence
 from marraztu.devtools.bench.config import parse_count
+from marraztu.errors import shortened
 from marraztu.model.scene import triple_refusal
 from marraztu.render.layout import parse_size
 from support.scenes import BACKGROUND
@@ -311,6 +313,14 @@ def test_a_long_word_is_quoted_shortened_with_its_length(refusal: Callable[[str]
     message = str(caught.value)
     assert f"... ({len(text)} characters)" in message and "9" * 20 in message, message
     assert "x" * 20 not in message and "9" * 50 not in message
+
+
+@pytest.mark.parametrize("text", ["9" * 5000, "1e999", "-1e999"])
+def test_an_fps_too_large_for_a_float_is_said_as_typed(text: str) -> None:
+    """float() reads it as infinity, which the message showed: '--fps: must be 0.02 to 100, not inf'."""
+    with pytest.raises(argparse.ArgumentTypeError) as caught:
+        parse_fps(text)
+    assert str(caught.value) == f"must be 0.02 to 100, not {shortened(text)}", caught.value
 
 
 def test_a_long_value_given_for_a_point_is_shortened_with_its_length() -> None:

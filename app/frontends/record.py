@@ -15,7 +15,7 @@ import numpy as np
 
 from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import StartOptions, Viewer, starting_scene
-from marraztu.errors import KeyMapError, ViewerError
+from marraztu.errors import KeyMapError, ViewerError, shortened
 from marraztu.frontends.screenshot import (
     InputsGuard,
     OffscreenFrontend,
@@ -38,9 +38,11 @@ MIN_MP4_SIDE = 2  # H.264's colour planes are half the picture's size
 MAX_RECORDING_BYTES = 2 << 30
 
 
-def check_fps(fps: float) -> float:
+def check_fps(fps: float, typed: str | None = None) -> float:
+    """`typed`: the number as the person wrote it, which a float past its range would show as inf."""
     if not (MIN_FPS <= fps <= MAX_FPS):
-        raise ViewerError(f"--fps must be {MIN_FPS:g} to {MAX_FPS}, not {fps:g}")
+        said = f"{fps:g}" if typed is None else shortened(typed.strip())
+        raise ViewerError(f"--fps must be {MIN_FPS:g} to {MAX_FPS}, not {said}")
     return fps
 
 
