@@ -377,6 +377,9 @@ def test_rows_that_fit_vertices_and_corners_alike_must_say_which(viewer) -> None
     (TRIANGLE, [[0, 1, 2**40]], "^face 0 refers to vertex 1099511627776, but there are 3"),
     (TRIANGLE, [[0, 1]], "at least 3"),
     (TRIANGLE, [[0, 1, 2], [0, 1], [1, 2]], "^face 1 has 2 vertices: a face needs at least 3$"),
+    (TRIANGLE, [[0, 1, 2], [0]], "^face 1 has 1 vertex: a face needs at least 3$"),
+    (TRIANGLE, "abc", "^faces must be rows of vertex indices, .*, not text$"),  # said "face 0 has 1 vertices"
+    (TRIANGLE, b"abc", "not text$"),
     (TRIANGLE, np.empty((0, 3), int), "^a mesh needs at least one face$"),  # not "faces of at least 3 vertices"
     (TRIANGLE, [], "^a mesh needs at least one face$"),
     (TRIANGLE, np.array([[0, 1, 1.5]]), "whole numbers"),

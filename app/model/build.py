@@ -177,6 +177,8 @@ def _listed_polygons(faces: Sequence[Sequence[int]] | np.ndarray, vertex_count: 
     and each polygon's first corner."""
     if isinstance(faces, np.ndarray) and faces.dtype.kind != "O" and faces.ndim != 2:  # a flat index buffer, say
         raise ValueError(f"{_FACES_SHAPE}, not an array of shape {faces.shape}")
+    if isinstance(faces, (str, bytes)):  # each letter would be a polygon of one corner
+        raise ValueError(f"{_FACES_SHAPE}, not text")
     if isinstance(faces, np.ndarray) and faces.ndim == 2:
         if faces.size >= INDEX_LIMIT:  # before any copy: a broadcast view costs nothing to make
             raise ValueError(_mesh_limit())
@@ -219,7 +221,7 @@ def _check_face_sizes(sizes: np.ndarray) -> None:
         raise ValueError("a mesh needs at least one face")
     if sizes.min() < 3:
         face = int(np.argmax(sizes < 3))
-        raise ValueError(f"face {face} has {int(sizes[face])} vertices: a face needs at least 3")
+        raise ValueError(f"face {face} has {counted(int(sizes[face]), 'vertex', 'vertices')}: a face needs at least 3")
 
 
 def _sized_polygons(corners: np.ndarray | Sequence[int], sizes: np.ndarray | Sequence[int], vertex_count: int
