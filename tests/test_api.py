@@ -23,6 +23,7 @@ from marraztu.control.viewer import StartOptions
 from marraztu.errors import KeyMapError, LoadError, ViewerError
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.model.probe import probe as scene_probe
+from marraztu.model.scene import NAME_LIMIT
 from marraztu.resources import ASSET_DIR
 
 SIZE = (160, 120)
@@ -184,6 +185,15 @@ def test_faces_given_transposed_are_said_to_be_perhaps_so() -> None:
         assert v.message.endswith("(3 polygons of 80 corners: for 80 polygons of 3, give faces.T)"), v.message
         v.add_mesh(sphere.vertices, sphere.faces, name="ball")
         assert v.message.startswith("added ball: 42 vertices, 80 faces") and "faces.T" not in v.message
+
+
+def test_a_name_longer_than_a_files_is_refused_not_cut() -> None:
+    """add_mesh cut a name at 200 characters without a word, where a scene file kept it whole."""
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(TRIANGLE, [[0, 1, 2]], name="n" * NAME_LIMIT)
+        assert v.scene.object.name == "n" * NAME_LIMIT
+        with pytest.raises(ValueError, match=f"^name is 100000 characters long: at most {NAME_LIMIT}$"):
+            v.add_mesh(TRIANGLE, [[0, 1, 2]], name="n" * 100_000)
 
 
 def test_the_probe_says_whether_a_texture_multiplies_the_pixel() -> None:

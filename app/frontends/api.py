@@ -38,7 +38,7 @@ from marraztu.model.build import build_mesh, picture_bytes, real_numbers
 from marraztu.model.geometry import cannot_light, holds_in_float32
 from marraztu.model.mesh import INDEX_LIMIT, counted
 from marraztu.model.probe import probe as probe_scene
-from marraztu.model.scene import Scene, SceneObject
+from marraztu.model.scene import NAME_LIMIT, Scene, SceneObject
 from marraztu.render.context import create_offscreen_context
 from marraztu.render.layout import checked_size
 from marraztu.render.renderer import Renderer
@@ -133,6 +133,8 @@ def _checked_name(name: Any) -> None:
         raise TypeError(f"name is a str, not {type(name).__name__}")
     if not name.strip():
         raise ValueError("name is empty: give one with words in it, or None for the default")
+    if len(name) > NAME_LIMIT:
+        raise ValueError(f"name is {len(name)} characters long: at most {NAME_LIMIT}")
 
 
 def _checked_path(path: Any, what: str) -> Path:
@@ -310,7 +312,7 @@ class Viewer:
                                           or (hasattr(positions, "vertices") and hasattr(positions, "faces")))
         if name is None:
             name = (_file_stem(positions) if from_trimesh else None) or "mesh"
-        shown_name = escaped(name)[:200]
+        shown_name = escaped(name)
         if from_trimesh:
             if not (uvs is None and normals is None and colours is None and attributes_per_vertex is None):
                 raise ValueError("a trimesh.Trimesh brings its own uvs and colours: give it alone, or give its "

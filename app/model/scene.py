@@ -193,6 +193,11 @@ def _finite_number(value: object) -> bool:
         return False
 
 
+# The longest name an object or camera may be given: a file's name may be as long (255 on Linux, macOS
+# and Windows), and the status line and messages show it whole.
+NAME_LIMIT = 255
+
+
 @dataclass(eq=False)
 class SceneObject:
     """An object or a camera: a mesh, a material and a history of model matrices (top = current).
