@@ -196,6 +196,15 @@ def test_a_name_longer_than_a_files_is_refused_not_cut() -> None:
             v.add_mesh(TRIANGLE, [[0, 1, 2]], name="n" * 100_000)
 
 
+def test_the_status_line_says_what_a_mode_key_changed() -> None:
+    """After F, b or c g, v.message was empty and only render(overlay=True) showed the switch."""
+    with marraztu.Viewer(size=SIZE) as v:
+        assert v.status.startswith("target objects | rotate local | flat | ") and "culling off" in v.status
+        v.press("F b c g")
+        assert v.message == "" and v.status.startswith("target cameras | rotate analysis | gouraud | ")
+        assert "culling on" in v.status
+
+
 def test_the_probe_says_whether_a_texture_multiplies_the_pixel() -> None:
     """A student compared the probe's colour with the pixel's and found them apart, with nothing in the
     report saying the built-in picture multiplied it."""

@@ -42,7 +42,7 @@ from marraztu.model.scene import NAME_LIMIT, Scene, SceneObject
 from marraztu.render.context import create_offscreen_context
 from marraztu.render.layout import checked_size
 from marraztu.render.renderer import Renderer
-from marraztu.text.status import prompt_line
+from marraztu.text.status import prompt_line, status_line
 
 Size = tuple[int, int]
 _Result = TypeVar("_Result")
@@ -254,6 +254,13 @@ class Viewer:
         object's `material` set by hand is given to all its parts (a file's materials); its
         `part_materials`, one per material of the file, set after it tell the parts apart."""
         return self._viewer.scene
+
+    @property
+    def status(self) -> str:
+        """What the top of the window says: the target, the moving mode, every switch, the lights and
+        the selection ('target objects | rotate local | flat | ...'), which a mode key changes and the
+        message does not."""
+        return status_line(self.scene)
 
     @property
     def message(self) -> str:
