@@ -1372,6 +1372,28 @@ def test_a_base_colour_texture_on_a_second_uv_set_is_a_note(tmp_path: Path, text
                                if noted else ())
 
 
+@pytest.mark.parametrize(("transform", "noted"), [
+    ({"offset": [0.5, 0], "scale": [0.5, 1]}, True),
+    ({"rotation": 1.5708}, True),
+    ({"offset": [0, 0], "rotation": 0, "scale": [1, 1]}, False),
+    (None, False),
+])
+def test_a_base_colour_textures_transform_is_a_note(tmp_path: Path, transform: dict[str, Any] | None,
+                                                    noted: bool) -> None:
+    """trimesh does not apply KHR_texture_transform: an atlas's tile (offset and scale), as glTF optimisers
+    and Blender write it, was drawn as the whole picture without a word."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0], picture=png_bytes(2, 2))
+    if transform is not None:
+        document["extensionsUsed"] = ["KHR_texture_transform"]
+        texture = document["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]
+        texture["extensions"] = {"KHR_texture_transform": transform}
+    path = tmp_path / "tiled.glb"
+    path.write_bytes(glb(document, binary))
+    loaded = load_model(path)
+    assert loaded.warnings == (("material 0's baseColorTexture's KHR_texture_transform (an offset, rotation or "
+                                "scale of its texture coordinates) is not applied",) if noted else ())
+
+
 @pytest.mark.parametrize("with_material", [False, True])
 def test_colours_of_normalized_shorts_are_the_fractions_they_stand_for(tmp_path: Path, with_material: bool) -> None:
     """trimesh cast a COLOR_0 of normalized unsigned shorts to bytes where the mesh has no material:

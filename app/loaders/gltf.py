@@ -696,7 +696,8 @@ def unfaithful_notes(document: dict[str, Any]) -> list[str]:
     """What of a checked glTF is drawn otherwise than it says, which trimesh passes over without a word:
     morph targets it does not read, base colours outside 0..1 it holds to it, and base colour textures
     on a second set of texture coordinates, which it reads from the first."""
-    return [*_morphed_notes(document), *_outside_colour_notes(document), *_other_uv_set_notes(document)]
+    return [*_morphed_notes(document), *_outside_colour_notes(document), *_other_uv_set_notes(document),
+            *_texture_transform_notes(document)]
 
 
 def _morphed_notes(document: dict[str, Any]) -> list[str]:
@@ -731,6 +732,28 @@ def _outside_colour_notes(document: dict[str, Any]) -> list[str]:
         return [f"material {number}'s baseColorFactor holds {value:g}: glTF's colours are 0..1, held to it"]
     return [f"{materials} materials' baseColorFactor hold values outside glTF's 0..1 (the first, material {number}'s, "
             f"{value:g}), held to it"]
+
+
+# KHR_texture_transform's values that leave texture coordinates as they are.
+_UNMOVED = {"offset": [0, 0], "rotation": 0, "scale": [1, 1]}
+
+
+def _texture_transform_notes(document: dict[str, Any]) -> list[str]:
+    """A baseColorTexture whose KHR_texture_transform moves its coordinates (an atlas's tile, a tiling):
+    trimesh applies none."""
+    moved = [number for number, material in enumerate(document.get("materials", [])) if _moves_coordinates(material)]
+    if not moved:
+        return []
+    if len(moved) == 1:
+        return [f"material {moved[0]}'s baseColorTexture's KHR_texture_transform (an offset, rotation or scale of "
+                "its texture coordinates) is not applied"]
+    return [f"{len(moved)} materials' baseColorTexture's KHR_texture_transform (an offset, rotation or scale of "
+            f"their texture coordinates) is not applied (the first, material {moved[0]}'s)"]
+
+
+def _moves_coordinates(material: dict[str, Any]) -> bool:
+    transform = _nested(material, ("pbrMetallicRoughness", "baseColorTexture", "extensions", "KHR_texture_transform"))
+    return any(transform.get(key, unmoved) != unmoved for key, unmoved in _UNMOVED.items())
 
 
 def _other_uv_set_notes(document: dict[str, Any]) -> list[str]:
