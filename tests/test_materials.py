@@ -292,6 +292,20 @@ def test_a_colour_outside_0_to_1_is_held_to_it_with_a_note(tmp_path: Path, mtl: 
     assert [note for note in mesh.warnings if "0..1" in note] == [said]
 
 
+@pytest.mark.parametrize(("kd", "texture", "noted"), [("Kd 0.00 0.00 0.00\n", "map_Kd wood.ppm\n", True),
+                                                      ("Kd 0.5 0.5 0.5\n", "map_Kd wood.ppm\n", False),
+                                                      ("Kd 0 0 0\n", "", False), ("", "map_Kd wood.ppm\n", False)])
+def test_a_black_diffuse_colour_under_a_picture_is_a_note(tmp_path: Path, kd: str, texture: str, noted: bool) -> None:
+    """Maya writes Kd 0 0 0 for a colour a picture gives: its model was drawn black without a word."""
+    shutil.copy(EXAMPLES / "crate.ppm", tmp_path / "wood.ppm")
+    (tmp_path / "m.mtl").write_text(f"newmtl lambert2SG\nillum 4\n{kd}Ka 0.00 0.00 0.00\nTf 1.00 1.00 1.00\n{texture}")
+    (tmp_path / "m.obj").write_text(f"mtllib m.mtl\n{TRIANGLES}usemtl lambert2SG\nf 1 2 3\n")
+    mesh = load_model(tmp_path / "m.obj")
+    assert mesh.warnings == (("material library 'm.mtl': material 'lambert2SG' has Kd 0 0 0 and a map_Kd, so its "
+                              "picture gets no diffuse light (Maya writes so: Kd 1 1 1 shows the picture)",)
+                             if noted else ())
+
+
 @pytest.mark.parametrize("number", ["\u0661", "1_0", "0x1"])  # float() reads the first two, as 1 and 10
 def test_a_colour_of_no_ascii_decimal_number_is_a_malformed_line(tmp_path: Path, number: str) -> None:
     (tmp_path / "m.mtl").write_text(f"newmtl w\nKd {number} 0 0\n", encoding="utf-8")

@@ -194,7 +194,23 @@ def _library_notes(name: str, text: bytes, library: _Library) -> list[str]:
     if library.ignored:
         notes.append(f"material library '{name}': {', '.join(sorted(library.ignored))} ignored")
     notes.extend(_outside_note(name, library.kept.values()))
+    notes.extend(_unlit_picture_note(name, library.kept.values()))
     return notes
+
+
+def _unlit_picture_note(name: str, blocks: Iterable[_Block]) -> list[str]:
+    """The note of kept materials whose map_Kd sits under Kd 0 0 0, which Maya writes for a colour a
+    picture gives: the picture gets no diffuse light, and the model is drawn black."""
+    unlit = [block.name for block in blocks if block.texture is not None and block.values.get("kd") == (0.0, 0.0, 0.0)]
+    if not unlit:
+        return []
+    first = f"material '{shown(unlit[0])}'"
+    if len(unlit) == 1:
+        which, picture = f"{first} has", "its picture gets"
+    else:
+        which, picture = f"{len(unlit)} materials (the first, {first}) have", "their pictures get"
+    return [f"material library '{name}': {which} Kd 0 0 0 and a map_Kd, so {picture} no diffuse light "
+            "(Maya writes so: Kd 1 1 1 shows the picture)"]
 
 
 def _note_outside(block: _Block, key: str, line: int) -> None:
