@@ -1394,6 +1394,24 @@ def test_a_base_colour_textures_transform_is_a_note(tmp_path: Path, transform: d
                                 "scale of its texture coordinates) is not applied",) if noted else ())
 
 
+@pytest.mark.parametrize(("modes", "note"), [
+    ([4, 1, 0], "2 primitives of points and lines are not drawn"),
+    ([4, 6], "1 primitive of triangle fans is not drawn"),
+    ([4, 5], None),
+])
+def test_primitives_of_lines_and_points_are_a_note(tmp_path: Path, modes: list[int], note: str | None) -> None:
+    """Blender writes a mesh's loose edges as a primitive of lines beside its triangles: trimesh reads no
+    lines, points or fans as faces, and they were left out without a word (an OBJ's l and p lines are said)."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0], primitives=len(modes))
+    for primitive, mode in zip(document["meshes"][0]["primitives"], modes):
+        primitive["mode"] = mode
+    path = tmp_path / "edges.glb"
+    path.write_bytes(glb(document, binary))
+    loaded = load_model(path)
+    assert loaded.face_count == 1 + (5 in modes)
+    assert loaded.warnings == (() if note is None else (note,))
+
+
 @pytest.mark.parametrize("with_material", [False, True])
 def test_colours_of_normalized_shorts_are_the_fractions_they_stand_for(tmp_path: Path, with_material: bool) -> None:
     """trimesh cast a COLOR_0 of normalized unsigned shorts to bytes where the mesh has no material:

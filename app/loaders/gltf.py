@@ -694,10 +694,11 @@ def _count(accessor: Any) -> int:
 # --- what trimesh draws otherwise than it says ---------------------------------------------------
 def unfaithful_notes(document: dict[str, Any]) -> list[str]:
     """What of a checked glTF is drawn otherwise than it says, which trimesh passes over without a word:
-    morph targets it does not read, base colours outside 0..1 it holds to it, and base colour textures
-    on a second set of texture coordinates, which it reads from the first."""
-    return [*_morphed_notes(document), *_outside_colour_notes(document), *_other_uv_set_notes(document),
-            *_texture_transform_notes(document)]
+    morph targets it does not read, primitives it reads no faces of, base colours outside 0..1 it holds to
+    it, base colour textures on a second set of texture coordinates, which it reads from the first, and their
+    texture transforms, which it does not apply."""
+    return [*_morphed_notes(document), *_undrawn_primitive_notes(document), *_outside_colour_notes(document),
+            *_other_uv_set_notes(document), *_texture_transform_notes(document)]
 
 
 def _morphed_notes(document: dict[str, Any]) -> list[str]:
@@ -710,6 +711,21 @@ def _morphed_notes(document: dict[str, Any]) -> list[str]:
         return []
     return [f"{counted(len(morphed), 'mesh', 'meshes')} with morph targets drawn in the base shape: the weights "
             "that change it are not applied"]
+
+
+# The modes of primitive trimesh reads no faces of, by what a note calls them.
+_UNDRAWN_MODES = {_POINTS: "points", _LINES: "lines", 2: "line loops", 3: "line strips", 6: "triangle fans"}
+
+
+def _undrawn_primitive_notes(document: dict[str, Any]) -> list[str]:
+    """The placed meshes' primitives of points and lines (Blender's loose edges), and of triangle fans."""
+    meshes = document.get("meshes", [])
+    modes = [mode for index in _placed_meshes(document) for primitive in meshes[index]["primitives"]
+             if _is_whole(mode := primitive.get("mode", _TRIANGLES)) and mode in _UNDRAWN_MODES]
+    if not modes:
+        return []
+    kinds = " and ".join(_UNDRAWN_MODES[mode] for mode in sorted(set(modes)))
+    return [f"{counted(len(modes), 'primitive')} of {kinds} {'is' if len(modes) == 1 else 'are'} not drawn"]
 
 
 def _has_targets(mesh: dict[str, Any]) -> bool:
