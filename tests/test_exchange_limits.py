@@ -1412,6 +1412,17 @@ def test_primitives_of_lines_and_points_are_a_note(tmp_path: Path, modes: list[i
     assert loaded.warnings == (() if note is None else (note,))
 
 
+@pytest.mark.parametrize(("mode", "kind"), [(6, "triangle fans"), (1, "lines")])
+def test_a_mesh_of_fans_or_lines_alone_is_refused_saying_so(tmp_path: Path, mode: int, kind: str) -> None:
+    """A mesh of one triangle fan was refused as placing no triangle mesh, which it does: trimesh reads no fans."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["meshes"][0]["primitives"][0]["mode"] = mode
+    path = tmp_path / "fan.glb"
+    path.write_bytes(glb(document, binary))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        f"no node of the scene places a triangle mesh: nothing to draw (1 primitive of {kind} is not drawn)")
+
+
 @pytest.mark.parametrize("with_material", [False, True])
 def test_colours_of_normalized_shorts_are_the_fractions_they_stand_for(tmp_path: Path, with_material: bool) -> None:
     """trimesh cast a COLOR_0 of normalized unsigned shorts to bytes where the mesh has no material:

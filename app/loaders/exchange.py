@@ -26,7 +26,7 @@ import re
 import threading
 import warnings
 import weakref
-from collections.abc import Callable, Collection
+from collections.abc import Callable, Collection, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, TypeVar
@@ -60,6 +60,7 @@ from marraztu.loaders.gltf import (
     gltf_counts,
     gltf_document,
     gltf_pictures,
+    undrawn_primitive_notes,
     unfaithful_notes,
 )
 from marraztu.loaders.images import (
@@ -170,7 +171,7 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     check_geometry_readable(path, document)
     counts = gltf_counts(document)
     if counts is not None:  # before trimesh builds a node and a mesh per placement
-        _check_placed_counts(path, *counts)
+        _check_placed_counts(path, *counts, undrawn=undrawn_primitive_notes(document))
     notes = unfaithful_notes(document)
     beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True, least_bytes=least_bytes)
     data = as_trimesh_reads(path, data if file_type == "gltf" else declared_part(data), document, file_type,
@@ -723,11 +724,14 @@ def _check_placed_size(path: str | Path, placed: list[Any]) -> None:
     _check_placed_counts(path, len(placed), triangles, vertices)
 
 
-def _check_placed_counts(path: str | Path, placements: int, triangles: int, vertices: int) -> None:
+def _check_placed_counts(path: str | Path, placements: int, triangles: int, vertices: int,
+                         undrawn: Sequence[str] = ()) -> None:
     """Refuses a scene of more placements, or of more triangles or vertices placed, than a model may hold,
-    and one that places no triangle (a glTF's meshes no node places are not handed to trimesh)."""
+    and one that places no triangle (a glTF's meshes no node places are not handed to trimesh), saying
+    which of its primitives are `undrawn` (lines, fans)."""
     if triangles == 0:
-        raise LoadError(path, "no node of the scene places a triangle mesh: nothing to draw")
+        why = f" ({'; '.join(undrawn)})" if undrawn else ""
+        raise LoadError(path, f"no node of the scene places a triangle mesh: nothing to draw{why}")
     if triangles > MAX_PLACED_TRIANGLES or vertices > 3 * MAX_PLACED_TRIANGLES:
         raise LoadError(path, f"the scene places its meshes {placements} times, {triangles} triangles and "
                               f"{vertices} vertices in all: more than the {MAX_PLACED_TRIANGLES} triangles (and three "

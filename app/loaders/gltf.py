@@ -697,7 +697,7 @@ def unfaithful_notes(document: dict[str, Any]) -> list[str]:
     morph targets it does not read, primitives it reads no faces of, base colours outside 0..1 it holds to
     it, base colour textures on a second set of texture coordinates, which it reads from the first, and their
     texture transforms, which it does not apply."""
-    return [*_morphed_notes(document), *_undrawn_primitive_notes(document), *_outside_colour_notes(document),
+    return [*_morphed_notes(document), *undrawn_primitive_notes(document), *_outside_colour_notes(document),
             *_other_uv_set_notes(document), *_texture_transform_notes(document)]
 
 
@@ -717,7 +717,7 @@ def _morphed_notes(document: dict[str, Any]) -> list[str]:
 _UNDRAWN_MODES = {_POINTS: "points", _LINES: "lines", 2: "line loops", 3: "line strips", 6: "triangle fans"}
 
 
-def _undrawn_primitive_notes(document: dict[str, Any]) -> list[str]:
+def undrawn_primitive_notes(document: dict[str, Any]) -> list[str]:
     """The placed meshes' primitives of points and lines (Blender's loose edges), and of triangle fans."""
     meshes = document.get("meshes", [])
     modes = [mode for index in _placed_meshes(document) for primitive in meshes[index]["primitives"]
