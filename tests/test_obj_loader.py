@@ -54,6 +54,18 @@ def assert_mesh_dtypes(mesh: Mesh) -> None:
 # --- good input ------------------------------------------------------------------------------------
 
 
+@pytest.mark.parametrize("reader", [read_by_lines, fast_reader.read_fast])
+def test_corners_of_empty_last_parts_are_read_as_written_without_them(reader) -> None:
+    """Wings3D writes a corner of no vt and no vn as 'v//', old assimp one of no vn as 'v/vt/': both were
+    refused as bad face corners, which Blender's and trimesh's readers take."""
+    tables = b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+    raw = reader(tables + b"f 1// 2// 3// 4//\nf 1/1/ 2/2/ 3/3/\n", "wings.obj")
+    plain = reader(tables + b"f 1 2 3 4\nf 1/1 2/2 3/3\n", "plain.obj")
+    assert raw.face_start.tolist() == plain.face_start.tolist() == [0, 4, 7]
+    assert raw.corner_vertex.tolist() == plain.corner_vertex.tolist()
+    assert raw.corner_texcoord.tolist() == plain.corner_texcoord.tolist() == [-1, -1, -1, -1, 0, 1, 2]
+
+
 def test_quad_keeps_one_polygon_with_normals_and_bounding_box_uv() -> None:
     mesh = parse(QUAD)
     assert (mesh.vertex_count, mesh.face_count) == (4, 1)

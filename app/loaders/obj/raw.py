@@ -13,7 +13,9 @@ from marraztu.loaders.files import decoded
 from marraztu.loaders.words import DECIMAL, DECIMAL_BYTES
 
 # Corner formats by which of v/vt/vn they hold: the slashes between consecutive numbers.
-CORNER_GAPS = {(True,): (), (True, True): (1,), (True, False, True): (2,), (True, True, True): (1, 1)}
+CORNER_GAPS = {(True,): (), (True, True): (1,), (True, False, True): (2,), (True, True, True): (1, 1),
+               # Wings3D writes a corner of no vt and no vn as 'v//', and old assimp one of no vn as 'v/vt/'
+               (True, False, False): (), (True, True, False): (1,)}
 # No file holds 10**15 of anything, and up to 15 digits an index or mantissa is an exact double.
 MAX_DIGITS = 15
 # The columns of the v, vt and vn tables (RawObj's positions, texcoords and normals).
