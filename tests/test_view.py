@@ -14,7 +14,7 @@ from PIL import Image
 import marraztu
 from marraztu.control import commands
 from marraztu.control.keymap import dispatch, parse_key_sequence
-from marraztu.control.viewer import StartOptions, Viewer
+from marraztu.control.viewer import DARK_HINT, StartOptions, Viewer
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.registry import load_model
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
@@ -842,3 +842,28 @@ def test_a_scene_file_that_places_no_camera_is_framed(tmp_path: Path) -> None:
     for name, rows in (("alone.toml", math.sin(math.atan(FILL)) * SIZE[1]), ("placed.toml", 2 * SIZE[1] / 300)):
         out = take_screenshot(StartOptions(scene_file=tmp_path / name), tmp_path / "shot.png", SIZE)
         assert covered_rows(np.asarray(Image.open(out).convert("RGB")).astype(int)) == pytest.approx(rows, abs=3)
+
+
+# --- a model drawn black -------------------------------------------------------------------------
+def _without_ambient(path: Path, ka: str = "0 0 0") -> Path:
+    """An octahedron whose MTL has no ambient colour, as SketchUp and Maya write one."""
+    octahedron(path, 10.0)
+    path.with_suffix(".mtl").write_text(f"newmtl dark\nKa {ka}\nKd 0.8 0.8 0.8\nKs 0.5 0.5 0.5\nNs 50\n")
+    path.write_text(f"mtllib {path.with_suffix('.mtl').name}\nusemtl dark\n" + path.read_text())
+    return path
+
+
+@pytest.mark.parametrize("keys", ["", "0"], ids=["lights off", "the sun on"])
+def test_a_model_drawn_black_as_it_is_loaded_says_why(tmp_path: Path, keys: str) -> None:
+    """--empty a model of Ka 0 0 0 drew a black shape under SPEC's ambient light alone, and its message
+    said nothing of why."""
+    model = _without_ambient(tmp_path / "dark.obj")
+    viewer = viewer_with(keys, empty=True)
+    viewer.press(parse_key_sequence(f"f={model}")[0])
+    assert viewer.scene.message.endswith(DARK_HINT) == (keys == ""), viewer.scene.message
+    pixels = picture(tmp_path, keys, (model,))
+    shown = pixels[(pixels != BACKGROUND).any(axis=2)]
+    assert (shown.max() == 0) == (keys == "")  # the hint says what the picture shows
+    started = viewer_with("", (model, _without_ambient(tmp_path / "lit.obj", "0.2 0.2 0.2")), empty=True)
+    loads = [line for line in started.scene.message.splitlines() if line.startswith("loaded")]
+    assert [line.endswith(DARK_HINT) for line in loads] == [True, False], loads

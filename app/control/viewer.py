@@ -180,6 +180,11 @@ class _StartLoad(NamedTuple):
     joined: bool  # joined objects from elsewhere: where it stands is said
 
 
+# What a load says of a model its lights leave black: SPEC starts with every light off, under an ambient light
+# that a material of Ka 0 0 0 does not reflect.
+DARK_HINT = ", black with every light off (its Ka is 0 0 0: 0 to 3 turn lights on)"
+
+
 class _Before(NamedTuple):
     """The selected object as a key found it (its matrix and mesh, as they are never changed in place),
     and the view then."""
@@ -465,9 +470,11 @@ class Viewer:
                 for sight, inside in zip(sights, self._inside(objects))]
 
     def _inside(self, objects: list[SceneObject]) -> list[str]:
-        """What each load's message says of an object that another's box holds; "" where none does."""
-        return ["" if holder is None else f", inside {holder.name}'s bounding box, perhaps hidden by it (d shows "
-                "it alone)" for holder in self.scene.enclosers(objects)]
+        """What each load's message says of an object that another's box holds, and of one drawn black
+        for want of light; "" where neither."""
+        return [("" if holder is None else f", inside {holder.name}'s bounding box, perhaps hidden by it (d shows "
+                 "it alone)") + (DARK_HINT if self.scene.black_for_want_of_light(obj) else "")
+                for obj, holder in zip(objects, self.scene.enclosers(objects))]
 
     def _seen_selected(self) -> _Before | None:
         """The selected object as a key finds it, and the view then; no test made yet."""

@@ -713,6 +713,11 @@ class Scene:
                       for index, any_ in zip(holds.argmax(axis=1), holds.any(axis=1))]
         return found
 
+    def black_for_want_of_light(self, obj: SceneObject) -> bool:
+        """Whether the object is drawn black as the lights stand: every one off, and no ambient colour in
+        any material it is drawn with (Ka 0 0 0, as SketchUp and Maya write one)."""
+        return not any(light.on for light in self.lights) and not any(any(m.ka) for m in _materials_of(obj))
+
     def depth_of(self, point: np.ndarray) -> float:
         """How far in front of the eye a world point is, along the view axis (negative: behind)."""
         return float(np.dot(point - self.eye_position(), self.viewer.forward))
