@@ -223,6 +223,7 @@ def test_the_probe_says_whether_a_texture_multiplies_the_pixel() -> None:
     (np.full((2, 2, 3), np.nan), "float texture pixels must be finite"),
     (np.array([["a"]]), "texture pixels must be numbers"),
     (np.broadcast_to(np.uint8(7), (10**5, 10**5, 3)), "at most 67108864 pixels, not 100000x100000"),
+    (Image.new("La", (2, 2)), "^a texture in Pillow's mode La cannot be drawn: give it in RGB$"),
 ])
 def test_a_texture_that_cannot_be_drawn_is_refused_by_add_mesh_in_one_line(texture: object, words: str) -> None:
     with marraztu.Viewer(size=SIZE, empty=True) as v:

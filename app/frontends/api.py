@@ -448,8 +448,15 @@ def _picture_given(texture: Any) -> np.ndarray:
     if isinstance(texture, (str, os.PathLike)):
         return load_image(texture)
     if isinstance(texture, Image.Image):  # floats and wide integers as they are, to be checked as an array's
-        texture = np.asarray(texture if texture.mode in ("L", "RGB", "RGBA", "F", "I") else texture.convert("RGBA"))
+        texture = np.asarray(texture if texture.mode in ("L", "RGB", "RGBA", "F", "I") else _in_rgba(texture))
     return picture_bytes(texture, MAX_PIXELS)
+
+
+def _in_rgba(picture: Image.Image) -> Image.Image:
+    try:
+        return picture.convert("RGBA")
+    except ValueError:  # a mode Pillow converts to nothing else (La, premultiplied)
+        raise ValueError(f"a texture in Pillow's mode {picture.mode} cannot be drawn: give it in RGB") from None
 
 
 def _finite_positions(positions: Any) -> np.ndarray:
