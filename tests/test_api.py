@@ -870,6 +870,27 @@ def test_modes_set_by_hand_that_cannot_be_drawn_are_refused_in_one_line(name: st
         assert np.asarray(v.render()).any()
 
 
+@pytest.mark.parametrize("change, words", [
+    (lambda s: setattr(s.objects[0], "picture", Image.new("RGB", (4, 4))), "'s picture must be .*, not Image$"),
+    (lambda s: setattr(s.objects[0], "picture", [[1, 2, 3]]), "'s picture must be .*, not list$"),
+    (lambda s: setattr(s.objects[0], "picture", np.zeros((4, 4, 3))), "'s picture must be .*, not float64 of shape"),
+    (lambda s: setattr(s.objects[0], "picture", np.zeros(5, np.uint8)),
+     r"'s picture must be .*, not uint8 of shape \(5,\)$"),
+    (lambda s: setattr(s, "texture", np.zeros((4, 4, 4), np.uint8)), r"^the scene's texture must be .*\(4, 4, 4\)$"),
+])
+def test_pictures_set_by_hand_that_cannot_be_drawn_are_refused_in_one_line(change, words: str) -> None:
+    """obj.picture = Image.open(...), as add_mesh's texture= invites, raised 'Image' object has no attribute
+    'shape' from the renderer, and from repr(obj) too; a float picture was drawn black without a word."""
+    with marraztu.Viewer(size=SIZE) as v:
+        change(v.scene)
+        assert "picture=" in repr(v.scene.objects[0]) or v.scene.objects[0].picture is None
+        for call in (v.render, lambda: v.press("x"), v.probe):
+            with pytest.raises(ValueError, match=words):
+                call()
+        v.scene.objects[0].picture, v.scene.texture = None, None
+        assert np.asarray(v.render()).any()
+
+
 def test_modes_set_by_hand_draw_as_their_keys_do() -> None:
     from marraztu.model.scene import Projection, Shading
 

@@ -160,6 +160,13 @@ def _shown(value: object) -> str:
     return shortened(" ".join(repr(value).split()))
 
 
+def _picture_size(picture: object) -> str:
+    """A picture's width x height, or its kind where it is none (set by hand, refused at the next call)."""
+    if picture_refusal(picture) is None:
+        return f"{picture.shape[1]}x{picture.shape[0]}"  # type: ignore[attr-defined]
+    return type(picture).__name__
+
+
 def _materials_refusal(element: SceneObject) -> str | None:
     """Why an element's material or part materials, set by hand, are not Materials (None: they are)."""
     if not isinstance(element.material, Material):
@@ -175,6 +182,20 @@ def _materials_refusal(element: SceneObject) -> str | None:
         return None
     return f"part_materials must be a tuple of Materials, one per material of its file " \
            f"({len(element.mesh.materials)}), not {given}"
+
+
+def picture_refusal(picture: object) -> str | None:
+    """Why a picture set by hand cannot be drawn (None: it can, or there is none): the renderer takes
+    (H, W, 3) bytes, top row first, as every reader gives them."""
+    if picture is None:
+        return None
+    if not isinstance(picture, np.ndarray):
+        given = type(picture).__name__
+    elif picture.dtype == np.uint8 and picture.ndim == 3 and picture.shape[2] == 3 and picture.size:
+        return None
+    else:
+        given = f"{picture.dtype} of shape {picture.shape}"
+    return f"must be an (H, W, 3) array of bytes, top row first (add_mesh's texture= reads others), not {given}"
 
 
 def _stacked(values: list[object], shape: tuple[int, ...]) -> np.ndarray | None:
@@ -234,7 +255,7 @@ class SceneObject:
 
     def __repr__(self) -> str:
         """What it is and where, not its tables: the history grows a matrix with every move."""
-        own_picture = "" if self.picture is None else f", picture={self.picture.shape[1]}x{self.picture.shape[0]}"
+        own_picture = "" if self.picture is None else f", picture={_picture_size(self.picture)}"
         try:
             model: object = np.round(np.asarray(self.model, dtype=np.float64), 6).tolist()
         except (TypeError, ValueError):  # pushed by hand, refused at the next call: shown as it is
@@ -459,6 +480,8 @@ class Scene:
             return False
         if any(_materials_refusal(element) is not None for element in elements):
             return False
+        if any(picture_refusal(picture) is not None for picture in (self.texture, *(e.picture for e in elements))):
+            return False
         materials = list({id(m): m for element in elements for m in _materials_of(element)}.values())
         if not all(_finite_number(material.ns) for material in materials):
             return False
@@ -491,11 +514,17 @@ class Scene:
         refusal = _modes_refusal(self.modes)
         if refusal is not None:
             yield f"the scene's {refusal}"
+        refusal = picture_refusal(self.texture)
+        if refusal is not None:
+            yield f"the scene's texture {refusal}"
         triples = self._own_triples()
         for element in (*self.objects, *self.cameras):
             refusal = model_refusal(element.model)
             if refusal is not None:
                 yield f"{element.name}'s model matrix {refusal}"
+            refusal = picture_refusal(element.picture)
+            if refusal is not None:
+                yield f"{element.name}'s picture {refusal}"
             refusal = _materials_refusal(element)
             if refusal is not None:
                 yield f"{element.name}'s {refusal}"
