@@ -891,6 +891,14 @@ def test_pictures_set_by_hand_that_cannot_be_drawn_are_refused_in_one_line(chang
         assert np.asarray(v.render()).any()
 
 
+def test_the_status_of_a_mode_set_by_hand_that_cannot_be_drawn_is_refused_as_a_render_is() -> None:
+    """v.status raised 'str' object has no attribute 'value' where render said what was wrong."""
+    with marraztu.Viewer(size=SIZE) as v:
+        v.scene.modes.shading = "gouraud"
+        with pytest.raises(ValueError, match=r"^the scene's modes\.shading must be a Shading"):
+            v.status  # noqa: B018 - the property is the call
+
+
 def test_modes_set_by_hand_draw_as_their_keys_do() -> None:
     from marraztu.model.scene import Projection, Shading
 
