@@ -224,6 +224,8 @@ def test_the_probe_says_whether_a_texture_multiplies_the_pixel() -> None:
     (np.array([["a"]]), "texture pixels must be numbers"),
     (np.broadcast_to(np.uint8(7), (10**5, 10**5, 3)), "at most 67108864 pixels, not 100000x100000"),
     (Image.new("La", (2, 2)), "^a texture in Pillow's mode La cannot be drawn: give it in RGB$"),
+    # Pillow's convert clipped it: 30000 of 65535 was drawn white
+    (Image.fromarray(np.full((2, 2), 30000, np.uint16)), "^integer texture pixels must lie in 0..255$"),
 ])
 def test_a_texture_that_cannot_be_drawn_is_refused_by_add_mesh_in_one_line(texture: object, words: str) -> None:
     with marraztu.Viewer(size=SIZE, empty=True) as v:

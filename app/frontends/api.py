@@ -448,8 +448,9 @@ def _picture_given(texture: Any) -> np.ndarray:
     any mode, an array checked as colours are."""
     if isinstance(texture, (str, os.PathLike)):
         return load_image(texture)
-    if isinstance(texture, Image.Image):  # floats and wide integers as they are, to be checked as an array's
-        texture = np.asarray(texture if texture.mode in ("L", "RGB", "RGBA", "F", "I") else _in_rgba(texture))
+    if isinstance(texture, Image.Image):  # floats and wide integers (I, I;16...) as they are: convert clips them
+        as_they_are = texture.mode in ("L", "RGB", "RGBA", "F") or texture.mode.startswith("I")
+        texture = np.asarray(texture if as_they_are else _in_rgba(texture))
     return picture_bytes(texture, MAX_PIXELS)
 
 
