@@ -867,3 +867,7 @@ def test_a_model_drawn_black_as_it_is_loaded_says_why(tmp_path: Path, keys: str)
     started = viewer_with("", (model, _without_ambient(tmp_path / "lit.obj", "0.2 0.2 0.2")), empty=True)
     loads = [line for line in started.scene.message.splitlines() if line.startswith("loaded")]
     assert [line.endswith(DARK_HINT) for line in loads] == [True, False], loads
+    stepped = viewer_with(keys, (tmp_path / "lit.obj",), empty=True)  # PageDown from lit.obj reaches dark.obj
+    stepped.press(parse_key_sequence("PAGEDOWN")[0])
+    assert stepped.scene.message.startswith("dark.obj in place of lit: ")
+    assert stepped.scene.message.endswith(DARK_HINT) == (keys == ""), stepped.scene.message

@@ -406,7 +406,8 @@ class Viewer:
         selected = element is self.scene.object and self.scene.viewer is not element
         seen = selected and not self._unseen_as(element, by_scale=True)
         commands.replace_loaded(self.scene, element, loaded)
-        said = with_notes(f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}", loaded.mesh)
+        said = with_notes(f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}{self._dark(element)}",
+                          loaded.mesh)
         where = self._unseen_as(element, by_scale=True) if seen else ""
         self.tell(f"{said}; {_lost_notice(element, where)}" if where else said)
 
@@ -470,11 +471,14 @@ class Viewer:
                 for sight, inside in zip(sights, self._inside(objects))]
 
     def _inside(self, objects: list[SceneObject]) -> list[str]:
-        """What each load's message says of an object that another's box holds, and of one drawn black
-        for want of light; "" where neither."""
+        """What each load's message says of an object that another's box holds, and of one its lights
+        leave black; "" where neither."""
         return [("" if holder is None else f", inside {holder.name}'s bounding box, perhaps hidden by it (d shows "
-                 "it alone)") + (DARK_HINT if self.scene.black_for_want_of_light(obj) else "")
-                for obj, holder in zip(objects, self.scene.enclosers(objects))]
+                 "it alone)") + self._dark(obj) for obj, holder in zip(objects, self.scene.enclosers(objects))]
+
+    def _dark(self, obj: SceneObject) -> str:
+        """What a load's message says of an object the lights leave black; "" where they do not."""
+        return DARK_HINT if self.scene.black_for_want_of_light(obj) else ""
 
     def _seen_selected(self) -> _Before | None:
         """The selected object as a key finds it, and the view then; no test made yet."""
