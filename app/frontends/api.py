@@ -38,7 +38,7 @@ from marraztu.model.build import build_mesh, picture_bytes, real_numbers
 from marraztu.model.geometry import cannot_light, holds_in_float32
 from marraztu.model.mesh import INDEX_LIMIT, counted
 from marraztu.model.probe import probe as probe_scene
-from marraztu.model.scene import NAME_LIMIT, Scene, SceneObject
+from marraztu.model.scene import Scene, SceneObject, name_refusal
 from marraztu.render.context import create_offscreen_context
 from marraztu.render.layout import checked_size
 from marraztu.render.renderer import Renderer
@@ -133,8 +133,9 @@ def _checked_name(name: Any) -> None:
         raise TypeError(f"name is a str, not {type(name).__name__}")
     if not name.strip():
         raise ValueError("name is empty: give one with words in it, or None for the default")
-    if len(name) > NAME_LIMIT:
-        raise ValueError(f"name is {len(name)} characters long: at most {NAME_LIMIT}")
+    refusal = name_refusal(name)
+    if refusal is not None:
+        raise ValueError(refusal)
 
 
 def _checked_path(path: Any, what: str) -> Path:

@@ -51,7 +51,7 @@ from marraztu.loaders.patterns import compiled
 from marraztu.loaders.registry import Stage, load_model, sized
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh
-from marraztu.model.scene import NAME_LIMIT, Material, Scene, SceneObject, Vec3
+from marraztu.model.scene import Material, Scene, SceneObject, Vec3, name_refusal
 from marraztu.resources import ASSET_DIR
 
 BUILTIN_SCENE_FILE = "scene.toml"
@@ -353,8 +353,9 @@ class _SceneReader:
             model, path = CAMERA_MODEL, BUILT_IN_CAMERA_MODEL
         # A model "." has no stem: its own words name it, and loading it says what is wrong with it.
         name = self.text_value(table.get("name", Path(model).stem or model), f"{what}: name", at("name"))
-        if "name" in table and len(name) > NAME_LIMIT:  # a model's stem: its file's name, which its load checks
-            self.fail(f"{what}: name is {len(name)} characters long: at most {NAME_LIMIT}", at("name"))
+        refusal = name_refusal(name) if "name" in table else None  # a model's stem: its file's, which its load checks
+        if refusal is not None:
+            self.fail(f"{what}: {refusal}", at("name"))
         position = self.triple(table.get("position", list(ORIGIN)), f"{what}: position", at("position"))
         rotation = self.triple(table.get("rotation", [0, 0, 0]), f"{what}: rotation", at("rotation"))
         scale = self.scale(table.get("scale", 1), f"{what}: scale", at("scale"))

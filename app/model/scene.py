@@ -219,6 +219,11 @@ def _finite_number(value: object) -> bool:
 NAME_LIMIT = 255
 
 
+def name_refusal(name: str) -> str | None:
+    """Why a name given an object or camera cannot be shown (None: it can): longer than a file's."""
+    return f"name is {len(name)} characters long: at most {NAME_LIMIT}" if len(name) > NAME_LIMIT else None
+
+
 @dataclass(eq=False)
 class SceneObject:
     """An object or a camera: a mesh, a material and a history of model matrices (top = current).

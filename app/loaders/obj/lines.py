@@ -318,7 +318,8 @@ class LineReader:
         """The file's v, vt and vn indices of one corner, 0 where it has none."""
         parts = token.split(b"/")
         if tuple(bool(part) for part in parts) not in CORNER_GAPS:
-            raise self.fail(number, f"bad face corner {_quoted(token)} (expected v, v/vt, v//vn or v/vt/vn)")
+            expected = "v, v/vt, v//vn, v/vt/vn, v// or v/vt/"
+            raise self.fail(number, f"bad face corner {_quoted(token)} (expected {expected})")
         for field, part in enumerate(parts):
             if part and not _INTEGER.match(part):
                 raise self.fail(number, f"bad face corner {_quoted(token)}: {_quoted(part)} is not an index")
