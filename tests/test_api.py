@@ -215,6 +215,16 @@ def test_the_probe_says_whether_a_texture_multiplies_the_pixel() -> None:
         assert not v.press("T").probe().textured
 
 
+def test_a_pillow_texture_is_read_as_a_file_of_its_mode_is() -> None:
+    """A 16-bit grey image (Image.fromarray of uint16) went through Pillow's convert, which clips: 30000
+    of 65535 was drawn white. It is scaled as a 16-bit PNG's grey is, as a trimesh material's picture
+    and the same picture saved as a file are."""
+    grey16 = Image.fromarray(np.full((2, 2), 30000, np.uint16))
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(SQUARE, [[0, 1, 2, 3]], uvs=SQUARE_UVS, texture=grey16)
+        assert v.scene.object.picture[0, 0].tolist() == [117, 117, 117]
+
+
 @pytest.mark.parametrize("texture, words", [
     (np.zeros((2, 2, 2), np.uint8), r"an \(H, W\) grey or \(H, W, 3 or 4\) picture, not shape \(2, 2, 2\)"),
     (np.zeros((0, 4, 3), np.uint8), r"not shape \(0, 4, 3\)"),
@@ -223,9 +233,8 @@ def test_the_probe_says_whether_a_texture_multiplies_the_pixel() -> None:
     (np.full((2, 2, 3), np.nan), "float texture pixels must be finite"),
     (np.array([["a"]]), "texture pixels must be numbers"),
     (np.broadcast_to(np.uint8(7), (10**5, 10**5, 3)), "at most 67108864 pixels, not 100000x100000"),
-    (Image.new("La", (2, 2)), "^a texture in Pillow's mode La cannot be drawn: give it in RGB$"),
-    # Pillow's convert clipped it: 30000 of 65535 was drawn white
-    (Image.fromarray(np.full((2, 2), 30000, np.uint16)), "^integer texture pixels must lie in 0..255$"),
+    (Image.new("La", (2, 2)), "^a picture in Pillow's mode La cannot be drawn: give it in RGB$"),
+    (np.full((2, 2), 30000, np.uint16), "^integer texture pixels must lie in 0..255$"),
 ])
 def test_a_texture_that_cannot_be_drawn_is_refused_by_add_mesh_in_one_line(texture: object, words: str) -> None:
     with marraztu.Viewer(size=SIZE, empty=True) as v:
@@ -282,23 +291,24 @@ def test_a_trimeshs_picture_is_its_texture_whatever_its_kind() -> None:
                         "16-bit grey": [117, 117, 117], "no picture": None}
 
 
-@pytest.mark.parametrize("picture, kind", [
-    (np.full((4, 4, 3), 0.5, np.float32), "float32"),
-    (np.full((4, 4, 3), 0.5), "float64"),
-    (np.full((4, 4), 0.5), "float64"),
-    (Image.fromarray(np.full((4, 4), 0.5, np.float32)), "mode F"),
-])
-def test_a_trimeshs_picture_of_floats_is_not_drawn_and_the_note_says_why(viewer, picture: object, kind: str) -> None:
+@pytest.mark.parametrize("picture", [np.full((4, 4, 3), 0.5, np.float32), np.full((4, 4), 0.5),
+                                     Image.fromarray(np.full((4, 4), 0.5, np.float32))],
+                         ids=["float32 RGB", "float64 grey", "Pillow's mode F"])
+def test_a_trimeshs_picture_of_floats_is_read_as_add_mesh_reads_one(viewer, picture: object) -> None:
     """A texture of 0..1 floats, as numpy makes them: an RGB array's note blamed Pillow ('Pillow cannot
     decode it'), and a grey one (or a Pillow picture of mode F made from it) was drawn black without a
-    word, read as 16-bit grey is."""
-    square = trimesh.Trimesh([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0]], [[0, 1, 2]], process=False,
-                             visual=trimesh.visual.TextureVisuals(uv=[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]],
-                                                                  image=picture))
-    viewer.add_mesh(square)
+    word, read as 16-bit grey is. Floats in 0..1 are drawn, as add_mesh's texture= draws them; others
+    are a note in the same words as its refusal."""
+    def textured(image: object) -> trimesh.Trimesh:
+        return trimesh.Trimesh([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0]], [[0, 1, 2]], process=False,
+                               visual=trimesh.visual.TextureVisuals(uv=[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]],
+                                                                    image=image))
+
+    viewer.add_mesh(textured(picture))
+    assert viewer.scene.object.mesh.materials[0].texture[0, 0].tolist() == [128, 128, 128]
+    viewer.add_mesh(textured(np.asarray(picture) * 3.0))
     assert viewer.scene.object.mesh.materials == ()
-    assert f"(its pixels are floats ({kind}): a texture's are 0..255 bytes, " \
-           "(pixels * 255).astype(np.uint8) from 0..1)" in viewer.message
+    assert "(float texture pixels must be finite and lie in 0..1)" in viewer.message
 
 
 def test_a_trimesh_face_past_its_own_vertices_is_refused_not_joined_to_the_next_mesh(viewer) -> None:

@@ -100,7 +100,7 @@ def claimed_pictures() -> dict[str, bytes]:
 def decoded(monkeypatch: pytest.MonkeyPatch) -> list[object]:
     """The pictures the reader has Pillow decode for a material (none of a size past the limit)."""
     calls: list[object] = []
-    monkeypatch.setattr(exchange, "_texture", lambda picture: (calls.append(picture), None)[1])
+    monkeypatch.setattr(exchange, "picture_rgb", lambda picture: (calls.append(picture), None)[1])
     return calls
 
 

@@ -32,9 +32,9 @@ from marraztu.errors import KeyMapError, LoadError, ViewerError, escaped, shorte
 from marraztu.frontends.heap import return_freed_memory
 from marraztu.frontends.screenshot import OffscreenFrontend, picture_of, render_pixels
 from marraztu.loaders.exchange import mesh_of_trimesh
-from marraztu.loaders.images import MAX_PIXELS, load_image
+from marraztu.loaders.images import load_image, picture_rgb
 from marraztu.loaders.scenefile import give_part_materials, material_for_loaded
-from marraztu.model.build import build_mesh, picture_bytes, real_numbers
+from marraztu.model.build import build_mesh, real_numbers
 from marraztu.model.geometry import cannot_light, holds_in_float32
 from marraztu.model.mesh import INDEX_LIMIT, counted
 from marraztu.model.probe import probe as probe_scene
@@ -445,21 +445,11 @@ def _transposed_hint(faces: Any) -> tuple[str, ...]:
 
 
 def _picture_given(texture: Any) -> np.ndarray:
-    """add_mesh's texture as the renderer takes it: a file read as a model's picture is, a PIL image of
-    any mode, an array checked as colours are."""
+    """add_mesh's texture as the renderer takes it: a file read as a model's picture is, or a picture
+    handed over in code, as a trimesh material's is."""
     if isinstance(texture, (str, os.PathLike)):
         return load_image(texture)
-    if isinstance(texture, Image.Image):  # floats and wide integers (I, I;16...) as they are: convert clips them
-        as_they_are = texture.mode in ("L", "RGB", "RGBA", "F") or texture.mode.startswith("I")
-        texture = np.asarray(texture if as_they_are else _in_rgba(texture))
-    return picture_bytes(texture, MAX_PIXELS)
-
-
-def _in_rgba(picture: Image.Image) -> Image.Image:
-    try:
-        return picture.convert("RGBA")
-    except ValueError:  # a mode Pillow converts to nothing else (La, premultiplied)
-        raise ValueError(f"a texture in Pillow's mode {picture.mode} cannot be drawn: give it in RGB") from None
+    return picture_rgb(texture)
 
 
 def _finite_positions(positions: Any) -> np.ndarray:

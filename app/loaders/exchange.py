@@ -67,9 +67,9 @@ from marraztu.loaders.images import (
     FORMATS_BY_MAGIC,
     check_picture,
     image_format,
+    picture_rgb,
     picture_size_refusal,
     pictures_checked,
-    rgb_array,
     unread_textures_note,
 )
 from marraztu.loaders.ply import STRIPS, binary_of_ascii, read_header, vertices_and_faces
@@ -623,24 +623,13 @@ def _drawn_picture(picture: Any, formats: Collection[str] | None, undrawn: list[
     if refusal is not None:  # before it is decoded
         undrawn.append(refusal)
         return None
-    floats = _float_kind(picture)
-    if floats is not None:
-        undrawn.append(f"its pixels are floats ({floats}): a texture's are 0..255 bytes, "
-                       "(pixels * 255).astype(np.uint8) from 0..1")
-        return None
-    texture = _texture(picture)
-    if texture is None:
+    try:
+        return picture_rgb(picture)
+    except ValueError as error:  # a picture made in code that cannot be drawn: why, in its words
+        undrawn.append(str(error))
+    except Exception:  # a file Pillow opened from its first bytes and cannot decode
         undrawn.append("Pillow cannot decode it")
-    return texture
-
-
-def _float_kind(picture: Any) -> str | None:
-    """The kind of floats a picture made in code holds (None: not floats), whose range no file says:
-    Pillow's mode F, read as 16-bit grey is, would draw numpy's 0..1 black."""
-    if isinstance(picture, Image.Image):
-        return "mode F" if picture.mode == "F" and picture.format is None else None
-    kind = np.asarray(picture).dtype
-    return kind.name if kind.kind == "f" else None
+    return None
 
 
 def _picture_size(picture: Any) -> tuple[int, int]:
@@ -676,13 +665,6 @@ def _picture(material: Any) -> Any:
     if picture is None and not _stand_in_material(material):
         picture = getattr(material, "image", None)
     return picture
-
-
-def _texture(picture: Any) -> np.ndarray | None:
-    try:
-        return rgb_array(picture if isinstance(picture, Image.Image) else Image.fromarray(np.asarray(picture)))
-    except Exception:  # a picture Pillow cannot convert: the colours alone, as for a missing map_Kd
-        return None
 
 
 def _stand_in_material(material: Any) -> bool:

@@ -31,6 +31,7 @@ from marraztu.errors import LoadError, escaped
 from marraztu.loaders.files import read_file, read_head, shown
 from marraztu.loaders.patterns import compiled
 from marraztu.loaders.words import shortened_bytes
+from marraztu.model.build import picture_bytes
 
 # No texture a student uses comes near this; a header claiming more is broken or hostile.
 MAX_PIXELS = 64 * 1024 * 1024
@@ -500,6 +501,20 @@ def _opened(source: str | Path, file: BinaryIO, kind: str) -> Iterator[Image.Ima
         raise LoadError(source, "image is too large (Pillow's decompression-bomb guard)") from None
     except Exception as error:  # Pillow raises OSError, ValueError, SyntaxError, EOFError, ... for bad files
         raise LoadError(source, unreadable(error, _head_of(file))) from None
+
+
+def picture_rgb(picture: object) -> np.ndarray:
+    """(H, W, 3) uint8 of a picture handed over in code (the API's texture, a trimesh material's): a
+    Pillow image read as a file of its mode is (16-bit grey scaled), an array, or an image of floats made
+    in code, checked as colours are (bytes, or floats in 0..1). ValueError saying why it cannot be drawn."""
+    if not isinstance(picture, Image.Image):
+        return picture_bytes(picture, MAX_PIXELS)
+    if picture.mode == "F" and picture.format is None:  # numpy's 0..1 floats: no file says their range
+        return picture_bytes(np.asarray(picture), MAX_PIXELS)
+    try:
+        return rgb_array(picture)
+    except ValueError:  # a mode Pillow converts to nothing else (La)
+        raise ValueError(f"a picture in Pillow's mode {picture.mode} cannot be drawn: give it in RGB") from None
 
 
 def rgb_array(image: Image.Image) -> np.ndarray:
