@@ -185,6 +185,9 @@ def test_faces_given_transposed_are_said_to_be_perhaps_so() -> None:
         assert v.message.endswith("(3 polygons of 80 corners: for 80 polygons of 3, give faces.T)"), v.message
         v.add_mesh(sphere.vertices, sphere.faces, name="ball")
         assert v.message.startswith("added ball: 42 vertices, 80 faces") and "faces.T" not in v.message
+        hexagons = np.arange(18).reshape(3, 6)  # three real polygons of six corners: no hint
+        v.add_mesh(np.c_[np.cos(np.arange(18)), np.sin(np.arange(18)), np.arange(18) // 6], hexagons, name="rings")
+        assert v.message.startswith("added rings: 18 vertices, 3 faces") and "faces.T" not in v.message
 
 
 def test_a_name_longer_than_a_files_is_refused_not_cut() -> None:
