@@ -5,6 +5,7 @@ mouse's orbit, pan and dolly, each gesture one step for `u`."""
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -718,6 +719,27 @@ def test_in_parallel_projection_the_wheel_zooms_and_u_and_home_take_the_zoom_bac
     assert scene.modes.parallel_half_height == pytest.approx(half_height)
     dispatch(scene, parse_key_sequence("u")[0], RecordingHost())
     assert scene.modes.parallel_half_height == pytest.approx(half_height * commands.DOLLY_PER_NOTCH ** 5)
+
+
+@pytest.mark.parametrize("keys", ["", "p"], ids=["perspective", "parallel"])
+def test_the_wheel_backs_off_no_further_than_the_view_can_draw(tmp_path: Path, keys: str) -> None:
+    """1,200 notches out took the camera to 1e57 (a parallel view's half height to 1e111): each frame
+    printed numpy's 'overflow encountered in cast', and the next API call refused the half height. It
+    stops at DOLLY_FARTHEST times the object's size, where the object is a speck, and comes back in."""
+    with marraztu.Viewer(size=SIZE, empty=True) as viewer:
+        viewer.load(octahedron(tmp_path / "m.obj", 100.0)).press(keys)
+        scene = viewer.scene
+        size = float(np.linalg.norm(np.ptp(scene.object.mesh.bounds, axis=0)))
+        for _ in range(1200):
+            commands.dolly_view(scene, -1)
+        reach = scene.modes.parallel_half_height if keys else np.linalg.norm(scene.camera.origin - scene.object.centre)
+        assert reach == pytest.approx(commands.DOLLY_FARTHEST * size)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            viewer.render()
+        commands.dolly_view(scene, 1)
+        back = scene.modes.parallel_half_height if keys else np.linalg.norm(scene.camera.origin - scene.object.centre)
+        assert back == pytest.approx(reach * commands.DOLLY_PER_NOTCH)
 
 
 def test_the_wheel_stops_where_the_near_plane_leaves_what_it_looks_at(tmp_path: Path) -> None:

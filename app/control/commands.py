@@ -51,6 +51,9 @@ DOLLY_PER_NOTCH = 0.9  # each wheel notch toward the object leaves this share of
 # Of the object's size: nearer, a notch out no longer moved a far model's camera; ten near planes
 # inside its box (INSIDE_FRACTION), so that what the camera looks at is not cut away there.
 DOLLY_CLOSEST = 10.0 * INSIDE_FRACTION
+# Of the object's size: farther, it spans a ten-thousandth of the view, a speck, and notches on would
+# take the camera past what a 32-bit matrix holds.
+DOLLY_FARTHEST = 1e4
 
 TARGET_CYCLE = (Target.OBJECTS, Target.CAMERAS, Target.LIGHTS)
 
@@ -428,24 +431,29 @@ def dolly_view(scene: Scene, steps: float) -> None:
     projection, where the distance changes nothing but what the near plane cuts, the view's size
     shrinks instead (as far) and the camera stays."""
     factor = DOLLY_PER_NOTCH ** steps
-    closest = DOLLY_CLOSEST * _view_size(scene)
+    size = _view_size(scene)
+    bounds = (DOLLY_CLOSEST * size, DOLLY_FARTHEST * size)
     model = scene.camera.model.copy()
     if scene.modes.projection is Projection.PARALLEL:
-        half_height = _dollied(scene.modes.parallel_half_height, factor, closest)
+        half_height = _dollied(scene.modes.parallel_half_height, factor, bounds)
         move_view(scene, model, "dolly", half_height=half_height)
         return
     centre = _view_centre(scene)
     offset = model[:3, 3] - centre
     distance = float(np.linalg.norm(offset))
     backward = offset / distance if distance > 0.0 else model[:3, 2] / np.linalg.norm(model[:3, 2])
-    model[:3, 3] = centre + backward * _dollied(distance, factor, closest)
+    model[:3, 3] = centre + backward * _dollied(distance, factor, bounds)
     move_view(scene, model, "dolly")
 
 
-def _dollied(length: float, factor: float, closest: float) -> float:
-    """A distance or a view's size scaled by the wheel, never in under `closest` (one already under it
-    stays), so that notches out always move it back."""
-    return max(length * factor, closest if factor > 1.0 else min(length, closest))
+def _dollied(length: float, factor: float, bounds: tuple[float, float]) -> float:
+    """A distance or a view's size scaled by the wheel, kept within (closest, farthest): never in under
+    the one nor out past the other (one already past it stays), so that notches the other way always
+    move it."""
+    closest, farthest = bounds
+    if factor > 1.0:
+        return min(max(length * factor, closest), max(length, farthest))
+    return max(length * factor, min(length, closest))
 
 
 def axis_press(axis_index: int, sign: int) -> CommandFunction:
