@@ -869,8 +869,11 @@ def test_lights_and_materials_set_by_hand_that_cannot_be_drawn_are_refused_in_on
     ("texture", None, r"modes\.texture must be True or False, not None$"),
     ("normals", np.True_, r"modes\.normals must be True or False, not np\.True_$"),
     ("term_view", "ambient", r"modes\.term_view must be a TermView \(TermView\.EVERYTHING, .*not 'ambient'$"),
-    ("parallel_half_height", 0.0, r"modes\.parallel_half_height must be a finite number above 0, not 0\.0$"),
-    ("parallel_half_height", float("nan"), r"modes\.parallel_half_height must be a finite number above 0"),
+    ("parallel_half_height", 0.0, r"modes\.parallel_half_height must be a finite number from 1e-30 to 1e\+30, "
+                                  r"not 0\.0$"),
+    ("parallel_half_height", float("nan"), r"modes\.parallel_half_height must be a finite number from "),
+    ("parallel_half_height", 1e-300, r"modes\.parallel_half_height must be .*, not 1e-300$"),
+    ("parallel_half_height", 3e38, r"modes\.parallel_half_height must be .*, not 3e\+38$"),
 ])
 def test_modes_set_by_hand_that_cannot_be_drawn_are_refused_in_one_line(name: str, value: object, words: str) -> None:
     """`scene.modes.shading = "gouraud"`, as the repr's <Shading.FLAT: 'flat'> invites, raised 'str'

@@ -373,6 +373,8 @@ class Modes:
 
 
 _MODE_KINDS: dict[str, type] = typing.get_type_hints(Modes)  # the kind each switch holds
+# A parallel view's half height set by hand: P holds its inverse in float32, which ends at 3.4e38.
+HALF_HEIGHT_RANGE = (1e-30, 1e30)
 
 
 def _modes_refusal(modes: Modes) -> str | None:
@@ -383,8 +385,10 @@ def _modes_refusal(modes: Modes) -> str | None:
             if not isinstance(value, bool):  # numpy's True too: moderngl packs only Python's into a uniform
                 return f"modes.{name} must be True or False, not {_shown(value)}"
         elif kind is float:
-            if isinstance(value, (bool, np.bool_)) or not _finite_number(value) or not float(value) > 0.0:
-                return f"modes.{name} must be a finite number above 0, not {_shown(value)}"
+            if isinstance(value, (bool, np.bool_)) or not _finite_number(value) or \
+                    not HALF_HEIGHT_RANGE[0] <= float(value) <= HALF_HEIGHT_RANGE[1]:
+                return f"modes.{name} must be a finite number from {HALF_HEIGHT_RANGE[0]:g} to " \
+                       f"{HALF_HEIGHT_RANGE[1]:g}, not {_shown(value)}"
         elif not isinstance(value, kind):
             members = [f"{kind.__name__}.{member}" for member in _named_members(kind)]
             return f"modes.{name} must be a {kind.__name__} ({', '.join(members)}; from {kind.__module__}), " \
