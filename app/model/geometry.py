@@ -34,6 +34,20 @@ def cannot_light(low: np.ndarray, high: np.ndarray) -> str | None:
     return None
 
 
+def segment_meets_box(origin: np.ndarray, direction: np.ndarray, low: np.ndarray, high: np.ndarray) -> bool:
+    """Whether origin + t direction, t in 0..1, meets the box low..high (the slab test), the box grown by
+    a billionth of its size so that a surface lying on its side (a floor: a box 0 high) is met."""
+    pad = 1e-9 * max(float(np.max(high - low)), float(np.max(np.abs(low))), float(np.max(np.abs(high))))
+    low, high = low - pad, high + pad
+    along = direction != 0.0
+    if not ((low <= origin) & (origin <= high))[~along].all():  # parallel to a slab and outside it
+        return False
+    with np.errstate(over="ignore"):  # a nearly parallel slab: t far off either way, as it should be
+        ends = (np.stack([low, high])[:, along] - origin[along]) / direction[along]
+    enter, leave = float(np.max(ends.min(axis=0), initial=0.0)), float(np.min(ends.max(axis=0), initial=1.0))
+    return max(enter, 0.0) <= min(leave, 1.0)
+
+
 def holds_in_float32(table: np.ndarray) -> bool:
     """Whether every number is finite and within float32's range, as the GPU holds it. Two reductions,
     no mask as large as the table; NaN fails both comparisons."""

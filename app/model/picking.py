@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from marraztu.model.geometry import segment_meets_box
 from marraztu.model.mesh import fan_triangles
 from marraztu.model.probe import facings
 from marraztu.model.scene import Scene, SceneObject
@@ -51,6 +52,8 @@ def _nearest_on(scene: Scene, element: SceneObject, start: int, stop: int, origi
     inverse = np.linalg.inv(element.model)
     local_origin = inverse[:3, :3] @ origin + inverse[:3, 3]
     local_direction = inverse[:3, :3] @ direction
+    if not segment_meets_box(local_origin, local_direction, *element.mesh.bounds):  # then no triangle of it
+        return None
     faces_met, depths = [], []
     for first, last in _blocks(element.mesh.face_start, start, stop):
         faces, t = _met_in(element, first, last, local_origin, local_direction)
