@@ -296,6 +296,29 @@ def test_a_mouse_gesture_that_takes_the_selected_model_out_of_view_says_so_once(
     assert lost and set(told[lost[0]:]) == {f"m is now {where} (. frames it)"}, told[lost[0] - 1:lost[0] + 2]
 
 
+@pytest.mark.parametrize("said_by", ["the mouse", "a key"])
+def test_a_mouse_gesture_that_brings_the_model_back_into_view_takes_the_notice_back(tmp_path: Path,
+                                                                                     said_by: str) -> None:
+    """A right drag slid the model off the window and back on: 'm is now outside the view' stayed up
+    over the model in plain view, until the next key."""
+    viewer = viewer_with("c t" if said_by == "a key" else "", (octahedron(tmp_path / "m.obj", 10.0),), empty=True)
+    scene, aspect = viewer.scene, viewer.narrowest_aspect()
+    for _ in range(100):  # the camera slides left, by a press or a drag's event at a time
+        if scene.sight(scene.object, aspect) is not Sight.SEEN:
+            break
+        if said_by == "a key":
+            viewer.press(parse_key_sequence("X")[0])
+        else:
+            viewer.move_by_mouse(lambda moved: commands.pan_view(moved, 40, 0, 600))
+    assert scene.message == "m is now outside the view (. frames it)"
+    commands.end_view_gesture(scene)
+    for _ in range(100):
+        viewer.move_by_mouse(lambda moved: commands.pan_view(moved, -40, 0, 600))
+        if scene.sight(scene.object, aspect) is Sight.SEEN:
+            break
+    assert scene.sight(scene.object, aspect) is Sight.SEEN and scene.message == ""
+
+
 def test_a_key_that_leaves_the_model_in_view_or_changes_the_selection_says_nothing_of_it(tmp_path: Path) -> None:
     near = octahedron(tmp_path / "near.obj", 10.0)
     far = octahedron(tmp_path / "far.obj", 10.0, (0.0, 1e4, 0.0))

@@ -495,6 +495,14 @@ class Viewer:
         lost = self._lost_since(before)
         if lost:
             self.scene.message = lost
+        elif before is not None and self.scene.message in _lost_notices(before.obj):
+            self._withdraw_lost_notice(before.obj)
+
+    def _withdraw_lost_notice(self, obj: SceneObject) -> None:
+        """The notice that the object left the view, taken back where a mouse move brought it in again:
+        the next key would, and meanwhile it misleads over the model in plain view."""
+        if self.scene.object is obj and self.scene.viewer is not obj and not self._unseen_as(obj):
+            self.scene.message = ""
 
     def _lost_since(self, before: _Before | None) -> str:
         """That the object a key or a mouse move found in view is out of it now, in a message's words; ""
@@ -577,6 +585,11 @@ def tell_compiling(notice: Callable[[str], None], stage: str) -> None:
 def _lost_notice(obj: SceneObject, where: str) -> str:
     """What a key, a mouse move or a file read in its place says of the selected object the view no longer shows."""
     return f"{obj.name} is now {where} (. frames it)"
+
+
+def _lost_notices(obj: SceneObject) -> tuple[str, ...]:
+    """Each way _lost_notice can say that the object is out of view."""
+    return tuple(_lost_notice(obj, sight.value) for sight in Sight if sight is not Sight.SEEN)
 
 
 def with_notes(message: str, mesh: Mesh) -> str:
