@@ -15,7 +15,7 @@ from PIL import Image
 import marraztu
 from marraztu.control import commands
 from marraztu.control.keymap import dispatch, parse_key_sequence
-from marraztu.control.viewer import DARK_HINT, StartOptions, Viewer
+from marraztu.control.viewer import DARK_HINT, StartOptions, Viewer, load_model_object
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.registry import load_model
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
@@ -863,6 +863,21 @@ def test_a_move_of_the_target_makes_u_undo_that_move_not_the_view(tmp_path: Path
     for key in parse_key_sequence("x u"):
         dispatch(scene, key, host)
     assert len(scene.object.history) == 1 and len(scene.camera.history) == 2
+
+
+def test_a_ctrl_drag_going_on_as_a_load_joins_is_one_undo_step_of_the_new_model(tmp_path: Path) -> None:
+    """A load finishing mid ctrl-drag selects the new model, which the drag then turns: its events were
+    folded at the depth of the model it began on, so `u` took the new one back an event at a time."""
+    scene = scene_with_model(tmp_path)
+    host = RecordingHost()
+    for key in parse_key_sequence("x x x"):
+        dispatch(scene, key, host)
+    commands.drag(scene, 5, 0, SIZE)
+    joined = load_model_object(octahedron(tmp_path / "joined.obj", 5.0, (30.0, 0.0, 0.0)))
+    commands.add_loaded(scene, joined, as_camera=False)
+    for _ in range(10):
+        commands.drag(scene, 5, 3, SIZE)
+    assert scene.object is joined and len(joined.history) == 2
 
 
 def test_a_size_out_of_range_is_not_echoed_digit_by_digit() -> None:

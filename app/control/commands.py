@@ -640,6 +640,7 @@ def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool, aspect: float = 
     (the host frames the models of the command line together, frame_models)."""
     obj.selected_face = 0
     scene.loads += 1
+    end_view_gesture(scene)  # it is selected: a drag going on turns it as a gesture of its own
     if as_camera:
         if scene.objects:  # the cameras too: it stands clear of their bodies, which it sees
             obj.history = [framing.frame_objects(scene, scene.camera.model, scene.objects + scene.cameras, aspect)[0]]
