@@ -865,6 +865,22 @@ def test_a_move_of_the_target_makes_u_undo_that_move_not_the_view(tmp_path: Path
     assert len(scene.object.history) == 1 and len(scene.camera.history) == 2
 
 
+@pytest.mark.parametrize("models", [1, 0], ids=["the sun moved along x", "no object to move"])
+def test_a_refused_move_of_the_target_leaves_u_to_undo_the_view(tmp_path: Path, models: int) -> None:
+    """A drag turned the view, then a key the target refused (the sun has no place to move; --empty has
+    no object) said so and moved nothing, yet `u` said 'nothing to undo' and left the view turned."""
+    keys = "c c t" if models else ""
+    viewer = viewer_with(keys, (octahedron(tmp_path / "m.obj", 20.0),)[:models], empty=True)
+    scene, host = viewer.scene, RecordingHost()
+    start = scene.camera.model.copy()
+    commands.orbit_view(scene, 30, 0, SIZE)
+    turned = scene.camera.model.copy()
+    dispatch(scene, parse_key_sequence("x")[0], host)
+    assert np.array_equal(scene.camera.model, turned) and scene.message  # refused, and said
+    dispatch(scene, parse_key_sequence("u")[0], host)
+    assert np.array_equal(scene.camera.model, start) and scene.message == ""
+
+
 def test_a_ctrl_drag_going_on_as_a_load_joins_is_one_undo_step_of_the_new_model(tmp_path: Path) -> None:
     """A load finishing mid ctrl-drag selects the new model, which the drag then turns: its events were
     folded at the depth of the model it began on, so `u` took the new one back an event at a time."""

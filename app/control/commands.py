@@ -316,8 +316,11 @@ _MOVERS = {Target.OBJECTS: move_object, Target.CAMERAS: move_camera, Target.LIGH
 
 def move_target(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> None:
     """One move of the current target: `amount` is radians for rotations, world units otherwise."""
-    scene.view_moves.clear()  # from now on `u` undoes this move, the target's own
+    target = _moved_target(scene)
+    depth = None if target is None else len(target.history)
     _MOVERS[scene.modes.target](scene, kind, axis_index, amount)
+    if target is not None and len(target.history) != depth:  # a refused move leaves `u` to the view
+        scene.view_moves.clear()  # from now on `u` undoes this move, the target's own
 
 
 # --- the view: framing, reset, and the mouse's orbit, pan and dolly ----------------------------------
