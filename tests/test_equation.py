@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from marraztu.control import commands
 from marraztu.control.keymap import KeyPress, dispatch
 from marraztu.control.viewer import StartOptions
 from marraztu.devtools.bench.inputs import grid_quads
@@ -720,6 +721,20 @@ def test_the_matrices_panel(make_quad, make_scene) -> None:
     assert "undo depth of the quad: 1" in "\n".join(matrix_lines(scene, (800, 800)))
     scene.modes.target = Target.LIGHTS
     assert "sun: a direction, no matrix" in "\n".join(matrix_lines(scene, (800, 800)))
+
+
+def test_the_matrices_panel_counts_the_view_moves_u_takes_back_first(make_quad, make_scene) -> None:
+    """After a drag turned the view the panel said 'undo depth of the quad: 0 (u)', and u then turned
+    the view back: it undoes the view's moves first, whatever is targeted."""
+    scene = quad_scene_with_sun(make_quad, make_scene)
+    commands.orbit_view(scene, 30, 0, (800, 800))
+    commands.end_view_gesture(scene)
+    commands.dolly_view(scene, 1)
+    assert "undo depth of the quad: 0 (u: 2 view moves first)" in "\n".join(matrix_lines(scene, (800, 800)))
+    dispatch(scene, KeyPress("u"), RecordingHost())
+    assert "undo depth of the quad: 0 (u: 1 view move first)" in "\n".join(matrix_lines(scene, (800, 800)))
+    dispatch(scene, KeyPress("u"), RecordingHost())
+    assert "undo depth of the quad: 0 (u)" in "\n".join(matrix_lines(scene, (800, 800)))
 
 
 def test_help_makes_way_and_nothing_breaks_without_an_object(make_scene) -> None:

@@ -410,7 +410,7 @@ class ViewerWindow:
 
     @guarded
     def on_mouse_press_event(self, x: int, y: int, button: int) -> Unchanged:
-        """A press ends a gesture: the next drag is an undo step of its own (the status counts them). A
+        """A press ends a gesture: the next drag is an undo step of its own (the matrices panel counts them). A
         left one may begin a click."""
         commands.end_view_gesture(self.scene)
         self.click_travel = 0 if button == LEFT_BUTTON else None

@@ -16,6 +16,7 @@ import numpy as np
 from marraztu.control.commands import ROTATION_STEP_RAD, translation_step
 from marraztu.model.lighting import LightTerm
 from marraztu.model.lights import DIRECTIONAL, Show, TermView, WorldLight, cone_angle_deg
+from marraztu.model.mesh import counted
 from marraztu.model.probe import Probe, VertexProbe, probe
 from marraztu.model.scene import CameraMode, Frame, Scene, Shading, Target
 from marraztu.model.viewports import project, view_projection, views
@@ -185,7 +186,13 @@ def _frame_lines(scene: Scene) -> list[str]:
               else "analysis: orbits the object")
     press = f"a press of x y z: {ROTATION_STEP_RAD:g} rad or {translation_step(scene):g} units"
     return [f"objects {local}", f"cameras {camera}", f"undo depth of the {_target_name(scene)}: "
-            f"{_undo_depth(scene)} (u)", press]
+            f"{_undo_depth(scene)} ({_view_moves_first(scene)})", press]
+
+
+def _view_moves_first(scene: Scene) -> str:
+    """`u`, and the view's moves it takes back before the target's (the mouse, `.`, HOME)."""
+    moves = sum(camera in scene.cameras for camera, _ in scene.view_moves)
+    return f"u: {counted(moves, 'view move')} first" if moves else "u"
 
 
 def _target_name(scene: Scene) -> str:
