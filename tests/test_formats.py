@@ -318,13 +318,13 @@ def test_a_textured_mesh_placed_many_times_is_read_once(tmp_path: Path, monkeypa
                            matrix=trimesh.transformations.translation_matrix([100 * node, 0, 0]))
     (tmp_path / "tiles.glb").write_bytes(scene.export(file_type="glb"))
     calls: list[str] = []
-    for helper in ("_texture", "_vertex_uvs"):
+    for helper in ("picture_rgb", "_vertex_uvs"):
         real = getattr(exchange, helper)
         monkeypatch.setattr(exchange, helper, lambda *given, real=real, helper=helper: (calls.append(helper),
                                                                                         real(*given))[1])
     loaded = load_model(tmp_path / "tiles.glb")
     assert loaded.face_count == 100 and len(loaded.materials) == 1
-    assert sorted(calls) == ["_texture", "_vertex_uvs"]
+    assert sorted(calls) == ["_vertex_uvs", "picture_rgb"]
 
 
 def test_a_node_graph_with_a_cycle_is_one_load_error(tmp_path: Path) -> None:
@@ -597,8 +597,8 @@ def test_many_materials_sharing_a_picture_hash_it_once(monkeypatch: pytest.Monke
     scene = trimesh.Scene([square_with(trimesh.visual.material.PBRMaterial(name=f"m{number}", baseColorTexture=picture),
                                        uv=True) for number in range(20)])
     hashed: list[object] = []
-    real = exchange._texture  # each picture read, and its key hashed from what it reads, once
-    monkeypatch.setattr(exchange, "_texture", lambda given: (hashed.append(given), real(given))[1])
+    real = exchange.picture_rgb  # each picture read, and its key hashed from what it reads, once
+    monkeypatch.setattr(exchange, "picture_rgb", lambda given: (hashed.append(given), real(given))[1])
     materials = exchange.mesh_of_trimesh("tiles", scene).materials
     assert len(materials) == 20 and len(hashed) == 1  # named apart: twenty materials, one picture
     assert len({id(material.texture) for material in materials}) == 1  # one array: uploaded once
