@@ -515,8 +515,9 @@ def change_aperture(delta_deg: float) -> CommandFunction:
 def drag(scene: Scene, dx_pixels: float, dy_pixels: float, window_px: tuple[int, int]) -> None:
     """Ctrl-drag turns the current target as y (sideways drag) and x (vertical drag) do, whatever
     r/t says, as far as a plain drag turns the view. Window y grows downward: dragging right or down
-    swings the near side right or down. The events of one drag make one undo step, as the view's
-    gestures do."""
+    swings an object's near side right or down; a camera in analysis mode orbits as its y and x keys
+    orbit it, so the picture turns the other way. The events of one drag make one undo step, as the
+    view's gestures do."""
     # A key or a button ends the gesture (end_view_gesture): the selection cannot change within one.
     target = _moved_target(scene)
     if scene.view_gesture != "drag":
