@@ -319,6 +319,14 @@ def test_a_mouse_gesture_that_brings_the_model_back_into_view_takes_the_notice_b
     assert scene.sight(scene.object, aspect) is Sight.SEEN and scene.message == ""
 
 
+def test_a_file_loaded_twice_is_said_inside_the_other_of_its_name(tmp_path: Path) -> None:
+    """It said 'big.obj ... inside big's bounding box', of two objects both named big."""
+    model = octahedron(tmp_path / "big.obj", 10.0)
+    viewer = viewer_with("", (model,), empty=True)
+    viewer.press(parse_key_sequence(f"f={model}")[0])
+    assert "inside the other big's bounding box" in viewer.scene.message, viewer.scene.message
+
+
 def test_a_key_that_leaves_the_model_in_view_or_changes_the_selection_says_nothing_of_it(tmp_path: Path) -> None:
     near = octahedron(tmp_path / "near.obj", 10.0)
     far = octahedron(tmp_path / "far.obj", 10.0, (0.0, 1e4, 0.0))

@@ -473,8 +473,8 @@ class Viewer:
     def _inside(self, objects: list[SceneObject]) -> list[str]:
         """What each load's message says of an object that another's box holds, and of one its lights
         leave black; "" where neither."""
-        return [("" if holder is None else f", inside {holder.name}'s bounding box, perhaps hidden by it (d shows "
-                 "it alone)") + self._dark(obj) for obj, holder in zip(objects, self.scene.enclosers(objects))]
+        return [("" if holder is None else f", inside {_other(holder, obj)}'s bounding box, perhaps hidden by it "
+                 "(d shows it alone)") + self._dark(obj) for obj, holder in zip(objects, self.scene.enclosers(objects))]
 
     def _dark(self, obj: SceneObject) -> str:
         """What a load's message says of an object the lights leave black; "" where they do not."""
@@ -580,6 +580,11 @@ def tell_compiling(notice: Callable[[str], None], stage: str) -> None:
     takes seconds, numba compiling the OBJ reader once after install, is told as it begins."""
     if stage == READER_COMPILING:
         notice(stage)
+
+
+def _other(holder: SceneObject, obj: SceneObject) -> str:
+    """The holder's name as a message about `obj` says it: a file loaded twice gives two of one name."""
+    return f"the other {holder.name}" if holder.name == obj.name else holder.name
 
 
 def _lost_notice(obj: SceneObject, where: str) -> str:
