@@ -773,6 +773,19 @@ def test_the_wheel_backs_off_no_further_than_the_view_can_draw(tmp_path: Path, k
         assert back == pytest.approx(reach * commands.DOLLY_PER_NOTCH)
 
 
+@pytest.mark.parametrize("point", [False, True], ids=["no object", "a model of one point"])
+def test_the_wheel_backs_off_again_where_the_view_has_no_size(tmp_path: Path, point: bool) -> None:
+    """With no object (--empty) or one of a single point, the view's size is 0, so DOLLY_FARTHEST times
+    it was 0 too: notches in came nearer, and notches out then never moved the camera back."""
+    if point:
+        (tmp_path / "dot.obj").write_text("v 1 2 3\nv 1 2 3\nv 1 2 3\nf 1 2 3\n")
+    scene = viewer_with("", (tmp_path / "dot.obj",) if point else (), empty=True).scene
+    start = scene.camera.origin.copy()
+    for steps in (1, 1, 1, -1, -1, -1):
+        commands.dolly_view(scene, steps)
+    assert np.allclose(scene.camera.origin, start)
+
+
 def test_the_wheel_stops_where_the_near_plane_leaves_what_it_looks_at(tmp_path: Path) -> None:
     """A 10 km ground seen from above: stopped a thousandth of its size from its centre, as far as the
     near plane inside its box, the camera showed the ground beyond that point only, and half the

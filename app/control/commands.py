@@ -392,9 +392,10 @@ def _view_centre(scene: Scene) -> np.ndarray:
 
 
 def _view_size(scene: Scene) -> float:
-    """The diagonal of the world box of what the mouse turns the view about."""
+    """The diagonal of the world box of what the mouse turns the view about; a unit sphere's, as framing
+    takes it, where that has none (no object, one point): the wheel's bounds are shares of it."""
     low, high = world_box([scene.object] if scene.object is not None else scene.objects)
-    return float(np.linalg.norm(high - low))
+    return 2.0 * framing.framed_radius(float(np.linalg.norm(high - low)) / 2.0)
 
 
 def drag_angles(dx_pixels: float, dy_pixels: float, window_px: tuple[int, int]) -> tuple[float, float]:

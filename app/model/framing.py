@@ -48,7 +48,7 @@ def framing_distance(radius: float, aspect: float = 1.0) -> float:
     return radius / math.sin(math.atan(FILL * _narrowness(aspect) * math.tan(half_fov)))
 
 
-def _framed_radius(radius: float) -> float:
+def framed_radius(radius: float) -> float:
     """The radius framed: a model's own, however small its units (a molecule in metres is 1e-10), and
     a unit's for a model of one point."""
     return radius if radius > 0.0 else 1.0
@@ -59,7 +59,7 @@ def framed(camera_model: np.ndarray, centre: np.ndarray, radius: float, aspect: 
     view `aspect` wide."""
     backward = camera_model[:3, 2] / np.linalg.norm(camera_model[:3, 2])  # the camera looks along -z
     moved = np.array(camera_model, dtype=np.float64)
-    moved[:3, 3] = centre + backward * framing_distance(_framed_radius(radius), aspect)
+    moved[:3, 3] = centre + backward * framing_distance(framed_radius(radius), aspect)
     return moved
 
 
@@ -81,12 +81,12 @@ def framed_scale(scene: Scene, obj: SceneObject, aspect: float = 1.0) -> float:
     if scene.modes.projection is Projection.PARALLEL:
         return _framed_half_height(radius, aspect) / scene.modes.parallel_half_height
     distance = float(np.linalg.norm(centre - scene.eye_position()))
-    return framing_distance(_framed_radius(radius), aspect) / distance if distance > 0.0 else math.inf
+    return framing_distance(framed_radius(radius), aspect) / distance if distance > 0.0 else math.inf
 
 
 def _framed_half_height(radius: float, aspect: float) -> float:
     """The parallel view's half height in which a sphere of `radius` fills FILL of a view `aspect` wide."""
-    return _framed_radius(radius) / _narrowness(aspect) / FILL
+    return framed_radius(radius) / _narrowness(aspect) / FILL
 
 
 def _narrowness(aspect: float) -> float:
