@@ -218,6 +218,20 @@ def test_the_probe_says_whether_a_texture_multiplies_the_pixel() -> None:
         assert not v.press("T").probe().textured
 
 
+@pytest.mark.parametrize("texture", [Image.new("L", (4, 4)), np.zeros((4, 4), np.uint8)], ids=["Pillow", "array"])
+def test_a_texture_of_more_pixels_than_a_files_is_refused_as_a_pillow_image_too(monkeypatch: pytest.MonkeyPatch,
+                                                                               texture: object) -> None:
+    """An array past MAX_PIXELS was refused and the same picture as a Pillow image drawn: 3c26c74 read
+    Pillow's through rgb_array, which counts no pixels (8193x8192 of mode L was kept, 200 MB)."""
+    from marraztu.loaders import images
+
+    monkeypatch.setattr(images, "MAX_PIXELS", 15)
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        with pytest.raises(ValueError, match=r"at most 15 pixels"):
+            v.add_mesh(SQUARE, [[0, 1, 2, 3]], uvs=SQUARE_UVS, texture=texture)
+        assert not v.scene.objects
+
+
 def test_a_pillow_texture_is_read_as_a_file_of_its_mode_is() -> None:
     """A 16-bit grey image (Image.fromarray of uint16) went through Pillow's convert, which clips: 30000
     of 65535 was drawn white. It is scaled as a 16-bit PNG's grey is, as a trimesh material's picture

@@ -509,6 +509,9 @@ def picture_rgb(picture: object) -> np.ndarray:
     in code, checked as colours are (bytes, or floats in 0..1). ValueError saying why it cannot be drawn."""
     if not isinstance(picture, Image.Image):
         return picture_bytes(picture, MAX_PIXELS)
+    refusal = picture_size_refusal(*picture.size)
+    if refusal is not None:  # before it is decoded, as an array's pixels are counted before a copy
+        raise ValueError(refusal)
     if picture.mode == "F" and picture.format is None:  # numpy's 0..1 floats: no file says their range
         return picture_bytes(np.asarray(picture), MAX_PIXELS)
     try:
