@@ -190,6 +190,16 @@ def test_faces_given_transposed_are_said_to_be_perhaps_so() -> None:
         assert v.message.startswith("added rings: 18 vertices, 3 faces") and "faces.T" not in v.message
 
 
+@pytest.mark.parametrize("stray", ["a", None])
+def test_faces_of_three_rows_that_are_not_numbers_are_refused_as_any_faces_are(stray: object) -> None:
+    """75b8a32's hint sorted each row of faces not yet checked: a stray word or None in (3, 5) objects
+    raised TypeError "'<' not supported between instances of 'str' and 'int'"."""
+    faces = np.array([[0, 1, 2, 3, stray], [0, 1, 2, 3, 4], [0, 1, 2, 3, 4]], dtype=object)
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        with pytest.raises(ValueError, match=r"^face indices must be whole numbers"):
+            v.add_mesh(np.eye(5, 3), faces)
+
+
 def test_a_name_longer_than_a_files_is_refused_not_cut() -> None:
     """add_mesh cut a name at 200 characters without a word, where a scene file kept it whole."""
     with marraztu.Viewer(size=SIZE, empty=True) as v:

@@ -438,7 +438,9 @@ def _refuse_masked(**arrays: Any) -> None:
 def _transposed_hint(faces: Any) -> tuple[str, ...]:
     """A note where faces look given transposed: (3, F) of triangles reads as three polygons of F
     corners, which draw, so no error says so."""
-    rows, columns = np.shape(faces) if isinstance(faces, np.ndarray) and faces.ndim == 2 else (0, 0)
+    # Numbers only: it runs before build_mesh checks the faces, whose error then says what is wrong.
+    numbers = isinstance(faces, np.ndarray) and faces.ndim == 2 and faces.dtype.kind in "biuf"
+    rows, columns = np.shape(faces) if numbers else (0, 0)
     # A polygon that lists a vertex twice: a column of a mesh's triangles, not a real polygon's corners.
     if rows in (3, 4) and columns > 4 and any(np.unique(row).size < columns for row in faces):
         return (f"{rows} polygons of {columns} corners: for {columns} polygons of {rows}, give faces.T",)
