@@ -20,7 +20,7 @@ from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.registry import load_model
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
 from marraztu.model.framing import FILL, bounding_sphere
-from marraztu.model.scene import Sight
+from marraztu.model.scene import HALF_HEIGHT_RANGE, Sight
 from support.scenes import BACKGROUND, NoFrontend, RecordingHost
 
 SIZE = (160, 160)
@@ -784,6 +784,21 @@ def test_the_wheel_backs_off_again_where_the_view_has_no_size(tmp_path: Path, po
     for steps in (1, 1, 1, -1, -1, -1):
         commands.dolly_view(scene, steps)
     assert np.allclose(scene.camera.origin, start)
+
+
+@pytest.mark.parametrize("scale, steps", [(1e12, -1), (1e-15, 1)], ids=["out", "in"])
+def test_the_parallel_wheel_stays_within_the_half_heights_a_call_takes(scale: float, steps: int) -> None:
+    """A model scaled by hand (obj.model) past what a file may be: the wheel zoomed out to 1e4 times its
+    size, 1.4e33, or in to a hundredth, past HALF_HEIGHT_RANGE, and every call after refused the half
+    height the wheel had set."""
+    with marraztu.Viewer(size=SIZE, empty=True) as viewer:
+        viewer.add_mesh(np.eye(3) * (1e17 if scale > 1 else 1e-17), [[0, 1, 2]])
+        viewer.scene.object.model = np.diag([scale, scale, scale, 1.0])
+        viewer.press("p")
+        for _ in range(1000):
+            commands.dolly_view(viewer.scene, steps)
+        assert HALF_HEIGHT_RANGE[0] <= viewer.scene.modes.parallel_half_height <= HALF_HEIGHT_RANGE[1]
+        assert viewer.status.startswith("target objects")
 
 
 def test_the_wheel_stops_where_the_near_plane_leaves_what_it_looks_at(tmp_path: Path) -> None:
