@@ -482,6 +482,15 @@ def undo(scene: Scene, host: Host) -> None:
         scene.message = "nothing to undo"
 
 
+def undoable_view_moves(scene: Scene) -> int:
+    """How many view moves `u` takes back before the target's: as _undo_view_move passes over those of a
+    camera since deleted, or past what its history holds."""
+    pending: dict[int, int] = {}
+    for camera, _ in scene.view_moves:
+        pending[id(camera)] = pending.get(id(camera), 0) + 1
+    return sum(min(pending.get(id(camera), 0), len(camera.history) - 1) for camera in scene.cameras)
+
+
 def _undo_view_move(scene: Scene) -> bool:
     """The latest view move undone, with the parallel view's size before it; False where none is left
     (a move of a camera since deleted, or of one with nothing left to undo, is passed over)."""

@@ -13,7 +13,7 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
-from marraztu.control.commands import ROTATION_STEP_RAD, translation_step
+from marraztu.control.commands import ROTATION_STEP_RAD, translation_step, undoable_view_moves
 from marraztu.model.lighting import LightTerm
 from marraztu.model.lights import DIRECTIONAL, Show, TermView, WorldLight, cone_angle_deg
 from marraztu.model.mesh import counted
@@ -191,7 +191,7 @@ def _frame_lines(scene: Scene) -> list[str]:
 
 def _view_moves_first(scene: Scene) -> str:
     """`u`, and the view's moves it takes back before the target's (the mouse, `.`, HOME)."""
-    moves = sum(camera in scene.cameras for camera, _ in scene.view_moves)
+    moves = undoable_view_moves(scene)
     return f"u: {counted(moves, 'view move')} first" if moves else "u"
 
 
