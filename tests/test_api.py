@@ -250,6 +250,11 @@ def test_a_pillow_texture_is_read_as_a_file_of_its_mode_is() -> None:
     with marraztu.Viewer(size=SIZE, empty=True) as v:
         v.add_mesh(SQUARE, [[0, 1, 2, 3]], uvs=SQUARE_UVS, texture=grey16)
         assert v.scene.object.picture[0, 0].tolist() == [117, 117, 117]
+        # 32-bit integers made in code have no range a file says: their numbers, as an array's (100 was black)
+        v.add_mesh(SQUARE, [[0, 1, 2, 3]], uvs=SQUARE_UVS, texture=Image.fromarray(np.full((2, 2), 100, np.int32)))
+        assert v.scene.object.picture[0, 0].tolist() == [100, 100, 100]
+        with pytest.raises(ValueError, match="^integer texture pixels must lie in 0..255$"):
+            v.add_mesh(SQUARE, [[0, 1, 2, 3]], uvs=SQUARE_UVS, texture=Image.fromarray(np.full((2, 2), -5, np.int32)))
 
 
 @pytest.mark.parametrize("texture, words", [

@@ -505,14 +505,15 @@ def _opened(source: str | Path, file: BinaryIO, kind: str) -> Iterator[Image.Ima
 
 def picture_rgb(picture: object) -> np.ndarray:
     """(H, W, 3) uint8 of a picture handed over in code (the API's texture, a trimesh material's): a
-    Pillow image read as a file of its mode is (16-bit grey scaled), an array, or an image of floats made
-    in code, checked as colours are (bytes, or floats in 0..1). ValueError saying why it cannot be drawn."""
+    Pillow image read as a file of its mode is (16-bit grey scaled), an array, or an image of floats or
+    32-bit integers made in code, checked as colours are (bytes, or floats in 0..1). ValueError saying
+    why it cannot be drawn."""
     if not isinstance(picture, Image.Image):
         return picture_bytes(picture, MAX_PIXELS)
     refusal = picture_size_refusal(*picture.size)
     if refusal is not None:  # before it is decoded, as an array's pixels are counted before a copy
         raise ValueError(refusal)
-    if picture.mode == "F" and picture.format is None:  # numpy's 0..1 floats: no file says their range
+    if picture.mode in ("F", "I") and picture.format is None:  # numbers made in code: no file says their range
         return picture_bytes(np.asarray(picture), MAX_PIXELS)
     try:
         return rgb_array(picture)
