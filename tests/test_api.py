@@ -812,6 +812,31 @@ def test_a_model_matrix_set_by_hand_is_a_move_that_u_undoes() -> None:
         assert len(obj.history) == 1
 
 
+def moved_along_z(distance: float) -> np.ndarray:
+    matrix = np.eye(4)
+    matrix[2, 3] = distance
+    return matrix
+
+
+@pytest.mark.parametrize("which, matrix, words", [
+    ("objects", np.diag([1e17, 1e17, 1e17, 1.0]), "a coordinate reaches .*: past 1e\\+18"),
+    ("objects", np.diag([1e-30, 1e-30, 1e-30, 1.0]), "the model is .* across: under 1e-18"),
+    ("cameras", moved_along_z(1e31), "a coordinate reaches 1e\\+31"),
+])
+def test_an_element_placed_by_hand_past_what_the_gpu_lights_is_refused(which: str, matrix: np.ndarray,
+                                                                       words: str) -> None:
+    """A file past 1e18 or under 1e-18 across is refused, but a matrix set by hand could scale or move
+    one there: a camera at 1e31 then made p's half height 1.5e31, which the next call refused, and numpy
+    printed 'overflow encountered in cast' for each picture."""
+    with marraztu.Viewer(size=SIZE) as v:
+        element = getattr(v.scene, which)[0]
+        element.model = matrix
+        with pytest.raises(ValueError, match=f"^{element.name} as its model matrix places it: {words}"):
+            v.render()
+        element.history.pop()
+        assert np.asarray(v.render()).any()
+
+
 def test_a_scene_that_can_be_drawn_is_checked_in_stacked_arrays_not_element_by_element(monkeypatch) -> None:
     """Every call checks the whole scene (it may have been changed by hand): element by element, a press
     of TAB on a scene of 4,000 objects took 190 ms, 47 µs an object, where the screenshot command's

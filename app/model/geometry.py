@@ -23,15 +23,25 @@ DRAWABLE_SIZE = 1e-18
 def cannot_light(low: np.ndarray, high: np.ndarray) -> str | None:
     """Why a model within these bounds cannot be lit (a coordinate past DRAWABLE_COORDINATE, or a size
     under DRAWABLE_SIZE); None if it can."""
-    farthest = max(-float(np.min(low)), float(np.max(high)))
+    farthest, size = (float(value) for value in _reach_and_size(np.asarray(low), np.asarray(high)))
     if farthest > DRAWABLE_COORDINATE:
         return (f"a coordinate reaches {farthest:.3g}: past {DRAWABLE_COORDINATE:.0e} the GPU's 32-bit numbers "
                 "cannot light the model (scale it down)")
-    size = float(np.max(np.asarray(high) - np.asarray(low)))
     if 0.0 < size < DRAWABLE_SIZE:
         return (f"the model is {size:.3g} across: under {DRAWABLE_SIZE:.0e} the GPU's 32-bit numbers cannot "
                 "light the model (scale it up)")
     return None
+
+
+def all_lightable(lows: np.ndarray, highs: np.ndarray) -> bool:
+    """Whether cannot_light finds nothing in any of these (N, 3) boxes, in one pass."""
+    farthest, size = _reach_and_size(lows, highs)
+    return bool((farthest <= DRAWABLE_COORDINATE).all() and not ((size > 0.0) & (size < DRAWABLE_SIZE)).any())
+
+
+def _reach_and_size(low: np.ndarray, high: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """How far from the origin each box reaches along an axis, and its largest side."""
+    return np.maximum(-low.min(axis=-1), high.max(axis=-1)), (high - low).max(axis=-1)
 
 
 def segment_meets_box(origin: np.ndarray, direction: np.ndarray, low: np.ndarray, high: np.ndarray) -> bool:

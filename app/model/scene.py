@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import shortened
+from marraztu.model.geometry import all_lightable, cannot_light
 from marraztu.model.lights import AMBIENT_INTENSITY, Light, Owner, TermView, WorldLight, default_lights
 from marraztu.model.mesh import Mesh
 from marraztu.model.transforms import (
@@ -503,9 +504,11 @@ class Scene:
             return False
         try:
             with np.errstate(all="ignore"):
-                return bool(np.isfinite(np.linalg.inv(models)).all())
+                if not np.isfinite(np.linalg.inv(models)).all():
+                    return False
         except np.linalg.LinAlgError:  # one of them is singular: the walk names it
             return False
+        return all_lightable(*_box_bounds(world_boxes(list(elements))))
 
     def _own_triples(self) -> list[tuple[str, object, str]]:
         """The scene's colours and places that must be 3 finite numbers, outside its elements: what each
@@ -531,6 +534,11 @@ class Scene:
             refusal = model_refusal(element.model)
             if refusal is not None:
                 yield f"{element.name}'s model matrix {refusal}"
+            else:  # where its matrix puts it: moved or scaled by hand past what the GPU lights
+                low, high = _box_bounds(world_boxes([element]))
+                refusal = cannot_light(low[0], high[0])
+                if refusal is not None:
+                    yield f"{element.name} as its model matrix places it: {refusal}"
             refusal = picture_refusal(element.picture)
             if refusal is not None:
                 yield f"{element.name}'s picture {refusal}"
