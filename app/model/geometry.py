@@ -46,7 +46,8 @@ def _reach_and_size(low: np.ndarray, high: np.ndarray) -> tuple[np.ndarray, np.n
 
 def segment_meets_box(origin: np.ndarray, direction: np.ndarray, low: np.ndarray, high: np.ndarray) -> bool:
     """Whether origin + t direction, t in 0..1, meets the box low..high (the slab test), the box grown by
-    a billionth of its size so that a surface lying on its side (a floor: a box 0 high) is met."""
+    a billionth of its size or of its distance from the origin, the larger (what rounding may move a
+    point by), so that a surface lying on its side (a floor: a box 0 high) is met."""
     pad = 1e-9 * max(float(np.max(high - low)), float(np.max(np.abs(low))), float(np.max(np.abs(high))))
     low, high = low - pad, high + pad
     along = direction != 0.0
