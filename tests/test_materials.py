@@ -328,7 +328,19 @@ def test_a_texture_option_of_no_ascii_decimal_number_is_a_malformed_line(tmp_pat
     assert mesh.materials[0].texture is None and mesh.materials[0].values == {"kd": (1.0, 0.0, 0.0)}
 
 
-@pytest.mark.parametrize(("options", "name"), [("-s 1 1 1", "t.ppm"), ("-s 2", "t.ppm"), ("-o -0.5 +.5 1e-1", "t.ppm"),
+@pytest.mark.parametrize("options", ["-s 1 1 1", "-s 1", "-o 0 0 0", "-t 0 0", "-mm 0 1", "-bm 1", "-blendu on",
+                                     "-blendv ON -clamp off -cc off", "-s 1.0 1 1 -o 0 0 0"])
+def test_texture_options_written_as_their_defaults_are_not_said_to_be_ignored(tmp_path: Path, options: str) -> None:
+    """Exporters write '-s 1 1 1 -o 0 0 0', which changes nothing, and the load said 'texture option -o,
+    texture option -s ignored' as if the picture were drawn otherwise than the file says."""
+    shutil.copy(EXAMPLES / "crate.ppm", tmp_path / "t.ppm")
+    (tmp_path / "m.mtl").write_text(f"newmtl w\nmap_Kd {options} t.ppm\n")
+    (tmp_path / "m.obj").write_text(f"mtllib m.mtl\n{TRIANGLES}usemtl w\nf 1 2 3\n")
+    mesh = load_model(tmp_path / "m.obj")
+    assert mesh.materials[0].texture_name == "t.ppm" and mesh.warnings == (), mesh.warnings
+
+
+@pytest.mark.parametrize(("options", "name"), [("-s 1 1 2", "t.ppm"), ("-s 2", "t.ppm"), ("-o -0.5 +.5 1e-1", "t.ppm"),
                                                ("-mm 0 1 -bm 2 -texres 256 -clamp on", "t.ppm"),
                                                ("-s 2", "two words.ppm")])
 def test_texture_options_of_numbers_read_past_to_the_name(tmp_path: Path, options: str, name: str) -> None:

@@ -241,6 +241,12 @@ _TEXTURE_OPTIONS = {"-blendu": (1, False), "-blendv": (1, False), "-bm": (1, Tru
                     "-texres": (1, True), "-type": (1, False), "-o": (3, True), "-s": (3, True), "-t": (3, True)}
 
 
+# What each option is where a line leaves it out (the MTL specification): written so, it changes nothing.
+_TEXTURE_OPTION_DEFAULTS: dict[str, tuple[float, ...] | tuple[str, ...]] = {
+    "-o": (0.0, 0.0, 0.0), "-s": (1.0, 1.0, 1.0), "-t": (0.0, 0.0, 0.0), "-mm": (0.0, 1.0), "-bm": (1.0,),
+    "-blendu": ("on",), "-blendv": ("on",), "-clamp": ("off",), "-cc": ("off",)}
+
+
 def _texture_file(tokens: list[str]) -> tuple[str | None, set[str]] | None:
     """The file a map_Kd line names (the rest of the line after its options: names may hold spaces),
     and the options it gives, which marraztu does not apply; None where an option's number is none by
@@ -253,9 +259,11 @@ def _texture_file(tokens: list[str]) -> tuple[str | None, set[str]] | None:
         start = at = at + 1
         while at - start < most and at < len(tokens) - 1 and (most < 3 or _meant_as_number(tokens[at])):
             at += 1
-        if numbers and finite_floats(tokens[start:at]) is None:
+        values = finite_floats(tokens[start:at]) if numbers else tuple(token.lower() for token in tokens[start:at])
+        if values is None:
             return None
-        options.add(f"texture option {option}")
+        if tuple(values) != _TEXTURE_OPTION_DEFAULTS.get(option, ())[:len(values)] or not values:
+            options.add(f"texture option {option}")
     name = " ".join(tokens[at:])
     return (name or None), options
 
