@@ -68,6 +68,7 @@ from marraztu.loaders.images import (
     check_picture,
     image_format,
     picture_rgb,
+    picture_size,
     picture_size_refusal,
     pictures_checked,
     unread_textures_note,
@@ -619,7 +620,7 @@ def _drawn_picture(picture: Any, formats: Collection[str] | None, undrawn: list[
     if formats is not None and found is not None and found not in formats:
         undrawn.append(f"a {found} picture, not a PNG, JPEG or PPM one")
         return None
-    refusal = picture_size_refusal(*_picture_size(picture))
+    refusal = picture_size_refusal(*picture_size(picture))
     if refusal is not None:  # before it is decoded
         undrawn.append(refusal)
         return None
@@ -630,14 +631,6 @@ def _drawn_picture(picture: Any, formats: Collection[str] | None, undrawn: list[
     except Exception:  # a file Pillow opened from its first bytes and cannot decode
         undrawn.append("Pillow cannot decode it")
     return None
-
-
-def _picture_size(picture: Any) -> tuple[int, int]:
-    """(width, height) of a picture Pillow opened (from its header) or of an array of pixels."""
-    if isinstance(picture, Image.Image):
-        return picture.size
-    shape = np.shape(picture)
-    return (int(shape[1]), int(shape[0])) if len(shape) >= 2 else (0, 0)
 
 
 def _undrawn_notes(undrawn: list[str]) -> list[str]:

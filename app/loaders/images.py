@@ -508,17 +508,29 @@ def picture_rgb(picture: object) -> np.ndarray:
     Pillow image read as a file of its mode is (16-bit grey scaled), an array, or an image of floats or
     32-bit integers made in code, checked as colours are (bytes, or floats in 0..1). ValueError saying
     why it cannot be drawn."""
-    if not isinstance(picture, Image.Image):
-        return picture_bytes(picture, MAX_PIXELS)
-    refusal = picture_size_refusal(*picture.size)
-    if refusal is not None:  # before it is decoded, as an array's pixels are counted before a copy
+    refusal = picture_size_refusal(*picture_size(picture))
+    if refusal is not None:  # before it is decoded or copied: a broadcast view may be endless
         raise ValueError(refusal)
+    if not isinstance(picture, Image.Image):
+        return picture_bytes(picture)
     if picture.mode in ("F", "I") and picture.format is None:  # numbers made in code: no file says their range
-        return picture_bytes(np.asarray(picture), MAX_PIXELS)
+        return picture_bytes(np.asarray(picture))
     try:
         return rgb_array(picture)
     except ValueError:  # a mode Pillow converts to nothing else (La)
         raise ValueError(f"a picture in Pillow's mode {picture.mode} cannot be drawn: give it in RGB") from None
+
+
+def picture_size(picture: object) -> tuple[int, int]:
+    """(width, height) of a Pillow image, or of an array's first two axes; (0, 0) where it has none (its
+    check says what is wrong)."""
+    if isinstance(picture, Image.Image):
+        return picture.size
+    try:
+        shape = np.shape(picture)  # an array's own, no copy
+    except ValueError:  # ragged rows
+        return 0, 0
+    return (int(shape[1]), int(shape[0])) if len(shape) >= 2 else (0, 0)
 
 
 def rgb_array(image: Image.Image) -> np.ndarray:

@@ -84,14 +84,12 @@ def colour_bytes(colours: np.ndarray | Sequence[Sequence[float]], rows: int) -> 
     return _rgb_bytes(table, "vertex colours")
 
 
-def picture_bytes(picture: np.ndarray | Sequence[Sequence[float]], most_pixels: int) -> np.ndarray:
+def picture_bytes(picture: np.ndarray | Sequence[Sequence[float]]) -> np.ndarray:
     """(H, W, 3) uint8, top row first, from an (H, W) grey or (H, W, 3 or 4) picture of bytes (0..255)
-    or of floats (0..1), as colours are given; alpha is dropped."""
+    or of floats (0..1), as colours are given; alpha is dropped. Its size is the caller's to check."""
     table = _number_table(picture, "a texture must be an array of pixels", "texture pixels")
     if table.ndim not in (2, 3) or (table.ndim == 3 and table.shape[2] not in (3, 4)) or 0 in table.shape:
         raise ValueError(f"a texture must be an (H, W) grey or (H, W, 3 or 4) picture, not shape {table.shape}")
-    if table.shape[0] * table.shape[1] > most_pixels:  # before a copy: a broadcast view may be endless
-        raise ValueError(f"a texture holds at most {most_pixels} pixels, not {table.shape[1]}x{table.shape[0]}")
     grey = table.ndim == 2
     rgb = _rgb_bytes(table[..., None] if grey else table, "texture pixels")
     return np.ascontiguousarray(rgb.repeat(3, axis=2) if grey else rgb)
