@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Callable
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -349,3 +350,27 @@ def test_the_other_buttons_do_not_click() -> None:
         window.release(100, 51, button)
     window.release(100, 51)  # a left release with no left press (pressed outside the window)
     assert window.pressed == []
+
+
+# --- F9: a recording is saved after a frame has said so ---------------------------------------------
+def test_f9_says_it_is_saving_before_the_window_stops_to_write_the_gif(tmp_path: Path,
+                                                                       monkeypatch: pytest.MonkeyPatch) -> None:
+    """The GIF was written inside F9's event: 46 frames at 1024x768 held the window still for a second,
+    and nothing said why. The frame after F9 says 'saving', the one after it saves and says where."""
+    pytest.importorskip("pyglet.libs.x11.xlib")
+    from marraztu.frontends import window as window_module
+    from marraztu.frontends.window import ViewerWindow
+
+    written: list[int] = []
+    monkeypatch.setattr(window_module, "write_animation", lambda frames, path, fps: written.append(len(frames)))
+    monkeypatch.chdir(tmp_path)
+    window = SimpleNamespace(scene=scene_with([]), recording=[np.zeros((2, 2, 3), np.uint8)] * 3,
+                             unsaved_recording=None, saving_said=False, needs_frame=False)
+    window._write_recording = lambda frames: ViewerWindow._write_recording(window, frames)
+    ViewerWindow.toggle_recording(window)  # F9 again
+    assert window.scene.message == "saving the recording of 3 frames..." and written == []
+    ViewerWindow._save_recording_said(window)  # the frame that shows 'saving'
+    assert written == [] and window.needs_frame
+    ViewerWindow._save_recording_said(window)  # the next one writes it
+    assert written == [3] and window.scene.message.startswith("recording of 3 frames saved to ")
+    assert window.unsaved_recording is None

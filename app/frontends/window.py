@@ -176,6 +176,8 @@ class ViewerWindow:
         self.drawn_loading_lines: list[str] = []  # the loading lines of the last frame
         self.held_scene = HeldPicture(self.ctx)
         self.recording: list[np.ndarray] | None = None  # F9: the pictures drawn since it was pressed
+        self.unsaved_recording: list[np.ndarray] | None = None  # F9 pressed again: written after a frame says so
+        self.saving_said = False
         self.click_travel: int | None = None  # how far the pointer went since a left press (None: no left press)
         self.held_motion: tuple[int, int] = (0, 0)  # a left drag's motion while it may still be a click
         self._connect_events()
@@ -275,6 +277,8 @@ class ViewerWindow:
             self.wnd.render(now, delta)
             if not self.wnd.is_closing:
                 self.wnd.swap_buffers()  # also dispatches the events that came meanwhile
+        if self.unsaved_recording is not None:  # F9, then ESC before a frame could save it
+            self._write_recording(self.unsaved_recording)
         self.held_scene.release()
         if self.viewer.background is not None:
             self.viewer.background.shutdown()
@@ -298,7 +302,8 @@ class ViewerWindow:
         if self.recording is not None and not scene_unchanged:
             self._record_frame(size)
         self.overlay.draw(*status.overlay_lines(self.viewer), size, panels.extras(self.scene, size))
-        return Unchanged.NOTHING  # drawing asks for no other picture
+        self._save_recording_said()
+        return Unchanged.NOTHING  # drawing asks for no other picture, save a recording's
 
     def _record_frame(self, size: tuple[int, int]) -> None:
         """The scene's picture, before the overlay: the frames `marraztu record` would draw."""
@@ -495,6 +500,22 @@ class ViewerWindow:
         if len(frames) <= 1:  # the picture F9 found, and none after it
             self.scene.message = "recording stopped: no picture changed, nothing saved"
             return
+        self.unsaved_recording, self.saving_said = frames, False
+        self.scene.message = f"saving the recording of {counted(len(frames), 'frame')}..."
+
+    def _save_recording_said(self) -> None:
+        """After each frame: a recording F9 stopped is written once a frame has said so, since the window
+        stands still while it is written (a second for a few tens of frames)."""
+        if self.unsaved_recording is None:
+            return
+        self.needs_frame = True  # the next frame writes it, or says where it went
+        if not self.saving_said:
+            self.saving_said = True
+            return
+        frames, self.unsaved_recording = self.unsaved_recording, None
+        self._write_recording(frames)
+
+    def _write_recording(self, frames: list[np.ndarray]) -> None:
         path = (RECORDING_DIR / f"marraztu-{datetime.now():%Y%m%d-%H%M%S-%f}.gif").absolute()
         try:
             write_animation(frames, path, RECORDING_FPS)
