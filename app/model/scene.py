@@ -508,7 +508,8 @@ class Scene:
                     return False
         except np.linalg.LinAlgError:  # one of them is singular: the walk names it
             return False
-        return all_lightable(*_box_bounds(world_boxes(list(elements))))
+        bounds = _stacked([element.mesh.bounds for element in elements], (2, 3))
+        return bounds is not None and all_lightable(*_box_bounds(placed_boxes(models, bounds)))  # the models stacked
 
     def _own_triples(self) -> list[tuple[str, object, str]]:
         """The scene's colours and places that must be 3 finite numbers, outside its elements: what each
