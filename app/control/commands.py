@@ -22,7 +22,6 @@ from marraztu.loaders.scenefile import BUILT_IN_CAMERA_MODEL
 from marraztu.model import framing, picking, transforms, viewports
 from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, Light, Owner, default_lights
 from marraztu.model.scene import (
-    HALF_HEIGHT_RANGE,
     INSIDE_FRACTION,
     SWITCHED_SHADINGS,
     CameraMode,
@@ -440,8 +439,7 @@ def dolly_view(scene: Scene, steps: float) -> None:
     bounds = (DOLLY_CLOSEST * size, DOLLY_FARTHEST * size)
     model = scene.camera.model.copy()
     if scene.modes.projection is Projection.PARALLEL:
-        within = (max(bounds[0], HALF_HEIGHT_RANGE[0]), min(bounds[1], HALF_HEIGHT_RANGE[1]))  # as a call takes
-        half_height = _dollied(scene.modes.parallel_half_height, factor, within)
+        half_height = _dollied(scene.modes.parallel_half_height, factor, bounds)
         move_view(scene, model, "dolly", half_height=half_height)
         return
     centre = _view_centre(scene)
