@@ -170,10 +170,10 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     GltfReferences(path, document, held=len(data) + sum(least_bytes.values())).check()
     check_one_parent_each(path, document)
     check_geometry_readable(path, document)
-    counts = gltf_counts(document)
+    counts, undrawn = gltf_counts(document), undrawn_primitive_notes(document)
     if counts is not None:  # before trimesh builds a node and a mesh per placement
-        _check_placed_counts(path, *counts, undrawn=undrawn_primitive_notes(document))
-    notes = unfaithful_notes(document)
+        _check_placed_counts(path, *counts, undrawn=undrawn)
+    notes = unfaithful_notes(document, undrawn)
     beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True, least_bytes=least_bytes)
     data = as_trimesh_reads(path, data if file_type == "gltf" else declared_part(data), document, file_type,
                             functools.partial(_read_named, path, beside))

@@ -692,12 +692,13 @@ def _count(accessor: Any) -> int:
 
 
 # --- what trimesh draws otherwise than it says ---------------------------------------------------
-def unfaithful_notes(document: dict[str, Any]) -> list[str]:
+def unfaithful_notes(document: dict[str, Any], undrawn: list[str]) -> list[str]:
     """What of a checked glTF is drawn otherwise than it says, which trimesh passes over without a word:
-    morph targets it does not read, primitives it reads no faces of, base colours outside 0..1 it holds to
-    it, base colour textures on a second set of texture coordinates, which it reads from the first, and their
-    texture transforms, which it does not apply."""
-    return [*_morphed_notes(document), *undrawn_primitive_notes(document), *_outside_colour_notes(document),
+    morph targets it does not read, primitives it reads no faces of (`undrawn`, its undrawn_primitive_notes,
+    which the placement check has read already), base colours outside 0..1 it holds to it, base colour
+    textures on a second set of texture coordinates, which it reads from the first, and their texture
+    transforms, which it does not apply."""
+    return [*_morphed_notes(document), *undrawn, *_outside_colour_notes(document),
             *_other_uv_set_notes(document), *_texture_transform_notes(document)]
 
 
