@@ -285,16 +285,11 @@ def _window() -> SimpleNamespace:
     window._framebuffer_pixel = lambda x, y: ViewerWindow._framebuffer_pixel(window, x, y)
     window.press = lambda x, y, button=1: ViewerWindow.on_mouse_press_event(window, x, y, button)
     window.release = lambda x, y, button=1: ViewerWindow.on_mouse_release_event(window, x, y, button)
-    window.travel = lambda dx, dy: ViewerWindow.on_pointer_travel(window, 0, 0, dx, dy, 1, 0)
+    window.travel = lambda dx, dy: ViewerWindow.on_mouse_drag_event(window, 0, 0, dx, dy)  # moderngl-window's drag
     window.wnd.mouse_states = SimpleNamespace(right=False, middle=False)  # the left button alone
     window.wnd.modifiers = SimpleNamespace(ctrl=False, shift=False)
     window.held_motion = (0, 0)
-
-    def drag(dx: int, dy: int) -> None:  # pyglet's drag: our travel first, then moderngl-window's handler
-        window.travel(dx, dy)
-        ViewerWindow.on_mouse_drag_event(window, 0, 0, dx, dy)
-
-    window.drag = drag
+    window.drag = window.travel
     return window
 
 

@@ -198,8 +198,6 @@ class ViewerWindow:
         pyglet_window = getattr(wnd, "_window", None)
         if pyglet_window is not None:  # uncovered after being hidden: the window system lost the picture
             pyglet_window.push_handlers(on_expose=self.on_expose, on_text_motion=self.on_text_motion)
-            # before moderngl-window's drag handler, which moves the view: a press that moves is no click
-            pyglet_window.push_handlers(on_mouse_drag=self.on_pointer_travel)
 
     def _close_when_destroyed(self) -> None:
         """Without a window manager, `xdotool windowclose` destroys the X window outright and no close
@@ -394,7 +392,8 @@ class ViewerWindow:
     def on_mouse_drag_event(self, x: int, y: int, dx: int, dy: int) -> Unchanged | None:
         """As f3d and MeshLab: left orbits, right (or shift-left) pans; ctrl-drag turns the target. A left
         drag moves nothing until it is no click, then moves as far as the pointer went since the press."""
-        if self.click_travel is not None:
+        if self.click_travel is not None:  # the pointer's path since a left press, there and back both counted
+            self.click_travel += max(abs(dx), abs(dy))
             dx, dy = dx + self.held_motion[0], dy + self.held_motion[1]
             if self.click_travel <= CLICK_TRAVEL_PX:  # a hand's shake must not turn the view it clicks in
                 self.held_motion = (dx, dy)
@@ -434,12 +433,6 @@ class ViewerWindow:
             return Unchanged.SCENE
         self.viewer.press(click(*self._framebuffer_pixel(x, y)))
         return None
-
-    def on_pointer_travel(self, x: int, y: int, dx: int, dy: int, buttons: int, modifiers: int) -> None:
-        """pyglet's drag event, which moderngl-window's handler (the view's moves) also hears: how far
-        a press that may be a click has gone."""
-        if self.click_travel is not None:
-            self.click_travel += max(abs(dx), abs(dy))
 
     def _framebuffer_pixel(self, x: float, y: float) -> tuple[int, int]:
         """The framebuffer's pixel (column, row from the top-left) under moderngl-window's mouse point: it
