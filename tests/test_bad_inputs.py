@@ -623,40 +623,33 @@ def test_named_pipe_is_refused_without_blocking(kind: str, tmp_path: Path) -> No
     assert out.startswith("LoadError") and str(pipe) in out, out + err
 
 
-@pytest.mark.parametrize("scale", ["1e20", "3e38"])
-def test_a_model_too_large_to_light_is_refused_by_every_reader(tmp_path: Path, scale: str) -> None:
-    """Past 1e18 a vector's squared length overflows the GPU's 32-bit numbers: the model would be drawn
-    flat red, or not at all, with numpy's overflow warnings on the terminal."""
+TOO_LARGE_WORDS = "cannot light the model"
+TOO_SMALL_WORDS = "under 1e-18 the GPU's 32-bit numbers cannot light the model"
+
+
+@pytest.mark.parametrize("size, words, edge", [
+    ("1e20", TOO_LARGE_WORDS, "v 0 0 0\nv -1e18 0 0\nv 0 1e18 0\n"),
+    ("3e38", TOO_LARGE_WORDS, "v 0 0 0\nv -1e18 0 0\nv 0 1e18 0\n"),
+    ("1e-20", TOO_SMALL_WORDS, "v 0 0 0\nv 1e-18 0 0\nv 0 1e-18 0\n"),
+    ("1e-300", TOO_SMALL_WORDS, "v 0 0 0\nv 1e-18 0 0\nv 0 1e-18 0\n"),
+])
+def test_a_model_too_large_or_too_small_to_light_is_refused_by_every_reader(tmp_path: Path, size: str, words: str,
+                                                                            edge: str) -> None:
+    """Past 1e18 a vector's squared length overflows the GPU's 32-bit numbers; under 1e-18 across, a
+    framed model's vectors have squared lengths under float32's smallest normal number. Either way it
+    was drawn flat red, or not at all, with numpy's overflow warnings on the terminal. The bounds
+    themselves are drawn, and so is a model that is one point (no size at all)."""
     from marraztu.loaders.registry import load_model
 
-    files = {"big.obj": f"v 0 0 0\nv {scale} 0 0\nv 0 1 0\nf 1 2 3\n",
-             "big.off": f"OFF\n3 1 0\n0 0 0\n{scale} 0 0\n0 1 0\n3 0 1 2\n",
-             "big.stl": f"solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex {scale} 0 0\n"
-                        "vertex 0 1 0\nendloop\nendfacet\nendsolid s\n"}
+    files = {"m.obj": f"v 0 0 0\nv {size} 0 0\nv 0 {size} 0\nf 1 2 3\n",
+             "m.off": f"OFF\n3 1 0\n0 0 0\n{size} 0 0\n0 {size} 0\n3 0 1 2\n",
+             "m.stl": f"solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex {size} 0 0\n"
+                      f"vertex 0 {size} 0\nendloop\nendfacet\nendsolid s\n"}
     for name, text in files.items():
         (tmp_path / name).write_text(text)
-        with pytest.raises(LoadError, match="cannot light the model"):
+        with pytest.raises(LoadError, match=words):
             load_model(tmp_path / name)
-    (tmp_path / "edge.obj").write_text("v 0 0 0\nv -1e18 0 0\nv 0 1e18 0\nf 1 2 3\n")
-    assert load_model(tmp_path / "edge.obj").face_count == 1
-
-
-@pytest.mark.parametrize("size", ["1e-20", "1e-300"])
-def test_a_model_too_small_to_light_is_refused_by_every_reader(tmp_path: Path, size: str) -> None:
-    """Under 1e-18 across, a framed model's vectors have squared lengths under float32's smallest normal
-    number: it was drawn flat red, or not at all, with numpy's overflow warning on the terminal. A
-    model that is one point (no size at all) is drawn as before."""
-    from marraztu.loaders.registry import load_model
-
-    files = {"small.obj": f"v 0 0 0\nv {size} 0 0\nv 0 {size} 0\nf 1 2 3\n",
-             "small.off": f"OFF\n3 1 0\n0 0 0\n{size} 0 0\n0 {size} 0\n3 0 1 2\n",
-             "small.stl": f"solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex {size} 0 0\n"
-                          f"vertex 0 {size} 0\nendloop\nendfacet\nendsolid s\n"}
-    for name, text in files.items():
-        (tmp_path / name).write_text(text)
-        with pytest.raises(LoadError, match="under 1e-18 the GPU's 32-bit numbers cannot light the model"):
-            load_model(tmp_path / name)
-    (tmp_path / "edge.obj").write_text("v 0 0 0\nv 1e-18 0 0\nv 0 1e-18 0\nf 1 2 3\n")
+    (tmp_path / "edge.obj").write_text(edge + "f 1 2 3\n")
     assert load_model(tmp_path / "edge.obj").face_count == 1
     (tmp_path / "point.obj").write_text("v 5 5 5\nv 5 5 5\nv 5 5 5\nf 1 2 3\n")
     assert load_model(tmp_path / "point.obj").face_count == 1
