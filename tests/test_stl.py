@@ -171,6 +171,26 @@ def test_a_binary_stl_beginning_with_solid_is_read_as_binary() -> None:
     assert np.array_equal(read(bytes(data)), mesh.vertices)
 
 
+def binary_stl(attributes: list[int]) -> bytes:
+    """Triangles along x, each with the given two attribute bytes (VisCAM and Magics keep colours there)."""
+    data = bytearray(80) + len(attributes).to_bytes(4, "little")
+    for index, attribute in enumerate(attributes):
+        corners = np.array([[index, 0, 0], [index + 1, 0, 0], [index, 1, 0]], dtype="<f4")
+        data += np.array([0, 0, 1], dtype="<f4").tobytes() + corners.tobytes() + attribute.to_bytes(2, "little")
+    return bytes(data)
+
+
+@pytest.mark.parametrize("attributes, said", [([0, 0, 0], False), ([0, 0x801F, 0], True), ([0x7C00] * 3, True)])
+def test_facet_colours_in_the_attribute_bytes_are_said_not_drawn(tmp_path: Path, attributes: list[int],
+                                                                 said: bool) -> None:
+    """The bytes have no standard meaning, but every writer that fills them puts a colour there."""
+    path = tmp_path / "painted.stl"
+    path.write_bytes(binary_stl(attributes))
+    mesh = load_model(path)
+    assert mesh.face_count == 3
+    assert (stl.ATTRIBUTES_NOTE in mesh.warnings) is said
+
+
 @pytest.mark.parametrize("start", [b"", b"solidworks part\n", b"not solid\n"])
 def test_a_file_that_does_not_start_with_solid_is_neither_kind(start: bytes) -> None:
     assert "does not start with 'solid'" in refusal(start + b"facet normal 0 0 1\n").message

@@ -33,12 +33,17 @@ HEADER_BYTES, TRIANGLE_BYTES = 84, 50  # binary: an 80-byte header and a count, 
 _TRIANGLE_LAYOUT = np.dtype([("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attributes", "<u2")])
 # Searched, not stripped: strip() and lstrip() copy the whole file to look at its first word.
 _ASCII_START = re.compile(rb"\s*solid(?![^\s])", re.IGNORECASE)
+# VisCAM, SolidView and Magics keep a facet's colour in its attribute bytes; the renderer has no face colours.
+ATTRIBUTES_NOTE = "the facets' attribute bytes (colours, as some writers use them) are not drawn"
 
 
 def load_stl(path: Path, stage: Callable[[str], None] | None = None) -> Mesh:
     """Each triangle lists its own corners: equal ones are joined, so that Gouraud smooths across edges.
     Joined here, before the mesh is built, so that the corners' table is freed first."""
-    corners = stl_corners(path, read_model_bytes(path, stage))  # the file's bytes are freed on return
+    data = read_model_bytes(path, stage)
+    corners = stl_corners(path, data)
+    notes = (ATTRIBUTES_NOTE,) if _is_binary(data) and _attributes_used(data) else ()
+    del data  # freed before the corners are merged
     if not len(corners):
         raise LoadError(path, "no faces")
     if not holds_in_float32(corners):  # a binary file's; before merging, which takes finite numbers
@@ -47,7 +52,7 @@ def load_stl(path: Path, stage: Callable[[str], None] | None = None) -> Mesh:
     del corners
     try:
         return derive_mesh(path.stem, positions, corner_vertex.astype(INDEX, copy=False),
-                           np.arange(0, len(corner_vertex) + 1, 3, dtype=INDEX), None, None, None, None, ())
+                           np.arange(0, len(corner_vertex) + 1, 3, dtype=INDEX), None, None, None, None, notes)
     except ValueError as error:  # more corners than 32-bit indices hold
         raise LoadError(path, str(error)) from None
 
@@ -101,6 +106,10 @@ def _padding_start(data: bytes) -> int:
 def _binary_corners(data: bytes) -> np.ndarray:
     triangles = np.frombuffer(data, _TRIANGLE_LAYOUT, offset=HEADER_BYTES)
     return triangles["corners"].astype(np.float64).reshape(-1, 3)  # cast first: reshaping the strided view copies
+
+
+def _attributes_used(data: bytes) -> bool:
+    return bool(np.frombuffer(data, _TRIANGLE_LAYOUT, offset=HEADER_BYTES)["attributes"].any())
 
 
 def _is_binary(data: bytes) -> bool:
