@@ -347,25 +347,60 @@ def test_the_other_buttons_do_not_click() -> None:
     assert window.pressed == []
 
 
-# --- F9: a recording is saved after a frame has said so ---------------------------------------------
-def test_f9_says_it_is_saving_before_the_window_stops_to_write_the_gif(tmp_path: Path,
-                                                                       monkeypatch: pytest.MonkeyPatch) -> None:
-    """The GIF was written inside F9's event: 46 frames at 1024x768 held the window still for a second,
-    and nothing said why. The frame after F9 says 'saving', the one after it saves and says where."""
+# --- F9: a recording is written on a thread of its own, the window drawing on meanwhile -------------
+def test_f9_starts_the_save_and_says_so_without_waiting_for_the_gif(tmp_path: Path) -> None:
+    """The GIF was written on the window's thread: 46 frames at 1024x768 held it still for a second, and
+    a recording of random pictures for half a minute. F9 now hands the frames over and returns."""
     pytest.importorskip("pyglet.libs.x11.xlib")
-    from marraztu.frontends import window as window_module
     from marraztu.frontends.window import ViewerWindow
 
-    written: list[int] = []
-    monkeypatch.setattr(window_module, "write_animation", lambda frames, path, fps: written.append(len(frames)))
-    monkeypatch.chdir(tmp_path)
-    window = SimpleNamespace(scene=scene_with([]), recording=[np.zeros((2, 2, 3), np.uint8)] * 3,
-                             unsaved_recording=None, saving_said=False, needs_frame=False)
-    window._write_recording = lambda frames: ViewerWindow._write_recording(window, frames)
+    started: list[tuple[int, Path]] = []
+    saves = SimpleNamespace(save=lambda frames, path, fps: started.append((len(frames), path)))
+    window = SimpleNamespace(scene=scene_with([]), recording=[np.zeros((2, 2, 3), np.uint8)] * 3, saves=saves)
     ViewerWindow.toggle_recording(window)  # F9 again
-    assert window.scene.message == "saving the recording of 3 frames..." and written == []
-    ViewerWindow._save_recording_said(window)  # the frame that shows 'saving'
-    assert written == [] and window.needs_frame
-    ViewerWindow._save_recording_said(window)  # the next one writes it
-    assert written == [3] and window.scene.message.startswith("recording of 3 frames saved to ")
-    assert window.unsaved_recording is None
+    assert window.scene.message == "saving the recording of 3 frames..." and window.recording is None
+    assert [count for count, _ in started] == [3] and started[0][1].suffix == ".gif"
+
+
+def test_a_finished_save_is_said_on_the_window_and_asks_for_a_frame() -> None:
+    pytest.importorskip("pyglet.libs.x11.xlib")
+    from marraztu.frontends.window import ViewerWindow
+
+    finished = [["recording of 3 frames saved to /x.gif"], []]
+    window = SimpleNamespace(scene=scene_with([]), saves=SimpleNamespace(finished=lambda: finished.pop(0)),
+                             needs_frame=False, scene_changed=False, last_failure="")
+    ViewerWindow._say_finished_saves(window)
+    assert window.scene.message == "recording of 3 frames saved to /x.gif" and window.needs_frame
+    assert not window.scene_changed  # only the text over the picture changed
+    window.needs_frame = False
+    ViewerWindow._say_finished_saves(window)
+    assert not window.needs_frame  # nothing finished: no frame
+
+
+def test_saves_run_on_their_own_thread_and_are_said_when_done(tmp_path: Path,
+                                                              monkeypatch: pytest.MonkeyPatch) -> None:
+    import threading
+
+    from marraztu.frontends import record
+
+    release, woken = threading.Event(), threading.Event()
+    writers: list[str] = []
+
+    def slow_write(frames: list[np.ndarray], path: Path, fps: float) -> int:
+        writers.append(threading.current_thread().name)
+        assert release.wait(30)
+        if path.name == "bad.gif":
+            raise ViewerError("cannot write bad.gif: no room")
+        return len(frames)
+
+    monkeypatch.setattr(record, "write_animation", slow_write)
+    saves = record.BackgroundSaves(wake=woken.set)
+    saves.save([np.zeros((2, 2, 3), np.uint8)] * 3, tmp_path / "good.gif", 10)
+    saves.save([np.zeros((2, 2, 3), np.uint8)] * 2, tmp_path / "bad.gif", 10)
+    assert saves.finished() == [] and not woken.is_set()  # both wait on the writer; save() did not
+    release.set()
+    assert woken.wait(30)
+    assert saves.close() == [f"recording of 3 frames saved to {tmp_path / 'good.gif'}",
+                             "recording not saved: cannot write bad.gif: no room"]
+    assert len(writers) == 2 and threading.current_thread().name not in writers
+    assert saves.finished() == []  # each said once

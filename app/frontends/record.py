@@ -7,7 +7,8 @@ needs imageio-ffmpeg, imported only for such a file.
 from __future__ import annotations
 
 import struct
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
+from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -24,6 +25,7 @@ from marraztu.frontends.screenshot import (
     render_pixels,
     write_atomically,
 )
+from marraztu.model.mesh import counted
 from marraztu.render.context import create_offscreen_context
 from marraztu.render.renderer import Renderer
 
@@ -115,6 +117,41 @@ def write_animation(frames: Iterable[np.ndarray], out: Path, fps: float) -> int:
     else:
         write_atomically(out, lambda temporary: _write_with_pillow(counted, temporary, kind, fps))
     return counted.count
+
+
+class BackgroundSaves:
+    """The window's recordings, written one after another on a thread of their own: the window draws on
+    while Pillow encodes a GIF (its quantizing and compressing let go of the GIL)."""
+
+    def __init__(self, wake: Callable[[], None]) -> None:
+        self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="marraztu-recording")
+        self._pending: list[Future[str]] = []
+        self._wake = wake  # called on the writer's thread once a save is done: the window says it at once
+
+    def save(self, frames: list[np.ndarray], out: Path, fps: float) -> None:
+        future = self._pool.submit(_saved, frames, out, fps)
+        future.add_done_callback(lambda _: self._wake())  # after the future is done: the wake finds it so
+        self._pending.append(future)
+
+    def finished(self) -> list[str]:
+        """What each save done since the last call says, in the order they were asked for."""
+        done = []
+        while self._pending and self._pending[0].done():
+            done.append(self._pending.pop(0).result())  # raises what _saved did not foresee, on this thread
+        return done
+
+    def close(self) -> list[str]:
+        """Waits for every save asked for; what those not yet said say."""
+        self._pool.shutdown(wait=True)
+        return self.finished()
+
+
+def _saved(frames: list[np.ndarray], out: Path, fps: float) -> str:
+    try:
+        write_animation(frames, out, fps)
+    except ViewerError as error:
+        return f"recording not saved: {error}"
+    return f"recording of {counted(len(frames), 'frame')} saved to {out}"
 
 
 class _Counted:

@@ -26,7 +26,7 @@ from marraztu.control.keymap import KeyPress, click
 from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer, starting_scene
 from marraztu.errors import LoadError, ViewerError, escaped
 from marraztu.frontends.heap import return_freed_memory
-from marraztu.frontends.record import MAX_RECORDING_BYTES, write_animation
+from marraztu.frontends.record import MAX_RECORDING_BYTES, BackgroundSaves
 from marraztu.frontends.screenshot import write_picture
 from marraztu.model.mesh import counted
 from marraztu.render.context import offscreen_framebuffer, read_pixels
@@ -176,8 +176,7 @@ class ViewerWindow:
         self.drawn_loading_lines: list[str] = []  # the loading lines of the last frame
         self.held_scene = HeldPicture(self.ctx)
         self.recording: list[np.ndarray] | None = None  # F9: the pictures drawn since it was pressed
-        self.unsaved_recording: list[np.ndarray] | None = None  # F9 pressed again: written after a frame says so
-        self.saving_said = False
+        self.saves = BackgroundSaves(wake=_wake_event_loop)  # F9 again: the recording written meanwhile
         self.click_travel: int | None = None  # how far the pointer went since a left press (None: no left press)
         self.held_motion: tuple[int, int] = (0, 0)  # a left drag's motion while it may still be a click
         self._connect_events()
@@ -261,6 +260,7 @@ class ViewerWindow:
         timer.start()
         while not self.wnd.is_closing:
             self._check_watched_files()
+            self._say_finished_saves()
             if not (self.needs_frame or self._loading_changed()):
                 # Still now: what those frames freed goes back to the system. Not while a file loads:
                 # the loader would take the same memory back, page by page, and wait for the trim's lock.
@@ -275,12 +275,12 @@ class ViewerWindow:
             self.wnd.render(now, delta)
             if not self.wnd.is_closing:
                 self.wnd.swap_buffers()  # also dispatches the events that came meanwhile
-        if self.unsaved_recording is not None:  # F9, then ESC before a frame could save it
-            self._write_recording(self.unsaved_recording)
         self.held_scene.release()
         if self.viewer.background is not None:
             self.viewer.background.shutdown()
         self.wnd.destroy()
+        for message in self.saves.close():  # F9, then ESC before the GIF was written: said where it went
+            self.notice(message)
 
     # --- drawing -------------------------------------------------------------------------------
     @functools.partial(guarded, after_failure=Unchanged.NOTHING)
@@ -300,8 +300,7 @@ class ViewerWindow:
         if self.recording is not None and not scene_unchanged:
             self._record_frame(size)
         self.overlay.draw(*status.overlay_lines(self.viewer), size, panels.extras(self.scene, size))
-        self._save_recording_said()
-        return Unchanged.NOTHING  # drawing asks for no other picture, save a recording's
+        return Unchanged.NOTHING  # drawing asks for no other picture
 
     def _record_frame(self, size: tuple[int, int]) -> None:
         """The scene's picture, before the overlay: the frames `marraztu record` would draw."""
@@ -493,28 +492,16 @@ class ViewerWindow:
         if len(frames) <= 1:  # the picture F9 found, and none after it
             self.scene.message = "recording stopped: no picture changed, nothing saved"
             return
-        self.unsaved_recording, self.saving_said = frames, False
+        path = (RECORDING_DIR / f"marraztu-{datetime.now():%Y%m%d-%H%M%S-%f}.gif").absolute()
+        self.saves.save(frames, path, RECORDING_FPS)
         self.scene.message = f"saving the recording of {counted(len(frames), 'frame')}..."
 
-    def _save_recording_said(self) -> None:
-        """After each frame: a recording F9 stopped is written once a frame has said so, since the window
-        stands still while it is written (a second for a few tens of frames)."""
-        if self.unsaved_recording is None:
-            return
-        self.needs_frame = True  # the next frame writes it, or says where it went
-        if not self.saving_said:
-            self.saving_said = True
-            return
-        frames, self.unsaved_recording = self.unsaved_recording, None
-        self._write_recording(frames)
-
-    def _write_recording(self, frames: list[np.ndarray]) -> None:
-        path = (RECORDING_DIR / f"marraztu-{datetime.now():%Y%m%d-%H%M%S-%f}.gif").absolute()
-        try:
-            write_animation(frames, path, RECORDING_FPS)
-            self.scene.message = f"recording of {counted(len(frames), 'frame')} saved to {path}"
-        except ViewerError as error:
-            self.scene.message = f"recording not saved: {error}"
+    @guarded
+    def _say_finished_saves(self) -> Unchanged:
+        finished = self.saves.finished()
+        if finished:
+            self.scene.message = finished[-1]
+        return Unchanged.SCENE if finished else Unchanged.NOTHING
 
     def save_screenshot(self) -> None:
         """F12: the scene as the screenshot command draws it (no overlay), at the window's size."""
