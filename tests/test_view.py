@@ -20,7 +20,7 @@ from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.registry import load_model
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
 from marraztu.model.framing import FILL, bounding_sphere
-from marraztu.model.scene import HALF_HEIGHT_RANGE, Sight
+from marraztu.model.scene import HALF_HEIGHT_RANGE, Scene, Sight
 from support.scenes import BACKGROUND, NoFrontend, RecordingHost
 
 SIZE = (160, 160)
@@ -317,6 +317,28 @@ def test_a_mouse_gesture_that_brings_the_model_back_into_view_takes_the_notice_b
         if scene.sight(scene.object, aspect) is Sight.SEEN:
             break
     assert scene.sight(scene.object, aspect) is Sight.SEEN and scene.message == ""
+
+
+def test_a_mouse_move_that_brings_a_model_loaded_out_of_view_into_it_takes_back_those_words(tmp_path: Path) -> None:
+    """A model loaded out of view and dragged into it kept ', outside the view (. frames it)' in its load
+    message, over the model in plain view; the rest of the message stays."""
+    near = octahedron(tmp_path / "near.obj", 10.0)
+    far = octahedron(tmp_path / "far.obj", 10.0, (0.0, 1e4, 0.0))
+    viewer = viewer_with("", (near,), empty=True)
+    scene, aspect = viewer.scene, viewer.narrowest_aspect()
+    viewer.press(parse_key_sequence(f"f={far}")[0])
+    said = scene.message.replace(", outside the view (. frames it)", "", 1)
+    assert said != scene.message and said.startswith("loaded far.obj as a new object: ")
+
+    def drag_it_into_view(moved: Scene) -> None:  # a mouse move says nothing of its own
+        message = moved.message
+        commands.frame_selected(moved, viewer)
+        moved.message = message
+
+    viewer.move_by_mouse(lambda moved: commands.pan_view(moved, 1, 0, 600))  # still out: kept
+    assert scene.sight(scene.object, aspect) is not Sight.SEEN and scene.message.endswith("(. frames it)")
+    viewer.move_by_mouse(drag_it_into_view)
+    assert scene.sight(scene.object, aspect) is Sight.SEEN and scene.message == said
 
 
 def test_a_file_loaded_twice_is_said_inside_the_other_of_its_name(tmp_path: Path) -> None:

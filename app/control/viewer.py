@@ -197,6 +197,14 @@ class _Before(NamedTuple):
         return self.outlook.sights(placed_boxes(self.model[None], np.array([self.mesh.bounds], dtype=np.float64)))[0]
 
 
+class _SaidUnseen(NamedTuple):
+    """A message that says the object is out of view, and what it says without those words: what a mouse
+    move that brings the object into view leaves up."""
+    obj: SceneObject
+    said: str
+    seen: str
+
+
 class Viewer:
     def __init__(self, scene: Scene, frontend: Frontend, strict: bool = False,
                  background: BackgroundLoader | None = None,
@@ -221,6 +229,7 @@ class Viewer:
         # Told once the batch is in: where each stands then comes from one look at the scene, not one
         # per model (thousands of models on the command line).
         self._start_loads: list[_StartLoad | str] = []  # a failure as its message
+        self._said_unseen: _SaidUnseen | None = None  # the last message that said an object is out of view
 
     # --- start-up ------------------------------------------------------------------------------
     def start(self, options: StartOptions, longest_texture_side: int) -> None:
@@ -299,9 +308,9 @@ class Viewer:
         before = self._seen_selected()
         keymap.dispatch(self.scene, key, self)
         lost = self._lost_since(before)
-        if lost:
+        if lost and before is not None:
             said = self.scene.message
-            self.scene.message = f"{said}; {lost}" if said else lost
+            self._say_unseen(before.obj, f"{said}; {lost}" if said else lost, seen=said)
         if self.strict and key.path is not None and self.scene.message == commands.LIGHTS_LOAD_REFUSAL:
             raise ViewerError(f"f={key.path}: {commands.LIGHTS_LOAD_REFUSAL} (press c to target objects)")
 
@@ -409,7 +418,10 @@ class Viewer:
         said = with_notes(f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}{self._dark(element)}",
                           loaded.mesh)
         where = self._unseen_as(element, by_scale=True) if seen else ""
-        self.tell(f"{said}; {_lost_notice(element, where)}" if where else said)
+        told = f"{said}; {_lost_notice(element, where)}" if where else said
+        self.tell(told)
+        if self.scene.message == told:  # not joined to start-up's lines
+            self._said_unseen = _SaidUnseen(element, told, said)
 
     def loading_lines(self) -> list[str]:
         return [job.label for job in self.background.uncollected()] if self.background else []
@@ -439,13 +451,20 @@ class Viewer:
         if starting:
             self._start_loads.append(_StartLoad(obj, Path(path), joined=not together))
             return
-        self._tell_each([_loaded_message(obj, Path(path), "object", self._unseen([obj])[0])], at_start)
+        sight, inside = self._sights_and_insides([obj])[0]
+        told = _loaded_message(obj, Path(path), "object", _sight_words(sight) + inside)
+        self._tell_each([told], at_start)
+        if self.scene.message == told[0]:  # not joined to start-up's lines
+            self._said_unseen = _SaidUnseen(obj, told[0], _loaded_message(obj, Path(path), "object", inside)[0])
 
     def add_made(self, obj: SceneObject) -> None:
         """An object made in Python (the API's add_mesh) joins as a loaded model does: framed where it is
         the only one, in the narrowest view, and said with where the view shows it."""
         commands.add_loaded(self.scene, obj, as_camera=False, aspect=self.narrowest_aspect())
-        self.scene.message = with_notes(f"added {obj.name}: {obj.mesh.summary()}{self._unseen([obj])[0]}", obj.mesh)
+        sight, inside = self._sights_and_insides([obj])[0]
+        said, seen = (with_notes(f"added {obj.name}: {obj.mesh.summary()}{where}", obj.mesh)
+                      for where in (_sight_words(sight) + inside, inside))
+        self._say_unseen(obj, said, seen)
 
     def _tell_start_loads(self) -> None:
         """The start-up loads' messages, in the order asked, once the batch has joined the scene."""
@@ -466,9 +485,14 @@ class Viewer:
     def _unseen(self, objects: list[SceneObject]) -> list[str]:
         """What each load's message says of an object the view does not show, or that another's box
         holds (framed with `.`, it may still be hidden there); "" where neither."""
-        sights = self.scene.sights(objects, self.narrowest_aspect())
-        return [("" if sight is Sight.SEEN else f", {sight.value} (. frames it)") + inside
-                for sight, inside in zip(sights, self._inside(objects))]
+        return [_sight_words(sight) + inside for sight, inside in self._sights_and_insides(objects)]
+
+    def _sights_and_insides(self, objects: list[SceneObject]) -> list[tuple[Sight, str]]:
+        return list(zip(self.scene.sights(objects, self.narrowest_aspect()), self._inside(objects)))
+
+    def _say_unseen(self, obj: SceneObject, said: str, seen: str) -> None:
+        self.scene.message = said
+        self._said_unseen = _SaidUnseen(obj, said, seen)
 
     def _inside(self, objects: list[SceneObject]) -> list[str]:
         """What each load's message says of an object that another's box holds, and of one its lights
@@ -493,16 +517,19 @@ class Viewer:
         before = self._seen_selected()
         move(self.scene)
         lost = self._lost_since(before)
-        if lost:
-            self.scene.message = lost
-        elif before is not None and self.scene.message in _lost_notices(before.obj):
-            self._withdraw_lost_notice(before.obj)
+        if lost and before is not None:
+            self._say_unseen(before.obj, lost, seen="")
+        elif before is not None:
+            self._withdraw_unseen_words(before.obj)
 
-    def _withdraw_lost_notice(self, obj: SceneObject) -> None:
-        """The notice that the object left the view, taken back where a mouse move brought it in again:
-        the next key would, and meanwhile it misleads over the model in plain view."""
+    def _withdraw_unseen_words(self, obj: SceneObject) -> None:
+        """The words that the object is out of view, taken back where a mouse move brought it in again:
+        the next key would, and meanwhile they mislead over the model in plain view. The rest stays."""
+        said = self._said_unseen
+        if said is None or said.obj is not obj or self.scene.message != said.said:
+            return
         if self.scene.object is obj and self.scene.viewer is not obj and not self._unseen_as(obj):
-            self.scene.message = ""
+            self.scene.message, self._said_unseen = said.seen, None
 
     def _lost_since(self, before: _Before | None) -> str:
         """That the object a key or a mouse move found in view is out of it now, in a message's words; ""
@@ -592,9 +619,9 @@ def _lost_notice(obj: SceneObject, where: str) -> str:
     return f"{obj.name} is now {where} (. frames it)"
 
 
-def _lost_notices(obj: SceneObject) -> tuple[str, ...]:
-    """Each way _lost_notice can say that the object is out of view."""
-    return tuple(_lost_notice(obj, sight.value) for sight in Sight if sight is not Sight.SEEN)
+def _sight_words(sight: Sight) -> str:
+    """What a load's message says of where the view shows the object: nothing where it does."""
+    return "" if sight is Sight.SEEN else f", {sight.value} (. frames it)"
 
 
 def with_notes(message: str, mesh: Mesh) -> str:
