@@ -791,3 +791,24 @@ def test_a_huge_shininess_where_n_dot_h_rounds_past_1_lights_as_at_1() -> None:
     assert terms.lights[0].highlight == 1.0
     np.testing.assert_allclose(terms.clamped, [100.0, 50.0, 0.0])
     np.testing.assert_allclose(terms.in_view(TermView.DIFFUSE.weights), [0.0, 50.0, 0.0])  # weighed 0
+
+
+def cone_row_of_a_corner_at(angle_deg: float, build_mesh, make_scene) -> str:
+    """The camera spotlight's row for a triangle whose first corner lies `angle_deg` off the camera's
+    axis (the camera at (0, 0, 150) looking toward -z, its spotlight 30 degrees wide)."""
+    x = 100.0 * np.tan(np.radians(angle_deg))
+    triangle = build_mesh("tri", [(x, 0.0, 50.0), (x + 20.0, 0.0, 50.0), (x, 20.0, 50.0)], [[0, 1, 2]])
+    scene = make_scene([SceneObject.placed("tri", triangle, SHINY, (0.0, 0.0, 0.0))])
+    scene.lights[3].on = scene.modes.probe = True
+    return next(line for line in probe_lines(scene) if line.strip().startswith("camera spotlight"))
+
+
+@pytest.mark.parametrize("angle", [29.97, 29.999, 30.001, 30.04, 12.0])
+def test_the_cone_column_never_writes_a_comparison_that_reads_false(build_mesh, make_scene, angle: float) -> None:
+    """A corner 29.97 degrees off the camera spotlight's axis read "30.0<30": the angle had one decimal
+    whatever its distance from the aperture, so a student copying the row copied a false inequality."""
+    row = cone_row_of_a_corner_at(angle, build_mesh, make_scene)
+    shown, sign, aperture = re.search(r"([\d.]+)(<|>=)([\d.]+)", row).groups()
+    assert (float(shown) < float(aperture)) == (sign == "<") == (angle < 30.0), row
+    assert float(shown) == pytest.approx(angle, abs=0.05)
+

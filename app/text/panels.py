@@ -25,11 +25,12 @@ from marraztu.text.numbers import aligned_columns, fixed, matrix_entries, positi
 from marraztu.text.pipeline import lens_numbers, lens_shape, pipeline_lines
 
 MAX_PROBED_VERTICES = 4  # more would not fit an 800 pixel window; the panel says how many are left
+CONE_DECIMALS = 4  # enough to tell 25.7499 from 25.75; the GPU's 32-bit cone test decides closer ones
 MATRIX_DECIMALS = 3
 MATRIX_COLUMN = 10
 # The probe's table: indent, then light name, L, H, N.L, (N.H)^ns, cone, what the light adds.
 INDENT = 8
-COLUMNS = (("light", 18), ("L", 20), ("H", 20), ("N.L", 7), ("(N.H)^ns", 9), ("cone", 13),
+COLUMNS = (("light", 18), ("L", 20), ("H", 20), ("N.L", 7), ("(N.H)^ns", 9), ("cone", 14),
            ("adds (r g b)", 0))
 
 
@@ -115,8 +116,7 @@ def _light_row(found: Probe, light: WorldLight, term: LightTerm, vertex: VertexP
     """A light's row: what it adds in the term view shown, so that the rows add up to its sum."""
     cone = ""
     if light.kind.has_cone:
-        angle = cone_angle_deg(light, vertex.world_position)
-        cone = f"{angle:.1f}{'<' if term.reaches else '>='}{light.aperture_deg:g}"
+        cone = _cone_words(cone_angle_deg(light, vertex.world_position), light.aperture_deg, term.reaches)
     weights = found.weights
     kept = light.name in found.shown_lights and bool(weights.diffuse or weights.specular)
     adds = _kept(term.in_view(weights), kept)
@@ -124,6 +124,14 @@ def _light_row(found: Probe, light: WorldLight, term: LightTerm, vertex: VertexP
         return _row(light.name, "outside the cone", "", "", "", cone, adds)
     return _row(light.name, _triple(term.to_light, 2), _triple(term.halfway, 2), f"{term.n_dot_l:.3f}",
                 f"{term.highlight:.4f}", cone, adds)
+
+
+def _cone_words(angle: float, aperture: float, inside: bool) -> str:
+    """The angle to the aperture, with as many decimals as the comparison needs to read true: 29.97
+    degrees is "29.97<30", not "30.0<30"."""
+    decimals = next((places for places in range(1, CONE_DECIMALS) if (round(angle, places) < aperture) == inside),
+                    CONE_DECIMALS)
+    return f"{angle:.{decimals}f}{'<' if inside else '>='}{aperture:g}"
 
 
 def _kept(adds: np.ndarray, kept: bool) -> str:
