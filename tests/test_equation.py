@@ -812,3 +812,13 @@ def test_the_cone_column_never_writes_a_comparison_that_reads_false(build_mesh, 
     assert (float(shown) < float(aperture)) == (sign == "<") == (angle < 30.0), row
     assert float(shown) == pytest.approx(angle, abs=0.05)
 
+
+def test_a_vertex_number_of_four_digits_stays_apart_from_world(build_mesh, make_scene) -> None:
+    """The x_wing's vertex 1031 read "v1 #1031world": the head filled its 8 columns to the last one."""
+    unused = [(float(index), 0.0, -100.0) for index in range(2000)]
+    quad = build_mesh("quad", [*unused, (-40, -40, 0), (40, -40, 0), (40, 40, 0), (-40, 40, 0)],
+                      [[2000, 2001, 2002, 2003]])
+    scene = make_scene([SceneObject.placed("quad", quad, SHINY, (0.0, 0.0, 0.0))])
+    scene.modes.probe = True
+    head = next(line for line in probe_lines(scene) if line.startswith("v1 "))
+    assert head.startswith("v1 #2001 ") and "#2001world" not in head, head

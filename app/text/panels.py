@@ -96,7 +96,7 @@ def _row(*cells: str) -> str:
 
 def _vertex_lines(found: Probe, number: int, vertex: VertexProbe) -> list[str]:
     normal = "face normal" if found.shading is Shading.FLAT else "vertex normal"
-    head = f"v{number} #{vertex.vertex + 1}"
+    head = f"v{number} #{vertex.vertex + 1} "  # the blank stays where the number fills the indent
     pad = " " * INDENT
     decimals = position_decimals(found.obj.mesh.size, 1)
     lines = [
