@@ -139,3 +139,44 @@ def test_the_right_hand_panel_is_fitted_to_a_small_window(tmp_path, monkeypatch,
     others_below = [block for block in blocks if block[2] < matrices[0][3] + 1e-6 and block is not matrices[0]]
     assert all(block[3] >= 0.0 for block in blocks)
     assert matrices[0][3] >= max((block[2] for block in others_below), default=0.0) - 1e-6
+
+
+def _blocks_and_labels(tmp_path, monkeypatch, keys: str, size: tuple[int, int] = (800, 800)):
+    """The panels the overlay drew, as (lines, left, top, bottom), and the labels' points."""
+    from marraztu.control.viewer import StartOptions
+    from marraztu.frontends.screenshot import take_screenshot
+    from marraztu.render import overlay as overlay_module
+
+    blocks: list[tuple[list[str], float, float, float]] = []
+    labels: list[tuple[float, float]] = []
+    real_block, real_label = overlay_module.Overlay._block, overlay_module.Overlay._label
+
+    def spied_block(self, lines, left, top, line_height=overlay_module.PANEL_LINE_HEIGHT_PX):
+        blocks.append((lines, left, top, top - 2 * overlay_module.MARGIN_PX - line_height * len(lines)))
+        return real_block(self, lines, left, top, line_height)
+
+    def spied_label(self, label):
+        labels.append((label.x, label.y))
+        return real_label(self, label)
+
+    monkeypatch.setattr(overlay_module.Overlay, "_block", spied_block)
+    monkeypatch.setattr(overlay_module.Overlay, "_label", spied_label)
+    take_screenshot(StartOptions(), tmp_path / "shot.png", size, keys=keys, overlay=True)
+    return blocks, labels
+
+
+@pytest.mark.parametrize("keys, at_top", [("F 0 i ENTER*40", True), ("F 0 i ENTER*40 P", True),
+                                          ("F 0 i", False), ("F 0 i ENTER*40 m", False)])
+def test_the_probe_panel_moves_up_rather_than_cover_the_face_it_is_about(tmp_path, monkeypatch, keys: str,
+                                                                         at_top: bool) -> None:
+    """Gouraud's four corners fill the lower half of an 800x800 picture: x_wing's face 41, and its v1-v4,
+    were under the panel. Where the face lies under it and not under the top, the panel goes up; with
+    the matrices panel up, the top is taken, and it stays."""
+    blocks, labels = _blocks_and_labels(tmp_path, monkeypatch, keys)
+    panel = next(block for block in blocks if block[0][0].startswith(("PROBE", "PIPELINE")))
+    _, left, top, bottom = panel
+    assert labels
+    covered = [(x, y) for x, y in labels if bottom <= y <= top]
+    assert (top > 400) is at_top, (top, bottom, labels)
+    if at_top:
+        assert not covered, (top, bottom, covered)

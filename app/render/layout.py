@@ -56,3 +56,8 @@ class Extras:
     titles: list[str] = field(default_factory=list)  # one title per side-by-side viewport
     labels: list[Label] = field(default_factory=list)
     bottom_overflow_hint: str = ""  # said after the bottom panel's last line when it is cut short
+
+
+def holds_a_label(labels: list[Label], bottom: float, top: float, right: float) -> bool:
+    """Whether a label's point lies in the band from the left edge to `right`, between `bottom` and `top`."""
+    return any(bottom <= label.y <= top and label.x <= right for label in labels)

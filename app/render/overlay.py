@@ -20,7 +20,7 @@ from PIL import Image
 
 from marraztu.render.context import check_gl
 from marraztu.render.gpu import load_program
-from marraztu.render.layout import Extras, Label
+from marraztu.render.layout import Extras, Label, holds_a_label
 
 LINE_HEIGHT_PX = 16.0
 MARGIN_PX = 6.0
@@ -154,7 +154,17 @@ class Overlay:
         if extras.bottom:
             lines = fit_lines(extras.bottom, room_for_bottom - 2 * MARGIN_PX, PANEL_LINE_HEIGHT_PX,
                               extras.bottom_overflow_hint)
-            self._block(lines, 0.0, above_bottom + 2 * MARGIN_PX + PANEL_LINE_HEIGHT_PX * len(lines))
+            self._block(lines, 0.0, self._bottom_panel_top(extras, lines, below_top, above_bottom))
+
+    def _bottom_panel_top(self, extras: Extras, lines: list[str], below_top: float, above_bottom: float) -> float:
+        """Above the bottom lines; under the top ones where the face it is about lies under it there and
+        not here (the probe's four corners fill half the picture), unless the right-hand panel is there."""
+        height = 2 * MARGIN_PX + PANEL_LINE_HEIGHT_PX * len(lines)
+        right = 2 * MARGIN_PX + self._text_width(max(lines, key=len))
+        low = above_bottom + height
+        if extras.right or not holds_a_label(extras.labels, above_bottom, low, right):
+            return low
+        return below_top if not holds_a_label(extras.labels, below_top - height, below_top, right) else low
 
     def _block(self, lines: list[str], left: float, top: float,
                line_height: float = PANEL_LINE_HEIGHT_PX) -> None:
