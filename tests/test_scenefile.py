@@ -194,6 +194,43 @@ def test_scale_sizes_the_model_as_read_and_leaves_its_model_matrix_rigid(tmp_pat
     assert np.allclose(np.linalg.norm(stretched.mesh.normals, axis=1), 1.0, atol=1e-6)
 
 
+@pytest.mark.parametrize("corners", ["v", "v//vn", "v/vt"])
+def test_an_uneven_scale_gives_the_normals_of_the_file_written_already_scaled(tmp_path: Path, corners: str) -> None:
+    """Normals the file lacks are each vertex's average of its faces': at scale [1, 3, 0.5] they were
+    the unscaled averages turned, and v1's probe read (0.098, -0.009, 0.995) where the same model written
+    scaled reads (0.105, -0.008, 0.994). A file's own normals are turned, as a matrix turns them."""
+    points = np.array([[0, 0, 0], [40, -30, -30], [40, 30, -30], [-5, 3, -1], [-4, -4, -2]], float)
+    faces = "f 1 2 3\nf 1 3 4\nf 1 4 5\nf 1 5 2\n"
+    with_normals = corners == "v//vn"
+    normals = {"v": "", "v//vn": "vn 0.1 0.2 1\nvn 1 0 0\nvn 0 1 0.5\nvn -1 0 1\nvn 0 0 1\n",
+               "v/vt": "vt 0 0\nvt 1 0\nvt 0 1\n"}[corners]  # texture corners with seams: rows per corner
+    if corners != "v":
+        faces = "".join(f"f {a}{corners[1:].replace('vn', str(a)).replace('vt', str(1 + (a + face) % 3))}"
+                        f" {b}{corners[1:].replace('vn', str(b)).replace('vt', str(1 + (b + face) % 3))}"
+                        f" {c}{corners[1:].replace('vn', str(c)).replace('vt', str(1 + (c + face) % 3))}\n"
+                        for face, (a, b, c) in enumerate(((1, 2, 3), (1, 3, 4), (1, 4, 5), (1, 5, 2))))
+
+    def model(name: str, stretch: list[float]) -> None:
+        (tmp_path / name).write_text("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in (points * stretch).tolist())
+                                     + normals + faces)
+
+    model("fan.obj", [1, 1, 1])
+    model("scaled.obj", [1, 3, 0.5])
+    scene = load_scene(write_scene(tmp_path, CAMERA + '[[objects]]\nmodel = "fan.obj"\nscale = [1, 3, 0.5]\n'))
+    stretched, written = scene.objects[0].mesh, load_model_as_read(tmp_path / "scaled.obj")
+    assert np.allclose(stretched.positions, written.positions)
+    assert np.allclose(stretched.face_normals, written.face_normals, atol=1e-6)
+    if with_normals:  # the file's own, turned by the inverse transpose and made unit again
+        turned = np.array([[0.1, 0.2, 1], [1, 0, 0], [0, 1, 0.5], [-1, 0, 1], [0, 0, 1]]) / [1, 3, 0.5]
+        turned /= np.linalg.norm(turned, axis=1, keepdims=True)
+        assert np.allclose(stretched.normals, turned[stretched.corner_vertex] if len(stretched.normals) > 5
+                           else turned, atol=1e-6)
+    else:
+        assert stretched.attributes_per_position is written.attributes_per_position is (corners == "v")
+        assert np.allclose(stretched.normals, written.normals, atol=1e-6)
+        assert np.array_equal(stretched.uvs, load_model_as_read(tmp_path / "fan.obj").uvs)
+
+
 def test_entries_of_one_model_at_one_scale_share_its_mesh(tmp_path: Path, monkeypatch) -> None:
     import marraztu.loaders.scenefile as scenefile
 

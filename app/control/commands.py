@@ -20,6 +20,7 @@ import numpy as np
 from marraztu.control.browse import sibling_model
 from marraztu.loaders.scenefile import BUILT_IN_CAMERA_MODEL
 from marraztu.model import framing, picking, transforms, viewports
+from marraztu.model.build import scaled_mesh
 from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, Light, Owner, default_lights
 from marraztu.model.scene import (
     INSIDE_FRACTION,
@@ -697,7 +698,7 @@ def fit_to_models(scene: Scene) -> None:
             light.position = light.position * factor
     for camera in scene.cameras:
         if camera.source == BUILT_IN_CAMERA_MODEL:
-            camera.mesh = camera.mesh.scaled((factor, factor, factor))
+            camera.mesh = scaled_mesh(camera.mesh, (factor, factor, factor))
 
 
 def _where_fitting_left_it(light: Light, fitted_places: dict[str, np.ndarray]) -> bool:

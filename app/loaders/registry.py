@@ -9,6 +9,7 @@ from pathlib import Path
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import COLLECT_AFTER_BYTES, size_or_zero
+from marraztu.model.build import scaled_mesh
 from marraztu.model.geometry import cannot_light
 from marraztu.model.mesh import Mesh
 from marraztu.model.transforms import Vec3
@@ -64,9 +65,9 @@ def load_model(path: str | Path, stage: Stage | None = None) -> Mesh:
 
 
 def sized(mesh: Mesh, scale: Vec3, path: Path) -> Mesh:
-    """The mesh at `scale` (Mesh.scaled); LoadError naming `path` where a coordinate then lies too far
+    """The mesh at `scale` (scaled_mesh); LoadError naming `path` where a coordinate then lies too far
     to light."""
-    return mesh if scale == UNSCALED else _drawable(mesh.scaled(scale), path)
+    return mesh if scale == UNSCALED else _drawable(scaled_mesh(mesh, scale), path)
 
 
 def _drawable(mesh: Mesh, path: Path) -> Mesh:

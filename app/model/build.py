@@ -296,7 +296,31 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
         file_material=file_material,
         warnings=notes,
         attributes_per_position=per_position,
+        normals_averaged=normals is None,
     )
+
+
+def scaled_mesh(mesh: Mesh, factors: tuple[float, float, float]) -> Mesh:
+    """The mesh as read at `factors` times its size along x, y and z (each > 0), as the file written so
+    would be read: its positions stretched, its face normals and the file's own normals turned as the
+    inverse transpose turns them, normals it averaged averaged again from the turned faces, and its
+    texture coordinates kept (they are the surface's). Itself where every factor is 1."""
+    if factors == (1.0, 1.0, 1.0):
+        return mesh
+    stretch = np.asarray(factors, np.float64)
+    whole_origin = None if mesh.whole_gpu_origin is None else mesh.whole_gpu_origin * stretch
+    stretched = replace(mesh, positions=mesh.positions * stretch, whole_gpu_origin=whole_origin)
+    if np.all(stretch == stretch[0]):  # a uniform scale leaves every direction as it was
+        return stretched
+    if mesh.normals_averaged:  # the average of turned faces is not the turned average
+        again = derive_mesh(mesh.name, stretched.positions, mesh.corner_vertex, mesh.face_start,
+                            (mesh.uvs, mesh.corner_vertex if mesh.attributes_per_position else
+                             np.arange(mesh.corner_vertex.size, dtype=INDEX)), None, None, None, ())
+        return replace(stretched, uvs=again.uvs, normals=again.normals, face_normals=again.face_normals,
+                       attributes_per_position=again.attributes_per_position)
+    turn = stretch.min() / stretch  # the inverse's direction, its entries at most 1: none overflows
+    return replace(stretched, normals=unit_rows(mesh.normals * turn, np.float32)[0],
+                   face_normals=unit_rows(mesh.face_normals * turn, np.float32)[0])
 
 
 @dataclass(frozen=True)

@@ -11,13 +11,13 @@ varying gives exactly SPEC's "face normal at the polygon's first vertex".
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
 import numpy as np
 
-from marraztu.model.geometry import column_bounds, unit_rows
+from marraztu.model.geometry import column_bounds
 
 # Corner and face indices are 32-bit: half of numpy's default, and no file the viewer reads (1 GiB at
 # most, two bytes a corner at least) holds 2**31 of anything. build.derive_mesh refuses more.
@@ -148,6 +148,8 @@ class Mesh:
     # True when every corner of a position has the same normal and uv, stored once per position: then
     # no position needs a second vertex row (no seams), and the tables hold fewer rows than corners.
     attributes_per_position: bool = False
+    # Every normal averaged from the faces around it (the file gives none): a stretch averages them again.
+    normals_averaged: bool = False
     # The file's materials and, per polygon, which one it uses (-1: none, the object's own material).
     # Without `usemtl` both are empty and the whole mesh takes the object's material.
     materials: tuple[MeshMaterial, ...] = ()
@@ -261,22 +263,6 @@ class Mesh:
                     vertex_colours=None if self.vertex_colours is None else self.vertex_colours[used],
                     whole_gpu_origin=self.gpu_origin)
         return MeshPart(material, part, faces)
-
-    def scaled(self, factors: tuple[float, float, float]) -> Mesh:
-        """The mesh as read at `factors` times its size along x, y and z (each > 0): its positions
-        stretched and its normals turned as the inverse transpose turns them, its texture coordinates
-        kept (they are the surface's). Itself where every factor is 1."""
-        if factors == (1.0, 1.0, 1.0):
-            return self
-        stretch = np.asarray(factors, np.float64)
-        normals, face_normals = self.normals, self.face_normals
-        if not np.all(stretch == stretch[0]):  # a uniform scale leaves every direction as it was
-            turn = stretch.min() / stretch  # the inverse's direction, its entries at most 1: none overflows
-            normals = unit_rows(normals * turn, np.float32)[0]
-            face_normals = unit_rows(face_normals * turn, np.float32)[0]
-        whole_origin = None if self.whole_gpu_origin is None else self.whole_gpu_origin * stretch
-        return replace(self, positions=self.positions * stretch, normals=normals, face_normals=face_normals,
-                       whole_gpu_origin=whole_origin)
 
     def own_picture(self, part: int) -> np.ndarray | None:
         """The picture a part is drawn with in place of the scene's (None: the scene's): its material's
