@@ -47,7 +47,8 @@ class FacePipeline:
     projection_matrix: np.ndarray  # (4, 4) P
     lens: Lens  # what P is built from
     viewport: tuple[int, int, int, int]  # x, y, width, height in pixels
-    corners: tuple[CornerStages, ...]
+    corners: tuple[CornerStages, ...]  # the first `most` that face_pipeline() was asked for, or all
+    corner_count: int  # the face's corners
     facing: float  # face normal . V at the polygon's first vertex (SPEC 4's back-face test)
     culling: bool
 
@@ -60,8 +61,9 @@ class FacePipeline:
         return self.back_face and self.culling
 
 
-def face_pipeline(scene: Scene, viewport: tuple[int, int, int, int]) -> FacePipeline | None:
-    """The selected object's selected face (the probe's face) drawn into `viewport`; None without one."""
+def face_pipeline(scene: Scene, viewport: tuple[int, int, int, int], most: int | None = None) -> FacePipeline | None:
+    """The selected object's selected face (the probe's face) drawn into `viewport`, its first `most`
+    corners carried (a panel shows a few of a polygon of thousands); None without one."""
     found = probed_face(scene)  # the back-face verdict, made as the probe makes it
     if found is None:
         return None
@@ -71,11 +73,12 @@ def face_pipeline(scene: Scene, viewport: tuple[int, int, int, int]) -> FacePipe
     lens = scene.lens(aspect)
     projection = lens.matrix()
     start, stop = int(mesh.face_start[found.face]), int(mesh.face_start[found.face + 1])
+    carried = range(start, stop)[:most]
     corners = tuple(_stages(int(mesh.corner_vertex[corner]), mesh.positions[mesh.corner_vertex[corner]], model,
-                            view, projection, viewport) for corner in range(start, stop))
+                            view, projection, viewport) for corner in carried)
     return FacePipeline(obj=obj, face=found.face, face_count=mesh.face_count, model_matrix=model,
                         view_matrix=view, projection_matrix=projection, lens=lens, viewport=viewport,
-                        corners=corners, facing=found.facing, culling=scene.modes.culling)
+                        corners=corners, corner_count=stop - start, facing=found.facing, culling=scene.modes.culling)
 
 
 def _stages(vertex: int, point: np.ndarray, model: np.ndarray, view: np.ndarray, projection: np.ndarray,

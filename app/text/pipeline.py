@@ -22,13 +22,13 @@ def pipeline_lines(scene: Scene, viewport: tuple[int, int, int, int]) -> list[st
     """The panel: empty unless the pipeline view is on."""
     if not scene.modes.pipeline:
         return []
-    found = face_pipeline(scene, viewport)
+    found = face_pipeline(scene, viewport, MAX_CORNERS)
     if found is None:
         return ["PIPELINE: no face to follow (select an object with TAB)"]
     lines = _header(found, probe_hidden=scene.modes.probe)
-    for number, corner in enumerate(found.corners[:MAX_CORNERS], start=1):
+    for number, corner in enumerate(found.corners, start=1):
         lines += _corner_lines(found, number, corner)
-    hidden = len(found.corners) - MAX_CORNERS
+    hidden = found.corner_count - MAX_CORNERS
     if hidden > 0:
         lines.append(f"(and {hidden} more corners of this polygon, carried the same way)")
     lines.append(_culling_line(found))
