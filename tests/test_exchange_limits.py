@@ -422,7 +422,8 @@ def test_binary_triangles_alone_go_to_trimesh_as_they_are(tmp_path: Path) -> Non
     model = {**random_ply(random.Random(6)), "edges_before": False, "edges_after": False, "neighbours": None}
     model["faces"] = [face[:3] for face in model["faces"]]
     data = ply_files(model)["binary_little_endian"]
-    assert vertices_and_faces(Path("m.ply"), data, read_header(Path("m.ply"), data)).data is data
+    header = read_header(Path("m.ply"), data)
+    assert vertices_and_faces(Path("m.ply"), data, header, exchange.MAX_PLACED_TRIANGLES).data is data
 
 
 def binary_triangle_and(rows: bytes, faces: int = 2) -> bytes:

@@ -19,6 +19,7 @@ from support.refusals import one_line_refusal, written
 from support.work import peak_traced_bytes
 
 GRID = [f"{x} {y} {(x * y) % 3 * 0.1:.1f}" for y in range(3) for x in range(3)]  # 3 x 3 vertices
+ANY_TRIANGLES = 1 << 62  # no limit on what the faces make, for the readers called alone
 
 
 def ply_text(faces: list[str], vertices: list[str] = GRID, face_properties: str = "property list uchar int "
@@ -495,7 +496,7 @@ def test_a_64_bit_value_at_its_types_edge_is_read_as_its_float_value(tmp_path: P
     text = ply_text(["3 0 1 4"], vertices, vertex_properties="property float x\nproperty float y\nproperty float z\n"
                     + extra)
     data = text.encode()
-    binary = binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data)).data
+    binary = binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data), ANY_TRIANGLES).data
     rows = np.frombuffer(binary, "<3f4,<u8,<i8,<i8", count=9, offset=read_header(Path("m.ply"), binary).body_at)
     assert rows["f1"].tolist() == [2**64 - 1] * 9 and rows["f2"].tolist() == [-2**63] * 9
     assert rows["f3"].tolist() == [2**63 - 1] * 9
@@ -562,8 +563,8 @@ def test_one_polygon_of_many_corners_fans_in_proportion(tmp_path: Path) -> None:
     corners = 300_000
     data = ply_text([f"{corners} " + " ".join(["0 1 4"] * (corners // 3))],
                     face_properties="property list int int vertex_indices\n").encode()
-    binary, peak = peak_traced_bytes(lambda: binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data))
-                                     .data)
+    binary, peak = peak_traced_bytes(lambda: binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data),
+                                                             ANY_TRIANGLES).data)
     assert len(binary) - binary.index(b"end_header\n") - 11 == 9 * 12 + (corners - 2) * 16  # int count, 3 ints
     assert peak < 3.5 * len(binary), peak
 
@@ -624,7 +625,8 @@ def test_end_header_ends_the_header_only_as_a_line_alone(tmp_path: Path, comment
         header = read_header(Path(name), data)
         assert header.count("face") == 2 and data[:header.body_at].endswith(b"\nend_header\n")
         if header.encoding == "<":
-            for_trimesh = trimesh.util.wrap_as_stream(vertices_and_faces(Path(name), data, header).data)
+            for_trimesh = trimesh.util.wrap_as_stream(vertices_and_faces(Path(name), data, header,
+                                                                         ANY_TRIANGLES).data)
             assert len(trimesh.load(for_trimesh, file_type="ply", process=False).faces) == 2
         (tmp_path / name).write_bytes(data)
         assert load_model(tmp_path / name).face_count == 2
@@ -642,7 +644,7 @@ def test_the_picture_and_unknown_elements_are_kept_for_trimesh(tmp_path: Path) -
     text = ply_text(["3 0 1 4"], remarks="comment TextureFile p.png\ncomment TextureFile q.png\nobj_info by hand\n")
     text = text.replace("end_header", "element material 1\nproperty float shine\nend_header") + "0.5\n"
     data = text.encode()
-    binary = binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data)).data
+    binary = binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data), ANY_TRIANGLES).data
     header = read_header(Path("m.ply"), binary)
     assert header.encoding == "<" and header.picture == "q.png"
     assert [(element.name, element.count) for element in header.elements] == [("vertex", 9), ("face", 1),
@@ -668,8 +670,8 @@ def test_short_face_rows_cost_their_numbers(tmp_path: Path) -> None:
     """Rows of '3 0 1 4' took 60 bytes a byte through trimesh's reader (52 in it alone). Made binary, they
     take 8 bytes for each number of two, and the binary rows; the model built of them, about 11 more."""
     data = ply_text(["3 0 1 4"] * 200_000).encode()
-    binary, peak = peak_traced_bytes(lambda: binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data))
-                                     .data)
+    binary, peak = peak_traced_bytes(lambda: binary_of_ascii(Path("m.ply"), data, read_header(Path("m.ply"), data),
+                                                             ANY_TRIANGLES).data)
     assert len(binary) - binary.index(b"end_header\n") - 11 == 9 * 12 + 200_000 * 13  # the rows, bytes as typed
     assert peak < 10 * len(data), peak
     (tmp_path / "m.ply").write_bytes(data)
@@ -719,9 +721,9 @@ def as_read(data: bytes) -> tuple[bytes, list[int] | None] | tuple[int | None, s
         header = read_header(path, data)
         sizes = None
         if header.encoding == "ascii":
-            data, sizes, _ = binary_of_ascii(path, data, header)
+            data, sizes, _ = binary_of_ascii(path, data, header, ANY_TRIANGLES)
             header = read_header(path, data)
-        data, binary_sizes, _ = vertices_and_faces(path, data, header)
+        data, binary_sizes, _ = vertices_and_faces(path, data, header, ANY_TRIANGLES)
         fanned = binary_sizes if sizes is None else sizes
         return data, None if fanned is None else fanned.tolist()
     except LoadError as refused:
@@ -743,3 +745,25 @@ def test_rows_of_one_list_walked_quickly_read_as_the_checked_walk_reads_them(
     checked = [as_read(data) for data in files]
     assert quick == checked
     assert sum(isinstance(outcome, tuple) for outcome in quick) > 50  # errors of every kind among them
+
+
+@pytest.mark.parametrize("encoding", ["ascii", "binary"])
+def test_faces_that_fan_into_too_many_triangles_are_refused_before_trimesh_builds_them(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, encoding: str) -> None:
+    """A 92 MB binary PLY of 52-corner faces fans into 22M triangles: trimesh built them all, 1.2 GB, and
+    the refusal after it spoke of a scene placing 'its meshes 1 times'. The fanned count is known first."""
+    from marraztu.loaders import exchange
+
+    data = ply_text(["8 0 1 2 5 8 7 6 3"] * 5).encode()  # 6 triangles each: 30
+    if encoding == "binary":  # as a binary file holds them: polygons, not fanned
+        data = struct.pack("<B8i", 8, 0, 1, 2, 5, 8, 7, 6, 3) * 5
+        data = (b"ply\nformat binary_little_endian 1.0\nelement vertex 9\nproperty float x\nproperty float y\n"
+                b"property float z\nelement face 5\nproperty list uchar int vertex_indices\nend_header\n"
+                + np.array([[x, y, 0.0] for y in range(3) for x in range(3)], "<f4").tobytes() + data)
+    (tmp_path / "m.ply").write_bytes(data)
+    monkeypatch.setattr(exchange, "MAX_PLACED_TRIANGLES", 29)
+    built: list[bytes] = []
+    monkeypatch.setattr(exchange, "_trimesh_load", lambda *args, **kwargs: built.append(args[1]))
+    refused = one_line_refusal(lambda: load_model(tmp_path / "m.ply"))
+    assert built == []
+    assert refused.message == "its faces make 30 triangles: more than the 29 the viewer draws from one model"

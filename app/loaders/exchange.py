@@ -73,7 +73,7 @@ from marraztu.loaders.images import (
     pictures_checked,
     unread_textures_note,
 )
-from marraztu.loaders.ply import STRIPS, binary_of_ascii, read_header, vertices_and_faces
+from marraztu.loaders.ply import STRIPS, binary_of_ascii, check_triangles, read_header, vertices_and_faces
 from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES
 from marraztu.loaders.words import unheld_coordinate
 from marraztu.model.build import FACE_COLOURS_NOTE, build_mesh, checked_vertex_rows, colour_bytes, colour_fractions
@@ -146,11 +146,13 @@ def load_ply(path: Path, stage: Stage | None = None) -> Mesh:
     text = data if header.encoding == "ascii" else None  # kept for a text body only, to name the line of a bad number
     face_sizes, notes = None, ()
     if text is not None:
-        data, face_sizes, notes = binary_of_ascii(path, text, header)
+        data, face_sizes, notes = binary_of_ascii(path, text, header, MAX_PLACED_TRIANGLES)
         header = read_header(path, data)
-    data, binary_face_sizes, binary_notes = vertices_and_faces(path, data, header)
+    data, binary_face_sizes, binary_notes = vertices_and_faces(path, data, header, MAX_PLACED_TRIANGLES)
     if text is None:  # (an ASCII body's polygons are fanned already: the binary one holds triangles)
         face_sizes, notes = binary_face_sizes, binary_notes
+    # Fanned faces were counted before they were made; these are all the triangles trimesh would build.
+    check_triangles(path, read_header(path, data).count("face"), MAX_PLACED_TRIANGLES)
     beside = _FilesBeside(path.parent, is_picture=lambda name: True)  # a PLY names its TextureFile only
     scene = _trimesh_load(path, data, "ply", beside)
     del data

@@ -265,9 +265,10 @@ def _corner_list(element: PlyElement) -> str | None:
 
 
 # --- the ASCII body -------------------------------------------------------------------------------
-def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
+def binary_of_ascii(path: Path, data: bytes, header: PlyHeader, most_triangles: int) -> ForTrimesh:
     """The binary little-endian PLY file that holds what `data`, an ASCII one, holds: every number
-    checked against its property's type, every face's corners against the vertex count."""
+    checked against its property's type, every face's corners against the vertex count, and the
+    triangles they fan into against `most_triangles`, before they are made."""
     body = _Body(path, data, header.body_at, _numbers(path, data, header.body_at))
     tables, at = [], 0
     sizes: list[np.ndarray] = []
@@ -278,7 +279,7 @@ def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
             _check_coordinate(body, element, column)
         if not columns:  # no rows, or no properties: nothing of it for trimesh to read
             continue
-        table, _, fanned = _table_for_trimesh(header, element, columns, uniform, body)
+        table, _, fanned = _table_for_trimesh(header, element, columns, uniform, body, most_triangles)
         tables.append(table)
         if fanned is not None:
             sizes.append(fanned)
@@ -289,7 +290,7 @@ def binary_of_ascii(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
 
 
 def _table_for_trimesh(header: PlyHeader, element: PlyElement, columns: list[_Column], uniform: bool,
-                       places: _Places) -> tuple[_Table, bool, np.ndarray | None]:
+                       places: _Places, most_triangles: int) -> tuple[_Table, bool, np.ndarray | None]:
     """The element's rows as trimesh's binary reader takes them, whether they are the file's own, and
     the sizes of the faces fanned: faces of more than three corners fanned, triangle strips made faces;
     another element's lists left out where they vary (trimesh draws nothing of them). `places` makes
@@ -300,10 +301,19 @@ def _table_for_trimesh(header: PlyHeader, element: PlyElement, columns: list[_Co
         return strips, False, None
     corners = _face_corners(element, columns, vertices, places)
     if corners is not None and (not uniform or corners.values.shape[1] > 3):
+        assert corners.counts is not None
+        check_triangles(places.path, int(corners.counts.sum()) - 2 * len(corners.counts), most_triangles)
         return _fanned(element, columns, corners), False, corners.counts
     if not uniform:
         return _without_lists(element, columns), False, None
     return (element, [column.values for column in columns]), True, None
+
+
+def check_triangles(path: Path, triangles: int, most: int) -> None:
+    """Refuses faces that make more triangles than the viewer draws from one model."""
+    if triangles > most:
+        raise LoadError(path, f"its faces make {triangles} triangles: more than the {most} the viewer draws "
+                              "from one model")
 
 
 def _face_sizes(header: PlyHeader, fanned: list[np.ndarray]) -> np.ndarray | None:
@@ -361,6 +371,8 @@ _WORD = re.compile(rb"\S++")  # a word of the body: bytes' \s is numpy's blanks
 class _Places(Protocol):
     """Where a body's numbers lie: the error of a problem at a number's place, and a number as the file
     gives it."""
+
+    path: Path
 
     def error(self, message: str, index: int) -> LoadError: ...
 
@@ -861,7 +873,7 @@ def _list_counts(element: PlyElement, values: list[np.ndarray]) -> list[int]:
 _KEPT_ELEMENTS = ("vertex", "face", STRIPS)
 
 
-def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh:
+def vertices_and_faces(path: Path, data: bytes, header: PlyHeader, most_triangles: int) -> ForTrimesh:
     """A binary PLY as trimesh's binary reader takes it: its vertex and face elements alone, read where
     they lie in the body, little-endian; faces of more than three corners fanned into triangles as an
     ASCII body's are, as that reader takes one count for a whole element. The file itself where that
@@ -875,7 +887,8 @@ def vertices_and_faces(path: Path, data: bytes, header: PlyHeader) -> ForTrimesh
         if element.name not in _KEPT_ELEMENTS or not columns:
             unchanged = False
             continue
-        table, as_read, fanned = _table_for_trimesh(header, element, columns, uniform, _BinaryPlaces(path))
+        table, as_read, fanned = _table_for_trimesh(header, element, columns, uniform, _BinaryPlaces(path),
+                                                    most_triangles)
         tables.append(table)
         if fanned is not None:
             sizes.append(fanned)
