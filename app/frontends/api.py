@@ -289,13 +289,14 @@ class Viewer:
             raise TypeError(f"keys are a str, as --keys takes them (\"0 1 F x*5\"), not {type(keys).__name__}")
         self._check_open()
         presses = parse_key_sequence(keys)  # all of them checked before any is pressed
-        restore, prompt = self.scene.restorer(len(presses)), self._viewer.prompt
+        # The viewer's own fields too (the prompt, what the message says of a model out of view), as they were.
+        restore, viewer_fields = self.scene.restorer(len(presses)), dict(vars(self._viewer))
         try:
             for _ in self._frontend.replay(self._viewer, presses):  # up to ESC, as the screenshot command's keys
                 pass
         except BaseException:  # all or nothing, as a bad key's name (an interrupt too): run again, it presses them once
             restore()
-            self._viewer.prompt = prompt
+            vars(self._viewer).update(viewer_fields)
             raise
         finally:
             self._frontend.quitting = False  # the next sequence is pressed: a notebook has no window to close
