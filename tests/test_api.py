@@ -1052,6 +1052,37 @@ def test_viewers_open_at_exit_are_released_whenever_the_first_finalizer_was_made
         assert result.returncode == 0 and result.stdout.split() == ["released"], (order, result.stderr)
 
 
+_FORKED_CHILD = """
+import os, signal, marraztu
+with marraztu.Viewer((16, 12)) as closed:
+    closed.render()
+held = marraztu.Viewer((16, 12))
+held.render()
+child = os.fork()
+if child == 0:
+    signal.alarm(10)  # each call below hung for good in the child, where Mesa's drawing threads are not
+    for call in (lambda: marraztu.Viewer((16, 12)).render(), held.render, lambda: held.press("x")):
+        try:
+            call()
+            print("drew")
+        except marraztu.ViewerError as error:
+            print(str(error).replace(os.linesep, "|"))
+    os._exit(0)
+os.waitpid(child, 0)
+print("parent", held.render().size)
+"""
+
+
+def test_a_process_forked_after_a_viewer_was_made_is_refused_in_one_line_not_hung() -> None:
+    """multiprocessing's default on Linux forks: the child inherits the parent's GL display without its
+    drawing threads, and its first picture waited for them for ever."""
+    result = subprocess.run([sys.executable, "-c", _FORKED_CHILD], capture_output=True, text=True, timeout=120)
+    lines = result.stdout.splitlines()
+    assert result.returncode == 0 and len(lines) == 4, (result.stdout, result.stderr)
+    assert all("forked" in line and "spawn" in line for line in lines[:3]), lines
+    assert lines[3] == "parent (16, 12)", "the parent goes on drawing"
+
+
 def test_the_probe_report_says_its_view_and_the_vertex_colour_that_tints_it() -> None:
     with marraztu.Viewer(size=SIZE, empty=True) as v:
         v.add_mesh(TRIANGLE, [[0, 1, 2]], colours=[[255, 0, 0], [0, 255, 0], [0, 0, 255]])

@@ -39,7 +39,7 @@ from marraztu.model.geometry import cannot_light, holds_in_float32
 from marraztu.model.mesh import INDEX_LIMIT, counted
 from marraztu.model.probe import probe as probe_scene
 from marraztu.model.scene import Scene, SceneObject, name_refusal
-from marraztu.render.context import create_offscreen_context
+from marraztu.render.context import create_offscreen_context, refuse_forked_gl
 from marraztu.render.layout import checked_size
 from marraztu.render.renderer import Renderer
 from marraztu.text.status import prompt_line, status_line
@@ -180,6 +180,7 @@ def _release_unreleased() -> None:
 
 def _context_for_a_viewer() -> Any:
     """A closed viewer's context, else a new one."""
+    refuse_forked_gl()  # a context kept by the parent is no more usable than a new one
     _release_unreleased()
     with _releasing:
         if _spare_contexts:
@@ -396,6 +397,7 @@ class Viewer:
     def _check_open(self) -> None:
         if not self._closer.alive:
             raise ViewerError("this Viewer is closed")
+        refuse_forked_gl()
         self.scene.settle_selection()  # the scene may have been changed by hand since the last call
         self.scene.check_values()
 

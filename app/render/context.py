@@ -20,15 +20,32 @@ GL_VERSION = 330
 
 
 def create_offscreen_context() -> moderngl.Context:
+    global _gl_process
+    refuse_forked_gl()
     try:
-        return moderngl.create_standalone_context(require=GL_VERSION, backend="egl")
+        ctx = moderngl.create_standalone_context(require=GL_VERSION, backend="egl")
     except Exception as egl_error:  # glcontext raises plain Exception subclasses of its own
         try:
-            return moderngl.create_standalone_context(require=GL_VERSION)
+            ctx = moderngl.create_standalone_context(require=GL_VERSION)
         except Exception as error:
             raise ViewerError(f"cannot create an offscreen OpenGL {GL_VERSION // 100}.{GL_VERSION // 10 % 10} "
                               f"context: EGL said {_first_line(egl_error)}; the platform's context said "
                               f"{_first_line(error)}{_INSTALL_HINT}") from None  # both causes are in its words
+    _gl_process = os.getpid() if _gl_process is None else _gl_process
+    return ctx
+
+
+# The process that made the first context. The driver's display lives as long as the process, and a
+# child forked from it has none of its threads: Mesa's first picture there waited for them for ever.
+_gl_process: int | None = None
+
+
+def refuse_forked_gl() -> None:
+    """A ViewerError in a process forked from one that had opened OpenGL, where any drawing would hang."""
+    if _gl_process is not None and _gl_process != os.getpid():
+        raise ViewerError("this process was forked from one that had opened OpenGL, which cannot draw in a "
+                          "fork: start the processes that draw with multiprocessing's \"spawn\" or "
+                          "\"forkserver\" method, or fork before the first Viewer")
 
 
 # What a person on Linux is missing, most likely: Mesa's EGL and its drivers (llvmpipe among them).
