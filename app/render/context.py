@@ -18,6 +18,10 @@ from marraztu.errors import ViewerError
 
 GL_VERSION = 330
 
+# The process that made the first context. The driver's display lives as long as the process, and a
+# child forked from it has none of its threads: Mesa's first picture there waited for them for ever.
+_gl_process: int | None = None
+
 
 def create_offscreen_context() -> moderngl.Context:
     global _gl_process
@@ -33,11 +37,6 @@ def create_offscreen_context() -> moderngl.Context:
                               f"{_first_line(error)}{_INSTALL_HINT}") from None  # both causes are in its words
     _gl_process = os.getpid() if _gl_process is None else _gl_process
     return ctx
-
-
-# The process that made the first context. The driver's display lives as long as the process, and a
-# child forked from it has none of its threads: Mesa's first picture there waited for them for ever.
-_gl_process: int | None = None
 
 
 def refuse_forked_gl() -> None:
