@@ -146,17 +146,19 @@ def _checked_path(path: Any, what: str) -> Path:
 
 
 def _release(ctx: Any, renderer: Renderer) -> None:
-    """The renderer's objects; the context is kept for the next Viewer where none is kept yet."""
+    """The renderer's objects; the context is kept for the next Viewer where fewer than the most are kept."""
     with ctx:  # its objects are released in their own context, whichever Viewer drew last
         renderer.release()
-    if _spare_contexts:
+    if len(_spare_contexts) >= MAX_SPARE_CONTEXTS:
         ctx.release()
     else:
         _spare_contexts.append(ctx)
 
 
 # moderngl (5.13) frees nothing of a context it releases (~50 KB of Python objects, and about 200 KB
-# more in Mesa): a closed viewer's context serves the next one. One at most: an idle one holds ~2 MB.
+# more in Mesa): a closed viewer's context serves the next one. As many as a script comparing figures
+# keeps open at once, so that each figure's viewers take them again; few, as an idle one holds ~2 MB.
+MAX_SPARE_CONTEXTS = 4
 _spare_contexts: list[Any] = []
 
 
@@ -393,7 +395,7 @@ class Viewer:
         ViewerError."""
         self._closer()
         _release_unreleased()
-        return_freed_memory()  # a released context's memory (~9 MB on llvmpipe) stays with glibc otherwise
+        return_freed_memory()  # a released context's memory stays with glibc otherwise, as a frame's would
 
     def _check_open(self) -> None:
         if not self._closer.alive:
