@@ -93,7 +93,7 @@ class VersionAction(argparse.Action):
                          help="show the program's version and exit")
 
     def __call__(self, parser: argparse.ArgumentParser, *_: Any) -> None:
-        print(f"marraztu {marraztu.__version__}")
+        _say(f"marraztu {marraztu.__version__}")
         parser.exit()
 
 

@@ -264,6 +264,21 @@ def test_standard_output_full_or_closed_is_no_traceback(tmp_path: Path) -> None:
     assert (tmp_path / "a.png").exists()
 
 
+def test_the_version_to_a_full_or_closed_output_is_no_traceback() -> None:
+    version = [sys.executable, "-m", "marraztu", "--version"]
+    with open("/dev/full", "w") as full:
+        result = subprocess.run(version, stdout=full, stderr=subprocess.PIPE, text=True, timeout=120)
+    assert result.returncode == 1 and result.stderr.strip() == (
+        "error: cannot write to standard output (No space left on device)")
+    reader, writer = os.pipe()
+    os.close(reader)  # `marraztu --version | true`: the reader is gone before the line is written
+    try:
+        result = subprocess.run(version, stdout=writer, stderr=subprocess.PIPE, text=True, timeout=120)
+    finally:
+        os.close(writer)
+    assert result.returncode == 0 and result.stderr == ""
+
+
 def test_a_usage_error_is_one_line_too(tmp_path: Path) -> None:
     result = run_app("screenshot", "-o", str(tmp_path / "a.png"), "--size", "0x0")
     assert result.returncode == 2 and result.stderr.count("\n") == 1
