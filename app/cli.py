@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 import marraztu
-from marraztu.errors import ViewerError, escaped, shortened
+from marraztu.errors import ViewerError, escaped, say, shortened
 
 WINDOW_SIZE = (800, 800)
 NO_DISPLAY_SHOT = Path("out") / "marraztu.png"
@@ -93,7 +93,7 @@ class VersionAction(argparse.Action):
                          help="show the program's version and exit")
 
     def __call__(self, parser: argparse.ArgumentParser, *_: Any) -> None:
-        _say(f"marraztu {marraztu.__version__}")
+        say(f"marraztu {marraztu.__version__}")
         parser.exit()
 
 
@@ -161,7 +161,7 @@ def screenshot_parser() -> argparse.ArgumentParser:
 def run_screenshot(argv: Sequence[str]) -> int:
     args = parse_command_line(screenshot_parser(), _keys_joined(argv))
     out = take_screenshot(start_options(args), args.output, args.size, args.keys, args.overlay)
-    _say(escaped(str(out)))
+    say(escaped(str(out)))
     return 0
 
 
@@ -194,7 +194,7 @@ def run_record(argv: Sequence[str]) -> int:
 
     args = parse_command_line(record_parser(), _keys_joined(argv, ("--keys", "--before")))
     frames = record(start_options(args), args.output, args.size, args.keys, args.fps, args.overlay, args.before)
-    _say(escaped(f"{args.output}: {counted(frames, 'frame')}"))
+    say(escaped(f"{args.output}: {counted(frames, 'frame')}"))
     return 0
 
 
@@ -259,16 +259,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     finally:
         if before is not None:
             signal.signal(signal.SIGTERM, before)
-
-
-def _say(text: str) -> None:
-    """What a command made, on standard output: a full or closed one is no traceback (the file is written)."""
-    try:
-        print(text, flush=True)
-    except BrokenPipeError:  # `marraztu screenshot ... | head`: the reader has what it wanted
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # Python's flush at exit would fail again
-    except OSError as error:
-        raise ViewerError(f"cannot write to standard output ({error.strerror or error})") from None
 
 
 class _Terminated(KeyboardInterrupt):

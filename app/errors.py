@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+import sys
 from pathlib import Path
 
 
@@ -24,6 +26,19 @@ def shortened(word: str, most: int = SHOWN_WHOLE) -> str:
     digits = word.lstrip("+-")
     length = f"{len(digits)} digits" if digits.isascii() and digits.isdecimal() else f"{len(word)} characters"
     return f"{word[:most]}... ({length})"
+
+
+def say(text: str) -> bool:
+    """What a command made, as a line on standard output; False where its reader has gone (`marraztu ...
+    | head`: it has what it wanted), a full output a ViewerError: never a traceback."""
+    try:
+        print(text, flush=True)
+    except BrokenPipeError:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # Python's flush at exit would fail again
+        return False
+    except OSError as error:
+        raise ViewerError(f"cannot write to standard output ({error.strerror or error})") from None
+    return True
 
 
 class ViewerError(Exception):

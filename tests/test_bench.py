@@ -5,6 +5,9 @@ No timing is asserted: the figures depend on the machine and on whatever else ru
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -258,3 +261,20 @@ def test_a_ratio_below_a_hundredth_keeps_its_figures() -> None:
     """A C parser beside ours on a 200-triangle file is some hundred times quicker: never 0.00."""
     assert [ratio(*pair) for pair in [(1.0, 3.0), (0.000141, 0.0366), (5e-6, 1.0), (1.0, None)]] == [
         "0.33", "0.00385", "5e-06", MISSING]
+
+
+def test_a_reader_that_leaves_ends_the_bench_and_a_full_output_is_one_line(tmp_path: Path) -> None:
+    """`marraztu bench | head`: the bench stops at its next table, with no traceback; /dev/full is one line."""
+    shapes_only = [sys.executable, "-m", "marraztu", "bench", *TINY_ARGS, "--sections", "shapes",
+                   "--workdir", str(tmp_path)]
+    reader, writer = os.pipe()
+    os.close(reader)
+    try:
+        gone = subprocess.run(shapes_only, stdout=writer, stderr=subprocess.PIPE, text=True, timeout=300)
+    finally:
+        os.close(writer)
+    assert gone.returncode == 0 and gone.stderr == "", gone.stderr
+    with open("/dev/full", "w") as full:
+        filled = subprocess.run(shapes_only, stdout=full, stderr=subprocess.PIPE, text=True, timeout=300)
+    assert filled.returncode == 1 and filled.stderr == (
+        "error: cannot write to standard output (No space left on device)\n"), filled.stderr

@@ -11,6 +11,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from marraztu.errors import say
+
 if TYPE_CHECKING:
     import moderngl
 
@@ -101,4 +103,5 @@ def progress(message: str) -> None:
 
 
 def emit(lines: Sequence[str]) -> None:
-    print("\n".join(lines) + "\n", flush=True)
+    if not say("\n".join(lines) + "\n"):
+        raise SystemExit(0)  # the reader has gone (`marraztu bench | head`): measuring on would be for no one
