@@ -12,6 +12,7 @@ hook there, which Python does not run for a folder added this way.
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -167,3 +168,12 @@ def test_the_import_layers_hold() -> None:
     done = subprocess.run([str(lint)], cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stdout[-4000:]
     assert "0 broken" in done.stdout
+
+
+def test_ci_installs_what_make_test_runs_on_a_fresh_debian_or_ubuntu() -> None:
+    """.ci/run runs `make test`, whose first step is `python3 -m venv`: neither `make` nor the venv module
+    (python3-venv) comes with a fresh Debian or Ubuntu, so it installs them with the GL and X packages."""
+    ci = (ROOT / ".ci" / "run").read_text()
+    packages = set(re.search(r"for pkg in ([^;]+);", ci).group(1).split())
+    assert "make test" in ci and "python3 -m venv" in (ROOT / "Makefile").read_text()
+    assert {"make", "python3-venv"} <= packages, sorted(packages)
