@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -30,19 +31,27 @@ pytestmark = pytest.mark.skipif(
     reason="needs Xvfb and xdotool (apt-get install xvfb xdotool; .ci/run installs them)")
 
 
-@pytest.fixture
-def display() -> str:
+@contextmanager
+def x_server(screen: str) -> Iterator[str]:
     """A private X server; -displayfd picks a free display number and tells us which."""
     read_end, write_end = os.pipe()
-    server = subprocess.Popen(["Xvfb", "-displayfd", str(write_end), "-screen", "0", "800x600x24",
+    server = subprocess.Popen(["Xvfb", "-displayfd", str(write_end), "-screen", "0", screen,
                                "-nolisten", "tcp"], pass_fds=[write_end],
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     os.close(write_end)
     with os.fdopen(read_end) as pipe:
         number = pipe.readline().strip()
-    yield f":{number}"
-    server.terminate()
-    server.wait(timeout=10)
+    try:
+        yield f":{number}"
+    finally:
+        server.terminate()
+        server.wait(timeout=10)
+
+
+@pytest.fixture
+def display() -> Iterator[str]:
+    with x_server("800x600x24") as number:
+        yield number
 
 
 def xdotool(display: str, *args: str) -> str:
@@ -123,6 +132,25 @@ def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None
     differing = (np.abs(from_window - expected).max(axis=2) > 2).mean()
     assert differing <= 0.001, f"{differing:.2%} of the pixels differ"
     assert (np.abs(expected - [0, 0, 178]).sum(axis=2) > 30).mean() > 0.05, "almost blank"
+
+
+@pytest.mark.parametrize(("number", "status"), [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_ctrl_c_and_kill_end_a_window_the_display_never_shows(tmp_path: Path, number: int, status: int) -> None:
+    """On a 16-bit screen pyglet waits in C (XNextEvent) for a map that never comes: Python's handlers
+    run only between bytecodes, so the signal must end the process by itself meanwhile."""
+    with x_server("640x480x16") as display:
+        env = {**os.environ, "DISPLAY": display}
+        process = subprocess.Popen([sys.executable, "-m", "marraztu", "--size", "64x64"], cwd=tmp_path, env=env,
+                                   stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        try:
+            # pyglet's hidden window, named after the program, comes first: then it makes the one it waits on
+            wait_for(lambda: xdotool(display, "search", "--name", ".").split(), 60, "pyglet's first X window")
+            process.send_signal(number)
+            errors = process.communicate(timeout=60)[1]
+        finally:
+            process.kill()
+            process.wait()
+    assert process.returncode in (status, -number) and "Traceback" not in errors, (process.returncode, errors)
 
 
 def test_a_window_destroyed_without_a_window_manager_ends_the_process(display: str, tmp_path: Path) -> None:

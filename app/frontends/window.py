@@ -6,10 +6,12 @@ from __future__ import annotations
 import functools
 import logging
 import os
+import signal
 import socket
 import sys
-from collections.abc import Callable
-from contextlib import ExitStack
+import threading
+from collections.abc import Callable, Iterator
+from contextlib import ExitStack, contextmanager
 from datetime import datetime
 from enum import Enum
 from pathlib import Path
@@ -151,11 +153,12 @@ class ViewerWindow:
 
     def __init__(self, options: StartOptions, size: tuple[int, int]) -> None:
         logging.getLogger("moderngl_window").setLevel(logging.WARNING)
-        window_class = mglw.get_local_window_cls("pyglet")
-        # samples=0: the same pixels as the offscreen screenshot command; no aspect ratio: the
-        # projection follows the window's shape instead of letterboxing it.
-        self.wnd = window_class(title=TITLE, size=size, resizable=True, gl_version=(3, 3), aspect_ratio=None,
-                                vsync=True, samples=0)
+        with _signals_end_the_process():  # pyglet's import makes its hidden window, then ours is made
+            window_class = mglw.get_local_window_cls("pyglet")
+            # samples=0: the same pixels as the offscreen screenshot command; no aspect ratio: the
+            # projection follows the window's shape instead of letterboxing it.
+            self.wnd = window_class(title=TITLE, size=size, resizable=True, gl_version=(3, 3), aspect_ratio=None,
+                                    vsync=True, samples=0)
         self.wnd.swap_buffers()  # some platforms report the true buffer size only after one swap
         self.wnd.set_default_viewport()
         self.ctx = self.wnd.ctx
@@ -516,6 +519,23 @@ class ViewerWindow:
             self.scene.message = f"screenshot not saved: {error}"
         finally:
             self.wnd.fbo.use()
+
+
+@contextmanager
+def _signals_end_the_process() -> Iterator[None]:
+    """Ctrl-C and `kill` end the process outright while pyglet makes the window: it waits in C for the
+    window to be mapped, for ever on some displays (a 16-bit Xvfb), and Python's handlers run only
+    between bytecodes. Nothing is being written then, and the shell reports the same 130 and 143."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    handled = [number for number in (signal.SIGINT, signal.SIGTERM) if signal.getsignal(number) is not None]
+    before = {number: signal.signal(number, signal.SIG_DFL) for number in handled}  # one set in C is left alone
+    try:
+        yield
+    finally:
+        for number, handler in before.items():
+            signal.signal(number, handler)
 
 
 def _wake_event_loop() -> None:
