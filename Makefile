@@ -25,4 +25,4 @@ assets: $(STAMP)
 	$(PY) -m marraztu.devtools.assetgen
 
 clean:
-	rm -rf $(VENV) .pytest_cache
+	rm -rf $(VENV) .pytest_cache build *.egg-info
