@@ -4,8 +4,10 @@ mouse's orbit, pan and dolly, each gesture one step for `u`."""
 
 from __future__ import annotations
 
+import gc
 import math
 import warnings
+import weakref
 from pathlib import Path
 
 import numpy as np
@@ -339,6 +341,19 @@ def test_a_mouse_move_that_brings_a_model_loaded_out_of_view_into_it_takes_back_
     assert scene.sight(scene.object, aspect) is not Sight.SEEN and scene.message.endswith("(. frames it)")
     viewer.move_by_mouse(drag_it_into_view)
     assert scene.sight(scene.object, aspect) is Sight.SEEN and scene.message == said
+
+
+def test_a_model_deleted_while_said_out_of_view_is_not_kept(tmp_path: Path) -> None:
+    """The record of the words that a model is out of view held the model itself: deleted, its mesh stayed
+    in memory until another model was said out of view."""
+    near = octahedron(tmp_path / "near.obj", 10.0)
+    far = octahedron(tmp_path / "far.obj", 10.0, (0.0, 1e4, 0.0))
+    viewer = viewer_with(f"f={far}", (near,), empty=True)
+    assert viewer.scene.message.endswith("outside the view (. frames it)")
+    mesh = weakref.ref(viewer.scene.object.mesh)
+    viewer.press(parse_key_sequence("DELETE")[0])
+    gc.collect()
+    assert [obj.name for obj in viewer.scene.objects] == ["near"] and mesh() is None
 
 
 def test_a_file_loaded_twice_is_said_inside_the_other_of_its_name(tmp_path: Path) -> None:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import functools
 import threading
 import time
+import weakref
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
@@ -200,7 +201,7 @@ class _Before(NamedTuple):
 class _SaidUnseen(NamedTuple):
     """A message that says the object is out of view, and what it says without those words: what a mouse
     move that brings the object into view leaves up."""
-    obj: SceneObject
+    obj: weakref.ref[SceneObject]  # weak: a model deleted meanwhile is freed, not kept for its message
     said: str
     seen: str
 
@@ -421,7 +422,7 @@ class Viewer:
         told = f"{said}; {_lost_notice(element, where)}" if where else said
         self.tell(told)
         if self.scene.message == told:  # not joined to start-up's lines
-            self._said_unseen = _SaidUnseen(element, told, said)
+            self._remember_unseen(element, told, said)
 
     def loading_lines(self) -> list[str]:
         return [job.label for job in self.background.uncollected()] if self.background else []
@@ -455,7 +456,7 @@ class Viewer:
         told = _loaded_message(obj, Path(path), "object", _sight_words(sight) + inside)
         self._tell_each([told], at_start)
         if self.scene.message == told[0]:  # not joined to start-up's lines
-            self._said_unseen = _SaidUnseen(obj, told[0], _loaded_message(obj, Path(path), "object", inside)[0])
+            self._remember_unseen(obj, told[0], _loaded_message(obj, Path(path), "object", inside)[0])
 
     def add_made(self, obj: SceneObject) -> None:
         """An object made in Python (the API's add_mesh) joins as a loaded model does: framed where it is
@@ -492,7 +493,10 @@ class Viewer:
 
     def _say_unseen(self, obj: SceneObject, said: str, seen: str) -> None:
         self.scene.message = said
-        self._said_unseen = _SaidUnseen(obj, said, seen)
+        self._remember_unseen(obj, said, seen)
+
+    def _remember_unseen(self, obj: SceneObject, said: str, seen: str) -> None:
+        self._said_unseen = _SaidUnseen(weakref.ref(obj), said, seen)
 
     def _inside(self, objects: list[SceneObject]) -> list[str]:
         """What each load's message says of an object that another's box holds, and of one its lights
@@ -526,7 +530,7 @@ class Viewer:
         """The words that the object is out of view, taken back where a mouse move brought it in again:
         the next key would, and meanwhile they mislead over the model in plain view. The rest stays."""
         said = self._said_unseen
-        if said is None or said.obj is not obj or self.scene.message != said.said:
+        if said is None or said.obj() is not obj or self.scene.message != said.said:
             return
         if self.scene.object is obj and self.scene.viewer is not obj and not self._unseen_as(obj):
             self.scene.message, self._said_unseen = said.seen, None
