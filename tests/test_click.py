@@ -404,3 +404,38 @@ def test_saves_run_on_their_own_thread_and_are_said_when_done(tmp_path: Path,
                              "recording not saved: cannot write bad.gif: no room"]
     assert len(writers) == 2 and threading.current_thread().name not in writers
     assert saves.finished() == []  # each said once
+
+
+def test_frames_still_being_saved_count_toward_the_next_recordings_memory(tmp_path: Path,
+                                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """The cap held one recording; with the GIF written meanwhile, F9 again could gather another 2 GiB
+    while the last one's frames were still held, and so on without end."""
+    import threading
+
+    from marraztu.frontends import record
+
+    release = threading.Event()
+    monkeypatch.setattr(record, "write_animation", lambda frames, path, fps: release.wait(30))
+    saves = record.BackgroundSaves(wake=lambda: None)
+    saves.save([np.zeros((2, 2, 3), np.uint8)] * 3, tmp_path / "a.gif", 10)
+    assert saves.held_bytes() == 36  # its frames, until written
+    release.set()
+    saves.close()
+    assert saves.held_bytes() == 0
+
+
+def test_a_recording_stops_where_the_saves_still_writing_leave_no_room(monkeypatch: pytest.MonkeyPatch) -> None:
+    pytest.importorskip("pyglet.libs.x11.xlib")
+    from marraztu.frontends import window as window_module
+    from marraztu.frontends.record import MAX_RECORDING_BYTES
+
+    monkeypatch.setattr(window_module, "read_pixels", lambda fbo, size: np.zeros((2, 2, 3), np.uint8))
+    started: list[int] = []
+    saves = SimpleNamespace(held_bytes=lambda: MAX_RECORDING_BYTES - 20,  # a long recording still being written
+                            save=lambda frames, path, fps: started.append(len(frames)))
+    window = SimpleNamespace(scene=scene_with([]), recording=[np.zeros((2, 2, 3), np.uint8)], saves=saves,
+                             wnd=SimpleNamespace(fbo=None))
+    window.toggle_recording = lambda: window_module.ViewerWindow.toggle_recording(window)
+    window_module.ViewerWindow._record_frame(window, (2, 2))
+    assert window.recording is None and started == [2]
+    assert window.scene.message.endswith("(stopped: the frames filled the memory a recording may take)")

@@ -125,20 +125,24 @@ class BackgroundSaves:
 
     def __init__(self, wake: Callable[[], None]) -> None:
         self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="marraztu-recording")
-        self._pending: list[Future[str]] = []
+        self._pending: list[tuple[Future[str], int]] = []  # each save and the bytes of its frames
         self._wake = wake  # called on the writer's thread once a save is done: the window says it at once
 
     def save(self, frames: list[np.ndarray], out: Path, fps: float) -> None:
         future = self._pool.submit(_saved, frames, out, fps)
         future.add_done_callback(lambda _: self._wake())  # after the future is done: the wake finds it so
-        self._pending.append(future)
+        self._pending.append((future, sum(frame.nbytes for frame in frames)))
 
     def finished(self) -> list[str]:
         """What each save done since the last call says, in the order they were asked for."""
         done = []
-        while self._pending and self._pending[0].done():
-            done.append(self._pending.pop(0).result())  # raises what _saved did not foresee, on this thread
+        while self._pending and self._pending[0][0].done():
+            done.append(self._pending.pop(0)[0].result())  # raises what _saved did not foresee, on this thread
         return done
+
+    def held_bytes(self) -> int:
+        """The frames of the saves not yet written, held until they are: a new recording has what they leave."""
+        return sum(nbytes for future, nbytes in self._pending if not future.done())
 
     def close(self) -> list[str]:
         """Waits for every save asked for; what those not yet said say."""

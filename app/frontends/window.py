@@ -309,7 +309,7 @@ class ViewerWindow:
         """The scene's picture, before the overlay: the frames `marraztu record` would draw."""
         assert self.recording is not None
         self.recording.append(read_pixels(self.wnd.fbo, size))
-        if sum(frame.nbytes for frame in self.recording) > MAX_RECORDING_BYTES:
+        if sum(frame.nbytes for frame in self.recording) + self.saves.held_bytes() > MAX_RECORDING_BYTES:
             self.toggle_recording()
             self.scene.message += " (stopped: the frames filled the memory a recording may take)"
 
