@@ -439,3 +439,44 @@ def test_a_recording_stops_where_the_saves_still_writing_leave_no_room(monkeypat
     window_module.ViewerWindow._record_frame(window, (2, 2))
     assert window.recording is None and started == [2]
     assert window.scene.message.endswith("(stopped: the frames filled the memory a recording may take)")
+
+
+def test_a_save_that_fails_unforeseen_is_one_line_and_the_next_is_still_said(tmp_path: Path,
+                                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """A MemoryError in the writer was raised again by close() after the window had gone: a traceback,
+    and the saves after it never said."""
+    from marraztu.frontends import record
+
+    def write(frames: list[np.ndarray], path: Path, fps: float) -> int:
+        if path.name == "big.gif":
+            raise MemoryError()
+        return len(frames)
+
+    monkeypatch.setattr(record, "write_animation", write)
+    saves = record.BackgroundSaves(wake=lambda: None)
+    saves.save([np.zeros((2, 2, 3), np.uint8)] * 2, tmp_path / "big.gif", 10)
+    saves.save([np.zeros((2, 2, 3), np.uint8)] * 3, tmp_path / "small.gif", 10)
+    assert saves.close() == ["recording not saved: MemoryError",
+                             f"recording of 3 frames saved to {tmp_path / 'small.gif'}"]
+
+
+def test_ctrl_c_in_the_window_still_finishes_and_says_the_recording(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Ctrl-C or kill ended the loop past the close of the saves: the process waited for the GIF in
+    Python's exit hook and never said where it went."""
+    pytest.importorskip("pyglet.libs.x11.xlib")
+    from marraztu.frontends import window as window_module
+    from marraztu.frontends.window import ViewerWindow
+
+    monkeypatch.setattr(window_module, "Timer", lambda: SimpleNamespace(start=lambda: None))
+    said: list[str] = []
+
+    def interrupted() -> None:
+        raise KeyboardInterrupt
+
+    window = SimpleNamespace(wnd=SimpleNamespace(is_closing=False), _check_watched_files=interrupted,
+                             saves=SimpleNamespace(close=lambda: ["recording of 3 frames saved to /x.gif"]),
+                             notice=said.append)
+    window._draw_until_closed = lambda: ViewerWindow._draw_until_closed(window)
+    with pytest.raises(KeyboardInterrupt):
+        ViewerWindow.run(window)
+    assert said == ["recording of 3 frames saved to /x.gif"]

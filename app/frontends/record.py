@@ -137,7 +137,9 @@ class BackgroundSaves:
         """What each save done since the last call says, in the order they were asked for."""
         done = []
         while self._pending and self._pending[0][0].done():
-            done.append(self._pending.pop(0)[0].result())  # raises what _saved did not foresee, on this thread
+            future = self._pending.pop(0)[0]
+            error = future.exception()  # what _saved did not foresee (no memory left): one line, as guarded says it
+            done.append(future.result() if error is None else f"recording not saved: {_first_words(error)}")
         return done
 
     def held_bytes(self) -> int:
@@ -148,6 +150,11 @@ class BackgroundSaves:
         """Waits for every save asked for; what those not yet said say."""
         self._pool.shutdown(wait=True)
         return self.finished()
+
+
+def _first_words(error: BaseException) -> str:
+    words = str(error).strip().splitlines()
+    return f"{type(error).__name__}: {words[0]}" if words else type(error).__name__
 
 
 def _saved(frames: list[np.ndarray], out: Path, fps: float) -> str:

@@ -259,6 +259,13 @@ class ViewerWindow:
         return self.viewer.scene
 
     def run(self) -> None:
+        try:
+            self._draw_until_closed()
+        finally:  # after ESC, Ctrl-C or kill: a GIF that F9 asked for is finished, and said where it went
+            for message in self.saves.close():
+                self.notice(message)
+
+    def _draw_until_closed(self) -> None:
         timer = Timer()
         timer.start()
         while not self.wnd.is_closing:
@@ -282,8 +289,6 @@ class ViewerWindow:
         if self.viewer.background is not None:
             self.viewer.background.shutdown()
         self.wnd.destroy()
-        for message in self.saves.close():  # F9, then ESC before the GIF was written: said where it went
-            self.notice(message)
 
     # --- drawing -------------------------------------------------------------------------------
     @functools.partial(guarded, after_failure=Unchanged.NOTHING)
