@@ -1106,9 +1106,9 @@ if child == 0:
     for call in (lambda: marraztu.Viewer((16, 12)).render(), held.render, lambda: held.press("x")):
         try:
             call()
-            print("drew")
+            print("drew", flush=True)  # os._exit flushes nothing, and a pipe's output is buffered
         except marraztu.ViewerError as error:
-            print(str(error).replace(os.linesep, "|"))
+            print(str(error).replace(os.linesep, "|"), flush=True)
     os._exit(0)
 os.waitpid(child, 0)
 print("parent", held.render().size)
