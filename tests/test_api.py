@@ -80,7 +80,7 @@ def test_closing_hands_back_the_memory_its_context_held(monkeypatch) -> None:
     handed_back: list[bool] = []
     monkeypatch.setattr(api, "return_freed_memory", lambda: handed_back.append(True))
     first.close()
-    second.close()  # the one context not kept for the next viewer is released
+    second.close()  # whether its context is kept for the next viewer or released
     assert len(handed_back) == 2
 
 
