@@ -395,10 +395,12 @@ def test_saves_run_on_their_own_thread_and_are_said_when_done(tmp_path: Path,
 
     monkeypatch.setattr(record, "write_animation", slow_write)
     saves = record.BackgroundSaves(wake=woken.set)
-    saves.save([np.zeros((2, 2, 3), np.uint8)] * 3, tmp_path / "good.gif", 10)
-    saves.save([np.zeros((2, 2, 3), np.uint8)] * 2, tmp_path / "bad.gif", 10)
-    assert saves.finished() == [] and not woken.is_set()  # both wait on the writer; save() did not
-    release.set()
+    try:
+        saves.save([np.zeros((2, 2, 3), np.uint8)] * 3, tmp_path / "good.gif", 10)
+        saves.save([np.zeros((2, 2, 3), np.uint8)] * 2, tmp_path / "bad.gif", 10)
+        assert saves.finished() == [] and not woken.is_set()  # both wait on the writer; save() did not
+    finally:
+        release.set()  # a failure above leaves no writer waiting into the next tests and the exit
     assert woken.wait(30)
     assert saves.close() == [f"recording of 3 frames saved to {tmp_path / 'good.gif'}",
                              "recording not saved: cannot write bad.gif: no room"]
