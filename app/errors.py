@@ -34,11 +34,18 @@ def say(text: str) -> bool:
     try:
         print(text, flush=True)
     except BrokenPipeError:
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # Python's flush at exit would fail again
+        _forget_standard_output()
         return False
     except OSError as error:
+        _forget_standard_output()
         raise ViewerError(f"cannot write to standard output ({error.strerror or error})") from None
     return True
+
+
+def _forget_standard_output() -> None:
+    """What is left in the buffer goes nowhere: Python's own flush at exit would fail again, a second
+    message and exit status 120 where standard output is buffered (a file or a pipe, as a person's is)."""
+    os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
 
 
 class ViewerError(Exception):

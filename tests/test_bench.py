@@ -26,6 +26,7 @@ from marraztu.devtools.bench.window import WINDOW_HEADERS
 from marraztu.loaders.registry import load_model
 from marraztu.render.context import COMPUTE_GL_VERSION
 from support import corpus
+from support.processes import buffered_environment
 
 TINY_ARGS = ["--load-sizes", "200,400", "--sizes", "300", "--resolutions", "48x32", "--frames", "2",
              "--warmup", "1", "--repeats", "1", "--rounds", "1", "--start-runs", "1", "--cpu-frames", "2",
@@ -270,11 +271,13 @@ def test_a_reader_that_leaves_ends_the_bench_and_a_full_output_is_one_line(tmp_p
     reader, writer = os.pipe()
     os.close(reader)
     try:
-        gone = subprocess.run(shapes_only, stdout=writer, stderr=subprocess.PIPE, text=True, timeout=300)
+        gone = subprocess.run(shapes_only, stdout=writer, stderr=subprocess.PIPE, text=True, timeout=300,
+                              env=buffered_environment())
     finally:
         os.close(writer)
     assert gone.returncode == 0 and gone.stderr == "", gone.stderr
     with open("/dev/full", "w") as full:
-        filled = subprocess.run(shapes_only, stdout=full, stderr=subprocess.PIPE, text=True, timeout=300)
+        filled = subprocess.run(shapes_only, stdout=full, stderr=subprocess.PIPE, text=True, timeout=300,
+                                env=buffered_environment())
     assert filled.returncode == 1 and filled.stderr == (
         "error: cannot write to standard output (No space left on device)\n"), filled.stderr

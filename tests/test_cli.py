@@ -21,6 +21,7 @@ from marraztu.devtools.bench.config import parse_count
 from marraztu.errors import shortened
 from marraztu.model.scene import triple_refusal
 from marraztu.render.layout import parse_size
+from support.processes import buffered_environment
 from support.scenes import BACKGROUND
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -258,7 +259,7 @@ def test_standard_output_full_or_closed_is_no_traceback(tmp_path: Path) -> None:
     with open("/dev/full", "w") as full:
         result = subprocess.run([sys.executable, "-m", "marraztu", "screenshot", "-o", str(tmp_path / "a.png"),
                                  "--size", "16x16", "--empty"], stdout=full, stderr=subprocess.PIPE, text=True,
-                                timeout=120)
+                                timeout=120, env=buffered_environment())
     assert result.returncode == 1 and result.stderr.strip() == (
         "error: cannot write to standard output (No space left on device)")
     assert (tmp_path / "a.png").exists()
@@ -267,13 +268,15 @@ def test_standard_output_full_or_closed_is_no_traceback(tmp_path: Path) -> None:
 def test_the_version_to_a_full_or_closed_output_is_no_traceback() -> None:
     version = [sys.executable, "-m", "marraztu", "--version"]
     with open("/dev/full", "w") as full:
-        result = subprocess.run(version, stdout=full, stderr=subprocess.PIPE, text=True, timeout=120)
+        result = subprocess.run(version, stdout=full, stderr=subprocess.PIPE, text=True, timeout=120,
+                                env=buffered_environment())
     assert result.returncode == 1 and result.stderr.strip() == (
         "error: cannot write to standard output (No space left on device)")
     reader, writer = os.pipe()
     os.close(reader)  # `marraztu --version | true`: the reader is gone before the line is written
     try:
-        result = subprocess.run(version, stdout=writer, stderr=subprocess.PIPE, text=True, timeout=120)
+        result = subprocess.run(version, stdout=writer, stderr=subprocess.PIPE, text=True, timeout=120,
+                                env=buffered_environment())
     finally:
         os.close(writer)
     assert result.returncode == 0 and result.stderr == ""
