@@ -207,7 +207,7 @@ _open_viewers: weakref.WeakSet[Viewer] = weakref.WeakSet()
 def _close_all() -> None:
     """At exit, whichever of this and weakref.finalize's own hook runs first (it is registered when the
     process makes its first finalizer, numba's say): the viewers still open, those it queued, and the
-    context kept for the next viewer."""
+    contexts kept for the next viewers."""
     for viewer in list(_open_viewers):
         viewer.close()
     _release_unreleased()
@@ -391,8 +391,8 @@ class Viewer:
     # --- the context ---------------------------------------------------------------------------
     @_one_call_at_a_time
     def close(self) -> None:
-        """Releases the GL context; afterwards the scene can be read, and every other call raises
-        ViewerError."""
+        """Releases the renderer's GL objects and hands the context on (kept for the next viewer, or
+        released); afterwards the scene can be read, and every other call raises ViewerError."""
         self._closer()
         _release_unreleased()
         return_freed_memory()  # a released context's memory stays with glibc otherwise, as a frame's would
