@@ -226,8 +226,8 @@ def test_both_panels_say_what_p_is_built_from_in_the_same_words() -> None:
 
 def test_a_polygon_of_thousands_of_corners_is_carried_as_far_as_the_panel_shows(build_mesh, make_scene,
                                                                                 monkeypatch) -> None:
-    """Every corner of a million-corner polygon was carried through every space in Python (16 s and 1.4 GB
-    a picture) for a panel that shows four."""
+    """Every corner of a million-corner polygon was carried through every space in Python, seconds and
+    a gigabyte a picture, for a panel that shows four."""
     corners = 5000
     turn = np.linspace(0.0, 2.0 * np.pi, corners, endpoint=False)
     disc = build_mesh("disc", np.c_[np.cos(turn), np.sin(turn), np.zeros(corners)] * 50.0, [list(range(corners))])
