@@ -180,3 +180,48 @@ def test_the_probe_panel_moves_up_rather_than_cover_the_face_it_is_about(tmp_pat
     assert (top > 400) is at_top, (top, bottom, labels)
     if at_top:
         assert not covered, (top, bottom, covered)
+
+
+def _drawn_lines(tmp_path, monkeypatch, keys: str, size: tuple[int, int]):
+    """Every line of text the overlay drew, as (text, left, right, bottom, top) in pixels."""
+    from marraztu.control.viewer import StartOptions
+    from marraztu.frontends.screenshot import take_screenshot
+    from marraztu.render import overlay as overlay_module
+
+    drawn: list[tuple[str, float, float, float, float]] = []
+    real = overlay_module.Overlay._line
+
+    def spied(self, text, x, y, line_height=overlay_module.LINE_HEIGHT_PX):
+        width, height = self.fonts[line_height].cell
+        left, bottom = round(x - width / 2.0), round(y - height / 2.0)
+        drawn.append((text, left, left + width * len(text), bottom, bottom + height))
+        return real(self, text, x, y, line_height)
+
+    monkeypatch.setattr(overlay_module.Overlay, "_line", spied)
+    take_screenshot(StartOptions(), tmp_path / "shot.png", size, keys=keys, overlay=True)
+    return drawn
+
+
+@pytest.mark.parametrize("size", [(300, 1000), (320, 240), (200, 150), (64, 64)])
+@pytest.mark.parametrize("keys", ["i", "F 0 i ENTER*40 P", "m", "s i", "h"])
+def test_no_text_runs_off_a_narrow_window_and_a_cut_line_says_so(tmp_path, monkeypatch, keys: str,
+                                                                 size: tuple[int, int]) -> None:
+    """The probe's, the pipeline's and the matrices' lines (about 110 columns), the side-by-side titles
+    and the "... more lines" notes ran off a 300 pixel wide window's right edge, cut with no sign."""
+    from marraztu.render.overlay import CUT_MARK
+
+    drawn = _drawn_lines(tmp_path, monkeypatch, keys, size)
+    off = [(text, right) for text, _, right, _, _ in drawn if right > size[0]]
+    assert not off, off
+    if ("i" in keys or "P" in keys) and size[0] >= 200:  # the probe and the pipeline are wider
+        assert any(text.endswith(CUT_MARK) for text, *_ in drawn)
+
+
+@pytest.mark.parametrize("size", [(200, 150), (320, 240)])
+def test_side_by_side_titles_stay_in_their_third(tmp_path, monkeypatch, size: tuple[int, int]) -> None:
+    """At 200x150 "Gouraud" and "Phong (per pixel)" were drawn over each other; at 320 the last ran off."""
+    drawn = _drawn_lines(tmp_path, monkeypatch, "s", size)
+    titles = [line for line in drawn if line[0].startswith(("Fl", "Go", "Ph"))]
+    assert len(titles) == 3
+    for third, (text, left, right, _, _) in enumerate(titles):
+        assert third * size[0] / 3 <= left and right <= (third + 1) * size[0] / 3, (text, left, right)

@@ -37,6 +37,7 @@ PANEL_LINE_HEIGHT_PX = 15.0
 PANEL_BACKDROP_RGBA = (0.0, 0.0, 0.0, 0.88)  # darker: the panels are read for long, over anything
 BACKDROP_RGBA = (0.0, 0.0, 0.0, 0.6)
 NO_BREAK = "\u00a0"
+CUT_MARK = "\u00bb"  # ends a line cut at the window's edge: the font has no ellipsis
 # What textwrap turns into spaces (tabs into several): a short line of none, ending in no blank, is kept whole.
 _WRAPPED_WHITESPACE = re.compile("[\t\n\x0b\x0c\r]")
 
@@ -103,7 +104,8 @@ class Overlay:
         corner up; then, below the top lines, the side-by-side titles and the right-hand panel, and
         above the bottom lines the bottom panel."""
         width, height = size
-        columns = max(10, int((width - 2 * MARGIN_PX) / self.char_width_px))
+        fitting = int((width - 2 * MARGIN_PX) / self.char_width_px)
+        columns = max(10, fitting)
         # Messages at the bottom keep up to half the height; status and help get what is left, and
         # whatever does not fit says how much is left out rather than running off the window.
         wrapped_bottom = [piece for line in bottom_lines for piece in wrap(line, columns)]
@@ -113,6 +115,8 @@ class Overlay:
         bottom_height = 2 * MARGIN_PX + LINE_HEIGHT_PX * len(bottom_lines) if bottom_lines else 0.0
         top_lines = fit_lines([piece for line in top_lines for piece in wrap(line, columns)],
                               height - bottom_height - 2 * MARGIN_PX, LINE_HEIGHT_PX, "a taller window shows them")
+        # The notes of what is left out, and any line in a window under ten columns, are cut, not wrapped.
+        top_lines, bottom_lines = cut_lines(top_lines, fitting), cut_lines(bottom_lines, fitting)
         self.ctx.disable(moderngl.DEPTH_TEST)
         self.ctx.enable(moderngl.BLEND)
         self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
@@ -136,25 +140,34 @@ class Overlay:
 
     def _extras(self, extras: Extras, width: int, below_top: float, above_bottom: float) -> None:
         if extras.titles:
-            part = width / len(extras.titles)
-            for index, title in enumerate(extras.titles):
-                left = (index + 0.5) * part - self._text_width(title, LINE_HEIGHT_PX) / 2.0 - MARGIN_PX
-                self._block([title], left, below_top, LINE_HEIGHT_PX)
+            self._titles(extras.titles, width, below_top)
             below_top -= 2 * MARGIN_PX + LINE_HEIGHT_PX
         room_for_bottom = below_top - above_bottom
+        panel_columns = int((width - 2 * MARGIN_PX) / PANEL_CELL_PX[0])
         if extras.right:
             # Fitted as the bottom panel is, leaving that panel two lines: it never ran off the window.
             kept_for_bottom = 2 * MARGIN_PX + 2 * PANEL_LINE_HEIGHT_PX if extras.bottom else 0.0
-            right = fit_lines(extras.right, room_for_bottom - 2 * MARGIN_PX - kept_for_bottom, PANEL_LINE_HEIGHT_PX,
-                              "a taller window shows them")
+            right = cut_lines(fit_lines(extras.right, room_for_bottom - 2 * MARGIN_PX - kept_for_bottom,
+                                        PANEL_LINE_HEIGHT_PX, "a taller window shows them"), panel_columns)
             panel_width = self._text_width(max(right, key=len)) + 2 * MARGIN_PX
             self._block(right, max(width - panel_width, 0.0), below_top)
             # The bottom panel spans the width: it stops below the right-hand one, never over it.
             room_for_bottom -= 2 * MARGIN_PX + PANEL_LINE_HEIGHT_PX * len(right)
         if extras.bottom:
-            lines = fit_lines(extras.bottom, room_for_bottom - 2 * MARGIN_PX, PANEL_LINE_HEIGHT_PX,
-                              extras.bottom_overflow_hint)
+            lines = cut_lines(fit_lines(extras.bottom, room_for_bottom - 2 * MARGIN_PX, PANEL_LINE_HEIGHT_PX,
+                                        extras.bottom_overflow_hint), panel_columns)
             self._block(lines, 0.0, self._bottom_panel_top(extras, lines, below_top, above_bottom))
+
+    def _titles(self, titles: list[str], width: int, top: float) -> None:
+        """Each title centred over its view, and kept inside it: cut where the view is narrower."""
+        part = width / len(titles)
+        columns = int((part - 2 * MARGIN_PX) / CELL_PX[0])
+        for index, title in enumerate(cut_lines(titles, columns)):
+            if not title:
+                continue
+            title_width = self._text_width(title, LINE_HEIGHT_PX) + 2 * MARGIN_PX
+            left = min(max((index + 0.5) * part - title_width / 2.0, index * part), (index + 1) * part - title_width)
+            self._block([title], left, top, LINE_HEIGHT_PX)
 
     def _bottom_panel_top(self, extras: Extras, lines: list[str], below_top: float, above_bottom: float) -> float:
         """Above the bottom lines; under the top ones where the face it is about lies under it there and
@@ -229,6 +242,12 @@ def fit_lines(lines: list[str], room_px: float, line_height: float, hint: str = 
     shown = max(fitting - 1, 0)
     note = f"... {len(lines) - shown} more lines{': ' + hint if hint else ''}"
     return lines[:shown] + [note]
+
+
+def cut_lines(lines: list[str], columns: int) -> list[str]:
+    """Each line, or as much of it as fits `columns` with CUT_MARK at its end to say it goes on."""
+    return [line if len(line) <= columns else line[:max(columns - 1, 0)] + CUT_MARK * (columns > 0)
+            for line in lines]
 
 
 def wrap(line: str, columns: int) -> list[str]:
