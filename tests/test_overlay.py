@@ -217,6 +217,19 @@ def test_no_text_runs_off_a_narrow_window_and_a_cut_line_says_so(tmp_path, monke
         assert any(text.endswith(CUT_MARK) for text, *_ in drawn)
 
 
+def test_the_labels_of_nearby_vertices_do_not_cover_each_other(tmp_path, monkeypatch) -> None:
+    """Face 41 of x_wing in Gouraud at 800x800: the labels v3 and v4 landed 7 pixels apart and read "v43"."""
+    from marraztu.render.overlay import PANEL_LINE_HEIGHT_PX
+
+    drawn = [line for line in _drawn_lines(tmp_path, monkeypatch, "F 0 i ENTER*40", (800, 800))
+             if line[0] in ("v1", "v2", "v3", "v4") and line[4] - line[3] < PANEL_LINE_HEIGHT_PX]
+    assert len(drawn) == 4
+    for index, (_, left, right, bottom, top) in enumerate(drawn):
+        for text, other_left, other_right, other_bottom, other_top in drawn[index + 1:]:
+            apart = right <= other_left or other_right <= left or top <= other_bottom or other_top <= bottom
+            assert apart, (drawn[index], text)
+
+
 @pytest.mark.parametrize("size", [(200, 150), (320, 240)])
 def test_side_by_side_titles_stay_in_their_third(tmp_path, monkeypatch, size: tuple[int, int]) -> None:
     """At 200x150 "Gouraud" and "Phong (per pixel)" were drawn over each other; at 320 the last ran off."""

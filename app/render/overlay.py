@@ -11,6 +11,8 @@ from __future__ import annotations
 import json
 import re
 import textwrap
+from collections.abc import Callable
+from dataclasses import replace
 from functools import cache
 from importlib.resources import files
 
@@ -117,6 +119,8 @@ class Overlay:
                               height - bottom_height - 2 * MARGIN_PX, LINE_HEIGHT_PX, "a taller window shows them")
         # The notes of what is left out, and any line in a window under ten columns, are cut, not wrapped.
         top_lines, bottom_lines = cut_lines(top_lines, fitting), cut_lines(bottom_lines, fitting)
+        if extras is not None:
+            extras = replace(extras, labels=spread_labels(extras.labels, self._label_width))
         self.ctx.disable(moderngl.DEPTH_TEST)
         self.ctx.enable(moderngl.BLEND)
         self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
@@ -191,9 +195,12 @@ class Overlay:
             self._line(line, left + MARGIN_PX, top - MARGIN_PX - line_height * (row + 0.5),
                        line_height)
 
+    def _label_width(self, label: Label) -> float:
+        return self._text_width(label.text) + 4.0
+
     def _label(self, label: Label) -> None:
         """Centred on its point, on a tight backdrop."""
-        width = self._text_width(label.text) + 4.0
+        width = self._label_width(label)
         left, bottom = label.x - width / 2.0, label.y - PANEL_LINE_HEIGHT_PX / 2.0
         self._rectangle(left, bottom, left + width, bottom + PANEL_LINE_HEIGHT_PX)
         half_character = self._text_width(" ") / 2.0
@@ -248,6 +255,26 @@ def cut_lines(lines: list[str], columns: int) -> list[str]:
     """Each line, or as much of it as fits `columns` with CUT_MARK at its end to say it goes on."""
     return [line if len(line) <= columns else line[:max(columns - 1, 0)] + CUT_MARK * (columns > 0)
             for line in lines]
+
+
+def spread_labels(labels: list[Label], width_of: Callable[[Label], float]) -> list[Label]:
+    """The labels, each moved sideways off those before it that it would cover (a polygon's vertices
+    a few pixels apart on the screen: "v3" and "v4" read "v43")."""
+    placed: list[Label] = []
+    for label in labels:
+        for _ in range(len(placed)):
+            covered = next((other for other in placed if _covers(other, label, width_of)), None)
+            if covered is None:
+                break
+            side = 1.0 if label.x >= covered.x else -1.0
+            label = replace(label, x=covered.x + side * (width_of(covered) + width_of(label)) / 2.0)
+        placed.append(label)
+    return placed
+
+
+def _covers(one: Label, other: Label, width_of: Callable[[Label], float]) -> bool:
+    return (abs(one.y - other.y) < PANEL_LINE_HEIGHT_PX
+            and abs(one.x - other.x) < (width_of(one) + width_of(other)) / 2.0)
 
 
 def wrap(line: str, columns: int) -> list[str]:
