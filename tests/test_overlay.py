@@ -171,7 +171,7 @@ def test_the_probe_panel_moves_up_rather_than_cover_the_face_it_is_about(tmp_pat
                                                                          at_top: bool) -> None:
     """Gouraud's four corners fill the lower half of an 800x800 picture: x_wing's face 41, and its v1-v4,
     were under the panel. Where the face lies under it and not under the top, the panel goes up; with
-    the matrices panel up, the top is taken, and it stays."""
+    the matrices panel up, the room under it is too short here, and it stays."""
     blocks, labels = _blocks_and_labels(tmp_path, monkeypatch, keys)
     panel = next(block for block in blocks if block[0][0].startswith(("PROBE", "PIPELINE")))
     _, left, top, bottom = panel
@@ -238,3 +238,13 @@ def test_side_by_side_titles_stay_in_their_third(tmp_path, monkeypatch, size: tu
     assert len(titles) == 3
     for third, (text, left, right, _, _) in enumerate(titles):
         assert third * size[0] / 3 <= left and right <= (third + 1) * size[0] / 3, (text, left, right)
+
+
+def test_with_the_matrices_panel_up_the_probe_panel_moves_up_under_it_where_there_is_room(tmp_path,
+                                                                                     monkeypatch) -> None:
+    """The top was the matrices panel's, so the probe panel stayed over its face even where the room
+    under the matrices panel left the face clear."""
+    blocks, labels = _blocks_and_labels(tmp_path, monkeypatch, "F 0 c t y*6 c c i ENTER*40 m", (1000, 1100))
+    matrices = next(block for block in blocks if block[0][0].startswith("MATRICES"))
+    _, _, top, bottom = next(block for block in blocks if block[0][0].startswith("PROBE"))
+    assert top == matrices[3] and labels and not [(x, y) for x, y in labels if bottom <= y <= top]

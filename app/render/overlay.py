@@ -160,7 +160,8 @@ class Overlay:
         if extras.bottom:
             lines = cut_lines(fit_lines(extras.bottom, room_for_bottom - 2 * MARGIN_PX, PANEL_LINE_HEIGHT_PX,
                                         extras.bottom_overflow_hint), panel_columns)
-            self._block(lines, 0.0, self._bottom_panel_top(extras, lines, below_top, above_bottom))
+            self._block(lines, 0.0, self._bottom_panel_top(extras, lines, above_bottom + room_for_bottom,
+                                                           above_bottom))
 
     def _titles(self, titles: list[str], width: int, top: float) -> None:
         """Each title centred over its view, and kept inside it: cut where the view is narrower."""
@@ -173,15 +174,16 @@ class Overlay:
             left = min(max((index + 0.5) * part - title_width / 2.0, index * part), (index + 1) * part - title_width)
             self._block([title], left, top, LINE_HEIGHT_PX)
 
-    def _bottom_panel_top(self, extras: Extras, lines: list[str], below_top: float, above_bottom: float) -> float:
-        """Above the bottom lines; under the top ones where the face it is about lies under it there and
-        not here (the probe's four corners fill half the picture), unless the right-hand panel is there."""
+    def _bottom_panel_top(self, extras: Extras, lines: list[str], room_top: float, above_bottom: float) -> float:
+        """Above the bottom lines; at the top of its room (under the top lines and the right-hand panel)
+        where the face it is about lies under it there and not here (the probe's four corners fill half
+        the picture)."""
         height = 2 * MARGIN_PX + PANEL_LINE_HEIGHT_PX * len(lines)
         right = 2 * MARGIN_PX + self._text_width(max(lines, key=len))
         low = above_bottom + height
-        if extras.right or not holds_a_label(extras.labels, above_bottom, low, right):
+        if not holds_a_label(extras.labels, above_bottom, low, right):
             return low
-        return below_top if not holds_a_label(extras.labels, below_top - height, below_top, right) else low
+        return room_top if not holds_a_label(extras.labels, room_top - height, room_top, right) else low
 
     def _block(self, lines: list[str], left: float, top: float,
                line_height: float = PANEL_LINE_HEIGHT_PX) -> None:
