@@ -42,6 +42,17 @@ def say(text: str) -> bool:
     return True
 
 
+def first_line(error: BaseException) -> str:
+    """A library's error in a line of ours: the first line of its words, or its kind where it has none."""
+    return (str(error).strip().splitlines() or [type(error).__name__])[0]
+
+
+def error_words(error: BaseException, most: int = 160) -> str:
+    """An error no check foresaw, in a line of ours: its kind, and the first line of its words, cut."""
+    words = str(error).strip().splitlines()
+    return f"{type(error).__name__}: {words[0][:most]}" if words else type(error).__name__
+
+
 def _forget_standard_output() -> None:
     """What is left in the buffer goes nowhere: Python's own flush at exit would fail again, a second
     message and exit status 120 where standard output is buffered (a file or a pipe, as a person's is)."""

@@ -16,7 +16,7 @@ import numpy as np
 
 from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import StartOptions, Viewer, starting_scene
-from marraztu.errors import KeyMapError, ViewerError, shortened
+from marraztu.errors import KeyMapError, ViewerError, error_words, shortened
 from marraztu.frontends.screenshot import (
     InputsGuard,
     OffscreenFrontend,
@@ -139,7 +139,7 @@ class BackgroundSaves:
         while self._pending and self._pending[0][0].done():
             future = self._pending.pop(0)[0]
             error = future.exception()  # what _saved did not foresee (no memory left): one line, as guarded says it
-            done.append(future.result() if error is None else f"recording not saved: {_first_words(error)}")
+            done.append(future.result() if error is None else f"recording not saved: {error_words(error)}")
         return done
 
     def held_bytes(self) -> int:
@@ -150,11 +150,6 @@ class BackgroundSaves:
         """Waits for every save asked for; what those not yet said say."""
         self._pool.shutdown(wait=True)
         return self.finished()
-
-
-def _first_words(error: BaseException) -> str:
-    words = str(error).strip().splitlines()
-    return f"{type(error).__name__}: {words[0]}" if words else type(error).__name__
 
 
 def _saved(frames: list[np.ndarray], out: Path, fps: float) -> str:

@@ -26,7 +26,7 @@ from moderngl_window.timers.clock import Timer
 from marraztu.control import commands
 from marraztu.control.keymap import KeyPress, click
 from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer, starting_scene
-from marraztu.errors import LoadError, ViewerError, escaped
+from marraztu.errors import LoadError, ViewerError, escaped, first_line
 from marraztu.frontends.heap import return_freed_memory
 from marraztu.frontends.record import MAX_RECORDING_BYTES, BackgroundSaves
 from marraztu.frontends.screenshot import write_picture
@@ -563,6 +563,5 @@ def open_window(options: StartOptions, size: tuple[int, int]) -> ViewerWindow:
         raise
     except Exception as error:  # pyglet and the GL driver raise their own kinds, at import time too
         display = os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or "the default display"
-        detail = (str(error).strip().splitlines() or [type(error).__name__])[0]
-        raise ViewerError(f"cannot open a window on {display} ({detail}); `marraztu screenshot` needs no "
+        raise ViewerError(f"cannot open a window on {display} ({first_line(error)}); `marraztu screenshot` needs no "
                           "display") from None

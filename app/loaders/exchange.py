@@ -35,7 +35,7 @@ from urllib.parse import unquote
 import numpy as np
 from PIL import Image
 
-from marraztu.errors import LoadError
+from marraztu.errors import LoadError, error_words
 from marraztu.loaders.files import (
     COLLECT_AFTER_BYTES,
     MAX_FILE_BYTES,
@@ -205,9 +205,7 @@ def _trimesh_load(path: Path, data: bytes, file_type: str, beside: _FilesBeside 
     except LoadError as error:  # from `beside`: a file it names that trimesh cannot do without (a buffer)
         raise _unread_named_file(path, error) from None
     except Exception as error:  # trimesh raises ValueError, KeyError, IndexError, struct.error, ... for bad files
-        words = str(error).strip().splitlines()
-        detail = f"{type(error).__name__}: {words[0][:160]}" if words else type(error).__name__
-        raise LoadError(path, f"not a readable {file_type.upper()} file ({detail})") from None
+        raise LoadError(path, f"not a readable {file_type.upper()} file ({error_words(error)})") from None
 
 
 def _unread_named_file(path: Path, error: LoadError) -> LoadError:

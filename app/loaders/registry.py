@@ -7,7 +7,7 @@ import importlib
 from collections.abc import Callable
 from pathlib import Path
 
-from marraztu.errors import LoadError
+from marraztu.errors import LoadError, error_words
 from marraztu.loaders.files import COLLECT_AFTER_BYTES, size_or_zero
 from marraztu.model.build import scaled_mesh
 from marraztu.model.geometry import cannot_light
@@ -55,9 +55,7 @@ def load_model(path: str | Path, stage: Stage | None = None) -> Mesh:
     except LoadError as error:
         failure = error
     except Exception as error:  # a reader's bug: the person still reads one line naming the file
-        words = str(error).strip().splitlines()
-        failure = LoadError(path, f"could not read the model ({type(error).__name__}"
-                                  f"{': ' + words[0][:160] if words else ''})")
+        failure = LoadError(path, f"could not read the model ({error_words(error)})")
     try:
         raise _freed(failure, path)
     finally:

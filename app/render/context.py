@@ -14,7 +14,7 @@ from functools import cache
 import moderngl
 import numpy as np
 
-from marraztu.errors import ViewerError
+from marraztu.errors import ViewerError, first_line
 
 GL_VERSION = 330
 
@@ -33,8 +33,8 @@ def create_offscreen_context() -> moderngl.Context:
             ctx = moderngl.create_standalone_context(require=GL_VERSION)
         except Exception as error:
             raise ViewerError(f"cannot create an offscreen OpenGL {GL_VERSION // 100}.{GL_VERSION // 10 % 10} "
-                              f"context: EGL said {_first_line(egl_error)}; the platform's context said "
-                              f"{_first_line(error)}{_INSTALL_HINT}") from None  # both causes are in its words
+                              f"context: EGL said {first_line(egl_error)}; the platform's context said "
+                              f"{first_line(error)}{_INSTALL_HINT}") from None  # both causes are in its words
     _gl_process = os.getpid() if _gl_process is None else _gl_process
     return ctx
 
@@ -50,10 +50,6 @@ def refuse_forked_gl() -> None:
 # What a person on Linux is missing, most likely: Mesa's EGL and its drivers (llvmpipe among them).
 _INSTALL_HINT = (" (Mesa's EGL draws without a display or a GPU: apt-get install libegl1 libgl1-mesa-dri on "
                  "Debian and Ubuntu)" if sys.platform.startswith("linux") else "")
-
-
-def _first_line(error: Exception) -> str:
-    return (str(error).strip().splitlines() or [type(error).__name__])[0]
 
 
 def check_gl(ctx: moderngl.Context, what: str) -> None:
