@@ -182,7 +182,7 @@ def test_the_probe_panel_moves_up_rather_than_cover_the_face_it_is_about(tmp_pat
         assert not covered, (top, bottom, covered)
 
 
-def _drawn_lines(tmp_path, monkeypatch, keys: str, size: tuple[int, int]):
+def _drawn_lines(tmp_path, monkeypatch, keys: str, size: tuple[int, int], models: tuple = ()):
     """Every line of text the overlay drew, as (text, left, right, bottom, top) in pixels."""
     from marraztu.control.viewer import StartOptions
     from marraztu.frontends.screenshot import take_screenshot
@@ -198,7 +198,8 @@ def _drawn_lines(tmp_path, monkeypatch, keys: str, size: tuple[int, int]):
         return real(self, text, x, y, line_height)
 
     monkeypatch.setattr(overlay_module.Overlay, "_line", spied)
-    take_screenshot(StartOptions(), tmp_path / "shot.png", size, keys=keys, overlay=True)
+    options = StartOptions(empty=True, models=models) if models else StartOptions()
+    take_screenshot(options, tmp_path / "shot.png", size, keys=keys, overlay=True)
     return drawn
 
 
@@ -215,6 +216,18 @@ def test_no_text_runs_off_a_narrow_window_and_a_cut_line_says_so(tmp_path, monke
     assert not off, off
     if ("i" in keys or "P" in keys) and size[0] >= 200:  # the probe and the pipeline are wider
         assert any(text.endswith(CUT_MARK) for text, *_ in drawn)
+
+
+def test_a_name_s_control_characters_are_escaped_in_the_panels_as_in_the_status_line(tmp_path, monkeypatch) -> None:
+    """A model file named with a tab: the status line said 'tab\\tin' and the probe's, the pipeline's and
+    the matrices' panels drew the tab itself, a '?' glyph."""
+    model = tmp_path / "tab\tin\x1bname.obj"
+    model.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    for keys in ("i m", "P"):
+        drawn = _drawn_lines(tmp_path, monkeypatch, keys, (1000, 800), models=(model,))
+        named = [text for text, *_ in drawn if "name" in text]
+        assert len(named) >= 2, named  # the status line and a panel's
+        assert all(text.isprintable() and "tab\\tin\\x1bname" in text for text in named), named
 
 
 def test_the_labels_of_nearby_vertices_do_not_cover_each_other(tmp_path, monkeypatch) -> None:

@@ -14,6 +14,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from marraztu.control.commands import ROTATION_STEP_RAD, translation_step, undoable_view_moves
+from marraztu.errors import escaped
 from marraztu.model.lighting import LightTerm
 from marraztu.model.lights import DIRECTIONAL, Show, TermView, WorldLight, cone_angle_deg
 from marraztu.model.mesh import counted
@@ -45,6 +46,8 @@ def extras(scene: Scene, size: tuple[int, int]) -> Extras:
     titles = [view.title for view in views(scene, size)] if scene.modes.side_by_side else []
     hint = "m hides the matrices panel" if right else "a taller window shows them"
     bottom = pipeline_lines(scene, views(scene, size)[0].viewport) or probe_lines(scene)
+    # Names as the status line shows them: a file's tab or escape character is no glyph of the font.
+    bottom, right = [escaped(line) for line in bottom], [escaped(line) for line in right]
     return Extras(bottom=bottom, right=right, titles=titles,
                   labels=vertex_labels(scene, size), bottom_overflow_hint=hint)
 
