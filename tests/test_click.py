@@ -435,8 +435,8 @@ def test_a_recording_stops_where_the_saves_still_writing_leave_no_room(monkeypat
     started: list[int] = []
     saves = SimpleNamespace(held_bytes=lambda: MAX_RECORDING_BYTES - 20,  # a long recording still being written
                             save=lambda frames, path, fps: started.append(len(frames)))
-    window = SimpleNamespace(scene=scene_with([]), recording=[np.zeros((2, 2, 3), np.uint8)], saves=saves,
-                             wnd=SimpleNamespace(fbo=None))
+    window = SimpleNamespace(scene=scene_with([]), recording=[np.zeros((2, 2, 3), np.uint8)], recording_bytes=12,
+                             saves=saves, wnd=SimpleNamespace(fbo=None))
     window.toggle_recording = lambda: window_module.ViewerWindow.toggle_recording(window)
     window_module.ViewerWindow._record_frame(window, (2, 2))
     assert window.recording is None and started == [2]

@@ -179,6 +179,7 @@ class ViewerWindow:
         self.drawn_loading_lines: list[str] = []  # the loading lines of the last frame
         self.held_scene = HeldPicture(self.ctx)
         self.recording: list[np.ndarray] | None = None  # F9: the pictures drawn since it was pressed
+        self.recording_bytes = 0  # theirs, counted as they come: not summed again with every frame
         self.saves = BackgroundSaves(wake=_wake_event_loop)  # F9 again: the recording written meanwhile
         self.click_travel: int | None = None  # how far the pointer went since a left press (None: no left press)
         self.held_motion: tuple[int, int] = (0, 0)  # a left drag's motion while it may still be a click
@@ -314,7 +315,8 @@ class ViewerWindow:
         """The scene's picture, before the overlay: the frames `marraztu record` would draw."""
         assert self.recording is not None
         self.recording.append(read_pixels(self.wnd.fbo, size))
-        if sum(frame.nbytes for frame in self.recording) + self.saves.held_bytes() > MAX_RECORDING_BYTES:
+        self.recording_bytes += self.recording[-1].nbytes
+        if self.recording_bytes + self.saves.held_bytes() > MAX_RECORDING_BYTES:
             self.toggle_recording()
             self.scene.message += " (stopped: the frames filled the memory a recording may take)"
 
@@ -493,7 +495,7 @@ class ViewerWindow:
     def toggle_recording(self) -> None:
         """F9: from now on every new picture is a frame; F9 again writes them as a GIF."""
         if self.recording is None:
-            self.recording = []
+            self.recording, self.recording_bytes = [], 0
             self.scene.message = "recording: every new picture is a frame; F9 again saves them"
             return
         frames, self.recording = self.recording, None
