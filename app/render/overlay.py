@@ -114,7 +114,7 @@ class Overlay:
         # The last lines are kept: the file prompt and the latest message.
         bottom_lines = fit_lines(wrapped_bottom[::-1], height / 2 - 2 * MARGIN_PX, LINE_HEIGHT_PX,
                                  "a taller window shows them")[::-1]
-        bottom_height = 2 * MARGIN_PX + LINE_HEIGHT_PX * len(bottom_lines) if bottom_lines else 0.0
+        bottom_height = block_height(len(bottom_lines), LINE_HEIGHT_PX)
         top_lines = fit_lines([piece for line in top_lines for piece in wrap(line, columns)],
                               height - bottom_height - 2 * MARGIN_PX, LINE_HEIGHT_PX, "a taller window shows them")
         # The notes of what is left out, and any line in a window under ten columns, are cut, not wrapped.
@@ -129,34 +129,32 @@ class Overlay:
         for label in extras.labels if extras is not None else []:  # part of the picture: text covers it
             self._label(label)
         if top_lines:
-            self._backdrop(top_lines, height - 2 * MARGIN_PX - LINE_HEIGHT_PX * len(top_lines), height)
+            self._backdrop(top_lines, height - block_height(len(top_lines), LINE_HEIGHT_PX), height)
         if bottom_lines:
-            self._backdrop(bottom_lines, 0.0, 2 * MARGIN_PX + LINE_HEIGHT_PX * len(bottom_lines))
+            self._backdrop(bottom_lines, 0.0, bottom_height)
         for row, line in enumerate(top_lines):
             self._line(line, MARGIN_PX, height - MARGIN_PX - LINE_HEIGHT_PX * (row + 0.5))
         for row, line in enumerate(reversed(bottom_lines)):
             self._line(line, MARGIN_PX, MARGIN_PX + LINE_HEIGHT_PX * (row + 0.5))
         if extras is not None:
-            below_top = height - (2 * MARGIN_PX + LINE_HEIGHT_PX * len(top_lines) if top_lines else 0.0)
-            above_bottom = 2 * MARGIN_PX + LINE_HEIGHT_PX * len(bottom_lines) if bottom_lines else 0.0
-            self._extras(extras, width, below_top, above_bottom)
+            self._extras(extras, width, height - block_height(len(top_lines), LINE_HEIGHT_PX), bottom_height)
         self.ctx.disable(moderngl.BLEND)
 
     def _extras(self, extras: Extras, width: int, below_top: float, above_bottom: float) -> None:
         if extras.titles:
             self._titles(extras.titles, width, below_top)
-            below_top -= 2 * MARGIN_PX + LINE_HEIGHT_PX
+            below_top -= block_height(1, LINE_HEIGHT_PX)
         room_for_bottom = below_top - above_bottom
         panel_columns = int((width - 2 * MARGIN_PX) / PANEL_CELL_PX[0])
         if extras.right:
             # Fitted as the bottom panel is, leaving that panel two lines: it never ran off the window.
-            kept_for_bottom = 2 * MARGIN_PX + 2 * PANEL_LINE_HEIGHT_PX if extras.bottom else 0.0
+            kept_for_bottom = block_height(2, PANEL_LINE_HEIGHT_PX) if extras.bottom else 0.0
             right = cut_lines(fit_lines(extras.right, room_for_bottom - 2 * MARGIN_PX - kept_for_bottom,
                                         PANEL_LINE_HEIGHT_PX, "a taller window shows them"), panel_columns)
-            panel_width = self._text_width(max(right, key=len)) + 2 * MARGIN_PX
+            panel_width = self._block_width(right)
             self._block(right, max(width - panel_width, 0.0), below_top)
             # The bottom panel spans the width: it stops below the right-hand one, never over it.
-            room_for_bottom -= 2 * MARGIN_PX + PANEL_LINE_HEIGHT_PX * len(right)
+            room_for_bottom -= block_height(len(right), PANEL_LINE_HEIGHT_PX)
         if extras.bottom:
             lines = cut_lines(fit_lines(extras.bottom, room_for_bottom - 2 * MARGIN_PX, PANEL_LINE_HEIGHT_PX,
                                         extras.bottom_overflow_hint), panel_columns)
@@ -170,7 +168,7 @@ class Overlay:
         for index, title in enumerate(cut_lines(titles, columns)):
             if not title:
                 continue
-            title_width = self._text_width(title, LINE_HEIGHT_PX) + 2 * MARGIN_PX
+            title_width = self._block_width([title], LINE_HEIGHT_PX)
             left = min(max((index + 0.5) * part - title_width / 2.0, index * part), (index + 1) * part - title_width)
             self._block([title], left, top, LINE_HEIGHT_PX)
 
@@ -178,8 +176,7 @@ class Overlay:
         """Above the bottom lines; at the top of its room (under the top lines and the right-hand panel)
         where the face it is about lies under it there and not here (the probe's four corners fill half
         the picture)."""
-        height = 2 * MARGIN_PX + PANEL_LINE_HEIGHT_PX * len(lines)
-        right = 2 * MARGIN_PX + self._text_width(max(lines, key=len))
+        height, right = block_height(len(lines), PANEL_LINE_HEIGHT_PX), self._block_width(lines)
         low = above_bottom + height
         if not holds_a_label(extras.labels, above_bottom, low, right):
             return low
@@ -188,14 +185,17 @@ class Overlay:
     def _block(self, lines: list[str], left: float, top: float,
                line_height: float = PANEL_LINE_HEIGHT_PX) -> None:
         """Lines with their backdrop, the block's top-left corner at (left, top)."""
-        bottom = top - 2 * MARGIN_PX - line_height * len(lines)
-        right = left + 2 * MARGIN_PX + self._text_width(max(lines, key=len), line_height)
+        bottom, right = top - block_height(len(lines), line_height), left + self._block_width(lines, line_height)
         self.backdrop["u_colour"].value = PANEL_BACKDROP_RGBA
         self._rectangle(left, bottom, right, top)
         self.backdrop["u_colour"].value = BACKDROP_RGBA
         for row, line in enumerate(lines):
             self._line(line, left + MARGIN_PX, top - MARGIN_PX - line_height * (row + 0.5),
                        line_height)
+
+    def _block_width(self, lines: list[str], line_height: float = PANEL_LINE_HEIGHT_PX) -> float:
+        """A block's width: its longest line with a margin each side."""
+        return 2 * MARGIN_PX + self._text_width(max(lines, key=len), line_height)
 
     def _label_width(self, label: Label) -> float:
         return self._text_width(label.text) + 4.0
@@ -213,8 +213,7 @@ class Overlay:
         return self.fonts[line_height].cell[0] * len(text)
 
     def _backdrop(self, lines: list[str], bottom: float, top: float) -> None:
-        right = 2 * MARGIN_PX + self.char_width_px * max(len(line) for line in lines)
-        self._rectangle(0.0, bottom, right, top)
+        self._rectangle(0.0, bottom, self._block_width(lines, LINE_HEIGHT_PX), top)
 
     def _rectangle(self, left: float, bottom: float, right: float, top: float) -> None:
         corners = np.array([left, bottom, right, bottom, left, top, right, top], dtype="f4")
@@ -251,6 +250,11 @@ def fit_lines(lines: list[str], room_px: float, line_height: float, hint: str = 
     shown = max(fitting - 1, 0)
     note = f"... {len(lines) - shown} more lines{': ' + hint if hint else ''}"
     return lines[:shown] + [note]
+
+
+def block_height(lines: int, line_height: float) -> float:
+    """A block of `lines` lines with a margin above and below them; nothing for no lines."""
+    return 2 * MARGIN_PX + line_height * lines if lines else 0.0
 
 
 def cut_lines(lines: list[str], columns: int) -> list[str]:
