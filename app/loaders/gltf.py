@@ -661,8 +661,9 @@ def _roots(document: dict[str, Any]) -> list[Any]:
     return list(document["scenes"][document.get("scene", 0)].get("nodes", []))
 
 
-# glTF's modes of primitive that trimesh reads: points and lines (placed, not drawn), triangles and strips.
-_POINTS, _LINES, _TRIANGLES, _STRIP = 0, 1, 4, 5
+# glTF's modes of primitive: trimesh reads points and lines (placed, not drawn), triangles and strips;
+# it skips line loops, line strips and fans.
+_POINTS, _LINES, _LINE_LOOP, _LINE_STRIP, _TRIANGLES, _STRIP, _FAN = 0, 1, 2, 3, 4, 5, 6
 
 
 def _primitive_sizes(document: dict[str, Any]) -> list[list[tuple[int, int]]]:
@@ -715,7 +716,8 @@ def _morphed_notes(document: dict[str, Any]) -> list[str]:
 
 
 # The modes of primitive trimesh reads no faces of, by what a note calls them.
-_UNDRAWN_MODES = {_POINTS: "points", _LINES: "lines", 2: "line loops", 3: "line strips", 6: "triangle fans"}
+_UNDRAWN_MODES = {_POINTS: "points", _LINES: "lines", _LINE_LOOP: "line loops", _LINE_STRIP: "line strips",
+                  _FAN: "triangle fans"}
 
 
 def undrawn_primitive_notes(document: dict[str, Any]) -> list[str]:

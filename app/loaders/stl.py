@@ -103,13 +103,18 @@ def _padding_start(data: bytes) -> int:
     return 0
 
 
+def _binary_triangles(data: bytes) -> np.ndarray:
+    """A binary file's triangle records, in place (no copy)."""
+    return np.frombuffer(data, _TRIANGLE_LAYOUT, offset=HEADER_BYTES)
+
+
 def _binary_corners(data: bytes) -> np.ndarray:
-    triangles = np.frombuffer(data, _TRIANGLE_LAYOUT, offset=HEADER_BYTES)
-    return triangles["corners"].astype(np.float64).reshape(-1, 3)  # cast first: reshaping the strided view copies
+    # Cast first: reshaping the strided view copies.
+    return _binary_triangles(data)["corners"].astype(np.float64).reshape(-1, 3)
 
 
 def _attributes_used(data: bytes) -> bool:
-    return bool(np.frombuffer(data, _TRIANGLE_LAYOUT, offset=HEADER_BYTES)["attributes"].any())
+    return bool(_binary_triangles(data)["attributes"].any())
 
 
 def _is_binary(data: bytes) -> bool:
