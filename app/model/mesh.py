@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.model.geometry import column_bounds
+from marraztu.model.sampling import DEFAULT_SAMPLING, TextureSampling
 
 # Corner and face indices are 32-bit: half of numpy's default, and no file the viewer reads (1 GiB at
 # most, two bytes a corner at least) holds 2**31 of anything. build.derive_mesh refuses more.
@@ -113,12 +114,14 @@ PLAIN_PICTURE = np.full((1, 1, 3), 255, dtype=np.uint8)  # white: what a vertex-
 @dataclass(frozen=True, eq=False)
 class MeshMaterial:
     """One material a model file defines (an MTL's newmtl): the numbers it gives, by key "ka", "kd",
-    "ks" (3-tuples) and "ns", and its diffuse texture when it names one that could be read."""
+    "ks" (3-tuples) and "ns", and its diffuse texture when it names one that could be read, with how
+    that is sampled (a glTF's sampler)."""
 
     name: str
     values: dict[str, object] = field(default_factory=dict)
     texture: np.ndarray | None = None  # (H, W, 3) uint8, top row first
     texture_name: str | None = None
+    sampling: TextureSampling = DEFAULT_SAMPLING
 
 
 @dataclass(frozen=True, eq=False)
@@ -272,6 +275,12 @@ class Mesh:
         if texture is None and self.vertex_colours is not None:
             return PLAIN_PICTURE
         return texture
+
+    def own_sampling(self, part: int) -> TextureSampling:
+        """How own_picture(part) is sampled: its material's way for its material's texture, else the default."""
+        if 0 <= part < len(self.materials) and self.materials[part].texture is not None:
+            return self.materials[part].sampling
+        return DEFAULT_SAMPLING
 
     def triangle_corners(self) -> np.ndarray:
         """(T, 3) corner indices of the fan triangulation, polygon by polygon, in file order."""

@@ -22,6 +22,7 @@ from marraztu.errors import shortened
 from marraztu.model.geometry import all_lightable, cannot_light
 from marraztu.model.lights import AMBIENT_INTENSITY, Light, Owner, TermView, WorldLight, default_lights
 from marraztu.model.mesh import Mesh
+from marraztu.model.sampling import DEFAULT_SAMPLING, TextureSampling
 from marraztu.model.transforms import (
     TransformKind,
     Vec3,
@@ -286,6 +287,10 @@ class SceneObject:
     def picture_of(self, part: int) -> np.ndarray | None:
         """The picture the file's material `part` (-1: the whole) is drawn with; None: the scene's."""
         return self.picture if self.picture is not None else self.mesh.own_picture(part)
+
+    def sampling_of(self, part: int) -> TextureSampling:
+        """How picture_of(part) is sampled: the file's way for its own picture, the default for another."""
+        return DEFAULT_SAMPLING if self.picture is not None else self.mesh.own_sampling(part)
 
     def material_of(self, index: int) -> Material:
         """The material of the file's material `index` (Mesh.materials); -1: the object's own."""

@@ -10,6 +10,9 @@ bit for bit (tests/test_mipmaps.py compares every level with `build_mipmaps`): e
 horizontal pairs, then vertical pairs, rounding halves up.
 
 Anything else (a side that is not a power of two, no glvnd, a GL error) takes `build_mipmaps`.
+
+A texture is sampled as its material says (model.sampling): moderngl sets filters, repeat and clamp;
+mirrored repeat, which it does not name, is set through glvnd's glTexParameteri.
 """
 
 from __future__ import annotations
@@ -21,12 +24,24 @@ from functools import cache
 import moderngl
 import numpy as np
 
+from marraztu.model.sampling import DEFAULT_SAMPLING, Filter, TextureSampling, Wrap
+
 GL_TEXTURE_2D = 0x0DE1
 GL_TEXTURE_BINDING_2D = 0x8069
 GL_UNPACK_ALIGNMENT = 0x0CF5
 GL_RGB8 = 0x8051
 GL_RGB = 0x1907
 GL_UNSIGNED_BYTE = 0x1401
+GL_TEXTURE_WRAP_S = 0x2802
+GL_TEXTURE_WRAP_T = 0x2803
+GL_MIRRORED_REPEAT = 0x8370
+# A minified picture's filter within a level and between levels (None: level 0 alone), as GL names them.
+_MINIFY = {(Filter.NEAREST, None): moderngl.NEAREST, (Filter.LINEAR, None): moderngl.LINEAR,
+           (Filter.NEAREST, Filter.NEAREST): moderngl.NEAREST_MIPMAP_NEAREST,
+           (Filter.LINEAR, Filter.NEAREST): moderngl.LINEAR_MIPMAP_NEAREST,
+           (Filter.NEAREST, Filter.LINEAR): moderngl.NEAREST_MIPMAP_LINEAR,
+           (Filter.LINEAR, Filter.LINEAR): moderngl.LINEAR_MIPMAP_LINEAR}
+_MAGNIFY = {Filter.NEAREST: moderngl.NEAREST, Filter.LINEAR: moderngl.LINEAR}
 
 
 def mip_levels(image: np.ndarray) -> list[np.ndarray]:
@@ -67,6 +82,23 @@ class MipmappedTexture:
     def use(self, location: int = 0) -> None:
         self.texture.use(location=location)
 
+    def sample(self, sampling: TextureSampling) -> None:
+        """Sampled as `sampling` says; a mirrored wrap repeats where there is no glvnd to set it."""
+        self.texture.filter = (_MINIFY[sampling.minify, sampling.between_levels], _MAGNIFY[sampling.magnify])
+        self.texture.repeat_x = sampling.wrap_u is not Wrap.CLAMP
+        self.texture.repeat_y = sampling.wrap_v is not Wrap.CLAMP
+        mirrored = [axis for axis, wrap in ((GL_TEXTURE_WRAP_S, sampling.wrap_u), (GL_TEXTURE_WRAP_T, sampling.wrap_v))
+                    if wrap is Wrap.MIRROR]
+        gl = _gl()
+        if not mirrored or gl is None:
+            return
+        bound = ctypes.c_int(0)
+        gl.glGetIntegerv(GL_TEXTURE_BINDING_2D, ctypes.byref(bound))
+        gl.glBindTexture(GL_TEXTURE_2D, self.texture.glo)
+        for axis in mirrored:
+            gl.glTexParameteri(GL_TEXTURE_2D, axis, GL_MIRRORED_REPEAT)
+        gl.glBindTexture(GL_TEXTURE_2D, bound.value)  # moderngl's bindings stay as it left them
+
     def release(self) -> None:
         self.texture.release()
         # moderngl does not delete what external_texture wrapped: the name is ours to delete.
@@ -76,8 +108,9 @@ class MipmappedTexture:
             self.external_name = None
 
 
-def create_mipmapped(ctx: moderngl.Context, pixels: np.ndarray) -> MipmappedTexture:
-    """`pixels`: (H, W, 3) uint8, first row at v = 0 (GL's order)."""
+def create_mipmapped(ctx: moderngl.Context, pixels: np.ndarray,
+                     sampling: TextureSampling = DEFAULT_SAMPLING) -> MipmappedTexture:
+    """`pixels`: (H, W, 3) uint8, first row at v = 0 (GL's order), sampled as `sampling` says."""
     height, width = pixels.shape[:2]
     made = None
     if is_power_of_two(width) and is_power_of_two(height) and _gl() is not None:
@@ -86,7 +119,7 @@ def create_mipmapped(ctx: moderngl.Context, pixels: np.ndarray) -> MipmappedText
         texture = ctx.texture((width, height), 3, np.ascontiguousarray(pixels).tobytes(), alignment=1)
         texture.build_mipmaps()
         made = MipmappedTexture(texture)
-    made.texture.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+    made.sample(sampling)
     return made
 
 

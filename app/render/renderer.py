@@ -22,6 +22,7 @@ from marraztu.model.guides import scene_guides
 from marraztu.model.lights import MAX_LIGHTS, Show, WorldLight, shader_defines
 from marraztu.model.mesh import Mesh
 from marraztu.model.probe import ProbedFace, facings, probed_face
+from marraztu.model.sampling import TextureSampling
 from marraztu.model.scene import (
     NORMAL_LENGTH_FRACTION,
     Fill,
@@ -243,7 +244,8 @@ class Renderer:
         # The probed face's mesh, the face, and the polygons across its edges (Mesh.edge_neighbours).
         self._probe_neighbours: tuple[Mesh, int, np.ndarray] | None = None
         self._meshes = MeshGpus(ctx)  # the buffers of each mesh, shared by the objects placing it
-        self._file_textures: dict[int, tuple[np.ndarray, MipmappedTexture]] = {}  # by id of the image
+        # By id of the image and its sampling: materials may sample one picture two ways.
+        self._file_textures: dict[tuple[int, TextureSampling], tuple[np.ndarray, MipmappedTexture]] = {}
 
     # --- resources ---------------------------------------------------------------------------
     def _use_scene_texture(self, scene: Scene) -> None:
@@ -321,22 +323,22 @@ class Renderer:
         live = {(obj.uid, part) for obj in elements for part in range(WHOLE, len(obj.mesh.parts))}
         for key in [key for key in self._objects if key not in live]:
             self._meshes.release(self._objects.pop(key))
-        pictures = {id(obj.picture_of(part)) for obj in elements
+        pictures = {(id(obj.picture_of(part)), obj.sampling_of(part)) for obj in elements
                     for part in range(WHOLE, len(obj.mesh.materials))}
         for key in [key for key in self._file_textures if key not in pictures]:
             self._file_textures.pop(key)[1].release()
 
-    def _file_texture(self, image: np.ndarray) -> MipmappedTexture:
-        """A material's own picture on the GPU, made once; one larger than the GPU takes is scaled down
-        (the scene's texture is, by the viewer, with a note; a file's can only be done here)."""
-        held = self._file_textures.get(id(image))
+    def _file_texture(self, image: np.ndarray, sampling: TextureSampling) -> MipmappedTexture:
+        """A material's own picture on the GPU, sampled its way, made once; one larger than the GPU takes
+        is scaled down (the scene's texture is, by the viewer, with a note; a file's can only be done here)."""
+        held = self._file_textures.get((id(image), sampling))
         if held is None:
             fitted, _ = fit_texture(image, self.max_texture_side)
             pixels = np.ascontiguousarray(np.flipud(np.asarray(fitted, dtype=np.uint8)[..., :3]))
             self.ctx.error  # noqa: B018 - reading it clears an older error, so the check is about this upload
-            held = (image, create_mipmapped(self.ctx, pixels))
+            held = (image, create_mipmapped(self.ctx, pixels, sampling))
             check_gl(self.ctx, f"a texture of {pixels.shape[1]}x{pixels.shape[0]}")
-            self._file_textures[id(image)] = held
+            self._file_textures[id(image), sampling] = held
         return held[1]
 
     # --- a frame -----------------------------------------------------------------------------
@@ -496,7 +498,10 @@ class Renderer:
             self.lighting_passes += gpu.light(self.way.shading, self._lighting_inputs(material), item.start, item.stop)
         assert self.texture is not None
         picture = item.obj.picture_of(item.file_material)
-        (self.texture if picture is None else self._file_texture(picture)).use(location=0)
+        if picture is None:
+            self.texture.use(location=0)
+        else:
+            self._file_texture(picture, item.obj.sampling_of(item.file_material)).use(location=0)
         self.draw(gpu.surface(self.way), moderngl.TRIANGLES, gpu.shared.surface_range(item.start, item.stop))
 
     def _lighting_inputs(self, material: Material) -> tuple[tuple[str, bytes], ...]:
