@@ -60,6 +60,8 @@ from marraztu.loaders.gltf import (
     gltf_counts,
     gltf_document,
     gltf_pictures,
+    numbered_material,
+    sampled_materials,
     undrawn_primitive_notes,
     unfaithful_notes,
 )
@@ -79,6 +81,7 @@ from marraztu.loaders.words import unheld_coordinate
 from marraztu.model.build import FACE_COLOURS_NOTE, build_mesh, checked_vertex_rows, colour_bytes, colour_fractions
 from marraztu.model.geometry import holds_in_float32
 from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, counted, polygon_corners_of_fans
+from marraztu.model.sampling import DEFAULT_SAMPLING, TextureSampling
 
 Stage = Callable[[str], None]
 # A glTF node places a mesh, so a small file can place one mesh a million times. No scene may place
@@ -175,12 +178,13 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     counts, undrawn = gltf_counts(document), undrawn_primitive_notes(document)
     if counts is not None:  # before trimesh builds a node and a mesh per placement
         _check_placed_counts(path, *counts, undrawn=undrawn)
-    notes = unfaithful_notes(document, undrawn)
+    notes, sampled = unfaithful_notes(document, undrawn), sampled_materials(document)
     beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True, least_bytes=least_bytes)
     data = as_trimesh_reads(path, data if file_type == "gltf" else declared_part(data), document, file_type,
                             functools.partial(_read_named, path, beside))
     del document
-    return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside, notes=notes)
+    return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside, notes=notes,
+                   sampled=sampled)
 
 
 # --- reading and checking ------------------------------------------------------------------------
@@ -326,12 +330,13 @@ def _line_of_first_non_finite(data: bytes) -> int | None:
 
 
 def _finish(path: Path, loaded: Any, data: bytes | None, beside: _FilesBeside | None = None,
-            face_sizes: np.ndarray | None = None, notes: list[str] | None = None) -> Mesh:
+            face_sizes: np.ndarray | None = None, notes: list[str] | None = None, sampled: Sampled = ()) -> Mesh:
     """A file's Mesh; `data`, for a text format, lets a bad number be found by line; `beside` read what
     the file names beside it, and says what it could not read; `face_sizes`, the polygons a PLY's
-    triangles were fanned from; `notes`, what was found of the file before trimesh read it."""
+    triangles were fanned from; `notes`, what was found of the file before trimesh read it; `sampled`, a
+    glTF's materials by number (gltf.sampled_materials)."""
     mesh = _mesh_of(path, path.stem, loaded, data, picture_formats=_PICTURE_FORMATS, finite_uvs=True,
-                    face_sizes=face_sizes)
+                    face_sizes=face_sizes, sampled=sampled)
     if notes:
         mesh = replace(mesh, warnings=(*notes, *mesh.warnings))
     if beside is None or not (beside.tried or beside.failures or beside.held_failures):
@@ -367,11 +372,13 @@ class _Geometry:
 
 # A mesh and the transform of a node that places it (None: where it is).
 Part = tuple[_Geometry, np.ndarray | None]
+# A glTF's materials by number, each its name and its picture's sampling, where trimesh read them numbered.
+Sampled = tuple[tuple[str, TextureSampling], ...]
 
 
 def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own_copy: bool = False,
              picture_formats: Collection[str] | None = None, finite_uvs: bool = False,
-             face_sizes: np.ndarray | None = None) -> Mesh:
+             face_sizes: np.ndarray | None = None, sampled: Sampled = ()) -> Mesh:
     """One Mesh of every placed mesh, each keeping its uvs, vertex colours and material (base colour
     and texture), as an OBJ's groups keep theirs. Placed here, not by trimesh's to_geometry(), which
     packs every mesh's picture into one (recoloured) atlas and keeps one material. `own_copy`: the
@@ -379,7 +386,7 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own
     `picture_formats`: the formats of picture Pillow opened that a material may show (None: any).
     `finite_uvs`: a texture coordinate that is not a finite number is refused, as an OBJ's is (the
     programming interface derives it, as build_mesh does). `face_sizes`: the polygons whose fans the
-    one mesh's triangles are, made polygons again."""
+    one mesh's triangles are, made polygons again. `sampled`: a glTF's materials by number."""
     parts = _placed_parts(source, loaded)
     sizes = [len(geometry.positions) for geometry, _ in parts]
     with np.errstate(all="ignore"):  # a transform of NaN or huge numbers: refused by _check_tables
@@ -394,7 +401,7 @@ def _mesh_of(source: str | Path, name: str, loaded: Any, data: bytes | None, own
         _check_uvs(source, parts, data)
     uvs = _joined([geometry.uvs for geometry, _ in parts], sizes, np.nan)  # NaN: derived
     colours = _joined([geometry.colours for geometry, _ in parts], sizes, 255)  # white: untinted
-    materials, part_material, notes = _part_materials(name, parts, picture_formats)
+    materials, part_material, notes = _part_materials(name, parts, picture_formats, sampled)
     notes += dict.fromkeys(note for geometry, _ in parts for note in geometry.notes)
     if any(getattr(getattr(geometry.mesh, "visual", None), "kind", None) == "face" for geometry, _ in parts):
         notes.append(FACE_COLOURS_NOTE)
@@ -566,11 +573,11 @@ def _joined(tables: list[np.ndarray | None], sizes: list[int], fill: float) -> n
                            for table, size in zip(tables, sizes)])
 
 
-def _part_materials(name: str, parts: list[Part], picture_formats: Collection[str] | None = None
-                    ) -> tuple[tuple[MeshMaterial, ...], list[int], list[str]]:
+def _part_materials(name: str, parts: list[Part], picture_formats: Collection[str] | None = None,
+                    sampled: Sampled = ()) -> tuple[tuple[MeshMaterial, ...], list[int], list[str]]:
     """The materials of the parts, each once, and per part its index among them (-1: no base colour
     or texture of its own, or past MAX_MATERIALS), and the notes. None at all for one untextured part:
-    its base colour is the model's."""
+    its base colour is the model's. `sampled`: a glTF's materials by number, where trimesh read them so."""
     by_geometry: dict[int, int] = {}  # each mesh's material is found once, however often it is placed
     # Each picture read and hashed once, however many materials share it, as one array (the renderer
     # uploads it once), with its key: the shape and a hash of the RGB bytes drawn.
@@ -590,7 +597,9 @@ def _part_materials(name: str, parts: list[Part], picture_formats: Collection[st
             texture = None if picture is None else _drawn_picture(picture, picture_formats, undrawn)
             textures[id(picture)] = texture, None if texture is None else (texture.shape, hash(texture.tobytes()))
         texture, texture_key = textures[id(picture)]
-        key = (_material_name(material), values and tuple(values.items()), texture_key)
+        own_name, sampling = _name_and_sampling(material, sampled)
+        sampling = DEFAULT_SAMPLING if texture is None else sampling
+        key = (own_name, values and tuple(values.items()), texture_key, sampling)
         if key not in by_content:
             if texture is None and values is None:
                 by_content[key] = -1
@@ -598,8 +607,8 @@ def _part_materials(name: str, parts: list[Part], picture_formats: Collection[st
                 by_content[key], beyond = -1, beyond + 1
             else:
                 by_content[key] = len(materials)
-                materials.append(MeshMaterial(key[0], values or {}, texture,
-                                              None if texture is None else "base colour texture"))
+                materials.append(MeshMaterial(own_name, values or {}, texture,
+                                              None if texture is None else "base colour texture", sampling))
         by_geometry[id(geometry)] = by_content[key]
     part_material = [by_geometry[id(geometry)] for geometry, _ in parts]
     notes = _undrawn_notes(undrawn)
@@ -645,10 +654,13 @@ def _undrawn_notes(undrawn: list[str]) -> list[str]:
 _AUTOMATIC_NAME = re.compile(r"(?:material_?\d*)?")
 
 
-def _material_name(material: Any) -> str:
-    """The file's name for a material; empty for none, and for the ones trimesh makes up (material_0)."""
+def _name_and_sampling(material: Any, sampled: Sampled) -> tuple[str, TextureSampling]:
+    """The file's name for a material (empty for none, and for the ones trimesh makes up: material_0)
+    and how its picture is sampled: a numbered glTF material's own, else the default."""
     name = str(getattr(material, "name", None) or "")
-    return "" if _AUTOMATIC_NAME.fullmatch(name) else name
+    number = numbered_material(name) if sampled else None
+    name, sampling = (name, DEFAULT_SAMPLING) if number is None else sampled[number]
+    return "" if _AUTOMATIC_NAME.fullmatch(name) else name, sampling
 
 
 def _picture(material: Any) -> Any:

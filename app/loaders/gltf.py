@@ -19,6 +19,7 @@ import numpy as np
 from marraztu.errors import LoadError, escaped, shortened
 from marraztu.loaders.files import MAX_FILE_BYTES
 from marraztu.model.mesh import counted
+from marraztu.model.sampling import DEFAULT_SAMPLING, Filter, TextureSampling, Wrap
 
 # A GLB holds its JSON and, after it, its binary buffer; chunks of other kinds are to be read past. Past
 # this many after the JSON, a file is refused unread.
@@ -148,7 +149,7 @@ _NODE_TRANSFORMS = {"translation": 3, "rotation": 4, "scale": 3, "matrix": 16}
 # A material's numbers as trimesh reads them (its words otherwise: "cannot reshape array of size 1 into
 # shape (3,)", "Colors not of appropriate shape!"): how many, or None for one number.
 _MATERIAL_NUMBERS = {"baseColorFactor": 4, "emissiveFactor": 3, "metallicFactor": None, "roughnessFactor": None,
-                     "alphaCutoff": None}
+                     "alphaCutoff": None, "diffuseFactor": 4}
 _ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
 # The accessor types of the attributes read here (POSITION, TEXCOORD_n, COLOR_n) and of NORMAL, by the name
 # before "_".
@@ -292,7 +293,7 @@ class GltfReferences:
         values = material.get("pbrMetallicRoughness", {})
         if not isinstance(values, dict):
             self.refuse(f"material {number}'s pbrMetallicRoughness is not an object")
-        for key, value in (*material.items(), *values.items()):
+        for key, value in (*material.items(), *values.items(), *_diffuse_values(material)):
             if isinstance(value, list) and not all(map(_is_number, value)):
                 self.refuse(f"material {number}'s {shortened(escaped(str(key)))} is not a list of numbers")
             if key in _MATERIAL_NUMBERS and not _numbers_of(value, _MATERIAL_NUMBERS[key]):
@@ -514,12 +515,39 @@ class GltfReferences:
 
 
 def _texture_infos(material: dict[str, Any]) -> Iterator[tuple[str, dict[str, Any]]]:
-    """A material's textures (its own, and its pbrMetallicRoughness's), each with its key: what trimesh reads
-    as one, an object with an index."""
+    """A material's textures (its own, its pbrMetallicRoughness's and a specular-glossiness diffuseTexture),
+    each with its key: what trimesh reads as one, an object with an index."""
     values = material.get("pbrMetallicRoughness", {})
-    for key, value in (*material.items(), *(values.items() if isinstance(values, dict) else ())):
+    for key, value in (*material.items(), *(values.items() if isinstance(values, dict) else ()),
+                       *_diffuse_values(material)):
         if isinstance(value, dict) and "index" in value:
             yield str(key), value
+
+
+# A material of the specular-glossiness workflow: its diffuse colour is what the lighting's Kd is.
+_SPECULAR_GLOSSINESS = "KHR_materials_pbrSpecularGlossiness"
+_DIFFUSE_KEYS = {"diffuseFactor": "baseColorFactor", "diffuseTexture": "baseColorTexture"}
+
+
+def _specular_glossiness(material: dict[str, Any]) -> dict[str, Any] | None:
+    extension = _nested(material, ("extensions",)).get(_SPECULAR_GLOSSINESS)
+    return extension if isinstance(extension, dict) else None
+
+
+def _diffuse_values(material: dict[str, Any]) -> list[tuple[str, Any]]:
+    """A specular-glossiness material's diffuseFactor and diffuseTexture, those it gives."""
+    extension = _specular_glossiness(material) or {}
+    return [(key, extension[key]) for key in _DIFFUSE_KEYS if key in extension]
+
+
+def _base_colour(material: dict[str, Any]) -> tuple[dict[str, Any], str, str]:
+    """Where a material's base colour lies, and its factor's and texture's keys there: a specular-glossiness
+    material's diffuseFactor and diffuseTexture (which a glTF viewer that reads the extension takes over the
+    metallic-roughness ones), else its pbrMetallicRoughness's baseColorFactor and baseColorTexture."""
+    extension = _specular_glossiness(material)
+    if extension is not None:
+        return extension, "diffuseFactor", "diffuseTexture"
+    return _nested(material, ("pbrMetallicRoughness",)), "baseColorFactor", "baseColorTexture"
 
 
 def _item_bytes(accessor: dict[str, Any]) -> int:
@@ -740,16 +768,16 @@ def _any_weight(weights: object) -> bool:
 
 
 def _outside_colour_notes(document: dict[str, Any]) -> list[str]:
-    """A material's baseColorFactor outside glTF's 0..1, which trimesh holds to it."""
-    outside = [(number, value) for number, material in enumerate(document.get("materials", []))
-               for value in _listed(material.get("pbrMetallicRoughness", {}).get("baseColorFactor"))
+    """A material's base colour factor outside glTF's 0..1, which trimesh holds to it."""
+    outside = [(number, key, value) for number, material in enumerate(document.get("materials", []))
+               for where, key, _ in [_base_colour(material)] for value in _listed(where.get(key))
                if _is_number(value) and not 0 <= value <= 1]
     if not outside:
         return []
-    (number, value), materials = outside[0], len({number for number, _ in outside})
+    (number, key, value), materials = outside[0], len({number for number, _, _ in outside})
     if materials == 1:
-        return [f"material {number}'s baseColorFactor holds {value:g}: glTF's colours are 0..1, held to it"]
-    return [f"{materials} materials' baseColorFactor hold values outside glTF's 0..1 (the first, material {number}'s, "
+        return [f"material {number}'s {key} holds {value:g}: glTF's colours are 0..1, held to it"]
+    return [f"{materials} materials' {key} hold values outside glTF's 0..1 (the first, material {number}'s, "
             f"{value:g}), held to it"]
 
 
@@ -758,8 +786,8 @@ _UNMOVED = {"offset": [0, 0], "rotation": 0, "scale": [1, 1]}
 
 
 def _texture_transform_notes(document: dict[str, Any]) -> list[str]:
-    """A baseColorTexture whose KHR_texture_transform moves its coordinates (an atlas's tile, a tiling):
-    trimesh applies none."""
+    """A base colour texture (a baseColorTexture, or a diffuseTexture) whose KHR_texture_transform moves
+    its coordinates (an atlas's tile, a tiling): trimesh applies none."""
     moved = [number for number, material in enumerate(document.get("materials", [])) if _moves_coordinates(material)]
     if not moved:
         return []
@@ -771,15 +799,14 @@ def _texture_transform_notes(document: dict[str, Any]) -> list[str]:
 
 
 def _moves_coordinates(material: dict[str, Any]) -> bool:
-    transform = _nested(material, ("pbrMetallicRoughness", "baseColorTexture", "extensions", "KHR_texture_transform"))
+    transform = _nested(_base_colour_texture(material), ("extensions", "KHR_texture_transform"))
     return any(transform.get(key, unmoved) != unmoved for key, unmoved in _UNMOVED.items())
 
 
 def _other_uv_set_notes(document: dict[str, Any]) -> list[str]:
-    """A baseColorTexture whose texCoord names TEXCOORD_1 or later: trimesh maps it by TEXCOORD_0."""
+    """A base colour texture whose texCoord names TEXCOORD_1 or later: trimesh maps it by TEXCOORD_0."""
     others = [(number, texture["texCoord"]) for number, material in enumerate(document.get("materials", []))
-              if (texture := material.get("pbrMetallicRoughness", {}).get("baseColorTexture")) is not None
-              and texture.get("texCoord", 0) != 0]
+              if (texture := _base_colour_texture(material)).get("texCoord", 0) != 0]
     if not others:
         return []
     (number, texture_set), materials = others[0], len(others)
@@ -793,21 +820,32 @@ def _listed(value: object) -> list[Any]:
     return value if isinstance(value, list) else []
 
 
+def _base_colour_texture(material: dict[str, Any]) -> dict[str, Any]:
+    """A material's base colour texture's textureInfo (empty where it has none)."""
+    where, _, key = _base_colour(material)
+    return _nested(where, (key,))
+
+
 # --- the JSON made again for trimesh -------------------------------------------------------------
 def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_type: str,
                      read_beside: Callable[[str], bytes]) -> bytes:
     """The file, its JSON made again (a GLB's JSON chunk too) where trimesh is to read it otherwise: its
-    file URIs that hold "base64," spelled apart, the meshes no node places emptied, the accessors its
-    primitives read made plain (sparse ones dense, normalized positions and texture coordinates floats), its
-    nodes' cameras taken out, its WEBP textures' fallbacks chosen and the pictures no material draws emptied.
+    file URIs that hold "base64," spelled apart, its materials named by number where their samplers matter,
+    the meshes no node places emptied, the accessors its primitives read made plain (sparse ones dense,
+    normalized positions and texture coordinates floats), its nodes' cameras taken out, its WEBP textures'
+    fallbacks chosen, its specular-glossiness materials' diffuse colours made their base colours and the
+    pictures no material draws emptied.
     The document is checked already (GltfReferences); `read_beside` reads a buffer's file."""
     respelled = _file_uris_respelled(document)  # first: a buffer read here is then named as trimesh asks for it
+    numbered = _materials_numbered(document)
     unplaced_emptied = _unplaced_meshes_emptied(document)  # before their accessors are made plain
     made_plain = _accessors_made_plain(path, document, _BufferBytes(path, data, document, file_type, read_beside))
     cameras_taken_out = _node_cameras_taken_out(document)
     fallbacks_chosen = _fallbacks_chosen(document)
+    diffuse_made_base = _diffuse_made_base_colour(document)
     undrawn_emptied = _undrawn_pictures_emptied(document)
-    if not (respelled or unplaced_emptied or made_plain or cameras_taken_out or fallbacks_chosen or undrawn_emptied):
+    if not (respelled or numbered or unplaced_emptied or made_plain or cameras_taken_out or fallbacks_chosen
+            or diffuse_made_base or undrawn_emptied):
         return data
     text = json.dumps(document).encode()
     if file_type == "gltf":
@@ -1042,20 +1080,78 @@ def _fallbacks_chosen(document: dict[str, Any]) -> bool:
     return bool(both)
 
 
-# The textures a material's colour is made of, as trimesh reads them (a specular-glossiness material's
-# base colour is made of its diffuse and specular textures); a normal, occlusion or emissive map is not drawn.
-_COLOUR_TEXTURES = (("pbrMetallicRoughness", "baseColorTexture"),
-                    ("extensions", "KHR_materials_pbrSpecularGlossiness", "diffuseTexture"),
-                    ("extensions", "KHR_materials_pbrSpecularGlossiness", "specularGlossinessTexture"))
+# glTF's sampler values (OpenGL's enums) as a TextureSampling's; left out, the default's.
+_WRAPS = {33071: Wrap.CLAMP, 33648: Wrap.MIRROR, 10497: Wrap.REPEAT}
+_MAGNIFY = {9728: Filter.NEAREST, 9729: Filter.LINEAR}
+_MINIFY = {9728: (Filter.NEAREST, None), 9729: (Filter.LINEAR, None), 9984: (Filter.NEAREST, Filter.NEAREST),
+           9985: (Filter.LINEAR, Filter.NEAREST), 9986: (Filter.NEAREST, Filter.LINEAR),
+           9987: (Filter.LINEAR, Filter.LINEAR)}
+# trimesh keeps no sampler, but keeps a material's name: where samplers matter, the JSON it reads names
+# each material by its number, and the reader finds the material's own name and sampling by it.
+_NUMBERED = "marraztu glTF material "
+
+
+def sampled_materials(document: dict[str, Any]) -> tuple[tuple[str, TextureSampling], ...]:
+    """Each material's name ("" for none) and its base colour texture's sampling (its sampler's), where any
+    is not the default; () where none is. The document is checked already (GltfReferences)."""
+    materials = document.get("materials", [])
+    samplings = [_sampling(document, _base_colour_texture(material)) for material in materials]
+    if all(sampling.is_default for sampling in samplings):
+        return ()
+    return tuple((material.get("name", ""), sampling) for material, sampling in zip(materials, samplings))
+
+
+def numbered_material(name: object) -> int | None:
+    """The number of a material trimesh read from JSON made again by _materials_numbered; None for another."""
+    number = name[len(_NUMBERED):] if isinstance(name, str) and name.startswith(_NUMBERED) else ""
+    return int(number) if number.isdecimal() else None
+
+
+def _sampling(document: dict[str, Any], texture_info: dict[str, Any]) -> TextureSampling:
+    index = texture_info.get("index")
+    if not _is_whole(index) or "sampler" not in document["textures"][index]:
+        return DEFAULT_SAMPLING
+    sampler = document["samplers"][document["textures"][index]["sampler"]]
+    minify, between_levels = _MINIFY.get(sampler.get("minFilter"), (Filter.LINEAR, Filter.LINEAR))
+    return TextureSampling(wrap_u=_WRAPS[sampler.get("wrapS", 10497)], wrap_v=_WRAPS[sampler.get("wrapT", 10497)],
+                           magnify=_MAGNIFY.get(sampler.get("magFilter"), Filter.LINEAR), minify=minify,
+                           between_levels=between_levels)
+
+
+def _materials_numbered(document: dict[str, Any]) -> bool:
+    """Names each material by its number (numbered_material) where a sampling is not the default (as
+    sampled_materials finds them), every one, so that no name of the file's is taken for a number. False
+    where none is renamed."""
+    if not sampled_materials(document):
+        return False
+    for number, material in enumerate(document["materials"]):
+        material["name"] = f"{_NUMBERED}{number}"
+    return True
+
+
+def _diffuse_made_base_colour(document: dict[str, Any]) -> bool:
+    """Makes each specular-glossiness material's diffuseFactor and diffuseTexture its baseColorFactor and
+    baseColorTexture, and takes the extension out: trimesh turned them into metallic-roughness values,
+    whose base colour is no diffuse colour (pale: a specularFactor of 1, the default, made it white), and
+    the viewer's Phong lighting reads the diffuse colour as Kd. False where there is none."""
+    found = [material for material in document.get("materials", []) if _specular_glossiness(material) is not None]
+    for material in found:
+        extension = material["extensions"].pop(_SPECULAR_GLOSSINESS)
+        values = material.setdefault("pbrMetallicRoughness", {})
+        for diffuse, base in _DIFFUSE_KEYS.items():
+            values.pop(base, None)  # the extension's, given or not (its default is glTF's), is the colour
+            if diffuse in extension:
+                values[base] = extension[diffuse]
+    return bool(found)
 
 
 def _undrawn_pictures_emptied(document: dict[str, Any]) -> bool:
-    """Empties each picture no material's colour is made of, which trimesh then neither reads nor
-    decodes: a normal map that cannot be read is no note that the scene's texture is shown. False where
-    there is none."""
+    """Empties each picture no material's colour is made of (each material's base colour texture, as
+    trimesh reads it), which trimesh then neither reads nor decodes: a normal map that cannot be read is
+    no note that the scene's texture is shown. False where there is none."""
     textures, images = document.get("textures", []), document.get("images", [])
-    drawn = {source for material in document.get("materials", []) for keys in _COLOUR_TEXTURES
-             if _is_whole(index := _nested(material, keys).get("index")) and 0 <= index < len(textures)
+    drawn = {source for material in document.get("materials", [])
+             if _is_whole(index := _base_colour_texture(material).get("index")) and 0 <= index < len(textures)
              for source in _texture_sources(textures[index])}
     undrawn = [index for index, image in enumerate(images) if image and index not in drawn]
     for index in undrawn:

@@ -1,0 +1,240 @@
+"""A glTF's base colour texture drawn as its sampler says (wraps per axis, nearest or linear filters),
+where trimesh keeps no sampler; and a specular-glossiness material's diffuse colour drawn as its base
+colour, where trimesh's metallic-roughness conversion made it pale. Each file is a square built here,
+facing the camera, its picture a 2x2 of red, green / blue, white."""
+
+from __future__ import annotations
+
+import base64
+import io
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from marraztu.control.viewer import StartOptions
+from marraztu.frontends.screenshot import take_screenshot
+from marraztu.loaders.registry import load_model
+from marraztu.model.sampling import DEFAULT_SAMPLING, Filter, TextureSampling, Wrap
+
+SIZE = (120, 120)
+CHECKER = np.array([[[255, 0, 0], [0, 255, 0]], [[0, 0, 255], [255, 255, 255]]], np.uint8)  # top row first
+# Each texel by the channels it leaves lit (any lighting scales them, none adds one): red, green, blue, white.
+TEXELS = {(True, False, False): (0, 0), (False, True, False): (0, 1), (False, False, True): (1, 0),
+          (True, True, True): (1, 1)}
+CLAMP, MIRRORED, REPEAT, NEAREST = 33071, 33648, 10497, 9728
+
+
+def png_uri(pixels: np.ndarray) -> str:
+    out = io.BytesIO()
+    Image.fromarray(pixels).save(out, format="PNG")
+    return "data:image/png;base64," + base64.b64encode(out.getvalue()).decode()
+
+
+def square(path: Path, materials: list[dict[str, Any]], textures: list[dict[str, Any]],
+           samplers: list[dict[str, Any]] = (), uv_range: tuple[float, float] = (0.0, 1.0),
+           pixels: np.ndarray = CHECKER) -> Path:
+    """A .gltf of a square facing the camera (one primitive a material, side by side), its texture
+    coordinates over `uv_range` on both axes, the picture upright (glTF's v = 0 is its top row)."""
+    low, high = uv_range
+    positions, uvs, indices = [], [], []
+    width = 120 / len(materials)
+    for number in range(len(materials)):
+        left = -60 + number * width
+        positions.append(np.array([[left, -60, 0], [left + width, -60, 0], [left + width, 60, 0], [left, 60, 0]]))
+        uvs.append(np.array([[low, high], [high, high], [high, low], [low, low]]))
+        indices.append(np.array([0, 1, 2, 0, 2, 3]) + 4 * number)
+    tables = [np.concatenate(positions).astype(np.float32), np.concatenate(uvs).astype(np.float32),
+              np.concatenate(indices).astype(np.uint16)]
+    blob, views = b"", []
+    for table in tables:
+        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": table.nbytes})
+        blob += table.tobytes() + b"\0" * (-table.nbytes % 4)
+    count = 4 * len(materials)
+    accessors = [{"bufferView": 0, "componentType": 5126, "count": count, "type": "VEC3",
+                  "min": [-60, -60, 0], "max": [60, 60, 0]},
+                 {"bufferView": 1, "componentType": 5126, "count": count, "type": "VEC2"}]
+    primitives = []
+    for number in range(len(materials)):
+        views.append({"buffer": 0, "byteOffset": views[2]["byteOffset"] + 12 * number, "byteLength": 12})
+        accessors.append({"bufferView": len(views) - 1, "componentType": 5123, "count": 6, "type": "SCALAR"})
+        primitives.append({"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": len(accessors) - 1,
+                           "material": number})
+    document = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+                "meshes": [{"primitives": primitives}], "accessors": accessors, "bufferViews": views,
+                "buffers": [{"byteLength": len(blob),
+                             "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+                "images": [{"uri": png_uri(pixels)}], "textures": textures, "materials": materials}
+    if samplers:
+        document["samplers"] = list(samplers)
+    path.write_text(json.dumps(document))
+    return path
+
+
+def checker_square(path: Path, sampler: dict[str, Any] | None, uv_range: tuple[float, float] = (0.0, 1.0)) -> Path:
+    texture = {"source": 0} if sampler is None else {"source": 0, "sampler": 0}
+    return square(path, [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}], [texture],
+                  [] if sampler is None else [sampler], uv_range)
+
+
+def shot(tmp_path: Path, model: Path, keys: str = "") -> np.ndarray:
+    out = take_screenshot(StartOptions(empty=True, models=(model,)), tmp_path / f"{model.stem}.png", SIZE, keys=keys)
+    return np.asarray(Image.open(out).convert("RGB")).astype(int)
+
+
+def square_pixels(picture: np.ndarray) -> np.ndarray:
+    """The square's pixels, top row first, less a pixel at each edge: where it differs from the background."""
+    background = picture[0, 0]
+    rows, columns = np.nonzero((picture != background).any(axis=2))
+    return picture[rows.min() + 1:rows.max(), columns.min() + 1:columns.max()]
+
+
+def texel_at(pixels: np.ndarray, u: float, v: float, uv_range: tuple[float, float]) -> tuple[int, int]:
+    """The texel (row, column) drawn where the square's coordinates are (u, v) (v = 0 at its top)."""
+    low, high = uv_range
+    row = round((v - low) / (high - low) * (pixels.shape[0] - 1))
+    column = round((u - low) / (high - low) * (pixels.shape[1] - 1))
+    return TEXELS[tuple(bool(channel) for channel in pixels[row, column] > 8)]
+
+
+def wrapped(mode: int, coordinate: float) -> float:
+    """glTF's wraps, as its specification defines them."""
+    if mode == CLAMP:
+        return min(max(coordinate, 0.0), 0.999)
+    if mode == MIRRORED:
+        inside = coordinate % 2
+        return inside if inside < 1 else 2 - inside
+    return coordinate % 1
+
+
+# --- samplers ----------------------------------------------------------------------------------------
+def test_a_nearest_magnified_picture_shows_its_texels_alone(tmp_path: Path) -> None:
+    nearest = square_pixels(shot(tmp_path, checker_square(tmp_path / "nearest.gltf", {"magFilter": NEAREST})))
+    blended = square_pixels(shot(tmp_path, checker_square(tmp_path / "linear.gltf", None)))
+    colours = {tuple(pixel) for pixel in nearest.reshape(-1, 3)}
+    assert len(colours) == 4  # one colour a texel, lit alike over the flat square
+    half_row, half_column = nearest.shape[0] // 2, nearest.shape[1] // 2
+    for row in range(2):
+        for column in range(2):
+            quarter = nearest[row * half_row:(row + 1) * half_row, column * half_column:(column + 1) * half_column]
+            assert (quarter == quarter[0, 0]).all()
+            assert TEXELS[tuple(bool(channel) for channel in quarter[0, 0] > 8)] == (row, column)
+    assert len({tuple(pixel) for pixel in blended.reshape(-1, 3)}) > 50  # without a sampler: blended, as before
+
+
+@pytest.mark.parametrize(("wrap_s", "wrap_t"), [(CLAMP, CLAMP), (MIRRORED, MIRRORED), (REPEAT, REPEAT),
+                                                (CLAMP, MIRRORED), (MIRRORED, REPEAT), (REPEAT, CLAMP)])
+def test_coordinates_outside_0_to_1_read_the_picture_as_each_axis_wrap_says(tmp_path: Path, wrap_s: int,
+                                                                             wrap_t: int) -> None:
+    uv_range = (-1.0, 2.0)
+    path = checker_square(tmp_path / "wrapped.gltf", {"magFilter": NEAREST, "wrapS": wrap_s, "wrapT": wrap_t},
+                          uv_range)
+    pixels = square_pixels(shot(tmp_path, path))
+    for u in (-0.75, -0.25, 0.25, 1.25, 1.75):
+        for v in (-0.75, -0.25, 0.25, 1.25, 1.75):
+            expected = (int(wrapped(wrap_t, v) * 2), int(wrapped(wrap_s, u) * 2))
+            assert texel_at(pixels, u, v, uv_range) == expected, (u, v)
+
+
+def test_one_picture_sampled_two_ways_by_two_materials_is_drawn_both_ways(tmp_path: Path) -> None:
+    """The renderer makes a texture of a picture a sampling: the first material's would have served both."""
+    materials = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": number}}} for number in range(2)]
+    path = square(tmp_path / "two.gltf", materials, [{"source": 0, "sampler": 0}, {"source": 0, "sampler": 1}],
+                  [{"magFilter": NEAREST}, {}])
+    loaded = load_model(path)
+    assert [material.sampling for material in loaded.materials] == [
+        TextureSampling(magnify=Filter.NEAREST), DEFAULT_SAMPLING]
+    assert loaded.materials[0].texture is loaded.materials[1].texture  # one picture, read once
+    pixels = square_pixels(shot(tmp_path, path))
+    half = pixels.shape[1] // 2
+    assert len({tuple(pixel) for pixel in pixels[:, :half - 1].reshape(-1, 3)}) == 4
+    assert len({tuple(pixel) for pixel in pixels[:, half + 1:].reshape(-1, 3)}) > 20
+
+
+@pytest.mark.parametrize(("sampler", "sampling"), [
+    ({}, DEFAULT_SAMPLING),
+    ({"wrapS": CLAMP, "wrapT": MIRRORED}, TextureSampling(wrap_u=Wrap.CLAMP, wrap_v=Wrap.MIRROR)),
+    ({"magFilter": NEAREST, "minFilter": 9984},  # Blender's "Closest"
+     TextureSampling(magnify=Filter.NEAREST, minify=Filter.NEAREST, between_levels=Filter.NEAREST)),
+    ({"minFilter": 9728}, TextureSampling(minify=Filter.NEAREST, between_levels=None)),
+    ({"minFilter": 9729}, TextureSampling(between_levels=None)),
+    ({"minFilter": 9985}, TextureSampling(between_levels=Filter.NEAREST)),
+    ({"minFilter": 9986}, TextureSampling(minify=Filter.NEAREST)),
+    ({"magFilter": 9729, "minFilter": 9987, "wrapS": REPEAT, "wrapT": REPEAT}, DEFAULT_SAMPLING),
+])
+def test_a_samplers_values_become_the_materials_sampling(tmp_path: Path, sampler: dict[str, Any],
+                                                         sampling: TextureSampling) -> None:
+    loaded = load_model(checker_square(tmp_path / "square.gltf", sampler))
+    assert loaded.materials[0].sampling == sampling
+    assert loaded.materials[0].name == "square" and loaded.warnings == ()  # the model's, not the number trimesh read
+
+
+def test_a_numbered_materials_own_name_is_kept(tmp_path: Path) -> None:
+    materials = [{"name": "pixels", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}},
+                 {"name": "marraztu glTF material 0", "pbrMetallicRoughness": {"baseColorTexture": {"index": 1}}}]
+    loaded = load_model(square(tmp_path / "named.gltf", materials, [{"source": 0, "sampler": 0}, {"source": 0}],
+                               [{"magFilter": NEAREST}]))
+    assert [(material.name, material.sampling) for material in loaded.materials] == [
+        ("pixels", TextureSampling(magnify=Filter.NEAREST)), ("marraztu glTF material 0", DEFAULT_SAMPLING)]
+
+
+def test_a_sampler_of_a_picture_not_drawn_changes_nothing(tmp_path: Path) -> None:
+    """A normal map's sampler: the base colour texture is sampled as before."""
+    material = {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}, "normalTexture": {"index": 1}}
+    loaded = load_model(square(tmp_path / "normal.gltf", [material], [{"source": 0}, {"source": 0, "sampler": 0}],
+                               [{"magFilter": NEAREST, "wrapS": CLAMP}]))
+    assert loaded.materials[0].sampling == DEFAULT_SAMPLING
+
+
+def test_a_sampling_is_checked_where_it_is_made() -> None:
+    with pytest.raises(ValueError, match="wrap_u must be a Wrap"):
+        TextureSampling(wrap_u="clamp")  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="magnify must be a Filter"):
+        TextureSampling(magnify=None)  # type: ignore[arg-type]
+
+
+# --- specular-glossiness -----------------------------------------------------------------------------
+@pytest.mark.parametrize("extension", [
+    {"diffuseFactor": [0.8, 0.2, 0.2, 1.0]},  # specularFactor left out: 1, trimesh's white
+    {"diffuseFactor": [0.8, 0.2, 0.2, 1.0], "specularFactor": [0.2, 0.2, 0.2], "glossinessFactor": 0.5},
+])
+def test_a_specular_glossiness_diffuse_colour_is_drawn_as_a_base_colour_is(tmp_path: Path,
+                                                                           extension: dict[str, Any]) -> None:
+    glossy = {"pbrMetallicRoughness": {"baseColorFactor": [0, 1, 0, 1]},  # the extension's colour wins
+              "extensions": {"KHR_materials_pbrSpecularGlossiness": extension}}
+    plain = {"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.2, 0.2, 1.0]}}
+    glossy_path = square(tmp_path / "glossy.gltf", [glossy], [{"source": 0}])
+    plain_path = square(tmp_path / "plain.gltf", [plain], [{"source": 0}])
+    assert load_model(glossy_path).file_material == {"kd": (0.8, 0.2, 0.2)}
+    assert (shot(tmp_path, glossy_path, keys="T 0") == shot(tmp_path, plain_path, keys="T 0")).all()
+
+
+def test_a_specular_glossiness_diffuse_texture_is_drawn_as_its_picture_with_its_sampler(tmp_path: Path) -> None:
+    pixels = np.array([[[200, 40, 40], [40, 200, 40]], [[40, 40, 200], [120, 120, 120]]], np.uint8)
+    glossy = {"extensions": {"KHR_materials_pbrSpecularGlossiness": {
+        "diffuseTexture": {"index": 0}, "specularFactor": [0.5, 0.5, 0.5],
+        "specularGlossinessTexture": {"index": 0}}}}
+    plain = {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}
+    textures, samplers = [{"source": 0, "sampler": 0}], [{"magFilter": NEAREST}]
+    glossy_path = square(tmp_path / "glossy.gltf", [glossy], textures, samplers, pixels=pixels)
+    plain_path = square(tmp_path / "plain.gltf", [plain], textures, samplers, pixels=pixels)
+    loaded = load_model(glossy_path)
+    assert (loaded.materials[0].texture == pixels).all()
+    assert loaded.materials[0].sampling == TextureSampling(magnify=Filter.NEAREST)
+    assert (shot(tmp_path, glossy_path, keys="0") == shot(tmp_path, plain_path, keys="0")).all()
+
+
+def test_a_specular_glossiness_diffuse_factor_is_checked_as_a_base_colour(tmp_path: Path) -> None:
+    glossy = {"extensions": {"KHR_materials_pbrSpecularGlossiness": {"diffuseFactor": [0.8, "red", 0.2, 1.0]}}}
+    path = square(tmp_path / "bad.gltf", [glossy], [{"source": 0}])
+    with pytest.raises(Exception, match="material 0's diffuseFactor is not a list of numbers"):
+        load_model(path)
+
+
+def test_a_specular_glossiness_diffuse_factor_outside_0_to_1_is_a_note(tmp_path: Path) -> None:
+    glossy = {"extensions": {"KHR_materials_pbrSpecularGlossiness": {"diffuseFactor": [1.5, 0.2, 0.2, 1.0]}}}
+    loaded = load_model(square(tmp_path / "bright.gltf", [glossy], [{"source": 0}]))
+    assert loaded.warnings == ("material 0's diffuseFactor holds 1.5: glTF's colours are 0..1, held to it",)
