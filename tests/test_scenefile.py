@@ -22,6 +22,7 @@ from marraztu.loaders.scenefile import (
     material_for_loaded,
     read_scene_description,
 )
+from marraztu.model.build import build_mesh, scaled_mesh
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import NAME_LIMIT, Material
@@ -229,6 +230,55 @@ def test_an_uneven_scale_gives_the_normals_of_the_file_written_already_scaled(tm
         assert stretched.attributes_per_position is written.attributes_per_position is (corners == "v")
         assert np.allclose(stretched.normals, written.normals, atol=1e-6)
         assert np.array_equal(stretched.uvs, load_model_as_read(tmp_path / "fan.obj").uvs)
+
+
+FAN = np.array([[0, 0, 0], [40, -30, -30], [40, 30, -30], [-5, 3, -1], [-4, -4, -2]], float)
+FAN_FACES = [[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]]
+
+
+def test_an_uneven_scale_averages_again_the_normals_a_file_gives_for_some_faces_only(tmp_path: Path) -> None:
+    """A file whose first face has vn and whose others have none: under a stretch its other normals were
+    turned with the file's, not averaged again from the turned faces, up to 0.0104 off the same model
+    written stretched; the file's own stay turned."""
+    own = np.array([[0.1, 0.2, 1], [1, 0, 0], [0, 1, 0.5]])
+    stretch = [1, 3, 0.5]
+
+    def model(name: str, scale: list[float]) -> Path:
+        (tmp_path / name).write_text("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in (FAN * scale).tolist())
+                                     + "".join(f"vn {x} {y} {z}\n" for x, y, z in own)
+                                     + "f 1//1 2//2 3//3\nf 1 3 4\nf 1 4 5\nf 1 5 2\n")
+        return tmp_path / name
+
+    model("fan.obj", [1, 1, 1])
+    scene = load_scene(write_scene(tmp_path, CAMERA + '[[objects]]\nmodel = "fan.obj"\nscale = [1, 3, 0.5]\n'))
+    stretched, written = scene.objects[0].mesh, load_model_as_read(model("scaled.obj", stretch))
+    turned = own / stretch
+    turned /= np.linalg.norm(turned, axis=1, keepdims=True)
+    expected = written.corner_normal.copy()
+    expected[:3] = turned  # the first face's corners: the file's own, turned
+    assert np.allclose(stretched.corner_normal, expected, atol=1e-6)
+    assert np.allclose(stretched.face_normals, written.face_normals, atol=1e-6)
+
+
+@pytest.mark.parametrize("per_vertex", [True, False])
+def test_an_uneven_scale_averages_again_the_normals_given_as_nan(per_vertex: bool) -> None:
+    """add_mesh's NaN rows are derived: under a stretch they are averaged again, as for the same mesh
+    given stretched, and the rows given are turned."""
+    given = np.array([[0.1, 0.2, 1], [np.nan] * 3, [0, 1, 0.5], [np.nan] * 3, [0, 0, 1]])
+    if not per_vertex:  # a row per corner, the first face's alone given
+        given = np.array([given[vertex] if face == 0 else [np.nan] * 3 for face, corners in enumerate(FAN_FACES)
+                          for vertex in corners])
+    stretch = (1.0, 3.0, 0.5)
+    scaled = scaled_mesh(build_mesh("fan", FAN, FAN_FACES, normals=given, attributes_per_vertex=per_vertex),
+                         stretch)
+    written = build_mesh("fan", FAN * stretch, FAN_FACES, normals=given / stretch, attributes_per_vertex=per_vertex)
+    assert scaled.attributes_per_position is written.attributes_per_position is per_vertex
+    assert np.allclose(scaled.corner_normal, written.corner_normal, atol=1e-6)
+    assert np.allclose(scaled.face_normals, written.face_normals, atol=1e-6)
+    again = scaled_mesh(scaled, (2.0, 1.0, 1.0))  # which rows were averaged goes with the stretched mesh
+    assert np.allclose(again.corner_normal, build_mesh("fan", FAN * stretch * [2, 1, 1], FAN_FACES,
+                                                       normals=given / stretch / [2, 1, 1],
+                                                       attributes_per_vertex=per_vertex).corner_normal, atol=1e-6)
 
 
 def test_entries_of_one_model_at_one_scale_share_its_mesh(tmp_path: Path, monkeypatch) -> None:

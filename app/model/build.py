@@ -283,7 +283,7 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
     if degenerate.any():
         notes += (f"{counted(int(degenerate.sum()), 'zero-area face')} (given a fallback normal)",)
     shape = _Shape(positions, corner_vertex, face_start, sizes, bounds, face_normals, degenerate)
-    uvs, vertex_normals, per_position = _uvs_and_normals(shape, uv, normals)
+    uvs, vertex_normals, per_position, averaged = _uvs_and_normals(shape, uv, normals)
     return Mesh(
         name=name,
         positions=np.ascontiguousarray(positions, dtype=np.float64),
@@ -296,7 +296,7 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
         file_material=file_material,
         warnings=notes,
         attributes_per_position=per_position,
-        normals_averaged=normals is None,
+        normals_averaged=averaged,
     )
 
 
@@ -312,15 +312,19 @@ def scaled_mesh(mesh: Mesh, factors: tuple[float, float, float]) -> Mesh:
     stretched = replace(mesh, positions=mesh.positions * stretch, whole_gpu_origin=whole_origin)
     if np.all(stretch == stretch[0]):  # a uniform scale leaves every direction as it was
         return stretched
-    if mesh.normals_averaged:  # the average of turned faces is not the turned average
-        again = derive_mesh(mesh.name, stretched.positions, mesh.corner_vertex, mesh.face_start,
-                            (mesh.uvs, mesh.corner_vertex if mesh.attributes_per_position else
-                             np.arange(mesh.corner_vertex.size, dtype=INDEX)), None, None, None, ())
-        return replace(stretched, uvs=again.uvs, normals=again.normals, face_normals=again.face_normals,
-                       attributes_per_position=again.attributes_per_position)
     turn = stretch.min() / stretch  # the inverse's direction, its entries at most 1: none overflows
-    return replace(stretched, normals=unit_rows(mesh.normals * turn, np.float32)[0],
-                   face_normals=unit_rows(mesh.face_normals * turn, np.float32)[0])
+    averaged = mesh.normals_averaged
+    if averaged is False:  # every normal the file's own
+        return replace(stretched, normals=unit_rows(mesh.normals * turn, np.float32)[0],
+                       face_normals=unit_rows(mesh.face_normals * turn, np.float32)[0])
+    # The average of turned faces is not the turned average: derived again, the file's own normals turned.
+    rows = mesh.corner_vertex if mesh.attributes_per_position else np.arange(mesh.corner_vertex.size, dtype=INDEX)
+    given = None if averaged is True else (unit_rows(mesh.normals * turn, np.float32)[0],
+                                           np.where(averaged[rows], -1, rows))
+    again = derive_mesh(mesh.name, stretched.positions, mesh.corner_vertex, mesh.face_start, (mesh.uvs, rows),
+                        given, None, None, ())
+    return replace(stretched, uvs=again.uvs, normals=again.normals, face_normals=again.face_normals,
+                   attributes_per_position=again.attributes_per_position, normals_averaged=again.normals_averaged)
 
 
 @dataclass(frozen=True)
@@ -337,15 +341,16 @@ class _Shape:
 
 
 def _uvs_and_normals(shape: _Shape, uv: CornerSource | None, normals: CornerSource | None
-                     ) -> tuple[np.ndarray, np.ndarray, bool]:
-    """The uvs and unit normals, and whether their rows are per position rather than per corner."""
+                     ) -> tuple[np.ndarray, np.ndarray, bool, bool | np.ndarray]:
+    """The uvs and unit normals, whether their rows are per position rather than per corner, and which
+    normals were averaged (Mesh.normals_averaged)."""
     by_position = _per_position_sources(shape.corner_vertex, shape.positions.shape[0], uv, normals)
     # Per position where each position has one uv and one normal: derived once each, not once per corner.
     attributes = None if by_position is None else _attributes(shape, *by_position, per_position=True)
     if attributes is not None:
-        return attributes[0], attributes[1], True
-    uvs, vertex_normals = _attributes(shape, uv, normals, per_position=False)  # never None per corner
-    return uvs, vertex_normals, False
+        return attributes[0], attributes[1], True, attributes[2]
+    uvs, vertex_normals, averaged = _attributes(shape, uv, normals, per_position=False)  # never None per corner
+    return uvs, vertex_normals, False, averaged
 
 
 def _per_position_sources(corner_vertex: np.ndarray, vertex_count: int, uv: CornerSource | None,
@@ -373,13 +378,16 @@ def _per_position_sources(corner_vertex: np.ndarray, vertex_count: int, uv: Corn
 
 
 def _attributes(shape: _Shape, uv: CornerSource | None, normals: CornerSource | None, per_position: bool
-                ) -> tuple[np.ndarray, np.ndarray] | None:
+                ) -> tuple[np.ndarray, np.ndarray, bool | np.ndarray] | None:
     """The uvs and unit normals, a row per position (`uv` and `normals` give their rows per position)
-    or per corner. None per position where some used position touches no face with an area: its
-    corners take their own faces' normals, which may differ."""
+    or per corner, and which normals were averaged. None per position where some used position
+    touches no face with an area: its corners take their own faces' normals, which may differ."""
     row_vertex = None if per_position else shape.corner_vertex  # None: the rows are the positions
     rows = shape.positions.shape[0] if per_position else shape.corner_vertex.size
     vertex_normals, missing = _usable_normals(normals, rows)
+    # A flag where all or none are (no table as long as the rows), the rows themselves where some are.
+    some = bool(missing.any())
+    averaged = missing.copy() if some and not missing.all() else some
     if missing.any():
         missing = _fill_vertex_normals(vertex_normals, missing, shape, row_vertex)
     if per_position and missing.any():
@@ -394,7 +402,7 @@ def _attributes(shape: _Shape, uv: CornerSource | None, normals: CornerSource | 
     if missing.any():
         corners = np.flatnonzero(missing)  # no usable face touches their position: take their face's
         vertex_normals[corners] = shape.face_normals[polygons_of_corners(shape.face_start, corners)]
-    return _uvs(uv, shape.positions, row_vertex, shape.bounds), vertex_normals
+    return _uvs(uv, shape.positions, row_vertex, shape.bounds), vertex_normals, averaged
 
 
 def _positions_of(rows: np.ndarray, row_vertex: np.ndarray | None) -> np.ndarray:

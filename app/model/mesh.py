@@ -151,8 +151,9 @@ class Mesh:
     # True when every corner of a position has the same normal and uv, stored once per position: then
     # no position needs a second vertex row (no seams), and the tables hold fewer rows than corners.
     attributes_per_position: bool = False
-    # Every normal averaged from the faces around it (the file gives none): a stretch averages them again.
-    normals_averaged: bool = False
+    # Which normals were averaged from the faces around them, the file giving none usable: all (True), none
+    # (False), or some, as a (C or V,) bool per row of `normals`. A stretch averages these again.
+    normals_averaged: bool | np.ndarray = False
     # The file's materials and, per polygon, which one it uses (-1: none, the object's own material).
     # Without `usemtl` both are empty and the whole mesh takes the object's material.
     materials: tuple[MeshMaterial, ...] = ()
