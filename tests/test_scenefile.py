@@ -281,6 +281,23 @@ def test_an_uneven_scale_averages_again_the_normals_given_as_nan(per_vertex: boo
                                                        attributes_per_vertex=per_vertex).corner_normal, atol=1e-6)
 
 
+def test_an_uneven_scale_that_leaves_faces_without_area_says_so(tmp_path: Path) -> None:
+    """At [1e-6, 1, 1e6] a box's faces across z have no area beside its size: they take the fallback
+    normal, as in the box written stretched, whose load note says so; the stretched box's said nothing."""
+    corners = "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n"
+    box = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], float)
+    stretch = [1e-6, 1, 1e6]
+    for name, scale in (("box.obj", [1, 1, 1]), ("scaled.obj", stretch)):
+        (tmp_path / name).write_text("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in (box * scale).tolist())
+                                     + corners)
+    scene = load_scene(write_scene(tmp_path, CAMERA + '[[objects]]\nmodel = "box.obj"\nscale = [1e-6, 1, 1e6]\n'))
+    stretched, written = scene.objects[0].mesh, load_model_as_read(tmp_path / "scaled.obj")
+    assert written.warnings == ("2 zero-area faces (given a fallback normal)",)
+    assert stretched.warnings == written.warnings
+    assert np.array_equal(stretched.face_normals, written.face_normals)
+    assert scaled_mesh(written, (1e6, 1, 1e-6)).warnings == ()  # stretched back: the note goes with the faces
+
+
 def test_entries_of_one_model_at_one_scale_share_its_mesh(tmp_path: Path, monkeypatch) -> None:
     import marraztu.loaders.scenefile as scenefile
 

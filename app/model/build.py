@@ -6,6 +6,7 @@ gets the same normals and coordinates whichever way it came in.
 
 from __future__ import annotations
 
+import re
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
@@ -281,7 +282,7 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
     bounds = column_bounds(positions)
     face_normals, degenerate = _face_normals(positions, corner_vertex, face_start, sizes, bounds)
     if degenerate.any():
-        notes += (f"{counted(int(degenerate.sum()), 'zero-area face')} (given a fallback normal)",)
+        notes += (_zero_area_note(int(degenerate.sum())),)
     shape = _Shape(positions, corner_vertex, face_start, sizes, bounds, face_normals, degenerate)
     uvs, vertex_normals, per_position, averaged = _uvs_and_normals(shape, uv, normals)
     return Mesh(
@@ -300,11 +301,19 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
     )
 
 
+def _zero_area_note(faces: int) -> str:
+    return f"{counted(faces, 'zero-area face')} (given a fallback normal)"
+
+
+_ZERO_AREA_NOTE = re.compile(r"\d+ zero-area faces? \(given a fallback normal\)")
+
+
 def scaled_mesh(mesh: Mesh, factors: tuple[float, float, float]) -> Mesh:
     """The mesh as read at `factors` times its size along x, y and z (each > 0), as the file written so
     would be read: its positions stretched, its face normals and the file's own normals turned as the
-    inverse transpose turns them, normals it averaged averaged again from the turned faces, and its
-    texture coordinates kept (they are the surface's). Itself where every factor is 1."""
+    inverse transpose turns them, normals it averaged averaged again from the turned faces (and the
+    zero-area faces' note told again), and its texture coordinates kept (they are the surface's).
+    Itself where every factor is 1."""
     if factors == (1.0, 1.0, 1.0):
         return mesh
     stretch = np.asarray(factors, np.float64)
@@ -324,7 +333,15 @@ def scaled_mesh(mesh: Mesh, factors: tuple[float, float, float]) -> Mesh:
     again = derive_mesh(mesh.name, stretched.positions, mesh.corner_vertex, mesh.face_start, (mesh.uvs, rows),
                         given, None, None, ())
     return replace(stretched, uvs=again.uvs, normals=again.normals, face_normals=again.face_normals,
-                   attributes_per_position=again.attributes_per_position, normals_averaged=again.normals_averaged)
+                   attributes_per_position=again.attributes_per_position, normals_averaged=again.normals_averaged,
+                   warnings=_with_zero_area_note(mesh.warnings, again.warnings))
+
+
+def _with_zero_area_note(notes: tuple[str, ...], derived: tuple[str, ...]) -> tuple[str, ...]:
+    """`notes` with their zero-area note (derive_mesh's, known by its words) replaced by the `derived`
+    mesh's own notes, in its place, or after them where they had none."""
+    old = next((at for at, note in enumerate(notes) if _ZERO_AREA_NOTE.fullmatch(note)), len(notes))
+    return notes[:old] + derived + notes[old + 1:]
 
 
 @dataclass(frozen=True)
