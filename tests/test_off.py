@@ -354,6 +354,46 @@ def test_seeded_bodies_read_the_same_at_once_and_by_lines(tmp_path: Path, seed: 
         assert outcome(tmp_path, text) == outcome(tmp_path, text, monkeypatch)
 
 
+@pytest.mark.parametrize("comment", ["", "# a comment\n"])
+@pytest.mark.parametrize("last", ["3 0 1 4", "2 0 1", "3 0 1 2 red", "3 0 1 2\njunk after the faces", None])
+def test_a_file_bad_at_its_end_is_read_by_lines_from_its_last_block_only(tmp_path: Path, last: str | None,
+                                                                         comment: str,
+                                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """An index out of range, a count of 2 or a colour of words in the last face row, words after the
+    faces, or a file that ends before its last row: the line reader read the whole file again, four
+    times a good file's time at 200,000 triangles. It reads on from the first block of rows not read at
+    once, and names the same problem at the same line as reading the whole file by lines."""
+    monkeypatch.setattr(off, "_FACE_BLOCK_WORDS", 64)  # blocks of 16 triangle rows
+    faces = ["3 0 1 2"] * 999 + ([] if last is None else [last])
+    text = off_text(faces=tuple(faces), header=f"OFF\n4 1000 0\n{comment}")
+    by_lines = outcome(tmp_path, text, monkeypatch)
+    assert isinstance(by_lines[0], str)  # refused
+    lines_read = []
+    line_reader = off._Rows.next
+    monkeypatch.setattr(off._Rows, "next", lambda rows, *most: lines_read.append(rows) or line_reader(rows, *most))
+    assert outcome(tmp_path, text) == by_lines
+    assert len(lines_read) <= 2 + 16 + 2  # the header's, a block's rows, the last and one after
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_seeded_bodies_cut_short_or_run_on_read_the_same_at_once_and_by_lines(tmp_path: Path, seed: int,
+                                                                           monkeypatch: pytest.MonkeyPatch) -> None:
+    """Files that end before the header's rows, or hold rows after them, read on by lines from where
+    the rows read at once end: the same tables or the same refusal as by lines alone."""
+    monkeypatch.setattr(off, "_FACE_BLOCK_WORDS", [1 << 16, 4, 8][seed])
+    rng = np.random.default_rng(seed)
+    for _ in range(40):
+        vertices = int(rng.integers(1, 6))
+        rows = [" ".join(f"{value:.2f}" for value in rng.normal(size=3)) for _ in range(vertices)]
+        faces = [" ".join(map(str, [3, *rng.integers(0, vertices + (rng.random() < 0.1), 3)]))
+                 for _ in range(rng.integers(1, 8))]
+        said = len(faces) + int(rng.integers(-2, 3))  # the header's count: too few, right or too many
+        text = off_text(rows, tuple(faces), header=f"OFF\n{vertices} {max(said, 1)} 0\n")
+        text = text[:-1] if rng.random() < 0.5 else text  # a last row with no line end, or with one
+        text = text.replace("\n", str(rng.choice(["\n", "\r\n", " \n\n", "\t\r"])))
+        assert outcome(tmp_path, text) == outcome(tmp_path, text, monkeypatch)
+
+
 def test_a_file_of_triangles_costs_a_few_times_its_size(tmp_path: Path) -> None:
     """Read at once: the numbers and a few per line, where a list of every block's words cost fifteen
     times the file."""

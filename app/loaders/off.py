@@ -5,8 +5,9 @@ Why not trimesh's reader: it takes a face line with fewer indices than its count
 reads past words after a vertex's numbers, names no line for a bad number or index, fails with a
 TypeError on some polygons and drops COFF's colours. This one reads the body's numbers in one numpy
 call where its lines are plain (comments taken out, a face's count and corners only digits, whatever
-its colour), and otherwise a line at a time, making the numbers arrays a block of lines at a time; that
-reader names the line of the first problem.
+its colour), and otherwise a line at a time (from the first block of face rows that is not plain, where
+the vertex rows are), making the numbers arrays a block of lines at a time; that reader names the line
+of the first problem.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import LoadError, shortened
-from marraztu.loaders.files import bom_length, line_end_after, read_model_bytes, text_lines
+from marraztu.loaders.files import bom_length, line_at, line_end_after, line_end_from, read_model_bytes, text_lines
 from marraztu.loaders.words import (
     BLANKS,
     MAX_COUNT_DIGITS,
@@ -83,12 +84,12 @@ _MOST_VERTEX_WORDS = 12
 
 
 class _Rows:
-    """The lines that hold words, one at a time, remembering the last one's number (to name where a
-    file ends too soon) and the offset just past it."""
+    """The lines that hold words, one at a time, from `start` (a line's first byte, after line number
+    `line`; None: the text's start), remembering the last one's number (to name where a file ends too soon)."""
 
-    def __init__(self, data: bytes) -> None:
-        self.rows = _lines_with_words(data)
-        self.line = 1
+    def __init__(self, data: bytes, start: int | None = None, line: int = 0) -> None:
+        self.rows = _lines_with_words(data, bom_length(data) if start is None else start, line + 1)
+        self.line = max(line, 1)
 
     def next(self, most_words: int = -1) -> Row | None:
         """The next line's number and its words, the last of `most_words` (unless -1) holding the rest."""
@@ -103,18 +104,34 @@ def read_off(path: Path, data: bytes) -> OffTables:
     rows = _Rows(data)
     layout, vertices, faces = _header(path, rows)
     body_at = line_end_after(data, rows.line)
+    text, start, lines_before = data, body_at, 0
     if data.find(b"#", body_at) >= 0:  # the body without its comments, each line kept
-        at_once = _body_at_once(_without_comments(data, body_at), 0, layout, vertices, faces)
-    else:
-        at_once = _body_at_once(data, body_at, layout, vertices, faces)
+        text, start, lines_before = _without_comments(data, body_at), 0, rows.line
+    at_once = _body_at_once(text, start, layout, vertices, faces)
     if at_once is None:
         positions, colours = _vertex_rows(path, rows, vertices, layout)
         corner_vertex, face_start, face_colours = _face_rows(path, rows, faces, vertices)
         _check_nothing_after(path, rows, faces)
-        at_once = OffTables(positions, corner_vertex, face_start, colours, face_colours)
-    if at_once.colours is not None:
-        _check_colours(path, data, at_once.colours)
-    return at_once
+        tables = OffTables(positions, corner_vertex, face_start, colours, face_colours)
+    else:
+        tables, read_on = at_once
+        if read_on is not None:  # the line reader reads on from the first face row not read at once
+            start, line = read_on
+            tables = _faces_read_on(path, _Rows(text, start, lines_before + line), tables, faces, vertices)
+    if tables.colours is not None:
+        _check_colours(path, data, tables.colours)
+    return tables
+
+
+def _faces_read_on(path: Path, rows: _Rows, read: OffTables, faces: int, vertices: int) -> OffTables:
+    """The tables read at once, and the face rows after them read by the line reader, which names the
+    first problem in them or after them, as it would reading the whole file."""
+    done = read.face_start.size - 1
+    corner_vertex, face_start, coloured = _face_rows(path, rows, faces - done, vertices, faces)
+    _check_nothing_after(path, rows, faces)
+    return replace(read, corner_vertex=np.concatenate((read.corner_vertex, corner_vertex)),
+                   face_start=np.concatenate((read.face_start, face_start[1:] + read.face_start[-1])),
+                   face_colours=read.face_colours or coloured)
 
 
 def _check_colours(path: Path, data: bytes, colours: np.ndarray) -> None:
@@ -181,32 +198,45 @@ def _in_spans(starts: np.ndarray, stops: np.ndarray, size: int) -> np.ndarray:
     return np.cumsum(steps[:size], dtype=np.int8).view(bool)  # each sum 0 or 1
 
 
-def _body_at_once(data: bytes, body_at: int, layout: _Layout, vertices: int, faces: int) -> OffTables | None:
+# Where the line reader reads on from: a line's first byte, and the number of the line before it.
+ReadOn = tuple[int, int]
+
+
+def _body_at_once(data: bytes, body_at: int, layout: _Layout, vertices: int, faces: int
+                  ) -> tuple[OffTables, ReadOn | None] | None:
     """The tables, from the body's numbers read by numpy (the vertex rows' in one call, the faces' a block
     of rows at a time), where each row is one the line reader takes without a word and nothing in it
     needs that reader's care: a face's count and corners only digits (comments are taken out before).
-    None otherwise: the line reader reads the file, and names any problem (a line of words after the
-    faces, say). The rows' shapes are checked from their word counts first, so a line of a million
-    words is never made numbers here."""
+    Where some face rows are not (or the file ends before them, or words follow them), the tables of
+    those before them, and where the line reader reads on (after them) and names any problem: None where
+    the file is read. None where the vertex rows are not all
+    plain: the line reader reads the file. The rows' shapes are checked from their word counts first, so
+    a line of a million words is never made numbers here."""
     rows = vertices + faces
     counts, firsts = line_words(data, body_at, rows + 1)  # a line after the faces: words past them
-    if counts.size != rows:
+    present = min(counts.size, rows)  # the rows the file holds, up to the header's count
+    if present < vertices or not present:
         return None
     width = int(counts[0]) if vertices else 3
-    face_words = counts[vertices:rows]
-    faces_at = int(firsts[vertices])
+    face_words, face_firsts = counts[vertices:present], firsts[vertices:present]
+    faces_at = int(firsts[vertices]) if present > vertices else line_end_from(data, int(firsts[present - 1]))
     if (width not in layout.row_sizes() or (counts[:vertices] != width).any()
-            or _long_counts(data, firsts[vertices:rows]) or not _counts_fit(data, firsts[vertices:rows], face_words)):
+            or _long_counts(data, face_firsts) or not _counts_fit(data, face_firsts, face_words)):
         return None
     table = _numbers_of(data[body_at:faces_at], vertices * width, np.float64)
     if table is None or not holds_in_float32(table):
         return None
-    faces_read = _face_rows_at_once(data, firsts[vertices:rows], len(data), face_words, vertices)
-    if faces_read is None:
-        return None
+    end = int(firsts[present]) if counts.size > present else len(data)  # the faces' text: up to a line after them
+    corner_vertex, face_start, face_colours = _face_rows_at_once(data, face_firsts, end, face_words, vertices)
     positions, colours = _vertex_table(table.reshape(vertices, width), layout)
-    corner_vertex, face_start, face_colours = faces_read
-    return OffTables(positions, corner_vertex, face_start, colours, face_colours)
+    tables = OffTables(positions, corner_vertex, face_start, colours, face_colours)
+    read = vertices + face_start.size - 1
+    if read == rows and counts.size == rows:
+        return tables, None
+    if not read:  # no vertices, and no face row read: from the body's first line
+        return tables, (body_at, line_at(data, body_at) - 1)
+    last = int(firsts[read - 1])  # the last row read: from the line after it (it may end the file)
+    return tables, (line_end_from(data, last), line_at(data, last))
 
 
 _FACE_BLOCK_WORDS = 1 << 16  # the faces' words made numbers at once: half a megabyte of them
@@ -214,19 +244,20 @@ _ROW_PIECE_BYTES = 1 << 18  # a longer row's text made numbers at once
 
 
 def _face_rows_at_once(data: bytes, firsts: np.ndarray, end: int, words: np.ndarray, vertices: int
-                       ) -> tuple[np.ndarray, np.ndarray, bool] | None:
+                       ) -> tuple[np.ndarray, np.ndarray, bool]:
     """The corners and face_start of the face rows that begin at `firsts`, each of its count, that many
     corners and perhaps a colour (`words` in all), and whether any gives a colour; made numbers a block
     of rows at a time (a row of more words than a block, a piece of it at a time), into the corners'
-    final table. None where a row is another (a count of less than 3, a colour of another number of
-    words, an index out of range)."""
-    if words.min() < 4:
-        return None
+    final table. Only the blocks before the first that holds another row (a count of less than 3, a
+    colour of another number of words, an index out of range): the line reader reads on from it."""
+    short = np.flatnonzero(words < 4)
+    if short.size:  # a row of no count and three corners: those before it are read at once
+        end, words, firsts = int(firsts[short[0]]), words[:short[0]], firsts[:short[0]]
     corners = np.empty(int(words.sum()) - words.size, INDEX)  # room for every word after a count
     face_start = np.zeros(words.size + 1, np.int64)  # each row's count, then summed in place
     written = 0
     limit = min(vertices, INDEX_LIMIT)
-    for block in weighed_pieces(words, _FACE_BLOCK_WORDS):
+    for block in weighed_pieces(words, _FACE_BLOCK_WORDS) if words.size else ():
         low, high = block.start, block.stop
         text_end = int(firsts[high]) if high < words.size else end
         if words[low] > _FACE_BLOCK_WORDS:  # alone in its block
@@ -234,12 +265,13 @@ def _face_rows_at_once(data: bytes, firsts: np.ndarray, end: int, words: np.ndar
         else:
             counts = _rows(data[firsts[low]:text_end], words[low:high], corners[written:], limit)
         if counts is None:
-            return None
+            face_start = face_start[:low + 1]
+            break
         face_start[low + 1:high + 1] = counts
         written += int(counts.sum())
     np.cumsum(face_start, out=face_start)
-    coloured = written != corners.size  # the words after a count that are no corner are a colour's
-    return (corners if not coloured else corners[:written].copy()), face_start, coloured
+    coloured = written != int(words[:face_start.size - 1].sum()) - (face_start.size - 1)  # a colour's words
+    return (corners if written == corners.size else corners[:written].copy()), face_start, coloured
 
 
 def _rows(text: bytes, words: np.ndarray, corners: np.ndarray, limit: int) -> np.ndarray | None:
@@ -355,10 +387,10 @@ def _counts_fit(data: bytes, firsts: np.ndarray, words: np.ndarray) -> bool:
     return True
 
 
-def _lines_with_words(data: bytes) -> Iterator[tuple[int, str]]:
-    """(line number, what comes before any #) of each line that holds a word, read a piece at a time
-    (after a byte order mark, which holds no line end: the body's offsets are the file's)."""
-    for number, line in enumerate(text_lines(data, bom_length(data)), start=1):
+def _lines_with_words(data: bytes, start: int, first_line: int) -> Iterator[tuple[int, str]]:
+    """(line number, what comes before any #) of each line from `start` that holds a word, read a piece
+    at a time; the first is line `first_line`."""
+    for number, line in enumerate(text_lines(data, start), start=first_line):
         content = line.split("#", 1)[0] if "#" in line else line
         if content and not content.isspace():
             yield number, content
@@ -409,13 +441,15 @@ def _header(path: Path, rows: _Rows) -> tuple[_Layout, int, int]:
     return _Layout(normal=bool(keyword[3]), coloured=bool(keyword[2]), texture=bool(keyword[1])), vertices, faces
 
 
-def _taken(path: Path, rows: _Rows, count: int, what: tuple[str, str], most_words: int = -1) -> Iterator[Row]:
-    """The next `count` rows, or a LoadError where the file ends before them; `what`: a row's noun, and its plural."""
+def _taken(path: Path, rows: _Rows, count: int, what: tuple[str, str], most_words: int = -1,
+           header_count: int | None = None) -> Iterator[Row]:
+    """The next `count` rows of the header's `header_count` (None: `count`), or a LoadError where the
+    file ends before them; `what`: a row's noun, and its plural."""
     for _ in range(count):
         row = rows.next(most_words)
         if row is None:
-            raise LoadError(path, f"the header counts {counted(count, *what)}, the file ends before them",
-                            line=rows.line)
+            said = counted(count if header_count is None else header_count, *what)
+            raise LoadError(path, f"the header counts {said}, the file ends before them", line=rows.line)
         yield row
 
 
@@ -463,15 +497,17 @@ def _vertex_table(table: np.ndarray, layout: _Layout) -> tuple[np.ndarray, np.nd
     return positions, table[:, colour_at:colour_at + table.shape[1] - layout.row_sizes()[0] + 3]
 
 
-def _face_rows(path: Path, rows: _Rows, count: int, vertices: int) -> tuple[np.ndarray, np.ndarray, bool]:
+def _face_rows(path: Path, rows: _Rows, count: int, vertices: int, header_count: int | None = None
+               ) -> tuple[np.ndarray, np.ndarray, bool]:
     """Each face row's corner count n, its n vertex indices and perhaps a colour (checked to be numbers,
-    not drawn), and whether any row gives one. Held a block at a time as the rows come: never by the
-    header's count, which a short file may exaggerate."""
+    not drawn), and whether any row gives one: `count` rows of the `header_count` (where others were read
+    before them). Held a block at a time as the rows come: never by the header's count, which a short
+    file may exaggerate."""
     corners = WordBlocks(path, lambda path, words, line_of: checked_indices(path, words, line_of, vertices))
     colours = WordBlocks(path, _checked_not_kept)
     coloured = False
     most = max(_FACE_COLOUR_WORDS)
-    for number, (first, *rest) in _taken(path, rows, count, ("face", "faces"), 1):
+    for number, (first, *rest) in _taken(path, rows, count, ("face", "faces"), 1, header_count):
         size = int(first) if is_count(first) else -1
         if size < 3:
             raise LoadError(path, "a face's corner count must be a whole number of 3 or more, not "
