@@ -177,6 +177,50 @@ def test_a_model_loaded_too_small_to_see_says_so_and_dot_frames_it(tmp_path: Pat
     assert viewer.scene.sight(viewer.scene.object, 1.0) is not Sight.TOO_SMALL
 
 
+THIN_WORDS = "thinner than a pixel from here (l draws its edges)"
+
+
+def test_a_beam_framed_under_a_pixel_thick_says_so_and_l_draws_it(tmp_path: Path) -> None:
+    """A 1000:1 beam framed whole in a view 300 pixels high is 0.2 of a pixel thick: the picture was
+    empty and the messages said nothing of why."""
+    beam = box(tmp_path / "beam.obj", (1000.0, 1.0, 1.0), (500.0, 0.5, 0.5))
+    empty = picture(tmp_path, "", (beam,), name="filled.png", size=(400, 300))
+    assert not (empty != BACKGROUND).any()  # the rasteriser lights no pixel centre: the picture stays as it was
+    assert (picture(tmp_path, "l", (beam,), name="lines.png", size=(400, 300)) != BACKGROUND).any(axis=2).sum() > 100
+    with marraztu.Viewer(size=(400, 300), empty=True) as viewer:
+        viewer.load(beam)
+        assert viewer.message.endswith(f"6 faces, {THIN_WORDS}"), viewer.message
+        viewer.press(".")
+        assert viewer.message == f"framed beam, {THIN_WORDS}"
+        viewer.press("l .")
+        assert viewer.message == "framed beam"  # lines light pixels however thin
+        viewer.size = (4000, 3000)
+        viewer.press("l .")
+        assert viewer.message == "framed beam"  # 2 pixels thick
+    at_start = Viewer(empty_scene(), NoFrontend(), frame_size=lambda: (400, 300))
+    at_start.start(StartOptions(empty=True, models=(beam,)), longest_texture_side=64)
+    assert at_start.scene.message.splitlines()[-1] == f"beam: {THIN_WORDS}"
+    assert "thinner" not in viewer_with("", (beam,), empty=True).scene.message  # no picture drawn: none too thin
+    with marraztu.Viewer(size=(400, 300)) as viewer:  # beside the ships
+        viewer.load(beam)
+        viewer.press(".")
+        assert viewer.message == f"framed beam, {THIN_WORDS}"
+
+
+@pytest.mark.parametrize("extents,thin", [((1.0, 1.0, 1000.0), True), ((1e6, 1.0, 1e6), False),
+                                          ((1e6, 1e6, 1.0), False), ((10.0, 1.0, 1.0), False)],
+                         ids=["a needle along the view", "a sheet", "a sheet facing the view", "a 10:1 beam"])
+def test_only_a_model_under_a_pixel_across_is_said_thin(tmp_path: Path, extents: tuple[float, float, float],
+                                                        thin: bool) -> None:
+    model = box(tmp_path / "m.obj", extents)
+    for empty in (True, False):
+        with marraztu.Viewer(size=(400, 300), empty=empty) as viewer:
+            viewer.load(model)
+            viewer.press(".")
+            assert (viewer.message == f"framed m, {THIN_WORDS}") == thin, viewer.message
+            assert viewer.message.startswith("framed m")
+
+
 @pytest.mark.parametrize("centre,size,inside", [((0.0, 0.0, 0.0), 1.0, True), ((0.0, 60.0, 0.0), 1.0, False),
                                                 ((0.0, 0.0, 0.0), 1e-4, True)],
                          ids=["at the origin", "above", "too small to see, at the origin"])
@@ -213,7 +257,7 @@ def test_the_command_lines_models_are_placed_in_one_look_at_the_scene(tmp_path: 
     looks = []
     real = marraztu.model.scene.Scene.sights
     monkeypatch.setattr(marraztu.model.scene.Scene, "sights",
-                        lambda scene, elements, aspect: looks.append(len(elements)) or real(scene, elements, aspect))
+                        lambda scene, elements, *view: looks.append(len(elements)) or real(scene, elements, *view))
     lines = viewer_with("", tuple(models)).scene.message.splitlines()
     assert looks == [40]
     named = [line.split(" as a new")[0].removeprefix("loaded ").split(":")[0] for line in lines[-41:]]

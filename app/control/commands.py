@@ -32,6 +32,7 @@ from marraztu.model.scene import (
     Projection,
     Scene,
     SceneObject,
+    Sight,
     Target,
     perspective_half_height,
     size_unit,
@@ -369,7 +370,25 @@ def frame_selected(scene: Scene, host: Host) -> None:
     turned = framing.revealing(scene.camera.model, [obj])
     matrix, half_height = framing.frame_objects(scene, turned, [obj], host.narrowest_aspect())
     if move_view(scene, matrix, half_height=half_height):
-        scene.message = f"framed {obj.name}"
+        sight = scene.sight(obj, host.narrowest_aspect(), filled_pixels_high(scene, host))
+        scene.message = f"framed {obj.name}" + (sight_words(sight) if sight is Sight.THIN else "")
+
+
+def filled_pixels_high(scene: Scene, host: Host) -> int | None:
+    """The views' height in pixels where they are drawn filled; None where no picture is drawn, or lines
+    are, which light pixels however thin the model."""
+    size = host.frame_size()
+    return None if size is None or scene.modes.fill is not Fill.FILLED else int(size[1])
+
+
+def sight_words(sight: Sight) -> str:
+    """What a message says of where the view shows an object, and the key that shows it: nothing where it does."""
+    return "" if sight is Sight.SEEN else f", {sight.value} ({sight_hint(sight)})"
+
+
+def sight_hint(sight: Sight) -> str:
+    """The key that shows an object the view does not: lines light pixels however thin the model."""
+    return "l draws its edges" if sight is Sight.THIN else ". frames it"
 
 
 def reset_view(scene: Scene, host: Host) -> None:

@@ -453,7 +453,7 @@ class Viewer:
             self._start_loads.append(_StartLoad(obj, Path(path), joined=not together))
             return
         sight, inside = self._sights_and_insides([obj])[0]
-        told = _loaded_message(obj, Path(path), "object", _sight_words(sight) + inside)
+        told = _loaded_message(obj, Path(path), "object", commands.sight_words(sight) + inside)
         self._tell_each([told], at_start)
         if self.scene.message == told[0]:  # not joined to start-up's lines
             self._remember_unseen(obj, told[0], _loaded_message(obj, Path(path), "object", inside)[0])
@@ -464,7 +464,7 @@ class Viewer:
         commands.add_loaded(self.scene, obj, as_camera=False, aspect=self.narrowest_aspect())
         sight, inside = self._sights_and_insides([obj])[0]
         said, seen = (with_notes(f"added {obj.name}: {obj.mesh.summary()}{where}", obj.mesh)
-                      for where in (_sight_words(sight) + inside, inside))
+                      for where in (commands.sight_words(sight) + inside, inside))
         self._say_unseen(obj, said, seen)
 
     def _tell_start_loads(self) -> None:
@@ -486,10 +486,11 @@ class Viewer:
     def _unseen(self, objects: list[SceneObject]) -> list[str]:
         """What each load's message says of an object the view does not show, or that another's box
         holds (framed with `.`, it may still be hidden there); "" where neither."""
-        return [_sight_words(sight) + inside for sight, inside in self._sights_and_insides(objects)]
+        return [commands.sight_words(sight) + inside for sight, inside in self._sights_and_insides(objects)]
 
     def _sights_and_insides(self, objects: list[SceneObject]) -> list[tuple[Sight, str]]:
-        return list(zip(self.scene.sights(objects, self.narrowest_aspect()), self._inside(objects)))
+        sights = self.scene.sights(objects, self.narrowest_aspect(), commands.filled_pixels_high(self.scene, self))
+        return list(zip(sights, self._inside(objects)))
 
     def _say_unseen(self, obj: SceneObject, said: str, seen: str) -> None:
         self.scene.message = said
@@ -567,12 +568,17 @@ class Viewer:
         self._start_models_to_frame = False
 
     def _tell_unseen_start_models(self) -> None:
-        """Models framed together far apart may each span under a pixel: the picture alone is empty."""
-        sights = self.scene.sights(self.scene.objects, self.narrowest_aspect())
-        unseen = [obj.name for obj, sight in zip(self.scene.objects, sights) if sight is not Sight.SEEN]
+        """Models framed together far apart may each span under a pixel, and a thin one be under a pixel
+        across: the picture alone is empty."""
+        sights = self.scene.sights(self.scene.objects, self.narrowest_aspect(),
+                                   commands.filled_pixels_high(self.scene, self))
+        unseen = [obj.name for obj, sight in zip(self.scene.objects, sights) if sight not in (Sight.SEEN, Sight.THIN)]
+        thin = [obj.name for obj, sight in zip(self.scene.objects, sights) if sight is Sight.THIN]
         if unseen:
-            names = ", ".join(unseen[:UNSEEN_NAMES_SAID]) + (", ..." if len(unseen) > UNSEEN_NAMES_SAID else "")
-            self.tell(f"{names}: too small to see framed together (TAB selects one, . frames it)", at_start=True)
+            self.tell(f"{_names(unseen)}: too small to see framed together (TAB selects one, . frames it)",
+                      at_start=True)
+        if thin:
+            self.tell(f"{_names(thin)}: {Sight.THIN.value} ({commands.sight_hint(Sight.THIN)})", at_start=True)
 
     def quit(self) -> None:
         self.frontend.quit()
@@ -618,14 +624,16 @@ def _other(holder: SceneObject, obj: SceneObject) -> str:
     return f"the other {holder.name}" if holder.name == obj.name else holder.name
 
 
+def _names(names: list[str]) -> str:
+    """Models' names in a start message: the first UNSEEN_NAMES_SAID, then "..."."""
+    return ", ".join(names[:UNSEEN_NAMES_SAID]) + (", ..." if len(names) > UNSEEN_NAMES_SAID else "")
+
+
 def _lost_notice(obj: SceneObject, where: str) -> str:
     """What a key, a mouse move or a file read in its place says of the selected object the view no longer shows."""
     return f"{obj.name} is now {where} (. frames it)"
 
 
-def _sight_words(sight: Sight) -> str:
-    """What a load's message says of where the view shows the object: nothing where it does."""
-    return "" if sight is Sight.SEEN else f", {sight.value} (. frames it)"
 
 
 def with_notes(message: str, mesh: Mesh) -> str:

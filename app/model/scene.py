@@ -62,6 +62,9 @@ PARALLEL_DEPTH_RANGE = 1.5
 # A box spanning less of the view's width and height than this is too small to see: under a pixel
 # in a view 1000 pixels high (a model in millimetres loaded beside ships in metres).
 SEEN_SHARE_LEAST = 1e-3
+# A box whose outline is narrower than this across, in pixels, may light no pixel centre when filled (a
+# 1000:1 beam framed whole in a window 300 pixels high is 0.2 of one thick).
+THINNEST_PIXELS = 1.0
 MATERIAL_COLOURS = ("ka", "kd", "ks")  # a material's colours, each 3 finite numbers
 ENCLOSING_BLOCK = 1 << 20  # box pairs compared at once: thousands of loads against thousands of boxes
 
@@ -736,13 +739,14 @@ class Scene:
             depth = scene_depth if scene_depth is not None else near
         return perspective_half_height(max(depth, near))
 
-    def sight(self, element: SceneObject, aspect: float) -> Sight:
-        return self.sights([element], aspect)[0]
+    def sight(self, element: SceneObject, aspect: float, pixels_high: int | None = None) -> Sight:
+        return self.sights([element], aspect, pixels_high)[0]
 
-    def sights(self, elements: list[SceneObject], aspect: float) -> list[Sight]:
-        """How each element's box stands in a view `aspect` wide (a load may land outside it, or so far
-        off or so small that it is not seen), from its eight corners alone: no pass over the scene."""
-        return self.outlook(aspect).sights(world_boxes(elements))
+    def sights(self, elements: list[SceneObject], aspect: float, pixels_high: int | None = None) -> list[Sight]:
+        """How each element's box stands in a view `aspect` wide and `pixels_high` high (a load may land
+        outside it, or so far off or so small that it is not seen, or so thin that it lights no pixel),
+        from its eight corners alone: no pass over the scene."""
+        return self.outlook(aspect).sights(world_boxes(elements), pixels_high)
 
     def enclosers(self, elements: list[SceneObject]) -> list[SceneObject | None]:
         """For each element, the first other shown element whose world box holds its whole (a model in
@@ -874,12 +878,16 @@ class Outlook:
     def view(self) -> np.ndarray:
         return np.linalg.inv(self.eye)
 
-    def sights(self, corners: np.ndarray) -> list[Sight]:
-        """How each box of these (N, 8, 3) world corners stands in the view."""
+    def sights(self, corners: np.ndarray, pixels_high: int | None = None) -> list[Sight]:
+        """How each box of these (N, 8, 3) world corners stands in the view, `pixels_high` high (None:
+        no picture, so none is too thin)."""
         in_eye = corners @ self.view[:3, :3].T + self.view[:3, 3]
         beyond, spans = self.beyond(in_eye), self._spans(in_eye)
-        return [Sight.OUTSIDE if out else Sight.TOO_SMALL if span < SEEN_SHARE_LEAST else Sight.SEEN
-                for out, span in zip(beyond.tolist(), spans.tolist())]
+        thin = (np.zeros(len(in_eye), dtype=bool) if pixels_high is None
+                else self._least_widths(in_eye) * (pixels_high / 2.0) < THINNEST_PIXELS)  # the view is 2 high
+        return [Sight.OUTSIDE if out else Sight.TOO_SMALL if span < SEEN_SHARE_LEAST else
+                Sight.THIN if too_thin else Sight.SEEN
+                for out, span, too_thin in zip(beyond.tolist(), spans.tolist(), thin.tolist())]
 
     def beyond(self, in_eye: np.ndarray) -> np.ndarray:
         """(N,): whether each box of these (N, 8, 3) corners in the eye's frame lies wholly behind the
@@ -900,6 +908,23 @@ class Outlook:
             return spans
         return np.where((depth > 0.0).all(axis=1), spans, np.inf)
 
+    def _least_widths(self, in_eye: np.ndarray) -> np.ndarray:
+        """(N,): how wide each box of these (N, 8, 3) eye-frame corners looks across its narrowest, in
+        half the view's height; infinity where it reaches behind the eye in perspective. An outline's
+        least width lies across one of its sides, and its sides join pairs of corners."""
+        depth = -in_eye[..., 2]
+        scale = self._reaches(np.where(depth > 0.0, depth, 1.0))[..., 1:]  # up: the view is 2 high
+        flat = in_eye[..., :2] / scale
+        first, second = _CORNER_PAIRS
+        along = flat[:, second] - flat[:, first]  # (N, 28, 2)
+        length = np.linalg.norm(along, axis=2)
+        across = np.stack([-along[..., 1], along[..., 0]], axis=2) / np.where(length > 0.0, length, 1.0)[..., None]
+        widths = np.ptp(np.einsum("npk,nck->npc", across, flat), axis=2)
+        least = np.where(length > 0.0, widths, np.inf).min(axis=1, initial=np.inf)
+        if self.parallel_half_height is not None:
+            return least
+        return np.where((depth > 0.0).all(axis=1), least, np.inf)
+
     def _reaches(self, depth: np.ndarray) -> np.ndarray:
         """(..., 2): how far the view reaches across and up, in the eye's frame, at these depths."""
         widths = np.array([self.aspect, 1.0])
@@ -914,9 +939,11 @@ class Sight(Enum):
     SEEN = "seen"
     OUTSIDE = "outside the view"  # wholly behind the eye or beyond one side of it
     TOO_SMALL = "too small to see from here"  # wholly in front of the eye, under SEEN_SHARE_LEAST of it
+    THIN = "thinner than a pixel from here"  # its outline under THINNEST_PIXELS across: maybe no pixel lit
 
 
 _BOX_CORNER_PICKS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)])  # low 0, high 1
+_CORNER_PAIRS = np.array(list(itertools.combinations(range(8), 2))).T  # (2, 28): every two of a box's corners
 
 
 def perspective_half_height(depth: float) -> float:
