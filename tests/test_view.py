@@ -634,6 +634,18 @@ def test_a_model_in_millimetres_keeps_the_depth_precision_it_has_in_metres(tmp_p
     assert np.abs(millimetres - metres).max(axis=2).mean() < 1.0, "the same picture, but for rounding"
 
 
+@pytest.mark.parametrize("keys", [".", "p ."], ids=["perspective", "parallel"])
+def test_a_molecule_framed_among_the_ships_shows_them_behind_it_as_a_model_in_metres_does(
+        tmp_path: Path, keys: str) -> None:
+    """Framed 2 micrometres off, the near plane is 0.1 micrometre: Rammer's wall 50 metres behind lay past
+    a 24-bit depth buffer's last step (1 - near / depth rounds to 1, the cleared depth) and was not drawn,
+    the picture blue where a model in metres, framed alike, showed it red behind."""
+    metres = picture(tmp_path, keys, (octahedron(tmp_path / "m.obj", 1.0),), empty=False, name="m.png")
+    molecule = picture(tmp_path, keys, (octahedron(tmp_path / "mol.obj", 1e-6),), empty=False, name="mol.png")
+    assert (metres != BACKGROUND).any(axis=2).mean() > 0.9  # Rammer's wall behind it
+    assert (np.abs(molecule - metres).max(axis=2) > 1).mean() < 0.001
+
+
 @pytest.mark.parametrize("unit,centre", [(1e6, (0.0, 0.0, 0.0)), (1.0, (4e6, -3e6, 7.0))],
                          ids=["in micrometres", "5,000 km out"])
 def test_in_parallel_projection_the_label_shows_whatever_the_units_and_place(

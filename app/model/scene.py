@@ -65,6 +65,13 @@ SEEN_SHARE_LEAST = 1e-3
 # A box whose outline is narrower than this across, in pixels, may light no pixel centre when filled (a
 # 1000:1 beam framed whole in a window 300 pixels high is 0.2 of one thick).
 THINNEST_PIXELS = 1.0
+# A view reaching deeper than this many near planes into what it shows is drawn in depth slices, the
+# farthest first, each this deep (over its near plane) and its own depth buffer: a 24-bit buffer's step
+# at a slice's back is then under 1% of the depth there, where a molecule framed among ships left the
+# ships past the buffer's last step (1 - near / depth rounds to 1, the cleared depth: not drawn).
+DEPTH_SLICE_REACH = 1e5
+DEPTH_SLICES_MOST = 8  # the farthest takes the rest: each slice draws the whole scene again
+DEPTH_SLICE_OVERLAP = 1.01  # a slice reaches this far into the next one: no crack where they meet
 MATERIAL_COLOURS = ("ka", "kd", "ks")  # a material's colours, each 3 finite numbers
 ENCLOSING_BLOCK = 1 << 20  # box pairs compared at once: thousands of loads against thousands of boxes
 
@@ -715,6 +722,20 @@ class Scene:
         near = self.near_plane(aspect)
         parallel = self.modes.projection is Projection.PARALLEL
         return Lens(aspect, near, self.far_plane(near), self.modes.parallel_half_height if parallel else None)
+
+    def depth_slices(self, aspect: float) -> list[Lens]:
+        """The lens (Scene.lens) cut in depth, farthest first, where what is shown and in view reaches
+        deeper than DEPTH_SLICE_REACH near planes; the lens whole elsewhere (every ordinary view)."""
+        lens = self.lens(aspect)
+        backs = self._shown_boxes(max(aspect, WIDEST_ASPECT), marker=False).backs
+        deepest = min(lens.far, float(backs.max(initial=0.0)))
+        cuts = [lens.near]
+        while cuts[-1] * DEPTH_SLICE_REACH < deepest and len(cuts) < DEPTH_SLICES_MOST:
+            cuts.append(cuts[-1] * DEPTH_SLICE_REACH)
+        if len(cuts) == 1:
+            return [lens]
+        fars = [cut * DEPTH_SLICE_OVERLAP for cut in cuts[1:]] + [lens.far]
+        return [Lens(aspect, near, far, lens.half_height) for near, far in zip(cuts, fars)][::-1]
 
     def projection_matrix(self, aspect: float) -> np.ndarray:
         return self.lens(aspect).matrix()

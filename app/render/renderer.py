@@ -18,7 +18,7 @@ import numpy as np
 
 from marraztu.errors import ViewerError
 from marraztu.loaders.images import fit_texture
-from marraztu.model.guides import scene_guides
+from marraztu.model.guides import Guides, scene_guides
 from marraztu.model.lights import MAX_LIGHTS, Show, WorldLight, shader_defines
 from marraztu.model.mesh import Mesh
 from marraztu.model.probe import ProbedFace, facings, probed_face
@@ -369,9 +369,25 @@ class Renderer:
         self._set_gl_state(depth_test=filled)
         self._use_way(SurfaceWay(view.shading, depth_view=scene.modes.term_view.shows is Show.DEPTH))
         self.origin = self._frame_origin(scene, items)
-        projection = scene.projection_matrix(view.aspect)  # worked out once: its near plane looks at every box
-        view_projection = projection @ scene.view_matrix() @ translation_by(self.origin)
-        self._set_frame_uniforms(scene, view_projection)
+        placed = scene.view_matrix() @ translation_by(self.origin)
+        slices = scene.depth_slices(view.aspect)  # worked out once: the near plane looks at every box
+        self._set_frame_uniforms(scene, slices[0].matrix() @ placed)
+        guides = scene_guides(scene) if scene.modes.guides else None
+        for index, lens in enumerate(slices):
+            if index:  # a nearer slice: its own depth buffer, over the farther one's picture
+                self._clear_depth(view)
+                self._set_view_projection(lens.matrix() @ placed)
+            self._draw_slice(scene, view, items, lens.matrix(), placed, guides)
+        if scene.modes.target is Target.LIGHTS:
+            if len(slices) > 1:  # over everything, undepth-tested: the whole depth's lens keeps it unclipped
+                self._set_view_projection(scene.projection_matrix(view.aspect) @ placed)
+            self._draw_light_marker(scene)
+
+    def _draw_slice(self, scene: Scene, view: View, items: list[tuple[DrawItem, ObjectGpu]],
+                    projection: np.ndarray, placed: np.ndarray, guides: Guides | None) -> None:
+        """What a view draws between one depth slice's near and far planes (the whole view's, but for
+        extreme depths: Scene.depth_slices)."""
+        filled = scene.modes.fill is Fill.FILLED
         if filled:
             for item, gpu in items:
                 self._draw_surface(item, gpu)
@@ -381,13 +397,20 @@ class Renderer:
             for item, gpu in items:
                 self._draw_normals(item, gpu, face_normals=view.shading is Shading.FLAT)
         per_w = pixel_per_w(projection, view)  # what ray_depth.glsl moves depths by
-        if scene.modes.guides:
+        if guides is not None:
             self.guide_uniforms.set("u_pixel_per_w", per_w)
-            self.guides.draw(scene_guides(scene), self.ctx.fbo, self.origin)
+            self.guides.draw(guides, self.ctx.fbo, self.origin)
         if scene.modes.probe or scene.modes.pipeline:  # the face the panel follows
-            self._draw_probe_outline(scene, view, filled, per_w, view_projection)
-        if scene.modes.target is Target.LIGHTS:
-            self._draw_light_marker(scene)
+            self._draw_probe_outline(scene, view, filled, per_w, projection @ placed)
+
+    def _clear_depth(self, view: View) -> None:
+        """The view's depth cleared, its colours kept: GL clears only what the colour mask lets through."""
+        fbo = self.ctx.fbo
+        mask = fbo.color_mask
+        fbo.color_mask = (False, False, False, False)
+        fbo.clear(depth=1.0, viewport=view.viewport)
+        fbo.color_mask = mask
+        fbo.use()  # moderngl hands a framebuffer's masks to GL as it binds it (or clears), not as they are set
 
     @staticmethod
     def _frame_origin(scene: Scene, items: list[tuple[DrawItem, ObjectGpu]]) -> np.ndarray:
@@ -422,8 +445,7 @@ class Renderer:
         parallel = modes.projection is Projection.PARALLEL
         eye = tuple(float(c) for c in scene.eye_position() - self.origin)
         backward = tuple(float(c) for c in scene.eye_backward())
-        for uniforms in (self.surface, self.edges, self.normals, self.outline, self.marker, self.guide_uniforms):
-            uniforms.set_matrix("u_view_projection", view_projection)
+        self._set_view_projection(view_projection)
         for uniforms in (self.lighting, self.edges, self.outline, self.guide_uniforms, self.marker):
             uniforms.set("u_parallel", parallel)
             uniforms.set("u_eye_position", eye)
@@ -442,6 +464,10 @@ class Renderer:
         self.lighting.set("u_ambient", tuple(float(c) for c in scene.ambient))
         self._set_light_uniforms(shown)
         self.normals.set("u_colour", NORMAL_COLOUR)
+
+    def _set_view_projection(self, view_projection: np.ndarray) -> None:
+        for uniforms in (self.surface, self.edges, self.normals, self.outline, self.marker, self.guide_uniforms):
+            uniforms.set_matrix("u_view_projection", view_projection)
 
     def _set_light_uniforms(self, shown: list[WorldLight]) -> None:
         """The lights `shown` (on, and in the term view), packed first: the shader lights with the
