@@ -519,6 +519,17 @@ def test_the_near_plane_keeps_clear_of_a_small_model_looked_at_from_close_by(tmp
         commands.dolly_view(framed, 1)
 
 
+def test_the_near_plane_keeps_within_a_sheet_the_eye_is_inside(tmp_path: Path) -> None:
+    """A sheet 1e6 wide and 1 thick loaded beside the ships holds the start camera: its faces lie half a
+    unit above and below the eye, and a near plane of a thousandth of the sheet's width (1,414) cut them
+    away, an empty picture with `d`."""
+    sheet = box(tmp_path / "sheet.obj", (1e6, 1.0, 1e6))
+    scene = viewer_with("d", (sheet,)).scene
+    assert 0.0 < scene.near_plane() < 0.5
+    pixels = picture(tmp_path, "d", (sheet,), empty=False)
+    assert (pixels != BACKGROUND).any(axis=2).mean() > 0.9  # its inside, above and below
+
+
 @pytest.mark.parametrize("unit", [1e-3, 1e3], ids=["kilometres", "millimetres"])
 def test_the_same_scene_in_other_units_draws_the_same_close_up_inside_and_in_the_depth_view(
         tmp_path: Path, unit: float) -> None:

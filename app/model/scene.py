@@ -45,7 +45,8 @@ SEED_MODEL_SIZE = 100.0
 # the nearest box (its normals included while drawn), measured along a view's widest direction...
 NEAR_MARGIN = 0.5
 WIDEST_ASPECT = 3.0  # ...in a view up to this wide (the window's shape is the front end's)...
-# ...and where the eye is inside a box, or nearly, within this share of that box's size.
+# ...and where the eye is inside a box, or nearly, within this share of that box's least side that is
+# not flat: a sheet 1e6 wide and 1 thick has its faces half a unit from an eye inside it, not 1,400.
 INSIDE_FRACTION = 1e-3
 # The guides (key `a`): an empty scene's grid is of the start camera's scale (it stands 150 away)...
 GUIDES_MIN_EXTENT = 100.0
@@ -667,14 +668,14 @@ class Scene:
         """SPEC 5's 5 units on the scene's scale, brought in to keep clear of what is shown and in a
         view `aspect` wide, or WIDEST_ASPECT if narrower (see NEAR_MARGIN and INSIDE_FRACTION)."""
         boxes = self._shown_boxes(max(aspect, WIDEST_ASPECT), marker=False)  # a light at the eye: 0
-        clear = np.maximum(NEAR_MARGIN * boxes.distances, INSIDE_FRACTION * boxes.sizes)
+        clear = np.maximum(NEAR_MARGIN * boxes.distances, INSIDE_FRACTION * boxes.least_sides)
         return min(NEAR_PLANE * self.unit(), float(clear.min(initial=np.inf)))
 
     def _shown_boxes(self, aspect: float = WIDEST_ASPECT, marker: bool = True, everywhere: bool = False) -> InView:
         """The boxes of what is shown that meet a view `aspect` wide (all of them, `everywhere`), the
         normals drawn out of them included, and the selected light's marker while lights are targeted
         (`marker`)."""
-        models, bounds, sizes = self._shown_placements(marker)
+        models, bounds = self._shown_placements(marker)
         outlook = self.outlook(aspect)
         view = outlook.view @ models
         in_eye = np.einsum("nij,nkj->nki", view[:, :3, :3], _box_corners(bounds)) + view[:, None, :3, 3]
@@ -682,15 +683,15 @@ class Scene:
         beyond = outlook.beyond(in_eye)
         seen = np.ones_like(beyond) if everywhere else ~beyond
         distances = self._least_depths(models, bounds, depth, aspect)
-        return InView(distances[seen], depth.max(axis=1, initial=-np.inf)[seen], sizes[seen])
+        return InView(distances[seen], depth.max(axis=1, initial=-np.inf)[seen], _least_sides(bounds)[seen])
 
     def outlook(self, aspect: float) -> Outlook:
         """The view now, `aspect` wide, as the box tests see it."""
         parallel = self.modes.projection is Projection.PARALLEL
         return Outlook(self.viewer.model, self.modes.parallel_half_height if parallel else None, aspect)
 
-    def _shown_placements(self, marker: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(N, 4, 4) model matrices, (N, 2, 3) boxes and (N,) sizes of what is shown, each box grown by
+    def _shown_placements(self, marker: bool) -> tuple[np.ndarray, np.ndarray]:
+        """(N, 4, 4) model matrices and (N, 2, 3) boxes of what is shown, each box grown by
         the normals drawn out of it, and a box of no size round the selected light's marker while
         lights are targeted (`marker`)."""
         shown = self.shown_elements()
@@ -702,8 +703,8 @@ class Scene:
             at_marker = np.eye(4)
             at_marker[:3, 3] = self.placed_light(self.light).position
             models = np.concatenate([models, at_marker[None]])
-            bounds, sizes = np.concatenate([bounds, np.zeros((1, 2, 3))]), np.append(sizes, 0.0)
-        return models, bounds, sizes
+            bounds = np.concatenate([bounds, np.zeros((1, 2, 3))])
+        return models, bounds
 
     def _least_depths(self, models: np.ndarray, bounds: np.ndarray, depth: np.ndarray, aspect: float
                       ) -> np.ndarray:
@@ -862,7 +863,7 @@ class InView:
 
     distances: np.ndarray  # how deep, at least, its nearest point in view lies
     backs: np.ndarray  # the depth of its farthest corner
-    sizes: np.ndarray  # its mesh's size (0 for the light's marker)
+    least_sides: np.ndarray  # its least side that is not flat (0 for a point, and the light's marker)
 
 
 @dataclass(frozen=True)
@@ -1013,6 +1014,13 @@ def placed_boxes(models: np.ndarray, bounds: np.ndarray) -> np.ndarray:
 def _materials_of(element: SceneObject) -> tuple[Material, ...]:
     """The materials an element is drawn with: its own, and its parts'."""
     return (element.material, *element.part_materials)
+
+
+def _least_sides(bounds: np.ndarray) -> np.ndarray:
+    """(N,): each of (N, 2, 3) boxes' least side that is not flat; 0 where all are (a point)."""
+    sides = bounds[:, 1] - bounds[:, 0]
+    least = np.where(sides > 0.0, sides, np.inf).min(axis=1, initial=np.inf)
+    return np.where(np.isfinite(least), least, 0.0)
 
 
 def _box_bounds(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
