@@ -667,7 +667,13 @@ class Scene:
     def near_plane(self, aspect: float = WIDEST_ASPECT) -> float:
         """SPEC 5's 5 units on the scene's scale, brought in to keep clear of what is shown and in a
         view `aspect` wide, or WIDEST_ASPECT if narrower (see NEAR_MARGIN and INSIDE_FRACTION)."""
-        boxes = self._shown_boxes(max(aspect, WIDEST_ASPECT), marker=False)  # a light at the eye: 0
+        return self._near_of(self._boxes_near(aspect))
+
+    def _boxes_near(self, aspect: float) -> InView:
+        """The boxes the near plane keeps clear of, in a view `aspect` wide: a light at the eye asks nothing."""
+        return self._shown_boxes(max(aspect, WIDEST_ASPECT), marker=False)
+
+    def _near_of(self, boxes: InView) -> float:
         clear = np.maximum(NEAR_MARGIN * boxes.distances, INSIDE_FRACTION * boxes.least_sides)
         return min(NEAR_PLANE * self.unit(), float(clear.min(initial=np.inf)))
 
@@ -720,16 +726,18 @@ class Scene:
 
     def lens(self, aspect: float) -> Lens:
         """What P is built from now, in a view `aspect` wide: the near and far planes follow what is shown."""
-        near = self.near_plane(aspect)
+        return self._lens_from(aspect, self.near_plane(aspect))
+
+    def _lens_from(self, aspect: float, near: float) -> Lens:
         parallel = self.modes.projection is Projection.PARALLEL
         return Lens(aspect, near, self.far_plane(near), self.modes.parallel_half_height if parallel else None)
 
     def depth_slices(self, aspect: float) -> list[Lens]:
         """The lens (Scene.lens) cut in depth, farthest first, where what is shown and in view reaches
         deeper than DEPTH_SLICE_REACH near planes; the lens whole elsewhere (every ordinary view)."""
-        lens = self.lens(aspect)
-        backs = self._shown_boxes(max(aspect, WIDEST_ASPECT), marker=False).backs
-        deepest = min(lens.far, float(backs.max(initial=0.0)))
+        boxes = self._boxes_near(aspect)  # one look at the boxes for the near plane and the depth
+        lens = self._lens_from(aspect, self._near_of(boxes))
+        deepest = min(lens.far, float(boxes.backs.max(initial=0.0)))
         cuts = [lens.near]
         while cuts[-1] * DEPTH_SLICE_REACH < deepest and len(cuts) < DEPTH_SLICES_MOST:
             cuts.append(cuts[-1] * DEPTH_SLICE_REACH)
