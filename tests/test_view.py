@@ -207,6 +207,16 @@ def test_a_beam_framed_under_a_pixel_thick_says_so_and_l_draws_it(tmp_path: Path
         assert viewer.message == f"framed beam, {THIN_WORDS}"
 
 
+def test_a_model_under_a_pixel_every_way_is_said_too_small_not_thin(tmp_path: Path) -> None:
+    """A speck 0.4 pixels across, 150 units off in a view 300 pixels high, spans more than SEEN_SHARE_LEAST
+    of it: said thinner than a pixel, with l for a cure, where `.` is the one."""
+    speck = octahedron(tmp_path / "speck.obj", 0.2, (0.0, 60.0, 0.0))
+    for size, said in (((400, 300), ", too small to see from here (. frames it)"), ((4000, 3000), "")):
+        with marraztu.Viewer(size=size) as viewer:  # 4 pixels across in the larger
+            viewer.load(speck)
+            assert viewer.message.endswith(f"8 faces{said}"), viewer.message
+
+
 @pytest.mark.parametrize("extents,thin", [((1.0, 1.0, 1000.0), True), ((1e6, 1.0, 1e6), False),
                                           ((1e6, 1e6, 1.0), False), ((10.0, 1.0, 1.0), False)],
                          ids=["a needle along the view", "a sheet", "a sheet facing the view", "a 10:1 beam"])

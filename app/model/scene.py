@@ -912,12 +912,13 @@ class Outlook:
         """How each box of these (N, 8, 3) world corners stands in the view, `pixels_high` high (None:
         no picture, so none is too thin)."""
         in_eye = corners @ self.view[:3, :3].T + self.view[:3, 3]
-        beyond, spans = self.beyond(in_eye), self._spans(in_eye)
-        thin = (np.zeros(len(in_eye), dtype=bool) if pixels_high is None
-                else self._least_widths(in_eye) * (pixels_high / 2.0) < THINNEST_PIXELS)  # the view is 2 high
-        return [Sight.OUTSIDE if out else Sight.TOO_SMALL if span < SEEN_SHARE_LEAST else
-                Sight.THIN if too_thin else Sight.SEEN
-                for out, span, too_thin in zip(beyond.tolist(), spans.tolist(), thin.tolist())]
+        beyond, small = self.beyond(in_eye), self._spans(in_eye) < SEEN_SHARE_LEAST
+        thin = np.zeros(len(in_eye), dtype=bool)
+        if pixels_high is not None:  # under a pixel every way is a speck, too small; one way, thin
+            least, most = self._outline_widths(in_eye) * (pixels_high / 2.0)  # the view is 2 high
+            small, thin = small | (most < THINNEST_PIXELS), least < THINNEST_PIXELS
+        return [Sight.OUTSIDE if out else Sight.TOO_SMALL if too_small else Sight.THIN if too_thin else Sight.SEEN
+                for out, too_small, too_thin in zip(beyond.tolist(), small.tolist(), thin.tolist())]
 
     def beyond(self, in_eye: np.ndarray) -> np.ndarray:
         """(N,): whether each box of these (N, 8, 3) corners in the eye's frame lies wholly behind the
@@ -938,10 +939,10 @@ class Outlook:
             return spans
         return np.where((depth > 0.0).all(axis=1), spans, np.inf)
 
-    def _least_widths(self, in_eye: np.ndarray) -> np.ndarray:
-        """(N,): how wide each box of these (N, 8, 3) eye-frame corners looks across its narrowest, in
-        half the view's height; infinity where it reaches behind the eye in perspective. An outline's
-        least width lies across one of its sides, and its sides join pairs of corners."""
+    def _outline_widths(self, in_eye: np.ndarray) -> np.ndarray:
+        """(2, N): how wide each box of these (N, 8, 3) eye-frame corners looks across its narrowest and
+        its widest, in half the view's height; infinity where it reaches behind the eye in perspective.
+        An outline's least width lies across one of its sides, and its sides join pairs of corners."""
         depth = -in_eye[..., 2]
         scale = self._reaches(np.where(depth > 0.0, depth, 1.0))[..., 1:]  # up: the view is 2 high
         flat = in_eye[..., :2] / scale
@@ -950,10 +951,11 @@ class Outlook:
         length = np.linalg.norm(along, axis=2)
         across = np.stack([-along[..., 1], along[..., 0]], axis=2) / np.where(length > 0.0, length, 1.0)[..., None]
         widths = np.ptp(np.einsum("npk,nck->npc", across, flat), axis=2)
-        least = np.where(length > 0.0, widths, np.inf).min(axis=1, initial=np.inf)
+        both = np.stack([np.where(length > 0.0, widths, np.inf).min(axis=1, initial=np.inf),
+                         length.max(axis=1, initial=0.0)])
         if self.parallel_half_height is not None:
-            return least
-        return np.where((depth > 0.0).all(axis=1), least, np.inf)
+            return both
+        return np.where((depth > 0.0).all(axis=1), both, np.inf)
 
     def _reaches(self, depth: np.ndarray) -> np.ndarray:
         """(..., 2): how far the view reaches across and up, in the eye's frame, at these depths."""
