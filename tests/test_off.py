@@ -375,6 +375,17 @@ def test_a_file_bad_at_its_end_is_read_by_lines_from_its_last_block_only(tmp_pat
     assert len(lines_read) <= 2 + 16 + 2  # the header's, a block's rows, the last and one after
 
 
+@pytest.mark.parametrize(("faces", "after"), [(2, "3 0 1 4\r"), (3, "3 0 2 3\r"), (1, "junk\r")])
+def test_a_comment_between_a_lone_cr_and_a_newline_keeps_the_lines_after_it_numbered(
+        tmp_path: Path, faces: int, after: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """An index out of range, a file that ends too soon, words after the faces: each at line 9. Taken
+    out, the comment made "\\r# c\\n" one line end, and the line reader reading on named line 8."""
+    text = f"OFF\r4 {faces} 0\r" + "\r".join(SQUARE) + "\r3 0 1 2\r# c\n" + after
+    by_lines = outcome(tmp_path, text, monkeypatch)
+    assert by_lines[1] == 9
+    assert outcome(tmp_path, text) == by_lines
+
+
 @pytest.mark.parametrize("seed", range(3))
 def test_seeded_bodies_cut_short_or_run_on_read_the_same_at_once_and_by_lines(tmp_path: Path, seed: int,
                                                                            monkeypatch: pytest.MonkeyPatch) -> None:

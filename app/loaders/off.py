@@ -150,7 +150,8 @@ def _check_colours(path: Path, data: bytes, colours: np.ndarray) -> None:
 
 
 def _without_comments(data: bytes, start: int) -> bytes:
-    """The text from `start` with its comments taken out, their line ends kept; a piece of a fixed size
+    """The text from `start` with its comments taken out, each leaving a blank (one taken out whole from
+    between a lone \\r and a \\n made them one line end), their line ends kept; a piece of a fixed size
     at a time, in numpy, carrying whether a piece begins inside a comment: a few bytes of temporaries
     per byte of a piece, however many comments and however long a line (a piece cut only at line ends
     was a whole line, and a long comment line cost 25 times itself)."""
@@ -164,13 +165,17 @@ def _without_comments(data: bytes, start: int) -> bytes:
 
 
 def _piece_without_comments(piece: np.ndarray, inside: bool) -> tuple[bytes, bool]:
-    """A piece of text, its comments taken out (one runs on from the piece before where `inside`), and
-    whether it ends inside one."""
+    """A piece of text, its comments taken out, each leaving a blank where its '#' was (one runs on from
+    the piece before where `inside`), and whether it ends inside one."""
     spans = _comment_spans(piece, inside)
     if spans is None:
         return piece.tobytes(), False
     starts, stops = spans
-    return piece[~_in_spans(starts, stops, piece.size)].tobytes(), bool(stops[-1] == piece.size)
+    taken = _in_spans(starts, stops, piece.size)
+    taken[starts] = piece[starts] != ord("#")  # not one carried in from the piece before: its '#' left a blank
+    kept = piece[~taken]
+    kept[kept == ord("#")] = ord(" ")  # the '#' that begins each comment: every other lies within one
+    return kept.tobytes(), bool(stops[-1] == piece.size)
 
 
 def _comment_spans(piece: np.ndarray, inside: bool) -> tuple[np.ndarray, np.ndarray] | None:
