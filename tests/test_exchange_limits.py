@@ -857,6 +857,14 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
      f"mesh 0's primitive 0's TEXCOORD_{'1' * 31}... (59 characters) names accessor 9, of 2"),
     ("d['materials'] = [{'pbrMetallicRoughness': {'\\x1b' * 50: ['x']}}]",
      "material 0's " + "\\x1b" * 10 + "... (200 characters) is not a list of numbers"),
+    # trimesh took a base colour texture that is not an object as the picture itself: a note of a picture of
+    # shape (), or of a "<built-in method format of str object ...> picture"
+    ("d['materials'] = [{'pbrMetallicRoughness': {'baseColorTexture': 0}}]",
+     "material 0's baseColorTexture is not an object (a texture's index, and its texCoord)"),
+    ("d['materials'] = [{'baseColorTexture': 'abc'}]",
+     "material 0's baseColorTexture is not an object (a texture's index, and its texCoord)"),
+    ("d['materials'] = [{'extensions': {'KHR_materials_pbrSpecularGlossiness': {'diffuseTexture': [0]}}}]",
+     "material 0's diffuseTexture is not an object (a texture's index, and its texCoord)"),
     # trimesh said "'int' object has no attribute 'get'", "invalid literal for int() with base 10: 'x'",
     # "only GLTF 2 is supported not `1.0`", "object of type 'int' has no len()", "'bool' object has no attribute 'find'"
     ("d['asset'] = 5", "its asset is not an object"),

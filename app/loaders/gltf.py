@@ -294,6 +294,8 @@ class GltfReferences:
         if not isinstance(values, dict):
             self.refuse(f"material {number}'s pbrMetallicRoughness is not an object")
         for key, value in (*material.items(), *values.items(), *_diffuse_values(material)):
+            if key in _BASE_COLOUR_TEXTURES and not isinstance(value, dict):  # trimesh took it as the picture
+                self.refuse(f"material {number}'s {key} is not an object (a texture's index, and its texCoord)")
             if isinstance(value, list) and not all(map(_is_number, value)):
                 self.refuse(f"material {number}'s {shortened(escaped(str(key)))} is not a list of numbers")
             if key in _MATERIAL_NUMBERS and not _numbers_of(value, _MATERIAL_NUMBERS[key]):
@@ -527,6 +529,8 @@ def _texture_infos(material: dict[str, Any]) -> Iterator[tuple[str, dict[str, An
 # A material of the specular-glossiness workflow: its diffuse colour is what the lighting's Kd is.
 _SPECULAR_GLOSSINESS = "KHR_materials_pbrSpecularGlossiness"
 _DIFFUSE_KEYS = {"diffuseFactor": "baseColorFactor", "diffuseTexture": "baseColorTexture"}
+# The keys of a base colour texture, which trimesh takes as the picture where it is not an object.
+_BASE_COLOUR_TEXTURES = ("baseColorTexture", "diffuseTexture")
 
 
 def _specular_glossiness(material: dict[str, Any]) -> dict[str, Any] | None:
