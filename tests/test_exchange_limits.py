@@ -857,6 +857,10 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
      f"mesh 0's primitive 0's TEXCOORD_{'1' * 31}... (59 characters) names accessor 9, of 2"),
     ("d['materials'] = [{'pbrMetallicRoughness': {'\\x1b' * 50: ['x']}}]",
      "material 0's " + "\\x1b" * 10 + "... (200 characters) is not a list of numbers"),
+    # trimesh said "'str' object has no attribute 'items'", or drew a texture's picture as none without a word
+    ("d['materials'] = [{'extensions': 'x'}]", "material 0's extensions are not an object"),
+    ("d['meshes'][0]['primitives'][0]['extensions'] = [1]", "mesh 0's primitive 0's extensions are not an object"),
+    ("d['textures'] = [{'extensions': 5}]", "texture 0's extensions are not an object"),
     # trimesh took a base colour texture that is not an object as the picture itself: a note of a picture of
     # shape (), or of a "<built-in method format of str object ...> picture"
     ("d['materials'] = [{'pbrMetallicRoughness': {'baseColorTexture': 0}}]",

@@ -206,6 +206,7 @@ class GltfReferences:
             for number, item in self.each(key):  # trimesh says "object of type 'int' has no len()"
                 if not isinstance(item.get("name", ""), str):
                     self.refuse(f"{_READ_ARRAYS[key]} {number}'s name is not a string")
+                self.extensions(item, f"{_READ_ARRAYS[key]} {number}")
         if "scene" in self.document:
             self.named(self.document["scene"], "scenes", "its scene")
         for number, scene in self.each("scenes"):
@@ -319,6 +320,7 @@ class GltfReferences:
         for primitive_number, primitive in enumerate(self.listed(mesh, "primitives", f"mesh {number}")):
             if not isinstance(primitive, dict):
                 self.refuse(f"mesh {number}'s primitive {primitive_number} is not an object")
+            self.extensions(primitive, f"mesh {number}'s primitive {primitive_number}")
             self.primitive(f"mesh {number}'s primitive {primitive_number}", primitive)
 
     def node(self, number: int, node: dict[str, Any]) -> None:
@@ -382,6 +384,12 @@ class GltfReferences:
             if _is_whole(texture_set) and texture_set >= 0 and f"TEXCOORD_{texture_set}" not in attributes:
                 self.refuse(f"{what} has no TEXCOORD_{texture_set}, which material {number}'s "
                             f"{shortened(escaped(key))} reads (its texCoord)")
+
+    def extensions(self, item: dict[str, Any], what: str) -> None:
+        """Its extensions an object: trimesh said an AttributeError (a material's, a primitive's), or drew a
+        texture's picture as none, without a word."""
+        if not isinstance(item.get("extensions", {}), dict):
+            self.refuse(f"{what}'s extensions are not an object")
 
     def sampler(self, number: int, sampler: dict[str, Any]) -> None:
         """Its filters and wraps, each left out or one of glTF's enums: trimesh passes over them without a word."""
