@@ -223,6 +223,23 @@ def test_a_texture_named_as_other_machines_write_it_is_found_beside_the_mtl(tmp_
     assert mesh.materials[0].texture is not None and not mesh.warnings, mesh.warnings
 
 
+@pytest.mark.parametrize(("written", "folder"), [
+    ("C:/Users/student/Documents/maya/projects/default/sourceimages/wood.ppm", "sourceimages"),
+    ("C:\\Users\\Estudiante\\Documents\\3ds Max 2019\\sceneassets\\images\\wood.ppm", "sceneassets/images"),
+    ("/home/artist/work/../proj/textures/WOOD.PPM", "textures"),
+])
+def test_a_whole_path_whose_picture_came_in_its_project_folder_is_found_there(
+        tmp_path: Path, written: str, folder: str) -> None:
+    """Maya writes map_Kd as the whole path to its project's sourceimages/, 3ds Max to sceneassets/images/;
+    a student copies the project, so the picture lies in those folders beside the MTL, not beside it."""
+    (tmp_path / folder).mkdir(parents=True)
+    shutil.copy(EXAMPLES / "crate.ppm", tmp_path / folder / "wood.ppm")
+    (tmp_path / "m.mtl").write_text(f"newmtl w\nKd 1 1 1\nmap_Kd {written}\n")
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + "usemtl w\nf 1 2 3\n").encode(), str(tmp_path / "m.obj"),
+                     base_dir=tmp_path)
+    assert mesh.materials[0].texture is not None and not mesh.warnings, mesh.warnings
+
+
 @pytest.mark.parametrize(("lines", "noted"), [("d 1\nTr 0.0\n", False), ("d 0.5\n", True), ("Tr 0.25\n", True),
                                               ("d -halo 0.5\n", True), ("d\n", True)])
 def test_only_transparency_asked_for_is_said_to_be_ignored(tmp_path: Path, lines: str, noted: bool) -> None:

@@ -61,12 +61,20 @@ def is_there(path: Path) -> bool:
         return False
 
 
-def spellings(name: str) -> tuple[str, str]:
+_PROJECT_FOLDERS = 3  # deep enough for the folders exporters keep pictures in (3ds Max's sceneassets/images/)
+
+
+def spellings(name: str) -> tuple[str, ...]:
     """Where a file a model names beside it is looked for: as written (a Windows exporter's back
     slashes as slashes, quotes and blanks around it dropped), then by its last part alone, as the
-    model's own folder would hold it."""
+    model's own folder would hold it, then with the folders before that part, one to three, as a copied
+    project holds it (a whole path into Maya's sourceimages/), never above a '..' or a drive."""
     written = name.strip().strip('"').replace("\\", "/")
-    return written, written.rsplit("/", 1)[-1]
+    parts = written.split("/")
+    cut = max((at + 1 for at, part in enumerate(parts) if part == ".." or part.endswith(":")), default=0)
+    inside = [part for part in parts[cut:] if part not in ("", ".")]
+    tails = ["/".join(inside[-count:]) for count in range(1, min(len(inside), _PROJECT_FOLDERS + 1) + 1)]
+    return tuple(dict.fromkeys([written, parts[-1], *tails]))
 
 
 def line_at(data: bytes, offset: int) -> int:
