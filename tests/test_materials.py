@@ -249,6 +249,17 @@ def test_only_transparency_asked_for_is_said_to_be_ignored(tmp_path: Path, lines
     assert any("transparency (d, Tr) ignored" in note for note in mesh.warnings) == noted, mesh.warnings
 
 
+@pytest.mark.parametrize(("lines", "noted"), [("Ke 0.000000 0.000000 0.000000\n", False), ("Ke 1.0 0.4 0.0\n", True),
+                                              ("Ke 0.5\n", True), ("Ke glow\n", True)])
+def test_only_emission_asked_for_is_said_to_be_ignored(tmp_path: Path, lines: str, noted: bool) -> None:
+    """Blender writes Ke for every material, 0 0 0 where nothing glows: a glowing one is drawn unlit,
+    which the load message says, as the lighting equation has no emission."""
+    (tmp_path / "m.mtl").write_text("newmtl w\nKd 1 0 0\n" + lines)
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + "usemtl w\nf 1 2 3\n").encode(), str(tmp_path / "m.obj"),
+                     base_dir=tmp_path)
+    assert any("emission (Ke) ignored" in note for note in mesh.warnings) == noted, mesh.warnings
+
+
 def test_names_looked_for_in_any_case_list_each_folder_once(tmp_path: Path, monkeypatch) -> None:
     """A library of many missing textures in a folder of many files costs one listing, not one each."""
     import os

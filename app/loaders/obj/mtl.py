@@ -173,6 +173,8 @@ def _library_contents(text: bytes, wanted: Collection[str], keep_first: bool) ->
                 library.ignored.update(options)
         elif key in ("d", "tr") and _see_through(key, tokens[1:]):
             library.ignored.add("transparency (d, Tr)")
+        elif key == "ke" and _glows(tokens[1:]):
+            library.ignored.add("emission (Ke)")
     return library
 
 
@@ -337,6 +339,13 @@ def _see_through(key: str, tokens: list[str]) -> bool:
     if not values:
         return True  # unreadable: said to be ignored
     return values[0] < 1.0 if key == "d" else values[0] > 0.0
+
+
+def _glows(tokens: list[str]) -> bool:
+    """Whether a Ke line asks for emission, which SPEC 4's lighting has no term for: Blender writes Ke 0 0 0
+    for every material that does not glow."""
+    values = finite_floats(tokens)
+    return not values or any(value != 0.0 for value in values)  # unreadable: said to be ignored
 
 
 def _files_by_lower_name(folder: Path) -> dict[str, Path]:
