@@ -1407,6 +1407,26 @@ def test_a_base_colour_textures_transform_is_a_note(tmp_path: Path, transform: d
                                 "scale of its texture coordinates) is not applied",) if noted else ())
 
 
+@pytest.mark.parametrize(("materials", "note"), [
+    ([{"emissiveFactor": [1, 0.5, 0.1], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 8}}}],
+     "material 0's emission (emissiveFactor) is not drawn"),
+    ([{}, {"emissiveFactor": [0, 0, 1]}, {"emissiveFactor": [1, 1, 1]}],
+     "2 materials' emission (emissiveFactor) is not drawn (the first, material 1's)"),
+    ([{"emissiveFactor": [1, 1, 1], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 0}}}], None),
+    ([{"emissiveFactor": [0, 0, 0]}], None),
+    ([{}], None),
+])
+def test_an_emissive_material_is_a_note(tmp_path: Path, materials: list[dict[str, Any]], note: str | None) -> None:
+    """SPEC 4's lighting has no emission: a lamp Blender writes with an emissiveFactor (and a strength) was
+    drawn lit as any other material, without a word."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["materials"] = materials
+    document["meshes"][0]["primitives"][0]["material"] = len(materials) - 1
+    path = tmp_path / "lamp.glb"
+    path.write_bytes(glb(document, binary))
+    assert load_model(path).warnings == (() if note is None else (note,))
+
+
 @pytest.mark.parametrize(("modes", "note"), [
     ([4, 1, 0], "2 primitives of points and lines are not drawn"),
     ([4, 6], "1 primitive of triangle fans is not drawn"),

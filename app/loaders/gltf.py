@@ -738,9 +738,9 @@ def unfaithful_notes(document: dict[str, Any], undrawn: list[str]) -> list[str]:
     morph targets it does not read, primitives it reads no faces of (`undrawn`, its undrawn_primitive_notes,
     which the placement check has read already), base colours outside 0..1 it holds to it, base colour
     textures on a second set of texture coordinates, which it reads from the first, and their texture
-    transforms, which it does not apply."""
+    transforms, which it does not apply; and emission, which SPEC 4's lighting has no term for."""
     return [*_morphed_notes(document), *undrawn, *_outside_colour_notes(document),
-            *_other_uv_set_notes(document), *_texture_transform_notes(document)]
+            *_other_uv_set_notes(document), *_texture_transform_notes(document), *_emission_notes(document)]
 
 
 def _morphed_notes(document: dict[str, Any]) -> list[str]:
@@ -791,6 +791,23 @@ def _outside_colour_notes(document: dict[str, Any]) -> list[str]:
         return [f"material {number}'s {key} holds {value:g}: glTF's colours are 0..1, held to it"]
     return [f"{materials} materials' {key} hold values outside glTF's 0..1 (the first, material {number}'s, "
             f"{value:g}), held to it"]
+
+
+def _emission_notes(document: dict[str, Any]) -> list[str]:
+    """Materials that glow (an emissiveFactor not black, a KHR_materials_emissive_strength not 0), as Blender
+    writes a lamp's: drawn lit as any other."""
+    glowing = [number for number, material in enumerate(document.get("materials", [])) if _glows(material)]
+    if not glowing:
+        return []
+    if len(glowing) == 1:
+        return [f"material {glowing[0]}'s emission (emissiveFactor) is not drawn"]
+    return [f"{len(glowing)} materials' emission (emissiveFactor) is not drawn (the first, material {glowing[0]}'s)"]
+
+
+def _glows(material: dict[str, Any]) -> bool:
+    strength = _nested(material, ("extensions", "KHR_materials_emissive_strength")).get("emissiveStrength", 1)
+    factor = _listed(material.get("emissiveFactor"))
+    return any(_is_number(value) and value > 0 for value in factor) and not (_is_number(strength) and strength <= 0)
 
 
 # KHR_texture_transform's values that leave texture coordinates as they are.
