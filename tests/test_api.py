@@ -146,7 +146,8 @@ def test_a_trimesh_with_its_texture_draws_like_the_same_model_from_a_file(tmp_pa
     picture.save(tmp_path / "four.ppm")
     square = [[-60.0, -60.0, 20.0], [60.0, -60.0, 20.0], [60.0, 60.0, 20.0], [-60.0, 60.0, 20.0]]
     uvs = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
-    (tmp_path / "square.mtl").write_text("newmtl square\nmap_Kd four.ppm\n")
+    # the viewer's Kd, which a trimesh's own material takes (an MTL's map_Kd without Kd is drawn at Kd 1)
+    (tmp_path / "square.mtl").write_text("newmtl square\nKd 0.7 0.7 0.7\nmap_Kd four.ppm\n")
     (tmp_path / "square.obj").write_text("mtllib square.mtl\nusemtl square\n"
                                          + "".join(f"v {x:g} {y:g} {z:g}\n" for x, y, z in square)
                                          + "".join(f"vt {u:g} {v:g}\n" for u, v in uvs)

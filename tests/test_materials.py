@@ -249,6 +249,20 @@ def test_only_transparency_asked_for_is_said_to_be_ignored(tmp_path: Path, lines
     assert any("transparency (d, Tr) ignored" in note for note in mesh.warnings) == noted, mesh.warnings
 
 
+@pytest.mark.parametrize(("lines", "kd"), [("map_Kd wood.ppm\n", (1.0, 1.0, 1.0)),
+                                          ("Kd 0.5 0.25 0.5\nmap_Kd wood.ppm\n", (0.5, 0.25, 0.5)),
+                                          ("map_Kd wood.ppm\nKd 0 0 0\n", (0.0, 0.0, 0.0)),
+                                          ("Ks 0.5 0.5 0.5\n", None)])
+def test_a_picture_without_a_kd_is_the_diffuse_colour_itself(tmp_path: Path, lines: str, kd: tuple | None) -> None:
+    """Blender's exporter writes no Kd beside a map_Kd, the picture being the colour, and shows it
+    unscaled: it took the viewer's Kd 0.7, drawing the picture's diffuse light 30% darker."""
+    shutil.copy(EXAMPLES / "crate.ppm", tmp_path / "wood.ppm")
+    (tmp_path / "m.mtl").write_text("newmtl w\nNs 250.000000\nKa 1.000000 1.000000 1.000000\n" + lines)
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + "usemtl w\nf 1 2 3\n").encode(), str(tmp_path / "m.obj"),
+                     base_dir=tmp_path)
+    assert mesh.materials[0].values.get("kd") == kd
+
+
 @pytest.mark.parametrize(("lines", "noted"), [("Ke 0.000000 0.000000 0.000000\n", False), ("Ke 1.0 0.4 0.0\n", True),
                                               ("Ke 0.5\n", True), ("Ke glow\n", True)])
 def test_only_emission_asked_for_is_said_to_be_ignored(tmp_path: Path, lines: str, noted: bool) -> None:

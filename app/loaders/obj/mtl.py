@@ -139,8 +139,16 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
                    textures: _TextureCache, keep_first: bool = True) -> list[MeshMaterial]:
     library = _library_contents(text, wanted, keep_first)
     notes.extend(_library_notes(name, text, library))
-    return [MeshMaterial(block.name, block.values, *textures.read(block.texture, folder))
+    return [MeshMaterial(block.name, _picture_as_colour(block), *textures.read(block.texture, folder))
             for block in library.kept.values()]
+
+
+def _picture_as_colour(block: _Block) -> dict[str, object]:
+    """A material's numbers, with Kd 1 1 1 where a map_Kd gives its colour and no Kd line does: Blender
+    writes no Kd beside a map_Kd, the picture being the colour, and draws it unscaled."""
+    if block.texture is None or "kd" in block.values:
+        return block.values
+    return {**block.values, "kd": (1.0, 1.0, 1.0)}
 
 
 def _library_contents(text: bytes, wanted: Collection[str], keep_first: bool) -> _Library:
