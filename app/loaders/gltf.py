@@ -857,16 +857,17 @@ def _base_colour_texture(material: dict[str, Any]) -> dict[str, Any]:
 
 # --- the JSON made again for trimesh -------------------------------------------------------------
 def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_type: str,
-                     read_beside: Callable[[str], bytes]) -> bytes:
+                     read_beside: Callable[[str], bytes], number_materials: bool = False) -> bytes:
     """The file, its JSON made again (a GLB's JSON chunk too) where trimesh is to read it otherwise: its
     file URIs that hold "base64," spelled apart, its materials named by number where their samplers matter,
     the meshes no node places emptied, the accessors its primitives read made plain (sparse ones dense,
     normalized positions and texture coordinates floats), its nodes' cameras taken out, its WEBP textures'
     fallbacks chosen, its specular-glossiness materials' diffuse colours made their base colours and the
     pictures no material draws emptied.
-    The document is checked already (GltfReferences); `read_beside` reads a buffer's file."""
+    The document is checked already (GltfReferences); `read_beside` reads a buffer's file;
+    `number_materials`: where sampled_materials found a sampling to keep."""
     respelled = _file_uris_respelled(document)  # first: a buffer read here is then named as trimesh asks for it
-    numbered = _materials_numbered(document)
+    numbered = number_materials and _materials_numbered(document)
     unplaced_emptied = _unplaced_meshes_emptied(document)  # before their accessors are made plain
     made_plain = _accessors_made_plain(path, document, _BufferBytes(path, data, document, file_type, read_beside))
     cameras_taken_out = _node_cameras_taken_out(document)
@@ -1123,8 +1124,9 @@ _NUMBERED = "marraztu glTF material "
 def sampled_materials(document: dict[str, Any]) -> tuple[tuple[str, TextureSampling], ...]:
     """Each material's name ("" for none) and its base colour texture's sampling (its sampler's), where any
     is not the default; () where none is. The document is checked already (GltfReferences)."""
-    materials = document.get("materials", [])
-    samplings = [_sampling(document, _base_colour_texture(material)) for material in materials]
+    materials, textures = document.get("materials", []), document.get("textures", [])
+    by_sampler = [_sampling(sampler) for sampler in document.get("samplers", [])]  # each made once, however shared
+    samplings = [_sampling_of(_base_colour_texture(material), textures, by_sampler) for material in materials]
     if all(sampling.is_default for sampling in samplings):
         return ()
     return tuple((material.get("name", ""), sampling) for material, sampling in zip(materials, samplings))
@@ -1136,11 +1138,16 @@ def numbered_material(name: object) -> int | None:
     return int(number) if number.isdecimal() else None
 
 
-def _sampling(document: dict[str, Any], texture_info: dict[str, Any]) -> TextureSampling:
+def _sampling_of(texture_info: dict[str, Any], textures: list[dict[str, Any]],
+                 by_sampler: list[TextureSampling]) -> TextureSampling:
+    """A textureInfo's sampling: its texture's sampler's, made by _sampling (the default where it names none)."""
     index = texture_info.get("index")
-    if not _is_whole(index) or "sampler" not in document["textures"][index]:
+    if not _is_whole(index) or "sampler" not in textures[index]:
         return DEFAULT_SAMPLING
-    sampler = document["samplers"][document["textures"][index]["sampler"]]
+    return by_sampler[textures[index]["sampler"]]
+
+
+def _sampling(sampler: dict[str, Any]) -> TextureSampling:
     minify, between_levels = _MINIFY.get(sampler.get("minFilter"), (Filter.LINEAR, Filter.LINEAR))
     return TextureSampling(wrap_u=_WRAPS[sampler.get("wrapS", 10497)], wrap_v=_WRAPS[sampler.get("wrapT", 10497)],
                            magnify=_MAGNIFY.get(sampler.get("magFilter"), Filter.LINEAR), minify=minify,
@@ -1148,14 +1155,12 @@ def _sampling(document: dict[str, Any], texture_info: dict[str, Any]) -> Texture
 
 
 def _materials_numbered(document: dict[str, Any]) -> bool:
-    """Names each material by its number (numbered_material) where a sampling is not the default (as
-    sampled_materials finds them), every one, so that no name of the file's is taken for a number. False
-    where none is renamed."""
-    if not sampled_materials(document):
-        return False
-    for number, material in enumerate(document["materials"]):
+    """Names each material by its number (numbered_material), every one, so that no name of the file's is
+    taken for a number. False where there is none."""
+    materials = document.get("materials", [])
+    for number, material in enumerate(materials):
         material["name"] = f"{_NUMBERED}{number}"
-    return True
+    return bool(materials)
 
 
 def _diffuse_made_base_colour(document: dict[str, Any]) -> bool:
