@@ -125,3 +125,37 @@ def test_edges_of_more_polygons_than_their_tables_hold_are_refused_in_one_line(o
                 renderer.render(scene, fbo, (8, 8))
     finally:
         renderer.release()
+
+
+def test_a_file_texture_the_gpu_refuses_is_released(own_ctx, monkeypatch) -> None:
+    """A GL error after a material's picture is uploaded raises, and the texture it made is let go: it
+    was kept by nothing and freed by no one."""
+    from marraztu.model.mesh import MeshMaterial
+    from marraztu.model.scene import SceneObject
+    from marraztu.render import renderer as renderer_module
+    from support.scenes import PLAIN, quad_mesh, scene_with
+
+    picture = np.full((4, 4, 3), 200, np.uint8)
+    mesh = quad_mesh()
+    mesh = type(mesh)(**{**vars(mesh), "materials": (MeshMaterial("painted", {}, picture, "map_Kd"),),
+                         "face_material": np.zeros(mesh.face_count, np.int32)})
+    scene = scene_with([SceneObject.placed("quad", mesh, PLAIN, (0, 0, 0))], texture=True)
+    corpus.make_current(own_ctx)
+    renderer = Renderer(own_ctx)
+    released: list[object] = []
+    original = renderer_module.MipmappedTexture.release
+    monkeypatch.setattr(renderer_module.MipmappedTexture, "release",
+                        lambda self: (released.append(self), original(self))[1])
+
+    def refused(ctx, what: str) -> None:
+        if what.startswith("a texture of 4x4"):
+            raise ViewerError(f"the GPU refused {what} (GL_OUT_OF_MEMORY)")
+
+    monkeypatch.setattr(renderer_module, "check_gl", refused)
+    try:
+        with gl_context.offscreen_framebuffer(own_ctx, (8, 8)) as fbo:
+            with pytest.raises(ViewerError, match="refused a texture of 4x4"):
+                renderer.render(scene, fbo, (8, 8))
+        assert len(released) == 1 and not renderer._file_textures
+    finally:
+        renderer.release()

@@ -336,9 +336,13 @@ class Renderer:
             fitted, _ = fit_texture(image, self.max_texture_side)
             pixels = np.ascontiguousarray(np.flipud(np.asarray(fitted, dtype=np.uint8)[..., :3]))
             self.ctx.error  # noqa: B018 - reading it clears an older error, so the check is about this upload
-            held = (image, create_mipmapped(self.ctx, pixels, sampling))
-            check_gl(self.ctx, f"a texture of {pixels.shape[1]}x{pixels.shape[0]}")
-            self._file_textures[id(image), sampling] = held
+            made = create_mipmapped(self.ctx, pixels, sampling)
+            try:
+                check_gl(self.ctx, f"a texture of {pixels.shape[1]}x{pixels.shape[0]}")
+            except ViewerError:
+                made.release()  # held by nothing yet: kept, it would never be freed
+                raise
+            held = self._file_textures[id(image), sampling] = (image, made)
         return held[1]
 
     # --- a frame -----------------------------------------------------------------------------
