@@ -83,3 +83,20 @@ def test_a_scene_after_a_byte_order_mark_reads_as_without_it(tmp_path: Path, tex
 
     (tmp_path / "m.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
     assert read(bom=True) == read(bom=False) == (expected or (0.0, 0.0, 10.0))
+
+
+@pytest.mark.parametrize("end", [b"\n", b"\r\n", b"\r", b"\n\r"])
+def test_lines_are_read_a_piece_at_a_time_whatever_ends_them(monkeypatch, end: bytes) -> None:
+    """A file whose lines end in a lone CR (classic Mac OS) was read as one piece, every line in one list
+    beside the text copied twice: the pieces are now a few kilobytes for every line end, and the lines
+    are the same as the whole text's."""
+    from marraztu.loaders import files
+
+    pieces: list[int] = []
+    split = files._lines_of
+    monkeypatch.setattr(files, "_lines_of", lambda piece: (pieces.append(len(piece)), split(piece))[1])
+    rows = [f"v {number}.5 {number % 7}.25 0" for number in range(20_000)]
+    data = end.join(row.encode() for row in rows) + end
+    lines = list(files.text_lines(data))
+    expected = split(data)
+    assert lines == expected and len(pieces) > 10 and max(pieces) <= files._LINES_PIECE + 64

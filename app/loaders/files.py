@@ -125,12 +125,22 @@ def text_lines(data: bytes, start: int = 0) -> Iterator[str]:
     """The text's lines from `start` (a line's first byte) as editors count them (a line ends at \n,
     \r\n or a lone \r, never at the form feeds and separators str.splitlines() also ends lines at), a
     piece at a time: a list of every line would hold the text again, in pieces. Each is UTF-8, or else
-    Windows-1252 (see decoded). Each piece ends just after a newline, so its lines are the text's."""
+    Windows-1252 (see decoded). Each piece ends just after a line end, so its lines are the text's."""
     while start < len(data):
-        cut = data.find(b"\n", start + _LINES_PIECE)
-        stop = len(data) if cut < 0 else cut + 1
+        stop = _piece_end(data, start + _LINES_PIECE)
         yield from _lines_of(data[start:stop])
         start = stop
+
+
+def _piece_end(data: bytes, start: int) -> int:
+    """Just past the first line end at or after `start` (a \r\n whole), or the text's end. The \r is
+    looked for only before the next \n: looked for to the end, a file without one would be read whole
+    for every piece."""
+    newline = data.find(b"\n", start)
+    carriage = data.find(b"\r", start, len(data) if newline < 0 else newline)
+    if carriage < 0:
+        return len(data) if newline < 0 else newline + 1
+    return carriage + 2 if data[carriage + 1:carriage + 2] == b"\n" else carriage + 1
 
 
 def _lines_of(piece: bytes) -> list[str]:
