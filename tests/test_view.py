@@ -667,6 +667,31 @@ def test_a_molecule_framed_among_the_ships_shows_them_behind_it_as_a_model_in_me
     assert (np.abs(molecule - metres).max(axis=2) > 1).mean() < 0.001
 
 
+def test_clearing_a_depth_slice_restores_the_colour_mask_when_the_clear_fails() -> None:
+    """A nearer depth slice clears the depth alone, the colour masked off: a clear that raised left the
+    framebuffer's colour masked, and so every later picture drawn into it blank."""
+    from types import SimpleNamespace
+
+    from marraztu.errors import ViewerError
+    from marraztu.model.scene import Shading
+    from marraztu.model.viewports import View
+    from marraztu.render.renderer import Renderer
+
+    class Framebuffer:
+        color_mask = (True, True, True, True)
+
+        def clear(self, **kwargs: object) -> None:
+            raise ViewerError("the GPU refused a clear")
+
+        def use(self) -> None:
+            pass
+
+    fbo = Framebuffer()
+    with pytest.raises(ViewerError, match="refused a clear"):
+        Renderer._clear_depth(SimpleNamespace(ctx=SimpleNamespace(fbo=fbo)), View((0, 0, 8, 8), Shading.PHONG))
+    assert fbo.color_mask == (True, True, True, True)
+
+
 @pytest.mark.parametrize("unit,centre", [(1e6, (0.0, 0.0, 0.0)), (1.0, (4e6, -3e6, 7.0))],
                          ids=["in micrometres", "5,000 km out"])
 def test_in_parallel_projection_the_label_shows_whatever_the_units_and_place(

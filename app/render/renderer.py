@@ -412,9 +412,11 @@ class Renderer:
         fbo = self.ctx.fbo
         mask = fbo.color_mask
         fbo.color_mask = (False, False, False, False)
-        fbo.clear(depth=1.0, viewport=view.viewport)
-        fbo.color_mask = mask
-        fbo.use()  # moderngl hands a framebuffer's masks to GL as it binds it (or clears), not as they are set
+        try:
+            fbo.clear(depth=1.0, viewport=view.viewport)
+        finally:  # the mask is the framebuffer's own: left off, every later picture in it would be blank
+            fbo.color_mask = mask
+            fbo.use()  # moderngl hands a framebuffer's masks to GL as it binds it (or clears), not as they are set
 
     @staticmethod
     def _frame_origin(scene: Scene, items: list[tuple[DrawItem, ObjectGpu]]) -> np.ndarray:
