@@ -667,6 +667,25 @@ def test_a_molecule_framed_among_the_ships_shows_them_behind_it_as_a_model_in_me
     assert (np.abs(molecule - metres).max(axis=2) > 1).mean() < 0.001
 
 
+def test_a_view_in_depth_slices_looks_at_the_shown_boxes_once_with_the_light_marker_too(
+        tmp_path: Path, offscreen, monkeypatch) -> None:
+    """The light marker takes the whole depth's lens, which is its slices' together: made again from the
+    scene, it looked at every shown box a second time in each frame."""
+    from dataclasses import replace
+
+    from marraztu.model.scene import Target
+
+    scene = viewer_with(".", (octahedron(tmp_path / "mol.obj", 1e-6),)).scene
+    scene.modes.target = Target.LIGHTS
+    slices = scene.depth_slices(1.0)
+    assert len(slices) > 1 and replace(slices[0], near=slices[-1].near) == scene.lens(1.0)
+    looks = []
+    shown_boxes = Scene._shown_boxes
+    monkeypatch.setattr(Scene, "_shown_boxes", lambda *args, **kwargs: looks.append(1) or shown_boxes(*args, **kwargs))
+    offscreen(scene)
+    assert len(looks) == 1
+
+
 def test_clearing_a_depth_slice_restores_the_colour_mask_when_the_clear_fails() -> None:
     """A nearer depth slice clears the depth alone, the colour masked off: a clear that raised left the
     framebuffer's colour masked, and so every later picture drawn into it blank."""

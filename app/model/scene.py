@@ -734,7 +734,8 @@ class Scene:
 
     def depth_slices(self, aspect: float) -> list[Lens]:
         """The lens (Scene.lens) cut in depth, farthest first, where what is shown and in view reaches
-        deeper than DEPTH_SLICE_REACH near planes; the lens whole elsewhere (every ordinary view)."""
+        deeper than DEPTH_SLICE_REACH near planes; the lens whole elsewhere (every ordinary view). The
+        first's far plane and the last's near plane are the lens's."""
         boxes = self._boxes_near(aspect)  # one look at the boxes for the near plane and the depth
         lens = self._lens_from(aspect, self._near_of(boxes))
         deepest = min(lens.far, float(boxes.backs.max(initial=0.0)))

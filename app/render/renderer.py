@@ -10,7 +10,7 @@ that is skipped while every uniform it reads keeps its value (ObjectGpu.light).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Callable, Iterable
 
 import moderngl
@@ -384,7 +384,7 @@ class Renderer:
             self._draw_slice(scene, view, items, lens.matrix(), placed, guides)
         if scene.modes.target is Target.LIGHTS:
             if len(slices) > 1:  # over everything, undepth-tested: the whole depth's lens keeps it unclipped
-                self._set_view_projection(scene.projection_matrix(view.aspect) @ placed)
+                self._set_view_projection(replace(slices[0], near=slices[-1].near).matrix() @ placed)
             self._draw_light_marker(scene)
 
     def _draw_slice(self, scene: Scene, view: View, items: list[tuple[DrawItem, ObjectGpu]],
