@@ -634,8 +634,6 @@ def _lost_notice(obj: SceneObject, where: str) -> str:
     return f"{obj.name} is now {where} (. frames it)"
 
 
-
-
 def with_notes(message: str, mesh: Mesh) -> str:
     """A load's message with its mesh's notes after it, in brackets."""
     return f"{message} ({'; '.join(mesh.warnings)})" if mesh.warnings else message

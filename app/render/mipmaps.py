@@ -73,8 +73,8 @@ def _gl() -> ctypes.CDLL | None:
 
 @dataclass
 class MipmappedTexture:
-    """A (W, H) RGB texture with all its mip levels, sampled trilinearly. `texture` is the moderngl
-    object to `use()`; `release()` frees the GL texture whichever way it was made."""
+    """A (W, H) RGB texture with all its mip levels, sampled as its material says (`sample`). `texture`
+    is the moderngl object to `use()`; `release()` frees the GL texture whichever way it was made."""
 
     texture: moderngl.Texture
     external_name: int | None = None  # the GL name when the levels came from numpy, ours to delete
