@@ -686,6 +686,19 @@ def test_a_view_in_depth_slices_looks_at_the_shown_boxes_once_with_the_light_mar
     assert len(looks) == 1
 
 
+def test_the_probe_outline_in_a_farther_depth_slice_leaves_the_nearer_slice_depth_tested(
+        tmp_path: Path, offscreen) -> None:
+    """The probe's outline ends with the depth test off; drawn in the farther slice, it left the nearer
+    slice's surfaces drawn in the order they come, the molecule's back faces over its front."""
+    scene = viewer_with(".", (octahedron(tmp_path / "mol.obj", 1e-6),)).scene
+    assert len(scene.depth_slices(1.0)) > 1 and scene.object is not None
+    plain = offscreen(scene)
+    scene.modes.probe = True
+    probed = offscreen(scene)
+    outline = (probed != plain).any(axis=2)
+    assert outline.mean() < 0.05, "the outline and its dots alone differ"
+
+
 def test_clearing_a_depth_slice_restores_the_colour_mask_when_the_clear_fails() -> None:
     """A nearer depth slice clears the depth alone, the colour masked off: a clear that raised left the
     framebuffer's colour masked, and so every later picture drawn into it blank."""

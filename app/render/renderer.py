@@ -369,8 +369,6 @@ class Renderer:
 
     def _render_view(self, scene: Scene, view: View,
                      items: list[tuple[DrawItem, ObjectGpu]]) -> None:
-        filled = scene.modes.fill is Fill.FILLED
-        self._set_gl_state(depth_test=filled)
         self._use_way(SurfaceWay(view.shading, depth_view=scene.modes.term_view.shows is Show.DEPTH))
         self.origin = self._frame_origin(scene, items)
         placed = scene.view_matrix() @ translation_by(self.origin)
@@ -392,6 +390,7 @@ class Renderer:
         """What a view draws between one depth slice's near and far planes (the whole view's, but for
         extreme depths: Scene.depth_slices)."""
         filled = scene.modes.fill is Fill.FILLED
+        self._set_gl_state(depth_test=filled)  # per slice: the farther one's probe outline ends with it off
         if filled:
             for item, gpu in items:
                 self._draw_surface(item, gpu)
