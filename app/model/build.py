@@ -6,7 +6,6 @@ gets the same normals and coordinates whichever way it came in.
 
 from __future__ import annotations
 
-import re
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
@@ -301,11 +300,15 @@ def derive_mesh(name: str, positions: np.ndarray, corner_vertex: np.ndarray, fac
     )
 
 
+_FALLBACK_NORMAL_WORDS = " (given a fallback normal)"  # ends the zero-area note, which only derive_mesh writes
+
+
 def _zero_area_note(faces: int) -> str:
-    return f"{counted(faces, 'zero-area face')} (given a fallback normal)"
+    return counted(faces, "zero-area face") + _FALLBACK_NORMAL_WORDS
 
 
-_ZERO_AREA_NOTE = re.compile(r"\d+ zero-area faces? \(given a fallback normal\)")
+def _is_zero_area_note(note: str) -> bool:
+    return note.endswith(_FALLBACK_NORMAL_WORDS)
 
 
 def scaled_mesh(mesh: Mesh, factors: tuple[float, float, float]) -> Mesh:
@@ -340,7 +343,7 @@ def scaled_mesh(mesh: Mesh, factors: tuple[float, float, float]) -> Mesh:
 def _with_zero_area_note(notes: tuple[str, ...], derived: tuple[str, ...]) -> tuple[str, ...]:
     """`notes` with their zero-area note (derive_mesh's, known by its words) replaced by the `derived`
     mesh's own notes, in its place, or after them where they had none."""
-    old = next((at for at, note in enumerate(notes) if _ZERO_AREA_NOTE.fullmatch(note)), len(notes))
+    old = next((at for at, note in enumerate(notes) if _is_zero_area_note(note)), len(notes))
     return notes[:old] + derived + notes[old + 1:]
 
 
