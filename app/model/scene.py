@@ -740,7 +740,7 @@ class Scene:
         lens = self._lens_from(aspect, self._near_of(boxes))
         deepest = min(lens.far, float(boxes.backs.max(initial=0.0)))
         cuts = [lens.near]
-        while cuts[-1] * DEPTH_SLICE_REACH < deepest and len(cuts) < DEPTH_SLICES_MOST:
+        while 0.0 < cuts[-1] * DEPTH_SLICE_REACH < deepest and len(cuts) < DEPTH_SLICES_MOST:  # 0: no depth to cut
             cuts.append(cuts[-1] * DEPTH_SLICE_REACH)
         if len(cuts) == 1:
             return [lens]
