@@ -263,6 +263,33 @@ def test_a_picture_without_a_kd_is_the_diffuse_colour_itself(tmp_path: Path, lin
     assert mesh.materials[0].values.get("kd") == kd
 
 
+# A material as Blender 4's OBJ exporter writes it with "PBR extensions" on: Pr, Pm and no Ns or Ka.
+BLENDER_PBR = ("newmtl Material\nKd 0.800000 0.800000 0.800000\nKs 0.500000 0.500000 0.500000\n"
+               "Ke 0.000000 0.000000 0.000000\nNi 1.500000\nd 1.000000\nillum 2\n{pr}Pm 0.000000\nPs 0.000000\n"
+               "Pc 0.000000\nPcr 0.030000\naniso 0.000000\nanisor 0.000000\n{ns}")
+
+
+@pytest.mark.parametrize(("pr", "ns", "expected"), [("Pr 0.500000\n", "", 250.0), ("Pr 0.200000\n", "", 640.0),
+                                                   ("Pr 1.000000\n", "", 0.0), ("Pr 0.2\n", "Ns 30\n", 30.0),
+                                                   ("Pr 1.5\n", "", 0.0), ("", "", None)])
+def test_blenders_roughness_gives_the_shininess_where_no_ns_does(tmp_path: Path, pr: str, ns: str,
+                                                                 expected: float | None) -> None:
+    """Blender 4's PBR export writes Pr and no Ns: the viewer's Ns 20 stood in for every material. Ns is
+    Blender's own (1 - roughness)^2 * 1000, which its exporter writes without PBR and its importer inverts."""
+    (tmp_path / "m.mtl").write_text(BLENDER_PBR.format(pr=pr, ns=ns))
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + "usemtl Material\nf 1 2 3\n").encode(),
+                     str(tmp_path / "m.obj"), base_dir=tmp_path)
+    assert mesh.materials[0].values.get("ns") == pytest.approx(expected) and mesh.warnings == (), mesh.warnings
+
+
+def test_a_malformed_roughness_is_a_malformed_line(tmp_path: Path) -> None:
+    (tmp_path / "m.mtl").write_text(BLENDER_PBR.format(pr="Pr rough\n", ns=""))
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + "usemtl Material\nf 1 2 3\n").encode(),
+                     str(tmp_path / "m.obj"), base_dir=tmp_path)
+    assert "ns" not in mesh.materials[0].values
+    assert mesh.warnings == ("material library 'm.mtl': ignored a malformed Pr line, on line 8",)
+
+
 @pytest.mark.parametrize(("lines", "noted"), [("Ke 0.000000 0.000000 0.000000\n", False), ("Ke 1.0 0.4 0.0\n", True),
                                               ("Ke 0.5\n", True), ("Ke glow\n", True)])
 def test_only_emission_asked_for_is_said_to_be_ignored(tmp_path: Path, lines: str, noted: bool) -> None:

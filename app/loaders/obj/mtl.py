@@ -116,6 +116,7 @@ class _Block:
     name: str
     values: dict[str, object] = field(default_factory=dict)
     texture: str | None = None
+    roughness: float | None = None  # a Pr line's, in 0..1
     outside: dict[str, tuple[int, float]] = field(default_factory=dict)  # a colour past 0..1: its line, a value
 
 
@@ -139,16 +140,26 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
                    textures: _TextureCache, keep_first: bool = True) -> list[MeshMaterial]:
     library = _library_contents(text, wanted, keep_first)
     notes.extend(_library_notes(name, text, library))
-    return [MeshMaterial(block.name, _picture_as_colour(block), *textures.read(block.texture, folder))
+    return [MeshMaterial(block.name, _as_meant(block), *textures.read(block.texture, folder))
             for block in library.kept.values()]
 
 
-def _picture_as_colour(block: _Block) -> dict[str, object]:
-    """A material's numbers, with Kd 1 1 1 where a map_Kd gives its colour and no Kd line does: Blender
-    writes no Kd beside a map_Kd, the picture being the colour, and draws it unscaled."""
-    if block.texture is None or "kd" in block.values:
-        return block.values
-    return {**block.values, "kd": (1.0, 1.0, 1.0)}
+def _as_meant(block: _Block) -> dict[str, object]:
+    """A material's numbers, with what its writer meant by the lines it left out: Kd 1 1 1 where a map_Kd
+    gives its colour (Blender writes no Kd beside one, and draws the picture unscaled), and Ns from a Pr
+    where no Ns line gives it (Blender 4's "PBR extensions" write roughness in its place). Ka is left to
+    the viewer's: Blender's is no ambient colour but its metallic, and that export leaves it out too."""
+    values = dict(block.values)
+    if block.texture is not None and "kd" not in values:
+        values["kd"] = (1.0, 1.0, 1.0)
+    if block.roughness is not None and "ns" not in values:
+        values["ns"] = _blender_shininess(block.roughness)
+    return values
+
+
+def _blender_shininess(roughness: float) -> float:
+    """The Ns Blender's OBJ exporter writes for a roughness, and its importer reads back as it."""
+    return (1.0 - roughness) ** 2 * 1000.0
 
 
 def _library_contents(text: bytes, wanted: Collection[str], keep_first: bool) -> _Library:
@@ -172,6 +183,12 @@ def _library_contents(text: bytes, wanted: Collection[str], keep_first: bool) ->
             library.malformed_line(key.capitalize(), number)
         elif key in ("ka", "kd", "ks"):  # a colour, just set
             _note_outside(block, key, number)
+        elif key == "pr":
+            roughness = finite_floats(tokens[1:])
+            if roughness is None or len(roughness) != 1:
+                library.malformed_line("Pr", number)
+            else:
+                block.roughness = min(max(roughness[0], 0.0), 1.0)  # as Blender's Roughness holds it
         elif key == "map_kd":
             texture = _texture_file(tokens[1:])
             if texture is None:
