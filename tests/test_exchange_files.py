@@ -364,8 +364,7 @@ def write_textured_obj(folder: Path) -> Path:
              *(f"vt {u:g} {v:g}" for u, v in UVS), "usemtl pic",
              *(f"f {a + 1}/{a + 1} {b + 1}/{b + 1} {c + 1}/{c + 1}" for a, b, c in FACES)]
     (folder / "square.obj").write_text("\n".join(lines) + "\n")
-    # the viewer's Kd, which a PLY takes (an MTL's map_Kd without a Kd is drawn at Kd 1, as Blender writes it)
-    (folder / "square.mtl").write_text("newmtl pic\nKd 0.7 0.7 0.7\nmap_Kd q.png\n")
+    (folder / "square.mtl").write_text("newmtl pic\nmap_Kd q.png\n")  # no Kd: the picture is the colour, as a PLY's
     return folder / "square.obj"
 
 

@@ -340,7 +340,7 @@ class Viewer:
         refusal = cannot_light(*mesh.bounds)
         if refusal is not None:
             raise ValueError(refusal)
-        material = material_for_loaded(mesh)
+        material = material_for_loaded(mesh, own_picture=picture is not None)
         obj = SceneObject.placed(mesh.name, mesh, material, (0.0, 0.0, 0.0))
         obj.picture = picture
         give_part_materials(obj, from_scene=False)

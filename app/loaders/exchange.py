@@ -80,7 +80,14 @@ from marraztu.loaders.stl import HEADER_BYTES, TRIANGLE_BYTES
 from marraztu.loaders.words import unheld_coordinate
 from marraztu.model.build import FACE_COLOURS_NOTE, build_mesh, checked_vertex_rows, colour_bytes, colour_fractions
 from marraztu.model.geometry import holds_in_float32
-from marraztu.model.mesh import MAX_MATERIALS, Mesh, MeshMaterial, counted, polygon_corners_of_fans
+from marraztu.model.mesh import (
+    MAX_MATERIALS,
+    Mesh,
+    MeshMaterial,
+    counted,
+    polygon_corners_of_fans,
+    with_picture_as_colour,
+)
 from marraztu.model.sampling import DEFAULT_SAMPLING, TextureSampling
 
 Stage = Callable[[str], None]
@@ -597,6 +604,7 @@ def _part_materials(name: str, parts: list[Part], picture_formats: Collection[st
             texture = None if picture is None else _drawn_picture(picture, picture_formats, undrawn)
             textures[id(picture)] = texture, None if texture is None else (texture.shape, hash(texture.tobytes()))
         texture, texture_key = textures[id(picture)]
+        values = with_picture_as_colour(values or {}, texture is not None) or None
         own_name, sampling = _name_and_sampling(material, sampled)
         sampling = DEFAULT_SAMPLING if texture is None else sampling
         key = (own_name, values and tuple(values.items()), texture_key, sampling)

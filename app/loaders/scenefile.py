@@ -50,7 +50,7 @@ from marraztu.loaders.images import load_image
 from marraztu.loaders.patterns import compiled
 from marraztu.loaders.registry import Stage, load_model, sized
 from marraztu.model.geometry import FLOAT32_MAX
-from marraztu.model.mesh import Mesh
+from marraztu.model.mesh import Mesh, with_picture_as_colour
 from marraztu.model.scene import Material, Scene, SceneObject, Vec3, name_refusal
 from marraztu.resources import ASSET_DIR
 
@@ -189,9 +189,12 @@ def _texture_named_at(description: SceneDescription) -> str | None:
     return str(LoadError(description.texture_named_in or description.path, "texture", description.texture_line))
 
 
-def material_for_loaded(mesh: Mesh) -> Material:
-    """A run-time model's material: its MTL's numbers where given, the neutral default elsewhere."""
-    return _material_from(mesh.file_material or {}, DEFAULT_MATERIAL, _clamped_colour(mesh.base_colour, WHITE))
+def material_for_loaded(mesh: Mesh, own_picture: bool = False) -> Material:
+    """A run-time model's material: its MTL's numbers where given, the neutral default elsewhere; with
+    `own_picture` (a picture given for it, add_mesh's texture=), Kd 1 where its file gives none, as a
+    file's own picture is drawn."""
+    values = with_picture_as_colour(mesh.file_material or {}, own_picture)
+    return _material_from(values, DEFAULT_MATERIAL, _clamped_colour(mesh.base_colour, WHITE))
 
 
 def give_part_materials(obj: SceneObject, from_scene: bool) -> None:

@@ -109,6 +109,14 @@ def fan_triangles(face_start: np.ndarray) -> np.ndarray:
 
 
 PLAIN_PICTURE = np.full((1, 1, 3), 255, dtype=np.uint8)  # white: what a vertex-coloured model is drawn with
+# The Kd of a material whose own picture is its colour and that gives no Kd (an MTL's map_Kd alone, a PLY's
+# TextureFile, a trimesh's picture): Blender, three.js and glTF draw the picture unscaled.
+PICTURE_AS_COLOUR = (1.0, 1.0, 1.0)
+
+
+def with_picture_as_colour(values: dict[str, object], textured: bool) -> dict[str, object]:
+    """A material's numbers, with Kd PICTURE_AS_COLOUR where it has a picture of its own and no Kd."""
+    return {**values, "kd": PICTURE_AS_COLOUR} if textured and "kd" not in values else values
 
 
 @dataclass(frozen=True, eq=False)

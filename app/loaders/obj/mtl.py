@@ -30,7 +30,7 @@ from marraztu.loaders.obj.raw import (
     name_of_words,
     text_without_comment,
 )
-from marraztu.model.mesh import MeshMaterial, counted
+from marraztu.model.mesh import MeshMaterial, counted, with_picture_as_colour
 
 # A material library is a few lines per material: one this large is not one.
 MAX_MTL_BYTES = 16 << 20
@@ -140,20 +140,20 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
                    textures: _TextureCache, keep_first: bool = True) -> list[MeshMaterial]:
     library = _library_contents(text, wanted, keep_first)
     notes.extend(_library_notes(name, text, library))
-    return [MeshMaterial(block.name, _as_meant(block), *textures.read(block.texture, folder))
-            for block in library.kept.values()]
+    pictures = [textures.read(block.texture, folder) for block in library.kept.values()]
+    return [MeshMaterial(block.name, _as_meant(block, picture is not None), picture, picture_name)
+            for block, (picture, picture_name) in zip(library.kept.values(), pictures)]
 
 
-def _as_meant(block: _Block) -> dict[str, object]:
-    """A material's numbers, with what its writer meant by the lines it left out: Kd 1 1 1 where a map_Kd
-    gives its colour (Blender writes no Kd beside one, and draws the picture unscaled), and Ns from a Pr
+def _as_meant(block: _Block, textured: bool) -> dict[str, object]:
+    """A material's numbers, with what its writer meant by the lines it left out: Kd 1 1 1 where a map_Kd's
+    picture gives its colour (Blender writes no Kd beside one, and draws the picture unscaled), and Ns from a Pr
     where no Ns line gives it (Blender 4's "PBR extensions" write roughness in its place). Ka is left to
-    the viewer's: Blender's is no ambient colour but its metallic, and that export leaves it out too."""
-    values = dict(block.values)
-    if block.texture is not None and "kd" not in values:
-        values["kd"] = (1.0, 1.0, 1.0)
+    the viewer's: Blender's is no ambient colour but its metallic, and that export leaves it out too. A
+    picture that could not be read gives no colour: the scene's stands in, under the viewer's Kd."""
+    values = with_picture_as_colour(block.values, textured)
     if block.roughness is not None and "ns" not in values:
-        values["ns"] = _blender_shininess(block.roughness)
+        values = {**values, "ns": _blender_shininess(block.roughness)}
     return values
 
 
