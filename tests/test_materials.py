@@ -252,10 +252,11 @@ def test_only_transparency_asked_for_is_said_to_be_ignored(tmp_path: Path, lines
 @pytest.mark.parametrize(("lines", "kd"), [("map_Kd wood.ppm\n", (1.0, 1.0, 1.0)),
                                           ("Kd 0.5 0.25 0.5\nmap_Kd wood.ppm\n", (0.5, 0.25, 0.5)),
                                           ("map_Kd wood.ppm\nKd 0 0 0\n", (0.0, 0.0, 0.0)),
-                                          ("Ks 0.5 0.5 0.5\n", None)])
+                                          ("Ks 0.5 0.5 0.5\n", None), ("map_Kd gone.ppm\n", None)])
 def test_a_picture_without_a_kd_is_the_diffuse_colour_itself(tmp_path: Path, lines: str, kd: tuple | None) -> None:
     """Blender's exporter writes no Kd beside a map_Kd, the picture being the colour, and shows it
-    unscaled: it took the viewer's Kd 0.7, drawing the picture's diffuse light 30% darker."""
+    unscaled: it took the viewer's Kd 0.7, drawing the picture's diffuse light 30% darker. A picture that
+    cannot be read gives no colour: the scene's, standing in, is drawn under the viewer's Kd."""
     shutil.copy(EXAMPLES / "crate.ppm", tmp_path / "wood.ppm")
     (tmp_path / "m.mtl").write_text("newmtl w\nNs 250.000000\nKa 1.000000 1.000000 1.000000\n" + lines)
     mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + "usemtl w\nf 1 2 3\n").encode(), str(tmp_path / "m.obj"),
