@@ -1427,6 +1427,24 @@ def test_an_emissive_material_is_a_note(tmp_path: Path, materials: list[dict[str
     assert load_model(path).warnings == (() if note is None else (note,))
 
 
+@pytest.mark.parametrize(("normal_maps", "note"), [
+    ([True], "material 0's normal map (normalTexture) is not drawn"),
+    ([False, True, True], "2 materials' normal maps (normalTexture) are not drawn (the first, material 1's)"),
+    ([False], None),
+])
+def test_a_normal_map_is_a_note(tmp_path: Path, normal_maps: list[bool], note: str | None) -> None:
+    """Blender writes a material's normal map as a normalTexture: the surface was drawn smooth without a
+    word, where an MTL's map_Bump is said to be ignored."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0], picture=png_bytes(2, 2))
+    document["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}},
+                              **({"normalTexture": {"index": 0, "scale": 1.0}} if mapped else {})}
+                             for mapped in normal_maps]
+    document["meshes"][0]["primitives"][0]["material"] = len(normal_maps) - 1
+    path = tmp_path / "bumpy.glb"
+    path.write_bytes(glb(document, binary))
+    assert load_model(path).warnings == (() if note is None else (note,))
+
+
 @pytest.mark.parametrize(("modes", "note"), [
     ([4, 1, 0], "2 primitives of points and lines are not drawn"),
     ([4, 6], "1 primitive of triangle fans is not drawn"),

@@ -291,6 +291,17 @@ def test_a_malformed_roughness_is_a_malformed_line(tmp_path: Path) -> None:
     assert mesh.warnings == ("material library 'm.mtl': ignored a malformed Pr line, on line 8",)
 
 
+@pytest.mark.parametrize("lines", ["map_Bump -bm 1.000000 normal.png\n", "bump bumps.png\n", "norm n.png\n",
+                                   "map_bump n.png\nnorm n.png\n"])
+def test_a_normal_map_is_said_to_be_ignored(tmp_path: Path, lines: str) -> None:
+    """Blender writes a normal map as map_Bump -bm 1.0: it was read past without a word, where a map_Kd's
+    options and a glTF's normalTexture are said."""
+    (tmp_path / "m.mtl").write_text("newmtl w\nKd 1 0 0\n" + lines)
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + "usemtl w\nf 1 2 3\n").encode(), str(tmp_path / "m.obj"),
+                     base_dir=tmp_path)
+    assert mesh.warnings == ("material library 'm.mtl': normal and bump maps (map_Bump, bump, norm) ignored",)
+
+
 @pytest.mark.parametrize(("lines", "noted"), [("Ke 0.000000 0.000000 0.000000\n", False), ("Ke 1.0 0.4 0.0\n", True),
                                               ("Ke 0.5\n", True), ("Ke glow\n", True)])
 def test_only_emission_asked_for_is_said_to_be_ignored(tmp_path: Path, lines: str, noted: bool) -> None:

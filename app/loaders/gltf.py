@@ -738,9 +738,10 @@ def unfaithful_notes(document: dict[str, Any], undrawn: list[str]) -> list[str]:
     morph targets it does not read, primitives it reads no faces of (`undrawn`, its undrawn_primitive_notes,
     which the placement check has read already), base colours outside 0..1 it holds to it, base colour
     textures on a second set of texture coordinates, which it reads from the first, and their texture
-    transforms, which it does not apply; and emission, which SPEC 4's lighting has no term for."""
+    transforms, which it does not apply; and emission and normal maps, which SPEC 4's lighting has no term for."""
     return [*_morphed_notes(document), *undrawn, *_outside_colour_notes(document),
-            *_other_uv_set_notes(document), *_texture_transform_notes(document), *_emission_notes(document)]
+            *_other_uv_set_notes(document), *_texture_transform_notes(document), *_emission_notes(document),
+            *_normal_map_notes(document)]
 
 
 def _morphed_notes(document: dict[str, Any]) -> list[str]:
@@ -808,6 +809,17 @@ def _glows(material: dict[str, Any]) -> bool:
     strength = _nested(material, ("extensions", "KHR_materials_emissive_strength")).get("emissiveStrength", 1)
     factor = _listed(material.get("emissiveFactor"))
     return any(_is_number(value) and value > 0 for value in factor) and not (_is_number(strength) and strength <= 0)
+
+
+def _normal_map_notes(document: dict[str, Any]) -> list[str]:
+    """Materials with a normalTexture, as Blender writes a normal map: drawn with the mesh's own normals."""
+    mapped = [number for number, material in enumerate(document.get("materials", []))
+              if isinstance(material.get("normalTexture"), dict)]
+    if not mapped:
+        return []
+    if len(mapped) == 1:
+        return [f"material {mapped[0]}'s normal map (normalTexture) is not drawn"]
+    return [f"{len(mapped)} materials' normal maps (normalTexture) are not drawn (the first, material {mapped[0]}'s)"]
 
 
 # KHR_texture_transform's values that leave texture coordinates as they are.

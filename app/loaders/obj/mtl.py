@@ -162,6 +162,11 @@ def _blender_shininess(roughness: float) -> float:
     return (1.0 - roughness) ** 2 * 1000.0
 
 
+# A surface's relief as a picture: Blender writes its normal map as map_Bump -bm 1.0. SPEC 4 lights the
+# model's own normals.
+_RELIEF_MAPS = frozenset({"map_bump", "bump", "norm"})
+
+
 def _library_contents(text: bytes, wanted: Collection[str], keep_first: bool) -> _Library:
     library = _Library()
     block: _Block | None = None  # the material being read; dropped at the next newmtl unless kept
@@ -200,6 +205,8 @@ def _library_contents(text: bytes, wanted: Collection[str], keep_first: bool) ->
             library.ignored.add("transparency (d, Tr)")
         elif key == "ke" and _glows(tokens[1:]):
             library.ignored.add("emission (Ke)")
+        elif key in _RELIEF_MAPS:
+            library.ignored.add("normal and bump maps (map_Bump, bump, norm)")
     return library
 
 
