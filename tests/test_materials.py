@@ -283,6 +283,25 @@ def test_blenders_roughness_gives_the_shininess_where_no_ns_does(tmp_path: Path,
     assert mesh.materials[0].values.get("ns") == pytest.approx(expected) and mesh.warnings == (), mesh.warnings
 
 
+@pytest.mark.parametrize("header", ["# Blender MTL File: 'None'\n# Material Count: 1\n\n",
+                                    "# Blender 4.2.1 LTS MTL File: 'None'\n# www.blender.org\n\n"])
+@pytest.mark.parametrize("ka", ["1.000000 1.000000 1.000000", "0.800000 0.800000 0.800000"])
+def test_blenders_ka_is_its_metallic_not_an_ambient_colour(tmp_path: Path, header: str, ka: str) -> None:
+    """Blender's OBJ exporters write the metallic value as Ka (1 1 1 for every material that is not
+    metal) and its importer reads it back so: taken as the ambient colour, every Blender model was lit by
+    the whole of SPEC's violet Ia, where the viewer's Ka is 0.3. Another tool's Ka stays its own."""
+    material = f"newmtl Material\nNs 250.000000\nKa {ka}\nKd 0.800000 0.100000 0.100000\nillum 2\n"
+    (tmp_path / "blender.mtl").write_text(header + material)
+    (tmp_path / "other.mtl").write_text("# 3ds Max Wavefront OBJ Exporter v0.97b\n" + material)
+    read = {name: parse_obj((f"mtllib {name}.mtl\n" + TRIANGLES + "usemtl Material\nf 1 2 3\n").encode(),
+                            str(tmp_path / f"{name}.obj"), base_dir=tmp_path) for name in ("blender", "other")}
+    assert "ka" not in read["blender"].materials[0].values
+    assert read["blender"].warnings == ("material library 'blender.mtl': Ka (Blender writes its metallic "
+                                        "there, not an ambient colour) ignored",)
+    assert read["other"].materials[0].values["ka"] == tuple(float(value) for value in ka.split())
+    assert read["other"].warnings == ()
+
+
 def test_a_malformed_roughness_is_a_malformed_line(tmp_path: Path) -> None:
     (tmp_path / "m.mtl").write_text(BLENDER_PBR.format(pr="Pr rough\n", ns=""))
     mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + "usemtl Material\nf 1 2 3\n").encode(),

@@ -4,6 +4,7 @@ error: the model still loads, with the colours that could be read."""
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Collection, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -130,6 +131,7 @@ class _Library:
     malformed: int = 0  # one note however many lines are ignored, naming the first
     first_malformed: str = ""
     ignored: set[str] = field(default_factory=set)
+    by_blender: bool = False  # its first line is a Blender exporter's: its Ka is a metallic value
 
     def malformed_line(self, statement: str, number: int) -> None:
         self.malformed += 1
@@ -149,7 +151,7 @@ def _as_meant(block: _Block, textured: bool) -> dict[str, object]:
     """A material's numbers, with what its writer meant by the lines it left out: Kd 1 1 1 where a map_Kd's
     picture gives its colour (Blender writes no Kd beside one, and draws the picture unscaled), and Ns from a Pr
     where no Ns line gives it (Blender 4's "PBR extensions" write roughness in its place). Ka is left to
-    the viewer's: Blender's is no ambient colour but its metallic, and that export leaves it out too. A
+    the viewer's where Blender wrote it (_BLENDER_HEADER): its metallic, no ambient colour. A
     picture that could not be read gives no colour: the scene's stands in, under the viewer's Kd."""
     values = with_picture_as_colour(block.values, textured)
     if block.roughness is not None and "ns" not in values:
@@ -161,6 +163,11 @@ def _blender_shininess(roughness: float) -> float:
     """The Ns Blender's OBJ exporter writes for a roughness, and its importer reads back as it."""
     return (1.0 - roughness) ** 2 * 1000.0
 
+
+# The first line of an MTL that Blender's exporters wrote (2.8's "# Blender MTL File: 'None'", 3.1's and later
+# "# Blender 4.2.1 LTS MTL File: 'None'"): they write a material's metallic as Ka, and Blender's importer
+# reads it back so. Blender has no ambient colour.
+_BLENDER_HEADER = re.compile(r"#\s*Blender\b[^:]*\bMTL File\b")
 
 # A surface's relief as a picture: Blender writes its normal map as map_Bump -bm 1.0. SPEC 4 lights the
 # model's own normals.
@@ -174,6 +181,7 @@ def _library_contents(text: bytes, wanted: Collection[str], keep_first: bool) ->
     for number, line in enumerate(text_lines(text, bom_length(text)), start=1):
         tokens = text_without_comment(line).split(None, _MOST_WORDS)
         if not tokens:
+            library.by_blender |= number == 1 and _BLENDER_HEADER.match(line) is not None
             continue
         key = tokens[0].lower()
         if key == "newmtl":
@@ -184,6 +192,8 @@ def _library_contents(text: bytes, wanted: Collection[str], keep_first: bool) ->
                 library.kept[block.name] = block
         elif block is None:
             library.before_first += 1
+        elif key == "ka" and library.by_blender:
+            library.ignored.add("Ka (Blender writes its metallic there, not an ambient colour)")
         elif key in ("ka", "kd", "ks", "ns") and not _material_value(block.values, key, tokens[1:]):
             library.malformed_line(key.capitalize(), number)
         elif key in ("ka", "kd", "ks"):  # a colour, just set
