@@ -531,7 +531,7 @@ def test_the_near_plane_keeps_clear_of_a_small_model_looked_at_from_close_by(tmp
 
 def test_the_near_plane_keeps_within_a_sheet_the_eye_is_inside(tmp_path: Path) -> None:
     """A sheet 1e6 wide and 1 thick loaded beside the ships holds the start camera: its faces lie half a
-    unit above and below the eye, and a near plane of a thousandth of the sheet's width (1,414) cut them
+    unit above and below the eye, and a near plane of a thousandth of the sheet's diagonal (1,414) cut them
     away, an empty picture with `d`."""
     sheet = box(tmp_path / "sheet.obj", (1e6, 1.0, 1e6))
     scene = viewer_with("d", (sheet,)).scene
