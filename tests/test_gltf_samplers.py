@@ -35,7 +35,7 @@ def png_uri(pixels: np.ndarray) -> str:
 
 
 def square(path: Path, materials: list[dict[str, Any]], textures: list[dict[str, Any]],
-           samplers: list[dict[str, Any]] = (), uv_range: tuple[float, float] = (0.0, 1.0),
+           samplers: tuple[dict[str, Any], ...] | list[dict[str, Any]] = (), uv_range: tuple[float, float] = (0.0, 1.0),
            pixels: np.ndarray = CHECKER) -> Path:
     """A .gltf of a square facing the camera (one primitive a material, side by side), its texture
     coordinates over `uv_range` on both axes, the picture upright (glTF's v = 0 is its top row)."""
