@@ -127,20 +127,9 @@ def text_lines(data: bytes, start: int = 0) -> Iterator[str]:
     piece at a time: a list of every line would hold the text again, in pieces. Each is UTF-8, or else
     Windows-1252 (see decoded). Each piece ends just after a line end, so its lines are the text's."""
     while start < len(data):
-        stop = _piece_end(data, start + _LINES_PIECE)
+        stop = line_end_from(data, start + _LINES_PIECE)  # found by a search that stops at the first end
         yield from _lines_of(data[start:stop])
         start = stop
-
-
-def _piece_end(data: bytes, start: int) -> int:
-    """Just past the first line end at or after `start` (a \r\n whole), or the text's end. The \r is
-    looked for only before the next \n: looked for to the end, a file without one would be read whole
-    for every piece."""
-    newline = data.find(b"\n", start)
-    carriage = data.find(b"\r", start, len(data) if newline < 0 else newline)
-    if carriage < 0:
-        return len(data) if newline < 0 else newline + 1
-    return carriage + 2 if data[carriage + 1:carriage + 2] == b"\n" else carriage + 1
 
 
 def _lines_of(piece: bytes) -> list[str]:
