@@ -240,6 +240,21 @@ def test_a_whole_path_whose_picture_came_in_its_project_folder_is_found_there(
     assert mesh.materials[0].texture is not None and not mesh.warnings, mesh.warnings
 
 
+@pytest.mark.parametrize("written", ["q/C:..\\wood.ppm", "maps\\D:tex\\wood.ppm", "a/c:/../wood.ppm",
+                                     "x/C:\\Users\\..\\..\\wood.ppm", "p/Z:wood.ppm"])
+def test_the_folders_kept_before_a_last_part_hold_no_drive(written: str) -> None:
+    """'C:..' or 'D:tex' within a path is a drive on Windows: kept before the last part, 'C:../wood.ppm'
+    joined to the MTL's folder C:/m is C:/wood.ppm, above it, and 'D:tex/wood.ppm' is on another drive."""
+    from pathlib import PureWindowsPath
+
+    from marraztu.loaders.files import spellings
+
+    folder = PureWindowsPath("C:/m")
+    for spelling in spellings(written)[1:]:
+        joined = folder / spelling
+        assert joined.parts[:2] == folder.parts and ".." not in joined.parts, spelling  # on its drive, under m
+
+
 @pytest.mark.parametrize(("lines", "noted"), [("d 1\nTr 0.0\n", False), ("d 0.5\n", True), ("Tr 0.25\n", True),
                                               ("d -halo 0.5\n", True), ("d\n", True)])
 def test_only_transparency_asked_for_is_said_to_be_ignored(tmp_path: Path, lines: str, noted: bool) -> None:
