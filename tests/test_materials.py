@@ -364,6 +364,28 @@ def test_names_looked_for_in_any_case_list_each_folder_once(tmp_path: Path, monk
     assert len(listed) == 1 and any("300 textures could not be read" in note for note in mesh.warnings)
 
 
+def test_a_folder_spelled_many_ways_is_listed_once(tmp_path: Path, monkeypatch) -> None:
+    """'a/../T0.PNG', 'a/../a/../T1.PNG'... each spell the MTL's folder anew: it was listed once for each
+    spelling, each listing holding every file's path under that spelling, so 1,000 such names beside
+    50,000 files filled the memory. One listing for the folder, however it is spelled."""
+    import os
+
+    from marraztu.loaders.obj import mtl as mtl_module
+
+    (tmp_path / "a").mkdir()
+    for at in range(200):
+        (tmp_path / f"t{at}.png").write_bytes(b"P6 1 1 255\n\xff\x00\x00")  # a PPM: pictures are known by their bytes
+    listed: list[object] = []
+    real_scandir = os.scandir
+    monkeypatch.setattr(mtl_module.os, "scandir", lambda folder: listed.append(folder) or real_scandir(folder))
+    (tmp_path / "m.mtl").write_text("".join(f"newmtl m{at}\nmap_Kd {'a/../' * (at + 1)}T{at}.PNG\n"
+                                            for at in range(200)))
+    uses = "".join(f"usemtl m{at}\nf 1 2 3\n" for at in range(200))
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + uses).encode(), str(tmp_path / "m.obj"), base_dir=tmp_path)
+    assert len({Path(folder).resolve() for folder in listed}) == len(listed) <= 3  # the folder, a/, a/../a
+    assert all(material.texture is not None for material in mesh.materials) and not mesh.warnings, mesh.warnings
+
+
 @pytest.mark.parametrize(("mtl", "usemtl", "said"), [
     ("newmtl w\nKd 1 0 0\nmap_Kd gone.png\n", "w", "texture 'gone.png' could not be read (no such file)"),
     ("newmtl w\nKd 1 0 0\n", "nobody", "usemtl names materials the library lacks ('nobody')"),

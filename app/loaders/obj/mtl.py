@@ -329,7 +329,7 @@ class _Finder:
     names it, and then in any case, each folder listed once however many names are looked for."""
 
     def __init__(self) -> None:
-        self.listings: dict[Path, dict[str, Path]] = {}
+        self.listings: dict[Path, dict[str, str]] = {}  # by the folder resolved: 'a/..' and '.' are one listing
 
     def find(self, name: str, folder: Path, by_last_part: bool = True) -> Path | None:
         candidates = [folder / spelling for spelling in spellings(name)[:None if by_last_part else 1]]
@@ -337,9 +337,11 @@ class _Finder:
         return found or next((path for path in map(self._in_any_case, candidates) if path is not None), None)
 
     def _in_any_case(self, path: Path) -> Path | None:
-        if path.parent not in self.listings:
-            self.listings[path.parent] = _files_by_lower_name(path.parent)
-        return self.listings[path.parent].get(path.name.lower())
+        folder = same_file_key(path.parent)
+        if folder not in self.listings:
+            self.listings[folder] = _file_names_by_lower_name(path.parent)
+        name = self.listings[folder].get(path.name.lower())
+        return None if name is None else path.parent / name
 
 
 class _TextureCache:
@@ -390,13 +392,13 @@ def _glows(tokens: list[str]) -> bool:
     return not values or any(value != 0.0 for value in values)  # unreadable: said to be ignored
 
 
-def _files_by_lower_name(folder: Path) -> dict[str, Path]:
-    files: dict[str, Path] = {}
+def _file_names_by_lower_name(folder: Path) -> dict[str, str]:
+    files: dict[str, str] = {}
     try:
         with os.scandir(folder) as entries:
             for entry in entries:
                 if entry.is_file():
-                    files.setdefault(entry.name.lower(), Path(entry.path))
+                    files.setdefault(entry.name.lower(), entry.name)
     except (OSError, ValueError):  # no such folder, or not one to list: nothing in it
         pass
     return files
