@@ -151,6 +151,7 @@ _NODE_TRANSFORMS = {"translation": 3, "rotation": 4, "scale": 3, "matrix": 16}
 _MATERIAL_NUMBERS = {"baseColorFactor": 4, "emissiveFactor": 3, "metallicFactor": None, "roughnessFactor": None,
                      "alphaCutoff": None, "diffuseFactor": 4}
 _ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
+_LEAST_EMISSION = -1e-5  # trimesh refuses an emissiveFactor below it ("all factors must be greater than 0.0")
 # The accessor types of the attributes read here (POSITION, TEXCOORD_n, COLOR_n) and of NORMAL, by the name
 # before "_".
 _ATTRIBUTE_TYPES = {"POSITION": ("VEC3",), "NORMAL": ("VEC3",), "TEXCOORD": ("VEC2",), "COLOR": ("VEC3", "VEC4")}
@@ -302,6 +303,8 @@ class GltfReferences:
             if key in _MATERIAL_NUMBERS and not _numbers_of(value, _MATERIAL_NUMBERS[key]):
                 size = _MATERIAL_NUMBERS[key]
                 self.refuse(f"material {number}'s {key} is not {'a number' if size is None else f'{size} numbers'}")
+            if key == "emissiveFactor" and (below := [part for part in value if part < _LEAST_EMISSION]):
+                self.refuse(f"material {number}'s emissiveFactor holds {below[0]:g}: glTF's are 0..1")
         for key, texture in _texture_infos(material):  # trimesh drops one that names no texture
             self.named(texture["index"], "textures", f"material {number}'s {shortened(escaped(key))}")
             texture_set = texture.get("texCoord", 0)
