@@ -283,6 +283,16 @@ def test_a_picture_linked_from_outside_the_folder_is_not_read(tmp_path: Path) ->
     assert loaded.materials == () and "it lies outside the model's folder" in loaded.warnings[0]
 
 
+def test_a_uri_longer_than_any_path_is_known_outside_by_its_text(tmp_path: Path) -> None:
+    """A path too long to be resolved part by part (its length squared) is judged by its text: its '..'
+    parts still take it out of the model's folder."""
+    (tmp_path / "outside.png").write_bytes(png_bytes(top_red_bottom_blue()))
+    (tmp_path / "model").mkdir()
+    uri = "d/" * 3_000 + "../" * 3_001 + "outside.png"
+    loaded = load_model(write_gltf(tmp_path / "model", image_uri=uri, image_file=None))
+    assert loaded.materials == () and "it lies outside the model's folder" in loaded.warnings[0]
+
+
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are POSIX's")
 def test_a_picture_that_is_a_named_pipe_is_a_note_not_a_wait(tmp_path: Path) -> None:
     os.mkfifo(tmp_path / "pipe.png")

@@ -386,6 +386,23 @@ def test_a_folder_spelled_many_ways_is_listed_once(tmp_path: Path, monkeypatch) 
     assert all(material.texture is not None for material in mesh.materials) and not mesh.warnings, mesh.warnings
 
 
+def test_a_name_longer_than_any_path_is_not_resolved_part_by_part(tmp_path: Path, monkeypatch) -> None:
+    """Path.resolve() looks at each part of a path, its text copied anew for each: a map_Kd of 200,000
+    parts ('d/d/...', 400 KB) took 8 s, its length squared, and an MTL may be 16 MB. A path longer than
+    any the system opens is known by its text; it is still said not to be read."""
+    import os
+
+    looked: list[object] = []
+    real_lstat = os.lstat
+    monkeypatch.setattr(os, "lstat", lambda path, **kw: looked.append(path) or real_lstat(path, **kw))
+    (tmp_path / "m.mtl").write_text("newmtl w\nmap_Kd " + "d/" * 20_000 + "t.png\n")
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + "usemtl w\nf 1 2 3\n").encode(), str(tmp_path / "m.obj"),
+                     base_dir=tmp_path)
+    assert len(looked) < 100 and mesh.materials[0].texture is None
+    assert any("could not be read (cannot read the file (File name too long))" in note for note in mesh.warnings), \
+        mesh.warnings
+
+
 @pytest.mark.parametrize(("mtl", "usemtl", "said"), [
     ("newmtl w\nKd 1 0 0\nmap_Kd gone.png\n", "w", "texture 'gone.png' could not be read (no such file)"),
     ("newmtl w\nKd 1 0 0\n", "nobody", "usemtl names materials the library lacks ('nobody')"),

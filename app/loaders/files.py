@@ -37,12 +37,21 @@ def errors_as_load_errors(path: str | Path) -> Iterator[None]:
         raise LoadError(path, f"cannot read the file ({getattr(error, 'strerror', None) or error})") from None
 
 
+# Linux's PATH_MAX: no longer path names a file it opens.
+_LONGEST_PATH = 4096
+
+
 def same_file_key(path: Path) -> Path:
-    """One key for every spelling of a file (./x, a/../x, a link to it), so a cache reads it once."""
+    """One key for every spelling of a file (./x, a/../x, a link to it), so a cache reads it once. A path
+    longer than any the system opens is known by its text ('..' taken away), since resolving it looks at
+    each of its parts with the text copied anew, its length squared."""
+    absolute = path.absolute()
+    if len(str(absolute)) > _LONGEST_PATH:
+        return Path(os.path.normpath(absolute))
     try:
         return path.resolve()
     except (OSError, RuntimeError, ValueError):  # a link loop, a NUL: the reading says what is wrong
-        return path.absolute()
+        return absolute
 
 
 _SHOWN_NAME_CHARACTERS = 80
