@@ -4,6 +4,7 @@ over the file's, and the probe and status line naming the selected face's materi
 
 from __future__ import annotations
 
+import os
 import shutil
 from pathlib import Path
 
@@ -253,6 +254,17 @@ def test_the_folders_kept_before_a_last_part_hold_no_drive(written: str) -> None
     for spelling in spellings(written)[1:]:
         joined = folder / spelling
         assert joined.parts[:2] == folder.parts and ".." not in joined.parts, spelling  # on its drive, under m
+
+
+@pytest.mark.skipif(os.name == "nt", reason="a Windows file name holds no ':'")
+def test_a_colon_within_a_last_part_is_no_drive(tmp_path: Path) -> None:
+    """A Linux exporter's whole path to 'shot 10:00.ppm' is found by that last part beside the MTL, not as
+    '00.ppm': only a part whose second character is ':' (C:, as Windows reads one) starts a drive."""
+    shutil.copy(EXAMPLES / "crate.ppm", tmp_path / "shot 10:00.ppm")
+    (tmp_path / "m.mtl").write_text("newmtl w\nKd 1 1 1\nmap_Kd /home/artist/proj/tex/shot 10:00.ppm\n")
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + "usemtl w\nf 1 2 3\n").encode(), str(tmp_path / "m.obj"),
+                     base_dir=tmp_path)
+    assert mesh.materials[0].texture is not None and not mesh.warnings, mesh.warnings
 
 
 @pytest.mark.parametrize(("lines", "noted"), [("d 1\nTr 0.0\n", False), ("d 0.5\n", True), ("Tr 0.25\n", True),

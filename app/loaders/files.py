@@ -79,7 +79,10 @@ def spellings(name: str) -> tuple[str, ...]:
     model's own folder would hold it, then with the folders before that part, one to three, as a copied
     project holds it (a whole path into Maya's sourceimages/), never above a '..' or a drive."""
     written = name.strip().strip('"').replace("\\", "/")
-    parts = written[written.rfind(":") + 1:].split("/")  # past the last drive: 'a/C:../t' on Windows is C:'s '..'
+    parts = written.split("/")
+    drive = max((at for at, part in enumerate(parts) if part[1:2] == ":"), default=-1)  # as Windows reads 'C:'
+    if drive >= 0:  # past the last drive: 'a/C:../t' on Windows is C:'s '..'
+        parts = [parts[drive][2:], *parts[drive + 1:]]
     cut = max((at + 1 for at, part in enumerate(parts) if part == ".."), default=0)
     inside = [part for part in parts[cut:] if part not in ("", ".")]
     tails = ["/".join(inside[-count:]) for count in range(1, min(len(inside), _PROJECT_FOLDERS + 1) + 1)]
