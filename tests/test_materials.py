@@ -323,8 +323,8 @@ def test_blenders_ka_is_its_metallic_not_an_ambient_colour(tmp_path: Path, heade
     read = {name: parse_obj((f"mtllib {name}.mtl\n" + TRIANGLES + "usemtl Material\nf 1 2 3\n").encode(),
                             str(tmp_path / f"{name}.obj"), base_dir=tmp_path) for name in ("blender", "other")}
     assert "ka" not in read["blender"].materials[0].values
-    assert read["blender"].warnings == ("material library 'blender.mtl': Ka (Blender writes its metallic "
-                                        "there, not an ambient colour) ignored",)
+    assert read["blender"].warnings == ("material library 'blender.mtl': Ka (Blender's metallic value, not an "
+                                        "ambient colour) ignored",)
     assert read["other"].materials[0].values["ka"] == tuple(float(value) for value in ka.split())
     assert read["other"].warnings == ()
 

@@ -193,7 +193,7 @@ def _library_contents(text: bytes, wanted: Collection[str], keep_first: bool) ->
         elif block is None:
             library.before_first += 1
         elif key == "ka" and library.by_blender:
-            library.ignored.add("Ka (Blender writes its metallic there, not an ambient colour)")
+            library.ignored.add("Ka (Blender's metallic value, not an ambient colour)")
         elif key in ("ka", "kd", "ks", "ns") and not _material_value(block.values, key, tokens[1:]):
             library.malformed_line(key.capitalize(), number)
         elif key in ("ka", "kd", "ks"):  # a colour, just set
