@@ -849,7 +849,7 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
     ("d['materials'] = [{'emissiveFactor': 5}]", "material 0's emissiveFactor is not 3 numbers"),
     # trimesh said "all factors must be greater than 0.0", naming no material
     ("d['materials'] = [{}, {'emissiveFactor': [1, -0.5, 0]}]",
-     "material 1's emissiveFactor holds -0.5: glTF's are 0..1"),
+     "material 1's emissiveFactor holds -0.5: glTF's colours are 0..1"),
     ("d['materials'] = [{'pbrMetallicRoughness': {'metallicFactor': [1, 2]}}]",
      "material 0's metallicFactor is not a number"),
     ("d['materials'] = [{'alphaMode': 'x'}]", "material 0's alphaMode 'x' is not one of glTF's (OPAQUE, MASK, BLEND)"),

@@ -304,7 +304,7 @@ class GltfReferences:
                 size = _MATERIAL_NUMBERS[key]
                 self.refuse(f"material {number}'s {key} is not {'a number' if size is None else f'{size} numbers'}")
             if key == "emissiveFactor" and (below := [part for part in value if part < _LEAST_EMISSION]):
-                self.refuse(f"material {number}'s emissiveFactor holds {below[0]:g}: glTF's are 0..1")
+                self.refuse(f"material {number}'s emissiveFactor holds {below[0]:g}: glTF's colours are 0..1")
         for key, texture in _texture_infos(material):  # trimesh drops one that names no texture
             self.named(texture["index"], "textures", f"material {number}'s {shortened(escaped(key))}")
             texture_set = texture.get("texCoord", 0)
