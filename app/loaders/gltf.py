@@ -801,11 +801,7 @@ def _emission_notes(document: dict[str, Any]) -> list[str]:
     """Materials that glow (an emissiveFactor not black, a KHR_materials_emissive_strength not 0), as Blender
     writes a lamp's: drawn lit as any other."""
     glowing = [number for number, material in enumerate(document.get("materials", [])) if _glows(material)]
-    if not glowing:
-        return []
-    if len(glowing) == 1:
-        return [f"material {glowing[0]}'s emission (emissiveFactor) is not drawn"]
-    return [f"{len(glowing)} materials' emission (emissiveFactor) is not drawn (the first, material {glowing[0]}'s)"]
+    return _materials_note(glowing, "emission (emissiveFactor) is not drawn", "emission (emissiveFactor) is not drawn")
 
 
 def _glows(material: dict[str, Any]) -> bool:
@@ -818,11 +814,17 @@ def _normal_map_notes(document: dict[str, Any]) -> list[str]:
     """Materials with a normalTexture, as Blender writes a normal map: drawn with the mesh's own normals."""
     mapped = [number for number, material in enumerate(document.get("materials", []))
               if isinstance(material.get("normalTexture"), dict)]
-    if not mapped:
+    return _materials_note(mapped, "normal map (normalTexture) is not drawn",
+                           "normal maps (normalTexture) are not drawn")
+
+
+def _materials_note(numbers: list[int], said_of_one: str, said_of_many: str) -> list[str]:
+    """One note for the materials `numbers` however many, naming the first."""
+    if not numbers:
         return []
-    if len(mapped) == 1:
-        return [f"material {mapped[0]}'s normal map (normalTexture) is not drawn"]
-    return [f"{len(mapped)} materials' normal maps (normalTexture) are not drawn (the first, material {mapped[0]}'s)"]
+    if len(numbers) == 1:
+        return [f"material {numbers[0]}'s {said_of_one}"]
+    return [f"{len(numbers)} materials' {said_of_many} (the first, material {numbers[0]}'s)"]
 
 
 # KHR_texture_transform's values that leave texture coordinates as they are.
@@ -833,13 +835,9 @@ def _texture_transform_notes(document: dict[str, Any]) -> list[str]:
     """A base colour texture (a baseColorTexture, or a diffuseTexture) whose KHR_texture_transform moves
     its coordinates (an atlas's tile, a tiling): trimesh applies none."""
     moved = [number for number, material in enumerate(document.get("materials", [])) if _moves_coordinates(material)]
-    if not moved:
-        return []
-    if len(moved) == 1:
-        return [f"material {moved[0]}'s baseColorTexture's KHR_texture_transform (an offset, rotation or scale of "
-                "its texture coordinates) is not applied"]
-    return [f"{len(moved)} materials' baseColorTexture's KHR_texture_transform (an offset, rotation or scale of "
-            f"their texture coordinates) is not applied (the first, material {moved[0]}'s)"]
+    return _materials_note(moved, "baseColorTexture's KHR_texture_transform (an offset, rotation or scale of its "
+                           "texture coordinates) is not applied", "baseColorTexture's KHR_texture_transform (an "
+                           "offset, rotation or scale of their texture coordinates) is not applied")
 
 
 def _moves_coordinates(material: dict[str, Any]) -> bool:
