@@ -150,9 +150,8 @@ def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wante
 def _as_meant(block: _Block, textured: bool) -> dict[str, object]:
     """A material's numbers, with what its writer meant by the lines it left out: Kd 1 1 1 where a map_Kd's
     picture gives its colour (Blender writes no Kd beside one, and draws the picture unscaled), and Ns from a Pr
-    where no Ns line gives it (Blender 4's "PBR extensions" write roughness in its place). Ka is left to
-    the viewer's where Blender wrote it (_BLENDER_HEADER): its metallic, no ambient colour. A
-    picture that could not be read gives no colour: the scene's stands in, under the viewer's Kd."""
+    where no Ns line gives it (Blender 4's "PBR extensions" write roughness in its place). A picture that
+    could not be read gives no colour: the scene's stands in, under the viewer's Kd."""
     values = with_picture_as_colour(block.values, textured)
     if block.roughness is not None and "ns" not in values:
         values = {**values, "ns": _blender_shininess(block.roughness)}
