@@ -200,6 +200,17 @@ def test_pagedown_keeps_the_camera_and_says_when_the_next_file_is_not_seen_as_th
     assert ("; a is now" in viewer.scene.message) == (said is not None)
 
 
+def test_pagedown_to_a_file_around_the_camera_says_so(tmp_path: Path) -> None:
+    """The next file 1000 across round a view framed on one 10 across showed its inside with no word of why."""
+    folder_of(tmp_path, a_obj=octahedron(10.0), b_obj=octahedron(1000.0))
+    viewer = viewer_on(tmp_path / "a.obj")
+    press(viewer, "PAGEDOWN")
+    assert viewer.scene.message.split("; ")[0] == ("b.obj in place of a: 6 vertices, 8 faces, around the camera "
+                                                   "(. frames it from outside)")
+    press(viewer, "PAGEUP")
+    assert "around the camera" not in viewer.scene.message
+
+
 def test_a_file_loaded_in_the_background_is_said_out_of_view_when_it_joins(tmp_path: Path) -> None:
     """In the window PageDown's file joins a frame or more later: the notice comes with it."""
     folder_of(tmp_path, a_obj=octahedron(10.0), b_obj=octahedron(10.0, (3000.0, 0.0, 0.0)))

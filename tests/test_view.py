@@ -177,6 +177,43 @@ def test_a_model_loaded_too_small_to_see_says_so_and_dot_frames_it(tmp_path: Pat
     assert viewer.scene.sight(viewer.scene.object, 1.0) is not Sight.TOO_SMALL
 
 
+AROUND_WORDS = ", around the camera (. frames it from outside)"
+
+
+@pytest.mark.parametrize(("model", "keys", "around"), [
+    (("sheet.obj", (1e6, 1.0, 1e6), (0.0, 0.0, 0.0)), "", True),
+    (("room.obj", (20.0, 20.0, 20.0), (0.0, 0.0, 150.0)), "", True),
+    (("room.obj", (20.0, 20.0, 20.0), (0.0, 0.0, 150.0)), "f=", True),
+    (("room.obj", (20.0, 20.0, 20.0), (0.0, 0.0, 100.0)), "f=", False),
+], ids=["a sheet on the command line", "a room on the command line", "a room with f", "a room ahead"])
+def test_a_model_loaded_around_the_camera_says_so_and_dot_frames_it_from_outside(
+        tmp_path: Path, model: tuple[str, tuple[float, float, float], tuple[float, float, float]], keys: str,
+        around: bool) -> None:
+    """A sheet 1e6 across or a room 20 across loaded round the built-in scene's camera (0 0 150) showed
+    its inside, back faces in red, with no word of why."""
+    name, extents, centre = model
+    path = box(tmp_path / name, extents, centre, inward=name == "room.obj")
+    viewer = viewer_with(f"f={path}" if keys else "", () if keys else (path,))
+    assert f"loaded {name} as a new object" in viewer.scene.message and (AROUND_WORDS in viewer.scene.message) == around
+    assert viewer.scene.around_eye([viewer.scene.object]) == [around]
+    viewer.press(parse_key_sequence(".")[0])
+    assert viewer.scene.around_eye([viewer.scene.object]) == [False] and AROUND_WORDS not in viewer.scene.message
+
+
+def test_a_turned_model_is_around_the_camera_only_where_its_own_box_holds_the_eye(tmp_path: Path) -> None:
+    """A long beam turned 45 degrees about y: its world box holds a point beside it that its own box does not."""
+    viewer = viewer_with("", (box(tmp_path / "beam.obj", (100.0, 1.0, 1.0)),), empty=True)
+    scene = viewer.scene
+    turn = np.eye(4)
+    turn[[0, 0, 2, 2], [0, 2, 0, 2]] = np.array([1.0, 1.0, -1.0, 1.0]) / np.sqrt(2.0)
+    scene.object.model = turn
+    camera = scene.camera.model.copy()
+    for at, around in (((10.0, 0.0, 10.0), False), ((10.0, 0.0, -10.0), True)):
+        camera[:3, 3] = at
+        scene.camera.model = camera.copy()
+        assert scene.around_eye([scene.object]) == [around]
+
+
 THIN_WORDS = "thinner than a pixel from here (l draws its edges)"
 
 

@@ -184,6 +184,8 @@ class _StartLoad(NamedTuple):
 # What a load says of a model its lights leave black: SPEC starts with every light off, under an ambient light
 # that a material of Ka 0 0 0 does not reflect.
 DARK_HINT = ", black with every light off (its Ka is 0 0 0: 0 to 3 turn lights on)"
+# What a load says of a model whose box holds the eye: the picture shows its inside, often back faces alone.
+AROUND_HINT = ", around the camera (. frames it from outside)"
 
 
 class _Before(NamedTuple):
@@ -416,8 +418,8 @@ class Viewer:
         selected = element is self.scene.object and self.scene.viewer is not element
         seen = selected and not self._unseen_as(element, by_scale=True)
         commands.replace_loaded(self.scene, element, loaded)
-        said = with_notes(f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}{self._dark(element)}",
-                          loaded.mesh)
+        said = with_notes(f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}"
+                          f"{self._around([element])[0]}{self._dark(element)}", loaded.mesh)
         where = self._unseen_as(element, by_scale=True) if seen else ""
         told = f"{said}; {_lost_notice(element, where)}" if where else said
         self.tell(told)
@@ -453,6 +455,7 @@ class Viewer:
             self._start_loads.append(_StartLoad(obj, Path(path), joined=not together))
             return
         sight, inside = self._sights_and_insides([obj])[0]
+        inside = self._around([obj])[0] + inside
         told = _loaded_message(obj, Path(path), "object", commands.sight_words(sight) + inside)
         self._tell_each([told], at_start)
         if self.scene.message == told[0]:  # not joined to start-up's lines
@@ -484,9 +487,10 @@ class Viewer:
         self._tell_each(told, at_start=True)
 
     def _unseen(self, objects: list[SceneObject]) -> list[str]:
-        """What each load's message says of an object the view does not show, or that another's box
-        holds (framed with `.`, it may still be hidden there); "" where neither."""
-        return [commands.sight_words(sight) + inside for sight, inside in self._sights_and_insides(objects)]
+        """What each load's message says of an object the view does not show, whose box holds the eye, or
+        that another's box holds (framed with `.`, it may still be hidden there); "" where none."""
+        return [commands.sight_words(sight) + around + inside
+                for (sight, inside), around in zip(self._sights_and_insides(objects), self._around(objects))]
 
     def _sights_and_insides(self, objects: list[SceneObject]) -> list[tuple[Sight, str]]:
         sights = self.scene.sights(objects, self.narrowest_aspect(), commands.filled_pixels_high(self.scene, self))
@@ -504,6 +508,10 @@ class Viewer:
         leave black; "" where neither."""
         return [("" if holder is None else f", inside {_other(holder, obj)}'s bounding box, perhaps hidden by it "
                  "(d shows it alone)") + self._dark(obj) for obj, holder in zip(objects, self.scene.enclosers(objects))]
+
+    def _around(self, objects: list[SceneObject]) -> list[str]:
+        """What each load's message says of an object whose box holds the eye; "" where it does not."""
+        return [AROUND_HINT if around else "" for around in self.scene.around_eye(objects)]
 
     def _dark(self, obj: SceneObject) -> str:
         """What a load's message says of an object the lights leave black; "" where they do not."""

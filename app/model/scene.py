@@ -720,9 +720,13 @@ class Scene:
         far toward the view's corner (aspect : 1 : 1) is 1 / sqrt(aspect^2 + 2) deep."""
         if self.modes.projection is Projection.PARALLEL:
             return np.maximum(depth.min(axis=1, initial=np.inf), 0.0)
-        eye = np.einsum("nij,j->ni", np.linalg.inv(models), np.append(self.eye_position(), 1.0))[:, :3]
+        eye = self._eye_in_frames(models)
         outside = eye - np.clip(eye, bounds[:, 0], bounds[:, 1])
         return np.linalg.norm(outside, axis=1) / np.sqrt(aspect**2 + 2.0)
+
+    def _eye_in_frames(self, models: np.ndarray) -> np.ndarray:
+        """(N, 3): the eye in the frames of (N, 4, 4) model matrices, where each mesh's box is a box."""
+        return np.einsum("nij,j->ni", np.linalg.inv(models), np.append(self.eye_position(), 1.0))[:, :3]
 
     def lens(self, aspect: float) -> Lens:
         """What P is built from now, in a view `aspect` wide: the near and far planes follow what is shown."""
@@ -799,6 +803,15 @@ class Scene:
             found += [shown[int(index)] if any_ else None
                       for index, any_ in zip(holds.argmax(axis=1), holds.any(axis=1))]
         return found
+
+    def around_eye(self, elements: list[SceneObject]) -> list[bool]:
+        """Whether each element's box holds the eye (a room or a ground sheet loaded round the camera,
+        which then shows its inside), tested in its own frame; never the viewer, which we look from inside."""
+        models, bounds = _placements(elements)
+        eye = self._eye_in_frames(models)
+        holds = ((bounds[:, 0] <= eye) & (eye <= bounds[:, 1])).all(axis=1)
+        viewer = self.viewer
+        return [bool(held) and element is not viewer for element, held in zip(elements, holds.tolist())]
 
     def black_for_want_of_light(self, obj: SceneObject) -> bool:
         """Whether the object is drawn black as the lights stand: every one off, and no ambient colour in
