@@ -1190,3 +1190,17 @@ def test_a_model_drawn_black_as_it_is_loaded_says_why(tmp_path: Path, keys: str)
     stepped.press(parse_key_sequence("PAGEDOWN")[0])
     assert stepped.scene.message.startswith("dark.obj in place of lit: ")
     assert stepped.scene.message.endswith(DARK_HINT) == (keys == ""), stepped.scene.message
+
+
+def test_a_mesh_added_from_python_around_the_camera_says_so() -> None:
+    """add_mesh joins as a load does, and its message said where the view shows it, but not that a
+    room made round the camera (0 0 150) shows only its inside."""
+    import marraztu
+
+    corners = np.array([[x, y, z] for x in (-10.0, 10.0) for y in (-10.0, 10.0) for z in (140.0, 160.0)])
+    quads = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
+    with marraztu.Viewer(size=(64, 64)) as viewer:
+        viewer.add_mesh(corners, quads, name="room")
+        assert viewer.message.startswith("added room: ") and AROUND_WORDS in viewer.message, viewer.message
+        viewer.add_mesh(corners - [0.0, 0.0, 100.0], quads, name="ahead")
+        assert AROUND_WORDS not in viewer.message, viewer.message

@@ -455,7 +455,6 @@ class Viewer:
             self._start_loads.append(_StartLoad(obj, Path(path), joined=not together))
             return
         sight, inside = self._sights_and_insides([obj])[0]
-        inside = self._around([obj])[0] + inside
         told = _loaded_message(obj, Path(path), "object", commands.sight_words(sight) + inside)
         self._tell_each([told], at_start)
         if self.scene.message == told[0]:  # not joined to start-up's lines
@@ -489,12 +488,14 @@ class Viewer:
     def _unseen(self, objects: list[SceneObject]) -> list[str]:
         """What each load's message says of an object the view does not show, whose box holds the eye, or
         that another's box holds (framed with `.`, it may still be hidden there); "" where none."""
-        return [commands.sight_words(sight) + around + inside
-                for (sight, inside), around in zip(self._sights_and_insides(objects), self._around(objects))]
+        return [commands.sight_words(sight) + inside for sight, inside in self._sights_and_insides(objects)]
 
     def _sights_and_insides(self, objects: list[SceneObject]) -> list[tuple[Sight, str]]:
+        """How the view shows each loaded object, and what its message says whichever way it does: that
+        its box holds the eye, that another's box holds it, that it is drawn black."""
         sights = self.scene.sights(objects, self.narrowest_aspect(), commands.filled_pixels_high(self.scene, self))
-        return list(zip(sights, self._inside(objects)))
+        return [(sight, around + inside) for sight, around, inside in zip(sights, self._around(objects),
+                                                                          self._inside(objects))]
 
     def _say_unseen(self, obj: SceneObject, said: str, seen: str) -> None:
         self.scene.message = said
