@@ -367,10 +367,10 @@ def frame_selected(scene: Scene, host: Host) -> None:
     if obj is None:
         scene.message = "no object to frame"
         return
-    turned = framing.revealing(scene.camera.model, [obj])
-    matrix, half_height = framing.frame_objects(scene, turned, [obj], host.narrowest_aspect())
+    turned, aspect = framing.revealing(scene.camera.model, [obj]), host.narrowest_aspect()
+    matrix, half_height = framing.frame_objects(scene, turned, [obj], aspect)
     if move_view(scene, matrix, half_height=half_height):
-        sight = scene.sight(obj, host.narrowest_aspect(), filled_pixels_high(scene, host))
+        sight = scene.sight(obj, aspect, filled_pixels_high(scene, host))
         scene.message = f"framed {obj.name}" + (sight_words(sight) if sight is Sight.THIN else "")
 
 

@@ -373,13 +373,14 @@ class Renderer:
         self.origin = self._frame_origin(scene, items)
         placed = scene.view_matrix() @ translation_by(self.origin)
         slices = scene.depth_slices(view.aspect)  # worked out once: the near plane looks at every box
-        self._set_frame_uniforms(scene, slices[0].matrix() @ placed)
+        projections = [lens.matrix() for lens in slices]
+        self._set_frame_uniforms(scene, projections[0] @ placed)
         guides = scene_guides(scene) if scene.modes.guides else None
-        for index, lens in enumerate(slices):
+        for index, projection in enumerate(projections):
             if index:  # a nearer slice: its own depth buffer, over the farther one's picture
                 self._clear_depth(view)
-                self._set_view_projection(lens.matrix() @ placed)
-            self._draw_slice(scene, view, items, lens.matrix(), placed, guides)
+                self._set_view_projection(projection @ placed)
+            self._draw_slice(scene, view, items, projection, placed, guides)
         if scene.modes.target is Target.LIGHTS:
             if len(slices) > 1:  # over everything, undepth-tested: the whole depth's lens keeps it unclipped
                 self._set_view_projection(replace(slices[0], near=slices[-1].near).matrix() @ placed)
