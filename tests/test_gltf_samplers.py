@@ -19,6 +19,7 @@ from marraztu.control.viewer import StartOptions
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.registry import load_model
 from marraztu.model.sampling import DEFAULT_SAMPLING, Filter, TextureSampling, Wrap
+from marraztu.render import mipmaps
 
 SIZE = (120, 120)
 CHECKER = np.array([[[255, 0, 0], [0, 255, 0]], [[0, 0, 255], [255, 255, 255]]], np.uint8)  # top row first
@@ -137,6 +138,18 @@ def test_coordinates_outside_0_to_1_read_the_picture_as_each_axis_wrap_says(tmp_
         for v in (-0.75, -0.25, 0.25, 1.25, 1.75):
             expected = (int(wrapped(wrap_t, v) * 2), int(wrapped(wrap_s, u) * 2))
             assert texel_at(pixels, u, v, uv_range) == expected, (u, v)
+
+
+def test_a_mirrored_wrap_holds_without_glvnd(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Where libOpenGL.so.0 is missing (macOS, Windows), the platform's GL library sets the mirror."""
+    monkeypatch.setattr(mipmaps, "_gl", lambda: None)
+    uv_range = (-1.0, 2.0)
+    path = checker_square(tmp_path / "mirrored.gltf", {"magFilter": NEAREST, "wrapS": MIRRORED, "wrapT": MIRRORED},
+                          uv_range)
+    pixels = square_pixels(shot(tmp_path, path))
+    for u in (-0.75, -0.25, 0.25, 1.25, 1.75):
+        for v in (-0.75, -0.25, 0.25, 1.25, 1.75):
+            assert texel_at(pixels, u, v, uv_range) == (int(wrapped(MIRRORED, v) * 2), int(wrapped(MIRRORED, u) * 2))
 
 
 def test_one_picture_sampled_two_ways_by_two_materials_is_drawn_both_ways(tmp_path: Path) -> None:

@@ -133,14 +133,24 @@ def gl_flush() -> Callable[[], None]:
     the context glcontext made; libglvnd's libraries all reach the current one). A no-op where that
     library cannot be found: it only lets the GPU start sooner."""
     try:
-        library = _gl_library()
+        library = gl_library()
         flush = library.glFlush if library is not None else None
-    except (OSError, AttributeError):
+    except AttributeError:
         flush = None
     if flush is None:
         return lambda: None
     flush.restype, flush.argtypes = None, []
     return flush
+
+
+@cache
+def gl_library() -> ctypes.CDLL | None:
+    """The GL library glcontext loads, whose GL 1.1 entry points reach the current context on every
+    platform; None where it cannot be found."""
+    try:
+        return _gl_library()
+    except OSError:
+        return None
 
 
 def _gl_library() -> ctypes.CDLL | None:

@@ -12,7 +12,8 @@ horizontal pairs, then vertical pairs, rounding halves up.
 Anything else (a side that is not a power of two, no glvnd, a GL error) takes `build_mipmaps`.
 
 A texture is sampled as its material says (model.sampling): moderngl sets filters, repeat and clamp;
-mirrored repeat, which it does not name, is set through glvnd's glTexParameteri.
+mirrored repeat, which it does not name, is set through glTexParameteri, from glvnd or else from the
+platform's GL library (opengl32 on Windows, the OpenGL framework on macOS).
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ import moderngl
 import numpy as np
 
 from marraztu.model.sampling import DEFAULT_SAMPLING, Filter, TextureSampling, Wrap
+from marraztu.render.context import gl_library
 
 GL_TEXTURE_2D = 0x0DE1
 GL_TEXTURE_BINDING_2D = 0x8069
@@ -83,13 +85,13 @@ class MipmappedTexture:
         self.texture.use(location=location)
 
     def sample(self, sampling: TextureSampling) -> None:
-        """Sampled as `sampling` says; a mirrored wrap repeats where there is no glvnd to set it."""
+        """Sampled as `sampling` says; a mirrored wrap repeats only where no GL library can be found."""
         self.texture.filter = (_MINIFY[sampling.minify, sampling.between_levels], _MAGNIFY[sampling.magnify])
         self.texture.repeat_x = sampling.wrap_u is not Wrap.CLAMP
         self.texture.repeat_y = sampling.wrap_v is not Wrap.CLAMP
         mirrored = [axis for axis, wrap in ((GL_TEXTURE_WRAP_S, sampling.wrap_u), (GL_TEXTURE_WRAP_T, sampling.wrap_v))
                     if wrap is Wrap.MIRROR]
-        gl = _gl()
+        gl = _gl() or gl_library()
         if not mirrored or gl is None:
             return
         bound = ctypes.c_int(0)
