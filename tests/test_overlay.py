@@ -64,7 +64,8 @@ def test_fit_lines_keeps_what_fits_and_says_how_many_more() -> None:
     cut = fit_lines(lines, room_px=100.0, line_height=15.0, hint="m hides the matrices panel")
     assert len(cut) == 6 and cut[:5] == lines[:5]
     assert cut[-1] == "... 5 more lines: m hides the matrices panel"
-    assert fit_lines(lines, room_px=0.0, line_height=15.0) == ["... 10 more lines"]
+    assert fit_lines(lines, room_px=15.0, line_height=15.0) == ["... 10 more lines"]
+    assert fit_lines(lines, room_px=14.0, line_height=15.0) == []  # no room for a line: none drawn
 
 
 # --- legible at 100 % ----------------------------------------------------------------------------
@@ -261,3 +262,58 @@ def test_with_the_matrices_panel_up_the_probe_panel_moves_up_under_it_where_ther
     matrices = next(block for block in blocks if block[0][0].startswith("MATRICES"))
     _, _, top, bottom = next(block for block in blocks if block[0][0].startswith("PROBE"))
     assert top == matrices[3] and labels and not [(x, y) for x, y in labels if bottom <= y <= top]
+
+
+def _backdrops(tmp_path, monkeypatch, keys: str, size: tuple[int, int]):
+    """The backdrop of every block of text the overlay drew (the labels' aside: they are part of the
+    picture), as (left, bottom, right, top) in pixels."""
+    from marraztu.control.viewer import StartOptions
+    from marraztu.frontends.screenshot import take_screenshot
+    from marraztu.render import overlay as overlay_module
+
+    backdrops: list[tuple[float, float, float, float]] = []
+    real_rectangle, real_label = overlay_module.Overlay._rectangle, overlay_module.Overlay._label
+    in_label = []
+
+    def spied_rectangle(self, left, bottom, right, top):
+        if not in_label:
+            backdrops.append((left, bottom, right, top))
+        return real_rectangle(self, left, bottom, right, top)
+
+    def spied_label(self, label):
+        in_label.append(label)
+        try:
+            return real_label(self, label)
+        finally:
+            in_label.pop()
+
+    monkeypatch.setattr(overlay_module.Overlay, "_rectangle", spied_rectangle)
+    monkeypatch.setattr(overlay_module.Overlay, "_label", spied_label)
+    take_screenshot(StartOptions(), tmp_path / "shot.png", size, keys=keys, overlay=True)
+    return backdrops
+
+
+@pytest.mark.parametrize("size", [(160, 120), (320, 60), (64, 64), (200, 40), (1, 1)])
+@pytest.mark.parametrize("keys", ["i", "s i", "i m", "F 0 i ENTER*40 P m", "s i c c g"])
+def test_in_a_small_window_no_block_of_text_covers_another_or_leaves_the_window(
+        tmp_path, monkeypatch, keys: str, size: tuple[int, int]) -> None:
+    """At 160x120 the probe panel was drawn over the status line's last lines, at 64x64 the titles and
+    the matrices below the window's bottom and over the message: a panel with no room for a line kept one."""
+    backdrops = _backdrops(tmp_path, monkeypatch, keys, size)
+    width, height = size
+    assert all(0.0 <= left and 0.0 <= bottom and right <= width and top <= height
+               for left, bottom, right, top in backdrops), backdrops
+    for index, (left, bottom, right, top) in enumerate(backdrops):
+        for other_left, other_bottom, other_right, other_top in backdrops[index + 1:]:
+            apart = right <= other_left or other_right <= left or top <= other_bottom or other_top <= bottom
+            assert apart, backdrops
+
+
+@pytest.mark.parametrize("keys, first", [("i", "PROBE"), ("m", "MATRICES"), ("P", "PIPELINE")])
+def test_a_panel_asked_for_keeps_a_line_before_the_status_line_s_last_ones(tmp_path, monkeypatch, keys: str,
+                                                                          first: str) -> None:
+    """At 160x120 the status line, wrapped to seven lines, took the window's height: the probe panel had
+    no room. The panel keeps one line (its note of how many more a taller window shows) first."""
+    drawn = [text for text, *_ in _drawn_lines(tmp_path, monkeypatch, keys, (160, 120))]
+    assert any(text.startswith("... ") and "more lines" in text for text in drawn[:-1]), drawn
+    assert drawn[-1].startswith(("... ", first)), drawn

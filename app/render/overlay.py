@@ -108,15 +108,18 @@ class Overlay:
         width, height = size
         fitting = int((width - 2 * MARGIN_PX) / self.char_width_px)
         columns = max(10, fitting)
-        # Messages at the bottom keep up to half the height; status and help get what is left, and
-        # whatever does not fit says how much is left out rather than running off the window.
+        # In order: the messages at the bottom keep up to half the height (a line, where the window holds
+        # one); the status line a line; each panel that is on a line; status and help what is left.
+        # Whatever does not fit says how much is left out; what has no room for a line is not drawn.
         wrapped_bottom = [piece for line in bottom_lines for piece in wrap(line, columns)]
         # The last lines are kept: the file prompt and the latest message.
-        bottom_lines = fit_lines(wrapped_bottom[::-1], height / 2 - 2 * MARGIN_PX, LINE_HEIGHT_PX,
-                                 "a taller window shows them")[::-1]
+        bottom_room = max(height / 2, min(height, block_height(1, LINE_HEIGHT_PX))) - 2 * MARGIN_PX
+        bottom_lines = fit_lines(wrapped_bottom[::-1], bottom_room, LINE_HEIGHT_PX, "a taller window shows them")[::-1]
         bottom_height = block_height(len(bottom_lines), LINE_HEIGHT_PX)
-        top_lines = fit_lines([piece for line in top_lines for piece in wrap(line, columns)],
-                              height - bottom_height - 2 * MARGIN_PX, LINE_HEIGHT_PX, "a taller window shows them")
+        top_room = height - bottom_height - 2 * MARGIN_PX
+        top_room = max(top_room - panels_first_lines(extras), min(top_room, LINE_HEIGHT_PX))
+        top_lines = fit_lines([piece for line in top_lines for piece in wrap(line, columns)], top_room,
+                              LINE_HEIGHT_PX, "a taller window shows them")
         # The notes of what is left out, and any line in a window under ten columns, are cut, not wrapped.
         top_lines, bottom_lines = cut_lines(top_lines, fitting), cut_lines(bottom_lines, fitting)
         if extras is not None:
@@ -141,7 +144,7 @@ class Overlay:
         self.ctx.disable(moderngl.BLEND)
 
     def _extras(self, extras: Extras, width: int, below_top: float, above_bottom: float) -> None:
-        if extras.titles:
+        if extras.titles and below_top - above_bottom >= block_height(1, LINE_HEIGHT_PX):
             self._titles(extras.titles, width, below_top)
             below_top -= block_height(1, LINE_HEIGHT_PX)
         room_for_bottom = below_top - above_bottom
@@ -151,15 +154,16 @@ class Overlay:
             kept_for_bottom = block_height(2, PANEL_LINE_HEIGHT_PX) if extras.bottom else 0.0
             right = cut_lines(fit_lines(extras.right, room_for_bottom - 2 * MARGIN_PX - kept_for_bottom,
                                         PANEL_LINE_HEIGHT_PX, "a taller window shows them"), panel_columns)
-            panel_width = self._block_width(right)
-            self._block(right, max(width - panel_width, 0.0), below_top)
+            if right:
+                self._block(right, max(width - self._block_width(right), 0.0), below_top)
             # The bottom panel spans the width: it stops below the right-hand one, never over it.
             room_for_bottom -= block_height(len(right), PANEL_LINE_HEIGHT_PX)
         if extras.bottom:
             lines = cut_lines(fit_lines(extras.bottom, room_for_bottom - 2 * MARGIN_PX, PANEL_LINE_HEIGHT_PX,
                                         extras.bottom_overflow_hint), panel_columns)
-            self._block(lines, 0.0, self._bottom_panel_top(extras, lines, above_bottom + room_for_bottom,
-                                                           above_bottom))
+            if lines:
+                self._block(lines, 0.0, self._bottom_panel_top(extras, lines, above_bottom + room_for_bottom,
+                                                               above_bottom))
 
     def _titles(self, titles: list[str], width: int, top: float) -> None:
         """Each title centred over its view, and kept inside it: cut where the view is narrower."""
@@ -243,13 +247,26 @@ class Overlay:
 
 def fit_lines(lines: list[str], room_px: float, line_height: float, hint: str = "") -> list[str]:
     """The first lines that fit in `room_px`, the last of them replaced by a note of how many more
-    there are (and how to make room) when they do not all fit."""
-    fitting = max(int(room_px // line_height), 1)
+    there are (and how to make room) when they do not all fit; none where not one line fits."""
+    fitting = max(int(room_px // line_height), 0)
     if len(lines) <= fitting:
         return lines
-    shown = max(fitting - 1, 0)
+    if not fitting:
+        return []
+    shown = fitting - 1
     note = f"... {len(lines) - shown} more lines{': ' + hint if hint else ''}"
     return lines[:shown] + [note]
+
+
+def panels_first_lines(extras: Extras | None) -> float:
+    """The height the panels that are on take with a line each (the right-hand one leaves the bottom
+    one two, as _extras fits them), kept from the status and help lines' last ones."""
+    if extras is None:
+        return 0.0
+    titles = block_height(1, LINE_HEIGHT_PX) if extras.titles else 0.0
+    right = block_height(1, PANEL_LINE_HEIGHT_PX) if extras.right else 0.0
+    bottom = block_height(2 if extras.right else 1, PANEL_LINE_HEIGHT_PX) if extras.bottom else 0.0
+    return titles + right + bottom
 
 
 def block_height(lines: int, line_height: float) -> float:
