@@ -293,7 +293,7 @@ def _backdrops(tmp_path, monkeypatch, keys: str, size: tuple[int, int]):
     return backdrops
 
 
-@pytest.mark.parametrize("size", [(160, 120), (320, 60), (64, 64), (200, 40), (1, 1)])
+@pytest.mark.parametrize("size", [(160, 120), (320, 60), (64, 64), (200, 40), (1, 1), (8, 300)])
 @pytest.mark.parametrize("keys", ["i", "s i", "i m", "F 0 i ENTER*40 P m", "s i c c g"])
 def test_in_a_small_window_no_block_of_text_covers_another_or_leaves_the_window(
         tmp_path, monkeypatch, keys: str, size: tuple[int, int]) -> None:
@@ -317,3 +317,11 @@ def test_a_panel_asked_for_keeps_a_line_before_the_status_line_s_last_ones(tmp_p
     drawn = [text for text, *_ in _drawn_lines(tmp_path, monkeypatch, keys, (160, 120))]
     assert any(text.startswith("... ") and "more lines" in text for text in drawn[:-1]), drawn
     assert drawn[-1].startswith(("... ", first)), drawn
+
+
+def test_the_status_line_gives_way_only_to_panels_that_then_have_room(tmp_path, monkeypatch) -> None:
+    """At 1200x100, side by side with the probe, the matrices and a message, the status line was cut to
+    its note to keep room for the probe and the matrices, which still had none: the room went unused."""
+    drawn = [text for text, *_ in _drawn_lines(tmp_path, monkeypatch, "s i m c c g", (1200, 100))]
+    assert any(text.startswith("target lights") for text in drawn), drawn
+    assert not any("more lines" in text for text in drawn), drawn

@@ -106,22 +106,8 @@ class Overlay:
         corner up; then, below the top lines, the side-by-side titles and the right-hand panel, and
         above the bottom lines the bottom panel."""
         width, height = size
-        fitting = int((width - 2 * MARGIN_PX) / self.char_width_px)
-        columns = max(10, fitting)
-        # In order: the messages at the bottom keep up to half the height (a line, where the window holds
-        # one); the status line a line; each panel that is on a line; status and help what is left.
-        # Whatever does not fit says how much is left out; what has no room for a line is not drawn.
-        wrapped_bottom = [piece for line in bottom_lines for piece in wrap(line, columns)]
-        # The last lines are kept: the file prompt and the latest message.
-        bottom_room = max(height / 2, min(height, block_height(1, LINE_HEIGHT_PX))) - 2 * MARGIN_PX
-        bottom_lines = fit_lines(wrapped_bottom[::-1], bottom_room, LINE_HEIGHT_PX, "a taller window shows them")[::-1]
+        top_lines, bottom_lines = self._fitted(top_lines, bottom_lines, size, extras)
         bottom_height = block_height(len(bottom_lines), LINE_HEIGHT_PX)
-        top_room = height - bottom_height - 2 * MARGIN_PX
-        top_room = max(top_room - panels_first_lines(extras), min(top_room, LINE_HEIGHT_PX))
-        top_lines = fit_lines([piece for line in top_lines for piece in wrap(line, columns)], top_room,
-                              LINE_HEIGHT_PX, "a taller window shows them")
-        # The notes of what is left out, and any line in a window under ten columns, are cut, not wrapped.
-        top_lines, bottom_lines = cut_lines(top_lines, fitting), cut_lines(bottom_lines, fitting)
         if extras is not None:
             extras = replace(extras, labels=spread_labels(extras.labels, self._label_width))
         self.ctx.disable(moderngl.DEPTH_TEST)
@@ -142,6 +128,27 @@ class Overlay:
         if extras is not None:
             self._extras(extras, width, height - block_height(len(top_lines), LINE_HEIGHT_PX), bottom_height)
         self.ctx.disable(moderngl.BLEND)
+
+    def _fitted(self, top_lines: list[str], bottom_lines: list[str], size: tuple[int, int],
+                extras: Extras | None) -> tuple[list[str], list[str]]:
+        """The top and bottom lines wrapped and fitted, in order: the messages at the bottom keep up to
+        half the height (a line, where the window holds one); the status line a line; each panel that
+        is on a line; status and help what is left. Whatever does not fit says how much is left out;
+        what has no room for a line, or a character, is not drawn."""
+        width, height = size
+        fitting = int((width - 2 * MARGIN_PX) / self.char_width_px)
+        columns = max(10, fitting)
+        wrapped_bottom = [piece for line in bottom_lines for piece in wrap(line, columns)]
+        bottom_room = max(height / 2, min(height, block_height(1, LINE_HEIGHT_PX))) - 2 * MARGIN_PX
+        # The last lines are kept: the file prompt and the latest message. The notes of what is left
+        # out, and any line in a window under ten columns, are cut, not wrapped.
+        bottom_lines = cut_lines(fit_lines(wrapped_bottom[::-1], bottom_room, LINE_HEIGHT_PX,
+                                           "a taller window shows them")[::-1], fitting)
+        top_room = height - block_height(len(bottom_lines), LINE_HEIGHT_PX) - 2 * MARGIN_PX
+        top_room -= panels_first_lines(extras, top_room - LINE_HEIGHT_PX)
+        top_lines = cut_lines(fit_lines([piece for line in top_lines for piece in wrap(line, columns)], top_room,
+                                        LINE_HEIGHT_PX, "a taller window shows them"), fitting)
+        return top_lines, bottom_lines
 
     def _extras(self, extras: Extras, width: int, below_top: float, above_bottom: float) -> None:
         if extras.titles and below_top - above_bottom >= block_height(1, LINE_HEIGHT_PX):
@@ -258,15 +265,18 @@ def fit_lines(lines: list[str], room_px: float, line_height: float, hint: str = 
     return lines[:shown] + [note]
 
 
-def panels_first_lines(extras: Extras | None) -> float:
-    """The height the panels that are on take with a line each (the right-hand one leaves the bottom
-    one two, as _extras fits them), kept from the status and help lines' last ones."""
+def panels_first_lines(extras: Extras | None, room_px: float) -> float:
+    """The height the panels that are on take with a line each, as far as they fit in `room_px` in the
+    order _extras lays them out: the titles, then the right-hand panel with the two lines it leaves the
+    bottom one, or else the bottom one alone."""
     if extras is None:
         return 0.0
-    titles = block_height(1, LINE_HEIGHT_PX) if extras.titles else 0.0
+    titles = block_height(1, LINE_HEIGHT_PX) if extras.titles and block_height(1, LINE_HEIGHT_PX) <= room_px else 0.0
+    room_px -= titles
     right = block_height(1, PANEL_LINE_HEIGHT_PX) if extras.right else 0.0
     bottom = block_height(2 if extras.right else 1, PANEL_LINE_HEIGHT_PX) if extras.bottom else 0.0
-    return titles + right + bottom
+    lone_bottom = block_height(1, PANEL_LINE_HEIGHT_PX) if extras.bottom else 0.0
+    return titles + next((need for need in (right + bottom, lone_bottom) if need <= room_px), 0.0)
 
 
 def block_height(lines: int, line_height: float) -> float:
@@ -275,9 +285,11 @@ def block_height(lines: int, line_height: float) -> float:
 
 
 def cut_lines(lines: list[str], columns: int) -> list[str]:
-    """Each line, or as much of it as fits `columns` with CUT_MARK at its end to say it goes on."""
-    return [line if len(line) <= columns else line[:max(columns - 1, 0)] + CUT_MARK * (columns > 0)
-            for line in lines]
+    """Each line, or as much of it as fits `columns` with CUT_MARK at its end to say it goes on; none
+    where not one column fits."""
+    if columns < 1:
+        return []
+    return [line if len(line) <= columns else line[:columns - 1] + CUT_MARK for line in lines]
 
 
 def spread_labels(labels: list[Label], width_of: Callable[[Label], float]) -> list[Label]:
