@@ -852,6 +852,16 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
      "material 1's emissiveFactor holds -0.5: glTF's colours are 0..1"),
     ("d['materials'] = [{'pbrMetallicRoughness': {'metallicFactor': [1, 2]}}]",
      "material 0's metallicFactor is not a number"),
+    # JSON's NaN and Infinity (which Python writes and reads), or 1e400: trimesh drew the colour as 0 (black,
+    # or a channel of it), said to be "held to" glTF's 0..1
+    ("d['materials'] = [{'pbrMetallicRoughness': {'baseColorFactor': [float('nan'), 0.5, 0.5, 1]}}]",
+     "material 0's baseColorFactor holds nan: not a finite number"),
+    ("d['materials'] = [{}, {'extensions': {'KHR_materials_pbrSpecularGlossiness': "
+     "{'diffuseFactor': [1, float('inf'), 1, 1]}}}]", "material 1's diffuseFactor holds inf: not a finite number"),
+    ("d['materials'] = [{'pbrMetallicRoughness': {'roughnessFactor': float('-inf')}}]",
+     "material 0's roughnessFactor holds -inf: not a finite number"),
+    ("d['materials'] = [{'emissiveFactor': [10 ** 400, 0, 0]}]",
+     f"material 0's emissiveFactor holds 1{'0' * 39}... (401 digits): not a finite number"),
     ("d['materials'] = [{'alphaMode': 'x'}]", "material 0's alphaMode 'x' is not one of glTF's (OPAQUE, MASK, BLEND)"),
     ("d['materials'] = [{'alphaMode': 'x' * 50}]",
      f"material 0's alphaMode '{'x' * 39}... (52 characters) is not one of glTF's (OPAQUE, MASK, BLEND)"),

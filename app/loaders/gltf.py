@@ -10,6 +10,8 @@ import base64
 import binascii
 import importlib.util
 import json
+import math
+import sys
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -303,6 +305,10 @@ class GltfReferences:
             if key in _MATERIAL_NUMBERS and not _numbers_of(value, _MATERIAL_NUMBERS[key]):
                 size = _MATERIAL_NUMBERS[key]
                 self.refuse(f"material {number}'s {key} is not {'a number' if size is None else f'{size} numbers'}")
+            if key in _MATERIAL_NUMBERS and (unheld := [part for part in _listed(value) or [value]
+                                                        if not _is_finite(part)]):
+                self.refuse(f"material {number}'s {key} holds {shortened(str(unheld[0]))}: not a finite "
+                            "number")
             if key == "emissiveFactor" and (below := [part for part in value if part < _LEAST_EMISSION]):
                 self.refuse(f"material {number}'s emissiveFactor holds {below[0]:g}: glTF's colours are 0..1")
         for key, texture in _texture_infos(material):  # trimesh drops one that names no texture
@@ -580,6 +586,11 @@ def _numbers_of(value: object, size: int | None) -> bool:
 
 def _is_whole(value: object) -> bool:
     return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _is_finite(number: float) -> bool:
+    """A number that is one as a float: not NaN, not infinite, no whole number past float's range."""
+    return math.isfinite(number) if isinstance(number, float) else abs(number) <= sys.float_info.max
 
 
 def _is_number(value: object) -> bool:
