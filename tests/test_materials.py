@@ -518,6 +518,26 @@ def test_texture_options_of_numbers_read_past_to_the_name(tmp_path: Path, option
     assert len(mesh.warnings) == 1 and mesh.warnings[0].endswith(" ignored") and "texture option" in mesh.warnings[0]
 
 
+@pytest.mark.parametrize(("options", "name"), [("-o", "-o"), ("-s 2 -o", "-o"), ("-clamp on -blendu", "-blendu")])
+def test_a_map_kd_line_s_last_word_is_its_name_never_an_option(tmp_path: Path, options: str, name: str) -> None:
+    """The last word is the picture's name, as an option's values never take it: 'map_Kd -o' named a
+    file '-o' and read an option of no values and no picture, drawn without one and without a word."""
+    shutil.copy(EXAMPLES / "crate.ppm", tmp_path / name)
+    (tmp_path / "m.mtl").write_text(f"newmtl w\nmap_Kd {options}\n")
+    (tmp_path / "m.obj").write_text(f"mtllib m.mtl\n{TRIANGLES}usemtl w\nf 1 2 3\n")
+    mesh = load_model(tmp_path / "m.obj")
+    assert mesh.materials[0].texture_name == name and mesh.materials[0].texture is not None
+
+
+def test_a_map_kd_line_that_names_no_picture_is_a_malformed_line(tmp_path: Path) -> None:
+    """A map_Kd of no words was read as no picture without a word."""
+    (tmp_path / "m.mtl").write_text("newmtl w\nKd 1 0 0\nmap_Kd  # the picture\n")
+    (tmp_path / "m.obj").write_text(f"mtllib m.mtl\n{TRIANGLES}usemtl w\nf 1 2 3\n")
+    mesh = load_model(tmp_path / "m.obj")
+    assert mesh.warnings == ("material library 'm.mtl': ignored a malformed map_Kd line, on line 3",)
+    assert mesh.materials[0].values == {"kd": (1.0, 0.0, 0.0)}
+
+
 def test_a_colour_set_again_within_0_to_1_says_nothing(tmp_path: Path) -> None:
     (tmp_path / "m.mtl").write_text("newmtl w\nKd 2 2 2\nKd 1 1 1\n")
     (tmp_path / "m.obj").write_text(f"mtllib m.mtl\n{TRIANGLES}usemtl w\nf 1 2 3\n")

@@ -290,13 +290,14 @@ _TEXTURE_OPTION_DEFAULTS: dict[str, tuple[float, ...] | tuple[str, ...]] = {
     "-blendu": ("on",), "-blendv": ("on",), "-clamp": ("off",), "-cc": ("off",)}
 
 
-def _texture_file(tokens: list[str]) -> tuple[str | None, set[str]] | None:
-    """The file a map_Kd line names (the rest of the line after its options: names may hold spaces),
-    and the options it gives, which marraztu does not apply; None where an option's number is none by
-    the rule of Kd's numbers (finite_floats)."""
+def _texture_file(tokens: list[str]) -> tuple[str, set[str]] | None:
+    """The file a map_Kd line names (the rest of the line after its options: names may hold spaces; its
+    last word, as an option's values never take it, even one spelled as an option), and the options it
+    gives, which marraztu does not apply; None where it names none, or an option's number is none by the
+    rule of Kd's numbers (finite_floats)."""
     options: set[str] = set()
     at = 0
-    while at < len(tokens) and tokens[at].lower() in _TEXTURE_OPTIONS:
+    while at < len(tokens) - 1 and tokens[at].lower() in _TEXTURE_OPTIONS:
         option = tokens[at].lower()
         most, numbers = _TEXTURE_OPTIONS[option]
         start = at = at + 1
@@ -308,7 +309,7 @@ def _texture_file(tokens: list[str]) -> tuple[str | None, set[str]] | None:
         if tuple(values) != _TEXTURE_OPTION_DEFAULTS.get(option, ())[:len(values)] or not values:
             options.add(f"texture option {option}")
     name = " ".join(tokens[at:])
-    return (name or None), options
+    return (name, options) if name else None
 
 
 def _meant_as_number(token: str) -> bool:
