@@ -856,6 +856,25 @@ def test_a_model_matrix_set_by_hand_is_a_move_that_u_undoes() -> None:
         assert len(obj.history) == 1
 
 
+@pytest.mark.parametrize("scale", [(10.0, 10.0, 10.0), (1.0, 1.0, 30.0), (0.01, 0.01, 0.01)])
+def test_dot_frames_a_model_scaled_by_its_matrix_as_one_made_that_size(scale: tuple[float, float, float]) -> None:
+    """The framing sphere's radius was measured in the mesh's own units: a cube scaled 10 times by a
+    matrix set by hand was framed from 1.56 units, inside it, as 'framed box'."""
+    cube = np.array([[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)])
+    faces = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
+    eyes = []
+    for by_matrix in (True, False):
+        with marraztu.Viewer(size=SIZE, empty=True) as v:
+            v.add_mesh(cube if by_matrix else cube * scale, faces, name="box")
+            box = v.scene.objects[-1]
+            if by_matrix:
+                box.model = np.diag([*scale, 1.0])
+            v.press(".")
+            assert v.scene.around_eye([box]) == [False]
+            eyes.append(v.scene.eye_position())
+    np.testing.assert_allclose(eyes[0], eyes[1])
+
+
 def moved_along_z(distance: float) -> np.ndarray:
     matrix = np.eye(4)
     matrix[2, 3] = distance

@@ -33,10 +33,13 @@ def bounding_sphere(objects: Iterable[SceneObject]) -> tuple[np.ndarray, float]:
     centre = (low + high) / 2.0
     radius = 0.0
     for obj in objects:
-        # In the object's own frame: one subtraction per vertex, no placed copy of the table.
+        # In the object's own frame, no placed copy of the table: a world offset A d is |A d|^2 = d . (A^T A) d
+        # long, its model matrix's scale (by hand, in Python) included.
         local_centre = np.linalg.solve(obj.model, np.append(centre, 1.0))[:3]
         offsets = obj.mesh.positions - local_centre
-        radius = max(radius, float(np.sqrt(np.einsum("ij,ij->i", offsets, offsets).max(initial=0.0))))
+        linear = obj.model[:3, :3]
+        squares = np.einsum("ij,ij->i", offsets @ (linear.T @ linear), offsets)
+        radius = max(radius, float(np.sqrt(squares.max(initial=0.0))))
     return centre, radius
 
 
