@@ -196,13 +196,14 @@ def _library_contents(text: bytes, wanted: Collection[str], keep_first: bool) ->
         elif key in ("ka", "kd", "ks", "ns") and not _material_value(block.values, key, tokens[1:]):
             library.malformed_line(key.capitalize(), number)
         elif key in ("ka", "kd", "ks"):  # a colour, just set
-            _note_outside(block, key, number)
+            _note_outside(block, key, number, block.values[key])  # type: ignore[arg-type]
         elif key == "pr":
             roughness = finite_floats(tokens[1:])
             if roughness is None or len(roughness) != 1:
                 library.malformed_line("Pr", number)
             else:
                 block.roughness = min(max(roughness[0], 0.0), 1.0)  # as Blender's Roughness holds it
+                _note_outside(block, key, number, roughness)
         elif key == "map_kd":
             texture = _texture_file(tokens[1:])
             if texture is None:
@@ -256,9 +257,10 @@ def _unlit_picture_note(name: str, blocks: Iterable[_Block]) -> list[str]:
             "(Maya writes so: Kd 1 1 1 shows the picture)"]
 
 
-def _note_outside(block: _Block, key: str, line: int) -> None:
-    """Remembers where the colour `key` just set holds a value outside 0..1, which drawing holds to that range."""
-    outside = [value for value in block.values[key] if not 0.0 <= value <= 1.0]  # type: ignore[attr-defined]
+def _note_outside(block: _Block, key: str, line: int, values: Iterable[float]) -> None:
+    """Remembers where the `values` of `key` just set (a colour, or Pr) hold one outside 0..1, which
+    drawing holds to that range."""
+    outside = [value for value in values if not 0.0 <= value <= 1.0]
     if outside:
         block.outside[key] = (line, outside[0])
     else:
@@ -266,8 +268,8 @@ def _note_outside(block: _Block, key: str, line: int) -> None:
 
 
 def _outside_note(name: str, blocks: Iterable[_Block]) -> list[str]:
-    """The note of the kept materials' colours outside MTL's 0..1: Kd 255 128 0, written in 0..255,
-    is drawn yellow, not orange."""
+    """The note of the kept materials' colours and Pr outside MTL's 0..1: Kd 255 128 0, written in
+    0..255, is drawn yellow, not orange."""
     found = sorted((line, key, value) for block in blocks for key, (line, value) in block.outside.items())
     if not found:
         return []
@@ -275,7 +277,7 @@ def _outside_note(name: str, blocks: Iterable[_Block]) -> list[str]:
     first = f"{key.capitalize()} on line {line} holds {value:g}"
     if len(found) == 1:
         return [f"material library '{name}': {first}, outside MTL's 0..1: held to it"]
-    return [f"material library '{name}': {len(found)} colours outside MTL's 0..1 held to it (the first, {first})"]
+    return [f"material library '{name}': {len(found)} values outside MTL's 0..1 held to it (the first, {first})"]
 
 
 # map_Kd's options: how many values each takes (-o, -s and -t one to three), and whether they are numbers.
