@@ -227,6 +227,15 @@ def _finite_number(value: object) -> bool:
         return False
 
 
+def aperture_refusal(light: Light) -> str | None:
+    """Why a light's aperture, set by hand, cannot be drawn (None: it can): the probe tests the angle to
+    it and the shader that angle's cosine, which agree only from 0 to 180 degrees."""
+    aperture = light.aperture_deg
+    if isinstance(aperture, (bool, np.bool_)) or not _finite_number(aperture) or not 0.0 <= float(aperture) <= 180.0:
+        return f"the {light.name}'s aperture_deg must be a number of degrees from 0 to 180, not {_shown(aperture)}"
+    return None
+
+
 # The longest name an object or camera may be given: a file's name may be as long (255 on Linux, macOS
 # and Windows), and the status line and messages show it whole.
 NAME_LIMIT = 255
@@ -491,7 +500,8 @@ class Scene:
     def check_values(self) -> None:
         """ValueError, naming the first, where a value changed by hand (the programming interface's
         scene) cannot be drawn: a model matrix not affine or without an inverse, a light's or a
-        material's colour or place that is not 3 finite numbers, a mode not of the kind its key sets."""
+        material's colour or place that is not 3 finite numbers, an aperture past 0..180 degrees, a mode
+        not of the kind its key sets."""
         if self._all_drawable():  # every call of the interface asks: the walk below costs far more per element
             return
         refusal = next(self._refusals(), None)
@@ -510,6 +520,8 @@ class Scene:
             return False
         materials = list({id(m): m for element in elements for m in _materials_of(element)}.values())
         if not all(_finite_number(material.ns) for material in materials):
+            return False
+        if any(aperture_refusal(light) is not None for light in self.lights):
             return False
         triples = [value for _, value, _ in self._own_triples()]
         triples += [getattr(material, key) for material in materials for key in MATERIAL_COLOURS]
@@ -546,6 +558,7 @@ class Scene:
         refusal = picture_refusal(self.texture)
         if refusal is not None:
             yield f"the scene's texture {refusal}"
+        yield from (refusal for refusal in map(aperture_refusal, self.lights) if refusal is not None)
         triples = self._own_triples()
         for element in (*self.objects, *self.cameras):
             refusal = model_refusal(element.model)
