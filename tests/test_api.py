@@ -277,6 +277,9 @@ def test_a_pillow_texture_is_read_as_a_file_of_its_mode_is() -> None:
     (np.zeros((0, 4, 3), np.uint8), r"not shape \(0, 4, 3\)"),
     (np.full((2, 2, 3), 256), "integer texture pixels must lie in 0..255"),
     (np.full((2, 2, 3), 1.5), "float texture pixels must be finite and lie in 0..1"),
+    # a picture of 0..255 made in float64 was refused without a word on what to give instead
+    (np.full((2, 2, 3), 200.0), r"^float texture pixels must be finite and lie in 0\.\.1; for 0\.\.255, give bytes "
+                                r"\(\.astype\(np\.uint8\)\) or divide by 255$"),
     (np.full((2, 2, 3), np.nan), "float texture pixels must be finite"),
     (np.array([["a"]]), "texture pixels must be numbers"),
     (np.broadcast_to(np.uint8(7), (10**5, 10**5, 3)), r"^image size 100000x100000 is too large \(at most 67108864 "),
@@ -355,7 +358,7 @@ def test_a_trimeshs_picture_of_floats_is_read_as_add_mesh_reads_one(viewer, pict
     assert viewer.scene.object.mesh.materials[0].texture[0, 0].tolist() == [128, 128, 128]
     viewer.add_mesh(textured(np.asarray(picture) * 3.0))
     assert viewer.scene.object.mesh.materials == ()
-    assert "(float texture pixels must be finite and lie in 0..1)" in viewer.message
+    assert "(float texture pixels must be finite and lie in 0..1; for 0..255, give bytes" in viewer.message
 
 
 def test_a_trimesh_face_past_its_own_vertices_is_refused_not_joined_to_the_next_mesh(viewer) -> None:
@@ -795,6 +798,8 @@ def test_faces_and_colours_in_other_shapes_are_read_or_refused_in_words(viewer) 
     assert viewer.scene.object.mesh.face_count == 2 and (viewer.scene.object.mesh.vertex_colours == [255, 0, 0]).all()
     with pytest.raises(ValueError, match="vertex colours must be 4 rows of RGB or RGBA"):
         viewer.add_mesh(square, [[0, 1, 2]], colours=[[1, 0], [0, 0, 0], [1, 1, 1], [0, 0, 0]])
+    with pytest.raises(ValueError, match=r"^float vertex colours .* 0\.\.1; for 0\.\.255, give bytes .* by 255$"):
+        viewer.add_mesh(square, [[0, 1, 2]], colours=np.full((4, 3), 200.0))
 
 
 def test_a_scene_changed_by_hand_keeps_its_selection_in_range() -> None:

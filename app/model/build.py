@@ -116,7 +116,9 @@ def _rgb_bytes(table: np.ndarray, what: str) -> np.ndarray:
         return rgb.astype(np.uint8)
     floats = rgb.astype(np.float64)
     if not np.isfinite(floats).all() or (floats.size and (floats.min() < 0.0 or floats.max() > 1.0)):
-        raise ValueError(f"float {what} must be finite and lie in 0..1")
+        in_bytes_range = np.isfinite(floats).all() and floats.min() >= 0.0 and floats.max() <= 255.0
+        advice = "; for 0..255, give bytes (.astype(np.uint8)) or divide by 255" if in_bytes_range else ""
+        raise ValueError(f"float {what} must be finite and lie in 0..1{advice}")
     return np.rint(floats * 255.0).astype(np.uint8)
 
 
