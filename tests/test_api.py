@@ -568,6 +568,34 @@ def test_the_probe_as_plain_numbers(viewer) -> None:
         assert len(mine.lights) == len(theirs.terms.lights)
 
 
+def test_the_probe_gives_each_lights_l_and_h_as_the_equation_uses_them(viewer) -> None:
+    """N.L and N.H come with the L and H they were taken with, so that a lesson can redo the sum."""
+    viewer.press("0 1 2 3 F i")
+    report = viewer.probe()
+    assert report is not None
+    eye = viewer.scene.eye_position()
+    for vertex in report.vertices:
+        normal, position = np.array(vertex.normal), np.array(vertex.world_position)
+        to_eye = (eye - position) / np.linalg.norm(eye - position)
+        for share in (share for share in vertex.lights if share.reaches):
+            to_light, halfway = np.array(share.to_light), np.array(share.halfway)
+            assert np.linalg.norm(to_light) == pytest.approx(1.0)
+            assert share.n_dot_l == pytest.approx(max(float(normal @ to_light), 0.0))
+            assert halfway == pytest.approx((to_light + to_eye) / np.linalg.norm(to_light + to_eye))
+
+
+def test_a_lights_kind_is_found_where_its_repr_names_it(viewer) -> None:
+    """A notebook prints LightKind.SPOT, as an Enum's member: that name did not exist, and a lesson that
+    compared kind.name with 'SPOT' took the wrong branch without a word."""
+    from marraztu.model.lights import LightKind
+
+    kinds = {light.kind for light in viewer.scene.lights}
+    assert len(kinds) == 3
+    for kind in kinds:
+        assert getattr(LightKind, repr(kind).removeprefix("LightKind.")) is kind
+        assert kind.name == repr(kind).removeprefix("LightKind.").lower()
+
+
 def test_no_face_no_probe() -> None:
     with marraztu.Viewer(size=SIZE, empty=True) as v:
         assert v.probe() is None

@@ -54,10 +54,12 @@ class LightShare:
 
     light: str
     reaches: bool  # False outside a spotlight's cone
-    n_dot_l: float
+    n_dot_l: float  # max(N.L, 0): a light behind the face adds nothing
     highlight: float  # max(N.H, 0)^ns
     diffuse: tuple[float, float, float]
     specular: tuple[float, float, float]
+    to_light: tuple[float, float, float]  # L, world space, unit (zero outside a spotlight's cone)
+    halfway: tuple[float, float, float]  # H = normalise(L + V)
 
 
 @dataclass(frozen=True)
@@ -414,7 +416,8 @@ class Viewer:
 def _probed_vertex(found: Any, vertex: Any) -> ProbedVertex:
     shares = tuple(LightShare(light=term.name, reaches=term.reaches, n_dot_l=float(term.n_dot_l),
                               highlight=float(term.highlight), diffuse=_triple(term.diffuse),
-                              specular=_triple(term.specular)) for term in vertex.terms.lights)
+                              specular=_triple(term.specular), to_light=_triple(term.to_light),
+                              halfway=_triple(term.halfway)) for term in vertex.terms.lights)
     shown = found.displayed(vertex)
     colour = tuple(int(c) for c in (shown if shown is not None else vertex.lit_bytes))
     tints = found.obj.mesh.vertex_colours

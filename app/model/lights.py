@@ -47,6 +47,9 @@ class LightKind:
     has_cone: ClassVar[bool] = False
     moved_by: ClassVar[TransformKind]  # what x/y/z do to it; the other kind of move is refused
     refusal: ClassVar[str]  # why the other move is refused; {name} is the light's name
+    DIRECTIONAL: ClassVar[LightKind]  # the kinds, where their repr names them, as an Enum's members are
+    POINT: ClassVar[LightKind]
+    SPOT: ClassVar[LightKind]
 
     def to_light(self, light: WorldLight, point: np.ndarray) -> np.ndarray:
         """L: the unit vector from the point toward the light."""
@@ -131,6 +134,7 @@ class Spot(LightKind):
 
 
 DIRECTIONAL, POINT, SPOT = Directional(), Point(), Spot()
+LightKind.DIRECTIONAL, LightKind.POINT, LightKind.SPOT = DIRECTIONAL, POINT, SPOT
 LIGHT_KINDS: tuple[LightKind, ...] = (DIRECTIONAL, POINT, SPOT)
 
 
