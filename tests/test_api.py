@@ -844,6 +844,27 @@ def test_a_scene_changed_by_hand_keeps_its_selection_in_range() -> None:
             v.render(overlay=True)
 
 
+def test_a_negative_selection_counts_from_the_end_as_pythons_indices_do() -> None:
+    """selected_object = -1 selected the first object, where a Python user means the last."""
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        for name in ("one", "two", "three"):
+            v.add_mesh(TRIANGLE, [[0, 1, 2]], name=name)
+        v.scene.selected_object, v.scene.selected_light = -1, -2
+        assert v.probe().object == "three"
+        assert v.scene.selected_light == len(v.scene.lights) - 2
+        v.scene.selected_object = -99  # past the start: the first, as one past the end is the last
+        assert v.probe().object == "one"
+
+
+@pytest.mark.parametrize("attribute, value", [("selected_object", 1.5), ("selected_camera", "0"),
+                                              ("selected_light", True), ("selected_object", None)])
+def test_a_selection_that_is_no_whole_number_is_refused_in_one_line(attribute: str, value: object) -> None:
+    with marraztu.Viewer(size=SIZE) as v:
+        setattr(v.scene, attribute, value)
+        with pytest.raises(ValueError, match=rf"^the scene's {attribute} must be a whole number, not "):
+            v.render()
+
+
 BAD_MODELS = [
     (np.diag([1.0, 0.0, 1.0, 1.0]), "has no inverse"),  # a squash onto a plane, as a lab might try
     (np.eye(3), r"4x4, not \(3, 3\)"),
@@ -992,6 +1013,8 @@ def test_a_matrix_down_the_undo_history_that_cannot_be_drawn_is_refused_before_u
     (lambda s: setattr(s.lights[2], "aperture_deg", 400), "the object spotlight's aperture_deg must be .*, not 400$"),
     (lambda s: setattr(s.lights[3], "aperture_deg", float("nan")), "the camera spotlight's aperture_deg must be "),
     (lambda s: setattr(s.lights[3], "aperture_deg", "wide"), "the camera spotlight's aperture_deg must be .*'wide'$"),
+    # "yes" drew the light on as a truthy word would; "off" too
+    (lambda s: setattr(s.lights[1], "on", "off"), r"^the bulb's on must be True or False, not 'off'$"),
     (lambda s: setattr(s, "ambient", 50), "the scene's ambient must be 3 numbers"),
     (lambda s: setattr(s.objects[0], "material", dataclasses.replace(s.objects[0].material, kd=(1, 0))),
      "'s material kd must be 3 numbers"),

@@ -227,13 +227,20 @@ def _finite_number(value: object) -> bool:
         return False
 
 
-def aperture_refusal(light: Light) -> str | None:
-    """Why a light's aperture, set by hand, cannot be drawn (None: it can): the probe tests the angle to
-    it and the shader that angle's cosine, which agree only from 0 to 180 degrees."""
+def light_refusal(light: Light) -> str | None:
+    """Why a light's switch or aperture, set by hand, cannot be drawn (None: they can): `on` is True or
+    False, not a truthy word; the probe tests the angle to the aperture and the shader that angle's
+    cosine, which agree only from 0 to 180 degrees."""
+    if not isinstance(light.on, (bool, np.bool_)):
+        return f"the {light.name}'s on must be True or False, not {_shown(light.on)}"
     aperture = light.aperture_deg
     if isinstance(aperture, (bool, np.bool_)) or not _finite_number(aperture) or not 0.0 <= float(aperture) <= 180.0:
         return f"the {light.name}'s aperture_deg must be a number of degrees from 0 to 180, not {_shown(aperture)}"
     return None
+
+
+def _is_index(value: object) -> bool:
+    return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
 
 
 # The longest name an object or camera may be given: a file's name may be as long (255 on Linux, macOS
@@ -488,14 +495,19 @@ class Scene:
 
     # --- selection -----------------------------------------------------------------------------
     def settle_selection(self) -> None:
-        """Selections kept within lists changed by hand (the programming interface's scene): the last
-        element where the selected one is gone. ValueError where no camera or light is left to select."""
+        """Selections kept within lists changed by hand (the programming interface's scene): a negative
+        one counts from the end, as Python's indices do; the last element where the selected one is gone.
+        ValueError where a selection is no whole number, or no camera or light is left to select."""
         if not self.cameras or not self.lights:
             raise ValueError(f"the scene needs a camera and a light (it has {len(self.cameras)} and "
                              f"{len(self.lights)}): the keys and panels act on the selected ones")
-        self.selected_object = max(0, min(self.selected_object, len(self.objects) - 1))
-        self.selected_camera = max(0, min(self.selected_camera, len(self.cameras) - 1))
-        self.selected_light = max(0, min(self.selected_light, len(self.lights) - 1))
+        for attribute, elements in (("selected_object", self.objects), ("selected_camera", self.cameras),
+                                    ("selected_light", self.lights)):
+            index = getattr(self, attribute)
+            if not _is_index(index):
+                raise ValueError(f"the scene's {attribute} must be a whole number, not {_shown(index)}")
+            index = int(index) + (len(elements) if index < 0 else 0)
+            setattr(self, attribute, max(0, min(index, len(elements) - 1)))
 
     def check_values(self) -> None:
         """ValueError, naming the first, where a value changed by hand (the programming interface's
@@ -521,7 +533,7 @@ class Scene:
         materials = list({id(m): m for element in elements for m in _materials_of(element)}.values())
         if not all(_finite_number(material.ns) for material in materials):
             return False
-        if any(aperture_refusal(light) is not None for light in self.lights):
+        if any(light_refusal(light) is not None for light in self.lights):
             return False
         triples = [value for _, value, _ in self._own_triples()]
         triples += [getattr(material, key) for material in materials for key in MATERIAL_COLOURS]
@@ -558,7 +570,7 @@ class Scene:
         refusal = picture_refusal(self.texture)
         if refusal is not None:
             yield f"the scene's texture {refusal}"
-        yield from (refusal for refusal in map(aperture_refusal, self.lights) if refusal is not None)
+        yield from (refusal for refusal in map(light_refusal, self.lights) if refusal is not None)
         triples = self._own_triples()
         for element in (*self.objects, *self.cameras):
             refusal = model_refusal(element.model)
