@@ -112,6 +112,13 @@ def test_parse_errors_name_the_bad_token(text: str, named: str) -> None:
         parse_key_sequence(text)
 
 
+@pytest.mark.parametrize("text", ["x5", "xx"])
+def test_an_unknown_key_says_how_keys_are_written(text: str) -> None:
+    """A lesson's press("x5") was told every key but not that x*5 presses x five times."""
+    with pytest.raises(KeyMapError, match=r", separated by spaces \(KEY\*N presses one N times\)$"):
+        parse_key_sequence(text)
+
+
 def test_parse_bounds_the_whole_sequence() -> None:
     with pytest.raises(KeyMapError, match="presses"):
         parse_key_sequence(" ".join(["x*100000"] * 11))

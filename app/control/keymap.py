@@ -216,7 +216,8 @@ def key_press(token: str, keymap: dict[str, Command] = KEYMAP) -> KeyPress:
     """The press of a token; KeyMapError names the token when no key has it."""
     name = normalise_token(token)
     if name not in keymap:
-        raise KeyMapError(f"unknown key {shortened(token)!r}; keys are: {' '.join(keymap)}, f=PATH and click=X,Y")
+        raise KeyMapError(f"unknown key {shortened(token)!r}; keys are: {' '.join(keymap)}, f=PATH and click=X,Y, "
+                          "separated by spaces (KEY*N presses one N times)")
     return KeyPress(name)
 
 
