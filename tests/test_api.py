@@ -596,6 +596,27 @@ def test_a_lights_kind_is_found_where_its_repr_names_it(viewer) -> None:
         assert kind.name == repr(kind).removeprefix("LightKind.").lower()
 
 
+def test_frame_everything_shows_every_mesh_added_one_by_one() -> None:
+    """Meshes added one at a time left the view on the first; `>` frames them all, as `.` frames one."""
+    cube = trimesh.creation.box(extents=(10, 10, 10))
+    with marraztu.Viewer(size=(200, 150), empty=True) as v:
+        assert v.press(">").message == "nothing to frame"
+        for offset, colour in (((0, 0, 0), (255, 0, 0)), ((60, 0, 0), (0, 255, 0)), ((-150, 40, -90), (255, 255, 255))):
+            v.add_mesh(cube.vertices + offset, cube.faces, colours=np.tile(colour, (len(cube.vertices), 1)))
+
+        def seen(picture: np.ndarray) -> set[tuple[bool, ...]]:  # the channels each model's pixels light
+            return {tuple(pixel) for pixel in (picture > 0).reshape(-1, 3)} - {(False, False, True)}  # the sky
+
+        red, green, white = (True, False, False), (False, True, False), (True, True, True)
+        assert green not in seen(np.asarray(v.render()))  # framed by the first load, the second beside it
+        picture = np.asarray(v.press(">").render())
+        assert v.message == "framed everything shown (3 models)"
+        assert seen(picture) == {red, green, white}
+        edges = np.concatenate([picture[0], picture[-1], picture[:, 0], picture[:, -1]])
+        assert (edges == picture[0, 0]).all()  # none cut by the view's sides
+        assert green not in seen(np.asarray(v.press("u").render()))  # u takes it back, as any view move
+
+
 def test_no_face_no_probe() -> None:
     with marraztu.Viewer(size=SIZE, empty=True) as v:
         assert v.probe() is None

@@ -22,7 +22,8 @@ from marraztu.model.scene import Material, Scene, SceneObject, Target
 from support.scenes import RecordingHost
 
 SPEC_KEYS = set("f l o d r t g x y z X Y Z u c C n b p F + - 0 1 2 3".split()) | {"TAB", "ENTER", "ESC"}
-PROJECT_KEYS = {"T", "h", "F1", "F9", "F12", "P", "DELETE", "v", "i", "m", "s", "PAGEDOWN", "PAGEUP", "a", ".", "HOME"}
+PROJECT_KEYS = {"T", "h", "F1", "F9", "F12", "P", "DELETE", "v", "i", "m", "s", "PAGEDOWN", "PAGEUP", "a", ".", ">",
+                "HOME"}
 
 
 def triangle_scene() -> Scene:

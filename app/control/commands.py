@@ -374,6 +374,19 @@ def frame_selected(scene: Scene, host: Host) -> None:
         scene.message = f"framed {obj.name}" + (sight_words(sight) if sight is Sight.THIN else "")
 
 
+def frame_everything(scene: Scene, host: Host) -> None:
+    """`>`: as `.`, for everything the picture shows: models added one by one leave the view on the
+    first, and a viewer's usual "frame all" shows them together."""
+    shown = scene.shown_elements()
+    if not shown:
+        scene.message = "nothing to frame"
+        return
+    turned, aspect = framing.revealing(scene.camera.model, shown), host.narrowest_aspect()
+    matrix, half_height = framing.frame_objects(scene, turned, shown, aspect)
+    if move_view(scene, matrix, half_height=half_height):
+        scene.message = f"framed everything shown ({len(shown)} {'model' if len(shown) == 1 else 'models'})"
+
+
 def filled_pixels_high(scene: Scene, host: Host) -> int | None:
     """The views' height in pixels where they are drawn filled; None where no picture is drawn, or lines
     are, which light pixels however thin the model."""
