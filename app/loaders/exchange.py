@@ -138,10 +138,9 @@ def _collect(loaded: list[weakref.ref[Any]]) -> None:
 
 
 def _watched(loaded: Any) -> Any:
-    """trimesh's scene, its meshes noted as the read's to free."""
-    watched = getattr(_reading, "loaded", None)
-    if watched is not None:
-        watched.extend(weakref.ref(item) for item in (loaded, *loaded.geometry.values()))
+    """trimesh's scene, its meshes noted as the read's to free (each caller reads under
+    _frees_what_trimesh_held, which keeps the list)."""
+    _reading.loaded.extend(weakref.ref(item) for item in (loaded, *loaded.geometry.values()))
     return loaded
 
 
@@ -195,7 +194,7 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
 
 
 # --- reading and checking ------------------------------------------------------------------------
-def _trimesh_load(path: Path, data: bytes, file_type: str, beside: _FilesBeside | None = None) -> Any:
+def _trimesh_load(path: Path, data: bytes, file_type: str, beside: _FilesBeside) -> Any:
     """The file as a trimesh.Scene, each mesh as trimesh read it: trimesh reads every file as a scene,
     and joining one into a single mesh (force="mesh") copies and hashes every table. `beside` reads
     the files it names."""
@@ -207,9 +206,8 @@ def _trimesh_load(path: Path, data: bytes, file_type: str, beside: _FilesBeside 
             warnings.simplefilter("ignore")
             loaded = _watched(trimesh.load(io.BytesIO(data), file_type=file_type, process=False, force="scene",
                                            resolver=beside))
-        if beside is not None:
-            beside.held_failures.extend(refused)
-            beside.read.clear()  # trimesh has made its tables of them
+        beside.held_failures.extend(refused)
+        beside.read.clear()  # trimesh has made its tables of them
         return loaded
     except MemoryError:
         raise LoadError(path, "not enough memory to load this file") from None
