@@ -597,16 +597,13 @@ def _is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def check_one_parent_each(path: Path, document: dict[str, Any] | None) -> None:
+def check_one_parent_each(path: Path, document: dict[str, Any]) -> None:
     """glTF's nodes form trees: a node that is the child of two (trimesh's reader takes time in the square
-    of such sharing), or its own ancestor, is refused before trimesh reads the file."""
-    nodes = document.get("nodes") if isinstance(document, dict) else None
+    of such sharing), or its own ancestor, is refused before trimesh reads the file. Its nodes and their
+    children checked by GltfReferences: objects, and lists of node indices."""
     parent: dict[int, int] = {}
-    for number, node in enumerate(nodes if isinstance(nodes, list) else ()):
-        children = node.get("children") if isinstance(node, dict) else None
-        for child in children if isinstance(children, list) else ():
-            if not _is_whole(child):
-                continue  # not an index: trimesh says what is wrong with it
+    for number, node in enumerate(document.get("nodes", [])):
+        for child in node.get("children", []):
             if child in parent:
                 raise LoadError(path, f"not a glTF file: node {child} is the child of two nodes (glTF's nodes form "
                                       "trees)")
@@ -637,11 +634,9 @@ _UNREAD_COMPRESSION = {
 }
 
 
-def check_geometry_readable(path: Path, document: dict[str, Any] | None) -> None:
+def check_geometry_readable(path: Path, document: dict[str, Any]) -> None:
     """Refuses compressed geometry, which glTF's writers list as required, and extensions it requires
     that are not read here."""
-    if not isinstance(document, dict):
-        return
     required = document.get("extensionsRequired")
     for name in required if isinstance(required, list) else ():
         if name in _UNREAD_COMPRESSION and not (name == "KHR_draco_mesh_compression" and _draco_decoder()):
