@@ -153,6 +153,44 @@ def test_a_picture_made_in_code_past_the_limit_is_not_drawn(monkeypatch: pytest.
                                "the scene's texture is shown in its place",)
 
 
+def picture_file(size: tuple[int, int], format: str) -> bytes:
+    stream = io.BytesIO()
+    Image.new("RGB", size, (200, 40, 40)).save(stream, format=format)
+    return stream.getvalue()
+
+
+def two_pictured_materials_glb(folder: Path, format: str = "PNG") -> Path:
+    """A GLB of two triangles, each of its own material of its own picture (2 x 2, then 2 x 1 pixels)."""
+    first, second = picture_file((2, 2), format), picture_file((2, 1), format)
+    document, binary = triangle_gltf([{"mesh": 0}], [0], primitives=2, picture=first)
+    document["meshes"][0]["primitives"][1]["material"] = 1
+    document["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(second)})
+    document["buffers"][0]["byteLength"] = len(binary := binary + second)
+    document["images"] = [{"bufferView": view, "mimeType": f"image/{format.lower()}"} for view in (2, 3)]
+    document["textures"] = [{"source": 0}, {"source": 1}]
+    document["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": index}}} for index in (0, 1)]
+    path = folder / "two_pictures.glb"
+    path.write_bytes(glb(document, binary))
+    return path
+
+
+def test_pictures_of_several_materials_not_drawn_are_one_note(tmp_path: Path) -> None:
+    loaded = load_model(two_pictured_materials_glb(tmp_path, "GIF"))
+    assert all(material.texture is None for material in loaded.materials)
+    assert loaded.warnings == ("2 materials' pictures are not drawn (the first: a GIF picture, not a PNG, JPEG or PPM "
+                               "one); the scene's texture is shown in their place",)
+
+
+def test_materials_past_the_most_a_model_holds_take_the_viewers(tmp_path: Path,
+                                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+    path = two_pictured_materials_glb(tmp_path)
+    assert len(load_model(path).materials) == 2
+    monkeypatch.setattr(exchange, "MAX_MATERIALS", 1)
+    loaded = load_model(path)
+    assert len(loaded.materials) == 1 and loaded.face_material.tolist() == [0, -1]
+    assert loaded.warnings == ("2 materials used; the meshes of all but the first 1 take the viewer's material",)
+
+
 def test_a_plys_jpeg_of_thousands_of_scans_is_a_note(tmp_path: Path, decoded: list[object]) -> None:
     """Each scan of a progressive JPEG is decoded over the whole picture: 2,006 of them in 507 KB took 95 s."""
     (tmp_path / "scans.jpg").write_bytes(jpeg_of_scans(MAX_JPEG_SCANS + 1))
@@ -304,17 +342,34 @@ def random_gltf(rng: random.Random) -> tuple[dict[str, Any], bytes]:
     return document, binary
 
 
+def trimesh_counts(document: dict[str, Any], binary: bytes) -> tuple[int, int, int]:
+    """(placements, triangles, vertices) of the scene trimesh reads from the GLB."""
+    scene = trimesh.load(io.BytesIO(glb(document, binary)), file_type="glb", process=False, force="scene")
+    placed = [scene.geometry[scene.graph[node][1]] for node in scene.graph.nodes_geometry]
+    triangles = [len(getattr(geometry, "faces", ())) for geometry in placed]
+    return (len(placed), sum(triangles),
+            sum(len(geometry.vertices) for geometry, faces in zip(placed, triangles) if faces))
+
+
 @pytest.mark.parametrize("seed", range(4))
 def test_the_json_counts_what_trimesh_places(seed: int) -> None:
     rng = random.Random(seed)
     for _ in range(25):
         document, binary = random_gltf(rng)
-        scene = trimesh.load(io.BytesIO(glb(document, binary)), file_type="glb", process=False, force="scene")
-        placed = [scene.geometry[scene.graph[node][1]] for node in scene.graph.nodes_geometry]
-        triangles = [len(getattr(geometry, "faces", ())) for geometry in placed]
-        expected = (len(placed), sum(triangles),
-                    sum(len(geometry.vertices) for geometry, faces in zip(placed, triangles) if faces))
-        assert gltf.gltf_counts(document) == expected, json.dumps(document)
+        assert gltf.gltf_counts(document) == trimesh_counts(document, binary), json.dumps(document)
+
+
+def test_a_root_listed_twice_is_placed_once_and_a_file_of_no_scene_places_nothing(tmp_path: Path) -> None:
+    document, binary = random_gltf(random.Random(0))
+    twice = json.loads(json.dumps(document))
+    twice["scenes"][twice["scene"]]["nodes"] *= 2
+    assert gltf.gltf_counts(twice) == trimesh_counts(twice, binary) == gltf.gltf_counts(document)
+    none = {key: value for key, value in document.items() if key not in ("scene", "scenes")}
+    assert gltf.gltf_counts(none) == trimesh_counts(none, binary) == (0, 0, 0)
+    path = tmp_path / "unplaced.glb"
+    path.write_bytes(glb(none, binary))
+    refused = one_line_refusal(lambda: load_model(path))
+    assert refused.message == "no node of the scene places a triangle mesh: nothing to draw"
 
 
 @pytest.mark.parametrize("text", [b"[1, 2]", b"{\"nodes\": 5, \"scenes\": [{\"nodes\": [0]}]}",
@@ -1396,6 +1451,18 @@ def test_a_base_colour_texture_on_a_second_uv_set_is_a_note(tmp_path: Path, text
     loaded = load_model(path)
     assert loaded.warnings == (("material 0's baseColorTexture reads TEXCOORD_1: drawn with TEXCOORD_0's",)
                                if noted else ())
+
+
+def test_base_colour_textures_of_several_materials_on_later_uv_sets_are_one_note(tmp_path: Path) -> None:
+    document, binary = triangle_gltf([{"mesh": 0}], [0], primitives=2, picture=png_bytes(2, 2))
+    for number, primitive in enumerate(document["meshes"][0]["primitives"]):
+        primitive.update(material=number, attributes={**primitive["attributes"], "TEXCOORD_1": 1, "TEXCOORD_2": 1})
+    document["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": texture_set}}}
+                             for texture_set in (2, 1)]
+    path = tmp_path / "two_sets.glb"
+    path.write_bytes(glb(document, binary))
+    assert load_model(path).warnings == ("2 materials' baseColorTexture read a TEXCOORD_n past 0 (the first, "
+                                         "material 0's, TEXCOORD_2): drawn with TEXCOORD_0's",)
 
 
 @pytest.mark.parametrize(("transform", "noted"), [
