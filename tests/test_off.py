@@ -140,6 +140,8 @@ def test_a_colour_that_is_not_finite_is_refused_at_its_line(tmp_path: Path, text
     (off_text([*SQUARE[:3], "0 1 1e39"]), 6, "a vertex coordinate is not a finite number the GPU can hold"),
     (off_text(header="OFF\n4 3 0\n"), 8, "the header counts 3 faces, the file ends before them"),
     (off_text(header="OFF\n4 1 0\n", faces=()), 6, "the header counts 1 face, the file ends before them"),
+    ("OFF\n3 1 0\n", 2, "the header counts 3 vertices, the file ends before them"),
+    ("OFF\n3 1 0\n \t\n\n", 2, "the header counts 3 vertices, the file ends before them"),  # a body of no words
     (off_text(header="OFF\n5 2 0\n"), 7, "a vertex row holds 3 numbers here, this one 4"),
     (off_text(header="OFF\n4 0 0\n"), 2, "the header declares no faces: nothing to draw"),
     (off_text() + "5 6 7\n", 9, "'5' after the 2 faces the header counts"),

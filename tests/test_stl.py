@@ -191,6 +191,17 @@ def test_facet_colours_in_the_attribute_bytes_are_said_not_drawn(tmp_path: Path,
     assert (stl.ATTRIBUTES_NOTE in mesh.warnings) is said
 
 
+@pytest.mark.parametrize("value", [np.inf, np.nan])
+def test_a_binary_corner_that_is_no_finite_number_is_refused(tmp_path: Path, value: float) -> None:
+    """A binary STL's corners are float32, held by the GPU: only infinity and NaN are refused."""
+    data = bytearray(binary_stl([0]))
+    data[96:100] = np.float32(value).tobytes()  # the first corner's x
+    path = tmp_path / "unheld.stl"
+    path.write_bytes(bytes(data))
+    refused = one_line_refusal(lambda: load_model(path))
+    assert refused.message == "a vertex coordinate is not a finite number the GPU can hold" and refused.line is None
+
+
 @pytest.mark.parametrize("start", [b"", b"solidworks part\n", b"not solid\n"])
 def test_a_file_that_does_not_start_with_solid_is_neither_kind(start: bytes) -> None:
     assert "does not start with 'solid'" in refusal(start + b"facet normal 0 0 1\n").message
