@@ -78,3 +78,22 @@ def test_the_readmes_scene_file_loads_as_written_beside_its_models(tmp_path: Pat
         assert viewer.scene.objects[0].material.ns == 10
         assert viewer.scene.objects[0].picture is not None
         assert "checker" not in viewer.message
+
+
+def _keys_table_tokens(text: str) -> set[str]:
+    """The key map's tokens of the README's keys table: `a` `b`, `x y z` and named keys as written."""
+    section = text[text.index("### Keys"):text.index("| mouse | does |")]
+    cells = re.findall(r"^\| (?!key \|)([^|]+?) \|", section, re.MULTILINE)
+    named = {"Enter": "ENTER", "PageDown": "PAGEDOWN", "PageUp": "PAGEUP"}
+    tokens: set[str] = set()
+    for cell in cells:
+        for word in cell.replace("`", " ").replace("/", " ").split():
+            tokens.add(named.get(word, word))
+    return tokens - {"---"}
+
+
+def test_the_readmes_keys_table_lists_every_key_of_the_key_map_and_no_other() -> None:
+    """It left out h and F1, named only in the sentence above it."""
+    from marraztu.control.keymap import KEYMAP
+
+    assert _keys_table_tokens((ROOT / "README.md").read_text(encoding="utf-8")) == set(KEYMAP)
