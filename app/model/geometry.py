@@ -25,12 +25,22 @@ def cannot_light(low: np.ndarray, high: np.ndarray) -> str | None:
     under DRAWABLE_SIZE); None if it can."""
     farthest, size = (float(value) for value in _reach_and_size(np.asarray(low), np.asarray(high)))
     if farthest > DRAWABLE_COORDINATE:
-        return (f"a coordinate reaches {farthest:.3g}: past {DRAWABLE_COORDINATE:.0e} the GPU's 32-bit numbers "
-                "cannot light the model (scale it down)")
+        return (f"a coordinate reaches {_shown_beside(farthest, DRAWABLE_COORDINATE)}: past "
+                f"{DRAWABLE_COORDINATE:.0e} the GPU's 32-bit numbers cannot light the model (scale it down)")
     if 0.0 < size < DRAWABLE_SIZE:
-        return (f"the model is {size:.3g} across: under {DRAWABLE_SIZE:.0e} the GPU's 32-bit numbers cannot "
-                "light the model (scale it up)")
+        return (f"the model is {_shown_beside(size, DRAWABLE_SIZE)} across: under {DRAWABLE_SIZE:.0e} the GPU's "
+                "32-bit numbers cannot light the model (scale it up)")
     return None
+
+
+def _shown_beside(value: float, limit: float) -> str:
+    """`value` in three digits, or as many more as show it on its side of `limit` (1.0000001e18 read
+    '1e+18: past 1e+18' in three)."""
+    for digits in range(3, 18):
+        text = f"{value:.{digits}g}"
+        if float(text) != limit and (float(text) > limit) == (value > limit):
+            return text
+    return repr(value)
 
 
 def all_lightable(lows: np.ndarray, highs: np.ndarray) -> bool:
