@@ -94,9 +94,10 @@ def installed(built: dict[str, Path], tmp_path_factory: pytest.TempPathFactory) 
     lent = subprocess.run([str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
                           capture_output=True, text=True, check=True).stdout.strip()
     (Path(lent) / "borrowed-dependencies.pth").write_text(sysconfig.get_paths()["purelib"] + "\n")
+    # Where the suite runs from an installed wheel, the lent folder holds marraztu too: pip would call it installed.
     done = subprocess.run([sys.executable, "-m", "pip", "--python", str(python), "install", "--no-deps",
-                           "--no-index", "--quiet", str(built["wheel"])], capture_output=True, text=True,
-                          timeout=300)
+                           "--no-index", "--ignore-installed", "--quiet", str(built["wheel"])],
+                          capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     return venv / "bin"
 
