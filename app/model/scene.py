@@ -170,6 +170,8 @@ def triple_refusal(value: object, names: str) -> str | None:
 
 def _shown(value: object) -> str:
     """A value in an error's one line: its repr, its line breaks made spaces, cut short."""
+    if isinstance(value, np.bool_):  # numpy 1 shows np.True_ as True: "must be True or False, not True"
+        return f"np.{bool(value)}_"
     return shortened(" ".join(repr(value).split()))
 
 
