@@ -120,7 +120,7 @@ def parse_command_line(parser: argparse.ArgumentParser, argv: Sequence[str]) -> 
     words = list(argv)
     after = words.index("--") if "--" in words else len(words)
     args = parser.parse_intermixed_args(words[:after])
-    # Python 3.11 takes the `--` out of `--output=--` and leaves an empty list as the value, untyped.
+    # Python 3.11 and 3.12 take the `--` out of `--output=--`, leaving an empty list as the value (3.13 keeps it).
     emptied = next((name for name, value in vars(args).items() if value == [] and name != "models"), None)
     if emptied is not None:
         parser.error(f"argument --{emptied}: expected one argument")

@@ -230,14 +230,21 @@ def test_words_after_a_double_dash_are_models_even_named_like_options(tmp_path: 
 ])
 def test_an_option_given_only_a_double_dash_is_a_usage_error(tmp_path: Path, capsys, monkeypatch: pytest.MonkeyPatch,
                                                              arguments: list[str]) -> None:
-    """Python 3.11 strips the `--` of `--output=--` and leaves an empty list as the value: a traceback."""
+    """Python 3.11 and 3.12 strip the `--` of `--output=--` and leave an empty list as the value: a traceback.
+    Python 3.13 keeps `--` as the value, refused as the file, keys, size or rate it names."""
     from marraztu.cli import main
 
     monkeypatch.chdir(tmp_path)
-    with pytest.raises(SystemExit) as stop:
-        main(arguments)
+    try:
+        code = main(arguments)
+    except SystemExit as stop:
+        code = stop.code
     error = capsys.readouterr().err
-    assert stop.value.code == 2 and error.count("\n") == 1 and "expected one argument" in error, error
+    assert code != 0 and error.count("\n") == 1 and "Traceback" not in error, error
+    if sys.version_info < (3, 13):
+        assert code == 2 and "expected one argument" in error, error
+    else:
+        assert "'--'" in error or "error: --:" in error, error
     assert not list(tmp_path.iterdir())
 
 
