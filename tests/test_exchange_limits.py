@@ -369,7 +369,8 @@ def test_a_root_listed_twice_is_placed_once_and_a_file_of_no_scene_places_nothin
     path = tmp_path / "unplaced.glb"
     path.write_bytes(glb(none, binary))
     refused = one_line_refusal(lambda: load_model(path))
-    assert refused.message == "no node of the scene places a triangle mesh: nothing to draw"
+    assert refused.message == ("no node of the scene places a triangle mesh: nothing to draw (the file lists no "
+                               "scene, and glTF places no mesh outside one)")
 
 
 @pytest.mark.parametrize("text", [b"[1, 2]", b"{\"nodes\": 5, \"scenes\": [{\"nodes\": [0]}]}",

@@ -62,6 +62,7 @@ from marraztu.loaders.gltf import (
     gltf_pictures,
     numbered_material,
     sampled_materials,
+    sceneless_words,
     undrawn_primitive_notes,
     unfaithful_notes,
 )
@@ -183,7 +184,7 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     check_geometry_readable(path, document)
     counts, undrawn = gltf_counts(document), undrawn_primitive_notes(document)
     if counts is not None:  # before trimesh builds a node and a mesh per placement
-        _check_placed_counts(path, *counts, undrawn=undrawn)
+        _check_placed_counts(path, *counts, undrawn=sceneless_words(document) + undrawn)
     notes, sampled = unfaithful_notes(document, undrawn), sampled_materials(document)
     beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True, least_bytes=least_bytes)
     data = as_trimesh_reads(path, data if file_type == "gltf" else declared_part(data), document, file_type,

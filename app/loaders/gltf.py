@@ -770,6 +770,11 @@ _UNDRAWN_MODES = {_POINTS: "points", _LINES: "lines", _LINE_LOOP: "line loops", 
                   _FAN: "triangle fans"}
 
 
+def sceneless_words(document: dict[str, Any]) -> list[str]:
+    """Why a file of no scene places nothing: glTF reads its meshes as a library, as trimesh does."""
+    return [] if document.get("scenes") else ["the file lists no scene, and glTF places no mesh outside one"]
+
+
 def undrawn_primitive_notes(document: dict[str, Any]) -> list[str]:
     """The placed meshes' primitives of points and lines (Blender's loose edges), and of triangle fans."""
     meshes = document.get("meshes", [])
