@@ -22,6 +22,7 @@ from marraztu.loaders.scenefile import BUILT_IN_CAMERA_MODEL
 from marraztu.model import framing, picking, transforms, viewports
 from marraztu.model.build import scaled_mesh
 from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, Light, Owner, default_lights
+from marraztu.model.mesh import counted
 from marraztu.model.scene import (
     INSIDE_FRACTION,
     SWITCHED_SHADINGS,
@@ -367,9 +368,8 @@ def frame_selected(scene: Scene, host: Host) -> None:
     if obj is None:
         scene.message = "no object to frame"
         return
-    turned, aspect = framing.revealing(scene.camera.model, [obj]), host.narrowest_aspect()
-    matrix, half_height = framing.frame_objects(scene, turned, [obj], aspect)
-    if move_view(scene, matrix, half_height=half_height):
+    aspect = host.narrowest_aspect()
+    if _frame(scene, [obj], aspect):
         sight = scene.sight(obj, aspect, filled_pixels_high(scene, host))
         scene.message = f"framed {obj.name}" + (sight_words(sight) if sight is Sight.THIN else "")
 
@@ -381,10 +381,16 @@ def frame_everything(scene: Scene, host: Host) -> None:
     if not shown:
         scene.message = "nothing to frame"
         return
-    turned, aspect = framing.revealing(scene.camera.model, shown), host.narrowest_aspect()
+    if _frame(scene, shown, host.narrowest_aspect()):
+        scene.message = f"framed everything shown ({counted(len(shown), 'model')})"
+
+
+def _frame(scene: Scene, shown: list[SceneObject], aspect: float) -> bool:
+    """`.` and `>`'s move: the view frames `shown` in a view `aspect` wide, turned first where it sees
+    their box edge or end on; False where move_view refuses it, saying why."""
+    turned = framing.revealing(scene.camera.model, shown)
     matrix, half_height = framing.frame_objects(scene, turned, shown, aspect)
-    if move_view(scene, matrix, half_height=half_height):
-        scene.message = f"framed everything shown ({len(shown)} {'model' if len(shown) == 1 else 'models'})"
+    return move_view(scene, matrix, half_height=half_height)
 
 
 def filled_pixels_high(scene: Scene, host: Host) -> int | None:
