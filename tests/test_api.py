@@ -891,6 +891,7 @@ BAD_MODELS = [
     (np.eye(3), r"4x4, not \(3, 3\)"),
     (np.full((4, 4), np.nan), "finite"),
     ("abc", "4x4 of numbers"),
+    (np.eye(4).astype(str), "4x4 of numbers"),  # numpy reads text as numbers: einsum's 'invalid data type'
     (np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0.002, 0, 1]]),  # drew, lit as if affine
      "must end in the row 0 0 0 1 \\(an affine transform\\), not 0 0.002 0 1"),
 ]
@@ -1036,6 +1037,14 @@ def test_a_matrix_down_the_undo_history_that_cannot_be_drawn_is_refused_before_u
     (lambda s: setattr(s.lights[2], "aperture_deg", 400), "the object spotlight's aperture_deg must be .*, not 400$"),
     (lambda s: setattr(s.lights[3], "aperture_deg", float("nan")), "the camera spotlight's aperture_deg must be "),
     (lambda s: setattr(s.lights[3], "aperture_deg", "wide"), "the camera spotlight's aperture_deg must be .*'wide'$"),
+    # text that float() and numpy read as numbers ('90') passed, then raised "Unknown format code 'g'" or a
+    # UFuncTypeError from the messages, the probe or the renderer
+    (lambda s: setattr(s.lights[2], "aperture_deg", "90"), "the object spotlight's aperture_deg must be .*'90'$"),
+    (lambda s: setattr(s.lights[1], "position", ("1", "2", "3")), r"the bulb's position must be 3 numbers \(x, y, z\)"),
+    (lambda s: setattr(s.objects[0], "material", dataclasses.replace(s.objects[0].material, kd=("1", "0", "0"))),
+     "'s material kd must be 3 numbers"),
+    (lambda s: setattr(s.objects[0], "material", dataclasses.replace(s.objects[0].material, ns="5")),
+     "'s material ns must be a finite number, not '5'$"),
     # "yes" drew the light on as a truthy word would; "off" too
     (lambda s: setattr(s.lights[1], "on", "off"), r"^the bulb's on must be True or False, not 'off'$"),
     (lambda s: setattr(s, "ambient", 50), "the scene's ambient must be 3 numbers"),
@@ -1076,6 +1085,7 @@ def test_lights_and_materials_set_by_hand_that_cannot_be_drawn_are_refused_in_on
     ("parallel_half_height", float("nan"), r"modes\.parallel_half_height must be a finite number from "),
     ("parallel_half_height", 1e-300, r"modes\.parallel_half_height must be .*, not 1e-300$"),
     ("parallel_half_height", 3e38, r"modes\.parallel_half_height must be .*, not 3e\+38$"),
+    ("parallel_half_height", "150", r"modes\.parallel_half_height must be .*, not '150'$"),
 ])
 def test_modes_set_by_hand_that_cannot_be_drawn_are_refused_in_one_line(name: str, value: object, words: str) -> None:
     """`scene.modes.shading = "gouraud"`, as the repr's <Shading.FLAT: 'flat'> invites, raised 'str'

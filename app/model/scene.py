@@ -135,9 +135,8 @@ _uids = itertools.count(1)
 
 def model_refusal(model: object) -> str | None:
     """Why a model matrix cannot be drawn (None: it can): an affine 4x4 of finite numbers with an inverse."""
-    try:
-        matrix = np.asarray(model, dtype=np.float64)
-    except (TypeError, ValueError):
+    matrix = _numbers(model)
+    if matrix is None:
         return "must be a 4x4 of numbers"
     if matrix.shape != (4, 4):
         return f"must be 4x4, not {matrix.shape}"
@@ -157,10 +156,7 @@ def model_refusal(model: object) -> str | None:
 
 def triple_refusal(value: object, names: str) -> str | None:
     """Why a colour or a point cannot be drawn (None: it can): it must be 3 finite numbers."""
-    try:
-        numbers = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        numbers = None
+    numbers = _numbers(value)
     if numbers is None or numbers.shape != (3,):
         return f"must be 3 numbers ({names}), not {_shown(value)}"
     if not np.isfinite(numbers).all():
@@ -215,18 +211,23 @@ def picture_refusal(picture: object) -> str | None:
 
 def _stacked(values: list[object], shape: tuple[int, ...]) -> np.ndarray | None:
     """(N, *shape) float64 of values each of `shape`; None where one is not (model_refusal says why)."""
+    stack = _numbers(values) if values else np.zeros((0, *shape))
+    return stack if stack is not None and stack.shape == (len(values), *shape) else None
+
+
+def _numbers(value: object) -> np.ndarray | None:
+    """`value` as float64 where it holds numbers; None where it does not, text included, which numpy
+    and float() read as numbers ('90')."""
     try:
-        stack = np.array(values, dtype=np.float64) if values else np.zeros((0, *shape))
-    except (TypeError, ValueError):
+        given = np.asarray(value)
+        return None if given.dtype.kind in "USV" else given.astype(np.float64, copy=False)
+    except (TypeError, ValueError, OverflowError):
         return None
-    return stack if stack.shape == (len(values), *shape) else None
 
 
 def _finite_number(value: object) -> bool:
-    try:
-        return math.isfinite(float(value))  # type: ignore[arg-type]
-    except (TypeError, ValueError, OverflowError):
-        return False
+    number = _numbers(value)
+    return number is not None and number.ndim == 0 and bool(np.isfinite(number))
 
 
 def light_refusal(light: Light) -> str | None:
@@ -533,7 +534,8 @@ class Scene:
         if any(picture_refusal(picture) is not None for picture in (self.texture, *(e.picture for e in elements))):
             return False
         materials = list({id(m): m for element in elements for m in _materials_of(element)}.values())
-        if not all(_finite_number(material.ns) for material in materials):
+        shininess = _stacked([material.ns for material in materials], ())
+        if shininess is None or not np.isfinite(shininess).all():
             return False
         if any(light_refusal(light) is not None for light in self.lights):
             return False
