@@ -230,6 +230,11 @@ def _finite_number(value: object) -> bool:
     return number is not None and number.ndim == 0 and bool(np.isfinite(number))
 
 
+def _number_within(value: object, low: float, high: float) -> bool:
+    """A finite number from `low` to `high`; True and False are none, though Python counts them 1 and 0."""
+    return not isinstance(value, (bool, np.bool_)) and _finite_number(value) and low <= float(value) <= high  # type: ignore[arg-type]
+
+
 def light_refusal(light: Light) -> str | None:
     """Why a light's switch or aperture, set by hand, cannot be drawn (None: they can): `on` is True or
     False, not a truthy word; the probe tests the angle to the aperture and the shader that angle's
@@ -237,7 +242,7 @@ def light_refusal(light: Light) -> str | None:
     if not isinstance(light.on, (bool, np.bool_)):
         return f"the {light.name}'s on must be True or False, not {_shown(light.on)}"
     aperture = light.aperture_deg
-    if isinstance(aperture, (bool, np.bool_)) or not _finite_number(aperture) or not 0.0 <= float(aperture) <= 180.0:
+    if not _number_within(aperture, 0.0, 180.0):
         return f"the {light.name}'s aperture_deg must be a number of degrees from 0 to 180, not {_shown(aperture)}"
     return None
 
@@ -421,8 +426,7 @@ def _modes_refusal(modes: Modes) -> str | None:
             if not isinstance(value, bool):  # numpy's True too: moderngl packs only Python's into a uniform
                 return f"modes.{name} must be True or False, not {_shown(value)}"
         elif kind is float:
-            if isinstance(value, (bool, np.bool_)) or not _finite_number(value) or \
-                    not HALF_HEIGHT_RANGE[0] <= float(value) <= HALF_HEIGHT_RANGE[1]:
+            if not _number_within(value, *HALF_HEIGHT_RANGE):
                 return f"modes.{name} must be a finite number from {HALF_HEIGHT_RANGE[0]:g} to " \
                        f"{HALF_HEIGHT_RANGE[1]:g}, not {_shown(value)}"
         elif not isinstance(value, kind):
