@@ -610,11 +610,18 @@ def test_frame_everything_shows_every_mesh_added_one_by_one() -> None:
         red, green, white = (True, False, False), (False, True, False), (True, True, True)
         assert green not in seen(np.asarray(v.render()))  # framed by the first load, the second beside it
         picture = np.asarray(v.press(">").render())
-        assert v.message == "framed everything shown (3 models)"
+        assert v.message == "framed everything shown (3 objects)"
         assert seen(picture) == {red, green, white}
         edges = np.concatenate([picture[0], picture[-1], picture[:, 0], picture[:, -1]])
         assert (edges == picture[0, 0]).all()  # none cut by the view's sides
         assert green not in seen(np.asarray(v.press("u").render()))  # u takes it back, as any view move
+
+
+def test_frame_everything_counts_a_cameras_body_as_a_camera() -> None:
+    with marraztu.Viewer(size=(120, 90)) as v:
+        assert v.press(">").message == "framed everything shown (3 objects)"
+        v.press("c").load(ASSET_DIR / "camera.obj").press("TAB")  # the new camera's body is drawn, seen from the first
+        assert v.press(">").message == "framed everything shown (3 objects and 1 camera)"
 
 
 def test_no_face_no_probe() -> None:

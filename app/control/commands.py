@@ -382,7 +382,10 @@ def frame_everything(scene: Scene, host: Host) -> None:
         scene.message = "nothing to frame"
         return
     if _frame(scene, shown, host.narrowest_aspect()):
-        scene.message = f"framed everything shown ({counted(len(shown), 'model')})"
+        camera_ids = {id(camera) for camera in scene.cameras}
+        cameras = sum(id(element) in camera_ids for element in shown)  # a body of another camera
+        counts = [counted(n, kind) for n, kind in ((len(shown) - cameras, "object"), (cameras, "camera")) if n]
+        scene.message = f"framed everything shown ({' and '.join(counts)})"
 
 
 def _frame(scene: Scene, shown: list[SceneObject], aspect: float) -> bool:

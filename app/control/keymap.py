@@ -134,7 +134,7 @@ def build_commands() -> list[Command]:
                 _frame_state),
         *_axis_commands(),
         Command("u", "undo the last view move, else the target's last move", commands.undo),
-        Command(".", "frame the selected object / everything shown", commands.frame_selected,
+        Command(".", "frame the selected object", commands.frame_selected,
                 together="frame the selected object / everything shown"),
         Command(">", "frame everything shown", commands.frame_everything,
                 together="frame the selected object / everything shown"),

@@ -34,13 +34,13 @@ def cannot_light(low: np.ndarray, high: np.ndarray) -> str | None:
 
 
 def _shown_beside(value: float, limit: float) -> str:
-    """`value` in three digits, or as many more as show it on its side of `limit` (1.0000001e18 read
-    '1e+18: past 1e+18' in three)."""
-    for digits in range(3, 18):
+    """`value` in three digits, or as many more as keep it on its side of `limit`: three round a value
+    just past the limit onto it, which then reads as refused itself."""
+    for digits in range(3, 17):
         text = f"{value:.{digits}g}"
         if float(text) != limit and (float(text) > limit) == (value > limit):
             return text
-    return repr(value)
+    return f"{value:.17g}"  # seventeen digits give any float back
 
 
 def all_lightable(lows: np.ndarray, highs: np.ndarray) -> bool:
