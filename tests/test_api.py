@@ -1307,3 +1307,39 @@ def test_a_mesh_added_from_python_says_where_it_stands_as_a_load_does() -> None:
     with marraztu.Viewer(size=SIZE) as v:
         v.add_mesh(trimesh.creation.icosphere())
         assert v.message.endswith("inside Rammer_255's bounding box, perhaps hidden by it (d shows it alone)")
+
+
+@pytest.mark.parametrize("change, words", [
+    (lambda s: s.objects.append("teapot"), r"^the scene's objects must hold SceneObjects, not 'teapot'$"),
+    (lambda s: setattr(s, "objects", tuple(s.objects)), r"^the scene's objects must be a list, not tuple$"),
+    (lambda s: setattr(s, "modes", None), r"^the scene's modes must be a Modes \(from .*, not None$"),
+    (lambda s: setattr(s.objects[0], "mesh", None), r"'s mesh must be a Mesh, not None$"),
+    (lambda s: setattr(s.objects[0], "name", 42), r"^the scene's objects' names must be str, not 42$"),
+    (lambda s: setattr(s.objects[0], "name", "a" * (NAME_LIMIT + 1)), rf"name is {NAME_LIMIT + 1} characters long"),
+    (lambda s: s.objects[0].history.clear(), r"'s history must be a list of model matrices, .*not \[\]$"),
+    (lambda s: setattr(s.objects[0], "selected_face", 1.5), r"'s selected_face must be a whole number, not 1\.5$"),
+    (lambda s: s.lights.append("sun"), r"^the scene's lights must hold Lights, not 'sun'$"),
+    (lambda s: setattr(s.lights[1], "kind", "point"), r"^the bulb's kind must be a LightKind \(LightKind\."),
+    (lambda s: setattr(s.lights[2], "owner", None), r"'s owner must be an Owner \(Owner\.NONE, .*not None$"),
+    (lambda s: setattr(s.lights[2], "axis_in_owner", np.eye(2)), r"'s axis_in_owner must be a 3x3 rotation"),
+    (lambda s: setattr(s.lights[1], "key", None), r"^a light's name and key must be str, not 'bulb' and None$"),
+])
+def test_parts_of_the_scene_replaced_by_what_they_are_not_are_refused_in_one_line(change, words: str) -> None:
+    """A light's kind set to "point", a mesh or the modes to None, a str among the objects raised
+    AttributeError from deep in the renderer; selected_face 1.5 drew; an empty history an IndexError; a
+    name of 10 MB took minutes to lay out in the panels (4 s a megabyte)."""
+    with marraztu.Viewer(size=SIZE) as v:
+        v.press("0 1 2 3")
+        change(v.scene)
+        for call in (v.render, lambda: v.press("x"), v.probe, lambda: v.status):
+            with pytest.raises(ValueError, match=words):
+                call()
+
+
+@pytest.mark.parametrize("emptied", ["cameras", "lights"])
+def test_the_status_of_a_scene_without_a_camera_or_light_is_refused_as_a_render_is(emptied: str) -> None:
+    """v.status raised IndexError where render said what was wrong."""
+    with marraztu.Viewer(size=SIZE) as v:
+        getattr(v.scene, emptied).clear()
+        with pytest.raises(ValueError, match=r"^the scene needs a camera and a light"):
+            v.status  # noqa: B018 - the property is the call

@@ -266,6 +266,7 @@ class Viewer:
         """What the top of the window says: the target, the moving mode, every switch, the lights and
         the selection ('target objects | rotate local | flat | ...'), which a mode key changes and the
         message does not. A mode set by hand is checked first, as every call checks it."""
+        self.scene.settle_selection()  # the camera or light it names may be gone
         self.scene.check_values()
         return status_line(self.scene)
 

@@ -20,7 +20,15 @@ import numpy as np
 
 from marraztu.errors import shortened
 from marraztu.model.geometry import all_lightable, cannot_light
-from marraztu.model.lights import AMBIENT_INTENSITY, Light, Owner, TermView, WorldLight, default_lights
+from marraztu.model.lights import (
+    AMBIENT_INTENSITY,
+    Light,
+    LightKind,
+    Owner,
+    TermView,
+    WorldLight,
+    default_lights,
+)
 from marraztu.model.mesh import Mesh
 from marraztu.model.sampling import DEFAULT_SAMPLING, TextureSampling
 from marraztu.model.transforms import (
@@ -259,6 +267,47 @@ NAME_LIMIT = 255
 def name_refusal(name: str) -> str | None:
     """Why a name given an object or camera cannot be shown (None: it can): longer than a file's."""
     return f"name is {len(name)} characters long: at most {NAME_LIMIT}" if len(name) > NAME_LIMIT else None
+
+
+def _element_refusal(element: object, what: str) -> str | None:
+    """Why an object or camera put in the scene by hand is not one the program can use (None: it is):
+    the parts every call reads before its values are checked."""
+    if not isinstance(element, SceneObject):
+        return f"the scene's {what} must hold SceneObjects, not {_shown(element)}"
+    if not isinstance(element.name, str):
+        return f"the scene's {what}' names must be str, not {_shown(element.name)}"
+    if len(element.name) > NAME_LIMIT:  # the panels lay a name out glyph by glyph, however long
+        return f"{_shown(element.name)}: {name_refusal(element.name)}"
+    if not isinstance(element.mesh, Mesh):
+        return f"{element.name}'s mesh must be a Mesh, not {_shown(element.mesh)}"
+    if not isinstance(element.history, list) or not element.history:
+        return f"{element.name}'s history must be a list of model matrices, the current last, not " \
+               f"{_shown(element.history)}"
+    if not _is_index(element.selected_face):
+        return f"{element.name}'s selected_face must be a whole number, not {_shown(element.selected_face)}"
+    return None
+
+
+def _light_kind_refusal(light: object) -> str | None:
+    """Why a light put in the scene by hand is not one the program can place (None: it is)."""
+    if not isinstance(light, Light):
+        return f"the scene's lights must hold Lights, not {_shown(light)}"
+    if not isinstance(light.name, str) or not isinstance(light.key, str):
+        return f"a light's name and key must be str, not {_shown(light.name)} and {_shown(light.key)}"
+    if not isinstance(light.kind, LightKind):
+        return f"the {light.name}'s kind must be a LightKind (LightKind.DIRECTIONAL, LightKind.POINT, " \
+               f"LightKind.SPOT; from {LightKind.__module__}), not {_shown(light.kind)}"
+    if not isinstance(light.owner, Owner):
+        members = ", ".join(f"Owner.{owner.name}" for owner in Owner)
+        return f"the {light.name}'s owner must be an Owner ({members}; from {Owner.__module__}), not " \
+               f"{_shown(light.owner)}"
+    if not isinstance(light.history, list):
+        return f"the {light.name}'s history must be a list, not {_shown(light.history)}"
+    axis = _stacked([light.axis_in_owner], (3, 3))
+    if axis is None or not np.isfinite(axis).all():
+        return f"the {light.name}'s axis_in_owner must be a 3x3 rotation of finite numbers, not " \
+               f"{_shown(light.axis_in_owner)}"
+    return None
 
 
 @dataclass(eq=False)
@@ -505,6 +554,7 @@ class Scene:
         """Selections kept within lists changed by hand (the programming interface's scene): a negative
         one counts from the end, as Python's indices do; the last element where the selected one is gone.
         ValueError where a selection is no whole number, or no camera or light is left to select."""
+        self.check_kinds()
         if not self.cameras or not self.lights:
             raise ValueError(f"the scene needs a camera and a light (it has {len(self.cameras)} and "
                              f"{len(self.lights)}): the keys and panels act on the selected ones")
@@ -516,11 +566,32 @@ class Scene:
             index = int(index) + (len(elements) if index < 0 else 0)
             setattr(self, attribute, max(0, min(index, len(elements) - 1)))
 
+    def check_kinds(self) -> None:
+        """ValueError where a part of the scene replaced by hand is not of the kind the program made
+        there (a list of objects, cameras and lights, a Mesh, a Light's kind, the Modes...): every
+        other check reads those parts. One isinstance a part: no pass over any table."""
+        refusal = self._kind_refusal()
+        if refusal is not None:
+            raise ValueError(refusal)
+
+    def _kind_refusal(self) -> str | None:
+        for what, items in (("objects", self.objects), ("cameras", self.cameras), ("lights", self.lights)):
+            if not isinstance(items, list):
+                return f"the scene's {what} must be a list, not {type(items).__name__}"
+        if not isinstance(self.modes, Modes):
+            return f"the scene's modes must be a Modes (from {Modes.__module__}), not {_shown(self.modes)}"
+        for what, items in (("objects", self.objects), ("cameras", self.cameras)):
+            refusal = next(filter(None, (_element_refusal(element, what) for element in items)), None)
+            if refusal is not None:
+                return refusal
+        return next(filter(None, map(_light_kind_refusal, self.lights)), None)
+
     def check_values(self) -> None:
         """ValueError, naming the first, where a value changed by hand (the programming interface's
         scene) cannot be drawn: a model matrix not affine or without an inverse, a light's or a
         material's colour or place that is not 3 finite numbers, an aperture past 0..180 degrees, a mode
         not of the kind its key sets."""
+        self.check_kinds()
         if self._all_drawable():  # every call of the interface asks: the walk below costs far more per element
             return
         refusal = next(self._refusals(), None)
