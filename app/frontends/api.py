@@ -266,8 +266,7 @@ class Viewer:
         """What the top of the window says: the target, the moving mode, every switch, the lights and
         the selection ('target objects | rotate local | flat | ...'), which a mode key changes and the
         message does not. A mode set by hand is checked first, as every call checks it."""
-        self.scene.settle_selection()  # the camera or light it names may be gone
-        self.scene.check_values()
+        self.scene.check_by_hand()  # the camera or light it names may be gone
         return status_line(self.scene)
 
     @property
@@ -404,8 +403,7 @@ class Viewer:
         if not self._closer.alive:
             raise ViewerError("this Viewer is closed")
         refuse_forked_gl()
-        self.scene.settle_selection()  # the scene may have been changed by hand since the last call
-        self.scene.check_values()
+        self.scene.check_by_hand()
 
     def __enter__(self) -> Viewer:
         return self

@@ -554,7 +554,6 @@ class Scene:
         """Selections kept within lists changed by hand (the programming interface's scene): a negative
         one counts from the end, as Python's indices do; the last element where the selected one is gone.
         ValueError where a selection is no whole number, or no camera or light is left to select."""
-        self.check_kinds()
         if not self.cameras or not self.lights:
             raise ValueError(f"the scene needs a camera and a light (it has {len(self.cameras)} and "
                              f"{len(self.lights)}): the keys and panels act on the selected ones")
@@ -565,6 +564,13 @@ class Scene:
                 raise ValueError(f"the scene's {attribute} must be a whole number, not {_shown(index)}")
             index = int(index) + (len(elements) if index < 0 else 0)
             setattr(self, attribute, max(0, min(index, len(elements) - 1)))
+
+    def check_by_hand(self) -> None:
+        """What every call of the programming interface checks first, as the scene may have been changed
+        by hand since the last: the kinds of its parts, then its selections, then its values."""
+        self.check_kinds()
+        self.settle_selection()
+        self.check_values()
 
     def check_kinds(self) -> None:
         """ValueError where a part of the scene replaced by hand is not of the kind the program made
@@ -591,7 +597,6 @@ class Scene:
         scene) cannot be drawn: a model matrix not affine or without an inverse, a light's or a
         material's colour or place that is not 3 finite numbers, an aperture past 0..180 degrees, a mode
         not of the kind its key sets."""
-        self.check_kinds()
         if self._all_drawable():  # every call of the interface asks: the walk below costs far more per element
             return
         refusal = next(self._refusals(), None)
