@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import shortened
-from marraztu.model.geometry import all_lightable, cannot_light
+from marraztu.model.geometry import FLOAT32_MAX, all_lightable, cannot_light
 from marraztu.model.lights import (
     AMBIENT_INTENSITY,
     Light,
@@ -162,6 +162,14 @@ def model_refusal(model: object) -> str | None:
     return None
 
 
+def array_refusal(model: object) -> str | None:
+    """Why a matrix put on a history by hand, which model_refusal passes, cannot be made current (None:
+    it can): the renderer slices it as a numpy array, and a list or np.matrix slices otherwise."""
+    if type(model) is np.ndarray:
+        return None
+    return f"must be a numpy array (obj.model = M makes one of any 4x4), not {type(model).__name__}"
+
+
 def triple_refusal(value: object, names: str) -> str | None:
     """Why a colour or a point cannot be drawn (None: it can): it must be 3 finite numbers."""
     numbers = _numbers(value)
@@ -224,11 +232,11 @@ def _stacked(values: list[object], shape: tuple[int, ...]) -> np.ndarray | None:
 
 
 def _numbers(value: object) -> np.ndarray | None:
-    """`value` as float64 where it holds numbers; None where it does not, text included, which numpy
-    and float() read as numbers ('90')."""
+    """`value` as float64 where it holds real numbers; None where it does not: text, which numpy and
+    float() read as numbers ('90'), and complex numbers, whose imaginary part numpy drops."""
     try:
         given = np.asarray(value)
-        return None if given.dtype.kind in "USV" else given.astype(np.float64, copy=False)
+        return None if given.dtype.kind in "USVc" else given.astype(np.float64, copy=False)
     except (TypeError, ValueError, OverflowError):
         return None
 
@@ -283,6 +291,9 @@ def _element_refusal(element: object, what: str) -> str | None:
     if not isinstance(element.history, list) or not element.history:
         return f"{element.name}'s history must be a list of model matrices, the current last, not " \
                f"{_shown(element.history)}"
+    top = element.history[-1]
+    if type(top) is not np.ndarray and model_refusal(top) is None:  # the walk says what else is wrong
+        return f"{element.name}'s model matrix {array_refusal(top)}"
     if not _is_index(element.selected_face):
         return f"{element.name}'s selected_face must be a whole number, not {_shown(element.selected_face)}"
     return None
@@ -423,7 +434,7 @@ class SceneObject:
         ValueError, before it becomes current: the calls after could not undo past it."""
         if len(self.history) <= 1:
             return False
-        refusal = model_refusal(self.history[-2])
+        refusal = model_refusal(self.history[-2]) or array_refusal(self.history[-2])
         if refusal is not None:
             raise ValueError(f"{self.name}'s history[-2], which u undoes to, {refusal}")
         self.history.pop()
@@ -584,6 +595,8 @@ class Scene:
         for what, items in (("objects", self.objects), ("cameras", self.cameras), ("lights", self.lights)):
             if not isinstance(items, list):
                 return f"the scene's {what} must be a list, not {type(items).__name__}"
+        if not isinstance(self.message, str):
+            return f"the scene's message must be str, not {_shown(self.message)}"
         if not isinstance(self.modes, Modes):
             return f"the scene's modes must be a Modes (from {Modes.__module__}), not {_shown(self.modes)}"
         for what, items in (("objects", self.objects), ("cameras", self.cameras)):
@@ -615,7 +628,7 @@ class Scene:
             return False
         materials = list({id(m): m for element in elements for m in _materials_of(element)}.values())
         shininess = _stacked([material.ns for material in materials], ())
-        if shininess is None or not np.isfinite(shininess).all():
+        if shininess is None or not ((shininess > 0.0) & (shininess <= FLOAT32_MAX)).all():
             return False
         if any(light_refusal(light) is not None for light in self.lights):
             return False
@@ -675,8 +688,9 @@ class Scene:
             for material in _materials_of(element):
                 triples += [(f"{element.name}'s material {key}", getattr(material, key), "R, G, B")
                             for key in MATERIAL_COLOURS]
-                if not _finite_number(material.ns):
-                    yield f"{element.name}'s material ns must be a finite number, not {_shown(material.ns)}"
+                if not _number_within(material.ns, math.ulp(0.0), FLOAT32_MAX):  # as a scene file's
+                    yield f"{element.name}'s material ns must be a number greater than 0 and within 32-bit " \
+                          f"floats (3.4e38), not {_shown(material.ns)}"
         for what, value, names in triples:
             refusal = triple_refusal(value, names)
             if refusal is not None:
