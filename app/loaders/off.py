@@ -211,12 +211,12 @@ def _body_at_once(data: bytes, body_at: int, layout: _Layout, vertices: int, fac
                   ) -> tuple[OffTables, ReadOn | None] | None:
     """The tables, from the body's numbers read by numpy (the vertex rows' in one call, the faces' a block
     of rows at a time), where each row is one the line reader takes without a word and nothing in it
-    needs that reader's care: a face's count and corners only digits (comments are taken out before).
-    Where some face rows are not (or the file ends before them, or words follow them), the tables of
-    those before them, and where the line reader reads on (after them) and names any problem: None where
-    the file is read. None where the vertex rows are not all
-    plain: the line reader reads the file. The rows' shapes are checked from their word counts first, so
-    a line of a million words is never made numbers here."""
+    needs that reader's care: a face's count and corners only digits (comments are taken out before);
+    and where the line reader reads on, None where every row was read so and nothing follows them.
+    Where a face row is not plain (or the file ends before the faces, or words follow them), the tables
+    hold the rows before it, and the line reader reads on from it and names any problem. None where the
+    vertex rows are not all plain: the line reader reads the whole file. The rows' shapes are checked
+    from their word counts first, so a line of a million words is never made numbers here."""
     rows = vertices + faces
     counts, firsts = line_words(data, body_at, rows + 1)  # a line after the faces: words past them
     present = min(counts.size, rows)  # the rows the file holds, up to the header's count

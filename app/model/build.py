@@ -410,7 +410,7 @@ def _attributes(shape: _Shape, uv: CornerSource | None, normals: CornerSource | 
     # A flag where all or none are (no table as long as the rows), the rows themselves where some are.
     some = bool(missing.any())
     averaged = missing.copy() if some and not missing.all() else some
-    if missing.any():
+    if some:
         missing = _fill_vertex_normals(vertex_normals, missing, shape, row_vertex)
     if per_position and missing.any():
         used = np.zeros(rows, bool)

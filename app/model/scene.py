@@ -22,6 +22,7 @@ from marraztu.errors import shortened
 from marraztu.model.geometry import FLOAT32_MAX, all_lightable, cannot_light
 from marraztu.model.lights import (
     AMBIENT_INTENSITY,
+    LIGHT_KINDS,
     Light,
     LightKind,
     Owner,
@@ -284,8 +285,8 @@ def _element_refusal(element: object, what: str) -> str | None:
         return f"the scene's {what} must hold SceneObjects, not {_shown(element)}"
     if not isinstance(element.name, str):
         return f"the scene's {what}' names must be str, not {_shown(element.name)}"
-    if len(element.name) > NAME_LIMIT:  # the panels lay a name out glyph by glyph, however long
-        return f"{_shown(element.name)}: {name_refusal(element.name)}"
+    if (refusal := name_refusal(element.name)) is not None:  # the panels lay a name out glyph by glyph
+        return f"{_shown(element.name)}: {refusal}"
     if not isinstance(element.mesh, Mesh):
         return f"{element.name}'s mesh must be a Mesh, not {_shown(element.mesh)}"
     if not isinstance(element.history, list) or not element.history:
@@ -299,15 +300,17 @@ def _element_refusal(element: object, what: str) -> str | None:
     return None
 
 
-def _light_kind_refusal(light: object) -> str | None:
-    """Why a light put in the scene by hand is not one the program can place (None: it is)."""
+def _light_parts_refusal(light: object) -> str | None:
+    """Why a light put in the scene by hand is not one the program can place (None: it is): the parts
+    every call reads before its values are checked."""
     if not isinstance(light, Light):
         return f"the scene's lights must hold Lights, not {_shown(light)}"
     if not isinstance(light.name, str) or not isinstance(light.key, str):
         return f"a light's name and key must be str, not {_shown(light.name)} and {_shown(light.key)}"
     if not isinstance(light.kind, LightKind):
-        return f"the {light.name}'s kind must be a LightKind (LightKind.DIRECTIONAL, LightKind.POINT, " \
-               f"LightKind.SPOT; from {LightKind.__module__}), not {_shown(light.kind)}"
+        kinds = ", ".join(map(repr, LIGHT_KINDS))
+        return f"the {light.name}'s kind must be a LightKind ({kinds}; from {LightKind.__module__}), not " \
+               f"{_shown(light.kind)}"
     if not isinstance(light.owner, Owner):
         members = ", ".join(f"Owner.{owner.name}" for owner in Owner)
         return f"the {light.name}'s owner must be an Owner ({members}; from {Owner.__module__}), not " \
@@ -476,6 +479,9 @@ class Modes:
 _MODE_KINDS: dict[str, type] = typing.get_type_hints(Modes)  # the kind each switch holds
 # A parallel view's half height set by hand: P holds its inverse in float32, which ends at 3.4e38.
 HALF_HEIGHT_RANGE = (1e-30, 1e30)
+# A material's Ns set by hand: above 0, as a scene file's (a negative one turns every highlight inside
+# out), and within float32, where the shader raises to it.
+NS_RANGE = (math.ulp(0.0), FLOAT32_MAX)
 
 
 def _modes_refusal(modes: Modes) -> str | None:
@@ -603,7 +609,7 @@ class Scene:
             refusal = next(filter(None, (_element_refusal(element, what) for element in items)), None)
             if refusal is not None:
                 return refusal
-        return next(filter(None, map(_light_kind_refusal, self.lights)), None)
+        return next(filter(None, map(_light_parts_refusal, self.lights)), None)
 
     def check_values(self) -> None:
         """ValueError, naming the first, where a value changed by hand (the programming interface's
@@ -628,7 +634,7 @@ class Scene:
             return False
         materials = list({id(m): m for element in elements for m in _materials_of(element)}.values())
         shininess = _stacked([material.ns for material in materials], ())
-        if shininess is None or not ((shininess > 0.0) & (shininess <= FLOAT32_MAX)).all():
+        if shininess is None or not ((shininess >= NS_RANGE[0]) & (shininess <= NS_RANGE[1])).all():
             return False
         if any(light_refusal(light) is not None for light in self.lights):
             return False
@@ -688,7 +694,7 @@ class Scene:
             for material in _materials_of(element):
                 triples += [(f"{element.name}'s material {key}", getattr(material, key), "R, G, B")
                             for key in MATERIAL_COLOURS]
-                if not _number_within(material.ns, math.ulp(0.0), FLOAT32_MAX):  # as a scene file's
+                if not _number_within(material.ns, *NS_RANGE):
                     yield f"{element.name}'s material ns must be a number greater than 0 and within 32-bit " \
                           f"floats (3.4e38), not {_shown(material.ns)}"
         for what, value, names in triples:
