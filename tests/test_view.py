@@ -1204,3 +1204,24 @@ def test_a_mesh_added_from_python_around_the_camera_says_so() -> None:
         assert viewer.message.startswith("added room: ") and AROUND_WORDS in viewer.message, viewer.message
         viewer.add_mesh(corners - [0.0, 0.0, 100.0], quads, name="ahead")
         assert AROUND_WORDS not in viewer.message, viewer.message
+
+
+
+@pytest.mark.parametrize("lines", [False, True], ids=["filled", "lines"])
+def test_a_key_that_leaves_a_model_thinner_than_a_pixel_says_so_once(tmp_path: Path, lines: bool) -> None:
+    """A 100:1 beam moved away by t Z, its outline under a pixel thick at the 13th press, vanished from
+    the filled picture without a word, where a load or `.` leaving it so said it was thinner than a pixel;
+    lines light pixels however thin, and say nothing."""
+    beam = box(tmp_path / "beam.obj", (100.0, 1.0, 1.0))
+    with marraztu.Viewer(size=(400, 300), empty=True) as viewer:
+        viewer.load(beam).press("t l" if lines else "t")
+        said, lit = [], []
+        for _ in range(16):
+            said.append(viewer.press("Z").message)
+            lit.append(int((np.asarray(viewer.render())[..., :3] != BACKGROUND).any(axis=2).sum()))
+    if lines:
+        assert set(said) == {""} and min(lit) > 0
+    else:
+        gone = lit.index(0)
+        assert said == [""] * gone + [f"beam is now {THIN_WORDS}"] + [""] * (len(said) - gone - 1), (said, lit)
+        assert 0 < gone < len(said) - 1 and set(lit[gone:]) == {0}, lit

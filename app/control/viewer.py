@@ -195,9 +195,11 @@ class _Before(NamedTuple):
     model: np.ndarray
     mesh: Mesh
     outlook: Outlook
+    pixels_high: int | None  # the filled views' height: None where lines are drawn, which are never too thin
 
     def sight(self) -> Sight:
-        return self.outlook.sights(placed_boxes(self.model[None], np.array([self.mesh.bounds], dtype=np.float64)))[0]
+        corners = placed_boxes(self.model[None], np.array([self.mesh.bounds], dtype=np.float64))
+        return self.outlook.sights(corners, self.pixels_high)[0]
 
 
 class _SaidUnseen(NamedTuple):
@@ -523,7 +525,8 @@ class Viewer:
         obj = self.scene.object
         if obj is None or self.scene.viewer is obj:
             return None
-        return _Before(obj, obj.model, obj.mesh, self.scene.outlook(self.narrowest_aspect()))
+        return _Before(obj, obj.model, obj.mesh, self.scene.outlook(self.narrowest_aspect()),
+                       commands.filled_pixels_high(self.scene, self))
 
     def move_by_mouse(self, move: Callable[[Scene], None]) -> None:
         """One event of a drag or the wheel; said, as a key's move is, where it takes the selected model
@@ -555,13 +558,15 @@ class Viewer:
         if self.scene.object is not obj or self.scene.viewer is obj or obj.mesh is not before.mesh:
             return ""
         where = self._unseen_as(obj)
-        return _lost_notice(obj, where) if where and before.sight() is Sight.SEEN else ""
+        if not where or where in self.scene.message:  # said by the key itself: `.` framing a beam under a pixel thick
+            return ""
+        return _lost_notice(obj, where) if before.sight() is Sight.SEEN else ""
 
     def _unseen_as(self, obj: SceneObject, by_scale: bool = False) -> str:
         """How the view does not show the object, in a message's words: outside it or too small to see,
         and, `by_scale` (a pass over its vertices), much smaller or larger than framed; "" where none."""
         aspect = self.narrowest_aspect()
-        sight = self.scene.sight(obj, aspect)
+        sight = self.scene.sight(obj, aspect, commands.filled_pixels_high(self.scene, self))
         if sight is not Sight.SEEN or not by_scale:
             return "" if sight is Sight.SEEN else sight.value
         scale = framed_scale(self.scene, obj, aspect)
@@ -640,7 +645,8 @@ def _names(names: list[str]) -> str:
 
 def _lost_notice(obj: SceneObject, where: str) -> str:
     """What a key, a mouse move or a file read in its place says of the selected object the view no longer shows."""
-    return f"{obj.name} is now {where} (. frames it)"
+    hint = commands.sight_hint(Sight.THIN) if where == Sight.THIN.value else ". frames it"  # l, where lines show it
+    return f"{obj.name} is now {where} ({hint})"
 
 
 def with_notes(message: str, mesh: Mesh) -> str:
