@@ -818,6 +818,24 @@ def _declared(data: bytes) -> bytes:
     return data[:8] + struct.pack("<I", len(data)) + data[12:]
 
 
+@pytest.mark.parametrize("camera", [False, True])  # with a camera, the JSON is made again for trimesh
+def test_a_glb_whose_json_chunk_is_not_padded_is_read_as_trimesh_reads_it(tmp_path: Path, camera: bool) -> None:
+    """trimesh's own exporter wrote JSON chunks of lengths that are no multiple of four, each followed by
+    its binary chunk at once (its test models cube.glb and pins.glb); trimesh reads each chunk where the
+    one before ends, and so draws them. marraztu looked for the binary chunk four-aligned, found none, and
+    refused them: "cut short: its buffer is 240 bytes, its binary chunk holds 0"."""
+    document, binary = triangle_gltf([{"mesh": 0, **({"camera": 0} if camera else {})}], [0])
+    if camera:
+        document["cameras"] = [{"type": "perspective", "perspective": {"yfov": 1.0, "znear": 0.1}}]
+    text = json.dumps(document).encode()
+    text += b" " * ((2 - len(text)) % 4)  # two bytes past a multiple of four, as trimesh's were
+    chunks = struct.pack("<I4s", len(text), b"JSON") + text + struct.pack("<I4s", len(binary), b"BIN\0") + binary
+    path = tmp_path / "unpadded.glb"
+    path.write_bytes(struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks)
+    assert len(text) % 4 == 2
+    assert np.array_equal(load_model(path).positions, TRIANGLE)
+
+
 def test_bytes_after_a_glbs_length_are_not_read(tmp_path: Path) -> None:
     """trimesh read on past the length the header gives, the next bytes as a chunk's length, and said
     "chunk was not expected length!" (of a file saved twice over, say)."""

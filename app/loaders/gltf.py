@@ -71,14 +71,19 @@ def glb_document(path: Path, data: bytes) -> dict[str, Any]:
     held = len(_binary_chunk(data))
     if "uri" not in first and _is_whole(declared) and declared > held:  # the buffer the binary chunk holds
         raise LoadError(path, f"cut short: its buffer is {declared} bytes, its binary chunk holds {held}")
-    _check_glb_chunks(path, data, 20 + word(12), word(8))
+    _check_glb_chunks(path, data, _after_json(data), word(8))
     return document
+
+
+def _after_json(data: bytes) -> int:
+    """Where a GLB's chunk after its JSON begins: where the JSON chunk ends, as trimesh reads it, not at the
+    next multiple of four (glTF's writers pad the JSON; trimesh's own once did not, and reads its files so)."""
+    return 20 + int.from_bytes(data[12:16], "little")
 
 
 def _binary_chunk(data: bytes) -> memoryview:
     """A GLB's binary chunk, the one after its JSON, as much of it as the file holds; empty where none is."""
-    json_length = int.from_bytes(data[12:16], "little")
-    at = 20 + json_length + (-json_length % 4)  # chunks are aligned to four bytes
+    at = _after_json(data)
     if data[at + 4:at + 8] != b"BIN\0":
         return memoryview(b"")
     return memoryview(data)[at + 8:at + 8 + int.from_bytes(data[at:at + 4], "little")]
@@ -905,8 +910,7 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     if file_type == "gltf":
         return text
     text += b" " * (-len(text) % 4)  # chunks are aligned to four bytes, a JSON chunk padded with spaces
-    old_length, declared = int.from_bytes(data[12:16], "little"), int.from_bytes(data[8:12], "little")
-    rest = data[20 + old_length + (-old_length % 4):declared]  # the chunks after the JSON, as glb_document reads them
+    rest = data[_after_json(data):int.from_bytes(data[8:12], "little")]  # the chunks after the JSON
     return (b"glTF" + (2).to_bytes(4, "little") + (20 + len(text) + len(rest)).to_bytes(4, "little")
             + len(text).to_bytes(4, "little") + b"JSON" + text + rest)
 
