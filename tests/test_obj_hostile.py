@@ -19,6 +19,7 @@ import marraztu.loaders.obj as obj_module
 from marraztu.errors import LoadError
 from marraztu.loaders.obj import fast as fast_reader
 from marraztu.loaders.obj import load_obj, parse_obj
+from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.model.mesh import Mesh
 from support.work import lines_read_by_python, peak_traced_bytes
 
@@ -201,6 +202,17 @@ def test_vertices_only_say_no_faces_without_reading_a_line() -> None:
     assert error_of(outcome).message == "no faces (no 'f' statements)"
     assert lines == 0
 
+
+
+@pytest.mark.parametrize("elements", [b"l 1 2 3 4 1\n", b"p 1 2 3 4\n"], ids=["a wireframe", "points"])
+def test_a_wireframe_or_point_cloud_says_its_lines_and_points_are_not_drawn(elements: bytes) -> None:
+    """A file of l lines alone said 'no faces (no 'f' statements)', as if it held nothing to show."""
+    data = QUAD[:QUAD.index(b"f ")] + elements
+    said = "no faces (no 'f' statements), and its l and p statements (lines and points) are not drawn"
+    assert error_of(load_counting(data)[0]).message == said  # the compiled reader
+    with pytest.raises(LoadError) as line_reader:
+        read_by_lines(data, "w.obj")
+    assert line_reader.value.message == said
 
 def test_one_huge_vertex_line_is_counted_not_split() -> None:
     data = QUAD + b"v" + b" 1.5" * (len(TEXT) // 4) + b"\n"

@@ -98,7 +98,8 @@ def read_fast(text: bytes | np.ndarray, source: str, counted: Counted | None = N
                 list(range(len(pieces))), PARSE_THREADS)
     outcome = _settled(buf, read)
     if total[scan.F] == 0:
-        raise no_faces_error(source, outcome.statements > 0 or bool(total[[scan.V, scan.VT, scan.VN]].any()))
+        raise no_faces_error(source, outcome.statements > 0 or bool(total[[scan.V, scan.VT, scan.VN]].any()),
+                            outcome.elements)
     totals = [len(table) for table in tables]
     kept = checked_columns(source, columns, totals, lambda corner: scan.line_of_face(
         buf, int(polygons_of_corners(face_start, corner))))

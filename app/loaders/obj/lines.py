@@ -27,6 +27,7 @@ from marraztu.loaders.obj.raw import (
     CORNER_GAPS,
     MAX_DIGITS,
     TABLE_WIDTHS,
+    UNDRAWN_ELEMENTS,
     V_FORMS,
     ColourComment,
     MaterialRuns,
@@ -179,7 +180,7 @@ class LineReader:
                 self.read_kept(number, content, batch)
         batch.flush()
         if not self.face_sizes:
-            raise no_faces_error(self.source, self.statements > 0)
+            raise no_faces_error(self.source, self.statements > 0, self.elements)
         corners = self.corner_columns()
         face_lines = np.frombuffer(self.face_lines, dtype=np.int64)
         face_start = np.concatenate(([0], np.cumsum(np.frombuffer(self.face_sizes, dtype=np.int64)))).astype(INDEX)
@@ -460,8 +461,12 @@ def read_by_lines(text: bytes, source: str, most_single_lines: int = sys.maxsize
     return LineReader(source, most_single_lines).read(text)
 
 
-def no_faces_error(source: str, has_statements: bool) -> LoadError:
-    return LoadError(source, "no faces (no 'f' statements)" if has_statements else "empty file: no faces")
+def no_faces_error(source: str, has_statements: bool, elements: bool) -> LoadError:
+    """No face read: an empty file, or one of other statements, which for a wireframe or a point cloud
+    (l and p, `elements`) say what it holds that is not drawn."""
+    if not has_statements:
+        return LoadError(source, "empty file: no faces")
+    return LoadError(source, "no faces (no 'f' statements)" + (f", and {UNDRAWN_ELEMENTS}" if elements else ""))
 
 
 def checked_columns(source: str, corners: Sequence[np.ndarray], totals: Sequence[int],
