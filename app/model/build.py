@@ -728,6 +728,16 @@ def _fill_degenerate(shape: _Shape, vertex_normals: np.ndarray, row_vertex: np.n
     shape.face_normals[faces] = averaged
 
 
+# Extents this share of the largest apart are equal: a cube written in float32 is 2 by 2 by 2.000001.
+EQUAL_EXTENT_SHARE = 1e-5
+
+
+def _flattest_axis(extent: np.ndarray) -> int:
+    """The axis of the box's least extent; of equal ones, z first, then y (facing the start camera)."""
+    least = extent <= extent.min() + EQUAL_EXTENT_SHARE * extent.max()
+    return int(np.flatnonzero(least)[-1])
+
+
 def _bounding_box_uv(positions: np.ndarray, vertices: np.ndarray | None,
                      bounds: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
     """Planar projection onto the bounding box's two largest extents, each mapped to 0..1, for these
@@ -736,7 +746,7 @@ def _bounding_box_uv(positions: np.ndarray, vertices: np.ndarray | None,
     with np.errstate(all="ignore"):
         extent = high - low
         extent = np.where(np.isfinite(extent), extent, 0.0)
-    flattest = int(np.argsort(-extent, kind="stable")[2])  # of equal extents, z first, then y
+    flattest = _flattest_axis(extent)
     axes, reversed_axes = UPRIGHT_FROM[flattest]
     flat = extent[axes] <= 0
     scale = np.where(flat, 1.0, extent[axes])
