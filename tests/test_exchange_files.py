@@ -344,7 +344,7 @@ def test_a_plys_face_colours_are_said_not_to_be_drawn(tmp_path: Path) -> None:
         + corners + "3 0 1 2 255 0 0 255\n3 0 2 3 0 0 255 255\n")
     loaded = load_model(tmp_path / "faces.ply")
     assert loaded.vertex_colours is None
-    assert loaded.warnings == ("colours given per face are not drawn (only colours per vertex are)",)
+    assert loaded.warnings == ("colours given per face are not drawn, only those per vertex",)
 
 
 def test_a_ply_count_of_thousands_of_digits_is_one_load_error(tmp_path: Path) -> None:

@@ -79,7 +79,7 @@ def test_a_noff_rows_normal_and_an_stoff_rows_coordinates_are_read_past(tmp_path
 def test_a_faces_colour_is_read_past_with_a_note(tmp_path: Path, faces: tuple[str, ...]) -> None:
     mesh = read(tmp_path, off_text(faces=faces))
     assert mesh.face_count == 2 and mesh.vertex_colours is None
-    assert mesh.warnings == ("colours given per face are not drawn (only colours per vertex are)",)
+    assert mesh.warnings == ("colours given per face are not drawn, only those per vertex",)
     assert read(tmp_path, off_text()).warnings == ()
 
 

@@ -62,7 +62,7 @@ def build_mesh(
 
 
 # The renderer tints by vertex colours only: a file's colours per face (a PLY's, an OFF's) are read past.
-FACE_COLOURS_NOTE = "colours given per face are not drawn (only colours per vertex are)"
+FACE_COLOURS_NOTE = "colours given per face are not drawn, only those per vertex"
 
 
 def colour_fractions(colours: np.ndarray) -> np.ndarray:
