@@ -1160,8 +1160,18 @@ def world_boxes(elements: list[SceneObject]) -> np.ndarray:
 
 
 def placed_boxes(models: np.ndarray, bounds: np.ndarray) -> np.ndarray:
-    """(N, 8, 3): the corners of (N, 2, 3) boxes placed by (N, 4, 4) model matrices."""
-    return np.einsum("nij,nkj->nki", models[:, :3, :3], _box_corners(bounds)) + models[:, None, :3, 3]
+    """(N, 8, 3): the corners of (N, 2, 3) boxes placed by (N, 4, 4) model matrices, each summed x + y,
+    then + z, then + the move, whatever N (np.einsum's order changed with N: a box alone differed from
+    the same box among others in its last bit)."""
+    x, y, z = np.moveaxis(np.stack(_turned_sides(models, bounds), axis=1), 3, 0)  # each (N, 2, 3): low, high
+    corners = (x[:, :, None, None] + y[:, None, :, None]) + z[:, None, None, :]
+    return corners.reshape(-1, 8, 3) + models[:, None, :3, 3]  # _BOX_CORNER_PICKS' order
+
+
+def _turned_sides(models: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(N, 3, 3) each: R_ij times the box's low, and its high, along j, for (N, 4, 4) model matrices R."""
+    turn = models[:, :3, :3]
+    return turn * bounds[:, :1], turn * bounds[:, 1:]
 
 
 def _materials_of(element: SceneObject) -> tuple[Material, ...]:
