@@ -354,6 +354,39 @@ def test_a_box_placed_alone_is_the_same_box_placed_among_others() -> None:
         assert scene.enclosers([twin]) == [first] and scene.enclosers(scene.objects) == [twin, first]
 
 
+def test_enclosers_agree_with_a_pairwise_look_where_boxes_meet_and_look_at_each_box_once(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Boxes turned by quarter turns, moved and scaled by whole numbers, meet face to face and match
+    exactly: each element's first holder is a plain pairwise look's, a second camera (shown) and the
+    viewer (never) among them, for the batch and for each element alone; and each call stacks the shown
+    elements and the asked-for ones once, whatever their number (add_mesh asks for one)."""
+    rng = np.random.default_rng(11)
+    scene = empty_scene()
+    cube = build_mesh("cube", np.array([[x, y, z] for x in (0.0, 1.0) for y in (0.0, 2.0) for z in (0.0, 1.0)]),
+                      [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]])
+    for index in range(80):
+        model = placement(tuple(rng.integers(-2, 3, 3).astype(float)), tuple(90.0 * rng.integers(0, 4, 3)))
+        model[:3, :3] *= float(rng.choice([1.0, 2.0, 4.0]))
+        element = SceneObject(f"e{index}", cube, DEFAULT_MATERIAL, [model])
+        (scene.cameras if index % 20 == 19 else scene.objects).append(element)
+    scene.selected_camera = 1  # the viewer: never a holder
+    boxes = {id(element): marraztu.model.scene.world_box([element]) for element in scene.objects + scene.cameras}
+    shown = scene.shown_elements()
+    expected = [next((other for other in shown if other is not element
+                      and (boxes[id(other)][0] <= boxes[id(element)][0]).all()
+                      and (boxes[id(other)][1] >= boxes[id(element)][1]).all()), None)
+                for element in scene.objects + scene.cameras]
+    stacked: list[int] = []
+    real = marraztu.model.scene._placements
+    monkeypatch.setattr(marraztu.model.scene, "_placements", lambda elements: stacked.append(len(elements))
+                        or real(elements))
+    assert scene.enclosers(scene.objects + scene.cameras) == expected
+    assert stacked == [len(shown), len(expected)]
+    assert [scene.enclosers([element])[0] for element in scene.objects + scene.cameras] == expected
+    assert 20 < sum(found is not None for found in expected) < 70
+    assert scene.camera not in expected and any(camera in expected for camera in scene.cameras[2:])
+
+
 @pytest.mark.parametrize("size,keys,outside", [((800, 800), "", True), ((1500, 500), "", False),
                                                ((1500, 500), "s", True)], ids=["square", "wide", "side by side"])
 def test_outside_the_view_is_said_for_the_view_drawn(tmp_path: Path, size: tuple[int, int], keys: str,

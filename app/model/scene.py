@@ -918,17 +918,15 @@ class Scene:
         shown = self.shown_elements()
         if not shown:
             return [None] * len(elements)
-        shown_low, shown_high = _box_bounds(world_boxes(shown))
-        low, high = _box_bounds(world_boxes(elements))
-        position = {id(element): index for index, element in enumerate(shown)}
-        own = np.array([position.get(id(element), -1) for element in elements], dtype=np.int64)
+        shown_low, shown_high = placed_bounds(*_placements(shown))
+        low, high = placed_bounds(*_placements(elements))
+        shown_ids, ids = (np.fromiter(map(id, group), np.uintp, len(group)) for group in (shown, elements))
         found: list[SceneObject | None] = []
         step = max(1, ENCLOSING_BLOCK // len(shown))  # a block of elements against every shown box
         for first in range(0, len(elements), step):
             block = slice(first, first + step)
             holds = ((shown_low <= low[block, None]) & (shown_high >= high[block, None])).all(axis=2)
-            rows = np.flatnonzero(own[block] >= 0)
-            holds[rows, own[block][rows]] = False  # not itself
+            holds &= shown_ids != ids[block, None]  # not itself
             found += [shown[int(index)] if any_ else None
                       for index, any_ in zip(holds.argmax(axis=1), holds.any(axis=1))]
         return found
@@ -1166,6 +1164,15 @@ def placed_boxes(models: np.ndarray, bounds: np.ndarray) -> np.ndarray:
     x, y, z = np.moveaxis(np.stack(_turned_sides(models, bounds), axis=1), 3, 0)  # each (N, 2, 3): low, high
     corners = (x[:, :, None, None] + y[:, None, :, None]) + z[:, None, None, :]
     return corners.reshape(-1, 8, 3) + models[:, None, :3, 3]  # _BOX_CORNER_PICKS' order
+
+
+def placed_bounds(models: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(N, 3) lows and highs of placed_boxes' corners, the same numbers without the corners: rounding a
+    sum never reverses an order, so the least corner is the sum of the least sides, as placed_boxes sums."""
+    lows, highs = _turned_sides(models, bounds)
+    least, most = np.minimum(lows, highs), np.maximum(lows, highs)
+    low, high = (((sides[..., 0] + sides[..., 1]) + sides[..., 2]) + models[:, :3, 3] for sides in (least, most))
+    return low, high
 
 
 def _turned_sides(models: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
