@@ -354,6 +354,28 @@ def test_a_box_placed_alone_is_the_same_box_placed_among_others() -> None:
         assert scene.enclosers([twin]) == [first] and scene.enclosers(scene.objects) == [twin, first]
 
 
+def test_placed_bounds_are_the_placed_corners_least_and_most_to_the_bit() -> None:
+    """Scene.enclosers and the check of a scene changed by hand take a box's bounds without its corners:
+    rounding a sum never reverses an order, so they are the same numbers, flat boxes, quarter turns and
+    sums that overflow among them; where a turned side overflows, both hold a number that is not finite
+    (refused), if not the same one (inf - inf is nan in a corner)."""
+    rng = np.random.default_rng(5)
+    models = rng.normal(size=(5000, 4, 4)) * 10.0 ** rng.integers(-8, 8, size=(5000, 1, 1))
+    bounds = np.sort(rng.normal(size=(5000, 2, 3)), axis=1) * 10.0 ** rng.integers(-8, 8, size=(5000, 1, 1))
+    bounds[::7, 1] = bounds[::7, 0]
+    models[::5, :3, :3] = np.round(models[::5, :3, :3])
+    models[::11, :3, :3] *= 1e300
+    with np.errstate(over="ignore", invalid="ignore"):
+        corners = marraztu.model.scene.placed_boxes(models, bounds)
+        low, high = marraztu.model.scene.placed_bounds(models, bounds)
+        sides_finite = np.isfinite(models[:, None, :3, :3] * bounds[:, :, None, :]).all(axis=(1, 2, 3))
+    np.testing.assert_array_equal(low[sides_finite], corners.min(axis=1)[sides_finite])
+    np.testing.assert_array_equal(high[sides_finite], corners.max(axis=1)[sides_finite])
+    assert np.isinf(low[sides_finite]).any() and 0.8 < sides_finite.mean() < 1.0
+    finite = np.isfinite(np.concatenate([low, high], axis=1)).all(axis=1)
+    assert np.array_equal(finite, np.isfinite(corners).all(axis=(1, 2)))
+
+
 def test_enclosers_agree_with_a_pairwise_look_where_boxes_meet_and_look_at_each_box_once(
         monkeypatch: pytest.MonkeyPatch) -> None:
     """Boxes turned by quarter turns, moved and scaled by whole numbers, meet face to face and match

@@ -1168,7 +1168,8 @@ def placed_boxes(models: np.ndarray, bounds: np.ndarray) -> np.ndarray:
 
 def placed_bounds(models: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(N, 3) lows and highs of placed_boxes' corners, the same numbers without the corners: rounding a
-    sum never reverses an order, so the least corner is the sum of the least sides, as placed_boxes sums."""
+    sum never reverses an order, so the least corner is the sum of the least sides, as placed_boxes sums
+    (where a turned side is not finite, both are not, maybe not alike: inf - inf is nan in a corner)."""
     lows, highs = _turned_sides(models, bounds)
     least, most = np.minimum(lows, highs), np.maximum(lows, highs)
     low, high = (((sides[..., 0] + sides[..., 1]) + sides[..., 2]) + models[:, :3, 3] for sides in (least, most))
