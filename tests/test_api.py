@@ -4,6 +4,7 @@ closed by `with`, `close` or garbage collection; bad input refused where it ente
 
 from __future__ import annotations
 
+import collections
 import dataclasses
 import gc
 import subprocess
@@ -1020,6 +1021,38 @@ def test_a_scene_that_can_be_drawn_is_checked_in_stacked_arrays_not_element_by_e
         with pytest.raises(ValueError, match="^t7's model matrix has no inverse"):
             v.press("TAB")
         assert walked["models"] == 8  # the walk stops at the first refusal
+
+
+def test_the_check_of_a_scene_that_can_be_drawn_makes_four_calls_an_element(tmp_path: Path) -> None:
+    """Each call's check of the whole scene gathers every element's values in one pass for the stacked
+    arrays, where it made a pass, or a generator, for the materials, the pictures, the models...: a
+    loop of add_mesh calls checks the scene on each. Textured, many-material and shared-material
+    elements among them, and never the walk's calls."""
+    (tmp_path / "two.mtl").write_text("newmtl red\nKd 1 0 0\nnewmtl blue\nKd 0 0 1\n")
+    (tmp_path / "two.obj").write_text("mtllib two.mtl\nv 0 0 0\nv 9 0 0\nv 0 9 0\nv 9 9 0\n"
+                                      "usemtl red\nf 1 2 3\nusemtl blue\nf 2 4 3\n")
+    calls = []
+    for count in (20, 40):
+        made: collections.Counter[str] = collections.Counter()
+        with marraztu.Viewer(size=SIZE, empty=True) as v:
+            for index in range(count):
+                if index % 3 == 0:
+                    v.add_mesh(SQUARE + [index, 0.0, 0.0], [[0, 1, 2, 3]], uvs=SQUARE_UVS, texture=FOUR)
+                elif index % 3 == 1:
+                    v.load(tmp_path / "two.obj")
+                else:  # drawn with the first one's material, the same object
+                    v.add_mesh(TRIANGLE + [index, 0.0, 0.0], [[0, 1, 2]]).scene.object.material = \
+                        v.scene.objects[0].material
+            assert sum(len(obj.part_materials) == 2 for obj in v.scene.objects) == len(range(1, count, 3))
+            profile = sys.getprofile()
+            sys.setprofile(lambda frame, event, _: made.update([frame.f_code.co_name]) if event == "call" else None)
+            try:
+                v.scene.check_by_hand()
+            finally:
+                sys.setprofile(profile)
+        assert not {"_refusals", "model_refusal", "triple_refusal"} & set(made)
+        calls.append(sum(made.values()) - made["picture_refusal"])
+    assert (calls[1] - calls[0]) / 20 <= 4
 
 
 @pytest.mark.parametrize("model, words", ON_A_HISTORY_BY_HAND)

@@ -324,6 +324,36 @@ def _light_parts_refusal(light: object) -> str | None:
     return None
 
 
+@dataclass(frozen=True)
+class _Gathered:
+    """What Scene._all_drawable stacks of the objects and cameras, read in one pass over them."""
+
+    models: list[object]
+    boxes: list[object]  # each mesh's bounds
+    pictures: list[object]  # those set, not None
+    materials: list[Material]  # each once: their own and their parts'
+
+    @classmethod
+    def of(cls, elements: Iterable[SceneObject]) -> _Gathered | None:
+        """None where a material or the part materials are not plainly Materials in a tuple or a list
+        (_materials_refusal, in the walk, says which)."""
+        models, boxes, pictures, materials = [], [], [], {}
+        for element in elements:
+            models.append(element.model)
+            boxes.append(element.mesh.bounds)
+            if element.picture is not None:
+                pictures.append(element.picture)
+            parts = element.part_materials
+            if type(parts) not in (tuple, list):
+                return None
+            materials[id(element.material)] = element.material
+            for part in parts:
+                materials[id(part)] = part
+        if not all(map(isinstance, materials.values(), itertools.repeat(Material))):
+            return None
+        return cls(models, boxes, pictures, list(materials.values()))
+
+
 @dataclass(eq=False)
 class SceneObject:
     """An object or a camera: a mesh, a material and a history of model matrices (top = current).
@@ -606,7 +636,7 @@ class Scene:
         if not isinstance(self.modes, Modes):
             return f"the scene's modes must be a Modes (from {Modes.__module__}), not {_shown(self.modes)}"
         for what, items in (("objects", self.objects), ("cameras", self.cameras)):
-            refusal = next(filter(None, (_element_refusal(element, what) for element in items)), None)
+            refusal = next(filter(None, map(_element_refusal, items, itertools.repeat(what))), None)
             if refusal is not None:
                 return refusal
         return next(filter(None, map(_light_parts_refusal, self.lights)), None)
@@ -625,14 +655,14 @@ class Scene:
     def _all_drawable(self) -> bool:
         """Whether _refusals finds nothing, in a few passes over stacked arrays (False may also mean
         that some value could not be stacked: the walk then decides)."""
-        elements = (*self.objects, *self.cameras)
         if _modes_refusal(self.modes) is not None:
             return False
-        if any(_materials_refusal(element) is not None for element in elements):
+        gathered = _Gathered.of((*self.objects, *self.cameras))
+        if gathered is None:
             return False
-        if any(picture_refusal(picture) is not None for picture in (self.texture, *(e.picture for e in elements))):
+        if any(map(picture_refusal, (self.texture, *gathered.pictures))):  # None where it can be drawn
             return False
-        materials = list({id(m): m for element in elements for m in _materials_of(element)}.values())
+        materials = gathered.materials
         shininess = _stacked([material.ns for material in materials], ())
         if shininess is None or not ((shininess >= NS_RANGE[0]) & (shininess <= NS_RANGE[1])).all():
             return False
@@ -640,7 +670,7 @@ class Scene:
             return False
         triples = [value for _, value, _ in self._own_triples()]
         triples += [getattr(material, key) for material in materials for key in MATERIAL_COLOURS]
-        models, rows = _stacked([element.model for element in elements], (4, 4)), _stacked(triples, (3,))
+        models, rows = _stacked(gathered.models, (4, 4)), _stacked(triples, (3,))
         if models is None or rows is None or not np.isfinite(rows).all() or not np.isfinite(models).all():
             return False
         if not (models[:, 3] == [0.0, 0.0, 0.0, 1.0]).all():
@@ -651,8 +681,8 @@ class Scene:
                     return False
         except np.linalg.LinAlgError:  # one of them is singular: the walk names it
             return False
-        bounds = _stacked([element.mesh.bounds for element in elements], (2, 3))
-        return bounds is not None and all_lightable(*_box_bounds(placed_boxes(models, bounds)))  # the models stacked
+        bounds = _stacked(gathered.boxes, (2, 3))
+        return bounds is not None and all_lightable(*placed_bounds(models, bounds))  # the models stacked
 
     def _own_triples(self) -> list[tuple[str, object, str]]:
         """The scene's colours and places that must be 3 finite numbers, outside its elements: what each
