@@ -23,6 +23,7 @@ import marraztu
 from marraztu.control.viewer import StartOptions
 from marraztu.errors import KeyMapError, LoadError, ViewerError
 from marraztu.frontends.screenshot import take_screenshot
+from marraztu.model.geometry import DRAWABLE_COORDINATE, FLOAT32_MAX
 from marraztu.model.probe import probe as scene_probe
 from marraztu.model.scene import NAME_LIMIT
 from marraztu.resources import ASSET_DIR
@@ -1116,6 +1117,30 @@ def test_a_matrix_down_the_undo_history_that_cannot_be_drawn_is_refused_before_u
      r"'s part_materials must be a tuple of Materials, one per material of its file \(\d+\), not Material$"),
     (lambda s: setattr(s.objects[0], "part_materials", ({"kd": 1},)),
      r"'s part_materials must be .*\(\d+\), not a tuple holding a dict$"),
+    # finite in float64, past float32 where the GPU reads them: a bulb at 1e20 lit nothing on the GPU while
+    # the probe lit the face, one at 1e300 made the far plane infinite (nothing drawn); an intensity of
+    # 1e39 drew another picture than 3e38 with the same probe
+    (lambda s: setattr(s.lights[1], "position", np.array([0.0, 1e300, 0.0])),
+     r"^the bulb's position must be 3 numbers within 1e\+18 of the origin, as a model's coordinates: .*, "
+     r"not array\(\[0\.e\+000, 1\.e\+300, 0\.e\+000\]\)$"),
+    (lambda s: setattr(s.lights[1], "position", [0.0, 0.0, -1e20]),
+     r"^the bulb's position must be 3 numbers within 1e\+18"),
+    (lambda s: setattr(s.lights[1], "intensity", np.array([1e300, 0.0, 0.0])),
+     r"^the bulb's intensity must be 3 numbers within 32-bit floats \(3\.4e38\), where the GPU reads them, not "),
+    (lambda s: setattr(s.lights[0], "intensity", [1e39, 1, 1]),
+     r"^the sun's intensity must be 3 numbers within 32-bit"),
+    (lambda s: setattr(s, "ambient", (0, -1e39, 0)), r"^the scene's ambient must be 3 numbers within 32-bit floats"),
+    (lambda s: setattr(s.objects[0], "material", dataclasses.replace(s.objects[0].material, kd=(1e39, 0, 0))),
+     r"'s material kd must be 3 numbers within 32-bit floats \(3\.4e38\), where the GPU reads them, "
+     r"not \(1e\+39, 0, 0\)$"),
+    (lambda s: setattr(s.lights[0], "direction", [1e300, 1e300, 0.0]),
+     r"^the sun's direction must be 3 numbers within 32-bit"),
+    # the sun then lit no face and put a highlight where the eye looks from (H = normalize(0 + V))
+    (lambda s: setattr(s.lights[0], "direction", np.zeros(3)),
+     r"^the sun's direction must point some way: at least 1e-150 long, not array\(\[0\., 0\., 0\.\]\)$"),
+    (lambda s: setattr(s.lights[0], "direction", (1e-200, 0, 0)),  # its square rounds to 0
+     r"^the sun's direction must point some way"),
+    (lambda s: setattr(s.lights[2], "direction", [0, 0, 0]), r"^the object spotlight's direction must point some way"),
 ])
 def test_lights_and_materials_set_by_hand_that_cannot_be_drawn_are_refused_in_one_line(change, words: str) -> None:
     """A light's intensity set to 200, or a kd of two numbers, raised numpy's broadcasting errors or
@@ -1126,6 +1151,22 @@ def test_lights_and_materials_set_by_hand_that_cannot_be_drawn_are_refused_in_on
         for call in (v.render, lambda: v.press("x"), v.probe):
             with pytest.raises(ValueError, match=words):
                 call()
+
+
+def test_lights_and_materials_at_the_edge_of_what_the_gpu_reads_are_drawn_without_the_walk(monkeypatch) -> None:
+    """The stacked check and the walk draw the same line: what the one passes, the other is not asked."""
+    from marraztu.model import scene as scene_module
+
+    walked: list[object] = []
+    monkeypatch.setattr(scene_module, "reach_refusal", lambda value, kind: walked.append(value))
+    with marraztu.Viewer(size=SIZE) as v:
+        v.press("0 1")
+        v.scene.lights[1].position, v.scene.lights[1].intensity = (0.0, 0.0, -DRAWABLE_COORDINATE), [FLOAT32_MAX] * 3
+        v.scene.lights[0].direction = np.array([0.0, -1e-150, 0.0])
+        v.scene.objects[0].material = dataclasses.replace(v.scene.objects[0].material, ks=(FLOAT32_MAX, 0, 0))
+        v.scene.ambient = (-FLOAT32_MAX, 0, 0)
+        assert np.asarray(v.render()).any() and v.probe() is not None
+        assert walked == []
 
 
 @pytest.mark.parametrize("name, value, words", [

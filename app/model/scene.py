@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import shortened
-from marraztu.model.geometry import FLOAT32_MAX, all_lightable, cannot_light
+from marraztu.model.geometry import DRAWABLE_COORDINATE, FLOAT32_MAX, all_lightable, cannot_light
 from marraztu.model.lights import (
     AMBIENT_INTENSITY,
     LIGHT_KINDS,
@@ -179,6 +179,49 @@ def triple_refusal(value: object, names: str) -> str | None:
     if not np.isfinite(numbers).all():
         return "must be 3 finite numbers"
     return None
+
+
+@dataclass(frozen=True)
+class TripleKind:
+    """What a colour, a place or a direction set by hand must be, past 3 finite numbers: how far from 0
+    each of them may reach, as the GPU reads it."""
+
+    names: str  # its numbers' names, in a refusal
+    most: float
+    within: str  # `most` in a refusal's words: "must be 3 numbers {within}"
+    shortest: float = 0.0  # a direction: how long, at least, to point some way
+
+
+COLOUR = TripleKind("R, G, B", FLOAT32_MAX, "within 32-bit floats (3.4e38), where the GPU reads them")
+PLACE = TripleKind("x, y, z", DRAWABLE_COORDINATE, f"within {DRAWABLE_COORDINATE:.0e} of the origin, as a model's "
+                   "coordinates: past it the GPU's 32-bit numbers cannot light from there")
+# 1e-150 squared is still a normal float64: unit() of a direction that long is one long, and of (0, 0, 0),
+# or one whose square rounds to 0, (0, 0, 0) (the sun then lights no face, and a highlight faces the eye).
+DIRECTION = TripleKind("x, y, z", FLOAT32_MAX, COLOUR.within, shortest=1e-150)
+
+
+def reach_refusal(value: object, kind: TripleKind) -> str | None:
+    """Why 3 finite numbers (triple_refusal passes them) of this kind cannot be drawn (None: they can)."""
+    numbers: np.ndarray = _numbers(value)  # type: ignore[assignment]
+    if np.abs(numbers).max() > kind.most:
+        return f"must be 3 numbers {kind.within}, not {_shown(value)}"
+    if not _squared_lengths(numbers[None])[0] >= kind.shortest**2:
+        return f"must point some way: at least {kind.shortest:g} long, not {_shown(value)}"
+    return None
+
+
+def _all_within_reach(rows: np.ndarray, kinds: list[TripleKind]) -> bool:
+    """Whether reach_refusal finds nothing in these (N, 3) finite rows, the first of these kinds and the
+    rest colours, in two passes."""
+    most = np.full(len(rows), COLOUR.most)
+    most[:len(kinds)] = [kind.most for kind in kinds]
+    shortest = np.array([kind.shortest for kind in kinds])
+    return bool((np.abs(rows) <= most[:, None]).all() and (_squared_lengths(rows[:len(kinds)]) >= shortest**2).all())
+
+
+def _squared_lengths(rows: np.ndarray) -> np.ndarray:
+    """(N,): the squared length of each of (N, 3) rows, as unit() takes it."""
+    return np.einsum("ij,ij->i", rows, rows)
 
 
 def _shown(value: object) -> str:
@@ -668,10 +711,13 @@ class Scene:
             return False
         if any(light_refusal(light) is not None for light in self.lights):
             return False
-        triples = [value for _, value, _ in self._own_triples()]
+        own = self._own_triples()
+        triples = [value for _, value, _ in own]
         triples += [getattr(material, key) for material in materials for key in MATERIAL_COLOURS]
         models, rows = _stacked(gathered.models, (4, 4)), _stacked(triples, (3,))
         if models is None or rows is None or not np.isfinite(rows).all() or not np.isfinite(models).all():
+            return False
+        if not _all_within_reach(rows, [kind for _, _, kind in own]):
             return False
         if not (models[:, 3] == [0.0, 0.0, 0.0, 1.0]).all():
             return False
@@ -684,14 +730,14 @@ class Scene:
         bounds = _stacked(gathered.boxes, (2, 3))
         return bounds is not None and all_lightable(*placed_bounds(models, bounds))  # the models stacked
 
-    def _own_triples(self) -> list[tuple[str, object, str]]:
-        """The scene's colours and places that must be 3 finite numbers, outside its elements: what each
-        is, its value, and its numbers' names."""
-        triples: list[tuple[str, object, str]] = [("the scene's ambient", self.ambient, "R, G, B")]
+    def _own_triples(self) -> list[tuple[str, object, TripleKind]]:
+        """The scene's colours, places and directions that must be 3 finite numbers, outside its elements:
+        what each is, its value, and its kind."""
+        triples: list[tuple[str, object, TripleKind]] = [("the scene's ambient", self.ambient, COLOUR)]
         for light in self.lights:
-            triples += [(f"the {light.name}'s intensity", light.intensity, "R, G, B"),
-                        (f"the {light.name}'s position", light.position, "x, y, z"),
-                        (f"the {light.name}'s direction", light.direction, "x, y, z")]
+            triples += [(f"the {light.name}'s intensity", light.intensity, COLOUR),
+                        (f"the {light.name}'s position", light.position, PLACE),
+                        (f"the {light.name}'s direction", light.direction, DIRECTION)]
         return triples
 
     def _refusals(self) -> Iterator[str]:
@@ -722,13 +768,13 @@ class Scene:
                 yield f"{element.name}'s {refusal}"
                 continue
             for material in _materials_of(element):
-                triples += [(f"{element.name}'s material {key}", getattr(material, key), "R, G, B")
+                triples += [(f"{element.name}'s material {key}", getattr(material, key), COLOUR)
                             for key in MATERIAL_COLOURS]
                 if not _number_within(material.ns, *NS_RANGE):
                     yield f"{element.name}'s material ns must be a number greater than 0 and within 32-bit " \
                           f"floats (3.4e38), not {_shown(material.ns)}"
-        for what, value, names in triples:
-            refusal = triple_refusal(value, names)
+        for what, value, kind in triples:
+            refusal = triple_refusal(value, kind.names) or reach_refusal(value, kind)
             if refusal is not None:
                 yield f"{what} {refusal}"
 
