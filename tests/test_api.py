@@ -1411,6 +1411,12 @@ def test_a_mesh_added_from_python_says_where_it_stands_as_a_load_does() -> None:
     (lambda s: setattr(s.lights[1], "kind", "point"), r"^the bulb's kind must be a LightKind \(LightKind\."),
     (lambda s: setattr(s.lights[2], "owner", None), r"'s owner must be an Owner \(Owner\.NONE, .*not None$"),
     (lambda s: setattr(s.lights[2], "axis_in_owner", np.eye(2)), r"'s axis_in_owner must be a 3x3 rotation"),
+    # the spotlight then pointed nowhere: it lit nothing (a 30 degree cone) or all round it (past 90), and r
+    # could not turn it back; one of 1e-200 pointed 1e-200 long, which unit() could not make 1 long
+    (lambda s: setattr(s.lights[3], "axis_in_owner", np.zeros((3, 3))),
+     r"^the camera spotlight's axis_in_owner must be a 3x3 rotation of finite numbers \(.*\), not array\(\[\[0\., "),
+    *[(lambda s, axis=axis: setattr(s.lights[2], "axis_in_owner", axis), r"'s axis_in_owner must be a 3x3 rotation")
+      for axis in (np.diag([1.0, 1.0, 0.0]), np.eye(3) * 1e-200, np.eye(3) * 1e300, np.diag([1.0, 1.0, -1.0]))],
     (lambda s: setattr(s.lights[1], "key", None), r"^a light's name and key must be str, not 'bulb' and None$"),
 ])
 def test_parts_of_the_scene_replaced_by_what_they_are_not_are_refused_in_one_line(change, words: str) -> None:
@@ -1423,6 +1429,14 @@ def test_parts_of_the_scene_replaced_by_what_they_are_not_are_refused_in_one_lin
         for call in (v.render, lambda: v.press("x"), v.probe, lambda: v.status):
             with pytest.raises(ValueError, match=words):
                 call()
+
+
+def test_a_spotlights_axis_turned_by_r_or_typed_to_four_decimals_is_a_rotation() -> None:
+    with marraztu.Viewer(size=SIZE) as v:
+        v.press("3 c c TAB TAB TAB r x*100 y*77")
+        assert v.scene.light.name == "camera spotlight" and np.asarray(v.render()).any()
+        v.scene.light.axis_in_owner = np.array([[0.7071, -0.7071, 0], [0.7071, 0.7071, 0], [0, 0, 1]])
+        assert np.asarray(v.render()).any()
 
 
 @pytest.mark.parametrize("emptied", ["cameras", "lights"])

@@ -361,9 +361,9 @@ def _light_parts_refusal(light: object) -> str | None:
     if not isinstance(light.history, list):
         return f"the {light.name}'s history must be a list, not {_shown(light.history)}"
     axis = _stacked([light.axis_in_owner], (3, 3))
-    if axis is None or not np.isfinite(axis).all():
-        return f"the {light.name}'s axis_in_owner must be a 3x3 rotation of finite numbers, not " \
-               f"{_shown(light.axis_in_owner)}"
+    if axis is None or not np.isfinite(axis).all() or not _is_rotation(axis[0]):
+        return f"the {light.name}'s axis_in_owner must be a 3x3 rotation of finite numbers (columns 1 long, at " \
+               f"right angles, no mirror), not {_shown(light.axis_in_owner)}"
     return None
 
 
@@ -395,6 +395,18 @@ class _Gathered:
         if not all(map(isinstance, materials.values(), itertools.repeat(Material))):
             return None
         return cls(models, boxes, pictures, list(materials.values()))
+
+
+# A rotation typed to 4 decimals (0.7071) is one: only the direction it turns the owner's -z to is read.
+ROTATION_TOLERANCE = 1e-3
+
+
+def _is_rotation(matrix: np.ndarray) -> bool:
+    """Whether a 3x3 of finite numbers turns without scaling or mirroring: a spotlight's axis_in_owner,
+    which a singular one (zeros) left pointing nowhere, lighting nothing or all round it."""
+    with np.errstate(all="ignore"):  # 1e300 squared: not a rotation, and no warning
+        square = matrix.T @ matrix
+    return bool(np.allclose(square, np.eye(3), rtol=0.0, atol=ROTATION_TOLERANCE) and np.linalg.det(matrix) > 0.0)
 
 
 @dataclass(eq=False)
