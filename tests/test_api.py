@@ -1407,6 +1407,10 @@ def test_a_mesh_added_from_python_says_where_it_stands_as_a_load_does() -> None:
     (lambda s: setattr(s.objects[0], "name", "a" * (NAME_LIMIT + 1)), rf"name is {NAME_LIMIT + 1} characters long"),
     (lambda s: s.objects[0].history.clear(), r"'s history must be a list of model matrices, .*not \[\]$"),
     (lambda s: setattr(s.objects[0], "selected_face", 1.5), r"'s selected_face must be a whole number, not 1\.5$"),
+    (lambda s: setattr(s.objects[0], "uid", [1]), r"'s uid must be a whole number, not \[1\]$"),  # unhashable
+    (lambda s: setattr(s.objects[0], "uid", s.cameras[0].uid),
+     r"^the scene's objects\[0\] \(x_wing\) and cameras\[0\] \(camera\) have the same uid \d+: "),
+    (lambda s: s.objects.append(s.objects[0]), r"^the scene's objects\[0\] \(x_wing\) and objects\[\d+\] \(x_wing\) "),
     (lambda s: s.lights.append("sun"), r"^the scene's lights must hold Lights, not 'sun'$"),
     (lambda s: setattr(s.lights[1], "kind", "point"), r"^the bulb's kind must be a LightKind \(LightKind\."),
     (lambda s: setattr(s.lights[2], "owner", None), r"'s owner must be an Owner \(Owner\.NONE, .*not None$"),
@@ -1429,6 +1433,27 @@ def test_parts_of_the_scene_replaced_by_what_they_are_not_are_refused_in_one_lin
         for call in (v.render, lambda: v.press("x"), v.probe, lambda: v.status):
             with pytest.raises(ValueError, match=words):
                 call()
+
+
+def test_two_elements_of_one_uid_are_refused_in_one_line() -> None:
+    """A copy given the original's uid (copy.copy and dataclasses.replace keep it) raised KeyError:
+    'surface' from the GPU's surface_content: the renderer keeps each element's buffers by its uid, and
+    made the copy's over the original's, releasing those while the original still waited to be drawn."""
+    with marraztu.Viewer(size=SIZE) as v:
+        v.add_mesh(TRIANGLE, [[0, 1, 2]], name="tri")
+        copy = dataclasses.replace(v.scene.objects[-1], mesh=v.scene.objects[0].mesh, name="wing")
+        own_uid, v.scene.objects[0].uid = v.scene.objects[0].uid, v.scene.objects[-1].uid
+        said = (r"^the scene's objects\[0\] \(x_wing\) and objects\[\d+\] \(tri\) have the same uid \d+: the renderer "
+                r"keeps each element's GPU buffers by it \(.*\)$")
+        for call in (v.render, lambda: v.press("x"), v.probe, lambda: v.status):
+            with pytest.raises(ValueError, match=said):
+                call()
+        v.scene.objects[0].uid = own_uid
+        v.scene.objects.append(copy)
+        with pytest.raises(ValueError, match=r"\(tri\) and objects\[\d+\] \(wing\) have the same uid"):
+            v.render()
+        v.scene.objects.pop()
+        assert np.asarray(v.render()).any()
 
 
 def test_a_spotlights_axis_turned_by_r_or_typed_to_four_decimals_is_a_rotation() -> None:

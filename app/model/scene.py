@@ -343,6 +343,30 @@ def _element_refusal(element: object, what: str) -> str | None:
     return None
 
 
+def _shared_uid_refusal(objects: list[SceneObject], cameras: list[SceneObject]) -> str | None:
+    """Why the scene's elements cannot be told apart (None: they can): the renderer keeps each one's GPU
+    buffers by its uid, a whole number (a list raised 'unhashable'), and drew one with buffers another
+    of its uid had released."""
+    elements = [*objects, *cameras]
+    uids = [element.uid for element in elements]
+    if set(map(type, uids)) - {int}:  # one pass where all are Python's, as the program makes them
+        odd = next((index for index, uid in enumerate(uids) if not _is_index(uid)), None)
+        if odd is not None:
+            return f"{elements[odd].name}'s uid must be a whole number, not {_shown(uids[odd])}"
+    if len(set(uids)) == len(uids):
+        return None
+    first_of: dict[int, int] = {}
+    second = next(index for index, uid in enumerate(uids) if first_of.setdefault(uid, index) != index)
+    first = first_of[uids[second]]
+
+    def place(index: int) -> str:
+        shown = f"objects[{index}]" if index < len(objects) else f"cameras[{index - len(objects)}]"
+        return f"{shown} ({elements[index].name})"
+    return f"the scene's {place(first)} and {place(second)} have the same uid {uids[second]}: the renderer keeps " \
+           f"each element's GPU buffers by it (copy.copy and dataclasses.replace keep the original's; " \
+           f"SceneObject(...) makes one of its own)"
+
+
 def _light_parts_refusal(light: object) -> str | None:
     """Why a light put in the scene by hand is not one the program can place (None: it is): the parts
     every call reads before its values are checked."""
@@ -694,7 +718,8 @@ class Scene:
             refusal = next(filter(None, map(_element_refusal, items, itertools.repeat(what))), None)
             if refusal is not None:
                 return refusal
-        return next(filter(None, map(_light_parts_refusal, self.lights)), None)
+        refusal = _shared_uid_refusal(self.objects, self.cameras)
+        return refusal or next(filter(None, map(_light_parts_refusal, self.lights)), None)
 
     def check_values(self) -> None:
         """ValueError, naming the first, where a value changed by hand (the programming interface's
