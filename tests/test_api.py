@@ -7,6 +7,7 @@ from __future__ import annotations
 import collections
 import dataclasses
 import gc
+import re
 import subprocess
 import sys
 import threading
@@ -668,6 +669,22 @@ def test_the_scene_shows_what_it_holds_not_its_tables() -> None:
         assert len(repr(obj)) < 1000, repr(obj)
         obj.history.append("abc")  # refused at the next call, but shown
         assert "model='abc'" in repr(obj)
+        obj.history.append(np.zeros((1000, 1000)))  # the walk says it is no 4x4; the repr shows no million numbers
+        assert len(repr(obj)) < 1000, repr(obj)
+
+
+@pytest.mark.parametrize("history, shown", [([], "history=[]"), (None, "history=None"),
+                                            ((np.eye(4),), "history=(array(")])
+def test_the_repr_of_an_element_whose_history_was_emptied_by_hand_says_so(history: object, shown: str) -> None:
+    """repr(obj), as a notebook shows a cell's last value, raised IndexError from the model property."""
+    with marraztu.Viewer(size=SIZE) as v:
+        for element in (v.scene.objects[0], v.scene.camera):
+            element.history = history
+            assert re.search(rf"^SceneObject\(name='{element.name}', .*, {re.escape(shown)}.*, selected_face=0, ",
+                             repr(element))
+        assert shown in repr(v.scene)
+        v.scene.objects = None
+        assert repr(v) == "<marraztu.Viewer 160x120, objects: NoneType, 1 camera, 4 lights, open>"
 
 
 def test_close_releases_and_garbage_collection_too() -> None:

@@ -365,8 +365,9 @@ class Viewer:
     def __repr__(self) -> str:
         """What the viewer holds, in words, drawing nothing: a notebook shows it once closed."""
         scene, (width, height) = self.scene, self.size
-        counts = ", ".join(counted(len(items), what) for items, what in
-                           ((scene.objects, "object"), (scene.cameras, "camera"), (scene.lights, "light")))
+        counts = ", ".join(counted(len(items), what) if isinstance(items, list) else f"{what}s: {type(items).__name__}"
+                           for items, what in ((scene.objects, "object"), (scene.cameras, "camera"),
+                                               (scene.lights, "light")))  # set by hand, refused at the next call
         return f"<marraztu.Viewer {width}x{height}, {counts}, {'open' if self._closer.alive else 'closed'}>"
 
     def _repr_png_(self) -> bytes | None:

@@ -470,13 +470,19 @@ class SceneObject:
     def __repr__(self) -> str:
         """What it is and where, not its tables: the history grows a matrix with every move."""
         own_picture = "" if self.picture is None else f", picture={_picture_size(self.picture)}"
-        try:
-            model: object = np.round(np.asarray(self.model, dtype=np.float64), 6).tolist()
-        except (TypeError, ValueError):  # pushed by hand, refused at the next call: shown as it is
-            model = self.model
         return (f"SceneObject(name={self.name!r}, mesh={self.mesh!r}, material={self.material!r}, "
-                f"model={model!r}, moves={len(self.history) - 1}, "
-                f"selected_face={self.selected_face}, source={self.source!r}{own_picture})")
+                f"{self._placement_shown()}, selected_face={self.selected_face}, source={self.source!r}{own_picture})")
+
+    def _placement_shown(self) -> str:
+        """Its matrix and how many moves led there, in its repr; what its history or matrix is instead,
+        set by hand (refused at the next call), shortened: a repr never raises, nor prints a table."""
+        history = self.history
+        if not isinstance(history, list) or not history:
+            return f"history={_shown(history)}"
+        matrix = _numbers(history[-1])
+        model = repr(np.round(matrix, 6).tolist()) if matrix is not None and matrix.shape == (4, 4) else \
+            _shown(history[-1])
+        return f"model={model}, moves={len(history) - 1}"
 
     @property
     def model(self) -> np.ndarray:
