@@ -529,6 +529,24 @@ def test_a_name_cannot_move_the_cursor(viewer) -> None:
     assert "\x1b" not in viewer.scene.object.name and "\n" not in viewer.scene.object.name
 
 
+def test_a_name_as_long_as_a_files_with_its_control_characters_escaped_is_refused_at_once(viewer) -> None:
+    """255 control characters were kept escaped, 1020 characters long, which the next call refused."""
+    before = len(viewer.scene.objects)
+    with pytest.raises(ValueError, match=rf"^name is 1020 characters long: at most {NAME_LIMIT} \(its control "):
+        viewer.add_mesh(TRIANGLE, [[0, 1, 2]], name="\x01" * 255)
+    assert len(viewer.scene.objects) == before and np.asarray(viewer.render()).any()
+
+
+def test_a_model_files_name_is_kept_as_the_status_line_shows_it(viewer, tmp_path: Path) -> None:
+    """A file named 'x<line break>y.obj' was kept as the name 'x', 'y' of two lines: the overlay drew '.'s
+    message, 'framed x' and 'y', on two lines."""
+    model = tmp_path / "x\ny.obj"
+    model.write_bytes((ASSET_DIR / "examples" / "two_tone.obj").read_bytes())
+    viewer.load(model)
+    assert viewer.scene.object.name == "x\\ny" and viewer.press(".").message == "framed x\\ny"
+    assert np.asarray(viewer.render(overlay=True)).any()
+
+
 @pytest.mark.parametrize("name", [b"abc", 5, object(), ["a"]])
 def test_a_name_that_is_no_text_is_refused(viewer, name: object) -> None:
     """str() was taken of any name: b"abc" became "b'abc'", an object() "<object object at 0x7f...>", and
@@ -1422,6 +1440,11 @@ def test_a_mesh_added_from_python_says_where_it_stands_as_a_load_does() -> None:
     (lambda s: setattr(s.objects[0], "mesh", None), r"'s mesh must be a Mesh, not None$"),
     (lambda s: setattr(s.objects[0], "name", 42), r"^the scene's objects' names must be str, not 42$"),
     (lambda s: setattr(s.objects[0], "name", "a" * (NAME_LIMIT + 1)), rf"name is {NAME_LIMIT + 1} characters long"),
+    # the overlay drew a message naming it on two lines ('framed a', 'b'); a refusal naming it was two lines
+    (lambda s: setattr(s.objects[0], "name", "a\nb"), r"^'a\\nb': name must be one line of printable characters"),
+    (lambda s: setattr(s.cameras[0], "name", "\x1b[2J"), r"^'\\x1b\[2J': name must be one line of printable "),
+    (lambda s: setattr(s.lights[1], "name", "bu\tlb"), r"^'bu\\tlb': name must be one line of printable characters"),
+    (lambda s: setattr(s.lights[1], "name", "b" * 10**6), r"^'b{39}\.\.\. \(1000002 characters\): name is 1000000 "),
     (lambda s: s.objects[0].history.clear(), r"'s history must be a list of model matrices, .*not \[\]$"),
     (lambda s: setattr(s.objects[0], "selected_face", 1.5), r"'s selected_face must be a whole number, not 1\.5$"),
     (lambda s: setattr(s.objects[0], "uid", [1]), r"'s uid must be a whole number, not \[1\]$"),  # unhashable

@@ -144,6 +144,19 @@ def test_a_name_longer_than_a_files_is_refused_at_its_line(tmp_path: Path) -> No
         load_scene(path)
 
 
+def test_a_name_that_is_not_one_printable_line_is_refused_at_its_line_and_a_files_is_kept_escaped(
+        tmp_path: Path) -> None:
+    """TOML's "a\\nb" was kept as a name of two lines: every message naming it (framed a...) was shown as
+    two. A model's file name, which the scene keeps as its name where it gives none, is kept as the
+    status line shows it, as a model loaded alone is."""
+    path = write_scene(tmp_path, CAMERA + '[[objects]]\nmodel = "m.obj"\nname = "a\\nb"\n')
+    with pytest.raises(LoadError, match=f"^{path}:6: objects\\[1\\]: name must be one line of printable "):
+        load_scene(path)
+    (tmp_path / "x\ty.obj").write_text(TETRAHEDRON)
+    scene = load_scene(write_scene(tmp_path, CAMERA + '[[objects]]\nmodel = "x\\ty.obj"\n'))
+    assert scene.objects[0].name == "x\\ty"
+
+
 def test_one_model_spelled_three_ways_is_loaded_once(tmp_path: Path, monkeypatch) -> None:
     """m.obj, ./m.obj and d/../m.obj are one file: a scene naming it thrice reads it once."""
     import marraztu.loaders.scenefile as scenefile
@@ -591,7 +604,7 @@ def test_quoted_and_dotted_names_still_find_their_line(tmp_path: Path, text: str
 
 
 def test_header_inside_a_multi_line_string_gives_no_line_rather_than_a_wrong_one(tmp_path: Path) -> None:
-    path = write_scene(tmp_path, CAMERA + '\n[[objects]]\nname = """\n[[objects]]\n"""\nmodel = "m.obj"\n'
+    path = write_scene(tmp_path, CAMERA + '\n[[objects]]\ntexture = """\n[[objects]]\n"""\nmodel = "m.obj"\n'
                                           'position = [0, 0, 0]\n\n[[objects]]\nposition = [0, 0, 0]\n')
     with pytest.raises(LoadError) as caught:
         load_scene(path)
@@ -749,17 +762,17 @@ KNOWN_NAMES_WRITTEN_OTHERWISE = (
     "ks = [0, 0, 0]\nns = 2\n")
 
 
-@pytest.mark.parametrize("name, text", [
-    ("o", KNOWN_NAMES_WRITTEN_OTHERWISE),
-    ("[lights]\n", KNOWN_NAMES_WRITTEN_OTHERWISE.replace('"o"', '"""\n[lights]\n"""')),
-    ("[lights]\n", KNOWN_NAMES_WRITTEN_OTHERWISE.replace('"o"', "\'\'\'\n[lights]\n\'\'\'")),
+@pytest.mark.parametrize("texture, text", [  # a name is one line: the texture's file name holds the header
+    ("t.ppm", KNOWN_NAMES_WRITTEN_OTHERWISE),
+    ("[lights]\n", KNOWN_NAMES_WRITTEN_OTHERWISE.replace('"t.ppm"', '"""\n[lights]\n"""')),
+    ("[lights]\n", KNOWN_NAMES_WRITTEN_OTHERWISE.replace('"t.ppm"', "\'\'\'\n[lights]\n\'\'\'")),
 ])
-def test_top_level_names_quoted_split_or_in_a_multi_line_string_are_read_as_before(tmp_path: Path, name: str,
+def test_top_level_names_quoted_split_or_in_a_multi_line_string_are_read_as_before(tmp_path: Path, texture: str,
                                                                                     text: str) -> None:
     """Quoted, escaped, dotted or spaced, they are the known ones; a header-like line in a multi-line
     string is no header, so the look for unknown names is not made where the text holds one."""
     description = read_scene_description(write_scene(tmp_path, text))
-    assert [entry.name for entry in description.objects] == [name]
+    assert [entry.name for entry in description.objects] == ["o"] and description.texture_path.name == texture
     assert description.objects[0].material.ns == 2 and description.cameras[0].position == (0.0, 0.0, 1.0)
 
 

@@ -35,7 +35,7 @@ from marraztu.loaders.scenefile import (
 )
 from marraztu.model.framing import framed_scale
 from marraztu.model.mesh import Mesh
-from marraztu.model.scene import WIDEST_ASPECT, Outlook, Scene, SceneObject, Sight, placed_boxes
+from marraztu.model.scene import WIDEST_ASPECT, Outlook, Scene, SceneObject, Sight, kept_name, placed_boxes
 from marraztu.model.transforms import Vec3
 from marraztu.model.viewports import narrowest_aspect
 
@@ -79,7 +79,7 @@ def load_model_object(path: str | Path, scale: Vec3 = UNSCALED, stage: Stage | N
 
 def _placed(mesh: Mesh, source: Path, scale: Vec3 = UNSCALED) -> SceneObject:
     material = material_for_loaded(mesh)
-    obj = SceneObject.placed(mesh.name, mesh, material, (0.0, 0.0, 0.0), source=source)
+    obj = SceneObject.placed(kept_name(mesh.name), mesh, material, (0.0, 0.0, 0.0), source=source)
     obj.scale = scale
     give_part_materials(obj, from_scene=False)
     return obj

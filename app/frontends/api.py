@@ -38,7 +38,7 @@ from marraztu.model.build import build_mesh, real_numbers
 from marraztu.model.geometry import cannot_light, holds_in_float32
 from marraztu.model.mesh import INDEX_LIMIT, counted
 from marraztu.model.probe import probe as probe_scene
-from marraztu.model.scene import Scene, SceneObject, name_refusal
+from marraztu.model.scene import Scene, SceneObject, kept_name, name_refusal
 from marraztu.render.context import create_offscreen_context, refuse_forked_gl
 from marraztu.render.layout import checked_size
 from marraztu.render.renderer import Renderer
@@ -135,9 +135,10 @@ def _checked_name(name: Any) -> None:
         raise TypeError(f"name is a str, not {type(name).__name__}")
     if not name.strip():
         raise ValueError("name is empty: give one with words in it, or None for the default")
-    refusal = name_refusal(name)
+    kept = escaped(name)  # as the scene keeps it: a line break written \n, as the status line shows it
+    refusal = name_refusal(kept)
     if refusal is not None:
-        raise ValueError(refusal)
+        raise ValueError(refusal if kept == name else f"{refusal} (its control characters escaped, as it is kept)")
 
 
 def _checked_path(path: Any, what: str) -> Path:
@@ -327,7 +328,7 @@ class Viewer:
                                           or (hasattr(positions, "vertices") and hasattr(positions, "faces")))
         if name is None:
             name = (_file_stem(positions) if from_trimesh else None) or "mesh"
-        shown_name = escaped(name)
+        shown_name = kept_name(name)
         if from_trimesh:
             if not (uvs is None and normals is None and colours is None and attributes_per_vertex is None):
                 raise ValueError("a trimesh.Trimesh brings its own uvs and colours: give it alone, or give its "

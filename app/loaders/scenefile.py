@@ -51,7 +51,7 @@ from marraztu.loaders.patterns import compiled
 from marraztu.loaders.registry import Stage, load_model, sized
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.mesh import Mesh, with_picture_as_colour
-from marraztu.model.scene import Material, Scene, SceneObject, Vec3, name_refusal
+from marraztu.model.scene import Material, Scene, SceneObject, Vec3, kept_name, name_refusal
 from marraztu.resources import ASSET_DIR
 
 BUILTIN_SCENE_FILE = "scene.toml"
@@ -355,8 +355,8 @@ class _SceneReader:
         else:  # a camera's: the built-in one
             model, path = CAMERA_MODEL, BUILT_IN_CAMERA_MODEL
         # A model "." has no stem: its own words name it, and loading it says what is wrong with it.
-        name = self.text_value(table.get("name", Path(model).stem or model), f"{what}: name", at("name"))
-        refusal = name_refusal(name) if "name" in table else None  # a model's stem: its file's, which its load checks
+        name = self.text_value(table.get("name", kept_name(Path(model).stem or model)), f"{what}: name", at("name"))
+        refusal = name_refusal(name) if "name" in table else None  # a model's stem is kept as a loaded file's is
         if refusal is not None:
             self.fail(f"{what}: {refusal}", at("name"))
         position = self.triple(table.get("position", list(ORIGIN)), f"{what}: position", at("position"))

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from marraztu.errors import shortened
+from marraztu.errors import escaped, shortened
 from marraztu.model.geometry import DRAWABLE_COORDINATE, FLOAT32_MAX, all_lightable, cannot_light
 from marraztu.model.lights import (
     AMBIENT_INTENSITY,
@@ -317,8 +317,20 @@ NAME_LIMIT = 255
 
 
 def name_refusal(name: str) -> str | None:
-    """Why a name given an object or camera cannot be shown (None: it can): longer than a file's."""
-    return f"name is {len(name)} characters long: at most {NAME_LIMIT}" if len(name) > NAME_LIMIT else None
+    """Why a name given an object, camera or light cannot be shown (None: it can): longer than a file's,
+    or holding a line break or another character no font draws, where the status line, the panels and
+    the messages show it within one line of theirs."""
+    if len(name) > NAME_LIMIT:
+        return f"name is {len(name)} characters long: at most {NAME_LIMIT}"
+    if not name.isprintable():
+        return "name must be one line of printable characters: no line break, tab or other control character"
+    return None
+
+
+def kept_name(name: str) -> str:
+    """A name a file gives (its own name, where nothing names the model), as name_refusal takes it: its
+    control characters escaped, as the status line shows them, and cut to NAME_LIMIT."""
+    return escaped(name)[:NAME_LIMIT]
 
 
 def _element_refusal(element: object, what: str) -> str | None:
@@ -374,6 +386,8 @@ def _light_parts_refusal(light: object) -> str | None:
         return f"the scene's lights must hold Lights, not {_shown(light)}"
     if not isinstance(light.name, str) or not isinstance(light.key, str):
         return f"a light's name and key must be str, not {_shown(light.name)} and {_shown(light.key)}"
+    if (refusal := name_refusal(light.name)) is not None:  # the panels and messages name it
+        return f"{_shown(light.name)}: {refusal}"
     if not isinstance(light.kind, LightKind):
         kinds = ", ".join(map(repr, LIGHT_KINDS))
         return f"the {light.name}'s kind must be a LightKind ({kinds}; from {LightKind.__module__}), not " \
