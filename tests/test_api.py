@@ -24,9 +24,9 @@ import marraztu
 from marraztu.control.viewer import StartOptions
 from marraztu.errors import KeyMapError, LoadError, ViewerError
 from marraztu.frontends.screenshot import take_screenshot
-from marraztu.model.geometry import DRAWABLE_COORDINATE, FLOAT32_MAX
+from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.probe import probe as scene_probe
-from marraztu.model.scene import NAME_LIMIT
+from marraztu.model.scene import LIGHT_REACH, NAME_LIMIT
 from marraztu.resources import ASSET_DIR
 
 SIZE = (160, 120)
@@ -1156,10 +1156,13 @@ def test_a_matrix_down_the_undo_history_that_cannot_be_drawn_is_refused_before_u
     # the probe lit the face, one at 1e300 made the far plane infinite (nothing drawn); an intensity of
     # 1e39 drew another picture than 3e38 with the same probe
     (lambda s: setattr(s.lights[1], "position", np.array([0.0, 1e300, 0.0])),
-     r"^the bulb's position must be 3 numbers within 1e\+18 of the origin, as a model's coordinates: .*, "
+     r"^the bulb's position must be 3 numbers within 5e\+18 of the origin: past it the GPU's 32-bit numbers "
+     r"cannot light from there, "
      r"not array\(\[0\.e\+000, 1\.e\+300, 0\.e\+000\]\)$"),
     (lambda s: setattr(s.lights[1], "position", [0.0, 0.0, -1e20]),
-     r"^the bulb's position must be 3 numbers within 1e\+18"),
+     r"^the bulb's position must be 3 numbers within 5e\+18"),
+    (lambda s: setattr(s.lights[0], "position", [0.0, 0.0, 1e39]),  # only its marker is drawn there
+     r"^the sun's position must be 3 numbers within 32-bit floats"),
     (lambda s: setattr(s.lights[1], "intensity", np.array([1e300, 0.0, 0.0])),
      r"^the bulb's intensity must be 3 numbers within 32-bit floats \(3\.4e38\), where the GPU reads them, not "),
     (lambda s: setattr(s.lights[0], "intensity", [1e39, 1, 1]),
@@ -1188,6 +1191,18 @@ def test_lights_and_materials_set_by_hand_that_cannot_be_drawn_are_refused_in_on
                 call()
 
 
+def test_lights_fitted_to_the_largest_models_that_are_drawn_are_taken() -> None:
+    """A light's place was refused past 1e18, as a model's coordinate is: a cube 3e17 wide, drawn, had the
+    bulb fitted to 2e18 and the sun to 4e18 (200 and 400 of the scene's unit, 1e16), and its next call
+    refused the scene the program had made."""
+    half = 1.5e17
+    cube = np.array([[x, y, z] for x in (-half, half) for y in (-half, half) for z in (-half, half)])
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(cube, [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]])
+        assert v.scene.lights[0].position[0] == 4e18 and v.scene.lights[1].position[1] == 2e18
+        assert np.asarray(v.press("0 1").render()).any()
+
+
 def test_lights_and_materials_at_the_edge_of_what_the_gpu_reads_are_drawn_without_the_walk(monkeypatch) -> None:
     """The stacked check and the walk draw the same line: what the one passes, the other is not asked."""
     from marraztu.model import scene as scene_module
@@ -1196,7 +1211,8 @@ def test_lights_and_materials_at_the_edge_of_what_the_gpu_reads_are_drawn_withou
     monkeypatch.setattr(scene_module, "reach_refusal", lambda value, kind: walked.append(value))
     with marraztu.Viewer(size=SIZE) as v:
         v.press("0 1")
-        v.scene.lights[1].position, v.scene.lights[1].intensity = (0.0, 0.0, -DRAWABLE_COORDINATE), [FLOAT32_MAX] * 3
+        v.scene.lights[1].position, v.scene.lights[1].intensity = (0.0, 0.0, -LIGHT_REACH), [FLOAT32_MAX] * 3
+        v.scene.lights[0].position = (FLOAT32_MAX, 0.0, 0.0)
         v.scene.lights[0].direction = np.array([0.0, -1e-150, 0.0])
         v.scene.objects[0].material = dataclasses.replace(v.scene.objects[0].material, ks=(FLOAT32_MAX, 0, 0))
         v.scene.ambient = (-FLOAT32_MAX, 0, 0)

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import escaped, shortened
-from marraztu.model.geometry import DRAWABLE_COORDINATE, FLOAT32_MAX, all_lightable, cannot_light
+from marraztu.model.geometry import FLOAT32_MAX, all_lightable, cannot_light
 from marraztu.model.lights import (
     AMBIENT_INTENSITY,
     LIGHT_KINDS,
@@ -192,9 +192,13 @@ class TripleKind:
     shortest: float = 0.0  # a direction: how long, at least, to point some way
 
 
+# Where a light lit from its place may stand: from there the vector to a model's point (within
+# DRAWABLE_COORDINATE) squares within float32, as the GPU lights; a bulb at 1e20 lit nothing.
+LIGHT_REACH = 5e18
 COLOUR = TripleKind("R, G, B", FLOAT32_MAX, "within 32-bit floats (3.4e38), where the GPU reads them")
-PLACE = TripleKind("x, y, z", DRAWABLE_COORDINATE, f"within {DRAWABLE_COORDINATE:.0e} of the origin, as a model's "
-                   "coordinates: past it the GPU's 32-bit numbers cannot light from there")
+MARKED = TripleKind("x, y, z", FLOAT32_MAX, COLOUR.within)  # the sun's place: where its marker is drawn
+PLACE = TripleKind("x, y, z", LIGHT_REACH, f"within {LIGHT_REACH:.0e} of the origin: past it the GPU's 32-bit "
+                   "numbers cannot light from there")
 # 1e-150 squared is still a normal float64: unit() of a direction that long is one long, and of (0, 0, 0),
 # or one whose square rounds to 0, (0, 0, 0) (the sun then lights no face, and a highlight faces the eye).
 DIRECTION = TripleKind("x, y, z", FLOAT32_MAX, COLOUR.within, shortest=1e-150)
@@ -793,7 +797,8 @@ class Scene:
         triples: list[tuple[str, object, TripleKind]] = [("the scene's ambient", self.ambient, COLOUR)]
         for light in self.lights:
             triples += [(f"the {light.name}'s intensity", light.intensity, COLOUR),
-                        (f"the {light.name}'s position", light.position, PLACE),
+                        (f"the {light.name}'s position", light.position,
+                         MARKED if light.kind is LightKind.DIRECTIONAL else PLACE),
                         (f"the {light.name}'s direction", light.direction, DIRECTION)]
         return triples
 
