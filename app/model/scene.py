@@ -199,8 +199,8 @@ COLOUR = TripleKind("R, G, B", FLOAT32_MAX, "within 32-bit floats (3.4e38), wher
 MARKED = TripleKind("x, y, z", FLOAT32_MAX, COLOUR.within)  # the sun's place: where its marker is drawn
 PLACE = TripleKind("x, y, z", LIGHT_REACH, f"within {LIGHT_REACH:.0e} of the origin: past it the GPU's 32-bit "
                    "numbers cannot light from there")
-# 1e-150 squared is still a normal float64: unit() of a direction that long is one long, and of (0, 0, 0),
-# or one whose square rounds to 0, (0, 0, 0) (the sun then lights no face, and a highlight faces the eye).
+# unit() leaves (0, 0, 0), or a direction whose square rounds to 0, as it is (the sun then lights no face,
+# and a highlight faces the eye); 1e-150 squared is still a normal float64, which it makes 1 long.
 DIRECTION = TripleKind("x, y, z", FLOAT32_MAX, COLOUR.within, shortest=1e-150)
 
 
@@ -748,8 +748,8 @@ class Scene:
     def check_values(self) -> None:
         """ValueError, naming the first, where a value changed by hand (the programming interface's
         scene) cannot be drawn: a model matrix not affine or without an inverse, a light's or a
-        material's colour or place that is not 3 finite numbers, an aperture past 0..180 degrees, a mode
-        not of the kind its key sets."""
+        material's colour, place or direction that is not 3 finite numbers within what the GPU reads
+        (TripleKind), an aperture past 0..180 degrees, a mode not of the kind its key sets."""
         if self._all_drawable():  # every call of the interface asks: the walk below costs far more per element
             return
         refusal = next(self._refusals(), None)
