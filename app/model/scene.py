@@ -327,7 +327,8 @@ def name_refusal(name: str) -> str | None:
     if len(name) > NAME_LIMIT:
         return f"name is {len(name)} characters long: at most {NAME_LIMIT}"
     if not name.isprintable():
-        return "name must be one line of printable characters: no line break, tab or other control character"
+        odd = next(char for char in name if not char.isprintable())
+        return f"name must be one line of printable characters: it holds {escaped(odd)}"
     return None
 
 
