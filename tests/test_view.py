@@ -1297,3 +1297,20 @@ def test_a_key_that_leaves_a_model_thinner_than_a_pixel_says_so_once(tmp_path: P
         gone = lit.index(0)
         assert said == [""] * gone + [f"beam is now {THIN_WORDS}"] + [""] * (len(said) - gone - 1), (said, lit)
         assert 0 < gone < len(said) - 1 and set(lit[gone:]) == {0}, lit
+
+
+def test_a_mouse_move_that_leaves_a_model_thinner_than_a_pixel_says_so_whatever_the_message_said_of_others(
+        tmp_path: Path) -> None:
+    """The start's message said another model was thinner than a pixel: the wheel, which says nothing of its
+    own, then left the selected model so without a word, taking those words for its own."""
+    beam = box(tmp_path / "beam.obj", (1000.0, 1.0, 1.0), (0.0, 300.0, 0.0))
+    cube = box(tmp_path / "cube.obj", (10.0, 10.0, 10.0))
+    viewer = Viewer(empty_scene(), NoFrontend(), frame_size=lambda: (400, 300))
+    viewer.start(StartOptions(empty=True, models=(beam, cube)), longest_texture_side=64)
+    scene, aspect = viewer.scene, viewer.narrowest_aspect()
+    assert scene.object.name == "cube" and scene.message.endswith(f"beam: {THIN_WORDS}"), scene.message
+    for _ in range(100):  # the wheel backs away a notch at a time
+        viewer.move_by_mouse(lambda moved: commands.dolly_view(moved, -1))
+        if scene.sight(scene.object, aspect, 300) is not Sight.SEEN:
+            break
+    assert scene.sight(scene.object, aspect, 300) is Sight.THIN and scene.message == f"cube is now {THIN_WORDS}"

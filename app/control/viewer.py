@@ -312,7 +312,7 @@ class Viewer:
                 raise ViewerError(refusal)
         before = self._seen_selected()
         keymap.dispatch(self.scene, key, self)
-        lost = self._lost_since(before)
+        lost = self._lost_since(before, said=self.scene.message)  # dispatch cleared it: the key's own words
         if lost and before is not None:
             said = self.scene.message
             self._say_unseen(before.obj, f"{said}; {lost}" if said else lost, seen=said)
@@ -548,17 +548,18 @@ class Viewer:
         if self.scene.object is obj and self.scene.viewer is not obj and not self._unseen_as(obj):
             self.scene.message, self._said_unseen = said.seen, None
 
-    def _lost_since(self, before: _Before | None) -> str:
+    def _lost_since(self, before: _Before | None, said: str = "") -> str:
         """That the object a key or a mouse move found in view is out of it now, in a message's words; ""
-        where not: one box test, and a second (the view before) only where it is out (a file read in its
-        place is told by _replace, which also sees the one before)."""
+        where not, or where `said`, what the key itself said, says it (a mouse move says nothing of its own):
+        one box test, and a second (the view before) only where it is out (a file read in its place is told
+        by _replace, which also sees the one before)."""
         if before is None:
             return ""
         obj = before.obj
         if self.scene.object is not obj or self.scene.viewer is obj or obj.mesh is not before.mesh:
             return ""
         where = self._unseen_as(obj)
-        if not where or where in self.scene.message:  # said by the key itself: `.` framing a beam under a pixel thick
+        if not where or where in said:  # `.` framing a beam under a pixel thick says so itself
             return ""
         return _lost_notice(obj, where) if before.sight() is Sight.SEEN else ""
 
