@@ -1467,7 +1467,11 @@ def test_a_mesh_added_from_python_says_where_it_stands_as_a_load_does() -> None:
     (lambda s: setattr(s.objects[0], "uid", [1]), r"'s uid must be a whole number, not \[1\]$"),  # unhashable
     (lambda s: setattr(s.objects[0], "uid", s.cameras[0].uid),
      r"^the scene's objects\[0\] \(x_wing\) and cameras\[0\] \(camera\) have the same uid \d+: "),
-    (lambda s: s.objects.append(s.objects[0]), r"^the scene's objects\[0\] \(x_wing\) and objects\[\d+\] \(x_wing\) "),
+    (lambda s: s.objects.append(s.objects[0]),  # not a copy: no word of copies
+     r"^the scene's objects\[0\] \(x_wing\) and objects\[\d+\] \(x_wing\) are one element listed twice: list it "
+     r"once \(the renderer keeps each element's GPU buffers by its uid, \d+\)$"),
+    (lambda s: s.cameras.append(s.objects[0]),
+     r"^the scene's objects\[0\] \(x_wing\) and cameras\[1\] \(x_wing\) are one element listed twice"),
     (lambda s: s.lights.append("sun"), r"^the scene's lights must hold Lights, not 'sun'$"),
     (lambda s: setattr(s.lights[1], "kind", "point"), r"^the bulb's kind must be a LightKind \(LightKind\."),
     (lambda s: setattr(s.lights[2], "owner", None), r"'s owner must be an Owner \(Owner\.NONE, .*not None$"),

@@ -379,6 +379,9 @@ def _shared_uid_refusal(objects: list[SceneObject], cameras: list[SceneObject]) 
     def place(index: int) -> str:
         shown = f"objects[{index}]" if index < len(objects) else f"cameras[{index - len(objects)}]"
         return f"{shown} ({elements[index].name})"
+    if elements[first] is elements[second]:  # no copy: the words of copies would mislead
+        return f"the scene's {place(first)} and {place(second)} are one element listed twice: list it once (the " \
+               f"renderer keeps each element's GPU buffers by its uid, {uids[second]})"
     return f"the scene's {place(first)} and {place(second)} have the same uid {uids[second]}: the renderer keeps " \
            f"each element's GPU buffers by it (copy.copy and dataclasses.replace keep the original's; " \
            f"SceneObject(...) makes one of its own)"
