@@ -1203,6 +1203,23 @@ def test_lights_fitted_to_the_largest_models_that_are_drawn_are_taken() -> None:
         assert np.asarray(v.press("0 1").render()).any()
 
 
+def test_the_bulb_moved_by_keys_stops_where_the_gpu_can_still_light_from() -> None:
+    """t y*70 took the bulb of a scene 3e17 wide to 5.5e18, past LIGHT_REACH: every call after, u too,
+    refused the scene the keys had made."""
+    half = 1.5e17
+    cube = np.array([[x, y, z] for x in (-half, half) for y in (-half, half) for z in (-half, half)])
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(cube, [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]])
+        bulb = v.scene.lights[1]
+        v.press("1 c c TAB t y*70")
+        assert v.scene.light is bulb and LIGHT_REACH - 5e16 < bulb.position[1] <= LIGHT_REACH, bulb.position
+        assert v.message == f"the bulb stops here: past {LIGHT_REACH:.0e} from the origin the GPU's 32-bit numbers " \
+                            "cannot light from it"
+        assert np.asarray(v.render()).any()
+        v.press("Y u")  # back toward the origin, and back again
+        assert bulb.position[1] <= LIGHT_REACH
+
+
 def test_lights_and_materials_at_the_edge_of_what_the_gpu_reads_are_drawn_without_the_walk(monkeypatch) -> None:
     """The stacked check and the walk draw the same line: what the one passes, the other is not asked."""
     from marraztu.model import scene as scene_module

@@ -18,6 +18,9 @@ DRAWABLE_COORDINATE = 1e18
 # The smallest model: framed, its vectors' squared lengths must stay above float32's smallest normal
 # number (1.2e-38), under which the GPU lights it flat or not at all. A point, of no size, is drawn as one.
 DRAWABLE_SIZE = 1e-18
+# Where a light lit from its place may stand: from there the vector to a model's point (within
+# DRAWABLE_COORDINATE) squares within float32, as the GPU lights; a bulb at 1e20 lit nothing.
+LIGHT_REACH = 5e18
 
 
 def cannot_light(low: np.ndarray, high: np.ndarray) -> str | None:

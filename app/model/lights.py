@@ -13,7 +13,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from marraztu.model.geometry import unit
+from marraztu.model.geometry import LIGHT_REACH, unit
 from marraztu.model.transforms import TransformKind, rotation3
 
 AMBIENT_INTENSITY = np.array([200.0, 75.0, 255.0])  # SPEC 4's Ia
@@ -66,6 +66,10 @@ class LightKind:
         """One press of x/y/z with `moved_by`: radians about, or units along, the axis."""
         raise NotImplementedError
 
+    def move_refusal(self, light: Light, axis_index: int, amount: float) -> str:
+        """Why that press cannot move it ("" where it can)."""
+        return ""
+
     def aim(self, light: WorldLight) -> str:
         """Where its light goes, in words, for a kind that sends it one way ("" for one that shines
         every way): a spotlight pointing at empty space lights no pixel."""
@@ -108,6 +112,15 @@ class Point(LightKind):
         offset = np.zeros(3)
         offset[axis_index] = amount
         light.position = light.position + offset
+
+    def move_refusal(self, light: Light, axis_index: int, amount: float) -> str:
+        """Past LIGHT_REACH, where the next call of the programming interface would refuse the scene;
+        a step back toward the origin is always taken."""
+        along = float(light.position[axis_index])
+        if abs(along + amount) <= max(abs(along), LIGHT_REACH):
+            return ""
+        return f"the {light.name} stops here: past {LIGHT_REACH:.0e} from the origin the GPU's 32-bit numbers " \
+               "cannot light from it"
 
 
 class Spot(LightKind):
@@ -201,6 +214,9 @@ class Light:
         """One press of x/y/z; returns why it was refused ("" when it moved)."""
         if kind is not self.kind.moved_by:
             return self.kind.refusal.format(name=self.name)
+        refusal = self.kind.move_refusal(self, axis_index, amount)
+        if refusal:
+            return refusal
         self.history.append((self.position.copy(), self.direction.copy(), self.axis_in_owner.copy()))
         self.kind.move(self, axis_index, amount)
         return ""

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import escaped, shortened
-from marraztu.model.geometry import FLOAT32_MAX, all_lightable, cannot_light
+from marraztu.model.geometry import FLOAT32_MAX, LIGHT_REACH, all_lightable, cannot_light
 from marraztu.model.lights import (
     AMBIENT_INTENSITY,
     LIGHT_KINDS,
@@ -192,9 +192,6 @@ class TripleKind:
     shortest: float = 0.0  # a direction: how long, at least, to point some way
 
 
-# Where a light lit from its place may stand: from there the vector to a model's point (within
-# DRAWABLE_COORDINATE) squares within float32, as the GPU lights; a bulb at 1e20 lit nothing.
-LIGHT_REACH = 5e18
 COLOUR = TripleKind("R, G, B", FLOAT32_MAX, "within 32-bit floats (3.4e38), where the GPU reads them")
 MARKED = TripleKind("x, y, z", FLOAT32_MAX, COLOUR.within)  # the sun's place: where its marker is drawn
 PLACE = TripleKind("x, y, z", LIGHT_REACH, f"within {LIGHT_REACH:.0e} of the origin: past it the GPU's 32-bit "
