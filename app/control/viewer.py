@@ -646,8 +646,8 @@ def _names(names: list[str]) -> str:
 
 def _lost_notice(obj: SceneObject, where: str) -> str:
     """What a key, a mouse move or a file read in its place says of the selected object the view no longer shows."""
-    hint = commands.sight_hint(Sight.THIN) if where == Sight.THIN.value else ". frames it"  # l, where lines show it
-    return f"{obj.name} is now {where} ({hint})"
+    sight = Sight.THIN if where == Sight.THIN.value else Sight.OUTSIDE  # or much smaller or larger: `.` too
+    return f"{obj.name} is now {where} ({commands.sight_hint(sight)})"
 
 
 def with_notes(message: str, mesh: Mesh) -> str:
