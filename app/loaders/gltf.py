@@ -257,16 +257,19 @@ class GltfReferences:
 
     def asset(self) -> None:
         """The asset's version as trimesh reads it: a string whose part before its first dot is a whole
-        number of 2 or more (it says "'int' object has no attribute 'get'", or "invalid literal for int()")."""
+        number of 2 or more (it says "'int' object has no attribute 'get'", or "invalid literal for int()").
+        A glTF 1 file is refused as one, its version a number too, as collada2gltf wrote some."""
         asset = self.document.get("asset", {})
         if not isinstance(asset, dict):
             self.refuse("its asset is not an object")
         version = asset.get("version", "2.0")
+        if _is_number(version) and 0 <= version < 2:  # glTF 1's, as a number: a string in every glTF 2
+            version = str(version)
         major = version.split(".", 1)[0] if isinstance(version, str) else ""
         if not major.isdecimal():
             self.refuse(f"its asset's version {shortened(escaped(repr(version)))} is not a version such as \"2.0\"")
         if int(major) < 2:
-            self.refuse(f"its asset's version is {shortened(escaped(version))}: only glTF 2 is read")
+            raise LoadError(self.path, f"a file of glTF version {shortened(escaped(version))}: only glTF 2 is read")
 
     def buffer_uri(self, number: int, buffer: dict[str, Any]) -> None:
         """A buffer's uri, a string; left out only by a GLB's buffer (trimesh says "KeyError: 'uri'")."""
