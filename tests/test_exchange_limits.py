@@ -648,6 +648,27 @@ def test_compressed_gltf_geometry_is_refused_not_read_as_zeros(tmp_path: Path, e
     assert str(one_line_refusal(lambda: load_model(path))) == f"{path}: {words}"
 
 
+def test_draco_geometry_is_refused_as_compressed_before_its_accessors_are_counted(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A Draco primitive's accessors have no buffer view, and hold what the compressed stream decodes to:
+    more than twice the file. assimp's Draco 2CylinderEngine.gltf was refused as asking for more bytes than
+    its file may make, which named no compression, where DracoPy, which reads it, is not installed."""
+    monkeypatch.setattr(gltf, "_draco_decoder", lambda: False)
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["accessors"] = [{"componentType": 5126, "count": 100_000, "type": "VEC3"},
+                             {"componentType": 5126, "count": 100_000, "type": "VEC2"},
+                             {"componentType": 5125, "count": 300_000, "type": "SCALAR"}]
+    document["meshes"][0]["primitives"][0]["indices"] = 2
+    document["meshes"][0]["primitives"][0]["extensions"] = {
+        "KHR_draco_mesh_compression": {"bufferView": 0, "attributes": {"POSITION": 0, "TEXCOORD_0": 1}}}
+    document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_draco_mesh_compression"]
+    path = tmp_path / "draco.glb"
+    path.write_bytes(glb(document, binary))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        "its geometry is Draco-compressed (KHR_draco_mesh_compression), which is not read here: export it "
+        "uncompressed")
+
+
 @pytest.mark.parametrize("component_type, dtype, one", [(5121, "<u1", 255), (5123, "<u2", 65535),
                                                         (5120, "<i1", 127), (5122, "<i2", 32767)])
 def test_normalized_integer_positions_are_read_as_the_fractions_they_stand_for(

@@ -178,10 +178,10 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     data, file_type = read_model_bytes(path, stage), path.suffix.lower().lstrip(".")
     document = gltf_document(path, data) if file_type == "gltf" else glb_document(path, data)
     pictures = gltf_pictures(document) if file_type == "gltf" else frozenset()  # a GLB holds its own
+    check_geometry_readable(path, document)  # first: compressed accessors are bytes a decoder makes, not zeros
     least_bytes = buffer_bytes(document)
     GltfReferences(path, document, held=len(data) + sum(least_bytes.values())).check()
     check_one_parent_each(path, document)
-    check_geometry_readable(path, document)
     counts, undrawn = gltf_counts(document), undrawn_primitive_notes(document)
     if counts is not None:  # before trimesh builds a node and a mesh per placement
         _check_placed_counts(path, *counts, undrawn=sceneless_words(document) + undrawn)
