@@ -645,13 +645,15 @@ _UNREAD_COMPRESSION = {
 def check_geometry_readable(path: Path, document: dict[str, Any]) -> None:
     """Refuses compressed geometry, which glTF's writers list as required, and extensions it requires
     that are not read here."""
-    required = document.get("extensionsRequired")
-    for name in required if isinstance(required, list) else ():
+    required = document.get("extensionsRequired", [])
+    if not (isinstance(required, list) and all(isinstance(name, str) for name in required)):
+        raise LoadError(path, "not a glTF file: its extensionsRequired are not a list of extension names")
+    for name in required:
         if name in _UNREAD_COMPRESSION and not (name == "KHR_draco_mesh_compression" and _draco_decoder()):
             raise LoadError(path, f"its geometry is {_UNREAD_COMPRESSION[name]} ({name}), which is not read here: "
                                   "export it uncompressed")
         if not _required_extension_read(name):  # glTF: a reader must refuse what it cannot honour
-            raise LoadError(path, f"it requires the glTF extension {shortened(escaped(str(name)))}, which is not "
+            raise LoadError(path, f"it requires the glTF extension {shortened(escaped(name))}, which is not "
                                   "read here")
 
 
