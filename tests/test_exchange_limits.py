@@ -1518,6 +1518,19 @@ def test_a_base_colour_texture_on_a_second_uv_set_is_a_note(tmp_path: Path, text
                                if noted else ())
 
 
+def test_a_picture_on_a_mesh_without_texture_coordinates_is_a_note(tmp_path: Path) -> None:
+    """assimp's issue_3269 gives a mesh TEXCOORD_1 alone, and its material a base colour texture on
+    TEXCOORD_0: its picture was left out, and the scene's test picture shown on it, without a word."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0], picture=png_bytes(2, 2))
+    attributes = document["meshes"][0]["primitives"][0]["attributes"]
+    attributes["TEXCOORD_1"] = attributes.pop("TEXCOORD_0")
+    path = tmp_path / "no_uvs.glb"
+    path.write_bytes(glb(document, binary))
+    loaded = load_model(path)
+    assert loaded.warnings == ("a material's picture is not drawn (its mesh has no texture coordinates); the "
+                               "scene's texture is shown in its place",)
+
+
 def test_base_colour_textures_of_several_materials_on_later_uv_sets_are_one_note(tmp_path: Path) -> None:
     document, binary = triangle_gltf([{"mesh": 0}], [0], primitives=2, picture=png_bytes(2, 2))
     for number, primitive in enumerate(document["meshes"][0]["primitives"]):

@@ -592,13 +592,14 @@ def _part_materials(name: str, parts: list[Part], picture_formats: Collection[st
     materials: list[MeshMaterial] = []
     beyond = 0
     undrawn: list[str] = []  # why each picture that cannot be drawn is not
+    unaddressed: set[int] = set()  # the materials whose picture a mesh without uvs left out, each told once
     for geometry, _ in parts:
         if id(geometry) in by_geometry:
             continue
         material = getattr(getattr(geometry.mesh, "visual", None), "material", None)
         values = _material_of(geometry.mesh)
         # A picture counts only where uvs address it; equal materials are one, copies included.
-        picture = _picture(material) if geometry.uvs is not None else None
+        picture = _addressed_picture(material, geometry, unaddressed, undrawn)
         if id(picture) not in textures:
             texture = None if picture is None else _drawn_picture(picture, picture_formats, undrawn)
             textures[id(picture)] = texture, None if texture is None else (texture.shape, hash(texture.tobytes()))
@@ -627,6 +628,18 @@ def _part_materials(name: str, parts: list[Part], picture_formats: Collection[st
         notes.append(f"{MAX_MATERIALS + beyond} materials used; the meshes of all but the first {MAX_MATERIALS} "
                      "take the viewer's material")
     return tuple(materials), part_material, notes
+
+
+def _addressed_picture(material: Any, geometry: _Geometry, unaddressed: set[int], undrawn: list[str]) -> Any:
+    """The material's picture where the mesh's uvs address it; None for a mesh without uvs, and why in
+    `undrawn`, once a material (a glTF primitive with TEXCOORD_1 alone: trimesh reads TEXCOORD_0)."""
+    picture = _picture(material)
+    if picture is None or geometry.uvs is not None:
+        return picture
+    if id(material) not in unaddressed:
+        unaddressed.add(id(material))
+        undrawn.append("its mesh has no texture coordinates")
+    return None
 
 
 def _drawn_picture(picture: Any, formats: Collection[str] | None, undrawn: list[str]) -> np.ndarray | None:
