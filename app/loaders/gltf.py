@@ -395,7 +395,7 @@ class GltfReferences:
     def texture_sets(self, what: str, number: int, material: dict[str, Any], attributes: dict[str, Any]) -> None:
         """The TEXCOORD_n each texture of its material names by its texCoord, which the primitive must have
         (trimesh reads TEXCOORD_0 whatever it says). One left out, 0, is not asked for: a primitive without
-        uvs is drawn untextured, as an OBJ's faces without vt are."""
+        uvs shows the scene's texture in place of its own picture, with a note."""
         for key, texture in _texture_infos(material):
             texture_set = texture.get("texCoord")
             if _is_whole(texture_set) and texture_set >= 0 and f"TEXCOORD_{texture_set}" not in attributes:
