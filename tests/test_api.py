@@ -1011,8 +1011,8 @@ def moved_along_z(distance: float) -> np.ndarray:
     ("objects", np.diag([1e17, 1e17, 1e17, 1.0]), "a coordinate reaches .*: past 1e\\+18"),
     ("objects", np.diag([1e-30, 1e-30, 1e-30, 1.0]), "the model is .* across: under 1e-18"),
     ("cameras", moved_along_z(1e31), "a coordinate reaches 1e\\+31"),
-    # in three digits this read 'reaches 1e+18: past 1e+18', as if 1e18 itself were refused (it is drawn)
-    ("cameras", moved_along_z(1.0000001e18), "a coordinate reaches 1\\.0000001e\\+18: past 1e\\+18"),
+    # in three digits this read 'reaches 5e+18: past 5e+18', as if 5e18 itself were refused (it is drawn)
+    ("cameras", moved_along_z(5.0000001e18), "a coordinate reaches 5\\.0000001e\\+18: past 5e\\+18"),
 ])
 def test_an_element_placed_by_hand_past_what_the_gpu_lights_is_refused(which: str, matrix: np.ndarray,
                                                                        words: str) -> None:

@@ -21,6 +21,7 @@ from marraztu.control.browse import sibling_model
 from marraztu.loaders.scenefile import BUILT_IN_CAMERA_MODEL
 from marraztu.model import framing, picking, transforms, viewports
 from marraztu.model.build import scaled_mesh
+from marraztu.model.geometry import CAMERA_REACH
 from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, Light, Owner, default_lights
 from marraztu.model.mesh import counted
 from marraztu.model.scene import (
@@ -369,9 +370,10 @@ def frame_selected(scene: Scene, host: Host) -> None:
         scene.message = "no object to frame"
         return
     aspect = host.narrowest_aspect()
-    if _frame(scene, [obj], aspect):
+    short = _frame(scene, [obj], aspect)
+    if short is not None:
         sight = scene.sight(obj, aspect, filled_pixels_high(scene, host))
-        scene.message = f"framed {obj.name}" + (sight_words(sight) if sight is Sight.THIN else "")
+        scene.message = f"framed {obj.name}{short}" + (sight_words(sight) if sight is Sight.THIN else "")
 
 
 def frame_everything(scene: Scene, host: Host) -> None:
@@ -381,19 +383,23 @@ def frame_everything(scene: Scene, host: Host) -> None:
     if not shown:
         scene.message = "nothing to frame"
         return
-    if _frame(scene, shown, host.narrowest_aspect()):
+    short = _frame(scene, shown, host.narrowest_aspect())
+    if short is not None:
         camera_ids = {id(camera) for camera in scene.cameras}
         cameras = sum(id(element) in camera_ids for element in shown)  # a body of another camera
         counts = [counted(n, kind) for n, kind in ((len(shown) - cameras, "object"), (cameras, "camera")) if n]
-        scene.message = f"framed everything shown ({' and '.join(counts)})"
+        scene.message = f"framed everything shown ({' and '.join(counts)}){short}"
 
 
-def _frame(scene: Scene, shown: list[SceneObject], aspect: float) -> bool:
+def _frame(scene: Scene, shown: list[SceneObject], aspect: float) -> str | None:
     """`.` and `>`'s move: the view frames `shown` in a view `aspect` wide, turned first where it sees
-    their box edge or end on; False where move_view refuses it, saying why."""
+    their box edge or end on; what the message adds where CAMERA_REACH stopped the camera short ("" where
+    it did not), or None where move_view refuses it, saying why."""
     turned = framing.revealing(scene.camera.model, shown)
-    matrix, half_height = framing.frame_objects(scene, turned, shown, aspect)
-    return move_view(scene, matrix, half_height=half_height)
+    matrix, half_height, short = framing.frame_objects(scene, turned, shown, aspect, scene.camera.mesh)
+    if not move_view(scene, matrix, half_height=half_height):
+        return None
+    return f", from as far back as a camera may stand ({CAMERA_REACH:.0e} from the origin)" if short else ""
 
 
 def filled_pixels_high(scene: Scene, host: Host) -> int | None:
@@ -698,16 +704,28 @@ def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool, aspect: float = 
     scene.loads += 1
     end_view_gesture(scene)  # it is selected: a drag going on turns it as a gesture of its own
     if as_camera:
-        if scene.objects:  # the cameras too: it stands clear of their bodies, which it sees
-            obj.history = [framing.frame_objects(scene, scene.camera.model, scene.objects + scene.cameras, aspect)[0]]
+        looking, others = scene.camera.model, scene.objects + scene.cameras
         scene.cameras.append(obj)
         scene.selected_camera = len(scene.cameras) - 1
+        if scene.objects:  # the cameras too: it stands clear of their bodies, which it sees
+            obj.history = [_new_camera_place(scene, obj, looking, [others, scene.objects], aspect)]
         return
     lone = not scene.objects
     scene.objects.append(obj)
     scene.selected_object = len(scene.objects) - 1
     if lone:
         frame_models(scene, aspect)
+
+
+def _new_camera_place(scene: Scene, camera: SceneObject, looking: np.ndarray, framings: list[list[SceneObject]],
+                      aspect: float) -> np.ndarray:
+    """Where a camera joining the scene stands, looking as `looking` does: framing the first of
+    `framings` from which its body is within its reach (the last, the objects alone, always is)."""
+    for shown in framings:
+        matrix = framing.frame_objects(scene, looking, shown, aspect, camera.mesh)[0]
+        if scene.placement_refusal(camera, matrix) is None:
+            break
+    return matrix
 
 
 def frame_models(scene: Scene, aspect: float = 1.0) -> None:
@@ -717,10 +735,10 @@ def frame_models(scene: Scene, aspect: float = 1.0) -> None:
     camera = scene.camera
     if len(camera.history) == 1:
         camera.history[0] = framing.revealing(camera.model, scene.objects)  # the start may turn
-        camera.history[0], scene.modes.parallel_half_height = framing.frame_objects(
-            scene, camera.model, scene.objects, aspect)
+        camera.history[0], scene.modes.parallel_half_height, _ = framing.frame_objects(
+            scene, camera.model, scene.objects, aspect, camera.mesh)
     else:
-        matrix, half_height = framing.frame_objects(scene, camera.model, scene.objects, aspect)
+        matrix, half_height, _ = framing.frame_objects(scene, camera.model, scene.objects, aspect, camera.mesh)
         move_view(scene, matrix, half_height=half_height)
 
 

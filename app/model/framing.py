@@ -14,7 +14,9 @@ from collections.abc import Iterable
 import numpy as np
 
 from marraztu.model import transforms
-from marraztu.model.scene import PERSPECTIVE_FOVY_DEG, Projection, Scene, SceneObject, world_box
+from marraztu.model.geometry import CAMERA_REACH
+from marraztu.model.mesh import Mesh
+from marraztu.model.scene import PERSPECTIVE_FOVY_DEG, Projection, Scene, SceneObject, placed_bounds, world_box
 
 FILL = 2.0 / 3.0  # of the view's narrower side: the model whole, with a margin round it
 # A view whose box shows less than this share of its largest side's area (a ground plane edge
@@ -57,23 +59,41 @@ def framed_radius(radius: float) -> float:
     return radius if radius > 0.0 else 1.0
 
 
-def framed(camera_model: np.ndarray, centre: np.ndarray, radius: float, aspect: float = 1.0) -> np.ndarray:
+def framed(camera_model: np.ndarray, centre: np.ndarray, radius: float, aspect: float,
+           body: Mesh) -> tuple[np.ndarray, bool]:
     """The camera's matrix moved, not turned, so that it looks at `centre` from far enough back, in a
-    view `aspect` wide."""
+    view `aspect` wide, or from as far as its eye and `body` stay within CAMERA_REACH; and whether
+    that stopped it short."""
     backward = camera_model[:3, 2] / np.linalg.norm(camera_model[:3, 2])  # the camera looks along -z
     moved = np.array(camera_model, dtype=np.float64)
-    moved[:3, 3] = centre + backward * framing_distance(framed_radius(radius), aspect)
-    return moved
+    moved[:3, 3] = 0.0
+    wanted = framing_distance(framed_radius(radius), aspect)
+    within = _distance_within_reach(moved, body, centre, backward)
+    moved[:3, 3] = centre + backward * min(wanted, within)
+    return moved, within < wanted
 
 
-def frame_objects(scene: Scene, camera_model: np.ndarray, objects: list[SceneObject],
-                  aspect: float = 1.0) -> tuple[np.ndarray, float]:
-    """The camera's matrix framing `objects` in a view `aspect` wide, and the parallel view's half
-    height that frames them (the current one in perspective)."""
+def _distance_within_reach(turned: np.ndarray, body: Mesh, centre: np.ndarray, backward: np.ndarray) -> float:
+    """How far back from `centre` along `backward` a camera turned so (its matrix at the origin) keeps
+    its eye and its body within CAMERA_REACH along every axis (0 where none is)."""
+    low, high = (side[0] for side in placed_bounds(turned[None], np.array(body.bounds)[None]))
+    low, high = np.minimum(low, 0.0), np.maximum(high, 0.0)  # the eye, at the origin, with its body
+    with np.errstate(divide="ignore", invalid="ignore"):
+        limits = np.where(backward > 0.0, (CAMERA_REACH - centre - high) / backward,
+                          np.where(backward < 0.0, (-CAMERA_REACH - centre - low) / backward, np.inf))
+    return max(float(limits.min()) * (1.0 - 1e-9), 0.0)  # a billionth short: what rounding may add back
+
+
+def frame_objects(scene: Scene, camera_model: np.ndarray, objects: list[SceneObject], aspect: float,
+                  body: Mesh) -> tuple[np.ndarray, float, bool]:
+    """The matrix of a camera of this `body` framing `objects` in a view `aspect` wide, the parallel
+    view's half height that frames them (the current one in perspective), and whether CAMERA_REACH
+    stopped the camera short of where it would frame them."""
     centre, radius = bounding_sphere(objects)
     parallel = scene.modes.projection is Projection.PARALLEL
     half_height = _framed_half_height(radius, aspect) if parallel else scene.modes.parallel_half_height
-    return framed(camera_model, centre, radius, aspect), half_height
+    matrix, short = framed(camera_model, centre, radius, aspect, body)
+    return matrix, half_height, short
 
 
 def framed_scale(scene: Scene, obj: SceneObject, aspect: float = 1.0) -> float:

@@ -21,15 +21,25 @@ DRAWABLE_SIZE = 1e-18
 # Where a light lit from its place may stand: from there the vector to a model's point (within
 # DRAWABLE_COORDINATE) squares within float32, as the GPU lights; a bulb at 1e20 lit nothing.
 LIGHT_REACH = 5e18
+# Where a camera's body and its eye may stand: the vector from there to a model's point, a light or
+# another camera's body (each within its own reach) is 1e19 long at most along an axis, 3e38 squared.
+CAMERA_REACH = 5e18
 
 
 def cannot_light(low: np.ndarray, high: np.ndarray) -> str | None:
     """Why a model within these bounds cannot be lit (a coordinate past DRAWABLE_COORDINATE, or a size
     under DRAWABLE_SIZE); None if it can."""
     farthest, size = (float(value) for value in _reach_and_size(np.asarray(low), np.asarray(high)))
-    if farthest > DRAWABLE_COORDINATE:
-        return (f"a coordinate reaches {_shown_beside(farthest, DRAWABLE_COORDINATE)}: past "
-                f"{DRAWABLE_COORDINATE:.0e} the GPU's 32-bit numbers cannot light the model (scale it down)")
+    return lighting_refusal(farthest, size)
+
+
+def lighting_refusal(farthest: float, size: float, reach: float = DRAWABLE_COORDINATE,
+                     remedy: str = "scale it down") -> str | None:
+    """Why a model reaching `farthest` from the origin along an axis, `size` across, cannot be lit where
+    it may reach `reach`; None if it can."""
+    if farthest > reach:
+        return (f"a coordinate reaches {_shown_beside(farthest, reach)}: past {reach:.0e} the GPU's 32-bit "
+                f"numbers cannot light the model ({remedy})")
     if 0.0 < size < DRAWABLE_SIZE:
         return (f"the model is {_shown_beside(size, DRAWABLE_SIZE)} across: under {DRAWABLE_SIZE:.0e} the GPU's "
                 "32-bit numbers cannot light the model (scale it up)")
@@ -46,10 +56,9 @@ def _shown_beside(value: float, limit: float) -> str:
     return f"{value:.17g}"  # seventeen digits give any float back
 
 
-def all_lightable(lows: np.ndarray, highs: np.ndarray) -> bool:
-    """Whether cannot_light finds nothing in any of these (N, 3) boxes, in one pass."""
-    farthest, size = _reach_and_size(lows, highs)
-    return bool((farthest <= DRAWABLE_COORDINATE).all() and not ((size > 0.0) & (size < DRAWABLE_SIZE)).any())
+def all_lightable(farthest: np.ndarray, size: np.ndarray, reach: np.ndarray) -> bool:
+    """Whether lighting_refusal finds nothing in any of these, (N,) each, in one pass."""
+    return bool((farthest <= reach).all() and not ((size > 0.0) & (size < DRAWABLE_SIZE)).any())
 
 
 def _reach_and_size(low: np.ndarray, high: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

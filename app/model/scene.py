@@ -19,7 +19,14 @@ from pathlib import Path
 import numpy as np
 
 from marraztu.errors import escaped, shortened
-from marraztu.model.geometry import FLOAT32_MAX, LIGHT_REACH, all_lightable, cannot_light
+from marraztu.model.geometry import (
+    CAMERA_REACH,
+    DRAWABLE_COORDINATE,
+    FLOAT32_MAX,
+    LIGHT_REACH,
+    all_lightable,
+    lighting_refusal,
+)
 from marraztu.model.lights import (
     AMBIENT_INTENSITY,
     LIGHT_KINDS,
@@ -790,7 +797,8 @@ class Scene:
         except np.linalg.LinAlgError:  # one of them is singular: the walk names it
             return False
         bounds = _stacked(gathered.boxes, (2, 3))
-        return bounds is not None and all_lightable(*placed_bounds(models, bounds))  # the models stacked
+        reaches = np.repeat([DRAWABLE_COORDINATE, CAMERA_REACH], [len(self.objects), len(self.cameras)])
+        return bounds is not None and all_lightable(*placed_reach_and_size(models, bounds), reaches)
 
     def _own_triples(self) -> list[tuple[str, object, TripleKind]]:
         """The scene's colours, places and directions that must be 3 finite numbers, outside its elements:
@@ -819,8 +827,7 @@ class Scene:
             if refusal is not None:
                 yield f"{element.name}'s model matrix {refusal}"
             else:  # where its matrix puts it: moved or scaled by hand past what the GPU lights
-                low, high = _box_bounds(world_boxes([element]))
-                refusal = cannot_light(low[0], high[0])
+                refusal = self.placement_refusal(element, element.model)
                 if refusal is not None:
                     yield f"{element.name} as its model matrix places it: {refusal}"
             refusal = picture_refusal(element.picture)
@@ -840,6 +847,17 @@ class Scene:
             refusal = triple_refusal(value, kind.names) or reach_refusal(value, kind)
             if refusal is not None:
                 yield f"{what} {refusal}"
+
+    def reach_of(self, element: SceneObject) -> float:
+        """How far from the origin, along an axis, an element may reach: a camera's eye and body stand
+        farther off than a model may, where the program frames the models from."""
+        return CAMERA_REACH if element in self.cameras else DRAWABLE_COORDINATE  # identity: eq=False
+
+    def placement_refusal(self, element: SceneObject, model: np.ndarray) -> str | None:
+        """Why `element` placed by `model` (an affine matrix with an inverse) cannot be lit; None if it can."""
+        farthest, size = placed_reach_and_size(model[None], np.array(element.mesh.bounds)[None])
+        return lighting_refusal(float(farthest[0]), float(size[0]), self.reach_of(element),
+                                "move it nearer the origin, or scale it down")
 
     @property
     def object(self) -> SceneObject | None:
@@ -1315,6 +1333,19 @@ def placed_bounds(models: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, n
     return low, high
 
 
+def placed_reach_and_size(models: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(N,) each, of (N, 2, 3) boxes placed by (N, 4, 4) model matrices: how far from the origin each
+    reaches along an axis, its origin with it (where it is looked through from and its spotlight
+    stands), and its longest side as placed, turned or not (a turn brings no two points nearer)."""
+    with np.errstate(over="ignore", invalid="ignore"):  # a matrix of 1e300s set by hand: not finite, refused
+        low, high = placed_bounds(models, bounds)
+        farthest = np.maximum(np.maximum(-low, high).max(axis=1), np.abs(models[:, :3, 3]).max(axis=1))
+        stretch = np.linalg.norm(models[:, :3, :3], axis=1)
+        stretch[np.abs(stretch - 1.0) < 1e-9] = 1.0  # a turn's columns are 1 long but for rounding
+        sides = stretch * (bounds[:, 1] - bounds[:, 0])
+    return farthest, sides.max(axis=1)
+
+
 def _turned_sides(models: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(N, 3, 3) each: R_ij times the box's low, and its high, along j, for (N, 4, 4) model matrices R."""
     turn = models[:, :3, :3]
@@ -1331,11 +1362,6 @@ def _least_sides(bounds: np.ndarray) -> np.ndarray:
     sides = bounds[:, 1] - bounds[:, 0]
     least = np.where(sides > 0.0, sides, np.inf).min(axis=1, initial=np.inf)
     return np.where(np.isfinite(least), least, 0.0)
-
-
-def _box_bounds(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(N, 3) lows and highs of (N, 8, 3) placed box corners."""
-    return corners.min(axis=1, initial=np.inf), corners.max(axis=1, initial=-np.inf)
 
 
 def world_box(objects: Iterable[SceneObject]) -> tuple[np.ndarray, np.ndarray]:

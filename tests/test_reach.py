@@ -1,0 +1,41 @@
+"""The program never makes a scene that its own next call refuses: models at the bounds a file may
+reach (1e18 from the origin, 1e-18 across), framed, fitted and moved by the keys, stay within what
+every call of the programming interface checks (Scene.check_by_hand)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+import marraztu
+from marraztu.model.geometry import CAMERA_REACH, DRAWABLE_COORDINATE
+
+SIZE = (64, 48)
+CUBE_FACES = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
+
+
+def cube(half: float, centre: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> np.ndarray:
+    return np.array([[x, y, z] for x in (-half, half) for y in (-half, half) for z in (-half, half)]) + centre
+
+
+def test_a_model_framed_near_the_bound_leaves_the_camera_where_it_can_be_drawn_from() -> None:
+    """A cube 3e17 from the origin was framed from 1.005e18, and every call after refused 'camera as its
+    model matrix places it: ... past 1e+18 ... (scale it down)', blaming the camera for the model's size."""
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(cube(3e17), CUBE_FACES)
+        v.press("u")
+        assert np.asarray(v.render()).any()
+        assert np.abs(v.scene.camera.origin).max() < CAMERA_REACH
+
+
+def test_framing_stops_the_camera_where_it_can_still_be_drawn_from_and_says_so() -> None:
+    """Side by side, in a window twice as high as wide, a view a sixth as wide as high frames a cube
+    1.4e18 wide from 1.1e19: the camera stops at CAMERA_REACH, its body with it, nearer than framing
+    would stand."""
+    with marraztu.Viewer(size=(48, 96), empty=True) as v:
+        v.add_mesh(cube(7e17), CUBE_FACES)
+        v.press("s .")
+        assert v.message == f"framed mesh, from as far back as a camera may stand ({CAMERA_REACH:.0e} from the origin)"
+        camera = v.scene.camera
+        assert CAMERA_REACH * 0.99 < float(np.abs(np.array(camera.mesh.bounds) + camera.origin).max()) <= CAMERA_REACH
+        v.press("s .")
+        assert v.message == "framed mesh"
