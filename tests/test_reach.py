@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 import marraztu
-from marraztu.model.geometry import CAMERA_REACH, DRAWABLE_COORDINATE
+from marraztu.model.geometry import CAMERA_REACH, DRAWABLE_COORDINATE, DRAWABLE_SIZE, LIGHT_REACH
 
 SIZE = (64, 48)
 CUBE_FACES = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
@@ -39,3 +39,25 @@ def test_framing_stops_the_camera_where_it_can_still_be_drawn_from_and_says_so()
         assert CAMERA_REACH * 0.99 < float(np.abs(np.array(camera.mesh.bounds) + camera.origin).max()) <= CAMERA_REACH
         v.press("s .")
         assert v.message == "framed mesh"
+
+
+def test_a_model_as_small_as_a_file_may_be_leaves_the_camera_body_as_large_as_one_may_be() -> None:
+    """A cube 1e-18 across shrank the built-in camera's body to 1.2e-19, which the next call refused
+    ('(scale it up)')."""
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        start = np.array(v.scene.camera.mesh.bounds)
+        v.add_mesh(cube(5e-19), CUBE_FACES)
+        low, high = v.scene.camera.mesh.bounds
+        assert np.max(high - low) >= DRAWABLE_SIZE
+        v.press("u DELETE")
+        v.add_mesh(cube(50.0), CUBE_FACES)  # the seed's scale again: the body as it started
+        assert np.array_equal(v.scene.camera.mesh.bounds, start)
+
+
+def test_the_bulb_fitted_to_the_largest_model_stands_where_it_can_light_from() -> None:
+    """Fitted to a model 3.5e18 across (the unit 1e17), the bulb stood at 200 units, 2e19, past LIGHT_REACH."""
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(cube(DRAWABLE_COORDINATE), CUBE_FACES)
+        assert np.abs(v.scene.lights[1].position).max() <= LIGHT_REACH
+        v.press("1")
+        assert np.asarray(v.render()).any()

@@ -10,6 +10,7 @@ place, so `u` gives back the earlier state bit for bit.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from pathlib import Path
@@ -18,12 +19,13 @@ from typing import Protocol, TypeVar
 import numpy as np
 
 from marraztu.control.browse import sibling_model
+from marraztu.loaders.registry import load_model, sized
 from marraztu.loaders.scenefile import BUILT_IN_CAMERA_MODEL
 from marraztu.model import framing, picking, transforms, viewports
 from marraztu.model.build import scaled_mesh
-from marraztu.model.geometry import CAMERA_REACH
+from marraztu.model.geometry import CAMERA_REACH, DRAWABLE_SIZE
 from marraztu.model.lights import SPOT_APERTURE_RANGE_DEG, TERM_VIEWS, Light, Owner, default_lights
-from marraztu.model.mesh import counted
+from marraztu.model.mesh import Mesh, counted
 from marraztu.model.scene import (
     INSIDE_FRACTION,
     SWITCHED_SHADINGS,
@@ -37,10 +39,11 @@ from marraztu.model.scene import (
     Sight,
     Target,
     perspective_half_height,
+    place_kind,
     size_unit,
     world_box,
 )
-from marraztu.model.transforms import TransformKind, step_matrix
+from marraztu.model.transforms import TransformKind, Vec3, step_matrix
 
 ROTATION_STEP_RAD = 0.1  # the seed author's step
 TRANSLATION_STEP = 5.0  # world units, for models of the seed's size (see translation_unit)
@@ -747,24 +750,52 @@ def fit_to_models(scene: Scene) -> None:
     near plane and the steps are: a scene in millimetres is lit and seen as the same in metres (the
     bulb 200 m up, not 200 mm up inside the model, and a camera's body not 18 m long round a mug).
     A light the person has placed (with the keys, or from Python) stays where they put it."""
-    factor = scene.unit() / scene.fitted_unit
-    if factor == 1.0:
+    unit = scene.unit()
+    if unit == scene.fitted_unit:
         return
-    fitted_places = {light.key: light.position * scene.fitted_unit for light in default_lights()}
-    scene.fitted_unit = scene.unit()
     for light in scene.lights:
-        if _where_fitting_left_it(light, fitted_places):
-            light.position = light.position * factor
+        if _where_fitting_left_it(light, scene.fitted_unit):
+            light.position = _fitted_place(light, unit)
+    scene.fitted_unit = unit
     for camera in scene.cameras:
         if camera.source == BUILT_IN_CAMERA_MODEL:
-            camera.mesh = scaled_mesh(camera.mesh, (factor, factor, factor))
+            camera.mesh = _fitted_body(camera.scale, unit)
 
 
-def _where_fitting_left_it(light: Light, fitted_places: dict[str, np.ndarray]) -> bool:
-    """Whether a light stands where the last fitting put it (`fitted_places`: each built-in light's place
-    on that scale, by key): an owned one rides at its owner's origin, and a moved one is the person's."""
-    return (light.owner is Owner.NONE and not light.history and light.key in fitted_places
-            and np.allclose(light.position, fitted_places[light.key], rtol=1e-9, atol=0.0))
+def _fitted_place(light: Light, unit: float) -> np.ndarray:
+    """Where fitting puts a built-in light on a scale of `unit`: its place at start times the unit,
+    brought in toward the origin to where its kind may stand (the bulb's 200 units past 5e18, say)."""
+    place = _BUILT_IN_PLACES[light.key] * unit
+    farthest, reach = float(np.abs(place).max()), place_kind(light).most
+    return place * (reach / farthest) if farthest > reach else place
+
+
+_BUILT_IN_PLACES = {light.key: light.position for light in default_lights()}
+
+
+def _fitted_body(scale: Vec3, unit: float) -> Mesh:
+    """The built-in camera's body, as a scene file sized it (`scale`), on a scale of `unit`; on a smaller
+    one, never under DRAWABLE_SIZE, which the next call would refuse: it is drawn and checked as any
+    model is. Read again, not scaled from the last fitting's, so that no rounding piles up."""
+    body = _built_in_body(scale)
+    low, high = body.bounds
+    # The least power of ten that keeps it DRAWABLE_SIZE long, a billionth of a decade over: clear of rounding.
+    least = 10.0 ** math.ceil(math.log10(DRAWABLE_SIZE / float(np.max(high - low))) + 1e-9)
+    factor = max(unit, least)
+    return scaled_mesh(body, (factor, factor, factor))
+
+
+@functools.lru_cache(maxsize=4)
+def _built_in_body(scale: Vec3) -> Mesh:
+    """The built-in camera's body as read at a scene file's `scale`, once."""
+    return sized(load_model(BUILT_IN_CAMERA_MODEL), scale, BUILT_IN_CAMERA_MODEL)
+
+
+def _where_fitting_left_it(light: Light, fitted_unit: float) -> bool:
+    """Whether a light stands where the last fitting, to `fitted_unit`, put it: an owned one rides at
+    its owner's origin, and a moved one is the person's."""
+    return (light.owner is Owner.NONE and not light.history and light.key in _BUILT_IN_PLACES
+            and np.allclose(light.position, _fitted_place(light, fitted_unit), rtol=1e-9, atol=0.0))
 
 
 def replace_loaded(scene: Scene, element: SceneObject, loaded: SceneObject) -> None:

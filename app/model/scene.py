@@ -208,6 +208,11 @@ PLACE = TripleKind("x, y, z", LIGHT_REACH, f"within {LIGHT_REACH:.0e} of the ori
 DIRECTION = TripleKind("x, y, z", FLOAT32_MAX, COLOUR.within, shortest=1e-150)
 
 
+def place_kind(light: Light) -> TripleKind:
+    """What a light's position must be: the sun's marks where its marker is drawn, the others' are lit from."""
+    return MARKED if light.kind is LightKind.DIRECTIONAL else PLACE
+
+
 def reach_refusal(value: object, kind: TripleKind) -> str | None:
     """Why 3 finite numbers (triple_refusal passes them) of this kind cannot be drawn (None: they can)."""
     numbers: np.ndarray = _numbers(value)  # type: ignore[assignment]
@@ -806,8 +811,7 @@ class Scene:
         triples: list[tuple[str, object, TripleKind]] = [("the scene's ambient", self.ambient, COLOUR)]
         for light in self.lights:
             triples += [(f"the {light.name}'s intensity", light.intensity, COLOUR),
-                        (f"the {light.name}'s position", light.position,
-                         MARKED if light.kind is LightKind.DIRECTIONAL else PLACE),
+                        (f"the {light.name}'s position", light.position, place_kind(light)),
                         (f"the {light.name}'s direction", light.direction, DIRECTION)]
         return triples
 
