@@ -4,6 +4,8 @@ every call of the programming interface checks (Scene.check_by_hand)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 import marraztu
@@ -15,6 +17,13 @@ CUBE_FACES = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 
 
 def cube(half: float, centre: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> np.ndarray:
     return np.array([[x, y, z] for x in (-half, half) for y in (-half, half) for z in (-half, half)]) + centre
+
+
+def _write_obj(path: Path, half: float, centre: tuple[float, float, float]) -> Path:
+    lines = [f"v {x:.17g} {y:.17g} {z:.17g}" for x, y, z in cube(half, centre)]
+    lines += ["f " + " ".join(str(index + 1) for index in face) for face in CUBE_FACES]
+    path.write_text("\n".join(lines) + "\n")
+    return path
 
 
 def test_a_model_framed_near_the_bound_leaves_the_camera_where_it_can_be_drawn_from() -> None:
@@ -61,3 +70,58 @@ def test_the_bulb_fitted_to_the_largest_model_stands_where_it_can_light_from() -
         assert np.abs(v.scene.lights[1].position).max() <= LIGHT_REACH
         v.press("1")
         assert np.asarray(v.render()).any()
+
+
+def test_a_model_moved_by_keys_stops_at_the_bound() -> None:
+    """t x*20 took a cube 3e17 wide (the step 5e16) past 1e18, and every call after, u too, refused it."""
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(cube(3e17), CUBE_FACES)
+        box = v.scene.objects[0]
+        v.press("t x*20")
+        assert DRAWABLE_COORDINATE - 5e16 < box.origin[0] + 3e17 <= DRAWABLE_COORDINATE
+        assert v.message == f"mesh stops here: past {DRAWABLE_COORDINATE:.0e} from the origin the GPU's 32-bit " \
+                            "numbers cannot light it"
+        v.press("X u u")
+
+
+def test_a_file_read_in_a_models_place_past_the_bound_there_is_refused_and_so_is_undoing_there(
+        tmp_path: Path) -> None:
+    """PageDown read a file 2e18 wide in the place of one moved a step off the origin, and `u` took one
+    read at the origin back a step: either way past 1e18, which every call after refused."""
+    small, large = (_write_obj(tmp_path / f"{name}.obj", half, (0.0, 0.0, 0.0)) for name, half in (("a", 5e16),
+                                                                                                    ("b", 1e18)))
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.load(small)
+        box = v.scene.objects[0]
+        v.press("t x PAGEDOWN")
+        assert box.source == small
+        assert v.message.startswith("b.obj cannot take a's place: a coordinate reaches 1.005e+18: past 1e+18")
+        v.press("u")
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.load(small)
+        box = v.scene.objects[0]
+        v.press("t x X PAGEDOWN")
+        assert box.source == large and v.message.startswith("b.obj in place of a")
+        v.press("u")
+        assert v.message == f"b stops here: past {DRAWABLE_COORDINATE:.0e} from the origin the GPU's 32-bit numbers " \
+                            "cannot light it"
+        assert np.array_equal(box.origin, [0.0, 0.0, 0.0])
+        v.press("u")
+
+
+def test_the_mouse_stops_the_camera_at_its_reach_as_the_keys_do() -> None:
+    """The window's wheel backed the camera of a model 6e17 wide out to 1e4 times its size: past
+    CAMERA_REACH, where the GPU's numbers overflow. The view's moves stop there as a key's move does."""
+    from marraztu.control import commands
+
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(cube(3e17), CUBE_FACES)
+        camera = v.scene.camera
+        depth = len(camera.history)
+        commands.dolly_view(v.scene, -50.0)
+        assert len(camera.history) == depth
+        assert v.message == f"camera stops here: past {CAMERA_REACH:.0e} from the origin the GPU's 32-bit numbers " \
+                            "cannot see from it"
+        commands.pan_view(v.scene, 0.0, 1e9, SIZE[1])
+        assert len(camera.history) == depth
+        v.press("u")

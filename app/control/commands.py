@@ -38,6 +38,8 @@ from marraztu.model.scene import (
     SceneObject,
     Sight,
     Target,
+    array_refusal,
+    model_refusal,
     perspective_half_height,
     place_kind,
     size_unit,
@@ -223,7 +225,7 @@ def aim_camera_at_object(scene: Scene) -> None:
     if aimed is None:
         scene.message = f"analysis mode: the camera sits at the centre of {obj.name}"
         return
-    camera.push(aimed)
+    moved_to(scene, camera, aimed)
 
 
 # --- moving ----------------------------------------------------------------------------------------
@@ -248,48 +250,47 @@ def key_amount(scene: Scene, kind: TransformKind, sign: int) -> float:
     return sign * (ROTATION_STEP_RAD if kind is TransformKind.ROTATE else translation_step(scene))
 
 
-def move_object(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> None:
+def move_object(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> np.ndarray | None:
+    """Where one press moves the selected object to (None: nowhere, said)."""
     obj = scene.object
     if obj is None:
         scene.message = "no object to move"
-        return
+        return None
     step = step_matrix(kind, axis_index, amount)
     if scene.modes.frame is Frame.LOCAL:
-        obj.push(transforms.apply_local(obj.model, step))
-    else:
-        obj.push(transforms.apply_global(obj.model, step))
+        return transforms.apply_local(obj.model, step)
+    return transforms.apply_global(obj.model, step)
 
 
-def move_camera(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> None:
+def move_camera(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> np.ndarray | None:
+    """Where one press moves the selected camera to (None: nowhere, said)."""
     camera = scene.camera
     if scene.modes.camera_mode is CameraMode.FLIGHT:
-        camera.push(transforms.apply_local(camera.model, step_matrix(kind, axis_index, amount)))
-    elif kind is TransformKind.ROTATE:
-        orbit_camera(scene, axis_index, amount)
-    else:
-        approach_object(scene, axis_index, amount)
+        return transforms.apply_local(camera.model, step_matrix(kind, axis_index, amount))
+    if kind is TransformKind.ROTATE:
+        return orbit_camera(scene, axis_index, amount)
+    return approach_object(scene, axis_index, amount)
 
 
-def orbit_camera(scene: Scene, axis_index: int, angle: float) -> None:
+def orbit_camera(scene: Scene, axis_index: int, angle: float) -> np.ndarray | None:
     """Analysis mode: turn about the camera's own axis, through the selected object's centre."""
     obj = scene.object
     if obj is None:
         scene.message = "analysis mode: no object to orbit"
-        return
-    camera = scene.camera
-    camera.push(transforms.orbit(camera.model, obj.centre, axis_index, angle))
+        return None
+    return transforms.orbit(scene.camera.model, obj.centre, axis_index, angle)
 
 
-def approach_object(scene: Scene, axis_index: int, distance: float) -> None:
+def approach_object(scene: Scene, axis_index: int, distance: float) -> np.ndarray | None:
     """Analysis mode: t moves along the view axis only (z: back away, Z: come closer); moving sideways
     would lose the object from the view axis, so x and y are refused."""
     if axis_index != 2:
         scene.message = "analysis mode: t moves along z only (z backs away, Z comes closer)"
-        return
+        return None
     obj = scene.object
     if obj is None:
         scene.message = "analysis mode: no object to approach"
-        return
+        return None
     camera = scene.camera
     depth = -transforms.point_in_frame(camera.model, obj.centre)[2]
     gap = ANALYSIS_GAP * size_unit(obj.mesh.size)
@@ -298,18 +299,30 @@ def approach_object(scene: Scene, axis_index: int, distance: float) -> None:
         distance = min(0.0, closest - depth)  # stop at the minimum, never push back
         if distance == 0.0:
             scene.message = f"analysis mode: as close to {obj.name} as allowed, {gap:g} units outside its box"
-            return
-    camera.push(transforms.apply_local(camera.model, transforms.translation(2, distance)))
+            return None
+    return transforms.apply_local(camera.model, transforms.translation(2, distance))
 
 
-def move_light(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> None:
+def move_light(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> bool:
     """As the selected light's kind allows (marraztu.model.lights); anything else is refused with a
-    message."""
+    message. Whether it moved."""
     refusal = scene.light.move(kind, axis_index, amount)
     if refusal:
         scene.message = refusal
-    else:
-        say_aim(scene, scene.light, scene.light.name)
+        return False
+    say_aim(scene, scene.light, scene.light.name)
+    return True
+
+
+def moved_to(scene: Scene, element: SceneObject, model: np.ndarray) -> bool:
+    """`element` moved to `model`, a step `u` takes back; False, saying why, where that would take it
+    past its reach (Scene.move_refusal), which the next call of the programming interface refuses."""
+    refusal = scene.move_refusal(element, model)
+    if refusal:
+        scene.message = refusal
+        return False
+    element.push(model)
+    return True
 
 
 def _moved_target(scene: Scene) -> Light | SceneObject | None:
@@ -318,15 +331,19 @@ def _moved_target(scene: Scene) -> Light | SceneObject | None:
     return scene.light if scene.modes.target is Target.LIGHTS else scene.targeted_element
 
 
-_MOVERS = {Target.OBJECTS: move_object, Target.CAMERAS: move_camera, Target.LIGHTS: move_light}
+_ELEMENT_MOVERS = {Target.OBJECTS: move_object, Target.CAMERAS: move_camera}
 
 
 def move_target(scene: Scene, kind: TransformKind, axis_index: int, amount: float) -> None:
-    """One move of the current target: `amount` is radians for rotations, world units otherwise."""
+    """One move of the current target: `amount` is radians for rotations, world units otherwise. Every
+    key's move of an object or a camera is made here, where one past its reach stops."""
     target = _moved_target(scene)
-    depth = None if target is None else len(target.history)
-    _MOVERS[scene.modes.target](scene, kind, axis_index, amount)
-    if target is not None and len(target.history) != depth:  # a refused move leaves `u` to the view
+    if isinstance(target, Light):
+        moved = move_light(scene, kind, axis_index, amount)
+    else:
+        model = _ELEMENT_MOVERS[scene.modes.target](scene, kind, axis_index, amount)
+        moved = target is not None and model is not None and moved_to(scene, target, model)
+    if moved:  # a refused move leaves `u` to the view
         scene.view_moves.clear()  # from now on `u` undoes this move, the target's own
 
 
@@ -336,11 +353,16 @@ def move_view(scene: Scene, matrix: np.ndarray, gesture: str | None = None,
     """The selected camera moved to `matrix`, and the parallel view's half height set where given,
     undoable with `u` whatever is targeted. The events of one mouse gesture (`gesture` names it) amend
     one history entry instead of pushing one each. False, with a message, while looking through the
-    object: the camera is not what we see through, and moving it would show nothing."""
+    object (the camera is not what we see through, and moving it would show nothing), and where it
+    would take the camera past its reach (Scene.move_refusal), as a key's move would."""
     if scene.modes.view_from_object:
         scene.message = "looking through the object: C looks through the camera again, which the view moves"
         return False
     camera = scene.camera
+    refusal = scene.move_refusal(camera, matrix)
+    if refusal:
+        scene.message = refusal
+        return False
     if _continues_gesture(scene, camera, gesture):
         camera.history[-1] = np.asarray(matrix, dtype=np.float64)
     else:
@@ -527,8 +549,20 @@ def undo(scene: Scene, host: Host) -> None:
     if _undo_view_move(scene):
         return
     target = _moved_target(scene)
-    if target is None or not target.undo():
+    refusal = _undo_refusal(scene, target) if isinstance(target, SceneObject) else ""
+    if refusal:
+        scene.message = refusal
+    elif target is None or not target.undo():
         scene.message = "nothing to undo"
+
+
+def _undo_refusal(scene: Scene, element: SceneObject) -> str:
+    """Why `u` cannot take `element`'s last move back ("" where it can): the matrix it goes back to
+    places it, as it is now (a larger file read in its place since), past its reach (Scene.move_refusal)."""
+    earlier = element.history[-2] if len(element.history) > 1 else None
+    if earlier is None or model_refusal(earlier) or array_refusal(earlier):  # undo says what is wrong
+        return ""
+    return scene.move_refusal(element, earlier)
 
 
 def undoable_view_moves(scene: Scene) -> int:
@@ -544,7 +578,12 @@ def _undo_view_move(scene: Scene) -> bool:
     """The latest view move undone, with the parallel view's size before it; False where none is left
     (a move of a camera since deleted, or of one with nothing left to undo, is passed over)."""
     while scene.view_moves:
-        moved, half_height = scene.view_moves.pop()
+        moved, half_height = scene.view_moves[-1]
+        refusal = _undo_refusal(scene, moved) if moved in scene.cameras else ""
+        if refusal:  # it stays, and the move with it
+            scene.message = refusal
+            return True
+        scene.view_moves.pop()
         if moved in scene.cameras and moved.undo():
             if half_height is not None:
                 scene.modes.parallel_half_height = half_height

@@ -416,6 +416,10 @@ class Viewer:
         if element not in self.scene.objects and element not in self.scene.cameras:  # identity: eq=False
             self.tell(f"{loaded.source.name} was read, but {element.name} has left the scene meanwhile")
             return
+        refusal = self.scene.placement_refusal(element, element.model, loaded.mesh)
+        if refusal is not None:  # where it stands, the next call would refuse the scene
+            self.tell(f"{loaded.source.name} cannot take {element.name}'s place: {refusal}")
+            return
         old_name = element.name
         selected = element is self.scene.object and self.scene.viewer is not element
         seen = selected and not self._unseen_as(element, by_scale=True)

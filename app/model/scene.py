@@ -857,11 +857,24 @@ class Scene:
         farther off than a model may, where the program frames the models from."""
         return CAMERA_REACH if element in self.cameras else DRAWABLE_COORDINATE  # identity: eq=False
 
-    def placement_refusal(self, element: SceneObject, model: np.ndarray) -> str | None:
-        """Why `element` placed by `model` (an affine matrix with an inverse) cannot be lit; None if it can."""
-        farthest, size = placed_reach_and_size(model[None], np.array(element.mesh.bounds)[None])
+    def placement_refusal(self, element: SceneObject, model: np.ndarray, mesh: Mesh | None = None) -> str | None:
+        """Why `element` placed by `model` (an affine matrix with an inverse), and given `mesh` where one is
+        given, cannot be lit; None if it can."""
+        bounds = np.array((element.mesh if mesh is None else mesh).bounds)
+        farthest, size = placed_reach_and_size(model[None], bounds[None])
         return lighting_refusal(float(farthest[0]), float(size[0]), self.reach_of(element),
                                 "move it nearer the origin, or scale it down")
+
+    def move_refusal(self, element: SceneObject, model: np.ndarray) -> str:
+        """Why a move cannot take `element` to `model` ("" where it can): past its reach, where the next
+        call of the programming interface would refuse the scene. A move keeps its size (measured turned
+        or not), so only its reach is asked; a move that takes it no farther off is always made."""
+        farthest, _ = placed_reach_and_size(np.stack([element.model, model]), np.array([element.mesh.bounds] * 2))
+        reach = self.reach_of(element)
+        if farthest[1] <= max(farthest[0], reach):
+            return ""
+        sees = "see from" if element in self.cameras else "light"
+        return f"{element.name} stops here: past {reach:.0e} from the origin the GPU's 32-bit numbers cannot {sees} it"
 
     @property
     def object(self) -> SceneObject | None:
