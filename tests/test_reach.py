@@ -7,6 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import marraztu
 from marraztu.model.geometry import CAMERA_REACH, DRAWABLE_COORDINATE, DRAWABLE_SIZE, LIGHT_REACH
@@ -125,3 +126,43 @@ def test_the_mouse_stops_the_camera_at_its_reach_as_the_keys_do() -> None:
         commands.pan_view(v.scene, 0.0, 1e9, SIZE[1])
         assert len(camera.history) == depth
         v.press("u")
+
+
+# The models at the bounds a file may reach: (half its side, its centre).
+EXTREMES = {"as far as a file may reach": (DRAWABLE_COORDINATE, (0.0, 0.0, 0.0)),
+            "3e17 from the origin": (3e17, (0.0, 0.0, 0.0)),
+            "as small as a file may be": (DRAWABLE_SIZE / 2.0, (0.0, 0.0, 0.0)),
+            "twice that size": (DRAWABLE_SIZE, (0.0, 0.0, 0.0)),
+            "far from the origin": (5e16, (9e17, -9e17, 9e17))}
+# Moves, turns, framing, the view's reset, targets and selections, modes that change what framing sees
+# (side by side, parallel, looking through the object), undo, deletion, and files read in place and as cameras.
+KEYS = ("t", "r", "g", "x", "y", "z", "X", "Y", "Z", "x*30", "Y*30", "z*30", "Z*30", ".", ">", "HOME", "c",
+        "TAB", "u", "u*5", "C", "p", "s", "d", "0", "1", "2", "3", "DELETE", "PAGEDOWN", "PAGEUP")
+
+
+@pytest.mark.parametrize("through", ["add_mesh", "load"])
+@pytest.mark.parametrize("extreme", list(EXTREMES))
+def test_keys_never_make_a_scene_the_next_call_refuses(tmp_path: Path, extreme: str, through: str) -> None:
+    """The property: from a model at a bound, whatever keys are pressed, every call after accepts the
+    scene they made (Scene.check_by_hand), and the picture is drawn."""
+    files = [_write_obj(tmp_path / f"m{index}.obj", *bounds) for index, bounds in enumerate(EXTREMES.values())]
+    half, centre = EXTREMES[extreme]
+    keys = [*KEYS, *(f"f={path}" for path in files)]
+    random = np.random.default_rng([list(EXTREMES).index(extreme), int(through == "load")])
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        if through == "load":
+            v.load(files[list(EXTREMES).index(extreme)])
+        else:
+            v.add_mesh(cube(half, centre), CUBE_FACES)
+        pressed = []
+        for key in random.choice(keys, size=300):
+            pressed.append(str(key))
+            try:
+                v.press(str(key))
+            except marraztu.ViewerError:  # a key refused where it is pressed (f=PATH with lights targeted)
+                pass
+            try:
+                v.scene.check_by_hand()
+            except ValueError as refusal:
+                pytest.fail(f"after {' '.join(pressed)}: {refusal}")
+        assert np.asarray(v.render()).shape == (SIZE[1], SIZE[0], 3)
