@@ -1156,11 +1156,11 @@ def test_a_matrix_down_the_undo_history_that_cannot_be_drawn_is_refused_before_u
     # the probe lit the face, one at 1e300 made the far plane infinite (nothing drawn); an intensity of
     # 1e39 drew another picture than 3e38 with the same probe
     (lambda s: setattr(s.lights[1], "position", np.array([0.0, 1e300, 0.0])),
-     r"^the bulb's position must be 3 numbers within 5e\+18 of the origin: past it the GPU's 32-bit numbers "
+     r"^the bulb's position must be 3 numbers within ±5e\+18: past it the GPU's 32-bit numbers "
      r"cannot light from there, "
      r"not array\(\[0\.e\+000, 1\.e\+300, 0\.e\+000\]\)$"),
     (lambda s: setattr(s.lights[1], "position", [0.0, 0.0, -1e20]),
-     r"^the bulb's position must be 3 numbers within 5e\+18"),
+     r"^the bulb's position must be 3 numbers within ±5e\+18"),
     (lambda s: setattr(s.lights[0], "position", [0.0, 0.0, 1e39]),  # only its marker is drawn there
      r"^the sun's position must be 3 numbers within 32-bit floats"),
     (lambda s: setattr(s.lights[1], "intensity", np.array([1e300, 0.0, 0.0])),

@@ -201,11 +201,11 @@ class TripleKind:
 
 COLOUR = TripleKind("R, G, B", FLOAT32_MAX, "within 32-bit floats (3.4e38), where the GPU reads them")
 MARKED = TripleKind("x, y, z", FLOAT32_MAX, COLOUR.within)  # the sun's place: where its marker is drawn
-PLACE = TripleKind("x, y, z", LIGHT_REACH, f"within {LIGHT_REACH:.0e} of the origin: past it the GPU's 32-bit "
+PLACE = TripleKind("x, y, z", LIGHT_REACH, f"within ±{LIGHT_REACH:.0e}: past it the GPU's 32-bit "
                    "numbers cannot light from there")
 # unit() leaves (0, 0, 0), or a direction whose square rounds to 0, as it is (the sun then lights no face,
 # and a highlight faces the eye); 1e-150 squared is still a normal float64, which it makes 1 long.
-DIRECTION = TripleKind("x, y, z", FLOAT32_MAX, COLOUR.within, shortest=1e-150)
+DIRECTION = TripleKind("x, y, z", FLOAT32_MAX, "within 32-bit floats (3.4e38)", shortest=1e-150)
 
 
 def place_kind(light: Light) -> TripleKind:
