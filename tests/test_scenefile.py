@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -143,6 +144,28 @@ def test_a_name_longer_than_a_files_is_refused_at_its_line(tmp_path: Path) -> No
                                         f"at most {NAME_LIMIT}$"):
         load_scene(path)
 
+
+
+@pytest.mark.parametrize("entry,line,refused", [
+    ('[[objects]]\nmodel = "m.obj"\nposition = [2e18, 0, 0]\n', 6, "a coordinate reaches 2e+18: past 1e+18"),
+    ('[[objects]]\nmodel = "m.obj"\nposition = [0, 0, 9.5e17]\nrotation = [0, 45, 0]\n', 6, None),
+    ('[[objects]]\nmodel = "m.obj"\nposition = [0, 9.5e17, 0]\nscale = 1e17\n', 6,
+     "a coordinate reaches 1.05e+18: past 1e+18"),
+    ('[[cameras]]\nposition = [0, 0, 6e18]\n', 5, "a coordinate reaches 6e+18: past 5e+18"),
+    ('[[cameras]]\nposition = [0, 0, 4e18]\n', 5, None),
+], ids=["an object past 1e18", "an object within", "its origin within, a corner past", "a camera past 5e18",
+        "a camera within"])
+def test_a_position_past_an_elements_reach_is_refused_at_its_line(tmp_path: Path, entry: str, line: int,
+                                                                   refused: str | None) -> None:
+    """An object placed at 2e18 (its model 1 across) loaded, and the programming interface's next call
+    refused the scene it had made ('objects[1] as its model matrix places it: ...'); the window drew it
+    with numbers the GPU cannot light."""
+    path = write_scene(tmp_path, CAMERA + entry)
+    if refused is None:
+        load_scene(path)
+        return
+    with pytest.raises(LoadError, match=rf"^{path}:{line}: (objects|cameras)\[\d\]: position .*: {re.escape(refused)}"):
+        load_scene(path)
 
 def test_a_name_that_is_not_one_printable_line_is_refused_at_its_line_and_a_files_is_kept_escaped(
         tmp_path: Path) -> None:
@@ -826,7 +849,9 @@ def test_number_past_float32_is_refused_naming_file_and_line(tmp_path: Path, tem
     assert len(str(caught.value)) < 200 and "\n" not in str(caught.value)  # never all 400 digits
 
 
-UNBOUNDED_PLACES = {place: template for place, (template, _) in NUMBER_PLACES.items() if "colour" not in place}
+# A position past its element's reach is refused too (test_a_position_past_an_elements_reach_is_refused_at_its_line).
+UNBOUNDED_PLACES = {place: template for place, (template, _) in NUMBER_PLACES.items()
+                    if "colour" not in place and "position" not in place}
 
 
 @pytest.mark.parametrize("template", UNBOUNDED_PLACES.values(), ids=UNBOUNDED_PLACES.keys())

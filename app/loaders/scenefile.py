@@ -49,9 +49,9 @@ from marraztu.loaders.files import line_at, read_file, same_file_key, shown
 from marraztu.loaders.images import load_image
 from marraztu.loaders.patterns import compiled
 from marraztu.loaders.registry import Stage, load_model, sized
-from marraztu.model.geometry import FLOAT32_MAX
+from marraztu.model.geometry import CAMERA_REACH, DRAWABLE_COORDINATE, FLOAT32_MAX
 from marraztu.model.mesh import Mesh, with_picture_as_colour
-from marraztu.model.scene import Material, Scene, SceneObject, Vec3, kept_name, name_refusal
+from marraztu.model.scene import Material, Scene, SceneObject, Vec3, kept_name, name_refusal, placement_refusal
 from marraztu.resources import ASSET_DIR
 
 BUILTIN_SCENE_FILE = "scene.toml"
@@ -136,6 +136,8 @@ class SceneEntry:
     scale_line: int | None
     texture: str | None = None  # its own picture, as written in the file (relative to it), for messages
     texture_line: int | None = None
+    position_line: int | None = None
+    camera: bool = False  # a camera's body and eye stand out to CAMERA_REACH, where it frames models from
 
 
 @dataclass(frozen=True)
@@ -365,7 +367,7 @@ class _SceneReader:
         material = self.entry_material(table.get("material"), what, at("material"), materials)
         texture = self.text_value(table["texture"], f"{what}: texture", at("texture")) if "texture" in table else None
         return SceneEntry(name, model, path, position, rotation, material, at("model"), what, scale, at("scale"),
-                          texture, at("texture"))
+                          texture, at("texture"), at("position"), camera)
 
     def entry_material(self, value: object, what: str, line: int | None,
                        materials: dict[str, Material]) -> Material | None:
@@ -589,6 +591,10 @@ class _ModelLoader:
         mesh = self.mesh(entry)
         material = entry.material if entry.material is not None else material_for_loaded(mesh)
         obj = SceneObject.placed(entry.name, mesh, material, entry.position, entry.rotation, source=entry.model_path)
+        refusal = placement_refusal(obj.model, mesh, CAMERA_REACH if entry.camera else DRAWABLE_COORDINATE)
+        if refusal is not None:  # the programming interface's next call would refuse the scene, the GPU light it wrong
+            raise LoadError(self.scene_path, f"{entry.what}: position {_triple_words(entry.position)}: {refusal}",
+                            entry.position_line)
         obj.scale = entry.scale
         obj.picture = self.picture(entry)
         give_part_materials(obj, from_scene=entry.material is not None)
@@ -629,7 +635,11 @@ class _ModelLoader:
 
 def _scale_words(scale: Vec3) -> str:
     x, y, z = scale
-    return f"{x:g}" if x == y == z else f"[{x:g}, {y:g}, {z:g}]"
+    return f"{x:g}" if x == y == z else _triple_words(scale)
+
+
+def _triple_words(triple: Vec3) -> str:
+    return "[{:g}, {:g}, {:g}]".format(*triple)
 
 
 def _optional_str(path: Path | None) -> str | None:

@@ -860,10 +860,7 @@ class Scene:
     def placement_refusal(self, element: SceneObject, model: np.ndarray, mesh: Mesh | None = None) -> str | None:
         """Why `element` placed by `model` (an affine matrix with an inverse), and given `mesh` where one is
         given, cannot be lit; None if it can."""
-        bounds = np.array((element.mesh if mesh is None else mesh).bounds)
-        farthest, size = placed_reach_and_size(model[None], bounds[None])
-        return lighting_refusal(float(farthest[0]), float(size[0]), self.reach_of(element),
-                                "move it nearer the origin, or scale it down")
+        return placement_refusal(model, element.mesh if mesh is None else mesh, self.reach_of(element))
 
     def move_refusal(self, element: SceneObject, model: np.ndarray) -> str:
         """Why a move cannot take `element` to `model` ("" where it can): past its reach, where the next
@@ -1348,6 +1345,13 @@ def placed_bounds(models: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, n
     least, most = np.minimum(lows, highs), np.maximum(lows, highs)
     low, high = (((sides[..., 0] + sides[..., 1]) + sides[..., 2]) + models[:, :3, 3] for sides in (least, most))
     return low, high
+
+
+def placement_refusal(model: np.ndarray, mesh: Mesh, reach: float) -> str | None:
+    """Why a mesh placed by `model` (an affine matrix with an inverse) where it may reach `reach` along an
+    axis (DRAWABLE_COORDINATE for a model, CAMERA_REACH for a camera) cannot be lit; None if it can."""
+    farthest, size = placed_reach_and_size(model[None], np.array(mesh.bounds)[None])
+    return lighting_refusal(float(farthest[0]), float(size[0]), reach, "move it nearer the origin, or scale it down")
 
 
 def placed_reach_and_size(models: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
