@@ -128,6 +128,22 @@ def test_the_mouse_stops_the_camera_at_its_reach_as_the_keys_do() -> None:
         v.press("u")
 
 
+
+def test_a_turn_in_its_own_frame_stops_where_an_unevenly_scaled_model_would_be_too_small() -> None:
+    """A rod 2e-18 long, its matrix squashed 1000 times along y by hand (accepted), turned about its own z
+    by r z*16: its length came to lie along the squashed axis, 5.8e-20 across, refused by every call after."""
+    rod = np.array([[x, y, z] for x in (-1e-18, 1e-18) for y in (-1e-21, 1e-21) for z in (-1e-21, 1e-21)])
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(rod, CUBE_FACES)
+        obj = v.scene.objects[0]
+        obj.model = obj.model @ np.diag([1.0, 1e-3, 1.0, 1.0])
+        v.press("r z*16")
+        assert v.message == f"mesh stops here: under {DRAWABLE_SIZE:.0e} across the GPU's 32-bit numbers cannot " \
+                            "light it"
+        v.press("u")
+        v.scene.check_by_hand()
+
+
 # The models at the bounds a file may reach: (half its side, its centre).
 EXTREMES = {"as far as a file may reach": (DRAWABLE_COORDINATE, (0.0, 0.0, 0.0)),
             "3e17 from the origin": (3e17, (0.0, 0.0, 0.0)),

@@ -22,6 +22,7 @@ from marraztu.errors import escaped, shortened
 from marraztu.model.geometry import (
     CAMERA_REACH,
     DRAWABLE_COORDINATE,
+    DRAWABLE_SIZE,
     FLOAT32_MAX,
     LIGHT_REACH,
     all_lightable,
@@ -863,15 +864,20 @@ class Scene:
         return placement_refusal(model, element.mesh if mesh is None else mesh, self.reach_of(element))
 
     def move_refusal(self, element: SceneObject, model: np.ndarray) -> str:
-        """Why a move cannot take `element` to `model` ("" where it can): past its reach, where the next
-        call of the programming interface would refuse the scene. A move keeps its size (measured turned
-        or not), so only its reach is asked; a move that takes it no farther off is always made."""
-        farthest, _ = placed_reach_and_size(np.stack([element.model, model]), np.array([element.mesh.bounds] * 2))
+        """Why a move cannot take `element` to `model` ("" where it can): past its reach, or under
+        DRAWABLE_SIZE (a turn in its own frame of a matrix scaled unevenly by hand), where the next call of
+        the programming interface would refuse the scene. A move that takes it no farther off and makes
+        it no smaller is always made."""
+        farthest, size = placed_reach_and_size(np.stack([element.model, model]), np.array([element.mesh.bounds] * 2))
         reach = self.reach_of(element)
-        if farthest[1] <= max(farthest[0], reach):
-            return ""
-        sees = "see from" if element in self.cameras else "light"
-        return f"{element.name} stops here: past {reach:.0e} from the origin the GPU's 32-bit numbers cannot {sees} it"
+        if farthest[1] > max(farthest[0], reach):
+            sees = "see from" if element in self.cameras else "light"
+            return f"{element.name} stops here: past {reach:.0e} from the origin the GPU's 32-bit numbers cannot " \
+                   f"{sees} it"
+        if 0.0 < size[1] < min(size[0], DRAWABLE_SIZE):
+            return f"{element.name} stops here: under {DRAWABLE_SIZE:.0e} across the GPU's 32-bit numbers cannot " \
+                   "light it"
+        return ""
 
     @property
     def object(self) -> SceneObject | None:
