@@ -144,6 +144,24 @@ def test_a_turn_in_its_own_frame_stops_where_an_unevenly_scaled_model_would_be_t
         v.scene.check_by_hand()
 
 
+
+@pytest.mark.parametrize("second_camera", ["", "[[cameras]]\nposition = [0, 0, 4.9999e18]\n"], ids=["one", "far"])
+@pytest.mark.parametrize("scale", [1, 1000])
+def test_fitting_grows_no_camera_body_past_where_its_camera_stands(tmp_path: Path, scale: int,
+                                                                   second_camera: str) -> None:
+    """Fitted to the largest model (the unit 1e17), a second built-in camera at 4.9999e18 grew a body 1.2e18
+    long round it, reaching 5.68e18, and one a scene file scaled 1000 times, 1.2e21: every call after
+    refused the scene. A body grows only as far as its camera's reach, where it stands."""
+    scene = tmp_path / "scene.toml"
+    scene.write_text(f"[[cameras]]\nposition = [0, 0, 150]\nscale = {scale}\n\n{second_camera}\n"
+                     f"[[objects]]\nmodel = \"{_write_obj(tmp_path / 'a.obj', 50.0, (0.0, 0.0, 0.0))}\"\n")
+    with marraztu.Viewer(size=SIZE, scene=scene) as v:
+        v.press("DELETE")
+        v.add_mesh(cube(DRAWABLE_COORDINATE), CUBE_FACES)
+        v.scene.check_by_hand()
+        assert np.asarray(v.render()).any()
+
+
 # The models at the bounds a file may reach: (half its side, its centre).
 EXTREMES = {"as far as a file may reach": (DRAWABLE_COORDINATE, (0.0, 0.0, 0.0)),
             "3e17 from the origin": (3e17, (0.0, 0.0, 0.0)),

@@ -798,7 +798,7 @@ def fit_to_models(scene: Scene) -> None:
     scene.fitted_unit = unit
     for camera in scene.cameras:
         if camera.source == BUILT_IN_CAMERA_MODEL:
-            camera.mesh = _fitted_body(camera.scale, unit)
+            camera.mesh = _fitted_body(camera, unit)
 
 
 def _fitted_place(light: Light, unit: float) -> np.ndarray:
@@ -812,15 +812,16 @@ def _fitted_place(light: Light, unit: float) -> np.ndarray:
 _BUILT_IN_PLACES = {light.key: light.position for light in default_lights()}
 
 
-def _fitted_body(scale: Vec3, unit: float) -> Mesh:
-    """The built-in camera's body, as a scene file sized it (`scale`), on a scale of `unit`; on a smaller
-    one, never under DRAWABLE_SIZE, which the next call would refuse: it is drawn and checked as any
-    model is. Read again, not scaled from the last fitting's, so that no rounding piles up."""
-    body = _built_in_body(scale)
+def _fitted_body(camera: SceneObject, unit: float) -> Mesh:
+    """The built-in camera's body, as a scene file sized it, on a scale of `unit`: never under
+    DRAWABLE_SIZE, nor past CAMERA_REACH where the camera stands (one far off, or sized 1000 times, round
+    the largest models), which the next call would refuse: it is drawn and checked as any model is. Read
+    again, not scaled from the last fitting's, so that no rounding piles up."""
+    body = _built_in_body(camera.scale)
     low, high = body.bounds
     # The least power of ten that keeps it DRAWABLE_SIZE long, a billionth of a decade over: clear of rounding.
     least = 10.0 ** math.ceil(math.log10(DRAWABLE_SIZE / float(np.max(high - low))) + 1e-9)
-    factor = max(unit, least)
+    factor = max(min(unit, framing.body_scale_within_reach(camera.model, body)), least)
     return scaled_mesh(body, (factor, factor, factor))
 
 

@@ -76,11 +76,34 @@ def framed(camera_model: np.ndarray, centre: np.ndarray, radius: float, aspect: 
 def _distance_within_reach(turned: np.ndarray, body: Mesh, centre: np.ndarray, backward: np.ndarray) -> float:
     """How far back from `centre` along `backward` a camera turned so (its matrix at the origin) keeps
     its eye and its body within CAMERA_REACH along every axis (0 where none is)."""
-    low, high = (side[0] for side in placed_bounds(turned[None], np.array(body.bounds)[None]))
+    low, high = _placed_body(turned, body)
     low, high = np.minimum(low, 0.0), np.maximum(high, 0.0)  # the eye, at the origin, with its body
+    return _growth_within_reach(centre + low, centre + high, backward, backward)
+
+
+def body_scale_within_reach(camera_model: np.ndarray, body: Mesh) -> float:
+    """How many times larger `body` may be made (about the camera's eye, as scaled_mesh scales it) where
+    a camera placed by `camera_model` stands, with its body still within CAMERA_REACH along every axis."""
+    turned = np.array(camera_model, dtype=np.float64)
+    turned[:3, 3] = 0.0
+    low, high = _placed_body(turned, body)
+    eye = camera_model[:3, 3]
+    return _growth_within_reach(eye, eye, low, high)
+
+
+def _placed_body(model: np.ndarray, body: Mesh) -> tuple[np.ndarray, np.ndarray]:
+    """(3,) each: the low and high corners of the box of `body` placed by `model`."""
+    low, high = placed_bounds(model[None], np.array(body.bounds)[None])
+    return low[0], high[0]
+
+
+def _growth_within_reach(low: np.ndarray, high: np.ndarray, low_growth: np.ndarray, high_growth: np.ndarray) -> float:
+    """The largest t >= 0 for which the box from low + t low_growth to high + t high_growth stays within
+    CAMERA_REACH along every axis (0 where none does, inf where every t does): one closed form for a
+    camera backing away (framing) and a body growing round its eye (fitting)."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        limits = np.where(backward > 0.0, (CAMERA_REACH - centre - high) / backward,
-                          np.where(backward < 0.0, (-CAMERA_REACH - centre - low) / backward, np.inf))
+        limits = np.minimum(np.where(high_growth > 0.0, (CAMERA_REACH - high) / high_growth, np.inf),
+                            np.where(low_growth < 0.0, (-CAMERA_REACH - low) / low_growth, np.inf))
     return max(float(limits.min()) * (1.0 - 1e-9), 0.0)  # a billionth short: what rounding may add back
 
 
