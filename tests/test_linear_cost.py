@@ -69,3 +69,29 @@ def test_a_huge_polygon_among_small_ones_is_summed_a_block_of_fans_at_a_time() -
     np.testing.assert_allclose(normals[0][1], [0.0, 0.0, 1.0], atol=1e-6)
     # A block's fans, their sums and running sums, and the pieces its threads gather at once.
     assert peak < 32 * build._FAN_BLOCK * 8, peak
+
+
+def test_the_check_of_a_refused_scene_of_many_objects_and_cameras_compares_each_element_a_few_times(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Scene.check_values' walk, which names what it refuses, asked of each element whether it is a camera
+    (its reach) by a pass over the cameras: objects times cameras comparisons."""
+    from marraztu.control.viewer import empty_scene
+    from marraztu.model.scene import Scene, SceneObject
+
+    camera = empty_scene().cameras[0]
+    count = 200
+    objects = [SceneObject.placed(f"o{index}", camera.mesh, camera.material, (0.0, 0.0, 0.0)) for index in range(count)]
+    cameras = [SceneObject.placed(f"c{index}", camera.mesh, camera.material, (0.0, 0.0, 150.0))
+               for index in range(count)]
+    scene = Scene(objects=objects, cameras=cameras)
+    scene.ambient = np.array([np.nan, 0.0, 0.0])  # refused after every element is walked
+    compared = {"elements": 0}
+
+    def counting_eq(self: SceneObject, other: object) -> bool:
+        compared["elements"] += 1
+        return self is other
+
+    monkeypatch.setattr(SceneObject, "__eq__", counting_eq)
+    with pytest.raises(ValueError, match="ambient"):
+        scene.check_values()
+    assert compared["elements"] <= 4 * 2 * count, compared

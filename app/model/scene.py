@@ -827,12 +827,14 @@ class Scene:
             yield f"the scene's texture {refusal}"
         yield from (refusal for refusal in map(light_refusal, self.lights) if refusal is not None)
         triples = self._own_triples()
-        for element in (*self.objects, *self.cameras):
+        reaches = itertools.chain(itertools.repeat(DRAWABLE_COORDINATE, len(self.objects)),
+                                  itertools.repeat(CAMERA_REACH, len(self.cameras)))  # reach_of's, without its pass
+        for element, reach in zip((*self.objects, *self.cameras), reaches):
             refusal = model_refusal(element.model)
             if refusal is not None:
                 yield f"{element.name}'s model matrix {refusal}"
             else:  # where its matrix puts it: moved or scaled by hand past what the GPU lights
-                refusal = self.placement_refusal(element, element.model)
+                refusal = placement_refusal(element.model, element.mesh, reach)
                 if refusal is not None:
                     yield f"{element.name} as its model matrix places it: {refusal}"
             refusal = picture_refusal(element.picture)
