@@ -49,6 +49,8 @@ def test_framing_stops_the_camera_where_it_can_still_be_drawn_from_and_says_so()
         assert CAMERA_REACH * 0.99 < float(np.abs(np.array(camera.mesh.bounds) + camera.origin).max()) <= CAMERA_REACH
         v.press("s .")
         assert v.message == "framed mesh"
+        v.press("s p .")  # the parallel view's height frames it, wherever the camera stops
+        assert v.message == "framed mesh" and v.scene.camera.origin[2] < CAMERA_REACH
 
 
 def test_a_model_as_small_as_a_file_may_be_leaves_the_camera_body_as_large_as_one_may_be() -> None:

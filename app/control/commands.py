@@ -424,7 +424,9 @@ def _frame(scene: Scene, shown: list[SceneObject], aspect: float) -> str | None:
     matrix, half_height, short = framing.frame_objects(scene, turned, shown, aspect, scene.camera.mesh)
     if not move_view(scene, matrix, half_height=half_height):
         return None
-    return f", from as far back as a camera may stand ({CAMERA_REACH:.0e} from the origin)" if short else ""
+    if not short or scene.modes.projection is Projection.PARALLEL:  # there the view's height frames them
+        return ""
+    return f", from as far back as a camera may stand ({CAMERA_REACH:.0e} from the origin)"
 
 
 def filled_pixels_high(scene: Scene, host: Host) -> int | None:
