@@ -764,7 +764,8 @@ def add_loaded(scene: Scene, obj: SceneObject, as_camera: bool, aspect: float = 
 def _new_camera_place(scene: Scene, camera: SceneObject, looking: np.ndarray, framings: list[list[SceneObject]],
                       aspect: float) -> np.ndarray:
     """Where a camera joining the scene stands, looking as `looking` does: framing the first of
-    `framings` from which its body is within its reach (the last, the objects alone, always is)."""
+    `framings` from which its body is within its reach. Framing stops a camera at CAMERA_REACH, so the
+    first is passed over only where its body cannot stand there either; the last is taken as it is."""
     for shown in framings:
         matrix = framing.frame_objects(scene, looking, shown, aspect, camera.mesh)[0]
         if scene.placement_refusal(camera, matrix) is None:
