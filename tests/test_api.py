@@ -543,6 +543,7 @@ def test_a_model_files_name_is_kept_as_the_status_line_shows_it(viewer, tmp_path
     model = tmp_path / "x\ny.obj"
     model.write_bytes((ASSET_DIR / "examples" / "two_tone.obj").read_bytes())
     viewer.load(model)
+    assert viewer.message.startswith("loaded x\\ny.obj as a new object: ")  # its message was two lines too
     assert viewer.scene.object.name == "x\\ny" and viewer.press(".").message == "framed x\\ny"
     assert np.asarray(viewer.render(overlay=True)).any()
 

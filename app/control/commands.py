@@ -19,6 +19,7 @@ from typing import Protocol, TypeVar
 import numpy as np
 
 from marraztu.control.browse import sibling_model
+from marraztu.errors import escaped
 from marraztu.loaders.registry import load_model, sized
 from marraztu.loaders.scenefile import BUILT_IN_CAMERA_MODEL
 from marraztu.model import framing, picking, transforms, viewports
@@ -869,7 +870,7 @@ def step_file(step: int) -> CommandFunction:
         # From the file last asked for, which may not have loaded: a bad file is stepped past, not retried.
         sibling = sibling_model(element.browsed or element.source, step)
         if sibling is None:
-            scene.message = f"no other model file beside {element.source.name}"
+            scene.message = f"no other model file beside {escaped(element.source.name)}"
             return
         element.browsed = sibling
         host.replace_model(element, sibling)

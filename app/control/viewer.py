@@ -22,7 +22,7 @@ import numpy as np
 
 from marraztu.control import commands, keymap
 from marraztu.control.browse import ModelWatcher
-from marraztu.errors import LoadError, ViewerError
+from marraztu.errors import LoadError, ViewerError, escaped
 from marraztu.loaders.images import fit_texture, load_image, load_texture_or_fallback
 from marraztu.loaders.obj import READER_COMPILING
 from marraztu.loaders.registry import UNSCALED, Stage, load_model, sized
@@ -112,7 +112,7 @@ class LoadJob:
     @property
     def label(self) -> str:
         seconds = time.monotonic() - self.started
-        return f"loading {self.path.name}: {self.stage} ({seconds:.0f} s)"
+        return f"loading {escaped(self.path.name)}: {self.stage} ({seconds:.0f} s)"
 
 
 class BackgroundLoader:
@@ -362,7 +362,7 @@ class Viewer:
         if self.background is not None:
             job = self.background.start(path, as_camera, at_start=self._starting)
             if not self._starting:
-                self.tell(f"loading {job.path.name}; the window stays usable meanwhile")
+                self.tell(f"loading {escaped(job.path.name)}; the window stays usable meanwhile")
             return True
         try:
             obj = load_model_object(path, stage=self._waiting_on)
@@ -396,7 +396,7 @@ class Viewer:
         """PageDown / PageUp and --watch: `path` in `element`'s place; a bad file leaves it as it was."""
         if self.background is not None:
             self.background.start(path, element in self.scene.cameras, replaces=element)
-            self.tell(f"loading {path.name} in place of {element.name}")
+            self.tell(f"loading {escaped(path.name)} in place of {element.name}")
             return True
         try:
             loaded = load_model_object(path, element.scale, stage=self._waiting_on)
@@ -414,17 +414,17 @@ class Viewer:
 
     def _replace(self, element: SceneObject, loaded: SceneObject) -> None:
         if element not in self.scene.objects and element not in self.scene.cameras:  # identity: eq=False
-            self.tell(f"{loaded.source.name} was read, but {element.name} has left the scene meanwhile")
+            self.tell(f"{escaped(loaded.source.name)} was read, but {element.name} has left the scene meanwhile")
             return
         refusal = self.scene.placement_refusal(element, element.model, loaded.mesh)
         if refusal is not None:  # where it stands, the next call would refuse the scene
-            self.tell(f"{loaded.source.name} cannot take {element.name}'s place: {refusal}")
+            self.tell(f"{escaped(loaded.source.name)} cannot take {element.name}'s place: {refusal}")
             return
         old_name = element.name
         selected = element is self.scene.object and self.scene.viewer is not element
         seen = selected and not self._unseen_as(element, by_scale=True)
         commands.replace_loaded(self.scene, element, loaded)
-        said = with_notes(f"{loaded.source.name} in place of {old_name}: {loaded.mesh.summary()}"
+        said = with_notes(f"{escaped(loaded.source.name)} in place of {old_name}: {loaded.mesh.summary()}"
                           f"{self._around([element])[0]}{self._dark(element)}", loaded.mesh)
         where = self._unseen_as(element, by_scale=True) if seen else ""
         told = f"{said}; {_lost_notice(element, where)}" if where else said
@@ -627,7 +627,7 @@ class Viewer:
 
 def _loaded_message(obj: SceneObject, path: Path, kind: str, where: str) -> tuple[str, bool]:
     """A load's message, and whether it is worth a notice: notes, or a place the view does not show."""
-    text = with_notes(f"loaded {path.name} as a new {kind}: {obj.mesh.summary()}{where}", obj.mesh)
+    text = with_notes(f"loaded {escaped(path.name)} as a new {kind}: {obj.mesh.summary()}{where}", obj.mesh)
     return text, bool(obj.mesh.warnings) or bool(where)
 
 
