@@ -445,7 +445,7 @@ class _Gathered:
             parts = element.part_materials
             if type(parts) not in (tuple, list):
                 return None
-            materials[id(element.material)] = element.material
+            materials[id(element.material)] = element.material  # _materials_of's, inline: no call an element
             for part in parts:
                 materials[id(part)] = part
         if not all(map(isinstance, materials.values(), itertools.repeat(Material))):
@@ -803,8 +803,7 @@ class Scene:
         except np.linalg.LinAlgError:  # one of them is singular: the walk names it
             return False
         bounds = _stacked(gathered.boxes, (2, 3))
-        reaches = np.repeat([DRAWABLE_COORDINATE, CAMERA_REACH], [len(self.objects), len(self.cameras)])
-        return bounds is not None and all_lightable(*placed_reach_and_size(models, bounds), reaches)
+        return bounds is not None and all_lightable(*placed_reach_and_size(models, bounds), self._reaches())
 
     def _own_triples(self) -> list[tuple[str, object, TripleKind]]:
         """The scene's colours, places and directions that must be 3 finite numbers, outside its elements:
@@ -827,9 +826,7 @@ class Scene:
             yield f"the scene's texture {refusal}"
         yield from (refusal for refusal in map(light_refusal, self.lights) if refusal is not None)
         triples = self._own_triples()
-        reaches = itertools.chain(itertools.repeat(DRAWABLE_COORDINATE, len(self.objects)),
-                                  itertools.repeat(CAMERA_REACH, len(self.cameras)))  # reach_of's, without its pass
-        for element, reach in zip((*self.objects, *self.cameras), reaches):
+        for element, reach in zip((*self.objects, *self.cameras), self._reaches().tolist()):
             refusal = model_refusal(element.model)
             if refusal is not None:
                 yield f"{element.name}'s model matrix {refusal}"
@@ -854,6 +851,10 @@ class Scene:
             refusal = triple_refusal(value, kind.names) or reach_refusal(value, kind)
             if refusal is not None:
                 yield f"{what} {refusal}"
+
+    def _reaches(self) -> np.ndarray:
+        """(objects + cameras,): reach_of of each element, in the scene's order, without a pass per element."""
+        return np.repeat([DRAWABLE_COORDINATE, CAMERA_REACH], [len(self.objects), len(self.cameras)])
 
     def reach_of(self, element: SceneObject) -> float:
         """How far from the origin, along an axis, an element may reach: a camera's eye and body stand
