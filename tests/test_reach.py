@@ -130,6 +130,49 @@ def test_the_mouse_stops_the_camera_at_its_reach_as_the_keys_do() -> None:
         v.press("u")
 
 
+@pytest.mark.parametrize("placed_by", ["hand", "scene file"])
+def test_a_camera_placed_past_its_reach_is_refused_in_a_cameras_words(tmp_path: Path, placed_by: str) -> None:
+    """A camera at 6e18, by hand or in a scene file, was refused as 'past 5e+18 the GPU's 32-bit numbers
+    cannot light the model', a model's words for a camera's reach."""
+    words = "a coordinate reaches 6e+18: past 5e+18 the GPU's 32-bit numbers cannot see from the camera " \
+            "(move it nearer the origin, or scale it down)"
+    if placed_by == "hand":
+        with marraztu.Viewer(size=SIZE) as v:
+            v.scene.camera.model = np.array([[1.0, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 6e18], [0, 0, 0, 1]])
+            with pytest.raises(ValueError) as refused:
+                v.render()
+        assert str(refused.value) == f"camera as its model matrix places it: {words}"
+        return
+    scene = tmp_path / "scene.toml"
+    scene.write_text("[[cameras]]\nposition = [0, 0, 6e18]\n")
+    with pytest.raises(marraztu.ViewerError) as refused:
+        marraztu.Viewer(size=SIZE, scene=scene)
+    assert str(refused.value).endswith(f"cameras[1]: position [0, 0, 6e+18]: {words}")
+
+
+class _CountedScans(list):  # type: ignore[type-arg]
+    """A list that counts how often `in` scans it."""
+
+    scans = 0
+
+    def __contains__(self, item: object) -> bool:
+        self.scans += 1
+        return super().__contains__(item)
+
+
+def test_a_refused_key_move_asks_once_whether_the_element_is_a_camera() -> None:
+    """Scene.move_refusal scanned the camera list twice for each refused move: once for the reach, once for
+    the words."""
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(cube(3e17), CUBE_FACES)
+        scene = v.scene
+        far = np.array(scene.objects[0].model)
+        far[0, 3] = DRAWABLE_COORDINATE
+        scene.cameras = cameras = _CountedScans(scene.cameras)
+        assert scene.move_refusal(scene.objects[0], far).startswith("mesh stops here")
+        assert cameras.scans == 1
+
+
 
 def test_a_turn_in_its_own_frame_stops_where_an_unevenly_scaled_model_would_be_too_small() -> None:
     """A rod 2e-18 long, its matrix squashed 1000 times along y by hand (accepted), turned about its own z

@@ -49,7 +49,7 @@ from marraztu.loaders.files import line_at, read_file, same_file_key, shown
 from marraztu.loaders.images import load_image
 from marraztu.loaders.patterns import compiled
 from marraztu.loaders.registry import Stage, load_model, sized
-from marraztu.model.geometry import CAMERA_REACH, DRAWABLE_COORDINATE, FLOAT32_MAX
+from marraztu.model.geometry import CAMERAS_REACH, FLOAT32_MAX, MODELS_REACH
 from marraztu.model.mesh import Mesh, with_picture_as_colour
 from marraztu.model.scene import Material, Scene, SceneObject, Vec3, kept_name, name_refusal, placement_refusal
 from marraztu.resources import ASSET_DIR
@@ -137,7 +137,7 @@ class SceneEntry:
     texture: str | None = None  # its own picture, as written in the file (relative to it), for messages
     texture_line: int | None = None
     position_line: int | None = None
-    camera: bool = False  # a camera's body and eye stand out to CAMERA_REACH, where it frames models from
+    camera: bool = False  # a camera's body and eye stand out to CAMERAS_REACH, where it frames models from
 
 
 @dataclass(frozen=True)
@@ -591,7 +591,7 @@ class _ModelLoader:
         mesh = self.mesh(entry)
         material = entry.material if entry.material is not None else material_for_loaded(mesh)
         obj = SceneObject.placed(entry.name, mesh, material, entry.position, entry.rotation, source=entry.model_path)
-        refusal = placement_refusal(obj.model, mesh, CAMERA_REACH if entry.camera else DRAWABLE_COORDINATE)
+        refusal = placement_refusal(obj.model, mesh, CAMERAS_REACH if entry.camera else MODELS_REACH)
         if refusal is not None:  # the programming interface's next call would refuse the scene, the GPU light it wrong
             raise LoadError(self.scene_path, f"{entry.what}: position {_triple_words(entry.position)}: {refusal}",
                             entry.position_line)

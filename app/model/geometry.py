@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Iterable
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -26,6 +27,20 @@ LIGHT_REACH = 5e18
 CAMERA_REACH = 5e18
 
 
+@dataclass(frozen=True)
+class Reach:
+    """How far from the origin, along an axis, an element of one kind may stand, and the words of every
+    refusal that says so: what the GPU's 32-bit numbers cannot do with one past it, and what it is."""
+
+    most: float
+    cannot: str  # "light" a model, "see from" a camera
+    what: str
+
+
+MODELS_REACH = Reach(DRAWABLE_COORDINATE, "light", "the model")
+CAMERAS_REACH = Reach(CAMERA_REACH, "see from", "the camera")
+
+
 def cannot_light(low: np.ndarray, high: np.ndarray) -> str | None:
     """Why a model within these bounds cannot be lit (a coordinate past DRAWABLE_COORDINATE, or a size
     under DRAWABLE_SIZE); None if it can."""
@@ -33,16 +48,16 @@ def cannot_light(low: np.ndarray, high: np.ndarray) -> str | None:
     return lighting_refusal(farthest, size)
 
 
-def lighting_refusal(farthest: float, size: float, reach: float = DRAWABLE_COORDINATE,
+def lighting_refusal(farthest: float, size: float, reach: Reach = MODELS_REACH,
                      remedy: str = "scale it down") -> str | None:
-    """Why a model reaching `farthest` from the origin along an axis, `size` across, cannot be lit where
-    it may reach `reach`; None if it can."""
-    if farthest > reach:
-        return (f"a coordinate reaches {_shown_beside(farthest, reach)}: past {reach:.0e} the GPU's 32-bit "
-                f"numbers cannot light the model ({remedy})")
+    """Why an element of this reach's kind, reaching `farthest` from the origin along an axis and `size`
+    across, cannot be drawn; None if it can."""
+    if farthest > reach.most:
+        return (f"a coordinate reaches {_shown_beside(farthest, reach.most)}: past {reach.most:.0e} the GPU's "
+                f"32-bit numbers cannot {reach.cannot} {reach.what} ({remedy})")
     if 0.0 < size < DRAWABLE_SIZE:
-        return (f"the model is {_shown_beside(size, DRAWABLE_SIZE)} across: under {DRAWABLE_SIZE:.0e} the GPU's "
-                "32-bit numbers cannot light the model (scale it up)")
+        return (f"{reach.what} is {_shown_beside(size, DRAWABLE_SIZE)} across: under {DRAWABLE_SIZE:.0e} the "
+                f"GPU's 32-bit numbers cannot light {reach.what} (scale it up)")
     return None
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 import functools
 import itertools
 import math
+import operator
 import typing
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
@@ -20,11 +21,12 @@ import numpy as np
 
 from marraztu.errors import escaped, shortened
 from marraztu.model.geometry import (
-    CAMERA_REACH,
-    DRAWABLE_COORDINATE,
+    CAMERAS_REACH,
     DRAWABLE_SIZE,
     FLOAT32_MAX,
     LIGHT_REACH,
+    MODELS_REACH,
+    Reach,
     all_lightable,
     lighting_refusal,
 )
@@ -803,7 +805,10 @@ class Scene:
         except np.linalg.LinAlgError:  # one of them is singular: the walk names it
             return False
         bounds = _stacked(gathered.boxes, (2, 3))
-        return bounds is not None and all_lightable(*placed_reach_and_size(models, bounds), self._reaches())
+        if bounds is None:
+            return False
+        most = np.fromiter(map(operator.attrgetter("most"), self._reaches()), float)  # no call of ours an element
+        return all_lightable(*placed_reach_and_size(models, bounds), most)
 
     def _own_triples(self) -> list[tuple[str, object, TripleKind]]:
         """The scene's colours, places and directions that must be 3 finite numbers, outside its elements:
@@ -826,7 +831,7 @@ class Scene:
             yield f"the scene's texture {refusal}"
         yield from (refusal for refusal in map(light_refusal, self.lights) if refusal is not None)
         triples = self._own_triples()
-        for element, reach in zip((*self.objects, *self.cameras), self._reaches().tolist()):
+        for element, reach in zip((*self.objects, *self.cameras), self._reaches()):
             refusal = model_refusal(element.model)
             if refusal is not None:
                 yield f"{element.name}'s model matrix {refusal}"
@@ -852,14 +857,14 @@ class Scene:
             if refusal is not None:
                 yield f"{what} {refusal}"
 
-    def _reaches(self) -> np.ndarray:
-        """(objects + cameras,): reach_of of each element, in the scene's order, without a pass per element."""
-        return np.repeat([DRAWABLE_COORDINATE, CAMERA_REACH], [len(self.objects), len(self.cameras)])
+    def _reaches(self) -> list[Reach]:
+        """(objects + cameras): reach_of of each element, in the scene's order, without a scan per element."""
+        return [MODELS_REACH] * len(self.objects) + [CAMERAS_REACH] * len(self.cameras)
 
-    def reach_of(self, element: SceneObject) -> float:
-        """How far from the origin, along an axis, an element may reach: a camera's eye and body stand
-        farther off than a model may, where the program frames the models from."""
-        return CAMERA_REACH if element in self.cameras else DRAWABLE_COORDINATE  # identity: eq=False
+    def reach_of(self, element: SceneObject) -> Reach:
+        """How far from the origin, along an axis, an element may reach, and the words that say so: a
+        camera's eye and body stand farther off than a model may, where the program frames the models from."""
+        return CAMERAS_REACH if element in self.cameras else MODELS_REACH  # identity: eq=False
 
     def placement_refusal(self, element: SceneObject, model: np.ndarray, mesh: Mesh | None = None) -> str | None:
         """Why `element` placed by `model` (an affine matrix with an inverse), and given `mesh` where one is
@@ -873,10 +878,9 @@ class Scene:
         it no smaller is always made."""
         farthest, size = placed_reach_and_size(np.stack([element.model, model]), np.array([element.mesh.bounds] * 2))
         reach = self.reach_of(element)
-        if farthest[1] > max(farthest[0], reach):
-            sees = "see from" if element in self.cameras else "light"
-            return f"{element.name} stops here: past {reach:.0e} from the origin the GPU's 32-bit numbers cannot " \
-                   f"{sees} it"
+        if farthest[1] > max(farthest[0], reach.most):
+            return f"{element.name} stops here: past {reach.most:.0e} from the origin the GPU's 32-bit numbers " \
+                   f"cannot {reach.cannot} it"
         if 0.0 < size[1] < min(size[0], DRAWABLE_SIZE):
             return f"{element.name} stops here: under {DRAWABLE_SIZE:.0e} across the GPU's 32-bit numbers cannot " \
                    "light it"
@@ -1356,9 +1360,9 @@ def placed_bounds(models: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, n
     return low, high
 
 
-def placement_refusal(model: np.ndarray, mesh: Mesh, reach: float) -> str | None:
-    """Why a mesh placed by `model` (an affine matrix with an inverse) where it may reach `reach` along an
-    axis (DRAWABLE_COORDINATE for a model, CAMERA_REACH for a camera) cannot be lit; None if it can."""
+def placement_refusal(model: np.ndarray, mesh: Mesh, reach: Reach) -> str | None:
+    """Why a mesh placed by `model` (an affine matrix with an inverse), of the kind that may reach `reach`
+    (MODELS_REACH, CAMERAS_REACH), cannot be drawn; None if it can."""
     farthest, size = placed_reach_and_size(model[None], np.array(mesh.bounds)[None])
     return lighting_refusal(float(farthest[0]), float(size[0]), reach, "move it nearer the origin, or scale it down")
 
