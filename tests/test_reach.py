@@ -11,6 +11,7 @@ import pytest
 
 import marraztu
 from marraztu.model.geometry import CAMERA_REACH, DRAWABLE_COORDINATE, DRAWABLE_SIZE, LIGHT_REACH
+from marraztu.model.scene import CameraMode
 
 SIZE = (64, 48)
 CUBE_FACES = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
@@ -148,6 +149,24 @@ def test_a_camera_placed_past_its_reach_is_refused_in_a_cameras_words(tmp_path: 
     with pytest.raises(marraztu.ViewerError) as refused:
         marraztu.Viewer(size=SIZE, scene=scene)
     assert str(refused.value).endswith(f"cameras[1]: position [0, 0, 6e+18]: {words}")
+
+
+def test_g_refused_at_the_reach_leaves_the_camera_flying() -> None:
+    """A camera whose body stood just within its reach: `g` turned it toward the selected object, which
+    would take the body past the reach; the turn was refused, and analysis mode was entered all the same,
+    the camera not looking at what it orbits."""
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        v.add_mesh(cube(3e17), CUBE_FACES)
+        camera = v.scene.camera
+        camera.model = np.array([[1.0, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, CAMERA_REACH - camera.mesh.bounds[1][2]],
+                                 [0, 0, 0, 1]])
+        v.add_mesh(cube(1e17, (9e17, 0.0, 0.0)), CUBE_FACES)
+        v.press("c g")
+        assert v.message == f"camera stops here: past {CAMERA_REACH:.0e} from the origin the GPU's 32-bit numbers " \
+                            "cannot see from it (flight mode stays)"
+        assert v.scene.modes.camera_mode is CameraMode.FLIGHT
+        v.press("t Z g")  # a step in toward the origin: the turn is made there
+        assert v.scene.modes.camera_mode is CameraMode.ANALYSIS
 
 
 class _CountedScans(list):  # type: ignore[type-arg]

@@ -204,29 +204,31 @@ def toggle_frame_or_camera_mode(scene: Scene, host: Host) -> None:
     if target is Target.OBJECTS:
         scene.modes.frame = Frame.GLOBAL if scene.modes.frame is Frame.LOCAL else Frame.LOCAL
     elif target is Target.CAMERAS:
-        if scene.modes.camera_mode is CameraMode.FLIGHT:
-            scene.modes.camera_mode = CameraMode.ANALYSIS
-            aim_camera_at_object(scene)
-        else:
+        if scene.modes.camera_mode is CameraMode.ANALYSIS:
             scene.modes.camera_mode = CameraMode.FLIGHT
+        elif aim_camera_at_object(scene):
+            scene.modes.camera_mode = CameraMode.ANALYSIS
+        else:  # the turn to the object refused: analysis mode would orbit what the camera does not look at
+            scene.message += " (flight mode stays)"
     else:
         scene.message = "g switches local/global for objects and flight/analysis for cameras"
 
 
-def aim_camera_at_object(scene: Scene) -> None:
+def aim_camera_at_object(scene: Scene) -> bool:
     """Entering analysis mode: the camera keeps its place and turns to the selected object's centre.
-    Pushed like any move, so `u` turns it back."""
+    Pushed like any move, so `u` turns it back. False, saying why, where the turn would take the camera
+    past its reach (moved_to); with no object, or from its centre, there is nothing to turn to."""
     obj = scene.object
     if obj is None:
         scene.message = "analysis mode: no object to look at"
-        return
+        return True
     camera = scene.camera
     # Keep the camera's own up as far as possible, so entering analysis does not roll the view.
     aimed = transforms.look_at_model(camera.origin, obj.centre, camera.model[:3, 1])
     if aimed is None:
         scene.message = f"analysis mode: the camera sits at the centre of {obj.name}"
-        return
-    moved_to(scene, camera, aimed)
+        return True
+    return moved_to(scene, camera, aimed)
 
 
 # --- moving ----------------------------------------------------------------------------------------
