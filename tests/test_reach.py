@@ -10,8 +10,12 @@ import numpy as np
 import pytest
 
 import marraztu
+from marraztu.control import commands
+from marraztu.control.viewer import StartOptions, Viewer
+from marraztu.loaders.scenefile import empty_scene
 from marraztu.model.geometry import CAMERA_REACH, DRAWABLE_COORDINATE, DRAWABLE_SIZE, LIGHT_REACH
-from marraztu.model.scene import CameraMode
+from marraztu.model.scene import CameraMode, SceneObject
+from support.scenes import PLAIN, NoFrontend, mesh_from_polygons
 
 SIZE = (64, 48)
 CUBE_FACES = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
@@ -116,8 +120,6 @@ def test_a_file_read_in_a_models_place_past_the_bound_there_is_refused_and_so_is
 def test_the_mouse_stops_the_camera_at_its_reach_as_the_keys_do() -> None:
     """The window's wheel backed the camera of a model 6e17 wide out to 1e4 times its size: past
     CAMERA_REACH, where the GPU's numbers overflow. The view's moves stop there as a key's move does."""
-    from marraztu.control import commands
-
     with marraztu.Viewer(size=SIZE, empty=True) as v:
         v.add_mesh(cube(3e17), CUBE_FACES)
         camera = v.scene.camera
@@ -129,6 +131,33 @@ def test_the_mouse_stops_the_camera_at_its_reach_as_the_keys_do() -> None:
         commands.pan_view(v.scene, 0.0, 1e9, SIZE[1])
         assert len(camera.history) == depth
         v.press("u")
+
+
+CAMERA_STOPS = f"camera stops here: past {CAMERA_REACH:.0e} from the origin the GPU's 32-bit numbers cannot see from it"
+
+
+def _window_viewer(half: float) -> Viewer:
+    """The viewer a window drives (the mouse's events go through it), round a cube `half` wide."""
+    viewer = Viewer(empty_scene(), NoFrontend())
+    viewer.start(StartOptions(empty=True), longest_texture_side=64)
+    viewer.add_made(SceneObject.placed("mesh", mesh_from_polygons("mesh", cube(half), CUBE_FACES), PLAIN,
+                                       (0.0, 0.0, 0.0)))
+    return viewer
+
+
+def test_a_wheel_notch_back_in_from_the_reach_takes_back_the_words_that_the_camera_stopped() -> None:
+    """Wheel notches out stopped the camera at its reach and said so; a notch back in moved it, and the
+    words that it had stopped stayed up until the next key."""
+    viewer = _window_viewer(3e17)
+    viewer.scene.message = "loaded mesh"
+    for _ in range(40):
+        viewer.move_by_mouse(lambda scene: commands.dolly_view(scene, -1.0))
+    assert viewer.scene.message == CAMERA_STOPS
+    place = viewer.scene.camera.origin
+    viewer.move_by_mouse(lambda scene: commands.dolly_view(scene, 1.0))
+    assert viewer.scene.camera.origin[2] < place[2] and viewer.scene.message == ""
+    viewer.move_by_mouse(lambda scene: commands.dolly_view(scene, -50.0))  # refused again: said again
+    assert viewer.scene.message == CAMERA_STOPS
 
 
 @pytest.mark.parametrize("placed_by", ["hand", "scene file"])

@@ -235,6 +235,7 @@ class Viewer:
         # per model (thousands of models on the command line).
         self._start_loads: list[_StartLoad | str] = []  # a failure as its message
         self._said_unseen: _SaidUnseen | None = None  # the last message that said an object is out of view
+        self._said_by_mouse = ""  # what the last mouse event said of its own (a refusal): "" where nothing
 
     # --- start-up ------------------------------------------------------------------------------
     def start(self, options: StartOptions, longest_texture_side: int) -> None:
@@ -534,9 +535,15 @@ class Viewer:
 
     def move_by_mouse(self, move: Callable[[Scene], None]) -> None:
         """One event of a drag or the wheel; said, as a key's move is, where it takes the selected model
-        out of view (the message then answers the mouse, not the last key)."""
+        out of view (the message then answers the mouse, not the last key). What an event says of its own
+        (a move refused) is taken back by the next event that says nothing: that one was made."""
         before = self._seen_selected()
+        kept, self.scene.message = self.scene.message, ""
         move(self.scene)
+        said = self.scene.message
+        if not said:  # the last event's own words, where still up, no longer hold
+            self.scene.message = "" if kept == self._said_by_mouse else kept
+        self._said_by_mouse = said
         lost = self._lost_since(before)
         if lost and before is not None:
             self._say_unseen(before.obj, lost, seen="")
