@@ -11,6 +11,7 @@ import pytest
 
 import marraztu
 from marraztu.control import commands
+from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import StartOptions, Viewer
 from marraztu.loaders.scenefile import empty_scene
 from marraztu.model.geometry import CAMERA_REACH, DRAWABLE_COORDINATE, DRAWABLE_SIZE, LIGHT_REACH
@@ -133,16 +134,20 @@ def test_the_mouse_stops_the_camera_at_its_reach_as_the_keys_do() -> None:
         v.press("u")
 
 
-CAMERA_STOPS = f"camera stops here: past {CAMERA_REACH:.0e} from the origin the GPU's 32-bit numbers cannot see from it"
+CAMERA_PAST = f"past {CAMERA_REACH:.0e} from the origin the GPU's 32-bit numbers cannot see from it"
+CAMERA_STOPS = f"camera stops here: {CAMERA_PAST}"
 
 
 def _window_viewer(half: float) -> Viewer:
     """The viewer a window drives (the mouse's events go through it), round a cube `half` wide."""
     viewer = Viewer(empty_scene(), NoFrontend())
     viewer.start(StartOptions(empty=True), longest_texture_side=64)
-    viewer.add_made(SceneObject.placed("mesh", mesh_from_polygons("mesh", cube(half), CUBE_FACES), PLAIN,
-                                       (0.0, 0.0, 0.0)))
+    viewer.add_made(_cube_object(half))
     return viewer
+
+
+def _cube_object(half: float) -> SceneObject:
+    return SceneObject.placed("mesh", mesh_from_polygons("mesh", cube(half), CUBE_FACES), PLAIN, (0.0, 0.0, 0.0))
 
 
 def test_a_wheel_notch_back_in_from_the_reach_takes_back_the_words_that_the_camera_stopped() -> None:
@@ -178,6 +183,47 @@ def test_a_camera_placed_past_its_reach_is_refused_in_a_cameras_words(tmp_path: 
     with pytest.raises(marraztu.ViewerError) as refused:
         marraztu.Viewer(size=SIZE, scene=scene)
     assert str(refused.value).endswith(f"cameras[1]: position [0, 0, 6e+18]: {words}")
+
+
+def test_u_passes_over_a_view_move_it_can_no_longer_take_the_camera_back_to() -> None:
+    """The wheel backed the camera out near its reach, then in; a model 2e18 wide, loaded alone, grew the
+    camera's body; where the camera had stood its body would reach past 5e18: `u` refused to go back
+    there, every press, and no move before it could be undone ("stuck")."""
+    viewer = _window_viewer(3e17)
+    scene = viewer.scene
+    start = scene.camera.model
+    for out_or_in in (-1.0, 1.0):  # two gestures: out near the reach, then back in a little
+        for _ in range(40 if out_or_in < 0 else 10):
+            viewer.move_by_mouse(lambda moved: commands.dolly_view(moved, out_or_in))
+        commands.end_view_gesture(scene)
+    came_in = scene.camera.model
+    for key in parse_key_sequence("DELETE"):
+        viewer.press(key)
+    viewer.add_made(_cube_object(DRAWABLE_COORDINATE))  # framed: a view move, the body fitted to it
+    viewer.press(parse_key_sequence("u")[0])
+    assert np.array_equal(scene.camera.model, came_in) and scene.message == ""
+    viewer.press(parse_key_sequence("u")[0])  # out where the body, larger now, cannot stand
+    assert np.array_equal(scene.camera.model, start)
+    assert scene.message == f"u passed over where camera stood before ({CAMERA_PAST}), back to the step before it"
+    scene.check_by_hand()
+    viewer.press(parse_key_sequence("u")[0])
+    assert scene.message == "nothing to undo"
+
+
+def test_u_says_why_it_cannot_take_the_camera_back_and_goes_on_with_the_moves_before() -> None:
+    """Where neither the place before nor the one before that can be stood at any more, `u` leaves the
+    camera, says why, and takes the move off: the next `u` is not refused the same way."""
+    viewer = _window_viewer(3e17)
+    scene, camera = viewer.scene, viewer.scene.camera
+    far, near = (np.array([[1.0, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, z], [0, 0, 0, 1]]) for z in (4.9e18, 1e18))
+    camera.history[:] = [far, near]  # the wheel backed it in from the start, far off
+    scene.view_moves[:] = [(camera, None)]
+    camera.mesh = _cube_object(3e17).mesh  # a larger body read in its place since
+    viewer.press(parse_key_sequence("u")[0])
+    assert scene.message == f"u cannot take camera back to where it stood before ({CAMERA_PAST})"
+    assert np.array_equal(camera.model, near) and not scene.view_moves
+    viewer.press(parse_key_sequence("u")[0])
+    assert scene.message == "nothing to undo"
 
 
 def test_g_refused_at_the_reach_leaves_the_camera_flying() -> None:

@@ -583,19 +583,48 @@ def _undo_view_move(scene: Scene) -> bool:
     """The latest view move undone, with the parallel view's size before it; False where none is left
     (a move of a camera since deleted, or of one with nothing left to undo, is passed over)."""
     while scene.view_moves:
-        moved, half_height = scene.view_moves[-1]
-        refusal = _undo_refusal(scene, moved) if moved in scene.cameras else ""
-        if refusal:  # it stays, and the move with it
-            scene.message = refusal
+        moved, half_height = scene.view_moves.pop()
+        if moved not in scene.cameras:
+            continue
+        if _undo_refusal(scene, moved):
+            _undo_past(scene, moved, half_height)
             return True
-        scene.view_moves.pop()
-        if moved in scene.cameras and moved.undo():
-            if half_height is not None:
-                scene.modes.parallel_half_height = half_height
-            else:  # moved in perspective
-                _size_parallel_view(scene)
+        if moved.undo():
+            _restore_view_size(scene, half_height)
             return True
     return False
+
+
+def _undo_past(scene: Scene, camera: SceneObject, half_height: float | None) -> None:
+    """`u` where `camera` cannot go back to where it stood before (its body, larger since, would reach
+    past its reach there): back to the place before that one, both moves undone as one step, or, where
+    it cannot stand there either, it stays and the message says why. Either way the move is taken off:
+    the next `u` goes on with the earlier ones, never stuck on this one."""
+    history = camera.history
+    why = scene.why_move_stops(camera, history[-2])
+    if len(history) < 3 or not _can_go_back_to(scene, camera, history[-3]):
+        scene.message = f"u cannot take {camera.name} back to where it stood before ({why})"
+        return
+    del history[-2]  # and one undo: two off the top in all, as a press's restorer keeps them
+    camera.undo()
+    if scene.view_moves and scene.view_moves[-1][0] is camera:  # the move before was the view's too
+        half_height = scene.view_moves.pop()[1]
+    _restore_view_size(scene, half_height)
+    scene.message = f"u passed over where {camera.name} stood before ({why}), back to the step before it"
+
+
+def _can_go_back_to(scene: Scene, element: SceneObject, earlier: np.ndarray) -> bool:
+    """Whether `element` may be put back at `earlier`, a matrix of its history: one drawn within its reach."""
+    drawn = model_refusal(earlier) is None and array_refusal(earlier) is None
+    return drawn and not scene.why_move_stops(element, earlier)
+
+
+def _restore_view_size(scene: Scene, half_height: float | None) -> None:
+    """The parallel view's half height as a view move found it (None: made in perspective, where `p` sizes it)."""
+    if half_height is not None:
+        scene.modes.parallel_half_height = half_height
+    else:
+        _size_parallel_view(scene)
 
 
 def change_aperture(delta_deg: float) -> CommandFunction:

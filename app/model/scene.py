@@ -872,6 +872,11 @@ class Scene:
         return placement_refusal(model, element.mesh if mesh is None else mesh, self.reach_of(element))
 
     def move_refusal(self, element: SceneObject, model: np.ndarray) -> str:
+        """Why a move cannot take `element` to `model`, in a message's words ("" where it can): why_move_stops."""
+        why = self.why_move_stops(element, model)
+        return f"{element.name} stops here: {why}" if why else ""
+
+    def why_move_stops(self, element: SceneObject, model: np.ndarray) -> str:
         """Why a move cannot take `element` to `model` ("" where it can): past its reach, or under
         DRAWABLE_SIZE (a turn in its own frame of a matrix scaled unevenly by hand), where the next call of
         the programming interface would refuse the scene. A move that takes it no farther off and makes
@@ -879,11 +884,9 @@ class Scene:
         farthest, size = placed_reach_and_size(np.stack([element.model, model]), np.array([element.mesh.bounds] * 2))
         reach = self.reach_of(element)
         if farthest[1] > max(farthest[0], reach.most):
-            return f"{element.name} stops here: past {reach.most:.0e} from the origin the GPU's 32-bit numbers " \
-                   f"cannot {reach.cannot} it"
+            return f"past {reach.most:.0e} from the origin the GPU's 32-bit numbers cannot {reach.cannot} it"
         if 0.0 < size[1] < min(size[0], DRAWABLE_SIZE):
-            return f"{element.name} stops here: under {DRAWABLE_SIZE:.0e} across the GPU's 32-bit numbers cannot " \
-                   "light it"
+            return f"under {DRAWABLE_SIZE:.0e} across the GPU's 32-bit numbers cannot light it"
         return ""
 
     @property
