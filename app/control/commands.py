@@ -554,20 +554,25 @@ def undo(scene: Scene, host: Host) -> None:
     if _undo_view_move(scene):
         return
     target = _moved_target(scene)
-    refusal = _undo_refusal(scene, target) if isinstance(target, SceneObject) else ""
-    if refusal:
-        scene.message = refusal
-    elif target is None or not target.undo():
+    if isinstance(target, SceneObject) and _dropped_unreachable_step(scene, target):
+        return
+    if target is None or not target.undo():
         scene.message = "nothing to undo"
 
 
-def _undo_refusal(scene: Scene, element: SceneObject) -> str:
-    """Why `u` cannot take `element`'s last move back ("" where it can): the matrix it goes back to
-    places it, as it is now (a larger file read in its place since), past its reach (Scene.move_refusal)."""
+def _dropped_unreachable_step(scene: Scene, element: SceneObject) -> bool:
+    """Where `u` cannot take `element` back to where it stood before (as it is now, a larger file read in
+    its place or a camera's body fitted larger since, it would reach past its reach there): that place
+    comes off its history, it stays, and the message says why; so the next `u` goes on with the moves
+    before, never stuck on this one. False where it can go back (or undo says what is wrong)."""
     earlier = element.history[-2] if len(element.history) > 1 else None
-    if earlier is None or model_refusal(earlier) or array_refusal(earlier):  # undo says what is wrong
-        return ""
-    return scene.move_refusal(element, earlier)
+    if earlier is None or model_refusal(earlier) or array_refusal(earlier):
+        return False
+    why = scene.why_move_stops(element, earlier)
+    if why:
+        del element.history[-2]  # at the top, as the press's restorer keeps it
+        scene.message = f"u cannot take {element.name} back to where it stood before ({why}): that step is dropped"
+    return bool(why)
 
 
 def undoable_view_moves(scene: Scene) -> int:
@@ -586,45 +591,15 @@ def _undo_view_move(scene: Scene) -> bool:
         moved, half_height = scene.view_moves.pop()
         if moved not in scene.cameras:
             continue
-        if _undo_refusal(scene, moved):
-            _undo_past(scene, moved, half_height)
+        if _dropped_unreachable_step(scene, moved):
             return True
         if moved.undo():
-            _restore_view_size(scene, half_height)
+            if half_height is not None:
+                scene.modes.parallel_half_height = half_height
+            else:  # moved in perspective
+                _size_parallel_view(scene)
             return True
     return False
-
-
-def _undo_past(scene: Scene, camera: SceneObject, half_height: float | None) -> None:
-    """`u` where `camera` cannot go back to where it stood before (its body, larger since, would reach
-    past its reach there): back to the place before that one, both moves undone as one step, or, where
-    it cannot stand there either, it stays and the message says why. Either way the move is taken off:
-    the next `u` goes on with the earlier ones, never stuck on this one."""
-    history = camera.history
-    why = scene.why_move_stops(camera, history[-2])
-    if len(history) < 3 or not _can_go_back_to(scene, camera, history[-3]):
-        scene.message = f"u cannot take {camera.name} back to where it stood before ({why})"
-        return
-    del history[-2]  # and one undo: two off the top in all, as a press's restorer keeps them
-    camera.undo()
-    if scene.view_moves and scene.view_moves[-1][0] is camera:  # the move before was the view's too
-        half_height = scene.view_moves.pop()[1]
-    _restore_view_size(scene, half_height)
-    scene.message = f"u passed over where {camera.name} stood before ({why}), back to the step before it"
-
-
-def _can_go_back_to(scene: Scene, element: SceneObject, earlier: np.ndarray) -> bool:
-    """Whether `element` may be put back at `earlier`, a matrix of its history: one drawn within its reach."""
-    drawn = model_refusal(earlier) is None and array_refusal(earlier) is None
-    return drawn and not scene.why_move_stops(element, earlier)
-
-
-def _restore_view_size(scene: Scene, half_height: float | None) -> None:
-    """The parallel view's half height as a view move found it (None: made in perspective, where `p` sizes it)."""
-    if half_height is not None:
-        scene.modes.parallel_half_height = half_height
-    else:
-        _size_parallel_view(scene)
 
 
 def change_aperture(delta_deg: float) -> CommandFunction:
