@@ -1459,6 +1459,15 @@ def test_the_message_says_the_file_prompt_is_open() -> None:
         assert v.press("ESC").message == "loading cancelled"
 
 
+def test_a_prompt_left_open_by_one_press_is_typed_into_by_the_next() -> None:
+    """press("f m o") left the prompt open, as `message` showed, but press("d e l") was refused with
+    "unknown key 'e'", and SPACE and BACKSPACE too: the next call's words were read as keys."""
+    with marraztu.Viewer(size=SIZE) as v:
+        v.press("f m o")
+        assert v.press("d e SPACE x BACKSPACE BACKSPACE l").message.endswith(": model_")
+        assert v.press("ESC").message == "loading cancelled"
+
+
 def test_a_mesh_added_from_python_says_where_it_stands_as_a_load_does() -> None:
     """add_mesh joined the scene past the viewer: a sphere at the origin of the built-in scene, inside
     Rammer_255, said only how many vertices it has, where `load` of the same says it may be hidden."""

@@ -70,6 +70,17 @@ def test_keys_before_are_pressed_but_not_recorded(tmp_path: Path, capsys) -> Non
     assert np.array_equal(frames[-1], screenshot(tmp_path, KEYS))
 
 
+def test_keys_type_into_a_prompt_that_before_left_open(tmp_path: Path) -> None:
+    """--before "f" then --keys typing a file name and ENTER was refused ("unknown key '/'"), the keys
+    read as if the prompt were shut. Now they type the name, and the load is the recording's frame."""
+    model = tmp_path / "e.obj"
+    model.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    out = tmp_path / "load.png"
+    keys = " ".join([*str(model), "ENTER"])
+    assert main(["record", "-o", str(out), "--size", "16x16", "--before", "f", "--keys", keys]) == 0
+    assert len(frames_of(out)[0]) == len(str(model)) + 1
+
+
 def test_before_keys_may_start_with_a_minus(tmp_path: Path) -> None:
     """As --keys "-*5": the value is the key `-`, not an option, after --before and its prefix --b."""
     for option in ("--before", "--b"):

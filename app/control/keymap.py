@@ -268,8 +268,9 @@ def _prompt_press(word: str, keymap: dict[str, Command]) -> KeyPress:
                       "space, BACKSPACE), then ENTER")
 
 
-def parse_key_sequence(text: str, keymap: dict[str, Command] = KEYMAP) -> list[KeyPress]:
-    """'0 1 F x*10 f=model.obj' -> the presses, in order. KeyMapError on anything unknown."""
+def parse_key_sequence(text: str, keymap: dict[str, Command] = KEYMAP, in_prompt: bool = False) -> list[KeyPress]:
+    """'0 1 F x*10 f=model.obj' -> the presses, in order. KeyMapError on anything unknown. `in_prompt`:
+    the `f` prompt is open before the first (an earlier sequence left it so), so they type into it."""
     if len(text) > MAX_SEQUENCE_CHARACTERS:
         raise KeyMapError(f"key sequence: more than {MAX_SEQUENCE_CHARACTERS} characters (KEY*N repeats a key)")
     try:
@@ -277,15 +278,21 @@ def parse_key_sequence(text: str, keymap: dict[str, Command] = KEYMAP) -> list[K
     except ValueError as error:  # an unclosed quote
         raise KeyMapError(f"key sequence {shortened(text)!r}: {error}") from error
     presses: list[KeyPress] = []
-    in_prompt = False
     for word in words:
         press, count = _parse_word(word, keymap, in_prompt)
         if len(presses) + count > MAX_SEQUENCE_PRESSES:
             raise KeyMapError(f"key sequence: more than {MAX_SEQUENCE_PRESSES} presses")
         presses.extend([press] * count)
+        in_prompt = prompt_open_after([press], in_prompt)
+    return presses
+
+
+def prompt_open_after(presses: Iterable[KeyPress], in_prompt: bool = False) -> bool:
+    """Whether the `f` prompt is open after `presses`, given whether it was before them."""
+    for press in presses:
         if press.path is None:
             in_prompt = press.token not in PROMPT_CLOSERS if in_prompt else press.token == PROMPT_OPENER
-    return presses
+    return in_prompt
 
 
 def dispatch(scene: Scene, key: KeyPress, host: Host, keymap: dict[str, Command] = KEYMAP) -> None:

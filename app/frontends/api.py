@@ -294,7 +294,8 @@ class Viewer:
         if not isinstance(keys, str):
             raise TypeError(f"keys are a str, as --keys takes them (\"0 1 F x*5\"), not {type(keys).__name__}")
         self._check_open()
-        presses = parse_key_sequence(keys)  # all of them checked before any is pressed
+        # All of them checked before any is pressed; a prompt an earlier call left open is typed into.
+        presses = parse_key_sequence(keys, in_prompt=self._viewer.prompt is not None)
         # The viewer's own fields too (the prompt, what the message says of a model out of view), as they were.
         restore, viewer_fields = self.scene.restorer(len(presses)), dict(vars(self._viewer))
         try:

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from marraztu.control.keymap import parse_key_sequence
+from marraztu.control.keymap import parse_key_sequence, prompt_open_after
 from marraztu.control.viewer import StartOptions, Viewer, starting_scene
 from marraztu.errors import KeyMapError, ViewerError, error_words, shortened
 from marraztu.frontends.screenshot import (
@@ -78,7 +78,7 @@ def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, f
         set_up = parse_key_sequence(before)
     except KeyMapError as error:
         raise KeyMapError(f"--before: {error}") from None
-    presses = parse_key_sequence(keys)
+    presses = parse_key_sequence(keys, in_prompt=prompt_open_after(set_up))  # --before may leave the prompt open
     if not presses:
         raise ViewerError("record needs --keys: one frame is drawn after each press")
     check_recording_size(len(presses), size)
