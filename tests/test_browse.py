@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
+import marraztu
 from marraztu.control.browse import ModelWatcher, model_files, sibling_model
 from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer
@@ -102,6 +103,19 @@ def test_pagedown_steps_past_a_bad_file_and_pageup_comes_back(tmp_path: Path) ->
     assert viewer.scene.object.name == "c" and "b.obj:4:" in viewer.scene.message
     press(viewer, "PAGEUP")
     assert viewer.scene.object.name == "a"
+
+
+def test_the_programming_interfaces_pagedown_steps_past_a_bad_file_too(tmp_path: Path) -> None:
+    """Its press raised for the bad file and put everything back, where PageDown had got to as well:
+    every later PageDown read the same bad file again, and the files past it could not be reached."""
+    folder_of(tmp_path, a_obj=TRIANGLE, b_obj=corpus.TRIANGLE + b"f 1 2 9\n", c_obj=SQUARE)
+    with marraztu.Viewer(size=SIZE, empty=True) as viewer:
+        viewer.load(tmp_path / "a.obj")
+        with pytest.raises(LoadError, match="b.obj:4:"):
+            viewer.press("PAGEDOWN")
+        assert viewer.scene.object.name == "a"
+        viewer.press("PAGEDOWN")
+        assert viewer.scene.object.name == "c" and viewer.scene.object.mesh.face_count == 1
 
 
 def test_an_earlier_load_finishing_late_leaves_the_next_step_where_the_last_press_put_it(tmp_path: Path) -> None:
