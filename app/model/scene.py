@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from marraztu.errors import escaped, shortened
+from marraztu.errors import SHOWN_WHOLE, escaped, shortened
 from marraztu.model.geometry import (
     CAMERAS_REACH,
     DRAWABLE_SIZE,
@@ -247,6 +247,11 @@ def _shown(value: object) -> str:
     return shortened(" ".join(repr(value).split()))
 
 
+def _shown_name(name: str) -> str:
+    """A name refused, in its error: its repr cut short, without the repr's length (the refusal says the name's)."""
+    return repr(name) if len(name) <= SHOWN_WHOLE else f"{name[:SHOWN_WHOLE]!r}..."
+
+
 def _picture_size(picture: object) -> str:
     """A picture's width x height, or its kind where it is none (set by hand, refused at the next call)."""
     if picture_refusal(picture) is None:
@@ -358,7 +363,7 @@ def _element_refusal(element: object, what: str) -> str | None:
     if not isinstance(element.name, str):
         return f"the scene's {what}' names must be str, not {_shown(element.name)}"
     if (refusal := name_refusal(element.name)) is not None:  # the panels lay a name out glyph by glyph
-        return f"{_shown(element.name)}: {refusal}"
+        return f"{_shown_name(element.name)}: {refusal}"
     if not isinstance(element.mesh, Mesh):
         return f"{element.name}'s mesh must be a Mesh, not {_shown(element.mesh)}"
     if not isinstance(element.history, list) or not element.history:
@@ -407,7 +412,7 @@ def _light_parts_refusal(light: object) -> str | None:
     if not isinstance(light.name, str) or not isinstance(light.key, str):
         return f"a light's name and key must be str, not {_shown(light.name)} and {_shown(light.key)}"
     if (refusal := name_refusal(light.name)) is not None:  # the panels and messages name it
-        return f"{_shown(light.name)}: {refusal}"
+        return f"{_shown_name(light.name)}: {refusal}"
     if not isinstance(light.kind, LightKind):
         kinds = ", ".join(map(repr, LIGHT_KINDS))
         return f"the {light.name}'s kind must be a LightKind ({kinds}; from {LightKind.__module__}), not " \
