@@ -640,6 +640,19 @@ def test_end_header_on_a_line_of_other_words_before_the_end_is_refused(tmp_path:
                                                   "TextureFile's) may hold the word")
 
 
+
+@pytest.mark.parametrize("joined", ["end_header ", " end_header\n"])
+def test_a_header_whose_only_end_header_shares_a_line_is_refused_at_that_line(tmp_path: Path, joined: str) -> None:
+    """No line of 'end_header' alone: the word run together with the body's first row, or with the last
+    property line, is named at its line, not as a file that is no PLY."""
+    header, body = ply_text(["3 0 1 4"]).split("end_header\n")
+    text = header.rstrip("\n") + joined + body if joined.startswith(" ") else header + joined + body
+    refused = refusal(tmp_path, text)
+    assert (refused.line, refused.message) == (text.count("\n", 0, text.index("end_header")) + 1,
+                                               "'end_header' on a line of other words: the header ends at a line "
+                                               "of 'end_header' alone, and before it only a comment (not a "
+                                               "TextureFile's) may hold the word")
+
 def test_the_picture_and_unknown_elements_are_kept_for_trimesh(tmp_path: Path) -> None:
     text = ply_text(["3 0 1 4"], remarks="comment TextureFile p.png\ncomment TextureFile q.png\nobj_info by hand\n")
     text = text.replace("end_header", "element material 1\nproperty float shine\nend_header") + "0.5\n"

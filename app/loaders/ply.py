@@ -57,6 +57,7 @@ MAX_DECLARATIONS = 4096
 _REMARKS = ("", "comment", "obj_info")
 _NOT_FINITE = re.compile(rb"(?i)[+-]?(?:nan|inf|infinity)")  # numpy reads these too: refused later where wrong
 _END_WORD = "end_header"
+_NOT_A_PLY = "not a PLY file (no 'ply' ... 'end_header' header)"
 _END_LINE = re.compile(rb"[\r\n][ \t]*+end_header[ \t]*+(?=[\r\n]|\Z)")  # a line end leads: re looks for it fast
 
 
@@ -117,15 +118,17 @@ class PlyHeader:
 def read_header(path: Path, data: bytes) -> PlyHeader:
     """The header's format, elements and properties, each line checked; a LoadError names the line."""
     end = _end_line(data)
-    if not data.startswith(b"ply") or end < 0:
-        raise LoadError(path, "not a PLY file (no 'ply' ... 'end_header' header)", line=1)
+    if not data.startswith(b"ply") or (end < 0 and _END_WORD.encode() not in data):
+        raise LoadError(path, _NOT_A_PLY, line=1)
     encoding, picture, elements = None, None, []
     comment_ends_it = False
     properties: list[list[PlyProperty]] = []
     filled: set[str] = set()  # the names of the vertex and face elements of rows so far
     element_lines: list[int] = []
     number, declared = 1, 0
-    for number, line in enumerate(text_lines(data[:end]), start=1):  # a line at a time: never a list of them
+    # With the word but no line of it alone, the lines are read until the one holding it is refused.
+    header_lines = text_lines(data[:end] if end >= 0 else data)
+    for number, line in enumerate(header_lines, start=1):  # a line at a time: never a list of them
         words = line.split(None, 5)
         keyword = words[0] if words and number > 1 else ""
         if _END_WORD in line and _END_WORD in line.split():
@@ -152,6 +155,8 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
         elif keyword not in _REMARKS:  # trimesh passed over it: a header cut or run together
             raise LoadError(path, f"'{shortened(keyword)}' begins no PLY header line: a line is a format, element, "
                                   "property, comment or obj_info", line=number)
+    if end < 0:  # the word only in comments: no header ends
+        raise LoadError(path, _NOT_A_PLY, line=1)
     if encoding is None:
         raise LoadError(path, "the header has no 'format' line", line=number + 1)
     return PlyHeader(encoding, _checked_elements(path, elements, properties, element_lines), picture,
