@@ -58,7 +58,8 @@ def test_the_readmes_python_runs_as_written_given_its_two_files(tmp_path: Path, 
     trimesh.creation.icosphere(radius=30.0).export(tmp_path / "duck.glb")
     monkeypatch.chdir(tmp_path)
     exec(compile(code, "README.md", "exec"), {})
-    assert Image.open(tmp_path / "shot.png").size == (800, 600)
+    with Image.open(tmp_path / "shot.png") as shot:  # .size reads the header only: the file stays open
+        assert shot.size == (800, 600)
     assert capsys.readouterr().out.startswith("everything ")
 
 
