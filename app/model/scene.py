@@ -30,6 +30,7 @@ from marraztu.model.geometry import (
     all_lightable,
     lighting_refusal,
 )
+from marraztu.model.holders import first_holders
 from marraztu.model.lights import (
     AMBIENT_INTENSITY,
     LIGHT_KINDS,
@@ -93,7 +94,6 @@ DEPTH_SLICE_REACH = 1e5
 DEPTH_SLICES_MOST = 8  # the farthest takes the rest: each slice draws the whole scene again
 DEPTH_SLICE_OVERLAP = 1.01  # a slice reaches this far into the next one: no crack where they meet
 MATERIAL_COLOURS = ("ka", "kd", "ks")  # a material's colours, each 3 finite numbers
-ENCLOSING_BLOCK = 1 << 20  # box pairs compared at once: thousands of loads against thousands of boxes
 
 
 class Target(Enum):
@@ -1115,16 +1115,10 @@ class Scene:
             return [None] * len(elements)
         shown_low, shown_high = placed_bounds(*_placements(shown))
         low, high = placed_bounds(*_placements(elements))
-        shown_ids, ids = (np.fromiter(map(id, group), np.uintp, len(group)) for group in (shown, elements))
-        found: list[SceneObject | None] = []
-        step = max(1, ENCLOSING_BLOCK // len(shown))  # a block of elements against every shown box
-        for first in range(0, len(elements), step):
-            block = slice(first, first + step)
-            holds = ((shown_low <= low[block, None]) & (shown_high >= high[block, None])).all(axis=2)
-            holds &= shown_ids != ids[block, None]  # not itself
-            found += [shown[int(index)] if any_ else None
-                      for index, any_ in zip(holds.argmax(axis=1), holds.any(axis=1))]
-        return found
+        position = {id(element): index for index, element in enumerate(shown)}
+        itself = np.fromiter((position.get(id(element), -1) for element in elements), np.int64, len(elements))
+        return [None if index < 0 else shown[index]
+                for index in first_holders(shown_low, shown_high, low, high, itself).tolist()]
 
     def around_eye(self, elements: list[SceneObject]) -> list[bool]:
         """Whether each element's box holds the eye (a room or a ground sheet loaded round the camera,
