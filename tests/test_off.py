@@ -140,8 +140,12 @@ def test_a_colour_that_is_not_finite_is_refused_at_its_line(tmp_path: Path, text
     (off_text([*SQUARE[:3], "0 1 1e39"]), 6, "a vertex coordinate is not a finite number the GPU can hold"),
     (off_text(header="OFF\n4 3 0\n"), 8, "the header counts 3 faces, the file ends before them"),
     (off_text(header="OFF\n4 1 0\n", faces=()), 6, "the header counts 1 face, the file ends before them"),
-    ("OFF\n3 1 0\n", 2, "the header counts 3 vertices, the file ends before them"),
-    ("OFF\n3 1 0\n \t\n\n", 2, "the header counts 3 vertices, the file ends before them"),  # a body of no words
+    ("OFF\n3 1 0\n", 2,
+     "the header counts 3 vertices and 1 face, the file ends before them: the 0 bytes after the counts hold 0 rows "
+     "at most"),
+    ("OFF\n3 1 0\n \t\n\n", 2,  # a body of no words
+     "the header counts 3 vertices and 1 face, the file ends before them: the 4 bytes after the counts hold 2 rows "
+     "at most"),
     (off_text(header="OFF\n5 2 0\n"), 7, "a vertex row holds 3 numbers here, this one 4"),
     (off_text(header="OFF\n4 0 0\n"), 2, "the header declares no faces: nothing to draw"),
     (off_text() + "5 6 7\n", 9, "'5' after the 2 faces the header counts"),
@@ -165,13 +169,33 @@ def test_a_broken_off_is_refused_at_its_line(tmp_path: Path, text: str, line: in
     assert (refused.message, refused.line) == (message, line)
 
 
-@pytest.mark.parametrize(("header", "line"), [("OFF\n4 100000000000 0\n", 8), ("OFF\n4 " + "9" * 5000 + " 0\n", 2),
+@pytest.mark.parametrize(("header", "line"), [("OFF\n4 100000000000 0\n", 2), ("OFF\n4 " + "9" * 5000 + " 0\n", 2),
                                               ("OFF" + "9" * 5000 + " 2 0\n", 1), ("OFF\n" + "9" * 20 + " 2 0\n", 2)])
 def test_a_header_claiming_more_than_the_file_holds_is_refused_without_reserving_it(tmp_path: Path, header: str,
                                                                                       line: int) -> None:
     refused = refusal(tmp_path, off_text(header=header))
     assert refused.line == line and ("file ends before them" in refused.message
                                      or refused.message == "expected the vertex, face and edge counts")
+
+
+@pytest.mark.parametrize(("header", "line", "counts"), [
+    ("OFF\n3000000000 2 0\n", 2, "3000000000 vertices and 2 faces"),
+    ("OFF3000000000 2 0\n", 1, "3000000000 vertices and 2 faces"),  # ModelNet's run-on count
+    ("# made by hand\nOFF\n\n4 999999999999 0 # counts\n", 4, "4 vertices and 999999999999 faces"),
+])
+def test_counts_of_more_rows_than_the_file_holds_are_refused_at_the_header(tmp_path: Path, header: str, line: int,
+                                                                           counts: str) -> None:
+    """Three billion vertices in a file of six rows were read as rows until one broke: a face row was
+    refused as a vertex row of 4 numbers, at line 7, blaming the row for the header's count. The counts
+    are refused at their line from the file's size alone (a row is a line of a word at least), before
+    anything is made by them."""
+    path = written(tmp_path, off_text(header=header), "m.off")
+    refused, peak = peak_traced_bytes(lambda: off.read_off(path, path.read_bytes()))
+    rows = len(off_text(header=""))  # the bytes after the counts: 4 vertex rows and 2 face rows
+    assert isinstance(refused, LoadError), refused
+    assert (refused.message, refused.line) == (f"the header counts {counts}, the file ends before them: the {rows} "
+                                               f"bytes after the counts hold {(rows + 1) // 2} rows at most", line)
+    assert peak < 1 << 20
 
 
 def test_a_form_feed_in_a_comment_ends_no_line(tmp_path: Path) -> None:

@@ -33,6 +33,7 @@ from marraztu.loaders.words import (
     is_count,
     line_end_places,
     line_words,
+    outruns,
     pieces_at_gaps,
     said_count,
     text_numbers,
@@ -104,6 +105,7 @@ def read_off(path: Path, data: bytes) -> OffTables:
     rows = _Rows(data)
     layout, vertices, faces = _header(path, rows)
     body_at = line_end_after(data, rows.line)
+    _check_counts_fit(path, vertices, faces, len(data) - body_at, rows.line)
     text, start, lines_before = data, body_at, 0
     if data.find(b"#", body_at) >= 0:  # the body without its comments, each line kept
         text, start, lines_before = _without_comments(data, body_at), 0, rows.line
@@ -444,6 +446,19 @@ def _header(path: Path, rows: _Rows) -> tuple[_Layout, int, int]:
     if faces == 0:
         raise LoadError(path, "the header declares no faces: nothing to draw", line=number)
     return _Layout(normal=bool(keyword[3]), coloured=bool(keyword[2]), texture=bool(keyword[1])), vertices, faces
+
+
+_LEAST_ROW_BYTES = 2  # a row is a line of words: a word and a line end at least (the last row's may be missing)
+
+
+def _check_counts_fit(path: Path, vertices: int, faces: int, held: int, line: int) -> None:
+    """The header's counts refused at their line where the `held` bytes after it cannot hold that many
+    rows, before anything is made by them; a row that is there, however wrong, is left to be named."""
+    if outruns([(vertices + faces, _LEAST_ROW_BYTES)], held + 1):
+        raise LoadError(path, f"the header counts {counted(vertices, 'vertex', 'vertices')} and "
+                              f"{counted(faces, 'face')}, the file ends before them: the {counted(held, 'byte')} "
+                              f"after the counts hold {counted((held + 1) // _LEAST_ROW_BYTES, 'row')} at most",
+                        line=line)
 
 
 def _taken(path: Path, rows: _Rows, count: int, what: tuple[str, str], most_words: int = -1,
