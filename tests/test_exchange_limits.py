@@ -615,6 +615,60 @@ def test_a_gltf_data_uri_of_base64_is_read_whatever_the_case_of_its_scheme(tmp_p
     assert loaded.warnings == () and loaded.materials[0].texture is not None
 
 
+def two_meshes_gltf(coordinate: float = 0.0, index: int = 2, name: str | None = None, mode: int = 4
+                    ) -> tuple[dict[str, Any], bytes]:
+    """A glTF of two placed meshes of a triangle each: the second's positions strided (16 bytes apart),
+    its vertex 1's x `coordinate`, and its six indices (two triangles) ending in `index`."""
+    strided = np.zeros((3, 4), np.float32)
+    strided[:, :3] = TRIANGLE
+    strided[1, 0] = coordinate
+    indices = np.array([0, 1, 2, 2, 1, index], np.uint16)
+    binary = TRIANGLE.tobytes() + strided.tobytes() + indices.tobytes()
+    document: dict[str, Any] = {
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1]}], "nodes": [{"mesh": 0}, {"mesh": 1}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]},
+                   {"primitives": [{"attributes": {"POSITION": 1}, "indices": 2, "mode": mode}],
+                    **({"name": name} if name is not None else {})}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"},
+                      {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"},
+                      {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 48,
+                                                          "byteStride": 16},
+                        {"buffer": 0, "byteOffset": 84, "byteLength": 12}],
+        "buffers": [{"byteLength": len(binary)}],
+    }
+    return document, binary
+
+
+@pytest.mark.parametrize("file_name", ["model.glb", "data.gltf", "beside.gltf"])
+@pytest.mark.parametrize("name, said", [(None, "mesh 1"), ("wing", "mesh 1 ('wing')"),
+                                        ("a\nb" + "c" * 60, "mesh 1 ('a\\nb" + "c" * 36 + "... (64 characters)')")])
+@pytest.mark.parametrize("damage, words", [
+    *[({"coordinate": value}, "a vertex coordinate is not a finite number (vertex 1 of its POSITION, accessor 1)")
+      for value in (float("nan"), float("-inf"))],
+    ({"index": 3}, "index 5 of its indices (accessor 2) refers to vertex 3, but the primitive has 3 vertices"),
+    ({"index": 65535, "mode": 5}, "index 5 of its indices (accessor 2) refers to vertex 65535, but the primitive "
+                                  "has 3 vertices"),  # a triangle strip
+])
+def test_a_gltf_meshs_bad_positions_or_indices_are_refused_naming_the_mesh(
+        tmp_path: Path, file_name: str, name: str | None, said: str, damage: dict[str, Any], words: str) -> None:
+    """A position of NaN or infinity, or an index past the vertices, was refused as "a vertex coordinate is
+    not a finite number the GPU can hold" or "face 1 refers to vertex 3, but its mesh has 3", naming no
+    mesh of the file: trimesh had read each primitive into a mesh of its own name."""
+    path = written_gltf(tmp_path, file_name, *two_meshes_gltf(name=name, **damage))
+    assert one_line_refusal(lambda: load_model(path)).message == f"{said}'s primitive 0: {words}"
+
+
+@pytest.mark.parametrize("placed, mode", [(False, 4), (True, 0), (True, 1)])
+def test_bad_values_of_a_primitive_not_drawn_are_not_refused(tmp_path: Path, placed: bool, mode: int) -> None:
+    """A mesh no node places, and a primitive of points or lines, are not drawn: their values are not asked."""
+    document, binary = two_meshes_gltf(coordinate=float("nan"), index=3, mode=mode)
+    if not placed:
+        document["scenes"][0]["nodes"] = [0]
+    assert load_model(written_gltf(tmp_path, "model.glb", document, binary)).face_count == 1
+    assert load_model(written_gltf(tmp_path, "model.glb", *two_meshes_gltf())).face_count == 3
+
+
 @pytest.mark.parametrize("nodes, roots, looped", [
     ([{"mesh": 0, "children": [0]}], [0], 0),
     ([{"mesh": 0, "children": [1]}, {"mesh": 0, "children": [0]}], [0], 1),

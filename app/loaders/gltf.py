@@ -898,12 +898,15 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     normalized positions and texture coordinates floats), its nodes' cameras taken out, its WEBP textures'
     fallbacks chosen, its specular-glossiness materials' diffuse colours made their base colours and the
     pictures no material draws emptied.
-    The document is checked already (GltfReferences); `read_beside` reads a buffer's file;
-    `number_materials`: where sampled_materials found a sampling to keep."""
+    The document is checked already (GltfReferences), and the values its drawn primitives read are
+    checked here (_check_drawn_values); `read_beside` reads a buffer's file; `number_materials`: where
+    sampled_materials found a sampling to keep."""
     respelled = _file_uris_respelled(document)  # first: a buffer read here is then named as trimesh asks for it
     numbered = number_materials and _materials_numbered(document)
-    unplaced_emptied = _unplaced_meshes_emptied(document)  # before their accessors are made plain
-    made_plain = _accessors_made_plain(path, document, _BufferBytes(path, data, document, file_type, read_beside))
+    unplaced_emptied = _unplaced_meshes_emptied(document)  # before their accessors are checked and made plain
+    buffers = _BufferBytes(path, data, document, file_type, read_beside)
+    _check_drawn_values(path, document, buffers)
+    made_plain = _accessors_made_plain(path, document, buffers)
     cameras_taken_out = _node_cameras_taken_out(document)
     fallbacks_chosen = _fallbacks_chosen(document)
     diffuse_made_base = _diffuse_made_base_colour(document)
@@ -945,6 +948,69 @@ def _unplaced_meshes_emptied(document: dict[str, Any]) -> bool:
 def _placed_meshes(document: dict[str, Any]) -> set[int]:
     """The meshes of the nodes under the scene's roots, as trimesh walks them."""
     return {node["mesh"] for node in _placed_nodes(document) if "mesh" in node}
+
+
+_DRAWN_MODES = (_TRIANGLES, _STRIP)  # trimesh makes faces of these alone
+_FLOAT_COMPONENTS = 5126
+_CHECKED_ITEMS = 1 << 16  # an accessor's items looked at at once: their temporaries stay small
+
+
+def _check_drawn_values(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview]) -> None:
+    """The values the placed meshes' drawn primitives read, refused naming the mesh and the primitive:
+    a position that is not a finite number, an index past the primitive's vertices. trimesh reads them
+    as they are, into meshes of its own names, where they were refused naming neither. Each accessor is
+    looked at once (for each vertex count, its indices), however many primitives read it."""
+    accessors, positions_seen, indices_seen = document.get("accessors", []), set(), set()
+    for number, mesh in enumerate(document.get("meshes", [])):
+        for primitive_number, primitive in enumerate(mesh["primitives"]):
+            if primitive.get("mode", _TRIANGLES) not in _DRAWN_MODES:
+                continue
+            what = f"{_mesh_named(number, mesh)}'s primitive {primitive_number}"
+            position = primitive["attributes"]["POSITION"]
+            vertices = accessors[position]["count"]
+            if accessors[position]["componentType"] == _FLOAT_COMPONENTS and position not in positions_seen:
+                _check_finite_positions(path, document, position, what, buffer)  # integers are finite
+            if "indices" in primitive and (primitive["indices"], vertices) not in indices_seen:
+                _check_indices(path, document, primitive["indices"], vertices, what, buffer)
+            positions_seen.add(position)
+            indices_seen.add((primitive.get("indices"), vertices))
+
+
+def _check_finite_positions(path: Path, document: dict[str, Any], number: int, what: str,
+                            buffer: Callable[[int], bytes | memoryview]) -> None:
+    """Float positions (accessor `number`) refused at the first that is not a finite number."""
+    vertex = _first_item(_items(path, document, number, buffer), "<f4", lambda values: ~np.isfinite(values).all(axis=1))
+    if vertex is not None:
+        raise LoadError(path, f"{what}: a vertex coordinate is not a finite number (vertex {vertex} of its POSITION, "
+                              f"accessor {number})")
+
+
+def _check_indices(path: Path, document: dict[str, Any], number: int, vertices: int, what: str,
+                   buffer: Callable[[int], bytes | memoryview]) -> None:
+    """Indices (accessor `number`) refused at the first that names no one of the `vertices`."""
+    items = _items(path, document, number, buffer)
+    kind = f"<u{items.shape[1]}"
+    item = _first_item(items, kind, lambda values: values[:, 0] >= vertices)
+    if item is not None:
+        vertex = int(np.ascontiguousarray(items[item:item + 1]).view(kind)[0, 0])
+        raise LoadError(path, f"{what}: index {item} of its indices (accessor {number}) refers to vertex {vertex}, "
+                              f"but the primitive has {counted(vertices, 'vertex', 'vertices')}")
+
+
+def _first_item(items: np.ndarray, kind: str, wrong: Callable[[np.ndarray], np.ndarray]) -> int | None:
+    """The first of an accessor's items (count, bytes of an item) that, read as numbers of `kind`, is
+    `wrong`; None where none is. A block of items at a time, each made contiguous (a view may be strided)."""
+    for low in range(0, len(items), _CHECKED_ITEMS):
+        found = wrong(np.ascontiguousarray(items[low:low + _CHECKED_ITEMS]).view(kind))
+        if found.any():
+            return low + int(np.argmax(found))
+    return None
+
+
+def _mesh_named(number: int, mesh: dict[str, Any]) -> str:
+    """'mesh 2', and its name where it has one: 'mesh 2 ('wing')'."""
+    name = mesh.get("name")
+    return f"mesh {number} ('{shortened(escaped(name))}')" if name else f"mesh {number}"
 
 
 class _BufferBytes:
