@@ -118,6 +118,21 @@ def test_the_programming_interfaces_pagedown_steps_past_a_bad_file_too(tmp_path:
         assert viewer.scene.object.name == "c" and viewer.scene.object.mesh.face_count == 1
 
 
+@pytest.mark.parametrize(("step", "after"), [("PAGEDOWN", "b"), ("PAGEUP", "d")])
+def test_a_press_put_back_past_a_good_file_steps_on_from_the_file_it_shows(tmp_path: Path, step: str,
+                                                                          after: str) -> None:
+    """press("PAGEDOWN PAGEDOWN") read b, then refused c, and put a back but kept c as where PageDown had
+    got to: from a, PageDown read d (b passed over, never shown) and PageUp read b, the next file."""
+    folder_of(tmp_path, a_obj=TRIANGLE, b_obj=SQUARE, c_obj=corpus.TRIANGLE + b"f 1 2 9\n", d_obj=SQUARE)
+    with marraztu.Viewer(size=SIZE, empty=True) as viewer:
+        viewer.load(tmp_path / "a.obj")
+        with pytest.raises(LoadError, match="c.obj:4:"):
+            viewer.press("PAGEDOWN PAGEDOWN")
+        assert viewer.scene.object.name == "a"
+        viewer.press(step)
+        assert viewer.scene.object.name == after
+
+
 def test_an_earlier_load_finishing_late_leaves_the_next_step_where_the_last_press_put_it(tmp_path: Path) -> None:
     """In the window loads finish later: b asked, then c; b arrives, c fails; the next press goes past c."""
     from marraztu.control.commands import replace_loaded

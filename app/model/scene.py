@@ -702,21 +702,20 @@ class Scene:
     def restorer(self, presses: int) -> Callable[[], None]:
         """What puts the scene back in place as it is now, after up to `presses` keys (the programming
         interface's press refused half way): the fields of the scene, its modes, elements and lights, and
-        its lists, but for where PageDown has got to. Arrays and meshes are kept, not copied: keys replace
-        them, never change one in place. A key changes a history only at its top (a push, an undo, a view
-        step redone), so of each the last presses + 1 are kept: the cost grows with the keys and the
-        elements, not the histories."""
+        its lists, but for where PageDown has got to where an element shows its file as before (_browsing_put_back).
+        Arrays and meshes are kept, not copied: keys replace them, never change one in place. A key
+        changes a history only at its top (a push, an undo, a view step redone), so of each the last
+        presses + 1 are kept: the cost grows with the keys and the elements, not the histories."""
         elements = (*self.objects, *self.cameras, *self.lights)
-        # Where PageDown has got to in a folder is kept: the next press steps past a file that did not load.
-        fields = [(part, {name: value for name, value in vars(part).items() if name != "browsed"})
-                  for part in (self, self.modes, *elements)]
+        fields = [(part, dict(vars(part))) for part in (self, self.modes, *elements)]
         lists = [(items, list(items)) for items in (self.objects, self.cameras, self.lights, self.view_moves)]
         tops = [(history, len(history), history[max(0, len(history) - presses - 1):])
                 for history in (element.history for element in elements)]
 
         def restore() -> None:
             for part, kept in fields:
-                vars(part).update(kept)  # past SceneObject's setattr: its part materials are kept as they were
+                # past SceneObject's setattr: its part materials are kept as they were
+                vars(part).update(_browsing_put_back(vars(part), kept))
             for items, contents in lists:
                 items[:] = contents
             for history, depth, top in tops:
@@ -1363,6 +1362,15 @@ def placed_bounds(models: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, n
     least, most = np.minimum(lows, highs), np.maximum(lows, highs)
     low, high = (((sides[..., 0] + sides[..., 1]) + sides[..., 2]) + models[:, :3, 3] for sides in (least, most))
     return low, high
+
+
+def _browsing_put_back(now: dict[str, object], kept: dict[str, object]) -> dict[str, object]:
+    """An element's fields as Scene.restorer keeps them, but where it shows the file it showed: there where
+    PageDown has got to stays, so the next press steps past a file that did not load. Where a file read in
+    its place goes back, that goes back with it: the next step starts beside the file shown."""
+    if "browsed" not in kept or now.get("source") != kept.get("source"):
+        return kept
+    return {name: value for name, value in kept.items() if name != "browsed"}
 
 
 def placement_refusal(model: np.ndarray, mesh: Mesh, reach: Reach) -> str | None:
