@@ -108,6 +108,15 @@ def test_the_command_lines_models_are_framed_once_together(tmp_path: Path, monke
     assert (viewer.scene.camera.model == alone.scene.camera.model).all()  # as if framed as each joined
 
 
+def test_a_sequence_types_into_a_prompt_an_earlier_one_left_open() -> None:
+    """press_sequence("f m o") left the prompt open, and press_sequence("d e l") was refused, "unknown key
+    'e'": its words were read as keys, as the programming interface's press read them before 43e613b."""
+    viewer = Viewer(empty_scene(), Notices(), strict=False)
+    viewer.press_sequence("f m o")
+    viewer.press_sequence("d e SPACE l")
+    assert viewer.prompt == "mode l"
+
+
 def test_the_file_prompt_holds_a_path_at_most() -> None:
     """Typing on past PATH_MAX is dropped: each key would copy the line, and its error would fill pages."""
     from marraztu.control.viewer import MAX_PROMPT_CHARACTERS

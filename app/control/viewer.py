@@ -321,7 +321,8 @@ class Viewer:
             raise ViewerError(f"f={key.path}: {commands.LIGHTS_LOAD_REFUSAL} (press c to target objects)")
 
     def press_sequence(self, text: str) -> None:
-        for key in keymap.parse_key_sequence(text):
+        """Keys in the language of --keys, typed into a prompt an earlier sequence left open."""
+        for key in keymap.parse_key_sequence(text, in_prompt=self.prompt is not None):
             self.press(key)
 
     def type_text(self, char: str) -> None:
