@@ -321,9 +321,12 @@ class Viewer:
             raise ViewerError(f"f={key.path}: {commands.LIGHTS_LOAD_REFUSAL} (press c to target objects)")
 
     def press_sequence(self, text: str) -> None:
-        """Keys in the language of --keys, typed into a prompt an earlier sequence left open."""
-        for key in keymap.parse_key_sequence(text, in_prompt=self.prompt is not None):
+        for key in self.key_presses(text):
             self.press(key)
+
+    def key_presses(self, text: str) -> list[keymap.KeyPress]:
+        """Keys in the language of --keys, as pressed now: typed into a prompt an earlier sequence left open."""
+        return keymap.parse_key_sequence(text, in_prompt=self.prompt is not None)
 
     def type_text(self, char: str) -> None:
         """A character from the window's text input: typed into the prompt, or pressed as a key."""

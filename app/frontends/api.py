@@ -25,7 +25,6 @@ from typing import Any, Sequence, TypeVar
 import numpy as np
 from PIL import Image
 
-from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import StartOptions, starting_scene
 from marraztu.control.viewer import Viewer as KeyViewer
 from marraztu.errors import KeyMapError, LoadError, ViewerError, escaped, shortened
@@ -295,7 +294,7 @@ class Viewer:
             raise TypeError(f"keys are a str, as --keys takes them (\"0 1 F x*5\"), not {type(keys).__name__}")
         self._check_open()
         # All of them checked before any is pressed; a prompt an earlier call left open is typed into.
-        presses = parse_key_sequence(keys, in_prompt=self._viewer.prompt is not None)
+        presses = self._viewer.key_presses(keys)
         # The viewer's own fields too (the prompt, what the message says of a model out of view), as they were.
         restore, viewer_fields = self.scene.restorer(len(presses)), dict(vars(self._viewer))
         try:
