@@ -173,6 +173,24 @@ def test_a_wheel_notch_back_in_from_the_reach_takes_back_the_words_that_the_came
     assert viewer.scene.message == CAMERA_STOPS
 
 
+def test_a_keys_refusal_in_the_words_of_the_mouses_last_stays_up_after_a_mouse_move() -> None:
+    """The wheel stopped the camera at its reach; `z` (cameras targeted, translating) stopped it too, in
+    the same words; a pan, made, took the key's words back, as if they were the wheel's."""
+    viewer = _window_viewer(3e17)
+    for _ in range(40):
+        viewer.move_by_mouse(lambda scene: commands.dolly_view(scene, -1.0))
+    assert viewer.scene.message == CAMERA_STOPS
+    for key in parse_key_sequence("c t"):
+        viewer.press(key)
+    for _ in range(60):  # out a step at a time, up to the reach
+        viewer.press(parse_key_sequence("z")[0])
+        if viewer.scene.message:
+            break
+    assert viewer.scene.message == CAMERA_STOPS
+    viewer.move_by_mouse(lambda scene: commands.pan_view(scene, 1.0, 0.0, 48))
+    assert viewer.scene.message == CAMERA_STOPS
+
+
 @pytest.mark.parametrize("placed_by", ["hand", "scene file"])
 def test_a_camera_placed_past_its_reach_is_refused_in_a_cameras_words(tmp_path: Path, placed_by: str) -> None:
     """A camera at 6e18, by hand or in a scene file, was refused as 'past 5e+18 the GPU's 32-bit numbers

@@ -304,6 +304,7 @@ class Viewer:
     # --- keys ----------------------------------------------------------------------------------
     def press(self, key: keymap.KeyPress) -> None:
         """One key: typed into the `f` prompt while it is open, otherwise the key map's command."""
+        self._said_by_mouse = ""  # the message answers this key now: a mouse move takes back none of its words
         if self.prompt is not None and key.path is None:
             self._prompt_key(key.token)
             return
