@@ -640,7 +640,6 @@ def test_end_header_on_a_line_of_other_words_before_the_end_is_refused(tmp_path:
                                                   "TextureFile's) may hold the word")
 
 
-
 @pytest.mark.parametrize("joined", ["end_header ", " end_header\n"])
 def test_a_header_whose_only_end_header_shares_a_line_is_refused_at_that_line(tmp_path: Path, joined: str) -> None:
     """No line of 'end_header' alone: the word run together with the body's first row, or with the last
@@ -652,6 +651,17 @@ def test_a_header_whose_only_end_header_shares_a_line_is_refused_at_that_line(tm
                                                "'end_header' on a line of other words: the header ends at a line "
                                                "of 'end_header' alone, and before it only a comment (not a "
                                                "TextureFile's) may hold the word")
+
+
+@pytest.mark.parametrize("remarks", ["", "comment end_header comes later\n"])
+def test_a_header_that_never_ends_is_no_ply_whether_a_comment_holds_the_word_or_not(tmp_path: Path,
+                                                                                    remarks: str) -> None:
+    """No line ends the header: with the word in a comment, the body's first row was refused as a header
+    line ("'0' begins no PLY header line", line 10), where the same file without the comment is no PLY."""
+    text = ply_text(["3 0 1 4"], remarks=remarks).replace("end_header\n", "")
+    refused = refusal(tmp_path, text)
+    assert (refused.line, refused.message) == (1, "not a PLY file (no 'ply' ... 'end_header' header)")
+
 
 def test_the_picture_and_unknown_elements_are_kept_for_trimesh(tmp_path: Path) -> None:
     text = ply_text(["3 0 1 4"], remarks="comment TextureFile p.png\ncomment TextureFile q.png\nobj_info by hand\n")

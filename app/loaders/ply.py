@@ -154,9 +154,11 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
         elif "texturefile" in line.lower():  # on any other line, as trimesh reads it
             picture = _picture_named(line)
         elif keyword not in _REMARKS:  # trimesh passed over it: a header cut or run together
+            if end < 0 and _END_WORD not in line:  # no line ended the header: a body, the word in a comment or past
+                raise LoadError(path, _NOT_A_PLY, line=1)
             raise LoadError(path, f"'{shortened(keyword)}' begins no PLY header line: a line is a format, element, "
                                   "property, comment or obj_info", line=number)
-    if end < 0:  # the word only in comments: no header ends
+    if end < 0:  # the word only in comments, and no body: no line ends the header
         raise LoadError(path, _NOT_A_PLY, line=1)
     if encoding is None:
         raise LoadError(path, "the header has no 'format' line", line=number + 1)
