@@ -12,6 +12,7 @@ from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer
 from marraztu.errors import ViewerError
 from marraztu.loaders.images import fallback_texture
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
+from marraztu.model.scene import Projection
 from support import corpus
 from support.scenes import Notices
 
@@ -87,6 +88,18 @@ def test_the_strict_viewer_refuses_a_load_while_lights_are_targeted(tmp_path: Pa
     press(forgiving, "c c")
     forgiving.press(KeyPress("f", str(tmp_path / "good.obj")))
     assert "lights are targeted" in forgiving.scene.message
+
+
+def test_the_strict_viewer_refuses_a_bare_f_while_lights_are_targeted() -> None:
+    """`c c f e SPACE p ENTER`: the keys after f were read as typed into the file prompt, which never
+    opened, so they were pressed as keys (p switched the projection) and the command wrote its picture."""
+    viewer = Viewer(empty_scene(), Notices(), strict=True)
+    with pytest.raises(ViewerError, match="^f: cannot load a file while lights are targeted"):
+        viewer.press_sequence("c c f e SPACE p ENTER")
+    assert viewer.scene.modes.projection is Projection.PERSPECTIVE
+    forgiving = Viewer(empty_scene(), Notices())
+    forgiving.press_sequence("c c f")
+    assert forgiving.scene.message == "cannot load a file while lights are targeted" and forgiving.prompt is None
 
 
 def test_the_command_lines_models_are_framed_once_together(tmp_path: Path, monkeypatch) -> None:

@@ -318,8 +318,9 @@ class Viewer:
         if lost and before is not None:
             said = self.scene.message
             self._say_unseen(before.obj, f"{said}; {lost}" if said else lost, seen=said)
-        if self.strict and key.path is not None and self.scene.message == commands.LIGHTS_LOAD_REFUSAL:
-            raise ViewerError(f"f={key.path}: {commands.LIGHTS_LOAD_REFUSAL} (press c to target objects)")
+        # A bare f too: the keys after it, read as typed into a prompt that never opened, would be pressed.
+        if self.strict and key.token == "f" and self.scene.message == commands.LIGHTS_LOAD_REFUSAL:
+            raise ViewerError(f"{key}: {commands.LIGHTS_LOAD_REFUSAL} (press c to target objects)")
 
     def press_sequence(self, text: str) -> None:
         for key in self.key_presses(text):
