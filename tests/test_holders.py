@@ -3,6 +3,7 @@ plain pairwise look's, at any magnitude, and found comparing each box with a few
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Iterator
 
 import numpy as np
@@ -115,3 +116,13 @@ def test_the_enclosers_of_thousands_of_loads_compare_each_with_a_few_boxes(compa
                         np.arange(count))
     assert [scene.objects.index(holder) if holder is not None else -1 for holder in found] == expected.tolist()
     assert found.count(None) < {"scattered": count, "nested": count // 20, "alike": 1}[kind]  # most held: found early
+
+
+def test_a_flat_box_narrower_than_the_least_normal_float_is_looked_up_without_a_warning() -> None:
+    """The cells a holder may start in were 2 ** (1 - level) along a flat side, then thrown away: past
+    2 ** 1023, numpy warned "overflow encountered in exp2" on the terminal (one box 1e-310 x 1e-310 x 0)."""
+    low, high = np.zeros((2, 3)), np.array([[1e-310, 1e-310, 0.0], [1e-310, 0.0, 0.0]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        found = first_holders(low, high, low, high, np.arange(2))
+    assert found.tolist() == pairwise(low, high, low, high, np.arange(2)).tolist() == [-1, 0]

@@ -108,8 +108,10 @@ def _spans(sides: np.ndarray, width: float) -> np.ndarray:
     """(3,) along each axis, how many cells `width` wide a least corner of one of these holders may lie
     below the least corner of a box it holds: the power of two above their longest side there, in cells."""
     exponent = int(np.frexp(width)[1]) - 1
-    above = np.frexp(sides)[1] - exponent  # each side < 2 ** (exponent + above)
-    return np.where(sides > 0.0, np.exp2(np.maximum(above, 0)), 0.0)
+    sized = sides > 0.0  # a flat side's 2 ** (1 - exponent) would overflow where cells are under 2 ** -1023
+    spans = np.zeros(len(sides))
+    spans[sized] = np.exp2(np.maximum(np.frexp(sides[sized])[1] - exponent, 0))  # each side < 2 ** (exponent + its)
+    return spans
 
 
 def _cells_asked(low: np.ndarray, high: np.ndarray, width: float, spans: np.ndarray
