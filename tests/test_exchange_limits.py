@@ -313,12 +313,12 @@ def test_triangles_placed_past_the_bound_are_refused_before_trimesh_reads_them(
 
 def random_gltf(rng: random.Random) -> tuple[dict[str, Any], bytes]:
     """Nodes in trees (some in no scene), meshes of primitives of every mode trimesh reads and, after
-    the first, one it skips (a mesh of none it reads cuts its node's children off trimesh's graph), with
-    and without indices, and two scenes."""
+    the first, triangle fans (made triangles for it) and line strips, which it skips (a mesh of none it
+    reads cuts its node's children off trimesh's graph), with and without indices, and two scenes."""
     positions = np.tile(TRIANGLE, (4, 1))  # 12 positions: 4 triangles, a strip of 10
     indices = np.array([0, 1, 2, 3, 4, 5], np.uint16)
     binary = positions.tobytes() + indices.tobytes()
-    meshes = [{"primitives": [{"attributes": {"POSITION": 0}, "mode": rng.choice([0, 1, 4, 4, 5, *([6] * bool(at))]),
+    meshes = [{"primitives": [{"attributes": {"POSITION": 0}, "mode": rng.choice([0, 1, 4, 4, 5, *([6, 3] * bool(at))]),
                                **({"indices": 1} if rng.random() < 0.5 else {})}
                               for at in range(rng.randint(1, 3))]} for _ in range(3)]
     nodes: list[dict[str, Any]] = []
@@ -343,8 +343,11 @@ def random_gltf(rng: random.Random) -> tuple[dict[str, Any], bytes]:
 
 
 def trimesh_counts(document: dict[str, Any], binary: bytes) -> tuple[int, int, int]:
-    """(placements, triangles, vertices) of the scene trimesh reads from the GLB."""
-    scene = trimesh.load(io.BytesIO(glb(document, binary)), file_type="glb", process=False, force="scene")
+    """(placements, triangles, vertices) of the scene trimesh reads from the GLB as the loader hands it
+    over (its fans made triangles)."""
+    made = json.loads(json.dumps(document))
+    handed = gltf.as_trimesh_reads(Path("random.glb"), glb(document, binary), made, "glb", read_beside=bytes)
+    scene = trimesh.load(io.BytesIO(handed), file_type="glb", process=False, force="scene")
     placed = [scene.geometry[scene.graph[node][1]] for node in scene.graph.nodes_geometry]
     triangles = [len(getattr(geometry, "faces", ())) for geometry in placed]
     return (len(placed), sum(triangles),
@@ -649,6 +652,8 @@ def two_meshes_gltf(coordinate: float = 0.0, index: int = 2, name: str | None = 
     ({"index": 3}, "index 5 of its indices (accessor 2) refers to vertex 3, but the primitive has 3 vertices"),
     ({"index": 65535, "mode": 5}, "index 5 of its indices (accessor 2) refers to vertex 65535, but the primitive "
                                   "has 3 vertices"),  # a triangle strip
+    ({"index": 3, "mode": 6}, "index 5 of its indices (accessor 2) refers to vertex 3, but the primitive has 3 "
+                              "vertices"),  # a triangle fan
 ])
 def test_a_gltf_meshs_bad_positions_or_indices_are_refused_naming_the_mesh(
         tmp_path: Path, file_name: str, name: str | None, said: str, damage: dict[str, Any], words: str) -> None:
@@ -1659,8 +1664,9 @@ def test_a_normal_map_is_a_note(tmp_path: Path, normal_maps: list[bool], note: s
 
 @pytest.mark.parametrize(("modes", "note"), [
     ([4, 1, 0], "2 primitives of points and lines are not drawn"),
-    ([4, 6], "1 primitive of triangle fans is not drawn"),
+    ([4, 2, 3], "2 primitives of line loops and line strips are not drawn"),
     ([4, 5], None),
+    ([4, 6], None),
 ])
 def test_primitives_of_lines_and_points_are_a_note(tmp_path: Path, modes: list[int], note: str | None) -> None:
     """Blender writes a mesh's loose edges as a primitive of lines beside its triangles: trimesh reads no
@@ -1671,19 +1677,62 @@ def test_primitives_of_lines_and_points_are_a_note(tmp_path: Path, modes: list[i
     path = tmp_path / "edges.glb"
     path.write_bytes(glb(document, binary))
     loaded = load_model(path)
-    assert loaded.face_count == 1 + (5 in modes)
+    assert loaded.face_count == 1 + (5 in modes) + (6 in modes)
     assert loaded.warnings == (() if note is None else (note,))
 
 
-@pytest.mark.parametrize(("mode", "kind"), [(6, "triangle fans"), (1, "lines")])
-def test_a_mesh_of_fans_or_lines_alone_is_refused_saying_so(tmp_path: Path, mode: int, kind: str) -> None:
-    """A mesh of one triangle fan was refused as placing no triangle mesh, which it does: trimesh reads no fans."""
+@pytest.mark.parametrize(("mode", "kind"), [(1, "lines"), (3, "line strips")])
+def test_a_mesh_of_lines_alone_is_refused_saying_so(tmp_path: Path, mode: int, kind: str) -> None:
+    """A mesh of one primitive of lines was refused as placing no triangle mesh, and nothing said why."""
     document, binary = triangle_gltf([{"mesh": 0}], [0])
     document["meshes"][0]["primitives"][0]["mode"] = mode
-    path = tmp_path / "fan.glb"
+    path = tmp_path / "lines.glb"
     path.write_bytes(glb(document, binary))
     assert one_line_refusal(lambda: load_model(path)).message == (
         f"no node of the scene places a triangle mesh: nothing to draw (1 primitive of {kind} is not drawn)")
+
+
+def hexagon_fan_gltf(indexed: bool) -> tuple[dict[str, Any], bytes]:
+    """A glTF of one hexagon in z = 0 as a triangle fan (glTF's mode 6) from its centre, counter-clockwise
+    seen from +z: indices 0 1 2 3 4 5 6 1 over seven vertices, or those eight vertices fanned in their
+    order where not `indexed`. Placed twice, the second time mirrored in x, which turns the winding round."""
+    turns = np.arange(6) * np.pi / 3
+    indices = np.array([0, 1, 2, 3, 4, 5, 6, 1], np.uint8)
+    positions = np.vstack([[0, 0, 0], np.c_[np.cos(turns), np.sin(turns), np.zeros(6)]]).astype(np.float32)
+    if not indexed:
+        positions = positions[indices]
+    binary = positions.tobytes() + (indices.tobytes() if indexed else b"")
+    document: dict[str, Any] = {
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"mesh": 0, "scale": [-1, 1, 1], "translation": [3, 0, 0]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "mode": 6, **({"indices": 1} if indexed else {})}]}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": len(positions), "type": "VEC3"},
+                      {"bufferView": 1, "componentType": 5121, "count": 8, "type": "SCALAR"}],
+        "bufferViews": [{"buffer": 0, "byteLength": positions.nbytes},
+                        {"buffer": 0, "byteOffset": positions.nbytes, "byteLength": 8}],
+        "buffers": [{"byteLength": len(binary)}],
+    }
+    if not indexed:
+        positions_only = 1
+        del document["accessors"][positions_only], document["bufferViews"][positions_only]
+    return document, binary
+
+
+@pytest.mark.parametrize("file_name", ["model.glb", "data.gltf"])
+@pytest.mark.parametrize("indexed", [True, False])
+def test_a_triangle_fan_is_drawn_as_its_triangles(tmp_path: Path, file_name: str, indexed: bool) -> None:
+    """glTF draws a triangle fan (mode 6) as triangles of its first corner and each next two; trimesh
+    skips fans, so a hexagon fan was not drawn, with a note ('1 primitive of triangle fans is not drawn').
+    Each of its 6 triangles now, placed twice, facing +z both times (the mirrored one's winding turned back)."""
+    loaded = load_model(written_gltf(tmp_path, file_name, *hexagon_fan_gltf(indexed)))
+    assert loaded.face_count == 12
+    assert loaded.warnings == ()
+    assert np.allclose(loaded.face_normals, [0, 0, 1], atol=1e-6)
+    corners = loaded.positions[loaded.corner_vertex].reshape(12, 3, 3)
+    at_a_centre = np.isclose(corners[:, :, None], [[0, 0, 0], [3, 0, 0]], atol=1e-6).all(axis=3)
+    assert (at_a_centre.sum(axis=(1, 2)) == 1).all()  # one corner of each triangle at its hexagon's centre
+    areas = np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1) / 2
+    assert np.allclose(areas.sum(), 2 * 3 * np.sqrt(3) / 2)  # two whole hexagons of side 1, no gap, no overlap
 
 
 @pytest.mark.parametrize("with_material", [False, True])

@@ -721,7 +721,7 @@ def _roots(document: dict[str, Any]) -> list[Any]:
 
 
 # glTF's modes of primitive: trimesh reads points and lines (placed, not drawn), triangles and strips;
-# it skips line loops, line strips and fans.
+# it skips line loops, line strips and fans (fans are made triangles for it: _fans_made_triangles).
 _POINTS, _LINES, _LINE_LOOP, _LINE_STRIP, _TRIANGLES, _STRIP, _FAN = 0, 1, 2, 3, 4, 5, 6
 
 
@@ -734,7 +734,7 @@ def _primitive_sizes(document: dict[str, Any]) -> list[list[tuple[int, int]]]:
         read = []
         for primitive in mesh["primitives"]:
             mode = primitive.get("mode", _TRIANGLES)
-            if mode not in (_POINTS, _LINES, _TRIANGLES, _STRIP):
+            if mode not in (_POINTS, _LINES, _TRIANGLES, _STRIP, _FAN):
                 continue  # trimesh skips it
             points = _count(accessors[primitive["attributes"]["POSITION"]])
             corners = _count(accessors[primitive["indices"]]) if "indices" in primitive else points
@@ -775,9 +775,8 @@ def _morphed_notes(document: dict[str, Any]) -> list[str]:
             "that change it are not applied"]
 
 
-# The modes of primitive trimesh reads no faces of, by what a note calls them.
-_UNDRAWN_MODES = {_POINTS: "points", _LINES: "lines", _LINE_LOOP: "line loops", _LINE_STRIP: "line strips",
-                  _FAN: "triangle fans"}
+# The modes of primitive no face is made of, by what a note calls them.
+_UNDRAWN_MODES = {_POINTS: "points", _LINES: "lines", _LINE_LOOP: "line loops", _LINE_STRIP: "line strips"}
 
 
 def sceneless_words(document: dict[str, Any]) -> list[str]:
@@ -786,7 +785,7 @@ def sceneless_words(document: dict[str, Any]) -> list[str]:
 
 
 def undrawn_primitive_notes(document: dict[str, Any]) -> list[str]:
-    """The placed meshes' primitives of points and lines (Blender's loose edges), and of triangle fans."""
+    """The placed meshes' primitives of points and lines (Blender's loose edges)."""
     meshes = document.get("meshes", [])
     modes = [mode for index in _placed_meshes(document) for primitive in meshes[index]["primitives"]
              if _is_whole(mode := primitive.get("mode", _TRIANGLES)) and mode in _UNDRAWN_MODES]
@@ -897,7 +896,7 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     the meshes no node places emptied, the accessors its primitives read made plain (sparse ones dense,
     normalized positions and texture coordinates floats), its nodes' cameras taken out, its WEBP textures'
     fallbacks chosen, its specular-glossiness materials' diffuse colours made their base colours and the
-    pictures no material draws emptied.
+    pictures no material draws emptied, and its triangle fans made triangles.
     The document is checked already (GltfReferences), and the values its drawn primitives read are
     checked here (_check_drawn_values); `read_beside` reads a buffer's file; `number_materials`: where
     sampled_materials found a sampling to keep."""
@@ -907,12 +906,13 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     buffers = _BufferBytes(path, data, document, file_type, read_beside)
     _check_drawn_values(path, document, buffers)
     made_plain = _accessors_made_plain(path, document, buffers)
+    fans_made_triangles = _fans_made_triangles(path, document, buffers)  # after: it reads plain indices
     cameras_taken_out = _node_cameras_taken_out(document)
     fallbacks_chosen = _fallbacks_chosen(document)
     diffuse_made_base = _diffuse_made_base_colour(document)
     undrawn_emptied = _undrawn_pictures_emptied(document)
-    if not (respelled or numbered or unplaced_emptied or made_plain or cameras_taken_out or fallbacks_chosen
-            or diffuse_made_base or undrawn_emptied):
+    if not (respelled or numbered or unplaced_emptied or made_plain or fans_made_triangles or cameras_taken_out
+            or fallbacks_chosen or diffuse_made_base or undrawn_emptied):
         return data
     text = json.dumps(document).encode()
     if file_type == "gltf":
@@ -950,7 +950,7 @@ def _placed_meshes(document: dict[str, Any]) -> set[int]:
     return {node["mesh"] for node in _placed_nodes(document) if "mesh" in node}
 
 
-_DRAWN_MODES = (_TRIANGLES, _STRIP)  # trimesh makes faces of these alone
+_DRAWN_MODES = (_TRIANGLES, _STRIP, _FAN)  # trimesh makes faces of the first two; fans are made triangles
 _FLOAT_COMPONENTS = 5126
 _CHECKED_ITEMS = 1 << 16  # an accessor's items looked at at once: their temporaries stay small
 
@@ -1082,6 +1082,62 @@ def _accessors_made_plain(path: Path, document: dict[str, Any], buffer: Callable
     document["buffers"].append({"byteLength": len(made),
                                 "uri": "data:application/octet-stream;base64," + base64.b64encode(made).decode()})
     return True
+
+
+_UINT32_COMPONENTS = 5125
+
+
+def _fans_made_triangles(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview]) -> bool:
+    """Makes each triangle fan (glTF's mode 6) of three corners or more a primitive of its triangles, as
+    glTF draws it (the first corner with each next two), their indices in a buffer appended as a data:
+    URI: trimesh skips fans. Fans of the same indices over as many vertices share one accessor. The
+    indices are checked already (_check_drawn_values). False where there is none."""
+    accessors, views = document.get("accessors", []), document.setdefault("bufferViews", [])
+    made = bytearray()
+    made_for: dict[tuple[Any, int], int] = {}  # (indices, vertices) -> the accessor of their triangles
+    for primitive, vertices in _drawn_fans(document):
+        fanned = (primitive.get("indices"), vertices)
+        if fanned not in made_for:
+            triangles = _fan_triangles(_fan_corners(path, document, primitive, vertices, buffer))
+            views.append({"buffer": len(document["buffers"]), "byteOffset": len(made), "byteLength": triangles.nbytes})
+            made += memoryview(triangles).cast("B")
+            accessors.append({"bufferView": len(views) - 1, "componentType": _UINT32_COMPONENTS,
+                              "count": triangles.size, "type": "SCALAR"})
+            made_for[fanned] = len(accessors) - 1
+        primitive["mode"], primitive["indices"] = _TRIANGLES, made_for[fanned]
+    if not made_for:
+        return False
+    document["buffers"].append({"byteLength": len(made),
+                                "uri": "data:application/octet-stream;base64," + base64.b64encode(made).decode()})
+    return True
+
+
+def _drawn_fans(document: dict[str, Any]) -> Iterator[tuple[dict[str, Any], int]]:
+    """Each primitive of a triangle fan of three corners or more (fewer draw nothing, in glTF too), with
+    its vertices' count."""
+    accessors = document.get("accessors", [])
+    for mesh in document.get("meshes", []):
+        for primitive in mesh["primitives"]:
+            vertices = accessors[primitive["attributes"]["POSITION"]]["count"]
+            corners = accessors[primitive["indices"]]["count"] if "indices" in primitive else vertices
+            if primitive.get("mode", _TRIANGLES) == _FAN and corners >= 3:
+                yield primitive, vertices
+
+
+def _fan_corners(path: Path, document: dict[str, Any], primitive: dict[str, Any], vertices: int,
+                 buffer: Callable[[int], bytes | memoryview]) -> np.ndarray:
+    """A fan's corners in order, uint32: its indices, or its vertices in theirs where it has none."""
+    if "indices" not in primitive:
+        return np.arange(vertices, dtype=np.uint32)
+    items = _items(path, document, primitive["indices"], buffer)
+    return np.ascontiguousarray(items).view(f"<u{items.shape[1]}").ravel().astype(np.uint32)
+
+
+def _fan_triangles(corners: np.ndarray) -> np.ndarray:
+    """(corners - 2, 3) uint32, C-ordered: the first corner with each corner and the one after it."""
+    triangles = np.empty((len(corners) - 2, 3), np.uint32)
+    triangles[:, 0], triangles[:, 1], triangles[:, 2] = corners[0], corners[1:-1], corners[2:]
+    return triangles
 
 
 # glTF's normalized integers: each component type's dtype and the value that stands for 1.
