@@ -1644,6 +1644,28 @@ def test_an_emissive_material_is_a_note(tmp_path: Path, materials: list[dict[str
     assert load_model(path).warnings == (() if note is None else (note,))
 
 
+@pytest.mark.parametrize("required", [False, True])
+@pytest.mark.parametrize(("unlit", "note"), [
+    ([True], "material 0's unlit shading (KHR_materials_unlit) is not applied: drawn lit"),
+    ([False, True, True], "2 materials' unlit shading (KHR_materials_unlit) is not applied: drawn lit (the first, "
+                          "material 1's)"),
+    ([False], None),
+])
+def test_an_unlit_material_is_a_note(tmp_path: Path, unlit: list[bool], note: str | None, required: bool) -> None:
+    """KHR_materials_unlit asks for the base colour without lighting (Khronos's UnlitTest: flat orange and
+    blue, 'the 3D effect intentionally lost'); it was drawn lit by SPEC 4's Phong, without a word, even
+    where the file requires the extension."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["materials"] = [{"pbrMetallicRoughness": {"baseColorFactor": [1, 0.5, 0, 1]},
+                              **({"extensions": {"KHR_materials_unlit": {}}} if flat else {})} for flat in unlit]
+    document["meshes"][0]["primitives"][0]["material"] = len(unlit) - 1
+    if required:
+        document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_materials_unlit"]
+    path = tmp_path / "unlit.glb"
+    path.write_bytes(glb(document, binary))
+    assert load_model(path).warnings == (() if note is None else (note,))
+
+
 @pytest.mark.parametrize(("normal_maps", "note"), [
     ([True], "material 0's normal map (normalTexture) is not drawn"),
     ([False, True, True], "2 materials' normal maps (normalTexture) are not drawn (the first, material 1's)"),

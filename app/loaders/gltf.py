@@ -661,7 +661,7 @@ def _required_extension_read(name: object) -> bool:
     """Extensions a file may require and still be drawn as it means: Draco with its decoder, quantized
     attributes (normalized ones made floats for trimesh: _accessors_made_plain), and materials'
     extensions, which change only what the viewer's Phong lighting does not draw (it takes the base
-    colour)."""
+    colour); KHR_materials_unlit, which it does, is drawn lit with a note (_unlit_notes)."""
     return (name in ("KHR_draco_mesh_compression", "KHR_mesh_quantization")
             or isinstance(name, str) and name.startswith("KHR_materials_"))
 
@@ -757,10 +757,11 @@ def unfaithful_notes(document: dict[str, Any], undrawn: list[str]) -> list[str]:
     morph targets it does not read, primitives it reads no faces of (`undrawn`, its undrawn_primitive_notes,
     which the placement check has read already), base colours outside 0..1 it holds to it, base colour
     textures on a second set of texture coordinates, which it reads from the first, and their texture
-    transforms, which it does not apply; and emission and normal maps, which SPEC 4's lighting has no term for."""
+    transforms, which it does not apply; and emission and normal maps, which SPEC 4's lighting has no term for,
+    and unlit materials, which it lights."""
     return [*_morphed_notes(document), *undrawn, *_outside_colour_notes(document),
             *_other_uv_set_notes(document), *_texture_transform_notes(document), *_emission_notes(document),
-            *_normal_map_notes(document)]
+            *_normal_map_notes(document), *_unlit_notes(document)]
 
 
 def _morphed_notes(document: dict[str, Any]) -> list[str]:
@@ -836,6 +837,14 @@ def _normal_map_notes(document: dict[str, Any]) -> list[str]:
               if isinstance(material.get("normalTexture"), dict)]
     return _materials_note(mapped, "normal map (normalTexture) is not drawn",
                            "normal maps (normalTexture) are not drawn")
+
+
+def _unlit_notes(document: dict[str, Any]) -> list[str]:
+    """Materials of KHR_materials_unlit (their base colour, not lit): drawn lit by SPEC 4's Phong."""
+    unlit = [number for number, material in enumerate(document.get("materials", []))
+             if "KHR_materials_unlit" in _nested(material, ("extensions",))]
+    note = "unlit shading (KHR_materials_unlit) is not applied: drawn lit"
+    return _materials_note(unlit, note, note)
 
 
 def _materials_note(numbers: list[int], said_of_one: str, said_of_many: str) -> list[str]:
