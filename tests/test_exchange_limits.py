@@ -1687,6 +1687,7 @@ def test_a_normal_map_is_a_note(tmp_path: Path, normal_maps: list[bool], note: s
 @pytest.mark.parametrize(("modes", "note"), [
     ([4, 1, 0], "2 primitives of points and lines are not drawn"),
     ([4, 2, 3], "2 primitives of line loops and line strips are not drawn"),
+    ([4, 3, 0, 1, 2], "4 primitives of points, lines, line loops and line strips are not drawn"),
     ([4, 5], None),
     ([4, 6], None),
 ])

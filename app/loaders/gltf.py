@@ -792,8 +792,9 @@ def undrawn_primitive_notes(document: dict[str, Any]) -> list[str]:
              if _is_whole(mode := primitive.get("mode", _TRIANGLES)) and mode in _UNDRAWN_MODES]
     if not modes:
         return []
-    kinds = " and ".join(_UNDRAWN_MODES[mode] for mode in sorted(set(modes)))
-    return [f"{counted(len(modes), 'primitive')} of {kinds} {'is' if len(modes) == 1 else 'are'} not drawn"]
+    kinds = [_UNDRAWN_MODES[mode] for mode in sorted(set(modes))]
+    kinds_said = ", ".join(kinds[:-1]) + " and " + kinds[-1] if len(kinds) > 1 else kinds[0]
+    return [f"{counted(len(modes), 'primitive')} of {kinds_said} {'is' if len(modes) == 1 else 'are'} not drawn"]
 
 
 def _has_targets(mesh: dict[str, Any]) -> bool:
