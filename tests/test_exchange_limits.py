@@ -376,6 +376,19 @@ def test_a_root_listed_twice_is_placed_once_and_a_file_of_no_scene_places_nothin
                                "scene, and glTF places no mesh outside one)")
 
 
+def test_a_fan_of_fewer_than_three_corners_is_no_placement() -> None:
+    """A fan of two corners draws nothing and is not made triangles, so trimesh skips it as it skips any
+    fan: it was counted as placed (the count said 3 placements where trimesh places 1)."""
+    document, binary = random_gltf(random.Random(0))
+    document["accessors"] += [{"bufferView": 1, "componentType": 5123, "count": 2, "type": "SCALAR"},
+                              {"bufferView": 0, "componentType": 5126, "count": 2, "type": "VEC3"}]
+    document["meshes"] = [{"primitives": [{"attributes": {"POSITION": 0}},
+                                          {"attributes": {"POSITION": 0}, "indices": 2, "mode": 6},
+                                          {"attributes": {"POSITION": 3}, "mode": 6}]}]
+    document["nodes"], document["scenes"], document["scene"] = [{"mesh": 0}], [{"nodes": [0]}], 0
+    assert gltf.gltf_counts(document) == trimesh_counts(document, binary) == (1, 4, 12)
+
+
 @pytest.mark.parametrize("text", [b"[1, 2]", b"{\"nodes\": 5, \"scenes\": [{\"nodes\": [0]}]}",
                                   b"{\"scenes\": [{\"nodes\": [0]}], \"nodes\": [{\"mesh\": 0}], "
                                   b"\"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}}]}], "

@@ -723,6 +723,7 @@ def _roots(document: dict[str, Any]) -> list[Any]:
 # glTF's modes of primitive: trimesh reads points and lines (placed, not drawn), triangles and strips;
 # it skips line loops, line strips and fans (fans are made triangles for it: _fans_made_triangles).
 _POINTS, _LINES, _LINE_LOOP, _LINE_STRIP, _TRIANGLES, _STRIP, _FAN = 0, 1, 2, 3, 4, 5, 6
+_FAN_LEAST_CORNERS = 3  # a fan of fewer draws nothing, in glTF too: left a fan, which trimesh skips
 
 
 def _primitive_sizes(document: dict[str, Any]) -> list[list[tuple[int, int]]]:
@@ -738,6 +739,8 @@ def _primitive_sizes(document: dict[str, Any]) -> list[list[tuple[int, int]]]:
                 continue  # trimesh skips it
             points = _count(accessors[primitive["attributes"]["POSITION"]])
             corners = _count(accessors[primitive["indices"]]) if "indices" in primitive else points
+            if mode == _FAN and corners < _FAN_LEAST_CORNERS:
+                continue  # not made triangles (_drawn_fans): trimesh skips it
             faces = 0 if mode in (_POINTS, _LINES) else corners // 3 if mode == _TRIANGLES else max(corners - 2, 0)
             read.append((faces, points if faces else 0))
         sizes.append(read)
@@ -1130,7 +1133,7 @@ def _drawn_fans(document: dict[str, Any]) -> Iterator[tuple[dict[str, Any], int]
         for primitive in mesh["primitives"]:
             vertices = accessors[primitive["attributes"]["POSITION"]]["count"]
             corners = accessors[primitive["indices"]]["count"] if "indices" in primitive else vertices
-            if primitive.get("mode", _TRIANGLES) == _FAN and corners >= 3:
+            if primitive.get("mode", _TRIANGLES) == _FAN and corners >= _FAN_LEAST_CORNERS:
                 yield primitive, vertices
 
 
