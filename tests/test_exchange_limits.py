@@ -1771,6 +1771,21 @@ def test_a_triangle_fan_is_drawn_as_its_triangles(tmp_path: Path, file_name: str
     assert np.allclose(areas.sum(), 2 * 3 * np.sqrt(3) / 2)  # two whole hexagons of side 1, no gap, no overlap
 
 
+@pytest.mark.parametrize("file_name", ["zeros.glb", "zeros.gltf"])
+def test_a_fan_in_a_file_of_no_buffer_is_drawn(tmp_path: Path, file_name: str) -> None:
+    """An accessor of no view is zeros, so a file may hold no buffer: its fan's triangles were appended to
+    document["buffers"], which it lacks ('could not read the model (KeyError: 'buffers')')."""
+    document: dict[str, Any] = {
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "mode": 6}]}],
+        "accessors": [{"componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]}]}
+    path = tmp_path / file_name
+    path.write_bytes(glb(document, b"") if file_name.endswith(".glb") else json.dumps(document).encode())
+    loaded = load_model(path)
+    assert loaded.face_count == 2
+    assert not loaded.positions.any()
+
+
 @pytest.mark.parametrize("with_material", [False, True])
 def test_colours_of_normalized_shorts_are_the_fractions_they_stand_for(tmp_path: Path, with_material: bool) -> None:
     """trimesh cast a COLOR_0 of normalized unsigned shorts to bytes where the mesh has no material:

@@ -1106,13 +1106,14 @@ def _fans_made_triangles(path: Path, document: dict[str, Any], buffer: Callable[
     URI: trimesh skips fans. Fans of the same indices over as many vertices share one accessor. The
     indices are checked already (_check_drawn_values). False where there is none."""
     accessors, views = document.get("accessors", []), document.setdefault("bufferViews", [])
+    buffers = document.setdefault("buffers", [])  # none where each accessor is zeros: read without a view
     made = bytearray()
     made_for: dict[tuple[Any, int], int] = {}  # (indices, vertices) -> the accessor of their triangles
     for primitive, vertices in _drawn_fans(document):
         fanned = (primitive.get("indices"), vertices)
         if fanned not in made_for:
             triangles = _fan_triangles(_fan_corners(path, document, primitive, vertices, buffer))
-            views.append({"buffer": len(document["buffers"]), "byteOffset": len(made), "byteLength": triangles.nbytes})
+            views.append({"buffer": len(buffers), "byteOffset": len(made), "byteLength": triangles.nbytes})
             made += memoryview(triangles).cast("B")
             accessors.append({"bufferView": len(views) - 1, "componentType": _UINT32_COMPONENTS,
                               "count": triangles.size, "type": "SCALAR"})
@@ -1120,8 +1121,8 @@ def _fans_made_triangles(path: Path, document: dict[str, Any], buffer: Callable[
         primitive["mode"], primitive["indices"] = _TRIANGLES, made_for[fanned]
     if not made_for:
         return False
-    document["buffers"].append({"byteLength": len(made),
-                                "uri": "data:application/octet-stream;base64," + base64.b64encode(made).decode()})
+    buffers.append({"byteLength": len(made),
+                    "uri": "data:application/octet-stream;base64," + base64.b64encode(made).decode()})
     return True
 
 
