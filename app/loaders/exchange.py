@@ -735,7 +735,7 @@ def _check_placed_counts(path: str | Path, placements: int, triangles: int, vert
                          undrawn: Sequence[str] = ()) -> None:
     """Refuses a scene of more placements, or of more triangles or vertices placed, than a model may hold,
     and one that places no triangle (a glTF's meshes no node places are not handed to trimesh), saying
-    which of its primitives are `undrawn` (lines, fans)."""
+    which of its primitives are `undrawn` (points, lines)."""
     if triangles == 0:
         why = f" ({'; '.join(undrawn)})" if undrawn else ""
         raise LoadError(path, f"no node of the scene places a triangle mesh: nothing to draw{why}")
