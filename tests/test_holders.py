@@ -62,12 +62,18 @@ def layout(kind: str, count: int, rng: np.random.Generator) -> Boxes:
     return low, high
 
 
+def grid_always(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The grid for any number of boxes, where a few would be compared pair by pair."""
+    monkeypatch.setattr(holders, "GRID_FROM_PAIRS", 0)
+    monkeypatch.setattr(holders, "GRID_FROM_BOXES", 0)
+
+
 KINDS = ["scattered", "nested", "alike", "meeting", "any magnitude", "far and small", "not finite"]
 
 
 @pytest.mark.parametrize("kind", KINDS)
 def test_first_holders_are_a_pairwise_looks(kind: str, monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(holders, "GRID_FROM_PAIRS", 0)  # the grid's answers, not the pairwise look's own
+    grid_always(monkeypatch)  # the grid's answers, not the pairwise look's own
     rng = np.random.default_rng(KINDS.index(kind))
     for _ in range(30):
         holder_low, holder_high = layout(kind, int(rng.integers(1, 200)), rng)
@@ -123,7 +129,7 @@ def test_a_flat_box_narrower_than_the_least_normal_float_is_looked_up_without_a_
         monkeypatch: pytest.MonkeyPatch) -> None:
     """The cells a holder may start in were 2 ** (1 - level) along a flat side, then thrown away: past
     2 ** 1023, numpy warned "overflow encountered in exp2" on the terminal (one box 1e-310 x 1e-310 x 0)."""
-    monkeypatch.setattr(holders, "GRID_FROM_PAIRS", 0)
+    grid_always(monkeypatch)
     low, high = np.zeros((2, 3)), np.array([[1e-310, 1e-310, 0.0], [1e-310, 0.0, 0.0]])
     with warnings.catch_warnings():
         warnings.simplefilter("error")

@@ -11,7 +11,10 @@ import numpy as np
 SUBDIVISION_BITS = 1  # a level's cells are half as wide as its boxes may be long
 _LEAST_EXPONENT = -1074  # of the least float above 0: no cell is narrower
 _PAIRWISE_BLOCK = 1 << 20  # box pairs compared at once where boxes are not finite
-GRID_FROM_PAIRS = 1 << 18  # fewer pairs than this are compared pair by pair, the grid's building dearer
+# Pair by pair below these: a grid costs about ten pairs a holder to build, so a few boxes, or a few
+# hundred against as many, are compared faster each with every holder.
+GRID_FROM_PAIRS = 1 << 16
+GRID_FROM_BOXES = 10
 
 
 def holds(holder_low: np.ndarray, holder_high: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.ndarray:
@@ -27,7 +30,7 @@ def first_holders(holder_low: np.ndarray, holder_high: np.ndarray, low: np.ndarr
     best = np.full(len(low), none, dtype=np.int64)
     if not len(low) or not none:
         return np.full(len(low), -1, dtype=np.int64)
-    if len(low) * none < GRID_FROM_PAIRS:  # a model added among the scene's: one block of pairs beats a grid
+    if len(low) < GRID_FROM_BOXES or len(low) * none < GRID_FROM_PAIRS:  # a model added among the scene's
         _pairwise(holder_low, holder_high, low, high, itself, np.arange(none), np.arange(len(low)), best)
         return np.where(best == none, -1, best)
     holder_finite, finite = _finite_boxes(holder_low, holder_high), _finite_boxes(low, high)
