@@ -1574,20 +1574,43 @@ def test_a_base_colour_outside_0_to_1_is_a_note(tmp_path: Path, factors: list[li
     assert loaded.file_material["kd"][:2] == (1.0, pytest.approx(0.5, abs=0.01))
 
 
-@pytest.mark.parametrize(("texture_set", "noted"), [(1, True), (0, False), (None, False)])
-def test_a_base_colour_texture_on_a_second_uv_set_is_a_note(tmp_path: Path, texture_set: int | None,
-                                                             noted: bool) -> None:
-    """trimesh maps a base colour texture by TEXCOORD_0 whatever its texCoord says: one reading
-    TEXCOORD_1 was drawn by the first set's coordinates without a word."""
-    document, binary = triangle_gltf([{"mesh": 0}], [0], picture=png_bytes(2, 2))
-    document["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = 1
-    if texture_set is not None:
-        document["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = texture_set
-    path = tmp_path / "two_sets.glb"
+SECOND_UVS = np.array([[0.5, 0.5], [0.25, 0], [1, 0.75]], np.float32)
+
+
+def two_set_glb(folder: Path, texture_sets: list[int | None]) -> Path:
+    """The triangle of one primitive a material, each with its picture read by `texture_sets` (None: no
+    texCoord given), each primitive's TEXCOORD_1 and TEXCOORD_2 SECOND_UVS, its TEXCOORD_0 UVS."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0], primitives=len(texture_sets), picture=png_bytes(2, 2))
+    document["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": SECOND_UVS.nbytes})
+    document["accessors"].append({"bufferView": 3, "componentType": 5126, "count": 3, "type": "VEC2"})
+    binary += SECOND_UVS.tobytes()
+    document["buffers"][0]["byteLength"] = len(binary)
+    document["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {
+        "index": 0, **({} if texture_set is None else {"texCoord": texture_set})}}} for texture_set in texture_sets]
+    for number, primitive in enumerate(document["meshes"][0]["primitives"]):
+        primitive.update(material=number, attributes={**primitive["attributes"], "TEXCOORD_1": 2, "TEXCOORD_2": 2})
+    path = folder / f"sets_{'_'.join(map(str, texture_sets))}.glb"
     path.write_bytes(glb(document, binary))
-    loaded = load_model(path)
-    assert loaded.warnings == (("material 0's baseColorTexture reads TEXCOORD_1: drawn with TEXCOORD_0's",)
-                               if noted else ())
+    return path
+
+
+@pytest.mark.parametrize("texture_sets", [[1], [2, 1], [0, 2], [None]])
+def test_a_base_colour_texture_is_laid_on_by_the_set_its_tex_coord_names(tmp_path: Path,
+                                                                         texture_sets: list[int | None]) -> None:
+    """trimesh lays a base colour texture on by TEXCOORD_0 whatever its texCoord says: one reading
+    TEXCOORD_1 was drawn by the first set's coordinates, with a note."""
+    loaded = load_model(two_set_glb(tmp_path, texture_sets))
+    assert loaded.warnings == ()
+    expected = [SECOND_UVS if texture_set else UVS for texture_set in texture_sets]
+    flipped = np.concatenate(expected) * (1, -1) + (0, 1)  # glTF's v runs down the picture, OpenGL's up
+    np.testing.assert_allclose(loaded.corner_uv, flipped[loaded.corner_vertex], atol=1e-6)
+
+
+def test_a_file_whose_textures_read_the_first_set_is_handed_to_trimesh_as_it_is(tmp_path: Path) -> None:
+    path = two_set_glb(tmp_path, [0, None])
+    data = path.read_bytes()
+    document = gltf.glb_document(path, data)
+    assert gltf.as_trimesh_reads(path, data, document, "glb", read_beside=bytes) is data
 
 
 def test_a_picture_on_a_mesh_without_texture_coordinates_is_a_note(tmp_path: Path) -> None:
@@ -1601,18 +1624,6 @@ def test_a_picture_on_a_mesh_without_texture_coordinates_is_a_note(tmp_path: Pat
     loaded = load_model(path)
     assert loaded.warnings == ("a material's picture is not drawn (its mesh has no texture coordinates); the "
                                "scene's texture is shown in its place",)
-
-
-def test_base_colour_textures_of_several_materials_on_later_uv_sets_are_one_note(tmp_path: Path) -> None:
-    document, binary = triangle_gltf([{"mesh": 0}], [0], primitives=2, picture=png_bytes(2, 2))
-    for number, primitive in enumerate(document["meshes"][0]["primitives"]):
-        primitive.update(material=number, attributes={**primitive["attributes"], "TEXCOORD_1": 1, "TEXCOORD_2": 1})
-    document["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": texture_set}}}
-                             for texture_set in (2, 1)]
-    path = tmp_path / "two_sets.glb"
-    path.write_bytes(glb(document, binary))
-    assert load_model(path).warnings == ("2 materials' baseColorTexture read a TEXCOORD_n past 0 (the first, "
-                                         "material 0's, TEXCOORD_2): drawn with TEXCOORD_0's",)
 
 
 @pytest.mark.parametrize(("transform", "noted"), [

@@ -250,3 +250,46 @@ def test_a_specular_glossiness_diffuse_factor_outside_0_to_1_is_a_note(tmp_path:
     glossy = {"extensions": {"KHR_materials_pbrSpecularGlossiness": {"diffuseFactor": [1.5, 0.2, 0.2, 1.0]}}}
     loaded = load_model(square(tmp_path / "bright.gltf", [glossy], [{"source": 0}]))
     assert loaded.warnings == ("material 0's diffuseFactor holds 1.5: glTF's colours are 0..1, held to it",)
+
+
+# --- texture coordinate sets -------------------------------------------------------------------------
+BLUE_TEXEL_MIDDLE = (0.25, 0.75)  # glTF's v = 0 is the picture's top row: the lower left texel, blue
+
+
+def with_second_set(path: Path, uv: tuple[float, float]) -> Path:
+    """The square's file with a TEXCOORD_1 on every primitive: each vertex at `uv`, in a buffer of its own."""
+    document = json.loads(path.read_text())
+    count = document["accessors"][0]["count"]
+    table = np.tile(np.array(uv, np.float32), (count, 1))
+    document["buffers"].append({"byteLength": table.nbytes,
+                                "uri": "data:application/octet-stream;base64," + base64.b64encode(table).decode()})
+    document["bufferViews"].append({"buffer": 1, "byteLength": table.nbytes})
+    document["accessors"].append({"bufferView": len(document["bufferViews"]) - 1, "componentType": 5126,
+                                  "count": count, "type": "VEC2"})
+    for primitive in document["meshes"][0]["primitives"]:
+        primitive["attributes"]["TEXCOORD_1"] = len(document["accessors"]) - 1
+    path.write_text(json.dumps(document))
+    return path
+
+
+@pytest.mark.parametrize("specular_glossiness", [False, True])
+def test_a_base_colour_texture_is_laid_on_by_the_set_its_tex_coord_names(tmp_path: Path,
+                                                                         specular_glossiness: bool) -> None:
+    """Khronos's MultiUVTest: a material whose base colour texture reads TEXCOORD_1 was laid on by
+    TEXCOORD_0, with a note. The left half reads TEXCOORD_1 (every vertex on the blue texel), the right
+    half TEXCOORD_0 (the whole picture), of the same primitives' attributes."""
+    def material(texture_set: int) -> dict[str, Any]:
+        texture = {"index": 0, "texCoord": texture_set}
+        if specular_glossiness:
+            return {"extensions": {"KHR_materials_pbrSpecularGlossiness": {"diffuseTexture": texture}}}
+        return {"pbrMetallicRoughness": {"baseColorTexture": texture}}
+
+    path = with_second_set(square(tmp_path / "sets.gltf", [material(1), material(0)], [{"source": 0, "sampler": 0}],
+                                  [{"magFilter": NEAREST}]), BLUE_TEXEL_MIDDLE)
+    pixels = square_pixels(shot(tmp_path, path))
+    half = pixels.shape[1] // 2
+    left = {TEXELS[tuple(bool(channel) for channel in pixel > 8)] for pixel in pixels[:, :half - 1].reshape(-1, 3)}
+    right = {TEXELS[tuple(bool(channel) for channel in pixel > 8)] for pixel in pixels[:, half + 1:].reshape(-1, 3)}
+    assert left == {(1, 0)}  # blue alone
+    assert right == {(0, 0), (0, 1), (1, 0), (1, 1)}
+    assert load_model(path).warnings == ()

@@ -758,13 +758,12 @@ def _count(accessor: Any) -> int:
 def unfaithful_notes(document: dict[str, Any], undrawn: list[str]) -> list[str]:
     """What of a checked glTF is drawn otherwise than it says, which trimesh passes over without a word:
     morph targets it does not read, primitives it reads no faces of (`undrawn`, its undrawn_primitive_notes,
-    which the placement check has read already), base colours outside 0..1 it holds to it, base colour
-    textures on a second set of texture coordinates, which it reads from the first, and their texture
-    transforms, which it does not apply; and emission and normal maps, which SPEC 4's lighting has no term for,
-    and unlit materials, which it lights."""
+    which the placement check has read already), base colours outside 0..1 it holds to it, and base colour
+    textures' transforms, which it does not apply; and emission and normal maps, which SPEC 4's lighting has
+    no term for, and unlit materials, which it lights."""
     return [*_morphed_notes(document), *undrawn, *_outside_colour_notes(document),
-            *_other_uv_set_notes(document), *_texture_transform_notes(document), *_emission_notes(document),
-            *_normal_map_notes(document), *_unlit_notes(document)]
+            *_texture_transform_notes(document), *_emission_notes(document), *_normal_map_notes(document),
+            *_unlit_notes(document)]
 
 
 def _morphed_notes(document: dict[str, Any]) -> list[str]:
@@ -878,19 +877,6 @@ def _moves_coordinates(material: dict[str, Any]) -> bool:
     return any(transform.get(key, unmoved) != unmoved for key, unmoved in _UNMOVED.items())
 
 
-def _other_uv_set_notes(document: dict[str, Any]) -> list[str]:
-    """A base colour texture whose texCoord names TEXCOORD_1 or later: trimesh maps it by TEXCOORD_0."""
-    others = [(number, texture["texCoord"]) for number, material in enumerate(document.get("materials", []))
-              if (texture := _base_colour_texture(material)).get("texCoord", 0) != 0]
-    if not others:
-        return []
-    (number, texture_set), materials = others[0], len(others)
-    if materials == 1:
-        return [f"material {number}'s baseColorTexture reads TEXCOORD_{texture_set}: drawn with TEXCOORD_0's"]
-    return [f"{materials} materials' baseColorTexture read a TEXCOORD_n past 0 (the first, material {number}'s, "
-            f"TEXCOORD_{texture_set}): drawn with TEXCOORD_0's"]
-
-
 def _listed(value: object) -> list[Any]:
     return value if isinstance(value, list) else []
 
@@ -906,7 +892,8 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
                      read_beside: Callable[[str], bytes], number_materials: bool = False) -> bytes:
     """The file, its JSON made again (a GLB's JSON chunk too) where trimesh is to read it otherwise: its
     file URIs that hold "base64," spelled apart, its materials named by number where their samplers matter,
-    the meshes no node places emptied, the accessors its primitives read made plain (sparse ones dense,
+    the meshes no node places emptied, each primitive's TEXCOORD_0 the set its base colour texture reads, the
+    accessors its primitives read made plain (sparse ones dense,
     normalized positions and texture coordinates floats), its nodes' cameras taken out, its WEBP textures'
     fallbacks chosen, its specular-glossiness materials' diffuse colours made their base colours and the
     pictures no material draws emptied, and its triangle fans made triangles.
@@ -916,6 +903,7 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     respelled = _file_uris_respelled(document)  # first: a buffer read here is then named as trimesh asks for it
     numbered = number_materials and _materials_numbered(document)
     unplaced_emptied = _unplaced_meshes_emptied(document)  # before their accessors are checked and made plain
+    uv_sets_chosen = _uv_sets_chosen(document)
     buffers = _BufferBytes(path, data, document, file_type, read_beside)
     _check_drawn_values(path, document, buffers)
     made_plain = _accessors_made_plain(path, document, buffers)
@@ -924,8 +912,8 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     fallbacks_chosen = _fallbacks_chosen(document)
     diffuse_made_base = _diffuse_made_base_colour(document)
     undrawn_emptied = _undrawn_pictures_emptied(document)
-    if not (respelled or numbered or unplaced_emptied or made_plain or fans_made_triangles or cameras_taken_out
-            or fallbacks_chosen or diffuse_made_base or undrawn_emptied):
+    if not (respelled or numbered or unplaced_emptied or uv_sets_chosen or made_plain or fans_made_triangles
+            or cameras_taken_out or fallbacks_chosen or diffuse_made_base or undrawn_emptied):
         return data
     text = json.dumps(document).encode()
     if file_type == "gltf":
@@ -956,6 +944,27 @@ def _unplaced_meshes_emptied(document: dict[str, Any]) -> bool:
     for index in unplaced:
         meshes[index]["primitives"] = []
     return bool(unplaced)
+
+
+def _uv_sets_chosen(document: dict[str, Any]) -> bool:
+    """Points each primitive's TEXCOORD_0 at the set its material's base colour texture reads (its texCoord,
+    checked to be one the primitive has: GltfReferences.texture_sets): trimesh lays the picture on by
+    TEXCOORD_0 whatever texCoord says, and the base colour texture is the one picture drawn. False where
+    none reads another set."""
+    materials, chosen = document.get("materials", []), False
+    for mesh in document.get("meshes", []):
+        for primitive in mesh["primitives"]:
+            texture_set = _drawn_uv_set(materials[primitive["material"]]) if "material" in primitive else 0
+            if texture_set:
+                attributes = primitive["attributes"]
+                attributes["TEXCOORD_0"], chosen = attributes[f"TEXCOORD_{texture_set}"], True
+    return chosen
+
+
+def _drawn_uv_set(material: dict[str, Any]) -> int:
+    """The texCoord of a material's base colour texture, where it has one (an index), else 0."""
+    texture = _base_colour_texture(material)
+    return texture.get("texCoord", 0) if "index" in texture else 0
 
 
 def _placed_meshes(document: dict[str, Any]) -> set[int]:
