@@ -1525,35 +1525,250 @@ def test_a_buffer_file_named_many_times_is_read_once(tmp_path: Path) -> None:
 
 
 # --- what trimesh passes over without a word: notes -----------------------------------------------
-def morphed_glb(folder: Path, mesh_weights: list[float], node: dict[str, Any]) -> Path:
-    """The triangle with one morph target that lifts it by 5 along z, placed by `node`."""
-    document, binary = triangle_gltf([node], [0])
+def morphed_glb(folder: Path, mesh_weights: object, nodes: list[dict[str, Any]], targets: int = 1) -> Path:
+    """The triangle with `targets` morph targets, each lifting it by 5 along z, placed by `nodes`."""
+    document, binary = triangle_gltf(nodes, list(range(len(nodes))))
     target = np.full((3, 3), [0, 0, 5], np.float32).tobytes()
     document["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(target)})
     document["accessors"].append({"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC3",
                                   "min": [0, 0, 5], "max": [0, 0, 5]})
-    document["meshes"][0]["primitives"][0]["targets"] = [{"POSITION": 2}]
-    document["meshes"][0]["weights"] = mesh_weights
+    document["meshes"][0]["primitives"][0]["targets"] = [{"POSITION": 2}] * targets
+    if mesh_weights is not None:
+        document["meshes"][0]["weights"] = mesh_weights
     document["buffers"][0]["byteLength"] = len(binary + target)
     path = folder / "morphed.glb"
     path.write_bytes(glb(document, binary + target))
     return path
 
 
-@pytest.mark.parametrize(("mesh_weights", "node", "noted"), [
-    ([1.0], {"mesh": 0}, True),
-    ([0.0], {"mesh": 0}, False),
-    ([0.0], {"mesh": 0, "weights": [0.5]}, True),  # a node's weights are its mesh's
-    ([1.0], {"mesh": 0, "weights": [0]}, False),
+@pytest.mark.parametrize(("mesh_weights", "node", "lift"), [
+    ([1.0], {"mesh": 0}, 5.0),
+    ([0.0], {"mesh": 0}, 0.0),
+    ([0.0], {"mesh": 0, "weights": [0.5]}, 2.5),  # a node's weights are its mesh's
+    ([1.0], {"mesh": 0, "weights": [0]}, 0.0),
+    ([-0.25], {"mesh": 0}, -1.25),
+    (None, {"mesh": 0}, 0.0),  # none given: zeros
 ])
-def test_morph_targets_that_would_change_the_shape_are_a_note(tmp_path: Path, mesh_weights: list[float],
-                                                              node: dict[str, Any], noted: bool) -> None:
-    """trimesh reads no morph target: a mesh whose default weights are not zero was drawn in its base
-    shape without a word."""
-    loaded = load_model(morphed_glb(tmp_path, mesh_weights, node))
-    assert np.array_equal(loaded.positions, TRIANGLE)  # the base shape
-    assert loaded.warnings == (("1 mesh with morph targets drawn in the base shape: the weights that change it are "
-                                "not applied",) if noted else ())
+def test_a_meshs_default_weights_give_its_shape(tmp_path: Path, mesh_weights: list[float] | None,
+                                               node: dict[str, Any], lift: float) -> None:
+    """glTF draws a mesh as its weights shape it: its POSITION and each morph target's times its weight.
+    trimesh reads no target: a mesh whose weights were not zero was drawn in its base shape, with a note."""
+    loaded = load_model(morphed_glb(tmp_path, mesh_weights, [node]))
+    np.testing.assert_allclose(loaded.positions, TRIANGLE + (0, 0, lift))
+    assert loaded.warnings == ()
+
+
+def test_weights_that_leave_the_base_shape_hand_the_file_to_trimesh_as_it_is(tmp_path: Path) -> None:
+    path = morphed_glb(tmp_path, [0.0], [{"mesh": 0}, {"mesh": 0, "weights": [0]}])
+    data = path.read_bytes()
+    document = gltf.glb_document(path, data)
+    shapes = gltf.morphed_shapes(document, held=len(data))
+    assert shapes.notes == () and gltf.as_trimesh_reads(path, data, document, "glb", read_beside=bytes,
+                                                        shapes=shapes) is data
+
+
+@pytest.mark.parametrize("base_placed", [True, False])
+def test_one_mesh_placed_with_several_weights_is_drawn_in_each_shape(tmp_path: Path, base_placed: bool) -> None:
+    """Each node's weights shape its own placement: the mesh is a copy per distinct weights."""
+    nodes = [{"mesh": 0, "weights": [1.0]}, {"mesh": 0, "translation": [2, 0, 0]},
+             {"mesh": 0, "weights": [1.0], "translation": [4, 0, 0]},
+             {"mesh": 0, "weights": [0 if base_placed else 2], "translation": [6, 0, 0]}]
+    loaded = load_model(morphed_glb(tmp_path, [0.5], nodes))
+    offsets = ([0, 0, 5], [2, 0, 2.5], [4, 0, 5], [6, 0, 0 if base_placed else 10])
+    placed = np.concatenate([TRIANGLE + offset for offset in offsets])
+    assert sorted(map(tuple, loaded.positions.tolist())) == sorted(map(tuple, placed.tolist()))
+    assert loaded.face_count == 4 and loaded.warnings == ()
+
+
+def test_two_targets_with_half_weights_move_a_corner_as_simple_morph_does(tmp_path: Path) -> None:
+    """Khronos's SimpleMorph: weights 0.5 and 0.5, each target moving a corner. Here the quad's corner 2
+    goes to its middle (each target by (-1, -1)), leaving its top right empty, as the same quad written
+    moved draws it (the base quad, as trimesh read it, fills it)."""
+    document, binary = sparse_quad(sparse=False)
+    base, target = QUAD.tobytes(), np.zeros((4, 3), np.float32)
+    target[2] = (-1, -1, 0)
+    for table in (base, target.tobytes()):
+        document["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(table)})
+        binary += table
+    document["buffers"][0]["byteLength"] = len(binary)
+    document["accessors"] += [{"bufferView": 3, "componentType": 5126, "count": 4, "type": "VEC3"},
+                              {"bufferView": 4, "componentType": 5126, "count": 4, "type": "VEC3"}]
+    primitive = document["meshes"][0]["primitives"][0]
+    primitive["attributes"]["POSITION"], primitive["targets"] = 3, [{"POSITION": 4}, {"POSITION": 4}]
+    document["meshes"][0]["weights"] = [0.5, 0.5]
+    files = [written_gltf(tmp_path, "morphed.glb", document, binary),
+             written_gltf(tmp_path, "moved.glb", *sparse_quad(sparse=False))]
+    morphed, moved = [np.asarray(Image.open(take_screenshot(
+        StartOptions(empty=True, models=(path,)), tmp_path / f"{path.stem}.png", (80, 80), keys="0"))).astype(int)
+        for path in files]
+    background = morphed[2, 2]
+    assert np.abs(morphed[50, 32] - background).max() > 40  # the lower left: the quad
+    assert np.abs(morphed[30, 50] - background).max() <= 2  # the top right: nothing
+    assert np.abs(morphed - moved).max() <= 2
+
+
+def test_a_sparse_or_quantized_target_shapes_the_mesh(tmp_path: Path) -> None:
+    """A target of sparse values over zeros (no buffer view), and one of normalized shorts
+    (KHR_mesh_quantization): each read as glTF means it."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    lift = np.array([[0, 0, 16383]] * 3, "<i2")  # 16383 / 32767: about 0.5
+    parts = [np.array([1], "<u1").tobytes() + bytes(3), np.array([0, 2, 0], np.float32).tobytes(),
+             np.concatenate([lift, np.zeros((3, 1), "<i2")], axis=1).tobytes()]  # a row of 8 bytes: aligned
+    for part in parts:
+        document["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(part)})
+        binary += part
+    document["bufferViews"][-1]["byteStride"] = 8
+    document["buffers"][0]["byteLength"] = len(binary)
+    document["accessors"] += [
+        {"componentType": 5126, "count": 3, "type": "VEC3",
+         "sparse": {"count": 1, "indices": {"bufferView": 2, "componentType": 5121}, "values": {"bufferView": 3}}},
+        {"bufferView": 4, "componentType": 5122, "normalized": True, "count": 3, "type": "VEC3"}]
+    document["meshes"][0]["primitives"][0]["targets"] = [{"POSITION": 2}, {"POSITION": 3}]
+    document["meshes"][0]["weights"] = [1, 2]
+    document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_mesh_quantization"]
+    path = tmp_path / "targets.glb"
+    path.write_bytes(glb(document, binary))
+    loaded = load_model(path)
+    expected = TRIANGLE + (0, 0, 2 * 16383 / 32767)
+    expected[1, 1] += 2
+    np.testing.assert_allclose(loaded.positions, expected, rtol=1e-6)
+    assert loaded.warnings == ()
+
+
+@pytest.mark.parametrize(("mesh_weights", "nodes", "targets", "note"), [
+    ([1.0, 0.5], [{"mesh": 0}], 1,
+     "mesh 0's weights are 2 numbers, for its 1 morph target: drawn in the base shape"),
+    ([0.5], [{"mesh": 0, "weights": [1, 1, 1]}], 2,
+     "node 0's weights are 3 numbers, for mesh 0's 2 morph targets: drawn in the base shape"),
+    ([float("nan")], [{"mesh": 0}], 1, "mesh 0's weights hold nan, not a finite number: drawn in the base shape"),
+    ([1.0], [{"mesh": 0, "weights": [float("inf")]}], 1,
+     "node 0's weights hold inf, not a finite number: drawn in the base shape"),
+    ([1.0], [{"mesh": 0, "weights": ["1"]}], 1, "node 0's weights are not a list of numbers: drawn in the base shape"),
+    ({"a": 1}, [{"mesh": 0}], 1, "mesh 0's weights are not a list of numbers: drawn in the base shape"),
+    ([1.0], [{"mesh": 0, "weights": [True]}, {"mesh": 0, "weights": [None]}], 1,
+     "node 0's weights are not a list of numbers: drawn in the base shape"),
+])
+def test_weights_that_cannot_be_applied_are_a_note_naming_them(tmp_path: Path, mesh_weights: object,
+                                                               nodes: list[dict[str, Any]], targets: int,
+                                                               note: str) -> None:
+    """glTF's weights are one finite number a morph target; others leave the base shape, with a note."""
+    loaded = load_model(morphed_glb(tmp_path, mesh_weights, nodes, targets))
+    assert loaded.warnings == (note,)
+    np.testing.assert_array_equal(loaded.positions, np.concatenate([TRIANGLE] * len(nodes)))
+
+
+def test_weights_of_zeros_of_any_length_leave_the_base_shape_without_a_note(tmp_path: Path) -> None:
+    loaded = load_model(morphed_glb(tmp_path, [0, 0, 0], [{"mesh": 0}]))
+    assert np.array_equal(loaded.positions, TRIANGLE) and loaded.warnings == ()
+
+
+def test_primitives_of_unlike_target_counts_are_a_note(tmp_path: Path) -> None:
+    path = morphed_glb(tmp_path, [1.0], [{"mesh": 0}])
+    data = path.read_bytes()
+    document = gltf.glb_document(path, data)
+    document["meshes"][0]["primitives"].append({"attributes": {"POSITION": 0}, "targets": [{"POSITION": 2}] * 2})
+    path.write_bytes(glb(document, data[20 + int.from_bytes(data[12:16], "little") + 8:]))
+    loaded = load_model(path)
+    assert loaded.warnings == ("mesh 0's primitives have 1 and 2 morph targets (glTF's have as many each): drawn in "
+                               "the base shape",)
+    assert np.array_equal(loaded.positions, np.concatenate([TRIANGLE, TRIANGLE]))
+
+
+def test_weights_of_several_meshes_that_cannot_be_applied_are_one_note(tmp_path: Path) -> None:
+    path = morphed_glb(tmp_path, [1.0, 1.0], [{"mesh": 0}, {"mesh": 1}])
+    data = path.read_bytes()
+    document = gltf.glb_document(path, data)
+    document["meshes"].append({**document["meshes"][0], "name": "wing", "weights": [float("nan")]})
+    path.write_bytes(glb(document, data[20 + int.from_bytes(data[12:16], "little") + 8:]))
+    assert load_model(path).warnings == ("2 meshes with morph targets drawn in the base shape: their weights cannot "
+                                         "be applied (the first, mesh 0's weights are 2 numbers, for its 1 morph "
+                                         "target)",)
+
+
+@pytest.mark.parametrize(("edit", "words"), [
+    ("p['targets'] = {'POSITION': 2}", "mesh 0's primitive 0's targets are not a list"),
+    ("p['targets'] = [7]", "mesh 0's primitive 0's morph target 0 is not an object"),
+    ("p['targets'] = [{'POSITION': 9}]", "mesh 0's primitive 0's morph target 0's POSITION names accessor 9, of 3"),
+    ("p['targets'] = [{'POSITION': 1}]",
+     "mesh 0's primitive 0's morph target 0's POSITION is accessor 1, of type VEC2: glTF's are VEC3"),
+    ("p['targets'] = [{'POSITION': 2}, {'NORMAL': 2, 'POSITION': 2}]; d['accessors'][2]['componentType'] = 5121",
+     "mesh 0's primitive 0's morph target 0's POSITION is accessor 2, of componentType 5121: glTF's are 5126 "
+     "(float), or 5120 or 5122, normalized or not (KHR_mesh_quantization)"),
+    ("p['targets'] = [{'POSITION': 2, 'NORMAL': 1}]",
+     "mesh 0's primitive 0's morph target 0's NORMAL is accessor 1, of type VEC2: glTF's are VEC3"),
+    ("d['accessors'][2]['count'] = 2; d['bufferViews'][2]['byteLength'] = 24",
+     "mesh 0's primitive 0's morph target 0's POSITION has 2 items, the primitive's POSITION 3: a morph target "
+     "holds one item per vertex"),
+])
+def test_morph_targets_not_shaped_as_gltfs_are_refused(tmp_path: Path, edit: str, words: str) -> None:
+    """trimesh read no target, so any passed; those whose weights shape the mesh are read now."""
+    path = morphed_glb(tmp_path, [1.0], [{"mesh": 0}])
+    data = path.read_bytes()
+    d = gltf.glb_document(path, data)
+    p = d["meshes"][0]["primitives"][0]  # noqa: F841 (the edits name it)
+    exec(edit)
+    path.write_bytes(glb(d, data[20 + int.from_bytes(data[12:16], "little") + 8:]))
+    assert one_line_refusal(lambda: load_model(path)).message == f"not a glTF file: {words}"
+
+
+@pytest.mark.parametrize(("weight", "value"), [(1.0, float("nan")), (1e37, 50.0)])
+def test_a_shape_of_a_coordinate_that_is_no_finite_number_is_refused(tmp_path: Path, weight: float,
+                                                                    value: float) -> None:
+    path = morphed_glb(tmp_path, [weight], [{"mesh": 0}])
+    data = bytearray(path.read_bytes())
+    target_at = data.index(np.full((3, 3), [0, 0, 5], np.float32).tobytes())
+    data[target_at + 20:target_at + 24] = np.float32(value).tobytes()  # vertex 1's z
+    path.write_bytes(bytes(data))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        "mesh 0's primitive 0: vertex 1 of its shape by its weights is not a finite number (a morph target's "
+        "POSITION holds one, or a weight takes it past float's range)")
+
+
+def test_shapes_that_would_make_many_times_the_files_bytes_are_a_note_never_made(tmp_path: Path) -> None:
+    """A mesh of 20,000 vertices placed by 10 nodes, each with weights of its own, would be 10 shapes
+    (7 MB read and made from a 480 KB file), past twice the file's bytes and 1 MiB: the base shape, unread."""
+    vertices, nodes = 20_000, 10
+    grid, lifted = np.zeros((vertices, 3), np.float32), np.zeros((vertices, 3), np.float32)
+    grid[:, 0], grid[:, 1], lifted[:, 2] = np.arange(vertices), np.arange(vertices) % 2, 1  # a zigzag strip, lifted
+    binary = grid.tobytes() + lifted.tobytes()
+    document = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": list(range(nodes))}],
+                "nodes": [{"mesh": 0, "weights": [number + 1]} for number in range(nodes)],
+                "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "targets": [{"POSITION": 1}], "mode": 5}]}],
+                "accessors": [{"bufferView": number, "componentType": 5126, "count": vertices, "type": "VEC3"}
+                              for number in range(2)],
+                "bufferViews": [{"buffer": 0, "byteOffset": number * grid.nbytes, "byteLength": grid.nbytes}
+                                for number in range(2)],
+                "buffers": [{"byteLength": len(binary)}]}
+    path = tmp_path / "crowd.glb"
+    path.write_bytes(glb(document, binary))
+    held = path.stat().st_size
+    loaded, peak = peak_traced_bytes(lambda: load_model(path))
+    assert loaded.warnings == (f"mesh 0's shapes by its weights would make {12 * vertices * 3 * nodes} bytes: more "
+                               f"than the {2 * held + (1 << 20)} a file and buffers of {held} bytes may make (twice "
+                               f"them, and {1 << 20} more): drawn in the base shape",)
+    assert np.array_equal(loaded.positions[:vertices], grid)
+    assert peak < 100 * held, peak
+
+
+def test_a_target_named_many_times_is_read_once(tmp_path: Path) -> None:
+    """300 targets of one accessor of 20,000 vertices: their weights added up, it is read once."""
+    vertices = 20_000
+    grid, lifted = np.zeros((vertices, 3), np.float32), np.zeros((vertices, 3), np.float32)
+    grid[:, 0], grid[:, 1], lifted[:, 2] = np.arange(vertices), np.arange(vertices) % 2, 1
+    binary = grid.tobytes() + lifted.tobytes()
+    document = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+                "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "targets": [{"POSITION": 1}] * 300,
+                                            "mode": 5}], "weights": [0.01] * 300}],
+                "accessors": [{"bufferView": number, "componentType": 5126, "count": vertices, "type": "VEC3"}
+                              for number in range(2)],
+                "bufferViews": [{"buffer": 0, "byteOffset": number * grid.nbytes, "byteLength": grid.nbytes}
+                                for number in range(2)],
+                "buffers": [{"byteLength": len(binary)}]}
+    path = tmp_path / "many.glb"
+    path.write_bytes(glb(document, binary))
+    loaded = load_model(path)
+    np.testing.assert_allclose(loaded.positions, grid + (0, 0, 3), rtol=1e-5)
+    assert loaded.warnings == ()
 
 
 @pytest.mark.parametrize(("factors", "note"), [

@@ -60,6 +60,7 @@ from marraztu.loaders.gltf import (
     gltf_counts,
     gltf_document,
     gltf_pictures,
+    morphed_shapes,
     numbered_material,
     sampled_materials,
     sceneless_words,
@@ -180,15 +181,18 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     pictures = gltf_pictures(document) if file_type == "gltf" else frozenset()  # a GLB holds its own
     check_geometry_readable(path, document)  # first: compressed accessors are bytes a decoder makes, not zeros
     least_bytes = buffer_bytes(document)
-    GltfReferences(path, document, held=len(data) + sum(least_bytes.values())).check()
+    held = len(data) + sum(least_bytes.values())
+    GltfReferences(path, document, held=held).check()
     check_one_parent_each(path, document)
     counts, undrawn = gltf_counts(document), undrawn_primitive_notes(document)
     if counts is not None:  # before trimesh builds a node and a mesh per placement
         _check_placed_counts(path, *counts, undrawn=sceneless_words(document) + undrawn)
-    notes, sampled = unfaithful_notes(document, undrawn), sampled_materials(document)
+    shapes, sampled = morphed_shapes(document, held), sampled_materials(document)
+    notes = [*shapes.notes, *unfaithful_notes(document, undrawn)]
     beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True, least_bytes=least_bytes)
     data = as_trimesh_reads(path, data if file_type == "gltf" else declared_part(data), document, file_type,
-                            functools.partial(_read_named, path, beside), number_materials=bool(sampled))
+                            functools.partial(_read_named, path, beside), number_materials=bool(sampled),
+                            shapes=shapes)
     del document
     return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside, notes=notes,
                    sampled=sampled)

@@ -13,6 +13,7 @@ import json
 import math
 import sys
 from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -148,8 +149,9 @@ def as_trimesh_asks(uri: str) -> str:
 
 
 # --- what it names, checked ----------------------------------------------------------------------
-# Bytes of an accessor's component types, and components of its types.
-_COMPONENT_BYTES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
+# An accessor's component types as numpy reads them, and their bytes; and the components of its types.
+_COMPONENT_DTYPES = {5120: "<i1", 5121: "<u1", 5122: "<i2", 5123: "<u2", 5125: "<u4", 5126: "<f4"}
+_COMPONENT_BYTES = {kind: np.dtype(dtype).itemsize for kind, dtype in _COMPONENT_DTYPES.items()}
 _TYPE_COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 _SPARSE_INDEX_BYTES = {5121: 1, 5123: 2, 5125: 4}  # a sparse accessor's indices: unsigned integers
 _NODE_TRANSFORMS = {"translation": 3, "rotation": 4, "scale": 3, "matrix": 16}
@@ -178,11 +180,23 @@ _COMPONENT_TYPES: dict[str, _ComponentTypes] = {
 }
 _INDEX_COMPONENT_TYPES: _ComponentTypes = ({5121: (False,), 5123: (False,), 5125: (False,)},
                                            "5121, 5123 or 5125, not normalized")
+_TARGET_POSITION_TYPES: _ComponentTypes = ({**_FLOAT, 5120: (False, True), 5122: (False, True)},
+                                           "5126 (float), or 5120 or 5122, normalized or not (KHR_mesh_quantization)")
 # What trimesh copies (each buffer view, each accessor's items from its view) and what is written before
 # it builds the meshes (the zeros, or sparse items, of an accessor a primitive reads) adds up, in a file
 # as glTF's writers make it, to at most the bytes the file and its buffers hold: past twice those and
 # this many more, a file is refused unread (a POSITION of 3M zeros from 400 bytes took 376 MB).
 MADE_FLOOR_BYTES = 1 << 20
+
+
+def made_limit(held: int) -> int:
+    """The bytes a glTF whose file and buffers hold `held` may make: twice them, and MADE_FLOOR_BYTES more."""
+    return 2 * held + MADE_FLOOR_BYTES
+
+
+def past_made_limit(held: int) -> str:
+    return (f"more than the {made_limit(held)} a file and buffers of {held} bytes may make (twice them, and "
+            f"{MADE_FLOOR_BYTES} more)")
 # The arrays of objects trimesh reads item by item (with .get or [key]), and the samplers, which it passes
 # over, by the name of their items.
 _READ_ARRAYS = {"scenes": "scene", "nodes": "node", "meshes": "mesh", "materials": "material", "textures": "texture",
@@ -205,7 +219,7 @@ class GltfReferences:
         """`held`: the bytes of the file and of the buffers it names beside it."""
         self.path, self.document = path, document
         self.copied = {"buffer view": 0, "accessor": 0}  # the bytes trimesh copies of each, in all
-        self.held, self.made_limit = held, 2 * held + MADE_FLOOR_BYTES
+        self.held, self.made_limit = held, made_limit(held)
 
     def check(self) -> None:
         self.asset()
@@ -296,8 +310,7 @@ class GltfReferences:
                                 f"{total} bytes: {self.past_made_limit()}")
 
     def past_made_limit(self) -> str:
-        return (f"more than the {self.made_limit} a file and buffers of {self.held} bytes may make (twice them, and "
-                f"{MADE_FLOOR_BYTES} more)")
+        return past_made_limit(self.held)
 
     def material(self, number: int, material: dict[str, Any]) -> None:
         """Its values as trimesh reads them: pbrMetallicRoughness's merged into the material's, each list
@@ -375,12 +388,31 @@ class GltfReferences:
                 self.refuse(f"{what}'s indices are accessor {primitive['indices']}, of type {accessor.get('type')}: "
                             "glTF's are SCALAR")
             self.components(f"{what}'s indices are", _INDEX_COMPONENT_TYPES, primitive["indices"], accessor)
+        for number, target in enumerate(self.listed(primitive, "targets", what)):
+            self.morph_target(f"{what}'s morph target {number}", target, attributes["POSITION"])
         if primitive.get("mode", _TRIANGLES) == _TRIANGLES:  # three corners each, or trimesh fails to reshape them
             corners = "indices" if "indices" in primitive else "vertices and no indices"
             count = self.document["accessors"][primitive.get("indices", attributes["POSITION"])].get("count")
             if _is_whole(count) and count % 3:
                 self.refuse(f"{what} has {count} {corners}: its triangles take three each")
         self.counts_alike(what, attributes)
+
+    def morph_target(self, what: str, target: object, position: int) -> None:
+        """A morph target's attributes, each naming an accessor of an item per vertex; its POSITION and NORMAL
+        VEC3s, its POSITION of a component type glTF allows (trimesh reads none: the weights' shapes do)."""
+        if not isinstance(target, dict):
+            self.refuse(f"{what} is not an object")
+        vertices = self.document["accessors"][position]["count"]
+        for name, index in target.items():
+            said = f"{what}'s {shortened(escaped(str(name)))}"
+            accessor = self.named(index, "accessors", said)
+            if name in ("POSITION", "NORMAL") and accessor["type"] != "VEC3":
+                self.refuse(f"{said} is accessor {index}, of type {accessor['type']}: glTF's are VEC3")
+            if name == "POSITION":
+                self.components(f"{said} is", _TARGET_POSITION_TYPES, index, accessor)
+            if accessor["count"] != vertices:
+                self.refuse(f"{said} has {accessor['count']} items, the primitive's POSITION {vertices}: a morph "
+                            "target holds one item per vertex")
 
     def components(self, what: str, rule: _ComponentTypes, index: int, accessor: dict[str, Any]) -> None:
         """An attribute's or the indices' component type, and whether it is normalized, as glTF allows
@@ -695,6 +727,11 @@ def gltf_counts(document: dict[str, Any] | None) -> tuple[int, int, int] | None:
 
 
 def _placed_nodes(document: dict[str, Any]) -> Iterator[dict[str, Any]]:
+    nodes = document.get("nodes", [])
+    return (nodes[number] for number in _placed_node_numbers(document))
+
+
+def _placed_node_numbers(document: dict[str, Any]) -> Iterator[int]:
     """Each node of the scene each time trimesh places it: walked from the scene's roots, an edge from a
     parent to a child once (a scene root that is also a node's child is placed twice), each node's
     children queued once."""
@@ -710,7 +747,7 @@ def _placed_nodes(document: dict[str, Any]) -> Iterator[dict[str, Any]]:
         if edge[1] not in opened:  # trimesh queues them again for each parent: all consumed by then
             opened.add(edge[1])
             edges.extend((edge[1], index) for index in child.get("children", []))
-        yield child
+        yield edge[1]
 
 
 def _roots(document: dict[str, Any]) -> list[Any]:
@@ -757,25 +794,12 @@ def _count(accessor: Any) -> int:
 # --- what trimesh draws otherwise than it says ---------------------------------------------------
 def unfaithful_notes(document: dict[str, Any], undrawn: list[str]) -> list[str]:
     """What of a checked glTF is drawn otherwise than it says, which trimesh passes over without a word:
-    morph targets it does not read, primitives it reads no faces of (`undrawn`, its undrawn_primitive_notes,
-    which the placement check has read already), base colours outside 0..1 it holds to it, and base colour
-    textures' transforms, which it does not apply; and emission and normal maps, which SPEC 4's lighting has
-    no term for, and unlit materials, which it lights."""
-    return [*_morphed_notes(document), *undrawn, *_outside_colour_notes(document),
-            *_texture_transform_notes(document), *_emission_notes(document), *_normal_map_notes(document),
-            *_unlit_notes(document)]
-
-
-def _morphed_notes(document: dict[str, Any]) -> list[str]:
-    """A mesh placed with morph targets and weights not all zero (a node's, else the mesh's own) is drawn
-    in its base shape: trimesh reads no target."""
-    meshes = document.get("meshes", [])
-    morphed = {index for node in document.get("nodes", []) if _is_whole(index := node.get("mesh"))
-               and _has_targets(meshes[index]) and _any_weight(node.get("weights", meshes[index].get("weights")))}
-    if not morphed:
-        return []
-    return [f"{counted(len(morphed), 'mesh', 'meshes')} with morph targets drawn in the base shape: the weights "
-            "that change it are not applied"]
+    primitives it reads no faces of (`undrawn`, its undrawn_primitive_notes, which the placement check has
+    read already), base colours outside 0..1 it holds to it, and base colour textures' transforms, which it
+    does not apply; and emission and normal maps, which SPEC 4's lighting has no term for, and unlit
+    materials, which it lights. (Weights that cannot shape a mesh: MorphedShapes.notes.)"""
+    return [*undrawn, *_outside_colour_notes(document), *_texture_transform_notes(document),
+            *_emission_notes(document), *_normal_map_notes(document), *_unlit_notes(document)]
 
 
 # The modes of primitive no face is made of, by what a note calls them.
@@ -797,14 +821,6 @@ def undrawn_primitive_notes(document: dict[str, Any]) -> list[str]:
     kinds = [_UNDRAWN_MODES[mode] for mode in sorted(set(modes))]
     kinds_said = ", ".join(kinds[:-1]) + " and " + kinds[-1] if len(kinds) > 1 else kinds[0]
     return [f"{counted(len(modes), 'primitive')} of {kinds_said} {'is' if len(modes) == 1 else 'are'} not drawn"]
-
-
-def _has_targets(mesh: dict[str, Any]) -> bool:
-    return any(isinstance(primitive, dict) and primitive.get("targets") for primitive in mesh["primitives"])
-
-
-def _any_weight(weights: object) -> bool:
-    return isinstance(weights, list) and any(_is_number(weight) and weight != 0 for weight in weights)
 
 
 def _outside_colour_notes(document: dict[str, Any]) -> list[str]:
@@ -887,32 +903,139 @@ def _base_colour_texture(material: dict[str, Any]) -> dict[str, Any]:
     return _nested(where, (key,))
 
 
+# --- morph targets: the shapes the weights give -------------------------------------------------
+_BASE_SHAPE: tuple[float, ...] = ()  # the weights of a placement drawn in its mesh's base shape
+_MORPHED_ITEM_BYTES = 12  # a vertex of a shape (float32 VEC3): what a shape's reads and writes are counted in
+
+
+@dataclass(frozen=True)
+class MorphedShapes:
+    """Each placed mesh with morph targets that its weights shape (a node's, else its mesh's): the nodes
+    that place it, by the weights they shape it with (_BASE_SHAPE: its base shape); and the notes of
+    weights that cannot be applied, whose placements are drawn in the base shape."""
+
+    by_mesh: dict[int, dict[tuple[float, ...], list[int]]]
+    notes: tuple[str, ...] = ()
+
+
+def morphed_shapes(document: dict[str, Any], held: int) -> MorphedShapes:
+    """The shapes of a checked glTF's placed meshes, from its JSON. What they read and write may come to no
+    more than made_limit(held) bytes, `held` the file's and its buffers' bytes: a mesh past it is drawn in
+    its base shape, with a note (each shape reads its targets again: many nodes of weights of their own
+    would read a large mesh's many times)."""
+    meshes, nodes = document.get("meshes", []), document.get("nodes", [])
+    by_mesh: dict[int, dict[tuple[float, ...], list[int]]] = {}
+    unapplied: dict[int, str] = {}  # each mesh's first reason
+    for number in sorted(set(_placed_node_numbers(document))):
+        mesh_number = nodes[number].get("mesh")
+        if mesh_number is None or not any(primitive.get("targets") for primitive in meshes[mesh_number]["primitives"]):
+            continue
+        weights = _shaping_weights(number, nodes[number], mesh_number, meshes[mesh_number])
+        if isinstance(weights, str):
+            unapplied.setdefault(mesh_number, weights)
+            weights = _BASE_SHAPE
+        by_mesh.setdefault(mesh_number, {}).setdefault(weights, []).append(number)
+    made = 0
+    for mesh_number, shapes in list(by_mesh.items()):
+        work = _shaping_bytes(document, meshes[mesh_number], shapes)
+        if work and made + work <= made_limit(held):
+            made += work
+            continue
+        del by_mesh[mesh_number]  # its base shape alone: nothing to make
+        if work:
+            unapplied.setdefault(mesh_number, f"{_mesh_named(mesh_number, meshes[mesh_number])}'s shapes by its "
+                                              f"weights would make {work} bytes: {past_made_limit(held)}")
+    return MorphedShapes(by_mesh, _unshaped_notes(list(unapplied.values())))
+
+
+def _shaping_weights(number: int, node: dict[str, Any], mesh_number: int,
+                     mesh: dict[str, Any]) -> tuple[float, ...] | str:
+    """The weights node `number` shapes its mesh with, glTF's default pose (its own, else its mesh's;
+    _BASE_SHAPE where they are zeros or none), or why they cannot be applied."""
+    own = "weights" in node
+    weights = node["weights"] if own else mesh.get("weights", [])
+    named = _mesh_named(mesh_number, mesh)
+    whose, targets_of = (f"node {number}'s weights", f"{named}'s") if own else (f"{named}'s weights", "its")
+    if not (isinstance(weights, list) and all(map(_is_number, weights))):
+        return f"{whose} are not a list of numbers"
+    if unheld := [weight for weight in weights if not _is_finite(weight)]:
+        return f"{whose} hold {shortened(str(unheld[0]))}, not a finite number"
+    if not any(weights):
+        return _BASE_SHAPE
+    targets = sorted({len(primitive.get("targets", [])) for primitive in mesh["primitives"]})
+    if len(targets) > 1:
+        return f"{named}'s primitives have {' and '.join(map(str, targets))} morph targets (glTF's have as many each)"
+    if len(weights) != targets[0]:
+        return f"{whose} are {counted(len(weights), 'number')}, for {targets_of} {counted(targets[0], 'morph target')}"
+    return tuple(float(weight) for weight in weights)
+
+
+def _shaping_bytes(document: dict[str, Any], mesh: dict[str, Any], shapes: dict[tuple[float, ...], list[int]]) -> int:
+    """What a mesh's shapes read and write, in _MORPHED_ITEM_BYTES a vertex: for each shape other than the
+    base, each drawn primitive's POSITION, the targets' accessors that move it, and the shape made."""
+    accessors, total = document["accessors"], 0
+    for weights in shapes:
+        for primitive in mesh["primitives"] if weights else ():
+            if _is_drawn(primitive):
+                moving = len(_moving_weights(accessors, weights, primitive["targets"]))
+                total += _MORPHED_ITEM_BYTES * accessors[primitive["attributes"]["POSITION"]]["count"] * (2 + moving)
+    return total
+
+
+def _is_drawn(primitive: dict[str, Any]) -> bool:
+    return primitive.get("mode", _TRIANGLES) in _DRAWN_MODES
+
+
+def _moving_weights(accessors: list[dict[str, Any]], weights: tuple[float, ...],
+                    targets: list[dict[str, Any]]) -> dict[int, float]:
+    """The accessors of the targets' POSITIONs that move the vertices, each with its weights added up (a
+    file may name one in several targets): one of zeros (no view, no sparse values) moves none."""
+    moving: dict[int, float] = {}
+    for weight, target in zip(weights, targets):
+        position = target.get("POSITION")
+        if weight and position is not None and ("bufferView" in accessors[position] or "sparse" in accessors[position]):
+            moving[position] = moving.get(position, 0.0) + weight
+    return {position: weight for position, weight in moving.items() if weight}
+
+
+def _unshaped_notes(reasons: list[str]) -> tuple[str, ...]:
+    """One note of the meshes whose weights cannot be applied (a reason each), naming the first."""
+    if not reasons:
+        return ()
+    if len(reasons) == 1:
+        return (f"{reasons[0]}: drawn in the base shape",)
+    return (f"{counted(len(reasons), 'mesh', 'meshes')} with morph targets drawn in the base shape: their weights "
+            f"cannot be applied (the first, {reasons[0]})",)
+
+
 # --- the JSON made again for trimesh -------------------------------------------------------------
 def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_type: str,
-                     read_beside: Callable[[str], bytes], number_materials: bool = False) -> bytes:
+                     read_beside: Callable[[str], bytes], number_materials: bool = False,
+                     shapes: MorphedShapes | None = None) -> bytes:
     """The file, its JSON made again (a GLB's JSON chunk too) where trimesh is to read it otherwise: its
     file URIs that hold "base64," spelled apart, its materials named by number where their samplers matter,
     the meshes no node places emptied, each primitive's TEXCOORD_0 the set its base colour texture reads, the
-    accessors its primitives read made plain (sparse ones dense,
-    normalized positions and texture coordinates floats), its nodes' cameras taken out, its WEBP textures'
-    fallbacks chosen, its specular-glossiness materials' diffuse colours made their base colours and the
-    pictures no material draws emptied, and its triangle fans made triangles.
+    meshes its weights shape given their shapes' positions, the accessors its primitives read made plain
+    (sparse ones dense, normalized positions and texture coordinates floats), its nodes' cameras taken out,
+    its WEBP textures' fallbacks chosen, its specular-glossiness materials' diffuse colours made their base
+    colours and the pictures no material draws emptied, and its triangle fans made triangles.
     The document is checked already (GltfReferences), and the values its drawn primitives read are
     checked here (_check_drawn_values); `read_beside` reads a buffer's file; `number_materials`: where
-    sampled_materials found a sampling to keep."""
+    sampled_materials found a sampling to keep; `shapes`: its morphed_shapes (None: none made)."""
     respelled = _file_uris_respelled(document)  # first: a buffer read here is then named as trimesh asks for it
     numbered = number_materials and _materials_numbered(document)
     unplaced_emptied = _unplaced_meshes_emptied(document)  # before their accessors are checked and made plain
     uv_sets_chosen = _uv_sets_chosen(document)
     buffers = _BufferBytes(path, data, document, file_type, read_beside)
     _check_drawn_values(path, document, buffers)
+    shaped = shapes is not None and _shapes_made(path, document, buffers, shapes)  # before: its POSITIONs are plain
     made_plain = _accessors_made_plain(path, document, buffers)
     fans_made_triangles = _fans_made_triangles(path, document, buffers)  # after: it reads plain indices
     cameras_taken_out = _node_cameras_taken_out(document)
     fallbacks_chosen = _fallbacks_chosen(document)
     diffuse_made_base = _diffuse_made_base_colour(document)
     undrawn_emptied = _undrawn_pictures_emptied(document)
-    if not (respelled or numbered or unplaced_emptied or uv_sets_chosen or made_plain or fans_made_triangles
+    if not (respelled or numbered or unplaced_emptied or uv_sets_chosen or shaped or made_plain or fans_made_triangles
             or cameras_taken_out or fallbacks_chosen or diffuse_made_base or undrawn_emptied):
         return data
     text = json.dumps(document).encode()
@@ -1106,6 +1229,85 @@ def _accessors_made_plain(path: Path, document: dict[str, Any], buffer: Callable
     return True
 
 
+def _shapes_made(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview],
+                 shapes: MorphedShapes) -> bool:
+    """Gives each mesh its weights shape the positions of its shape (glTF's default pose), in a buffer
+    appended as a data: URI: trimesh reads no morph target. A mesh of several shapes is a copy per shape
+    but its first, each node placing its own. Primitives of the same POSITION and targets shaped alike
+    share one accessor. False where no mesh is shaped."""
+    if not shapes.by_mesh:
+        return False
+    meshes, accessors = document.get("meshes", []), document.get("accessors", [])
+    views, made = document.setdefault("bufferViews", []), bytearray()
+    made_for: dict[tuple[Any, ...], int] = {}  # (POSITION, its targets, weights) -> the accessor of the shape
+    for mesh_number, by_weights in shapes.by_mesh.items():
+        named = _mesh_named(mesh_number, meshes[mesh_number])
+        for mesh, weights in _mesh_per_shape(document, mesh_number, by_weights):
+            for number, primitive in enumerate(mesh["primitives"]):
+                if not weights or not _is_drawn(primitive):
+                    continue
+                key = (primitive["attributes"]["POSITION"], tuple(target.get("POSITION") for target in
+                                                                  primitive["targets"]), weights)
+                if key not in made_for:
+                    shape = _shape(path, document, primitive, weights, buffer, f"{named}'s primitive {number}")
+                    views.append({"buffer": len(document["buffers"]), "byteOffset": len(made),
+                                  "byteLength": shape.nbytes})
+                    made += memoryview(shape).cast("B")
+                    accessors.append({"bufferView": len(views) - 1, "componentType": _FLOAT_COMPONENTS,
+                                      "count": len(shape), "type": "VEC3"})
+                    made_for[key] = len(accessors) - 1
+                primitive["attributes"]["POSITION"] = made_for[key]
+    document["buffers"].append({"byteLength": len(made),
+                                "uri": "data:application/octet-stream;base64," + base64.b64encode(made).decode()})
+    return True
+
+
+def _mesh_per_shape(document: dict[str, Any], mesh_number: int, by_weights: dict[tuple[float, ...], list[int]]
+                    ) -> list[tuple[dict[str, Any], tuple[float, ...]]]:
+    """Mesh `mesh_number` for its first shape (its base shape where a node places it so), and a copy of it,
+    appended, for each other shape, each node placing it so re-pointed at its copy; each with its weights."""
+    meshes, nodes = document["meshes"], document["nodes"]
+    ordered = sorted(by_weights.items(), key=lambda shape: bool(shape[0]))  # _BASE_SHAPE first
+    copies = [_mesh_copy(meshes[mesh_number]) for _ in ordered[1:]]  # of the mesh before any is shaped
+    for copy, (_, placing) in zip(copies, ordered[1:]):
+        meshes.append(copy)
+        for node in placing:
+            nodes[node]["mesh"] = len(meshes) - 1
+    return [(mesh, weights) for mesh, (weights, _) in zip([meshes[mesh_number], *copies], ordered)]
+
+
+def _mesh_copy(mesh: dict[str, Any]) -> dict[str, Any]:
+    """A mesh whose primitives, and their attributes, are its own to change."""
+    return {**mesh, "primitives": [{**primitive, "attributes": dict(primitive["attributes"])}
+                                   for primitive in mesh["primitives"]]}
+
+
+def _shape(path: Path, document: dict[str, Any], primitive: dict[str, Any], weights: tuple[float, ...],
+           buffer: Callable[[int], bytes | memoryview], what: str) -> np.ndarray:
+    """(vertices, 3) float32: a primitive's POSITION and each morph target's times its weight; a coordinate
+    that is not a finite number is refused. Targets' NORMALs are not read, as no NORMAL is: the viewer
+    derives normals from the shape's faces."""
+    with np.errstate(all="ignore"):  # NaN, or past float32's range: refused below
+        shape = _values(path, document, primitive["attributes"]["POSITION"], buffer).astype(np.float64)
+        for position, weight in _moving_weights(document["accessors"], weights, primitive["targets"]).items():
+            shape += weight * _values(path, document, position, buffer)
+        made = shape.astype(np.float32)
+    unheld = ~np.isfinite(made).all(axis=1)
+    if unheld.any():
+        raise LoadError(path, f"{what}: vertex {np.argmax(unheld)} of its shape by its weights is not a finite number "
+                              "(a morph target's POSITION holds one, or a weight takes it past float's range)")
+    return made
+
+
+def _values(path: Path, document: dict[str, Any], number: int, buffer: Callable[[int], bytes | memoryview]
+            ) -> np.ndarray:
+    """Accessor `number`'s values, (count, components), as glTF means them: normalized integers as fractions."""
+    items, accessor = _items(path, document, number, buffer), document["accessors"][number]
+    if accessor.get("normalized") is True and accessor["componentType"] in _NORMALIZED:
+        return _as_fractions(items, accessor)[0]
+    return np.ascontiguousarray(items).view(_COMPONENT_DTYPES[accessor["componentType"]])
+
+
 _UINT32_COMPONENTS = 5125
 
 
@@ -1164,7 +1366,8 @@ def _fan_triangles(corners: np.ndarray) -> np.ndarray:
 
 
 # glTF's normalized integers: each component type's dtype and the value that stands for 1.
-_NORMALIZED = {5120: ("<i1", 127), 5121: ("<u1", 255), 5122: ("<i2", 32767), 5123: ("<u2", 65535)}
+_NORMALIZED = {kind: (_COMPONENT_DTYPES[kind], one) for kind, one in ((5120, 127), (5121, 255), (5122, 32767),
+                                                                       (5123, 65535))}
 _NORMALIZED_SHORTS = 5123
 
 
