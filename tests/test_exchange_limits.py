@@ -1954,6 +1954,20 @@ def test_a_mesh_of_lines_alone_is_refused_saying_so(tmp_path: Path, mode: int, k
         f"no node of the scene places a triangle mesh: nothing to draw (1 primitive of {kind} is not drawn)")
 
 
+@pytest.mark.parametrize("mode", [2, 3])
+def test_a_mesh_trimesh_makes_nothing_of_leaves_the_nodes_under_it_placed(tmp_path: Path, mode: int) -> None:
+    """A node placing a mesh of line loops or strips alone, its child a triangle: trimesh left the node out,
+    and the child with it, refused as "cannot place the scene's meshes (ValueError: No path from world->1!)"."""
+    document, binary = triangle_gltf([{"mesh": 1, "children": [1], "translation": [0, 0, 5]},
+                                      {"mesh": 0, "translation": [2, 0, 0]}], [0])
+    document["meshes"].append({"primitives": [{"attributes": {"POSITION": 0}, "mode": mode}]})
+    path = tmp_path / "parent.glb"
+    path.write_bytes(glb(document, binary))
+    loaded = load_model(path)
+    assert loaded.face_count == 1 and loaded.positions.min(axis=0).tolist() == [2.0, 0.0, 5.0]
+    assert loaded.warnings == (f"1 primitive of {['line loops', 'line strips'][mode - 2]} is not drawn",)
+
+
 def hexagon_fan_gltf(indexed: bool) -> tuple[dict[str, Any], bytes]:
     """A glTF of one hexagon in z = 0 as a triangle fan (glTF's mode 6) from its centre, counter-clockwise
     seen from +z: indices 0 1 2 3 4 5 6 1 over seven vertices, or those eight vertices fanned in their

@@ -1031,12 +1031,13 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     shaped = shapes is not None and _shapes_made(path, document, buffers, shapes)  # before: its POSITIONs are plain
     made_plain = _accessors_made_plain(path, document, buffers)
     fans_made_triangles = _fans_made_triangles(path, document, buffers)  # after: it reads plain indices
+    nothing_taken_off = _meshes_of_nothing_taken_off(document)  # after: a fan of triangles is something
     cameras_taken_out = _node_cameras_taken_out(document)
     fallbacks_chosen = _fallbacks_chosen(document)
     diffuse_made_base = _diffuse_made_base_colour(document)
     undrawn_emptied = _undrawn_pictures_emptied(document)
     if not (respelled or numbered or unplaced_emptied or uv_sets_chosen or shaped or made_plain or fans_made_triangles
-            or cameras_taken_out or fallbacks_chosen or diffuse_made_base or undrawn_emptied):
+            or nothing_taken_off or cameras_taken_out or fallbacks_chosen or diffuse_made_base or undrawn_emptied):
         return data
     text = json.dumps(document).encode()
     if file_type == "gltf":
@@ -1467,6 +1468,22 @@ def _view_items(document: dict[str, Any], view_number: int, offset: int, count: 
     held = np.frombuffer(buffer(view["buffer"]), np.uint8, offset=view.get("byteOffset", 0) + offset,
                          count=(count - 1) * stride + size)
     return np.lib.stride_tricks.as_strided(held, (count, size), (stride, 1), writeable=False)
+
+
+_READ_MODES = (_POINTS, _LINES, _TRIANGLES, _STRIP)  # trimesh makes something of these, and skips the rest
+
+
+def _meshes_of_nothing_taken_off(document: dict[str, Any]) -> bool:
+    """Takes each mesh trimesh makes nothing of (line loops, line strips, fans of under three corners
+    alone) off the nodes that place it: trimesh leaves such a node out, and the children under it with
+    it ("No path from world"). Its primitives are a note already. False where no node places one."""
+    meshes = document.get("meshes", [])
+    empty = {index for index, mesh in enumerate(meshes) if mesh["primitives"]
+             and all(primitive.get("mode", _TRIANGLES) not in _READ_MODES for primitive in mesh["primitives"])}
+    nodes = [node for node in document.get("nodes", []) if node.get("mesh") in empty]
+    for node in nodes:
+        del node["mesh"]
+    return bool(nodes)
 
 
 def _node_cameras_taken_out(document: dict[str, Any]) -> bool:
