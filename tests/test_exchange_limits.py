@@ -1968,6 +1968,18 @@ def test_a_mesh_trimesh_makes_nothing_of_leaves_the_nodes_under_it_placed(tmp_pa
     assert loaded.warnings == (f"1 primitive of {['line loops', 'line strips'][mode - 2]} is not drawn",)
 
 
+def test_a_gltf_of_no_buffer_view_is_read_as_its_zeros(tmp_path: Path) -> None:
+    """An accessor without a buffer view is zeros, and a file may list no buffer view at all: trimesh then
+    read no accessor ("not a readable GLTF file (UnboundLocalError: ... 'access' ...)")."""
+    path = tmp_path / "zeros.gltf"
+    path.write_text(json.dumps({
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "accessors": [{"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]}]}))
+    loaded = load_model(path)
+    assert loaded.face_count == 1 and not loaded.positions.any()
+
+
 def hexagon_fan_gltf(indexed: bool) -> tuple[dict[str, Any], bytes]:
     """A glTF of one hexagon in z = 0 as a triangle fan (glTF's mode 6) from its centre, counter-clockwise
     seen from +z: indices 0 1 2 3 4 5 6 1 over seven vertices, or those eight vertices fanned in their

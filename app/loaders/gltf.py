@@ -1023,6 +1023,7 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     checked here (_check_drawn_values); `read_beside` reads a buffer's file; `number_materials`: where
     sampled_materials found a sampling to keep; `shapes`: its morphed_shapes (None: none made)."""
     respelled = _file_uris_respelled(document)  # first: a buffer read here is then named as trimesh asks for it
+    views_listed = _buffer_views_listed(document)  # before the rewrites that add a view
     numbered = number_materials and _materials_numbered(document)
     unplaced_emptied = _unplaced_meshes_emptied(document)  # before their accessors are checked and made plain
     uv_sets_chosen = _uv_sets_chosen(document)
@@ -1037,7 +1038,8 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     diffuse_made_base = _diffuse_made_base_colour(document)
     undrawn_emptied = _undrawn_pictures_emptied(document)
     if not (respelled or numbered or unplaced_emptied or uv_sets_chosen or shaped or made_plain or fans_made_triangles
-            or nothing_taken_off or cameras_taken_out or fallbacks_chosen or diffuse_made_base or undrawn_emptied):
+            or nothing_taken_off or cameras_taken_out or views_listed or fallbacks_chosen or diffuse_made_base
+            or undrawn_emptied):
         return data
     text = json.dumps(document).encode()
     if file_type == "gltf":
@@ -1484,6 +1486,15 @@ def _meshes_of_nothing_taken_off(document: dict[str, Any]) -> bool:
     for node in nodes:
         del node["mesh"]
     return bool(nodes)
+
+
+def _buffer_views_listed(document: dict[str, Any]) -> bool:
+    """Lists no buffer views where the file lists none: trimesh then reads no accessor at all (an
+    UnboundLocalError), where glTF's accessors without one are zeros. False where it lists some."""
+    if "bufferViews" in document:
+        return False
+    document["bufferViews"] = []
+    return True
 
 
 def _node_cameras_taken_out(document: dict[str, Any]) -> bool:
