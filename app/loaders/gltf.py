@@ -1237,7 +1237,8 @@ def _shapes_made(path: Path, document: dict[str, Any], buffer: Callable[[int], b
     """Gives each mesh its weights shape the positions of its shape (glTF's default pose), in a buffer
     appended as a data: URI: trimesh reads no morph target. A mesh of several shapes is a copy per shape
     but its first, each node placing its own. Primitives of the same POSITION and targets shaped alike
-    share one accessor. False where no mesh is shaped."""
+    share one accessor. A shaped mesh's targets and weights, applied, are taken out. False where no mesh
+    is shaped."""
     if not shapes.by_mesh:
         return False
     meshes, accessors = document.get("meshes", []), document.get("accessors", [])
@@ -1260,6 +1261,8 @@ def _shapes_made(path: Path, document: dict[str, Any], buffer: Callable[[int], b
                                       "count": len(shape), "type": "VEC3"})
                     made_for[key] = len(accessors) - 1
                 primitive["attributes"]["POSITION"] = made_for[key]
+            if weights:  # else a copy per shape writes them again: many nodes' weights, many times the file
+                _targets_taken_out(mesh)
     document["buffers"].append({"byteLength": len(made),
                                 "uri": "data:application/octet-stream;base64," + base64.b64encode(made).decode()})
     return True
@@ -1283,6 +1286,12 @@ def _mesh_copy(mesh: dict[str, Any]) -> dict[str, Any]:
     """A mesh whose primitives, and their attributes, are its own to change."""
     return {**mesh, "primitives": [{**primitive, "attributes": dict(primitive["attributes"])}
                                    for primitive in mesh["primitives"]]}
+
+
+def _targets_taken_out(mesh: dict[str, Any]) -> None:
+    mesh.pop("weights", None)
+    for primitive in mesh["primitives"]:
+        primitive.pop("targets", None)
 
 
 def _shape(path: Path, document: dict[str, Any], primitive: dict[str, Any], weights: tuple[float, ...],
