@@ -1743,9 +1743,9 @@ def test_shapes_that_would_make_many_times_the_files_bytes_are_a_note_never_made
     path.write_bytes(glb(document, binary))
     held = path.stat().st_size
     loaded, peak = peak_traced_bytes(lambda: load_model(path))
-    assert loaded.warnings == (f"mesh 0's shapes by its weights would make {12 * vertices * 3 * nodes} bytes: more "
-                               f"than the {2 * held + (1 << 20)} a file and buffers of {held} bytes may make (twice "
-                               f"them, and {1 << 20} more): drawn in the base shape",)
+    assert loaded.warnings == (f"mesh 0's shapes by its weights would bring what shapes make to more than the "
+                               f"{2 * held + (1 << 20)} a file and buffers of {held} bytes may make (twice them, and "
+                               f"{1 << 20} more): drawn in the base shape",)
     assert np.array_equal(loaded.positions[:vertices], grid)
     assert peak < 100 * held, peak
 
@@ -1799,6 +1799,52 @@ def test_the_copies_of_a_mesh_shaped_many_ways_are_handed_to_trimesh_without_the
                              for number in range(nodes)])
     assert sorted(map(tuple, loaded.positions.tolist())) == sorted(map(tuple, placed.tolist()))
     assert loaded.warnings == ()
+
+
+def past_the_shapes_limit(held: int) -> str:
+    return (f"mesh 0's shapes by its weights would bring what shapes make to more than the {2 * held + (1 << 20)} a "
+            f"file and buffers of {held} bytes may make (twice them, and {1 << 20} more): drawn in the base shape")
+
+
+def test_the_targets_each_shapes_weights_are_looked_up_against_are_counted(tmp_path: Path,
+                                                                          monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each shape's weights are looked up against each primitive's targets: 50 nodes of distinct weights on
+    50 primitives of 1,000 targets were 2.5 million look-ups from a 1 MB file, uncounted (and as many again
+    as the shapes were made). Counted, they pass the file's limit: the base shape, with a note, having looked
+    up no more targets than the file has bytes."""
+    looked_up: list[int] = []
+    moving_weights = gltf._moving_weights
+
+    def counting(accessors: list[dict[str, Any]], weights: tuple[float, ...],
+                 targets: list[dict[str, Any]]) -> dict[int, float]:
+        looked_up.append(len(targets))
+        return moving_weights(accessors, weights, targets)
+
+    monkeypatch.setattr(gltf, "_moving_weights", counting)
+    nodes = primitives = 50
+    path = many_shapes_glb(tmp_path, nodes, primitives, targets=1000)
+    loaded = load_model(path)
+    held = path.stat().st_size
+    assert sum(looked_up) <= held, (sum(looked_up), held)
+    assert loaded.warnings == (past_the_shapes_limit(held),)
+    assert np.array_equal(loaded.positions[:, 2], np.zeros(3 * nodes * primitives))
+
+
+def test_the_json_of_a_mesh_copied_per_shape_is_counted(tmp_path: Path) -> None:
+    """A mesh placed with many weights is a copy per shape, its JSON written again in each: 20 nodes of
+    distinct weights on a mesh of 100 KB of extras handed trimesh 2 MB of JSON from a 100 KB file,
+    uncounted. Counted, past the file's limit: the base shape, with a note."""
+    path = morphed_glb(tmp_path, None, [{"mesh": 0, "weights": [number + 1]} for number in range(20)])
+    data = path.read_bytes()
+    document = gltf.glb_document(path, data)
+    document["meshes"][0]["extras"] = {"notes": "x" * 100_000}
+    path.write_bytes(glb(document, data[20 + int.from_bytes(data[12:16], "little") + 8:]))
+    data = path.read_bytes()
+    document = gltf.glb_document(path, data)
+    handed = gltf.as_trimesh_reads(path, data, document, "glb", read_beside=bytes,
+                                   shapes=gltf.morphed_shapes(document, held=len(data)))
+    assert len(handed) < 2 * len(data), (len(handed), len(data))
+    assert load_model(path).warnings == (past_the_shapes_limit(len(data)),)
 
 
 @pytest.mark.parametrize(("factors", "note"), [

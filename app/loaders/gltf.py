@@ -937,14 +937,14 @@ def morphed_shapes(document: dict[str, Any], held: int) -> MorphedShapes:
         by_mesh.setdefault(mesh_number, {}).setdefault(weights, []).append(number)
     made = 0
     for mesh_number, shapes in list(by_mesh.items()):
-        work = _shaping_bytes(document, meshes[mesh_number], shapes)
+        work = _shaping_bytes(document, meshes[mesh_number], shapes, made_limit(held) - made)
         if work and made + work <= made_limit(held):
             made += work
             continue
         del by_mesh[mesh_number]  # its base shape alone: nothing to make
         if work:
             unapplied.setdefault(mesh_number, f"{_mesh_named(mesh_number, meshes[mesh_number])}'s shapes by its "
-                                              f"weights would make {work} bytes: {past_made_limit(held)}")
+                                              f"weights would bring what shapes make to {past_made_limit(held)}")
     return MorphedShapes(by_mesh, _unshaped_notes(list(unapplied.values())))
 
 
@@ -970,15 +970,23 @@ def _shaping_weights(number: int, node: dict[str, Any], mesh_number: int,
     return tuple(float(weight) for weight in weights)
 
 
-def _shaping_bytes(document: dict[str, Any], mesh: dict[str, Any], shapes: dict[tuple[float, ...], list[int]]) -> int:
-    """What a mesh's shapes read and write, in _MORPHED_ITEM_BYTES a vertex: for each shape other than the
-    base, each drawn primitive's POSITION, the targets' accessors that move it, and the shape made."""
+def _shaping_bytes(document: dict[str, Any], mesh: dict[str, Any], shapes: dict[tuple[float, ...], list[int]],
+                   budget: int) -> int:
+    """What a mesh's shapes read and write, counted until it passes `budget`: for each shape other than the
+    base, the JSON of its copy of the mesh, and for each drawn primitive its POSITION, the targets'
+    accessors that move it and the shape made, in _MORPHED_ITEM_BYTES a vertex, and as many again a target
+    its weights are looked up against (many nodes' weights on many primitives' targets: looked up all)."""
     accessors, total = document["accessors"], 0
-    for weights in shapes:
-        for primitive in mesh["primitives"] if weights else ():
-            if _is_drawn(primitive):
-                moving = len(_moving_weights(accessors, weights, primitive["targets"]))
-                total += _MORPHED_ITEM_BYTES * accessors[primitive["attributes"]["POSITION"]]["count"] * (2 + moving)
+    copy_bytes = len(json.dumps(_mesh_copy(mesh))) if any(shapes) else 0
+    for weights in filter(None, shapes):
+        total += copy_bytes
+        for primitive in filter(_is_drawn, mesh["primitives"]):
+            targets = primitive["targets"]
+            vertices = accessors[primitive["attributes"]["POSITION"]]["count"]
+            moving = len(_moving_weights(accessors, weights, targets))
+            total += _MORPHED_ITEM_BYTES * (vertices * (2 + moving) + len(targets))
+            if total > budget:
+                return total
     return total
 
 
@@ -1235,25 +1243,25 @@ def _accessors_made_plain(path: Path, document: dict[str, Any], buffer: Callable
 def _shapes_made(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview],
                  shapes: MorphedShapes) -> bool:
     """Gives each mesh its weights shape the positions of its shape (glTF's default pose), in a buffer
-    appended as a data: URI: trimesh reads no morph target. A mesh of several shapes is a copy per shape
-    but its first, each node placing its own. Primitives of the same POSITION and targets shaped alike
-    share one accessor. A shaped mesh's targets and weights, applied, are taken out. False where no mesh
-    is shaped."""
+    appended as a data: URI: trimesh reads no morph target. Each shape but the base is drawn by a copy of
+    the mesh (_mesh_per_shape). Primitives of the same POSITION and targets shaped alike share one
+    accessor. False where no mesh is shaped."""
     if not shapes.by_mesh:
         return False
     meshes, accessors = document.get("meshes", []), document.get("accessors", [])
     views, made = document.setdefault("bufferViews", []), bytearray()
     made_for: dict[tuple[Any, ...], int] = {}  # (POSITION, its targets, weights) -> the accessor of the shape
     for mesh_number, by_weights in shapes.by_mesh.items():
-        named = _mesh_named(mesh_number, meshes[mesh_number])
+        unshaped = meshes[mesh_number]
+        named = _mesh_named(mesh_number, unshaped)
         for mesh, weights in _mesh_per_shape(document, mesh_number, by_weights):
-            for number, primitive in enumerate(mesh["primitives"]):
-                if not weights or not _is_drawn(primitive):
+            for number, (primitive, source) in enumerate(zip(mesh["primitives"], unshaped["primitives"])):
+                if not weights or not _is_drawn(source):
                     continue
-                key = (primitive["attributes"]["POSITION"], tuple(target.get("POSITION") for target in
-                                                                  primitive["targets"]), weights)
+                key = (source["attributes"]["POSITION"], tuple(target.get("POSITION") for target in
+                                                               source["targets"]), weights)
                 if key not in made_for:
-                    shape = _shape(path, document, primitive, weights, buffer, f"{named}'s primitive {number}")
+                    shape = _shape(path, document, source, weights, buffer, f"{named}'s primitive {number}")
                     views.append({"buffer": len(document["buffers"]), "byteOffset": len(made),
                                   "byteLength": shape.nbytes})
                     made += memoryview(shape).cast("B")
@@ -1261,8 +1269,6 @@ def _shapes_made(path: Path, document: dict[str, Any], buffer: Callable[[int], b
                                       "count": len(shape), "type": "VEC3"})
                     made_for[key] = len(accessors) - 1
                 primitive["attributes"]["POSITION"] = made_for[key]
-            if weights:  # else a copy per shape writes them again: many nodes' weights, many times the file
-                _targets_taken_out(mesh)
     document["buffers"].append({"byteLength": len(made),
                                 "uri": "data:application/octet-stream;base64," + base64.b64encode(made).decode()})
     return True
@@ -1270,28 +1276,31 @@ def _shapes_made(path: Path, document: dict[str, Any], buffer: Callable[[int], b
 
 def _mesh_per_shape(document: dict[str, Any], mesh_number: int, by_weights: dict[tuple[float, ...], list[int]]
                     ) -> list[tuple[dict[str, Any], tuple[float, ...]]]:
-    """Mesh `mesh_number` for its first shape (its base shape where a node places it so), and a copy of it,
-    appended, for each other shape, each node placing it so re-pointed at its copy; each with its weights."""
+    """Mesh `mesh_number` as it is for its base shape, and a copy of it for each other shape, each with its
+    weights: the first shape's in its place, the others' appended, each node placing them re-pointed at its
+    own."""
     meshes, nodes = document["meshes"], document["nodes"]
+    unshaped = meshes[mesh_number]
     ordered = sorted(by_weights.items(), key=lambda shape: bool(shape[0]))  # _BASE_SHAPE first
-    copies = [_mesh_copy(meshes[mesh_number]) for _ in ordered[1:]]  # of the mesh before any is shaped
-    for copy, (_, placing) in zip(copies, ordered[1:]):
-        meshes.append(copy)
-        for node in placing:
-            nodes[node]["mesh"] = len(meshes) - 1
-    return [(mesh, weights) for mesh, (weights, _) in zip([meshes[mesh_number], *copies], ordered)]
+    placed = []
+    for number, (weights, placing) in enumerate(ordered):
+        mesh = _mesh_copy(unshaped) if weights else unshaped
+        if number == 0:
+            meshes[mesh_number] = mesh
+        else:
+            meshes.append(mesh)
+            for node in placing:
+                nodes[node]["mesh"] = len(meshes) - 1
+        placed.append((mesh, weights))
+    return placed
 
 
 def _mesh_copy(mesh: dict[str, Any]) -> dict[str, Any]:
-    """A mesh whose primitives, and their attributes, are its own to change."""
-    return {**mesh, "primitives": [{**primitive, "attributes": dict(primitive["attributes"])}
-                                   for primitive in mesh["primitives"]]}
-
-
-def _targets_taken_out(mesh: dict[str, Any]) -> None:
-    mesh.pop("weights", None)
-    for primitive in mesh["primitives"]:
-        primitive.pop("targets", None)
+    """A mesh for a shape of its own: its primitives, and their attributes, its own to change, without the
+    targets and weights the shape applies (written again in each copy, they would be many times the file's)."""
+    return {**{key: value for key, value in mesh.items() if key != "weights"},
+            "primitives": [{**{key: value for key, value in primitive.items() if key != "targets"},
+                            "attributes": dict(primitive["attributes"])} for primitive in mesh["primitives"]]}
 
 
 def _shape(path: Path, document: dict[str, Any], primitive: dict[str, Any], weights: tuple[float, ...],
