@@ -1904,6 +1904,30 @@ def test_a_file_whose_textures_read_the_first_set_is_handed_to_trimesh_as_it_is(
     assert gltf.as_trimesh_reads(path, data, document, "glb", read_beside=bytes) is data
 
 
+@pytest.mark.parametrize("compressed", [["TEXCOORD_0"], ["TEXCOORD_0", "TEXCOORD_1"]])
+def test_a_draco_primitives_first_set_is_not_decoded_over_the_set_its_texture_reads(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, compressed: list[str]) -> None:
+    """trimesh's Draco decoder writes each attribute it decodes into the accessor the primitive's attribute
+    of that name points at: TEXCOORD_0, pointed at the set the texture reads, got the first set's values
+    written over it (with DracoPy, a quad whose TEXCOORD_1 was all 0.25 was laid on by its TEXCOORD_0,
+    compressed), or not, by the order the stream holds them. The set chosen is decoded as its own name."""
+    monkeypatch.setattr(gltf, "_draco_decoder", lambda: True)
+    path = two_set_glb(tmp_path, [1])
+    data = path.read_bytes()
+    document = gltf.glb_document(path, data)
+    document["meshes"][0]["primitives"][0]["extensions"] = {"KHR_draco_mesh_compression": {
+        "bufferView": 0, "attributes": {"POSITION": 0, **{name: number + 1 for number, name in enumerate(compressed)}}}}
+    document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_draco_mesh_compression"]
+    path.write_bytes(glb(document, data[20 + int.from_bytes(data[12:16], "little") + 8:]))
+    data = path.read_bytes()
+    handed = gltf.glb_document(path, gltf.as_trimesh_reads(path, data, gltf.glb_document(path, data), "glb",
+                                                           read_beside=bytes))
+    primitive = handed["meshes"][0]["primitives"][0]
+    decoded = primitive["extensions"]["KHR_draco_mesh_compression"]["attributes"]
+    written_over_the_set = {name for name in decoded if primitive["attributes"][name] == 2}
+    assert primitive["attributes"]["TEXCOORD_0"] == 2 and written_over_the_set <= {"TEXCOORD_1"}, decoded
+
+
 def test_a_picture_on_a_mesh_without_texture_coordinates_is_a_note(tmp_path: Path) -> None:
     """assimp's issue_3269 gives a mesh TEXCOORD_1 alone, and its material a base colour texture on
     TEXCOORD_0: its picture was left out, and the scene's test picture shown on it, without a word."""

@@ -1083,8 +1083,9 @@ def _unplaced_meshes_emptied(document: dict[str, Any]) -> bool:
 def _uv_sets_chosen(document: dict[str, Any]) -> bool:
     """Points each primitive's TEXCOORD_0 at the set its material's base colour texture reads (its texCoord,
     checked to be one the primitive has: GltfReferences.texture_sets): trimesh lays the picture on by
-    TEXCOORD_0 whatever texCoord says, and the base colour texture is the one picture drawn. False where
-    none reads another set."""
+    TEXCOORD_0 whatever texCoord says, and the base colour texture is the one picture drawn. A Draco
+    stream's first set is left undecoded: trimesh's decoder writes each attribute into the accessor its
+    name points at, the first set over the one chosen. False where none reads another set."""
     materials, chosen = document.get("materials", []), False
     for mesh in document.get("meshes", []):
         for primitive in mesh["primitives"]:
@@ -1092,7 +1093,13 @@ def _uv_sets_chosen(document: dict[str, Any]) -> bool:
             if texture_set:
                 attributes = primitive["attributes"]
                 attributes["TEXCOORD_0"], chosen = attributes[f"TEXCOORD_{texture_set}"], True
+                _draco_attributes(primitive).pop("TEXCOORD_0", None)
     return chosen
+
+
+def _draco_attributes(primitive: dict[str, Any]) -> dict[str, Any]:
+    """The attributes a primitive's Draco stream holds (name: its id in the stream); empty where none."""
+    return _nested(primitive, ("extensions", "KHR_draco_mesh_compression", "attributes"))
 
 
 def _drawn_uv_set(material: dict[str, Any]) -> int:
