@@ -1771,6 +1771,24 @@ def test_a_target_named_many_times_is_read_once(tmp_path: Path) -> None:
     assert loaded.warnings == ()
 
 
+@pytest.mark.parametrize(("compressed", "decoder", "shaped"), [
+    (["POSITION"], True, False), (["POSITION"], False, True), (["TEXCOORD_0"], True, True)])
+def test_a_draco_primitives_positions_are_shaped_only_where_trimesh_decodes_none_over_them(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, compressed: list[str], decoder: bool, shaped: bool) -> None:
+    """trimesh's Draco decoder (DracoPy) writes the positions it decodes into the accessor POSITION points
+    at, the shape's: a Draco mesh weighted to rise by 5 was drawn flat, without a word."""
+    monkeypatch.setattr(gltf, "_draco_decoder", lambda: decoder)
+    path = morphed_glb(tmp_path, [1.0], [{"mesh": 0}])
+    data = path.read_bytes()
+    document = gltf.glb_document(path, data)
+    document["meshes"][0]["primitives"][0]["extensions"] = {"KHR_draco_mesh_compression": {
+        "bufferView": 0, "attributes": {name: number for number, name in enumerate(compressed)}}}
+    shapes = gltf.morphed_shapes(document, held=len(data))
+    assert (shapes.by_mesh, shapes.notes) == (({0: {(1.0,): [0]}}, ()) if shaped else ({}, (
+        "mesh 0's primitive 0 is Draco-compressed: trimesh decodes its positions over the shape: drawn in the base "
+        "shape",)))
+
+
 def many_shapes_glb(folder: Path, nodes: int, primitives: int, targets: int) -> Path:
     """The triangle, `primitives` primitives of it, each with `targets` morph targets lifting it by 5 along z,
     placed by `nodes` nodes 2 apart along x, node n's weights n + 1, 0, 0, ..."""

@@ -967,6 +967,10 @@ def _shaping_weights(number: int, node: dict[str, Any], mesh_number: int,
         return f"{named}'s primitives have {' and '.join(map(str, targets))} morph targets (glTF's have as many each)"
     if len(weights) != targets[0]:
         return f"{whose} are {counted(len(weights), 'number')}, for {targets_of} {counted(targets[0], 'morph target')}"
+    compressed = [primitive_number for primitive_number, primitive in enumerate(mesh["primitives"])
+                  if "POSITION" in _draco_attributes(primitive)]
+    if compressed and _draco_decoder():  # it writes what it decodes into the accessor POSITION points at
+        return f"{named}'s primitive {compressed[0]} is Draco-compressed: trimesh decodes its positions over the shape"
     return tuple(float(weight) for weight in weights)
 
 
