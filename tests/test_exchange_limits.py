@@ -312,15 +312,14 @@ def test_triangles_placed_past_the_bound_are_refused_before_trimesh_reads_them(
 
 
 def random_gltf(rng: random.Random) -> tuple[dict[str, Any], bytes]:
-    """Nodes in trees (some in no scene), meshes of primitives of every mode trimesh reads and, after
-    the first, triangle fans (made triangles for it) and line strips, which it skips (a mesh of none it
-    reads cuts its node's children off trimesh's graph), with and without indices, and two scenes."""
+    """Nodes in trees (some in no scene), meshes of primitives of every mode, with and without indices,
+    and two scenes: trimesh reads points, lines, triangles and strips, fans made triangles for it, and
+    skips line loops, line strips and fans of two corners, so a mesh may be one it makes nothing of
+    (taken off its nodes for it, which would cut their children off its graph), a parent's too."""
     positions = np.tile(TRIANGLE, (4, 1))  # 12 positions: 4 triangles, a strip of 10
     indices = np.array([0, 1, 2, 3, 4, 5], np.uint16)
     binary = positions.tobytes() + indices.tobytes()
-    meshes = [{"primitives": [{"attributes": {"POSITION": 0}, "mode": rng.choice([0, 1, 4, 4, 5, *([6, 3] * bool(at))]),
-                               **({"indices": 1} if rng.random() < 0.5 else {})}
-                              for at in range(rng.randint(1, 3))]} for _ in range(3)]
+    meshes = [{"primitives": [_random_primitive(rng) for _ in range(rng.randint(1, 3))]} for _ in range(3)]
     nodes: list[dict[str, Any]] = []
     for at in range(rng.randint(2, 12)):
         node: dict[str, Any] = {"translation": [at, 0, 0]}
@@ -336,10 +335,19 @@ def random_gltf(rng: random.Random) -> tuple[dict[str, Any], bytes]:
                 "scenes": [{"nodes": roots[:1]}, {"nodes": roots}], "nodes": nodes, "meshes": meshes,
                 "accessors": [{"bufferView": 0, "componentType": 5126, "count": 12, "type": "VEC3",
                                "min": [0, 0, 0], "max": [1, 1, 0]},
-                              {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+                              {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"},
+                              {"bufferView": 1, "componentType": 5123, "count": 2, "type": "SCALAR"}],
                 "bufferViews": [{"buffer": 0, "byteLength": 144}, {"buffer": 0, "byteOffset": 144, "byteLength": 12}],
                 "buffers": [{"byteLength": len(binary)}]}
     return document, binary
+
+
+def _random_primitive(rng: random.Random) -> dict[str, Any]:
+    """One primitive of `random_gltf`'s twelve positions, of any mode; two indices (accessor 2) for
+    any but triangles, which take three a face."""
+    mode = rng.choice([0, 1, 2, 3, 4, 4, 5, 6, 6])
+    indices = rng.choice([None, 1] if mode == 4 else [None, 1, 2])
+    return {"attributes": {"POSITION": 0}, "mode": mode, **({} if indices is None else {"indices": indices})}
 
 
 def trimesh_counts(document: dict[str, Any], binary: bytes) -> tuple[int, int, int]:
