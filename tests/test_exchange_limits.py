@@ -2094,16 +2094,27 @@ def test_a_mesh_trimesh_makes_nothing_of_leaves_the_nodes_under_it_placed(tmp_pa
     assert loaded.warnings == (f"1 primitive of {['line loops', 'line strips'][mode - 2]} is not drawn",)
 
 
-def test_a_gltf_of_no_buffer_view_is_read_as_its_zeros(tmp_path: Path) -> None:
+@pytest.mark.parametrize("suffix", [".gltf", ".glb"])
+def test_a_gltf_of_no_buffer_view_is_read_as_its_zeros(tmp_path: Path, suffix: str) -> None:
     """An accessor without a buffer view is zeros, and a file may list no buffer view at all: trimesh then
-    read no accessor ("not a readable GLTF file (UnboundLocalError: ... 'access' ...)")."""
-    path = tmp_path / "zeros.gltf"
-    path.write_text(json.dumps({
+    read no accessor ("not a readable GLTF file (UnboundLocalError: ... 'access' ...)"), nor any material.
+    A GLB keeps its binary chunk, a picture named by URI is laid on."""
+    picture = "data:image/png;base64," + base64.b64encode(png_bytes(4, 4)).decode()
+    document = {
         "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
-        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
-        "accessors": [{"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]}]}))
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}],
+        "accessors": [{"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]},
+                      {"componentType": 5126, "count": 3, "type": "VEC2"}],
+        "images": [{"uri": picture}], "textures": [{"source": 0}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]}
+    path = tmp_path / f"zeros{suffix}"
+    if suffix == ".glb":
+        path.write_bytes(glb({**document, "buffers": [{"byteLength": 8}]}, bytes(range(1, 9))))
+    else:
+        path.write_text(json.dumps(document))
     loaded = load_model(path)
     assert loaded.face_count == 1 and not loaded.positions.any()
+    assert loaded.materials[0].texture.shape == (4, 4, 3)
 
 
 def hexagon_fan_gltf(indexed: bool) -> tuple[dict[str, Any], bytes]:
