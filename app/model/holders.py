@@ -11,8 +11,8 @@ import numpy as np
 SUBDIVISION_BITS = 1  # a level's cells are half as wide as its boxes may be long
 _LEAST_EXPONENT = -1074  # of the least float above 0: no cell is narrower
 _PAIRWISE_BLOCK = 1 << 20  # box pairs compared at once where boxes are not finite
-# Pair by pair below these: a grid costs about ten pairs a holder to build, so a few boxes, or a few
-# hundred against as many, are compared faster each with every holder.
+# Pair by pair below these: a grid costs some ten to twenty pairs a holder to build, so a few boxes,
+# or a few hundred against as many, are compared faster each with every holder.
 GRID_FROM_PAIRS = 1 << 16
 GRID_FROM_BOXES = 10
 
