@@ -1030,7 +1030,8 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     meshes its weights shape given their shapes' positions, the accessors its primitives read made plain
     (sparse ones dense, normalized positions and texture coordinates floats), its nodes' cameras taken out,
     its WEBP textures' fallbacks chosen, its specular-glossiness materials' diffuse colours made their base
-    colours and the pictures no material draws emptied, and its triangle fans made triangles.
+    colours and the pictures no material draws emptied, its triangle fans made triangles, the meshes it
+    makes nothing of taken off their nodes, and an empty list of buffer views where it lists none.
     The document is checked already (GltfReferences), and the values its drawn primitives read are
     checked here (_check_drawn_values); `read_beside` reads a buffer's file; `number_materials`: where
     sampled_materials found a sampling to keep; `shapes`: its morphed_shapes (None: none made)."""

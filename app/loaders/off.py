@@ -454,7 +454,7 @@ _LEAST_ROW_BYTES = 2  # a row is a line of words: a word and a line end at least
 def _check_counts_fit(path: Path, vertices: int, faces: int, held: int, line: int) -> None:
     """The header's counts refused at their line where the `held` bytes after it cannot hold that many
     rows, before anything is made by them; a row that is there, however wrong, is left to be named."""
-    if outruns([(vertices + faces, _LEAST_ROW_BYTES)], held + 1):
+    if outruns(vertices + faces, _LEAST_ROW_BYTES, held + 1):
         raise LoadError(path, f"the header counts {counted(vertices, 'vertex', 'vertices')} and "
                               f"{counted(faces, 'face')}, the file ends before them: the {counted(held, 'byte')} "
                               f"after the counts hold {counted((held + 1) // _LEAST_ROW_BYTES, 'row')} at most",

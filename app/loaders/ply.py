@@ -959,7 +959,7 @@ def _walked_rows(path: Path, data: bytes, element: PlyElement, at: int, order: s
     against what the body can hold before anything is made by it."""
     steps, tail = _row_steps(element, order)
     least = sum(skip + counter.size for skip, counter, _ in steps) + tail
-    if outruns([(element.count, least)], len(data) - at):
+    if outruns(element.count, least, len(data) - at):
         raise _ended(path, element)
     wanted = element.count if rows is None else rows
     quick_starts, quick_counts, at = _byte_counted_rows(data, at, wanted, steps, tail)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import re
 import warnings
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import numpy as np
@@ -124,11 +124,11 @@ def shortened_bytes(word: bytes, shown: Callable[[bytes], str] = repr, most: int
     return f"{shown(word[:most])}... ({len(word)} bytes)"
 
 
-def outruns(rows: Iterable[tuple[int, int]], held: int) -> bool:
-    """Whether rows of these (count, least bytes a row takes) need more than the `held` bytes a file
-    has for them: a header's counts checked before anything is made by them (billions of rows counted
-    in a file of a few lines)."""
-    return sum(count * least for count, least in rows) > held
+def outruns(rows: int, least: int, held: int) -> bool:
+    """Whether `rows` rows of at least `least` bytes each need more than the `held` bytes a file has for
+    them: a header's counts checked before anything is made by them (billions of rows counted in a file
+    of a few lines)."""
+    return rows * least > held
 
 
 def is_count(word: str) -> bool:

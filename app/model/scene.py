@@ -702,10 +702,11 @@ class Scene:
     def restorer(self, presses: int) -> Callable[[], None]:
         """What puts the scene back in place as it is now, after up to `presses` keys (the programming
         interface's press refused half way): the fields of the scene, its modes, elements and lights, and
-        its lists, but for where PageDown has got to where an element shows its file as before (_browsing_put_back).
-        Arrays and meshes are kept, not copied: keys replace them, never change one in place. A key
-        changes a history only at its top (a push, an undo, a view step redone), so of each the last
-        presses + 1 are kept: the cost grows with the keys and the elements, not the histories."""
+        its lists, but for where PageDown has got to where an element shows its file as before
+        (_browsing_put_back). Arrays and meshes are kept, not copied: keys replace them, never change one
+        in place. A key changes a history only at its top (a push, an undo, a view step redone), so of
+        each the last presses + 1 are kept: the cost grows with the keys and the elements, not the
+        histories."""
         elements = (*self.objects, *self.cameras, *self.lights)
         fields = [(part, dict(vars(part))) for part in (self, self.modes, *elements)]
         lists = [(items, list(items)) for items in (self.objects, self.cameras, self.lights, self.view_moves)]
