@@ -1520,6 +1520,18 @@ def test_a_scene_that_places_no_mesh_is_refused_before_trimesh_reads_it(tmp_path
     assert loads == []
 
 
+def test_an_empty_list_of_scenes_is_refused_in_those_words(tmp_path: Path) -> None:
+    """glTF lists one scene or more where it lists any: the walk of the scene read the first of none
+    ("could not read the model (IndexError: list index out of range)"), as trimesh does."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    del document["scene"]
+    document["scenes"] = []
+    path = tmp_path / "sceneless.glb"
+    path.write_bytes(glb(document, binary))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        "not a glTF file: its scenes are an empty list: glTF lists one scene or more where it lists any")
+
+
 def test_a_buffer_file_named_many_times_is_read_once(tmp_path: Path) -> None:
     """trimesh asked for it once a name, and each read was kept: 100 names of a 20 MB file took 2.2 GB."""
     document, binary = triangle_gltf([{"mesh": 0}], [0])

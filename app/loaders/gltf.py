@@ -229,6 +229,8 @@ class GltfReferences:
                 if not isinstance(item.get("name", ""), str):
                     self.refuse(f"{_READ_ARRAYS[key]} {number}'s name is not a string")
                 self.extensions(item, f"{_READ_ARRAYS[key]} {number}")
+        if self.document.get("scenes") == []:  # the walk of the scene reads the first, as trimesh does
+            self.refuse("its scenes are an empty list: glTF lists one scene or more where it lists any")
         if "scene" in self.document:
             self.named(self.document["scene"], "scenes", "its scene")
         for number, scene in self.each("scenes"):
