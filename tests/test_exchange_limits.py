@@ -1532,6 +1532,16 @@ def test_an_empty_list_of_scenes_is_refused_in_those_words(tmp_path: Path) -> No
         "not a glTF file: its scenes are an empty list: glTF lists one scene or more where it lists any")
 
 
+def test_a_mesh_of_an_empty_list_of_primitives_is_refused_as_one_of_none(tmp_path: Path) -> None:
+    """glTF's meshes hold one primitive or more: trimesh left out a node placing a mesh of none, and the
+    children under it ("cannot place the scene's meshes (ValueError: No path from world->1!)")."""
+    document, binary = triangle_gltf([{"mesh": 1, "children": [1]}, {"mesh": 0}], [0])
+    document["meshes"].append({"primitives": []})
+    path = tmp_path / "parent.glb"
+    path.write_bytes(glb(document, binary))
+    assert one_line_refusal(lambda: load_model(path)).message == "not a glTF file: mesh 1 has no primitives"
+
+
 def test_a_buffer_file_named_many_times_is_read_once(tmp_path: Path) -> None:
     """trimesh asked for it once a name, and each read was kept: 100 names of a 20 MB file took 2.2 GB."""
     document, binary = triangle_gltf([{"mesh": 0}], [0])

@@ -347,7 +347,7 @@ class GltfReferences:
                         "MASK, BLEND)")
 
     def mesh(self, number: int, mesh: dict[str, Any]) -> None:
-        if "primitives" not in mesh:
+        if mesh.get("primitives", []) == []:  # glTF holds one or more; trimesh drops a node of none, and its children
             self.refuse(f"mesh {number} has no primitives")
         for primitive_number, primitive in enumerate(self.listed(mesh, "primitives", f"mesh {number}")):
             if not isinstance(primitive, dict):
