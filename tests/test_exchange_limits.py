@@ -2197,6 +2197,18 @@ def test_a_fan_in_a_file_of_no_buffer_is_drawn(tmp_path: Path, file_name: str) -
     assert not loaded.positions.any()
 
 
+def test_a_glbs_second_buffer_of_no_uri_is_refused(tmp_path: Path) -> None:
+    """Only a GLB's first buffer, its binary chunk, may leave out its uri: trimesh gave the next one the
+    chunk after it, of none, and read no buffer after that, so a fan's triangles, appended for it, were
+    not read ("not a readable GLB file (IndexError: list index out of range)")."""
+    document, binary = hexagon_fan_gltf(indexed=True)
+    document["buffers"].append({"byteLength": 0})
+    path = tmp_path / "two.glb"
+    path.write_bytes(glb(document, binary))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        "not a glTF file: buffer 1 has no uri: only a GLB's first buffer, its binary chunk, may leave it out")
+
+
 @pytest.mark.parametrize("with_material", [False, True])
 def test_colours_of_normalized_shorts_are_the_fractions_they_stand_for(tmp_path: Path, with_material: bool) -> None:
     """trimesh cast a COLOR_0 of normalized unsigned shorts to bytes where the mesh has no material:

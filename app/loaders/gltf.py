@@ -293,6 +293,8 @@ class GltfReferences:
             self.refuse(f"buffer {number}'s uri is not a string")
         if "uri" not in buffer and self.path.suffix.lower() == ".gltf":
             self.refuse(f"buffer {number} has no uri: a .gltf's buffers are files beside it or data: URIs")
+        if "uri" not in buffer and number:  # trimesh gives it the chunk after the binary one, or none
+            self.refuse(f"buffer {number} has no uri: only a GLB's first buffer, its binary chunk, may leave it out")
         uri = buffer.get("uri", "")
         if _is_data_uri(uri):  # trimesh decodes it; one short of its byteLength, it asserted
             held = len(data_uri_bytes(self.path, uri, number))
