@@ -2209,6 +2209,24 @@ def test_a_glbs_second_buffer_of_no_uri_is_refused(tmp_path: Path) -> None:
         "not a glTF file: buffer 1 has no uri: only a GLB's first buffer, its binary chunk, may leave it out")
 
 
+@pytest.mark.parametrize("chunks", [b"", struct.pack("<I4s", 4, b"XTRA") + b"abcd"])
+def test_a_glbs_buffer_of_no_uri_and_no_binary_chunk_is_refused(tmp_path: Path, chunks: bytes) -> None:
+    """A GLB's buffer of no uri is its binary chunk, after its JSON: trimesh, finding none, read no
+    buffer at all, so a fan's triangles, appended for it, were not read ("not a readable GLB file
+    (IndexError: list index out of range)"); one of 0 bytes was let through."""
+    document: dict[str, Any] = {
+        "asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "buffers": [{"byteLength": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "mode": 6}]}],
+        "accessors": [{"componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]}]}
+    text = json.dumps(document).encode()
+    text += b" " * (-len(text) % 4)
+    body = struct.pack("<I4s", len(text), b"JSON") + text + chunks
+    path = tmp_path / "chunkless.glb"
+    path.write_bytes(struct.pack("<4sII", b"glTF", 2, 12 + len(body)) + body)
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        "not a GLB file: its buffer 0 has no uri, and no binary chunk follows its JSON")
+
+
 @pytest.mark.parametrize("with_material", [False, True])
 def test_colours_of_normalized_shorts_are_the_fractions_they_stand_for(tmp_path: Path, with_material: bool) -> None:
     """trimesh cast a COLOR_0 of normalized unsigned shorts to bytes where the mesh has no material:

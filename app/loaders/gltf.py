@@ -72,6 +72,8 @@ def glb_document(path: Path, data: bytes) -> dict[str, Any]:
     held = len(_binary_chunk(data))
     if "uri" not in first and _is_whole(declared) and declared > held:  # the buffer the binary chunk holds
         raise LoadError(path, f"cut short: its buffer is {declared} bytes, its binary chunk holds {held}")
+    if first and "uri" not in first and not _holds_binary_chunk(data):
+        raise LoadError(path, "not a GLB file: its buffer 0 has no uri, and no binary chunk follows its JSON")
     _check_glb_chunks(path, data, _after_json(data), word(8))
     return document
 
@@ -82,10 +84,18 @@ def _after_json(data: bytes) -> int:
     return 20 + int.from_bytes(data[12:16], "little")
 
 
+def _holds_binary_chunk(data: bytes) -> bool:
+    """Whether a binary chunk follows a GLB's JSON within the length its header gives (trimesh reads no
+    further): trimesh gives a buffer of no uri the next chunk's bytes, and where none is left reads no
+    buffer after it (those made for it appended, say: an IndexError)."""
+    at = _after_json(data)
+    return data[at + 4:at + 8] == b"BIN\0" and at + 8 <= int.from_bytes(data[8:12], "little")
+
+
 def _binary_chunk(data: bytes) -> memoryview:
     """A GLB's binary chunk, the one after its JSON, as much of it as the file holds; empty where none is."""
     at = _after_json(data)
-    if data[at + 4:at + 8] != b"BIN\0":
+    if not _holds_binary_chunk(data):
         return memoryview(b"")
     return memoryview(data)[at + 8:at + 8 + int.from_bytes(data[at:at + 4], "little")]
 
