@@ -2197,6 +2197,23 @@ def test_a_fan_in_a_file_of_no_buffer_is_drawn(tmp_path: Path, file_name: str) -
     assert not loaded.positions.any()
 
 
+@pytest.mark.parametrize("view", [{"byteLength": 12}, {"byteLength": 12, "byteStride": 16}])
+def test_an_accessor_of_no_items_is_refused(tmp_path: Path, view: dict[str, Any]) -> None:
+    """glTF's accessors hold one item or more: one of none was read from its byteOffset, unchecked, so one
+    past its view failed ("could not read the model (ValueError: offset must be non-negative and no
+    greater than buffer length (60))"), and trimesh asserted on one in a view of a byteStride past its
+    item's bytes ("not a readable GLB file (AssertionError)")."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["bufferViews"].append({"buffer": 0, **view})
+    document["accessors"].append({"bufferView": 2, "componentType": 5126, "count": 0, "type": "VEC3",
+                                  "byteOffset": 0 if "byteStride" in view else 1000})
+    document["meshes"][0]["primitives"].append({"attributes": {"POSITION": 2}})
+    path = tmp_path / "none.glb"
+    path.write_bytes(glb(document, binary))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        "not a glTF file: accessor 2's count is 0: glTF's accessors hold one item or more")
+
+
 def test_a_glbs_second_buffer_of_no_uri_is_refused(tmp_path: Path) -> None:
     """Only a GLB's first buffer, its binary chunk, may leave out its uri: trimesh gave the next one the
     chunk after it, of none, and read no buffer after that, so a fan's triangles, appended for it, were

@@ -476,6 +476,8 @@ class GltfReferences:
         count = accessor.get("count")
         if not _is_whole(count) or count < 0:
             self.refuse(f"accessor {number}'s count is not a whole number")
+        if count == 0:  # trimesh reads one in a strided view as -stride+size bytes, and asserts
+            self.refuse(f"accessor {number}'s count is 0: glTF's accessors hold one item or more")
         component, kind = accessor.get("componentType"), accessor.get("type")
         if not (_is_whole(component) and component in _COMPONENT_BYTES):  # trimesh says a KeyError
             self.refuse(self.unknown(f"accessor {number}", "componentType", component))
