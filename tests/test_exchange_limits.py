@@ -2214,6 +2214,18 @@ def test_an_accessor_of_no_items_is_refused(tmp_path: Path, view: dict[str, Any]
         "not a glTF file: accessor 2's count is 0: glTF's accessors hold one item or more")
 
 
+@pytest.mark.parametrize("mode", [7, -1, 1.5, "4", None, True])
+def test_a_primitive_of_a_mode_not_gltfs_is_refused(tmp_path: Path, mode: object) -> None:
+    """glTF's modes are 0 to 6: trimesh skipped a primitive of another without a word (a triangle drawn
+    of two primitives, no note), and read true as 1, lines."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0], primitives=2)
+    document["meshes"][0]["primitives"][1]["mode"] = mode
+    path = tmp_path / "mode.glb"
+    path.write_bytes(glb(document, binary))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        f"not a glTF file: mesh 0's primitive 1's mode {mode!r} is not one of glTF's (0 to 6)")
+
+
 def test_a_glbs_second_buffer_of_no_uri_is_refused(tmp_path: Path) -> None:
     """Only a GLB's first buffer, its binary chunk, may leave out its uri: trimesh gave the next one the
     chunk after it, of none, and read no buffer after that, so a fan's triangles, appended for it, were

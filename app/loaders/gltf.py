@@ -385,6 +385,9 @@ class GltfReferences:
             self.refuse(f"{what} has no attributes" if attributes is None else f"{what}'s attributes are not an object")
         if "POSITION" not in attributes:  # trimesh reads every primitive's positions (a KeyError)
             self.refuse(f"{what} has no POSITION attribute")
+        mode = primitive.get("mode", _TRIANGLES)
+        if not (_is_whole(mode) and _POINTS <= mode <= _FAN):  # trimesh skipped the primitive without a word
+            self.refuse(f"{what}'s mode {shortened(escaped(repr(mode)))} is not one of glTF's (0 to 6)")
         for name, index in attributes.items():
             said, semantic = f"{what}'s {shortened(escaped(str(name)))}", str(name).split("_", 1)[0]
             accessor = self.named(index, "accessors", said)
