@@ -2256,6 +2256,28 @@ def test_a_glbs_buffer_of_no_uri_and_no_binary_chunk_is_refused(tmp_path: Path, 
         "not a GLB file: its buffer 0 has no uri, and no binary chunk follows its JSON")
 
 
+@pytest.mark.parametrize("file_name", ["zeros.glb", "zeros.gltf"])
+@pytest.mark.parametrize("made", ["normalized", "shaped"])
+def test_positions_made_again_in_a_file_of_no_buffer_are_drawn(tmp_path: Path, file_name: str, made: str) -> None:
+    """As a fan's triangles (above), positions of normalized shorts made floats, or a shape its weights give,
+    were appended to document["buffers"], which a file of zeros lacks ("could not read the model (KeyError:
+    'buffers')")."""
+    positions: dict[str, Any] = {"componentType": 5126, "count": 3, "type": "VEC3"}
+    primitive: dict[str, Any] = {"attributes": {"POSITION": 0}}
+    mesh: dict[str, Any] = {"primitives": [primitive]}
+    if made == "normalized":
+        positions.update(componentType=5122, normalized=True)
+    else:
+        primitive["targets"], mesh["weights"] = [{"POSITION": 0}], [1.0]
+    document = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+                "meshes": [mesh], "accessors": [positions]}
+    path = tmp_path / file_name
+    path.write_bytes(glb(document, b"") if file_name.endswith(".glb") else json.dumps(document).encode())
+    loaded = load_model(path)
+    assert loaded.face_count == 1
+    assert not loaded.positions.any()
+
+
 @pytest.mark.parametrize("with_material", [False, True])
 def test_colours_of_normalized_shorts_are_the_fractions_they_stand_for(tmp_path: Path, with_material: bool) -> None:
     """trimesh cast a COLOR_0 of normalized unsigned shorts to bytes where the mesh has no material:

@@ -1261,13 +1261,12 @@ def _accessors_made_plain(path: Path, document: dict[str, Any], buffer: Callable
         items, accessor = _items(path, document, index, buffer), accessors[index]
         if index in fractions:
             items, accessor = _as_fractions(items, accessor)
-        views.append({"buffer": len(document["buffers"]), "byteOffset": len(made), "byteLength": items.nbytes})
+        views.append({"buffer": _made_buffer_number(document), "byteOffset": len(made), "byteLength": items.nbytes})
         made += memoryview(np.ascontiguousarray(items)).cast("B")  # its bytes, not a copy of them
         made += b"\0" * (-items.nbytes % 4)  # each view at a multiple of four bytes, as glTF's
         kept = {key: value for key, value in accessor.items() if key not in ("sparse", "byteOffset")}
         accessors[index] = {**kept, "bufferView": len(views) - 1}
-    document["buffers"].append({"byteLength": len(made),
-                                "uri": "data:application/octet-stream;base64," + base64.b64encode(made).decode()})
+    _append_made_buffer(document, made)
     return True
 
 
@@ -1293,15 +1292,14 @@ def _shapes_made(path: Path, document: dict[str, Any], buffer: Callable[[int], b
                                                                source["targets"]), weights)
                 if key not in made_for:
                     shape = _shape(path, document, source, weights, buffer, f"{named}'s primitive {number}")
-                    views.append({"buffer": len(document["buffers"]), "byteOffset": len(made),
+                    views.append({"buffer": _made_buffer_number(document), "byteOffset": len(made),
                                   "byteLength": shape.nbytes})
                     made += memoryview(shape).cast("B")
                     accessors.append({"bufferView": len(views) - 1, "componentType": _FLOAT_COMPONENTS,
                                       "count": len(shape), "type": "VEC3"})
                     made_for[key] = len(accessors) - 1
                 primitive["attributes"]["POSITION"] = made_for[key]
-    document["buffers"].append({"byteLength": len(made),
-                                "uri": "data:application/octet-stream;base64," + base64.b64encode(made).decode()})
+    _append_made_buffer(document, made)
     return True
 
 
@@ -1369,14 +1367,14 @@ def _fans_made_triangles(path: Path, document: dict[str, Any], buffer: Callable[
     URI: trimesh skips fans. Fans of the same indices over as many vertices share one accessor. The
     indices are checked already (_check_drawn_values). False where there is none."""
     accessors, views = document.get("accessors", []), document.setdefault("bufferViews", [])
-    buffers = document.setdefault("buffers", [])  # none where each accessor is zeros: read without a view
     made = bytearray()
     made_for: dict[tuple[Any, int], int] = {}  # (indices, vertices) -> the accessor of their triangles
     for primitive, vertices in _drawn_fans(document):
         fanned = (primitive.get("indices"), vertices)
         if fanned not in made_for:
             triangles = _fan_triangles(_fan_corners(path, document, primitive, vertices, buffer))
-            views.append({"buffer": len(buffers), "byteOffset": len(made), "byteLength": triangles.nbytes})
+            views.append({"buffer": _made_buffer_number(document), "byteOffset": len(made),
+                          "byteLength": triangles.nbytes})
             made += memoryview(triangles).cast("B")
             accessors.append({"bufferView": len(views) - 1, "componentType": _UINT32_COMPONENTS,
                               "count": triangles.size, "type": "SCALAR"})
@@ -1384,9 +1382,20 @@ def _fans_made_triangles(path: Path, document: dict[str, Any], buffer: Callable[
         primitive["mode"], primitive["indices"] = _TRIANGLES, made_for[fanned]
     if not made_for:
         return False
-    buffers.append({"byteLength": len(made),
-                    "uri": "data:application/octet-stream;base64," + base64.b64encode(made).decode()})
+    _append_made_buffer(document, made)
     return True
+
+
+def _made_buffer_number(document: dict[str, Any]) -> int:
+    """The number of the buffer _append_made_buffer appends: a file may list no buffer, each of its
+    accessors zeros (read without a view), normalized, shaped or fanned all the same."""
+    return len(document.setdefault("buffers", []))
+
+
+def _append_made_buffer(document: dict[str, Any], made: bytearray) -> None:
+    """Appends the bytes made for trimesh as a buffer of a data: URI, the one _made_buffer_number numbers."""
+    document.setdefault("buffers", []).append(
+        {"byteLength": len(made), "uri": "data:application/octet-stream;base64," + base64.b64encode(made).decode()})
 
 
 def _drawn_fans(document: dict[str, Any]) -> Iterator[tuple[dict[str, Any], int]]:
