@@ -586,6 +586,16 @@ def test_a_node_that_is_the_child_of_two_is_refused_before_trimesh_reads_the_fil
     assert load_model(path).face_count == 2
 
 
+def test_a_scenes_root_that_is_a_nodes_child_is_refused(tmp_path: Path) -> None:
+    """A scene's nodes are roots of glTF's trees: the walk counted a root that is also a child placed twice
+    (as a root, and under its parent), where trimesh placed it once, by the root alone (1 triangle drawn
+    of the 2 counted, without a word)."""
+    path = tmp_path / "root_and_child.glb"
+    path.write_bytes(glb(*triangle_gltf([{"children": [1], "translation": [0, 0, 5]}, {"mesh": 0}], [0, 1])))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        "not a glTF file: node 1 is a root of scene 0 and the child of node 0 (glTF's nodes form trees)")
+
+
 def test_a_gltf_buffer_without_a_uri_is_refused_in_those_words(tmp_path: Path) -> None:
     """Only a GLB's buffer holds its bytes without a uri: trimesh said "KeyError: 'uri'"."""
     document, _ = triangle_gltf([{"mesh": 0}], [0])

@@ -658,8 +658,8 @@ def _is_number(value: object) -> bool:
 
 def check_one_parent_each(path: Path, document: dict[str, Any]) -> None:
     """glTF's nodes form trees: a node that is the child of two (trimesh's reader takes time in the square
-    of such sharing), or its own ancestor, is refused before trimesh reads the file. Its nodes and their
-    children checked by GltfReferences: objects, and lists of node indices."""
+    of such sharing), its own ancestor, or a scene's root and a child, is refused before trimesh reads the
+    file. Its nodes, scenes and their lists checked by GltfReferences: objects, and lists of node indices."""
     parent: dict[int, int] = {}
     for number, node in enumerate(document.get("nodes", [])):
         for child in node.get("children", []):
@@ -668,6 +668,11 @@ def check_one_parent_each(path: Path, document: dict[str, Any]) -> None:
                                       "trees)")
             parent[child] = number
     _check_no_loop(path, parent)
+    for number, scene in enumerate(document.get("scenes", [])):  # trimesh placed such a root once, by either
+        for root in scene.get("nodes", []):
+            if root in parent:
+                raise LoadError(path, f"not a glTF file: node {root} is a root of scene {number} and the child of node "
+                                      f"{parent[root]} (glTF's nodes form trees)")
 
 
 def _check_no_loop(path: Path, parent: dict[int, int]) -> None:
@@ -752,8 +757,7 @@ def _placed_nodes(document: dict[str, Any]) -> Iterator[dict[str, Any]]:
 
 def _placed_node_numbers(document: dict[str, Any]) -> Iterator[int]:
     """Each node of the scene each time trimesh places it: walked from the scene's roots, an edge from a
-    parent to a child once (a scene root that is also a node's child is placed twice), each node's
-    children queued once."""
+    parent to a child once (a root listed twice is placed once), each node's children queued once."""
     nodes = document.get("nodes", [])
     edges = [("root", root) for root in _roots(document)]
     consumed, opened = set(), set()
