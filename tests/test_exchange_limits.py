@@ -2236,6 +2236,24 @@ def test_a_primitive_of_a_mode_not_gltfs_is_refused(tmp_path: Path, mode: object
         f"not a glTF file: mesh 0's primitive 1's mode {mode!r} is not one of glTF's (0 to 6)")
 
 
+@pytest.mark.parametrize("normalized", [1, "true", None])
+def test_an_accessors_normalized_not_true_or_false_is_refused(tmp_path: Path, normalized: object) -> None:
+    """glTF's normalized is a boolean: one of another kind was read as false without a word, positions of
+    shorts meant as fractions drawn as the integers (32767 where 1 was meant)."""
+    corners = np.array([[0, 0, 0], [32767, 0, 0], [0, 32767, 0]], "<i2")
+    binary = corners.tobytes() + b"\0" * 2
+    document = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+                "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+                "accessors": [{"bufferView": 0, "componentType": 5122, "normalized": normalized, "count": 3,
+                               "type": "VEC3"}],
+                "bufferViews": [{"buffer": 0, "byteLength": corners.nbytes}], "buffers": [{"byteLength": len(binary)}],
+                "extensionsRequired": ["KHR_mesh_quantization"], "extensionsUsed": ["KHR_mesh_quantization"]}
+    path = tmp_path / "shorts.glb"
+    path.write_bytes(glb(document, binary))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        f"not a glTF file: accessor 0's normalized {normalized!r} is not true or false")
+
+
 def test_a_glbs_second_buffer_of_no_uri_is_refused(tmp_path: Path) -> None:
     """Only a GLB's first buffer, its binary chunk, may leave out its uri: trimesh gave the next one the
     chunk after it, of none, and read no buffer after that, so a fan's triangles, appended for it, were

@@ -486,6 +486,8 @@ class GltfReferences:
             self.refuse(self.unknown(f"accessor {number}", "componentType", component))
         if not (isinstance(kind, str) and kind in _TYPE_COMPONENTS):
             self.refuse(self.unknown(f"accessor {number}", "type", kind))
+        if not isinstance(normalized := accessor.get("normalized", False), bool):  # read as false without a word
+            self.refuse(f"accessor {number}'s normalized {shortened(escaped(repr(normalized)))} is not true or false")
         offset = self.byte_count(accessor, "byteOffset", f"accessor {number}")
         size = _item_bytes(accessor)
         self.copied["accessor"] += count * size
