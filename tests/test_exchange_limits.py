@@ -596,6 +596,21 @@ def test_a_scenes_root_that_is_a_nodes_child_is_refused(tmp_path: Path) -> None:
         "not a glTF file: node 1 is a root of scene 0 and the child of node 0 (glTF's nodes form trees)")
 
 
+@pytest.mark.parametrize(("key", "values"), [("translation", [float("inf"), 2, 4]),
+                                             ("matrix", [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, float("nan"), 1])])
+def test_a_nodes_transform_of_a_number_not_finite_is_refused(tmp_path: Path, key: str, values: list[float]) -> None:
+    """A node's transform holding NaN or an infinity (Python's JSON reads NaN, Infinity and 1e999) was taken
+    for none: trimesh, and the walk that follows it, leave out a matrix within 1e-8 of the identity, as a
+    comparison with NaN is not past it, so the child's triangle was drawn without its parent's transform
+    and without a word."""
+    document, binary = triangle_gltf([{"children": [1], key: values}, {"mesh": 0}], [0])
+    path = tmp_path / "unheld.glb"
+    path.write_bytes(glb(document, binary))
+    unheld = next(value for value in values if not np.isfinite(value))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        f"not a glTF file: node 0's {key} holds {unheld}: not a finite number")
+
+
 def test_a_gltf_buffer_without_a_uri_is_refused_in_those_words(tmp_path: Path) -> None:
     """Only a GLB's buffer holds its bytes without a uri: trimesh said "KeyError: 'uri'"."""
     document, _ = triangle_gltf([{"mesh": 0}], [0])

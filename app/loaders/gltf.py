@@ -378,6 +378,8 @@ class GltfReferences:
             values = node.get(key, [0.0] * size)
             if not (isinstance(values, list) and len(values) == size and all(_is_number(value) for value in values)):
                 self.refuse(f"node {number}'s {key} is not {size} numbers")
+            if unheld := [value for value in values if not _is_finite(value)]:  # trimesh took NaN's matrix for none
+                self.refuse(f"node {number}'s {key} holds {shortened(str(unheld[0]))}: not a finite number")
 
     def primitive(self, what: str, primitive: dict[str, Any]) -> None:
         attributes = primitive.get("attributes")
