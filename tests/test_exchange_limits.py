@@ -1596,6 +1596,44 @@ def morphed_glb(folder: Path, mesh_weights: object, nodes: list[dict[str, Any]],
     return path
 
 
+class _CountedReads(dict):  # type: ignore[type-arg]
+    """A primitive that counts the reads of its targets."""
+
+    reads = 0
+
+    def get(self, key: str, default: object = None) -> object:
+        _CountedReads.reads += key == "targets"
+        return super().get(key, default)
+
+
+class _CountedWeights(list):  # type: ignore[type-arg]
+    """Weights that count the times they are gone through."""
+
+    reads = 0
+
+    def __iter__(self) -> Any:
+        _CountedWeights.reads += 1
+        return super().__iter__()
+
+
+def test_a_meshs_primitives_and_weights_are_read_once_however_many_nodes_place_it(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """morphed_shapes read every primitive of a mesh, and its own weights, again for each node placing it: a
+    cost in the square of the file's size. Each is read a few times now, however many nodes place the mesh
+    (half of them by weights of their own)."""
+    monkeypatch.setattr(_CountedReads, "reads", 0)
+    monkeypatch.setattr(_CountedWeights, "reads", 0)
+    primitives = [_CountedReads(attributes={"POSITION": 0}, targets=[{"POSITION": 0}], mode=mode)
+                  for mode in [3] * 100 + [4]]
+    nodes = [{"mesh": 0, **({"weights": [1.0]} if number % 2 else {})} for number in range(100)]
+    document = {"scenes": [{"nodes": list(range(100))}], "nodes": nodes, "accessors": [{"count": 3}],
+                "meshes": [{"primitives": primitives, "weights": _CountedWeights([0.5])}]}
+    shapes = gltf.morphed_shapes(document, held=1000)
+    assert sorted(shapes.by_mesh[0]) == [(0.5,), (1.0,)]
+    assert _CountedReads.reads <= 4 * len(primitives)
+    assert _CountedWeights.reads <= 10
+
+
 @pytest.mark.parametrize(("mesh_weights", "node", "lift"), [
     ([1.0], {"mesh": 0}, 5.0),
     ([0.0], {"mesh": 0}, 0.0),

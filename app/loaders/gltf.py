@@ -949,19 +949,31 @@ def morphed_shapes(document: dict[str, Any], held: int) -> MorphedShapes:
     """The shapes of a checked glTF's placed meshes, from its JSON. What they read and write may come to no
     more than made_limit(held) bytes, `held` the file's and its buffers' bytes: a mesh past it is drawn in
     its base shape, with a note (each shape reads its targets again: many nodes of weights of their own
-    would read a large mesh's many times)."""
+    would read a large mesh's many times). Each mesh's primitives and own weights are read once, however
+    many nodes place it."""
     meshes, nodes = document.get("meshes", []), document.get("nodes", [])
     by_mesh: dict[int, dict[tuple[float, ...], list[int]]] = {}
     unapplied: dict[int, str] = {}  # each mesh's first reason
+    targets: dict[int, _Targets] = {}
+    by_mesh_weights: dict[int, list[int]] = {}  # the nodes each mesh's own weights shape it for
     for number in sorted(set(_placed_node_numbers(document))):
         mesh_number = nodes[number].get("mesh")
-        if mesh_number is None or not any(primitive.get("targets") for primitive in meshes[mesh_number]["primitives"]):
+        if mesh_number is not None and mesh_number not in targets:
+            targets[mesh_number] = _targets_of(meshes[mesh_number])
+        if mesh_number is None or not targets[mesh_number].counts[-1]:  # no primitive has targets
             continue
-        weights = _shaping_weights(number, nodes[number], mesh_number, meshes[mesh_number])
+        own = "weights" in nodes[number]
+        if not own and mesh_number in by_mesh_weights:
+            by_mesh_weights[mesh_number].append(number)
+            continue
+        weights = _shaping_weights(number, nodes[number], mesh_number, meshes[mesh_number], targets[mesh_number])
         if isinstance(weights, str):
             unapplied.setdefault(mesh_number, weights)
             weights = _BASE_SHAPE
-        by_mesh.setdefault(mesh_number, {}).setdefault(weights, []).append(number)
+        placing = by_mesh.setdefault(mesh_number, {}).setdefault(weights, [])
+        placing.append(number)
+        if not own:
+            by_mesh_weights[mesh_number] = placing
     made = 0
     for mesh_number, shapes in list(by_mesh.items()):
         work = _shaping_bytes(document, meshes[mesh_number], shapes, made_limit(held) - made)
@@ -975,8 +987,24 @@ def morphed_shapes(document: dict[str, Any], held: int) -> MorphedShapes:
     return MorphedShapes(by_mesh, _unshaped_notes(list(unapplied.values())))
 
 
-def _shaping_weights(number: int, node: dict[str, Any], mesh_number: int,
-                     mesh: dict[str, Any]) -> tuple[float, ...] | str:
+@dataclass(frozen=True)
+class _Targets:
+    """A mesh's primitives' counts of morph targets (sorted, each once), and the primitives whose Draco
+    stream holds POSITION."""
+
+    counts: tuple[int, ...]
+    compressed: tuple[int, ...]
+
+
+def _targets_of(mesh: dict[str, Any]) -> _Targets:
+    primitives = mesh["primitives"]
+    return _Targets(tuple(sorted({len(primitive.get("targets", [])) for primitive in primitives})),
+                    tuple(number for number, primitive in enumerate(primitives)
+                          if "POSITION" in _draco_attributes(primitive)))
+
+
+def _shaping_weights(number: int, node: dict[str, Any], mesh_number: int, mesh: dict[str, Any],
+                     targets: _Targets) -> tuple[float, ...] | str:
     """The weights node `number` shapes its mesh with, glTF's default pose (its own, else its mesh's;
     _BASE_SHAPE where they are zeros or none), or why they cannot be applied."""
     own = "weights" in node
@@ -989,15 +1017,15 @@ def _shaping_weights(number: int, node: dict[str, Any], mesh_number: int,
         return f"{whose} hold {shortened(str(unheld[0]))}, not a finite number"
     if not any(weights):
         return _BASE_SHAPE
-    targets = sorted({len(primitive.get("targets", [])) for primitive in mesh["primitives"]})
-    if len(targets) > 1:
-        return f"{named}'s primitives have {' and '.join(map(str, targets))} morph targets (glTF's have as many each)"
-    if len(weights) != targets[0]:
-        return f"{whose} are {counted(len(weights), 'number')}, for {targets_of} {counted(targets[0], 'morph target')}"
-    compressed = [primitive_number for primitive_number, primitive in enumerate(mesh["primitives"])
-                  if "POSITION" in _draco_attributes(primitive)]
-    if compressed and _draco_decoder():  # it writes what it decodes into the accessor POSITION points at
-        return f"{named}'s primitive {compressed[0]} is Draco-compressed: trimesh decodes its positions over the shape"
+    if len(targets.counts) > 1:
+        return (f"{named}'s primitives have {' and '.join(map(str, targets.counts))} morph targets (glTF's have as "
+                "many each)")
+    if len(weights) != targets.counts[0]:
+        return (f"{whose} are {counted(len(weights), 'number')}, for {targets_of} "
+                f"{counted(targets.counts[0], 'morph target')}")
+    if targets.compressed and _draco_decoder():  # it writes what it decodes into the accessor POSITION points at
+        return (f"{named}'s primitive {targets.compressed[0]} is Draco-compressed: trimesh decodes its positions over "
+                "the shape")
     return tuple(float(weight) for weight in weights)
 
 
