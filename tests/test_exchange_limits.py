@@ -1606,13 +1606,13 @@ class _CountedReads(dict):  # type: ignore[type-arg]
         return super().get(key, default)
 
 
-class _CountedWeights(list):  # type: ignore[type-arg]
-    """Weights that count the times they are gone through."""
+class _CountedIterations(list):  # type: ignore[type-arg]
+    """A list that counts the times it is gone through."""
 
     reads = 0
 
     def __iter__(self) -> Any:
-        _CountedWeights.reads += 1
+        _CountedIterations.reads += 1
         return super().__iter__()
 
 
@@ -1622,16 +1622,31 @@ def test_a_meshs_primitives_and_weights_are_read_once_however_many_nodes_place_i
     cost in the square of the file's size. Each is read a few times now, however many nodes place the mesh
     (half of them by weights of their own)."""
     monkeypatch.setattr(_CountedReads, "reads", 0)
-    monkeypatch.setattr(_CountedWeights, "reads", 0)
+    monkeypatch.setattr(_CountedIterations, "reads", 0)
     primitives = [_CountedReads(attributes={"POSITION": 0}, targets=[{"POSITION": 0}], mode=mode)
                   for mode in [3] * 100 + [4]]
     nodes = [{"mesh": 0, **({"weights": [1.0]} if number % 2 else {})} for number in range(100)]
     document = {"scenes": [{"nodes": list(range(100))}], "nodes": nodes, "accessors": [{"count": 3}],
-                "meshes": [{"primitives": primitives, "weights": _CountedWeights([0.5])}]}
+                "meshes": [{"primitives": primitives, "weights": _CountedIterations([0.5])}]}
     shapes = gltf.morphed_shapes(document, held=1000)
     assert sorted(shapes.by_mesh[0]) == [(0.5,), (1.0,)]
     assert _CountedReads.reads <= 4 * len(primitives)
-    assert _CountedWeights.reads <= 10
+    assert _CountedIterations.reads <= 10
+
+
+def test_a_meshs_primitives_are_counted_once_however_many_nodes_place_it(monkeypatch: pytest.MonkeyPatch) -> None:
+    """gltf_counts went through a mesh's primitives again for each node placing it, before the placements
+    it added up could be refused: a cost in the square of the file's size (many nodes of a mesh of many
+    points). Each mesh's are added up once now."""
+    sizes = gltf._primitive_sizes
+    monkeypatch.setattr(_CountedIterations, "reads", 0)
+    monkeypatch.setattr(gltf, "_primitive_sizes",
+                        lambda document: [_CountedIterations(read) for read in sizes(document)])
+    document = {"scenes": [{"nodes": list(range(100))}], "nodes": [{"mesh": 0}] * 100, "accessors": [{"count": 3}],
+                "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "mode": 0}] * 100
+                            + [{"attributes": {"POSITION": 0}}]}]}
+    assert gltf.gltf_counts(document) == (10_100, 100, 300)
+    assert _CountedIterations.reads <= 3
 
 
 @pytest.mark.parametrize(("mesh_weights", "node", "lift"), [

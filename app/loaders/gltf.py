@@ -744,11 +744,11 @@ def gltf_counts(document: dict[str, Any] | None) -> tuple[int, int, int] | None:
     if document is None:
         return None
     try:
-        sizes = _primitive_sizes(document)
+        sizes = _mesh_sizes(document)
         placements, triangles, vertices = 0, 0, 0
         for node in _placed_nodes(document):
-            for faces, points in sizes[node["mesh"]] if "mesh" in node else ():
-                placements, triangles, vertices = placements + 1, triangles + faces, vertices + points
+            read, faces, points = sizes[node["mesh"]] if "mesh" in node else (0, 0, 0)
+            placements, triangles, vertices = placements + read, triangles + faces, vertices + points
     except (_Unshaped, LookupError, TypeError, AttributeError):
         return None
     return placements, triangles, vertices
@@ -788,6 +788,13 @@ def _roots(document: dict[str, Any]) -> list[Any]:
 # it skips line loops, line strips and fans (fans are made triangles for it: _fans_made_triangles).
 _POINTS, _LINES, _LINE_LOOP, _LINE_STRIP, _TRIANGLES, _STRIP, _FAN = 0, 1, 2, 3, 4, 5, 6
 _FAN_LEAST_CORNERS = 3  # a fan of fewer draws nothing, in glTF too: left a fan, which trimesh skips
+
+
+def _mesh_sizes(document: dict[str, Any]) -> list[tuple[int, int, int]]:
+    """Per mesh, (primitives, triangles, vertices) of the primitives trimesh reads, added up once: a node
+    placing it adds them, however many primitives it has."""
+    return [(len(read), sum(faces for faces, _ in read), sum(points for _, points in read))
+            for read in _primitive_sizes(document)]
 
 
 def _primitive_sizes(document: dict[str, Any]) -> list[list[tuple[int, int]]]:
