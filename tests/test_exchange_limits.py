@@ -2322,6 +2322,17 @@ def test_an_accessors_normalized_not_true_or_false_is_refused(tmp_path: Path, no
         f"not a glTF file: accessor 0's normalized {normalized!r} is not true or false")
 
 
+def test_an_accessor_of_items_longer_than_its_views_stride_is_refused(tmp_path: Path) -> None:
+    """glTF's byteStride is no less than an item: positions of 12 bytes 4 apart were read overlapping (the
+    second vertex the first one's y and z, and one number more) and drawn so without a word."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["bufferViews"][0]["byteStride"] = 4
+    path = tmp_path / "overlapping.glb"
+    path.write_bytes(glb(document, binary))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        "not a glTF file: accessor 0's items are 12 bytes, more than the byteStride 4 of buffer view 0")
+
+
 def test_a_glbs_second_buffer_of_no_uri_is_refused(tmp_path: Path) -> None:
     """Only a GLB's first buffer, its binary chunk, may leave out its uri: trimesh gave the next one the
     chunk after it, of none, and read no buffer after that, so a fan's triangles, appended for it, were

@@ -502,6 +502,9 @@ class GltfReferences:
             return
         view = self.named(accessor["bufferView"], "bufferViews", f"accessor {number}")
         length, stride = view.get("byteLength"), view.get("byteStride") or size
+        if _is_whole(stride) and stride < size:  # its items would overlap, each read over the next
+            self.refuse(f"accessor {number}'s items are {size} bytes, more than the byteStride {stride} of buffer "
+                        f"view {accessor['bufferView']}")
         if count and all(map(_is_whole, (length, stride))) and offset + (count - 1) * stride + size > length:
             self.refuse(f"accessor {number}'s {count} items run past the {length} bytes of buffer view "
                         f"{accessor['bufferView']}")  # its last item's last byte
