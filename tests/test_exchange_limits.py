@@ -2275,12 +2275,14 @@ def test_a_fan_in_a_file_of_no_buffer_is_drawn(tmp_path: Path, file_name: str) -
     assert not loaded.positions.any()
 
 
-@pytest.mark.parametrize("view", [{"byteLength": 12}, {"byteLength": 12, "byteStride": 16}])
-def test_an_accessor_of_no_items_is_refused(tmp_path: Path, view: dict[str, Any]) -> None:
+@pytest.mark.parametrize(("view", "refusal"), [
+    ({"byteLength": 12}, "mesh 0's primitive 1 reads accessor 2, of no items"),
+    ({"byteLength": 12, "byteStride": 16}, "accessor 2's count is 0, in buffer view 2 of byteStride 16")])
+def test_an_accessor_of_no_items_is_refused(tmp_path: Path, view: dict[str, Any], refusal: str) -> None:
     """glTF's accessors hold one item or more: one of none was read from its byteOffset, unchecked, so one
     past its view failed ("could not read the model (ValueError: offset must be non-negative and no
     greater than buffer length (60))"), and trimesh asserted on one in a view of a byteStride past its
-    item's bytes ("not a readable GLB file (AssertionError)")."""
+    item's bytes, read or not ("not a readable GLB file (AssertionError)")."""
     document, binary = triangle_gltf([{"mesh": 0}], [0])
     document["bufferViews"].append({"buffer": 0, **view})
     document["accessors"].append({"bufferView": 2, "componentType": 5126, "count": 0, "type": "VEC3",
@@ -2289,7 +2291,22 @@ def test_an_accessor_of_no_items_is_refused(tmp_path: Path, view: dict[str, Any]
     path = tmp_path / "none.glb"
     path.write_bytes(glb(document, binary))
     assert one_line_refusal(lambda: load_model(path)).message == (
-        "not a glTF file: accessor 2's count is 0: glTF's accessors hold one item or more")
+        f"not a glTF file: {refusal}: glTF's accessors hold one item or more")
+
+
+def test_accessors_of_no_items_no_primitive_reads_are_let_through(tmp_path: Path) -> None:
+    """Exporters write them (Babylon's 3ds Max exporter, an animation's; Godot's importer met a file of
+    dozens): trimesh reads one outside a strided view as empty, and nothing here reads them, so the file
+    was drawn until every accessor of no items was refused."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["bufferViews"].append({"buffer": 0, "byteLength": 12})
+    document["accessors"] += [{"componentType": 5126, "count": 0, "type": "SCALAR"},
+                              {"bufferView": 2, "componentType": 5126, "count": 0, "type": "VEC3", "byteOffset": 1000}]
+    document["animations"] = [{"samplers": [{"input": 2, "output": 3}],
+                               "channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}}]}]
+    path = tmp_path / "animated.glb"
+    path.write_bytes(glb(document, binary))
+    assert load_model(path).face_count == 1
 
 
 @pytest.mark.parametrize("mode", [7, -1, 1.5, "4", None, True])

@@ -407,6 +407,9 @@ class GltfReferences:
                 self.refuse(f"{what}'s indices are accessor {primitive['indices']}, of type {accessor.get('type')}: "
                             "glTF's are SCALAR")
             self.components(f"{what}'s indices are", _INDEX_COMPONENT_TYPES, primitive["indices"], accessor)
+        for index in [attributes["POSITION"], *([primitive["indices"]] if "indices" in primitive else [])]:
+            if self.document["accessors"][index]["count"] == 0:  # read, one failed; exporters leave ones none reads
+                self.refuse(f"{what} reads accessor {index}, of no items: glTF's accessors hold one item or more")
         for number, target in enumerate(self.listed(primitive, "targets", what)):
             self.morph_target(f"{what}'s morph target {number}", target, attributes["POSITION"])
         if primitive.get("mode", _TRIANGLES) == _TRIANGLES:  # three corners each, or trimesh fails to reshape them
@@ -481,8 +484,6 @@ class GltfReferences:
         count = accessor.get("count")
         if not _is_whole(count) or count < 0:
             self.refuse(f"accessor {number}'s count is not a whole number")
-        if count == 0:  # trimesh reads one in a strided view as -stride+size bytes, and asserts
-            self.refuse(f"accessor {number}'s count is 0: glTF's accessors hold one item or more")
         component, kind = accessor.get("componentType"), accessor.get("type")
         if not (_is_whole(component) and component in _COMPONENT_BYTES):  # trimesh says a KeyError
             self.refuse(self.unknown(f"accessor {number}", "componentType", component))
@@ -502,6 +503,9 @@ class GltfReferences:
             return
         view = self.named(accessor["bufferView"], "bufferViews", f"accessor {number}")
         length, stride = view.get("byteLength"), view.get("byteStride") or size
+        if count == 0 and "byteStride" in view:  # trimesh reads every accessor, a strided one as -stride+size bytes
+            self.refuse(f"accessor {number}'s count is 0, in buffer view {accessor['bufferView']} of byteStride "
+                        f"{stride}: glTF's accessors hold one item or more")
         if _is_whole(stride) and stride < size:  # its items would overlap, each read over the next
             self.refuse(f"accessor {number}'s items are {size} bytes, more than the byteStride {stride} of buffer "
                         f"view {accessor['bufferView']}")
