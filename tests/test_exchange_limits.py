@@ -593,7 +593,20 @@ def test_a_scenes_root_that_is_a_nodes_child_is_refused(tmp_path: Path) -> None:
     path = tmp_path / "root_and_child.glb"
     path.write_bytes(glb(*triangle_gltf([{"children": [1], "translation": [0, 0, 5]}, {"mesh": 0}], [0, 1])))
     assert one_line_refusal(lambda: load_model(path)).message == (
-        "not a glTF file: node 1 is a root of scene 0 and the child of node 0 (glTF's nodes form trees)")
+        "not a glTF file: node 1 is a root of scene 0 and the child of node 0, which it places too (glTF's nodes "
+        "form trees)")
+
+
+def test_a_scenes_root_whose_parent_the_scene_does_not_place_is_drawn_once(tmp_path: Path) -> None:
+    """UniGLTF's exports (Kenney's Nature Kit) list as their scene's root the child of a "tmpParent" node no
+    scene places: trimesh and the walk place it once, by its own transform, and it was drawn so until every
+    root that is a child was refused."""
+    path = tmp_path / "tmp_parent.glb"
+    path.write_bytes(glb(*triangle_gltf([{"name": "tmpParent", "children": [1]},
+                                         {"mesh": 0, "translation": [0, 0, 2]}], [1])))
+    loaded = load_model(path)
+    assert loaded.face_count == 1
+    assert np.allclose(loaded.positions[:, 2], 2)
 
 
 @pytest.mark.parametrize(("key", "values"), [("translation", [float("inf"), 2, 4]),

@@ -669,8 +669,9 @@ def _is_number(value: object) -> bool:
 
 def check_one_parent_each(path: Path, document: dict[str, Any]) -> None:
     """glTF's nodes form trees: a node that is the child of two (trimesh's reader takes time in the square
-    of such sharing), its own ancestor, or a scene's root and a child, is refused before trimesh reads the
-    file. Its nodes, scenes and their lists checked by GltfReferences: objects, and lists of node indices."""
+    of such sharing), its own ancestor, or a root of the scene drawn that it places again under another, is
+    refused before trimesh reads the file. Its nodes, scenes and their lists checked by GltfReferences:
+    objects, and lists of node indices."""
     parent: dict[int, int] = {}
     for number, node in enumerate(document.get("nodes", [])):
         for child in node.get("children", []):
@@ -679,11 +680,21 @@ def check_one_parent_each(path: Path, document: dict[str, Any]) -> None:
                                       "trees)")
             parent[child] = number
     _check_no_loop(path, parent)
-    for number, scene in enumerate(document.get("scenes", [])):  # trimesh placed such a root once, by either
-        for root in scene.get("nodes", []):
-            if root in parent:
-                raise LoadError(path, f"not a glTF file: node {root} is a root of scene {number} and the child of node "
-                                      f"{parent[root]} (glTF's nodes form trees)")
+    _check_roots_placed_once(path, document, parent)
+
+
+def _check_roots_placed_once(path: Path, document: dict[str, Any], parent: dict[int, int]) -> None:
+    """The drawn scene's roots, none under another (the walk counted it twice, trimesh placed it once, by
+    the root alone). A root whose parent the scene does not place is let through: UniGLTF's exports (Kenney's
+    kits) list a child of an unplaced "tmpParent" as their root, and trimesh and the walk place it once."""
+    nodes, roots = document.get("nodes", []), set(_roots(document))
+    below = [child for root in roots for child in nodes[root].get("children", [])]
+    while below:  # each node once: the nodes form trees, and the walk stops at the first root met again
+        node = below.pop()
+        if node in roots:
+            raise LoadError(path, f"not a glTF file: node {node} is a root of scene {document.get('scene', 0)} and "
+                                  f"the child of node {parent[node]}, which it places too (glTF's nodes form trees)")
+        below.extend(nodes[node].get("children", []))
 
 
 def _check_no_loop(path: Path, parent: dict[int, int]) -> None:
