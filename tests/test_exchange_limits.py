@@ -1845,23 +1845,34 @@ def test_a_shape_of_a_coordinate_that_is_no_finite_number_is_refused(tmp_path: P
         "POSITION holds one, or a weight takes it past float's range)")
 
 
-def test_shapes_that_would_make_many_times_the_files_bytes_are_a_note_never_made(tmp_path: Path) -> None:
-    """A mesh of 20,000 vertices placed by 10 nodes, each with weights of its own, would be 10 shapes
-    (7 MB read and made from a 480 KB file), past twice the file's bytes and 1 MiB: the base shape, unread."""
-    vertices, nodes = 20_000, 10
+def lifted_strip_glb(path: Path, vertices: int, nodes: list[dict[str, Any]], targets: int = 1,
+                     mesh_weights: list[float] | None = None) -> tuple[Path, np.ndarray]:
+    """A GLB of one zigzag strip of `vertices` in z = 0, its morph targets (`targets` of them, each the
+    same accessor) lifting it 1 along z, placed by `nodes` (each placing mesh 0); and its grid."""
     grid, lifted = np.zeros((vertices, 3), np.float32), np.zeros((vertices, 3), np.float32)
-    grid[:, 0], grid[:, 1], lifted[:, 2] = np.arange(vertices), np.arange(vertices) % 2, 1  # a zigzag strip, lifted
+    grid[:, 0], grid[:, 1], lifted[:, 2] = np.arange(vertices), np.arange(vertices) % 2, 1
     binary = grid.tobytes() + lifted.tobytes()
-    document = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": list(range(nodes))}],
-                "nodes": [{"mesh": 0, "weights": [number + 1]} for number in range(nodes)],
-                "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "targets": [{"POSITION": 1}], "mode": 5}]}],
+    mesh: dict[str, Any] = {"primitives": [{"attributes": {"POSITION": 0}, "targets": [{"POSITION": 1}] * targets,
+                                            "mode": 5}]}
+    if mesh_weights is not None:
+        mesh["weights"] = mesh_weights
+    document = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": list(range(len(nodes)))}],
+                "nodes": nodes, "meshes": [mesh],
                 "accessors": [{"bufferView": number, "componentType": 5126, "count": vertices, "type": "VEC3"}
                               for number in range(2)],
                 "bufferViews": [{"buffer": 0, "byteOffset": number * grid.nbytes, "byteLength": grid.nbytes}
                                 for number in range(2)],
                 "buffers": [{"byteLength": len(binary)}]}
-    path = tmp_path / "crowd.glb"
     path.write_bytes(glb(document, binary))
+    return path, grid
+
+
+def test_shapes_that_would_make_many_times_the_files_bytes_are_a_note_never_made(tmp_path: Path) -> None:
+    """A mesh of 20,000 vertices placed by 10 nodes, each with weights of its own, would be 10 shapes
+    (7 MB read and made from a 480 KB file), past twice the file's bytes and 1 MiB: the base shape, unread."""
+    vertices, nodes = 20_000, 10
+    path, grid = lifted_strip_glb(tmp_path / "crowd.glb", vertices, [{"mesh": 0, "weights": [number + 1]}
+                                                                      for number in range(nodes)])
     held = path.stat().st_size
     loaded, peak = peak_traced_bytes(lambda: load_model(path))
     assert loaded.warnings == (f"mesh 0's shapes by its weights would bring what shapes make to more than the "
@@ -1874,19 +1885,8 @@ def test_shapes_that_would_make_many_times_the_files_bytes_are_a_note_never_made
 def test_a_target_named_many_times_is_read_once(tmp_path: Path) -> None:
     """300 targets of one accessor of 20,000 vertices: their weights added up, it is read once."""
     vertices = 20_000
-    grid, lifted = np.zeros((vertices, 3), np.float32), np.zeros((vertices, 3), np.float32)
-    grid[:, 0], grid[:, 1], lifted[:, 2] = np.arange(vertices), np.arange(vertices) % 2, 1
-    binary = grid.tobytes() + lifted.tobytes()
-    document = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
-                "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "targets": [{"POSITION": 1}] * 300,
-                                            "mode": 5}], "weights": [0.01] * 300}],
-                "accessors": [{"bufferView": number, "componentType": 5126, "count": vertices, "type": "VEC3"}
-                              for number in range(2)],
-                "bufferViews": [{"buffer": 0, "byteOffset": number * grid.nbytes, "byteLength": grid.nbytes}
-                                for number in range(2)],
-                "buffers": [{"byteLength": len(binary)}]}
-    path = tmp_path / "many.glb"
-    path.write_bytes(glb(document, binary))
+    path, grid = lifted_strip_glb(tmp_path / "many.glb", vertices, [{"mesh": 0}], targets=300,
+                                  mesh_weights=[0.01] * 300)
     loaded = load_model(path)
     np.testing.assert_allclose(loaded.positions, grid + (0, 0, 3), rtol=1e-5)
     assert loaded.warnings == ()

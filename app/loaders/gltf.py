@@ -805,6 +805,7 @@ def _roots(document: dict[str, Any]) -> list[Any]:
 # glTF's modes of primitive: trimesh reads points and lines (placed, not drawn), triangles and strips;
 # it skips line loops, line strips and fans (fans are made triangles for it: _fans_made_triangles).
 _POINTS, _LINES, _LINE_LOOP, _LINE_STRIP, _TRIANGLES, _STRIP, _FAN = 0, 1, 2, 3, 4, 5, 6
+_READ_MODES = (_POINTS, _LINES, _TRIANGLES, _STRIP)  # trimesh makes something of these, and skips the rest
 _FAN_LEAST_CORNERS = 3  # a fan of fewer draws nothing, in glTF too: left a fan, which trimesh skips
 
 
@@ -824,7 +825,7 @@ def _primitive_sizes(document: dict[str, Any]) -> list[list[tuple[int, int]]]:
         read = []
         for primitive in mesh["primitives"]:
             mode = primitive.get("mode", _TRIANGLES)
-            if mode not in (_POINTS, _LINES, _TRIANGLES, _STRIP, _FAN):
+            if mode not in (*_READ_MODES, _FAN):
                 continue  # trimesh skips it
             points = _count(accessors[primitive["attributes"]["POSITION"]])
             corners = _count(accessors[primitive["indices"]]) if "indices" in primitive else points
@@ -1317,17 +1318,14 @@ def _accessors_made_plain(path: Path, document: dict[str, Any], buffer: Callable
     plain = sorted({index for index in read if "sparse" in accessors[index]} | fractions)
     if not plain:
         return False
-    made, views = bytearray(), document.setdefault("bufferViews", [])
+    made = _MadeBuffer(document)
     for index in plain:
         items, accessor = _items(path, document, index, buffer), accessors[index]
         if index in fractions:
             items, accessor = _as_fractions(items, accessor)
-        views.append({"buffer": _made_buffer_number(document), "byteOffset": len(made), "byteLength": items.nbytes})
-        made += memoryview(np.ascontiguousarray(items)).cast("B")  # its bytes, not a copy of them
-        made += b"\0" * (-items.nbytes % 4)  # each view at a multiple of four bytes, as glTF's
         kept = {key: value for key, value in accessor.items() if key not in ("sparse", "byteOffset")}
-        accessors[index] = {**kept, "bufferView": len(views) - 1}
-    _append_made_buffer(document, made)
+        accessors[index] = {**kept, "bufferView": made.view(items)}
+    made.append()
     return True
 
 
@@ -1339,8 +1337,7 @@ def _shapes_made(path: Path, document: dict[str, Any], buffer: Callable[[int], b
     accessor. False where no mesh is shaped."""
     if not shapes.by_mesh:
         return False
-    meshes, accessors = document.get("meshes", []), document.get("accessors", [])
-    views, made = document.setdefault("bufferViews", []), bytearray()
+    meshes, accessors, made = document.get("meshes", []), document.get("accessors", []), _MadeBuffer(document)
     made_for: dict[tuple[Any, ...], int] = {}  # (POSITION, its targets, weights) -> the accessor of the shape
     for mesh_number, by_weights in shapes.by_mesh.items():
         unshaped = meshes[mesh_number]
@@ -1353,14 +1350,11 @@ def _shapes_made(path: Path, document: dict[str, Any], buffer: Callable[[int], b
                                                                source["targets"]), weights)
                 if key not in made_for:
                     shape = _shape(path, document, source, weights, buffer, f"{named}'s primitive {number}")
-                    views.append({"buffer": _made_buffer_number(document), "byteOffset": len(made),
-                                  "byteLength": shape.nbytes})
-                    made += memoryview(shape).cast("B")
-                    accessors.append({"bufferView": len(views) - 1, "componentType": _FLOAT_COMPONENTS,
+                    accessors.append({"bufferView": made.view(shape), "componentType": _FLOAT_COMPONENTS,
                                       "count": len(shape), "type": "VEC3"})
                     made_for[key] = len(accessors) - 1
                 primitive["attributes"]["POSITION"] = made_for[key]
-    _append_made_buffer(document, made)
+    made.append()
     return True
 
 
@@ -1427,36 +1421,43 @@ def _fans_made_triangles(path: Path, document: dict[str, Any], buffer: Callable[
     glTF draws it (the first corner with each next two), their indices in a buffer appended as a data:
     URI: trimesh skips fans. Fans of the same indices over as many vertices share one accessor. The
     indices are checked already (_check_drawn_values). False where there is none."""
-    accessors, views = document.get("accessors", []), document.setdefault("bufferViews", [])
-    made = bytearray()
+    accessors, made = document.get("accessors", []), _MadeBuffer(document)
     made_for: dict[tuple[Any, int], int] = {}  # (indices, vertices) -> the accessor of their triangles
     for primitive, vertices in _drawn_fans(document):
         fanned = (primitive.get("indices"), vertices)
         if fanned not in made_for:
             triangles = _fan_triangles(_fan_corners(path, document, primitive, vertices, buffer))
-            views.append({"buffer": _made_buffer_number(document), "byteOffset": len(made),
-                          "byteLength": triangles.nbytes})
-            made += memoryview(triangles).cast("B")
-            accessors.append({"bufferView": len(views) - 1, "componentType": _UINT32_COMPONENTS,
+            accessors.append({"bufferView": made.view(triangles), "componentType": _UINT32_COMPONENTS,
                               "count": triangles.size, "type": "SCALAR"})
             made_for[fanned] = len(accessors) - 1
         primitive["mode"], primitive["indices"] = _TRIANGLES, made_for[fanned]
     if not made_for:
         return False
-    _append_made_buffer(document, made)
+    made.append()
     return True
 
 
-def _made_buffer_number(document: dict[str, Any]) -> int:
-    """The number of the buffer _append_made_buffer appends: a file may list no buffer, each of its
-    accessors zeros (read without a view), normalized, shaped or fanned all the same."""
-    return len(document.setdefault("buffers", []))
+class _MadeBuffer:
+    """Values made for trimesh (plain accessors, shapes, fans' triangles), a buffer view each, appended to
+    the document as one buffer of a data: URI. A file may list no buffer, each of its accessors zeros
+    (read without a view), and have them made all the same."""
 
+    def __init__(self, document: dict[str, Any]) -> None:
+        self.document, self.made = document, bytearray()
+        self.number = len(document.setdefault("buffers", []))  # of the buffer `append` adds
 
-def _append_made_buffer(document: dict[str, Any], made: bytearray) -> None:
-    """Appends the bytes made for trimesh as a buffer of a data: URI, the one _made_buffer_number numbers."""
-    document.setdefault("buffers", []).append(
-        {"byteLength": len(made), "uri": "data:application/octet-stream;base64," + base64.b64encode(made).decode()})
+    def view(self, values: np.ndarray) -> int:
+        """A buffer view of `values`' bytes (not a copy of them made first), at a multiple of four bytes
+        as glTF's are; its number."""
+        views = self.document.setdefault("bufferViews", [])
+        views.append({"buffer": self.number, "byteOffset": len(self.made), "byteLength": values.nbytes})
+        self.made += memoryview(np.ascontiguousarray(values)).cast("B")
+        self.made += b"\0" * (-values.nbytes % 4)
+        return len(views) - 1
+
+    def append(self) -> None:
+        self.document["buffers"].append({"byteLength": len(self.made), "uri": "data:application/octet-stream;base64,"
+                                         + base64.b64encode(self.made).decode()})
 
 
 def _drawn_fans(document: dict[str, Any]) -> Iterator[tuple[dict[str, Any], int]]:
@@ -1589,9 +1590,6 @@ def _view_items(document: dict[str, Any], view_number: int, offset: int, count: 
     held = np.frombuffer(buffer(view["buffer"]), np.uint8, offset=view.get("byteOffset", 0) + offset,
                          count=(count - 1) * stride + size)
     return np.lib.stride_tricks.as_strided(held, (count, size), (stride, 1), writeable=False)
-
-
-_READ_MODES = (_POINTS, _LINES, _TRIANGLES, _STRIP)  # trimesh makes something of these, and skips the rest
 
 
 def _meshes_of_nothing_taken_off(document: dict[str, Any]) -> bool:
