@@ -1560,3 +1560,46 @@ def test_the_status_of_a_scene_without_a_camera_or_light_is_refused_as_a_render_
         getattr(v.scene, emptied).clear()
         with pytest.raises(ValueError, match=r"^the scene needs a camera and a light"):
             v.status  # noqa: B018 - the property is the call
+
+
+UNIT_CUBE = (np.array([[x, y, z] for x in (0.0, 1.0) for y in (0.0, 1.0) for z in (0.0, 1.0)]),
+             [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]])
+
+
+def _cubes_added(v: marraztu.Viewer, first: int, count: int) -> None:
+    """`count` unit cubes in a row, every third one a small one inside the cube before it."""
+    positions, faces = UNIT_CUBE
+    for index in range(first, first + count):
+        place = [3.0 * (index - index % 3 // 2), 0.0, 0.0]
+        v.add_mesh(positions * (0.25 if index % 3 == 2 else 1.0) + place + (0.5 if index % 3 == 2 else 0.0), faces,
+                   name=f"cube {index}")
+
+
+@pytest.mark.parametrize("before", [10, 60])
+def test_a_loop_of_add_mesh_checks_the_scene_once_not_at_each_call(monkeypatch: pytest.MonkeyPatch,
+                                                                   before: int) -> None:
+    """Each add_mesh checked every element of the scene (Scene.check_by_hand): N calls cost N squared. No
+    hand can change a scene no one was handed, and add_mesh checks what it adds where it enters: the
+    check is made again once `scene` is read, or another call came between."""
+    from marraztu.model import scene as scene_module
+
+    checked = collections.Counter()
+    refusal_of = scene_module._element_refusal
+
+    def counting(element: object, what: str) -> str | None:
+        checked["elements"] += 1
+        return refusal_of(element, what)
+
+    monkeypatch.setattr(scene_module, "_element_refusal", counting)
+    with marraztu.Viewer(size=SIZE, empty=True) as v:
+        _cubes_added(v, 0, before)
+        checked.clear()
+        _cubes_added(v, before, 10)
+        assert checked["elements"] == 0, checked
+        v.press("x")  # a key's changes are not looked into: the next call checks
+        _cubes_added(v, before + 10, 1)
+        assert checked["elements"] == before + 10 + 1, checked  # the objects and the camera
+        assert len(v.scene.objects) == before + 11
+        checked.clear()
+        _cubes_added(v, before + 11, 2)  # handed out: each call checks
+        assert checked["elements"] == (before + 12) + (before + 13), checked

@@ -242,6 +242,10 @@ class Viewer:
         self._closer = weakref.finalize(self, _release_later, self._ctx, self._renderer)
         _open_viewers.add(self)
         self._viewer.start(options, self._renderer.max_texture_side)
+        # Whether the next call may skip the scene's check, a pass over every element: only add_mesh
+        # sets it, where the scene was checked and its one new element checked where it entered.
+        self._checked = False
+        self._handed_out = False  # `scene` was read: a hand may change anything in it, in place too
 
     @property
     def size(self) -> Size:
@@ -259,6 +263,7 @@ class Viewer:
         """The scene itself (objects, cameras, lights, modes), for reading or changing by hand. An
         object's `material` set by hand is given to all its parts (a file's materials); its
         `part_materials`, one per material of the file, set after it tell the parts apart."""
+        self._handed_out = True
         return self._viewer.scene
 
     @property
@@ -266,16 +271,16 @@ class Viewer:
         """What the top of the window says: the target, the moving mode, every switch, the lights and
         the selection ('target objects | rotate local | flat | ...'), which a mode key changes and the
         message does not. A mode set by hand is checked first, as every call checks it."""
-        self.scene.check_by_hand()  # the camera or light it names may be gone
-        return status_line(self.scene)
+        self._check_scene()  # the camera or light it names may be gone
+        return status_line(self._viewer.scene)
 
     @property
     def message(self) -> str:
         """What the bottom of the window says after the last press or load: the message, and the file
         prompt while `f` holds it open (the keys pressed are typed into it, not done)."""
         if self._viewer.prompt is None:
-            return self.scene.message
-        return "\n".join([*self.scene.message.splitlines(), prompt_line(self._viewer.prompt)])
+            return self._viewer.scene.message
+        return "\n".join([*self._viewer.scene.message.splitlines(), prompt_line(self._viewer.prompt)])
 
     @_one_call_at_a_time
     def load(self, path: str | Path) -> Viewer:
@@ -296,7 +301,7 @@ class Viewer:
         # All of them checked before any is pressed; a prompt an earlier call left open is typed into.
         presses = self._viewer.key_presses(keys)
         # The viewer's own fields too (the prompt, what the message says of a model out of view), as they were.
-        restore, viewer_fields = self.scene.restorer(len(presses)), dict(vars(self._viewer))
+        restore, viewer_fields = self._viewer.scene.restorer(len(presses)), dict(vars(self._viewer))
         try:
             for _ in self._frontend.replay(self._viewer, presses):  # up to ESC, as the screenshot command's keys
                 pass
@@ -348,6 +353,7 @@ class Viewer:
         obj.picture = picture
         give_part_materials(obj, from_scene=False)
         self._viewer.add_made(obj)
+        self._checked = True
         return self
 
     # --- pictures ------------------------------------------------------------------------------
@@ -365,7 +371,7 @@ class Viewer:
 
     def __repr__(self) -> str:
         """What the viewer holds, in words, drawing nothing: a notebook shows it once closed."""
-        scene, (width, height) = self.scene, self.size
+        scene, (width, height) = self._viewer.scene, self.size
         counts = ", ".join(counted(len(items), what) if isinstance(items, list) else f"{what}s: {type(items).__name__}"
                            for items, what in ((scene.objects, "object"), (scene.cameras, "camera"),
                                                (scene.lights, "light")))  # set by hand, refused at the next call
@@ -382,7 +388,7 @@ class Viewer:
     def probe(self) -> ProbeReport | None:
         """The selected face's probe as numbers; None when there is no face to probe."""
         self._check_open()
-        found = probe_scene(self.scene)
+        found = probe_scene(self._viewer.scene)
         if found is None:
             return None
         vertices = tuple(_probed_vertex(found, vertex) for vertex in found.vertices)
@@ -405,7 +411,14 @@ class Viewer:
         if not self._closer.alive:
             raise ViewerError("this Viewer is closed")
         refuse_forked_gl()
-        self.scene.check_by_hand()
+        self._check_scene()
+        self._checked = False  # until add_mesh says otherwise: other calls' changes are not looked into
+
+    def _check_scene(self) -> None:
+        """The scene's check (Scene.check_by_hand), where it may have changed since the last: it is out,
+        or a call other than add_mesh came between (whose own element was checked where it entered)."""
+        if self._handed_out or not self._checked:
+            self._viewer.scene.check_by_hand()
 
     def __enter__(self) -> Viewer:
         return self
