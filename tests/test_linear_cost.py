@@ -95,3 +95,31 @@ def test_the_check_of_a_refused_scene_of_many_objects_and_cameras_compares_each_
     with pytest.raises(ValueError, match="ambient"):
         scene.check_values()
     assert compared["elements"] <= 4 * 2 * count, compared
+
+
+def test_the_stacked_check_of_a_scene_reads_each_kind_of_elements_reach_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Scene._all_drawable read each element's reach (a Python map over one Reach an element, into
+    np.fromiter) where one np.repeat of the objects' and the cameras' does."""
+    import dataclasses
+
+    from marraztu.control.viewer import empty_scene
+    from marraztu.model import scene as scene_module
+    from marraztu.model.scene import SceneObject
+
+    scene = empty_scene()
+    camera = scene.cameras[0]
+    scene.objects = [SceneObject.placed(f"o{index}", camera.mesh, camera.material, (0.0, 0.0, 0.0))
+                     for index in range(300)]
+    read = {"reaches": 0}
+
+    @dataclasses.dataclass(frozen=True)
+    class CountedReach(scene_module.Reach):
+        def __getattribute__(self, name: str) -> object:
+            if name == "most":
+                read["reaches"] += 1
+            return super().__getattribute__(name)
+
+    for name in ("MODELS_REACH", "CAMERAS_REACH"):
+        monkeypatch.setattr(scene_module, name, CountedReach(**dataclasses.asdict(getattr(scene_module, name))))
+    scene.check_values()
+    assert read["reaches"] <= 2, read

@@ -10,7 +10,6 @@ from __future__ import annotations
 import functools
 import itertools
 import math
-import operator
 import typing
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
@@ -815,7 +814,8 @@ class Scene:
         bounds = _stacked(gathered.boxes, (2, 3))
         if bounds is None:
             return False
-        most = np.fromiter(map(operator.attrgetter("most"), self._reaches()), float)  # no call of ours an element
+        kinds, counts = zip(*self._reach_counts())
+        most = np.repeat([reach.most for reach in kinds], counts)
         return all_lightable(*placed_reach_and_size(models, bounds), most)
 
     def _own_triples(self) -> list[tuple[str, object, TripleKind]]:
@@ -867,7 +867,11 @@ class Scene:
 
     def _reaches(self) -> list[Reach]:
         """(objects + cameras): reach_of of each element, in the scene's order, without a scan per element."""
-        return [MODELS_REACH] * len(self.objects) + [CAMERAS_REACH] * len(self.cameras)
+        return [reach for reach, count in self._reach_counts() for _ in range(count)]
+
+    def _reach_counts(self) -> list[tuple[Reach, int]]:
+        """reach_of of the objects, then of the cameras, each with how many there are: the scene's order."""
+        return [(MODELS_REACH, len(self.objects)), (CAMERAS_REACH, len(self.cameras))]
 
     def reach_of(self, element: SceneObject) -> Reach:
         """How far from the origin, along an axis, an element may reach, and the words that say so: a
