@@ -2080,26 +2080,33 @@ def test_a_picture_on_a_mesh_without_texture_coordinates_is_a_note(tmp_path: Pat
                                "scene's texture is shown in its place",)
 
 
-@pytest.mark.parametrize(("transform", "noted"), [
-    ({"offset": [0.5, 0], "scale": [0.5, 1]}, True),
-    ({"rotation": 1.5708}, True),
-    ({"offset": [0, 0], "rotation": 0, "scale": [1, 1]}, False),
-    (None, False),
-])
-def test_a_base_colour_textures_transform_is_a_note(tmp_path: Path, transform: dict[str, Any] | None,
-                                                    noted: bool) -> None:
-    """trimesh does not apply KHR_texture_transform: an atlas's tile (offset and scale), as glTF optimisers
-    and Blender write it, was drawn as the whole picture without a word."""
+@pytest.mark.parametrize("required", [False, True])
+def test_a_base_colour_textures_transform_is_applied_without_a_note(tmp_path: Path, required: bool) -> None:
+    """trimesh does not apply KHR_texture_transform: an atlas's tile was drawn as the whole picture, with a
+    note; it is applied now (test_gltf_samplers), so a file that requires it is read too."""
     document, binary = triangle_gltf([{"mesh": 0}], [0], picture=png_bytes(2, 2))
-    if transform is not None:
-        document["extensionsUsed"] = ["KHR_texture_transform"]
-        texture = document["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]
-        texture["extensions"] = {"KHR_texture_transform": transform}
+    document["extensionsUsed"] = ["KHR_texture_transform"]
+    if required:
+        document["extensionsRequired"] = ["KHR_texture_transform"]
+    texture = document["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]
+    texture["extensions"] = {"KHR_texture_transform": {"offset": [0.5, 0], "scale": [0.5, 1]}}
     path = tmp_path / "tiled.glb"
     path.write_bytes(glb(document, binary))
-    loaded = load_model(path)
-    assert loaded.warnings == (("material 0's baseColorTexture's KHR_texture_transform (an offset, rotation or "
-                                "scale of its texture coordinates) is not applied",) if noted else ())
+    assert load_model(path).warnings == ()
+
+
+def test_a_transform_of_draco_compressed_coordinates_is_a_note(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Where trimesh decodes Draco, it writes the decoded coordinates over any made before it reads them."""
+    document, _ = triangle_gltf([{"mesh": 0}], [0], picture=png_bytes(2, 2))
+    texture = document["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]
+    texture["extensions"] = {"KHR_texture_transform": {"rotation": 1.0}}
+    primitive = document["meshes"][0]["primitives"][0]
+    primitive["extensions"] = {"KHR_draco_mesh_compression": {"bufferView": 0, "attributes": {"TEXCOORD_0": 1}}}
+    monkeypatch.setattr(gltf, "_draco_decoder", lambda: True)
+    assert gltf.unfaithful_notes(document, []) == [
+        "material 0's baseColorTexture's KHR_texture_transform is not applied to Draco-compressed texture coordinates"]
+    monkeypatch.setattr(gltf, "_draco_decoder", lambda: False)  # trimesh reads the accessors, which are moved
+    assert gltf.unfaithful_notes(document, []) == []
 
 
 @pytest.mark.parametrize(("materials", "note"), [

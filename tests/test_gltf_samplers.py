@@ -17,9 +17,11 @@ from PIL import Image
 
 from marraztu.control.viewer import StartOptions
 from marraztu.frontends.screenshot import take_screenshot
+from marraztu.loaders import gltf
 from marraztu.loaders.registry import load_model
 from marraztu.model.sampling import DEFAULT_SAMPLING, Filter, TextureSampling, Wrap
 from marraztu.render import mipmaps
+from support.refusals import one_line_refusal
 
 SIZE = (120, 120)
 CHECKER = np.array([[[255, 0, 0], [0, 255, 0]], [[0, 0, 255], [255, 255, 255]]], np.uint8)  # top row first
@@ -293,3 +295,127 @@ def test_a_base_colour_texture_is_laid_on_by_the_set_its_tex_coord_names(tmp_pat
     assert left == {(1, 0)}  # blue alone
     assert right == {(0, 0), (0, 1), (1, 0), (1, 1)}
     assert load_model(path).warnings == ()
+
+
+# --- KHR_texture_transform ---------------------------------------------------------------------------
+def transformed(transform: dict[str, Any], texture_set: int | None = None) -> dict[str, Any]:
+    """A material whose base colour texture (texture 0) has this KHR_texture_transform."""
+    texture: dict[str, Any] = {"index": 0, "extensions": {"KHR_texture_transform": transform}}
+    if texture_set is not None:
+        texture["texCoord"] = texture_set
+    return {"pbrMetallicRoughness": {"baseColorTexture": texture}}
+
+
+def moved(uvs: np.ndarray, transform: dict[str, Any]) -> np.ndarray:
+    """glTF (u, v)s through a transform as T * R * S, R turning the UVs as Khronos's TextureTransformTest
+    and glTF's viewers do (the extension's GLSL listing, read column-major, turns them the other way:
+    KhronosGroup/glTF issue 1563)."""
+    (offset_u, offset_v), rotation = transform.get("offset", [0, 0]), transform.get("rotation", 0)
+    scale_u, scale_v = transform.get("scale", [1, 1])
+    cos, sin = np.cos(rotation), np.sin(rotation)
+    translation = np.array([[1, 0, offset_u], [0, 1, offset_v], [0, 0, 1]])
+    turn = np.array([[cos, sin, 0], [-sin, cos, 0], [0, 0, 1]])
+    scale = np.diag([scale_u, scale_v, 1])
+    return (np.column_stack([uvs, np.ones(len(uvs))]) @ (translation @ turn @ scale).T)[:, :2]
+
+
+def as_drawn(uvs: np.ndarray) -> np.ndarray:
+    """glTF (u, v)s as a Mesh holds them: v up, as an OBJ's (glTF's v = 0 is the picture's top row)."""
+    return np.column_stack([uvs[:, 0], 1 - uvs[:, 1]])
+
+
+SQUARE_UVS = np.array([[0, 1], [1, 1], [1, 0], [0, 0]], float)  # square()'s corners, in its order
+ATLAS_TILE = {"offset": [0.5, -0.25], "rotation": 0.3, "scale": [2.0, 0.5]}
+
+
+def test_a_base_colour_textures_transform_moves_the_coordinates_read_back(tmp_path: Path) -> None:
+    """trimesh applies no KHR_texture_transform: an atlas's tile was drawn as the whole picture, with a
+    note. Its offset, rotation and scale are applied to the uvs the mesh holds."""
+    path = square(tmp_path / "tile.gltf", [transformed(ATLAS_TILE)], [{"source": 0}])
+    loaded = load_model(path)
+    assert np.allclose(loaded.uvs, as_drawn(moved(SQUARE_UVS, ATLAS_TILE)), atol=1e-6)
+    assert loaded.warnings == ()
+
+
+def test_coordinates_shared_by_primitives_are_moved_once_for_each_transform(tmp_path: Path,
+                                                                           monkeypatch: pytest.MonkeyPatch) -> None:
+    """Four primitives read one accessor of uvs (square()'s), two by one transform, one by another, one by
+    none: each is drawn by its own material's, the file's values unchanged, each transform applied once."""
+    other = {"rotation": -1.0, "scale": [1, 3]}
+    path = square(tmp_path / "shared.gltf", [transformed(ATLAS_TILE), {"pbrMetallicRoughness": {"baseColorTexture": {
+        "index": 0}}}, transformed(other), transformed(ATLAS_TILE)], [{"source": 0}])
+    passes: list[int] = []
+    moving = gltf._moved_uvs
+    monkeypatch.setattr(gltf, "_moved_uvs", lambda uvs, affine: passes.append(len(uvs)) or moving(uvs, affine))
+    loaded = load_model(path)
+    file_uvs = np.tile(SQUARE_UVS, (4, 1))  # each primitive reads all 16 vertices, and draws its own 4
+    rows = np.split(loaded.uvs, 4)
+    for read, transform in zip(rows, (ATLAS_TILE, None, other, ATLAS_TILE), strict=True):
+        assert np.allclose(read, as_drawn(file_uvs if transform is None else moved(file_uvs, transform)), atol=1e-6)
+    assert passes == [16, 16]
+
+
+def quarters(pixels: np.ndarray) -> list[tuple[int, int]]:
+    """The texel drawn at the middle of each quarter of the square, top left, top right, bottom left, right."""
+    return [texel_at(pixels, u, v, (0.0, 1.0)) for v in (0.25, 0.75) for u in (0.25, 0.75)]
+
+
+def test_a_turned_texture_is_drawn_turned_as_the_extension_says(tmp_path: Path) -> None:
+    """The extension's example: offset (0, 1), a quarter turn. The square at (u, v) reads the picture at
+    (v, 1 - u): its top left quarter the picture's lower left (blue), and so round."""
+    transform = {"offset": [0, 1], "rotation": np.pi / 2}
+    path = square(tmp_path / "turned.gltf", [transformed(transform)], [{"source": 0, "sampler": 0}],
+                  [{"magFilter": NEAREST}])
+    middles = moved(np.array([[u, v] for v in (0.25, 0.75) for u in (0.25, 0.75)]), transform)
+    assert np.allclose(middles, [[0.25, 0.75], [0.25, 0.25], [0.75, 0.75], [0.75, 0.25]])  # the sign checked
+    assert quarters(square_pixels(shot(tmp_path, path))) == [(1, 0), (0, 0), (1, 1), (0, 1)]
+
+
+def test_a_transforms_tex_coord_overrides_the_textures(tmp_path: Path) -> None:
+    """KHR_texture_transform's texCoord names the set the texture reads in place of the textureInfo's."""
+    path = with_second_set(square(tmp_path / "override.gltf", [transformed({"texCoord": 1}, texture_set=0)],
+                                  [{"source": 0, "sampler": 0}], [{"magFilter": NEAREST}]), BLUE_TEXEL_MIDDLE)
+    assert set(quarters(square_pixels(shot(tmp_path, path)))) == {(1, 0)}  # blue alone
+
+
+@pytest.mark.parametrize(("extensions", "words"), [
+    ({"KHR_texture_transform": [1]}, "material 0's baseColorTexture's KHR_texture_transform is not an object"),
+    ({"KHR_texture_transform": {"offset": [1]}},
+     "material 0's baseColorTexture's KHR_texture_transform's offset is not 2 finite numbers"),
+    ({"KHR_texture_transform": {"scale": [1, "2"]}},
+     "material 0's baseColorTexture's KHR_texture_transform's scale is not 2 finite numbers"),
+    ({"KHR_texture_transform": {"scale": [1, float("inf")]}},
+     "material 0's baseColorTexture's KHR_texture_transform's scale is not 2 finite numbers"),
+    ({"KHR_texture_transform": {"rotation": float("nan")}},
+     "material 0's baseColorTexture's KHR_texture_transform's rotation is not a finite number"),
+    ({"KHR_texture_transform": {"texCoord": -1}},
+     "material 0's baseColorTexture's KHR_texture_transform's texCoord is not a whole number of 0 or more"),
+    ({"KHR_texture_transform": {"texCoord": 2}},
+     "mesh 0's primitive 0 has no TEXCOORD_2, which material 0's baseColorTexture's KHR_texture_transform reads "
+     "(its texCoord)"),
+])
+def test_a_transform_not_shaped_as_the_extensions_is_refused(tmp_path: Path, extensions: dict[str, Any],
+                                                             words: str) -> None:
+    """trimesh passed over them; applied, a NaN rotation would make every coordinate NaN."""
+    material = {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": extensions}}}
+    path = square(tmp_path / "bad.gltf", [material], [{"source": 0}])
+    assert str(one_line_refusal(lambda: load_model(path))) == f"{path}: not a glTF file: {words}"
+
+
+@pytest.mark.parametrize("normalized", [False, True])
+def test_quantized_coordinates_are_moved_as_the_numbers_they_stand_for(tmp_path: Path, normalized: bool) -> None:
+    """gltfpack stores texture coordinates as unsigned shorts (KHR_mesh_quantization) and gives the
+    transform that scales them back: unnormalized, the integers are moved; normalized, their fractions."""
+    path = square(tmp_path / "quantized.gltf", [transformed({"offset": [0.25, 0], "scale": [1 / 1023, 1 / 1023]})],
+                  [{"source": 0}])
+    document = json.loads(path.read_text())
+    shorts = (SQUARE_UVS * 1023).astype(np.uint16)
+    document["buffers"].append({"byteLength": shorts.nbytes,
+                                "uri": "data:application/octet-stream;base64," + base64.b64encode(shorts).decode()})
+    document["bufferViews"].append({"buffer": 1, "byteLength": shorts.nbytes})
+    document["accessors"][1].update(bufferView=len(document["bufferViews"]) - 1, componentType=5123,
+                                    normalized=normalized)
+    document["extensionsUsed"] = document["extensionsRequired"] = ["KHR_mesh_quantization"]
+    path.write_text(json.dumps(document))
+    stored = shorts / 65535 if normalized else shorts  # the numbers they stand for, as glTF defines them
+    assert np.allclose(load_model(path).uvs, as_drawn(stored / 1023 + [0.25, 0]), atol=1e-6)

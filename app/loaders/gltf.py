@@ -353,10 +353,32 @@ class GltfReferences:
                 self.refuse(f"material {number}'s {shortened(escaped(key))}'s texCoord is not a whole number of 0 "
                             "or more")
 
+        self.texture_transform(number, material)
         mode = material.get("alphaMode", "OPAQUE")
         if not (isinstance(mode, str) and mode.upper() in _ALPHA_MODES):  # trimesh upper-cases it
             self.refuse(f"material {number}'s alphaMode {shortened(escaped(repr(mode)))} is not one of glTF's (OPAQUE, "
                         "MASK, BLEND)")
+
+    def texture_transform(self, number: int, material: dict[str, Any]) -> None:
+        """Its base colour texture's KHR_texture_transform, which is applied (_texture_transforms_applied):
+        an object of glTF's values, each left out or finite. Other textures' are not read."""
+        texture = _base_colour_texture(material)
+        if "index" not in texture:
+            return
+        _, _, key = _base_colour(material)
+        transform = _nested(texture, ("extensions",)).get(_TEXTURE_TRANSFORM, {})
+        said = f"material {number}'s {key}'s {_TEXTURE_TRANSFORM}"
+        if not isinstance(transform, dict):
+            self.refuse(f"{said} is not an object")
+        for name in ("offset", "scale"):
+            values = transform.get(name, [0, 0])
+            if not (_numbers_of(values, 2) and all(map(_is_finite, values))):
+                self.refuse(f"{said}'s {name} is not 2 finite numbers")
+        if not (_is_number(rotation := transform.get("rotation", 0)) and _is_finite(rotation)):
+            self.refuse(f"{said}'s rotation is not a finite number")
+        texture_set = transform.get("texCoord", 0)
+        if not _is_whole(texture_set) or texture_set < 0:
+            self.refuse(f"{said}'s texCoord is not a whole number of 0 or more")
 
     def mesh(self, number: int, mesh: dict[str, Any]) -> None:
         if mesh.get("primitives", []) == []:  # glTF holds one or more; trimesh drops a node of none, and its children
@@ -455,6 +477,11 @@ class GltfReferences:
             if _is_whole(texture_set) and texture_set >= 0 and f"TEXCOORD_{texture_set}" not in attributes:
                 self.refuse(f"{what} has no TEXCOORD_{texture_set}, which material {number}'s "
                             f"{shortened(escaped(key))} reads (its texCoord)")
+        _, _, key = _base_colour(material)
+        texture_set = _nested(_base_colour_texture(material), ("extensions", _TEXTURE_TRANSFORM)).get("texCoord")
+        if _is_whole(texture_set) and texture_set >= 0 and f"TEXCOORD_{texture_set}" not in attributes:
+            self.refuse(f"{what} has no TEXCOORD_{texture_set}, which material {number}'s {key}'s "
+                        f"{_TEXTURE_TRANSFORM} reads (its texCoord)")
 
     def extensions(self, item: dict[str, Any], what: str) -> None:
         """Its extensions an object: trimesh said an AttributeError (a material's, a primitive's), or drew a
@@ -737,10 +764,11 @@ def check_geometry_readable(path: Path, document: dict[str, Any]) -> None:
 
 def _required_extension_read(name: object) -> bool:
     """Extensions a file may require and still be drawn as it means: Draco with its decoder, quantized
-    attributes (normalized ones made floats for trimesh: _accessors_made_plain), and materials'
+    attributes (normalized ones made floats for trimesh: _accessors_made_plain), the base colour texture's
+    transform (_texture_transforms_applied; other textures are not drawn), and materials'
     extensions, which change only what the viewer's Phong lighting does not draw (it takes the base
     colour); KHR_materials_unlit, which it does, is drawn lit with a note (_unlit_notes)."""
-    return (name in ("KHR_draco_mesh_compression", "KHR_mesh_quantization")
+    return (name in ("KHR_draco_mesh_compression", "KHR_mesh_quantization", _TEXTURE_TRANSFORM)
             or isinstance(name, str) and name.startswith("KHR_materials_"))
 
 
@@ -820,21 +848,28 @@ def _primitive_sizes(document: dict[str, Any]) -> list[list[tuple[int, int]]]:
     """Per mesh, (triangles, vertices) of each primitive trimesh reads, from its accessors' counts
     (the vertices of a primitive of no triangles are not drawn, so not counted)."""
     accessors = document.get("accessors", [])
-    sizes = []
-    for mesh in document.get("meshes", []):
-        read = []
-        for primitive in mesh["primitives"]:
-            mode = primitive.get("mode", _TRIANGLES)
-            if mode not in (*_READ_MODES, _FAN):
-                continue  # trimesh skips it
-            points = _count(accessors[primitive["attributes"]["POSITION"]])
-            corners = _count(accessors[primitive["indices"]]) if "indices" in primitive else points
-            if mode == _FAN and corners < _FAN_LEAST_CORNERS:
-                continue  # not made triangles (_drawn_fans): trimesh skips it
-            faces = 0 if mode in (_POINTS, _LINES) else corners // 3 if mode == _TRIANGLES else max(corners - 2, 0)
-            read.append((faces, points if faces else 0))
-        sizes.append(read)
-    return sizes
+    return [[size for primitive in mesh["primitives"] if (size := _primitive_size(accessors, primitive)) is not None]
+            for mesh in document.get("meshes", [])]
+
+
+def _primitive_size(accessors: list[Any], primitive: dict[str, Any]) -> tuple[int, int] | None:
+    """(triangles, vertices) of a primitive trimesh reads (its vertices counted only where it has triangles),
+    None where it skips it."""
+    mode = primitive.get("mode", _TRIANGLES)
+    if mode not in (*_READ_MODES, _FAN):
+        return None
+    points = _count(accessors[primitive["attributes"]["POSITION"]])
+    corners = _count(accessors[primitive["indices"]]) if "indices" in primitive else points
+    if mode == _FAN and corners < _FAN_LEAST_CORNERS:
+        return None  # not made triangles (_drawn_fans): trimesh skips it
+    faces = 0 if mode in (_POINTS, _LINES) else corners // 3 if mode == _TRIANGLES else max(corners - 2, 0)
+    return faces, points if faces else 0
+
+
+def _draws_faces(accessors: list[Any], primitive: dict[str, Any]) -> bool:
+    """Whether trimesh makes triangles of a checked primitive (whose vertices the placements count)."""
+    size = _primitive_size(accessors, primitive)
+    return size is not None and size[0] > 0
 
 
 def _count(accessor: Any) -> int:
@@ -848,9 +883,10 @@ def _count(accessor: Any) -> int:
 def unfaithful_notes(document: dict[str, Any], undrawn: list[str]) -> list[str]:
     """What of a checked glTF is drawn otherwise than it says, which trimesh passes over without a word:
     primitives it reads no faces of (`undrawn`, its undrawn_primitive_notes, which the placement check has
-    read already), base colours outside 0..1 it holds to it, and base colour textures' transforms, which it
-    does not apply; and emission and normal maps, which SPEC 4's lighting has no term for, and unlit
-    materials, which it lights. (Weights that cannot shape a mesh: MorphedShapes.notes.)"""
+    read already), base colours outside 0..1 it holds to it, and base colour textures' transforms of the
+    Draco-compressed coordinates it decodes over those moved; and emission and normal maps, which SPEC 4's
+    lighting has no term for, and unlit materials, which it lights. (Weights that cannot shape a mesh:
+    MorphedShapes.notes.)"""
     return [*undrawn, *_outside_colour_notes(document), *_texture_transform_notes(document),
             *_emission_notes(document), *_normal_map_notes(document), *_unlit_notes(document)]
 
@@ -928,22 +964,16 @@ def _materials_note(numbers: list[int], said_of_one: str, said_of_many: str) -> 
     return [f"{len(numbers)} materials' {said_of_many} (the first, material {numbers[0]}'s)"]
 
 
-# KHR_texture_transform's values that leave texture coordinates as they are.
-_UNMOVED = {"offset": [0, 0], "rotation": 0, "scale": [1, 1]}
-
-
 def _texture_transform_notes(document: dict[str, Any]) -> list[str]:
-    """A base colour texture (a baseColorTexture, or a diffuseTexture) whose KHR_texture_transform moves
-    its coordinates (an atlas's tile, a tiling): trimesh applies none."""
-    moved = [number for number, material in enumerate(document.get("materials", [])) if _moves_coordinates(material)]
-    return _materials_note(moved, "baseColorTexture's KHR_texture_transform (an offset, rotation or scale of its "
-                           "texture coordinates) is not applied", "baseColorTexture's KHR_texture_transform (an "
-                           "offset, rotation or scale of their texture coordinates) is not applied")
-
-
-def _moves_coordinates(material: dict[str, Any]) -> bool:
-    transform = _nested(_base_colour_texture(material), ("extensions", "KHR_texture_transform"))
-    return any(transform.get(key, unmoved) != unmoved for key, unmoved in _UNMOVED.items())
+    """Base colour textures whose KHR_texture_transform moves the coordinates of a drawn primitive's Draco
+    stream, where trimesh decodes it: it writes them, unmoved, over the set that would be moved."""
+    materials = document.get("materials", [])
+    unmoved = sorted({primitive["material"] for mesh in document.get("meshes", []) for primitive in mesh["primitives"]
+                      if "material" in primitive and _uv_transform(materials[primitive["material"]]) is not None
+                      and _uvs_decoded_by_trimesh(primitive, materials[primitive["material"]])})
+    return _materials_note(unmoved, f"baseColorTexture's {_TEXTURE_TRANSFORM} is not applied to Draco-compressed "
+                           "texture coordinates", f"baseColorTexture's {_TEXTURE_TRANSFORM} is not applied to "
+                           "Draco-compressed texture coordinates")
 
 
 def _listed(value: object) -> list[Any]:
@@ -1109,7 +1139,8 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     file URIs that hold "base64," spelled apart, its materials named by number where their samplers matter,
     the meshes no node places emptied, each primitive's TEXCOORD_0 the set its base colour texture reads, the
     meshes its weights shape given their shapes' positions, the accessors its primitives read made plain
-    (sparse ones dense, normalized positions and texture coordinates floats), its nodes' cameras taken out,
+    (sparse ones dense, normalized positions and texture coordinates floats), the texture coordinates its
+    base colour textures' KHR_texture_transform moves made moved, its nodes' cameras taken out,
     its WEBP textures' fallbacks chosen, its specular-glossiness materials' diffuse colours made their base
     colours and the pictures no material draws emptied, its triangle fans made triangles, the meshes it
     makes nothing of taken off their nodes, and an empty list of buffer views where it lists none.
@@ -1125,15 +1156,16 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     _check_drawn_values(path, document, buffers)
     shaped = shapes is not None and _shapes_made(path, document, buffers, shapes)  # before: its POSITIONs are plain
     made_plain = _accessors_made_plain(path, document, buffers)
+    transforms_applied = _texture_transforms_applied(path, document, buffers)  # after: it reads plain coordinates
     fans_made_triangles = _fans_made_triangles(path, document, buffers)  # after: it reads plain indices
     nothing_taken_off = _meshes_of_nothing_taken_off(document)  # after: a fan of triangles is something
     cameras_taken_out = _node_cameras_taken_out(document)
     fallbacks_chosen = _fallbacks_chosen(document)
     diffuse_made_base = _diffuse_made_base_colour(document)
     undrawn_emptied = _undrawn_pictures_emptied(document)
-    if not (respelled or numbered or unplaced_emptied or uv_sets_chosen or shaped or made_plain or fans_made_triangles
-            or nothing_taken_off or cameras_taken_out or views_listed or fallbacks_chosen or diffuse_made_base
-            or undrawn_emptied):
+    if not (respelled or numbered or unplaced_emptied or uv_sets_chosen or shaped or made_plain or transforms_applied
+            or fans_made_triangles or nothing_taken_off or cameras_taken_out or views_listed or fallbacks_chosen
+            or diffuse_made_base or undrawn_emptied):
         return data
     text = json.dumps(document).encode()
     if file_type == "gltf":
@@ -1189,9 +1221,82 @@ def _draco_attributes(primitive: dict[str, Any]) -> dict[str, Any]:
 
 
 def _drawn_uv_set(material: dict[str, Any]) -> int:
-    """The texCoord of a material's base colour texture, where it has one (an index), else 0."""
+    """The texCoord of a material's base colour texture, where it has one (an index), else 0: its
+    KHR_texture_transform's where that gives one, which overrides the textureInfo's."""
     texture = _base_colour_texture(material)
-    return texture.get("texCoord", 0) if "index" in texture else 0
+    if "index" not in texture:
+        return 0
+    return _nested(texture, ("extensions", _TEXTURE_TRANSFORM)).get("texCoord", texture.get("texCoord", 0))
+
+
+_TEXTURE_TRANSFORM = "KHR_texture_transform"
+
+
+def _uv_transform(material: dict[str, Any]) -> tuple[float, ...] | None:
+    """A checked material's base colour texture's KHR_texture_transform as the affine map of texture
+    coordinates it gives, (a, b, c, d, e, f): u' = a u + b v + e, v' = c u + d v + f; None where it leaves
+    them as they are. Its offset, rotation and scale as T * R * S, R the rotation glTF's viewers and
+    Khronos's TextureTransformTest apply: the extension's GLSL listing turns the other way (glTF issue
+    1563), and would move its example's quadrant off the picture."""
+    texture = _base_colour_texture(material)
+    transform = _nested(texture, ("extensions", _TEXTURE_TRANSFORM)) if "index" in texture else {}
+    (offset_u, offset_v), rotation = transform.get("offset", [0, 0]), transform.get("rotation", 0)
+    (scale_u, scale_v) = transform.get("scale", [1, 1])
+    cos, sin = math.cos(rotation), math.sin(rotation)
+    affine = (cos * scale_u, sin * scale_v, -sin * scale_u, cos * scale_v, float(offset_u), float(offset_v))
+    return None if affine == _UNMOVED else affine
+
+
+_UNMOVED = (1.0, 0.0, -0.0, 1.0, 0.0, 0.0)  # the affine map of a transform of no offset, rotation or scale
+
+
+def _uvs_decoded_by_trimesh(primitive: dict[str, Any], material: dict[str, Any]) -> bool:
+    """Whether the texture coordinates the primitive's base colour texture reads are in its Draco stream,
+    which trimesh decodes where it can, and writes into the accessor the set names, after any made here."""
+    return f"TEXCOORD_{_drawn_uv_set(material)}" in _draco_attributes(primitive) and _draco_decoder()
+
+
+def _texture_transforms_applied(path: Path, document: dict[str, Any],
+                                buffer: Callable[[int], bytes | memoryview]) -> bool:
+    """Points each primitive that draws faces at its TEXCOORD_0 (the set its base colour texture reads:
+    _uv_sets_chosen) moved by that texture's KHR_texture_transform, in a buffer appended as a data: URI:
+    trimesh applies none. Each accessor is moved once for each transform that moves it, into an accessor
+    of its own (primitives may share it, moved otherwise or not at all); one vertex made for each one a
+    primitive draws at most, so no more than the placements counted make. False where none is moved."""
+    accessors, materials = document.get("accessors", []), document.get("materials", [])
+    made, moved = _MadeBuffer(document), {}
+    for mesh in document.get("meshes", []):
+        for primitive in mesh["primitives"]:
+            material = materials[primitive["material"]] if "material" in primitive else {}
+            affine = _uv_transform(material)
+            uvs = primitive["attributes"].get("TEXCOORD_0")
+            if affine is None or uvs is None or not _draws_faces(accessors, primitive) \
+                    or _uvs_decoded_by_trimesh(primitive, material):
+                continue
+            if (uvs, affine) not in moved:
+                values = _moved_uvs(_uv_values(path, document, uvs, buffer), affine)
+                accessors.append({"bufferView": made.view(values), "componentType": _FLOAT_COMPONENTS,
+                                  "count": len(values), "type": "VEC2"})
+                moved[uvs, affine] = len(accessors) - 1
+            primitive["attributes"]["TEXCOORD_0"] = moved[uvs, affine]
+    if moved:
+        made.append()
+    return bool(moved)
+
+
+def _uv_values(path: Path, document: dict[str, Any], number: int, buffer: Callable[[int], bytes | memoryview]
+               ) -> np.ndarray:
+    """Accessor `number`'s texture coordinates, (count, 2) float64: floats, or the integers KHR_mesh_quantization
+    stores unnormalized (normalized ones are made floats first: _accessors_made_plain)."""
+    items = _items(path, document, number, buffer)
+    return np.ascontiguousarray(items).view(_COMPONENT_DTYPES[document["accessors"][number]["componentType"]]
+                                            ).astype(np.float64)
+
+
+def _moved_uvs(uvs: np.ndarray, affine: tuple[float, ...]) -> np.ndarray:
+    """(count, 2) float32: `uvs` through the affine map (a, b, c, d, e, f) of _uv_transform."""
+    a, b, c, d, e, f = affine
+    return (uvs @ np.array([[a, c], [b, d]]) + np.array([e, f])).astype(np.float32)
 
 
 def _placed_meshes(document: dict[str, Any]) -> set[int]:
