@@ -903,6 +903,39 @@ def test_the_component_types_glTF_allows_load(tmp_path: Path, attribute: str, co
         np.testing.assert_array_equal(mesh.positions, TRIANGLE)
 
 
+def strided_positions_glb(folder: Path, stride: int, read: bool = True) -> Path:
+    """The triangle's positions in a view of byteStride `stride`: its POSITION's (`read`), else an accessor's
+    that no primitive reads."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    rows = np.zeros((3, stride), np.uint8)
+    rows[:, :12] = TRIANGLE.astype("<f4").view(np.uint8).reshape(3, 12)
+    document["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": rows.nbytes,
+                                    "byteStride": stride})
+    document["accessors"].append({**document["accessors"][0], "bufferView": 2})
+    if read:
+        document["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 2
+    binary += rows.tobytes()
+    document["buffers"] = [{"byteLength": len(binary)}]
+    path = folder / "strided.glb"
+    path.write_bytes(glb(document, binary))
+    return path
+
+
+@pytest.mark.parametrize("stride", [14, 254, 256])
+def test_a_vertex_attributes_stride_glTF_forbids_is_refused(tmp_path: Path, stride: int) -> None:
+    """glTF: a vertex attribute's view's byteStride is a multiple of 4 from 4 to 252; others were read."""
+    path = strided_positions_glb(tmp_path, stride)
+    assert str(one_line_refusal(lambda: load_model(path))) == (
+        f"{path}: not a glTF file: mesh 0's primitive 0's POSITION is accessor 2, in buffer view 2 of byteStride "
+        f"{stride}: glTF's vertex attributes' strides are multiples of 4 from 4 to 252")
+
+
+@pytest.mark.parametrize(("stride", "read"), [(252, True), (16, True), (14, False)])
+def test_a_stride_glTF_allows_or_that_no_attribute_reads_loads(tmp_path: Path, stride: int, read: bool) -> None:
+    """The most glTF allows, and a forbidden one in a view no attribute reads, which is read past."""
+    np.testing.assert_array_equal(load_model(strided_positions_glb(tmp_path, stride, read)).positions, TRIANGLE)
+
+
 @pytest.mark.parametrize("extension", ["KHR_texture_basisu", "KHR_some_unknown", "EXT_texture_webp"])
 def test_a_required_gltf_extension_not_read_here_is_refused(tmp_path: Path, extension: str) -> None:
     """glTF: a reader must refuse a file that requires what it cannot honour; such files loaded

@@ -164,6 +164,8 @@ _COMPONENT_DTYPES = {5120: "<i1", 5121: "<u1", 5122: "<i2", 5123: "<u2", 5125: "
 _COMPONENT_BYTES = {kind: np.dtype(dtype).itemsize for kind, dtype in _COMPONENT_DTYPES.items()}
 _TYPE_COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 _SPARSE_INDEX_BYTES = {5121: 1, 5123: 2, 5125: 4}  # a sparse accessor's indices: unsigned integers
+# The byteStride glTF allows a vertex attribute's view: a multiple of 4, from 4 to 252.
+_ATTRIBUTE_ALIGNMENT, _LEAST_STRIDE, _MOST_STRIDE = 4, 4, 252
 _NODE_TRANSFORMS = {"translation": 3, "rotation": 4, "scale": 3, "matrix": 16}
 # A material's numbers as trimesh reads them (its words otherwise: "cannot reshape array of size 1 into
 # shape (3,)", "Colors not of appropriate shape!"): how many, or None for one number.
@@ -420,6 +422,7 @@ class GltfReferences:
                 self.refuse(f"{said} is accessor {index}, of type {accessor['type']}: glTF's are {' or '.join(types)}")
             if semantic in _COMPONENT_TYPES:  # an attribute not read here is not asked
                 self.components(f"{said} is", _COMPONENT_TYPES[semantic], index, accessor)
+            self.attribute_stride(said, index, accessor)
         if "material" in primitive:
             material = self.named(primitive["material"], "materials", f"{what}'s material")
             self.texture_sets(what, primitive["material"], material, attributes)
@@ -454,9 +457,21 @@ class GltfReferences:
                 self.refuse(f"{said} is accessor {index}, of type {accessor['type']}: glTF's are VEC3")
             if name == "POSITION":
                 self.components(f"{said} is", _TARGET_POSITION_TYPES, index, accessor)
+            self.attribute_stride(said, index, accessor)
             if accessor["count"] != vertices:
                 self.refuse(f"{said} has {accessor['count']} items, the primitive's POSITION {vertices}: a morph "
                             "target holds one item per vertex")
+
+    def attribute_stride(self, said: str, index: int, accessor: dict[str, Any]) -> None:
+        """A vertex attribute's view's byteStride, where it has one: a multiple of 4 from 4 to 252, as glTF
+        requires of a vertex attribute's (a view no attribute reads is not asked)."""
+        if "bufferView" not in accessor:
+            return
+        stride = self.document["bufferViews"][accessor["bufferView"]].get("byteStride")
+        if stride is not None and not (stride % _ATTRIBUTE_ALIGNMENT == 0 and _LEAST_STRIDE <= stride <= _MOST_STRIDE):
+            self.refuse(f"{said} is accessor {index}, in buffer view {accessor['bufferView']} of byteStride {stride}: "
+                        f"glTF's vertex attributes' strides are multiples of {_ATTRIBUTE_ALIGNMENT} from "
+                        f"{_LEAST_STRIDE} to {_MOST_STRIDE}")
 
     def components(self, what: str, rule: _ComponentTypes, index: int, accessor: dict[str, Any]) -> None:
         """An attribute's or the indices' component type, and whether it is normalized, as glTF allows
