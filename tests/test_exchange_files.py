@@ -312,8 +312,10 @@ def test_an_embedded_picture_of_another_format_is_a_note_not_drawn(tmp_path: Pat
 
 
 @pytest.mark.parametrize(("text", "line", "words"), [
-    ("{ not json", 1, "not valid JSON: Expecting property name enclosed in double quotes (column 3)"),
-    ('{\n  "asset": {"version": "2.0"},\n  "buffers": [,]\n}', 3, "not valid JSON: Expecting value (column 15)"),
+    ("{ not json", 1, "not a glTF file: its JSON is not valid: Expecting property name enclosed in double quotes "
+                      "(column 3)"),
+    ('{\n  "asset": {"version": "2.0"},\n  "buffers": [,]\n}', 3,
+     "not a glTF file: its JSON is not valid: Expecting value (column 15)"),
     ("", None, "empty file: no faces"),
     ("[1, 2]", 1, "not a glTF file: its JSON is not an object of glTF's keys"),
     ("[" * 100_000, None, "not a glTF file: its JSON nests too deeply to read"),

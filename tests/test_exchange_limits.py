@@ -964,7 +964,12 @@ def test_a_long_required_gltf_extension_is_named_shortened(tmp_path: Path) -> No
 @pytest.mark.parametrize("edit, words", [
     (lambda d: d[:10], "not a GLB file: it does not begin with glTF's 12-byte header and a chunk"),
     (lambda d: b"glTX" + d[4:], "not a GLB file: it does not begin with glTF's 12-byte header and a chunk"),
-    (lambda d: d[:4] + struct.pack("<I", 1) + d[8:], "a GLB of glTF version 1: only version 2 is read"),
+    (lambda d: d[:4] + struct.pack("<I", 1) + d[8:], "a GLB of glTF version 1.0: only glTF 2 is read"),
+    (lambda d: d[:4] + struct.pack("<I", 3) + d[8:], "not a GLB file: its header gives version 3, where glTF 2's "
+                                                     "GLB gives 2"),
+    # the lines of a GLB's JSON chunk are no lines of the file: it said "old.glb:1: not valid JSON: ..."
+    (lambda d: d[:20] + b"[" + d[21:], "not a glTF file: its JSON is not valid: Expecting ',' delimiter (line 1, "
+                                       "column 9 of its JSON chunk)"),
     (lambda d: d[:-8], "cut short: its header gives {size} bytes, the file holds {cut}"),
     (lambda d: d[:12] + struct.pack("<I", 2**31) + d[16:], "not a GLB file: its JSON chunk of 2147483648 bytes "
                                                           "runs past the file's {size}"),
@@ -987,6 +992,19 @@ def test_a_glbs_frame_is_checked_before_trimesh_reads_it(tmp_path: Path, edit: C
     refused = one_line_refusal(lambda: load_model(path))
     assert refused.message == words.format(size=len(whole), cut=len(whole) - 8, bin_at=_bin_at(whole),
                                            bin_more=_word(whole, _bin_at(whole)) + 4)
+    assert refused.line is None
+
+
+def test_a_glb_of_gltf_1_says_so(tmp_path: Path) -> None:
+    """glTF 1.0's binary form (KHR_binary_glTF: a 20-byte header of version 1, its JSON's length and format
+    0, then glTF 1's JSON, objects by id), as assimp's BoxTextured.glb and old Blender exporters wrote it."""
+    content = json.dumps({"asset": {"version": "1.0"}, "meshes": {"Box": {"primitives": []}},
+                          "extensionsUsed": ["KHR_binary_glTF"]}).encode()
+    content += b" " * (-len(content) % 4)
+    path = tmp_path / "old.glb"
+    path.write_bytes(struct.pack("<4sIIII", b"glTF", 1, 20 + len(content), len(content), 0) + content)
+    refused = one_line_refusal(lambda: load_model(path))
+    assert (refused.message, refused.line) == ("a GLB of glTF version 1.0: only glTF 2 is read", None)
 
 
 def _word(data: bytes, at: int) -> int:
@@ -1145,6 +1163,9 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
     # "only GLTF 2 is supported not `1.0`", "object of type 'int' has no len()", "'bool' object has no attribute 'find'"
     ("d['asset'] = 5", "its asset is not an object"),
     ("d['asset'] = {'version': 'x'}", "its asset's version 'x' is not a version such as \"2.0\""),
+    # trimesh read a file without a version as glTF 2 (a glTF 1 file, whose asset glTF 1 does not require, too)
+    ("d.pop('asset')", "its asset gives no version (glTF 2's is \"2.0\")"),
+    ("d['asset'] = {'generator': 'x'}", "its asset gives no version (glTF 2's is \"2.0\")"),
     ("d['meshes'][0]['name'] = 4", "mesh 0's name is not a string"),
     ("d['buffers'][0]['uri'] = True", "buffer 0's uri is not a string"),
     ("d['images'] = [{'uri': 5}]", "image 0's uri is not a string"),
@@ -1252,10 +1273,11 @@ def test_what_a_gltf_names_is_checked_before_trimesh_reads_it(tmp_path: Path, ed
     assert one_line_refusal(lambda: load_model(path)).message == f"not a glTF file: {words}"
 
 
-@pytest.mark.parametrize("version, shown", [("1.0", "1.0"), (1, "1"), (1.0, "1.0"), ("0.8", "0.8")])
+@pytest.mark.parametrize("version, shown", [("1.0", "1.0"), (1, "1"), (1.0, "1.0"), ("0.8", "0.8"), ("3.0", "3.0")])
 def test_a_gltf_of_version_1_is_refused_as_one(tmp_path: Path, version: object, shown: str) -> None:
     """collada2gltf's glTF 1.0 files (CesiumMilkTruck's version is the number 1) were refused as "not a
-    glTF file", the number 1 as "not a version such as "2.0"": they are glTF, of a version not read."""
+    glTF file", the number 1 as "not a version such as "2.0"": they are glTF, of a version not read. A
+    major version past 2 was read as glTF 2; glTF asks a reader to refuse a major version it does not know."""
     document, binary = triangle_gltf([{"mesh": 0}], [0])
     document["asset"] = {"version": version}
     document["buffers"] = [{"uri": "tri.bin", "byteLength": len(binary)}]

@@ -30,13 +30,18 @@ MAX_GLB_CHUNKS = 16
 
 
 # --- a .gltf's JSON, and a GLB's chunks ----------------------------------------------------------
-def gltf_document(path: Path, data: bytes) -> dict[str, Any]:
-    """A .gltf's JSON (or a GLB's chunk of it), checked: trimesh, given text that is not JSON, looks
-    for a file named model.gltf and says that is missing."""
+def gltf_document(path: Path, data: bytes, in_glb: bool = False) -> dict[str, Any]:
+    """A .gltf's JSON (or a GLB's chunk of it: `in_glb`, whose lines are no lines of the file), checked
+    to be glTF 2's: trimesh, given text that is not JSON, looks for a file named model.gltf and says
+    that is missing."""
     try:
         document = json.loads(data)  # from bytes: UTF-8, -16 or -32, as the glTF's JSON may be
     except json.JSONDecodeError as error:
-        raise LoadError(path, f"not valid JSON: {error.msg} (column {error.colno})", line=error.lineno) from None
+        if in_glb:
+            raise LoadError(path, f"not a glTF file: its JSON is not valid: {error.msg} (line {error.lineno}, "
+                                  f"column {error.colno} of its JSON chunk)") from None
+        raise LoadError(path, f"not a glTF file: its JSON is not valid: {error.msg} (column {error.colno})",
+                        line=error.lineno) from None
     except UnicodeDecodeError:
         raise LoadError(path, "not a glTF file: its JSON is not UTF-8 text") from None
     except RecursionError:
@@ -44,8 +49,33 @@ def gltf_document(path: Path, data: bytes) -> dict[str, Any]:
     except ValueError:  # an integer of thousands of digits, which Python will not read
         raise LoadError(path, "not a glTF file: its JSON holds a number too long to read") from None
     if not isinstance(document, dict):
-        raise LoadError(path, "not a glTF file: its JSON is not an object of glTF's keys", line=1)
+        raise LoadError(path, "not a glTF file: its JSON is not an object of glTF's keys", line=None if in_glb else 1)
+    _check_version(path, document)
     return document
+
+
+def _check_version(path: Path, document: dict[str, Any]) -> None:
+    """The asset's version, which glTF requires, as trimesh reads it: a string whose part before its first
+    dot is a whole number (it says "'int' object has no attribute 'get'", or "invalid literal for int()"),
+    of 2: a glTF 1 file is refused as one, its version a number too, as collada2gltf wrote some; trimesh
+    read a file without one as glTF 2, and one of 3 as if it were."""
+    asset = document.get("asset")
+    if asset is not None and not isinstance(asset, dict):
+        raise LoadError(path, "not a glTF file: its asset is not an object")
+    version = (asset or {}).get("version")
+    if version is None:
+        raise LoadError(path, "not a glTF file: its asset gives no version (glTF 2's is \"2.0\")")
+    if _is_number(version) and 0 <= version < 2:  # glTF 1's, as a number: a string in every glTF 2
+        version = str(version)
+    major = version.split(".", 1)[0] if isinstance(version, str) else ""
+    if not major.isdecimal():
+        raise LoadError(path, f"not a glTF file: its asset's version {shortened(escaped(repr(version)))} is not a "
+                              "version such as \"2.0\"")
+    if int(major) != _GLTF_MAJOR:
+        raise LoadError(path, f"a file of glTF version {shortened(escaped(version))}: only glTF 2 is read")
+
+
+_GLTF_MAJOR = 2  # the glTF read here: 2.0 and its minor versions
 
 
 def glb_document(path: Path, data: bytes) -> dict[str, Any]:
@@ -56,8 +86,10 @@ def glb_document(path: Path, data: bytes) -> dict[str, Any]:
 
     if len(data) < 20 or data[:4] != b"glTF":
         raise LoadError(path, "not a GLB file: it does not begin with glTF's 12-byte header and a chunk")
-    if word(4) != 2:
-        raise LoadError(path, f"a GLB of glTF version {word(4)}: only version 2 is read")
+    if word(4) == 1:  # glTF 1.0's binary form (KHR_binary_glTF), as old Blender and collada2gltf wrote it
+        raise LoadError(path, "a GLB of glTF version 1.0: only glTF 2 is read")
+    if word(4) != _GLTF_MAJOR:
+        raise LoadError(path, f"not a GLB file: its header gives version {word(4)}, where glTF 2's GLB gives 2")
     if word(8) > len(data):
         raise LoadError(path, f"cut short: its header gives {word(8)} bytes, the file holds {len(data)}")
     if data[16:20] != b"JSON":
@@ -65,7 +97,7 @@ def glb_document(path: Path, data: bytes) -> dict[str, Any]:
     if 20 + word(12) > word(8):
         raise LoadError(path, f"not a GLB file: its JSON chunk of {word(12)} bytes runs past the file's "
                               f"{word(8)}")
-    document = gltf_document(path, data[20:20 + word(12)])
+    document = gltf_document(path, data[20:20 + word(12)], in_glb=True)
     buffers = document.get("buffers")
     first = buffers[0] if isinstance(buffers, list) and buffers and isinstance(buffers[0], dict) else {}
     declared = first.get("byteLength")
@@ -234,7 +266,6 @@ class GltfReferences:
         self.held, self.made_limit = held, made_limit(held)
 
     def check(self) -> None:
-        self.asset()
         for key in _READ_ARRAYS:
             self.objects(key)
             for number, item in self.each(key):  # trimesh says "object of type 'int' has no len()"
@@ -282,22 +313,6 @@ class GltfReferences:
         self.made_accessors()  # once the primitives are checked to name accessors
         for number, material in self.each("materials"):
             self.material(number, material)
-
-    def asset(self) -> None:
-        """The asset's version as trimesh reads it: a string whose part before its first dot is a whole
-        number of 2 or more (it says "'int' object has no attribute 'get'", or "invalid literal for int()").
-        A glTF 1 file is refused as one, its version a number too, as collada2gltf wrote some."""
-        asset = self.document.get("asset", {})
-        if not isinstance(asset, dict):
-            self.refuse("its asset is not an object")
-        version = asset.get("version", "2.0")
-        if _is_number(version) and 0 <= version < 2:  # glTF 1's, as a number: a string in every glTF 2
-            version = str(version)
-        major = version.split(".", 1)[0] if isinstance(version, str) else ""
-        if not major.isdecimal():
-            self.refuse(f"its asset's version {shortened(escaped(repr(version)))} is not a version such as \"2.0\"")
-        if int(major) < 2:
-            raise LoadError(self.path, f"a file of glTF version {shortened(escaped(version))}: only glTF 2 is read")
 
     def buffer_uri(self, number: int, buffer: dict[str, Any]) -> None:
         """A buffer's uri, a string; left out only by a GLB's buffer (trimesh says "KeyError: 'uri'")."""
