@@ -1491,6 +1491,7 @@ def test_a_mesh_added_from_python_says_where_it_stands_as_a_load_does() -> None:
     # the repr's count, quotes and all, beside the name's: '(1000002 characters): name is 1000000 characters long'
     (lambda s: setattr(s.lights[1], "name", "b" * 10**6), r"^'b{40}'\.\.\.: name is 1000000 characters long"),
     (lambda s: s.objects[0].history.clear(), r"'s history must be a list of model matrices, .*not \[\]$"),
+    (lambda s: setattr(s.cameras[0], "view_sizes", None), r"^camera's view_sizes must be a list, not None$"),
     (lambda s: setattr(s.objects[0], "selected_face", 1.5), r"'s selected_face must be a whole number, not 1\.5$"),
     (lambda s: setattr(s.objects[0], "uid", [1]), r"'s uid must be a whole number, not \[1\]$"),  # unhashable
     (lambda s: setattr(s.objects[0], "uid", s.cameras[0].uid),

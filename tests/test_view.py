@@ -1032,6 +1032,37 @@ def test_in_parallel_projection_the_wheel_zooms_and_u_and_home_take_the_zoom_bac
     assert scene.modes.parallel_half_height == pytest.approx(half_height * commands.DOLLY_PER_NOTCH ** 5)
 
 
+@pytest.mark.parametrize("camera_keys", ["z", "g t Z", "g x y"], ids=["flight", "analysis approach", "analysis orbit"])
+@pytest.mark.parametrize("projection", ["", "p"], ids=["perspective", "parallel"])
+def test_u_past_a_key_move_of_the_camera_gives_each_zoom_back_with_its_step(
+        tmp_path: Path, projection: str, camera_keys: str) -> None:
+    """Wheel notches and `.` zoomed the parallel view, then a key moved the camera: `u` took the key's
+    move back, then the zooms' steps with their matrices but not their sizes, so back at the start the
+    view stayed as zoomed as the last zoom left it (and `g`'s turn, which pushes without ending the
+    view's moves, took the last zoom's size back one step early)."""
+    viewer = viewer_with(projection, (octahedron(tmp_path / "m.obj", 20.0),), empty=True)
+    scene, host = viewer.scene, RecordingHost()
+    states = [(scene.camera.model.copy(), scene.projection_matrix(1.0))]
+    for notches in (1, 2):
+        commands.dolly_view(scene, notches)
+        commands.end_view_gesture(scene)
+        states.append((scene.camera.model.copy(), scene.projection_matrix(1.0)))
+    for key in parse_key_sequence(f". c {camera_keys}"):
+        dispatch(scene, key, host)
+        if key.token in (".", "g", "x", "y", "z", "Z"):
+            states.append((scene.camera.model.copy(), scene.projection_matrix(1.0)))
+    for model, projection_matrix in states[-2::-1]:
+        dispatch(scene, parse_key_sequence("u")[0], host)
+        assert np.array_equal(scene.camera.model, model)
+        assert np.array_equal(scene.projection_matrix(1.0), projection_matrix)
+
+
+def test_u_past_a_key_move_of_the_camera_draws_the_view_it_began_from(tmp_path: Path) -> None:
+    model = (octahedron(tmp_path / "m.obj", 20.0),)
+    start = picture(tmp_path, "p", model, name="start.png")
+    assert np.array_equal(picture(tmp_path, "p . c z u u", model, name="undone.png"), start)
+
+
 @pytest.mark.parametrize("keys", ["", "p"], ids=["perspective", "parallel"])
 def test_the_wheel_backs_off_no_further_than_the_view_can_draw(tmp_path: Path, keys: str) -> None:
     """1,200 notches out took the camera to 1e57 (a parallel view's half height to 1e111): each frame

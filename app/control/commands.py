@@ -367,11 +367,11 @@ def move_view(scene: Scene, matrix: np.ndarray, gesture: str | None = None,
         scene.message = refusal
         return False
     if _continues_gesture(scene, camera, gesture):
-        camera.history[-1] = np.asarray(matrix, dtype=np.float64)
+        camera.amend_view_move(matrix)
     else:
         parallel = scene.modes.projection is Projection.PARALLEL
-        scene.view_moves.append((camera, scene.modes.parallel_half_height if parallel else None))
-        camera.push(matrix)
+        scene.view_moves.append(camera)
+        camera.push_view_move(matrix, scene.modes.parallel_half_height if parallel else None)
         scene.view_gesture = gesture
     if half_height is not None:
         scene.modes.parallel_half_height = half_height
@@ -382,7 +382,7 @@ def _continues_gesture(scene: Scene, camera: SceneObject, gesture: str | None) -
     """Whether an event of `gesture` goes on with the one whose move of this camera is the last view
     move: it amends that move's history entry, and `u` takes the whole gesture back."""
     return (gesture is not None and scene.view_gesture == gesture and bool(scene.view_moves)
-            and scene.view_moves[-1][0] is camera)
+            and scene.view_moves[-1] is camera and camera.made_by_view_move())
 
 
 def end_view_gesture(scene: Scene) -> None:
@@ -554,10 +554,27 @@ def undo(scene: Scene, host: Host) -> None:
     if _undo_view_move(scene):
         return
     target = _moved_target(scene)
-    if isinstance(target, SceneObject) and _dropped_unreachable_step(scene, target):
-        return
-    if target is None or not target.undo():
+    if isinstance(target, Light):
+        undone = target.undo()
+    else:
+        undone = target is not None and (_dropped_unreachable_step(scene, target) or _undo_element(scene, target))
+    if not undone:
         scene.message = "nothing to undo"
+
+
+def _undo_element(scene: Scene, element: SceneObject) -> bool:
+    """The element's last move undone; where a view move made it, with the parallel view's size before
+    (a move made in perspective: sized as `p` sizes it for the view it gives back). False where none is left."""
+    made_by_view_move = element.made_by_view_move()
+    if not element.undo():
+        return False
+    if made_by_view_move:
+        _, half_height = element.view_sizes.pop()
+        if half_height is not None:
+            scene.modes.parallel_half_height = half_height
+        else:
+            _size_parallel_view(scene)
+    return True
 
 
 def _dropped_unreachable_step(scene: Scene, element: SceneObject) -> bool:
@@ -570,7 +587,8 @@ def _dropped_unreachable_step(scene: Scene, element: SceneObject) -> bool:
         return False
     why = scene.why_move_stops(element, earlier)
     if why:
-        del element.history[-2]  # at the top, as the press's restorer keeps it
+        dropped = element.history.pop(-2)  # at the top, as the press's restorer keeps it
+        element.view_sizes[-2:] = [kept for kept in element.view_sizes[-2:] if kept[0] is not dropped]
         scene.message = f"u cannot take {element.name} back to where it stood before ({why}): that step is dropped"
     return bool(why)
 
@@ -579,7 +597,7 @@ def undoable_view_moves(scene: Scene) -> int:
     """How many view moves `u` takes back before the target's: as _undo_view_move passes over those of a
     camera since deleted, or past what its history holds."""
     pending: dict[int, int] = {}
-    for camera, _ in scene.view_moves:
+    for camera in scene.view_moves:
         pending[id(camera)] = pending.get(id(camera), 0) + 1
     return sum(min(pending.get(id(camera), 0), len(camera.history) - 1) for camera in scene.cameras)
 
@@ -588,16 +606,10 @@ def _undo_view_move(scene: Scene) -> bool:
     """The latest view move undone, with the parallel view's size before it; False where none is left
     (a move of a camera since deleted, or of one with nothing left to undo, is passed over)."""
     while scene.view_moves:
-        moved, half_height = scene.view_moves.pop()
+        moved = scene.view_moves.pop()
         if moved not in scene.cameras:
             continue
-        if _dropped_unreachable_step(scene, moved):
-            return True
-        if moved.undo():
-            if half_height is not None:
-                scene.modes.parallel_half_height = half_height
-            else:  # moved in perspective
-                _size_parallel_view(scene)
+        if _dropped_unreachable_step(scene, moved) or _undo_element(scene, moved):
             return True
     return False
 

@@ -368,6 +368,8 @@ def _element_refusal(element: object, what: str) -> str | None:
     if not isinstance(element.history, list) or not element.history:
         return f"{element.name}'s history must be a list of model matrices, the current last, not " \
                f"{_shown(element.history)}"
+    if not isinstance(element.view_sizes, list):
+        return f"{element.name}'s view_sizes must be a list, not {_shown(element.view_sizes)}"
     top = element.history[-1]
     if type(top) is not np.ndarray and model_refusal(top) is None:  # the walk says what else is wrong
         return f"{element.name}'s model matrix {array_refusal(top)}"
@@ -490,6 +492,10 @@ class SceneObject:
     scale: Vec3 = (1.0, 1.0, 1.0)
     # A scene file's `texture` for this object, (H, W, 3) uint8: drawn in place of its file's and the scene's.
     picture: np.ndarray | None = None
+    # A camera's: the parallel view's half height before each view move whose matrix is still on its
+    # history, latest last, with that matrix (None: made in perspective). `u` gives the size back as it
+    # takes the matrix off, as the view's move or, after a key move, as the camera's own.
+    view_sizes: list[tuple[np.ndarray, float | None]] = field(default_factory=list, repr=False)
 
     @classmethod
     def placed(cls, name: str, mesh: Mesh, material: Material, position: Vec3,
@@ -600,6 +606,21 @@ class SceneObject:
         """The moves pushed since the history was `depth` deep become one undo step (a mouse gesture)."""
         del self.history[depth:-1]
 
+    def push_view_move(self, model: np.ndarray, half_height_before: float | None) -> None:
+        """A view move (framing, reset, the mouse) of this camera: a move `u` takes back with the parallel
+        view's size before it."""
+        self.push(model)
+        self.view_sizes.append((self.history[-1], half_height_before))
+
+    def amend_view_move(self, model: np.ndarray) -> None:
+        """The last view move's matrix replaced by the next event of its gesture; its size before kept."""
+        self.history[-1] = np.asarray(model, dtype=np.float64)
+        self.view_sizes[-1] = (self.history[-1], self.view_sizes[-1][1])
+
+    def made_by_view_move(self) -> bool:
+        """Whether the current matrix is the one a view move put on the history."""
+        return bool(self.view_sizes) and self.view_sizes[-1][0] is self.history[-1]
+
 
 @dataclass
 class Modes:
@@ -678,10 +699,9 @@ class Scene:
     texture: np.ndarray | None = field(default=None, repr=False)
     message: str = ""  # the last thing the person should read (errors, where a file was saved)
     # The cameras the view moves (framing, reset, the mouse) moved since the target last moved, latest
-    # last, each with the parallel view's half height before (None: made in perspective): `u` undoes
-    # those first, whatever is targeted. And the mouse gesture still going on, whose events make one
-    # undo step in all.
-    view_moves: list[tuple[SceneObject, float | None]] = field(default_factory=list)
+    # last: `u` undoes those first, whatever is targeted (each camera's view_sizes holds the parallel
+    # view's size to give back). And the mouse gesture still going on, whose events make one undo step in all.
+    view_moves: list[SceneObject] = field(default_factory=list)
     view_gesture: str | None = None
     # How deep the dragged element's history was when the ctrl-drag going on began: its events fold into
     # one undo step.
@@ -703,14 +723,15 @@ class Scene:
         interface's press refused half way): the fields of the scene, its modes, elements and lights, and
         its lists, but for where PageDown has got to where an element shows its file as before
         (_browsing_put_back). Arrays and meshes are kept, not copied: keys replace them, never change one
-        in place. A key changes a history only at its top (a push, an undo, a view step redone), so of
-        each the last presses + 1 are kept: the cost grows with the keys and the elements, not the
-        histories."""
+        in place. A key changes a history, and a camera's view sizes, only at its top (a push, an undo, a
+        view step redone or dropped), so of each the last presses + 1 are kept: the cost grows with the
+        keys and the elements, not the histories."""
         elements = (*self.objects, *self.cameras, *self.lights)
         fields = [(part, dict(vars(part))) for part in (self, self.modes, *elements)]
         lists = [(items, list(items)) for items in (self.objects, self.cameras, self.lights, self.view_moves)]
-        tops = [(history, len(history), history[max(0, len(history) - presses - 1):])
-                for history in (element.history for element in elements)]
+        stacks = [*(element.history for element in elements),
+                  *(element.view_sizes for element in (*self.objects, *self.cameras))]
+        tops = [(stack, len(stack), stack[max(0, len(stack) - presses - 1):]) for stack in stacks]
 
         def restore() -> None:
             for part, kept in fields:
@@ -718,8 +739,8 @@ class Scene:
                 vars(part).update(_browsing_put_back(vars(part), kept))
             for items, contents in lists:
                 items[:] = contents
-            for history, depth, top in tops:
-                history[depth - len(top):] = top
+            for stack, depth, top in tops:
+                stack[depth - len(top):] = top
         return restore
 
     # --- selection -----------------------------------------------------------------------------
