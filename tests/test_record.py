@@ -119,7 +119,6 @@ def test_gif_frames_match_to_its_colours(tmp_path: Path) -> None:
     (["-o", "{tmp}/turn.gif", "--before", "0 NOSUCHKEY", "--keys", "y"], "--before: unknown key 'NOSUCHKEY'"),
     (["-o", "{tmp}/turn.gif", "--before", "'f=unclosed", "--keys", "y"], "--before: key sequence"),
     (["-o", "{tmp}/model.png", "--before", "f={tmp}/model.png", "--keys", "y"], "is an input"),
-    (["-o", "{tmp}/turn.gif", "--before", "ESC", "--keys", "y", "--size", "16x16"], "no frame to write"),
 ])
 def test_bad_input_is_one_line(tmp_path: Path, capsys, arguments: list[str], words: str) -> None:
     Image.new("RGB", (4, 4)).save(tmp_path / "model.png")
@@ -127,6 +126,50 @@ def test_bad_input_is_one_line(tmp_path: Path, capsys, arguments: list[str], wor
     error = capsys.readouterr().err.strip()
     assert error.startswith("error:") and "\n" not in error and words in error, error
     assert not list(tmp_path.glob("*.gif")), "nothing half-written is left behind"
+
+
+# Keys of --before refused as they ran said nothing of --before: "error: f: cannot load a file while lights
+# are targeted" read as a key of --keys; ESC in --before said "the keys quit before the first one was drawn".
+BEFORE_REFUSED = [
+    ("c c f", "f: cannot load a file while lights are targeted"),
+    ("click=500,500", "click=500,500 lies outside the 16x16 picture"),
+    ("f={tmp}/missing.obj", "missing.obj: no such file"),
+    ("f a ENTER", "a: not a model file marraztu reads"),
+    ("ESC", "ESC quits"),
+]
+
+
+@pytest.mark.parametrize(("before", "words"), BEFORE_REFUSED, ids=[before for before, _ in BEFORE_REFUSED])
+def test_a_key_of_before_refused_as_it_runs_says_it_is_of_before(tmp_path: Path, capsys, before: str,
+                                                                 words: str) -> None:
+    arguments = ["-o", str(tmp_path / "turn.gif"), "--size", "16x16", "--before", before.format(tmp=tmp_path),
+                 "--keys", "y"]
+    assert main(["record", *arguments]) == 1
+    error = capsys.readouterr().err.strip()
+    assert error.startswith("error: --before: ") and "\n" not in error and words in error, error
+    assert not list(tmp_path.glob("*.gif"))
+
+
+@pytest.mark.parametrize(("keys", "words"), [(before, words) for before, words in BEFORE_REFUSED if before != "ESC"])
+def test_a_key_of_keys_refused_as_it_runs_says_what_it_said(tmp_path: Path, capsys, keys: str, words: str) -> None:
+    arguments = ["-o", str(tmp_path / "turn.gif"), "--size", "16x16", "--before", "x", "--keys",
+                 keys.format(tmp=tmp_path)]
+    assert main(["record", *arguments]) == 1
+    error = capsys.readouterr().err.strip()
+    assert error.startswith("error: ") and words in error and "--before" not in error, error
+
+
+@pytest.mark.parametrize(("before", "keys", "hint"), [("f", "xyz", True), ("f", "ESC f xyz", False),
+                                                      ("", "f xyz", False), ("f", "x*0", False)])
+def test_a_word_the_prompt_refuses_says_where_before_left_it_open(tmp_path: Path, capsys, before: str, keys: str,
+                                                                  hint: bool) -> None:
+    """--before "f" --keys "xyz" said "'xyz' in the file prompt", where --keys opened none; a prompt
+    --keys opens, and a word refused wherever it stands, say what they said."""
+    arguments = ["-o", str(tmp_path / "turn.gif"), "--size", "16x16", "--before", before, "--keys", keys]
+    assert main(["record", *arguments]) == 1
+    error = capsys.readouterr().err.strip()
+    assert error.startswith(f"error: {keys.split()[-1]!r}") and "\n" not in error, error
+    assert error.endswith(" (--before left the file prompt open)") == hint, error
 
 
 # 0.001: a frame past 65.535 s, an animated PNG's longest

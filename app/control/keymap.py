@@ -227,8 +227,9 @@ def key_press(token: str, keymap: dict[str, Command] = KEYMAP) -> KeyPress:
 _REPEAT = re.compile(r"^(?P<token>.+)\*(?P<count>\d+)$")
 
 
-def _parse_word(word: str, keymap: dict[str, Command], in_prompt: bool) -> tuple[KeyPress, int]:
-    """One word of a sequence: its press and how many times it repeats."""
+def _parse_word(word: str, keymap: dict[str, Command], in_prompt: bool,
+                opened_by: str | None = None) -> tuple[KeyPress, int]:
+    """One word of a sequence: its press and how many times it repeats (`opened_by`: _prompt_press)."""
     count = 1
     match = _REPEAT.match(word)
     if match and not word.startswith(LOAD_PREFIX):  # a file name may hold "*2"; loads never repeat
@@ -244,7 +245,7 @@ def _parse_word(word: str, keymap: dict[str, Command], in_prompt: bool) -> tuple
     if word.startswith(CLICK_PREFIX):
         return _click_press(word), count
     if in_prompt:
-        return _prompt_press(word, keymap), count
+        return _prompt_press(word, keymap, opened_by), count
     return key_press(word, keymap), count
 
 
@@ -257,20 +258,24 @@ def _click_press(word: str) -> KeyPress:
     return click(int(match["column"]), int(match["row"]))
 
 
-def _prompt_press(word: str, keymap: dict[str, Command]) -> KeyPress:
-    """A press while the file prompt is open: any character, or a named key."""
+def _prompt_press(word: str, keymap: dict[str, Command], opened_by: str | None = None) -> KeyPress:
+    """A press while the file prompt is open: any character, or a named key. `opened_by`: the earlier
+    sequence that left the prompt open, which a refusal names (these keys opened none)."""
     if len(word) == 1 and word.isprintable():
         return KeyPress(word)
     name = normalise_token(word)
     if name in PROMPT_KEYS or name in keymap:
         return KeyPress(name)
+    left_open = "" if opened_by is None else f" ({opened_by} left the file prompt open)"
     raise KeyMapError(f"{word!r} in the file prompt: type one character at a time (SPACE for a "
-                      "space, BACKSPACE), then ENTER")
+                      f"space, BACKSPACE), then ENTER{left_open}")
 
 
-def parse_key_sequence(text: str, keymap: dict[str, Command] = KEYMAP, in_prompt: bool = False) -> list[KeyPress]:
+def parse_key_sequence(text: str, keymap: dict[str, Command] = KEYMAP, in_prompt: bool = False,
+                       opened_by: str | None = None) -> list[KeyPress]:
     """'0 1 F x*10 f=model.obj' -> the presses, in order. KeyMapError on anything unknown. `in_prompt`:
-    the `f` prompt is open before the first (an earlier sequence left it so), so they type into it."""
+    the `f` prompt is open before the first (an earlier sequence left it so), so they type into it; a
+    word refused while that prompt is open names `opened_by`, the sequence that left it open."""
     if len(text) > MAX_SEQUENCE_CHARACTERS:
         raise KeyMapError(f"key sequence: more than {MAX_SEQUENCE_CHARACTERS} characters (KEY*N repeats a key)")
     try:
@@ -279,7 +284,8 @@ def parse_key_sequence(text: str, keymap: dict[str, Command] = KEYMAP, in_prompt
         raise KeyMapError(f"key sequence {shortened(text)!r}: {error}") from error
     presses: list[KeyPress] = []
     for word in words:
-        press, count = _parse_word(word, keymap, in_prompt)
+        opened_by = opened_by if in_prompt else None  # a prompt these keys open is their own
+        press, count = _parse_word(word, keymap, in_prompt, opened_by)
         if len(presses) + count > MAX_SEQUENCE_PRESSES:
             raise KeyMapError(f"key sequence: more than {MAX_SEQUENCE_PRESSES} presses")
         presses.extend([press] * count)

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from marraztu.control.keymap import parse_key_sequence, prompt_open_after
+from marraztu.control.keymap import KeyPress, parse_key_sequence, prompt_open_after
 from marraztu.control.viewer import StartOptions, Viewer, starting_scene
 from marraztu.errors import KeyMapError, ViewerError, error_words, shortened
 from marraztu.frontends.screenshot import (
@@ -78,7 +78,7 @@ def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, f
         set_up = parse_key_sequence(before)
     except KeyMapError as error:
         raise KeyMapError(f"--before: {error}") from None
-    presses = parse_key_sequence(keys, in_prompt=prompt_open_after(set_up))  # --before may leave the prompt open
+    presses = parse_key_sequence(keys, in_prompt=prompt_open_after(set_up), opened_by="--before")
     if not presses:
         raise ViewerError("record needs --keys: one frame is drawn after each press")
     check_recording_size(len(presses), size)
@@ -94,8 +94,7 @@ def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, f
         viewer.start(options, renderer.max_texture_side)
         inputs = InputsGuard(out, RECORDING_FORMATS, "an animation")
         inputs.check(viewer)
-        for _ in frontend.replay(viewer, set_up):
-            inputs.check(viewer)  # a model loaded by a key brings its MTL and textures
+        _set_up(viewer, frontend, set_up, inputs)
 
         def frames() -> Iterator[np.ndarray]:
             for _ in frontend.replay(viewer, presses):
@@ -106,6 +105,17 @@ def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, f
         return write_animation(frames(), out, fps)
     finally:
         ctx.release()
+
+
+def _set_up(viewer: Viewer, frontend: OffscreenFrontend, set_up: list[KeyPress], inputs: InputsGuard) -> None:
+    """--before's presses, drawing nothing; what refuses one says it came from --before, as its parse errors do."""
+    try:
+        for _ in frontend.replay(viewer, set_up):
+            inputs.check(viewer)  # a model loaded by a key brings its MTL and textures
+    except ViewerError as error:
+        raise ViewerError(f"--before: {error}") from None
+    if frontend.quitting:
+        raise ViewerError("--before: ESC quits before the first frame is drawn (ESC in --keys ends the recording)")
 
 
 def write_animation(frames: Iterable[np.ndarray], out: Path, fps: float) -> int:
