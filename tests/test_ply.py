@@ -423,8 +423,45 @@ def test_a_claimed_count_reserves_nothing(tmp_path: Path, claim: str) -> None:
     if "nothing" in claim:
         assert outcome.face_count == 2
     else:
-        assert outcome.message == "the header counts 99999999999 rows of face, the file ends before them"
+        assert (outcome.line, outcome.message) == (7, "the header counts 99999999999 rows of face, the file ends "
+                                                      "before them: the 90 bytes after the header hold 45 numbers "
+                                                      "at most")
     assert peak < 1 << 20, peak
+
+
+BODY_BYTES = len(ply_text(["3 0 1 4"]).split("end_header\n")[1])
+
+
+@pytest.mark.parametrize(("old", "new", "line", "counted"), [
+    ("element vertex 9", "element vertex 999999999", 3, "999999999 rows of vertex"),
+    ("element face 1", "element face 99999999999", 7, "99999999999 rows of face"),
+    # a row of a list of no items and a number: two numbers at least
+    ("end_header", "element edge 40\nproperty list uchar int a\nproperty int b\nend_header", 9, "40 rows of edge"),
+])
+def test_counts_of_more_rows_than_an_ascii_body_holds_are_refused_at_the_header(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, old: str, new: str, line: int, counted: str) -> None:
+    """A count past what the body's bytes hold was refused only once the whole body was read as numbers,
+    at its last line: now at the count's line, from the file's size alone (a number a property a row,
+    each a byte and a blank), before the body is read."""
+    monkeypatch.setattr(ply, "text_numbers", lambda *_: pytest.fail("the body was read"))
+    refused = refusal(tmp_path, ply_text(["3 0 1 4"]).replace(old, new))
+    assert (refused.line, refused.message) == (line, f"the header counts {counted}, the file ends before them: the "
+                                                     f"{BODY_BYTES} bytes after the header hold {BODY_BYTES // 2} "
+                                                     "numbers at most")
+
+
+@pytest.mark.parametrize(("rows", "refused_at_the_header"), [(6, False), (7, True)])
+def test_the_header_lets_off_one_row_of_the_least_numbers(rows: int, refused_at_the_header: bool) -> None:
+    """Rows of one number (a list of no items), a byte and a line end each: five rows' bytes hold a count
+    of six, all but its last row, which a file cut short holds in part (the body names it at its line);
+    not a count of seven."""
+    data = f"ply\nformat ascii 1.0\nelement e {rows}\nproperty list uchar int a\nend_header\n".encode() + b"0\n" * 5
+    if refused_at_the_header:
+        refused = one_line_refusal(lambda: read_header(Path("e.ply"), data))
+        assert (refused.line, refused.message) == (3, "the header counts 7 rows of e, the file ends before them: "
+                                                      "the 10 bytes after the header hold 5 numbers at most")
+    else:
+        assert read_header(Path("e.ply"), data).elements[0].count == rows
 
 
 def test_a_colour_past_its_type_is_refused_at_its_line(tmp_path: Path) -> None:

@@ -162,8 +162,10 @@ def read_header(path: Path, data: bytes) -> PlyHeader:
         raise LoadError(path, _NOT_A_PLY, line=1)
     if encoding is None:
         raise LoadError(path, "the header has no 'format' line", line=number + 1)
-    return PlyHeader(encoding, _checked_elements(path, elements, properties, element_lines), picture,
-                     line_end_from(data, end), comment_ends_it)
+    checked, body_at = _checked_elements(path, elements, properties, element_lines), line_end_from(data, end)
+    if encoding == "ascii":
+        _check_ascii_rows_fit(path, checked, element_lines, len(data) - body_at)
+    return PlyHeader(encoding, checked, picture, body_at, comment_ends_it)
 
 
 def _encoding(path: Path, words: list[str], line: int, encoding_so_far: str | None) -> str:
@@ -193,6 +195,27 @@ def _checked_elements(path: Path, elements: list[PlyElement], properties: list[l
             raise LoadError(path, "element face has no list of its corners (property list uchar int vertex_indices)",
                             line=line)
     return tuple(elements)
+
+
+_LEAST_NUMBER_BYTES = 2  # an ASCII body's number: a byte and a blank after it (the last one's may be missing)
+
+
+def _check_ascii_rows_fit(path: Path, elements: tuple[PlyElement, ...], element_lines: list[int], held: int) -> None:
+    """An ASCII body's counts refused at their line where the `held` bytes after the header cannot hold
+    that many rows, before the body is read: a row holds a number a property at least (a list's count,
+    of no items). One row is let off, so that a row that is there, however wrong (a last one cut short),
+    is left to be named at its line; the element named is the first whose rows the bytes cannot hold."""
+    rows = [(element, line, len(element.properties)) for element, line in zip(elements, element_lines)
+            if element.count and element.properties]
+    least = sum(element.count * numbers for element, _, numbers in rows)
+    if not rows or not outruns(least - max(numbers for _, _, numbers in rows), _LEAST_NUMBER_BYTES, held + 1):
+        return
+    so_far = 0
+    for element, line, numbers in rows:
+        so_far += element.count * numbers
+        if outruns(so_far, _LEAST_NUMBER_BYTES, held + 1):
+            raise LoadError(path, f"{_ended(path, element).message}: the {counted(held, 'byte')} after the header "
+                                  f"hold {counted((held + 1) // _LEAST_NUMBER_BYTES, 'number')} at most", line=line)
 
 
 def _end_line(data: bytes) -> int:
