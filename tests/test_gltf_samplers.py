@@ -8,6 +8,7 @@ from __future__ import annotations
 import base64
 import io
 import json
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -419,3 +420,21 @@ def test_quantized_coordinates_are_moved_as_the_numbers_they_stand_for(tmp_path:
     path.write_text(json.dumps(document))
     stored = shorts / 65535 if normalized else shorts  # the numbers they stand for, as glTF defines them
     assert np.allclose(load_model(path).uvs, as_drawn(stored / 1023 + [0.25, 0]), atol=1e-6)
+
+
+@pytest.mark.parametrize(("transform", "vertex"), [
+    ({"offset": [1e308, 1e308]}, 0),
+    ({"scale": [1e39, 1]}, 1),  # u = 0 stays 0: the first vertex moved past is square()'s second
+    ({"scale": [1.7e308, 1.7e308], "rotation": 0.7853981633974483}, 0),  # past float64's too
+])
+def test_a_transform_that_takes_coordinates_past_float32_is_refused_naming_it(tmp_path: Path, transform: dict[str, Any],
+                                                                            vertex: int) -> None:
+    """Finite values that move finite coordinates past float32's range: numpy's overflow warnings were printed
+    and the file was refused as if it held a coordinate that is not a finite number."""
+    path = square(tmp_path / "far.gltf", [transformed(transform)], [{"source": 0}])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # numpy's RuntimeWarning, printed past the one line
+        refused = one_line_refusal(lambda: load_model(path))
+    assert str(refused) == (f"{path}: mesh 0's primitive 0: material 0's baseColorTexture's KHR_texture_transform "
+                            f"moves vertex {vertex} of its TEXCOORD_0 (accessor 1) past 3.4e38, where the GPU's 32-bit "
+                            "numbers end")

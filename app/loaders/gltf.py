@@ -1295,8 +1295,8 @@ def _texture_transforms_applied(path: Path, document: dict[str, Any],
     primitive draws at most, so no more than the placements counted make. False where none is moved."""
     accessors, materials = document.get("accessors", []), document.get("materials", [])
     made, moved = _MadeBuffer(document), {}
-    for mesh in document.get("meshes", []):
-        for primitive in mesh["primitives"]:
+    for mesh_number, mesh in enumerate(document.get("meshes", [])):
+        for primitive_number, primitive in enumerate(mesh["primitives"]):
             material = materials[primitive["material"]] if "material" in primitive else {}
             affine = _uv_transform(material)
             uvs = primitive["attributes"].get("TEXCOORD_0")
@@ -1304,7 +1304,14 @@ def _texture_transforms_applied(path: Path, document: dict[str, Any],
                     or _uvs_decoded_by_trimesh(primitive, material):
                 continue
             if (uvs, affine) not in moved:
-                values = _moved_uvs(_uv_values(path, document, uvs, buffer), affine)
+                source = _uv_values(path, document, uvs, buffer)
+                values = _moved_uvs(source, affine)
+                if (vertex := _first_moved_past_float32(source, values)) is not None:
+                    what = f"{_mesh_named(mesh_number, mesh)}'s primitive {primitive_number}"
+                    raise LoadError(path, f"{what}: material {primitive['material']}'s {_base_colour(material)[2]}'s "
+                                          f"{_TEXTURE_TRANSFORM} moves vertex {vertex} of its TEXCOORD_"
+                                          f"{_drawn_uv_set(material)} (accessor {uvs}) past 3.4e38, where the GPU's "
+                                          "32-bit numbers end")
                 accessors.append({"bufferView": made.view(values), "componentType": _FLOAT_COMPONENTS,
                                   "count": len(values), "type": "VEC2"})
                 moved[uvs, affine] = len(accessors) - 1
@@ -1326,7 +1333,16 @@ def _uv_values(path: Path, document: dict[str, Any], number: int, buffer: Callab
 def _moved_uvs(uvs: np.ndarray, affine: tuple[float, ...]) -> np.ndarray:
     """(count, 2) float32: `uvs` through the affine map (a, b, c, d, e, f) of _uv_transform."""
     a, b, c, d, e, f = affine
-    return (uvs @ np.array([[a, c], [b, d]]) + np.array([e, f])).astype(np.float32)
+    with np.errstate(all="ignore"):  # past float32's range: refused (_first_moved_past_float32)
+        return (uvs @ np.array([[a, c], [b, d]]) + np.array([e, f])).astype(np.float32)
+
+
+def _first_moved_past_float32(source: np.ndarray, moved: np.ndarray) -> int | None:
+    """The first vertex whose finite coordinates a transform moved past float32's range (its values are
+    checked finite, but large ones take them past it); None where none is. The file's own that are not
+    finite are left to the check of every mesh's texture coordinates, which names them so."""
+    unheld = np.isfinite(source).all(axis=1) & ~np.isfinite(moved).all(axis=1)
+    return int(np.argmax(unheld)) if unheld.any() else None
 
 
 def _placed_meshes(document: dict[str, Any]) -> set[int]:
