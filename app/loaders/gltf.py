@@ -68,10 +68,10 @@ def _check_version(path: Path, document: dict[str, Any]) -> None:
     if _is_number(version) and 0 <= version < 2:  # glTF 1's, as a number: a string in every glTF 2
         version = str(version)
     major = version.split(".", 1)[0] if isinstance(version, str) else ""
-    if not major.isdecimal():
+    if not (major.isascii() and major.isdecimal()):  # glTF's are ASCII digits; Python reads others too
         raise LoadError(path, f"not a glTF file: its asset's version {shortened(escaped(repr(version)))} is not a "
                               "version such as \"2.0\"")
-    if int(major) != _GLTF_MAJOR:
+    if major.lstrip("0") != str(_GLTF_MAJOR):  # not int(): Python refuses one of thousands of digits
         raise LoadError(path, f"a file of glTF version {shortened(escaped(version))}: only glTF 2 is read")
 
 
