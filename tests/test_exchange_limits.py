@@ -1296,6 +1296,27 @@ def test_a_gltf_of_version_1_is_refused_as_one(tmp_path: Path, version: object, 
     assert one_line_refusal(lambda: load_model(path)).message == f"a file of glTF version {shown}: only glTF 2 is read"
 
 
+@pytest.mark.parametrize(("version", "least", "words"), [
+    ("2.1", "2.1", "a file that needs glTF 2.1 or later (its asset's minVersion): only glTF 2.0 is read"),
+    ("2.0", "2.01", "a file that needs glTF 2.01 or later (its asset's minVersion): only glTF 2.0 is read"),
+    ("2.0", "2.0", None), ("2.3", "02.00", None), ("2.0", "1.0", None),
+    ("2.0", 2.0, "not a glTF file: its asset's minVersion 2.0 is not a version such as \"2.0\""),
+    ("2.0", "2", "not a glTF file: its asset's minVersion '2' is not a version such as \"2.0\""),
+])
+def test_a_gltf_whose_min_version_is_past_2_0_is_refused(tmp_path: Path, version: str, least: object,
+                                                        words: str | None) -> None:
+    """glTF: a reader refuses an asset whose minVersion it does not support (Khronos's glTF-Asset-Generator,
+    Compatibility 04: version and minVersion 2.1, "should fail to load on a 2.0 client"); it was read."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["asset"] = {"version": version, "minVersion": least}
+    path = tmp_path / "least.glb"
+    path.write_bytes(glb(document, binary))
+    if words is None:
+        assert load_model(path).positions.shape == (3, 3)
+        return
+    assert one_line_refusal(lambda: load_model(path)).message == words
+
+
 @pytest.mark.parametrize("camera", [{"type": "perspective", "perspective": {"yfov": 1.0, "znear": 0.1}},
                                     {"type": "orthographic", "orthographic": {"xmag": 1, "ymag": 1, "znear": 0.1,
                                                                               "zfar": 10}}])
