@@ -379,6 +379,20 @@ def test_a_transforms_tex_coord_overrides_the_textures(tmp_path: Path) -> None:
     assert set(quarters(square_pixels(shot(tmp_path, path)))) == {(1, 0)}  # blue alone
 
 
+def test_a_texture_whose_transform_names_its_set_does_not_ask_for_the_set_its_own_tex_coord_names(
+        tmp_path: Path) -> None:
+    """A primitive of TEXCOORD_1 alone, whose base colour texture says texCoord 0 and its transform 1, was
+    refused for want of TEXCOORD_0, which nothing would read."""
+    path = square(tmp_path / "only_second.gltf", [transformed({"texCoord": 1}, texture_set=0)], [{"source": 0}])
+    document = json.loads(path.read_text())
+    attributes = document["meshes"][0]["primitives"][0]["attributes"]
+    attributes["TEXCOORD_1"] = attributes.pop("TEXCOORD_0")
+    path.write_text(json.dumps(document))
+    loaded = load_model(path)
+    assert np.allclose(loaded.uvs, as_drawn(SQUARE_UVS), atol=1e-6)
+    assert loaded.warnings == ()
+
+
 @pytest.mark.parametrize(("extensions", "words"), [
     ({"KHR_texture_transform": [1]}, "material 0's baseColorTexture's KHR_texture_transform is not an object"),
     ({"KHR_texture_transform": {"offset": [1]}},

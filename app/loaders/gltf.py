@@ -519,17 +519,17 @@ class GltfReferences:
     def texture_sets(self, what: str, number: int, material: dict[str, Any], attributes: dict[str, Any]) -> None:
         """The TEXCOORD_n each texture of its material names by its texCoord, which the primitive must have
         (trimesh reads TEXCOORD_0 whatever it says). One left out, 0, is not asked for: a primitive without
-        uvs shows the scene's texture in place of its own picture, with a note."""
+        uvs shows the scene's texture in place of its own picture, with a note. The base colour texture's
+        KHR_texture_transform's texCoord, where it gives one, is the set asked for in place of its own."""
+        base_colour = _base_colour_texture(material)
         for key, texture in _texture_infos(material):
-            texture_set = texture.get("texCoord")
+            said, texture_set = shortened(escaped(key)), texture.get("texCoord")
+            transform = _nested(texture, ("extensions", _TEXTURE_TRANSFORM)) if texture is base_colour else {}
+            if "texCoord" in transform:
+                said, texture_set = f"{said}'s {_TEXTURE_TRANSFORM}", transform["texCoord"]
             if _is_whole(texture_set) and texture_set >= 0 and f"TEXCOORD_{texture_set}" not in attributes:
-                self.refuse(f"{what} has no TEXCOORD_{texture_set}, which material {number}'s "
-                            f"{shortened(escaped(key))} reads (its texCoord)")
-        _, _, key = _base_colour(material)
-        texture_set = _nested(_base_colour_texture(material), ("extensions", _TEXTURE_TRANSFORM)).get("texCoord")
-        if _is_whole(texture_set) and texture_set >= 0 and f"TEXCOORD_{texture_set}" not in attributes:
-            self.refuse(f"{what} has no TEXCOORD_{texture_set}, which material {number}'s {key}'s "
-                        f"{_TEXTURE_TRANSFORM} reads (its texCoord)")
+                self.refuse(f"{what} has no TEXCOORD_{texture_set}, which material {number}'s {said} reads "
+                            "(its texCoord)")
 
     def extensions(self, item: dict[str, Any], what: str) -> None:
         """Its extensions an object: trimesh said an AttributeError (a material's, a primitive's), or drew a
