@@ -394,6 +394,7 @@ def test_a_texture_whose_transform_names_its_set_does_not_ask_for_the_set_its_ow
 
 
 @pytest.mark.parametrize(("extensions", "words"), [
+    ([{"KHR_texture_transform": {"scale": [2, 2]}}], "material 0's baseColorTexture's extensions are not an object"),
     ({"KHR_texture_transform": [1]}, "material 0's baseColorTexture's KHR_texture_transform is not an object"),
     ({"KHR_texture_transform": {"offset": [1]}},
      "material 0's baseColorTexture's KHR_texture_transform's offset is not 2 finite numbers"),

@@ -401,6 +401,7 @@ class GltfReferences:
         if "index" not in texture:
             return
         _, _, key = _base_colour(material)
+        self.extensions(texture, f"material {number}'s {key}")  # else its transform would be passed over
         transform = _nested(texture, ("extensions",)).get(_TEXTURE_TRANSFORM, {})
         said = f"material {number}'s {key}'s {_TEXTURE_TRANSFORM}"
         if not isinstance(transform, dict):
