@@ -238,6 +238,52 @@ def test_u_drops_a_view_move_it_can_no_longer_take_the_camera_back_to() -> None:
     assert scene.message == "nothing to undo"
 
 
+def test_u_gives_a_dropped_view_moves_size_to_the_step_that_takes_its_place() -> None:
+    """The wheel backed the camera out near its reach (in perspective), `p`, a wheel zoom there, HOME; a
+    model 2e18 wide, framed alone, grew the camera's body. `u` dropped the two far steps, and the zoom's
+    size before went with the zoom's matrix, so the `u` from HOME's step to the start gave back HOME's
+    size before (the far zoom's, 3.3e18) in place of the start's (9.4e17, where `p` sized it)."""
+    viewer = _window_viewer(3e17)
+    scene = viewer.scene
+
+    def wheel(notches: int, direction: float) -> None:
+        for _ in range(notches):
+            viewer.move_by_mouse(lambda moved: commands.dolly_view(moved, direction))
+        commands.end_view_gesture(scene)
+
+    wheel(40, -1.0)
+    viewer.press(parse_key_sequence("p")[0])
+    wheel(3, 1.0)
+    viewer.press(parse_key_sequence("HOME")[0])
+    start_size = scene.modes.parallel_half_height
+    for key in parse_key_sequence("DELETE"):
+        viewer.press(key)
+    viewer.add_made(_cube_object(DRAWABLE_COORDINATE))
+    for _ in range(3):  # the framing, then the zoom's far place and the far place, dropped
+        viewer.press(parse_key_sequence("u")[0])
+    assert scene.message.startswith("u cannot take camera back to where it stood before")
+    viewer.press(parse_key_sequence("u")[0])
+    assert scene.message == "" and len(scene.camera.history) == 1
+    assert scene.modes.parallel_half_height == start_size
+
+
+@pytest.mark.parametrize("top_by_view_move", [True, False])
+def test_a_dropped_step_hands_its_size_before_to_the_current_matrix(top_by_view_move: bool) -> None:
+    """A view move's matrix dropped under the current one (a key's move or a view move): `u` then takes
+    both steps back at once, to the size before the dropped one."""
+    camera = _cube_object(1.0)
+    start, dropped, top = (np.eye(4) + index for index in range(3))
+    camera.history = [start]
+    camera.push_view_move(dropped, 10.0)
+    if top_by_view_move:
+        camera.push_view_move(top, 20.0)
+    else:
+        camera.push(top)
+    camera.drop_step_under_top()
+    assert [matrix is top for matrix in camera.history] == [False, True]
+    assert camera.made_by_view_move() and [size for _, size in camera.view_sizes] == [10.0]
+
+
 def test_g_refused_at_the_reach_leaves_the_camera_flying() -> None:
     """A camera whose body stood just within its reach: `g` turned it toward the selected object, which
     would take the body past the reach; the turn was refused, and analysis mode was entered all the same,

@@ -587,8 +587,7 @@ def _dropped_unreachable_step(scene: Scene, element: SceneObject) -> bool:
         return False
     why = scene.why_move_stops(element, earlier)
     if why:
-        dropped = element.history.pop(-2)  # at the top, as the press's restorer keeps it
-        element.view_sizes[-2:] = [kept for kept in element.view_sizes[-2:] if kept[0] is not dropped]
+        element.drop_step_under_top()  # at the top, as the press's restorer keeps it
         scene.message = f"u cannot take {element.name} back to where it stood before ({why}): that step is dropped"
     return bool(why)
 

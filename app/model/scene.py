@@ -621,6 +621,16 @@ class SceneObject:
         """Whether the current matrix is the one a view move put on the history."""
         return bool(self.view_sizes) and self.view_sizes[-1][0] is self.history[-1]
 
+    def drop_step_under_top(self) -> None:
+        """history[-2] taken off, the current matrix kept: `u` then takes the two steps back as one, so
+        where a view move pushed the dropped matrix, the size before it is the one that step gives back."""
+        dropped = self.history.pop(-2)
+        tail = self.view_sizes[-2:]  # the entries of history[-2:] are the last two at most, in its order
+        before = [size for matrix, size in tail if matrix is dropped]
+        if before:
+            below = [entry for entry in tail if entry[0] is not dropped and entry[0] is not self.history[-1]]
+            self.view_sizes[-2:] = [*below, (self.history[-1], before[0])]
+
 
 @dataclass
 class Modes:
