@@ -1108,6 +1108,27 @@ def test_a_matrix_down_the_undo_history_that_cannot_be_drawn_is_refused_before_u
         assert np.asarray(v.press("u x").render()).any()
 
 
+@pytest.mark.parametrize("entry_of, words", [
+    (lambda matrix: 1, r"must be a pair \(its model matrix, the half height before or None\), not 1$"),
+    (lambda matrix: "on top", r"must be a pair .*, not 'on top'$"),
+    (lambda matrix: (matrix, "big"), r"must hold None or a half height, a finite number from 1e-30 to 1e\+30, "
+                                     r"not 'big'$"),
+    (lambda matrix: (matrix, -5.0), r"must hold None or a half height, .* not -5\.0$"),
+])
+def test_a_view_size_set_by_hand_that_u_cannot_give_back_is_refused_before_u_gives_it(entry_of, words: str) -> None:
+    """A view_sizes entry set by hand was read as `u` gave it back: 1 raised "'int' object is not
+    subscriptable", a text numpy's ufunc error, and -5.0 became the view's size, which the next call
+    refused in the words of modes.parallel_half_height. `u` refuses it, the press undone."""
+    with marraztu.Viewer(size=SIZE) as v:
+        v.press("p .")
+        camera, size = v.scene.camera, v.scene.modes.parallel_half_height
+        matrix = camera.history[-1]
+        camera.view_sizes[-1] = entry_of(matrix)
+        with pytest.raises(ValueError, match=rf"^camera's view_sizes\[-1\], which u gives back, {words}"):
+            v.press("u")
+        assert camera.history[-1] is matrix and v.scene.modes.parallel_half_height == size
+
+
 @pytest.mark.parametrize("change, words", [
     (lambda s: setattr(s.lights[1], "intensity", 200), r"the bulb's intensity must be 3 numbers \(R, G, B\)"),
     (lambda s: setattr(s.lights[1], "intensity", "white"), "the bulb's intensity must be 3 numbers"),

@@ -315,6 +315,16 @@ def _number_within(value: object, low: float, high: float) -> bool:
     return not isinstance(value, (bool, np.bool_)) and _finite_number(value) and low <= float(value) <= high  # type: ignore[arg-type]
 
 
+def _view_size_refusal(entry: object) -> str | None:
+    """Why an entry of a camera's view_sizes set by hand cannot be given back (None: it can)."""
+    if not (isinstance(entry, tuple) and len(entry) == 2):
+        return f"must be a pair (its model matrix, the half height before or None), not {_shown(entry)}"
+    if entry[1] is not None and not _number_within(entry[1], *HALF_HEIGHT_RANGE):
+        return f"must hold None or a half height, a finite number from {HALF_HEIGHT_RANGE[0]:g} to " \
+               f"{HALF_HEIGHT_RANGE[1]:g}, not {_shown(entry[1])}"
+    return None
+
+
 def light_refusal(light: Light) -> str | None:
     """Why a light's switch or aperture, set by hand, cannot be drawn (None: they can): `on` is True or
     False, not a truthy word; the probe tests the angle to the aperture and the shader that angle's
@@ -618,8 +628,14 @@ class SceneObject:
         self.view_sizes[-1] = (self.history[-1], self.view_sizes[-1][1])
 
     def made_by_view_move(self) -> bool:
-        """Whether the current matrix is the one a view move put on the history."""
-        return bool(self.view_sizes) and self.view_sizes[-1][0] is self.history[-1]
+        """Whether the current matrix is the one a view move put on the history. An entry set by hand that
+        `u` could not give back is refused here, ValueError, as undo refuses a history[-2]."""
+        if not self.view_sizes:
+            return False
+        refusal = _view_size_refusal(self.view_sizes[-1])
+        if refusal is not None:
+            raise ValueError(f"{self.name}'s view_sizes[-1], which u gives back, {refusal}")
+        return self.view_sizes[-1][0] is self.history[-1]
 
     def drop_step_under_top(self) -> None:
         """history[-2] taken off, the current matrix kept: `u` then takes the two steps back as one, so
