@@ -23,6 +23,7 @@ from PIL import Image
 import marraztu
 from marraztu.control.viewer import StartOptions
 from marraztu.errors import KeyMapError, LoadError, ViewerError
+from marraztu.frontends import api
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.probe import probe as scene_probe
@@ -109,6 +110,32 @@ def test_threads_sharing_a_viewer_take_turns(viewer, tmp_path: Path) -> None:
         thread.join()
     assert failures == [] and len(pictures) == 12
     assert all(np.array_equal(picture, expected) for picture in pictures)
+
+
+@pytest.mark.parametrize("read", ["status", "message"])
+def test_the_top_and_bottom_lines_are_read_in_turn(viewer, monkeypatch: pytest.MonkeyPatch, read: str) -> None:
+    """status checked the scene and read it while another thread's press could be half done; it and
+    message now take their turn as every call does: no other thread can take it while they read."""
+    taken_meanwhile: list[bool] = []
+
+    def another_thread_takes_the_turn() -> None:
+        def take() -> None:
+            taken = viewer._turn.acquire(blocking=False)
+            taken_meanwhile.append(taken)
+            if taken:
+                viewer._turn.release()
+        thread = threading.Thread(target=take)
+        thread.start()
+        thread.join()
+
+    real_check = viewer._check_scene if read == "status" else None
+    if read == "status":
+        monkeypatch.setattr(viewer, "_check_scene", lambda: (another_thread_takes_the_turn(), real_check())[1])
+    else:
+        viewer.press("f")  # the prompt open: message writes its line
+        monkeypatch.setattr(api, "prompt_line", lambda prompt: (another_thread_takes_the_turn(), "prompt")[1])
+    getattr(viewer, read)
+    assert taken_meanwhile == [False]
 
 
 def test_render_at_another_size(viewer) -> None:

@@ -267,6 +267,7 @@ class Viewer:
         return self._viewer.scene
 
     @property
+    @_one_call_at_a_time
     def status(self) -> str:
         """What the top of the window says: the target, the moving mode, every switch, the lights and
         the selection ('target objects | rotate local | flat | ...'), which a mode key changes and the
@@ -275,6 +276,7 @@ class Viewer:
         return status_line(self._viewer.scene)
 
     @property
+    @_one_call_at_a_time
     def message(self) -> str:
         """What the bottom of the window says after the last press or load: the message, and the file
         prompt while `f` holds it open (the keys pressed are typed into it, not done)."""
