@@ -64,6 +64,7 @@ from marraztu.loaders.gltf import (
     numbered_material,
     sampled_materials,
     sceneless_words,
+    skinned_placements,
     undrawn_primitive_notes,
     unfaithful_notes,
 )
@@ -188,11 +189,12 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     if counts is not None:  # before trimesh builds a node and a mesh per placement
         _check_placed_counts(path, *counts, undrawn=sceneless_words(document) + undrawn)
     shapes, sampled = morphed_shapes(document, held), sampled_materials(document)
-    notes = [*shapes.notes, *unfaithful_notes(document, undrawn)]
+    skins = skinned_placements(document, held, shapes)
+    notes = [*shapes.notes, *skins.notes, *unfaithful_notes(document, undrawn)]
     beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True, least_bytes=least_bytes)
     data = as_trimesh_reads(path, data if file_type == "gltf" else declared_part(data), document, file_type,
                             functools.partial(_read_named, path, beside), number_materials=bool(sampled),
-                            shapes=shapes)
+                            shapes=shapes, skins=skins)
     del document
     return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside, notes=notes,
                    sampled=sampled)

@@ -223,9 +223,10 @@ _MATERIAL_NUMBERS = {"baseColorFactor": 4, "emissiveFactor": 3, "metallicFactor"
                      "alphaCutoff": None, "diffuseFactor": 4}
 _ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
 _LEAST_EMISSION = -1e-5  # trimesh refuses an emissiveFactor below it ("all factors must be greater than 0.0")
-# The accessor types of the attributes read here (POSITION, TEXCOORD_n, COLOR_n) and of NORMAL, by the name
-# before "_".
-_ATTRIBUTE_TYPES = {"POSITION": ("VEC3",), "NORMAL": ("VEC3",), "TEXCOORD": ("VEC2",), "COLOR": ("VEC3", "VEC4")}
+# The accessor types of the attributes read here (POSITION, TEXCOORD_n, COLOR_n, and a skin's JOINTS_n and
+# WEIGHTS_n) and of NORMAL, by the name before "_".
+_ATTRIBUTE_TYPES = {"POSITION": ("VEC3",), "NORMAL": ("VEC3",), "TEXCOORD": ("VEC2",), "COLOR": ("VEC3", "VEC4"),
+                    "JOINTS": ("VEC4",), "WEIGHTS": ("VEC4",)}
 # The component types glTF allows of the attributes read here and of NORMAL (by the name before "_"), and of
 # indices, each with whether it may be normalized (glTF's own, and KHR_mesh_quantization's for positions, normals
 # and texture coordinates), and in words: trimesh read integers of any other kind as they were, without a word.
@@ -239,6 +240,8 @@ _COMPONENT_TYPES: dict[str, _ComponentTypes] = {
     "TEXCOORD": ({**_FLOAT, **_SMALL_INTEGERS}, "5126 (float), 5121 or 5123 normalized, or 5120, 5121, 5122 or 5123, "
                                                 "normalized or not (KHR_mesh_quantization)"),
     "COLOR": ({**_FLOAT, 5121: (True,), 5123: (True,)}, "5126 (float), or 5121 or 5123 normalized"),
+    "JOINTS": ({5121: (False,), 5123: (False,)}, "5121 or 5123, not normalized"),
+    "WEIGHTS": ({**_FLOAT, 5121: (True,), 5123: (True,)}, "5126 (float), or 5121 or 5123 normalized"),
 }
 _INDEX_COMPONENT_TYPES: _ComponentTypes = ({5121: (False,), 5123: (False,), 5125: (False,)},
                                            "5121, 5123 or 5125, not normalized")
@@ -259,11 +262,11 @@ def made_limit(held: int) -> int:
 def past_made_limit(held: int) -> str:
     return (f"more than the {made_limit(held)} a file and buffers of {held} bytes may make (twice them, and "
             f"{MADE_FLOOR_BYTES} more)")
-# The arrays of objects trimesh reads item by item (with .get or [key]), and the samplers, which it passes
-# over, by the name of their items.
+# The arrays of objects trimesh reads item by item (with .get or [key]), and the samplers and skins, which it
+# passes over (the skins are applied here: _skins_applied), by the name of their items.
 _READ_ARRAYS = {"scenes": "scene", "nodes": "node", "meshes": "mesh", "materials": "material", "textures": "texture",
                 "images": "image", "accessors": "accessor", "bufferViews": "buffer view", "buffers": "buffer",
-                "samplers": "sampler"}
+                "samplers": "sampler", "skins": "skin"}
 # A sampler's values glTF allows (OpenGL's enums): its filters', and its wraps' (CLAMP_TO_EDGE, MIRRORED_REPEAT,
 # REPEAT).
 _SAMPLER_VALUES = {"magFilter": (9728, 9729), "minFilter": (9728, 9729, 9984, 9985, 9986, 9987),
@@ -328,6 +331,10 @@ class GltfReferences:
             self.refuse(f"its buffer views add up to {self.copied['buffer view']} bytes: {self.past_made_limit()}")
         for number, mesh in self.each("meshes"):
             self.mesh(number, mesh)
+        for number, skin in self.each("skins"):  # after the nodes its joints name, and the accessors
+            self.skin(number, skin)
+        for number, node in self.each("nodes"):  # after the meshes' primitives are checked
+            self.skinned_primitives(number, node)
         self.made_accessors()  # once the primitives are checked to name accessors
         for number, material in self.each("materials"):
             self.material(number, material)
@@ -432,6 +439,8 @@ class GltfReferences:
             self.named(node["mesh"], "meshes", f"node {number}")
         if "camera" in node:  # a broken reference, though the camera is taken out before trimesh reads it
             self.named(node["camera"], "cameras", f"node {number}")
+        if "skin" in node:
+            self.named(node["skin"], "skins", f"node {number}")
         for key, size in _NODE_TRANSFORMS.items():
             values = node.get(key, [0.0] * size)
             if not (isinstance(values, list) and len(values) == size and all(_is_number(value) for value in values)):
@@ -495,6 +504,44 @@ class GltfReferences:
             if accessor["count"] != vertices:
                 self.refuse(f"{said} has {accessor['count']} items, the primitive's POSITION {vertices}: a morph "
                             "target holds one item per vertex")
+
+    def skin(self, number: int, skin: dict[str, Any]) -> None:
+        """Its joints, one node or more, and its inverseBindMatrices, where it gives them: MAT4s of floats, one a
+        joint at least, as glTF's are (its values: _joint_matrices)."""
+        joints = self.listed(skin, "joints", f"skin {number}")
+        if not joints:
+            self.refuse(f"skin {number} has no joints: glTF's skins list one or more")
+        for joint in joints:
+            self.named(joint, "nodes", f"skin {number}'s joints")
+        if "skeleton" in skin:
+            self.named(skin["skeleton"], "nodes", f"skin {number}'s skeleton")
+        if "inverseBindMatrices" not in skin:
+            return
+        index = skin["inverseBindMatrices"]
+        accessor = self.named(index, "accessors", f"skin {number}'s inverseBindMatrices")
+        if accessor["type"] != "MAT4" or accessor["componentType"] != _FLOAT_COMPONENTS:
+            self.refuse(f"skin {number}'s inverseBindMatrices are accessor {index}, of type {accessor['type']} and "
+                        f"componentType {accessor['componentType']}: glTF's are MAT4 of 5126 (float)")
+        if accessor["count"] < len(joints):
+            self.refuse(f"skin {number}'s inverseBindMatrices are accessor {index}, of {accessor['count']} items, for "
+                        f"its {counted(len(joints), 'joint')}: glTF's have one a joint")
+
+    def skinned_primitives(self, number: int, node: dict[str, Any]) -> None:
+        """The primitives a node's skin moves (those it draws faces of), each with JOINTS_0 and WEIGHTS_0, and
+        each JOINTS_n with its WEIGHTS_n, as glTF requires: what a joint moves is read from them."""
+        if "skin" not in node or "mesh" not in node:
+            return
+        for primitive_number, primitive in enumerate(self.document["meshes"][node["mesh"]]["primitives"]):
+            if primitive.get("mode", _TRIANGLES) not in _DRAWN_MODES:
+                continue
+            attributes = primitive["attributes"]
+            sets = {name.split("_", 1)[1] for name in attributes if name.startswith(_SKIN_SETS)}
+            for part in sorted({"0", *sets}):
+                for name in (f"JOINTS_{part}", f"WEIGHTS_{part}"):
+                    if name not in attributes:
+                        self.refuse(f"node {number} skins mesh {node['mesh']} by skin {node['skin']}, whose primitive "
+                                    f"{primitive_number} has no {shortened(escaped(name))}: glTF's skinned primitives "
+                                    "have JOINTS_0 and WEIGHTS_0, and each JOINTS_n with its WEIGHTS_n")
 
     def attribute_stride(self, said: str, index: int, accessor: dict[str, Any]) -> None:
         """A vertex attribute's view's byteStride, where it has one: a multiple of 4 from 4 to 252, as glTF
@@ -1044,10 +1091,12 @@ _MORPHED_ITEM_BYTES = 12  # a vertex of a shape (float32 VEC3): what a shape's r
 class MorphedShapes:
     """Each placed mesh with morph targets that its weights shape (a node's, else its mesh's): the nodes
     that place it, by the weights they shape it with (_BASE_SHAPE: its base shape); and the notes of
-    weights that cannot be applied, whose placements are drawn in the base shape."""
+    weights that cannot be applied, whose placements are drawn in the base shape; what the shapes read and
+    write (_shaping_bytes), which the skins' share the limit with."""
 
     by_mesh: dict[int, dict[tuple[float, ...], list[int]]]
     notes: tuple[str, ...] = ()
+    made: int = 0
 
 
 def morphed_shapes(document: dict[str, Any], held: int) -> MorphedShapes:
@@ -1089,7 +1138,7 @@ def morphed_shapes(document: dict[str, Any], held: int) -> MorphedShapes:
         if work:
             unapplied.setdefault(mesh_number, f"{_mesh_named(mesh_number, meshes[mesh_number])}'s shapes by its "
                                               f"weights would bring what shapes make to {past_made_limit(held)}")
-    return MorphedShapes(by_mesh, _unshaped_notes(list(unapplied.values())))
+    return MorphedShapes(by_mesh, _unshaped_notes(list(unapplied.values())), made)
 
 
 @dataclass(frozen=True)
@@ -1183,11 +1232,12 @@ def _unshaped_notes(reasons: list[str]) -> tuple[str, ...]:
 # --- the JSON made again for trimesh -------------------------------------------------------------
 def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_type: str,
                      read_beside: Callable[[str], bytes], number_materials: bool = False,
-                     shapes: MorphedShapes | None = None) -> bytes:
+                     shapes: MorphedShapes | None = None, skins: SkinnedPlacements | None = None) -> bytes:
     """The file, its JSON made again (a GLB's JSON chunk too) where trimesh is to read it otherwise: its
     file URIs that hold "base64," spelled apart, its materials named by number where their samplers matter,
     the meshes no node places emptied, each primitive's TEXCOORD_0 the set its base colour texture reads, the
-    meshes its weights shape given their shapes' positions, the accessors its primitives read made plain
+    meshes its weights shape given their shapes' positions, the skinned meshes placed by their joints (each
+    moved onto a node of its own), the accessors its primitives read made plain
     (sparse ones dense, normalized positions and texture coordinates floats), the texture coordinates its
     base colour textures' KHR_texture_transform moves made moved, its nodes' cameras taken out,
     its WEBP textures' fallbacks chosen, its specular-glossiness materials' diffuse colours made their base
@@ -1195,7 +1245,8 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     makes nothing of taken off their nodes, and an empty list of buffer views where it lists none.
     The document is checked already (GltfReferences), and the values its drawn primitives read are
     checked here (_check_drawn_values); `read_beside` reads a buffer's file; `number_materials`: where
-    sampled_materials found a sampling to keep; `shapes`: its morphed_shapes (None: none made)."""
+    sampled_materials found a sampling to keep; `shapes`: its morphed_shapes (None: none made); `skins`: its
+    skinned_placements (None: none skinned)."""
     respelled = _file_uris_respelled(document)  # first: a buffer read here is then named as trimesh asks for it
     views_listed = _buffer_views_listed(document)  # before the rewrites that add a view
     numbered = number_materials and _materials_numbered(document)
@@ -1204,6 +1255,7 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     buffers = _BufferBytes(path, data, document, file_type, read_beside)
     _check_drawn_values(path, document, buffers)
     shaped = shapes is not None and _shapes_made(path, document, buffers, shapes)  # before: its POSITIONs are plain
+    skinned = skins is not None and _skins_applied(path, document, buffers, skins)  # after: glTF skins the shape
     made_plain = _accessors_made_plain(path, document, buffers)
     transforms_applied = _texture_transforms_applied(path, document, buffers)  # after: it reads plain coordinates
     fans_made_triangles = _fans_made_triangles(path, document, buffers)  # after: it reads plain indices
@@ -1212,7 +1264,8 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     fallbacks_chosen = _fallbacks_chosen(document)
     diffuse_made_base = _diffuse_made_base_colour(document)
     undrawn_emptied = _undrawn_pictures_emptied(document)
-    if not (respelled or numbered or unplaced_emptied or uv_sets_chosen or shaped or made_plain or transforms_applied
+    if not (respelled or numbered or unplaced_emptied or uv_sets_chosen or shaped or skinned or made_plain
+            or transforms_applied
             or fans_made_triangles or nothing_taken_off or cameras_taken_out or views_listed or fallbacks_chosen
             or diffuse_made_base or undrawn_emptied):
         return data
@@ -1581,6 +1634,292 @@ def _values(path: Path, document: dict[str, Any], number: int, buffer: Callable[
     if accessor.get("normalized") is True and accessor["componentType"] in _NORMALIZED:
         return _as_fractions(items, accessor)[0]
     return np.ascontiguousarray(items).view(_COMPONENT_DTYPES[accessor["componentType"]])
+
+
+# --- skins: the meshes their joints place, at rest ------------------------------------------------
+# What a skin makes and reads besides its vertices: a joint's matrix and its node's placement (4x4 float64s).
+_JOINT_BYTES = 2 * 16 * 8
+_SKIN_SETS = ("JOINTS_", "WEIGHTS_")  # a skinned primitive's attributes: each JOINTS_n with its WEIGHTS_n
+_AFFINE_ROW, _AFFINE_TOLERANCE = np.array([0.0, 0.0, 0.0, 1.0]), 1e-6  # an inverse bind matrix's last row
+
+
+@dataclass(frozen=True)
+class SkinnedPlacements:
+    """The placed nodes whose skins place their meshes (glTF applies no transform of a skinned mesh's own
+    node), and the notes of the meshes left placed by their nodes, what their skins would make being past
+    the limit."""
+
+    nodes: tuple[int, ...] = ()
+    notes: tuple[str, ...] = ()
+
+
+def skinned_placements(document: dict[str, Any], held: int, shapes: MorphedShapes) -> SkinnedPlacements:
+    """The placed nodes of a checked glTF that skin their meshes, from its JSON. What the skins read and make,
+    with what `shapes` does, may come to no more than made_limit(held) bytes: a mesh is skinned once for each
+    skin and shape it is placed in, however many nodes place it so; one past the limit, or whose Draco stream
+    trimesh decodes, is placed by its nodes, with a note. Each mesh is looked at once."""
+    nodes, meshes = document.get("nodes", []), document.get("meshes", [])
+    shape_of = {node: weights for by_weights in shapes.by_mesh.values() for weights, placing in by_weights.items()
+                for node in placing}
+    budget, made = made_limit(held) - shapes.made, 0
+    applied: dict[tuple[Any, ...], bool] = {}  # (mesh, its shape, skin) -> whether it is skinned
+    costs: dict[int, tuple[int, int | None]] = {}  # mesh -> (what skinning it makes, its Draco primitive)
+    skins_counted: set[int] = set()
+    skinned, unapplied = [], []
+    for number in sorted(set(_placed_node_numbers(document))):
+        node = nodes[number]
+        if "skin" not in node or "mesh" not in node:
+            continue
+        key = (node["mesh"], shape_of.get(number, _BASE_SHAPE), node["skin"])
+        if key not in applied:
+            mesh = meshes[node["mesh"]]
+            if node["mesh"] not in costs:
+                costs[node["mesh"]] = (len(json.dumps(_mesh_copy(mesh))) + _skinning_bytes(document["accessors"], mesh),
+                                       _draco_skinned(mesh))
+            mesh_bytes, compressed = costs[node["mesh"]]
+            joints = 0 if node["skin"] in skins_counted else len(document["skins"][node["skin"]]["joints"])
+            work = mesh_bytes + _JOINT_BYTES * joints
+            applied[key] = compressed is None and made + work <= budget
+            if applied[key]:
+                made += work
+                skins_counted.add(node["skin"])
+            elif compressed is not None:
+                unapplied.append(f"{_mesh_named(node['mesh'], mesh)}'s primitive {compressed} is Draco-compressed: "
+                                 "trimesh decodes it over what its skin makes")
+            else:
+                unapplied.append(f"{_mesh_named(node['mesh'], mesh)}'s skinning by skin {node['skin']} would bring "
+                                 f"what is made to {past_made_limit(held)}")
+        if applied[key]:
+            skinned.append(number)
+    return SkinnedPlacements(tuple(skinned), _unskinned_notes(unapplied))
+
+
+def _draco_skinned(mesh: dict[str, Any]) -> int | None:
+    """The first drawn primitive whose Draco stream holds what a skin reads (POSITION, JOINTS_n, WEIGHTS_n),
+    where trimesh decodes it: it writes them, after the skin is applied, into the accessors they name."""
+    if not _draco_decoder():
+        return None
+    return next((number for number, primitive in enumerate(mesh["primitives"]) if _is_drawn(primitive)
+                 and any(name == "POSITION" or name.startswith(_SKIN_SETS) for name in _draco_attributes(primitive))),
+                None)
+
+
+def _skinning_bytes(accessors: list[dict[str, Any]], mesh: dict[str, Any]) -> int:
+    """What skinning a mesh reads and writes, in _MORPHED_ITEM_BYTES a vertex: for each drawn primitive its
+    POSITION, its skinned positions, and each JOINTS_n and WEIGHTS_n set."""
+    total = 0
+    for primitive in filter(_is_drawn, mesh["primitives"]):
+        sets = len(_skin_sets(primitive["attributes"]))
+        total += _MORPHED_ITEM_BYTES * accessors[primitive["attributes"]["POSITION"]]["count"] * (2 + 2 * sets)
+    return total
+
+
+def _skin_sets(attributes: dict[str, Any]) -> list[str]:
+    """The n of each JOINTS_n (each with its WEIGHTS_n: GltfReferences.skinned_primitives)."""
+    return sorted(name[len(_SKIN_SETS[0]):] for name in attributes if name.startswith(_SKIN_SETS[0]))
+
+
+def _unskinned_notes(reasons: list[str]) -> tuple[str, ...]:
+    """One note of the skinned meshes placed by their nodes (a reason each), the first named."""
+    if not reasons:
+        return ()
+    if len(reasons) == 1:
+        return (f"{reasons[0]}: placed by its node, not its skin",)
+    return (f"{len(reasons)} skinned meshes placed by their nodes, not their skins (the first, {reasons[0]})",)
+
+
+def _skins_applied(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview],
+                   skins: SkinnedPlacements) -> bool:
+    """Places each mesh that the nodes of `skins` skin as glTF does at the nodes' rest transforms (animations
+    are not read): each vertex where its joints take it, the sum of w_i * world(joint_i) *
+    inverseBindMatrix_i * position over its JOINTS_n and WEIGHTS_n, in a buffer appended as a data: URI; the
+    mesh taken off its node (whose children it still places) onto a root node of its own, which places it
+    where it is. trimesh applies no skin, and places a skinned mesh by its node. A mesh is skinned once for
+    each skin and shape (its morph targets applied first: _shapes_made), however many nodes place it so, into
+    a copy where nodes draw it otherwise too. False where there is none."""
+    if not skins.nodes:
+        return False
+    nodes = document["nodes"]
+    skinned_nodes = set(skins.nodes)
+    unskinned = {nodes[number]["mesh"] for number in _placed_node_numbers(document)
+                 if "mesh" in nodes[number] and number not in skinned_nodes}
+    skinning = _Skinning(path, document, buffer, unskinned)
+    roots = document["scenes"][document.get("scene", 0)]["nodes"]
+    for number in skins.nodes:
+        node = nodes[number]
+        mesh = skinning.mesh(node["mesh"], node["skin"])
+        del node["mesh"], node["skin"]
+        nodes.append({"mesh": mesh})
+        roots.append(len(nodes) - 1)
+    skinning.made.append()
+    return True
+
+
+class _Skinning:
+    """The skinned copies of a checked glTF's meshes, each made once, and what they are made of: the positions
+    skinned, the skins' joints' matrices and the nodes' places. `unskinned`: the meshes nodes draw unskinned
+    too, which keep their place."""
+
+    def __init__(self, path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview],
+                 unskinned: set[int]) -> None:
+        self.path, self.document, self.buffer, self.unskinned = path, document, buffer, unskinned
+        self.made = _MadeBuffer(document)
+        self.sources: dict[int, dict[str, Any]] = {}  # each mesh as the file gives it, before its place is taken
+        self.meshes: dict[tuple[int, int], int] = {}  # (mesh, skin) -> its skinned copy
+        self.positions: dict[tuple[Any, ...], int] = {}  # (POSITION, its sets, skin) -> the accessor skinned
+        self.matrices: dict[int, np.ndarray] = {}  # skin -> its joints' matrices
+        self.places = _WorldTransforms(document)
+
+    def mesh(self, number: int, skin: int) -> int:
+        """Mesh `number` skinned by `skin`, made once: in the mesh's place where no node draws it otherwise."""
+        if (number, skin) in self.meshes:
+            return self.meshes[number, skin]
+        meshes = self.document["meshes"]
+        in_place = number not in self.unskinned and number not in self.sources
+        source = self.sources.setdefault(number, meshes[number])
+        mesh = _mesh_copy(source)
+        if in_place:
+            meshes[number] = mesh
+        else:
+            meshes.append(mesh)
+        self.meshes[number, skin] = number if in_place else len(meshes) - 1
+        named = _mesh_named(number, source)
+        for primitive_number, (primitive, original) in enumerate(zip(mesh["primitives"], source["primitives"])):
+            attributes = primitive["attributes"]
+            for name in [name for name in attributes if name.startswith(_SKIN_SETS)]:
+                del attributes[name]  # read here, not by trimesh
+            if _is_drawn(original):
+                attributes["POSITION"] = self.position(original, skin, f"{named}'s primitive {primitive_number}")
+        return self.meshes[number, skin]
+
+    def position(self, primitive: dict[str, Any], skin: int, what: str) -> int:
+        """The accessor of a primitive's positions skinned by `skin`, made once for its POSITION and sets."""
+        attributes = primitive["attributes"]
+        sets = _skin_sets(attributes)
+        key = (attributes["POSITION"], tuple((attributes[f"JOINTS_{n}"], attributes[f"WEIGHTS_{n}"]) for n in sets),
+               skin)
+        if key not in self.positions:
+            if skin not in self.matrices:
+                self.matrices[skin] = _joint_matrices(self.path, self.document, skin, self.buffer, self.places)
+            placed = _skinned_positions(self.path, self.document, attributes, sets, self.matrices[skin], self.buffer,
+                                        f"{what}, skinned by skin {skin}")
+            accessors = self.document["accessors"]
+            accessors.append({"bufferView": self.made.view(placed), "componentType": _FLOAT_COMPONENTS,
+                              "count": len(placed), "type": "VEC3"})
+            self.positions[key] = len(accessors) - 1
+        return self.positions[key]
+
+
+def _joint_matrices(path: Path, document: dict[str, Any], number: int, buffer: Callable[[int], bytes | memoryview],
+                    places: Callable[[int], np.ndarray]) -> np.ndarray:
+    """(joints, 3, 4) float64: skin `number`'s world(joint) * inverseBindMatrix, each joint's, their last row
+    (0 0 0 1) left out. Inverse bind matrices of a value not finite, or not affine, are refused."""
+    skin = document["skins"][number]
+    joints = skin["joints"]
+    if "inverseBindMatrices" not in skin:  # glTF's default: the identity each
+        inverses = np.broadcast_to(np.eye(4), (len(joints), 4, 4))
+    else:
+        index = skin["inverseBindMatrices"]
+        values = _values(path, document, index, buffer)[:len(joints)].astype(np.float64)
+        inverses = values.reshape(-1, 4, 4).transpose(0, 2, 1)  # glTF's matrices are stored by column
+        said = f"skin {number}'s inverseBindMatrices (accessor {index})"
+        unheld = ~np.isfinite(values).all(axis=1)
+        if unheld.any():
+            raise LoadError(path, f"{said}: matrix {np.argmax(unheld)} holds a value that is not a finite number")
+        projective = np.abs(inverses[:, 3] - _AFFINE_ROW).max(axis=1) > _AFFINE_TOLERANCE
+        if projective.any():
+            at = int(np.argmax(projective))
+            row = " ".join(f"{value:g}" for value in inverses[at, 3])
+            raise LoadError(path, f"{said}: matrix {at}'s last row is {row}, where glTF's are 0 0 0 1")
+    with np.errstate(all="ignore"):  # past float's range: the positions made of it are refused
+        return (np.stack([places(joint) for joint in joints]) @ inverses)[:, :3]
+
+
+def _skinned_positions(path: Path, document: dict[str, Any], attributes: dict[str, Any], sets: list[str],
+                       matrices: np.ndarray, buffer: Callable[[int], bytes | memoryview], what: str) -> np.ndarray:
+    """(vertices, 3) float32: each vertex's POSITION through its joints' `matrices`, weighed by its weights,
+    which are made to add up to 1 (as three.js's glTF reader does: quantized weights add up to nearly 1).
+    Weights adding up to 0 are refused (and a set's values: _checked_set). A block of vertices at a time:
+    the matrices gathered for them stay small."""
+    positions = _values(path, document, attributes["POSITION"], buffer)
+    read = [_checked_set(path, document, attributes, n, len(matrices), buffer, what) for n in sets]
+    total = sum(weights.sum(axis=1) for _, weights in read)
+    if (none := total <= 0).any():
+        raise LoadError(path, f"{what}: vertex {np.argmax(none)}'s weights add up to 0, where glTF's add up to 1")
+    placed = np.empty((len(positions), 3), np.float32)
+    with np.errstate(all="ignore"):  # past float's range: refused below
+        for low in range(0, len(positions), _CHECKED_ITEMS):
+            block = slice(low, low + _CHECKED_ITEMS)
+            position, moved = positions[block].astype(np.float64), np.zeros((len(placed[block]), 3))
+            for joints, weights in read:
+                for column in range(joints.shape[1]):
+                    gathered = matrices[joints[block, column]]
+                    moved += weights[block, column, None] * (np.einsum("vij,vj->vi", gathered[:, :, :3], position)
+                                                             + gathered[:, :, 3])
+            placed[block] = moved / total[block, None]
+    unheld = ~np.isfinite(placed).all(axis=1)
+    if unheld.any():
+        raise LoadError(path, f"{what}: vertex {np.argmax(unheld)} is placed by its joints at a coordinate that is not "
+                              "a finite number (their transforms take it past float's range)")
+    return placed
+
+
+def _checked_set(path: Path, document: dict[str, Any], attributes: dict[str, Any], n: str, joint_count: int,
+                 buffer: Callable[[int], bytes | memoryview], what: str) -> tuple[np.ndarray, np.ndarray]:
+    """A primitive's JOINTS_n, (vertices, 4) intp, and WEIGHTS_n, (vertices, 4) float64, checked: each joint
+    one of the skin's `joint_count`, each weight finite and 0 or more."""
+    joints = _values(path, document, attributes[f"JOINTS_{n}"], buffer).astype(np.intp)
+    weights = _values(path, document, attributes[f"WEIGHTS_{n}"], buffer).astype(np.float64)
+    if (outside := (joints >= joint_count).any(axis=1)).any():
+        vertex = int(np.argmax(outside))
+        raise LoadError(path, f"{what}: vertex {vertex}'s JOINTS_{n} names joint "
+                              f"{joints[vertex][joints[vertex] >= joint_count][0]}, of the skin's {joint_count}")
+    if (unheld := ~np.isfinite(weights).all(axis=1)).any():
+        vertex = int(np.argmax(unheld))
+        raise LoadError(path, f"{what}: vertex {vertex}'s WEIGHTS_{n} holds "
+                              f"{weights[vertex][~np.isfinite(weights[vertex])][0]}, not a finite number")
+    if (below := (weights < 0).any(axis=1)).any():
+        vertex = int(np.argmax(below))
+        raise LoadError(path, f"{what}: vertex {vertex}'s WEIGHTS_{n} holds {weights[vertex].min():g}, where glTF's "
+                              "weights are 0 or more")
+    return joints, weights
+
+
+class _WorldTransforms:
+    """Each node's 4x4 place in the scene, as trimesh places its nodes (its parent's times its own
+    transform), each node's made once, however many ask for it."""
+
+    def __init__(self, document: dict[str, Any]) -> None:
+        self.nodes = document.get("nodes", [])
+        self.parent = {child: number for number, node in enumerate(self.nodes) for child in node.get("children", [])}
+        self.made: dict[int, np.ndarray] = {}
+
+    def __call__(self, number: int) -> np.ndarray:
+        above: list[int] = []  # the node and its ancestors not made yet, the nearest first
+        node: int | None = number
+        while node is not None and node not in self.made:
+            above.append(node)
+            node = self.parent.get(node)
+        place = np.eye(4) if node is None else self.made[node]
+        with np.errstate(all="ignore"):  # past float's range: the positions made of it are refused
+            for below in reversed(above):
+                place = self.made[below] = place @ _node_transform(self.nodes[below])
+        return self.made[number]
+
+
+def _node_transform(node: dict[str, Any]) -> np.ndarray:
+    """A node's 4x4 transform from its parent's, as trimesh makes it: its matrix times T * R * S."""
+    from trimesh import transformations  # its quaternion made a matrix as trimesh makes it: normalized
+
+    transform = np.array(node["matrix"], np.float64).reshape(4, 4).T if "matrix" in node else np.eye(4)
+    if "translation" in node:
+        transform = transform @ transformations.translation_matrix(node["translation"])
+    if "rotation" in node:
+        x, y, z, w = node["rotation"]  # trimesh's quaternions are w x y z
+        transform = transform @ transformations.quaternion_matrix([w, x, y, z])
+    if "scale" in node:
+        transform = transform @ np.diag([*node["scale"], 1.0])
+    return transform
 
 
 _UINT32_COMPONENTS = 5125
