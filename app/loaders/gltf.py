@@ -442,7 +442,9 @@ class GltfReferences:
         if "skin" in node:
             self.named(node["skin"], "skins", f"node {number}")
         for key, size in _NODE_TRANSFORMS.items():
-            values = node.get(key, [0.0] * size)
+            if key not in node:  # glTF's default, not made to be checked again for each of thousands of nodes
+                continue
+            values = node[key]
             if not (isinstance(values, list) and len(values) == size and all(_is_number(value) for value in values)):
                 self.refuse(f"node {number}'s {key} is not {size} numbers")
             if unheld := [value for value in values if not _is_finite(value)]:  # trimesh took NaN's matrix for none
