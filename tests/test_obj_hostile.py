@@ -383,3 +383,25 @@ def test_a_material_line_of_a_million_numbers_is_never_a_list_of_them(tmp_path: 
     assert mesh.file_material == {"ks": (0.5, 0.5, 0.5)}
     assert mesh.warnings == ("material library 'long.mtl': ignored a malformed Kd line, on line 2",)
     assert peak < 8 * (tmp_path / "long.mtl").stat().st_size, peak  # the text's bytes, piece, line and rest
+
+
+def test_the_folder_of_textures_not_found_is_resolved_once_not_once_a_name(tmp_path: Path,
+                                                                           monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each map_Kd name not found as written is looked for in any case in its folder's listing: the
+    folder was resolved again for each name (a walk of its path, lstat by lstat), a third of the load of
+    an MTL of thousands of missing pictures."""
+    from marraztu.loaders.obj import mtl
+
+    count = 200
+    (tmp_path / "many.mtl").write_text("".join(f"newmtl m{at}\nmap_Kd missing{at}.png\n" for at in range(count)))
+    vertices = "".join(f"v {at} {at % 2} 0\n" for at in range(count + 2))
+    faces = "".join(f"usemtl m{at}\nf {at + 1} {at + 2} {at + 3}\n" for at in range(count))
+    path = tmp_path / "model.obj"
+    path.write_text(f"mtllib many.mtl\n{vertices}{faces}")
+    resolved: list[Path] = []
+    same_file_key = mtl.same_file_key
+    monkeypatch.setattr(mtl, "same_file_key", lambda named: (resolved.append(named), same_file_key(named))[1])
+    mesh = load_obj(path)
+    assert f"{count} textures could not be read (the first, 'missing0.png': no such file)" in mesh.warnings[0]
+    folders = [named for named in resolved if named == tmp_path]
+    assert len(folders) <= 2, len(folders)

@@ -332,6 +332,7 @@ class _Finder:
 
     def __init__(self) -> None:
         self.listings: dict[Path, dict[str, str]] = {}  # by the folder resolved: 'a/..' and '.' are one listing
+        self.resolved: dict[Path, Path] = {}  # a folder as named -> resolved: resolved once, not once a name
 
     def find(self, name: str, folder: Path, by_last_part: bool = True) -> Path | None:
         candidates = [folder / spelling for spelling in spellings(name)[:None if by_last_part else 1]]
@@ -339,7 +340,9 @@ class _Finder:
         return found or next((path for path in map(self._in_any_case, candidates) if path is not None), None)
 
     def _in_any_case(self, path: Path) -> Path | None:
-        folder = same_file_key(path.parent)
+        if path.parent not in self.resolved:
+            self.resolved[path.parent] = same_file_key(path.parent)
+        folder = self.resolved[path.parent]
         if folder not in self.listings:
             self.listings[folder] = _file_names_by_lower_name(path.parent)
         name = self.listings[folder].get(path.name.lower())
