@@ -270,6 +270,26 @@ def test_a_nodes_transforms_left_out_are_not_checked_as_numbers(tmp_path: Path,
     assert checked["numbers"] < nodes, checked
 
 
+def test_the_folder_of_a_gltfs_pictures_is_resolved_once_not_once_a_name(tmp_path: Path,
+                                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each picture a .gltf names was looked for inside the model's folder resolved anew (a walk of its
+    path, lstat by lstat), for each of thousands of names."""
+    count = 100
+    document, binary = triangle_gltf([{"mesh": 0}], [0])
+    document["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(binary).decode()
+    document["images"] = [{"uri": f"missing{at}.png"} for at in range(count)]
+    document["textures"] = [{"source": at} for at in range(count)]
+    document["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": at}}} for at in range(count)]
+    path = tmp_path / "pictures.gltf"
+    path.write_text(json.dumps(document))
+    resolved: list[Path] = []
+    same_file_key = exchange.same_file_key
+    monkeypatch.setattr(exchange, "same_file_key", lambda named: (resolved.append(named), same_file_key(named))[1])
+    load_model(path)
+    folders = [named for named in resolved if named == tmp_path]
+    assert 0 < len(folders) <= 2, len(folders)
+
+
 @pytest.mark.parametrize("seed", range(5))
 def test_the_walk_gives_what_trimeshs_graph_gives(seed: int) -> None:
     """Rotations, translations, scales, mirrors, identities and near-identities (trimesh leaves out the

@@ -261,6 +261,7 @@ class _FilesBeside:
     def __init__(self, folder: Path, is_picture: Callable[[str], bool], uri: bool = False,
                  least_bytes: dict[str, int] | None = None) -> None:
         self.folder = folder
+        self.folder_key: Path | None = None  # the folder resolved, once: not again for each of thousands of names
         self.least_bytes = least_bytes or {}  # a glTF buffer's byteLength, by its URI
         self.is_picture = is_picture
         self.uri = uri
@@ -298,7 +299,7 @@ class _FilesBeside:
         # From the folder, a leading slash too, as trimesh's own resolver does.
         candidates = [self.folder / candidate.lstrip("/") for text in written for candidate in spellings(text)]
         self.tried.extend(candidates)
-        folder = same_file_key(self.folder)
+        folder = self.folder_key = self.folder_key or same_file_key(self.folder)
         inside = [path for path in candidates if same_file_key(path).is_relative_to(folder)]  # links followed
         found = next((path for path in inside if is_there(path)), None)
         if found is None and candidates[0] not in inside:
