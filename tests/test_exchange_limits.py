@@ -423,6 +423,36 @@ def test_a_root_listed_twice_is_placed_once_and_a_file_of_no_scene_places_nothin
                                "scene, and glTF places no mesh outside one)")
 
 
+def stacked_primitives_glb(primitives: int) -> bytes:
+    """A GLB of one node placing one mesh of `primitives` one-triangle primitives, primitive p's
+    triangle at z = p, each its own accessor into one buffer view."""
+    binary = (TRIANGLE + np.arange(primitives, dtype=np.float32)[:, None, None] * [0, 0, 1]).astype(np.float32)
+    document = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+                "meshes": [{"primitives": [{"attributes": {"POSITION": at}} for at in range(primitives)]}],
+                "accessors": [{"bufferView": 0, "byteOffset": at * TRIANGLE.nbytes, "componentType": 5126, "count": 3,
+                               "type": "VEC3", "min": [0, 0, at], "max": [1, 1, at]} for at in range(primitives)],
+                "bufferViews": [{"buffer": 0, "byteLength": binary.nbytes}],
+                "buffers": [{"byteLength": binary.nbytes}]}
+    return glb(document, binary.tobytes())
+
+
+def test_every_primitive_of_a_mesh_of_many_is_placed_the_same_each_load(tmp_path: Path) -> None:
+    """trimesh names a frame per primitive of a mesh of several by a short random id, and keeps one of
+    two named alike: of 20,000 primitives some were lost, a different number each load (seeded: the same
+    loss each run before the fix). Each is now a mesh on a node of its own, drawn in the file's order."""
+    path = tmp_path / "stacked.glb"
+    path.write_bytes(stacked_primitives_glb(20_000))
+    random.seed(0)
+    first = load_model(path)
+    random.seed(1)
+    second = load_model(path)
+    assert first.face_count == second.face_count == 20_000
+    assert np.array_equal(first.positions, second.positions)
+    assert np.array_equal(first.corner_vertex, second.corner_vertex)
+    corners = first.positions[first.corner_vertex].reshape(-1, 3, 3)
+    assert np.array_equal(corners[:, :, 2], np.repeat(np.arange(20_000.0)[:, None], 3, axis=1))  # the file's order
+
+
 def test_a_fan_of_fewer_than_three_corners_is_no_placement() -> None:
     """A fan of two corners draws nothing and is not made triangles, so trimesh skips it as it skips any
     fan: it was counted as placed (the count said 3 placements where trimesh places 1)."""
@@ -2160,8 +2190,10 @@ def test_a_base_colour_texture_is_laid_on_by_the_set_its_tex_coord_names(tmp_pat
     np.testing.assert_allclose(loaded.corner_uv, flipped[loaded.corner_vertex], atol=1e-6)
 
 
-def test_a_file_whose_textures_read_the_first_set_is_handed_to_trimesh_as_it_is(tmp_path: Path) -> None:
-    path = two_set_glb(tmp_path, [0, None])
+@pytest.mark.parametrize("texture_set", [0, None])  # one primitive: a mesh of several is put apart for trimesh
+def test_a_file_whose_textures_read_the_first_set_is_handed_to_trimesh_as_it_is(tmp_path: Path,
+                                                                                 texture_set: int | None) -> None:
+    path = two_set_glb(tmp_path, [texture_set])
     data = path.read_bytes()
     document = gltf.glb_document(path, data)
     assert gltf.as_trimesh_reads(path, data, document, "glb", read_beside=bytes) is data

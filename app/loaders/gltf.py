@@ -1241,9 +1241,10 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     meshes its weights shape given their shapes' positions, the skinned meshes placed by their joints (each
     moved onto a node of its own), the accessors its primitives read made plain
     (sparse ones dense, normalized positions and texture coordinates floats), the texture coordinates its
-    base colour textures' KHR_texture_transform moves made moved, its nodes' cameras taken out,
-    its WEBP textures' fallbacks chosen, its specular-glossiness materials' diffuse colours made their base
-    colours and the pictures no material draws emptied, its triangle fans made triangles, the meshes it
+    base colour textures' KHR_texture_transform moves made moved, its nodes' cameras taken out, each
+    primitive of a mesh of several made a mesh of its own on a node of its own, its WEBP textures' fallbacks
+    chosen, its specular-glossiness materials' diffuse colours made their base colours and the pictures no
+    material draws emptied, its triangle fans made triangles, the meshes it
     makes nothing of taken off their nodes, and an empty list of buffer views where it lists none.
     The document is checked already (GltfReferences), and the values its drawn primitives read are
     checked here (_check_drawn_values); `read_beside` reads a buffer's file; `number_materials`: where
@@ -1263,12 +1264,14 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     fans_made_triangles = _fans_made_triangles(path, document, buffers)  # after: it reads plain indices
     nothing_taken_off = _meshes_of_nothing_taken_off(document)  # after: a fan of triangles is something
     cameras_taken_out = _node_cameras_taken_out(document)
+    primitives_apart = _primitives_put_apart(document)  # last: the meshes and the nodes that place them are final
     fallbacks_chosen = _fallbacks_chosen(document)
     diffuse_made_base = _diffuse_made_base_colour(document)
     undrawn_emptied = _undrawn_pictures_emptied(document)
     if not (respelled or numbered or unplaced_emptied or uv_sets_chosen or shaped or skinned or made_plain
             or transforms_applied
-            or fans_made_triangles or nothing_taken_off or cameras_taken_out or views_listed or fallbacks_chosen
+            or fans_made_triangles or nothing_taken_off or cameras_taken_out or primitives_apart or views_listed
+            or fallbacks_chosen
             or diffuse_made_base or undrawn_emptied):
         return data
     text = json.dumps(document).encode()
@@ -2114,6 +2117,39 @@ def _meshes_of_nothing_taken_off(document: dict[str, Any]) -> bool:
     for node in nodes:
         del node["mesh"]
     return bool(nodes)
+
+
+def _primitives_put_apart(document: dict[str, Any]) -> bool:
+    """Makes each primitive of a mesh of several a mesh of its own (the first keeps the mesh's place), and
+    each node that places such a mesh the parent of a node per primitive, of no transform, that places its
+    mesh: trimesh names the frame of each primitive of a mesh of several by a short random id, and of two
+    frames named alike keeps one, the other primitive's faces lost, a different one each load. trimesh
+    names these nodes by their numbers, and reaches their primitives in the file's order, as it did the
+    mesh's. False where no mesh has several."""
+    meshes, nodes = document.get("meshes", []), document.get("nodes", [])
+    apart: dict[int, list[int]] = {}  # a mesh of several primitives -> the meshes of one that hold them, in order
+    for node in nodes[:]:  # the nodes made here place meshes of one primitive
+        number = node.get("mesh")
+        if number is not None and number not in apart and len(meshes[number]["primitives"]) > 1:
+            apart[number] = _meshes_of_one_primitive(meshes, number)
+        if number not in apart:
+            continue
+        first = len(nodes)
+        nodes.extend({"mesh": mesh} for mesh in apart[number])
+        del node["mesh"]
+        # trimesh walks a node's children last first: its primitives, first before, are listed last, reversed
+        node["children"] = [*node.get("children", []), *reversed(range(first, len(nodes)))]
+    return bool(apart)
+
+
+def _meshes_of_one_primitive(meshes: list[dict[str, Any]], number: int) -> list[int]:
+    """The meshes, each of one of mesh `number`'s primitives in order, with its name and extras: the first
+    in its place, the others appended."""
+    mesh = meshes[number]
+    others = [{**mesh, "primitives": [primitive]} for primitive in mesh["primitives"][1:]]
+    mesh["primitives"] = mesh["primitives"][:1]
+    meshes.extend(others)
+    return [number, *range(len(meshes) - len(others), len(meshes))]
 
 
 def _buffer_views_listed(document: dict[str, Any]) -> bool:
