@@ -25,7 +25,7 @@ import numpy as np
 
 from marraztu.errors import LoadError, shortened
 from marraztu.loaders.obj.lines import LONGEST_BATCHED_LINE, ReadsSlowly, read_by_lines
-from marraztu.loaders.obj.mtl import read_libraries
+from marraztu.loaders.obj.mtl import Libraries, UnreadMaterial, read_libraries
 from marraztu.loaders.obj.raw import MaterialRuns, RawObj, name_before_comment
 from marraztu.loaders.obj.text import as_bytes, checked, ended, has_continuations, read_text
 from marraztu.model.build import colour_bytes, colour_fractions, derive_mesh
@@ -66,20 +66,32 @@ def _guarded(source: str, read: Callable[[], Mesh]) -> Mesh:
 def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
     notes = list(raw.notes)
     tried: list[Path] = []
-    library = _library(raw, base_dir, notes, tried)
+    libraries = _library(raw, base_dir, notes, tried)
+    faces = _FaceMaterials.of(raw.material_runs, libraries, raw.face_start.size - 1)
+    first, drawn = _with_pictures(libraries, faces, notes, tried)
     uv = None if raw.corner_texcoord is None else (raw.texcoords, raw.corner_texcoord)
     normals = None if raw.corner_normal is None else (raw.normals, raw.corner_normal)
-    first = (library[0].values or None) if library else None  # the whole model's, where no usemtl says
     colours, colour_notes = _drawn_vertex_colours(raw.vertex_colours)
     mesh = derive_mesh(Path(source).stem, raw.positions, raw.corner_vertex, raw.face_start,
                        uv, normals, raw.colour, first, tuple(notes + colour_notes))
     mesh = replace(mesh, vertex_colours=colours, read_beside=tuple(tried))
-    if not raw.material_runs or not library:  # no library read: its absence is noted once already
+    if faces.face_material is None:  # no usemtl, or no library read: its absence is noted once already
         return mesh
-    return _with_face_materials(mesh, raw.material_runs, library)
+    return replace(mesh, materials=tuple(drawn), face_material=faces.face_material,
+                   warnings=mesh.warnings + faces.notes())
 
 
-def _library(raw: RawObj, base_dir: Path | None, notes: list[str], tried: list[Path]) -> list[MeshMaterial]:
+def _with_pictures(libraries: Libraries | None, faces: _FaceMaterials, notes: list[str], tried: list[Path]
+                   ) -> tuple[dict[str, object] | None, list[MeshMaterial]]:
+    """The whole model's numbers (its first material's, where no usemtl says) and the materials the faces
+    draw, their pictures read: past MAX_MATERIALS, none of those not drawn is."""
+    if libraries is None or not libraries.materials:
+        return None, []
+    first, *drawn = libraries.with_pictures([libraries.materials[0], *faces.drawn], notes, tried)
+    return first.values or None, drawn
+
+
+def _library(raw: RawObj, base_dir: Path | None, notes: list[str], tried: list[Path]) -> Libraries | None:
     """The materials of the MTL files the mtllib lines name that the model uses (mtl.read_libraries);
     without a base_dir none is read, and usemtl lines with no mtllib line make a note."""
     runs = raw.material_runs
@@ -90,21 +102,7 @@ def _library(raw: RawObj, base_dir: Path | None, notes: list[str], tried: list[P
     if used_names and not raw.mtllib:
         notes.append(f"usemtl names materials ({_names_shown(used_names)}) but no mtllib line names their library; "
                      "using the scene's material")
-    return []
-
-
-def _with_face_materials(mesh: Mesh, runs: MaterialRuns, library: list[MeshMaterial]) -> Mesh:
-    """The mesh with each face's material from the usemtl runs, and notes for the names the library
-    lacks and the materials past MAX_MATERIALS."""
-    used, face_material, unknown, beyond = _face_materials(runs, library, mesh.face_count)
-    notes = list(mesh.warnings)
-    if unknown:
-        notes.append(f"usemtl names materials the library lacks ({_names_shown(unknown)}); their faces take the "
-                     "model's first material")
-    if beyond:
-        notes.append(f"{MAX_MATERIALS + beyond} materials used; the faces of all but the first {MAX_MATERIALS} "
-                     "take the model's first material")
-    return replace(mesh, materials=used, face_material=face_material, warnings=tuple(notes))
+    return None
 
 
 def _names_shown(names: list[str]) -> str:
@@ -130,36 +128,56 @@ def _drawn_vertex_colours(table: np.ndarray | None) -> tuple[np.ndarray | None, 
     return colours, notes
 
 
-def _face_materials(runs: MaterialRuns, library: list[MeshMaterial], faces: int
-                    ) -> tuple[tuple[MeshMaterial, ...], np.ndarray, list[str], int]:
+@dataclass
+class _FaceMaterials:
     """The materials the faces use, each once, and per face its index among them (-1: before any
     usemtl, a name the library lacks, or a material past MAX_MATERIALS); the names it lacks; how many
     materials past MAX_MATERIALS."""
-    by_name = {material.name: material for material in reversed(library)}  # the first of a name wins
-    for material in library:  # "newmtl wood # oak" is found as "wood" too, where no "wood" is
-        by_name.setdefault(name_before_comment(material.name), material)
-    used: dict[int, int] = {}  # a material's id -> its index among those used
-    materials: list[MeshMaterial] = []
-    unknown: list[str] = []  # in file order
-    beyond = 0
-    index_of_number = np.full(len(runs.names), -1, np.int32)
-    for number in runs.used_numbers().tolist():  # each name once, in the order of its first run
-        name = runs.names[number]
-        material = by_name.get(name) or by_name.get(name_before_comment(name))  # "usemtl wood # oak": wood
-        if material is None:
-            unknown.append(name)
-        elif id(material) not in used and len(used) >= MAX_MATERIALS:
-            beyond += 1
-        else:
-            if id(material) not in used:
-                used[id(material)] = len(materials)
-                materials.append(material)
-            index_of_number[number] = used[id(material)]
-    starts = np.frombuffer(runs.starts, np.int64)
-    lengths = np.diff(np.append(starts, faces))
-    face_material = np.full(faces, -1, np.int32)
-    face_material[int(starts[0]):] = np.repeat(index_of_number[np.frombuffer(runs.name_numbers, np.int64)], lengths)
-    return tuple(materials), face_material, unknown, beyond
+
+    drawn: list[UnreadMaterial] = field(default_factory=list)
+    face_material: np.ndarray | None = None  # None: no usemtl, or no library read
+    unknown: list[str] = field(default_factory=list)  # in file order
+    beyond: int = 0
+
+    @staticmethod
+    def of(runs: MaterialRuns, libraries: Libraries | None, faces: int) -> _FaceMaterials:
+        if not runs or not libraries or not libraries.materials:
+            return _FaceMaterials()
+        by_name = {material.name: material for material in reversed(libraries.materials)}  # the first of a name wins
+        for material in libraries.materials:  # "newmtl wood # oak" is found as "wood" too, where no "wood" is
+            by_name.setdefault(name_before_comment(material.name), material)
+        found = _FaceMaterials()
+        used: dict[int, int] = {}  # a material's id -> its index among those used
+        index_of_number = np.full(len(runs.names), -1, np.int32)
+        for number in runs.used_numbers().tolist():  # each name once, in the order of its first run
+            name = runs.names[number]
+            material = by_name.get(name) or by_name.get(name_before_comment(name))  # "usemtl wood # oak": wood
+            if material is None:
+                found.unknown.append(name)
+            elif id(material) not in used and len(used) >= MAX_MATERIALS:
+                found.beyond += 1
+            else:
+                if id(material) not in used:
+                    used[id(material)] = len(found.drawn)
+                    found.drawn.append(material)
+                index_of_number[number] = used[id(material)]
+        starts = np.frombuffer(runs.starts, np.int64)
+        lengths = np.diff(np.append(starts, faces))
+        found.face_material = np.full(faces, -1, np.int32)
+        found.face_material[int(starts[0]):] = np.repeat(
+            index_of_number[np.frombuffer(runs.name_numbers, np.int64)], lengths)
+        return found
+
+    def notes(self) -> tuple[str, ...]:
+        """Notes for the names the library lacks and the materials past MAX_MATERIALS."""
+        notes: list[str] = []
+        if self.unknown:
+            notes.append(f"usemtl names materials the library lacks ({_names_shown(self.unknown)}); their faces "
+                         "take the model's first material")
+        if self.beyond:
+            notes.append(f"{MAX_MATERIALS + self.beyond} materials used; the faces of all but the first "
+                         f"{MAX_MATERIALS} take the model's first material")
+        return tuple(notes)
 
 
 # The compiled reader's first use in a process imports numba and loads its machine code: below this

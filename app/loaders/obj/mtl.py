@@ -43,16 +43,15 @@ _MOST_WORDS = MAX_MATERIAL_NAME + 1
 
 
 def read_libraries(base_dir: Path, lines: Sequence[str], notes: list[str], wanted: Collection[str],
-                   tried: list[Path]) -> list[MeshMaterial]:
+                   tried: list[Path]) -> Libraries:
     """The materials of the MTL files next to the OBJ that the model can use, in file order: the first
     (the whole model's where no usemtl says) and the first of each name in `wanted` (the usemtl
-    names), each with its diffuse texture read relative to its MTL; problems become notes. `lines`
-    are the mtllib lines' names, each one file or several; `tried` hears every file opened or looked
-    for: the MTLs and their textures."""
-    materials: list[MeshMaterial] = []
+    names), their pictures not yet read (Libraries.with_pictures); problems become notes. `lines`
+    are the mtllib lines' names, each one file or several; `tried` hears every MTL opened or looked
+    for."""
+    materials: list[UnreadMaterial] = []
     read: set[Path] = set()
     finder = _Finder()
-    textures = _TextureCache(finder)  # one for every library: a picture two of them name is read once
     if len(lines) > MAX_LIBRARY_LINES:
         notes.append(f"more than {MAX_LIBRARY_LINES} material libraries named: those after "
                      f"'{shown(lines[MAX_LIBRARY_LINES - 1])}' are not read")
@@ -62,18 +61,48 @@ def read_libraries(base_dir: Path, lines: Sequence[str], notes: list[str], wante
             key = same_file_key(mtl)
             if key not in read:
                 read.add(key)
-                materials += _read_library(mtl, notes, wanted, tried, textures, keep_first=not materials)
+                materials += _read_library(mtl, notes, wanted, tried, keep_first=not materials)
     notes.extend(_missing_note(missing, none_read=not read))
-    notes.extend(textures.notes())
-    tried.extend(textures.read_already)
-    first_of_name: dict[str, MeshMaterial] = {}
+    first_of_name: dict[str, UnreadMaterial] = {}
     for material in materials:
         first_of_name.setdefault(material.name, material)
-    return list(first_of_name.values())
+    return Libraries(list(first_of_name.values()), _TextureCache(finder))
+
+
+@dataclass(frozen=True, eq=False)
+class UnreadMaterial:
+    """A material an MTL defines, its picture not read yet: a model may use more than it draws."""
+
+    name: str
+    block: _Block
+    folder: Path  # its MTL's, where its picture's name is looked for
+
+
+@dataclass
+class Libraries:
+    """The materials of an OBJ's MTL files that the model can use, and the cache of their pictures:
+    one for every library, so that a picture two of them name is read once."""
+
+    materials: list[UnreadMaterial]
+    textures: _TextureCache
+
+    def with_pictures(self, drawn: Sequence[UnreadMaterial], notes: list[str], tried: list[Path]
+                      ) -> list[MeshMaterial]:
+        """The `drawn` materials, each with its picture read, once; called once: `notes` hears the
+        pictures that could not be read, `tried` every picture opened or looked for."""
+        materials = [self._with_picture(material) for material in drawn]
+        notes.extend(self.textures.notes())
+        tried.extend(self.textures.read_already)
+        return materials
+
+    def _with_picture(self, material: UnreadMaterial) -> MeshMaterial:
+        block = material.block
+        picture, picture_name = self.textures.read(block.texture, material.folder)
+        return MeshMaterial(block.name, _as_meant(block, picture is not None), picture, picture_name)
 
 
 def _read_library(mtl: Path, notes: list[str], wanted: Collection[str], tried: list[Path],
-                  textures: _TextureCache, keep_first: bool) -> list[MeshMaterial]:
+                  keep_first: bool) -> list[UnreadMaterial]:
     tried.append(mtl)
     name = shown(mtl.name)
     try:
@@ -81,7 +110,7 @@ def _read_library(mtl: Path, notes: list[str], wanted: Collection[str], tried: l
     except LoadError as error:
         notes.append(f"material library '{name}' could not be read ({error.message}); using the scene's material")
         return []
-    return _parse_library(text, name, mtl.parent, notes, wanted, textures, keep_first)
+    return _parse_library(text, name, mtl.parent, notes, wanted, keep_first)
 
 
 def _library_paths(base_dir: Path, name: str, missing: list[str], finder: _Finder) -> list[Path]:
@@ -139,12 +168,10 @@ class _Library:
 
 
 def _parse_library(text: bytes, name: str, folder: Path, notes: list[str], wanted: Collection[str],
-                   textures: _TextureCache, keep_first: bool = True) -> list[MeshMaterial]:
+                   keep_first: bool = True) -> list[UnreadMaterial]:
     library = _library_contents(text, wanted, keep_first)
     notes.extend(_library_notes(name, text, library))
-    pictures = [textures.read(block.texture, folder) for block in library.kept.values()]
-    return [MeshMaterial(block.name, _as_meant(block, picture is not None), picture, picture_name)
-            for block, (picture, picture_name) in zip(library.kept.values(), pictures)]
+    return [UnreadMaterial(block.name, block, folder) for block in library.kept.values()]
 
 
 def _as_meant(block: _Block, textured: bool) -> dict[str, object]:
