@@ -117,6 +117,19 @@ PPM_ERRORS = [
 ]
 
 
+@pytest.mark.parametrize(("data", "line"), [
+    (b"P3\n2 1\n255\n1 2 3\n4 x 6\n", 5),
+    (b"P3\r\n2 1\r\n255\r\n1 2 3\r\n4 -5 6\r\n", 5),  # the header's last CR and its LF end one line
+    (b"P3\r2 1\r255\r1 2 3\r4 5 6z\r", 5),
+    (b"P3 2 1 255\n# x is no word here\n1 2 3 # nor here\n\n4 5 6.\n", 5),
+    (b"P3 1 1 255 x 2 3\n", 1),
+])
+def test_bad_p3_pixel_data_names_the_line_of_its_first_bad_word(data: bytes, line: int) -> None:
+    with pytest.raises(LoadError, match="bad P3 pixel data") as caught:
+        parse_ppm(data, "a.ppm")
+    assert caught.value.line == line and str(caught.value).startswith(f"a.ppm:{line}: "), str(caught.value)
+
+
 @pytest.mark.parametrize(("data", "message"), [case[1:] for case in PPM_ERRORS], ids=[c[0] for c in PPM_ERRORS])
 def test_bad_ppm_raises_load_error_naming_the_file(tmp_path: Path, data: bytes, message: str) -> None:
     path = write(tmp_path, "bad.ppm", data)

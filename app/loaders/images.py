@@ -28,7 +28,7 @@ import numpy as np
 from PIL import Image
 
 from marraztu.errors import LoadError, escaped
-from marraztu.loaders.files import read_file, read_head, shown
+from marraztu.loaders.files import line_at, read_file, read_head, shown
 from marraztu.loaders.patterns import compiled
 from marraztu.loaders.words import shortened_bytes
 from marraztu.model.build import picture_bytes
@@ -127,7 +127,7 @@ def parse_ppm(data: bytes, source: str) -> np.ndarray:
     if magic == b"P6":
         samples = _binary_samples(memoryview(data)[raster_at:], width * height * 3, maxval, source)  # no copy
     else:
-        samples = _ascii_samples(data[raster_at:], width * height * 3, source)
+        samples = _ascii_samples(data, raster_at, width * height * 3, source)
     if samples.size and int(samples.max()) > maxval:
         raise LoadError(source, f"a sample value ({int(samples.max())}) exceeds maxval {maxval}")
     return _to_8_bit(samples, maxval).reshape(height, width, 3)
@@ -200,12 +200,18 @@ def _without_comments(raster: bytes) -> bytes:
     return b"".join(cleaned)
 
 
-def _ascii_samples(raster: bytes, count: int, source: str) -> np.ndarray:
+# Digits, whitespace and comments: what a P3 raster holds up to its first byte that is none of them.
+_GOOD_P3_TEXT = compiled(rb"(?:[0-9 \t\n\r\x0b\x0c]++|#[^\n\r]*+)*+")
+
+
+def _ascii_samples(data: bytes, raster_at: int, count: int, source: str) -> np.ndarray:
+    raster = data[raster_at:]
     if b"#" in raster:
         raster = _without_comments(raster)
     stray = raster.translate(None, b"0123456789 \t\n\r\x0b\x0c")
-    if stray:
-        raise LoadError(source, f"bad P3 pixel data: {stray[:1]!r} is not part of a number")
+    if stray:  # found in the raster without its comments; its line, in the file with them
+        at = _GOOD_P3_TEXT.match(data, raster_at).end()  # type: ignore[union-attr]  # it matches empty text: never None
+        raise LoadError(source, f"bad P3 pixel data: {stray[:1]!r} is not part of a number", line=line_at(data, at))
     # Every sample takes at least two bytes (a digit and a separator): a short raster fails here,
     # before the parser builds anything the size of what the header claims.
     if len(raster) < 2 * count - 1 or not raster.strip():  # (numpy reads blank text as [-1])
