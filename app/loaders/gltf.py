@@ -285,6 +285,7 @@ class GltfReferences:
         self.path, self.document = path, document
         self.copied = {"buffer view": 0, "accessor": 0}  # the bytes trimesh copies of each, in all
         self.held, self.made_limit = held, made_limit(held)
+        self.skinned_meshes: set[int] = set()  # each looked at once, however many nodes skin it
 
     def check(self) -> None:
         for key in _READ_ARRAYS:
@@ -530,11 +531,13 @@ class GltfReferences:
 
     def skinned_primitives(self, number: int, node: dict[str, Any]) -> None:
         """The primitives a node's skin moves (those it draws faces of), each with JOINTS_0 and WEIGHTS_0, and
-        each JOINTS_n with its WEIGHTS_n, as glTF requires: what a joint moves is read from them."""
-        if "skin" not in node or "mesh" not in node:
+        each JOINTS_n with its WEIGHTS_n, as glTF requires: what a joint moves is read from them. Each mesh is
+        looked at once, for the first node that skins it."""
+        if "skin" not in node or "mesh" not in node or node["mesh"] in self.skinned_meshes:
             return
+        self.skinned_meshes.add(node["mesh"])
         for primitive_number, primitive in enumerate(self.document["meshes"][node["mesh"]]["primitives"]):
-            if primitive.get("mode", _TRIANGLES) not in _DRAWN_MODES:
+            if not _is_drawn(primitive):
                 continue
             attributes = primitive["attributes"]
             sets = {name.split("_", 1)[1] for name in attributes if name.startswith(_SKIN_SETS)}
