@@ -362,3 +362,19 @@ def test_a_mesh_skinned_by_many_nodes_has_its_primitives_checked_once(tmp_path: 
     monkeypatch.setattr(gltf, "_DRAWN_MODES", modes)
     assert load_model(written(tmp_path, document, binary)).face_count == 2
     assert modes.looked_up < 10 * many, modes.looked_up
+
+
+def test_a_skinned_shape_of_a_mesh_is_named_as_the_files_mesh(tmp_path: Path) -> None:
+    """A shape other than the base is drawn by a copy of the mesh, numbered past the file's meshes: a skin's
+    refusal of that copy named "mesh 1" in a file of one mesh."""
+    weights = WEIGHTS.copy()
+    weights[2, 3] = np.nan
+    document, binary = skinned_document(weights=weights, nodes=[{"mesh": 0}], roots=[0, 1, 3])
+    parts = Parts()
+    parts.binary, parts.views, parts.accessors = binary, document["bufferViews"], document["accessors"]
+    document["meshes"][0]["primitives"][0]["targets"] = [{"POSITION": parts.add(np.full((4, 3), 3, np.float32))}]
+    document["nodes"][0]["weights"] = [1.0]  # node 3 draws the base shape, in the mesh's place
+    document["buffers"][0]["byteLength"] = len(parts.binary)
+    path = written(tmp_path, document, parts.binary)
+    refusal = one_line_refusal(lambda: load_model(path)).message
+    assert refusal == f"{_WHAT}: vertex 2's WEIGHTS_0 holds nan, not a finite number"

@@ -1654,10 +1654,11 @@ _AFFINE_ROW, _AFFINE_TOLERANCE = np.array([0.0, 0.0, 0.0, 1.0]), 1e-6  # an inve
 @dataclass(frozen=True)
 class SkinnedPlacements:
     """The placed nodes whose skins place their meshes (glTF applies no transform of a skinned mesh's own
-    node), and the notes of the meshes left placed by their nodes, what their skins would make being past
-    the limit."""
+    node), each with the file's number of the mesh it skins (a shape's copy is numbered past the file's:
+    _mesh_per_shape), and the notes of the meshes left placed by their nodes, what their skins would make
+    being past the limit."""
 
-    nodes: tuple[int, ...] = ()
+    nodes: tuple[tuple[int, int], ...] = ()
     notes: tuple[str, ...] = ()
 
 
@@ -1698,7 +1699,7 @@ def skinned_placements(document: dict[str, Any], held: int, shapes: MorphedShape
                 unapplied.append(f"{_mesh_named(node['mesh'], mesh)}'s skinning by skin {node['skin']} would bring "
                                  f"what is made to {past_made_limit(held)}")
         if applied[key]:
-            skinned.append(number)
+            skinned.append((number, node["mesh"]))
     return SkinnedPlacements(tuple(skinned), _unskinned_notes(unapplied))
 
 
@@ -1748,14 +1749,14 @@ def _skins_applied(path: Path, document: dict[str, Any], buffer: Callable[[int],
     if not skins.nodes:
         return False
     nodes = document["nodes"]
-    skinned_nodes = set(skins.nodes)
+    skinned_nodes = {number for number, _ in skins.nodes}
     unskinned = {nodes[number]["mesh"] for number in _placed_node_numbers(document)
                  if "mesh" in nodes[number] and number not in skinned_nodes}
     skinning = _Skinning(path, document, buffer, unskinned)
     roots = document["scenes"][document.get("scene", 0)]["nodes"]
-    for number in skins.nodes:
+    for number, file_mesh in skins.nodes:
         node = nodes[number]
-        mesh = skinning.mesh(node["mesh"], node["skin"])
+        mesh = skinning.mesh(node["mesh"], node["skin"], file_mesh)
         del node["mesh"], node["skin"]
         nodes.append({"mesh": mesh})
         roots.append(len(nodes) - 1)
@@ -1778,8 +1779,9 @@ class _Skinning:
         self.matrices: dict[int, np.ndarray] = {}  # skin -> its joints' matrices
         self.places = _WorldTransforms(document)
 
-    def mesh(self, number: int, skin: int) -> int:
-        """Mesh `number` skinned by `skin`, made once: in the mesh's place where no node draws it otherwise."""
+    def mesh(self, number: int, skin: int, file_mesh: int) -> int:
+        """Mesh `number` skinned by `skin`, made once: in the mesh's place where no node draws it otherwise.
+        `file_mesh`: the number the file gives it, which its refusals name."""
         if (number, skin) in self.meshes:
             return self.meshes[number, skin]
         meshes = self.document["meshes"]
@@ -1791,7 +1793,7 @@ class _Skinning:
         else:
             meshes.append(mesh)
         self.meshes[number, skin] = number if in_place else len(meshes) - 1
-        named = _mesh_named(number, source)
+        named = _mesh_named(file_mesh, source)
         for primitive_number, (primitive, original) in enumerate(zip(mesh["primitives"], source["primitives"])):
             attributes = primitive["attributes"]
             for name in [name for name in attributes if name.startswith(_SKIN_SETS)]:
