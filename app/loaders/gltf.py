@@ -1638,7 +1638,18 @@ def _shape(path: Path, document: dict[str, Any], primitive: dict[str, Any], weig
 def _values(path: Path, document: dict[str, Any], number: int, buffer: Callable[[int], bytes | memoryview]
             ) -> np.ndarray:
     """Accessor `number`'s values, (count, components), as glTF means them: normalized integers as fractions."""
+    return _item_values(_items(path, document, number, buffer), document["accessors"][number])
+
+
+def _values_in_blocks(path: Path, document: dict[str, Any], number: int, buffer: Callable[[int], bytes | memoryview]
+                      ) -> Callable[[slice], np.ndarray]:
+    """Accessor `number`'s values (as _values makes them) of a block of its items, its items read once."""
     items, accessor = _items(path, document, number, buffer), document["accessors"][number]
+    return lambda block: _item_values(items[block], accessor)
+
+
+def _item_values(items: np.ndarray, accessor: dict[str, Any]) -> np.ndarray:
+    """An accessor's items' values, (items, components), as glTF means them: normalized integers as fractions."""
     if accessor.get("normalized") is True and accessor["componentType"] in _NORMALIZED:
         return _as_fractions(items, accessor)[0]
     return np.ascontiguousarray(items).view(_COMPONENT_DTYPES[accessor["componentType"]])
@@ -1849,24 +1860,23 @@ def _skinned_positions(path: Path, document: dict[str, Any], attributes: dict[st
                        matrices: np.ndarray, buffer: Callable[[int], bytes | memoryview], what: str) -> np.ndarray:
     """(vertices, 3) float32: each vertex's POSITION through its joints' `matrices`, weighed by its weights,
     which are made to add up to 1 (as three.js's glTF reader does: quantized weights add up to nearly 1).
-    Weights adding up to 0 are refused (and a set's values: _checked_set). A block of vertices at a time:
-    the matrices gathered for them stay small."""
-    positions = _values(path, document, attributes["POSITION"], buffer)
-    read = [_checked_set(path, document, attributes, n, len(matrices), buffer, what) for n in sets]
-    total = sum(weights.sum(axis=1) for _, weights in read)
-    if (none := total <= 0).any():
-        raise LoadError(path, f"{what}: vertex {np.argmax(none)}'s weights add up to 0, where glTF's add up to 1")
-    placed = np.empty((len(positions), 3), np.float32)
-    with np.errstate(all="ignore"):  # past float's range: refused below
-        for low in range(0, len(positions), _CHECKED_ITEMS):
-            block = slice(low, low + _CHECKED_ITEMS)
-            position, moved = positions[block].astype(np.float64), np.zeros((len(placed[block]), 3))
-            for joints, weights in read:
-                for column in range(joints.shape[1]):
-                    gathered = matrices[joints[block, column]]
-                    moved += weights[block, column, None] * (np.einsum("vij,vj->vi", gathered[:, :, :3], position)
-                                                             + gathered[:, :, 3])
-            placed[block] = moved / total[block, None]
+    Weights adding up to 0 are refused (and a set's values: _checked_set). A block of vertices at a time,
+    its sets widened (intp joints, float64 weights) for that block alone: whole, they held several times the file's."""
+    count = document["accessors"][attributes["POSITION"]]["count"]
+    positions = _values_in_blocks(path, document, attributes["POSITION"], buffer)
+    read = [(n, _values_in_blocks(path, document, attributes[f"JOINTS_{n}"], buffer),
+             _values_in_blocks(path, document, attributes[f"WEIGHTS_{n}"], buffer)) for n in sets]
+    placed = np.empty((count, 3), np.float32)
+    for low in range(0, count, _CHECKED_ITEMS):
+        block = slice(low, low + _CHECKED_ITEMS)
+        weighed = [_checked_set(path, n, joints(block), weights(block), len(matrices), what, low)
+                   for n, joints, weights in read]
+        total = sum(weights.sum(axis=1) for _, weights in weighed)
+        if (none := total <= 0).any():
+            raise LoadError(path, f"{what}: vertex {low + int(np.argmax(none))}'s weights add up to 0, where glTF's "
+                                  "add up to 1")
+        with np.errstate(all="ignore"):  # past float's range: refused below
+            placed[block] = _weighed_sum(positions(block).astype(np.float64), weighed, matrices) / total[:, None]
     unheld = ~np.isfinite(placed).all(axis=1)
     if unheld.any():
         raise LoadError(path, f"{what}: vertex {np.argmax(unheld)} is placed by its joints at a coordinate that is not "
@@ -1874,24 +1884,35 @@ def _skinned_positions(path: Path, document: dict[str, Any], attributes: dict[st
     return placed
 
 
-def _checked_set(path: Path, document: dict[str, Any], attributes: dict[str, Any], n: str, joint_count: int,
-                 buffer: Callable[[int], bytes | memoryview], what: str) -> tuple[np.ndarray, np.ndarray]:
-    """A primitive's JOINTS_n, (vertices, 4) intp, and WEIGHTS_n, (vertices, 4) float64, checked: each joint
-    one of the skin's `joint_count`, each weight finite and 0 or more."""
-    joints = _values(path, document, attributes[f"JOINTS_{n}"], buffer).astype(np.intp)
-    weights = _values(path, document, attributes[f"WEIGHTS_{n}"], buffer).astype(np.float64)
+def _weighed_sum(positions: np.ndarray, weighed: list[tuple[np.ndarray, np.ndarray]], matrices: np.ndarray
+                 ) -> np.ndarray:
+    """(vertices, 3) float64: the sum of each vertex's weights times its joints' matrices times it."""
+    moved = np.zeros((len(positions), 3))
+    for joints, weights in weighed:
+        for column in range(joints.shape[1]):
+            gathered = matrices[joints[:, column]]
+            moved += weights[:, column, None] * (np.einsum("vij,vj->vi", gathered[:, :, :3], positions)
+                                                 + gathered[:, :, 3])
+    return moved
+
+
+def _checked_set(path: Path, n: str, joints: np.ndarray, weights: np.ndarray, joint_count: int, what: str,
+                 low: int) -> tuple[np.ndarray, np.ndarray]:
+    """A block of a primitive's JOINTS_n, (vertices, 4) intp, and WEIGHTS_n, (vertices, 4) float64, from vertex
+    `low`, checked: each joint one of the skin's `joint_count`, each weight finite and 0 or more."""
+    joints, weights = joints.astype(np.intp), weights.astype(np.float64)
     if (outside := (joints >= joint_count).any(axis=1)).any():
         vertex = int(np.argmax(outside))
-        raise LoadError(path, f"{what}: vertex {vertex}'s JOINTS_{n} names joint "
+        raise LoadError(path, f"{what}: vertex {low + vertex}'s JOINTS_{n} names joint "
                               f"{joints[vertex][joints[vertex] >= joint_count][0]}, of the skin's {joint_count}")
     if (unheld := ~np.isfinite(weights).all(axis=1)).any():
         vertex = int(np.argmax(unheld))
-        raise LoadError(path, f"{what}: vertex {vertex}'s WEIGHTS_{n} holds "
+        raise LoadError(path, f"{what}: vertex {low + vertex}'s WEIGHTS_{n} holds "
                               f"{weights[vertex][~np.isfinite(weights[vertex])][0]}, not a finite number")
     if (below := (weights < 0).any(axis=1)).any():
         vertex = int(np.argmax(below))
-        raise LoadError(path, f"{what}: vertex {vertex}'s WEIGHTS_{n} holds {weights[vertex].min():g}, where glTF's "
-                              "weights are 0 or more")
+        raise LoadError(path, f"{what}: vertex {low + vertex}'s WEIGHTS_{n} holds {weights[vertex].min():g}, where "
+                              "glTF's weights are 0 or more")
     return joints, weights
 
 
