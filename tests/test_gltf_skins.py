@@ -414,4 +414,5 @@ def test_skinning_holds_a_block_of_its_vertices_widened_not_all(tmp_path: Path,
     monkeypatch.setattr(gltf, "_skinned_positions", measured)
     monkeypatch.setattr(gltf, "_CHECKED_ITEMS", 1024)  # a block's temporaries small beside the vertices'
     assert load_model(path).warnings == ()
-    assert growth[0] < 2 * 12 * vertices, growth
+    # Widened whole, the two sets alone took 128 bytes a vertex: room left for numpy's temporaries to change.
+    assert growth[0] < 4 * 12 * vertices, growth
