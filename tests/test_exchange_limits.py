@@ -24,10 +24,12 @@ from marraztu.control.viewer import StartOptions
 from marraztu.errors import LoadError, shortened
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders import exchange, gltf, images
+from marraztu.loaders.gltf import checks, counts, morphs
 from marraztu.loaders.images import MAX_JPEG_SCANS, MAX_PIXELS
 from marraztu.loaders.ply import read_header, vertices_and_faces
 from marraztu.loaders.registry import load_model
 from support.corpus import jpeg_of_scans, png_bytes
+from support.draco import draco_decoder
 from support.refusals import one_line_refusal
 from support.work import peak_traced_bytes
 
@@ -259,13 +261,13 @@ def test_a_nodes_transforms_left_out_are_not_checked_as_numbers(tmp_path: Path,
     path = tmp_path / "bare.glb"
     path.write_bytes(glb(*triangle_gltf([{"children": list(range(1, nodes))}] + [{"mesh": 0}] * (nodes - 1), [0])))
     checked = {"numbers": 0}
-    is_number = gltf._is_number
+    is_number = checks._is_number
 
     def counting_is_number(value: object) -> bool:
         checked["numbers"] += 1
         return is_number(value)
 
-    monkeypatch.setattr(gltf, "_is_number", counting_is_number)
+    monkeypatch.setattr(checks, "_is_number", counting_is_number)
     assert load_model(path).face_count == nodes - 1
     assert checked["numbers"] < nodes, checked
 
@@ -827,7 +829,7 @@ def test_compressed_gltf_geometry_is_refused_not_read_as_zeros(tmp_path: Path, e
                                                                monkeypatch: pytest.MonkeyPatch) -> None:
     """trimesh read a Draco primitive without DracoPy as placeholder zeros (a 'zero-area face'), and a
     meshopt one raised an IndexError: glTF's writers list such extensions as required."""
-    monkeypatch.setattr(gltf, "_draco_decoder", lambda: False)
+    draco_decoder(monkeypatch, False)
     document, binary = triangle_gltf([{"mesh": 0}], [0])
     document["extensionsUsed"] = document["extensionsRequired"] = [extension]
     path = tmp_path / "packed.glb"
@@ -840,7 +842,7 @@ def test_draco_geometry_is_refused_as_compressed_before_its_accessors_are_counte
     """A Draco primitive's accessors have no buffer view, and hold what the compressed stream decodes to:
     more than twice the file. assimp's Draco 2CylinderEngine.gltf was refused as asking for more bytes than
     its file may make, which named no compression, where DracoPy, which reads it, is not installed."""
-    monkeypatch.setattr(gltf, "_draco_decoder", lambda: False)
+    draco_decoder(monkeypatch, False)
     document, binary = triangle_gltf([{"mesh": 0}], [0])
     document["accessors"] = [{"componentType": 5126, "count": 100_000, "type": "VEC3"},
                              {"componentType": 5126, "count": 100_000, "type": "VEC2"},
@@ -1805,9 +1807,9 @@ def test_a_meshs_primitives_are_counted_once_however_many_nodes_place_it(monkeyp
     """gltf_counts went through a mesh's primitives again for each node placing it, before the placements
     it added up could be refused: a cost in the square of the file's size (many nodes of a mesh of many
     points). Each mesh's are added up once now."""
-    sizes = gltf._primitive_sizes
+    sizes = counts._primitive_sizes
     monkeypatch.setattr(_CountedIterations, "reads", 0)
-    monkeypatch.setattr(gltf, "_primitive_sizes",
+    monkeypatch.setattr(counts, "_primitive_sizes",
                         lambda document: [_CountedIterations(read) for read in sizes(document)])
     document = {"scenes": [{"nodes": list(range(100))}], "nodes": [{"mesh": 0}] * 100, "accessors": [{"count": 3}],
                 "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "mode": 0}] * 100
@@ -2052,7 +2054,7 @@ def test_a_draco_primitives_positions_are_shaped_only_where_trimesh_decodes_none
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch, compressed: list[str], decoder: bool, shaped: bool) -> None:
     """trimesh's Draco decoder (DracoPy) writes the positions it decodes into the accessor POSITION points
     at, the shape's: a Draco mesh weighted to rise by 5 was drawn flat, without a word."""
-    monkeypatch.setattr(gltf, "_draco_decoder", lambda: decoder)
+    draco_decoder(monkeypatch, decoder)
     path = morphed_glb(tmp_path, [1.0], [{"mesh": 0}])
     data = path.read_bytes()
     document = gltf.glb_document(path, data)
@@ -2106,14 +2108,14 @@ def test_the_targets_each_shapes_weights_are_looked_up_against_are_counted(tmp_p
     as the shapes were made). Counted, they pass the file's limit: the base shape, with a note, having looked
     up no more targets than the file has bytes."""
     looked_up: list[int] = []
-    moving_weights = gltf._moving_weights
+    moving_weights = morphs._moving_weights
 
     def counting(accessors: list[dict[str, Any]], weights: tuple[float, ...],
                  targets: list[dict[str, Any]]) -> dict[int, float]:
         looked_up.append(len(targets))
         return moving_weights(accessors, weights, targets)
 
-    monkeypatch.setattr(gltf, "_moving_weights", counting)
+    monkeypatch.setattr(morphs, "_moving_weights", counting)
     nodes = primitives = 50
     path = many_shapes_glb(tmp_path, nodes, primitives, targets=1000)
     loaded = load_model(path)
@@ -2206,7 +2208,7 @@ def test_a_draco_primitives_first_set_is_not_decoded_over_the_set_its_texture_re
     of that name points at: TEXCOORD_0, pointed at the set the texture reads, got the first set's values
     written over it (with DracoPy, a quad whose TEXCOORD_1 was all 0.25 was laid on by its TEXCOORD_0,
     compressed), or not, by the order the stream holds them. The set chosen is decoded as its own name."""
-    monkeypatch.setattr(gltf, "_draco_decoder", lambda: True)
+    draco_decoder(monkeypatch, True)
     path = two_set_glb(tmp_path, [1])
     data = path.read_bytes()
     document = gltf.glb_document(path, data)
@@ -2258,10 +2260,10 @@ def test_a_transform_of_draco_compressed_coordinates_is_a_note(monkeypatch: pyte
     texture["extensions"] = {"KHR_texture_transform": {"rotation": 1.0}}
     primitive = document["meshes"][0]["primitives"][0]
     primitive["extensions"] = {"KHR_draco_mesh_compression": {"bufferView": 0, "attributes": {"TEXCOORD_0": 1}}}
-    monkeypatch.setattr(gltf, "_draco_decoder", lambda: True)
+    draco_decoder(monkeypatch, True)
     assert gltf.unfaithful_notes(document, []) == [
         "material 0's baseColorTexture's KHR_texture_transform is not applied to Draco-compressed texture coordinates"]
-    monkeypatch.setattr(gltf, "_draco_decoder", lambda: False)  # trimesh reads the accessors, which are moved
+    draco_decoder(monkeypatch, False)  # trimesh reads the accessors, which are moved
     assert gltf.unfaithful_notes(document, []) == []
 
 

@@ -18,7 +18,7 @@ from PIL import Image
 
 from marraztu.control.viewer import StartOptions
 from marraztu.frontends.screenshot import take_screenshot
-from marraztu.loaders import gltf
+from marraztu.loaders.gltf import rewrite
 from marraztu.loaders.registry import load_model
 from marraztu.model.sampling import DEFAULT_SAMPLING, Filter, TextureSampling, Wrap
 from marraztu.render import mipmaps
@@ -346,8 +346,8 @@ def test_coordinates_shared_by_primitives_are_moved_once_for_each_transform(tmp_
     path = square(tmp_path / "shared.gltf", [transformed(ATLAS_TILE), {"pbrMetallicRoughness": {"baseColorTexture": {
         "index": 0}}}, transformed(other), transformed(ATLAS_TILE)], [{"source": 0}])
     passes: list[int] = []
-    moving = gltf._moved_uvs
-    monkeypatch.setattr(gltf, "_moved_uvs", lambda uvs, affine: passes.append(len(uvs)) or moving(uvs, affine))
+    moving = rewrite._moved_uvs
+    monkeypatch.setattr(rewrite, "_moved_uvs", lambda uvs, affine: passes.append(len(uvs)) or moving(uvs, affine))
     loaded = load_model(path)
     file_uvs = np.tile(SQUARE_UVS, (4, 1))  # each primitive reads all 16 vertices, and draws its own 4
     rows = np.split(loaded.uvs, 4)

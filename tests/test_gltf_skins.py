@@ -18,7 +18,9 @@ from PIL import Image
 from marraztu.control.viewer import StartOptions
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders import gltf
+from marraztu.loaders.gltf import skins, values
 from marraztu.loaders.registry import load_model
+from support.draco import draco_decoder
 from support.refusals import one_line_refusal
 
 # A strip two high: its bottom corners follow joint 0, its top right joint 1, its top left both by half.
@@ -154,13 +156,13 @@ def test_a_mesh_placed_skinned_and_unskinned_is_drawn_both_ways_and_skinned_once
     """Three nodes skin the mesh by skin 0 (each drawn where the joints place it: glTF draws it there three
     times), one places it unskinned by its own transform; the skinned positions are made once."""
     made: list[str] = []
-    skinned = gltf._skinned_positions
+    skinned = skins._skinned_positions
 
     def counted(*args: Any) -> np.ndarray:
         made.append(args[-1])
         return skinned(*args)
 
-    monkeypatch.setattr(gltf, "_skinned_positions", counted)
+    monkeypatch.setattr(skins, "_skinned_positions", counted)
     extra = [{"mesh": 0, "skin": 0}, {"mesh": 0, "skin": 0, "translation": [9, 9, 9]},
              {"mesh": 0, "translation": [7, 0, 0]}]
     loaded = load_model(written(tmp_path, *skinned_document(nodes=extra, roots=[0, 1, 3, 4, 5])))
@@ -226,7 +228,7 @@ def test_a_skinned_mesh_whose_draco_stream_trimesh_decodes_is_a_note_placed_by_i
         monkeypatch: pytest.MonkeyPatch) -> None:
     """trimesh writes what it decodes into the accessors the stream's attributes name, over the skinned
     positions (and reads no JOINTS_0 or WEIGHTS_0 it decodes): the mesh stays placed by its node."""
-    monkeypatch.setattr(gltf, "_draco_decoder", lambda: True)
+    draco_decoder(monkeypatch, True)
     document, _ = skinned_document()
     primitive = document["meshes"][0]["primitives"][0]
     primitive["extensions"] = {"KHR_draco_mesh_compression": {"bufferView": 0, "attributes": {"WEIGHTS_0": 2}}}
@@ -358,8 +360,8 @@ def test_a_mesh_skinned_by_many_nodes_has_its_primitives_checked_once(tmp_path: 
     document, binary = skinned_document(nodes=[{"mesh": 0, "skin": 0}] * many + [{"mesh": 1}], roots=[3 + many])
     document["meshes"][0]["primitives"] *= many
     document["meshes"].append({"primitives": [{"attributes": {"POSITION": 0}, "indices": 3}]})
-    modes = _CountedModes(gltf._DRAWN_MODES)
-    monkeypatch.setattr(gltf, "_DRAWN_MODES", modes)
+    modes = _CountedModes(values._DRAWN_MODES)
+    monkeypatch.setattr(values, "_DRAWN_MODES", modes)
     assert load_model(written(tmp_path, document, binary)).face_count == 2
     assert modes.looked_up < 10 * many, modes.looked_up
 
@@ -400,7 +402,7 @@ def test_skinning_holds_a_block_of_its_vertices_widened_not_all(tmp_path: Path,
     document["skins"][0]["inverseBindMatrices"] = len(parts.accessors) - 1
     document["meshes"][0]["primitives"][0] = {"attributes": attributes}
     path = written(tmp_path, document, parts.binary)
-    skinned, growth = gltf._skinned_positions, []
+    skinned, growth = skins._skinned_positions, []
 
     def measured(*args: Any) -> np.ndarray:
         tracemalloc.start()
@@ -411,8 +413,8 @@ def test_skinning_holds_a_block_of_its_vertices_widened_not_all(tmp_path: Path,
             tracemalloc.stop()
         return placed
 
-    monkeypatch.setattr(gltf, "_skinned_positions", measured)
-    monkeypatch.setattr(gltf, "_CHECKED_ITEMS", 1024)  # a block's temporaries small beside the vertices'
+    monkeypatch.setattr(skins, "_skinned_positions", measured)
+    monkeypatch.setattr(skins, "_CHECKED_ITEMS", 1024)  # a block's temporaries small beside the vertices'
     assert load_model(path).warnings == ()
     # Widened whole, the two sets alone took 128 bytes a vertex: room left for numpy's temporaries to change.
     assert growth[0] < 4 * 12 * vertices, growth

@@ -13,7 +13,7 @@ trimesh's log, which would print its tracebacks on the person's terminal, is kep
 
 A PLY's body is first made the binary body trimesh reads (ply.py); a glTF's JSON is first checked, its
 placements counted before trimesh builds a node for each, and made again where trimesh is to read it
-otherwise (gltf.py).
+otherwise (the gltf package).
 """
 
 from __future__ import annotations

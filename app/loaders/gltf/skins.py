@@ -1,0 +1,326 @@
+"""Skins: the meshes their joints place, at rest, counted against the limit on what is made, and their
+skinned positions made for trimesh, which draws a skinned mesh where its node places it.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from marraztu.errors import LoadError
+from marraztu.loaders.gltf.accessors import _CHECKED_ITEMS, _MadeBuffer, _values, _values_in_blocks
+from marraztu.loaders.gltf.counts import _placed_node_numbers
+from marraztu.loaders.gltf.morphs import _BASE_SHAPE, _MORPHED_ITEM_BYTES, MorphedShapes
+from marraztu.loaders.gltf.values import (
+    _FLOAT_COMPONENTS,
+    _SKIN_SETS,
+    _draco_attributes,
+    _draco_decoder,
+    _is_drawn,
+    _mesh_copy,
+    _mesh_named,
+    made_limit,
+    past_made_limit,
+)
+
+# What a skin makes and reads besides its vertices: a joint's matrix and its node's placement (4x4 float64s).
+_JOINT_BYTES = 2 * 16 * 8
+
+
+_AFFINE_ROW, _AFFINE_TOLERANCE = np.array([0.0, 0.0, 0.0, 1.0]), 1e-6  # an inverse bind matrix's last row
+
+
+@dataclass(frozen=True)
+class SkinnedPlacements:
+    """The placed nodes whose skins place their meshes (glTF applies no transform of a skinned mesh's own
+    node), each with the file's number of the mesh it skins (a shape's copy is numbered past the file's:
+    _mesh_per_shape), and the notes of the meshes left placed by their nodes, what their skins would make
+    being past the limit."""
+
+    nodes: tuple[tuple[int, int], ...] = ()
+    notes: tuple[str, ...] = ()
+
+
+def skinned_placements(document: dict[str, Any], held: int, shapes: MorphedShapes) -> SkinnedPlacements:
+    """The placed nodes of a checked glTF that skin their meshes, from its JSON. What the skins read and make,
+    with what `shapes` does, may come to no more than made_limit(held) bytes: a mesh is skinned once for each
+    skin and shape it is placed in, however many nodes place it so; one past the limit, or whose Draco stream
+    trimesh decodes, is placed by its nodes, with a note. Each mesh is looked at once."""
+    nodes, meshes = document.get("nodes", []), document.get("meshes", [])
+    shape_of = {node: weights for by_weights in shapes.by_mesh.values() for weights, placing in by_weights.items()
+                for node in placing}
+    budget, made = made_limit(held) - shapes.made, 0
+    applied: dict[tuple[Any, ...], bool] = {}  # (mesh, its shape, skin) -> whether it is skinned
+    costs: dict[int, tuple[int, int | None]] = {}  # mesh -> (what skinning it makes, its Draco primitive)
+    skins_counted: set[int] = set()
+    skinned, unapplied = [], []
+    for number in sorted(set(_placed_node_numbers(document))):
+        node = nodes[number]
+        if "skin" not in node or "mesh" not in node:
+            continue
+        key = (node["mesh"], shape_of.get(number, _BASE_SHAPE), node["skin"])
+        if key not in applied:
+            mesh = meshes[node["mesh"]]
+            if node["mesh"] not in costs:
+                costs[node["mesh"]] = (len(json.dumps(_mesh_copy(mesh))) + _skinning_bytes(document["accessors"], mesh),
+                                       _draco_skinned(mesh))
+            mesh_bytes, compressed = costs[node["mesh"]]
+            joints = 0 if node["skin"] in skins_counted else len(document["skins"][node["skin"]]["joints"])
+            work = mesh_bytes + _JOINT_BYTES * joints
+            applied[key] = compressed is None and made + work <= budget
+            if applied[key]:
+                made += work
+                skins_counted.add(node["skin"])
+            elif compressed is not None:
+                unapplied.append(f"{_mesh_named(node['mesh'], mesh)}'s primitive {compressed} is Draco-compressed: "
+                                 "trimesh decodes it over what its skin makes")
+            else:
+                unapplied.append(f"{_mesh_named(node['mesh'], mesh)}'s skinning by skin {node['skin']} would bring "
+                                 f"what is made to {past_made_limit(held)}")
+        if applied[key]:
+            skinned.append((number, node["mesh"]))
+    return SkinnedPlacements(tuple(skinned), _unskinned_notes(unapplied))
+
+
+def _draco_skinned(mesh: dict[str, Any]) -> int | None:
+    """The first drawn primitive whose Draco stream holds what a skin reads (POSITION, JOINTS_n, WEIGHTS_n),
+    where trimesh decodes it: it writes them, after the skin is applied, into the accessors they name."""
+    if not _draco_decoder():
+        return None
+    return next((number for number, primitive in enumerate(mesh["primitives"]) if _is_drawn(primitive)
+                 and any(name == "POSITION" or name.startswith(_SKIN_SETS) for name in _draco_attributes(primitive))),
+                None)
+
+
+def _skinning_bytes(accessors: list[dict[str, Any]], mesh: dict[str, Any]) -> int:
+    """What skinning a mesh reads and writes, in _MORPHED_ITEM_BYTES a vertex: for each drawn primitive its
+    POSITION, its skinned positions, and each JOINTS_n and WEIGHTS_n set."""
+    total = 0
+    for primitive in filter(_is_drawn, mesh["primitives"]):
+        sets = len(_skin_sets(primitive["attributes"]))
+        total += _MORPHED_ITEM_BYTES * accessors[primitive["attributes"]["POSITION"]]["count"] * (2 + 2 * sets)
+    return total
+
+
+def _skin_sets(attributes: dict[str, Any]) -> list[str]:
+    """The n of each JOINTS_n (each with its WEIGHTS_n: GltfReferences.skinned_primitives)."""
+    return sorted(name[len(_SKIN_SETS[0]):] for name in attributes if name.startswith(_SKIN_SETS[0]))
+
+
+def _unskinned_notes(reasons: list[str]) -> tuple[str, ...]:
+    """One note of the skinned meshes placed by their nodes (a reason each), the first named."""
+    if not reasons:
+        return ()
+    if len(reasons) == 1:
+        return (f"{reasons[0]}: placed by its node, not its skin",)
+    return (f"{len(reasons)} skinned meshes placed by their nodes, not their skins (the first, {reasons[0]})",)
+
+
+def _skins_applied(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview],
+                   skins: SkinnedPlacements) -> bool:
+    """Places each mesh that the nodes of `skins` skin as glTF does at the nodes' rest transforms (animations
+    are not read): each vertex where its joints take it, the sum of w_i * world(joint_i) *
+    inverseBindMatrix_i * position over its JOINTS_n and WEIGHTS_n, in a buffer appended as a data: URI; the
+    mesh taken off its node (whose children it still places) onto a root node of its own, which places it
+    where it is. trimesh applies no skin, and places a skinned mesh by its node. A mesh is skinned once for
+    each skin and shape (its morph targets applied first: _shapes_made), however many nodes place it so, into
+    a copy where nodes draw it otherwise too. False where there is none."""
+    if not skins.nodes:
+        return False
+    nodes = document["nodes"]
+    skinned_nodes = {number for number, _ in skins.nodes}
+    unskinned = {nodes[number]["mesh"] for number in _placed_node_numbers(document)
+                 if "mesh" in nodes[number] and number not in skinned_nodes}
+    skinning = _Skinning(path, document, buffer, unskinned)
+    roots = document["scenes"][document.get("scene", 0)]["nodes"]
+    for number, file_mesh in skins.nodes:
+        node = nodes[number]
+        mesh = skinning.mesh(node["mesh"], node["skin"], file_mesh)
+        del node["mesh"], node["skin"]
+        nodes.append({"mesh": mesh})
+        roots.append(len(nodes) - 1)
+    skinning.made.append()
+    return True
+
+
+class _Skinning:
+    """The skinned copies of a checked glTF's meshes, each made once, and what they are made of: the positions
+    skinned, the skins' joints' matrices and the nodes' places. `unskinned`: the meshes nodes draw unskinned
+    too, which keep their place."""
+
+    def __init__(self, path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview],
+                 unskinned: set[int]) -> None:
+        self.path, self.document, self.buffer, self.unskinned = path, document, buffer, unskinned
+        self.made = _MadeBuffer(document)
+        self.sources: dict[int, dict[str, Any]] = {}  # each mesh as the file gives it, before its place is taken
+        self.meshes: dict[tuple[int, int], int] = {}  # (mesh, skin) -> its skinned copy
+        self.positions: dict[tuple[Any, ...], int] = {}  # (POSITION, its sets, skin) -> the accessor skinned
+        self.matrices: dict[int, np.ndarray] = {}  # skin -> its joints' matrices
+        self.places = _WorldTransforms(document)
+
+    def mesh(self, number: int, skin: int, file_mesh: int) -> int:
+        """Mesh `number` skinned by `skin`, made once: in the mesh's place where no node draws it otherwise.
+        `file_mesh`: the number the file gives it, which its refusals name."""
+        if (number, skin) in self.meshes:
+            return self.meshes[number, skin]
+        meshes = self.document["meshes"]
+        in_place = number not in self.unskinned and number not in self.sources
+        source = self.sources.setdefault(number, meshes[number])
+        mesh = _mesh_copy(source)
+        if in_place:
+            meshes[number] = mesh
+        else:
+            meshes.append(mesh)
+        self.meshes[number, skin] = number if in_place else len(meshes) - 1
+        named = _mesh_named(file_mesh, source)
+        for primitive_number, (primitive, original) in enumerate(zip(mesh["primitives"], source["primitives"])):
+            attributes = primitive["attributes"]
+            for name in [name for name in attributes if name.startswith(_SKIN_SETS)]:
+                del attributes[name]  # read here, not by trimesh
+            if _is_drawn(original):
+                attributes["POSITION"] = self.position(original, skin, f"{named}'s primitive {primitive_number}")
+        return self.meshes[number, skin]
+
+    def position(self, primitive: dict[str, Any], skin: int, what: str) -> int:
+        """The accessor of a primitive's positions skinned by `skin`, made once for its POSITION and sets."""
+        attributes = primitive["attributes"]
+        sets = _skin_sets(attributes)
+        key = (attributes["POSITION"], tuple((attributes[f"JOINTS_{n}"], attributes[f"WEIGHTS_{n}"]) for n in sets),
+               skin)
+        if key not in self.positions:
+            if skin not in self.matrices:
+                self.matrices[skin] = _joint_matrices(self.path, self.document, skin, self.buffer, self.places)
+            placed = _skinned_positions(self.path, self.document, attributes, sets, self.matrices[skin], self.buffer,
+                                        f"{what}, skinned by skin {skin}")
+            accessors = self.document["accessors"]
+            accessors.append({"bufferView": self.made.view(placed), "componentType": _FLOAT_COMPONENTS,
+                              "count": len(placed), "type": "VEC3"})
+            self.positions[key] = len(accessors) - 1
+        return self.positions[key]
+
+
+def _joint_matrices(path: Path, document: dict[str, Any], number: int, buffer: Callable[[int], bytes | memoryview],
+                    places: Callable[[int], np.ndarray]) -> np.ndarray:
+    """(joints, 3, 4) float64: skin `number`'s world(joint) * inverseBindMatrix, each joint's, their last row
+    (0 0 0 1) left out. Inverse bind matrices of a value not finite, or not affine, are refused."""
+    skin = document["skins"][number]
+    joints = skin["joints"]
+    if "inverseBindMatrices" not in skin:  # glTF's default: the identity each
+        inverses = np.broadcast_to(np.eye(4), (len(joints), 4, 4))
+    else:
+        index = skin["inverseBindMatrices"]
+        values = _values(path, document, index, buffer)[:len(joints)].astype(np.float64)
+        inverses = values.reshape(-1, 4, 4).transpose(0, 2, 1)  # glTF's matrices are stored by column
+        said = f"skin {number}'s inverseBindMatrices (accessor {index})"
+        unheld = ~np.isfinite(values).all(axis=1)
+        if unheld.any():
+            raise LoadError(path, f"{said}: matrix {np.argmax(unheld)} holds a value that is not a finite number")
+        projective = np.abs(inverses[:, 3] - _AFFINE_ROW).max(axis=1) > _AFFINE_TOLERANCE
+        if projective.any():
+            at = int(np.argmax(projective))
+            row = " ".join(f"{value:g}" for value in inverses[at, 3])
+            raise LoadError(path, f"{said}: matrix {at}'s last row is {row}, where glTF's are 0 0 0 1")
+    with np.errstate(all="ignore"):  # past float's range: the positions made of it are refused
+        return (np.stack([places(joint) for joint in joints]) @ inverses)[:, :3]
+
+
+def _skinned_positions(path: Path, document: dict[str, Any], attributes: dict[str, Any], sets: list[str],
+                       matrices: np.ndarray, buffer: Callable[[int], bytes | memoryview], what: str) -> np.ndarray:
+    """(vertices, 3) float32: each vertex's POSITION through its joints' `matrices`, weighed by its weights,
+    which are made to add up to 1 (as three.js's glTF reader does: quantized weights add up to nearly 1).
+    Weights adding up to 0 are refused (and a set's values: _checked_set). A block of vertices at a time,
+    its sets widened (intp joints, float64 weights) for that block alone: whole, they held several times the file's."""
+    count = document["accessors"][attributes["POSITION"]]["count"]
+    positions = _values_in_blocks(path, document, attributes["POSITION"], buffer)
+    read = [(n, _values_in_blocks(path, document, attributes[f"JOINTS_{n}"], buffer),
+             _values_in_blocks(path, document, attributes[f"WEIGHTS_{n}"], buffer)) for n in sets]
+    placed = np.empty((count, 3), np.float32)
+    for low in range(0, count, _CHECKED_ITEMS):
+        block = slice(low, low + _CHECKED_ITEMS)
+        weighed = [_checked_set(path, n, joints(block), weights(block), len(matrices), what, low)
+                   for n, joints, weights in read]
+        total = sum(weights.sum(axis=1) for _, weights in weighed)
+        if (none := total <= 0).any():
+            raise LoadError(path, f"{what}: vertex {low + int(np.argmax(none))}'s weights add up to 0, where glTF's "
+                                  "add up to 1")
+        with np.errstate(all="ignore"):  # past float's range: refused below
+            placed[block] = _weighed_sum(positions(block).astype(np.float64), weighed, matrices) / total[:, None]
+    unheld = ~np.isfinite(placed).all(axis=1)
+    if unheld.any():
+        raise LoadError(path, f"{what}: vertex {np.argmax(unheld)} is placed by its joints at a coordinate that is not "
+                              "a finite number (their transforms take it past float's range)")
+    return placed
+
+
+def _weighed_sum(positions: np.ndarray, weighed: list[tuple[np.ndarray, np.ndarray]], matrices: np.ndarray
+                 ) -> np.ndarray:
+    """(vertices, 3) float64: the sum of each vertex's weights times its joints' matrices times it."""
+    moved = np.zeros((len(positions), 3))
+    for joints, weights in weighed:
+        for column in range(joints.shape[1]):
+            gathered = matrices[joints[:, column]]
+            moved += weights[:, column, None] * (np.einsum("vij,vj->vi", gathered[:, :, :3], positions)
+                                                 + gathered[:, :, 3])
+    return moved
+
+
+def _checked_set(path: Path, n: str, joints: np.ndarray, weights: np.ndarray, joint_count: int, what: str,
+                 low: int) -> tuple[np.ndarray, np.ndarray]:
+    """A block of a primitive's JOINTS_n, (vertices, 4) intp, and WEIGHTS_n, (vertices, 4) float64, from vertex
+    `low`, checked: each joint one of the skin's `joint_count`, each weight finite and 0 or more."""
+    joints, weights = joints.astype(np.intp), weights.astype(np.float64)
+    if (outside := (joints >= joint_count).any(axis=1)).any():
+        vertex = int(np.argmax(outside))
+        raise LoadError(path, f"{what}: vertex {low + vertex}'s JOINTS_{n} names joint "
+                              f"{joints[vertex][joints[vertex] >= joint_count][0]}, of the skin's {joint_count}")
+    if (unheld := ~np.isfinite(weights).all(axis=1)).any():
+        vertex = int(np.argmax(unheld))
+        raise LoadError(path, f"{what}: vertex {low + vertex}'s WEIGHTS_{n} holds "
+                              f"{weights[vertex][~np.isfinite(weights[vertex])][0]}, not a finite number")
+    if (below := (weights < 0).any(axis=1)).any():
+        vertex = int(np.argmax(below))
+        raise LoadError(path, f"{what}: vertex {low + vertex}'s WEIGHTS_{n} holds {weights[vertex].min():g}, where "
+                              "glTF's weights are 0 or more")
+    return joints, weights
+
+
+class _WorldTransforms:
+    """Each node's 4x4 place in the scene, as trimesh places its nodes (its parent's times its own
+    transform), each node's made once, however many ask for it."""
+
+    def __init__(self, document: dict[str, Any]) -> None:
+        self.nodes = document.get("nodes", [])
+        self.parent = {child: number for number, node in enumerate(self.nodes) for child in node.get("children", [])}
+        self.made: dict[int, np.ndarray] = {}
+
+    def __call__(self, number: int) -> np.ndarray:
+        above: list[int] = []  # the node and its ancestors not made yet, the nearest first
+        node: int | None = number
+        while node is not None and node not in self.made:
+            above.append(node)
+            node = self.parent.get(node)
+        place = np.eye(4) if node is None else self.made[node]
+        with np.errstate(all="ignore"):  # past float's range: the positions made of it are refused
+            for below in reversed(above):
+                place = self.made[below] = place @ _node_transform(self.nodes[below])
+        return self.made[number]
+
+
+def _node_transform(node: dict[str, Any]) -> np.ndarray:
+    """A node's 4x4 transform from its parent's, as trimesh makes it: its matrix times T * R * S."""
+    from trimesh import transformations  # its quaternion made a matrix as trimesh makes it: normalized
+
+    transform = np.array(node["matrix"], np.float64).reshape(4, 4).T if "matrix" in node else np.eye(4)
+    if "translation" in node:
+        transform = transform @ transformations.translation_matrix(node["translation"])
+    if "rotation" in node:
+        x, y, z, w = node["rotation"]  # trimesh's quaternions are w x y z
+        transform = transform @ transformations.quaternion_matrix([w, x, y, z])
+    if "scale" in node:
+        transform = transform @ np.diag([*node["scale"], 1.0])
+    return transform
