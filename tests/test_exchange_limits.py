@@ -1372,12 +1372,15 @@ def test_a_gltf_of_version_1_is_refused_as_one(tmp_path: Path, version: object, 
     ("2.0", "2.01", "a file that needs glTF 2.01 or later (its asset's minVersion): only glTF 2.0 is read"),
     ("2.0", "2.0", None), ("2.3", "02.00", None), ("2.0", "1.0", None),
     ("2.0", 2.0, "not a glTF file: its asset's minVersion 2.0 is not a version such as \"2.0\""),
-    ("2.0", "2", "not a glTF file: its asset's minVersion '2' is not a version such as \"2.0\""),
+    ("2.0", "2", None),
+    ("2.0", "3", "a file that needs glTF 3 or later (its asset's minVersion): only glTF 2.0 is read"),
+    ("2.0", "2.", "not a glTF file: its asset's minVersion '2.' is not a version such as \"2.0\""),
 ])
 def test_a_gltf_whose_min_version_is_past_2_0_is_refused(tmp_path: Path, version: str, least: object,
                                                         words: str | None) -> None:
     """glTF: a reader refuses an asset whose minVersion it does not support (Khronos's glTF-Asset-Generator,
-    Compatibility 04: version and minVersion 2.1, "should fail to load on a 2.0 client"); it was read."""
+    Compatibility 04: version and minVersion 2.1, "should fail to load on a 2.0 client"); it was read. A
+    minVersion of a major alone, "2", was refused where a version "2" is read: it is read as "2.0"."""
     document, binary = triangle_gltf([{"mesh": 0}], [0])
     document["asset"] = {"version": version, "minVersion": least}
     path = tmp_path / "least.glb"

@@ -68,16 +68,16 @@ _GLTF_MAJOR = 2  # the glTF read here: 2.0 and its minor versions
 
 
 def _check_min_version(path: Path, asset: dict[str, Any]) -> None:
-    """The asset's minVersion, where it gives one: glTF's form, "major.minor", and no later than 2.0, the
-    version read here (glTF: a reader refuses an asset whose minVersion it does not support; trimesh
-    reads past it)."""
+    """The asset's minVersion, where it gives one: glTF's form, "major.minor", or "major" read as "major.0"
+    as its version is (_check_version), and no later than 2.0, the version read here (glTF: a reader refuses
+    an asset whose minVersion it does not support; trimesh reads past it)."""
     if "minVersion" not in asset:
         return
     least = asset["minVersion"]
-    if not (isinstance(least, str) and re.fullmatch(r"[0-9]+\.[0-9]+", least)):
+    if not (isinstance(least, str) and re.fullmatch(r"[0-9]+(\.[0-9]+)?", least)):
         raise LoadError(path, f"not a glTF file: its asset's minVersion {shortened(escaped(repr(least)))} is not a "
                               "version such as \"2.0\"")
-    major, minor = (part.lstrip("0") for part in least.split("."))
+    major, _, minor = (part.lstrip("0") for part in least.partition("."))
     if (len(major), major) > (1, str(_GLTF_MAJOR)) or major == str(_GLTF_MAJOR) and minor:  # past 2.0, as digits
         raise LoadError(path, f"a file that needs glTF {shortened(least)} or later (its asset's minVersion): only "
                               "glTF 2.0 is read")
