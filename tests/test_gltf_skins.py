@@ -331,6 +331,22 @@ def test_a_skin_not_shaped_as_gltfs_is_refused_in_one_line(tmp_path: Path, write
     assert one_line_refusal(lambda: load_model(write(tmp_path))).message == words
 
 
+@pytest.mark.parametrize("edit", [lambda d: d["accessors"][1].__setitem__("componentType", 5120),
+                                  lambda d: d["accessors"][2].__setitem__("componentType", 5125),
+                                  lambda d: d["accessors"][2].__setitem__("type", "VEC3")],
+                         ids=["signed-byte joints", "uint weights", "VEC3 weights"])
+def test_skin_sets_of_types_gltf_forbids_on_a_primitive_no_skin_moves_are_read_past(
+        tmp_path: Path, edit: Callable[[dict[str, Any]], None]) -> None:
+    """JOINTS_0 and WEIGHTS_0 are read only where a skin moves the primitive; trimesh reads none. Of a type
+    glTF forbids on a mesh no node skins, they were refused."""
+    document, binary = skinned_document()
+    del document["nodes"][0]["skin"]
+    edit(document)
+    loaded = load_model(written(tmp_path, document, binary))
+    np.testing.assert_allclose(loaded.positions, STRIP * 3 + (5, 0, 0), atol=1e-6)
+    assert loaded.warnings == ()
+
+
 def test_a_joint_that_takes_a_vertex_past_floats_range_is_refused(tmp_path: Path) -> None:
     """Joints scaled 1e30 each: vertex 2, which joint 1 (under joint 0) places, by 1e60."""
     document, binary = skinned_document()

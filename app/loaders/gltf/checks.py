@@ -277,13 +277,10 @@ class GltfReferences:
         if not (_is_whole(mode) and _POINTS <= mode <= _FAN):  # trimesh skipped the primitive without a word
             self.refuse(f"{what}'s mode {shortened(escaped(repr(mode)))} is not one of glTF's (0 to 6)")
         for name, index in attributes.items():
-            said, semantic = f"{what}'s {shortened(escaped(str(name)))}", str(name).split("_", 1)[0]
+            said = f"{what}'s {shortened(escaped(str(name)))}"
             accessor = self.named(index, "accessors", said)
-            types = _ATTRIBUTE_TYPES.get(semantic, (accessor.get("type"),))
-            if accessor.get("type") not in types:  # trimesh said an IndexError, or misread them
-                self.refuse(f"{said} is accessor {index}, of type {accessor['type']}: glTF's are {' or '.join(types)}")
-            if semantic in _COMPONENT_TYPES:  # an attribute not read here is not asked
-                self.components(f"{said} is", _COMPONENT_TYPES[semantic], index, accessor)
+            if not str(name).startswith(_SKIN_SETS):  # read only where a skin moves the primitive: skinned_primitives
+                self.attribute_types(said, str(name), index, accessor)
             self.attribute_stride(said, index, accessor)
         if "material" in primitive:
             material = self.named(primitive["material"], "materials", f"{what}'s material")
@@ -347,8 +344,9 @@ class GltfReferences:
 
     def skinned_primitives(self, number: int, node: dict[str, Any]) -> None:
         """The primitives a node's skin moves (those it draws faces of), each with JOINTS_0 and WEIGHTS_0, and
-        each JOINTS_n with its WEIGHTS_n, as glTF requires: what a joint moves is read from them. Each mesh is
-        looked at once, for the first node that skins it."""
+        each JOINTS_n with its WEIGHTS_n, of the types glTF allows, as glTF requires: what a joint moves is read
+        from them (trimesh reads none: a primitive no skin moves has them read past). Each mesh is looked at
+        once, for the first node that skins it."""
         if "skin" not in node or "mesh" not in node or node["mesh"] in self.skinned_meshes:
             return
         self.skinned_meshes.add(node["mesh"])
@@ -363,6 +361,18 @@ class GltfReferences:
                         self.refuse(f"node {number} skins mesh {node['mesh']} by skin {node['skin']}, whose primitive "
                                     f"{primitive_number} has no {shortened(escaped(name))}: glTF's skinned primitives "
                                     "have JOINTS_0 and WEIGHTS_0, and each JOINTS_n with its WEIGHTS_n")
+                    said = f"mesh {node['mesh']}'s primitive {primitive_number}'s {shortened(escaped(name))}"
+                    self.attribute_types(said, name, attributes[name], self.document["accessors"][attributes[name]])
+
+    def attribute_types(self, said: str, name: str, index: int, accessor: dict[str, Any]) -> None:
+        """An attribute's accessor type, and its component type where it is read here, as glTF allows them;
+        `said` names the attribute."""
+        semantic = name.split("_", 1)[0]
+        types = _ATTRIBUTE_TYPES.get(semantic, (accessor.get("type"),))
+        if accessor.get("type") not in types:  # trimesh said an IndexError, or misread them
+            self.refuse(f"{said} is accessor {index}, of type {accessor['type']}: glTF's are {' or '.join(types)}")
+        if semantic in _COMPONENT_TYPES:  # an attribute not read here is not asked
+            self.components(f"{said} is", _COMPONENT_TYPES[semantic], index, accessor)
 
     def attribute_stride(self, said: str, index: int, accessor: dict[str, Any]) -> None:
         """A vertex attribute's view's byteStride, where it has one: a multiple of 4 from 4 to 252, as glTF
