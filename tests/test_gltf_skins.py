@@ -319,7 +319,8 @@ _WHAT = "mesh 0's primitive 0, skinned by skin 0"
      "skin 0's inverseBindMatrices (accessor 4): matrix 1 holds a value that is not a finite number"),
     (edited(_as_it_is, bind=_PROJECTIVE),
      "skin 0's inverseBindMatrices (accessor 4): matrix 1's last row is 0.5 0 0 1, where glTF's are 0 0 0 1"),
-    (edited(_as_it_is, joints=_PAST), f"{_WHAT}: vertex 3's JOINTS_0 names joint 2, of the skin's 2"),
+    (edited(_as_it_is, joints=_PAST),
+     f"{_WHAT}: vertex 3's JOINTS_0 names joint 2, of the skin's 2, at a weight above 0"),
     (edited(_as_it_is, weights=_NAN_WEIGHTS), f"{_WHAT}: vertex 2's WEIGHTS_0 holds inf, not a finite number"),
     (edited(_as_it_is, weights=_NEGATIVE),
      f"{_WHAT}: vertex 1's WEIGHTS_0 holds -0.5, where glTF's weights are 0 or more"),
@@ -344,6 +345,16 @@ def test_skin_sets_of_types_gltf_forbids_on_a_primitive_no_skin_moves_are_read_p
     edit(document)
     loaded = load_model(written(tmp_path, document, binary))
     np.testing.assert_allclose(loaded.positions, STRIP * 3 + (5, 0, 0), atol=1e-6)
+    assert loaded.warnings == ()
+
+
+def test_a_joint_past_the_skins_at_weight_0_is_read_past(tmp_path: Path) -> None:
+    """A joint of weight 0 moves nothing (three.js's shader multiplies its matrix by 0); one past the skin's
+    joints was refused, and is read past. Vertex 0's second slot names joint 255, vertex 3's third joint 2."""
+    joints = JOINTS.copy()
+    joints[0, 1], joints[3, 2] = 255, 2
+    loaded = load_model(written(tmp_path, *skinned_document(joints=joints)))
+    np.testing.assert_allclose(loaded.positions, BENT, atol=1e-6)
     assert loaded.warnings == ()
 
 

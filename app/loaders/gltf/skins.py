@@ -272,12 +272,9 @@ def _weighed_sum(positions: np.ndarray, weighed: list[tuple[np.ndarray, np.ndarr
 def _checked_set(path: Path, n: str, joints: np.ndarray, weights: np.ndarray, joint_count: int, what: str,
                  low: int) -> tuple[np.ndarray, np.ndarray]:
     """A block of a primitive's JOINTS_n, (vertices, 4) intp, and WEIGHTS_n, (vertices, 4) float64, from vertex
-    `low`, checked: each joint one of the skin's `joint_count`, each weight finite and 0 or more."""
+    `low`, checked: each weight finite and 0 or more, each joint of a weight above 0 one of the skin's
+    `joint_count`; a joint of weight 0 moves nothing, and is made joint 0, which any skin has."""
     joints, weights = joints.astype(np.intp), weights.astype(np.float64)
-    if (outside := (joints >= joint_count).any(axis=1)).any():
-        vertex = int(np.argmax(outside))
-        raise LoadError(path, f"{what}: vertex {low + vertex}'s JOINTS_{n} names joint "
-                              f"{joints[vertex][joints[vertex] >= joint_count][0]}, of the skin's {joint_count}")
     if (unheld := ~np.isfinite(weights).all(axis=1)).any():
         vertex = int(np.argmax(unheld))
         raise LoadError(path, f"{what}: vertex {low + vertex}'s WEIGHTS_{n} holds "
@@ -286,6 +283,12 @@ def _checked_set(path: Path, n: str, joints: np.ndarray, weights: np.ndarray, jo
         vertex = int(np.argmax(below))
         raise LoadError(path, f"{what}: vertex {low + vertex}'s WEIGHTS_{n} holds {weights[vertex].min():g}, where "
                               "glTF's weights are 0 or more")
+    outside = (joints >= joint_count) & (weights > 0)
+    if (vertices_outside := outside.any(axis=1)).any():
+        vertex = int(np.argmax(vertices_outside))
+        raise LoadError(path, f"{what}: vertex {low + vertex}'s JOINTS_{n} names joint "
+                              f"{joints[vertex][outside[vertex]][0]}, of the skin's {joint_count}, at a weight above 0")
+    joints[weights == 0] = 0
     return joints, weights
 
 
