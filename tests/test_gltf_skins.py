@@ -286,6 +286,8 @@ _PAST[3, 1] = 2
 _NAN_WEIGHTS, _NEGATIVE, _NONE = WEIGHTS.copy(), WEIGHTS.copy(), WEIGHTS.copy()
 _NAN_WEIGHTS[2, 3], _NEGATIVE[1] = np.inf, (1.5, -0.5, 0, 0)
 _NONE[3] = 0
+_NONE_PAST = JOINTS.copy()
+_NONE_PAST[3, 0] = 2
 _WHAT = "mesh 0's primitive 0, skinned by skin 0"
 
 
@@ -324,7 +326,9 @@ _WHAT = "mesh 0's primitive 0, skinned by skin 0"
     (edited(_as_it_is, weights=_NAN_WEIGHTS), f"{_WHAT}: vertex 2's WEIGHTS_0 holds inf, not a finite number"),
     (edited(_as_it_is, weights=_NEGATIVE),
      f"{_WHAT}: vertex 1's WEIGHTS_0 holds -0.5, where glTF's weights are 0 or more"),
-    (edited(_as_it_is, weights=_NONE), f"{_WHAT}: vertex 3's weights add up to 0, where glTF's add up to 1"),
+    (edited(_as_it_is, joints=_NONE_PAST, weights=_NONE),
+     f"{_WHAT}: vertex 3 is weighted by no joint, and the first joint of its JOINTS_0, which would place it, is "
+     "joint 2, of the skin's 2"),
 ])
 def test_a_skin_not_shaped_as_gltfs_is_refused_in_one_line(tmp_path: Path, write: Callable[[Path], Path],
                                                           words: str) -> None:
@@ -346,6 +350,35 @@ def test_skin_sets_of_types_gltf_forbids_on_a_primitive_no_skin_moves_are_read_p
     loaded = load_model(written(tmp_path, document, binary))
     np.testing.assert_allclose(loaded.positions, STRIP * 3 + (5, 0, 0), atol=1e-6)
     assert loaded.warnings == ()
+
+
+def test_vertices_weighted_by_no_joint_are_placed_by_their_first_joint_with_a_note(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Blender's exporter writes weights of 0 for a vertex in no vertex group; three.js's normalizeSkinWeights
+    gives such a vertex weight 1 on its first joint slot. They were refused ("weights add up to 0"). Vertex 1's
+    first joint is joint 0, which keeps it; vertex 3's joint 1, which turns it about (0, 1) to (-1, 1); counted
+    over blocks of two vertices, once for the file."""
+    monkeypatch.setattr(skins, "_CHECKED_ITEMS", 2)
+    joints, weights = JOINTS.copy(), WEIGHTS.copy()
+    joints[3], weights[1], weights[3] = (1, 0, 0, 0), 0, 0
+    loaded = load_model(written(tmp_path, *skinned_document(joints=joints, weights=weights)))
+    np.testing.assert_allclose(loaded.positions, [[0, 0, 0], [1, 0, 0], [-1, 2, 0], [-1, 1, 0]], atol=1e-6)
+    assert loaded.warnings == ("2 vertices weighted by no joint are placed by their first joint, as three.js places "
+                               "them (the first, vertex 1 of mesh 0's primitive 0)",)
+
+
+def test_a_vertex_weighted_by_no_joint_is_noted_once_however_many_skins_place_it(tmp_path: Path) -> None:
+    """Skin 1 places the mesh too (its joint 1, node 3, not turned): vertex 3 is placed by joint 0 by each."""
+    weights = WEIGHTS.copy()
+    weights[3] = 0
+    document, binary = skinned_document(weights=weights, nodes=[{"translation": [0, 1, 0]}, {"mesh": 0, "skin": 1}],
+                                        roots=[0, 1, 4])
+    document["nodes"][1]["children"] = [2, 3]
+    document["skins"].append({**document["skins"][0], "joints": [1, 3]})
+    loaded = load_model(written(tmp_path, document, binary))
+    assert placed(loaded.positions) == placed(np.concatenate([BENT[:3], STRIP[3:], STRIP]))
+    assert loaded.warnings == ("1 vertex weighted by no joint is placed by its first joint, as three.js places it "
+                               "(the first, vertex 3 of mesh 0's primitive 0)",)
 
 
 def test_a_joint_past_the_skins_at_weight_0_is_read_past(tmp_path: Path) -> None:

@@ -194,7 +194,7 @@ def load_gltf(path: Path, stage: Stage | None = None) -> Mesh:
     beside = _FilesBeside(path.parent, is_picture=pictures.__contains__, uri=True, least_bytes=least_bytes)
     data = as_trimesh_reads(path, data if file_type == "gltf" else declared_part(data), document, file_type,
                             functools.partial(_read_named, path, beside), number_materials=bool(sampled),
-                            shapes=shapes, skins=skins)
+                            shapes=shapes, skins=skins, notes=notes)
     del document
     return _finish(path, _trimesh_load(path, data, file_type, beside), data=None, beside=beside, notes=notes,
                    sampled=sampled)

@@ -55,7 +55,8 @@ from marraztu.model.mesh import counted
 
 def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_type: str,
                      read_beside: Callable[[str], bytes], number_materials: bool = False,
-                     shapes: MorphedShapes | None = None, skins: SkinnedPlacements | None = None) -> bytes:
+                     shapes: MorphedShapes | None = None, skins: SkinnedPlacements | None = None,
+                     notes: list[str] | None = None) -> bytes:
     """The file, its JSON made again (a GLB's JSON chunk too) where trimesh is to read it otherwise: its
     file URIs that hold "base64," spelled apart, its materials named by number where their samplers matter,
     the meshes no node places emptied, each primitive's TEXCOORD_0 the set its base colour texture reads, the
@@ -70,7 +71,7 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     The document is checked already (GltfReferences), and the values its drawn primitives read are
     checked here (_check_drawn_values); `read_beside` reads a buffer's file; `number_materials`: where
     sampled_materials found a sampling to keep; `shapes`: its morphed_shapes (None: none made); `skins`: its
-    skinned_placements (None: none skinned)."""
+    skinned_placements (None: none skinned); `notes`: where the notes of what the values read say are added."""
     respelled = _file_uris_respelled(document)  # first: a buffer read here is then named as trimesh asks for it
     views_listed = _buffer_views_listed(document)  # before the rewrites that add a view
     numbered = number_materials and _materials_numbered(document)
@@ -79,7 +80,8 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     buffers = _BufferBytes(path, data, document, file_type, read_beside)
     _check_drawn_values(path, document, buffers)
     shaped = shapes is not None and _shapes_made(path, document, buffers, shapes)  # before: its POSITIONs are plain
-    skinned = skins is not None and _skins_applied(path, document, buffers, skins)  # after: glTF skins the shape
+    skinned = skins is not None and _skins_applied(path, document, buffers, skins,  # after: glTF skins the shape
+                                                   [] if notes is None else notes)
     made_plain = _accessors_made_plain(path, document, buffers)
     transforms_applied = _texture_transforms_applied(path, document, buffers)  # after: it reads plain coordinates
     fans_made_triangles = _fans_made_triangles(path, document, buffers)  # after: it reads plain indices

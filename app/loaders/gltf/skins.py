@@ -27,6 +27,7 @@ from marraztu.loaders.gltf.values import (
     made_limit,
     past_made_limit,
 )
+from marraztu.model.mesh import counted
 
 # What a skin makes and reads besides its vertices: a joint's matrix and its node's placement (4x4 float64s).
 _JOINT_BYTES = 2 * 16 * 8
@@ -122,14 +123,15 @@ def _unskinned_notes(reasons: list[str]) -> tuple[str, ...]:
 
 
 def _skins_applied(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview],
-                   skins: SkinnedPlacements) -> bool:
+                   skins: SkinnedPlacements, notes: list[str]) -> bool:
     """Places each mesh that the nodes of `skins` skin as glTF does at the nodes' rest transforms (animations
     are not read): each vertex where its joints take it, the sum of w_i * world(joint_i) *
     inverseBindMatrix_i * position over its JOINTS_n and WEIGHTS_n, in a buffer appended as a data: URI; the
     mesh taken off its node (whose children it still places) onto a root node of its own, which places it
     where it is. trimesh applies no skin, and places a skinned mesh by its node. A mesh is skinned once for
     each skin and shape (its morph targets applied first: _shapes_made), however many nodes place it so, into
-    a copy where nodes draw it otherwise too. False where there is none."""
+    a copy where nodes draw it otherwise too. A note is added to `notes` of the vertices weighted by no joint
+    (_unweighted_note). False where there is none."""
     if not skins.nodes:
         return False
     nodes = document["nodes"]
@@ -145,7 +147,21 @@ def _skins_applied(path: Path, document: dict[str, Any], buffer: Callable[[int],
         nodes.append({"mesh": mesh})
         roots.append(len(nodes) - 1)
     skinning.made.append()
+    notes.extend(_unweighted_note(list(skinning.unweighted.values())))
     return True
+
+
+def _unweighted_note(found: list[tuple[int, int, str]]) -> tuple[str, ...]:
+    """One note of the vertices whose weights are all 0 (Blender's exporter writes them for a vertex in no
+    vertex group), from each skinned set's (count, first vertex, what it is), the first named."""
+    count = sum(unweighted for unweighted, _, _ in found)
+    if not count:
+        return ()
+    _, vertex, what = next(item for item in found if item[0])
+    placed = ("is placed by its first joint, as three.js places it" if count == 1
+              else "are placed by their first joint, as three.js places them")
+    return (f"{counted(count, 'vertex', 'vertices')} weighted by no joint {placed} (the first, vertex {vertex} of "
+            f"{what})",)
 
 
 class _Skinning:
@@ -162,6 +178,8 @@ class _Skinning:
         self.positions: dict[tuple[Any, ...], int] = {}  # (POSITION, its sets, skin) -> the accessor skinned
         self.matrices: dict[int, np.ndarray] = {}  # skin -> its joints' matrices
         self.places = _WorldTransforms(document)
+        # each skinned primitive's JOINTS_n and WEIGHTS_n -> its vertices weighted by no joint: (count, first, what)
+        self.unweighted: dict[tuple[tuple[int, int], ...], tuple[int, int, str]] = {}
 
     def mesh(self, number: int, skin: int, file_mesh: int) -> int:
         """Mesh `number` skinned by `skin`, made once: in the mesh's place where no node draws it otherwise.
@@ -190,13 +208,14 @@ class _Skinning:
         """The accessor of a primitive's positions skinned by `skin`, made once for its POSITION and sets."""
         attributes = primitive["attributes"]
         sets = _skin_sets(attributes)
-        key = (attributes["POSITION"], tuple((attributes[f"JOINTS_{n}"], attributes[f"WEIGHTS_{n}"]) for n in sets),
-               skin)
+        weights = tuple((attributes[f"JOINTS_{n}"], attributes[f"WEIGHTS_{n}"]) for n in sets)
+        key = (attributes["POSITION"], weights, skin)
         if key not in self.positions:
             if skin not in self.matrices:
                 self.matrices[skin] = _joint_matrices(self.path, self.document, skin, self.buffer, self.places)
-            placed = _skinned_positions(self.path, self.document, attributes, sets, self.matrices[skin], self.buffer,
-                                        f"{what}, skinned by skin {skin}")
+            placed, unweighted = _skinned_positions(self.path, self.document, attributes, sets, self.matrices[skin],
+                                                    self.buffer, f"{what}, skinned by skin {skin}")
+            self.unweighted.setdefault(weights, (*unweighted, what))  # its vertices counted once, however skinned
             accessors = self.document["accessors"]
             accessors.append({"bufferView": self.made.view(placed), "componentType": _FLOAT_COMPONENTS,
                               "count": len(placed), "type": "VEC3"})
@@ -230,31 +249,51 @@ def _joint_matrices(path: Path, document: dict[str, Any], number: int, buffer: C
 
 
 def _skinned_positions(path: Path, document: dict[str, Any], attributes: dict[str, Any], sets: list[str],
-                       matrices: np.ndarray, buffer: Callable[[int], bytes | memoryview], what: str) -> np.ndarray:
+                       matrices: np.ndarray, buffer: Callable[[int], bytes | memoryview], what: str
+                       ) -> tuple[np.ndarray, tuple[int, int]]:
     """(vertices, 3) float32: each vertex's POSITION through its joints' `matrices`, weighed by its weights,
-    which are made to add up to 1 (as three.js's glTF reader does: quantized weights add up to nearly 1).
-    Weights adding up to 0 are refused (and a set's values: _checked_set). A block of vertices at a time,
-    its sets widened (intp joints, float64 weights) for that block alone: whole, they held several times the file's."""
+    which are made to add up to 1 (as three.js's glTF reader does: quantized weights add up to nearly 1); and
+    how many vertices are weighted by no joint, with the first (-1: none). Such a vertex takes weight 1 on
+    its JOINTS_0's first joint, as three.js's normalizeSkinWeights gives it (a set's values: _checked_weights,
+    _checked_joints). A block of vertices at a time, its sets widened (intp joints, float64 weights) for that
+    block alone: whole, they held several times the file's."""
     count = document["accessors"][attributes["POSITION"]]["count"]
     positions = _values_in_blocks(path, document, attributes["POSITION"], buffer)
     read = [(n, _values_in_blocks(path, document, attributes[f"JOINTS_{n}"], buffer),
              _values_in_blocks(path, document, attributes[f"WEIGHTS_{n}"], buffer)) for n in sets]
     placed = np.empty((count, 3), np.float32)
+    unweighted, first = 0, -1
     for low in range(0, count, _CHECKED_ITEMS):
         block = slice(low, low + _CHECKED_ITEMS)
-        weighed = [_checked_set(path, n, joints(block), weights(block), len(matrices), what, low)
-                   for n, joints, weights in read]
-        total = sum(weights.sum(axis=1) for _, weights in weighed)
-        if (none := total <= 0).any():
-            raise LoadError(path, f"{what}: vertex {low + int(np.argmax(none))}'s weights add up to 0, where glTF's "
-                                  "add up to 1")
+        widened = {n: (joints(block).astype(np.intp), _checked_weights(path, n, weights(block), what, low))
+                   for n, joints, weights in read}
+        total = sum(weights.sum(axis=1) for _, weights in widened.values())
+        if (none := total == 0).any():
+            _first_joint_weighted(path, *widened["0"], none, len(matrices), what, low)
+            total[none] = 1
+            first = first if unweighted else low + int(np.argmax(none))
+            unweighted += int(none.sum())
+        weighed = [_checked_joints(path, n, joints, weights, len(matrices), what, low)
+                   for n, (joints, weights) in widened.items()]
         with np.errstate(all="ignore"):  # past float's range: refused below
             placed[block] = _weighed_sum(positions(block).astype(np.float64), weighed, matrices) / total[:, None]
     unheld = ~np.isfinite(placed).all(axis=1)
     if unheld.any():
         raise LoadError(path, f"{what}: vertex {np.argmax(unheld)} is placed by its joints at a coordinate that is not "
                               "a finite number (their transforms take it past float's range)")
-    return placed
+    return placed, (unweighted, first)
+
+
+def _first_joint_weighted(path: Path, joints: np.ndarray, weights: np.ndarray, none: np.ndarray, joint_count: int,
+                          what: str, low: int) -> None:
+    """Weight 1 on the first joint of JOINTS_0 (a block from vertex `low`) of each vertex weighted by no joint
+    (`none`), refused where it names none of the skin's `joint_count`: nothing says what would place it."""
+    if (outside := none & (joints[:, 0] >= joint_count)).any():
+        vertex = int(np.argmax(outside))
+        raise LoadError(path, f"{what}: vertex {low + vertex} is weighted by no joint, and the first joint of its "
+                              f"JOINTS_0, which would place it, is joint {joints[vertex, 0]}, of the skin's "
+                              f"{joint_count}")
+    weights[none, 0] = 1
 
 
 def _weighed_sum(positions: np.ndarray, weighed: list[tuple[np.ndarray, np.ndarray]], matrices: np.ndarray
@@ -269,12 +308,10 @@ def _weighed_sum(positions: np.ndarray, weighed: list[tuple[np.ndarray, np.ndarr
     return moved
 
 
-def _checked_set(path: Path, n: str, joints: np.ndarray, weights: np.ndarray, joint_count: int, what: str,
-                 low: int) -> tuple[np.ndarray, np.ndarray]:
-    """A block of a primitive's JOINTS_n, (vertices, 4) intp, and WEIGHTS_n, (vertices, 4) float64, from vertex
-    `low`, checked: each weight finite and 0 or more, each joint of a weight above 0 one of the skin's
-    `joint_count`; a joint of weight 0 moves nothing, and is made joint 0, which any skin has."""
-    joints, weights = joints.astype(np.intp), weights.astype(np.float64)
+def _checked_weights(path: Path, n: str, weights: np.ndarray, what: str, low: int) -> np.ndarray:
+    """A block of a primitive's WEIGHTS_n, (vertices, 4) float64, from vertex `low`, checked: each weight finite
+    and 0 or more."""
+    weights = weights.astype(np.float64)
     if (unheld := ~np.isfinite(weights).all(axis=1)).any():
         vertex = int(np.argmax(unheld))
         raise LoadError(path, f"{what}: vertex {low + vertex}'s WEIGHTS_{n} holds "
@@ -283,6 +320,14 @@ def _checked_set(path: Path, n: str, joints: np.ndarray, weights: np.ndarray, jo
         vertex = int(np.argmax(below))
         raise LoadError(path, f"{what}: vertex {low + vertex}'s WEIGHTS_{n} holds {weights[vertex].min():g}, where "
                               "glTF's weights are 0 or more")
+    return weights
+
+
+def _checked_joints(path: Path, n: str, joints: np.ndarray, weights: np.ndarray, joint_count: int, what: str,
+                    low: int) -> tuple[np.ndarray, np.ndarray]:
+    """A block of a primitive's JOINTS_n, (vertices, 4) intp, with its checked WEIGHTS_n, from vertex `low`:
+    each joint of a weight above 0 one of the skin's `joint_count`; a joint of weight 0 moves nothing, and is
+    made joint 0, which any skin has."""
     outside = (joints >= joint_count) & (weights > 0)
     if (vertices_outside := outside.any(axis=1)).any():
         vertex = int(np.argmax(vertices_outside))
