@@ -1234,6 +1234,7 @@ def _edited(document: dict[str, Any], edit: str) -> dict[str, Any]:
     # "only GLTF 2 is supported not `1.0`", "object of type 'int' has no len()", "'bool' object has no attribute 'find'"
     ("d['asset'] = 5", "its asset is not an object"),
     ("d['asset'] = {'version': 'x'}", "its asset's version 'x' is not a version such as \"2.0\""),
+    ("d['asset'] = {'version': 2.0}", "its asset's version is the number 2.0, where glTF's is text, \"2.0\""),
     ("d['asset'] = {'version': '\\uff12.0'}", "its asset's version '\uff12.0' is not a version such as \"2.0\""),
     # trimesh read a file without a version as glTF 2 (a glTF 1 file, whose asset glTF 1 does not require, too)
     ("d.pop('asset')", "its asset gives no version (glTF 2's is \"2.0\")"),
@@ -1371,7 +1372,7 @@ def test_a_gltf_of_version_1_is_refused_as_one(tmp_path: Path, version: object, 
     ("2.1", "2.1", "a file that needs glTF 2.1 or later (its asset's minVersion): only glTF 2.0 is read"),
     ("2.0", "2.01", "a file that needs glTF 2.01 or later (its asset's minVersion): only glTF 2.0 is read"),
     ("2.0", "2.0", None), ("2.3", "02.00", None), ("2.0", "1.0", None),
-    ("2.0", 2.0, "not a glTF file: its asset's minVersion 2.0 is not a version such as \"2.0\""),
+    ("2.0", 2.0, "not a glTF file: its asset's minVersion is the number 2.0, where glTF's is text, \"2.0\""),
     ("2.0", "2", None),
     ("2.0", "3", "a file that needs glTF 3 or later (its asset's minVersion): only glTF 2.0 is read"),
     ("2.0", "2.", "not a glTF file: its asset's minVersion '2.' is not a version such as \"2.0\""),

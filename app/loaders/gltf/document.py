@@ -55,6 +55,7 @@ def _check_version(path: Path, document: dict[str, Any]) -> None:
         raise LoadError(path, "not a glTF file: its asset gives no version (glTF 2's is \"2.0\")")
     if _is_number(version) and 0 <= version < 2:  # glTF 1's, as a number: a string in every glTF 2
         version = str(version)
+    _refuse_numbered_version(path, "version", version)
     major = version.split(".", 1)[0] if isinstance(version, str) else ""
     if not (major.isascii() and major.isdecimal()):  # glTF's are ASCII digits; Python reads others too
         raise LoadError(path, f"not a glTF file: its asset's version {shortened(escaped(repr(version)))} is not a "
@@ -67,6 +68,14 @@ def _check_version(path: Path, document: dict[str, Any]) -> None:
 _GLTF_MAJOR = 2  # the glTF read here: 2.0 and its minor versions
 
 
+def _refuse_numbered_version(path: Path, key: str, value: object) -> None:
+    """A version written as a JSON number, 2.0: glTF's is text, and "2.0 is not a version such as \"2.0\""
+    would puzzle whoever reads it."""
+    if _is_number(value):
+        raise LoadError(path, f"not a glTF file: its asset's {key} is the number {shortened(escaped(repr(value)))}, "
+                              "where glTF's is text, \"2.0\"")
+
+
 def _check_min_version(path: Path, asset: dict[str, Any]) -> None:
     """The asset's minVersion, where it gives one: glTF's form, "major.minor", or "major" read as "major.0"
     as its version is (_check_version), and no later than 2.0, the version read here (glTF: a reader refuses
@@ -74,6 +83,7 @@ def _check_min_version(path: Path, asset: dict[str, Any]) -> None:
     if "minVersion" not in asset:
         return
     least = asset["minVersion"]
+    _refuse_numbered_version(path, "minVersion", least)
     if not (isinstance(least, str) and re.fullmatch(r"[0-9]+(\.[0-9]+)?", least)):
         raise LoadError(path, f"not a glTF file: its asset's minVersion {shortened(escaped(repr(least)))} is not a "
                               "version such as \"2.0\"")
