@@ -160,7 +160,8 @@ def _unweighted_note(found: list[tuple[int, int, str]]) -> tuple[str, ...]:
     _, vertex, what = next(item for item in found if item[0])
     placed = ("is placed by its first joint, as three.js places it" if count == 1
               else "are placed by their first joint, as three.js places them")
-    return (f"{counted(count, 'vertex', 'vertices')} weighted by no joint {placed} (the first, vertex {vertex} of "
+    first = "" if count == 1 else "the first, "
+    return (f"{counted(count, 'vertex', 'vertices')} weighted by no joint {placed} ({first}vertex {vertex} of "
             f"{what})",)
 
 
