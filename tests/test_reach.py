@@ -238,6 +238,35 @@ def test_u_drops_a_view_move_it_can_no_longer_take_the_camera_back_to() -> None:
     assert scene.message == "nothing to undo"
 
 
+def test_a_step_dropped_under_a_view_move_leaves_that_view_move_and_the_one_below_to_undo() -> None:
+    """HOME, the camera set far out by hand, HOME again; a model 2e18 wide, framed alone, grew the
+    camera's body. `u` dropped the far step, under the second HOME's, and that used up a view move of the
+    list: the second HOME's was undone for the first's, and the first's stayed on the camera."""
+    viewer = _window_viewer(3e17)
+    scene, camera = viewer.scene, viewer.scene.camera
+    start = camera.model.copy()
+    viewer.press(parse_key_sequence("HOME")[0])
+    for _ in range(40):
+        viewer.move_by_mouse(lambda moved: commands.dolly_view(moved, -1.0))
+    commands.end_view_gesture(scene)
+    far = camera.model.copy()
+    viewer.press(parse_key_sequence("u")[0])
+    camera.model = far  # by hand: not a view move
+    for key in parse_key_sequence("HOME DELETE"):
+        viewer.press(key)
+    viewer.add_made(_cube_object(DRAWABLE_COORDINATE))
+    for _ in range(2):  # the framing, then the far step dropped
+        viewer.press(parse_key_sequence("u")[0])
+    assert scene.message.startswith("u cannot take camera back to where it stood before")
+    for _ in range(2):  # the second HOME's, then the first's
+        assert camera.made_by_view_move()
+        viewer.press(parse_key_sequence("u")[0])
+        assert scene.message == "" and np.array_equal(camera.model, start)
+    assert len(camera.history) == 1
+    viewer.press(parse_key_sequence("u")[0])
+    assert scene.message == "nothing to undo"
+
+
 def test_u_gives_a_dropped_view_moves_size_to_the_step_that_takes_its_place() -> None:
     """The wheel backed the camera out near its reach (in perspective), `p`, a wheel zoom there, HOME; a
     model 2e18 wide, framed alone, grew the camera's body. `u` dropped the two far steps, and the zoom's

@@ -1242,6 +1242,72 @@ def test_a_ctrl_drag_going_on_as_a_load_joins_is_one_undo_step_of_the_new_model(
     assert scene.object is joined and len(joined.history) == 2
 
 
+def _camera_over_home_and_dot(v: marraztu.Viewer, over_them: str) -> list[tuple[np.ndarray, float]]:
+    """t x, p sized by hand to 40, HOME and `.`, then a move of the camera that is not a view move over
+    them; where the camera stood and the half height before each of those three moves, latest first."""
+    scene, camera = v.scene, v.scene.camera
+    v.press("t x p")
+    scene.modes.parallel_half_height = 40.0  # apart from the sizes HOME and `.` set
+    stages = [(camera.model.copy(), scene.modes.parallel_half_height)]
+    for key in ("HOME", "."):
+        v.press(key)
+        stages.append((camera.model.copy(), scene.modes.parallel_half_height))
+    if over_them == "by hand":
+        moved = camera.model.copy()
+        moved[0, 3] += 1.0
+        camera.model = moved
+    else:  # g turns the camera to another object: analysis mode's aim, neither a view move nor a target's
+        v.press("TAB c g c c TAB TAB")
+        assert scene.modes.camera_mode is marraztu.model.scene.CameraMode.ANALYSIS
+    assert not np.array_equal(camera.model, stages[-1][0]) and scene.object is scene.objects[0]
+    return stages[::-1]
+
+
+@pytest.mark.parametrize("over_them", ["by hand", "g"])
+def test_a_camera_move_over_the_views_moves_is_undone_first_and_strands_none(over_them: str) -> None:
+    """p, HOME, `.`, then `cam.model = M` (or g's turn): u took M back using `.`'s turn, then `.`'s, and
+    said 'nothing to undo' with HOME's move left on the camera (only `c u` reached it). Now u takes
+    back M, `.` with its half height, HOME with its, then the object's move."""
+    with marraztu.Viewer(size=(64, 64)) as v:
+        scene, camera = v.scene, v.scene.camera
+        stages = _camera_over_home_and_dot(v, over_them)
+        v.press("u")  # the move over them: the half height stays `.`'s
+        assert np.array_equal(camera.model, stages[0][0]) and scene.modes.parallel_half_height == stages[0][1]
+        for (before, size_before), (after, _) in zip(stages[1:], stages):
+            assert scene.view_moves and camera.made_by_view_move()
+            v.press("u")
+            assert np.array_equal(camera.model, before) and scene.modes.parallel_half_height == size_before
+        assert len(camera.history) == 1 and not scene.view_moves and len(scene.objects[0].history) == 2
+        v.press("u")
+        assert len(scene.objects[0].history) == 1 and v.message == ""
+        v.press("u")
+        assert v.message == "nothing to undo"
+
+
+def test_keys_that_frame_twice_and_aim_the_camera_then_undo_all_three_draw_the_start_picture(tmp_path: Path) -> None:
+    """`.` on one ship, `.` on the next, g aimed at the third: the third u said 'nothing to undo' and
+    the view stayed framed on the first ship; now it is the picture `p` alone draws."""
+    keys = "p . TAB . TAB c g c c TAB u u u"
+    start = picture(tmp_path, "p", empty=False, name="start.png")
+    np.testing.assert_array_equal(picture(tmp_path, keys, empty=False, name="undone.png"), start)
+
+
+def test_a_view_move_left_after_its_cameras_history_was_replaced_ends_at_its_start() -> None:
+    """A history replaced by hand under pending view moves: u takes that history back a step a press
+    and then passes those view moves over, on to the target's move; no press stalls or reads past it."""
+    with marraztu.Viewer(size=(64, 64)) as v:
+        scene, camera = v.scene, v.scene.camera
+        v.press("t x HOME .")
+        start = camera.history[0]
+        camera.history = [start, start + 0.0, start + 0.0]  # view_sizes now name matrices no longer on it
+        v.press("u u")
+        assert len(camera.history) == 1 and len(scene.objects[0].history) == 2
+        v.press("u")
+        assert not scene.view_moves and len(scene.objects[0].history) == 1 and v.message == ""
+        v.press("u")
+        assert v.message == "nothing to undo"
+
+
 def test_a_size_out_of_range_is_not_echoed_digit_by_digit() -> None:
     from marraztu.render.layout import parse_size
 

@@ -603,12 +603,19 @@ def undoable_view_moves(scene: Scene) -> int:
 
 def _undo_view_move(scene: Scene) -> bool:
     """The latest view move undone, with the parallel view's size before it; False where none is left
-    (a move of a camera since deleted, or of one with nothing left to undo, is passed over)."""
+    (a move of a camera since deleted, or of one with nothing left to undo, is passed over). A step
+    pushed over it on that camera (`obj.model = M`, `g`'s turn) is taken back first, the view move left
+    for the next `u`: its entry goes only with a view move's step (its view_sizes entry)."""
     while scene.view_moves:
-        moved = scene.view_moves.pop()
+        moved = scene.view_moves[-1]
         if moved not in scene.cameras:
+            scene.view_moves.pop()
             continue
-        if _dropped_unreachable_step(scene, moved) or _undo_element(scene, moved):
+        view_steps = len(moved.view_sizes)
+        undone = _dropped_unreachable_step(scene, moved) or _undo_element(scene, moved)
+        if not undone or len(moved.view_sizes) < view_steps:
+            scene.view_moves.pop()
+        if undone:
             return True
     return False
 
