@@ -6,6 +6,7 @@ would refuse or misread: an edge element, a binary face list of mixed lengths, N
 from __future__ import annotations
 
 import base64
+import contextlib
 import io
 import json
 import random
@@ -14,6 +15,7 @@ import warnings
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
+from unittest import mock
 
 import numpy as np
 import pytest
@@ -24,7 +26,7 @@ from marraztu.control.viewer import StartOptions
 from marraztu.errors import LoadError, shortened
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders import exchange, gltf, images
-from marraztu.loaders.gltf import checks, counts, morphs
+from marraztu.loaders.gltf import checks, counts, morphs, rewrite
 from marraztu.loaders.images import MAX_JPEG_SCANS, MAX_PIXELS
 from marraztu.loaders.ply import read_header, vertices_and_faces
 from marraztu.loaders.registry import load_model
@@ -391,11 +393,15 @@ def _random_primitive(rng: random.Random) -> dict[str, Any]:
     return {"attributes": {"POSITION": 0}, "mode": mode, **({} if indices is None else {"indices": indices})}
 
 
-def trimesh_counts(document: dict[str, Any], binary: bytes) -> tuple[int, int, int]:
+def trimesh_counts(document: dict[str, Any], binary: bytes, own_vertices: bool = False) -> tuple[int, int, int]:
     """(placements, triangles, vertices) of the scene trimesh reads from the GLB as the loader hands it
-    over (its fans made triangles)."""
+    over (its fans made triangles), each primitive's whole accessors where not `own_vertices` (the
+    counts' bound: given its own, a primitive holds no more)."""
     made = json.loads(json.dumps(document))
-    handed = gltf.as_trimesh_reads(Path("random.glb"), glb(document, binary), made, "glb", read_beside=bytes)
+    kept = contextlib.nullcontext() if own_vertices else mock.patch.object(rewrite, "_used_vertices_made_own",
+                                                                           return_value=False)
+    with kept:
+        handed = gltf.as_trimesh_reads(Path("random.glb"), glb(document, binary), made, "glb", read_beside=bytes)
     scene = trimesh.load(io.BytesIO(handed), file_type="glb", process=False, force="scene")
     placed = [scene.geometry[scene.graph[node][1]] for node in scene.graph.nodes_geometry]
     triangles = [len(getattr(geometry, "faces", ())) for geometry in placed]
@@ -408,7 +414,9 @@ def test_the_json_counts_what_trimesh_places(seed: int) -> None:
     rng = random.Random(seed)
     for _ in range(25):
         document, binary = random_gltf(rng)
-        assert gltf.gltf_counts(document) == trimesh_counts(document, binary), json.dumps(document)
+        counted = gltf.gltf_counts(document)
+        assert counted == trimesh_counts(document, binary), json.dumps(document)
+        assert trimesh_counts(document, binary, own_vertices=True)[2] <= counted[2]
 
 
 def test_a_root_listed_twice_is_placed_once_and_a_file_of_no_scene_places_nothing(tmp_path: Path) -> None:
@@ -453,6 +461,52 @@ def test_every_primitive_of_a_mesh_of_many_is_placed_the_same_each_load(tmp_path
     assert np.array_equal(first.corner_vertex, second.corner_vertex)
     corners = first.positions[first.corner_vertex].reshape(-1, 3, 3)
     assert np.array_equal(corners[:, :, 2], np.repeat(np.arange(20_000.0)[:, None], 3, axis=1))  # the file's order
+
+
+SHARED_COLOURS = (np.arange(4 * 2000) * 37 % 256).astype(np.uint8).reshape(2000, 4)  # RGBA, each vertex's own
+
+
+def shared_vertices_glb(positions: np.ndarray, indices: list[list[int]]) -> bytes:
+    """A GLB of one node placing one mesh of a primitive per list of `indices`, all of one accessor of
+    `positions` (and of one of SHARED_COLOURS)."""
+    corners = np.array([corner for listed in indices for corner in listed], np.uint32)
+    binary = positions.astype(np.float32).tobytes() + SHARED_COLOURS[:len(positions)].tobytes() + corners.tobytes()
+    starts = np.cumsum([0, *map(len, indices)]) * 4 + 16 * len(positions)
+    document = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+                "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "COLOR_0": 1}, "indices": 2 + number}
+                                           for number in range(len(indices))]}],
+                "accessors": [{"bufferView": 0, "componentType": 5126, "count": len(positions), "type": "VEC3",
+                               "min": positions.min(axis=0).tolist(), "max": positions.max(axis=0).tolist()},
+                              {"bufferView": 0, "byteOffset": 12 * len(positions), "componentType": 5121,
+                               "normalized": True, "count": len(positions), "type": "VEC4"},
+                              *({"bufferView": 0, "byteOffset": int(start), "componentType": 5125,
+                                 "count": len(listed), "type": "SCALAR"} for start, listed in zip(starts, indices))],
+                "bufferViews": [{"buffer": 0, "byteLength": len(binary)}],
+                "buffers": [{"byteLength": len(binary)}]}
+    return glb(document, binary)
+
+
+def test_primitives_of_one_shared_accessor_are_each_given_only_the_vertices_they_use(tmp_path: Path) -> None:
+    """trimesh copied the whole accessor for each primitive: 40 triangles of 2,000 shared vertices made 80,000."""
+    positions = np.random.default_rng(0).random((2000, 3)).astype(np.float32)
+    indices = [[(7 * corner) % 2000 for corner in range(3 * number, 3 * number + 3)] for number in range(40)]
+    path = tmp_path / "shared.glb"
+    path.write_bytes(shared_vertices_glb(positions, indices))
+    mesh = load_model(path)
+    assert len(mesh.positions) <= 3 * len(indices)
+    assert np.array_equal(mesh.positions[mesh.corner_vertex], positions[np.ravel(indices)])
+
+
+def test_two_primitives_sharing_an_accessor_read_back_the_files_corners_in_order(tmp_path: Path) -> None:
+    positions = np.arange(18, dtype=np.float32).reshape(6, 3) ** 1.5
+    indices = [[4, 0, 2, 2, 0, 4], [5, 1, 3, 1, 5, 3, 3, 3, 1]]  # faces, and corners within them, out of order
+    path = tmp_path / "two.glb"
+    path.write_bytes(shared_vertices_glb(positions, indices))
+    mesh = load_model(path)
+    corners = np.concatenate(indices)
+    assert np.array_equal(mesh.positions[mesh.corner_vertex], positions[corners])
+    assert len(mesh.positions) == 3 + 3
+    assert np.array_equal(mesh.vertex_colours[mesh.corner_vertex], SHARED_COLOURS[corners, :3])
 
 
 def test_a_fan_of_fewer_than_three_corners_is_no_placement() -> None:

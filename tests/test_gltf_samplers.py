@@ -349,10 +349,9 @@ def test_coordinates_shared_by_primitives_are_moved_once_for_each_transform(tmp_
     moving = rewrite._moved_uvs
     monkeypatch.setattr(rewrite, "_moved_uvs", lambda uvs, affine: passes.append(len(uvs)) or moving(uvs, affine))
     loaded = load_model(path)
-    file_uvs = np.tile(SQUARE_UVS, (4, 1))  # each primitive reads all 16 vertices, and draws its own 4
-    rows = np.split(loaded.uvs, 4)
+    rows = np.split(loaded.uvs, 4)  # each primitive reads all 16 vertices, and is given the 4 it draws
     for read, transform in zip(rows, (ATLAS_TILE, None, other, ATLAS_TILE), strict=True):
-        assert np.allclose(read, as_drawn(file_uvs if transform is None else moved(file_uvs, transform)), atol=1e-6)
+        assert np.allclose(read, as_drawn(SQUARE_UVS if transform is None else moved(SQUARE_UVS, transform)), atol=1e-6)
     assert passes == [16, 16]
 
 

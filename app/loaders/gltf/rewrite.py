@@ -37,6 +37,7 @@ from marraztu.loaders.gltf.values import (
     _FLOAT_COMPONENTS,
     _READ_MODES,
     _SPECULAR_GLOSSINESS,
+    _STRIP,
     _TEXTURE_TRANSFORM,
     _TRIANGLES,
     _base_colour,
@@ -88,12 +89,14 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     nothing_taken_off = _meshes_of_nothing_taken_off(document)  # after: a fan of triangles is something
     cameras_taken_out = _node_cameras_taken_out(document)
     primitives_apart = _primitives_put_apart(document)  # last: the meshes and the nodes that place them are final
+    vertices_own = _used_vertices_made_own(path, document, buffers)  # after: the indices and attributes are final
     fallbacks_chosen = _fallbacks_chosen(document)
     diffuse_made_base = _diffuse_made_base_colour(document)
     undrawn_emptied = _undrawn_pictures_emptied(document)
     if not (respelled or numbered or unplaced_emptied or uv_sets_chosen or shaped or skinned or made_plain
             or transforms_applied
-            or fans_made_triangles or nothing_taken_off or cameras_taken_out or primitives_apart or views_listed
+            or fans_made_triangles or nothing_taken_off or cameras_taken_out or primitives_apart or vertices_own
+            or views_listed
             or fallbacks_chosen
             or diffuse_made_base or undrawn_emptied):
         return data
@@ -374,6 +377,85 @@ def _meshes_of_one_primitive(meshes: list[dict[str, Any]], number: int) -> list[
     mesh["primitives"] = mesh["primitives"][:1]
     meshes.extend(others)
     return [number, *range(len(meshes) - len(others), len(meshes))]
+
+
+_TRIMESH_ATTRIBUTES = ("POSITION", "NORMAL", "TEXCOORD_0", "COLOR_0")  # and custom ones, named "_..."
+
+
+def _used_vertices_made_own(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview]
+                            ) -> bool:
+    """Gives each indexed primitive of triangles or strips whose attributes another primitive reads too,
+    or that has more vertices than indices, accessors of only the vertices its indices use (in the order
+    of their numbers), its indices renumbered to them (each face's corners in their order, the faces in
+    theirs), in a buffer appended as a data: URI: trimesh copies a primitive's whole attributes, a
+    shared accessor once for each primitive. Primitives of the same indices and attributes share what
+    is made. False where there is none."""
+    accessors, shared = document.get("accessors", []), _read_by_several(document)
+    made, made_for = _MadeBuffer(document), {}
+    for primitive in _compactable_primitives(document):
+        attributes = {name: index for name, index in primitive["attributes"].items()
+                      if name in _TRIMESH_ATTRIBUTES or str(name).startswith("_")}
+        if not (shared & set(attributes.values())
+                or accessors[attributes["POSITION"]]["count"] > accessors[primitive["indices"]]["count"]):
+            continue
+        key = (primitive["indices"], tuple(sorted(attributes.items())))
+        if key not in made_for:
+            made_for[key] = _own_vertices(path, document, primitive["indices"], attributes, made, buffer)
+        if made_for[key] is not None:
+            primitive["indices"], own = made_for[key]
+            primitive["attributes"] = {**primitive["attributes"], **own}
+    if not any(made_for.values()):
+        return False
+    made.append()
+    return True
+
+
+def _read_by_several(document: dict[str, Any]) -> set[int]:
+    """The accessors that the attributes of more than one primitive read."""
+    seen: set[int] = set()
+    several: set[int] = set()
+    for mesh in document.get("meshes", []):
+        for primitive in mesh["primitives"]:
+            for index in set(primitive["attributes"].values()):
+                (several if index in seen else seen).add(index)
+    return several
+
+
+def _compactable_primitives(document: dict[str, Any]) -> Iterator[dict[str, Any]]:
+    """The indexed primitives trimesh makes faces of by their indices (triangles, strips), other than
+    Draco's, whose accessors its decoder fills (and the primitives that read those)."""
+    primitives = [primitive for mesh in document.get("meshes", []) for primitive in mesh["primitives"]]
+    decoded = {index for primitive in primitives if _draco_attributes(primitive)
+               for index in [*primitive["attributes"].values(), primitive.get("indices")]}
+    for primitive in primitives:
+        if (primitive.get("mode", _TRIANGLES) in (_TRIANGLES, _STRIP) and "indices" in primitive
+                and decoded.isdisjoint([*primitive["attributes"].values(), primitive["indices"]])):
+            yield primitive
+
+
+def _own_vertices(path: Path, document: dict[str, Any], indices: int, attributes: dict[str, int],
+                  made: _MadeBuffer, buffer: Callable[[int], bytes | memoryview]) -> tuple[int, dict[str, int]] | None:
+    """(the accessor of the renumbered indices, the accessor of each attribute's used items), appended;
+    None where the indices use every vertex, or none."""
+    accessors = document["accessors"]
+    items = _items(path, document, indices, buffer)
+    corners = np.ascontiguousarray(items).view(f"<u{items.shape[1]}").ravel()
+    used, renumbered = np.unique(corners, return_inverse=True)
+    if not 0 < len(used) < accessors[attributes["POSITION"]]["count"]:
+        return None
+    own = {name: _made_accessor(document, accessors[index], len(used),
+                                made.view(_items(path, document, index, buffer)[used]))
+           for name, index in attributes.items()}
+    return _made_accessor(document, {"componentType": _UINT32_COMPONENTS, "type": "SCALAR"}, len(corners),
+                          made.view(renumbered.astype(np.uint32))), own
+
+
+def _made_accessor(document: dict[str, Any], like: dict[str, Any], count: int, view: int) -> int:
+    """The number of an accessor appended, as `like` but of `count` items in buffer view `view`."""
+    kept = {key: value for key, value in like.items()
+            if key not in ("bufferView", "byteOffset", "sparse", "min", "max")}  # the bounds were all items'
+    document["accessors"].append({**kept, "count": count, "bufferView": view})
+    return len(document["accessors"]) - 1
 
 
 def _buffer_views_listed(document: dict[str, Any]) -> bool:
