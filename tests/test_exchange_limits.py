@@ -32,6 +32,7 @@ from marraztu.loaders.ply import read_header, vertices_and_faces
 from marraztu.loaders.registry import load_model
 from support.corpus import jpeg_of_scans, png_bytes
 from support.draco import draco_decoder
+from support.gltf import glb
 from support.refusals import one_line_refusal
 from support.work import peak_traced_bytes
 
@@ -40,15 +41,6 @@ UVS = np.array([[0, 0], [1, 0], [0, 1]], np.float32)
 
 
 # --- files made here -----------------------------------------------------------------------------
-def glb(document: dict[str, Any], binary: bytes) -> bytes:
-    """A GLB of this JSON and binary chunk."""
-    text = json.dumps(document).encode()
-    text += b" " * (-len(text) % 4)
-    binary += b"\0" * (-len(binary) % 4)
-    chunks = struct.pack("<I4s", len(text), b"JSON") + text + struct.pack("<I4s", len(binary), b"BIN\0") + binary
-    return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks
-
-
 def triangle_gltf(nodes: list[dict[str, Any]], roots: list[int], primitives: int = 1,
                   picture: bytes | None = None) -> tuple[dict[str, Any], bytes]:
     """A glTF of one mesh of `primitives` triangles (one accessor of three positions, and of uvs), placed

@@ -4,9 +4,7 @@ it is not glTF's, in one line naming the skin or the mesh."""
 
 from __future__ import annotations
 
-import json
 import math
-import struct
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -21,6 +19,7 @@ from marraztu.loaders import gltf
 from marraztu.loaders.gltf import skins, values
 from marraztu.loaders.registry import load_model
 from support.draco import draco_decoder
+from support.gltf import glb
 from support.refusals import one_line_refusal
 
 # A strip two high: its bottom corners follow joint 0, its top right joint 1, its top left both by half.
@@ -37,14 +36,6 @@ BENT = np.array([[0, 0, 0], [1, 0, 0], [-1, 2, 0], [-0.5, 1.5, 0]])
 _COMPONENTS = {np.dtype(kind): number for kind, number in ((np.float32, 5126), (np.uint32, 5125), (np.uint16, 5123),
                                                          (np.uint8, 5121))}
 _TYPES = {1: "SCALAR", 3: "VEC3", 4: "VEC4", 16: "MAT4"}
-
-
-def glb(document: dict[str, Any], binary: bytes) -> bytes:
-    text = json.dumps(document).encode()
-    text += b" " * (-len(text) % 4)
-    binary += b"\0" * (-len(binary) % 4)
-    chunks = struct.pack("<I4s", len(text), b"JSON") + text + struct.pack("<I4s", len(binary), b"BIN\0") + binary
-    return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks
 
 
 class Parts:
