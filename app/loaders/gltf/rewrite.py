@@ -73,32 +73,31 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
     checked here (_check_drawn_values); `read_beside` reads a buffer's file; `number_materials`: where
     sampled_materials found a sampling to keep; `shapes`: its morphed_shapes (None: none made); `skins`: its
     skinned_placements (None: none skinned); `notes`: where the notes of what the values read say are added."""
-    respelled = _file_uris_respelled(document)  # first: a buffer read here is then named as trimesh asks for it
-    views_listed = _buffer_views_listed(document)  # before the rewrites that add a view
-    numbered = number_materials and _materials_numbered(document)
-    unplaced_emptied = _unplaced_meshes_emptied(document)  # before their accessors are checked and made plain
-    uv_sets_chosen = _uv_sets_chosen(document)
+    rewritten = [
+        _file_uris_respelled(document),  # first: a buffer read here is then named as trimesh asks for it
+        _buffer_views_listed(document),  # before the rewrites that add a view
+        number_materials and _materials_numbered(document),
+        _unplaced_meshes_emptied(document),  # before their accessors are checked and made plain
+        _uv_sets_chosen(document),
+    ]
     buffers = _BufferBytes(path, data, document, file_type, read_beside)
     _check_drawn_values(path, document, buffers)
-    shaped = shapes is not None and _shapes_made(path, document, buffers, shapes)  # before: its POSITIONs are plain
-    skinned = skins is not None and _skins_applied(path, document, buffers, skins,  # after: glTF skins the shape
-                                                   [] if notes is None else notes)
-    made_plain = _accessors_made_plain(path, document, buffers)
-    transforms_applied = _texture_transforms_applied(path, document, buffers)  # after: it reads plain coordinates
-    fans_made_triangles = _fans_made_triangles(path, document, buffers)  # after: it reads plain indices
-    nothing_taken_off = _meshes_of_nothing_taken_off(document)  # after: a fan of triangles is something
-    cameras_taken_out = _node_cameras_taken_out(document)
-    primitives_apart = _primitives_put_apart(document)  # last: the meshes and the nodes that place them are final
-    vertices_own = _used_vertices_made_own(path, document, buffers)  # after: the indices and attributes are final
-    fallbacks_chosen = _fallbacks_chosen(document)
-    diffuse_made_base = _diffuse_made_base_colour(document)
-    undrawn_emptied = _undrawn_pictures_emptied(document)
-    if not (respelled or numbered or unplaced_emptied or uv_sets_chosen or shaped or skinned or made_plain
-            or transforms_applied
-            or fans_made_triangles or nothing_taken_off or cameras_taken_out or primitives_apart or vertices_own
-            or views_listed
-            or fallbacks_chosen
-            or diffuse_made_base or undrawn_emptied):
+    rewritten += [  # in this order, each where the one before leaves the document
+        shapes is not None and _shapes_made(path, document, buffers, shapes),  # before: its POSITIONs are plain
+        skins is not None and _skins_applied(path, document, buffers, skins,  # after: glTF skins the shape
+                                             [] if notes is None else notes),
+        _accessors_made_plain(path, document, buffers),
+        _texture_transforms_applied(path, document, buffers),  # after: it reads plain coordinates
+        _fans_made_triangles(path, document, buffers),  # after: it reads plain indices
+        _meshes_of_nothing_taken_off(document),  # after: a fan of triangles is something
+        _node_cameras_taken_out(document),
+        _primitives_put_apart(document),  # last of the meshes' and nodes' rewrites: they are final after it
+        _used_vertices_made_own(path, document, buffers),  # after: the indices and attributes are final
+        _fallbacks_chosen(document),
+        _diffuse_made_base_colour(document),
+        _undrawn_pictures_emptied(document),
+    ]
+    if not any(rewritten):
         return data
     text = json.dumps(document).encode()
     if file_type == "gltf":
