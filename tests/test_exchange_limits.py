@@ -2503,6 +2503,23 @@ def test_a_fan_in_a_file_of_no_buffer_is_drawn(tmp_path: Path, file_name: str) -
     assert not loaded.positions.any()
 
 
+@pytest.mark.parametrize("file_name", ["zeros.glb", "zeros.gltf"])
+def test_two_fans_sharing_their_positions_in_a_file_of_no_buffer_are_drawn(tmp_path: Path, file_name: str) -> None:
+    """The buffers' reader kept the list the file lacks as an empty list of its own, so the triangles made
+    for the fans in a buffer the rewrite appended could not be read back when their shared vertices were
+    made each fan's own ('could not read the model (IndexError: list index out of range)')."""
+    fan = {"attributes": {"POSITION": 0}, "mode": 6}
+    document: dict[str, Any] = {
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [fan, dict(fan)]}],
+        "accessors": [{"componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]}]}
+    path = tmp_path / file_name
+    path.write_bytes(glb(document, b"") if file_name.endswith(".glb") else json.dumps(document).encode())
+    loaded = load_model(path)
+    assert loaded.face_count == 4
+    assert not loaded.positions.any()
+
+
 @pytest.mark.parametrize(("view", "refusal"), [
     ({"byteLength": 12}, "mesh 0's primitive 1 reads accessor 2, of no items"),
     ({"byteLength": 12, "byteStride": 16}, "accessor 2's count is 0, in buffer view 2 of byteStride 16")])

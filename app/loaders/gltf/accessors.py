@@ -27,15 +27,16 @@ class _BufferBytes:
     def __init__(self, path: Path, data: bytes, document: dict[str, Any], file_type: str,
                  read_beside: Callable[[str], bytes]) -> None:
         self.path, self.data, self.file_type, self.read_beside = path, data, file_type, read_beside
-        self.buffers: list[dict[str, Any]] = document.get("buffers", [])
+        self.document = document  # its buffers looked up when asked: a rewrite may add the list (_MadeBuffer)
         self.read: dict[int, bytes | memoryview] = {}
 
     def __call__(self, number: int) -> bytes | memoryview:
         if number not in self.read:
-            held = self._held(self.buffers[number].get("uri"), number)
-            if len(held) < self.buffers[number]["byteLength"]:
+            buffer = self.document["buffers"][number]
+            held = self._held(buffer.get("uri"), number)
+            if len(held) < buffer["byteLength"]:
                 raise LoadError(self.path, f"not a glTF file: buffer {number} holds {len(held)} bytes, where its "
-                                           f"byteLength says {self.buffers[number]['byteLength']}")
+                                           f"byteLength says {buffer['byteLength']}")
             self.read[number] = held
         return self.read[number]
 
