@@ -104,6 +104,15 @@ class _MadeBuffer:
         self.made += b"\0" * (-values.nbytes % 4)
         return len(views) - 1
 
+    def accessor(self, values: np.ndarray, like: dict[str, Any]) -> int:
+        """The number of an accessor appended of `values`, an item a row, in a view of its own: as `like` (its
+        componentType, type, normalized) but for where it lies, its sparse part and its bounds (all items')."""
+        kept = {key: value for key, value in like.items() if key not in ("bufferView", "byteOffset", "sparse",
+                                                                         "min", "max")}
+        accessors = self.document.setdefault("accessors", [])
+        accessors.append({**kept, "count": len(values), "bufferView": self.view(values)})
+        return len(accessors) - 1
+
     def append(self) -> None:
         self.document["buffers"].append({"byteLength": len(self.made), "uri": "data:application/octet-stream;base64,"
                                          + base64.b64encode(self.made).decode()})

@@ -179,7 +179,7 @@ def _shapes_made(path: Path, document: dict[str, Any], buffer: Callable[[int], b
     accessor. False where no mesh is shaped."""
     if not shapes.by_mesh:
         return False
-    meshes, accessors, made = document.get("meshes", []), document.get("accessors", []), _MadeBuffer(document)
+    meshes, made = document.get("meshes", []), _MadeBuffer(document)
     made_for: dict[tuple[Any, ...], int] = {}  # (POSITION, its targets, weights) -> the accessor of the shape
     for mesh_number, by_weights in shapes.by_mesh.items():
         unshaped = meshes[mesh_number]
@@ -192,9 +192,7 @@ def _shapes_made(path: Path, document: dict[str, Any], buffer: Callable[[int], b
                                                                source["targets"]), weights)
                 if key not in made_for:
                     shape = _shape(path, document, source, weights, buffer, f"{named}'s primitive {number}")
-                    accessors.append({"bufferView": made.view(shape), "componentType": _FLOAT_COMPONENTS,
-                                      "count": len(shape), "type": "VEC3"})
-                    made_for[key] = len(accessors) - 1
+                    made_for[key] = made.accessor(shape, {"componentType": _FLOAT_COMPONENTS, "type": "VEC3"})
                 primitive["attributes"]["POSITION"] = made_for[key]
     made.append()
     return True

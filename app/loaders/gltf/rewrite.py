@@ -173,9 +173,7 @@ def _texture_transforms_applied(path: Path, document: dict[str, Any],
                                           f"{_TEXTURE_TRANSFORM} moves vertex {vertex} of its TEXCOORD_"
                                           f"{_drawn_uv_set(material)} (accessor {uvs}) past 3.4e38, where the GPU's "
                                           "32-bit numbers end")
-                accessors.append({"bufferView": made.view(values), "componentType": _FLOAT_COMPONENTS,
-                                  "count": len(values), "type": "VEC2"})
-                moved[uvs, affine] = len(accessors) - 1
+                moved[uvs, affine] = made.accessor(values, {"componentType": _FLOAT_COMPONENTS, "type": "VEC2"})
             primitive["attributes"]["TEXCOORD_0"] = moved[uvs, affine]
     if moved:
         made.append()
@@ -288,15 +286,14 @@ def _fans_made_triangles(path: Path, document: dict[str, Any], buffer: Callable[
     glTF draws it (the first corner with each next two), their indices in a buffer appended as a data:
     URI: trimesh skips fans. Fans of the same indices over as many vertices share one accessor. The
     indices are checked already (_check_drawn_values). False where there is none."""
-    accessors, made = document.get("accessors", []), _MadeBuffer(document)
+    made = _MadeBuffer(document)
     made_for: dict[tuple[Any, int], int] = {}  # (indices, vertices) -> the accessor of their triangles
     for primitive, vertices in _drawn_fans(document):
         fanned = (primitive.get("indices"), vertices)
         if fanned not in made_for:
             triangles = _fan_triangles(_fan_corners(path, document, primitive, vertices, buffer))
-            accessors.append({"bufferView": made.view(triangles), "componentType": _UINT32_COMPONENTS,
-                              "count": triangles.size, "type": "SCALAR"})
-            made_for[fanned] = len(accessors) - 1
+            made_for[fanned] = made.accessor(triangles.reshape(-1), {"componentType": _UINT32_COMPONENTS,
+                                                                     "type": "SCALAR"})
         primitive["mode"], primitive["indices"] = _TRIANGLES, made_for[fanned]
     if not made_for:
         return False
@@ -442,19 +439,9 @@ def _own_vertices(path: Path, document: dict[str, Any], indices: int, attributes
     used, renumbered = np.unique(corners, return_inverse=True)
     if not 0 < len(used) < accessors[attributes["POSITION"]]["count"]:
         return None
-    own = {name: _made_accessor(document, accessors[index], len(used),
-                                made.view(_items(path, document, index, buffer)[used]))
+    own = {name: made.accessor(_items(path, document, index, buffer)[used], accessors[index])
            for name, index in attributes.items()}
-    return _made_accessor(document, {"componentType": _UINT32_COMPONENTS, "type": "SCALAR"}, len(corners),
-                          made.view(renumbered.astype(np.uint32))), own
-
-
-def _made_accessor(document: dict[str, Any], like: dict[str, Any], count: int, view: int) -> int:
-    """The number of an accessor appended, as `like` but of `count` items in buffer view `view`."""
-    kept = {key: value for key, value in like.items()
-            if key not in ("bufferView", "byteOffset", "sparse", "min", "max")}  # the bounds were all items'
-    document["accessors"].append({**kept, "count": count, "bufferView": view})
-    return len(document["accessors"]) - 1
+    return made.accessor(renumbered.astype(np.uint32), {"componentType": _UINT32_COMPONENTS, "type": "SCALAR"}), own
 
 
 def _buffer_views_listed(document: dict[str, Any]) -> bool:

@@ -217,10 +217,7 @@ class _Skinning:
             placed, unweighted = _skinned_positions(self.path, self.document, attributes, sets, self.matrices[skin],
                                                     self.buffer, f"{what}, skinned by skin {skin}")
             self.unweighted.setdefault(weights, (*unweighted, what))  # its vertices counted once, however skinned
-            accessors = self.document["accessors"]
-            accessors.append({"bufferView": self.made.view(placed), "componentType": _FLOAT_COMPONENTS,
-                              "count": len(placed), "type": "VEC3"})
-            self.positions[key] = len(accessors) - 1
+            self.positions[key] = self.made.accessor(placed, {"componentType": _FLOAT_COMPONENTS, "type": "VEC3"})
         return self.positions[key]
 
 
