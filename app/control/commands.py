@@ -320,12 +320,19 @@ def move_light(scene: Scene, kind: TransformKind, axis_index: int, amount: float
 def moved_to(scene: Scene, element: SceneObject, model: np.ndarray) -> bool:
     """`element` moved to `model`, a step `u` takes back; False, saying why, where that would take it
     past its reach (Scene.move_refusal), which the next call of the programming interface refuses."""
-    refusal = scene.move_refusal(element, model)
-    if refusal:
-        scene.message = refusal
+    if _refused_move(scene, element, model):
         return False
     element.push(model)
     return True
+
+
+def _refused_move(scene: Scene, element: SceneObject, model: np.ndarray) -> bool:
+    """Whether moving `element` to `model` would take it past its reach (Scene.move_refusal), the message
+    then saying why: a key's move and the view's stop alike."""
+    refusal = scene.move_refusal(element, model)
+    if refusal:
+        scene.message = refusal
+    return bool(refusal)
 
 
 def _moved_target(scene: Scene) -> Light | SceneObject | None:
@@ -362,9 +369,7 @@ def move_view(scene: Scene, matrix: np.ndarray, gesture: str | None = None,
         scene.message = "looking through the object: C looks through the camera again, which the view moves"
         return False
     camera = scene.camera
-    refusal = scene.move_refusal(camera, matrix)
-    if refusal:
-        scene.message = refusal
+    if _refused_move(scene, camera, matrix):
         return False
     if _continues_gesture(scene, camera, gesture):
         camera.amend_view_move(matrix)
@@ -557,14 +562,17 @@ def undo(scene: Scene, host: Host) -> None:
     if isinstance(target, Light):
         undone = target.undo()
     else:
-        undone = target is not None and (_dropped_unreachable_step(scene, target) or _undo_element(scene, target))
+        undone = target is not None and _undo_element(scene, target)
     if not undone:
         scene.message = "nothing to undo"
 
 
 def _undo_element(scene: Scene, element: SceneObject) -> bool:
-    """The element's last move undone; where a view move made it, with the parallel view's size before
-    (a move made in perspective: sized as `p` sizes it for the view it gives back). False where none is left."""
+    """The element's last move undone, or dropped where `u` cannot take it back (_dropped_unreachable_step);
+    where a view move made it, with the parallel view's size before (a move made in perspective: sized as
+    `p` sizes it for the view it gives back). False where none is left."""
+    if _dropped_unreachable_step(scene, element):
+        return True
     made_by_view_move = element.made_by_view_move()
     if not element.undo():
         return False
@@ -612,7 +620,7 @@ def _undo_view_move(scene: Scene) -> bool:
             scene.view_moves.pop()
             continue
         view_steps = len(moved.view_sizes)
-        undone = _dropped_unreachable_step(scene, moved) or _undo_element(scene, moved)
+        undone = _undo_element(scene, moved)
         if not undone or len(moved.view_sizes) < view_steps:
             scene.view_moves.pop()
         if undone:
