@@ -22,6 +22,7 @@ from marraztu.loaders.gltf.accessors import (
     _MadeBuffer,
     _normalized_read,
     _read_by_primitives,
+    _values,
 )
 from marraztu.loaders.gltf.counts import _draws_faces, _placed_meshes
 from marraztu.loaders.gltf.document import _after_json, _is_data_uri, as_trimesh_asks
@@ -29,9 +30,7 @@ from marraztu.loaders.gltf.morphs import MorphedShapes, _shapes_made
 from marraztu.loaders.gltf.samplings import _materials_numbered
 from marraztu.loaders.gltf.skins import SkinnedPlacements, _skins_applied
 from marraztu.loaders.gltf.values import (
-    _COMPONENT_DTYPES,
     _DIFFUSE_KEYS,
-    _DRAWN_MODES,
     _FAN,
     _FAN_LEAST_CORNERS,
     _FLOAT_COMPONENTS,
@@ -44,6 +43,7 @@ from marraztu.loaders.gltf.values import (
     _base_colour_texture,
     _draco_attributes,
     _drawn_uv_set,
+    _is_drawn,
     _is_whole,
     _mesh_named,
     _nested,
@@ -165,7 +165,7 @@ def _texture_transforms_applied(path: Path, document: dict[str, Any],
                     or _uvs_decoded_by_trimesh(primitive, material):
                 continue
             if (uvs, affine) not in moved:
-                source = _uv_values(path, document, uvs, buffer)
+                source = _values(path, document, uvs, buffer).astype(np.float64)  # plain or quantized: made plain first
                 values = _moved_uvs(source, affine)
                 if (vertex := _first_moved_past_float32(source, values)) is not None:
                     what = f"{_mesh_named(mesh_number, mesh)}'s primitive {primitive_number}"
@@ -178,15 +178,6 @@ def _texture_transforms_applied(path: Path, document: dict[str, Any],
     if moved:
         made.append()
     return bool(moved)
-
-
-def _uv_values(path: Path, document: dict[str, Any], number: int, buffer: Callable[[int], bytes | memoryview]
-               ) -> np.ndarray:
-    """Accessor `number`'s texture coordinates, (count, 2) float64: floats, or the integers KHR_mesh_quantization
-    stores unnormalized (normalized ones are made floats first: _accessors_made_plain)."""
-    items = _items(path, document, number, buffer)
-    return np.ascontiguousarray(items).view(_COMPONENT_DTYPES[document["accessors"][number]["componentType"]]
-                                            ).astype(np.float64)
 
 
 def _moved_uvs(uvs: np.ndarray, affine: tuple[float, ...]) -> np.ndarray:
@@ -212,7 +203,7 @@ def _check_drawn_values(path: Path, document: dict[str, Any], buffer: Callable[[
     accessors, positions_seen, indices_seen = document.get("accessors", []), set(), set()
     for number, mesh in enumerate(document.get("meshes", [])):
         for primitive_number, primitive in enumerate(mesh["primitives"]):
-            if primitive.get("mode", _TRIANGLES) not in _DRAWN_MODES:
+            if not _is_drawn(primitive):
                 continue
             what = f"{_mesh_named(number, mesh)}'s primitive {primitive_number}"
             position = primitive["attributes"]["POSITION"]
