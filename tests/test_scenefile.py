@@ -953,3 +953,14 @@ def test_an_objects_texture_that_cannot_be_read_is_refused_at_its_line(tmp_path:
     with pytest.raises(LoadError) as caught:
         load_scene(path)
     assert str(caught.value).startswith(f"{path}:7: objects[1]: texture missing.png: ")
+
+
+@pytest.mark.parametrize("suffix", [".obj", ".STL", ".glb"])
+def test_a_model_file_given_as_the_scene_says_so(tmp_path: Path, suffix: str) -> None:
+    """Viewer(scene="x.obj") or --scene x.obj, where the model was meant: not a TOML syntax error at its line 3."""
+    path = tmp_path / f"model{suffix}"
+    path.write_text(TETRAHEDRON)
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert caught.value.line is None
+    assert caught.value.message.startswith("a model file, not a TOML scene file")

@@ -48,7 +48,7 @@ from marraztu.errors import LoadError, ViewerError
 from marraztu.loaders.files import line_at, read_file, same_file_key, shown
 from marraztu.loaders.images import load_image
 from marraztu.loaders.patterns import compiled
-from marraztu.loaders.registry import Stage, load_model, sized
+from marraztu.loaders.registry import MODEL_READERS, Stage, load_model, sized
 from marraztu.model.geometry import CAMERAS_REACH, FLOAT32_MAX, MODELS_REACH
 from marraztu.model.mesh import Mesh, with_picture_as_colour
 from marraztu.model.scene import Material, Scene, SceneObject, Vec3, kept_name, name_refusal, placement_refusal
@@ -238,6 +238,9 @@ class _SceneReader:
 
     def __init__(self, path: Path) -> None:
         self.path = path
+        if path.suffix.lower() in MODEL_READERS:  # its TOML syntax error, at its line 3, would hide the slip
+            self.fail("a model file, not a TOML scene file: add it as a model (Viewer.load, or MODEL on the "
+                      "command line)")
         self.text = self._read_text()
         self._refuse_long_runs()
         self._refuse_unknown_top_level()
