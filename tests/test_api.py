@@ -5,12 +5,15 @@ closed by `with`, `close` or garbage collection; bad input refused where it ente
 from __future__ import annotations
 
 import collections
+import copy
 import dataclasses
 import gc
+import pickle
 import re
 import subprocess
 import sys
 import threading
+from collections.abc import Callable
 from io import BytesIO
 from pathlib import Path
 from types import SimpleNamespace
@@ -745,6 +748,16 @@ def test_close_releases_and_garbage_collection_too() -> None:
     closer = marraztu.Viewer(size=SIZE)._closer
     gc.collect()
     assert not closer.alive, "a viewer no one holds has closed its context"
+
+
+@pytest.mark.parametrize("copied", [copy.copy, copy.deepcopy, pickle.dumps])
+def test_a_viewer_is_not_copied(viewer, copied: Callable[[object], object]) -> None:
+    """copy.copy shared the GL context, so closing the copy closed the original; deepcopy and pickle
+    said "cannot pickle '_thread.RLock' object". The scene is what copies."""
+    with pytest.raises(TypeError, match=r"^a Viewer holds a GL context: it is not copied or pickled; "):
+        copied(viewer)
+    assert viewer.render().size == SIZE
+    assert copy.deepcopy(viewer.scene).objects[0].name == viewer.scene.objects[0].name
 
 
 def test_a_viewer_collected_while_another_draws_leaves_it_drawing(monkeypatch: pytest.MonkeyPatch) -> None:

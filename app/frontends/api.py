@@ -20,7 +20,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from io import BytesIO
 from pathlib import Path
-from typing import Any, Sequence, TypeVar
+from typing import Any, NoReturn, Sequence, TypeVar
 
 import numpy as np
 from PIL import Image
@@ -421,6 +421,12 @@ class Viewer:
         or a call other than add_mesh came between (whose own element was checked where it entered)."""
         if self._handed_out or not self._checked:
             self._viewer.scene.check_by_hand()
+
+    def __reduce__(self) -> NoReturn:
+        """copy.copy would share the GL context (closing the copy closed the original); deepcopy and pickle
+        failed on its lock, deep in the copy module. `__reduce__` is what all three ask first."""
+        raise TypeError("a Viewer holds a GL context: it is not copied or pickled; copy.deepcopy(v.scene) "
+                        "copies its scene, and a new Viewer draws another")
 
     def __enter__(self) -> Viewer:
         return self
