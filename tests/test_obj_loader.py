@@ -9,6 +9,7 @@ import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from types import ModuleType
 from typing import NamedTuple
 
 import numpy as np
@@ -1245,6 +1246,18 @@ def test_a_first_large_file_is_read_while_the_compiled_reader_loads(tmp_path: Pa
     assert (count, on_the_thread, loaded) == (str(faces), "True", str(numba))
     if numba:  # it takes a tenth of a second or more: still at work when the read begins
         assert alive_while_read == "True"
+
+
+def test_a_file_read_while_another_thread_imports_the_compiled_reader(tmp_path: Path,
+                                                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    """While a first large file's loading thread imported fast.py, a file loaded on another thread (two
+    viewers in two threads) found the module in sys.modules with none of its functions yet: "could not
+    read the model (AttributeError: partially initialized module ...)". An import under way is no
+    loaded reader."""
+    monkeypatch.setitem(sys.modules, "marraztu.loaders.obj.fast", ModuleType("marraztu.loaders.obj.fast"))
+    path = tmp_path / "small.obj"
+    path.write_bytes(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    assert load_obj(path).face_count == 1
 
 
 def _compiling_for_as_long_as_it_takes(monkeypatch: pytest.MonkeyPatch, cached: bool) -> threading.Event:

@@ -289,4 +289,6 @@ def _read_by_lines(text: bytes | np.ndarray, source: str, most_single_lines: int
 
 def _compiled_reader_loaded() -> bool:
     fast = sys.modules.get("marraztu.loaders.obj.fast")  # never imported here: that would import numba
-    return fast is not None and fast.machine_code_loaded()
+    # Another thread may be importing it still: the module is listed before its functions are defined.
+    loaded = getattr(fast, "machine_code_loaded", None)
+    return loaded is not None and loaded()
