@@ -101,6 +101,33 @@ def test_each_usemtl_group_gets_its_own_material(tmp_path: Path) -> None:
     assert mesh.materials[0].values == {"kd": (0.0, 0.0, 1.0), "ns": 50.0}
 
 
+@pytest.mark.parametrize("faces", ["f 1/1 2/2 3/3\n", "f 1/1 2/2 3/3\nusemtl other\nf 4 5 6\n",
+                                   "usemtl gone\nf 1/1 2/2 3/3\n"])
+def test_faces_no_usemtl_gives_a_material_show_the_first_materials_picture_too(tmp_path: Path, faces: str) -> None:
+    """They took the library's first material's numbers (the model's) but not its map_Kd: the scene's
+    picture showed under the first material's Kd 1 1 1 (no usemtl at all, before the first, a name the
+    library lacks)."""
+    Image.new("RGB", (4, 4), (0, 255, 0)).save(tmp_path / "green.png")
+    (tmp_path / "m.mtl").write_text("newmtl first\nKa 1 1 1\nmap_Kd green.png\nnewmtl other\nKd 0 0 1\n")
+    model = tmp_path / "m.obj"
+    corner = "v 0.9 0.9 0\nv 1 0.9 0\nv 0.9 1 0\n"  # another material's face, in the box, off the first
+    model.write_text("mtllib m.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\n" + corner + "vt 0 0\nvt 1 0\nvt 0 1\n" + faces)
+    mesh = load_obj(model)
+    first = next(at for at, material in enumerate(mesh.materials) if material.name == "first")
+    assert mesh.face_material[0] == first and mesh.materials[first].texture is not None
+    assert mesh.file_material["ka"] == (1.0, 1.0, 1.0)  # the model's numbers are still the first's
+    shown = picture(tmp_path, model, keys="1")  # the sun on, the file's picture on
+    centre = shown[SIZE[1] * 2 // 3, SIZE[0] // 2]
+    assert centre[1] > 0 and centre[0] == centre[2] == 0, centre
+
+
+def test_a_first_material_of_no_picture_makes_no_part_without_usemtl(tmp_path: Path) -> None:
+    """Its numbers are the object's own: the whole mesh is drawn as one, not copied into a part."""
+    (tmp_path / "m.mtl").write_text("newmtl first\nKd 1 0 0\n")
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES).encode(), str(tmp_path / "m.obj"), base_dir=tmp_path)
+    assert mesh.file_material == {"kd": (1.0, 0.0, 0.0)} and mesh.face_material is None and mesh.parts == ()
+
+
 def test_a_file_switching_material_every_face_stays_two_parts(tmp_path: Path) -> None:
     (tmp_path / "m.mtl").write_text("newmtl a\nKd 1 0 0\nnewmtl b\nKd 0 0 1\n")
     data = ("mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n" + "usemtl a\nf 1 2 3\nusemtl b\nf 1 2 3\n" * 5000).encode()

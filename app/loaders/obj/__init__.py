@@ -75,7 +75,7 @@ def _mesh(raw: RawObj, source: str, base_dir: Path | None) -> Mesh:
     mesh = derive_mesh(Path(source).stem, raw.positions, raw.corner_vertex, raw.face_start,
                        uv, normals, raw.colour, first, tuple(notes + colour_notes))
     mesh = replace(mesh, vertex_colours=colours, read_beside=tuple(tried))
-    if faces.face_material is None:  # no usemtl, or no library read: its absence is noted once already
+    if faces.face_material is None:  # every face the object's own: a missing library is noted already
         return mesh
     return replace(mesh, materials=tuple(drawn), face_material=faces.face_material,
                    warnings=mesh.warnings + faces.notes())
@@ -130,43 +130,62 @@ def _drawn_vertex_colours(table: np.ndarray | None) -> tuple[np.ndarray | None, 
 
 @dataclass
 class _FaceMaterials:
-    """The materials the faces use, each once, and per face its index among them (-1: before any
-    usemtl, a name the library lacks, or a material past MAX_MATERIALS); the names it lacks; how many
-    materials past MAX_MATERIALS."""
+    """The materials the faces use, each once, and per face its index among them (-1: the object's own,
+    where no usemtl gives one and the library's first names no picture); the names the library lacks;
+    how many materials past MAX_MATERIALS."""
 
     drawn: list[UnreadMaterial] = field(default_factory=list)
-    face_material: np.ndarray | None = None  # None: no usemtl, or no library read
+    face_material: np.ndarray | None = None  # None: every face the object's own
     unknown: list[str] = field(default_factory=list)  # in file order
     beyond: int = 0
 
     @staticmethod
     def of(runs: MaterialRuns, libraries: Libraries | None, faces: int) -> _FaceMaterials:
-        if not runs or not libraries or not libraries.materials:
+        """Each face's usemtl material; a face no usemtl gives one (none before it, a name the library
+        lacks, one past MAX_MATERIALS) takes the object's own, the library's first material's numbers,
+        and is drawn as a part of that material where it names a picture, so that it shows it."""
+        if not libraries or not libraries.materials:
             return _FaceMaterials()
+        first = libraries.materials[0]
+        if not runs and not first.names_picture:  # its numbers are the object's own: one part would cost a copy
+            return _FaceMaterials()
+        found = _FaceMaterials()
+        used: dict[int, int] = {}  # a material's id -> its index among those drawn
+        found.face_material = np.full(faces, -1, np.int32)
+        if runs:
+            found._fill_runs(runs, libraries, used)
+        unset = found.face_material < 0
+        if first.names_picture and unset.any():  # past MAX_MATERIALS too: in place of the -1 part
+            found.face_material[unset] = found._index(first, used)
+        return found
+
+    def _fill_runs(self, runs: MaterialRuns, libraries: Libraries, used: dict[int, int]) -> None:
+        """Each usemtl run's faces get its material's index; -1 where the library lacks the name or
+        it is past MAX_MATERIALS."""
         by_name = {material.name: material for material in reversed(libraries.materials)}  # the first of a name wins
         for material in libraries.materials:  # "newmtl wood # oak" is found as "wood" too, where no "wood" is
             by_name.setdefault(name_before_comment(material.name), material)
-        found = _FaceMaterials()
-        used: dict[int, int] = {}  # a material's id -> its index among those used
         index_of_number = np.full(len(runs.names), -1, np.int32)
         for number in runs.used_numbers().tolist():  # each name once, in the order of its first run
             name = runs.names[number]
             material = by_name.get(name) or by_name.get(name_before_comment(name))  # "usemtl wood # oak": wood
             if material is None:
-                found.unknown.append(name)
+                self.unknown.append(name)
             elif id(material) not in used and len(used) >= MAX_MATERIALS:
-                found.beyond += 1
+                self.beyond += 1
             else:
-                if id(material) not in used:
-                    used[id(material)] = len(found.drawn)
-                    found.drawn.append(material)
-                index_of_number[number] = used[id(material)]
+                index_of_number[number] = self._index(material, used)
         starts = np.frombuffer(runs.starts, np.int64)
-        lengths = np.diff(np.append(starts, faces))
-        found.face_material = np.full(faces, -1, np.int32)
-        found.face_material[int(starts[0]):] = np.repeat(
+        lengths = np.diff(np.append(starts, self.face_material.size))
+        self.face_material[int(starts[0]):] = np.repeat(
             index_of_number[np.frombuffer(runs.name_numbers, np.int64)], lengths)
-        return found
+
+    def _index(self, material: UnreadMaterial, used: dict[int, int]) -> int:
+        """The material's index among those drawn, drawn from now on where it was not."""
+        if id(material) not in used:
+            used[id(material)] = len(self.drawn)
+            self.drawn.append(material)
+        return used[id(material)]
 
     def notes(self) -> tuple[str, ...]:
         """Notes for the names the library lacks and the materials past MAX_MATERIALS."""

@@ -77,6 +77,10 @@ class UnreadMaterial:
     block: _Block
     folder: Path  # its MTL's, where its picture's name is looked for
 
+    @property
+    def names_picture(self) -> bool:
+        return self.block.texture is not None
+
 
 @dataclass
 class Libraries:
