@@ -130,6 +130,19 @@ def test_bad_p3_pixel_data_names_the_line_of_its_first_bad_word(data: bytes, lin
     assert caught.value.line == line and str(caught.value).startswith(f"a.ppm:{line}: "), str(caught.value)
 
 
+@pytest.mark.parametrize(("data", "line", "value"), [
+    (b"P3\n2 1\n255\n1 2 3\n4 256 6\n", 5, 256),
+    (b"P3\r\n2 1\r\n15\r\n1 2 3 # 99\r\n\r\n 4 5 16 17\r\n", 6, 16),  # the first, past a comment's number
+    (b"P3\r2 1\r255\r1 2 3\r4 5 999\r", 5, 999),
+    (b"P3 1 1 255 1 99999999999999999999999 3\n", 1, np.iinfo(np.int64).max),
+])
+def test_a_p3_sample_past_maxval_names_its_line(data: bytes, line: int, value: int) -> None:
+    """It named no line, where P3's other bad pixel data did."""
+    with pytest.raises(LoadError, match=f"a sample value \\({value}\\) exceeds maxval") as caught:
+        parse_ppm(data, "a.ppm")
+    assert caught.value.line == line and str(caught.value).startswith(f"a.ppm:{line}: "), str(caught.value)
+
+
 @pytest.mark.parametrize(("data", "message"), [case[1:] for case in PPM_ERRORS], ids=[c[0] for c in PPM_ERRORS])
 def test_bad_ppm_raises_load_error_naming_the_file(tmp_path: Path, data: bytes, message: str) -> None:
     path = write(tmp_path, "bad.ppm", data)

@@ -126,10 +126,10 @@ def parse_ppm(data: bytes, source: str) -> np.ndarray:
     width, height, maxval, raster_at = _ppm_header(data, source)
     if magic == b"P6":
         samples = _binary_samples(memoryview(data)[raster_at:], width * height * 3, maxval, source)  # no copy
+        if samples.size and int(samples.max()) > maxval:
+            raise LoadError(source, f"a sample value ({int(samples.max())}) exceeds maxval {maxval}")
     else:
-        samples = _ascii_samples(data, raster_at, width * height * 3, source)
-    if samples.size and int(samples.max()) > maxval:
-        raise LoadError(source, f"a sample value ({int(samples.max())}) exceeds maxval {maxval}")
+        samples = _ascii_samples(data, raster_at, width * height * 3, maxval, source)
     return _to_8_bit(samples, maxval).reshape(height, width, 3)
 
 
@@ -204,7 +204,7 @@ def _without_comments(raster: bytes) -> bytes:
 _GOOD_P3_TEXT = compiled(rb"(?:[0-9 \t\n\r\x0b\x0c]++|#[^\n\r]*+)*+")
 
 
-def _ascii_samples(data: bytes, raster_at: int, count: int, source: str) -> np.ndarray:
+def _ascii_samples(data: bytes, raster_at: int, count: int, maxval: int, source: str) -> np.ndarray:
     raster = data[raster_at:]
     if b"#" in raster:
         raster = _without_comments(raster)
@@ -219,7 +219,21 @@ def _ascii_samples(data: bytes, raster_at: int, count: int, source: str) -> np.n
     samples = np.fromstring(raster, dtype=np.int64, sep=" ")  # only digits and whitespace remain
     if samples.size < count:
         raise LoadError(source, f"truncated PPM: {count} samples expected, found {samples.size}")
-    return samples[:count]  # numbers too long for int64 saturate, so the maxval check still fails them
+    samples = samples[:count]
+    above = samples > maxval  # numbers too long for int64 saturate, so this still finds them
+    if above.any():
+        first = int(np.argmax(above))
+        # A comment made a blank held no line end: the header and this raster have the file's lines.
+        line = line_at(data[:raster_at] + raster, raster_at + _number_start(raster, first))
+        raise LoadError(source, f"a sample value ({int(samples[first])}) exceeds maxval {maxval}", line=line)
+    return samples
+
+
+def _number_start(raster: bytes, index: int) -> int:
+    """Where number `index` starts in a raster of digits and whitespace alone."""
+    digit = np.frombuffer(raster, np.uint8) - ord("0") < 10  # uint8 wraps: a byte below '0' is large
+    starts = np.flatnonzero(digit & ~np.concatenate(([False], digit[:-1])))
+    return int(starts[index])
 
 
 def _to_8_bit(samples: np.ndarray, maxval: int) -> np.ndarray:
