@@ -143,6 +143,28 @@ def test_a_p3_sample_past_maxval_names_its_line(data: bytes, line: int, value: i
     assert caught.value.line == line and str(caught.value).startswith(f"a.ppm:{line}: "), str(caught.value)
 
 
+@pytest.mark.parametrize("seed", range(6))
+def test_a_p3_sample_past_maxval_is_found_across_the_pieces_it_is_looked_for_in(seed: int, monkeypatch) -> None:
+    """The numbers are counted a few bytes at a time here: a number cut by a piece's end is one number."""
+    from marraztu.loaders import images
+
+    monkeypatch.setattr(images, "_NUMBER_PIECE_BYTES", 7)
+    rng = random.Random(seed)
+    lines, bad_line = [], 0
+    for at in range(40):
+        words = [str(rng.randrange(0, 1000 if at >= 20 else 100)) for _ in range(rng.randrange(1, 6))]
+        if rng.random() < 0.2:
+            words.append("# 999 " + str(rng.randrange(1000)))
+        lines.append(" ".join(words))
+        if not bad_line and any(int(word) > 99 for word in words if word.isdigit()):
+            bad_line = at + 4  # after the three lines of the header
+    width = sum(len(line.split("#")[0].split()) for line in lines) // 3
+    data = f"P3\n{width} 1\n99\n".encode() + "\r\n".join(lines).encode()
+    with pytest.raises(LoadError, match="exceeds maxval 99") as caught:
+        parse_ppm(data, "a.ppm")
+    assert caught.value.line == bad_line
+
+
 @pytest.mark.parametrize(("data", "message"), [case[1:] for case in PPM_ERRORS], ids=[c[0] for c in PPM_ERRORS])
 def test_bad_ppm_raises_load_error_naming_the_file(tmp_path: Path, data: bytes, message: str) -> None:
     path = write(tmp_path, "bad.ppm", data)

@@ -223,17 +223,34 @@ def _ascii_samples(data: bytes, raster_at: int, count: int, maxval: int, source:
     above = samples > maxval  # numbers too long for int64 saturate, so this still finds them
     if above.any():
         first = int(np.argmax(above))
-        # A comment made a blank held no line end: the header and this raster have the file's lines.
-        line = line_at(data[:raster_at] + raster, raster_at + _number_start(raster, first))
-        raise LoadError(source, f"a sample value ({int(samples[first])}) exceeds maxval {maxval}", line=line)
+        raise LoadError(source, f"a sample value ({int(samples[first])}) exceeds maxval {maxval}",
+                        line=_raster_line(data, raster_at, raster, _number_start(raster, first)))
     return samples
 
 
+def _raster_line(data: bytes, raster_at: int, raster: bytes, offset: int) -> int:
+    """The file's line of the raster's byte at `offset`: a comment made a blank held no line end, so the
+    raster without its comments has the file's lines."""
+    # The header's last byte a CR and the raster's first an LF: one line end, which each count would count.
+    split_line_end = data[raster_at - 1:raster_at] == b"\r" and raster[:1] == b"\n"
+    return line_at(data, raster_at) + line_at(raster, offset) - 1 - split_line_end
+
+
+_NUMBER_PIECE_BYTES = 1 << 20
+
+
 def _number_start(raster: bytes, index: int) -> int:
-    """Where number `index` starts in a raster of digits and whitespace alone."""
-    digit = np.frombuffer(raster, np.uint8) - ord("0") < 10  # uint8 wraps: a byte below '0' is large
-    starts = np.flatnonzero(digit & ~np.concatenate(([False], digit[:-1])))
-    return int(starts[index])
+    """Where number `index` starts in a raster of digits and whitespace alone, counted a piece at a time:
+    a table of every number's start would cost more than the samples."""
+    before, after_digit = 0, False  # numbers started in the pieces before; whether they end in a digit
+    for at in range(0, len(raster), _NUMBER_PIECE_BYTES):
+        piece = np.frombuffer(raster, np.uint8, min(_NUMBER_PIECE_BYTES, len(raster) - at), at)
+        digit = piece - ord("0") < 10  # uint8 wraps: a byte below '0' is large
+        starts = np.flatnonzero(digit & ~np.concatenate(([after_digit], digit[:-1])))
+        if before + starts.size > index:
+            return at + int(starts[index - before])
+        before, after_digit = before + starts.size, bool(digit[-1])
+    raise ValueError(f"no number {index} in the raster")  # never: the samples were read from it
 
 
 def _to_8_bit(samples: np.ndarray, maxval: int) -> np.ndarray:
