@@ -150,6 +150,22 @@ def test_a_key_of_before_refused_as_it_runs_says_it_is_of_before(tmp_path: Path,
     assert not list(tmp_path.glob("*.gif"))
 
 
+@pytest.mark.parametrize("before", ["f={tmp}/turn.png", "f={tmp}/./turn.png", "x f={tmp}/m.obj"])
+def test_a_key_of_before_loading_the_output_says_it_is_of_before(tmp_path: Path, capsys, before: str) -> None:
+    """f=OUT in --before was refused without the '--before: ' its other refusals carry; a model whose
+    texture is OUT, read as --before runs, had it."""
+    Image.new("RGB", (4, 4)).save(tmp_path / "turn.png")
+    (tmp_path / "m.mtl").write_text("newmtl a\nmap_Kd turn.png\n")
+    (tmp_path / "m.obj").write_text("mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n")
+    written = (tmp_path / "turn.png").read_bytes()
+    arguments = ["-o", str(tmp_path / "turn.png"), "--size", "16x16", "--before", before.format(tmp=tmp_path),
+                 "--keys", "y"]
+    assert main(["record", *arguments]) == 1
+    error = capsys.readouterr().err.strip()
+    assert error.startswith("error: --before: ") and "\n" not in error and "is an input" in error, error
+    assert (tmp_path / "turn.png").read_bytes() == written
+
+
 @pytest.mark.parametrize(("keys", "words"), [(before, words) for before, words in BEFORE_REFUSED if before != "ESC"])
 def test_a_key_of_keys_refused_as_it_runs_says_what_it_said(tmp_path: Path, capsys, keys: str, words: str) -> None:
     arguments = ["-o", str(tmp_path / "turn.gif"), "--size", "16x16", "--before", "x", "--keys",

@@ -82,8 +82,9 @@ def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, f
     if not presses:
         raise ViewerError("record needs --keys: one frame is drawn after each press")
     check_recording_size(len(presses), size)
-    inputs = [*options.models, options.texture, options.scene_file, *(press.path for press in set_up + presses)]
+    inputs = [*options.models, options.texture, options.scene_file, *(press.path for press in presses)]
     check_output(out, inputs, RECORDING_FORMATS, "an animation")
+    _check_loads_before(out, set_up)
     frontend = OffscreenFrontend()
     scene = starting_scene(options, frontend.notice)
     check_output(out, [scene.texture_path], RECORDING_FORMATS, "an animation")
@@ -105,6 +106,14 @@ def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, f
         return write_animation(frames(), out, fps)
     finally:
         ctx.release()
+
+
+def _check_loads_before(out: Path, set_up: list[KeyPress]) -> None:
+    """Refuses an f=FILE of --before that is `out`, saying it is of --before, as its other refusals do."""
+    try:
+        check_output(out, [press.path for press in set_up], RECORDING_FORMATS, "an animation")
+    except ViewerError as error:
+        raise ViewerError(f"--before: {error}") from None
 
 
 def _set_up(viewer: Viewer, frontend: OffscreenFrontend, set_up: list[KeyPress], inputs: InputsGuard) -> None:
