@@ -404,7 +404,8 @@ class Viewer:
     @_one_call_at_a_time
     def close(self) -> None:
         """Releases the renderer's GL objects and hands the context on (kept for the next viewer, or
-        released); afterwards the scene can be read, and every other call raises ViewerError."""
+        released); afterwards the scene, status, message and size can be read, and every other call
+        raises ViewerError."""
         self._closer()
         _release_unreleased()
         return_freed_memory()  # a released context's memory stays with glibc otherwise, as a frame's would
