@@ -166,6 +166,13 @@ def test_a_press_clears_the_previous_message() -> None:
     assert scene.message == ""
 
 
+@pytest.mark.parametrize("word", ["x*-1", "x*1.5", "x*", "TAB*two", "pagedown*-3"])
+def test_a_known_key_of_no_whole_count_is_blamed_on_the_count(word: str) -> None:
+    """'x*-1' said 'unknown key', though x is one: the count is what is wrong."""
+    with pytest.raises(KeyMapError, match="a repeat count must be 1 to"):
+        parse_key_sequence(word)
+
+
 @pytest.mark.parametrize("count", ["9" * 5000, "0" * 5000 + "1", "1" + "0" * 30])
 def test_a_repeat_count_of_any_length_is_one_error(count: str) -> None:
     with pytest.raises(KeyMapError, match="repeat count") as caught:

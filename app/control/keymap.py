@@ -227,6 +227,12 @@ def key_press(token: str, keymap: dict[str, Command] = KEYMAP) -> KeyPress:
 _REPEAT = re.compile(r"^(?P<token>.+)\*(?P<count>\d+)$")
 
 
+def _miscounted(word: str, keymap: dict[str, Command]) -> bool:
+    """A key's repeat of no whole count ('x*-1', 'x*1.5', 'x*'), which 'unknown key' would blame on the key."""
+    key, star, _ = word.rpartition("*")
+    return bool(star) and not word.startswith((LOAD_PREFIX, CLICK_PREFIX)) and normalise_token(key) in keymap
+
+
 def _parse_word(word: str, keymap: dict[str, Command], in_prompt: bool,
                 opened_by: str | None = None) -> tuple[KeyPress, int]:
     """One word of a sequence: its press and how many times it repeats (`opened_by`: _prompt_press)."""
@@ -237,6 +243,8 @@ def _parse_word(word: str, keymap: dict[str, Command], in_prompt: bool,
         count = int(digits) if len(digits) <= len(str(MAX_REPEAT)) else MAX_REPEAT + 1
         if not 1 <= count <= MAX_REPEAT:
             raise KeyMapError(f"{shortened(match.string)!r}: a repeat count must be 1 to {MAX_REPEAT}")
+    elif not in_prompt and _miscounted(word, keymap):
+        raise KeyMapError(f"{shortened(word)!r}: a repeat count must be 1 to {MAX_REPEAT}")
     if word.startswith(LOAD_PREFIX):
         path = word[len(LOAD_PREFIX):]
         if not path:
