@@ -224,6 +224,19 @@ def test_add_mesh_takes_a_texture_made_in_numpy_and_draws_it_as_a_files_own(tmp_
     np.testing.assert_array_equal(_textured_square(texture), from_trimesh)
 
 
+@pytest.mark.parametrize(("positions", "faces", "words"), [
+    (SQUARE.T, [[0, 1, 2], [0, 2, 3]], "not (3, 4): for 4 positions, give positions.T"),
+    (SQUARE, np.array([[0, 1, 2], [0, 2, 3]]).T, "3 faces of 2 corners, and a face needs at least 3: for 2 faces "
+                                                 "of 3, give faces.T"),
+    (SQUARE, np.array([[0, 1, 2, 3]]).T, "4 faces of 1 corner, and a face needs at least 3: for 1 face of 4"),
+])
+def test_arrays_given_transposed_are_refused_saying_so(positions: np.ndarray, faces: object, words: str) -> None:
+    """(3, V) positions and (3, F) faces of one or two triangles were refused as 'not (3, 4)' and 'face 0
+    has 2 vertices', which did not say that the arrays were only turned."""
+    with marraztu.Viewer(size=SIZE, empty=True) as v, pytest.raises(ValueError, match=re.escape(words)):
+        v.add_mesh(positions, faces)
+
+
 def test_faces_given_transposed_are_said_to_be_perhaps_so() -> None:
     """An icosphere's (80, 3) faces given as (3, 80) drew 3 polygons of 80 corners; the message said
     '3 faces' and '1 zero-area face', not why."""

@@ -476,6 +476,9 @@ def _transposed_hint(faces: Any) -> tuple[str, ...]:
     # A polygon that lists a vertex twice: a column of a mesh's triangles, not a real polygon's corners.
     if rows in (3, 4) and columns > 4 and any(np.unique(row).size < columns for row in faces):
         return (f"{rows} polygons of {columns} corners: for {columns} polygons of {rows}, give faces.T",)
+    if rows in (3, 4) and 0 < columns < 3:  # refused as faces of too few corners: say why they may be
+        raise ValueError(f"faces of shape {np.shape(faces)} are {rows} faces of {counted(columns, 'corner')}, and "
+                         f"a face needs at least 3: for {counted(columns, 'face')} of {rows}, give faces.T")
     return ()
 
 
@@ -491,7 +494,9 @@ def _finite_positions(positions: Any) -> np.ndarray:
     """Checked here, where the data enters: the GPU holds float32, and NaN has no place on screen."""
     table = real_numbers(positions, "positions must be real numbers, (V, 3)")
     if table.ndim != 2 or table.shape[1] != 3 or table.shape[0] == 0:
-        raise ValueError(f"positions must have shape (V, 3), not {table.shape}")
+        transposed = table.ndim == 2 and table.shape[0] == 3 and table.shape[1] > 0
+        raise ValueError(f"positions must have shape (V, 3), not {table.shape}"
+                         + (f": for {table.shape[1]} positions, give positions.T" if transposed else ""))
     if table.shape[0] >= INDEX_LIMIT:  # before any pass over them: a broadcast view may be endless
         raise ValueError(f"a mesh holds fewer than {INDEX_LIMIT} positions")
     if not holds_in_float32(table):
