@@ -290,9 +290,11 @@ def test_a_mesh_placed_many_times_is_refused_before_it_is_copied(tmp_path: Path,
     assert copies == []
 
 
-def test_a_mesh_of_many_vertices_placed_many_times_is_refused_too(tmp_path: Path,
-                                                                  monkeypatch: pytest.MonkeyPatch) -> None:
-    """Few triangles, many vertices: the vertices are what the memory holds."""
+def test_a_mesh_of_many_vertices_placed_many_times_is_counted_by_the_vertices_it_is_handed(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Few triangles, many vertices: the vertices are what the memory holds, and each placement is handed
+    only those its triangle uses (rewrite._used_vertices_made_own), 3 of the 100, so 15 in all are read,
+    where the count took the whole accessor each placement and refused 500."""
     from marraztu.loaders import exchange
 
     sparse = trimesh.Trimesh(np.random.default_rng(5).normal(size=(100, 3)), [[0, 1, 2]], process=False)
@@ -302,7 +304,9 @@ def test_a_mesh_of_many_vertices_placed_many_times_is_refused_too(tmp_path: Path
                            transform=trimesh.transformations.translation_matrix([10 * node, 0, 0]))
     (tmp_path / "sparse.glb").write_bytes(scene.export(file_type="glb"))
     monkeypatch.setattr(exchange, "MAX_PLACED_TRIANGLES", 100)  # 5 triangles pass; 500 vertices are past 300
-    with pytest.raises(LoadError, match="5 triangles and 500 vertices"):
+    assert len(load_model(tmp_path / "sparse.glb").positions) == 15
+    monkeypatch.setattr(exchange, "MAX_PLACED_TRIANGLES", 4)  # 15 vertices are past 12
+    with pytest.raises(LoadError, match="5 triangles and 15 vertices"):
         load_model(tmp_path / "sparse.glb")
 
 

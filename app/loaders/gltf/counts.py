@@ -7,7 +7,16 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import Any
 
-from marraztu.loaders.gltf.values import _FAN, _FAN_LEAST_CORNERS, _LINES, _POINTS, _READ_MODES, _TRIANGLES, _is_whole
+from marraztu.loaders.gltf.values import (
+    _FAN,
+    _FAN_LEAST_CORNERS,
+    _LINES,
+    _POINTS,
+    _READ_MODES,
+    _TRIANGLES,
+    _draco_attributes,
+    _is_whole,
+)
 
 
 class _Unshaped(Exception):
@@ -72,14 +81,17 @@ def _mesh_sizes(document: dict[str, Any]) -> list[tuple[int, int, int]]:
 def _primitive_sizes(document: dict[str, Any]) -> list[list[tuple[int, int]]]:
     """Per mesh, (triangles, vertices) of each primitive trimesh reads, from its accessors' counts
     (the vertices of a primitive of no triangles are not drawn, so not counted)."""
-    accessors = document.get("accessors", [])
-    return [[size for primitive in mesh["primitives"] if (size := _primitive_size(accessors, primitive)) is not None]
+    accessors, decoded = document.get("accessors", []), _decoded_accessors(document)
+    return [[size for primitive in mesh["primitives"]
+             if (size := _primitive_size(accessors, primitive, decoded)) is not None]
             for mesh in document.get("meshes", [])]
 
 
-def _primitive_size(accessors: list[Any], primitive: dict[str, Any]) -> tuple[int, int] | None:
+def _primitive_size(accessors: list[Any], primitive: dict[str, Any], decoded: set[Any] | frozenset[Any] = frozenset()
+                    ) -> tuple[int, int] | None:
     """(triangles, vertices) of a primitive trimesh reads (its vertices counted only where it has triangles),
-    None where it skips it."""
+    None where it skips it. An indexed one is handed no more vertices than its corners (but where it reads
+    accessors of `decoded`, Draco's): where it has more, those its indices use (rewrite._used_vertices_made_own)."""
     mode = primitive.get("mode", _TRIANGLES)
     if mode not in (*_READ_MODES, _FAN):
         return None
@@ -88,7 +100,21 @@ def _primitive_size(accessors: list[Any], primitive: dict[str, Any]) -> tuple[in
     if mode == _FAN and corners < _FAN_LEAST_CORNERS:
         return None  # not made triangles (_drawn_fans): trimesh skips it
     faces = 0 if mode in (_POINTS, _LINES) else corners // 3 if mode == _TRIANGLES else max(corners - 2, 0)
+    if "indices" in primitive and decoded.isdisjoint(_read_accessors(primitive)):
+        points = min(points, 3 * faces if mode == _FAN else corners)  # a fan's corners are made its triangles'
     return faces, points if faces else 0
+
+
+def _read_accessors(primitive: dict[str, Any]) -> list[Any]:
+    """The accessors a primitive reads: its attributes' and its indices (None where it has none)."""
+    return [*primitive["attributes"].values(), primitive.get("indices")]
+
+
+def _decoded_accessors(document: dict[str, Any]) -> set[Any]:
+    """The accessors the Draco primitives read, whose items their decoder makes: no primitive reading one
+    is handed its own vertices."""
+    return {index for mesh in document.get("meshes", []) for primitive in mesh["primitives"]
+            if _draco_attributes(primitive) for index in _read_accessors(primitive)}
 
 
 def _draws_faces(accessors: list[Any], primitive: dict[str, Any]) -> bool:

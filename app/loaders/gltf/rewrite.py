@@ -24,7 +24,7 @@ from marraztu.loaders.gltf.accessors import (
     _read_by_primitives,
     _values,
 )
-from marraztu.loaders.gltf.counts import _draws_faces, _placed_meshes
+from marraztu.loaders.gltf.counts import _decoded_accessors, _draws_faces, _placed_meshes, _read_accessors
 from marraztu.loaders.gltf.document import _after_json, _is_data_uri, as_trimesh_asks
 from marraztu.loaders.gltf.morphs import MorphedShapes, _shapes_made
 from marraztu.loaders.gltf.samplings import _materials_numbered
@@ -411,13 +411,12 @@ def _read_by_several(document: dict[str, Any]) -> set[int]:
 def _compactable_primitives(document: dict[str, Any]) -> Iterator[dict[str, Any]]:
     """The indexed primitives trimesh makes faces of by their indices (triangles, strips), other than
     Draco's, whose accessors its decoder fills (and the primitives that read those)."""
-    primitives = [primitive for mesh in document.get("meshes", []) for primitive in mesh["primitives"]]
-    decoded = {index for primitive in primitives if _draco_attributes(primitive)
-               for index in [*primitive["attributes"].values(), primitive.get("indices")]}
-    for primitive in primitives:
-        if (primitive.get("mode", _TRIANGLES) in (_TRIANGLES, _STRIP) and "indices" in primitive
-                and decoded.isdisjoint([*primitive["attributes"].values(), primitive["indices"]])):
-            yield primitive
+    decoded = _decoded_accessors(document)
+    for mesh in document.get("meshes", []):
+        for primitive in mesh["primitives"]:
+            if (primitive.get("mode", _TRIANGLES) in (_TRIANGLES, _STRIP) and "indices" in primitive
+                    and decoded.isdisjoint(_read_accessors(primitive))):
+                yield primitive
 
 
 def _own_vertices(path: Path, document: dict[str, Any], indices: int, attributes: dict[str, int],
