@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from marraztu.control.viewer import BackgroundLoader, Viewer
+from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer
 from marraztu.loaders.scenefile import empty_scene
 from support.scenes import NoFrontend
 
@@ -99,3 +99,23 @@ def test_the_worker_prepares_the_surface_and_the_first_frame_only_uploads_it(tmp
     ambient_only = np.asarray(viewer.scene.objects[0].material.ka) * viewer.scene.ambient  # SPEC 4, 0..255
     assert np.abs(centre - ambient_only).max() <= 1.0, (centre, ambient_only)
     viewer.background.shutdown()
+
+
+def test_the_command_lines_models_are_told_together_however_their_loads_land(tmp_path: Path) -> None:
+    """`marraztu --empty duck.glb teapot.obj` said of the duck, inside the teapot, only 'loaded duck.glb',
+    where the screenshot command says it lies in the teapot's box: the window told the first load as
+    soon as a frame collected it, before the teapot it lies in had joined."""
+    small, big = tmp_path / "small.obj", tmp_path / "big.obj"
+    small.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    big.write_text("v -5 -5 -5\nv 5 -5 -5\nv 0 5 5\nf 1 2 3\n")
+    loader = BackgroundLoader()
+    viewer = Viewer(empty_scene(), NoFrontend(), background=loader)
+    viewer.start(StartOptions(empty=True, models=(small, big)), longest_texture_side=64)
+    jobs = loader.uncollected()
+    for job in jobs:  # a frame after each load lands, as the window's loop may draw one
+        job.future.result(timeout=600)
+        viewer.collect_loads()
+    assert [obj.name for obj in viewer.scene.objects] == ["small", "big"]
+    assert "loaded small.obj as a new object" in viewer.scene.message
+    assert "inside big's bounding box" in viewer.scene.message, viewer.scene.message
+    loader.shutdown()

@@ -396,6 +396,8 @@ class Viewer:
             else:  # a bug, not a bad file: say so instead of dying in the render loop
                 self._failed(LoadError(job.path, f"could not be loaded ({type(error).__name__}: {error})"),
                              job.at_start)
+        if any(job.at_start for job in self.background.uncollected()):
+            return  # the command line's models are told and framed as one batch, as start() does without a worker
         self._tell_start_loads()
         self._frame_start_models()
 
