@@ -159,6 +159,19 @@ def test_a_name_the_system_cannot_take_is_one_load_error(suffix: str) -> None:
         load_model(f"m\0{suffix}")
 
 
+@pytest.mark.parametrize(("name", "why"), [("my models", "is a directory, not a file"), ("gone", "no such file"),
+                                           ("gone.fbx", "no such file"),
+                                           ("notes.txt", "not a model file marraztu reads (by its suffix")])
+def test_a_folder_or_a_missing_file_is_said_before_its_suffix(tmp_path: Path, name: str, why: str) -> None:
+    """A folder given as a model ('marraztu "my models"', or typed at `f`) was 'not a model file marraztu
+    reads (by its suffix: ...)', as was a mistyped name without its suffix: the suffix was blamed."""
+    (tmp_path / "my models").mkdir()
+    (tmp_path / "notes.txt").write_text("not a model\n")
+    with pytest.raises(LoadError) as caught:
+        load_model(tmp_path / name)
+    assert str(caught.value).startswith(f"{tmp_path / name}: {why}"), caught.value
+
+
 def test_a_refused_files_bytes_and_tables_are_freed_with_its_error(tmp_path: Path) -> None:
     """The error's traceback would hold the readers' frames, and in them the file's bytes and trimesh's
     tables, for as long as the error is kept (the window keeps it in its load job, in a cycle)."""

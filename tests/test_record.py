@@ -134,7 +134,7 @@ BEFORE_REFUSED = [
     ("c c f", "f: cannot load a file while lights are targeted"),
     ("click=500,500", "click=500,500 lies outside the 16x16 picture"),
     ("f={tmp}/missing.obj", "missing.obj: no such file"),
-    ("f a ENTER", "a: not a model file marraztu reads"),
+    ("f a ENTER", "a: no such file"),
     ("ESC", "ESC quits"),
 ]
 

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import gc
 import importlib
+import sys
 from collections.abc import Callable
 from pathlib import Path
 
 from marraztu.errors import LoadError, error_words
-from marraztu.loaders.files import COLLECT_AFTER_BYTES, size_or_zero
+from marraztu.loaders.files import COLLECT_AFTER_BYTES, regular_file_size, size_or_zero
 from marraztu.model.build import scaled_mesh
 from marraztu.model.geometry import cannot_light
 from marraztu.model.mesh import Mesh
@@ -46,6 +47,7 @@ def load_model(path: str | Path, stage: Stage | None = None) -> Mesh:
     path = Path(path)
     reader = reader_of(path.suffix.lower())
     if reader is None:
+        regular_file_size(path, limit=sys.maxsize)  # a folder or a missing file is said so, not its suffix blamed
         known = ", ".join(MODEL_READERS)
         raise LoadError(path, f"not a model file marraztu reads (by its suffix: {known})")
     try:
