@@ -180,7 +180,7 @@ def record_parser() -> argparse.ArgumentParser:
     parser.add_argument("--keys", required=True, metavar="KEYS",
                         help='keys as for screenshot; one frame is drawn after each press: "y*63"')
     parser.add_argument("--before", default="", metavar="KEYS",
-                        help='keys as for --keys, pressed first and not recorded: "T 0 1 s"')
+                        help='keys as for --keys, pressed first and not recorded: "T 0 1 s TAB TAB"')
     parser.add_argument("--fps", type=parse_fps, default=20.0, metavar="N", help="frames a second (default 20)")
     parser.add_argument("--overlay", action="store_true",
                         help="draw the status line, the panels and the last message in every frame")
