@@ -128,6 +128,20 @@ def test_a_first_material_of_no_picture_makes_no_part_without_usemtl(tmp_path: P
     assert mesh.file_material == {"kd": (1.0, 0.0, 0.0)} and mesh.face_material is None and mesh.parts == ()
 
 
+@pytest.mark.parametrize("uses", ["", "usemtl other\nf 1 2 3\n"])
+def test_a_first_material_whose_picture_cannot_be_read_makes_no_part_of_the_faces_no_usemtl_gives(
+        tmp_path: Path, uses: str) -> None:
+    """They were copied into a part of it that drew what the object's own does (the scene's picture under
+    its numbers) and held the mesh twice; the probe named 'first' for them where a first of no picture is
+    named for none. The picture's note stays."""
+    (tmp_path / "m.mtl").write_text("newmtl first\nKs 1 0 0\nmap_Kd gone.png\nnewmtl other\nKd 0 0 1\n")
+    mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + uses).encode(), str(tmp_path / "m.obj"), base_dir=tmp_path)
+    assert mesh.file_material == {"ks": (1.0, 0.0, 0.0)}
+    assert [material.name for material in mesh.materials] == (["other"] if uses else [])
+    assert mesh.face_material is None if not uses else list(mesh.face_material) == [-1, 0]
+    assert any("'gone.png' could not be read" in note for note in mesh.warnings), mesh.warnings
+
+
 def test_a_file_switching_material_every_face_stays_two_parts(tmp_path: Path) -> None:
     (tmp_path / "m.mtl").write_text("newmtl a\nKd 1 0 0\nnewmtl b\nKd 0 0 1\n")
     data = ("mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n" + "usemtl a\nf 1 2 3\nusemtl b\nf 1 2 3\n" * 5000).encode()

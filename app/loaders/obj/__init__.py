@@ -131,7 +131,7 @@ def _drawn_vertex_colours(table: np.ndarray | None) -> tuple[np.ndarray | None, 
 @dataclass
 class _FaceMaterials:
     """The materials the faces use, each once, and per face its index among them (-1: the object's own,
-    where no usemtl gives one and the library's first names no picture); the names the library lacks;
+    where no usemtl gives one and the library's first shows no picture); the names the library lacks;
     how many materials past MAX_MATERIALS."""
 
     drawn: list[UnreadMaterial] = field(default_factory=list)
@@ -143,11 +143,12 @@ class _FaceMaterials:
     def of(runs: MaterialRuns, libraries: Libraries | None, faces: int) -> _FaceMaterials:
         """Each face's usemtl material; a face no usemtl gives one (none before it, a name the library
         lacks, one past MAX_MATERIALS) takes the object's own, the library's first material's numbers,
-        and is drawn as a part of that material where it names a picture, so that it shows it."""
+        and is drawn as a part of that material where its picture is read, so that it shows it."""
         if not libraries or not libraries.materials:
             return _FaceMaterials()
         first = libraries.materials[0]
-        if not runs and not first.names_picture:  # its numbers are the object's own: one part would cost a copy
+        shown = libraries.shows_picture(first)  # one that cannot be read draws as the object's own: no part for it
+        if not runs and not shown:  # its numbers are the object's own: one part would cost a copy
             return _FaceMaterials()
         found = _FaceMaterials()
         used: dict[int, int] = {}  # a material's id -> its index among those drawn
@@ -155,7 +156,7 @@ class _FaceMaterials:
         if runs:
             found._fill_runs(runs, libraries, used)
         unset = found.face_material < 0
-        if first.names_picture and unset.any():  # past MAX_MATERIALS too: in place of the -1 part
+        if shown and unset.any():  # past MAX_MATERIALS too: in place of the -1 part
             found.face_material[unset] = found._index(first, used)
         return found
 

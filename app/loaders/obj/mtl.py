@@ -77,10 +77,6 @@ class UnreadMaterial:
     block: _Block
     folder: Path  # its MTL's, where its picture's name is looked for
 
-    @property
-    def names_picture(self) -> bool:
-        return self.block.texture is not None
-
 
 @dataclass
 class Libraries:
@@ -98,6 +94,10 @@ class Libraries:
         notes.extend(self.textures.notes())
         tried.extend(self.textures.read_already)
         return materials
+
+    def shows_picture(self, material: UnreadMaterial) -> bool:
+        """Whether the material's picture is there to draw: read now, once, as with_pictures reads it."""
+        return self.textures.read(material.block.texture, material.folder)[0] is not None
 
     def _with_picture(self, material: UnreadMaterial) -> MeshMaterial:
         block = material.block
