@@ -469,7 +469,8 @@ def _refuse_masked(**arrays: Any) -> None:
 
 def _transposed_hint(faces: Any) -> tuple[str, ...]:
     """A note where faces look given transposed: (3, F) of triangles reads as three polygons of F
-    corners, which draw, so no error says so."""
+    corners, which draw, so no error says so; a ValueError saying so where (3 or 4, F) faces of F
+    below 3, refused as faces of too few corners, may be (F, 3 or 4) ones turned."""
     # Numbers only: it runs before build_mesh checks the faces, whose error then says what is wrong.
     numbers = isinstance(faces, np.ndarray) and faces.ndim == 2 and faces.dtype.kind in "biuf"
     rows, columns = np.shape(faces) if numbers else (0, 0)
