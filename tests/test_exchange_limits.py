@@ -1070,7 +1070,8 @@ def test_a_stride_glTF_allows_or_that_no_attribute_reads_loads(tmp_path: Path, s
     np.testing.assert_array_equal(load_model(strided_positions_glb(tmp_path, stride, read)).positions, TRIANGLE)
 
 
-@pytest.mark.parametrize("extension", ["KHR_texture_basisu", "KHR_some_unknown", "EXT_texture_webp"])
+@pytest.mark.parametrize("extension", ["KHR_texture_basisu", "KHR_some_unknown", "EXT_texture_webp",
+                                       "KHR_materials_not_ratified"])
 def test_a_required_gltf_extension_not_read_here_is_refused(tmp_path: Path, extension: str) -> None:
     """glTF: a reader must refuse a file that requires what it cannot honour; such files loaded
     without a word. Materials' extensions and those only used, not required, are read as before."""
@@ -1084,6 +1085,29 @@ def test_a_required_gltf_extension_not_read_here_is_refused(tmp_path: Path, exte
         document["extensionsUsed"], document["extensionsRequired"] = used, required
         path.write_bytes(glb(document, binary))
         assert np.array_equal(load_model(path).positions, TRIANGLE)
+
+
+@pytest.mark.parametrize(("required", "note"), [
+    (["KHR_lights_punctual"], "KHR_lights_punctual, which the file requires, is not drawn: the viewer's own lights "
+                              "and Phong shading stand in"),
+    (["KHR_materials_sheen", "KHR_mesh_quantization", "KHR_lights_punctual"],
+     "KHR_lights_punctual and KHR_materials_sheen, which the file requires, are not drawn: the viewer's own lights "
+     "and Phong shading stand in"),
+    (["KHR_materials_variants", "KHR_materials_pbrSpecularGlossiness"], None),
+])
+def test_a_required_gltf_extension_of_lights_or_shading_loads_with_a_note(
+        tmp_path: Path, required: list[str], note: str | None) -> None:
+    """bevy's MixedLightingExample.gltf and DepthOfFieldExample.glb require KHR_lights_punctual and were
+    refused: the viewer lights every scene with its own four lights and draws Phong from the base colour, so
+    a file's lights and PBR shading are left out with a note, its geometry drawn as it says."""
+    document, binary = triangle_gltf([{"mesh": 0, "extensions": {"KHR_lights_punctual": {"light": 0}}}], [0])
+    document["extensions"] = {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 5}]}}
+    document["extensionsUsed"] = document["extensionsRequired"] = required
+    path = tmp_path / "lit.glb"
+    path.write_bytes(glb(document, binary))
+    mesh = load_model(path)
+    np.testing.assert_array_equal(mesh.positions, TRIANGLE)
+    assert mesh.warnings == (() if note is None else (note,))
 
 
 def test_a_long_required_gltf_extension_is_named_shortened(tmp_path: Path) -> None:

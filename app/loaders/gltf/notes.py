@@ -14,6 +14,7 @@ from marraztu.loaders.gltf.values import (
     _POINTS,
     _TEXTURE_TRANSFORM,
     _TRIANGLES,
+    _UNDRAWN_EXTENSIONS,
     _base_colour,
     _is_number,
     _is_whole,
@@ -30,10 +31,11 @@ def unfaithful_notes(document: dict[str, Any], undrawn: list[str]) -> list[str]:
     primitives it reads no faces of (`undrawn`, its undrawn_primitive_notes, which the placement check has
     read already), base colours outside 0..1 it holds to it, and base colour textures' transforms of the
     Draco-compressed coordinates it decodes over those moved; and emission and normal maps, which SPEC 4's
-    lighting has no term for, and unlit materials, which it lights. (Weights that cannot shape a mesh:
-    MorphedShapes.notes.)"""
+    lighting has no term for, unlit materials, which it lights, and the lights and shading the file requires
+    that it has no term for either. (Weights that cannot shape a mesh: MorphedShapes.notes.)"""
     return [*undrawn, *_outside_colour_notes(document), *_texture_transform_notes(document),
-            *_emission_notes(document), *_normal_map_notes(document), *_unlit_notes(document)]
+            *_emission_notes(document), *_normal_map_notes(document), *_unlit_notes(document),
+            *_undrawn_extension_notes(document)]
 
 
 # The modes of primitive no face is made of, by what a note calls them.
@@ -119,3 +121,15 @@ def _texture_transform_notes(document: dict[str, Any]) -> list[str]:
     return _materials_note(unmoved, f"baseColorTexture's {_TEXTURE_TRANSFORM} is not applied to Draco-compressed "
                            "texture coordinates", f"baseColorTexture's {_TEXTURE_TRANSFORM} is not applied to "
                            "Draco-compressed texture coordinates")
+
+
+def _undrawn_extension_notes(document: dict[str, Any]) -> list[str]:
+    """The required extensions of _UNDRAWN_EXTENSIONS (a file's own lights, PBR shading), which the viewer's
+    four lights and Phong shading of the base colour stand in for."""
+    required = set(_listed(document.get("extensionsRequired")))  # checked: names (check_geometry_readable)
+    undrawn = [name for name in _UNDRAWN_EXTENSIONS if name in required]
+    if not undrawn:
+        return []
+    names = ", ".join(undrawn[:-1]) + " and " + undrawn[-1] if len(undrawn) > 1 else undrawn[0]
+    return [f"{names}, which the file requires, {'is' if len(undrawn) == 1 else 'are'} not drawn: the viewer's "
+            "own lights and Phong shading stand in"]

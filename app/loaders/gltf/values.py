@@ -145,6 +145,13 @@ def _drawn_uv_set(material: dict[str, Any]) -> int:
 
 _TEXTURE_TRANSFORM = "KHR_texture_transform"
 
+# Extensions a file may require that the viewer's own lighting model has no term for (SPEC 4: its four
+# lights, Phong from the base colour): their lights and shading are left out, with a note, as they change
+# neither the geometry nor which texture and coordinates the base colour takes (Khronos's ratified list).
+_UNDRAWN_EXTENSIONS = ("KHR_lights_punctual", *(f"KHR_materials_{name}" for name in (
+    "anisotropy", "clearcoat", "diffuse_transmission", "dispersion", "ior", "iridescence", "sheen", "specular",
+    "transmission", "volume")))
+
 
 def _uv_transform(material: dict[str, Any]) -> tuple[float, ...] | None:
     """A checked material's base colour texture's KHR_texture_transform as the affine map of texture
