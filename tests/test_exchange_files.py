@@ -21,6 +21,7 @@ from marraztu.control.viewer import StartOptions
 from marraztu.errors import LoadError
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.registry import load_model
+from support.corpus import git_lfs_pointer
 from support.refusals import one_line_refusal
 
 SIZE = (120, 120)
@@ -147,6 +148,15 @@ def test_a_broken_png_beside_a_gltf_is_named_without_pillows_object(tmp_path: Pa
     loaded = load_model(write_gltf(tmp_path, image_uri="broken.png", image_file=None))
     assert loaded.warnings == ("texture 'broken.png' could not be read (a broken PNG: Pillow cannot read its header); "
                                "the scene's texture is shown in its place",)
+
+
+def test_a_git_lfs_pointer_beside_a_gltf_is_named_as_one(tmp_path: Path) -> None:
+    """trimesh hands Pillow a glTF's pictures: a pointer in a picture's place was 'not a PNG, JPEG or PPM
+    picture (it starts with b'version ')'."""
+    (tmp_path / "pointer.png").write_bytes(git_lfs_pointer(2048))
+    loaded = load_model(write_gltf(tmp_path, image_uri="pointer.png", image_file=None))
+    assert loaded.warnings == ("texture 'pointer.png' could not be read (a Git LFS pointer, not the picture: its "
+                               "2048 bytes are fetched by `git lfs pull`); the scene's texture is shown in its place",)
 
 
 @pytest.mark.parametrize("fallback", [True, False])

@@ -172,6 +172,23 @@ def test_a_folder_or_a_missing_file_is_said_before_its_suffix(tmp_path: Path, na
     assert str(caught.value).startswith(f"{tmp_path / name}: {why}"), caught.value
 
 
+@pytest.mark.parametrize("suffix", sorted(MODEL_READERS))
+def test_a_git_lfs_pointer_in_a_models_place_is_said_so(tmp_path: Path, suffix: str) -> None:
+    """A clone without `git lfs pull` holds a small text in each model's place: an STL was 'neither a
+    binary STL ... nor an ASCII one', a PLY 'not a PLY file', an OBJ 'no faces'."""
+    path = tmp_path / f"model{suffix}"
+    path.write_bytes(corpus.git_lfs_pointer(734120))
+    assert one_line_refusal(lambda: load_model(path)).message == (
+        "a Git LFS pointer, not the model: its 734120 bytes are fetched by `git lfs pull`")
+
+
+def test_a_model_that_only_begins_as_a_git_lfs_pointer_is_read_by_its_format(tmp_path: Path) -> None:
+    """A pointer is under 1024 bytes: a longer file that begins with its words is its format's to refuse."""
+    path = tmp_path / "model.obj"
+    path.write_bytes(corpus.git_lfs_pointer(5) + b"\n" * 1024)
+    assert one_line_refusal(lambda: load_model(path)).message == "no faces (no 'f' statements)"
+
+
 def test_a_refused_files_bytes_and_tables_are_freed_with_its_error(tmp_path: Path) -> None:
     """The error's traceback would hold the readers' frames, and in them the file's bytes and trimesh's
     tables, for as long as the error is kept (the window keeps it in its load job, in a cycle)."""

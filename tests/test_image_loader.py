@@ -25,7 +25,7 @@ from marraztu.loaders.images import (
     parse_ppm,
 )
 from marraztu.loaders.patterns import POSSESSIVE_GROUPS_HOLD
-from support.corpus import jpeg_of_scans, png_bytes
+from support.corpus import git_lfs_pointer, jpeg_of_scans, png_bytes
 from support.refusals import one_line_refusal
 
 # 2 x 2: red, green / blue, white. Rows top first, as in the file.
@@ -676,3 +676,12 @@ def test_a_jpeg_of_more_than_8_bits_is_refused_as_such(tmp_path: Path, bits: int
     path.write_bytes(data)
     with pytest.raises(LoadError, match=rf"deep\.jpg: a {bits}-bit JPEG: Pillow reads 8-bit ones only$"):
         load_image(path)
+
+
+@pytest.mark.parametrize("name", ["wood.png", "wood.jpg", "wood.ppm", "wood"])
+def test_a_git_lfs_pointer_in_a_pictures_place_is_said_so(tmp_path: Path, name: str) -> None:
+    """A clone without `git lfs pull` holds a small text in the picture's place: it was 'not a PNG, JPEG
+    or PPM picture (it starts with b'version ')', and a .ppm 'not a PPM image: starts with b've'."""
+    path = write(tmp_path, name, git_lfs_pointer(52114))
+    assert one_line_refusal(lambda: load_image(path)).message == (
+        "a Git LFS pointer, not the picture: its 52114 bytes are fetched by `git lfs pull`")

@@ -38,6 +38,7 @@ from PIL import Image
 from marraztu.errors import LoadError, error_words
 from marraztu.loaders.files import (
     COLLECT_AFTER_BYTES,
+    GIT_LFS_POINTER_BYTES,
     MAX_FILE_BYTES,
     bom_length,
     is_there,
@@ -72,6 +73,7 @@ from marraztu.loaders.images import (
     FORMATS_BY_MAGIC,
     check_picture,
     image_format,
+    not_a_picture,
     picture_rgb,
     picture_size,
     picture_size_refusal,
@@ -277,7 +279,7 @@ class _FilesBeside:
             if len(data) < self.least_bytes.get(name, 0):  # trimesh's reader asserts, in no words
                 raise LoadError(named, f"it holds {len(data)} bytes, where the model says {self.least_bytes[name]}")
             if self.is_picture(name) and image_format(data[:8]) is None:
-                raise LoadError(named, f"not a PNG, JPEG or PPM picture (it starts with {data[:8]!r})")
+                raise LoadError(named, not_a_picture(data[:GIT_LFS_POINTER_BYTES]))
             if self.is_picture(name):
                 check_picture(named, data)  # its header and size, before trimesh has Pillow decode it
         except LoadError as error:

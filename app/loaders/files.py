@@ -179,6 +179,37 @@ def size_or_zero(path: str | Path) -> int:
         return 0
 
 
+# What a clone without `git lfs pull` holds in a model's or picture's place: git-lfs's pointer, a text
+# under this many bytes of its version line first and a size line (of the file it stands for) among its keys.
+GIT_LFS_POINTER_BYTES = 1024
+_GIT_LFS_POINTER = re.compile(rb"version https://git-lfs\.github\.com/spec/v1\r?\n(?:[^\n]*\n)*?size ([0-9]+)\r?\n")
+
+
+def git_lfs_pointer_words(head: bytes, what: str) -> str | None:
+    """Why a file whose first GIT_LFS_POINTER_BYTES are `head` is no `what` (model, picture) where it is a
+    Git LFS pointer; None where it is not one."""
+    pointer = _GIT_LFS_POINTER.match(head) if len(head) < GIT_LFS_POINTER_BYTES else None
+    if pointer is None:
+        return None
+    return f"a Git LFS pointer, not the {what}: its {pointer[1].decode()} bytes are fetched by `git lfs pull`"
+
+
+def refuse_git_lfs_pointer(path: str | Path, what: str) -> None:
+    """A LoadError where the file at `path` is a Git LFS pointer (git_lfs_pointer_words). Only a regular file
+    as small as one is opened; one that cannot be read is left to its reader, which says why."""
+    try:
+        info = os.stat(path)
+        if not stat.S_ISREG(info.st_mode) or info.st_size >= GIT_LFS_POINTER_BYTES:
+            return
+        with open(path, "rb") as stream:
+            head = stream.read(GIT_LFS_POINTER_BYTES)
+    except (OSError, ValueError):  # ValueError: a NUL in the name
+        return
+    words = git_lfs_pointer_words(head, what)
+    if words is not None:
+        raise LoadError(path, words)
+
+
 def read_head(path: str | Path, count: int) -> bytes:
     """The first `count` bytes of a regular file (fewer if it is shorter): enough to tell its kind."""
     regular_file_size(path)

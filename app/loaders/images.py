@@ -28,7 +28,7 @@ import numpy as np
 from PIL import Image
 
 from marraztu.errors import LoadError, escaped
-from marraztu.loaders.files import line_at, read_file, read_head, shown
+from marraztu.loaders.files import GIT_LFS_POINTER_BYTES, git_lfs_pointer_words, line_at, read_file, read_head, shown
 from marraztu.loaders.patterns import compiled
 from marraztu.loaders.words import shortened_bytes
 from marraztu.model.build import picture_bytes
@@ -54,20 +54,32 @@ _HEADER_TOKEN = compiled(rb"(?:\s|#[^\n\r]*+[\n\r])*+([^\s#]++)")
 def load_image(path: str | Path) -> np.ndarray:
     """(H, W, 3) uint8, top row first. Raises LoadError naming the file for any problem."""
     file = Path(path)
-    head = read_head(file, _MAGIC_LENGTH)  # refuses directories, devices, pipes and huge files first
+    head = read_head(file, GIT_LFS_POINTER_BYTES)  # refuses directories, devices, pipes and huge files first
     kind = image_format(head)
     try:
         if kind == "PPM":
             return parse_ppm(read_file(file), str(path))
-        if kind is None and (file.suffix.lower() in (".ppm", ".pnm") or _looks_like_pnm(head)):
-            raise _not_ppm(file, head[:2])
         if kind is None:
-            raise LoadError(file, f"not a PNG, JPEG or PPM picture (it starts with {head[:8]!r})")
+            raise _not_a_picture(file, head)
         return _load_with_pillow(file, kind)
     except LoadError:
         raise
     except MemoryError:
         raise LoadError(file, "not enough memory to load this image") from None
+
+
+def _not_a_picture(file: Path, head: bytes) -> LoadError:
+    """Why a file of no format read is refused: a Git LFS pointer, a netpbm file not P6 or P3, or neither."""
+    if git_lfs_pointer_words(head, "picture") is None and (file.suffix.lower() in (".ppm", ".pnm")
+                                                           or _looks_like_pnm(head)):
+        return _not_ppm(file, head[:2])
+    return LoadError(file, not_a_picture(head))
+
+
+def not_a_picture(head: bytes) -> str:
+    """Why a file whose first GIT_LFS_POINTER_BYTES (or all, where fewer) are `head`, of no format read, is no
+    picture."""
+    return git_lfs_pointer_words(head, "picture") or f"not a PNG, JPEG or PPM picture (it starts with {head[:8]!r})"
 
 
 def _looks_like_pnm(head: bytes) -> bool:
@@ -462,11 +474,12 @@ def _noting_failures(open_: Callable) -> Callable:
 
 
 def _head_of(stream: object) -> bytes:
-    """The first bytes of a stream Pillow was handed and left open; none of a file name."""
+    """The first bytes of a stream Pillow was handed and left open, enough to tell a Git LFS pointer; none of
+    a file name."""
     try:
         at = stream.tell()  # type: ignore[attr-defined]
         stream.seek(0)  # type: ignore[attr-defined]
-        head = stream.read(_MAGIC_LENGTH)  # type: ignore[attr-defined]
+        head = stream.read(GIT_LFS_POINTER_BYTES)  # type: ignore[attr-defined]
         stream.seek(at)  # type: ignore[attr-defined]
     except (AttributeError, OSError, ValueError):
         return b""
@@ -486,7 +499,7 @@ def unreadable(error: Exception, head: bytes) -> str:
     kind = image_format(head)
     if isinstance(error, Image.UnidentifiedImageError):
         if kind is None:
-            return f"not a PNG, JPEG or PPM picture (it starts with {head[:8]!r})"
+            return not_a_picture(head)
         return f"a broken {kind}: Pillow cannot read its header"
     ours = None if kind is None else _broken_data(error)
     return f"a broken {kind}: {ours}" if ours else f"not a readable image ({type(error).__name__}: {error})"

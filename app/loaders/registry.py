@@ -9,7 +9,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from marraztu.errors import LoadError, error_words
-from marraztu.loaders.files import COLLECT_AFTER_BYTES, regular_file_size, size_or_zero
+from marraztu.loaders.files import COLLECT_AFTER_BYTES, refuse_git_lfs_pointer, regular_file_size, size_or_zero
 from marraztu.model.build import scaled_mesh
 from marraztu.model.geometry import cannot_light
 from marraztu.model.mesh import Mesh
@@ -50,6 +50,7 @@ def load_model(path: str | Path, stage: Stage | None = None) -> Mesh:
         regular_file_size(path, limit=sys.maxsize)  # a folder or a missing file is said so, not its suffix blamed
         known = ", ".join(MODEL_READERS)
         raise LoadError(path, f"not a model file marraztu reads (by its suffix: {known})")
+    refuse_git_lfs_pointer(path, "model")  # before a format's reader blames its own first bytes
     try:
         return _drawable(reader(path, stage), path)
     except MemoryError:  # every reader's tables grow with the file

@@ -229,6 +229,12 @@ VALID_P6 = ppm_p6(4, 3)
 VALID_P3 = ppm_p3(3, 2)
 
 
+def git_lfs_pointer(size: int) -> bytes:
+    """What a clone without `git lfs pull` holds in place of a file of `size` bytes (git-lfs's spec v1)."""
+    return (b"version https://git-lfs.github.com/spec/v1\noid sha256:" + b"4d7a2146" * 8
+            + f"\nsize {size}\n".encode())
+
+
 def png_bytes(width: int, height: int, claimed: tuple[int, int] | None = None) -> bytes:
     """A PNG made by hand (zlib + CRCs); `claimed` puts another size in the header than the data has."""
     def chunk(kind: bytes, body: bytes) -> bytes:
