@@ -71,11 +71,12 @@ def test_rows_of_a_line_each_that_shift_are_refused_though_the_counts_balance(tm
     vertices[2] += " 7"
     vertices[5] = vertices[5].rsplit(" ", 1)[0]
     assert str(refusal(tmp_path, ply_text(["3 0 1 4", "3 0 4 3"], vertices))).endswith(
-        "m.ply:12: vertex row 4 does not begin its line, as the rows before it do: the row before it holds a "
-        "number too many or too few")
+        "m.ply:12: line 12 holds 4 numbers where a vertex row of these properties holds 3, so the rows after it no "
+        "longer begin lines (line 12: vertex row 4 does not begin its line, as the rows before it do)")
     said = str(refusal(tmp_path, ply_text(["3 0 1 4 3 1", "3 1 4 2"])))  # face 2 read as (1, 3, 1)
-    assert said.endswith("m.ply:20: 2 numbers after the rows the header counts (the row on line 19 holds a number "
-                         "too many or too few: the rows after it no longer begin lines)"), said
+    assert said.endswith("m.ply:19: line 19 holds 6 numbers where a face row of these properties holds 4, so the "
+                         "rows after it no longer begin lines (line 20: 2 numbers after the rows the header "
+                         "counts)"), said
     packed = ply_text(["3 0 1 4 3 0 4 3"]).replace("element face 1", "element face 2")
     assert load(tmp_path, packed).face_count == 2  # rows never one a line: PLY's body is numbers in order
 
@@ -486,11 +487,30 @@ def test_rows_that_stop_beginning_lines_are_named_with_the_error(tmp_path: Path)
     makes sense, and says where the rows stopped beginning lines."""
     vertices = [*GRID[:4], "1 1", *GRID[5:]]
     refused = refusal(tmp_path, ply_text(["3 0 1 4", "3 0 4 3"], vertices=vertices))
-    assert refused.message.endswith("(the row on line 14 holds a number too many or too few: the rows after it "
-                                    "no longer begin lines)"), refused.message
+    assert (refused.line, refused.message) == (14, "line 14 holds 2 numbers where a vertex row of these properties "
+                                                   "holds 3, so the rows after it no longer begin lines (line 19: a "
+                                                   "face of 0 corners: 3 or more make one)")
     vertices = [*GRID[:4], "1 1 0 1", *GRID[5:]]
     refused = refusal(tmp_path, ply_text(["3 0 1 4", "3 0 4 3"], vertices=vertices))
-    assert "(the row on line 14 holds a number too many or too few" in refused.message, refused.message
+    assert refused.line == 14 and refused.message.startswith(
+        "line 14 holds 4 numbers where a vertex row of these properties holds 3, so the rows after it no longer "
+        "begin lines (line "), refused.message
+
+
+def test_a_row_of_more_numbers_than_its_counts_leads_the_error_with_its_line(tmp_path: Path) -> None:
+    """trimesh's fuze_ascii.ply: each face row holds 6 numbers more than its properties (21 where its counts
+    make 15). The error led with the next line and a texcoord count, the line at fault said in brackets."""
+    properties = ("property list uchar int vertex_indices\nproperty list uchar float texcoord\nproperty uchar red\n"
+                  "property uchar green\nproperty uchar blue\nproperty uchar alpha\n")
+    faces = [f"3 {corners} 6 {uvs} 9 1 1 1 1 1 1 1 1 1" for corners, uvs in [
+        ("0 5 1", "0.629012 0.417026 0.599829 0.426753 0.629012 0.442966"),
+        ("0 6 5", "0.629012 0.417026 0.596587 0.404056 0.599829 0.426753"),
+        ("2 0 3", "0.661437 0.404056 0.629012 0.417026 0.654952 0.429996")]]  # its first three, as it writes them
+    refused = refusal(tmp_path, ply_text(faces, face_properties=properties))
+    assert (refused.line, refused.message) == (24, "line 24 holds 21 numbers where a face row of these properties "
+                                                   "holds 15, so the rows after it no longer begin lines (line 25: "
+                                                   "face texcoord: 0.599829 is no uchar count (whole numbers from 0 "
+                                                   "to 255))")
 
 
 def test_an_error_in_the_first_row_is_named_too(tmp_path: Path) -> None:

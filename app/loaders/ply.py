@@ -434,14 +434,22 @@ class _Body:
 
     def error(self, message: str, index: int) -> LoadError:
         """A LoadError at the line of the number at `index`; and where rows that began lines stopped
-        doing so before it, the line of the row before the first that does not: a row that holds a
-        number too many or too few shifts every row after it, and the error shows only where one no
-        longer makes sense."""
-        line, culprit = self._lines(index)
-        if culprit is not None:
-            message += (f" (the row on line {culprit} holds a number too many or too few: the rows after it no "
-                        "longer begin lines)")
-        return LoadError(self.path, message, line=line)
+        doing so up to it, led by the line of the row before the first that does not, with the numbers
+        that line holds and its row does: a row that holds a number too many or too few shifts every row
+        after it, and the error shows only where one no longer makes sense."""
+        line, shift = self._lines(index)
+        if shift is None:
+            return LoadError(self.path, message, line=line)
+        culprit = line_at(self.data, shift.row_at)
+        held = len(_WORD.findall(self.data, shift.row_at, line_end_from(self.data, shift.row_at)))
+        return LoadError(self.path, f"line {culprit} holds {counted(held, 'number')} where {self._row_of(shift)}, "
+                                    f"so the rows after it no longer begin lines (line {line}: {message})",
+                         line=culprit)
+
+    def _row_of(self, shift: _Shift) -> str:
+        """What the row that began the shift holds, by its element: its counts read from it."""
+        name = next(name for name, rows in self.row_starts.items() if rows(shift.row, shift.row + 1).size)
+        return f"a {shortened(name)} row of these properties holds {shift.next_row - shift.row}"
 
     def shown(self, value: float, index: int) -> str:
         """The number at `index` as the file writes it, shortened: its value may not be (400 nines are
@@ -474,30 +482,38 @@ class _Body:
             yield start, words, np.diff(np.concatenate(([-1 if after_line_end else 0], ends_before))) > 0
             after_line_end = bool(ends > ends_before[-1]) if len(words) else (after_line_end or bool(ends))
 
-    def _lines(self, index: int) -> tuple[int, int | None]:
-        """The line of the number at `index`, and that of the row before the first row before it that
-        does not begin its line, after two or more that do; counted a piece at a time, up to that
-        number only."""
-        passed, aligned, culprit = 0, 0, None
-        last_row_at = self.body_at  # the offset of the last row start seen
+    def _lines(self, index: int) -> tuple[int, _Shift | None]:
+        """The line of the number at `index`, and the row before the first row up to it that does not
+        begin its line, after two or more that do; counted a piece at a time, up to that number only."""
+        passed, aligned, shift = 0, 0, None
+        last_row, last_row_at = 0, self.body_at  # the last row start seen: its number, and its offset
         for start, words, begins_line in self._words_by_piece(pieces_at_gaps(self.data, self.body_at)):
-            if culprit is None and aligned >= 0:
-                starts = np.concatenate([np.empty(0, np.int64), *(rows(passed, min(passed + len(words), index))
+            if shift is None and aligned >= 0:
+                starts = np.concatenate([np.empty(0, np.int64), *(rows(passed, min(passed + len(words), index + 1))
                                                                    for rows in self.row_starts.values())])
                 misplaced = np.flatnonzero(~begins_line[starts - passed])
                 if misplaced.size:
                     first = int(misplaced[0])
                     if first:
-                        last_row_at = start + int(words[starts[first - 1] - passed])
-                    culprit = line_at(self.data, last_row_at) if aligned + first >= 2 else None
+                        last_row, last_row_at = int(starts[first - 1]), start + int(words[starts[first - 1] - passed])
+                    shift = _Shift(last_row, last_row_at, int(starts[first])) if aligned + first >= 2 else None
                     aligned = -1  # a file whose rows never began lines packs them: no hint
                 elif starts.size:
                     aligned += len(starts)
-                    last_row_at = start + int(words[starts[-1] - passed])
+                    last_row, last_row_at = int(starts[-1]), start + int(words[starts[-1] - passed])
             if index < passed + len(words):
-                return line_at(self.data, start + int(words[index - passed])), culprit
+                return line_at(self.data, start + int(words[index - passed])), shift
             passed += len(words)
-        return line_at(self.data, len(self.data)), culprit
+        return line_at(self.data, len(self.data)), shift
+
+
+class _Shift(NamedTuple):
+    """The last row that began its line before one that does not: its first number, that number's offset in
+    the file, and the next row's first number."""
+
+    row: int
+    row_at: int
+    next_row: int
 
 
 def _check_rows_fill_the_body(body: _Body, at: int) -> None:
@@ -518,9 +534,8 @@ def _check_rows_fill_the_body(body: _Body, at: int) -> None:
                       and not begins[starts[0] + 1:starts[1]].any() and not begins[starts[1] + 1:starts[2]].any())
         if one_a_line and not begins[starts].all():
             row = int(np.argmin(begins[starts]))
-            raise body.error(f"{name} row {row + 1} does not begin its line, as the rows before it do: "
-                             "the row before it holds a number too many or too few",
-                             int(starts[row]))
+            raise body.error(f"{name} row {row + 1} does not begin its line, as the rows before it do",
+                             int(starts[row]))  # led by the line of the row before it (_Body.error)
 
 
 class _WalkedStarts:
