@@ -20,13 +20,12 @@ from marraztu.loaders.gltf.values import (
     _FAN,
     _FLOAT_COMPONENTS,
     _POINTS,
+    _READ_EXTENSIONS,
     _SKIN_SETS,
     _SPARSE_INDEX_BYTES,
-    _SPECULAR_GLOSSINESS,
     _TEXTURE_TRANSFORM,
     _TRIANGLES,
     _TYPE_COMPONENTS,
-    _UNDRAWN_EXTENSIONS,
     _base_colour,
     _base_colour_texture,
     _diffuse_values,
@@ -34,6 +33,7 @@ from marraztu.loaders.gltf.values import (
     _is_drawn,
     _is_finite,
     _is_number,
+    _is_undrawn_extension,
     _is_whole,
     _item_bytes,
     _listed,
@@ -627,17 +627,12 @@ def check_geometry_readable(path: Path, document: dict[str, Any]) -> None:
                                   "read here")
 
 
-# Extensions read as the file means them, or noted where they are not (_required_extension_read).
-_READ_EXTENSIONS = ("KHR_draco_mesh_compression", "KHR_mesh_quantization", _TEXTURE_TRANSFORM, _SPECULAR_GLOSSINESS,
-                    "KHR_materials_variants", "KHR_materials_emissive_strength", "KHR_materials_unlit")
-
-
 def _required_extension_read(name: object) -> bool:
     """Extensions a file may require and still be drawn as it means: Draco with its decoder, quantized
     attributes (normalized ones made floats for trimesh: _accessors_made_plain), the base colour texture's
     transform (_texture_transforms_applied; other textures are not drawn), a specular-glossiness material's
     diffuse colour (its base colour), the default materials of variants (what glTF draws where none is
     chosen), emission's strength and unlit materials (notes of their own: _emission_notes, _unlit_notes), and
-    the lights and shading the viewer's lighting has no term for (_UNDRAWN_EXTENSIONS, noted)."""
-    return name in _READ_EXTENSIONS or name in _UNDRAWN_EXTENSIONS
+    the lights and shading the viewer's lighting has no term for (_is_undrawn_extension, noted)."""
+    return name in _READ_EXTENSIONS or _is_undrawn_extension(name)
 

@@ -14,9 +14,9 @@ from marraztu.loaders.gltf.values import (
     _POINTS,
     _TEXTURE_TRANSFORM,
     _TRIANGLES,
-    _UNDRAWN_EXTENSIONS,
     _base_colour,
     _is_number,
+    _is_undrawn_extension,
     _is_whole,
     _listed,
     _nested,
@@ -124,10 +124,10 @@ def _texture_transform_notes(document: dict[str, Any]) -> list[str]:
 
 
 def _undrawn_extension_notes(document: dict[str, Any]) -> list[str]:
-    """The required extensions of _UNDRAWN_EXTENSIONS (a file's own lights, PBR shading), which the viewer's
+    """The required extensions of _is_undrawn_extension (a file's own lights, PBR shading), which the viewer's
     four lights and Phong shading of the base colour stand in for."""
     required = set(_listed(document.get("extensionsRequired")))  # checked: names (check_geometry_readable)
-    undrawn = [name for name in _UNDRAWN_EXTENSIONS if name in required]
+    undrawn = sorted(name for name in required if _is_undrawn_extension(name))
     if not undrawn:
         return []
     names = ", ".join(undrawn[:-1]) + " and " + undrawn[-1] if len(undrawn) > 1 else undrawn[0]

@@ -145,12 +145,18 @@ def _drawn_uv_set(material: dict[str, Any]) -> int:
 
 _TEXTURE_TRANSFORM = "KHR_texture_transform"
 
-# Extensions a file may require that the viewer's own lighting model has no term for (SPEC 4: its four
-# lights, Phong from the base colour): their lights and shading are left out, with a note, as they change
-# neither the geometry nor which texture and coordinates the base colour takes (Khronos's ratified list).
-_UNDRAWN_EXTENSIONS = ("KHR_lights_punctual", *(f"KHR_materials_{name}" for name in (
-    "anisotropy", "clearcoat", "diffuse_transmission", "dispersion", "ior", "iridescence", "sheen", "specular",
-    "transmission", "volume")))
+# Extensions a file may require that are read as it means them (checks._required_extension_read).
+_READ_EXTENSIONS = ("KHR_draco_mesh_compression", "KHR_mesh_quantization", _TEXTURE_TRANSFORM,
+                    _SPECULAR_GLOSSINESS, "KHR_materials_variants",
+                    "KHR_materials_emissive_strength", "KHR_materials_unlit")
+
+
+def _is_undrawn_extension(name: object) -> bool:
+    """Whether a required extension adds what SPEC 4's lighting (its four lights, Phong from the base colour)
+    has no term for: a file's own lights, or a material's shading past the base colour, which glTF's
+    material extensions add without changing the geometry; left out with a note."""
+    return name == "KHR_lights_punctual" or (isinstance(name, str) and name.startswith("KHR_materials_")
+                                             and name not in _READ_EXTENSIONS)
 
 
 def _uv_transform(material: dict[str, Any]) -> tuple[float, ...] | None:
