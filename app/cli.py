@@ -190,11 +190,10 @@ def record_parser() -> argparse.ArgumentParser:
 
 def run_record(argv: Sequence[str]) -> int:
     from marraztu.frontends.record import record
-    from marraztu.model.mesh import counted
 
     args = parse_command_line(record_parser(), _keys_joined(argv, ("--keys", "--before")))
-    frames = record(start_options(args), args.output, args.size, args.keys, args.fps, args.overlay, args.before)
-    say(escaped(f"{args.output}: {counted(frames, 'frame')}"))
+    written = record(start_options(args), args.output, args.size, args.keys, args.fps, args.overlay, args.before)
+    say(escaped(f"{args.output}: {written.said()}"))
     return 0
 
 

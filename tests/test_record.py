@@ -46,6 +46,25 @@ def test_one_frame_is_said_as_one(tmp_path: Path, capsys) -> None:
     assert capsys.readouterr().out.rstrip().endswith(": 1 frame")
 
 
+@pytest.mark.parametrize("name", ["same.gif", "same.png"])
+def test_frames_all_alike_are_said_to_be(tmp_path: Path, capsys, name: str) -> None:
+    """'63 frames' was said of presses that moved nothing in view, and the GIF held one picture."""
+    out = tmp_path / name
+    assert main(["record", "-o", str(out), "--size", "16x16", "--empty", "--keys", "y*3"]) == 0
+    assert capsys.readouterr().out.rstrip().endswith(
+        ": 3 frames, all the same picture: the keys changed nothing in view")
+    assert len(frames_of(out)[0]) == (1 if name.endswith(".gif") else 3)
+
+
+def test_a_gif_says_how_many_pictures_it_holds_where_frames_repeat(tmp_path: Path, capsys) -> None:
+    """Pillow joins a GIF's frame to the one before where they are alike: the file holds fewer than said."""
+    out = tmp_path / "repeats.gif"
+    assert main(["record", "-o", str(out), "--size", "32x24", "--keys", "y y h y"]) == 0  # h: a panel not drawn
+    assert capsys.readouterr().out.rstrip().endswith(": 4 frames, held as 3 pictures: a GIF shows a frame "
+                                                     "the same as the one before by showing that one longer")
+    assert len(frames_of(out)[0]) == 3
+
+
 def test_animated_png_holds_one_exact_frame_per_press(tmp_path: Path, capsys) -> None:
     out = tmp_path / "turn.png"
     assert main(["record", "-o", str(out), "--size", SIZE, "--keys", KEYS, "--fps", "20"]) == 0

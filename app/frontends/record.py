@@ -9,6 +9,7 @@ from __future__ import annotations
 import struct
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import Future, ThreadPoolExecutor
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -67,11 +68,30 @@ def check_recording_size(frames: int, size: tuple[int, int]) -> None:
                           f"(at most {MAX_RECORDING_BYTES / 2**30:.0f}); record fewer presses or a smaller size")
 
 
+@dataclass(frozen=True)
+class Written:
+    """An animation written: its frames, and how many of them repeat the picture of the one before."""
+
+    frames: int
+    repeats: int
+    kind: str  # a value of RECORDING_FORMATS
+
+    def said(self) -> str:
+        """'63 frames', and what else the person would not guess from it."""
+        words = counted(self.frames, "frame")
+        if self.frames > 1 and self.repeats == self.frames - 1:
+            return f"{words}, all the same picture: the keys changed nothing in view"
+        if self.kind == "GIF" and self.repeats:  # Pillow joins them, so a GIF reader counts fewer
+            return (f"{words}, held as {self.frames - self.repeats} pictures: a GIF shows a frame "
+                    "the same as the one before by showing that one longer")
+        return words
+
+
 def record(options: StartOptions, out: Path, size: tuple[int, int], keys: str, fps: float = DEFAULT_FPS,
-           overlay: bool = False, before: str = "") -> int:
+           overlay: bool = False, before: str = "") -> Written:
     """Replays `before` on the starting scene, drawing nothing, then `keys`, drawing a frame after each
-    press into the animation `out`; returns how many frames were written. ViewerError on bad input,
-    as the screenshot command."""
+    press into the animation `out`; returns what was written. ViewerError on bad input, as the
+    screenshot command."""
     check_fps(fps)
     check_format(out, size, fps)
     try:
@@ -127,15 +147,15 @@ def _set_up(viewer: Viewer, frontend: OffscreenFrontend, set_up: list[KeyPress],
         raise ViewerError("--before: ESC quits before the first frame is drawn (ESC in --keys ends the recording)")
 
 
-def write_animation(frames: Iterable[np.ndarray], out: Path, fps: float) -> int:
-    """The frames, (H, W, 3) uint8 each, as the animation of `out`'s suffix; returns their number."""
+def write_animation(frames: Iterable[np.ndarray], out: Path, fps: float) -> Written:
+    """The frames, (H, W, 3) uint8 each, as the animation of `out`'s suffix; returns what was written."""
     kind = RECORDING_FORMATS[out.suffix.lower()]
-    counted = _Counted(frames)
+    passing = _Counted(frames)
     if kind == "MP4":
-        write_atomically(out, lambda temporary: _write_mp4(counted, temporary, fps))
+        write_atomically(out, lambda temporary: _write_mp4(passing, temporary, fps))
     else:
-        write_atomically(out, lambda temporary: _write_with_pillow(counted, temporary, kind, fps))
-    return counted.count
+        write_atomically(out, lambda temporary: _write_with_pillow(passing, temporary, kind, fps))
+    return Written(passing.count, passing.repeats, kind)
 
 
 class BackgroundSaves:
@@ -180,13 +200,20 @@ def _saved(frames: list[np.ndarray], out: Path, fps: float) -> str:
 
 
 class _Counted:
+    """The frames as they pass: counted, and each compared with the one before, the one more it holds."""
+
     def __init__(self, frames: Iterable[np.ndarray]) -> None:
         self.frames = iter(frames)
         self.count = 0
+        self.repeats = 0
 
     def __iter__(self) -> Iterator[np.ndarray]:
+        previous = None
         for frame in self.frames:
             self.count += 1
+            if previous is not None and np.array_equal(frame, previous):
+                self.repeats += 1
+            previous = frame
             yield frame
 
 
