@@ -120,6 +120,26 @@ def test_an_unknown_key_says_how_keys_are_written(text: str) -> None:
         parse_key_sequence(text)
 
 
+@pytest.mark.parametrize(("text", "unknown", "quoted"), [
+    ("f=my models/pato.glb", "models/pato.glb", "f='my models/pato.glb'"),
+    ("y f=my big models/pato.glb y", "big", "f='my big models/pato.glb'"),
+])
+def test_an_unknown_word_after_a_load_says_how_a_path_with_spaces_is_written(text: str, unknown: str,
+                                                                               quoted: str) -> None:
+    """--keys "f=my models/pato.glb" said only "unknown key 'models/pato.glb'" and every key."""
+    with pytest.raises(KeyMapError) as refused:
+        parse_key_sequence(text)
+    assert str(refused.value).startswith(
+        f"unknown key {unknown!r} (a path with spaces is quoted inside the keys: {quoted}); keys are: ")
+    assert [press.path for press in parse_key_sequence(quoted)] == [quoted[3:-1]]
+
+
+def test_an_unknown_word_after_a_key_has_no_quoting_hint() -> None:
+    with pytest.raises(KeyMapError) as refused:
+        parse_key_sequence("f=a.obj y models")
+    assert "quoted" not in str(refused.value)
+
+
 def test_parse_bounds_the_whole_sequence() -> None:
     with pytest.raises(KeyMapError, match="presses"):
         parse_key_sequence(" ".join(["x*100000"] * 11))

@@ -11,6 +11,7 @@ character, SPACE and BACKSPACE.
 
 from __future__ import annotations
 
+import itertools
 import re
 import shlex
 from collections.abc import Callable, Iterable
@@ -215,12 +216,12 @@ def normalise_token(token: str) -> str:
     return _NAMED_ALIASES.get(upper, upper)
 
 
-def key_press(token: str, keymap: dict[str, Command] = KEYMAP) -> KeyPress:
-    """The press of a token; KeyMapError names the token when no key has it."""
+def key_press(token: str, keymap: dict[str, Command] = KEYMAP, hint: str = "") -> KeyPress:
+    """The press of a token; KeyMapError names the token when no key has it, and adds `hint`."""
     name = normalise_token(token)
     if name not in keymap:
-        raise KeyMapError(f"unknown key {shortened(token)!r}; keys are: {' '.join(keymap)}, f=PATH and click=X,Y, "
-                          "separated by spaces (KEY*N presses one N times)")
+        raise KeyMapError(f"unknown key {shortened(token)!r}{hint}; keys are: {' '.join(keymap)}, f=PATH and "
+                          "click=X,Y, separated by spaces (KEY*N presses one N times)")
     return KeyPress(name)
 
 
@@ -233,9 +234,10 @@ def _miscounted(word: str, keymap: dict[str, Command]) -> bool:
     return bool(star) and not word.startswith((LOAD_PREFIX, CLICK_PREFIX)) and normalise_token(key) in keymap
 
 
-def _parse_word(word: str, keymap: dict[str, Command], in_prompt: bool,
-                opened_by: str | None = None) -> tuple[KeyPress, int]:
-    """One word of a sequence: its press and how many times it repeats (`opened_by`: _prompt_press)."""
+def _parse_word(word: str, keymap: dict[str, Command], in_prompt: bool, opened_by: str | None = None,
+                hint: str = "") -> tuple[KeyPress, int]:
+    """One word of a sequence: its press and how many times it repeats (`opened_by`: _prompt_press;
+    `hint`: what an unknown key's refusal adds)."""
     count = 1
     match = _REPEAT.match(word)
     if match and not word.startswith(LOAD_PREFIX):  # a file name may hold "*2"; loads never repeat
@@ -254,7 +256,22 @@ def _parse_word(word: str, keymap: dict[str, Command], in_prompt: bool,
         return _click_press(word), count
     if in_prompt:
         return _prompt_press(word, keymap, opened_by), count
-    return key_press(word, keymap), count
+    return key_press(word, keymap, hint), count
+
+
+def _quoting_hint(words: list[str], at: int, keymap: dict[str, Command]) -> str:
+    """For words[at] right after f=PATH: that path and the words up to the next key, quoted as one, as
+    an unknown word there is most often the rest of a path its spaces split."""
+    if at == 0 or not words[at - 1].startswith(LOAD_PREFIX):
+        return ""
+    following = (words[index] for index in range(at, len(words)))  # no copy of the rest for each f=PATH
+    rest = itertools.takewhile(lambda word: not _names_a_key(word, keymap), following)
+    path = " ".join([words[at - 1][len(LOAD_PREFIX):], *rest])
+    return f" (a path with spaces is quoted inside the keys: {shortened(LOAD_PREFIX + shlex.quote(path))})"
+
+
+def _names_a_key(word: str, keymap: dict[str, Command]) -> bool:
+    return word.startswith((LOAD_PREFIX, CLICK_PREFIX)) or normalise_token(word.partition("*")[0]) in keymap
 
 
 def _click_press(word: str) -> KeyPress:
@@ -291,9 +308,9 @@ def parse_key_sequence(text: str, keymap: dict[str, Command] = KEYMAP, in_prompt
     except ValueError as error:  # an unclosed quote
         raise KeyMapError(f"key sequence {shortened(text)!r}: {error}") from error
     presses: list[KeyPress] = []
-    for word in words:
+    for at, word in enumerate(words):
         opened_by = opened_by if in_prompt else None  # a prompt these keys open is their own
-        press, count = _parse_word(word, keymap, in_prompt, opened_by)
+        press, count = _parse_word(word, keymap, in_prompt, opened_by, _quoting_hint(words, at, keymap))
         if len(presses) + count > MAX_SEQUENCE_PRESSES:
             raise KeyMapError(f"key sequence: more than {MAX_SEQUENCE_PRESSES} presses")
         presses.extend([press] * count)
