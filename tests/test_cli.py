@@ -175,11 +175,22 @@ def test_no_opengl_at_all_is_one_line_saying_what_to_install(tmp_path: Path) -> 
                           "apt-get install libegl1 libgl1-mesa-dri")
 
 
-def test_an_unreachable_display_is_one_line(tmp_path: Path) -> None:
+def test_an_unreachable_display_is_one_line_saying_what_is_wrong_and_what_to_do(tmp_path: Path) -> None:
+    """It said 'cannot open a window on :97531 (Cannot connect to "None")': pyglet's words, naming no display."""
     env = {**__import__("os").environ, "DISPLAY": ":97531"}
     env.pop("WAYLAND_DISPLAY", None)
     result = run_app("--size", "64x64", cwd=tmp_path, env=env)
-    assert_one_line_error(result, "display")
+    assert_one_line_error(result, "error: cannot open a window on :97531: no X server there accepts a connection; "
+                                  "without a display, `marraztu screenshot -o shot.png` draws offscreen")
+    assert "None" not in result.stderr
+
+
+def test_a_wayland_display_alone_says_the_window_needs_an_x_server(tmp_path: Path) -> None:
+    """pyglet 2.1 opens X windows only: it said 'cannot open a window on wayland-0 (Cannot connect to "None")'."""
+    env = {**__import__("os").environ, "WAYLAND_DISPLAY": "wayland-97531"}
+    env.pop("DISPLAY", None)
+    result = run_app("--size", "64x64", cwd=tmp_path, env=env)
+    assert_one_line_error(result, "cannot open a window: it needs an X server, and DISPLAY is not set")
 
 
 def test_keys_that_start_with_a_minus_models_after_options_and_a_home_path(tmp_path: Path,

@@ -564,6 +564,20 @@ def open_window(options: StartOptions, size: tuple[int, int]) -> ViewerWindow:
     except ViewerError:
         raise
     except Exception as error:  # pyglet and the GL driver raise their own kinds, at import time too
-        display = os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or "the default display"
-        raise ViewerError(f"cannot open a window on {display} ({first_line(error)}); `marraztu screenshot` needs no "
-                          "display") from None
+        raise ViewerError(f"{_why_no_window(error)}; without a display, `marraztu screenshot -o shot.png` draws "
+                          "offscreen") from None
+
+
+def _why_no_window(error: Exception) -> str:
+    """pyglet's words, but where Xlib found no X server to connect to: its 'Cannot connect to "None"'
+    names the default it was given, not the display tried."""
+    display = os.environ.get("DISPLAY")
+    xlib_display = sys.modules.get("pyglet.display.xlib")  # loaded where the failure came from it
+    cannot_connect = (xlib_display is not None and isinstance(error, xlib_display.NoSuchDisplayException)
+                      and str(error).startswith("Cannot connect"))
+    if cannot_connect and display:
+        return f"cannot open a window on {display}: no X server there accepts a connection"
+    if cannot_connect:  # pyglet 2.1 has no Wayland windows
+        return "cannot open a window: it needs an X server, and DISPLAY is not set (XWayland sets it under Wayland)"
+    where = display or os.environ.get("WAYLAND_DISPLAY") or "the default display"
+    return f"cannot open a window on {where} ({first_line(error)})"
