@@ -24,7 +24,7 @@ import trimesh
 from PIL import Image
 
 import marraztu
-from marraztu.control.viewer import StartOptions
+from marraztu.control.viewer import START_HINT, StartOptions
 from marraztu.errors import KeyMapError, LoadError, ViewerError
 from marraztu.frontends import api
 from marraztu.frontends.screenshot import take_screenshot
@@ -60,6 +60,13 @@ def test_the_overlay_is_the_screenshot_commands_overlay(viewer, tmp_path: Path) 
     picture = np.asarray(viewer.press("0 1 i").render(overlay=True))
     assert np.array_equal(picture, screenshot(tmp_path, "0 1 i", overlay=True))
     assert not np.array_equal(picture, np.asarray(viewer.render()))
+
+
+def test_the_start_hint_is_the_api_message_and_the_screenshot_commands_overlay(viewer, tmp_path: Path) -> None:
+    assert viewer.message == START_HINT
+    picture = np.asarray(viewer.render(overlay=True))
+    assert np.array_equal(picture, screenshot(tmp_path, "", overlay=True))
+    assert not np.array_equal(picture, np.asarray(viewer.press("l l").render(overlay=True)))
 
 
 def test_a_notebook_shows_the_picture(viewer) -> None:

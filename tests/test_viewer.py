@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from marraztu.control.keymap import KeyPress, parse_key_sequence
-from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer
+from marraztu.control.viewer import START_HINT, BackgroundLoader, StartOptions, Viewer
 from marraztu.errors import ViewerError
 from marraztu.loaders.images import fallback_texture
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
@@ -57,6 +57,38 @@ def test_every_start_up_failure_is_told_and_none_hides_another(tmp_path: Path) -
     assert (viewer.scene.texture == fallback_texture()).all()
     press(viewer, "l")
     assert viewer.scene.message == "", "the first key press starts afresh"
+
+
+@pytest.mark.parametrize("scene", [empty_scene, load_builtin_scene])
+def test_a_start_that_says_nothing_else_says_how_to_begin(scene) -> None:
+    """A first-time person saw a blank window (--empty) or a status line with no word of help."""
+    viewer = Viewer(scene(), Notices())
+    viewer.start(StartOptions(), longest_texture_side=4096)
+    assert viewer.scene.message == START_HINT == "h: help \u00b7 f: open a model"
+    press(viewer, "l")
+    assert START_HINT not in viewer.scene.message, "a press clears it, as any message"
+
+
+@pytest.mark.parametrize("worker", [False, True])
+def test_a_start_that_says_something_says_no_hint(tmp_path: Path, worker: bool) -> None:
+    """The window (a worker) and the screenshot command end their start with the same words."""
+    (tmp_path / "good.obj").write_bytes(GOOD)
+    (tmp_path / "bad.ppm").write_bytes(b"P6\n4 4\n255\n\x00")
+    loader = BackgroundLoader() if worker else None
+    viewer = Viewer(empty_scene(), Notices(), background=loader)
+    try:
+        viewer.start(StartOptions(models=(tmp_path / "good.obj",)), longest_texture_side=4096)
+        assert START_HINT not in viewer.scene.message, "told once its model lands"
+        for job in loader.uncollected() if loader else []:
+            job.future.result(timeout=60)
+        viewer.collect_loads()
+    finally:
+        if loader:
+            loader.shutdown()
+    assert viewer.scene.message.startswith("loaded good.obj") and START_HINT not in viewer.scene.message
+    textured = Viewer(empty_scene(), Notices())
+    textured.start(StartOptions(texture=tmp_path / "bad.ppm"), longest_texture_side=4096)
+    assert "bad.ppm" in textured.scene.message and START_HINT not in textured.scene.message
 
 
 def test_start_up_loads_on_the_worker_are_told_when_they_land(tmp_path: Path) -> None:

@@ -90,6 +90,8 @@ UNSEEN_NAMES_SAID = 5  # a start message names this many models too small to see
 # PageDown keeps the camera, so that a view set up to compare models of one size stays; a file shown
 # this many times smaller or larger than `.` would frame it is said, with that key.
 SCALE_SAID_FROM_FRAMED = 10.0
+# The message of a start that says nothing else: a first-time person learns the two keys that open the rest.
+START_HINT = "h: help \u00b7 f: open a model"
 
 
 @dataclass(eq=False)
@@ -253,6 +255,9 @@ class Viewer:
                 self.load_model(model)
             self._tell_start_loads()
             self._frame_start_models()
+            # A model asked for is always told, once loaded (later, in the window): no hint before it.
+            if not self.scene.message and not options.models:
+                self.scene.message = START_HINT
             if options.watch:
                 self.watcher = ModelWatcher()
                 self.watcher.changed(self.scene)  # what the files are now: later changes are the news
