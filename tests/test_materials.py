@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import os
 import shutil
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -20,8 +21,10 @@ from marraztu.loaders.obj.fast import read_fast
 from marraztu.loaders.obj.lines import read_by_lines
 from marraztu.loaders.obj.raw import MaterialRuns
 from marraztu.loaders.registry import load_model
-from marraztu.loaders.scenefile import empty_scene, load_scene
+from marraztu.loaders.scenefile import DEFAULT_MATERIAL, empty_scene, load_scene
 from marraztu.model.lights import AMBIENT_INTENSITY
+from marraztu.model.scene import SceneObject
+from marraztu.render.renderer import DrawItem, part_of_face, split_by_material
 from marraztu.resources import ASSET_DIR
 from marraztu.text.panels import probe_lines
 from marraztu.text.status import status_line
@@ -148,6 +151,75 @@ def test_a_file_switching_material_every_face_stays_two_parts(tmp_path: Path) ->
     mesh = parse_obj(data, str(tmp_path / "m.obj"), base_dir=tmp_path)
     assert mesh.face_count == 10_000 and [part.faces.size for part in mesh.parts] == [5000, 5000]
     assert mesh.parts[1].faces[:3].tolist() == [1, 3, 5]
+
+
+def grid_obj(folder: Path, uses: Callable[[int], str]) -> Path:
+    """m.obj in `folder`: a 6x6 grid of v/vt/vn triangles, a wave in z, `uses(face)` before each face,
+    and its MTL: materials 'wood' and 'wood2' alike, each with the same picture."""
+    folder.mkdir(exist_ok=True)
+    Image.fromarray(np.random.default_rng(5).integers(0, 256, (8, 8, 3), dtype=np.uint8)).save(folder / "wood.png")
+    (folder / "m.mtl").write_text("".join(f"newmtl {name}\nKd 0.8 0.6 0.4\nKs 0.5 0.5 0.5\nNs 20\nmap_Kd wood.png\n"
+                                          for name in ("wood", "wood2")))
+    cells = 6
+    steps = np.linspace(0.0, 1.0, cells + 1)
+    u, v = (grid.reshape(-1) for grid in np.meshgrid(steps, steps))
+    z = 0.1 * np.sin(6 * u) * np.cos(5 * v)
+    normals = np.stack([-0.6 * np.cos(6 * u) * np.cos(5 * v), 0.5 * np.sin(6 * u) * np.sin(5 * v), np.ones_like(u)], 1)
+    lines = ["mtllib m.mtl"]
+    lines += [f"v {x:.4f} {y:.4f} {h:.4f}" for x, y, h in zip(u - 0.5, v - 0.5, z)]
+    lines += [f"vt {a:.4f} {b:.4f}" for a, b in zip(u, v)]
+    lines += [f"vn {a:.4f} {b:.4f} {c:.4f}" for a, b, c in normals]
+    firsts = (np.arange(cells)[:, None] * (cells + 1) + np.arange(cells)).reshape(-1) + 1
+    triangles = np.stack([firsts, firsts + 1, firsts + cells + 2, firsts, firsts + cells + 2, firsts + cells + 1], 1)
+    for face, corners in enumerate(triangles.reshape(-1, 3)):
+        lines.append(uses(face) + "f " + " ".join(f"{c}/{c}/{c}" for c in corners))
+    (folder / "m.obj").write_text("\n".join(lines) + "\n")
+    return folder / "m.obj"
+
+
+def one_textured_glb(tmp_path: Path) -> Path:
+    import trimesh
+
+    picture = Image.fromarray(np.random.default_rng(5).integers(0, 256, (8, 8, 3), dtype=np.uint8))
+    square = trimesh.Trimesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2], [0, 2, 3]], process=False,
+                             visual=trimesh.visual.TextureVisuals(uv=[[0, 0], [1, 0], [1, 1], [0, 1]], image=picture))
+    square.export(tmp_path / "m.glb")
+    return tmp_path / "m.glb"
+
+
+@pytest.mark.parametrize("model", [
+    lambda tmp_path: grid_obj(tmp_path, lambda face: "usemtl wood\n" if face == 0 else ""),
+    lambda tmp_path: grid_obj(tmp_path, lambda face: ""),  # no usemtl: the first material's picture
+    one_textured_glb,
+], ids=["usemtl", "no usemtl", "glb"])
+def test_a_model_of_one_textured_material_is_drawn_from_its_own_tables(tmp_path: Path, model) -> None:
+    """Its faces, all of one material, were copied into a part of that material: the model was held
+    twice, and on llvmpipe its GPU rows too."""
+    mesh = load_model(model(tmp_path))
+    assert [part.material for part in mesh.parts] == [0] and mesh.materials[0].texture is not None
+    obj = SceneObject.placed("m", mesh, DEFAULT_MATERIAL, (0.0, 0.0, 0.0))
+    drawn = split_by_material(DrawItem(obj, 0, mesh.face_count))
+    assert [(item.part, item.start, item.stop) for item in drawn] == [(0, 0, mesh.face_count)]
+    assert drawn[0].mesh is mesh and np.shares_memory(drawn[0].mesh.positions, mesh.positions)
+    assert part_of_face(obj, mesh.face_count - 1) == (0, mesh.face_count - 1)
+
+
+@pytest.mark.parametrize("keys", ["", "F", "s", "l", "n", "F n", "s n", "i", "o i", "v", "v v", "v*3", "v*8", "b",
+                                  "x*15", "x*15 b", "x*15 l", "T", "s T", "l T", "s i"])
+def test_one_material_on_every_face_draws_what_its_faces_drawn_as_two_parts_do(
+        tmp_path: Path, offscreen, keys: str) -> None:
+    """The whole mesh drawn as its one part gives the pixels the faces copied into parts of two like
+    materials give, in every shading, mode and view; the status line and the probe read the same."""
+    pictures, texts = [], []
+    for folder, uses in (("one", lambda face: "usemtl wood\n" if face == 0 else ""),
+                         ("two", lambda face: f"usemtl wood{'2' if face % 2 else ''}\n")):
+        viewer = Viewer(empty_scene(), NoFrontend())
+        viewer.start(StartOptions(empty=True, models=(grid_obj(tmp_path / folder, uses),)), longest_texture_side=64)
+        viewer.press_sequence(f"1 3 {keys}")
+        pictures.append(offscreen(viewer.scene, (95, 95)))
+        texts.append((status_line(viewer.scene), probe_lines(viewer.scene)))
+    assert len(viewer.scene.objects[0].mesh.parts) == 2 and np.array_equal(*pictures)
+    assert texts[0] == texts[1]
 
 
 def test_one_texture_spelled_three_ways_is_read_once(tmp_path: Path, monkeypatch) -> None:

@@ -135,10 +135,11 @@ class MeshMaterial:
 @dataclass(frozen=True, eq=False)
 class MeshPart:
     """The faces of one material: `material` indexes Mesh.materials (-1: the object's own), `faces`
-    are their indices in the whole mesh, ascending."""
+    are their indices in the whole mesh, ascending; `mesh` is a Mesh of them alone, None where they
+    are every face (the whole mesh is then drawn: Mesh.part_mesh)."""
 
     material: int
-    mesh: Mesh
+    mesh: Mesh | None
     faces: np.ndarray
 
 
@@ -252,12 +253,21 @@ class Mesh:
     @cached_property
     def parts(self) -> tuple[MeshPart, ...]:
         """The mesh cut by material, each part a Mesh of its faces in file order (positions shared),
-        so that each draws with its own material and texture; () for a mesh of one material."""
+        so that each draws with its own material and texture; () for a mesh without the file's
+        materials, and one part of no Mesh of its own where every face has the same one."""
         if self.face_material is None:
             return ()
         order = np.argsort(self.face_material, kind="stable")
         bounds = np.flatnonzero(np.diff(self.face_material[order])) + 1
+        if bounds.size == 0:  # one material on every face: the part is the whole, not a second copy of it
+            return (MeshPart(int(self.face_material[0]), None, order),)
         return tuple(self._part(faces) for faces in np.split(order, bounds))
+
+    def part_mesh(self, part: int) -> Mesh:
+        """The Mesh part `part` (an index into `parts`) is drawn from: its own, or this one where it
+        holds every face."""
+        own = self.parts[part].mesh
+        return self if own is None else own
 
     def _part(self, faces: np.ndarray) -> MeshPart:
         sizes = self.face_sizes[faces]

@@ -158,7 +158,7 @@ class DrawItem:
 
     @property
     def mesh(self) -> Mesh:
-        return self.obj.mesh if self.part == WHOLE else self.obj.mesh.parts[self.part].mesh
+        return self.obj.mesh if self.part == WHOLE else self.obj.mesh.part_mesh(self.part)
 
     @property
     def file_material(self) -> int:
@@ -309,7 +309,7 @@ class Renderer:
         self.reads_lit_rows = way.shading.lights_vertices and LIT_LAYOUT[1] in self.programs.surfaces[way]
 
     def _gpu_for(self, obj: SceneObject, part: int = WHOLE) -> ObjectGpu:
-        mesh = obj.mesh if part == WHOLE else obj.mesh.parts[part].mesh
+        mesh = obj.mesh if part == WHOLE else obj.mesh.part_mesh(part)
         gpu = self._objects.get((obj.uid, part))
         if gpu is not None and gpu.mesh is mesh:
             return gpu
