@@ -197,6 +197,7 @@ def test_a_model_of_one_textured_material_is_drawn_from_its_own_tables(tmp_path:
     twice, and on llvmpipe its GPU rows too."""
     mesh = load_model(model(tmp_path))
     assert [part.material for part in mesh.parts] == [0] and mesh.materials[0].texture is not None
+    assert mesh.parts[0].faces is None  # "every face": no list of them either
     obj = SceneObject.placed("m", mesh, DEFAULT_MATERIAL, (0.0, 0.0, 0.0))
     drawn = split_by_material(DrawItem(obj, 0, mesh.face_count))
     assert [(item.part, item.start, item.stop) for item in drawn] == [(0, 0, mesh.face_count)]

@@ -135,12 +135,26 @@ class MeshMaterial:
 @dataclass(frozen=True, eq=False)
 class MeshPart:
     """The faces of one material: `material` indexes Mesh.materials (-1: the object's own), `faces`
-    are their indices in the whole mesh, ascending; `mesh` is a Mesh of them alone, None where they
-    are every face (the whole mesh is then drawn: Mesh.part_mesh)."""
+    are their indices in the whole mesh, ascending, and `mesh` a Mesh of them alone; both None where
+    they are every face, the whole mesh then drawn as the part (Mesh.part_mesh)."""
 
     material: int
     mesh: Mesh | None
-    faces: np.ndarray
+    faces: np.ndarray | None
+
+    def face_range(self, start: int, stop: int) -> tuple[int, int]:
+        """The part's own [start, stop) of the faces of the whole mesh's [start, stop) that it holds."""
+        if self.faces is None:
+            return start, stop
+        low, high = np.searchsorted(self.faces, [start, stop]).tolist()
+        return low, high
+
+    def own_face(self, face: int) -> int | None:
+        """The part's own index of the whole mesh's polygon `face`; None where the part lacks it."""
+        if self.faces is None:
+            return face
+        local = int(np.searchsorted(self.faces, face))
+        return local if local < self.faces.size and self.faces[local] == face else None
 
 
 @dataclass(frozen=True, eq=False)
@@ -257,10 +271,11 @@ class Mesh:
         materials, and one part of no Mesh of its own where every face has the same one."""
         if self.face_material is None:
             return ()
+        first = int(self.face_material[0])
+        if first == self.face_material.min() == self.face_material.max():  # the part is the whole, not a copy
+            return (MeshPart(first, None, None),)
         order = np.argsort(self.face_material, kind="stable")
         bounds = np.flatnonzero(np.diff(self.face_material[order])) + 1
-        if bounds.size == 0:  # one material on every face: the part is the whole, not a second copy of it
-            return (MeshPart(int(self.face_material[0]), None, order),)
         return tuple(self._part(faces) for faces in np.split(order, bounds))
 
     def part_mesh(self, part: int) -> Mesh:

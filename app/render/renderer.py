@@ -174,7 +174,7 @@ def split_by_material(item: DrawItem) -> list[DrawItem]:
         return [item]
     split = []
     for index, part in enumerate(parts):
-        start, stop = np.searchsorted(part.faces, [item.start, item.stop]).tolist()
+        start, stop = part.face_range(item.start, item.stop)
         if stop > start:
             split.append(DrawItem(item.obj, start, stop, index))
     return split
@@ -183,8 +183,8 @@ def split_by_material(item: DrawItem) -> list[DrawItem]:
 def part_of_face(obj: SceneObject, face: int) -> tuple[int, int]:
     """(part, the face's index in it) of polygon `face` of the whole mesh; (WHOLE, face) without parts."""
     for index, part in enumerate(obj.mesh.parts):
-        local = int(np.searchsorted(part.faces, face))
-        if local < part.faces.size and part.faces[local] == face:
+        local = part.own_face(face)
+        if local is not None:
             return index, local
     return WHOLE, face
 
