@@ -159,6 +159,26 @@ def test_a_git_lfs_pointer_beside_a_gltf_is_named_as_one(tmp_path: Path) -> None
                                "2048 bytes are fetched by `git lfs pull`); the scene's texture is shown in its place",)
 
 
+@pytest.mark.parametrize("corners", [3, 30])
+def test_a_git_lfs_pointer_in_a_gltfs_buffer_is_named_as_one(tmp_path: Path, corners: int) -> None:
+    """A pointer in the .bin's place was read as the buffer: one as long as its byteLength drew its text as
+    coordinates ('a coordinate reaches 1.92e+31: ... scale it down'), a shorter one 'holds 131 bytes'."""
+    positions = np.zeros((corners, 3), np.float32)
+    positions[1::3, 0] = positions[2::3, 1] = 1.0
+    document = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+                "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+                "accessors": [{"bufferView": 0, "componentType": 5126, "count": corners, "type": "VEC3",
+                               "min": [0, 0, 0], "max": [1, 1, 0]}],
+                "bufferViews": [{"buffer": 0, "byteLength": positions.nbytes}],
+                "buffers": [{"uri": "m.bin", "byteLength": positions.nbytes}]}
+    (tmp_path / "m.gltf").write_text(json.dumps(document))
+    (tmp_path / "m.bin").write_bytes(git_lfs_pointer(positions.nbytes))
+    with pytest.raises(LoadError) as raised:
+        load_model(tmp_path / "m.gltf")
+    assert raised.value.message == (f"'m.bin', which it names, could not be read (a Git LFS pointer, not the buffer: "
+                                    f"its {positions.nbytes} bytes are fetched by `git lfs pull`)")
+
+
 @pytest.mark.parametrize("fallback", [True, False])
 def test_a_webp_textures_fallback_is_drawn(tmp_path: Path, fallback: bool) -> None:
     """EXT_texture_webp names a WEBP, `source` a PNG for a viewer that draws no WEBP: trimesh took the

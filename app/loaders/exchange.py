@@ -41,6 +41,7 @@ from marraztu.loaders.files import (
     GIT_LFS_POINTER_BYTES,
     MAX_FILE_BYTES,
     bom_length,
+    git_lfs_pointer_words,
     is_there,
     line_at,
     read_file,
@@ -257,8 +258,8 @@ class _FilesBeside:
     """The files a model names beside it (a glTF's buffers and pictures, a PLY's TextureFile), read for
     trimesh as its own resolver reads them: the name, then its last part, in the model's folder and
     never outside it. A glTF names them by URI, percent-encoded ('my%20buf.bin' is 'my buf.bin'). Read
-    by read_file (no device, pipe or huge file); a picture only when its first bytes are PNG, JPEG or
-    PPM, as every texture. trimesh drops a picture it cannot have; `failures` keeps why, for a note."""
+    by read_file (no device, pipe or huge file), none that is a Git LFS pointer; a picture only when its
+    first bytes are PNG, JPEG or PPM, as every texture. trimesh drops a picture it cannot have; `failures` keeps why, for a note."""
 
     def __init__(self, folder: Path, is_picture: Callable[[str], bool], uri: bool = False,
                  least_bytes: dict[str, int] | None = None) -> None:
@@ -276,6 +277,10 @@ class _FilesBeside:
         named = shown((unquote(name) if self.uri else name).strip())
         try:
             data = self._read(self._path(name, named))
+            what = "picture" if self.is_picture(name) else "buffer"
+            pointer = git_lfs_pointer_words(data[:GIT_LFS_POINTER_BYTES], what)
+            if pointer is not None:  # else read as the buffer: its text drawn as coordinates, or 'holds 128 bytes'
+                raise LoadError(named, pointer)
             if len(data) < self.least_bytes.get(name, 0):  # trimesh's reader asserts, in no words
                 raise LoadError(named, f"it holds {len(data)} bytes, where the model says {self.least_bytes[name]}")
             if self.is_picture(name) and image_format(data[:8]) is None:
