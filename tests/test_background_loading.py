@@ -101,6 +101,27 @@ def test_the_worker_prepares_the_surface_and_the_first_frame_only_uploads_it(tmp
     viewer.background.shutdown()
 
 
+def test_a_model_of_two_materials_has_its_parts_prepared_and_nothing_left_after_its_first_frame(
+        tmp_path: Path, offscreen) -> None:
+    """The worker prepared the whole mesh's surface, which the renderer never draws where the mesh has
+    parts (one per material, each drawn from its own arrays): kept for the object's life, a second set."""
+    from marraztu.render import gpu
+
+    (tmp_path / "m.mtl").write_text("newmtl red\nKd 1 0 0\nnewmtl blue\nKd 0 0 1\n")
+    model = tmp_path / "two.obj"
+    model.write_text("mtllib m.mtl\nv -40 -40 0\nv 40 -40 0\nv 40 40 0\nv -40 40 0\n"
+                     "usemtl red\nf 1 2 3\nusemtl blue\nf 1 3 4\n")
+    viewer = Viewer(empty_scene(), NoFrontend(), background=BackgroundLoader(gpu.prepare_surface))
+    viewer.load_model(model)
+    wait_until_idle(viewer)
+    mesh = viewer.scene.objects[0].mesh
+    assert len(mesh.parts) == 2 and mesh not in gpu._prepared_surfaces
+    assert all(part.mesh in gpu._prepared_surfaces for part in mesh.parts)
+    offscreen(viewer.scene)
+    assert not any(drawn in gpu._prepared_surfaces for drawn in (mesh, *mesh.drawn_meshes()))
+    viewer.background.shutdown()
+
+
 def test_the_command_lines_models_are_told_together_however_their_loads_land(tmp_path: Path) -> None:
     """`marraztu --empty duck.glb teapot.obj` said of the duck, inside the teapot, only 'loaded duck.glb',
     where the screenshot command says it lies in the teapot's box: the window told the first load as

@@ -284,6 +284,10 @@ class Mesh:
         own = self.parts[part].mesh
         return self if own is None else own
 
+    def drawn_meshes(self) -> tuple[Mesh, ...]:
+        """The Meshes it is drawn from: its parts' (part_mesh), or itself where it has no parts."""
+        return tuple(self.part_mesh(part) for part in range(len(self.parts))) or (self,)
+
     def _part(self, faces: np.ndarray) -> MeshPart:
         sizes = self.face_sizes[faces]
         face_start = np.concatenate(([0], np.cumsum(sizes))).astype(INDEX)

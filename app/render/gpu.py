@@ -347,10 +347,12 @@ _prepared_lock = threading.Lock()
 
 
 def prepare_surface(mesh: Mesh) -> None:
-    """Builds the mesh's surface arrays now, so that its first frame only uploads them."""
-    data = surface_arrays(mesh)
-    with _prepared_lock:
-        _prepared_surfaces[mesh] = data
+    """Builds the surface arrays of what the mesh is drawn from now (each material's part, or the mesh),
+    so that its first frame only uploads them."""
+    for drawn in mesh.drawn_meshes():
+        data = surface_arrays(drawn)
+        with _prepared_lock:
+            _prepared_surfaces[drawn] = data
 
 
 def _take_prepared_surface(mesh: Mesh) -> SurfaceArrays | None:
