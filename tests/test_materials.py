@@ -223,6 +223,29 @@ def test_one_material_on_every_face_draws_what_its_faces_drawn_as_two_parts_do(
     assert texts[0] == texts[1]
 
 
+def test_a_material_whose_faces_and_positions_are_runs_of_their_own_is_a_view_of_the_whole() -> None:
+    """Two_tone's materials each use one run of faces and every position of one run (as a glTF's
+    primitives do): each part was copied out of the whole; now its tables are slices of it, holding
+    the values the copy held."""
+    mesh = load_model(EXAMPLES / "two_tone.obj")
+    assert len(mesh.parts) == 2 and not mesh.attributes_per_position  # uvs and normals per corner
+    for part in mesh.parts:
+        for table in ("positions", "uvs", "normals", "face_normals"):
+            assert np.shares_memory(getattr(part.mesh, table), getattr(mesh, table)), table
+        copied = mesh._gathered_part(part.faces).mesh
+        for table in ("positions", "corner_vertex", "uvs", "normals", "face_start", "face_normals"):
+            ours, theirs = getattr(part.mesh, table), getattr(copied, table)
+            assert ours.dtype == theirs.dtype and np.array_equal(ours, theirs), table
+
+
+def test_a_part_is_a_view_where_its_run_uses_every_position_of_its_range_and_else_a_copy(tmp_path: Path) -> None:
+    """The grid's halves share a row of positions and are views each; faces alternating are copied."""
+    halves = load_model(grid_obj(tmp_path / "halves", lambda face: f"usemtl wood{'2' if face >= 36 else ''}\n"))
+    assert all(np.shares_memory(part.mesh.positions, halves.positions) for part in halves.parts)
+    alternating = load_model(grid_obj(tmp_path / "alternating", lambda face: f"usemtl wood{'2' if face % 2 else ''}\n"))
+    assert not any(np.shares_memory(part.mesh.positions, alternating.positions) for part in alternating.parts)
+
+
 def test_one_texture_spelled_three_ways_is_read_once(tmp_path: Path, monkeypatch) -> None:
     """t.ppm, ./t.ppm and d/../t.ppm are one picture: three materials naming it read it once."""
     from marraztu.loaders.obj import mtl

@@ -289,6 +289,31 @@ class Mesh:
         return tuple(self.part_mesh(part) for part in range(len(self.parts))) or (self,)
 
     def _part(self, faces: np.ndarray) -> MeshPart:
+        first, last = int(faces[0]), int(faces[-1])
+        run = self._run_part(first, last + 1) if last - first + 1 == faces.size else None
+        return self._gathered_part(faces) if run is None else MeshPart(int(self.face_material[first]), run, faces)
+
+    def _run_part(self, start: int, stop: int) -> Mesh | None:
+        """The Mesh of faces [start, stop) as views of this one's tables, where their corners use every
+        position of one run of them (a glTF primitive, an OBJ object of one material); else None."""
+        first_corner, stop_corner = int(self.face_start[start]), int(self.face_start[stop])
+        vertices = self.corner_vertex[first_corner:stop_corner]
+        low, high = int(vertices.min()), int(vertices.max()) + 1
+        corner_vertex = np.subtract(vertices, low, dtype=INDEX)
+        used = np.zeros(high - low, bool)
+        used[corner_vertex] = True
+        if not used.all():
+            return None
+        rows = slice(low, high) if self.attributes_per_position else slice(first_corner, stop_corner)
+        face_start = np.subtract(self.face_start[start:stop + 1], first_corner, dtype=INDEX)
+        return Mesh(name=self.name, positions=self.positions[low:high], corner_vertex=corner_vertex,
+                    uvs=self.uvs[rows], normals=self.normals[rows], face_start=face_start,
+                    face_normals=self.face_normals[start:stop], base_colour=self.base_colour,
+                    attributes_per_position=self.attributes_per_position,
+                    vertex_colours=None if self.vertex_colours is None else self.vertex_colours[low:high],
+                    whole_gpu_origin=self.gpu_origin)
+
+    def _gathered_part(self, faces: np.ndarray) -> MeshPart:
         sizes = self.face_sizes[faces]
         face_start = np.concatenate(([0], np.cumsum(sizes))).astype(INDEX)
         corners = corners_of_polygons(self.face_start[faces], sizes)
