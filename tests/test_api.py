@@ -1246,13 +1246,30 @@ def test_a_view_size_set_by_hand_that_u_cannot_give_back_is_refused_before_u_giv
     (lambda s: setattr(s.lights[0], "position", [0.0, 0.0, 1e39]),  # only its marker is drawn there
      r"^the sun's position must be 3 numbers within 32-bit floats"),
     (lambda s: setattr(s.lights[1], "intensity", np.array([1e300, 0.0, 0.0])),
-     r"^the bulb's intensity must be 3 numbers within 32-bit floats \(3\.4e38\), where the GPU reads them, not "),
+     r"^the bulb's intensity must be 3 numbers from 0 to 3\.4e38, where the GPU's 32-bit floats end, not "),
     (lambda s: setattr(s.lights[0], "intensity", [1e39, 1, 1]),
-     r"^the sun's intensity must be 3 numbers within 32-bit"),
-    (lambda s: setattr(s, "ambient", (0, -1e39, 0)), r"^the scene's ambient must be 3 numbers within 32-bit floats"),
+     r"^the sun's intensity must be 3 numbers from 0 to 3\.4e38"),
+    (lambda s: setattr(s, "ambient", (0, -1e39, 0)), r"^the scene's ambient must be 3 numbers from 0 to 3\.4e38"),
     (lambda s: setattr(s.objects[0], "material", dataclasses.replace(s.objects[0].material, kd=(1e39, 0, 0))),
-     r"'s material kd must be 3 numbers within 32-bit floats \(3\.4e38\), where the GPU reads them, "
-     r"not \(1e\+39, 0, 0\)$"),
+     r"'s material kd must be 3 numbers between 0 and 1, not \(1e\+39, 0, 0\)$"),
+    # a light gives no less than none: the bulb's -100 took light from every face it reached, the
+    # scene's ambient -1 from every face; a scene file has no lights to compare with
+    (lambda s: setattr(s.lights[1], "intensity", (-100, 0, 0)),
+     r"^the bulb's intensity must be 3 numbers from 0 to 3\.4e38, where the GPU's 32-bit floats end, "
+     r"not \(-100, 0, 0\)$"),
+    (lambda s: setattr(s, "ambient", np.array([0.0, -1.0, 0.0])), r"^the scene's ambient must be 3 numbers from 0 to "),
+    # a material's colours are shares of each light (SPEC 4), as a scene file, MTL and glTF hold them:
+    # kd 2 drew a face brighter than its light, and passed here where the scene file refused it
+    (lambda s: setattr(s.objects[0], "material", dataclasses.replace(s.objects[0].material, kd=(2, 0, 0))),
+     r"'s material kd must be 3 numbers between 0 and 1, not \(2, 0, 0\)$"),
+    (lambda s: setattr(s.objects[0], "material", dataclasses.replace(s.objects[0].material, ka=(-1, 0, 0))),
+     r"'s material ka must be 3 numbers between 0 and 1, not \(-1, 0, 0\)$"),
+    (lambda s: setattr(s.objects[0], "material", dataclasses.replace(s.objects[0].material, ks=(0, 0, 1.001))),
+     r"'s material ks must be 3 numbers between 0 and 1, not \(0, 0, 1\.001\)$"),
+    (lambda s: setattr(s.objects[0], "material", dataclasses.replace(s.objects[0].material, rgb=(0, 5, 0))),
+     r"'s material rgb must be 3 numbers between 0 and 1, not \(0, 5, 0\)$"),
+    (lambda s: setattr(s.objects[0], "material", dataclasses.replace(s.objects[0].material, rgb=(0, 1))),
+     r"'s material rgb must be 3 numbers \(R, G, B\), not \(0, 1\)$"),
     (lambda s: setattr(s.lights[0], "direction", [1e300, 1e300, 0.0]),
      r"^the sun's direction must be 3 numbers within 32-bit"),
     # the sun then lit no face and put a highlight where the eye looks from (H = normalize(0 + V))
@@ -1313,8 +1330,10 @@ def test_lights_and_materials_at_the_edge_of_what_the_gpu_reads_are_drawn_withou
         v.scene.lights[1].position, v.scene.lights[1].intensity = (0.0, 0.0, -LIGHT_REACH), [FLOAT32_MAX] * 3
         v.scene.lights[0].position = (FLOAT32_MAX, 0.0, 0.0)
         v.scene.lights[0].direction = np.array([0.0, -1e-150, 0.0])
-        v.scene.objects[0].material = dataclasses.replace(v.scene.objects[0].material, ks=(FLOAT32_MAX, 0, 0))
-        v.scene.ambient = (-FLOAT32_MAX, 0, 0)
+        v.scene.lights[0].intensity = np.zeros(3)
+        v.scene.objects[0].material = dataclasses.replace(v.scene.objects[0].material, ks=(1.0, 0, 0), ka=(0, 0, 0),
+                                                          rgb=(0.0, 1.0, 0.0))
+        v.scene.ambient = (0.0, 0, FLOAT32_MAX)
         assert np.asarray(v.render()).any() and v.probe() is not None
         assert walked == []
 

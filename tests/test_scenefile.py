@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import re
 import subprocess
@@ -476,6 +477,57 @@ def test_bad_scene_raises_load_error_naming_the_file(tmp_path: Path, text: str, 
     assert caught.value.path == str(path)
     assert expected in caught.value.message
     assert str(path) in str(caught.value)
+
+
+# Each a TOML array and the tuple the programming interface is handed: inside, on and past 0..1's ends.
+MATERIAL_COLOURS_TRIED = {
+    "inside": ("[0.5, 0.25, 0]", (0.5, 0.25, 0.0)),
+    "the ends": ("[0, 1, -0.0]", (0.0, 1.0, -0.0)),
+    "just above 1": ("[0, 0, 1.000001]", (0.0, 0.0, 1.000001)),
+    "2": ("[2, 0, 0]", (2.0, 0.0, 0.0)),
+    "just below 0": ("[0, -1e-9, 0]", (0.0, -1e-9, 0.0)),
+    "-1": ("[-1, 0, 0]", (-1.0, 0.0, 0.0)),
+    "past float32": ("[0, 1e39, 0]", (0.0, 1e39, 0.0)),
+}
+
+
+@pytest.mark.parametrize("key", ["ka", "kd", "ks", "rgb"])
+@pytest.mark.parametrize("toml, given", MATERIAL_COLOURS_TRIED.values(), ids=MATERIAL_COLOURS_TRIED.keys())
+def test_a_scene_file_and_the_scene_set_by_hand_refuse_the_same_material_colours(
+        tmp_path: Path, key: str, toml: str, given: tuple[float, float, float]) -> None:
+    """The scene file refused kd [2, 0, 0] and [-1, 0, 0] where Scene.check_by_hand (the programming
+    interface's next call) drew them: one rule, the model's, for both."""
+    table = {"ka": "[0, 0, 0]", "kd": "[0, 0, 0]", "ks": "[0, 0, 0]", "ns": "1", key: toml}
+    path = write_scene(tmp_path, CAMERA + f"material = {{ {', '.join(f'{k} = {v}' for k, v in table.items())} }}\n")
+    try:
+        load_scene(path)
+        file_refused = None
+    except LoadError as error:
+        file_refused = error.message
+    scene = load_scene(write_scene(tmp_path, CAMERA))
+    camera = scene.cameras[0]
+    camera.material = dataclasses.replace(camera.material, **{key: given})
+    camera.part_materials = tuple(camera.material for _ in camera.part_materials)
+    try:
+        scene.check_by_hand()
+        hand_refused = None
+    except ValueError as error:
+        hand_refused = str(error)
+    assert (file_refused is None) == (hand_refused is None), (file_refused, hand_refused)
+    if file_refused is not None and "too large" not in file_refused:  # the file's own words for past float32
+        assert file_refused.endswith(f"{key} must be three numbers between 0 and 1")
+        assert hand_refused.startswith(f"{camera.name}'s material {key} must be 3 numbers between 0 and 1, not ")
+
+
+def test_a_part_material_set_by_hand_is_held_to_the_same_colours(tmp_path: Path) -> None:
+    """A part's material (one per material of the model's file) is drawn as the object's own is."""
+    for name in ("two_tone.obj", "two_tone.mtl"):
+        (tmp_path / name).write_bytes((ASSET_DIR / "examples" / name).read_bytes())
+    scene = load_scene(write_scene(tmp_path, CAMERA + '[[objects]]\nmodel = "two_tone.obj"\n'))
+    obj = scene.objects[0]
+    obj.part_materials = (obj.part_materials[0], dataclasses.replace(obj.part_materials[1], kd=(0, 0, 2)))
+    with pytest.raises(ValueError, match=r"^two_tone's material kd must be 3 numbers between 0 and 1, not \(0, 0, 2\)$"):
+        scene.check_by_hand()
 
 
 def test_a_string_of_escaped_quotes_is_looked_at_once(tmp_path: Path) -> None:

@@ -51,7 +51,17 @@ from marraztu.loaders.patterns import compiled
 from marraztu.loaders.registry import MODEL_READERS, Stage, load_model, sized
 from marraztu.model.geometry import CAMERAS_REACH, FLOAT32_MAX, MODELS_REACH
 from marraztu.model.mesh import Mesh, with_picture_as_colour
-from marraztu.model.scene import Material, Scene, SceneObject, Vec3, kept_name, name_refusal, placement_refusal
+from marraztu.model.scene import (
+    MATERIAL_COLOUR,
+    MATERIAL_COLOUR_RANGE,
+    Material,
+    Scene,
+    SceneObject,
+    Vec3,
+    kept_name,
+    name_refusal,
+    placement_refusal,
+)
 from marraztu.resources import ASSET_DIR
 
 BUILTIN_SCENE_FILE = "scene.toml"
@@ -391,12 +401,11 @@ class _SceneReader:
 
         at = _or_header(key_line, line)
         self.check_keys(table, MATERIAL_KEYS, what, line, required=REQUIRED_MATERIAL_KEYS, key_line=at)
-        colours = {key: self.triple(table[key], f"{what}: {key}", at(key), unit_range=True)
-                   for key in ("ka", "kd", "ks")}
+        colours = {key: self.material_colour(table[key], f"{what}: {key}", at(key)) for key in ("ka", "kd", "ks")}
         ns = self.number(table["ns"], f"{what}: ns", at("ns"))
         if ns <= 0:
             self.fail(f"{what}: ns must be greater than 0, not {ns:g}", at("ns"))
-        rgb = self.triple(table["rgb"], f"{what}: rgb", at("rgb"), unit_range=True) if "rgb" in table else WHITE
+        rgb = self.material_colour(table["rgb"], f"{what}: rgb", at("rgb")) if "rgb" in table else WHITE
         return Material(ka=colours["ka"], kd=colours["kd"], ks=colours["ks"], ns=ns, rgb=rgb)
 
     # --- values --------------------------------------------------------------------------------
@@ -437,13 +446,18 @@ class _SceneReader:
             self.fail(f"{what} must be greater than 0 (a size, not a mirror), not {min(x, y, z):g}", line)
         return (x, y, z)
 
-    def triple(self, value: object, what: str, line: int | None, unit_range: bool = False) -> Vec3:
+    def triple(self, value: object, what: str, line: int | None) -> Vec3:
         if not isinstance(value, list) or len(value) != 3:
             self.fail(f"{what} must be three numbers, like [0, 0, 0]", line)
         x, y, z = (self.number(item, what, line) for item in value)
-        if unit_range and not all(0.0 <= c <= 1.0 for c in (x, y, z)):
-            self.fail(f"{what} must be three numbers between 0 and 1", line)
         return (x, y, z)
+
+    def material_colour(self, value: object, what: str, line: int | None) -> Vec3:
+        """Three numbers in the range Scene.check_by_hand holds a material's colours to."""
+        colour = self.triple(value, what, line)
+        if not MATERIAL_COLOUR.holds(np.array(colour)):
+            self.fail(f"{what} must be three numbers {MATERIAL_COLOUR.within}", line)
+        return colour
 
 
 def _unknown_key(what: str, key: str, allowed: frozenset[str]) -> str:
@@ -657,7 +671,7 @@ def _clamped_colour(value: object, default: Vec3) -> Vec3:
         return default
     if len(numbers) != 3 or not all(math.isfinite(c) for c in numbers):
         return default
-    r, g, b = (min(max(c, 0.0), 1.0) for c in numbers)
+    r, g, b = (min(max(c, MATERIAL_COLOUR_RANGE[0]), MATERIAL_COLOUR_RANGE[1]) for c in numbers)
     return (r, g, b)
 
 

@@ -92,7 +92,10 @@ THINNEST_PIXELS = 1.0
 DEPTH_SLICE_REACH = 1e5
 DEPTH_SLICES_MOST = 8  # the farthest takes the rest: each slice draws the whole scene again
 DEPTH_SLICE_OVERLAP = 1.01  # a slice reaches this far into the next one: no crack where they meet
-MATERIAL_COLOURS = ("ka", "kd", "ks")  # a material's colours, each 3 finite numbers
+MATERIAL_COLOURS = ("ka", "kd", "ks", "rgb")  # a material's colours, each 3 finite numbers in MATERIAL_COLOUR_RANGE
+# SPEC 4's Ka, Kd and Ks are the share of each light a material gives back, and its rgb a colour of
+# the same kind: none gives back more than it gets, or less than none. MTL's and glTF's colours hold to it too.
+MATERIAL_COLOUR_RANGE = (0.0, 1.0)
 
 
 class Target(Enum):
@@ -192,17 +195,32 @@ def triple_refusal(value: object, names: str) -> str | None:
 
 @dataclass(frozen=True)
 class TripleKind:
-    """What a colour, a place or a direction set by hand must be, past 3 finite numbers: how far from 0
-    each of them may reach, as the GPU reads it."""
+    """What a colour, a place or a direction set by hand must be, past 3 finite numbers: the range of
+    each of them, the GPU's or its meaning's (a scene file's material colours are held to it too)."""
 
     names: str  # its numbers' names, in a refusal
-    most: float
-    within: str  # `most` in a refusal's words: "must be 3 numbers {within}"
+    most: float  # how far from 0 each may reach
+    within: str  # `least` and `most` in a refusal's words: "must be 3 numbers {within}"
     shortest: float = 0.0  # a direction: how long, at least, to point some way
+    least: float = -math.inf  # the lowest each may be: a colour's 0
+
+    def holds(self, rows: np.ndarray) -> bool:
+        """Whether every number of these finite (..., 3) rows is at least `least` and at most `most` from 0."""
+        return bool((rows >= self.least).all() and (np.abs(rows) <= self.most).all())
+
+    def points_some_way(self, rows: np.ndarray) -> bool:
+        """Whether each of these finite (N, 3) rows is at least `shortest` long."""
+        return bool((_squared_lengths(rows) >= self.shortest**2).all())
 
 
-COLOUR = TripleKind("R, G, B", FLOAT32_MAX, "within 32-bit floats (3.4e38), where the GPU reads them")
-MARKED = TripleKind("x, y, z", FLOAT32_MAX, COLOUR.within)  # the sun's place: where its marker is drawn
+MATERIAL_COLOUR = TripleKind("R, G, B", MATERIAL_COLOUR_RANGE[1],
+                             f"between {MATERIAL_COLOUR_RANGE[0]:g} and {MATERIAL_COLOUR_RANGE[1]:g}",
+                             least=MATERIAL_COLOUR_RANGE[0])
+# A light's intensity and the ambient Ia, in the seed's 0..255 units: brighter than 255 is only brighter
+# (SPEC 4 clamps the sum), darker than none is nonsense.
+LIGHT_COLOUR = TripleKind("R, G, B", FLOAT32_MAX, "from 0 to 3.4e38, where the GPU's 32-bit floats end", least=0.0)
+# The sun's place: where its marker is drawn.
+MARKED = TripleKind("x, y, z", FLOAT32_MAX, "within 32-bit floats (3.4e38), where the GPU reads them")
 PLACE = TripleKind("x, y, z", LIGHT_REACH, f"within ±{LIGHT_REACH:.0e}: past it the GPU's 32-bit "
                    "numbers cannot light from there")
 # unit() leaves (0, 0, 0), or a direction whose square rounds to 0, as it is (the sun then lights no face,
@@ -218,20 +236,19 @@ def place_kind(light: Light) -> TripleKind:
 def reach_refusal(value: object, kind: TripleKind) -> str | None:
     """Why 3 finite numbers (triple_refusal passes them) of this kind cannot be drawn (None: they can)."""
     numbers: np.ndarray = _numbers(value)  # type: ignore[assignment]
-    if np.abs(numbers).max() > kind.most:
+    if not kind.holds(numbers):
         return f"must be 3 numbers {kind.within}, not {_shown(value)}"
-    if not _squared_lengths(numbers[None])[0] >= kind.shortest**2:
+    if not kind.points_some_way(numbers[None]):
         return f"must point some way: at least {kind.shortest:g} long, not {_shown(value)}"
     return None
 
 
-def _all_within_reach(rows: np.ndarray, kinds: list[TripleKind]) -> bool:
+def _all_within_reach(rows: np.ndarray, kinds: list[TripleKind], rest: TripleKind) -> bool:
     """Whether reach_refusal finds nothing in these (N, 3) finite rows, the first of these kinds and the
-    rest colours, in two passes."""
-    most = np.full(len(rows), COLOUR.most)
-    most[:len(kinds)] = [kind.most for kind in kinds]
-    shortest = np.array([kind.shortest for kind in kinds])
-    return bool((np.abs(rows) <= most[:, None]).all() and (_squared_lengths(rows[:len(kinds)]) >= shortest**2).all())
+    rest of the kind `rest`, which points any way, in one pass over those."""
+    own = rows[:len(kinds)]
+    return all(kind.holds(row) and kind.points_some_way(row[None]) for kind, row in zip(kinds, own)) \
+        and rest.holds(rows[len(kinds):])
 
 
 def _squared_lengths(rows: np.ndarray) -> np.ndarray:
@@ -818,7 +835,7 @@ class Scene:
     def check_values(self) -> None:
         """ValueError, naming the first, where a value changed by hand (the programming interface's
         scene) cannot be drawn: a model matrix not affine or without an inverse, a light's or a
-        material's colour, place or direction that is not 3 finite numbers within what the GPU reads
+        material's colour, place or direction that is not 3 finite numbers within its kind's range
         (TripleKind), an aperture past 0..180 degrees, a mode not of the kind its key sets."""
         if self._all_drawable():  # every call of the interface asks: the walk below costs far more per element
             return
@@ -848,7 +865,7 @@ class Scene:
         models, rows = _stacked(gathered.models, (4, 4)), _stacked(triples, (3,))
         if models is None or rows is None or not np.isfinite(rows).all() or not np.isfinite(models).all():
             return False
-        if not _all_within_reach(rows, [kind for _, _, kind in own]):
+        if not _all_within_reach(rows, [kind for _, _, kind in own], MATERIAL_COLOUR):
             return False
         if not (models[:, 3] == [0.0, 0.0, 0.0, 1.0]).all():
             return False
@@ -868,9 +885,9 @@ class Scene:
     def _own_triples(self) -> list[tuple[str, object, TripleKind]]:
         """The scene's colours, places and directions that must be 3 finite numbers, outside its elements:
         what each is, its value, and its kind."""
-        triples: list[tuple[str, object, TripleKind]] = [("the scene's ambient", self.ambient, COLOUR)]
+        triples: list[tuple[str, object, TripleKind]] = [("the scene's ambient", self.ambient, LIGHT_COLOUR)]
         for light in self.lights:
-            triples += [(f"the {light.name}'s intensity", light.intensity, COLOUR),
+            triples += [(f"the {light.name}'s intensity", light.intensity, LIGHT_COLOUR),
                         (f"the {light.name}'s position", light.position, place_kind(light)),
                         (f"the {light.name}'s direction", light.direction, DIRECTION)]
         return triples
@@ -902,7 +919,7 @@ class Scene:
                 yield f"{element.name}'s {refusal}"
                 continue
             for material in _materials_of(element):
-                triples += [(f"{element.name}'s material {key}", getattr(material, key), COLOUR)
+                triples += [(f"{element.name}'s material {key}", getattr(material, key), MATERIAL_COLOUR)
                             for key in MATERIAL_COLOURS]
                 if not _number_within(material.ns, *NS_RANGE):
                     yield f"{element.name}'s material ns must be a number greater than 0 and within 32-bit " \
