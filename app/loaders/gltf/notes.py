@@ -24,6 +24,7 @@ from marraztu.loaders.gltf.values import (
     _uvs_decoded_by_trimesh,
 )
 from marraztu.model.mesh import counted
+from marraztu.model.scene import MATERIAL_COLOUR_RANGE
 
 
 def unfaithful_notes(document: dict[str, Any], undrawn: list[str]) -> list[str]:
@@ -63,7 +64,7 @@ def _outside_colour_notes(document: dict[str, Any]) -> list[str]:
     """A material's base colour factor outside glTF's 0..1, which trimesh holds to it."""
     outside = [(number, key, value) for number, material in enumerate(document.get("materials", []))
                for where, key, _ in [_base_colour(material)] for value in _listed(where.get(key))
-               if _is_number(value) and not 0 <= value <= 1]
+               if _is_number(value) and not MATERIAL_COLOUR_RANGE[0] <= value <= MATERIAL_COLOUR_RANGE[1]]
     if not outside:
         return []
     (number, key, value), materials = outside[0], len({number for number, _, _ in outside})

@@ -32,6 +32,7 @@ from marraztu.loaders.obj.raw import (
     text_without_comment,
 )
 from marraztu.model.mesh import MeshMaterial, counted, with_picture_as_colour
+from marraztu.model.scene import MATERIAL_COLOUR_RANGE
 
 # A material library is a few lines per material: one this large is not one.
 MAX_MTL_BYTES = 16 << 20
@@ -40,6 +41,7 @@ _MOST_NAMES = 16
 # Words split off an MTL line: more than any statement read here needs (a map_Kd's options and a name
 # of spaces, newmtl's MAX_MATERIAL_NAME characters), so that a line of a million is never a list of them.
 _MOST_WORDS = MAX_MATERIAL_NAME + 1
+ROUGHNESS_RANGE = (0.0, 1.0)  # a Pr line's, as Blender's Roughness holds it
 
 
 def read_libraries(base_dir: Path, lines: Sequence[str], notes: list[str], wanted: Collection[str],
@@ -227,14 +229,14 @@ def _library_contents(text: bytes, wanted: Collection[str], keep_first: bool) ->
         elif key in ("ka", "kd", "ks", "ns") and not _material_value(block.values, key, tokens[1:]):
             library.malformed_line(key.capitalize(), number)
         elif key in ("ka", "kd", "ks"):  # a colour, just set
-            _note_outside(block, key, number, block.values[key])  # type: ignore[arg-type]
+            _note_outside(block, key, number, block.values[key], MATERIAL_COLOUR_RANGE)  # type: ignore[arg-type]
         elif key == "pr":
             roughness = finite_floats(tokens[1:])
             if roughness is None or len(roughness) != 1:
                 library.malformed_line("Pr", number)
             else:
-                block.roughness = min(max(roughness[0], 0.0), 1.0)  # as Blender's Roughness holds it
-                _note_outside(block, key, number, roughness)
+                block.roughness = min(max(roughness[0], ROUGHNESS_RANGE[0]), ROUGHNESS_RANGE[1])
+                _note_outside(block, key, number, roughness, ROUGHNESS_RANGE)
         elif key == "map_kd":
             texture = _texture_file(tokens[1:])
             if texture is None:
@@ -288,10 +290,11 @@ def _unlit_picture_note(name: str, blocks: Iterable[_Block]) -> list[str]:
             "(Maya writes so: Kd 1 1 1 shows the picture)"]
 
 
-def _note_outside(block: _Block, key: str, line: int, values: Iterable[float]) -> None:
-    """Remembers where the `values` of `key` just set (a colour, or Pr) hold one outside 0..1, which
-    drawing holds to that range."""
-    outside = [value for value in values if not 0.0 <= value <= 1.0]
+def _note_outside(block: _Block, key: str, line: int, values: Iterable[float], held_to: tuple[float, float]) -> None:
+    """Remembers where the `values` of `key` just set (a colour, or Pr) hold one outside `held_to`,
+    which drawing holds them to."""
+    low, high = held_to
+    outside = [value for value in values if not low <= value <= high]
     if outside:
         block.outside[key] = (line, outside[0])
     else:
