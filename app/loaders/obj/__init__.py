@@ -193,10 +193,10 @@ class _FaceMaterials:
         notes: list[str] = []
         if self.unknown:
             notes.append(f"usemtl names materials the library lacks ({_names_shown(self.unknown)}); their faces "
-                         "take the model's first material")
+                         "take the library's first material")
         if self.beyond:
             notes.append(f"{MAX_MATERIALS + self.beyond} materials used; the faces of all but the first "
-                         f"{MAX_MATERIALS} take the model's first material")
+                         f"{MAX_MATERIALS} take the library's first material")
         return tuple(notes)
 
 
