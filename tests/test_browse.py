@@ -320,3 +320,50 @@ def test_the_watcher_looks_at_a_file_many_elements_share_once(tmp_path: Path, mo
     assert len(stamped) == 3 and set(stamped) == {model / "a.obj", model / "b.obj", viewer.scene.camera.source}
     rewrite(model / "b.obj", TRIANGLE)
     assert watcher.changed(viewer.scene) == [obj for obj in viewer.scene.objects if obj.source.name == "b.obj"]
+
+
+def watched_scene_file(tmp_path: Path, background: BackgroundLoader | None) -> Viewer:
+    """A scene file that places a.obj three times, twice at one scale (spelled two ways) and once at
+    another, the first with a picture of its own, watched."""
+    from marraztu.loaders.scenefile import load_scene
+
+    folder_of(tmp_path, a_obj=TRIANGLE, c_obj=TRIANGLE)
+    Image.new("RGB", (2, 2), (255, 0, 0)).save(tmp_path / "red.png")
+    entries = ['model = "a.obj"\ntexture = "red.png"\n', 'model = "./a.obj"\nposition = [2, 0, 0]\n',
+               'model = "a.obj"\nposition = [4, 0, 0]\nscale = 2\n']
+    path = tmp_path / "scene.toml"
+    path.write_text('[[cameras]]\nmodel = "c.obj"\nposition = [0, 0, 30]\n'
+                    + "".join(f"[[objects]]\n{entry}" for entry in entries))
+    viewer = Viewer(load_scene(path), NoFrontend(), background=background)
+    viewer.start(StartOptions(scene_file=path, watch=True), longest_texture_side=64)
+    return viewer
+
+
+@pytest.mark.parametrize("in_background", [False, True], ids=["at once", "on the window's worker"])
+def test_watch_reads_a_file_a_scene_places_many_times_once_and_its_objects_share_the_new_mesh(
+        tmp_path: Path, monkeypatch, in_background: bool) -> None:
+    """A scene file's objects of one model at one scale share its mesh (and its GPU buffers); a change on
+    disk read the file again once for each object, giving each a copy of its own."""
+    from marraztu.control import viewer as viewer_module
+
+    read: list[Path] = []
+    load_model = viewer_module.load_model
+    monkeypatch.setattr(viewer_module, "load_model", lambda path, stage=None: read.append(path) or load_model(path))
+    viewer = watched_scene_file(tmp_path, BackgroundLoader() if in_background else None)
+    try:
+        first, second, third = viewer.scene.objects
+        picture = first.picture
+        assert first.mesh is second.mesh and third.mesh is not first.mesh
+        rewrite(tmp_path / "a.obj", SQUARE)
+        viewer.check_watched()
+        if in_background:
+            collect_when_loaded(viewer)
+    finally:
+        if in_background:
+            viewer.background.shutdown()
+    assert len(read) == 2  # once for each scale
+    assert first.mesh.vertex_count == 4 and first.mesh is second.mesh and third.mesh is not first.mesh
+    assert np.array_equal(third.mesh.positions, first.mesh.positions * 2)
+    assert first.picture is picture and second.picture is None  # each keeps its own texture
+    assert [obj.source.name for obj in viewer.scene.objects] == ["a.obj"] * 3
+    assert viewer.scene.camera.mesh.vertex_count == 3  # its own file did not change

@@ -389,7 +389,7 @@ def test_a_model_read_again_in_its_place_keeps_its_scale(tmp_path: Path) -> None
     assert element.scale == (0.001, 0.001, 0.001)
     background = BackgroundLoader()  # the window's: read on a worker thread
     try:
-        loaded = background.start(tmp_path / "m.obj", as_camera=False, replaces=element).future.result(timeout=60)
+        loaded = background.start(tmp_path / "m.obj", as_camera=False, replaces=(element,)).future.result(timeout=60)
     finally:
         background.shutdown()
     assert np.array_equal(loaded.mesh.positions, element.mesh.positions) and loaded.scale == element.scale

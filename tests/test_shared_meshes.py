@@ -6,6 +6,7 @@ of objects that moved."""
 from __future__ import annotations
 
 import gc
+from pathlib import Path
 
 import moderngl
 import numpy as np
@@ -145,3 +146,34 @@ def test_a_frame_works_out_only_the_matrices_of_objects_that_moved(own_ctx, own_
     for obj in scene.objects:
         own_renderer.release_object(obj)
     assert np.array_equal(moved_picture, corpus.render_float(own_ctx, own_renderer, scene, SIZE))  # as if new
+
+
+def test_a_watched_file_placed_many_times_keeps_one_set_of_buffers(own_ctx, own_renderer, tmp_path: Path) -> None:
+    """--watch read a changed file once for each object a scene file placed from it: three objects of one
+    model held one set of its buffers at start, and three after the file was saved."""
+    import os
+
+    from marraztu.control.viewer import StartOptions, Viewer
+    from marraztu.loaders.scenefile import load_scene
+    from support.scenes import NoFrontend
+
+    model = tmp_path / "m.obj"
+    model.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    path = tmp_path / "scene.toml"
+    path.write_text('[[cameras]]\nposition = [0, 0, 10]\n'
+                    + "".join(f'[[objects]]\nmodel = "m.obj"\nposition = [{x}, 0, 0]\n' for x in (-2, 0, 2)))
+    viewer = Viewer(load_scene(path), NoFrontend())
+    viewer.start(StartOptions(scene_file=path, watch=True), longest_texture_side=64)
+    corpus.render_float(own_ctx, own_renderer, viewer.scene, SIZE)
+    assert [shared.users for shared in own_renderer._meshes.held] == [3]
+    before = model.stat().st_mtime_ns
+    model.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n")
+    os.utime(model, ns=(before + 2_000_000_000, before + 2_000_000_000))  # a new time on a coarse file system
+    viewer.check_watched()
+    corpus.render_float(own_ctx, own_renderer, viewer.scene, SIZE)
+    try:
+        assert [shared.users for shared in own_renderer._meshes.held] == [3]
+        assert own_renderer._meshes.held[0].mesh.vertex_count == 4
+    finally:
+        for obj in viewer.scene.objects:
+            own_renderer.release_object(obj)

@@ -8,8 +8,10 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from marraztu.loaders.files import same_file_key
 from marraztu.loaders.registry import MODEL_READERS
 from marraztu.model.scene import Scene, SceneObject
+from marraztu.model.transforms import Vec3
 
 
 def _sort_key(path: Path) -> tuple[str, str]:
@@ -80,3 +82,13 @@ class ModelWatcher:
         live = {element.uid for element in elements}
         self._seen = {uid: seen for uid, seen in self._seen.items() if uid in live}
         return changed
+
+
+def read_together(elements: list[SceneObject]) -> list[tuple[SceneObject, ...]]:
+    """`elements` by file (however spelled) and scale, in order: each group is read once and shares the
+    mesh, as a scene file's entries of one model at one scale do."""
+    keys = {source: same_file_key(source) for source in {element.source for element in elements}}
+    groups: dict[tuple[Path, Vec3], list[SceneObject]] = {}
+    for element in elements:
+        groups.setdefault((keys[element.source], element.scale), []).append(element)
+    return [tuple(group) for group in groups.values()]

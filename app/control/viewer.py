@@ -21,7 +21,7 @@ from typing import NamedTuple, Protocol
 import numpy as np
 
 from marraztu.control import commands, keymap
-from marraztu.control.browse import ModelWatcher
+from marraztu.control.browse import ModelWatcher, read_together
 from marraztu.errors import LoadError, ViewerError, escaped
 from marraztu.loaders.images import fit_texture, load_image, load_texture_or_fallback
 from marraztu.loaders.obj import READER_COMPILING
@@ -101,7 +101,8 @@ class LoadJob:
     path: Path
     as_camera: bool
     at_start: bool = False  # asked for on the command line: its outcome is told, not overwritten
-    replaces: SceneObject | None = None  # PageDown / --watch: the element it takes the place of
+    # PageDown / --watch: the elements it takes the place of, one file's at one scale, which share its mesh.
+    replaces: tuple[SceneObject, ...] = ()
     future: Future[SceneObject] = field(default_factory=Future)
     # Written by the worker, read by the window's status line. Stages, not a percentage: the parser
     # works on whole arrays, so a percentage would jump in a few steps rather than move smoothly.
@@ -130,7 +131,7 @@ class BackgroundLoader:
         self._wake = wake  # called from the worker when a load ends: the window's loop answers it at once
 
     def start(self, path: Path, as_camera: bool, at_start: bool = False,
-              replaces: SceneObject | None = None) -> LoadJob:
+              replaces: tuple[SceneObject, ...] = ()) -> LoadJob:
         job = LoadJob(path, as_camera, at_start, replaces)
         with self._lock:
             self._jobs.append(job)
@@ -141,7 +142,7 @@ class BackgroundLoader:
         return job
 
     def _load(self, job: LoadJob) -> SceneObject:
-        scale = UNSCALED if job.replaces is None else job.replaces.scale  # read again at the size it was read
+        scale = job.replaces[0].scale if job.replaces else UNSCALED  # read again at the size it was read
         mesh = sized(load_model(job.path, stage=job.set_stage), scale, job.path)
         if self._prepare is not None:
             job.set_stage("preparing vertex arrays")
@@ -392,8 +393,8 @@ class Viewer:
             return
         for job in self.background.take_finished():
             error = job.future.exception()
-            if error is None and job.replaces is not None:
-                self._replace(job.replaces, job.future.result())
+            if error is None and job.replaces:
+                self._replace_each(job.replaces, job.future.result())
             elif error is None:
                 self._add(job.future.result(), job.path, job.as_camera, job.at_start)
             elif isinstance(error, LoadError):
@@ -408,23 +409,34 @@ class Viewer:
 
     def replace_model(self, element: SceneObject, path: Path) -> bool:
         """PageDown / PageUp and --watch: `path` in `element`'s place; a bad file leaves it as it was."""
+        return self._replace_models((element,), path)
+
+    def _replace_models(self, elements: tuple[SceneObject, ...], path: Path) -> bool:
+        """`path`, read once at their scale, in the place of each of `elements` (read_together's group)."""
         if self.background is not None:
-            self.background.start(path, element in self.scene.cameras, replaces=element)
-            self.tell(f"loading {escaped(path.name)} in place of {element.name}")
+            self.background.start(path, elements[0] in self.scene.cameras, replaces=elements)
+            self.tell(f"loading {escaped(path.name)} in place of {_names([element.name for element in elements])}")
             return True
         try:
-            loaded = load_model_object(path, element.scale, stage=self._waiting_on)
+            loaded = load_model_object(path, elements[0].scale, stage=self._waiting_on)
         except LoadError as error:
             return self._failed(error)
-        self._replace(element, loaded)
+        self._replace_each(elements, loaded)
         return True
 
     def check_watched(self) -> None:
-        """--watch: every element whose file changed on disk is read again, in its place."""
+        """--watch: every element whose file changed on disk is read again, in its place; the elements of
+        one file at one scale share the new mesh, as a scene file's do."""
         if self.watcher is None:
             return
-        for element in self.watcher.changed(self.scene):
-            self.replace_model(element, element.source)
+        for elements in read_together(self.watcher.changed(self.scene)):
+            self._replace_models(elements, elements[0].source)
+
+    def _replace_each(self, elements: tuple[SceneObject, ...], loaded: SceneObject) -> None:
+        """`loaded` in the first element's place, and its mesh, with materials of their own, in the others'."""
+        self._replace(elements[0], loaded)
+        for element in elements[1:]:
+            self._replace(element, _placed(loaded.mesh, element.source, element.scale))
 
     def _replace(self, element: SceneObject, loaded: SceneObject) -> None:
         if element not in self.scene.objects and element not in self.scene.cameras:  # identity: eq=False
