@@ -28,6 +28,7 @@ from marraztu.render.renderer import DrawItem, part_of_face, split_by_material
 from marraztu.resources import ASSET_DIR
 from marraztu.text.panels import probe_lines
 from marraztu.text.status import status_line
+from support.corpus import git_lfs_pointer
 from support.scenes import NoFrontend
 
 EXAMPLES = ASSET_DIR / assetgen.EXAMPLE_DIR
@@ -577,10 +578,12 @@ def test_what_is_missing_is_a_note_and_the_colours_are_used(tmp_path: Path, mtl:
     (b"Kd 1 0 0\nnewmtl w\nKd 1 0 0\n", "mtllib m.mtl\n",
      "material library 'm.mtl': 1 line before the first newmtl, which belongs to no material, ignored"),
     (b"", "", "usemtl names materials ('w') but no mtllib line names their library; using the scene's material"),
+    (git_lfs_pointer(2048), "mtllib m.mtl\n", "material library 'm.mtl' is a Git LFS pointer, not the library: "
+     "its 2048 bytes are fetched by `git lfs pull`; using the scene's material"),
 ])
 def test_what_is_read_of_no_material_is_a_note(tmp_path: Path, mtl: bytes, obj: str, said: str) -> None:
-    """A UTF-16 library said it 'defines no material'; the lines before the first newmtl, and a usemtl
-    with no library, were passed over without a word."""
+    """A UTF-16 library, and a Git LFS pointer in one's place, said it 'defines no material'; the lines before
+    the first newmtl, and a usemtl with no library, were passed over without a word."""
     (tmp_path / "m.mtl").write_bytes(mtl)
     (tmp_path / "m.obj").write_text(f"{obj}{TRIANGLES}usemtl w\nf 1 2 3\n")
     assert load_model(tmp_path / "m.obj").warnings == (said,)

@@ -13,8 +13,10 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.files import (
+    GIT_LFS_POINTER_BYTES,
     UTF16_BOMS,
     bom_length,
+    git_lfs_pointer_words,
     is_there,
     read_file,
     same_file_key,
@@ -255,8 +257,11 @@ def _library_contents(text: bytes, wanted: Collection[str], keep_first: bool) ->
 
 def _library_notes(name: str, text: bytes, library: _Library) -> list[str]:
     notes: list[str] = []
+    pointer = None if library.defines_any else git_lfs_pointer_words(text[:GIT_LFS_POINTER_BYTES], "library")
     if not library.defines_any and text.startswith(UTF16_BOMS):  # as an OBJ's
         notes.append(f"material library '{name}' is UTF-16 text: save it as UTF-8; using the scene's material")
+    elif pointer is not None:  # a note, not a refusal, as any library that gives no material
+        notes.append(f"material library '{name}' is {pointer}; using the scene's material")
     elif not library.defines_any:
         notes.append(f"material library '{name}' defines no material; using the scene's material")
     elif library.before_first:
