@@ -366,15 +366,32 @@ def test_a_finished_save_is_said_on_the_window_and_asks_for_a_frame() -> None:
     pytest.importorskip("pyglet.libs.x11.xlib")
     from marraztu.frontends.window import ViewerWindow
 
-    finished = [["recording of 3 frames saved to /x.gif"], []]
+    finished = [["recording saved to /x.gif: 3 frames"], []]
     window = SimpleNamespace(scene=scene_with([]), saves=SimpleNamespace(finished=lambda: finished.pop(0)),
                              needs_frame=False, scene_changed=False, last_failure="")
     ViewerWindow._say_finished_saves(window)
-    assert window.scene.message == "recording of 3 frames saved to /x.gif" and window.needs_frame
+    assert window.scene.message == "recording saved to /x.gif: 3 frames" and window.needs_frame
     assert not window.scene_changed  # only the text over the picture changed
     window.needs_frame = False
     ViewerWindow._say_finished_saves(window)
     assert not window.needs_frame  # nothing finished: no frame
+
+
+@pytest.mark.parametrize(("shades", "said"), [
+    ((0, 0, 0), "3 frames, all the same picture: the keys changed nothing in view"),
+    ((0, 0, 90), "3 frames, held as 2 pictures: a GIF shows a frame the same as the one before by showing that one "
+                 "longer"),
+    ((0, 90, 180), "3 frames"),
+])
+def test_a_saved_recording_says_what_the_record_command_says_of_its_frames(tmp_path: Path, shades: tuple[int, ...],
+                                                                           said: str) -> None:
+    """F9 said 'recording of 3 frames saved to' where `marraztu record` says the frames are all one picture
+    (a key drew the same picture again), or that a GIF holds fewer."""
+    from marraztu.frontends import record
+
+    saves = record.BackgroundSaves(wake=lambda: None)
+    saves.save([np.full((4, 4, 3), shade, np.uint8) for shade in shades], tmp_path / "a.gif", 10)
+    assert saves.close() == [f"recording saved to {tmp_path / 'a.gif'}: {said}"]
 
 
 def test_saves_run_on_their_own_thread_and_are_said_when_done(tmp_path: Path,
@@ -386,12 +403,12 @@ def test_saves_run_on_their_own_thread_and_are_said_when_done(tmp_path: Path,
     release, woken = threading.Event(), threading.Event()
     writers: list[str] = []
 
-    def slow_write(frames: list[np.ndarray], path: Path, fps: float) -> int:
+    def slow_write(frames: list[np.ndarray], path: Path, fps: float) -> record.Written:
         writers.append(threading.current_thread().name)
         assert release.wait(30)
         if path.name == "bad.gif":
             raise ViewerError("cannot write bad.gif: no room")
-        return len(frames)
+        return record.Written(len(frames), 0, "GIF")
 
     monkeypatch.setattr(record, "write_animation", slow_write)
     saves = record.BackgroundSaves(wake=woken.set)
@@ -402,7 +419,7 @@ def test_saves_run_on_their_own_thread_and_are_said_when_done(tmp_path: Path,
     finally:
         release.set()  # a failure above leaves no writer waiting into the next tests and the exit
     assert woken.wait(30)
-    assert saves.close() == [f"recording of 3 frames saved to {tmp_path / 'good.gif'}",
+    assert saves.close() == [f"recording saved to {tmp_path / 'good.gif'}: 3 frames",
                              "recording not saved: cannot write bad.gif: no room"]
     assert len(writers) == 2 and threading.current_thread().name not in writers
     assert saves.finished() == []  # each said once
@@ -449,17 +466,17 @@ def test_a_save_that_fails_unforeseen_is_one_line_and_the_next_is_still_said(tmp
     and the saves after it never said."""
     from marraztu.frontends import record
 
-    def write(frames: list[np.ndarray], path: Path, fps: float) -> int:
+    def write(frames: list[np.ndarray], path: Path, fps: float) -> record.Written:
         if path.name == "big.gif":
             raise MemoryError()
-        return len(frames)
+        return record.Written(len(frames), 0, "GIF")
 
     monkeypatch.setattr(record, "write_animation", write)
     saves = record.BackgroundSaves(wake=lambda: None)
     saves.save([np.zeros((2, 2, 3), np.uint8)] * 2, tmp_path / "big.gif", 10)
     saves.save([np.zeros((2, 2, 3), np.uint8)] * 3, tmp_path / "small.gif", 10)
     assert saves.close() == ["recording not saved: MemoryError",
-                             f"recording of 3 frames saved to {tmp_path / 'small.gif'}"]
+                             f"recording saved to {tmp_path / 'small.gif'}: 3 frames"]
 
 
 def test_ctrl_c_in_the_window_still_finishes_and_says_the_recording(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -476,9 +493,9 @@ def test_ctrl_c_in_the_window_still_finishes_and_says_the_recording(monkeypatch:
         raise KeyboardInterrupt
 
     window = SimpleNamespace(wnd=SimpleNamespace(is_closing=False), _check_watched_files=interrupted,
-                             saves=SimpleNamespace(close=lambda: ["recording of 3 frames saved to /x.gif"]),
+                             saves=SimpleNamespace(close=lambda: ["recording saved to /x.gif: 3 frames"]),
                              notice=said.append)
     window._draw_until_closed = lambda: ViewerWindow._draw_until_closed(window)
     with pytest.raises(KeyboardInterrupt):
         ViewerWindow.run(window)
-    assert said == ["recording of 3 frames saved to /x.gif"]
+    assert said == ["recording saved to /x.gif: 3 frames"]

@@ -192,11 +192,12 @@ class BackgroundSaves:
 
 
 def _saved(frames: list[np.ndarray], out: Path, fps: float) -> str:
+    """What F9 says of its save: where it went, and of its frames what `marraztu record` says."""
     try:
-        write_animation(frames, out, fps)
+        written = write_animation(frames, out, fps)
     except ViewerError as error:
         return f"recording not saved: {error}"
-    return f"recording of {counted(len(frames), 'frame')} saved to {out}"
+    return f"recording saved to {out}: {written.said()}"
 
 
 class _Counted:
