@@ -11,6 +11,7 @@ character, SPACE and BACKSPACE.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import re
 import shlex
@@ -216,11 +217,16 @@ def normalise_token(token: str) -> str:
     return _NAMED_ALIASES.get(upper, upper)
 
 
-def key_press(token: str, keymap: dict[str, Command] = KEYMAP, hint: str = "") -> KeyPress:
-    """The press of a token; KeyMapError names the token when no key has it, and adds `hint`."""
+def _no_hint() -> str:
+    return ""
+
+
+def key_press(token: str, keymap: dict[str, Command] = KEYMAP, hint: Callable[[], str] = _no_hint) -> KeyPress:
+    """The press of a token; KeyMapError names the token when no key has it, and adds what `hint` says
+    (asked only then: most words are keys)."""
     name = normalise_token(token)
     if name not in keymap:
-        raise KeyMapError(f"unknown key {shortened(token)!r}{hint}; keys are: {' '.join(keymap)}, f=PATH and "
+        raise KeyMapError(f"unknown key {shortened(token)!r}{hint()}; keys are: {' '.join(keymap)}, f=PATH and "
                           "click=X,Y, separated by spaces (KEY*N presses one N times)")
     return KeyPress(name)
 
@@ -235,7 +241,7 @@ def _miscounted(word: str, keymap: dict[str, Command]) -> bool:
 
 
 def _parse_word(word: str, keymap: dict[str, Command], in_prompt: bool, opened_by: str | None = None,
-                hint: str = "") -> tuple[KeyPress, int]:
+                hint: Callable[[], str] = _no_hint) -> tuple[KeyPress, int]:
     """One word of a sequence: its press and how many times it repeats (`opened_by`: _prompt_press;
     `hint`: what an unknown key's refusal adds)."""
     count = 1
@@ -310,7 +316,8 @@ def parse_key_sequence(text: str, keymap: dict[str, Command] = KEYMAP, in_prompt
     presses: list[KeyPress] = []
     for at, word in enumerate(words):
         opened_by = opened_by if in_prompt else None  # a prompt these keys open is their own
-        press, count = _parse_word(word, keymap, in_prompt, opened_by, _quoting_hint(words, at, keymap))
+        hint = functools.partial(_quoting_hint, words, at, keymap)
+        press, count = _parse_word(word, keymap, in_prompt, opened_by, hint)
         if len(presses) + count > MAX_SEQUENCE_PRESSES:
             raise KeyMapError(f"key sequence: more than {MAX_SEQUENCE_PRESSES} presses")
         presses.extend([press] * count)
