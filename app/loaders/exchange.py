@@ -259,7 +259,8 @@ class _FilesBeside:
     trimesh as its own resolver reads them: the name, then its last part, in the model's folder and
     never outside it. A glTF names them by URI, percent-encoded ('my%20buf.bin' is 'my buf.bin'). Read
     by read_file (no device, pipe or huge file), none that is a Git LFS pointer; a picture only when its
-    first bytes are PNG, JPEG or PPM, as every texture. trimesh drops a picture it cannot have; `failures` keeps why, for a note."""
+    first bytes are PNG, JPEG or PPM, as every texture. trimesh drops a picture it cannot have; `failures`
+    keeps why, for a note."""
 
     def __init__(self, folder: Path, is_picture: Callable[[str], bool], uri: bool = False,
                  least_bytes: dict[str, int] | None = None) -> None:
