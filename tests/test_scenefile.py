@@ -1016,3 +1016,20 @@ def test_a_model_file_given_as_the_scene_says_so(tmp_path: Path, suffix: str) ->
         load_scene(path)
     assert caught.value.line is None
     assert caught.value.message.startswith("a model file, not a TOML scene file")
+
+
+def test_an_objects_material_stays_when_its_file_is_read_again_in_its_place(tmp_path: Path) -> None:
+    """--watch read a scene's red sphere again as the viewer's grey: the scene file's material was
+    dropped for the file's, where its scale and texture stayed."""
+    from marraztu.control.viewer import Viewer
+    from support.scenes import NoFrontend
+
+    material = 'material = { ka = [0.1, 0, 0], kd = [0.9, 0, 0], ks = [0, 0, 0], ns = 10 }\n'
+    viewer = Viewer(load_scene(_two_quads(tmp_path, material)), NoFrontend())
+    left, right = viewer.scene.objects
+    given, plain, parts = left.material, right.material, left.part_materials
+    assert given.kd == (0.9, 0.0, 0.0)
+    for element in (left, right):
+        assert viewer.replace_model(element, element.source)  # --watch's way: the same file again
+    assert left.material == given and left.part_materials == parts
+    assert right.material == plain  # no material in the scene: its file's, as before

@@ -21,7 +21,7 @@ import numpy as np
 from marraztu.control.browse import sibling_model
 from marraztu.errors import escaped
 from marraztu.loaders.registry import load_model, sized
-from marraztu.loaders.scenefile import BUILT_IN_CAMERA_MODEL
+from marraztu.loaders.scenefile import BUILT_IN_CAMERA_MODEL, give_part_materials
 from marraztu.model import framing, picking, transforms, viewports
 from marraztu.model.build import scaled_mesh
 from marraztu.model.geometry import CAMERA_REACH, DRAWABLE_SIZE
@@ -876,10 +876,14 @@ def _where_fitting_left_it(light: Light, fitted_unit: float) -> bool:
 
 def replace_loaded(scene: Scene, element: SceneObject, loaded: SceneObject) -> None:
     """The host's half of PageDown / --watch: the element keeps its place, history and uid (so its
-    undo and GPU slot stay), and takes the new file's mesh, name and material."""
+    undo and GPU slot stay), and takes the new file's mesh, name and material (the scene file's
+    material, where it gave one, stays, as its scale and texture do)."""
     element.mesh, element.name, element.material = loaded.mesh, loaded.name, loaded.material
     scene.loads += 1
     element.part_materials, element.file_materials = loaded.part_materials, loaded.file_materials
+    if element.given_material is not None:
+        element.material = element.given_material
+        give_part_materials(element, from_scene=True)
     # PageDown goes on from the shown file once the last file it asked for is the one shown (an earlier
     # load, or --watch's, finishing after a later PageDown leaves that one where the next step starts).
     if element.browsed == loaded.source:

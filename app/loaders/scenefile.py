@@ -614,6 +614,7 @@ class _ModelLoader:
                             entry.position_line)
         obj.scale = entry.scale
         obj.picture = self.picture(entry)
+        obj.given_material = entry.material
         give_part_materials(obj, from_scene=entry.material is not None)
         return obj
 

@@ -519,6 +519,8 @@ class SceneObject:
     scale: Vec3 = (1.0, 1.0, 1.0)
     # A scene file's `texture` for this object, (H, W, 3) uint8: drawn in place of its file's and the scene's.
     picture: np.ndarray | None = None
+    # A scene file's `material` for this object: it stays, as `picture` does, when its file is read again.
+    given_material: Material | None = None
     # A camera's: the parallel view's half height before each view move whose matrix is still on its
     # history, latest last, with that matrix (None: made in perspective). `u` gives the size back as it
     # takes the matrix off, as the view's move or, after a key move, as the camera's own.
