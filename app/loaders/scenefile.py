@@ -436,6 +436,7 @@ class _SceneReader:
     def scale(self, value: object, what: str, line: int | None) -> Vec3:
         """One number, the same along x, y and z, or three; each greater than 0."""
         if isinstance(value, list) and len(value) == 3:
+            self.all_numbers(value, f"{what} must be one number or three, like 2 or [1, 2, 1]", line)
             x, y, z = (self.number(item, what, line) for item in value)
         elif isinstance(value, (int, float)) and not isinstance(value, bool):
             x = y = z = self.number(value, what, line)
@@ -449,8 +450,15 @@ class _SceneReader:
     def triple(self, value: object, what: str, line: int | None) -> Vec3:
         if not isinstance(value, list) or len(value) != 3:
             self.fail(f"{what} must be three numbers, like [0, 0, 0]", line)
+        self.all_numbers(value, f"{what} must be three numbers, like [0, 0, 0]", line)
         x, y, z = (self.number(item, what, line) for item in value)
         return (x, y, z)
+
+    def all_numbers(self, items: list[object], rule: str, line: int | None) -> None:
+        """Which of three is not a number: `position must be a number` would misname a list of three."""
+        for ordinal, item in zip(("first", "second", "third"), items):
+            if isinstance(item, bool) or not isinstance(item, (int, float)):
+                self.fail(f"{rule}: its {ordinal} is {_toml_type(item)}", line)
 
     def material_colour(self, value: object, what: str, line: int | None) -> Vec3:
         """Three numbers in the range Scene.check_by_hand holds a material's colours to."""
