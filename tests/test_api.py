@@ -1230,6 +1230,9 @@ def test_a_view_size_set_by_hand_that_u_cannot_give_back_is_refused_before_u_giv
     # AttributeError: 'dict' object has no attribute 'ka', and TypeError: Value after * must be an iterable:
     (lambda s: setattr(s.objects[0], "material", {"kd": (1, 0, 0)}), r"'s material must be a Material \(.*not dict$"),
     (lambda s: setattr(s.objects[0], "material", None), "'s material must be a Material .*not NoneType$"),
+    # PageDown and --watch give it back through the part materials: a dict raised AttributeError there
+    (lambda s: setattr(s.objects[0], "given_material", {"kd": (1, 0, 0)}),
+     "'s given_material must be None or a Material, not dict$"),
     (lambda s: setattr(s.objects[0], "part_materials", s.objects[0].material),
      r"'s part_materials must be a tuple of Materials, one per material of its file \(\d+\), not Material$"),
     (lambda s: setattr(s.objects[0], "part_materials", ({"kd": 1},)),

@@ -280,6 +280,8 @@ def _materials_refusal(element: SceneObject) -> str | None:
     if not isinstance(element.material, Material):
         return f"material must be a Material (dataclasses.replace(obj.material, kd=...)), not " \
                f"{type(element.material).__name__}"
+    if element.given_material is not None and not isinstance(element.given_material, Material):
+        return f"given_material must be None or a Material, not {type(element.given_material).__name__}"
     parts = element.part_materials
     if isinstance(parts, (tuple, list)):
         given = next((f"a {type(parts).__name__} holding a {type(part).__name__}" for part in parts
@@ -481,6 +483,8 @@ class _Gathered:
             if type(parts) not in (tuple, list):
                 return None
             materials[id(element.material)] = element.material  # _materials_of's, inline: no call an element
+            if element.given_material is not None:
+                materials[id(element.given_material)] = element.given_material
             for part in parts:
                 materials[id(part)] = part
         if not all(map(isinstance, materials.values(), itertools.repeat(Material))):
