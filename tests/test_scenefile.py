@@ -7,6 +7,7 @@ import os
 import re
 import subprocess
 import sys
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -440,6 +441,17 @@ BAD_SCENES = {
     "material unknown key": (MATERIAL + "kx = [0, 0, 0]\n" + CAMERA, "unknown key 'kx'"),
     "material colour above 1": (MATERIAL.replace("[0.1, 0.2, 0.3]", "[2, 0, 0]") + CAMERA, "between 0 and 1"),
     "material colour negative": (MATERIAL.replace("[0.4, 0.5, 0.6]", "[0, -0.1, 0]") + CAMERA, "between 0 and 1"),
+    "material colour as given": (MATERIAL.replace("[0.4, 0.5, 0.6]", "[2, 0, 0.5]") + CAMERA,
+                                 "material 'm': kd must be three numbers between 0 and 1, not [2, 0, 0.5]"),
+    "material colour 0..255": (CAMERA + "material = { ka = [0, 0, 0], kd = [255, 0, 0], ks = [0, 0, 0], ns = 10 }\n",
+                               "cameras[1]: material: kd must be three numbers between 0 and 1, not [255, 0, 0] "
+                               "(0..255 colours: divide by 255)"),
+    "material colour past 255": (MATERIAL.replace("[0.4, 0.5, 0.6]", "[256, 0, 0]") + CAMERA,
+                                 "kd must be three numbers between 0 and 1, not [256, 0, 0]$"),
+    "material colour 0..255 with a fraction": (MATERIAL.replace("[0.4, 0.5, 0.6]", "[255, 0.5, 0]") + CAMERA,
+                                               "not [255, 0.5, 0]$"),
+    "material colour 0..255 as floats": (MATERIAL.replace("[0.1, 0.2, 0.3]", "[128.0, 64, 0]") + CAMERA,
+                                         "ka must be three numbers between 0 and 1, not [128.0, 64, 0] (0..255 "),
     "material colour a string": (MATERIAL.replace("[0.7, 0.8, 0.9]", '"red"') + CAMERA, "three numbers"),
     "ns zero": (MATERIAL.replace("ns = 10", "ns = 0") + CAMERA, "greater than 0"),
     "ns negative": (MATERIAL.replace("ns = 10", "ns = -3") + CAMERA, "greater than 0"),
@@ -479,7 +491,7 @@ def test_bad_scene_raises_load_error_naming_the_file(tmp_path: Path, text: str, 
     with pytest.raises(LoadError) as caught:
         load_scene(path)
     assert caught.value.path == str(path)
-    assert expected in caught.value.message
+    assert expected in caught.value.message + "$"  # a "$" at its end: nothing (no hint) follows
     assert str(path) in str(caught.value)
 
 
@@ -519,7 +531,8 @@ def test_a_scene_file_and_the_scene_set_by_hand_refuse_the_same_material_colours
         hand_refused = str(error)
     assert (file_refused is None) == (hand_refused is None), (file_refused, hand_refused)
     if file_refused is not None and "too large" not in file_refused:  # the file's own words for past float32
-        assert file_refused.endswith(f"{key} must be three numbers between 0 and 1")
+        as_read = ", ".join(map(str, tomllib.loads(f"v = {toml}")["v"]))  # -1e-9 is shown as Python writes it
+        assert f"{key} must be three numbers between 0 and 1, not [{as_read}]" in file_refused
         assert hand_refused.startswith(f"{camera.name}'s material {key} must be 3 numbers between 0 and 1, not ")
 
 

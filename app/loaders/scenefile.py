@@ -464,12 +464,23 @@ class _SceneReader:
         """Three numbers in the range Scene.check_by_hand holds a material's colours to."""
         colour = self.triple(value, what, line)
         if not MATERIAL_COLOUR.holds(np.array(colour)):
-            self.fail(f"{what} must be three numbers {MATERIAL_COLOUR.within}", line)
+            hint = " (0..255 colours: divide by 255)" if _looks_like_bytes(colour) else ""
+            self.fail(f"{what} must be three numbers {MATERIAL_COLOUR.within}, not {_toml_list(value)}{hint}", line)
         return colour
 
 
 def _unknown_key(what: str, key: str, allowed: frozenset[str]) -> str:
     return f"{what}: unknown key {key!r} (allowed: {', '.join(sorted(allowed))})"
+
+
+def _looks_like_bytes(colour: Vec3) -> bool:
+    """Whole numbers from 0 to 255, one above 1: a colour written as an image editor shows it."""
+    return all(c.is_integer() and 0 <= c <= 255 for c in colour) and max(colour) > 1
+
+
+def _toml_list(numbers: list[object]) -> str:
+    """Numbers as the file wrote them: [255, 0, 0], not a tuple of floats."""
+    return f"[{', '.join(map(str, numbers))}]"
 
 
 def _toml_type(value: object) -> str:
