@@ -1017,11 +1017,16 @@ def test_an_objects_texture_stays_when_its_file_is_read_again_in_its_place(tmp_p
     assert left.picture is picture and left.picture_of(-1) is picture
 
 
-def test_an_objects_texture_that_cannot_be_read_is_refused_at_its_line(tmp_path: Path) -> None:
-    path = _two_quads(tmp_path, 'texture = "missing.png"\n')
+def test_an_objects_texture_that_cannot_be_read_is_refused_at_its_line(tmp_path: Path,
+                                                                       monkeypatch: pytest.MonkeyPatch) -> None:
+    """Named once, as the file looked for: 'texture models/nope.png: models/nope.png' said the name twice, and
+    from a scene given by a relative path, neither said where it was looked for."""
+    _two_quads(tmp_path, 'texture = "pictures/missing.png"\n')
+    monkeypatch.chdir(tmp_path)
     with pytest.raises(LoadError) as caught:
-        load_scene(path)
-    assert str(caught.value).startswith(f"{path}:7: objects[1]: texture missing.png: ")
+        load_scene("scene.toml")
+    looked_for = tmp_path / "pictures" / "missing.png"
+    assert str(caught.value) == f"scene.toml:7: objects[1]: texture: {looked_for}: no such file"
 
 
 @pytest.mark.parametrize("suffix", [".obj", ".STL", ".glb"])

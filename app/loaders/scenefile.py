@@ -642,14 +642,13 @@ class _ModelLoader:
         scene's own texture is SPEC 7's, with the checker: an object's is named as its model is)."""
         if entry.texture is None:
             return None
-        path = self.scene_path.parent / entry.texture
+        path = (self.scene_path.parent / entry.texture).absolute()  # the file looked for, whatever the working folder
         key = same_file_key(path)  # a.png and ./a.png: one picture, as one model
         if key not in self.pictures:
             try:
                 self.pictures[key] = load_image(path)
-            except (ViewerError, OSError) as err:
-                raise LoadError(self.scene_path, f"{entry.what}: texture {shown(entry.texture)}: {err}",
-                                entry.texture_line) from err
+            except (ViewerError, OSError) as err:  # its message names the file, the written name within it
+                raise LoadError(self.scene_path, f"{entry.what}: texture: {err}", entry.texture_line) from err
         return self.pictures[key]
 
     def mesh(self, entry: SceneEntry) -> Mesh:
