@@ -1055,3 +1055,35 @@ def test_an_objects_material_stays_when_its_file_is_read_again_in_its_place(tmp_
         assert viewer.replace_model(element, element.source)  # --watch's way: the same file again
     assert left.material == given and left.part_materials == parts
     assert right.material == plain  # no material in the scene: its file's, as before
+
+
+WINDOWS_PATHS = {
+    "model, basic string": ('model = "sub\\\\m.obj"\n', "", ":2: model sub\\m.obj: ", " (use / between folders)"),
+    "model, literal string": ("model = 'sub\\m.obj'\n", "", ":2: model sub\\m.obj: ", " (use / between folders)"),
+    "model with a drive": ("model = 'C:\\Users\\t\\m.obj'\n", "", ":2: model C:\\Users\\t\\m.obj: ",
+                           " (use / between folders; C: is a Windows drive)"),
+    "texture": ('model = "sub/m.obj"\n', "texture = 'sub\\red.png'\n", ":3: objects[1]: texture: ",
+                " (use / between folders)"),
+    "model missing, no back slash": ('model = "sub/n.obj"\n', "", ":2: model sub/n.obj: ", ""),
+}
+
+
+@pytest.mark.skipif(os.sep == "\\", reason="a back slash is a folder separator on Windows")
+@pytest.mark.parametrize("model, texture, where, hint", WINDOWS_PATHS.values(), ids=WINDOWS_PATHS.keys())
+def test_a_windows_path_not_found_says_to_use_slashes(tmp_path: Path, model: str, texture: str, where: str,
+                                                      hint: str) -> None:
+    """A teacher's models\\ico.obj, written on Windows, was only 'no such file', the back slash unseen in it."""
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "m.obj").write_text(TETRAHEDRON)
+    path = write_scene(tmp_path, "[[objects]]\n" + model + texture)
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert str(caught.value).startswith(f"{path}{where}")
+    assert str(caught.value).endswith(f": no such file{hint}")
+
+
+@pytest.mark.skipif(os.sep == "\\", reason="a back slash is a folder separator on Windows")
+def test_a_file_whose_name_holds_a_back_slash_is_read(tmp_path: Path) -> None:
+    (tmp_path / "sub\\m.obj").write_text(TETRAHEDRON)
+    scene = load_scene(write_scene(tmp_path, "[[objects]]\nmodel = 'sub\\m.obj'\n"))
+    assert scene.objects[0].name == "sub\\m"

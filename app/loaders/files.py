@@ -28,13 +28,26 @@ def errors_as_load_errors(path: str | Path) -> Iterator[None]:
     try:
         yield
     except FileNotFoundError:
-        raise LoadError(path, "no such file") from None
+        raise LoadError(path, f"no such file{_windows_path_hint(str(path))}") from None
     except PermissionError:
         raise LoadError(path, "permission denied") from None
     except MemoryError:
         raise LoadError(path, "file too large to load") from None
     except (OSError, ValueError) as error:  # ValueError: a path with a NUL byte in it
         raise LoadError(path, f"cannot read the file ({getattr(error, 'strerror', None) or error})") from None
+
+
+# A drive, as a Windows path begins: C:\ or C:/ (after the folder a scene or a model is read from).
+_WINDOWS_DRIVE = re.compile(r"(?:^|[/\\])([A-Za-z]:)[/\\]")
+
+
+def _windows_path_hint(path: str) -> str:
+    """Why a path holding a back slash is not found where "\\" is no folder separator (every system but
+    Windows): it is a Windows path, as a scene or a model written there gives it."""
+    if os.sep == "\\" or "\\" not in path:
+        return ""
+    drive = _WINDOWS_DRIVE.search(path)
+    return f" (use / between folders; {drive[1]} is a Windows drive)" if drive else " (use / between folders)"
 
 
 # Linux's PATH_MAX: no longer path names a file it opens.
