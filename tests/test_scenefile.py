@@ -405,8 +405,21 @@ def test_absolute_model_path(tmp_path: Path) -> None:
 
 # --- bad files -------------------------------------------------------------------------------------
 BAD_SCENES = {
-    "toml syntax": ('[[cameras]]\nmodel = m.obj\n', "TOML syntax"),
-    "duplicate table": (MATERIAL + "[materials.m]\nns = 1\n", "TOML syntax"),
+    "toml syntax": ('[[cameras]]\nmodel = m.obj\n',
+                    'TOML syntax: model: no value TOML reads (text, a file name too, goes in "quotes")'),
+    "no value, not text": (CAMERA + "rotation = (0, 0, 0)\n", "TOML syntax: rotation: no value TOML reads$"),
+    "string not closed": ('[[cameras]]\nmodel = "m.obj\nposition = [0, 0, 0]\n',
+                          'TOML syntax: model: a string in "quotes" is not closed on its line'),
+    "literal string not closed": ("[[cameras]]\nmodel = 'm.obj\nposition = [0, 0, 0]\nname = 'c'\n",
+                                  "TOML syntax: model: a string in 'quotes' is not closed on its line"),
+    "literal string not closed, at the end": ("[[cameras]]\nmodel = 'm.obj\nposition = [0, 0, 0]\n",
+                                              "TOML syntax: Expected \"'\" (at end of document)"),  # no line to name
+    "key set twice": (CAMERA + "position = [0, 0, 1]\nname = 'c'\n", "TOML syntax: position is set twice in one table"),
+    "dotted key over a value": (CAMERA + "name = 'c'\nmodel.kind = 1\n", "TOML syntax: model.kind: Cannot overwrite"),
+    "duplicate table": (MATERIAL + "[materials.m]\nns = 1\n",
+                        "TOML syntax: [materials.m] is declared twice (first at line 1)"),
+    "table after an array of them": (CAMERA + '[cameras]\nmodel = "m.obj"\n',
+                                     "TOML syntax: [cameras] is declared twice (first at line 1)"),
     "unknown top-level key": ('textures = "a.ppm"\n' + CAMERA, "unknown key 'textures'"),
     "unknown entry key": (CAMERA + "positon = [1, 2, 3]\n", "unknown key 'positon'"),
     "missing model": ("[[objects]]\nposition = [0, 0, 0]\n", "missing key 'model'"),

@@ -38,7 +38,7 @@ import sys
 import tomllib
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from itertools import chain
+from itertools import chain, islice
 from pathlib import Path
 from typing import NoReturn
 
@@ -92,8 +92,17 @@ WHITE: Vec3 = (1.0, 1.0, 1.0)
 DEFAULT_MATERIAL = Material(ka=(0.3, 0.3, 0.3), kd=(0.7, 0.7, 0.7), ks=(0.3, 0.3, 0.3), ns=20.0)
 MIN_FILE_NS = 1.0  # MTL files often say "Ns 0", which would light every face with full specular
 
-_TOML_POSITION = re.compile(r"\s*\(at line (\d+), column \d+\)$")
+_TOML_POSITION = re.compile(r"\s*\(at line (\d+), column (\d+)\)$")
 _AT_THE_END = "(at end of document)"  # tomllib's place of an error the file's end shows
+_DECLARED_TWICE = re.compile(r"Cannot declare \(.*\) twice")  # tomllib writes the key as a tuple of its parts
+# tomllib's words for slips of a key = value line, as its writer would see them.
+_SYNTAX_REWORDED = {
+    "Illegal character '\\n'": 'a string in "quotes" is not closed on its line',  # a one-line "string" only
+    "Found invalid character '\\n'": "a string in 'quotes' is not closed on its line",  # a one-line 'string' only
+    "Invalid value": "no value TOML reads",
+}
+_QUOTES_HINT = ' (text, a file name too, goes in "quotes")'
+_LOOKS_LIKE_TEXT = re.compile(r"[^\W\d]|[./\\~]")  # a value starting so is a word or a path, not a number
 TOO_LARGE = "is too large: the GPU's 32-bit numbers end at 3.4e38"
 
 # A TOML key as written: bare, "basic" (with escapes) or 'literal'; dotted keys join them with dots.
@@ -298,12 +307,32 @@ class _SceneReader:
             message = str(err)
             found = _TOML_POSITION.search(message)
             line = int(found.group(1)) if found else self._last_line() if message.endswith(_AT_THE_END) else None
-            self.fail(f"TOML syntax: {_TOML_POSITION.sub('', message)}", line)
+            column = int(found.group(2)) if found else None
+            self.fail(f"TOML syntax: {self._syntax_words(_TOML_POSITION.sub('', message), line, column)}", line)
         except RecursionError:  # tomllib recurses once per nesting level of arrays and inline tables
             self.fail("TOML nested too deeply to be a scene file")
         except ValueError as err:  # Python refuses to read decimal integers longer than its digit limit
             line = _overlong_integer_line(self.text)
             self.fail(f"an integer of thousands of digits {TOO_LARGE}" if line else f"TOML: {err}", line)
+
+    def _syntax_words(self, said: str, line: int | None, column: int | None) -> str:
+        """tomllib's words for a syntax error, with the key or [table] of its line; a few said as a person
+        would ("Cannot declare ('materials', 'red') twice": [materials.red] is declared twice)."""
+        if line is None or column is None:  # at the end: the last line, maybe not where the slip is
+            return said
+        text = next(islice(_lines(self.text), line - 1, None))
+        written = _LINE_START.match(text)
+        if written is None:
+            return said
+        if written["table"] is not None and _DECLARED_TWICE.fullmatch(said):
+            first = _first_header_line(self.text, _key_parts(written["table"]), line)
+            return f"[{written['table']}] is declared twice" + (f" (first at line {first})" if first else "")
+        if written["key"] is None:
+            return said
+        if said == "Cannot overwrite a value" and len(_key_parts(written["key"])) == 1:  # else a part may be a value
+            return f"{written['key']} is set twice in one table"
+        unquoted = said == "Invalid value" and _LOOKS_LIKE_TEXT.match(text, column - 1)
+        return f"{written['key']}: {_SYNTAX_REWORDED.get(said, said)}" + (_QUOTES_HINT if unquoted else "")
 
     def _last_line(self) -> int:
         """The last line that holds anything: where a file cut short ends (tomllib says only "at end of
@@ -514,6 +543,16 @@ def _overlong_integer_line(text: str) -> int | None:
 @functools.lru_cache(maxsize=2)
 def _integer_run_longer_than(limit: int) -> re.Pattern[str]:
     return compiled(rf"(?<![0-9A-Za-z_.])[0-9](?:_?+[0-9]){{{limit},}}+(?![0-9A-Za-z_.])")
+
+
+def _first_header_line(text: str, key: KeyPath, before: int) -> int | None:
+    """The line of the first [table] or [[array]] header naming `key`, if one comes before line `before`."""
+    for number, line in enumerate(islice(_lines(text), before - 1), 1):
+        found = _LINE_START.match(line)
+        header = None if found is None else found["table"] or found["array"]
+        if header is not None and _key_parts(header) == key:
+            return number
+    return None
 
 
 def _line_of(text: str, offset: int) -> int:
