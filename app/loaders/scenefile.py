@@ -478,7 +478,8 @@ class _SceneReader:
 
     def triple(self, value: object, what: str, line: int | None) -> Vec3:
         if not isinstance(value, list) or len(value) != 3:
-            self.fail(f"{what} must be three numbers, like [0, 0, 0]", line)
+            given = f"{len(value)} numbers" if isinstance(value, list) else _toml_type(value)
+            self.fail(f"{what} must be three numbers, like [0, 0, 0], not {given}", line)
         self.all_numbers(value, f"{what} must be three numbers, like [0, 0, 0]", line)
         x, y, z = (self.number(item, what, line) for item in value)
         return (x, y, z)
@@ -513,7 +514,8 @@ def _toml_list(numbers: list[object]) -> str:
 
 
 def _toml_type(value: object) -> str:
-    names = {bool: "true/false", str: "a string", list: "an array", dict: "a table"}
+    names = {bool: "true/false", str: "a string", list: "an array", dict: "a table", int: "one number",
+             float: "one number"}
     return names.get(type(value), type(value).__name__)
 
 
