@@ -9,6 +9,7 @@ import numpy as np
 
 from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer
 from marraztu.loaders.scenefile import empty_scene
+from marraztu.model.mesh import WHOLE
 from support.scenes import NoFrontend
 
 
@@ -86,9 +87,11 @@ def test_the_worker_prepares_the_surface_and_the_first_frame_only_uploads_it(tmp
     assert any("quad.obj" in line for line in viewer.loading_lines())
     wait_until_idle(viewer)
     mesh = viewer.scene.objects[0].mesh
-    prepared = gpu._prepared_surfaces.get(mesh)
+    prepared = gpu._prepared_surfaces.get(mesh, {}).get(WHOLE)
     expected = gpu.surface_arrays(mesh)
-    assert prepared is not None and np.array_equal(prepared.vertices, expected.vertices)
+    assert prepared is not None and np.array_equal(prepared.triangles_before, mesh.triangles_before_face())
+    prepared = prepared.surface
+    assert np.array_equal(prepared.vertices, expected.vertices)
     assert np.array_equal(prepared.indices, expected.indices)
     assert np.array_equal(prepared.shared_indices, expected.shared_indices)
 
@@ -115,10 +118,9 @@ def test_a_model_of_two_materials_has_its_parts_prepared_and_nothing_left_after_
     viewer.load_model(model)
     wait_until_idle(viewer)
     mesh = viewer.scene.objects[0].mesh
-    assert len(mesh.parts) == 2 and mesh not in gpu._prepared_surfaces
-    assert all(part.mesh in gpu._prepared_surfaces for part in mesh.parts)
+    assert len(mesh.parts) == 2 and sorted(gpu._prepared_surfaces[mesh]) == [0, 1]
     offscreen(viewer.scene)
-    assert not any(drawn in gpu._prepared_surfaces for drawn in (mesh, *mesh.drawn_meshes()))
+    assert mesh not in gpu._prepared_surfaces
     viewer.background.shutdown()
 
 

@@ -4,6 +4,7 @@ over the file's, and the probe and status line naming the selected face's materi
 
 from __future__ import annotations
 
+import gc
 import os
 import shutil
 from collections.abc import Callable
@@ -23,11 +24,13 @@ from marraztu.loaders.obj.raw import MaterialRuns
 from marraztu.loaders.registry import load_model
 from marraztu.loaders.scenefile import DEFAULT_MATERIAL, empty_scene, load_scene
 from marraztu.model.lights import AMBIENT_INTENSITY
+from marraztu.model.mesh import Mesh
 from marraztu.model.scene import SceneObject
 from marraztu.render.renderer import DrawItem, part_of_face, split_by_material
 from marraztu.resources import ASSET_DIR
 from marraztu.text.panels import probe_lines
 from marraztu.text.status import status_line
+from support import corpus
 from support.corpus import git_lfs_pointer
 from support.scenes import NoFrontend
 
@@ -202,7 +205,7 @@ def test_a_model_of_one_textured_material_is_drawn_from_its_own_tables(tmp_path:
     obj = SceneObject.placed("m", mesh, DEFAULT_MATERIAL, (0.0, 0.0, 0.0))
     drawn = split_by_material(DrawItem(obj, 0, mesh.face_count))
     assert [(item.part, item.start, item.stop) for item in drawn] == [(0, 0, mesh.face_count)]
-    assert drawn[0].mesh is mesh and np.shares_memory(drawn[0].mesh.positions, mesh.positions)
+    assert mesh.part_mesh(drawn[0].part) is mesh
     assert part_of_face(obj, mesh.face_count - 1) == (0, mesh.face_count - 1)
 
 
@@ -230,21 +233,42 @@ def test_a_material_whose_faces_and_positions_are_runs_of_their_own_is_a_view_of
     the values the copy held."""
     mesh = load_model(EXAMPLES / "two_tone.obj")
     assert len(mesh.parts) == 2 and not mesh.attributes_per_position  # uvs and normals per corner
-    for part in mesh.parts:
+    for index, part in enumerate(mesh.parts):
+        drawn = mesh.part_mesh(index)
         for table in ("positions", "uvs", "normals", "face_normals"):
-            assert np.shares_memory(getattr(part.mesh, table), getattr(mesh, table)), table
-        copied = mesh._gathered_part(part.faces).mesh
+            assert np.shares_memory(getattr(drawn, table), getattr(mesh, table)), table
+        copied = mesh._gathered_part(part.faces)
         for table in ("positions", "corner_vertex", "uvs", "normals", "face_start", "face_normals"):
-            ours, theirs = getattr(part.mesh, table), getattr(copied, table)
+            ours, theirs = getattr(drawn, table), getattr(copied, table)
             assert ours.dtype == theirs.dtype and np.array_equal(ours, theirs), table
 
 
 def test_a_part_is_a_view_where_its_run_uses_every_position_of_its_range_and_else_a_copy(tmp_path: Path) -> None:
     """The grid's halves share a row of positions and are views each; faces alternating are copied."""
     halves = load_model(grid_obj(tmp_path / "halves", lambda face: f"usemtl wood{'2' if face >= 36 else ''}\n"))
-    assert all(np.shares_memory(part.mesh.positions, halves.positions) for part in halves.parts)
+    assert all(np.shares_memory(halves.part_mesh(part).positions, halves.positions) for part in halves.drawn_parts())
     alternating = load_model(grid_obj(tmp_path / "alternating", lambda face: f"usemtl wood{'2' if face % 2 else ''}\n"))
-    assert not any(np.shares_memory(part.mesh.positions, alternating.positions) for part in alternating.parts)
+    assert not any(np.shares_memory(alternating.part_mesh(part).positions, alternating.positions)
+                   for part in alternating.drawn_parts())
+
+
+def test_a_model_of_interleaved_materials_is_held_once_on_the_cpu_while_drawn(tmp_path: Path, offscreen,
+                                                                               renderer) -> None:
+    """Each material's part was a Mesh of copies of its faces' rows (positions, uvs, normals, face
+    normals, corners), held beside the whole for the model's life and by the renderer while it drew the
+    part: a model of interleaved materials held its tables about twice. Now a part's Mesh is made to
+    build its buffers (surface, edges, normals) and dropped."""
+    model = grid_obj(tmp_path / "interleaved", lambda face: f"usemtl wood{'2' if face % 2 else ''}\n")
+    viewer = Viewer(empty_scene(), NoFrontend())
+    viewer.start(StartOptions(empty=True, models=(model,)), longest_texture_side=64)
+    obj = viewer.scene.objects[0]
+    for keys in ("", "n", "s", "l", "i"):  # the surface, normals of both kinds, edges, the probe's outline
+        viewer.press_sequence(keys)
+        offscreen(viewer.scene)
+    assert sorted(part for uid, part in renderer._objects if uid == obj.uid) == [0, 1]
+    gc.collect()
+    held = [item for item in corpus.tracked_objects() if isinstance(item, Mesh) and item.name == obj.mesh.name]
+    assert held == [obj.mesh]
 
 
 def test_one_texture_spelled_three_ways_is_read_once(tmp_path: Path, monkeypatch) -> None:
@@ -785,7 +809,7 @@ def test_a_file_of_a_thousand_materials_costs_in_proportion_to_its_faces(tmp_pat
     (tmp_path / "m.obj").write_text("mtllib m.mtl\n" + faces)
     mesh = load_model(tmp_path / "m.obj")
     assert len(mesh.parts) == MAX_MATERIALS + 1  # the first 256, and the rest together
-    assert sum(part.mesh.vertex_count for part in mesh.parts) == 3 * count
+    assert sum(mesh.part_mesh(part).vertex_count for part in mesh.drawn_parts()) == 3 * count
     assert any(f"{count} materials used" in note for note in mesh.warnings), mesh.warnings
 
 

@@ -289,12 +289,13 @@ def test_per_position_and_per_corner_storage_give_the_same_corners() -> None:
 def test_the_material_parts_of_a_per_position_mesh_keep_their_corners() -> None:
     mesh = parse_obj(grid_obj(6, same_row, same_row), "grid.obj")
     split = replace(mesh, face_material=(np.arange(mesh.face_count) % 3 == 0).astype(np.int32))
-    for part in split.parts:
-        assert part.mesh.attributes_per_position and part.mesh.normals.shape == (part.mesh.vertex_count, 3)
+    for index, part in enumerate(split.parts):
+        drawn = split.part_mesh(index)
+        assert drawn.attributes_per_position and drawn.normals.shape == (drawn.vertex_count, 3)
         corners = (split.face_start[part.faces][:, None] + np.arange(3)).reshape(-1)
-        assert np.array_equal(part.mesh.corner_uv, mesh.corner_uv[corners])
-        assert np.array_equal(part.mesh.corner_normal, mesh.corner_normal[corners])
-        check_same_corners(part.mesh)
+        assert np.array_equal(drawn.corner_uv, mesh.corner_uv[corners])
+        assert np.array_equal(drawn.corner_normal, mesh.corner_normal[corners])
+        check_same_corners(drawn)
 
 
 def test_build_mesh_takes_per_vertex_tables_as_the_same_corners() -> None:

@@ -923,7 +923,7 @@ def test_the_parts_of_a_mesh_are_measured_from_its_own_gpu_origin() -> None:
     square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=np.float64)
     mesh = build_mesh("two", np.vstack([square * 140 - 70, square * 0.01 + (60, 0, 0)]), [[0, 1, 2, 3], [4, 5, 6, 7]])
     mesh = replace(mesh, materials=(MeshMaterial("a"), MeshMaterial("b")), face_material=np.array([0, 1], np.int32))
-    assert [part.mesh.gpu_origin.tolist() for part in mesh.parts] == [[0, 0, 0], [0, 0, 0]]
+    assert [mesh.part_mesh(part).gpu_origin.tolist() for part in mesh.drawn_parts()] == [[0, 0, 0], [0, 0, 0]]
 
 
 # --- the mouse -----------------------------------------------------------------------------------

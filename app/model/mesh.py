@@ -33,6 +33,7 @@ FAR_AWAY = float(1 << 16)
 # Each material is drawn as a part of its own (a draw and a lighting pass): a file of thousands of
 # materials would cost thousands of draws a frame. Real models use tens.
 MAX_MATERIALS = 256
+WHOLE = -1  # the part index that stands for the whole mesh (Mesh.part_mesh)
 
 
 def counted(number: int, noun: str, plural: str | None = None) -> str:
@@ -134,13 +135,12 @@ class MeshMaterial:
 
 @dataclass(frozen=True, eq=False)
 class MeshPart:
-    """The faces of one material: `material` indexes Mesh.materials (-1: the object's own), `faces`
-    are their indices in the whole mesh, ascending, and `mesh` a Mesh of them alone; both None where
-    they are every face, the whole mesh then drawn as the part (Mesh.part_mesh)."""
+    """The faces of one material: `material` indexes Mesh.materials (-1: the object's own), and `faces`
+    are their indices in the whole mesh, ascending (None where they are every face). The Mesh a part
+    is drawn from is made from the whole's tables when asked (Mesh.part_mesh), not held beside them."""
 
     material: int
-    mesh: Mesh | None
-    faces: np.ndarray | None
+    faces: np.ndarray | None  # (F,) INDEX
 
     def face_range(self, start: int, stop: int) -> tuple[int, int]:
         """The part's own [start, stop) of the faces of the whole mesh's [start, stop) that it holds."""
@@ -266,32 +266,32 @@ class Mesh:
 
     @cached_property
     def parts(self) -> tuple[MeshPart, ...]:
-        """The mesh cut by material, each part a Mesh of its faces in file order (positions shared),
-        so that each draws with its own material and texture; () for a mesh without the file's
-        materials, and one part of no Mesh of its own where every face has the same one."""
+        """The mesh cut by material, each part its faces in file order, so that each draws with its own
+        material and texture; () for a mesh without the file's materials, and one part of every face
+        where all have the same one."""
         if self.face_material is None:
             return ()
         first = int(self.face_material[0])
         if first == self.face_material.min() == self.face_material.max():  # the part is the whole, not a copy
-            return (MeshPart(first, None, None),)
-        order = np.argsort(self.face_material, kind="stable")
+            return (MeshPart(first, None),)
+        order = np.argsort(self.face_material, kind="stable").astype(INDEX)
         bounds = np.flatnonzero(np.diff(self.face_material[order])) + 1
-        return tuple(self._part(faces) for faces in np.split(order, bounds))
+        return tuple(MeshPart(int(self.face_material[faces[0]]), faces) for faces in np.split(order, bounds))
+
+    def drawn_parts(self) -> tuple[int, ...]:
+        """What it is drawn as: each of its parts (indices into `parts`), or WHOLE where it has none."""
+        return tuple(range(len(self.parts))) or (WHOLE,)
 
     def part_mesh(self, part: int) -> Mesh:
-        """The Mesh part `part` (an index into `parts`) is drawn from: its own, or this one where it
-        holds every face."""
-        own = self.parts[part].mesh
-        return self if own is None else own
-
-    def drawn_meshes(self) -> tuple[Mesh, ...]:
-        """The Meshes it is drawn from: its parts' (part_mesh), or itself where it has no parts."""
-        return tuple(self.part_mesh(part) for part in range(len(self.parts))) or (self,)
-
-    def _part(self, faces: np.ndarray) -> MeshPart:
+        """The Mesh part `part` (an index into `parts`, or WHOLE) is drawn from: this one where it holds
+        every face, else made anew at each call from this one's tables, so that its copies live only
+        while a renderer builds from them."""
+        faces = None if part == WHOLE else self.parts[part].faces
+        if faces is None:
+            return self
         first, last = int(faces[0]), int(faces[-1])
         run = self._run_part(first, last + 1) if last - first + 1 == faces.size else None
-        return self._gathered_part(faces) if run is None else MeshPart(int(self.face_material[first]), run, faces)
+        return self._gathered_part(faces) if run is None else run
 
     def _run_part(self, start: int, stop: int) -> Mesh | None:
         """The Mesh of faces [start, stop) as views of this one's tables, where their corners use every
@@ -313,22 +313,20 @@ class Mesh:
                     vertex_colours=None if self.vertex_colours is None else self.vertex_colours[low:high],
                     whole_gpu_origin=self.gpu_origin)
 
-    def _gathered_part(self, faces: np.ndarray) -> MeshPart:
+    def _gathered_part(self, faces: np.ndarray) -> Mesh:
         sizes = self.face_sizes[faces]
         face_start = np.concatenate(([0], np.cumsum(sizes))).astype(INDEX)
         corners = corners_of_polygons(self.face_start[faces], sizes)
-        material = int(self.face_material[faces[0]])
         # Only the positions the part uses: the GPU arrays hold a row per position, so parts sharing
         # the whole table would cost the table once per material.
         used, corner_vertex = np.unique(self.corner_vertex[corners], return_inverse=True)
         rows = used if self.attributes_per_position else corners
-        part = Mesh(name=self.name, positions=self.positions[used], corner_vertex=corner_vertex.astype(INDEX),
+        return Mesh(name=self.name, positions=self.positions[used], corner_vertex=corner_vertex.astype(INDEX),
                     uvs=self.uvs[rows], normals=self.normals[rows],
                     face_start=face_start, face_normals=self.face_normals[faces], base_colour=self.base_colour,
                     attributes_per_position=self.attributes_per_position,
                     vertex_colours=None if self.vertex_colours is None else self.vertex_colours[used],
                     whole_gpu_origin=self.gpu_origin)
-        return MeshPart(material, part, faces)
 
     def own_picture(self, part: int) -> np.ndarray | None:
         """The picture a part is drawn with in place of the scene's (None: the scene's): its material's

@@ -30,7 +30,7 @@ import moderngl
 import numpy as np
 
 from marraztu.errors import ViewerError
-from marraztu.model.mesh import INDEX, Mesh, fan_gather
+from marraztu.model.mesh import INDEX, WHOLE, Mesh, fan_gather
 from marraztu.model.scene import Shading
 from marraztu.model.threads import each, pieces
 from marraztu.render.context import (
@@ -340,24 +340,43 @@ def face_normal_feet(mesh: Mesh) -> np.ndarray:
     return centroids.astype(np.float32)
 
 
-# Surface arrays made ahead of time, off the render thread (the window's loader thread), waiting for
-# their object's first frame. Weak keys: a mesh dropped before it is drawn takes its array with it.
-_prepared_surfaces: weakref.WeakKeyDictionary[Mesh, SurfaceArrays] = weakref.WeakKeyDictionary()
+@dataclass(frozen=True)
+class DrawnArrays:
+    """What a MeshGpu is built from, made from the Mesh it draws (a material's part is made for this
+    and dropped after: Mesh.part_mesh): the surface's arrays, the fans before each of its polygons
+    (Mesh.triangles_before_face), which turn ranges of faces into ranges of rows, and its size."""
+
+    surface: SurfaceArrays
+    triangles_before: np.ndarray
+    size: float
+
+
+def drawn_arrays(drawn: Mesh) -> DrawnArrays:
+    return DrawnArrays(surface_arrays(drawn), drawn.triangles_before_face(), drawn.size)
+
+
+# Arrays made ahead of time, off the render thread (the window's loader thread), waiting for their
+# object's first frame, by mesh and part. Weak keys: a mesh dropped before it is drawn takes them with it.
+_prepared_surfaces: weakref.WeakKeyDictionary[Mesh, dict[int, DrawnArrays]] = weakref.WeakKeyDictionary()
 _prepared_lock = threading.Lock()
 
 
 def prepare_surface(mesh: Mesh) -> None:
-    """Builds the surface arrays of what the mesh is drawn from now (each material's part, or the mesh),
-    so that its first frame only uploads them."""
-    for drawn in mesh.drawn_meshes():
-        data = surface_arrays(drawn)
+    """Builds the arrays of what the mesh is drawn as now (each material's part, or the mesh), so that
+    its first frame only uploads them."""
+    for part in mesh.drawn_parts():
+        data = drawn_arrays(mesh.part_mesh(part))
         with _prepared_lock:
-            _prepared_surfaces[drawn] = data
+            _prepared_surfaces.setdefault(mesh, {})[part] = data
 
 
-def _take_prepared_surface(mesh: Mesh) -> SurfaceArrays | None:
+def _take_prepared_surface(mesh: Mesh, part: int) -> DrawnArrays | None:
     with _prepared_lock:
-        return _prepared_surfaces.pop(mesh, None)
+        held = _prepared_surfaces.get(mesh)
+        taken = None if held is None else held.pop(part, None)
+        if held == {}:
+            del _prepared_surfaces[mesh]
+        return taken
 
 
 _ATTRIBUTE_FORMAT = re.compile(r"(\d*)([fiux])(\d?)")
@@ -517,14 +536,15 @@ def lit_row_range(shading: Shading, shared_rows: int, start: int, stop: int) -> 
 
 
 class MeshGpu:
-    """The buffers and vertex arrays of one mesh that no object's placement changes, shared by every
-    object drawing the mesh (a scene file may place one model a thousand times): the surface's vertex,
-    index and colour buffers, the lighting passes' vertex arrays (which write into each object's own lit
-    buffer), and the edges and normal segments.
+    """The buffers and vertex arrays of one mesh, or of one material's part of it (Mesh.parts), that no
+    object's placement changes, shared by every object drawing it (a scene file may place one model a
+    thousand times): the surface's vertex, index and colour buffers, the lighting passes' vertex arrays
+    (which write into each object's own lit buffer), and the edges and normal segments.
 
     The surface is built with the first object; edges and normal segments only when lines or normals
     are first drawn (most models are never seen that way, and those arrays are bigger than the
-    surface's), then kept while an object uses the mesh (MeshGpus).
+    surface's), then kept while an object uses the mesh (MeshGpus). Each is built from the part's
+    Mesh made anew (Mesh.part_mesh) and dropped: on the CPU only the whole mesh's tables are held.
     """
 
     # surface: a vertex and two index buffers, a vertex array per transform-feedback lighting pass (2;
@@ -534,21 +554,21 @@ class MeshGpu:
     # add one buffer.
     GL_OBJECTS = 15
 
-    def __init__(self, ctx: moderngl.Context, mesh: Mesh, programs: Programs,
-                 surface_data: SurfaceArrays | None = None) -> None:
+    def __init__(self, ctx: moderngl.Context, mesh: Mesh, programs: Programs, part: int = WHOLE) -> None:
         self.ctx = ctx
         self.mesh = mesh  # the mesh these buffers were built from: a replaced mesh means rebuilding
+        self.part = part  # which of its parts (Mesh.part_mesh)
         self.programs = programs
         self.users = 0  # the ObjectGpus drawing from these buffers (MeshGpus releases them with the last)
         # By name: a buffer and the vertex array drawing it (either may be None: vertex normals own no
         # buffer, the edges' rows are drawn through the edges' index buffer's vertex array).
         self._built: dict[str, tuple[moderngl.Buffer | None, moderngl.VertexArray | None]] = {}
         self._edge_faces: dict[str, moderngl.Texture] = {}  # by EDGE_FACE_UNITS's sampler names, with the edges
-        self.triangles_before = mesh.triangles_before_face()  # kept so drawing allocates nothing
         self.offset = bool(mesh.gpu_origin.any())  # whether its rows are measured from elsewhere than the origin
-        if surface_data is None:
-            surface_data = _take_prepared_surface(mesh)
-        arrays = surface_arrays(mesh) if surface_data is None else surface_data
+        drawn = _take_prepared_surface(mesh, part) or drawn_arrays(mesh.part_mesh(part))
+        self.triangles_before = drawn.triangles_before  # kept so drawing allocates nothing
+        self.size = drawn.size
+        arrays = drawn.surface
         self.rows = arrays.vertices.shape[0]
         self.shared_rows = arrays.shared_rows
         self.buffers: dict[str, moderngl.Buffer] = {}  # by SurfaceArrays.arrays' names
@@ -561,6 +581,14 @@ class MeshGpu:
         except Exception:
             self.release()
             raise
+
+    @property
+    def face_count(self) -> int:
+        return int(self.triangles_before.shape[0] - 1)
+
+    def _drawn_mesh(self) -> Mesh:
+        """The Mesh these buffers draw, made anew (Mesh.part_mesh) for the arrays built on first use."""
+        return self.mesh.part_mesh(self.part)
 
     @property
     def vertex_coloured(self) -> bool:
@@ -592,16 +620,17 @@ class MeshGpu:
         built = self._built.get("edges")
         if built is None:
             max_side = max_texture_side(self.ctx)
-            shape = edge_face_shape(self.mesh.face_count, max_side)
+            shape = edge_face_shape(self.face_count, max_side)
             if shape[1] > max_side:  # refused before any table is made
-                raise ViewerError(f"{self.mesh.name} has more polygons ({self.mesh.face_count}) than this "
+                raise ViewerError(f"{self.mesh.name} has more polygons ({self.face_count}) than this "
                                   "OpenGL can draw the edges of")
-            textures = self._face_textures(shape)
+            drawn = self._drawn_mesh()
+            textures = self._face_textures(drawn, shape)
             rows = None
             try:
-                rows = device_buffer(self.ctx, edge_rows(self.mesh, shape[0]))
+                rows = device_buffer(self.ctx, edge_rows(drawn, shape[0]))
                 content = [(rows, *EDGE_LAYOUT)]
-                built = self._build("edges", edge_pairs(self.mesh), self.programs.edges, content, indexed=True)
+                built = self._build("edges", edge_pairs(drawn), self.programs.edges, content, indexed=True)
             except Exception:
                 for resource in (rows, *textures.values()):
                     if resource is not None:
@@ -628,11 +657,11 @@ class MeshGpu:
         for sampler, texture in self._edge_faces.items():
             texture.use(location=EDGE_FACE_UNITS[sampler])
 
-    def _face_textures(self, shape: tuple[int, int]) -> dict[str, moderngl.Texture]:
+    def _face_textures(self, drawn: Mesh, shape: tuple[int, int]) -> dict[str, moderngl.Texture]:
         textures: dict[str, moderngl.Texture] = {}
         self.ctx.error  # noqa: B018 - as in __init__: the check below is about these uploads only
         try:
-            for sampler, table in zip(EDGE_FACE_UNITS, edge_faces(self.mesh, shape)):
+            for sampler, table in zip(EDGE_FACE_UNITS, edge_faces(drawn, shape)):
                 textures[sampler] = texture = device_texture(self.ctx, shape, 3, table, "f4")
                 texture.filter = (moderngl.NEAREST, moderngl.NEAREST)  # no mipmaps: else GL holds it incomplete
             check_gl(self.ctx, f"the polygons of {self.mesh.name}")
@@ -648,7 +677,8 @@ class MeshGpu:
         polygon's own surface row, which holds its face normal already (SurfaceArrays)."""
         built = self._built.get("face normals")
         if built is None:
-            built = self._build("face normals", face_normal_feet(self.mesh), self.programs.normals, FACE_NORMAL_LAYOUT)
+            built = self._build("face normals", face_normal_feet(self._drawn_mesh()), self.programs.normals,
+                                FACE_NORMAL_LAYOUT)
             polygon_normals = self.shared_rows * SURFACE_ROW_BYTES + attribute_offset(SURFACE_LAYOUT, "in_normal")
             built[1].bind(self.programs.normals["in_direction"].location, "f", self.buffers["surface"],
                           "3f", offset=polygon_normals, stride=SURFACE_ROW_BYTES)
@@ -658,9 +688,9 @@ class MeshGpu:
         """Drawn as POINTS, reading the surface's rows (no new vertex buffer): the whole mesh draws each
         row it uses once; a range of faces (one face, or up to the probed one) each of its triangles'
         corners, through the shared surface indices."""
-        if start == 0 and stop == self.mesh.face_count:  # a row is shared by ~6 triangles: 6x fewer segments
+        if start == 0 and stop == self.face_count:  # a row is shared by ~6 triangles: 6x fewer segments
             rows, vao = self._built.get("vertex normal rows") or self._build(
-                "vertex normal rows", used_shared_rows(self.mesh, self.shared_rows), self.programs.normals,
+                "vertex normal rows", used_shared_rows(self._drawn_mesh(), self.shared_rows), self.programs.normals,
                 self._normal_content(), indexed=True)
             return vao, VertexRange(0, rows.size // 4 if rows is not None else 0)  # uint32 indices
         built = self._built.get("vertex normals")
@@ -725,8 +755,9 @@ class MeshGpu:
         return VertexRange(3 * int(before[start]), 3 * int(before[stop] - before[start]))
 
     def edge_range(self, start: int, stop: int) -> VertexRange:
-        offsets = self.mesh.face_start  # an edge per corner, two indices each
-        return VertexRange(2 * int(offsets[start]), 2 * int(offsets[stop] - offsets[start]))
+        # An edge per corner, two indices each; a polygon has two corners more than fans.
+        first, past = int(self.triangles_before[start]) + 2 * start, int(self.triangles_before[stop]) + 2 * stop
+        return VertexRange(2 * first, 2 * (past - first))
 
     def face_normal_range(self, start: int, stop: int) -> VertexRange:
         return VertexRange(start, stop - start)
@@ -818,13 +849,14 @@ class MeshGpus:
 
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
-        self._held: dict[int, MeshGpu] = {}  # by the id of its mesh, which it holds (so the id is not reused)
+        # By the id of its mesh, which it holds (so the id is not reused), and its part.
+        self._held: dict[tuple[int, int], MeshGpu] = {}
 
-    def object_gpu(self, mesh: Mesh, programs: Programs) -> ObjectGpu:
-        """A new object's lit buffer and vertex arrays, over its mesh's shared buffers."""
-        shared = self._held.get(id(mesh))
+    def object_gpu(self, mesh: Mesh, programs: Programs, part: int = WHOLE) -> ObjectGpu:
+        """A new object's lit buffer and vertex arrays, over its mesh's (its part's) shared buffers."""
+        shared = self._held.get((id(mesh), part))
         if shared is None:
-            shared = self._held[id(mesh)] = MeshGpu(self.ctx, mesh, programs)
+            shared = self._held[id(mesh), part] = MeshGpu(self.ctx, mesh, programs, part)
         try:
             return ObjectGpu(shared)
         except Exception:
@@ -838,7 +870,7 @@ class MeshGpus:
 
     def _drop_unused(self, shared: MeshGpu) -> None:
         if shared.users == 0:
-            del self._held[id(shared.mesh)]
+            del self._held[id(shared.mesh), shared.part]
             shared.release()
 
     @property

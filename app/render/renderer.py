@@ -20,7 +20,7 @@ from marraztu.errors import ViewerError
 from marraztu.loaders.images import fit_texture
 from marraztu.model.guides import Guides, scene_guides
 from marraztu.model.lights import MAX_LIGHTS, Show, WorldLight, shader_defines
-from marraztu.model.mesh import Mesh
+from marraztu.model.mesh import WHOLE, Mesh
 from marraztu.model.probe import ProbedFace, facings, probed_face
 from marraztu.model.sampling import TextureSampling
 from marraztu.model.scene import (
@@ -64,7 +64,6 @@ from marraztu.render.layout import pixel_per_w
 from marraztu.render.mipmaps import MipmappedTexture, create_mipmapped
 
 CLEAR_COLOUR = (0.0, 0.0, 0.7)  # SPEC 3: the seed's blue
-WHOLE = -1  # a DrawItem of the whole mesh, not of one material's part
 SELECTED_LINE_COLOUR = (0.0, 1.0, 0.0)
 LINE_COLOUR = (1.0, 1.0, 1.0)
 NORMAL_COLOUR = (1.0, 1.0, 0.0)
@@ -155,10 +154,6 @@ class DrawItem:
     start: int
     stop: int
     part: int = WHOLE
-
-    @property
-    def mesh(self) -> Mesh:
-        return self.obj.mesh if self.part == WHOLE else self.obj.mesh.part_mesh(self.part)
 
     @property
     def file_material(self) -> int:
@@ -309,13 +304,12 @@ class Renderer:
         self.reads_lit_rows = way.shading.lights_vertices and LIT_LAYOUT[1] in self.programs.surfaces[way]
 
     def _gpu_for(self, obj: SceneObject, part: int = WHOLE) -> ObjectGpu:
-        mesh = obj.mesh if part == WHOLE else obj.mesh.part_mesh(part)
         gpu = self._objects.get((obj.uid, part))
-        if gpu is not None and gpu.mesh is mesh:
+        if gpu is not None and gpu.mesh is obj.mesh:
             return gpu
         if gpu is not None:  # the object got a new mesh: its old buffers are stale
             self._meshes.release(self._objects.pop((obj.uid, part)))
-        gpu = self._objects[(obj.uid, part)] = self._meshes.object_gpu(mesh, self.programs)
+        gpu = self._objects[(obj.uid, part)] = self._meshes.object_gpu(obj.mesh, self.programs, part)
         return gpu
 
     def _drop_departed(self, scene: Scene) -> None:
@@ -424,7 +418,7 @@ class Renderer:
         eye is far from it for the models' sizes (a scene placing a 1-unit model at 1e8): world
         positions are then measured from the eye, in 64-bit numbers, and stay small near it."""
         eye = np.asarray(scene.eye_position(), dtype=np.float64)
-        sizes = [gpu.mesh.size for _, gpu in items if gpu.mesh.size > 0]
+        sizes = [gpu.shared.size for _, gpu in items if gpu.shared.size > 0]
         if any(gpu.shared.offset for _, gpu in items) or (
                 sizes and np.abs(eye).max() > EYE_ORIGIN_SIZES * min(sizes)):
             return eye
