@@ -1074,6 +1074,20 @@ def test_an_objects_material_stays_when_its_file_is_read_again_in_its_place(tmp_
     assert right.material == plain  # no material in the scene: its file's, as before
 
 
+def test_an_objects_name_stays_when_its_own_file_is_read_again(tmp_path: Path) -> None:
+    """--watch renamed a scene's "left" to its file's "quad" when quad.obj was saved, where its material,
+    scale and texture stayed; another file in its place (PageDown's) still takes that file's name."""
+    from marraztu.control.viewer import Viewer
+    from support.scenes import NoFrontend
+
+    viewer = Viewer(load_scene(_two_quads(tmp_path, "")), NoFrontend())
+    left, right = viewer.scene.objects
+    assert viewer.replace_model(left, left.source)  # --watch's way: the same file again
+    (tmp_path / "tri.obj").write_text(TETRAHEDRON)
+    assert viewer.replace_model(right, tmp_path / "tri.obj")
+    assert [left.name, right.name] == ["left", "tri"]
+
+
 WINDOWS_PATHS = {
     "model, basic string": ('model = "sub\\\\m.obj"\n', "", ":2: model sub\\m.obj: ", " (use / between folders)"),
     "model, literal string": ("model = 'sub\\m.obj'\n", "", ":2: model sub\\m.obj: ", " (use / between folders)"),

@@ -877,8 +877,11 @@ def _where_fitting_left_it(light: Light, fitted_unit: float) -> bool:
 def replace_loaded(scene: Scene, element: SceneObject, loaded: SceneObject) -> None:
     """The host's half of PageDown / --watch: the element keeps its place, history and uid (so its
     undo and GPU slot stay), and takes the new file's mesh, name and material (the scene file's
-    material, where it gave one, stays, as its scale and texture do)."""
-    element.mesh, element.name, element.material = loaded.mesh, loaded.name, loaded.material
+    material, where it gave one, stays, as its scale and texture do; its own file read again, --watch's,
+    leaves its name, which a scene file or a person may have given)."""
+    if loaded.source != element.source:
+        element.name = loaded.name
+    element.mesh, element.material = loaded.mesh, loaded.material
     scene.loads += 1
     element.part_materials, element.file_materials = loaded.part_materials, loaded.file_materials
     if element.given_material is not None:
