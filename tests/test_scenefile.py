@@ -420,6 +420,11 @@ BAD_SCENES = {
                         "TOML syntax: [materials.m] is declared twice (first at line 1)"),
     "table after an array of them": (CAMERA + '[cameras]\nmodel = "m.obj"\n',
                                      "TOML syntax: [cameras] is declared twice (first at line 1)"),
+    "an array of them after a table": ('[objects]\nmodel = "m.obj"\n' + CAMERA + '[[objects]]\nmodel = "m.obj"\n',
+                                       "TOML syntax: [[objects]] after [objects] (line 1): write [[objects]] "
+                                       "for every entry$"),
+    "an array of them after a value": ("objects = 1\n" + CAMERA + "[[objects]]\nmodel = 'm.obj'\n",
+                                       "TOML syntax: [[objects]]: objects is already a table or a value$"),
     "unknown top-level key": ('textures = "a.ppm"\n' + CAMERA, "unknown key 'textures'"),
     "unknown entry key": (CAMERA + "positon = [1, 2, 3]\n", "unknown key 'positon'"),
     "missing model": ("[[objects]]\nposition = [0, 0, 0]\n", "missing key 'model'"),

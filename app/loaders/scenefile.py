@@ -327,6 +327,8 @@ class _SceneReader:
         if written["table"] is not None and _DECLARED_TWICE.fullmatch(said):
             first = _first_header_line(self.text, _key_parts(written["table"]), line)
             return f"[{written['table']}] is declared twice" + (f" (first at line {first})" if first else "")
+        if written["array"] is not None and said == "Cannot overwrite a value":
+            return _array_over_a_table(self.text, written["array"], line)
         if written["key"] is None:
             return said
         if said == "Cannot overwrite a value" and len(_key_parts(written["key"])) == 1:  # else a part may be a value
@@ -545,6 +547,14 @@ def _overlong_integer_line(text: str) -> int | None:
 @functools.lru_cache(maxsize=2)
 def _integer_run_longer_than(limit: int) -> re.Pattern[str]:
     return compiled(rf"(?<![0-9A-Za-z_.])[0-9](?:_?+[0-9]){{{limit},}}+(?![0-9A-Za-z_.])")
+
+
+def _array_over_a_table(text: str, name: str, line: int) -> str:
+    """tomllib's 'Cannot overwrite a value' at an [[array]] header: its name is a table or a value already."""
+    first = _first_header_line(text, _key_parts(name), line)
+    if first is None:  # a key's value, or a table made by a dotted key or a longer header
+        return f"[[{name}]]: {name} is already a table or a value"
+    return f"[[{name}]] after [{name}] (line {first}): write [[{name}]] for every entry"
 
 
 def _first_header_line(text: str, key: KeyPath, before: int) -> int | None:
