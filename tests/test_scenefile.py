@@ -444,6 +444,8 @@ BAD_SCENES = {
     "name not a string": (CAMERA + "name = 7\n", "name must be"),
     "position too short": ('[[cameras]]\nmodel = "m.obj"\nposition = [0, 0]\n',
                            "cameras[1]: position must be three numbers, like [0, 0, 0], not 2 numbers"),
+    "rotation of one number": (CAMERA + "rotation = [90]\n",
+                               "rotation must be three numbers, like [0, 0, 0], not 1 number$"),
     "rotation a string": (CAMERA + 'rotation = "90 0 0"\n',
                           "rotation must be three numbers, like [0, 0, 0], not a string"),
     "position not numbers": ('[[cameras]]\nmodel = "m.obj"\nposition = [0, "1", 0]\n',

@@ -50,7 +50,7 @@ from marraztu.loaders.images import load_image
 from marraztu.loaders.patterns import compiled
 from marraztu.loaders.registry import MODEL_READERS, Stage, load_model, sized
 from marraztu.model.geometry import CAMERAS_REACH, FLOAT32_MAX, MODELS_REACH
-from marraztu.model.mesh import Mesh, with_picture_as_colour
+from marraztu.model.mesh import Mesh, counted, with_picture_as_colour
 from marraztu.model.scene import (
     MATERIAL_COLOUR,
     MATERIAL_COLOUR_RANGE,
@@ -472,16 +472,14 @@ class _SceneReader:
         elif isinstance(value, (int, float)) and not isinstance(value, bool):
             x = y = z = self.number(value, what, line)
         else:
-            given = f"{len(value)} numbers" if isinstance(value, list) else _toml_type(value)
-            self.fail(f"{what} must be one number or three, like 2 or [1, 2, 1], not {given}", line)
+            self.fail(f"{what} must be one number or three, like 2 or [1, 2, 1], not {_shape_words(value)}", line)
         if min(x, y, z) <= 0.0:
             self.fail(f"{what} must be greater than 0 (a size, not a mirror), not {min(x, y, z):g}", line)
         return (x, y, z)
 
     def triple(self, value: object, what: str, line: int | None) -> Vec3:
         if not isinstance(value, list) or len(value) != 3:
-            given = f"{len(value)} numbers" if isinstance(value, list) else _toml_type(value)
-            self.fail(f"{what} must be three numbers, like [0, 0, 0], not {given}", line)
+            self.fail(f"{what} must be three numbers, like [0, 0, 0], not {_shape_words(value)}", line)
         self.all_numbers(value, f"{what} must be three numbers, like [0, 0, 0]", line)
         x, y, z = (self.number(item, what, line) for item in value)
         return (x, y, z)
@@ -513,6 +511,11 @@ def _looks_like_bytes(colour: Vec3) -> bool:
 def _toml_list(numbers: list[object]) -> str:
     """Numbers as the file wrote them: [255, 0, 0], not a tuple of floats."""
     return f"[{', '.join(map(str, numbers))}]"
+
+
+def _shape_words(value: object) -> str:
+    """What a value that should be a list of three is: '2 numbers', 'a string'."""
+    return counted(len(value), "number") if isinstance(value, list) else _toml_type(value)
 
 
 def _toml_type(value: object) -> str:
