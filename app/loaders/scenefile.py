@@ -509,7 +509,7 @@ def _looks_like_bytes(colour: Vec3) -> bool:
 
 
 def _toml_list(numbers: list[object]) -> str:
-    """Numbers as the file wrote them: [255, 0, 0], not a tuple of floats."""
+    """Numbers as TOML read them: [255, 0, 0], whole ones whole, not a tuple of floats (1e2 is 100.0)."""
     return f"[{', '.join(map(str, numbers))}]"
 
 
