@@ -367,3 +367,14 @@ def test_watch_reads_a_file_a_scene_places_many_times_once_and_its_objects_share
     assert first.picture is picture and second.picture is None  # each keeps its own texture
     assert [obj.source.name for obj in viewer.scene.objects] == ["a.obj"] * 3
     assert viewer.scene.camera.mesh.vertex_count == 3  # its own file did not change
+
+
+def test_watch_groups_elements_whose_scale_was_set_by_hand_as_a_list(tmp_path: Path) -> None:
+    """read_together keyed its groups by the scale itself: one set by hand as a list (obj.scale = [1, 1, 1])
+    raised "unhashable type: 'list'" at the next change on disk, where the file was read again before."""
+    viewer = watched_scene_file(tmp_path, None)
+    first, second, third = viewer.scene.objects
+    first.scale = [1.0, 1.0, 1.0]
+    rewrite(tmp_path / "a.obj", SQUARE)
+    viewer.check_watched()
+    assert first.mesh.vertex_count == 4 and first.mesh is second.mesh and third.mesh is not first.mesh

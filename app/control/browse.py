@@ -90,5 +90,6 @@ def read_together(elements: list[SceneObject]) -> list[tuple[SceneObject, ...]]:
     keys = {source: same_file_key(source) for source in {element.source for element in elements}}
     groups: dict[tuple[Path, Vec3], list[SceneObject]] = {}
     for element in elements:
-        groups.setdefault((keys[element.source], element.scale), []).append(element)
+        # A scale set by hand may be a list: its numbers, which the read takes, are the key.
+        groups.setdefault((keys[element.source], tuple(element.scale)), []).append(element)
     return [tuple(group) for group in groups.values()]
