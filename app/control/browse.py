@@ -7,6 +7,7 @@ import bisect
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import NamedTuple
 
 from marraztu.loaders.files import same_file_key
 from marraztu.loaders.registry import MODEL_READERS
@@ -47,24 +48,42 @@ def sibling_model(path: Path, step: int) -> Path | None:
 
 
 @dataclass(frozen=True)
-class _Stamp:
+class Stamp:
     modified_ns: int
     size: int
 
 
-def _stamp(path: Path) -> _Stamp | None:
+def _stamp(path: Path) -> Stamp | None:
     try:
         status = path.stat()
     except OSError:  # gone for now (an editor replacing it): not a change until it is back
         return None
-    return _Stamp(status.st_mtime_ns, status.st_size)
+    return Stamp(status.st_mtime_ns, status.st_size)
+
+
+@dataclass
+class FileWatcher:
+    """Whether one file (--watch's scene file) changed on disk since it was last seen; each change told once."""
+
+    path: Path
+    _seen: Stamp | None = None
+
+    def __post_init__(self) -> None:
+        self._seen = _stamp(self.path)
+
+    def changed(self) -> bool:
+        stamp = _stamp(self.path)
+        if stamp is None or stamp == self._seen:
+            return False
+        self._seen = stamp
+        return True
 
 
 @dataclass
 class ModelWatcher:
     """Which elements' files changed on disk since they were last seen (--watch)."""
 
-    _seen: dict[int, tuple[Path, _Stamp]] = field(default_factory=dict)
+    _seen: dict[int, tuple[Path, Stamp]] = field(default_factory=dict)
 
     def changed(self, scene: Scene) -> list[SceneObject]:
         """Elements whose file differs from when it was first or last seen; each change told once."""
@@ -82,6 +101,26 @@ class ModelWatcher:
         live = {element.uid for element in elements}
         self._seen = {uid: seen for uid, seen in self._seen.items() if uid in live}
         return changed
+
+    def files_seen(self) -> dict[Path, Stamp]:
+        """Each file as last seen (SeenFiles)."""
+        return {source: stamp for source, stamp in self._seen.values()}
+
+    def stand_as(self, elements: list[SceneObject], seen: dict[Path, Stamp]) -> None:
+        """`elements` as if last seen when their files were as `seen` says (SeenFiles): a file that
+        differs from that is told as changed at the next look."""
+        for element in elements:
+            if element.source in seen:
+                self._seen[element.uid] = (element.source, seen[element.source])
+
+
+class SeenFiles(NamedTuple):
+    """The models' files as seen by the look that found their scene file changed, which is read again
+    with them. A read that fails leaves its elements standing as the files were before that look, so that
+    a change it found is told again; the elements a read places stand as after it, not as when they
+    joined, so that a file saved while it was read is told."""
+    before: dict[Path, Stamp]
+    after: dict[Path, Stamp]
 
 
 def read_together(elements: list[SceneObject]) -> list[tuple[SceneObject, ...]]:

@@ -832,7 +832,13 @@ def fit_to_models(scene: Scene) -> None:
         if _where_fitting_left_it(light, scene.fitted_unit):
             light.position = _fitted_place(light, unit)
     scene.fitted_unit = unit
-    for camera in scene.cameras:
+    fit_camera_bodies(scene.cameras, unit)
+
+
+def fit_camera_bodies(cameras: list[SceneObject], unit: float) -> None:
+    """The built-in camera's body of each of `cameras` on a scale of `unit` (Scene.fitted_unit, where
+    --watch reads the cameras of a scene file again)."""
+    for camera in cameras:
         if camera.source == BUILT_IN_CAMERA_MODEL:
             camera.mesh = _fitted_body(camera, unit)
 
@@ -892,6 +898,43 @@ def replace_loaded(scene: Scene, element: SceneObject, loaded: SceneObject) -> N
     if element.browsed == loaded.source:
         element.browsed = None
     element.source, element.selected_face = loaded.source, 0
+
+
+def replace_scene_read(scene: Scene, read: Scene, replaced: set[int], aspect: float = 1.0) -> None:
+    """The host's half of --watch's scene file read again: `read`'s objects and cameras, as the file
+    places them now, in the place of the elements its last read placed (their uids `replaced`), and
+    ahead of those that joined from elsewhere (the command line, `f`), which stay as they were. The
+    replaced elements' undo goes with them; the modes, the lights and their switches stay, and each
+    selection stays at its index where the file still places one there. A file that places no camera
+    has its models framed, as at start."""
+    end_view_gesture(scene)
+    selected_object = _index_after_reading(scene.objects, scene.selected_object, read.objects, replaced)
+    selected_camera = _index_after_reading(scene.cameras, scene.selected_camera, read.cameras, replaced)
+    scene.objects[:] = [*read.objects, *(obj for obj in scene.objects if obj.uid not in replaced)]
+    scene.cameras[:] = [*read.cameras, *(camera for camera in scene.cameras if camera.uid not in replaced)]
+    scene.selected_object, scene.selected_camera = selected_object, selected_camera
+    scene.view_moves[:] = [camera for camera in scene.view_moves if camera.uid not in replaced]
+    scene.texture_path, scene.texture_named_at = read.texture_path, read.texture_named_at
+    scene.frame_at_start = read.frame_at_start
+    scene.loads += 1
+    if scene.fitted_unit != 1.0:  # read on the seed's scale, as at start; the lights stand on the fitted one
+        fit_camera_bodies(read.cameras, scene.fitted_unit)
+    if read.frame_at_start and scene.objects and any(camera is scene.camera for camera in read.cameras):
+        frame_models(scene, aspect)
+
+
+def _index_after_reading(elements: list[SceneObject], selected: int, read: list[SceneObject],
+                         replaced: set[int]) -> int:
+    """Where the selected element's successor stands once `read` took the replaced elements' place:
+    the one read at its index among them (the last one read where the file places fewer), or, where
+    it joined from elsewhere, itself."""
+    if not elements:
+        return 0
+    chosen = elements[selected]
+    if chosen.uid not in replaced:
+        return len(read) + sum(1 for element in elements[:selected] if element.uid not in replaced)
+    index = sum(1 for element in elements[:selected] if element.uid in replaced)
+    return max(0, min(index, len(read) - 1))
 
 
 def step_file(step: int) -> CommandFunction:

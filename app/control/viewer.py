@@ -21,7 +21,7 @@ from typing import NamedTuple, Protocol
 import numpy as np
 
 from marraztu.control import commands, keymap
-from marraztu.control.browse import ModelWatcher, read_together
+from marraztu.control.browse import FileWatcher, ModelWatcher, SeenFiles, read_together
 from marraztu.errors import LoadError, ViewerError, escaped
 from marraztu.loaders.images import fit_texture, load_image, load_texture_or_fallback
 from marraztu.loaders.obj import READER_COMPILING
@@ -34,7 +34,7 @@ from marraztu.loaders.scenefile import (
     material_for_loaded,
 )
 from marraztu.model.framing import framed_scale
-from marraztu.model.mesh import Mesh
+from marraztu.model.mesh import Mesh, counted
 from marraztu.model.scene import WIDEST_ASPECT, Outlook, Scene, SceneObject, Sight, kept_name, placed_boxes
 from marraztu.model.transforms import Vec3
 from marraztu.model.viewports import narrowest_aspect
@@ -103,7 +103,10 @@ class LoadJob:
     at_start: bool = False  # asked for on the command line: its outcome is told, not overwritten
     # PageDown / --watch: the elements it takes the place of, one file's at one scale, which share its mesh.
     replaces: tuple[SceneObject, ...] = ()
-    future: Future[SceneObject] = field(default_factory=Future)
+    # --watch's scene file read again whole (a Scene comes back), and its models' files as seen before.
+    reads_scene: bool = False
+    seen: SeenFiles = SeenFiles({}, {})
+    future: Future[SceneObject | Scene] = field(default_factory=Future)
     # Written by the worker, read by the window's status line. Stages, not a percentage: the parser
     # works on whole arrays, so a percentage would jump in a few steps rather than move smoothly.
     stage: str = "waiting"
@@ -132,7 +135,13 @@ class BackgroundLoader:
 
     def start(self, path: Path, as_camera: bool, at_start: bool = False,
               replaces: tuple[SceneObject, ...] = ()) -> LoadJob:
-        job = LoadJob(path, as_camera, at_start, replaces)
+        return self._submit(LoadJob(path, as_camera, at_start, replaces))
+
+    def start_scene(self, path: Path, seen: SeenFiles) -> LoadJob:
+        """--watch: the scene file read again whole, its models too, as at start."""
+        return self._submit(LoadJob(path, as_camera=False, reads_scene=True, seen=seen))
+
+    def _submit(self, job: LoadJob) -> LoadJob:
         with self._lock:
             self._jobs.append(job)
         job.future = self._pool.submit(self._load, job)
@@ -141,7 +150,9 @@ class BackgroundLoader:
             job.future.add_done_callback(lambda _: wake())
         return job
 
-    def _load(self, job: LoadJob) -> SceneObject:
+    def _load(self, job: LoadJob) -> SceneObject | Scene:
+        if job.reads_scene:
+            return self._load_scene(job)
         scale = job.replaces[0].scale if job.replaces else UNSCALED  # read again at the size it was read
         mesh = sized(load_model(job.path, stage=job.set_stage), scale, job.path)
         if self._prepare is not None:
@@ -149,6 +160,15 @@ class BackgroundLoader:
             self._prepare(mesh)
         job.set_stage("joining the scene at the next frame")
         return _placed(mesh, job.path, scale)
+
+    def _load_scene(self, job: LoadJob) -> Scene:
+        scene = load_scene(job.path, job.set_stage)
+        if self._prepare is not None:
+            job.set_stage("preparing vertex arrays")
+            for mesh in {id(element.mesh): element.mesh for element in scene.objects + scene.cameras}.values():
+                self._prepare(mesh)
+        job.set_stage("joining the scene at the next frame")
+        return scene
 
     def pending(self) -> list[LoadJob]:
         with self._lock:
@@ -231,6 +251,11 @@ class Viewer:
         self.background = background
         self.prompt: str | None = None  # the `f` prompt's text while it is open
         self.watcher: ModelWatcher | None = None  # set by --watch
+        self.scene_watcher: FileWatcher | None = None  # set by --watch with a scene file
+        # The elements the scene file's last read placed (uids): a read again takes their place.
+        self._scene_file_uids: set[int] = set()
+        self._named_texture: Path | None = None  # the command line's --texture: it outlasts a scene read again
+        self._longest_texture_side = 0
         self._starting = False
         self._start_models_alone = False  # the scene holds only the command line's models: framed together
         self._start_models_to_frame = False  # some of them joined since they were last framed
@@ -245,6 +270,8 @@ class Viewer:
         """The texture (the one named, or the scene's) and the models of the command line. Every
         failure is told, on screen and to the front end, and none hides another."""
         self._starting = True
+        self._scene_file_uids = {element.uid for element in self.scene.objects + self.scene.cameras}
+        self._named_texture, self._longest_texture_side = options.texture, longest_texture_side
         # The command line's models are framed together where they are alone, or beside a scene
         # file's that places no camera (framed with them).
         self._start_models_alone = not self.scene.objects or self.scene.frame_at_start
@@ -262,6 +289,8 @@ class Viewer:
             if options.watch:
                 self.watcher = ModelWatcher()
                 self.watcher.changed(self.scene)  # what the files are now: later changes are the news
+            if options.watch and options.scene_file is not None:
+                self.scene_watcher = FileWatcher(options.scene_file)
         finally:
             self._starting = False
 
@@ -269,20 +298,25 @@ class Viewer:
         """The texture named on the command line, else the scene's; one that cannot be read is told
         and stood in for, but where strict a named one ends the command."""
         if named is not None and self.strict:  # asked for by name: a bad one ends the command
-            self._set_texture(load_image(named), longest_side)
-            return
+            notes = [self._set_texture(load_image(named), longest_side)]
+        else:
+            notes = self._read_texture(named, longest_side)
+        for message in filter(None, notes):
+            self.tell(message)
+
+    def _read_texture(self, named: Path | None, longest_side: int) -> list[str]:
+        """The texture named on the command line, else the scene's, in the scene; what it says: a picture
+        that cannot be read (stood in for by the checker), one made smaller to fit."""
         texture_path = named or (Path(self.scene.texture_path) if self.scene.texture_path else None)
         image, message = load_texture_or_fallback(texture_path)
         if message and named is None and self.scene.texture_named_at:  # the scene file's entry named it
             message = f"{self.scene.texture_named_at}: {message}"
-        if message:
-            self.tell(message)
-        self._set_texture(image, longest_side)
+        return [message for message in (message, self._set_texture(image, longest_side)) if message]
 
-    def _set_texture(self, image: np.ndarray, longest_side: int) -> None:
+    def _set_texture(self, image: np.ndarray, longest_side: int) -> str:
+        """The picture in the scene, made smaller where the GPU takes no larger; what that says, or ""."""
         self.scene.texture, note = fit_texture(image, longest_side)
-        if note:
-            self.tell(note)
+        return note
 
     def _at_start(self, at_start: bool | None) -> bool:
         """Whether a message belongs to start-up: as said, or (None) while the viewer is starting."""
@@ -393,15 +427,16 @@ class Viewer:
             return
         for job in self.background.take_finished():
             error = job.future.exception()
-            if error is None and job.replaces:
+            if error is not None and not isinstance(error, LoadError):  # a bug, not a bad file: said, not raised
+                error = LoadError(job.path, f"could not be loaded ({type(error).__name__}: {error})")
+            if job.reads_scene:
+                self._scene_read(job.future.result() if error is None else error, job.path, job.seen)
+            elif error is None and job.replaces:
                 self._replace_each(job.replaces, job.future.result())
             elif error is None:
                 self._add(job.future.result(), job.path, job.as_camera, job.at_start)
-            elif isinstance(error, LoadError):
+            else:
                 self._failed(error, job.at_start)
-            else:  # a bug, not a bad file: say so instead of dying in the render loop
-                self._failed(LoadError(job.path, f"could not be loaded ({type(error).__name__}: {error})"),
-                             job.at_start)
         if any(job.at_start for job in self.background.uncollected()):
             return  # the command line's models are told and framed as one batch, as start() does without a worker
         self._tell_start_loads()
@@ -429,8 +464,47 @@ class Viewer:
         one file at one scale share the new mesh, as a scene file's do."""
         if self.watcher is None:
             return
-        for elements in read_together(self.watcher.changed(self.scene)):
+        reading_scene = self.scene_watcher is not None and self.scene_watcher.changed()
+        before = self.watcher.files_seen() if reading_scene else {}
+        changed = self.watcher.changed(self.scene)
+        if reading_scene or self._scene_read_pending():  # its models are read with it: not in what it replaces
+            changed = [element for element in changed if element.uid not in self._scene_file_uids]
+        if reading_scene:
+            self._read_scene_again(self.scene_watcher.path, SeenFiles(before, self.watcher.files_seen()))
+        for elements in read_together(changed):
             self._replace_models(elements, elements[0].source)
+
+    def _scene_read_pending(self) -> bool:
+        return self.background is not None and any(job.reads_scene for job in self.background.uncollected())
+
+    def _read_scene_again(self, path: Path, seen: SeenFiles) -> None:
+        """--watch: the scene file read again whole, as at start, in the place of what it placed."""
+        if self.background is not None:
+            self.background.start_scene(path, seen)
+            self.tell(f"{escaped(path.name)} changed: reading it again")
+            return
+        try:
+            read: Scene | LoadError = load_scene(path, self._waiting_on)
+        except LoadError as error:
+            read = error
+        self._scene_read(read, path, seen)
+
+    def _scene_read(self, read: Scene | LoadError, path: Path, seen: SeenFiles) -> None:
+        """A scene file read again, in the place of what it placed; one that failed leaves the scene as it
+        was, its message saying where, and the models' changes its look found to be told again."""
+        if isinstance(read, LoadError):
+            elements = self.scene.objects + self.scene.cameras
+            self.watcher.stand_as([element for element in elements if element.uid in self._scene_file_uids],
+                                  seen.before)
+            self._failed(read)
+            return
+        commands.replace_scene_read(self.scene, read, self._scene_file_uids, self.narrowest_aspect())
+        self._scene_file_uids = {element.uid for element in read.objects + read.cameras}
+        self.watcher.stand_as(read.objects + read.cameras, seen.after)
+        notes = self._read_texture(self._named_texture, self._longest_texture_side)
+        said = (f"read {escaped(path.name)} again: {counted(len(read.objects), 'object')}, "
+                f"{counted(len(read.cameras), 'camera')} (undo starts afresh for them)")
+        self.tell("; ".join([said, *notes]))
 
     def _replace_each(self, elements: tuple[SceneObject, ...], loaded: SceneObject) -> None:
         """`loaded` in the first element's place, and its mesh, with materials of their own, in the others'."""

@@ -1,0 +1,202 @@
+"""--watch reads a changed scene file again whole, as at start, in the place of what it placed: its objects,
+cameras, materials and texture. The modes, the lights and the selections stay; the replaced elements' undo
+goes. A scene file that fails to read leaves the scene as it was and says where."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from marraztu.control.browse import ModelWatcher
+from marraztu.control.keymap import parse_key_sequence
+from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer
+from marraztu.loaders.scenefile import load_scene
+from marraztu.model.scene import Projection, Shading, Target
+from support.scenes import NoFrontend
+
+SQUARE = b"v -20 -20 0\nv 20 -20 0\nv 20 20 0\nv -20 20 0\nf 1 2 3 4\n"
+TRIANGLE = b"v -10 -10 0\nv 10 -10 0\nv 0 10 0\nf 1 2 3\n"
+CAMERA = '[[cameras]]\nposition = [0, 0, 80]\n'
+
+
+def square_at(x: float, kd: str = "[0.2, 0.4, 0.6]") -> str:
+    return (f'[[objects]]\nmodel = "square.obj"\nposition = [{x}, 0, 0]\n'
+            f'material = {{ ka = [0, 0, 0], kd = {kd}, ks = [0, 0, 0], ns = 10 }}\n')
+
+
+def rewrite(path: Path, content: str) -> None:
+    """New content with a new modification time, even on a file system with coarse timestamps."""
+    before = path.stat().st_mtime_ns
+    path.write_text(content)
+    os.utime(path, ns=(before + 2_000_000_000, before + 2_000_000_000))
+
+
+def press(viewer: Viewer, keys: str) -> None:
+    for key in parse_key_sequence(keys):
+        viewer.press(key)
+
+
+def watched(tmp_path: Path, content: str, background: BackgroundLoader | None = None,
+            models: tuple[Path, ...] = ()) -> Viewer:
+    (tmp_path / "square.obj").write_bytes(SQUARE)
+    (tmp_path / "triangle.obj").write_bytes(TRIANGLE)
+    path = tmp_path / "lesson.toml"
+    path.write_text(content)
+    viewer = Viewer(load_scene(path), NoFrontend(), background=background)
+    viewer.start(StartOptions(scene_file=path, models=models, watch=True), longest_texture_side=4096)
+    return viewer
+
+
+def collect_when_loaded(viewer: Viewer, seconds: float = 600.0) -> None:  # only against a hang
+    deadline = time.monotonic() + seconds
+    while viewer.background.pending() and time.monotonic() < deadline:
+        time.sleep(0.01)
+    viewer.collect_loads()
+
+
+def test_a_changed_kd_and_position_are_read_again_and_a_new_object_joins(tmp_path: Path) -> None:
+    viewer = watched(tmp_path, CAMERA + square_at(0))
+    viewer.check_watched()
+    before = viewer.scene.objects[0]
+    assert viewer.scene.objects == [before]  # nothing changed: nothing read
+    rewrite(tmp_path / "lesson.toml", CAMERA + square_at(5, kd="[0.9, 0.1, 0.1]")
+            + '[[objects]]\nmodel = "triangle.obj"\n')
+    viewer.check_watched()
+    square, triangle = viewer.scene.objects
+    assert square is not before and square.material.kd == (0.9, 0.1, 0.1)
+    assert np.array_equal(square.model[:3, 3], [5, 0, 0]) and triangle.mesh.vertex_count == 3
+    assert viewer.scene.message == "read lesson.toml again: 2 objects, 1 camera (undo starts afresh for them)"
+    viewer.check_watched()
+    assert viewer.scene.objects[0] is square  # one change, one read
+
+
+def test_a_bad_edit_leaves_the_scene_as_it_was_and_says_where_then_the_next_save_is_read(tmp_path: Path) -> None:
+    viewer = watched(tmp_path, CAMERA + square_at(0))
+    objects, cameras = list(viewer.scene.objects), list(viewer.scene.cameras)
+    rewrite(tmp_path / "lesson.toml", CAMERA + square_at(0) + 'position = [1, 2]\n')  # half written, or a slip
+    viewer.check_watched()
+    assert viewer.scene.objects == objects and viewer.scene.cameras == cameras
+    message = viewer.scene.message
+    assert message.startswith(f"{tmp_path / 'lesson.toml'}:") and "\n" not in message
+    assert "position" in message
+    rewrite(tmp_path / "lesson.toml", CAMERA + square_at(0) + '[[objects]]\nmodel = "nope.obj"\n')
+    viewer.check_watched()
+    assert viewer.scene.objects == objects and f"{tmp_path / 'lesson.toml'}:8: model" in viewer.scene.message
+    rewrite(tmp_path / "lesson.toml", CAMERA + square_at(3))
+    viewer.check_watched()
+    assert np.array_equal(viewer.scene.object.model[:3, 3], [3, 0, 0])
+
+
+def test_the_modes_lights_and_selections_stay_and_the_replaced_undo_goes(tmp_path: Path) -> None:
+    viewer = watched(tmp_path, CAMERA * 2 + square_at(0) + square_at(30), models=(tmp_path / "triangle.obj",))
+    scene = viewer.scene
+    kept = scene.object  # the command line's triangle, selected as it joined: not the scene file's
+    press(viewer, "t x F p b 1 2")  # the triangle moved; Gouraud, parallel, culling, two lights
+    press(viewer, "c TAB c c TAB TAB x x")  # the second camera; then the second square, moved twice
+    light_switches = [light.on for light in scene.lights]
+    assert scene.objects[2] is kept and len(kept.history) == 2
+    assert scene.object is scene.objects[1] and len(scene.object.history) == 3
+    rewrite(tmp_path / "lesson.toml", CAMERA * 2 + square_at(0, kd="[1, 1, 1]") + square_at(30))
+    viewer.check_watched()
+    assert scene.modes.shading is Shading.GOURAUD and scene.modes.projection is Projection.PARALLEL
+    assert scene.modes.culling and scene.modes.target is Target.OBJECTS
+    assert [light.on for light in scene.lights] == light_switches and sum(light_switches) == 2
+    assert scene.selected_camera == 1 and scene.selected_object == 1
+    assert scene.object.history == [scene.object.model] and np.array_equal(scene.object.model[:3, 3], [30, 0, 0])
+    assert scene.objects[2] is kept and len(kept.history) == 2  # joined from elsewhere: stays as it was
+    assert scene.objects[0].material.kd == (1.0, 1.0, 1.0)
+    rewrite(tmp_path / "lesson.toml", CAMERA + square_at(0))  # fewer: the last of each it places
+    viewer.check_watched()
+    assert scene.selected_camera == 0 and scene.selected_object == 0 and scene.objects[1] is kept
+
+
+def test_a_file_that_places_no_camera_is_framed_again(tmp_path: Path) -> None:
+    viewer = watched(tmp_path, square_at(0))
+    start = viewer.scene.camera.model
+    rewrite(tmp_path / "lesson.toml", square_at(0) + square_at(200))
+    viewer.check_watched()
+    assert viewer.scene.camera.model[2, 3] > start[2, 3]  # further back: both squares framed
+    assert len(viewer.scene.camera.history) == 1  # the start HOME comes back to, as at start
+
+
+def test_on_the_windows_worker_the_scene_is_read_off_the_render_thread(tmp_path: Path) -> None:
+    viewer = watched(tmp_path, CAMERA + square_at(0), BackgroundLoader())
+    try:
+        before = viewer.scene.object
+        rewrite(tmp_path / "lesson.toml", CAMERA + square_at(7))
+        viewer.check_watched()
+        assert viewer.scene.message == "lesson.toml changed: reading it again"
+        assert viewer.loading_lines()[0].startswith("loading lesson.toml: ")
+        collect_when_loaded(viewer)
+        assert viewer.scene.object is not before and np.array_equal(viewer.scene.object.model[:3, 3], [7, 0, 0])
+        assert viewer.scene.message.startswith("read lesson.toml again: 1 object, 1 camera")
+        rewrite(tmp_path / "lesson.toml", "[[objects]]\n")
+        viewer.check_watched()
+        collect_when_loaded(viewer)
+        assert viewer.scene.object.model[0, 3] == 7 and "lesson.toml:1: " in viewer.scene.message
+    finally:
+        viewer.background.shutdown()
+
+
+def test_a_model_changed_with_its_scene_file_is_read_with_it_once(tmp_path: Path, monkeypatch) -> None:
+    from marraztu.loaders import scenefile
+
+    read: list[Path] = []
+    load_model = scenefile.load_model
+    monkeypatch.setattr(scenefile, "load_model", lambda path, stage=None: read.append(path) or load_model(path))
+    viewer = watched(tmp_path, CAMERA + square_at(0))
+    read.clear()
+    rewrite(tmp_path / "square.obj", TRIANGLE.decode())
+    rewrite(tmp_path / "lesson.toml", CAMERA + square_at(1))
+    viewer.check_watched()
+    assert [path.name for path in read] == ["square.obj", "camera.obj"]
+    assert viewer.scene.object.mesh.vertex_count == 3 and viewer.scene.message.startswith("read lesson.toml again")
+
+
+def test_a_model_changed_with_a_bad_scene_file_is_read_again_in_its_place(tmp_path: Path) -> None:
+    """The look that found both changed left the model to the scene file's read: that read failing,
+    the model is read again at the next look, in its element's place."""
+    viewer = watched(tmp_path, CAMERA + square_at(0))
+    square = viewer.scene.object
+    rewrite(tmp_path / "square.obj", TRIANGLE.decode())
+    rewrite(tmp_path / "lesson.toml", CAMERA + "[[objects]]\n")
+    viewer.check_watched()
+    assert viewer.scene.object is square and square.mesh.vertex_count == 4 and "lesson.toml:3:" in viewer.scene.message
+    viewer.check_watched()
+    assert viewer.scene.object is square and square.mesh.vertex_count == 3
+    assert viewer.scene.message.startswith("square.obj in place of square")
+
+
+def test_a_model_saved_while_its_scene_file_was_read_is_read_again() -> None:
+    """The elements a scene file's read placed stand as their files were seen when that read began, not
+    when they joined: a model saved meanwhile may not be in what was read."""
+    from marraztu.control.browse import Stamp
+    from marraztu.model.mesh import Mesh
+    from marraztu.model.scene import Material, Scene, SceneObject
+
+    path = Path(__file__)
+    made = [SceneObject.placed("a", Mesh.__new__(Mesh), Material((0, 0, 0), (0, 0, 0), (0, 0, 0), 1.0), (0, 0, 0),
+                               source=path) for _ in range(2)]
+    watcher = ModelWatcher()
+    assert watcher.changed(Scene(objects=[], cameras=made[:1])) == []
+    watcher.stand_as(made[1:], {path: Stamp(0, 0)})  # seen so as the read began; it is newer now
+    assert watcher.changed(Scene(objects=[], cameras=made[1:])) == made[1:]
+
+
+@pytest.mark.parametrize("kd", ["[0.2, 0.2, 0.2]", "[1, 0, 0]"])
+def test_a_changed_kd_changes_the_picture(tmp_path: Path, offscreen, kd: str) -> None:
+    viewer = watched(tmp_path, CAMERA + square_at(0))
+    press(viewer, "0")  # a light on: Kd shows
+    before = offscreen(viewer.scene)[31, 31]
+    rewrite(tmp_path / "lesson.toml", CAMERA + square_at(0, kd=kd))
+    viewer.check_watched()
+    after = offscreen(viewer.scene)[31, 31]
+    assert viewer.scene.lights[0].on and tuple(after) != tuple(before)
+    if kd == "[1, 0, 0]":
+        assert after[0] > before[0] and after[1] < before[1] and after[2] < before[2]
+    else:  # red as it was: 0.2 before too
+        assert abs(int(after[0]) - int(before[0])) <= 1 and after[1] < before[1] and after[2] < before[2]
