@@ -109,7 +109,7 @@ def window_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action=VersionAction)
     add_size_argument(parser, "window size")
     parser.add_argument("--watch", action="store_true",
-                        help="read a model again when its file changes on disk")
+                        help="read a model, or the --scene file, again when its file changes on disk")
     add_scene_arguments(parser)
     return parser
 
