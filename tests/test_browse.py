@@ -3,6 +3,7 @@ and --watch reads a model again when its file changes. A bad file keeps the scen
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import time
 from pathlib import Path
@@ -14,7 +15,7 @@ from PIL import Image
 import marraztu
 from marraztu.control.browse import ModelWatcher, model_files, sibling_model
 from marraztu.control.keymap import parse_key_sequence
-from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer
+from marraztu.control.viewer import DARK_HINT, BackgroundLoader, StartOptions, Viewer
 from marraztu.errors import LoadError
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
@@ -378,3 +379,29 @@ def test_watch_groups_elements_whose_scale_was_set_by_hand_as_a_list(tmp_path: P
     rewrite(tmp_path / "a.obj", SQUARE)
     viewer.check_watched()
     assert first.mesh.vertex_count == 4 and first.mesh is second.mesh and third.mesh is not first.mesh
+
+
+def test_watch_says_one_message_for_the_objects_of_one_file_with_what_only_some_of_them_are(tmp_path: Path) -> None:
+    """Each element of a group read again set its own message and only the last showed: that the middle
+    object is drawn black with every light off, and the others' names, were lost."""
+    from marraztu.loaders.scenefile import load_scene
+
+    folder_of(tmp_path, a_obj=TRIANGLE, c_obj=TRIANGLE)
+    material = "kd = [0.5, 0.5, 0.5], ks = [0, 0, 0], ns = 10"
+    entries = [f'name = "{name}"\nposition = [{x}, 0, 0]\nmaterial = {{ ka = [{ka}], {material} }}\n'
+               for name, x, ka in (("a", 0, "0.2, 0.2, 0.2"), ("b", 2, "0, 0, 0"), ("c", 4, "0.2, 0.2, 0.2"))]
+    path = tmp_path / "scene.toml"
+    path.write_text('[[cameras]]\nmodel = "c.obj"\nposition = [0, 0, 30]\n'
+                    + "".join(f'[[objects]]\nmodel = "a.obj"\n{entry}' for entry in entries))
+    viewer = Viewer(load_scene(path), NoFrontend())
+    viewer.start(StartOptions(scene_file=path, watch=True), longest_texture_side=64)
+    rewrite(tmp_path / "a.obj", SQUARE + b"f 1 1 2\n")
+    viewer.check_watched()
+    assert viewer.scene.message == ("a.obj in place of a, b, c: 4 vertices, 2 faces (1 zero-area face (given a "
+                                    "fallback normal)); b: black with every light off (its Ka is 0 0 0: 0 to 3 "
+                                    "turn lights on)")
+    for obj in viewer.scene.objects:  # a scene file's material stays through a read again
+        obj.given_material = dataclasses.replace(obj.given_material, ka=(0.0, 0.0, 0.0))
+    rewrite(tmp_path / "a.obj", SQUARE)
+    viewer.check_watched()  # all three alike: said once, as one object's message says it
+    assert viewer.scene.message == "a.obj in place of a, b, c: 4 vertices, 1 face" + DARK_HINT

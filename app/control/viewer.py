@@ -507,30 +507,54 @@ class Viewer:
         self.tell("; ".join([said, *notes]))
 
     def _replace_each(self, elements: tuple[SceneObject, ...], loaded: SceneObject) -> None:
-        """`loaded` in the first element's place, and its mesh, with materials of their own, in the others'."""
-        self._replace(elements[0], loaded)
-        for element in elements[1:]:
-            self._replace(element, _placed(loaded.mesh, element.source, element.scale))
-
-    def _replace(self, element: SceneObject, loaded: SceneObject) -> None:
-        if element not in self.scene.objects and element not in self.scene.cameras:  # identity: eq=False
-            self.tell(f"{escaped(loaded.source.name)} was read, but {element.name} has left the scene meanwhile")
-            return
-        refusal = self.scene.placement_refusal(element, element.model, loaded.mesh)
-        if refusal is not None:  # where it stands, the next call would refuse the scene
-            self.tell(f"{escaped(loaded.source.name)} cannot take {element.name}'s place: {refusal}")
-            return
-        old_name = element.name
-        selected = element is self.scene.object and self.scene.viewer is not element
-        seen = selected and not self._unseen_as(element, by_scale=True)
-        commands.replace_loaded(self.scene, element, loaded)
-        said = with_notes(f"{escaped(loaded.source.name)} in place of {old_name}: {loaded.mesh.summary()}"
-                          f"{self._around([element])[0]}{self._dark(element)}", loaded.mesh)
-        where = self._unseen_as(element, by_scale=True) if seen else ""
-        told = f"{said}; {_lost_notice(element, where)}" if where else said
+        """`loaded` in the first element's place, and its mesh, with materials of their own, in the others';
+        one message says them all (each saying its own, only the last one's showed)."""
+        replaced: list[tuple[SceneObject, str]] = []  # with its name before
+        refusals: list[str] = []
+        lost: tuple[SceneObject, str] | None = None  # the selected element, where the view no longer shows it
+        for index, element in enumerate(elements):
+            each = loaded if index == 0 else _placed(loaded.mesh, element.source, element.scale)
+            refusal = self._replace_refusal(element, each)
+            if refusal:
+                refusals.append(refusal)
+                continue
+            selected = element is self.scene.object and self.scene.viewer is not element
+            seen = selected and not self._unseen_as(element, by_scale=True)
+            replaced.append((element, element.name))
+            commands.replace_loaded(self.scene, element, each)
+            where = self._unseen_as(element, by_scale=True) if seen else ""
+            if where:
+                lost = (element, _lost_notice(element, where))
+        said = self._replaced_words(loaded, replaced)
+        refused = "; ".join(refusals[:UNSEEN_NAMES_SAID] + (["..."] if len(refusals) > UNSEEN_NAMES_SAID else []))
+        told = "; ".join(filter(None, [said, lost[1] if lost else "", refused]))
         self.tell(told)
-        if self.scene.message == told:  # not joined to start-up's lines
-            self._remember_unseen(element, told, said)
+        if replaced and self.scene.message == told:  # not joined to start-up's lines
+            self._remember_unseen(lost[0] if lost else replaced[0][0], told, "; ".join(filter(None, [said, refused])))
+
+    def _replace_refusal(self, element: SceneObject, loaded: SceneObject) -> str:
+        """Why `loaded` cannot take the element's place; "" where it can."""
+        if element not in self.scene.objects and element not in self.scene.cameras:  # identity: eq=False
+            return f"{escaped(loaded.source.name)} was read, but {element.name} has left the scene meanwhile"
+        refusal = self.scene.placement_refusal(element, element.model, loaded.mesh)
+        # where it stands, the next call would refuse the scene
+        return "" if refusal is None else f"{escaped(loaded.source.name)} cannot take {element.name}'s place: {refusal}"
+
+    def _replaced_words(self, loaded: SceneObject, replaced: list[tuple[SceneObject, str]]) -> str:
+        """A read's message of the elements it replaced: what all of them are said, as one element's is,
+        after the mesh's summary; what only some are, after its notes, with their names. "" where none."""
+        if not replaced:
+            return ""
+        elements = [element for element, _ in replaced]
+        hints = {AROUND_HINT: self._around(elements), DARK_HINT: [self._dark(element) for element in elements]}
+        named = {hint: [element.name for element, words in zip(elements, each) if words]
+                 for hint, each in hints.items()}
+        shared = "".join(hint for hint, names in named.items() if len(names) == len(elements))
+        some = "".join(f"; {_names(names)}: {hint.removeprefix(', ')}" for hint, names in named.items()
+                       if 0 < len(names) < len(elements))
+        names = _names([name for _, name in replaced])
+        return with_notes(f"{escaped(loaded.source.name)} in place of {names}: {loaded.mesh.summary()}{shared}",
+                          loaded.mesh) + some
 
     def loading_lines(self) -> list[str]:
         return [job.label for job in self.background.uncollected()] if self.background else []
