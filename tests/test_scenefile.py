@@ -1100,6 +1100,8 @@ WINDOWS_PATHS = {
     "model, literal string": ("model = 'sub\\m.obj'\n", "", ":2: model sub\\m.obj: ", " (use / between folders)"),
     "model with a drive": ("model = 'C:\\Users\\t\\m.obj'\n", "", ":2: model C:\\Users\\t\\m.obj: ",
                            " (use / between folders; C: is a Windows drive)"),
+    "model with a drive, slashes": ("model = 'C:/Users/t/m.obj'\n", "", ":2: model C:/Users/t/m.obj: ",
+                                    " (C: is a Windows drive)"),
     "texture": ('model = "sub/m.obj"\n', "texture = 'sub\\red.png'\n", ":3: objects[1]: texture: ",
                 " (use / between folders)"),
     "model missing, no back slash": ('model = "sub/n.obj"\n', "", ":2: model sub/n.obj: ", ""),
@@ -1118,6 +1120,35 @@ def test_a_windows_path_not_found_says_to_use_slashes(tmp_path: Path, model: str
         load_scene(path)
     assert str(caught.value).startswith(f"{path}{where}")
     assert str(caught.value).endswith(f": no such file{hint}")
+
+
+@pytest.mark.skipif(os.sep == "\\", reason="a back slash is a folder separator on Windows")
+@pytest.mark.parametrize("model, texture, where", [
+    ('model = "gone.obj"\n', "", ":2: model gone.obj: "),
+    ('model = "m.obj"\n', 'texture = "gone.png"\n', ":3: objects[1]: texture: "),
+], ids=["model", "texture"])
+def test_a_missing_file_in_a_folder_whose_name_holds_a_back_slash_gets_no_windows_hint(
+        tmp_path: Path, model: str, texture: str, where: str) -> None:
+    """The hint looked at the whole path, the scene's folder in it: a Linux folder named a\\b gave
+    'gone.obj: no such file (use / between folders)', where the name written has no back slash."""
+    folder = tmp_path / "a\\b"
+    folder.mkdir()
+    path = write_scene(folder, "[[objects]]\n" + model + texture)
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert str(caught.value).startswith(f"{path}{where}") and str(caught.value).endswith(": no such file")
+
+
+@pytest.mark.skipif(os.sep == "\\", reason="a drive and a back slash are Windows's")
+@pytest.mark.parametrize("typed, hint", [("C:/Users/m.obj", " (C: is a Windows drive)"),
+                                         ("sub\\m.obj", " (use / between folders)"),
+                                         ("C:\\Users\\m.obj", " (use / between folders; C: is a Windows drive)"),
+                                         ("sub/m.obj", "")])
+def test_a_missing_path_as_typed_says_what_of_it_is_windows(typed: str, hint: str) -> None:
+    """As the command line gives it: C:/Users/m.obj, a drive with forward slashes, got no hint."""
+    with pytest.raises(LoadError) as caught:
+        load_model_as_read(Path(typed))
+    assert str(caught.value) == f"{typed}: no such file{hint}"
 
 
 @pytest.mark.skipif(os.sep == "\\", reason="a back slash is a folder separator on Windows")

@@ -22,13 +22,31 @@ MAX_FILE_BYTES = 1 << 30
 COLLECT_AFTER_BYTES = 1 << 20
 
 
+class MissingFile(LoadError):
+    """No file at `path`. Its hint looks at `written`, the name as the person wrote it, where the reader
+    of that name gives it again (as_written); else at the whole path."""
+
+    def __init__(self, path: str | Path, written: str | None = None) -> None:
+        hint = _windows_path_hint(str(path)) if written is None else _windows_name_hint(written)
+        super().__init__(path, f"no such file{hint}")
+
+    def as_written(self, written: str) -> MissingFile:
+        return MissingFile(self.path, written)
+
+
+def said_as_written(error: BaseException, path: Path, written: str) -> BaseException:
+    """The error, its hint given by `written` where it says that `path`, the file named so, is missing
+    (not a file that one names): a folder above it, which no one typed, may hold a back slash."""
+    return error.as_written(written) if isinstance(error, MissingFile) and error.path == str(path) else error
+
+
 @contextmanager
 def errors_as_load_errors(path: str | Path) -> Iterator[None]:
     """Turns what the operating system says about `path` into a LoadError naming it."""
     try:
         yield
     except FileNotFoundError:
-        raise LoadError(path, f"no such file{_windows_path_hint(str(path))}") from None
+        raise MissingFile(path) from None
     except PermissionError:
         raise LoadError(path, "permission denied") from None
     except MemoryError:
@@ -39,15 +57,28 @@ def errors_as_load_errors(path: str | Path) -> Iterator[None]:
 
 # A drive, as a Windows path begins: C:\ or C:/ (after the folder a scene or a model is read from).
 _WINDOWS_DRIVE = re.compile(r"(?:^|[/\\])([A-Za-z]:)[/\\]")
+# A drive, as a name a person wrote begins.
+_WRITTEN_DRIVE = re.compile(r"([A-Za-z]:)[/\\]")
 
 
 def _windows_path_hint(path: str) -> str:
-    """Why a path holding a back slash is not found where "\\" is no folder separator (every system but
-    Windows): it is a Windows path, as a scene or a model written there gives it."""
-    if os.sep == "\\" or "\\" not in path:
+    """Why a path holding a back slash, or beginning with a drive (a command line's, as typed), is not
+    found where "\\" is no folder separator and C: no drive (every system but Windows): it is a Windows
+    path, as a scene or a model written there gives it. Its drive may follow the folder read from."""
+    back_slashes = "\\" in path
+    return _hint(back_slashes, _WINDOWS_DRIVE.search(path) if back_slashes else _WRITTEN_DRIVE.match(path))
+
+
+def _windows_name_hint(written: str) -> str:
+    """_windows_path_hint of a name as written: a drive, where it has one, begins it."""
+    return _hint("\\" in written, _WRITTEN_DRIVE.match(written))
+
+
+def _hint(back_slashes: bool, drive: re.Match[str] | None) -> str:
+    if os.sep == "\\" or not (back_slashes or drive):
         return ""
-    drive = _WINDOWS_DRIVE.search(path)
-    return f" (use / between folders; {drive[1]} is a Windows drive)" if drive else " (use / between folders)"
+    words = (["use / between folders"] if back_slashes else []) + ([f"{drive[1]} is a Windows drive"] if drive else [])
+    return f" ({'; '.join(words)})"
 
 
 # Linux's PATH_MAX: no longer path names a file it opens.

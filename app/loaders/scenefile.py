@@ -45,7 +45,7 @@ from typing import NoReturn
 import numpy as np
 
 from marraztu.errors import LoadError, ViewerError
-from marraztu.loaders.files import line_at, read_file, same_file_key, shown
+from marraztu.loaders.files import line_at, read_file, said_as_written, same_file_key, shown
 from marraztu.loaders.images import load_image
 from marraztu.loaders.patterns import compiled
 from marraztu.loaders.registry import MODEL_READERS, Stage, load_model, sized
@@ -702,7 +702,8 @@ class _ModelLoader:
             try:
                 self.pictures[key] = load_image(path)
             except (ViewerError, OSError) as err:  # its message names the file, the written name within it
-                raise LoadError(self.scene_path, f"{entry.what}: texture: {err}", entry.texture_line) from err
+                said = said_as_written(err, path, entry.texture)
+                raise LoadError(self.scene_path, f"{entry.what}: texture: {said}", entry.texture_line) from err
         return self.pictures[key]
 
     def mesh(self, entry: SceneEntry) -> Mesh:
@@ -713,7 +714,8 @@ class _ModelLoader:
             try:
                 self.meshes[key] = load_model(entry.model_path.absolute(), self.stage)
             except (ViewerError, OSError) as err:
-                raise LoadError(self.scene_path, f"model {shown(entry.model)}: {err}", entry.line) from err
+                said = said_as_written(err, entry.model_path.absolute(), entry.model)
+                raise LoadError(self.scene_path, f"model {shown(entry.model)}: {said}", entry.line) from err
         if (key, entry.scale) not in self.sized:
             try:
                 self.sized[key, entry.scale] = sized(self.meshes[key], entry.scale, entry.model_path)
