@@ -416,6 +416,11 @@ BAD_SCENES = {
                                               "TOML syntax: Expected \"'\" (at end of document)"),  # no line to name
     "key set twice": (CAMERA + "position = [0, 0, 1]\nname = 'c'\n", "TOML syntax: position is set twice in one table"),
     "dotted key over a value": (CAMERA + "name = 'c'\nmodel.kind = 1\n", "TOML syntax: model.kind: Cannot overwrite"),
+    # tomllib (3.11 to 3.13) said "material: Cannot mutate immutable namespace ('ka',)" where the values are arrays.
+    "key set twice in an inline table": (CAMERA + "material = { ka = [0, 0, 0], ka = [1, 1, 1] }\n",
+                                         "TOML syntax: material: ka is set twice in one inline table$"),
+    "number set twice in an inline table": (CAMERA + "material = { ns = 1, ns = 2 }\n",
+                                            "TOML syntax: material: ns is set twice in one inline table$"),
     "duplicate table": (MATERIAL + "[materials.m]\nns = 1\n",
                         "TOML syntax: [materials.m] is declared twice (first at line 1)"),
     "table after an array of them": (CAMERA + '[cameras]\nmodel = "m.obj"\n',

@@ -95,6 +95,9 @@ MIN_FILE_NS = 1.0  # MTL files often say "Ns 0", which would light every face wi
 _TOML_POSITION = re.compile(r"\s*\(at line (\d+), column (\d+)\)$")
 _AT_THE_END = "(at end of document)"  # tomllib's place of an error the file's end shows
 _DECLARED_TWICE = re.compile(r"Cannot declare \(.*\) twice")  # tomllib writes the key as a tuple of its parts
+# tomllib's words for a bare key set twice in an inline table: the first words where its values are arrays or tables.
+_INLINE_KEY_TWICE = re.compile(r"Cannot mutate immutable namespace \('(?P<a>[A-Za-z0-9_-]+)',\)"
+                               r"|Duplicate inline table key '(?P<b>[A-Za-z0-9_-]+)'")
 # tomllib's words for slips of a key = value line, as its writer would see them.
 _SYNTAX_REWORDED = {
     "Illegal character '\\n'": 'a string in "quotes" is not closed on its line',  # a one-line "string" only
@@ -333,6 +336,9 @@ class _SceneReader:
             return said
         if said == "Cannot overwrite a value" and len(_key_parts(written["key"])) == 1:  # else a part may be a value
             return f"{written['key']} is set twice in one table"
+        twice = _INLINE_KEY_TWICE.fullmatch(said)
+        if twice and _written_twice(text[written.end():column], twice["a"] or twice["b"]):
+            return f"{written['key']}: {twice['a'] or twice['b']} is set twice in one inline table"
         unquoted = said == "Invalid value" and _LOOKS_LIKE_TEXT.match(text, column - 1)
         return f"{written['key']}: {_SYNTAX_REWORDED.get(said, said)}" + (_QUOTES_HINT if unquoted else "")
 
@@ -558,6 +564,12 @@ def _array_over_a_table(text: str, name: str, line: int) -> str:
     if first is None:  # a key's value, or a table made by a dotted key or a longer header
         return f"[[{name}]]: {name} is already a table or a value"
     return f"[[{name}]] after [{name}] (line {first}): write [[{name}]] for every entry"
+
+
+def _written_twice(inline: str, key: str) -> bool:
+    """Whether the key is written bare twice in the inline tables of `inline` (as tomllib names only a
+    dotted key's last part, a.ka's ka, that one is said in its words)."""
+    return len(re.findall(rf"[{{,][ \t]*+{key}[ \t]*+=", inline)) >= 2
 
 
 def _first_header_line(text: str, key: KeyPath, before: int) -> int | None:
