@@ -425,6 +425,12 @@ BAD_SCENES = {
                         "TOML syntax: [materials.m] is declared twice (first at line 1)"),
     "table after an array of them": (CAMERA + '[cameras]\nmodel = "m.obj"\n',
                                      "TOML syntax: [cameras] is declared twice (first at line 1)"),
+    # tomllib says "Cannot declare ... twice" where a key made the table; no header declared it before.
+    "table after a dotted key": (CAMERA + "material.ka = [1, 1, 1]\n[cameras.material]\nkd = [1, 1, 1]\n",
+                                 "TOML syntax: [cameras.material]: material is already set by a key (line 4)$"),
+    "table after an inline one, in a second entry": (
+        CAMERA + "material.ka = [1, 1, 1]\n" + CAMERA + "material = { ka = [1, 1, 1] }\n[cameras.material]\n",
+        "TOML syntax: [cameras.material]: material is already set by a key (line 8)$"),
     "an array of them after a table": ('[objects]\nmodel = "m.obj"\n' + CAMERA + '[[objects]]\nmodel = "m.obj"\n',
                                        "TOML syntax: [[objects]] after [objects] (line 1): write [[objects]] "
                                        "for every entry$"),

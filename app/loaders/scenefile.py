@@ -328,8 +328,7 @@ class _SceneReader:
         if written is None:
             return said
         if written["table"] is not None and _DECLARED_TWICE.fullmatch(said):
-            first = _first_header_line(self.text, _key_parts(written["table"]), line)
-            return f"[{written['table']}] is declared twice" + (f" (first at line {first})" if first else "")
+            return _table_declared_twice(self.text, written["table"], line)
         if written["array"] is not None and said == "Cannot overwrite a value":
             return _array_over_a_table(self.text, written["array"], line)
         if written["key"] is None:
@@ -566,6 +565,17 @@ def _array_over_a_table(text: str, name: str, line: int) -> str:
     return f"[[{name}]] after [{name}] (line {first}): write [[{name}]] for every entry"
 
 
+def _table_declared_twice(text: str, name: str, line: int) -> str:
+    """tomllib's 'Cannot declare (...) twice' at a [table] header: a header named it before, or a key set it
+    (material.ka = ..., or material = { ... }), which tomllib says in the same words."""
+    key = _key_parts(name)
+    first = _first_header_line(text, key, line)
+    if first is not None:
+        return f"[{name}] is declared twice (first at line {first})"
+    set_at = _first_key_line(text, key, line)
+    return f"[{name}]: {key[-1]} is already set by a key" + (f" (line {set_at})" if set_at else "")
+
+
 def _written_twice(inline: str, key: str) -> bool:
     """Whether the key is written bare twice in the inline tables of `inline` (as tomllib names only a
     dotted key's last part, a.ka's ka, that one is said in its words)."""
@@ -580,6 +590,24 @@ def _first_header_line(text: str, key: KeyPath, before: int) -> int | None:
         if header is not None and _key_parts(header) == key:
             return number
     return None
+
+
+def _first_key_line(text: str, key: KeyPath, before: int) -> int | None:
+    """The line of the first key = value before line `before` that sets `key` or a key inside it, in
+    the [[array]] entry the key is in, where it is in one (each entry's keys are its own)."""
+    table: KeyPath = ()
+    found = None
+    for number, line in enumerate(islice(_lines(text), before - 1), 1):
+        written = _LINE_START.match(line)
+        if written is None:
+            continue
+        if written["key"] is None:
+            table = _key_parts(written["array"] or written["table"])
+            if written["array"] is not None and key[:len(table)] == table:
+                found = None
+        elif found is None and (table + _key_parts(written["key"]))[:len(key)] == key:
+            found = number
+    return found
 
 
 def _line_of(text: str, offset: int) -> int:
