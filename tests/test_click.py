@@ -378,7 +378,7 @@ def test_a_finished_save_is_said_on_the_window_and_asks_for_a_frame() -> None:
 
 
 @pytest.mark.parametrize(("shades", "said"), [
-    ((0, 0, 0), "3 frames, all the same picture: the keys changed nothing in view"),
+    ((0, 0, 0), "3 frames, all the same picture: nothing in view changed"),  # a redraw or the mouse drew one too
     ((0, 0, 90), "3 frames, held as 2 pictures: a GIF shows a frame the same as the one before by showing that one "
                  "longer"),
     ((0, 90, 180), "3 frames"),
@@ -386,7 +386,8 @@ def test_a_finished_save_is_said_on_the_window_and_asks_for_a_frame() -> None:
 def test_a_saved_recording_says_what_the_record_command_says_of_its_frames(tmp_path: Path, shades: tuple[int, ...],
                                                                            said: str) -> None:
     """F9 said 'recording of 3 frames saved to' where `marraztu record` says the frames are all one picture
-    (a key drew the same picture again), or that a GIF holds fewer."""
+    (a key drew the same picture again), or that a GIF holds fewer; then 'the keys changed nothing in view',
+    where the window's frames come from its redraws and the mouse too."""
     from marraztu.frontends import record
 
     saves = record.BackgroundSaves(wake=lambda: None)

@@ -76,11 +76,13 @@ class Written:
     repeats: int
     kind: str  # a value of RECORDING_FORMATS
 
-    def said(self) -> str:
-        """'63 frames', and what else the person would not guess from it."""
+    def said(self, by_keys: bool = True) -> str:
+        """'63 frames', and what else the person would not guess from it; `by_keys`: the frames are drawn
+        after key presses alone (`marraztu record`'s), not also after the window's redraws and the mouse."""
         words = counted(self.frames, "frame")
         if self.frames > 1 and self.repeats == self.frames - 1:
-            return f"{words}, all the same picture: the keys changed nothing in view"
+            why = "the keys changed nothing in view" if by_keys else "nothing in view changed"
+            return f"{words}, all the same picture: {why}"
         if self.kind == "GIF" and self.repeats:  # Pillow joins them, so a GIF reader counts fewer
             return (f"{words}, held as {self.frames - self.repeats} pictures: a GIF shows a frame "
                     "the same as the one before by showing that one longer")
@@ -192,12 +194,13 @@ class BackgroundSaves:
 
 
 def _saved(frames: list[np.ndarray], out: Path, fps: float) -> str:
-    """What F9 says of its save: where it went, and of its frames what `marraztu record` says."""
+    """What F9 says of its save: where it went, and of its frames what `marraztu record` says, the
+    window's frames not only a key's."""
     try:
         written = write_animation(frames, out, fps)
     except ViewerError as error:
         return f"recording not saved: {error}"
-    return f"recording saved to {out}: {written.said()}"
+    return f"recording saved to {out}: {written.said(by_keys=False)}"
 
 
 class _Counted:
