@@ -200,3 +200,30 @@ def test_a_changed_kd_changes_the_picture(tmp_path: Path, offscreen, kd: str) ->
         assert after[0] > before[0] and after[1] < before[1] and after[2] < before[2]
     else:  # red as it was: 0.2 before too
         assert abs(int(after[0]) - int(before[0])) <= 1 and after[1] < before[1] and after[2] < before[2]
+
+
+def test_on_the_windows_worker_the_texture_is_read_off_the_render_thread_too(tmp_path: Path, monkeypatch) -> None:
+    """A large picture takes a visible while to decode: the window would stop on each save."""
+    import threading
+
+    from PIL import Image
+
+    from marraztu.control import viewer as viewer_module
+
+    Image.new("RGB", (4, 4), (255, 0, 0)).save(tmp_path / "red.png")
+    Image.new("RGB", (4, 4), (0, 255, 0)).save(tmp_path / "green.png")
+    threads: list[str] = []
+    read_picture = viewer_module.load_texture_or_fallback
+    monkeypatch.setattr(viewer_module, "load_texture_or_fallback",
+                        lambda path: threads.append(threading.current_thread().name) or read_picture(path))
+    viewer = watched(tmp_path, 'texture = "red.png"\n' + CAMERA + square_at(0), BackgroundLoader())
+    try:
+        threads.clear()
+        rewrite(tmp_path / "lesson.toml", 'texture = "green.png"\n' + CAMERA + square_at(0))
+        viewer.check_watched()
+        collect_when_loaded(viewer)
+        assert tuple(viewer.scene.texture[0, 0]) == (0, 255, 0) and viewer.scene.texture_path.endswith("green.png")
+        assert threads and all(name.startswith("model-loader") for name in threads)
+        assert viewer.scene.message == "read lesson.toml again: 1 object, 1 camera (undo starts afresh for them)"
+    finally:
+        viewer.background.shutdown()

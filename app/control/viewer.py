@@ -106,6 +106,10 @@ class LoadJob:
     # --watch's scene file read again whole (a Scene comes back), and its models' files as seen before.
     reads_scene: bool = False
     seen: SeenFiles = SeenFiles({}, {})
+    # Its texture put in the Scene read, on the worker too (a large picture decodes for a visible while),
+    # and what that said; None where the command line named the texture.
+    read_texture: Callable[[Scene], list[str]] | None = None
+    texture_notes: list[str] = field(default_factory=list)
     future: Future[SceneObject | Scene] = field(default_factory=Future)
     # Written by the worker, read by the window's status line. Stages, not a percentage: the parser
     # works on whole arrays, so a percentage would jump in a few steps rather than move smoothly.
@@ -137,9 +141,10 @@ class BackgroundLoader:
               replaces: tuple[SceneObject, ...] = ()) -> LoadJob:
         return self._submit(LoadJob(path, as_camera, at_start, replaces))
 
-    def start_scene(self, path: Path, seen: SeenFiles) -> LoadJob:
-        """--watch: the scene file read again whole, its models too, as at start."""
-        return self._submit(LoadJob(path, as_camera=False, reads_scene=True, seen=seen))
+    def start_scene(self, path: Path, seen: SeenFiles,
+                    read_texture: Callable[[Scene], list[str]] | None = None) -> LoadJob:
+        """--watch: the scene file read again whole, its models and texture too, as at start."""
+        return self._submit(LoadJob(path, as_camera=False, reads_scene=True, seen=seen, read_texture=read_texture))
 
     def _submit(self, job: LoadJob) -> LoadJob:
         with self._lock:
@@ -163,6 +168,9 @@ class BackgroundLoader:
 
     def _load_scene(self, job: LoadJob) -> Scene:
         scene = load_scene(job.path, job.set_stage)
+        if job.read_texture is not None:
+            job.set_stage("reading the texture")
+            job.texture_notes = job.read_texture(scene)
         if self._prepare is not None:
             job.set_stage("preparing vertex arrays")
             for mesh in {id(element.mesh): element.mesh for element in scene.objects + scene.cameras}.values():
@@ -307,16 +315,20 @@ class Viewer:
     def _read_texture(self, named: Path | None, longest_side: int) -> list[str]:
         """The texture named on the command line, else the scene's, in the scene; what it says: a picture
         that cannot be read (stood in for by the checker), one made smaller to fit."""
-        texture_path = named or (Path(self.scene.texture_path) if self.scene.texture_path else None)
-        image, message = load_texture_or_fallback(texture_path)
-        if message and named is None and self.scene.texture_named_at:  # the scene file's entry named it
-            message = f"{self.scene.texture_named_at}: {message}"
-        return [message for message in (message, self._set_texture(image, longest_side)) if message]
+        return read_texture(self.scene, named, longest_side)
 
     def _set_texture(self, image: np.ndarray, longest_side: int) -> str:
         """The picture in the scene, made smaller where the GPU takes no larger; what that says, or ""."""
         self.scene.texture, note = fit_texture(image, longest_side)
         return note
+
+    def _scene_texture_reader(self) -> Callable[[Scene], list[str]] | None:
+        """What reads a scene file's texture into its Scene read again; None where the command line named
+        the texture, which stays."""
+        if self._named_texture is not None:
+            return None
+        longest_side = self._longest_texture_side
+        return lambda read: read_texture(read, None, longest_side)
 
     def _at_start(self, at_start: bool | None) -> bool:
         """Whether a message belongs to start-up: as said, or (None) while the viewer is starting."""
@@ -430,7 +442,8 @@ class Viewer:
             if error is not None and not isinstance(error, LoadError):  # a bug, not a bad file: said, not raised
                 error = LoadError(job.path, f"could not be loaded ({type(error).__name__}: {error})")
             if job.reads_scene:
-                self._scene_read(job.future.result() if error is None else error, job.path, job.seen)
+                self._scene_read(job.future.result() if error is None else error, job.path, job.seen,
+                                 job.texture_notes)
             elif error is None and job.replaces:
                 self._replace_each(job.replaces, job.future.result())
             elif error is None:
@@ -479,17 +492,19 @@ class Viewer:
 
     def _read_scene_again(self, path: Path, seen: SeenFiles) -> None:
         """--watch: the scene file read again whole, as at start, in the place of what it placed."""
+        texture_reader = self._scene_texture_reader()
         if self.background is not None:
-            self.background.start_scene(path, seen)
+            self.background.start_scene(path, seen, texture_reader)
             self.tell(f"{escaped(path.name)} changed: reading it again")
             return
         try:
             read: Scene | LoadError = load_scene(path, self._waiting_on)
         except LoadError as error:
             read = error
-        self._scene_read(read, path, seen)
+        notes = texture_reader(read) if texture_reader is not None and isinstance(read, Scene) else []
+        self._scene_read(read, path, seen, notes)
 
-    def _scene_read(self, read: Scene | LoadError, path: Path, seen: SeenFiles) -> None:
+    def _scene_read(self, read: Scene | LoadError, path: Path, seen: SeenFiles, notes: list[str]) -> None:
         """A scene file read again, in the place of what it placed; one that failed leaves the scene as it
         was, its message saying where, and the models' changes its look found to be told again."""
         if isinstance(read, LoadError):
@@ -501,7 +516,8 @@ class Viewer:
         commands.replace_scene_read(self.scene, read, self._scene_file_uids, self.narrowest_aspect())
         self._scene_file_uids = {element.uid for element in read.objects + read.cameras}
         self.watcher.stand_as(read.objects + read.cameras, seen.after)
-        notes = self._read_texture(self._named_texture, self._longest_texture_side)
+        if self._named_texture is None:  # read with the file; a texture named on the command line stays
+            self.scene.texture = read.texture
         said = (f"read {escaped(path.name)} again: {counted(len(read.objects), 'object')}, "
                 f"{counted(len(read.cameras), 'camera')} (undo starts afresh for them)")
         self.tell("; ".join([said, *notes]))
@@ -771,6 +787,17 @@ def tell_compiling(notice: Callable[[str], None], stage: str) -> None:
 def _other(holder: SceneObject, obj: SceneObject) -> str:
     """The holder's name as a message about `obj` says it: a file loaded twice gives two of one name."""
     return f"the other {holder.name}" if holder.name == obj.name else holder.name
+
+
+def read_texture(scene: Scene, named: Path | None, longest_side: int) -> list[str]:
+    """The texture named on the command line, else the scene's, in `scene`; what it says: a picture that
+    cannot be read (stood in for by the checker), one made smaller to fit."""
+    texture_path = named or (Path(scene.texture_path) if scene.texture_path else None)
+    image, message = load_texture_or_fallback(texture_path)
+    if message and named is None and scene.texture_named_at:  # the scene file's entry named it
+        message = f"{scene.texture_named_at}: {message}"
+    scene.texture, note = fit_texture(image, longest_side)
+    return [said for said in (message, note) if said]
 
 
 def _names(names: list[str]) -> str:
