@@ -227,3 +227,18 @@ def test_on_the_windows_worker_the_texture_is_read_off_the_render_thread_too(tmp
         assert viewer.scene.message == "read lesson.toml again: 1 object, 1 camera (undo starts afresh for them)"
     finally:
         viewer.background.shutdown()
+
+
+def test_a_scene_file_caught_empty_while_an_editor_writes_it_is_not_read(tmp_path: Path) -> None:
+    """An editor that writes in place empties the file first: a look between read it as a scene of no
+    objects, and the selection fell to the first and stayed there after the whole save was read."""
+    viewer = watched(tmp_path, CAMERA + square_at(0) + square_at(50))
+    press(viewer, "TAB")
+    path = tmp_path / "lesson.toml"
+    rewrite(path, "")
+    viewer.check_watched()
+    assert len(viewer.scene.objects) == 2 and viewer.scene.selected_object == 1
+    rewrite(path, CAMERA + square_at(0) + square_at(60))
+    viewer.check_watched()
+    assert len(viewer.scene.objects) == 2 and viewer.scene.selected_object == 1
+    assert viewer.scene.objects[1].model[0, 3] == 60

@@ -58,6 +58,8 @@ def _stamp(path: Path) -> Stamp | None:
         status = path.stat()
     except OSError:  # gone for now (an editor replacing it): not a change until it is back
         return None
+    if status.st_size == 0:  # emptied by an editor that writes in place, not yet written: as if gone
+        return None
     return Stamp(status.st_mtime_ns, status.st_size)
 
 
