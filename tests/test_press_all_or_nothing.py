@@ -46,6 +46,8 @@ def _walk(value: Any, seen: set[int]) -> Any:
         return (type(value).__name__, id(value), [_walk(item, seen) for item in value])
     if isinstance(value, dict):
         return ("dict", id(value), [(_walk(k, seen), _walk(v, seen)) for k, v in value.items()])
+    if isinstance(value, (set, frozenset)):  # the viewer's uids of what the scene file placed
+        return (type(value).__name__, id(value), sorted(repr(_walk(item, seen)) for item in value))
     if callable(value) and not dataclasses.is_dataclass(value):
         return ("callable", id(value))
     if dataclasses.is_dataclass(value):  # its fields, not what cached_property keeps beside them
