@@ -16,9 +16,15 @@ import pytest
 from marraztu.devtools import bench
 from marraztu.devtools.bench.config import LOADERS, config_from_args, parse_counts
 from marraztu.devtools.bench.frames import CPU_HEADERS, FRAME_HEADERS, MODES
-from marraztu.devtools.bench.inputs import FORMATS, generate_format_inputs, generate_load_inputs
+from marraztu.devtools.bench.inputs import (
+    FORMATS,
+    cells_for_triangles,
+    generate_format_inputs,
+    generate_load_inputs,
+    generate_materials_input,
+)
 from marraztu.devtools.bench.loading import LOAD_HEADERS, OBJ_ONLY_LOADERS, PAUSE_HEADERS, available_loaders
-from marraztu.devtools.bench.memory import MEMORY_HEADERS
+from marraztu.devtools.bench.memory import MATERIALS, MEMORY_HEADERS
 from marraztu.devtools.bench.report import MACHINE_HEADING, MISSING, ratio
 from marraztu.devtools.bench.shapes import SHAPE_HEADERS, SHAPES
 from marraztu.devtools.bench.start import START_COMMANDS, START_HEADERS
@@ -77,7 +83,7 @@ def test_every_section_prints_one_whole_table(report: str) -> None:
                 FRAME_HEADERS: 2 * len(MODES),  # the built-in scene and the 300-triangle grid
                 CPU_HEADERS: 2 * len(MODES),  # the built-in scene and 20 objects of one mesh
                 START_HEADERS: len(START_COMMANDS),
-                MEMORY_HEADERS: 4,
+                MEMORY_HEADERS: 5,  # the four files of section 1, and the large grid of several materials
                 SHAPE_HEADERS: len(SHAPES)}
     if "Skipped: no Xvfb" not in report:
         expected[WINDOW_HEADERS] = 6  # idle twice, a key for the model and the camera, a load in the scene and shown
@@ -111,6 +117,24 @@ def test_figures_are_positive_numbers(report: str) -> None:
     assert rss and min(rss) >= 0
     screenshot_png = numbers_in(tables[START_HEADERS], START_HEADERS, "to PNG written s")
     assert len(screenshot_png) == sum(command.writes_png for command in START_COMMANDS) and min(screenshot_png) > 0
+
+
+def test_the_memory_section_measures_the_large_grid_of_several_materials_beside_the_plain_one(report: str) -> None:
+    """A part's Mesh held beside the whole for the model's life doubled a grid of interleaved materials'
+    tables: its row sits beside the plain grid's, from the same file's rows and texture coordinates."""
+    rows = {row[0]: row for row in markdown_tables(report)[MEMORY_HEADERS]}
+    several, plain = rows[f"400 tri v/vt/vn, {MATERIALS} textured materials"], rows["400 tri v/vt/vn"]
+    triangles, mesh = MEMORY_HEADERS.index("triangles"), MEMORY_HEADERS.index("Mesh B/tri")
+    assert several[triangles] == plain[triangles]
+    assert float(several[mesh]) > 0 and float(plain[mesh]) > 0
+
+
+def test_the_grid_of_several_materials_takes_each_in_turn_by_row(tmp_path: Path) -> None:
+    item = generate_materials_input(tmp_path, 400, MATERIALS)
+    mesh = load_model(item.path)
+    assert mesh.face_count == item.triangles and len(mesh.parts) == MATERIALS
+    assert all(material.texture is not None for material in mesh.materials)
+    assert np.count_nonzero(np.diff(mesh.face_material)) == cells_for_triangles(400) - 1  # a run per row
 
 
 def test_the_generated_files_are_the_sizes_asked_for(tmp_path: Path) -> None:

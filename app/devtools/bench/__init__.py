@@ -18,9 +18,9 @@ from pathlib import Path
 
 from marraztu.devtools.bench.config import config_from_args
 from marraztu.devtools.bench.frames import FrameBench, cpu_section, frames_section
-from marraztu.devtools.bench.inputs import generate_format_inputs, generate_load_inputs
+from marraztu.devtools.bench.inputs import generate_format_inputs, generate_load_inputs, generate_materials_input
 from marraztu.devtools.bench.loading import loading_section, pause_section
-from marraztu.devtools.bench.memory import memory_section
+from marraztu.devtools.bench.memory import MATERIALS, memory_section
 from marraztu.devtools.bench.report import emit, load_average, machine_lines
 from marraztu.devtools.bench.shapes import shapes_section
 from marraztu.devtools.bench.start import start_section
@@ -73,7 +73,8 @@ def main(argv: Sequence[str]) -> int:
             if "start" in config.sections:
                 emit(start_section(config, directory))
             if bench is not None and "memory" in config.sections:
-                emit(memory_section(bench, inputs))
+                several = generate_materials_input(directory, config.load_sizes[1], MATERIALS)
+                emit(memory_section(bench, inputs, several))
             if "shapes" in config.sections:
                 emit(shapes_section(config, directory))
             if "window" in config.sections:

@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import gc
 import json
 import os
 import statistics
 import subprocess
 import sys
 import time
+import tracemalloc
+from collections import Counter
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -19,48 +22,74 @@ from marraztu.devtools.bench.report import MEGABYTE, markdown_table, number, pro
 from marraztu.render.context import is_llvmpipe
 
 if TYPE_CHECKING:
-    from marraztu.model.mesh import Mesh
+    from marraztu.render.gpu import ObjectGpu
 
 MEMORY_HEADERS = ("file", "triangles", "Mesh B/tri", "GPU-ready arrays B/tri", "GPU when filled B/tri",
                   "GPU with lines and normals B/tri", "edges B/tri", "normals B/tri", "RSS growth, all drawn B/tri",
                   "of which llvmpipe's scene queue B/tri", "compiled reader MB, once", "compiled reader s, once")
 
 
-MESH_ARRAYS = ("positions", "corner_vertex", "uvs", "normals", "face_start", "face_normals")
+# The textured materials of the large grid's copy measured beside it: a part per material, each gathered
+# from runs all over the whole's tables (Mesh.part_mesh).
+MATERIALS = 8
 
 
-def mesh_bytes(mesh: Mesh) -> int:
-    return sum(getattr(mesh, name).nbytes for name in MESH_ARRAYS)
-
-
-def memory_row(bench: FrameBench, item: LoadInput) -> list[str]:
-    from marraztu.loaders.obj import load_obj
-    from marraztu.render.gpu import MeshGpus
-
-    mesh = load_obj(item.path)
-    triangles = int(mesh.triangles_before_face()[-1])
-    ready = sum(array.nbytes for array in gpu_ready_arrays(mesh).values())
-    meshes = MeshGpus(bench.ctx)
-    gpu = meshes.object_gpu(mesh, bench.renderer.programs)  # exactly what the renderer allocates for one object
-    shared = gpu.shared
-    try:
-        surface = sum(shared.byte_sizes.values()) + gpu.lit.size  # all there is before lines or normals
-        _ = shared.edges, shared.face_normals, shared.vertex_normals(0, mesh.face_count)  # built on first use
-        sizes = shared.byte_sizes
-        sizes["lit"] = gpu.lit.size
-        host = mesh_bytes(mesh) + shared.triangles_before.nbytes
-        per_triangle = [value / triangles for value in (
-            host, ready, surface, sum(sizes.values()), sizes["edges"] + sizes["edge rows"] + sizes["edge faces"],
-            sizes["face normals"] + sizes["vertex normal rows"])]  # vertex normals read the surface's rows
-    finally:
-        meshes.release(gpu)
+def memory_row(bench: FrameBench, item: LoadInput, queue_measured: bool = True) -> list[str]:
+    triangles, per_triangle = held_per_triangle(bench, item.path)
     growth, reader_bytes, reader_seconds = median_rss_growth(item.path)
-    queue = "—"  # a GPU has no such queue, and ignores the variable
-    if is_llvmpipe(bench.ctx):
+    queue = "—"  # a GPU has no such queue, and ignores the variable; or left unmeasured
+    if queue_measured and is_llvmpipe(bench.ctx):
         unqueued, _, _ = median_rss_growth(item.path, {"LP_NUM_THREADS": "0"})  # each scene rasterized at once
         queue = number(growth - unqueued)
     return [item.label, str(triangles), *(number(value) for value in per_triangle), number(growth),
             queue, number(reader_bytes / MEGABYTE), number(reader_seconds)]
+
+
+def held_per_triangle(bench: FrameBench, path: Path) -> tuple[int, list[float]]:
+    """The triangles, and the host and GPU bytes per triangle of the first six columns after them."""
+    from marraztu.loaders.obj import load_obj
+    from marraztu.loaders.obj.fast import load_machine_code
+    from marraztu.render.gpu import MeshGpus
+
+    load_machine_code()  # the process's, once (reported apart): its Python objects are not the model's
+    gc.collect()
+    tracemalloc.start()
+    try:
+        before = tracemalloc.get_traced_memory()[0]
+        mesh = load_obj(path)
+        triangles = int(mesh.triangles_before_face()[-1])
+        ready = sum(array.nbytes for part in mesh.drawn_parts()
+                    for array in gpu_ready_arrays(mesh.part_mesh(part)).values())
+        meshes = MeshGpus(bench.ctx)
+        programs = bench.renderer.programs
+        # Exactly what the renderer allocates for one object: a MeshGpu per material's part, or the whole.
+        gpus = [meshes.object_gpu(mesh, programs, part) for part in mesh.drawn_parts()]
+        try:
+            surface = sum(_gpu_bytes(*gpus).values())  # all there is before lines or normals
+            for gpu in gpus:
+                shared = gpu.shared
+                _ = shared.edges, shared.face_normals, shared.vertex_normals(0, shared.face_count)  # on first use
+            sizes = _gpu_bytes(*gpus)
+            gc.collect()
+            host = tracemalloc.get_traced_memory()[0] - before  # the mesh, its parts, what the renderer keeps
+            per_triangle = [value / triangles for value in (
+                host, ready, surface, sum(sizes.values()), sizes["edges"] + sizes["edge rows"] + sizes["edge faces"],
+                sizes["face normals"] + sizes["vertex normal rows"])]  # vertex normals read the surface's rows
+        finally:
+            for gpu in gpus:
+                meshes.release(gpu)
+    finally:
+        tracemalloc.stop()
+    return triangles, per_triangle
+
+
+def _gpu_bytes(*gpus: ObjectGpu) -> Counter[str]:
+    """The bytes of each kind of buffer the objects' parts hold so far, their lit buffers too."""
+    sizes: Counter[str] = Counter()
+    for gpu in gpus:
+        sizes.update(gpu.shared.byte_sizes)
+        sizes["lit"] += gpu.lit.size
+    return sizes
 
 
 def resident_bytes() -> int:
@@ -123,16 +152,21 @@ def rss_growth(path: Path, environment: Mapping[str, str] | None = None) -> tupl
     return report["growth"] / report["triangles"], report["compiled_reader"], report["compiled_reader_seconds"]
 
 
-def memory_section(bench: FrameBench, inputs: Sequence[LoadInput]) -> list[str]:
+def memory_section(bench: FrameBench, inputs: Sequence[LoadInput], several: LoadInput) -> list[str]:
+    """`several`: the large grid of MATERIALS materials, after `inputs`; its llvmpipe queue is left unmeasured."""
     rows = []
-    for item in inputs:
+    for item in [*inputs, several]:
         progress(f"memory: {item.path.name}")
-        rows.append(memory_row(bench, item))
+        rows.append(memory_row(bench, item, queue_measured=item is not several))
     return [
         "## 4. Memory per triangle of a loaded mesh",
         "",
-        "*Mesh*: the Mesh's arrays plus the renderer's kept `triangles_before` (host, for the object's "
-        "life). *GPU-ready arrays*: the surface's vertex and index arrays made before the first "
+        "*Mesh*: the host memory Python allocated (tracemalloc's) and still held once the object's "
+        "buffers of every kind are built, less before loading: the Mesh's tables, its materials' parts and "
+        "what the renderer keeps of each (`triangles_before`), for the object's life. The last file is the "
+        f"large v/vt/vn grid again, its rows taking {MATERIALS} textured materials in turn: each is drawn "
+        "as a part of its own, gathered from the whole's tables. *GPU-ready arrays*: the surface's vertex "
+        "and index arrays made before the first "
         "frame (host, while uploading). *GPU when filled*: the surface's buffers, all an object holds until "
         "lines or normals are drawn; *with lines and normals*: every buffer and texture it can hold (surface, "
         "edges and their polygon textures, face and vertex normal segments). On llvmpipe GPU buffers live in "
@@ -144,7 +178,8 @@ def memory_section(bench: FrameBench, inputs: Sequence[LoadInput]) -> list[str]:
         "everything the object costs the machine, host and (on llvmpipe) GPU. *Of which llvmpipe's "
         "scene queue*: that growth less the same with `LP_NUM_THREADS=0`, where llvmpipe rasterizes each "
         "scene as soon as it is binned instead of queueing binned scenes for its threads and keeping "
-        "their memory for reuse (none of ours; measured on llvmpipe only). "
+        "their memory for reuse (none of ours; measured on llvmpipe only, and not for the file of several "
+        "materials: the queue is the driver's, and it would add six processes). "
         "*Compiled reader*: what importing numba and loading the OBJ reader's machine code from numba's "
         "cache adds to the same process before that, and how long that takes, once per process whatever "
         "the model (a process whose files are all under 8 MB never pays it: the line reader reads "
