@@ -10,14 +10,7 @@ import numpy as np
 from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer
 from marraztu.loaders.scenefile import empty_scene
 from marraztu.model.mesh import WHOLE
-from support.scenes import NoFrontend
-
-
-def wait_until_idle(viewer: Viewer, seconds: float = 600.0) -> None:  # only against a hang
-    deadline = time.monotonic() + seconds
-    while viewer.background.pending() and time.monotonic() < deadline:
-        time.sleep(0.01)
-    viewer.collect_loads()
+from support.scenes import NoFrontend, collect_when_loaded
 
 
 def test_loads_join_the_scene_between_frames(tmp_path: Path) -> None:
@@ -28,13 +21,13 @@ def test_loads_join_the_scene_between_frames(tmp_path: Path) -> None:
     viewer = Viewer(empty_scene(), NoFrontend(), background=BackgroundLoader())
     viewer.load_model(good)
     assert viewer.scene.objects == [], "nothing joins until the frame collects it"
-    wait_until_idle(viewer)
+    collect_when_loaded(viewer)
     assert [obj.name for obj in viewer.scene.objects] == ["good"]
     assert "loaded good.obj" in viewer.scene.message
 
     before = [obj.model.copy() for obj in viewer.scene.objects]
     viewer.load_model(bad)
-    wait_until_idle(viewer)
+    collect_when_loaded(viewer)
     assert [obj.name for obj in viewer.scene.objects] == ["good"]
     assert all((a == b.model).all() for a, b in zip(before, viewer.scene.objects))
     assert "bad.obj:3" in viewer.scene.message
@@ -53,7 +46,7 @@ def test_every_ended_load_wakes_the_window_after_it_can_be_collected(tmp_path: P
     viewer = Viewer(empty_scene(), NoFrontend(), background=loader)
     viewer.load_model(good)
     viewer.load_model(bad)
-    wait_until_idle(viewer)
+    collect_when_loaded(viewer)
     deadline = time.monotonic() + 60  # a future's callbacks run just after it reads as done
     while len(woken) < 2 and time.monotonic() < deadline:
         time.sleep(0.01)
@@ -70,7 +63,7 @@ def test_a_camera_load_stays_a_camera_even_if_the_target_changes_meanwhile(tmp_p
     viewer.press_sequence("c")  # target cameras
     viewer.load_model(good)
     viewer.press_sequence("c")  # target lights before the load lands
-    wait_until_idle(viewer)
+    collect_when_loaded(viewer)
     assert [cam.name for cam in viewer.scene.cameras][-1] == "cam"
     assert viewer.scene.cameras[viewer.scene.selected_camera].name == "cam"
     viewer.background.shutdown()
@@ -85,7 +78,7 @@ def test_the_worker_prepares_the_surface_and_the_first_frame_only_uploads_it(tmp
     viewer = Viewer(empty_scene(), NoFrontend(), background=BackgroundLoader(gpu.prepare_surface))
     viewer.load_model(good)
     assert any("quad.obj" in line for line in viewer.loading_lines())
-    wait_until_idle(viewer)
+    collect_when_loaded(viewer)
     mesh = viewer.scene.objects[0].mesh
     prepared = gpu._prepared_surfaces.get(mesh, {}).get(WHOLE)
     expected = gpu.surface_arrays(mesh)
@@ -116,7 +109,7 @@ def test_a_model_of_two_materials_has_its_parts_prepared_and_nothing_left_after_
                      "usemtl red\nf 1 2 3\nusemtl blue\nf 1 3 4\n")
     viewer = Viewer(empty_scene(), NoFrontend(), background=BackgroundLoader(gpu.prepare_surface))
     viewer.load_model(model)
-    wait_until_idle(viewer)
+    collect_when_loaded(viewer)
     mesh = viewer.scene.objects[0].mesh
     assert len(mesh.parts) == 2 and sorted(gpu._prepared_surfaces[mesh]) == [0, 1]
     offscreen(viewer.scene)

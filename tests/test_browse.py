@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import dataclasses
 import os
-import time
 from pathlib import Path
 
 import numpy as np
@@ -20,7 +19,7 @@ from marraztu.errors import LoadError
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders.scenefile import empty_scene, load_builtin_scene
 from support import corpus
-from support.scenes import BACKGROUND, NoFrontend
+from support.scenes import BACKGROUND, NoFrontend, collect_when_loaded
 
 TRIANGLE = corpus.TRIANGLE + b"f 1 2 3\n"
 # A square, 4 vertices and 1 face, to tell it from the triangle by its counts.
@@ -186,13 +185,6 @@ def test_pagedown_draws_the_next_file_as_if_it_had_been_opened(tmp_path: Path) -
     pixels = np.asarray(Image.open(stepped).convert("RGB"))
     assert np.array_equal(pixels, np.asarray(Image.open(opened).convert("RGB")))
     assert tuple(pixels[0, 0]) == BACKGROUND and (pixels != BACKGROUND).any(axis=2).sum() > 100  # not blank
-
-
-def collect_when_loaded(viewer: Viewer, seconds: float = 600.0) -> None:  # only against a hang
-    deadline = time.monotonic() + seconds
-    while viewer.background.pending() and time.monotonic() < deadline:
-        time.sleep(0.01)
-    viewer.collect_loads()
 
 
 def octahedron(size: float, centre: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> bytes:

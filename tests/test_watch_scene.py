@@ -5,7 +5,6 @@ goes. A scene file that fails to read leaves the scene as it was and says where.
 from __future__ import annotations
 
 import os
-import time
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +15,7 @@ from marraztu.control.keymap import parse_key_sequence
 from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer
 from marraztu.loaders.scenefile import load_scene
 from marraztu.model.scene import Projection, Shading, Target
-from support.scenes import NoFrontend
+from support.scenes import NoFrontend, collect_when_loaded
 
 SQUARE = b"v -20 -20 0\nv 20 -20 0\nv 20 20 0\nv -20 20 0\nf 1 2 3 4\n"
 TRIANGLE = b"v -10 -10 0\nv 10 -10 0\nv 0 10 0\nf 1 2 3\n"
@@ -49,13 +48,6 @@ def watched(tmp_path: Path, content: str, background: BackgroundLoader | None = 
     viewer = Viewer(load_scene(path), NoFrontend(), background=background)
     viewer.start(StartOptions(scene_file=path, models=models, watch=True), longest_texture_side=4096)
     return viewer
-
-
-def collect_when_loaded(viewer: Viewer, seconds: float = 600.0) -> None:  # only against a hang
-    deadline = time.monotonic() + seconds
-    while viewer.background.pending() and time.monotonic() < deadline:
-        time.sleep(0.01)
-    viewer.collect_loads()
 
 
 def test_a_changed_kd_and_position_are_read_again_and_a_new_object_joins(tmp_path: Path) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
@@ -19,6 +20,14 @@ from marraztu.render.renderer import Renderer
 
 BACKGROUND = (0, 0, 178)  # SPEC 3: the clear colour (0, 0, 0.7) in bytes
 BACKGROUND_FLOAT = (0.0, 0.0, 0.7)
+
+
+def collect_when_loaded(viewer: Viewer, seconds: float = 600.0) -> None:  # only against a hang
+    """The window's worker's loads, collected once none is pending, as the window collects them."""
+    deadline = time.monotonic() + seconds
+    while viewer.background.pending() and time.monotonic() < deadline:
+        time.sleep(0.01)
+    viewer.collect_loads()
 
 
 def mesh_from_polygons(name: str, positions: Sequence[Sequence[float]],
