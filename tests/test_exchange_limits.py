@@ -2530,17 +2530,23 @@ def test_a_triangle_fan_is_drawn_as_its_triangles(tmp_path: Path, file_name: str
     assert np.allclose(areas.sum(), 2 * 3 * np.sqrt(3) / 2)  # two whole hexagons of side 1, no gap, no overlap
 
 
+def _fans_of_no_buffer(path: Path, fans: list[dict[str, Any]]) -> Path:
+    """A GLB or glTF (by `path`'s suffix) of one mesh of these primitives over one accessor of no view
+    (4 zero positions), and no buffer list at all."""
+    document: dict[str, Any] = {
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": fans}],
+        "accessors": [{"componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]}]}
+    path.write_bytes(glb(document, b"") if path.suffix == ".glb" else json.dumps(document).encode())
+    return path
+
+
 @pytest.mark.parametrize("file_name", ["zeros.glb", "zeros.gltf"])
 def test_a_fan_in_a_file_of_no_buffer_is_drawn(tmp_path: Path, file_name: str) -> None:
     """An accessor of no view is zeros, so a file may hold no buffer: its fan's triangles were appended to
     document["buffers"], which it lacks ('could not read the model (KeyError: 'buffers')')."""
-    document: dict[str, Any] = {
-        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
-        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "mode": 6}]}],
-        "accessors": [{"componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]}]}
-    path = tmp_path / file_name
-    path.write_bytes(glb(document, b"") if file_name.endswith(".glb") else json.dumps(document).encode())
-    loaded = load_model(path)
+    fan = {"attributes": {"POSITION": 0}, "mode": 6}
+    loaded = load_model(_fans_of_no_buffer(tmp_path / file_name, [fan]))
     assert loaded.face_count == 2
     assert not loaded.positions.any()
 
@@ -2551,13 +2557,7 @@ def test_two_fans_sharing_their_positions_in_a_file_of_no_buffer_are_drawn(tmp_p
     for the fans in a buffer the rewrite appended could not be read back when their shared vertices were
     made each fan's own ('could not read the model (IndexError: list index out of range)')."""
     fan = {"attributes": {"POSITION": 0}, "mode": 6}
-    document: dict[str, Any] = {
-        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
-        "meshes": [{"primitives": [fan, dict(fan)]}],
-        "accessors": [{"componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]}]}
-    path = tmp_path / file_name
-    path.write_bytes(glb(document, b"") if file_name.endswith(".glb") else json.dumps(document).encode())
-    loaded = load_model(path)
+    loaded = load_model(_fans_of_no_buffer(tmp_path / file_name, [fan, dict(fan)]))
     assert loaded.face_count == 4
     assert not loaded.positions.any()
 
