@@ -584,9 +584,8 @@ def _written_twice(inline: str, key: str) -> bool:
 
 def _first_header_line(text: str, key: KeyPath, before: int) -> int | None:
     """The line of the first [table] or [[array]] header naming `key`, if one comes before line `before`."""
-    for number, line in enumerate(islice(_lines(text), before - 1), 1):
-        found = _LINE_START.match(line)
-        header = None if found is None else found["table"] or found["array"]
+    for number, found in _line_starts(text, before):
+        header = found["table"] or found["array"]
         if header is not None and _key_parts(header) == key:
             return number
     return None
@@ -597,10 +596,7 @@ def _first_key_line(text: str, key: KeyPath, before: int) -> int | None:
     the [[array]] entry the key is in, where it is in one (each entry's keys are its own)."""
     table: KeyPath = ()
     found = None
-    for number, line in enumerate(islice(_lines(text), before - 1), 1):
-        written = _LINE_START.match(line)
-        if written is None:
-            continue
+    for number, written in _line_starts(text, before):
         if written["key"] is None:
             table = _key_parts(written["array"] or written["table"])
             if written["array"] is not None and key[:len(table)] == table:
@@ -631,6 +627,15 @@ def _lines(text: str) -> Iterator[str]:
     yield text[start:]
 
 
+def _line_starts(text: str, before: int | None = None) -> Iterator[tuple[int, re.Match[str]]]:
+    """Each line, before line `before` where given, that starts a [table], an [[array]] entry or a key
+    (_LINE_START): its number, and that start."""
+    for number, line in enumerate(islice(_lines(text), None if before is None else before - 1), 1):
+        found = _LINE_START.match(line)
+        if found is not None:
+            yield number, found
+
+
 @dataclass(frozen=True)
 class _LineIndex:
     """Where each table, array-of-tables entry and key of a TOML text starts, found in one pass."""
@@ -646,10 +651,7 @@ class _LineIndex:
         entry_lines: dict[tuple[KeyPath, int], dict[str, int]] = {}
         section: KeyPath = ()
         entry: dict[str, int] | None = None  # the keys of the [[NAME]] entry being read
-        for number, line in enumerate(_lines(text), 1):
-            found = _LINE_START.match(line)
-            if found is None:
-                continue
+        for number, found in _line_starts(text):
             if found["key"] is not None:
                 key = _key_parts(found["key"])
                 _remember(first_lines, section, key, number)
