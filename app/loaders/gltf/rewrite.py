@@ -309,8 +309,7 @@ def _fan_corners(path: Path, document: dict[str, Any], primitive: dict[str, Any]
     """A fan's corners in order, uint32: its indices, or its vertices in theirs where it has none."""
     if "indices" not in primitive:
         return np.arange(vertices, dtype=np.uint32)
-    items = _items(path, document, primitive["indices"], buffer)
-    return np.ascontiguousarray(items).view(f"<u{items.shape[1]}").ravel().astype(np.uint32)
+    return _values(path, document, primitive["indices"], buffer).ravel().astype(np.uint32)
 
 
 def _fan_triangles(corners: np.ndarray) -> np.ndarray:
@@ -424,9 +423,7 @@ def _own_vertices(path: Path, document: dict[str, Any], indices: int, attributes
     """(the accessor of the renumbered indices, the accessor of each attribute's used items), appended;
     None where the indices use every vertex, or none."""
     accessors = document["accessors"]
-    items = _items(path, document, indices, buffer)
-    corners = np.ascontiguousarray(items).view(f"<u{items.shape[1]}").ravel()
-    used, renumbered = np.unique(corners, return_inverse=True)
+    used, renumbered = np.unique(_values(path, document, indices, buffer).ravel(), return_inverse=True)
     if not 0 < len(used) < accessors[attributes["POSITION"]]["count"]:
         return None
     own = {name: made.accessor(_items(path, document, index, buffer)[used], accessors[index])
