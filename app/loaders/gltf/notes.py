@@ -78,7 +78,7 @@ def _emission_notes(document: dict[str, Any]) -> list[str]:
     """Materials that glow (an emissiveFactor not black, a KHR_materials_emissive_strength not 0), as Blender
     writes a lamp's: drawn lit as any other."""
     glowing = [number for number, material in enumerate(document.get("materials", [])) if _glows(material)]
-    return _materials_note(glowing, "emission (emissiveFactor) is not drawn", "emission (emissiveFactor) is not drawn")
+    return _materials_note(glowing, "emission (emissiveFactor) is not drawn")
 
 
 def _glows(material: dict[str, Any]) -> bool:
@@ -99,17 +99,17 @@ def _unlit_notes(document: dict[str, Any]) -> list[str]:
     """Materials of KHR_materials_unlit (their base colour, not lit): drawn lit by SPEC 4's Phong."""
     unlit = [number for number, material in enumerate(document.get("materials", []))
              if "KHR_materials_unlit" in _nested(material, ("extensions",))]
-    note = "unlit shading (KHR_materials_unlit) is not applied: drawn lit"
-    return _materials_note(unlit, note, note)
+    return _materials_note(unlit, "unlit shading (KHR_materials_unlit) is not applied: drawn lit")
 
 
-def _materials_note(numbers: list[int], said_of_one: str, said_of_many: str) -> list[str]:
-    """One note for the materials `numbers` however many, naming the first."""
+def _materials_note(numbers: list[int], said_of_one: str, said_of_many: str | None = None) -> list[str]:
+    """One note for the materials `numbers` however many, naming the first (`said_of_many`: where it is
+    said otherwise of several)."""
     if not numbers:
         return []
     if len(numbers) == 1:
         return [f"material {numbers[0]}'s {said_of_one}"]
-    return [f"{len(numbers)} materials' {said_of_many} (the first, material {numbers[0]}'s)"]
+    return [f"{len(numbers)} materials' {said_of_many or said_of_one} (the first, material {numbers[0]}'s)"]
 
 
 def _texture_transform_notes(document: dict[str, Any]) -> list[str]:
@@ -120,8 +120,7 @@ def _texture_transform_notes(document: dict[str, Any]) -> list[str]:
                       if "material" in primitive and _uv_transform(materials[primitive["material"]]) is not None
                       and _uvs_decoded_by_trimesh(primitive, materials[primitive["material"]])})
     return _materials_note(unmoved, f"baseColorTexture's {_TEXTURE_TRANSFORM} is not applied to Draco-compressed "
-                           "texture coordinates", f"baseColorTexture's {_TEXTURE_TRANSFORM} is not applied to "
-                           "Draco-compressed texture coordinates")
+                           "texture coordinates")
 
 
 def _undrawn_extension_notes(document: dict[str, Any]) -> list[str]:
