@@ -15,7 +15,7 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.gltf.document import _binary_chunk, _is_data_uri
-from marraztu.loaders.gltf.values import _COMPONENT_DTYPES, _SPARSE_INDEX_BYTES, _item_bytes
+from marraztu.loaders.gltf.values import _COMPONENT_DTYPES, _SPARSE_INDEX_BYTES, _item_bytes, _read_accessors
 
 _CHECKED_ITEMS = 1 << 16  # an accessor's items looked at at once: their temporaries stay small
 
@@ -174,13 +174,8 @@ def _base_items(document: dict[str, Any], number: int, buffer: Callable[[int], b
 
 def _read_by_primitives(document: dict[str, Any]) -> set[int]:
     """The accessors the primitives read: their attributes' and indices (each checked to name one)."""
-    read: set[int] = set()
-    for mesh in document.get("meshes", []):
-        for primitive in mesh["primitives"]:
-            read.update(primitive["attributes"].values())
-            if "indices" in primitive:
-                read.add(primitive["indices"])
-    return read
+    return {index for mesh in document.get("meshes", []) for primitive in mesh["primitives"]
+            for index in _read_accessors(primitive) if index is not None}
 
 
 def _dense_items(path: Path, document: dict[str, Any], number: int, buffer: Callable[[int], bytes | memoryview]

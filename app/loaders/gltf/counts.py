@@ -16,6 +16,7 @@ from marraztu.loaders.gltf.values import (
     _TRIANGLES,
     _draco_attributes,
     _is_whole,
+    _read_accessors,
 )
 
 
@@ -103,11 +104,6 @@ def _primitive_size(accessors: list[Any], primitive: dict[str, Any], decoded: se
     if "indices" in primitive and decoded.isdisjoint(_read_accessors(primitive)):
         points = min(points, 3 * faces if mode == _FAN else corners)  # a fan's corners are made its triangles'
     return faces, points if faces else 0
-
-
-def _read_accessors(primitive: dict[str, Any]) -> list[Any]:
-    """The accessors a primitive reads: its attributes' and its indices (None where it has none)."""
-    return [*primitive["attributes"].values(), primitive.get("indices")]
 
 
 def _decoded_accessors(document: dict[str, Any]) -> set[Any]:

@@ -24,7 +24,7 @@ from marraztu.loaders.gltf.accessors import (
     _read_by_primitives,
     _values,
 )
-from marraztu.loaders.gltf.counts import _decoded_accessors, _draws_faces, _placed_meshes, _read_accessors
+from marraztu.loaders.gltf.counts import _decoded_accessors, _draws_faces, _placed_meshes
 from marraztu.loaders.gltf.document import _after_json, _is_data_uri, as_trimesh_asks
 from marraztu.loaders.gltf.morphs import MorphedShapes, _shapes_made
 from marraztu.loaders.gltf.samplings import _materials_numbered
@@ -47,6 +47,7 @@ from marraztu.loaders.gltf.values import (
     _is_whole,
     _mesh_named,
     _nested,
+    _read_accessors,
     _specular_glossiness,
     _uv_transform,
     _uvs_decoded_by_trimesh,

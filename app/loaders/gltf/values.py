@@ -1,6 +1,7 @@
 """The value predicates, tables and look-ups the package's other modules share: glTF's component and
 type tables, its modes of primitive, a material's base colour, uv set and texture transform, a mesh's
-name and copy, Draco's attributes, and the limit on what is made. It imports none of its siblings.
+name and copy, the accessors a primitive reads, Draco's attributes, and the limit on what is made. It
+imports none of its siblings.
 """
 
 from __future__ import annotations
@@ -127,6 +128,11 @@ def _base_colour_texture(material: dict[str, Any]) -> dict[str, Any]:
 
 def _is_drawn(primitive: dict[str, Any]) -> bool:
     return primitive.get("mode", _TRIANGLES) in _DRAWN_MODES
+
+
+def _read_accessors(primitive: dict[str, Any]) -> list[Any]:
+    """The accessors a primitive reads: its attributes' and its indices (None where it has none)."""
+    return [*primitive["attributes"].values(), primitive.get("indices")]
 
 
 def _draco_attributes(primitive: dict[str, Any]) -> dict[str, Any]:
