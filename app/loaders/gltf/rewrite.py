@@ -32,7 +32,6 @@ from marraztu.loaders.gltf.skins import SkinnedPlacements, _skins_applied
 from marraztu.loaders.gltf.values import (
     _DIFFUSE_KEYS,
     _FAN,
-    _FAN_LEAST_CORNERS,
     _FLOAT_COMPONENTS,
     _READ_MODES,
     _SPECULAR_GLOSSINESS,
@@ -299,10 +298,8 @@ def _drawn_fans(document: dict[str, Any]) -> Iterator[tuple[dict[str, Any], int]
     accessors = document.get("accessors", [])
     for mesh in document.get("meshes", []):
         for primitive in mesh["primitives"]:
-            vertices = accessors[primitive["attributes"]["POSITION"]]["count"]
-            corners = accessors[primitive["indices"]]["count"] if "indices" in primitive else vertices
-            if primitive.get("mode", _TRIANGLES) == _FAN and corners >= _FAN_LEAST_CORNERS:
-                yield primitive, vertices
+            if primitive.get("mode", _TRIANGLES) == _FAN and _draws_faces(accessors, primitive):
+                yield primitive, accessors[primitive["attributes"]["POSITION"]]["count"]
 
 
 def _fan_corners(path: Path, document: dict[str, Any], primitive: dict[str, Any], vertices: int,
