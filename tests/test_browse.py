@@ -362,6 +362,33 @@ def test_watch_reads_a_file_a_scene_places_many_times_once_and_its_objects_share
     assert viewer.scene.camera.mesh.vertex_count == 3  # its own file did not change
 
 
+def test_watch_replacing_the_many_objects_of_one_file_compares_each_element_a_few_times(
+        tmp_path: Path, monkeypatch) -> None:
+    """_replace_each asked of each element of a group whether it had left the scene by a pass over the
+    objects and the cameras: elements times objects comparisons, where one set of them does."""
+    from marraztu.loaders.scenefile import load_scene
+    from marraztu.model.scene import SceneObject
+
+    folder_of(tmp_path, a_obj=TRIANGLE, c_obj=TRIANGLE)
+    count = 200
+    path = tmp_path / "scene.toml"
+    path.write_text('[[cameras]]\nmodel = "c.obj"\nposition = [0, 0, 30]\n'
+                    + "".join(f'[[objects]]\nmodel = "a.obj"\nposition = [{index}, 0, 0]\n' for index in range(count)))
+    viewer = Viewer(load_scene(path), NoFrontend())
+    viewer.start(StartOptions(scene_file=path, watch=True), longest_texture_side=64)
+    compared = {"elements": 0}
+
+    def counting_eq(self: SceneObject, other: object) -> bool:
+        compared["elements"] += 1
+        return self is other
+
+    monkeypatch.setattr(SceneObject, "__eq__", counting_eq)
+    rewrite(tmp_path / "a.obj", SQUARE)
+    viewer.check_watched()
+    assert all(obj.mesh.vertex_count == 4 for obj in viewer.scene.objects)
+    assert compared["elements"] <= 4 * count, compared
+
+
 def test_watch_groups_elements_whose_scale_was_set_by_hand_as_a_list(tmp_path: Path) -> None:
     """read_together keyed its groups by the scale itself: one set by hand as a list (obj.scale = [1, 1, 1])
     raised "unhashable type: 'list'" at the next change on disk, where the file was read again before."""

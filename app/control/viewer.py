@@ -528,9 +528,10 @@ class Viewer:
         replaced: list[tuple[SceneObject, str]] = []  # with its name before
         refusals: list[str] = []
         lost: tuple[SceneObject, str] | None = None  # the selected element, where the view no longer shows it
+        in_scene = {id(element) for element in self.scene.objects + self.scene.cameras}  # identity: eq=False
         for index, element in enumerate(elements):
             each = loaded if index == 0 else _placed(loaded.mesh, element.source, element.scale)
-            refusal = self._replace_refusal(element, each)
+            refusal = self._replace_refusal(element, each, id(element) in in_scene)
             if refusal:
                 refusals.append(refusal)
                 continue
@@ -548,9 +549,9 @@ class Viewer:
         if replaced and self.scene.message == told:  # not joined to start-up's lines
             self._remember_unseen(lost[0] if lost else replaced[0][0], told, "; ".join(filter(None, [said, refused])))
 
-    def _replace_refusal(self, element: SceneObject, loaded: SceneObject) -> str:
-        """Why `loaded` cannot take the element's place; "" where it can."""
-        if element not in self.scene.objects and element not in self.scene.cameras:  # identity: eq=False
+    def _replace_refusal(self, element: SceneObject, loaded: SceneObject, in_scene: bool) -> str:
+        """Why `loaded` cannot take the element's place (`in_scene`: whether it is still there); "" where it can."""
+        if not in_scene:
             return f"{escaped(loaded.source.name)} was read, but {element.name} has left the scene meanwhile"
         refusal = self.scene.placement_refusal(element, element.model, loaded.mesh)
         # where it stands, the next call would refuse the scene
