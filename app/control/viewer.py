@@ -543,7 +543,7 @@ class Viewer:
             if where:
                 lost = (element, _lost_notice(element, where))
         said = self._replaced_words(loaded, replaced)
-        refused = "; ".join(refusals[:UNSEEN_NAMES_SAID] + (["..."] if len(refusals) > UNSEEN_NAMES_SAID else []))
+        refused = _names(refusals, "; ")
         told = "; ".join(filter(None, [said, lost[1] if lost else "", refused]))
         self.tell(told)
         if replaced and self.scene.message == told:  # not joined to start-up's lines
@@ -801,9 +801,9 @@ def read_texture(scene: Scene, named: Path | None, longest_side: int) -> list[st
     return [said for said in (message, note) if said]
 
 
-def _names(names: list[str]) -> str:
-    """Models' names in a start message: the first UNSEEN_NAMES_SAID, then "..."."""
-    return ", ".join(names[:UNSEEN_NAMES_SAID]) + (", ..." if len(names) > UNSEEN_NAMES_SAID else "")
+def _names(names: list[str], separator: str = ", ") -> str:
+    """Models' names (or what a message says of each) in a message: the first UNSEEN_NAMES_SAID, then "..."."""
+    return separator.join(names[:UNSEEN_NAMES_SAID]) + (f"{separator}..." if len(names) > UNSEEN_NAMES_SAID else "")
 
 
 def _lost_notice(obj: SceneObject, where: str) -> str:
