@@ -262,8 +262,9 @@ class Viewer:
         self.scene_watcher: FileWatcher | None = None  # set by --watch with a scene file
         # The elements the scene file's last read placed (uids): a read again takes their place.
         self._scene_file_uids: set[int] = set()
-        self._named_texture: Path | None = None  # the command line's --texture: it outlasts a scene read again
-        self._longest_texture_side = 0
+        # What reads the scene file's texture into its Scene read again; None where the command line named
+        # the texture, which outlasts a read again.
+        self._scene_texture: Callable[[Scene], list[str]] | None = None
         self._starting = False
         self._start_models_alone = False  # the scene holds only the command line's models: framed together
         self._start_models_to_frame = False  # some of them joined since they were last framed
@@ -279,7 +280,8 @@ class Viewer:
         failure is told, on screen and to the front end, and none hides another."""
         self._starting = True
         self._scene_file_uids = {element.uid for element in self.scene.objects + self.scene.cameras}
-        self._named_texture, self._longest_texture_side = options.texture, longest_texture_side
+        self._scene_texture = (None if options.texture is not None
+                               else functools.partial(read_texture, named=None, longest_side=longest_texture_side))
         # The command line's models are framed together where they are alone, or beside a scene
         # file's that places no camera (framed with them).
         self._start_models_alone = not self.scene.objects or self.scene.frame_at_start
@@ -306,29 +308,12 @@ class Viewer:
         """The texture named on the command line, else the scene's; one that cannot be read is told
         and stood in for, but where strict a named one ends the command."""
         if named is not None and self.strict:  # asked for by name: a bad one ends the command
-            notes = [self._set_texture(load_image(named), longest_side)]
+            self.scene.texture, note = fit_texture(load_image(named), longest_side)
+            notes = [note]
         else:
-            notes = self._read_texture(named, longest_side)
+            notes = read_texture(self.scene, named, longest_side)
         for message in filter(None, notes):
             self.tell(message)
-
-    def _read_texture(self, named: Path | None, longest_side: int) -> list[str]:
-        """The texture named on the command line, else the scene's, in the scene; what it says: a picture
-        that cannot be read (stood in for by the checker), one made smaller to fit."""
-        return read_texture(self.scene, named, longest_side)
-
-    def _set_texture(self, image: np.ndarray, longest_side: int) -> str:
-        """The picture in the scene, made smaller where the GPU takes no larger; what that says, or ""."""
-        self.scene.texture, note = fit_texture(image, longest_side)
-        return note
-
-    def _scene_texture_reader(self) -> Callable[[Scene], list[str]] | None:
-        """What reads a scene file's texture into its Scene read again; None where the command line named
-        the texture, which stays."""
-        if self._named_texture is not None:
-            return None
-        longest_side = self._longest_texture_side
-        return lambda read: read_texture(read, None, longest_side)
 
     def _at_start(self, at_start: bool | None) -> bool:
         """Whether a message belongs to start-up: as said, or (None) while the viewer is starting."""
@@ -492,7 +477,7 @@ class Viewer:
 
     def _read_scene_again(self, path: Path, seen: SeenFiles) -> None:
         """--watch: the scene file read again whole, as at start, in the place of what it placed."""
-        texture_reader = self._scene_texture_reader()
+        texture_reader = self._scene_texture
         if self.background is not None:
             self.background.start_scene(path, seen, texture_reader)
             self.tell(f"{escaped(path.name)} changed: reading it again")
@@ -516,7 +501,7 @@ class Viewer:
         commands.replace_scene_read(self.scene, read, self._scene_file_uids, self.narrowest_aspect())
         self._scene_file_uids = {element.uid for element in read.objects + read.cameras}
         self.watcher.stand_as(read.objects + read.cameras, seen.after)
-        if self._named_texture is None:  # read with the file; a texture named on the command line stays
+        if self._scene_texture is not None:  # read with the file; a texture named on the command line stays
             self.scene.texture = read.texture
         said = (f"read {escaped(path.name)} again: {counted(len(read.objects), 'object')}, "
                 f"{counted(len(read.cameras), 'camera')} (undo starts afresh for them)")
