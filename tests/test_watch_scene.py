@@ -1,6 +1,7 @@
 """--watch reads a changed scene file again whole, as at start, in the place of what it placed: its objects,
-cameras, materials and texture. The modes, the lights and the selections stay; the replaced elements' undo
-goes. A scene file that fails to read leaves the scene as it was and says where."""
+cameras, materials and texture. The modes, the lights and the selections stay, and so do the moves and undo
+of each element whose placement in the file is as it was; the others stand where the file says. A scene
+file that fails to read leaves the scene as it was and says where."""
 
 from __future__ import annotations
 
@@ -61,7 +62,8 @@ def test_a_changed_kd_and_position_are_read_again_and_a_new_object_joins(tmp_pat
     square, triangle = viewer.scene.objects
     assert square is not before and square.material.kd == (0.9, 0.1, 0.1)
     assert np.array_equal(square.model[:3, 3], [5, 0, 0]) and triangle.mesh.vertex_count == 3
-    assert viewer.scene.message == "read lesson.toml again: 2 objects, 1 camera (undo starts afresh for them)"
+    assert viewer.scene.message == ("read lesson.toml again: 2 objects, 1 camera; placed as it says now, their undo "
+                                    "afresh: square, triangle")
     viewer.check_watched()
     assert viewer.scene.objects[0] is square  # one change, one read
 
@@ -83,7 +85,7 @@ def test_a_bad_edit_leaves_the_scene_as_it_was_and_says_where_then_the_next_save
     assert np.array_equal(viewer.scene.object.model[:3, 3], [3, 0, 0])
 
 
-def test_the_modes_lights_and_selections_stay_and_the_replaced_undo_goes(tmp_path: Path) -> None:
+def test_the_modes_lights_selections_and_moves_stay_where_only_a_material_changed(tmp_path: Path) -> None:
     viewer = watched(tmp_path, CAMERA * 2 + square_at(0) + square_at(30), models=(tmp_path / "triangle.obj",))
     scene = viewer.scene
     kept = scene.object  # the command line's triangle, selected as it joined: not the scene file's
@@ -98,7 +100,7 @@ def test_the_modes_lights_and_selections_stay_and_the_replaced_undo_goes(tmp_pat
     assert scene.modes.culling and scene.modes.target is Target.OBJECTS
     assert [light.on for light in scene.lights] == light_switches and sum(light_switches) == 2
     assert scene.selected_camera == 1 and scene.selected_object == 1
-    assert scene.object.history == [scene.object.model] and np.array_equal(scene.object.model[:3, 3], [30, 0, 0])
+    assert len(scene.object.history) == 3 and scene.object.model[0, 3] != 30  # its placement is as it was
     assert scene.objects[2] is kept and len(kept.history) == 2  # joined from elsewhere: stays as it was
     assert scene.objects[0].material.kd == (1.0, 1.0, 1.0)
     rewrite(tmp_path / "lesson.toml", CAMERA + square_at(0))  # fewer: the last of each it places
@@ -216,7 +218,7 @@ def test_on_the_windows_worker_the_texture_is_read_off_the_render_thread_too(tmp
         collect_when_loaded(viewer)
         assert tuple(viewer.scene.texture[0, 0]) == (0, 255, 0) and viewer.scene.texture_path.endswith("green.png")
         assert threads and all(name.startswith("model-loader") for name in threads)
-        assert viewer.scene.message == "read lesson.toml again: 1 object, 1 camera (undo starts afresh for them)"
+        assert viewer.scene.message == "read lesson.toml again: 1 object, 1 camera"
     finally:
         viewer.background.shutdown()
 
@@ -234,3 +236,56 @@ def test_a_scene_file_caught_empty_while_an_editor_writes_it_is_not_read(tmp_pat
     viewer.check_watched()
     assert len(viewer.scene.objects) == 2 and viewer.scene.selected_object == 1
     assert viewer.scene.objects[1].model[0, 3] == 60
+
+
+def test_what_the_person_moved_stays_where_a_save_changed_only_a_material(tmp_path: Path) -> None:
+    """A teacher flies the camera and moves a model, then saves a new Kd: the view and the model stay."""
+    viewer = watched(tmp_path, CAMERA + square_at(0))
+    press(viewer, "t x x c x c c")  # the square moved twice, the camera once
+    square, camera = viewer.scene.object, viewer.scene.camera
+    moved, looked_from = square.model.copy(), camera.model.copy()
+    rewrite(tmp_path / "lesson.toml", CAMERA + square_at(0, kd="[0.9, 0.1, 0.1]"))
+    viewer.check_watched()
+    assert viewer.scene.object.material.kd == (0.9, 0.1, 0.1)
+    assert np.array_equal(viewer.scene.object.model, moved) and len(viewer.scene.object.history) == 3
+    assert np.array_equal(viewer.scene.camera.model, looked_from) and len(viewer.scene.camera.history) == 2
+    assert viewer.scene.message == "read lesson.toml again: 1 object, 1 camera"
+    press(viewer, "u")
+    assert np.array_equal(viewer.scene.object.model, square.history[1])  # its undo came with it
+
+
+def test_an_element_whose_placement_changed_takes_the_files_and_the_others_stay(tmp_path: Path) -> None:
+    viewer = watched(tmp_path, CAMERA + square_at(0) + square_at(30))
+    press(viewer, "t x TAB x c x")  # both squares and the camera moved
+    first, looked_from = viewer.scene.objects[0].model.copy(), viewer.scene.camera.model.copy()
+    rewrite(tmp_path / "lesson.toml", '[[cameras]]\nposition = [0, 0, 90]\n' + square_at(0) + square_at(40))
+    viewer.check_watched()
+    kept, placed = viewer.scene.objects
+    assert np.array_equal(kept.model, first) and len(kept.history) == 2
+    assert np.array_equal(placed.model[:3, 3], [40, 0, 0]) and placed.history == [placed.model]
+    assert not np.array_equal(viewer.scene.camera.model, looked_from) and viewer.scene.camera.model[2, 3] == 90
+    assert viewer.scene.message == ("read lesson.toml again: 2 objects, 1 camera; placed as it says now, "
+                                    "their undo afresh: square, camera")
+
+
+def test_elements_are_matched_by_name_so_one_added_before_them_moves_none(tmp_path: Path) -> None:
+    named = '[[objects]]\nname = "left"\nmodel = "square.obj"\nposition = [-30, 0, 0]\n'
+    viewer = watched(tmp_path, CAMERA + named + square_at(30))
+    press(viewer, "t x TAB x")
+    left, square = (obj.model.copy() for obj in viewer.scene.objects)
+    rewrite(tmp_path / "lesson.toml", CAMERA + '[[objects]]\nmodel = "triangle.obj"\n' + square_at(30) + named)
+    viewer.check_watched()
+    triangle, after_square, after_left = viewer.scene.objects
+    assert np.array_equal(after_square.model, square) and np.array_equal(after_left.model, left)
+    assert triangle.history == [triangle.model] and viewer.scene.object is after_square  # the selection follows it
+    assert viewer.scene.message.endswith("placed as it says now, their undo afresh: triangle")
+
+
+def test_a_file_without_cameras_frames_again_only_a_camera_not_moved(tmp_path: Path) -> None:
+    viewer = watched(tmp_path, square_at(0))
+    press(viewer, "c x")
+    looked_from = viewer.scene.camera.model.copy()
+    rewrite(tmp_path / "lesson.toml", square_at(0) + square_at(200))
+    viewer.check_watched()
+    assert np.array_equal(viewer.scene.camera.model, looked_from)
+

@@ -14,7 +14,7 @@ import functools
 import math
 from collections.abc import Callable
 from pathlib import Path
-from typing import Protocol, TypeVar
+from typing import NamedTuple, Protocol, TypeVar
 
 import numpy as np
 
@@ -900,40 +900,92 @@ def replace_loaded(scene: Scene, element: SceneObject, loaded: SceneObject) -> N
     element.source, element.selected_face = loaded.source, 0
 
 
-def replace_scene_read(scene: Scene, read: Scene, replaced: set[int], aspect: float = 1.0) -> None:
-    """The host's half of --watch's scene file read again: `read`'s objects and cameras, as the file
-    places them now, in the place of the elements its last read placed (their uids `replaced`), and
-    ahead of those that joined from elsewhere (the command line, `f`), which stay as they were. The
-    replaced elements' undo goes with them; the modes, the lights and their switches stay, and each
-    selection stays at its index where the file still places one there. A file that places no camera
-    has its models framed, as at start."""
+class FilePlacement(NamedTuple):
+    """Which entry of a scene file placed an element, and how: what --watch's read again matches and compares."""
+
+    # A camera or an object, its name, and which of that name in the file: an element is matched by name, so
+    # that entries added, removed or reordered around it leave its match (unnamed ones go by their model's).
+    entry: tuple[bool, str, int]
+    model: Path | None
+    scale: tuple[float, ...]
+    matrix: tuple[float, ...]  # its position and rotation, as the file placed it
+
+
+def file_placements(read: Scene) -> dict[int, FilePlacement]:
+    """By uid, where a scene file just read placed each of its objects and cameras (before any move or framing)."""
+    seen: dict[tuple[bool, str], int] = {}
+    placements = {}
+    for camera, element in [(False, obj) for obj in read.objects] + [(True, camera) for camera in read.cameras]:
+        which = seen[camera, element.name] = seen.get((camera, element.name), -1) + 1
+        placements[element.uid] = FilePlacement((camera, element.name, which), element.source,
+                                                tuple(element.scale), tuple(element.history[0].ravel()))
+    return placements
+
+
+def replace_scene_read(scene: Scene, read: Scene, placed: dict[int, FilePlacement], now: dict[int, FilePlacement],
+                       aspect: float = 1.0) -> list[SceneObject]:
+    """The host's half of --watch's scene file read again: `read`'s objects and cameras (placed as `now`
+    says) in the place of the elements its last read placed (`placed`, by uid), and ahead of those that
+    joined from elsewhere (the command line, `f`), which stay as they were. An element whose entry places it
+    as the last read did keeps where the person moved it, and its undo; the others stand where the file
+    says, their undo afresh: which those are is returned. The modes, the lights and their switches stay;
+    each selection follows its entry, else stays at its index. A file that places no camera has its models
+    framed, as at start, where that camera is the one viewing and has not been moved."""
     end_view_gesture(scene)
-    selected_object = _index_after_reading(scene.objects, scene.selected_object, read.objects, replaced)
-    selected_camera = _index_after_reading(scene.cameras, scene.selected_camera, read.cameras, replaced)
-    scene.objects[:] = [*read.objects, *(obj for obj in scene.objects if obj.uid not in replaced)]
-    scene.cameras[:] = [*read.cameras, *(camera for camera in scene.cameras if camera.uid not in replaced)]
+    successors = _successors(scene, placed, read, now)
+    selected_object = _index_after_reading(scene.objects, scene.selected_object, read.objects, placed, successors)
+    selected_camera = _index_after_reading(scene.cameras, scene.selected_camera, read.cameras, placed, successors)
+    before = {element.uid: element for element in scene.objects + scene.cameras if element.uid in placed}
+    scene.objects[:] = [*read.objects, *(obj for obj in scene.objects if obj.uid not in placed)]
+    scene.cameras[:] = [*read.cameras, *(camera for camera in scene.cameras if camera.uid not in placed)]
     scene.selected_object, scene.selected_camera = selected_object, selected_camera
-    scene.view_moves[:] = [camera for camera in scene.view_moves if camera.uid not in replaced]
+    kept = {uid: element for uid, element in successors.items()
+            if placed[uid] == now[element.uid] and _keeps_moves(scene, before[uid], element)}
+    scene.view_moves[:] = [kept.get(camera.uid, camera) for camera in scene.view_moves
+                           if camera.uid not in placed or camera.uid in kept]
     scene.texture_path, scene.texture_named_at = read.texture_path, read.texture_named_at
     scene.frame_at_start = read.frame_at_start
     scene.loads += 1
     if scene.fitted_unit != 1.0:  # read on the seed's scale, as at start; the lights stand on the fitted one
         fit_camera_bodies(read.cameras, scene.fitted_unit)
-    if read.frame_at_start and scene.objects and any(camera is scene.camera for camera in read.cameras):
+    if (read.frame_at_start and scene.objects and any(camera is scene.camera for camera in read.cameras)
+            and len(scene.camera.history) == 1):
         frame_models(scene, aspect)
+    moved_on = {id(element) for element in kept.values()}
+    return [element for element in read.objects + read.cameras if id(element) not in moved_on]
+
+
+def _successors(scene: Scene, placed: dict[int, FilePlacement], read: Scene,
+                now: dict[int, FilePlacement]) -> dict[int, SceneObject]:
+    """By uid, each element still in the scene that the last read placed, and the element read for its entry."""
+    read_for = {now[element.uid].entry: element for element in read.objects + read.cameras}
+    return {element.uid: read_for[placed[element.uid].entry] for element in scene.objects + scene.cameras
+            if element.uid in placed and placed[element.uid].entry in read_for}
+
+
+def _keeps_moves(scene: Scene, before: SceneObject, read: SceneObject) -> bool:
+    """`read` where the person moved `before`, with its undo; False (and left where the file says) where the
+    model read again cannot stand there."""
+    if scene.placement_refusal(read, before.model) is not None:
+        return False
+    read.history, read.view_sizes = before.history, before.view_sizes
+    read.selected_face = before.selected_face if before.selected_face < read.mesh.face_count else 0
+    return True
 
 
 def _index_after_reading(elements: list[SceneObject], selected: int, read: list[SceneObject],
-                         replaced: set[int]) -> int:
-    """Where the selected element's successor stands once `read` took the replaced elements' place:
-    the one read at its index among them (the last one read where the file places fewer), or, where
-    it joined from elsewhere, itself."""
+                         placed: dict[int, FilePlacement], successors: dict[int, SceneObject]) -> int:
+    """Where the selected element's successor stands once `read` took the place of those the last read placed:
+    the one read for its entry; else the one read at its index among them (the last one read where the file
+    places fewer); or, where it joined from elsewhere, itself."""
     if not elements:
         return 0
     chosen = elements[selected]
-    if chosen.uid not in replaced:
-        return len(read) + sum(1 for element in elements[:selected] if element.uid not in replaced)
-    index = sum(1 for element in elements[:selected] if element.uid in replaced)
+    if chosen.uid in successors:
+        return next(index for index, element in enumerate(read) if element is successors[chosen.uid])
+    if chosen.uid not in placed:
+        return len(read) + sum(1 for element in elements[:selected] if element.uid not in placed)
+    index = sum(1 for element in elements[:selected] if element.uid in placed)
     return max(0, min(index, len(read) - 1))
 
 

@@ -260,8 +260,8 @@ class Viewer:
         self.prompt: str | None = None  # the `f` prompt's text while it is open
         self.watcher: ModelWatcher | None = None  # set by --watch
         self.scene_watcher: FileWatcher | None = None  # set by --watch with a scene file
-        # The elements the scene file's last read placed (uids): a read again takes their place.
-        self._scene_file_uids: set[int] = set()
+        # Where the scene file's last read placed its elements, by uid: a read again takes their place.
+        self._scene_file_placed: dict[int, commands.FilePlacement] = {}
         # What reads the scene file's texture into its Scene read again; None where the command line named
         # the texture, which outlasts a read again.
         self._scene_texture: Callable[[Scene], list[str]] | None = None
@@ -279,7 +279,7 @@ class Viewer:
         """The texture (the one named, or the scene's) and the models of the command line. Every
         failure is told, on screen and to the front end, and none hides another."""
         self._starting = True
-        self._scene_file_uids = {element.uid for element in self.scene.objects + self.scene.cameras}
+        self._scene_file_placed = commands.file_placements(self.scene)
         self._scene_texture = (None if options.texture is not None
                                else functools.partial(read_texture, named=None, longest_side=longest_texture_side))
         # The command line's models are framed together where they are alone, or beside a scene
@@ -466,7 +466,7 @@ class Viewer:
         before = self.watcher.files_seen() if reading_scene else {}
         changed = self.watcher.changed(self.scene)
         if reading_scene or self._scene_read_pending():  # its models are read with it: not in what it replaces
-            changed = [element for element in changed if element.uid not in self._scene_file_uids]
+            changed = [element for element in changed if element.uid not in self._scene_file_placed]
         if reading_scene:
             self._read_scene_again(self.scene_watcher.path, SeenFiles(before, self.watcher.files_seen()))
         for elements in read_together(changed):
@@ -494,17 +494,20 @@ class Viewer:
         was, its message saying where, and the models' changes its look found to be told again."""
         if isinstance(read, LoadError):
             elements = self.scene.objects + self.scene.cameras
-            self.watcher.stand_as([element for element in elements if element.uid in self._scene_file_uids],
+            self.watcher.stand_as([element for element in elements if element.uid in self._scene_file_placed],
                                   seen.before)
             self._failed(read)
             return
-        commands.replace_scene_read(self.scene, read, self._scene_file_uids, self.narrowest_aspect())
-        self._scene_file_uids = {element.uid for element in read.objects + read.cameras}
+        placed = commands.file_placements(read)  # before framing moves its camera
+        anew = commands.replace_scene_read(self.scene, read, self._scene_file_placed, placed, self.narrowest_aspect())
+        self._scene_file_placed = placed
         self.watcher.stand_as(read.objects + read.cameras, seen.after)
         if self._scene_texture is not None:  # read with the file; a texture named on the command line stays
             self.scene.texture = read.texture
         said = (f"read {escaped(path.name)} again: {counted(len(read.objects), 'object')}, "
-                f"{counted(len(read.cameras), 'camera')} (undo starts afresh for them)")
+                f"{counted(len(read.cameras), 'camera')}")
+        if anew:
+            said += f"; placed as it says now, their undo afresh: {_names([element.name for element in anew])}"
         self.tell("; ".join([said, *notes]))
 
     def _replace_each(self, elements: tuple[SceneObject, ...], loaded: SceneObject) -> None:
