@@ -289,3 +289,42 @@ def test_a_file_without_cameras_frames_again_only_a_camera_not_moved(tmp_path: P
     viewer.check_watched()
     assert np.array_equal(viewer.scene.camera.model, looked_from)
 
+
+def _picture(path: Path, colour: tuple[int, int, int]) -> None:
+    from PIL import Image
+
+    before = path.stat().st_mtime_ns if path.exists() else None
+    Image.new("RGB", (4, 4), colour).save(path)
+    if before is not None:  # a new modification time, even on a file system with coarse timestamps
+        os.utime(path, ns=(before + 2_000_000_000, before + 2_000_000_000))
+
+
+def test_a_picture_the_file_names_is_watched_too(tmp_path: Path) -> None:
+    _picture(tmp_path / "concrete.png", (255, 0, 0))
+    _picture(tmp_path / "wall.png", (0, 0, 255))
+    viewer = watched(tmp_path, 'texture = "wall.png"\n' + CAMERA + square_at(0) + 'texture = "concrete.png"\n')
+    press(viewer, "t x")
+    moved = viewer.scene.object.model.copy()
+    viewer.check_watched()
+    assert tuple(viewer.scene.object.picture[0, 0]) == (255, 0, 0)  # nothing changed: nothing read
+    _picture(tmp_path / "concrete.png", (0, 255, 0))
+    viewer.check_watched()
+    assert tuple(viewer.scene.object.picture[0, 0]) == (0, 255, 0) and np.array_equal(viewer.scene.object.model, moved)
+    assert viewer.scene.message.startswith("read lesson.toml again")
+    _picture(tmp_path / "wall.png", (255, 255, 0))
+    viewer.check_watched()
+    assert tuple(viewer.scene.texture[0, 0]) == (255, 255, 0)
+
+
+def test_a_picture_changed_is_read_on_the_windows_worker_and_said(tmp_path: Path) -> None:
+    _picture(tmp_path / "concrete.png", (255, 0, 0))
+    viewer = watched(tmp_path, CAMERA + square_at(0) + 'texture = "concrete.png"\n', BackgroundLoader())
+    try:
+        _picture(tmp_path / "concrete.png", (0, 255, 0))
+        viewer.check_watched()
+        assert viewer.scene.message == "concrete.png changed: reading lesson.toml again"
+        collect_when_loaded(viewer)
+        assert tuple(viewer.scene.object.picture[0, 0]) == (0, 255, 0)
+    finally:
+        viewer.background.shutdown()
+

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import bisect
 import os
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NamedTuple
@@ -65,20 +66,26 @@ def _stamp(path: Path) -> Stamp | None:
 
 @dataclass
 class FileWatcher:
-    """Whether one file (--watch's scene file) changed on disk since it was last seen; each change told once."""
+    """Which of a few files (--watch's scene file, and the pictures it names) changed on disk since it was
+    last seen; each change told once. One look stats each file: no thread, nothing done between looks."""
 
-    path: Path
-    _seen: Stamp | None = None
+    path: Path  # the scene file; it is seen as it is when the watcher is made (before it is read)
+    _seen: dict[Path, Stamp | None] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        self._seen = _stamp(self.path)
+        self._seen = {self.path: _stamp(self.path)}
 
-    def changed(self) -> bool:
-        stamp = _stamp(self.path)
-        if stamp is None or stamp == self._seen:
-            return False
-        self._seen = stamp
-        return True
+    def watch_also(self, others: Iterable[Path]) -> None:
+        """The scene file and `others` from now on: a file watched before stays as last seen, a new one is
+        seen as it is now."""
+        self._seen = {path: self._seen[path] if path in self._seen else _stamp(path) for path in (self.path, *others)}
+
+    def changed(self) -> Path | None:
+        """The first file that changed since the last look, where one did; all of them are seen anew."""
+        stamps = {path: _stamp(path) for path in self._seen}
+        changed = [path for path, stamp in stamps.items() if stamp is not None and stamp != self._seen[path]]
+        self._seen.update((path, stamps[path]) for path in changed)
+        return changed[0] if changed else None
 
 
 @dataclass

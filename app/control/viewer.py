@@ -301,6 +301,7 @@ class Viewer:
                 self.watcher.changed(self.scene)  # what the files are now: later changes are the news
             if options.watch and options.scene_file is not None:
                 self.scene_watcher = FileWatcher(options.scene_file)
+                self.scene_watcher.watch_also(self._pictures_named(self.scene))
         finally:
             self._starting = False
 
@@ -462,25 +463,27 @@ class Viewer:
         one file at one scale share the new mesh, as a scene file's do."""
         if self.watcher is None:
             return
-        reading_scene = self.scene_watcher is not None and self.scene_watcher.changed()
+        reading_scene = self.scene_watcher.changed() if self.scene_watcher is not None else None
         before = self.watcher.files_seen() if reading_scene else {}
         changed = self.watcher.changed(self.scene)
         if reading_scene or self._scene_read_pending():  # its models are read with it: not in what it replaces
             changed = [element for element in changed if element.uid not in self._scene_file_placed]
         if reading_scene:
-            self._read_scene_again(self.scene_watcher.path, SeenFiles(before, self.watcher.files_seen()))
+            self._read_scene_again(self.scene_watcher.path, SeenFiles(before, self.watcher.files_seen()), reading_scene)
         for elements in read_together(changed):
             self._replace_models(elements, elements[0].source)
 
     def _scene_read_pending(self) -> bool:
         return self.background is not None and any(job.reads_scene for job in self.background.uncollected())
 
-    def _read_scene_again(self, path: Path, seen: SeenFiles) -> None:
-        """--watch: the scene file read again whole, as at start, in the place of what it placed."""
+    def _read_scene_again(self, path: Path, seen: SeenFiles, changed: Path) -> None:
+        """--watch: the scene file read again whole, as at start, in the place of what it placed, where it or
+        a picture it names (`changed`) changed."""
         texture_reader = self._scene_texture
         if self.background is not None:
             self.background.start_scene(path, seen, texture_reader)
-            self.tell(f"{escaped(path.name)} changed: reading it again")
+            again = "it" if changed == path else escaped(path.name)
+            self.tell(f"{escaped(changed.name)} changed: reading {again} again")
             return
         try:
             read: Scene | LoadError = load_scene(path, self._waiting_on)
@@ -501,6 +504,7 @@ class Viewer:
         placed = commands.file_placements(read)  # before framing moves its camera
         anew = commands.replace_scene_read(self.scene, read, self._scene_file_placed, placed, self.narrowest_aspect())
         self._scene_file_placed = placed
+        self.scene_watcher.watch_also(self._pictures_named(read))
         self.watcher.stand_as(read.objects + read.cameras, seen.after)
         if self._scene_texture is not None:  # read with the file; a texture named on the command line stays
             self.scene.texture = read.texture
@@ -509,6 +513,12 @@ class Viewer:
         if anew:
             said += f"; placed as it says now, their undo afresh: {_names([element.name for element in anew])}"
         self.tell("; ".join([said, *notes]))
+
+    def _pictures_named(self, read: Scene) -> list[Path]:
+        """The pictures a scene file's read named: its objects' and cameras' own, and its texture where no
+        --texture stands in for it."""
+        own = [element.picture_source for element in read.objects + read.cameras if element.picture_source]
+        return own + [Path(read.texture_path)] if read.texture_path and self._scene_texture else own
 
     def _replace_each(self, elements: tuple[SceneObject, ...], loaded: SceneObject) -> None:
         """`loaded` in the first element's place, and its mesh, with materials of their own, in the others';

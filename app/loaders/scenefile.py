@@ -729,6 +729,7 @@ class _ModelLoader:
                             entry.position_line)
         obj.scale = entry.scale
         obj.picture = self.picture(entry)
+        obj.picture_source = None if entry.texture is None else _picture_path(self.scene_path, entry.texture)
         obj.given_material = entry.material
         give_part_materials(obj, from_scene=entry.material is not None)
         return obj
@@ -738,7 +739,7 @@ class _ModelLoader:
         scene's own texture is SPEC 7's, with the checker: an object's is named as its model is)."""
         if entry.texture is None:
             return None
-        path = (self.scene_path.parent / entry.texture).absolute()  # the file looked for, whatever the working folder
+        path = _picture_path(self.scene_path, entry.texture)
         key = same_file_key(path)  # a.png and ./a.png: one picture, as one model
         if key not in self.pictures:
             try:
@@ -765,6 +766,11 @@ class _ModelLoader:
                 raise LoadError(self.scene_path, f"{entry.what}: scale {_scale_words(entry.scale)}: {err.message}",
                                 entry.scale_line) from err
         return self.sized[key, entry.scale]
+
+
+def _picture_path(scene_path: Path, texture: str) -> Path:
+    """The file an entry's `texture` names: the one looked for, whatever the working folder."""
+    return (scene_path.parent / texture).absolute()
 
 
 def _scale_words(scale: Vec3) -> str:

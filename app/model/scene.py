@@ -523,6 +523,7 @@ class SceneObject:
     scale: Vec3 = (1.0, 1.0, 1.0)
     # A scene file's `texture` for this object, (H, W, 3) uint8: drawn in place of its file's and the scene's.
     picture: np.ndarray | None = None
+    picture_source: Path | None = None  # the file `picture` was read from: --watch's, which reads the scene again
     # A scene file's `material` for this object: it stays, as `picture` does, when its file is read again.
     given_material: Material | None = None
     # A camera's: the parallel view's half height before each view move whose matrix is still on its
