@@ -13,7 +13,7 @@ import pytest
 
 from marraztu.control.browse import ModelWatcher
 from marraztu.control.keymap import parse_key_sequence
-from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer
+from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer, scene_file_watcher
 from marraztu.loaders.scenefile import load_scene
 from marraztu.model.scene import Projection, Shading, Target
 from support.scenes import NoFrontend, collect_when_loaded
@@ -46,8 +46,10 @@ def watched(tmp_path: Path, content: str, background: BackgroundLoader | None = 
     (tmp_path / "triangle.obj").write_bytes(TRIANGLE)
     path = tmp_path / "lesson.toml"
     path.write_text(content)
+    options = StartOptions(scene_file=path, models=models, watch=True)
+    seen = scene_file_watcher(options)  # as the window does: before the read
     viewer = Viewer(load_scene(path), NoFrontend(), background=background)
-    viewer.start(StartOptions(scene_file=path, models=models, watch=True), longest_texture_side=4096)
+    viewer.start(options, longest_texture_side=4096, scene_watcher=seen)
     return viewer
 
 
@@ -328,3 +330,22 @@ def test_a_picture_changed_is_read_on_the_windows_worker_and_said(tmp_path: Path
     finally:
         viewer.background.shutdown()
 
+
+
+def test_a_save_made_while_the_starts_models_load_is_read_once_they_have(tmp_path: Path, monkeypatch) -> None:
+    from marraztu.loaders import scenefile
+
+    path = tmp_path / "lesson.toml"
+    load_model = scenefile.load_model
+
+    def saved_meanwhile(model: Path, stage=None):
+        if path.read_text() != CAMERA + square_at(9):
+            rewrite(path, CAMERA + square_at(9))
+        return load_model(model)
+
+    monkeypatch.setattr(scenefile, "load_model", saved_meanwhile)
+    viewer = watched(tmp_path, CAMERA + square_at(0))
+    assert viewer.scene.object.model[0, 3] == 0  # read as it was when the read began
+    monkeypatch.setattr(scenefile, "load_model", load_model)
+    viewer.check_watched()
+    assert viewer.scene.object.model[0, 3] == 9

@@ -71,6 +71,12 @@ def starting_scene(options: StartOptions, notice: Callable[[str], None] | None =
     return load_builtin_scene()
 
 
+def scene_file_watcher(options: StartOptions) -> FileWatcher | None:
+    """--watch's scene file as it is before the start reads it (Viewer.start): a save while its models load is
+    then read once they have."""
+    return FileWatcher(options.scene_file) if options.watch and options.scene_file is not None else None
+
+
 def load_model_object(path: str | Path, scale: Vec3 = UNSCALED, stage: Stage | None = None) -> SceneObject:
     """A model file as a new scene element, placed at the origin like the seed's fresh objects; read at
     `scale` where it takes the place of an element a scene file sized. `stage` hears the load's stages."""
@@ -275,9 +281,11 @@ class Viewer:
         self._said_by_mouse = ""  # what the last mouse event said of its own (a refusal): "" where nothing
 
     # --- start-up ------------------------------------------------------------------------------
-    def start(self, options: StartOptions, longest_texture_side: int) -> None:
+    def start(self, options: StartOptions, longest_texture_side: int,
+              scene_watcher: FileWatcher | None = None) -> None:
         """The texture (the one named, or the scene's) and the models of the command line. Every
-        failure is told, on screen and to the front end, and none hides another."""
+        failure is told, on screen and to the front end, and none hides another. `scene_watcher`: the scene
+        file as scene_file_watcher saw it before it was read; made here, seen as now, where none is given."""
         self._starting = True
         self._scene_file_placed = commands.file_placements(self.scene)
         self._scene_texture = (None if options.texture is not None
@@ -300,7 +308,7 @@ class Viewer:
                 self.watcher = ModelWatcher()
                 self.watcher.changed(self.scene)  # what the files are now: later changes are the news
             if options.watch and options.scene_file is not None:
-                self.scene_watcher = FileWatcher(options.scene_file)
+                self.scene_watcher = scene_watcher or FileWatcher(options.scene_file)
                 self.scene_watcher.watch_also(self._pictures_named(self.scene))
         finally:
             self._starting = False

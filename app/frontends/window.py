@@ -25,7 +25,7 @@ from moderngl_window.timers.clock import Timer
 
 from marraztu.control import commands
 from marraztu.control.keymap import KeyPress, click
-from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer, starting_scene
+from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer, scene_file_watcher, starting_scene
 from marraztu.errors import LoadError, ViewerError, escaped, first_line
 from marraztu.frontends.heap import return_freed_memory
 from marraztu.frontends.record import MAX_RECORDING_BYTES, BackgroundSaves
@@ -167,9 +167,10 @@ class ViewerWindow:
         self.text_of_press: str | None = None  # a named key just pressed, whose own text or motion comes next
         self.renderer = Renderer(self.ctx)
         loader = BackgroundLoader(prepare_surface, wake=_wake_event_loop)
+        scene_watcher = scene_file_watcher(options)  # before the read: a save while its models load is news
         self.viewer = Viewer(starting_scene(options, self.notice), self, background=loader,
                              frame_size=lambda: self.wnd.buffer_size)
-        self.viewer.start(options, self.renderer.max_texture_side)
+        self.viewer.start(options, self.renderer.max_texture_side, scene_watcher)
         self.overlay = Overlay(self.ctx)
         self.named_keys, self.repeated_motions = self._named_keys()
         self.last_watch_check = perf_counter()
