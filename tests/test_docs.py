@@ -81,6 +81,18 @@ def test_the_readmes_scene_file_loads_as_written_beside_its_models(tmp_path: Pat
         assert "checker" not in viewer.message
 
 
+def test_the_readmes_lights_load_as_written(tmp_path: Path) -> None:
+    """The Files section's second TOML, the lights, is a scene of its own: the built-in camera, lit so."""
+    import marraztu
+
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    lights = re.findall(r"```toml\n(.*?)```", text, re.DOTALL)[1]
+    (tmp_path / "lights.toml").write_text(lights, encoding="utf-8")
+    with marraztu.Viewer(size=(64, 48), scene=tmp_path / "lights.toml") as viewer:
+        assert [light.on for light in viewer.scene.lights] == [True, True, False, False]
+        assert viewer.scene.lights[2].aperture_deg == 25.75
+
+
 def _keys_table_tokens(text: str) -> set[str]:
     """The key map's tokens of the README's keys table: `a` `b`, `x y z` and named keys as written."""
     section = text[text.index("### Keys"):text.index("| mouse | does |")]

@@ -10,11 +10,13 @@ square's centre, which is the midpoint of the diagonal shared by its two fan tri
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 import pytest
 
+from marraztu.loaders.scenefile import load_scene
 from marraztu.model.build import build_mesh
 from marraztu.model.geometry import FLOAT32_MAX, unit
 from marraztu.model.lighting import lit_colour_bytes, shade, shade_terms, to_bytes
@@ -153,6 +155,47 @@ def test_each_light_alone_matches_the_formula(offscreen, quad_scene: Scene, add_
     quad_scene.modes.projection = projection
     pixels = offscreen(quad_scene, SIZE)
     assert_close(pixels[CENTRE], expected_centre(quad_scene, lights))
+
+
+# A lesson's scene: the square, turned, and only the bulb on, where the file puts it.
+BULB_LESSON = """[lights.bulb]
+on = true
+position = [40, 30, 60]
+
+[[cameras]]
+position = [0, 0, 150]
+
+[[objects]]
+model = "square.obj"
+position = [0, 0, -20]
+rotation = [0, 25, 0]
+material = { ka = [0.2, 0.3, 0.4], kd = [0.6, 0.5, 0.4], ks = [0.5, 0.4, 0.3], ns = 20 }
+"""
+SQUARE_OBJ = f"v {-QUAD_HALF} {-QUAD_HALF} 0\nv {QUAD_HALF} {-QUAD_HALF} 0\nv {QUAD_HALF} {QUAD_HALF} 0\n" \
+             f"v {-QUAD_HALF} {QUAD_HALF} 0\nf 1 2 3 4\n"
+
+
+@pytest.mark.parametrize("shading", SWITCHED_SHADINGS, ids=lambda s: s.value)
+def test_a_scene_files_bulb_lights_the_square_as_the_formula(offscreen, tmp_path: Path, shading: Shading) -> None:
+    """Every lesson started with the lights off at SPEC's numbers; the file's bulb, at its place and
+    with SPEC's intensity and Ia, lights the square's centre as SPEC 4 says."""
+    (tmp_path / "square.obj").write_text(SQUARE_OBJ)
+    (tmp_path / "lesson.toml").write_text(BULB_LESSON)
+    scene = load_scene(tmp_path / "lesson.toml")
+    scene.modes.shading = shading
+    assert [light.on for light in scene.lights] == [False, True, False, False]
+    model = scene.objects[0].model
+    first, opposite = (world((-QUAD_HALF, -QUAD_HALF, 0.0), model), world((QUAD_HALF, QUAD_HALF, 0.0), model))
+    normal = world_normal((0.0, 0.0, 1.0), model)
+    bulb = [dict(kind="point", intensity=(250, 50, 150), position=(40, 30, 60))]
+
+    def at(point: np.ndarray, lights: list[dict[str, Any]]) -> np.ndarray:
+        return shade(point, normal, CAMERA, MATERIAL, lights, (200, 75, 255), False)
+
+    ends = (first,) if shading is Shading.FLAT else (first, opposite)
+    expected = to_bytes(sum(at(point, bulb) for point in ends) / len(ends))
+    assert np.abs(expected.astype(int) - to_bytes(at(first, [])).astype(int)).max() > 5  # the bulb adds light
+    assert_close(offscreen(scene, SIZE)[CENTRE], expected)
 
 
 @pytest.mark.parametrize("add_light", [light_sun, light_bulb, light_camera_spot_inside],

@@ -27,6 +27,7 @@ from marraztu.loaders.scenefile import (
 )
 from marraztu.model.build import build_mesh, scaled_mesh
 from marraztu.model.geometry import FLOAT32_MAX
+from marraztu.model.lights import AMBIENT_INTENSITY, Light, default_lights
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import NAME_LIMIT, Material
 from marraztu.model.transforms import euler_xyz
@@ -85,6 +86,165 @@ def test_empty_scene_is_the_builtin_camera_alone() -> None:
     assert [camera.name for camera in scene.cameras] == ["camera"]
     assert tuple(scene.camera.origin) == (0.0, 0.0, 150.0)
     assert scene.camera.material == SPEC_MATERIALS["shiny_plastic"]
+
+
+# --- lights --------------------------------------------------------------------------------------
+def light_state(light: Light) -> tuple[object, ...]:
+    return (light.name, light.on, tuple(light.intensity), tuple(light.position), tuple(light.direction),
+            light.aperture_deg, light.owner)
+
+
+def test_a_scene_file_without_lights_starts_with_specs_all_off() -> None:
+    for scene in (load_builtin_scene(), empty_scene()):
+        assert [light_state(light) for light in scene.lights] == [light_state(light) for light in default_lights()]
+        assert not any(light.on for light in scene.lights)
+        assert np.array_equal(scene.ambient, AMBIENT_INTENSITY)
+
+
+LESSON_LIGHTS = """ambient = [20, 30, 40.5]
+[lights.sun]
+on = true
+intensity = [100, 0, 300]
+direction = [0, 1, 0]
+[lights.bulb]
+on = true
+position = [10, -20, 30]
+[lights.camera_spotlight]
+aperture = 12.5
+"""
+
+
+def test_a_scene_file_sets_the_lights_it_names_and_leaves_the_others_as_spec_starts_them(tmp_path: Path) -> None:
+    """A lesson on a point light started with every light off at SPEC's numbers: the student had to
+    press 1 and move the bulb."""
+    scene = load_scene(write_scene(tmp_path, LESSON_LIGHTS + CAMERA))
+    sun, bulb, object_spot, camera_spot = scene.lights
+    spec_sun, spec_bulb, spec_object_spot, spec_camera_spot = default_lights()
+    assert np.array_equal(scene.ambient, [20, 30, 40.5])
+    assert sun.on and np.array_equal(sun.intensity, [100, 0, 300]) and np.array_equal(sun.direction, [0, 1, 0])
+    assert np.array_equal(sun.position, spec_sun.position)  # only where its marker is drawn
+    assert bulb.on and np.array_equal(bulb.position, [10, -20, 30])
+    assert np.array_equal(bulb.intensity, spec_bulb.intensity)
+    assert light_state(object_spot) == light_state(spec_object_spot)
+    assert not camera_spot.on and camera_spot.aperture_deg == 12.5
+    assert light_state(camera_spot)[:-2] == light_state(spec_camera_spot)[:-2]
+    assert all(light.history == [] for light in scene.lights)  # `u` has nothing to take back
+    scene.check_by_hand()  # and the programming interface's next call draws them
+
+
+def test_a_scene_files_lights_are_its_own_each_time_it_is_read(tmp_path: Path) -> None:
+    path = write_scene(tmp_path, LESSON_LIGHTS + CAMERA)
+    first, second = load_scene(path), load_scene(path)
+    first.lights[1].position[0] = 99.0
+    assert second.lights[1].position[0] == 10.0 and not set(map(id, first.lights)) & set(map(id, second.lights))
+
+
+def test_lights_written_inline_or_dotted_are_read_too(tmp_path: Path) -> None:
+    scene = load_scene(write_scene(tmp_path, 'lights = { bulb = { on = true }, sun.direction = [1, 0, 0] }\n' + CAMERA))
+    assert scene.lights[1].on and np.array_equal(scene.lights[0].direction, [1, 0, 0])
+    dotted = load_scene(write_scene(tmp_path, 'lights.object_spotlight.on = true\n' + CAMERA))
+    assert [light.on for light in dotted.lights] == [False, False, True, False]
+
+
+# Each a scene, the message's words and the line it names.
+BAD_LIGHTS = {
+    "unknown light": (CAMERA + "[lights.lamp]\non = true\n", "lights: unknown light 'lamp' (lights: sun, bulb, "
+                      "object_spotlight, camera_spotlight)", 4),
+    "the name as the status line says it": (CAMERA + '[lights."object spotlight"]\n',
+                                             "lights: unknown light 'object spotlight'", 4),
+    "unknown key": (CAMERA + "[lights.bulb]\non = true\ncolour = [1, 1, 1]\n",
+                    "lights.bulb: unknown key 'colour' (allowed: intensity, on, position)$", 6),
+    "the sun placed": (CAMERA + "[lights.sun]\nposition = [0, 0, 0]\n",
+                       "lights.sun: unknown key 'position' (allowed: direction, intensity, on): position is the "
+                       "bulb's$", 5),
+    "the bulb aimed": (CAMERA + "[lights.bulb]\n\ndirection = [0, 0, 1]\n",
+                       "lights.bulb: unknown key 'direction' (allowed: intensity, on, position): direction is the "
+                       "sun's$", 6),
+    "a spotlight placed": (CAMERA + "[lights.camera_spotlight]\nposition = [0, 0, 0]\n",
+                           "lights.camera_spotlight: unknown key 'position' (allowed: aperture, intensity, on): "
+                           "position is the bulb's", 5),
+    "the sun's aperture": (CAMERA + "[lights.sun]\naperture = 20\n",
+                           "aperture is the object_spotlight's and the camera_spotlight's", 5),
+    "on a number": (CAMERA + "[lights.bulb]\non = 1\n", "lights.bulb: on must be true or false, not one number", 5),
+    "on a word": (CAMERA + '[lights.bulb]\non = "yes"\n', "lights.bulb: on must be true or false, not a string", 5),
+    "intensity negative": (CAMERA + "[lights.sun]\nintensity = [200, -1, 0]\n",
+                           "lights.sun: intensity must be three numbers from 0 to 3.4e38, where the GPU's 32-bit "
+                           "floats end, not [200, -1, 0]", 5),
+    "intensity of two": (CAMERA + "[lights.sun]\nintensity = [200, 200]\n",
+                         "lights.sun: intensity must be three numbers, like [0, 0, 0], not 2 numbers", 5),
+    "intensity past float32": (CAMERA + "[lights.sun]\nintensity = [1e39, 0, 0]\n", "is too large", 5),
+    "direction zero": (CAMERA + "[lights.sun]\non = true\ndirection = [0, 0, 0]\n",
+                       "lights.sun: direction must point some way (at least 1e-150 long), not [0, 0, 0]", 6),
+    "direction nan": (CAMERA + "[lights.sun]\ndirection = [nan, 0, 1]\n", "direction must be a finite number", 5),
+    "position past the light's reach": (CAMERA + "[lights.bulb]\nposition = [0, 6e18, 0]\n",
+                                        "lights.bulb: position must be three numbers within ±5e+18", 5),
+    "position a string": (CAMERA + '[lights.bulb]\nposition = "up"\n', "not a string", 5),
+    "aperture too wide": (CAMERA + "[lights.object_spotlight]\naperture = 90\n",
+                          "lights.object_spotlight: aperture must be from 1 to 89 degrees (the axis to the cone's "
+                          "edge, as + and - keep it), not 90", 5),
+    "aperture too narrow": (CAMERA + "[lights.camera_spotlight]\naperture = 0.5\n", "not 0.5", 5),
+    "aperture three numbers": (CAMERA + "[lights.camera_spotlight]\naperture = [1, 2, 3]\n",
+                               "aperture must be a number, not an array", 5),
+    "ambient negative": ("ambient = [200, 75, -255]\n" + CAMERA,
+                         "ambient must be three numbers from 0 to 3.4e38, where the GPU's 32-bit floats end, "
+                         "not [200, 75, -255]", 1),
+    "ambient one number": ("ambient = 200\n" + CAMERA, "ambient must be three numbers, like [0, 0, 0], not one "
+                           "number", 1),
+    "lights a value": ("lights = true\n" + CAMERA, "lights must be tables, one per light: [lights.sun], "
+                       "[lights.bulb], [lights.object_spotlight], [lights.camera_spotlight]", 1),
+    "lights an array of tables": (CAMERA + "[[lights]]\non = true\n", "lights must be tables", 4),
+    "a light a value": (CAMERA + "[lights]\nbulb = true\n", "lights.bulb must be a table of intensity, on, "
+                        "position", 5),
+    "inside an inline table: the line that opens it": (
+        "\nlights = { bulb = { on = 'yes' } }\n" + CAMERA, "lights.bulb: on must be true or false", 2),
+    "inside a light's inline table": (CAMERA + "[lights]\n\nbulb = { on = 'yes' }\n", "on must be true", 6),
+}
+
+
+@pytest.mark.parametrize("text, expected, line", BAD_LIGHTS.values(), ids=BAD_LIGHTS.keys())
+def test_a_bad_light_is_refused_at_its_line(tmp_path: Path, text: str, expected: str, line: int) -> None:
+    path = write_scene(tmp_path, text)
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert expected in caught.value.message + "$"
+    assert (caught.value.path, caught.value.line) == (str(path), line)
+
+
+# Each a value tried as a light's intensity, the bulb's place, the sun's direction and the ambient.
+LIGHT_VALUES_TRIED = {
+    "inside": "[0.5, 250, 0]",
+    "zero": "[0, 0, 0]",
+    "just below 0": "[0, -1e-9, 0]",
+    "past the bulb's reach": "[0, 0, 5.000001e18]",
+    "huge": "[3e38, 0, 0]",
+}
+
+
+@pytest.mark.parametrize("where", ["ambient", "intensity", "position", "direction"])
+@pytest.mark.parametrize("toml", LIGHT_VALUES_TRIED.values(), ids=LIGHT_VALUES_TRIED.keys())
+def test_a_scene_file_and_the_scene_set_by_hand_refuse_the_same_light_values(tmp_path: Path, where: str,
+                                                                            toml: str) -> None:
+    """One rule, the model's (Scene.check_by_hand, the programming interface's next call), for both."""
+    light = {"intensity": "bulb", "position": "bulb", "direction": "sun"}.get(where)
+    text = f"ambient = {toml}\n" + CAMERA if light is None else CAMERA + f"[lights.{light}]\n{where} = {toml}\n"
+    try:
+        load_scene(write_scene(tmp_path, text))
+        file_refused = None
+    except LoadError as error:
+        file_refused = error.message
+    scene = load_scene(write_scene(tmp_path, CAMERA))
+    value = np.array(tomllib.loads(f"v = {toml}")["v"], float)
+    if light is None:
+        scene.ambient = value
+    else:
+        setattr(next(each for each in scene.lights if each.name == light), where, value)
+    try:
+        scene.check_by_hand()
+        hand_refused = None
+    except ValueError as error:
+        hand_refused = str(error)
+    assert (file_refused is None) == (hand_refused is None), (file_refused, hand_refused)
+    assert file_refused is None or file_refused.startswith("ambient" if light is None else f"lights.{light}: {where}")
 
 
 # --- good files ------------------------------------------------------------------------------------
@@ -850,7 +1010,7 @@ def test_reading_four_times_the_entries_costs_about_four_times_the_work(tmp_path
 
 
 # --- what tomllib reads at a hundred bytes a byte, refused before it reads it ------------------------
-ALLOWED_TOP = "(allowed: cameras, materials, objects, texture)"
+ALLOWED_TOP = "(allowed: ambient, cameras, lights, materials, objects, texture)"
 
 
 def unparsed(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -865,7 +1025,7 @@ def unparsed(monkeypatch: pytest.MonkeyPatch) -> None:
     (CAMERA + "".join(f"[[t{i}]] # a comment\n" for i in range(20_000)), 4, "t0"),
     ("".join(f"t{i} = {{ a = 1 }}\n" for i in range(20_000)) + CAMERA, 1, "t0"),
     ('texture = "t.ppm"\n  "x".y = 1\n' + CAMERA, 2, "x"),
-    (CAMERA + "[ 'lights' . a ]\n", 4, "lights"),
+    (CAMERA + "[ 'lamps' . a ]\n", 4, "lamps"),
 ])
 def test_an_unknown_top_level_name_is_refused_at_its_line_before_toml_reads_the_file(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch, text: str, line: int, name: str) -> None:
@@ -891,8 +1051,8 @@ KNOWN_NAMES_WRITTEN_OTHERWISE = (
 
 @pytest.mark.parametrize("texture, text", [  # a name is one line: the texture's file name holds the header
     ("t.ppm", KNOWN_NAMES_WRITTEN_OTHERWISE),
-    ("[lights]\n", KNOWN_NAMES_WRITTEN_OTHERWISE.replace('"t.ppm"', '"""\n[lights]\n"""')),
-    ("[lights]\n", KNOWN_NAMES_WRITTEN_OTHERWISE.replace('"t.ppm"', "\'\'\'\n[lights]\n\'\'\'")),
+    ("[lamps]\n", KNOWN_NAMES_WRITTEN_OTHERWISE.replace('"t.ppm"', '"""\n[lamps]\n"""')),
+    ("[lamps]\n", KNOWN_NAMES_WRITTEN_OTHERWISE.replace('"t.ppm"', "\'\'\'\n[lamps]\n\'\'\'")),
 ])
 def test_top_level_names_quoted_split_or_in_a_multi_line_string_are_read_as_before(tmp_path: Path, texture: str,
                                                                                     text: str) -> None:

@@ -21,6 +21,12 @@
     scale = 0.5                           # optional: > 0, or three numbers along x, y, z; a camera's sizes its body
     material = { ka = [0.8, 0.72, 0], kd = [0.8, 0.6, 0.4], ks = [0.9, 0.8, 0.5], ns = 80 }
 
+    ambient = [200, 75, 255]              # optional: SPEC's Ia otherwise (0..255 units, >= 0)
+    [lights.bulb]                         # optional, one per light: sun, bulb, object_spotlight, camera_spotlight
+    on = true                             # optional: off otherwise, as SPEC starts
+    intensity = [250, 50, 150]            # optional: SPEC's otherwise, as ambient
+    position = [0, 200, 0]                # the bulb's; the sun takes direction, a spotlight aperture
+
 `scale` sizes the model as it is read (Mesh.scaled), not in its model matrix: SPEC's keys build that
 matrix of turns and moves, and the steps, the near plane and the grid follow the model's size.
 
@@ -37,7 +43,7 @@ import re
 import sys
 import tomllib
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from itertools import chain, islice
 from pathlib import Path
 from typing import NoReturn
@@ -50,22 +56,36 @@ from marraztu.loaders.images import load_image
 from marraztu.loaders.patterns import compiled
 from marraztu.loaders.registry import MODEL_READERS, Stage, load_model, sized
 from marraztu.model.geometry import CAMERAS_REACH, FLOAT32_MAX, MODELS_REACH
+from marraztu.model.lights import (
+    AMBIENT_INTENSITY,
+    DIRECTIONAL,
+    POINT,
+    SPOT,
+    SPOT_APERTURE_RANGE_DEG,
+    Light,
+    LightKind,
+    default_lights,
+)
 from marraztu.model.mesh import Mesh, counted, with_picture_as_colour
 from marraztu.model.scene import (
+    DIRECTION,
+    LIGHT_COLOUR,
     MATERIAL_COLOUR,
     MATERIAL_COLOUR_RANGE,
     Material,
     Scene,
     SceneObject,
+    TripleKind,
     Vec3,
     kept_name,
     name_refusal,
+    place_kind,
     placement_refusal,
 )
 from marraztu.resources import ASSET_DIR
 
 BUILTIN_SCENE_FILE = "scene.toml"
-TOP_LEVEL_KEYS = frozenset({"texture", "materials", "objects", "cameras"})
+TOP_LEVEL_KEYS = frozenset({"texture", "materials", "objects", "cameras", "ambient", "lights"})
 ENTRY_KEYS = frozenset({"name", "model", "position", "rotation", "scale", "material", "texture"})
 REQUIRED_OBJECT_KEYS = ("model",)  # an object's position is the origin, where a model loaded alone stands
 ORIGIN: Vec3 = (0.0, 0.0, 0.0)
@@ -84,6 +104,12 @@ SCENE_READ_LIMIT = 16 << 20
 # tomllib, whose cost for a dotted key grows with the square of its parts.
 MAX_KEY_PARTS = 16
 WHITE: Vec3 = (1.0, 1.0, 1.0)
+# SPEC 4's Ia, as the file's `ambient` is read.
+SPEC_AMBIENT: Vec3 = tuple(map(float, AMBIENT_INTENSITY))  # type: ignore[assignment]
+LIGHT_KEYS = frozenset({"on", "intensity"})  # every light's, past the one its kind takes (KIND_KEY)
+# What else a light's table sets: the sun is a direction, the bulb a place, a spotlight rides on its owner
+# and sets only its cone.
+KIND_KEY: dict[LightKind, str] = {DIRECTIONAL: "direction", POINT: "position", SPOT: "aperture"}
 
 # What a model loaded at run time is made of when its file says nothing: a light grey, mostly
 # diffuse plastic. Grey shows the lights' and the texture's colours as they are; the ambient share is
@@ -172,6 +198,9 @@ class SceneDescription:
     cameras_given: bool = True  # False: the file places none, and `cameras` are the built-in scene's
     # The file that sets `texture` where this one sets none: the built-in scene's (SPEC 3: selfi.ppm at start).
     texture_named_in: Path | None = None
+    # SPEC 4's lights and Ia, with what the file's `ambient` and [lights.NAME] tables set.
+    lights: tuple[Light, ...] = field(default_factory=lambda: tuple(default_lights()))
+    ambient: Vec3 = SPEC_AMBIENT
 
 
 # --------------------------------------------------------------------------------------------------
@@ -188,6 +217,7 @@ def load_scene(path: str | Path, stage: Stage | None = None) -> Scene:
     loader = _ModelLoader(description.path, stage)
     return Scene(objects=[loader.place(entry) for entry in description.objects],
                  cameras=[loader.place(entry) for entry in description.cameras],
+                 lights=list(description.lights), ambient=np.array(description.ambient),
                  texture_path=_optional_str(description.texture_path), texture_named_at=_texture_named_at(description),
                  frame_at_start=not description.cameras_given)
 
@@ -234,6 +264,11 @@ def _material_from(values: dict[str, object], fallback: Material, rgb: Vec3) -> 
                     kd=_clamped_colour(values.get("kd"), fallback.kd),
                     ks=_clamped_colour(values.get("ks"), fallback.ks),
                     ns=_file_shininess(values.get("ns"), fallback.ns), rgb=rgb)
+
+
+def light_table_name(light: Light) -> str:
+    """A light's table in a scene file, [lights.NAME]: its name as the status line and help say it."""
+    return light.name.replace(" ", "_")
 
 
 def read_scene_description(path: str | Path) -> SceneDescription:
@@ -357,7 +392,8 @@ class _SceneReader:
             cameras = cameras if given else builtin.cameras
             if texture is None:  # its models show the texture they show alone on the command line
                 texture, texture_line, named_in = builtin.texture_path, builtin.texture_line, builtin.path
-        return SceneDescription(self.path, objects, cameras, texture, texture_line, given, named_in)
+        return SceneDescription(self.path, objects, cameras, texture, texture_line, given, named_in, self.lights(),
+                                self.ambient())
 
     # --- top level -----------------------------------------------------------------------------
     def texture(self) -> Path | None:
@@ -368,6 +404,64 @@ class _SceneReader:
         if not isinstance(value, str) or not value.strip():
             self.fail("texture must be a file name in quotes", line)
         return (self.path.parent / value).absolute()
+
+    def ambient(self) -> Vec3:
+        if "ambient" not in self.document:
+            return SPEC_AMBIENT
+        return self.triple_of(LIGHT_COLOUR, self.document["ambient"], "ambient", self.lines.first(("ambient",)))
+
+    # --- lights --------------------------------------------------------------------------------
+    def lights(self) -> tuple[Light, ...]:
+        """SPEC 4's four lights, each with what its [lights.NAME] table sets."""
+        lights = default_lights()
+        tables = self.document.get("lights", {})
+        names = {light_table_name(light): light for light in lights}
+        if not isinstance(tables, dict):
+            self.fail(f"lights must be tables, one per light: {_light_headers(names)}", self.lines.first(("lights",)))
+        for name, table in tables.items():
+            line = self.lines.first(("lights", name)) or self.lines.first(("lights",))  # inline: where lights opens
+            if name not in names:
+                self.fail(f"lights: unknown light {name!r} (lights: {', '.join(names)})", line)
+            self.set_light(names[name], table, f"lights.{name}", line, self._light_key_line(name))
+        return tuple(lights)
+
+    def _light_key_line(self, name: str) -> Callable[[str], int | None]:
+        return lambda key: self.lines.first(("lights", name, key))
+
+    def set_light(self, light: Light, table: object, what: str, line: int | None,
+                  key_line: Callable[[str], int | None]) -> None:
+        """The light as its table sets it, each value held to the rule the scene set by hand is (Scene.check_values)."""
+        own = KIND_KEY[light.kind]
+        allowed = LIGHT_KEYS | {own}
+        if not isinstance(table, dict):
+            self.fail(f"{what} must be a table of {', '.join(sorted(allowed))}", line)
+        at = _or_header(key_line, line)
+        for key in sorted(set(table) - allowed):  # another light's key: say whose
+            owners = [name for name, kind_key in _light_keys().items() if kind_key == key]
+            if owners:
+                whose = " and ".join(f"the {owner}'s" for owner in owners)
+                self.fail(f"{_unknown_key(what, key, allowed)}: {key} is {whose}", at(key))
+        self.check_keys(table, allowed, what, line, key_line=at)
+        if "on" in table:
+            light.on = self.flag(table["on"], f"{what}: on", at("on"))
+        if "intensity" in table:
+            light.intensity = np.array(self.triple_of(LIGHT_COLOUR, table["intensity"], f"{what}: intensity",
+                                                      at("intensity")))
+        if own == "direction" and own in table:
+            light.direction = np.array(self.triple_of(DIRECTION, table[own], f"{what}: {own}", at(own)))
+        if own == "position" and own in table:
+            light.position = np.array(self.triple_of(place_kind(light), table[own], f"{what}: {own}", at(own)))
+        if own == "aperture" and own in table:
+            light.aperture_deg = self.aperture(table[own], f"{what}: {own}", at(own))
+
+    def aperture(self, value: object, what: str, line: int | None) -> float:
+        """Degrees from the axis to the cone's edge, within the range + and - keep it in."""
+        degrees = self.number(value, what, line)
+        low, high = SPOT_APERTURE_RANGE_DEG
+        if not low <= degrees <= high:
+            self.fail(f"{what} must be from {low:g} to {high:g} degrees (the axis to the cone's edge, as + and - "
+                      f"keep it), not {degrees:g}", line)
+        return degrees
 
     def named_materials(self) -> dict[str, Material]:
         tables = self.document.get("materials", {})
@@ -498,10 +592,36 @@ class _SceneReader:
     def material_colour(self, value: object, what: str, line: int | None) -> Vec3:
         """Three numbers in the range Scene.check_by_hand holds a material's colours to."""
         colour = self.triple(value, what, line)
-        if not MATERIAL_COLOUR.holds(np.array(colour)):
-            hint = " (0..255 colours: divide by 255)" if _looks_like_bytes(colour) else ""
-            self.fail(f"{what} must be three numbers {MATERIAL_COLOUR.within}, not {_toml_list(value)}{hint}", line)
-        return colour
+        hint = " (0..255 colours: divide by 255)" if _looks_like_bytes(colour) else ""
+        return self.held_to(MATERIAL_COLOUR, colour, value, what, line, hint)
+
+    def triple_of(self, kind: TripleKind, value: object, what: str, line: int | None) -> Vec3:
+        """Three numbers of a kind, as Scene.check_by_hand holds the scene set by hand to it."""
+        return self.held_to(kind, self.triple(value, what, line), value, what, line)
+
+    def held_to(self, kind: TripleKind, triple: Vec3, value: object, what: str, line: int | None,
+                hint: str = "") -> Vec3:
+        """`triple` (read from `value`) within its kind's range, and long enough where its kind points some way."""
+        numbers = np.array(triple)
+        if not kind.holds(numbers):
+            self.fail(f"{what} must be three numbers {kind.within}, not {_toml_list(value)}{hint}", line)
+        if not kind.points_some_way(numbers[None]):
+            self.fail(f"{what} must point some way (at least {kind.shortest:g} long), not {_toml_list(value)}", line)
+        return triple
+
+    def flag(self, value: object, what: str, line: int | None) -> bool:
+        if not isinstance(value, bool):
+            self.fail(f"{what} must be true or false, not {_toml_type(value)}", line)
+        return value
+
+
+def _light_keys() -> dict[str, str]:
+    """Each light's table name and the key its kind takes (KIND_KEY)."""
+    return {light_table_name(light): KIND_KEY[light.kind] for light in default_lights()}
+
+
+def _light_headers(names: dict[str, Light]) -> str:
+    return ", ".join(f"[lights.{name}]" for name in names)
 
 
 def _unknown_key(what: str, key: str, allowed: frozenset[str]) -> str:
