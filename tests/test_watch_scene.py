@@ -110,24 +110,41 @@ def test_the_modes_lights_selections_and_moves_stay_where_only_a_material_change
     assert scene.selected_camera == 0 and scene.selected_object == 0 and scene.objects[1] is kept
 
 
-def test_the_files_lights_are_the_scenes_at_start_and_stay_as_they_are_when_it_is_read_again(tmp_path: Path) -> None:
-    """A lesson's lights start as the file sets them; read again, the file's lights and ambient are not
-    taken: the person may have switched and moved them since, as they may the modes."""
+def test_the_files_lights_are_the_scenes_at_start_and_an_edited_one_is_taken_when_it_is_read_again(
+        tmp_path: Path) -> None:
+    """A lesson's lights start as the file sets them; read again, the ambient and each light whose settings
+    the save changed are set as it says now, the others stay as the person switched and moved them."""
     lights = "ambient = [10, 20, 30]\n[lights.bulb]\non = true\nposition = [0, 50, 0]\n"
     viewer = watched(tmp_path, lights + CAMERA + square_at(0))
     scene = viewer.scene
     bulb = scene.lights[1]
     assert bulb.on and np.array_equal(bulb.position, [0, 50, 0]) and np.array_equal(scene.ambient, [10, 20, 30])
-    press(viewer, "c c TAB t x")  # the bulb, moved along x
+    press(viewer, "c c TAB t x 3")  # the bulb, moved along x; the camera spotlight on
     moved = bulb.position.copy()
-    assert moved[0] > 0
-    rewrite(tmp_path / "lesson.toml", "ambient = [1, 1, 1]\n[lights.bulb]\non = false\nposition = [0, 9, 0]\n"
+    assert moved[0] > 0 and scene.lights[3].on
+    rewrite(tmp_path / "lesson.toml", lights + CAMERA + square_at(0, kd="[1, 1, 1]"))  # a material alone
+    viewer.check_watched()
+    assert scene.message == "read lesson.toml again: 1 object, 1 camera"
+    assert bulb.on and np.array_equal(bulb.position, moved) and len(bulb.history) == 1
+    assert [light.on for light in scene.lights] == [False, True, False, True]
+    rewrite(tmp_path / "lesson.toml", "ambient = [1, 1, 1]\n[lights.bulb]\non = true\nposition = [0, 9, 0]\n"
             "[lights.sun]\non = true\n" + CAMERA + square_at(0, kd="[1, 1, 1]"))
     viewer.check_watched()
-    assert scene.message.startswith("read lesson.toml again") and scene.objects[0].material.kd == (1.0, 1.0, 1.0)
-    assert scene.lights[1] is bulb and bulb.on and np.array_equal(bulb.position, moved)
-    assert [light.on for light in scene.lights] == [False, True, False, False]
-    assert np.array_equal(scene.ambient, [10, 20, 30])
+    assert scene.message == "read lesson.toml again: 1 object, 1 camera; set as it says now: the ambient, sun, bulb"
+    assert scene.lights[1] is bulb and np.array_equal(bulb.position, [0, 9, 0]) and bulb.history == []
+    assert [light.on for light in scene.lights] == [True, True, False, True]  # the spotlight: as the key left it
+    assert np.array_equal(scene.ambient, [1, 1, 1])
+
+
+def test_an_edited_bulb_at_specs_place_is_fitted_to_the_models_units_as_at_start(tmp_path: Path) -> None:
+    tiny = '[[objects]]\nmodel = "square.obj"\nscale = 0.001\n'
+    viewer = watched(tmp_path, "[lights.bulb]\non = false\n" + tiny)
+    bulb = viewer.scene.lights[1]
+    at_start = bulb.position.copy()
+    assert at_start[1] < 200  # fitted with the models, as the built-in bulb is
+    rewrite(tmp_path / "lesson.toml", "[lights.bulb]\non = true\n" + tiny)
+    viewer.check_watched()
+    assert bulb.on and np.array_equal(bulb.position, at_start)
 
 
 def test_a_file_that_places_no_camera_is_framed_again(tmp_path: Path) -> None:

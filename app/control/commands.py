@@ -955,6 +955,42 @@ def replace_scene_read(scene: Scene, read: Scene, placed: dict[int, FilePlacemen
     return [element for element in read.objects + read.cameras if id(element) not in moved_on]
 
 
+LightSettings = tuple[object, ...]
+
+
+def file_lights(read: Scene) -> dict[str, LightSettings]:
+    """What a scene file just read set each light to, by its key, and the ambient Ia ("ambient"): what
+    --watch's read again compares, before any fitting to the models' units moves a light."""
+    settings: dict[str, LightSettings] = {light.key: (light.on, tuple(light.intensity), tuple(light.direction),
+                                                      tuple(light.position), light.aperture_deg)
+                                          for light in read.lights}
+    settings["ambient"] = tuple(read.ambient)
+    return settings
+
+
+def take_edited_lights(scene: Scene, read: Scene, before: dict[str, LightSettings],
+                       now: dict[str, LightSettings]) -> list[str]:
+    """The ambient and each light whose settings in the file changed since its last read, as the file now
+    sets them, their moves and undo afresh; the others stay as the keys left them. Returns their names."""
+    taken = []
+    if before["ambient"] != now["ambient"]:
+        scene.ambient = read.ambient.copy()
+        taken.append("the ambient")
+    for light, as_read in zip(scene.lights, read.lights):
+        if before[light.key] != now[light.key]:
+            _take_light(light, as_read, scene.fitted_unit)
+            taken.append(light.name)
+    return taken
+
+
+def _take_light(light: Light, as_read: Light, fitted_unit: float) -> None:
+    """`light` as a scene file read again sets it: on the models' units at SPEC's place, as at start."""
+    light.on, light.intensity, light.direction = as_read.on, as_read.intensity.copy(), as_read.direction.copy()
+    light.aperture_deg, light.axis_in_owner, light.history = as_read.aperture_deg, np.eye(3), []
+    at_spec_place = _where_fitting_left_it(as_read, 1.0)
+    light.position = _fitted_place(as_read, fitted_unit) if at_spec_place else as_read.position.copy()
+
+
 def _successors(scene: Scene, placed: dict[int, FilePlacement], read: Scene,
                 now: dict[int, FilePlacement]) -> dict[int, SceneObject]:
     """By uid, each element still in the scene that the last read placed, and the element read for its entry."""

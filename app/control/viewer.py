@@ -268,6 +268,7 @@ class Viewer:
         self.scene_watcher: FileWatcher | None = None  # set by --watch with a scene file
         # Where the scene file's last read placed its elements, by uid: a read again takes their place.
         self._scene_file_placed: dict[int, commands.FilePlacement] = {}
+        self._scene_file_lights: dict[str, commands.LightSettings] = {}  # what its last read set the lights to
         # What reads the scene file's texture into its Scene read again; None where the command line named
         # the texture, which outlasts a read again.
         self._scene_texture: Callable[[Scene], list[str]] | None = None
@@ -288,6 +289,7 @@ class Viewer:
         file as scene_file_watcher saw it before it was read; made here, seen as now, where none is given."""
         self._starting = True
         self._scene_file_placed = commands.file_placements(self.scene)
+        self._scene_file_lights = commands.file_lights(self.scene)
         self._scene_texture = (None if options.texture is not None
                                else functools.partial(read_texture, named=None, longest_side=longest_texture_side))
         # The command line's models are framed together where they are alone, or beside a scene
@@ -509,9 +511,10 @@ class Viewer:
                                   seen.before)
             self._failed(read)
             return
-        placed = commands.file_placements(read)  # before framing moves its camera
+        placed, lights = commands.file_placements(read), commands.file_lights(read)  # before framing moves them
         anew = commands.replace_scene_read(self.scene, read, self._scene_file_placed, placed, self.narrowest_aspect())
-        self._scene_file_placed = placed
+        lit_anew = commands.take_edited_lights(self.scene, read, self._scene_file_lights, lights)
+        self._scene_file_placed, self._scene_file_lights = placed, lights
         self.scene_watcher.watch_also(self._pictures_named(read))
         self.watcher.stand_as(read.objects + read.cameras, seen.after)
         if self._scene_texture is not None:  # read with the file; a texture named on the command line stays
@@ -520,6 +523,8 @@ class Viewer:
                 f"{counted(len(read.cameras), 'camera')}")
         if anew:
             said += f"; placed as it says now, their undo afresh: {_names([element.name for element in anew])}"
+        if lit_anew:
+            said += f"; set as it says now: {', '.join(lit_anew)}"
         self.tell("; ".join([said, *notes]))
 
     def _pictures_named(self, read: Scene) -> list[Path]:
