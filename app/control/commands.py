@@ -928,7 +928,7 @@ def replace_scene_read(scene: Scene, read: Scene, placed: dict[int, FilePlacemen
     says) in the place of the elements its last read placed (`placed`, by uid), and ahead of those that
     joined from elsewhere (the command line, `f`), which stay as they were. An element whose entry places it
     as the last read did keeps where the person moved it, and its undo; the others stand where the file
-    says, their undo afresh: which those are is returned. The modes, the lights and their switches stay;
+    says, their undo afresh: which those are is returned. The modes stay (the lights: take_edited_lights);
     each selection follows its entry, else stays at its index. A file that places no camera has its models
     framed, as at start, where that camera is the one viewing and has not been moved."""
     end_view_gesture(scene)
