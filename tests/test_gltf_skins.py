@@ -242,6 +242,80 @@ def test_a_bent_skin_draws_as_the_strip_written_bent(tmp_path: Path) -> None:
     assert (np.abs(pictures[0] - pictures[0][2, 2]).max(axis=2) > 40).sum() > 200  # the strip, not the background
 
 
+# --- turned outward where its joints mirror it -------------------------------------------------------
+SQUARE = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], np.float32)  # facing +z, wound anticlockwise
+# Each mode's corners of the square, wound to face +z: its triangles as glTF (and trimesh) make them.
+SQUARE_CORNERS = {"triangles": (4, [0, 1, 2, 0, 2, 3]), "strip": (5, [0, 1, 3, 2]), "fan": (6, [0, 1, 2, 3]),
+                  "unindexed": (4, None)}
+MIRROR_X, MIRROR_Z = [-1.0, 1.0, 1.0], [1.0, 1.0, -1.0]  # a joint's scale: the second keeps the square in place
+X_MIRRORED = np.array(MIRROR_X, np.float32)
+
+
+def mirrored_square(mirror: list[float], on_mirror: list[int], mode: str = "triangles"
+                    ) -> tuple[dict[str, Any], bytes]:
+    """The green square skinned by joint 0 (node 1, unmoved) and joint 1 (node 2, scaled by `mirror`), its
+    vertices `on_mirror` wholly on joint 1, the others on joint 0."""
+    parts, (number, corners) = Parts(), SQUARE_CORNERS[mode]
+    vertices = SQUARE if corners is not None else SQUARE[[0, 1, 2, 0, 2, 3]]
+    joints = np.zeros((len(vertices), 4), np.uint8)
+    joints[on_mirror, 0] = 1
+    primitive: dict[str, Any] = {"mode": number, "material": 0, "attributes": {
+        "POSITION": parts.add(vertices), "JOINTS_0": parts.add(joints),
+        "WEIGHTS_0": parts.add(np.tile(np.array([1, 0, 0, 0], np.float32), (len(vertices), 1)))}}
+    if corners is not None:
+        primitive["indices"] = parts.add(np.array(corners, np.uint16))
+    document = {
+        "asset": {"version": "2.0"}, "scenes": [{"nodes": [0, 1, 2]}],
+        "nodes": [{"mesh": 0, "skin": 0}, {}, {"scale": mirror}], "skins": [{"joints": [1, 2]}],
+        "meshes": [{"primitives": [primitive]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.1, 0.8, 0.1, 1]}}],
+        "accessors": parts.accessors, "bufferViews": parts.views, "buffers": [{"byteLength": len(parts.binary)}],
+    }
+    return document, parts.binary
+
+
+@pytest.mark.parametrize("mode", list(SQUARE_CORNERS))
+def test_a_square_its_joint_mirrors_keeps_facing_out(tmp_path: Path, mode: str) -> None:
+    """glTF turns round the triangles a mirroring transform places: the square mirrored left to right by its
+    joint kept its winding, so it faced away (-z), its inside shown, whatever the mode of its triangles."""
+    loaded = load_model(written(tmp_path, *mirrored_square(MIRROR_X, [0, 1, 2, 3], mode)))
+    assert loaded.face_count == 2
+    np.testing.assert_allclose(loaded.face_normals, [[0, 0, 1]] * 2, atol=1e-6)
+    assert placed(loaded.positions) == placed((SQUARE if mode != "unindexed" else SQUARE[[0, 1, 2, 0, 2, 3]])
+                                              * X_MIRRORED)
+
+
+@pytest.mark.parametrize(("on_mirror", "facing"), [([], [1, 1]), ([0, 1, 2, 3], [-1, -1]), ([0, 1], [-1, 1]),
+                                                   ([3], [1, 1]), ([0, 2], [-1, -1])])
+def test_a_triangle_is_turned_where_most_of_its_corners_are_mirrored(tmp_path: Path, on_mirror: list[int],
+                                                                     facing: list[int]) -> None:
+    """Joint 1 mirrors z, which leaves the square where it is: a triangle two or three of whose corners it
+    places is turned round, to face -z, as the mirrored square faces; one of one such corner, or none, is not."""
+    loaded = load_model(written(tmp_path, *mirrored_square(MIRROR_Z, on_mirror)))
+    np.testing.assert_allclose(loaded.positions, SQUARE, atol=1e-6)
+    np.testing.assert_allclose(loaded.face_normals[:, 2], facing, atol=1e-6)
+
+
+def test_a_square_its_joint_mirrors_shows_its_colour_with_culling_on(tmp_path: Path) -> None:
+    """Drawn from its front with back faces culled (b), untextured and lit by the bulb alone (T 0 1), the mirrored
+    square shows its green, as the same square written mirrored, its triangles turned, does; its inside faced the
+    camera, and it was culled to the background."""
+    plain = Parts()
+    document = {"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+                "meshes": [{"primitives": [{"attributes": {"POSITION": plain.add(SQUARE * X_MIRRORED)}, "material": 0,
+                                            "indices": plain.add(np.array([2, 1, 0, 3, 2, 0], np.uint16))}]}],
+                "materials": mirrored_square(MIRROR_X, [])[0]["materials"]}
+    document.update(accessors=plain.accessors, bufferViews=plain.views, buffers=[{"byteLength": len(plain.binary)}])
+    files = (written(tmp_path, *mirrored_square(MIRROR_X, [0, 1, 2, 3]), "mirrored.glb"),
+             written(tmp_path, document, plain.binary, "plain.glb"))
+    pictures = [np.asarray(Image.open(take_screenshot(StartOptions(empty=True, models=(path,)),
+                                                      tmp_path / f"{path.stem}.png", (80, 80), keys="T 0 1 b")))
+                .astype(int) for path in files]
+    middle = pictures[0][40, 40]
+    assert middle[1] > middle[0] + 40 and middle[1] > middle[2] + 40, middle  # green, not the background
+    assert np.abs(pictures[0] - pictures[1]).max() <= 2
+
+
 # --- refused where it enters -----------------------------------------------------------------------
 def edited(edit: Callable[[dict[str, Any]], None], **arrays: Any) -> Callable[[Path], Path]:
     def write(folder: Path) -> Path:

@@ -15,7 +15,14 @@ import numpy as np
 
 from marraztu.errors import LoadError
 from marraztu.loaders.gltf.document import _binary_chunk, _is_data_uri
-from marraztu.loaders.gltf.values import _COMPONENT_DTYPES, _SPARSE_INDEX_BYTES, _item_bytes, _read_accessors
+from marraztu.loaders.gltf.values import (
+    _COMPONENT_DTYPES,
+    _FAN,
+    _SPARSE_INDEX_BYTES,
+    _STRIP,
+    _item_bytes,
+    _read_accessors,
+)
 
 _CHECKED_ITEMS = 1 << 16  # an accessor's items looked at at once: their temporaries stay small
 
@@ -84,6 +91,40 @@ def _item_values(items: np.ndarray, accessor: dict[str, Any]) -> np.ndarray:
     if accessor.get("normalized") is True and accessor["componentType"] in _NORMALIZED:
         return _as_fractions(items, accessor)[0]
     return np.ascontiguousarray(items).view(_COMPONENT_DTYPES[accessor["componentType"]])
+
+
+_UINT32_COMPONENTS = 5125
+
+
+def _corners(path: Path, document: dict[str, Any], primitive: dict[str, Any], vertices: int,
+             buffer: Callable[[int], bytes | memoryview]) -> np.ndarray:
+    """A primitive's corners in order, uint32: its indices, or its vertices in theirs where it has none."""
+    if "indices" not in primitive:
+        return np.arange(vertices, dtype=np.uint32)
+    return _values(path, document, primitive["indices"], buffer).ravel().astype(np.uint32)
+
+
+def _fan_triangles(corners: np.ndarray) -> np.ndarray:
+    """(corners - 2, 3) uint32, C-ordered: the first corner with each corner and the one after it."""
+    triangles = np.empty((len(corners) - 2, 3), np.uint32)
+    triangles[:, 0], triangles[:, 1], triangles[:, 2] = corners[0], corners[1:-1], corners[2:]
+    return triangles
+
+
+def _triangles(path: Path, document: dict[str, Any], primitive: dict[str, Any],
+               buffer: Callable[[int], bytes | memoryview]) -> np.ndarray:
+    """(triangles, 3) uint32, writable: the triangles of a checked primitive that draws faces, as trimesh makes
+    them of triangles and strips (each other triangle of a strip turned round) and glTF of a fan."""
+    mode = primitive.get("mode")
+    corners = _corners(path, document, primitive, document["accessors"][primitive["attributes"]["POSITION"]]["count"],
+                       buffer)
+    if mode == _FAN:
+        return _fan_triangles(corners)
+    if mode == _STRIP:
+        from trimesh.util import triangle_strips_to_faces  # trimesh's own rule, so the turned strip draws as it did
+
+        return triangle_strips_to_faces([corners]).astype(np.uint32)
+    return corners.reshape(-1, 3)
 
 
 class _MadeBuffer:

@@ -16,8 +16,11 @@ import numpy as np
 from marraztu.errors import LoadError
 from marraztu.loaders.gltf.accessors import (
     _CHECKED_ITEMS,
+    _UINT32_COMPONENTS,
     _as_fractions,
     _BufferBytes,
+    _corners,
+    _fan_triangles,
     _items,
     _MadeBuffer,
     _normalized_read,
@@ -269,9 +272,6 @@ def _accessors_made_plain(path: Path, document: dict[str, Any], buffer: Callable
     return True
 
 
-_UINT32_COMPONENTS = 5125
-
-
 def _fans_made_triangles(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview]) -> bool:
     """Makes each triangle fan (glTF's mode 6) of three corners or more a primitive of its triangles, as
     glTF draws it (the first corner with each next two), their indices in a buffer appended as a data:
@@ -282,7 +282,7 @@ def _fans_made_triangles(path: Path, document: dict[str, Any], buffer: Callable[
     for primitive, vertices in _drawn_fans(document):
         fanned = (primitive.get("indices"), vertices)
         if fanned not in made_for:
-            triangles = _fan_triangles(_fan_corners(path, document, primitive, vertices, buffer))
+            triangles = _fan_triangles(_corners(path, document, primitive, vertices, buffer))
             made_for[fanned] = made.accessor(triangles.reshape(-1), {"componentType": _UINT32_COMPONENTS,
                                                                      "type": "SCALAR"})
         primitive["mode"], primitive["indices"] = _TRIANGLES, made_for[fanned]
@@ -300,21 +300,6 @@ def _drawn_fans(document: dict[str, Any]) -> Iterator[tuple[dict[str, Any], int]
         for primitive in mesh["primitives"]:
             if primitive.get("mode", _TRIANGLES) == _FAN and _draws_faces(accessors, primitive):
                 yield primitive, accessors[primitive["attributes"]["POSITION"]]["count"]
-
-
-def _fan_corners(path: Path, document: dict[str, Any], primitive: dict[str, Any], vertices: int,
-                 buffer: Callable[[int], bytes | memoryview]) -> np.ndarray:
-    """A fan's corners in order, uint32: its indices, or its vertices in theirs where it has none."""
-    if "indices" not in primitive:
-        return np.arange(vertices, dtype=np.uint32)
-    return _values(path, document, primitive["indices"], buffer).ravel().astype(np.uint32)
-
-
-def _fan_triangles(corners: np.ndarray) -> np.ndarray:
-    """(corners - 2, 3) uint32, C-ordered: the first corner with each corner and the one after it."""
-    triangles = np.empty((len(corners) - 2, 3), np.uint32)
-    triangles[:, 0], triangles[:, 1], triangles[:, 2] = corners[0], corners[1:-1], corners[2:]
-    return triangles
 
 
 def _meshes_of_nothing_taken_off(document: dict[str, Any]) -> bool:

@@ -13,12 +13,20 @@ from typing import Any
 import numpy as np
 
 from marraztu.errors import LoadError
-from marraztu.loaders.gltf.accessors import _CHECKED_ITEMS, _MadeBuffer, _values, _values_in_blocks
-from marraztu.loaders.gltf.counts import _placed_node_numbers
+from marraztu.loaders.gltf.accessors import (
+    _CHECKED_ITEMS,
+    _UINT32_COMPONENTS,
+    _MadeBuffer,
+    _triangles,
+    _values,
+    _values_in_blocks,
+)
+from marraztu.loaders.gltf.counts import _draws_faces, _placed_node_numbers, _primitive_size
 from marraztu.loaders.gltf.morphs import _BASE_SHAPE, _MORPHED_ITEM_BYTES, MorphedShapes
 from marraztu.loaders.gltf.values import (
     _FLOAT_COMPONENTS,
     _SKIN_SETS,
+    _TRIANGLES,
     _draco_attributes,
     _draco_decoder,
     _is_drawn,
@@ -31,6 +39,7 @@ from marraztu.model.mesh import counted
 
 # What a skin makes and reads besides its vertices: a joint's matrix and its node's placement (4x4 float64s).
 _JOINT_BYTES = 2 * 16 * 8
+_TURNED_TRIANGLE_BYTES = 3 * 4  # a triangle whose winding is turned round: its corners made uint32s
 
 
 _AFFINE_ROW, _AFFINE_TOLERANCE = np.array([0.0, 0.0, 0.0, 1.0]), 1e-6  # an inverse bind matrix's last row
@@ -100,11 +109,13 @@ def _draco_skinned(mesh: dict[str, Any]) -> int | None:
 
 def _skinning_bytes(accessors: list[dict[str, Any]], mesh: dict[str, Any]) -> int:
     """What skinning a mesh reads and writes, in _MORPHED_ITEM_BYTES a vertex: for each drawn primitive its
-    POSITION, its skinned positions, and each JOINTS_n and WEIGHTS_n set."""
+    POSITION, its skinned positions, and each JOINTS_n and WEIGHTS_n set; and its triangles, should its joints
+    mirror them (_Skinning.faces_turned)."""
     total = 0
     for primitive in filter(_is_drawn, mesh["primitives"]):
         sets = len(_skin_sets(primitive["attributes"]))
         total += _MORPHED_ITEM_BYTES * accessors[primitive["attributes"]["POSITION"]]["count"] * (2 + 2 * sets)
+        total += _TURNED_TRIANGLE_BYTES * (_primitive_size(accessors, primitive) or (0, 0))[0]
     return total
 
 
@@ -177,6 +188,8 @@ class _Skinning:
         self.sources: dict[int, dict[str, Any]] = {}  # each mesh as the file gives it, before its place is taken
         self.meshes: dict[tuple[int, int], int] = {}  # (mesh, skin) -> its skinned copy
         self.positions: dict[tuple[Any, ...], int] = {}  # (POSITION, its sets, skin) -> the accessor skinned
+        self.mirrored: dict[int, np.ndarray] = {}  # an accessor skinned -> its vertices mirrored, where some are
+        self.turned: dict[tuple[Any, ...], int | None] = {}  # (indices, mode, accessor skinned) -> turned triangles
         self.matrices: dict[int, np.ndarray] = {}  # skin -> its joints' matrices
         self.places = _WorldTransforms(document)
         # each skinned primitive's JOINTS_n and WEIGHTS_n -> its vertices weighted by no joint: (count, first, what)
@@ -203,6 +216,7 @@ class _Skinning:
                 del attributes[name]  # read here, not by trimesh
             if _is_drawn(original):
                 attributes["POSITION"] = self.position(original, skin, f"{named}'s primitive {primitive_number}")
+                self.faces_turned(primitive, original)
         return self.meshes[number, skin]
 
     def position(self, primitive: dict[str, Any], skin: int, what: str) -> int:
@@ -214,11 +228,33 @@ class _Skinning:
         if key not in self.positions:
             if skin not in self.matrices:
                 self.matrices[skin] = _joint_matrices(self.path, self.document, skin, self.buffer, self.places)
-            placed, unweighted = _skinned_positions(self.path, self.document, attributes, sets, self.matrices[skin],
-                                                    self.buffer, f"{what}, skinned by skin {skin}")
+            placed, mirrored, unweighted = _skinned_positions(self.path, self.document, attributes, sets,
+                                                              self.matrices[skin], self.buffer,
+                                                              f"{what}, skinned by skin {skin}")
             self.unweighted.setdefault(weights, (*unweighted, what))  # its vertices counted once, however skinned
             self.positions[key] = self.made.accessor(placed, {"componentType": _FLOAT_COMPONENTS, "type": "VEC3"})
+            if mirrored.any():
+                self.mirrored[self.positions[key]] = mirrored
         return self.positions[key]
+
+    def faces_turned(self, primitive: dict[str, Any], source: dict[str, Any]) -> None:
+        """Turns round each triangle of a skinned primitive (`source`, as the file gives it) where two or three of
+        its corners are placed by a blend of their joints' matrices that mirrors (of negative determinant), as
+        glTF turns round the triangles of a mirroring node: the primitive made one of triangles, of the same
+        corners in the same order, once for its indices and skinned positions. A Draco primitive's indices are
+        its stream's, which trimesh decodes: left as they are."""
+        mirrored = self.mirrored.get(primitive["attributes"]["POSITION"])
+        if mirrored is None or _draco_attributes(source) or not _draws_faces(self.document["accessors"], source):
+            return
+        key = (source.get("indices"), source.get("mode", _TRIANGLES), primitive["attributes"]["POSITION"])
+        if key not in self.turned:
+            triangles = _triangles(self.path, self.document, source, self.buffer)
+            turned = mirrored[triangles].sum(axis=1) >= 2
+            triangles[turned] = triangles[turned, ::-1]
+            self.turned[key] = self.made.accessor(triangles.reshape(-1), {
+                "componentType": _UINT32_COMPONENTS, "type": "SCALAR"}) if turned.any() else None
+        if self.turned[key] is not None:
+            primitive["mode"], primitive["indices"] = _TRIANGLES, self.turned[key]
 
 
 def _joint_matrices(path: Path, document: dict[str, Any], number: int, buffer: Callable[[int], bytes | memoryview],
@@ -248,10 +284,11 @@ def _joint_matrices(path: Path, document: dict[str, Any], number: int, buffer: C
 
 def _skinned_positions(path: Path, document: dict[str, Any], attributes: dict[str, Any], sets: list[str],
                        matrices: np.ndarray, buffer: Callable[[int], bytes | memoryview], what: str
-                       ) -> tuple[np.ndarray, tuple[int, int]]:
+                       ) -> tuple[np.ndarray, np.ndarray, tuple[int, int]]:
     """(vertices, 3) float32: each vertex's POSITION through its joints' `matrices`, weighed by its weights,
-    which are made to add up to 1 (as three.js's glTF reader does: quantized weights add up to nearly 1); and
-    how many vertices are weighted by no joint, with the first (-1: none). Such a vertex takes weight 1 on
+    which are made to add up to 1 (as three.js's glTF reader does: quantized weights add up to nearly 1); which
+    vertices that blend of matrices mirrors ((vertices,) bool); and how many vertices are weighted by no joint,
+    with the first (-1: none). Such a vertex takes weight 1 on
     its JOINTS_0's first joint, as three.js's normalizeSkinWeights gives it (a set's values: _checked_weights,
     _checked_joints). A block of vertices at a time, its sets widened (intp joints, float64 weights) for that
     block alone: whole, they held several times the file's."""
@@ -259,7 +296,7 @@ def _skinned_positions(path: Path, document: dict[str, Any], attributes: dict[st
     positions = _values_in_blocks(path, document, attributes["POSITION"], buffer)
     read = [(n, _values_in_blocks(path, document, attributes[f"JOINTS_{n}"], buffer),
              _values_in_blocks(path, document, attributes[f"WEIGHTS_{n}"], buffer)) for n in sets]
-    placed = np.empty((count, 3), np.float32)
+    placed, mirrored = np.empty((count, 3), np.float32), np.empty(count, bool)
     unweighted, first = 0, -1
     for low in range(0, count, _CHECKED_ITEMS):
         block = slice(low, low + _CHECKED_ITEMS)
@@ -275,11 +312,12 @@ def _skinned_positions(path: Path, document: dict[str, Any], attributes: dict[st
                    for n, (joints, weights) in widened.items()]
         with np.errstate(all="ignore"):  # past float's range: refused below
             placed[block] = _weighed_sum(positions(block).astype(np.float64), weighed, matrices) / total[:, None]
+            mirrored[block] = _mirroring(weighed, matrices)
     unheld = ~np.isfinite(placed).all(axis=1)
     if unheld.any():
         raise LoadError(path, f"{what}: vertex {np.argmax(unheld)} is placed by its joints at a coordinate that is not "
                               "a finite number (their transforms take it past float's range)")
-    return placed, (unweighted, first)
+    return placed, mirrored, (unweighted, first)
 
 
 def _first_joint_weighted(path: Path, joints: np.ndarray, weights: np.ndarray, none: np.ndarray, joint_count: int,
@@ -304,6 +342,16 @@ def _weighed_sum(positions: np.ndarray, weighed: list[tuple[np.ndarray, np.ndarr
             moved += weights[:, column, None] * (np.einsum("vij,vj->vi", gathered[:, :, :3], positions)
                                                  + gathered[:, :, 3])
     return moved
+
+
+def _mirroring(weighed: list[tuple[np.ndarray, np.ndarray]], matrices: np.ndarray) -> np.ndarray:
+    """(vertices,) bool: whether the sum of each vertex's weights times its joints' matrices mirrors it, its
+    determinant below 0 (their sum, not made to add up to 1: a scale by more than 0 keeps the sign)."""
+    blended = np.zeros((len(weighed[0][0]), 3, 3))
+    for joints, weights in weighed:
+        for column in range(joints.shape[1]):
+            blended += weights[:, column, None, None] * matrices[joints[:, column], :, :3]
+    return np.linalg.det(blended) < 0
 
 
 def _checked_weights(path: Path, n: str, weights: np.ndarray, what: str, low: int) -> np.ndarray:
