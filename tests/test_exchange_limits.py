@@ -26,7 +26,7 @@ from marraztu.control.viewer import StartOptions
 from marraztu.errors import LoadError, shortened
 from marraztu.frontends.screenshot import take_screenshot
 from marraztu.loaders import exchange, gltf, images
-from marraztu.loaders.gltf import checks, counts, morphs, rewrite
+from marraztu.loaders.gltf import accessors, checks, counts, morphs, rewrite
 from marraztu.loaders.images import MAX_JPEG_SCANS, MAX_PIXELS
 from marraztu.loaders.ply import read_header, vertices_and_faces
 from marraztu.loaders.registry import load_model
@@ -1579,6 +1579,28 @@ def test_a_primitives_sparse_accessors_are_applied(tmp_path: Path, name: str) ->
     assert mesh.corner_vertex.tolist() == [0, 1, 2, 0, 2, 3] and mesh.warnings == ()
     for table in ("positions", "corner_vertex", "corner_uv", "corner_normal"):
         np.testing.assert_array_equal(getattr(mesh, table), getattr(dense, table), err_msg=table)
+
+
+def dense_made_of(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """The accessors made dense from their sparse parts while a test runs, one entry each time."""
+    made: list[int] = []
+    dense = accessors._dense_items
+
+    def counted(path: Path, document: dict[str, Any], number: int, buffer: Callable[[int], bytes]) -> np.ndarray:
+        made.append(number)
+        return dense(path, document, number, buffer)
+
+    monkeypatch.setattr(accessors, "_dense_items", counted)
+    return made
+
+
+def test_a_primitives_sparse_accessors_are_made_dense_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each was made dense to be checked (the positions finite, the indices within them), then again to be handed
+    to trimesh: the positions and indices twice a load."""
+    made = dense_made_of(monkeypatch)
+    mesh = load_model(written_gltf(tmp_path, "quad.glb", *sparse_quad()))
+    np.testing.assert_array_equal(mesh.positions, [[-1, -1, 0], [1, -1, 0], [0, 0, 0], [-1, 1, 0]])
+    assert sorted(made) == [0, 1, 2]
 
 
 def test_a_sparse_corner_is_drawn_where_it_was_moved(tmp_path: Path) -> None:

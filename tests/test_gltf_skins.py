@@ -188,6 +188,29 @@ def test_morph_targets_shape_the_mesh_before_its_skin_places_it(tmp_path: Path) 
     assert loaded.warnings == ()
 
 
+def test_a_sparse_position_skinned_is_made_dense_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The strip's POSITION, its top right corner moved by a sparse item, was made dense to be checked, then again
+    to be skinned."""
+    from marraztu.loaders.gltf import accessors
+
+    unmoved = STRIP.copy()
+    unmoved[2] = 0  # the base: the top right corner at the origin, moved back by the sparse item
+    document, binary = skinned_document()
+    parts = Parts()
+    parts.binary, parts.views, parts.accessors = binary, document["bufferViews"], document["accessors"]
+    where, value = (parts.accessors[parts.add(part)]["bufferView"] for part in (np.array([2], np.uint16), STRIP[2:3]))
+    document["accessors"][0]["sparse"] = {"count": 1, "indices": {"bufferView": where, "componentType": 5123},
+                                          "values": {"bufferView": value}}
+    document["buffers"][0]["byteLength"] = len(parts.binary)
+    binary = unmoved.tobytes() + parts.binary[unmoved.nbytes:]  # accessor 0's view is the first
+    made: list[int] = []
+    dense = accessors._dense_items
+    monkeypatch.setattr(accessors, "_dense_items", lambda *args: (made.append(args[2]), dense(*args))[1])
+    loaded = load_model(written(tmp_path, document, binary))
+    np.testing.assert_allclose(loaded.positions, BENT, atol=1e-6)
+    assert made == [0]
+
+
 def test_a_gltf_of_no_skin_is_handed_to_trimesh_as_it_is(tmp_path: Path) -> None:
     document, binary = skinned_document()
     del document["nodes"][0]["skin"], document["skins"]

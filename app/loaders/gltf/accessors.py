@@ -47,6 +47,11 @@ class _BufferBytes:
             self.read[number] = held
         return self.read[number]
 
+    def made_here(self, made: _MadeBuffer) -> None:
+        """Appends `made`'s buffer to the document, its bytes read from here, not decoded again from its data: URI."""
+        made.append()
+        self.read[made.number] = memoryview(made.made)
+
     def _held(self, uri: object, number: int) -> bytes | memoryview:
         if not isinstance(uri, str):  # a GLB's own buffer
             return _binary_chunk(self.data) if self.file_type == "glb" and number == 0 else b""

@@ -629,7 +629,7 @@ def check_geometry_readable(path: Path, document: dict[str, Any]) -> None:
 
 def _required_extension_read(name: object) -> bool:
     """Extensions a file may require and still be drawn as it means: Draco with its decoder, quantized
-    attributes (normalized ones made floats for trimesh: _accessors_made_plain), the base colour texture's
+    attributes (normalized ones made floats for trimesh: _fractions_made_floats), the base colour texture's
     transform (_texture_transforms_applied; other textures are not drawn), a specular-glossiness material's
     diffuse colour (its base colour), the default materials of variants (what glTF draws where none is
     chosen), emission's strength and unlit materials (notes of their own: _emission_notes, _unlit_notes), and

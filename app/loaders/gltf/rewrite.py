@@ -84,12 +84,13 @@ def as_trimesh_reads(path: Path, data: bytes, document: dict[str, Any], file_typ
         _uv_sets_chosen(document),
     ]
     buffers = _BufferBytes(path, data, document, file_type, read_beside)
+    rewritten.append(_sparse_made_dense(path, document, buffers))  # before all that read them: made dense once
     _check_drawn_values(path, document, buffers)
     rewritten += [  # in this order, each where the one before leaves the document
         shapes is not None and _shapes_made(path, document, buffers, shapes),  # before: its POSITIONs are plain
         skins is not None and _skins_applied(path, document, buffers, skins,  # after: glTF skins the shape
                                              [] if notes is None else notes),
-        _accessors_made_plain(path, document, buffers),
+        _fractions_made_floats(path, document, buffers),
         _texture_transforms_applied(path, document, buffers),  # after: it reads plain coordinates
         _fans_made_triangles(path, document, buffers),  # after: it reads plain indices
         _meshes_of_nothing_taken_off(document),  # after: a fan of triangles is something
@@ -250,23 +251,35 @@ def _first_item(items: np.ndarray, kind: str, wrong: Callable[[np.ndarray], np.n
     return None
 
 
-def _accessors_made_plain(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview]) -> bool:
-    """Makes the accessors the primitives read ones trimesh reads as glTF means them, in a buffer
-    appended as a data: URI: a sparse one dense (its base, its view's items or zeros, with the listed
-    items replaced), and positions or texture coordinates stored as normalized integers (as
-    KHR_mesh_quantization writes them) floats. trimesh reads no sparse values, and reads normalized
-    integers as the integers (255 where 1 was meant). False where there is none."""
-    accessors, read = document.get("accessors", []), _read_by_primitives(document)
-    fractions = _normalized_read(document)
-    plain = sorted({index for index in read if "sparse" in accessors[index]} | fractions)
-    if not plain:
+def _sparse_made_dense(path: Path, document: dict[str, Any], buffers: _BufferBytes) -> bool:
+    """Makes each sparse accessor the primitives read dense (its base, its view's items or zeros, with the
+    listed items replaced), in a buffer appended as a data: URI whose bytes `buffers` keeps: trimesh reads no
+    sparse values. Once, before the checks, shapes and skins read them (each made its own dense copy). False
+    where there is none."""
+    accessors = document.get("accessors", [])
+    sparse = sorted(index for index in _read_by_primitives(document) if "sparse" in accessors[index])
+    if not sparse:
         return False
     made = _MadeBuffer(document)
-    for index in plain:
-        items, accessor = _items(path, document, index, buffer), accessors[index]
-        if index in fractions:
-            items, accessor = _as_fractions(items, accessor)
-        kept = {key: value for key, value in accessor.items() if key not in ("sparse", "byteOffset")}
+    for index in sparse:
+        kept = {key: value for key, value in accessors[index].items() if key not in ("sparse", "byteOffset")}
+        accessors[index] = {**kept, "bufferView": made.view(_items(path, document, index, buffers))}
+    buffers.made_here(made)
+    return True
+
+
+def _fractions_made_floats(path: Path, document: dict[str, Any], buffer: Callable[[int], bytes | memoryview]) -> bool:
+    """Makes the positions, texture coordinates (and colours of shorts: _normalized_read) the primitives read
+    that are stored as normalized integers (as KHR_mesh_quantization writes them) floats, in a buffer appended
+    as a data: URI: trimesh reads normalized integers as the integers (255 where 1 was meant). False where
+    there is none."""
+    accessors, fractions = document.get("accessors", []), sorted(_normalized_read(document))
+    if not fractions:
+        return False
+    made = _MadeBuffer(document)
+    for index in fractions:
+        items, accessor = _as_fractions(_items(path, document, index, buffer), accessors[index])
+        kept = {key: value for key, value in accessor.items() if key != "byteOffset"}
         accessors[index] = {**kept, "bufferView": made.view(items)}
     made.append()
     return True
