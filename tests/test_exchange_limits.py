@@ -1111,6 +1111,30 @@ def test_a_required_gltf_extension_of_lights_or_shading_loads_with_a_note(
     assert mesh.warnings == (() if note is None else (note,))
 
 
+@pytest.mark.parametrize(("variants", "note"), [
+    (3, "3 material variants (KHR_materials_variants) are not offered: each mesh is drawn with its default material"),
+    (1, "1 material variant (KHR_materials_variants) is not offered: each mesh is drawn with its default material"),
+    (0, None),
+])
+def test_a_files_material_variants_are_a_note_its_default_material_drawn(tmp_path: Path, variants: int,
+                                                                         note: str | None) -> None:
+    """A textured triangle whose variants map it to a blue material of no picture: drawn with its default,
+    textured material, as glTF draws it where no variant is chosen; the variants, not offered, were read past
+    without a word."""
+    document, binary = triangle_gltf([{"mesh": 0}], [0], picture=picture_file((2, 2), "PNG"))
+    document["materials"].append({"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 1, 1]}})
+    document["extensionsUsed"] = ["KHR_materials_variants"]
+    document["extensions"] = {"KHR_materials_variants": {"variants": [{"name": f"v{at}"} for at in range(variants)]}}
+    mappings = [{"material": 1, "variants": list(range(variants))}] if variants else []
+    document["meshes"][0]["primitives"][0]["extensions"] = {"KHR_materials_variants": {"mappings": mappings}}
+    path = tmp_path / "variants.glb"
+    path.write_bytes(glb(document, binary))
+    mesh = load_model(path)
+    (material,) = mesh.materials
+    assert material.texture is not None and material.texture[0, 0].tolist() == [200, 40, 40]
+    assert mesh.warnings == (() if note is None else (note,))
+
+
 def test_a_long_required_gltf_extension_is_named_shortened(tmp_path: Path) -> None:
     document, binary = triangle_gltf([{"mesh": 0}], [0])
     document["extensionsRequired"] = ["EXT_" + "e" * 100]

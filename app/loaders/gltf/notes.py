@@ -1,5 +1,5 @@
 """What trimesh draws otherwise than the file says, in notes: the primitives it does not draw, colours
-outside 0 to 1, emission, normal maps, unlit materials and texture transforms.
+outside 0 to 1, emission, normal maps, unlit materials, texture transforms and material variants.
 """
 
 from __future__ import annotations
@@ -11,6 +11,7 @@ from marraztu.loaders.gltf.values import (
     _LINE_LOOP,
     _LINE_STRIP,
     _LINES,
+    _MATERIALS_VARIANTS,
     _POINTS,
     _TEXTURE_TRANSFORM,
     _TRIANGLES,
@@ -32,11 +33,12 @@ def unfaithful_notes(document: dict[str, Any], undrawn: list[str]) -> list[str]:
     primitives it reads no faces of (`undrawn`, its undrawn_primitive_notes, which the placement check has
     read already), base colours outside 0..1 it holds to it, and base colour textures' transforms of the
     Draco-compressed coordinates it decodes over those moved; and emission and normal maps, which SPEC 4's
-    lighting has no term for, unlit materials, which it lights, and the lights and shading the file requires
-    that it has no term for either. (Weights that cannot shape a mesh: MorphedShapes.notes.)"""
+    lighting has no term for, unlit materials, which it lights, the lights and shading the file requires
+    that it has no term for either, and material variants, which it does not offer. (Weights that cannot shape
+    a mesh: MorphedShapes.notes.)"""
     return [*undrawn, *_outside_colour_notes(document), *_texture_transform_notes(document),
             *_emission_notes(document), *_normal_map_notes(document), *_unlit_notes(document),
-            *_undrawn_extension_notes(document)]
+            *_undrawn_extension_notes(document), *_variant_notes(document)]
 
 
 # The modes of primitive no face is made of, by what a note calls them.
@@ -133,3 +135,13 @@ def _undrawn_extension_notes(document: dict[str, Any]) -> list[str]:
     names = ", ".join(undrawn[:-1]) + " and " + undrawn[-1] if len(undrawn) > 1 else undrawn[0]
     return [f"{names}, which the file requires, {'is' if len(undrawn) == 1 else 'are'} not drawn: the viewer's "
             "own lights and Phong shading stand in"]
+
+
+def _variant_notes(document: dict[str, Any]) -> list[str]:
+    """The file's material variants (KHR_materials_variants, as a product's colours are written), which the
+    viewer does not offer: each primitive is drawn with its own material, what glTF draws where none is chosen."""
+    variants = _listed(_nested(document, ("extensions", _MATERIALS_VARIANTS)).get("variants"))
+    if not variants:
+        return []
+    return [f"{counted(len(variants), 'material variant')} ({_MATERIALS_VARIANTS}) "
+            f"{'is' if len(variants) == 1 else 'are'} not offered: each mesh is drawn with its default material"]

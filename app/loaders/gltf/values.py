@@ -151,9 +151,10 @@ def _drawn_uv_set(material: dict[str, Any]) -> int:
 
 _TEXTURE_TRANSFORM = "KHR_texture_transform"
 
+_MATERIALS_VARIANTS = "KHR_materials_variants"  # its default materials drawn, its variants a note
 # Extensions a file may require that are read as it means them (checks._required_extension_read).
 _READ_EXTENSIONS = ("KHR_draco_mesh_compression", "KHR_mesh_quantization", _TEXTURE_TRANSFORM,
-                    _SPECULAR_GLOSSINESS, "KHR_materials_variants",
+                    _SPECULAR_GLOSSINESS, _MATERIALS_VARIANTS,
                     "KHR_materials_emissive_strength", "KHR_materials_unlit")
 
 
