@@ -93,7 +93,8 @@ def drawn_text(ctx, overlay, text: str) -> np.ndarray:
         ctx.enable(moderngl.BLEND)
         ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
         overlay.text["u_viewport"].value = size
-        overlay._line(text, CELL_PX[0] * 1.5, size[1] / 2)
+        overlay._fit_text_to(size)
+        overlay._line(text, CELL_PX[0] * 1.5, size[1] / 2, overlay.sizes.lines)
         ctx.disable(moderngl.BLEND)
         return read_pixels(fbo, size)[..., 0] / 255.0
 
@@ -129,9 +130,9 @@ def test_the_right_hand_panel_is_fitted_to_a_small_window(tmp_path, monkeypatch,
     blocks: list[tuple[list[str], float, float, float]] = []
     real = overlay_module.Overlay._block
 
-    def spied(self, lines, left, top, line_height=overlay_module.PANEL_LINE_HEIGHT_PX):
-        blocks.append((lines, left, top, top - 2 * overlay_module.MARGIN_PX - line_height * len(lines)))
-        return real(self, lines, left, top, line_height)
+    def spied(self, lines, left, top, lettering):
+        blocks.append((lines, left, top, top - self.sizes.block_height(len(lines), lettering)))
+        return real(self, lines, left, top, lettering)
 
     monkeypatch.setattr(overlay_module.Overlay, "_block", spied)
     take_screenshot(StartOptions(), tmp_path / "shot.png", (320, 320), keys=keys, overlay=True)
@@ -152,9 +153,9 @@ def _blocks_and_labels(tmp_path, monkeypatch, keys: str, size: tuple[int, int] =
     labels: list[tuple[float, float]] = []
     real_block, real_label = overlay_module.Overlay._block, overlay_module.Overlay._label
 
-    def spied_block(self, lines, left, top, line_height=overlay_module.PANEL_LINE_HEIGHT_PX):
-        blocks.append((lines, left, top, top - 2 * overlay_module.MARGIN_PX - line_height * len(lines)))
-        return real_block(self, lines, left, top, line_height)
+    def spied_block(self, lines, left, top, lettering):
+        blocks.append((lines, left, top, top - self.sizes.block_height(len(lines), lettering)))
+        return real_block(self, lines, left, top, lettering)
 
     def spied_label(self, label):
         labels.append((label.x, label.y))
@@ -192,11 +193,11 @@ def _drawn_lines(tmp_path, monkeypatch, keys: str, size: tuple[int, int], models
     drawn: list[tuple[str, float, float, float, float]] = []
     real = overlay_module.Overlay._line
 
-    def spied(self, text, x, y, line_height=overlay_module.LINE_HEIGHT_PX):
-        width, height = self.fonts[line_height].cell
+    def spied(self, text, x, y, lettering):
+        width, height = lettering.cell
         left, bottom = round(x - width / 2.0), round(y - height / 2.0)
         drawn.append((text, left, left + width * len(text), bottom, bottom + height))
-        return real(self, text, x, y, line_height)
+        return real(self, text, x, y, lettering)
 
     monkeypatch.setattr(overlay_module.Overlay, "_line", spied)
     options = StartOptions(empty=True, models=models) if models else StartOptions()
@@ -254,11 +255,12 @@ def test_side_by_side_titles_stay_in_their_third(tmp_path, monkeypatch, size: tu
         assert third * size[0] / 3 <= left and right <= (third + 1) * size[0] / 3, (text, left, right)
 
 
-def test_with_the_matrices_panel_up_the_probe_panel_moves_up_under_it_where_there_is_room(tmp_path,
-                                                                                     monkeypatch) -> None:
+@pytest.mark.parametrize("size", [(800, 1100), (1000, 1400)])
+def test_with_the_matrices_panel_up_the_probe_panel_moves_up_under_it_where_there_is_room(
+        tmp_path, monkeypatch, size: tuple[int, int]) -> None:
     """The top was the matrices panel's, so the probe panel stayed over its face even where the room
-    under the matrices panel left the face clear."""
-    blocks, labels = _blocks_and_labels(tmp_path, monkeypatch, "F 0 c t y*6 c c i ENTER*40 m", (1000, 1100))
+    under the matrices panel left the face clear (1000x1400 draws the text 1.25 times as large)."""
+    blocks, labels = _blocks_and_labels(tmp_path, monkeypatch, "F 0 c t y*6 c c i ENTER*40 m", size)
     matrices = next(block for block in blocks if block[0][0].startswith("MATRICES"))
     _, _, top, bottom = next(block for block in blocks if block[0][0].startswith("PROBE"))
     assert top == matrices[3] and labels and not [(x, y) for x, y in labels if bottom <= y <= top]
@@ -325,3 +327,96 @@ def test_the_status_line_gives_way_only_to_panels_that_then_have_room(tmp_path, 
     drawn = [text for text, *_ in _drawn_lines(tmp_path, monkeypatch, "s i m c c g", (1200, 100))]
     assert any(text.startswith("target lights") for text in drawn), drawn
     assert not any("more lines" in text for text in drawn), drawn
+
+
+# --- text as large, to the eye, on a projector's framebuffer -------------------------------------
+def _status_band(tmp_path, size: tuple[int, int]) -> np.ndarray:
+    """The overlay over an empty scene (a plain background): the rows of the status line's first line,
+    as the white text's coverage, rows top first."""
+    from PIL import Image
+
+    from marraztu.control.viewer import StartOptions
+    from marraztu.frontends.screenshot import take_screenshot
+    from marraztu.render.overlay import text_sizes
+
+    shot = take_screenshot(StartOptions(empty=True), tmp_path / f"{size[0]}x{size[1]}.png", size, overlay=True)
+    sizes = text_sizes(size)
+    pixels = np.asarray(Image.open(shot).convert("RGB"))
+    return pixels[:int(sizes.margin + sizes.lines.line_height), :, 0] / 255.0
+
+
+def _ink_rows(band: np.ndarray) -> int:
+    """How many rows, from the first to the last, hold a pixel of the text at least half covered."""
+    inked = np.flatnonzero((band > 0.5).any(axis=1))
+    return int(inked[-1] - inked[0] + 1)
+
+
+@pytest.mark.parametrize("size, scale", [((1920, 1080), 1.35), ((1600, 1200), 1.5), ((3840, 2160), 2.7)])
+def test_the_text_grows_with_the_framebuffer_s_shorter_side(tmp_path, size: tuple[int, int], scale: float) -> None:
+    """At 1920x1080, on a projector, the status line was drawn 14 pixels high, as in an 800x600 window:
+    unreadable from the back of a room. Its letters now stand `scale` times as high, and as solid."""
+    small, large = _status_band(tmp_path, (800, 600)), _status_band(tmp_path, size)
+    # Within a pixel, and half a pixel of the small text's rounding grown by the scale.
+    assert abs(_ink_rows(large) - scale * _ink_rows(small)) <= 1.0 + scale / 2, (_ink_rows(small), _ink_rows(large))
+    # Drawn pixel for pixel from an atlas made at that size, not stretched: as many solid pixels per
+    # letter area, where a stretched small font would smear into grey.
+    solid_share = [(band > 0.9).sum() / (band > 0.1).sum() for band in (small, large)]
+    assert solid_share[1] >= 0.9 * solid_share[0], solid_share
+
+
+@pytest.mark.parametrize("size", [(480, 300), (640, 480), (720, 680), (800, 800), (800, 900), (1200, 480),
+                                  (801, 801)])
+def test_up_to_800_pixels_on_the_shorter_side_the_text_is_drawn_as_at_800x600(tmp_path,
+                                                                              size: tuple[int, int]) -> None:
+    """The docs' pictures keep their pixels: the status line's first characters are the same pixels
+    at every size whose shorter side is at most 800 (801 rounds to the same cells)."""
+    columns = 30  # fit every size's first line, however it wraps
+    width = 6 + 7 * columns
+    expected = _status_band(tmp_path, (800, 600))[:, :width]
+    assert np.array_equal(_status_band(tmp_path, size)[:, :width], expected)
+    assert not np.array_equal(_status_band(tmp_path, (1920, 1080))[:expected.shape[0], :width], expected)
+
+
+def test_text_sizes_are_those_at_800_pixels_times_the_scale_rounded() -> None:
+    from marraztu.render.overlay import CELL_PX, LINE_HEIGHT_PX, MARGIN_PX, PANEL_CELL_PX, Lettering, text_sizes
+
+    assert text_sizes((800, 600)) == text_sizes((16384, 800)) == text_sizes((1, 1))
+    assert text_sizes((800, 600)).lines == Lettering(CELL_PX, LINE_HEIGHT_PX)
+    assert text_sizes((800, 600)).panels.cell == PANEL_CELL_PX and text_sizes((800, 600)).margin == MARGIN_PX
+    big = text_sizes((1920, 1080))  # 1.35 times
+    assert big.lines == Lettering((9, 19), 22.0) and big.panels == Lettering((8, 18), 20.0)
+    assert (big.margin, big.label_padding) == (8.0, 3.0)
+
+
+@pytest.mark.parametrize("size", [(1920, 1080), (1600, 1200), (1000, 2400)])
+@pytest.mark.parametrize("keys", ["h", "F 0 i ENTER*40 P m", "s i m", "F 0 c t y*6 c c i ENTER*40 m"])
+def test_on_a_large_framebuffer_no_block_of_text_covers_another_or_leaves_it(
+        tmp_path, monkeypatch, keys: str, size: tuple[int, int]) -> None:
+    """Lines, backdrops and panels are fitted with the larger text's sizes: none runs off the window
+    (1000x2400 draws at 1.25 times: the probe's lines are cut there) and none covers another."""
+    backdrops = _backdrops(tmp_path, monkeypatch, keys, size)
+    width, height = size
+    assert all(0.0 <= left and 0.0 <= bottom and right <= width and top <= height
+               for left, bottom, right, top in backdrops), backdrops
+    for index, (left, bottom, right, top) in enumerate(backdrops):
+        for other_left, other_bottom, other_right, other_top in backdrops[index + 1:]:
+            apart = right <= other_left or other_right <= left or top <= other_bottom or other_top <= bottom
+            assert apart, backdrops
+    drawn = _drawn_lines(tmp_path, monkeypatch, keys, size)
+    assert not [(text, right) for text, _, right, _, _ in drawn if right > width]
+
+
+def test_on_a_large_framebuffer_the_vertex_labels_grow_and_keep_apart(tmp_path, monkeypatch) -> None:
+    """The labels v1-v4 of x_wing's face 41 in Gouraud, at 1920x1080: in the panels' larger letters,
+    and still clear of each other."""
+    from marraztu.render.overlay import text_sizes
+
+    cell = text_sizes((1920, 1080)).panels.cell
+    drawn = [line for line in _drawn_lines(tmp_path, monkeypatch, "F 0 i ENTER*40", (1920, 1080))
+             if line[0] in ("v1", "v2", "v3", "v4") and line[4] - line[3] == cell[1]]
+    assert len(drawn) == 4
+    for index, (_, left, right, bottom, top) in enumerate(drawn):
+        assert right - left == 2 * cell[0]
+        for text, other_left, other_right, other_bottom, other_top in drawn[index + 1:]:
+            apart = right <= other_left or other_right <= left or top <= other_bottom or other_top <= bottom
+            assert apart, (drawn[index], text)

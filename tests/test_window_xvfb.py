@@ -209,6 +209,41 @@ def test_f9_records_the_pictures_the_keys_draw(display: str, tmp_path: Path) -> 
     assert np.abs(frames[0] - expected).mean() > np.abs(frames[-1] - expected).mean(), "the keys moved it"
 
 
+
+def test_at_1920x1080_the_window_draws_the_screenshot_command_s_larger_text(tmp_path: Path) -> None:
+    """The overlay's text at 1920x1080 is 1.35 times its 800 pixel size, in the window as in
+    `screenshot --overlay`: the screen grabbed under the window, with the help and the probe up, is the
+    command's picture (the tolerance stated above)."""
+    from PIL import ImageGrab, features
+
+    if not features.check("xcb"):
+        pytest.skip("Pillow without XCB cannot grab the screen")
+    size, keys = (1920, 1080), ["F", "0", "i", "h", "h", "m"]
+    with x_server("2000x1200x24") as display:
+        with window_in(display, tmp_path, size) as (window, window_id):
+            xdotool(display, "windowfocus", "--sync", window_id)
+            for key in keys:
+                xdotool(display, "type", "--delay", "60", key)
+            time.sleep(1.0)
+            where = dict(line.split("=") for line in xdotool(display, "getwindowgeometry", "--shell",
+                                                              window_id).split())
+            left, top = int(where["X"]), int(where["Y"])
+            grabbed = ImageGrab.grab(xdisplay=display).crop((left, top, left + size[0], top + size[1]))
+            xdotool(display, "key", "Escape")
+            assert window.wait(timeout=30) == 0
+    expected_path = tmp_path / "expected.png"
+    result = subprocess.run([sys.executable, "-m", "marraztu", "screenshot", "-o", str(expected_path), "--overlay",
+                             "--size", f"{size[0]}x{size[1]}", "--keys", " ".join(keys)],
+                            cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    from_window = np.asarray(grabbed.convert("RGB")).astype(int)
+    expected = np.asarray(Image.open(expected_path).convert("RGB")).astype(int)
+    differing = (np.abs(from_window - expected).max(axis=2) > 2).mean()
+    assert differing <= 0.001, f"{differing:.2%} of the pixels differ"
+    status = expected[:30, :, 0] > 128  # the status line's block at 1.35 times: white text on it
+    inked = np.flatnonzero(status.any(axis=1))
+    assert inked[-1] - inked[0] + 1 >= 14, "the status line's letters are no taller than at 800x600"
+
 # Runs the real window in its own process, counts the frames it draws while left alone, then while
 # keys come, and prints both counts.
 _FRAME_COUNTER = """

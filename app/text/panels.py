@@ -21,7 +21,7 @@ from marraztu.model.mesh import counted
 from marraztu.model.probe import Probe, VertexProbe, probe
 from marraztu.model.scene import CameraMode, Frame, Scene, Shading, Target
 from marraztu.model.viewports import project, view_projection, views
-from marraztu.render.layout import Extras, Label
+from marraztu.render.layout import Extras, Label, scaled_px
 from marraztu.text.numbers import aligned_columns, fixed, matrix_entries, position_decimals
 from marraztu.text.pipeline import lens_numbers, lens_shape, pipeline_lines
 
@@ -35,7 +35,7 @@ COLUMNS = (("light", 18), ("L", 20), ("H", 20), ("N.L", 7), ("(N.H)^ns", 9), ("c
            ("adds (r g b)", 0))
 
 
-LABEL_DISTANCE_PX = 14.0  # from the vertex to the middle of its label
+LABEL_DISTANCE_PX = 14.0  # from the vertex to the middle of its label, at 800x800 (layout.scaled_px)
 
 
 def extras(scene: Scene, size: tuple[int, int]) -> Extras:
@@ -237,6 +237,7 @@ def vertex_labels(scene: Scene, size: tuple[int, int]) -> list[Label]:
         return []
     points = scene.probed_points(MAX_PROBED_VERTICES)  # no lighting needed: the panel does that
     labels = []
+    distance = scaled_px(LABEL_DISTANCE_PX, size)
     for view in views(scene, size):
         matrix = view_projection(scene, view)
         at = [project(matrix, point, view.viewport) for point in points]
@@ -246,18 +247,18 @@ def vertex_labels(scene: Scene, size: tuple[int, int]) -> list[Label]:
         middle = screen.mean(axis=0)
         for number, point in enumerate(screen, start=1):
             if _inside(tuple(point), view.viewport):
-                centre = _label_centre(point, middle)
+                centre = _label_centre(point, middle, distance)
                 labels.append(Label(f"v{number}", float(centre[0]), float(centre[1])))
     return labels
 
 
-def _label_centre(point: np.ndarray, middle: np.ndarray) -> np.ndarray:
-    """LABEL_DISTANCE_PX from a vertex on the screen, straight away from the face's `middle` (along the
+def _label_centre(point: np.ndarray, middle: np.ndarray, distance: float) -> np.ndarray:
+    """`distance` pixels from a vertex on the screen, straight away from the face's `middle` (along the
     diagonal where the two meet)."""
     away = point - middle
     length = float(np.linalg.norm(away))
     away = away / length if length > 1e-6 else np.array([1.0, 1.0]) / np.sqrt(2.0)
-    return point + LABEL_DISTANCE_PX * away
+    return point + distance * away
 
 
 def _inside(point: tuple[float, float], viewport: tuple[int, int, int, int]) -> bool:
