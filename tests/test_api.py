@@ -1195,9 +1195,13 @@ def test_a_view_size_set_by_hand_that_u_cannot_give_back_is_refused_before_u_giv
     (lambda s: setattr(s.lights[1], "position", [1.0, 2.0]), r"the bulb's position must be 3 numbers \(x, y, z\)"),
     (lambda s: setattr(s.lights[1], "position", [np.nan, 0, 0]), "the bulb's position must be 3 finite numbers"),
     (lambda s: setattr(s.lights[0], "direction", [0, 1]), "the sun's direction must be 3 numbers"),
-    # the probe tests the angle, the shader its cosine: past 0..180 they disagree (-30 lit a pixel the probe left dark)
+    # a spotlight's is held to the range + and - keep it in, as a scene file's (120 was drawn, and - jumped to 89)
     (lambda s: setattr(s.lights[3], "aperture_deg", -30.0),
-     r"the camera spotlight's aperture_deg must be a number of degrees from 0 to 180, not -30\.0$"),
+     r"the camera spotlight's aperture_deg must be a number of degrees from 1 to 89, not -30\.0$"),
+    (lambda s: setattr(s.lights[2], "aperture_deg", 120.0), "the object spotlight's aperture_deg must be .*, not 120"),
+    # the probe tests the angle, the shader its cosine: past 0..180 they disagree (-30 lit a pixel the probe left dark)
+    (lambda s: setattr(s.lights[0], "aperture_deg", -30.0),
+     r"the sun's aperture_deg must be a number of degrees from 0 to 180, not -30\.0$"),
     (lambda s: setattr(s.lights[2], "aperture_deg", 400), "the object spotlight's aperture_deg must be .*, not 400$"),
     (lambda s: setattr(s.lights[3], "aperture_deg", float("nan")), "the camera spotlight's aperture_deg must be "),
     (lambda s: setattr(s.lights[3], "aperture_deg", "wide"), "the camera spotlight's aperture_deg must be .*'wide'$"),

@@ -27,7 +27,7 @@ from marraztu.loaders.scenefile import (
 )
 from marraztu.model.build import build_mesh, scaled_mesh
 from marraztu.model.geometry import FLOAT32_MAX
-from marraztu.model.lights import AMBIENT_INTENSITY, Light, default_lights
+from marraztu.model.lights import AMBIENT_INTENSITY, SPOT_APERTURE_RANGE_DEG, Light, default_lights
 from marraztu.model.mesh import Mesh
 from marraztu.model.scene import NAME_LIMIT, Material
 from marraztu.model.transforms import euler_xyz
@@ -245,6 +245,26 @@ def test_a_scene_file_and_the_scene_set_by_hand_refuse_the_same_light_values(tmp
         hand_refused = str(error)
     assert (file_refused is None) == (hand_refused is None), (file_refused, hand_refused)
     assert file_refused is None or file_refused.startswith("ambient" if light is None else f"lights.{light}: {where}")
+
+
+@pytest.mark.parametrize("degrees", ["0", "0.5", "1", "45", "89", "89.5", "120", "180"])
+def test_a_scene_file_and_the_scene_set_by_hand_refuse_the_same_apertures(tmp_path: Path, degrees: str) -> None:
+    """A spotlight's aperture is held to the range + and - keep it in, from Python too: 120 set by hand was
+    drawn, and the next - jumped it to 89."""
+    try:
+        load_scene(write_scene(tmp_path, CAMERA + f"[lights.object_spotlight]\naperture = {degrees}\n"))
+        file_refused = None
+    except LoadError as error:
+        file_refused = error.message
+    scene = load_scene(write_scene(tmp_path, CAMERA))
+    scene.lights[2].aperture_deg = float(degrees)
+    try:
+        scene.check_by_hand()
+        hand_refused = None
+    except ValueError as error:
+        hand_refused = str(error)
+    assert (file_refused is None) == (hand_refused is None), (file_refused, hand_refused)
+    assert (hand_refused is None) == (SPOT_APERTURE_RANGE_DEG[0] <= float(degrees) <= SPOT_APERTURE_RANGE_DEG[1])
 
 
 # --- good files ------------------------------------------------------------------------------------

@@ -33,6 +33,7 @@ from marraztu.model.holders import first_holders
 from marraztu.model.lights import (
     AMBIENT_INTENSITY,
     LIGHT_KINDS,
+    SPOT_APERTURE_RANGE_DEG,
     Light,
     LightKind,
     Owner,
@@ -346,13 +347,16 @@ def _view_size_refusal(entry: object) -> str | None:
 
 def light_refusal(light: Light) -> str | None:
     """Why a light's switch or aperture, set by hand, cannot be drawn (None: they can): `on` is True or
-    False, not a truthy word; the probe tests the angle to the aperture and the shader that angle's
+    False, not a truthy word; a spotlight's aperture is within the range + and - keep it in, as a scene
+    file's is; another light's is no cone, but the probe tests the angle to it and the shader that angle's
     cosine, which agree only from 0 to 180 degrees."""
     if not isinstance(light.on, (bool, np.bool_)):
         return f"the {light.name}'s on must be True or False, not {_shown(light.on)}"
     aperture = light.aperture_deg
-    if not _number_within(aperture, 0.0, 180.0):
-        return f"the {light.name}'s aperture_deg must be a number of degrees from 0 to 180, not {_shown(aperture)}"
+    low, high = SPOT_APERTURE_RANGE_DEG if light.kind.has_cone else (0.0, 180.0)
+    if not _number_within(aperture, low, high):
+        return (f"the {light.name}'s aperture_deg must be a number of degrees from {low:g} to {high:g}, not "
+                f"{_shown(aperture)}")
     return None
 
 
@@ -843,7 +847,8 @@ class Scene:
         """ValueError, naming the first, where a value changed by hand (the programming interface's
         scene) cannot be drawn: a model matrix not affine or without an inverse, a light's or a
         material's colour, place or direction that is not 3 finite numbers within its kind's range
-        (TripleKind), an aperture past 0..180 degrees, a mode not of the kind its key sets."""
+        (TripleKind), a spotlight's aperture past 1..89 degrees (another's past 0..180), a mode not of
+        the kind its key sets."""
         if self._all_drawable():  # every call of the interface asks: the walk below costs far more per element
             return
         refusal = next(self._refusals(), None)
