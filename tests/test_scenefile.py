@@ -198,6 +198,14 @@ BAD_LIGHTS = {
     "inside an inline table: the line that opens it": (
         "\nlights = { bulb = { on = 'yes' } }\n" + CAMERA, "lights.bulb: on must be true or false", 2),
     "inside a light's inline table": (CAMERA + "[lights]\n\nbulb = { on = 'yes' }\n", "on must be true", 6),
+    # TOML reads a key after a header as the table's: the scene's ambient, written last, was only "unknown"
+    "the ambient after a light's table": (CAMERA + "[lights.sun]\non = true\nambient = [1, 1, 1]\n",
+                                          "lights.sun: unknown key 'ambient' (allowed: direction, intensity, on): "
+                                          "ambient is the scene's, written before the first [table]$", 6),
+    "the texture after a material's table": (
+        CAMERA + '[materials.red]\nka = [0, 0, 0]\nkd = [1, 0, 0]\nks = [0, 0, 0]\nns = 1\ntexture = "a.png"\n',
+        "material 'red': unknown key 'texture' (allowed: ka, kd, ks, ns, rgb): texture is the scene's, written "
+        "before the first [table]$", 9),
 }
 
 
