@@ -544,8 +544,8 @@ class _SceneReader:
         unknown = sorted(set(table) - allowed)
         if unknown:
             # TOML reads a key below a header as that table's: the scene's own, written last, lands there
-            misplaced = f": {unknown[0]} is the scene's, written before the first [table]" \
-                if unknown[0] in TOP_LEVEL_KEYS and table is not self.document else ""
+            misplaced = (f": {unknown[0]} is the scene's, written before the first [table]"
+                         if unknown[0] in TOP_LEVEL_KEYS and table is not self.document else "")
             self.fail(_unknown_key(what, unknown[0], allowed) + misplaced, key_line(unknown[0]) or line)
         missing = [key for key in required if key not in table]
         if missing:
