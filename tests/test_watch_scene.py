@@ -134,6 +134,10 @@ def test_the_files_lights_are_the_scenes_at_start_and_an_edited_one_is_taken_whe
     assert scene.lights[1] is bulb and np.array_equal(bulb.position, [0, 9, 0]) and bulb.history == []
     assert [light.on for light in scene.lights] == [True, True, False, True]  # the spotlight: as the key left it
     assert np.array_equal(scene.ambient, [1, 1, 1])
+    rewrite(tmp_path / "lesson.toml", "ambient = [1, 1, 1]\n[lights.sun]\non = true\n" + CAMERA + square_at(0))
+    viewer.check_watched()  # the bulb's table taken out: SPEC's, off at its place
+    assert scene.message == "read lesson.toml again: 1 object, 1 camera; set as it says now: bulb"
+    assert not bulb.on and np.array_equal(bulb.position, [0, 200, 0])
 
 
 def test_an_edited_bulb_at_specs_place_is_fitted_to_the_models_units_as_at_start(tmp_path: Path) -> None:
@@ -291,6 +295,27 @@ def test_what_the_person_moved_stays_where_a_save_changed_only_a_material(tmp_pa
     assert viewer.scene.message == "read lesson.toml again: 1 object, 1 camera"
     press(viewer, "u")
     assert np.array_equal(viewer.scene.object.model, square.history[1])  # its undo came with it
+
+
+def test_the_model_pagedown_chose_stays_where_the_entry_did_not_change(tmp_path: Path) -> None:
+    """What the person did not edit stays: PageDown's model too, with the file's new material; an edited entry
+    stands as the file says."""
+    viewer = watched(tmp_path, CAMERA + square_at(0))
+    press(viewer, "t x PAGEDOWN")
+    chosen = viewer.scene.object
+    assert chosen.name == "triangle" and chosen.mesh.vertex_count == 3
+    rewrite(tmp_path / "lesson.toml", CAMERA + square_at(0, kd="[0.9, 0.1, 0.1]"))
+    viewer.check_watched()
+    kept = viewer.scene.object
+    assert kept is not chosen and kept.name == "triangle" and kept.source == tmp_path / "triangle.obj"
+    assert kept.mesh is chosen.mesh and kept.material.kd == (0.9, 0.1, 0.1) and len(kept.history) == 2
+    assert viewer.scene.message == "read lesson.toml again: 1 object, 1 camera"
+    press(viewer, "PAGEDOWN")  # on past the triangle, as before the read
+    assert viewer.scene.object.source == tmp_path / "square.obj"
+    press(viewer, "PAGEDOWN")
+    rewrite(tmp_path / "lesson.toml", CAMERA + square_at(4))
+    viewer.check_watched()
+    assert viewer.scene.object.name == "square" and viewer.scene.object.mesh.vertex_count == 4
 
 
 def test_an_element_whose_placement_changed_takes_the_files_and_the_others_stay(tmp_path: Path) -> None:

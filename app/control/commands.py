@@ -927,10 +927,10 @@ def replace_scene_read(scene: Scene, read: Scene, placed: dict[int, FilePlacemen
     """The host's half of --watch's scene file read again: `read`'s objects and cameras (placed as `now`
     says) in the place of the elements its last read placed (`placed`, by uid), and ahead of those that
     joined from elsewhere (the command line, `f`), which stay as they were. An element whose entry places it
-    as the last read did keeps where the person moved it, and its undo; the others stand where the file
-    says, their undo afresh: which those are is returned. The modes stay (the lights: take_edited_lights);
-    each selection follows its entry, else stays at its index. A file that places no camera has its models
-    framed, as at start, where that camera is the one viewing and has not been moved."""
+    as the last read did keeps where the person moved it, its undo and the model PageDown chose; the others
+    stand where the file says, their undo afresh: which those are is returned. The modes stay (the lights:
+    take_edited_lights); each selection follows its entry, else stays at its index. A file that places no
+    camera has its models framed, as at start, where that camera is the one viewing and has not been moved."""
     end_view_gesture(scene)
     successors = _successors(scene, placed, read, now)
     selected_object = _index_after_reading(scene.objects, scene.selected_object, read.objects, placed, successors)
@@ -940,7 +940,9 @@ def replace_scene_read(scene: Scene, read: Scene, placed: dict[int, FilePlacemen
     scene.cameras[:] = [*read.cameras, *(camera for camera in scene.cameras if camera.uid not in placed)]
     scene.selected_object, scene.selected_camera = selected_object, selected_camera
     kept = {uid: element for uid, element in successors.items()
-            if placed[uid] == now[element.uid] and _keeps_moves(scene, before[uid], element)}
+            if placed[uid] == now[element.uid] and _may_stay(scene, before[uid], element)}
+    for uid, element in kept.items():
+        _keep_what_the_person_did(scene, before[uid], element)
     scene.view_moves[:] = [kept.get(camera.uid, camera) for camera in scene.view_moves
                            if camera.uid not in placed or camera.uid in kept]
     scene.texture_path, scene.texture_named_at = read.texture_path, read.texture_named_at
@@ -999,14 +1001,19 @@ def _successors(scene: Scene, placed: dict[int, FilePlacement], read: Scene,
             if element.uid in placed and placed[element.uid].entry in read_for}
 
 
-def _keeps_moves(scene: Scene, before: SceneObject, read: SceneObject) -> bool:
-    """`read` where the person moved `before`, with its undo; False (and left where the file says) where the
-    model read again cannot stand there."""
-    if scene.placement_refusal(read, before.model) is not None:
-        return False
+def _may_stay(scene: Scene, before: SceneObject, read: SceneObject) -> bool:
+    """Whether `read` can stand where the person moved `before`: not where the model read again cannot."""
+    return before.source != read.source or scene.placement_refusal(read, before.model) is None
+
+
+def _keep_what_the_person_did(scene: Scene, before: SceneObject, read: SceneObject) -> None:
+    """`read` where the person moved `before`, with its undo and the model PageDown chose for it (its entry's
+    model unchanged: what the person did not edit stays)."""
     read.history, read.view_sizes = before.history, before.view_sizes
+    if before.source != read.source:
+        replace_loaded(scene, read, before)
+    read.browsed = before.browsed
     read.selected_face = before.selected_face if before.selected_face < read.mesh.face_count else 0
-    return True
 
 
 def _index_after_reading(elements: list[SceneObject], selected: int, read: list[SceneObject],
