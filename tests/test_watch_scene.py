@@ -394,6 +394,30 @@ def test_a_picture_changed_is_read_on_the_windows_worker_and_said(tmp_path: Path
 
 
 
+@pytest.mark.parametrize("named", ["picture", "model", "half-written model"])
+def test_a_file_a_failed_read_named_is_watched_until_it_comes(tmp_path: Path, named: str) -> None:
+    """A teacher names a picture or a model, then makes it: its save reads the scene file again, as a save of
+    the scene file would."""
+    viewer = watched(tmp_path, CAMERA + square_at(0))
+    if named == "half-written model":
+        (tmp_path / "new.obj").write_text("v 1 2\n")
+    entry = 'texture = "new.png"\n' if named == "picture" else '[[objects]]\nmodel = "new.obj"\n'
+    rewrite(tmp_path / "lesson.toml", CAMERA + square_at(0) + entry)
+    viewer.check_watched()
+    assert viewer.scene.message.startswith(f"{tmp_path / 'lesson.toml'}:") and len(viewer.scene.objects) == 1
+    if named == "picture":
+        _picture(tmp_path / "new.png", (0, 255, 0))
+    elif named == "model":
+        (tmp_path / "new.obj").write_bytes(TRIANGLE)
+    else:
+        rewrite(tmp_path / "new.obj", TRIANGLE.decode())
+    viewer.check_watched()
+    assert viewer.scene.message.startswith("read lesson.toml again")
+    if named == "picture":
+        assert tuple(viewer.scene.object.picture[0, 0]) == (0, 255, 0)
+    else:
+        assert [obj.name for obj in viewer.scene.objects] == ["square", "new"]
+
 def test_a_save_made_while_the_starts_models_load_is_read_once_they_have(tmp_path: Path, monkeypatch) -> None:
     from marraztu.loaders import scenefile
 

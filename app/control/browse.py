@@ -80,6 +80,10 @@ class FileWatcher:
         seen as it is now."""
         self._seen = {path: self._seen[path] if path in self._seen else _stamp(path) for path in (self.path, *others)}
 
+    def watch_too(self, other: Path) -> None:
+        """`other` as well as those watched now, seen as it is now where it is new."""
+        self._seen.setdefault(other, _stamp(other))
+
     def changed(self) -> Path | None:
         """The first file that changed since the last look, where one did; all of them are seen anew."""
         stamps = {path: _stamp(path) for path in self._seen}

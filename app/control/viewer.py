@@ -504,11 +504,14 @@ class Viewer:
 
     def _scene_read(self, read: Scene | LoadError, path: Path, seen: SeenFiles, notes: list[str]) -> None:
         """A scene file read again, in the place of what it placed; one that failed leaves the scene as it
-        was, its message saying where, and the models' changes its look found to be told again."""
+        was, its message saying where, the models' changes its look found to be told again, and the file it
+        failed on (a model or picture it names) watched until a read succeeds."""
         if isinstance(read, LoadError):
             elements = self.scene.objects + self.scene.cameras
             self.watcher.stand_as([element for element in elements if element.uid in self._scene_file_placed],
                                   seen.before)
+            if isinstance(read.__cause__, LoadError):  # the model or picture it names that failed: its save is news
+                self.scene_watcher.watch_too(Path(read.__cause__.path))
             self._failed(read)
             return
         placed, lights = commands.file_placements(read), commands.file_lights(read)  # before framing moves them
