@@ -394,6 +394,19 @@ def test_a_picture_changed_is_read_on_the_windows_worker_and_said(tmp_path: Path
 
 
 
+def test_a_picture_a_thousand_objects_name_is_stat_once_a_look_and_once_as_it_joins(tmp_path: Path,
+                                                                                    monkeypatch) -> None:
+    from marraztu.control import browse
+
+    _picture(tmp_path / "concrete.png", (255, 0, 0))
+    stats: list[Path] = []
+    stamp = browse._stamp
+    monkeypatch.setattr(browse, "_stamp", lambda path: stats.append(path) or stamp(path))
+    viewer = watched(tmp_path, CAMERA + (square_at(0) + 'texture = "concrete.png"\n') * 1000)
+    assert stats.count(tmp_path / "concrete.png") == 1
+    viewer.check_watched()
+    assert stats.count(tmp_path / "concrete.png") == 2
+
 @pytest.mark.parametrize("named", ["picture", "model", "half-written model"])
 def test_a_file_a_failed_read_named_is_watched_until_it_comes(tmp_path: Path, named: str) -> None:
     """A teacher names a picture or a model, then makes it: its save reads the scene file again, as a save of

@@ -78,7 +78,8 @@ class FileWatcher:
     def watch_also(self, others: Iterable[Path]) -> None:
         """The scene file and `others` from now on: a file watched before stays as last seen, a new one is
         seen as it is now."""
-        self._seen = {path: self._seen[path] if path in self._seen else _stamp(path) for path in (self.path, *others)}
+        watched = dict.fromkeys((self.path, *others))  # a picture a thousand objects name: stat once
+        self._seen = {path: self._seen[path] if path in self._seen else _stamp(path) for path in watched}
 
     def watch_too(self, other: Path) -> None:
         """`other` as well as those watched now, seen as it is now where it is new."""
