@@ -394,6 +394,23 @@ def test_a_picture_changed_is_read_on_the_windows_worker_and_said(tmp_path: Path
 
 
 
+def test_the_scenes_texture_is_not_watched_where_the_command_line_names_one(tmp_path: Path) -> None:
+    _picture(tmp_path / "wall.png", (0, 0, 255))
+    _picture(tmp_path / "given.png", (255, 0, 0))
+    path = tmp_path / "lesson.toml"
+    (tmp_path / "square.obj").write_bytes(SQUARE)
+    path.write_text('texture = "wall.png"\n' + CAMERA + square_at(0))
+    options = StartOptions(scene_file=path, texture=tmp_path / "given.png", watch=True)
+    viewer = Viewer(load_scene(path), NoFrontend())
+    viewer.start(options, longest_texture_side=4096, scene_watcher=scene_file_watcher(options))
+    square = viewer.scene.object
+    _picture(tmp_path / "wall.png", (255, 255, 0))
+    viewer.check_watched()
+    assert viewer.scene.object is square and tuple(viewer.scene.texture[0, 0]) == (255, 0, 0)
+    rewrite(path, 'texture = "wall.png"\n' + CAMERA + square_at(5))
+    viewer.check_watched()
+    assert viewer.scene.object is not square and tuple(viewer.scene.texture[0, 0]) == (255, 0, 0)
+
 def test_a_picture_a_thousand_objects_name_is_stat_once_a_look_and_once_as_it_joins(tmp_path: Path,
                                                                                     monkeypatch) -> None:
     from marraztu.control import browse

@@ -915,9 +915,9 @@ def file_placements(read: Scene) -> dict[int, FilePlacement]:
     """By uid, where a scene file just read placed each of its objects and cameras (before any move or framing)."""
     seen: dict[tuple[bool, str], int] = {}
     placements = {}
-    for camera, element in [(False, obj) for obj in read.objects] + [(True, camera) for camera in read.cameras]:
-        which = seen[camera, element.name] = seen.get((camera, element.name), -1) + 1
-        placements[element.uid] = FilePlacement((camera, element.name, which), element.source,
+    for is_camera, element in [(False, obj) for obj in read.objects] + [(True, camera) for camera in read.cameras]:
+        which = seen[is_camera, element.name] = seen.get((is_camera, element.name), -1) + 1
+        placements[element.uid] = FilePlacement((is_camera, element.name, which), element.source,
                                                 tuple(element.scale), tuple(element.history[0].ravel()))
     return placements
 

@@ -534,7 +534,8 @@ class Viewer:
         """The pictures a scene file's read named: its objects' and cameras' own, and its texture where no
         --texture stands in for it."""
         own = [element.picture_source for element in read.objects + read.cameras if element.picture_source]
-        return own + [Path(read.texture_path)] if read.texture_path and self._scene_texture else own
+        scenes = [Path(read.texture_path)] if read.texture_path and self._scene_texture else []
+        return own + scenes
 
     def _replace_each(self, elements: tuple[SceneObject, ...], loaded: SceneObject) -> None:
         """`loaded` in the first element's place, and its mesh, with materials of their own, in the others';
