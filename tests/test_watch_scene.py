@@ -140,6 +140,18 @@ def test_the_files_lights_are_the_scenes_at_start_and_an_edited_one_is_taken_whe
     assert not bulb.on and np.array_equal(bulb.position, [0, 200, 0])
 
 
+def test_a_bulb_the_file_places_stands_as_written_even_at_specs_place(tmp_path: Path) -> None:
+    """Fitting to the models' units moves only a bulb the file leaves unplaced: one written at (0, 200, 0)
+    stays there, as one written at (0, 199, 0) does, at start and read again."""
+    tiny = '[[objects]]\nmodel = "square.obj"\nscale = 0.001\n'
+    viewer = watched(tmp_path, "[lights.bulb]\nposition = [0, 200, 0]\n" + tiny)
+    bulb = viewer.scene.lights[1]
+    assert viewer.scene.fitted_unit != 1.0 and np.array_equal(bulb.position, [0, 200, 0])
+    rewrite(tmp_path / "lesson.toml", "[lights.bulb]\non = true\nposition = [0, 200, 0]\n" + tiny)
+    viewer.check_watched()
+    assert bulb.on and np.array_equal(bulb.position, [0, 200, 0])
+
+
 def test_an_edited_bulb_at_specs_place_is_fitted_to_the_models_units_as_at_start(tmp_path: Path) -> None:
     tiny = '[[objects]]\nmodel = "square.obj"\nscale = 0.001\n'
     viewer = watched(tmp_path, "[lights.bulb]\non = false\n" + tiny)

@@ -875,8 +875,9 @@ def _built_in_body(scale: Vec3) -> Mesh:
 
 def _where_fitting_left_it(light: Light, fitted_unit: float) -> bool:
     """Whether a light stands where the last fitting, to `fitted_unit`, put it: an owned one rides at
-    its owner's origin, and a moved one is the person's."""
-    return (light.owner is Owner.NONE and not light.history and light.key in _BUILT_IN_PLACES
+    its owner's origin, and a moved one is the person's (or the scene file's, where it wrote its place)."""
+    return (light.owner is Owner.NONE and not light.history and not light.placed_by_file
+            and light.key in _BUILT_IN_PLACES
             and np.allclose(light.position, _fitted_place(light, fitted_unit), rtol=1e-9, atol=0.0))
 
 
@@ -964,8 +965,8 @@ def file_lights(read: Scene) -> dict[str, LightSettings]:
     """What a scene file just read set each light to, by its key, and the ambient Ia ("ambient"): what
     --watch's read again compares, before any fitting to the models' units moves a light."""
     settings: dict[str, LightSettings] = {light.key: (light.on, tuple(light.intensity), tuple(light.direction),
-                                                      tuple(light.position), light.aperture_deg)
-                                          for light in read.lights}
+                                                      tuple(light.position), light.placed_by_file,
+                                                      light.aperture_deg) for light in read.lights}
     settings["ambient"] = tuple(read.ambient)
     return settings
 
@@ -989,6 +990,7 @@ def _take_light(light: Light, as_read: Light, fitted_unit: float) -> None:
     """`light` as a scene file read again sets it: on the models' units at SPEC's place, as at start."""
     light.on, light.intensity, light.direction = as_read.on, as_read.intensity.copy(), as_read.direction.copy()
     light.aperture_deg, light.axis_in_owner, light.history = as_read.aperture_deg, np.eye(3), []
+    light.placed_by_file = as_read.placed_by_file
     at_spec_place = _where_fitting_left_it(as_read, 1.0)
     light.position = _fitted_place(as_read, fitted_unit) if at_spec_place else as_read.position.copy()
 

@@ -451,6 +451,7 @@ class _SceneReader:
             light.direction = np.array(self.triple_of(DIRECTION, table[own], f"{what}: {own}", at(own)))
         if own == "position" and own in table:
             light.position = np.array(self.triple_of(place_kind(light), table[own], f"{what}: {own}", at(own)))
+            light.placed_by_file = True
         if own == "aperture" and own in table:
             light.aperture_deg = self.aperture(table[own], f"{what}: {own}", at(own))
 

@@ -201,6 +201,8 @@ class Light:
     axis_in_owner: np.ndarray = field(default_factory=lambda: np.eye(3))
     # Earlier states, for `u`: each move pushes a copy of the state before it. Empty: the initial one.
     history: list[LightState] = field(default_factory=list)
+    # Its position as a scene file wrote it, in the scene's units: fitting to the models' units leaves it there.
+    placed_by_file: bool = False
 
     def placed(self, owner_model: np.ndarray | None) -> WorldLight:
         """The light in the world; `owner_model` is its owner's model matrix (None: it has none)."""
