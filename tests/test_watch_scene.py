@@ -191,6 +191,24 @@ def test_on_the_windows_worker_the_scene_is_read_off_the_render_thread(tmp_path:
         viewer.background.shutdown()
 
 
+def test_a_pagedown_pressed_while_the_scene_file_is_read_again_goes_to_the_element_kept(tmp_path: Path) -> None:
+    """The read again keeps the square (its entry did not change) in a new element: PageDown's load, asked
+    for the element before, goes to that one, not lost as having left the scene."""
+    viewer = watched(tmp_path, CAMERA + square_at(0), BackgroundLoader())
+    try:
+        press(viewer, "t x")
+        rewrite(tmp_path / "lesson.toml", CAMERA + square_at(0, kd="[0.9, 0.1, 0.1]"))
+        viewer.check_watched()  # the read again starts on the worker
+        press(viewer, "PAGEDOWN")  # the next model in the folder, for the square that is still there
+        collect_when_loaded(viewer)
+        square = viewer.scene.object
+        assert square.source.name == "triangle.obj" and square.mesh.vertex_count == 3
+        assert square.material.kd == (0.9, 0.1, 0.1) and len(square.history) == 2  # the file's Kd, its moves
+        assert "left the scene" not in viewer.scene.message and square.browsed is None
+    finally:
+        viewer.background.shutdown()
+
+
 def test_a_model_changed_with_its_scene_file_is_read_with_it_once(tmp_path: Path, monkeypatch) -> None:
     from marraztu.loaders import scenefile
 

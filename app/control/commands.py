@@ -924,12 +924,13 @@ def file_placements(read: Scene) -> dict[int, FilePlacement]:
 
 
 def replace_scene_read(scene: Scene, read: Scene, placed: dict[int, FilePlacement], now: dict[int, FilePlacement],
-                       aspect: float = 1.0) -> list[SceneObject]:
+                       aspect: float = 1.0) -> dict[int, SceneObject]:
     """The host's half of --watch's scene file read again: `read`'s objects and cameras (placed as `now`
     says) in the place of the elements its last read placed (`placed`, by uid), and ahead of those that
     joined from elsewhere (the command line, `f`), which stay as they were. An element whose entry places it
-    as the last read did keeps where the person moved it, its undo and the model PageDown chose; the others
-    stand where the file says, their undo afresh: which those are is returned. The modes stay (the lights:
+    as the last read did keeps where the person moved it, its undo and the model PageDown chose (returned:
+    the read element that took each such one's place, by the uid it had); the others stand where the file
+    says, their undo afresh. The modes stay (the lights:
     take_edited_lights); each selection follows its entry, else stays at its index. A file that places no
     camera has its models framed, as at start, where that camera is the one viewing and has not been moved."""
     end_view_gesture(scene)
@@ -954,8 +955,7 @@ def replace_scene_read(scene: Scene, read: Scene, placed: dict[int, FilePlacemen
     if (read.frame_at_start and scene.objects and any(camera is scene.camera for camera in read.cameras)
             and len(scene.camera.history) == 1):
         frame_models(scene, aspect)
-    moved_on = {id(element) for element in kept.values()}
-    return [element for element in read.objects + read.cameras if id(element) not in moved_on]
+    return kept
 
 
 LightSettings = tuple[object, ...]

@@ -268,6 +268,7 @@ class Viewer:
         self.scene_watcher: FileWatcher | None = None  # set by --watch with a scene file
         # Where the scene file's last read placed its elements, by uid: a read again takes their place.
         self._scene_file_placed: dict[int, commands.FilePlacement] = {}
+        self._collecting: list[LoadJob] = []  # the worker's finished loads collect_loads is adding
         self._scene_file_lights: dict[str, commands.LightSettings] = {}  # what its last read set the lights to
         # What reads the scene file's texture into its Scene read again; None where the command line named
         # the texture, which outlasts a read again.
@@ -433,7 +434,8 @@ class Viewer:
         """Adds what the worker finished, in the order asked; a failure leaves only its message."""
         if self.background is None:
             return
-        for job in self.background.take_finished():
+        self._collecting = self.background.take_finished()
+        for job in self._collecting:
             error = job.future.exception()
             if error is not None and not isinstance(error, LoadError):  # a bug, not a bad file: said, not raised
                 error = LoadError(job.path, f"could not be loaded ({type(error).__name__}: {error})")
@@ -515,7 +517,9 @@ class Viewer:
             self._failed(read)
             return
         placed, lights = commands.file_placements(read), commands.file_lights(read)  # before framing moves them
-        anew = commands.replace_scene_read(self.scene, read, self._scene_file_placed, placed, self.narrowest_aspect())
+        kept = commands.replace_scene_read(self.scene, read, self._scene_file_placed, placed, self.narrowest_aspect())
+        self._loads_follow(kept)
+        anew = [element for element in read.objects + read.cameras if element not in kept.values()]
         lit_anew = commands.take_edited_lights(self.scene, read, self._scene_file_lights, lights)
         self._scene_file_placed, self._scene_file_lights = placed, lights
         self.scene_watcher.watch_also(self._pictures_named(read))
@@ -529,6 +533,12 @@ class Viewer:
         if lit_anew:
             said += f"; set as it says now: {', '.join(lit_anew)}"
         self.tell("; ".join([said, *notes]))
+
+    def _loads_follow(self, kept: dict[int, SceneObject]) -> None:
+        """A PageDown still loading for an element a scene file's read again kept (by its old uid) goes to the
+        element that took its place, as its moves did."""
+        for job in [*self._collecting, *self.background.uncollected()] if self.background is not None else []:
+            job.replaces = tuple(kept.get(element.uid, element) for element in job.replaces)
 
     def _pictures_named(self, read: Scene) -> list[Path]:
         """The pictures a scene file's read named: its objects' and cameras' own, and its texture where no
