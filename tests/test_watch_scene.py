@@ -64,8 +64,8 @@ def test_a_changed_kd_and_position_are_read_again_and_a_new_object_joins(tmp_pat
     square, triangle = viewer.scene.objects
     assert square is not before and square.material.kd == (0.9, 0.1, 0.1)
     assert np.array_equal(square.model[:3, 3], [5, 0, 0]) and triangle.mesh.vertex_count == 3
-    assert viewer.scene.message == ("read lesson.toml again: 2 objects, 1 camera; placed as it says now, their undo "
-                                    "afresh: square, triangle")
+    assert viewer.scene.message == ("read lesson.toml again: 2 objects, 1 camera; placed where the file now says, "
+                                    "their undo afresh: square, triangle")
     viewer.check_watched()
     assert viewer.scene.objects[0] is square  # one change, one read
 
@@ -130,13 +130,14 @@ def test_the_files_lights_are_the_scenes_at_start_and_an_edited_one_is_taken_whe
     rewrite(tmp_path / "lesson.toml", "ambient = [1, 1, 1]\n[lights.bulb]\non = true\nposition = [0, 9, 0]\n"
             "[lights.sun]\non = true\n" + CAMERA + square_at(0, kd="[1, 1, 1]"))
     viewer.check_watched()
-    assert scene.message == "read lesson.toml again: 1 object, 1 camera; set as it says now: the ambient, sun, bulb"
+    assert scene.message == ("read lesson.toml again: 1 object, 1 camera; lights as the file now sets them: ambient, "
+                             "sun, bulb")
     assert scene.lights[1] is bulb and np.array_equal(bulb.position, [0, 9, 0]) and bulb.history == []
     assert [light.on for light in scene.lights] == [True, True, False, True]  # the spotlight: as the key left it
     assert np.array_equal(scene.ambient, [1, 1, 1])
     rewrite(tmp_path / "lesson.toml", "ambient = [1, 1, 1]\n[lights.sun]\non = true\n" + CAMERA + square_at(0))
     viewer.check_watched()  # the bulb's table taken out: SPEC's, off at its place
-    assert scene.message == "read lesson.toml again: 1 object, 1 camera; set as it says now: bulb"
+    assert scene.message == "read lesson.toml again: 1 object, 1 camera; lights as the file now sets them: bulb"
     assert not bulb.on and np.array_equal(bulb.position, [0, 200, 0])
 
 
@@ -358,7 +359,7 @@ def test_an_element_whose_placement_changed_takes_the_files_and_the_others_stay(
     assert np.array_equal(kept.model, first) and len(kept.history) == 2
     assert np.array_equal(placed.model[:3, 3], [40, 0, 0]) and placed.history == [placed.model]
     assert not np.array_equal(viewer.scene.camera.model, looked_from) and viewer.scene.camera.model[2, 3] == 90
-    assert viewer.scene.message == ("read lesson.toml again: 2 objects, 1 camera; placed as it says now, "
+    assert viewer.scene.message == ("read lesson.toml again: 2 objects, 1 camera; placed where the file now says, "
                                     "their undo afresh: square, camera")
 
 
@@ -372,7 +373,7 @@ def test_elements_are_matched_by_name_so_one_added_before_them_moves_none(tmp_pa
     triangle, after_square, after_left = viewer.scene.objects
     assert np.array_equal(after_square.model, square) and np.array_equal(after_left.model, left)
     assert triangle.history == [triangle.model] and viewer.scene.object is after_square  # the selection follows it
-    assert viewer.scene.message.endswith("placed as it says now, their undo afresh: triangle")
+    assert viewer.scene.message.endswith("placed where the file now says, their undo afresh: triangle")
 
 
 def test_a_file_without_cameras_frames_again_only_a_camera_not_moved(tmp_path: Path) -> None:

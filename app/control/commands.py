@@ -978,7 +978,7 @@ def take_edited_lights(scene: Scene, read: Scene, before: dict[str, LightSetting
     taken = []
     if before["ambient"] != now["ambient"]:
         scene.ambient = read.ambient.copy()
-        taken.append("the ambient")
+        taken.append("ambient")
     for light, as_read in zip(scene.lights, read.lights):
         if before[light.key] != now[light.key]:
             _take_light(light, as_read, scene.fitted_unit)

@@ -529,9 +529,9 @@ class Viewer:
         said = (f"read {escaped(path.name)} again: {counted(len(read.objects), 'object')}, "
                 f"{counted(len(read.cameras), 'camera')}")
         if anew:
-            said += f"; placed as it says now, their undo afresh: {_names([element.name for element in anew])}"
+            said += f"; placed where the file now says, their undo afresh: {_names([element.name for element in anew])}"
         if lit_anew:
-            said += f"; set as it says now: {', '.join(lit_anew)}"
+            said += f"; lights as the file now sets them: {', '.join(lit_anew)}"
         self.tell("; ".join([said, *notes]))
 
     def _loads_follow(self, kept: dict[int, SceneObject]) -> None:
