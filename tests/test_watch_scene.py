@@ -141,6 +141,21 @@ def test_the_files_lights_are_the_scenes_at_start_and_an_edited_one_is_taken_whe
     assert not bulb.on and np.array_equal(bulb.position, [0, 200, 0])
 
 
+def test_only_the_values_a_save_changed_are_taken_so_a_light_switched_off_by_key_stays_off(tmp_path: Path) -> None:
+    """A teacher switches the bulb off with 1, then edits only its intensity: the new intensity is taken,
+    the switch and the place the keys gave it stay."""
+    bulb_at = "[lights.bulb]\non = true\nposition = [0, 50, 0]\nintensity = [{0}, {0}, {0}]\n"
+    viewer = watched(tmp_path, bulb_at.format(250) + CAMERA + square_at(0))
+    bulb = viewer.scene.lights[1]
+    press(viewer, "1 c c TAB t x")  # off, then moved
+    moved = bulb.position.copy()
+    rewrite(tmp_path / "lesson.toml", bulb_at.format(100) + CAMERA + square_at(0))
+    viewer.check_watched()
+    assert viewer.scene.message.endswith("lights as the file now sets them: bulb")
+    assert not bulb.on and np.array_equal(bulb.intensity, [100, 100, 100])
+    assert np.array_equal(bulb.position, moved) and len(bulb.history) == 1  # its move, and its undo
+
+
 def test_a_bulb_the_file_places_stands_as_written_even_at_specs_place(tmp_path: Path) -> None:
     """Fitting to the models' units moves only a bulb the file leaves unplaced: one written at (0, 200, 0)
     stays there, as one written at (0, 199, 0) does, at start and read again."""

@@ -958,41 +958,54 @@ def replace_scene_read(scene: Scene, read: Scene, placed: dict[int, FilePlacemen
     return kept
 
 
-LightSettings = tuple[object, ...]
+LightSettings = dict[str, object]  # a light's values a scene file sets, by the Light field each is
+FILE_LIGHT_FIELDS = ("on", "intensity", "direction", "position", "aperture_deg")
 
 
 def file_lights(read: Scene) -> dict[str, LightSettings]:
     """What a scene file just read set each light to, by its key, and the ambient Ia ("ambient"): what
     --watch's read again compares, before any fitting to the models' units moves a light."""
-    settings: dict[str, LightSettings] = {light.key: (light.on, tuple(light.intensity), tuple(light.direction),
-                                                      tuple(light.position), light.placed_by_file,
-                                                      light.aperture_deg) for light in read.lights}
-    settings["ambient"] = tuple(read.ambient)
+    settings: dict[str, LightSettings] = {light.key: {name: _comparable(getattr(light, name))
+                                                      for name in FILE_LIGHT_FIELDS} for light in read.lights}
+    for light in read.lights:  # a place the file wrote and SPEC's, the same numbers, fit otherwise
+        settings[light.key]["position"] = (settings[light.key]["position"], light.placed_by_file)
+    settings["ambient"] = {"ambient": _comparable(read.ambient)}
     return settings
+
+
+def _comparable(value: object) -> object:
+    return tuple(value) if isinstance(value, np.ndarray) else value
 
 
 def take_edited_lights(scene: Scene, read: Scene, before: dict[str, LightSettings],
                        now: dict[str, LightSettings]) -> list[str]:
-    """The ambient and each light whose settings in the file changed since its last read, as the file now
-    sets them, their moves and undo afresh; the others stay as the keys left them. Returns their names."""
+    """The ambient, and each value of a light (on, intensity, direction, position, aperture) that the file
+    changed since its last read, as the file now sets it; what the file did not change stays as the keys
+    left it. Returns the names of those changed."""
     taken = []
     if before["ambient"] != now["ambient"]:
         scene.ambient = read.ambient.copy()
         taken.append("ambient")
     for light, as_read in zip(scene.lights, read.lights):
-        if before[light.key] != now[light.key]:
-            _take_light(light, as_read, scene.fitted_unit)
+        edited = [name for name in FILE_LIGHT_FIELDS if before[light.key][name] != now[light.key][name]]
+        if edited:
+            _take_light(light, as_read, edited, scene.fitted_unit)
             taken.append(light.name)
     return taken
 
 
-def _take_light(light: Light, as_read: Light, fitted_unit: float) -> None:
-    """`light` as a scene file read again sets it: on the models' units at SPEC's place, as at start."""
-    light.on, light.intensity, light.direction = as_read.on, as_read.intensity.copy(), as_read.direction.copy()
-    light.aperture_deg, light.axis_in_owner, light.history = as_read.aperture_deg, np.eye(3), []
-    light.placed_by_file = as_read.placed_by_file
-    at_spec_place = _where_fitting_left_it(as_read, 1.0)
-    light.position = _fitted_place(as_read, fitted_unit) if at_spec_place else as_read.position.copy()
+def _take_light(light: Light, as_read: Light, edited: list[str], fitted_unit: float) -> None:
+    """`light`'s `edited` values as a scene file read again sets them; a new place or direction starts its
+    moves afresh (their undo would put back the old one), a place at SPEC's on the models' units, as at start."""
+    for name in edited:
+        value = getattr(as_read, name)
+        setattr(light, name, value.copy() if isinstance(value, np.ndarray) else value)
+    if "position" in edited:
+        light.placed_by_file = as_read.placed_by_file
+        if _where_fitting_left_it(as_read, 1.0):
+            light.position = _fitted_place(as_read, fitted_unit)
+    if "position" in edited or "direction" in edited:
+        light.history = []
 
 
 def _successors(scene: Scene, placed: dict[int, FilePlacement], read: Scene,
