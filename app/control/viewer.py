@@ -20,7 +20,7 @@ from typing import NamedTuple, Protocol
 
 import numpy as np
 
-from marraztu.control import commands, keymap
+from marraztu.control import commands, keymap, rereading
 from marraztu.control.browse import FileWatcher, ModelWatcher, SeenFiles, read_together
 from marraztu.errors import LoadError, ViewerError, escaped
 from marraztu.loaders.images import fit_texture, load_image, load_texture_or_fallback
@@ -267,9 +267,9 @@ class Viewer:
         self.watcher: ModelWatcher | None = None  # set by --watch
         self.scene_watcher: FileWatcher | None = None  # set by --watch with a scene file
         # Where the scene file's last read placed its elements, by uid: a read again takes their place.
-        self._scene_file_placed: dict[int, commands.FilePlacement] = {}
+        self._scene_file_placed: dict[int, rereading.FilePlacement] = {}
         self._collecting: list[LoadJob] = []  # the worker's finished loads collect_loads is adding
-        self._scene_file_lights: dict[str, commands.LightSettings] = {}  # what its last read set the lights to
+        self._scene_file_lights: dict[str, rereading.LightSettings] = {}  # what its last read set the lights to
         # What reads the scene file's texture into its Scene read again; None where the command line named
         # the texture, which outlasts a read again.
         self._scene_texture: Callable[[Scene], list[str]] | None = None
@@ -289,8 +289,8 @@ class Viewer:
         failure is told, on screen and to the front end, and none hides another. `scene_watcher`: the scene
         file as scene_file_watcher saw it before it was read; made here, seen as now, where none is given."""
         self._starting = True
-        self._scene_file_placed = commands.file_placements(self.scene)
-        self._scene_file_lights = commands.file_lights(self.scene)
+        self._scene_file_placed = rereading.file_placements(self.scene)
+        self._scene_file_lights = rereading.file_lights(self.scene)
         self._scene_texture = (None if options.texture is not None
                                else functools.partial(read_texture, named=None, longest_side=longest_texture_side))
         # The command line's models are framed together where they are alone, or beside a scene
@@ -516,11 +516,11 @@ class Viewer:
                 self.scene_watcher.watch_too(Path(read.__cause__.path))
             self._failed(read)
             return
-        placed, lights = commands.file_placements(read), commands.file_lights(read)  # before framing moves them
-        kept = commands.replace_scene_read(self.scene, read, self._scene_file_placed, placed, self.narrowest_aspect())
+        placed, lights = rereading.file_placements(read), rereading.file_lights(read)  # before framing moves them
+        kept = rereading.replace_scene_read(self.scene, read, self._scene_file_placed, placed, self.narrowest_aspect())
         self._loads_follow(kept)
         anew = [element for element in read.objects + read.cameras if element not in kept.values()]
-        lit_anew = commands.take_edited_lights(self.scene, read, self._scene_file_lights, lights)
+        lit_anew = rereading.take_edited_lights(self.scene, read, self._scene_file_lights, lights)
         self._scene_file_placed, self._scene_file_lights = placed, lights
         self.scene_watcher.watch_also(self._pictures_named(read))
         self.watcher.stand_as(read.objects + read.cameras, seen.after)
