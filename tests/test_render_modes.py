@@ -269,6 +269,19 @@ def test_selected_light_marker(offscreen, make_quad, make_scene) -> None:
     assert np.abs(marker - np.array([250, 50, 150])).max() <= 1
 
 
+@pytest.mark.parametrize(("side", "dot"), [(127, 9), (800, 9), (1600, 18)])
+def test_the_light_marker_grows_with_the_framebuffer_as_the_text_does(offscreen, make_quad, make_scene, side: int,
+                                                                      dot: int) -> None:
+    """9 pixels across up to 800 on the shorter side, then as the overlay's text grows (layout.screen_scale):
+    a projector's or a HiDPI screen's dot as large to the eye as an 800 pixel window's."""
+    scene = make_scene([SceneObject.placed("quad", make_quad(20.0), MATERIAL, (0, 0, 0))])
+    scene.lights[1].position, scene.lights[1].on = np.array([60.0, 60.0, 0.0]), True
+    scene.selected_light, scene.modes.target = 1, Target.LIGHTS
+    lit = (np.abs(offscreen(scene, (side, side)).astype(int) - [250, 50, 150]).max(axis=2) <= 1)
+    rows, cols = np.nonzero(lit)
+    assert rows.max() - rows.min() + 1 == dot and cols.max() - cols.min() + 1 == dot
+
+
 def test_aspect_ratio_keeps_squares_square(offscreen, make_quad, make_scene) -> None:
     scene = make_scene([SceneObject.placed("quad", make_quad(50.0), MATERIAL, (0, 0, 0))])
     for projection in Projection:

@@ -13,7 +13,7 @@ from marraztu.errors import shortened
 from marraztu.model.viewports import View
 
 MAX_SIDE = 16384  # pixels: no framebuffer side beyond what GL implementations promise
-TEXT_SIDE_PX = 800  # the shorter framebuffer side up to which the overlay's text keeps its own size
+SCREEN_SIDE_PX = 800  # the shorter framebuffer side up to which the overlay's text and the markers keep their size
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -33,15 +33,16 @@ def checked_size(width: int, height: int) -> tuple[int, int]:
     return width, height
 
 
-def text_scale(size: tuple[int, int]) -> float:
-    """How much larger than at 800x800 the overlay's text is drawn: the framebuffer's shorter side over
-    TEXT_SIDE_PX, never under 1 (a smaller window wraps and cuts its text instead)."""
-    return max(1.0, min(size) / TEXT_SIDE_PX)
+def screen_scale(size: tuple[int, int]) -> float:
+    """How much larger than at 800x800 what is drawn in pixels (the overlay's text, the light's and the probe's
+    dots) is drawn: the framebuffer's shorter side over SCREEN_SIDE_PX, never under 1 (a smaller window wraps
+    and cuts its text instead)."""
+    return max(1.0, min(size) / SCREEN_SIDE_PX)
 
 
 def scaled_px(length: float, size: tuple[int, int]) -> int:
     """A length of the overlay's text at 800x800, at the framebuffer `size`: whole pixels, the nearest."""
-    return int(length * text_scale(size) + 0.5)
+    return int(length * screen_scale(size) + 0.5)
 
 
 def pixel_per_w(projection: np.ndarray, view: View) -> float:

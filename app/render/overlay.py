@@ -4,7 +4,7 @@ marraztu.text.panels, on translucent backdrops.
 The font is moderngl-window's Vera Mono atlas, scaled once to the pixel size it is drawn at and drawn
 pixel for pixel: scaled while drawing, as moderngl-window's text writer does, its thin strokes
 (the dot of an i, the stems of m, T and 1) fade into the background. Every length of the text is its
-length at 800x800 times layout.text_scale, rounded to whole pixels, so that a projector's or a HiDPI
+length at 800x800 times layout.screen_scale, rounded to whole pixels, so that a projector's or a HiDPI
 screen's framebuffer gets text as large, to the eye, as an 800 pixel window's.
 """
 
@@ -71,7 +71,7 @@ class TextSizes:
 
 
 def text_sizes(size: tuple[int, int]) -> TextSizes:
-    """The lengths at 800x800 scaled to a framebuffer of `size` (layout.text_scale), each rounded."""
+    """The lengths at 800x800 scaled to a framebuffer of `size` (layout.screen_scale), each rounded."""
     def cell(width_height: tuple[int, int]) -> tuple[int, int]:
         return scaled_px(width_height[0], size), scaled_px(width_height[1], size)
 

@@ -60,7 +60,7 @@ from marraztu.render.gpu import (
     load_program,
 )
 from marraztu.render.guides import GuidesDrawer
-from marraztu.render.layout import pixel_per_w
+from marraztu.render.layout import pixel_per_w, scaled_px
 from marraztu.render.mipmaps import MipmappedTexture, create_mipmapped
 
 CLEAR_COLOUR = (0.0, 0.0, 0.7)  # SPEC 3: the seed's blue
@@ -189,6 +189,7 @@ class Renderer:
         """`compute_lighting`: whether large lighting passes run as compute programs (None: where that
         is quicker, lights_by_compute)."""
         self.ctx = ctx
+        self.size = (1, 1)  # the framebuffer being drawn: the dots' size follows it (layout.screen_scale)
         self.draw, self.draw_segments = pieced_draws(ctx)
         # A surface program per shading (the depth view's too, made when first drawn: _use_way), and a
         # lighting pass (and on llvmpipe a compute one too) for the shadings that light vertices; the
@@ -346,6 +347,7 @@ class Renderer:
         self._drop_departed(scene)
         self._use_scene_texture(scene)
         width, height = max(int(size[0]), 1), max(int(size[1]), 1)
+        self.size = (width, height)
         fbo.use()
         fbo.viewport = (0, 0, width, height)
         fbo.clear(*CLEAR_COLOUR, 1.0, depth=1.0)
@@ -635,7 +637,7 @@ class Renderer:
         """A square dot, through the depth test as it stands."""
         self.marker.set("u_position", tuple(float(c) for c in position - self.origin))
         self.marker.set("u_colour", tuple(float(c) for c in colour))
-        self.marker.set("u_point_size", size_px)
+        self.marker.set("u_point_size", scaled_px(size_px, self.size))  # as large to the eye as the text
         self.ctx.enable(moderngl.PROGRAM_POINT_SIZE)
         self.marker_vao.render(moderngl.POINTS, vertices=1)
         self.ctx.disable(moderngl.PROGRAM_POINT_SIZE)
