@@ -639,7 +639,7 @@ BAD_SCENES = {
     "scale infinite": (CAMERA + "[[objects]]\nmodel = \"m.obj\"\nscale = [1, inf, 1]\n", "finite"),
     "scale past float32": (CAMERA + "[[objects]]\nmodel = \"m.obj\"\nscale = 1e39\n", "is too large"),
     "model not a string": ("[[cameras]]\nmodel = 3\nposition = [0, 0, 0]\n", "model must be"),
-    "empty model": ('[[cameras]]\nmodel = ""\nposition = [0, 0, 0]\n', "model must be"),
+    "empty model": ('[[cameras]]\nmodel = ""\nposition = [0, 0, 0]\n', "model must name a file (it is empty)$"),
     "name not a string": (CAMERA + "name = 7\n", "name must be"),
     "position too short": ('[[cameras]]\nmodel = "m.obj"\nposition = [0, 0]\n',
                            "cameras[1]: position must be three numbers, like [0, 0, 0], not 2 numbers"),
@@ -1355,3 +1355,17 @@ def test_a_file_whose_name_holds_a_back_slash_is_read(tmp_path: Path) -> None:
     (tmp_path / "sub\\m.obj").write_text(TETRAHEDRON)
     scene = load_scene(write_scene(tmp_path, "[[objects]]\nmodel = 'sub\\m.obj'\n"))
     assert scene.objects[0].name == "sub\\m"
+
+
+@pytest.mark.parametrize("text, said", [
+    ('texture = ""\n' + CAMERA, ':1: texture must name a file (it is empty)'),
+    ("texture = '  '\n" + CAMERA, ':1: texture must name a file (it is blank)'),
+    (CAMERA + 'texture = ""\n', ':4: cameras[1]: texture must name a file (it is empty)'),
+    ('[[objects]]\nmodel = ""\n', ':2: objects[1]: model must name a file (it is empty)'),
+], ids=["scene's texture", "blank", "an entry's texture", "model"])
+def test_an_empty_file_name_is_said_to_name_no_file(tmp_path: Path, text: str, said: str) -> None:
+    """texture = "" said 'texture must be a file name in quotes', though it is in quotes."""
+    path = write_scene(tmp_path, text)
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert str(caught.value) == f"{path}{said}"

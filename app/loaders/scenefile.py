@@ -401,9 +401,9 @@ class _SceneReader:
             return None
         value = self.document["texture"]
         line = self.lines.first(("texture",))
-        if not isinstance(value, str) or not value.strip():
+        if not isinstance(value, str):
             self.fail("texture must be a file name in quotes", line)
-        return (self.path.parent / value).absolute()
+        return (self.path.parent / self.file_name(value, "texture", line)).absolute()
 
     def ambient(self) -> Vec3:
         if "ambient" not in self.document:
@@ -496,7 +496,7 @@ class _SceneReader:
             self.fail(f"{what}: missing key 'position' (where the camera looks from; a file without [[cameras]] "
                       "has the built-in camera framing its models)", line)
         if "model" in table:
-            model = self.text_value(table["model"], f"{what}: model", at("model"))
+            model = self.file_name(table["model"], f"{what}: model", at("model"))
             path = self.path.parent / model
         else:  # a camera's: the built-in one
             model, path = CAMERA_MODEL, BUILT_IN_CAMERA_MODEL
@@ -509,7 +509,7 @@ class _SceneReader:
         rotation = self.triple(table.get("rotation", [0, 0, 0]), f"{what}: rotation", at("rotation"))
         scale = self.scale(table.get("scale", 1), f"{what}: scale", at("scale"))
         material = self.entry_material(table.get("material"), what, at("material"), materials)
-        texture = self.text_value(table["texture"], f"{what}: texture", at("texture")) if "texture" in table else None
+        texture = self.file_name(table["texture"], f"{what}: texture", at("texture")) if "texture" in table else None
         return SceneEntry(name, model, path, position, rotation, material, at("model"), what, scale, at("scale"),
                           texture, at("texture"), at("position"), camera)
 
@@ -556,6 +556,12 @@ class _SceneReader:
         if not isinstance(value, str) or not value.strip():
             self.fail(f"{what} must be a non-empty string in quotes", line)
         return value
+
+    def file_name(self, value: object, what: str, line: int | None) -> str:
+        """A model's or picture's name: text that names a file ("" is in quotes, yet names none)."""
+        if isinstance(value, str) and not value.strip():
+            self.fail(f"{what} must name a file (it is {'blank' if value else 'empty'})", line)
+        return self.text_value(value, what, line)
 
     def number(self, value: object, what: str, line: int | None) -> float:
         # bool is an int in Python, but `true` is never a sensible coordinate
