@@ -1369,3 +1369,56 @@ def test_an_empty_file_name_is_said_to_name_no_file(tmp_path: Path, text: str, s
     with pytest.raises(LoadError) as caught:
         load_scene(path)
     assert str(caught.value) == f"{path}{said}"
+
+
+
+ESCAPES = ('a back slash inside "double quotes" starts an escape{}; use / between folders (or, on Windows, '
+           "'single quotes')")
+MADE = " ({} made {}: " + ESCAPES.format("") + ")"
+ESCAPED_PATHS = {  # the scene, where the message is, and what it says after that; {} the scene's folder
+    "\\f": ('[[objects]]\nmodel = "models\\floor.obj"\n',
+            ":2: model models\\floor.obj: {}/models\\x0cloor.obj: no such file" + MADE.format("\\f", "a form feed")),
+    "\\n": ('[[objects]]\nmodel = "models\\new_ball.obj"\n',
+            ":2: model models\\new_ball.obj: {}/models\\new_ball.obj: no such file" + MADE.format("\\n", "a line end")),
+    "\\b": ('[[objects]]\nmodel = "models\\ball.obj"\n',
+            ":2: model models\\ball.obj: {}/models\\x08all.obj: no such file" + MADE.format("\\b", "a backspace")),
+    "\\r": ('[[objects]]\nmodel = "models\\rock.obj"\n',
+            ":2: model models\\rock.obj: {}/models\\rock.obj: no such file" + MADE.format("\\r", "a carriage return")),
+    "\\U": ('[[objects]]\nmodel = "C:\\Users\\teacher\\floor.obj"\n',
+            ":2: TOML syntax: model: " + ESCAPES.format(" (\\U here)")),
+    "\\w": ('[[objects]]\nmodel = "models\\wood_floor.obj"\n',
+            ":2: TOML syntax: model: " + ESCAPES.format(" (\\w here)")),
+    "\\u, no character": ('[[objects]]\nmodel = "a\\udead.obj"\n',
+                          ":2: TOML syntax: model: " + ESCAPES.format(" (\\u here)")),
+    "an entry's texture": (CAMERA + 'texture = "pics\\floor.png"\n',
+                           ":4: cameras[1]: texture: {}/pics\\x0cloor.png: no such file"
+                           + MADE.format("\\f", "a form feed")),
+    "a control character by its code": ('[[objects]]\nmodel = "a\\u0001b.obj"\n',
+                                        ":2: model a\\x01b.obj: {}/a\\x01b.obj: no such file (it holds a control "
+                                        "character, " + ESCAPES.format("") + ")"),
+}
+
+
+@pytest.mark.skipif(os.sep == "\\", reason="the paths expected are joined with /")
+@pytest.mark.parametrize("text, said", ESCAPED_PATHS.values(), ids=ESCAPED_PATHS.keys())
+def test_a_windows_path_in_double_quotes_says_its_back_slashes_start_escapes(tmp_path: Path, text: str,
+                                                                              said: str) -> None:
+    """model = "models\\floor.obj" said 'model models\\x0cloor.obj: .../models\\x0cloor.obj: no such file' (\\f a
+    form feed), "models\\new_ball.obj" the same without a hint, "C:\\Users..." 'Invalid hex value' and
+    "models\\wood_floor.obj" "Unescaped '\\' in a string"."""
+    path = write_scene(tmp_path, text)
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert str(caught.value) == f"{path}{said.format(tmp_path)}"
+
+
+@pytest.mark.skipif(os.sep == "\\", reason="the path expected is joined with /")
+def test_the_scenes_own_texture_in_double_quotes_says_its_back_slashes_start_escapes(tmp_path: Path) -> None:
+    """texture = "pics\\tex.png" (a tab in it) said at start '...: no such file (using the built-in checker
+    texture)', with no word of the escape."""
+    from marraztu.control.viewer import read_texture
+
+    path = write_scene(tmp_path, 'texture = "pics\\tex.png"\n' + CAMERA)
+    said = read_texture(load_scene(path), None, 1024)
+    assert said == [f"{path}:1: texture: {tmp_path}/pics\\tex.png: no such file" + MADE.format("\\t", "a tab")
+                    + " (using the built-in checker texture)"]

@@ -64,21 +64,53 @@ _WRITTEN_DRIVE = re.compile(r"([A-Za-z]:)[/\\]")
 def _windows_path_hint(path: str) -> str:
     """Why a path holding a back slash, or beginning with a drive (a command line's, as typed), is not
     found where "\\" is no folder separator and C: no drive (every system but Windows): it is a Windows
-    path, as a scene or a model written there gives it. Its drive may follow the folder read from."""
+    path, as a scene or a model written there gives it. Its drive may follow the folder read from. A control
+    character in it is an escape a scene's "double quotes" made of a back slash (a scene's own texture)."""
     back_slashes = "\\" in path
-    return _hint(back_slashes, _WINDOWS_DRIVE.search(path) if back_slashes else _WRITTEN_DRIVE.match(path))
+    drive = _WINDOWS_DRIVE.search(path) if back_slashes else _WRITTEN_DRIVE.match(path)
+    return _hint(back_slashes, drive, _CONTROL_CHARACTER.search(path))
 
 
 def _windows_name_hint(written: str) -> str:
     """_windows_path_hint of a name as written: a drive, where it has one, begins it."""
-    return _hint("\\" in written, _WRITTEN_DRIVE.match(written))
+    return _hint("\\" in written, _WRITTEN_DRIVE.match(written), _CONTROL_CHARACTER.search(written))
 
 
-def _hint(back_slashes: bool, drive: re.Match[str] | None) -> str:
-    if os.sep == "\\" or not (back_slashes or drive):
-        return ""
-    words = (["use / between folders"] if back_slashes else []) + ([f"{drive[1]} is a Windows drive"] if drive else [])
-    return f" ({'; '.join(words)})"
+def _hint(back_slashes: bool, drive: re.Match[str] | None, control: re.Match[str] | None) -> str:
+    windows = os.sep == "\\"  # where back slashes and drives are read as written
+    slashes = [_escape_made(control[0])] if control else [_USE_SLASHES] if back_slashes and not windows else []
+    words = slashes + ([f"{drive[1]} is a Windows drive"] if drive and not windows else [])
+    return f" ({'; '.join(words)})" if words else ""
+
+
+_USE_SLASHES = "use / between folders"
+_OR_SINGLE_QUOTES = "(or, on Windows, 'single quotes')"  # which keep back slashes, folder separators only there
+# What TOML's escapes in a "double-quoted" string make of a Windows path's folders (models\floor.obj: \f).
+_ESCAPES_MADE = {"\b": ("\\b", "a backspace"), "\t": ("\\t", "a tab"), "\n": ("\\n", "a line end"),
+                 "\f": ("\\f", "a form feed"), "\r": ("\\r", "a carriage return")}
+_AS_TYPED = str.maketrans({made: escape for made, (escape, _) in _ESCAPES_MADE.items()})
+_CONTROL_CHARACTER = re.compile(r"[\x00-\x1f\x7f]")
+
+
+def escape_words(escape: str | None = None) -> str:
+    """Why a Windows path in a TOML "double-quoted" string is not the path written (C:\\Users: \\U), and what
+    to write instead; `escape` names the escape, where known."""
+    here = f" ({escape} here)" if escape else ""
+    return f'a back slash inside "double quotes" starts an escape{here}; {_USE_SLASHES} {_OR_SINGLE_QUOTES}'
+
+
+def _escape_made(control: str) -> str:
+    """The words for a control character in a file's name, which no one means: the escape that makes it first,
+    where one does (models\\floor.obj's \\f)."""
+    escape, made = _ESCAPES_MADE.get(control, (None, None))
+    if escape is None:
+        return f"it holds a control character, {escape_words()}"
+    return f"{escape} made {made}: {escape_words()}"
+
+
+def as_typed(name: str) -> str:
+    """A name as a person typed it in "double quotes": its escaped control characters as the escapes (\\f)."""
+    return name.translate(_AS_TYPED)
 
 
 # Linux's PATH_MAX: no longer path names a file it opens.

@@ -51,7 +51,15 @@ from typing import NoReturn
 import numpy as np
 
 from marraztu.errors import LoadError, ViewerError
-from marraztu.loaders.files import line_at, read_file, said_as_written, same_file_key, shown
+from marraztu.loaders.files import (
+    as_typed,
+    escape_words,
+    line_at,
+    read_file,
+    said_as_written,
+    same_file_key,
+    shown,
+)
 from marraztu.loaders.images import load_image
 from marraztu.loaders.patterns import compiled
 from marraztu.loaders.registry import MODEL_READERS, Stage, load_model, sized
@@ -130,6 +138,9 @@ _SYNTAX_REWORDED = {
     "Found invalid character '\\n'": "a string in 'quotes' is not closed on its line",  # a one-line 'string' only
     "Invalid value": "no value TOML reads",
 }
+# tomllib's words for an escape in a "double-quoted" string that it cannot read: \U and \u start hex codes.
+_ESCAPE_SLIPS = frozenset({"Invalid hex value", "Unescaped '\\' in a string",
+                           "Escaped character is not a Unicode scalar value"})
 _QUOTES_HINT = ' (text, a file name too, goes in "quotes")'
 _LOOKS_LIKE_TEXT = re.compile(r"[^\W\d]|[./\\~]")  # a value starting so is a word or a path, not a number
 TOO_LARGE = "is too large: the GPU's 32-bit numbers end at 3.4e38"
@@ -358,7 +369,7 @@ class _SceneReader:
         would ("Cannot declare ('materials', 'red') twice": [materials.red] is declared twice)."""
         if line is None or column is None:  # at the end: the last line, maybe not where the slip is
             return said
-        text = next(islice(_lines(self.text), line - 1, None))
+        text = self._line_text(line)
         written = _LINE_START.match(text)
         if written is None:
             return said
@@ -368,6 +379,8 @@ class _SceneReader:
             return _array_over_a_table(self.text, written["array"], line)
         if written["key"] is None:
             return said
+        if said in _ESCAPE_SLIPS:  # a Windows path in "double quotes": C:\Users reads \U as a character's code
+            return f"{written['key']}: {escape_words(_escape_before(text, column))}"
         if said == "Cannot overwrite a value" and len(_key_parts(written["key"])) == 1:  # else a part may be a value
             return f"{written['key']} is set twice in one table"
         twice = _INLINE_KEY_TWICE.fullmatch(said)
@@ -563,6 +576,9 @@ class _SceneReader:
             self.fail(f"{what} must name a file (it is {'blank' if value else 'empty'})", line)
         return self.text_value(value, what, line)
 
+    def _line_text(self, line: int | None) -> str:
+        return "" if line is None else next(islice(_lines(self.text), line - 1, None), "")
+
     def number(self, value: object, what: str, line: int | None) -> float:
         # bool is an int in Python, but `true` is never a sensible coordinate
         if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -736,6 +752,13 @@ def _first_key_line(text: str, key: KeyPath, before: int) -> int | None:
     return found
 
 
+def _escape_before(line: str, column: int) -> str | None:
+    """The escape (a back slash and the letter after it) last begun before `column` of `line`, where tomllib
+    stopped reading it."""
+    at = line.rfind("\\", 0, column - 1)
+    return line[at:at + 2] if at >= 0 else None
+
+
 def _line_of(text: str, offset: int) -> int:
     """The line of the character at `offset`, as tomllib counts lines ("\n" ends one)."""
     return text.count("\n", 0, offset) + 1
@@ -888,7 +911,7 @@ class _ModelLoader:
                 self.meshes[key] = load_model(entry.model_path.absolute(), self.stage)
             except (ViewerError, OSError) as err:
                 said = said_as_written(err, entry.model_path.absolute(), entry.model)
-                raise LoadError(self.scene_path, f"model {shown(entry.model)}: {said}", entry.line) from err
+                raise LoadError(self.scene_path, f"model {shown(as_typed(entry.model))}: {said}", entry.line) from err
         if (key, entry.scale) not in self.sized:
             try:
                 self.sized[key, entry.scale] = sized(self.meshes[key], entry.scale, entry.model_path)
