@@ -1422,3 +1422,38 @@ def test_the_scenes_own_texture_in_double_quotes_says_its_back_slashes_start_esc
     said = read_texture(load_scene(path), None, 1024)
     assert said == [f"{path}:1: texture: {tmp_path}/pics\\tex.png: no such file" + MADE.format("\\t", "a tab")
                     + " (using the built-in checker texture)"]
+
+
+SYNTAX_SLIPS = {
+    "a comma missing": (CAMERA + "rotation = [0, 80 60]\n",
+                        ":4: TOML syntax: rotation: Unclosed array (a comma missing between values?)"),
+    "a comma missing, a line on": (CAMERA + "rotation = [0,\n80 60]\n",
+                                   ":5: TOML syntax: Unclosed array (a comma missing between values?)"),
+    "[objects]": ('[objects]\nmodel = "m.obj"\n' + CAMERA + '[objects]\nmodel = "m.obj"\n',
+                  ":6: TOML syntax: [objects] is declared twice (first at line 1): each object is [[objects]], with "
+                  "double brackets"),
+    "[cameras]": (CAMERA + "[cameras]\nposition = [0, 0, 1]\n",
+                  ":4: TOML syntax: [cameras] is declared twice (first at line 1): each camera is [[cameras]], with "
+                  "double brackets"),
+    "True": (CAMERA + "[lights.bulb]\non = True\n",
+             ":5: TOML syntax: on: no value TOML reads (TOML writes true and false in lower case)"),
+    "FALSE": (CAMERA + "[lights.bulb]\non = FALSE\n",
+              ":5: TOML syntax: on: no value TOML reads (TOML writes true and false in lower case)"),
+    "Yes": (CAMERA + "[lights.bulb]\non = Yes\n",
+            ":5: TOML syntax: on: no value TOML reads (TOML writes yes and no as true and false, in lower case)"),
+    "a word, as before": (CAMERA + "[lights.bulb]\non = maybe\n",
+                          ':5: TOML syntax: on: no value TOML reads (text, a file name too, goes in "quotes")'),
+    "a name with a space": (CAMERA + "[lights.camera spotlight]\non = true\n",
+                            ":4: TOML syntax: Expected ']' at the end of a table declaration (a name with spaces is "
+                            "written with _: [lights.camera_spotlight])"),
+}
+
+
+@pytest.mark.parametrize("text, said", SYNTAX_SLIPS.values(), ids=SYNTAX_SLIPS.keys())
+def test_a_slip_tomllib_names_in_its_words_says_what_was_meant(tmp_path: Path, text: str, said: str) -> None:
+    """A teacher's [0, 80 60], [objects] written twice, on = True and [lights.camera spotlight] got only
+    tomllib's words: Unclosed array, declared twice, no value TOML reads (text goes in "quotes"), Expected ']'."""
+    path = write_scene(tmp_path, text)
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert str(caught.value) == f"{path}{said}"

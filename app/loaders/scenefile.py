@@ -137,7 +137,18 @@ _SYNTAX_REWORDED = {
     "Illegal character '\\n'": 'a string in "quotes" is not closed on its line',  # a one-line "string" only
     "Found invalid character '\\n'": "a string in 'quotes' is not closed on its line",  # a one-line 'string' only
     "Invalid value": "no value TOML reads",
+    "Unclosed array": "Unclosed array (a comma missing between values?)",
+    "Expected ']' at the end of a table declaration": "Expected ']' at the end of a table declaration (a name with "
+                                                      "spaces is written with _: [lights.camera_spotlight])",
 }
+# What a bare word TOML does not read was meant as, where it is a yes or a no written as a person would.
+_LOWER_CASE_HINT = " (TOML writes true and false in lower case)"
+_YES_NO_HINT = " (TOML writes yes and no as true and false, in lower case)"
+_BARE_WORD_HINTS = {"true": _LOWER_CASE_HINT, "false": _LOWER_CASE_HINT, "yes": _YES_NO_HINT, "no": _YES_NO_HINT}
+_BARE_WORD = re.compile(r"[A-Za-z]*")
+# An [[array]] of the scene written [with single brackets] for each of its entries.
+_ENTRY_BRACKETS = {"objects": "each object is [[objects]], with double brackets",
+                   "cameras": "each camera is [[cameras]], with double brackets"}
 # tomllib's words for an escape in a "double-quoted" string that it cannot read: \U and \u start hex codes.
 _ESCAPE_SLIPS = frozenset({"Invalid hex value", "Unescaped '\\' in a string",
                            "Escaped character is not a Unicode scalar value"})
@@ -372,13 +383,13 @@ class _SceneReader:
         text = self._line_text(line)
         written = _LINE_START.match(text)
         if written is None:
-            return said
+            return _SYNTAX_REWORDED.get(said, said)
         if written["table"] is not None and _DECLARED_TWICE.fullmatch(said):
             return _table_declared_twice(self.text, written["table"], line)
         if written["array"] is not None and said == "Cannot overwrite a value":
             return _array_over_a_table(self.text, written["array"], line)
         if written["key"] is None:
-            return said
+            return _SYNTAX_REWORDED.get(said, said)
         if said in _ESCAPE_SLIPS:  # a Windows path in "double quotes": C:\Users reads \U as a character's code
             return f"{written['key']}: {escape_words(_escape_before(text, column))}"
         if said == "Cannot overwrite a value" and len(_key_parts(written["key"])) == 1:  # else a part may be a value
@@ -387,7 +398,9 @@ class _SceneReader:
         if twice and _written_twice(text[written.end():column], twice["a"] or twice["b"]):
             return f"{written['key']}: {twice['a'] or twice['b']} is set twice in one inline table"
         unquoted = said == "Invalid value" and _LOOKS_LIKE_TEXT.match(text, column - 1)
-        return f"{written['key']}: {_SYNTAX_REWORDED.get(said, said)}" + (_QUOTES_HINT if unquoted else "")
+        word = _BARE_WORD.match(text, column - 1)[0].lower()
+        hint = _BARE_WORD_HINTS.get(word, _QUOTES_HINT) if unquoted else ""
+        return f"{written['key']}: {_SYNTAX_REWORDED.get(said, said)}{hint}"
 
     def _last_line(self) -> int:
         """The last line that holds anything: where a file cut short ends (tomllib says only "at end of
@@ -717,7 +730,8 @@ def _table_declared_twice(text: str, name: str, line: int) -> str:
     key = _key_parts(name)
     first = _first_header_line(text, key, line)
     if first is not None:
-        return f"[{name}] is declared twice (first at line {first})"
+        brackets = _ENTRY_BRACKETS.get(name)
+        return f"[{name}] is declared twice (first at line {first})" + (f": {brackets}" if brackets else "")
     set_at = _first_key_line(text, key, line)
     return f"[{name}]: {key[-1]} is already set by a key" + (f" (line {set_at})" if set_at else "")
 
