@@ -1457,3 +1457,46 @@ def test_a_slip_tomllib_names_in_its_words_says_what_was_meant(tmp_path: Path, t
     with pytest.raises(LoadError) as caught:
         load_scene(path)
     assert str(caught.value) == f"{path}{said}"
+
+
+@pytest.mark.parametrize("entry, said", [
+    ('model = "M.obj"\n', ":2: model M.obj: {}/M.obj: no such file (did you mean m.obj?)"),
+    ('model = "m.obj"\ntexture = "Red.PNG"\n',
+     ":3: objects[1]: texture: {}/Red.PNG: no such file (did you mean red.png?)"),
+    ('model = "sub\\\\M.obj"\n', ":2: model sub\\M.obj: {}/sub\\M.obj: no such file (use / between folders)"),
+], ids=["model", "texture", "a Windows path"])
+@pytest.mark.skipif(os.sep == "\\", reason="Windows reads names in any case")
+def test_a_file_named_in_another_case_says_which_was_meant(tmp_path: Path, entry: str, said: str) -> None:
+    """model = "Sphere.obj" beside sphere.obj said only 'no such file'."""
+    (tmp_path / "red.png").write_bytes(b"")
+    path = write_scene(tmp_path, "[[objects]]\n" + entry)
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert str(caught.value) == f"{path}{said.format(tmp_path)}"
+
+
+@pytest.mark.skipif(os.sep == "\\", reason="Windows reads names in any case")
+def test_a_name_two_files_match_but_for_case_gets_no_guess(tmp_path: Path) -> None:
+    (tmp_path / "Ball.obj").write_text(TETRAHEDRON)
+    (tmp_path / "BALL.obj").write_text(TETRAHEDRON)
+    (tmp_path / "ball.OBJ").mkdir()  # a folder is no model
+    with pytest.raises(LoadError) as caught:
+        load_model_as_read(tmp_path / "ball.obj")
+    assert str(caught.value) == f"{tmp_path}/ball.obj: no such file"
+    (tmp_path / "BALL.obj").unlink()
+    with pytest.raises(LoadError) as caught:
+        load_model_as_read(tmp_path / "ball.obj")  # as the command line and `f` name it
+    assert str(caught.value) == f"{tmp_path}/ball.obj: no such file (did you mean Ball.obj?)"
+
+
+@pytest.mark.skipif(os.sep == "\\", reason="Windows reads names in any case")
+def test_a_missing_file_lists_its_folder_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Cost: one listing of the folder, only where the file is missing (a scene's model named as written again)."""
+    listed = []
+    real_scandir = os.scandir
+    monkeypatch.setattr(os, "scandir", lambda folder: listed.append(folder) or real_scandir(folder))
+    load_scene(write_scene(tmp_path, '[[objects]]\nmodel = "m.obj"\n'))
+    assert listed == []
+    with pytest.raises(LoadError, match=r"\(did you mean m\.obj\?\)$"):
+        load_scene(write_scene(tmp_path, '[[objects]]\nmodel = "M.obj"\n'))
+    assert listed == [str(tmp_path)]

@@ -24,14 +24,29 @@ COLLECT_AFTER_BYTES = 1 << 20
 
 class MissingFile(LoadError):
     """No file at `path`. Its hint looks at `written`, the name as the person wrote it, where the reader
-    of that name gives it again (as_written); else at the whole path."""
+    of that name gives it again (as_written); else at the whole path. `other_case`: its hint of a file named
+    so but for case, where already looked for (its folder is listed once)."""
 
-    def __init__(self, path: str | Path, written: str | None = None) -> None:
+    def __init__(self, path: str | Path, written: str | None = None, other_case: str | None = None) -> None:
+        self.other_case = _other_case_hint(path) if other_case is None else other_case
         hint = _windows_path_hint(str(path)) if written is None else _windows_name_hint(written)
-        super().__init__(path, f"no such file{hint}")
+        super().__init__(path, f"no such file{self.other_case}{hint}")
 
     def as_written(self, written: str) -> MissingFile:
-        return MissingFile(self.path, written)
+        return MissingFile(self.path, written, self.other_case)
+
+
+def _other_case_hint(path: str | Path) -> str:
+    """' (did you mean sphere.obj?)' where the folder of `path` holds exactly one file named as it is but for
+    case (Sphere.obj written): a file copied from Windows or macOS, which read names in any case."""
+    folder, name = os.path.split(os.fspath(path))
+    wanted = name.casefold()
+    try:
+        with os.scandir(folder or os.curdir) as entries:
+            found = [entry.name for entry in entries if entry.name.casefold() == wanted and entry.is_file()]
+    except (OSError, ValueError):  # no such folder, or a NUL in its name
+        return ""
+    return f" (did you mean {found[0]}?)" if len(found) == 1 else ""
 
 
 def said_as_written(error: BaseException, path: Path, written: str) -> BaseException:
