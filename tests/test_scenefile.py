@@ -1500,3 +1500,23 @@ def test_a_missing_file_lists_its_folder_once(tmp_path: Path, monkeypatch: pytes
     with pytest.raises(LoadError, match=r"\(did you mean m\.obj\?\)$"):
         load_scene(write_scene(tmp_path, '[[objects]]\nmodel = "M.obj"\n'))
     assert listed == [str(tmp_path)]
+
+
+DARK = "is in 0..255 units (so nearly dark): [255, 255, 255] is full white"
+DIM_LIGHTS = ("ambient = [1.0, 1.0, 1.0]\n" + CAMERA + "[lights.bulb]\non = true\nintensity = [1.0, 1.0, 1.0]\n"
+              "[lights.sun]\nintensity = [0, 0, 0]\n[lights.camera_spotlight]\nintensity = [1, 2, 0]\n"
+              "[lights.object_spotlight]\nintensity = [0, 0.5, 0]\n")
+
+
+def test_an_intensity_written_in_0_to_1_is_taken_with_a_note(tmp_path: Path) -> None:
+    """intensity = [1.0, 1.0, 1.0] was taken silently, and the scene nearly black; [0, 0, 0] is a deliberate off."""
+    import marraztu
+
+    path = write_scene(tmp_path, DIM_LIGHTS)
+    scene = load_scene(path)
+    notes = (f"{path}:1: ambient [1.0, 1.0, 1.0] {DARK}", f"{path}:7: lights.bulb: intensity [1.0, 1.0, 1.0] {DARK}",
+             f"{path}:13: lights.object_spotlight: intensity [0, 0.5, 0] {DARK}")
+    assert scene.notes == notes
+    assert list(scene.ambient) == [1, 1, 1] and list(scene.lights[1].intensity) == [1, 1, 1]
+    with marraztu.Viewer(size=(64, 48), scene=path) as viewer:  # told at start, as the window and screenshot tell it
+        assert all(note in viewer.message for note in notes), viewer.message

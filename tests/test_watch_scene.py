@@ -127,15 +127,15 @@ def test_the_files_lights_are_the_scenes_at_start_and_an_edited_one_is_taken_whe
     assert scene.message == "read lesson.toml again: 1 object, 1 camera"
     assert bulb.on and np.array_equal(bulb.position, moved) and len(bulb.history) == 1
     assert [light.on for light in scene.lights] == [False, True, False, True]
-    rewrite(tmp_path / "lesson.toml", "ambient = [1, 1, 1]\n[lights.bulb]\non = true\nposition = [0, 9, 0]\n"
+    rewrite(tmp_path / "lesson.toml", "ambient = [9, 9, 9]\n[lights.bulb]\non = true\nposition = [0, 9, 0]\n"
             "[lights.sun]\non = true\n" + CAMERA + square_at(0, kd="[1, 1, 1]"))
     viewer.check_watched()
     assert scene.message == ("read lesson.toml again: 1 object, 1 camera; lights as the file now sets them: ambient, "
                              "sun, bulb")
     assert scene.lights[1] is bulb and np.array_equal(bulb.position, [0, 9, 0]) and bulb.history == []
     assert [light.on for light in scene.lights] == [True, True, False, True]  # the spotlight: as the key left it
-    assert np.array_equal(scene.ambient, [1, 1, 1])
-    rewrite(tmp_path / "lesson.toml", "ambient = [1, 1, 1]\n[lights.sun]\non = true\n" + CAMERA + square_at(0))
+    assert np.array_equal(scene.ambient, [9, 9, 9])
+    rewrite(tmp_path / "lesson.toml", "ambient = [9, 9, 9]\n[lights.sun]\non = true\n" + CAMERA + square_at(0))
     viewer.check_watched()  # the bulb's table taken out: SPEC's, off at its place
     assert scene.message == "read lesson.toml again: 1 object, 1 camera; lights as the file now sets them: bulb"
     assert not bulb.on and np.array_equal(bulb.position, [0, 200, 0])
@@ -511,3 +511,13 @@ def test_a_save_made_while_the_starts_models_load_is_read_once_they_have(tmp_pat
     monkeypatch.setattr(scenefile, "load_model", load_model)
     viewer.check_watched()
     assert viewer.scene.object.model[0, 3] == 9
+
+
+def test_a_scene_file_read_again_tells_its_load_notes(tmp_path: Path) -> None:
+    """An intensity written in 0..1 is noted at each read, as at start: the read again's message says it too."""
+    viewer = watched(tmp_path, CAMERA + square_at(0))
+    rewrite(tmp_path / "lesson.toml", "ambient = [1, 1, 1]\n" + CAMERA + square_at(0))
+    viewer.check_watched()
+    assert viewer.scene.message == ("read lesson.toml again: 1 object, 1 camera; lights as the file now sets them: "
+                                    f"ambient; {tmp_path / 'lesson.toml'}:1: ambient [1, 1, 1] is in 0..255 units "
+                                    "(so nearly dark): [255, 255, 255] is full white")

@@ -299,6 +299,8 @@ class Viewer:
         self._start_models_to_frame = self.scene.frame_at_start and bool(self.scene.objects)
         self.scene.message = ""
         try:
+            for note in self.scene.notes:
+                self.tell(note)
             self._start_texture(options.texture, longest_texture_side)
             for model in options.models:
                 self.load_model(model)
@@ -532,7 +534,7 @@ class Viewer:
             said += f"; placed where the file now says, their undo afresh: {_names([element.name for element in anew])}"
         if lit_anew:
             said += f"; lights as the file now sets them: {', '.join(lit_anew)}"
-        self.tell("; ".join([said, *notes]))
+        self.tell("; ".join([said, *read.notes, *notes]))
 
     def _loads_follow(self, kept: dict[int, SceneObject]) -> None:
         """A PageDown still loading for an element a scene file's read again kept (by its old uid) goes to the

@@ -223,6 +223,7 @@ class SceneDescription:
     # SPEC 4's lights and Ia, with what the file's `ambient` and [lights.NAME] tables set.
     lights: tuple[Light, ...] = field(default_factory=lambda: tuple(default_lights()))
     ambient: Vec3 = SPEC_AMBIENT
+    notes: tuple[str, ...] = ()  # values taken that look like slips, each 'FILE:LINE: what', told at load
 
 
 # --------------------------------------------------------------------------------------------------
@@ -241,7 +242,7 @@ def load_scene(path: str | Path, stage: Stage | None = None) -> Scene:
                  cameras=[loader.place(entry) for entry in description.cameras],
                  lights=list(description.lights), ambient=np.array(description.ambient),
                  texture_path=_optional_str(description.texture_path), texture_named_at=_texture_named_at(description),
-                 frame_at_start=not description.cameras_given)
+                 frame_at_start=not description.cameras_given, notes=description.notes)
 
 
 def load_builtin_scene() -> Scene:
@@ -328,6 +329,7 @@ class _SceneReader:
                       "about 100 KB)")
         self.document = self._parse()
         self.lines = _LineIndex.of(self.text)
+        self.notes: list[str] = []
 
     def fail(self, message: str, line: int | None = None) -> NoReturn:
         raise LoadError(self.path, message, line)
@@ -418,8 +420,9 @@ class _SceneReader:
             cameras = cameras if given else builtin.cameras
             if texture is None:  # its models show the texture they show alone on the command line
                 texture, texture_line, named_in = builtin.texture_path, builtin.texture_line, builtin.path
-        return SceneDescription(self.path, objects, cameras, texture, texture_line, given, named_in, self.lights(),
-                                self.ambient())
+        ambient, lights = self.ambient(), self.lights()  # their notes in the file's order
+        return SceneDescription(self.path, objects, cameras, texture, texture_line, given, named_in, lights, ambient,
+                                tuple(self.notes))
 
     # --- top level -----------------------------------------------------------------------------
     def texture(self) -> Path | None:
@@ -434,7 +437,7 @@ class _SceneReader:
     def ambient(self) -> Vec3:
         if "ambient" not in self.document:
             return SPEC_AMBIENT
-        return self.triple_of(LIGHT_COLOUR, self.document["ambient"], "ambient", self.lines.first(("ambient",)))
+        return self.intensity(self.document["ambient"], "ambient", self.lines.first(("ambient",)))
 
     # --- lights --------------------------------------------------------------------------------
     def lights(self) -> tuple[Light, ...]:
@@ -471,8 +474,7 @@ class _SceneReader:
         if "on" in table:
             light.on = self.flag(table["on"], f"{what}: on", at("on"))
         if "intensity" in table:
-            light.intensity = np.array(self.triple_of(LIGHT_COLOUR, table["intensity"], f"{what}: intensity",
-                                                      at("intensity")))
+            light.intensity = np.array(self.intensity(table["intensity"], f"{what}: intensity", at("intensity")))
         if own == "direction" and own in table:
             light.direction = np.array(self.triple_of(DIRECTION, table[own], f"{what}: {own}", at(own)))
         if own == "position" and own in table:
@@ -647,6 +649,15 @@ class _SceneReader:
         if not kind.points_some_way(numbers[None]):
             self.fail(f"{what} must point some way (at least {kind.shortest:g} long), not {_toml_list(value)}", line)
         return triple
+
+    def intensity(self, value: object, what: str, line: int | None) -> Vec3:
+        """A light's or the ambient's, in 0..255 units; one written in 0..1 (not all 0, a deliberate off) is
+        taken, as it is legal, with a note: its scene is nearly dark."""
+        intensity = self.triple_of(LIGHT_COLOUR, value, what, line)
+        if 0 < max(intensity) <= 1:
+            self.notes.append(str(LoadError(self.path, f"{what} {_toml_list(value)} is in 0..255 units (so nearly "
+                                            "dark): [255, 255, 255] is full white", line)))
+        return intensity
 
     def flag(self, value: object, what: str, line: int | None) -> bool:
         if not isinstance(value, bool):

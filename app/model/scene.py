@@ -766,6 +766,7 @@ class Scene:
     fitted_unit: float = 1.0
     # A scene file that places no camera: its models are framed at start, as a model given alone is.
     frame_at_start: bool = False
+    notes: tuple[str, ...] = ()  # what its scene file's read noted (a value that looks like a slip), told at load
 
     def __post_init__(self) -> None:
         if not self.cameras:
