@@ -521,7 +521,8 @@ class Viewer:
         placed, lights = rereading.file_placements(read), rereading.file_lights(read)  # before framing moves them
         kept = rereading.replace_scene_read(self.scene, read, self._scene_file_placed, placed, self.narrowest_aspect())
         self._loads_follow(kept)
-        anew = [element for element in read.objects + read.cameras if element not in kept.values()]
+        kept_now = {element.uid for element in kept.values()}  # a set: a scene of thousands is looked up once each
+        anew = [element for element in read.objects + read.cameras if element.uid not in kept_now]
         lit_anew = rereading.take_edited_lights(self.scene, read, self._scene_file_lights, lights)
         self._scene_file_placed, self._scene_file_lights = placed, lights
         self.scene_watcher.watch_also(self._pictures_named(read))
