@@ -25,12 +25,11 @@ uniform mat4 u_inverse_view_projection;  // window to world, for a pixel's ray: 
 uniform vec3 u_plane_normal;  // the probed face's (world); 0 for a dot of its own
 uniform float u_pull_px;  // toward the eye, as the outline's
 uniform bool u_hidden;  // the pass where the picture's depth hides the dot: its border alone
+uniform float u_hollow_border_px;  // that border's width, grown with the dot
 
 #include "ray_depth"
 
 out vec4 out_colour;
-
-const float HOLLOW_BORDER_PX = 2.0;
 
 // The point of the face's plane this pixel shows, or the dot's own where the plane is seen edge on
 // or lies behind the eye: a corner's dot is tested as the face around it would be, so that the
@@ -50,7 +49,7 @@ void main() {
     float depth = min(depth_along_ray(on_plane(), -u_pull_px), depth_along_ray(u_position, -u_pull_px));
     gl_FragDepth = clamp(depth, 0.0, gl_FragCoord.z);
     vec2 from_centre = abs(gl_PointCoord - 0.5) * u_point_size;
-    if (u_hidden && max(from_centre.x, from_centre.y) < 0.5 * u_point_size - HOLLOW_BORDER_PX) {
+    if (u_hidden && max(from_centre.x, from_centre.y) < 0.5 * u_point_size - u_hollow_border_px) {
         discard;
     }
     out_colour = vec4(u_colour, 1.0);

@@ -10,7 +10,8 @@ from marraztu.model.mesh import Mesh
 from marraztu.model.probe import probe
 from marraztu.model.scene import Fill, Projection, Scene, SceneObject
 from marraztu.model.viewports import project, view_projection, views
-from marraztu.render.renderer import PROBE_COLOUR
+from marraztu.render.layout import scaled_px
+from marraztu.render.renderer import PROBE_COLOUR, PROBE_MARKER_PX
 from support.scenes import PLAIN, box_mesh, mesh_from_polygons, scene_with
 
 SIZE = (201, 201)
@@ -32,12 +33,12 @@ def outline_mask(offscreen, scene: Scene) -> np.ndarray:
     return (offscreen(scene, SIZE) == CYAN).all(axis=2)
 
 
-def window_corners(scene: Scene, face: int) -> list[np.ndarray]:
+def window_corners(scene: Scene, face: int, size: tuple[int, int] = SIZE) -> list[np.ndarray]:
     obj = scene.objects[0]
-    mesh, matrix = obj.mesh, view_projection(scene, views(scene, SIZE)[0])
+    mesh, matrix = obj.mesh, view_projection(scene, views(scene, size)[0])
     corners = mesh.corner_vertex[mesh.face_start[face]:mesh.face_start[face + 1]]
     world = mesh.positions[corners] @ obj.model[:3, :3].T + obj.model[:3, 3]
-    return [np.array(project(matrix, point, (0, 0, *SIZE))) for point in world]
+    return [np.array(project(matrix, point, (0, 0, *size))) for point in world]
 
 
 def along_edge(mask: np.ndarray, start: np.ndarray, end: np.ndarray) -> list[bool]:
@@ -90,6 +91,28 @@ def test_a_face_on_the_far_side_is_dashed_where_the_model_hides_it(offscreen, pr
     row, column = SIZE[1] - 1 - int(corner[1]), int(corner[0])
     dot = mask[row - 3:row + 4, column - 3:column + 4]
     assert dot.sum() > 20 and dot[2:5, 2:5].sum() <= 6, dot.astype(int)  # the edges cross its hole
+
+
+@pytest.mark.parametrize(("side", "border"), [(201, 2), (1601, 4)])
+def test_a_hidden_corners_dot_keeps_its_border_in_proportion_as_it_grows(offscreen, side: int, border: int) -> None:
+    """The hollow dot's border grows with the dot (layout.screen_scale), as the text does: 2 pixels of 7 up to
+    800 pixels on the shorter side, 4 of 14 at 1600 (not a thin ring of 2)."""
+    scene = probed_scene(box_mesh(30.0), FAR_FACE, Projection.PERSPECTIVE)
+    dot = scaled_px(PROBE_MARKER_PX, (side, side))
+    corner = window_corners(scene, FAR_FACE, (side, side))[0]
+    mask = (offscreen(scene, (side, side)) == CYAN).all(axis=2)
+    row, column = side - 1 - int(corner[1]), int(corner[0])
+    around = mask[row - dot:row + dot + 1, column - dot:column + dot + 1]
+    solid_rows = [line for line in around if longest_run(line) >= dot]  # the border's top and bottom
+    assert len(solid_rows) == 2 * border, around.astype(int)
+
+
+def longest_run(line: np.ndarray) -> int:
+    longest = run = 0
+    for filled in line:
+        run = run + 1 if filled else 0
+        longest = max(longest, run)
+    return longest
 
 
 def uv_sphere(radius: float, rings: int, segments: int) -> Mesh:

@@ -70,6 +70,7 @@ NORMAL_COLOUR = (1.0, 1.0, 0.0)
 MARKER_SIZE_PX = 9.0
 PROBE_COLOUR = (0.0, 1.0, 1.0)  # cyan: no other drawing uses it
 PROBE_MARKER_PX = 7.0
+HOLLOW_BORDER_PX = 2.0  # a hidden probed corner's dot: its border, at 800x800 as the dot's size
 # Corners the probe marks at most, a draw each: every corner of any polygon a model has; a polygon of
 # thousands (one file's whole outline) shows its outline instead.
 MAX_PROBE_MARKERS = 1024
@@ -638,6 +639,7 @@ class Renderer:
         self.marker.set("u_position", tuple(float(c) for c in position - self.origin))
         self.marker.set("u_colour", tuple(float(c) for c in colour))
         self.marker.set("u_point_size", scaled_px(size_px, self.size))  # as large to the eye as the text
+        self.marker.set("u_hollow_border_px", scaled_px(HOLLOW_BORDER_PX, self.size))  # grown with the dot
         self.ctx.enable(moderngl.PROGRAM_POINT_SIZE)
         self.marker_vao.render(moderngl.POINTS, vertices=1)
         self.ctx.disable(moderngl.PROGRAM_POINT_SIZE)
