@@ -154,6 +154,8 @@ BAD_LIGHTS = {
                                              "lights: unknown light 'object spotlight'", 4),
     "unknown key": (CAMERA + "[lights.bulb]\non = true\ncolour = [1, 1, 1]\n",
                     "lights.bulb: unknown key 'colour' (allowed: intensity, on, position)$", 6),
+    "two unknown keys: the first in the file": (CAMERA + "[lights.bulb]\nwatts = 60\ncolour = [1, 1, 1]\n",
+                                                "lights.bulb: unknown key 'watts'", 5),
     "the sun placed": (CAMERA + "[lights.sun]\nposition = [0, 0, 0]\n",
                        "lights.sun: unknown key 'position' (allowed: direction, intensity, on): position is the "
                        "bulb's$", 5),

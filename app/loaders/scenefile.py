@@ -465,7 +465,7 @@ class _SceneReader:
         if not isinstance(table, dict):
             self.fail(f"{what} must be a table of {', '.join(sorted(allowed))}", line)
         at = _or_header(key_line, line)
-        for key in sorted(set(table) - allowed):  # another light's key: say whose
+        for key in [key for key in table if key not in allowed]:  # another light's key: say whose
             owners = [name for name, kind_key in _light_keys().items() if kind_key == key]
             if owners:
                 whose = " and ".join(f"the {owner}'s" for owner in owners)
@@ -570,7 +570,7 @@ class _SceneReader:
     # --- values --------------------------------------------------------------------------------
     def check_keys(self, table: dict, allowed: frozenset[str], what: str, line: int | None,
                    required: tuple[str, ...] = (), key_line: Callable[[str], int | None] = _nowhere) -> None:
-        unknown = sorted(set(table) - allowed)
+        unknown = [key for key in table if key not in allowed]  # in the file's order: tomllib keeps it
         if unknown:
             # TOML reads a key below a header as that table's: the scene's own, written last, lands there
             misplaced = (f": {unknown[0]} is the scene's, written before the first [table]"
