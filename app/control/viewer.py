@@ -437,23 +437,30 @@ class Viewer:
         if self.background is None:
             return
         self._collecting = self.background.take_finished()
-        for job in self._collecting:
-            error = job.future.exception()
-            if error is not None and not isinstance(error, LoadError):  # a bug, not a bad file: said, not raised
-                error = LoadError(job.path, f"could not be loaded ({type(error).__name__}: {error})")
-            if job.reads_scene:
-                self._scene_read(job.future.result() if error is None else error, job.path, job.seen,
-                                 job.texture_notes)
-            elif error is None and job.replaces:
-                self._replace_each(job.replaces, job.future.result())
-            elif error is None:
-                self._add(job.future.result(), job.path, job.as_camera, job.at_start)
-            else:
-                self._failed(error, job.at_start)
+        try:
+            for job in self._collecting:
+                self._collect(job)
+        finally:
+            self._collecting = []  # taken: nothing of the batch held till the next frame
         if any(job.at_start for job in self.background.uncollected()):
             return  # the command line's models are told and framed as one batch, as start() does without a worker
         self._tell_start_loads()
         self._frame_start_models()
+
+    def _collect(self, job: LoadJob) -> None:
+        """One finished load into the scene, or its message."""
+        error = job.future.exception()
+        if error is not None and not isinstance(error, LoadError):  # a bug, not a bad file: said, not raised
+            error = LoadError(job.path, f"could not be loaded ({type(error).__name__}: {error})")
+        if job.reads_scene:
+            self._scene_read(job.future.result() if error is None else error, job.path, job.seen,
+                             job.texture_notes)
+        elif error is None and job.replaces:
+            self._replace_each(job.replaces, job.future.result())
+        elif error is None:
+            self._add(job.future.result(), job.path, job.as_camera, job.at_start)
+        else:
+            self._failed(error, job.at_start)
 
     def replace_model(self, element: SceneObject, path: Path) -> bool:
         """PageDown / PageUp and --watch: `path` in `element`'s place; a bad file leaves it as it was."""
