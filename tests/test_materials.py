@@ -528,13 +528,13 @@ def test_names_looked_for_in_any_case_list_each_folder_once(tmp_path: Path, monk
     """A library of many missing textures in a folder of many files costs one listing, not one each."""
     import os
 
-    from marraztu.loaders.obj import mtl as mtl_module
+    from marraztu.loaders import files as files_module
 
     for at in range(300):
         (tmp_path / f"other{at}.png").write_bytes(b"")
     listed: list[object] = []
     real_scandir = os.scandir
-    monkeypatch.setattr(mtl_module.os, "scandir", lambda folder: listed.append(folder) or real_scandir(folder))
+    monkeypatch.setattr(files_module.os, "scandir", lambda folder: listed.append(folder) or real_scandir(folder))
     (tmp_path / "m.mtl").write_text("".join(f"newmtl m{at}\nmap_Kd gone{at}.png\n" for at in range(300)))
     uses = "".join(f"usemtl m{at}\nf 1 2 3\n" for at in range(300))
     mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + uses).encode(), str(tmp_path / "m.obj"), base_dir=tmp_path)
@@ -547,14 +547,14 @@ def test_a_folder_spelled_many_ways_is_listed_once(tmp_path: Path, monkeypatch) 
     50,000 files filled the memory. One listing for the folder, however it is spelled."""
     import os
 
-    from marraztu.loaders.obj import mtl as mtl_module
+    from marraztu.loaders import files as files_module
 
     (tmp_path / "a").mkdir()
     for at in range(200):
         (tmp_path / f"t{at}.png").write_bytes(b"P6 1 1 255\n\xff\x00\x00")  # a PPM: pictures are known by their bytes
     listed: list[object] = []
     real_scandir = os.scandir
-    monkeypatch.setattr(mtl_module.os, "scandir", lambda folder: listed.append(folder) or real_scandir(folder))
+    monkeypatch.setattr(files_module.os, "scandir", lambda folder: listed.append(folder) or real_scandir(folder))
     (tmp_path / "m.mtl").write_text("".join(f"newmtl m{at}\nmap_Kd {'a/../' * (at + 1)}T{at}.PNG\n"
                                             for at in range(200)))
     uses = "".join(f"usemtl m{at}\nf 1 2 3\n" for at in range(200))

@@ -11,6 +11,7 @@ import os
 import re
 import stat
 from contextlib import contextmanager
+from functools import lru_cache
 from pathlib import Path
 from typing import BinaryIO, Callable, Iterator
 
@@ -40,13 +41,29 @@ def _other_case_hint(path: str | Path) -> str:
     """' (did you mean sphere.obj?)' where the folder of `path` holds exactly one file named as it is but for
     case (Sphere.obj written): a file copied from Windows or macOS, which read names in any case."""
     folder, name = os.path.split(os.fspath(path))
-    wanted = name.casefold()
-    try:
-        with os.scandir(folder or os.curdir) as entries:
-            found = [entry.name for entry in entries if entry.name.casefold() == wanted and entry.is_file()]
-    except (OSError, ValueError):  # no such folder, or a NUL in its name
-        return ""
+    found = names_in_any_case(folder).get(name.lower(), ())
     return f" (did you mean {found[0]}?)" if len(found) == 1 else ""
+
+
+def names_in_any_case(folder: str | Path) -> dict[str, tuple[str, ...]]:
+    """The files in `folder`, each spelling of a name by that name in lower case; nothing where it cannot be
+    listed. Listed once while the folder is unchanged (its modification time): a model naming thousands of
+    missing pictures costs one listing, not one each."""
+    folder = os.fspath(folder) or os.curdir
+    try:
+        return _listing(folder, os.stat(folder).st_mtime_ns)
+    except (OSError, ValueError):  # no such folder, or a NUL in its name
+        return {}
+
+
+@lru_cache(maxsize=1)  # the folder a load looks in; only the last is held, whatever its size
+def _listing(folder: str, changed_ns: int) -> dict[str, tuple[str, ...]]:
+    names: dict[str, tuple[str, ...]] = {}
+    with os.scandir(folder) as entries:
+        for entry in entries:
+            if entry.is_file():
+                names[entry.name.lower()] = (*names.get(entry.name.lower(), ()), entry.name)
+    return names
 
 
 def said_as_written(error: BaseException, path: Path, written: str) -> BaseException:

@@ -3,7 +3,6 @@ error: the model still loads, with the colours that could be read."""
 
 from __future__ import annotations
 
-import os
 import re
 from collections.abc import Collection, Iterable, Sequence
 from dataclasses import dataclass, field
@@ -18,6 +17,7 @@ from marraztu.loaders.files import (
     bom_length,
     git_lfs_pointer_words,
     is_there,
+    names_in_any_case,
     read_file,
     same_file_key,
     shown,
@@ -370,7 +370,7 @@ class _Finder:
     names it, and then in any case, each folder listed once however many names are looked for."""
 
     def __init__(self) -> None:
-        self.listings: dict[Path, dict[str, str]] = {}  # by the folder resolved: 'a/..' and '.' are one listing
+        self.listings: dict[Path, dict[str, tuple[str, ...]]] = {}  # by the folder resolved: 'a/..' and '.' are one
         self.resolved: dict[Path, Path] = {}  # a folder as named -> resolved: resolved once, not once a name
 
     def find(self, name: str, folder: Path, by_last_part: bool = True) -> Path | None:
@@ -383,9 +383,9 @@ class _Finder:
             self.resolved[path.parent] = same_file_key(path.parent)
         folder = self.resolved[path.parent]
         if folder not in self.listings:
-            self.listings[folder] = _file_names_by_lower_name(path.parent)
-        name = self.listings[folder].get(path.name.lower())
-        return None if name is None else path.parent / name
+            self.listings[folder] = names_in_any_case(path.parent)
+        names = self.listings[folder].get(path.name.lower())
+        return None if names is None else path.parent / names[0]
 
 
 class _TextureCache:
@@ -434,18 +434,6 @@ def _glows(tokens: list[str]) -> bool:
     for every material that does not glow."""
     values = finite_floats(tokens)
     return not values or any(value != 0.0 for value in values)  # unreadable: said to be ignored
-
-
-def _file_names_by_lower_name(folder: Path) -> dict[str, str]:
-    files: dict[str, str] = {}
-    try:
-        with os.scandir(folder) as entries:
-            for entry in entries:
-                if entry.is_file():
-                    files.setdefault(entry.name.lower(), entry.name)
-    except (OSError, ValueError):  # no such folder, or not one to list: nothing in it
-        pass
-    return files
 
 
 def _material_value(material: dict[str, object], key: str, tokens: list[str]) -> bool:
