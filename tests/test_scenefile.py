@@ -1522,3 +1522,37 @@ def test_an_intensity_written_in_0_to_1_is_taken_with_a_note(tmp_path: Path) -> 
     assert list(scene.ambient) == [1, 1, 1] and list(scene.lights[1].intensity) == [1, 1, 1]
     with marraztu.Viewer(size=(64, 48), scene=path) as viewer:  # told at start, as the window and screenshot tell it
         assert all(note in viewer.message for note in notes), viewer.message
+
+
+LONG_WORD = "x" * 3000
+LONG_WORDS = {  # a word of the file each message quotes: shown whole, the message was 3,000 to 9,000 characters
+    "unknown top key": (f"{LONG_WORD} = 1\n", 1, "the scene: unknown key 'xxx"),
+    "unknown entry key": (f'[[objects]]\nmodel = "m.obj"\n{LONG_WORD} = 1\n', 3, "objects[1]: unknown key 'xxx"),
+    "unknown material": (f'[[objects]]\nmodel = "m.obj"\nmaterial = "{LONG_WORD}"\n', 3,
+                         "objects[1]: unknown material 'xxx"),
+    "unknown light": (f"[lights.{LONG_WORD}]\non = true\n", 1, "lights: unknown light 'xxx"),
+    "material's name": (f"[materials.{LONG_WORD}]\nka = 1\n", 1, "material 'xxx"),
+    "escape in a key's value": (f'[[objects]]\n{LONG_WORD} = "C:\\Users"\n', 2, "TOML syntax: xxx"),
+    "table declared twice": (f"[materials.{LONG_WORD}]\n[materials.{LONG_WORD}]\n", 2, "TOML syntax: [materials.xxx"),
+    "array over a table": (f"[materials.{LONG_WORD}]\n[[materials.{LONG_WORD}]]\n", 2,
+                           "TOML syntax: [[materials.xxx"),
+    "inline key twice": (f'[[objects]]\nmodel = "m.obj"\nmaterial = {{ {LONG_WORD} = 1, {LONG_WORD} = 2 }}\n', 3,
+                         "TOML syntax: material: xxx"),
+}
+
+
+@pytest.mark.parametrize("text, line, said", LONG_WORDS.values(), ids=LONG_WORDS.keys())
+def test_a_long_word_of_the_file_is_cut_in_its_message(tmp_path: Path, text: str, line: int, said: str) -> None:
+    with pytest.raises(LoadError) as refused:
+        read_scene_description(write_scene(tmp_path, text))
+    assert refused.value.line == line and refused.value.message.startswith(said)
+    assert len(refused.value.message) < 300 and re.search(r"\.\.\. \(30[01]0 characters\)", refused.value.message)
+
+
+def test_an_unknown_material_lists_a_few_of_the_known_ones(tmp_path: Path) -> None:
+    """Every name was listed whole: a scene of ten thousand materials said ten thousand names in one line."""
+    materials = "".join(MATERIAL.replace("materials.m", f"materials.m{index}") for index in range(10_000))
+    with pytest.raises(LoadError) as refused:
+        read_scene_description(write_scene(tmp_path, materials + '[[objects]]\nmodel = "m.obj"\nmaterial = "n"\n'))
+    assert refused.value.message.startswith("objects[1]: unknown material 'n' (known: m0, m1, m10, ")
+    assert len(refused.value.message) < 300 and refused.value.message.endswith(" and 9,990 more)")

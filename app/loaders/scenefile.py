@@ -42,7 +42,7 @@ import math
 import re
 import sys
 import tomllib
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from itertools import chain, islice
 from pathlib import Path
@@ -50,7 +50,7 @@ from typing import NoReturn
 
 import numpy as np
 
-from marraztu.errors import LoadError, ViewerError
+from marraztu.errors import LoadError, ViewerError, shortened
 from marraztu.loaders.files import (
     as_typed,
     escape_words,
@@ -112,6 +112,7 @@ SCENE_READ_LIMIT = 16 << 20
 # tomllib, whose cost for a dotted key grows with the square of its parts.
 MAX_KEY_PARTS = 16
 WHITE: Vec3 = (1.0, 1.0, 1.0)
+NAMES_LISTED = 10  # the known names a message lists for one it does not know
 # SPEC 4's Ia, as the file's `ambient` is read.
 SPEC_AMBIENT: Vec3 = tuple(map(float, AMBIENT_INTENSITY))  # type: ignore[assignment]
 LIGHT_KEYS = frozenset({"on", "intensity"})  # every light's, past the one its kind takes (KIND_KEY)
@@ -392,17 +393,18 @@ class _SceneReader:
             return _array_over_a_table(self.text, written["array"], line)
         if written["key"] is None:
             return _SYNTAX_REWORDED.get(said, said)
+        key = shortened(written["key"])
         if said in _ESCAPE_SLIPS:  # a Windows path in "double quotes": C:\Users reads \U as a character's code
-            return f"{written['key']}: {escape_words(_escape_before(text, column))}"
+            return f"{key}: {escape_words(_escape_before(text, column))}"
         if said == "Cannot overwrite a value" and len(_key_parts(written["key"])) == 1:  # else a part may be a value
-            return f"{written['key']} is set twice in one table"
+            return f"{key} is set twice in one table"
         twice = _INLINE_KEY_TWICE.fullmatch(said)
         if twice and _written_twice(text[written.end():column], twice["a"] or twice["b"]):
-            return f"{written['key']}: {twice['a'] or twice['b']} is set twice in one inline table"
+            return f"{key}: {shortened(twice['a'] or twice['b'])} is set twice in one inline table"
         unquoted = said == "Invalid value" and _LOOKS_LIKE_TEXT.match(text, column - 1)
         word = _BARE_WORD.match(text, column - 1)[0].lower()
         hint = _BARE_WORD_HINTS.get(word, _QUOTES_HINT) if unquoted else ""
-        return f"{written['key']}: {_SYNTAX_REWORDED.get(said, said)}{hint}"
+        return f"{key}: {_SYNTAX_REWORDED.get(said, said)}{hint}"
 
     def _last_line(self) -> int:
         """The last line that holds anything: where a file cut short ends (tomllib says only "at end of
@@ -450,7 +452,7 @@ class _SceneReader:
         for name, table in tables.items():
             line = self.lines.first(("lights", name)) or self.lines.first(("lights",))  # inline: where lights opens
             if name not in names:
-                self.fail(f"lights: unknown light {name!r} (lights: {', '.join(names)})", line)
+                self.fail(f"lights: unknown light {_quoted(name)} (lights: {', '.join(names)})", line)
             self.set_light(names[name], table, f"lights.{name}", line, self._light_key_line(name))
         return tuple(lights)
 
@@ -496,7 +498,7 @@ class _SceneReader:
         tables = self.document.get("materials", {})
         if not isinstance(tables, dict):
             self.fail("materials must be tables: [materials.NAME]", self.lines.first(("materials",)))
-        return {name: self.material(table, f"material {name!r}", self.lines.first(("materials", name)),
+        return {name: self.material(table, f"material {_quoted(name)}", self.lines.first(("materials", name)),
                                     self._material_key_line(name))
                 for name, table in tables.items()}
 
@@ -547,8 +549,7 @@ class _SceneReader:
             return None
         if isinstance(value, str):
             if value not in materials:
-                known = ", ".join(sorted(materials)) or "none"
-                self.fail(f"{what}: unknown material {value!r} (known: {known})", line)
+                self.fail(f"{what}: unknown material {_quoted(value)} (known: {_some_of(materials)})", line)
             return materials[value]
         return self.material(value, f"{what}: material", line)
 
@@ -675,7 +676,19 @@ def _light_headers(names: dict[str, Light]) -> str:
 
 
 def _unknown_key(what: str, key: str, allowed: frozenset[str]) -> str:
-    return f"{what}: unknown key {key!r} (allowed: {', '.join(sorted(allowed))})"
+    return f"{what}: unknown key {_quoted(key)} (allowed: {', '.join(sorted(allowed))})"
+
+
+def _quoted(word: str) -> str:
+    """A word of the file in quotes, as a message shows it: a long one cut."""
+    return repr(shortened(word))
+
+
+def _some_of(names: Iterable[str]) -> str:
+    """The first few names in order, and how many more: a scene may name thousands."""
+    ordered = sorted(names)
+    more = f" and {len(ordered) - NAMES_LISTED:,} more" if len(ordered) > NAMES_LISTED else ""
+    return ", ".join(shortened(name) for name in ordered[:NAMES_LISTED]) + more if ordered else "none"
 
 
 def _looks_like_bytes(colour: Vec3) -> bool:
@@ -730,21 +743,22 @@ def _integer_run_longer_than(limit: int) -> re.Pattern[str]:
 def _array_over_a_table(text: str, name: str, line: int) -> str:
     """tomllib's 'Cannot overwrite a value' at an [[array]] header: its name is a table or a value already."""
     first = _first_header_line(text, _key_parts(name), line)
+    shown = shortened(name)
     if first is None:  # a key's value, or a table made by a dotted key or a longer header
-        return f"[[{name}]]: {name} is already a table or a value"
-    return f"[[{name}]] after [{name}] (line {first}): write [[{name}]] for every entry"
+        return f"[[{shown}]]: {shown} is already a table or a value"
+    return f"[[{shown}]] after [{shown}] (line {first}): write [[{shown}]] for every entry"
 
 
 def _table_declared_twice(text: str, name: str, line: int) -> str:
     """tomllib's 'Cannot declare (...) twice' at a [table] header: a header named it before, or a key set it
     (material.ka = ..., or material = { ... }), which tomllib says in the same words."""
-    key = _key_parts(name)
+    key, shown = _key_parts(name), shortened(name)
     first = _first_header_line(text, key, line)
     if first is not None:
         brackets = _ENTRY_BRACKETS.get(name)
-        return f"[{name}] is declared twice (first at line {first})" + (f": {brackets}" if brackets else "")
+        return f"[{shown}] is declared twice (first at line {first})" + (f": {brackets}" if brackets else "")
     set_at = _first_key_line(text, key, line)
-    return f"[{name}]: {key[-1]} is already set by a key" + (f" (line {set_at})" if set_at else "")
+    return f"[{shown}]: {shortened(key[-1])} is already set by a key" + (f" (line {set_at})" if set_at else "")
 
 
 def _written_twice(inline: str, key: str) -> bool:
