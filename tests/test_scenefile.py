@@ -1556,3 +1556,18 @@ def test_an_unknown_material_lists_a_few_of_the_known_ones(tmp_path: Path) -> No
         read_scene_description(write_scene(tmp_path, materials + '[[objects]]\nmodel = "m.obj"\nmaterial = "n"\n'))
     assert refused.value.message.startswith("objects[1]: unknown material 'n' (known: m0, m1, m10, ")
     assert len(refused.value.message) < 300 and refused.value.message.endswith(" and 9,990 more)")
+
+
+INLINE_ENTRIES = {  # entries written inline had no line, where lights written inline have the one that opens them
+    "an object's model": ('\nobjects = [{ model = "" }]\n', "objects[1]: model must name a file", 2),
+    "a camera's position": ('cameras = [\n  { position = [0, 0] },\n]\n', "cameras[1]: position must be three", 1),
+    "a model not found": ('"objects" = [{ model = "m.obj" }, { model = "n.obj" }]\n', "model n.obj: ", 1),
+}
+
+
+@pytest.mark.parametrize("text, said, line", INLINE_ENTRIES.values(), ids=INLINE_ENTRIES.keys())
+def test_entries_written_inline_are_refused_at_the_line_that_opens_them(tmp_path: Path, text: str, said: str,
+                                                                         line: int) -> None:
+    with pytest.raises(LoadError) as refused:
+        load_scene(write_scene(tmp_path, text))
+    assert refused.value.message.startswith(said) and refused.value.line == line

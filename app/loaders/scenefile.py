@@ -835,6 +835,7 @@ class _LineIndex:
     first_lines: dict[KeyPath, int]  # a table or key (and each of its parents): the line that first names it
     array_lines: dict[KeyPath, list[int]]  # [[NAME]] headers in order: one per entry of the array
     entry_lines: dict[tuple[KeyPath, int], dict[str, int]]  # an array entry's own keys: where each is set
+    plain: bool = True  # no multi-line string, whose lines may look like keys, is in the text
 
     @classmethod
     def of(cls, text: str) -> _LineIndex:
@@ -855,7 +856,7 @@ class _LineIndex:
             if found["array"] is not None:
                 array_lines.setdefault(section, []).append(number)
                 entry = entry_lines.setdefault((section, len(array_lines[section]) - 1), {})
-        return cls(first_lines, array_lines, entry_lines)
+        return cls(first_lines, array_lines, entry_lines, not any(quotes in text for quotes in _MULTI_LINE_QUOTES))
 
     def first(self, key: KeyPath) -> int | None:
         return self.first_lines.get(key)
@@ -867,9 +868,12 @@ class _LineIndex:
         return lines.get if len(self.array_lines.get((name,), [])) == count else _nowhere
 
     def array_headers(self, name: str, count: int) -> list[int | None]:
-        """The header line of each of the `count` entries; None for all when the headers do not match
-        them one to one (entries written inline, or a header-like line inside a multi-line string)."""
+        """The header line of each of the `count` entries; the line that opens them where they are written
+        inline (name = [{ ... }]); None for all when the headers do not match them one to one (a header-like
+        line inside a multi-line string)."""
         lines = self.array_lines.get((name,), [])
+        if not lines and self.plain:
+            return [self.first_lines.get((name,))] * count
         return list(lines) if len(lines) == count else [None] * count
 
 
