@@ -1571,3 +1571,11 @@ def test_entries_written_inline_are_refused_at_the_line_that_opens_them(tmp_path
     with pytest.raises(LoadError) as refused:
         load_scene(write_scene(tmp_path, text))
     assert refused.value.message.startswith(said) and refused.value.line == line
+
+
+def test_materials_written_inline_are_refused_at_the_line_that_opens_them(tmp_path: Path) -> None:
+    """materials = { red = { ... } } was refused with no line, where lights written so have the line."""
+    text = '\nmaterials = { red = { ka = [1, 0, 0], kd = [1, 0, 0], ks = [1, 1, 1], on = true } }\n'
+    with pytest.raises(LoadError) as refused:
+        read_scene_description(write_scene(tmp_path, text))
+    assert refused.value.message.startswith("material 'red': unknown key 'on'") and refused.value.line == 2

@@ -498,9 +498,12 @@ class _SceneReader:
         tables = self.document.get("materials", {})
         if not isinstance(tables, dict):
             self.fail("materials must be tables: [materials.NAME]", self.lines.first(("materials",)))
-        return {name: self.material(table, f"material {_quoted(name)}", self.lines.first(("materials", name)),
+        return {name: self.material(table, f"material {_quoted(name)}", self._material_line(name),
                                     self._material_key_line(name))
                 for name, table in tables.items()}
+
+    def _material_line(self, name: str) -> int | None:
+        return self.lines.first(("materials", name)) or self.lines.first(("materials",))  # inline: where it opens
 
     def _material_key_line(self, name: str) -> Callable[[str], int | None]:
         return lambda key: self.lines.first(("materials", name, key))
