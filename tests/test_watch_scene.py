@@ -521,3 +521,46 @@ def test_a_scene_file_read_again_tells_its_load_notes(tmp_path: Path) -> None:
     assert viewer.scene.message == ("read lesson.toml again: 1 object, 1 camera; lights as the file now sets them: "
                                     f"ambient; {tmp_path / 'lesson.toml'}:1: ambient [1, 1, 1] is in 0..255 units "
                                     "(so nearly dark): [255, 255, 255] is full white")
+
+
+@pytest.mark.parametrize("on_the_worker", [False, True])
+def test_a_scene_file_an_editor_empties_as_it_is_read_again_leaves_the_scene_as_it_was(
+        tmp_path: Path, monkeypatch, on_the_worker: bool) -> None:
+    """The look saw the save whole; the read after it, later on the window's worker, caught the next save
+    part way (emptied, not yet written): read as a scene of no objects, it dropped every move and undo."""
+    from marraztu.control import viewer as viewer_module
+
+    viewer = watched(tmp_path, CAMERA + square_at(0) + square_at(30), BackgroundLoader() if on_the_worker else None)
+    try:
+        press(viewer, "t x TAB")
+        path = tmp_path / "lesson.toml"
+        saved = CAMERA + square_at(0) + square_at(30, kd="[1, 1, 1]")
+        read_whole = viewer_module.load_scene
+
+        def caught_emptied(scene_file: Path, stage=None, again: bool = False):
+            rewrite(scene_file, "")  # an editor that writes in place, between truncating and writing
+            try:
+                return read_whole(scene_file, stage, again)
+            finally:
+                rewrite(scene_file, saved)
+
+        monkeypatch.setattr(viewer_module, "load_scene", caught_emptied)
+        rewrite(path, saved)
+        viewer.check_watched()
+        if on_the_worker:
+            collect_when_loaded(viewer)
+        first = viewer.scene.objects[0]
+        assert len(viewer.scene.objects) == 2 and first.model[0, 3] == 5 and len(first.history) == 2
+        assert viewer.scene.selected_object == 1 and "\n" not in viewer.scene.message
+        assert viewer.scene.message.startswith(f"{path}: empty")
+        monkeypatch.setattr(viewer_module, "load_scene", read_whole)
+        viewer.check_watched()  # the save, whole now: read
+        if on_the_worker:
+            collect_when_loaded(viewer)
+        first, second = viewer.scene.objects
+        assert first.model[0, 3] == 5 and len(first.history) == 2 and second.material.kd == (1.0, 1.0, 1.0)
+        assert viewer.scene.selected_object == 1
+        assert viewer.scene.message == "read lesson.toml again: 2 objects, 1 camera"
+    finally:
+        if on_the_worker:
+            viewer.background.shutdown()

@@ -173,7 +173,7 @@ class BackgroundLoader:
         return _placed(mesh, job.path, scale)
 
     def _load_scene(self, job: LoadJob) -> Scene:
-        scene = load_scene(job.path, job.set_stage)
+        scene = load_scene(job.path, job.set_stage, again=True)
         if job.read_texture is not None:
             job.set_stage("reading the texture")
             job.texture_notes = job.read_texture(scene)
@@ -507,7 +507,7 @@ class Viewer:
             self.tell(f"{escaped(changed.name)} changed: reading {again} again")
             return
         try:
-            read: Scene | LoadError = load_scene(path, self._waiting_on)
+            read: Scene | LoadError = load_scene(path, self._waiting_on, again=True)
         except LoadError as error:
             read = error
         notes = texture_reader(read) if texture_reader is not None and isinstance(read, Scene) else []

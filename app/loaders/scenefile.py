@@ -234,10 +234,10 @@ def builtin_scene_path() -> Path:
     return ASSET_DIR / BUILTIN_SCENE_FILE
 
 
-def load_scene(path: str | Path, stage: Stage | None = None) -> Scene:
+def load_scene(path: str | Path, stage: Stage | None = None, again: bool = False) -> Scene:
     """The scene a TOML file describes, every model loaded; LoadError naming the file otherwise. `stage`
-    hears the loads' stages."""
-    description = read_scene_description(path)
+    hears the loads' stages; `again`: read again for --watch (read_scene_description)."""
+    description = read_scene_description(path, again)
     loader = _ModelLoader(description.path, stage)
     return Scene(objects=[loader.place(entry) for entry in description.objects],
                  cameras=[loader.place(entry) for entry in description.cameras],
@@ -295,9 +295,10 @@ def light_table_name(light: Light) -> str:
     return light.name.replace(" ", "_")
 
 
-def read_scene_description(path: str | Path) -> SceneDescription:
-    """Parse and check a scene file without loading its models."""
-    reader = _SceneReader(Path(path))
+def read_scene_description(path: str | Path, again: bool = False) -> SceneDescription:
+    """Parse and check a scene file without loading its models. `again` (--watch's read again): an empty
+    file is one an editor that writes in place has emptied and not yet written, refused, not a scene of nothing."""
+    reader = _SceneReader(Path(path), again)
     return reader.describe()
 
 
@@ -317,8 +318,9 @@ def _or_header(key_line: Callable[[str], int | None], header: int | None) -> Cal
 class _SceneReader:
     """Checks one scene file; every failure is a LoadError naming the file and, when known, the line."""
 
-    def __init__(self, path: Path) -> None:
+    def __init__(self, path: Path, again: bool = False) -> None:
         self.path = path
+        self.again = again
         if path.suffix.lower() in MODEL_READERS:  # its TOML syntax error, at its line 3, would hide the slip
             self.fail("a model file, not a TOML scene file: add it as a model (Viewer.load, or MODEL on the "
                       "command line)")
@@ -337,6 +339,8 @@ class _SceneReader:
 
     def _read_text(self) -> str:
         data = read_file(self.path, limit=SCENE_READ_LIMIT)
+        if self.again and not data:
+            self.fail("empty as it was read again (caught part way through a save?): the scene stays as it was")
         try:
             return data.decode("utf-8-sig")  # a byte order mark (Notepad writes one) is no TOML
         except UnicodeDecodeError as error:
