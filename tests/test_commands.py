@@ -327,6 +327,23 @@ def test_entering_analysis_on_an_off_axis_object(scene: Scene) -> None:
     np.testing.assert_allclose(scene.camera.model[:3, 0] @ [0, 1, 0], 0.0, atol=1e-12)  # no roll
 
 
+def test_an_object_selected_in_analysis_mode_is_turned_to_at_the_next_camera_press(scene: Scene) -> None:
+    """Analysis mode orbits and approaches the selected object: one selected after the camera turned to
+    another is off the view axis, so the next press turns the camera to it (undoable), the one after moves.
+    Before, y orbited the new object while looking past it, and Z flew along the old axis into another
+    model, saying it stopped by the new one."""
+    scene.selected_object = 0  # "left"
+    press(scene, "c g c c TAB c")  # analysis on "left", then "right" selected, cameras targeted again
+    assert scene.object.name != "left" and centre_off_view_axis(scene) > 1.0
+    turns = len(scene.camera.history)
+    press(scene, "y")
+    assert centre_off_view_axis(scene) < 1e-9 and len(scene.camera.history) == turns + 1
+    assert scene.message == (f"analysis mode: turned to look at {scene.object.name}, the selected object (press "
+                             "again to move)")
+    press(scene, "y t Z*100")
+    assert centre_off_view_axis(scene) < 1e-7 and scene.object.name in scene.message  # it stopped by this one
+
+
 @pytest.mark.parametrize("seed", range(6))
 def test_analysis_orbits_keep_the_object_on_the_view_axis(scene: Scene, seed: int) -> None:
     rng = np.random.default_rng(seed)

@@ -270,9 +270,23 @@ def move_camera(scene: Scene, kind: TransformKind, axis_index: int, amount: floa
     camera = scene.camera
     if scene.modes.camera_mode is CameraMode.FLIGHT:
         return transforms.apply_local(camera.model, step_matrix(kind, axis_index, amount))
+    obj = scene.object
+    if obj is not None and not _looks_at(camera.model, obj.centre) and aim_camera_at_object(scene):
+        # selected since the camera turned to the last one: it orbits and approaches what it looks at
+        scene.message = f"analysis mode: turned to look at {obj.name}, the selected object (press again to move)"
+        return None
     if kind is TransformKind.ROTATE:
         return orbit_camera(scene, axis_index, amount)
     return approach_object(scene, axis_index, amount)
+
+
+_AIMED = 1e-6  # how far off the view axis, over its distance, an object's centre may be and be looked at
+
+
+def _looks_at(camera_model: np.ndarray, point: np.ndarray) -> bool:
+    """Whether `point` lies on the camera's view axis, in front of it (or at the camera: nothing to turn to)."""
+    x, y, z = transforms.point_in_frame(camera_model, point)
+    return bool(math.hypot(x, y) <= _AIMED * max(abs(z), 1e-300) and z <= 0.0)
 
 
 def orbit_camera(scene: Scene, axis_index: int, angle: float) -> np.ndarray | None:
