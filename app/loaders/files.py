@@ -11,7 +11,7 @@ import os
 import re
 import stat
 from contextlib import contextmanager
-from functools import lru_cache
+from contextvars import ContextVar
 from pathlib import Path
 from typing import BinaryIO, Callable, Iterator
 
@@ -47,23 +47,44 @@ def _other_case_hint(path: str | Path) -> str:
 
 def names_in_any_case(folder: str | Path) -> dict[str, tuple[str, ...]]:
     """The files in `folder`, each spelling of a name by that name in lower case; nothing where it cannot be
-    listed. Listed once while the folder is unchanged (its modification time): a model naming thousands of
-    missing pictures costs one listing, not one each."""
+    listed. Within listings_kept, listed once for the load however many names are looked for in it."""
     folder = os.fspath(folder) or os.curdir
+    kept = _KEPT.get()
     try:
-        return _listing(folder, os.stat(folder).st_mtime_ns)
+        if kept is None:
+            return _listing(folder)
+        key = same_file_key(Path(folder))  # 'a/..' and '.' are one listing
+        if key not in kept:
+            kept[key] = _listing(folder)
+        return kept[key]
     except (OSError, ValueError):  # no such folder, or a NUL in its name
         return {}
 
 
-@lru_cache(maxsize=1)  # the folder a load looks in; only the last is held, whatever its size
-def _listing(folder: str, changed_ns: int) -> dict[str, tuple[str, ...]]:
-    names: dict[str, tuple[str, ...]] = {}
+Listings = dict[Path, dict[str, tuple[str, ...]]]  # a folder resolved (same_file_key) -> names_in_any_case's
+# One load's listings, given up with it: a cache between loads would be stale where a folder changed within
+# its modification time's tick (a coarse clock, FAT's 2 seconds) or another took its name.
+_KEPT: ContextVar[Listings | None] = ContextVar("listings_kept", default=None)
+
+
+@contextmanager
+def listings_kept(listings: Listings) -> Iterator[None]:
+    """Within it, names_in_any_case (the MTL reader's any-case lookup and a missing file's hint) lists each
+    folder once, into `listings`: a model naming thousands of missing pictures costs one listing, not one each."""
+    token = _KEPT.set(listings)
+    try:
+        yield
+    finally:
+        _KEPT.reset(token)
+
+
+def _listing(folder: str) -> dict[str, tuple[str, ...]]:
+    names: dict[str, list[str]] = {}
     with os.scandir(folder) as entries:
         for entry in entries:
             if entry.is_file():
-                names[entry.name.lower()] = (*names.get(entry.name.lower(), ()), entry.name)
-    return names
+                names.setdefault(entry.name.lower(), []).append(entry.name)
+    return {lower: tuple(spellings) for lower, spellings in names.items()}  # a tuple grown each time: n squared
 
 
 def said_as_written(error: BaseException, path: Path, written: str) -> BaseException:

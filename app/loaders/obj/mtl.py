@@ -14,9 +14,11 @@ from marraztu.errors import LoadError
 from marraztu.loaders.files import (
     GIT_LFS_POINTER_BYTES,
     UTF16_BOMS,
+    Listings,
     bom_length,
     git_lfs_pointer_words,
     is_there,
+    listings_kept,
     names_in_any_case,
     read_file,
     same_file_key,
@@ -370,7 +372,7 @@ class _Finder:
     names it, and then in any case, each folder listed once however many names are looked for."""
 
     def __init__(self) -> None:
-        self.listings: dict[Path, dict[str, tuple[str, ...]]] = {}  # by the folder resolved: 'a/..' and '.' are one
+        self.listings: Listings = {}  # by the folder resolved: 'a/..' and '.' are one
         self.resolved: dict[Path, Path] = {}  # a folder as named -> resolved: resolved once, not once a name
 
     def find(self, name: str, folder: Path, by_last_part: bool = True) -> Path | None:
@@ -412,7 +414,8 @@ class _TextureCache:
 
     def _read(self, path: Path, name: str) -> tuple[np.ndarray | None, str | None]:
         try:
-            return load_image(path), name
+            with listings_kept(self.finder.listings):  # a missing picture's hint: its folder is listed already
+                return load_image(path), name
         except LoadError as error:
             self.failures.append((name, error.message))
             return None, None
