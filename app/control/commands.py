@@ -271,10 +271,12 @@ def move_camera(scene: Scene, kind: TransformKind, axis_index: int, amount: floa
     if scene.modes.camera_mode is CameraMode.FLIGHT:
         return transforms.apply_local(camera.model, step_matrix(kind, axis_index, amount))
     obj = scene.object
-    if obj is not None and not _looks_at(camera.model, obj.centre) and aim_camera_at_object(scene):
-        # selected since the camera turned to the last one: it orbits and approaches what it looks at
-        scene.message = f"analysis mode: turned to look at {obj.name}, the selected object (press again to move)"
-        return None
+    if obj is not None and not _looks_at(camera.model, obj.centre):  # selected, or moved, since the camera turned
+        said = scene.message
+        if aim_camera_at_object(scene):  # it orbits and approaches what it looks at
+            scene.message = f"analysis mode: turned to look at {obj.name}, the selected object (press again to move)"
+            return None
+        scene.message = said  # that turn would leave the camera's reach: it moves as before, not said refused
     if kind is TransformKind.ROTATE:
         return orbit_camera(scene, axis_index, amount)
     return approach_object(scene, axis_index, amount)
