@@ -657,6 +657,15 @@ def test_the_help_fits_a_projectors_window(scene: Scene) -> None:
     assert any(line.startswith("x y z ") and "+x, +y, +z" in line for line in lines)
 
 
+def test_the_help_says_how_far_a_press_of_x_y_z_goes_now() -> None:
+    """0.1 rad (SPEC 6) and the translation step of what is targeted, on its scale: a student stood a model up
+    with X*16 by trial, the step being only in the README and the matrices panel."""
+    for scale, step in ((1.0, "5"), (1e-3, "0.005")):
+        lines = help_lines(make_scene(scale), KEYMAP)
+        assert next(line for line in lines if line.startswith("x y z ")).endswith(f"[0.1 rad or {step} units a press]")
+        assert not next(line for line in lines if line.startswith("X Y Z ")).endswith("]")  # said once
+
+
 def test_plus_and_minus_say_the_aperture_and_when_it_stops(scene: Scene) -> None:
     press(scene, "c c TAB TAB TAB +")
     assert scene.message == "camera spotlight: aperture 32.5 deg"

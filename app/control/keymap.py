@@ -112,8 +112,13 @@ def _axis_commands() -> list[Command]:
     of_sign = {sign: ", ".join(_axis_name(axis, way) for axis, way in AXIS_KEYS.values() if way == sign)
                for sign in (+1, -1)}  # one help line each: +x, +y, +z and -x, -y, -z
     return [Command(token, f"{AXIS_WORDS} {_axis_name(axis, sign)}", commands.axis_press(axis, sign),
-                    together=f"{AXIS_WORDS} {of_sign[sign]}")
+                    _step_state if sign > 0 else None, together=f"{AXIS_WORDS} {of_sign[sign]}")
             for token, (axis, sign) in AXIS_KEYS.items()]
+
+
+def _step_state(scene: Scene) -> str:
+    """How far a press goes now (the translation follows what is targeted and its size): said once, on x y z's line."""
+    return f"{commands.ROTATION_STEP_RAD:g} rad or {commands.translation_step(scene):g} units a press"
 
 
 def _light_commands() -> list[Command]:
