@@ -109,7 +109,8 @@ def fan_triangles(face_start: np.ndarray) -> np.ndarray:
     return fan_gather(np.arange(int(face_start[-1]), dtype=np.int64), face_start).reshape(-1, 3)
 
 
-PLAIN_PICTURE = np.full((1, 1, 3), 255, dtype=np.uint8)  # white: what a vertex-coloured model is drawn with
+PLAIN_PICTURE = np.full((1, 1, 3), 255, dtype=np.uint8)  # white, no picture: the lit colour times 1
+PLAIN_PICTURE.flags.writeable = False  # shared by every element that wears no picture
 # The Kd of a material whose own picture is its colour and that gives no Kd (an MTL's map_Kd alone, a PLY's
 # TextureFile, a trimesh's picture): Blender, three.js and glTF draw the picture unscaled.
 PICTURE_AS_COLOUR = (1.0, 1.0, 1.0)

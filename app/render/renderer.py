@@ -20,7 +20,7 @@ from marraztu.errors import ViewerError
 from marraztu.loaders.images import fit_texture
 from marraztu.model.guides import Guides, scene_guides
 from marraztu.model.lights import MAX_LIGHTS, Show, WorldLight, shader_defines
-from marraztu.model.mesh import WHOLE, Mesh
+from marraztu.model.mesh import PLAIN_PICTURE, WHOLE, Mesh
 from marraztu.model.probe import ProbedFace, facings, probed_face
 from marraztu.model.sampling import TextureSampling
 from marraztu.model.scene import (
@@ -87,7 +87,6 @@ _PROBE_PASSES = ((False, "<="), (True, ">"))
 EYE_ORIGIN_SIZES = 2.0**14
 SEPARATOR_COLOUR = (0.0, 0.0, 0.0)
 SEPARATOR_PX = 2
-WHITE = np.full((1, 1, 3), 255, dtype=np.uint8)  # the texture of a scene without a picture
 # The uniform the lighting's V comes from: the eye's position in perspective, its direction in parallel.
 _VIEW_UNIFORM_BY_PROJECTION = {Projection.PERSPECTIVE: "u_eye_position", Projection.PARALLEL: "u_eye_backward"}
 _VIEW_UNIFORMS = frozenset(_VIEW_UNIFORM_BY_PROJECTION.values())
@@ -236,7 +235,7 @@ class Renderer:
         self.guide_uniforms = Uniforms(self.guides.program)
         self.texture: MipmappedTexture | None = None
         self._texture_image: np.ndarray | None = None  # the scene's picture the texture was made from
-        self._set_texture(WHITE)
+        self._set_texture(PLAIN_PICTURE)
         self._objects: dict[tuple[int, int], ObjectGpu] = {}  # by (uid, part)
         # The probed face's mesh, the face, and the polygons across its edges (Mesh.edge_neighbours).
         self._probe_neighbours: tuple[Mesh, int, np.ndarray] | None = None
@@ -246,7 +245,7 @@ class Renderer:
 
     # --- resources ---------------------------------------------------------------------------
     def _use_scene_texture(self, scene: Scene) -> None:
-        image = WHITE if scene.texture is None else scene.texture
+        image = PLAIN_PICTURE if scene.texture is None else scene.texture
         if image is not self._texture_image:
             self._set_texture(image)
 
