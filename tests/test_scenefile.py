@@ -1254,6 +1254,127 @@ def test_an_objects_texture_that_cannot_be_read_is_refused_at_its_line(tmp_path:
     assert str(caught.value) == f"scene.toml:7: objects[1]: texture: {looked_for}: no such file"
 
 
+def _shot(path: Path, tmp_path: Path, keys: str = "0 1", texture: Path | None = None) -> np.ndarray:
+    """The scene file's picture with the sun and the bulb on (their highlights are what a plain model shows)."""
+    from PIL import Image
+
+    from marraztu.control.viewer import StartOptions
+    from marraztu.frontends.screenshot import take_screenshot
+
+    shot = take_screenshot(StartOptions(scene_file=path, texture=texture), tmp_path / "shot.png", (120, 60), keys=keys)
+    return np.asarray(Image.open(shot).convert("RGB")).astype(int)
+
+
+def _white_png(tmp_path: Path) -> None:
+    from PIL import Image
+
+    Image.new("RGB", (1, 1), (255, 255, 255)).save(tmp_path / "white.png")
+
+
+def _quad_with_its_own_picture(tmp_path: Path) -> str:
+    """An entry whose model's MTL gives it a green picture: its own, as a map_Kd is."""
+    from PIL import Image
+
+    Image.new("RGB", (2, 2), (0, 255, 0)).save(tmp_path / "green.png")
+    (tmp_path / "own.mtl").write_text("newmtl g\nKd 1 1 1\nmap_Kd green.png\n")
+    (tmp_path / "own.obj").write_text("mtllib own.mtl\nusemtl g\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n")
+    return '[[objects]]\nname = "own"\nmodel = "own.obj"\nposition = [1.5, 0, 0]\n'
+
+
+LEFT, RIGHT = (slice(27, 33), slice(49, 55)), (slice(27, 33), slice(64, 70))  # inside each quad of _two_quads
+
+
+def test_an_objects_texture_false_is_drawn_as_a_white_picture_named_there_is(tmp_path: Path) -> None:
+    """A lesson on highlights wants its models plain: `texture = false` was refused ('must be a non-empty
+    string in quotes'), and the README's way was a white picture made by hand."""
+    from marraztu.model.mesh import PLAIN_PICTURE
+
+    _white_png(tmp_path)
+    plain = _two_quads(tmp_path, "texture = false\n")
+    left, right = load_scene(plain).objects
+    assert left.picture is PLAIN_PICTURE and left.picture_source is None and right.picture is None
+    pixels = _shot(plain, tmp_path)
+    _two_quads(tmp_path, 'texture = "white.png"\n')
+    assert np.array_equal(pixels, _shot(plain, tmp_path))  # the same pixels, highlights included
+    left_pixels, right_pixels = pixels[LEFT].reshape(-1, 3), pixels[RIGHT].reshape(-1, 3)
+    assert (left_pixels != pixels[0, 0]).any(axis=1).all()  # drawn, not the background
+    assert len(np.unique(right_pixels, axis=0)) > 1 and len(np.unique(left_pixels, axis=0)) == 1  # selfi vs plain
+
+
+def test_an_objects_texture_false_takes_its_models_own_picture_away_too(tmp_path: Path) -> None:
+    from marraztu.model.mesh import PLAIN_PICTURE
+
+    entry = _quad_with_its_own_picture(tmp_path)
+    obj = load_scene(write_scene(tmp_path, CAMERA + entry + "texture = false\n")).objects[0]
+    assert obj.picture_of(0) is PLAIN_PICTURE and obj.picture_of(-1) is PLAIN_PICTURE
+
+
+def test_a_scenes_texture_false_shows_no_picture_and_keeps_a_models_own(tmp_path: Path) -> None:
+    """The scene's objects without a picture of their own wear none (no checker, no message); the model
+    whose MTL gives one keeps it, as a scene's texture only ever stood in for the scene's picture."""
+    from marraztu.control.viewer import StartOptions, Viewer
+    from marraztu.model.mesh import PLAIN_PICTURE
+    from support.scenes import NoFrontend
+
+    _white_png(tmp_path)
+    right = '[[objects]]\nname = "right"\nmodel = "quad.obj"\nposition = [1.5, 0, 0]\n'
+    quads = _two_quads(tmp_path, "").read_text().replace(right, _quad_with_its_own_picture(tmp_path))
+    path = write_scene(tmp_path, "texture = false\n" + quads)
+    scene = load_scene(path)
+    assert scene.texture_plain and scene.texture_path is None and scene.texture_named_at is None
+    viewer = Viewer(scene, NoFrontend())
+    viewer.start(StartOptions(scene_file=path), longest_texture_side=4096)
+    assert scene.texture is PLAIN_PICTURE and "checker" not in scene.message
+    pixels = _shot(path, tmp_path)
+    assert np.array_equal(pixels[LEFT], _shot(path, tmp_path, keys="0 1 T")[LEFT])  # T: nothing to take away
+    own = pixels[RIGHT].reshape(-1, 3)
+    assert (own[:, 1] > 0).all() and (own[:, [0, 2]] == 0).all()  # its green picture
+    path.write_text('texture = "white.png"\n' + quads)
+    assert np.array_equal(pixels, _shot(path, tmp_path))
+
+
+@pytest.mark.parametrize("where", ["scene", "object"])
+def test_the_probe_of_a_face_that_wears_no_picture_says_none_multiplies_it(tmp_path: Path, where: str) -> None:
+    from marraztu.control.viewer import StartOptions, Viewer
+    from marraztu.model.probe import probe
+    from support.scenes import NoFrontend
+
+    path = _two_quads(tmp_path, "texture = false\n" if where == "object" else "")
+    if where == "scene":
+        path.write_text("texture = false\n" + path.read_text())
+    viewer = Viewer(load_scene(path), NoFrontend())
+    viewer.start(StartOptions(scene_file=path), longest_texture_side=64)
+    found = probe(viewer.scene)
+    assert viewer.scene.modes.texture and found is not None and not found.textured
+
+
+def test_the_command_lines_texture_stands_in_for_a_scenes_texture_false(tmp_path: Path) -> None:
+    from marraztu.control.viewer import StartOptions, Viewer
+    from support.scenes import NoFrontend
+
+    path = _two_quads(tmp_path, "")
+    path.write_text("texture = false\n" + path.read_text())
+    viewer = Viewer(load_scene(path), NoFrontend())
+    viewer.start(StartOptions(scene_file=path, texture=tmp_path / "red.png"), longest_texture_side=4096)
+    assert (viewer.scene.texture == (255, 0, 0)).all()
+
+
+@pytest.mark.parametrize("text, said", [
+    ("texture = true\n" + CAMERA, ":1: texture = true names no picture: name a file in quotes, or write false for "
+                                   "none"),
+    (CAMERA + "texture = true\n", ":4: cameras[1]: texture = true names no picture: name a file in quotes, or write "
+                                   "false for none"),
+    ("texture = 5\n" + CAMERA, ":1: texture must be a file name in quotes, or false for no picture, not one number"),
+    ('[[objects]]\nmodel = "m.obj"\ntexture = [1]\n', ":3: objects[1]: texture must be a file name in quotes, or "
+                                                      "false for no picture, not an array"),
+], ids=["scene's true", "an entry's true", "scene's number", "an entry's array"])
+def test_a_texture_neither_a_name_nor_false_is_refused_at_its_line(tmp_path: Path, text: str, said: str) -> None:
+    path = write_scene(tmp_path, text)
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    assert str(caught.value) == f"{path}{said}"
+
+
 @pytest.mark.parametrize("suffix", [".obj", ".STL", ".glb"])
 def test_a_model_file_given_as_the_scene_says_so(tmp_path: Path, suffix: str) -> None:
     """Viewer(scene="x.obj") or --scene x.obj, where the model was meant: not a TOML syntax error at its line 3."""

@@ -440,6 +440,27 @@ def test_a_picture_changed_is_read_on_the_windows_worker_and_said(tmp_path: Path
 
 
 
+def test_texture_false_read_again_takes_the_pictures_away_and_names_none_to_watch(tmp_path: Path) -> None:
+    """A lesson edited to `texture = false` (the scene's and an object's): read again, as at start."""
+    from marraztu.model.mesh import PLAIN_PICTURE
+
+    _picture(tmp_path / "concrete.png", (255, 0, 0))
+    _picture(tmp_path / "wall.png", (0, 0, 255))
+    viewer = watched(tmp_path, 'texture = "wall.png"\n' + CAMERA + square_at(0) + 'texture = "concrete.png"\n')
+    rewrite(tmp_path / "lesson.toml", "texture = false\n" + CAMERA + square_at(0) + "texture = false\n")
+    viewer.check_watched()
+    assert viewer.scene.texture is PLAIN_PICTURE and viewer.scene.object.picture is PLAIN_PICTURE
+    assert viewer.scene.texture_plain and viewer.scene.message.startswith("read lesson.toml again")
+    square = viewer.scene.object
+    _picture(tmp_path / "concrete.png", (0, 255, 0))
+    _picture(tmp_path / "wall.png", (255, 255, 0))
+    viewer.check_watched()
+    assert viewer.scene.object is square and viewer.scene.texture is PLAIN_PICTURE  # named no more: not read
+    rewrite(tmp_path / "lesson.toml", 'texture = "wall.png"\n' + CAMERA + square_at(0))
+    viewer.check_watched()
+    assert tuple(viewer.scene.texture[0, 0]) == (255, 255, 0) and not viewer.scene.texture_plain
+
+
 def test_the_scenes_texture_is_not_watched_where_the_command_line_names_one(tmp_path: Path) -> None:
     _picture(tmp_path / "wall.png", (0, 0, 255))
     _picture(tmp_path / "given.png", (255, 0, 0))

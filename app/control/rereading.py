@@ -68,6 +68,7 @@ def replace_scene_read(scene: Scene, read: Scene, placed: dict[int, FilePlacemen
     scene.view_moves[:] = [kept.get(camera.uid, camera) for camera in scene.view_moves
                            if camera.uid not in placed or camera.uid in kept]
     scene.texture_path, scene.texture_named_at = read.texture_path, read.texture_named_at
+    scene.texture_plain = read.texture_plain
     scene.frame_at_start = read.frame_at_start
     scene.loads += 1
     if scene.fitted_unit != 1.0:  # read on the seed's scale, as at start; the lights stand on the fitted one

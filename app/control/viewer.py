@@ -34,7 +34,7 @@ from marraztu.loaders.scenefile import (
     material_for_loaded,
 )
 from marraztu.model.framing import framed_scale
-from marraztu.model.mesh import Mesh, counted
+from marraztu.model.mesh import PLAIN_PICTURE, Mesh, counted
 from marraztu.model.scene import WIDEST_ASPECT, Outlook, Scene, SceneObject, Sight, kept_name, placed_boxes
 from marraztu.model.transforms import Vec3
 from marraztu.model.viewports import narrowest_aspect
@@ -826,8 +826,11 @@ def _other(holder: SceneObject, obj: SceneObject) -> str:
 
 
 def read_texture(scene: Scene, named: Path | None, longest_side: int) -> list[str]:
-    """The texture named on the command line, else the scene's, in `scene`; what it says: a picture that
-    cannot be read (stood in for by the checker), one made smaller to fit."""
+    """The texture named on the command line, else the scene's (none for its `texture = false`), in `scene`;
+    what it says: a picture that cannot be read (stood in for by the checker), one made smaller to fit."""
+    if named is None and scene.texture_plain:
+        scene.texture = PLAIN_PICTURE
+        return []
     texture_path = named or (Path(scene.texture_path) if scene.texture_path else None)
     image, message = load_texture_or_fallback(texture_path)
     if message and named is None and scene.texture_named_at:  # the scene file's entry named it

@@ -1,6 +1,7 @@
 """Scene files: which models to load, where to put them and what they are made of, in TOML.
 
-    texture = "selfi.ppm"                 # optional, relative to the scene file; the built-in scene's otherwise
+    texture = "selfi.ppm"                 # optional, relative to the scene file; the built-in scene's otherwise;
+                                          # false: none (its models' own pictures stay)
 
     [materials.golden]                    # named materials, used by name below
     ka = [0.8, 0.72, 0.0]                 # ka, kd, ks: three numbers in 0..1
@@ -20,6 +21,8 @@
     position = [0, 0, 0]                  # optional: the origin, where a model loaded alone stands
     scale = 0.5                           # optional: > 0, or three numbers along x, y, z; a camera's sizes its body
     material = { ka = [0.8, 0.72, 0], kd = [0.8, 0.6, 0.4], ks = [0.9, 0.8, 0.5], ns = 80 }
+    texture = "concrete.png"              # optional: its own picture, in place of its model's and the scene's;
+                                          # false: none, drawn at its Kd (PLAIN_PICTURE)
 
     ambient = [200, 75, 255]              # optional: SPEC's Ia otherwise (0..255 units, >= 0)
     [lights.bulb]                         # optional, one per light: sun, bulb, object_spotlight, camera_spotlight
@@ -74,7 +77,7 @@ from marraztu.model.lights import (
     LightKind,
     default_lights,
 )
-from marraztu.model.mesh import Mesh, counted, with_picture_as_colour
+from marraztu.model.mesh import PLAIN_PICTURE, Mesh, counted, with_picture_as_colour
 from marraztu.model.scene import (
     DIRECTION,
     LIGHT_COLOUR,
@@ -209,6 +212,7 @@ class SceneEntry:
     texture_line: int | None = None
     position_line: int | None = None
     camera: bool = False  # a camera's body and eye stand out to CAMERAS_REACH, where it frames models from
+    plain: bool = False  # `texture = false`: it wears no picture, its model's own neither
 
 
 @dataclass(frozen=True)
@@ -225,6 +229,7 @@ class SceneDescription:
     lights: tuple[Light, ...] = field(default_factory=lambda: tuple(default_lights()))
     ambient: Vec3 = SPEC_AMBIENT
     notes: tuple[str, ...] = ()  # values taken that look like slips, each 'FILE:LINE: what', told at load
+    texture_plain: bool = False  # `texture = false`: objects without a picture of their own wear none
 
 
 # --------------------------------------------------------------------------------------------------
@@ -243,7 +248,8 @@ def load_scene(path: str | Path, stage: Stage | None = None, again: bool = False
                  cameras=[loader.place(entry) for entry in description.cameras],
                  lights=list(description.lights), ambient=np.array(description.ambient),
                  texture_path=_optional_str(description.texture_path), texture_named_at=_texture_named_at(description),
-                 frame_at_start=not description.cameras_given, notes=description.notes)
+                 texture_plain=description.texture_plain, frame_at_start=not description.cameras_given,
+                 notes=description.notes)
 
 
 def load_builtin_scene() -> Scene:
@@ -421,24 +427,24 @@ class _SceneReader:
         objects = self.entries("objects", materials)
         cameras = self.entries("cameras", materials)
         given, texture, texture_line, named_in = bool(cameras), self.texture(), self.lines.first(("texture",)), None
+        plain = texture is False
         if not given or texture is None:
             builtin = read_scene_description(builtin_scene_path())  # what the file leaves out, as --empty gives it
             cameras = cameras if given else builtin.cameras
             if texture is None:  # its models show the texture they show alone on the command line
                 texture, texture_line, named_in = builtin.texture_path, builtin.texture_line, builtin.path
         ambient, lights = self.ambient(), self.lights()  # their notes in the file's order
-        return SceneDescription(self.path, objects, cameras, texture, texture_line, given, named_in, lights, ambient,
-                                tuple(self.notes))
+        return SceneDescription(self.path, objects, cameras, None if plain else texture, texture_line, given, named_in,
+                                lights, ambient, tuple(self.notes), plain)
 
     # --- top level -----------------------------------------------------------------------------
-    def texture(self) -> Path | None:
+    def texture(self) -> Path | bool | None:
+        """The picture the scene's `texture` names; False: `texture = false`, none; None: not set."""
         if "texture" not in self.document:
             return None
-        value = self.document["texture"]
         line = self.lines.first(("texture",))
-        if not isinstance(value, str):
-            self.fail("texture must be a file name in quotes", line)
-        return (self.path.parent / self.file_name(value, "texture", line)).absolute()
+        name = self.picture_name(self.document["texture"], "texture", line)
+        return False if name is False else (self.path.parent / name).absolute()
 
     def ambient(self) -> Vec3:
         if "ambient" not in self.document:
@@ -546,9 +552,9 @@ class _SceneReader:
         rotation = self.triple(table.get("rotation", [0, 0, 0]), f"{what}: rotation", at("rotation"))
         scale = self.scale(table.get("scale", 1), f"{what}: scale", at("scale"))
         material = self.entry_material(table.get("material"), what, at("material"), materials)
-        texture = self.file_name(table["texture"], f"{what}: texture", at("texture")) if "texture" in table else None
+        texture = self.picture_name(table["texture"], f"{what}: texture", at("texture")) if "texture" in table else None
         return SceneEntry(name, model, path, position, rotation, material, at("model"), what, scale, at("scale"),
-                          texture, at("texture"), at("position"), camera)
+                          texture or None, at("texture"), at("position"), camera, plain=texture is False)
 
     def entry_material(self, value: object, what: str, line: int | None,
                        materials: dict[str, Material]) -> Material | None:
@@ -598,6 +604,16 @@ class _SceneReader:
         if isinstance(value, str) and not value.strip():
             self.fail(f"{what} must name a file (it is {'blank' if value else 'empty'})", line)
         return self.text_value(value, what, line)
+
+    def picture_name(self, value: object, what: str, line: int | None) -> str | bool:
+        """A `texture`'s value: a file's name, or False for none (`true` would name no picture)."""
+        if value is False:
+            return False
+        if value is True:
+            self.fail(f"{what} = true names no picture: name a file in quotes, or write false for none", line)
+        if not isinstance(value, str):
+            self.fail(f"{what} must be a file name in quotes, or false for no picture, not {_toml_type(value)}", line)
+        return self.file_name(value, what, line)
 
     def _line_text(self, line: int | None) -> str:
         return "" if line is None else next(islice(_lines(self.text), line - 1, None), "")
@@ -940,6 +956,8 @@ class _ModelLoader:
     def picture(self, entry: SceneEntry) -> np.ndarray | None:
         """The entry's own texture, read once for every entry that names it; a LoadError at its line (the
         scene's own texture is SPEC 7's, with the checker: an object's is named as its model is)."""
+        if entry.plain:
+            return PLAIN_PICTURE
         if entry.texture is None:
             return None
         path = _picture_path(self.scene_path, entry.texture)

@@ -119,9 +119,10 @@ def probe(scene: Scene, most: int | None = None) -> Probe | None:
 
 def _textured(scene: Scene, obj: SceneObject, face: int) -> bool:
     """Whether a picture multiplies the face's pixels: the texture is on and the face's part is not
-    drawn plain (its vertex colours take the picture's place)."""
+    drawn plain (its vertex colours take the picture's place, or a scene file's `texture = false`)."""
     part = -1 if obj.mesh.face_material is None else int(obj.mesh.face_material[face])
-    return scene.modes.texture and obj.picture_of(part) is not PLAIN_PICTURE
+    picture = obj.picture_of(part)
+    return scene.modes.texture and (scene.texture if picture is None else picture) is not PLAIN_PICTURE
 
 
 def facings(scene: Scene, obj: SceneObject, faces: np.ndarray) -> np.ndarray:

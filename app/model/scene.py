@@ -749,6 +749,7 @@ class Scene:
     selected_light: int = 0
     texture_path: str | None = None
     texture_named_at: str | None = None  # 'FILE:LINE: texture', the scene file's entry that names texture_path
+    texture_plain: bool = False  # the scene file's `texture = false`: no picture (PLAIN_PICTURE), no checker
     # (H, W, 3) uint8, top row first, what filled faces show; None: white. Its file names it in a repr.
     texture: np.ndarray | None = field(default=None, repr=False)
     message: str = ""  # the last thing the person should read (errors, where a file was saved)
