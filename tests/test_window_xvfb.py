@@ -435,6 +435,44 @@ def test_the_mouse_orbits_and_dollies_and_u_takes_each_gesture_back(display: str
     assert differing(orbit_undone, start_path) <= 0.001 and differing(dolly_undone, start_path) <= 0.001
 
 
+def test_the_window_s_drags_and_wheel_match_the_screenshot_command_s_mouse_words(display: str,
+                                                                                tmp_path: Path) -> None:
+    """A left drag, a right drag (each the pointer moved once while held) and two wheel notches in the
+    window, then F12, draw what `drag=`, `rdrag=` and `wheel=` draw with the same pixels."""
+    with window_in(display, tmp_path, SIZE) as (window, window_id):
+        xdotool(display, "windowfocus", "--sync", window_id)
+        for button, start, end in (("1", ("100", "160"), ("220", "130")), ("3", ("160", "160"), ("180", "140"))):
+            xdotool(display, "mousemove", "--window", window_id, *start)
+            xdotool(display, "mousedown", button)
+            xdotool(display, "mousemove", "--window", window_id, *end)
+            xdotool(display, "mouseup", button)
+        xdotool(display, "click", "--repeat", "2", "4")  # the wheel, toward the object
+        time.sleep(0.3)
+        xdotool(display, "key", "F12")
+        shots = tmp_path / "screenshots"
+        saved = wait_for(lambda: sorted(shots.glob("*.png")) if shots.is_dir() else [], 30,
+                         "the F12 screenshot", display)[0]
+        time.sleep(0.3)
+        xdotool(display, "key", "Escape")
+        assert window.wait(timeout=30) == 0
+
+    expected_path = tmp_path / "expected.png"
+    result = subprocess.run([sys.executable, "-m", "marraztu", "screenshot", "-o", str(expected_path),
+                             "--size", f"{SIZE[0]}x{SIZE[1]}", "--keys",
+                             "drag=100,160,220,130 rdrag=160,160,180,140 wheel=2"],
+                            cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    start_path = tmp_path / "start.png"
+    result = subprocess.run([sys.executable, "-m", "marraztu", "screenshot", "-o", str(start_path),
+                             "--size", f"{SIZE[0]}x{SIZE[1]}"], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    from_window, expected, start = (np.asarray(Image.open(path).convert("RGB")).astype(int)
+                                    for path in (saved, expected_path, start_path))
+    assert (np.abs(expected - start).max(axis=2) > 2).mean() > 0.02, "the words moved nothing"
+    differing = (np.abs(from_window - expected).max(axis=2) > 2).mean()
+    assert differing <= 0.001, f"{differing:.2%} of the pixels differ"
+
+
 # The window's drawing failing every time (a size past what GL draws, GPU memory gone): frames counted
 # for a second after the failure starts, and the stderr lines it gave.
 _FAILING_DRAW = """

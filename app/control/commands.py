@@ -13,6 +13,7 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Callable
+from enum import Enum
 from pathlib import Path
 from typing import Protocol, TypeVar
 
@@ -683,6 +684,28 @@ def drag(scene: Scene, dx_pixels: float, dy_pixels: float, window_px: tuple[int,
         scene.view_gesture = "drag"
 
 
+class DragMove(Enum):
+    """What a drag moves: the window's left, right (or shift) and ctrl drags, and --keys' drag words."""
+
+    ORBIT = "orbit"
+    PAN = "pan"
+    TURN_TARGET = "turn the target"
+
+
+def _pan_by_drag(scene: Scene, dx_pixels: float, dy_pixels: float, window_px: tuple[int, int]) -> None:
+    pan_view(scene, dx_pixels, dy_pixels, window_px[1])
+
+
+_DRAG_MOVES: dict[DragMove, Callable[[Scene, float, float, tuple[int, int]], None]] = {
+    DragMove.ORBIT: orbit_view, DragMove.PAN: _pan_by_drag, DragMove.TURN_TARGET: drag}
+
+
+def drag_by(scene: Scene, move: DragMove, dx_pixels: float, dy_pixels: float, window_px: tuple[int, int]) -> None:
+    """One motion of a drag, `window_px` the picture's width and height its pixels are counted in: the
+    window's drags and --keys' come here alike, so both move the same for the same pixels."""
+    _DRAG_MOVES[move](scene, dx_pixels, dy_pixels, window_px)
+
+
 # --- selection -------------------------------------------------------------------------------------
 def cycle_target(scene: Scene, host: Host) -> None:
     scene.modes.target = _next_in(TARGET_CYCLE, scene.modes.target)
@@ -743,7 +766,10 @@ def select_at(scene: Scene, host: Host, pixel: tuple[int, int]) -> None:
 def click_refusal(host: Host, pixel: tuple[int, int]) -> str | None:
     """Why a click on `pixel` cannot be made (None: it can): no picture, or not one of its pixels."""
     size = host.frame_size()
-    return "no picture to click in" if size is None else viewports.pixel_refusal(pixel, size)
+    if size is None:
+        return "no picture to click in"
+    outside = viewports.pixel_refusal(pixel, size)
+    return None if outside is None else f"click={outside}"
 
 
 def _picked_message(scene: Scene, obj: SceneObject, face: int) -> str:

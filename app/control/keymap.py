@@ -3,8 +3,10 @@
 A token is a character as typed (`f` and `F` differ, SPEC 6) or a named key: TAB, ENTER, ESC,
 DELETE, F1, F9, F12, PAGEDOWN, PAGEUP, HOME. A key sequence on the command line is
 whitespace-separated tokens; `TOKEN*N` repeats a press N times, `f=PATH` loads PATH (quote it as
-`f="a b.obj"` when it holds spaces) and `click=X,Y` clicks the pixel X columns and Y rows from the
-top-left, as the window's left click does.
+`f="a b.obj"` when it holds spaces), and the mouse's words (MOUSE_WORDS) do what the window's mouse
+does: `click=X,Y` clicks the pixel X columns and Y rows from the top-left, `drag=X1,Y1,X2,Y2` drags
+from one pixel to another (`rdrag=` with the right button, `ctrl+drag=` with ctrl held) and `wheel=N`
+turns the wheel N notches (negative: toward the person).
 After `f`, until ENTER or ESC, tokens are typed into the file prompt as in the window: any single
 character, SPACE and BACKSPACE.
 """
@@ -21,6 +23,7 @@ from dataclasses import dataclass
 from marraztu.control import commands
 from marraztu.control.commands import CommandFunction, Host
 from marraztu.errors import KeyMapError, shortened
+from marraztu.model import viewports
 from marraztu.model.lights import LIGHT_KEYS
 from marraztu.model.scene import Scene
 
@@ -37,27 +40,132 @@ MAX_SEQUENCE_PRESSES = 1_000_000
 MAX_SEQUENCE_CHARACTERS = 1 << 17
 LOAD_PREFIX = "f="
 CLICK_PREFIX, CLICK_TOKEN = "click=", "click"
-_CLICK = re.compile(r"^(?P<column>[0-9]{1,9}),(?P<row>[0-9]{1,9})$")
+# A left press and release with the pointer moved no further in all between them is a click, not a drag:
+# a hand shakes a pixel or two (GTK's and Windows' drag thresholds are of this size).
+CLICK_TRAVEL_PX = 3
+MAX_WHEEL_NOTCHES = 100  # a word's notches are run one by one, as the window gets them
 
 
 @dataclass(frozen=True)
 class KeyPress:
-    """One press: a key token, a load-this-file press (`token` "f" with `path` set) or a click on a
-    pixel (`token` "click" with `pixel` set: column, row from the top-left)."""
+    """One press: a key token, a load-this-file press (`token` "f" with `path` set) or a mouse word
+    (`token` a name in MOUSE_WORDS with its `numbers` set: pixels from the top-left, or notches)."""
 
     token: str
     path: str | None = None
-    pixel: tuple[int, int] | None = None
+    numbers: tuple[int, ...] | None = None
 
     def __str__(self) -> str:
-        if self.pixel is not None:
-            return f"{CLICK_PREFIX}{self.pixel[0]},{self.pixel[1]}"
+        if self.numbers is not None:
+            return f"{self.token}={','.join(map(str, self.numbers))}"
         return self.token if self.path is None else f"{LOAD_PREFIX}{self.path}"
+
+    @property
+    def pixel(self) -> tuple[int, int] | None:
+        """The pixel a mouse word presses its button on (None: no button is pressed on one)."""
+        word = MOUSE_WORDS.get(self.token)
+        if self.numbers is None or word is None or not word.pressed:
+            return None
+        return self.numbers[0], self.numbers[1]
 
 
 def click(column: int, row: int) -> KeyPress:
     """The press of a left click on a pixel, column and row counted from the top-left."""
-    return KeyPress(CLICK_TOKEN, pixel=(column, row))
+    return KeyPress(CLICK_TOKEN, numbers=(column, row))
+
+
+MouseRun = Callable[[Scene, Host, tuple[int, ...]], None]
+
+
+@dataclass(frozen=True)
+class MouseWord:
+    """A gesture of the mouse, written NAME=NUMBERS in --keys, and the control-layer function the window's
+    handler of that gesture calls, with the same numbers."""
+
+    name: str
+    form: str  # its numbers, as a refusal shows them
+    example: str
+    pattern: re.Pattern[str]
+    run: MouseRun
+    pressed: bool  # its first two numbers are the pixel its button goes down on: in the picture
+    refusal: Callable[[tuple[int, ...]], str | None] = lambda numbers: None  # numbers of the form that cannot be
+
+    @property
+    def prefix(self) -> str:
+        return f"{self.name}="
+
+
+_PIXEL = r"[0-9]{1,9}"
+_PAIR = re.compile(rf"^{_PIXEL},{_PIXEL}$")
+_TWO_PAIRS = re.compile(rf"^{_PIXEL},{_PIXEL},{_PIXEL},{_PIXEL}$")
+_NOTCHES = re.compile(r"^-?[0-9]{1,9}$")
+
+
+def _select(scene: Scene, host: Host, numbers: tuple[int, ...]) -> None:
+    commands.select_at(scene, host, (numbers[0], numbers[1]))
+
+
+def _dragging(name: str, move: commands.DragMove) -> MouseRun:
+    """A drag from one pixel to the other as one motion (the button pressed, moved, released): one undo
+    step, as a drag in the window is."""
+
+    def run(scene: Scene, host: Host, numbers: tuple[int, ...]) -> None:
+        refusal = mouse_refusal(KeyPress(name, numbers=numbers), host)
+        if refusal is not None:
+            scene.message = refusal
+            return
+        column, row, to_column, to_row = numbers
+        commands.drag_by(scene, move, to_column - column, to_row - row, host.frame_size())
+        commands.end_view_gesture(scene)  # the release
+
+    return run
+
+
+def _too_short(numbers: tuple[int, ...]) -> str | None:
+    """A left drag the window would take as a click."""
+    column, row, to_column, to_row = numbers
+    if max(abs(to_column - column), abs(to_row - row)) > CLICK_TRAVEL_PX:
+        return None
+    return f"moves {CLICK_TRAVEL_PX} pixels or less, which the window takes as a click (click=X,Y)"
+
+
+def _wheel(scene: Scene, host: Host, numbers: tuple[int, ...]) -> None:
+    """The notches one by one, as the window gets them; one undo step, as a run of them in the window."""
+    notches = numbers[0]
+    for _ in range(abs(notches)):
+        commands.dolly_view(scene, 1 if notches > 0 else -1)
+    commands.end_view_gesture(scene)
+
+
+def _notches_refusal(numbers: tuple[int, ...]) -> str | None:
+    if 1 <= abs(numbers[0]) <= MAX_WHEEL_NOTCHES:
+        return None
+    return f"turns the wheel 1 to {MAX_WHEEL_NOTCHES} notches either way (wheel=N*K repeats it)"
+
+
+def check_mouse_words(words: Iterable[MouseWord]) -> dict[str, MouseWord]:
+    """The mouse's words as name -> word, refusing a name bound twice or one a key could be."""
+    by_name: dict[str, MouseWord] = {}
+    for word in words:
+        if word.name in by_name or len(word.name) < 2 or word.name.upper() in NAMED_KEYS or "=" in word.name:
+            raise KeyMapError(f"mouse words: {word.name!r} is bound twice or is no word's name")
+        by_name[word.name] = word
+    return by_name
+
+
+# The window's drags move as far as the pointer went; the wheel dollies toward the selected object,
+# wherever the pointer is (the window does not zoom toward it).
+MOUSE_WORDS: dict[str, MouseWord] = check_mouse_words([
+    MouseWord(CLICK_TOKEN, "X,Y", "400,300", _PAIR, _select, pressed=True),
+    MouseWord("drag", "X1,Y1,X2,Y2", "300,300,400,300", _TWO_PAIRS, _dragging("drag", commands.DragMove.ORBIT),
+              pressed=True, refusal=_too_short),
+    MouseWord("rdrag", "X1,Y1,X2,Y2", "300,300,400,300", _TWO_PAIRS, _dragging("rdrag", commands.DragMove.PAN),
+              pressed=True),
+    MouseWord("ctrl+drag", "X1,Y1,X2,Y2", "300,300,400,300", _TWO_PAIRS,
+              _dragging("ctrl+drag", commands.DragMove.TURN_TARGET), pressed=True, refusal=_too_short),
+    MouseWord("wheel", "N", "3", _NOTCHES, _wheel, pressed=False, refusal=_notches_refusal),
+])
+MOUSE_PREFIXES = tuple(word.prefix for word in MOUSE_WORDS.values())
 
 
 @dataclass(frozen=True)
@@ -231,8 +339,9 @@ def key_press(token: str, keymap: dict[str, Command] = KEYMAP, hint: Callable[[]
     (asked only then: most words are keys)."""
     name = normalise_token(token)
     if name not in keymap:
+        mouse = ", ".join(f"{word.prefix}{word.form}" for word in MOUSE_WORDS.values())
         raise KeyMapError(f"unknown key {shortened(token)!r}{hint()}; keys are: {' '.join(keymap)}, f=PATH and "
-                          "click=X,Y, separated by spaces (KEY*N presses one N times)")
+                          f"{mouse}, separated by spaces (KEY*N presses one N times)")
     return KeyPress(name)
 
 
@@ -242,7 +351,7 @@ _REPEAT = re.compile(r"^(?P<token>.+)\*(?P<count>\d+)$")
 def _miscounted(word: str, keymap: dict[str, Command]) -> bool:
     """A key's repeat of no whole count ('x*-1', 'x*1.5', 'x*'), which 'unknown key' would blame on the key."""
     key, star, _ = word.rpartition("*")
-    return bool(star) and not word.startswith((LOAD_PREFIX, CLICK_PREFIX)) and normalise_token(key) in keymap
+    return bool(star) and not word.startswith((LOAD_PREFIX, *MOUSE_PREFIXES)) and normalise_token(key) in keymap
 
 
 def _parse_word(word: str, keymap: dict[str, Command], in_prompt: bool, opened_by: str | None = None,
@@ -263,8 +372,8 @@ def _parse_word(word: str, keymap: dict[str, Command], in_prompt: bool, opened_b
         if not path:
             raise KeyMapError("f= needs a file name: f=PATH")
         return KeyPress("f", path), count
-    if word.startswith(CLICK_PREFIX):
-        return _click_press(word), count
+    if word.startswith(MOUSE_PREFIXES):
+        return _mouse_press(word), count
     if in_prompt:
         return _prompt_press(word, keymap, opened_by), count
     return key_press(word, keymap, hint), count
@@ -282,16 +391,36 @@ def _quoting_hint(words: list[str], at: int, keymap: dict[str, Command]) -> str:
 
 
 def _names_a_key(word: str, keymap: dict[str, Command]) -> bool:
-    return word.startswith((LOAD_PREFIX, CLICK_PREFIX)) or normalise_token(word.partition("*")[0]) in keymap
+    return word.startswith((LOAD_PREFIX, *MOUSE_PREFIXES)) or normalise_token(word.partition("*")[0]) in keymap
 
 
-def _click_press(word: str) -> KeyPress:
-    """`click=X,Y`: the pixel X columns and Y rows from the top-left (whether the picture holds it is
-    known only when it is clicked)."""
-    match = _CLICK.match(word[len(CLICK_PREFIX):])
-    if match is None:
-        raise KeyMapError(f"{shortened(word)!r}: a click is click=X,Y, whole pixels from the top-left (click=400,300)")
-    return click(int(match["column"]), int(match["row"]))
+def _mouse_press(word: str) -> KeyPress:
+    """A mouse word: `click=X,Y`, `drag=X1,Y1,X2,Y2`..., pixels from the top-left (whether the picture
+    holds them is known only when it is pressed)."""
+    name, _, text = word.partition("=")
+    mouse = MOUSE_WORDS[name]
+    if mouse.pattern.match(text) is None:
+        unit = "whole pixels from the top-left" if mouse.pressed else "notches, negative toward the person"
+        raise KeyMapError(f"{shortened(word)!r}: a {name} is {mouse.prefix}{mouse.form}, {unit} "
+                          f"({mouse.prefix}{mouse.example})")
+    numbers = tuple(int(number) for number in text.split(","))
+    refusal = mouse.refusal(numbers)
+    if refusal is not None:
+        raise KeyMapError(f"{shortened(word)!r}: {refusal}")
+    return KeyPress(name, numbers=numbers)
+
+
+def mouse_refusal(key: KeyPress, host: Host) -> str | None:
+    """Why a mouse word cannot be pressed now (None: it can): its button pressed off the picture."""
+    if key.pixel is None or key.numbers is None:
+        return None
+    size, clicked = host.frame_size(), len(key.numbers) == 2  # a click's numbers are its press's pixel
+    if size is None:
+        return f"no picture to {'click' if clicked else 'drag'} in"
+    outside = viewports.pixel_refusal(key.pixel, size)
+    if outside is None:
+        return None
+    return f"{key.token}={outside}" if clicked else f"{key}: its press at {outside}"
 
 
 def _prompt_press(word: str, keymap: dict[str, Command], opened_by: str | None = None) -> KeyPress:
@@ -345,8 +474,8 @@ def dispatch(scene: Scene, key: KeyPress, host: Host, keymap: dict[str, Command]
     if key.path is not None:
         commands.load_file(scene, host, key.path)
         return
-    if key.pixel is not None:
-        commands.select_at(scene, host, key.pixel)
+    if key.numbers is not None:
+        MOUSE_WORDS[key.token].run(scene, host, key.numbers)
         return
     command = keymap.get(key.token)
     if command is None:

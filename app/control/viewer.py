@@ -360,7 +360,7 @@ class Viewer:
             self._prompt_key(key.token)
             return
         if self.strict and key.pixel is not None:  # a click off the picture is a mistake in the keys, as a bad key is
-            refusal = commands.click_refusal(self, key.pixel)
+            refusal = keymap.mouse_refusal(key, self)
             if refusal is not None:
                 raise ViewerError(refusal)
         before = self._seen_selected()

@@ -24,7 +24,7 @@ import numpy as np
 from moderngl_window.timers.clock import Timer
 
 from marraztu.control import commands
-from marraztu.control.keymap import KeyPress, click
+from marraztu.control.keymap import CLICK_TRAVEL_PX, KeyPress, click
 from marraztu.control.viewer import BackgroundLoader, StartOptions, Viewer, scene_file_watcher, starting_scene
 from marraztu.errors import LoadError, ViewerError, escaped, first_line
 from marraztu.frontends.heap import return_freed_memory
@@ -45,9 +45,6 @@ WATCH_INTERVAL_S = 0.5  # --watch looks at the models' files this often: soon en
 # A frame is drawn only when something changed; between frames the loop sleeps in the window
 # system's event wait, waking at least this often for what no event announces (a load finishing).
 IDLE_WAKE_S = 0.1
-# A left press and release with the pointer moved no further in all between them is a click, not a drag:
-# a hand shakes a pixel or two (GTK's and Windows' drag thresholds are of this size).
-CLICK_TRAVEL_PX = 3
 LEFT_BUTTON = 1  # moderngl-window's number of the left button
 
 
@@ -411,11 +408,12 @@ class ViewerWindow:
             self.held_motion = (0, 0)
         buttons, held, size = self.wnd.mouse_states, self.wnd.modifiers, self.wnd.size
         if held.ctrl:
-            self.viewer.move_by_mouse(lambda scene: commands.drag(scene, dx, dy, size))
+            move = commands.DragMove.TURN_TARGET
         elif buttons.right or buttons.middle or held.shift:
-            self.viewer.move_by_mouse(lambda scene: commands.pan_view(scene, dx, dy, size[1]))
+            move = commands.DragMove.PAN
         else:
-            self.viewer.move_by_mouse(lambda scene: commands.orbit_view(scene, dx, dy, size))
+            move = commands.DragMove.ORBIT
+        self.viewer.move_by_mouse(lambda scene: commands.drag_by(scene, move, dx, dy, size))
         return None
 
     @guarded

@@ -66,7 +66,7 @@ def pixel_refusal(pixel: tuple[int, int], size: tuple[int, int]) -> str | None:
     width, height = size
     if 0 <= column < width and 0 <= row < height:
         return None
-    return f"click={column},{row} lies outside the {width}x{height} picture (0,0 is its top-left pixel)"
+    return f"{column},{row} lies outside the {width}x{height} picture (0,0 is its top-left pixel)"
 
 
 def pixel_centre(pixel: tuple[int, int], size: tuple[int, int]) -> tuple[float, float]:
