@@ -8,6 +8,7 @@ import re
 import subprocess
 import sys
 import tomllib
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -29,7 +30,7 @@ from marraztu.model.build import build_mesh, scaled_mesh
 from marraztu.model.geometry import FLOAT32_MAX
 from marraztu.model.lights import AMBIENT_INTENSITY, SPOT_APERTURE_RANGE_DEG, Light, default_lights
 from marraztu.model.mesh import Mesh
-from marraztu.model.scene import NAME_LIMIT, Material
+from marraztu.model.scene import NAME_LIMIT, Material, Scene
 from marraztu.model.transforms import euler_xyz
 from marraztu.resources import ASSET_DIR
 from support.work import calls_made
@@ -230,6 +231,23 @@ LIGHT_VALUES_TRIED = {
 }
 
 
+def _refused_from_the_file_and_by_hand(tmp_path: Path, text: str,
+                                      set_by_hand: Callable[[Scene], None]) -> tuple[str | None, str | None]:
+    """What a scene file of `text` is refused with, and what the same value set by hand on a scene is."""
+    try:
+        load_scene(write_scene(tmp_path, text))
+        file_refused = None
+    except LoadError as error:
+        file_refused = error.message
+    scene = load_scene(write_scene(tmp_path, CAMERA))
+    set_by_hand(scene)
+    try:
+        scene.check_by_hand()
+        return file_refused, None
+    except ValueError as error:
+        return file_refused, str(error)
+
+
 @pytest.mark.parametrize("where", ["ambient", "intensity", "position", "direction"])
 @pytest.mark.parametrize("toml", LIGHT_VALUES_TRIED.values(), ids=LIGHT_VALUES_TRIED.keys())
 def test_a_scene_file_and_the_scene_set_by_hand_refuse_the_same_light_values(tmp_path: Path, where: str,
@@ -237,22 +255,15 @@ def test_a_scene_file_and_the_scene_set_by_hand_refuse_the_same_light_values(tmp
     """One rule, the model's (Scene.check_by_hand, the programming interface's next call), for both."""
     light = {"intensity": "bulb", "position": "bulb", "direction": "sun"}.get(where)
     text = f"ambient = {toml}\n" + CAMERA if light is None else CAMERA + f"[lights.{light}]\n{where} = {toml}\n"
-    try:
-        load_scene(write_scene(tmp_path, text))
-        file_refused = None
-    except LoadError as error:
-        file_refused = error.message
-    scene = load_scene(write_scene(tmp_path, CAMERA))
     value = np.array(tomllib.loads(f"v = {toml}")["v"], float)
-    if light is None:
-        scene.ambient = value
-    else:
-        setattr(next(each for each in scene.lights if each.name == light), where, value)
-    try:
-        scene.check_by_hand()
-        hand_refused = None
-    except ValueError as error:
-        hand_refused = str(error)
+
+    def set_by_hand(scene: Scene) -> None:
+        if light is None:
+            scene.ambient = value
+        else:
+            setattr(next(each for each in scene.lights if each.name == light), where, value)
+
+    file_refused, hand_refused = _refused_from_the_file_and_by_hand(tmp_path, text, set_by_hand)
     assert (file_refused is None) == (hand_refused is None), (file_refused, hand_refused)
     assert file_refused is None or file_refused.startswith("ambient" if light is None else f"lights.{light}: {where}")
 
@@ -261,18 +272,9 @@ def test_a_scene_file_and_the_scene_set_by_hand_refuse_the_same_light_values(tmp
 def test_a_scene_file_and_the_scene_set_by_hand_refuse_the_same_apertures(tmp_path: Path, degrees: str) -> None:
     """A spotlight's aperture is held to the range + and - keep it in, from Python too: 120 set by hand was
     drawn, and the next - jumped it to 89."""
-    try:
-        load_scene(write_scene(tmp_path, CAMERA + f"[lights.object_spotlight]\naperture = {degrees}\n"))
-        file_refused = None
-    except LoadError as error:
-        file_refused = error.message
-    scene = load_scene(write_scene(tmp_path, CAMERA))
-    scene.lights[2].aperture_deg = float(degrees)
-    try:
-        scene.check_by_hand()
-        hand_refused = None
-    except ValueError as error:
-        hand_refused = str(error)
+    text = CAMERA + f"[lights.object_spotlight]\naperture = {degrees}\n"
+    file_refused, hand_refused = _refused_from_the_file_and_by_hand(
+        tmp_path, text, lambda scene: setattr(scene.lights[2], "aperture_deg", float(degrees)))
     assert (file_refused is None) == (hand_refused is None), (file_refused, hand_refused)
     assert (hand_refused is None) == (SPOT_APERTURE_RANGE_DEG[0] <= float(degrees) <= SPOT_APERTURE_RANGE_DEG[1])
 
