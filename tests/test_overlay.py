@@ -295,13 +295,9 @@ def _backdrops(tmp_path, monkeypatch, keys: str, size: tuple[int, int]):
     return backdrops
 
 
-@pytest.mark.parametrize("size", [(160, 120), (320, 60), (64, 64), (200, 40), (1, 1), (8, 300)])
-@pytest.mark.parametrize("keys", ["i", "s i", "i m", "F 0 i ENTER*40 P m", "s i c c g"])
-def test_in_a_small_window_no_block_of_text_covers_another_or_leaves_the_window(
-        tmp_path, monkeypatch, keys: str, size: tuple[int, int]) -> None:
-    """At 160x120 the probe panel was drawn over the status line's last lines, at 64x64 the titles and
-    the matrices below the window's bottom and over the message: a panel with no room for a line kept one."""
-    backdrops = _backdrops(tmp_path, monkeypatch, keys, size)
+def _assert_blocks_apart_and_inside(backdrops: list[tuple[float, float, float, float]],
+                                    size: tuple[int, int]) -> None:
+    """No backdrop (left, bottom, right, top) leaves the window, and none covers another."""
     width, height = size
     assert all(0.0 <= left and 0.0 <= bottom and right <= width and top <= height
                for left, bottom, right, top in backdrops), backdrops
@@ -309,6 +305,15 @@ def test_in_a_small_window_no_block_of_text_covers_another_or_leaves_the_window(
         for other_left, other_bottom, other_right, other_top in backdrops[index + 1:]:
             apart = right <= other_left or other_right <= left or top <= other_bottom or other_top <= bottom
             assert apart, backdrops
+
+
+@pytest.mark.parametrize("size", [(160, 120), (320, 60), (64, 64), (200, 40), (1, 1), (8, 300)])
+@pytest.mark.parametrize("keys", ["i", "s i", "i m", "F 0 i ENTER*40 P m", "s i c c g"])
+def test_in_a_small_window_no_block_of_text_covers_another_or_leaves_the_window(
+        tmp_path, monkeypatch, keys: str, size: tuple[int, int]) -> None:
+    """At 160x120 the probe panel was drawn over the status line's last lines, at 64x64 the titles and
+    the matrices below the window's bottom and over the message: a panel with no room for a line kept one."""
+    _assert_blocks_apart_and_inside(_backdrops(tmp_path, monkeypatch, keys, size), size)
 
 
 @pytest.mark.parametrize("keys, first", [("i", "PROBE"), ("m", "MATRICES"), ("P", "PIPELINE")])
@@ -394,16 +399,9 @@ def test_on_a_large_framebuffer_no_block_of_text_covers_another_or_leaves_it(
         tmp_path, monkeypatch, keys: str, size: tuple[int, int]) -> None:
     """Lines, backdrops and panels are fitted with the larger text's sizes: none runs off the window
     (1000x2400 draws at 1.25 times: the probe's lines are cut there) and none covers another."""
-    backdrops = _backdrops(tmp_path, monkeypatch, keys, size)
-    width, height = size
-    assert all(0.0 <= left and 0.0 <= bottom and right <= width and top <= height
-               for left, bottom, right, top in backdrops), backdrops
-    for index, (left, bottom, right, top) in enumerate(backdrops):
-        for other_left, other_bottom, other_right, other_top in backdrops[index + 1:]:
-            apart = right <= other_left or other_right <= left or top <= other_bottom or other_top <= bottom
-            assert apart, backdrops
+    _assert_blocks_apart_and_inside(_backdrops(tmp_path, monkeypatch, keys, size), size)
     drawn = _drawn_lines(tmp_path, monkeypatch, keys, size)
-    assert not [(text, right) for text, _, right, _, _ in drawn if right > width]
+    assert not [(text, right) for text, _, right, _, _ in drawn if right > size[0]]
 
 
 def test_on_a_large_framebuffer_the_vertex_labels_grow_and_keep_apart(tmp_path, monkeypatch) -> None:
