@@ -73,6 +73,18 @@ def wait_for(condition, seconds: float, what: str, display: str | None = None):
     pytest.fail(f"timed out waiting for {what}")
 
 
+def f12_then_escape(display: str, folder: Path, window: subprocess.Popen) -> Path:
+    """F12's picture of the window run in `folder`, then ESC, which must end it cleanly."""
+    xdotool(display, "key", "F12")
+    shots = folder / "screenshots"
+    saved = wait_for(lambda: sorted(shots.glob("*.png")) if shots.is_dir() else [], 30, "the F12 screenshot",
+                     display)[0]
+    time.sleep(0.3)
+    xdotool(display, "key", "Escape")
+    assert window.wait(timeout=30) == 0, "ESC must quit cleanly"
+    return saved
+
+
 @contextmanager
 def window_in(display: str, folder: Path, size: tuple[int, int]) -> Iterator[tuple[subprocess.Popen, str]]:
     """The program's window, run in `folder`, and its X window id; killed if the test leaves it running.
@@ -112,13 +124,7 @@ def test_window_matches_screenshot_command(display: str, tmp_path: Path) -> None
         time.sleep(0.5)
         xdotool(display, "type", "--delay", "60", "svi")  # side by side, diffuse only, probe outline
         time.sleep(0.3)
-        xdotool(display, "key", "F12")
-        shots = tmp_path / "screenshots"
-        saved = wait_for(lambda: sorted(shots.glob("*.png")) if shots.is_dir() else [], 30,
-                         "the F12 screenshot", display)[0]
-        time.sleep(0.3)
-        xdotool(display, "key", "Escape")
-        assert window.wait(timeout=30) == 0, "ESC must quit cleanly"
+        saved = f12_then_escape(display, tmp_path, window)
 
     keys = f'0 1 F TAB ENTER ENTER c t z*3 X*2 c c "f={model.as_posix()}" PAGEDOWN s v i'
     expected_path = tmp_path / "expected.png"
@@ -448,13 +454,7 @@ def test_the_window_s_drags_and_wheel_match_the_screenshot_command_s_mouse_words
             xdotool(display, "mouseup", button)
         xdotool(display, "click", "--repeat", "2", "4")  # the wheel, toward the object
         time.sleep(0.3)
-        xdotool(display, "key", "F12")
-        shots = tmp_path / "screenshots"
-        saved = wait_for(lambda: sorted(shots.glob("*.png")) if shots.is_dir() else [], 30,
-                         "the F12 screenshot", display)[0]
-        time.sleep(0.3)
-        xdotool(display, "key", "Escape")
-        assert window.wait(timeout=30) == 0
+        saved = f12_then_escape(display, tmp_path, window)
 
     expected_path = tmp_path / "expected.png"
     result = subprocess.run([sys.executable, "-m", "marraztu", "screenshot", "-o", str(expected_path),
