@@ -4,6 +4,7 @@ legible at 100 %: thin strokes kept, look-alike glyphs told apart."""
 from __future__ import annotations
 
 import textwrap
+from pathlib import Path
 
 import moderngl
 import numpy as np
@@ -269,17 +270,22 @@ def test_with_the_matrices_panel_up_the_probe_panel_moves_up_under_it_where_ther
 def _backdrops(tmp_path, monkeypatch, keys: str, size: tuple[int, int]):
     """The backdrop of every block of text the overlay drew (the labels' aside: they are part of the
     picture), as (left, bottom, right, top) in pixels."""
+    return _backdrops_and_label_boxes(tmp_path, monkeypatch, keys, size)[0]
+
+
+def _backdrops_and_label_boxes(tmp_path, monkeypatch, keys: str, size: tuple[int, int], models: tuple = ()):
+    """The backdrops of the blocks of text, and apart those of the labels, as (left, bottom, right, top)."""
     from marraztu.control.viewer import StartOptions
     from marraztu.frontends.screenshot import take_screenshot
     from marraztu.render import overlay as overlay_module
 
     backdrops: list[tuple[float, float, float, float]] = []
+    label_boxes: list[tuple[float, float, float, float]] = []
     real_rectangle, real_label = overlay_module.Overlay._rectangle, overlay_module.Overlay._label
     in_label = []
 
     def spied_rectangle(self, left, bottom, right, top):
-        if not in_label:
-            backdrops.append((left, bottom, right, top))
+        (label_boxes if in_label else backdrops).append((left, bottom, right, top))
         return real_rectangle(self, left, bottom, right, top)
 
     def spied_label(self, label):
@@ -291,8 +297,47 @@ def _backdrops(tmp_path, monkeypatch, keys: str, size: tuple[int, int]):
 
     monkeypatch.setattr(overlay_module.Overlay, "_rectangle", spied_rectangle)
     monkeypatch.setattr(overlay_module.Overlay, "_label", spied_label)
-    take_screenshot(StartOptions(), tmp_path / "shot.png", size, keys=keys, overlay=True)
-    return backdrops
+    options = StartOptions(empty=True, models=models) if models else StartOptions()
+    take_screenshot(options, tmp_path / "shot.png", size, keys=keys, overlay=True)
+    return backdrops, label_boxes
+
+
+def _plate(path: Path) -> Path:
+    """A plate 20 wide and 60 tall facing the camera, in six rows of two triangles: a face a sixth of its
+    height, whose probe panel in Gouraud is taller than half an 800x600 picture."""
+    corners = [(x * 20.0 - 10.0, y * 10.0 - 30.0) for y in range(7) for x in range(2)]
+    faces = [face for row in range(6) for face in ((2 * row + 1, 2 * row + 2, 2 * row + 4),
+                                                    (2 * row + 1, 2 * row + 4, 2 * row + 3))]
+    path.write_text("".join(f"v {x} {y} 0\n" for x, y in corners) + "".join(f"f {a} {b} {c}\n" for a, b, c in faces))
+    return path
+
+
+def _covered_height(box: tuple[float, float, float, float], bottom: float, top: float) -> float:
+    return max(0.0, min(box[3], top) - max(box[1], bottom))
+
+
+@pytest.mark.parametrize("click_y, at_top", [(400, True), (250, False)])
+def test_where_both_places_cover_the_face_the_probe_panel_takes_the_one_that_covers_less(
+        tmp_path, monkeypatch, click_y: int, at_top: bool) -> None:
+    """Where the panel at the bottom and at the top of its room both covered the face, it stayed at the
+    bottom: a face in the lower middle of 800x600 was hidden whole, labels, dots and outline, while the
+    top left part of it clear. The face's box (its labels' and what they surround) decides."""
+    size = (800, 600)
+    backdrops, label_boxes = _backdrops_and_label_boxes(
+        tmp_path, monkeypatch, f"T 0 1 F click=400,{click_y} i", size, models=(_plate(tmp_path / "plate.obj"),))
+    status_bottom = next(bottom for _, bottom, _, top in backdrops if top == size[1])
+    panel = next(box for box in backdrops if box[0] == 0.0 and box[3] <= status_bottom)
+    height = panel[3] - panel[1]
+    face = (min(box[0] for box in label_boxes), min(box[1] for box in label_boxes),
+            max(box[2] for box in label_boxes), max(box[3] for box in label_boxes))
+    assert len(label_boxes) == 3 and face[0] < panel[2], (label_boxes, panel)
+    low, high = _covered_height(face, 0.0, height), _covered_height(face, status_bottom - height, status_bottom)
+    assert low > 0.0 and high > 0.0, (face, panel)  # too tall for either place to miss the face
+    covered = _covered_height(face, panel[1], panel[3])
+    assert (panel[3] == status_bottom) is at_top, (panel, status_bottom)
+    assert covered == min(low, high)
+    if at_top:
+        assert covered < low  # the bottom, where it stayed before, covers more
 
 
 def _assert_blocks_apart_and_inside(backdrops: list[tuple[float, float, float, float]],

@@ -5,6 +5,7 @@ layer uses it too.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -71,6 +72,17 @@ class Extras:
     bottom_overflow_hint: str = ""  # said after the bottom panel's last line when it is cut short
 
 
-def holds_a_label(labels: list[Label], bottom: float, top: float, right: float) -> bool:
-    """Whether a label's point lies in the band from the left edge to `right`, between `bottom` and `top`."""
-    return any(bottom <= label.y <= top and label.x <= right for label in labels)
+def labels_covered(labels: list[Label], width_of: Callable[[Label], float], height: float,
+                   bottom: float, top: float, right: float) -> float:
+    """The area, in square pixels, of the box around the labels (each `height` tall) that the band from
+    the left edge to `right`, between `bottom` and `top`, covers: a probed face lies inside that box, as
+    each label sits beyond its vertex, away from the face."""
+    if not labels:
+        return 0.0
+    box_left = min(label.x - width_of(label) / 2.0 for label in labels)
+    box_right = max(label.x + width_of(label) / 2.0 for label in labels)
+    box_bottom = min(label.y for label in labels) - height / 2.0
+    box_top = max(label.y for label in labels) + height / 2.0
+    across = min(box_right, right) - max(box_left, 0.0)
+    up = min(box_top, top) - max(box_bottom, bottom)
+    return max(across, 0.0) * max(up, 0.0)

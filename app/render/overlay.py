@@ -24,7 +24,7 @@ from PIL import Image
 
 from marraztu.render.context import check_gl
 from marraztu.render.gpu import load_program
-from marraztu.render.layout import Extras, Label, holds_a_label, scaled_px
+from marraztu.render.layout import Extras, Label, labels_covered, scaled_px
 
 # The lengths below are those of a window of up to 800x800; text_sizes scales them to larger ones.
 LINE_HEIGHT_PX = 16.0
@@ -247,14 +247,16 @@ class Overlay:
 
     def _bottom_panel_top(self, extras: Extras, lines: list[str], room_top: float, above_bottom: float) -> float:
         """Above the bottom lines; at the top of its room (under the top lines and the right-hand panel)
-        where the face it is about lies under it there and not here (the probe's four corners fill half
-        the picture)."""
+        where it covers less of the face it is about there (the probe's four corners fill half the
+        picture). No top in between covers less: the height of a box it covers is concave in its top."""
         panels = self.sizes.panels
         height, right = self.sizes.block_height(len(lines), panels), self._block_width(lines, panels)
         low = above_bottom + height
-        if not holds_a_label(extras.labels, above_bottom, low, right):
-            return low
-        return room_top if not holds_a_label(extras.labels, room_top - height, room_top, right) else low
+
+        def covered(top: float) -> float:
+            return labels_covered(extras.labels, self._label_width, panels.line_height, top - height, top, right)
+
+        return room_top if covered(room_top) < covered(low) else low
 
     def _block(self, lines: list[str], left: float, top: float, lettering: Lettering) -> None:
         """Lines with their backdrop, the block's top-left corner at (left, top)."""
