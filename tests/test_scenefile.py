@@ -1589,11 +1589,14 @@ def test_a_slip_tomllib_names_in_its_words_says_what_was_meant(tmp_path: Path, t
     ('model = "m.obj"\ntexture = "Red.PNG"\n',
      ":3: objects[1]: texture: {}/Red.PNG: no such file (did you mean red.png?)"),
     ('model = "sub\\\\M.obj"\n', ":2: model sub\\M.obj: {}/sub\\M.obj: no such file (use / between folders)"),
-], ids=["model", "texture", "a Windows path"])
+    ('model = "sub/M.obj"\n', ":2: model sub/M.obj: {}/sub/M.obj: no such file (did you mean sub/m.obj?)"),
+], ids=["model", "texture", "a Windows path", "in a folder: named as written"])
 @pytest.mark.skipif(os.sep == "\\", reason="Windows reads names in any case")
 def test_a_file_named_in_another_case_says_which_was_meant(tmp_path: Path, entry: str, said: str) -> None:
     """model = "Sphere.obj" beside sphere.obj said only 'no such file'."""
     (tmp_path / "red.png").write_bytes(b"")
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "m.obj").write_bytes(b"")  # only named: the model not found is sub/M.obj
     path = write_scene(tmp_path, "[[objects]]\n" + entry)
     with pytest.raises(LoadError) as caught:
         load_scene(path)

@@ -25,24 +25,32 @@ COLLECT_AFTER_BYTES = 1 << 20
 
 class MissingFile(LoadError):
     """No file at `path`. Its hint looks at `written`, the name as the person wrote it, where the reader
-    of that name gives it again (as_written); else at the whole path. `other_case`: its hint of a file named
-    so but for case, where already looked for (its folder is listed once)."""
+    of that name gives it again (as_written); else at the whole path. `other_case`: the one file of its
+    folder named so but for case ("" for none), where already looked for (its folder is listed once)."""
 
     def __init__(self, path: str | Path, written: str | None = None, other_case: str | None = None) -> None:
-        self.other_case = _other_case_hint(path) if other_case is None else other_case
+        self.other_case = _named_in_other_case(path) if other_case is None else other_case
         hint = _windows_path_hint(str(path)) if written is None else _windows_name_hint(written)
-        super().__init__(path, f"no such file{self.other_case}{hint}")
+        super().__init__(path, f"no such file{_other_case_hint(self.other_case, written)}{hint}")
 
     def as_written(self, written: str) -> MissingFile:
         return MissingFile(self.path, written, self.other_case)
 
 
-def _other_case_hint(path: str | Path) -> str:
-    """' (did you mean sphere.obj?)' where the folder of `path` holds exactly one file named as it is but for
-    case (Sphere.obj written): a file copied from Windows or macOS, which read names in any case."""
+def _named_in_other_case(path: str | Path) -> str:
+    """The one file in the folder of `path` named as it is but for case (sphere.obj, Sphere.obj written): a
+    file copied from Windows or macOS, which read names in any case; "" where none or several are."""
     folder, name = os.path.split(os.fspath(path))
     found = names_in_any_case(folder).get(name.lower(), ())
-    return f" (did you mean {found[0]}?)" if len(found) == 1 else ""
+    return found[0] if len(found) == 1 else ""
+
+
+def _other_case_hint(found: str, written: str | None) -> str:
+    """' (did you mean models/sphere.obj?)': the name as written, its last part as the folder holds it."""
+    if not found:
+        return ""
+    folders, slash, _ = (written or "").rpartition("/")
+    return f" (did you mean {folders}{slash}{found}?)"
 
 
 def names_in_any_case(folder: str | Path) -> dict[str, tuple[str, ...]]:
