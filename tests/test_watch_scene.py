@@ -327,6 +327,34 @@ def test_a_scene_file_caught_empty_while_an_editor_writes_it_is_not_read(tmp_pat
     assert viewer.scene.objects[1].model[0, 3] == 60
 
 
+def test_a_scene_file_caught_part_way_through_a_save_is_not_read(tmp_path: Path, monkeypatch) -> None:
+    """An editor that writes in place, caught after the first entry: valid TOML of fewer entries, read as the
+    scene, so that the second square left and came back with its moves lost. A file that changes while it is
+    read is refused; the whole save is read at the next look."""
+    from marraztu.loaders import scenefile
+
+    viewer = watched(tmp_path, CAMERA + square_at(0) + square_at(50))
+    press(viewer, "TAB t x")  # the second square moved
+    moved = viewer.scene.object.model.copy()
+    path, whole = tmp_path / "lesson.toml", CAMERA + square_at(0, kd="[0.9, 0.1, 0.1]") + square_at(50)
+    read_file = scenefile.read_file
+
+    def caught_part_way(at: Path, limit: int) -> bytes:
+        data = read_file(at, limit=limit)
+        rewrite(path, whole)  # the rest of the save, as the read ends
+        return data
+
+    rewrite(path, CAMERA + square_at(0, kd="[0.9, 0.1, 0.1]"))  # the first entry written: seen changed
+    monkeypatch.setattr(scenefile, "read_file", caught_part_way)
+    viewer.check_watched()
+    assert len(viewer.scene.objects) == 2 and viewer.scene.objects[0].material.kd == (0.2, 0.4, 0.6)
+    assert "changed as it was read again" in viewer.scene.message
+    monkeypatch.setattr(scenefile, "read_file", read_file)
+    viewer.check_watched()  # the whole save, seen changed again
+    assert viewer.scene.objects[0].material.kd == (0.9, 0.1, 0.1)
+    assert np.array_equal(viewer.scene.objects[1].model, moved)
+
+
 def test_what_the_person_moved_stays_where_a_save_changed_only_a_material(tmp_path: Path) -> None:
     """A teacher flies the camera and moves a model, then saves a new Kd: the view and the model stay."""
     viewer = watched(tmp_path, CAMERA + square_at(0))

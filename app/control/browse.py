@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NamedTuple
 
-from marraztu.loaders.files import same_file_key
+from marraztu.loaders.files import Stamp, file_stamp, same_file_key
 from marraztu.loaders.registry import MODEL_READERS
 from marraztu.model.scene import Scene, SceneObject
 from marraztu.model.transforms import Vec3
@@ -48,20 +48,11 @@ def sibling_model(path: Path, step: int) -> Path | None:
     return files[index % len(files)]
 
 
-@dataclass(frozen=True)
-class Stamp:
-    modified_ns: int
-    size: int
-
-
 def _stamp(path: Path) -> Stamp | None:
-    try:
-        status = path.stat()
-    except OSError:  # gone for now (an editor replacing it): not a change until it is back
-        return None
-    if status.st_size == 0:  # emptied by an editor that writes in place, not yet written: as if gone
-        return None
-    return Stamp(status.st_mtime_ns, status.st_size)
+    """As the file stands now; None while it is gone (an editor replacing it) or empty (an editor that writes
+    in place, not yet written): not a change until it is back."""
+    stamp = file_stamp(path)
+    return None if stamp is None or stamp.size == 0 else stamp
 
 
 @dataclass

@@ -13,7 +13,7 @@ import stat
 from contextlib import contextmanager
 from contextvars import ContextVar
 from pathlib import Path
-from typing import BinaryIO, Callable, Iterator
+from typing import BinaryIO, Callable, Iterator, NamedTuple
 
 from marraztu.errors import LoadError
 
@@ -21,6 +21,22 @@ MAX_FILE_BYTES = 1 << 30
 # From this size of file on, what a read left in reference cycles (trimesh's objects, a refused read's
 # frames) is collected once it is done (marraztu.loaders.exchange, marraztu.loaders.registry).
 COLLECT_AFTER_BYTES = 1 << 20
+
+
+class Stamp(NamedTuple):
+    """When a file was last written, and its size: what tells that it changed."""
+
+    modified_ns: int
+    size: int
+
+
+def file_stamp(path: str | Path) -> Stamp | None:
+    """The file's Stamp; None where it is not there (or cannot be looked at)."""
+    try:
+        status = os.stat(path)
+    except (OSError, ValueError):  # ValueError: a NUL in its name
+        return None
+    return Stamp(status.st_mtime_ns, status.st_size)
 
 
 class MissingFile(LoadError):

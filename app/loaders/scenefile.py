@@ -57,6 +57,7 @@ from marraztu.errors import LoadError, ViewerError, shortened
 from marraztu.loaders.files import (
     as_typed,
     escape_words,
+    file_stamp,
     line_at,
     read_file,
     said_as_written,
@@ -344,9 +345,13 @@ class _SceneReader:
         raise LoadError(self.path, message, line)
 
     def _read_text(self) -> str:
+        before = file_stamp(self.path) if self.again else None
         data = read_file(self.path, limit=SCENE_READ_LIMIT)
         if self.again and not data:
             self.fail("empty as it was read again (caught part way through a save?): the scene stays as it was")
+        if self.again and (file_stamp(self.path) != before or len(data) != before.size):
+            # an editor writing in place, caught mid-save: its whole file is read at the next look
+            self.fail("changed as it was read again (caught part way through a save?): the scene stays as it was")
         try:
             return data.decode("utf-8-sig")  # a byte order mark (Notepad writes one) is no TOML
         except UnicodeDecodeError as error:
