@@ -613,3 +613,20 @@ def test_a_scene_file_an_editor_empties_as_it_is_read_again_leaves_the_scene_as_
     finally:
         if on_the_worker:
             viewer.background.shutdown()
+
+
+def test_a_scene_file_gone_as_its_read_begins_and_ends_is_not_read(tmp_path: Path, monkeypatch) -> None:
+    """An editor that deletes the file and writes it anew, its stamp looked at while it was gone, before
+    the read and after: refused as a save under way (it raised AttributeError), read at the next look."""
+    from marraztu.loaders import scenefile
+
+    viewer = watched(tmp_path, CAMERA + square_at(0))
+    rewrite(tmp_path / "lesson.toml", CAMERA + square_at(0, kd="[0.9, 0.1, 0.1]"))
+    monkeypatch.setattr(scenefile, "file_stamp", lambda path: None)
+    viewer.check_watched()
+    assert viewer.scene.objects[0].material.kd == (0.2, 0.4, 0.6)
+    assert "changed as it was read again" in viewer.scene.message
+    monkeypatch.undo()
+    rewrite(tmp_path / "lesson.toml", CAMERA + square_at(0, kd="[0.9, 0.1, 0.1]") + "\n")
+    viewer.check_watched()
+    assert viewer.scene.objects[0].material.kd == (0.9, 0.1, 0.1)

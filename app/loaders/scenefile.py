@@ -349,8 +349,8 @@ class _SceneReader:
         data = read_file(self.path, limit=SCENE_READ_LIMIT)
         if self.again and not data:
             self.fail("empty as it was read again (caught part way through a save?): the scene stays as it was")
-        if self.again and (file_stamp(self.path) != before or len(data) != before.size):
-            # an editor writing in place, caught mid-save: its whole file is read at the next look
+        if self.again and (before is None or file_stamp(self.path) != before or len(data) != before.size):
+            # an editor writing in place (or gone as the read began), caught mid-save: read whole at the next look
             self.fail("changed as it was read again (caught part way through a save?): the scene stays as it was")
         try:
             return data.decode("utf-8-sig")  # a byte order mark (Notepad writes one) is no TOML
