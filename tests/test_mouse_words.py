@@ -100,3 +100,16 @@ def test_a_drag_pressed_off_the_picture_is_refused() -> None:
     ended = viewer()
     ended.press_sequence("drag=10,10,150,10")  # the end may leave the picture, as a drag may leave the window
     assert not np.array_equal(ended.scene.camera.model, start)
+
+
+@pytest.mark.parametrize("word", ["drag=10,20,70,50", "rdrag=10,20,70,50", "wheel=2"])
+def test_a_drag_or_the_wheel_in_the_file_prompt_moves_the_view_as_in_the_window(word: str) -> None:
+    """The window's drags and wheel move the view while the `f` prompt is open (only a click is typed into
+    it, where it does nothing); the words were swallowed by the prompt, silently."""
+    in_prompt, alone = viewer(), viewer()
+    in_prompt.press_sequence(f"f {word}")
+    alone.press_sequence(word)
+    assert in_prompt.prompt == "" and np.array_equal(in_prompt.scene.camera.model, alone.scene.camera.model)
+    clicked = viewer()
+    clicked.press_sequence("f click=80,60")
+    assert clicked.prompt == "" and clicked.scene.message == ""

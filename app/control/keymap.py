@@ -8,7 +8,7 @@ does: `click=X,Y` clicks the pixel X columns and Y rows from the top-left, `drag
 from one pixel to another (`rdrag=` with the right button, `ctrl+drag=` with ctrl held) and `wheel=N`
 turns the wheel N notches (negative: toward the person).
 After `f`, until ENTER or ESC, tokens are typed into the file prompt as in the window: any single
-character, SPACE and BACKSPACE.
+character, SPACE and BACKSPACE (the drags and the wheel move the view meanwhile, as the window's do).
 """
 
 from __future__ import annotations
@@ -89,6 +89,7 @@ class MouseWord:
     run: MouseRun
     pressed: bool  # its first two numbers are the pixel its button goes down on: in the picture
     refusal: Callable[[tuple[int, ...]], str | None] = lambda numbers: None  # numbers of the form that cannot be
+    moves_past_prompt: bool = True  # the window's drags and wheel move the view while the `f` prompt is open
 
     @property
     def prefix(self) -> str:
@@ -156,7 +157,7 @@ def check_mouse_words(words: Iterable[MouseWord]) -> dict[str, MouseWord]:
 # The window's drags move as far as the pointer went; the wheel dollies toward the selected object,
 # wherever the pointer is (the window does not zoom toward it).
 MOUSE_WORDS: dict[str, MouseWord] = check_mouse_words([
-    MouseWord(CLICK_TOKEN, "X,Y", "400,300", _PAIR, _select, pressed=True),
+    MouseWord(CLICK_TOKEN, "X,Y", "400,300", _PAIR, _select, pressed=True, moves_past_prompt=False),
     MouseWord("drag", "X1,Y1,X2,Y2", "300,300,400,300", _TWO_PAIRS, _dragging("drag", commands.DragMove.ORBIT),
               pressed=True, refusal=_too_short),
     MouseWord("rdrag", "X1,Y1,X2,Y2", "300,300,400,300", _TWO_PAIRS, _dragging("rdrag", commands.DragMove.PAN),
@@ -408,6 +409,11 @@ def _mouse_press(word: str) -> KeyPress:
     if refusal is not None:
         raise KeyMapError(f"{shortened(word)!r}: {refusal}")
     return KeyPress(name, numbers=numbers)
+
+
+def typed_into_prompt(key: KeyPress) -> bool:
+    """Whether the open `f` prompt takes the press: every key, and a click (doing nothing), as in the window."""
+    return key.numbers is None or not MOUSE_WORDS[key.token].moves_past_prompt
 
 
 def mouse_refusal(key: KeyPress, host: Host) -> str | None:

@@ -354,9 +354,10 @@ class Viewer:
 
     # --- keys ----------------------------------------------------------------------------------
     def press(self, key: keymap.KeyPress) -> None:
-        """One key: typed into the `f` prompt while it is open, otherwise the key map's command."""
+        """One key: typed into the `f` prompt while it is open (a drag or the wheel moves past it), otherwise the
+        key map's command."""
         self._said_by_mouse = ""  # the message answers this key now: a mouse move takes back none of its words
-        if self.prompt is not None and key.path is None:
+        if self.prompt is not None and key.path is None and keymap.typed_into_prompt(key):
             self._prompt_key(key.token)
             return
         if self.strict and key.pixel is not None:  # a click off the picture is a mistake in the keys, as a bad key is
