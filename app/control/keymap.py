@@ -418,15 +418,15 @@ def typed_into_prompt(key: KeyPress) -> bool:
 
 def mouse_refusal(key: KeyPress, host: Host) -> str | None:
     """Why a mouse word cannot be pressed now (None: it can): its button pressed off the picture."""
-    if key.pixel is None or key.numbers is None:
+    if key.pixel is None:
         return None
-    size, clicked = host.frame_size(), len(key.numbers) == 2  # a click's numbers are its press's pixel
+    if key.token == CLICK_TOKEN:
+        return commands.click_refusal(host, key.pixel)
+    size = host.frame_size()
     if size is None:
-        return f"no picture to {'click' if clicked else 'drag'} in"
+        return "no picture to drag in"
     outside = viewports.pixel_refusal(key.pixel, size)
-    if outside is None:
-        return None
-    return f"{key.token}={outside}" if clicked else f"{key}: its press at {outside}"
+    return None if outside is None else f"{key}: its press at {outside}"
 
 
 def _prompt_press(word: str, keymap: dict[str, Command], opened_by: str | None = None) -> KeyPress:
