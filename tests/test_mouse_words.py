@@ -10,7 +10,13 @@ import numpy as np
 import pytest
 
 from marraztu.control import commands
-from marraztu.control.keymap import CLICK_TRAVEL_PX, MAX_WHEEL_NOTCHES, KeyPress, parse_key_sequence
+from marraztu.control.keymap import (
+    CLICK_TRAVEL_PX,
+    MAX_SEQUENCE_PRESSES,
+    MAX_WHEEL_NOTCHES,
+    KeyPress,
+    parse_key_sequence,
+)
 from marraztu.control.viewer import Viewer
 from marraztu.errors import KeyMapError, ViewerError
 from marraztu.model.scene import SceneObject
@@ -113,3 +119,12 @@ def test_a_drag_or_the_wheel_in_the_file_prompt_moves_the_view_as_in_the_window(
     clicked = viewer()
     clicked.press_sequence("f click=80,60")
     assert clicked.prompt == "" and clicked.scene.message == ""
+
+
+def test_a_wheel_word_s_notches_count_toward_the_sequence_s_presses() -> None:
+    """wheel=100*20000, 15 characters, was 2 million notches run one by one (about 100 seconds) within a
+    limit of a million presses meant to bound a sequence's work: each notch counts as a press."""
+    assert len(parse_key_sequence(f"wheel=-100*{MAX_SEQUENCE_PRESSES // 100}")) == MAX_SEQUENCE_PRESSES // 100
+    for words in (f"wheel=100*{MAX_SEQUENCE_PRESSES // 100} x", f"x wheel=20*{MAX_SEQUENCE_PRESSES // 20}"):
+        with pytest.raises(KeyMapError, match=f"more than {MAX_SEQUENCE_PRESSES} presses"):
+            parse_key_sequence(words)

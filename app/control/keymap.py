@@ -90,6 +90,7 @@ class MouseWord:
     pressed: bool  # its first two numbers are the pixel its button goes down on: in the picture
     refusal: Callable[[tuple[int, ...]], str | None] = lambda numbers: None  # numbers of the form that cannot be
     moves_past_prompt: bool = True  # the window's drags and wheel move the view while the `f` prompt is open
+    presses: Callable[[tuple[int, ...]], int] = lambda numbers: 1  # what it counts toward MAX_SEQUENCE_PRESSES
 
     @property
     def prefix(self) -> str:
@@ -164,7 +165,8 @@ MOUSE_WORDS: dict[str, MouseWord] = check_mouse_words([
               pressed=True),
     MouseWord("ctrl+drag", "X1,Y1,X2,Y2", "300,300,400,300", _TWO_PAIRS,
               _dragging("ctrl+drag", commands.DragMove.TURN_TARGET), pressed=True, refusal=_too_short),
-    MouseWord("wheel", "N", "3", _NOTCHES, _wheel, pressed=False, refusal=_notches_refusal),
+    MouseWord("wheel", "N", "3", _NOTCHES, _wheel, pressed=False, refusal=_notches_refusal,
+              presses=lambda numbers: abs(numbers[0])),  # each notch is a move of its own, as a key's press is
 ])
 MOUSE_PREFIXES = tuple(word.prefix for word in MOUSE_WORDS.values())
 
@@ -454,15 +456,22 @@ def parse_key_sequence(text: str, keymap: dict[str, Command] = KEYMAP, in_prompt
     except ValueError as error:  # an unclosed quote
         raise KeyMapError(f"key sequence {shortened(text)!r}: {error}") from error
     presses: list[KeyPress] = []
+    counted = 0
     for at, word in enumerate(words):
         opened_by = opened_by if in_prompt else None  # a prompt these keys open is their own
         hint = functools.partial(_quoting_hint, words, at, keymap)
         press, count = _parse_word(word, keymap, in_prompt, opened_by, hint)
-        if len(presses) + count > MAX_SEQUENCE_PRESSES:
-            raise KeyMapError(f"key sequence: more than {MAX_SEQUENCE_PRESSES} presses")
+        counted += count * _presses_in(press)
+        if counted > MAX_SEQUENCE_PRESSES:
+            raise KeyMapError(f"key sequence: more than {MAX_SEQUENCE_PRESSES} presses (a wheel's notch counts as one)")
         presses.extend([press] * count)
         in_prompt = prompt_open_after([press], in_prompt)
     return presses
+
+
+def _presses_in(press: KeyPress) -> int:
+    """What one press counts toward MAX_SEQUENCE_PRESSES: a key 1, a wheel word its notches."""
+    return 1 if press.numbers is None else MOUSE_WORDS[press.token].presses(press.numbers)
 
 
 def prompt_open_after(presses: Iterable[KeyPress], in_prompt: bool = False) -> bool:
