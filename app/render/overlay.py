@@ -248,7 +248,7 @@ class Overlay:
     def _bottom_panel_top(self, extras: Extras, lines: list[str], room_top: float, above_bottom: float) -> float:
         """Above the bottom lines; at the top of its room (under the top lines and the right-hand panel)
         where it covers less of the face it is about there (the probe's four corners fill half the
-        picture). No top in between covers less: the height of a box it covers is concave in its top."""
+        picture). No top in between covers less: as the top moves, the height of the box it covers rises, then falls."""
         panels = self.sizes.panels
         height, right = self.sizes.block_height(len(lines), panels), self._block_width(lines, panels)
         low = above_bottom + height
