@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import os
 import re
@@ -1348,6 +1349,8 @@ def test_the_probe_of_a_face_that_wears_no_picture_says_none_multiplies_it(tmp_p
     viewer.start(StartOptions(scene_file=path), longest_texture_side=64)
     found = probe(viewer.scene)
     assert viewer.scene.modes.texture and found is not None and not found.textured
+    copied = copy.deepcopy(viewer.scene)  # as the programming interface's refusal to copy a viewer suggests
+    assert not probe(copied).textured  # the shared white copied too: its pixels, not its identity, say so
 
 
 def test_the_command_lines_texture_stands_in_for_a_scenes_texture_false(tmp_path: Path) -> None:

@@ -111,6 +111,12 @@ def fan_triangles(face_start: np.ndarray) -> np.ndarray:
 
 PLAIN_PICTURE = np.full((1, 1, 3), 255, dtype=np.uint8)  # white, no picture: the lit colour times 1
 PLAIN_PICTURE.flags.writeable = False  # shared by every element that wears no picture
+
+
+def is_plain(picture: np.ndarray | None) -> bool:
+    """Whether a picture multiplies nothing (None is drawn white too): told by its pixels, as a copy of
+    PLAIN_PICTURE (copy.deepcopy of a scene) or a one-pixel white file multiplies nothing either."""
+    return picture is None or (picture.shape[:2] == (1, 1) and bool((picture == 255).all()))
 # The Kd of a material whose own picture is its colour and that gives no Kd (an MTL's map_Kd alone, a PLY's
 # TextureFile, a trimesh's picture): Blender, three.js and glTF draw the picture unscaled.
 PICTURE_AS_COLOUR = (1.0, 1.0, 1.0)

@@ -17,7 +17,7 @@ import numpy as np
 from marraztu.model.geometry import unit, unit_rows
 from marraztu.model.lighting import ShadingTerms, shade_terms, to_bytes
 from marraztu.model.lights import TermView, TermWeights, WorldLight
-from marraztu.model.mesh import PLAIN_PICTURE, polygons_of_corners
+from marraztu.model.mesh import is_plain, polygons_of_corners
 from marraztu.model.scene import Projection, Scene, SceneObject, Shading
 from marraztu.model.transforms import normal_matrix, transform_point, transform_points
 
@@ -122,7 +122,7 @@ def _textured(scene: Scene, obj: SceneObject, face: int) -> bool:
     drawn plain (its vertex colours take the picture's place, or a scene file's `texture = false`)."""
     part = -1 if obj.mesh.face_material is None else int(obj.mesh.face_material[face])
     picture = obj.picture_of(part)
-    return scene.modes.texture and (scene.texture if picture is None else picture) is not PLAIN_PICTURE
+    return scene.modes.texture and not is_plain(scene.texture if picture is None else picture)
 
 
 def facings(scene: Scene, obj: SceneObject, faces: np.ndarray) -> np.ndarray:
