@@ -88,7 +88,7 @@ class MouseWord:
     pattern: re.Pattern[str]
     run: MouseRun
     pressed: bool  # its first two numbers are the pixel its button goes down on: in the picture
-    refusal: Callable[[tuple[int, ...]], str | None] = lambda numbers: None  # numbers of the form that cannot be
+    refusal: Callable[[tuple[int, ...]], str | None] = lambda numbers: None  # numbers of its form it cannot take
     moves_past_prompt: bool = True  # the window's drags and wheel move the view while the `f` prompt is open
     presses: Callable[[tuple[int, ...]], int] = lambda numbers: 1  # what it counts toward MAX_SEQUENCE_PRESSES
 
@@ -145,6 +145,17 @@ def _notches_refusal(numbers: tuple[int, ...]) -> str | None:
     return f"turns the wheel 1 to {MAX_WHEEL_NOTCHES} notches either way (wheel=N*K repeats it)"
 
 
+def _any_drag(numbers: tuple[int, ...]) -> None:
+    return None
+
+
+def _drag_word(name: str, move: commands.DragMove,
+               refusal: Callable[[tuple[int, ...]], str | None] = _any_drag) -> MouseWord:
+    """A drag's word: NAME=X1,Y1,X2,Y2, its button pressed on the first pixel."""
+    return MouseWord(name, "X1,Y1,X2,Y2", "300,300,400,300", _TWO_PAIRS, _dragging(name, move), pressed=True,
+                     refusal=refusal)
+
+
 def check_mouse_words(words: Iterable[MouseWord]) -> dict[str, MouseWord]:
     """The mouse's words as name -> word, refusing a name bound twice or one a key could be."""
     by_name: dict[str, MouseWord] = {}
@@ -159,12 +170,9 @@ def check_mouse_words(words: Iterable[MouseWord]) -> dict[str, MouseWord]:
 # wherever the pointer is (the window does not zoom toward it).
 MOUSE_WORDS: dict[str, MouseWord] = check_mouse_words([
     MouseWord(CLICK_TOKEN, "X,Y", "400,300", _PAIR, _select, pressed=True, moves_past_prompt=False),
-    MouseWord("drag", "X1,Y1,X2,Y2", "300,300,400,300", _TWO_PAIRS, _dragging("drag", commands.DragMove.ORBIT),
-              pressed=True, refusal=_too_short),
-    MouseWord("rdrag", "X1,Y1,X2,Y2", "300,300,400,300", _TWO_PAIRS, _dragging("rdrag", commands.DragMove.PAN),
-              pressed=True),
-    MouseWord("ctrl+drag", "X1,Y1,X2,Y2", "300,300,400,300", _TWO_PAIRS,
-              _dragging("ctrl+drag", commands.DragMove.TURN_TARGET), pressed=True, refusal=_too_short),
+    _drag_word("drag", commands.DragMove.ORBIT, refusal=_too_short),
+    _drag_word("rdrag", commands.DragMove.PAN),
+    _drag_word("ctrl+drag", commands.DragMove.TURN_TARGET, refusal=_too_short),
     MouseWord("wheel", "N", "3", _NOTCHES, _wheel, pressed=False, refusal=_notches_refusal,
               presses=lambda numbers: abs(numbers[0])),  # each notch is a move of its own, as a key's press is
 ])

@@ -50,9 +50,9 @@ def replace_scene_read(scene: Scene, read: Scene, placed: dict[int, FilePlacemen
     joined from elsewhere (the command line, `f`), which stay as they were. An element whose entry places it
     as the last read did keeps where the person moved it, its undo and the model PageDown chose (returned:
     the read element that took each such one's place, by the uid it had); the others stand where the file
-    says, their undo afresh. The modes stay (the lights:
-    take_edited_lights); each selection follows its entry, else stays at its index. A file that places no
-    camera has its models framed, as at start, where that camera is the one viewing and has not been moved."""
+    says, their undo afresh. The modes stay (the lights: take_edited_lights); each selection follows its
+    entry, else stays at its index. A file that places no camera has its models framed, as at start, where
+    that camera is the one viewing and has not been moved."""
     end_view_gesture(scene)
     successors = _successors(scene, placed, read, now)
     selected_object = _index_after_reading(scene.objects, scene.selected_object, read.objects, placed, successors)
@@ -113,6 +113,26 @@ def take_edited_lights(scene: Scene, read: Scene, before: dict[str, LightSetting
             _take_light(light, as_read, edited, scene.fitted_unit)
             taken.append(light.name)
     return taken
+
+
+class FileSaid(NamedTuple):
+    """What a scene file's read placed and lit, before any move or fitting: what its next read is compared with."""
+
+    placed: dict[int, FilePlacement]
+    lights: dict[str, LightSettings]
+
+
+def file_said(read: Scene) -> FileSaid:
+    return FileSaid(file_placements(read), file_lights(read))
+
+
+def take_scene_read(scene: Scene, read: Scene, last: FileSaid, aspect: float) -> tuple[FileSaid, dict[int, SceneObject],
+                                                                                      list[str]]:
+    """`read` in the place of what the `last` read placed (replace_scene_read), with the lights' values it
+    changed (take_edited_lights): what it said, the elements kept as the person moved them, and the lights set."""
+    now = file_said(read)  # before framing moves its camera
+    kept = replace_scene_read(scene, read, last.placed, now.placed, aspect)
+    return now, kept, take_edited_lights(scene, read, last.lights, now.lights)
 
 
 def _take_light(light: Light, as_read: Light, edited: list[str], fitted_unit: float) -> None:

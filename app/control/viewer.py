@@ -267,9 +267,8 @@ class Viewer:
         self.watcher: ModelWatcher | None = None  # set by --watch
         self.scene_watcher: FileWatcher | None = None  # set by --watch with a scene file
         # Where the scene file's last read placed its elements, by uid: a read again takes their place.
-        self._scene_file_placed: dict[int, rereading.FilePlacement] = {}
+        self._last_read = rereading.FileSaid({}, {})
         self._collecting: list[LoadJob] = []  # the worker's finished loads collect_loads is adding
-        self._scene_file_lights: dict[str, rereading.LightSettings] = {}  # what its last read set the lights to
         # What reads the scene file's texture into its Scene read again; None where the command line named
         # the texture, which outlasts a read again.
         self._scene_texture: Callable[[Scene], list[str]] | None = None
@@ -289,8 +288,7 @@ class Viewer:
         failure is told, on screen and to the front end, and none hides another. `scene_watcher`: the scene
         file as scene_file_watcher saw it before it was read; made here, seen as now, where none is given."""
         self._starting = True
-        self._scene_file_placed = rereading.file_placements(self.scene)
-        self._scene_file_lights = rereading.file_lights(self.scene)
+        self._last_read = rereading.file_said(self.scene)
         self._scene_texture = (None if options.texture is not None
                                else functools.partial(read_texture, named=None, longest_side=longest_texture_side))
         # The command line's models are framed together where they are alone, or beside a scene
@@ -489,7 +487,7 @@ class Viewer:
         before = self.watcher.files_seen() if reading_scene else {}
         changed = self.watcher.changed(self.scene)
         if reading_scene or self._scene_read_pending():  # its models are read with it: not in what it replaces
-            changed = [element for element in changed if element.uid not in self._scene_file_placed]
+            changed = [element for element in changed if element.uid not in self._last_read.placed]
         if reading_scene:
             self._read_scene_again(self.scene_watcher.path, SeenFiles(before, self.watcher.files_seen()), reading_scene)
         for elements in read_together(changed):
@@ -520,19 +518,17 @@ class Viewer:
         failed on (a model or picture it names) watched until a read succeeds."""
         if isinstance(read, LoadError):
             elements = self.scene.objects + self.scene.cameras
-            self.watcher.stand_as([element for element in elements if element.uid in self._scene_file_placed],
+            self.watcher.stand_as([element for element in elements if element.uid in self._last_read.placed],
                                   seen.before)
             if isinstance(read.__cause__, LoadError):  # the model or picture it names that failed: its save is news
                 self.scene_watcher.watch_too(Path(read.__cause__.path))
             self._failed(read)
             return
-        placed, lights = rereading.file_placements(read), rereading.file_lights(read)  # before framing moves them
-        kept = rereading.replace_scene_read(self.scene, read, self._scene_file_placed, placed, self.narrowest_aspect())
+        self._last_read, kept, lit_anew = rereading.take_scene_read(self.scene, read, self._last_read,
+                                                                    self.narrowest_aspect())
         self._loads_follow(kept)
         kept_now = {element.uid for element in kept.values()}  # a set: a scene of thousands is looked up once each
         anew = [element for element in read.objects + read.cameras if element.uid not in kept_now]
-        lit_anew = rereading.take_edited_lights(self.scene, read, self._scene_file_lights, lights)
-        self._scene_file_placed, self._scene_file_lights = placed, lights
         self.scene_watcher.watch_also(self._pictures_named(read))
         self.watcher.stand_as(read.objects + read.cameras, seen.after)
         if self._scene_texture is not None:  # read with the file; a texture named on the command line stays
