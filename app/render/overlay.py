@@ -128,6 +128,7 @@ class Overlay:
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
         self.fonts: dict[tuple[int, int], Font] = {}  # by cell: the two the last size drawn needs
+        self._sized_for: tuple[int, int] | None = None  # the framebuffer size `sizes` and `fonts` are for
         self._fit_text_to((1, 1))  # the fonts of any window up to 800x800: a GPU that refuses them says so now
         self.text = load_program(ctx, "text")
         self.text["u_atlas"].value = 1
@@ -147,7 +148,10 @@ class Overlay:
 
     def _fit_text_to(self, size: tuple[int, int]) -> None:
         """The text's sizes for a framebuffer of `size`: fonts are made at the first frame that needs
-        them, and those no longer needed released."""
+        them, and those no longer needed released; nothing to do while the size stays."""
+        if tuple(size) == self._sized_for:
+            return
+        self._sized_for = (size[0], size[1])
         self.sizes = text_sizes(size)
         cells = {self.sizes.lines.cell, self.sizes.panels.cell}
         for cell in self.fonts.keys() - cells:
