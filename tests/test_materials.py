@@ -524,17 +524,23 @@ def test_only_emission_asked_for_is_said_to_be_ignored(tmp_path: Path, lines: st
     assert any("emission (Ke) ignored" in note for note in mesh.warnings) == noted, mesh.warnings
 
 
-def test_names_looked_for_in_any_case_list_each_folder_once(tmp_path: Path, monkeypatch) -> None:
-    """A library of many missing textures in a folder of many files costs one listing, not one each."""
-    import os
-
+def _listings_counted(monkeypatch) -> list[object]:
+    """The folders listed from now on (files.names_in_any_case's os.scandir), in order."""
     from marraztu.loaders import files as files_module
 
-    for at in range(300):
-        (tmp_path / f"other{at}.png").write_bytes(b"")
     listed: list[object] = []
     real_scandir = os.scandir
     monkeypatch.setattr(files_module.os, "scandir", lambda folder: listed.append(folder) or real_scandir(folder))
+    return listed
+
+
+def test_names_looked_for_in_any_case_list_each_folder_once(tmp_path: Path, monkeypatch) -> None:
+    """A library of many missing textures in a folder of many files costs one listing, not one each."""
+
+
+    for at in range(300):
+        (tmp_path / f"other{at}.png").write_bytes(b"")
+    listed = _listings_counted(monkeypatch)
     (tmp_path / "m.mtl").write_text("".join(f"newmtl m{at}\nmap_Kd gone{at}.png\n" for at in range(300)))
     uses = "".join(f"usemtl m{at}\nf 1 2 3\n" for at in range(300))
     mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + uses).encode(), str(tmp_path / "m.obj"), base_dir=tmp_path)
@@ -545,16 +551,12 @@ def test_a_folder_spelled_many_ways_is_listed_once(tmp_path: Path, monkeypatch) 
     """'a/../T0.PNG', 'a/../a/../T1.PNG'... each spell the MTL's folder anew: it was listed once for each
     spelling, each listing holding every file's path under that spelling, so 1,000 such names beside
     50,000 files filled the memory. One listing for the folder, however it is spelled."""
-    import os
 
-    from marraztu.loaders import files as files_module
 
     (tmp_path / "a").mkdir()
     for at in range(200):
         (tmp_path / f"t{at}.png").write_bytes(b"P6 1 1 255\n\xff\x00\x00")  # a PPM: pictures are known by their bytes
-    listed: list[object] = []
-    real_scandir = os.scandir
-    monkeypatch.setattr(files_module.os, "scandir", lambda folder: listed.append(folder) or real_scandir(folder))
+    listed = _listings_counted(monkeypatch)
     (tmp_path / "m.mtl").write_text("".join(f"newmtl m{at}\nmap_Kd {'a/../' * (at + 1)}T{at}.PNG\n"
                                             for at in range(200)))
     uses = "".join(f"usemtl m{at}\nf 1 2 3\n" for at in range(200))
@@ -924,17 +926,13 @@ def test_past_max_materials_the_pictures_of_the_materials_not_drawn_are_not_read
 def test_missing_pictures_in_two_folders_list_each_once(tmp_path: Path, monkeypatch) -> None:
     """Missing pictures named in turn in two folders: the hint's listing, held for the last folder only, was
     made again at each turn (258 listings for 300 names; 8.8 s beside 50,000 files a folder). One each."""
-    import os
 
-    from marraztu.loaders import files as files_module
 
     for folder in ("a", "b"):
         (tmp_path / folder).mkdir()
         for at in range(300):
             (tmp_path / folder / f"other{at}.png").write_bytes(b"")
-    listed: list[object] = []
-    real_scandir = os.scandir
-    monkeypatch.setattr(files_module.os, "scandir", lambda folder: listed.append(folder) or real_scandir(folder))
+    listed = _listings_counted(monkeypatch)
     (tmp_path / "m.mtl").write_text("".join(f"newmtl m{at}\nmap_Kd {'ab'[at % 2]}/gone{at}.png\n" for at in range(300)))
     uses = "".join(f"usemtl m{at}\nf 1 2 3\n" for at in range(300))
     mesh = parse_obj(("mtllib m.mtl\n" + TRIANGLES + uses).encode(), str(tmp_path / "m.obj"), base_dir=tmp_path)

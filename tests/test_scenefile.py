@@ -232,6 +232,13 @@ LIGHT_VALUES_TRIED = {
 }
 
 
+def _refusal(path: Path) -> str:
+    """What loading the scene file at `path` is refused with, whole (the file and line first)."""
+    with pytest.raises(LoadError) as caught:
+        load_scene(path)
+    return str(caught.value)
+
+
 def _refused_from_the_file_and_by_hand(tmp_path: Path, text: str,
                                       set_by_hand: Callable[[Scene], None]) -> tuple[str | None, str | None]:
     """What a scene file of `text` is refused with, and what the same value set by hand on a scene is."""
@@ -1375,9 +1382,7 @@ def test_the_command_lines_texture_stands_in_for_a_scenes_texture_false(tmp_path
 ], ids=["scene's true", "an entry's true", "scene's number", "an entry's array"])
 def test_a_texture_neither_a_name_nor_false_is_refused_at_its_line(tmp_path: Path, text: str, said: str) -> None:
     path = write_scene(tmp_path, text)
-    with pytest.raises(LoadError) as caught:
-        load_scene(path)
-    assert str(caught.value) == f"{path}{said}"
+    assert _refusal(path) == f"{path}{said}"
 
 
 @pytest.mark.parametrize("suffix", [".obj", ".STL", ".glb"])
@@ -1494,9 +1499,7 @@ def test_a_file_whose_name_holds_a_back_slash_is_read(tmp_path: Path) -> None:
 def test_an_empty_file_name_is_said_to_name_no_file(tmp_path: Path, text: str, said: str) -> None:
     """texture = "" said 'texture must be a file name in quotes', though it is in quotes."""
     path = write_scene(tmp_path, text)
-    with pytest.raises(LoadError) as caught:
-        load_scene(path)
-    assert str(caught.value) == f"{path}{said}"
+    assert _refusal(path) == f"{path}{said}"
 
 
 
@@ -1535,9 +1538,7 @@ def test_a_windows_path_in_double_quotes_says_its_back_slashes_start_escapes(tmp
     form feed), "models\\new_ball.obj" the same without a hint, "C:\\Users..." 'Invalid hex value' and
     "models\\wood_floor.obj" "Unescaped '\\' in a string"."""
     path = write_scene(tmp_path, text)
-    with pytest.raises(LoadError) as caught:
-        load_scene(path)
-    assert str(caught.value) == f"{path}{said.format(tmp_path)}"
+    assert _refusal(path) == f"{path}{said.format(tmp_path)}"
 
 
 @pytest.mark.skipif(os.sep == "\\", reason="the path expected is joined with /")
@@ -1582,9 +1583,7 @@ def test_a_slip_tomllib_names_in_its_words_says_what_was_meant(tmp_path: Path, t
     """A teacher's [0, 80 60], [objects] written twice, on = True and [lights.camera spotlight] got only
     tomllib's words: Unclosed array, declared twice, no value TOML reads (text goes in "quotes"), Expected ']'."""
     path = write_scene(tmp_path, text)
-    with pytest.raises(LoadError) as caught:
-        load_scene(path)
-    assert str(caught.value) == f"{path}{said}"
+    assert _refusal(path) == f"{path}{said}"
 
 
 @pytest.mark.parametrize("entry, said", [
@@ -1601,9 +1600,7 @@ def test_a_file_named_in_another_case_says_which_was_meant(tmp_path: Path, entry
     (tmp_path / "sub").mkdir()
     (tmp_path / "sub" / "m.obj").write_bytes(b"")  # only named: the model not found is sub/M.obj
     path = write_scene(tmp_path, "[[objects]]\n" + entry)
-    with pytest.raises(LoadError) as caught:
-        load_scene(path)
-    assert str(caught.value) == f"{path}{said.format(tmp_path)}"
+    assert _refusal(path) == f"{path}{said.format(tmp_path)}"
 
 
 @pytest.mark.skipif(os.sep == "\\", reason="Windows reads names in any case")
